@@ -1,0 +1,35 @@
+"""adbsat_ros: ADBSat's free-molecular panel method, fast, as a library, CLI and ROS 2 node.
+
+The physics core (mesh, models, shading, atmosphere, databases) imports no rclpy. Start with::
+
+    from adbsat_ros import load_mesh, PanelMethod, FreeStream
+    mesh = load_mesh("satellite.obj")
+    result = PanelMethod(mesh, "sentman").coefficients(FreeStream(7700.0, 900.0, mean_mass_amu=16.0))
+    print(result.drag, result.Cf_w, result.Cm_B)
+"""
+
+from .freestream import FreeStream
+from .gsi_models import MODELS, ModelOptions
+from .lighting import PanelLighting
+from .mesh import MeshError, PanelMesh, load_mesh, panels_from_arrays, panels_from_trimesh
+from .panel_method import AeroCoefficients, PanelMethod, Reference
+from .surface import MaterialTable, SurfaceProperties
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "AeroCoefficients",
+    "FreeStream",
+    "MODELS",
+    "MaterialTable",
+    "MeshError",
+    "ModelOptions",
+    "PanelLighting",
+    "PanelMesh",
+    "PanelMethod",
+    "Reference",
+    "SurfaceProperties",
+    "load_mesh",
+    "panels_from_arrays",
+    "panels_from_trimesh",
+]

@@ -1,0 +1,54 @@
+"""The ``adbsat-ros`` command line.
+
+Each subcommand lives in its own module of this package and exposes ``register(subparsers)``,
+which adds its parser and sets ``func`` (called with the parsed arguments, returns the exit code).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import sys
+
+from .options import CommandLineError, OneLineErrorParser
+
+#: Subcommand modules, in the order ``--help`` lists them.
+SUBCOMMANDS = ("coeff", "atmosphere")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The top-level parser with every available subcommand registered."""
+    parser = OneLineErrorParser(
+        prog="adbsat-ros",
+        description="Free-molecular aerodynamics of satellites (ADBSat's panel method), "
+        "as a library, a command line and a ROS 2 node.",
+    )
+    parser.add_argument("-v", "--verbose", action="store_true", help="log progress and warnings")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineErrorParser)
+    sub.required = True
+    for name in SUBCOMMANDS:
+        importlib.import_module(f"{__name__}.{name}").register(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``adbsat-ros`` console script; returns the process exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(
+        level=logging.INFO if args.verbose else logging.WARNING,
+        format="adbsat-ros: %(levelname)s: %(message)s",
+    )
+    try:
+        return int(args.func(args) or 0)
+    except CommandLineError as exc:
+        print(f"adbsat-ros {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except (OSError, ValueError) as exc:
+        print(f"adbsat-ros {args.command}: error: {exc}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,93 @@
+"""ADBSat's aerodynamic frames and angles.
+
+Frames (all right-handed):
+
+* G, the mesh ("geometric") frame: the coordinates of the mesh file. Forces and torques in
+  newtons are given in G; the ROS node's body frame is G.
+* B, ADBSat's body frame: x_B = x_G, y_B = -y_G, z_B = -z_G (``L_GB = diag(1, -1, -1)``).
+* W, the wind frame: x_W along the vehicle velocity relative to the gas, from the standard
+  body-to-wind rotation of angle of attack alpha and sideslip beta.
+* F, ADBSat's "flight" frame: ``diag(-1, 1, -1)`` applied to B vectors.
+
+Angle of attack and sideslip are those of the vehicle velocity in B:
+V_B ∝ (cos a cos b, sin b, sin a cos b). The gas moves relative to the body along
+u_G = (-cos a cos b, sin b, sin a cos b): at a = b = 0 the +x_G faces are windward.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Mesh frame G to ADBSat body frame B (and back: it is its own inverse).
+L_GB = np.diag([1.0, -1.0, -1.0])
+#: ADBSat body frame B to flight frame F.
+L_FB = np.diag([-1.0, 1.0, -1.0])
+
+
+def flow_direction(aoa, aos):
+    """Unit vector of the gas motion relative to the body, in G.
+
+    Parameters
+    ----------
+    aoa, aos : float or array_like
+        Angle of attack and sideslip [rad] (broadcast together).
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        u_G = (-cos a cos b, sin b, sin a cos b).
+    """
+    aoa = np.asarray(aoa, dtype=float)
+    aos = np.asarray(aos, dtype=float)
+    ca, sa, cb, sb = np.cos(aoa), np.sin(aoa), np.cos(aos), np.sin(aos)
+    return np.stack(np.broadcast_arrays(-ca * cb, sb, sa * cb), axis=-1)
+
+
+def angles_of_flow(u_G):
+    """Angle of attack and sideslip [rad] of a gas-flow direction given in G.
+
+    Parameters
+    ----------
+    u_G : array_like, shape (..., 3)
+        Direction of the gas motion relative to the body (need not be unit length).
+
+    Returns
+    -------
+    aoa, aos : ndarray
+        aoa in (-pi, pi], aos in [-pi/2, pi/2]; at aos = +/-90 deg aoa is 0.
+    """
+    u = np.asarray(u_G, dtype=float)
+    u = u / np.linalg.norm(u, axis=-1, keepdims=True)
+    # vehicle velocity in B: L_GB (-u_G)
+    vx, vy, vz = -u[..., 0], u[..., 1], u[..., 2]
+    aos = np.arcsin(np.clip(vy, -1.0, 1.0))
+    aoa = np.arctan2(vz, vx)
+    return aoa, aos
+
+
+def body_to_wind(aoa, aos):
+    """DCM L_WB that maps B vectors to W (standard aerospace body-to-wind rotation).
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        [[ca cb, sb, sa cb], [-ca sb, cb, -sa sb], [-sa, 0, ca]].
+    """
+    aoa = np.asarray(aoa, dtype=float)
+    aos = np.asarray(aos, dtype=float)
+    ca, sa, cb, sb = np.cos(aoa), np.sin(aoa), np.cos(aos), np.sin(aos)
+    ca, sa, cb, sb = np.broadcast_arrays(ca, sa, cb, sb)
+    zero = np.zeros_like(ca)
+    return np.stack(
+        [
+            np.stack([ca * cb, sb, sa * cb], axis=-1),
+            np.stack([-ca * sb, cb, -sa * sb], axis=-1),
+            np.stack([-sa, zero, ca], axis=-1),
+        ],
+        axis=-2,
+    )
+
+
+def mesh_to_wind(aoa, aos):
+    """DCM that maps G vectors to W: L_WB L_GB (ADBSat's L_gw transposed)."""
+    return body_to_wind(aoa, aos) @ L_GB

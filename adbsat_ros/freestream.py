@@ -1,0 +1,165 @@
+"""The undisturbed gas a satellite flies through: speed, temperature and composition.
+
+A :class:`FreeStream` is what every gas-surface interaction model needs besides the panel
+geometry. It can be built by hand (the ``coeff`` command's ``--speed/--temperature/--species``)
+or from an atmosphere model and an orbital state (:mod:`adbsat_ros.flight_conditions`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from .constants import AMU, BOLTZMANN, MOLAR_MASS_G, SPECIES, species_mass_kg
+
+
+def _check_positive(name: str, value: float) -> float:
+    value = float(value)
+    if not math.isfinite(value) or value <= 0.0:
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class FreeStream:
+    """Free-stream state of the gas relative to the spacecraft.
+
+    Parameters
+    ----------
+    speed : float
+        Magnitude of the relative wind V [m/s], > 0.
+    temperature : float
+        Local (translational) gas temperature T_inf [K], > 0.
+    number_densities : mapping of str to float, optional
+        Species number densities [m^-3], keys from :data:`adbsat_ros.constants.SPECIES`
+        (``He O N2 O2 Ar H N AnO``). Needed by the per-species models (``cll``, ``dria``); the
+        mean molecular mass and, unless ``density`` is given, the mass density follow from it.
+    mean_mass_amu : float, optional
+        Mean molecular mass [amu] when no composition is given. Exactly one of
+        ``number_densities`` and ``mean_mass_amu`` must be given.
+    density : float, optional
+        Total mass density rho [kg/m^3], used only to turn coefficients into newtons. If omitted
+        and ``number_densities`` is given, it is the sum of n_j m_j.
+
+    Notes
+    -----
+    The mean molecular mass is number-weighted, m = sum(n_j m_j) / sum(n_j), as in ADBSat's
+    ``environment.m``; the speed ratio is s = V / sqrt(2 k_B T_inf / m).
+    """
+
+    speed: float
+    temperature: float
+    number_densities: Mapping[str, float] | None = None
+    mean_mass_amu: float | None = None
+    density: float | None = None
+    _species: tuple = field(init=False, repr=False, compare=False)
+    _n: np.ndarray = field(init=False, repr=False, compare=False)
+    _m: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "speed", _check_positive("speed", self.speed))
+        object.__setattr__(self, "temperature", _check_positive("temperature", self.temperature))
+        if (self.number_densities is None) == (self.mean_mass_amu is None):
+            raise ValueError("give exactly one of number_densities and mean_mass_amu")
+        if self.number_densities is not None:
+            names, values = [], []
+            for name, value in self.number_densities.items():
+                if name not in MOLAR_MASS_G:
+                    raise ValueError(
+                        f"unknown species {name!r} in number_densities; "
+                        f"known species are {', '.join(SPECIES)}"
+                    )
+                value = float(value)
+                if not math.isfinite(value) or value < 0.0:
+                    raise ValueError(
+                        f"number density of {name} must be finite and >= 0, got {value!r}"
+                    )
+                names.append(name)
+                values.append(value)
+            n = np.array(values)
+            if not np.any(n > 0):
+                raise ValueError("number_densities: at least one species must have n > 0")
+            object.__setattr__(self, "number_densities", dict(zip(names, values)))
+            object.__setattr__(self, "_species", tuple(names))
+            object.__setattr__(self, "_n", n)
+            object.__setattr__(self, "_m", np.array([species_mass_kg(s) for s in names]))
+        else:
+            _check_positive("mean_mass_amu", self.mean_mass_amu)
+            object.__setattr__(self, "_species", ())
+            object.__setattr__(self, "_n", np.zeros(0))
+            object.__setattr__(self, "_m", np.zeros(0))
+        if self.density is not None:
+            object.__setattr__(self, "density", _check_positive("density", self.density))
+
+    # ----------------------------------------------------------------------------- derived values
+    @property
+    def has_species(self) -> bool:
+        """True if the composition (species number densities) is known."""
+        return bool(self._species)
+
+    @property
+    def species(self) -> tuple:
+        """Names of the species given, in the order of :attr:`species_number_densities`."""
+        return self._species
+
+    @property
+    def species_number_densities(self) -> np.ndarray:
+        """Number densities n_j [m^-3] of :attr:`species`."""
+        return self._n
+
+    @property
+    def species_masses(self) -> np.ndarray:
+        """Particle masses m_j [kg] of :attr:`species`."""
+        return self._m
+
+    @property
+    def mean_mass(self) -> float:
+        """Number-weighted mean molecular mass [kg]."""
+        if self.has_species:
+            return float(np.dot(self._n, self._m) / self._n.sum())
+        return float(self.mean_mass_amu) * AMU
+
+    @property
+    def mass_density(self) -> float | None:
+        """Mass density [kg/m^3]: ``density`` if given, else sum(n_j m_j), else None."""
+        if self.density is not None:
+            return self.density
+        if self.has_species:
+            return float(np.dot(self._n, self._m))
+        return None
+
+    @property
+    def specific_gas_constant(self) -> float:
+        """R = k_B / m [J/(kg K)] of the mixture."""
+        return BOLTZMANN / self.mean_mass
+
+    @property
+    def thermal_speed(self) -> float:
+        """Most probable thermal speed sqrt(2 k_B T / m) [m/s]."""
+        return math.sqrt(2.0 * BOLTZMANN * self.temperature / self.mean_mass)
+
+    @property
+    def speed_ratio(self) -> float:
+        """Molecular speed ratio s = V / sqrt(2 k_B T / m) [-]."""
+        return self.speed / self.thermal_speed
+
+    def species_speed_ratios(self) -> np.ndarray:
+        """Per-species speed ratios s_j = V / sqrt(2 k_B T / m_j) [-]."""
+        return self.speed / np.sqrt(2.0 * BOLTZMANN * self.temperature / self._m)
+
+    def mass_fractions(self) -> np.ndarray:
+        """Mass fractions rho_j / sum(rho_k) of :attr:`species` [-] (they sum to 1)."""
+        rho = self._n * self._m
+        return rho / rho.sum()
+
+    def dynamic_pressure(self) -> float:
+        """q = 0.5 rho V^2 [Pa]; raises ValueError if no density is known."""
+        rho = self.mass_density
+        if rho is None:
+            raise ValueError(
+                "no density: give density or number_densities to get forces in newtons"
+            )
+        return 0.5 * rho * self.speed**2

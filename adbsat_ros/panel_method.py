@@ -1,0 +1,336 @@
+"""The panel method: sum of flat-plate forces over the mesh, as force and moment coefficients.
+
+For a flow direction u (unit vector of the gas motion relative to the body, mesh frame G), every
+panel i with outward normal n_i, area A_i and barycentre r_i sees the incidence
+cos(delta_i) = -u . n_i; a gas-surface model gives c_p,i and c_tau,i; the shear acts along the
+tangential part of u, t_i = (u + cos(delta_i) n_i) / sin(delta_i). Then (ADBSat's definitions)
+
+    C_F,G = (1/A_ref) sum_i f_i A_i (c_tau,i t_i - c_p,i n_i)
+    C_M,G = (1/(A_ref L_ref)) sum_i f_i A_i (r_i - r_ref) x (c_tau,i t_i - c_p,i n_i)
+
+where f_i is the lit fraction from shading (1 without it) and r_i moves to the lit centroid for
+partly lit panels. Forces in newtons are q A_ref C_F and torques q A_ref L_ref C_M with
+q = rho V^2 / 2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import frames
+from .freestream import FreeStream
+from .gsi_models import SPECIES_MODELS, ModelOptions, canonical_model_name, get_model
+from .lighting import PanelLighting
+from .mesh import PanelMesh
+from .surface import MaterialTable
+
+
+@dataclass(frozen=True)
+class Reference:
+    """Reference quantities of the coefficients; None means ADBSat's default.
+
+    Parameters
+    ----------
+    area : float, optional
+        A_ref [m^2]; default half the total wetted area (ADBSat's choice, not the projected area).
+    length : float, optional
+        L_ref [m]; default the x-extent of the mesh, max x - min x.
+    moment_point : array_like, shape (3,)
+        Point about which moments are taken, in the mesh frame [m]; default the mesh origin.
+    """
+
+    area: float | None = None
+    length: float | None = None
+    moment_point: tuple = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        for name in ("area", "length"):
+            value = getattr(self, name)
+            if value is not None and (not math.isfinite(float(value)) or float(value) <= 0):
+                raise ValueError(f"reference {name} must be a finite number > 0, got {value!r}")
+        point = np.asarray(self.moment_point, dtype=float)
+        if point.shape != (3,) or not np.all(np.isfinite(point)):
+            raise ValueError(f"moment_point must be three finite numbers, got {self.moment_point!r}")
+        object.__setattr__(self, "moment_point", tuple(float(v) for v in point))
+
+    def resolved(self, mesh: PanelMesh) -> "Reference":
+        """A copy with the defaults filled in from ``mesh``."""
+        return Reference(
+            area=float(self.area) if self.area is not None else 0.5 * mesh.total_area,
+            length=float(self.length) if self.length is not None else mesh.x_extent,
+            moment_point=self.moment_point,
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class AeroCoefficients:
+    """Aerodynamic coefficients of one attitude.
+
+    Attributes
+    ----------
+    aoa, aos : float
+        Angle of attack and sideslip [rad] of the flow (frames module).
+    flow_direction : ndarray, shape (3,)
+        Unit vector of the gas motion relative to the body, mesh frame G.
+    Cf_G : ndarray, shape (3,)
+        Force coefficient in the mesh frame G.
+    Cm_G : ndarray, shape (3,)
+        Moment coefficient in G about ``reference.moment_point``.
+    Cf_w : ndarray, shape (3,)
+        Force coefficient in wind axes (ADBSat ``Cf_w``); drag = -Cf_w[0].
+    Cf_f : ndarray, shape (3,)
+        Force coefficient in ADBSat's flight axes (``Cf_f``; x aft, z up).
+    Cm_B : ndarray, shape (3,)
+        Moment coefficient in ADBSat's body axes B (``Cm_B``), about the moment point.
+    reference : Reference
+        A_ref [m^2], L_ref [m] and moment point [m] used.
+    area_projected : float
+        Lit projected area normal to the flow, sum of f_i A_i cos(delta_i) over front faces [m^2]
+        (ADBSat ``AreaProj``).
+    cos_delta, cp, ctau : ndarray, shape (N,)
+        Per-panel incidence cosine and local pressure and shear coefficients (before shading).
+    lit_fraction : ndarray, shape (N,)
+        Per-panel lit fraction used (all ones without shading).
+    model : str
+        Gas-surface model name.
+    """
+
+    aoa: float
+    aos: float
+    flow_direction: np.ndarray
+    Cf_G: np.ndarray
+    Cm_G: np.ndarray
+    Cf_w: np.ndarray
+    Cf_f: np.ndarray
+    Cm_B: np.ndarray
+    reference: Reference
+    area_projected: float
+    cos_delta: np.ndarray = field(repr=False)
+    cp: np.ndarray = field(repr=False)
+    ctau: np.ndarray = field(repr=False)
+    lit_fraction: np.ndarray = field(repr=False)
+    model: str = ""
+
+    @property
+    def drag(self) -> float:
+        """Drag coefficient C_D = -Cf_w[0] (along the gas motion)."""
+        return float(-self.Cf_w[0])
+
+    @property
+    def side_force(self) -> float:
+        """Side-force coefficient C_Y = Cf_w[1]."""
+        return float(self.Cf_w[1])
+
+    @property
+    def lift(self) -> float:
+        """Lift coefficient C_L = -Cf_w[2]."""
+        return float(-self.Cf_w[2])
+
+    def force(self, dynamic_pressure: float) -> np.ndarray:
+        """Force [N] in the mesh frame G for a dynamic pressure q = rho V^2 / 2 [Pa]."""
+        return dynamic_pressure * self.reference.area * self.Cf_G
+
+    def torque(self, dynamic_pressure: float) -> np.ndarray:
+        """Torque [N m] in G about the moment point, for dynamic pressure q [Pa]."""
+        return dynamic_pressure * self.reference.area * self.reference.length * self.Cm_G
+
+    def to_dict(self, flow: FreeStream | None = None, per_panel: bool = False) -> dict:
+        """A JSON-ready dict with ADBSat's names (angles in degrees, vectors as lists).
+
+        With ``flow`` carrying a density, ``force_N`` and ``torque_Nm`` (mesh frame, about the
+        moment point) and ``dynamic_pressure_Pa`` are added.
+        """
+        out = {
+            "aoa_deg": math.degrees(self.aoa),
+            "aos_deg": math.degrees(self.aos),
+            "model": self.model,
+            "Cf_w": self.Cf_w.tolist(),
+            "Cf_f": self.Cf_f.tolist(),
+            "Cm_B": self.Cm_B.tolist(),
+            "Cf_G": self.Cf_G.tolist(),
+            "Cm_G": self.Cm_G.tolist(),
+            "CD": self.drag,
+            "CL": self.lift,
+            "CY": self.side_force,
+            "Aref": self.reference.area,
+            "Lref": self.reference.length,
+            "moment_ref": list(self.reference.moment_point),
+            "AreaProj": self.area_projected,
+            "flow_direction_G": self.flow_direction.tolist(),
+        }
+        if flow is not None and flow.mass_density is not None:
+            q = flow.dynamic_pressure()
+            out["dynamic_pressure_Pa"] = q
+            out["force_N"] = self.force(q).tolist()
+            out["torque_Nm"] = self.torque(q).tolist()
+        if per_panel:
+            out["cp"] = self.cp.tolist()
+            out["ctau"] = self.ctau.tolist()
+            out["lit_fraction"] = self.lit_fraction.tolist()
+        return out
+
+
+class PanelMethod:
+    """A mesh with a gas-surface model and materials, ready to evaluate at any attitude.
+
+    Construction does the per-mesh work once (per-panel parameter arrays, r x n products); each
+    evaluation is a handful of vectorised numpy operations over the panels.
+
+    Parameters
+    ----------
+    mesh : PanelMesh
+        The satellite surface.
+    model : str
+        Gas-surface model name (see :data:`adbsat_ros.gsi_models.MODELS`).
+    materials : MaterialTable or SurfaceProperties, optional
+        Surface properties by material name (default: alpha = sigma = 1, T_w = 300 K).
+    options : ModelOptions, optional
+        Incident-temperature form and ADBSat compatibility switches.
+    reference : Reference, optional
+        Reference area, length and moment point (default ADBSat's).
+    """
+
+    def __init__(self, mesh: PanelMesh, model="sentman", materials=None, options=None, reference=None):
+        from .surface import SurfaceProperties
+
+        self.mesh = mesh
+        self.model = canonical_model_name(model)
+        self._model_fn = get_model(self.model)
+        if materials is None:
+            materials = MaterialTable()
+        elif isinstance(materials, SurfaceProperties):
+            materials = MaterialTable(materials)
+        self.materials = materials
+        self.options = options or ModelOptions()
+        self.reference = (reference or Reference()).resolved(mesh)
+        self.surface = materials.expand(mesh.material_names, mesh.material_index)
+        self._normals = mesh.normals
+        self._areas = mesh.areas
+        self._bary = mesh.barycentres
+        self._r_cross_n = np.ascontiguousarray(np.cross(mesh.barycentres, mesh.normals))
+        self._moment_point = np.asarray(self.reference.moment_point)
+
+    @property
+    def needs_species(self) -> bool:
+        """True if the model needs the gas composition."""
+        return self.model in SPECIES_MODELS
+
+    # ------------------------------------------------------------------------------ per panel
+    def panel_coefficients(self, u_G, flow: FreeStream):
+        """Incidence and local coefficients of every panel.
+
+        Parameters
+        ----------
+        u_G : array_like, shape (3,) or (M, 3)
+            Unit flow direction(s) in G.
+        flow : FreeStream
+
+        Returns
+        -------
+        cos_delta, sin_delta, cp, ctau : ndarray, shape (N,) or (M, N)
+        """
+        c = -(np.asarray(u_G, dtype=float) @ self._normals.T)
+        np.clip(c, -1.0, 1.0, out=c)
+        sigma = np.sqrt(1.0 - c * c)
+        cp, ctau = self._model_fn(c, sigma, self.surface, flow, self.options)
+        return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
+
+    # ------------------------------------------------------------------------------ integration
+    def integrate(self, u_G, c, sigma, cp, ctau, lighting: PanelLighting | None = None):
+        """Sum panel loads into force and moment coefficients in G.
+
+        Parameters
+        ----------
+        u_G : ndarray, shape (3,) or (M, 3)
+            Flow direction(s) used for ``c`` (unit vectors, G).
+        c, sigma, cp, ctau : ndarray, shape (N,) or (M, N)
+            As returned by :meth:`panel_coefficients`.
+        lighting : PanelLighting, optional
+            Lit fractions and lit-centroid shifts (single direction only).
+
+        Returns
+        -------
+        Cf_G, Cm_G : ndarray, shape (3,) or (M, 3)
+            Coefficients in G, moments about the reference moment point.
+        area_projected : float or ndarray, shape (M,)
+            Lit projected area [m^2].
+        """
+        area = self._areas if lighting is None else self._areas * lighting.lit_fraction
+        # Shear along t = (u + c n) / sin(delta): weight w_t multiplies (u + c n).
+        w_t = np.divide(area * ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
+        g = w_t * c - area * cp  # coefficient of n_i in the panel force
+        sum_w = w_t.sum(axis=-1)
+        u = np.asarray(u_G, dtype=float)
+        force = sum_w[..., None] * u + g @ self._normals
+        moment = np.cross(w_t @ self._bary, u) + g @ self._r_cross_n
+        if lighting is not None and lighting.shift_index.size:
+            i, d = lighting.shift_index, lighting.shift
+            moment = moment + np.cross(w_t[i] @ d, u) + (g[i][:, None] * np.cross(d, self._normals[i])).sum(axis=0)
+        ref = self.reference
+        moment = moment - np.cross(self._moment_point, force)
+        Cf = force / ref.area
+        Cm = moment / (ref.area * ref.length)
+        area_projected = (area * np.maximum(c, 0.0)).sum(axis=-1)
+        return Cf, Cm, area_projected
+
+    # ------------------------------------------------------------------------------ public API
+    def coefficients(
+        self,
+        flow: FreeStream,
+        aoa: float | None = None,
+        aos: float | None = None,
+        *,
+        flow_direction=None,
+        lighting: PanelLighting | None = None,
+    ) -> AeroCoefficients:
+        """Coefficients at one attitude, given by angles or by the flow direction.
+
+        Parameters
+        ----------
+        flow : FreeStream
+            Free-stream gas (speed, temperature, composition).
+        aoa, aos : float, optional
+            Angle of attack and sideslip [rad] (frames module conventions).
+        flow_direction : array_like, shape (3,), optional
+            Direction of the gas motion relative to the body in G, instead of the angles.
+        lighting : PanelLighting, optional
+            Shading result for this flow direction (default: nothing occluded).
+        """
+        if flow_direction is not None:
+            if aoa is not None or aos is not None:
+                raise ValueError("give either aoa/aos or flow_direction, not both")
+            u = np.asarray(flow_direction, dtype=float)
+            norm = np.linalg.norm(u)
+            if u.shape != (3,) or not np.isfinite(norm) or norm == 0.0:
+                raise ValueError(f"flow_direction must be a finite non-zero 3-vector, got {flow_direction!r}")
+            u = u / norm
+            aoa, aos = (float(a) for a in frames.angles_of_flow(u))
+        else:
+            aoa = 0.0 if aoa is None else float(aoa)
+            aos = 0.0 if aos is None else float(aos)
+            if not (math.isfinite(aoa) and math.isfinite(aos)):
+                raise ValueError(f"aoa and aos must be finite, got {aoa!r}, {aos!r}")
+            u = frames.flow_direction(aoa, aos)
+        c, sigma, cp, ctau = self.panel_coefficients(u, flow)
+        Cf_G, Cm_G, area_proj = self.integrate(u, c, sigma, cp, ctau, lighting)
+        Cf_B = frames.L_GB @ Cf_G
+        return AeroCoefficients(
+            aoa=aoa,
+            aos=aos,
+            flow_direction=u,
+            Cf_G=Cf_G,
+            Cm_G=Cm_G,
+            Cf_w=frames.body_to_wind(aoa, aos) @ Cf_B,
+            Cf_f=frames.L_FB @ Cf_B,
+            Cm_B=frames.L_GB @ Cm_G,
+            reference=self.reference,
+            area_projected=float(area_proj),
+            cos_delta=c,
+            cp=cp,
+            ctau=ctau,
+            lit_fraction=lighting.lit_fraction if lighting is not None else np.ones_like(c),
+            model=self.model,
+        )

@@ -1,0 +1,148 @@
+"""Surface (material) properties that the gas-surface and radiation models read.
+
+A :class:`SurfaceProperties` holds one material's accommodation coefficients, wall temperature
+and optical properties; a :class:`MaterialTable` maps a mesh's material names to them and expands
+them to per-panel arrays once, so the per-attitude hot path only does arithmetic.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+from typing import Mapping
+
+import numpy as np
+
+#: Names of the per-material parameters, in the order of :class:`SurfaceProperties`.
+SURFACE_PARAMETERS = (
+    "alpha",
+    "alpha_n",
+    "sigma_n",
+    "sigma_t",
+    "wall_temperature",
+    "specular_reflectivity",
+    "diffuse_reflectivity",
+)
+
+
+@dataclass(frozen=True)
+class SurfaceProperties:
+    """Gas-surface and optical properties of one material.
+
+    Parameters
+    ----------
+    alpha : float
+        Energy accommodation coefficient [-], in [0, 1] (sentman, cook, dria; for maxwell the
+        diffuse fraction).
+    alpha_n : float
+        Normal energy accommodation of the CLL model [-], in [0, 1].
+    sigma_n : float
+        Normal momentum accommodation [-] (schaaf, storch), in [0, 2).
+    sigma_t : float
+        Tangential momentum accommodation [-] (schaaf, storch, cll), in [0, 1].
+    wall_temperature : float
+        Surface temperature T_w [K], > 0.
+    specular_reflectivity : float
+        Fraction of incident photons reflected specularly [-] (solar radiation pressure).
+    diffuse_reflectivity : float
+        Fraction reflected diffusely [-]; specular + diffuse <= 1, the rest is absorbed.
+    """
+
+    alpha: float = 1.0
+    alpha_n: float = 1.0
+    sigma_n: float = 1.0
+    sigma_t: float = 1.0
+    wall_temperature: float = 300.0
+    specular_reflectivity: float = 0.0
+    diffuse_reflectivity: float = 0.0
+
+    def __post_init__(self):
+        for f in fields(self):
+            value = getattr(self, f.name)
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                raise ValueError(f"{f.name} must be a number, got {value!r}") from None
+            if not math.isfinite(value):
+                raise ValueError(f"{f.name} must be finite, got {value!r}")
+            object.__setattr__(self, f.name, value)
+        for name in ("alpha", "alpha_n", "sigma_t", "specular_reflectivity", "diffuse_reflectivity"):
+            value = getattr(self, name)
+            if not 0.0 <= value <= 1.0:
+                raise ValueError(f"{name} must be in [0, 1], got {value!r}")
+        if not 0.0 <= self.sigma_n < 2.0:
+            raise ValueError(f"sigma_n must be in [0, 2), got {self.sigma_n!r}")
+        if self.wall_temperature <= 0.0:
+            raise ValueError(f"wall_temperature must be > 0 K, got {self.wall_temperature!r}")
+        if self.specular_reflectivity + self.diffuse_reflectivity > 1.0 + 1e-12:
+            raise ValueError(
+                "specular_reflectivity + diffuse_reflectivity must be <= 1, got "
+                f"{self.specular_reflectivity} + {self.diffuse_reflectivity}"
+            )
+
+    def updated(self, **changes) -> "SurfaceProperties":
+        """A copy with some parameters changed (validated)."""
+        return replace(self, **changes)
+
+
+class PanelSurface:
+    """Per-panel surface parameters: each attribute is a float (uniform) or an (N,) array.
+
+    Built by :meth:`MaterialTable.expand`; the models read ``alpha``, ``alpha_n``, ``sigma_n``,
+    ``sigma_t``, ``wall_temperature``, ``specular_reflectivity``, ``diffuse_reflectivity``.
+    """
+
+    __slots__ = SURFACE_PARAMETERS
+
+    def __init__(self, **values):
+        for name in SURFACE_PARAMETERS:
+            setattr(self, name, values[name])
+
+
+class MaterialTable:
+    """Surface properties by material name, with a default for unnamed materials.
+
+    Parameters
+    ----------
+    default : SurfaceProperties, optional
+        Properties of every material not named in ``materials``.
+    materials : mapping of str to SurfaceProperties or dict, optional
+        Per-material overrides; a dict is applied on top of ``default``.
+    """
+
+    def __init__(self, default: SurfaceProperties | None = None, materials: Mapping | None = None):
+        self.default = default or SurfaceProperties()
+        self.materials = {}
+        for name, props in (materials or {}).items():
+            if isinstance(props, Mapping):
+                unknown = set(props) - set(SURFACE_PARAMETERS)
+                if unknown:
+                    raise ValueError(
+                        f"material {name!r}: unknown parameters {sorted(unknown)}; "
+                        f"allowed: {', '.join(SURFACE_PARAMETERS)}"
+                    )
+                props = self.default.updated(**props)
+            elif not isinstance(props, SurfaceProperties):
+                raise TypeError(f"material {name!r}: expected SurfaceProperties or a dict")
+            self.materials[str(name)] = props
+
+    def properties(self, name: str) -> SurfaceProperties:
+        """Properties of material ``name`` (the default if it has no entry)."""
+        return self.materials.get(name, self.default)
+
+    def check_names(self, mesh_material_names) -> list:
+        """Names given in the table that the mesh does not have (probably typos)."""
+        return sorted(set(self.materials) - set(mesh_material_names))
+
+    def expand(self, material_names, material_index) -> PanelSurface:
+        """Per-panel parameters for a mesh: scalars where uniform over the panels, else arrays."""
+        props = [self.properties(n) for n in material_names]
+        used = np.unique(material_index)
+        values = {}
+        for name in SURFACE_PARAMETERS:
+            per_material = np.array([getattr(p, name) for p in props])
+            if np.all(per_material[used] == per_material[used[0]]):
+                values[name] = float(per_material[used[0]])
+            else:
+                values[name] = np.ascontiguousarray(per_material[material_index])
+        return PanelSurface(**values)
