@@ -397,3 +397,15 @@ def load_mesh(path, scale: float = 1.0, *, fix_normals: bool = True) -> PanelMes
 def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) -> PanelMesh:
     """A checked :class:`PanelMesh` of a trimesh.Trimesh (one material, ``"default"``)."""
     return panels_from_arrays(mesh.vertices, mesh.faces, source=source, **kwargs)
+
+
+def resolve_mesh(spec, scale: float = 1.0) -> PanelMesh:
+    """A PanelMesh from a file path, or the bundled example for the name ``"example"``."""
+    from .example_satellite import EXAMPLE_MESH_NAME, example_satellite
+
+    if str(spec) == EXAMPLE_MESH_NAME:
+        mesh = example_satellite()
+        if scale != 1.0:
+            raise MeshError("the example mesh is in metres; scale applies to mesh files only")
+        return mesh
+    return load_mesh(spec, scale=scale)

@@ -11,14 +11,15 @@ import importlib
 import logging
 import sys
 
+from ..mesh import MeshError
 from .options import CommandLineError, OneLineErrorParser
 
 #: Subcommand modules, in the order ``--help`` lists them.
 SUBCOMMANDS = ("coeff", "atmosphere")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The top-level parser with every available subcommand registered."""
+def build_parser(subcommands=SUBCOMMANDS) -> argparse.ArgumentParser:
+    """The top-level parser with the given subcommands registered (default: all)."""
     parser = OneLineErrorParser(
         prog="adbsat-ros",
         description="Free-molecular aerodynamics of satellites (ADBSat's panel method), "
@@ -27,14 +28,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress and warnings")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineErrorParser)
     sub.required = True
-    for name in SUBCOMMANDS:
+    for name in subcommands:
         importlib.import_module(f"{__name__}.{name}").register(sub)
     return parser
 
 
-def main(argv=None) -> int:
+def main(argv=None, subcommands=SUBCOMMANDS) -> int:
     """Entry point of the ``adbsat-ros`` console script; returns the process exit status."""
-    parser = build_parser()
+    parser = build_parser(subcommands)
     args = parser.parse_args(argv)
     logging.basicConfig(
         level=logging.INFO if args.verbose else logging.WARNING,
@@ -45,6 +46,12 @@ def main(argv=None) -> int:
     except CommandLineError as exc:
         print(f"adbsat-ros {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except MeshError as exc:
+        print(f"adbsat-ros {args.command}: error: MESH: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # e.g. output piped into `head`
+        sys.stderr.close()
+        return 0
     except (OSError, ValueError) as exc:
         print(f"adbsat-ros {args.command}: error: {exc}", file=sys.stderr)
         return 1

@@ -1,0 +1,182 @@
+"""Option groups shared by the subcommands that evaluate the panel method."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..freestream import FreeStream
+from ..gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, SPECIES_MODELS, ModelOptions
+from ..mesh import resolve_mesh
+from ..panel_method import PanelMethod, Reference
+from ..surface import SURFACE_PARAMETERS, MaterialTable, SurfaceProperties
+from .options import CommandLineError, fraction, parse_vector3, positive_float
+
+SHADING_MODES = ("none", "projection", "raycast")
+
+
+def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("mesh", metavar="MESH", help="mesh file (.obj .stl .ply .off ...) or 'example'")
+    parser.add_argument("--scale", type=positive_float("--scale"), default=1.0,
+                        help="factor from file units to metres (1e-3 for millimetres)")
+
+
+def add_model_arguments(parser: argparse.ArgumentParser) -> None:
+    g = parser.add_argument_group("gas-surface model")
+    g.add_argument("--gsim", default="sentman", type=str.lower, choices=list(MODELS),
+                   help="gas-surface interaction model (default sentman)")
+    g.add_argument("--alpha", type=fraction("--alpha"), default=1.0,
+                   help="energy accommodation (sentman, cook, dria; maxwell diffuse fraction)")
+    g.add_argument("--alpha-n", type=fraction("--alpha-n"), default=1.0,
+                   help="CLL normal energy accommodation")
+    g.add_argument("--sigma-n", type=positive_or_zero_below_two, default=1.0,
+                   help="normal momentum accommodation (schaaf, storch), in [0, 2)")
+    g.add_argument("--sigma-t", type=fraction("--sigma-t"), default=1.0,
+                   help="tangential momentum accommodation (schaaf, storch, cll)")
+    g.add_argument("--wall-temperature", type=positive_float("--wall-temperature"), default=300.0,
+                   help="wall temperature [K] (default 300)")
+    g.add_argument("--material", action="append", default=[], metavar="NAME:KEY=VALUE[,KEY=VALUE]",
+                   help="per-material override, e.g. solar_array:alpha=0.9,wall_temperature=350")
+    g.add_argument("--incident-temperature", choices=INCIDENT_TEMPERATURE_FORMS, default="energy",
+                   help="incident temperature form for sentman/dria (default energy, as ADBSat)")
+    g.add_argument("--adbsat-compat", action="store_true",
+                   help="reproduce ADBSat's coded quirks (maxwell two-sided plate, cll weights)")
+
+
+def positive_or_zero_below_two(text):
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0.0 <= value < 2.0:
+        raise argparse.ArgumentTypeError(f"--sigma-n must be a number in [0, 2), got {text!r}")
+    return value
+
+
+def add_flow_arguments(parser: argparse.ArgumentParser) -> None:
+    g = parser.add_argument_group("free stream (given directly)")
+    g.add_argument("--speed", type=positive_float("--speed"), help="relative wind speed [m/s]")
+    g.add_argument("--temperature", type=positive_float("--temperature"), help="gas temperature [K]")
+    comp = g.add_mutually_exclusive_group()
+    comp.add_argument("--mean-mass", type=positive_float("--mean-mass"), help="mean molecular mass [amu]")
+    comp.add_argument("--species", metavar="He=N,O=N,...",
+                      help="species number densities [m^-3] (He O N2 O2 Ar H N AnO)")
+    g.add_argument("--density", type=positive_float("--density"),
+                   help="mass density [kg/m^3] for forces in newtons (default: from --species)")
+
+
+def add_reference_arguments(parser: argparse.ArgumentParser) -> None:
+    g = parser.add_argument_group("reference quantities")
+    g.add_argument("--aref", type=positive_float("--aref"), help="reference area [m^2] (default: half the total area)")
+    g.add_argument("--lref", type=positive_float("--lref"), help="reference length [m] (default: x extent)")
+    g.add_argument("--moment-ref", metavar="X,Y,Z", default="0,0,0",
+                   help="moment reference point in the mesh frame [m] (default origin)")
+
+
+def add_shading_arguments(parser: argparse.ArgumentParser, default="raycast") -> None:
+    g = parser.add_argument_group("shading")
+    g.add_argument("--shading", choices=SHADING_MODES, default=default,
+                   help=f"shading mode (default {default})")
+    g.add_argument("--samples", type=int, default=16, help="ray samples per panel for raycast (default 16)")
+
+
+def parse_species(text: str) -> dict:
+    """Parse ``He=1e12,O=3e15`` into a dict, or raise CommandLineError naming --species."""
+    out = {}
+    for item in text.split(","):
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        try:
+            number = float(value)
+        except ValueError:
+            number = None
+        if not sep or number is None:
+            raise CommandLineError(f"--species: expected NAME=NUMBER items, got {item!r}")
+        out[name] = number
+    return out
+
+
+def _parse_material(text: str):
+    name, sep, rest = text.partition(":")
+    if not sep or not name:
+        raise CommandLineError(f"--material: expected NAME:KEY=VALUE[,KEY=VALUE], got {text!r}")
+    values = {}
+    for item in rest.split(","):
+        key, sep, value = item.partition("=")
+        key = key.strip().replace("-", "_")
+        if not sep or key not in SURFACE_PARAMETERS:
+            raise CommandLineError(
+                f"--material {name}: unknown parameter {key!r}; allowed: {', '.join(SURFACE_PARAMETERS)}"
+            )
+        try:
+            values[key] = float(value)
+        except ValueError:
+            raise CommandLineError(f"--material {name}: {key} must be a number, got {value!r}") from None
+    return name, values
+
+
+def materials_from_args(args) -> MaterialTable:
+    try:
+        default = SurfaceProperties(
+            alpha=args.alpha,
+            alpha_n=args.alpha_n,
+            sigma_n=args.sigma_n,
+            sigma_t=args.sigma_t,
+            wall_temperature=args.wall_temperature,
+        )
+        overrides = dict(_parse_material(text) for text in args.material)
+        return MaterialTable(default, overrides)
+    except ValueError as exc:
+        if isinstance(exc, CommandLineError):
+            raise
+        raise CommandLineError(f"--material: {exc}") from None
+
+
+def freestream_from_args(args, model: str) -> FreeStream:
+    """The FreeStream given by --speed/--temperature/--mean-mass/--species/--density."""
+    missing = [opt for opt, value in (("--speed", args.speed), ("--temperature", args.temperature)) if value is None]
+    if args.mean_mass is None and args.species is None:
+        missing.append("--mean-mass or --species")
+    if missing:
+        raise CommandLineError(f"the free stream needs {', '.join(missing)}")
+    if model in SPECIES_MODELS and args.species is None:
+        raise CommandLineError(f"--gsim {model} needs the composition: give --species")
+    try:
+        return FreeStream(
+            speed=args.speed,
+            temperature=args.temperature,
+            number_densities=parse_species(args.species) if args.species else None,
+            mean_mass_amu=args.mean_mass,
+            density=args.density,
+        )
+    except ValueError as exc:
+        raise CommandLineError(f"--species: {exc}" if args.species else str(exc)) from None
+
+
+def panel_method_from_args(args, mesh=None) -> PanelMethod:
+    """Mesh (loaded once), model, materials, options and references from the arguments."""
+    mesh = mesh if mesh is not None else resolve_mesh(args.mesh, scale=args.scale)
+    materials = materials_from_args(args)
+    unknown = materials.check_names(mesh.material_names)
+    if unknown:
+        raise CommandLineError(
+            f"--material: the mesh has no material {', '.join(map(repr, unknown))}; "
+            f"its materials are {', '.join(mesh.material_names)}"
+        )
+    reference = Reference(
+        area=args.aref,
+        length=args.lref,
+        moment_point=tuple(parse_vector3(args.moment_ref, "--moment-ref")),
+    )
+    options = ModelOptions(incident_temperature=args.incident_temperature, adbsat_compat=args.adbsat_compat)
+    return PanelMethod(mesh, args.gsim, materials, options=options, reference=reference)
+
+
+def make_shader_from_args(args, mesh):
+    """A shader for the chosen mode, or None for 'none'."""
+    if args.shading == "none":
+        return None
+    from ..shading import make_shader
+
+    if args.samples < 1:
+        raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
+    return make_shader(mesh, mode=args.shading, samples=args.samples)

@@ -1,0 +1,100 @@
+"""The `adbsat-ros coeff` command: output, ranges, and one-line errors with exit status 2."""
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from adbsat_ros import FreeStream, PanelMethod, load_mesh
+from adbsat_ros.cli import main
+from adbsat_ros.cli.options import CommandLineError, parse_angle_list
+
+FLOW = ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
+
+
+def run_cli(capsys, *argv):
+    code = main(["coeff", *argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def box_file(tmp_path_factory):
+    import trimesh
+
+    path = tmp_path_factory.mktemp("mesh") / "box.stl"
+    box = trimesh.creation.box(extents=(1.0, 1.0, 1.0))
+    box.apply_translation((0.2, 0.0, 0.0))
+    box.export(path)
+    return path
+
+
+def test_angle_lists_and_ranges():
+    assert parse_angle_list("0,10,20:5:30", "--aoa").tolist() == [0, 10, 20, 25, 30]
+    assert parse_angle_list("-180:90:180", "--aoa").tolist() == [-180, -90, 0, 90, 180]
+    assert parse_angle_list("10:-5:0", "--aoa").tolist() == [10, 5, 0]
+    for bad in ("a", "1:2", "0:0:5", "0:-1:5", "1,,2", "nan"):
+        with pytest.raises(CommandLineError, match="--aoa"):
+            parse_angle_list(bad, "--aoa")
+
+
+def test_json_has_one_object_per_attitude_pair(capsys, box_file):
+    code, out, _ = run_cli(capsys, str(box_file), "--shading", "none", "--aoa", "0:30:60", "--aos", "0,10",
+                           "--density", "1e-11", "--moment-ref", "0.2,0,0", "--json", *FLOW)
+    assert code == 0
+    data = json.loads(out)
+    assert [(d["aoa_deg"], d["aos_deg"]) for d in data] == [(a, b) for a in (0, 30, 60) for b in (0, 10)]
+    for key in ("Cf_w", "Cf_f", "Cm_B", "Aref", "Lref", "AreaProj", "CD", "CL", "CY", "force_N", "torque_Nm"):
+        assert key in data[0]
+    # the same numbers as the Python API
+    method = PanelMethod(load_mesh(box_file), "sentman", reference=None)
+    flow = FreeStream(7700.0, 900.0, mean_mass_amu=16.0, density=1e-11)
+    ref = method.coefficients(flow, math.radians(30), math.radians(10))
+    assert np.allclose(data[3]["Cf_w"], ref.Cf_w, rtol=1e-12)
+    assert data[3]["Aref"] == pytest.approx(3.0) and data[3]["Lref"] == pytest.approx(1.0)
+    # force in newtons = q Aref Cf_G
+    q = 0.5 * 1e-11 * 7700.0**2
+    assert np.allclose(data[3]["force_N"], q * 3.0 * np.asarray(data[3]["Cf_G"]))
+    # a cube centred on the moment point has no moment at aoa = aos = 0
+    assert np.allclose(data[0]["Cm_B"], 0.0, atol=1e-12)
+
+
+def test_table_output(capsys, box_file):
+    code, out, _ = run_cli(capsys, str(box_file), "--shading", "none", "--gsim", "newton", "--aoa", "0", *FLOW)
+    assert code == 0
+    lines = out.strip().splitlines()
+    assert lines[2].split()[:3] == ["aoa", "aos", "CD"]
+    # Newton cube head-on: C_D = 2 * 1 m^2 / Aref(3 m^2)
+    assert float(lines[3].split()[2]) == pytest.approx(2.0 / 3.0, abs=1e-5)
+
+
+@pytest.mark.parametrize(
+    "argv,needle",
+    [
+        (["--gsim", "nope"], "--gsim"),
+        (["--alpha", "1.5"], "--alpha"),
+        (["--speed", "-3"], "--speed"),
+        (["--aoa", "0:0:10"], "--aoa"),
+        (["--moment-ref", "1,2"], "--moment-ref"),
+        (["--shading", "fancy"], "--shading"),
+        (["--species", "Xe=1e12"], "--species"),
+        (["--gsim", "cll"], "--species"),
+        (["--material", "nothere:alpha=0.5"], "--material"),
+        (["--material", "default:beta=0.5"], "--material"),
+    ],
+)
+def test_bad_values_give_one_line_and_status_2(box_file, argv, needle):
+    base = [sys.executable, "-m", "adbsat_ros.cli", "coeff", str(box_file), "--shading", "none"]
+    flow = [] if "--speed" in argv else FLOW
+    proc = subprocess.run(base + flow + argv, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and needle in lines[0], proc.stderr
+
+
+def test_missing_mesh_is_status_2(capsys):
+    code, _, err = run_cli(capsys, "missing.obj", *FLOW)
+    assert code == 2 and "missing.obj" in err and len(err.strip().splitlines()) == 1

@@ -1,0 +1,49 @@
+"""Solar radiation pressure against the Luthcke flat-plate closed forms (Montenbruck & Gill 3.75)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from adbsat_ros import PanelMethod, Reference, SurfaceProperties, panels_from_arrays
+from adbsat_ros.solar import solar_coefficients
+
+# One square plate (two triangles) of area 1 m^2 in the y-z plane with normal +x.
+PLATE_V = np.array([[0, -0.5, -0.5], [0, 0.5, -0.5], [0, 0.5, 0.5], [0, -0.5, 0.5]], float)
+PLATE_F = np.array([[0, 1, 2], [0, 2, 3]])
+
+
+def plate_method(rho_s, rho_d):
+    mesh = panels_from_arrays(PLATE_V, PLATE_F)
+    surf = SurfaceProperties(specular_reflectivity=rho_s, diffuse_reflectivity=rho_d)
+    return PanelMethod(mesh, "newton", surf, reference=Reference(area=1.0, length=1.0))
+
+
+@pytest.mark.parametrize("theta_deg", [0.0, 30.0, 60.0])
+@pytest.mark.parametrize("rho_s,rho_d", [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (0.3, 0.4)])
+def test_plate_matches_luthcke(theta_deg, rho_s, rho_d):
+    th = math.radians(theta_deg)
+    to_sun = np.array([math.cos(th), math.sin(th), 0.0])
+    n = np.array([1.0, 0.0, 0.0])
+    c = math.cos(th)
+    # F/(P A) = -cos(th) [(1 - rho_s) s + 2 (rho_s cos(th) + rho_d/3) n], s towards the sun
+    expected = -c * ((1 - rho_s) * to_sun + 2 * (rho_s * c + rho_d / 3) * n)
+    got = solar_coefficients(plate_method(rho_s, rho_d), to_sun)
+    assert np.allclose(got.Cf_G, expected, atol=1e-12)
+    assert got.area_lit == pytest.approx(c)
+
+
+def test_plate_facing_away_from_the_sun_feels_nothing():
+    got = solar_coefficients(plate_method(0.5, 0.3), np.array([-1.0, 0.2, 0.0]))
+    assert np.allclose(got.Cf_G, 0.0) and got.area_lit == 0.0
+
+
+def test_absorbing_plate_force_is_along_the_photons():
+    got = solar_coefficients(plate_method(0.0, 0.0), np.array([1.0, 1.0, 0.0]))
+    direction = got.Cf_G / np.linalg.norm(got.Cf_G)
+    assert np.allclose(direction, -np.array([1.0, 1.0, 0.0]) / math.sqrt(2))
+
+
+def test_bad_sun_direction():
+    with pytest.raises(ValueError, match="sun_direction"):
+        solar_coefficients(plate_method(0, 0), [0.0, 0.0, 0.0])
