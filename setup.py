@@ -53,6 +53,7 @@ setup(
     entry_points={
         "console_scripts": [
             "adbsat-ros = adbsat_ros.cli:main",
+            "adbsat_node = adbsat_ros.node:main",
         ],
     },
 )

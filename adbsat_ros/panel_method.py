@@ -219,7 +219,22 @@ class PanelMethod:
         return self.model in SPECIES_MODELS
 
     # ------------------------------------------------------------------------------ per panel
-    def panel_coefficients(self, u_G, flow: FreeStream):
+    def surface_with(self, **changes):
+        """Per-panel surface parameters with some set to one value on every panel.
+
+        E.g. ``surface_with(alpha=0.9)`` when an accommodation model gives alpha from the
+        atmosphere. Pass the result as ``surface=`` to :meth:`coefficients`.
+        """
+        from .surface import SURFACE_PARAMETERS, PanelSurface
+
+        values = {name: getattr(self.surface, name) for name in SURFACE_PARAMETERS}
+        for name, value in changes.items():
+            if name not in values:
+                raise ValueError(f"unknown surface parameter {name!r}")
+            values[name] = float(value)
+        return PanelSurface(**values)
+
+    def panel_coefficients(self, u_G, flow: FreeStream, surface=None):
         """Incidence and local coefficients of every panel.
 
         Parameters
@@ -227,6 +242,8 @@ class PanelMethod:
         u_G : array_like, shape (3,) or (M, 3)
             Unit flow direction(s) in G.
         flow : FreeStream
+        surface : PanelSurface, optional
+            Surface parameters to use instead of the materials' (see :meth:`surface_with`).
 
         Returns
         -------
@@ -235,7 +252,7 @@ class PanelMethod:
         c = -(np.asarray(u_G, dtype=float) @ self._normals.T)
         np.clip(c, -1.0, 1.0, out=c)
         sigma = np.sqrt(1.0 - c * c)
-        cp, ctau = self._model_fn(c, sigma, self.surface, flow, self.options)
+        cp, ctau = self._model_fn(c, sigma, surface or self.surface, flow, self.options)
         return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
 
     # ------------------------------------------------------------------------------ integration
@@ -285,6 +302,7 @@ class PanelMethod:
         *,
         flow_direction=None,
         lighting: PanelLighting | None = None,
+        surface=None,
     ) -> AeroCoefficients:
         """Coefficients at one attitude, given by angles or by the flow direction.
 
@@ -298,6 +316,8 @@ class PanelMethod:
             Direction of the gas motion relative to the body in G, instead of the angles.
         lighting : PanelLighting, optional
             Shading result for this flow direction (default: nothing occluded).
+        surface : PanelSurface, optional
+            Surface parameters overriding the materials' (see :meth:`surface_with`).
         """
         if flow_direction is not None:
             if aoa is not None or aos is not None:
@@ -314,7 +334,7 @@ class PanelMethod:
             if not (math.isfinite(aoa) and math.isfinite(aos)):
                 raise ValueError(f"aoa and aos must be finite, got {aoa!r}, {aos!r}")
             u = frames.flow_direction(aoa, aos)
-        c, sigma, cp, ctau = self.panel_coefficients(u, flow)
+        c, sigma, cp, ctau = self.panel_coefficients(u, flow, surface)
         Cf_G, Cm_G, area_proj = self.integrate(u, c, sigma, cp, ctau, lighting)
         Cf_B = frames.L_GB @ Cf_G
         return AeroCoefficients(

@@ -146,3 +146,30 @@ class MaterialTable:
             else:
                 values[name] = np.ascontiguousarray(per_material[material_index])
         return PanelSurface(**values)
+
+
+def parse_material_override(text: str):
+    """Parse ``NAME:key=value[,key=value]`` into ``(name, {key: value})``.
+
+    Raises
+    ------
+    ValueError
+        Naming the material and the bad item; keys must be in :data:`SURFACE_PARAMETERS`.
+    """
+    name, sep, rest = str(text).partition(":")
+    name = name.strip()
+    if not sep or not name:
+        raise ValueError(f"expected NAME:KEY=VALUE[,KEY=VALUE], got {text!r}")
+    values = {}
+    for item in rest.split(","):
+        key, sep, value = item.partition("=")
+        key = key.strip().replace("-", "_")
+        if not sep or key not in SURFACE_PARAMETERS:
+            raise ValueError(
+                f"material {name}: unknown parameter {key!r}; allowed: {', '.join(SURFACE_PARAMETERS)}"
+            )
+        try:
+            values[key] = float(value)
+        except ValueError:
+            raise ValueError(f"material {name}: {key} must be a number, got {value!r}") from None
+    return name, values

@@ -8,7 +8,7 @@ from ..freestream import FreeStream
 from ..gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, SPECIES_MODELS, ModelOptions
 from ..mesh import resolve_mesh
 from ..panel_method import PanelMethod, Reference
-from ..surface import SURFACE_PARAMETERS, MaterialTable, SurfaceProperties
+from ..surface import MaterialTable, SurfaceProperties, parse_material_override
 from .options import CommandLineError, fraction, parse_vector3, positive_float
 
 SHADING_MODES = ("none", "projection", "raycast")
@@ -95,25 +95,6 @@ def parse_species(text: str) -> dict:
     return out
 
 
-def _parse_material(text: str):
-    name, sep, rest = text.partition(":")
-    if not sep or not name:
-        raise CommandLineError(f"--material: expected NAME:KEY=VALUE[,KEY=VALUE], got {text!r}")
-    values = {}
-    for item in rest.split(","):
-        key, sep, value = item.partition("=")
-        key = key.strip().replace("-", "_")
-        if not sep or key not in SURFACE_PARAMETERS:
-            raise CommandLineError(
-                f"--material {name}: unknown parameter {key!r}; allowed: {', '.join(SURFACE_PARAMETERS)}"
-            )
-        try:
-            values[key] = float(value)
-        except ValueError:
-            raise CommandLineError(f"--material {name}: {key} must be a number, got {value!r}") from None
-    return name, values
-
-
 def materials_from_args(args) -> MaterialTable:
     try:
         default = SurfaceProperties(
@@ -123,7 +104,7 @@ def materials_from_args(args) -> MaterialTable:
             sigma_t=args.sigma_t,
             wall_temperature=args.wall_temperature,
         )
-        overrides = dict(_parse_material(text) for text in args.material)
+        overrides = dict(parse_material_override(text) for text in args.material)
         return MaterialTable(default, overrides)
     except ValueError as exc:
         if isinstance(exc, CommandLineError):

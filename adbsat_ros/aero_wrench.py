@@ -1,0 +1,377 @@
+"""From attitude and orbital state messages to the aerodynamic wrench: the node's logic, no ROS.
+
+:class:`AeroWrenchEstimator` holds the mesh (loaded once), the panel method, the shading cache
+and the latest orbital state. The ROS node feeds it decoded messages; bag analysis feeds it the
+same messages from a file, so both compute exactly the same numbers.
+
+Frames: the state (position, and velocity unless it is given in the body frame) is in ECI (GCRF)
+or ECEF (ITRF) as the settings say; the attitude quaternion (x, y, z, w) rotates body-frame
+vectors into that frame, v_state = R(q) v_body; the body frame is the mesh frame. Forces [N] and
+torques [N m] are returned in the body frame, torques about the centre of mass.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+import time
+from collections import Counter
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from .atmosphere import SpaceWeather
+from .flight_conditions import FlightConditions, flight_conditions
+from .gsi_models import ModelOptions
+from .mesh import PanelMesh, resolve_mesh
+from .panel_method import AeroCoefficients, PanelMethod, Reference
+from .surface import MaterialTable, SurfaceProperties, parse_material_override
+from .wrench_settings import WrenchSettings
+
+#: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).
+REJECTION_REASONS = (
+    "non_finite",
+    "bad_quaternion",
+    "no_state",
+    "stale_state",
+    "time_backwards",
+    "altitude_out_of_range",
+    "bad_state",
+    "compute_error",
+)
+
+#: Names accepted in Odometry.child_frame_id for a twist already in the state frame.
+STATE_FRAME_NAMES = ("", "eci", "ecef", "gcrf", "itrf", "j2000", "earth", "world", "map")
+
+
+class Rejection(Exception):
+    """An input that produced no wrench: ``reason`` (one of REJECTION_REASONS) and a message."""
+
+    def __init__(self, reason: str, message: str):
+        super().__init__(message)
+        self.reason = reason
+        self.message = message
+
+
+@dataclass(frozen=True, eq=False)
+class OrbitalState:
+    """The latest accepted orbital state, in the state frame (ECI or ECEF) [m, m/s]."""
+
+    stamp: float
+    position: np.ndarray
+    velocity: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class WrenchSample:
+    """The aerodynamic wrench at one attitude message.
+
+    Attributes
+    ----------
+    stamp : float
+        Message time [s] (the attitude's header stamp).
+    time : datetime.datetime
+        UTC of the stamp.
+    force, torque : ndarray, shape (3,)
+        Force [N] and torque about the centre of mass [N m], body (mesh) frame.
+    force_coefficients, moment_coefficients : ndarray, shape (3,)
+        C_F and C_M in the body frame (moment about the centre of mass), normalised by
+        ``reference_area`` and ``reference_length``; zero when the relative speed is zero.
+    reference_area, reference_length : float
+        A_ref [m^2] and L_ref [m].
+    dynamic_pressure : float
+        q = rho V^2 / 2 [Pa].
+    conditions : FlightConditions
+        Atmosphere, position and relative wind at the stamp.
+    coefficients : AeroCoefficients or None
+        Full panel-method result (None when the relative speed is below the threshold).
+    flow_direction_body : ndarray, shape (3,)
+        Unit direction of the gas motion relative to the body (zero if at rest).
+    shading_cache_hit : bool or None
+        Whether the shading came from the cache (None without shading).
+    compute_seconds : float
+        Wall time spent computing this sample [s].
+    """
+
+    stamp: float
+    time: _dt.datetime
+    force: np.ndarray
+    torque: np.ndarray
+    force_coefficients: np.ndarray
+    moment_coefficients: np.ndarray
+    reference_area: float
+    reference_length: float
+    dynamic_pressure: float
+    conditions: FlightConditions
+    coefficients: AeroCoefficients | None
+    flow_direction_body: np.ndarray
+    shading_cache_hit: bool | None
+    compute_seconds: float
+
+    @property
+    def drag_coefficient(self) -> float:
+        """C_D: force coefficient along the gas motion (0 at rest)."""
+        return float(self.force_coefficients @ self.flow_direction_body)
+
+
+def materials_from_settings(settings: WrenchSettings) -> MaterialTable:
+    """The MaterialTable the settings describe (default properties + per-material overrides)."""
+    default = SurfaceProperties(
+        alpha=settings.alpha,
+        alpha_n=settings.alpha_n,
+        sigma_n=settings.sigma_n,
+        sigma_t=settings.sigma_t,
+        wall_temperature=settings.wall_temperature,
+    )
+    overrides = {}
+    for text in settings.material_overrides:
+        try:
+            name, values = parse_material_override(text)
+        except ValueError as exc:
+            raise ValueError(f"parameter material_overrides: {exc}") from None
+        overrides[name] = values
+    try:
+        return MaterialTable(default, overrides)
+    except ValueError as exc:
+        raise ValueError(f"parameter material_overrides: {exc}") from None
+
+
+class _ShadingSource:
+    """Lighting for a flow direction, through the shading cache (or nothing for 'none')."""
+
+    def __init__(self, mesh: PanelMesh, settings: WrenchSettings):
+        self.key = (settings.shading, settings.shading_samples, settings.shading_cache_resolution_deg,
+                    settings.shading_cache_size)
+        self.cache = None
+        if settings.shading != "none":
+            from .shading import make_shader
+            from .shading_cache import ShadingCache
+
+            shader = make_shader(mesh, mode=settings.shading, samples=settings.shading_samples)
+            self.cache = ShadingCache(
+                shader,
+                resolution_deg=settings.shading_cache_resolution_deg,
+                max_entries=settings.shading_cache_size,
+            )
+
+    def lighting(self, u_G):
+        if self.cache is None:
+            return None, None
+        hits = self.cache.hits
+        lighting = self.cache.lighting(u_G)
+        return lighting, self.cache.hits > hits
+
+    @property
+    def hits(self) -> int:
+        return 0 if self.cache is None else self.cache.hits
+
+    @property
+    def misses(self) -> int:
+        return 0 if self.cache is None else self.cache.misses
+
+
+class AeroWrenchEstimator:
+    """Aerodynamic wrench from attitude and orbital-state inputs (the ROS node's core).
+
+    Parameters
+    ----------
+    settings : WrenchSettings
+        Everything but the ROS plumbing (see :data:`adbsat_ros.wrench_settings.PARAMETERS`).
+    mesh : PanelMesh, optional
+        An already loaded mesh (default: load ``settings.mesh`` once).
+
+    Raises
+    ------
+    MeshError
+        If the mesh cannot be loaded.
+    ValueError
+        For settings that cannot be applied (e.g. an unknown material name).
+    """
+
+    def __init__(self, settings: WrenchSettings, mesh: PanelMesh | None = None):
+        self.mesh = mesh if mesh is not None else resolve_mesh(settings.mesh, settings.mesh_scale)
+        self.rejections: Counter = Counter()
+        self.published = 0
+        self._state: OrbitalState | None = None
+        self._last_attitude_stamp: float | None = None
+        self._last_state_stamp: float | None = None
+        self._shading: _ShadingSource | None = None
+        self.settings = None
+        self.apply_settings(settings)
+
+    # ----------------------------------------------------------------------------- settings
+    def apply_settings(self, settings: WrenchSettings) -> None:
+        """Switch to new settings; raises ValueError (and keeps the old ones) if they do not apply."""
+        if self.settings is not None:
+            for name in ("mesh", "mesh_scale"):
+                if getattr(settings, name) != getattr(self.settings, name):
+                    raise ValueError(f"parameter {name}: the mesh is loaded once at start-up and cannot change")
+        materials = materials_from_settings(settings)
+        unknown = materials.check_names(self.mesh.material_names)
+        if unknown:
+            raise ValueError(
+                f"parameter material_overrides: the mesh has no material {', '.join(map(repr, unknown))}; "
+                f"its materials are {', '.join(self.mesh.material_names)}"
+            )
+        method = PanelMethod(
+            self.mesh,
+            settings.gsi_model,
+            materials,
+            options=ModelOptions(settings.incident_temperature, settings.adbsat_compat),
+            reference=Reference(moment_point=settings.center_of_mass),
+        )
+        weather = SpaceWeather(settings.f107, settings.f107a, settings.ap, settings.ap_history)
+        shading = self._shading
+        key = (settings.shading, settings.shading_samples, settings.shading_cache_resolution_deg,
+               settings.shading_cache_size)
+        if shading is None or shading.key != key:
+            shading = _ShadingSource(self.mesh, settings)
+        self.method, self.weather, self._shading, self.settings = method, weather, shading, settings
+        self._wind = np.asarray(settings.wind_ecef) if any(settings.wind_ecef) else None
+
+    @property
+    def shading_cache_hits(self) -> int:
+        return self._shading.hits
+
+    @property
+    def shading_cache_misses(self) -> int:
+        return self._shading.misses
+
+    # ----------------------------------------------------------------------------- time
+    def utc(self, stamp: float) -> _dt.datetime:
+        """UTC of a message stamp [s] per ``time_mode``."""
+        if self.settings.time_mode == "unix":
+            return _dt.datetime.fromtimestamp(stamp, tz=_dt.timezone.utc)
+        return self.settings.epoch_utc + _dt.timedelta(seconds=stamp)
+
+    def reset(self) -> None:
+        """Forget the state and the last stamps (e.g. after time jumped back)."""
+        self._state = None
+        self._last_attitude_stamp = None
+        self._last_state_stamp = None
+
+    def _reject(self, reason: str, message: str):
+        self.rejections[reason] += 1
+        raise Rejection(reason, message)
+
+    # ----------------------------------------------------------------------------- inputs
+    def on_state(self, stamp: float, position, velocity, velocity_in_body_frame: bool = False,
+                 orientation_xyzw=None) -> OrbitalState:
+        """Accept an orbital state.
+
+        Parameters
+        ----------
+        stamp : float
+            Message time [s].
+        position : array_like, shape (3,)
+            Position in the state frame [m].
+        velocity : array_like, shape (3,)
+            Velocity [m/s]: in the state frame, or in the body frame if ``velocity_in_body_frame``
+            (then ``orientation_xyzw``, the body's orientation in the state frame, rotates it).
+        orientation_xyzw : array_like, shape (4,), optional
+            Body orientation (x, y, z, w), needed for a body-frame velocity.
+
+        Raises
+        ------
+        Rejection
+            ``non_finite``, ``bad_quaternion`` or ``time_backwards`` (which also resets).
+        """
+        position = np.asarray(position, dtype=float)
+        velocity = np.asarray(velocity, dtype=float)
+        if not (math.isfinite(stamp) and np.all(np.isfinite(position)) and np.all(np.isfinite(velocity))):
+            self._reject("non_finite", "state has NaN or Inf in its stamp, position or velocity")
+        if velocity_in_body_frame:
+            rotation = self._rotation(orientation_xyzw, "state orientation")
+            velocity = rotation.apply(np.array(velocity))
+        if self._last_state_stamp is not None and stamp < self._last_state_stamp:
+            jump = self._last_state_stamp - stamp
+            self.reset()
+            self.rejections["time_backwards"] += 1
+            self._last_state_stamp = stamp
+            self._state = OrbitalState(stamp, position, velocity)
+            raise Rejection("time_backwards", f"state time went back by {jump:.3f} s: history reset, state kept")
+        self._last_state_stamp = stamp
+        self._state = OrbitalState(stamp, position, velocity)
+        return self._state
+
+    def _rotation(self, q, what: str) -> Rotation:
+        q = np.asarray(q, dtype=float) if q is not None else np.zeros(4)
+        if q.shape != (4,) or not np.all(np.isfinite(q)):
+            self._reject("non_finite", f"{what} has NaN or Inf")
+        norm = float(np.linalg.norm(q))
+        if abs(norm - 1.0) > self.settings.max_quaternion_norm_error:
+            self._reject(
+                "bad_quaternion",
+                f"{what} norm {norm:.6g} differs from 1 by more than {self.settings.max_quaternion_norm_error:g}",
+            )
+        return Rotation.from_quat(q / norm)
+
+    def on_attitude(self, stamp: float, quaternion_xyzw) -> WrenchSample:
+        """The wrench at an attitude message, with the latest state brought to its stamp.
+
+        Raises
+        ------
+        Rejection
+            With the reason; nothing is published for this message.
+        """
+        t0 = time.perf_counter()
+        if not math.isfinite(stamp):
+            self._reject("non_finite", "attitude stamp is not finite")
+        rotation = self._rotation(quaternion_xyzw, "attitude quaternion")
+        if self._last_attitude_stamp is not None and stamp < self._last_attitude_stamp:
+            jump = self._last_attitude_stamp - stamp
+            self.reset()
+            self._reject("time_backwards", f"attitude time went back by {jump:.3f} s: history reset")
+        state = self._state
+        if state is None:
+            self._reject("no_state", "no orbital state received yet")
+        dt = stamp - state.stamp
+        if abs(dt) > self.settings.state_timeout:
+            self._reject("stale_state", f"latest state is {dt:.3f} s from the attitude stamp "
+                         f"(state_timeout {self.settings.state_timeout:g} s)")
+        self._last_attitude_stamp = stamp
+        position = state.position + state.velocity * dt  # first-order propagation to the stamp
+        utc = self.utc(stamp)
+        s = self.settings
+        options = {"alpha": s.alpha} if s.accommodation_model == "fixed" else None
+        try:
+            conditions = flight_conditions(
+                utc, position, state.velocity, self.weather, frame=s.state_frame,
+                earth_rotation=s.earth_rotation, wind=self._wind, wind_frame="ecef",
+                anomalous_oxygen=s.anomalous_oxygen, accommodation_model=s.accommodation_model,
+                accommodation_options=options,
+            )
+        except ValueError as exc:
+            reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
+            self._reject(reason, str(exc))
+        sample = self._wrench(stamp, utc, rotation, conditions, t0)
+        self.published += 1
+        return sample
+
+    def _wrench(self, stamp, utc, rotation: Rotation, conditions: FlightConditions, t0) -> WrenchSample:
+        s = self.settings
+        ref = self.method.reference
+        v_rel = conditions.relative_velocity_eci if s.state_frame == "eci" else conditions.relative_velocity_ecef
+        zero = np.zeros(3)
+        if conditions.speed < s.min_relative_speed:
+            return WrenchSample(stamp, utc, zero, zero.copy(), zero.copy(), zero.copy(), ref.area, ref.length,
+                                0.0, conditions, None, zero.copy(), None, time.perf_counter() - t0)
+        u_body = -rotation.apply(np.array(v_rel), inverse=True) / conditions.speed
+        lighting, hit = self._shading.lighting(u_body)
+        surface = None
+        if s.accommodation_model != "fixed":
+            surface = self.method.surface_with(alpha=conditions.alpha, alpha_n=conditions.alpha)
+        flow = conditions.free_stream()
+        try:
+            coeffs = self.method.coefficients(flow, flow_direction=u_body, lighting=lighting, surface=surface)
+        except ValueError as exc:
+            self._reject("compute_error", str(exc))
+        q = flow.dynamic_pressure()
+        return WrenchSample(
+            stamp=stamp, time=utc, force=coeffs.force(q), torque=coeffs.torque(q),
+            force_coefficients=coeffs.Cf_G, moment_coefficients=coeffs.Cm_G,
+            reference_area=ref.area, reference_length=ref.length, dynamic_pressure=q,
+            conditions=conditions, coefficients=coeffs, flow_direction_body=u_body,
+            shading_cache_hit=hit, compute_seconds=time.perf_counter() - t0,
+        )

@@ -1,0 +1,271 @@
+"""``adbsat-ros atmosphere``: flight conditions (NRLMSISE-00 atmosphere, speed, accommodation).
+
+Where: either a geodetic point ``--altitude KM --lat DEG --lon DEG`` (speed = circular-orbit
+speed, as ADBSat's environment.m), or a position ``--position X,Y,Z`` [m] in ``--frame eci|ecef``
+with an optional ``--velocity X,Y,Z`` [m/s] in the same frame (without it, the circular-orbit
+speed at that point is used). ``--json`` prints every field in SI units; otherwise a table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import json
+import math
+import sys
+
+from ..accommodation import accommodation_model_names
+from ..atmosphere import FIRST_YEAR, LAST_YEAR, MAX_ALTITUDE, SpaceWeather
+from ..earth_frames import earth_orientation, ecef_to_geodetic
+from ..flight_conditions import (
+    DEFAULT_ACCOMMODATION_MODEL,
+    flight_conditions,
+    flight_conditions_circular_orbit,
+)
+from .options import CommandLineError, parse_vector3
+
+#: Space weather used when not given: the NRLMSISE-00 reference test point (moderate activity).
+DEFAULT_F107 = 150.0
+DEFAULT_F107A = 150.0
+DEFAULT_AP = 4.0
+
+
+def _finite_float(option: str):
+    """An argparse ``type`` accepting finite numbers (error names ``option``)."""
+
+    def convert(text):
+        try:
+            value = float(text)
+        except ValueError:
+            value = float("nan")
+        if not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{option} must be a finite number, got {text!r}")
+        return value
+
+    convert.__name__ = option
+    return convert
+
+
+def _non_negative_float(option: str):
+    """An argparse ``type`` accepting finite numbers >= 0 (error names ``option``)."""
+    finite = _finite_float(option)
+
+    def convert(text):
+        value = finite(text)
+        if value < 0:
+            raise argparse.ArgumentTypeError(f"{option} must be >= 0, got {text!r}")
+        return value
+
+    convert.__name__ = option
+    return convert
+
+
+def register(subparsers) -> None:
+    """Add the ``atmosphere`` subcommand to ``subparsers``."""
+    parser = subparsers.add_parser(
+        "atmosphere",
+        help="flight conditions: NRLMSISE-00 atmosphere, relative wind, accommodation",
+        description=(
+            "Evaluate NRLMSISE-00 and the flight conditions at a geodetic point "
+            "(--altitude/--lat/--lon, circular-orbit speed as ADBSat) or at an orbital state "
+            "(--position [--velocity] in --frame eci|ecef). SI units in --json."
+        ),
+    )
+    parser.add_argument(
+        "--time", required=True, metavar="ISO8601",
+        help="UTC time, e.g. 2015-01-19T00:00:00Z (no offset means UTC)",
+    )
+    where = parser.add_argument_group("geodetic point (WGS-84)")
+    where.add_argument("--altitude", type=_finite_float("--altitude"), metavar="KM",
+                       help="height above the WGS-84 ellipsoid [km], 0..1000")
+    where.add_argument("--lat", type=_finite_float("--lat"), metavar="DEG",
+                       help="geodetic latitude [deg], -90..90")
+    where.add_argument("--lon", type=_finite_float("--lon"), metavar="DEG",
+                       help="east longitude [deg]")
+    state = parser.add_argument_group("orbital state")
+    state.add_argument("--position", metavar="X,Y,Z", help="position [m] in --frame")
+    state.add_argument("--velocity", metavar="X,Y,Z",
+                       help="velocity [m/s] in --frame (inertial for eci, Earth-relative for ecef)")
+    state.add_argument("--frame", choices=("eci", "ecef"), default=None,
+                       help="frame of --position/--velocity: eci = GCRF, ecef = ITRF (default eci)")
+    state.add_argument("--wind", metavar="E,N,U",
+                       help="wind [m/s] in local East-North-Up axes (needs --velocity)")
+    state.add_argument("--no-earth-rotation", action="store_true",
+                       help="air at rest in ECI instead of co-rotating (needs --velocity)")
+    weather = parser.add_argument_group("space weather")
+    weather.add_argument("--f107", type=_non_negative_float("--f107"), default=DEFAULT_F107,
+                         metavar="SFU", help=f"F10.7 of the previous day (default {DEFAULT_F107:g})")
+    weather.add_argument("--f107a", type=_non_negative_float("--f107a"), default=DEFAULT_F107A,
+                         metavar="SFU", help=f"81-day average F10.7 (default {DEFAULT_F107A:g})")
+    weather.add_argument("--ap", type=_non_negative_float("--ap"), default=DEFAULT_AP,
+                         metavar="AP", help=f"daily Ap (default {DEFAULT_AP:g})")
+    weather.add_argument("--ap-history", metavar="A0,...,A6",
+                         help="NRLMSISE-00's 7-element Ap array (storm-time formulation)")
+    gas = parser.add_argument_group("gas and surface")
+    gas.add_argument("--no-anomalous-oxygen", action="store_true",
+                     help="leave anomalous oxygen out of the mixture and the mass density (gtd7)")
+    gas.add_argument("--accommodation", type=str.lower, choices=accommodation_model_names(),
+                     default=DEFAULT_ACCOMMODATION_MODEL,
+                     help=f"accommodation model (default {DEFAULT_ACCOMMODATION_MODEL})")
+    gas.add_argument("--alpha", type=_finite_float("--alpha"), metavar="ALPHA",
+                     help="accommodation coefficient for --accommodation fixed, 0..1")
+    parser.add_argument("--json", action="store_true", help="print JSON, every field in SI units")
+    parser.set_defaults(func=run)
+
+
+def _parse_time(text: str) -> _dt.datetime:
+    try:
+        time = _dt.datetime.fromisoformat(text.strip())
+    except ValueError:
+        raise CommandLineError(
+            f"--time: {text!r} is not an ISO 8601 date-time (e.g. 2015-01-19T00:00:00Z)"
+        ) from None
+    if time.tzinfo is not None:
+        time = time.astimezone(_dt.timezone.utc).replace(tzinfo=None)
+    if not FIRST_YEAR <= time.year <= LAST_YEAR:
+        raise CommandLineError(f"--time: must be between {FIRST_YEAR} and {LAST_YEAR}, got {text!r}")
+    return time
+
+
+def _check_altitude_m(altitude_m: float, option: str) -> None:
+    if not 0.0 <= altitude_m <= MAX_ALTITUDE:
+        raise CommandLineError(
+            f"{option}: altitude {altitude_m / 1e3:.6g} km is outside 0..{MAX_ALTITUDE / 1e3:g} km"
+        )
+
+
+def _space_weather(args) -> SpaceWeather:
+    history = None
+    if args.ap_history is not None:
+        try:
+            history = [float(v) for v in args.ap_history.split(",")]
+        except ValueError:
+            history = []
+        if len(history) != 7 or not all(math.isfinite(v) and v >= 0 for v in history):
+            raise CommandLineError(
+                f"--ap-history: expected 7 finite numbers >= 0, got {args.ap_history!r}"
+            )
+    return SpaceWeather(f107=args.f107, f107a=args.f107a, ap=args.ap, ap_history=history)
+
+
+def _accommodation_options(args) -> dict:
+    if args.accommodation == "fixed":
+        if args.alpha is None:
+            raise CommandLineError("--alpha: required with --accommodation fixed")
+        if not 0.0 <= args.alpha <= 1.0:
+            raise CommandLineError(f"--alpha: must be in [0, 1], got {args.alpha:g}")
+        return {"alpha": args.alpha}
+    if args.alpha is not None:
+        raise CommandLineError(
+            f"--alpha: only valid with --accommodation fixed (not {args.accommodation})"
+        )
+    return {}
+
+
+def compute(args):
+    """Flight conditions for parsed arguments; raises CommandLineError naming the bad option."""
+    time = _parse_time(args.time)
+    weather = _space_weather(args)
+    options = _accommodation_options(args)
+    anomalous_oxygen = not args.no_anomalous_oxygen
+    geodetic = [name for name in ("altitude", "lat", "lon") if getattr(args, name) is not None]
+    if args.position is not None and geodetic:
+        raise CommandLineError(
+            f"--position: give either --position or --altitude/--lat/--lon, not both "
+            f"(also got --{geodetic[0]})"
+        )
+    if args.position is None:
+        for option in ("--velocity", "--frame", "--wind"):
+            if getattr(args, option[2:]) is not None:
+                raise CommandLineError(f"{option}: only valid with --position")
+        if args.no_earth_rotation:
+            raise CommandLineError("--no-earth-rotation: only valid with --position and --velocity")
+        missing = [f"--{name}" for name in ("altitude", "lat", "lon") if name not in geodetic]
+        if missing:
+            raise CommandLineError(
+                f"{missing[0]}: required (give --altitude, --lat and --lon, or --position)"
+            )
+        altitude = args.altitude * 1e3
+        _check_altitude_m(altitude, "--altitude")
+        if not -90.0 <= args.lat <= 90.0:
+            raise CommandLineError(f"--lat: must be in [-90, 90] degrees, got {args.lat:g}")
+        return flight_conditions_circular_orbit(
+            time, altitude, math.radians(args.lat), math.radians(args.lon), weather,
+            anomalous_oxygen=anomalous_oxygen, accommodation_model=args.accommodation,
+            accommodation_options=options,
+        )
+    frame = args.frame or "eci"
+    position = parse_vector3(args.position, "--position")
+    orientation = earth_orientation(time)
+    position_ecef = position if frame == "ecef" else orientation.eci_to_ecef(position)[0]
+    latitude, longitude, altitude = ecef_to_geodetic(position_ecef)
+    _check_altitude_m(altitude, "--position")
+    if args.velocity is None:
+        for option in ("--wind",):
+            if getattr(args, option[2:]) is not None:
+                raise CommandLineError(f"{option}: only valid with --velocity")
+        if args.no_earth_rotation:
+            raise CommandLineError("--no-earth-rotation: only valid with --velocity")
+        return flight_conditions_circular_orbit(
+            time, altitude, latitude, longitude, weather,
+            anomalous_oxygen=anomalous_oxygen, accommodation_model=args.accommodation,
+            accommodation_options=options,
+        )
+    velocity = parse_vector3(args.velocity, "--velocity")
+    wind = None if args.wind is None else parse_vector3(args.wind, "--wind")
+    return flight_conditions(
+        time, position, velocity, weather, frame=frame,
+        earth_rotation=not args.no_earth_rotation, wind=wind, wind_frame="enu",
+        anomalous_oxygen=anomalous_oxygen, accommodation_model=args.accommodation,
+        accommodation_options=options, orientation=orientation,
+    )
+
+
+def _vector_text(vector, scale=1.0, digits=6) -> str:
+    if vector is None:
+        return "-"
+    return "(" + ", ".join(f"{x * scale:.{digits}g}" for x in vector) + ")"
+
+
+def format_table(conditions) -> str:
+    """Readable multi-line summary (degrees and km shown next to the SI values)."""
+    atmosphere = conditions.atmosphere
+    rows = [
+        ("time (UTC)", conditions.time.isoformat()),
+        ("latitude", f"{math.degrees(conditions.latitude):.6f} deg"),
+        ("longitude", f"{math.degrees(conditions.longitude):.6f} deg"),
+        ("altitude", f"{conditions.altitude / 1e3:.6f} km"),
+        ("position ECEF", _vector_text(conditions.position_ecef) + " m"),
+        ("position ECI", _vector_text(conditions.position_eci) + " m"),
+    ]
+    for name, value in atmosphere.number_densities.items():
+        rows.append((f"n({name})", f"{value:.6e} m^-3"))
+    rows += [
+        ("mass density", f"{atmosphere.mass_density:.6e} kg/m^3"
+         + (" (incl. anomalous O)" if atmosphere.anomalous_oxygen else " (excl. anomalous O)")),
+        ("exospheric temperature", f"{atmosphere.exospheric_temperature:.3f} K"),
+        ("temperature", f"{atmosphere.temperature:.3f} K"),
+        ("mean molecular mass", f"{conditions.mean_molecular_mass:.6e} kg"),
+        ("relative velocity ECI", _vector_text(conditions.relative_velocity_eci) + " m/s"),
+        ("relative velocity ECEF", _vector_text(conditions.relative_velocity_ecef) + " m/s"),
+        ("speed", f"{conditions.speed:.3f} m/s"
+         + ("" if conditions.relative_velocity_ecef is not None else " (circular orbit)")),
+        ("speed ratio", f"{conditions.speed_ratio:.6f}"),
+        (f"alpha ({conditions.accommodation_model})", f"{conditions.accommodation_coefficient:.6f}"),
+    ]
+    width = max(len(label) for label, _ in rows)
+    return "\n".join(f"{label:<{width}}  {value}" for label, value in rows)
+
+
+def run(args) -> int:
+    """Entry point of ``adbsat-ros atmosphere``; returns the exit status."""
+    try:
+        conditions = compute(args)
+    except ValueError as exc:  # a library check the CLI did not anticipate: still a bad value
+        raise CommandLineError(str(exc)) from None
+    if args.json:
+        json.dump(conditions.as_dict(), sys.stdout, indent=2, allow_nan=False)
+        sys.stdout.write("\n")
+    else:
+        print(format_table(conditions))
+    return 0

@@ -1,0 +1,510 @@
+"""Flight conditions: where a satellite is, what gas it meets and how fast it meets it.
+
+:func:`flight_conditions` takes a UTC time, an orbital state (position [m], velocity [m/s]) in
+ECI (GCRF) or ECEF (ITRF) and the space weather, and returns :class:`FlightConditions`: WGS-84
+geodetic position, NRLMSISE-00 atmosphere, mean molecular mass, relative velocity, speed ratio and
+an accommodation coefficient, plus :meth:`FlightConditions.free_stream` for the gas-surface models.
+
+Relative velocity
+-----------------
+``relative_velocity_*`` is the velocity of the satellite relative to the local air,
+``v_sat - v_air``: the gas flows past the satellite along its negative. With ``earth_rotation``
+(the default) the air co-rotates with the Earth, ``v_air = omega x r + wind``, so in ECEF axes
+``v_rel = v_sat,ecef - wind``. With ``earth_rotation=False`` the air is at rest in ECI (plus the
+wind), as in ADBSat's circular-orbit speed. The ECI and ECEF vectors are the same physical vector
+in two sets of axes (no transport term: they differ by the rotation only).
+
+A satellite at rest relative to the air has zero relative speed: :class:`FlightConditions` is
+still returned (speed 0, speed ratio 0; accommodation models take the zero-speed limit), but
+:meth:`FlightConditions.free_stream` raises ValueError because a free stream needs a speed > 0;
+check :attr:`FlightConditions.speed` first if that can happen.
+
+:func:`flight_conditions_circular_orbit` is ADBSat's ``environment.m`` recipe: a geodetic point
+and the circular-orbit speed sqrt(mu / (R_E + h)), with no direction (no co-rotation, no wind).
+
+Units: m, m/s, kg, K, rad inside; degrees only in names ending ``_deg``.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .accommodation import accommodation, normalize_model_name
+from .atmosphere import AtmosphereState, SpaceWeather, check_altitude, check_time, evaluate_atmosphere
+from .constants import BOLTZMANN, EARTH_MU, EARTH_RADIUS_ADBSAT
+from .earth_frames import (
+    EarthOrientation,
+    cross,
+    earth_orientation,
+    ecef_to_geodetic,
+    enu_to_ecef_matrix,
+    geodetic_to_ecef,
+)
+from .freestream import FreeStream
+
+#: Frames an orbital state may be given in.
+STATE_FRAMES = ("eci", "ecef")
+#: Frames a wind vector may be given in.
+WIND_FRAMES = ("enu", "ecef")
+#: Default accommodation model.
+DEFAULT_ACCOMMODATION_MODEL = "langmuir"
+
+#: Units of the numeric fields of :meth:`FlightConditions.as_dict`.
+_UNITS = {
+    "latitude": "rad",
+    "longitude": "rad",
+    "altitude": "m",
+    "position_eci": "m",
+    "position_ecef": "m",
+    "velocity_eci": "m/s",
+    "velocity_ecef": "m/s",
+    "space_weather.f107": "sfu (1e-22 W m^-2 Hz^-1)",
+    "space_weather.f107a": "sfu (1e-22 W m^-2 Hz^-1)",
+    "space_weather.ap": "1",
+    "number_densities": "m^-3",
+    "mass_density": "kg/m^3",
+    "exospheric_temperature": "K",
+    "temperature": "K",
+    "mean_molecular_mass": "kg",
+    "relative_velocity_eci": "m/s",
+    "relative_velocity_ecef": "m/s",
+    "speed": "m/s",
+    "speed_ratio": "1",
+    "accommodation_coefficient": "1",
+}
+
+
+def _readonly(array):
+    """Make a freshly computed (never a caller's) array read-only."""
+    if array is not None:
+        array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class FlightConditions:
+    """Conditions a spacecraft flies in at one instant.
+
+    Attributes
+    ----------
+    time : datetime.datetime
+        UTC instant (timezone-aware, UTC).
+    position_eci, position_ecef : numpy.ndarray, shape (3,)
+        Position in ECI (GCRF) and ECEF (ITRF) [m].
+    velocity_eci : numpy.ndarray or None
+        Inertial velocity in ECI axes [m/s]; None for the circular-orbit convenience.
+    velocity_ecef : numpy.ndarray or None
+        Velocity relative to the rotating Earth, ECEF axes [m/s]; None as above.
+    latitude, longitude : float
+        WGS-84 geodetic latitude and east longitude [rad].
+    altitude : float
+        Height above the WGS-84 ellipsoid [m].
+    atmosphere : AtmosphereState
+        NRLMSISE-00 state (densities [m^-3], mass density [kg/m^3], temperatures [K]).
+    mean_molecular_mass : float
+        Number-weighted mean molecular mass of the mixture [kg] (as ADBSat).
+    relative_velocity_eci, relative_velocity_ecef : numpy.ndarray or None
+        Velocity of the satellite relative to the air (satellite minus co-rotating atmosphere
+        minus wind) in ECI and ECEF axes [m/s]; None when only a speed is known (circular orbit).
+    speed : float
+        |relative velocity| [m/s], >= 0.
+    speed_ratio : float
+        s = speed / sqrt(2 k_B T / m) [-].
+    accommodation_model : str
+        Name of the accommodation model used.
+    accommodation_coefficient : float
+        Energy accommodation coefficient alpha [-].
+    earth_rotation : bool
+        Whether the air co-rotates with the Earth.
+    """
+
+    time: _dt.datetime
+    position_eci: np.ndarray
+    position_ecef: np.ndarray
+    velocity_eci: np.ndarray | None
+    velocity_ecef: np.ndarray | None
+    latitude: float
+    longitude: float
+    altitude: float
+    atmosphere: AtmosphereState
+    mean_molecular_mass: float
+    relative_velocity_eci: np.ndarray | None
+    relative_velocity_ecef: np.ndarray | None
+    speed: float
+    speed_ratio: float
+    accommodation_model: str
+    accommodation_coefficient: float
+    earth_rotation: bool = True
+    space_weather: SpaceWeather | None = field(default=None, repr=False)
+
+    @property
+    def alpha(self) -> float:
+        """Shorthand for :attr:`accommodation_coefficient`."""
+        return self.accommodation_coefficient
+
+    @property
+    def temperature(self) -> float:
+        """Local gas temperature [K]."""
+        return self.atmosphere.temperature
+
+    @property
+    def mass_density(self) -> float:
+        """Total mass density [kg/m^3] (with anomalous O if the atmosphere includes it)."""
+        return self.atmosphere.mass_density
+
+    @property
+    def flow_direction_ecef(self) -> np.ndarray | None:
+        """Unit vector along which the gas moves relative to the satellite, ECEF axes (-v_rel/|v_rel|).
+
+        None if the speed is zero or only a speed is known.
+        """
+        if self.relative_velocity_ecef is None or self.speed == 0.0:
+            return None
+        return -self.relative_velocity_ecef / self.speed
+
+    def as_dict(self) -> dict:
+        """Every field as JSON-ready Python values, in SI units (rad, m, m/s, kg, K, m^-3).
+
+        Vectors become lists (or None), the time an ISO 8601 string; ``units`` maps each
+        numeric field to its unit.
+        """
+
+        def vector(value):
+            return None if value is None else [float(x) for x in value]
+
+        atmosphere = self.atmosphere
+        weather = self.space_weather
+        return {
+            "time": self.time.isoformat(),
+            "latitude": self.latitude,
+            "longitude": self.longitude,
+            "altitude": self.altitude,
+            "position_eci": vector(self.position_eci),
+            "position_ecef": vector(self.position_ecef),
+            "velocity_eci": vector(self.velocity_eci),
+            "velocity_ecef": vector(self.velocity_ecef),
+            "space_weather": None
+            if weather is None
+            else {
+                "f107": weather.f107,
+                "f107a": weather.f107a,
+                "ap": weather.ap,
+                "ap_history": None if weather.ap_history is None else list(weather.ap_history),
+            },
+            "anomalous_oxygen": atmosphere.anomalous_oxygen,
+            "number_densities": {k: float(v) for k, v in atmosphere.number_densities.items()},
+            "mass_density": float(atmosphere.mass_density),
+            "exospheric_temperature": float(atmosphere.exospheric_temperature),
+            "temperature": float(atmosphere.temperature),
+            "mean_molecular_mass": self.mean_molecular_mass,
+            "earth_rotation": self.earth_rotation,
+            "relative_velocity_eci": vector(self.relative_velocity_eci),
+            "relative_velocity_ecef": vector(self.relative_velocity_ecef),
+            "speed": self.speed,
+            "speed_ratio": self.speed_ratio,
+            "accommodation_model": self.accommodation_model,
+            "accommodation_coefficient": self.accommodation_coefficient,
+            "units": dict(_UNITS),
+        }
+
+    def free_stream(self) -> FreeStream:
+        """The free stream for the gas-surface models.
+
+        speed = |v_rel|, temperature = local T, number_densities = the mixture's species
+        (with "AnO" iff the atmosphere includes anomalous oxygen), density = total mass density.
+
+        Raises
+        ------
+        ValueError
+            If the relative speed is zero (a free stream needs speed > 0).
+        """
+        if not self.speed > 0.0:
+            raise ValueError(
+                "relative speed is 0 m/s (the satellite is at rest in the air): "
+                "no free stream; check FlightConditions.speed before asking for one"
+            )
+        return FreeStream(
+            speed=self.speed,
+            temperature=self.atmosphere.temperature,
+            number_densities=self.atmosphere.mixture_number_densities,
+            density=self.atmosphere.mass_density,
+        )
+
+
+def _vector3(value, name: str) -> np.ndarray:
+    """A new float array of shape (3,) (a copy: results never alias the caller's arrays)."""
+    try:
+        array = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be three numbers, got {value!r}") from None
+    if array.shape != (3,):
+        raise ValueError(f"{name} must be a 3-vector, got shape {array.shape}")
+    if not all(map(math.isfinite, array.tolist())):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return array
+
+
+def _speed_ratio(speed: float, atmosphere: AtmosphereState, mean_mass: float) -> float:
+    return speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / mean_mass)
+
+
+def flight_conditions(
+    time,
+    position,
+    velocity,
+    space_weather: SpaceWeather,
+    *,
+    frame: str = "eci",
+    earth_rotation: bool = True,
+    wind=None,
+    wind_frame: str = "enu",
+    anomalous_oxygen: bool = True,
+    accommodation_model: str = DEFAULT_ACCOMMODATION_MODEL,
+    accommodation_options=None,
+    orientation: EarthOrientation | None = None,
+    ut1_minus_utc: float = 0.0,
+    polar_motion=(0.0, 0.0),
+    precession_nutation: str = "iau2006a",
+) -> FlightConditions:
+    """Flight conditions of a satellite from its orbital state.
+
+    Parameters
+    ----------
+    time : datetime.datetime
+        UTC instant, timezone-aware or naive meaning UTC, years 1958..2100.
+    position : array_like, shape (3,)
+        Position [m] in ``frame``.
+    velocity : array_like, shape (3,)
+        Velocity [m/s] in ``frame``: inertial velocity in ECI axes for ``"eci"``, velocity
+        relative to the rotating Earth in ECEF axes for ``"ecef"``.
+    space_weather : SpaceWeather
+        F10.7 (previous day), F10.7 81-day average, Ap (+ optional Ap history).
+    frame : {"eci", "ecef"}, optional
+        Frame of ``position`` and ``velocity``: ECI = GCRF, ECEF = ITRF.
+    earth_rotation : bool, optional
+        Air co-rotating with the Earth (default True) or at rest in ECI.
+    wind : array_like, shape (3,), optional
+        Wind velocity relative to the co-rotating Earth [m/s], in ``wind_frame``.
+    wind_frame : {"enu", "ecef"}, optional
+        Local East-North-Up at the satellite's geodetic position (default) or ECEF axes.
+    anomalous_oxygen : bool, optional
+        Include NRLMSISE-00's anomalous oxygen in the mixture and mass density (default True).
+    accommodation_model : str, optional
+        ``fixed``, ``langmuir`` (default), ``goodman`` or ``sesam``
+        (see :mod:`adbsat_ros.accommodation`).
+    accommodation_options : mapping, optional
+        Options of the model, e.g. ``{"alpha": 0.9}`` for ``fixed``.
+    orientation : EarthOrientation, optional
+        Precomputed Earth orientation at ``time`` (saves ~40 us when evaluating several states at
+        one instant); the three options below are then ignored.
+    ut1_minus_utc, polar_motion, precession_nutation
+        Earth-orientation options, see :func:`adbsat_ros.earth_frames.earth_orientation`.
+
+    Returns
+    -------
+    FlightConditions
+
+    Raises
+    ------
+    ValueError
+        Naming the input: bad frame names, non-finite or mis-shaped vectors, an altitude outside
+        0..1000 km, a time outside 1958..2100, invalid space weather or accommodation options.
+    """
+    time = check_time(time)
+    frame_key = str(frame).lower()
+    if frame_key not in STATE_FRAMES:
+        raise ValueError(f"frame must be one of {', '.join(STATE_FRAMES)}, got {frame!r}")
+    wind_frame_key = str(wind_frame).lower()
+    if wind_frame_key not in WIND_FRAMES:
+        raise ValueError(f"wind_frame must be one of {', '.join(WIND_FRAMES)}, got {wind_frame!r}")
+    model = normalize_model_name(accommodation_model)
+    position = _vector3(position, "position")
+    velocity = _vector3(velocity, "velocity")
+    wind_vector = None if wind is None else _vector3(wind, "wind")
+    if orientation is None:
+        orientation = earth_orientation(
+            time,
+            ut1_minus_utc=ut1_minus_utc,
+            polar_motion=polar_motion,
+            precession_nutation=precession_nutation,
+        )
+    elif not isinstance(orientation, EarthOrientation):
+        raise ValueError(f"orientation must be an EarthOrientation, got {type(orientation).__name__}")
+    elif orientation.time != time:
+        raise ValueError(
+            f"orientation is for {orientation.time.isoformat()}, not for time {time.isoformat()}"
+        )
+    matrix = orientation.celestial_to_terrestrial
+    omega = orientation.rotation_vector_ecef
+    if frame_key == "eci":
+        position_eci, velocity_eci = position, velocity
+        position_ecef = matrix @ position
+        velocity_ecef = matrix @ velocity - cross(omega, position_ecef)
+    else:
+        position_ecef, velocity_ecef = position, velocity
+        position_eci = position @ matrix
+        velocity_eci = (velocity + cross(omega, position)) @ matrix
+    latitude, longitude, altitude = ecef_to_geodetic(position_ecef)
+    try:
+        check_altitude(altitude)
+    except ValueError as exc:
+        raise ValueError(f"position: {exc}") from None
+    atmosphere = evaluate_atmosphere(
+        time, altitude, latitude, longitude, space_weather, anomalous_oxygen=anomalous_oxygen
+    )
+    if wind_vector is None:
+        wind_ecef = None
+    elif wind_frame_key == "enu":
+        wind_ecef = enu_to_ecef_matrix(latitude, longitude) @ wind_vector
+    else:
+        wind_ecef = wind_vector
+    if earth_rotation:
+        relative_ecef = velocity_ecef if wind_ecef is None else velocity_ecef - wind_ecef
+        relative_eci = relative_ecef @ matrix
+    else:
+        relative_eci = velocity_eci if wind_ecef is None else velocity_eci - wind_ecef @ matrix
+        relative_ecef = matrix @ relative_eci
+    speed = float(math.sqrt(relative_ecef @ relative_ecef))
+    return _assemble(
+        time,
+        position_eci,
+        position_ecef,
+        velocity_eci,
+        velocity_ecef,
+        latitude,
+        longitude,
+        altitude,
+        atmosphere,
+        relative_eci,
+        relative_ecef,
+        speed,
+        model,
+        accommodation_options,
+        bool(earth_rotation),
+        space_weather,
+    )
+
+
+def circular_orbit_speed(altitude: float) -> float:
+    """Circular-orbit speed sqrt(mu / (R_E + h)) [m/s] with ADBSat's mu and R_E = 6378.13649 km."""
+    return math.sqrt(EARTH_MU / (EARTH_RADIUS_ADBSAT + float(altitude)))
+
+
+def flight_conditions_circular_orbit(
+    time,
+    altitude: float,
+    latitude: float,
+    longitude: float,
+    space_weather: SpaceWeather,
+    *,
+    anomalous_oxygen: bool = True,
+    accommodation_model: str = DEFAULT_ACCOMMODATION_MODEL,
+    accommodation_options=None,
+    speed: float | None = None,
+    precession_nutation: str = "iau2006a",
+) -> FlightConditions:
+    """Flight conditions at a geodetic point with the circular-orbit speed (ADBSat parity).
+
+    As ADBSat's ``environment.m``: the atmosphere at (time, altitude, latitude, longitude) and the
+    speed sqrt(mu / (R_E + h)) (:func:`circular_orbit_speed`), with no co-rotation and no wind.
+    No direction is known, so the velocity and relative-velocity vectors are None.
+
+    Parameters
+    ----------
+    time : datetime.datetime
+        UTC instant (aware, or naive meaning UTC), years 1958..2100.
+    altitude : float
+        Height above the WGS-84 ellipsoid [m], 0..1000 km.
+    latitude, longitude : float
+        Geodetic latitude and east longitude [rad].
+    space_weather : SpaceWeather
+    anomalous_oxygen, accommodation_model, accommodation_options
+        As :func:`flight_conditions`.
+    speed : float, optional
+        Relative speed [m/s] to use instead of the circular-orbit speed (>= 0).
+    precession_nutation : str, optional
+        Only used to express the position in ECI.
+
+    Returns
+    -------
+    FlightConditions
+    """
+    time = check_time(time)
+    model = normalize_model_name(accommodation_model)
+    altitude = check_altitude(altitude)
+    position_ecef = geodetic_to_ecef(latitude, longitude, altitude)
+    atmosphere = evaluate_atmosphere(
+        time, altitude, latitude, longitude, space_weather, anomalous_oxygen=anomalous_oxygen
+    )
+    if speed is None:
+        speed = circular_orbit_speed(altitude)
+    else:
+        speed = float(speed)
+        if not math.isfinite(speed) or speed < 0.0:
+            raise ValueError(f"speed must be a finite number >= 0, got {speed!r}")
+    orientation = earth_orientation(time, precession_nutation=precession_nutation)
+    position_eci = position_ecef @ orientation.celestial_to_terrestrial
+    return _assemble(
+        time,
+        position_eci,
+        position_ecef,
+        None,
+        None,
+        float(latitude),
+        float(longitude),
+        altitude,
+        atmosphere,
+        None,
+        None,
+        speed,
+        model,
+        accommodation_options,
+        False,
+        space_weather,
+    )
+
+
+def _assemble(
+    time,
+    position_eci,
+    position_ecef,
+    velocity_eci,
+    velocity_ecef,
+    latitude,
+    longitude,
+    altitude,
+    atmosphere,
+    relative_eci,
+    relative_ecef,
+    speed,
+    model,
+    accommodation_options,
+    earth_rotation,
+    space_weather,
+) -> FlightConditions:
+    mean_mass = atmosphere.mean_mass
+    alpha = accommodation(model, atmosphere, speed, **dict(accommodation_options or {}))
+    return FlightConditions(
+        time=time.replace(tzinfo=_dt.timezone.utc),
+        position_eci=_readonly(position_eci),
+        position_ecef=_readonly(position_ecef),
+        velocity_eci=_readonly(velocity_eci),
+        velocity_ecef=_readonly(velocity_ecef),
+        latitude=float(latitude),
+        longitude=float(longitude),
+        altitude=float(altitude),
+        atmosphere=atmosphere,
+        mean_molecular_mass=mean_mass,
+        relative_velocity_eci=_readonly(relative_eci),
+        relative_velocity_ecef=_readonly(relative_ecef),
+        speed=speed,
+        speed_ratio=_speed_ratio(speed, atmosphere, mean_mass),
+        accommodation_model=model,
+        accommodation_coefficient=float(alpha),
+        earth_rotation=earth_rotation,
+        space_weather=space_weather,
+    )

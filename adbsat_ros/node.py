@@ -1,0 +1,287 @@
+"""ROS 2 node: attitude and orbital state in, aerodynamic WrenchStamped out.
+
+Topics (relative names, remappable):
+
+* ``attitude`` (geometry_msgs/QuaternionStamped, subscribed): orientation of the body (mesh)
+  frame in the state's frame, quaternion x, y, z, w.
+* ``state`` (nav_msgs/Odometry, subscribed): position in ``header.frame_id`` (ECI or ECEF per the
+  ``state_frame`` parameter); twist per the Odometry convention in ``child_frame_id``: a twist in
+  the body frame is rotated with the pose orientation, one whose child_frame_id names the state
+  frame (or is empty) is taken as is.
+* ``wrench`` (geometry_msgs/WrenchStamped, published): force [N] and torque about the centre of
+  mass [N m] in the body frame (``body_frame_id``), stamp copied from the attitude message.
+* ``coefficients`` (geometry_msgs/WrenchStamped, published with every wrench): force
+  coefficients in ``force`` and moment coefficients in ``torque``, body frame, about the centre of
+  mass, normalised by the read-only parameters ``reference_area`` and ``reference_length``.
+* ``/diagnostics`` (diagnostic_msgs/DiagnosticArray, every ``diagnostics_period`` s).
+
+Parameters: see :data:`adbsat_ros.wrench_settings.PARAMETERS` and ``config/adbsat.yaml``.
+"""
+
+from __future__ import annotations
+
+import collections
+import os
+import sys
+import time
+
+import numpy as np
+import rclpy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from geometry_msgs.msg import QuaternionStamped, WrenchStamped
+from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+from .aero_wrench import STATE_FRAME_NAMES, AeroWrenchEstimator, Rejection, WrenchSample
+from .mesh import MeshError
+from .wrench_settings import PARAMETERS, READ_ONLY_PARAMETERS, WrenchSettings
+
+NODE_NAME = "adbsat_node"
+#: Seconds between two log lines about the same kind of rejected input.
+LOG_THROTTLE_S = 5.0
+
+
+def stamp_seconds(stamp) -> float:
+    """builtin_interfaces/Time as float seconds."""
+    return stamp.sec + 1e-9 * stamp.nanosec
+
+
+class AdbsatNode(Node):
+    """The aerodynamic wrench node; raises MeshError/ValueError at construction on bad set-up."""
+
+    def __init__(self, **node_kwargs):
+        super().__init__(NODE_NAME, **node_kwargs)
+        for name, default, text in PARAMETERS:
+            self.declare_parameter(
+                name, default, ParameterDescriptor(description=text, read_only=name in READ_ONLY_PARAMETERS)
+            )
+        settings = WrenchSettings.from_parameters(self._parameter_values())
+        self.estimator = AeroWrenchEstimator(settings)
+        ref = self.estimator.method.reference
+        for name, value, text in (
+            ("reference_area", ref.area, "A_ref of the coefficients topic [m^2] (half the wetted area)"),
+            ("reference_length", ref.length, "L_ref of the coefficients topic [m] (mesh x extent)"),
+        ):
+            self.declare_parameter(name, value, ParameterDescriptor(description=text, read_only=True))
+        self.add_on_set_parameters_callback(self._on_set_parameters)
+
+        qos = QoSProfile(depth=settings.qos_depth, reliability=ReliabilityPolicy.RELIABLE)
+        self.wrench_pub = self.create_publisher(WrenchStamped, "wrench", qos)
+        self.coefficients_pub = self.create_publisher(WrenchStamped, "coefficients", qos)
+        self.diagnostics_pub = self.create_publisher(DiagnosticArray, "/diagnostics", 10)
+        self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos)
+        self.create_subscription(Odometry, "state", self._on_state, qos)
+        self._compute_ms = collections.deque(maxlen=2000)
+        self._last_state_wall = None
+        self._last_sample: WrenchSample | None = None
+        self._last_rejection: Rejection | None = None
+        self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
+        mesh = self.estimator.mesh
+        self.get_logger().info(
+            f"mesh {mesh.source}: {mesh.n_panels} panels; model {settings.gsi_model}, shading {settings.shading}; "
+            f"publishing '{self.resolve_topic_name('wrench')}' in frame '{settings.body_frame_id}'"
+        )
+
+    # ----------------------------------------------------------------------------- parameters
+    def _parameter_values(self, changes=()) -> dict:
+        values = {name: self.get_parameter(name).value for name, _, _ in PARAMETERS}
+        for p in changes:
+            values[p.name] = p.value
+        return values
+
+    def _on_set_parameters(self, params) -> SetParametersResult:
+        known = {name for name, _, _ in PARAMETERS}
+        relevant = [p for p in params if p.name in known]
+        if not relevant:
+            return SetParametersResult(successful=True)
+        try:
+            settings = WrenchSettings.from_parameters(self._parameter_values(relevant))
+            self.estimator.apply_settings(settings)
+        except (ValueError, MeshError) as exc:
+            self.get_logger().warning(f"parameter change rejected: {exc}")
+            return SetParametersResult(successful=False, reason=str(exc))
+        if settings.diagnostics_period != self._diag_timer.timer_period_ns * 1e-9:
+            self._diag_timer.cancel()
+            self.destroy_timer(self._diag_timer)
+            self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
+        self.get_logger().info("parameters changed: " + ", ".join(f"{p.name}={p.value}" for p in relevant))
+        return SetParametersResult(successful=True)
+
+    # ----------------------------------------------------------------------------- inputs
+    def _rejected(self, exc: Rejection) -> None:
+        self._last_rejection = exc
+        self.get_logger().warning(
+            f"input rejected ({exc.reason}): {exc.message}", throttle_duration_sec=LOG_THROTTLE_S
+        )
+
+    def _on_state(self, msg: Odometry) -> None:
+        try:
+            self._handle_state(msg)
+        except Rejection as exc:
+            self._rejected(exc)
+        except Exception as exc:  # never let a message take the node down
+            self.estimator.rejections["compute_error"] += 1
+            self.get_logger().error(f"state message failed: {exc!r}", throttle_duration_sec=LOG_THROTTLE_S)
+
+    def _handle_state(self, msg: Odometry) -> None:
+        est = self.estimator
+        s = est.settings
+        frame = msg.header.frame_id.lstrip("/").lower()
+        if frame in ("eci", "ecef") and frame != s.state_frame:
+            est.rejections["bad_state"] += 1
+            raise Rejection("bad_state", f"state frame_id '{frame}' but parameter state_frame is {s.state_frame}")
+        child = msg.child_frame_id.lstrip("/")
+        o = msg.pose.pose.orientation
+        orientation = [o.x, o.y, o.z, o.w]
+        if child == s.body_frame_id:
+            in_body = True
+        elif child.lower() in STATE_FRAME_NAMES or child == msg.header.frame_id.lstrip("/"):
+            in_body = False
+        else:
+            est.rejections["bad_state"] += 1
+            raise Rejection(
+                "bad_state",
+                f"twist child_frame_id '{child}' is neither the body frame '{s.body_frame_id}' nor the state frame",
+            )
+        p, v = msg.pose.pose.position, msg.twist.twist.linear
+        stamp = stamp_seconds(msg.header.stamp)
+        est.on_state(stamp, [p.x, p.y, p.z], [v.x, v.y, v.z], in_body, orientation)
+        self._last_state_wall = time.monotonic()
+        if s.attitude_source == "odometry":
+            self._compute_and_publish(msg.header.stamp, orientation)
+
+    def _on_attitude(self, msg: QuaternionStamped) -> None:
+        if self.estimator.settings.attitude_source != "attitude_topic":
+            return
+        q = msg.quaternion
+        self._compute_and_publish(msg.header.stamp, [q.x, q.y, q.z, q.w])
+
+    def _compute_and_publish(self, stamp_msg, quaternion) -> None:
+        try:
+            sample = self.estimator.on_attitude(stamp_seconds(stamp_msg), quaternion)
+        except Rejection as exc:
+            self._rejected(exc)
+            return
+        except Exception as exc:  # never let a message take the node down
+            self.estimator.rejections["compute_error"] += 1
+            self.get_logger().error(f"wrench computation failed: {exc!r}", throttle_duration_sec=LOG_THROTTLE_S)
+            return
+        frame = self.estimator.settings.body_frame_id
+        self.wrench_pub.publish(_wrench_msg(stamp_msg, frame, sample.force, sample.torque))
+        self.coefficients_pub.publish(
+            _wrench_msg(stamp_msg, frame, sample.force_coefficients, sample.moment_coefficients)
+        )
+        self._compute_ms.append(1e3 * sample.compute_seconds)
+        self._last_sample = sample
+
+    # ----------------------------------------------------------------------------- diagnostics
+    def diagnostic_status(self) -> DiagnosticStatus:
+        """The node's health and latest values as one DiagnosticStatus."""
+        est = self.estimator
+        s = est.settings
+        values = {
+            "gsi_model": s.gsi_model,
+            "shading": s.shading,
+            "published": est.published,
+            "shading_cache_hits": est.shading_cache_hits,
+            "shading_cache_misses": est.shading_cache_misses,
+            "reference_area_m2": est.method.reference.area,
+            "reference_length_m": est.method.reference.length,
+        }
+        times = np.asarray(self._compute_ms)
+        if times.size:
+            values["compute_ms_p50"] = float(np.percentile(times, 50))
+            values["compute_ms_p99"] = float(np.percentile(times, 99))
+        sample = self._last_sample
+        if sample is not None:
+            c = sample.conditions
+            values.update(
+                density_kg_m3=c.mass_density,
+                temperature_K=c.temperature,
+                altitude_m=c.altitude,
+                relative_speed_m_s=c.speed,
+                speed_ratio=c.speed_ratio,
+                alpha=c.alpha,
+                drag_coefficient=sample.drag_coefficient,
+            )
+        for reason in sorted(est.rejections):
+            values[f"rejected_{reason}"] = est.rejections[reason]
+        status = DiagnosticStatus(name=f"{self.get_name()}: aerodynamic wrench", hardware_id=est.mesh.source)
+        age = None if self._last_state_wall is None else time.monotonic() - self._last_state_wall
+        if age is None or age > max(s.state_timeout, s.diagnostics_period):
+            status.level = DiagnosticStatus.ERROR
+            status.message = "no orbital state" if age is None else f"state is stale ({age:.1f} s old)"
+        elif self._last_rejection is not None and self._last_rejection.reason == "stale_state":
+            status.level = DiagnosticStatus.ERROR
+            status.message = "state is stale relative to the attitude stamps"
+        elif sum(est.rejections.values()):
+            status.level = DiagnosticStatus.WARN
+            status.message = f"{sum(est.rejections.values())} inputs rejected so far"
+        else:
+            status.level = DiagnosticStatus.OK
+            status.message = "ok"
+        status.values = [KeyValue(key=k, value=str(v)) for k, v in values.items()]
+        return status
+
+    def _publish_diagnostics(self) -> None:
+        try:
+            msg = DiagnosticArray()
+            msg.header.stamp = self.get_clock().now().to_msg()
+            msg.status = [self.diagnostic_status()]
+            self.diagnostics_pub.publish(msg)
+        except Exception as exc:  # diagnostics must never take the node down
+            self.get_logger().error(f"diagnostics failed: {exc!r}", throttle_duration_sec=LOG_THROTTLE_S)
+
+
+def _wrench_msg(stamp, frame_id: str, force, torque) -> WrenchStamped:
+    msg = WrenchStamped()
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    f, t = msg.wrench.force, msg.wrench.torque
+    f.x, f.y, f.z = (float(x) for x in force)
+    t.x, t.y, t.z = (float(x) for x in torque)
+    return msg
+
+
+def make_executor(context=None):
+    """The EventsExecutor where this rclpy has it (lowest latency), else a SingleThreadedExecutor."""
+    try:
+        from rclpy.experimental import EventsExecutor
+
+        return EventsExecutor(context=context)
+    except (ImportError, AttributeError):
+        return SingleThreadedExecutor(context=context)
+
+
+def main(args=None) -> int:
+    """Console script ``adbsat_node``: ``adbsat_node --ros-args --params-file config/adbsat.yaml``."""
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    rclpy.init(args=sys.argv if args is None else args)
+    node = None
+    try:
+        try:
+            node = AdbsatNode()
+        except (MeshError, ValueError, OSError) as exc:
+            print(f"{NODE_NAME}: error: {exc}", file=sys.stderr)
+            return 1
+        except Exception as exc:  # e.g. a parameter of the wrong type in the params file
+            print(f"{NODE_NAME}: error: {type(exc).__name__}: {exc}", file=sys.stderr)
+            return 1
+        executor = make_executor()
+        executor.add_node(node)
+        try:
+            executor.spin()
+        except (KeyboardInterrupt, ExternalShutdownException):
+            pass
+        return 0
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
