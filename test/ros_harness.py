@@ -1,0 +1,102 @@
+"""Helpers for tests that run the node with real rclpy: a context, a peer node, and waiting."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import rclpy
+from geometry_msgs.msg import QuaternionStamped, WrenchStamped
+from nav_msgs.msg import Odometry
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import QoSProfile
+
+EARTH_MU = 3.986004418e14
+EARTH_RADIUS_EQ = 6378137.0
+
+
+def circular_orbit_state(altitude_m: float, t: float = 0.0):
+    """Equatorial circular orbit in ECI: position [m] and velocity [m/s] at time t [s]."""
+    r = EARTH_RADIUS_EQ + altitude_m
+    v = math.sqrt(EARTH_MU / r)
+    w = v / r
+    return (
+        [r * math.cos(w * t), r * math.sin(w * t), 0.0],
+        [-v * math.sin(w * t), v * math.cos(w * t), 0.0],
+    )
+
+
+class Peer:
+    """A test node that publishes attitude and state and collects wrench, coefficients, diagnostics."""
+
+    def __init__(self, context, executor, name="test_peer"):
+        self.node = Node(name, context=context)
+        qos = QoSProfile(depth=100)
+        self.attitude_pub = self.node.create_publisher(QuaternionStamped, "attitude", qos)
+        self.state_pub = self.node.create_publisher(Odometry, "state", qos)
+        self.wrenches, self.coefficients, self.diagnostics = [], [], []
+        self.node.create_subscription(WrenchStamped, "wrench", self.wrenches.append, qos)
+        self.node.create_subscription(WrenchStamped, "coefficients", self.coefficients.append, qos)
+        from diagnostic_msgs.msg import DiagnosticArray
+
+        self.node.create_subscription(DiagnosticArray, "/diagnostics", self.diagnostics.append, 10)
+        self.executor = executor
+        executor.add_node(self.node)
+
+    def send_state(self, t, position, velocity, frame="eci", child="eci", orientation=(0.0, 0.0, 0.0, 1.0)):
+        msg = Odometry()
+        msg.header.stamp = to_stamp(t)
+        msg.header.frame_id = frame
+        msg.child_frame_id = child
+        p = msg.pose.pose.position
+        p.x, p.y, p.z = (float(x) for x in position)
+        o = msg.pose.pose.orientation
+        o.x, o.y, o.z, o.w = (float(x) for x in orientation)
+        v = msg.twist.twist.linear
+        v.x, v.y, v.z = (float(x) for x in velocity)
+        self.state_pub.publish(msg)
+
+    def send_attitude(self, t, q_xyzw, frame="eci"):
+        msg = QuaternionStamped()
+        msg.header.stamp = to_stamp(t)
+        msg.header.frame_id = frame
+        q = msg.quaternion
+        q.x, q.y, q.z, q.w = (float(x) for x in q_xyzw)
+        self.attitude_pub.publish(msg)
+
+    def spin_until(self, predicate, timeout=5.0):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            self.executor.spin_once(timeout_sec=0.01)
+            if predicate():
+                return True
+        return False
+
+    def spin_for(self, seconds):
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline:
+            self.executor.spin_once(timeout_sec=0.01)
+
+    def wait_for_subscribers(self, timeout=5.0):
+        return self.spin_until(
+            lambda: self.attitude_pub.get_subscription_count() > 0 and self.state_pub.get_subscription_count() > 0,
+            timeout,
+        )
+
+
+def to_stamp(t: float):
+    from builtin_interfaces.msg import Time
+
+    sec = math.floor(t)
+    return Time(sec=int(sec), nanosec=int(round((t - sec) * 1e9)) % 1_000_000_000)
+
+
+def stamp_to_float(stamp) -> float:
+    return stamp.sec + 1e-9 * stamp.nanosec
+
+
+def make_context():
+    ctx = rclpy.context.Context()
+    rclpy.init(context=ctx)
+    return ctx, SingleThreadedExecutor(context=ctx)

@@ -1,0 +1,290 @@
+"""The ROS 2 node with real rclpy (no mocks): physics of the published wrench, bad inputs, parameters.
+
+Every test runs the node and a peer node in one process on a fresh rclpy context, on the test run's
+own ROS_DOMAIN_ID with discovery limited to localhost (conftest.py); one test runs the node as a
+separate process from the command line with the bundled parameters file.
+"""
+
+import datetime as dt
+import math
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import rclpy
+import trimesh
+from rclpy.parameter import Parameter
+from scipy.special import erf
+
+from adbsat_ros.atmosphere import SpaceWeather
+from adbsat_ros.constants import BOLTZMANN
+from adbsat_ros.flight_conditions import flight_conditions
+from adbsat_ros.node import AdbsatNode
+
+from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float
+
+RADIUS = 0.5
+EPOCH = "2026-03-20T12:00:00"
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def sphere_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("mesh") / "sphere.stl"
+    trimesh.creation.icosphere(subdivisions=4, radius=RADIUS).export(path)
+    return str(path)
+
+
+@pytest.fixture
+def ros(sphere_file):
+    """A context, an executor, the node (sphere, epoch time, no shading) and a peer."""
+    ctx, executor = make_context()
+    overrides = [
+        Parameter("mesh", value=sphere_file),
+        Parameter("shading", value="none"),
+        Parameter("time_mode", value="epoch"),
+        Parameter("epoch_utc", value=EPOCH),
+        Parameter("center_of_mass", value=[0.1, -0.2, 0.3]),
+        Parameter("diagnostics_period", value=0.2),
+    ]
+    node = AdbsatNode(context=ctx, parameter_overrides=overrides)
+    executor.add_node(node)
+    peer = Peer(ctx, executor)
+    assert peer.wait_for_subscribers()
+    yield node, peer
+    executor.shutdown()
+    peer.node.destroy_node()
+    node.destroy_node()
+    rclpy.try_shutdown(context=ctx)
+
+
+def sentman_sphere_cd(s, t_inf, t_r):
+    """Sentman (1961) sphere drag on the projected area pi r^2 (e.g. Bird 1994, eq. 7.67)."""
+    return (
+        (2 * s * s + 1) / (math.sqrt(math.pi) * s**3) * math.exp(-s * s)
+        + (4 * s**4 + 4 * s * s - 1) / (2 * s**4) * erf(s)
+        + 2 * math.sqrt(math.pi) / (3 * s) * math.sqrt(t_r / t_inf)
+    )
+
+
+def angle_deg(a, b):
+    a, b = np.asarray(a), np.asarray(b)
+    return math.degrees(math.acos(np.clip(a @ b / np.linalg.norm(a) / np.linalg.norm(b), -1, 1)))
+
+
+def vec(v):
+    return np.array([v.x, v.y, v.z])
+
+
+def test_circular_orbit_wrench_is_drag_of_a_sphere(ros):
+    node, peer = ros
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(0.0, pos, vel)
+    peer.spin_for(0.05)
+    stamps = [0.01 * k for k in range(1, 11)]
+    for t in stamps:
+        peer.send_attitude(t, (0.0, 0.0, 0.0, 1.0))  # body axes = ECI axes
+    assert peer.spin_until(lambda: len(peer.wrenches) == 10), f"got {len(peer.wrenches)} wrenches"
+    w = peer.wrenches[-1]
+    assert w.header.frame_id == "body"
+    assert [stamp_to_float(m.header.stamp) for m in peer.wrenches] == pytest.approx(stamps, abs=1e-9)
+    force, torque = vec(w.wrench.force), vec(w.wrench.torque)
+
+    # Independent flight conditions at the last stamp (state propagated 0.1 s at constant velocity)
+    t = stamps[-1]
+    utc = dt.datetime.fromisoformat(EPOCH).replace(tzinfo=dt.timezone.utc) + dt.timedelta(seconds=t)
+    cond = flight_conditions(utc, np.add(pos, np.multiply(vel, t)), vel, SpaceWeather(150, 150, 4),
+                             frame="eci", accommodation_model="fixed", accommodation_options={"alpha": 1.0})
+    # relative wind: satellite velocity minus the co-rotating air, omega x r (omega ~ z in ECI)
+    omega = np.array([0.0, 0.0, 7.292115e-5])
+    v_rel = np.asarray(vel) - np.cross(omega, np.add(pos, np.multiply(vel, t)))
+    assert angle_deg(force, -v_rel) < 0.5
+    assert np.linalg.norm(v_rel) == pytest.approx(cond.speed, rel=1e-3)
+    flow = cond.free_stream()
+    cd = sentman_sphere_cd(flow.speed_ratio, flow.temperature, 300.0)  # alpha = 1: T_r = T_w
+    expected = 0.5 * cond.mass_density * cond.speed**2 * cd * math.pi * RADIUS**2
+    assert np.linalg.norm(force) == pytest.approx(expected, rel=5e-3)
+    # torque about the offset centre of mass c of a sphere centred on the origin: (0 - c) x F
+    c = np.array([0.1, -0.2, 0.3])
+    assert np.allclose(torque, np.cross(-c, force), rtol=1e-6, atol=1e-12 * np.linalg.norm(force))
+    # coefficients topic: wrench = q Aref Cf, q Aref Lref Cm
+    cf = peer.coefficients[-1]
+    area = node.get_parameter("reference_area").value
+    length = node.get_parameter("reference_length").value
+    q = 0.5 * cond.mass_density * cond.speed**2
+    assert np.allclose(q * area * vec(cf.wrench.force), force, rtol=1e-3)
+    assert np.allclose(q * area * length * vec(cf.wrench.torque), torque, rtol=1e-3)
+
+
+def test_attitude_rotates_the_force_into_the_body_frame(ros):
+    node, peer = ros
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(0.0, pos, vel)
+    peer.spin_for(0.05)
+    peer.send_attitude(0.01, (0.0, 0.0, 0.0, 1.0))
+    # body rotated +90 deg about z: body x = ECI y, so ECI vectors appear rotated -90 deg in body
+    peer.send_attitude(0.02, (0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4)))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 2)
+    f0, f1 = vec(peer.wrenches[0].wrench.force), vec(peer.wrenches[1].wrench.force)
+    rz = np.array([[0, 1, 0], [-1, 0, 0], [0, 0, 1.0]])  # R(90 deg about z) transposed
+    assert np.allclose(f1, rz @ f0, rtol=1e-3, atol=1e-3 * np.linalg.norm(f0))
+
+
+def test_body_frame_twist_is_rotated_with_the_pose(ros):
+    node, peer = ros
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(0.0, pos, vel)
+    peer.spin_for(0.05)
+    peer.send_attitude(0.01, (0, 0, 0, 1.0))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 1)
+    # the same state with the twist in the body frame of a body rotated 90 deg about z
+    q = (0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4))
+    v_body = np.array([[0, 1, 0], [-1, 0, 0], [0, 0, 1.0]]) @ np.asarray(vel)
+    peer.send_state(0.011, pos, v_body, child="body", orientation=q)
+    peer.spin_for(0.05)
+    peer.send_attitude(0.012, (0, 0, 0, 1.0))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 2)
+    f0, f1 = (vec(w.wrench.force) for w in peer.wrenches)
+    assert np.allclose(f0, f1, rtol=2e-3)
+
+
+def test_bad_inputs_are_rejected_counted_and_the_node_stays_up(ros):
+    node, peer = ros
+    est = node.estimator
+    pos, vel = circular_orbit_state(300e3)
+    good = (0.0, 0.0, 0.0, 1.0)
+
+    def expect(reason, published_before, send):
+        count = est.rejections[reason]
+        send()
+        assert peer.spin_until(lambda: est.rejections[reason] == count + 1), reason
+        peer.spin_for(0.05)
+        assert len(peer.wrenches) == published_before, f"{reason}: a wrench was published"
+
+    expect("no_state", 0, lambda: peer.send_attitude(0.0, good))
+    peer.send_state(1.0, pos, vel)
+    peer.spin_for(0.05)
+    expect("non_finite", 0, lambda: peer.send_attitude(1.01, (math.nan, 0, 0, 1)))
+    expect("bad_quaternion", 0, lambda: peer.send_attitude(1.02, (0, 0, 0, 0)))
+    expect("bad_quaternion", 0, lambda: peer.send_attitude(1.03, (0, 0, 0, 1.1)))
+    expect("stale_state", 0, lambda: peer.send_attitude(5.0, good))
+    expect("non_finite", 0, lambda: peer.send_state(1.04, (math.inf, 0, 0), vel))
+    # slightly non-unit quaternion: normalised and used
+    peer.send_attitude(1.05, (0, 0, 0, 1.0004))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 1)
+    # time going backwards (a looping bag): rejected, history reset
+    expect("time_backwards", 1, lambda: peer.send_attitude(1.0, good))
+    expect("no_state", 1, lambda: peer.send_attitude(1.06, good))
+    # altitude outside the atmosphere model
+    far = np.asarray(pos) * (6378137.0 + 2000e3) / np.linalg.norm(pos)
+    peer.send_state(2.0, far, vel)
+    peer.spin_for(0.05)
+    expect("altitude_out_of_range", 1, lambda: peer.send_attitude(2.0, good))
+    # a twist in an unknown frame
+    expect("bad_state", 1, lambda: peer.send_state(2.1, pos, vel, child="camera"))
+    # zero relative velocity (at rest in the co-rotating air): a zero wrench is published
+    omega = np.array([0.0, 0.0, 7.292115e-5])
+    peer.send_state(3.0, pos, np.cross(omega, pos))
+    peer.spin_for(0.05)
+    peer.send_attitude(3.0, good)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 2)
+    # the near-zero residual comes from precession-nutation, far below any real drag
+    assert np.linalg.norm(vec(peer.wrenches[-1].wrench.force)) < 1e-9
+    # still up and computing
+    peer.send_state(4.0, pos, vel)
+    peer.spin_for(0.05)
+    peer.send_attitude(4.0, good)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 3)
+    assert np.linalg.norm(vec(peer.wrenches[-1].wrench.force)) > 1e-5
+    # diagnostics report the rejections
+    assert peer.spin_until(lambda: any(
+        any(kv.key == "rejected_bad_quaternion" and kv.value == "2" for kv in st.values)
+        for d in peer.diagnostics for st in d.status
+    ))
+
+
+def test_parameter_changes_apply_or_are_rejected(ros):
+    node, peer = ros
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(0.0, pos, vel)
+    peer.spin_for(0.05)
+    peer.send_attitude(0.01, (0, 0, 0, 1.0))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 1)
+    sentman = np.linalg.norm(vec(peer.wrenches[0].wrench.force))
+
+    result = node.set_parameters([Parameter("gsi_model", value="newton")])[0]
+    assert result.successful
+    peer.send_attitude(0.02, (0, 0, 0, 1.0))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 2)
+    newton = np.linalg.norm(vec(peer.wrenches[1].wrench.force))
+    # Newtonian sphere: C_D = 2 on the projected area, Sentman at s ~ 8 with T_w = 300 K ~ 2.1
+    assert newton < sentman and newton != pytest.approx(sentman, rel=1e-3)
+
+    for name, value, needle in [
+        ("alpha", 2.0, "alpha"),
+        ("gsi_model", "magic", "gsi_model"),
+        ("center_of_mass", [1.0, 2.0], "center_of_mass"),
+        ("material_overrides", ["nonexistent:alpha=0.5"], "nonexistent"),
+        ("mesh", "example", "mesh"),
+    ]:
+        result = node.set_parameters([Parameter(name, value=value)])[0]
+        assert not result.successful and needle in result.reason, (name, result.reason)
+    assert node.get_parameter("gsi_model").value == "newton"
+    assert node.get_parameter("alpha").value == 1.0
+    peer.send_attitude(0.03, (0, 0, 0, 1.0))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 3)
+    assert np.linalg.norm(vec(peer.wrenches[2].wrench.force)) == pytest.approx(newton, rel=1e-4)
+
+
+def test_bad_mesh_stops_the_node_with_one_line_and_status_1(tmp_path):
+    env = dict(os.environ)
+    proc = subprocess.run(
+        [sys.executable, "-m", "adbsat_ros.node", "--ros-args", "-p", f"mesh:={tmp_path / 'none.obj'}"],
+        capture_output=True, text=True, timeout=60, env=env,
+    )
+    assert proc.returncode == 1
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "not found" in lines[0], proc.stderr
+
+
+def test_node_process_with_the_bundled_params_file(sphere_file):
+    """adbsat_node run as its own process with config/adbsat.yaml answers over DDS."""
+    cmd = [sys.executable, "-m", "adbsat_ros.node", "--ros-args", "--params-file", str(ROOT / "config" / "adbsat.yaml"),
+           "-p", f"mesh:={sphere_file}", "-p", "time_mode:=epoch", "-p", f"epoch_utc:={EPOCH}"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ctx, executor = make_context()
+    peer = Peer(ctx, executor, name="remote_peer")
+    try:
+        assert peer.wait_for_subscribers(timeout=30), "node process did not come up"
+        pos, vel = circular_orbit_state(300e3)
+        deadline = time.monotonic() + 20
+        t = 0.0
+        while not peer.wrenches and time.monotonic() < deadline:
+            t += 0.01
+            peer.send_state(t, pos, vel)
+            peer.send_attitude(t, (0, 0, 0, 1.0))
+            peer.spin_for(0.05)
+        assert peer.wrenches, "no wrench from the node process"
+        assert np.linalg.norm(vec(peer.wrenches[0].wrench.force)) > 1e-5
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+        executor.shutdown()
+        peer.node.destroy_node()
+        rclpy.try_shutdown(context=ctx)
+
+
+def test_params_file_lists_every_parameter_with_its_default():
+    from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings, load_parameters_file
+
+    params = load_parameters_file(ROOT / "config" / "adbsat.yaml")
+    assert set(params) == set(PARAMETER_DEFAULTS)
+    assert params == PARAMETER_DEFAULTS
+    WrenchSettings.from_parameters(params)  # valid as shipped
