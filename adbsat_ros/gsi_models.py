@@ -32,7 +32,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import erf
+from scipy.special import erf, erfc
 
 from .constants import BOLTZMANN
 from .freestream import FreeStream
@@ -95,15 +95,21 @@ def _sentman_single(c, sigma, s, K):
     """Sentman's plate for one gas: c_p and c_tau for speed ratio s and K = sqrt(T_r/(2 T_i))."""
     x = s * c
     E = np.exp(-x * x)
-    Phi = 1.0 + erf(x)
+    Phi = erfc(-x)  # = 1 + erf(x), without cancellation for x << 0
     cp = (c * c + 0.5 / (s * s)) * Phi + c * E / (SQRT_PI * s) + 0.5 * K * (SQRT_PI * c * Phi + E / s)
     ctau = sigma * (c * Phi + E / (SQRT_PI * s))
     return cp, ctau
 
 
-def _re_emission_K(alpha, wall_temperature, incident_temperature):
-    """K = sqrt(0.5 [1 + alpha (T_w / T_i - 1)]) = sqrt(T_r / (2 T_i))."""
-    return np.sqrt(0.5 * (1.0 + alpha * (wall_temperature / incident_temperature - 1.0)))
+def _re_emission_K(alpha, wall_temperature, incident_temperature, particle_mass, speed):
+    """K = sqrt(T_r / T_inf) / s = sqrt(2 k_B T_r / (m V^2)), T_r = T_i + alpha (T_w - T_i).
+
+    Diffusely re-emitted molecules at T_r carry the normal momentum flux N m sqrt(pi k_B T_r/(2m))
+    (Schaaf & Chambre 1961), which is (K/2)(sqrt(pi) c Phi + E/s) in units of q. With the
+    energy-flux T_i = m V^2/(4 k_B) this is ADBSat's sqrt(0.5 [1 + alpha (T_w/T_i - 1)]).
+    """
+    t_r = incident_temperature + alpha * (wall_temperature - incident_temperature)
+    return np.sqrt(2.0 * BOLTZMANN * t_r / (particle_mass * speed * speed))
 
 
 def sentman(c, sigma, surface, flow, options):
@@ -112,11 +118,12 @@ def sentman(c, sigma, surface, flow, options):
     c_p = (c^2 + 1/(2 s^2)) (1 + erf(s c)) + c e^{-s^2 c^2} / (sqrt(pi) s)
           + (K/2) (sqrt(pi) c (1 + erf(s c)) + e^{-s^2 c^2} / s),
     c_tau = sin(delta) (c (1 + erf(s c)) + e^{-s^2 c^2} / (sqrt(pi) s)),
-    K = sqrt(0.5 [1 + alpha (T_w / T_i - 1)]).
+    K = sqrt(T_r / T_inf) / s with T_r = T_i + alpha (T_w - T_i) (for the energy-flux T_i this is
+    ADBSat's sqrt(0.5 [1 + alpha (T_w / T_i - 1)])).
     """
     s = flow.speed_ratio
     Ti = options.incident_temperature_of(flow.mean_mass, flow.speed)
-    K = _re_emission_K(surface.alpha, surface.wall_temperature, Ti)
+    K = _re_emission_K(surface.alpha, surface.wall_temperature, Ti, flow.mean_mass, flow.speed)
     return _sentman_single(c, sigma, s, K)
 
 
@@ -124,7 +131,7 @@ def _schaaf_single(c, sigma, s, sigma_n, sigma_t, r):
     """Schaaf & Chambre plate for one gas; r = sqrt(T_w / T_inf)."""
     x = s * c
     E = np.exp(-x * x)
-    Phi = 1.0 + erf(x)
+    Phi = erfc(-x)  # = 1 + erf(x), without cancellation for x << 0
     cp = (
         ((2.0 - sigma_n) * x / SQRT_PI + 0.5 * sigma_n * r) * E
         + ((2.0 - sigma_n) * (0.5 + x * x) + 0.5 * sigma_n * r * SQRT_PI * x) * Phi
@@ -276,7 +283,7 @@ def cll(c, sigma, surface, flow, options):
         s = flow.speed / math.sqrt(2.0 * BOLTZMANN * Tinf / flow.species_masses[flow.species.index(name)])
         x = s * c
         E = np.exp(-x * x)
-        Phi = 1.0 + erf(x)
+        Phi = erfc(-x)  # = 1 + erf(x), without cancellation for x << 0
         G1 = (x * E + 0.5 * SQRT_PI * (1.0 + 2.0 * x * x) * Phi) / SQRT_PI
         G2 = (E + SQRT_PI * x * Phi) / SQRT_PI
         beta, gamma, delta, zeta = _cll_fit(name, alpha_n)
@@ -297,7 +304,7 @@ def dria(c, sigma, surface, flow, options):
 
     Per species j: c_d,j = P/sqrt(pi) + c Q Z + (c/2) K_j (c sqrt(pi) Z + P),
     c_l,j = sin(delta) G Z + (sin(delta)/2) K_j (c sqrt(pi) Z + P), with P = e^{-c^2 s_j^2}/s_j,
-    G = 1/(2 s_j^2), Q = 1 + G, Z = 1 + erf(c s_j), K_j = sqrt(0.5 [1 + alpha (T_w/T_i,j - 1)]);
+    G = 1/(2 s_j^2), Q = 1 + G, Z = 1 + erf(c s_j), K_j = sqrt(2 k_B T_r,j / (m_j V^2));
     c_p = c_d c + c_l sin(delta), c_tau = c_d sin(delta) - c_l c, which is Sentman's plate for
     species j. Species are mixed by mass fraction. Back faces are kept.
     """
@@ -311,7 +318,7 @@ def dria(c, sigma, surface, flow, options):
         m = flow.species_masses[flow.species.index(name)]
         s = flow.speed / math.sqrt(2.0 * BOLTZMANN * flow.temperature / m)
         Ti = options.incident_temperature_of(m, flow.speed)
-        K = _re_emission_K(surface.alpha, surface.wall_temperature, Ti)
+        K = _re_emission_K(surface.alpha, surface.wall_temperature, Ti, m, flow.speed)
         cp, ctau = _sentman_single(c, sigma, s, K)
         cp_total = cp_total + w * cp
         ctau_total = ctau_total + w * ctau

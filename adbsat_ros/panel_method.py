@@ -58,6 +58,11 @@ class Reference:
 
     def resolved(self, mesh: PanelMesh) -> "Reference":
         """A copy with the defaults filled in from ``mesh``."""
+        if self.length is None and not mesh.x_extent > 0.0:
+            raise ValueError(
+                f"{mesh.source}: the mesh has no extent along x, so the default reference length "
+                "(max x - min x) is 0: give a reference length"
+            )
         return Reference(
             area=float(self.area) if self.area is not None else 0.5 * mesh.total_area,
             length=float(self.length) if self.length is not None else mesh.x_extent,
