@@ -6,8 +6,9 @@ Models (:data:`ACCOMMODATION_MODELS`)
     A given alpha in [0, 1] (option ``alpha``).
 ``langmuir``
     Langmuir isotherm of Pilinski, Argrow & Palo (2010), J. Spacecraft Rockets 47(6):
-    alpha = x / (1 + x), x = K n_O T, with n_O the atomic-oxygen number density [m^-3], T the
-    local temperature [K] and the fitted K = 7.50e-17 m^3/K (option ``langmuir_constant``).
+    alpha = x / (1 + x), x = K n_O T, with n_O the atomic-oxygen number density [m^-3]
+    (NRLMSISE-00's thermal O; anomalous oxygen is not counted, here or in SESAM), T the local
+    temperature [K] and the fitted K = 7.50e-17 m^3/K (option ``langmuir_constant``).
     x is K' P_O with the atomic-oxygen partial pressure P_O = n_O k_B T and K' = K / k_B.
     This K reproduces the ADBSat validation paper's alpha = 0.97 and 0.81 at 300 and 400 km
     (2015-01-19 00:00 UT, 0 N 0 E, F10.7 = 121.7, F10.7A = 138.1, Ap = 4).
@@ -24,15 +25,19 @@ Models (:data:`ACCOMMODATION_MODELS`)
     erf(s) / (2 s^4), and K_L = s_o K_L0 + K_Lf (K_L0 = 5e6 Torr^-1, K_Lf = 3e4 Torr^-1); s_o is
     the fraction of incident O atoms below the adsorption energy E_b = 5.7 eV:
     s_o = int_0^sqrt(E_b) g(x) dx / int_0^inf g(x) dx with g(x) = x exp(-(x - sqrt(E_r))^2 /
-    (k_B T_ab)), E_r = m_O V^2 / 2 and T_ab = 93.31 K (closed form in :func:`sesam_sticking_fraction`).
+    (k_B T_ab)), E_r = m_O V^2 / 2 and T_ab = 93.31 K (closed form in
+    :func:`sesam_sticking_fraction`).
     Same options as ``goodman``.
 
 Differences from ADBSat's code (as physics.md, section 5, describes it)
 ----------------------------------------------------------------------
 * ADBSat computes s_o with a factor exp(2 sqrt(E_b E_r) / (k_B T_ab)) that overflows at orbital
-  speeds and is capped at the largest double, which drops a term of about 1e-3 relative. We
-  evaluate the same closed form with the exponentials combined (no overflow); s_o then differs by
-  ~1e-3 relative and alpha by less than that.
+  speeds and is capped at the largest double, and a factor exp(-(E_b + E_r) / (k_B T_ab)) that
+  underflows to 0; together they drop the term
+  k_B T_ab exp(-(sqrt(E_b) - sqrt(E_r))^2 / (k_B T_ab)).
+  We evaluate the same closed form with the exponents combined (no overflow, checked against
+  numerical integration): s_o differs from ADBSat's by ~1e-3 relative at 7.8 km/s and ~5e-3 at
+  8 km/s (ADBSat's s_o is also 0 instead of 1 at rest, by underflow); alpha by less.
 * ADBSat silently replaces a K_s outside [2.4, 3.6] by 2.4; we raise ValueError.
 * ADBSat's Goodman/SESAM mean mass always includes anomalous oxygen; we use the flight
   conditions' mixture (which includes it by default, so the defaults agree).
@@ -240,7 +245,8 @@ def sesam_accommodation(
         As :func:`goodman_accommodation`.
     """
     clean = goodman_accommodation(mean_mass, substrate_coefficient, surface_mass_amu)
-    pressure_torr = sesam_oxygen_pressure(oxygen_number_density, speed, speed_ratio) / PASCAL_PER_TORR
+    pressure_pa = sesam_oxygen_pressure(oxygen_number_density, speed, speed_ratio)
+    pressure_torr = pressure_pa / PASCAL_PER_TORR
     sticking = sesam_sticking_fraction(0.5 * _OXYGEN_MASS * speed**2)
     langmuir = sticking * SESAM_LANGMUIR_INITIAL + SESAM_LANGMUIR_FINAL
     coverage = langmuir * pressure_torr / (1.0 + langmuir * pressure_torr)
@@ -257,7 +263,9 @@ def _fixed(atmosphere: AtmosphereState, speed: float, alpha=None) -> float:
     return alpha
 
 
-def _langmuir(atmosphere: AtmosphereState, speed: float, langmuir_constant=LANGMUIR_CONSTANT) -> float:
+def _langmuir(
+    atmosphere: AtmosphereState, speed: float, langmuir_constant=LANGMUIR_CONSTANT
+) -> float:
     return langmuir_accommodation(
         atmosphere.number_densities["O"], atmosphere.temperature, langmuir_constant
     )

@@ -27,7 +27,9 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
+import types
 from dataclasses import dataclass
+from typing import Mapping
 
 from nrlmsise00 import _nrlmsise00
 
@@ -115,9 +117,9 @@ class AtmosphereState:
 
     Attributes
     ----------
-    number_densities : dict of str to float
+    number_densities : mapping of str to float
         Number densities [m^-3] of He, O, N2, O2, Ar, H, N and anomalous oxygen "AnO" (keys as
-        :data:`adbsat_ros.constants.SPECIES`). O, H and N are 0 below 72.5 km.
+        :data:`adbsat_ros.constants.SPECIES`), read-only. O, H and N are 0 below 72.5 km.
     mass_density : float
         Total mass density [kg/m^3]; includes anomalous oxygen iff ``anomalous_oxygen``.
     exospheric_temperature : float
@@ -129,7 +131,7 @@ class AtmosphereState:
         :attr:`mixture_number_densities`, :attr:`mean_mass`).
     """
 
-    number_densities: dict
+    number_densities: Mapping[str, float]
     mass_density: float
     exospheric_temperature: float
     temperature: float
@@ -173,7 +175,8 @@ def check_time(time) -> _dt.datetime:
     time = utc_datetime(time)
     if not FIRST_YEAR <= time.year <= LAST_YEAR:
         raise ValueError(
-            f"time must be between {FIRST_YEAR}-01-01 and {LAST_YEAR}-12-31 UTC, got {time.isoformat()}"
+            f"time must be between {FIRST_YEAR}-01-01 and {LAST_YEAR}-12-31 UTC, "
+            f"got {time.isoformat()}"
         )
     return time
 
@@ -240,7 +243,8 @@ def evaluate_atmosphere(
     longitude_deg = (longitude_deg + 180.0) % 360.0 - 180.0
     if not isinstance(space_weather, SpaceWeather):
         raise ValueError(
-            f"space_weather must be a SpaceWeather(f107, f107a, ap), got {type(space_weather).__name__}"
+            f"space_weather must be a SpaceWeather(f107, f107a, ap), "
+            f"got {type(space_weather).__name__}"
         )
     seconds = time.hour * 3600.0 + time.minute * 60.0 + time.second + time.microsecond * 1e-6
     if local_solar_time_h is None:
@@ -267,7 +271,9 @@ def evaluate_atmosphere(
         densities, temperatures = model(
             *arguments, ap_a=list(space_weather.ap_history), flags=_SWITCHES_AP_HISTORY
         )
-    number_densities = {name: densities[index] for name, index in _MSIS_SPECIES_INDEX.items()}
+    number_densities = types.MappingProxyType(
+        {name: densities[index] for name, index in _MSIS_SPECIES_INDEX.items()}
+    )
     return AtmosphereState(
         number_densities=number_densities,
         mass_density=densities[5],

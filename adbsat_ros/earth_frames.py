@@ -4,7 +4,7 @@ Frames
 ------
 * **ECI** here is the GCRS/GCRF: the IAU 2006/2000A celestial frame realised by pyerfa.
 * **ECEF** is the ITRS/ITRF (with polar motion set to zero unless you pass it, it is the TIRS,
-  which differs from the ITRF by at most ~0.5 arcsec ~ 15 m at orbital radius).
+  which differs from the ITRF by at most ~0.6 arcsec, 3e-6 rad, ~20 m at orbital radius).
 * **Geodetic** coordinates are on the WGS-84 ellipsoid: latitude phi and east longitude lambda
   [rad], height above the ellipsoid h [m].
 
@@ -18,10 +18,12 @@ Accuracy
 With no Earth-orientation data the defaults are UT1 = UTC and zero polar motion. The dominant
 error is then |UT1 - UTC| <= 0.9 s, i.e. an orientation error of at most
 0.9 s * 7.29e-5 rad/s = 6.6e-5 rad (<= ~450 m along a circle of 6 800 km radius); polar motion
-adds <= ~2.5e-6 rad (~15 m). Give ``ut1_minus_utc`` and ``polar_motion`` (IERS Bulletin A/B) to
-remove both: the module then reproduces Vallado et al. (2006)'s GCRF/ITRF example to better than
-1 m (see ``test/test_earth_frames.py``). TT is computed from UTC through ERFA's leap-second table
-(``erfa.dat``); the precession-nutation matrix is insensitive to TT errors of seconds.
+adds <= ~3e-6 rad (~20 m). Give ``ut1_minus_utc`` and ``polar_motion`` (IERS Bulletin A/B) to
+remove both: the module then reproduces Vallado et al. (2006)'s GCRF/ITRF example to ~1 cm in
+position and ~0.5 mm/s in velocity (see ``test/test_earth_frames.py``). The matrix equals ERFA's
+own ``c2t06a`` (with ERFA's UTC -> TAI -> TT chain) to 1e-12. TT is computed from UTC through
+ERFA's leap-second table (``erfa.dat``); the precession-nutation matrix is insensitive to TT
+errors of seconds.
 
 Velocities include the transport term of the rotating frame, ``v_ecef = R v_eci - omega x r_ecef``
 with omega the rate of the Earth rotation angle (:data:`EARTH_ROTATION_RATE`, the IERS 2010 value
@@ -244,13 +246,17 @@ def earth_orientation(
     time = utc_datetime(time)
     ut1_minus_utc = float(ut1_minus_utc)
     if not math.isfinite(ut1_minus_utc) or abs(ut1_minus_utc) > 1.0:
-        raise ValueError(f"ut1_minus_utc must be a finite number of seconds in [-1, 1], got {ut1_minus_utc!r}")
+        raise ValueError(
+            f"ut1_minus_utc must be a finite number of seconds in [-1, 1], got {ut1_minus_utc!r}"
+        )
     try:
         xp, yp = float(polar_motion[0]), float(polar_motion[1])
         if len(polar_motion) != 2:
             raise ValueError
     except (TypeError, ValueError, IndexError):
-        raise ValueError(f"polar_motion must be a pair (x_p, y_p) in rad, got {polar_motion!r}") from None
+        raise ValueError(
+            f"polar_motion must be a pair (x_p, y_p) in rad, got {polar_motion!r}"
+        ) from None
     if not (math.isfinite(xp) and math.isfinite(yp)) or max(abs(xp), abs(yp)) > 10 * _ARCSEC:
         raise ValueError(
             f"polar_motion must be finite and within 10 arcsec (given in rad), got {polar_motion!r}"
@@ -324,11 +330,17 @@ def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
     longitude = np.asarray(longitude, dtype=float)
     altitude = np.asarray(altitude, dtype=float)
     for name, value in (("latitude", latitude), ("longitude", longitude), ("altitude", altitude)):
-        if not np.all(np.isfinite(value)):
+        if not _all_finite(value):
             raise ValueError(f"{name} must be finite, got {value!r}")
-    if np.any(np.abs(latitude) > math.pi / 2):
+    if latitude.ndim == 0:
+        if abs(float(latitude)) > math.pi / 2:
+            raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
+    elif np.any(np.abs(latitude) > math.pi / 2):
         raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
-    return np.asarray(erfa.gd2gc(WGS84, longitude, latitude, altitude))
+    # Raw ufunc (skips pyerfa's status-to-warning wrapper); status is non-zero only for a bad
+    # ellipsoid identifier or |latitude| > pi/2, both excluded above.
+    position, _status = erfa.ufunc.gd2gc(WGS84, longitude, latitude, altitude)
+    return position
 
 
 def ecef_to_geodetic(position_ecef):

@@ -34,7 +34,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .accommodation import accommodation, normalize_model_name
-from .atmosphere import AtmosphereState, SpaceWeather, check_altitude, check_time, evaluate_atmosphere
+from .atmosphere import (
+    AtmosphereState,
+    SpaceWeather,
+    check_altitude,
+    check_time,
+    evaluate_atmosphere,
+)
 from .constants import BOLTZMANN, EARTH_MU, EARTH_RADIUS_ADBSAT
 from .earth_frames import (
     EarthOrientation,
@@ -158,7 +164,7 @@ class FlightConditions:
 
     @property
     def flow_direction_ecef(self) -> np.ndarray | None:
-        """Unit vector along which the gas moves relative to the satellite, ECEF axes (-v_rel/|v_rel|).
+        """Unit vector along which the gas moves past the satellite, ECEF axes: -v_rel / |v_rel|.
 
         None if the speed is zero or only a speed is known.
         """
@@ -333,7 +339,9 @@ def flight_conditions(
             precession_nutation=precession_nutation,
         )
     elif not isinstance(orientation, EarthOrientation):
-        raise ValueError(f"orientation must be an EarthOrientation, got {type(orientation).__name__}")
+        raise ValueError(
+            f"orientation must be an EarthOrientation, got {type(orientation).__name__}"
+        )
     elif orientation.time != time:
         raise ValueError(
             f"orientation is for {orientation.time.isoformat()}, not for time {time.isoformat()}"

@@ -94,7 +94,8 @@ def register(subparsers) -> None:
                        help="air at rest in ECI instead of co-rotating (needs --velocity)")
     weather = parser.add_argument_group("space weather")
     weather.add_argument("--f107", type=_non_negative_float("--f107"), default=DEFAULT_F107,
-                         metavar="SFU", help=f"F10.7 of the previous day (default {DEFAULT_F107:g})")
+                         metavar="SFU",
+                         help=f"F10.7 of the previous day (default {DEFAULT_F107:g})")
     weather.add_argument("--f107a", type=_non_negative_float("--f107a"), default=DEFAULT_F107A,
                          metavar="SFU", help=f"81-day average F10.7 (default {DEFAULT_F107A:g})")
     weather.add_argument("--ap", type=_non_negative_float("--ap"), default=DEFAULT_AP,
@@ -123,7 +124,9 @@ def _parse_time(text: str) -> _dt.datetime:
     if time.tzinfo is not None:
         time = time.astimezone(_dt.timezone.utc).replace(tzinfo=None)
     if not FIRST_YEAR <= time.year <= LAST_YEAR:
-        raise CommandLineError(f"--time: must be between {FIRST_YEAR} and {LAST_YEAR}, got {text!r}")
+        raise CommandLineError(
+            f"--time: must be between {FIRST_YEAR} and {LAST_YEAR}, got {text!r}"
+        )
     return time
 
 
@@ -251,7 +254,8 @@ def format_table(conditions) -> str:
         ("speed", f"{conditions.speed:.3f} m/s"
          + ("" if conditions.relative_velocity_ecef is not None else " (circular orbit)")),
         ("speed ratio", f"{conditions.speed_ratio:.6f}"),
-        (f"alpha ({conditions.accommodation_model})", f"{conditions.accommodation_coefficient:.6f}"),
+        (f"alpha ({conditions.accommodation_model})",
+         f"{conditions.accommodation_coefficient:.6f}"),
     ]
     width = max(len(label) for label, _ in rows)
     return "\n".join(f"{label:<{width}}  {value}" for label, value in rows)

@@ -1,0 +1,199 @@
+"""End-to-end latency of adbsat_node (attitude published -> wrench received) against a bare echo node.
+
+Usage:
+    python bench/bench_node_latency.py [--rates 100,1000] [--duration 10] [--soak 60]
+        [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
+
+Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
+or bench/echo_node.py), a publisher (Odometry at 10 Hz, QuaternionStamped at the rate, slowly
+tumbling at 1 deg/s so the shading cache sees mostly hits) and a receiver. Latency is receive
+time minus publish time of the same stamp on the shared CLOCK_MONOTONIC. Reports p50/p99/max,
+messages dropped, and for the soak the node's resident memory at the start and the end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+R_ORBIT = 6378137.0 + 300e3
+V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
+
+
+def publisher(rate: float, duration: float, out: str) -> None:
+    import rclpy
+    from geometry_msgs.msg import QuaternionStamped
+    from nav_msgs.msg import Odometry
+    from rclpy.qos import QoSProfile
+
+    rclpy.init()
+    node = rclpy.create_node("bench_publisher")
+    qos = QoSProfile(depth=100)
+    att = node.create_publisher(QuaternionStamped, "attitude", qos)
+    st = node.create_publisher(Odometry, "state", qos)
+    deadline = time.monotonic() + 30
+    while (att.get_subscription_count() == 0 or st.get_subscription_count() == 0) and time.monotonic() < deadline:
+        rclpy.spin_once(node, timeout_sec=0.05)
+    time.sleep(1.0)  # let the receiver match too
+    sent = {}
+    n = int(rate * duration)
+    period = 1.0 / rate
+    start = time.monotonic()
+    next_state = 0.0
+    for k in range(n):
+        t = k * period
+        target = start + t
+        while True:
+            now = time.monotonic()
+            if now >= target:
+                break
+            if target - now > 0.002:
+                time.sleep(target - now - 0.001)
+        if t >= next_state:
+            o = Odometry()
+            o.header.frame_id = o.child_frame_id = "eci"
+            o.header.stamp.sec, o.header.stamp.nanosec = int(t), int(round((t % 1.0) * 1e9))
+            o.pose.pose.position.x = R_ORBIT
+            o.twist.twist.linear.y = V_ORBIT
+            st.publish(o)
+            next_state += 0.1
+        angle = math.radians(1.0) * t  # 1 deg/s about z
+        q = QuaternionStamped()
+        q.header.frame_id = "eci"
+        q.header.stamp.sec, q.header.stamp.nanosec = int(t), int(round((t % 1.0) * 1e9))
+        q.quaternion.z, q.quaternion.w = math.sin(angle / 2), math.cos(angle / 2)
+        sent[f"{q.header.stamp.sec}.{q.header.stamp.nanosec:09d}"] = time.monotonic()
+        att.publish(q)
+    Path(out).write_text(json.dumps(sent))
+    node.destroy_node()
+    rclpy.try_shutdown()
+
+
+def receiver(duration: float, out: str) -> None:
+    import rclpy
+    from geometry_msgs.msg import WrenchStamped
+    from rclpy.qos import QoSProfile
+
+    from adbsat_ros.node import make_executor
+
+    rclpy.init()
+    node = rclpy.create_node("bench_receiver")
+    got = {}
+
+    def on_wrench(msg):
+        got[f"{msg.header.stamp.sec}.{msg.header.stamp.nanosec:09d}"] = time.monotonic()
+
+    node.create_subscription(WrenchStamped, "wrench", on_wrench, QoSProfile(depth=100))
+    executor = make_executor()
+    executor.add_node(node)
+    end = time.monotonic() + duration
+    while time.monotonic() < end:
+        executor.spin_once(timeout_sec=0.1)
+    Path(out).write_text(json.dumps(got))
+    node.destroy_node()
+    rclpy.try_shutdown()
+
+
+def rss_mb(pid: int) -> float:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024.0
+    return float("nan")
+
+
+def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_memory=False) -> dict:
+    env = dict(os.environ)
+    env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    env["ROS_DOMAIN_ID"] = env.get("BENCH_DOMAIN_ID", str(60 + os.getpid() % 30))
+    env["ECHO_QOS_DEPTH"] = "100"
+    if kind == "echo":
+        node_cmd = [sys.executable, str(HERE / "echo_node.py")]
+    else:
+        node_cmd = [sys.executable, "-m", "adbsat_ros.node", "--ros-args", "-p", f"mesh:={mesh}",
+                    "-p", "time_mode:=epoch", "-p", f"shading:={args.shading}", "-p", "qos_depth:=100",
+                    "-p", f"coefficients_source:={args.coefficients_source}"]
+        if args.database:
+            node_cmd += ["-p", f"database_path:={args.database}"]
+    tmp = Path(tempfile.mkdtemp())
+    node = subprocess.Popen(node_cmd, env=env, stderr=subprocess.PIPE, text=True)
+    time.sleep(2.0)
+    recv = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--duration", str(duration + 8),
+                             "--out", str(tmp / "recv.json")], env=env)
+    pub = subprocess.Popen([sys.executable, __file__, "--role", "publisher", "--rate", str(rate),
+                            "--duration", str(duration), "--out", str(tmp / "sent.json")], env=env)
+    mem_start = None
+    if measure_memory:
+        time.sleep(8.0)  # discovery + warm-up
+        mem_start = rss_mb(node.pid)
+    pub.wait()
+    recv.wait()
+    mem_end = rss_mb(node.pid) if measure_memory else None
+    node.terminate()
+    try:
+        node.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        node.kill()
+    sent = json.loads((tmp / "sent.json").read_text())
+    got = json.loads((tmp / "recv.json").read_text())
+    lat = np.array([got[k] - sent[k] for k in sent if k in got]) * 1e3
+    warm = lat[int(0.05 * len(lat)):]  # skip the first 5 % (cache fill, JIT-like warm-up)
+    return {
+        "kind": kind, "rate_hz": rate, "sent": len(sent), "received": int(len(lat)),
+        "dropped": len(sent) - int(len(lat)),
+        "p50_ms": float(np.percentile(warm, 50)) if warm.size else float("nan"),
+        "p99_ms": float(np.percentile(warm, 99)) if warm.size else float("nan"),
+        "max_ms": float(warm.max()) if warm.size else float("nan"),
+        "rss_start_mb": mem_start, "rss_end_mb": mem_end,
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--role", choices=["main", "publisher", "receiver"], default="main")
+    parser.add_argument("--rate", type=float, default=100.0)
+    parser.add_argument("--rates", default="100,1000")
+    parser.add_argument("--duration", type=float, default=10.0)
+    parser.add_argument("--soak", type=float, default=60.0)
+    parser.add_argument("--max-edge", type=float, default=0.064)
+    parser.add_argument("--shading", default="raycast")
+    parser.add_argument("--coefficients-source", default="panel")
+    parser.add_argument("--database", default="")
+    parser.add_argument("--out", default="")
+    args = parser.parse_args()
+    if args.role == "publisher":
+        return publisher(args.rate, args.duration, args.out)
+    if args.role == "receiver":
+        return receiver(args.duration, args.out)
+
+    from adbsat_ros.example_satellite import example_satellite, write_obj
+
+    mesh = example_satellite(max_edge=args.max_edge)
+    mesh_path = Path(tempfile.mkdtemp()) / "satellite.obj"
+    write_obj(mesh, mesh_path)
+    print(f"mesh: example satellite, {mesh.n_panels} faces; shading {args.shading}; "
+          f"coefficients {args.coefficients_source}")
+    print(f"{'node':>8} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}")
+    for rate in (float(r) for r in args.rates.split(",")):
+        for kind in ("echo", "adbsat"):
+            r = run_case(kind, rate, args.duration, str(mesh_path), args)
+            print(f"{kind:>8} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}")
+    if args.soak > 0:
+        r = run_case("adbsat", 1000.0, args.soak, str(mesh_path), args, measure_memory=True)
+        print(f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "
+              f"p99 {r['p99_ms']:.3f} ms, RSS {r['rss_start_mb']:.1f} -> {r['rss_end_mb']:.1f} MB "
+              f"(growth {r['rss_end_mb'] - r['rss_start_mb']:.1f} MB)")
+
+
+if __name__ == "__main__":
+    main()

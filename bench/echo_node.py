@@ -1,0 +1,40 @@
+"""A bare rclpy echo node: republishes each QuaternionStamped on `attitude` as a WrenchStamped on
+`wrench` with the same stamp. The latency floor of rclpy on this machine, for bench_node_latency."""
+
+import os
+import sys
+
+import rclpy
+from geometry_msgs.msg import QuaternionStamped, WrenchStamped
+from rclpy.qos import QoSProfile
+
+from adbsat_ros.node import make_executor
+
+
+def main():
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    rclpy.init(args=sys.argv)
+    node = rclpy.create_node("echo_node")
+    qos = QoSProfile(depth=int(os.environ.get("ECHO_QOS_DEPTH", "10")))
+    pub = node.create_publisher(WrenchStamped, "wrench", qos)
+
+    def echo(msg):
+        out = WrenchStamped()
+        out.header = msg.header
+        out.wrench.force.x = msg.quaternion.w
+        pub.publish(out)
+
+    node.create_subscription(QuaternionStamped, "attitude", echo, qos)
+    executor = make_executor()
+    executor.add_node(node)
+    try:
+        executor.spin()
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,134 @@
+"""``adbsat-ros atmosphere``: JSON fields in SI units, readable table, one-line errors (exit 2)."""
+
+import importlib
+import json
+import math
+import os
+import subprocess
+import sys
+
+import pytest
+
+from adbsat_ros import cli
+
+PAPER = ["--time", "2015-01-19T00:00:00Z", "--f107", "121.7", "--f107a", "138.1", "--ap", "4"]
+POINT = ["--altitude", "400", "--lat", "0", "--lon", "0"]
+
+
+def run(argv, capsys, monkeypatch):
+    """Run the real ``adbsat-ros`` main with only this subcommand registered.
+
+    Returns (exit status, stdout, stderr). argparse errors raise SystemExit; both paths count.
+    """
+    monkeypatch.setattr(cli, "SUBCOMMANDS", ("atmosphere",))
+    try:
+        status = cli.main(["atmosphere", *argv])
+    except SystemExit as exc:
+        status = exc.code
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_json_has_every_field_in_si_units(capsys, monkeypatch):
+    status, out, err = run([*PAPER, *POINT, "--json"], capsys, monkeypatch)
+    assert status == 0, err
+    data = json.loads(out)
+    for key in (
+        "time", "latitude", "longitude", "altitude", "position_eci", "position_ecef",
+        "number_densities", "mass_density", "exospheric_temperature", "temperature",
+        "mean_molecular_mass", "speed", "speed_ratio", "relative_velocity_eci",
+        "relative_velocity_ecef", "accommodation_model", "accommodation_coefficient",
+        "anomalous_oxygen", "space_weather", "units",
+    ):
+        assert key in data, key
+    assert data["altitude"] == pytest.approx(400e3)  # m, not km
+    assert data["latitude"] == 0.0 and data["longitude"] == 0.0  # rad
+    assert set(data["number_densities"]) == {"He", "O", "N2", "O2", "Ar", "H", "N", "AnO"}
+    assert 1e13 < data["number_densities"]["O"] < 1e15  # m^-3 at 400 km (cm^-3 would be 1e6 less)
+    assert 1e-13 < data["mass_density"] < 1e-11  # kg/m^3
+    # circular-orbit speed sqrt(mu / (R_E + h)) = 7668.558 m/s and the paper's alpha 0.81
+    assert data["speed"] == pytest.approx(7668.558, abs=1e-3)
+    assert data["relative_velocity_eci"] is None
+    assert data["accommodation_model"] == "langmuir"
+    assert data["accommodation_coefficient"] == pytest.approx(0.81, abs=0.02)
+    assert data["anomalous_oxygen"] is True
+    assert data["space_weather"]["f107"] == 121.7
+
+
+def test_state_in_ecef_at_rest_gives_zero_speed(capsys, monkeypatch):
+    argv = [*PAPER, "--position", "6778137,0,0", "--velocity", "0,0,0", "--frame", "ecef", "--json"]
+    status, out, err = run(argv, capsys, monkeypatch)
+    assert status == 0, err
+    data = json.loads(out)
+    assert data["speed"] == 0.0 and data["relative_velocity_ecef"] == [0.0, 0.0, 0.0]
+    assert data["altitude"] == pytest.approx(400e3, abs=1e-6)
+
+
+def test_state_in_eci_and_options(capsys, monkeypatch):
+    argv = [*PAPER, "--position", "6778137,0,0", "--velocity", "0,7668.6,0", "--json",
+            "--accommodation", "fixed", "--alpha", "0.9", "--no-anomalous-oxygen", "--wind", "0,50,0"]
+    status, out, err = run(argv, capsys, monkeypatch)
+    assert status == 0, err
+    data = json.loads(out)
+    assert data["accommodation_coefficient"] == 0.9
+    assert data["anomalous_oxygen"] is False
+    speed = math.sqrt(sum(v * v for v in data["relative_velocity_eci"]))
+    assert data["speed"] == pytest.approx(speed, rel=1e-12)
+    assert 7000 < data["speed"] < 7300  # co-rotating air takes ~480 m/s off a prograde orbit
+
+
+def test_table_output(capsys, monkeypatch):
+    status, out, err = run([*PAPER, *POINT, "--accommodation", "SESAM"], capsys, monkeypatch)
+    assert status == 0, err
+    assert "alpha (sesam)" in out and "kg/m^3" in out and "m^-3" in out
+    assert "{" not in out
+
+
+@pytest.mark.parametrize(
+    "argv, option",
+    [
+        ([*PAPER, "--altitude", "1200", "--lat", "0", "--lon", "0"], "--altitude"),
+        ([*PAPER, "--altitude", "-1", "--lat", "0", "--lon", "0"], "--altitude"),
+        ([*PAPER, "--altitude", "nan", "--lat", "0", "--lon", "0"], "--altitude"),
+        ([*PAPER, "--altitude", "400", "--lat", "91", "--lon", "0"], "--lat"),
+        ([*PAPER, "--altitude", "400", "--lat", "0"], "--lon"),
+        ([*PAPER, "--altitude", "400", "--lat", "0", "--lon", "x"], "--lon"),
+        ([*PAPER, "--position", "1,2"], "--position"),
+        ([*PAPER, "--position", "3e7,0,0"], "--position"),
+        ([*PAPER, "--position", "7e6,0,0", "--altitude", "400"], "--position"),
+        ([*PAPER, "--position", "7e6,0,0", "--velocity", "0,inf,0"], "--velocity"),
+        ([*PAPER, *POINT, "--velocity", "0,7000,0"], "--velocity"),
+        ([*PAPER, *POINT, "--frame", "ecef"], "--frame"),
+        ([*PAPER, "--position", "7e6,0,0", "--frame", "j2000"], "--frame"),
+        ([*PAPER, *POINT, "--accommodation", "cll"], "--accommodation"),
+        ([*PAPER, *POINT, "--accommodation", "fixed"], "--alpha"),
+        ([*PAPER, *POINT, "--accommodation", "fixed", "--alpha", "1.2"], "--alpha"),
+        ([*PAPER, *POINT, "--alpha", "0.5"], "--alpha"),
+        ([*PAPER, *POINT, "--f107", "-1"], "--f107"),
+        ([*PAPER, *POINT, "--f107a", "nan"], "--f107a"),
+        ([*PAPER, *POINT, "--ap", "-3"], "--ap"),
+        ([*PAPER, *POINT, "--ap-history", "1,2,3"], "--ap-history"),
+        (["--time", "yesterday", *POINT], "--time"),
+        (["--time", "1957-12-31T00:00:00", *POINT], "--time"),
+        (["--time", "2101-01-01", *POINT], "--time"),
+        ([*POINT], "--time"),
+    ],
+)
+def test_bad_values_exit_2_with_one_line_naming_the_option(argv, option, capsys, monkeypatch):
+    status, out, err = run(argv, capsys, monkeypatch)
+    assert status == 2
+    assert out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert option in lines[0]
+    assert "Traceback" not in err
+
+
+def test_console_entry_point_runs():
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    result = subprocess.run(
+        [sys.executable, "-m", "adbsat_ros.cli", "atmosphere", *PAPER, *POINT, "--json"],
+        cwd=root, capture_output=True, text=True, timeout=60,
+    )
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["altitude"] == pytest.approx(400e3)
