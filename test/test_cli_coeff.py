@@ -98,3 +98,34 @@ def test_bad_values_give_one_line_and_status_2(box_file, argv, needle):
 def test_missing_mesh_is_status_2(capsys):
     code, _, err = run_cli(capsys, "missing.obj", *FLOW)
     assert code == 2 and "missing.obj" in err and len(err.strip().splitlines()) == 1
+
+
+def test_flight_conditions_give_the_gas(capsys, box_file):
+    """--time/--altitude/--lat/--lon: NRLMSISE-00 gives the gas, as ADBSat's environment path."""
+    import datetime as dt
+
+    from adbsat_ros.atmosphere import SpaceWeather
+    from adbsat_ros.flight_conditions import flight_conditions_circular_orbit
+
+    code, out, _ = run_cli(capsys, str(box_file), "--shading", "none", "--time", "2015-01-19T00:00:00Z",
+                           "--altitude", "300", "--lat", "0", "--lon", "0", "--f107", "121.7",
+                           "--f107a", "138.1", "--ap", "4", "--accommodation", "langmuir", "--json")
+    assert code == 0
+    data = json.loads(out)[0]
+    cond = flight_conditions_circular_orbit(dt.datetime(2015, 1, 19), 300e3, 0.0, 0.0,
+                                            SpaceWeather(121.7, 138.1, 4.0), accommodation_model="langmuir")
+    assert cond.alpha == pytest.approx(0.97, abs=0.02)
+    method = PanelMethod(load_mesh(box_file), "sentman")
+    flow = cond.free_stream()
+    expected = method.coefficients(flow, 0.0, 0.0, surface=method.surface_with(alpha=cond.alpha, alpha_n=cond.alpha))
+    assert data["CD"] == pytest.approx(expected.drag, rel=1e-12)
+    assert data["dynamic_pressure_Pa"] == pytest.approx(0.5 * cond.mass_density * cond.speed**2, rel=1e-12)
+    # alpha < 1 changes the drag: the accommodation model is really used
+    full = method.coefficients(flow, 0.0, 0.0)
+    assert abs(full.drag - expected.drag) > 1e-4
+
+
+def test_direct_gas_and_flight_conditions_are_exclusive(capsys, box_file):
+    code, _, err = run_cli(capsys, str(box_file), "--time", "2015-01-19T00:00:00Z", "--altitude", "300",
+                           "--lat", "0", "--lon", "0", "--speed", "7000")
+    assert code == 2 and "--speed" in err

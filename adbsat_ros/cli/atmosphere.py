@@ -60,19 +60,14 @@ def _non_negative_float(option: str):
     return convert
 
 
-def register(subparsers) -> None:
-    """Add the ``atmosphere`` subcommand to ``subparsers``."""
-    parser = subparsers.add_parser(
-        "atmosphere",
-        help="flight conditions: NRLMSISE-00 atmosphere, relative wind, accommodation",
-        description=(
-            "Evaluate NRLMSISE-00 and the flight conditions at a geodetic point "
-            "(--altitude/--lat/--lon, circular-orbit speed as ADBSat) or at an orbital state "
-            "(--position [--velocity] in --frame eci|ecef). SI units in --json."
-        ),
-    )
+def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> None:
+    """Options that give the flight conditions: time, place or state, space weather, gas.
+
+    Shared by ``atmosphere`` and ``coeff``; ``coeff`` has its own ``--alpha`` (the model's) and
+    makes ``--time`` optional (its alternative is ``--speed/--temperature/...``).
+    """
     parser.add_argument(
-        "--time", required=True, metavar="ISO8601",
+        "--time", required=time_required, metavar="ISO8601",
         help="UTC time, e.g. 2015-01-19T00:00:00Z (no offset means UTC)",
     )
     where = parser.add_argument_group("geodetic point (WGS-84)")
@@ -105,11 +100,27 @@ def register(subparsers) -> None:
     gas = parser.add_argument_group("gas and surface")
     gas.add_argument("--no-anomalous-oxygen", action="store_true",
                      help="leave anomalous oxygen out of the mixture and the mass density (gtd7)")
+    default = DEFAULT_ACCOMMODATION_MODEL if with_alpha else "fixed"
     gas.add_argument("--accommodation", type=str.lower, choices=accommodation_model_names(),
-                     default=DEFAULT_ACCOMMODATION_MODEL,
-                     help=f"accommodation model (default {DEFAULT_ACCOMMODATION_MODEL})")
-    gas.add_argument("--alpha", type=_finite_float("--alpha"), metavar="ALPHA",
-                     help="accommodation coefficient for --accommodation fixed, 0..1")
+                     default=default,
+                     help=f"accommodation model (default {default}; fixed uses --alpha)")
+    if with_alpha:
+        gas.add_argument("--alpha", type=_finite_float("--alpha"), metavar="ALPHA",
+                         help="accommodation coefficient for --accommodation fixed, 0..1")
+
+
+def register(subparsers) -> None:
+    """Add the ``atmosphere`` subcommand to ``subparsers``."""
+    parser = subparsers.add_parser(
+        "atmosphere",
+        help="flight conditions: NRLMSISE-00 atmosphere, relative wind, accommodation",
+        description=(
+            "Evaluate NRLMSISE-00 and the flight conditions at a geodetic point "
+            "(--altitude/--lat/--lon, circular-orbit speed as ADBSat) or at an orbital state "
+            "(--position [--velocity] in --frame eci|ecef). SI units in --json."
+        ),
+    )
+    add_flight_arguments(parser, time_required=True, with_alpha=True)
     parser.add_argument("--json", action="store_true", help="print JSON, every field in SI units")
     parser.set_defaults(func=run)
 
@@ -165,11 +176,14 @@ def _accommodation_options(args) -> dict:
     return {}
 
 
-def compute(args):
-    """Flight conditions for parsed arguments; raises CommandLineError naming the bad option."""
+def compute(args, accommodation_options=None):
+    """Flight conditions for parsed arguments; raises CommandLineError naming the bad option.
+
+    ``accommodation_options`` replaces the options taken from ``--accommodation/--alpha``.
+    """
     time = _parse_time(args.time)
     weather = _space_weather(args)
-    options = _accommodation_options(args)
+    options = _accommodation_options(args) if accommodation_options is None else accommodation_options
     anomalous_oxygen = not args.no_anomalous_oxygen
     geodetic = [name for name in ("altitude", "lat", "lon") if getattr(args, name) is not None]
     if args.position is not None and geodetic:

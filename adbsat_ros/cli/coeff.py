@@ -19,7 +19,9 @@ from .common import (
     make_shader_from_args,
     panel_method_from_args,
 )
-from .options import parse_angle_list
+from .atmosphere import add_flight_arguments
+from .atmosphere import compute as compute_flight_conditions
+from .options import CommandLineError, parse_angle_list
 
 
 def register(subparsers) -> None:
@@ -28,11 +30,15 @@ def register(subparsers) -> None:
         help="force and moment coefficients at given attitudes",
         description="Compute ADBSat-convention coefficients (Cf_w, Cf_f, Cm_B, Aref, Lref, "
         "AreaProj, CD/CL/CY) for every pair of --aoa x --aos; with a density, also the force "
-        "[N] and torque [N m] in the mesh frame about --moment-ref.",
+        "[N] and torque [N m] in the mesh frame about --moment-ref. The gas is given either "
+        "directly (--speed --temperature --mean-mass|--species [--density]) or by flight "
+        "conditions (--time with --altitude/--lat/--lon or --position/--velocity, space weather): "
+        "NRLMSISE-00 then gives density, temperature and composition, as ADBSat's environment path.",
     )
     add_mesh_arguments(p)
     add_model_arguments(p)
     add_flow_arguments(p)
+    add_flight_arguments(p, time_required=False, with_alpha=False)
     add_reference_arguments(p)
     add_shading_arguments(p)
     p.add_argument("--aoa", default="0", help="angles of attack [deg]: list and/or start:step:stop")
@@ -46,14 +52,27 @@ def run(args) -> int:
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
     aos_deg = parse_angle_list(args.aos, "--aos")
     method = panel_method_from_args(args)
-    flow = freestream_from_args(args, method.model)
+    surface = None
+    if args.time is not None:
+        given = [o for o in ("speed", "temperature", "mean_mass", "species", "density") if getattr(args, o) is not None]
+        if given:
+            raise CommandLineError(
+                f"--{given[0].replace('_', '-')}: give the gas either directly or by --time and a place, not both"
+            )
+        options = {"alpha": args.alpha} if args.accommodation == "fixed" else {}
+        conditions = compute_flight_conditions(args, accommodation_options=options)
+        flow = conditions.free_stream()
+        if args.accommodation != "fixed":
+            surface = method.surface_with(alpha=conditions.alpha, alpha_n=conditions.alpha)
+    else:
+        flow = freestream_from_args(args, method.model)
     shader = make_shader_from_args(args, method.mesh)
     results = []
     for a in aoa_deg:
         for b in aos_deg:
             u = frames.flow_direction(math.radians(a), math.radians(b))
             lighting = shader.lighting(u) if shader is not None else None
-            r = method.coefficients(flow, math.radians(a), math.radians(b), lighting=lighting)
+            r = method.coefficients(flow, math.radians(a), math.radians(b), lighting=lighting, surface=surface)
             d = r.to_dict(flow, per_panel=args.per_panel)
             d["aoa_deg"], d["aos_deg"] = float(a), float(b)  # exact as given
             d["shading"] = args.shading
