@@ -247,13 +247,12 @@ def _wrench_msg(stamp, frame_id: str, force, torque) -> WrenchStamped:
 
 
 def make_executor(context=None):
-    """The EventsExecutor where this rclpy has it (lowest latency), else a SingleThreadedExecutor."""
-    try:
-        from rclpy.experimental import EventsExecutor
+    """The executor the node spins in: a SingleThreadedExecutor.
 
-        return EventsExecutor(context=context)
-    except (ImportError, AttributeError):
-        return SingleThreadedExecutor(context=context)
+    Not the EventsExecutor: in the Jazzy 7.1.x wheels its ``spin()`` busy-waits (one core at
+    100 % with nothing to do, measured) and does not return on SIGINT/SIGTERM.
+    """
+    return SingleThreadedExecutor(context=context)
 
 
 def main(args=None) -> int:
