@@ -54,6 +54,7 @@ setup(
         "console_scripts": [
             "adbsat-ros = adbsat_ros.cli:main",
             "adbsat_node = adbsat_ros.node:main",
+            "adbsat_orbit_publisher = adbsat_ros.orbit_publisher:main",
         ],
     },
 )

@@ -41,6 +41,9 @@ REJECTION_REASONS = (
     "compute_error",
 )
 
+#: Precession-nutation is evaluated once per minute of TT (error < 1e-9 rad; see earth_frames).
+PRECESSION_NUTATION_STEP_S = 60.0
+
 #: Names accepted in Odometry.child_frame_id for a twist already in the state frame.
 STATE_FRAME_NAMES = ("", "eci", "ecef", "gcrf", "itrf", "j2000", "earth", "world", "map")
 
@@ -340,7 +343,7 @@ class AeroWrenchEstimator:
                 utc, position, state.velocity, self.weather, frame=s.state_frame,
                 earth_rotation=s.earth_rotation, wind=self._wind, wind_frame="ecef",
                 anomalous_oxygen=s.anomalous_oxygen, accommodation_model=s.accommodation_model,
-                accommodation_options=options,
+                accommodation_options=options, precession_nutation_step=PRECESSION_NUTATION_STEP_S,
             )
         except ValueError as exc:
             reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"

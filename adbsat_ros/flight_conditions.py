@@ -275,6 +275,7 @@ def flight_conditions(
     ut1_minus_utc: float = 0.0,
     polar_motion=(0.0, 0.0),
     precession_nutation: str = "iau2006a",
+    precession_nutation_step: float = 0.0,
 ) -> FlightConditions:
     """Flight conditions of a satellite from its orbital state.
 
@@ -307,7 +308,7 @@ def flight_conditions(
     orientation : EarthOrientation, optional
         Precomputed Earth orientation at ``time`` (saves ~40 us when evaluating several states at
         one instant); the three options below are then ignored.
-    ut1_minus_utc, polar_motion, precession_nutation
+    ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
         Earth-orientation options, see :func:`adbsat_ros.earth_frames.earth_orientation`.
 
     Returns
@@ -337,6 +338,7 @@ def flight_conditions(
             ut1_minus_utc=ut1_minus_utc,
             polar_motion=polar_motion,
             precession_nutation=precession_nutation,
+            precession_nutation_step=precession_nutation_step,
         )
     elif not isinstance(orientation, EarthOrientation):
         raise ValueError(

@@ -16,6 +16,8 @@ u_G = (-cos a cos b, sin b, sin a cos b): at a = b = 0 the +x_G faces are windwa
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 #: Mesh frame G to ADBSat body frame B (and back: it is its own inverse).
@@ -37,6 +39,9 @@ def flow_direction(aoa, aos):
     ndarray, shape (..., 3)
         u_G = (-cos a cos b, sin b, sin a cos b).
     """
+    if np.ndim(aoa) == 0 and np.ndim(aos) == 0:
+        ca, sa, cb, sb = math.cos(aoa), math.sin(aoa), math.cos(aos), math.sin(aos)
+        return np.array([-ca * cb, sb, sa * cb])
     aoa = np.asarray(aoa, dtype=float)
     aos = np.asarray(aos, dtype=float)
     ca, sa, cb, sb = np.cos(aoa), np.sin(aoa), np.cos(aos), np.sin(aos)
@@ -57,6 +62,9 @@ def angles_of_flow(u_G):
         aoa in (-pi, pi], aos in [-pi/2, pi/2]; at aos = +/-90 deg aoa is 0.
     """
     u = np.asarray(u_G, dtype=float)
+    if u.shape == (3,):
+        n = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+        return math.atan2(u[2] / n, -u[0] / n), math.asin(max(-1.0, min(1.0, u[1] / n)))
     u = u / np.linalg.norm(u, axis=-1, keepdims=True)
     # vehicle velocity in B: L_GB (-u_G)
     vx, vy, vz = -u[..., 0], u[..., 1], u[..., 2]
@@ -73,6 +81,9 @@ def body_to_wind(aoa, aos):
     ndarray, shape (..., 3, 3)
         [[ca cb, sb, sa cb], [-ca sb, cb, -sa sb], [-sa, 0, ca]].
     """
+    if np.ndim(aoa) == 0 and np.ndim(aos) == 0:  # one attitude: skip the array machinery
+        ca, sa, cb, sb = math.cos(aoa), math.sin(aoa), math.cos(aos), math.sin(aos)
+        return np.array([[ca * cb, sb, sa * cb], [-ca * sb, cb, -sa * sb], [-sa, 0.0, ca]])
     aoa = np.asarray(aoa, dtype=float)
     aos = np.asarray(aos, dtype=float)
     ca, sa, cb, sb = np.cos(aoa), np.sin(aoa), np.cos(aos), np.sin(aos)

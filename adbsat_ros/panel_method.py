@@ -28,6 +28,13 @@ from .mesh import PanelMesh
 from .surface import MaterialTable
 
 
+def _cross(a, b):
+    """Cross product over the last axis (np.cross without its per-call overhead)."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+
+
 @dataclass(frozen=True)
 class Reference:
     """Reference quantities of the coefficients; None means ADBSat's default.
@@ -287,12 +294,12 @@ class PanelMethod:
         sum_w = w_t.sum(axis=-1)
         u = np.asarray(u_G, dtype=float)
         force = sum_w[..., None] * u + g @ self._normals
-        moment = np.cross(w_t @ self._bary, u) + g @ self._r_cross_n
+        moment = _cross(w_t @ self._bary, u) + g @ self._r_cross_n
         if lighting is not None and lighting.shift_index.size:
             i, d = lighting.shift_index, lighting.shift
-            moment = moment + np.cross(w_t[i] @ d, u) + (g[i][:, None] * np.cross(d, self._normals[i])).sum(axis=0)
+            moment = moment + _cross(w_t[i] @ d, u) + g[i] @ _cross(d, self._normals[i])
         ref = self.reference
-        moment = moment - np.cross(self._moment_point, force)
+        moment = moment - _cross(self._moment_point, force)
         Cf = force / ref.area
         Cm = moment / (ref.area * ref.length)
         area_projected = (area * np.maximum(c, 0.0)).sum(axis=-1)

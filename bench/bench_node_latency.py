@@ -31,7 +31,7 @@ R_ORBIT = 6378137.0 + 300e3
 V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
 
 
-def publisher(rate: float, duration: float, out: str) -> None:
+def publisher(rate: float, duration: float, out: str, need_state: bool) -> None:
     import rclpy
     from geometry_msgs.msg import QuaternionStamped
     from nav_msgs.msg import Odometry
@@ -43,7 +43,7 @@ def publisher(rate: float, duration: float, out: str) -> None:
     att = node.create_publisher(QuaternionStamped, "attitude", qos)
     st = node.create_publisher(Odometry, "state", qos)
     deadline = time.monotonic() + 30
-    while (att.get_subscription_count() == 0 or st.get_subscription_count() == 0) and time.monotonic() < deadline:
+    while (att.get_subscription_count() == 0 or (need_state and st.get_subscription_count() == 0)) and time.monotonic() < deadline:
         rclpy.spin_once(node, timeout_sec=0.05)
     time.sleep(1.0)  # let the receiver match too
     sent = {}
@@ -58,8 +58,8 @@ def publisher(rate: float, duration: float, out: str) -> None:
             now = time.monotonic()
             if now >= target:
                 break
-            if target - now > 0.002:
-                time.sleep(target - now - 0.001)
+            if target - now > 0.0003:
+                time.sleep(target - now - 0.0002)
         if t >= next_state:
             o = Odometry()
             o.header.frame_id = o.child_frame_id = "eci"
@@ -131,7 +131,8 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     recv = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--duration", str(duration + 8),
                              "--out", str(tmp / "recv.json")], env=env)
     pub = subprocess.Popen([sys.executable, __file__, "--role", "publisher", "--rate", str(rate),
-                            "--duration", str(duration), "--out", str(tmp / "sent.json")], env=env)
+                            "--duration", str(duration), "--out", str(tmp / "sent.json")]
+                           + (["--need-state"] if kind != "echo" else []), env=env)
     mem_start = None
     if measure_memory:
         time.sleep(8.0)  # discovery + warm-up
@@ -170,9 +171,10 @@ def main() -> None:
     parser.add_argument("--coefficients-source", default="panel")
     parser.add_argument("--database", default="")
     parser.add_argument("--out", default="")
+    parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()
     if args.role == "publisher":
-        return publisher(args.rate, args.duration, args.out)
+        return publisher(args.rate, args.duration, args.out, args.need_state)
     if args.role == "receiver":
         return receiver(args.duration, args.out)
 

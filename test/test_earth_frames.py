@@ -226,3 +226,26 @@ def test_enu_matrix_is_local_east_north_up():
 def test_bad_inputs_name_the_input(call, name):
     with pytest.raises(ValueError, match=name):
         call()
+
+
+def test_precession_nutation_step_is_accurate_and_order_independent():
+    """A 60 s precession-nutation step moves the GCRF->ITRF matrix by < 1e-9 rad (docstring bound)."""
+    import datetime as dt
+
+    from adbsat_ros.earth_frames import earth_orientation
+
+    base = dt.datetime(2026, 3, 20, 12, 0, 0)
+    worst = 0.0
+    for seconds in (0.0, 17.3, 29.9, 30.1, 59.99, 3600.5, 86400.0 * 200):
+        t = base + dt.timedelta(seconds=seconds)
+        exact = earth_orientation(t).celestial_to_terrestrial
+        stepped = earth_orientation(t, precession_nutation_step=60.0).celestial_to_terrestrial
+        worst = max(worst, float(np.abs(stepped - exact).max()))
+    assert 0.0 < worst < 1e-9
+    # the same instant gives the same matrix whatever was evaluated before
+    t = base + dt.timedelta(seconds=45.0)
+    first = earth_orientation(t, precession_nutation_step=60.0).celestial_to_terrestrial.copy()
+    earth_orientation(base + dt.timedelta(days=3), precession_nutation_step=60.0)
+    assert np.array_equal(first, earth_orientation(t, precession_nutation_step=60.0).celestial_to_terrestrial)
+    with pytest.raises(ValueError, match="precession_nutation_step"):
+        earth_orientation(t, precession_nutation_step=-1.0)

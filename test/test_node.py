@@ -288,3 +288,21 @@ def test_params_file_lists_every_parameter_with_its_default():
     assert set(params) == set(PARAMETER_DEFAULTS)
     assert params == PARAMETER_DEFAULTS
     WrenchSettings.from_parameters(params)  # valid as shipped
+
+
+def test_attitude_can_come_from_the_odometry_pose(ros):
+    node, peer = ros
+    assert node.set_parameters([Parameter("attitude_source", value="odometry")])[0].successful
+    pos, vel = circular_orbit_state(300e3)
+    q = (0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4))
+    peer.send_state(0.5, pos, vel, orientation=q)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 1)
+    assert stamp_to_float(peer.wrenches[0].header.stamp) == pytest.approx(0.5)
+    # attitude messages are ignored in this mode
+    peer.send_attitude(0.6, (0, 0, 0, 1.0))
+    peer.spin_for(0.2)
+    assert len(peer.wrenches) == 1
+    # the body is turned 90 deg about z (body x = ECI y): the force, along -v_rel ~ -y ECI,
+    # is along -x in the body frame
+    f = vec(peer.wrenches[0].wrench.force)
+    assert angle_deg(f, [-1.0, 0.0, 0.0]) < 0.5

@@ -1,0 +1,84 @@
+"""A tiny publisher to try adbsat_node: a circular orbit in ECI and a fixed or turning attitude.
+
+Console script ``adbsat_orbit_publisher``. Publishes ``state`` (nav_msgs/Odometry, ECI, 10 Hz)
+and ``attitude`` (geometry_msgs/QuaternionStamped, ``--rate`` Hz) with stamps in seconds since
+the start (run the node with ``time_mode:=epoch``), and prints the ``wrench`` the node answers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+
+EARTH_MU = 3.986004418e14
+EARTH_RADIUS = 6378137.0
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="adbsat_orbit_publisher", description=__doc__.splitlines()[0])
+    parser.add_argument("--altitude", type=float, default=300.0, help="orbit altitude [km] (default 300)")
+    parser.add_argument("--rate", type=float, default=10.0, help="attitude rate [Hz] (default 10)")
+    parser.add_argument("--duration", type=float, default=5.0, help="seconds to run (default 5)")
+    parser.add_argument("--yaw-rate", type=float, default=0.0, help="body rotation about z [deg/s]")
+    args, ros_args = parser.parse_known_args(argv)
+    if not (0 < args.altitude <= 1000 and args.rate > 0 and args.duration > 0):
+        parser.error("--altitude must be in (0, 1000] km, --rate and --duration > 0")
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    import rclpy
+    from geometry_msgs.msg import QuaternionStamped, WrenchStamped
+    from nav_msgs.msg import Odometry
+
+    rclpy.init(args=[sys.argv[0], *ros_args])
+    node = rclpy.create_node("orbit_publisher")
+    attitude = node.create_publisher(QuaternionStamped, "attitude", 10)
+    state = node.create_publisher(Odometry, "state", 10)
+
+    def show(msg):
+        f, t = msg.wrench.force, msg.wrench.torque
+        print(f"t={msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec:7.2f} s  "
+              f"force [N] ({f.x:+.3e}, {f.y:+.3e}, {f.z:+.3e})  torque [N m] ({t.x:+.3e}, {t.y:+.3e}, {t.z:+.3e})",
+              flush=True)
+
+    node.create_subscription(WrenchStamped, "wrench", show, 10)
+    r = EARTH_RADIUS + 1e3 * args.altitude
+    v = math.sqrt(EARTH_MU / r)
+    w = v / r
+    start = time.monotonic()
+    next_state = 0.0
+    k = 0
+    try:
+        while (t := k / args.rate) <= args.duration:
+            while time.monotonic() - start < t:
+                rclpy.spin_once(node, timeout_sec=0.002)
+            stamp = node.get_clock().now().to_msg()
+            stamp.sec, stamp.nanosec = int(t), int(round((t % 1.0) * 1e9)) % 1_000_000_000
+            if t >= next_state:
+                o = Odometry()
+                o.header.stamp, o.header.frame_id, o.child_frame_id = stamp, "eci", "eci"
+                o.pose.pose.position.x, o.pose.pose.position.y = r * math.cos(w * t), r * math.sin(w * t)
+                o.twist.twist.linear.x, o.twist.twist.linear.y = -v * math.sin(w * t), v * math.cos(w * t)
+                state.publish(o)
+                next_state += 0.1
+            # body x along the velocity (+90 deg about z from ECI x at t = 0), plus the yaw rate
+            yaw = math.pi / 2 + w * t + math.radians(args.yaw_rate) * t
+            q = QuaternionStamped()
+            q.header.stamp, q.header.frame_id = stamp, "eci"
+            q.quaternion.z, q.quaternion.w = math.sin(yaw / 2), math.cos(yaw / 2)
+            attitude.publish(q)
+            k += 1
+        end = time.monotonic() + 0.5
+        while time.monotonic() < end:
+            rclpy.spin_once(node, timeout_sec=0.05)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
