@@ -53,6 +53,7 @@ from typing import Callable, Mapping
 
 from .atmosphere import AtmosphereState
 from .constants import AMU, BOLTZMANN, species_mass_kg
+from .validation import finite as _finite, non_negative as _non_negative, positive as _positive
 
 #: Pilinski et al. (2010) Langmuir constant K [m^3/K], applied as K n_O T.
 LANGMUIR_CONSTANT = 7.50e-17
@@ -71,31 +72,6 @@ SESAM_LANGMUIR_FINAL = 3e4
 PASCAL_PER_TORR = 101325.0 / 760.0
 
 _OXYGEN_MASS = species_mass_kg("O")
-
-
-# ------------------------------------------------------------------------------- validation
-def _finite(name: str, value) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return value
-
-
-def _non_negative(name: str, value) -> float:
-    value = _finite(name, value)
-    if value < 0.0:
-        raise ValueError(f"{name} must be >= 0, got {value!r}")
-    return value
-
-
-def _positive(name: str, value) -> float:
-    value = _finite(name, value)
-    if value <= 0.0:
-        raise ValueError(f"{name} must be > 0, got {value!r}")
-    return value
 
 
 def _substrate(value) -> float:

@@ -35,6 +35,7 @@ from nrlmsise00 import _nrlmsise00
 
 from .constants import AVOGADRO, MOLAR_MASS_G, SPECIES
 from .earth_frames import utc_datetime
+from .validation import finite as _finite, non_negative as _non_negative
 
 #: Largest altitude NRLMSISE-00 is evaluated at [m].
 MAX_ALTITUDE = 1000e3
@@ -49,23 +50,6 @@ _SWITCHES_DAILY_AP = [1] * 24
 _SWITCHES_AP_HISTORY = [1] * 9 + [-1] + [1] * 14
 _SPECIES_MASS_KG = {name: MOLAR_MASS_G[name] / (1000.0 * AVOGADRO) for name in SPECIES}
 _SPECIES_WITHOUT_ANO = tuple(s for s in SPECIES if s != "AnO")
-
-
-def _finite(name: str, value) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return value
-
-
-def _non_negative(name: str, value) -> float:
-    value = _finite(name, value)
-    if value < 0.0:
-        raise ValueError(f"{name} must be >= 0, got {value!r}")
-    return value
 
 
 @dataclass(frozen=True)

@@ -37,30 +37,7 @@ from adbsat_ros import frames
 from adbsat_ros.mesh import panels_from_arrays
 from adbsat_ros.shading import embree_available, lit_projected_area, make_shader
 from adbsat_ros.shading_cache import ShadingCache, moved_lit_area
-
-
-def grid_box(center, size, divisions):
-    """Vertices and faces of a closed box whose faces are regular grids (outward winding)."""
-    center = np.asarray(center, float)
-    size = np.asarray(size, float)
-    verts, faces, off = [], [], 0
-    for axis in range(3):
-        a1, a2 = (axis + 1) % 3, (axis + 2) % 3
-        n1, n2 = divisions[a1], divisions[a2]
-        g1, g2 = np.meshgrid(
-            np.linspace(-0.5, 0.5, n1 + 1) * size[a1], np.linspace(-0.5, 0.5, n2 + 1) * size[a2], indexing="ij"
-        )
-        for sign in (1.0, -1.0):
-            p = np.zeros((n1 + 1, n2 + 1, 3))
-            p[..., axis] = sign * 0.5 * size[axis]
-            p[..., a1], p[..., a2] = g1, g2
-            verts.append(p.reshape(-1, 3) + center)
-            idx = np.arange((n1 + 1) * (n2 + 1)).reshape(n1 + 1, n2 + 1) + off
-            q00, q10, q11, q01 = idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]
-            f = np.concatenate([np.stack([q00, q10, q11], -1).reshape(-1, 3), np.stack([q00, q11, q01], -1).reshape(-1, 3)])
-            faces.append(f if sign > 0 else f[:, ::-1])
-            off += (n1 + 1) * (n2 + 1)
-    return np.concatenate(verts), np.concatenate(faces)
+from adbsat_ros.shapes import grid_box
 
 
 def combine(parts, source):
