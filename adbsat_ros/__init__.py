@@ -13,6 +13,8 @@ from .gsi_models import MODELS, ModelOptions
 from .lighting import PanelLighting
 from .mesh import MeshError, PanelMesh, load_mesh, panels_from_arrays, panels_from_trimesh
 from .panel_method import AeroCoefficients, PanelMethod, Reference
+from .shading import Shader, make_shader
+from .shading_cache import ShadingCache
 from .surface import MaterialTable, SurfaceProperties
 
 __version__ = "0.1.0"
@@ -28,8 +30,11 @@ __all__ = [
     "PanelMesh",
     "PanelMethod",
     "Reference",
+    "Shader",
+    "ShadingCache",
     "SurfaceProperties",
     "load_mesh",
+    "make_shader",
     "panels_from_arrays",
     "panels_from_trimesh",
 ]
