@@ -16,7 +16,7 @@ import datetime as _dt
 import math
 import time
 from collections import Counter
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -26,7 +26,7 @@ from .flight_conditions import FlightConditions, flight_conditions
 from .gsi_models import ModelOptions
 from .mesh import PanelMesh, resolve_mesh
 from .panel_method import AeroCoefficients, PanelMethod, Reference
-from .surface import MaterialTable, SurfaceProperties, parse_material_override
+from .surface import MaterialTable, SurfaceProperties
 from .wrench_settings import WrenchSettings
 
 #: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).
@@ -127,15 +127,8 @@ def materials_from_settings(settings: WrenchSettings) -> MaterialTable:
         sigma_t=settings.sigma_t,
         wall_temperature=settings.wall_temperature,
     )
-    overrides = {}
-    for text in settings.material_overrides:
-        try:
-            name, values = parse_material_override(text)
-        except ValueError as exc:
-            raise ValueError(f"parameter material_overrides: {exc}") from None
-        overrides[name] = values
     try:
-        return MaterialTable(default, overrides)
+        return MaterialTable.from_texts(default, settings.material_overrides)
     except ValueError as exc:
         raise ValueError(f"parameter material_overrides: {exc}") from None
 

@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from .mesh import PanelMesh, panels_from_arrays
+from .mesh import PanelMesh
+from .shapes import combine
 
 #: Name that stands for this mesh wherever a mesh file is expected.
 EXAMPLE_MESH_NAME = "example"
@@ -52,20 +53,11 @@ def example_satellite(max_edge: float = 0.09) -> PanelMesh:
         parts.append(
             ("solar_array", _refined_box(WING_SIZE, (WING_X_CENTRE, sign * y_wing, 0.0), max_edge))
         )
-    names = ["body", "solar_array"]
-    vertices, faces, material = [], [], []
-    offset = 0
-    for name, (v, f) in parts:
-        vertices.append(v)
-        faces.append(f + offset)
-        material.append(np.full(len(f), names.index(name)))
-        offset += len(v)
-    return panels_from_arrays(
-        np.vstack(vertices),
-        np.vstack(faces),
-        np.concatenate(material),
-        names,
+    return combine(
+        [part for _, part in parts],
         source="example satellite (body + two solar wings)",
+        part_materials=[name for name, _ in parts],
+        material_names=["body", "solar_array"],
     )
 
 

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .mesh import PanelMesh, panels_from_arrays
+
 
 def grid_box(center, size, divisions):
     """Vertices and faces of a closed box whose faces are regular grids (outward winding).
@@ -45,3 +47,33 @@ def grid_box(center, size, divisions):
             faces.append(f if sign > 0 else f[:, ::-1])
             off += (n1 + 1) * (n2 + 1)
     return np.concatenate(verts), np.concatenate(faces)
+
+
+def combine(parts, source: str = "scene", part_materials=None, material_names=None) -> PanelMesh:
+    """One checked PanelMesh from several (vertices, faces) parts, e.g. separate closed bodies.
+
+    Parameters
+    ----------
+    parts : sequence of (vertices (V, 3), faces (F, 3))
+        The parts [m]; face indices are local to each part.
+    source : str
+        Name used in messages.
+    part_materials : sequence of str, optional
+        Material name of each part (default: every part ``"default"``).
+    material_names : sequence of str, optional
+        Order of the material names (default: order of first appearance).
+    """
+    parts = list(parts)
+    if part_materials is None:
+        part_materials = ["default"] * len(parts)
+    names = list(material_names) if material_names is not None else list(dict.fromkeys(part_materials))
+    vertices, faces, material = [], [], []
+    offset = 0
+    for (v, f), name in zip(parts, part_materials):
+        vertices.append(np.asarray(v, dtype=float))
+        faces.append(np.asarray(f) + offset)
+        material.append(np.full(len(f), names.index(name)))
+        offset += len(v)
+    return panels_from_arrays(
+        np.vstack(vertices), np.vstack(faces), np.concatenate(material), names, source=source
+    )

@@ -126,6 +126,17 @@ class MaterialTable:
                 raise TypeError(f"material {name!r}: expected SurfaceProperties or a dict")
             self.materials[str(name)] = props
 
+    @classmethod
+    def from_texts(cls, default: SurfaceProperties, override_texts) -> "MaterialTable":
+        """A table from default properties and ``NAME:key=value[,key=value]`` override texts.
+
+        Raises
+        ------
+        ValueError
+            Naming the material and the bad item.
+        """
+        return cls(default, dict(parse_material_override(text) for text in override_texts))
+
     def properties(self, name: str) -> SurfaceProperties:
         """Properties of material ``name`` (the default if it has no entry)."""
         return self.materials.get(name, self.default)

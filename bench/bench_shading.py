@@ -34,19 +34,9 @@ import time
 import numpy as np
 
 from adbsat_ros import frames
-from adbsat_ros.mesh import panels_from_arrays
 from adbsat_ros.shading import embree_available, lit_projected_area, make_shader
 from adbsat_ros.shading_cache import ShadingCache, moved_lit_area
-from adbsat_ros.shapes import grid_box
-
-
-def combine(parts, source):
-    verts, faces, off = [], [], 0
-    for v, f in parts:
-        verts.append(v)
-        faces.append(f + off)
-        off += len(v)
-    return panels_from_arrays(np.vstack(verts), np.vstack(faces), source=source)
+from adbsat_ros.shapes import combine, grid_box
 
 
 def cube_plate(plate_div, cube_div):

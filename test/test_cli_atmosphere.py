@@ -1,6 +1,5 @@
 """``adbsat-ros atmosphere``: JSON fields in SI units, readable table, one-line errors (exit 2)."""
 
-import importlib
 import json
 import math
 import os

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 import trimesh
-from scipy.special import erf, ive
+from scipy.special import ive
 
 from adbsat_ros import (
     FreeStream,

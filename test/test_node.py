@@ -21,7 +21,6 @@ from rclpy.parameter import Parameter
 from scipy.special import erf
 
 from adbsat_ros.atmosphere import SpaceWeather
-from adbsat_ros.constants import BOLTZMANN
 from adbsat_ros.flight_conditions import flight_conditions
 from adbsat_ros.node import AdbsatNode
 

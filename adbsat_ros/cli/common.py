@@ -8,7 +8,7 @@ from ..freestream import FreeStream
 from ..gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, SPECIES_MODELS, ModelOptions
 from ..mesh import resolve_mesh
 from ..panel_method import PanelMethod, Reference
-from ..surface import MaterialTable, SurfaceProperties, parse_material_override
+from ..surface import MaterialTable, SurfaceProperties
 from .options import CommandLineError, fraction, parse_vector3, positive_float
 
 SHADING_MODES = ("none", "projection", "raycast")
@@ -104,8 +104,7 @@ def materials_from_args(args) -> MaterialTable:
             sigma_t=args.sigma_t,
             wall_temperature=args.wall_temperature,
         )
-        overrides = dict(parse_material_override(text) for text in args.material)
-        return MaterialTable(default, overrides)
+        return MaterialTable.from_texts(default, args.material)
     except ValueError as exc:
         if isinstance(exc, CommandLineError):
             raise
