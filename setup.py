@@ -42,6 +42,7 @@ setup(
         "pyerfa>=2.0.1",
         "rosbags>=0.10",
         "matplotlib>=3.8",
+        "tqdm>=4.66",
     ],
     extras_require={
         "ros": ROS_JAZZY,
