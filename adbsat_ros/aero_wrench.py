@@ -19,9 +19,9 @@ from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from .atmosphere import SpaceWeather
+from .frames import quaternion_matrix
 from .flight_conditions import FlightConditions, flight_conditions
 from .gsi_models import ModelOptions
 from .mesh import PanelMesh, resolve_mesh
@@ -279,7 +279,7 @@ class AeroWrenchEstimator:
             self._reject("non_finite", "state has NaN or Inf in its stamp, position or velocity")
         if velocity_in_body_frame:
             rotation = self._rotation(orientation_xyzw, "state orientation")
-            velocity = rotation.apply(np.array(velocity))
+            velocity = rotation @ velocity
         if self._last_state_stamp is not None and stamp < self._last_state_stamp:
             jump = self._last_state_stamp - stamp
             self.reset()
@@ -291,17 +291,21 @@ class AeroWrenchEstimator:
         self._state = OrbitalState(stamp, position, velocity)
         return self._state
 
-    def _rotation(self, q, what: str) -> Rotation:
-        q = np.asarray(q, dtype=float) if q is not None else np.zeros(4)
-        if q.shape != (4,) or not np.all(np.isfinite(q)):
+    def _rotation(self, q, what: str) -> np.ndarray:
+        """Rotation matrix (body -> state frame) of quaternion ``q`` (x, y, z, w), checked."""
+        try:
+            x, y, z, w = (float(v) for v in q)
+        except (TypeError, ValueError):
+            self._reject("non_finite", f"{what} is not four numbers")
+        if not all(math.isfinite(v) for v in (x, y, z, w)):
             self._reject("non_finite", f"{what} has NaN or Inf")
-        norm = float(np.linalg.norm(q))
+        norm = math.sqrt(x * x + y * y + z * z + w * w)
         if abs(norm - 1.0) > self.settings.max_quaternion_norm_error:
             self._reject(
                 "bad_quaternion",
                 f"{what} norm {norm:.6g} differs from 1 by more than {self.settings.max_quaternion_norm_error:g}",
             )
-        return Rotation.from_quat(q / norm)
+        return quaternion_matrix(x / norm, y / norm, z / norm, w / norm)
 
     def on_attitude(self, stamp: float, quaternion_xyzw) -> WrenchSample:
         """The wrench at an attitude message, with the latest state brought to its stamp.
@@ -345,7 +349,7 @@ class AeroWrenchEstimator:
         self.published += 1
         return sample
 
-    def _wrench(self, stamp, utc, rotation: Rotation, conditions: FlightConditions, t0) -> WrenchSample:
+    def _wrench(self, stamp, utc, rotation: np.ndarray, conditions: FlightConditions, t0) -> WrenchSample:
         s = self.settings
         ref = self.method.reference
         v_rel = conditions.relative_velocity_eci if s.state_frame == "eci" else conditions.relative_velocity_ecef
@@ -353,7 +357,7 @@ class AeroWrenchEstimator:
         if conditions.speed < s.min_relative_speed:
             return WrenchSample(stamp, utc, zero, zero.copy(), zero.copy(), zero.copy(), ref.area, ref.length,
                                 0.0, conditions, None, zero.copy(), None, time.perf_counter() - t0)
-        u_body = -rotation.apply(np.array(v_rel), inverse=True) / conditions.speed
+        u_body = -(rotation.T @ v_rel) / conditions.speed
         lighting, hit = self._shading.lighting(u_body)
         surface = None
         if s.accommodation_model != "fixed":

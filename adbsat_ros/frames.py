@@ -102,3 +102,24 @@ def body_to_wind(aoa, aos):
 def mesh_to_wind(aoa, aos):
     """DCM that maps G vectors to W: L_WB L_GB (ADBSat's L_gw transposed)."""
     return body_to_wind(aoa, aos) @ L_GB
+
+
+def quaternion_matrix(x: float, y: float, z: float, w: float) -> np.ndarray:
+    """Rotation matrix of a unit quaternion (x, y, z, w), ROS/Hamilton convention.
+
+    ``R @ v_body`` gives a body-frame vector in the frame the quaternion is expressed in
+    (``R.T`` goes back). Equal to ``scipy.spatial.transform.Rotation.from_quat([x, y, z, w])
+    .as_matrix()`` for unit quaternions; written out because it is on the node's per-message
+    path, where building a scipy Rotation costs more than the rest of the attitude handling.
+    The caller normalises.
+    """
+    xx, yy, zz = x * x, y * y, z * z
+    xy, xz, yz = x * y, x * z, y * z
+    wx, wy, wz = w * x, w * y, w * z
+    return np.array(
+        [
+            [1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)],
+            [2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)],
+            [2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)],
+        ]
+    )

@@ -94,11 +94,23 @@ def newton(c, sigma, surface: PanelSurface, flow: FreeStream, options: ModelOpti
 def _sentman_single(c, sigma, s, K):
     """Sentman's plate for one gas: c_p and c_tau for speed ratio s and K = sqrt(T_r/(2 T_i))."""
     x = s * c
-    E = np.exp(-x * x)
+    E = np.exp(-(x * x))
+    E *= 1.0 / s  # E/s from here on
     Phi = erfc(-x)  # = 1 + erf(x), without cancellation for x << 0
-    cp = (c * c + 0.5 / (s * s)) * Phi + c * E / (SQRT_PI * s) + 0.5 * K * (SQRT_PI * c * Phi + E / s)
-    ctau = sigma * (c * Phi + E / (SQRT_PI * s))
-    return cp, ctau
+    c_phi = c * Phi
+    # c_tau = sigma (c Phi + E / (sqrt(pi) s))
+    shear = E * (1.0 / SQRT_PI)
+    shear += c_phi
+    # c_p = c^2 Phi + Phi / (2 s^2) + c E / (sqrt(pi) s) + (K / 2) (sqrt(pi) c Phi + E / s)
+    cp = c * shear  # c^2 Phi + c E / (sqrt(pi) s)
+    Phi *= 0.5 / (s * s)
+    cp += Phi
+    c_phi *= SQRT_PI
+    c_phi += E
+    c_phi *= 0.5 * K
+    cp += c_phi
+    shear *= sigma
+    return cp, shear
 
 
 def _re_emission_K(alpha, wall_temperature, incident_temperature, particle_mass, speed):

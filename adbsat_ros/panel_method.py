@@ -30,6 +30,10 @@ from .surface import MaterialTable
 
 def _cross(a, b):
     """Cross product over the last axis (np.cross without its per-call overhead)."""
+    if a.ndim == 1 and b.ndim == 1:
+        a0, a1, a2 = (float(v) for v in a)
+        b0, b1, b2 = (float(v) for v in b)
+        return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
     return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)

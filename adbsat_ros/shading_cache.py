@@ -104,6 +104,18 @@ def direction_keys(u, n: int) -> np.ndarray:
     return key[0] if single else key
 
 
+def _direction_key(x: float, y: float, z: float, n: int) -> int:
+    """:func:`direction_keys` of one direction in plain floats (no numpy overhead per query)."""
+    u = (x, y, z)
+    k = max(range(3), key=lambda axis: abs(u[axis]))  # first axis of largest |u_k|, as np.argmax
+    uk = u[k]
+    ak = abs(uk)
+    h = 0.5 * math.pi / n
+    i = min(max(math.floor((math.atan2(u[(k + 1) % 3], ak) + _QUARTER) / h), 0), n - 1)
+    j = min(max(math.floor((math.atan2(u[(k + 2) % 3], ak) + _QUARTER) / h), 0), n - 1)
+    return (2 * k + (uk < 0)) * n * n + i * n + j
+
+
 def key_centres(keys, n: int) -> np.ndarray:
     """Unit direction at the centre of cube-map cells.
 
@@ -176,6 +188,7 @@ class ShadingCache:
         self.step = 0.5 * math.pi / self.n
         self.max_entries = None if max_entries is None else int(max_entries)
         self._store: OrderedDict = OrderedDict()
+        self._last = (None, None)  # (key, PanelLighting) of the latest query: consecutive hits reuse it
         self.hits = 0
         self.misses = 0
         self.evictions = 0
@@ -193,8 +206,9 @@ class ShadingCache:
         return 6 * self.n * self.n
 
     def key(self, u_G) -> int:
-        """Cell key of flow direction ``u_G`` (G frame)."""
-        return int(direction_keys(_unit_flow(u_G), self.n))
+        """Cell key of flow direction ``u_G`` (G frame); same as :func:`direction_keys`."""
+        u = _unit_flow(u_G)
+        return _direction_key(float(u[0]), float(u[1]), float(u[2]), self.n)
 
     def centre(self, key: int) -> np.ndarray:
         """Unit flow direction (G) at the centre of cell ``key``: the direction shaded."""
@@ -232,6 +246,7 @@ class ShadingCache:
     def clear(self):
         """Drop every entry and reset the counters."""
         self._store.clear()
+        self._last = (None, None)
         self.hits = self.misses = self.evictions = 0
 
     def info(self) -> dict:
@@ -254,16 +269,25 @@ class ShadingCache:
         -------
         PanelLighting
             The exact shading of the cell centre u_c, angle(u_G, u_c) <= :attr:`max_angle`.
+            Its arrays are read-only: consecutive queries in one cell share them.
         """
         key = self.key(u_G)
+        last_key, last_lighting = self._last
+        if key == last_key:  # the usual case at GNC rates: the same cell as the previous query
+            self.hits += 1
+            return last_lighting
         entry = self._store.get(key)
         if entry is not None:
             self._store.move_to_end(key)
             self.hits += 1
-            return self._unpack(entry)
-        self.misses += 1
-        lighting = self.shader.lighting(self.centre(key))
-        self._insert(key, self._pack(lighting))
+            lighting = self._unpack(entry)
+        else:
+            self.misses += 1
+            lighting = self.shader.lighting(self.centre(key))
+            self._insert(key, self._pack(lighting))
+        for array in (lighting.lit_fraction, lighting.shift_index, lighting.shift):
+            array.setflags(write=False)  # shared with later hits: nobody may change it
+        self._last = (key, lighting)
         return lighting
 
     __call__ = lighting

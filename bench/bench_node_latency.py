@@ -31,7 +31,7 @@ R_ORBIT = 6378137.0 + 300e3
 V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
 
 
-def publisher(rate: float, duration: float, out: str, need_state: bool) -> None:
+def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_deg_s: float) -> None:
     import rclpy
     from geometry_msgs.msg import QuaternionStamped
     from nav_msgs.msg import Odometry
@@ -68,7 +68,7 @@ def publisher(rate: float, duration: float, out: str, need_state: bool) -> None:
             o.twist.twist.linear.y = V_ORBIT
             st.publish(o)
             next_state += 0.1
-        angle = math.radians(1.0) * t  # 1 deg/s about z
+        angle = math.radians(tumble_deg_s) * t  # tumbling about z
         q = QuaternionStamped()
         q.header.frame_id = "eci"
         q.header.stamp.sec, q.header.stamp.nanosec = int(t), int(round((t % 1.0) * 1e9))
@@ -95,12 +95,21 @@ def receiver(duration: float, out: str) -> None:
         got[f"{msg.header.stamp.sec}.{msg.header.stamp.nanosec:09d}"] = time.monotonic()
 
     node.create_subscription(WrenchStamped, "wrench", on_wrench, QoSProfile(depth=100))
+    diagnostics = {}
+
+    def on_diagnostics(msg):
+        for status in msg.status:
+            diagnostics.update({kv.key: kv.value for kv in status.values})
+
+    from diagnostic_msgs.msg import DiagnosticArray
+
+    node.create_subscription(DiagnosticArray, "/diagnostics", on_diagnostics, 10)
     executor = make_executor()
     executor.add_node(node)
     end = time.monotonic() + duration
     while time.monotonic() < end:
         executor.spin_once(timeout_sec=0.1)
-    Path(out).write_text(json.dumps(got))
+    Path(out).write_text(json.dumps({"wrench": got, "diagnostics": diagnostics}))
     node.destroy_node()
     rclpy.try_shutdown()
 
@@ -131,7 +140,8 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     recv = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--duration", str(duration + 8),
                              "--out", str(tmp / "recv.json")], env=env)
     pub = subprocess.Popen([sys.executable, __file__, "--role", "publisher", "--rate", str(rate),
-                            "--duration", str(duration), "--out", str(tmp / "sent.json")]
+                            "--duration", str(duration), "--out", str(tmp / "sent.json"),
+                            "--tumble", str(args.tumble)]
                            + (["--need-state"] if kind != "echo" else []), env=env)
     mem_start = None
     if measure_memory:
@@ -146,7 +156,8 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     except subprocess.TimeoutExpired:
         node.kill()
     sent = json.loads((tmp / "sent.json").read_text())
-    got = json.loads((tmp / "recv.json").read_text())
+    received = json.loads((tmp / "recv.json").read_text())
+    got, diagnostics = received["wrench"], received["diagnostics"]
     lat = np.array([got[k] - sent[k] for k in sent if k in got]) * 1e3
     warm = lat[int(0.05 * len(lat)):]  # skip the first 5 % (cache fill, JIT-like warm-up)
     return {
@@ -156,6 +167,8 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
         "p99_ms": float(np.percentile(warm, 99)) if warm.size else float("nan"),
         "max_ms": float(warm.max()) if warm.size else float("nan"),
         "rss_start_mb": mem_start, "rss_end_mb": mem_end,
+        "compute_p50_ms": float(diagnostics.get("compute_ms_p50", "nan")),
+        "compute_p99_ms": float(diagnostics.get("compute_ms_p99", "nan")),
     }
 
 
@@ -170,11 +183,13 @@ def main() -> None:
     parser.add_argument("--shading", default="raycast")
     parser.add_argument("--coefficients-source", default="panel")
     parser.add_argument("--database", default="")
+    parser.add_argument("--tumble", type=float, default=1.0,
+                        help="attitude rotation rate [deg/s] about z; 0 = fixed attitude (cache hits only)")
     parser.add_argument("--out", default="")
     parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()
     if args.role == "publisher":
-        return publisher(args.rate, args.duration, args.out, args.need_state)
+        return publisher(args.rate, args.duration, args.out, args.need_state, args.tumble)
     if args.role == "receiver":
         return receiver(args.duration, args.out)
 
@@ -184,12 +199,14 @@ def main() -> None:
     mesh_path = Path(tempfile.mkdtemp()) / "satellite.obj"
     write_obj(mesh, mesh_path)
     print(f"mesh: example satellite, {mesh.n_panels} faces; shading {args.shading}; "
-          f"coefficients {args.coefficients_source}")
-    print(f"{'node':>8} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}")
+          f"coefficients {args.coefficients_source}; attitude tumbling at {args.tumble:g} deg/s")
+    print(f"{'node':>8} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
+          f" {'compute p50':>12} {'compute p99':>12}")
     for rate in (float(r) for r in args.rates.split(",")):
         for kind in ("echo", "adbsat"):
             r = run_case(kind, rate, args.duration, str(mesh_path), args)
-            print(f"{kind:>8} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}")
+            print(f"{kind:>8} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
+                  f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f}")
     if args.soak > 0:
         r = run_case("adbsat", 1000.0, args.soak, str(mesh_path), args, measure_memory=True)
         print(f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "

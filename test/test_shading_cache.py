@@ -75,6 +75,18 @@ def test_keys_and_centres_round_trip():
         cells_per_edge(0.0)
 
 
+def test_per_query_key_equals_vectorised_keys(shader):
+    """ShadingCache.key (plain floats, the node's per-message path) equals direction_keys, also on
+    cell edges, cube edges and corners where ties between axes decide the face."""
+    rng = np.random.default_rng(3)
+    u = rng.normal(size=(2000, 3))
+    edges = np.array([[1, 1, 0], [1, -1, 1], [-1, -1, -1], [0, 0, -1], [1, 0, 0], [0.5, 0.5, -0.5]], float)
+    u = np.vstack([u, edges, key_centres(np.arange(24), 2)])
+    for resolution in (0.25, 1.0, 7.5):
+        cache = ShadingCache(shader, resolution_deg=resolution)
+        np.testing.assert_array_equal([cache.key(v) for v in u], direction_keys(u, cache.n))
+
+
 def test_hits_misses_and_lru(shader):
     cache = ShadingCache(shader, resolution_deg=2.0, max_entries=2)
     ua = frames.flow_direction(math.radians(10.0), 0.0)
@@ -115,11 +127,22 @@ def test_cached_answer_is_the_cell_centre_shading(shader, scene):
     np.testing.assert_array_equal(got.lit_fraction, ref.lit_fraction)
     np.testing.assert_array_equal(got.shift_index, ref.shift_index)
     np.testing.assert_allclose(got.shift, ref.shift)
-    again = cache.lighting(u)  # hit: rebuilt from the sparse store, same content
+    again = cache.lighting(u)  # hit on the latest cell: the same answer again
     np.testing.assert_array_equal(again.lit_fraction, ref.lit_fraction)
     np.testing.assert_allclose(again.shift, ref.shift)
-    # callers may modify what they get without corrupting the cache
-    again.lit_fraction[:] = 0.0
+    cache.lighting(-u)  # another cell, so the next query of u is rebuilt from the sparse store
+    rebuilt = cache.lighting(u)
+    assert rebuilt is not again
+    np.testing.assert_array_equal(rebuilt.lit_fraction, ref.lit_fraction)
+    np.testing.assert_array_equal(rebuilt.shift_index, ref.shift_index)
+    np.testing.assert_allclose(rebuilt.shift, ref.shift)
+    assert (cache.hits, cache.misses) == (2, 2)
+    # what callers get is read-only, so nobody can corrupt the cache through it
+    for lighting in (got, again, rebuilt):
+        with pytest.raises(ValueError):
+            lighting.lit_fraction[:] = 0.0
+        with pytest.raises(ValueError):
+            lighting.shift[:] = 0.0
     np.testing.assert_array_equal(cache.lighting(u).lit_fraction, ref.lit_fraction)
 
 
