@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .atmosphere import SpaceWeather
+from .database_coefficients import DatabaseCoefficients
 from .frames import quaternion_matrix
 from .flight_conditions import FlightConditions, flight_conditions
 from .gsi_models import ModelOptions
@@ -38,6 +39,7 @@ REJECTION_REASONS = (
     "time_backwards",
     "altitude_out_of_range",
     "bad_state",
+    "outside_database",
     "compute_error",
 )
 
@@ -88,7 +90,8 @@ class WrenchSample:
     conditions : FlightConditions
         Atmosphere, position and relative wind at the stamp.
     coefficients : AeroCoefficients or None
-        Full panel-method result (None when the relative speed is below the threshold).
+        Full panel-method result (None when the relative speed is below the threshold, and when the
+        coefficients come from a database).
     flow_direction_body : ndarray, shape (3,)
         Unit direction of the gas motion relative to the body (zero if at rest).
     shading_cache_hit : bool or None
@@ -193,7 +196,9 @@ class AeroWrenchEstimator:
         self._last_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
         self._shading: _ShadingSource | None = None
+        self._database: DatabaseCoefficients | None = None
         self.settings = None
+        self.method = None
         self.apply_settings(settings)
 
     # ----------------------------------------------------------------------------- settings
@@ -218,21 +223,35 @@ class AeroWrenchEstimator:
             reference=Reference(moment_point=settings.center_of_mass),
         )
         weather = SpaceWeather(settings.f107, settings.f107a, settings.ap, settings.ap_history)
+        database = None
+        if settings.coefficients_source == "database":
+            if settings.accommodation_model != "fixed":
+                raise ValueError(
+                    "parameter accommodation_model: coefficients_source database needs a fixed accommodation "
+                    f"(the database was made at one alpha), got {settings.accommodation_model}"
+                )
+            database = DatabaseCoefficients(settings.database_path, method)  # checked against this set-up
         shading = self._shading
         key = (settings.shading, settings.shading_samples, settings.shading_cache_resolution_deg,
                settings.shading_cache_size)
-        if shading is None or shading.key != key:
-            shading = _ShadingSource(self.mesh, settings)
+        if database is None and (shading is None or shading.key != key):
+            shading = _ShadingSource(self.mesh, settings)  # built when first needed
         self.method, self.weather, self._shading, self.settings = method, weather, shading, settings
+        self._database = database
         self._wind = np.asarray(settings.wind_ecef) if any(settings.wind_ecef) else None
 
     @property
     def shading_cache_hits(self) -> int:
-        return self._shading.hits
+        return 0 if self._shading is None else self._shading.hits
 
     @property
     def shading_cache_misses(self) -> int:
-        return self._shading.misses
+        return 0 if self._shading is None else self._shading.misses
+
+    @property
+    def database(self) -> DatabaseCoefficients | None:
+        """The database in use when ``coefficients_source`` is database, else None."""
+        return self._database
 
     # ----------------------------------------------------------------------------- time
     def utc(self, stamp: float) -> _dt.datetime:
@@ -358,16 +377,28 @@ class AeroWrenchEstimator:
             return WrenchSample(stamp, utc, zero, zero.copy(), zero.copy(), zero.copy(), ref.area, ref.length,
                                 0.0, conditions, None, zero.copy(), None, time.perf_counter() - t0)
         u_body = -(rotation.T @ v_rel) / conditions.speed
+        flow = conditions.free_stream()
+        q = flow.dynamic_pressure()
+        if self._database is not None:
+            try:
+                cf, cm = self._database.body_coefficients(u_body)
+            except ValueError as exc:
+                self._reject("outside_database", str(exc))
+            return WrenchSample(
+                stamp=stamp, time=utc, force=q * ref.area * cf, torque=(q * ref.area * ref.length) * cm,
+                force_coefficients=cf, moment_coefficients=cm,
+                reference_area=ref.area, reference_length=ref.length, dynamic_pressure=q,
+                conditions=conditions, coefficients=None, flow_direction_body=u_body,
+                shading_cache_hit=None, compute_seconds=time.perf_counter() - t0,
+            )
         lighting, hit = self._shading.lighting(u_body)
         surface = None
         if s.accommodation_model != "fixed":
             surface = self.method.surface_with(alpha=conditions.alpha, alpha_n=conditions.alpha)
-        flow = conditions.free_stream()
         try:
             coeffs = self.method.coefficients(flow, flow_direction=u_body, lighting=lighting, surface=surface)
         except ValueError as exc:
             self._reject("compute_error", str(exc))
-        q = flow.dynamic_pressure()
         return WrenchSample(
             stamp=stamp, time=utc, force=coeffs.force(q), torque=coeffs.torque(q),
             force_coefficients=coeffs.Cf_G, moment_coefficients=coeffs.Cm_G,

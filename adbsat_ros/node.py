@@ -80,8 +80,10 @@ class AdbsatNode(Node):
         self._last_rejection: Rejection | None = None
         self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
         mesh = self.estimator.mesh
+        source = (f"coefficients from database {settings.database_path}" if settings.coefficients_source == "database"
+                  else f"shading {settings.shading}")
         self.get_logger().info(
-            f"mesh {mesh.source}: {mesh.n_panels} panels; model {settings.gsi_model}, shading {settings.shading}; "
+            f"mesh {mesh.source}: {mesh.n_panels} panels; model {settings.gsi_model}, {source}; "
             f"publishing '{self.resolve_topic_name('wrench')}' in frame '{settings.body_frame_id}'"
         )
 
@@ -184,6 +186,7 @@ class AdbsatNode(Node):
         s = est.settings
         values = {
             "gsi_model": s.gsi_model,
+            "coefficients_source": s.coefficients_source,
             "shading": s.shading,
             "published": est.published,
             "shading_cache_hits": est.shading_cache_hits,
@@ -191,6 +194,13 @@ class AdbsatNode(Node):
             "reference_area_m2": est.method.reference.area,
             "reference_length_m": est.method.reference.length,
         }
+        database = est.database
+        if database is not None:
+            values["database_path"] = database.path
+            values["database_speed_ratio"] = database.speed_ratio
+            for key in ("force_coefficient", "moment_coefficient"):
+                if key in database.error_bound:
+                    values[f"database_{key}_error"] = database.error_bound[key]
         times = np.asarray(self._compute_ms)
         if times.size:
             values["compute_ms_p50"] = float(np.percentile(times, 50))

@@ -57,7 +57,8 @@ PARAMETERS = (
     ("qos_depth", 10, "history depth of subscriptions and publications"),
     ("diagnostics_period", 1.0, "period of /diagnostics messages [s]"),
     ("coefficients_source", "panel", "panel (live panel method) or database (interpolated from database_path)"),
-    ("database_path", "", "database (.npz) made by 'adbsat-ros database' for coefficients_source database"),
+    ("database_path", "", "database (.npz) made by 'adbsat-ros database' for coefficients_source database; it must "
+     "be made for the same mesh, gsi_model, surface properties and reference area/length, else it is refused"),
 )
 
 PARAMETER_DEFAULTS = {name: default for name, default, _ in PARAMETERS}
