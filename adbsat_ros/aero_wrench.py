@@ -50,6 +50,11 @@ PRECESSION_NUTATION_STEP_S = 60.0
 STATE_FRAME_NAMES = ("", "eci", "ecef", "gcrf", "itrf", "j2000", "earth", "world", "map")
 
 
+def stamp_seconds(stamp) -> float:
+    """A builtin_interfaces/Time (rclpy or rosbags message: fields sec, nanosec) as float seconds."""
+    return stamp.sec + 1e-9 * stamp.nanosec
+
+
 class Rejection(Exception):
     """An input that produced no wrench: ``reason`` (one of REJECTION_REASONS) and a message."""
 
@@ -309,6 +314,95 @@ class AeroWrenchEstimator:
         self._last_state_stamp = stamp
         self._state = OrbitalState(stamp, position, velocity)
         return self._state
+
+    def on_odometry(self, msg):
+        """Accept a nav_msgs/Odometry state with the node's frame rules (rclpy or rosbags message).
+
+        ``header.frame_id`` naming 'eci' or 'ecef' must match the ``state_frame`` setting. The
+        twist is in the body frame if ``child_frame_id`` is ``body_frame_id`` (it is then rotated
+        with the pose orientation), in the state frame if ``child_frame_id`` is empty, one of
+        :data:`STATE_FRAME_NAMES` or the header's frame_id.
+
+        Returns
+        -------
+        stamp : float
+            The message time [s].
+        orientation_xyzw : list of float
+            The pose orientation (the attitude when ``attitude_source`` is odometry).
+
+        Raises
+        ------
+        Rejection
+            ``bad_state`` for a frame mismatch or a child_frame_id that is neither frame, and the
+            reasons of :meth:`on_state`.
+        """
+        s = self.settings
+        header_frame = msg.header.frame_id.lstrip("/")
+        frame = header_frame.lower()
+        if frame in ("eci", "ecef") and frame != s.state_frame:
+            self._reject("bad_state", f"state frame_id '{frame}' but parameter state_frame is {s.state_frame}")
+        child = msg.child_frame_id.lstrip("/")
+        if child == s.body_frame_id:
+            in_body = True
+        elif child.lower() in STATE_FRAME_NAMES or child == header_frame:
+            in_body = False
+        else:
+            self._reject(
+                "bad_state",
+                f"twist child_frame_id '{child}' is neither the body frame '{s.body_frame_id}' nor the state frame",
+            )
+        p, v, o = msg.pose.pose.position, msg.twist.twist.linear, msg.pose.pose.orientation
+        orientation = [o.x, o.y, o.z, o.w]
+        stamp = stamp_seconds(msg.header.stamp)
+        self.on_state(stamp, [p.x, p.y, p.z], [v.x, v.y, v.z], in_body, orientation)
+        return stamp, orientation
+
+    def diagnostic_values(self, last_sample: "WrenchSample | None", compute_ms) -> dict:
+        """Key/values of the node's DiagnosticStatus (bag analysis writes the same ones).
+
+        Parameters
+        ----------
+        last_sample : WrenchSample or None
+            The latest wrench computed.
+        compute_ms : sequence of float
+            Recent compute times [ms] (p50 and p99 are reported).
+        """
+        s = self.settings
+        values = {
+            "gsi_model": s.gsi_model,
+            "coefficients_source": s.coefficients_source,
+            "shading": s.shading,
+            "published": self.published,
+            "shading_cache_hits": self.shading_cache_hits,
+            "shading_cache_misses": self.shading_cache_misses,
+            "reference_area_m2": self.method.reference.area,
+            "reference_length_m": self.method.reference.length,
+        }
+        database = self._database
+        if database is not None:
+            values["database_path"] = database.path
+            values["database_speed_ratio"] = database.speed_ratio
+            for key in ("force_coefficient", "moment_coefficient"):
+                if key in database.error_bound:
+                    values[f"database_{key}_error"] = database.error_bound[key]
+        times = np.asarray(compute_ms, dtype=float)
+        if times.size:
+            values["compute_ms_p50"] = float(np.percentile(times, 50))
+            values["compute_ms_p99"] = float(np.percentile(times, 99))
+        if last_sample is not None:
+            c = last_sample.conditions
+            values.update(
+                density_kg_m3=c.mass_density,
+                temperature_K=c.temperature,
+                altitude_m=c.altitude,
+                relative_speed_m_s=c.speed,
+                speed_ratio=c.speed_ratio,
+                alpha=c.alpha,
+                drag_coefficient=last_sample.drag_coefficient,
+            )
+        for reason in sorted(self.rejections):
+            values[f"rejected_{reason}"] = self.rejections[reason]
+        return values
 
     def _rotation(self, q, what: str) -> np.ndarray:
         """Rotation matrix (body -> state frame) of quaternion ``q`` (x, y, z, w), checked."""

@@ -48,7 +48,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import frames
 from .database import AeroDatabase, load_database
 
 #: Factor from the coarse-grid error to the stated error of the full grid (module docstring).

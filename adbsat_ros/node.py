@@ -35,18 +35,13 @@ from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-from .aero_wrench import STATE_FRAME_NAMES, AeroWrenchEstimator, Rejection, WrenchSample
+from .aero_wrench import AeroWrenchEstimator, Rejection, WrenchSample, stamp_seconds
 from .mesh import MeshError
 from .wrench_settings import PARAMETERS, READ_ONLY_PARAMETERS, WrenchSettings
 
 NODE_NAME = "adbsat_node"
 #: Seconds between two log lines about the same kind of rejected input.
 LOG_THROTTLE_S = 5.0
-
-
-def stamp_seconds(stamp) -> float:
-    """builtin_interfaces/Time as float seconds."""
-    return stamp.sec + 1e-9 * stamp.nanosec
 
 
 class AdbsatNode(Node):
@@ -129,30 +124,9 @@ class AdbsatNode(Node):
             self.get_logger().error(f"state message failed: {exc!r}", throttle_duration_sec=LOG_THROTTLE_S)
 
     def _handle_state(self, msg: Odometry) -> None:
-        est = self.estimator
-        s = est.settings
-        frame = msg.header.frame_id.lstrip("/").lower()
-        if frame in ("eci", "ecef") and frame != s.state_frame:
-            est.rejections["bad_state"] += 1
-            raise Rejection("bad_state", f"state frame_id '{frame}' but parameter state_frame is {s.state_frame}")
-        child = msg.child_frame_id.lstrip("/")
-        o = msg.pose.pose.orientation
-        orientation = [o.x, o.y, o.z, o.w]
-        if child == s.body_frame_id:
-            in_body = True
-        elif child.lower() in STATE_FRAME_NAMES or child == msg.header.frame_id.lstrip("/"):
-            in_body = False
-        else:
-            est.rejections["bad_state"] += 1
-            raise Rejection(
-                "bad_state",
-                f"twist child_frame_id '{child}' is neither the body frame '{s.body_frame_id}' nor the state frame",
-            )
-        p, v = msg.pose.pose.position, msg.twist.twist.linear
-        stamp = stamp_seconds(msg.header.stamp)
-        est.on_state(stamp, [p.x, p.y, p.z], [v.x, v.y, v.z], in_body, orientation)
+        _, orientation = self.estimator.on_odometry(msg)
         self._last_state_wall = time.monotonic()
-        if s.attitude_source == "odometry":
+        if self.estimator.settings.attitude_source == "odometry":
             self._compute_and_publish(msg.header.stamp, orientation)
 
     def _on_attitude(self, msg: QuaternionStamped) -> None:
@@ -184,41 +158,7 @@ class AdbsatNode(Node):
         """The node's health and latest values as one DiagnosticStatus."""
         est = self.estimator
         s = est.settings
-        values = {
-            "gsi_model": s.gsi_model,
-            "coefficients_source": s.coefficients_source,
-            "shading": s.shading,
-            "published": est.published,
-            "shading_cache_hits": est.shading_cache_hits,
-            "shading_cache_misses": est.shading_cache_misses,
-            "reference_area_m2": est.method.reference.area,
-            "reference_length_m": est.method.reference.length,
-        }
-        database = est.database
-        if database is not None:
-            values["database_path"] = database.path
-            values["database_speed_ratio"] = database.speed_ratio
-            for key in ("force_coefficient", "moment_coefficient"):
-                if key in database.error_bound:
-                    values[f"database_{key}_error"] = database.error_bound[key]
-        times = np.asarray(self._compute_ms)
-        if times.size:
-            values["compute_ms_p50"] = float(np.percentile(times, 50))
-            values["compute_ms_p99"] = float(np.percentile(times, 99))
-        sample = self._last_sample
-        if sample is not None:
-            c = sample.conditions
-            values.update(
-                density_kg_m3=c.mass_density,
-                temperature_K=c.temperature,
-                altitude_m=c.altitude,
-                relative_speed_m_s=c.speed,
-                speed_ratio=c.speed_ratio,
-                alpha=c.alpha,
-                drag_coefficient=sample.drag_coefficient,
-            )
-        for reason in sorted(est.rejections):
-            values[f"rejected_{reason}"] = est.rejections[reason]
+        values = est.diagnostic_values(self._last_sample, self._compute_ms)
         status = DiagnosticStatus(name=f"{self.get_name()}: aerodynamic wrench", hardware_id=est.mesh.source)
         age = None if self._last_state_wall is None else time.monotonic() - self._last_state_wall
         if age is None or age > max(s.state_timeout, s.diagnostics_period):

@@ -172,6 +172,25 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     }
 
 
+def build_node_database(mesh_path: Path) -> str:
+    """A database (aoa -180:5:180 x aos -90:5:90, raycast) for the node's default set-up on the mesh."""
+    from adbsat_ros.aero_wrench import AeroWrenchEstimator
+    from adbsat_ros.database import build_database
+    from adbsat_ros.freestream import FreeStream
+    from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings
+
+    settings = WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, mesh=str(mesh_path), shading="none"))
+    method = AeroWrenchEstimator(settings).method
+    flow = FreeStream(speed=7726.0, temperature=934.0, mean_mass_amu=17.9, density=2.4e-11)
+    t0 = time.perf_counter()
+    db = build_database(method, flow, np.arange(-180.0, 180.1, 5.0), np.arange(-90.0, 90.1, 5.0),
+                        shading="raycast", mesh_spec=str(mesh_path), progress=False)
+    path = str(mesh_path.with_suffix(".npz"))
+    db.save(path)
+    print(f"database: {db.n_attitudes} attitudes built in {time.perf_counter() - t0:.1f} s -> {path}")
+    return path
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--role", choices=["main", "publisher", "receiver"], default="main")
@@ -198,6 +217,8 @@ def main() -> None:
     mesh = example_satellite(max_edge=args.max_edge)
     mesh_path = Path(tempfile.mkdtemp()) / "satellite.obj"
     write_obj(mesh, mesh_path)
+    if args.coefficients_source == "database" and not args.database:
+        args.database = build_node_database(mesh_path)
     print(f"mesh: example satellite, {mesh.n_panels} faces; shading {args.shading}; "
           f"coefficients {args.coefficients_source}; attitude tumbling at {args.tumble:g} deg/s")
     print(f"{'node':>8} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"

@@ -54,8 +54,8 @@ def example_db():
 def test_newton_plate_database_matches_closed_form_everywhere():
     """Two-sided Newtonian plate (normal x): c = |cos a cos b| on the front face, so
     Cf_G = (-2 c cos(a) cos(b), 0, 0), C_D = 2 c^3 per plate area, no moment about its centre,
-    projected area A c; CL and CY follow from the wind axes: CL = -2 c^2 s_n sin(a) ... checked
-    through Cf_w = L_WG Cf_G independently of the stored Cf_w."""
+    projected area A c; CL = sin(a) Cf_x and CY = -cos(a) sin(b) Cf_x from the rows of the
+    body-to-wind matrix (B x = G x)."""
     A = 1.5**2
     method = PanelMethod(two_sided_plate(), "newton", reference=Reference(area=A, length=1.0))
     aoa, aos = np.arange(-180, 181, 30.0), np.arange(-90, 91, 30.0)
@@ -69,7 +69,7 @@ def test_newton_plate_database_matches_closed_form_everywhere():
     np.testing.assert_allclose(db.Cm_G, 0.0, atol=1e-14)
     np.testing.assert_allclose(db.AreaProj, A * c, atol=1e-14)
     # lift: -Cf_w[2] = F . (sin a, 0, cos a)_B ; side force Cf_w[1] (wind axes from frames)
-    sa, ca, sb, cb = np.sin(a), np.cos(a), np.sin(b), np.cos(b)
+    sa, ca, sb = np.sin(a), np.cos(a), np.sin(b)
     Fx = db.Cf_G[..., 0]  # B x = G x
     np.testing.assert_allclose(db.CL, -(-sa) * Fx, atol=1e-14)  # third row of L_WB: (-sa, 0, ca)
     np.testing.assert_allclose(db.CY, -ca * sb * Fx, atol=1e-14)  # second row: (-ca sb, cb, -sa sb)

@@ -15,7 +15,7 @@ from ..mesh import MeshError
 from .options import CommandLineError, OneLineErrorParser
 
 #: Subcommand modules, in the order ``--help`` lists them.
-SUBCOMMANDS = ("coeff", "atmosphere")
+SUBCOMMANDS = ("coeff", "atmosphere", "database", "plot", "simulate", "bag", "demo")
 
 
 def build_parser(subcommands=SUBCOMMANDS) -> argparse.ArgumentParser:

@@ -1,0 +1,138 @@
+"""``adbsat-ros bag``: tools for rosbag2 files; ``bag analyze`` replays a bag through the node's logic.
+
+``play`` and ``record`` (live ROS tools) come from :mod:`adbsat_ros.cli.bag_live` when present.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from .. import bag_analysis
+from ..bag_io import BagError
+from ..wrench_settings import WrenchSettings, load_parameters_file
+from .options import CommandLineError, is_terminal
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("bag", help="analyse (and play or record) rosbag2 files",
+                              description="Tools for rosbag2 files (.mcap or .db3).")
+    sub = p.add_subparsers(dest="bag_command", metavar="BAG_COMMAND", parser_class=type(p))
+    sub.required = True
+    register_analyze(sub)
+    try:
+        from .bag_live import register as register_live
+    except ModuleNotFoundError as exc:
+        if exc.name != f"{__package__}.bag_live":
+            raise
+    else:
+        register_live(sub)
+
+
+def register_analyze(sub) -> None:
+    a = sub.add_parser(
+        "analyze",
+        help="compute the node's wrench at every attitude message of a bag",
+        description="Replay a rosbag2 through adbsat_node's logic (no ROS needed) and write a new bag "
+        "with the input messages plus, per model LABEL, /adbsat/LABEL/wrench and /adbsat/LABEL/coefficients "
+        "(geometry_msgs/WrenchStamped, body frame) and /diagnostics; a CSV (one row per attitude message, "
+        "one column group per model) and PNG plots of force, torque, density and drag coefficient. "
+        "Several --params files compare models in one run.",
+    )
+    a.add_argument("bag", metavar="BAG", help="input bag: directory, .mcap or .db3 file")
+    a.add_argument("--attitude-topic", default="/attitude", help="geometry_msgs/QuaternionStamped topic (default /attitude)")
+    a.add_argument("--state-topic", default="/state", help="nav_msgs/Odometry topic (default /state)")
+    a.add_argument("--params", action="append", default=[], metavar="YAML",
+                   help="node parameters file (section adbsat_node or /**); repeat to compare models "
+                   "(default: the node's defaults)")
+    a.add_argument("--label", action="append", default=[], metavar="NAME",
+                   help="model label, once per --params in order (default: the file's stem)")
+    a.add_argument("--out", metavar="BAG", help="output bag directory (default: BAG_aero beside the input)")
+    a.add_argument("--csv", metavar="FILE", help="CSV file (default: OUT.csv)")
+    a.add_argument("--plots", metavar="DIR", help="directory for PNG plots (default: OUT_plots)")
+    a.add_argument("--no-plots", action="store_true", help="write no plots")
+    a.add_argument("--storage", choices=("mcap", "sqlite3"), default="mcap", help="output bag storage (default mcap)")
+    a.add_argument("--overwrite", action="store_true", help="replace existing outputs")
+    a.add_argument("--no-progress", action="store_true", help="no progress bar (shown only on a terminal anyway)")
+    a.set_defaults(func=run_analyze)
+
+
+def models_from_args(args) -> list:
+    """[(label, WrenchSettings)] from --params/--label; errors name the file or option."""
+    if args.label and len(args.label) != max(len(args.params), 1):
+        raise CommandLineError(f"--label: given {len(args.label)} times for {len(args.params)} --params files")
+    if not args.params:
+        label = args.label[0] if args.label else "default"
+        return [(_label(label, "--label"), WrenchSettings.from_parameters({}))]
+    models = []
+    for i, path in enumerate(args.params):
+        try:
+            values = load_parameters_file(path, bag_analysis.NODE_NAME)
+            settings = WrenchSettings.from_parameters(values)
+        except FileNotFoundError:
+            raise CommandLineError(f"--params {path}: no such file") from None
+        except ValueError as exc:
+            text = str(exc)
+            raise CommandLineError(text if text.startswith(str(path)) else f"--params {path}: {text}") from None
+        except Exception as exc:  # e.g. a YAML syntax error
+            raise CommandLineError(f"--params {path}: {type(exc).__name__}: {exc}") from None
+        if args.label:
+            label = _label(args.label[i], "--label")
+        else:
+            label = bag_analysis.label_from_name(Path(path).stem)
+        models.append((label, settings))
+    labels = [label for label, _ in models]
+    if len(set(labels)) != len(labels):
+        raise CommandLineError(f"--label: model labels must differ, got {', '.join(labels)} (give --label)")
+    return models
+
+
+def _label(text, option):
+    try:
+        return bag_analysis.check_label(text)
+    except ValueError as exc:
+        raise CommandLineError(f"{option}: {exc}") from None
+
+
+def default_output(bag) -> Path:
+    """BAG_aero beside the input (the suffix of a .mcap/.db3 file dropped)."""
+    bag = Path(bag)
+    stem = bag.stem if bag.is_file() else bag.name
+    return bag.parent / f"{stem}_aero"
+
+
+def run_analyze(args) -> int:
+    models = models_from_args(args)
+    out = Path(args.out) if args.out else default_output(args.bag)
+    out_csv = Path(args.csv) if args.csv else out.parent / f"{out.name}.csv"
+    plots = None if args.no_plots else (Path(args.plots) if args.plots else out.parent / f"{out.name}_plots")
+    progress = not args.no_progress and is_terminal()
+    try:
+        report = bag_analysis.analyze_bag(
+            args.bag, args.attitude_topic, args.state_topic, models, out_bag=out, out_csv=out_csv,
+            plots_dir=plots, storage=args.storage, progress=progress, overwrite=args.overwrite,
+        )
+    except BagError as exc:
+        print(f"adbsat-ros bag analyze: error: {exc}", file=sys.stderr)
+        return 1
+    for text in report.warnings:
+        print(f"adbsat-ros bag analyze: warning: {text}", file=sys.stderr)
+    for m in report.models:
+        print(f"model {m.label}: {m.wrenches} wrenches from {m.triggers} inputs "
+              f"-> {m.wrench_topic}, {m.coefficients_topic}")
+    for key in ("bag", "csv"):
+        if key in report.outputs:
+            print(f"wrote {key}: {report.outputs[key]}")
+    if report.outputs.get("plots"):
+        print(f"wrote plots: {', '.join(str(p) for p in report.outputs['plots'])}")
+    seconds = report.seconds.get("total", 0.0)
+    print(f"{report.messages_read} messages read in {seconds:.2f} s")
+    if report.error:
+        print(f"adbsat-ros bag analyze: error: {report.error}", file=sys.stderr)
+        print(f"adbsat-ros bag analyze: error: the outputs above are PARTIAL: they hold the "
+              f"{report.messages_read} messages read before the fault", file=sys.stderr)
+        return 1
+    if report.wrenches == 0:
+        print("adbsat-ros bag analyze: error: no wrench could be computed (see the warnings)", file=sys.stderr)
+        return 1
+    return 0

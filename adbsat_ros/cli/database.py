@@ -1,0 +1,183 @@
+"""``adbsat-ros database MESH``: an aerodynamic database over angle of attack and sideslip.
+
+Evaluates the panel method at every pair of ``--aoa`` x ``--aos`` (default the whole sphere of
+flow directions in 5 deg steps) on every core, and writes the database as ``--out FILE.npz``
+(read by :func:`adbsat_ros.database.load_database` and
+:class:`adbsat_ros.coefficient_lookup.CoefficientLookup`) and as a CSV file next to it (same
+stem, or ``--csv``). Model, free stream, flight conditions, reference and shading options are
+those of ``coeff``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+from ..database import build_database
+from .atmosphere import add_flight_arguments
+from .atmosphere import compute as compute_flight_conditions
+from .common import (
+    add_flow_arguments,
+    add_mesh_arguments,
+    add_model_arguments,
+    add_reference_arguments,
+    add_shading_arguments,
+    freestream_from_args,
+    panel_method_from_args,
+)
+from .options import CommandLineError, parse_angle_list
+
+DEFAULT_AOA = "-180:5:180"
+DEFAULT_AOS = "-90:5:90"
+
+
+def _workers(text):
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"--workers must be an integer >= 1, got {text!r}")
+    return value
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "database",
+        help="coefficients over a grid of angle of attack and sideslip (npz + csv)",
+        description="Sweep the panel method over every pair of --aoa x --aos [deg] (ranges as "
+        "start:step:stop; default the whole sphere in 5 deg steps) on --workers processes and "
+        "write an .npz database (for the interpolating lookup and the ROS node) and a CSV file "
+        "with ADBSat's column names. The stated interpolation error of the grid is computed and "
+        "stored. Gas, model, reference and shading options are those of `coeff`.",
+    )
+    add_mesh_arguments(p)
+    add_model_arguments(p)
+    add_flow_arguments(p)
+    add_flight_arguments(p, time_required=False, with_alpha=False)
+    add_reference_arguments(p)
+    add_shading_arguments(p)
+    g = p.add_argument_group("grid and output")
+    g.add_argument("--aoa", default=DEFAULT_AOA,
+                   help=f"angles of attack [deg], -360..360: list and/or start:step:stop (default {DEFAULT_AOA}; "
+                   "write --aoa=-90:5:90 when the value starts with '-')")
+    g.add_argument("--aos", default=DEFAULT_AOS,
+                   help=f"sideslip angles [deg], -90..90 (default {DEFAULT_AOS}; write --aos=-45:5:45 "
+                   "when the value starts with '-')")
+    g.add_argument("--workers", type=_workers, default=None,
+                   help=f"processes to use (default: every core, here {os.cpu_count()})")
+    g.add_argument("--out", required=True, metavar="FILE.npz", help="database file to write (.npz)")
+    g.add_argument("--csv", metavar="FILE.csv", help="CSV file to write (default: --out with .csv)")
+    p.set_defaults(func=run)
+
+
+def _check_output(path: str, option: str) -> None:
+    directory = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(directory):
+        raise CommandLineError(f"{option}: directory {directory} does not exist")
+    if not os.access(directory, os.W_OK):
+        raise CommandLineError(f"{option}: directory {directory} is not writable")
+
+
+def _angles(text, option, low, high):
+    values = parse_angle_list(text, option)
+    if values.min() < low or values.max() > high:
+        raise CommandLineError(f"{option}: angles must lie in [{low:g}, {high:g}] deg, got {text!r}")
+    if len(set(values.tolist())) != values.size:
+        raise CommandLineError(f"{option}: an angle is given twice in {text!r}")
+    return values
+
+
+def _flow_and_method(args):
+    """(method, flow, conditions metadata or None), folding an accommodation model's alpha into
+    the materials so the database's metadata describes the set-up exactly."""
+    if args.time is None:
+        method = panel_method_from_args(args)
+        return method, freestream_from_args(args, method.model), None
+    given = [o for o in ("speed", "temperature", "mean_mass", "species", "density") if getattr(args, o) is not None]
+    if given:
+        raise CommandLineError(
+            f"--{given[0].replace('_', '-')}: give the gas either directly or by --time and a place, not both"
+        )
+    options = {"alpha": args.alpha} if args.accommodation == "fixed" else {}
+    try:
+        conditions = compute_flight_conditions(args, accommodation_options=options)
+    except ValueError as exc:
+        if isinstance(exc, CommandLineError):
+            raise
+        raise CommandLineError(str(exc)) from None
+    if args.accommodation != "fixed":  # as `coeff`: alpha and alpha_n on every panel
+        a = float(conditions.alpha)
+        args.alpha = args.alpha_n = a
+        args.material = [f"{text},alpha={a!r},alpha_n={a!r}" for text in args.material]
+    method = panel_method_from_args(args)
+    summary = {
+        "time": args.time,
+        "accommodation_model": args.accommodation,
+        "alpha": float(conditions.alpha),
+        "altitude_m": float(conditions.altitude),
+        "latitude_deg": float(args.lat) if args.lat is not None else None,
+        "longitude_deg": float(args.lon) if args.lon is not None else None,
+        "position": args.position,
+        "velocity": args.velocity,
+        "frame": args.frame,
+        "f107": args.f107,
+        "f107a": args.f107a,
+        "ap": args.ap,
+    }
+    return method, conditions.free_stream(), summary
+
+
+def run(args) -> int:
+    aoa = _angles(args.aoa, "--aoa", -360.0, 360.0)
+    aos = _angles(args.aos, "--aos", -90.0, 90.0)
+    out = args.out
+    if not out.lower().endswith(".npz"):
+        raise CommandLineError(f"--out: the database file must end in .npz, got {out!r}")
+    csv_path = args.csv if args.csv is not None else out[: -len(".npz")] + ".csv"
+    _check_output(out, "--out")
+    _check_output(csv_path, "--csv")
+    if args.samples < 1:
+        raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
+    method, flow, conditions = _flow_and_method(args)
+    workers = args.workers or os.cpu_count() or 1
+    start = time.perf_counter()
+    db = build_database(
+        method, flow, aoa, aos, shading=args.shading, samples=args.samples, workers=workers,
+        progress=None, mesh_spec=args.mesh, mesh_scale=args.scale, materials_texts=args.material,
+        conditions=conditions,
+    )
+    elapsed = time.perf_counter() - start
+    db.save(out)
+    db.save_csv(csv_path)
+    print(summary(db, elapsed, workers, [out, csv_path]))
+    return 0
+
+
+def summary(db, elapsed: float, workers: int, files) -> str:
+    """Readable multi-line summary of a database build."""
+    m = db.metadata
+    na, nb = db.shape
+    err = m["interpolation_error"]
+    lines = [
+        f"mesh {m['mesh']['source']}: {m['mesh']['n_panels']} panels; model {m['model']['name']}; "
+        f"shading {m['shading']['mode']}; s = {m['flow']['speed_ratio']:.3f}; "
+        f"Aref = {m['reference']['area']:.4g} m^2, Lref = {m['reference']['length']:.4g} m",
+        f"attitudes: {na} aoa ({db.aoa_deg[0]:g}..{db.aoa_deg[-1]:g} deg) x {nb} aos "
+        f"({db.aos_deg[0]:g}..{db.aos_deg[-1]:g} deg) = {db.n_attitudes}",
+        f"time: {elapsed:.2f} s on {min(workers, db.n_attitudes)} worker(s) "
+        f"({1e3 * elapsed / db.n_attitudes:.2f} ms per attitude)",
+    ]
+    if err.get("force_coefficient") is not None:
+        f, mo = err["force_coefficient"], err["moment_coefficient"]
+        fmax, mmax = err["max_force_coefficient"], err["max_moment_coefficient"]
+        lines.append(
+            f"stated interpolation error (bilinear): |dCf_G| <= {f:.3g} "
+            f"({100 * f / fmax if fmax else 0:.2g}% of max |Cf_G| {fmax:.3g}), |dCm_G| <= {mo:.3g} "
+            f"({100 * mo / mmax if mmax else 0:.2g}% of max |Cm_G| {mmax:.3g})"
+        )
+    else:
+        lines.append(f"stated interpolation error: {err['method']}")
+    lines += [f"wrote {path}" for path in files]
+    return "\n".join(lines)

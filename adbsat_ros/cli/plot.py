@@ -1,0 +1,96 @@
+"""``adbsat-ros plot DATABASE.npz``: figures of an aerodynamic database (PNG files)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .options import CommandLineError
+
+
+def angle_deg(option: str):
+    """An argparse ``type`` accepting a finite angle in degrees (error names ``option``)."""
+
+    def convert(text):
+        try:
+            value = float(text)
+        except ValueError:
+            value = float("nan")
+        if not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{option} must be a finite angle in degrees, got {text!r}")
+        return value
+
+    convert.__name__ = option
+    return convert
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "plot",
+        help="PNG figures of an aerodynamic database",
+        description="Draw the coefficients of a database written by `adbsat-ros database` against "
+        "angle of attack, one line per sideslip angle (database_coefficients.png: CD, CL, CY; "
+        "database_moments.png: Cm_B x, y, z), and a 3-D picture of the mesh coloured by "
+        "per-panel pressure coefficient at one attitude, with the panels shaded from the flow "
+        "marked (panel_pressure.png; the mesh is reloaded and must be unchanged). Prints the "
+        "paths written.",
+    )
+    p.add_argument("database", metavar="DATABASE", help="database file (.npz) from `adbsat-ros database`")
+    p.add_argument("--out-dir", metavar="DIR",
+                   help="folder for the PNGs (default: DATABASE without .npz plus '_plots')")
+    p.add_argument("--aoa", type=angle_deg("--aoa"), default=None,
+                   help="angle of attack of the pressure picture [deg] (default 0 if the database "
+                   "covers it, else its first)")
+    p.add_argument("--aos", type=angle_deg("--aos"), default=None,
+                   help="sideslip of the pressure picture [deg] (default 0 if covered, else the first)")
+    p.add_argument("--no-mesh", action="store_true",
+                   help="coefficient plots only: do not reload the mesh or draw the pressure picture")
+    p.add_argument("--max-lines", type=int, default=7,
+                   help="most sideslip lines per plot, evenly spaced if the database has more (default 7)")
+    p.set_defaults(func=run)
+
+
+def _default_angle(grid: np.ndarray) -> float:
+    return 0.0 if grid[0] <= 0.0 <= grid[-1] else float(grid[0])
+
+
+def run(args) -> int:
+    from .. import plots
+    from ..database import DatabaseError, load_database, method_from_metadata
+
+    path = Path(args.database)
+    if not path.exists():
+        raise CommandLineError(f"DATABASE: no such file {str(path)!r}")
+    if path.is_dir():
+        raise CommandLineError(f"DATABASE: {str(path)!r} is a folder, not a database file")
+    if args.max_lines < 2:
+        raise CommandLineError(f"--max-lines must be >= 2, got {args.max_lines}")
+    if args.aos is not None and not -90.0 <= args.aos <= 90.0:
+        raise CommandLineError(f"--aos must be in [-90, 90] degrees, got {args.aos:g}")
+    try:
+        db = load_database(path)
+    except DatabaseError as exc:
+        raise CommandLineError(f"DATABASE: {exc}") from None
+    out_dir = Path(args.out_dir) if args.out_dir else path.with_name(path.stem + "_plots")
+    if out_dir.exists() and not out_dir.is_dir():
+        raise CommandLineError(f"--out-dir: {str(out_dir)!r} exists and is not a folder")
+
+    written = plots.plot_database(db, out_dir, max_lines=args.max_lines)
+    if not args.no_mesh:
+        try:
+            method, flow, shader = method_from_metadata(db.metadata, path=str(path))
+        except DatabaseError as exc:
+            raise CommandLineError(f"DATABASE: {exc} (use --no-mesh to draw the coefficient plots only)") from None
+        aoa = args.aoa if args.aoa is not None else _default_angle(db.aoa_deg)
+        aos = args.aos if args.aos is not None else _default_angle(db.aos_deg)
+        written.append(
+            plots.plot_panel_pressure(
+                method, flow, aoa, aos, shader, out_dir / "panel_pressure.png", title=plots.database_title(db.metadata)
+            )
+        )
+    for p in written:
+        print(p)
+    return 0

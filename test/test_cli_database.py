@@ -1,0 +1,126 @@
+"""The `adbsat-ros database` command: files written, summary, agreement with `coeff`, and
+one-line errors with exit status 2."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from adbsat_ros.cli import main
+from adbsat_ros.coefficient_lookup import CoefficientLookup
+from adbsat_ros.database import load_database
+
+FLOW = ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
+
+
+@pytest.fixture(scope="module")
+def mesh_file(tmp_path_factory):
+    """An L-shaped pair of boxes (concave: ray-cast shading has work to do), ~100 faces."""
+    import trimesh
+
+    a = trimesh.creation.box(extents=(1.0, 0.4, 0.4))
+    b = trimesh.creation.box(extents=(0.3, 0.3, 1.0))
+    b.apply_translation((-0.35, 0.0, 0.7))
+    path = tmp_path_factory.mktemp("mesh") / "ell.stl"
+    trimesh.util.concatenate([a, b]).export(path)
+    return path
+
+
+def run(capsys, *argv):
+    code = main(["database", *map(str, argv)])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_end_to_end_and_agreement_with_coeff(capsys, mesh_file, tmp_path):
+    out = tmp_path / "ell.npz"
+    code, text, _ = run(capsys, mesh_file, *FLOW, "--aoa=-180:60:180", "--aos=-90:45:90", "--gsim", "cook",
+                        "--moment-ref", "0.1,0,0.2", "--workers", "2", "--out", out)
+    assert code == 0
+    assert "7 aoa (-180..180 deg) x 5 aos (-90..90 deg) = 35" in text
+    assert "stated interpolation error" in text and f"wrote {out}" in text
+    csv_path = tmp_path / "ell.csv"
+    assert f"wrote {csv_path}" in text and csv_path.exists()
+    db = load_database(out)
+    meta = db.metadata
+    assert meta["mesh"]["spec"] == str(mesh_file) and meta["model"]["name"] == "cook"
+    assert meta["shading"] == {"mode": "raycast", "samples": 16}
+    assert meta["reference"]["moment_point"] == [0.1, 0.0, 0.2]
+    err = CoefficientLookup(db).error_bound
+    assert f"|dCf_G| <= {err['force_coefficient']:.3g}" in text
+    # the same attitudes through `coeff --json` (an independent loop over attitudes)
+    code = main(["coeff", str(mesh_file), *FLOW, "--aoa=-180:60:180", "--aos=-90:45:90", "--gsim", "cook",
+                 "--moment-ref", "0.1,0,0.2", "--json"])
+    rows = json.loads(capsys.readouterr()[0])
+    assert code == 0 and len(rows) == db.n_attitudes
+    for k, row in enumerate(rows):
+        i, j = divmod(k, db.shape[1])
+        assert (row["aoa_deg"], row["aos_deg"]) == (db.aoa_deg[i], db.aos_deg[j])
+        for name in ("Cf_w", "Cf_f", "Cm_B", "Cf_G", "Cm_G"):
+            np.testing.assert_array_equal(row[name], getattr(db, name)[i, j], err_msg=name)
+        assert (row["CD"], row["AreaProj"]) == (db.CD[i, j], db.AreaProj[i, j])
+    # one worker and an explicit CSV path: the same numbers
+    code, _, _ = run(capsys, mesh_file, *FLOW, "--aoa=-180:60:180", "--aos=-90:45:90", "--gsim", "cook",
+                     "--moment-ref", "0.1,0,0.2", "--workers", "1", "--out", tmp_path / "one.npz",
+                     "--csv", tmp_path / "other.csv")
+    assert code == 0 and (tmp_path / "other.csv").exists() and not (tmp_path / "one.csv").exists()
+    np.testing.assert_array_equal(load_database(tmp_path / "one.npz").Cf_G, db.Cf_G)
+
+
+def test_flight_conditions_fold_alpha_into_materials(capsys, mesh_file, tmp_path):
+    """--time and a place: the accommodation model's alpha lands in the recorded materials, and the
+    numbers equal `coeff` with the same flight conditions."""
+    common = [str(mesh_file), "--shading", "none", "--time", "2015-01-19T00:00:00Z", "--altitude", "300",
+              "--lat", "0", "--lon", "0", "--accommodation", "langmuir", "--aoa", "0,30", "--aos", "10"]
+    code, _, err = run(capsys, *common, "--out", tmp_path / "fc.npz")
+    assert code == 0, err
+    db = load_database(tmp_path / "fc.npz")
+    alpha = db.metadata["conditions"]["alpha"]
+    assert 0.9 < alpha < 1.0
+    assert db.metadata["materials"]["default"]["alpha"] == alpha == db.metadata["materials"]["default"]["alpha_n"]
+    assert main(["coeff", *common, "--json"]) == 0
+    rows = json.loads(capsys.readouterr()[0])
+    for k, row in enumerate(rows):
+        assert row["CD"] == pytest.approx(db.CD[k, 0], rel=1e-13)
+        np.testing.assert_allclose(row["Cm_B"], db.Cm_B[k, 0], rtol=1e-12, atol=1e-15)
+
+
+@pytest.mark.parametrize(
+    "argv,needle",
+    [
+        (["--workers", "0"], "--workers"),
+        (["--aoa", "0:0:10"], "--aoa"),
+        (["--aoa", "0,10,10"], "--aoa: an angle is given twice"),
+        (["--aos", "0:10:100"], "--aos: angles must lie in [-90, 90]"),
+        (["--out", "/nonexistent-dir/db.npz"], "--out: directory /nonexistent-dir does not exist"),
+        (["--out", "DIR/db.txt"], "--out: the database file must end in .npz"),
+        (["--csv", "/nonexistent-dir/db.csv"], "--csv: directory"),
+        (["--samples", "0"], "--samples"),
+        (["--gsim", "cll"], "--species"),
+    ],
+)
+def test_bad_values_give_one_line_and_status_2(capsys, mesh_file, tmp_path, argv, needle):
+    argv = [a.replace("DIR", str(tmp_path)) for a in argv]
+    if "--out" not in argv:
+        argv += ["--out", str(tmp_path / "db.npz")]
+    try:
+        code = main(["database", str(mesh_file), "--aoa", "0", "--aos", "0", *FLOW, *argv])
+    except SystemExit as exc:  # argparse's own errors
+        code = exc.code
+    err = capsys.readouterr()[1]
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and needle in lines[0], err
+    assert not (tmp_path / "db.npz").exists()
+
+
+def test_module_entry_point(mesh_file, tmp_path):
+    """`python -m adbsat_ros.cli database` runs as a separate process."""
+    proc = subprocess.run([sys.executable, "-m", "adbsat_ros.cli", "database", str(mesh_file), *FLOW, "--aoa", "0,90",
+                           "--aos", "0", "--shading", "none", "--out", str(tmp_path / "p.npz")],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ""  # no progress bar when stderr is not a terminal
+    assert load_database(tmp_path / "p.npz").shape == (2, 1)
