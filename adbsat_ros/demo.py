@@ -18,9 +18,9 @@ What it does, in one process:
 Why in-process rather than a child process: the node starts in about a second with no
 cross-process discovery (0.4-0.7 s on this kind of machine), nothing is left running after
 Ctrl-C, and the demo can show, next to the published wrench, the node's own record of each
-computation (altitude, density, C_D, compute time): the demo wraps the node's public
-``estimator`` to keep the samples it returns, and checks that every published force equals the
-recorded sample's exactly. Topics still go through the ROS middleware (DDS) as they would
+computation (altitude, density, C_D, compute time): the demo registers a sample listener
+(:meth:`AdbsatNode.add_sample_listener`) to keep the samples behind the published wrenches, and
+checks that every published force equals the recorded sample's exactly. Topics still go through the ROS middleware (DDS) as they would
 between processes.
 
 The ROS 2 environment: ROS_AUTOMATIC_DISCOVERY_RANGE is set to LOCALHOST unless it is set
@@ -75,22 +75,13 @@ class DemoResult:
 
 
 class _SampleLog:
-    """Stands in for the node's AeroWrenchEstimator and keeps every WrenchSample it returns.
+    """Keeps every WrenchSample the node publishes, by stamp [ns] (a node sample listener)."""
 
-    Everything else is forwarded to the wrapped estimator, so the node behaves as usual.
-    """
-
-    def __init__(self, estimator):
-        self._estimator = estimator
+    def __init__(self):
         self.samples: dict = {}
 
-    def on_attitude(self, stamp, quaternion_xyzw):
-        sample = self._estimator.on_attitude(stamp, quaternion_xyzw)
+    def __call__(self, sample):
         self.samples[round(sample.stamp * 1e9)] = sample
-        return sample
-
-    def __getattr__(self, name):
-        return getattr(self._estimator, name)
 
 
 def demo_scenario(duration: float, speedup: float, attitude: str):
@@ -202,10 +193,10 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
                 Parameter("state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
             ],
         )
-        log = _SampleLog(node.estimator)
-        node.estimator = log
-        mesh = log.mesh
-        s = log.settings
+        log = _SampleLog()
+        node.add_sample_listener(log)
+        mesh = node.estimator.mesh
+        s = node.estimator.settings
         say(f"adbsat_node started in {time.monotonic() - started:.2f} s: {Path(str(mesh.source)).name}, "
             f"{mesh.n_panels} panels, model {s.gsi_model}, shading {s.shading}")
 
@@ -300,7 +291,7 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
         while time.monotonic() < deadline:
             with lock:
                 done = sum(1 for v in received.values() if v[0] is not None and v[1] is not None)
-            if done + sum(log.rejections.values()) >= result.attitudes_sent:
+            if done + sum(node.estimator.rejections.values()) >= result.attitudes_sent:
                 break
             time.sleep(0.02)
         table_line()
@@ -320,7 +311,7 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
 
     samples = log.samples if log is not None else {}
     rows = _rows(received, samples, sent_wall, int(messages.attitudes.stamps_ns[0]), result)
-    result.rejected = {k: v for k, v in (log.rejections.items() if log is not None else ()) if v}
+    result.rejected = {k: v for k, v in (node.estimator.rejections.items() if node is not None else ()) if v}
     say()
     say(f"published {result.attitudes_sent} attitudes and {result.states_sent} states; received "
         f"{result.wrenches_received} wrenches"

@@ -67,11 +67,14 @@ class AdbsatNode(Node):
         self.wrench_pub = self.create_publisher(WrenchStamped, "wrench", qos)
         self.coefficients_pub = self.create_publisher(WrenchStamped, "coefficients", qos)
         self.diagnostics_pub = self.create_publisher(DiagnosticArray, "/diagnostics", 10)
-        self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos)
+        # state first: when a state and an attitude are waiting together, the executor takes them in
+        # the order the subscriptions were made, and the attitude wants the newest state
         self.create_subscription(Odometry, "state", self._on_state, qos)
+        self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos)
         self._compute_ms = collections.deque(maxlen=2000)
         self._last_state_wall = None
         self._last_sample: WrenchSample | None = None
+        self._sample_listeners: list = []
         self._last_rejection: Rejection | None = None
         self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
         mesh = self.estimator.mesh
@@ -152,6 +155,13 @@ class AdbsatNode(Node):
         )
         self._compute_ms.append(1e3 * sample.compute_seconds)
         self._last_sample = sample
+        for listener in self._sample_listeners:
+            listener(sample)
+
+    def add_sample_listener(self, callback) -> None:
+        """Call ``callback(sample)`` with every :class:`WrenchSample` published (in-process users:
+        the full flight conditions and coefficients behind each wrench, e.g. for a live table)."""
+        self._sample_listeners.append(callback)
 
     # ----------------------------------------------------------------------------- diagnostics
     def diagnostic_status(self) -> DiagnosticStatus:
