@@ -8,7 +8,6 @@ speed at that point is used). ``--json`` prints every field in SI units; otherwi
 
 from __future__ import annotations
 
-import argparse
 import datetime as _dt
 import json
 import math
@@ -22,42 +21,12 @@ from ..flight_conditions import (
     flight_conditions,
     flight_conditions_circular_orbit,
 )
-from .options import CommandLineError, parse_vector3
+from .options import CommandLineError, finite_float, non_negative_float, parse_vector3
 
 #: Space weather used when not given: the NRLMSISE-00 reference test point (moderate activity).
 DEFAULT_F107 = 150.0
 DEFAULT_F107A = 150.0
 DEFAULT_AP = 4.0
-
-
-def _finite_float(option: str):
-    """An argparse ``type`` accepting finite numbers (error names ``option``)."""
-
-    def convert(text):
-        try:
-            value = float(text)
-        except ValueError:
-            value = float("nan")
-        if not math.isfinite(value):
-            raise argparse.ArgumentTypeError(f"{option} must be a finite number, got {text!r}")
-        return value
-
-    convert.__name__ = option
-    return convert
-
-
-def _non_negative_float(option: str):
-    """An argparse ``type`` accepting finite numbers >= 0 (error names ``option``)."""
-    finite = _finite_float(option)
-
-    def convert(text):
-        value = finite(text)
-        if value < 0:
-            raise argparse.ArgumentTypeError(f"{option} must be >= 0, got {text!r}")
-        return value
-
-    convert.__name__ = option
-    return convert
 
 
 def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> None:
@@ -71,11 +40,11 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
         help="UTC time, e.g. 2015-01-19T00:00:00Z (no offset means UTC)",
     )
     where = parser.add_argument_group("geodetic point (WGS-84)")
-    where.add_argument("--altitude", type=_finite_float("--altitude"), metavar="KM",
+    where.add_argument("--altitude", type=finite_float("--altitude"), metavar="KM",
                        help="height above the WGS-84 ellipsoid [km], 0..1000")
-    where.add_argument("--lat", type=_finite_float("--lat"), metavar="DEG",
+    where.add_argument("--lat", type=finite_float("--lat"), metavar="DEG",
                        help="geodetic latitude [deg], -90..90")
-    where.add_argument("--lon", type=_finite_float("--lon"), metavar="DEG",
+    where.add_argument("--lon", type=finite_float("--lon"), metavar="DEG",
                        help="east longitude [deg]")
     state = parser.add_argument_group("orbital state")
     state.add_argument("--position", metavar="X,Y,Z", help="position [m] in --frame")
@@ -88,12 +57,12 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
     state.add_argument("--no-earth-rotation", action="store_true",
                        help="air at rest in ECI instead of co-rotating (needs --velocity)")
     weather = parser.add_argument_group("space weather")
-    weather.add_argument("--f107", type=_non_negative_float("--f107"), default=DEFAULT_F107,
+    weather.add_argument("--f107", type=non_negative_float("--f107"), default=DEFAULT_F107,
                          metavar="SFU",
                          help=f"F10.7 of the previous day (default {DEFAULT_F107:g})")
-    weather.add_argument("--f107a", type=_non_negative_float("--f107a"), default=DEFAULT_F107A,
+    weather.add_argument("--f107a", type=non_negative_float("--f107a"), default=DEFAULT_F107A,
                          metavar="SFU", help=f"81-day average F10.7 (default {DEFAULT_F107A:g})")
-    weather.add_argument("--ap", type=_non_negative_float("--ap"), default=DEFAULT_AP,
+    weather.add_argument("--ap", type=non_negative_float("--ap"), default=DEFAULT_AP,
                          metavar="AP", help=f"daily Ap (default {DEFAULT_AP:g})")
     weather.add_argument("--ap-history", metavar="A0,...,A6",
                          help="NRLMSISE-00's 7-element Ap array (storm-time formulation)")
@@ -105,7 +74,7 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
                      default=default,
                      help=f"accommodation model (default {default}; fixed uses --alpha)")
     if with_alpha:
-        gas.add_argument("--alpha", type=_finite_float("--alpha"), metavar="ALPHA",
+        gas.add_argument("--alpha", type=finite_float("--alpha"), metavar="ALPHA",
                          help="accommodation coefficient for --accommodation fixed, 0..1")
 
 

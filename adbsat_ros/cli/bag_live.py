@@ -7,7 +7,6 @@ stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE says otherwise.
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import os
 import signal
@@ -15,25 +14,11 @@ import sys
 import threading
 
 from ..bag_io import BagError
-from .options import positive_float
+from .options import non_negative_int, positive_float
 
 
 class RosNotAvailable(RuntimeError):
     """rclpy or the message packages cannot be imported."""
-
-
-def _non_negative_int(option: str):
-    def convert(text):
-        try:
-            value = int(text)
-        except ValueError:
-            value = -1
-        if value < 0:
-            raise argparse.ArgumentTypeError(f"{option} must be a whole number >= 0, got {text!r}")
-        return value
-
-    convert.__name__ = option
-    return convert
 
 
 def register(bag_subparsers) -> None:
@@ -51,7 +36,7 @@ def register(bag_subparsers) -> None:
     play.add_argument("--loop", action="store_true",
                       help="start again from the beginning until Ctrl-C (stamps go back in time at each restart)")
     play.add_argument("--topics", nargs="+", metavar="TOPIC", help="play only these topics (default: all)")
-    play.add_argument("--wait-for-subscribers", type=_non_negative_int("--wait-for-subscribers"), default=0,
+    play.add_argument("--wait-for-subscribers", type=non_negative_int("--wait-for-subscribers"), default=0,
                       metavar="N", help="wait until every played topic has N subscribers before starting")
     play.add_argument("--wait-timeout", type=positive_float("--wait-timeout"), default=30.0, metavar="S",
                       help="give up waiting for subscribers after S seconds (default 30)")

@@ -75,36 +75,68 @@ def parse_vector3(text: str, option: str) -> np.ndarray:
     return vec
 
 
-def positive_float(option: str):
-    """An argparse ``type`` accepting finite numbers > 0 (error names ``option``)."""
+def number(option: str, *, integer: bool = False, low=None, high=None, low_open: bool = False, what=None):
+    """An argparse ``type`` for a finite number within bounds; the error names ``option``.
+
+    Parameters
+    ----------
+    option : str
+        The option's name, for the error message.
+    integer : bool
+        Accept whole numbers only (returns int).
+    low, high : float, optional
+        Inclusive bounds (``low`` exclusive if ``low_open``).
+    what : str, optional
+        How the message describes a valid value (default from the bounds).
+    """
+    if what is None:
+        kind = "a whole number" if integer else "a finite number"
+        if low is not None and high is not None:
+            what = f"{kind} in {'(' if low_open else '['}{low:g}, {high:g}]"
+        elif low is not None:
+            what = f"{kind} {'>' if low_open else '>='} {low:g}"
+        else:
+            what = kind
 
     def convert(text):
         try:
-            value = float(text)
+            value = int(text) if integer else float(text)
         except ValueError:
             value = float("nan")
-        if not math.isfinite(value) or value <= 0:
-            raise argparse.ArgumentTypeError(f"{option} must be a finite number > 0, got {text!r}")
+        ok = math.isfinite(value)
+        ok = ok and (low is None or (value > low if low_open else value >= low))
+        ok = ok and (high is None or value <= high)
+        if not ok:
+            raise argparse.ArgumentTypeError(f"{option} must be {what}, got {text!r}")
         return value
 
     convert.__name__ = option
     return convert
+
+
+def positive_float(option: str):
+    """An argparse ``type`` accepting finite numbers > 0 (error names ``option``)."""
+    return number(option, low=0.0, low_open=True)
 
 
 def fraction(option: str):
     """An argparse ``type`` accepting numbers in [0, 1] (error names ``option``)."""
+    return number(option, low=0.0, high=1.0, what="a number in [0, 1]")
 
-    def convert(text):
-        try:
-            value = float(text)
-        except ValueError:
-            value = float("nan")
-        if not (0.0 <= value <= 1.0):
-            raise argparse.ArgumentTypeError(f"{option} must be a number in [0, 1], got {text!r}")
-        return value
 
-    convert.__name__ = option
-    return convert
+def finite_float(option: str):
+    """An argparse ``type`` accepting finite numbers (error names ``option``)."""
+    return number(option)
+
+
+def non_negative_float(option: str):
+    """An argparse ``type`` accepting finite numbers >= 0 (error names ``option``)."""
+    return number(option, low=0.0)
+
+
+def non_negative_int(option: str):
+    """An argparse ``type`` accepting whole numbers >= 0 (error names ``option``)."""
+    return number(option, integer=True, low=0)
 
 
 def is_terminal(stream=None) -> bool:

@@ -2,29 +2,11 @@
 
 from __future__ import annotations
 
-import argparse
-import math
 from pathlib import Path
 
 import numpy as np
 
-from .options import CommandLineError
-
-
-def angle_deg(option: str):
-    """An argparse ``type`` accepting a finite angle in degrees (error names ``option``)."""
-
-    def convert(text):
-        try:
-            value = float(text)
-        except ValueError:
-            value = float("nan")
-        if not math.isfinite(value):
-            raise argparse.ArgumentTypeError(f"{option} must be a finite angle in degrees, got {text!r}")
-        return value
-
-    convert.__name__ = option
-    return convert
+from .options import CommandLineError, number
 
 
 def register(subparsers) -> None:
@@ -41,10 +23,10 @@ def register(subparsers) -> None:
     p.add_argument("database", metavar="DATABASE", help="database file (.npz) from `adbsat-ros database`")
     p.add_argument("--out-dir", metavar="DIR",
                    help="folder for the PNGs (default: DATABASE without .npz plus '_plots')")
-    p.add_argument("--aoa", type=angle_deg("--aoa"), default=None,
+    p.add_argument("--aoa", type=number("--aoa", what="a finite angle in degrees"), default=None,
                    help="angle of attack of the pressure picture [deg] (default 0 if the database "
                    "covers it, else its first)")
-    p.add_argument("--aos", type=angle_deg("--aos"), default=None,
+    p.add_argument("--aos", type=number("--aos", what="a finite angle in degrees"), default=None,
                    help="sideslip of the pressure picture [deg] (default 0 if covered, else the first)")
     p.add_argument("--no-mesh", action="store_true",
                    help="coefficient plots only: do not reload the mesh or draw the pressure picture")

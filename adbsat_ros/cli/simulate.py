@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import argparse
-import math
 
 from .. import bag_io, scenario
 from ..bag_io import BagError
-from .options import CommandLineError, parse_vector3, positive_float
+from .options import CommandLineError, non_negative_float, parse_vector3, positive_float
 
 
 def register(subparsers) -> None:
@@ -22,7 +20,7 @@ def register(subparsers) -> None:
         "fixed body axis. Stamps are UNIX time of --epoch + t, as adbsat_node reads them by default.",
     )
     p.add_argument("--out", required=True, metavar="BAG", help="output bag directory (must not exist)")
-    p.add_argument("--duration", type=_non_negative("--duration"), default=600.0, help="length [s] (default 600)")
+    p.add_argument("--duration", type=non_negative_float("--duration"), default=600.0, help="length [s] (default 600)")
     p.add_argument("--altitude", type=positive_float("--altitude"), default=400.0,
                    help="perigee height above the equatorial radius 6378.137 km [km] (default 400)")
     p.add_argument("--eccentricity", type=float, default=0.0, help="orbit eccentricity in [0, 1) (default 0)")
@@ -45,19 +43,6 @@ def register(subparsers) -> None:
     p.add_argument("--state-topic", default="/state", help="state topic (default /state)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output bag")
     p.set_defaults(func=run)
-
-
-def _non_negative(option):
-    def convert(text):
-        try:
-            value = float(text)
-        except ValueError:
-            value = float("nan")
-        if not (math.isfinite(value) and value >= 0):
-            raise argparse.ArgumentTypeError(f"{option} must be a finite number >= 0, got {text!r}")
-        return value
-
-    return convert
 
 
 def scenario_from_args(args) -> scenario.Scenario:
