@@ -338,12 +338,24 @@ def accommodation(name: str, atmosphere: AtmosphereState, speed: float, **option
     key = normalize_model_name(name)
     if not isinstance(atmosphere, AtmosphereState):
         raise ValueError(f"atmosphere must be an AtmosphereState, got {type(atmosphere).__name__}")
-    speed = _non_negative("speed", speed)
+    return accommodation_of(key, atmosphere, _non_negative("speed", speed), options)
+
+
+def accommodation_of(key: str, atmosphere: AtmosphereState, speed: float, options: Mapping) -> float:
+    """:func:`accommodation` for a model name already normalised (:func:`normalize_model_name`),
+    an :class:`AtmosphereState` and a float speed >= 0 [m/s]; the options are checked here.
+
+    Raises
+    ------
+    ValueError
+        For an option the model does not take (listing those it does) or an invalid value.
+    """
     allowed = ACCOMMODATION_OPTIONS[key]
-    unexpected = sorted(set(options) - set(allowed))
-    if unexpected:
-        raise ValueError(
-            f"accommodation model {key!r} does not take {', '.join(unexpected)}; "
-            f"its options are: {', '.join(allowed) or 'none'}"
-        )
+    for option in options:
+        if option not in allowed:
+            unexpected = sorted(set(options) - set(allowed))
+            raise ValueError(
+                f"accommodation model {key!r} does not take {', '.join(unexpected)}; "
+                f"its options are: {', '.join(allowed) or 'none'}"
+            )
     return ACCOMMODATION_MODELS[key](atmosphere, speed, **options)

@@ -34,7 +34,7 @@ from typing import Mapping
 from nrlmsise00 import _nrlmsise00
 
 from .constants import AVOGADRO, MOLAR_MASS_G, SPECIES
-from .earth_frames import utc_datetime
+from .earth_frames import seconds_of_day, utc_datetime, utc_day
 from .validation import finite as _finite, non_negative as _non_negative
 
 #: Largest altitude NRLMSISE-00 is evaluated at [m].
@@ -50,6 +50,7 @@ _SWITCHES_DAILY_AP = [1] * 24
 _SWITCHES_AP_HISTORY = [1] * 9 + [-1] + [1] * 14
 _SPECIES_MASS_KG = {name: MOLAR_MASS_G[name] / (1000.0 * AVOGADRO) for name in SPECIES}
 _SPECIES_WITHOUT_ANO = tuple(s for s in SPECIES if s != "AnO")
+_UTC = _dt.timezone.utc
 
 
 @dataclass(frozen=True)
@@ -165,6 +166,18 @@ def check_time(time) -> _dt.datetime:
     return time
 
 
+def checked_utc(time) -> _dt.datetime:
+    """``time`` as a timezone-aware UTC datetime, checked as :func:`check_time`.
+
+    An aware :class:`datetime.datetime` already in ``datetime.timezone.utc`` within the years
+    is returned as it is (the per-message case); anything else goes through :func:`check_time`
+    (and its errors).
+    """
+    if type(time) is _dt.datetime and time.tzinfo is _UTC and FIRST_YEAR <= time.year <= LAST_YEAR:
+        return time
+    return check_time(time).replace(tzinfo=_UTC)
+
+
 def check_altitude(altitude) -> float:
     """Return ``altitude`` [m] as a float, or raise ValueError naming it if outside [0, 1000 km]."""
     altitude = _finite("altitude", altitude)
@@ -223,22 +236,59 @@ def evaluate_atmosphere(
     latitude = _finite("latitude", latitude)
     if abs(latitude) > math.pi / 2:
         raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
-    longitude_deg = math.degrees(_finite("longitude", longitude))
-    longitude_deg = (longitude_deg + 180.0) % 360.0 - 180.0
+    longitude = _finite("longitude", longitude)
     if not isinstance(space_weather, SpaceWeather):
         raise ValueError(
             f"space_weather must be a SpaceWeather(f107, f107a, ap), "
             f"got {type(space_weather).__name__}"
         )
-    seconds = time.hour * 3600.0 + time.minute * 60.0 + time.second + time.microsecond * 1e-6
+    seconds = seconds_of_day(time)
+    if local_solar_time_h is not None:
+        local_solar_time_h = _finite("local_solar_time_h", local_solar_time_h)
+    return run_model(
+        time.year,
+        utc_day(time.year, time.month, time.day)[2],
+        seconds,
+        altitude,
+        latitude,
+        longitude,
+        space_weather,
+        anomalous_oxygen,
+        local_solar_time_h,
+    )
+
+
+def run_model(
+    year: int,
+    day_of_year: int,
+    seconds: float,
+    altitude: float,
+    latitude: float,
+    longitude: float,
+    space_weather: SpaceWeather,
+    anomalous_oxygen: bool = True,
+    local_solar_time_h: float | None = None,
+) -> AtmosphereState:
+    """NRLMSISE-00 at one point from inputs already checked (see :func:`evaluate_atmosphere`).
+
+    The per-message path of :mod:`adbsat_ros.flight_conditions`, which has already checked the
+    time (``year``, ``day_of_year`` 1..366, UTC ``seconds`` of the day), the ``altitude`` [m] in
+    [0, 1000 km] (:func:`check_altitude`), and has a geodetic ``latitude`` in [-pi/2, pi/2] and a
+    finite ``longitude`` [rad] from :func:`adbsat_ros.earth_frames.geodetic_of`. Only
+    ``space_weather`` is checked here (ValueError naming it).
+    """
+    if not isinstance(space_weather, SpaceWeather):
+        raise ValueError(
+            f"space_weather must be a SpaceWeather(f107, f107a, ap), "
+            f"got {type(space_weather).__name__}"
+        )
+    longitude_deg = math.degrees(longitude)
+    longitude_deg = (longitude_deg + 180.0) % 360.0 - 180.0
     if local_solar_time_h is None:
         local_solar_time_h = (seconds / 3600.0 + longitude_deg / 15.0) % 24.0
-    else:
-        local_solar_time_h = _finite("local_solar_time_h", local_solar_time_h)
-    day_of_year = time.toordinal() - _dt.date(time.year, 1, 1).toordinal() + 1
     model = _nrlmsise00.gtd7d if anomalous_oxygen else _nrlmsise00.gtd7
     arguments = (
-        time.year,
+        year,
         day_of_year,
         seconds,
         altitude * 1e-3,  # the model takes km

@@ -59,6 +59,7 @@ _MJD_TO_JD = 2400000.5
 _TT_MINUS_TAI = 32.184  # [s]
 _SECONDS_PER_DAY = 86400.0
 _ARCSEC = math.pi / (180.0 * 3600.0)
+_UTC = _dt.timezone.utc
 
 
 # ------------------------------------------------------------------------------------------ time
@@ -80,8 +81,10 @@ def utc_datetime(time) -> _dt.datetime:
             f"time must be a datetime.datetime (timezone-aware, or naive meaning UTC), "
             f"got {type(time).__name__} {time!r}"
         )
-    if time.tzinfo is not None and time.utcoffset() is not None:
-        time = time.astimezone(_dt.timezone.utc).replace(tzinfo=None)
+    if time.tzinfo is _UTC:
+        time = time.replace(tzinfo=None)
+    elif time.tzinfo is not None and time.utcoffset() is not None:
+        time = time.astimezone(_UTC).replace(tzinfo=None)
     elif time.tzinfo is not None:
         time = time.replace(tzinfo=None)
     return time
@@ -114,17 +117,37 @@ def julian_dates(time, ut1_minus_utc: float = 0.0):
         as ERFA expects.
     """
     time = utc_datetime(time)
-    mjd = time.toordinal() - _MJD_ZERO_ORDINAL
-    day_fraction = (
-        time.hour * 3600.0 + time.minute * 60.0 + time.second + time.microsecond * 1e-6
-    ) / _SECONDS_PER_DAY
-    jd1 = _MJD_TO_JD + mjd
-    tt_offset = (_tai_minus_utc(time.year, time.month, time.day) + _TT_MINUS_TAI) / _SECONDS_PER_DAY
+    jd1, tt_offset, _ = utc_day(time.year, time.month, time.day)
+    day_fraction = seconds_of_day(time) / _SECONDS_PER_DAY
     return (
         (jd1, day_fraction),
         (jd1, day_fraction + tt_offset),
         (jd1, day_fraction + float(ut1_minus_utc) / _SECONDS_PER_DAY),
     )
+
+
+@functools.lru_cache(maxsize=512)
+def utc_day(year: int, month: int, day: int) -> tuple:
+    """Constants of a UTC calendar day, memoised (the per-call time work is then a few floats).
+
+    Returns
+    -------
+    tuple of (float, float, int)
+        ``(jd1, tt_minus_utc, day_of_year)``: the integer-and-a-half Julian date 2400000.5 + MJD
+        of the day's 0 h UTC (the first part of ERFA's two-part dates), TT - UTC [day] on that
+        day (TAI - UTC from ERFA's leap-second table + 32.184 s), and the day of the year (1..366).
+    """
+    ordinal = _dt.date(year, month, day).toordinal()
+    return (
+        _MJD_TO_JD + (ordinal - _MJD_ZERO_ORDINAL),
+        (_tai_minus_utc(year, month, day) + _TT_MINUS_TAI) / _SECONDS_PER_DAY,
+        ordinal - _dt.date(year, 1, 1).toordinal() + 1,
+    )
+
+
+def seconds_of_day(time: _dt.datetime) -> float:
+    """Seconds since 0 h of ``time``'s day [s] (of a UTC datetime: UTC seconds of the day)."""
+    return time.hour * 3600.0 + time.minute * 60.0 + time.second + time.microsecond * 1e-6
 
 
 # --------------------------------------------------------------------------- Earth orientation
@@ -212,14 +235,115 @@ class EarthOrientation:
 
 
 _CELESTIAL_TO_INTERMEDIATE = {"iau2006a": erfa.c2i06a, "iau2000b": erfa.c2i00b}
+#: Angular velocity of the ECEF frame in ECEF axes with zero polar motion [rad/s].
+_ROTATION_AXIS = (0.0, 0.0, EARTH_ROTATION_RATE)
+_ROTATION_VECTOR_ECEF = np.array(_ROTATION_AXIS)
+_ROTATION_VECTOR_ECEF.setflags(write=False)
 
 
 @functools.lru_cache(maxsize=256)
-def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> np.ndarray:
-    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket`` (J2000-based)."""
-    matrix = _CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days)
-    matrix.setflags(write=False)
-    return matrix
+def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> tuple:
+    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket`` (J2000-based),
+    as 9 floats in row-major order."""
+    return tuple(_CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days).ravel().tolist())
+
+
+def check_orientation_options(ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step):
+    """Checked Earth-orientation options of :func:`earth_orientation`.
+
+    Returns
+    -------
+    tuple
+        ``(ut1_minus_utc [s], x_p [rad], y_p [rad], precession_nutation, step [s])`` as floats
+        (and the model name).
+
+    Raises
+    ------
+    ValueError
+        Naming the option: non-finite or out-of-range ``ut1_minus_utc`` (|.| <= 1 s) or
+        ``polar_motion`` (|.| <= 10 arcsec), an unknown ``precession_nutation`` name or a
+        ``precession_nutation_step`` outside [0, 3600] s.
+    """
+    ut1_minus_utc = float(ut1_minus_utc)
+    if not math.isfinite(ut1_minus_utc) or abs(ut1_minus_utc) > 1.0:
+        raise ValueError(
+            f"ut1_minus_utc must be a finite number of seconds in [-1, 1], got {ut1_minus_utc!r}"
+        )
+    try:
+        xp, yp = float(polar_motion[0]), float(polar_motion[1])
+        if len(polar_motion) != 2:
+            raise ValueError
+    except (TypeError, ValueError, IndexError):
+        raise ValueError(
+            f"polar_motion must be a pair (x_p, y_p) in rad, got {polar_motion!r}"
+        ) from None
+    if not (math.isfinite(xp) and math.isfinite(yp)) or max(abs(xp), abs(yp)) > 10 * _ARCSEC:
+        raise ValueError(
+            f"polar_motion must be finite and within 10 arcsec (given in rad), got {polar_motion!r}"
+        )
+    if precession_nutation not in PRECESSION_NUTATION_MODELS:
+        raise ValueError(
+            f"unknown precession_nutation {precession_nutation!r}; "
+            f"allowed: {', '.join(PRECESSION_NUTATION_MODELS)}"
+        )
+    step = float(precession_nutation_step)
+    if not (math.isfinite(step) and 0.0 <= step <= 3600.0):
+        raise ValueError(f"precession_nutation_step must be in [0, 3600] s, got {precession_nutation_step!r}")
+    return ut1_minus_utc, xp, yp, precession_nutation, step
+
+
+def rotation_terms(jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step):
+    """The GCRS -> ITRS rotation of :func:`earth_orientation` as plain floats (no arrays).
+
+    The per-message form used by :func:`adbsat_ros.flight_conditions.flight_conditions`;
+    inputs are already checked (see :func:`check_orientation_options`).
+
+    Parameters
+    ----------
+    jd1, day_fraction : float
+        Two-part Julian date of the UTC instant: ``utc_day(...)[0]`` and UTC seconds of the
+        day / 86400.
+    tt_minus_utc : float
+        TT - UTC [day] (``utc_day(...)[1]``).
+    ut1_minus_utc : float
+        UT1 - UTC [s].
+    xp, yp : float
+        Polar motion [rad].
+    precession_nutation : {"iau2006a", "iau2000b"}
+    step : float
+        Precession-nutation step [s], 0 for none (see :func:`earth_orientation`).
+
+    Returns
+    -------
+    matrix : tuple of 9 floats
+        R (``r_ecef = R @ r_eci``) in row-major order.
+    era : float
+        Earth rotation angle [rad].
+    axis : tuple of 3 floats
+        Angular velocity of ECEF relative to ECI, ECEF axes [rad/s].
+    """
+    tt2 = day_fraction + tt_minus_utc
+    if step > 0.0:
+        step_days = step / _SECONDS_PER_DAY
+        bucket = math.floor(((jd1 - 2451545.0) + tt2) / step_days)
+        q = _celestial_to_intermediate_at(precession_nutation, bucket, step_days)
+    else:
+        q = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2).ravel().tolist()
+    era = float(erfa.ufunc.era00(jd1, day_fraction + ut1_minus_utc / _SECONDS_PER_DAY))
+    c, s = math.cos(era), math.sin(era)
+    q00, q01, q02, q10, q11, q12, q20, q21, q22 = q
+    # R3(ERA) @ Q with R3 = [[c, s, 0], [-s, c, 0], [0, 0, 1]]
+    matrix = (
+        c * q00 + s * q10, c * q01 + s * q11, c * q02 + s * q12,
+        c * q10 - s * q00, c * q11 - s * q01, c * q12 - s * q02,
+        q20, q21, q22,
+    )
+    axis = _ROTATION_AXIS
+    if xp != 0.0 or yp != 0.0:
+        polar = erfa.pom00(xp, yp, erfa.sp00(jd1, tt2))
+        matrix = tuple((polar @ np.array(matrix).reshape(3, 3)).ravel().tolist())
+        axis = tuple((polar @ np.array(axis)).tolist())
+    return matrix, era, axis
 
 
 def earth_orientation(
@@ -263,49 +387,19 @@ def earth_orientation(
         ``polar_motion``, or an unknown ``precession_nutation`` name.
     """
     time = utc_datetime(time)
-    ut1_minus_utc = float(ut1_minus_utc)
-    if not math.isfinite(ut1_minus_utc) or abs(ut1_minus_utc) > 1.0:
-        raise ValueError(
-            f"ut1_minus_utc must be a finite number of seconds in [-1, 1], got {ut1_minus_utc!r}"
-        )
-    try:
-        xp, yp = float(polar_motion[0]), float(polar_motion[1])
-        if len(polar_motion) != 2:
-            raise ValueError
-    except (TypeError, ValueError, IndexError):
-        raise ValueError(
-            f"polar_motion must be a pair (x_p, y_p) in rad, got {polar_motion!r}"
-        ) from None
-    if not (math.isfinite(xp) and math.isfinite(yp)) or max(abs(xp), abs(yp)) > 10 * _ARCSEC:
-        raise ValueError(
-            f"polar_motion must be finite and within 10 arcsec (given in rad), got {polar_motion!r}"
-        )
-    (_, _), (tt1, tt2), (ut11, ut12) = julian_dates(time, ut1_minus_utc)
-    if precession_nutation not in PRECESSION_NUTATION_MODELS:
-        raise ValueError(
-            f"unknown precession_nutation {precession_nutation!r}; "
-            f"allowed: {', '.join(PRECESSION_NUTATION_MODELS)}"
-        )
-    step = float(precession_nutation_step)
-    if not (math.isfinite(step) and 0.0 <= step <= 3600.0):
-        raise ValueError(f"precession_nutation_step must be in [0, 3600] s, got {precession_nutation_step!r}")
-    if step > 0.0:
-        step_days = step / 86400.0
-        bucket = math.floor(((tt1 - 2451545.0) + tt2) / step_days)
-        celestial_to_intermediate = _celestial_to_intermediate_at(precession_nutation, bucket, step_days)
-    else:
-        celestial_to_intermediate = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](tt1, tt2)
-    era = float(erfa.era00(ut11, ut12))
-    cos_era, sin_era = math.cos(era), math.sin(era)
-    earth_rotation = np.array([[cos_era, sin_era, 0.0], [-sin_era, cos_era, 0.0], [0.0, 0.0, 1.0]])
-    matrix = earth_rotation @ celestial_to_intermediate
-    axis = np.array([0.0, 0.0, EARTH_ROTATION_RATE])
-    if xp != 0.0 or yp != 0.0:
-        polar = erfa.pom00(xp, yp, erfa.sp00(tt1, tt2))
-        matrix = polar @ matrix
-        axis = polar @ axis
+    options = check_orientation_options(
+        ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
+    )
+    jd1, tt_minus_utc, _ = utc_day(time.year, time.month, time.day)
+    day_fraction = seconds_of_day(time) / _SECONDS_PER_DAY
+    matrix, era, axis = rotation_terms(jd1, day_fraction, tt_minus_utc, *options)
+    matrix = np.array(matrix).reshape(3, 3)
     matrix.setflags(write=False)
-    axis.setflags(write=False)
+    if axis is _ROTATION_AXIS:
+        axis = _ROTATION_VECTOR_ECEF
+    else:
+        axis = np.array(axis)
+        axis.setflags(write=False)
     return EarthOrientation(time, matrix, era, axis)
 
 
@@ -416,6 +510,29 @@ def enu_to_ecef_matrix(latitude: float, longitude: float) -> np.ndarray:
             [cos_lon, -sin_lat * sin_lon, cos_lat * sin_lon],
             [0.0, cos_lat, sin_lat],
         ]
+    )
+
+
+def geodetic_of(position_ecef: np.ndarray):
+    """``(latitude, longitude, altitude)`` as floats of one checked ECEF position, shape (3,).
+
+    :func:`ecef_to_geodetic` without its input checks, for a position already known to be three
+    finite floats (the per-message path of :mod:`adbsat_ros.flight_conditions`).
+    """
+    longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position_ecef)
+    if status != 0:  # pragma: no cover - defensive (only a bad ellipsoid identifier)
+        raise ValueError(f"erfa.gc2gd failed (status {status}) for position {position_ecef!r}")
+    return float(latitude), float(longitude), float(altitude)
+
+
+def enu_to_ecef(latitude: float, longitude: float, east: float, north: float, up: float) -> tuple:
+    """``enu_to_ecef_matrix(latitude, longitude) @ (east, north, up)`` as three floats."""
+    sin_lat, cos_lat = math.sin(latitude), math.cos(latitude)
+    sin_lon, cos_lon = math.sin(longitude), math.cos(longitude)
+    return (
+        -sin_lon * east + -sin_lat * cos_lon * north + cos_lat * cos_lon * up,
+        cos_lon * east + -sin_lat * sin_lon * north + cos_lat * sin_lon * up,
+        cos_lat * north + sin_lat * up,
     )
 
 

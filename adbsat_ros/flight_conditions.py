@@ -33,24 +33,30 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .accommodation import accommodation, normalize_model_name
+from .accommodation import accommodation_of, normalize_model_name
 from .atmosphere import (
     AtmosphereState,
     SpaceWeather,
     check_altitude,
     check_time,
+    checked_utc,
     evaluate_atmosphere,
+    run_model,
 )
 from .constants import BOLTZMANN, EARTH_MU, EARTH_RADIUS_ADBSAT
 from .earth_frames import (
     EarthOrientation,
-    cross,
+    check_orientation_options,
     earth_orientation,
-    ecef_to_geodetic,
-    enu_to_ecef_matrix,
+    enu_to_ecef,
+    geodetic_of,
     geodetic_to_ecef,
+    rotation_terms,
+    seconds_of_day,
+    utc_day,
 )
 from .freestream import FreeStream
+from .validation import non_negative as _non_negative
 
 #: Frames an orbital state may be given in.
 STATE_FRAMES = ("eci", "ecef")
@@ -82,6 +88,9 @@ _UNITS = {
     "speed_ratio": "1",
     "accommodation_coefficient": "1",
 }
+
+
+_FLOAT64 = np.dtype(np.float64)
 
 
 def _readonly(array):
@@ -233,12 +242,59 @@ class FlightConditions:
                 "relative speed is 0 m/s (the satellite is at rest in the air): "
                 "no free stream; check FlightConditions.speed before asking for one"
             )
-        return FreeStream(
-            speed=self.speed,
-            temperature=self.atmosphere.temperature,
-            number_densities=self.atmosphere.mixture_number_densities,
-            density=self.atmosphere.mass_density,
+        atmosphere = self.atmosphere
+        species = atmosphere.mixture_species
+        densities = atmosphere.number_densities
+        return FreeStream.of_mixture(
+            self.speed,
+            atmosphere.temperature,
+            species,
+            [densities[name] for name in species],
+            atmosphere.mass_density,
         )
+
+
+def _three_floats(value, name: str) -> tuple:
+    """The three finite floats of a 3-vector (checked as :func:`_vector3`, faster for arrays)."""
+    if type(value) is np.ndarray and value.dtype is _FLOAT64 and value.shape == (3,):
+        x, y, z = value.tolist()
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+            raise ValueError(f"{name} must be finite, got {value!r}")
+        return x, y, z
+    return tuple(_vector3(value, name).tolist())
+
+
+def _rotate(m, x, y, z) -> tuple:
+    """``M @ (x, y, z)`` for a 3x3 matrix M given as 9 floats, row-major."""
+    return (
+        m[0] * x + m[1] * y + m[2] * z,
+        m[3] * x + m[4] * y + m[5] * z,
+        m[6] * x + m[7] * y + m[8] * z,
+    )
+
+
+def _rotate_back(m, x, y, z) -> tuple:
+    """``M.T @ (x, y, z)`` (the inverse rotation) for M given as 9 floats, row-major."""
+    return (
+        m[0] * x + m[3] * y + m[6] * z,
+        m[1] * x + m[4] * y + m[7] * z,
+        m[2] * x + m[5] * y + m[8] * z,
+    )
+
+
+def _cross(a, b) -> tuple:
+    """a x b of two 3-tuples."""
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _minus(a, b) -> tuple:
+    """a - b of two 3-tuples."""
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def _array(vector) -> np.ndarray:
+    """A new read-only float array of a 3-tuple (None stays None)."""
+    return None if vector is None else _readonly(np.array(vector))
 
 
 def _vector3(value, name: str) -> np.ndarray:
@@ -321,7 +377,9 @@ def flight_conditions(
         Naming the input: bad frame names, non-finite or mis-shaped vectors, an altitude outside
         0..1000 km, a time outside 1958..2100, invalid space weather or accommodation options.
     """
-    time = check_time(time)
+    # The work is done on Python floats (3-vectors as tuples, the rotation as 9 floats): for single
+    # states this is several times faster than numpy; the arrays of the result are made at the end.
+    utc = checked_utc(time)
     frame_key = str(frame).lower()
     if frame_key not in STATE_FRAMES:
         raise ValueError(f"frame must be one of {', '.join(STATE_FRAMES)}, got {frame!r}")
@@ -329,68 +387,80 @@ def flight_conditions(
     if wind_frame_key not in WIND_FRAMES:
         raise ValueError(f"wind_frame must be one of {', '.join(WIND_FRAMES)}, got {wind_frame!r}")
     model = normalize_model_name(accommodation_model)
-    position = _vector3(position, "position")
-    velocity = _vector3(velocity, "velocity")
-    wind_vector = None if wind is None else _vector3(wind, "wind")
+    position = _three_floats(position, "position")
+    velocity = _three_floats(velocity, "velocity")
+    wind_vector = None if wind is None else _three_floats(wind, "wind")
+    jd1, tt_minus_utc, day_of_year = utc_day(utc.year, utc.month, utc.day)
+    seconds = seconds_of_day(utc)
     if orientation is None:
-        orientation = earth_orientation(
-            time,
-            ut1_minus_utc=ut1_minus_utc,
-            polar_motion=polar_motion,
-            precession_nutation=precession_nutation,
-            precession_nutation_step=precession_nutation_step,
+        options = check_orientation_options(
+            ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
         )
+        matrix, _, omega = rotation_terms(jd1, seconds / 86400.0, tt_minus_utc, *options)
     elif not isinstance(orientation, EarthOrientation):
         raise ValueError(
             f"orientation must be an EarthOrientation, got {type(orientation).__name__}"
         )
-    elif orientation.time != time:
-        raise ValueError(
-            f"orientation is for {orientation.time.isoformat()}, not for time {time.isoformat()}"
-        )
-    matrix = orientation.celestial_to_terrestrial
-    omega = orientation.rotation_vector_ecef
-    if frame_key == "eci":
-        position_eci, velocity_eci = position, velocity
-        position_ecef = matrix @ position
-        velocity_ecef = matrix @ velocity - cross(omega, position_ecef)
     else:
+        naive = utc.replace(tzinfo=None)
+        if orientation.time != naive:
+            raise ValueError(
+                f"orientation is for {orientation.time.isoformat()}, not for time {naive.isoformat()}"
+            )
+        matrix = tuple(orientation.celestial_to_terrestrial.ravel().tolist())
+        omega = tuple(orientation.rotation_vector_ecef.tolist())
+    if frame_key == "eci":
+        # v_ecef = R v_eci - omega x r_ecef
+        position_eci, velocity_eci = position, velocity
+        position_ecef = _rotate(matrix, *position)
+        vx, vy, vz = _rotate(matrix, *velocity)
+        tx, ty, tz = _cross(omega, position_ecef)
+        velocity_ecef = (vx - tx, vy - ty, vz - tz)
+    else:
+        # v_eci = R^T (v_ecef + omega x r_ecef)
         position_ecef, velocity_ecef = position, velocity
-        position_eci = position @ matrix
-        velocity_eci = (velocity + cross(omega, position)) @ matrix
-    latitude, longitude, altitude = ecef_to_geodetic(position_ecef)
+        position_eci = _rotate_back(matrix, *position)
+        vx, vy, vz = velocity
+        tx, ty, tz = _cross(omega, position)
+        velocity_eci = _rotate_back(matrix, vx + tx, vy + ty, vz + tz)
+    position_ecef_array = _array(position_ecef)
+    latitude, longitude, altitude = geodetic_of(position_ecef_array)
     try:
         check_altitude(altitude)
     except ValueError as exc:
         raise ValueError(f"position: {exc}") from None
-    atmosphere = evaluate_atmosphere(
-        time, altitude, latitude, longitude, space_weather, anomalous_oxygen=anomalous_oxygen
+    atmosphere = run_model(
+        utc.year, day_of_year, seconds, altitude, latitude, longitude, space_weather, anomalous_oxygen
     )
     if wind_vector is None:
         wind_ecef = None
     elif wind_frame_key == "enu":
-        wind_ecef = enu_to_ecef_matrix(latitude, longitude) @ wind_vector
+        wind_ecef = enu_to_ecef(latitude, longitude, *wind_vector)
     else:
         wind_ecef = wind_vector
     if earth_rotation:
-        relative_ecef = velocity_ecef if wind_ecef is None else velocity_ecef - wind_ecef
-        relative_eci = relative_ecef @ matrix
+        relative_ecef = velocity_ecef if wind_ecef is None else _minus(velocity_ecef, wind_ecef)
+        relative_eci = _rotate_back(matrix, *relative_ecef)
     else:
-        relative_eci = velocity_eci if wind_ecef is None else velocity_eci - wind_ecef @ matrix
-        relative_ecef = matrix @ relative_eci
-    speed = float(math.sqrt(relative_ecef @ relative_ecef))
+        if wind_ecef is None:
+            relative_eci = velocity_eci
+        else:
+            relative_eci = _minus(velocity_eci, _rotate_back(matrix, *wind_ecef))
+        relative_ecef = _rotate(matrix, *relative_eci)
+    x, y, z = relative_ecef
+    speed = _non_negative("speed", math.sqrt(x * x + y * y + z * z))
     return _assemble(
-        time,
-        position_eci,
-        position_ecef,
-        velocity_eci,
-        velocity_ecef,
+        utc,
+        _array(position_eci),
+        position_ecef_array,
+        _array(velocity_eci),
+        _array(velocity_ecef),
         latitude,
         longitude,
         altitude,
         atmosphere,
-        relative_eci,
-        relative_ecef,
+        _array(relative_eci),
+        _array(relative_ecef),
         speed,
         model,
         accommodation_options,
@@ -459,9 +529,9 @@ def flight_conditions_circular_orbit(
     orientation = earth_orientation(time, precession_nutation=precession_nutation)
     position_eci = position_ecef @ orientation.celestial_to_terrestrial
     return _assemble(
-        time,
-        position_eci,
-        position_ecef,
+        time.replace(tzinfo=_dt.timezone.utc),
+        _readonly(position_eci),
+        _readonly(position_ecef),
         None,
         None,
         float(latitude),
@@ -497,20 +567,20 @@ def _assemble(
     space_weather,
 ) -> FlightConditions:
     mean_mass = atmosphere.mean_mass
-    alpha = accommodation(model, atmosphere, speed, **dict(accommodation_options or {}))
+    alpha = accommodation_of(model, atmosphere, speed, dict(accommodation_options or {}))
     return FlightConditions(
-        time=time.replace(tzinfo=_dt.timezone.utc),
-        position_eci=_readonly(position_eci),
-        position_ecef=_readonly(position_ecef),
-        velocity_eci=_readonly(velocity_eci),
-        velocity_ecef=_readonly(velocity_ecef),
+        time=time,
+        position_eci=position_eci,
+        position_ecef=position_ecef,
+        velocity_eci=velocity_eci,
+        velocity_ecef=velocity_ecef,
         latitude=float(latitude),
         longitude=float(longitude),
         altitude=float(altitude),
         atmosphere=atmosphere,
         mean_molecular_mass=mean_mass,
-        relative_velocity_eci=_readonly(relative_eci),
-        relative_velocity_ecef=_readonly(relative_ecef),
+        relative_velocity_eci=relative_eci,
+        relative_velocity_ecef=relative_ecef,
         speed=speed,
         speed_ratio=_speed_ratio(speed, atmosphere, mean_mass),
         accommodation_model=model,

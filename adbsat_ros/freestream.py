@@ -7,6 +7,7 @@ or from an atmosphere model and an orbital state (:mod:`adbsat_ros.flight_condit
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Mapping
@@ -21,6 +22,16 @@ def _check_positive(name: str, value: float) -> float:
     if not math.isfinite(value) or value <= 0.0:
         raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
     return value
+
+
+@functools.lru_cache(maxsize=64)
+def _species_masses(species: tuple):
+    """Read-only particle masses [kg] of distinct known ``species``, or None if they are not."""
+    if not species or len(set(species)) != len(species) or not all(s in MOLAR_MASS_G for s in species):
+        return None
+    masses = np.array([species_mass_kg(s) for s in species])
+    masses.setflags(write=False)
+    return masses
 
 
 @dataclass(frozen=True)
@@ -93,6 +104,62 @@ class FreeStream:
             object.__setattr__(self, "_m", np.zeros(0))
         if self.density is not None:
             object.__setattr__(self, "density", _check_positive("density", self.density))
+
+    @classmethod
+    def of_mixture(cls, speed, temperature, species: tuple, values, density) -> FreeStream:
+        """A free stream from a gas mixture, with checks cheap enough for every message.
+
+        Equal to ``FreeStream(speed, temperature, dict(zip(species, values)), density=density)``
+        (the same fields, species order and arrays); the inputs are checked with a few scalar
+        comparisons, and anything those do not pass goes to that constructor, which builds it
+        or raises its error naming the input.
+
+        Parameters
+        ----------
+        speed : float
+            Relative speed V [m/s], > 0.
+        temperature : float
+            Gas temperature T_inf [K], > 0.
+        species : tuple of str
+            Species names from :data:`adbsat_ros.constants.SPECIES`.
+        values : sequence of float
+            Their number densities [m^-3], >= 0 and not all 0.
+        density : float
+            Total mass density [kg/m^3], > 0.
+        """
+        values = list(values)
+        masses = _species_masses(species) if type(species) is tuple else None
+        total = sum(values) if values else 0.0
+        if not (
+            masses is not None
+            and len(values) == len(species)
+            and type(speed) is float and type(temperature) is float and type(density) is float
+            and 0.0 < speed < math.inf
+            and 0.0 < temperature < math.inf
+            and 0.0 < density < math.inf
+            and 0.0 < total < math.inf
+            and min(values) >= 0.0
+            and all(type(v) is float for v in values)
+        ):
+            return cls(
+                speed=speed,
+                temperature=temperature,
+                number_densities=dict(zip(species, values)),
+                density=density,
+            )
+        flow = object.__new__(cls)
+        # the fields __post_init__ would set, from values that pass its checks
+        flow.__dict__.update(
+            speed=float(speed),
+            temperature=float(temperature),
+            number_densities=dict(zip(species, values)),
+            mean_mass_amu=None,
+            density=float(density),
+            _species=species,
+            _n=np.array(values),
+            _m=masses,
+        )
+        return flow
 
     # ----------------------------------------------------------------------------- derived values
     @property

@@ -1,27 +1,45 @@
 """Cost of one flight-conditions evaluation (Earth orientation, geodetic, NRLMSISE-00, alpha).
 
-Usage: python bench/bench_flight_conditions.py [--number 2000] [--repeat 15]
+Usage: python bench/bench_flight_conditions.py [--number 2000] [--repeat 15] [--baseline REV]
 
-Times with ``timeit`` (``--repeat`` rounds of ``--number`` calls each) and prints the median time
-per call in milliseconds of:
+Prints the median time per call in milliseconds (``--repeat`` rounds of ``--number`` calls) of:
 
+* the per-message path of the node and the bag analysis, as
+  ``AeroWrenchEstimator.on_attitude`` calls it: ``flight_conditions`` on an ECI state with an aware
+  UTC time, ``precession_nutation_step=60`` s and a fixed alpha (the default), then
+  ``free_stream()`` and ``dynamic_pressure()``; messages 0.1 s apart (a 10 Hz attitude stream),
+  the position propagated along the velocity; and the same with the Langmuir alpha;
 * ``flight_conditions`` from an ECI state, IAU 2006/2000A (the default, full public call);
 * the same with IAU 2000B precession-nutation;
 * the same with a precomputed ``EarthOrientation`` (several states at one instant);
 * ``flight_conditions_circular_orbit`` (ADBSat's environment.m recipe);
 * ``evaluate_atmosphere`` alone (the NRLMSISE-00 call with its validation).
 
-The time advances by one second at every call, so nothing time-dependent is reused between calls
-(only the per-day TAI-UTC look-up is cached). Target: under 0.2 ms per flight-conditions call.
+Outside the per-message cases the time advances by one second at every call, so nothing
+time-dependent is reused between calls (only the per-day constants are memoised).
+
+``--baseline REV`` also times the per-message cases with the ``adbsat_ros`` package of git
+revision REV of this repository (extracted with ``git archive`` into a temporary directory and
+imported as ``adbsat_ros_baseline``), alternating rounds with the working tree so that both see the
+same machine load, and prints the ratio. Example: ``--baseline HEAD`` to measure uncommitted work.
 """
 
 from __future__ import annotations
 
 import argparse
 import datetime as dt
+import importlib
+import importlib.util
+import io
 import itertools
 import math
+import pathlib
 import statistics
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
 import timeit
 
 import numpy as np
@@ -35,6 +53,8 @@ WEATHER = SpaceWeather(f107=121.7, f107a=138.1, ap=4.0)
 RADIUS = 6778137.0
 POSITION = np.array([RADIUS * math.cos(0.3), RADIUS * math.sin(0.3), 1.0e5])
 VELOCITY = np.array([-7668.0 * math.sin(0.3), 7668.0 * math.cos(0.3), 100.0])
+MESSAGE_PERIOD_S = 0.1
+REPOSITORY = pathlib.Path(__file__).resolve().parents[1]
 
 
 def advancing_times():
@@ -48,11 +68,83 @@ def median_ms(fn, number: int, repeat: int) -> float:
     return statistics.median(rounds) / number * 1e3
 
 
+def message_stream(number: int):
+    """``number`` (aware UTC time, ECI position) pairs of messages MESSAGE_PERIOD_S apart."""
+    epoch = START.replace(tzinfo=dt.timezone.utc)
+    return [
+        (epoch + dt.timedelta(seconds=i * MESSAGE_PERIOD_S), POSITION + VELOCITY * (i * MESSAGE_PERIOD_S))
+        for i in range(number)
+    ]
+
+
+def per_message_round(package: str, model: str):
+    """A function timing one pass over a message stream with ``package``'s flight conditions."""
+    conditions_of = importlib.import_module(f"{package}.flight_conditions").flight_conditions
+    weather_type = importlib.import_module(f"{package}.atmosphere").SpaceWeather
+    weather = weather_type(WEATHER.f107, WEATHER.f107a, WEATHER.ap)
+    options = {"alpha": 1.0} if model == "fixed" else None
+
+    def run(messages) -> float:
+        start = time.perf_counter()
+        for utc, position in messages:
+            conditions = conditions_of(
+                utc, position, VELOCITY, weather, frame="eci", earth_rotation=True, wind=None,
+                wind_frame="ecef", anomalous_oxygen=True, accommodation_model=model,
+                accommodation_options=options, precession_nutation_step=60.0,
+            )
+            conditions.free_stream().dynamic_pressure()
+        return (time.perf_counter() - start) / len(messages)
+
+    return run
+
+
+def import_baseline(revision: str, directory: str) -> str:
+    """Extract ``adbsat_ros`` at git ``revision`` into ``directory``; import it as adbsat_ros_baseline."""
+    archive = subprocess.run(
+        ["git", "-C", str(REPOSITORY), "archive", "--format=tar", revision, "adbsat_ros"],
+        check=True, capture_output=True,
+    ).stdout
+    with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
+        tar.extractall(directory, filter="data")
+    package_dir = pathlib.Path(directory) / "adbsat_ros"
+    name = "adbsat_ros_baseline"
+    spec = importlib.util.spec_from_file_location(
+        name, package_dir / "__init__.py", submodule_search_locations=[str(package_dir)]
+    )
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return name
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--number", type=int, default=2000, help="calls per timing round")
     parser.add_argument("--repeat", type=int, default=15, help="timing rounds")
+    parser.add_argument("--baseline", metavar="REV", help="also time the per-message path at git revision REV")
     args = parser.parse_args(argv)
+
+    with tempfile.TemporaryDirectory() as directory:
+        packages = {"working tree": "adbsat_ros"}
+        if args.baseline:
+            packages[f"baseline {args.baseline}"] = import_baseline(args.baseline, directory)
+        messages = message_stream(args.number)
+        print(f"per-message path (flight_conditions + free_stream + dynamic_pressure, as on_attitude), "
+              f"median over {args.repeat} rounds of {args.number} messages {MESSAGE_PERIOD_S} s apart:")
+        for model in ("fixed", "langmuir"):
+            runs = {label: per_message_round(package, model) for label, package in packages.items()}
+            for run in runs.values():
+                run(messages[:200])  # warm up
+            rounds = {label: [] for label in runs}
+            for _ in range(args.repeat):  # alternate, so both see the same machine load
+                for label, run in runs.items():
+                    rounds[label].append(run(messages))
+            medians = {label: statistics.median(values) * 1e3 for label, values in rounds.items()}
+            for label, value in medians.items():
+                print(f"  {model:<8} accommodation, {label:<24} {value:.4f} ms")
+            if len(medians) == 2:
+                current, baseline = medians.values()
+                print(f"  {model:<8} accommodation, baseline / working tree   {baseline / current:.2f}x")
 
     times = advancing_times()
     fixed_orientation = earth_orientation(START)

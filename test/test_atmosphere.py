@@ -180,3 +180,18 @@ def test_cost_per_call_is_well_under_0_2_ms():
             evaluate_atmosphere(CASE1_TIME, 400e3, CASE1_LAT, CASE1_LON, MODERATE)
         samples.append((_time.perf_counter() - start) / 200)
     assert statistics.median(samples) < 0.2e-3
+
+
+def test_checked_utc_is_an_aware_utc_time_or_the_time_error():
+    from adbsat_ros.atmosphere import checked_utc
+
+    aware = dt.datetime(2015, 1, 19, 6, 30, tzinfo=dt.timezone.utc)
+    assert checked_utc(aware) is aware  # already what is needed: returned as it is
+    naive = checked_utc(dt.datetime(2015, 1, 19, 6, 30))
+    assert naive == aware and naive.tzinfo is dt.timezone.utc
+    shifted = checked_utc(aware.astimezone(dt.timezone(dt.timedelta(hours=-5))))
+    assert shifted == aware and shifted.tzinfo is dt.timezone.utc and shifted.hour == 6
+    for bad in (dt.datetime(2101, 1, 1, tzinfo=dt.timezone.utc), dt.datetime(1957, 12, 31), "2015-01-19",
+                dt.date(2015, 1, 19)):
+        with pytest.raises(ValueError, match="time"):
+            checked_utc(bad)

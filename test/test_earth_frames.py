@@ -249,3 +249,59 @@ def test_precession_nutation_step_is_accurate_and_order_independent():
     assert np.array_equal(first, earth_orientation(t, precession_nutation_step=60.0).celestial_to_terrestrial)
     with pytest.raises(ValueError, match="precession_nutation_step"):
         earth_orientation(t, precession_nutation_step=-1.0)
+
+
+# --------------------------------------------------------------- the per-message float path
+def test_day_constants_are_erfa_julian_date_leap_seconds_and_day_of_year():
+    from adbsat_ros.earth_frames import utc_day
+
+    for day in (dt.date(1972, 1, 1), dt.date(2016, 12, 31), dt.date(2017, 1, 1), dt.date(2024, 12, 31)):
+        jd1, tt_minus_utc, day_of_year = utc_day(day.year, day.month, day.day)
+        assert (jd1, 0.0) == erfa.dtf2d("UTC", day.year, day.month, day.day, 0, 0, 0.0)
+        assert tt_minus_utc * 86400.0 == pytest.approx(erfa.dat(day.year, day.month, day.day, 0.5) + 32.184,
+                                                       abs=1e-9)
+        assert day_of_year == day.timetuple().tm_yday
+    # 2016-12-31 ended with a leap second: TT - UTC grows by 1 s from the next day
+    assert (utc_day(2017, 1, 1)[1] - utc_day(2016, 12, 31)[1]) * 86400.0 == pytest.approx(1.0, abs=1e-9)
+
+
+def test_enu_to_ecef_floats_equal_the_matrix_product():
+    from adbsat_ros.earth_frames import enu_to_ecef
+
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        lat, lon = rng.uniform(-math.pi / 2, math.pi / 2), rng.uniform(-math.pi, math.pi)
+        wind = rng.normal(size=3) * 100.0
+        assert np.allclose(enu_to_ecef(lat, lon, *wind), enu_to_ecef_matrix(lat, lon) @ wind, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("model", ["iau2006a", "iau2000b"])
+def test_orientation_over_random_instants_equals_erfa_built_matrix(model):
+    """earth_orientation (float path, memoised precession-nutation) against the same rotation built
+    from pyerfa pieces: W(xp, yp, s') R3(ERA(UT1)) Q(TT at the step's centre), to 1e-12."""
+    c2i = {"iau2006a": erfa.c2i06a, "iau2000b": erfa.c2i00b}[model]
+    rng = np.random.default_rng(11)
+    for _ in range(60):
+        time = dt.datetime(1972, 1, 1) + dt.timedelta(days=int(rng.integers(0, 128 * 365)),
+                                                      seconds=float(rng.uniform(0, 86400)))
+        dut1 = float(rng.uniform(-0.9, 0.9))
+        polar = tuple(rng.uniform(-0.5, 0.5, 2) * ARCSEC) if rng.random() < 0.5 else (0.0, 0.0)
+        step = float(rng.choice([0.0, 1.0, 60.0, 3600.0]))
+        sec = time.second + time.microsecond * 1e-6
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", erfa.ErfaWarning)
+            u1, u2 = erfa.dtf2d("UTC", time.year, time.month, time.day, time.hour, time.minute, sec)
+            t1, t2 = erfa.taitt(*erfa.utctai(u1, u2))
+            b1, b2 = erfa.utcut1(u1, u2, dut1)
+        if step > 0.0:
+            step_days = step / 86400.0
+            q = c2i(2451545.0, (math.floor(((t1 - 2451545.0) + t2) / step_days) + 0.5) * step_days)
+        else:
+            q = c2i(t1, t2)
+        w = np.eye(3) if polar == (0.0, 0.0) else erfa.pom00(polar[0], polar[1], erfa.sp00(t1, t2))
+        ours = earth_orientation(time, ut1_minus_utc=dut1, polar_motion=polar, precession_nutation=model,
+                                 precession_nutation_step=step)
+        assert np.abs(ours.celestial_to_terrestrial - erfa.c2tcio(q, erfa.era00(b1, b2), w)).max() < 1e-12
+        assert ours.earth_rotation_angle == pytest.approx(erfa.era00(b1, b2), abs=1e-12)
+        assert np.allclose(ours.rotation_vector_ecef, w @ [0.0, 0.0, EARTH_ROTATION_RATE], rtol=1e-12, atol=0)
+        assert not ours.celestial_to_terrestrial.flags.writeable and not ours.rotation_vector_ecef.flags.writeable
