@@ -1,0 +1,104 @@
+"""Cost of one attitude on a ~10k-face mesh when the shading comes from the cache.
+
+Usage:
+    python bench/bench_cached_attitude.py [--max-edge 0.064] [--repeat 3000]
+
+Cases, on the example satellite refined to ~9,600 faces, sentman, raycast shading cached at
+0.25 deg:
+
+* "same cell": consecutive attitudes in one cache cell (a GNC loop at a high rate), the cache's
+  memo of the latest cell answers;
+* "stored cells": every query in another cell, all already in the cache (the sparse store is
+  unpacked each time);
+* "estimator": AeroWrenchEstimator.on_attitude, i.e. the node's whole per-message work
+  (flight conditions with NRLMSISE-00, rotation, cache, panel method), same cell.
+
+Prints the median and 99th percentile of each in milliseconds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+from adbsat_ros import frames
+from adbsat_ros.aero_wrench import AeroWrenchEstimator
+from adbsat_ros.example_satellite import example_satellite
+from adbsat_ros.freestream import FreeStream
+from adbsat_ros.panel_method import PanelMethod
+from adbsat_ros.shading import make_shader
+from adbsat_ros.shading_cache import ShadingCache
+from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings
+
+
+def percentiles(samples_s):
+    ms = np.asarray(samples_s) * 1e3
+    return float(np.percentile(ms, 50)), float(np.percentile(ms, 99))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--max-edge", type=float, default=0.064)
+    parser.add_argument("--repeat", type=int, default=3000)
+    args = parser.parse_args()
+    mesh = example_satellite(max_edge=args.max_edge)
+    method = PanelMethod(mesh, "sentman")
+    flow = FreeStream(speed=7726.0, temperature=934.0, mean_mass_amu=17.9, density=2.4e-11)
+    cache = ShadingCache(make_shader(mesh, mode="raycast"), resolution_deg=0.25)
+    n = args.repeat
+    print(f"mesh: example satellite, {mesh.n_panels} faces; sentman; raycast cached at 0.25 deg; {n} calls per case")
+
+    # same cell: tiny attitude changes around aoa 10, aos 5 deg
+    base = frames.flow_direction(math.radians(10.0), math.radians(5.0))
+    centre = cache.centre(cache.key(base))
+    directions = [centre + 1e-5 * np.array([math.sin(k), math.cos(k), 0.0]) for k in range(n)]
+    cache.lighting(centre)
+    times = []
+    for u in directions:
+        t0 = time.perf_counter()
+        method.coefficients(flow, flow_direction=u, lighting=cache.lighting(u))
+        times.append(time.perf_counter() - t0)
+    same = percentiles(times)
+
+    # stored cells: cycle through 64 cached cells so each query unpacks the store
+    cells = [frames.flow_direction(math.radians(10.0 + 0.5 * k), math.radians(5.0)) for k in range(64)]
+    cache.precompute(np.array(cells))
+    times = []
+    for k in range(n):
+        u = cells[k % 64]
+        t0 = time.perf_counter()
+        method.coefficients(flow, flow_direction=u, lighting=cache.lighting(u))
+        times.append(time.perf_counter() - t0)
+    stored = percentiles(times)
+
+    # the node's whole per-message work, fixed attitude (cache hits)
+    settings = WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, time_mode="epoch"))
+    est = AeroWrenchEstimator(settings, mesh)
+    r = 6378137.0 + 300e3
+    v = math.sqrt(3.986004418e14 / r)
+    times = []
+    for k in range(n):
+        t = 1e-3 * k
+        if k % 100 == 0:
+            est.on_state(t, [r, v * t, 0.0], [0.0, v, 0.0])
+        t0 = time.perf_counter()
+        est.on_attitude(t, (0.0, 0.0, 0.0, 1.0))
+        times.append(time.perf_counter() - t0)
+    whole = percentiles(times[100:])
+
+    print(f"{'case':<52} {'p50 ms':>8} {'p99 ms':>8}")
+    for name, (p50, p99) in (
+        ("cache hit, same cell + coefficients()", same),
+        ("cache hit, stored cell (unpacked) + coefficients()", stored),
+        ("estimator on_attitude (flight conditions included)", whole),
+    ):
+        print(f"{name:<52} {p50:8.3f} {p99:8.3f}")
+    print(f"cache: {cache.hits} hits, {cache.misses} misses; estimator cache: "
+          f"{est.shading_cache_hits} hits, {est.shading_cache_misses} misses")
+
+
+if __name__ == "__main__":
+    main()
