@@ -254,6 +254,11 @@ class AeroWrenchEstimator:
         return 0 if self._shading is None else self._shading.misses
 
     @property
+    def shading_cache(self):
+        """The ShadingCache in use (None without shading or when coefficients come from a database)."""
+        return None if self._shading is None or self._database is not None else self._shading.cache
+
+    @property
     def database(self) -> DatabaseCoefficients | None:
         """The database in use when ``coefficients_source`` is database, else None."""
         return self._database
@@ -325,8 +330,8 @@ class AeroWrenchEstimator:
 
         Returns
         -------
-        stamp : float
-            The message time [s].
+        state : OrbitalState
+            The accepted state (velocity in the state frame).
         orientation_xyzw : list of float
             The pose orientation (the attitude when ``attitude_source`` is odometry).
 
@@ -353,9 +358,8 @@ class AeroWrenchEstimator:
             )
         p, v, o = msg.pose.pose.position, msg.twist.twist.linear, msg.pose.pose.orientation
         orientation = [o.x, o.y, o.z, o.w]
-        stamp = stamp_seconds(msg.header.stamp)
-        self.on_state(stamp, [p.x, p.y, p.z], [v.x, v.y, v.z], in_body, orientation)
-        return stamp, orientation
+        state = self.on_state(stamp_seconds(msg.header.stamp), [p.x, p.y, p.z], [v.x, v.y, v.z], in_body, orientation)
+        return state, orientation
 
     def diagnostic_values(self, last_sample: "WrenchSample | None", compute_ms) -> dict:
         """Key/values of the node's DiagnosticStatus (bag analysis writes the same ones).

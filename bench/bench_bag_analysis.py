@@ -2,20 +2,23 @@
 
 Usage:
     python bench/bench_bag_analysis.py [--duration 60] [--rate 100] [--max-edge 0.064]
-        [--shading raycast] [--storage mcap] [--plots]
+        [--shading raycast] [--storage mcap] [--plots] [--workers 1,2]
 
 Simulates a nadir-pointing flight (state at 10 Hz, attitude at --rate) into a bag, then runs
 ``analyze_bag`` on it with the example satellite refined to --max-edge (0.064 m: 9,600 faces)
-and the cached shading, writing the output bag and the CSV (plots only with --plots). Reports
-messages per second for the whole analysis and for the estimator alone (the same
-AeroWrenchEstimator fed directly, no bag), and the analysis time by phase: read (bag reading
-and CDR decoding), estimate (AeroWrenchEstimator), write (output bag), csv.
+and the cached shading, writing the output bag and the CSV (plots only with --plots), once per
+--workers value (default 1 and os.cpu_count(), in the same run: the machine may be shared, so
+compare them with each other; the load average is printed). Reports messages per second for
+the whole analysis and for the estimator alone (the same AeroWrenchEstimator fed directly, no
+bag), and the analysis time by phase: read (bag reading, chunk planning), estimate (computing
+chunks or waiting for the workers: CDR decoding + estimator), write (output bag), csv.
 Target (issue #6): over 2,000 attitude messages per second on ~10k faces.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import tempfile
 import time
@@ -36,7 +39,10 @@ def main(argv=None) -> int:
     p.add_argument("--shading", default="raycast")
     p.add_argument("--storage", default="mcap")
     p.add_argument("--plots", action="store_true")
+    p.add_argument("--workers", default=f"1,{os.cpu_count() or 1}", help="comma-separated worker counts to run")
     args = p.parse_args(argv)
+    worker_counts = [int(w) for w in args.workers.split(",")]
+    load_before = os.getloadavg()
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         mesh = example_satellite(max_edge=args.max_edge)
@@ -47,10 +53,12 @@ def main(argv=None) -> int:
         settings = WrenchSettings.from_parameters({"mesh": str(tmp / "sat.obj"), "shading": args.shading})
         n_att = len(messages.attitudes.stamps_ns)
 
-        report = analyze_bag(tmp / "in", models=[("bench", settings)], out_bag=tmp / "out",
-                             out_csv=tmp / "out.csv", plots_dir=tmp / "plots" if args.plots else None,
-                             storage=args.storage)
-        total = report.seconds["total"]
+        reports = []
+        for run, workers in enumerate(worker_counts):
+            reports.append(analyze_bag(
+                tmp / "in", models=[("bench", settings)], out_bag=tmp / f"out{run}", out_csv=tmp / f"out{run}.csv",
+                plots_dir=tmp / f"plots{run}" if args.plots else None, storage=args.storage, workers=workers))
+        same_csv = len({(tmp / f"out{run}.csv").read_bytes() for run in range(len(worker_counts))}) == 1
 
         est = AeroWrenchEstimator(settings)  # the estimator alone, same inputs, fresh caches
         st, att = messages.states, messages.attitudes
@@ -68,11 +76,15 @@ def main(argv=None) -> int:
           f"storage {args.storage}")
     print(f"input: {n_att} attitude + {len(messages.states.stamps_ns)} state messages "
           f"({args.duration:g} s at {args.rate:g} Hz)")
-    print(f"analyze_bag: {report.models[0].wrenches} wrenches in {total:.2f} s = {n_att / total:,.0f} attitude messages/s "
-          f"(target > 2,000)")
+    print(f"load average (1 min) before {load_before[0]:.2f}, after {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    for report in reports:
+        total = report.seconds["total"]
+        print(f"analyze_bag, {report.workers} worker(s), {report.chunks} chunk(s): {report.models[0].wrenches} wrenches "
+              f"in {total:.2f} s = {n_att / total:,.0f} attitude messages/s (target > 2,000)")
+        parts = ", ".join(f"{k} {v:.2f} s ({100 * v / total:.0f} %)" for k, v in report.seconds.items() if k != "total")
+        print(f"  phases: {parts}; other {total - sum(v for k, v in report.seconds.items() if k != 'total'):.2f} s")
+    print(f"CSV identical for all worker counts: {same_csv}")
     print(f"estimator alone: {n_att / direct:,.0f} attitude messages/s")
-    parts = ", ".join(f"{k} {v:.2f} s ({100 * v / total:.0f} %)" for k, v in report.seconds.items() if k != "total")
-    print(f"phases: {parts}; other {total - sum(v for k, v in report.seconds.items() if k != 'total'):.2f} s")
     return 0
 
 

@@ -10,9 +10,11 @@ import pytest
 from rosbags.rosbag2 import Reader
 
 from adbsat_ros import bag_io, scenario
-from adbsat_ros.aero_wrench import AeroWrenchEstimator, Rejection
-from adbsat_ros.bag_analysis import MODEL_COLUMNS, analyze_bag
-from adbsat_ros.wrench_settings import WrenchSettings
+from adbsat_ros.aero_wrench import AeroWrenchEstimator, Rejection, stamp_seconds
+from adbsat_ros.bag_analysis import MODEL_COLUMNS, analyze_bag, safe_split_points
+from adbsat_ros.mesh import panels_from_arrays
+from adbsat_ros.shapes import grid_box
+from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings
 
 FAST = {"shading": "none"}
 
@@ -225,14 +227,182 @@ def bag_io_rotate_inverse(q, v):
     return Rotation.from_quat(q).apply(v, inverse=True)
 
 
-def test_decode_odometry_frame_rules():
-    msg = bag_io.odometry_message(1_500_000_000, "ecef", "eci", [1, 2, 3], [4, 5, 6])
+def test_odometry_from_a_bag_follows_the_node_frame_rules():
+    """Bag messages (rosbags types) go through the estimator's own Odometry rules, as the node's do."""
+    settings = WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, shading="none"))
+    est = AeroWrenchEstimator(settings, panels_from_arrays(*grid_box((0, 0, 0), (1, 1, 1), (1, 1, 1))))
     with pytest.raises(Rejection, match="state_frame is eci"):
-        bag_io.decode_odometry(msg, "body", "eci")
-    msg = bag_io.odometry_message(1_500_000_000, "eci", "sensor", [1, 2, 3], [4, 5, 6])
+        est.on_odometry(bag_io.odometry_message(1_500_000_000, "ecef", "eci", [1, 2, 3], [4, 5, 6]))
     with pytest.raises(Rejection, match="child_frame_id 'sensor'"):
-        bag_io.decode_odometry(msg, "body", "eci")
-    stamp, p, v, in_body, q = bag_io.decode_odometry(
-        bag_io.odometry_message(1_500_000_000, "eci", "body", [1, 2, 3], [4, 5, 6]), "body", "eci")
-    assert (stamp, p, v, in_body, q) == (1.5, [1, 2, 3], [4, 5, 6], True, [0, 0, 0, 1])
-    assert math.isclose(bag_io.stamp_seconds(bag_io.time_message(1_767_225_600_123_456_789)), 1_767_225_600.123456789)
+        est.on_odometry(bag_io.odometry_message(1_500_000_000, "eci", "sensor", [1, 2, 3], [4, 5, 6]))
+    h = math.sqrt(0.5)  # body turned 90 deg about z: body x is state y
+    state, q = est.on_odometry(bag_io.odometry_message(1_500_000_000, "eci", "body", [1, 2, 3], [4, 5, 6],
+                                                       orientation_xyzw=[0.0, 0.0, h, h]))
+    assert state.stamp == 1.5 and q == [0.0, 0.0, h, h]
+    np.testing.assert_allclose(state.velocity, [-5.0, 4.0, 6.0], atol=1e-12)
+    state, _ = est.on_odometry(bag_io.odometry_message(2_000_000_000, "eci", "eci", [1, 2, 3], [4, 5, 6]))
+    np.testing.assert_allclose(state.velocity, [4.0, 5.0, 6.0])
+    assert math.isclose(stamp_seconds(bag_io.time_message(1_767_225_600_123_456_789)), 1_767_225_600.123456789)
+
+
+# ------------------------------------------------------------------------- parallel analysis
+def test_safe_split_points_closed_forms():
+    S, A = 0, 1
+    # time-ordered: every state but the first
+    assert safe_split_points([S, A, A, S, A, A, S, A], [0, 0, 1, 2, 2, 3, 4, 4], ["attitude_topic"]).tolist() == [3, 6]
+    # the attitude stamped 3 after one stamped 5: no split before it (sequential would reject it, fresh not)
+    kinds, stamps = [S, A, A, S, A, S, A], [0, 1, 5, 2, 3, 6, 7]
+    assert safe_split_points(kinds, stamps, ["attitude_topic"]).tolist() == [5]
+    # a state going back (5 after 10) is no split point; the next one, later than all, is
+    assert safe_split_points([S, A, S, A, S, A], [10, 10, 5, 11, 12, 12], ["attitude_topic"]).tolist() == [4]
+    # attitude from odometry: state stamps are the attitude stamps
+    assert safe_split_points([S, S, S, S], [0, 2, 1, 3], ["odometry"]).tolist() == [1, 3]
+    # (an odometry attitude stamped 1 after ones at 2 and 3: conservatively, no split before it)
+    assert safe_split_points([S, S, S, S], [0, 2, 3, 1], ["odometry"]).tolist() == [1]
+    assert safe_split_points([S, S, S, S], [0, 2, 3, 1], ["attitude_topic"]).tolist() == [1, 2]
+    # every model's rule applies
+    kinds, stamps = [S, A, S, A], [0, 3, 2, 2.5]
+    assert safe_split_points(kinds, stamps, ["odometry"]).tolist() == [2]
+    assert safe_split_points(kinds, stamps, ["attitude_topic"]).tolist() == []
+    assert safe_split_points(kinds, stamps, ["attitude_topic", "odometry"]).tolist() == []
+
+
+def test_cdr_fast_paths_equal_rosbags():
+    for frame in ("", "b", "eci", "body", "sat_body_frame"):
+        for stamp in (0, 1_767_225_600_123_456_789):
+            t = bag_io.time_message(stamp)
+            force, torque = np.array([1.5, -2.0, 3e-300]), [4.0, -0.0, math.nan]
+            raw = bytes(bag_io.serialize(bag_io.wrench_stamped_message(stamp, frame, force, torque)))
+            assert bag_io.wrench_stamped_cdr(t.sec, t.nanosec, frame, force, torque) == raw
+            assert bag_io.header_stamp(raw) == (t.sec, t.nanosec)
+            q = [0.1, -0.2, 0.3, math.sqrt(1 - 0.14)]
+            msg = bag_io.deserialize(bag_io.serialize(bag_io.quaternion_stamped_message(stamp, frame, q)),
+                                     bag_io.QUATERNION_STAMPED)
+            raw = bytes(bag_io.serialize(msg))
+            assert bag_io.quaternion_stamped_fields(raw) == (t.sec, t.nanosec, vec(msg.quaternion) + [msg.quaternion.w])
+    with pytest.raises(ValueError):
+        bag_io.quaternion_stamped_fields(raw[:-8])
+
+
+def messy_flight(path):
+    """40 s at 4 Hz attitude / 1 Hz state with every kind of bad input, and revisited shading cells:
+    attitudes before the first state, a state in an unknown frame, an attitude and a state stamped
+    back in time, a gap in the states, a non-unit quaternion, a NaN position, an unrelated topic."""
+    sc = dict(duration_s=40, rate_hz=4, state_rate_hz=1)
+    nadir = scenario.generate(scenario.Scenario(**sc))
+    tumble = scenario.generate(scenario.Scenario(**sc, attitude="tumble", tumble_rate_deg_s=2.0, seed=5))
+    st, att = nadir.states, nadir.attitudes
+    quats = [tumble.attitudes.quaternion_xyzw[i] if i % 4 >= 2 else att.quaternion_xyzw[i]
+             for i in range(len(att.stamps_ns))]
+    s = 1_000_000_000
+    records = []
+    for i, t in enumerate(st.stamps_ns):
+        t = int(t)
+        rel = (t - int(st.stamps_ns[0])) // s
+        if rel in (0, 30, 31):
+            continue  # no state at first, and a gap
+        stamp, child, position = t, "eci", np.array(st.position_eci[i])
+        if rel == 10:
+            child = "sensor"
+        if rel == 20:
+            stamp = t - 3 * s
+        if rel == 37:
+            position[1] = math.nan
+        records.append(("/state", t, bag_io.odometry_message(stamp, "eci", child, position, st.velocity_eci[i],
+                                                           quats[4 * i])))
+    for i, t in enumerate(att.stamps_ns):
+        t = int(t)
+        rel = (t - int(att.stamps_ns[0])) / s
+        stamp, q = t, np.array(quats[i])
+        if rel == 12:
+            stamp = t - 2 * s  # right after the state at 12 s: sequential resets (time_backwards), fresh not
+        if rel == 35:
+            q = 1.1 * q
+        records.append(("/attitude", t, bag_io.quaternion_stamped_message(stamp, "eci", q)))
+        if i % 40 == 7:
+            records.append(("/other", t, bag_io.quaternion_stamped_message(t, "x", q)))
+    records.sort(key=lambda r: (r[1], r[0] != "/state"))
+    bag_io.write_bag(path, records)
+    return records
+
+
+def sequential(records, settings):
+    """The node's handling, message by message, with one estimator: forces, rejections, cache counts."""
+    est = AeroWrenchEstimator(settings)
+    forces = []
+    for topic, _, msg in records:
+        try:
+            if topic == "/state":
+                state, q = est.on_odometry(msg)
+                stamp = state.stamp
+                if settings.attitude_source != "odometry":
+                    continue
+            elif topic == "/attitude" and settings.attitude_source == "attitude_topic":
+                stamp, q = bag_io.decode_quaternion_stamped(msg)
+            else:
+                continue
+            forces.append(est.on_attitude(stamp, q).force)
+        except Rejection:
+            pass
+    return np.array(forces), dict(est.rejections), est
+
+
+def test_workers_and_chunks_give_identical_outputs(tmp_path):
+    records = messy_flight(tmp_path / "in")
+    models = [("att", WrenchSettings.from_parameters({"shading": "projection", "shading_cache_resolution_deg": 1.0,
+                                                      "shading_cache_size": 3})),
+              ("odo", WrenchSettings.from_parameters(dict(FAST, attitude_source="odometry")))]
+    runs = {}
+    for name, workers, chunk in (("one", 1, None), ("chunks", 1, 1), ("pool", 2, 7)):
+        report = analyze_bag(tmp_path / "in", models=models, out_bag=tmp_path / name, out_csv=tmp_path / f"{name}.csv",
+                             workers=workers, chunk_messages=chunk)
+        runs[name] = report, (tmp_path / f"{name}.csv").read_bytes()
+    one, pool = runs["one"][0], runs["pool"][0]
+    assert one.chunks == 1 and one.workers == 1
+    # chunk_messages=1 splits at every safe state: all 38 but those at 10 s (unknown frame) and 37 s (NaN),
+    # 11 and 12 s (an attitude stamped 10 s follows), 20 s (stamped 17 s) and, for the odometry model,
+    # 19 s (its attitude stamps then go back to 17 s; at 18 s they do not go below the 17 s before)
+    assert runs["chunks"][0].chunks == 1 + 38 - 6
+    assert 3 < pool.chunks and pool.workers == 2
+    for name in ("chunks", "pool"):
+        assert runs[name][1] == runs["one"][1]  # CSV byte for byte
+        assert [(m.triggers, m.wrenches, m.rejections, m.first_rejection) for m in runs[name][0].models] == \
+               [(m.triggers, m.wrenches, m.rejections, m.first_rejection) for m in one.models]
+        assert runs[name][0].warnings == one.warnings
+    # the output bags: every message the same, diagnostics but for the measured compute times
+    contents = {}
+    for name in runs:
+        topics = {}
+        with Reader(tmp_path / name) as reader:
+            for conn, t, raw in reader.messages():
+                if conn.topic == "/diagnostics":
+                    msg = bag_io.deserialize(raw, conn.msgtype)
+                    item = [(s.level, s.name, s.message, s.hardware_id,
+                             [(kv.key, kv.value) for kv in s.values if not kv.key.startswith("compute_ms")])
+                            for s in msg.status]
+                else:
+                    item = bytes(raw)
+                topics.setdefault(conn.topic, []).append((t, item))
+        contents[name] = topics
+    assert contents["chunks"] == contents["one"] and contents["pool"] == contents["one"]
+    # and the sequential node logic gives those wrenches, rejections and cache counts
+    diags = contents["one"]["/diagnostics"]
+    for k, (label, settings) in enumerate(models):
+        forces, rejections, est = sequential(records, settings)
+        assert one.models[k].rejections == rejections
+        bag_f = [bag_io.deserialize(raw, bag_io.WRENCH_STAMPED).wrench.force for _, raw in
+                 contents["one"][f"/adbsat/{label}/wrench"]]
+        np.testing.assert_array_equal([vec(f) for f in bag_f], forces)
+        final = dict([d for _, d in diags if d[0][1].startswith(f"adbsat_node/{label}:")][-1][0][4])
+        assert int(final["published"]) == len(forces)
+        assert (int(final["shading_cache_hits"]), int(final["shading_cache_misses"])) == \
+               (est.shading_cache_hits, est.shading_cache_misses)
+    att_rejections = one.models[0].rejections
+    assert set(att_rejections) == {"no_state", "time_backwards", "stale_state", "bad_state", "non_finite",
+                                   "bad_quaternion"}
+    hits, misses = int(final_att(diags)["shading_cache_hits"]), int(final_att(diags)["shading_cache_misses"])
+    assert hits > 0 and misses > 3  # the cache of 3 entries evicted some cells
+
+
+def final_att(diags):
+    return dict([d for _, d in diags if d[0][1].startswith("adbsat_node/att:")][-1][0][4])

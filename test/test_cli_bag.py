@@ -41,7 +41,7 @@ def test_simulate_then_analyze_two_models(tmp_path, capsys):
     for model in ("sentman", "newton"):
         (tmp_path / f"{model}.yaml").write_text(YAML.format(model=model))
     code, out, err = run(capsys, "bag", "analyze", tmp_path / "sim", "--params", tmp_path / "sentman.yaml",
-                         "--params", tmp_path / "newton.yaml", "--no-plots")
+                         "--params", tmp_path / "newton.yaml", "--no-plots", "--workers", 2)
     assert code == 0, err
     assert "model sentman: 21 wrenches from 21 inputs" in out and "model newton: 21 wrenches" in out
     out_bag = tmp_path / "sim_aero"
@@ -69,6 +69,9 @@ def test_labels_must_match_params(tmp_path, capsys):
     assert code == 2 and "--label" in err
     code, _, err = run(capsys, "bag", "analyze", tmp_path / "sim", "--params", tmp_path / "missing.yaml")
     assert code == 2 and "missing.yaml" in err
+    with pytest.raises(SystemExit) as exit_info:  # argparse rejects it
+        main(["bag", "analyze", str(tmp_path / "sim"), "--workers", "0"])
+    assert exit_info.value.code == 2 and "--workers must be a whole number >= 1, got '0'" in capsys.readouterr().err
 
 
 def test_missing_topic(tmp_path, capsys):

@@ -5,13 +5,14 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
 from .. import bag_analysis
 from ..bag_io import BagError
 from ..wrench_settings import WrenchSettings, load_parameters_file
-from .options import CommandLineError, is_terminal
+from .options import CommandLineError, is_terminal, number
 
 
 def register(subparsers) -> None:
@@ -53,6 +54,9 @@ def register_analyze(sub) -> None:
     a.add_argument("--no-plots", action="store_true", help="write no plots")
     a.add_argument("--storage", choices=("mcap", "sqlite3"), default="mcap", help="output bag storage (default mcap)")
     a.add_argument("--overwrite", action="store_true", help="replace existing outputs")
+    a.add_argument("--workers", type=number("--workers", integer=True, low=1), default=None, metavar="N",
+                   help="processes computing wrenches (default: the number of CPUs, "
+                   f"{os.cpu_count() or 1} here); the outputs are the same for any N")
     a.add_argument("--no-progress", action="store_true", help="no progress bar (shown only on a terminal anyway)")
     a.set_defaults(func=run_analyze)
 
@@ -111,6 +115,7 @@ def run_analyze(args) -> int:
         report = bag_analysis.analyze_bag(
             args.bag, args.attitude_topic, args.state_topic, models, out_bag=out, out_csv=out_csv,
             plots_dir=plots, storage=args.storage, progress=progress, overwrite=args.overwrite,
+            workers=args.workers,
         )
     except BagError as exc:
         print(f"adbsat-ros bag analyze: error: {exc}", file=sys.stderr)
@@ -126,7 +131,8 @@ def run_analyze(args) -> int:
     if report.outputs.get("plots"):
         print(f"wrote plots: {', '.join(str(p) for p in report.outputs['plots'])}")
     seconds = report.seconds.get("total", 0.0)
-    print(f"{report.messages_read} messages read in {seconds:.2f} s")
+    print(f"{report.messages_read} messages read in {seconds:.2f} s "
+          f"({report.workers} worker process{'es' if report.workers > 1 else ''}, {report.chunks} chunk(s))")
     if report.error:
         print(f"adbsat-ros bag analyze: error: {report.error}", file=sys.stderr)
         print(f"adbsat-ros bag analyze: error: the outputs above are PARTIAL: they hold the "
