@@ -11,6 +11,14 @@ tangential part of u, t_i = (u + cos(delta_i) n_i) / sin(delta_i). Then (ADBSat'
 where f_i is the lit fraction from shading (1 without it) and r_i moves to the lit centroid for
 partly lit panels. Forces in newtons are q A_ref C_F and torques q A_ref L_ref C_M with
 q = rho V^2 / 2.
+
+Coplanar panels share everything the models see (the incidence, and the surface when they share a
+material), so :meth:`PanelMethod.coefficients` evaluates the model once per *facet* (panels with
+the same outward normal, to 1e-12, and the same material) and sums exactly:
+sum_i f_i A_i phi_i = W_g phi_g with W_g = sum f_i A_i, and sum_i f_i A_i r_i x phi_g =
+Q_g x phi_g with Q_g = sum f_i A_i r_i (lit centroids included). A CAD satellite of flat faces
+meshed into 10k triangles has a few hundred facets; a sphere has one per panel, and is evaluated
+panel by panel as before. The per-panel outputs (cp, ctau, cos_delta) are the facet values.
 """
 
 from __future__ import annotations
@@ -189,6 +197,93 @@ class AeroCoefficients:
         return out
 
 
+class _Facets:
+    """Coplanar panels of one material grouped into facets (see the module docstring).
+
+    Attributes
+    ----------
+    index : ndarray of int, shape (N,)
+        Facet of every panel.
+    first : ndarray of int, shape (G,)
+        One member panel of every facet (its normal and surface are the facet's).
+    normals : ndarray, shape (G, 3)
+        Outward unit normal of every facet (of its first member; members agree to 1e-12).
+    """
+
+    #: Normals equal to this many decimals (of a unit vector) make panels coplanar-facing.
+    NORMAL_DECIMALS = 12
+    #: Group only when it divides the work by at least this much.
+    MIN_PANELS_PER_FACET = 2.0
+
+    def __init__(self, mesh: PanelMesh, index: np.ndarray, first: np.ndarray, surface):
+        self.mesh = mesh
+        self.index = index
+        self.first = first
+        self.n = len(first)
+        self.normals = np.ascontiguousarray(mesh.normals[first])
+        self._areas = mesh.areas
+        self._weighted_bary = mesh.areas[:, None] * mesh.barycentres
+        self._all_lit = self._sums(mesh.areas, self._weighted_bary)
+        self._surface = surface
+        self._facet_surface = self.surface_of(surface)
+        self._memo = (None, None)
+
+    @classmethod
+    def of(cls, mesh: PanelMesh, surface) -> "_Facets | None":
+        """The facets of ``mesh``, or None if grouping would not save work (e.g. a sphere)."""
+        key = np.column_stack([np.round(mesh.normals, cls.NORMAL_DECIMALS) + 0.0, mesh.material_index])
+        _, first, index = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        if len(first) * cls.MIN_PANELS_PER_FACET > mesh.n_panels:
+            return None
+        return cls(mesh, index.reshape(-1), first, surface)
+
+    def _sums(self, weights, weighted_bary):
+        W = np.bincount(self.index, weights=weights, minlength=self.n)
+        Q = np.stack([np.bincount(self.index, weights=weighted_bary[:, k], minlength=self.n) for k in range(3)],
+                     axis=-1)
+        return W, Q
+
+    def lit_sums(self, lighting):
+        """W_g = sum f_i A_i and Q_g = sum f_i A_i (r_i + shift_i) over every facet g.
+
+        Results for a read-only lighting (what the shading cache hands out) are kept for the next
+        call with the same object.
+        """
+        if lighting is None:
+            return self._all_lit
+        memo_lighting, memo = self._memo
+        if lighting is memo_lighting:
+            return memo
+        w = self._areas * lighting.lit_fraction
+        wr = lighting.lit_fraction[:, None] * self._weighted_bary
+        if lighting.shift_index.size:
+            i = lighting.shift_index
+            wr[i] += w[i, None] * lighting.shift
+        sums = self._sums(w, wr)
+        if not lighting.lit_fraction.flags.writeable:
+            self._memo = (lighting, sums)
+        return sums
+
+    def surface_of(self, surface):
+        """Facet values of a per-panel surface, or None if some parameter varies within a facet."""
+        from .surface import SURFACE_PARAMETERS, PanelSurface
+
+        if surface is getattr(self, "_surface", None) and hasattr(self, "_facet_surface"):
+            return self._facet_surface
+        values = {}
+        for name in SURFACE_PARAMETERS:
+            value = getattr(surface, name)
+            if np.ndim(value) == 0:
+                values[name] = value
+                continue
+            value = np.asarray(value)
+            facet_value = value[self.first]
+            if not np.array_equal(facet_value[self.index], value):
+                return None
+            values[name] = facet_value
+        return PanelSurface(**values)
+
+
 class PanelMethod:
     """A mesh with a gas-surface model and materials, ready to evaluate at any attitude.
 
@@ -207,9 +302,13 @@ class PanelMethod:
         Incident-temperature form and ADBSat compatibility switches.
     reference : Reference, optional
         Reference area, length and moment point (default ADBSat's).
+    group_facets : bool
+        Evaluate the model once per facet of coplanar panels of one material (module docstring;
+        the same result to rounding). False evaluates every panel, e.g. as a reference in tests.
     """
 
-    def __init__(self, mesh: PanelMesh, model="sentman", materials=None, options=None, reference=None):
+    def __init__(self, mesh: PanelMesh, model="sentman", materials=None, options=None, reference=None,
+                 group_facets: bool = True):
         from .surface import SurfaceProperties
 
         self.mesh = mesh
@@ -228,6 +327,7 @@ class PanelMethod:
         self._bary = mesh.barycentres
         self._r_cross_n = np.ascontiguousarray(np.cross(mesh.barycentres, mesh.normals))
         self._moment_point = np.asarray(self.reference.moment_point)
+        self._facets = _Facets.of(mesh, self.surface) if group_facets else None
 
     @property
     def needs_species(self) -> bool:
@@ -265,11 +365,30 @@ class PanelMethod:
         -------
         cos_delta, sin_delta, cp, ctau : ndarray, shape (N,) or (M, N)
         """
-        c = -(np.asarray(u_G, dtype=float) @ self._normals.T)
+        return self._local_coefficients(u_G, self._normals, surface or self.surface, flow)
+
+    def _local_coefficients(self, u_G, normals, surface, flow):
+        c = -(np.asarray(u_G, dtype=float) @ normals.T)
         np.clip(c, -1.0, 1.0, out=c)
         sigma = np.sqrt(1.0 - c * c)
-        cp, ctau = self._model_fn(c, sigma, surface or self.surface, flow, self.options)
+        cp, ctau = self._model_fn(c, sigma, surface, flow, self.options)
         return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
+
+    def _integrate_facets(self, u, c, sigma, cp, ctau, lighting):
+        """:meth:`integrate` for one direction with per-facet c, sigma, cp, ctau (shape (G,))."""
+        W, Q = self._facets.lit_sums(lighting)
+        w_t = np.divide(W * ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
+        g = w_t * c - W * cp
+        normals = self._facets.normals
+        force = w_t.sum() * u + g @ normals
+        # sum_g Q_g x (w_t,g u + g_g n_g) / W_g ... with Q_g already weighted by f_i A_i:
+        # moment = (sum_g (ctau/sigma)_g Q_g) x u + sum_g k_g Q_g x n_g, k = ctau c / sigma - cp
+        ratio = np.divide(ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
+        k = ratio * c - cp
+        moment = _cross(ratio @ Q, u) + k @ _cross(Q, normals)
+        moment = moment - _cross(self._moment_point, force)
+        ref = self.reference
+        return force / ref.area, moment / (ref.area * ref.length), float(W @ np.maximum(c, 0.0))
 
     # ------------------------------------------------------------------------------ integration
     def integrate(self, u_G, c, sigma, cp, ctau, lighting: PanelLighting | None = None):
@@ -350,8 +469,16 @@ class PanelMethod:
             if not (math.isfinite(aoa) and math.isfinite(aos)):
                 raise ValueError(f"aoa and aos must be finite, got {aoa!r}, {aos!r}")
             u = frames.flow_direction(aoa, aos)
-        c, sigma, cp, ctau = self.panel_coefficients(u, flow, surface)
-        Cf_G, Cm_G, area_proj = self.integrate(u, c, sigma, cp, ctau, lighting)
+        facets = self._facets
+        facet_surface = None if facets is None else facets.surface_of(surface or self.surface)
+        if facet_surface is not None:
+            c, sigma, cp, ctau = self._local_coefficients(u, facets.normals, facet_surface, flow)
+            Cf_G, Cm_G, area_proj = self._integrate_facets(u, c, sigma, cp, ctau, lighting)
+            index = facets.index
+            c, cp, ctau = c[index], cp[index], ctau[index]
+        else:
+            c, sigma, cp, ctau = self.panel_coefficients(u, flow, surface)
+            Cf_G, Cm_G, area_proj = self.integrate(u, c, sigma, cp, ctau, lighting)
         Cf_B = frames.L_GB @ Cf_G
         return AeroCoefficients(
             aoa=aoa,

@@ -1,0 +1,123 @@
+"""Evaluating coplanar panels once per facet gives what evaluating every panel gives.
+
+The identity used (panel_method module docstring): panels with one normal and one material share
+c, cp and ctau, so sum_i f_i A_i phi = W phi and sum_i f_i A_i r_i x phi = Q x phi. The reference is
+the same PanelMethod with ``group_facets=False``; agreement is to rounding (1e-12 relative).
+"""
+
+import math
+
+import numpy as np
+import pytest
+import trimesh
+
+from adbsat_ros import frames
+from adbsat_ros.example_satellite import example_satellite
+from adbsat_ros.freestream import FreeStream
+from adbsat_ros.lighting import PanelLighting
+from adbsat_ros.mesh import panels_from_trimesh
+from adbsat_ros.panel_method import PanelMethod, Reference
+from adbsat_ros.shading import make_shader
+from adbsat_ros.surface import MaterialTable, SurfaceProperties
+
+SPECIES = {"He": 5e12, "O": 3e15, "N2": 1.5e15, "O2": 8e13, "Ar": 1e11, "H": 2e11, "N": 2e13}
+FLOW = FreeStream(speed=7700.0, temperature=900.0, number_densities=SPECIES)
+
+
+@pytest.fixture(scope="module")
+def satellite():
+    return example_satellite()
+
+
+@pytest.fixture(scope="module")
+def shader(satellite):
+    return make_shader(satellite, mode="raycast")
+
+
+def pair(mesh, model, **kwargs):
+    materials = MaterialTable(SurfaceProperties(alpha=0.93, alpha_n=0.9, sigma_t=0.95, sigma_n=0.9),
+                              {"solar_array": {"alpha": 0.8, "wall_temperature": 350.0}})
+    ref = Reference(moment_point=(0.1, -0.05, 0.02))
+    return (PanelMethod(mesh, model, materials, reference=ref, **kwargs),
+            PanelMethod(mesh, model, materials, reference=ref, group_facets=False, **kwargs))
+
+
+def assert_same(a, b):
+    scale_f = np.linalg.norm(b.Cf_G)
+    scale_m = max(np.linalg.norm(b.Cm_G), 1e-3 * scale_f)
+    np.testing.assert_allclose(a.Cf_G, b.Cf_G, rtol=0, atol=1e-12 * scale_f)
+    np.testing.assert_allclose(a.Cm_G, b.Cm_G, rtol=0, atol=1e-12 * scale_m)
+    assert a.area_projected == pytest.approx(b.area_projected, rel=1e-12)
+    for name in ("cos_delta", "cp", "ctau"):
+        np.testing.assert_allclose(getattr(a, name), getattr(b, name), rtol=1e-12, atol=1e-15)
+
+
+def test_the_example_satellite_has_few_facets(satellite):
+    grouped, panel_by_panel = pair(satellite, "sentman")
+    assert grouped._facets is not None and panel_by_panel._facets is None
+    assert grouped._facets.n < satellite.n_panels / 20
+    # every facet is coplanar-facing and of one material
+    f = grouped._facets
+    assert np.abs(satellite.normals - f.normals[f.index]).max() < 1e-11
+    assert np.all(satellite.material_index == satellite.material_index[f.first][f.index])
+
+
+@pytest.mark.parametrize("model", ["sentman", "newton", "cook", "schaaf", "storch", "maxwell", "cll", "dria"])
+def test_facets_equal_panels_with_raycast_shading(satellite, shader, model):
+    grouped, panel_by_panel = pair(satellite, model)
+    for aoa, aos in ((0.0, 0.0), (10.0, 5.0), (-20.0, 30.0), (75.0, -40.0), (180.0, 0.0)):
+        u = frames.flow_direction(math.radians(aoa), math.radians(aos))
+        lighting = shader.lighting(u)
+        a = grouped.coefficients(FLOW, math.radians(aoa), math.radians(aos), lighting=lighting)
+        b = panel_by_panel.coefficients(FLOW, math.radians(aoa), math.radians(aos), lighting=lighting)
+        assert_same(a, b)
+    assert lighting.shift_index.size > 0 or model  # some attitudes above have partly lit panels
+
+
+def test_partly_lit_panels_with_shifts_and_a_surface_override(satellite, shader):
+    grouped, panel_by_panel = pair(satellite, "sentman")
+    u = frames.flow_direction(math.radians(-20.0), math.radians(30.0))
+    lighting = shader.lighting(u)
+    assert lighting.shift_index.size > 0 and np.any(lighting.lit_fraction == 0.0)
+    surface = grouped.surface_with(alpha=0.7, alpha_n=0.7)
+    a = grouped.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=surface)
+    b = panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=surface)
+    assert_same(a, b)
+    # a surface that varies inside a facet falls back to panel-by-panel evaluation, still right
+    alpha = np.full(satellite.n_panels, 0.9)
+    alpha[::7] = 0.6
+    values = {name: getattr(grouped.surface, name) for name in ("alpha_n", "sigma_n", "sigma_t",
+              "wall_temperature", "specular_reflectivity", "diffuse_reflectivity")}
+    from adbsat_ros.surface import PanelSurface
+
+    odd = PanelSurface(alpha=alpha, **values)
+    assert grouped._facets.surface_of(odd) is None
+    assert_same(grouped.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=odd),
+                panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=odd))
+
+
+def test_a_changed_writable_lighting_is_not_taken_from_the_memo(satellite, shader):
+    grouped, panel_by_panel = pair(satellite, "sentman")
+    u = frames.flow_direction(math.radians(10.0), math.radians(5.0))
+    lighting = shader.lighting(u)
+    f = np.array(lighting.lit_fraction)
+    mutable = PanelLighting(f, np.array(lighting.shift_index), np.array(lighting.shift))
+    first = grouped.coefficients(FLOW, flow_direction=u, lighting=mutable)
+    f[: satellite.n_panels // 2] = 0.0  # the caller changes its array in place
+    second = grouped.coefficients(FLOW, flow_direction=u, lighting=mutable)
+    assert_same(second, panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=mutable))
+    assert not np.allclose(first.Cf_G, second.Cf_G)
+    # a read-only lighting (the shading cache's) is summed once and reused
+    frozen = PanelLighting(f.copy(), np.array(lighting.shift_index), np.array(lighting.shift))
+    for array in (frozen.lit_fraction, frozen.shift_index, frozen.shift):
+        array.setflags(write=False)
+    grouped.coefficients(FLOW, flow_direction=u, lighting=frozen)
+    assert grouped._facets._memo[0] is frozen
+    assert_same(grouped.coefficients(FLOW, flow_direction=u, lighting=frozen),
+                panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=frozen))
+
+
+def test_a_sphere_is_evaluated_panel_by_panel():
+    sphere = panels_from_trimesh(trimesh.creation.icosphere(subdivisions=3, radius=0.5))
+    grouped, _ = pair(sphere, "sentman")
+    assert grouped._facets is None
