@@ -7,7 +7,9 @@ CORE_MODULES = [
     "adbsat_ros", "adbsat_ros.mesh", "adbsat_ros.gsi_models", "adbsat_ros.panel_method",
     "adbsat_ros.shading", "adbsat_ros.shading_cache", "adbsat_ros.solar", "adbsat_ros.atmosphere",
     "adbsat_ros.flight_conditions", "adbsat_ros.accommodation", "adbsat_ros.aero_wrench",
-    "adbsat_ros.wrench_settings", "adbsat_ros.cli",
+    "adbsat_ros.wrench_settings", "adbsat_ros.cli", "adbsat_ros.database", "adbsat_ros.coefficient_lookup",
+    "adbsat_ros.database_coefficients", "adbsat_ros.plots", "adbsat_ros.scenario", "adbsat_ros.bag_io",
+    "adbsat_ros.bag_analysis", "adbsat_ros.earth_frames", "adbsat_ros.freestream",
 ]
 
 
