@@ -182,33 +182,26 @@ class _WorkerModel:
         self.settings = settings
         self.on_attitude_topic = settings.attitude_source == "attitude_topic"
         self.frame = settings.body_frame_id
-        self.cache_keys = []
-        self._record_cache_keys()
+        self._cache = self.estimator.shading_cache
+        self._queries = self._query_count()
 
-    def _record_cache_keys(self):
-        """Note the cell key of every shading-cache query, so that the merge can count hits and
-        misses as one sequential cache would (a worker's cache only saw its own chunks).
+    def start_chunk(self) -> None:
+        """Reset for a chunk: it starts at a state message a fresh estimator accepts alike."""
+        self.estimator.reset()
+        self._queries = self._query_count()
 
-        The wrapper does not change what the cache answers.
-        """
-        cache = self.estimator.shading_cache
-        if cache is None:
-            return
-        query, keys = cache.lighting, self.cache_keys
-
-        def recording_query(u_G):
-            keys.append(cache.key(u_G))
-            return query(u_G)
-
-        cache.lighting = recording_query
+    def _query_count(self) -> int:
+        return 0 if self._cache is None else self._cache.hits + self._cache.misses
 
     def _keys(self):
-        keys = self.cache_keys
-        if not keys:
+        """The cell key of the shading-cache query made since the last call, if any, so that the
+        merge can count hits and misses as one sequential cache would (a worker's cache only saw
+        its own chunks). An attitude makes at most one query."""
+        count = self._query_count()
+        if count == self._queries:
             return ()
-        out = tuple(keys)
-        keys.clear()
-        return out
+        self._queries = count
+        return (self._cache.last_key,)
 
     def on_state(self, msg):
         """The node's _on_state: one record (see _NO_RESULT)."""
@@ -299,8 +292,7 @@ class _Worker:
         kinds, raws = chunk
         models = self.models
         for m in models:
-            m.estimator.reset()  # a chunk starts at a state message a fresh estimator accepts alike
-            m.cache_keys.clear()
+            m.start_chunk()
         utc_of = models[0].estimator.utc
         records, rows = [], []
         for kind, raw in zip(kinds, raws):

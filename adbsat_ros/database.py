@@ -165,7 +165,7 @@ class AeroDatabase:
     def csv_columns(self) -> list:
         """Column names of :meth:`save_csv`, in order."""
         columns = ["aoa_deg", "aos_deg", "CD", "CL", "CY"]
-        for name in ("Cf_w", "Cf_f", "Cm_B", "Cf_G", "Cm_G"):
+        for name in VECTOR_FIELDS:
             columns += [f"{name}_{axis}" for axis in "xyz"]
         return columns + ["AreaProj", "Aref", "Lref"]
 
@@ -179,7 +179,7 @@ class AeroDatabase:
         a, b = np.meshgrid(self.aoa_deg, self.aos_deg, indexing="ij")
         columns = [a.reshape(-1), b.reshape(-1)]
         columns += [getattr(self, name).reshape(-1) for name in ("CD", "CL", "CY")]
-        for name in ("Cf_w", "Cf_f", "Cm_B", "Cf_G", "Cm_G"):
+        for name in VECTOR_FIELDS:
             vec = getattr(self, name).reshape(-1, 3)
             columns += [vec[:, 0], vec[:, 1], vec[:, 2]]
         columns.append(self.AreaProj.reshape(-1))
@@ -304,7 +304,8 @@ def load_database(path) -> AeroDatabase:
 
 
 # ---------------------------------------------------------------------------------- metadata
-def _surface_dict(props: SurfaceProperties) -> dict:
+def surface_values(props: SurfaceProperties) -> dict:
+    """Every surface parameter of ``props`` as a float, by name (how the metadata records them)."""
     return {name: float(getattr(props, name)) for name in SURFACE_PARAMETERS}
 
 
@@ -313,7 +314,7 @@ def material_override_texts(materials: MaterialTable) -> list:
     with :meth:`MaterialTable.from_texts` and the same default."""
     texts = []
     for name, props in materials.materials.items():
-        items = ",".join(f"{k}={v!r}" for k, v in _surface_dict(props).items())
+        items = ",".join(f"{k}={v!r}" for k, v in surface_values(props).items())
         texts.append(f"{name}:{items}")
     return texts
 
@@ -357,8 +358,8 @@ def describe_setup(method: PanelMethod, flow: FreeStream, *, shading, samples, m
     if materials_texts:
         given = MaterialTable.from_texts(method.materials.default, materials_texts)
         rebuilt = MaterialTable.from_texts(method.materials.default, texts)
-        if {k: _surface_dict(v) for k, v in given.materials.items()} != {
-            k: _surface_dict(v) for k, v in rebuilt.materials.items()
+        if {k: surface_values(v) for k, v in given.materials.items()} != {
+            k: surface_values(v) for k, v in rebuilt.materials.items()
         }:
             raise ValueError("materials_texts do not describe the method's materials")
     mesh = method.mesh
@@ -379,7 +380,7 @@ def describe_setup(method: PanelMethod, flow: FreeStream, *, shading, samples, m
             "incident_temperature": method.options.incident_temperature,
             "adbsat_compat": bool(method.options.adbsat_compat),
         },
-        "materials": {"default": _surface_dict(method.materials.default), "overrides": texts},
+        "materials": {"default": surface_values(method.materials.default), "overrides": texts},
         "flow": _flow_dict(flow),
         "reference": {
             "area": float(ref.area),

@@ -30,16 +30,11 @@ import numpy as np
 
 from . import frames
 from .coefficient_lookup import CoefficientLookup
-from .database import DatabaseError
+from .database import DatabaseError, surface_values
 from .panel_method import PanelMethod
-from .surface import SURFACE_PARAMETERS
 
 #: Relative tolerance on the reference area and length when matching a database.
 REFERENCE_RTOL = 1e-9
-
-
-def _surface_values(props) -> dict:
-    return {name: float(getattr(props, name)) for name in SURFACE_PARAMETERS}
 
 
 def database_mismatches(metadata: dict, method: PanelMethod) -> list:
@@ -84,8 +79,8 @@ def database_mismatches(metadata: dict, method: PanelMethod) -> list:
     else:
         names = sorted(set(method.mesh.material_names))
         for name in names:
-            a = _surface_values(theirs.properties(name))
-            b = _surface_values(method.materials.properties(name))
+            a = surface_values(theirs.properties(name))
+            b = surface_values(method.materials.properties(name))
             diff = [f"{k} database {a[k]:g}, node {b[k]:g}" for k in a if a[k] != b[k]]
             if diff:
                 out.append(f"surface of material {name!r}: " + "; ".join(diff))

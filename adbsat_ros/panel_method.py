@@ -225,7 +225,7 @@ class _Facets:
         self._weighted_bary = mesh.areas[:, None] * mesh.barycentres
         self._all_lit = self._sums(mesh.areas, self._weighted_bary)
         self._surface = surface
-        self._facet_surface = self.surface_of(surface)
+        self._facet_surface = self._facet_values(surface)
         self._memo = (None, None)
 
     @classmethod
@@ -266,10 +266,11 @@ class _Facets:
 
     def surface_of(self, surface):
         """Facet values of a per-panel surface, or None if some parameter varies within a facet."""
+        return self._facet_surface if surface is self._surface else self._facet_values(surface)
+
+    def _facet_values(self, surface):
         from .surface import SURFACE_PARAMETERS, PanelSurface
 
-        if surface is getattr(self, "_surface", None) and hasattr(self, "_facet_surface"):
-            return self._facet_surface
         values = {}
         for name in SURFACE_PARAMETERS:
             value = getattr(surface, name)

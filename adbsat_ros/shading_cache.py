@@ -210,6 +210,11 @@ class ShadingCache:
         u = _unit_flow(u_G)
         return _direction_key(float(u[0]), float(u[1]), float(u[2]), self.n)
 
+    @property
+    def last_key(self) -> int | None:
+        """Cell key of the latest :meth:`lighting` query (None before the first)."""
+        return self._last[0]
+
     def centre(self, key: int) -> np.ndarray:
         """Unit flow direction (G) at the centre of cell ``key``: the direction shaded."""
         return key_centres(int(key), self.n)

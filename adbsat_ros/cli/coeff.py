@@ -15,13 +15,11 @@ from .common import (
     add_model_arguments,
     add_reference_arguments,
     add_shading_arguments,
-    freestream_from_args,
     make_shader_from_args,
-    panel_method_from_args,
+    method_and_flow_from_args,
 )
 from .atmosphere import add_flight_arguments
-from .atmosphere import compute as compute_flight_conditions
-from .options import CommandLineError, parse_angle_list
+from .options import parse_angle_list
 
 
 def register(subparsers) -> None:
@@ -51,28 +49,14 @@ def register(subparsers) -> None:
 def run(args) -> int:
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
     aos_deg = parse_angle_list(args.aos, "--aos")
-    method = panel_method_from_args(args)
-    surface = None
-    if args.time is not None:
-        given = [o for o in ("speed", "temperature", "mean_mass", "species", "density") if getattr(args, o) is not None]
-        if given:
-            raise CommandLineError(
-                f"--{given[0].replace('_', '-')}: give the gas either directly or by --time and a place, not both"
-            )
-        options = {"alpha": args.alpha} if args.accommodation == "fixed" else {}
-        conditions = compute_flight_conditions(args, accommodation_options=options)
-        flow = conditions.free_stream()
-        if args.accommodation != "fixed":
-            surface = method.surface_with(alpha=conditions.alpha, alpha_n=conditions.alpha)
-    else:
-        flow = freestream_from_args(args, method.model)
+    method, flow, _ = method_and_flow_from_args(args)
     shader = make_shader_from_args(args, method.mesh)
     results = []
     for a in aoa_deg:
         for b in aos_deg:
             u = frames.flow_direction(math.radians(a), math.radians(b))
             lighting = shader.lighting(u) if shader is not None else None
-            r = method.coefficients(flow, math.radians(a), math.radians(b), lighting=lighting, surface=surface)
+            r = method.coefficients(flow, math.radians(a), math.radians(b), lighting=lighting)
             d = r.to_dict(flow, per_panel=args.per_panel)
             d["aoa_deg"], d["aos_deg"] = float(a), float(b)  # exact as given
             d["shading"] = args.shading

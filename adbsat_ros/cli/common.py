@@ -9,6 +9,7 @@ from ..gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, SPECIES_MODELS, Mod
 from ..mesh import resolve_mesh
 from ..panel_method import PanelMethod, Reference
 from ..surface import MaterialTable, SurfaceProperties
+from .atmosphere import compute as compute_flight_conditions
 from .options import CommandLineError, fraction, parse_vector3, positive_float
 
 SHADING_MODES = ("none", "projection", "raycast")
@@ -160,3 +161,49 @@ def make_shader_from_args(args, mesh):
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
     return make_shader(mesh, mode=args.shading, samples=args.samples)
+
+
+def method_and_flow_from_args(args):
+    """The panel method and the free stream the options give: ``(method, flow, conditions)``.
+
+    The gas is given either directly (:func:`freestream_from_args`) or by ``--time`` and a place
+    (NRLMSISE-00 through :func:`adbsat_ros.cli.atmosphere.compute`), not both. With an
+    accommodation model, its alpha is set as alpha and alpha_n of the default surface and of every
+    material, so the materials describe the set-up exactly. ``conditions`` is a JSON-ready summary
+    of the flight conditions (None for a gas given directly).
+    """
+    if args.time is None:
+        method = panel_method_from_args(args)
+        return method, freestream_from_args(args, method.model), None
+    given = [o for o in ("speed", "temperature", "mean_mass", "species", "density") if getattr(args, o) is not None]
+    if given:
+        raise CommandLineError(
+            f"--{given[0].replace('_', '-')}: give the gas either directly or by --time and a place, not both"
+        )
+    options = {"alpha": args.alpha} if args.accommodation == "fixed" else {}
+    try:
+        conditions = compute_flight_conditions(args, accommodation_options=options)
+    except ValueError as exc:
+        if isinstance(exc, CommandLineError):
+            raise
+        raise CommandLineError(str(exc)) from None
+    if args.accommodation != "fixed":  # alpha and alpha_n on every panel
+        a = float(conditions.alpha)
+        args.alpha = args.alpha_n = a
+        args.material = [f"{text},alpha={a!r},alpha_n={a!r}" for text in args.material]
+    method = panel_method_from_args(args)
+    summary = {
+        "time": args.time,
+        "accommodation_model": args.accommodation,
+        "alpha": float(conditions.alpha),
+        "altitude_m": float(conditions.altitude),
+        "latitude_deg": float(args.lat) if args.lat is not None else None,
+        "longitude_deg": float(args.lon) if args.lon is not None else None,
+        "position": args.position,
+        "velocity": args.velocity,
+        "frame": args.frame,
+        "f107": args.f107,
+        "f107a": args.f107a,
+        "ap": args.ap,
+    }
+    return method, conditions.free_stream(), summary

@@ -10,36 +10,23 @@ those of ``coeff``.
 
 from __future__ import annotations
 
-import argparse
 import os
 import time
 
 from ..database import build_database
 from .atmosphere import add_flight_arguments
-from .atmosphere import compute as compute_flight_conditions
 from .common import (
     add_flow_arguments,
     add_mesh_arguments,
     add_model_arguments,
     add_reference_arguments,
     add_shading_arguments,
-    freestream_from_args,
-    panel_method_from_args,
+    method_and_flow_from_args,
 )
-from .options import CommandLineError, parse_angle_list
+from .options import CommandLineError, number, parse_angle_list
 
 DEFAULT_AOA = "-180:5:180"
 DEFAULT_AOS = "-90:5:90"
-
-
-def _workers(text):
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"--workers must be an integer >= 1, got {text!r}")
-    return value
 
 
 def register(subparsers) -> None:
@@ -65,7 +52,7 @@ def register(subparsers) -> None:
     g.add_argument("--aos", default=DEFAULT_AOS,
                    help=f"sideslip angles [deg], -90..90 (default {DEFAULT_AOS}; write --aos=-45:5:45 "
                    "when the value starts with '-')")
-    g.add_argument("--workers", type=_workers, default=None,
+    g.add_argument("--workers", type=number("--workers", integer=True, low=1), default=None,
                    help=f"processes to use (default: every core, here {os.cpu_count()})")
     g.add_argument("--out", required=True, metavar="FILE.npz", help="database file to write (.npz)")
     g.add_argument("--csv", metavar="FILE.csv", help="CSV file to write (default: --out with .csv)")
@@ -89,46 +76,6 @@ def _angles(text, option, low, high):
     return values
 
 
-def _flow_and_method(args):
-    """(method, flow, conditions metadata or None), folding an accommodation model's alpha into
-    the materials so the database's metadata describes the set-up exactly."""
-    if args.time is None:
-        method = panel_method_from_args(args)
-        return method, freestream_from_args(args, method.model), None
-    given = [o for o in ("speed", "temperature", "mean_mass", "species", "density") if getattr(args, o) is not None]
-    if given:
-        raise CommandLineError(
-            f"--{given[0].replace('_', '-')}: give the gas either directly or by --time and a place, not both"
-        )
-    options = {"alpha": args.alpha} if args.accommodation == "fixed" else {}
-    try:
-        conditions = compute_flight_conditions(args, accommodation_options=options)
-    except ValueError as exc:
-        if isinstance(exc, CommandLineError):
-            raise
-        raise CommandLineError(str(exc)) from None
-    if args.accommodation != "fixed":  # as `coeff`: alpha and alpha_n on every panel
-        a = float(conditions.alpha)
-        args.alpha = args.alpha_n = a
-        args.material = [f"{text},alpha={a!r},alpha_n={a!r}" for text in args.material]
-    method = panel_method_from_args(args)
-    summary = {
-        "time": args.time,
-        "accommodation_model": args.accommodation,
-        "alpha": float(conditions.alpha),
-        "altitude_m": float(conditions.altitude),
-        "latitude_deg": float(args.lat) if args.lat is not None else None,
-        "longitude_deg": float(args.lon) if args.lon is not None else None,
-        "position": args.position,
-        "velocity": args.velocity,
-        "frame": args.frame,
-        "f107": args.f107,
-        "f107a": args.f107a,
-        "ap": args.ap,
-    }
-    return method, conditions.free_stream(), summary
-
-
 def run(args) -> int:
     aoa = _angles(args.aoa, "--aoa", -360.0, 360.0)
     aos = _angles(args.aos, "--aos", -90.0, 90.0)
@@ -140,7 +87,7 @@ def run(args) -> int:
     _check_output(csv_path, "--csv")
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
-    method, flow, conditions = _flow_and_method(args)
+    method, flow, conditions = method_and_flow_from_args(args)
     workers = args.workers or os.cpu_count() or 1
     start = time.perf_counter()
     db = build_database(
