@@ -70,6 +70,8 @@ class AdbsatNode(Node):
         # the order the subscriptions were made, and the attitude wants the newest state
         self.create_subscription(Odometry, "state", self._on_state, qos)
         self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos)
+        self._wrench_msg = WrenchStamped()
+        self._coefficients_msg = WrenchStamped()
         self._compute_ms = collections.deque(maxlen=2000)
         self._last_state_wall = None
         self._last_sample: WrenchSample | None = None
@@ -148,10 +150,12 @@ class AdbsatNode(Node):
             self.get_logger().error(f"wrench computation failed: {exc!r}", throttle_duration_sec=LOG_THROTTLE_S)
             return
         frame = self.estimator.settings.body_frame_id
-        self.wrench_pub.publish(_wrench_msg(stamp_msg, frame, sample.force, sample.torque))
-        self.coefficients_pub.publish(
-            _wrench_msg(stamp_msg, frame, sample.force_coefficients, sample.moment_coefficients)
-        )
+        # publish() serialises at once, so one message object per topic is refilled every time
+        self.wrench_pub.publish(_fill_wrench(self._wrench_msg, stamp_msg, frame, sample.force, sample.torque))
+        if self.coefficients_pub.get_subscription_count():  # nobody listening: skip the serialisation
+            self.coefficients_pub.publish(_fill_wrench(
+                self._coefficients_msg, stamp_msg, frame, sample.force_coefficients, sample.moment_coefficients
+            ))
         self._compute_ms.append(1e3 * sample.compute_seconds)
         self._last_sample = sample
         for listener in self._sample_listeners:
@@ -195,13 +199,13 @@ class AdbsatNode(Node):
             self.get_logger().error(f"diagnostics failed: {exc!r}", throttle_duration_sec=LOG_THROTTLE_S)
 
 
-def _wrench_msg(stamp, frame_id: str, force, torque) -> WrenchStamped:
-    msg = WrenchStamped()
+def _fill_wrench(msg: WrenchStamped, stamp, frame_id: str, force, torque) -> WrenchStamped:
+    """``msg`` with the stamp, frame and the two 3-vectors (force, torque) set; returns ``msg``."""
     msg.header.stamp = stamp
     msg.header.frame_id = frame_id
     f, t = msg.wrench.force, msg.wrench.torque
-    f.x, f.y, f.z = (float(x) for x in force)
-    t.x, t.y, t.z = (float(x) for x in torque)
+    f.x, f.y, f.z = force.tolist()
+    t.x, t.y, t.z = torque.tolist()
     return msg
 
 

@@ -23,8 +23,9 @@ panel by panel as before. The per-panel outputs (cp, ctau, cos_delta) are the fa
 
 from __future__ import annotations
 
+import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -89,54 +90,111 @@ class Reference:
         )
 
 
-@dataclass(frozen=True, eq=False)
 class AeroCoefficients:
     """Aerodynamic coefficients of one attitude.
 
+    The mesh-frame sums are computed at once; the rest (angles, other axes, per-panel values) on
+    first access, so a caller that needs only ``Cf_G`` and ``Cm_G`` (the ROS node) pays for nothing
+    else.
+
     Attributes
     ----------
-    aoa, aos : float
-        Angle of attack and sideslip [rad] of the flow (frames module).
     flow_direction : ndarray, shape (3,)
         Unit vector of the gas motion relative to the body, mesh frame G.
     Cf_G : ndarray, shape (3,)
         Force coefficient in the mesh frame G.
     Cm_G : ndarray, shape (3,)
         Moment coefficient in G about ``reference.moment_point``.
+    reference : Reference
+        A_ref [m^2], L_ref [m] and moment point [m] used.
+    area_projected : float
+        Lit projected area normal to the flow, sum of f_i A_i cos(delta_i) over front faces [m^2]
+        (ADBSat ``AreaProj``).
+    model : str
+        Gas-surface model name.
+    aoa, aos : float
+        Angle of attack and sideslip [rad] of the flow (frames module).
     Cf_w : ndarray, shape (3,)
         Force coefficient in wind axes (ADBSat ``Cf_w``); drag = -Cf_w[0].
     Cf_f : ndarray, shape (3,)
         Force coefficient in ADBSat's flight axes (``Cf_f``; x aft, z up).
     Cm_B : ndarray, shape (3,)
         Moment coefficient in ADBSat's body axes B (``Cm_B``), about the moment point.
-    reference : Reference
-        A_ref [m^2], L_ref [m] and moment point [m] used.
-    area_projected : float
-        Lit projected area normal to the flow, sum of f_i A_i cos(delta_i) over front faces [m^2]
-        (ADBSat ``AreaProj``).
     cos_delta, cp, ctau : ndarray, shape (N,)
         Per-panel incidence cosine and local pressure and shear coefficients (before shading).
     lit_fraction : ndarray, shape (N,)
         Per-panel lit fraction used (all ones without shading).
-    model : str
-        Gas-surface model name.
     """
 
-    aoa: float
-    aos: float
-    flow_direction: np.ndarray
-    Cf_G: np.ndarray
-    Cm_G: np.ndarray
-    Cf_w: np.ndarray
-    Cf_f: np.ndarray
-    Cm_B: np.ndarray
-    reference: Reference
-    area_projected: float
-    cos_delta: np.ndarray = field(repr=False)
-    cp: np.ndarray = field(repr=False)
-    ctau: np.ndarray = field(repr=False)
-    lit_fraction: np.ndarray = field(repr=False)
-    model: str = ""
+    def __init__(self, flow_direction, Cf_G, Cm_G, reference: Reference, area_projected: float, model: str,
+                 panel_values, panel_index=None, lighting: PanelLighting | None = None, angles=None):
+        self.flow_direction = flow_direction
+        self.Cf_G = Cf_G
+        self.Cm_G = Cm_G
+        self.reference = reference
+        self.area_projected = area_projected
+        self.model = model
+        # (cos_delta, cp, ctau) per panel, or per facet with panel_index mapping panels to facets
+        self._panel_values = panel_values
+        self._panel_index = panel_index
+        self._lighting = lighting
+        self._angles = angles
+
+    def __repr__(self) -> str:
+        return (f"AeroCoefficients(model={self.model!r}, aoa={self.aoa!r}, aos={self.aos!r}, "
+                f"Cf_G={self.Cf_G!r}, Cm_G={self.Cm_G!r}, area_projected={self.area_projected!r})")
+
+    @functools.cached_property
+    def _angles_rad(self) -> tuple:
+        if self._angles is not None:
+            return self._angles
+        return tuple(float(a) for a in frames.angles_of_flow(self.flow_direction))
+
+    @property
+    def aoa(self) -> float:
+        return self._angles_rad[0]
+
+    @property
+    def aos(self) -> float:
+        return self._angles_rad[1]
+
+    @functools.cached_property
+    def _Cf_B(self) -> np.ndarray:
+        return frames.L_GB @ self.Cf_G
+
+    @functools.cached_property
+    def Cf_w(self) -> np.ndarray:
+        return frames.body_to_wind(self.aoa, self.aos) @ self._Cf_B
+
+    @functools.cached_property
+    def Cf_f(self) -> np.ndarray:
+        return frames.L_FB @ self._Cf_B
+
+    @functools.cached_property
+    def Cm_B(self) -> np.ndarray:
+        return frames.L_GB @ self.Cm_G
+
+    def _per_panel(self, k: int) -> np.ndarray:
+        values = self._panel_values[k]
+        return values if self._panel_index is None else values[self._panel_index]
+
+    @functools.cached_property
+    def cos_delta(self) -> np.ndarray:
+        return self._per_panel(0)
+
+    @functools.cached_property
+    def cp(self) -> np.ndarray:
+        return self._per_panel(1)
+
+    @functools.cached_property
+    def ctau(self) -> np.ndarray:
+        return self._per_panel(2)
+
+    @functools.cached_property
+    def lit_fraction(self) -> np.ndarray:
+        if self._lighting is not None:
+            return self._lighting.lit_fraction
+        return np.ones(self.cos_delta.shape)
 
     @property
     def drag(self) -> float:
@@ -224,8 +282,9 @@ class _Facets:
         self._areas = mesh.areas
         self._weighted_bary = mesh.areas[:, None] * mesh.barycentres
         self._all_lit = self._sums(mesh.areas, self._weighted_bary)
-        self._surface = surface
+        self._surface = None
         self._facet_surface = self._facet_values(surface)
+        self._surface = surface
         self._memo = (None, None)
 
     @classmethod
@@ -238,13 +297,14 @@ class _Facets:
         return cls(mesh, index.reshape(-1), first, surface)
 
     def _sums(self, weights, weighted_bary):
+        """(W, Q, Q x n) of every facet for panel weights f_i A_i and f_i A_i (r_i + shift_i)."""
         W = np.bincount(self.index, weights=weights, minlength=self.n)
         Q = np.stack([np.bincount(self.index, weights=weighted_bary[:, k], minlength=self.n) for k in range(3)],
                      axis=-1)
-        return W, Q
+        return W, Q, _cross(Q, self.normals)
 
     def lit_sums(self, lighting):
-        """W_g = sum f_i A_i and Q_g = sum f_i A_i (r_i + shift_i) over every facet g.
+        """W_g = sum f_i A_i, Q_g = sum f_i A_i (r_i + shift_i) and Q_g x n_g over every facet g.
 
         Results for a read-only lighting (what the shading cache hands out) are kept for the next
         call with the same object.
@@ -276,6 +336,10 @@ class _Facets:
             value = getattr(surface, name)
             if np.ndim(value) == 0:
                 values[name] = value
+                continue
+            if self._surface is not None and value is getattr(self._surface, name):
+                # the materials' own array (e.g. a surface_with() that changed only alpha)
+                values[name] = getattr(self._facet_surface, name)
                 continue
             value = np.asarray(value)
             facet_value = value[self.first]
@@ -377,17 +441,14 @@ class PanelMethod:
 
     def _integrate_facets(self, u, c, sigma, cp, ctau, lighting):
         """:meth:`integrate` for one direction with per-facet c, sigma, cp, ctau (shape (G,))."""
-        W, Q = self._facets.lit_sums(lighting)
-        w_t = np.divide(W * ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
-        g = w_t * c - W * cp
-        normals = self._facets.normals
-        force = w_t.sum() * u + g @ normals
-        # sum_g Q_g x (w_t,g u + g_g n_g) / W_g ... with Q_g already weighted by f_i A_i:
-        # moment = (sum_g (ctau/sigma)_g Q_g) x u + sum_g k_g Q_g x n_g, k = ctau c / sigma - cp
+        W, Q, Q_cross_n = self._facets.lit_sums(lighting)
+        # shear along t = (u + c n) / sigma: with r = ctau / sigma (0 for sigma = 0) the facet force
+        # is W (r u + k n), k = r c - cp, and its moment (Q x u) r + (Q x n) k
         ratio = np.divide(ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
         k = ratio * c - cp
-        moment = _cross(ratio @ Q, u) + k @ _cross(Q, normals)
-        moment = moment - _cross(self._moment_point, force)
+        Wk = W * k
+        force = (W @ ratio) * u + Wk @ self._facets.normals
+        moment = _cross(ratio @ Q, u) + k @ Q_cross_n - _cross(self._moment_point, force)
         ref = self.reference
         return force / ref.area, moment / (ref.area * ref.length), float(W @ np.maximum(c, 0.0))
 
@@ -459,42 +520,40 @@ class PanelMethod:
             if aoa is not None or aos is not None:
                 raise ValueError("give either aoa/aos or flow_direction, not both")
             u = np.asarray(flow_direction, dtype=float)
-            norm = np.linalg.norm(u)
-            if u.shape != (3,) or not np.isfinite(norm) or norm == 0.0:
+            if u.shape != (3,):
+                raise ValueError(f"flow_direction must be a finite non-zero 3-vector, got {flow_direction!r}")
+            x, y, z = u.tolist()
+            norm = math.sqrt(x * x + y * y + z * z)
+            if not (math.isfinite(norm) and norm > 0.0):
                 raise ValueError(f"flow_direction must be a finite non-zero 3-vector, got {flow_direction!r}")
             u = u / norm
-            aoa, aos = (float(a) for a in frames.angles_of_flow(u))
+            angles = None  # from u, when asked for
         else:
             aoa = 0.0 if aoa is None else float(aoa)
             aos = 0.0 if aos is None else float(aos)
             if not (math.isfinite(aoa) and math.isfinite(aos)):
                 raise ValueError(f"aoa and aos must be finite, got {aoa!r}, {aos!r}")
             u = frames.flow_direction(aoa, aos)
+            angles = (aoa, aos)
         facets = self._facets
         facet_surface = None if facets is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:
             c, sigma, cp, ctau = self._local_coefficients(u, facets.normals, facet_surface, flow)
             Cf_G, Cm_G, area_proj = self._integrate_facets(u, c, sigma, cp, ctau, lighting)
             index = facets.index
-            c, cp, ctau = c[index], cp[index], ctau[index]
         else:
             c, sigma, cp, ctau = self.panel_coefficients(u, flow, surface)
             Cf_G, Cm_G, area_proj = self.integrate(u, c, sigma, cp, ctau, lighting)
-        Cf_B = frames.L_GB @ Cf_G
+            index = None
         return AeroCoefficients(
-            aoa=aoa,
-            aos=aos,
             flow_direction=u,
             Cf_G=Cf_G,
             Cm_G=Cm_G,
-            Cf_w=frames.body_to_wind(aoa, aos) @ Cf_B,
-            Cf_f=frames.L_FB @ Cf_B,
-            Cm_B=frames.L_GB @ Cm_G,
             reference=self.reference,
             area_projected=float(area_proj),
-            cos_delta=c,
-            cp=cp,
-            ctau=ctau,
-            lit_fraction=lighting.lit_fraction if lighting is not None else np.ones_like(c),
             model=self.model,
+            panel_values=(c, cp, ctau),
+            panel_index=index,
+            lighting=lighting,
+            angles=angles,
         )

@@ -121,6 +121,24 @@ def rss_mb(pid: int) -> float:
     return float("nan")
 
 
+def cpu_seconds(pid: int) -> float:
+    """User + system CPU time [s] of a process so far (/proc/PID/stat fields 14 and 15)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def wait_until_idle(pid: int, timeout: float = 60.0) -> None:
+    """Return when the process has used under 10 ms of CPU in 0.3 s (start-up done)."""
+    deadline = time.monotonic() + timeout
+    last = cpu_seconds(pid)
+    while time.monotonic() < deadline:
+        time.sleep(0.3)
+        now = cpu_seconds(pid)
+        if now - last < 0.01:
+            return
+        last = now
+
+
 def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_memory=False) -> dict:
     env = dict(os.environ)
     env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
@@ -135,19 +153,23 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
         if args.database:
             node_cmd += ["-p", f"database_path:={args.database}"]
     tmp = Path(tempfile.mkdtemp())
-    node = subprocess.Popen(node_cmd, env=env, stderr=subprocess.PIPE, text=True)
-    time.sleep(2.0)
+    node_log = open(tmp / "node.log", "w")  # a file, not a pipe nobody reads (a full pipe would block the node)
+    node = subprocess.Popen(node_cmd, env=env, stdout=node_log, stderr=subprocess.STDOUT)
+    time.sleep(0.5)
+    wait_until_idle(node.pid)
     recv = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--duration", str(duration + 8),
                              "--out", str(tmp / "recv.json")], env=env)
     pub = subprocess.Popen([sys.executable, __file__, "--role", "publisher", "--rate", str(rate),
                             "--duration", str(duration), "--out", str(tmp / "sent.json"),
                             "--tumble", str(args.tumble)]
                            + (["--need-state"] if kind != "echo" else []), env=env)
+    cpu_start = cpu_seconds(node.pid)  # the node is idle here: set up, waiting for messages
     mem_start = None
     if measure_memory:
         time.sleep(8.0)  # discovery + warm-up
         mem_start = rss_mb(node.pid)
     pub.wait()
+    cpu_end = cpu_seconds(node.pid)
     recv.wait()
     mem_end = rss_mb(node.pid) if measure_memory else None
     node.terminate()
@@ -155,6 +177,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
         node.wait(timeout=10)
     except subprocess.TimeoutExpired:
         node.kill()
+    node_log.close()
     sent = json.loads((tmp / "sent.json").read_text())
     received = json.loads((tmp / "recv.json").read_text())
     got, diagnostics = received["wrench"], received["diagnostics"]
@@ -166,6 +189,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
         "p50_ms": float(np.percentile(warm, 50)) if warm.size else float("nan"),
         "p99_ms": float(np.percentile(warm, 99)) if warm.size else float("nan"),
         "max_ms": float(warm.max()) if warm.size else float("nan"),
+        "cpu_ms_per_message": 1e3 * (cpu_end - cpu_start) / max(len(lat), 1),
         "rss_start_mb": mem_start, "rss_end_mb": mem_end,
         "compute_p50_ms": float(diagnostics.get("compute_ms_p50", "nan")),
         "compute_p99_ms": float(diagnostics.get("compute_ms_p99", "nan")),
@@ -222,12 +246,12 @@ def main() -> None:
     print(f"mesh: example satellite, {mesh.n_panels} faces; shading {args.shading}; "
           f"coefficients {args.coefficients_source}; attitude tumbling at {args.tumble:g} deg/s")
     print(f"{'node':>8} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
-          f" {'compute p50':>12} {'compute p99':>12}")
+          f" {'compute p50':>12} {'compute p99':>12} {'CPU/msg ms':>11}")
     for rate in (float(r) for r in args.rates.split(",")):
         for kind in ("echo", "adbsat"):
             r = run_case(kind, rate, args.duration, str(mesh_path), args)
             print(f"{kind:>8} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
-                  f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f}")
+                  f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f} {r['cpu_ms_per_message']:11.3f}")
     if args.soak > 0:
         r = run_case("adbsat", 1000.0, args.soak, str(mesh_path), args, measure_memory=True)
         print(f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "
