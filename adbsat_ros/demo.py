@@ -218,7 +218,7 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
 
         client.create_subscription(WrenchStamped, "wrench", on_message(0), qos)
         client.create_subscription(WrenchStamped, "coefficients", on_message(1), qos)
-        executor = make_executor(context)
+        executor = make_executor(node.estimator.settings.executor, context=context)
         executor.add_node(node)
         executor.add_node(client)
 

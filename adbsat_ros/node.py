@@ -21,6 +21,7 @@ Parameters: see :data:`adbsat_ros.wrench_settings.PARAMETERS` and ``config/adbsa
 from __future__ import annotations
 
 import collections
+import io
 import os
 import sys
 import time
@@ -209,13 +210,36 @@ def _fill_wrench(msg: WrenchStamped, stamp, frame_id: str, force, torque) -> Wre
     return msg
 
 
-def make_executor(context=None):
-    """The executor the node spins in: a SingleThreadedExecutor.
+def make_executor(kind: str = "events", context=None):
+    """An rclpy executor: ``"events"`` or ``"single_threaded"``.
 
-    Not the EventsExecutor: in the Jazzy 7.1.x wheels its ``spin()`` busy-waits (one core at
-    100 % with nothing to do, measured) and does not return on SIGINT/SIGTERM.
+    ``events`` is rclpy.experimental.EventsExecutor (C++ event queue: callbacks in arrival order,
+    about half the per-message overhead of the SingleThreadedExecutor, which rebuilds a wait set
+    in Python for every wait; see docs/benchmarks.md). An rclpy without it gets the
+    SingleThreadedExecutor, and so does a process whose sys.stderr is not a file. Spin either with :func:`spin_until_shutdown`: the EventsExecutor's own
+    ``spin()`` in the Jazzy 7.1 wheels busy-waits and does not return on SIGINT/SIGTERM, its
+    ``spin_once(timeout)`` sleeps and returns.
     """
-    return SingleThreadedExecutor(context=context)
+    if kind == "events":
+        try:
+            from rclpy.experimental import EventsExecutor
+        except ImportError:
+            return SingleThreadedExecutor(context=context)
+        try:
+            return EventsExecutor(context=context)
+        except (io.UnsupportedOperation, AttributeError, ValueError):
+            # it enables faulthandler on sys.stderr, which needs a real file (not so in a notebook
+            # or under pytest's capsys)
+            return SingleThreadedExecutor(context=context)
+    if kind == "single_threaded":
+        return SingleThreadedExecutor(context=context)
+    raise ValueError(f"executor must be events or single_threaded, got {kind!r}")
+
+
+def spin_until_shutdown(executor, context=None) -> None:
+    """Spin ``executor`` until its context shuts down (SIGINT/SIGTERM, or rclpy.shutdown)."""
+    while rclpy.ok(context=context):
+        executor.spin_once(timeout_sec=0.5)
 
 
 def main(args=None) -> int:
@@ -232,10 +256,10 @@ def main(args=None) -> int:
         except Exception as exc:  # e.g. a parameter of the wrong type in the params file
             print(f"{NODE_NAME}: error: {type(exc).__name__}: {exc}", file=sys.stderr)
             return 1
-        executor = make_executor()
+        executor = make_executor(node.estimator.settings.executor)
         executor.add_node(node)
         try:
-            executor.spin()
+            spin_until_shutdown(executor)
         except (KeyboardInterrupt, ExternalShutdownException):
             pass
         return 0

@@ -19,6 +19,7 @@ TIME_MODES = ("unix", "epoch")
 STATE_FRAMES = ("eci", "ecef")
 ATTITUDE_SOURCES = ("attitude_topic", "odometry")
 COEFFICIENT_SOURCES = ("panel", "database")
+EXECUTORS = ("events", "single_threaded")
 
 #: (name, default, description) of every setting. Units in the description; SI throughout.
 PARAMETERS = (
@@ -56,6 +57,8 @@ PARAMETERS = (
     ("min_relative_speed", 1e-3, "below this relative speed [m/s] the wrench is zero"),
     ("qos_depth", 10, "history depth of subscriptions and publications"),
     ("diagnostics_period", 1.0, "period of /diagnostics messages [s]"),
+    ("executor", "events", "rclpy executor of adbsat_node: events (rclpy.experimental.EventsExecutor, about half "
+     "the per-message overhead; single_threaded when this rclpy lacks it) or single_threaded"),
     ("coefficients_source", "panel", "panel (live panel method) or database (interpolated from database_path)"),
     ("database_path", "", "database (.npz) made by 'adbsat-ros database' for coefficients_source database; it must "
      "be made for the same mesh, gsi_model, surface properties and reference area/length, else it is refused"),
@@ -64,7 +67,7 @@ PARAMETERS = (
 PARAMETER_DEFAULTS = {name: default for name, default, _ in PARAMETERS}
 PARAMETER_DESCRIPTIONS = {name: text for name, _, text in PARAMETERS}
 #: Settings that need the mesh or its shading structures rebuilt; the node keeps them read-only.
-READ_ONLY_PARAMETERS = ("mesh", "mesh_scale", "qos_depth", "body_frame_id")
+READ_ONLY_PARAMETERS = ("mesh", "mesh_scale", "qos_depth", "body_frame_id", "executor")
 
 
 def _choice(name, value, allowed):
@@ -147,6 +150,7 @@ class WrenchSettings:
     min_relative_speed: float
     qos_depth: int
     diagnostics_period: float
+    executor: str
     coefficients_source: str
     database_path: str
 
@@ -214,6 +218,7 @@ class WrenchSettings:
             min_relative_speed=_number("min_relative_speed", v["min_relative_speed"], 0.0),
             qos_depth=int(_number("qos_depth", v["qos_depth"], 1, 10000)),
             diagnostics_period=_number("diagnostics_period", v["diagnostics_period"], 0.0, low_open=True),
+            executor=_choice("executor", v["executor"], EXECUTORS),
             coefficients_source=_choice("coefficients_source", v["coefficients_source"], COEFFICIENT_SOURCES),
             database_path=str(v["database_path"]),
         )

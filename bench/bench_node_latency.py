@@ -43,9 +43,10 @@ def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_d
     att = node.create_publisher(QuaternionStamped, "attitude", qos)
     st = node.create_publisher(Odometry, "state", qos)
     deadline = time.monotonic() + 30
-    while (att.get_subscription_count() == 0 or (need_state and st.get_subscription_count() == 0)) and time.monotonic() < deadline:
+    while (att.get_subscription_count() == 0 or (need_state and st.get_subscription_count() == 0)
+           or node.count_subscribers("wrench") == 0) and time.monotonic() < deadline:
         rclpy.spin_once(node, timeout_sec=0.05)
-    time.sleep(1.0)  # let the receiver match too
+    time.sleep(1.0)  # the receiver is in the graph: let its subscription match the node's publisher
     sent = {}
     n = int(rate * duration)
     period = 1.0 / rate
@@ -104,7 +105,7 @@ def receiver(duration: float, out: str) -> None:
     from diagnostic_msgs.msg import DiagnosticArray
 
     node.create_subscription(DiagnosticArray, "/diagnostics", on_diagnostics, 10)
-    executor = make_executor()
+    executor = make_executor("events")
     executor.add_node(node)
     end = time.monotonic() + duration
     while time.monotonic() < end:
@@ -144,12 +145,13 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     env["ROS_DOMAIN_ID"] = env.get("BENCH_DOMAIN_ID", str(60 + os.getpid() % 30))
     env["ECHO_QOS_DEPTH"] = "100"
+    env["ECHO_EXECUTOR"] = args.executor
     if kind == "echo":
         node_cmd = [sys.executable, str(HERE / "echo_node.py")]
     else:
         node_cmd = [sys.executable, "-m", "adbsat_ros.node", "--ros-args", "-p", f"mesh:={mesh}",
                     "-p", "time_mode:=epoch", "-p", f"shading:={args.shading}", "-p", "qos_depth:=100",
-                    "-p", f"coefficients_source:={args.coefficients_source}"]
+                    "-p", f"coefficients_source:={args.coefficients_source}", "-p", f"executor:={args.executor}"]
         if args.database:
             node_cmd += ["-p", f"database_path:={args.database}"]
     tmp = Path(tempfile.mkdtemp())
@@ -228,6 +230,8 @@ def main() -> None:
     parser.add_argument("--database", default="")
     parser.add_argument("--tumble", type=float, default=1.0,
                         help="attitude rotation rate [deg/s] about z; 0 = fixed attitude (cache hits only)")
+    parser.add_argument("--executor", default="events", choices=["events", "single_threaded"],
+                        help="rclpy executor of the node under test and of the echo node")
     parser.add_argument("--out", default="")
     parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()

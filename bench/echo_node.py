@@ -8,7 +8,7 @@ import rclpy
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from rclpy.qos import QoSProfile
 
-from adbsat_ros.node import make_executor
+from adbsat_ros.node import make_executor, spin_until_shutdown
 
 
 def main():
@@ -25,10 +25,10 @@ def main():
         pub.publish(out)
 
     node.create_subscription(QuaternionStamped, "attitude", echo, qos)
-    executor = make_executor()
+    executor = make_executor(os.environ.get("ECHO_EXECUTOR", "events"))
     executor.add_node(node)
     try:
-        executor.spin()
+        spin_until_shutdown(executor)
     except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
         pass
     finally:

@@ -8,7 +8,6 @@ import time
 import rclpy
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
 
@@ -96,7 +95,10 @@ def stamp_to_float(stamp) -> float:
     return stamp.sec + 1e-9 * stamp.nanosec
 
 
-def make_context():
+def make_context(executor: str = "single_threaded"):
+    """A fresh rclpy context and an executor of the kind adbsat_node can use (events or single_threaded)."""
+    from adbsat_ros.node import make_executor
+
     ctx = rclpy.context.Context()
     rclpy.init(context=ctx)
-    return ctx, SingleThreadedExecutor(context=ctx)
+    return ctx, make_executor(executor, context=ctx)

@@ -23,6 +23,7 @@ from scipy.special import erf
 from adbsat_ros.atmosphere import SpaceWeather
 from adbsat_ros.flight_conditions import flight_conditions
 from adbsat_ros.node import AdbsatNode
+from adbsat_ros.wrench_settings import EXECUTORS
 
 from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float
 
@@ -38,10 +39,11 @@ def sphere_file(tmp_path_factory):
     return str(path)
 
 
-@pytest.fixture
-def ros(sphere_file):
-    """A context, an executor, the node (sphere, epoch time, no shading) and a peer."""
-    ctx, executor = make_context()
+@pytest.fixture(params=EXECUTORS)
+def ros(sphere_file, request):
+    """A context, an executor of each kind the node offers, the node (sphere, epoch time, no shading)
+    and a peer."""
+    ctx, executor = make_context(request.param)
     overrides = [
         Parameter("mesh", value=sphere_file),
         Parameter("shading", value="none"),
