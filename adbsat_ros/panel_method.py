@@ -266,6 +266,8 @@ class _Facets:
         One member panel of every facet (its normal and surface are the facet's).
     normals : ndarray, shape (G, 3)
         Outward unit normal of every facet (of its first member; members agree to 1e-12).
+    inward_normals_T : ndarray, shape (3, G)
+        ``-normals.T``, so that ``u @ inward_normals_T`` is every facet's cos(delta).
     """
 
     #: Normals equal to this many decimals (of a unit vector) make panels coplanar-facing.
@@ -279,6 +281,7 @@ class _Facets:
         self.first = first
         self.n = len(first)
         self.normals = np.ascontiguousarray(mesh.normals[first])
+        self.inward_normals_T = np.ascontiguousarray(-self.normals.T)
         self._areas = mesh.areas
         self._weighted_bary = mesh.areas[:, None] * mesh.barycentres
         self._all_lit = self._sums(mesh.areas, self._weighted_bary)
@@ -297,14 +300,17 @@ class _Facets:
         return cls(mesh, index.reshape(-1), first, surface)
 
     def _sums(self, weights, weighted_bary):
-        """(W, Q, Q x n) of every facet for panel weights f_i A_i and f_i A_i (r_i + shift_i)."""
+        """Facet sums for panel weights w_i = f_i A_i and w_i (r_i + shift_i), as one (G, 10) matrix
+        of columns W_g, W_g n_g, Q_g and Q_g x n_g (W = sum w_i, Q = sum w_i (r_i + shift_i))."""
         W = np.bincount(self.index, weights=weights, minlength=self.n)
         Q = np.stack([np.bincount(self.index, weights=weighted_bary[:, k], minlength=self.n) for k in range(3)],
                      axis=-1)
-        return W, Q, _cross(Q, self.normals)
+        sums = np.column_stack([W, W[:, None] * self.normals, Q, _cross(Q, self.normals)])
+        sums.setflags(write=False)
+        return sums
 
     def lit_sums(self, lighting):
-        """W_g = sum f_i A_i, Q_g = sum f_i A_i (r_i + shift_i) and Q_g x n_g over every facet g.
+        """The (G, 10) facet sums of :meth:`_sums` for a lighting (None: everything lit).
 
         Results for a read-only lighting (what the shading cache hands out) are kept for the next
         call with the same object.
@@ -388,6 +394,7 @@ class PanelMethod:
         self.reference = (reference or Reference()).resolved(mesh)
         self.surface = materials.expand(mesh.material_names, mesh.material_index)
         self._normals = mesh.normals
+        self._inward_normals_T = np.ascontiguousarray(-mesh.normals.T)
         self._areas = mesh.areas
         self._bary = mesh.barycentres
         self._r_cross_n = np.ascontiguousarray(np.cross(mesh.barycentres, mesh.normals))
@@ -430,27 +437,44 @@ class PanelMethod:
         -------
         cos_delta, sin_delta, cp, ctau : ndarray, shape (N,) or (M, N)
         """
-        return self._local_coefficients(u_G, self._normals, surface or self.surface, flow)
+        return self._local_coefficients(u_G, self._inward_normals_T, surface or self.surface, flow)
 
-    def _local_coefficients(self, u_G, normals, surface, flow):
-        c = -(np.asarray(u_G, dtype=float) @ normals.T)
-        np.clip(c, -1.0, 1.0, out=c)
+    def _local_coefficients(self, u_G, inward_normals_T, surface, flow):
+        """c = cos(delta) = -u . n, sigma = sin(delta) and the model's cp, ctau for normals given as
+        the (3, N) array -n^T."""
+        c = np.asarray(u_G, dtype=float) @ inward_normals_T
+        np.minimum(c, 1.0, out=c)  # |c| <= 1 despite rounding
+        np.maximum(c, -1.0, out=c)
         sigma = np.sqrt(1.0 - c * c)
         cp, ctau = self._model_fn(c, sigma, surface, flow, self.options)
         return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
 
     def _integrate_facets(self, u, c, sigma, cp, ctau, lighting):
-        """:meth:`integrate` for one direction with per-facet c, sigma, cp, ctau (shape (G,))."""
-        W, Q, Q_cross_n = self._facets.lit_sums(lighting)
-        # shear along t = (u + c n) / sigma: with r = ctau / sigma (0 for sigma = 0) the facet force
-        # is W (r u + k n), k = r c - cp, and its moment (Q x u) r + (Q x n) k
-        ratio = np.divide(ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
-        k = ratio * c - cp
-        Wk = W * k
-        force = (W @ ratio) * u + Wk @ self._facets.normals
-        moment = _cross(ratio @ Q, u) + k @ Q_cross_n - _cross(self._moment_point, force)
-        ref = self.reference
-        return force / ref.area, moment / (ref.area * ref.length), float(W @ np.maximum(c, 0.0))
+        """:meth:`integrate` for one direction with per-facet c, sigma, cp, ctau (shape (G,)).
+
+        With r = ctau / sigma (0 where sigma = 0) and k = r c - cp, facet g carries the force
+        W_g (r_g u + k_g n_g) and the moment r_g (Q_g x u) + k_g (Q_g x n_g); so one product of the
+        rows (r, k, max(c, 0)) with the facet sums (W, W n, Q, Q x n) gives every sum needed.
+        """
+        sums = self._facets.lit_sums(lighting)
+        rows = np.zeros((3, c.size))
+        np.divide(ctau, sigma, out=rows[0], where=sigma > 0.0)
+        np.multiply(rows[0], c, out=rows[1])
+        rows[1] -= cp
+        np.maximum(c, 0.0, out=rows[2])
+        (r_w, _, _, _, r_qx, r_qy, r_qz, _, _, _), (_, k_nx, k_ny, k_nz, _, _, _, k_mx, k_my, k_mz), \
+            (area_projected, *_) = (rows @ sums).tolist()
+        ux, uy, uz = u.tolist()
+        fx, fy, fz = r_w * ux + k_nx, r_w * uy + k_ny, r_w * uz + k_nz
+        px, py, pz = self.reference.moment_point
+        # moment = (sum r Q) x u + sum k (Q x n) - r_ref x force
+        mx = r_qy * uz - r_qz * uy + k_mx - (py * fz - pz * fy)
+        my = r_qz * ux - r_qx * uz + k_my - (pz * fx - px * fz)
+        mz = r_qx * uy - r_qy * ux + k_mz - (px * fy - py * fx)
+        area = self.reference.area
+        area_length = area * self.reference.length
+        return (np.array([fx / area, fy / area, fz / area]),
+                np.array([mx / area_length, my / area_length, mz / area_length]), area_projected)
 
     # ------------------------------------------------------------------------------ integration
     def integrate(self, u_G, c, sigma, cp, ctau, lighting: PanelLighting | None = None):
@@ -538,7 +562,7 @@ class PanelMethod:
         facets = self._facets
         facet_surface = None if facets is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:
-            c, sigma, cp, ctau = self._local_coefficients(u, facets.normals, facet_surface, flow)
+            c, sigma, cp, ctau = self._local_coefficients(u, facets.inward_normals_T, facet_surface, flow)
             Cf_G, Cm_G, area_proj = self._integrate_facets(u, c, sigma, cp, ctau, lighting)
             index = facets.index
         else:

@@ -105,15 +105,22 @@ def direction_keys(u, n: int) -> np.ndarray:
 
 
 def _direction_key(x: float, y: float, z: float, n: int) -> int:
-    """:func:`direction_keys` of one direction in plain floats (no numpy overhead per query)."""
-    u = (x, y, z)
-    k = max(range(3), key=lambda axis: abs(u[axis]))  # first axis of largest |u_k|, as np.argmax
-    uk = u[k]
-    ak = abs(uk)
+    """:func:`direction_keys` of one direction in plain floats (no numpy overhead per query).
+
+    The key depends on the direction only (ratios of components), so (x, y, z) need not be unit.
+    """
+    ax, ay, az = abs(x), abs(y), abs(z)
+    # first axis of largest |u_k|, as np.argmax; then the two others in cyclic order
+    if ax >= ay and ax >= az:
+        face, ak, a1, a2 = (x < 0.0), ax, y, z
+    elif ay >= az:
+        face, ak, a1, a2 = 2 + (y < 0.0), ay, z, x
+    else:
+        face, ak, a1, a2 = 4 + (z < 0.0), az, x, y
     h = 0.5 * math.pi / n
-    i = min(max(math.floor((math.atan2(u[(k + 1) % 3], ak) + _QUARTER) / h), 0), n - 1)
-    j = min(max(math.floor((math.atan2(u[(k + 2) % 3], ak) + _QUARTER) / h), 0), n - 1)
-    return (2 * k + (uk < 0)) * n * n + i * n + j
+    i = min(max(math.floor((math.atan2(a1, ak) + _QUARTER) / h), 0), n - 1)
+    j = min(max(math.floor((math.atan2(a2, ak) + _QUARTER) / h), 0), n - 1)
+    return face * n * n + i * n + j
 
 
 def key_centres(keys, n: int) -> np.ndarray:
@@ -207,7 +214,11 @@ class ShadingCache:
 
     def key(self, u_G) -> int:
         """Cell key of flow direction ``u_G`` (G frame); same as :func:`direction_keys`."""
-        u = _unit_flow(u_G)
+        if type(u_G) is np.ndarray and u_G.shape == (3,) and u_G.dtype == np.float64:
+            x, y, z = u_G.tolist()  # the common case, checked without numpy calls
+            if math.isfinite(x) and math.isfinite(y) and math.isfinite(z) and (x or y or z):
+                return _direction_key(x, y, z, self.n)
+        u = _unit_flow(u_G)  # anything else, or the error naming the bad input
         return _direction_key(float(u[0]), float(u[1]), float(u[2]), self.n)
 
     @property
