@@ -198,6 +198,9 @@ class AeroWrenchEstimator:
         self.rejections: Counter = Counter()
         self.published = 0
         self._state: OrbitalState | None = None
+        # (state, stamp, settings, UTC, FlightConditions) of the latest attitude: another attitude
+        # at the same stamp with the same state (a simulator publishing both at every step) reuses them
+        self._conditions_memo = (None, None, None, None, None)
         self._last_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
         self._shading: _ShadingSource | None = None
@@ -448,20 +451,23 @@ class AeroWrenchEstimator:
             self._reject("stale_state", f"latest state is {dt:.3f} s from the attitude stamp "
                          f"(state_timeout {self.settings.state_timeout:g} s)")
         self._last_attitude_stamp = stamp
-        position = state.position + state.velocity * dt  # first-order propagation to the stamp
-        utc = self.utc(stamp)
         s = self.settings
-        options = {"alpha": s.alpha} if s.accommodation_model == "fixed" else None
-        try:
-            conditions = flight_conditions(
-                utc, position, state.velocity, self.weather, frame=s.state_frame,
-                earth_rotation=s.earth_rotation, wind=self._wind, wind_frame="ecef",
-                anomalous_oxygen=s.anomalous_oxygen, accommodation_model=s.accommodation_model,
-                accommodation_options=options, precession_nutation_step=PRECESSION_NUTATION_STEP_S,
-            )
-        except ValueError as exc:
-            reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
-            self._reject(reason, str(exc))
+        memo_state, memo_stamp, memo_settings, utc, conditions = self._conditions_memo
+        if not (memo_state is state and memo_stamp == stamp and memo_settings is s):
+            utc = self.utc(stamp)
+            position = state.position + state.velocity * dt  # first-order propagation to the stamp
+            options = {"alpha": s.alpha} if s.accommodation_model == "fixed" else None
+            try:
+                conditions = flight_conditions(
+                    utc, position, state.velocity, self.weather, frame=s.state_frame,
+                    earth_rotation=s.earth_rotation, wind=self._wind, wind_frame="ecef",
+                    anomalous_oxygen=s.anomalous_oxygen, accommodation_model=s.accommodation_model,
+                    accommodation_options=options, precession_nutation_step=PRECESSION_NUTATION_STEP_S,
+                )
+            except ValueError as exc:
+                reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
+                self._reject(reason, str(exc))
+            self._conditions_memo = (state, stamp, s, utc, conditions)
         sample = self._wrench(stamp, utc, rotation, conditions, t0)
         self.published += 1
         return sample
