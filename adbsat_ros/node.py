@@ -10,7 +10,7 @@ Topics (relative names, remappable):
   frame (or is empty) is taken as is.
 * ``wrench`` (geometry_msgs/WrenchStamped, published): force [N] and torque about the centre of
   mass [N m] in the body frame (``body_frame_id``), stamp copied from the attitude message.
-* ``coefficients`` (geometry_msgs/WrenchStamped, published with every wrench): force
+* ``coefficients`` (geometry_msgs/WrenchStamped, published with every wrench while it has a subscriber): force
   coefficients in ``force`` and moment coefficients in ``torque``, body frame, about the centre of
   mass, normalised by the read-only parameters ``reference_area`` and ``reference_length``.
 * ``/diagnostics`` (diagnostic_msgs/DiagnosticArray, every ``diagnostics_period`` s).
