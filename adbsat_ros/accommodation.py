@@ -350,6 +350,19 @@ def accommodation_of(key: str, atmosphere: AtmosphereState, speed: float, option
     ValueError
         For an option the model does not take (listing those it does) or an invalid value.
     """
+    # The per-message cases, a fixed alpha in [0, 1] or the Langmuir isotherm with its default
+    # constant, in the arithmetic of _fixed and langmuir_accommodation; anything else (including
+    # what would raise) goes through the model's function and its checks.
+    if key == "fixed":
+        alpha = options.get("alpha") if len(options) == 1 else None
+        if type(alpha) is float and 0.0 <= alpha <= 1.0:
+            return alpha
+    elif key == "langmuir" and not options:
+        n_o = atmosphere.number_densities["O"]
+        temperature = atmosphere.temperature
+        if type(n_o) is float and type(temperature) is float and 0.0 <= n_o < math.inf and 0.0 < temperature < math.inf:
+            x = LANGMUIR_CONSTANT * n_o * temperature
+            return x / (1.0 + x)
     allowed = ACCOMMODATION_OPTIONS[key]
     for option in options:
         if option not in allowed:

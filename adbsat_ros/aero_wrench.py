@@ -22,7 +22,7 @@ import numpy as np
 
 from .atmosphere import SpaceWeather
 from .database_coefficients import DatabaseCoefficients
-from .frames import quaternion_matrix
+from .frames import quaternion_matrix_floats
 from .flight_conditions import FlightConditions, flight_conditions
 from .gsi_models import ModelOptions
 from .mesh import PanelMesh, resolve_mesh
@@ -247,6 +247,7 @@ class AeroWrenchEstimator:
         self.method, self.weather, self._shading, self.settings = method, weather, shading, settings
         self._database = database
         self._wind = np.asarray(settings.wind_ecef) if any(settings.wind_ecef) else None
+        self._accommodation_options = {"alpha": settings.alpha} if settings.accommodation_model == "fixed" else None
 
     @property
     def shading_cache_hits(self) -> int:
@@ -310,8 +311,8 @@ class AeroWrenchEstimator:
         if not (math.isfinite(stamp) and np.all(np.isfinite(position)) and np.all(np.isfinite(velocity))):
             self._reject("non_finite", "state has NaN or Inf in its stamp, position or velocity")
         if velocity_in_body_frame:
-            rotation = self._rotation(orientation_xyzw, "state orientation")
-            velocity = rotation @ velocity
+            m = self._rotation(orientation_xyzw, "state orientation")
+            velocity = np.array(m).reshape(3, 3) @ velocity
         if self._last_state_stamp is not None and stamp < self._last_state_stamp:
             jump = self._last_state_stamp - stamp
             self.reset()
@@ -411,10 +412,12 @@ class AeroWrenchEstimator:
             values[f"rejected_{reason}"] = self.rejections[reason]
         return values
 
-    def _rotation(self, q, what: str) -> np.ndarray:
-        """Rotation matrix (body -> state frame) of quaternion ``q`` (x, y, z, w), checked."""
+    def _rotation(self, q, what: str) -> tuple:
+        """Rotation matrix (body -> state frame) of quaternion ``q`` (x, y, z, w), checked, as
+        nine floats, row-major."""
         try:
-            x, y, z, w = (float(v) for v in q)
+            x, y, z, w = q
+            x, y, z, w = float(x), float(y), float(z), float(w)
         except (TypeError, ValueError):
             self._reject("non_finite", f"{what} is not four numbers")
         if not all(math.isfinite(v) for v in (x, y, z, w)):
@@ -425,7 +428,7 @@ class AeroWrenchEstimator:
                 "bad_quaternion",
                 f"{what} norm {norm:.6g} differs from 1 by more than {self.settings.max_quaternion_norm_error:g}",
             )
-        return quaternion_matrix(x / norm, y / norm, z / norm, w / norm)
+        return quaternion_matrix_floats(x / norm, y / norm, z / norm, w / norm)
 
     def on_attitude(self, stamp: float, quaternion_xyzw) -> WrenchSample:
         """The wrench at an attitude message, with the latest state brought to its stamp.
@@ -456,7 +459,7 @@ class AeroWrenchEstimator:
         if not (memo_state is state and memo_stamp == stamp and memo_settings is s):
             utc = self.utc(stamp)
             position = state.position + state.velocity * dt  # first-order propagation to the stamp
-            options = {"alpha": s.alpha} if s.accommodation_model == "fixed" else None
+            options = self._accommodation_options
             try:
                 conditions = flight_conditions(
                     utc, position, state.velocity, self.weather, frame=s.state_frame,
@@ -472,15 +475,22 @@ class AeroWrenchEstimator:
         self.published += 1
         return sample
 
-    def _wrench(self, stamp, utc, rotation: np.ndarray, conditions: FlightConditions, t0) -> WrenchSample:
+    def _wrench(self, stamp, utc, rotation: tuple, conditions: FlightConditions, t0) -> WrenchSample:
         s = self.settings
         ref = self.method.reference
-        v_rel = conditions.relative_velocity_eci if s.state_frame == "eci" else conditions.relative_velocity_ecef
-        zero = np.zeros(3)
-        if conditions.speed < s.min_relative_speed:
+        speed = conditions.speed
+        if speed < s.min_relative_speed:
+            zero = np.zeros(3)
             return WrenchSample(stamp, utc, zero, zero.copy(), zero.copy(), zero.copy(), ref.area, ref.length,
                                 0.0, conditions, None, zero.copy(), None, time.perf_counter() - t0)
-        u_body = -(rotation.T @ v_rel) / conditions.speed
+        # gas motion relative to the body, body axes: u = -R^T v_rel / |v_rel|, in floats
+        vx, vy, vz = conditions.relative_velocity_floats(s.state_frame)
+        m = rotation
+        u_body = np.array([
+            -(m[0] * vx + m[3] * vy + m[6] * vz) / speed,
+            -(m[1] * vx + m[4] * vy + m[7] * vz) / speed,
+            -(m[2] * vx + m[5] * vy + m[8] * vz) / speed,
+        ])
         flow = conditions.free_stream()
         q = flow.dynamic_pressure()
         if self._database is not None:

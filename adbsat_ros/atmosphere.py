@@ -26,6 +26,7 @@ Units: m, kg, K, rad inside; number densities m^-3; mass densities kg/m^3.
 from __future__ import annotations
 
 import datetime as _dt
+import functools
 import math
 import types
 from dataclasses import dataclass
@@ -50,6 +51,7 @@ _SWITCHES_DAILY_AP = [1] * 24
 _SWITCHES_AP_HISTORY = [1] * 9 + [-1] + [1] * 14
 _SPECIES_MASS_KG = {name: MOLAR_MASS_G[name] / (1000.0 * AVOGADRO) for name in SPECIES}
 _SPECIES_WITHOUT_ANO = tuple(s for s in SPECIES if s != "AnO")
+_HE, _O, _N2, _O2, _AR, _H, _N, _ANO = (_SPECIES_MASS_KG[name] for name in SPECIES)
 _UTC = _dt.timezone.utc
 
 
@@ -122,10 +124,17 @@ class AtmosphereState:
     temperature: float
     anomalous_oxygen: bool = True
 
-    @property
+    # The derived values below are computed once per state (run_model fills them in as it builds
+    # the state, from the same sums in the same order).
+    @functools.cached_property
     def mixture_species(self) -> tuple:
         """Species of the gas mixture: the seven thermal species, plus "AnO" if included."""
         return SPECIES if self.anomalous_oxygen else _SPECIES_WITHOUT_ANO
+
+    @functools.cached_property
+    def _mixture_densities(self) -> tuple:
+        """Number densities [m^-3] of :attr:`mixture_species`, in that order."""
+        return tuple(self.number_densities[name] for name in self.mixture_species)
 
     @property
     def mixture_number_densities(self) -> dict:
@@ -137,7 +146,7 @@ class AtmosphereState:
         """Sum of the mixture's number densities [m^-3]."""
         return sum(self.number_densities[name] for name in self.mixture_species)
 
-    @property
+    @functools.cached_property
     def mean_mass(self) -> float:
         """Number-weighted mean molecular mass of the mixture [kg] (as ADBSat's environment.m)."""
         total = 0.0
@@ -274,7 +283,7 @@ def run_model(
     The per-message path of :mod:`adbsat_ros.flight_conditions`, which has already checked the
     time (``year``, ``day_of_year`` 1..366, UTC ``seconds`` of the day), the ``altitude`` [m] in
     [0, 1000 km] (:func:`check_altitude`), and has a geodetic ``latitude`` in [-pi/2, pi/2] and a
-    finite ``longitude`` [rad] from :func:`adbsat_ros.earth_frames.geodetic_of`. Only
+    finite ``longitude`` [rad] from :func:`adbsat_ros.earth_frames.geodetic_of_floats`. Only
     ``space_weather`` is checked here (ValueError naming it).
     """
     if not isinstance(space_weather, SpaceWeather):
@@ -282,36 +291,57 @@ def run_model(
             f"space_weather must be a SpaceWeather(f107, f107a, ap), "
             f"got {type(space_weather).__name__}"
         )
-    longitude_deg = math.degrees(longitude)
-    longitude_deg = (longitude_deg + 180.0) % 360.0 - 180.0
+    longitude_deg = (math.degrees(longitude) + 180.0) % 360.0 - 180.0
     if local_solar_time_h is None:
         local_solar_time_h = (seconds / 3600.0 + longitude_deg / 15.0) % 24.0
     model = _nrlmsise00.gtd7d if anomalous_oxygen else _nrlmsise00.gtd7
-    arguments = (
-        year,
-        day_of_year,
-        seconds,
-        altitude * 1e-3,  # the model takes km
-        math.degrees(latitude),  # and degrees
-        longitude_deg,
-        local_solar_time_h,
-        space_weather.f107a,
-        space_weather.f107,
-        space_weather.ap,
-    )
+    # altitude in km and latitude in degrees, as the model takes them
     if space_weather.ap_history is None:
-        densities, temperatures = model(*arguments, flags=_SWITCHES_DAILY_AP)
+        densities, temperatures = model(
+            year, day_of_year, seconds, altitude * 1e-3, math.degrees(latitude), longitude_deg,
+            local_solar_time_h, space_weather.f107a, space_weather.f107, space_weather.ap,
+            flags=_SWITCHES_DAILY_AP,
+        )
     else:
         densities, temperatures = model(
-            *arguments, ap_a=list(space_weather.ap_history), flags=_SWITCHES_AP_HISTORY
+            year, day_of_year, seconds, altitude * 1e-3, math.degrees(latitude), longitude_deg,
+            local_solar_time_h, space_weather.f107a, space_weather.f107, space_weather.ap,
+            ap_a=list(space_weather.ap_history), flags=_SWITCHES_AP_HISTORY,
         )
-    number_densities = types.MappingProxyType(
-        {name: densities[index] for name, index in _MSIS_SPECIES_INDEX.items()}
-    )
-    return AtmosphereState(
-        number_densities=number_densities,
-        mass_density=densities[5],
-        exospheric_temperature=temperatures[0],
-        temperature=temperatures[1],
-        anomalous_oxygen=bool(anomalous_oxygen),
-    )
+    he, o, n2, o2, ar, rho, h, n, ano = densities  # the model's order (_MSIS_SPECIES_INDEX)
+    temperature = temperatures[1]
+    # The state as AtmosphereState(...) makes it (its fields need no check: they are the model's
+    # floats), with the derived values of the mixture filled in, the sums as mean_mass does them.
+    densities = {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano}
+    state = object.__new__(AtmosphereState)
+    fields = state.__dict__
+    fields["number_densities"] = types.MappingProxyType(densities)
+    fields["mass_density"] = rho
+    fields["exospheric_temperature"] = temperatures[0]
+    fields["temperature"] = temperature
+    if anomalous_oxygen:
+        fields["anomalous_oxygen"] = True
+        fields["mixture_species"] = SPECIES
+        fields["_mixture_densities"] = values = (he, o, n2, o2, ar, h, n, ano)
+        total = 0.0 + he + o + n2 + o2 + ar + h + n + ano
+        weighted = (0.0 + he * _HE + o * _O + n2 * _N2 + o2 * _O2 + ar * _AR + h * _H + n * _N
+                    + ano * _ANO)
+        negative = ano < 0.0
+    else:
+        fields["anomalous_oxygen"] = False
+        fields["mixture_species"] = _SPECIES_WITHOUT_ANO
+        fields["_mixture_densities"] = values = (he, o, n2, o2, ar, h, n)
+        total = 0.0 + he + o + n2 + o2 + ar + h + n
+        weighted = 0.0 + he * _HE + o * _O + n2 * _N2 + o2 * _O2 + ar * _AR + h * _H + n * _N
+        densities = {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n}
+        negative = False
+    if total > 0.0:  # else mean_mass raises on access, as it always did
+        fields["mean_mass"] = weighted / total
+    if (
+        0.0 < total < math.inf and 0.0 < temperature < math.inf and 0.0 < rho < math.inf
+        and not (negative or he < 0.0 or o < 0.0 or n2 < 0.0 or o2 < 0.0 or ar < 0.0 or h < 0.0 or n < 0.0)
+    ):
+        # What a free stream needs of the mixture, known to pass its checks (FreeStream.of_mixture):
+        # species, their number densities (a tuple, and a mapping to copy) and the mean mass.
+        fields["_free_stream_mixture"] = (fields["mixture_species"], values, densities, fields["mean_mass"])
+    return state

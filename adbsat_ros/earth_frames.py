@@ -60,6 +60,16 @@ _TT_MINUS_TAI = 32.184  # [s]
 _SECONDS_PER_DAY = 86400.0
 _ARCSEC = math.pi / (180.0 * 3600.0)
 _UTC = _dt.timezone.utc
+_TWO_PI = 2.0 * math.pi
+# WGS-84 ellipsoid (as erfa.eform(WGS84)) and the constants of Fukushima's geodetic solution.
+_WGS84_A = 6378137.0
+_WGS84_F = 1.0 / 298.257223563
+_E2 = (2.0 - _WGS84_F) * _WGS84_F
+_E4T = _E2 * _E2 * 1.5
+_EC2 = 1.0 - _E2
+_EC = math.sqrt(_EC2)
+_POLAR_RADIUS = _WGS84_A * _EC
+_POLAR_AXIS_EPS2 = _WGS84_A * _WGS84_A * 1e-32
 
 
 # ------------------------------------------------------------------------------------------ time
@@ -248,6 +258,24 @@ def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> 
     return tuple(_CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days).ravel().tolist())
 
 
+def earth_rotation_angle(ut1_day: float, ut1_fraction: float) -> float:
+    """Earth rotation angle ERA(UT1) [rad] in [0, 2 pi) of a two-part UT1 Julian date.
+
+    IERS Conventions 2010 eq. 5.15, ERA = 2 pi (0.7790572732640 + 1.00273781191135448 Tu), with
+    Tu = JD(UT1) - 2451545.0, evaluated as ``erfa.era00`` does (the fractional days summed
+    apart from the rest of the rate term, then wrapped into [0, 2 pi)); equal to it bit for bit
+    (``test/test_earth_frames.py``) at a fifth of its cost for single floats.
+    """
+    if ut1_day < ut1_fraction:
+        small, large = ut1_day, ut1_fraction
+    else:
+        small, large = ut1_fraction, ut1_day
+    days = small + (large - 2451545.0)
+    fraction = math.fmod(small, 1.0) + math.fmod(large, 1.0)
+    angle = math.fmod(_TWO_PI * (fraction + 0.7790572732640 + 0.00273781191135448 * days), _TWO_PI)
+    return angle + _TWO_PI if angle < 0.0 else angle
+
+
 def check_orientation_options(ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step):
     """Checked Earth-orientation options of :func:`earth_orientation`.
 
@@ -329,7 +357,7 @@ def rotation_terms(jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, prece
         q = _celestial_to_intermediate_at(precession_nutation, bucket, step_days)
     else:
         q = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2).ravel().tolist()
-    era = float(erfa.ufunc.era00(jd1, day_fraction + ut1_minus_utc / _SECONDS_PER_DAY))
+    era = earth_rotation_angle(jd1, day_fraction + ut1_minus_utc / _SECONDS_PER_DAY)
     c, s = math.cos(era), math.sin(era)
     q00, q01, q02, q10, q11, q12, q20, q21, q22 = q
     # R3(ERA) @ Q with R3 = [[c, s, 0], [-s, c, 0], [0, 0, 1]]
@@ -523,6 +551,47 @@ def geodetic_of(position_ecef: np.ndarray):
     if status != 0:  # pragma: no cover - defensive (only a bad ellipsoid identifier)
         raise ValueError(f"erfa.gc2gd failed (status {status}) for position {position_ecef!r}")
     return float(latitude), float(longitude), float(altitude)
+
+
+def geodetic_of_floats(x: float, y: float, z: float) -> tuple:
+    """``(latitude [rad], longitude [rad], altitude [m])`` of the ECEF position (x, y, z) [m].
+
+    :func:`ecef_to_geodetic` for one position given as three finite floats, in plain float
+    arithmetic: Fukushima's (2006) solution with one Halley step, the method of ERFA's
+    ``gc2gde``, with its operations in its order, so that the result equals ``erfa.gc2gd`` bit for
+    bit (checked in ``test/test_earth_frames.py``) without a numpy array or ufunc call.
+    """
+    p2 = x * x + y * y
+    longitude = math.atan2(y, x) if p2 > 0.0 else 0.0
+    absz = abs(z)
+    if p2 > _POLAR_AXIS_EPS2:
+        p = math.sqrt(p2)
+        s0 = absz / _WGS84_A
+        pn = p / _WGS84_A
+        zc = _EC * s0
+        c0 = _EC * pn
+        c02 = c0 * c0
+        c03 = c02 * c0
+        s02 = s0 * s0
+        s03 = s02 * s0
+        a02 = c02 + s02
+        a0 = math.sqrt(a02)
+        a03 = a02 * a0
+        d0 = zc * a03 + _E2 * s03
+        f0 = pn * a03 - _E2 * c03
+        b0 = _E4T * s02 * c02 * pn * (a0 - _EC)  # Halley correction
+        s1 = d0 * f0 - b0 * s0
+        cc = _EC * (f0 * f0 - b0 * c0)
+        latitude = math.atan(s1 / cc)
+        s12 = s1 * s1
+        cc2 = cc * cc
+        altitude = (p * cc + absz * s1 - _WGS84_A * math.sqrt(_EC2 * s12 + cc2)) / math.sqrt(s12 + cc2)
+    else:  # on the polar axis
+        latitude = math.pi / 2.0
+        altitude = absz - _POLAR_RADIUS
+    if z < 0:
+        latitude = -latitude
+    return latitude, longitude, altitude
 
 
 def enu_to_ecef(latitude: float, longitude: float, east: float, north: float, up: float) -> tuple:

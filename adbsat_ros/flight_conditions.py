@@ -35,6 +35,9 @@ import numpy as np
 
 from .accommodation import accommodation_of, normalize_model_name
 from .atmosphere import (
+    FIRST_YEAR,
+    LAST_YEAR,
+    MAX_ALTITUDE,
     AtmosphereState,
     SpaceWeather,
     check_altitude,
@@ -49,10 +52,9 @@ from .earth_frames import (
     check_orientation_options,
     earth_orientation,
     enu_to_ecef,
-    geodetic_of,
+    geodetic_of_floats,
     geodetic_to_ecef,
     rotation_terms,
-    seconds_of_day,
     utc_day,
 )
 from .freestream import FreeStream
@@ -91,6 +93,23 @@ _UNITS = {
 
 
 _FLOAT64 = np.dtype(np.float64)
+_NDARRAY = np.ndarray
+_SHAPE3 = (3,)
+_UTC = _dt.timezone.utc
+#: The vector fields flight_conditions makes on first read, in the order of ``_vectors``.
+_VECTOR_FIELDS = (
+    "position_eci",
+    "position_ecef",
+    "velocity_eci",
+    "velocity_ecef",
+    "relative_velocity_eci",
+    "relative_velocity_ecef",
+)
+#: Checked option arguments of flight_conditions (frame and wind-frame keys, model name, Earth-
+#: orientation options) by the arguments as given: a message stream repeats the same options,
+#: so they are checked once (by the full checks, with their errors) and looked up afterwards.
+_CHECKED_OPTIONS: dict = {}
+_MAX_CHECKED_OPTIONS = 64
 
 
 def _readonly(array):
@@ -171,6 +190,19 @@ class FlightConditions:
         """Total mass density [kg/m^3] (with anomalous O if the atmosphere includes it)."""
         return self.atmosphere.mass_density
 
+    def relative_velocity_floats(self, frame: str) -> tuple | None:
+        """The relative velocity in ``frame`` ('eci' or 'ecef') axes as three Python floats [m/s].
+
+        The same numbers as ``relative_velocity_eci`` / ``relative_velocity_ecef``, without making
+        the array (for per-message code working on floats); None when only a speed is known.
+        """
+        index = _VECTOR_FIELDS.index(f"relative_velocity_{frame}")
+        vectors = self.__dict__.get("_vectors")
+        if vectors is not None and _VECTOR_FIELDS[index] not in self.__dict__:
+            return vectors[index]
+        vector = getattr(self, _VECTOR_FIELDS[index])
+        return None if vector is None else tuple(vector.tolist())
+
     @property
     def flow_direction_ecef(self) -> np.ndarray | None:
         """Unit vector along which the gas moves past the satellite, ECEF axes: -v_rel / |v_rel|.
@@ -237,21 +269,62 @@ class FlightConditions:
         ValueError
             If the relative speed is zero (a free stream needs speed > 0).
         """
-        if not self.speed > 0.0:
+        speed = self.speed
+        if not speed > 0.0:
             raise ValueError(
                 "relative speed is 0 m/s (the satellite is at rest in the air): "
                 "no free stream; check FlightConditions.speed before asking for one"
             )
         atmosphere = self.atmosphere
-        species = atmosphere.mixture_species
-        densities = atmosphere.number_densities
+        mixture = atmosphere.__dict__.get("_free_stream_mixture")
+        if mixture is not None and type(speed) is float and speed < math.inf:
+            # an atmosphere of run_model, whose mixture passed of_mixture's checks there
+            species, values, densities, mean_mass = mixture
+            return FreeStream._of_checked_mixture(
+                speed, atmosphere.temperature, species, values, densities, atmosphere.mass_density,
+                mean_mass,
+            )
         return FreeStream.of_mixture(
-            self.speed,
+            speed,
             atmosphere.temperature,
-            species,
-            [densities[name] for name in species],
+            atmosphere.mixture_species,
+            atmosphere._mixture_densities,
             atmosphere.mass_density,
         )
+
+
+class _VectorOnFirstRead:
+    """A vector field of :class:`FlightConditions` as :func:`flight_conditions` makes it.
+
+    The function keeps the six vectors as float tuples (``_vectors``) and each becomes its
+    read-only array when first read (callers read one or two of them per message), then an
+    ordinary instance attribute. A non-data descriptor: conditions made by the constructor hold
+    their arrays in the instance, which takes precedence.
+    """
+
+    __slots__ = ("name", "index")
+
+    def __init__(self, name: str, index: int):
+        self.name = name
+        self.index = index
+
+    def __get__(self, instance, owner=None):
+        if instance is None:
+            return self
+        fields = instance.__dict__
+        try:
+            vector = fields["_vectors"][self.index]
+        except KeyError:
+            raise AttributeError(f"{type(instance).__name__!r} object has no attribute {self.name!r}") from None
+        if vector is not None:
+            vector = np.array(vector)
+            vector.setflags(write=False)
+        return fields.setdefault(self.name, vector)
+
+
+for _index, _name in enumerate(_VECTOR_FIELDS):
+    setattr(FlightConditions, _name, _VectorOnFirstRead(_name, _index))
+del _index, _name
 
 
 def _three_floats(value, name: str) -> tuple:
@@ -282,19 +355,9 @@ def _rotate_back(m, x, y, z) -> tuple:
     )
 
 
-def _cross(a, b) -> tuple:
-    """a x b of two 3-tuples."""
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
 def _minus(a, b) -> tuple:
     """a - b of two 3-tuples."""
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-def _array(vector) -> np.ndarray:
-    """A new read-only float array of a 3-tuple (None stays None)."""
-    return None if vector is None else _readonly(np.array(vector))
 
 
 def _vector3(value, name: str) -> np.ndarray:
@@ -377,8 +440,52 @@ def flight_conditions(
         Naming the input: bad frame names, non-finite or mis-shaped vectors, an altitude outside
         0..1000 km, a time outside 1958..2100, invalid space weather or accommodation options.
     """
-    # The work is done on Python floats (3-vectors as tuples, the rotation as 9 floats): for single
-    # states this is several times faster than numpy; the arrays of the result are made at the end.
+    # The per-message case: the options of an earlier call, an aware UTC time, float64 3-vectors.
+    # Anything else (and any input these few tests do not pass) takes the checked path, which
+    # checks every input as documented and raises its error.
+    try:
+        options = _CHECKED_OPTIONS[
+            frame, wind_frame, accommodation_model, ut1_minus_utc, polar_motion,
+            precession_nutation, precession_nutation_step,
+        ]
+    except (KeyError, TypeError):
+        options = None
+    if (
+        options is not None
+        and orientation is None
+        and type(time) is _dt.datetime and time.tzinfo is _UTC and FIRST_YEAR <= time.year <= LAST_YEAR
+        and type(position) is _NDARRAY and position.dtype is _FLOAT64 and position.shape == _SHAPE3
+        and type(velocity) is _NDARRAY and velocity.dtype is _FLOAT64 and velocity.shape == _SHAPE3
+    ):
+        x, y, z = position.tolist()
+        vx, vy, vz = velocity.tolist()
+        total = x + y + z + vx + vy + vz
+        if wind is not None:
+            if type(wind) is _NDARRAY and wind.dtype is _FLOAT64 and wind.shape == _SHAPE3:
+                wind = tuple(wind.tolist())
+                total += wind[0] + wind[1] + wind[2]
+            else:
+                total = math.nan
+        if total - total == 0.0:  # all finite (an overflowing sum just takes the checked path)
+            frame_key, wind_frame_key, model, orientation_options = options
+            return _evaluate(
+                time, (x, y, z), (vx, vy, vz), wind, space_weather, frame_key, earth_rotation,
+                wind_frame_key, anomalous_oxygen, model, accommodation_options, orientation_options, None,
+            )
+    return _checked_flight_conditions(
+        time, position, velocity, space_weather, frame, earth_rotation, wind, wind_frame,
+        anomalous_oxygen, accommodation_model, accommodation_options, orientation, ut1_minus_utc,
+        polar_motion, precession_nutation, precession_nutation_step,
+    )
+
+
+def _checked_flight_conditions(
+    time, position, velocity, space_weather, frame, earth_rotation, wind, wind_frame,
+    anomalous_oxygen, accommodation_model, accommodation_options, orientation, ut1_minus_utc,
+    polar_motion, precession_nutation, precession_nutation_step,
+) -> FlightConditions:
+    """:func:`flight_conditions` with every input checked (ValueError naming it) and normalised;
+    remembers the checked options for the per-message case."""
     utc = checked_utc(time)
     frame_key = str(frame).lower()
     if frame_key not in STATE_FRAMES:
@@ -390,13 +497,19 @@ def flight_conditions(
     position = _three_floats(position, "position")
     velocity = _three_floats(velocity, "velocity")
     wind_vector = None if wind is None else _three_floats(wind, "wind")
-    jd1, tt_minus_utc, day_of_year = utc_day(utc.year, utc.month, utc.day)
-    seconds = seconds_of_day(utc)
+    orientation_options = None
     if orientation is None:
-        options = check_orientation_options(
+        orientation_options = check_orientation_options(
             ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
         )
-        matrix, _, omega = rotation_terms(jd1, seconds / 86400.0, tt_minus_utc, *options)
+        key = (frame, wind_frame, accommodation_model, ut1_minus_utc, polar_motion,
+               precession_nutation, precession_nutation_step)
+        if len(_CHECKED_OPTIONS) >= _MAX_CHECKED_OPTIONS:
+            _CHECKED_OPTIONS.clear()
+        try:
+            _CHECKED_OPTIONS[key] = (frame_key, wind_frame_key, model, orientation_options)
+        except TypeError:  # an unhashable argument (e.g. polar_motion as a list): not remembered
+            pass
     elif not isinstance(orientation, EarthOrientation):
         raise ValueError(
             f"orientation must be an EarthOrientation, got {type(orientation).__name__}"
@@ -407,66 +520,105 @@ def flight_conditions(
             raise ValueError(
                 f"orientation is for {orientation.time.isoformat()}, not for time {naive.isoformat()}"
             )
+    return _evaluate(
+        utc, position, velocity, wind_vector, space_weather, frame_key, earth_rotation,
+        wind_frame_key, anomalous_oxygen, model, accommodation_options, orientation_options, orientation,
+    )
+
+
+def _evaluate(
+    utc, position, velocity, wind, space_weather, frame_key, earth_rotation, wind_frame_key,
+    anomalous_oxygen, model, accommodation_options, orientation_options, orientation,
+) -> FlightConditions:
+    """The flight conditions from checked inputs: an aware UTC time, position, velocity and wind
+    (or None) as float 3-tuples, the frame keys, the model name, and either the checked
+    Earth-orientation options or an :class:`EarthOrientation` at ``utc``.
+
+    The work is done on Python floats (3-vectors as tuples, the rotation as 9 floats, row-major):
+    for single states this is several times faster than numpy; the result keeps the vectors as
+    tuples and makes its arrays when they are read.
+    """
+    jd1, tt_minus_utc, day_of_year = utc_day(utc.year, utc.month, utc.day)
+    seconds = utc.hour * 3600.0 + utc.minute * 60.0 + utc.second + utc.microsecond * 1e-6  # seconds_of_day
+    if orientation is None:
+        matrix, _, omega = rotation_terms(jd1, seconds / 86400.0, tt_minus_utc, *orientation_options)
+    else:
         matrix = tuple(orientation.celestial_to_terrestrial.ravel().tolist())
         omega = tuple(orientation.rotation_vector_ecef.tolist())
+    m0, m1, m2, m3, m4, m5, m6, m7, m8 = matrix  # R: r_ecef = R r_eci
+    w0, w1, w2 = omega
     if frame_key == "eci":
-        # v_ecef = R v_eci - omega x r_ecef
-        position_eci, velocity_eci = position, velocity
-        position_ecef = _rotate(matrix, *position)
-        vx, vy, vz = _rotate(matrix, *velocity)
-        tx, ty, tz = _cross(omega, position_ecef)
-        velocity_ecef = (vx - tx, vy - ty, vz - tz)
+        # r_ecef = R r_eci; v_ecef = R v_eci - omega x r_ecef
+        position_eci = x, y, z = position
+        velocity_eci = vx, vy, vz = velocity
+        px = m0 * x + m1 * y + m2 * z
+        py = m3 * x + m4 * y + m5 * z
+        pz = m6 * x + m7 * y + m8 * z
+        velocity_ecef = (
+            (m0 * vx + m1 * vy + m2 * vz) - (w1 * pz - w2 * py),
+            (m3 * vx + m4 * vy + m5 * vz) - (w2 * px - w0 * pz),
+            (m6 * vx + m7 * vy + m8 * vz) - (w0 * py - w1 * px),
+        )
+        position_ecef = (px, py, pz)
     else:
-        # v_eci = R^T (v_ecef + omega x r_ecef)
-        position_ecef, velocity_ecef = position, velocity
-        position_eci = _rotate_back(matrix, *position)
-        vx, vy, vz = velocity
-        tx, ty, tz = _cross(omega, position)
-        velocity_eci = _rotate_back(matrix, vx + tx, vy + ty, vz + tz)
-    position_ecef_array = _array(position_ecef)
-    latitude, longitude, altitude = geodetic_of(position_ecef_array)
-    try:
-        check_altitude(altitude)
-    except ValueError as exc:
-        raise ValueError(f"position: {exc}") from None
+        # r_eci = R^T r_ecef; v_eci = R^T (v_ecef + omega x r_ecef)
+        position_ecef = px, py, pz = position
+        velocity_ecef = vx, vy, vz = velocity
+        position_eci = _rotate_back(matrix, px, py, pz)
+        velocity_eci = _rotate_back(
+            matrix, vx + (w1 * pz - w2 * py), vy + (w2 * px - w0 * pz), vz + (w0 * py - w1 * px)
+        )
+    latitude, longitude, altitude = geodetic_of_floats(px, py, pz)
+    if not 0.0 <= altitude <= MAX_ALTITUDE:
+        try:
+            check_altitude(altitude)
+        except ValueError as exc:
+            raise ValueError(f"position: {exc}") from None
     atmosphere = run_model(
         utc.year, day_of_year, seconds, altitude, latitude, longitude, space_weather, anomalous_oxygen
     )
-    if wind_vector is None:
-        wind_ecef = None
-    elif wind_frame_key == "enu":
-        wind_ecef = enu_to_ecef(latitude, longitude, *wind_vector)
-    else:
-        wind_ecef = wind_vector
+    if wind is not None and wind_frame_key == "enu":
+        wind = enu_to_ecef(latitude, longitude, *wind)
     if earth_rotation:
-        relative_ecef = velocity_ecef if wind_ecef is None else _minus(velocity_ecef, wind_ecef)
-        relative_eci = _rotate_back(matrix, *relative_ecef)
+        # v_rel,ecef = v_ecef - wind; v_rel,eci = R^T v_rel,ecef
+        relative_ecef = velocity_ecef if wind is None else _minus(velocity_ecef, wind)
+        x, y, z = relative_ecef
+        relative_eci = (
+            m0 * x + m3 * y + m6 * z,
+            m1 * x + m4 * y + m7 * z,
+            m2 * x + m5 * y + m8 * z,
+        )
     else:
-        if wind_ecef is None:
-            relative_eci = velocity_eci
-        else:
-            relative_eci = _minus(velocity_eci, _rotate_back(matrix, *wind_ecef))
-        relative_ecef = _rotate(matrix, *relative_eci)
-    x, y, z = relative_ecef
-    speed = _non_negative("speed", math.sqrt(x * x + y * y + z * z))
-    return _assemble(
-        utc,
-        _array(position_eci),
-        position_ecef_array,
-        _array(velocity_eci),
-        _array(velocity_ecef),
-        latitude,
-        longitude,
-        altitude,
-        atmosphere,
-        _array(relative_eci),
-        _array(relative_ecef),
-        speed,
-        model,
-        accommodation_options,
-        bool(earth_rotation),
-        space_weather,
-    )
+        relative_eci = velocity_eci if wind is None else _minus(velocity_eci, _rotate_back(matrix, *wind))
+        relative_ecef = x, y, z = _rotate(matrix, *relative_eci)
+    speed = math.sqrt(x * x + y * y + z * z)
+    if not speed < math.inf:
+        _non_negative("speed", speed)  # raises, naming the speed
+    mean_mass = atmosphere.mean_mass
+    if type(accommodation_options) is not dict:
+        accommodation_options = dict(accommodation_options or {})
+    alpha = accommodation_of(model, atmosphere, speed, accommodation_options)
+    # The result as FlightConditions(...) makes it, its vector fields made on first access.
+    conditions = _new_conditions(FlightConditions)
+    conditions.__dict__.update({
+        "time": utc,
+        "_vectors": (position_eci, position_ecef, velocity_eci, velocity_ecef, relative_eci, relative_ecef),
+        "latitude": latitude,
+        "longitude": longitude,
+        "altitude": altitude,
+        "atmosphere": atmosphere,
+        "mean_molecular_mass": mean_mass,
+        "speed": speed,
+        "speed_ratio": speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / mean_mass),
+        "accommodation_model": model,
+        "accommodation_coefficient": float(alpha),
+        "earth_rotation": bool(earth_rotation),
+        "space_weather": space_weather,
+    })
+    return conditions
+
+
+_new_conditions = object.__new__
 
 
 def circular_orbit_speed(altitude: float) -> float:

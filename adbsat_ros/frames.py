@@ -113,13 +113,16 @@ def quaternion_matrix(x: float, y: float, z: float, w: float) -> np.ndarray:
     path, where building a scipy Rotation costs more than the rest of the attitude handling.
     The caller normalises.
     """
+    return np.array(quaternion_matrix_floats(x, y, z, w)).reshape(3, 3)
+
+
+def quaternion_matrix_floats(x: float, y: float, z: float, w: float) -> tuple:
+    """:func:`quaternion_matrix` as nine Python floats, row-major (for per-message float code)."""
     xx, yy, zz = x * x, y * y, z * z
     xy, xz, yz = x * y, x * z, y * z
     wx, wy, wz = w * x, w * y, w * z
-    return np.array(
-        [
-            [1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)],
-            [2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)],
-            [2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)],
-        ]
+    return (
+        1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy),
+        2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx),
+        2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy),
     )

@@ -24,6 +24,9 @@ def _check_positive(name: str, value: float) -> float:
     return value
 
 
+_SPECIES_MASS_KG = {name: species_mass_kg(name) for name in MOLAR_MASS_G}
+
+
 @functools.lru_cache(maxsize=64)
 def _species_masses(species: tuple):
     """Read-only particle masses [kg] of distinct known ``species``, or None if they are not."""
@@ -95,11 +98,13 @@ class FreeStream:
                 raise ValueError("number_densities: at least one species must have n > 0")
             object.__setattr__(self, "number_densities", dict(zip(names, values)))
             object.__setattr__(self, "_species", tuple(names))
+            object.__setattr__(self, "_values", tuple(values))
             object.__setattr__(self, "_n", n)
             object.__setattr__(self, "_m", np.array([species_mass_kg(s) for s in names]))
         else:
             _check_positive("mean_mass_amu", self.mean_mass_amu)
             object.__setattr__(self, "_species", ())
+            object.__setattr__(self, "_values", ())
             object.__setattr__(self, "_n", np.zeros(0))
             object.__setattr__(self, "_m", np.zeros(0))
         if self.density is not None:
@@ -127,9 +132,9 @@ class FreeStream:
         density : float
             Total mass density [kg/m^3], > 0.
         """
-        values = list(values)
+        if type(values) is not list:
+            values = list(values)
         masses = _species_masses(species) if type(species) is tuple else None
-        total = sum(values) if values else 0.0
         if not (
             masses is not None
             and len(values) == len(species)
@@ -137,9 +142,9 @@ class FreeStream:
             and 0.0 < speed < math.inf
             and 0.0 < temperature < math.inf
             and 0.0 < density < math.inf
-            and 0.0 < total < math.inf
+            and 0.0 < sum(values) < math.inf
             and min(values) >= 0.0
-            and all(type(v) is float for v in values)
+            and list(map(type, values)).count(float) == len(values)
         ):
             return cls(
                 speed=speed,
@@ -148,17 +153,37 @@ class FreeStream:
                 density=density,
             )
         flow = object.__new__(cls)
-        # the fields __post_init__ would set, from values that pass its checks
-        flow.__dict__.update(
-            speed=float(speed),
-            temperature=float(temperature),
-            number_densities=dict(zip(species, values)),
-            mean_mass_amu=None,
-            density=float(density),
-            _species=species,
-            _n=np.array(values),
-            _m=masses,
-        )
+        # the fields __post_init__ would set, from values that pass its checks (but the array of
+        # number densities, made when first read: see __getattr__)
+        flow.__dict__.update({
+            "speed": speed,
+            "temperature": temperature,
+            "number_densities": dict(zip(species, values)),
+            "mean_mass_amu": None,
+            "density": density,
+            "_species": species,
+            "_values": tuple(values),
+            "_m": masses,
+        })
+        return flow
+
+    @classmethod
+    def _of_checked_mixture(cls, speed, temperature, species, values, number_densities, density, mean_mass):
+        """:meth:`of_mixture` for inputs known to pass its checks (floats; speed, temperature,
+        density and the total of ``values`` finite and > 0, ``values`` >= 0), with the mixture's
+        number densities also as a mapping (copied) and its :attr:`mean_mass` (as it computes it)."""
+        flow = object.__new__(cls)
+        flow.__dict__.update({
+            "speed": speed,
+            "temperature": temperature,
+            "number_densities": dict(number_densities),
+            "mean_mass_amu": None,
+            "density": density,
+            "_species": species,
+            "_values": values,
+            "_m": _species_masses(species),
+            "mean_mass": mean_mass,
+        })
         return flow
 
     # ----------------------------------------------------------------------------- derived values
@@ -182,11 +207,21 @@ class FreeStream:
         """Particle masses m_j [kg] of :attr:`species`."""
         return self._m
 
-    @property
+    @functools.cached_property
     def mean_mass(self) -> float:
-        """Number-weighted mean molecular mass [kg]."""
-        if self.has_species:
-            return float(np.dot(self._n, self._m) / self._n.sum())
+        """Number-weighted mean molecular mass [kg] (computed on first access, then kept).
+
+        sum(n_j m_j) / sum(n_j), both summed in the order of :attr:`species` in float arithmetic
+        (as :attr:`adbsat_ros.atmosphere.AtmosphereState.mean_mass`, which it equals for the same
+        mixture).
+        """
+        if self._species:
+            total = 0.0
+            weighted = 0.0
+            for name, n in zip(self._species, self._values):
+                total += n
+                weighted += n * _SPECIES_MASS_KG[name]
+            return weighted / total
         return float(self.mean_mass_amu) * AMU
 
     @property
@@ -230,3 +265,22 @@ class FreeStream:
                 "no density: give density or number_densities to get forces in newtons"
             )
         return 0.5 * rho * self.speed**2
+
+
+class _NumberDensityArray:
+    """``FreeStream._n`` of a free stream made by :meth:`FreeStream.of_mixture`: the array of its
+    number densities, made from the ``_values`` tuple when first read (few models read it), then
+    an ordinary instance attribute (a non-data descriptor: the instance's value takes precedence)."""
+
+    def __get__(self, instance, owner=None):
+        if instance is None:
+            return self
+        fields = instance.__dict__
+        try:
+            values = fields["_values"]
+        except KeyError:
+            raise AttributeError(f"{type(instance).__name__!r} object has no attribute '_n'") from None
+        return fields.setdefault("_n", np.array(values, dtype=float))
+
+
+FreeStream._n = _NumberDensityArray()

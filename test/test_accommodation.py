@@ -146,3 +146,24 @@ def test_bad_inputs_name_the_input(name, speed, options, message):
 def test_atmosphere_must_be_an_atmosphere_state():
     with pytest.raises(ValueError, match="atmosphere"):
         accommodation("langmuir", {"O": 1e14}, 7700.0)
+
+
+def test_registry_fixed_and_langmuir_equal_the_model_functions():
+    """The per-message shortcuts of accommodation_of (fixed alpha, default Langmuir) give what the
+    model functions give, bit for bit, for model states and for hand-made ones of other types."""
+    from adbsat_ros.atmosphere import AtmosphereState
+
+    for altitude in (200e3, 400e3, 700e3):
+        atmosphere = paper_atmosphere(altitude)
+        n_o, temperature = atmosphere.number_densities["O"], atmosphere.temperature
+        expected = langmuir_accommodation(n_o, temperature)
+        assert accommodation("langmuir", atmosphere, 7700.0) == expected
+        assert accommodation("langmuir", atmosphere, 7700.0, langmuir_constant=7.5e-17) == expected
+        numpy_state = AtmosphereState({"O": np.float64(n_o)}, 1e-12, 1000.0, np.float64(temperature))
+        assert accommodation("langmuir", numpy_state, 7700.0) == expected
+        for alpha in (0.0, 0.37, 1.0, np.float64(0.5), 1):
+            assert accommodation("fixed", atmosphere, 7700.0, alpha=alpha) == float(alpha)
+    with pytest.raises(ValueError, match="oxygen_number_density"):
+        accommodation("langmuir", AtmosphereState({"O": -1.0}, 1e-12, 1000.0, 900.0), 7700.0)
+    with pytest.raises(ValueError, match="temperature"):
+        accommodation("langmuir", AtmosphereState({"O": 1e14}, 1e-12, 1000.0, float("inf")), 7700.0)

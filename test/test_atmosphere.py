@@ -195,3 +195,23 @@ def test_checked_utc_is_an_aware_utc_time_or_the_time_error():
                 dt.date(2015, 1, 19)):
         with pytest.raises(ValueError, match="time"):
             checked_utc(bad)
+
+
+def test_model_states_equal_the_constructed_state_and_its_derived_values():
+    """evaluate_atmosphere builds its state without the dataclass constructor and fills in the
+    derived values; they equal, bit for bit, those of AtmosphereState(...) on the same fields."""
+    weather = SpaceWeather(f107=150.0, f107a=150.0, ap=4.0)
+    for anomalous_oxygen in (True, False):
+        for altitude in (90e3, 400e3, 950e3):
+            state = evaluate_atmosphere(dt.datetime(2015, 1, 19, 6), altitude, 0.3, -1.2, weather,
+                                        anomalous_oxygen=anomalous_oxygen)
+            fresh = AtmosphereState(dict(state.number_densities), state.mass_density,
+                                    state.exospheric_temperature, state.temperature, anomalous_oxygen)
+            assert state == fresh and type(state.anomalous_oxygen) is bool
+            assert state.mixture_species == fresh.mixture_species
+            assert state.mixture_number_densities == fresh.mixture_number_densities
+            assert state.mean_mass == fresh.mean_mass  # the same sums in the same order
+            assert state.total_number_density == fresh.total_number_density
+            assert len(state.mixture_species) == (8 if anomalous_oxygen else 7)
+            with pytest.raises(TypeError):
+                state.number_densities["O"] = 0.0  # read-only

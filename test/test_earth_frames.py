@@ -12,11 +12,14 @@ from hypothesis import strategies as st
 
 from adbsat_ros.earth_frames import (
     EARTH_ROTATION_RATE,
+    WGS84,
     earth_orientation,
+    earth_rotation_angle,
     ecef_to_eci,
     ecef_to_geodetic,
     eci_to_ecef,
     enu_to_ecef_matrix,
+    geodetic_of_floats,
     geodetic_to_ecef,
 )
 
@@ -305,3 +308,33 @@ def test_orientation_over_random_instants_equals_erfa_built_matrix(model):
         assert ours.earth_rotation_angle == pytest.approx(erfa.era00(b1, b2), abs=1e-12)
         assert np.allclose(ours.rotation_vector_ecef, w @ [0.0, 0.0, EARTH_ROTATION_RATE], rtol=1e-12, atol=0)
         assert not ours.celestial_to_terrestrial.flags.writeable and not ours.rotation_vector_ecef.flags.writeable
+
+
+def test_float_geodetic_equals_erfa_gc2gd_bit_for_bit():
+    """geodetic_of_floats (plain floats) against erfa.gc2gd: random LEO and ground positions, both
+    hemispheres, the poles, the polar axis, the equator, the centre and far-out points."""
+    rng = np.random.default_rng(7)
+    direction = rng.normal(size=(20000, 3))
+    radius = rng.uniform(6.2e6, 7.6e6, size=(20000, 1))
+    positions = direction / np.linalg.norm(direction, axis=1, keepdims=True) * radius
+    special = np.array([
+        [6378137.0, 0.0, 0.0], [0.0, 0.0, 6356752.314245], [0.0, 0.0, -6.8e6], [1e-3, 0.0, 6.8e6],
+        [0.0, 0.0, 0.0], [-6.8e6, 0.0, 0.0], [0.0, -6.8e6, 1.0], [4.2e7, 1e3, -2e3], [1e-9, 1e-9, 1e-9],
+        [6.8e6, 0.0, -0.0],
+    ])
+    for position in np.vstack([positions, special]):
+        longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position)
+        assert status == 0
+        expected = (float(latitude), float(longitude), float(altitude))
+        assert geodetic_of_floats(*position.tolist()) == expected, position
+
+
+def test_float_earth_rotation_angle_equals_erfa_era00_bit_for_bit():
+    rng = np.random.default_rng(11)
+    days = 2436204.5 + rng.integers(0, 52000, size=20000)
+    fractions = rng.uniform(-2e-5, 1.0 + 2e-5, size=20000)
+    for day, fraction in zip(days.tolist(), fractions.tolist()):
+        expected = float(erfa.ufunc.era00(day, fraction))
+        assert earth_rotation_angle(day, fraction) == expected, (day, fraction)
+        assert earth_rotation_angle(fraction, day) == float(erfa.ufunc.era00(fraction, day))
+        assert 0.0 <= earth_rotation_angle(day, fraction) < 2.0 * math.pi

@@ -1,5 +1,6 @@
 """Flight conditions: frames, relative wind, free stream, ADBSat parity, validation."""
 
+import dataclasses
 import datetime as dt
 import json
 import math
@@ -458,3 +459,146 @@ def test_other_array_types_give_the_same_conditions():
         assert_close_vector(b.relative_velocity_ecef, a.relative_velocity_ecef, "relative", rel=1e-6)
     b = flight_conditions(TIME, position.astype(np.float32), velocity.astype(np.float32), WEATHER)
     assert_close_vector(b.position_ecef, a.position_ecef, "position_ecef", rel=1e-7)
+
+
+# ------------------------------------------------------------------ the per-message fast path
+def per_message_case(rng):
+    """A random case as the node passes it: an aware UTC time and float64 arrays."""
+    case = random_case(rng)
+    time = case["time"]
+    case["time"] = time.astimezone(dt.timezone.utc) if time.tzinfo else time.replace(tzinfo=dt.timezone.utc)
+    case["position"] = np.array(case["position"], dtype=float)
+    if case["wind"] is not None:
+        case["wind"] = np.array(case["wind"], dtype=float)
+    return case
+
+
+def call(case, **changes):
+    args = dict(
+        time=case["time"], position=case["position"], velocity=case["velocity"],
+        space_weather=case["weather"], frame=case["frame"], earth_rotation=case["earth_rotation"],
+        wind=case["wind"], wind_frame=case["wind_frame"], anomalous_oxygen=case["anomalous_oxygen"],
+        accommodation_model=case["model"], accommodation_options=case["options"],
+        ut1_minus_utc=case["ut1_minus_utc"], polar_motion=case["polar_motion"],
+        precession_nutation_step=case["step"],
+    )
+    args.update(changes)
+    return flight_conditions(**args)
+
+
+def same_bits(a, b) -> bool:
+    return np.asarray(a, dtype=float).tobytes() == np.asarray(b, dtype=float).tobytes()
+
+
+def test_per_message_fast_path_equals_the_checked_path_bit_for_bit(monkeypatch):
+    """A repeated call with the options of an earlier one skips the option checks (their checked
+    form is looked up) and unpacks the arrays itself: every field and the free stream equal, bit
+    for bit, those of the checked path (inputs as lists, which only it takes)."""
+    import adbsat_ros.flight_conditions as module
+
+    def no_checked_path(*args):
+        raise AssertionError("the per-message case took the checked path")
+
+    rng = np.random.default_rng(4711)
+    for _ in range(150):
+        case = per_message_case(rng)
+        wind = None if case["wind"] is None else case["wind"].tolist()
+        # the checked path (which remembers the options)
+        expected = call(case, position=case["position"].tolist(), velocity=case["velocity"].tolist(), wind=wind)
+        with monkeypatch.context() as patch:
+            patch.setattr(module, "_checked_flight_conditions", no_checked_path)
+            actual = call(case)
+        for f in dataclasses.fields(FlightConditions):
+            a, b = getattr(actual, f.name), getattr(expected, f.name)
+            if isinstance(a, np.ndarray):
+                assert same_bits(a, b) and not a.flags.writeable, f.name
+            elif f.name == "atmosphere":
+                assert a == b and a.mean_mass == b.mean_mass
+            else:
+                assert a == b and type(a) is type(b), f.name
+        flow, reference = actual.free_stream(), expected.free_stream()
+        assert flow == reference
+        for name in ("species_number_densities", "species_masses", "mean_mass", "speed_ratio"):
+            assert same_bits(getattr(flow, name), getattr(reference, name)), name
+        assert flow.dynamic_pressure() == reference.dynamic_pressure()
+
+
+def test_per_message_free_stream_equals_the_checked_constructor():
+    rng = np.random.default_rng(99)
+    for _ in range(50):
+        conditions = call(per_message_case(rng))
+        atmosphere = conditions.atmosphere
+        flow = conditions.free_stream()
+        species = atmosphere.mixture_species
+        checked = FreeStream(conditions.speed, atmosphere.temperature,
+                             {name: atmosphere.number_densities[name] for name in species},
+                             density=atmosphere.mass_density)
+        assert flow == checked and flow.species == species
+        for name in ("species_number_densities", "species_masses", "mean_mass", "mass_density", "speed_ratio",
+                     "thermal_speed", "specific_gas_constant"):
+            assert same_bits(getattr(flow, name), getattr(checked, name)), name
+        assert same_bits(flow.mass_fractions(), checked.mass_fractions())
+        assert same_bits(flow.species_speed_ratios(), checked.species_speed_ratios())
+        assert flow.species_number_densities.dtype == np.float64
+        assert flow.mean_mass == conditions.mean_molecular_mass == atmosphere.mean_mass
+        # the mean mass is summed in species order; numpy's dot and sum differ by rounding only
+        n, m = checked.species_number_densities, checked.species_masses
+        assert flow.mean_mass == pytest.approx(float(np.dot(n, m) / n.sum()), rel=1e-15, abs=0.0)
+        assert dataclasses.replace(flow, speed=2.0 * flow.speed).speed_ratio == 2.0 * flow.speed_ratio
+        # each free stream owns its number densities
+        flow.number_densities["O"] = -1.0
+        assert conditions.free_stream().number_densities["O"] == atmosphere.number_densities["O"] >= 0.0
+
+
+def test_per_message_conditions_behave_as_constructed_ones():
+    """The vector fields made on first read: read-only copies, the same object at every read, and
+    dataclasses.replace, repr and copy see them as fields."""
+    import copy
+
+    position = np.array([6778e3, 1e3, 2e3])
+    velocity = np.array([0.0, 7668.0, 10.0])
+    aware = TIME.replace(tzinfo=dt.timezone.utc)
+    first = flight_conditions(aware, position, velocity, WEATHER)
+    conditions = flight_conditions(aware, position, velocity, WEATHER)  # the per-message path
+    duplicate = copy.copy(conditions)
+    names = ("position_eci", "position_ecef", "velocity_eci", "velocity_ecef", "relative_velocity_eci",
+             "relative_velocity_ecef")
+    for name in names:
+        value = getattr(conditions, name)
+        assert isinstance(value, np.ndarray) and value.shape == (3,) and value.dtype == np.float64
+        assert not value.flags.writeable and getattr(conditions, name) is value
+        assert same_bits(value, getattr(first, name)) and same_bits(getattr(duplicate, name), value)
+        assert not np.shares_memory(value, position) and not np.shares_memory(value, velocity)
+    assert same_bits(conditions.position_eci, position) and same_bits(conditions.velocity_eci, velocity)
+    fresh = flight_conditions(aware, position, velocity, WEATHER)
+    assert same_bits([getattr(fresh, name) for name in names], [getattr(first, name) for name in names])
+    rebuilt = dataclasses.replace(flight_conditions(aware, position, velocity, WEATHER), speed=1.0)
+    assert rebuilt.speed == 1.0 and same_bits(rebuilt.position_ecef, first.position_ecef)
+    assert repr(flight_conditions(aware, position, velocity, WEATHER)) == repr(first)
+    assert flight_conditions(aware, position, velocity, WEATHER).as_dict() == first.as_dict()
+    with pytest.raises(AttributeError, match="no attribute 'position_eci'"):
+        object.__new__(FlightConditions).position_eci
+
+
+def test_remembered_options_never_skip_the_checks_of_bad_ones():
+    aware = TIME.replace(tzinfo=dt.timezone.utc)
+    position, velocity = np.array([6778e3, 0.0, 0.0]), np.array([0.0, 7668.0, 0.0])
+    good = flight_conditions(aware, position, velocity, WEATHER, frame="eci", precession_nutation_step=60.0)
+    for _ in range(2):
+        with pytest.raises(ValueError, match="frame"):
+            flight_conditions(aware, position, velocity, WEATHER, frame="gcrf", precession_nutation_step=60.0)
+        with pytest.raises(ValueError, match="precession_nutation_step"):
+            flight_conditions(aware, position, velocity, WEATHER, precession_nutation_step=7200.0)
+        with pytest.raises(ValueError, match="alpha"):
+            flight_conditions(aware, position, velocity, WEATHER, accommodation_model="fixed",
+                              accommodation_options={"alpha": 1.5})
+        with pytest.raises(ValueError, match="space_weather"):
+            flight_conditions(aware, position, velocity, (121.7, 138.1, 4.0), precession_nutation_step=60.0)
+    again = flight_conditions(aware, position, velocity, WEATHER, frame="ECI", polar_motion=[0.0, 0.0],
+                              precession_nutation_step=60)
+    assert same_bits(again.relative_velocity_eci, good.relative_velocity_eci)
+    import adbsat_ros.flight_conditions as module
+
+    for i in range(200):  # a new UT1 - UTC at every call: the remembered options stay few
+        flight_conditions(aware, position, velocity, WEATHER, ut1_minus_utc=i * 1e-3)
+    assert len(module._CHECKED_OPTIONS) <= module._MAX_CHECKED_OPTIONS
