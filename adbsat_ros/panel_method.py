@@ -274,6 +274,9 @@ class _Facets:
     NORMAL_DECIMALS = 12
     #: Group only when it divides the work by at least this much.
     MIN_PANELS_PER_FACET = 2.0
+    #: Read-only lightings (the shading cache's) whose facet sums are kept, oldest dropped first;
+    #: as many as the cache keeps unpacked (shading_cache.RECENT_CELLS).
+    MEMO_SIZE = 8
 
     def __init__(self, mesh: PanelMesh, index: np.ndarray, first: np.ndarray, surface):
         self.mesh = mesh
@@ -288,7 +291,7 @@ class _Facets:
         self._surface = None
         self._facet_surface = self._facet_values(surface)
         self._surface = surface
-        self._memo = (None, None)
+        self._memo = {}  # id(lighting) -> (lighting, sums) of the MEMO_SIZE latest read-only lightings
 
     @classmethod
     def of(cls, mesh: PanelMesh, surface) -> "_Facets | None":
@@ -312,14 +315,14 @@ class _Facets:
     def lit_sums(self, lighting):
         """The (G, 10) facet sums of :meth:`_sums` for a lighting (None: everything lit).
 
-        Results for a read-only lighting (what the shading cache hands out) are kept for the next
-        call with the same object.
+        Results for the latest :attr:`MEMO_SIZE` read-only lightings (what the shading cache hands
+        out) are kept for later calls with the same objects.
         """
         if lighting is None:
             return self._all_lit
-        memo_lighting, memo = self._memo
-        if lighting is memo_lighting:
-            return memo
+        kept = self._memo.get(id(lighting))
+        if kept is not None and kept[0] is lighting:
+            return kept[1]
         w = self._areas * lighting.lit_fraction
         wr = lighting.lit_fraction[:, None] * self._weighted_bary
         if lighting.shift_index.size:
@@ -327,7 +330,10 @@ class _Facets:
             wr[i] += w[i, None] * lighting.shift
         sums = self._sums(w, wr)
         if not lighting.lit_fraction.flags.writeable:
-            self._memo = (lighting, sums)
+            # kept with the lighting itself, so its id cannot be reused while the entry lives
+            self._memo[id(lighting)] = (lighting, sums)
+            if len(self._memo) > self.MEMO_SIZE:
+                del self._memo[next(iter(self._memo))]
         return sums
 
     def surface_of(self, surface):

@@ -6,9 +6,10 @@ reuse results. :class:`ShadingCache` sits in front of a :class:`~adbsat_ros.shad
 
 * **Key.** u is mapped to a cell of an *equi-angular cube map*: the face of the cube that u
   points through (largest |component|), and the two angles alpha = atan(u_a / |u_k|),
-  beta = atan(u_b / |u_k|) in [-45, 45] deg, each cut into n = ceil(90 / resolution_deg)
-  equal steps of h = 90 deg / n <= resolution_deg. The cube map has no pole: every cell has
-  the same shape class and size within a factor ~1.4 everywhere on the sphere.
+  beta = atan(u_b / |u_k|) in [-45, 45] deg, each cut into n equal steps of
+  h = 90 deg / n <= resolution_deg, n the smallest odd number >= 90 / resolution_deg (odd, so
+  that the axis directions are cell centres, see :func:`cells_per_edge`). The cube map has no
+  pole: every cell has the same shape class and size within a factor ~1.4 everywhere on the sphere.
 * **Value.** The lighting of the cell *centre* u_c (computed once, whatever direction first
   hit the cell), so answers do not depend on the order of the queries.
 * **Quantisation bound.** angle(u, u_c) <= h <= resolution_deg for every u, poles and cube
@@ -64,12 +65,25 @@ SAMPLING_ERROR = 0.05
 _QUARTER = 0.25 * math.pi
 
 
+#: Cells whose lighting stays unpacked (read-only) for the next queries: a flow direction that
+#: wanders over the border of a few cells gets the same objects back, with no unpacking, and the
+#: panel method's per-lighting sums (memoised by object) stay valid.
+RECENT_CELLS = 8
+
+
 def cells_per_edge(resolution_deg: float) -> int:
-    """Number n of angular steps along a cube-map face edge for a resolution in degrees."""
+    """Number n of angular steps along a cube-map face edge for a resolution in degrees.
+
+    The smallest odd n >= 90 / resolution_deg: with n odd the six axis directions (face centres)
+    are cell centres. A body flying along one of its axes, the most common attitude, then stays
+    inside one cell and is shaded exactly at that axis, instead of sitting on the corner of four
+    cells and switching between them with every rounding change of the flow direction.
+    """
     resolution_deg = float(resolution_deg)
     if not (math.isfinite(resolution_deg) and 0.0 < resolution_deg <= 90.0):
         raise ValueError(f"resolution_deg must be in (0, 90], got {resolution_deg!r}")
-    return max(1, math.ceil(90.0 / resolution_deg - 1e-9))
+    n = max(1, math.ceil(90.0 / resolution_deg - 1e-9))
+    return n if n % 2 == 1 else n + 1
 
 
 def direction_keys(u, n: int) -> np.ndarray:
@@ -166,7 +180,7 @@ class ShadingCache:
         The shading of one mesh (any mode).
     resolution_deg : float
         Largest angle [deg] between a query direction and the direction its answer was
-        computed for (the cube-map step h = 90 / ceil(90 / resolution_deg) <= resolution_deg).
+        computed for (the cube-map step h = 90 / n <= resolution_deg, :func:`cells_per_edge`).
     max_entries : int or None
         Largest number of stored directions (least recently used evicted first); None for no
         limit.
@@ -196,6 +210,7 @@ class ShadingCache:
         self.max_entries = None if max_entries is None else int(max_entries)
         self._store: OrderedDict = OrderedDict()
         self._last = (None, None)  # (key, PanelLighting) of the latest query: consecutive hits reuse it
+        self._recent: OrderedDict = OrderedDict()  # the RECENT_CELLS latest cells, unpacked
         self.hits = 0
         self.misses = 0
         self.evictions = 0
@@ -250,7 +265,8 @@ class ShadingCache:
     def _insert(self, key: int, entry):
         self._store[key] = entry
         if self.max_entries is not None and len(self._store) > self.max_entries:
-            self._store.popitem(last=False)
+            evicted, _ = self._store.popitem(last=False)
+            self._recent.pop(evicted, None)
             self.evictions += 1
 
     def __len__(self) -> int:
@@ -262,6 +278,7 @@ class ShadingCache:
     def clear(self):
         """Drop every entry and reset the counters."""
         self._store.clear()
+        self._recent.clear()
         self._last = (None, None)
         self.hits = self.misses = self.evictions = 0
 
@@ -292,17 +309,26 @@ class ShadingCache:
         if key == last_key:  # the usual case at GNC rates: the same cell as the previous query
             self.hits += 1
             return last_lighting
-        entry = self._store.get(key)
-        if entry is not None:
+        lighting = self._recent.get(key)
+        if lighting is not None:  # a cell used a moment ago (e.g. the flow wanders across a border)
+            self._recent.move_to_end(key)
             self._store.move_to_end(key)
             self.hits += 1
-            lighting = self._unpack(entry)
         else:
-            self.misses += 1
-            lighting = self.shader.lighting(self.centre(key))
-            self._insert(key, self._pack(lighting))
-        for array in (lighting.lit_fraction, lighting.shift_index, lighting.shift):
-            array.setflags(write=False)  # shared with later hits: nobody may change it
+            entry = self._store.get(key)
+            if entry is not None:
+                self._store.move_to_end(key)
+                self.hits += 1
+                lighting = self._unpack(entry)
+            else:
+                self.misses += 1
+                lighting = self.shader.lighting(self.centre(key))
+                self._insert(key, self._pack(lighting))
+            for array in (lighting.lit_fraction, lighting.shift_index, lighting.shift):
+                array.setflags(write=False)  # shared with later hits: nobody may change it
+            self._recent[key] = lighting
+            if len(self._recent) > RECENT_CELLS:
+                self._recent.popitem(last=False)
         self._last = (key, lighting)
         return lighting
 

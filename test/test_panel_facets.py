@@ -112,7 +112,8 @@ def test_a_changed_writable_lighting_is_not_taken_from_the_memo(satellite, shade
     for array in (frozen.lit_fraction, frozen.shift_index, frozen.shift):
         array.setflags(write=False)
     grouped.coefficients(FLOW, flow_direction=u, lighting=frozen)
-    assert grouped._facets._memo[0] is frozen
+    assert grouped._facets._memo[id(frozen)][0] is frozen
+    assert id(mutable) not in grouped._facets._memo  # a writable one never is
     assert_same(grouped.coefficients(FLOW, flow_direction=u, lighting=frozen),
                 panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=frozen))
 

@@ -12,6 +12,7 @@ from adbsat_ros import frames
 from adbsat_ros.mesh import panels_from_arrays
 from adbsat_ros.shading import lit_projected_area, make_shader
 from adbsat_ros.shading_cache import (
+    RECENT_CELLS,
     ShadingCache,
     cells_per_edge,
     direction_keys,
@@ -58,6 +59,20 @@ def test_quantisation_error_bounded_everywhere(resolution_deg):
     # near the poles the cells are as small as elsewhere
     polar = np.abs(u[:, 2]) > 0.99
     assert ang[polar].max() <= step
+
+
+@pytest.mark.parametrize("resolution_deg", [0.25, 1.0, 2.0, 30.0, 45.0, 90.0])
+def test_axis_directions_are_cell_centres(resolution_deg):
+    """n is odd, so a flow along a body axis (plus rounding-level noise) stays in the cell
+    centred on that axis and is shaded exactly for it."""
+    n = cells_per_edge(resolution_deg)
+    assert n % 2 == 1 and 90.0 / n <= resolution_deg
+    axes = np.vstack([np.eye(3), -np.eye(3)])
+    np.testing.assert_allclose(key_centres(direction_keys(axes, n), n), axes, atol=1e-15)
+    rng = np.random.default_rng(7)
+    for axis in axes:
+        noisy = axis + 1e-9 * rng.normal(size=(200, 3))
+        assert len(np.unique(direction_keys(noisy, n))) == 1
 
 
 def test_keys_and_centres_round_trip():
@@ -130,13 +145,18 @@ def test_cached_answer_is_the_cell_centre_shading(shader, scene):
     again = cache.lighting(u)  # hit on the latest cell: the same answer again
     np.testing.assert_array_equal(again.lit_fraction, ref.lit_fraction)
     np.testing.assert_allclose(again.shift, ref.shift)
-    cache.lighting(-u)  # another cell, so the next query of u is rebuilt from the sparse store
+    back = cache.lighting(-u)  # another cell; u's cell stays among the recent ones, unpacked
+    assert cache.lighting(u) is again and cache.lighting(-u) is back
+    # RECENT_CELLS other cells later, u's cell is rebuilt from the sparse store
+    others = [frames.flow_direction(math.radians(8.4 + 3.0 * k), math.radians(20.0)) for k in range(RECENT_CELLS)]
+    for v in others:
+        cache.lighting(v)
     rebuilt = cache.lighting(u)
     assert rebuilt is not again
     np.testing.assert_array_equal(rebuilt.lit_fraction, ref.lit_fraction)
     np.testing.assert_array_equal(rebuilt.shift_index, ref.shift_index)
     np.testing.assert_allclose(rebuilt.shift, ref.shift)
-    assert (cache.hits, cache.misses) == (2, 2)
+    assert (cache.hits, cache.misses) == (4, 2 + RECENT_CELLS)
     # what callers get is read-only, so nobody can corrupt the cache through it
     for lighting in (got, again, rebuilt):
         with pytest.raises(ValueError):
