@@ -21,6 +21,7 @@ Parameters: see :data:`adbsat_ros.wrench_settings.PARAMETERS` and ``config/adbsa
 from __future__ import annotations
 
 import collections
+import gc
 import io
 import os
 import sys
@@ -258,6 +259,11 @@ def main(args=None) -> int:
             return 1
         executor = make_executor(node.estimator.settings.executor)
         executor.add_node(node)
+        # everything made so far (mesh, shading structures, imported modules) lives as long as the
+        # process: move it out of the collector's generations, so that the collections the
+        # message traffic triggers walk only young objects (no multi-millisecond pauses)
+        gc.collect()
+        gc.freeze()
         try:
             spin_until_shutdown(executor)
         except (KeyboardInterrupt, ExternalShutdownException):
