@@ -198,10 +198,10 @@ class AeroWrenchEstimator:
         self.rejections: Counter = Counter()
         self.published = 0
         self._state: OrbitalState | None = None
-        # (state, stamp, settings, UTC, FlightConditions) of the latest attitude: another attitude
-        # at the same stamp with the same state (a simulator publishing both at every step) reuses them
-        self._conditions_memo = (None, None, None, None, None)
+        # (state, stamp, settings, UTC, FlightConditions, FreeStream) of the latest two stamps
+        self._conditions_memo: tuple = ()
         self._last_attitude_stamp: float | None = None
+        self._previous_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
         self._shading: _ShadingSource | None = None
         self._database: DatabaseCoefficients | None = None
@@ -278,6 +278,7 @@ class AeroWrenchEstimator:
         """Forget the state and the last stamps (e.g. after time jumped back)."""
         self._state = None
         self._last_attitude_stamp = None
+        self._previous_attitude_stamp = None
         self._last_state_stamp = None
 
     def _reject(self, reason: str, message: str):
@@ -453,33 +454,80 @@ class AeroWrenchEstimator:
         if abs(dt) > self.settings.state_timeout:
             self._reject("stale_state", f"latest state is {dt:.3f} s from the attitude stamp "
                          f"(state_timeout {self.settings.state_timeout:g} s)")
+        self._previous_attitude_stamp = self._last_attitude_stamp
         self._last_attitude_stamp = stamp
-        s = self.settings
-        memo_state, memo_stamp, memo_settings, utc, conditions = self._conditions_memo
-        if not (memo_state is state and memo_stamp == stamp and memo_settings is s):
-            utc = self.utc(stamp)
-            position = state.position + state.velocity * dt  # first-order propagation to the stamp
-            options = self._accommodation_options
-            try:
-                conditions = flight_conditions(
-                    utc, position, state.velocity, self.weather, frame=s.state_frame,
-                    earth_rotation=s.earth_rotation, wind=self._wind, wind_frame="ecef",
-                    anomalous_oxygen=s.anomalous_oxygen, accommodation_model=s.accommodation_model,
-                    accommodation_options=options, precession_nutation_step=PRECESSION_NUTATION_STEP_S,
-                )
-            except ValueError as exc:
-                reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
-                self._reject(reason, str(exc))
-            self._conditions_memo = (state, stamp, s, utc, conditions)
-        sample = self._wrench(stamp, utc, rotation, conditions, t0)
+        try:
+            utc, conditions, flow = self._conditions_at(stamp, state)
+        except ValueError as exc:
+            reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
+            self._reject(reason, str(exc))
+        sample = self._wrench(stamp, utc, rotation, conditions, flow, t0)
         self.published += 1
         return sample
 
-    def _wrench(self, stamp, utc, rotation: tuple, conditions: FlightConditions, t0) -> WrenchSample:
+    def _conditions_at(self, stamp: float, state: OrbitalState):
+        """UTC, flight conditions and free stream (None at rest) at ``stamp`` from ``state``.
+
+        The latest two results are kept: another attitude at the same stamp and state (a simulator
+        publishing attitude and state at every step), or the stamp :meth:`prepare_next` computed
+        ahead, gets them back instead of a second identical computation.
+
+        Raises
+        ------
+        ValueError
+            From :func:`flight_conditions` (e.g. an altitude outside the atmosphere model).
+        """
+        s = self.settings
+        for entry in self._conditions_memo:
+            if entry[0] is state and entry[1] == stamp and entry[2] is s:
+                return entry[3], entry[4], entry[5]
+        utc = self.utc(stamp)
+        position = state.position + state.velocity * (stamp - state.stamp)  # first-order propagation
+        conditions = flight_conditions(
+            utc, position, state.velocity, self.weather, frame=s.state_frame,
+            earth_rotation=s.earth_rotation, wind=self._wind, wind_frame="ecef",
+            anomalous_oxygen=s.anomalous_oxygen, accommodation_model=s.accommodation_model,
+            accommodation_options=self._accommodation_options,
+            precession_nutation_step=PRECESSION_NUTATION_STEP_S,
+        )
+        flow = conditions.free_stream() if conditions.speed > 0.0 else None
+        self._conditions_memo = self._conditions_memo[-1:] + ((state, stamp, s, utc, conditions, flow),)
+        return utc, conditions, flow
+
+    def prepare_next(self) -> bool:
+        """Compute ahead the flight conditions of the attitude a regular stream sends next.
+
+        A GNC loop stamps its attitudes at a fixed interval, so the next stamp is most likely the
+        latest plus the latest interval. The ROS node calls this right after publishing a wrench:
+        the atmosphere (NRLMSISE-00), the Earth's orientation and the free stream for that stamp
+        are then ready when the message comes, which takes them off the message's latency. It is
+        the computation :meth:`on_attitude` would make, kept only for exactly that stamp, state
+        and settings; any other next message is computed as usual. Nothing is counted or raised.
+
+        Returns
+        -------
+        bool
+            Whether conditions were prepared (False without two attitudes, a state, or when the
+            predicted stamp would be rejected).
+        """
+        last, previous, state = self._last_attitude_stamp, self._previous_attitude_stamp, self._state
+        if last is None or previous is None or state is None:
+            return False
+        step = last - previous
+        stamp = last + step
+        if not (0.0 < step <= self.settings.state_timeout) or abs(stamp - state.stamp) > self.settings.state_timeout:
+            return False
+        try:
+            self._conditions_at(stamp, state)
+        except ValueError:
+            return False
+        return True
+
+    def _wrench(self, stamp, utc, rotation: tuple, conditions: FlightConditions, flow, t0) -> WrenchSample:
         s = self.settings
         ref = self.method.reference
         speed = conditions.speed
-        if speed < s.min_relative_speed:
+        if speed < s.min_relative_speed or flow is None:  # at rest in the air: no free stream, no force
             zero = np.zeros(3)
             return WrenchSample(stamp, utc, zero, zero.copy(), zero.copy(), zero.copy(), ref.area, ref.length,
                                 0.0, conditions, None, zero.copy(), None, time.perf_counter() - t0)
@@ -491,7 +539,6 @@ class AeroWrenchEstimator:
             -(m[1] * vx + m[4] * vy + m[7] * vz) / speed,
             -(m[2] * vx + m[5] * vy + m[8] * vz) / speed,
         ])
-        flow = conditions.free_stream()
         q = flow.dynamic_pressure()
         if self._database is not None:
             try:

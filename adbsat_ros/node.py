@@ -162,6 +162,10 @@ class AdbsatNode(Node):
         self._last_sample = sample
         for listener in self._sample_listeners:
             listener(sample)
+        try:  # the next attitude's flight conditions, now that this wrench is out (see prepare_next)
+            self.estimator.prepare_next()
+        except Exception as exc:  # never let it take the node down
+            self.get_logger().error(f"preparing the next message failed: {exc!r}", throttle_duration_sec=LOG_THROTTLE_S)
 
     def add_sample_listener(self, callback) -> None:
         """Call ``callback(sample)`` with every :class:`WrenchSample` published (in-process users:

@@ -5,7 +5,7 @@ Usage:
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
-or bench/echo_node.py), a publisher (Odometry at 10 Hz, QuaternionStamped at the rate, slowly
+or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the rate, slowly
 tumbling at 1 deg/s so the shading cache sees mostly hits) and a receiver. Latency is receive
 time minus publish time of the same stamp on the shared CLOCK_MONOTONIC. Reports p50/p99/max,
 messages dropped, and for the soak the node's resident memory at the start and the end.
@@ -31,7 +31,8 @@ R_ORBIT = 6378137.0 + 300e3
 V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
 
 
-def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_deg_s: float) -> None:
+def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_deg_s: float,
+              state_rate: float) -> None:
     import rclpy
     from geometry_msgs.msg import QuaternionStamped
     from nav_msgs.msg import Odometry
@@ -66,7 +67,7 @@ def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_d
             o.pose.pose.position.x = R_ORBIT
             o.twist.twist.linear.y = V_ORBIT
             st.publish(o)
-            next_state += 0.1
+            next_state += 1.0 / state_rate
         angle = math.radians(tumble_deg_s) * t  # tumbling about z
         q = QuaternionStamped()
         q.header.frame_id = "eci"
@@ -161,7 +162,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
                              "--out", str(tmp / "recv.json")], env=env)
     pub = subprocess.Popen([sys.executable, __file__, "--role", "publisher", "--rate", str(rate),
                             "--duration", str(duration), "--out", str(tmp / "sent.json"),
-                            "--tumble", str(args.tumble)]
+                            "--tumble", str(args.tumble), "--state-rate", str(args.state_rate)]
                            + (["--need-state"] if kind != "echo" else []), env=env)
     cpu_start = cpu_seconds(node.pid)  # the node is idle here: set up, waiting for messages
     mem_start = None
@@ -230,11 +231,12 @@ def main() -> None:
                         help="attitude rotation rate [deg/s] about z; 0 = fixed attitude (cache hits only)")
     parser.add_argument("--executor", default="events", choices=["events", "single_threaded"],
                         help="rclpy executor of the node under test and of the echo node")
+    parser.add_argument("--state-rate", type=float, default=10.0, help="Odometry messages per second [Hz]")
     parser.add_argument("--out", default="")
     parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()
     if args.role == "publisher":
-        return publisher(args.rate, args.duration, args.out, args.need_state, args.tumble)
+        return publisher(args.rate, args.duration, args.out, args.need_state, args.tumble, args.state_rate)
     if args.role == "receiver":
         return receiver(args.duration, args.out)
 

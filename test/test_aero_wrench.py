@@ -64,3 +64,26 @@ def test_a_settings_change_recomputes_the_conditions():
     active = est.on_attitude(1.0, TILTED)
     assert active.conditions.mass_density > 1.5 * quiet.conditions.mass_density
     np.testing.assert_array_equal(active.force, fresh_sample(1.0, 1.0, TILTED, f107=250.0, f107a=250.0).force)
+
+
+def test_prepare_next_computes_the_next_regular_stamp_ahead_and_changes_no_result():
+    est = estimator()
+    est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    assert not est.prepare_next()  # one attitude: no interval yet
+    est.on_attitude(1.00, TILTED)
+    est.on_attitude(1.01, TILTED)
+    assert est.prepare_next()
+    ready = est._conditions_memo[-1]
+    assert ready[1] == 1.01 + (1.01 - 1.00)
+    regular = est.on_attitude(1.01 + (1.01 - 1.00), TILTED)
+    assert regular.conditions is ready[4]  # taken from the prepared conditions
+    np.testing.assert_array_equal(regular.force, fresh_sample(1.01 + (1.01 - 1.00), 1.0, TILTED).force)
+    np.testing.assert_array_equal(regular.torque, fresh_sample(1.01 + (1.01 - 1.00), 1.0, TILTED).torque)
+    assert est.prepare_next()
+    irregular = est.on_attitude(1.0275, TILTED)  # not the predicted stamp: computed as usual
+    assert irregular.conditions is not est._conditions_memo[0][4]
+    np.testing.assert_array_equal(irregular.force, fresh_sample(1.0275, 1.0, TILTED).force)
+    # nothing is prepared beyond the state time-out, and nothing is counted as rejected
+    est.on_attitude(1.9, TILTED)
+    assert not est.prepare_next()  # 1.9 + 0.8725 is more than state_timeout from the state
+    assert sum(est.rejections.values()) == 0
