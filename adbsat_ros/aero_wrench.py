@@ -55,6 +55,19 @@ def stamp_seconds(stamp) -> float:
     return stamp.sec + 1e-9 * stamp.nanosec
 
 
+def next_regular_stamp(previous, latest) -> float | None:
+    """The stamp [s] after ``latest`` at the interval from ``previous`` to ``latest`` (two
+    builtin_interfaces/Time), as :func:`stamp_seconds` of that Time would give it; None when the
+    interval is not positive. Worked in integer nanoseconds, so a fixed-rate stream's next stamp
+    comes out bit-equal to the one its message will carry."""
+    latest_ns = latest.sec * 1_000_000_000 + latest.nanosec
+    step_ns = latest_ns - (previous.sec * 1_000_000_000 + previous.nanosec)
+    if step_ns <= 0:
+        return None
+    sec, nanosec = divmod(latest_ns + step_ns, 1_000_000_000)
+    return sec + 1e-9 * nanosec
+
+
 class Rejection(Exception):
     """An input that produced no wrench: ``reason`` (one of REJECTION_REASONS) and a message."""
 
@@ -198,10 +211,11 @@ class AeroWrenchEstimator:
         self.rejections: Counter = Counter()
         self.published = 0
         self._state: OrbitalState | None = None
-        # (state, stamp, settings, UTC, FlightConditions, FreeStream) of the latest two stamps
+        # (state, stamp, settings, UTC, FlightConditions, FreeStream, made by prepare) of the latest
+        # two stamps
         self._conditions_memo: tuple = ()
+        self.prepared_used = 0  # attitudes whose flight conditions prepare() had made ahead
         self._last_attitude_stamp: float | None = None
-        self._previous_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
         self._shading: _ShadingSource | None = None
         self._database: DatabaseCoefficients | None = None
@@ -278,7 +292,6 @@ class AeroWrenchEstimator:
         """Forget the state and the last stamps (e.g. after time jumped back)."""
         self._state = None
         self._last_attitude_stamp = None
-        self._previous_attitude_stamp = None
         self._last_state_stamp = None
 
     def _reject(self, reason: str, message: str):
@@ -384,6 +397,7 @@ class AeroWrenchEstimator:
             "published": self.published,
             "shading_cache_hits": self.shading_cache_hits,
             "shading_cache_misses": self.shading_cache_misses,
+            "conditions_prepared_used": self.prepared_used,
             "reference_area_m2": self.method.reference.area,
             "reference_length_m": self.method.reference.length,
         }
@@ -454,7 +468,6 @@ class AeroWrenchEstimator:
         if abs(dt) > self.settings.state_timeout:
             self._reject("stale_state", f"latest state is {dt:.3f} s from the attitude stamp "
                          f"(state_timeout {self.settings.state_timeout:g} s)")
-        self._previous_attitude_stamp = self._last_attitude_stamp
         self._last_attitude_stamp = stamp
         try:
             utc, conditions, flow = self._conditions_at(stamp, state)
@@ -465,11 +478,11 @@ class AeroWrenchEstimator:
         self.published += 1
         return sample
 
-    def _conditions_at(self, stamp: float, state: OrbitalState):
+    def _conditions_at(self, stamp: float, state: OrbitalState, prepare: bool = False):
         """UTC, flight conditions and free stream (None at rest) at ``stamp`` from ``state``.
 
         The latest two results are kept: another attitude at the same stamp and state (a simulator
-        publishing attitude and state at every step), or the stamp :meth:`prepare_next` computed
+        publishing attitude and state at every step), or the stamp :meth:`prepare` computed
         ahead, gets them back instead of a second identical computation.
 
         Raises
@@ -480,6 +493,8 @@ class AeroWrenchEstimator:
         s = self.settings
         for entry in self._conditions_memo:
             if entry[0] is state and entry[1] == stamp and entry[2] is s:
+                if entry[6] and not prepare:
+                    self.prepared_used += 1
                 return entry[3], entry[4], entry[5]
         utc = self.utc(stamp)
         position = state.position + state.velocity * (stamp - state.stamp)  # first-order propagation
@@ -491,34 +506,33 @@ class AeroWrenchEstimator:
             precession_nutation_step=PRECESSION_NUTATION_STEP_S,
         )
         flow = conditions.free_stream() if conditions.speed > 0.0 else None
-        self._conditions_memo = self._conditions_memo[-1:] + ((state, stamp, s, utc, conditions, flow),)
+        self._conditions_memo = self._conditions_memo[-1:] + ((state, stamp, s, utc, conditions, flow, prepare),)
         return utc, conditions, flow
 
-    def prepare_next(self) -> bool:
-        """Compute ahead the flight conditions of the attitude a regular stream sends next.
+    def prepare(self, stamp: float) -> bool:
+        """Compute ahead the flight conditions of an attitude expected at ``stamp`` [s].
 
-        A GNC loop stamps its attitudes at a fixed interval, so the next stamp is most likely the
-        latest plus the latest interval. The ROS node calls this right after publishing a wrench:
-        the atmosphere (NRLMSISE-00), the Earth's orientation and the free stream for that stamp
-        are then ready when the message comes, which takes them off the message's latency. It is
-        the computation :meth:`on_attitude` would make, kept only for exactly that stamp, state
-        and settings; any other next message is computed as usual. Nothing is counted or raised.
+        A GNC loop stamps its attitudes at a fixed interval, so the ROS node calls this right
+        after publishing a wrench, with the stamp the next message most likely has (the latest
+        plus the latest interval, :func:`next_regular_stamp`): the atmosphere (NRLMSISE-00), the
+        Earth's orientation and the free stream are then ready when that message comes, which
+        takes them off its latency. It is the computation :meth:`on_attitude` would make, kept
+        only for exactly that stamp, state and settings; any other message is computed as usual.
+        Nothing is counted or raised.
 
         Returns
         -------
         bool
-            Whether conditions were prepared (False without two attitudes, a state, or when the
-            predicted stamp would be rejected).
+            Whether conditions were prepared (False without a state, for a stamp not after the
+            latest attitude or that the state time-out would reject, or outside the atmosphere).
         """
-        last, previous, state = self._last_attitude_stamp, self._previous_attitude_stamp, self._state
-        if last is None or previous is None or state is None:
+        state, last = self._state, self._last_attitude_stamp
+        if state is None or not math.isfinite(stamp) or (last is not None and stamp <= last):
             return False
-        step = last - previous
-        stamp = last + step
-        if not (0.0 < step <= self.settings.state_timeout) or abs(stamp - state.stamp) > self.settings.state_timeout:
+        if abs(stamp - state.stamp) > self.settings.state_timeout:
             return False
         try:
-            self._conditions_at(stamp, state)
+            self._conditions_at(stamp, state, prepare=True)
         except ValueError:
             return False
         return True

@@ -36,7 +36,7 @@ from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-from .aero_wrench import AeroWrenchEstimator, Rejection, WrenchSample, stamp_seconds
+from .aero_wrench import AeroWrenchEstimator, Rejection, WrenchSample, next_regular_stamp, stamp_seconds
 from .mesh import MeshError
 from .wrench_settings import PARAMETERS, READ_ONLY_PARAMETERS, WrenchSettings
 
@@ -77,6 +77,7 @@ class AdbsatNode(Node):
         self._compute_ms = collections.deque(maxlen=2000)
         self._last_state_wall = None
         self._last_sample: WrenchSample | None = None
+        self._last_stamp = None  # header stamp of the latest wrench published
         self._sample_listeners: list = []
         self._last_rejection: Rejection | None = None
         self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
@@ -162,10 +163,15 @@ class AdbsatNode(Node):
         self._last_sample = sample
         for listener in self._sample_listeners:
             listener(sample)
-        try:  # the next attitude's flight conditions, now that this wrench is out (see prepare_next)
-            self.estimator.prepare_next()
-        except Exception as exc:  # never let it take the node down
-            self.get_logger().error(f"preparing the next message failed: {exc!r}", throttle_duration_sec=LOG_THROTTLE_S)
+        previous, self._last_stamp = self._last_stamp, stamp_msg
+        if previous is not None:  # the next attitude's flight conditions, now that this wrench is out
+            try:
+                expected = next_regular_stamp(previous, stamp_msg)
+                if expected is not None:
+                    self.estimator.prepare(expected)
+            except Exception as exc:  # never let it take the node down
+                self.get_logger().error(f"preparing the next message failed: {exc!r}",
+                                        throttle_duration_sec=LOG_THROTTLE_S)
 
     def add_sample_listener(self, callback) -> None:
         """Call ``callback(sample)`` with every :class:`WrenchSample` published (in-process users:

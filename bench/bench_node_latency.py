@@ -44,10 +44,11 @@ def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_d
     att = node.create_publisher(QuaternionStamped, "attitude", qos)
     st = node.create_publisher(Odometry, "state", qos)
     deadline = time.monotonic() + 30
+    ready = Path(out).parent / "receiver-ready"  # written by the receiver once it hears the node
     while (att.get_subscription_count() == 0 or (need_state and st.get_subscription_count() == 0)
-           or node.count_subscribers("wrench") == 0) and time.monotonic() < deadline:
+           or not ready.exists()) and time.monotonic() < deadline:
         rclpy.spin_once(node, timeout_sec=0.05)
-    time.sleep(1.0)  # the receiver is in the graph: let its subscription match the node's publisher
+    time.sleep(0.5)
     sent = {}
     n = int(rate * duration)
     period = 1.0 / rate
@@ -94,7 +95,7 @@ def receiver(duration: float, out: str) -> None:
     def on_wrench(msg):
         got[f"{msg.header.stamp.sec}.{msg.header.stamp.nanosec:09d}"] = time.monotonic()
 
-    node.create_subscription(WrenchStamped, "wrench", on_wrench, QoSProfile(depth=100))
+    wrench_sub = node.create_subscription(WrenchStamped, "wrench", on_wrench, QoSProfile(depth=100))
     diagnostics = {}
 
     def on_diagnostics(msg):
@@ -107,8 +108,11 @@ def receiver(duration: float, out: str) -> None:
     executor = make_executor("events")
     executor.add_node(node)
     end = time.monotonic() + duration
+    ready = Path(out).parent / "receiver-ready"
     while time.monotonic() < end:
         executor.spin_once(timeout_sec=0.1)
+        if not ready.exists() and wrench_sub.get_publisher_count() > 0:
+            ready.touch()  # matched with the node's publisher: the publisher may start
     Path(out).write_text(json.dumps({"wrench": got, "diagnostics": diagnostics}))
     node.destroy_node()
     rclpy.try_shutdown()

@@ -66,24 +66,37 @@ def test_a_settings_change_recomputes_the_conditions():
     np.testing.assert_array_equal(active.force, fresh_sample(1.0, 1.0, TILTED, f107=250.0, f107a=250.0).force)
 
 
-def test_prepare_next_computes_the_next_regular_stamp_ahead_and_changes_no_result():
+def test_prepared_conditions_are_used_for_that_stamp_only_and_change_no_result():
     est = estimator()
+    assert not est.prepare(1.0)  # no state yet
     est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
-    assert not est.prepare_next()  # one attitude: no interval yet
-    est.on_attitude(1.00, TILTED)
     est.on_attitude(1.01, TILTED)
-    assert est.prepare_next()
+    assert not est.prepare(1.01)  # not after the latest attitude
+    assert est.prepare(1.02)
     ready = est._conditions_memo[-1]
-    assert ready[1] == 1.01 + (1.01 - 1.00)
-    regular = est.on_attitude(1.01 + (1.01 - 1.00), TILTED)
+    regular = est.on_attitude(1.02, TILTED)
     assert regular.conditions is ready[4]  # taken from the prepared conditions
-    np.testing.assert_array_equal(regular.force, fresh_sample(1.01 + (1.01 - 1.00), 1.0, TILTED).force)
-    np.testing.assert_array_equal(regular.torque, fresh_sample(1.01 + (1.01 - 1.00), 1.0, TILTED).torque)
-    assert est.prepare_next()
-    irregular = est.on_attitude(1.0275, TILTED)  # not the predicted stamp: computed as usual
+    reference = fresh_sample(1.02, 1.0, TILTED)
+    np.testing.assert_array_equal(regular.force, reference.force)
+    np.testing.assert_array_equal(regular.torque, reference.torque)
+    assert est.prepare(1.03)
+    irregular = est.on_attitude(1.0275, TILTED)  # not the prepared stamp: computed as usual
     assert irregular.conditions is not est._conditions_memo[0][4]
     np.testing.assert_array_equal(irregular.force, fresh_sample(1.0275, 1.0, TILTED).force)
-    # nothing is prepared beyond the state time-out, and nothing is counted as rejected
-    est.on_attitude(1.9, TILTED)
-    assert not est.prepare_next()  # 1.9 + 0.8725 is more than state_timeout from the state
-    assert sum(est.rejections.values()) == 0
+    assert not est.prepare(2.5)  # beyond the state time-out
+    assert sum(est.rejections.values()) == 0  # preparing counts nothing
+
+
+@pytest.mark.parametrize("period_ns", [10_000_000, 1_000_000, 3_333_333, 999_999_999])
+@pytest.mark.parametrize("start_s", [0, 7, 1_700_000_000])
+def test_next_regular_stamp_is_bit_equal_to_the_next_message_stamp(period_ns, start_s):
+    from types import SimpleNamespace as Time  # a builtin_interfaces/Time's two fields
+
+    from adbsat_ros.aero_wrench import next_regular_stamp, stamp_seconds
+
+    stamps = [Time(sec=(start_s * 10**9 + k * period_ns) // 10**9, nanosec=(start_s * 10**9 + k * period_ns) % 10**9)
+              for k in range(300)]
+    for previous, latest, following in zip(stamps, stamps[1:], stamps[2:]):
+        assert next_regular_stamp(previous, latest) == stamp_seconds(following)
+    assert next_regular_stamp(stamps[1], stamps[1]) is None
+    assert next_regular_stamp(stamps[2], stamps[1]) is None

@@ -121,6 +121,30 @@ def test_circular_orbit_wrench_is_drag_of_a_sphere(ros):
     assert np.allclose(q * area * length * vec(cf.wrench.torque), torque, rtol=1e-3)
 
 
+def test_a_fixed_rate_stream_gets_its_flight_conditions_prepared_and_the_same_wrenches(ros):
+    """After each wrench the node computes the next regular stamp's flight conditions ahead; the
+    wrenches equal those of an estimator fed the same messages without preparation."""
+    from adbsat_ros.aero_wrench import AeroWrenchEstimator
+
+    node, peer = ros
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(0.0, pos, vel)
+    peer.spin_for(0.05)
+    stamps = [0.01 * k for k in range(1, 8)] + [0.0825, 0.09]  # regular, then two irregular steps
+    for t in stamps:
+        peer.send_attitude(t, (0.0, 0.0, 0.0, 1.0))
+    assert peer.spin_until(lambda: len(peer.wrenches) == len(stamps))
+    # the 3rd..7th stamps were predicted from the two before; 0.0825 and 0.09 were not
+    assert node.estimator.prepared_used == 5
+    reference = AeroWrenchEstimator(node.estimator.settings, node.estimator.mesh)
+    reference.on_state(0.0, pos, vel)
+    for msg in peer.wrenches:
+        sample = reference.on_attitude(stamp_to_float(msg.header.stamp), (0.0, 0.0, 0.0, 1.0))
+        assert vec(msg.wrench.force).tolist() == sample.force.tolist()
+        assert vec(msg.wrench.torque).tolist() == sample.torque.tolist()
+    assert reference.prepared_used == 0
+
+
 def test_attitude_rotates_the_force_into_the_body_frame(ros):
     node, peer = ros
     pos, vel = circular_orbit_state(300e3)
