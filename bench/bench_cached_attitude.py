@@ -11,7 +11,10 @@ Cases, on the example satellite refined to ~9,600 faces, sentman, raycast shadin
 * "stored cells": every query in another cell, all already in the cache (the sparse store is
   unpacked each time);
 * "estimator": AeroWrenchEstimator.on_attitude, i.e. the node's whole per-message work
-  (flight conditions with NRLMSISE-00, rotation, cache, panel method), same cell.
+  (flight conditions with NRLMSISE-00, rotation, cache, panel method), same cell;
+* the same at 100 Hz, sleeping 10 ms before each message (the cost after the CPU idled), without
+  and with the flight conditions prepared ahead (``AeroWrenchEstimator.prepare``, as the node
+  does right after each wrench).
 
 Prints the median and 99th percentile of each in milliseconds.
 """
@@ -89,11 +92,32 @@ def main() -> None:
         times.append(time.perf_counter() - t0)
     whole = percentiles(times[100:])
 
+    # the same after 10 ms of idleness before each message (a 100 Hz stream: the CPU has gone
+    # idle and the process's code and data are cold), without and with the conditions prepared
+    # ahead as the node does right after publishing (AeroWrenchEstimator.prepare)
+    cold = {}
+    for prepared in (False, True):
+        est = AeroWrenchEstimator(settings, mesh)
+        times = []
+        for k in range(300):
+            t = 0.01 * k
+            if k % 10 == 0:
+                est.on_state(t, [r, v * t, 0.0], [0.0, v, 0.0])
+            time.sleep(0.01)
+            t0 = time.perf_counter()
+            est.on_attitude(t, (0.0, 0.0, 0.0, 1.0))
+            times.append(time.perf_counter() - t0)
+            if prepared:
+                est.prepare(t + 0.01)
+        cold[prepared] = percentiles(times[20:])
+
     print(f"{'case':<52} {'p50 ms':>8} {'p99 ms':>8}")
     for name, (p50, p99) in (
         ("cache hit, same cell + coefficients()", same),
         ("cache hit, stored cell (unpacked) + coefficients()", stored),
         ("estimator on_attitude (flight conditions included)", whole),
+        ("same, 100 Hz: 10 ms idle before each message", cold[False]),
+        ("same, 100 Hz, conditions prepared ahead (the node)", cold[True]),
     ):
         print(f"{name:<52} {p50:8.3f} {p99:8.3f}")
     print(f"cache: {cache.hits} hits, {cache.misses} misses; estimator cache: "
