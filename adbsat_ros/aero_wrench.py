@@ -408,10 +408,11 @@ class AeroWrenchEstimator:
             for key in ("force_coefficient", "moment_coefficient"):
                 if key in database.error_bound:
                     values[f"database_{key}_error"] = database.error_bound[key]
-        times = np.asarray(compute_ms, dtype=float)
+        times = np.fromiter(compute_ms, dtype=float, count=len(compute_ms))
         if times.size:
-            values["compute_ms_p50"] = float(np.percentile(times, 50))
-            values["compute_ms_p99"] = float(np.percentile(times, 99))
+            p50, p99 = np.percentile(times, [50, 99]).tolist()  # one sort for both
+            values["compute_ms_p50"] = p50
+            values["compute_ms_p99"] = p99
         if last_sample is not None:
             c = last_sample.conditions
             values.update(

@@ -3,12 +3,15 @@
 Usage:
     python bench/bench_node_latency.py [--rates 100,1000] [--duration 10] [--soak 60]
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
+        [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
 or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the rate, slowly
 tumbling at 1 deg/s so the shading cache sees mostly hits) and a receiver. Latency is receive
 time minus publish time of the same stamp on the shared CLOCK_MONOTONIC. Reports p50/p99/max,
-messages dropped, and for the soak the node's resident memory at the start and the end.
+messages dropped, the node's own compute time from /diagnostics, the node process's CPU time
+per message answered, the share of attitudes whose flight conditions the node had prepared ahead,
+and for the soak the node's resident memory at the start and the end.
 """
 
 from __future__ import annotations
