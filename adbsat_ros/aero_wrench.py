@@ -387,7 +387,7 @@ class AeroWrenchEstimator:
         last_sample : WrenchSample or None
             The latest wrench computed.
         compute_ms : sequence of float
-            Recent compute times [ms] (p50 and p99 are reported).
+            Recent compute times [ms] (p50, p99 and the largest are reported).
         """
         s = self.settings
         values = {
@@ -410,9 +410,10 @@ class AeroWrenchEstimator:
                     values[f"database_{key}_error"] = database.error_bound[key]
         times = np.fromiter(compute_ms, dtype=float, count=len(compute_ms))
         if times.size:
-            p50, p99 = np.percentile(times, [50, 99]).tolist()  # one sort for both
+            p50, p99, worst = np.percentile(times, [50, 99, 100]).tolist()  # one sort for all
             values["compute_ms_p50"] = p50
             values["compute_ms_p99"] = p99
+            values["compute_ms_max"] = worst
         if last_sample is not None:
             c = last_sample.conditions
             values.update(
