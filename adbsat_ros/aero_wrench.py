@@ -17,6 +17,7 @@ import math
 import time
 from collections import Counter
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -24,6 +25,7 @@ from .atmosphere import SpaceWeather
 from .database_coefficients import DatabaseCoefficients
 from .frames import quaternion_matrix_floats
 from .flight_conditions import FlightConditions, flight_conditions
+from .freestream import FreeStream
 from .gsi_models import ModelOptions
 from .mesh import PanelMesh, resolve_mesh
 from .panel_method import AeroCoefficients, PanelMethod, Reference
@@ -66,6 +68,18 @@ def next_regular_stamp(previous, latest) -> float | None:
         return None
     sec, nanosec = divmod(latest_ns + step_ns, 1_000_000_000)
     return sec + 1e-9 * nanosec
+
+
+class _KeptConditions(NamedTuple):
+    """Flight conditions kept by the estimator for one stamp (see ``_conditions_at``)."""
+
+    state: OrbitalState
+    stamp: float
+    settings: WrenchSettings
+    utc: _dt.datetime
+    conditions: FlightConditions
+    flow: FreeStream | None
+    prepared: bool  # made ahead by prepare()
 
 
 class Rejection(Exception):
@@ -211,9 +225,7 @@ class AeroWrenchEstimator:
         self.rejections: Counter = Counter()
         self.published = 0
         self._state: OrbitalState | None = None
-        # (state, stamp, settings, UTC, FlightConditions, FreeStream, made by prepare) of the latest
-        # two stamps
-        self._conditions_memo: tuple = ()
+        self._conditions_memo: tuple = ()  # _KeptConditions of the latest two stamps
         self.prepared_used = 0  # attitudes whose flight conditions prepare() had made ahead
         self._last_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
@@ -493,11 +505,11 @@ class AeroWrenchEstimator:
             From :func:`flight_conditions` (e.g. an altitude outside the atmosphere model).
         """
         s = self.settings
-        for entry in self._conditions_memo:
-            if entry[0] is state and entry[1] == stamp and entry[2] is s:
-                if entry[6] and not prepare:
+        for kept in self._conditions_memo:
+            if kept.state is state and kept.stamp == stamp and kept.settings is s:
+                if kept.prepared and not prepare:
                     self.prepared_used += 1
-                return entry[3], entry[4], entry[5]
+                return kept.utc, kept.conditions, kept.flow
         utc = self.utc(stamp)
         position = state.position + state.velocity * (stamp - state.stamp)  # first-order propagation
         conditions = flight_conditions(
@@ -508,7 +520,8 @@ class AeroWrenchEstimator:
             precession_nutation_step=PRECESSION_NUTATION_STEP_S,
         )
         flow = conditions.free_stream() if conditions.speed > 0.0 else None
-        self._conditions_memo = self._conditions_memo[-1:] + ((state, stamp, s, utc, conditions, flow, prepare),)
+        kept = _KeptConditions(state, stamp, s, utc, conditions, flow, prepare)
+        self._conditions_memo = self._conditions_memo[-1:] + (kept,)
         return utc, conditions, flow
 
     def prepare(self, stamp: float) -> bool:

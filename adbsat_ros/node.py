@@ -227,9 +227,10 @@ def make_executor(kind: str = "events", context=None):
     ``events`` is rclpy.experimental.EventsExecutor (C++ event queue: callbacks in arrival order,
     about half the per-message overhead of the SingleThreadedExecutor, which rebuilds a wait set
     in Python for every wait; see docs/benchmarks.md). An rclpy without it gets the
-    SingleThreadedExecutor, and so does a process whose sys.stderr is not a file. Spin either with :func:`spin_until_shutdown`: the EventsExecutor's own
-    ``spin()`` in the Jazzy 7.1 wheels busy-waits and does not return on SIGINT/SIGTERM, its
-    ``spin_once(timeout)`` sleeps and returns.
+    SingleThreadedExecutor, and so does a process whose sys.stderr is not a file. Spin either
+    with :func:`spin_until_shutdown`: the EventsExecutor's own ``spin()`` in the Jazzy 7.1
+    wheels busy-waits and does not return on SIGINT/SIGTERM, its ``spin_once(timeout)`` sleeps
+    and returns.
     """
     if kind == "events":
         try:
@@ -270,8 +271,8 @@ def main(args=None) -> int:
         executor = make_executor(node.estimator.settings.executor)
         executor.add_node(node)
         # everything made so far (mesh, shading structures, imported modules) lives as long as the
-        # process: move it out of the collector's generations, so that the collections the
-        # message traffic triggers walk only young objects (no multi-millisecond pauses)
+        # process: move it out of the collector's generations, so that no collection the message
+        # traffic triggers walks it (a full one over it takes about 35 ms)
         gc.collect()
         gc.freeze()
         try:

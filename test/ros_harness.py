@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
+import threading
 import time
 
 import rclpy
@@ -102,3 +104,21 @@ def make_context(executor: str = "single_threaded"):
     ctx = rclpy.context.Context()
     rclpy.init(context=ctx)
     return ctx, make_executor(executor, context=ctx)
+
+
+@contextlib.contextmanager
+def spinning(executor, period: float = 0.02):
+    """Spin ``executor`` on a background thread for the duration of the ``with`` block."""
+    done = threading.Event()
+
+    def spin():
+        while not done.is_set():
+            executor.spin_once(timeout_sec=period)
+
+    spinner = threading.Thread(target=spin, daemon=True)
+    spinner.start()
+    try:
+        yield
+    finally:
+        done.set()
+        spinner.join(timeout=5)

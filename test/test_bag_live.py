@@ -23,7 +23,7 @@ from adbsat_ros.cli import main as cli_main
 from adbsat_ros.node import AdbsatNode
 from adbsat_ros.wrench_settings import WrenchSettings
 
-from ros_harness import make_context
+from ros_harness import make_context, spinning
 
 MS = 1_000_000
 T0_NS = 1_750_000_000 * 1_000_000_000  # a UNIX time in 2025
@@ -136,19 +136,10 @@ def test_loop_restarts_from_the_beginning(tmp_path):
     node.create_subscription(message_class(bag_io.QUATERNION_STAMPED), "/attitude", on_attitude,
                              QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE), raw=True)
     executor.add_node(node)
-    done = threading.Event()
-
-    def spin():
-        while not done.is_set():
-            executor.spin_once(timeout_sec=0.02)
-
-    spinner = threading.Thread(target=spin, daemon=True)
-    spinner.start()
     try:
-        summary = play(source, rate=4.0, loop=True, topics=["attitude"], wait_for_subscribers=1, stop=stop)
+        with spinning(executor):
+            summary = play(source, rate=4.0, loop=True, topics=["attitude"], wait_for_subscribers=1, stop=stop)
     finally:
-        done.set()
-        spinner.join(timeout=5)
         executor.shutdown()
         node.destroy_node()
         rclpy.try_shutdown(context=ctx)
@@ -188,28 +179,19 @@ def test_played_bag_through_the_node_equals_the_offline_analysis(tmp_path):
         QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE))
     executor.add_node(node)
     executor.add_node(listener)
-    done = threading.Event()
-
-    def spin():
-        while not done.is_set():
-            executor.spin_once(timeout_sec=0.02)
-
-    spinner = threading.Thread(target=spin, daemon=True)
-    spinner.start()
     try:
-        deadline = time.monotonic() + 10
-        while node.wrench_pub.get_subscription_count() < 1 and time.monotonic() < deadline:
-            time.sleep(0.02)
-        played = play(bag, rate=1.0, wait_for_subscribers=1, wait_timeout=20)
-        deadline = time.monotonic() + 10
-        while len(live) < n_attitudes and time.monotonic() < deadline:
-            time.sleep(0.02)
+        with spinning(executor):
+            deadline = time.monotonic() + 10
+            while node.wrench_pub.get_subscription_count() < 1 and time.monotonic() < deadline:
+                time.sleep(0.02)
+            played = play(bag, rate=1.0, wait_for_subscribers=1, wait_timeout=20)
+            deadline = time.monotonic() + 10
+            while len(live) < n_attitudes and time.monotonic() < deadline:
+                time.sleep(0.02)
         estimator = node.estimator
         rejections = {k: v for k, v in estimator.rejections.items() if v}
         hits, misses = estimator.shading_cache_hits, estimator.shading_cache_misses
     finally:
-        done.set()
-        spinner.join(timeout=5)
         executor.shutdown()
         listener.destroy_node()
         node.destroy_node()
