@@ -34,6 +34,7 @@ from .wrench_settings import WrenchSettings
 
 #: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).
 REJECTION_REASONS = (
+    "undecodable",
     "non_finite",
     "bad_quaternion",
     "no_state",

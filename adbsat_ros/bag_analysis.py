@@ -60,6 +60,7 @@ from .aero_wrench import stamp_seconds
 from .bag_io import BagError
 from .frames import angles_of_flow
 from .mesh import resolve_mesh
+from .stamped_cdr import header_stamp, quaternion_stamped_fields, wrench_stamped_cdr
 from .wrench_settings import WrenchSettings
 
 #: Name of the node whose section a parameters file is read from, and whose logic is replayed.
@@ -232,9 +233,9 @@ class _WorkerModel:
                     self._keys())
         c = sample.conditions
         diag = tuple(float(getattr(c, name)) for name in _DIAG_FIELDS) + (float(sample.drag_coefficient),)
-        wrench = bag_io.wrench_stamped_cdr(stamp.sec, stamp.nanosec, self.frame, sample.force, sample.torque)
-        coefficients = bag_io.wrench_stamped_cdr(stamp.sec, stamp.nanosec, self.frame, sample.force_coefficients,
-                                                 sample.moment_coefficients)
+        wrench = wrench_stamped_cdr(stamp.sec, stamp.nanosec, self.frame, sample.force, sample.torque)
+        coefficients = wrench_stamped_cdr(stamp.sec, stamp.nanosec, self.frame, sample.force_coefficients,
+                                          sample.moment_coefficients)
         return "ok", None, diag, sample.compute_seconds, wrench, coefficients, self._keys(), sample
 
 
@@ -245,8 +246,7 @@ class _Undecodable(Exception):
 def _attitude_fields(raw):
     """(stamp with .sec/.nanosec, [x, y, z, w]) of a QuaternionStamped's CDR bytes."""
     try:
-        sec, nanosec, q = bag_io.quaternion_stamped_fields(raw)
-        return types.SimpleNamespace(sec=sec, nanosec=nanosec), q
+        return quaternion_stamped_fields(raw)
     except ValueError:
         pass
     try:  # not plain CDR as expected: rosbags decodes it, or says what is wrong
@@ -725,7 +725,7 @@ class _Analysis:
                 self.trigger_raws.append(raw)
                 if stamps_ok:
                     try:
-                        sec, nanosec = bag_io.header_stamp(raw)
+                        sec, nanosec = header_stamp(raw)
                     except ValueError:  # the worker reports it when decoding; no split after it
                         stamps_ok = False
                     else:
@@ -910,7 +910,7 @@ class _Analysis:
                             writer.write_raw(coeff_conns[k], t_ns, record[6])
                 t1 = pc()
                 seconds["write"] += t1 - t0
-                sec, nanosec = bag_io.header_stamp(raw)
+                sec, nanosec = header_stamp(raw)
                 stamp_ns = sec * _NS + nanosec
                 if first_row_ns is None:
                     first_row_ns = stamp_ns

@@ -11,10 +11,8 @@ Message builders take stamps as integer nanoseconds (``builtin_interfaces/Time``
 
 from __future__ import annotations
 
-import functools
 import os
 import shutil
-import struct
 import tempfile
 from pathlib import Path
 
@@ -128,82 +126,6 @@ def serialize(msg) -> bytes:
 def deserialize(raw, msgtype: str):
     """A message from CDR bytes (types of ROS 2 Jazzy)."""
     return TYPESTORE.deserialize_cdr(raw, msgtype)
-
-
-# --------------------------------------------------------------------------------- CDR fast paths
-#: CDR encapsulation header of little-endian plain CDR (what rosbags and rclpy write).
-_CDR_LE_HEADER = b"\x00\x01\x00\x00"
-
-
-def header_stamp(raw) -> tuple[int, int]:
-    """(sec, nanosec) of the std_msgs/Header that opens a CDR-serialised stamped message.
-
-    Reads 12 bytes instead of decoding the message: in plain CDR (little or big endian) the
-    header's stamp is the first field, an int32 sec and a uint32 nanosec right after the
-    4-byte encapsulation header. Valid for every message whose first field is a Header
-    (Odometry, QuaternionStamped, WrenchStamped ...).
-
-    Raises
-    ------
-    ValueError
-        If ``raw`` is too short or not plain CDR.
-    """
-    if len(raw) < 12 or raw[0] != 0 or raw[1] not in (0, 1):
-        raise ValueError("not a plain-CDR stamped message")
-    return struct.unpack_from("<iI" if raw[1] == 1 else ">iI", raw, 4)
-
-
-def quaternion_stamped_fields(raw):
-    """Header stamp and quaternion of a CDR-serialised geometry_msgs/QuaternionStamped, read with
-    ``struct`` (about 20x faster than :func:`deserialize`; the same float64 values).
-
-    Returns
-    -------
-    sec, nanosec : int
-    quaternion_xyzw : list of float
-
-    Raises
-    ------
-    ValueError
-        If ``raw`` is not exactly a plain-CDR QuaternionStamped (then decode it with
-        :func:`deserialize`, which says what is wrong).
-    """
-    if len(raw) < 16 or raw[0] != 0 or raw[1] not in (0, 1):
-        raise ValueError("not a plain-CDR stamped message")
-    order = "<" if raw[1] == 1 else ">"
-    sec, nanosec, length = struct.unpack_from(order + "iII", raw, 4)
-    end = 16 + length  # after frame_id (length counts its NUL)
-    start = end + (-(end - 4) % 8)
-    if length < 1 or len(raw) != start + 32 or raw[end - 1] != 0:
-        raise ValueError("not a QuaternionStamped")
-    return sec, nanosec, list(struct.unpack_from(order + "4d", raw, start))
-
-
-@functools.lru_cache(maxsize=64)
-def _wrench_stamped_layout(frame_id: str):
-    name = frame_id.encode("utf-8") + b"\x00"
-    # encapsulation (4) + sec, nanosec (8) + string length (4) + name; the six float64 start on a
-    # multiple of 8 counted from the end of the encapsulation header
-    pad = -(12 + len(name)) % 8
-    return struct.Struct(f"<4siII{len(name)}s{pad}x6d"), name
-
-
-def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> bytes:
-    """CDR bytes of a geometry_msgs/WrenchStamped, the same as ``serialize(wrench_stamped_message(...))``.
-
-    One ``struct.pack`` instead of building and serialising message objects (about 30x
-    faster; the bag analysis writes two of these per attitude message).
-
-    Parameters
-    ----------
-    sec, nanosec : int
-        Header stamp (builtin_interfaces/Time).
-    frame_id : str
-    force, torque : sequence of 3 float
-        Force [N] and torque [N m] (or coefficients), written as float64.
-    """
-    layout, name = _wrench_stamped_layout(frame_id)
-    return layout.pack(_CDR_LE_HEADER, sec, nanosec, len(name), name, *force, *torque)
 
 
 # --------------------------------------------------------------------------------- decoders

@@ -35,9 +35,11 @@ from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
 
 from .aero_wrench import AeroWrenchEstimator, Rejection, WrenchSample, next_regular_stamp, stamp_seconds
 from .mesh import MeshError
+from .stamped_cdr import Stamp, quaternion_stamped_fields, wrench_stamped_cdr
 from .wrench_settings import PARAMETERS, READ_ONLY_PARAMETERS, WrenchSettings
 
 NODE_NAME = "adbsat_node"
@@ -71,9 +73,9 @@ class AdbsatNode(Node):
         # state first: when a state and an attitude are waiting together, the executor takes them in
         # the order the subscriptions were made, and the attitude wants the newest state
         self.create_subscription(Odometry, "state", self._on_state, qos)
-        self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos)
-        self._wrench_msg = WrenchStamped()
-        self._coefficients_msg = WrenchStamped()
+        # attitudes come in and wrenches go out as CDR bytes (module stamped_cdr): building rclpy
+        # message objects would cost more than the wrench itself
+        self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos, raw=True)
         self._compute_ms = collections.deque(maxlen=2000)
         self._last_state_wall = None
         self._last_sample: WrenchSample | None = None
@@ -136,13 +138,25 @@ class AdbsatNode(Node):
         if self.estimator.settings.attitude_source == "odometry":
             self._compute_and_publish(msg.header.stamp, orientation)
 
-    def _on_attitude(self, msg: QuaternionStamped) -> None:
+    def _on_attitude(self, raw: bytes) -> None:
+        """An attitude as the CDR bytes of a QuaternionStamped."""
         if self.estimator.settings.attitude_source != "attitude_topic":
             return
-        q = msg.quaternion
-        self._compute_and_publish(msg.header.stamp, [q.x, q.y, q.z, q.w])
+        try:
+            stamp, quaternion = quaternion_stamped_fields(raw)
+        except ValueError:  # not plain CDR (e.g. XCDR2 from another RMW): the typesupport decodes it
+            try:
+                msg = deserialize_message(raw, QuaternionStamped)
+            except Exception as exc:
+                self._rejected(Rejection("undecodable", f"attitude message not a QuaternionStamped: {exc!r}"))
+                self.estimator.rejections["undecodable"] += 1
+                return
+            q = msg.quaternion
+            stamp, quaternion = Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec), [q.x, q.y, q.z, q.w]
+        self._compute_and_publish(stamp, quaternion)
 
     def _compute_and_publish(self, stamp_msg, quaternion) -> None:
+        """Compute and publish the wrench of one attitude; ``stamp_msg`` has ``sec``, ``nanosec``."""
         try:
             sample = self.estimator.on_attitude(stamp_seconds(stamp_msg), quaternion)
         except Rejection as exc:
@@ -153,11 +167,11 @@ class AdbsatNode(Node):
             self.get_logger().error(f"wrench computation failed: {exc!r}", throttle_duration_sec=LOG_THROTTLE_S)
             return
         frame = self.estimator.settings.body_frame_id
-        # publish() serialises at once, so one message object per topic is refilled every time
-        self.wrench_pub.publish(_fill_wrench(self._wrench_msg, stamp_msg, frame, sample.force, sample.torque))
+        sec, nanosec = stamp_msg.sec, stamp_msg.nanosec
+        self.wrench_pub.publish(wrench_stamped_cdr(sec, nanosec, frame, sample.force.tolist(), sample.torque.tolist()))
         if self.coefficients_pub.get_subscription_count():  # nobody listening: skip the serialisation
-            self.coefficients_pub.publish(_fill_wrench(
-                self._coefficients_msg, stamp_msg, frame, sample.force_coefficients, sample.moment_coefficients
+            self.coefficients_pub.publish(wrench_stamped_cdr(
+                sec, nanosec, frame, sample.force_coefficients.tolist(), sample.moment_coefficients.tolist()
             ))
         self._compute_ms.append(1e3 * sample.compute_seconds)
         self._last_sample = sample
@@ -209,16 +223,6 @@ class AdbsatNode(Node):
             self.diagnostics_pub.publish(msg)
         except Exception as exc:  # diagnostics must never take the node down
             self.get_logger().error(f"diagnostics failed: {exc!r}", throttle_duration_sec=LOG_THROTTLE_S)
-
-
-def _fill_wrench(msg: WrenchStamped, stamp, frame_id: str, force, torque) -> WrenchStamped:
-    """``msg`` with the stamp, frame and the two 3-vectors (force, torque) set; returns ``msg``."""
-    msg.header.stamp = stamp
-    msg.header.frame_id = frame_id
-    f, t = msg.wrench.force, msg.wrench.torque
-    f.x, f.y, f.z = force.tolist()
-    t.x, t.y, t.z = torque.tolist()
-    return msg
 
 
 def make_executor(kind: str = "events", context=None):

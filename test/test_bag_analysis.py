@@ -267,23 +267,6 @@ def test_safe_split_points_closed_forms():
     assert safe_split_points(kinds, stamps, ["attitude_topic", "odometry"]).tolist() == []
 
 
-def test_cdr_fast_paths_equal_rosbags():
-    for frame in ("", "b", "eci", "body", "sat_body_frame"):
-        for stamp in (0, 1_767_225_600_123_456_789):
-            t = bag_io.time_message(stamp)
-            force, torque = np.array([1.5, -2.0, 3e-300]), [4.0, -0.0, math.nan]
-            raw = bytes(bag_io.serialize(bag_io.wrench_stamped_message(stamp, frame, force, torque)))
-            assert bag_io.wrench_stamped_cdr(t.sec, t.nanosec, frame, force, torque) == raw
-            assert bag_io.header_stamp(raw) == (t.sec, t.nanosec)
-            q = [0.1, -0.2, 0.3, math.sqrt(1 - 0.14)]
-            msg = bag_io.deserialize(bag_io.serialize(bag_io.quaternion_stamped_message(stamp, frame, q)),
-                                     bag_io.QUATERNION_STAMPED)
-            raw = bytes(bag_io.serialize(msg))
-            assert bag_io.quaternion_stamped_fields(raw) == (t.sec, t.nanosec, vec(msg.quaternion) + [msg.quaternion.w])
-    with pytest.raises(ValueError):
-        bag_io.quaternion_stamped_fields(raw[:-8])
-
-
 def messy_flight(path):
     """40 s at 4 Hz attitude / 1 Hz state with every kind of bad input, and revisited shading cells:
     attitudes before the first state, a state in an unknown frame, an attitude and a state stamped

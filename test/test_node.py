@@ -17,7 +17,9 @@ import numpy as np
 import pytest
 import rclpy
 import trimesh
+from geometry_msgs.msg import QuaternionStamped
 from rclpy.parameter import Parameter
+from rclpy.serialization import serialize_message
 from scipy.special import erf
 
 from adbsat_ros.atmosphere import SpaceWeather
@@ -25,7 +27,7 @@ from adbsat_ros.flight_conditions import flight_conditions
 from adbsat_ros.node import AdbsatNode
 from adbsat_ros.wrench_settings import EXECUTORS
 
-from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float
+from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float, to_stamp
 
 RADIUS = 0.5
 EPOCH = "2026-03-20T12:00:00"
@@ -225,6 +227,15 @@ def test_bad_inputs_are_rejected_counted_and_the_node_stays_up(ros):
     peer.send_attitude(4.0, good)
     assert peer.spin_until(lambda: len(peer.wrenches) == 3)
     assert np.linalg.norm(vec(peer.wrenches[-1].wrench.force)) > 1e-5
+    # attitudes arrive as CDR bytes: bytes that are no QuaternionStamped are counted, not used
+    expect("undecodable", 3, lambda: peer.attitude_pub.publish(b"\x00\x01\x00\x00" + b"\xff" * 12))
+    # a valid message that the fast reader refuses (trailing bytes) is decoded by the typesupport
+    msg = QuaternionStamped()
+    msg.header.stamp, msg.header.frame_id, msg.quaternion.w = to_stamp(4.01), "eci", 1.0
+    peer.attitude_pub.publish(bytes(serialize_message(msg)) + bytes(8))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 4)
+    assert stamp_to_float(peer.wrenches[-1].header.stamp) == pytest.approx(4.01, abs=1e-9)
+    assert np.allclose(vec(peer.wrenches[-1].wrench.force), vec(peer.wrenches[-2].wrench.force), rtol=1e-3)
     # diagnostics report the rejections
     assert peer.spin_until(lambda: any(
         any(kv.key == "rejected_bad_quaternion" and kv.value == "2" for kv in st.values)

@@ -1,0 +1,100 @@
+"""CDR bytes of the stamped messages on the wrench's hot path, read and written with ``struct``.
+
+The ROS node takes its attitudes and publishes its wrenches as serialised bytes, and the bag
+analysis reads and writes the same messages from files; both go through these functions instead
+of building message objects. Building them is most of a message's cost in Python: for one
+QuaternionStamped in and one WrenchStamped out, rclpy's typed take and publish cost about 50 µs,
+rosbags' codec about 14 µs, these about 2 µs (bench/bench_message_codec.py).
+
+Layout (OMG CDR, "plain" XCDR1, what rclpy, Fast DDS and rosbags write): a 4-byte encapsulation
+header (0x00 0x00 big endian, 0x00 0x01 little endian, then two option bytes), then the fields in
+order, each aligned to its own size counted from the end of the encapsulation header. A message
+that opens with a std_msgs/Header starts with the stamp (int32 sec, uint32 nanosec) and the
+frame_id string (uint32 length including the NUL, bytes, NUL). Anything else (XCDR2, another
+type) is refused with ValueError, and callers then decode it with a full codec, which either
+understands it or says what is wrong.
+"""
+
+from __future__ import annotations
+
+import functools
+import struct
+from typing import NamedTuple
+
+#: CDR encapsulation header of little-endian plain CDR (what rosbags and rclpy write).
+CDR_LE_HEADER = b"\x00\x01\x00\x00"
+
+
+class Stamp(NamedTuple):
+    """A builtin_interfaces/Time as two integers (the fields of the message of that name)."""
+
+    sec: int
+    nanosec: int
+
+
+def header_stamp(raw) -> Stamp:
+    """The header stamp of a CDR-serialised stamped message.
+
+    Reads 12 bytes instead of decoding the message: valid for every message whose first field is
+    a std_msgs/Header (Odometry, QuaternionStamped, WrenchStamped ...).
+
+    Raises
+    ------
+    ValueError
+        If ``raw`` is too short or not plain CDR.
+    """
+    if len(raw) < 12 or raw[0] != 0 or raw[1] not in (0, 1):
+        raise ValueError("not a plain-CDR stamped message")
+    return Stamp._make(struct.unpack_from("<iI" if raw[1] == 1 else ">iI", raw, 4))
+
+
+def quaternion_stamped_fields(raw) -> tuple[Stamp, list]:
+    """Header stamp and quaternion of a CDR-serialised geometry_msgs/QuaternionStamped.
+
+    Returns
+    -------
+    stamp : Stamp
+    quaternion_xyzw : list of float
+        The four float64 values as sent, order x, y, z, w.
+
+    Raises
+    ------
+    ValueError
+        If ``raw`` is not exactly a plain-CDR QuaternionStamped.
+    """
+    if len(raw) < 16 or raw[0] != 0 or raw[1] not in (0, 1):
+        raise ValueError("not a plain-CDR stamped message")
+    order = "<" if raw[1] == 1 else ">"
+    sec, nanosec, length = struct.unpack_from(order + "iII", raw, 4)
+    end = 16 + length  # after frame_id (length counts its NUL)
+    start = end + (-(end - 4) % 8)  # the float64s align to 8 from the end of the encapsulation
+    if length < 1 or len(raw) != start + 32 or raw[end - 1] != 0:
+        raise ValueError("not a QuaternionStamped")
+    return Stamp(sec, nanosec), list(struct.unpack_from(order + "4d", raw, start))
+
+
+@functools.lru_cache(maxsize=64)
+def _wrench_stamped_layout(frame_id: str):
+    name = frame_id.encode("utf-8") + b"\x00"
+    # encapsulation (4) + sec, nanosec (8) + string length (4) + name; the six float64 start on a
+    # multiple of 8 counted from the end of the encapsulation header
+    pad = -(12 + len(name)) % 8
+    return struct.Struct(f"<4siII{len(name)}s{pad}x6d"), name
+
+
+def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> bytes:
+    """CDR bytes (little endian) of a geometry_msgs/WrenchStamped.
+
+    Byte for byte what rosbags serialises for the same message; rclpy's serialiser differs only
+    in the padding bytes before the float64s, which it leaves uninitialised.
+
+    Parameters
+    ----------
+    sec, nanosec : int
+        Header stamp (builtin_interfaces/Time).
+    frame_id : str
+    force, torque : sequence of 3 float
+        Force [N] and torque [N m] (or coefficients), written as float64.
+    """
+    layout, name = _wrench_stamped_layout(frame_id)
+    return layout.pack(CDR_LE_HEADER, sec, nanosec, len(name), name, *force, *torque)
