@@ -3,8 +3,9 @@
 The ROS node takes its attitudes and publishes its wrenches as serialised bytes, and the bag
 analysis reads and writes the same messages from files; both go through these functions instead
 of building message objects. Building them is most of a message's cost in Python: for one
-QuaternionStamped in and one WrenchStamped out, rclpy's typed take and publish cost about 50 µs,
-rosbags' codec about 14 µs, these about 2 µs (bench/bench_message_codec.py).
+QuaternionStamped in and one WrenchStamped out, rclpy's conversions between CDR and message
+objects take about 40 µs, rosbags' codec about 17 µs, these about 2.5 µs
+(bench/bench_message_codec.py, docs/benchmarks.md).
 
 Layout (OMG CDR, "plain" XCDR1, what rclpy, Fast DDS and rosbags write): a 4-byte encapsulation
 header (0x00 0x00 big endian, 0x00 0x01 little endian, then two option bytes), then the fields in

@@ -1,22 +1,28 @@
 """End-to-end latency of adbsat_node (attitude published -> wrench received) against a bare echo node.
 
 Usage:
-    python bench/bench_node_latency.py [--rates 100,1000] [--duration 10] [--soak 60]
+    python bench/bench_node_latency.py [--rates 100,1000] [--duration 10] [--rounds 1] [--soak 60]
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
-        [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded]
+        [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
-or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the rate, slowly
-tumbling at 1 deg/s so the shading cache sees mostly hits) and a receiver. Latency is receive
-time minus publish time of the same stamp on the shared CLOCK_MONOTONIC. Reports p50/p99/max,
-messages dropped, the node's own compute time from /diagnostics, the node process's CPU time
-per message answered, the share of attitudes whose flight conditions the node had prepared ahead,
-and for the soak the node's resident memory at the start and the end.
+or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the
+rate, slowly tumbling at 1 deg/s so the shading cache sees mostly hits, or fixed with --tumble 0)
+and a receiver. Latency is receive time minus publish time of the same stamp on the shared
+CLOCK_MONOTONIC. With --rounds N each case runs N times, echo and adbsat alternating, and the
+latencies are pooled. Reports p50/p99/max, messages dropped, the node's own compute time from
+/diagnostics, the node process's CPU time per message answered, the share of attitudes whose
+flight conditions the node had prepared ahead, the receiver's own longest hold-up (a thread that
+sleeps 10 ms at a time: a stall of the measuring process itself would show there), and for the
+soak the node's resident memory at the start and the end. Each case runs in a ROS domain of its
+own (BENCH_DOMAIN_ID and up).
 """
 
 from __future__ import annotations
 
 import argparse
+import gc
+import itertools
 import json
 import math
 import os
@@ -35,7 +41,7 @@ V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
 
 
 def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_deg_s: float,
-              state_rate: float) -> None:
+              state_rate: float, settle: float) -> None:
     import rclpy
     from geometry_msgs.msg import QuaternionStamped
     from nav_msgs.msg import Odometry
@@ -51,12 +57,15 @@ def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_d
     while (att.get_subscription_count() == 0 or (need_state and st.get_subscription_count() == 0)
            or not ready.exists()) and time.monotonic() < deadline:
         rclpy.spin_once(node, timeout_sec=0.05)
-    time.sleep(0.5)
-    sent = {}
+    time.sleep(settle)
+    sent = {}  # stamp [ns] -> send time
     n = int(rate * duration)
     period = 1.0 / rate
+    period_ns = round(1e9 / rate)
     start = time.monotonic()
     next_state = 0.0
+    q = QuaternionStamped()  # one object refilled (publish serialises at once): little CPU taken from the node
+    q.header.frame_id = "eci"
     for k in range(n):
         t = k * period
         # sleep to the absolute send time (no drift); no busy-wait, which would take CPU from the
@@ -64,24 +73,48 @@ def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_d
         delay = start + t - time.monotonic()
         if delay > 0.0:
             time.sleep(delay)
+        stamp_ns = k * period_ns  # a regular stream, as a GNC loop stamps it
+        sec, nanosec = divmod(stamp_ns, 1_000_000_000)
         if t >= next_state:
             o = Odometry()
             o.header.frame_id = o.child_frame_id = "eci"
-            o.header.stamp.sec, o.header.stamp.nanosec = int(t), int(round((t % 1.0) * 1e9))
+            o.header.stamp.sec, o.header.stamp.nanosec = sec, nanosec
             o.pose.pose.position.x = R_ORBIT
             o.twist.twist.linear.y = V_ORBIT
             st.publish(o)
             next_state += 1.0 / state_rate
         angle = math.radians(tumble_deg_s) * t  # tumbling about z
-        q = QuaternionStamped()
-        q.header.frame_id = "eci"
-        q.header.stamp.sec, q.header.stamp.nanosec = int(t), int(round((t % 1.0) * 1e9))
+        q.header.stamp.sec, q.header.stamp.nanosec = sec, nanosec
         q.quaternion.z, q.quaternion.w = math.sin(angle / 2), math.cos(angle / 2)
-        sent[f"{q.header.stamp.sec}.{q.header.stamp.nanosec:09d}"] = time.monotonic()
+        sent[stamp_ns] = time.monotonic()
         att.publish(q)
     Path(out).write_text(json.dumps(sent))
     node.destroy_node()
     rclpy.try_shutdown()
+
+
+class _StallMonitor:
+    """A thread that sleeps 10 ms at a time and keeps its largest oversleep [ms]: how long this
+    process (or its GIL) was held up, to tell a stall of the measuring receiver from one of the
+    node or of the transport."""
+
+    def __init__(self):
+        import threading
+
+        self.max_ms = 0.0
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    def _run(self):
+        while not self._stop.is_set():
+            t0 = time.monotonic()
+            time.sleep(0.01)
+            self.max_ms = max(self.max_ms, 1e3 * (time.monotonic() - t0 - 0.01))
+
+    def stop(self):
+        self._stop.set()
+        self._thread.join()
 
 
 def receiver(duration: float, out: str) -> None:
@@ -90,15 +123,19 @@ def receiver(duration: float, out: str) -> None:
     from rclpy.qos import QoSProfile
 
     from adbsat_ros.node import make_executor
+    from adbsat_ros.stamped_cdr import header_stamp
 
     rclpy.init()
     node = rclpy.create_node("bench_receiver")
     got = {}
+    stalls = _StallMonitor()
 
-    def on_wrench(msg):
-        got[f"{msg.header.stamp.sec}.{msg.header.stamp.nanosec:09d}"] = time.monotonic()
+    def on_wrench(raw):  # CDR bytes: only the stamp is read, so the receiver takes little CPU
+        now = time.monotonic()
+        sec, nanosec = header_stamp(raw)
+        got[sec * 1_000_000_000 + nanosec] = now
 
-    wrench_sub = node.create_subscription(WrenchStamped, "wrench", on_wrench, QoSProfile(depth=100))
+    wrench_sub = node.create_subscription(WrenchStamped, "wrench", on_wrench, QoSProfile(depth=100), raw=True)
     diagnostics = {}
 
     def on_diagnostics(msg):
@@ -112,11 +149,13 @@ def receiver(duration: float, out: str) -> None:
     executor.add_node(node)
     end = time.monotonic() + duration
     ready = Path(out).parent / "receiver-ready"
+    while time.monotonic() < end and wrench_sub.get_publisher_count() == 0:
+        executor.spin_once(timeout_sec=0.1)
+    ready.touch()  # matched with the node's publisher: the publisher may start
     while time.monotonic() < end:
         executor.spin_once(timeout_sec=0.1)
-        if not ready.exists() and wrench_sub.get_publisher_count() > 0:
-            ready.touch()  # matched with the node's publisher: the publisher may start
-    Path(out).write_text(json.dumps({"wrench": got, "diagnostics": diagnostics}))
+    stalls.stop()
+    Path(out).write_text(json.dumps({"wrench": got, "diagnostics": diagnostics, "receiver_stall_ms": stalls.max_ms}))
     node.destroy_node()
     rclpy.try_shutdown()
 
@@ -146,10 +185,16 @@ def wait_until_idle(pid: int, timeout: float = 60.0) -> None:
         last = now
 
 
+_CASE_NUMBERS = itertools.count()
+
+
 def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_memory=False) -> dict:
     env = dict(os.environ)
     env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    env["ROS_DOMAIN_ID"] = env.get("BENCH_DOMAIN_ID", str(60 + os.getpid() % 30))
+    # every case in a domain of its own: the participants of the case before (stopped a moment
+    # ago, still known to discovery) are then never seen by this one
+    base = int(env.get("BENCH_DOMAIN_ID", str(40 + os.getpid() % 20)))
+    env["ROS_DOMAIN_ID"] = str(base + next(_CASE_NUMBERS) % 40)
     env["ECHO_QOS_DEPTH"] = "100"
     env["ECHO_EXECUTOR"] = args.executor
     if kind == "echo":
@@ -165,11 +210,12 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     node = subprocess.Popen(node_cmd, env=env, stdout=node_log, stderr=subprocess.STDOUT)
     time.sleep(0.5)
     wait_until_idle(node.pid)
-    recv = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--duration", str(duration + 8),
+    recv = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--duration", str(duration + 8 + args.settle),
                              "--out", str(tmp / "recv.json")], env=env)
     pub = subprocess.Popen([sys.executable, __file__, "--role", "publisher", "--rate", str(rate),
                             "--duration", str(duration), "--out", str(tmp / "sent.json"),
-                            "--tumble", str(args.tumble), "--state-rate", str(args.state_rate)]
+                            "--tumble", str(args.tumble), "--state-rate", str(args.state_rate),
+                            "--settle", str(args.settle)]
                            + (["--need-state"] if kind != "echo" else []), env=env)
     cpu_start = cpu_seconds(node.pid)  # the node is idle here: set up, waiting for messages
     mem_start = None
@@ -190,19 +236,38 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     received = json.loads((tmp / "recv.json").read_text())
     got, diagnostics = received["wrench"], received["diagnostics"]
     lat = np.array([got[k] - sent[k] for k in sent if k in got]) * 1e3
-    warm = lat[int(0.05 * len(lat)):]  # skip the first 5 % (cache fill, JIT-like warm-up)
     return {
         "kind": kind, "rate_hz": rate, "sent": len(sent), "received": int(len(lat)),
-        "dropped": len(sent) - int(len(lat)),
-        "p50_ms": float(np.percentile(warm, 50)) if warm.size else float("nan"),
-        "p99_ms": float(np.percentile(warm, 99)) if warm.size else float("nan"),
-        "max_ms": float(warm.max()) if warm.size else float("nan"),
-        "cpu_ms_per_message": 1e3 * (cpu_end - cpu_start) / max(len(lat), 1),
+        # the first 5 % wait for the first ray cast (~30 ms) and fill the caches: skipped
+        "latencies_ms": lat[int(0.05 * len(lat)):],
+        "cpu_s": cpu_end - cpu_start,
         "rss_start_mb": mem_start, "rss_end_mb": mem_end,
         "compute_p50_ms": float(diagnostics.get("compute_ms_p50", "nan")),
         "compute_p99_ms": float(diagnostics.get("compute_ms_p99", "nan")),
         "compute_max_ms": float(diagnostics.get("compute_ms_max", "nan")),
-        "prepared_share": float(diagnostics.get("conditions_prepared_used", "nan")) / max(len(lat), 1),
+        "prepared": float(diagnostics.get("conditions_prepared_used", "nan")),
+        "receiver_stall_ms": received["receiver_stall_ms"],
+    }
+
+
+def pooled(rounds: list) -> dict:
+    """One figure set from the rounds of one case: latencies pooled, counts summed, the node's own
+    compute p50/p99 averaged over rounds and its maximum kept."""
+    warm = np.concatenate([r["latencies_ms"] for r in rounds])
+    sent = sum(r["sent"] for r in rounds)
+    received = sum(r["received"] for r in rounds)
+    return {
+        "sent": sent, "dropped": sent - received,
+        "p50_ms": float(np.percentile(warm, 50)) if warm.size else float("nan"),
+        "p99_ms": float(np.percentile(warm, 99)) if warm.size else float("nan"),
+        "max_ms": float(warm.max()) if warm.size else float("nan"),
+        "compute_p50_ms": float(np.mean([r["compute_p50_ms"] for r in rounds])),
+        "compute_p99_ms": float(np.mean([r["compute_p99_ms"] for r in rounds])),
+        "compute_max_ms": float(np.max([r["compute_max_ms"] for r in rounds])),
+        "cpu_ms_per_message": 1e3 * sum(r["cpu_s"] for r in rounds) / max(received, 1),
+        "prepared_share": sum(r["prepared"] for r in rounds) / max(received, 1),
+        "receiver_stall_ms": max(r["receiver_stall_ms"] for r in rounds),
+        "rss_start_mb": rounds[0]["rss_start_mb"], "rss_end_mb": rounds[-1]["rss_end_mb"],
     }
 
 
@@ -241,11 +306,20 @@ def main() -> None:
     parser.add_argument("--executor", default="events", choices=["events", "single_threaded"],
                         help="rclpy executor of the node under test and of the echo node")
     parser.add_argument("--state-rate", type=float, default=10.0, help="Odometry messages per second [Hz]")
+    parser.add_argument("--rounds", type=int, default=1,
+                        help="runs of each case (echo and adbsat alternating) pooled into one figure set")
+    parser.add_argument("--settle", type=float, default=0.5,
+                        help="seconds between the receiver matching and the first message")
     parser.add_argument("--out", default="")
     parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()
+    if args.role in ("publisher", "receiver"):
+        # the measuring processes: no garbage collection pauses of their own in the figures
+        # (a run allocates little that lives; everything is freed at exit)
+        gc.disable()
     if args.role == "publisher":
-        return publisher(args.rate, args.duration, args.out, args.need_state, args.tumble, args.state_rate)
+        return publisher(args.rate, args.duration, args.out, args.need_state, args.tumble, args.state_rate,
+                         args.settle)
     if args.role == "receiver":
         return receiver(args.duration, args.out)
 
@@ -261,14 +335,20 @@ def main() -> None:
     print(f"{'node':>8} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
           f" {'compute p50':>12} {'compute p99':>12} {'compute max':>12} {'CPU/msg ms':>11} {'prepared':>9}")
     for rate in (float(r) for r in args.rates.split(",")):
-        for kind in ("echo", "adbsat"):
-            r = run_case(kind, rate, args.duration, str(mesh_path), args)
+        # echo and adbsat alternate, round after round: a slow spell of this shared machine then
+        # falls on both rather than on one
+        rounds = {"echo": [], "adbsat": []}
+        for _ in range(args.rounds):
+            for kind in rounds:
+                rounds[kind].append(run_case(kind, rate, args.duration, str(mesh_path), args))
+        for kind in rounds:
+            r = pooled(rounds[kind])
             print(f"{kind:>8} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
                   f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f} {r['compute_max_ms']:12.3f}"
                   f" {r['cpu_ms_per_message']:11.3f}"
-                  f" {r['prepared_share']:9.1%}")
+                  f" {r['prepared_share']:9.1%} {r['receiver_stall_ms']:10.1f}")
     if args.soak > 0:
-        r = run_case("adbsat", 1000.0, args.soak, str(mesh_path), args, measure_memory=True)
+        r = pooled([run_case("adbsat", 1000.0, args.soak, str(mesh_path), args, measure_memory=True)])
         print(f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "
               f"p99 {r['p99_ms']:.3f} ms, RSS {r['rss_start_mb']:.1f} -> {r['rss_end_mb']:.1f} MB "
               f"(growth {r['rss_end_mb'] - r['rss_start_mb']:.1f} MB)")
