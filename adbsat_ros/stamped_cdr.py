@@ -4,7 +4,7 @@ The ROS node takes its attitudes and publishes its wrenches as serialised bytes,
 analysis reads and writes the same messages from files; both go through these functions instead
 of building message objects. Building them is most of a message's cost in Python: for one
 QuaternionStamped in and one WrenchStamped out, rclpy's conversions between CDR and message
-objects take about 40 µs, rosbags' codec about 17 µs, these about 2.5 µs
+objects take about 35 µs, rosbags' codec about 14 µs, these about 2.3 µs
 (bench/bench_message_codec.py, docs/benchmarks.md).
 
 Layout (OMG CDR, "plain" XCDR1, what rclpy, Fast DDS and rosbags write): a 4-byte encapsulation
