@@ -4,6 +4,7 @@ Usage:
     python bench/bench_node_latency.py [--rates 100,1000] [--duration 10] [--rounds 1] [--soak 60]
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
         [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
+        [--fastdds-profile config/fastdds_localhost.xml]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
 or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the
@@ -15,7 +16,15 @@ latencies are pooled. Reports p50/p99/max, messages dropped, the node's own comp
 flight conditions the node had prepared ahead, the receiver's own longest hold-up (a thread that
 sleeps 10 ms at a time: a stall of the measuring process itself would show there), and for the
 soak the node's resident memory at the start and the end. Each case runs in a ROS domain of its
-own (BENCH_DOMAIN_ID and up).
+own (BENCH_DOMAIN_ID and up). Latencies of the messages sent in the first WARM_UP_S seconds of
+a run are left out (the node's first ray cast); "held" counts the messages that took 100 ms or
+more after that.
+
+Middleware: by default every process runs with ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, i.e.
+rmw_fastrtps's own transports (shared memory with Fast DDS's default 1 s port health check, and
+UDP). With --fastdds-profile the three processes instead run with
+ROS_AUTOMATIC_DISCOVERY_RANGE=SYSTEM_DEFAULT and that Fast DDS XML profile (e.g.
+config/fastdds_localhost.xml, which keeps traffic on 127.0.0.1 by itself).
 """
 
 from __future__ import annotations
@@ -37,6 +46,11 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 R_ORBIT = 6378137.0 + 300e3
+#: Seconds at the start of each run whose messages are not counted: the node's first ray cast
+#: (~40 ms cold) and the messages queued behind it.
+WARM_UP_S = 0.2
+#: A latency at least this long [ms] is counted as a hold-up.
+HELD_MS = 100.0
 V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
 
 
@@ -190,7 +204,12 @@ _CASE_NUMBERS = itertools.count()
 
 def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_memory=False) -> dict:
     env = dict(os.environ)
-    env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    if args.fastdds_profile:  # the profile keeps discovery on the machine itself
+        env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "SYSTEM_DEFAULT"
+        env["FASTRTPS_DEFAULT_PROFILES_FILE"] = str(Path(args.fastdds_profile).resolve())
+    else:
+        env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+        env.pop("FASTRTPS_DEFAULT_PROFILES_FILE", None)
     # every case in a domain of its own: the participants of the case before (stopped a moment
     # ago, still known to discovery) are then never seen by this one
     base = int(env.get("BENCH_DOMAIN_ID", str(40 + os.getpid() % 20)))
@@ -235,11 +254,12 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     sent = json.loads((tmp / "sent.json").read_text())
     received = json.loads((tmp / "recv.json").read_text())
     got, diagnostics = received["wrench"], received["diagnostics"]
-    lat = np.array([got[k] - sent[k] for k in sent if k in got]) * 1e3
+    first = min(sent.values())
+    counted = [k for k in sent if sent[k] - first >= WARM_UP_S]
+    lat = np.array([got[k] - sent[k] for k in counted if k in got]) * 1e3
     return {
-        "kind": kind, "rate_hz": rate, "sent": len(sent), "received": int(len(lat)),
-        # the first 5 % wait for the first ray cast (~30 ms) and fill the caches: skipped
-        "latencies_ms": lat[int(0.05 * len(lat)):],
+        "kind": kind, "rate_hz": rate, "sent": len(sent), "received": sum(k in got for k in sent),
+        "latencies_ms": lat,
         "cpu_s": cpu_end - cpu_start,
         "rss_start_mb": mem_start, "rss_end_mb": mem_end,
         "compute_p50_ms": float(diagnostics.get("compute_ms_p50", "nan")),
@@ -264,6 +284,8 @@ def pooled(rounds: list) -> dict:
         "compute_p50_ms": float(np.mean([r["compute_p50_ms"] for r in rounds])),
         "compute_p99_ms": float(np.mean([r["compute_p99_ms"] for r in rounds])),
         "compute_max_ms": float(np.max([r["compute_max_ms"] for r in rounds])),
+        "held": int(np.count_nonzero(warm >= HELD_MS)),
+        "runs_held": sum(int(np.any(r["latencies_ms"] >= HELD_MS)) for r in rounds),
         "cpu_ms_per_message": 1e3 * sum(r["cpu_s"] for r in rounds) / max(received, 1),
         "prepared_share": sum(r["prepared"] for r in rounds) / max(received, 1),
         "receiver_stall_ms": max(r["receiver_stall_ms"] for r in rounds),
@@ -310,6 +332,10 @@ def main() -> None:
                         help="runs of each case (echo and adbsat alternating) pooled into one figure set")
     parser.add_argument("--settle", type=float, default=0.5,
                         help="seconds between the receiver matching and the first message")
+    parser.add_argument("--fastdds-profile", default="",
+                        help="Fast DDS XML profile for all three processes (with "
+                             "ROS_AUTOMATIC_DISCOVERY_RANGE=SYSTEM_DEFAULT); default: rmw_fastrtps's "
+                             "LOCALHOST set-up")
     parser.add_argument("--out", default="")
     parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()
@@ -331,9 +357,12 @@ def main() -> None:
     if args.coefficients_source == "database" and not args.database:
         args.database = build_node_database(mesh_path)
     print(f"mesh: example satellite, {mesh.n_panels} faces; shading {args.shading}; "
-          f"coefficients {args.coefficients_source}; attitude tumbling at {args.tumble:g} deg/s")
+          f"coefficients {args.coefficients_source}; attitude tumbling at {args.tumble:g} deg/s; "
+          f"middleware: {'profile ' + args.fastdds_profile if args.fastdds_profile else 'rmw_fastrtps LOCALHOST'}")
     print(f"{'node':>8} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
-          f" {'compute p50':>12} {'compute p99':>12} {'compute max':>12} {'CPU/msg ms':>11} {'prepared':>9}")
+          f" {'held':>5} {'runs held':>9}"
+          f" {'compute p50':>12} {'compute p99':>12} {'compute max':>12} {'CPU/msg ms':>11} {'prepared':>9}"
+          f" {'recv hold-up':>12}")
     for rate in (float(r) for r in args.rates.split(",")):
         # echo and adbsat alternate, round after round: a slow spell of this shared machine then
         # falls on both rather than on one
@@ -344,13 +373,14 @@ def main() -> None:
         for kind in rounds:
             r = pooled(rounds[kind])
             print(f"{kind:>8} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
+                  f" {r['held']:5d} {r['runs_held']:4d} of {len(rounds[kind]):<2d}"
                   f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f} {r['compute_max_ms']:12.3f}"
                   f" {r['cpu_ms_per_message']:11.3f}"
-                  f" {r['prepared_share']:9.1%} {r['receiver_stall_ms']:10.1f}")
+                  f" {r['prepared_share']:9.1%} {r['receiver_stall_ms']:12.1f}")
     if args.soak > 0:
         r = pooled([run_case("adbsat", 1000.0, args.soak, str(mesh_path), args, measure_memory=True)])
         print(f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "
-              f"p99 {r['p99_ms']:.3f} ms, RSS {r['rss_start_mb']:.1f} -> {r['rss_end_mb']:.1f} MB "
+              f"p99 {r['p99_ms']:.3f} ms, max {r['max_ms']:.1f} ms, RSS {r['rss_start_mb']:.1f} -> {r['rss_end_mb']:.1f} MB "
               f"(growth {r['rss_end_mb'] - r['rss_start_mb']:.1f} MB)")
 
 
