@@ -342,3 +342,63 @@ def test_attitude_can_come_from_the_odometry_pose(ros):
     # is along -x in the body frame
     f = vec(peer.wrenches[0].wrench.force)
     assert angle_deg(f, [-1.0, 0.0, 0.0]) < 0.5
+
+
+def test_log_throttle_logs_each_key_once_per_period():
+    """One line per key and period, whatever the call rate; keys are independent."""
+    from adbsat_ros.node import LogThrottle
+
+    class Lines:
+        def __init__(self):
+            self.lines = []
+
+        def warning(self, text):
+            self.lines.append(("warning", text))
+
+        def error(self, text):
+            self.lines.append(("error", text))
+
+    now = [100.0]
+    lines = Lines()
+    throttle = LogThrottle(lines, period=5.0, clock=lambda: now[0])
+    logged = [throttle("warning", "non_finite", f"nan {k}") for k in range(1000)]
+    assert logged[0] and not any(logged[1:])
+    assert throttle("error", "stale_state", "stale")  # another key is not held back
+    now[0] += 4.999
+    assert not throttle("warning", "non_finite", "nan again")
+    now[0] += 0.002
+    assert throttle("warning", "non_finite", "nan later")
+    assert lines.lines == [("warning", "nan 0"), ("error", "stale"), ("warning", "nan later")]
+
+
+def test_a_burst_of_bad_input_is_counted_and_logged_once_per_reason(ros):
+    """500 rejected attitudes of two kinds: every one counted, one /rosout line per reason, and the
+    next good attitude still answered."""
+    from rcl_interfaces.msg import Log
+
+    node, peer = ros
+    est = node.estimator
+    logs = []
+    peer.node.create_subscription(Log, "/rosout", logs.append, 1000)
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(1.0, pos, vel)
+    peer.spin_for(0.05)
+    before = dict(est.rejections)
+
+    def rejected_since(reason):
+        return est.rejections[reason] - before.get(reason, 0)
+
+    for batch in range(50):  # in batches within the node's KEEP_LAST 10 history
+        for k in range(5):
+            t = 1.0 + 1e-4 * (5 * batch + k)
+            peer.send_attitude(t, (math.nan, 0, 0, 1))
+            peer.send_attitude(t, (0, 0, 0, 0))
+        n = 5 * (batch + 1)
+        assert peer.spin_until(lambda: rejected_since("non_finite") == n and rejected_since("bad_quaternion") == n), dict(est.rejections)
+    peer.send_attitude(1.1, (0, 0, 0, 1))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 1)
+    peer.spin_for(0.2)
+    rejected = [m.msg for m in logs if m.name == node.get_name() and m.msg.startswith("input rejected")]
+    assert sum(m.startswith("input rejected (non_finite)") for m in rejected) == 1, rejected
+    assert sum(m.startswith("input rejected (bad_quaternion)") for m in rejected) == 1, rejected
+    assert len(rejected) == 2, rejected
