@@ -29,6 +29,7 @@ from .freestream import FreeStream
 from .gsi_models import ModelOptions
 from .mesh import PanelMesh, resolve_mesh
 from .panel_method import AeroCoefficients, PanelMethod, Reference
+from .stamped_cdr import OdometryFields
 from .surface import MaterialTable, SurfaceProperties
 from .wrench_settings import WrenchSettings
 
@@ -352,7 +353,8 @@ class AeroWrenchEstimator:
         return self._state
 
     def on_odometry(self, msg):
-        """Accept a nav_msgs/Odometry state with the node's frame rules (rclpy or rosbags message).
+        """Accept a nav_msgs/Odometry state: an rclpy or rosbags message, or its
+        :class:`~adbsat_ros.stamped_cdr.OdometryFields` (what the node reads from the CDR bytes).
 
         ``header.frame_id`` naming 'eci' or 'ecef' must match the ``state_frame`` setting. The
         twist is in the body frame if ``child_frame_id`` is ``body_frame_id`` (it is then rotated
@@ -372,12 +374,13 @@ class AeroWrenchEstimator:
             ``bad_state`` for a frame mismatch or a child_frame_id that is neither frame, and the
             reasons of :meth:`on_state`.
         """
+        odom = msg if isinstance(msg, OdometryFields) else OdometryFields.of_message(msg)
         s = self.settings
-        header_frame = msg.header.frame_id.lstrip("/")
+        header_frame = odom.frame_id.lstrip("/")
         frame = header_frame.lower()
         if frame in ("eci", "ecef") and frame != s.state_frame:
             self._reject("bad_state", f"state frame_id '{frame}' but parameter state_frame is {s.state_frame}")
-        child = msg.child_frame_id.lstrip("/")
+        child = odom.child_frame_id.lstrip("/")
         if child == s.body_frame_id:
             in_body = True
         elif child.lower() in STATE_FRAME_NAMES or child == header_frame:
@@ -387,9 +390,9 @@ class AeroWrenchEstimator:
                 "bad_state",
                 f"twist child_frame_id '{child}' is neither the body frame '{s.body_frame_id}' nor the state frame",
             )
-        p, v, o = msg.pose.pose.position, msg.twist.twist.linear, msg.pose.pose.orientation
-        orientation = [o.x, o.y, o.z, o.w]
-        state = self.on_state(stamp_seconds(msg.header.stamp), [p.x, p.y, p.z], [v.x, v.y, v.z], in_body, orientation)
+        orientation = list(odom.orientation_xyzw)
+        state = self.on_state(stamp_seconds(odom.stamp), list(odom.position), list(odom.linear_velocity), in_body,
+                              orientation)
         return state, orientation
 
     def diagnostic_values(self, last_sample: "WrenchSample | None", compute_ms) -> dict:

@@ -39,7 +39,7 @@ from rclpy.serialization import deserialize_message
 
 from .aero_wrench import AeroWrenchEstimator, Rejection, WrenchSample, next_regular_stamp, stamp_seconds
 from .mesh import MeshError
-from .stamped_cdr import Stamp, quaternion_stamped_fields, wrench_stamped_cdr
+from .stamped_cdr import OdometryFields, Stamp, odometry_fields, quaternion_stamped_fields, wrench_stamped_cdr
 from .wrench_settings import PARAMETERS, READ_ONLY_PARAMETERS, WrenchSettings
 
 NODE_NAME = "adbsat_node"
@@ -99,9 +99,9 @@ class AdbsatNode(Node):
         self.diagnostics_pub = self.create_publisher(DiagnosticArray, "/diagnostics", 10)
         # state first: when a state and an attitude are waiting together, the executor takes them in
         # the order the subscriptions were made, and the attitude wants the newest state
-        self.create_subscription(Odometry, "state", self._on_state, qos)
-        # attitudes come in and wrenches go out as CDR bytes (module stamped_cdr): building rclpy
-        # message objects would cost more than the wrench itself
+        # states and attitudes come in and wrenches go out as CDR bytes (module stamped_cdr):
+        # building rclpy message objects would cost more than the wrench itself
+        self.create_subscription(Odometry, "state", self._on_state, qos, raw=True)
         self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos, raw=True)
         self._compute_ms = collections.deque(maxlen=2000)
         self._last_state_wall = None
@@ -149,20 +149,33 @@ class AdbsatNode(Node):
         self._last_rejection = exc
         self._log_throttled("warning", exc.reason, f"input rejected ({exc.reason}): {exc.message}")
 
-    def _on_state(self, msg: Odometry) -> None:
+    def _undecodable(self, what: str, exc: Exception) -> None:
+        self.estimator.rejections["undecodable"] += 1
+        self._rejected(Rejection("undecodable", f"{what}: {exc!r}"))
+
+    def _on_state(self, raw: bytes) -> None:
+        """A state as the CDR bytes of a nav_msgs/Odometry."""
         try:
-            self._handle_state(msg)
+            odom = odometry_fields(raw)
+        except ValueError:  # not plain CDR (e.g. XCDR2 from another RMW): the typesupport decodes it
+            try:
+                odom = OdometryFields.of_message(deserialize_message(raw, Odometry))
+            except Exception as exc:
+                self._undecodable("state message not an Odometry", exc)
+                return
+        try:
+            self._handle_state(odom)
         except Rejection as exc:
             self._rejected(exc)
         except Exception as exc:  # never let a message take the node down
             self.estimator.rejections["compute_error"] += 1
             self._log_throttled("error", "state_failed", f"state message failed: {exc!r}")
 
-    def _handle_state(self, msg: Odometry) -> None:
-        _, orientation = self.estimator.on_odometry(msg)
+    def _handle_state(self, odom: OdometryFields) -> None:
+        _, orientation = self.estimator.on_odometry(odom)
         self._last_state_wall = time.monotonic()
         if self.estimator.settings.attitude_source == "odometry":
-            self._compute_and_publish(msg.header.stamp, orientation)
+            self._compute_and_publish(odom.stamp, orientation)
 
     def _on_attitude(self, raw: bytes) -> None:
         """An attitude as the CDR bytes of a QuaternionStamped."""
@@ -174,8 +187,7 @@ class AdbsatNode(Node):
             try:
                 msg = deserialize_message(raw, QuaternionStamped)
             except Exception as exc:
-                self._rejected(Rejection("undecodable", f"attitude message not a QuaternionStamped: {exc!r}"))
-                self.estimator.rejections["undecodable"] += 1
+                self._undecodable("attitude message not a QuaternionStamped", exc)
                 return
             q = msg.quaternion
             stamp, quaternion = Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec), [q.x, q.y, q.z, q.w]

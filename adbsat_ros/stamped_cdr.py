@@ -4,7 +4,8 @@ The ROS node takes its attitudes and publishes its wrenches as serialised bytes,
 analysis reads and writes the same messages from files; both go through these functions instead
 of building message objects. Building them is most of a message's cost in Python: for one
 QuaternionStamped in and one WrenchStamped out, rclpy's conversions between CDR and message
-objects take about 35 µs, rosbags' codec about 14 µs, these about 2.3 µs
+objects take about 35 µs, rosbags' codec about 14 µs, these about 2.3 µs; for one
+nav_msgs/Odometry in, with its two 36-element covariances, rclpy takes about 75 µs
 (bench/bench_message_codec.py, docs/benchmarks.md).
 
 Layout (OMG CDR, "plain" XCDR1, what rclpy, Fast DDS and rosbags write): a 4-byte encapsulation
@@ -72,6 +73,74 @@ def quaternion_stamped_fields(raw) -> tuple[Stamp, list]:
     if length < 1 or len(raw) != start + 32 or raw[end - 1] != 0:
         raise ValueError("not a QuaternionStamped")
     return Stamp(sec, nanosec), list(struct.unpack_from(order + "4d", raw, start))
+
+
+class OdometryFields(NamedTuple):
+    """What the wrench needs of a nav_msgs/Odometry (the covariances and the angular rate are
+    left out). Field names follow the message."""
+
+    stamp: Stamp
+    frame_id: str
+    """header.frame_id: the frame of the pose (ECI or ECEF for the node)."""
+    child_frame_id: str
+    """The frame of the twist (Odometry convention)."""
+    position: tuple
+    """pose.pose.position x, y, z [m] in ``frame_id``."""
+    orientation_xyzw: tuple
+    """pose.pose.orientation x, y, z, w: the child frame's orientation in ``frame_id``."""
+    linear_velocity: tuple
+    """twist.twist.linear x, y, z [m/s] in ``child_frame_id``."""
+
+    @classmethod
+    def of_message(cls, msg) -> "OdometryFields":
+        """The fields of an Odometry message object (rclpy's or rosbags')."""
+        p, o, v = msg.pose.pose.position, msg.pose.pose.orientation, msg.twist.twist.linear
+        return cls(Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec), msg.header.frame_id, msg.child_frame_id,
+                   (p.x, p.y, p.z), (o.x, o.y, o.z, o.w), (v.x, v.y, v.z))
+
+
+#: float64 values after Odometry's two strings: pose (position 3, orientation 4, covariance 36),
+#: twist (linear 3, angular 3, covariance 36).
+_ODOMETRY_FLOAT64S = 85
+#: Index of twist.twist.linear.x among them.
+_ODOMETRY_LINEAR = 43
+
+
+def _cdr_string(raw, order: str, pos: int) -> tuple[str, int]:
+    """The CDR string whose length field is at ``pos`` rounded up to a multiple of 4 (counted
+    from the end of the encapsulation header), and the position after its NUL."""
+    pos += -(pos - 4) % 4
+    if pos + 4 > len(raw):
+        raise ValueError("message ends inside a string length")
+    (length,) = struct.unpack_from(order + "I", raw, pos)
+    end = pos + 4 + length
+    if length < 1 or end > len(raw) or raw[end - 1] != 0:
+        raise ValueError("not a NUL-terminated CDR string")
+    return raw[pos + 4:end - 1].decode("utf-8"), end
+
+
+def odometry_fields(raw) -> OdometryFields:
+    """Stamp, frame ids, position, orientation and linear velocity of a CDR-serialised
+    nav_msgs/Odometry.
+
+    Raises
+    ------
+    ValueError
+        If ``raw`` is not exactly a plain-CDR Odometry (UnicodeDecodeError, a ValueError, for a
+        frame id that is not UTF-8).
+    """
+    if len(raw) < 16 or raw[0] != 0 or raw[1] not in (0, 1):
+        raise ValueError("not a plain-CDR stamped message")
+    order = "<" if raw[1] == 1 else ">"
+    sec, nanosec = struct.unpack_from(order + "iI", raw, 4)
+    frame_id, pos = _cdr_string(raw, order, 12)
+    child_frame_id, pos = _cdr_string(raw, order, pos)
+    start = pos + (-(pos - 4) % 8)  # the float64s align to 8 from the end of the encapsulation
+    if len(raw) != start + 8 * _ODOMETRY_FLOAT64S:
+        raise ValueError("not an Odometry")
+    pose = struct.unpack_from(order + "7d", raw, start)
+    linear = struct.unpack_from(order + "3d", raw, start + 8 * _ODOMETRY_LINEAR)
+    return OdometryFields(Stamp(sec, nanosec), frame_id, child_frame_id, pose[:3], pose[3:], linear)
 
 
 @functools.lru_cache(maxsize=64)

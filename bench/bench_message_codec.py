@@ -1,4 +1,4 @@
-"""Cost of one attitude in and one wrench out, as message objects or as CDR bytes.
+"""Cost of one attitude in and one wrench out, and of one state in, as message objects or as CDR bytes.
 
 Usage:
     python bench/bench_message_codec.py [--repeat 20000]
@@ -11,8 +11,11 @@ geometry_msgs/WrenchStamped written (stamp, frame, force, torque), three ways:
 * rosbags: its pure-Python CDR codec with its own message classes;
 * stamped_cdr: the struct readers and writer the node uses (adbsat_ros.stamped_cdr).
 
-Prints the median time per message pair in microseconds, each codec timed in alternating
-blocks so that the machine's slow spells fall on all three.
+and for one nav_msgs/Odometry read (stamp, frame ids, position, orientation, linear velocity)
+the same three ways.
+
+Prints the median time per message pair (and per Odometry) in microseconds, each codec timed in
+alternating blocks so that the machine's slow spells fall on all three.
 """
 
 from __future__ import annotations
@@ -23,10 +26,11 @@ import time
 
 import numpy as np
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
+from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
 
 from adbsat_ros import bag_io
-from adbsat_ros.stamped_cdr import quaternion_stamped_fields, wrench_stamped_cdr
+from adbsat_ros.stamped_cdr import OdometryFields, odometry_fields, quaternion_stamped_fields, wrench_stamped_cdr
 
 FORCE, TORQUE = [1.0e-3, -2.0e-5, 3.0e-6], [4.0e-7, 5.0e-6, -6.0e-7]
 
@@ -71,19 +75,34 @@ def main() -> None:
         assert back.header.stamp == msg.header.stamp and back.wrench.force.x == FORCE[0]
     assert bytes(with_rosbags()) == with_struct()
 
-    cases = {"rclpy message objects": with_rclpy, "rosbags codec": with_rosbags, "stamped_cdr (struct)": with_struct}
-    block = 500
-    times = {name: [] for name in cases}
-    for _ in range(max(args.repeat // block, 1)):
-        for name, fn in cases.items():
-            t0 = time.perf_counter()
-            for _ in range(block):
-                fn()
-            times[name].append((time.perf_counter() - t0) / block)
-    print(f"one QuaternionStamped read + one WrenchStamped written; {args.repeat} pairs per codec")
-    print(f"{'codec':<24} {'median us':>10}")
-    for name, t in times.items():
-        print(f"{name:<24} {1e6 * float(np.median(t)):10.2f}")
+    pairs = {"rclpy message objects": with_rclpy, "rosbags codec": with_rosbags, "stamped_cdr (struct)": with_struct}
+
+    odom = Odometry()
+    odom.header.frame_id, odom.child_frame_id = "eci", "eci"
+    odom.header.stamp.sec = 1_767_225_600
+    odom.pose.pose.position.x, odom.twist.twist.linear.y = 6678137.0, 7725.8
+    odom_raw = bytes(serialize_message(odom))
+    states = {
+        "rclpy message objects": lambda: OdometryFields.of_message(deserialize_message(odom_raw, Odometry)),
+        "rosbags codec": lambda: OdometryFields.of_message(bag_io.deserialize(odom_raw, bag_io.ODOMETRY)),
+        "stamped_cdr (struct)": lambda: odometry_fields(odom_raw),
+    }
+    assert len({fn() for fn in states.values()}) == 1  # the three read the same fields
+
+    for title, cases in (("one QuaternionStamped read + one WrenchStamped written", pairs),
+                         ("one Odometry read", states)):
+        block = 500
+        times = {name: [] for name in cases}
+        for _ in range(max(args.repeat // block, 1)):
+            for name, fn in cases.items():
+                t0 = time.perf_counter()
+                for _ in range(block):
+                    fn()
+                times[name].append((time.perf_counter() - t0) / block)
+        print(f"{title}; {args.repeat} per codec")
+        print(f"{'codec':<24} {'median us':>10}")
+        for name, t in times.items():
+            print(f"{name:<24} {1e6 * float(np.median(t)):10.2f}")
 
 
 if __name__ == "__main__":

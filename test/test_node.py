@@ -402,3 +402,34 @@ def test_a_burst_of_bad_input_is_counted_and_logged_once_per_reason(ros):
     assert sum(m.startswith("input rejected (non_finite)") for m in rejected) == 1, rejected
     assert sum(m.startswith("input rejected (bad_quaternion)") for m in rejected) == 1, rejected
     assert len(rejected) == 2, rejected
+
+
+def test_state_bytes_that_are_no_odometry_are_counted_and_a_padded_one_is_decoded(ros):
+    """States come in as CDR bytes too: garbage is counted as undecodable and gives no state; a
+    valid Odometry the fast reader refuses (trailing bytes) goes through rclpy's typesupport and
+    gives the wrench of the same state sent plainly."""
+    from nav_msgs.msg import Odometry
+
+    node, peer = ros
+    est = node.estimator
+    before = dict(est.rejections)
+    peer.state_pub.publish(b"\x00\x01\x00\x00" + b"\xff" * 40)
+    assert peer.spin_until(lambda: est.rejections["undecodable"] == before.get("undecodable", 0) + 1)
+    peer.send_attitude(1.0, (0.0, 0.0, 0.0, 1.0))
+    assert peer.spin_until(lambda: est.rejections["no_state"] == before.get("no_state", 0) + 1)
+    pos, vel = circular_orbit_state(300e3)
+    msg = Odometry()
+    msg.header.stamp, msg.header.frame_id, msg.child_frame_id = to_stamp(2.0), "eci", "eci"
+    msg.pose.pose.position.x, msg.pose.pose.position.y, msg.pose.pose.position.z = pos
+    msg.twist.twist.linear.x, msg.twist.twist.linear.y, msg.twist.twist.linear.z = vel
+    peer.state_pub.publish(bytes(serialize_message(msg)) + bytes(8))
+    peer.spin_for(0.05)
+    peer.send_attitude(2.0, (0.0, 0.0, 0.0, 1.0))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 1)
+    peer.send_state(3.0, pos, vel)  # the same state, plainly, one second later (same place)
+    peer.spin_for(0.05)
+    peer.send_attitude(3.0, (0.0, 0.0, 0.0, 1.0))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 2)
+    first, second = (vec(w.wrench.force) for w in peer.wrenches)
+    assert np.linalg.norm(first) > 1e-5
+    assert np.allclose(first, second, rtol=1e-3)  # 1 s apart: the atmosphere and Earth turn a little

@@ -6,10 +6,18 @@ import math
 import numpy as np
 import pytest
 from geometry_msgs.msg import Quaternion, QuaternionStamped, WrenchStamped
+from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
 
 from adbsat_ros import bag_io
-from adbsat_ros.stamped_cdr import Stamp, header_stamp, quaternion_stamped_fields, wrench_stamped_cdr
+from adbsat_ros.stamped_cdr import (
+    OdometryFields,
+    Stamp,
+    header_stamp,
+    odometry_fields,
+    quaternion_stamped_fields,
+    wrench_stamped_cdr,
+)
 
 FRAMES = ("", "b", "eci", "body", "sat_body_frame", "frame_ñ")  # every length mod 8, and UTF-8
 STAMPS_NS = (0, 1_767_225_600_123_456_789, 2**31 * 10**9 - 1)
@@ -66,3 +74,59 @@ def test_anything_but_a_plain_cdr_quaternion_stamped_is_refused():
     for bad in (xcdr2, raw[:11]):
         with pytest.raises(ValueError):
             header_stamp(bad)
+
+
+POSITION, VELOCITY = (6678137.0, -1.5e-3, 2.5e5), (-0.25, 7725.8, 1e-300)
+
+
+def _odometry(stamp_ns, frame, child):
+    """A rosbags Odometry with every field distinct, covariances included."""
+    msg = bag_io.odometry_message(stamp_ns, frame, child, POSITION, VELOCITY, orientation_xyzw=Q)
+    msg.pose.covariance[:] = np.arange(36.0)
+    msg.twist.covariance[:] = -np.arange(36.0)
+    msg.twist.twist.angular.x, msg.twist.twist.angular.y, msg.twist.twist.angular.z = 1e-3, -2e-3, 3e-3
+    return msg
+
+
+@pytest.mark.parametrize("little_endian", [True, False])
+def test_odometry_read_equals_rosbags(little_endian):
+    for frame in FRAMES:
+        for child in FRAMES:
+            for stamp in STAMPS_NS[1:]:
+                t = bag_io.time_message(stamp)
+                raw = bytes(bag_io.TYPESTORE.serialize_cdr(_odometry(stamp, frame, child), bag_io.ODOMETRY,
+                                                           little_endian=little_endian))
+                fields = odometry_fields(raw)
+                assert fields == OdometryFields.of_message(bag_io.deserialize(raw, bag_io.ODOMETRY))
+                assert fields == (Stamp(t.sec, t.nanosec), frame, child, POSITION, tuple(Q), VELOCITY)
+
+
+def test_odometry_from_rclpy_bytes():
+    for frame in FRAMES:
+        msg = Odometry()
+        msg.header.frame_id, msg.child_frame_id = frame, frame[::-1]
+        msg.header.stamp.sec, msg.header.stamp.nanosec = 1_767_225_600, 5
+        p, o, v = msg.pose.pose.position, msg.pose.pose.orientation, msg.twist.twist.linear
+        p.x, p.y, p.z = POSITION
+        o.x, o.y, o.z, o.w = Q
+        v.x, v.y, v.z = VELOCITY
+        msg.pose.covariance[7] = 9.0
+        fields = odometry_fields(serialize_message(msg))
+        assert fields == OdometryFields.of_message(msg)
+        assert fields.frame_id == frame and fields.child_frame_id == frame[::-1]
+
+
+def test_anything_but_a_plain_cdr_odometry_is_refused():
+    raw = bytes(bag_io.serialize(_odometry(10**9, "eci", "body")))
+    xcdr2 = b"\x00\x07" + raw[2:]
+    no_nul = bytearray(raw)
+    no_nul[16 + 3] = ord("x")  # header.frame_id "eci" loses its NUL
+    child_too_long = bytearray(raw)
+    child_too_long[20:24] = (10**6).to_bytes(4, "little")  # child_frame_id length past the end
+    not_utf8 = bytearray(raw)
+    not_utf8[16] = 0xFF
+    quaternion = bytes(bag_io.serialize(bag_io.quaternion_stamped_message(10**9, "eci", Q)))
+    for bad in (raw[:-8], raw + b"\x00" * 8, xcdr2, bytes(no_nul), bytes(child_too_long), bytes(not_utf8),
+                quaternion, b"", raw[:13], raw[:22]):
+        with pytest.raises(ValueError):
+            odometry_fields(bad)
