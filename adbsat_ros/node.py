@@ -15,6 +15,10 @@ Topics (relative names, remappable):
   mass, normalised by the read-only parameters ``reference_area`` and ``reference_length``.
 * ``/diagnostics`` (diagnostic_msgs/DiagnosticArray, every ``diagnostics_period`` s).
 
+Both subscriptions take the CDR bytes and read them with :mod:`adbsat_ros.stamped_cdr` (rclpy's
+deserialiser for anything but plain CDR); bytes that are neither message are counted as
+``undecodable``. Rejected inputs are logged at most once per reason every ``LOG_THROTTLE_S``.
+
 Parameters: see :data:`adbsat_ros.wrench_settings.PARAMETERS` and ``config/adbsat.yaml``.
 """
 

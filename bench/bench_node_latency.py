@@ -4,14 +4,15 @@ Usage:
     python bench/bench_node_latency.py [--rates 100,1000] [--duration 10] [--rounds 1] [--soak 60]
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
         [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
-        [--fastdds-profile config/fastdds_localhost.xml]
+        [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
 or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the
 rate, slowly tumbling at 1 deg/s so the shading cache sees mostly hits, or fixed with --tumble 0)
 and a receiver. Latency is receive time minus publish time of the same stamp on the shared
 CLOCK_MONOTONIC. With --rounds N each case runs N times, echo and adbsat alternating, and the
-latencies are pooled. Reports p50/p99/max, messages dropped, the node's own compute time from
+latencies are pooled; each echo run and the adbsat run after it are also compared as a pair
+(the p99 target on the same spell of this shared machine). Reports p50/p99/max, messages dropped, the node's own compute time from
 /diagnostics, the node process's CPU time per message answered, the share of attitudes whose
 flight conditions the node had prepared ahead, the receiver's own longest hold-up (a thread that
 sleeps 10 ms at a time: a stall of the measuring process itself would show there), and for the
@@ -216,7 +217,8 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     env["ROS_DOMAIN_ID"] = str(base + next(_CASE_NUMBERS) % 40)
     env["ECHO_QOS_DEPTH"] = "100"
     env["ECHO_EXECUTOR"] = args.executor
-    if kind == "echo":
+    env["ECHO_WORK_US"] = kind.partition("+")[2].removesuffix("us") or "0"  # "echo+175us": 175 us per message
+    if kind.startswith("echo"):
         node_cmd = [sys.executable, str(HERE / "echo_node.py")]
     else:
         node_cmd = [sys.executable, "-m", "adbsat_ros.node", "--ros-args", "-p", f"mesh:={mesh}",
@@ -235,7 +237,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
                             "--duration", str(duration), "--out", str(tmp / "sent.json"),
                             "--tumble", str(args.tumble), "--state-rate", str(args.state_rate),
                             "--settle", str(args.settle)]
-                           + (["--need-state"] if kind != "echo" else []), env=env)
+                           + (["--need-state"] if kind == "adbsat" else []), env=env)
     cpu_start = cpu_seconds(node.pid)  # the node is idle here: set up, waiting for messages
     mem_start = None
     if measure_memory:
@@ -336,6 +338,9 @@ def main() -> None:
                         help="Fast DDS XML profile for all three processes (with "
                              "ROS_AUTOMATIC_DISCOVERY_RANGE=SYSTEM_DEFAULT); default: rmw_fastrtps's "
                              "LOCALHOST set-up")
+    parser.add_argument("--echo-work-us", type=float, action="append", default=[], metavar="US",
+                        help="also run an echo that spins US microseconds per message (repeatable): "
+                             "a node of known CPU cost beside adbsat, in the same rounds")
     parser.add_argument("--out", default="")
     parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()
@@ -359,24 +364,37 @@ def main() -> None:
     print(f"mesh: example satellite, {mesh.n_panels} faces; shading {args.shading}; "
           f"coefficients {args.coefficients_source}; attitude tumbling at {args.tumble:g} deg/s; "
           f"middleware: {'profile ' + args.fastdds_profile if args.fastdds_profile else 'rmw_fastrtps LOCALHOST'}")
-    print(f"{'node':>8} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
+    print(f"{'node':>11} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
           f" {'held':>5} {'runs held':>9}"
           f" {'compute p50':>12} {'compute p99':>12} {'compute max':>12} {'CPU/msg ms':>11} {'prepared':>9}"
           f" {'recv hold-up':>12}")
+    pairs = []
     for rate in (float(r) for r in args.rates.split(",")):
         # echo and adbsat alternate, round after round: a slow spell of this shared machine then
         # falls on both rather than on one
-        rounds = {"echo": [], "adbsat": []}
+        rounds = {"echo": [], "adbsat": [], **{f"echo+{us:g}us": [] for us in args.echo_work_us}}
         for _ in range(args.rounds):
             for kind in rounds:
                 rounds[kind].append(run_case(kind, rate, args.duration, str(mesh_path), args))
         for kind in rounds:
             r = pooled(rounds[kind])
-            print(f"{kind:>8} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
+            print(f"{kind:>11} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
                   f" {r['held']:5d} {r['runs_held']:4d} of {len(rounds[kind]):<2d}"
                   f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f} {r['compute_max_ms']:12.3f}"
                   f" {r['cpu_ms_per_message']:11.3f}"
                   f" {r['prepared_share']:9.1%} {r['receiver_stall_ms']:12.1f}")
+        if args.rounds > 1:
+            pairs.append((rate, rounds))
+    for rate, rounds in pairs:  # each echo run beside the runs right after it (same machine spell)
+        for other in (kind for kind in rounds if kind != "echo"):
+            verdicts = []
+            for echo, run in zip(rounds["echo"], rounds[other]):
+                e, a = (float(np.percentile(r["latencies_ms"], 99)) if r["latencies_ms"].size else math.inf
+                        for r in (echo, run))
+                verdicts.append(f"{e:.2f}/{a:.2f} {'held' if a < e + 1.0 else 'MISSED'}")
+            held = sum(v.endswith("held") for v in verdicts)
+            print(f"pairs at {rate:.0f} Hz, p99 ms echo/{other}, target {other} < echo + 1 ms: {'; '.join(verdicts)}"
+                  f" -> held in {held} of {len(verdicts)}")
     if args.soak > 0:
         r = pooled([run_case("adbsat", 1000.0, args.soak, str(mesh_path), args, measure_memory=True)])
         print(f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "

@@ -1,8 +1,13 @@
 """A bare rclpy echo node: republishes each QuaternionStamped on `attitude` as a WrenchStamped on
-`wrench` with the same stamp. The latency floor of rclpy on this machine, for bench_node_latency."""
+`wrench` with the same stamp. The latency floor of rclpy on this machine, for bench_node_latency.
+
+With ECHO_WORK_US=N in the environment it first spins for N microseconds in every callback: an
+echo that costs as much CPU per message as a node of known cost, for bench_node_latency's
+--echo-work-us."""
 
 import os
 import sys
+import time
 
 import rclpy
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
@@ -18,7 +23,13 @@ def main():
     qos = QoSProfile(depth=int(os.environ.get("ECHO_QOS_DEPTH", "10")))
     pub = node.create_publisher(WrenchStamped, "wrench", qos)
 
+    work_s = float(os.environ.get("ECHO_WORK_US", "0")) * 1e-6
+
     def echo(msg):
+        if work_s > 0.0:  # holds the GIL, like Python work would
+            done = time.perf_counter() + work_s
+            while time.perf_counter() < done:
+                pass
         out = WrenchStamped()
         out.header = msg.header
         out.wrench.force.x = msg.quaternion.w
