@@ -101,10 +101,10 @@ class AdbsatNode(Node):
         self.wrench_pub = self.create_publisher(WrenchStamped, "wrench", qos)
         self.coefficients_pub = self.create_publisher(WrenchStamped, "coefficients", qos)
         self.diagnostics_pub = self.create_publisher(DiagnosticArray, "/diagnostics", 10)
-        # state first: when a state and an attitude are waiting together, the executor takes them in
-        # the order the subscriptions were made, and the attitude wants the newest state
         # states and attitudes come in and wrenches go out as CDR bytes (module stamped_cdr):
-        # building rclpy message objects would cost more than the wrench itself
+        # building rclpy message objects would cost more than the wrench itself.
+        # State first: when a state and an attitude are waiting together, the executor takes them
+        # in the order the subscriptions were made, and the attitude wants the newest state.
         self.create_subscription(Odometry, "state", self._on_state, qos, raw=True)
         self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos, raw=True)
         self._compute_ms = collections.deque(maxlen=2000)

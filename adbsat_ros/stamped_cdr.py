@@ -5,7 +5,7 @@ analysis reads and writes the same messages from files; both go through these fu
 of building message objects. Building them is most of a message's cost in Python: for one
 QuaternionStamped in and one WrenchStamped out, rclpy's conversions between CDR and message
 objects take about 35 µs, rosbags' codec about 14 µs, these about 2.3 µs; for one
-nav_msgs/Odometry in, with its two 36-element covariances, rclpy takes about 75 µs
+nav_msgs/Odometry in, with its two 36-element covariances, rclpy takes 75–120 µs, these 6 µs
 (bench/bench_message_codec.py, docs/benchmarks.md).
 
 Layout (OMG CDR, "plain" XCDR1, what rclpy, Fast DDS and rosbags write): a 4-byte encapsulation
