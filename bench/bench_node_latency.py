@@ -11,15 +11,15 @@ or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, Quaterni
 rate, slowly tumbling at 1 deg/s so the shading cache sees mostly hits, or fixed with --tumble 0)
 and a receiver. Latency is receive time minus publish time of the same stamp on the shared
 CLOCK_MONOTONIC. With --rounds N each case runs N times, echo and adbsat alternating, and the
-latencies are pooled; each echo run and the adbsat run after it are also compared as a pair
-(the p99 target on the same spell of this shared machine). Reports p50/p99/max, messages dropped, the node's own compute time from
-/diagnostics, the node process's CPU time per message answered, the share of attitudes whose
-flight conditions the node had prepared ahead, the receiver's own longest hold-up (a thread that
-sleeps 10 ms at a time: a stall of the measuring process itself would show there), and for the
-soak the node's resident memory at the start and the end. Each case runs in a ROS domain of its
-own (BENCH_DOMAIN_ID and up). Latencies of the messages sent in the first WARM_UP_S seconds of
-a run are left out (the node's first ray cast); "held" counts the messages that took 100 ms or
-more after that.
+latencies are pooled; each echo run and the adbsat run after it are also compared as a pair (the
+p99 target on the same spell of this shared machine). Reports p50/p99/max, messages dropped, the
+node's own compute time from /diagnostics, the node process's CPU time per message answered, the
+share of attitudes whose flight conditions the node had prepared ahead, the receiver's own longest
+hold-up (a thread that sleeps 10 ms at a time: a stall of the measuring process itself would show
+there), and for the soak the node's resident memory at the start and the end. Each case runs in a
+ROS domain of its own (BENCH_DOMAIN_ID and up). Latencies of the messages sent in the first
+WARM_UP_S seconds of a run are left out (the node's first ray cast); "held" counts the messages
+that took 100 ms or more after that.
 
 Middleware: by default every process runs with ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, i.e.
 rmw_fastrtps's own transports (shared memory with Fast DDS's default 1 s port health check, and
@@ -203,7 +203,9 @@ def wait_until_idle(pid: int, timeout: float = 60.0) -> None:
 _CASE_NUMBERS = itertools.count()
 
 
-def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_memory=False) -> dict:
+def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_memory=False,
+             echo_work_us: float = 0.0) -> dict:
+    """One run of ``kind`` ("adbsat", or an echo spinning ``echo_work_us`` per message)."""
     env = dict(os.environ)
     if args.fastdds_profile:  # the profile keeps discovery on the machine itself
         env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "SYSTEM_DEFAULT"
@@ -217,8 +219,8 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     env["ROS_DOMAIN_ID"] = str(base + next(_CASE_NUMBERS) % 40)
     env["ECHO_QOS_DEPTH"] = "100"
     env["ECHO_EXECUTOR"] = args.executor
-    env["ECHO_WORK_US"] = kind.partition("+")[2].removesuffix("us") or "0"  # "echo+175us": 175 us per message
-    if kind.startswith("echo"):
+    env["ECHO_WORK_US"] = str(echo_work_us)
+    if kind != "adbsat":
         node_cmd = [sys.executable, str(HERE / "echo_node.py")]
     else:
         node_cmd = [sys.executable, "-m", "adbsat_ros.node", "--ros-args", "-p", f"mesh:={mesh}",
@@ -368,14 +370,17 @@ def main() -> None:
           f" {'held':>5} {'runs held':>9}"
           f" {'compute p50':>12} {'compute p99':>12} {'compute max':>12} {'CPU/msg ms':>11} {'prepared':>9}"
           f" {'recv hold-up':>12}")
+    # the kinds of node, each with the work [us] its echo spins per message (none for adbsat)
+    echo_work = {"echo": 0.0, "adbsat": 0.0, **{f"echo+{us:g}us": us for us in args.echo_work_us}}
     pairs = []
     for rate in (float(r) for r in args.rates.split(",")):
         # echo and adbsat alternate, round after round: a slow spell of this shared machine then
         # falls on both rather than on one
-        rounds = {"echo": [], "adbsat": [], **{f"echo+{us:g}us": [] for us in args.echo_work_us}}
+        rounds = {kind: [] for kind in echo_work}
         for _ in range(args.rounds):
             for kind in rounds:
-                rounds[kind].append(run_case(kind, rate, args.duration, str(mesh_path), args))
+                rounds[kind].append(run_case(kind, rate, args.duration, str(mesh_path), args,
+                                             echo_work_us=echo_work[kind]))
         for kind in rounds:
             r = pooled(rounds[kind])
             print(f"{kind:>11} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
