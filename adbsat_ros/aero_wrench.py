@@ -24,7 +24,7 @@ import numpy as np
 from .atmosphere import SpaceWeather
 from .database_coefficients import DatabaseCoefficients
 from .frames import quaternion_matrix_floats
-from .flight_conditions import FlightConditions, flight_conditions
+from .flight_conditions import FlightConditions, flight_conditions, interpolated_flight_conditions
 from .freestream import FreeStream
 from .gsi_models import ModelOptions
 from .mesh import PanelMesh, resolve_mesh
@@ -49,6 +49,13 @@ REJECTION_REASONS = (
 
 #: Precession-nutation is evaluated once per minute of TT (error < 1e-9 rad; see earth_frames).
 PRECESSION_NUTATION_STEP_S = 60.0
+
+#: A stamp this close to a knot of the flight conditions (as a fraction of ``conditions_step``) takes
+#: the knot's conditions alone (10 ns at the default 10 ms step: a fixed-rate stream at the step or a
+#: multiple of it lands on knots, and needs only one evaluation per message).
+KNOT_SNAP = 1e-6
+#: Knots kept per state: the two around the latest stamp, the next one prepared ahead, one spare.
+KNOTS_KEPT = 4
 
 #: Names accepted in Odometry.child_frame_id for a twist already in the state frame.
 STATE_FRAME_NAMES = ("", "eci", "ecef", "gcrf", "itrf", "j2000", "earth", "world", "map")
@@ -228,6 +235,7 @@ class AeroWrenchEstimator:
         self.published = 0
         self._state: OrbitalState | None = None
         self._conditions_memo: tuple = ()  # _KeptConditions of the latest two stamps
+        self._knots: tuple = (None, None, {})  # state, settings, {knot index: FlightConditions}
         self.prepared_used = 0  # attitudes whose flight conditions prepare() had made ahead
         self._last_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
@@ -307,6 +315,7 @@ class AeroWrenchEstimator:
         self._state = None
         self._last_attitude_stamp = None
         self._last_state_stamp = None
+        self._knots = (None, None, {})
 
     def _reject(self, reason: str, message: str):
         self.rejections[reason] += 1
@@ -515,18 +524,62 @@ class AeroWrenchEstimator:
                     self.prepared_used += 1
                 return kept.utc, kept.conditions, kept.flow
         utc = self.utc(stamp)
+        conditions = None
+        if s.conditions_step > 0.0:
+            conditions = self._interpolated_conditions(stamp, state, utc, s.conditions_step)
+        if conditions is None:
+            conditions = self._exact_conditions(stamp, state, utc)
+        flow = conditions.free_stream() if conditions.speed > 0.0 else None
+        kept = _KeptConditions(state, stamp, s, utc, conditions, flow, prepare)
+        self._conditions_memo = self._conditions_memo[-1:] + (kept,)
+        return utc, conditions, flow
+
+    def _exact_conditions(self, stamp: float, state: OrbitalState, utc: _dt.datetime) -> FlightConditions:
+        """:func:`flight_conditions` of ``state`` propagated (first order) to ``stamp``."""
+        s = self.settings
         position = state.position + state.velocity * (stamp - state.stamp)  # first-order propagation
-        conditions = flight_conditions(
+        return flight_conditions(
             utc, position, state.velocity, self.weather, frame=s.state_frame,
             earth_rotation=s.earth_rotation, wind=self._wind, wind_frame="ecef",
             anomalous_oxygen=s.anomalous_oxygen, accommodation_model=s.accommodation_model,
             accommodation_options=self._accommodation_options,
             precession_nutation_step=PRECESSION_NUTATION_STEP_S,
         )
-        flow = conditions.free_stream() if conditions.speed > 0.0 else None
-        kept = _KeptConditions(state, stamp, s, utc, conditions, flow, prepare)
-        self._conditions_memo = self._conditions_memo[-1:] + (kept,)
-        return utc, conditions, flow
+
+    def _interpolated_conditions(self, stamp: float, state: OrbitalState, utc: _dt.datetime,
+                                 step: float) -> FlightConditions | None:
+        """The conditions at ``stamp`` interpolated between the knots around it: the exact
+        conditions at ``state.stamp + j step`` for integers j (so the same stamp and state always
+        give the same numbers, live or from a bag); None if a knot cannot be evaluated (e.g. it
+        lies outside the atmosphere model while the stamp does not), for the exact evaluation."""
+        offset = (stamp - state.stamp) / step
+        j = math.floor(offset)
+        weight = offset - j
+        if weight >= 1.0 - KNOT_SNAP:
+            j, weight = j + 1, 0.0
+        elif weight <= KNOT_SNAP:
+            weight = 0.0
+        try:
+            a = self._knot(state, j, step)
+            b = a if weight == 0.0 else self._knot(state, j + 1, step)
+        except ValueError:
+            return None
+        return interpolated_flight_conditions(a, b, weight, utc)
+
+    def _knot(self, state: OrbitalState, j: int, step: float) -> FlightConditions:
+        """The exact conditions at knot ``j`` of ``state`` (kept for the latest KNOTS_KEPT knots)."""
+        s = self.settings
+        if self._knots[0] is not state or self._knots[1] is not s:
+            self._knots = (state, s, {})
+        table = self._knots[2]
+        conditions = table.get(j)
+        if conditions is None:
+            stamp = state.stamp + j * step
+            conditions = self._exact_conditions(stamp, state, self.utc(stamp))
+            if len(table) >= KNOTS_KEPT:
+                del table[next(iter(table))]
+            table[j] = conditions
+        return conditions
 
     def prepare(self, stamp: float) -> bool:
         """Compute ahead the flight conditions of an attitude expected at ``stamp`` [s].

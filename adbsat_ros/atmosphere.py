@@ -50,6 +50,8 @@ _SWITCHES_DAILY_AP = [1] * 24
 #: As above with switch 9 = -1: use the 7-element Ap history.
 _SWITCHES_AP_HISTORY = [1] * 9 + [-1] + [1] * 14
 _SPECIES_MASS_KG = {name: MOLAR_MASS_G[name] / (1000.0 * AVOGADRO) for name in SPECIES}
+#: The species in the order :func:`_model_state` takes their number densities.
+_MODEL_STATE_SPECIES = ("He", "O", "N2", "O2", "Ar", "H", "N", "AnO")
 _SPECIES_WITHOUT_ANO = tuple(s for s in SPECIES if s != "AnO")
 _HE, _O, _N2, _O2, _AR, _H, _N, _ANO = (_SPECIES_MASS_KG[name] for name in SPECIES)
 _UTC = _dt.timezone.utc
@@ -309,15 +311,20 @@ def run_model(
             ap_a=list(space_weather.ap_history), flags=_SWITCHES_AP_HISTORY,
         )
     he, o, n2, o2, ar, rho, h, n, ano = densities  # the model's order (_MSIS_SPECIES_INDEX)
-    temperature = temperatures[1]
-    # The state as AtmosphereState(...) makes it (its fields need no check: they are the model's
-    # floats), with the derived values of the mixture filled in, the sums as mean_mass does them.
+    return _model_state(he, o, n2, o2, ar, h, n, ano, rho, temperatures[0], temperatures[1], anomalous_oxygen)
+
+
+def _model_state(he, o, n2, o2, ar, h, n, ano, rho, exospheric_temperature, temperature,
+                 anomalous_oxygen) -> AtmosphereState:
+    """An AtmosphereState from the model's floats (number densities [m^-3] by species, mass
+    density [kg/m^3], temperatures [K]), as AtmosphereState(...) would make it (its fields need
+    no check), with the derived values of the mixture filled in, the sums as mean_mass does them."""
     densities = {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano}
     state = object.__new__(AtmosphereState)
     fields = state.__dict__
     fields["number_densities"] = types.MappingProxyType(densities)
     fields["mass_density"] = rho
-    fields["exospheric_temperature"] = temperatures[0]
+    fields["exospheric_temperature"] = exospheric_temperature
     fields["temperature"] = temperature
     if anomalous_oxygen:
         fields["anomalous_oxygen"] = True
@@ -345,3 +352,24 @@ def run_model(
         # species, their number densities (a tuple, and a mapping to copy) and the mean mass.
         fields["_free_stream_mixture"] = (fields["mixture_species"], values, densities, fields["mean_mass"])
     return state
+
+
+def interpolated_atmosphere(a: AtmosphereState, b: AtmosphereState, weight: float) -> AtmosphereState:
+    """The state ``(1 - weight) a + weight b``: every number density, the mass density and both
+    temperatures interpolated linearly (0 <= weight <= 1); the mean mass and the free-stream
+    mixture follow from the interpolated densities as :func:`run_model` makes them.
+
+    Both states must come from :func:`run_model` with the same ``anomalous_oxygen`` (ValueError
+    otherwise). Used between two evaluations of the model a few tens of metres apart along an
+    orbit (:mod:`adbsat_ros.aero_wrench`), where the model's fields are smooth.
+    """
+    if a.anomalous_oxygen != b.anomalous_oxygen:
+        raise ValueError("interpolated_atmosphere: both states need the same anomalous_oxygen")
+    v = 1.0 - weight
+    da, db = a.number_densities, b.number_densities
+    return _model_state(
+        *[v * da[name] + weight * db[name] for name in _MODEL_STATE_SPECIES],
+        v * a.mass_density + weight * b.mass_density,
+        v * a.exospheric_temperature + weight * b.exospheric_temperature,
+        v * a.temperature + weight * b.temperature, a.anomalous_oxygen,
+    )

@@ -44,6 +44,7 @@ from .atmosphere import (
     check_time,
     checked_utc,
     evaluate_atmosphere,
+    interpolated_atmosphere,
     run_model,
 )
 from .constants import BOLTZMANN, EARTH_MU, EARTH_RADIUS_ADBSAT
@@ -325,6 +326,77 @@ class _VectorOnFirstRead:
 for _index, _name in enumerate(_VECTOR_FIELDS):
     setattr(FlightConditions, _name, _VectorOnFirstRead(_name, _index))
 del _index, _name
+
+
+def _vector_floats(conditions: FlightConditions) -> tuple:
+    """The six vectors of ``conditions`` (order of ``_VECTOR_FIELDS``) as float tuples or None."""
+    vectors = conditions.__dict__.get("_vectors")
+    if vectors is not None:
+        return vectors
+    return tuple(None if (v := getattr(conditions, name)) is None else tuple(v.tolist()) for name in _VECTOR_FIELDS)
+
+
+def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, weight: float,
+                                   time: _dt.datetime) -> FlightConditions:
+    """The flight conditions at ``time``, a fraction ``weight`` (0..1) of the way from ``a`` to ``b``.
+
+    ``a`` and ``b`` are :func:`flight_conditions` of one orbital state propagated to two nearby
+    instants (the same options and space weather; ``b`` at the later one). Every vector, the
+    geodetic position (longitude along the shorter way round), the atmosphere
+    (:func:`adbsat_ros.atmosphere.interpolated_atmosphere`) and the accommodation coefficient are
+    interpolated linearly; the speed and speed ratio are recomputed from the interpolated relative
+    velocity and atmosphere. For a first-order propagated state the positions are linear in time,
+    so the interpolated position is the propagated one (to rounding); the other fields are smooth
+    along the orbit, and the error is of order (h/L)^2 for knots h metres apart and fields that vary
+    over L (hundreds of km horizontally, tens of km vertically): below 1e-9 relative at 77 m (10 ms at
+    7.7 km/s), see test_flight_conditions.
+
+    Raises
+    ------
+    ValueError
+        If the two conditions were made with different options (accommodation model, Earth rotation,
+        space weather, anomalous oxygen).
+    """
+    if (a.accommodation_model != b.accommodation_model or a.earth_rotation != b.earth_rotation
+            or (a.space_weather is not b.space_weather and a.space_weather != b.space_weather)):
+        raise ValueError("interpolated_flight_conditions: a and b were made with different options")
+    v = 1.0 - weight
+
+    def mix(p, q):
+        if p is None:
+            return None
+        return v * p[0] + weight * q[0], v * p[1] + weight * q[1], v * p[2] + weight * q[2]
+
+    pa, qa, ra, sa, ta, ua = _vector_floats(a)
+    pb, qb, rb, sb, tb, ub = _vector_floats(b)
+    vectors = (mix(pa, pb), mix(qa, qb), mix(ra, rb), mix(sa, sb), mix(ta, tb), mix(ua, ub))
+    relative_ecef = vectors[5]
+    if relative_ecef is None:
+        speed = v * a.speed + weight * b.speed
+    else:
+        x, y, z = relative_ecef
+        speed = math.sqrt(x * x + y * y + z * z)
+    atmosphere = interpolated_atmosphere(a.atmosphere, b.atmosphere, weight)
+    longitude_step = (b.longitude - a.longitude + math.pi) % (2.0 * math.pi) - math.pi
+    longitude = (a.longitude + weight * longitude_step + math.pi) % (2.0 * math.pi) - math.pi
+    mean_mass = atmosphere.mean_mass
+    conditions = _new_conditions(FlightConditions)
+    conditions.__dict__.update({
+        "time": time,
+        "_vectors": vectors,
+        "latitude": v * a.latitude + weight * b.latitude,
+        "longitude": longitude,
+        "altitude": v * a.altitude + weight * b.altitude,
+        "atmosphere": atmosphere,
+        "mean_molecular_mass": mean_mass,
+        "speed": speed,
+        "speed_ratio": speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / mean_mass),
+        "accommodation_model": a.accommodation_model,
+        "accommodation_coefficient": v * a.accommodation_coefficient + weight * b.accommodation_coefficient,
+        "earth_rotation": a.earth_rotation,
+        "space_weather": a.space_weather,
+    })
+    return conditions
 
 
 def _three_floats(value, name: str) -> tuple:

@@ -346,7 +346,7 @@ class _Facets:
         values = {}
         for name in SURFACE_PARAMETERS:
             value = getattr(surface, name)
-            if np.ndim(value) == 0:
+            if type(value) is float or np.ndim(value) == 0:  # (the type test first: np.ndim costs ~1 us)
                 values[name] = value
                 continue
             if self._surface is not None and value is getattr(self._surface, name):

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from adbsat_ros.aero_wrench import AeroWrenchEstimator
+from adbsat_ros.aero_wrench import AeroWrenchEstimator, Rejection
 from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings
 
 R = 6378137.0 + 300e3
@@ -100,3 +100,74 @@ def test_next_regular_stamp_is_bit_equal_to_the_next_message_stamp(period_ns, st
         assert next_regular_stamp(previous, latest) == stamp_seconds(following)
     assert next_regular_stamp(stamps[1], stamps[1]) is None
     assert next_regular_stamp(stamps[2], stamps[1]) is None
+
+
+def test_conditions_between_knots_are_interpolated_within_1e_9_of_the_exact_ones():
+    """conditions_step 0.01 (the default): exact conditions at the state stamp + j 10 ms, linear
+    in between; against conditions_step 0 (exact at every stamp) at 350 km, clear of NRLMSISE-00's
+    300 km step. The wrench follows the conditions: rho, the speed ratio and alpha."""
+    r = 6378137.0 + 350e3
+    v = math.sqrt(3.986004418e14 / r)
+    knots, exact = estimator(), estimator(conditions_step=0.0)
+    for est in (knots, exact):
+        est.on_state(10.0, [r, 0.0, 1e3], [0.0, v, 40.0])
+    for stamp in (10.0, 10.0013, 10.0137, 10.0555, 10.09999, 9.9963):
+        a = knots.on_attitude(stamp, TILTED)
+        b = exact.on_attitude(stamp, TILTED)
+        knots.reset(), exact.reset()
+        for est in (knots, exact):
+            est.on_state(10.0, [r, 0.0, 1e3], [0.0, v, 40.0])
+        assert a.time == b.time
+        assert a.conditions.mass_density == pytest.approx(b.conditions.mass_density, rel=1e-9)
+        assert a.conditions.speed_ratio == pytest.approx(b.conditions.speed_ratio, rel=1e-10)
+        np.testing.assert_allclose(a.force, b.force, rtol=2e-9)
+        np.testing.assert_allclose(a.torque, b.torque, rtol=2e-9, atol=1e-9 * np.abs(b.torque).max())
+        np.testing.assert_allclose(a.conditions.position_eci, b.conditions.position_eci, rtol=0, atol=1e-6)
+
+
+def test_interpolated_conditions_depend_on_the_stamp_and_state_only():
+    """A stamp gets the same numbers whatever came before (live, or replayed from a bag in another
+    order): the knots are fixed by the state's stamp, not by the messages."""
+    ordered, shuffled = estimator(), estimator()
+    for est in (ordered, shuffled):
+        est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    for stamp in (1.001, 1.002, 1.0155, 1.03):
+        ordered.on_attitude(stamp, TILTED)
+    lone = shuffled.on_attitude(1.03, TILTED)
+    last = ordered.on_attitude(1.0375, TILTED)
+    shuffled.on_attitude(1.0375, (0.0, 0.0, 0.0, 1.0))
+    again = shuffled.on_attitude(1.0375, TILTED)
+    np.testing.assert_array_equal(again.force, last.force)
+    np.testing.assert_array_equal(lone.force, fresh_sample(1.03, 1.0, TILTED).force)
+
+
+def test_a_stamp_on_a_knot_needs_that_knot_only():
+    est = estimator()
+    est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    on_knot = est.on_attitude(1.02, TILTED)  # 1.0 + 2 x 10 ms
+    assert list(est._knots[2]) == [2]  # one exact evaluation, no interpolation partner
+    reference = fresh_sample(1.02, 1.0, TILTED, conditions_step=0.0)
+    np.testing.assert_array_equal(on_knot.force, reference.force)
+
+
+def test_a_knot_outside_the_atmosphere_falls_back_to_the_stamp_itself():
+    """A knot 10 ms ahead may lie above 1000 km while the stamp does not: the stamp is then
+    evaluated exactly instead of rejected."""
+    top = 6378137.0 + 1000e3 - 20.0  # 20 m below the model's ceiling, climbing at 3 km/s
+    knots, exact = estimator(), estimator(conditions_step=0.0)
+    for est in (knots, exact):
+        est.on_state(1.0, [top, 0.0, 0.0], [3000.0, 7000.0, 0.0])
+    sample = knots.on_attitude(1.005, TILTED)  # 15 m higher: inside; the knot at 1.01 is 10 m out
+    reference = exact.on_attitude(1.005, TILTED)
+    np.testing.assert_array_equal(sample.force, reference.force)
+    assert sample.conditions.mass_density == reference.conditions.mass_density
+    assert sum(knots.rejections.values()) == 0
+    with pytest.raises(Rejection) as above:  # and a stamp outside is rejected as before
+        knots.on_attitude(1.02, TILTED)
+    assert above.value.reason == "altitude_out_of_range"
+
+
+@pytest.mark.parametrize("value", [-0.01, 0.2, float("nan"), "fast"])
+def test_a_bad_conditions_step_is_refused_naming_it(value):
+    with pytest.raises(ValueError, match="conditions_step"):
+        WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, conditions_step=value))

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from adbsat_ros.atmosphere import SpaceWeather, evaluate_atmosphere
-from adbsat_ros.constants import BOLTZMANN, MOLAR_MASS_G, AVOGADRO
+from adbsat_ros.constants import AVOGADRO, BOLTZMANN, EARTH_MU, MOLAR_MASS_G
 from adbsat_ros.earth_frames import (
     EARTH_ROTATION_RATE,
     earth_orientation,
@@ -22,6 +22,7 @@ from adbsat_ros.flight_conditions import (
     circular_orbit_speed,
     flight_conditions,
     flight_conditions_circular_orbit,
+    interpolated_flight_conditions,
 )
 from adbsat_ros.freestream import FreeStream
 
@@ -602,3 +603,115 @@ def test_remembered_options_never_skip_the_checks_of_bad_ones():
     for i in range(200):  # a new UT1 - UTC at every call: the remembered options stay few
         flight_conditions(aware, position, velocity, WEATHER, ut1_minus_utc=i * 1e-3)
     assert len(module._CHECKED_OPTIONS) <= module._MAX_CHECKED_OPTIONS
+
+
+# ------------------------------------------------------------------ interpolated flight conditions
+def _orbit_point(rng, radius, radial_speed):
+    """A point on a random inclined circular orbit, with a radial velocity added [m, m/s]."""
+    theta, inclination = rng.uniform(0.0, 2.0 * math.pi), rng.uniform(0.0, math.pi)
+    along = np.array([math.cos(theta), math.sin(theta) * math.cos(inclination),
+                      math.sin(theta) * math.sin(inclination)])
+    across = np.array([-math.sin(theta), math.cos(theta) * math.cos(inclination),
+                       math.cos(theta) * math.sin(inclination)])
+    speed = math.sqrt(EARTH_MU / radius)
+    return radius * along, speed * across + radial_speed * along
+
+
+
+@pytest.mark.parametrize("step, density_rel", [(0.01, 1e-8), (0.1, 1e-6)])
+def test_interpolated_conditions_match_the_exact_ones_between_two_knots(step, density_rel):
+    """Between exact conditions h seconds apart along a first-order propagated state, linear
+    interpolation errs by about (h v / L)^2 / 8 for fields varying over L along the path: at
+    350 km (clear of NRLMSISE-00's steps, see the next test), with up to 150 m/s of radial
+    speed, the density error is ~2e-9 at 10 ms and ~2e-7 at 100 ms (h^2, as it should)."""
+    rng = np.random.default_rng(7)
+    weather = SpaceWeather(150.0, 150.0, 4.0)
+    start = dt.datetime(2026, 3, 1, tzinfo=dt.timezone.utc)
+    for _ in range(60):
+        position, velocity = _orbit_point(rng, 6378137.0 + 350e3, rng.uniform(-150.0, 150.0))
+        t0 = start + dt.timedelta(seconds=float(rng.uniform(0.0, 86400.0)))
+        a = flight_conditions(t0, position, velocity, weather)
+        b = flight_conditions(t0 + dt.timedelta(seconds=step), position + velocity * step, velocity, weather)
+        f = float(rng.uniform())
+        exact = flight_conditions(t0 + dt.timedelta(seconds=f * step), position + velocity * (f * step),
+                                  velocity, weather)
+        mixed = interpolated_flight_conditions(a, b, f, exact.time)
+        assert mixed.time == exact.time
+        assert mixed.mass_density == pytest.approx(exact.mass_density, rel=density_rel)
+        assert mixed.temperature == pytest.approx(exact.temperature, rel=density_rel / 10)
+        assert mixed.speed_ratio == pytest.approx(exact.speed_ratio, rel=density_rel / 10)
+        assert mixed.speed == pytest.approx(exact.speed, rel=1e-10)
+        assert mixed.alpha == pytest.approx(exact.alpha, rel=density_rel)
+        assert mixed.mean_molecular_mass == pytest.approx(exact.mean_molecular_mass, rel=density_rel)
+        # positions are linear in time; the ECEF ones differ by the exact path's UTC rounding to 1 us
+        np.testing.assert_allclose(mixed.position_eci, exact.position_eci, rtol=0, atol=1e-6)
+        np.testing.assert_allclose(mixed.position_ecef, exact.position_ecef, rtol=0, atol=2e-3)
+        np.testing.assert_allclose(mixed.relative_velocity_eci, exact.relative_velocity_eci, rtol=0, atol=1e-9)
+        assert mixed.altitude == pytest.approx(exact.altitude, abs=0.02)
+        assert mixed.latitude == pytest.approx(exact.latitude, abs=1e-8)
+        assert math.remainder(mixed.longitude - exact.longitude, 2 * math.pi) == pytest.approx(0.0, abs=1e-7)
+        flow = mixed.free_stream()  # a free stream of the interpolated gas
+        assert flow.density == mixed.mass_density and flow.temperature == mixed.temperature
+
+
+def test_interpolation_takes_the_short_way_round_the_antimeridian():
+    weather = SpaceWeather(150.0, 150.0, 4.0)
+    r, v = 6378137.0 + 350e3, 7700.0
+    position = np.array([-r, 1.0, 0.0])  # just east of -180 deg in ECEF, moving west across it
+    velocity = np.array([0.0, -v, 0.0])
+    a = flight_conditions(TIME, position, velocity, weather, frame="ecef")
+    b = flight_conditions(TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather,
+                          frame="ecef")
+    assert a.longitude > 3.0 and b.longitude < -3.0  # the two knots on either side of +-180 deg
+    exact = flight_conditions(TIME + dt.timedelta(seconds=0.005), position + 0.005 * velocity, velocity,
+                              weather, frame="ecef")
+    mixed = interpolated_flight_conditions(a, b, 0.5, exact.time)
+    assert abs(mixed.longitude) > 3.14  # not the mean of +pi and -pi, which would be 0
+    assert math.remainder(mixed.longitude - exact.longitude, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+    assert -math.pi <= mixed.longitude < math.pi
+    assert mixed.mass_density == pytest.approx(exact.mass_density, rel=1e-9)
+
+
+def test_interpolation_ends_are_the_knots_and_mixed_options_are_refused():
+    weather = SpaceWeather(150.0, 150.0, 4.0)
+    position, velocity = np.array([6378137.0 + 350e3, 0.0, 0.0]), np.array([0.0, 7700.0, 0.0])
+    a = flight_conditions(TIME, position, velocity, weather)
+    b = flight_conditions(TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather)
+    for weight, end in ((0.0, a), (1.0, b)):
+        mixed = interpolated_flight_conditions(a, b, weight, end.time)
+        assert mixed.mass_density == end.mass_density
+        assert mixed.atmosphere.number_densities == end.atmosphere.number_densities
+        assert mixed.speed_ratio == pytest.approx(end.speed_ratio, rel=1e-15)
+        np.testing.assert_allclose(mixed.position_eci, end.position_eci, rtol=1e-15)
+    other = flight_conditions(TIME, position, velocity, weather, accommodation_model="fixed",
+                              accommodation_options={"alpha": 0.9})
+    with pytest.raises(ValueError, match="different options"):
+        interpolated_flight_conditions(a, other, 0.5, TIME)
+
+
+def test_nrlmsise00_steps_at_300_km_and_interpolation_stays_between_the_knots():
+    """NRLMSISE-00 applies its chemistry correction to atomic oxygen below 300 km only (its ALTL
+    limits: He 200, N2 160, O2 250, Ar 240, O 300, N 320, H 450 km), so the model's O density steps
+    there (here by 3e-5 of itself, ten times its change over the same 0.2 m of altitude below) and
+    the mass density with it. Evaluated at every stamp the wrench steps at
+    that altitude; interpolated, the step is spread over the one knot interval that crosses it."""
+    weather = SpaceWeather(150.0, 150.0, 4.0)
+    below = evaluate_atmosphere(TIME, 299.9999e3, LAT, LON, weather)
+    above = evaluate_atmosphere(TIME, 300.0001e3, LAT, LON, weather)
+    smooth = evaluate_atmosphere(TIME, 299.9997e3, LAT, LON, weather)  # the trend just below
+    trend = below.number_densities["O"] - smooth.number_densities["O"]  # O change per 0.2 m
+    step = above.number_densities["O"] - below.number_densities["O"]
+    assert abs(step) > 5.0 * abs(trend)  # a step, not the altitude trend
+    # a descending state whose knots straddle 300 km
+    position = geodetic_to_ecef(LAT, LON, 300.00005e3)  # 5 cm above 300 km
+    down = -position / np.linalg.norm(position)
+    velocity = 0.1 * down / 0.01  # 10 cm per 10 ms, straight down (ECEF, at rest otherwise)
+    a = flight_conditions(TIME, position, velocity, weather, frame="ecef")
+    b = flight_conditions(TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather,
+                          frame="ecef")
+    assert a.altitude > 300e3 > b.altitude
+    for f in (0.25, 0.5, 0.75):
+        mixed = interpolated_flight_conditions(a, b, f, TIME)
+        o = mixed.atmosphere.number_densities["O"]
+        assert min(a.atmosphere.number_densities["O"], b.atmosphere.number_densities["O"]) <= o
+        assert o <= max(a.atmosphere.number_densities["O"], b.atmosphere.number_densities["O"])
