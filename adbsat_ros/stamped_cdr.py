@@ -168,3 +168,54 @@ def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> 
     """
     layout, name = _wrench_stamped_layout(frame_id)
     return layout.pack(CDR_LE_HEADER, sec, nanosec, len(name), name, *force, *torque)
+
+
+class DiagnosticFields(NamedTuple):
+    """The fields of one diagnostic_msgs/DiagnosticStatus: level (OK 0, WARN 1, ERROR 2, STALE 3),
+    name, message, hardware_id, and the values as (key, value) string pairs."""
+
+    level: int
+    name: str
+    message: str
+    hardware_id: str
+    values: tuple
+
+
+def _put_string(parts: list, offset: int, text: str) -> int:
+    """Append a CDR string (4-aligned uint32 length including the NUL, bytes, NUL) at ``offset``
+    (counted from the end of the encapsulation header); return the offset after it."""
+    data = text.encode("utf-8") + b"\x00"
+    pad = -offset % 4
+    parts.append(b"\x00" * pad + struct.pack("<I", len(data)) + data)
+    return offset + pad + 4 + len(data)
+
+
+def diagnostic_array_cdr(sec: int, nanosec: int, frame_id: str, statuses) -> bytes:
+    """CDR bytes (little endian) of a diagnostic_msgs/DiagnosticArray.
+
+    The node's once-a-second /diagnostics message: building it as rclpy message objects and
+    serialising them took 0.3-0.5 ms on this machine (and up to 2 ms right after the process
+    had slept), a hold-up for the attitude messages behind it at 1 kHz.
+
+    Parameters
+    ----------
+    sec, nanosec : int
+        Header stamp.
+    frame_id : str
+    statuses : sequence of DiagnosticFields
+    """
+    parts = [CDR_LE_HEADER, struct.pack("<iI", sec, nanosec)]
+    offset = _put_string(parts, 8, frame_id)
+    parts.append(b"\x00" * (-offset % 4) + struct.pack("<I", len(statuses)))
+    offset += -offset % 4 + 4
+    for status in statuses:
+        parts.append(struct.pack("<B", status.level))  # byte level, then strings (4-aligned)
+        offset += 1
+        for text in (status.name, status.message, status.hardware_id):
+            offset = _put_string(parts, offset, text)
+        parts.append(b"\x00" * (-offset % 4) + struct.pack("<I", len(status.values)))
+        offset += -offset % 4 + 4
+        for key, value in status.values:
+            offset = _put_string(parts, offset, key)
+            offset = _put_string(parts, offset, value)
+    return b"".join(parts)

@@ -171,3 +171,17 @@ def test_a_knot_outside_the_atmosphere_falls_back_to_the_stamp_itself():
 def test_a_bad_conditions_step_is_refused_naming_it(value):
     with pytest.raises(ValueError, match="conditions_step"):
         WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, conditions_step=value))
+
+
+def test_compute_time_percentiles_are_nearest_rank_from_arrays_and_sequences():
+    """p-th percentile = the ceil(p n)-th smallest (nearest rank): for 1..100 ms, 50, 99 and 100."""
+    from collections import deque
+
+    est = estimator()
+    times = np.random.default_rng(3).permutation(np.arange(1.0, 101.0))
+    for given in (times, deque(times.tolist(), maxlen=2000), times[:1]):
+        values = est.diagnostic_values(None, given)
+        expected = (50.0, 99.0, 100.0) if len(given) == 100 else (times[0],) * 3
+        assert (values["compute_ms_p50"], values["compute_ms_p99"], values["compute_ms_max"]) == expected
+    assert "compute_ms_p50" not in est.diagnostic_values(None, np.zeros(0))
+    np.testing.assert_array_equal(times, np.random.default_rng(3).permutation(np.arange(1.0, 101.0)))  # untouched
