@@ -4,7 +4,7 @@ Usage:
     python bench/bench_node_latency.py [--rates 100,1000] [--duration 10] [--rounds 1] [--soak 60]
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
         [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
-        [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...]
+        [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...] [--baseline REV]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
 or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the
@@ -20,6 +20,10 @@ there), and for the soak the node's resident memory at the start and the end. Ea
 ROS domain of its own (BENCH_DOMAIN_ID and up). Latencies of the messages sent in the first
 WARM_UP_S seconds of a run are left out (the node's first ray cast); "held" counts the messages
 that took 100 ms or more after that.
+
+With --baseline REV the rounds also run adbsat_node as it was at git revision REV (its package
+extracted with ``git archive`` and put first on the node process's PYTHONPATH): the node before
+and after a change, in the same spell of the machine.
 
 Middleware: by default every process runs with ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, i.e.
 rmw_fastrtps's own transports (shared memory with Fast DDS's default 1 s port health check, and
@@ -203,9 +207,23 @@ def wait_until_idle(pid: int, timeout: float = 60.0) -> None:
 _CASE_NUMBERS = itertools.count()
 
 
+def extract_package(revision: str) -> str:
+    """A directory holding ``adbsat_ros`` as it was at git ``revision``."""
+    directory = tempfile.mkdtemp()
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", revision, "adbsat_ros"],
+                             check=True, capture_output=True).stdout
+    import io
+    import tarfile
+
+    with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
+        tar.extractall(directory, filter="data")
+    return directory
+
+
 def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_memory=False,
-             echo_work_us: float = 0.0) -> dict:
-    """One run of ``kind`` ("adbsat", or an echo spinning ``echo_work_us`` per message)."""
+             echo_work_us: float = 0.0, package_dir: str | None = None) -> dict:
+    """One run of ``kind``: "adbsat" (the node of the package in ``package_dir`` if given, else of
+    this tree), or an echo spinning ``echo_work_us`` per message."""
     env = dict(os.environ)
     if args.fastdds_profile:  # the profile keeps discovery on the machine itself
         env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "SYSTEM_DEFAULT"
@@ -220,7 +238,10 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     env["ECHO_QOS_DEPTH"] = "100"
     env["ECHO_EXECUTOR"] = args.executor
     env["ECHO_WORK_US"] = str(echo_work_us)
-    if kind != "adbsat":
+    node_env = dict(env)
+    if package_dir:
+        node_env["PYTHONPATH"] = os.pathsep.join(p for p in (package_dir, env.get("PYTHONPATH")) if p)
+    if not kind.startswith("adbsat"):
         node_cmd = [sys.executable, str(HERE / "echo_node.py")]
     else:
         node_cmd = [sys.executable, "-m", "adbsat_ros.node", "--ros-args", "-p", f"mesh:={mesh}",
@@ -230,7 +251,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
             node_cmd += ["-p", f"database_path:={args.database}"]
     tmp = Path(tempfile.mkdtemp())
     node_log = open(tmp / "node.log", "w")  # a file, not a pipe nobody reads (a full pipe would block the node)
-    node = subprocess.Popen(node_cmd, env=env, stdout=node_log, stderr=subprocess.STDOUT)
+    node = subprocess.Popen(node_cmd, env=node_env, stdout=node_log, stderr=subprocess.STDOUT)
     time.sleep(0.5)
     wait_until_idle(node.pid)
     recv = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--duration", str(duration + 8 + args.settle),
@@ -239,7 +260,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
                             "--duration", str(duration), "--out", str(tmp / "sent.json"),
                             "--tumble", str(args.tumble), "--state-rate", str(args.state_rate),
                             "--settle", str(args.settle)]
-                           + (["--need-state"] if kind == "adbsat" else []), env=env)
+                           + (["--need-state"] if kind.startswith("adbsat") else []), env=env)
     cpu_start = cpu_seconds(node.pid)  # the node is idle here: set up, waiting for messages
     mem_start = None
     if measure_memory:
@@ -343,6 +364,8 @@ def main() -> None:
     parser.add_argument("--echo-work-us", type=float, action="append", default=[], metavar="US",
                         help="also run an echo that spins US microseconds per message (repeatable): "
                              "a node of known CPU cost beside adbsat, in the same rounds")
+    parser.add_argument("--baseline", metavar="REV",
+                        help="also run adbsat_node as it was at git revision REV, in the same rounds")
     parser.add_argument("--out", default="")
     parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()
@@ -366,12 +389,17 @@ def main() -> None:
     print(f"mesh: example satellite, {mesh.n_panels} faces; shading {args.shading}; "
           f"coefficients {args.coefficients_source}; attitude tumbling at {args.tumble:g} deg/s; "
           f"middleware: {'profile ' + args.fastdds_profile if args.fastdds_profile else 'rmw_fastrtps LOCALHOST'}")
-    print(f"{'node':>11} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
+    print(f"{'node':>15} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
           f" {'held':>5} {'runs held':>9}"
           f" {'compute p50':>12} {'compute p99':>12} {'compute max':>12} {'CPU/msg ms':>11} {'prepared':>9}"
           f" {'recv hold-up':>12}")
     # the kinds of node, each with the work [us] its echo spins per message (none for adbsat)
     echo_work = {"echo": 0.0, "adbsat": 0.0, **{f"echo+{us:g}us": us for us in args.echo_work_us}}
+    packages = {}  # kind -> package directory, for nodes of other revisions
+    if args.baseline:
+        kind = f"adbsat@{args.baseline[:7]}"
+        packages[kind] = extract_package(args.baseline)
+        echo_work[kind] = 0.0
     pairs = []
     for rate in (float(r) for r in args.rates.split(",")):
         # echo and adbsat alternate, round after round: a slow spell of this shared machine then
@@ -380,10 +408,10 @@ def main() -> None:
         for _ in range(args.rounds):
             for kind in rounds:
                 rounds[kind].append(run_case(kind, rate, args.duration, str(mesh_path), args,
-                                             echo_work_us=echo_work[kind]))
+                                             echo_work_us=echo_work[kind], package_dir=packages.get(kind)))
         for kind in rounds:
             r = pooled(rounds[kind])
-            print(f"{kind:>11} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
+            print(f"{kind:>15} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
                   f" {r['held']:5d} {r['runs_held']:4d} of {len(rounds[kind]):<2d}"
                   f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f} {r['compute_max_ms']:12.3f}"
                   f" {r['cpu_ms_per_message']:11.3f}"

@@ -690,11 +690,10 @@ def test_interpolation_ends_are_the_knots_and_mixed_options_are_refused():
 
 
 def test_nrlmsise00_steps_at_300_km_and_interpolation_stays_between_the_knots():
-    """NRLMSISE-00 applies its chemistry correction to atomic oxygen below 300 km only (its ALTL
-    limits: He 200, N2 160, O2 250, Ar 240, O 300, N 320, H 450 km), so the model's O density steps
-    there (here by 3e-5 of itself, ten times its change over the same 0.2 m of altitude below) and
-    the mass density with it. Evaluated at every stamp the wrench steps at
-    that altitude; interpolated, the step is spread over the one knot interval that crosses it."""
+    """NRLMSISE-00 switches some corrections at fixed altitudes: at exactly 300 km its O density
+    steps (here by 3e-5 of itself, ten times its change over the same 0.2 m of altitude below), and
+    N and H with it. Evaluated at every stamp the wrench steps at that altitude; interpolated
+    between knots, the step is spread over the one knot interval that crosses it."""
     weather = SpaceWeather(150.0, 150.0, 4.0)
     below = evaluate_atmosphere(TIME, 299.9999e3, LAT, LON, weather)
     above = evaluate_atmosphere(TIME, 300.0001e3, LAT, LON, weather)
