@@ -129,3 +129,20 @@ def test_direct_gas_and_flight_conditions_are_exclusive(capsys, box_file):
     code, _, err = run_cli(capsys, str(box_file), "--time", "2015-01-19T00:00:00Z", "--altitude", "300",
                            "--lat", "0", "--lon", "0", "--speed", "7000")
     assert code == 2 and "--speed" in err
+
+
+def test_negative_ranges_and_lists_need_no_equals_sign(capsys, box_file):
+    """argparse takes "-60:30:60" after an option for an option of its own; the command line joins
+    it to --aoa/--aos, so both spellings give the same attitudes, and a plain negative number and
+    the other options are left as they are."""
+    outputs = []
+    for argv in (["--aoa=-60:30:60", "--aos=-10,0"], ["--aoa", "-60:30:60", "--aos", "-10,0"]):
+        assert main(["coeff", str(box_file), *FLOW, *argv, "--json"]) == 0
+        outputs.append(json.loads(capsys.readouterr()[0]))
+    assert outputs[0] == outputs[1]
+    assert [(r["aoa_deg"], r["aos_deg"]) for r in outputs[1]] == [
+        (a, b) for a in (-60.0, -30.0, 0.0, 30.0, 60.0) for b in (-10.0, 0.0)]
+    from adbsat_ros.cli import join_signed_lists
+
+    assert join_signed_lists(["--aoa", "-.5:0.25:0", "--aos", "-5", "--gsim", "-1:2"]) == [
+        "--aoa=-.5:0.25:0", "--aos", "-5", "--gsim", "-1:2"]

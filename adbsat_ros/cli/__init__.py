@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import re
 import sys
 
 from ..mesh import MeshError
@@ -16,6 +17,24 @@ from .options import CommandLineError, OneLineErrorParser
 
 #: Subcommand modules, in the order ``--help`` lists them.
 SUBCOMMANDS = ("coeff", "atmosphere", "database", "plot", "simulate", "bag", "demo")
+
+
+#: Options whose value is an angle list or range, which may begin with a minus sign.
+SIGNED_LIST_OPTIONS = ("--aoa", "--aos")
+#: A list or range that begins with a minus sign ("-180:5:180", "-10,0,10"): argparse would read it
+#: as an option of its own (it takes only plain negative numbers such as "-10" for values).
+_SIGNED_LIST = re.compile(r"-\.?\d[0-9.eE+-]*[:,]")
+
+
+def join_signed_lists(argv):
+    """``argv`` with ``--aoa -180:5:180`` written as ``--aoa=-180:5:180`` (and so for --aos)."""
+    out = []
+    for token in argv:
+        if out and out[-1] in SIGNED_LIST_OPTIONS and _SIGNED_LIST.match(token):
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
 
 
 def build_parser(subcommands=SUBCOMMANDS) -> argparse.ArgumentParser:
@@ -36,7 +55,7 @@ def build_parser(subcommands=SUBCOMMANDS) -> argparse.ArgumentParser:
 def main(argv=None, subcommands=SUBCOMMANDS) -> int:
     """Entry point of the ``adbsat-ros`` console script; returns the process exit status."""
     parser = build_parser(subcommands)
-    args = parser.parse_args(argv)
+    args = parser.parse_args(join_signed_lists(sys.argv[1:] if argv is None else argv))
     logging.basicConfig(
         level=logging.INFO if args.verbose else logging.WARNING,
         format="adbsat-ros: %(levelname)s: %(message)s",

@@ -47,11 +47,9 @@ def register(subparsers) -> None:
     add_shading_arguments(p)
     g = p.add_argument_group("grid and output")
     g.add_argument("--aoa", default=DEFAULT_AOA,
-                   help=f"angles of attack [deg], -360..360: list and/or start:step:stop (default {DEFAULT_AOA}; "
-                   "write --aoa=-90:5:90 when the value starts with '-')")
+                   help=f"angles of attack [deg], -360..360: list and/or start:step:stop (default {DEFAULT_AOA})")
     g.add_argument("--aos", default=DEFAULT_AOS,
-                   help=f"sideslip angles [deg], -90..90 (default {DEFAULT_AOS}; write --aos=-45:5:45 "
-                   "when the value starts with '-')")
+                   help=f"sideslip angles [deg], -90..90 (default {DEFAULT_AOS})")
     g.add_argument("--workers", type=number("--workers", integer=True, low=1), default=None,
                    help=f"processes to use (default: every core, here {os.cpu_count()})")
     g.add_argument("--out", required=True, metavar="FILE.npz", help="database file to write (.npz)")
