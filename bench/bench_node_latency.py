@@ -291,6 +291,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
         "compute_p99_ms": float(diagnostics.get("compute_ms_p99", "nan")),
         "compute_max_ms": float(diagnostics.get("compute_ms_max", "nan")),
         "prepared": float(diagnostics.get("conditions_prepared_used", "nan")),
+        "published": float(diagnostics.get("published", "nan")),  # wrenches the node made (some may be dropped)
         "receiver_stall_ms": received["receiver_stall_ms"],
     }
 
@@ -312,7 +313,7 @@ def pooled(rounds: list) -> dict:
         "held": int(np.count_nonzero(warm >= HELD_MS)),
         "runs_held": sum(int(np.any(r["latencies_ms"] >= HELD_MS)) for r in rounds),
         "cpu_ms_per_message": 1e3 * sum(r["cpu_s"] for r in rounds) / max(received, 1),
-        "prepared_share": sum(r["prepared"] for r in rounds) / max(received, 1),
+        "prepared_share": sum(r["prepared"] for r in rounds) / max(sum(r["published"] for r in rounds), 1),
         "receiver_stall_ms": max(r["receiver_stall_ms"] for r in rounds),
         "rss_start_mb": rounds[0]["rss_start_mb"], "rss_end_mb": rounds[-1]["rss_end_mb"],
     }
