@@ -8,6 +8,13 @@ Frames: the state (position, and velocity unless it is given in the body frame) 
 or ECEF (ITRF) as the settings say; the attitude quaternion (x, y, z, w) rotates body-frame
 vectors into that frame, v_state = R(q) v_body; the body frame is the mesh frame. Forces [N] and
 torques [N m] are returned in the body frame, torques about the centre of mass.
+
+Flight conditions: the latest state is propagated to each attitude stamp at constant velocity.
+With ``conditions_step`` h > 0 (default 10 ms) they are evaluated exactly (NRLMSISE-00, Earth
+orientation, relative wind, accommodation) at the knots ``state.stamp + j h`` only and
+interpolated linearly in between (:func:`adbsat_ros.flight_conditions.interpolated_flight_conditions`;
+density within ~2e-9 of an evaluation at the stamp itself at h = 10 ms). The knots depend on the
+state alone, so a stamp gets the same numbers whatever messages came before it.
 """
 
 from __future__ import annotations

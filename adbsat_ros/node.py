@@ -17,7 +17,8 @@ Topics (relative names, remappable):
 
 Both subscriptions take the CDR bytes and read them with :mod:`adbsat_ros.stamped_cdr` (rclpy's
 deserialiser for anything but plain CDR); bytes that are neither message are counted as
-``undecodable``. Rejected inputs are logged at most once per reason every ``LOG_THROTTLE_S``.
+``undecodable``. Wrenches and /diagnostics go out as CDR bytes too. Rejected inputs are logged at
+most once per reason every ``LOG_THROTTLE_S``.
 
 Parameters: see :data:`adbsat_ros.wrench_settings.PARAMETERS` and ``config/adbsat.yaml``.
 """
@@ -32,7 +33,7 @@ import time
 
 import numpy as np
 import rclpy
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
@@ -262,12 +263,6 @@ class AdbsatNode(Node):
             level=ord(level), name=f"{self.get_name()}: aerodynamic wrench", message=message,
             hardware_id=est.mesh.source, values=tuple((k, str(v)) for k, v in values.items()),
         )
-
-    def diagnostic_status(self) -> DiagnosticStatus:
-        """:meth:`diagnostic_fields` as a diagnostic_msgs/DiagnosticStatus message."""
-        f = self.diagnostic_fields()
-        return DiagnosticStatus(level=bytes([f.level]), name=f.name, message=f.message, hardware_id=f.hardware_id,
-                                values=[KeyValue(key=k, value=v) for k, v in f.values])
 
     def _publish_diagnostics(self) -> None:
         # as CDR bytes: rclpy message objects for ~20 key/values cost 0.3-0.5 ms to build and
