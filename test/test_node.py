@@ -433,3 +433,32 @@ def test_state_bytes_that_are_no_odometry_are_counted_and_a_padded_one_is_decode
     first, second = (vec(w.wrench.force) for w in peer.wrenches)
     assert np.linalg.norm(first) > 1e-5
     assert np.allclose(first, second, rtol=1e-3)  # 1 s apart: the atmosphere and Earth turn a little
+
+
+def test_coefficients_follow_their_subscribers_as_they_come_and_go(ros):
+    """The coefficients topic is published while it has a subscriber: the node counts them from
+    the middleware's matched events (not per message), so a reader that leaves stops it and one
+    that comes starts it again."""
+    from geometry_msgs.msg import WrenchStamped
+    from rclpy.qos import QoSProfile
+
+    node, peer = ros
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(0.0, pos, vel)
+    assert peer.spin_until(lambda: node.estimator._state is not None)
+    assert peer.spin_until(lambda: node._coefficient_readers == 1)
+    extra = peer.node.create_subscription(WrenchStamped, "coefficients", lambda msg: None, QoSProfile(depth=10))
+    assert peer.spin_until(lambda: node._coefficient_readers == 2)
+    peer.node.destroy_subscription(extra)
+    peer.node.destroy_subscription(next(s for s in peer.node.subscriptions if s.topic_name == "/coefficients"))
+    assert peer.spin_until(lambda: node._coefficient_readers == 0)
+    before = len(peer.coefficients)
+    for k in range(5):
+        peer.send_attitude(0.01 * k, (0.0, 0.0, 0.0, 1.0))
+    assert peer.spin_until(lambda: node.estimator.published >= 5)
+    peer.spin_for(0.2)
+    assert len(peer.coefficients) == before  # nobody listening: nothing sent
+    peer.node.create_subscription(WrenchStamped, "coefficients", peer.coefficients.append, QoSProfile(depth=100))
+    assert peer.spin_until(lambda: node._coefficient_readers == 1)
+    peer.send_attitude(0.06, (0.0, 0.0, 0.0, 1.0))
+    assert peer.spin_until(lambda: len(peer.coefficients) > before)
