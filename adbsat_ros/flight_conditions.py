@@ -342,14 +342,15 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
 
     ``a`` and ``b`` are :func:`flight_conditions` of one orbital state propagated to two nearby
     instants (the same options and space weather; ``b`` at the later one). Every vector, the
-    geodetic position (longitude along the shorter way round), the atmosphere
-    (:func:`adbsat_ros.atmosphere.interpolated_atmosphere`) and the accommodation coefficient are
-    interpolated linearly; the speed and speed ratio are recomputed from the interpolated relative
-    velocity and atmosphere. For a first-order propagated state the positions are linear in time,
-    so the interpolated position is the propagated one (to rounding); the other fields are smooth
-    along the orbit, and the error is of order (h/L)^2 for knots h metres apart and fields that vary
-    over L (hundreds of km horizontally, tens of km vertically): below 1e-9 relative at 77 m (10 ms at
-    7.7 km/s), see test_flight_conditions.
+    atmosphere (:func:`adbsat_ros.atmosphere.interpolated_atmosphere`) and the accommodation
+    coefficient are interpolated linearly; the geodetic position is that of the interpolated ECEF
+    position (exact, also over a pole), and the speed and speed ratio are recomputed from the
+    interpolated relative velocity and atmosphere. For a first-order propagated state the positions
+    are linear in time, so the interpolated position is the propagated one (to rounding); the other
+    fields are smooth along the orbit, and the error is of order (h/L)^2 for knots h metres apart and
+    fields that vary over L (hundreds of km horizontally, tens of km vertically): about 2e-9 of the
+    density at 77 m (10 ms at 7.7 km/s), see test_flight_conditions. NRLMSISE-00's own steps (e.g.
+    at exactly 300 km) are spread over the interval that crosses them.
 
     Raises
     ------
@@ -377,16 +378,15 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
         x, y, z = relative_ecef
         speed = math.sqrt(x * x + y * y + z * z)
     atmosphere = interpolated_atmosphere(a.atmosphere, b.atmosphere, weight)
-    longitude_step = (b.longitude - a.longitude + math.pi) % (2.0 * math.pi) - math.pi
-    longitude = (a.longitude + weight * longitude_step + math.pi) % (2.0 * math.pi) - math.pi
+    latitude, longitude, altitude = geodetic_of_floats(*vectors[1])
     mean_mass = atmosphere.mean_mass
     conditions = _new_conditions(FlightConditions)
     conditions.__dict__.update({
         "time": time,
         "_vectors": vectors,
-        "latitude": v * a.latitude + weight * b.latitude,
+        "latitude": latitude,
         "longitude": longitude,
-        "altitude": v * a.altitude + weight * b.altitude,
+        "altitude": altitude,
         "atmosphere": atmosphere,
         "mean_molecular_mass": mean_mass,
         "speed": speed,

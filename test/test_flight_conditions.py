@@ -668,8 +668,28 @@ def test_interpolation_takes_the_short_way_round_the_antimeridian():
     mixed = interpolated_flight_conditions(a, b, 0.5, exact.time)
     assert abs(mixed.longitude) > 3.14  # not the mean of +pi and -pi, which would be 0
     assert math.remainder(mixed.longitude - exact.longitude, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
-    assert -math.pi <= mixed.longitude < math.pi
+    assert -math.pi <= mixed.longitude <= math.pi
     assert mixed.mass_density == pytest.approx(exact.mass_density, rel=1e-9)
+
+
+def test_interpolation_over_a_pole_keeps_the_geodetic_position_exact():
+    """Over a pole the latitude turns back and the longitude jumps by 180 deg between two knots:
+    the geodetic position comes from the interpolated ECEF position, not from the knots' angles."""
+    weather = SpaceWeather(150.0, 150.0, 4.0)
+    r, v = 6378137.0 + 350e3, 7700.0
+    position = np.array([-30.0, 0.0, r])  # 30 m short of the north pole, moving over it along +x
+    velocity = np.array([v, 0.0, 0.0])
+    a = flight_conditions(TIME, position, velocity, weather, frame="ecef")
+    b = flight_conditions(TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather,
+                          frame="ecef")
+    assert abs(math.remainder(a.longitude - b.longitude, 2 * math.pi)) == pytest.approx(math.pi)
+    for f in (0.1, 0.3, 0.6):
+        exact = flight_conditions(TIME + dt.timedelta(seconds=0.01 * f), position + 0.01 * f * velocity,
+                                  velocity, weather, frame="ecef")
+        mixed = interpolated_flight_conditions(a, b, f, exact.time)
+        assert mixed.latitude == pytest.approx(exact.latitude, abs=1e-12)
+        assert math.remainder(mixed.longitude - exact.longitude, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+        assert mixed.altitude == pytest.approx(exact.altitude, abs=1e-6)
 
 
 def test_interpolation_ends_are_the_knots_and_mixed_options_are_refused():
