@@ -11,10 +11,10 @@ torques [N m] are returned in the body frame, torques about the centre of mass.
 
 Flight conditions: the latest state is propagated to each attitude stamp at constant velocity.
 With ``conditions_step`` h > 0 (default 10 ms) they are evaluated exactly (NRLMSISE-00, Earth
-orientation, relative wind, accommodation) at the knots ``state.stamp + j h`` only and
-interpolated linearly in between (:func:`adbsat_ros.flight_conditions.interpolated_flight_conditions`;
-density within ~2e-9 of an evaluation at the stamp itself at h = 10 ms). The knots depend on the
-state alone, so a stamp gets the same numbers whatever messages came before it.
+orientation, relative wind, accommodation) at the knots, the stamps ``j h`` for integers j, only
+and interpolated linearly in between (:func:`adbsat_ros.flight_conditions.interpolated_flight_conditions`;
+density within ~2e-9 of an evaluation at the stamp itself at h = 10 ms). A stamp gets the same
+numbers whatever messages came before it; one within 1 us of a knot takes the knot's alone.
 """
 
 from __future__ import annotations
@@ -57,10 +57,11 @@ REJECTION_REASONS = (
 #: Precession-nutation is evaluated once per minute of TT (error < 1e-9 rad; see earth_frames).
 PRECESSION_NUTATION_STEP_S = 60.0
 
-#: A stamp this close to a knot of the flight conditions (as a fraction of ``conditions_step``) takes
-#: the knot's conditions alone (10 ns at the default 10 ms step: a fixed-rate stream at the step or a
-#: multiple of it lands on knots, and needs only one evaluation per message).
-KNOT_SNAP = 1e-6
+#: A stamp this close to a knot of the flight conditions [s] takes the knot's conditions alone:
+#: UNIX stamps as float seconds resolve 0.24 us, so a stream stamped on multiples of
+#: ``conditions_step`` (e.g. 100 Hz at the default 10 ms) lands on knots and needs one evaluation
+#: per message, as without knots.
+KNOT_SNAP_S = 1e-6
 #: Knots kept per state: the two around the latest stamp, the next one prepared ahead, one spare.
 KNOTS_KEPT = 4
 
@@ -560,32 +561,32 @@ class AeroWrenchEstimator:
     def _interpolated_conditions(self, stamp: float, state: OrbitalState, utc: _dt.datetime,
                                  step: float) -> FlightConditions | None:
         """The conditions at ``stamp`` interpolated between the knots around it: the exact
-        conditions at ``state.stamp + j step`` for integers j (so the same stamp and state always
-        give the same numbers, live or from a bag); None if a knot cannot be evaluated (e.g. it
-        lies outside the atmosphere model while the stamp does not), for the exact evaluation."""
-        offset = (stamp - state.stamp) / step
-        j = math.floor(offset)
-        weight = offset - j
-        if weight >= 1.0 - KNOT_SNAP:
-            j, weight = j + 1, 0.0
-        elif weight <= KNOT_SNAP:
-            weight = 0.0
+        conditions of ``state`` at the stamps ``j step`` for integers j (so the same stamp and
+        state always give the same numbers, live or from a bag, and a stream stamped on multiples
+        of the step lands on knots); None if a knot cannot be evaluated (e.g. it lies outside the
+        atmosphere model while the stamp does not), for the exact evaluation."""
+        j = math.floor(stamp / step)
+        past = stamp - j * step  # [s] after knot j
+        if past >= step - KNOT_SNAP_S:
+            j, past = j + 1, 0.0
+        elif past <= KNOT_SNAP_S:
+            past = 0.0
         try:
             a = self._knot(state, j, step)
-            b = a if weight == 0.0 else self._knot(state, j + 1, step)
+            b = a if past == 0.0 else self._knot(state, j + 1, step)
         except ValueError:
             return None
-        return interpolated_flight_conditions(a, b, weight, utc)
+        return interpolated_flight_conditions(a, b, past / step, utc)
 
     def _knot(self, state: OrbitalState, j: int, step: float) -> FlightConditions:
-        """The exact conditions at knot ``j`` of ``state`` (kept for the latest KNOTS_KEPT knots)."""
+        """The exact conditions of ``state`` at the stamp ``j step`` (the latest KNOTS_KEPT kept)."""
         s = self.settings
         if self._knots[0] is not state or self._knots[1] is not s:
             self._knots = (state, s, {})
         table = self._knots[2]
         conditions = table.get(j)
         if conditions is None:
-            stamp = state.stamp + j * step
+            stamp = j * step
             conditions = self._exact_conditions(stamp, state, self.utc(stamp))
             if len(table) >= KNOTS_KEPT:
                 del table[next(iter(table))]

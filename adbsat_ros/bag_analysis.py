@@ -60,7 +60,9 @@ from .aero_wrench import stamp_seconds
 from .bag_io import BagError
 from .frames import angles_of_flow
 from .mesh import resolve_mesh
-from .stamped_cdr import header_stamp, quaternion_stamped_fields, wrench_stamped_cdr
+from .stamped_cdr import (
+    OdometryFields, header_stamp, odometry_fields, quaternion_stamped_fields, wrench_stamped_cdr,
+)
 from .wrench_settings import WrenchSettings
 
 #: Name of the node whose section a parameters file is read from, and whose logic is replayed.
@@ -215,7 +217,7 @@ class _WorkerModel:
                     self._keys())
         if self.on_attitude_topic:
             return (True, None, None, None, None, None, None, self._keys())
-        return (True, *self._compute(msg.header.stamp, orientation))
+        return (True, *self._compute(msg.stamp, orientation))
 
     def on_attitude(self, stamp, quaternion_xyzw):
         """The node's _on_attitude: one record, or None if this model does not use attitudes."""
@@ -257,9 +259,14 @@ def _attitude_fields(raw):
     return msg.header.stamp, [q.x, q.y, q.z, q.w]
 
 
-def _decode_odometry(raw):
+def _decode_odometry(raw) -> OdometryFields:
+    """The fields of an Odometry's CDR bytes (as the node reads them: struct, else rosbags)."""
     try:
-        return bag_io.deserialize(raw, bag_io.ODOMETRY)
+        return odometry_fields(raw)
+    except ValueError:
+        pass
+    try:  # not plain CDR as expected: rosbags decodes it, or says what is wrong
+        return OdometryFields.of_message(bag_io.deserialize(raw, bag_io.ODOMETRY))
     except Exception as exc:
         raise _Undecodable(f"{type(exc).__name__}: {exc}") from None
 
@@ -299,7 +306,7 @@ class _Worker:
             try:
                 if kind == _STATE:
                     msg = _decode_odometry(raw)
-                    stamp = msg.header.stamp
+                    stamp = msg.stamp
                 else:
                     stamp, q = _attitude_fields(raw)
             except _Undecodable as exc:
@@ -761,8 +768,8 @@ class _Analysis:
 
     def _accepted_by_fresh_estimators(self, k: int) -> bool:
         try:
-            msg = bag_io.deserialize(self.trigger_raws[k], bag_io.ODOMETRY)
-        except Exception:
+            msg = _decode_odometry(self.trigger_raws[k])
+        except _Undecodable:
             return False
         return all(run.accepts_state(msg) for run in self.runs)
 

@@ -361,6 +361,11 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
     if (a.accommodation_model != b.accommodation_model or a.earth_rotation != b.earth_rotation
             or (a.space_weather is not b.space_weather and a.space_weather != b.space_weather)):
         raise ValueError("interpolated_flight_conditions: a and b were made with different options")
+    if weight == 0.0:  # a itself, at the time given (its fields are immutable or read-only arrays)
+        conditions = _new_conditions(FlightConditions)
+        conditions.__dict__.update(a.__dict__)
+        conditions.__dict__["time"] = time
+        return conditions
     v = 1.0 - weight
 
     def mix(p, q):

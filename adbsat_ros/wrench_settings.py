@@ -54,8 +54,8 @@ PARAMETERS = (
     ("attitude_source", "attitude_topic", "attitude from the attitude topic or from the Odometry pose (odometry)"),
     ("state_timeout", 1.0, "a state older than this at the attitude stamp is stale [s]"),
     ("conditions_step", 0.01, "flight conditions (NRLMSISE-00, Earth orientation, relative wind) are evaluated "
-     "exactly at stamps this far apart along each state [s] and interpolated linearly in between (relative error "
-     "below 1e-9 at 10 ms); 0 evaluates them at every stamp"),
+     "exactly at the stamps that are multiples of this [s] and interpolated linearly in between (density within "
+     "about 2e-9 at 10 ms); 0 evaluates them at every stamp"),
     ("max_quaternion_norm_error", 1e-3, "quaternions with | |q| - 1 | above this are rejected; below, normalised"),
     ("min_relative_speed", 1e-3, "below this relative speed [m/s] the wrench is zero"),
     ("qos_depth", 10, "history depth of subscriptions and publications"),

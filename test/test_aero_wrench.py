@@ -103,7 +103,7 @@ def test_next_regular_stamp_is_bit_equal_to_the_next_message_stamp(period_ns, st
 
 
 def test_conditions_between_knots_are_interpolated_within_1e_9_of_the_exact_ones():
-    """conditions_step 0.01 (the default): exact conditions at the state stamp + j 10 ms, linear
+    """conditions_step 0.01 (the default): exact conditions at the stamps j 10 ms, linear
     in between; against conditions_step 0 (exact at every stamp) at 350 km, clear of NRLMSISE-00's
     300 km step. The wrench follows the conditions: rho, the speed ratio and alpha."""
     r = 6378137.0 + 350e3
@@ -127,7 +127,7 @@ def test_conditions_between_knots_are_interpolated_within_1e_9_of_the_exact_ones
 
 def test_interpolated_conditions_depend_on_the_stamp_and_state_only():
     """A stamp gets the same numbers whatever came before (live, or replayed from a bag in another
-    order): the knots are fixed by the state's stamp, not by the messages."""
+    order): the knots are fixed stamps, not set by the messages."""
     ordered, shuffled = estimator(), estimator()
     for est in (ordered, shuffled):
         est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
@@ -144,8 +144,8 @@ def test_interpolated_conditions_depend_on_the_stamp_and_state_only():
 def test_a_stamp_on_a_knot_needs_that_knot_only():
     est = estimator()
     est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
-    on_knot = est.on_attitude(1.02, TILTED)  # 1.0 + 2 x 10 ms
-    assert list(est._knots[2]) == [2]  # one exact evaluation, no interpolation partner
+    on_knot = est.on_attitude(1.02, TILTED)  # 102 x 10 ms
+    assert list(est._knots[2]) == [102]  # one exact evaluation, no interpolation partner
     reference = fresh_sample(1.02, 1.0, TILTED, conditions_step=0.0)
     np.testing.assert_array_equal(on_knot.force, reference.force)
 
@@ -185,3 +185,25 @@ def test_compute_time_percentiles_are_nearest_rank_from_arrays_and_sequences():
         assert (values["compute_ms_p50"], values["compute_ms_p99"], values["compute_ms_max"]) == expected
     assert "compute_ms_p50" not in est.diagnostic_values(None, np.zeros(0))
     np.testing.assert_array_equal(times, np.random.default_rng(3).permutation(np.arange(1.0, 101.0)))  # untouched
+
+
+def test_unix_stamps_on_whole_steps_land_on_knots():
+    """UNIX stamps as float seconds resolve 0.24 us: a 100 Hz stream stamped on whole 10 ms is on
+    the knots (within KNOT_SNAP_S), one exact evaluation per message as without knots, with the
+    exact numbers to 1e-9; a stamp 5 ms off the grid is interpolated."""
+    t0 = 1_767_225_600.0
+    knots, exact = estimator(time_mode="unix"), estimator(time_mode="unix", conditions_step=0.0)
+    for est in (knots, exact):
+        est.on_state(t0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    for k in range(1, 10):
+        stamp = (1_767_225_600_000_000_000 + k * 10_000_000) * 1e-9  # as stamp_seconds() of a 10 ms stream
+        a, b = knots.on_attitude(stamp, TILTED), exact.on_attitude(stamp, TILTED)
+        assert len(knots._knots[2]) == min(k, 4)  # a new knot per message, none beside it
+        # the knot is evaluated at j x 10 ms, the exact path at the stamp itself: both the same
+        # instant up to the float stamp's 0.24 us (2 mm of orbit)
+        np.testing.assert_allclose(a.force, b.force, rtol=1e-9, atol=1e-9 * np.linalg.norm(b.force))
+        assert a.conditions.time == b.conditions.time == a.time
+    off = knots.on_attitude(t0 + 0.095, TILTED)  # between knots 9 and 10
+    reference = exact.on_attitude(t0 + 0.095, TILTED).force
+    np.testing.assert_allclose(off.force, reference, rtol=2e-9, atol=2e-9 * np.linalg.norm(reference))
+    assert len(knots._knots[2]) == 4

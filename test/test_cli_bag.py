@@ -105,27 +105,34 @@ def test_truncated_file(tmp_path, capsys, storage, suffix):
     assert not (tmp_path / "sim_aero").exists() and leftovers(tmp_path) == []
 
 
-def test_corrupt_message_gives_partial_outputs(tmp_path, capsys):
+@pytest.mark.parametrize("bad_topic, message, wrenches", [
+    ("/attitude", "message 10 on /attitude cannot be decoded as geometry_msgs/msg/QuaternionStamped", 4),
+    ("/state", "message 9 on /state cannot be decoded as nav_msgs/msg/Odometry", 4),
+])
+def test_corrupt_message_gives_partial_outputs(tmp_path, capsys, bad_topic, message, wrenches):
     """A message that cannot be decoded stops the replay; what came before is written and said to be partial."""
     r, v = [6.7e6, 0, 0], [0, 7.7e3, 0]
     t0 = 1_767_225_600_000_000_000
     with bag_io.BagWriter(tmp_path / "bad") as writer:
         for k in range(6):
             t = t0 + k * 500_000_000
-            writer.write("/state", t, bag_io.odometry_message(t, "eci", "eci", r, v))
-            if k == 4:
+            if k == 4 and bad_topic == "/state":
+                writer.write_raw(writer.connection("/state", bag_io.ODOMETRY), t, b"\x00\x01\x00\x00\x07")
+            else:
+                writer.write("/state", t, bag_io.odometry_message(t, "eci", "eci", r, v))
+            if k == 4 and bad_topic == "/attitude":
                 writer.write_raw(writer.connection("/attitude", bag_io.QUATERNION_STAMPED), t, b"\x00\x01\x00\x00\x07")
             else:
                 writer.write("/attitude", t, bag_io.quaternion_stamped_message(t, "eci", [0, 0, 0, 1]))
     code, out, err = run(capsys, "bag", "analyze", tmp_path / "bad", "--no-plots")
     assert code == 1
-    assert "message 10 on /attitude cannot be decoded as geometry_msgs/msg/QuaternionStamped" in err
-    assert "PARTIAL" in err and "model default: 4 wrenches from 4 inputs" in out
+    assert message in err
+    assert "PARTIAL" in err and f"model default: {wrenches} wrenches from {wrenches} inputs" in out
     with Reader(tmp_path / "bad_aero") as reader:
         counts = {c.topic: c.msgcount for c in reader.connections}
-    assert counts["/adbsat/default/wrench"] == 4
+    assert counts["/adbsat/default/wrench"] == wrenches
     with open(tmp_path / "bad_aero.csv") as fh:
-        assert len(fh.readlines()) == 1 + 4
+        assert len(fh.readlines()) == 1 + wrenches
     assert leftovers(tmp_path) == []
 
 
