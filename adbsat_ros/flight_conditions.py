@@ -384,24 +384,10 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
         speed = math.sqrt(x * x + y * y + z * z)
     atmosphere = interpolated_atmosphere(a.atmosphere, b.atmosphere, weight)
     latitude, longitude, altitude = geodetic_of_floats(*vectors[1])
-    mean_mass = atmosphere.mean_mass
-    conditions = _new_conditions(FlightConditions)
-    conditions.__dict__.update({
-        "time": time,
-        "_vectors": vectors,
-        "latitude": latitude,
-        "longitude": longitude,
-        "altitude": altitude,
-        "atmosphere": atmosphere,
-        "mean_molecular_mass": mean_mass,
-        "speed": speed,
-        "speed_ratio": speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / mean_mass),
-        "accommodation_model": a.accommodation_model,
-        "accommodation_coefficient": v * a.accommodation_coefficient + weight * b.accommodation_coefficient,
-        "earth_rotation": a.earth_rotation,
-        "space_weather": a.space_weather,
-    })
-    return conditions
+    return _made_conditions(
+        time, vectors, latitude, longitude, altitude, atmosphere, speed, a.accommodation_model,
+        v * a.accommodation_coefficient + weight * b.accommodation_coefficient, a.earth_rotation, a.space_weather,
+    )
 
 
 def _three_floats(value, name: str) -> tuple:
@@ -671,15 +657,25 @@ def _evaluate(
     speed = math.sqrt(x * x + y * y + z * z)
     if not speed < math.inf:
         _non_negative("speed", speed)  # raises, naming the speed
-    mean_mass = atmosphere.mean_mass
     if type(accommodation_options) is not dict:
         accommodation_options = dict(accommodation_options or {})
     alpha = accommodation_of(model, atmosphere, speed, accommodation_options)
-    # The result as FlightConditions(...) makes it, its vector fields made on first access.
+    return _made_conditions(
+        utc, (position_eci, position_ecef, velocity_eci, velocity_ecef, relative_eci, relative_ecef),
+        latitude, longitude, altitude, atmosphere, speed, model, float(alpha), bool(earth_rotation), space_weather,
+    )
+
+
+def _made_conditions(time, vectors, latitude, longitude, altitude, atmosphere, speed, model, alpha,
+                     earth_rotation, space_weather) -> FlightConditions:
+    """FlightConditions as FlightConditions(...) makes them, from checked values (the six vectors
+    as float tuples in the order of ``_VECTOR_FIELDS``, made into arrays on first access); the
+    mean mass and speed ratio follow from the atmosphere and the speed."""
+    mean_mass = atmosphere.mean_mass
     conditions = _new_conditions(FlightConditions)
     conditions.__dict__.update({
-        "time": utc,
-        "_vectors": (position_eci, position_ecef, velocity_eci, velocity_ecef, relative_eci, relative_ecef),
+        "time": time,
+        "_vectors": vectors,
         "latitude": latitude,
         "longitude": longitude,
         "altitude": altitude,
@@ -688,8 +684,8 @@ def _evaluate(
         "speed": speed,
         "speed_ratio": speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / mean_mass),
         "accommodation_model": model,
-        "accommodation_coefficient": float(alpha),
-        "earth_rotation": bool(earth_rotation),
+        "accommodation_coefficient": alpha,
+        "earth_rotation": earth_rotation,
         "space_weather": space_weather,
     })
     return conditions
