@@ -141,15 +141,20 @@ def cold_medians(packages: dict, model: str, calls: int, pause: float) -> dict:
     return {label: statistics.median(values) for label, values in times.items()}
 
 
-def import_baseline(revision: str, directory: str) -> str:
-    """Extract ``adbsat_ros`` at git ``revision`` into ``directory``; import it as adbsat_ros_baseline."""
+def extract_package(revision: str, directory: str) -> pathlib.Path:
+    """Extract ``adbsat_ros`` as it was at git ``revision`` into ``directory``; return its folder."""
     archive = subprocess.run(
         ["git", "-C", str(REPOSITORY), "archive", "--format=tar", revision, "adbsat_ros"],
         check=True, capture_output=True,
     ).stdout
     with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
         tar.extractall(directory, filter="data")
-    package_dir = pathlib.Path(directory) / "adbsat_ros"
+    return pathlib.Path(directory) / "adbsat_ros"
+
+
+def import_baseline(revision: str, directory: str) -> str:
+    """Extract ``adbsat_ros`` at git ``revision`` into ``directory``; import it as adbsat_ros_baseline."""
+    package_dir = extract_package(revision, directory)
     name = "adbsat_ros_baseline"
     spec = importlib.util.spec_from_file_location(
         name, package_dir / "__init__.py", submodule_search_locations=[str(package_dir)]

@@ -207,19 +207,6 @@ def wait_until_idle(pid: int, timeout: float = 60.0) -> None:
 _CASE_NUMBERS = itertools.count()
 
 
-def extract_package(revision: str) -> str:
-    """A directory holding ``adbsat_ros`` as it was at git ``revision``."""
-    directory = tempfile.mkdtemp()
-    archive = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", revision, "adbsat_ros"],
-                             check=True, capture_output=True).stdout
-    import io
-    import tarfile
-
-    with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
-        tar.extractall(directory, filter="data")
-    return directory
-
-
 def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_memory=False,
              echo_work_us: float = 0.0, package_dir: str | None = None) -> dict:
     """One run of ``kind``: "adbsat" (the node of the package in ``package_dir`` if given, else of
@@ -399,7 +386,9 @@ def main() -> None:
     packages = {}  # kind -> package directory, for nodes of other revisions
     if args.baseline:
         kind = f"adbsat@{args.baseline[:7]}"
-        packages[kind] = extract_package(args.baseline)
+        from bench_flight_conditions import extract_package  # git archive of the package
+
+        packages[kind] = str(extract_package(args.baseline, tempfile.mkdtemp()).parent)
         echo_work[kind] = 0.0
     pairs = []
     for rate in (float(r) for r in args.rates.split(",")):
