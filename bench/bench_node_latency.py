@@ -5,6 +5,7 @@ Usage:
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
         [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
         [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...] [--baseline REV]
+        [--trace]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
 or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the
@@ -24,6 +25,10 @@ that took 100 ms or more after that.
 With --baseline REV the rounds also run adbsat_node as it was at git revision REV (its package
 extracted with ``git archive`` and put first on the node process's PYTHONPATH): the node before
 and after a change, in the same spell of the machine.
+
+With --trace the adbsat node runs as bench/traced_node.py, which times its attitude callback's parts
+(``on_attitude``, ``prepare``, ``publish``) inside the running process; their p50/p90/p99 follow the
+table.
 
 Middleware: by default every process runs with ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, i.e.
 rmw_fastrtps's own transports (shared memory with Fast DDS's default 1 s port health check, and
@@ -231,7 +236,8 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     if not kind.startswith("adbsat"):
         node_cmd = [sys.executable, str(HERE / "echo_node.py")]
     else:
-        node_cmd = [sys.executable, "-m", "adbsat_ros.node", "--ros-args", "-p", f"mesh:={mesh}",
+        node_program = [str(HERE / "traced_node.py")] if args.trace else ["-m", "adbsat_ros.node"]
+        node_cmd = [sys.executable, *node_program, "--ros-args", "-p", f"mesh:={mesh}",
                     "-p", "time_mode:=epoch", "-p", f"shading:={args.shading}", "-p", "qos_depth:=100",
                     "-p", f"coefficients_source:={args.coefficients_source}", "-p", f"executor:={args.executor}"]
         if args.database:
@@ -263,6 +269,10 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     except subprocess.TimeoutExpired:
         node.kill()
     node_log.close()
+    trace = {}
+    for line in (tmp / "node.log").read_text().splitlines():
+        if line.startswith("TRACE "):
+            trace = json.loads(line[len("TRACE "):])
     sent = json.loads((tmp / "sent.json").read_text())
     received = json.loads((tmp / "recv.json").read_text())
     got, diagnostics = received["wrench"], received["diagnostics"]
@@ -280,6 +290,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
         "prepared": float(diagnostics.get("conditions_prepared_used", "nan")),
         "published": float(diagnostics.get("published", "nan")),  # wrenches the node made (some may be dropped)
         "receiver_stall_ms": received["receiver_stall_ms"],
+        "trace_us": trace,
     }
 
 
@@ -354,6 +365,8 @@ def main() -> None:
                              "a node of known CPU cost beside adbsat, in the same rounds")
     parser.add_argument("--baseline", metavar="REV",
                         help="also run adbsat_node as it was at git revision REV, in the same rounds")
+    parser.add_argument("--trace", action="store_true",
+                        help="time the adbsat node's callback parts in the running process (bench/traced_node.py)")
     parser.add_argument("--out", default="")
     parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()
@@ -406,6 +419,17 @@ def main() -> None:
                   f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f} {r['compute_max_ms']:12.3f}"
                   f" {r['cpu_ms_per_message']:11.3f}"
                   f" {r['prepared_share']:9.1%} {r['receiver_stall_ms']:12.1f}")
+        if args.trace:
+            for kind in (k for k in rounds if k.startswith("adbsat")):
+                parts: dict = {}
+                for run in rounds[kind]:
+                    for part, durations in run["trace_us"].items():
+                        parts.setdefault(part, []).extend(durations)
+                for part, durations in parts.items():
+                    if durations:
+                        p50, p90, p99 = np.percentile(durations, [50, 90, 99])
+                        print(f"{kind:>15} {rate:8.0f} {part:<24} p50 {p50:7.1f} us  p90 {p90:7.1f} us  "
+                              f"p99 {p99:7.1f} us  ({len(durations)} calls)")
         if args.rounds > 1:
             pairs.append((rate, rounds))
     for rate, rounds in pairs:  # each echo run beside the runs right after it (same machine spell)

@@ -1,0 +1,52 @@
+"""adbsat_node with its callback's parts timed, for bench_node_latency's --trace.
+
+Runs ``adbsat_ros.node.main`` with the attitude callback, ``AeroWrenchEstimator.on_attitude``,
+``AeroWrenchEstimator.prepare`` and every ``Publisher.publish`` wrapped in ``time.perf_counter``
+calls (a few microseconds of their own per message). At exit it writes one JSON line to stderr,
+``TRACE {"part": [microseconds, ...], ...}``, the durations of every call after the first 500
+attitudes (the first ray cast and the warm-up). Run it as the node is run: ``python
+bench/traced_node.py --ros-args ...``.
+"""
+
+import atexit
+import json
+import sys
+import time
+
+import rclpy.publisher
+
+from adbsat_ros import aero_wrench, node
+
+WARM_UP_CALLS = 500
+_durations = {"attitude callback": [], "estimator.on_attitude": [], "estimator.prepare": [], "publish": []}
+
+
+def _timed(function, part):
+    record = _durations[part].append
+    clock = time.perf_counter
+
+    def wrapper(*args, **kwargs):
+        t0 = clock()
+        try:
+            return function(*args, **kwargs)
+        finally:
+            record(clock() - t0)
+
+    return wrapper
+
+
+node.AdbsatNode._on_attitude = _timed(node.AdbsatNode._on_attitude, "attitude callback")
+aero_wrench.AeroWrenchEstimator.on_attitude = _timed(aero_wrench.AeroWrenchEstimator.on_attitude,
+                                                     "estimator.on_attitude")
+aero_wrench.AeroWrenchEstimator.prepare = _timed(aero_wrench.AeroWrenchEstimator.prepare, "estimator.prepare")
+rclpy.publisher.Publisher.publish = _timed(rclpy.publisher.Publisher.publish, "publish")
+
+
+@atexit.register
+def _report():
+    out = {part: [round(1e6 * d, 1) for d in durations[WARM_UP_CALLS:]] for part, durations in _durations.items()}
+    print("TRACE " + json.dumps(out), file=sys.stderr, flush=True)
+
+
+if __name__ == "__main__":
+    sys.exit(node.main())
