@@ -493,6 +493,70 @@ class AeroWrenchEstimator:
             With the reason; nothing is published for this message.
         """
         t0 = time.perf_counter()
+        request = self._request(stamp, quaternion_xyzw, t0)
+        if isinstance(request, _PanelRequest):
+            request = self._panel_sample(request, self._coefficients(request), time.perf_counter() - t0)
+        self.published += 1
+        return request
+
+    def on_attitudes(self, messages) -> list:
+        """:meth:`on_attitude` for attitude messages that arrived together, in their order.
+
+        Each message is checked, counted and brought to its flight conditions as by its own
+        :meth:`on_attitude` call, in order (a time jump back resets the history before the next
+        message, as it would); the panel method then runs once for all of them
+        (:meth:`PanelMethod.coefficients_many`). So the samples, the counters and the state
+        afterwards are those of one call per message, bit for bit, at less cost per message:
+        the ROS node uses it for the attitudes that wait while it computes, a burst after a
+        hold-up.
+
+        Parameters
+        ----------
+        messages : sequence of (float, sequence of 4 floats)
+            (stamp [s], quaternion x, y, z, w) of each message.
+
+        Returns
+        -------
+        list of WrenchSample or Rejection
+            One per message, in order. A panel sample's ``compute_seconds`` is the whole call's
+            time divided by the number of messages.
+        """
+        t0 = time.perf_counter()
+        results: list = []
+        requests = []  # (index in results, _PanelRequest)
+        for stamp, quaternion in messages:
+            try:
+                request = self._request(stamp, quaternion, time.perf_counter())
+            except Rejection as exc:
+                results.append(exc)
+                continue
+            if isinstance(request, _PanelRequest):
+                requests.append((len(results), request))
+            results.append(request)
+        if len(requests) > 1:
+            try:
+                coefficients = self.method.coefficients_many(
+                    [r.flow for _, r in requests], [r.flow_direction for _, r in requests],
+                    [r.lighting for _, r in requests], [r.surface for _, r in requests],
+                )
+            except ValueError:  # then each on its own, for its own rejection
+                coefficients = [None] * len(requests)
+        else:
+            coefficients = [None] * len(requests)
+        share = (time.perf_counter() - t0) / max(len(results), 1)
+        for (i, request), coeffs in zip(requests, coefficients):
+            try:
+                if coeffs is None:
+                    coeffs = self._coefficients(request)
+                results[i] = self._panel_sample(request, coeffs, share)
+            except Rejection as exc:
+                results[i] = exc
+        self.published += sum(isinstance(r, WrenchSample) for r in results)
+        return results
+
+    def _request(self, stamp: float, quaternion_xyzw, t0: float):
+        """An attitude message checked and brought to its flight conditions: a finished
+        WrenchSample (at rest, or from the database) or the _PanelRequest of the panel method."""
         if not math.isfinite(stamp):
             self._reject("non_finite", "attitude stamp is not finite")
         rotation = self._rotation(quaternion_xyzw, "attitude quaternion")
@@ -513,9 +577,7 @@ class AeroWrenchEstimator:
         except ValueError as exc:
             reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
             self._reject(reason, str(exc))
-        sample = self._wrench(stamp, utc, rotation, conditions, flow, t0)
-        self.published += 1
-        return sample
+        return self._wrench_request(stamp, utc, rotation, conditions, flow, t0)
 
     def _conditions_at(self, stamp: float, state: OrbitalState, prepare: bool = False):
         """UTC, flight conditions and free stream (None at rest) at ``stamp`` from ``state``.
@@ -621,7 +683,8 @@ class AeroWrenchEstimator:
             return False
         return True
 
-    def _wrench(self, stamp, utc, rotation: tuple, conditions: FlightConditions, flow, t0) -> WrenchSample:
+    def _wrench_request(self, stamp, utc, rotation: tuple, conditions: FlightConditions, flow, t0):
+        """The sample of a stamp whose conditions are known, or what the panel method needs for it."""
         s = self.settings
         ref = self.method.reference
         speed = conditions.speed
@@ -654,14 +717,36 @@ class AeroWrenchEstimator:
         surface = None
         if s.accommodation_model != "fixed":
             surface = self.method.surface_with(alpha=conditions.alpha, alpha_n=conditions.alpha)
+        return _PanelRequest(stamp, utc, conditions, flow, u_body, q, lighting, hit, surface)
+
+    def _coefficients(self, request: "_PanelRequest") -> AeroCoefficients:
         try:
-            coeffs = self.method.coefficients(flow, flow_direction=u_body, lighting=lighting, surface=surface)
+            return self.method.coefficients(request.flow, flow_direction=request.flow_direction,
+                                            lighting=request.lighting, surface=request.surface)
         except ValueError as exc:
             self._reject("compute_error", str(exc))
+
+    def _panel_sample(self, request: "_PanelRequest", coeffs: AeroCoefficients, compute_seconds: float) -> WrenchSample:
+        ref = self.method.reference
+        q = request.dynamic_pressure
         return WrenchSample(
-            stamp=stamp, time=utc, force=coeffs.force(q), torque=coeffs.torque(q),
+            stamp=request.stamp, time=request.utc, force=coeffs.force(q), torque=coeffs.torque(q),
             force_coefficients=coeffs.Cf_G, moment_coefficients=coeffs.Cm_G,
             reference_area=ref.area, reference_length=ref.length, dynamic_pressure=q,
-            conditions=conditions, coefficients=coeffs, flow_direction_body=u_body,
-            shading_cache_hit=hit, compute_seconds=time.perf_counter() - t0,
+            conditions=request.conditions, coefficients=coeffs, flow_direction_body=request.flow_direction,
+            shading_cache_hit=request.hit, compute_seconds=compute_seconds,
         )
+
+
+class _PanelRequest(NamedTuple):
+    """An attitude message's inputs to the panel method (AeroWrenchEstimator._wrench_request)."""
+
+    stamp: float
+    utc: _dt.datetime
+    conditions: FlightConditions
+    flow: FreeStream
+    flow_direction: np.ndarray  # unit gas motion relative to the body, body frame
+    dynamic_pressure: float  # [Pa]
+    lighting: object  # PanelLighting or None
+    hit: bool | None  # whether the shading came from the cache
+    surface: object  # PanelSurface or None (the materials')

@@ -133,10 +133,13 @@ def sentman(c, sigma, surface, flow, options):
     K = sqrt(T_r / T_inf) / s with T_r = T_i + alpha (T_w - T_i) (for the energy-flux T_i this is
     ADBSat's sqrt(0.5 [1 + alpha (T_w / T_i - 1)])).
     """
-    s = flow.speed_ratio
+    return _sentman_single(c, sigma, *sentman_parameters(surface, flow, options))
+
+
+def sentman_parameters(surface, flow, options):
+    """Sentman's (s, K) for :func:`_sentman_single`: K per panel if alpha or T_w is an array."""
     Ti = options.incident_temperature_of(flow.mean_mass, flow.speed)
-    K = _re_emission_K(surface.alpha, surface.wall_temperature, Ti, flow.mean_mass, flow.speed)
-    return _sentman_single(c, sigma, s, K)
+    return flow.speed_ratio, _re_emission_K(surface.alpha, surface.wall_temperature, Ti, flow.mean_mass, flow.speed)
 
 
 def _schaaf_single(c, sigma, s, sigma_n, sigma_t, r):
@@ -160,8 +163,13 @@ def schaaf(c, sigma, surface, flow, options):
     c_tau = sigma_t sin(delta) / (s sqrt(pi)) (e^{-s^2 c^2} + sqrt(pi) s c (1 + erf(s c))),
     r = sqrt(T_w / T_inf).
     """
+    return _schaaf_single(c, sigma, *schaaf_parameters(surface, flow, options))
+
+
+def schaaf_parameters(surface, flow, options):
+    """Schaaf & Chambre's (s, sigma_n, sigma_t, r) for :func:`_schaaf_single`."""
     r = np.sqrt(surface.wall_temperature / flow.temperature)
-    return _schaaf_single(c, sigma, flow.speed_ratio, surface.sigma_n, surface.sigma_t, r)
+    return flow.speed_ratio, surface.sigma_n, surface.sigma_t, r
 
 
 def cook(c, sigma, surface, flow, options):
@@ -198,11 +206,11 @@ def maxwell(c, sigma, surface, flow, options):
     is used instead: the two-sided flat plate (both faces exposed), zeroed for back faces, which
     doubles the grazing shear (c_tau = 2 alpha / (sqrt(pi) s) at delta = 90 deg).
     """
+    if not options.adbsat_compat:
+        return _schaaf_single(c, sigma, *maxwell_parameters(surface, flow, options))
     alpha = surface.alpha
     r = np.sqrt(surface.wall_temperature / flow.temperature)
     s = flow.speed_ratio
-    if not options.adbsat_compat:
-        return _schaaf_single(c, sigma, s, alpha, alpha, r)
     f = 1.0 - alpha
     cos2theta = 1.0 - 2.0 * c * c  # theta = 90 deg - delta
     x = s * c
@@ -221,6 +229,15 @@ def maxwell(c, sigma, surface, flow, options):
     cp = cd * c + cl * sigma
     ctau = cd * sigma - cl * c
     return _zero_backward(c, cp, ctau)
+
+
+def maxwell_parameters(surface, flow, options):
+    """:func:`schaaf_parameters` with sigma_n = sigma_t = alpha, or None with ``adbsat_compat``
+    (ADBSat's two-sided plate is not of that form)."""
+    if options.adbsat_compat:
+        return None
+    r = np.sqrt(surface.wall_temperature / flow.temperature)
+    return flow.speed_ratio, surface.alpha, surface.alpha, r
 
 
 # Walker et al. (2014) fit of the CLL re-emitted normal momentum: (beta, gamma, delta, zeta).
@@ -347,6 +364,18 @@ MODELS = {
     "storch": storch,
     "dria": dria,
     "maxwell": maxwell,
+}
+
+#: Models whose (c_p, c_tau) are an elementwise function of (c, sigma) and a few parameters of the
+#: surface and the flow: name -> (parameters(surface, flow, options), core(c, sigma, *parameters)).
+#: The model itself is ``core(c, sigma, *parameters(...))``, so a caller that evaluates several
+#: flows at once (parameters of each stacked along a leading axis, then one ``core`` call) gets
+#: every element bit for bit as the model's own call would (PanelMethod.coefficients_many). A
+#: ``parameters`` that returns None means the split does not apply to these options.
+SPLIT_MODELS = {
+    "sentman": (sentman_parameters, _sentman_single),
+    "schaaf": (schaaf_parameters, _schaaf_single),
+    "maxwell": (maxwell_parameters, _schaaf_single),
 }
 
 #: Which surface parameters each model reads (for documentation and parameter checks).

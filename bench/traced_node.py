@@ -2,13 +2,15 @@
 
 Runs ``adbsat_ros.node.main`` with the attitude callback, ``AeroWrenchEstimator.on_attitude``,
 ``AeroWrenchEstimator.prepare`` and every ``Publisher.publish`` wrapped in ``time.perf_counter``
-calls (a few microseconds of their own per message). At exit it writes one JSON line to stderr,
-``TRACE {"part": [microseconds, ...], ...}``, the durations of every call after the first 500
-attitudes (the first ray cast and the warm-up). Run it as the node is run: ``python
+calls (a few microseconds of their own per message), and every garbage collection (``gc.callbacks``)
+by generation. At exit it writes one JSON line to stderr,
+``TRACE {"part": [microseconds, ...], ...}``, the durations of every call (and collection) after
+the first 500 attitudes (the first ray cast and the warm-up). Run it as the node is run: ``python
 bench/traced_node.py --ros-args ...``.
 """
 
 import atexit
+import gc
 import json
 import sys
 import time
@@ -18,7 +20,19 @@ import rclpy.publisher
 from adbsat_ros import aero_wrench, node
 
 WARM_UP_CALLS = 500
-_durations = {"attitude callback": [], "estimator.on_attitude": [], "estimator.prepare": [], "publish": []}
+_durations = {"attitude callback": [], "estimator.on_attitude": [], "estimator.prepare": [], "publish": [],
+              "gc generation 0": [], "gc generation 1": [], "gc generation 2": []}
+_gc_started = [0.0]
+
+
+def _on_gc(phase, info):
+    if phase == "start":
+        _gc_started[0] = time.perf_counter()
+    elif len(_durations["attitude callback"]) >= WARM_UP_CALLS:  # after the warm-up, as the parts
+        _durations[f"gc generation {info['generation']}"].append(time.perf_counter() - _gc_started[0])
+
+
+gc.callbacks.append(_on_gc)
 
 
 def _timed(function, part):
@@ -44,7 +58,8 @@ rclpy.publisher.Publisher.publish = _timed(rclpy.publisher.Publisher.publish, "p
 
 @atexit.register
 def _report():
-    out = {part: [round(1e6 * d, 1) for d in durations[WARM_UP_CALLS:]] for part, durations in _durations.items()}
+    out = {part: [round(1e6 * d, 1) for d in (durations if part.startswith("gc") else durations[WARM_UP_CALLS:])]
+           for part, durations in _durations.items()}
     print("TRACE " + json.dumps(out), file=sys.stderr, flush=True)
 
 

@@ -207,3 +207,67 @@ def test_unix_stamps_on_whole_steps_land_on_knots():
     reference = exact.on_attitude(t0 + 0.095, TILTED).force
     np.testing.assert_allclose(off.force, reference, rtol=2e-9, atol=2e-9 * np.linalg.norm(reference))
     assert len(knots._knots[2]) == 4
+
+
+def _wrench_fields(result):
+    """What a message's result publishes, for exact comparison (a Rejection by its reason)."""
+    if isinstance(result, Rejection):
+        return ("rejected", result.reason)
+    return ("wrench", result.stamp, result.force.tolist(), result.torque.tolist(),
+            result.force_coefficients.tolist(), result.moment_coefficients.tolist(), result.shading_cache_hit)
+
+
+@pytest.mark.parametrize("overrides, stacked", [
+    (dict(shading="raycast"), True),  # sentman, facets, cached shading
+    (dict(shading="raycast", accommodation_model="sesam", gsi_model="maxwell"), True),  # alpha per stamp
+    (dict(gsi_model="schaaf", conditions_step=0.0), True),
+    (dict(gsi_model="cll"), False),  # a species model: one coefficients call per message
+])
+def test_attitudes_taken_together_give_each_message_its_own_result_bit_for_bit(overrides, stacked):
+    """on_attitudes over bursts equals on_attitude message by message: samples, rejections
+    (a NaN, a non-unit quaternion, time going back, which resets the state) and counters."""
+    rng = np.random.default_rng(7)
+    messages = []
+    for k in range(60):
+        angle = 0.3 * math.sin(0.1 * k) + 0.01 * k
+        q = [0.0, math.sin(angle / 2), 0.05 * rng.standard_normal(), math.cos(angle / 2)]
+        norm = math.sqrt(sum(v * v for v in q))
+        messages.append((1.0 + 0.001 * k, [v / norm for v in q]))
+    messages[7] = (messages[7][0], [math.nan, 0.0, 0.0, 1.0])
+    messages[19] = (messages[19][0], [0.0, 0.0, 0.0, 2.0])
+    messages[41] = (1.0, messages[41][1])  # back in time: history reset, the next ones have no state
+    states = {0: 1.0, 30: 1.03, 50: 1.05}  # message index -> state stamp, given before that message
+
+    def state(est, stamp):
+        est.on_state(stamp, [R, 1e3 * stamp, 1e3], [0.0, V, 10.0 + stamp])
+
+    one_by_one, together = estimator(**overrides), estimator(**overrides)
+    single_calls = []
+    single = together.method.coefficients
+    together.method.coefficients = lambda *a, **kw: single_calls.append(1) or single(*a, **kw)
+    expected = []
+    for k, (stamp, q) in enumerate(messages):
+        if k in states:
+            state(one_by_one, states[k])
+        try:
+            expected.append(one_by_one.on_attitude(stamp, q))
+        except Rejection as exc:
+            expected.append(exc)
+    got, k = [], 0
+    sizes = iter(rng.integers(1, 9, size=len(messages)))
+    while k < len(messages):
+        if k in states:
+            state(together, states[k])
+        end = min(len(messages), k + int(next(sizes)), *(i for i in states if i > k))
+        got.extend(together.on_attitudes(messages[k:end]))
+        k = end
+    assert [_wrench_fields(r) for r in got] == [_wrench_fields(r) for r in expected]
+    assert together.rejections == one_by_one.rejections
+    assert together.published == one_by_one.published == sum(isinstance(r, Rejection) is False for r in expected)
+    assert {r.reason for r in expected if isinstance(r, Rejection)} == {
+        "non_finite", "bad_quaternion", "time_backwards", "no_state"}
+    assert sum(isinstance(r, Rejection) for r in expected) < 20  # most messages made wrenches
+    if stacked:  # the panel method ran once per burst; only a burst of one called coefficients()
+        assert len(single_calls) < together.published / 3
+    else:
+        assert len(single_calls) == together.published

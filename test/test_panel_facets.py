@@ -122,3 +122,40 @@ def test_a_sphere_is_evaluated_panel_by_panel():
     sphere = panels_from_trimesh(trimesh.creation.icosphere(subdivisions=3, radius=0.5))
     grouped, _ = pair(sphere, "sentman")
     assert grouped._facets is None
+
+
+@pytest.mark.parametrize("model", ["sentman", "schaaf", "maxwell", "maxwell_adbsat", "newton", "cll", "dria"])
+def test_many_directions_at_once_equal_each_direction_bit_for_bit(satellite, shader, model):
+    """coefficients_many: every direction with its own flow, lighting and surface gives what its own
+    coefficients() call gives, to the last bit; the split models never call coefficients()."""
+    from adbsat_ros.gsi_models import ModelOptions
+
+    options = ModelOptions(adbsat_compat=model.endswith("_adbsat"))
+    grouped, _ = pair(satellite, model.removesuffix("_adbsat"), options=options)
+    rng = np.random.default_rng(3)
+    m = 7
+    flows = [FreeStream(speed=float(rng.uniform(6500.0, 8000.0)), temperature=float(rng.uniform(600.0, 1400.0)),
+                        number_densities=SPECIES) for _ in range(m)]
+    directions = [rng.standard_normal(3) * rng.uniform(0.5, 2.0) for _ in range(m)]  # not unit: normalised
+    directions[2] = np.array([-1.0, 0.0, 0.0])  # along an axis: some facets exactly grazing
+    lightings = [shader.lighting(d / np.linalg.norm(d)) if k % 3 else None for k, d in enumerate(directions)]
+    surfaces = [grouped.surface_with(alpha=0.7 + 0.04 * k) if k % 2 else None for k in range(m)]
+    calls = []
+    single = grouped.coefficients
+    grouped.coefficients = lambda *a, **kw: calls.append(1) or single(*a, **kw)
+    many = grouped.coefficients_many(flows, directions, lightings, surfaces)
+    del grouped.coefficients
+    stacked = model in ("sentman", "schaaf", "maxwell")
+    assert len(calls) == (0 if stacked else m)
+    for got, flow, d, lighting, surface in zip(many, flows, directions, lightings, surfaces):
+        own = grouped.coefficients(flow, flow_direction=d, lighting=lighting, surface=surface)
+        np.testing.assert_array_equal(got.Cf_G, own.Cf_G)
+        np.testing.assert_array_equal(got.Cm_G, own.Cm_G)
+        assert got.area_projected == own.area_projected
+        for name in ("cos_delta", "cp", "ctau"):
+            np.testing.assert_array_equal(getattr(got, name), getattr(own, name))
+    assert len({tuple(c.Cf_G) for c in many}) == m  # the directions did differ
+    with pytest.raises(ValueError, match="3 flows, 2 flow_directions"):
+        grouped.coefficients_many(flows[:3], directions[:2])
+    with pytest.raises(ValueError, match="flow_direction must be a finite non-zero 3-vector"):
+        grouped.coefficients_many(flows[:2], [directions[0], [0.0, 0.0, 0.0]])
