@@ -20,6 +20,11 @@ deserialiser for anything but plain CDR); bytes that are neither message are cou
 ``undecodable``. Wrenches and /diagnostics go out as CDR bytes too. Rejected inputs are logged at
 most once per reason every ``LOG_THROTTLE_S``.
 
+After each attitude's wrench the callback takes the messages that came in meanwhile from both
+subscriptions and serves them in arrival order, the attitudes between two states computed together
+(:meth:`AdbsatNode._serve_waiting`; each wrench is bit for bit the one it would have had alone).
+Their number is the diagnostic value ``attitudes_taken_waiting``.
+
 Parameters: see :data:`adbsat_ros.wrench_settings.PARAMETERS` and ``config/adbsat.yaml``.
 """
 
@@ -119,14 +124,16 @@ class AdbsatNode(Node):
         # building rclpy message objects would cost more than the wrench itself.
         # State first: when a state and an attitude are waiting together, the executor takes them
         # in the order the subscriptions were made, and the attitude wants the newest state.
-        self.create_subscription(Odometry, "state", self._on_state, qos, raw=True)
-        self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos, raw=True)
+        self._state_sub = self.create_subscription(Odometry, "state", self._on_state, qos, raw=True)
+        self._attitude_sub = self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos, raw=True)
+        # attitudes the attitude callback took from the queue and computed together (a burst)
+        self.attitudes_taken_waiting = 0
         # compute times [ms] of the latest COMPUTE_WINDOW wrenches, a ring written in place
         self._compute_ms = np.zeros(COMPUTE_WINDOW)
         self._computed = 0
         self._last_state_wall = None
         self._last_sample: WrenchSample | None = None
-        self._last_stamp = None  # header stamp of the latest wrench published
+        self._stamps = (None, None)  # header stamps of the two latest wrenches published
         self._sample_listeners: list = []
         self._last_rejection: Rejection | None = None
         self._log_throttled = LogThrottle(self.get_logger())
@@ -199,22 +206,93 @@ class AdbsatNode(Node):
         self._last_state_wall = time.monotonic()
         if self.estimator.settings.attitude_source == "odometry":
             self._compute_and_publish(odom.stamp, orientation)
+            self._prepare_next()
 
-    def _on_attitude(self, raw: bytes) -> None:
-        """An attitude as the CDR bytes of a QuaternionStamped."""
-        if self.estimator.settings.attitude_source != "attitude_topic":
-            return
+    def _attitude_fields(self, raw: bytes):
+        """(stamp, quaternion x y z w) of the CDR bytes of a QuaternionStamped, or None (counted)."""
         try:
-            stamp, quaternion = quaternion_stamped_fields(raw)
+            return quaternion_stamped_fields(raw)
         except ValueError:  # not plain CDR (e.g. XCDR2 from another RMW): the typesupport decodes it
             try:
                 msg = deserialize_message(raw, QuaternionStamped)
             except Exception as exc:
                 self._undecodable("attitude message not a QuaternionStamped", exc)
-                return
+                return None
             q = msg.quaternion
-            stamp, quaternion = Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec), [q.x, q.y, q.z, q.w]
-        self._compute_and_publish(stamp, quaternion)
+            return Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec), [q.x, q.y, q.z, q.w]
+
+    def _on_attitude(self, raw: bytes) -> None:
+        """An attitude as the CDR bytes of a QuaternionStamped; then the messages that came in
+        meanwhile (:meth:`_serve_waiting`), then the next stamp's flight conditions."""
+        if self.estimator.settings.attitude_source != "attitude_topic":
+            return
+        fields = self._attitude_fields(raw)
+        if fields is not None:
+            self._compute_and_publish(*fields)
+        self._serve_waiting()
+        self._prepare_next()
+
+    def _take_waiting(self) -> list:
+        """The messages waiting in the attitude and state subscriptions (at most ``qos_depth`` of
+        each, which is all a queue holds), as (received time [ns], is_state, CDR bytes) in the
+        order they arrived (a state first on a tie: an attitude wants the newest state)."""
+        waiting = []
+        limit = self.estimator.settings.qos_depth
+        for is_state, sub in ((True, self._state_sub), (False, self._attitude_sub)):
+            msg_type = Odometry if is_state else QuaternionStamped
+            with sub.handle:
+                for _ in range(limit):
+                    taken = sub.handle.take_message(msg_type, True)
+                    if taken is None:
+                        break
+                    raw, info = taken
+                    waiting.append((info.get("received_timestamp", 0), not is_state, raw))
+        waiting.sort(key=lambda item: item[:2])
+        return waiting
+
+    def _serve_waiting(self) -> None:
+        """Answer the attitudes that came in while the last wrench was computed.
+
+        At 1 kHz a hold-up of the machine (another process, the middleware's threads) lets a few
+        attitudes queue; answered one callback each, the last of them waits for all the others'
+        whole computation. Taken here from the subscription instead, the attitudes between two
+        states are computed together (:meth:`AeroWrenchEstimator.on_attitudes`: each message's own
+        result, bit for bit, for less time per message) and published in order; a state that came
+        in between them is applied in its place, as the executor would have.
+        """
+        waiting = self._take_waiting()
+        if not waiting:
+            return
+        attitudes = []
+        for _, is_attitude, raw in waiting:
+            if is_attitude:
+                fields = self._attitude_fields(raw)
+                if fields is not None:
+                    attitudes.append(fields)
+                continue
+            self._compute_together(attitudes)
+            attitudes = []
+            self._on_state(raw)
+        self._compute_together(attitudes)
+
+    def _compute_together(self, attitudes: list) -> None:
+        """Compute and publish the wrenches of (stamp, quaternion) attitudes taken together."""
+        if len(attitudes) < 2:
+            for fields in attitudes:
+                self._compute_and_publish(*fields)
+            return
+        self.attitudes_taken_waiting += len(attitudes)
+        try:
+            results = self.estimator.on_attitudes([(stamp_seconds(stamp), q) for stamp, q in attitudes])
+        except Exception as exc:  # never let a message take the node down
+            self.estimator.rejections["compute_error"] += len(attitudes)
+            self._log_throttled("error", "compute_failed", f"wrench computation failed: {exc!r}")
+            return
+        for (stamp, _), result in zip(attitudes, results):
+            if isinstance(result, Rejection):
+                self._rejected(result)
+            else:
+                self._publish(stamp, result)
 
     def _compute_and_publish(self, stamp_msg, quaternion) -> None:
         """Compute and publish the wrench of one attitude; ``stamp_msg`` has ``sec``, ``nanosec``."""
@@ -227,6 +305,10 @@ class AdbsatNode(Node):
             self.estimator.rejections["compute_error"] += 1
             self._log_throttled("error", "compute_failed", f"wrench computation failed: {exc!r}")
             return
+        self._publish(stamp_msg, sample)
+
+    def _publish(self, stamp_msg, sample: WrenchSample) -> None:
+        """Publish the wrench (and coefficients) of ``sample`` with the attitude's stamp."""
         frame = self.estimator.settings.body_frame_id
         sec, nanosec = stamp_msg.sec, stamp_msg.nanosec
         self.wrench_pub.publish(wrench_stamped_cdr(sec, nanosec, frame, sample.force.tolist(), sample.torque.tolist()))
@@ -239,14 +321,19 @@ class AdbsatNode(Node):
         self._last_sample = sample
         for listener in self._sample_listeners:
             listener(sample)
-        previous, self._last_stamp = self._last_stamp, stamp_msg
-        if previous is not None:  # the next attitude's flight conditions, now that this wrench is out
-            try:
-                expected = next_regular_stamp(previous, stamp_msg)
-                if expected is not None:
-                    self.estimator.prepare(expected)
-            except Exception as exc:  # never let it take the node down
-                self._log_throttled("error", "prepare_failed", f"preparing the next message failed: {exc!r}")
+        self._stamps = (self._stamps[1], stamp_msg)
+
+    def _prepare_next(self) -> None:
+        """The next attitude's flight conditions, now that the wrenches are out."""
+        previous, latest = self._stamps
+        if previous is None:
+            return
+        try:
+            expected = next_regular_stamp(previous, latest)
+            if expected is not None:
+                self.estimator.prepare(expected)
+        except Exception as exc:  # never let it take the node down
+            self._log_throttled("error", "prepare_failed", f"preparing the next message failed: {exc!r}")
 
     def add_sample_listener(self, callback) -> None:
         """Call ``callback(sample)`` with every :class:`WrenchSample` published (in-process users:
@@ -259,6 +346,7 @@ class AdbsatNode(Node):
         est = self.estimator
         s = est.settings
         values = est.diagnostic_values(self._last_sample, self._compute_ms[:min(self._computed, COMPUTE_WINDOW)])
+        values["attitudes_taken_waiting"] = self.attitudes_taken_waiting
         age = None if self._last_state_wall is None else time.monotonic() - self._last_state_wall
         rejected = sum(est.rejections.values())
         if age is None or age > max(s.state_timeout, s.diagnostics_period):

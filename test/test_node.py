@@ -133,9 +133,10 @@ def test_a_fixed_rate_stream_gets_its_flight_conditions_prepared_and_the_same_wr
     peer.send_state(0.0, pos, vel)
     peer.spin_for(0.05)
     stamps = [0.01 * k for k in range(1, 8)] + [0.0825, 0.09]  # regular, then two irregular steps
-    for t in stamps:
+    for k, t in enumerate(stamps):  # one at a time: sent together, they would be computed together
         peer.send_attitude(t, (0.0, 0.0, 0.0, 1.0))
-    assert peer.spin_until(lambda: len(peer.wrenches) == len(stamps))
+        assert peer.spin_until(lambda: len(peer.wrenches) == k + 1)
+    assert node.attitudes_taken_waiting == 0
     # the 3rd..7th stamps were predicted from the two before; 0.0825 and 0.09 were not
     assert node.estimator.prepared_used == 5
     reference = AeroWrenchEstimator(node.estimator.settings, node.estimator.mesh)
@@ -145,6 +146,73 @@ def test_a_fixed_rate_stream_gets_its_flight_conditions_prepared_and_the_same_wr
         assert vec(msg.wrench.force).tolist() == sample.force.tolist()
         assert vec(msg.wrench.torque).tolist() == sample.torque.tolist()
     assert reference.prepared_used == 0
+
+
+@pytest.mark.parametrize("executor", EXECUTORS)
+def test_attitudes_that_queue_up_are_served_together_in_order_with_their_own_wrenches(executor):
+    """Attitudes (and a state between them) that wait in the queue while the node is busy are
+    taken by the attitude callback and computed together: every wrench arrives, in order, bit for
+    bit the one an estimator fed the same messages one at a time gives; a NaN among them is
+    rejected and counted; the state applies from the attitudes after it."""
+    from adbsat_ros.aero_wrench import AeroWrenchEstimator
+
+    ctx, spinner = make_context(executor)
+    node = AdbsatNode(context=ctx, parameter_overrides=[  # the bundled satellite, raycast shading
+        Parameter("time_mode", value="epoch"), Parameter("epoch_utc", value=EPOCH),
+        Parameter("qos_depth", value=50), Parameter("center_of_mass", value=[0.1, -0.02, 0.03]),
+    ])
+    spinner.add_node(node)
+    peer = Peer(ctx, spinner)
+    try:
+        assert peer.wait_for_subscribers()
+        pos, vel = (np.asarray(v, dtype=float) for v in circular_orbit_state(300e3))
+        later_vel = vel + np.array([0.0, 0.0, 25.0])  # a second state with some cross-track wind
+        peer.send_state(0.0, pos, vel)
+        assert peer.spin_until(lambda: node.estimator.rejections["no_state"] == 0 and node._last_state_wall)
+
+        def attitude(k):  # tilting by 1 deg per message about y, a little about z
+            a, b = math.radians(1.0 * k), math.radians(0.3 * k)
+            q = np.array([0.0, math.sin(a / 2), math.sin(b / 2), math.cos(a / 2) * math.cos(b / 2)])
+            return (math.nan, 0.0, 0.0, 1.0) if k == 4 else tuple(q / np.linalg.norm(q))
+
+        # nobody spins while these are sent: they queue in the node's subscriptions
+        for k in range(1, 8):
+            peer.send_attitude(0.001 * k, attitude(k))
+        time.sleep(0.05)
+        peer.send_state(0.0065, pos + 0.0065 * vel, later_vel)
+        time.sleep(0.05)
+        for k in range(8, 15):
+            peer.send_attitude(0.001 * k, attitude(k))
+        time.sleep(0.3)
+        assert peer.spin_until(lambda: len(peer.wrenches) == 13)
+        peer.spin_for(0.1)
+        assert len(peer.wrenches) == 13  # 14 attitudes, the NaN one rejected
+        assert node.estimator.rejections["non_finite"] == 1
+        assert node.attitudes_taken_waiting >= 10  # all but the first of each group came waiting
+
+        # the events executor serves in arrival order; the single-threaded one takes a waiting
+        # state before a waiting attitude (the order of the subscriptions), so here before all
+        state_before = 1 if executor == "single_threaded" else 8
+        reference = AeroWrenchEstimator(node.estimator.settings, node.estimator.mesh)
+        reference.on_state(0.0, pos, vel)
+        expected = []
+        for k in range(1, 15):
+            if k == state_before:
+                reference.on_state(0.0065, pos + 0.0065 * vel, later_vel)
+            if k != 4:
+                t = stamp_to_float(to_stamp(0.001 * k))  # the stamp as the message carries it
+                expected.append((t, reference.on_attitude(t, attitude(k))))
+        for msg, (t, sample) in zip(peer.wrenches, expected):
+            assert stamp_to_float(msg.header.stamp) == t
+            assert vec(msg.wrench.force).tolist() == sample.force.tolist()
+            assert vec(msg.wrench.torque).tolist() == sample.torque.tolist()
+        forces = [tuple(vec(m.wrench.force)) for m in peer.wrenches]
+        assert len(set(forces)) == 13  # every attitude had a wrench of its own
+    finally:
+        spinner.shutdown()
+        peer.node.destroy_node()
+        node.destroy_node()
+        rclpy.try_shutdown(context=ctx)
 
 
 def test_attitude_rotates_the_force_into_the_body_frame(ros):
