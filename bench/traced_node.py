@@ -1,7 +1,9 @@
 """adbsat_node with its callback's parts timed, for bench_node_latency's --trace.
 
 Runs ``adbsat_ros.node.main`` with the attitude callback, ``AeroWrenchEstimator.on_attitude``,
-``AeroWrenchEstimator.prepare`` and every ``Publisher.publish`` wrapped in ``time.perf_counter``
+``AeroWrenchEstimator.prepare``, every ``Publisher.publish``, the serving of waiting attitudes
+(``AdbsatNode._serve_waiting``, ``AeroWrenchEstimator.on_attitudes`` and its time per message)
+wrapped in ``time.perf_counter``
 calls (a few microseconds of their own per message), and every garbage collection (``gc.callbacks``)
 by generation. At exit it writes one JSON line to stderr,
 ``TRACE {"part": [microseconds, ...], ...}``, the durations of every call (and collection) after
@@ -21,6 +23,7 @@ from adbsat_ros import aero_wrench, node
 
 WARM_UP_CALLS = 500
 _durations = {"attitude callback": [], "estimator.on_attitude": [], "estimator.prepare": [], "publish": [],
+              "node._serve_waiting": [], "estimator.on_attitudes": [], "estimator.on_attitudes per message": [],
               "gc generation 0": [], "gc generation 1": [], "gc generation 2": []}
 _gc_started = [0.0]
 
@@ -28,23 +31,34 @@ _gc_started = [0.0]
 def _on_gc(phase, info):
     if phase == "start":
         _gc_started[0] = time.perf_counter()
-    elif len(_durations["attitude callback"]) >= WARM_UP_CALLS:  # after the warm-up, as the parts
+    elif _warm():
         _durations[f"gc generation {info['generation']}"].append(time.perf_counter() - _gc_started[0])
 
 
 gc.callbacks.append(_on_gc)
 
 
+#: Parts timed on every call, whose first WARM_UP_CALLS calls are left out at the end; the others
+#: (garbage collections, the serving of waiting messages) are recorded after the warm-up only.
+_EVERY_MESSAGE = ("attitude callback", "estimator.on_attitude", "estimator.prepare", "publish")
+
+
+def _warm() -> bool:
+    return len(_durations["attitude callback"]) >= WARM_UP_CALLS
+
+
 def _timed(function, part):
     record = _durations[part].append
     clock = time.perf_counter
+    every = part in _EVERY_MESSAGE
 
     def wrapper(*args, **kwargs):
         t0 = clock()
         try:
             return function(*args, **kwargs)
         finally:
-            record(clock() - t0)
+            if every or _warm():
+                record(clock() - t0)
 
     return wrapper
 
@@ -54,11 +68,24 @@ aero_wrench.AeroWrenchEstimator.on_attitude = _timed(aero_wrench.AeroWrenchEstim
                                                      "estimator.on_attitude")
 aero_wrench.AeroWrenchEstimator.prepare = _timed(aero_wrench.AeroWrenchEstimator.prepare, "estimator.prepare")
 rclpy.publisher.Publisher.publish = _timed(rclpy.publisher.Publisher.publish, "publish")
+node.AdbsatNode._serve_waiting = _timed(node.AdbsatNode._serve_waiting, "node._serve_waiting")
+_on_attitudes = _timed(aero_wrench.AeroWrenchEstimator.on_attitudes, "estimator.on_attitudes")
+
+
+def _on_attitudes_per_message(self, messages):
+    t0 = time.perf_counter()
+    results = _on_attitudes(self, messages)
+    if _warm():
+        _durations["estimator.on_attitudes per message"].append((time.perf_counter() - t0) / len(messages))
+    return results
+
+
+aero_wrench.AeroWrenchEstimator.on_attitudes = _on_attitudes_per_message
 
 
 @atexit.register
 def _report():
-    out = {part: [round(1e6 * d, 1) for d in (durations if part.startswith("gc") else durations[WARM_UP_CALLS:])]
+    out = {part: [round(1e6 * d, 1) for d in (durations[WARM_UP_CALLS:] if part in _EVERY_MESSAGE else durations)]
            for part, durations in _durations.items()}
     print("TRACE " + json.dumps(out), file=sys.stderr, flush=True)
 
