@@ -14,7 +14,8 @@ Cases, on the example satellite refined to ~9,600 faces, sentman, raycast shadin
   (flight conditions with NRLMSISE-00, rotation, cache, panel method), same cell;
 * "estimator, N together": AeroWrenchEstimator.on_attitudes over N consecutive 1 kHz attitudes
   (what the node does with the attitudes that queued up while it was busy), per message, for
-  each N of ``--together``;
+  each N of ``--together``, beside the same bursts one message at a time on a twin estimator
+  (each burst right after the other, so both see the same spell of the machine);
 * the same at 100 Hz, sleeping 10 ms before each message (the cost after the CPU idled), without
   and with the flight conditions prepared ahead (``AeroWrenchEstimator.prepare``, as the node
   does right after each wrench).
@@ -97,22 +98,29 @@ def main() -> None:
         times.append(time.perf_counter() - t0)
     whole = percentiles(times[100:])
 
-    # attitudes that waited together, as the node serves a burst: per message
+    # attitudes that waited together, as the node serves a burst, per message; each burst also one
+    # message at a time on a twin estimator right after it (interleaved: the same machine spell)
     together = {}
     for size in together_sizes:
-        est = AeroWrenchEstimator(settings, mesh)
-        times = []
+        est, twin = AeroWrenchEstimator(settings, mesh), AeroWrenchEstimator(settings, mesh)
+        times, one_by_one = [], []
         k = 0
         while k < n:
             if k % 100 < size:  # a state every 100 ms, as above, before the burst that crosses it
                 t = 1e-3 * (k - k % 100)
-                est.on_state(t, [r, v * t, 0.0], [0.0, v, 0.0])
+                for e in (est, twin):
+                    e.on_state(t, [r, v * t, 0.0], [0.0, v, 0.0])
             burst = [(1e-3 * (k + i), (0.0, 0.0, 0.0, 1.0)) for i in range(size)]
             t0 = time.perf_counter()
             est.on_attitudes(burst)
-            times.append((time.perf_counter() - t0) / size)
+            t1 = time.perf_counter()
+            for stamp, q in burst:
+                twin.on_attitude(stamp, q)
+            times.append((t1 - t0) / size)
+            one_by_one.append((time.perf_counter() - t1) / size)
             k += size
-        together[size] = percentiles(times[100 // size + 1:])
+        skip = 100 // size + 1
+        together[size] = (percentiles(times[skip:]), percentiles(one_by_one[skip:]))
 
     # the same after 10 ms of idleness before each message (a 100 Hz stream: the CPU has gone
     # idle and the process's code and data are cold), without and with the conditions prepared
@@ -138,7 +146,9 @@ def main() -> None:
         ("cache hit, same cell + coefficients()", same),
         ("cache hit, stored cell (unpacked) + coefficients()", stored),
         ("estimator on_attitude (flight conditions included)", whole),
-        *((f"estimator on_attitudes, {size} together, per message", together[size]) for size in together_sizes),
+        *(row for size in together_sizes for row in (
+            (f"estimator on_attitudes, {size} together, per message", together[size][0]),
+            (f"  the same {size} one at a time (on_attitude), interleaved", together[size][1]))),
         ("same, 100 Hz: 10 ms idle before each message", cold[False]),
         ("same, 100 Hz, conditions prepared ahead (the node)", cold[True]),
     ):
