@@ -240,24 +240,28 @@ class AdbsatNode(Node):
         in theirs (at most ``qos_depth`` of each, all that a queue holds), as (received time [ns],
         is_attitude, CDR bytes) in the order they arrived, a state first on a tie (an attitude
         wants the newest state). With no attitude waiting the states are left to the executor,
-        which serves them in order anyway: one take fewer per message on the usual path."""
-        attitudes = self._take_all(self._attitude_sub, QuaternionStamped, True)
-        if not attitudes:
-            return attitudes
-        waiting = self._take_all(self._state_sub, Odometry, False) + attitudes
+        which serves them in order anyway: on the usual path this is one take, that finds nothing.
+
+        The handles are used without ``with``: this runs in the node's own callback, and nothing
+        destroys a subscription meanwhile (an InvalidHandle at shutdown is caught by the caller).
+        """
+        first = self._attitude_sub.handle.take_message(QuaternionStamped, True)
+        if first is None:
+            return []
+        waiting = [(first[1].get("received_timestamp", 0), True, first[0])]
+        self._take_more(self._attitude_sub, QuaternionStamped, True, waiting)
+        self._take_more(self._state_sub, Odometry, False, waiting)
         waiting.sort(key=lambda item: item[:2])
         return waiting
 
-    def _take_all(self, sub, msg_type, is_attitude: bool) -> list:
-        taken = []
-        with sub.handle:
-            for _ in range(self.estimator.settings.qos_depth):
-                message = sub.handle.take_message(msg_type, True)
-                if message is None:
-                    break
-                raw, info = message
-                taken.append((info.get("received_timestamp", 0), is_attitude, raw))
-        return taken
+    def _take_more(self, sub, msg_type, is_attitude: bool, taken: list) -> None:
+        handle = sub.handle
+        for _ in range(self.estimator.settings.qos_depth):
+            message = handle.take_message(msg_type, True)
+            if message is None:
+                return
+            raw, info = message
+            taken.append((info.get("received_timestamp", 0), is_attitude, raw))
 
     def _serve_waiting(self) -> None:
         """Answer the attitudes that came in while the last wrench was computed.
