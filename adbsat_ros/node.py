@@ -59,6 +59,8 @@ from .wrench_settings import PARAMETERS, READ_ONLY_PARAMETERS, WrenchSettings
 NODE_NAME = "adbsat_node"
 #: Compute times kept for the p50/p99/max of /diagnostics (the latest this many messages).
 COMPUTE_WINDOW = 2000
+#: Times one attitude callback takes and serves what waits in the queues before it returns.
+SERVE_ROUNDS = 4
 #: Seconds between two log lines about the same kind of rejected input.
 LOG_THROTTLE_S = 5.0
 
@@ -271,22 +273,25 @@ class AdbsatNode(Node):
         whole computation. Taken here from the subscription instead, the attitudes between two
         states are computed together (:meth:`AeroWrenchEstimator.on_attitudes`: each message's own
         result, bit for bit, for less time per message) and published in order; a state that came
-        in between them is applied in its place, as the executor would have.
+        in between them is applied in its place, as the executor would have. What came in while
+        those were computed is served the same way, up to SERVE_ROUNDS times, then the executor
+        has its turn (timers, parameter services).
         """
-        waiting = self._take_waiting()
-        if not waiting:
-            return
-        attitudes = []
-        for _, is_attitude, raw in waiting:
-            if is_attitude:
-                fields = self._attitude_fields(raw)
-                if fields is not None:
-                    attitudes.append(fields)
-                continue
-            self._compute_together(attitudes)
+        for _ in range(SERVE_ROUNDS):
+            waiting = self._take_waiting()
+            if not waiting:
+                return
             attitudes = []
-            self._on_state(raw)
-        self._compute_together(attitudes)
+            for _, is_attitude, raw in waiting:
+                if is_attitude:
+                    fields = self._attitude_fields(raw)
+                    if fields is not None:
+                        attitudes.append(fields)
+                    continue
+                self._compute_together(attitudes)
+                attitudes = []
+                self._on_state(raw)
+            self._compute_together(attitudes)
 
     def _compute_together(self, attitudes: list) -> None:
         """Compute and publish the wrenches of (stamp, quaternion) attitudes taken together."""
