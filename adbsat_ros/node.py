@@ -20,10 +20,10 @@ deserialiser for anything but plain CDR); bytes that are neither message are cou
 ``undecodable``. Wrenches and /diagnostics go out as CDR bytes too. Rejected inputs are logged at
 most once per reason every ``LOG_THROTTLE_S``.
 
-After each attitude's wrench the callback takes the messages that came in meanwhile from both
-subscriptions and serves them in arrival order, the attitudes between two states computed together
-(:meth:`AdbsatNode._serve_waiting`; each wrench is bit for bit the one it would have had alone).
-Their number is the diagnostic value ``attitudes_taken_waiting``.
+Before computing an attitude's wrench the callback takes the messages waiting behind it from both
+subscriptions and serves them all in arrival order, the attitudes between two states computed
+together (:meth:`AdbsatNode._serve`; each wrench is bit for bit the one it would have had alone).
+The number taken so is the diagnostic value ``attitudes_taken_waiting``.
 
 Parameters: see :data:`adbsat_ros.wrench_settings.PARAMETERS` and ``config/adbsat.yaml``.
 """
@@ -128,7 +128,7 @@ class AdbsatNode(Node):
         # in the order the subscriptions were made, and the attitude wants the newest state.
         self._state_sub = self.create_subscription(Odometry, "state", self._on_state, qos, raw=True)
         self._attitude_sub = self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos, raw=True)
-        # attitudes the attitude callback took from the queue and computed together (a burst)
+        # attitudes an attitude callback took from the queue behind its own (a burst)
         self.attitudes_taken_waiting = 0
         # compute times [ms] of the latest COMPUTE_WINDOW wrenches, a ring written in place
         self._compute_ms = np.zeros(COMPUTE_WINDOW)
@@ -224,17 +224,12 @@ class AdbsatNode(Node):
             return Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec), [q.x, q.y, q.z, q.w]
 
     def _on_attitude(self, raw: bytes) -> None:
-        """An attitude as the CDR bytes of a QuaternionStamped; then the messages that came in
-        meanwhile (:meth:`_serve_waiting`), then the next stamp's flight conditions."""
+        """An attitude as the CDR bytes of a QuaternionStamped, with the messages that wait behind
+        it (:meth:`_serve`); then the next stamp's flight conditions."""
         if self.estimator.settings.attitude_source != "attitude_topic":
             return
         fields = self._attitude_fields(raw)
-        if fields is not None:
-            self._compute_and_publish(*fields)
-        try:
-            self._serve_waiting()
-        except Exception as exc:  # e.g. a subscription destroyed at shutdown: never take the node down
-            self._log_throttled("error", "serve_waiting_failed", f"serving the waiting messages failed: {exc!r}")
+        self._serve([] if fields is None else [fields])
         self._prepare_next()
 
     def _take_waiting(self) -> list:
@@ -265,8 +260,8 @@ class AdbsatNode(Node):
             raw, info = message
             taken.append((info.get("received_timestamp", 0), is_attitude, raw))
 
-    def _serve_waiting(self) -> None:
-        """Answer the attitudes that came in while the last wrench was computed.
+    def _serve(self, attitudes: list) -> None:
+        """Answer ``attitudes`` [(stamp, quaternion)] and the attitudes that wait behind them.
 
         At 1 kHz a hold-up of the machine (another process, the middleware's threads) lets a few
         attitudes queue; answered one callback each, the last of them waits for all the others'
@@ -275,15 +270,18 @@ class AdbsatNode(Node):
         result, bit for bit, for less time per message) and published in order; a state that came
         in between them is applied in its place, as the executor would have. What came in while
         those were computed is served the same way, up to SERVE_ROUNDS times, then the executor
-        has its turn (timers, parameter services).
+        has its turn (timers, parameter services). With nothing waiting (the usual case) this is
+        one take that finds nothing and the one wrench.
         """
         for _ in range(SERVE_ROUNDS):
-            waiting = self._take_waiting()
-            if not waiting:
-                return
-            attitudes = []
+            try:
+                waiting = self._take_waiting()
+            except Exception as exc:  # e.g. a subscription destroyed at shutdown: never take the node down
+                self._log_throttled("error", "take_failed", f"taking the waiting messages failed: {exc!r}")
+                waiting = []
             for _, is_attitude, raw in waiting:
                 if is_attitude:
+                    self.attitudes_taken_waiting += 1
                     fields = self._attitude_fields(raw)
                     if fields is not None:
                         attitudes.append(fields)
@@ -292,6 +290,9 @@ class AdbsatNode(Node):
                 attitudes = []
                 self._on_state(raw)
             self._compute_together(attitudes)
+            attitudes = []
+            if not waiting:
+                return
 
     def _compute_together(self, attitudes: list) -> None:
         """Compute and publish the wrenches of (stamp, quaternion) attitudes taken together."""
@@ -299,7 +300,6 @@ class AdbsatNode(Node):
             for fields in attitudes:
                 self._compute_and_publish(*fields)
             return
-        self.attitudes_taken_waiting += len(attitudes)
         try:
             results = self.estimator.on_attitudes([(stamp_seconds(stamp), q) for stamp, q in attitudes])
         except Exception as exc:  # never let a message take the node down

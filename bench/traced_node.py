@@ -2,7 +2,7 @@
 
 Runs ``adbsat_ros.node.main`` with the attitude callback, ``AeroWrenchEstimator.on_attitude``,
 ``AeroWrenchEstimator.prepare``, every ``Publisher.publish``, the serving of waiting attitudes
-(``AdbsatNode._serve_waiting``, ``AeroWrenchEstimator.on_attitudes`` and its time per message)
+(``AdbsatNode._take_waiting``, ``AeroWrenchEstimator.on_attitudes`` and its time per message)
 wrapped in ``time.perf_counter``
 calls (a few microseconds of their own per message), and every garbage collection (``gc.callbacks``)
 by generation. At exit it writes one JSON line to stderr,
@@ -23,7 +23,7 @@ from adbsat_ros import aero_wrench, node
 
 WARM_UP_CALLS = 500
 _durations = {"attitude callback": [], "estimator.on_attitude": [], "estimator.prepare": [], "publish": [],
-              "node._serve_waiting": [], "estimator.on_attitudes": [], "estimator.on_attitudes per message": [],
+              "node._take_waiting": [], "estimator.on_attitudes": [], "estimator.on_attitudes per message": [],
               "gc generation 0": [], "gc generation 1": [], "gc generation 2": []}
 _gc_started = [0.0]
 
@@ -39,7 +39,7 @@ gc.callbacks.append(_on_gc)
 
 
 #: Parts timed on every call, whose first WARM_UP_CALLS calls are left out at the end; the others
-#: (garbage collections, the serving of waiting messages) are recorded after the warm-up only.
+#: (garbage collections, the takes and bursts of waiting messages) are recorded after the warm-up only.
 _EVERY_MESSAGE = ("attitude callback", "estimator.on_attitude", "estimator.prepare", "publish")
 
 
@@ -68,7 +68,7 @@ aero_wrench.AeroWrenchEstimator.on_attitude = _timed(aero_wrench.AeroWrenchEstim
                                                      "estimator.on_attitude")
 aero_wrench.AeroWrenchEstimator.prepare = _timed(aero_wrench.AeroWrenchEstimator.prepare, "estimator.prepare")
 rclpy.publisher.Publisher.publish = _timed(rclpy.publisher.Publisher.publish, "publish")
-node.AdbsatNode._serve_waiting = _timed(node.AdbsatNode._serve_waiting, "node._serve_waiting")
+node.AdbsatNode._take_waiting = _timed(node.AdbsatNode._take_waiting, "node._take_waiting")
 _on_attitudes = _timed(aero_wrench.AeroWrenchEstimator.on_attitudes, "estimator.on_attitudes")
 
 
