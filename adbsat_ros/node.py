@@ -224,13 +224,25 @@ class AdbsatNode(Node):
             return Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec), [q.x, q.y, q.z, q.w]
 
     def _on_attitude(self, raw: bytes) -> None:
-        """An attitude as the CDR bytes of a QuaternionStamped, with the messages that wait behind
-        it (:meth:`_serve`); then the next stamp's flight conditions."""
+        """An attitude as the CDR bytes of a QuaternionStamped, with the messages waiting behind it
+        (:meth:`_serve`); then the next stamp's flight conditions."""
         if self.estimator.settings.attitude_source != "attitude_topic":
             return
         fields = self._attitude_fields(raw)
-        self._serve([] if fields is None else [fields])
+        waiting = self._waiting()
+        if waiting:
+            self._serve([] if fields is None else [fields], waiting)
+        elif fields is not None:  # the usual case: nothing behind it
+            self._compute_and_publish(*fields)
         self._prepare_next()
+
+    def _waiting(self) -> list:
+        """:meth:`_take_waiting`, or nothing if the middleware fails (never take the node down)."""
+        try:
+            return self._take_waiting()
+        except Exception as exc:  # e.g. a subscription destroyed at shutdown
+            self._log_throttled("error", "take_failed", f"taking the waiting messages failed: {exc!r}")
+            return []
 
     def _take_waiting(self) -> list:
         """The attitudes waiting in their subscription and, if there are any, the states waiting
@@ -260,25 +272,20 @@ class AdbsatNode(Node):
             raw, info = message
             taken.append((info.get("received_timestamp", 0), is_attitude, raw))
 
-    def _serve(self, attitudes: list) -> None:
-        """Answer ``attitudes`` [(stamp, quaternion)] and the attitudes that wait behind them.
+    def _serve(self, attitudes: list, waiting: list) -> None:
+        """Answer ``attitudes`` [(stamp, quaternion)] and the ``waiting`` messages behind them
+        (from :meth:`_take_waiting`).
 
         At 1 kHz a hold-up of the machine (another process, the middleware's threads) lets a few
         attitudes queue; answered one callback each, the last of them waits for all the others'
-        whole computation. Taken here from the subscription instead, the attitudes between two
-        states are computed together (:meth:`AeroWrenchEstimator.on_attitudes`: each message's own
+        whole computation. Taken from the subscription instead, the attitudes between two states
+        are computed together (:meth:`AeroWrenchEstimator.on_attitudes`: each message's own
         result, bit for bit, for less time per message) and published in order; a state that came
         in between them is applied in its place, as the executor would have. What came in while
-        those were computed is served the same way, up to SERVE_ROUNDS times, then the executor
-        has its turn (timers, parameter services). With nothing waiting (the usual case) this is
-        one take that finds nothing and the one wrench.
+        those were computed is served the same way, up to SERVE_ROUNDS rounds in all, then the
+        executor has its turn (timers, parameter services).
         """
-        for _ in range(SERVE_ROUNDS):
-            try:
-                waiting = self._take_waiting()
-            except Exception as exc:  # e.g. a subscription destroyed at shutdown: never take the node down
-                self._log_throttled("error", "take_failed", f"taking the waiting messages failed: {exc!r}")
-                waiting = []
+        for round_ in range(SERVE_ROUNDS):
             for _, is_attitude, raw in waiting:
                 if is_attitude:
                     self.attitudes_taken_waiting += 1
@@ -291,6 +298,9 @@ class AdbsatNode(Node):
                 self._on_state(raw)
             self._compute_together(attitudes)
             attitudes = []
+            if round_ == SERVE_ROUNDS - 1:
+                return  # (what came meanwhile stays queued for the executor)
+            waiting = self._waiting()
             if not waiting:
                 return
 

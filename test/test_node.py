@@ -215,6 +215,46 @@ def test_attitudes_that_queue_up_are_served_together_in_order_with_their_own_wre
         rclpy.try_shutdown(context=ctx)
 
 
+@pytest.mark.parametrize("executor", EXECUTORS)
+def test_a_stream_faster_than_the_node_loses_no_attitude_and_keeps_the_order(executor):
+    """Attitudes sent faster than the node computes them (from a thread, while it spins): each gets
+    exactly one wrench, in order, whatever rounds of taking and serving they went through."""
+    import threading
+
+    ctx, spinner = make_context(executor)
+    node = AdbsatNode(context=ctx, parameter_overrides=[
+        Parameter("time_mode", value="epoch"), Parameter("epoch_utc", value=EPOCH), Parameter("qos_depth", value=1000),
+    ])
+    spinner.add_node(node)
+    peer = Peer(ctx, spinner)
+    n = 400
+    try:
+        assert peer.wait_for_subscribers()
+        pos, vel = circular_orbit_state(300e3)
+        peer.send_state(0.0, pos, vel)
+        assert peer.spin_until(lambda: node._last_state_wall is not None)
+
+        def send():
+            for k in range(1, n + 1):
+                peer.send_attitude(0.001 * k, (0.0, math.sin(0.001 * k), 0.0, math.cos(0.001 * k)))
+                time.sleep(0.0002)
+
+        sender = threading.Thread(target=send)
+        sender.start()
+        assert peer.spin_until(lambda: len(peer.wrenches) >= n, timeout=30.0)
+        sender.join()
+        peer.spin_for(0.2)
+        stamps = [round(stamp_to_float(m.header.stamp) * 1000) for m in peer.wrenches]
+        assert stamps == list(range(1, n + 1))
+        assert node.estimator.published == n and sum(node.estimator.rejections.values()) == 0
+        assert node.attitudes_taken_waiting > 0  # some did wait behind others
+    finally:
+        spinner.shutdown()
+        peer.node.destroy_node()
+        node.destroy_node()
+        rclpy.try_shutdown(context=ctx)
+
+
 def test_attitude_rotates_the_force_into_the_body_frame(ros):
     node, peer = ros
     pos, vel = circular_orbit_state(300e3)
