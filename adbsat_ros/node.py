@@ -20,9 +20,9 @@ deserialiser for anything but plain CDR); bytes that are neither message are cou
 ``undecodable``. Wrenches and /diagnostics go out as CDR bytes too. Rejected inputs are logged at
 most once per reason every ``LOG_THROTTLE_S``.
 
-Before computing an attitude's wrench the callback takes the messages waiting behind it from both
-subscriptions and serves them all in arrival order, the attitudes between two states computed
-together (:meth:`AdbsatNode._serve`; each wrench is bit for bit the one it would have had alone).
+Before computing an attitude's wrench the callback takes the attitudes waiting behind it (and, if
+there are any, the waiting states) and serves them all in arrival order, the attitudes between two
+states computed together (:meth:`AdbsatNode._serve`; each wrench is bit for bit the one it would have had alone).
 The number taken so is the diagnostic value ``attitudes_taken_waiting``.
 
 Parameters: see :data:`adbsat_ros.wrench_settings.PARAMETERS` and ``config/adbsat.yaml``.
