@@ -54,7 +54,6 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent
 R_ORBIT = 6378137.0 + 300e3
 #: Seconds at the start of each run whose messages are not counted: the node's first ray cast
 #: (~40 ms cold) and the messages queued behind it.
