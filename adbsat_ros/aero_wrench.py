@@ -533,15 +533,12 @@ class AeroWrenchEstimator:
             if isinstance(request, _PanelRequest):
                 requests.append((len(results), request))
             results.append(request)
-        if len(requests) > 1:
-            try:
-                coefficients = self.method.coefficients_many(
-                    [r.flow for _, r in requests], [r.flow_direction for _, r in requests],
-                    [r.lighting for _, r in requests], [r.surface for _, r in requests],
-                )
-            except ValueError:  # then each on its own, for its own rejection
-                coefficients = [None] * len(requests)
-        else:
+        try:  # (one request or none: coefficients_many is a plain coefficients call)
+            coefficients = self.method.coefficients_many(
+                [r.flow for _, r in requests], [r.flow_direction for _, r in requests],
+                [r.lighting for _, r in requests], [r.surface for _, r in requests],
+            )
+        except ValueError:  # then each on its own, for its own rejection
             coefficients = [None] * len(requests)
         share = (time.perf_counter() - t0) / max(len(results), 1)
         for (i, request), coeffs in zip(requests, coefficients):

@@ -648,7 +648,6 @@ class PanelMethod:
         if not (len(flow_directions) == len(lightings) == len(surfaces) == m):
             raise ValueError(f"coefficients_many: {m} flows, {len(flow_directions)} flow_directions, "
                              f"{len(lightings)} lightings and {len(surfaces)} surfaces")
-        units = [_unit_direction(d) for d in flow_directions]
         facets = self._facets
         split = SPLIT_MODELS.get(self.model)
         parameters = []
@@ -663,6 +662,7 @@ class PanelMethod:
         if len(parameters) < m or m < 2:
             return [self.coefficients(flow, flow_direction=d, lighting=lighting, surface=surface)
                     for flow, d, lighting, surface in zip(flows, flow_directions, lightings, surfaces)]
+        units = [_unit_direction(d) for d in flow_directions]
         # M directions' G facet values in one flat (M G,) array: numpy's fastest loops (a 2-D
         # broadcast costs several microseconds more per operation), the same value in each element
         g = facets.n

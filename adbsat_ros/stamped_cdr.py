@@ -190,6 +190,13 @@ def _put_string(parts: list, offset: int, text: str) -> int:
     return offset + pad + 4 + len(data)
 
 
+def _put_count(parts: list, offset: int, count: int) -> int:
+    """Append a 4-aligned CDR uint32 (a sequence length) at ``offset``; return the offset after it."""
+    pad = -offset % 4
+    parts.append(b"\x00" * pad + struct.pack("<I", count))
+    return offset + pad + 4
+
+
 def diagnostic_array_cdr(sec: int, nanosec: int, frame_id: str, statuses) -> bytes:
     """CDR bytes (little endian) of a diagnostic_msgs/DiagnosticArray.
 
@@ -205,16 +212,13 @@ def diagnostic_array_cdr(sec: int, nanosec: int, frame_id: str, statuses) -> byt
     statuses : sequence of DiagnosticFields
     """
     parts = [CDR_LE_HEADER, struct.pack("<iI", sec, nanosec)]
-    offset = _put_string(parts, 8, frame_id)
-    parts.append(b"\x00" * (-offset % 4) + struct.pack("<I", len(statuses)))
-    offset += -offset % 4 + 4
+    offset = _put_count(parts, _put_string(parts, 8, frame_id), len(statuses))
     for status in statuses:
         parts.append(struct.pack("<B", status.level))  # byte level, then strings (4-aligned)
         offset += 1
         for text in (status.name, status.message, status.hardware_id):
             offset = _put_string(parts, offset, text)
-        parts.append(b"\x00" * (-offset % 4) + struct.pack("<I", len(status.values)))
-        offset += -offset % 4 + 4
+        offset = _put_count(parts, offset, len(status.values))
         for key, value in status.values:
             offset = _put_string(parts, offset, key)
             offset = _put_string(parts, offset, value)

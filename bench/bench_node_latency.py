@@ -27,7 +27,8 @@ extracted with ``git archive`` and put first on the node process's PYTHONPATH): 
 and after a change, in the same spell of the machine.
 
 With --trace the adbsat node runs as bench/traced_node.py, which times its attitude callback's parts
-(``on_attitude``, ``prepare``, ``publish``) inside the running process; their p50/p90/p99 follow the
+(``on_attitude``, ``prepare``, ``publish``, the takes of waiting messages, the bursts computed
+together) and the garbage collections inside the running process; their p50/p90/p99 follow the
 table.
 
 Middleware: by default every process runs with ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, i.e.
