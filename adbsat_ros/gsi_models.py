@@ -91,26 +91,35 @@ def newton(c, sigma, surface: PanelSurface, flow: FreeStream, options: ModelOpti
     return cp, np.zeros_like(cp)
 
 
-def _sentman_single(c, sigma, s, K):
-    """Sentman's plate for one gas: c_p and c_tau for speed ratio s and K = sqrt(T_r/(2 T_i))."""
-    x = s * c
-    E = np.exp(-(x * x))
-    E *= 1.0 / s  # E/s from here on
-    Phi = erfc(-x)  # = 1 + erf(x), without cancellation for x << 0
+def _sentman_plate(c, s, K):
+    """Sentman's plate for one gas: c_p and c_tau / sin(delta) for speed ratio s (a float) and
+    K = sqrt(T_r / T_inf) / s (a float or an array like ``c``), elementwise in ``c``.
+
+    With Phi = 1 + erf(s c) and e = exp(-s^2 c^2):
+    c_tau / sin(delta) = c Phi + e / (sqrt(pi) s),
+    c_p = c (c_tau / sin(delta)) + Phi / (2 s^2) + (K sqrt(pi) / 2) c Phi + (K / (2 s)) e,
+    15 array operations.
+    """
+    minus_x = c * -s
+    Phi = erfc(minus_x)  # = 1 + erf(x), without cancellation for x << 0
+    e = np.exp(-(minus_x * minus_x))
     c_phi = c * Phi
-    # c_tau = sigma (c Phi + E / (sqrt(pi) s))
-    shear = E * (1.0 / SQRT_PI)
+    shear = e * (1.0 / (SQRT_PI * s))
     shear += c_phi
-    # c_p = c^2 Phi + Phi / (2 s^2) + c E / (sqrt(pi) s) + (K / 2) (sqrt(pi) c Phi + E / s)
-    cp = c * shear  # c^2 Phi + c E / (sqrt(pi) s)
+    cp = c * shear
     Phi *= 0.5 / (s * s)
     cp += Phi
-    c_phi *= SQRT_PI
-    c_phi += E
-    c_phi *= 0.5 * K
+    c_phi *= (0.5 * SQRT_PI) * K
     cp += c_phi
-    shear *= sigma
+    e *= 0.5 * K / s
+    cp += e
     return cp, shear
+
+
+def _sentman_single(c, sigma, s, K):
+    """Sentman's plate for one gas: c_p and c_tau (:func:`_sentman_plate`)."""
+    cp, shear = _sentman_plate(c, s, K)
+    return cp, shear * sigma
 
 
 def _re_emission_K(alpha, wall_temperature, incident_temperature, particle_mass, speed):
@@ -137,13 +146,13 @@ def sentman(c, sigma, surface, flow, options):
 
 
 def sentman_parameters(surface, flow, options):
-    """Sentman's (s, K) for :func:`_sentman_single`: K per panel if alpha or T_w is an array."""
+    """Sentman's (s, K) for :func:`_sentman_plate`: K per panel if alpha or T_w is an array."""
     Ti = options.incident_temperature_of(flow.mean_mass, flow.speed)
     return flow.speed_ratio, _re_emission_K(surface.alpha, surface.wall_temperature, Ti, flow.mean_mass, flow.speed)
 
 
-def _schaaf_single(c, sigma, s, sigma_n, sigma_t, r):
-    """Schaaf & Chambre plate for one gas; r = sqrt(T_w / T_inf)."""
+def _schaaf_plate(c, s, sigma_n, sigma_t, r):
+    """Schaaf & Chambre plate for one gas: c_p and c_tau / sin(delta); r = sqrt(T_w / T_inf)."""
     x = s * c
     E = np.exp(-x * x)
     Phi = erfc(-x)  # = 1 + erf(x), without cancellation for x << 0
@@ -151,8 +160,14 @@ def _schaaf_single(c, sigma, s, sigma_n, sigma_t, r):
         ((2.0 - sigma_n) * x / SQRT_PI + 0.5 * sigma_n * r) * E
         + ((2.0 - sigma_n) * (0.5 + x * x) + 0.5 * sigma_n * r * SQRT_PI * x) * Phi
     ) / (s * s)
-    ctau = sigma_t * sigma / (s * SQRT_PI) * (E + SQRT_PI * x * Phi)
-    return cp, ctau
+    shear = sigma_t / (s * SQRT_PI) * (E + SQRT_PI * x * Phi)
+    return cp, shear
+
+
+def _schaaf_single(c, sigma, s, sigma_n, sigma_t, r):
+    """Schaaf & Chambre plate for one gas: c_p and c_tau (:func:`_schaaf_plate`)."""
+    cp, shear = _schaaf_plate(c, s, sigma_n, sigma_t, r)
+    return cp, shear * sigma
 
 
 def schaaf(c, sigma, surface, flow, options):
@@ -167,7 +182,7 @@ def schaaf(c, sigma, surface, flow, options):
 
 
 def schaaf_parameters(surface, flow, options):
-    """Schaaf & Chambre's (s, sigma_n, sigma_t, r) for :func:`_schaaf_single`."""
+    """Schaaf & Chambre's (s, sigma_n, sigma_t, r) for :func:`_schaaf_plate`."""
     r = np.sqrt(surface.wall_temperature / flow.temperature)
     return flow.speed_ratio, surface.sigma_n, surface.sigma_t, r
 
@@ -320,7 +335,7 @@ def cll(c, sigma, surface, flow, options):
             (1.0 + np.sqrt(one_minus)) * G1
             + 0.5 * np.exp(-beta * one_minus**gamma) * ratio**delta * (zeta / s) * r * SQRT_PI * G2
         ) / (s * s)
-        cp_schaaf, _ = _schaaf_single(c, sigma, s, 1.0, surface.sigma_t, r)
+        cp_schaaf, _ = _schaaf_plate(c, s, 1.0, surface.sigma_t, r)
         cp = np.where(use_fit, cp_fit, cp_schaaf)
         ctau = surface.sigma_t * sigma * G2 / s
         cp_total = cp_total + w * cp
@@ -366,16 +381,19 @@ MODELS = {
     "maxwell": maxwell,
 }
 
-#: Models whose (c_p, c_tau) are an elementwise function of (c, sigma) and a few parameters of the
-#: surface and the flow: name -> (parameters(surface, flow, options), core(c, sigma, *parameters)).
-#: The model itself is ``core(c, sigma, *parameters(...))``, so a caller that evaluates several
-#: flows at once (parameters of each stacked along a leading axis, then one ``core`` call) gets
-#: every element bit for bit as the model's own call would (PanelMethod.coefficients_many). A
-#: ``parameters`` that returns None means the split does not apply to these options.
+#: Models whose (c_p, c_tau) are an elementwise function of c = cos(delta) and a few parameters of
+#: the surface and the flow, with c_tau proportional to sin(delta):
+#: name -> (parameters(surface, flow, options), plate(c, *parameters) -> (c_p, c_tau / sin(delta))).
+#: The model itself is ``c_p, q = plate(c, *parameters(...)); c_tau = q sin(delta)``, so a caller
+#: that evaluates several flows at once (parameters of each stacked along a leading axis, then one
+#: ``plate`` call) gets every element bit for bit as the model's own call would
+#: (PanelMethod.coefficients_many), and one that needs only c_tau / sin(delta) (the panel force
+#: along u + c n) need not form sin(delta) at all. A ``parameters`` that returns None means the
+#: split does not apply to these options.
 SPLIT_MODELS = {
-    "sentman": (sentman_parameters, _sentman_single),
-    "schaaf": (schaaf_parameters, _schaaf_single),
-    "maxwell": (maxwell_parameters, _schaaf_single),
+    "sentman": (sentman_parameters, _sentman_plate),
+    "schaaf": (schaaf_parameters, _schaaf_plate),
+    "maxwell": (maxwell_parameters, _schaaf_plate),
 }
 
 #: Which surface parameters each model reads (for documentation and parameter checks).

@@ -48,16 +48,22 @@ def _cross(a, b):
     return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
 
 
-def _facet_rows(c, sigma, cp, ctau):
-    """The (3, n) rows (r, k, max(c, 0)) of :meth:`PanelMethod._integrate_facets` for facet values
-    of shape (n,) (r = ctau / sigma, 0 where sigma = 0; k = r c - cp): elementwise, so the values
+def _facet_rows(c, cp, shear):
+    """The (3, n) rows (q, k, max(c, 0)) of :meth:`PanelMethod._integrate_facets` for facet values
+    of shape (n,), q = c_tau / sin(delta) (``shear``) and k = q c - cp: elementwise, so the values
     of several directions laid end to end give each direction's own rows, bit for bit."""
-    rows = np.zeros((3, c.size))
-    np.divide(ctau, sigma, out=rows[0], where=sigma > 0.0)
-    np.multiply(rows[0], c, out=rows[1])
+    rows = np.empty((3, c.size))
+    rows[0] = shear
+    np.multiply(shear, c, out=rows[1])
     rows[1] -= cp
     np.maximum(c, 0.0, out=rows[2])
     return rows
+
+
+def _shear_per_sine(ctau, sigma) -> np.ndarray:
+    """c_tau / sin(delta), 0 where sin(delta) = 0 (the shear direction is undefined there, and
+    every model's c_tau is 0)."""
+    return np.divide(ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
 
 
 def _unit_direction(flow_direction) -> np.ndarray:
@@ -166,7 +172,9 @@ class AeroCoefficients:
         self.reference = reference
         self.area_projected = area_projected
         self.model = model
-        # (cos_delta, cp, ctau) per panel, or per facet with panel_index mapping panels to facets
+        # (cos_delta, cp, ctau, ctau / sin(delta)) per panel, or per facet with panel_index mapping
+        # panels to facets; ctau may be None (then made from ctau / sin(delta) when asked for),
+        # ctau / sin(delta) is None when ctau is given
         self._panel_values = panel_values
         self._panel_index = panel_index
         self._lighting = lighting
@@ -206,21 +214,29 @@ class AeroCoefficients:
     def Cm_B(self) -> np.ndarray:
         return frames.L_GB @ self.Cm_G
 
-    def _per_panel(self, k: int) -> np.ndarray:
-        values = self._panel_values[k]
+    def _per_panel(self, values) -> np.ndarray:
         return values if self._panel_index is None else values[self._panel_index]
 
     @functools.cached_property
+    def _cos_delta(self) -> np.ndarray:
+        # within [-1, 1]: a unit u and unit normals give |c| <= 1 only to rounding
+        return np.clip(self._panel_values[0], -1.0, 1.0)
+
+    @functools.cached_property
     def cos_delta(self) -> np.ndarray:
-        return self._per_panel(0)
+        return self._per_panel(self._cos_delta)
 
     @functools.cached_property
     def cp(self) -> np.ndarray:
-        return self._per_panel(1)
+        return self._per_panel(self._panel_values[1])
 
     @functools.cached_property
     def ctau(self) -> np.ndarray:
-        return self._per_panel(2)
+        _, _, ctau, shear = self._panel_values
+        if ctau is None:
+            c = self._cos_delta
+            ctau = shear * np.sqrt(1.0 - c * c)
+        return self._per_panel(ctau)
 
     @functools.cached_property
     def lit_fraction(self) -> np.ndarray:
@@ -487,14 +503,36 @@ class PanelMethod:
         cp, ctau = self._model_fn(c, sigma, surface, flow, self.options)
         return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
 
-    def _integrate_facets(self, u, c, sigma, cp, ctau, lighting):
-        """:meth:`integrate` for one direction with per-facet c, sigma, cp, ctau (shape (G,)).
+    def _facet_coefficients(self, u, facet_surface, flow):
+        """c = cos(delta), c_p and c_tau / sin(delta) of every facet (shape (G,)) for one unit
+        direction ``u``, and c_tau when the model gave it (else None).
 
-        With r = ctau / sigma (0 where sigma = 0) and k = r c - cp, facet g carries the force
-        W_g (r_g u + k_g n_g) and the moment r_g (Q_g x u) + k_g (Q_g x n_g); so one product of the
-        rows (r, k, max(c, 0)) with the facet sums (W, W n, Q, Q x n) gives every sum needed.
+        A model of :data:`gsi_models.SPLIT_MODELS` is its plate, which gives c_tau / sin(delta)
+        itself: no sin(delta), and no clipping of c (within rounding of [-1, 1], where the plates
+        are smooth). Other models are evaluated as over panels.
         """
-        return self._facet_totals(u, _facet_rows(c, sigma, cp, ctau), lighting)
+        c = u @ self._facets.inward_normals_T
+        split = SPLIT_MODELS.get(self.model)
+        parameters = None if split is None else split[0](facet_surface, flow, self.options)
+        if parameters is not None:
+            cp, shear = split[1](c, *parameters)
+            return c, np.asarray(cp, dtype=float), np.asarray(shear, dtype=float), None
+        np.minimum(c, 1.0, out=c)
+        np.maximum(c, -1.0, out=c)
+        sigma = np.sqrt(1.0 - c * c)
+        cp, ctau = self._model_fn(c, sigma, facet_surface, flow, self.options)
+        cp, ctau = np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
+        return c, cp, _shear_per_sine(ctau, sigma), ctau
+
+    def _integrate_facets(self, u, c, cp, shear, lighting):
+        """:meth:`integrate` for one direction with per-facet c, c_p and q = c_tau / sin(delta)
+        (shape (G,)).
+
+        With k = q c - c_p, facet g carries the force W_g (q_g u + k_g n_g) (the shear along
+        t = (u + c n) / sin(delta)) and the moment q_g (Q_g x u) + k_g (Q_g x n_g); so one product
+        of the rows (q, k, max(c, 0)) with the facet sums (W, W n, Q, Q x n) gives every sum needed.
+        """
+        return self._facet_totals(u, _facet_rows(c, cp, shear), lighting)
 
     def _facet_totals(self, u, rows, lighting):
         """Cf_G, Cm_G and the lit projected area from the (3, G) rows of :func:`_facet_rows`."""
@@ -592,13 +630,13 @@ class PanelMethod:
         facets = self._facets
         facet_surface = None if facets is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:
-            c, sigma, cp, ctau = self._local_coefficients(u, facets.inward_normals_T, facet_surface, flow)
-            Cf_G, Cm_G, area_proj = self._integrate_facets(u, c, sigma, cp, ctau, lighting)
+            c, cp, shear, ctau = self._facet_coefficients(u, facet_surface, flow)
+            Cf_G, Cm_G, area_proj = self._integrate_facets(u, c, cp, shear, lighting)
             index = facets.index
         else:
             c, sigma, cp, ctau = self.panel_coefficients(u, flow, surface)
             Cf_G, Cm_G, area_proj = self.integrate(u, c, sigma, cp, ctau, lighting)
-            index = None
+            index = shear = None
         return AeroCoefficients(
             flow_direction=u,
             Cf_G=Cf_G,
@@ -606,7 +644,7 @@ class PanelMethod:
             reference=self.reference,
             area_projected=float(area_proj),
             model=self.model,
-            panel_values=(c, cp, ctau),
+            panel_values=(c, cp, ctau, shear),
             panel_index=index,
             lighting=lighting,
             angles=angles,
@@ -618,7 +656,7 @@ class PanelMethod:
 
         On a mesh grouped into facets, with a model of :data:`gsi_models.SPLIT_MODELS`, the
         incidences of all directions are laid out in one (M G,) array and the model's elementwise
-        core runs once over it; each direction's parameters (speed ratio, re-emission ...) and its
+        plate runs once over it; each direction's parameters (speed ratio, re-emission ...) and its
         final facet sums are its own, computed as :meth:`coefficients` computes them. Otherwise
         (a sphere, a species model, ADBSat's maxwell) each direction is one :meth:`coefficients`.
 
@@ -652,7 +690,7 @@ class PanelMethod:
         split = SPLIT_MODELS.get(self.model)
         parameters = []
         if facets is not None and split is not None and m > 1:
-            parameters_of, core = split
+            parameters_of, plate = split
             for flow, surface in zip(flows, surfaces):
                 facet_surface = facets.surface_of(surface or self.surface)
                 values = None if facet_surface is None else parameters_of(facet_surface, flow, self.options)
@@ -667,20 +705,17 @@ class PanelMethod:
         # broadcast costs several microseconds more per operation), the same value in each element
         g = facets.n
         c = np.concatenate([u @ facets.inward_normals_T for u in units])  # each its own (3,) @ (3, G)
-        np.minimum(c, 1.0, out=c)
-        np.maximum(c, -1.0, out=c)
-        sigma = np.sqrt(1.0 - c * c)
-        cp, ctau = core(c, sigma, *(_stacked(values, g) for values in zip(*parameters)))
-        cp, ctau = np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
+        cp, shear = plate(c, *(_stacked(values, g) for values in zip(*parameters)))
+        cp, shear = np.asarray(cp, dtype=float), np.asarray(shear, dtype=float)
         # (3, M G) rows made (M, 3, G): rows[k] the C-contiguous (3, G) rows of direction k
-        rows = np.ascontiguousarray(_facet_rows(c, sigma, cp, ctau).reshape(3, m, g).transpose(1, 0, 2))
+        rows = np.ascontiguousarray(_facet_rows(c, cp, shear).reshape(3, m, g).transpose(1, 0, 2))
         results = []
         for k, (u, lighting) in enumerate(zip(units, lightings)):
             Cf_G, Cm_G, area_proj = self._facet_totals(u, rows[k], lighting)
             own = slice(k * g, (k + 1) * g)
             results.append(AeroCoefficients(
                 flow_direction=u, Cf_G=Cf_G, Cm_G=Cm_G, reference=self.reference,
-                area_projected=float(area_proj), model=self.model, panel_values=(c[own], cp[own], ctau[own]),
+                area_projected=float(area_proj), model=self.model, panel_values=(c[own], cp[own], None, shear[own]),
                 panel_index=facets.index, lighting=lighting, angles=None,
             ))
         return results

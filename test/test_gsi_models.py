@@ -586,3 +586,32 @@ def test_back_face_pressure_is_never_negative(name, model):
     c, sg = angles([100.0, 120.0, 143.0, 160.0, 180.0])
     cp, _ = model(c, sg, surface(alpha=1.0, sigma_n=1.0, sigma_t=1.0), flow, ModelOptions())
     assert np.all(np.asarray(cp) >= 0.0)
+
+
+# ------------------------------------------------------------------------------- split models
+@pytest.mark.parametrize("name", ["sentman", "schaaf", "maxwell"])
+@pytest.mark.parametrize("flow_name", ["orbital", "slow"])
+def test_split_plate_is_the_model(name, flow_name):
+    """SPLIT_MODELS[name] = (parameters, plate): plate(c, *parameters) gives the model's c_p and
+    c_tau / sin(delta), against the closed forms above (Sentman's, and Schaaf & Chambre's, whose
+    c_tau is sin(delta) times a function of c alone), also at grazing and head-on incidence where
+    sin(delta) = 0 and the ratio cannot be read off c_tau."""
+    from adbsat_ros.gsi_models import SPLIT_MODELS, get_model
+
+    flow = FLOWS[flow_name]
+    surf = surface(alpha=0.8, sigma_n=0.9, sigma_t=0.7, wall_temperature=350.0)
+    parameters_of, plate = SPLIT_MODELS[name]
+    c, sg = angles(DELTAS_DEG)
+    cp, shear = plate(c, *parameters_of(surf, flow, ModelOptions()))
+    cp_model, ctau_model = get_model(name)(c, sg, surf, flow, ModelOptions())
+    assert_close(cp, cp_model, rtol=1e-14)
+    assert_close(shear * sg, ctau_model, rtol=1e-14)
+    m = flow.mean_mass
+    if name == "sentman":
+        cp_ref, tau_ref = sentman_plate(c, 1.0, flow.speed_ratio, reemission_temperature_ratio(flow, m, 0.8, 350.0))
+    else:
+        sigma_n, sigma_t = (0.9, 0.7) if name == "schaaf" else (0.8, 0.8)
+        cp_ref, tau_ref = schaaf_plate(c, 1.0, flow.speed_ratio, sigma_n, sigma_t, 350.0 / flow.temperature)
+    assert_close(cp, cp_ref)
+    assert_close(shear, tau_ref)  # (tau_i with sin(delta) = 1: c_tau / sin(delta))
+    assert np.all(np.isfinite(shear)) and shear[0] > 0.0  # head-on: a ratio c_tau / sin(delta) of 0/0
