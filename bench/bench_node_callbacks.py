@@ -16,7 +16,9 @@ times what its subscriptions do with one message, as the executor would call the
 
 ``--baseline REV`` builds the node of git revision REV too (``adbsat_ros`` extracted and imported
 as ``adbsat_ros_baseline``) and times both in alternating rounds, so that both see the same machine
-load. Prints the median over rounds of the mean time per message in microseconds.
+load. Prints the median over rounds of the mean time per message in microseconds, the fastest
+round's in brackets, and with a baseline the median over rounds of the ratio of the two nodes'
+times in that round (the paired comparison: each pair of rounds saw the same spell of the machine).
 """
 
 from __future__ import annotations
@@ -129,7 +131,7 @@ def main() -> None:
         "state (Odometry)": lambda n: n.state(one_state, args.number),
     }
     print(f"mesh: example satellite, {mesh.n_panels} faces; {args.repeat} rounds of {args.number} messages")
-    print(f"{'case':<50}" + "".join(f"{label:>22}" for label in nodes))
+    print(f"{'case':<50}" + "".join(f"{label + ' (fastest)':>28}" for label in nodes))
     for name, case in cases.items():
         for node in nodes.values():  # warm-up round (first ray cast, caches), not timed
             node.k = 0
@@ -142,8 +144,12 @@ def main() -> None:
                 case(node)
                 times[label].append((time.perf_counter() - t0) / args.number)
         medians = [statistics.median(t) * 1e6 for t in times.values()]
-        print(f"{name:<50}" + "".join(f"{m:19.1f} us" for m in medians)
-              + (f"   baseline / working tree {medians[1] / medians[0]:.1f}x" if len(medians) == 2 else ""))
+        fastest = [min(t) * 1e6 for t in times.values()]
+        line = f"{name:<50}" + "".join(f"{m:17.1f} ({f:5.1f}) us" for m, f in zip(medians, fastest))
+        if len(medians) == 2:  # each round against the other node's round right after it
+            paired = statistics.median(b / a for a, b in zip(*times.values()))
+            line += f"   baseline / working tree {paired:.2f}x"
+        print(line)
     published = {label: node.node.estimator.published for label, node in nodes.items()}
     print("wrenches published:", published)
     for node in nodes.values():

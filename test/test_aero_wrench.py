@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from adbsat_ros.aero_wrench import AeroWrenchEstimator, Rejection
+from adbsat_ros.aero_wrench import AeroWrenchEstimator, Rejection, WrenchSample
 from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings
 
 R = 6378137.0 + 300e3
@@ -271,3 +271,17 @@ def test_attitudes_taken_together_give_each_message_its_own_result_bit_for_bit(o
         assert len(single_calls) < together.published / 3
     else:
         assert len(single_calls) == together.published
+
+
+def test_fast_sample_construction_is_the_dataclass():
+    """WrenchSample._made (the per-message path) gives what WrenchSample(...) gives: every field,
+    in order, and a frozen object."""
+    import dataclasses
+
+    values = [object() for _ in dataclasses.fields(WrenchSample)]
+    made, built = WrenchSample._made(*values), WrenchSample(*values)
+    for field in dataclasses.fields(WrenchSample):
+        assert getattr(made, field.name) is getattr(built, field.name)
+    assert type(made) is WrenchSample
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        made.stamp = 0.0
