@@ -92,13 +92,13 @@ def newton(c, sigma, surface: PanelSurface, flow: FreeStream, options: ModelOpti
 
 
 def _sentman_plate(c, s, K):
-    """Sentman's plate for one gas: c_p and c_tau / sin(delta) for speed ratio s (a float) and
-    K = sqrt(T_r / T_inf) / s (a float or an array like ``c``), elementwise in ``c``.
+    """Sentman's plate for one gas: c_p and c_tau / sin(delta) for speed ratio s and
+    K = sqrt(T_r / T_inf) / s (floats, or arrays like ``c``), elementwise in ``c``.
 
     With Phi = 1 + erf(s c) and e = exp(-s^2 c^2):
     c_tau / sin(delta) = c Phi + e / (sqrt(pi) s),
     c_p = c (c_tau / sin(delta)) + Phi / (2 s^2) + (K sqrt(pi) / 2) c Phi + (K / (2 s)) e,
-    15 array operations.
+    15 array operations for float s and K.
     """
     minus_x = c * -s
     Phi = erfc(minus_x)  # = 1 + erf(x), without cancellation for x << 0
