@@ -5,7 +5,7 @@ Usage:
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
         [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
         [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...] [--baseline REV]
-        [--trace]
+        [--keep-cpus-busy] [--trace]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
 or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the
@@ -25,6 +25,10 @@ that took 100 ms or more after that.
 With --baseline REV the rounds also run adbsat_node as it was at git revision REV (its package
 extracted with ``git archive`` and put first on the node process's PYTHONPATH): the node before
 and after a change, in the same spell of the machine.
+
+With --keep-cpus-busy one busy loop per CPU runs at idle priority (nice 19) for the whole
+benchmark: no CPU then sleeps between messages, and none is woken cold by the next one (the other
+processes preempt the loops whenever they want the CPU).
 
 With --trace the adbsat node runs as bench/traced_node.py, which times its attitude callback's parts
 (``on_attitude``, ``prepare``, ``publish``, the takes of waiting messages, the bursts computed
@@ -365,6 +369,10 @@ def main() -> None:
                              "a node of known CPU cost beside adbsat, in the same rounds")
     parser.add_argument("--baseline", metavar="REV",
                         help="also run adbsat_node as it was at git revision REV, in the same rounds")
+    parser.add_argument("--keep-cpus-busy", action="store_true",
+                        help="run one idle-priority (nice 19) busy loop per CPU for the whole benchmark, so that "
+                             "no CPU sleeps between messages (the cost of a CPU woken from idle, "
+                             "docs/benchmarks.md session 9); every process then gets the CPU whenever it wants it")
     parser.add_argument("--trace", action="store_true",
                         help="time the adbsat node's callback parts in the running process (bench/traced_node.py)")
     parser.add_argument("--out", default="")
@@ -403,6 +411,18 @@ def main() -> None:
 
         packages[kind] = str(extract_package(args.baseline, tempfile.mkdtemp()).parent)
         echo_work[kind] = 0.0
+    spinners = [subprocess.Popen([sys.executable, "-c", "import os\nos.nice(19)\nwhile True: pass"])
+                for _ in range(os.cpu_count() or 1)] if args.keep_cpus_busy else []
+    try:
+        run_all(args, str(mesh_path), echo_work, packages)
+    finally:
+        for spinner in spinners:
+            spinner.kill()
+            spinner.wait()
+
+
+def run_all(args, mesh_path: str, echo_work: dict, packages: dict) -> None:
+    """The rounds at every rate, the pairs and the soak, printed."""
     pairs = []
     for rate in (float(r) for r in args.rates.split(",")):
         # echo and adbsat alternate, round after round: a slow spell of this shared machine then
@@ -410,7 +430,7 @@ def main() -> None:
         rounds = {kind: [] for kind in echo_work}
         for _ in range(args.rounds):
             for kind in rounds:
-                rounds[kind].append(run_case(kind, rate, args.duration, str(mesh_path), args,
+                rounds[kind].append(run_case(kind, rate, args.duration, mesh_path, args,
                                              echo_work_us=echo_work[kind], package_dir=packages.get(kind)))
         for kind in rounds:
             r = pooled(rounds[kind])
@@ -443,7 +463,7 @@ def main() -> None:
             print(f"pairs at {rate:.0f} Hz, p99 ms echo/{other}, target {other} < echo + 1 ms: {'; '.join(verdicts)}"
                   f" -> held in {held} of {len(verdicts)}")
     if args.soak > 0:
-        r = pooled([run_case("adbsat", 1000.0, args.soak, str(mesh_path), args, measure_memory=True)])
+        r = pooled([run_case("adbsat", 1000.0, args.soak, mesh_path, args, measure_memory=True)])
         print(f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "
               f"p99 {r['p99_ms']:.3f} ms, max {r['max_ms']:.1f} ms, RSS {r['rss_start_mb']:.1f} -> {r['rss_end_mb']:.1f} MB "
               f"(growth {r['rss_end_mb'] - r['rss_start_mb']:.1f} MB)")
