@@ -64,6 +64,10 @@ PRECESSION_NUTATION_STEP_S = 60.0
 KNOT_SNAP_S = 1e-6
 #: Knots kept per state: the two around the latest stamp, the next one prepared ahead, one spare.
 KNOTS_KEPT = 4
+#: :meth:`AeroWrenchEstimator.prepare` also evaluates the knot this many steps after the prepared
+#: stamp's interval (when it evaluated no knot for that stamp itself), so that attitudes served
+#: together that cross into the next interval find its far knot ready.
+KNOT_LOOKAHEAD = 2
 
 #: Names accepted in Odometry.child_frame_id for a twist already in the state frame.
 STATE_FRAME_NAMES = ("", "eci", "ecef", "gcrf", "itrf", "j2000", "earth", "world", "map")
@@ -72,6 +76,18 @@ STATE_FRAME_NAMES = ("", "eci", "ecef", "gcrf", "itrf", "j2000", "earth", "world
 def stamp_seconds(stamp) -> float:
     """A builtin_interfaces/Time (rclpy or rosbags message: fields sec, nanosec) as float seconds."""
     return stamp.sec + 1e-9 * stamp.nanosec
+
+
+def _knot_position(stamp: float, step: float) -> tuple:
+    """(j, past): the knot j step at or before ``stamp`` and the time past it [s], a stamp within
+    KNOT_SNAP_S of a knot taking that knot (past = 0)."""
+    j = math.floor(stamp / step)
+    past = stamp - j * step  # [s] after knot j
+    if past >= step - KNOT_SNAP_S:
+        return j + 1, 0.0
+    if past <= KNOT_SNAP_S:
+        return j, 0.0
+    return j, past
 
 
 def next_regular_stamp(previous, latest) -> float | None:
@@ -258,6 +274,7 @@ class AeroWrenchEstimator:
         self._conditions_memo: tuple = ()  # _KeptConditions of the latest two stamps
         self._knots: tuple = (None, None, {})  # state, settings, {knot index: FlightConditions}
         self.prepared_used = 0  # attitudes whose flight conditions prepare() had made ahead
+        self.knots_evaluated = 0  # exact flight conditions evaluated at knots (conditions_step)
         self._last_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
         self._shading: _ShadingSource | None = None
@@ -637,12 +654,7 @@ class AeroWrenchEstimator:
         state always give the same numbers, live or from a bag, and a stream stamped on multiples
         of the step lands on knots); None if a knot cannot be evaluated (e.g. it lies outside the
         atmosphere model while the stamp does not), for the exact evaluation."""
-        j = math.floor(stamp / step)
-        past = stamp - j * step  # [s] after knot j
-        if past >= step - KNOT_SNAP_S:
-            j, past = j + 1, 0.0
-        elif past <= KNOT_SNAP_S:
-            past = 0.0
+        j, past = _knot_position(stamp, step)
         try:
             a = self._knot(state, j, step)
             b = a if past == 0.0 else self._knot(state, j + 1, step)
@@ -660,6 +672,7 @@ class AeroWrenchEstimator:
         if conditions is None:
             stamp = j * step
             conditions = self._exact_conditions(stamp, state, self.utc(stamp))
+            self.knots_evaluated += 1
             if len(table) >= KNOTS_KEPT:
                 del table[next(iter(table))]
             table[j] = conditions
@@ -676,6 +689,12 @@ class AeroWrenchEstimator:
         only for exactly that stamp, state and settings; any other message is computed as usual.
         Nothing is counted or raised.
 
+        If that needed no new knot (``conditions_step``), the knot KNOT_LOOKAHEAD steps on from
+        the stamp's own is evaluated instead, one interval before any stamp needs it: attitudes
+        that queued up and are served together (:meth:`on_attitudes`) then cross into the next
+        interval without an NRLMSISE-00 evaluation among them. At most one knot is evaluated so
+        per call, the same knots as without it, earlier.
+
         Returns
         -------
         bool
@@ -685,12 +704,19 @@ class AeroWrenchEstimator:
         state, last = self._state, self._last_attitude_stamp
         if state is None or not math.isfinite(stamp) or (last is not None and stamp <= last):
             return False
+        step = self.settings.conditions_step
         if abs(stamp - state.stamp) > self.settings.state_timeout:
             return False
+        evaluated = self.knots_evaluated
         try:
             self._conditions_at(stamp, state, prepare=True)
         except ValueError:
             return False
+        if step > 0.0 and self.knots_evaluated == evaluated:
+            try:
+                self._knot(state, _knot_position(stamp, step)[0] + KNOT_LOOKAHEAD, step)
+            except ValueError:  # (e.g. above the atmosphere model: the stamp itself is not)
+                pass
         return True
 
     def _wrench_request(self, stamp, utc, rotation: tuple, conditions: FlightConditions, flow, t0):

@@ -87,6 +87,32 @@ def test_prepared_conditions_are_used_for_that_stamp_only_and_change_no_result()
     assert sum(est.rejections.values()) == 0  # preparing counts nothing
 
 
+def test_prepare_evaluates_the_knot_after_next_so_that_a_burst_into_the_next_interval_needs_none():
+    """prepare() evaluates, when the prepared stamp needed no new knot, the knot two steps on: a
+    burst of 1 kHz attitudes crossing the knot at 1.01 s into [1.01, 1.02] then evaluates no
+    NRLMSISE-00 knot among its messages, where an estimator fed the same without prepare() must
+    evaluate the knot at 1.02 s in the burst; the wrenches are the same bit for bit, since a knot
+    depends on the state and its stamp only."""
+    prepared, plain = estimator(), estimator()
+    for est in (prepared, plain):
+        est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    for k in range(6):  # 1.000 .. 1.005, each followed by prepare of the next stamp, as the node does
+        stamp = 1.0 + 0.001 * k
+        prepared.on_attitude(stamp, TILTED)
+        plain.on_attitude(stamp, TILTED)
+        assert prepared.prepare(stamp + 0.001)
+    assert prepared.knots_evaluated == 3 and plain.knots_evaluated == 2  # knots 100, 101 (+102 ahead)
+    burst = [(1.006 + 0.001 * k, TILTED) for k in range(8)]  # 1.006 .. 1.013
+    before = prepared.knots_evaluated, plain.knots_evaluated
+    together, reference = prepared.on_attitudes(burst), plain.on_attitudes(burst)
+    assert prepared.knots_evaluated == before[0]  # the knot at 1.02 s was ready
+    assert plain.knots_evaluated == before[1] + 1  # evaluated among the burst
+    for a, b in zip(together, reference):
+        np.testing.assert_array_equal(a.force, b.force)
+        np.testing.assert_array_equal(a.torque, b.torque)
+    assert prepared.prepare(1.014) and prepared.knots_evaluated == before[0] + 1  # the next one ahead: 103
+
+
 @pytest.mark.parametrize("period_ns", [10_000_000, 1_000_000, 3_333_333, 999_999_999])
 @pytest.mark.parametrize("start_s", [0, 7, 1_700_000_000])
 def test_next_regular_stamp_is_bit_equal_to_the_next_message_stamp(period_ns, start_s):
