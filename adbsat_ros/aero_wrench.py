@@ -62,11 +62,12 @@ PRECESSION_NUTATION_STEP_S = 60.0
 #: ``conditions_step`` (e.g. 100 Hz at the default 10 ms) lands on knots and needs one evaluation
 #: per message, as without knots.
 KNOT_SNAP_S = 1e-6
-#: Knots kept per state: the two around the latest stamp, the next one prepared ahead, one spare.
+#: Knots kept per state: the two around the latest stamp, the one after them (prepare's
+#: look-ahead), one spare.
 KNOTS_KEPT = 4
-#: :meth:`AeroWrenchEstimator.prepare` also evaluates the knot this many steps after the prepared
-#: stamp's interval (when it evaluated no knot for that stamp itself), so that attitudes served
-#: together that cross into the next interval find its far knot ready.
+#: :meth:`AeroWrenchEstimator.prepare` also evaluates the knot this many steps after the one at or
+#: before the prepared stamp (when it evaluated no knot for that stamp itself), so that attitudes
+#: served together that cross into the next interval find its far knot ready.
 KNOT_LOOKAHEAD = 2
 
 #: Names accepted in Odometry.child_frame_id for a twist already in the state frame.
@@ -693,7 +694,8 @@ class AeroWrenchEstimator:
         the stamp's own is evaluated instead, one interval before any stamp needs it: attitudes
         that queued up and are served together (:meth:`on_attitudes`) then cross into the next
         interval without an NRLMSISE-00 evaluation among them. At most one knot is evaluated so
-        per call, the same knots as without it, earlier.
+        per call: the knots a regular stream needs anyway, one interval earlier (the last one
+        before a new state may go unused).
 
         Returns
         -------
@@ -704,9 +706,9 @@ class AeroWrenchEstimator:
         state, last = self._state, self._last_attitude_stamp
         if state is None or not math.isfinite(stamp) or (last is not None and stamp <= last):
             return False
-        step = self.settings.conditions_step
         if abs(stamp - state.stamp) > self.settings.state_timeout:
             return False
+        step = self.settings.conditions_step
         evaluated = self.knots_evaluated
         try:
             self._conditions_at(stamp, state, prepare=True)
