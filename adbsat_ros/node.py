@@ -306,9 +306,7 @@ class AdbsatNode(Node):
 
     def _compute_together(self, attitudes: list) -> None:
         """Compute and publish the wrenches of (stamp, quaternion) attitudes taken together."""
-        if len(attitudes) < 2:
-            for fields in attitudes:
-                self._compute_and_publish(*fields)
+        if not attitudes:
             return
         try:
             results = self.estimator.on_attitudes([(stamp_seconds(stamp), q) for stamp, q in attitudes])

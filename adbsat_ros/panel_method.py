@@ -49,7 +49,7 @@ def _cross(a, b):
 
 
 def _facet_rows(c, cp, shear):
-    """The (3, n) rows (q, k, max(c, 0)) of :meth:`PanelMethod._integrate_facets` for facet values
+    """The (3, n) rows (q, k, max(c, 0)) of :meth:`PanelMethod._facet_totals` for facet values
     of shape (n,), q = c_tau / sin(delta) (``shear``) and k = q c - cp: elementwise, so the values
     of several directions laid end to end give each direction's own rows, bit for bit."""
     rows = np.empty((3, c.size))
@@ -509,33 +509,25 @@ class PanelMethod:
 
         A model of :data:`gsi_models.SPLIT_MODELS` is its plate, which gives c_tau / sin(delta)
         itself: no sin(delta), and no clipping of c (within rounding of [-1, 1], where the plates
-        are smooth). Other models are evaluated as over panels.
+        are smooth). Other models are evaluated as over panels (:meth:`_local_coefficients`).
         """
-        c = u @ self._facets.inward_normals_T
         split = SPLIT_MODELS.get(self.model)
         parameters = None if split is None else split[0](facet_surface, flow, self.options)
-        if parameters is not None:
-            cp, shear = split[1](c, *parameters)
-            return c, np.asarray(cp, dtype=float), np.asarray(shear, dtype=float), None
-        np.minimum(c, 1.0, out=c)
-        np.maximum(c, -1.0, out=c)
-        sigma = np.sqrt(1.0 - c * c)
-        cp, ctau = self._model_fn(c, sigma, facet_surface, flow, self.options)
-        cp, ctau = np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
-        return c, cp, _shear_per_sine(ctau, sigma), ctau
-
-    def _integrate_facets(self, u, c, cp, shear, lighting):
-        """:meth:`integrate` for one direction with per-facet c, c_p and q = c_tau / sin(delta)
-        (shape (G,)).
-
-        With k = q c - c_p, facet g carries the force W_g (q_g u + k_g n_g) (the shear along
-        t = (u + c n) / sin(delta)) and the moment q_g (Q_g x u) + k_g (Q_g x n_g); so one product
-        of the rows (q, k, max(c, 0)) with the facet sums (W, W n, Q, Q x n) gives every sum needed.
-        """
-        return self._facet_totals(u, _facet_rows(c, cp, shear), lighting)
+        if parameters is None:
+            c, sigma, cp, ctau = self._local_coefficients(u, self._facets.inward_normals_T, facet_surface, flow)
+            return c, cp, _shear_per_sine(ctau, sigma), ctau
+        c = u @ self._facets.inward_normals_T
+        cp, shear = split[1](c, *parameters)
+        return c, np.asarray(cp, dtype=float), np.asarray(shear, dtype=float), None
 
     def _facet_totals(self, u, rows, lighting):
-        """Cf_G, Cm_G and the lit projected area from the (3, G) rows of :func:`_facet_rows`."""
+        """Cf_G, Cm_G and the lit projected area from the (3, G) rows (q, k, max(c, 0)) of
+        :func:`_facet_rows`, q = c_tau / sin(delta) and k = q c - c_p per facet.
+
+        Facet g carries the force W_g (q_g u + k_g n_g) (the shear along t = (u + c n) /
+        sin(delta)) and the moment q_g (Q_g x u) + k_g (Q_g x n_g); so one product of the rows
+        with the facet sums (W, W n, Q, Q x n) gives every sum needed.
+        """
         sums = self._facets.lit_sums(lighting)
         (r_w, _, _, _, r_qx, r_qy, r_qz, _, _, _), (_, k_nx, k_ny, k_nz, _, _, _, k_mx, k_my, k_mz), \
             (area_projected, *_) = (rows @ sums).tolist()
@@ -631,7 +623,7 @@ class PanelMethod:
         facet_surface = None if facets is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:
             c, cp, shear, ctau = self._facet_coefficients(u, facet_surface, flow)
-            Cf_G, Cm_G, area_proj = self._integrate_facets(u, c, cp, shear, lighting)
+            Cf_G, Cm_G, area_proj = self._facet_totals(u, _facet_rows(c, cp, shear), lighting)
             index = facets.index
         else:
             c, sigma, cp, ctau = self.panel_coefficients(u, flow, surface)
