@@ -59,6 +59,7 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
+REPOSITORY = HERE.parent
 R_ORBIT = 6378137.0 + 300e3
 #: Seconds at the start of each run whose messages are not counted: the node's first ray cast
 #: (~40 ms cold) and the messages queued behind it.
@@ -234,9 +235,14 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     env["ECHO_QOS_DEPTH"] = "100"
     env["ECHO_EXECUTOR"] = args.executor
     env["ECHO_WORK_US"] = str(echo_work_us)
+    # The node's package first on its path: a baseline's extracted package, else this tree's own
+    # (REPOSITORY). The node runs in a directory of its own: with ``python -m`` the working
+    # directory comes before PYTHONPATH, and the tree the bench is started from would shadow a
+    # baseline's package.
     node_env = dict(env)
-    if package_dir:
-        node_env["PYTHONPATH"] = os.pathsep.join(p for p in (package_dir, env.get("PYTHONPATH")) if p)
+    node_env["PYTHONPATH"] = os.pathsep.join(
+        p for p in (package_dir or str(REPOSITORY), env.get("PYTHONPATH")) if p
+    )
     if not kind.startswith("adbsat"):
         node_cmd = [sys.executable, str(HERE / "echo_node.py")]
     else:
@@ -248,7 +254,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
             node_cmd += ["-p", f"database_path:={args.database}"]
     tmp = Path(tempfile.mkdtemp())
     node_log = open(tmp / "node.log", "w")  # a file, not a pipe nobody reads (a full pipe would block the node)
-    node = subprocess.Popen(node_cmd, env=node_env, stdout=node_log, stderr=subprocess.STDOUT)
+    node = subprocess.Popen(node_cmd, env=node_env, cwd=tmp, stdout=node_log, stderr=subprocess.STDOUT)
     time.sleep(0.5)
     wait_until_idle(node.pid)
     recv = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--duration", str(duration + 8 + args.settle),
