@@ -505,7 +505,7 @@ class AeroWrenchEstimator:
             x, y, z, w = float(x), float(y), float(z), float(w)
         except (TypeError, ValueError):
             self._reject("non_finite", f"{what} is not four numbers")
-        if not all(math.isfinite(v) for v in (x, y, z, w)):
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z) and math.isfinite(w)):
             self._reject("non_finite", f"{what} has NaN or Inf")
         norm = math.sqrt(x * x + y * y + z * z + w * w)
         if abs(norm - 1.0) > self.settings.max_quaternion_norm_error:
@@ -565,7 +565,7 @@ class AeroWrenchEstimator:
                 requests.append((len(results), request))
             results.append(request)
         try:  # (one request or none: coefficients_many is a plain coefficients call)
-            coefficients = self.method.coefficients_many(
+            coefficients = self.method._unit_coefficients_many(
                 [r.flow for _, r in requests], [r.flow_direction for _, r in requests],
                 [r.lighting for _, r in requests], [r.surface for _, r in requests],
             )
@@ -730,14 +730,15 @@ class AeroWrenchEstimator:
             zero = np.zeros(3)
             return WrenchSample(stamp, utc, zero, zero.copy(), zero.copy(), zero.copy(), ref.area, ref.length,
                                 0.0, conditions, None, zero.copy(), None, time.perf_counter() - t0)
-        # gas motion relative to the body, body axes: u = -R^T v_rel / |v_rel|, in floats
+        # gas motion relative to the body, body axes: u = -R^T v_rel / |R^T v_rel|, in floats (a unit
+        # vector as the panel method takes it: PanelMethod._unit_coefficients)
         vx, vy, vz = conditions.relative_velocity_floats(s.state_frame)
         m = rotation
-        u_body = np.array([
-            -(m[0] * vx + m[3] * vy + m[6] * vz) / speed,
-            -(m[1] * vx + m[4] * vy + m[7] * vz) / speed,
-            -(m[2] * vx + m[5] * vy + m[8] * vz) / speed,
-        ])
+        gx = -(m[0] * vx + m[3] * vy + m[6] * vz)
+        gy = -(m[1] * vx + m[4] * vy + m[7] * vz)
+        gz = -(m[2] * vx + m[5] * vy + m[8] * vz)
+        norm = math.sqrt(gx * gx + gy * gy + gz * gz)  # the speed, to rounding (R is a rotation)
+        u_body = np.array([gx / norm, gy / norm, gz / norm])
         q = flow.dynamic_pressure()
         if self._database is not None:
             try:
@@ -759,8 +760,8 @@ class AeroWrenchEstimator:
 
     def _coefficients(self, request: "_PanelRequest") -> AeroCoefficients:
         try:
-            return self.method.coefficients(request.flow, flow_direction=request.flow_direction,
-                                            lighting=request.lighting, surface=request.surface)
+            return self.method._unit_coefficients(request.flow, request.flow_direction, request.lighting,
+                                                  request.surface)
         except ValueError as exc:
             self._reject("compute_error", str(exc))
 

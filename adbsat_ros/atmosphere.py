@@ -314,43 +314,58 @@ def run_model(
     return _model_state(he, o, n2, o2, ar, h, n, ano, rho, temperatures[0], temperatures[1], anomalous_oxygen)
 
 
-def _model_state(he, o, n2, o2, ar, h, n, ano, rho, exospheric_temperature, temperature,
-                 anomalous_oxygen) -> AtmosphereState:
-    """An AtmosphereState from the model's floats (number densities [m^-3] by species, mass
-    density [kg/m^3], temperatures [K]), as AtmosphereState(...) would make it (its fields need
-    no check), with the derived values of the mixture filled in, the sums as mean_mass does them."""
-    densities = {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano}
-    state = object.__new__(AtmosphereState)
-    fields = state.__dict__
-    fields["number_densities"] = types.MappingProxyType(densities)
-    fields["mass_density"] = rho
-    fields["exospheric_temperature"] = exospheric_temperature
-    fields["temperature"] = temperature
+def gas_mixture(he, o, n2, o2, ar, h, n, ano, mass_density, temperature, anomalous_oxygen) -> tuple:
+    """The gas mixture of model floats (number densities [m^-3] by species, mass density
+    [kg/m^3], temperature [K]): ``(species, values, mean_mass, usable)``.
+
+    ``species`` and ``values`` are the mixture's species (with "AnO" iff ``anomalous_oxygen``) and
+    their number densities in that order; ``mean_mass`` [kg] is the number-weighted mean molecular
+    mass (None if the total is not > 0); ``usable`` says that a FreeStream can take the mixture as
+    it is (finite positive total, temperature and mass density, no negative density), the checks
+    of :meth:`FreeStream.of_mixture`. :func:`run_model`'s states and the interpolated flight
+    conditions' free streams are both made from this, so their sums are the same bit for bit.
+    """
     if anomalous_oxygen:
-        fields["anomalous_oxygen"] = True
-        fields["mixture_species"] = SPECIES
-        fields["_mixture_densities"] = values = (he, o, n2, o2, ar, h, n, ano)
+        species, values = SPECIES, (he, o, n2, o2, ar, h, n, ano)
         total = 0.0 + he + o + n2 + o2 + ar + h + n + ano
         weighted = (0.0 + he * _HE + o * _O + n2 * _N2 + o2 * _O2 + ar * _AR + h * _H + n * _N
                     + ano * _ANO)
         negative = ano < 0.0
     else:
-        fields["anomalous_oxygen"] = False
-        fields["mixture_species"] = _SPECIES_WITHOUT_ANO
-        fields["_mixture_densities"] = values = (he, o, n2, o2, ar, h, n)
+        species, values = _SPECIES_WITHOUT_ANO, (he, o, n2, o2, ar, h, n)
         total = 0.0 + he + o + n2 + o2 + ar + h + n
         weighted = 0.0 + he * _HE + o * _O + n2 * _N2 + o2 * _O2 + ar * _AR + h * _H + n * _N
-        densities = {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n}
         negative = False
-    if total > 0.0:  # else mean_mass raises on access, as it always did
-        fields["mean_mass"] = weighted / total
-    if (
-        0.0 < total < math.inf and 0.0 < temperature < math.inf and 0.0 < rho < math.inf
+    mean_mass = weighted / total if total > 0.0 else None
+    usable = (
+        0.0 < total < math.inf and 0.0 < temperature < math.inf and 0.0 < mass_density < math.inf
         and not (negative or he < 0.0 or o < 0.0 or n2 < 0.0 or o2 < 0.0 or ar < 0.0 or h < 0.0 or n < 0.0)
-    ):
-        # What a free stream needs of the mixture, known to pass its checks (FreeStream.of_mixture):
-        # species, their number densities (a tuple, and a mapping to copy) and the mean mass.
-        fields["_free_stream_mixture"] = (fields["mixture_species"], values, densities, fields["mean_mass"])
+    )
+    return species, values, mean_mass, usable
+
+
+def _model_state(he, o, n2, o2, ar, h, n, ano, rho, exospheric_temperature, temperature,
+                 anomalous_oxygen) -> AtmosphereState:
+    """An AtmosphereState from the model's floats (number densities [m^-3] by species, mass
+    density [kg/m^3], temperatures [K]), as AtmosphereState(...) would make it (its fields need
+    no check), with the derived values of the mixture (:func:`gas_mixture`) filled in."""
+    state = object.__new__(AtmosphereState)
+    fields = state.__dict__
+    fields["number_densities"] = types.MappingProxyType(
+        {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano}
+    )
+    fields["mass_density"] = rho
+    fields["exospheric_temperature"] = exospheric_temperature
+    fields["temperature"] = temperature
+    fields["anomalous_oxygen"] = anomalous_oxygen = bool(anomalous_oxygen)
+    species, values, mean_mass, usable = gas_mixture(he, o, n2, o2, ar, h, n, ano, rho, temperature, anomalous_oxygen)
+    fields["mixture_species"] = species
+    fields["_mixture_densities"] = values
+    if mean_mass is not None:  # else mean_mass raises on access, as it always did
+        fields["mean_mass"] = mean_mass
+    if usable:
+        # What a free stream needs of the mixture, known to pass its checks (FreeStream.of_mixture)
+        fields["_free_stream_mixture"] = (species, values, mean_mass)
     return state
 
 

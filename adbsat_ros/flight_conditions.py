@@ -38,12 +38,14 @@ from .atmosphere import (
     FIRST_YEAR,
     LAST_YEAR,
     MAX_ALTITUDE,
+    _MODEL_STATE_SPECIES,
     AtmosphereState,
     SpaceWeather,
     check_altitude,
     check_time,
     checked_utc,
     evaluate_atmosphere,
+    gas_mixture,
     interpolated_atmosphere,
     run_model,
 )
@@ -197,6 +199,9 @@ class FlightConditions:
         The same numbers as ``relative_velocity_eci`` / ``relative_velocity_ecef``, without making
         the array (for per-message code working on floats); None when only a speed is known.
         """
+        relative = self.__dict__.get("_relative")
+        if relative is not None:  # interpolated conditions (ECI, ECEF)
+            return relative[frame == "ecef"]
         index = _VECTOR_FIELDS.index(f"relative_velocity_{frame}")
         vectors = self.__dict__.get("_vectors")
         if vectors is not None and _VECTOR_FIELDS[index] not in self.__dict__:
@@ -276,14 +281,18 @@ class FlightConditions:
                 "relative speed is 0 m/s (the satellite is at rest in the air): "
                 "no free stream; check FlightConditions.speed before asking for one"
             )
+        fields = self.__dict__
+        mixture = fields.get("_free_stream_mixture")
+        if mixture is not None:  # interpolated conditions: their mixture, checked (gas_mixture)
+            species, values, temperature, mass_density, mean_mass = mixture
+            return FreeStream._of_checked_mixture(speed, temperature, species, values, mass_density, mean_mass)
         atmosphere = self.atmosphere
         mixture = atmosphere.__dict__.get("_free_stream_mixture")
         if mixture is not None and type(speed) is float and speed < math.inf:
             # an atmosphere of run_model, whose mixture passed of_mixture's checks there
-            species, values, densities, mean_mass = mixture
+            species, values, mean_mass = mixture
             return FreeStream._of_checked_mixture(
-                speed, atmosphere.temperature, species, values, densities, atmosphere.mass_density,
-                mean_mass,
+                speed, atmosphere.temperature, species, values, atmosphere.mass_density, mean_mass,
             )
         return FreeStream.of_mixture(
             speed,
@@ -313,6 +322,8 @@ class _VectorOnFirstRead:
         if instance is None:
             return self
         fields = instance.__dict__
+        if "_vectors" not in fields and "_interpolation" in fields:
+            _complete_interpolation(fields)
         try:
             vector = fields["_vectors"][self.index]
         except KeyError:
@@ -326,6 +337,34 @@ class _VectorOnFirstRead:
 for _index, _name in enumerate(_VECTOR_FIELDS):
     setattr(FlightConditions, _name, _VectorOnFirstRead(_name, _index))
 del _index, _name
+
+
+class _InterpolatedOnFirstRead:
+    """A field of :class:`FlightConditions` that :func:`interpolated_flight_conditions` leaves to
+    its first read: the geodetic position and the atmosphere (a message's wrench needs neither).
+    All of them are made then (:func:`_complete_interpolation`), and become instance attributes.
+    A non-data descriptor, like :class:`_VectorOnFirstRead`."""
+
+    __slots__ = ("name",)
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def __get__(self, instance, owner=None):
+        if instance is None:
+            return self
+        fields = instance.__dict__
+        if "_interpolation" not in fields:
+            raise AttributeError(f"{type(instance).__name__!r} object has no attribute {self.name!r}")
+        _complete_interpolation(fields)
+        return fields[self.name]
+
+
+#: The fields interpolated_flight_conditions defers (with the six vectors, _vectors).
+_DEFERRED_FIELDS = ("latitude", "longitude", "altitude", "atmosphere")
+for _name in _DEFERRED_FIELDS:
+    setattr(FlightConditions, _name, _InterpolatedOnFirstRead(_name))
+del _name
 
 
 def _vector_floats(conditions: FlightConditions) -> tuple:
@@ -352,6 +391,11 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
     density at 77 m (10 ms at 7.7 km/s), see test_flight_conditions. NRLMSISE-00's own steps (e.g.
     at exactly 300 km) are spread over the interval that crosses them.
 
+    What a message's wrench reads (speed, speed ratio, mean mass, alpha, relative velocity,
+    :meth:`FlightConditions.free_stream`) is made at once; the geodetic position, the atmosphere
+    and the other vectors on first read, from the same mixes (so the same numbers whichever comes
+    first). Per message in the ROS node that halves the cost of the conditions (docs/benchmarks.md).
+
     Raises
     ------
     ValueError
@@ -366,6 +410,85 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
         conditions.__dict__.update(a.__dict__)
         conditions.__dict__["time"] = time
         return conditions
+    numbers_a, numbers_b = _interpolation_numbers(a), _interpolation_numbers(b)
+    if numbers_a is not None and numbers_b is not None:
+        v = 1.0 - weight
+        # each number as _complete_interpolation and interpolated_atmosphere mix it
+        rx, ry, rz, ex, ey, ez, temperature, mass_density, he, o, n2, o2, ar, h, n, ano, alpha = [
+            v * p + weight * q for p, q in zip(numbers_a, numbers_b)
+        ]
+        anomalous_oxygen = a.atmosphere.anomalous_oxygen
+        species, values, mean_mass, usable = gas_mixture(
+            he, o, n2, o2, ar, h, n, ano, mass_density, temperature, anomalous_oxygen
+        )
+        if usable and anomalous_oxygen == b.atmosphere.anomalous_oxygen:
+            speed = math.sqrt(ex * ex + ey * ey + ez * ez)
+            conditions = _new_conditions(FlightConditions)
+            conditions.__dict__.update({
+                "time": time,
+                "_interpolation": (a, b, weight),
+                "_relative": ((rx, ry, rz), (ex, ey, ez)),
+                "_free_stream_mixture": (species, values, temperature, mass_density, mean_mass),
+                "mean_molecular_mass": mean_mass,
+                "speed": speed,
+                "speed_ratio": speed / math.sqrt(2.0 * BOLTZMANN * temperature / mean_mass),
+                "accommodation_model": a.accommodation_model,
+                "accommodation_coefficient": alpha,
+                "earth_rotation": a.earth_rotation,
+                "space_weather": a.space_weather,
+            })
+            return conditions
+    # (no relative velocity, or a mixture a free stream would not take: everything now, the same way)
+    conditions = _new_conditions(FlightConditions)
+    fields = conditions.__dict__
+    fields["_interpolation"] = (a, b, weight)
+    _complete_interpolation(fields)
+    atmosphere = fields["atmosphere"]
+    relative_ecef = fields["_vectors"][5]
+    if relative_ecef is None:
+        speed = (1.0 - weight) * a.speed + weight * b.speed
+    else:
+        x, y, z = relative_ecef
+        speed = math.sqrt(x * x + y * y + z * z)
+    mean_mass = atmosphere.mean_mass
+    fields.update({
+        "time": time,
+        "mean_molecular_mass": mean_mass,
+        "speed": speed,
+        "speed_ratio": speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / mean_mass),
+        "accommodation_model": a.accommodation_model,
+        "accommodation_coefficient": (1.0 - weight) * a.accommodation_coefficient + weight * b.accommodation_coefficient,
+        "earth_rotation": a.earth_rotation,
+        "space_weather": a.space_weather,
+    })
+    return conditions
+
+
+def _interpolation_numbers(conditions: FlightConditions) -> tuple | None:
+    """The numbers :func:`interpolated_flight_conditions` mixes of conditions it interpolates
+    between (relative velocity in ECI and ECEF, temperature, mass density, the eight number
+    densities of :func:`adbsat_ros.atmosphere.interpolated_atmosphere`, alpha), kept with them;
+    None without a relative velocity or an atmosphere of the model's species."""
+    fields = conditions.__dict__
+    numbers = fields.get("_interpolation_numbers")
+    if numbers is None and "_interpolation_numbers" not in fields:
+        vectors = _vector_floats(conditions)
+        atmosphere = conditions.atmosphere
+        densities = atmosphere.number_densities
+        if vectors[4] is None or vectors[5] is None or any(name not in densities for name in _MODEL_STATE_SPECIES):
+            numbers = None
+        else:
+            numbers = (*vectors[4], *vectors[5], atmosphere.temperature, atmosphere.mass_density,
+                       *(densities[name] for name in _MODEL_STATE_SPECIES), conditions.accommodation_coefficient)
+        fields["_interpolation_numbers"] = numbers
+    return numbers
+
+
+def _complete_interpolation(fields: dict) -> None:
+    """Fill in the deferred fields of interpolated conditions (their ``__dict__``): the six
+    vectors mixed linearly, the geodetic position of the mixed ECEF position (exact, also over a
+    pole) and the interpolated atmosphere."""
+    a, b, weight = fields["_interpolation"]
     v = 1.0 - weight
 
     def mix(p, q):
@@ -376,18 +499,14 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
     pa, qa, ra, sa, ta, ua = _vector_floats(a)
     pb, qb, rb, sb, tb, ub = _vector_floats(b)
     vectors = (mix(pa, pb), mix(qa, qb), mix(ra, rb), mix(sa, sb), mix(ta, tb), mix(ua, ub))
-    relative_ecef = vectors[5]
-    if relative_ecef is None:
-        speed = v * a.speed + weight * b.speed
-    else:
-        x, y, z = relative_ecef
-        speed = math.sqrt(x * x + y * y + z * z)
-    atmosphere = interpolated_atmosphere(a.atmosphere, b.atmosphere, weight)
     latitude, longitude, altitude = geodetic_of_floats(*vectors[1])
-    return _made_conditions(
-        time, vectors, latitude, longitude, altitude, atmosphere, speed, a.accommodation_model,
-        v * a.accommodation_coefficient + weight * b.accommodation_coefficient, a.earth_rotation, a.space_weather,
-    )
+    fields.update({
+        "_vectors": vectors,
+        "latitude": latitude,
+        "longitude": longitude,
+        "altitude": altitude,
+        "atmosphere": interpolated_atmosphere(a.atmosphere, b.atmosphere, weight),
+    })
 
 
 def _three_floats(value, name: str) -> tuple:

@@ -168,15 +168,15 @@ class FreeStream:
         return flow
 
     @classmethod
-    def _of_checked_mixture(cls, speed, temperature, species, values, number_densities, density, mean_mass):
+    def _of_checked_mixture(cls, speed, temperature, species, values, density, mean_mass):
         """:meth:`of_mixture` for inputs known to pass its checks (floats; speed, temperature,
         density and the total of ``values`` finite and > 0, ``values`` >= 0), with the mixture's
-        number densities also as a mapping (copied) and its :attr:`mean_mass` (as it computes it)."""
+        :attr:`mean_mass` (as it computes it)."""
         flow = object.__new__(cls)
         flow.__dict__.update({
             "speed": speed,
             "temperature": temperature,
-            "number_densities": dict(number_densities),
+            "number_densities": dict(zip(species, values)),
             "mean_mass_amu": None,
             "density": density,
             "_species": species,

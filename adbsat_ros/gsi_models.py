@@ -130,7 +130,10 @@ def _re_emission_K(alpha, wall_temperature, incident_temperature, particle_mass,
     energy-flux T_i = m V^2/(4 k_B) this is ADBSat's sqrt(0.5 [1 + alpha (T_w/T_i - 1)]).
     """
     t_r = incident_temperature + alpha * (wall_temperature - incident_temperature)
-    return np.sqrt(2.0 * BOLTZMANN * t_r / (particle_mass * speed * speed))
+    k_squared = 2.0 * BOLTZMANN * t_r / (particle_mass * speed * speed)
+    # one value for all panels: math.sqrt (the same correctly rounded root) keeps K a Python float,
+    # so the plate's scalar factors of K are float arithmetic, not numpy scalars'
+    return math.sqrt(k_squared) if type(k_squared) is float and k_squared >= 0.0 else np.sqrt(k_squared)
 
 
 def sentman(c, sigma, surface, flow, options):

@@ -619,6 +619,13 @@ class PanelMethod:
                 raise ValueError(f"aoa and aos must be finite, got {aoa!r}, {aos!r}")
             u = frames.flow_direction(aoa, aos)
             angles = (aoa, aos)
+        return self._unit_coefficients(flow, u, lighting, surface, angles)
+
+    def _unit_coefficients(self, flow: FreeStream, u: np.ndarray, lighting=None, surface=None,
+                           angles=None) -> AeroCoefficients:
+        """:meth:`coefficients` at the unit flow direction ``u`` (float array, shape (3,), G),
+        taken as it is (the ROS node's per-message path, which makes ``u`` a unit vector itself);
+        ``angles`` (aoa, aos) [rad] if ``u`` was made from them."""
         facets = self._facets
         facet_surface = None if facets is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:
@@ -678,6 +685,13 @@ class PanelMethod:
         if not (len(flow_directions) == len(lightings) == len(surfaces) == m):
             raise ValueError(f"coefficients_many: {m} flows, {len(flow_directions)} flow_directions, "
                              f"{len(lightings)} lightings and {len(surfaces)} surfaces")
+        return self._unit_coefficients_many(flows, [_unit_direction(d) for d in flow_directions], lightings, surfaces)
+
+    def _unit_coefficients_many(self, flows, units, lightings, surfaces) -> list:
+        """:meth:`coefficients_many` at unit flow directions ``units`` taken as they are, with a
+        lighting and a surface (or None) for each: each result is :meth:`_unit_coefficients`'s,
+        bit for bit."""
+        m = len(flows)
         facets = self._facets
         split = SPLIT_MODELS.get(self.model)
         parameters = []
@@ -690,9 +704,8 @@ class PanelMethod:
                     break
                 parameters.append(values)
         if len(parameters) < m or m < 2:
-            return [self.coefficients(flow, flow_direction=d, lighting=lighting, surface=surface)
-                    for flow, d, lighting, surface in zip(flows, flow_directions, lightings, surfaces)]
-        units = [_unit_direction(d) for d in flow_directions]
+            return [self._unit_coefficients(flow, u, lighting, surface)
+                    for flow, u, lighting, surface in zip(flows, units, lightings, surfaces)]
         # M directions' G facet values in one flat (M G,) array: numpy's fastest loops (a 2-D
         # broadcast costs several microseconds more per operation), the same value in each element
         g = facets.n

@@ -654,6 +654,62 @@ def test_interpolated_conditions_match_the_exact_ones_between_two_knots(step, de
         assert flow.density == mixed.mass_density and flow.temperature == mixed.temperature
 
 
+def test_interpolated_conditions_defer_what_a_wrench_does_not_read_and_agree_with_it_bit_for_bit():
+    """interpolated_flight_conditions makes the speed, speed ratio, mean mass, alpha, relative
+    velocity and free stream at once and the geodetic position, the atmosphere and the other vectors
+    on first read. Both are the same mixes of the knots: the free stream equals one made from the
+    deferred atmosphere (FreeStream.of_mixture's own checks and sums), the speed is the norm of the
+    mixed ECEF relative velocity, and so on, to the last bit, whatever is read first."""
+    rng = np.random.default_rng(11)
+    weather = SpaceWeather(150.0, 150.0, 4.0)
+    for case in range(12):
+        position, velocity = _orbit_point(rng, 6378137.0 + 350e3, rng.uniform(-150.0, 150.0))
+        model = ("fixed", "langmuir", "sesam")[case % 3]
+        options = dict(anomalous_oxygen=bool(case % 2), accommodation_model=model,
+                       accommodation_options={"alpha": 0.9} if model == "fixed" else None)
+        a = flight_conditions(TIME, position, velocity, weather, **options)
+        b = flight_conditions(TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather,
+                              **options)
+        f = float(rng.uniform(0.01, 0.99))
+        first, second = (interpolated_flight_conditions(a, b, f, TIME) for _ in range(2))
+        assert "atmosphere" not in first.__dict__ and "latitude" not in first.__dict__  # deferred
+        flow = first.free_stream()
+        speed, alpha = first.speed, first.alpha
+        relative = (first.relative_velocity_floats("eci"), first.relative_velocity_floats("ecef"))
+        atmosphere = first.atmosphere  # now the deferred fields
+        reference = FreeStream.of_mixture(speed, atmosphere.temperature, atmosphere.mixture_species,
+                                          atmosphere._mixture_densities, atmosphere.mass_density)
+        for name in ("speed", "temperature", "density", "mean_mass", "speed_ratio", "number_densities"):
+            assert getattr(flow, name) == getattr(reference, name), name
+        assert first.mean_molecular_mass == atmosphere.mean_mass
+        ex, ey, ez = first.relative_velocity_ecef.tolist()
+        assert speed == math.sqrt(ex * ex + ey * ey + ez * ez)
+        assert first.speed_ratio == speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / atmosphere.mean_mass)
+        assert relative == (tuple(first.relative_velocity_eci.tolist()), (ex, ey, ez))
+        assert alpha == (1.0 - f) * a.alpha + f * b.alpha
+        # the other order: deferred fields first, then what a wrench reads
+        assert second.latitude == first.latitude and second.altitude == first.altitude
+        assert second.atmosphere.number_densities == atmosphere.number_densities
+        assert second.free_stream().number_densities == flow.number_densities
+        assert second.speed_ratio == first.speed_ratio
+        for name in ("position_eci", "position_ecef", "velocity_eci", "velocity_ecef"):
+            np.testing.assert_array_equal(getattr(second, name), getattr(first, name))
+        assert repr(second) == repr(first) and second.as_dict() == first.as_dict()
+
+
+def test_interpolated_conditions_without_a_relative_velocity_are_made_whole_at_once():
+    """Conditions that know only a speed (the circular-orbit recipe) have no vectors to mix for
+    the wind: everything is interpolated at once, the speed linearly."""
+    weather = SpaceWeather(150.0, 150.0, 4.0)
+    a = flight_conditions_circular_orbit(TIME, 300e3, LAT, LON, weather)
+    b = flight_conditions_circular_orbit(TIME, 301e3, LAT, LON, weather)
+    mixed = interpolated_flight_conditions(a, b, 0.25, TIME)
+    assert "atmosphere" in mixed.__dict__ and mixed.relative_velocity_eci is None
+    assert mixed.speed == 0.75 * a.speed + 0.25 * b.speed
+    assert mixed.mass_density == 0.75 * a.mass_density + 0.25 * b.mass_density
+    assert mixed.free_stream().density == mixed.mass_density
+
+
 def test_interpolation_takes_the_short_way_round_the_antimeridian():
     weather = SpaceWeather(150.0, 150.0, 4.0)
     r, v = 6378137.0 + 350e3, 7700.0
