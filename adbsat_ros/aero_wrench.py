@@ -113,7 +113,6 @@ class _KeptConditions(NamedTuple):
     utc: _dt.datetime
     conditions: FlightConditions
     flow: FreeStream | None
-    prepared: bool  # made ahead by prepare()
 
 
 class Rejection(Exception):
@@ -274,7 +273,8 @@ class AeroWrenchEstimator:
         self._state: OrbitalState | None = None
         self._conditions_memo: tuple = ()  # _KeptConditions of the latest two stamps
         self._knots: tuple = (None, None, {})  # state, settings, {knot index: FlightConditions}
-        self.prepared_used = 0  # attitudes whose flight conditions prepare() had made ahead
+        self.prepared_used = 0  # attitudes at the stamp prepare() had made ready
+        self._prepared: tuple | None = None  # (stamp, state, settings) of the latest prepare()
         self.knots_evaluated = 0  # exact flight conditions evaluated at knots (conditions_step)
         self._last_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
@@ -355,6 +355,7 @@ class AeroWrenchEstimator:
         self._last_attitude_stamp = None
         self._last_state_stamp = None
         self._knots = (None, None, {})
+        self._prepared = None
 
     def _reject(self, reason: str, message: str):
         self.rejections[reason] += 1
@@ -607,7 +608,7 @@ class AeroWrenchEstimator:
             self._reject(reason, str(exc))
         return self._wrench_request(stamp, utc, rotation, conditions, flow, t0)
 
-    def _conditions_at(self, stamp: float, state: OrbitalState, prepare: bool = False):
+    def _conditions_at(self, stamp: float, state: OrbitalState):
         """UTC, flight conditions and free stream (None at rest) at ``stamp`` from ``state``.
 
         The latest two results are kept: another attitude at the same stamp and state (a simulator
@@ -620,10 +621,11 @@ class AeroWrenchEstimator:
             From :func:`flight_conditions` (e.g. an altitude outside the atmosphere model).
         """
         s = self.settings
+        prepared = self._prepared
+        if prepared is not None and prepared[0] == stamp and prepared[1] is state and prepared[2] is s:
+            self.prepared_used += 1
         for kept in self._conditions_memo:
             if kept.state is state and kept.stamp == stamp and kept.settings is s:
-                if kept.prepared and not prepare:
-                    self.prepared_used += 1
                 return kept.utc, kept.conditions, kept.flow
         utc = self.utc(stamp)
         conditions = None
@@ -632,7 +634,7 @@ class AeroWrenchEstimator:
         if conditions is None:
             conditions = self._exact_conditions(stamp, state, utc)
         flow = conditions.free_stream() if conditions.speed > 0.0 else None
-        kept = _KeptConditions(state, stamp, s, utc, conditions, flow, prepare)
+        kept = _KeptConditions(state, stamp, s, utc, conditions, flow)
         self._conditions_memo = self._conditions_memo[-1:] + (kept,)
         return utc, conditions, flow
 
@@ -680,28 +682,28 @@ class AeroWrenchEstimator:
         return conditions
 
     def prepare(self, stamp: float) -> bool:
-        """Compute ahead the flight conditions of an attitude expected at ``stamp`` [s].
+        """Compute ahead what an attitude expected at ``stamp`` [s] would wait for.
 
         A GNC loop stamps its attitudes at a fixed interval, so the ROS node calls this right
         after publishing a wrench, with the stamp the next message most likely has (the latest
-        plus the latest interval, :func:`next_regular_stamp`): the atmosphere (NRLMSISE-00), the
-        Earth's orientation and the free stream are then ready when that message comes, which
-        takes them off its latency. It is the computation :meth:`on_attitude` would make, kept
-        only for exactly that stamp, state and settings; any other message is computed as usual.
-        Nothing is counted or raised.
-
-        If that needed no new knot (``conditions_step``), the knot KNOT_LOOKAHEAD steps on from
-        the stamp's own is evaluated instead, one interval before any stamp needs it: attitudes
-        that queued up and are served together (:meth:`on_attitudes`) then cross into the next
-        interval without an NRLMSISE-00 evaluation among them. At most one knot is evaluated so
-        per call: the knots a regular stream needs anyway, one interval earlier (the last one
-        before a new state may go unused).
+        plus the latest interval, :func:`next_regular_stamp`). With ``conditions_step`` > 0 (the
+        default) that is the knots around the stamp, NRLMSISE-00 and the Earth's orientation
+        evaluated there (:meth:`_knot`), and, if they needed no new evaluation, the knot
+        KNOT_LOOKAHEAD steps on, one interval before any stamp needs it: attitudes that queued up
+        and are served together (:meth:`on_attitudes`) then cross into the next interval without
+        an NRLMSISE-00 evaluation among them. The conditions at the stamp itself are interpolated
+        when the message comes (a few microseconds, less than keeping them). At most one knot is
+        evaluated per call in a regular stream: the knots it needs anyway, one interval earlier.
+        With ``conditions_step`` = 0 the exact conditions at the stamp are computed and kept for
+        exactly that stamp. Either way the message's numbers are the ones it would have had
+        without this; nothing is counted or raised, and an attitude at the stamp counts in
+        :attr:`prepared_used`.
 
         Returns
         -------
         bool
-            Whether conditions were prepared (False without a state, for a stamp not after the
-            latest attitude or that the state time-out would reject, or outside the atmosphere).
+            Whether it was prepared (False without a state, for a stamp not after the latest
+            attitude or that the state time-out would reject, or outside the atmosphere).
         """
         state, last = self._state, self._last_attitude_stamp
         if state is None or not math.isfinite(stamp) or (last is not None and stamp <= last):
@@ -709,16 +711,23 @@ class AeroWrenchEstimator:
         if abs(stamp - state.stamp) > self.settings.state_timeout:
             return False
         step = self.settings.conditions_step
-        evaluated = self.knots_evaluated
         try:
-            self._conditions_at(stamp, state, prepare=True)
+            if step > 0.0:
+                j, past = _knot_position(stamp, step)
+                evaluated = self.knots_evaluated
+                self._knot(state, j, step)
+                if past:
+                    self._knot(state, j + 1, step)
+                if self.knots_evaluated == evaluated:
+                    try:
+                        self._knot(state, j + KNOT_LOOKAHEAD, step)
+                    except ValueError:  # (e.g. above the atmosphere model: the stamp itself is not)
+                        pass
+            else:
+                self._conditions_at(stamp, state)
         except ValueError:
             return False
-        if step > 0.0 and self.knots_evaluated == evaluated:
-            try:
-                self._knot(state, _knot_position(stamp, step)[0] + KNOT_LOOKAHEAD, step)
-            except ValueError:  # (e.g. above the atmosphere model: the stamp itself is not)
-                pass
+        self._prepared = (stamp, state, self.settings)
         return True
 
     def _wrench_request(self, stamp, utc, rotation: tuple, conditions: FlightConditions, flow, t0):

@@ -225,7 +225,7 @@ class AdbsatNode(Node):
 
     def _on_attitude(self, raw: bytes) -> None:
         """An attitude as the CDR bytes of a QuaternionStamped, with the messages waiting behind it
-        (:meth:`_serve`); then the next stamp's flight conditions."""
+        (:meth:`_serve`); then what the next stamp needs ahead (:meth:`_prepare_next`)."""
         if self.estimator.settings.attitude_source != "attitude_topic":
             return
         fields = self._attitude_fields(raw)
@@ -357,7 +357,8 @@ class AdbsatNode(Node):
         self._stamps = (self._stamps[1], stamp_msg)
 
     def _prepare_next(self) -> None:
-        """The next attitude's flight conditions, now that the wrenches are out."""
+        """What the next regular attitude would wait for (AeroWrenchEstimator.prepare: the knots of its
+        flight conditions), now that the wrenches are out."""
         previous, latest = self._stamps
         if previous is None:
             return

@@ -439,6 +439,7 @@ class PanelMethod:
         self.mesh = mesh
         self.model = canonical_model_name(model)
         self._model_fn = get_model(self.model)
+        self._split = SPLIT_MODELS.get(self.model)  # (parameters, plate), or None
         if materials is None:
             materials = MaterialTable()
         elif isinstance(materials, SurfaceProperties):
@@ -511,14 +512,14 @@ class PanelMethod:
         itself: no sin(delta), and no clipping of c (within rounding of [-1, 1], where the plates
         are smooth). Other models are evaluated as over panels (:meth:`_local_coefficients`).
         """
-        split = SPLIT_MODELS.get(self.model)
+        split = self._split
         parameters = None if split is None else split[0](facet_surface, flow, self.options)
         if parameters is None:
             c, sigma, cp, ctau = self._local_coefficients(u, self._facets.inward_normals_T, facet_surface, flow)
             return c, cp, _shear_per_sine(ctau, sigma), ctau
         c = u @ self._facets.inward_normals_T
-        cp, shear = split[1](c, *parameters)
-        return c, np.asarray(cp, dtype=float), np.asarray(shear, dtype=float), None
+        cp, shear = split[1](c, *parameters)  # (float arrays like c: the plates are elementwise)
+        return c, cp, shear, None
 
     def _facet_totals(self, u, rows, lighting):
         """Cf_G, Cm_G and the lit projected area from the (3, G) rows (q, k, max(c, 0)) of
@@ -693,7 +694,7 @@ class PanelMethod:
         bit for bit."""
         m = len(flows)
         facets = self._facets
-        split = SPLIT_MODELS.get(self.model)
+        split = self._split
         parameters = []
         if facets is not None and split is not None and m > 1:
             parameters_of, plate = split
@@ -711,7 +712,6 @@ class PanelMethod:
         g = facets.n
         c = np.concatenate([u @ facets.inward_normals_T for u in units])  # each its own (3,) @ (3, G)
         cp, shear = plate(c, *(_stacked(values, g) for values in zip(*parameters)))
-        cp, shear = np.asarray(cp, dtype=float), np.asarray(shear, dtype=float)
         # (3, M G) rows made (M, 3, G): rows[k] the C-contiguous (3, G) rows of direction k
         rows = np.ascontiguousarray(_facet_rows(c, cp, shear).reshape(3, m, g).transpose(1, 0, 2))
         results = []

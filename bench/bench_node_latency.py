@@ -5,7 +5,7 @@ Usage:
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
         [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
         [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...] [--baseline REV]
-        [--keep-cpus-busy] [--trace]
+        [--keep-cpus-busy] [--trace [--trace-part module:Class.method ...]]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
 or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the
@@ -31,9 +31,9 @@ benchmark: no CPU then sleeps between messages, and none is woken cold by the ne
 processes preempt the loops whenever they want the CPU).
 
 With --trace the adbsat node runs as bench/traced_node.py, which times its attitude callback's parts
-(``on_attitude``, ``prepare``, ``publish``, the takes of waiting messages, the bursts computed
+(``on_attitude``, ``prepare``, ``_publish``, the takes of waiting messages, the bursts computed
 together) and the garbage collections inside the running process; their p50/p90/p99 follow the
-table.
+table. ``--trace-part module:Class.method`` (repeatable) times more functions so.
 
 Middleware: by default every process runs with ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, i.e.
 rmw_fastrtps's own transports (shared memory with Fast DDS's default 1 s port health check, and
@@ -235,6 +235,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     env["ECHO_QOS_DEPTH"] = "100"
     env["ECHO_EXECUTOR"] = args.executor
     env["ECHO_WORK_US"] = str(echo_work_us)
+    env["TRACED_PARTS"] = ",".join(args.trace_part)
     # The node's package first on its path: a baseline's extracted package, else this tree's own
     # (REPOSITORY). The node runs in a directory of its own: with ``python -m`` the working
     # directory comes before PYTHONPATH, and the tree the bench is started from would shadow a
@@ -381,6 +382,9 @@ def main() -> None:
                              "docs/benchmarks.md session 9); every process then gets the CPU whenever it wants it")
     parser.add_argument("--trace", action="store_true",
                         help="time the adbsat node's callback parts in the running process (bench/traced_node.py)")
+    parser.add_argument("--trace-part", action="append", default=[], metavar="MODULE:QUALNAME",
+                        help="with --trace, also time this function (e.g. adbsat_ros.panel_method:"
+                             "PanelMethod._unit_coefficients); repeatable")
     parser.add_argument("--out", default="")
     parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()
@@ -454,7 +458,7 @@ def run_all(args, mesh_path: str, echo_work: dict, packages: dict) -> None:
                 for part, durations in parts.items():
                     if durations:
                         p50, p90, p99 = np.percentile(durations, [50, 90, 99])
-                        print(f"{kind:>15} {rate:8.0f} {part:<24} p50 {p50:7.1f} us  p90 {p90:7.1f} us  "
+                        print(f"{kind:>15} {rate:8.0f} {part:<34} p50 {p50:7.1f} us  p90 {p90:7.1f} us  "
                               f"p99 {p99:7.1f} us  ({len(durations)} calls)")
         if args.rounds > 1:
             pairs.append((rate, rounds))

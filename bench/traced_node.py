@@ -1,11 +1,13 @@
 """adbsat_node with its callback's parts timed, for bench_node_latency's --trace.
 
 Runs ``adbsat_ros.node.main`` with the attitude callback, ``AeroWrenchEstimator.on_attitude``,
-``AeroWrenchEstimator.prepare``, every ``Publisher.publish``, the serving of waiting attitudes
-(``AdbsatNode._take_waiting``, ``AeroWrenchEstimator.on_attitudes`` and its time per message)
-wrapped in ``time.perf_counter``
+``AeroWrenchEstimator.prepare``, ``AdbsatNode._publish`` (CDR packing, the publish and the node's
+bookkeeping), the serving of waiting attitudes (``AdbsatNode._take_waiting``,
+``AeroWrenchEstimator.on_attitudes`` and its time per message) wrapped in ``time.perf_counter``
 calls (a few microseconds of their own per message), and every garbage collection (``gc.callbacks``)
-by generation. At exit it writes one JSON line to stderr,
+by generation. ``TRACED_PARTS`` in the environment (comma-separated ``module:Class.method`` or
+``module:function``, e.g. ``adbsat_ros.panel_method:PanelMethod._unit_coefficients``) adds parts,
+timed on every call after the warm-up. At exit it writes one JSON line to stderr,
 ``TRACE {"part": [microseconds, ...], ...}``, the durations of every call (and collection) after
 the first 500 attitudes (the first ray cast and the warm-up). Run it as the node is run: ``python
 bench/traced_node.py --ros-args ...``.
@@ -17,12 +19,13 @@ import json
 import sys
 import time
 
-import rclpy.publisher
+import importlib
+import os
 
 from adbsat_ros import aero_wrench, node
 
 WARM_UP_CALLS = 500
-_durations = {"attitude callback": [], "estimator.on_attitude": [], "estimator.prepare": [], "publish": [],
+_durations = {"attitude callback": [], "estimator.on_attitude": [], "estimator.prepare": [], "node._publish": [],
               "node._take_waiting": [], "estimator.on_attitudes": [], "estimator.on_attitudes per message": [],
               "gc generation 0": [], "gc generation 1": [], "gc generation 2": []}
 _gc_started = [0.0]
@@ -40,7 +43,7 @@ gc.callbacks.append(_on_gc)
 
 #: Parts timed on every call, whose first WARM_UP_CALLS calls are left out at the end; the others
 #: (garbage collections, the takes and bursts of waiting messages) are recorded after the warm-up only.
-_EVERY_MESSAGE = ("attitude callback", "estimator.on_attitude", "estimator.prepare", "publish")
+_EVERY_MESSAGE = ("attitude callback", "estimator.on_attitude", "estimator.prepare", "node._publish")
 
 
 def _warm() -> bool:
@@ -67,7 +70,7 @@ node.AdbsatNode._on_attitude = _timed(node.AdbsatNode._on_attitude, "attitude ca
 aero_wrench.AeroWrenchEstimator.on_attitude = _timed(aero_wrench.AeroWrenchEstimator.on_attitude,
                                                      "estimator.on_attitude")
 aero_wrench.AeroWrenchEstimator.prepare = _timed(aero_wrench.AeroWrenchEstimator.prepare, "estimator.prepare")
-rclpy.publisher.Publisher.publish = _timed(rclpy.publisher.Publisher.publish, "publish")
+node.AdbsatNode._publish = _timed(node.AdbsatNode._publish, "node._publish")
 node.AdbsatNode._take_waiting = _timed(node.AdbsatNode._take_waiting, "node._take_waiting")
 _on_attitudes = _timed(aero_wrench.AeroWrenchEstimator.on_attitudes, "estimator.on_attitudes")
 
@@ -81,6 +84,15 @@ def _on_attitudes_per_message(self, messages):
 
 
 aero_wrench.AeroWrenchEstimator.on_attitudes = _on_attitudes_per_message
+
+for _path in filter(None, os.environ.get("TRACED_PARTS", "").split(",")):
+    _module_name, _, _attribute = _path.strip().partition(":")
+    _owner = importlib.import_module(_module_name)
+    *_outer, _name = _attribute.split(".")
+    for _part in _outer:
+        _owner = getattr(_owner, _part)
+    _durations[_attribute] = []
+    setattr(_owner, _name, _timed(getattr(_owner, _name), _attribute))
 
 
 @atexit.register

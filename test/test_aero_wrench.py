@@ -66,23 +66,33 @@ def test_a_settings_change_recomputes_the_conditions():
     np.testing.assert_array_equal(active.force, fresh_sample(1.0, 1.0, TILTED, f107=250.0, f107a=250.0).force)
 
 
-def test_prepared_conditions_are_used_for_that_stamp_only_and_change_no_result():
-    est = estimator()
+@pytest.mark.parametrize("step", [0.01, 0.0])
+def test_prepare_readies_that_stamp_only_and_changes_no_result(step):
+    """prepare(stamp): with knots, the knots around the stamp are evaluated then, and the attitude
+    at that stamp evaluates none; without (conditions_step 0), its exact conditions are computed
+    then and taken by the attitude. Either way the wrench is that of an estimator never prepared,
+    and only an attitude at exactly that stamp counts as prepared."""
+    est = estimator(conditions_step=step)
     assert not est.prepare(1.0)  # no state yet
     est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
     est.on_attitude(1.01, TILTED)
     assert not est.prepare(1.01)  # not after the latest attitude
-    assert est.prepare(1.02)
+    knots = est.knots_evaluated
+    assert est.prepare(1.0125)
+    assert est.knots_evaluated == knots + (1 if step else 0)  # the knot at 1.02 s
     ready = est._conditions_memo[-1]
-    regular = est.on_attitude(1.02, TILTED)
-    assert regular.conditions is ready[4]  # taken from the prepared conditions
-    reference = fresh_sample(1.02, 1.0, TILTED)
+    regular = est.on_attitude(1.0125, TILTED)
+    assert est.knots_evaluated == knots + (1 if step else 0)  # nothing evaluated for the message
+    assert est.prepared_used == 1
+    if not step:
+        assert regular.conditions is ready.conditions  # taken from the prepared conditions
+    reference = fresh_sample(1.0125, 1.0, TILTED, conditions_step=step)
     np.testing.assert_array_equal(regular.force, reference.force)
     np.testing.assert_array_equal(regular.torque, reference.torque)
-    assert est.prepare(1.03)
-    irregular = est.on_attitude(1.0275, TILTED)  # not the prepared stamp: computed as usual
-    assert irregular.conditions is not est._conditions_memo[0][4]
-    np.testing.assert_array_equal(irregular.force, fresh_sample(1.0275, 1.0, TILTED).force)
+    assert est.prepare(1.015)
+    irregular = est.on_attitude(1.0143, TILTED)  # not the prepared stamp: computed as usual
+    assert est.prepared_used == 1
+    np.testing.assert_array_equal(irregular.force, fresh_sample(1.0143, 1.0, TILTED, conditions_step=step).force)
     assert not est.prepare(2.5)  # beyond the state time-out
     assert sum(est.rejections.values()) == 0  # preparing counts nothing
 

@@ -124,8 +124,8 @@ def test_circular_orbit_wrench_is_drag_of_a_sphere(ros):
 
 
 def test_a_fixed_rate_stream_gets_its_flight_conditions_prepared_and_the_same_wrenches(ros):
-    """After each wrench the node computes the next regular stamp's flight conditions ahead; the
-    wrenches equal those of an estimator fed the same messages without preparation."""
+    """After each wrench the node readies what the next regular stamp needs (the knots of its flight
+    conditions); the wrenches equal those of an estimator fed the same messages without that."""
     from adbsat_ros.aero_wrench import AeroWrenchEstimator
 
     node, peer = ros
