@@ -4,7 +4,7 @@ Usage:
     python bench/bench_node_latency.py [--rates 100,1000] [--duration 10] [--rounds 1] [--soak 60]
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
         [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
-        [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...] [--baseline REV]
+        [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...] [--echo-panel] [--baseline REV]
         [--keep-cpus-busy] [--trace [--trace-part module:Class.method ...]]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
@@ -21,6 +21,11 @@ there), and for the soak the node's resident memory at the start and the end. Ea
 ROS domain of its own (BENCH_DOMAIN_ID and up). Latencies of the messages sent in the first
 WARM_UP_S seconds of a run are left out (the node's first ray cast); "held" counts the messages
 that took 100 ms or more after that.
+
+With --echo-panel the rounds also run bench/echo_node.py as the panel method alone (attitudes in
+and wrenches out as CDR bytes, the panel method with cached shading at a fixed free stream): what
+the node's arithmetic costs in the running process, without its flight conditions, checks and
+bookkeeping.
 
 With --baseline REV the rounds also run adbsat_node as it was at git revision REV (its package
 extracted with ``git archive`` and put first on the node process's PYTHONPATH): the node before
@@ -235,6 +240,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     env["ECHO_QOS_DEPTH"] = "100"
     env["ECHO_EXECUTOR"] = args.executor
     env["ECHO_WORK_US"] = str(echo_work_us)
+    env["ECHO_PANEL_MESH"] = mesh if kind == "echo+panel" else ""
     env["TRACED_PARTS"] = ",".join(args.trace_part)
     # The node's package first on its path: a baseline's extracted package, else this tree's own
     # (REPOSITORY). The node runs in a directory of its own: with ``python -m`` the working
@@ -374,6 +380,9 @@ def main() -> None:
     parser.add_argument("--echo-work-us", type=float, action="append", default=[], metavar="US",
                         help="also run an echo that spins US microseconds per message (repeatable): "
                              "a node of known CPU cost beside adbsat, in the same rounds")
+    parser.add_argument("--echo-panel", action="store_true",
+                        help="also run an echo that computes the panel method per message (raw CDR in and "
+                             "out, cached shading, a fixed free stream): the node's arithmetic alone")
     parser.add_argument("--baseline", metavar="REV",
                         help="also run adbsat_node as it was at git revision REV, in the same rounds")
     parser.add_argument("--keep-cpus-busy", action="store_true",
@@ -414,6 +423,8 @@ def main() -> None:
           f" {'recv hold-up':>12}")
     # the kinds of node, each with the work [us] its echo spins per message (none for adbsat)
     echo_work = {"echo": 0.0, "adbsat": 0.0, **{f"echo+{us:g}us": us for us in args.echo_work_us}}
+    if args.echo_panel:
+        echo_work["echo+panel"] = 0.0
     packages = {}  # kind -> package directory, for nodes of other revisions
     if args.baseline:
         kind = f"adbsat@{args.baseline[:7]}"

@@ -3,17 +3,58 @@
 
 With ECHO_WORK_US=N in the environment it first spins for N microseconds in every callback: an
 echo that costs as much CPU per message as a node of known cost, for bench_node_latency's
---echo-work-us."""
+--echo-work-us.
+
+With ECHO_PANEL_MESH=PATH it is instead the panel method alone, for bench_node_latency's
+--echo-panel: the attitudes taken and the wrenches published as CDR bytes (as adbsat_node does),
+and for each one the panel method (PanelMethod._unit_coefficients, the node's default model and
+cached raycast shading) at a fixed free stream, the satellite flying along +y of the state frame: the
+node's own arithmetic per message, without its flight conditions, checks, samples or bookkeeping.
+"""
 
 import os
 import sys
 import time
 
+import numpy as np
 import rclpy
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from rclpy.qos import QoSProfile
 
 from adbsat_ros.node import make_executor, spin_until_shutdown
+
+
+def panel_callback(publisher, mesh_path: str):
+    """The --echo-panel callback: CDR bytes of an attitude in, of its wrench out."""
+    from adbsat_ros.frames import quaternion_matrix_floats
+    from adbsat_ros.freestream import FreeStream
+    from adbsat_ros.mesh import resolve_mesh
+    from adbsat_ros.panel_method import PanelMethod
+    from adbsat_ros.shading import make_shader
+    from adbsat_ros.shading_cache import ShadingCache
+    from adbsat_ros.stamped_cdr import quaternion_stamped_fields, wrench_stamped_cdr
+    from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS as D
+
+    mesh = resolve_mesh(mesh_path, 1.0)
+    method = PanelMethod(mesh, D["gsi_model"])
+    cache = ShadingCache(make_shader(mesh, mode="raycast", samples=D["shading_samples"]),
+                         resolution_deg=D["shading_cache_resolution_deg"])
+    # about 300 km: O and N2 [m^-3], 900 K, 7.7 km/s
+    flow = FreeStream(speed=7700.0, temperature=900.0, number_densities={"O": 6e14, "N2": 2e14})
+    q = flow.dynamic_pressure()
+    area, length = method.reference.area, method.reference.length
+    handle = publisher.handle
+
+    def on_attitude(raw):
+        stamp, (x, y, z, w) = quaternion_stamped_fields(raw)
+        m = quaternion_matrix_floats(x, y, z, w)
+        u = np.array([-m[3], -m[4], -m[5]])  # -R^T v / |v| for v along +y: the gas along -y, body axes
+        coefficients = method._unit_coefficients(flow, u, cache.lighting(u))
+        handle.publish_raw(wrench_stamped_cdr(stamp.sec, stamp.nanosec, "body",
+                                              (q * area * coefficients.Cf_G).tolist(),
+                                              (q * area * length * coefficients.Cm_G).tolist()))
+
+    return on_attitude
 
 
 def main():
@@ -35,7 +76,11 @@ def main():
         out.wrench.force.x = msg.quaternion.w
         pub.publish(out)
 
-    node.create_subscription(QuaternionStamped, "attitude", echo, qos)
+    mesh_path = os.environ.get("ECHO_PANEL_MESH")
+    if mesh_path:
+        node.create_subscription(QuaternionStamped, "attitude", panel_callback(pub, mesh_path), qos, raw=True)
+    else:
+        node.create_subscription(QuaternionStamped, "attitude", echo, qos)
     executor = make_executor(os.environ.get("ECHO_EXECUTOR", "events"))
     executor.add_node(node)
     try:
