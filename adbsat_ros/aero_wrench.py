@@ -612,8 +612,8 @@ class AeroWrenchEstimator:
         """UTC, flight conditions and free stream (None at rest) at ``stamp`` from ``state``.
 
         The latest two results are kept: another attitude at the same stamp and state (a simulator
-        publishing attitude and state at every step), or the stamp :meth:`prepare` computed
-        ahead, gets them back instead of a second identical computation.
+        publishing attitude and state at every step), or with ``conditions_step`` 0 the stamp
+        :meth:`prepare` computed ahead, gets them back instead of a second identical computation.
 
         Raises
         ------
@@ -696,8 +696,8 @@ class AeroWrenchEstimator:
         evaluated per call in a regular stream: the knots it needs anyway, one interval earlier.
         With ``conditions_step`` = 0 the exact conditions at the stamp are computed and kept for
         exactly that stamp. Either way the message's numbers are the ones it would have had
-        without this; nothing is counted or raised, and an attitude at the stamp counts in
-        :attr:`prepared_used`.
+        without this. Nothing is counted or raised here; the attitude that comes at the stamp
+        counts in :attr:`prepared_used`.
 
         Returns
         -------

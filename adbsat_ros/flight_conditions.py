@@ -200,7 +200,7 @@ class FlightConditions:
         the array (for per-message code working on floats); None when only a speed is known.
         """
         relative = self.__dict__.get("_relative")
-        if relative is not None:  # interpolated conditions (ECI, ECEF)
+        if relative is not None and (frame == "eci" or frame == "ecef"):  # interpolated conditions
             return relative[frame == "ecef"]
         index = _VECTOR_FIELDS.index(f"relative_velocity_{frame}")
         vectors = self.__dict__.get("_vectors")
@@ -394,7 +394,7 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
     What a message's wrench reads (speed, speed ratio, mean mass, alpha, relative velocity,
     :meth:`FlightConditions.free_stream`) is made at once; the geodetic position, the atmosphere
     and the other vectors on first read, from the same mixes (so the same numbers whichever comes
-    first). Per message in the ROS node that halves the cost of the conditions (docs/benchmarks.md).
+    first): in a warm loop 6 instead of 10 us per call (docs/benchmarks.md, session 10).
 
     Raises
     ------

@@ -686,6 +686,8 @@ def test_interpolated_conditions_defer_what_a_wrench_does_not_read_and_agree_wit
         assert speed == math.sqrt(ex * ex + ey * ey + ez * ez)
         assert first.speed_ratio == speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / atmosphere.mean_mass)
         assert relative == (tuple(first.relative_velocity_eci.tolist()), (ex, ey, ez))
+        with pytest.raises(ValueError):
+            first.relative_velocity_floats("enu")  # not a frame of the conditions
         assert alpha == (1.0 - f) * a.alpha + f * b.alpha
         # the other order: deferred fields first, then what a wrench reads
         assert second.latitude == first.latitude and second.altitude == first.altitude
