@@ -657,13 +657,20 @@ class AeroWrenchEstimator:
         state always give the same numbers, live or from a bag, and a stream stamped on multiples
         of the step lands on knots); None if a knot cannot be evaluated (e.g. it lies outside the
         atmosphere model while the stamp does not), for the exact evaluation."""
-        j, past = _knot_position(stamp, step)
         try:
-            a = self._knot(state, j, step)
-            b = a if past == 0.0 else self._knot(state, j + 1, step)
+            _, past, a, b = self._knots_around(state, stamp, step)
         except ValueError:
             return None
         return interpolated_flight_conditions(a, b, past / step, utc)
+
+    def _knots_around(self, state: OrbitalState, stamp: float, step: float) -> tuple:
+        """(j, past, a, b): the knot j at or before ``stamp`` and the time past it
+        (:func:`_knot_position`), and the exact conditions at knots j and j + 1 (``b`` is ``a``
+        for a stamp on knot j). Raises ValueError if a knot cannot be evaluated."""
+        j, past = _knot_position(stamp, step)
+        a = self._knot(state, j, step)
+        b = a if past == 0.0 else self._knot(state, j + 1, step)
+        return j, past, a, b
 
     def _knot(self, state: OrbitalState, j: int, step: float) -> FlightConditions:
         """The exact conditions of ``state`` at the stamp ``j step`` (the latest KNOTS_KEPT kept)."""
@@ -713,11 +720,8 @@ class AeroWrenchEstimator:
         step = self.settings.conditions_step
         try:
             if step > 0.0:
-                j, past = _knot_position(stamp, step)
                 evaluated = self.knots_evaluated
-                self._knot(state, j, step)
-                if past:
-                    self._knot(state, j + 1, step)
+                j = self._knots_around(state, stamp, step)[0]
                 if self.knots_evaluated == evaluated:
                     try:
                         self._knot(state, j + KNOT_LOOKAHEAD, step)

@@ -431,7 +431,7 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
                 "_free_stream_mixture": (species, values, temperature, mass_density, mean_mass),
                 "mean_molecular_mass": mean_mass,
                 "speed": speed,
-                "speed_ratio": speed / math.sqrt(2.0 * BOLTZMANN * temperature / mean_mass),
+                "speed_ratio": _speed_ratio(speed, temperature, mean_mass),
                 "accommodation_model": a.accommodation_model,
                 "accommodation_coefficient": alpha,
                 "earth_rotation": a.earth_rotation,
@@ -439,29 +439,19 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
             })
             return conditions
     # (no relative velocity, or a mixture a free stream would not take: everything now, the same way)
-    conditions = _new_conditions(FlightConditions)
-    fields = conditions.__dict__
-    fields["_interpolation"] = (a, b, weight)
-    _complete_interpolation(fields)
-    atmosphere = fields["atmosphere"]
-    relative_ecef = fields["_vectors"][5]
-    if relative_ecef is None:
+    whole = {"_interpolation": (a, b, weight)}
+    _complete_interpolation(whole)
+    vectors = whole["_vectors"]
+    if vectors[5] is None:
         speed = (1.0 - weight) * a.speed + weight * b.speed
     else:
-        x, y, z = relative_ecef
+        x, y, z = vectors[5]
         speed = math.sqrt(x * x + y * y + z * z)
-    mean_mass = atmosphere.mean_mass
-    fields.update({
-        "time": time,
-        "mean_molecular_mass": mean_mass,
-        "speed": speed,
-        "speed_ratio": speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / mean_mass),
-        "accommodation_model": a.accommodation_model,
-        "accommodation_coefficient": (1.0 - weight) * a.accommodation_coefficient + weight * b.accommodation_coefficient,
-        "earth_rotation": a.earth_rotation,
-        "space_weather": a.space_weather,
-    })
-    return conditions
+    return _made_conditions(
+        time, vectors, whole["latitude"], whole["longitude"], whole["altitude"], whole["atmosphere"], speed,
+        a.accommodation_model, (1.0 - weight) * a.accommodation_coefficient + weight * b.accommodation_coefficient,
+        a.earth_rotation, a.space_weather,
+    )
 
 
 def _interpolation_numbers(conditions: FlightConditions) -> tuple | None:
@@ -555,8 +545,9 @@ def _vector3(value, name: str) -> np.ndarray:
     return array
 
 
-def _speed_ratio(speed: float, atmosphere: AtmosphereState, mean_mass: float) -> float:
-    return speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / mean_mass)
+def _speed_ratio(speed: float, temperature: float, mean_mass: float) -> float:
+    """s = V / sqrt(2 k_B T / m) for a speed [m/s], temperature [K] and mean molecular mass [kg]."""
+    return speed / math.sqrt(2.0 * BOLTZMANN * temperature / mean_mass)
 
 
 def flight_conditions(
@@ -801,7 +792,7 @@ def _made_conditions(time, vectors, latitude, longitude, altitude, atmosphere, s
         "atmosphere": atmosphere,
         "mean_molecular_mass": mean_mass,
         "speed": speed,
-        "speed_ratio": speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / mean_mass),
+        "speed_ratio": _speed_ratio(speed, atmosphere.temperature, mean_mass),
         "accommodation_model": model,
         "accommodation_coefficient": alpha,
         "earth_rotation": earth_rotation,
@@ -926,7 +917,7 @@ def _assemble(
         relative_velocity_eci=relative_eci,
         relative_velocity_ecef=relative_ecef,
         speed=speed,
-        speed_ratio=_speed_ratio(speed, atmosphere, mean_mass),
+        speed_ratio=_speed_ratio(speed, atmosphere.temperature, mean_mass),
         accommodation_model=model,
         accommodation_coefficient=float(alpha),
         earth_rotation=earth_rotation,

@@ -658,7 +658,8 @@ class PanelMethod:
         incidences of all directions are laid out in one (M G,) array and the model's elementwise
         plate runs once over it; each direction's parameters (speed ratio, re-emission ...) and its
         final facet sums are its own, computed as :meth:`coefficients` computes them. Otherwise
-        (a sphere, a species model, ADBSat's maxwell) each direction is one :meth:`coefficients`.
+        (a sphere, a species model, ADBSat's maxwell) each direction is evaluated on its own, as
+        :meth:`coefficients` evaluates it.
 
         Parameters
         ----------

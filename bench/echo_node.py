@@ -42,7 +42,6 @@ def panel_callback(publisher, mesh_path: str):
     # about 300 km: O and N2 [m^-3], 900 K, 7.7 km/s
     flow = FreeStream(speed=7700.0, temperature=900.0, number_densities={"O": 6e14, "N2": 2e14})
     q = flow.dynamic_pressure()
-    area, length = method.reference.area, method.reference.length
     handle = publisher.handle
 
     def on_attitude(raw):
@@ -50,9 +49,8 @@ def panel_callback(publisher, mesh_path: str):
         m = quaternion_matrix_floats(x, y, z, w)
         u = np.array([-m[3], -m[4], -m[5]])  # -R^T v / |v| for v along +y: the gas along -y, body axes
         coefficients = method._unit_coefficients(flow, u, cache.lighting(u))
-        handle.publish_raw(wrench_stamped_cdr(stamp.sec, stamp.nanosec, "body",
-                                              (q * area * coefficients.Cf_G).tolist(),
-                                              (q * area * length * coefficients.Cm_G).tolist()))
+        handle.publish_raw(wrench_stamped_cdr(stamp.sec, stamp.nanosec, "body", coefficients.force(q).tolist(),
+                                              coefficients.torque(q).tolist()))
 
     return on_attitude
 

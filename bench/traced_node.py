@@ -7,7 +7,8 @@ bookkeeping), the serving of waiting attitudes (``AdbsatNode._take_waiting``,
 calls (a few microseconds of their own per message), and every garbage collection (``gc.callbacks``)
 by generation. ``TRACED_PARTS`` in the environment (comma-separated ``module:Class.method`` or
 ``module:function``, e.g. ``adbsat_ros.panel_method:PanelMethod._unit_coefficients``) adds parts,
-timed on every call after the warm-up. At exit it writes one JSON line to stderr,
+timed on every call after the warm-up (a function is replaced in its own module: one that another
+module imported by name is timed there only if given as that module's). At exit it writes one JSON line to stderr,
 ``TRACE {"part": [microseconds, ...], ...}``, the durations of every call (and collection) after
 the first 500 attitudes (the first ray cast and the warm-up). Run it as the node is run: ``python
 bench/traced_node.py --ros-args ...``.
