@@ -5,7 +5,7 @@ Usage:
         [--max-edge 0.064] [--shading raycast] [--coefficients-source panel|database]
         [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
         [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...] [--echo-panel] [--baseline REV]
-        [--keep-cpus-busy] [--trace [--trace-part module:Class.method ...]]
+        [--keep-cpus-busy] [--trace [--trace-part module:Class.method ...] [--trace-cpu]]
 
 Runs three processes per case: the node under test (adbsat_node on a ~10k-face example satellite,
 or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the
@@ -38,7 +38,8 @@ processes preempt the loops whenever they want the CPU).
 With --trace the adbsat node runs as bench/traced_node.py, which times its attitude callback's parts
 (``on_attitude``, ``prepare``, ``_publish``, the takes of waiting messages, the bursts computed
 together) and the garbage collections inside the running process; their p50/p90/p99 follow the
-table. ``--trace-part module:Class.method`` (repeatable) times more functions so.
+table. ``--trace-part module:Class.method`` (repeatable) times more functions so, and with
+``--trace-cpu`` each part also shows the CPU time its thread spent in it ("[thread CPU]").
 
 Middleware: by default every process runs with ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, i.e.
 rmw_fastrtps's own transports (shared memory with Fast DDS's default 1 s port health check, and
@@ -242,6 +243,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     env["ECHO_WORK_US"] = str(echo_work_us)
     env["ECHO_PANEL_MESH"] = mesh if kind == "echo+panel" else ""
     env["TRACED_PARTS"] = ",".join(args.trace_part)
+    env["TRACE_CPU"] = "1" if args.trace_cpu else ""
     # The node's package first on its path: a baseline's extracted package, else this tree's own
     # (REPOSITORY). The node runs in a directory of its own: with ``python -m`` the working
     # directory comes before PYTHONPATH, and the tree the bench is started from would shadow a
@@ -394,6 +396,9 @@ def main() -> None:
     parser.add_argument("--trace-part", action="append", default=[], metavar="MODULE:QUALNAME",
                         help="with --trace, also time this function (e.g. adbsat_ros.panel_method:"
                              "PanelMethod._unit_coefficients); repeatable")
+    parser.add_argument("--trace-cpu", action="store_true",
+                        help="with --trace, also record each part's thread CPU time (wall time above it is "
+                             "time the node's thread waited: preempted, or on a lock)")
     parser.add_argument("--out", default="")
     parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
     args = parser.parse_args()

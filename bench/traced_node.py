@@ -44,17 +44,40 @@ gc.callbacks.append(_on_gc)
 
 #: Parts timed on every call, whose first WARM_UP_CALLS calls are left out at the end; the others
 #: (garbage collections, the takes and bursts of waiting messages) are recorded after the warm-up only.
-_EVERY_MESSAGE = ("attitude callback", "estimator.on_attitude", "estimator.prepare", "node._publish")
+_EVERY_MESSAGE = ("attitude callback", "estimator.on_attitude", "estimator.prepare", "node._publish",
+                  *(f"{part} [thread CPU]" for part in ("attitude callback", "estimator.on_attitude",
+                                                        "estimator.prepare", "node._publish")))
 
 
 def _warm() -> bool:
     return len(_durations["attitude callback"]) >= WARM_UP_CALLS
 
 
+#: With TRACE_CPU=1 in the environment every part also records the CPU time its thread spent in
+#: it (``time.thread_time``, a system call of its own per reading), as "PART [thread CPU]": wall
+#: time well above it is time the thread waited (preempted, or on a lock), not time it computed.
+TRACE_CPU = os.environ.get("TRACE_CPU", "") == "1"
+
+
 def _timed(function, part):
     record = _durations[part].append
     clock = time.perf_counter
     every = part in _EVERY_MESSAGE
+    if TRACE_CPU:
+        record_cpu = _durations.setdefault(f"{part} [thread CPU]", []).append
+        cpu_clock = time.thread_time
+
+        def wrapper(*args, **kwargs):
+            c0 = cpu_clock()
+            t0 = clock()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                if every or _warm():
+                    record(clock() - t0)
+                    record_cpu(cpu_clock() - c0)
+
+        return wrapper
 
     def wrapper(*args, **kwargs):
         t0 = clock()
