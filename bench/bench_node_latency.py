@@ -13,14 +13,15 @@ rate, slowly tumbling at 1 deg/s so the shading cache sees mostly hits, or fixed
 and a receiver. Latency is receive time minus publish time of the same stamp on the shared
 CLOCK_MONOTONIC. With --rounds N each case runs N times, echo and adbsat alternating, and the
 latencies are pooled; each echo run and the adbsat run after it are also compared as a pair (the
-p99 target on the same spell of this shared machine). Reports p50/p99/max, messages dropped, the
-node's own compute time from /diagnostics, the node process's CPU time per message answered, the
-share of attitudes whose flight conditions the node had prepared ahead, the receiver's own longest
-hold-up (a thread that sleeps 10 ms at a time: a stall of the measuring process itself would show
-there), and for the soak the node's resident memory at the start and the end. Each case runs in a
-ROS domain of its own (BENCH_DOMAIN_ID and up). Latencies of the messages sent in the first
-WARM_UP_S seconds of a run are left out (the node's first ray cast); "held" counts the messages
-that took 100 ms or more after that.
+p99 target on the same spell of this shared machine), and the pooled verdict comes with the share
+of bootstrap resamples of those pairs in which it holds (how much it depends on the spells met).
+Reports p50/p99/max, messages dropped, the node's own compute time from /diagnostics, the node
+process's CPU time per message answered, the share of attitudes whose flight conditions the node
+had prepared ahead, the receiver's own longest hold-up (a thread that sleeps 10 ms at a time: a
+stall of the measuring process itself would show there), and for the soak the node's resident
+memory at the start and the end. Each case runs in a ROS domain of its own (BENCH_DOMAIN_ID and
+up). Latencies of the messages sent in the first WARM_UP_S seconds of a run are left out (the
+node's first ray cast); "held" counts the messages that took 100 ms or more after that.
 
 With --echo-panel the rounds also run bench/echo_node.py as the panel method alone (attitudes in
 and wrenches out as CDR bytes, the panel method with cached shading at a fixed free stream): what
@@ -72,6 +73,8 @@ R_ORBIT = 6378137.0 + 300e3
 WARM_UP_S = 0.2
 #: A latency at least this long [ms] is counted as a hold-up.
 HELD_MS = 100.0
+#: Bootstrap resamples of the round pairs behind the pooled verdict's share (pooled_target).
+BOOTSTRAP_RESAMPLES = 1000
 V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
 
 
@@ -336,6 +339,32 @@ def pooled(rounds: list) -> dict:
     }
 
 
+def pooled_target(echo_rounds: list, other_rounds: list, resamples: int | None = None, seed: int = 0) -> tuple:
+    """(echo p99, other p99, share): the pooled p99 latencies [ms] of two kinds' rounds, and the
+    share of bootstrap resamples in which the other kind's pooled p99 is under the echo's + 1 ms.
+
+    Each resample draws as many round pairs as were run, with replacement, keeping each echo run
+    with the run of the other kind after it (the same spell of the machine), and pools their
+    latencies as :func:`pooled` does: how much the pooled verdict depends on which spells the
+    rounds happened to meet.
+    """
+    resamples = BOOTSTRAP_RESAMPLES if resamples is None else resamples
+    pairs = [(e["latencies_ms"], o["latencies_ms"]) for e, o in zip(echo_rounds, other_rounds)]
+    if not pairs or any(e.size == 0 or o.size == 0 for e, o in pairs):
+        return math.nan, math.nan, 0.0
+
+    def p99(arrays) -> float:
+        return float(np.percentile(np.concatenate(arrays), 99))
+
+    echo_p99, other_p99 = p99([e for e, _ in pairs]), p99([o for _, o in pairs])
+    rng = np.random.default_rng(seed)
+    held = 0
+    for _ in range(resamples):
+        chosen = rng.integers(0, len(pairs), size=len(pairs))
+        held += p99([pairs[i][1] for i in chosen]) < p99([pairs[i][0] for i in chosen]) + 1.0
+    return echo_p99, other_p99, held / resamples
+
+
 def build_node_database(mesh_path: Path) -> str:
     """A database (aoa -180:5:180 x aos -90:5:90, raycast) for the node's default set-up on the mesh."""
     from adbsat_ros.aero_wrench import AeroWrenchEstimator
@@ -488,6 +517,10 @@ def run_all(args, mesh_path: str, echo_work: dict, packages: dict) -> None:
             held = sum(v.endswith("held") for v in verdicts)
             print(f"pairs at {rate:.0f} Hz, p99 ms echo/{other}, target {other} < echo + 1 ms: {'; '.join(verdicts)}"
                   f" -> held in {held} of {len(verdicts)}")
+            pooled_echo, pooled_other, share = pooled_target(rounds["echo"], rounds[other])
+            print(f"pooled at {rate:.0f} Hz, p99 ms echo/{other}: {pooled_echo:.2f}/{pooled_other:.2f} "
+                  f"{'held' if pooled_other < pooled_echo + 1.0 else 'MISSED'}; held in {share:.0%} of "
+                  f"{BOOTSTRAP_RESAMPLES} resamples of the round pairs")
     if args.soak > 0:
         r = pooled([run_case("adbsat", 1000.0, args.soak, mesh_path, args, measure_memory=True)])
         print(f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "
