@@ -59,25 +59,10 @@ def _warm() -> bool:
 TRACE_CPU = os.environ.get("TRACE_CPU", "") == "1"
 
 
-def _timed(function, part):
-    record = _durations[part].append
-    clock = time.perf_counter
+def _timed(function, part, clock=time.perf_counter, suffix=""):
+    """``function`` wrapped so that each call's ``clock`` time is recorded under ``part + suffix``."""
+    record = _durations.setdefault(part + suffix, []).append
     every = part in _EVERY_MESSAGE
-    if TRACE_CPU:
-        record_cpu = _durations.setdefault(f"{part} [thread CPU]", []).append
-        cpu_clock = time.thread_time
-
-        def wrapper(*args, **kwargs):
-            c0 = cpu_clock()
-            t0 = clock()
-            try:
-                return function(*args, **kwargs)
-            finally:
-                if every or _warm():
-                    record(clock() - t0)
-                    record_cpu(cpu_clock() - c0)
-
-        return wrapper
 
     def wrapper(*args, **kwargs):
         t0 = clock()
@@ -90,13 +75,20 @@ def _timed(function, part):
     return wrapper
 
 
-node.AdbsatNode._on_attitude = _timed(node.AdbsatNode._on_attitude, "attitude callback")
-aero_wrench.AeroWrenchEstimator.on_attitude = _timed(aero_wrench.AeroWrenchEstimator.on_attitude,
+def _traced(function, part):
+    """``function`` with its wall time recorded under ``part`` (and with TRACE_CPU its thread's CPU
+    time under "PART [thread CPU]", read around the wall-time wrapper)."""
+    timed = _timed(function, part)
+    return _timed(timed, part, time.thread_time, " [thread CPU]") if TRACE_CPU else timed
+
+
+node.AdbsatNode._on_attitude = _traced(node.AdbsatNode._on_attitude, "attitude callback")
+aero_wrench.AeroWrenchEstimator.on_attitude = _traced(aero_wrench.AeroWrenchEstimator.on_attitude,
                                                      "estimator.on_attitude")
-aero_wrench.AeroWrenchEstimator.prepare = _timed(aero_wrench.AeroWrenchEstimator.prepare, "estimator.prepare")
-node.AdbsatNode._publish = _timed(node.AdbsatNode._publish, "node._publish")
-node.AdbsatNode._take_waiting = _timed(node.AdbsatNode._take_waiting, "node._take_waiting")
-_on_attitudes = _timed(aero_wrench.AeroWrenchEstimator.on_attitudes, "estimator.on_attitudes")
+aero_wrench.AeroWrenchEstimator.prepare = _traced(aero_wrench.AeroWrenchEstimator.prepare, "estimator.prepare")
+node.AdbsatNode._publish = _traced(node.AdbsatNode._publish, "node._publish")
+node.AdbsatNode._take_waiting = _traced(node.AdbsatNode._take_waiting, "node._take_waiting")
+_on_attitudes = _traced(aero_wrench.AeroWrenchEstimator.on_attitudes, "estimator.on_attitudes")
 
 
 def _on_attitudes_per_message(self, messages):
@@ -116,7 +108,7 @@ for _path in filter(None, os.environ.get("TRACED_PARTS", "").split(",")):
     for _part in _outer:
         _owner = getattr(_owner, _part)
     _durations[_attribute] = []
-    setattr(_owner, _name, _timed(getattr(_owner, _name), _attribute))
+    setattr(_owner, _name, _traced(getattr(_owner, _name), _attribute))
 
 
 @atexit.register
