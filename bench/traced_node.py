@@ -107,7 +107,6 @@ for _path in filter(None, os.environ.get("TRACED_PARTS", "").split(",")):
     *_outer, _name = _attribute.split(".")
     for _part in _outer:
         _owner = getattr(_owner, _part)
-    _durations[_attribute] = []
     setattr(_owner, _name, _traced(getattr(_owner, _name), _attribute))
 
 
