@@ -1,6 +1,10 @@
 """A bare rclpy echo node: republishes each QuaternionStamped on `attitude` as a WrenchStamped on
 `wrench` with the same stamp. The latency floor of rclpy on this machine, for bench_node_latency.
 
+It spins the executor ECHO_EXECUTOR names: ``events`` (the default, rclpy's EventsExecutor, as
+adbsat_node spins it), ``single_threaded``, or ``rclpy.spin``: ``rclpy.spin(node)``, the textbook
+node on rclpy's default executor (bench_node_latency's "bare echo").
+
 With ECHO_WORK_US=N in the environment it first spins for N microseconds in every callback: an
 echo that costs as much CPU per message as a node of known cost, for bench_node_latency's
 --echo-work-us.
@@ -79,10 +83,14 @@ def main():
         node.create_subscription(QuaternionStamped, "attitude", panel_callback(pub, mesh_path), qos, raw=True)
     else:
         node.create_subscription(QuaternionStamped, "attitude", echo, qos)
-    executor = make_executor(os.environ.get("ECHO_EXECUTOR", "events"))
-    executor.add_node(node)
+    executor_kind = os.environ.get("ECHO_EXECUTOR", "events")
     try:
-        spin_until_shutdown(executor)
+        if executor_kind == "rclpy.spin":  # the textbook node: rclpy's default executor
+            rclpy.spin(node)
+        else:
+            executor = make_executor(executor_kind)
+            executor.add_node(node)
+            spin_until_shutdown(executor)
     except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
         pass
     finally:
