@@ -66,6 +66,45 @@ def _shear_per_sine(ctau, sigma) -> np.ndarray:
     return np.divide(ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
 
 
+#: Below this sin(delta) [-] (within 0.06 deg of normal incidence) :func:`sine_of_incidence`
+#: takes |u x n| instead of sqrt(1 - c^2).
+NEAR_NORMAL_SINE = 1e-3
+
+
+def sine_of_incidence(u, normals, c) -> np.ndarray:
+    """sin(delta) of every panel, given c = cos(delta) = -u . n.
+
+    sqrt(1 - c^2), except within NEAR_NORMAL_SINE of normal incidence, where 1 - c^2 cancels (c
+    rounds to +-1 below delta ~ 1.5e-8 rad, and a panel's shear, along (u + c n) / sin(delta),
+    would be lost with its sine) and |u x n| is taken instead, which has no cancellation.
+
+    Parameters
+    ----------
+    u : ndarray, shape (3,) or (M, 3)
+        Unit flow direction(s).
+    normals : ndarray, shape (N, 3)
+        Unit panel normals (either orientation).
+    c : ndarray, shape (N,) or (M, N)
+        cos(delta) of every panel for every direction, within [-1, 1].
+
+    Returns
+    -------
+    ndarray, shape of ``c``
+    """
+    sigma = np.sqrt(1.0 - c * c)
+    near = sigma < NEAR_NORMAL_SINE
+    if near.any():
+        if c.ndim == 1:
+            n = normals[near]
+            d = np.broadcast_to(u, n.shape)
+        else:
+            rows, panels = np.nonzero(near)
+            n, d = normals[panels], u[rows]
+        cross = np.cross(d, n)
+        sigma[near] = np.sqrt(np.einsum("ij,ij->i", cross, cross))
+    return sigma
+
+
 def _unit_direction(flow_direction) -> np.ndarray:
     """``flow_direction`` as a unit 3-vector (float array); ValueError if not a finite non-zero one."""
     u = np.asarray(flow_direction, dtype=float)
@@ -172,9 +211,10 @@ class AeroCoefficients:
         self.reference = reference
         self.area_projected = area_projected
         self.model = model
-        # (cos_delta, cp, ctau, ctau / sin(delta)) per panel, or per facet with panel_index mapping
-        # panels to facets; ctau may be None (then made from ctau / sin(delta) when asked for),
-        # ctau / sin(delta) is None when ctau is given
+        # (cos_delta, cp, ctau, ctau / sin(delta), normals) per panel, or per facet with panel_index
+        # mapping panels to facets; ctau may be None (then made from ctau / sin(delta) and the
+        # (G, 3) facet normals when asked for), ctau / sin(delta) and normals are None when ctau is
+        # given
         self._panel_values = panel_values
         self._panel_index = panel_index
         self._lighting = lighting
@@ -232,10 +272,9 @@ class AeroCoefficients:
 
     @functools.cached_property
     def ctau(self) -> np.ndarray:
-        _, _, ctau, shear = self._panel_values
+        _, _, ctau, shear, normals = self._panel_values
         if ctau is None:
-            c = self._cos_delta
-            ctau = shear * np.sqrt(1.0 - c * c)
+            ctau = shear * sine_of_incidence(self.flow_direction, normals, self._cos_delta)
         return self._per_panel(ctau)
 
     @functools.cached_property
@@ -497,10 +536,11 @@ class PanelMethod:
     def _local_coefficients(self, u_G, inward_normals_T, surface, flow):
         """c = cos(delta) = -u . n, sigma = sin(delta) and the model's cp, ctau for normals given as
         the (3, N) array -n^T."""
-        c = np.asarray(u_G, dtype=float) @ inward_normals_T
+        u = np.asarray(u_G, dtype=float)
+        c = u @ inward_normals_T
         np.minimum(c, 1.0, out=c)  # |c| <= 1 despite rounding
         np.maximum(c, -1.0, out=c)
-        sigma = np.sqrt(1.0 - c * c)
+        sigma = sine_of_incidence(u, inward_normals_T.T, c)
         cp, ctau = self._model_fn(c, sigma, surface, flow, self.options)
         return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
 
@@ -632,11 +672,11 @@ class PanelMethod:
         if facet_surface is not None:
             c, cp, shear, ctau = self._facet_coefficients(u, facet_surface, flow)
             Cf_G, Cm_G, area_proj = self._facet_totals(u, _facet_rows(c, cp, shear), lighting)
-            index = facets.index
+            index, normals = facets.index, facets.normals
         else:
             c, sigma, cp, ctau = self.panel_coefficients(u, flow, surface)
             Cf_G, Cm_G, area_proj = self.integrate(u, c, sigma, cp, ctau, lighting)
-            index = shear = None
+            index = shear = normals = None
         return AeroCoefficients(
             flow_direction=u,
             Cf_G=Cf_G,
@@ -644,7 +684,7 @@ class PanelMethod:
             reference=self.reference,
             area_projected=float(area_proj),
             model=self.model,
-            panel_values=(c, cp, ctau, shear),
+            panel_values=(c, cp, ctau, shear, normals),
             panel_index=index,
             lighting=lighting,
             angles=angles,
@@ -721,7 +761,8 @@ class PanelMethod:
             own = slice(k * g, (k + 1) * g)
             results.append(AeroCoefficients(
                 flow_direction=u, Cf_G=Cf_G, Cm_G=Cm_G, reference=self.reference,
-                area_projected=float(area_proj), model=self.model, panel_values=(c[own], cp[own], None, shear[own]),
+                area_projected=float(area_proj), model=self.model,
+                panel_values=(c[own], cp[own], None, shear[own], facets.normals),
                 panel_index=facets.index, lighting=lighting, angles=None,
             ))
         return results

@@ -24,7 +24,7 @@ import numpy as np
 
 from . import frames
 from .lighting import PanelLighting
-from .panel_method import PanelMethod
+from .panel_method import PanelMethod, sine_of_incidence
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,7 +92,7 @@ def solar_coefficients(
     u = -s  # photons travel away from the sun
     c = -(method.mesh.normals @ u)
     np.clip(c, -1.0, 1.0, out=c)
-    sigma = np.sqrt(1.0 - c * c)
+    sigma = sine_of_incidence(u, method.mesh.normals, c)
     rho_s = method.surface.specular_reflectivity
     rho_d = method.surface.diffuse_reflectivity
     lit = c > 0.0

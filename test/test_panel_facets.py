@@ -72,9 +72,10 @@ def test_facets_equal_panels_with_raycast_shading(satellite, shader, model):
         b = panel_by_panel.coefficients(FLOW, math.radians(aoa), math.radians(aos), lighting=lighting)
         assert_same(a, b)
         # the plates see c unclipped (|c| <= 1 to rounding); what is reported is a cosine, and a
-        # face head-on (aoa 0 and 180: sin(delta) = 0) carries no shear
+        # face head-on (aoa 0 and 180: sin(delta) = 0, to the rounding of the direction made
+        # from the angles, sin(pi) = 1.2e-16) carries no shear beyond that rounding
         assert np.all(np.abs(a.cos_delta) <= 1.0)
-        assert np.all(a.ctau[np.abs(a.cos_delta) == 1.0] == 0.0)
+        assert np.all(np.abs(a.ctau[np.abs(a.cos_delta) == 1.0]) <= 1e-15)
     assert lighting.shift_index.size > 0 or model  # some attitudes above have partly lit panels
 
 

@@ -14,7 +14,7 @@ from functools import lru_cache
 import numpy as np
 import pytest
 import trimesh
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from adbsat_ros import FreeStream, ModelOptions, PanelMethod, Reference, SurfaceProperties, panels_from_arrays
@@ -263,6 +263,7 @@ def test_mirror_symmetry_in_sideslip(model, aoa, aos, ex):
 
 @SETTINGS
 @given(model=models, aoa=angles, aos=sideslip)
+@example(model="sentman", aoa=0.0, aos=2.824831440513767e-11)  # (a front face's shear lost to sqrt(1 - c^2))
 def test_additivity_over_separate_bodies(model, aoa, aos):
     """Without shading, the load of two disjoint bodies is the sum of their loads (same A_ref,
     L_ref, moment point)."""
@@ -277,3 +278,27 @@ def test_additivity_over_separate_bodies(model, aoa, aos):
     assert_vec(whole.Cf_G, parts[0].Cf_G + parts[1].Cf_G, 1e-12, scale)
     assert_vec(whole.Cm_G, parts[0].Cm_G + parts[1].Cm_G, 1e-12, 4 * scale)
     assert whole.area_projected == pytest.approx(parts[0].area_projected + parts[1].area_projected, rel=1e-12)
+
+
+# -------------------------------------------------------------------- near normal incidence
+@pytest.mark.parametrize("group_facets", [True, False])
+@pytest.mark.parametrize("model", [m for m in MODELS if m != "newton"])
+def test_the_side_force_of_a_box_is_linear_in_a_tiny_sideslip(model, group_facets):
+    """The shear of a panel nearly facing the flow acts along u + c n, of length sin(delta) ~ beta.
+
+    A box at angle of attack 0 and sideslip beta: the side force is odd and smooth in beta, so
+    C_Y(beta) / beta tends to C_Y'(0), with a relative beta^2 term. Below delta ~ 1.5e-8 rad,
+    c = cos(delta) rounds to 1 and sqrt(1 - c^2) to 0; a sine taken so drops the front face's
+    shear, most of C_Y there (newton has no shear, and no side force linear in beta)."""
+    v, f = box_arrays((1.3, 0.9, 0.6), (0.2, -0.1, 0.05))
+    method = PanelMethod(panels_from_arrays(v, f), model, PROPS, group_facets=group_facets)
+
+    def side_per_sideslip(beta):
+        return method.coefficients(flow_for(model), 0.0, beta).side_force / beta
+
+    slope = side_per_sideslip(1e-6)
+    assert abs(slope) > 1e-3
+    # (C_Y is a sum of terms of order 1 that cancel: rounding 1e-16 absolute, 1e-7 of C_Y at 1e-9)
+    assert side_per_sideslip(1e-9) == pytest.approx(slope, rel=1e-5)
+    assert side_per_sideslip(-1e-9) == pytest.approx(slope, rel=1e-5)
+    assert side_per_sideslip(1e-11) == pytest.approx(slope, rel=1e-3)

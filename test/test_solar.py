@@ -33,6 +33,18 @@ def test_plate_matches_luthcke(theta_deg, rho_s, rho_d):
     assert got.area_lit == pytest.approx(c)
 
 
+@pytest.mark.parametrize("theta", [1e-9, -1e-11])
+def test_the_photons_sideways_push_is_kept_near_normal_incidence(theta):
+    """Luthcke's plate a hair off the normal: the absorbed photons push along s, and the part of
+    that across the normal, -(1 - rho_s) cos(th) sin(th), is kept where cos(th) rounds to 1 (a
+    sine taken as sqrt(1 - cos^2) there would be 0)."""
+    rho_s, rho_d = 0.3, 0.4
+    to_sun = np.array([math.cos(theta), math.sin(theta), 0.0])
+    got = solar_coefficients(plate_method(rho_s, rho_d), to_sun)
+    assert got.Cf_G[1] == pytest.approx(-(1 - rho_s) * math.cos(theta) * math.sin(theta), rel=1e-6)
+    assert got.Cf_G[0] == pytest.approx(-((1 - rho_s) + 2 * (rho_s + rho_d / 3)), rel=1e-12)
+
+
 def test_plate_facing_away_from_the_sun_feels_nothing():
     got = solar_coefficients(plate_method(0.5, 0.3), np.array([-1.0, 0.2, 0.0]))
     assert np.allclose(got.Cf_G, 0.0) and got.area_lit == 0.0
