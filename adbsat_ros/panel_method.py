@@ -95,13 +95,11 @@ def sine_of_incidence(u, normals, c) -> np.ndarray:
     near = sigma < NEAR_NORMAL_SINE
     if near.any():
         if c.ndim == 1:
-            n = normals[near]
-            d = np.broadcast_to(u, n.shape)
+            cross = _cross(u, normals[near])
         else:
             rows, panels = np.nonzero(near)
-            n, d = normals[panels], u[rows]
-        cross = np.cross(d, n)
-        sigma[near] = np.sqrt(np.einsum("ij,ij->i", cross, cross))
+            cross = _cross(u[rows], normals[panels])
+        sigma[near] = np.sqrt((cross * cross).sum(axis=-1))
     return sigma
 
 
