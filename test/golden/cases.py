@@ -222,7 +222,9 @@ def node_outputs(meshes: dict) -> dict:
                 stamp = w.header.stamp.sec + 1e-9 * w.header.stamp.nanosec
                 f, m = w.wrench.force, w.wrench.torque
                 cf, cm = c.wrench.force, c.wrench.torque
-                wrenches.append([stamp, f.x, f.y, f.z, m.x, m.y, m.z, cf.x, cf.y, cf.z, cm.x, cm.y, cm.z])
+                wrenches.append({"stamp": stamp, "force": [f.x, f.y, f.z], "torque": [m.x, m.y, m.z],
+                                 "force_coefficients": [cf.x, cf.y, cf.z],
+                                 "moment_coefficients": [cm.x, cm.y, cm.z]})
             out[name] = wrenches
         finally:
             executor.shutdown()
