@@ -8,14 +8,14 @@ The physics core (mesh, models, shading, atmosphere, databases) imports no rclpy
     print(result.drag, result.Cf_w, result.Cm_B)
 """
 
-from .freestream import FreeStream
-from .gsi_models import MODELS, ModelOptions
-from .lighting import PanelLighting
-from .mesh import MeshError, PanelMesh, load_mesh, panels_from_arrays, panels_from_trimesh
-from .panel_method import AeroCoefficients, PanelMethod, Reference
-from .shading import Shader, make_shader
-from .shading_cache import ShadingCache
-from .surface import MaterialTable, SurfaceProperties
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.gsi_models import MODELS, ModelOptions
+from adbsat_ros.shading.lighting import PanelLighting
+from adbsat_ros.geometry.mesh import MeshError, PanelMesh, load_mesh, panels_from_arrays, panels_from_trimesh
+from adbsat_ros.physics.panel_method import AeroCoefficients, PanelMethod, Reference
+from adbsat_ros.shading.shader import Shader, make_shader
+from adbsat_ros.shading.cache import ShadingCache
+from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 
 __version__ = "0.1.0"
 

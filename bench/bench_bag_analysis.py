@@ -24,11 +24,13 @@ import tempfile
 import time
 from pathlib import Path
 
-from adbsat_ros import bag_io, scenario
-from adbsat_ros.aero_wrench import AeroWrenchEstimator
-from adbsat_ros.bag_analysis import analyze_bag
-from adbsat_ros.example_satellite import example_satellite, write_obj
-from adbsat_ros.wrench_settings import WrenchSettings
+from adbsat_ros.bags import io as bag_io
+
+from adbsat_ros.bags import scenario
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.bags.analysis import analyze_bag
+from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+from adbsat_ros.estimator.settings import WrenchSettings
 
 
 def main(argv=None) -> int:

@@ -31,14 +31,14 @@ import time
 
 import numpy as np
 
-from adbsat_ros import frames
-from adbsat_ros.aero_wrench import AeroWrenchEstimator
-from adbsat_ros.example_satellite import example_satellite
-from adbsat_ros.freestream import FreeStream
-from adbsat_ros.panel_method import PanelMethod
-from adbsat_ros.shading import make_shader
-from adbsat_ros.shading_cache import ShadingCache
-from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings
+from adbsat_ros.geometry import frames
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.geometry.example_satellite import example_satellite
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.shading.shader import make_shader
+from adbsat_ros.shading.cache import ShadingCache
+from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
 
 
 def percentiles(samples_s):

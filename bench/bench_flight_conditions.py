@@ -50,9 +50,9 @@ import timeit
 
 import numpy as np
 
-from adbsat_ros.atmosphere import SpaceWeather, evaluate_atmosphere
-from adbsat_ros.earth_frames import earth_orientation
-from adbsat_ros.flight_conditions import flight_conditions, flight_conditions_circular_orbit
+from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
+from adbsat_ros.environment.earth_frames import earth_orientation
+from adbsat_ros.environment.flight_conditions import flight_conditions, flight_conditions_circular_orbit
 
 START = dt.datetime(2015, 1, 19)
 WEATHER = SpaceWeather(f107=121.7, f107a=138.1, ap=4.0)

@@ -9,7 +9,7 @@ geometry_msgs/WrenchStamped written (stamp, frame, force, torque), three ways:
 * rclpy: deserialize_message / serialize_message, i.e. the typesupport conversions between CDR
   and Python message objects that a typed subscription and publisher make for every message;
 * rosbags: its pure-Python CDR codec with its own message classes;
-* stamped_cdr: the struct readers and writer the node uses (adbsat_ros.stamped_cdr).
+* stamped_cdr: the struct readers and writer the node uses (adbsat_ros.messages.cdr).
 
 and for one nav_msgs/Odometry read (stamp, frame ids, position, orientation, linear velocity)
 the same three ways.
@@ -29,8 +29,8 @@ from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
 
-from adbsat_ros import bag_io
-from adbsat_ros.stamped_cdr import OdometryFields, odometry_fields, quaternion_stamped_fields, wrench_stamped_cdr
+from adbsat_ros.bags import io as bag_io
+from adbsat_ros.messages.cdr import OdometryFields, odometry_fields, quaternion_stamped_fields, wrench_stamped_cdr
 
 FORCE, TORQUE = [1.0e-3, -2.0e-5, 3.0e-6], [4.0e-7, 5.0e-6, -6.0e-7]
 

@@ -110,7 +110,7 @@ def main() -> None:
     parser.add_argument("--baseline", metavar="REV", help="also time the node of git revision REV")
     args = parser.parse_args()
 
-    from adbsat_ros.example_satellite import example_satellite, write_obj
+    from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
 
     mesh = example_satellite(max_edge=args.max_edge)
     mesh_path = Path(tempfile.mkdtemp()) / "satellite.obj"

@@ -178,8 +178,8 @@ def receiver(duration: float, out: str) -> None:
     from geometry_msgs.msg import WrenchStamped
     from rclpy.qos import QoSProfile
 
-    from adbsat_ros.node import make_executor
-    from adbsat_ros.stamped_cdr import header_stamp
+    from adbsat_ros.ros.node import make_executor
+    from adbsat_ros.messages.cdr import header_stamp
 
     rclpy.init()
     node = rclpy.create_node("bench_receiver")
@@ -276,7 +276,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     if not kind.startswith("adbsat"):
         node_cmd = [sys.executable, str(HERE / "echo_node.py")]
     else:
-        node_program = [str(HERE / "traced_node.py")] if args.trace else ["-m", "adbsat_ros.node"]
+        node_program = [str(HERE / "traced_node.py")] if args.trace else ["-m", "adbsat_ros.ros.node"]
         node_cmd = [sys.executable, *node_program, "--ros-args", "-p", f"mesh:={mesh}",
                     "-p", "time_mode:=epoch", "-p", f"shading:={args.shading}", "-p", "qos_depth:=100",
                     "-p", f"coefficients_source:={args.coefficients_source}", "-p", f"executor:={args.executor}"]
@@ -385,10 +385,10 @@ def pooled_target(echo_rounds: list, other_rounds: list, resamples: int | None =
 
 def build_node_database(mesh_path: Path) -> str:
     """A database (aoa -180:5:180 x aos -90:5:90, raycast) for the node's default set-up on the mesh."""
-    from adbsat_ros.aero_wrench import AeroWrenchEstimator
-    from adbsat_ros.database import build_database
-    from adbsat_ros.freestream import FreeStream
-    from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings
+    from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+    from adbsat_ros.database.build import build_database
+    from adbsat_ros.physics.freestream import FreeStream
+    from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
 
     settings = WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, mesh=str(mesh_path), shading="none"))
     method = AeroWrenchEstimator(settings).method
@@ -442,7 +442,7 @@ def main() -> None:
     parser.add_argument("--trace", action="store_true",
                         help="time the adbsat node's callback parts in the running process (bench/traced_node.py)")
     parser.add_argument("--trace-part", action="append", default=[], metavar="MODULE:QUALNAME",
-                        help="with --trace, also time this function (e.g. adbsat_ros.panel_method:"
+                        help="with --trace, also time this function (e.g. adbsat_ros.physics.panel_method:"
                              "PanelMethod._unit_coefficients); repeatable")
     parser.add_argument("--trace-cpu", action="store_true",
                         help="with --trace, also record each part's thread CPU time (wall time above it is "
@@ -460,7 +460,7 @@ def main() -> None:
     if args.role == "receiver":
         return receiver(args.duration, args.out)
 
-    from adbsat_ros.example_satellite import example_satellite, write_obj
+    from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
 
     mesh = example_satellite(max_edge=args.max_edge)
     mesh_path = Path(tempfile.mkdtemp()) / "satellite.obj"

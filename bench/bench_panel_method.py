@@ -19,7 +19,7 @@ import numpy as np
 import trimesh
 
 from adbsat_ros import FreeStream, PanelMethod, panels_from_trimesh
-from adbsat_ros.frames import flow_direction
+from adbsat_ros.geometry.frames import flow_direction
 
 SPECIES = {"He": 2.1e12, "O": 4.3e15, "N2": 6.9e14, "O2": 2.1e13, "Ar": 3.7e10, "H": 1.2e11, "N": 3.5e13}
 

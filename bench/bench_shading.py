@@ -33,10 +33,10 @@ import time
 
 import numpy as np
 
-from adbsat_ros import frames
-from adbsat_ros.shading import embree_available, lit_projected_area, make_shader
-from adbsat_ros.shading_cache import ShadingCache, moved_lit_area
-from adbsat_ros.shapes import combine, grid_box
+from adbsat_ros.geometry import frames
+from adbsat_ros.shading.shader import embree_available, lit_projected_area, make_shader
+from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
+from adbsat_ros.geometry.shapes import combine, grid_box
 
 
 def cube_plate(plate_div, cube_div):

@@ -25,19 +25,19 @@ import rclpy
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from rclpy.qos import QoSProfile
 
-from adbsat_ros.node import make_executor, spin_until_shutdown
+from adbsat_ros.ros.node import make_executor, spin_until_shutdown
 
 
 def panel_callback(publisher, mesh_path: str):
     """The --echo-panel callback: CDR bytes of an attitude in, of its wrench out."""
-    from adbsat_ros.frames import quaternion_matrix_floats
-    from adbsat_ros.freestream import FreeStream
-    from adbsat_ros.mesh import resolve_mesh
-    from adbsat_ros.panel_method import PanelMethod
-    from adbsat_ros.shading import make_shader
-    from adbsat_ros.shading_cache import ShadingCache
-    from adbsat_ros.stamped_cdr import quaternion_stamped_fields, wrench_stamped_cdr
-    from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS as D
+    from adbsat_ros.geometry.frames import quaternion_matrix_floats
+    from adbsat_ros.physics.freestream import FreeStream
+    from adbsat_ros.geometry.mesh import resolve_mesh
+    from adbsat_ros.physics.panel_method import PanelMethod
+    from adbsat_ros.shading.shader import make_shader
+    from adbsat_ros.shading.cache import ShadingCache
+    from adbsat_ros.messages.cdr import quaternion_stamped_fields, wrench_stamped_cdr
+    from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS as D
 
     mesh = resolve_mesh(mesh_path, 1.0)
     method = PanelMethod(mesh, D["gsi_model"])

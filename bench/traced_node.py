@@ -1,12 +1,12 @@
 """adbsat_node with its callback's parts timed, for bench_node_latency's --trace.
 
-Runs ``adbsat_ros.node.main`` with the attitude callback, ``AeroWrenchEstimator.on_attitude``,
+Runs ``adbsat_ros.ros.node.main`` with the attitude callback, ``AeroWrenchEstimator.on_attitude``,
 ``AeroWrenchEstimator.prepare``, ``AdbsatNode._publish`` (CDR packing, the publish and the node's
 bookkeeping), the serving of waiting attitudes (``AdbsatNode._take_waiting``,
 ``AeroWrenchEstimator.on_attitudes`` and its time per message) wrapped in ``time.perf_counter``
 calls (a few microseconds of their own per message), and every garbage collection (``gc.callbacks``)
 by generation. ``TRACED_PARTS`` in the environment (comma-separated ``module:Class.method`` or
-``module:function``, e.g. ``adbsat_ros.panel_method:PanelMethod._unit_coefficients``) adds parts,
+``module:function``, e.g. ``adbsat_ros.physics.panel_method:PanelMethod._unit_coefficients``) adds parts,
 timed on every call after the warm-up (a function is replaced in its own module: one that another
 module imported by name is timed there only if given as that module's). At exit it writes one JSON line to stderr,
 ``TRACE {"part": [microseconds, ...], ...}``, the durations of every call (and collection) after
@@ -23,7 +23,9 @@ import time
 import importlib
 import os
 
-from adbsat_ros import aero_wrench, node
+from adbsat_ros.estimator import estimator as aero_wrench
+
+from adbsat_ros.ros import node
 
 WARM_UP_CALLS = 500
 _durations = {"attitude callback": [], "estimator.on_attitude": [], "estimator.prepare": [], "node._publish": [],

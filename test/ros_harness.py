@@ -99,7 +99,7 @@ def stamp_to_float(stamp) -> float:
 
 def make_context(executor: str = "single_threaded"):
     """A fresh rclpy context and an executor of the kind adbsat_node can use (events or single_threaded)."""
-    from adbsat_ros.node import make_executor
+    from adbsat_ros.ros.node import make_executor
 
     ctx = rclpy.context.Context()
     rclpy.init(context=ctx)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from adbsat_ros.accommodation import (
+from adbsat_ros.environment.accommodation import (
     ACCOMMODATION_MODELS,
     SESAM_ADSORPTION_ENERGY,
     SESAM_TRANSITION_TEMPERATURE,
@@ -19,8 +19,8 @@ from adbsat_ros.accommodation import (
     sesam_oxygen_pressure,
     sesam_sticking_fraction,
 )
-from adbsat_ros.atmosphere import SpaceWeather, evaluate_atmosphere
-from adbsat_ros.constants import AMU, BOLTZMANN, species_mass_kg
+from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
+from adbsat_ros.physics.constants import AMU, BOLTZMANN, species_mass_kg
 
 # ADBSat validation paper (Sinpetru, Crisp et al. 2022, "ADBSat: Verification and validation of a
 # novel panel method for quick aerodynamic analysis of satellites", Comput. Phys. Commun. 275),
@@ -151,7 +151,7 @@ def test_atmosphere_must_be_an_atmosphere_state():
 def test_registry_fixed_and_langmuir_equal_the_model_functions():
     """The per-message shortcuts of accommodation_of (fixed alpha, default Langmuir) give what the
     model functions give, bit for bit, for model states and for hand-made ones of other types."""
-    from adbsat_ros.atmosphere import AtmosphereState
+    from adbsat_ros.environment.atmosphere import AtmosphereState
 
     for altitude in (200e3, 400e3, 700e3):
         atmosphere = paper_atmosphere(altitude)

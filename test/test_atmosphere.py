@@ -1,4 +1,4 @@
-"""NRLMSISE-00 through adbsat_ros.atmosphere: published values, units, validation, cost."""
+"""NRLMSISE-00 through adbsat_ros.environment.atmosphere: published values, units, validation, cost."""
 
 import datetime as dt
 import math
@@ -8,7 +8,7 @@ import time as _time
 import nrlmsise00
 import pytest
 
-from adbsat_ros.atmosphere import AtmosphereState, SpaceWeather, evaluate_atmosphere
+from adbsat_ros.environment.atmosphere import AtmosphereState, SpaceWeather, evaluate_atmosphere
 
 # Reference test case 1 of the NRLMSISE-00 C distribution (nrlmsise-00_test.c, D. Brodowski;
 # the same numbers are printed by the original Fortran test driver): day 172, 29000 s UT,
@@ -183,7 +183,7 @@ def test_cost_per_call_is_well_under_0_2_ms():
 
 
 def test_checked_utc_is_an_aware_utc_time_or_the_time_error():
-    from adbsat_ros.atmosphere import checked_utc
+    from adbsat_ros.environment.atmosphere import checked_utc
 
     aware = dt.datetime(2015, 1, 19, 6, 30, tzinfo=dt.timezone.utc)
     assert checked_utc(aware) is aware  # already what is needed: returned as it is

@@ -9,12 +9,14 @@ import numpy as np
 import pytest
 from rosbags.rosbag2 import Reader
 
-from adbsat_ros import bag_io, scenario
-from adbsat_ros.aero_wrench import AeroWrenchEstimator, Rejection, stamp_seconds
-from adbsat_ros.bag_analysis import MODEL_COLUMNS, analyze_bag, safe_split_points
-from adbsat_ros.mesh import panels_from_arrays
-from adbsat_ros.shapes import grid_box
-from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings
+from adbsat_ros.bags import io as bag_io
+
+from adbsat_ros.bags import scenario
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator, Rejection, stamp_seconds
+from adbsat_ros.bags.analysis import MODEL_COLUMNS, analyze_bag, safe_split_points
+from adbsat_ros.geometry.mesh import panels_from_arrays
+from adbsat_ros.geometry.shapes import grid_box
+from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
 
 FAST = {"shading": "none"}
 

@@ -15,13 +15,15 @@ import rclpy
 from geometry_msgs.msg import WrenchStamped
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-from adbsat_ros import bag_io, scenario
-from adbsat_ros.bag_analysis import analyze_bag
-from adbsat_ros.bag_io import BagError
-from adbsat_ros.bag_live import message_class, play, record
+from adbsat_ros.bags import io as bag_io
+
+from adbsat_ros.bags import scenario
+from adbsat_ros.bags.analysis import analyze_bag
+from adbsat_ros.bags.io import BagError
+from adbsat_ros.ros.bag_live import message_class, play, record
 from adbsat_ros.cli import main as cli_main
-from adbsat_ros.node import AdbsatNode
-from adbsat_ros.wrench_settings import WrenchSettings
+from adbsat_ros.ros.node import AdbsatNode
+from adbsat_ros.estimator.settings import WrenchSettings
 
 from ros_harness import make_context, spinning
 

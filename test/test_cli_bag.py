@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from rosbags.rosbag2 import Reader
 
-from adbsat_ros import bag_io
+from adbsat_ros.bags import io as bag_io
 from adbsat_ros.cli import main
 
 YAML = """adbsat_node:

@@ -104,8 +104,8 @@ def test_flight_conditions_give_the_gas(capsys, box_file):
     """--time/--altitude/--lat/--lon: NRLMSISE-00 gives the gas, as ADBSat's environment path."""
     import datetime as dt
 
-    from adbsat_ros.atmosphere import SpaceWeather
-    from adbsat_ros.flight_conditions import flight_conditions_circular_orbit
+    from adbsat_ros.environment.atmosphere import SpaceWeather
+    from adbsat_ros.environment.flight_conditions import flight_conditions_circular_orbit
 
     code, out, _ = run_cli(capsys, str(box_file), "--shading", "none", "--time", "2015-01-19T00:00:00Z",
                            "--altitude", "300", "--lat", "0", "--lon", "0", "--f107", "121.7",

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from adbsat_ros.cli import main
-from adbsat_ros.coefficient_lookup import CoefficientLookup
-from adbsat_ros.database import load_database
+from adbsat_ros.database.lookup import CoefficientLookup
+from adbsat_ros.database.build import load_database
 
 FLOW = ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
 

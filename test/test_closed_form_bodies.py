@@ -21,7 +21,7 @@ from adbsat_ros import (
     panels_from_arrays,
     panels_from_trimesh,
 )
-from adbsat_ros.constants import BOLTZMANN
+from adbsat_ros.physics.constants import BOLTZMANN
 
 SQRT_PI = math.sqrt(math.pi)
 

@@ -8,11 +8,13 @@ import numpy as np
 import pytest
 import trimesh
 
-from adbsat_ros import FreeStream, PanelMethod, frames, panels_from_trimesh
-from adbsat_ros.coefficient_lookup import CoefficientLookup, bilinear, estimate_interpolation_error
-from adbsat_ros.database import AeroDatabase, build_database
-from adbsat_ros.mesh import resolve_mesh
-from adbsat_ros.shading import make_shader
+from adbsat_ros import FreeStream, PanelMethod, panels_from_trimesh
+
+from adbsat_ros.geometry import frames
+from adbsat_ros.database.lookup import CoefficientLookup, bilinear, estimate_interpolation_error
+from adbsat_ros.database.build import AeroDatabase, build_database
+from adbsat_ros.geometry.mesh import resolve_mesh
+from adbsat_ros.shading.shader import make_shader
 
 FLOW = FreeStream(7500.0, 900.0, mean_mass_amu=16.0)
 

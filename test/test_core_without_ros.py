@@ -4,12 +4,12 @@ import subprocess
 import sys
 
 CORE_MODULES = [
-    "adbsat_ros", "adbsat_ros.mesh", "adbsat_ros.gsi_models", "adbsat_ros.panel_method",
-    "adbsat_ros.shading", "adbsat_ros.shading_cache", "adbsat_ros.solar", "adbsat_ros.atmosphere",
-    "adbsat_ros.flight_conditions", "adbsat_ros.accommodation", "adbsat_ros.aero_wrench",
-    "adbsat_ros.wrench_settings", "adbsat_ros.cli", "adbsat_ros.database", "adbsat_ros.coefficient_lookup",
-    "adbsat_ros.database_coefficients", "adbsat_ros.plots", "adbsat_ros.scenario", "adbsat_ros.bag_io",
-    "adbsat_ros.bag_analysis", "adbsat_ros.earth_frames", "adbsat_ros.freestream",
+    "adbsat_ros", "adbsat_ros.geometry.mesh", "adbsat_ros.physics.gsi_models", "adbsat_ros.physics.panel_method",
+    "adbsat_ros.shading.shader", "adbsat_ros.shading.cache", "adbsat_ros.physics.solar", "adbsat_ros.environment.atmosphere",
+    "adbsat_ros.environment.flight_conditions", "adbsat_ros.environment.accommodation", "adbsat_ros.estimator.estimator",
+    "adbsat_ros.estimator.settings", "adbsat_ros.cli", "adbsat_ros.database.build", "adbsat_ros.database.lookup",
+    "adbsat_ros.database.matching", "adbsat_ros.plotting.plots", "adbsat_ros.bags.scenario", "adbsat_ros.bags.io",
+    "adbsat_ros.bags.analysis", "adbsat_ros.environment.earth_frames", "adbsat_ros.physics.freestream",
 ]
 
 
@@ -28,6 +28,6 @@ def test_core_imports_no_rclpy():
 
 def test_node_module_does_import_rclpy():
     """The check above can fail: the node module really pulls rclpy in."""
-    code = "import sys, adbsat_ros.node; print('rclpy' in sys.modules)"
+    code = "import sys, adbsat_ros.ros.node; print('rclpy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.stdout.strip() == "True", out.stderr

@@ -10,7 +10,7 @@ import pytest
 import trimesh
 
 from adbsat_ros import FreeStream, MaterialTable, PanelMethod, Reference, SurfaceProperties, panels_from_arrays
-from adbsat_ros.database import (
+from adbsat_ros.database.build import (
     FORMAT_VERSION,
     REQUIRED_METADATA,
     SCALAR_FIELDS,
@@ -21,7 +21,7 @@ from adbsat_ros.database import (
     load_database,
     method_from_metadata,
 )
-from adbsat_ros.mesh import resolve_mesh
+from adbsat_ros.geometry.mesh import resolve_mesh
 from test_closed_form_bodies import reemission_temperature, sentman_sphere_cd, unit_sphere_mesh
 
 FLOW = FreeStream(7500.0, 900.0, mean_mass_amu=16.0)
@@ -94,7 +94,7 @@ def test_sentman_sphere_database_matches_closed_form_everywhere():
 
 def test_frames_are_consistent(example_db):
     """Stored Cf_w, Cf_f, Cm_B are the rotations of Cf_G, Cm_G, and CD/CL/CY come from Cf_w."""
-    from adbsat_ros import frames
+    from adbsat_ros.geometry import frames
 
     db = example_db
     a, b = np.meshgrid(np.radians(db.aoa_deg), np.radians(db.aos_deg), indexing="ij")
@@ -248,7 +248,7 @@ def test_metadata_rebuilds_the_exact_setup(example_db):
     assert shader is not None and shader.mode == "raycast"
     i, j = 3, 1
     a, b = math.radians(example_db.aoa_deg[i]), math.radians(example_db.aos_deg[j])
-    from adbsat_ros import frames
+    from adbsat_ros.geometry import frames
 
     r = method.coefficients(flow, a, b, lighting=shader.lighting(frames.flow_direction(a, b)))
     np.testing.assert_array_equal(r.Cf_G, example_db.Cf_G[i, j])

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from adbsat_ros.earth_frames import (
+from adbsat_ros.environment.earth_frames import (
     EARTH_ROTATION_RATE,
     WGS84,
     earth_orientation,
@@ -235,7 +235,7 @@ def test_precession_nutation_step_is_accurate_and_order_independent():
     """A 60 s precession-nutation step moves the GCRF->ITRF matrix by < 1e-9 rad (docstring bound)."""
     import datetime as dt
 
-    from adbsat_ros.earth_frames import earth_orientation
+    from adbsat_ros.environment.earth_frames import earth_orientation
 
     base = dt.datetime(2026, 3, 20, 12, 0, 0)
     worst = 0.0
@@ -256,7 +256,7 @@ def test_precession_nutation_step_is_accurate_and_order_independent():
 
 # --------------------------------------------------------------- the per-message float path
 def test_day_constants_are_erfa_julian_date_leap_seconds_and_day_of_year():
-    from adbsat_ros.earth_frames import utc_day
+    from adbsat_ros.environment.earth_frames import utc_day
 
     for day in (dt.date(1972, 1, 1), dt.date(2016, 12, 31), dt.date(2017, 1, 1), dt.date(2024, 12, 31)):
         jd1, tt_minus_utc, day_of_year = utc_day(day.year, day.month, day.day)
@@ -269,7 +269,7 @@ def test_day_constants_are_erfa_julian_date_leap_seconds_and_day_of_year():
 
 
 def test_enu_to_ecef_floats_equal_the_matrix_product():
-    from adbsat_ros.earth_frames import enu_to_ecef
+    from adbsat_ros.environment.earth_frames import enu_to_ecef
 
     rng = np.random.default_rng(3)
     for _ in range(50):

@@ -8,23 +8,23 @@ import math
 import numpy as np
 import pytest
 
-from adbsat_ros.atmosphere import SpaceWeather, evaluate_atmosphere
-from adbsat_ros.constants import AVOGADRO, BOLTZMANN, EARTH_MU, MOLAR_MASS_G
-from adbsat_ros.earth_frames import (
+from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
+from adbsat_ros.physics.constants import AVOGADRO, BOLTZMANN, EARTH_MU, MOLAR_MASS_G
+from adbsat_ros.environment.earth_frames import (
     EARTH_ROTATION_RATE,
     earth_orientation,
     ecef_to_eci,
     enu_to_ecef_matrix,
     geodetic_to_ecef,
 )
-from adbsat_ros.flight_conditions import (
+from adbsat_ros.environment.flight_conditions import (
     FlightConditions,
     circular_orbit_speed,
     flight_conditions,
     flight_conditions_circular_orbit,
     interpolated_flight_conditions,
 )
-from adbsat_ros.freestream import FreeStream
+from adbsat_ros.physics.freestream import FreeStream
 
 TIME = dt.datetime(2015, 1, 19, 6, 30)
 # ADBSat validation paper conditions (Sinpetru et al. 2022, Comput. Phys. Commun. 275; physics.md)
@@ -274,7 +274,7 @@ def reference_conditions(time, position, velocity, weather, *, frame, earth_rota
     """Flight conditions computed the plain way: pyerfa matrices, numpy 3-vectors, public checks."""
     import erfa
 
-    from adbsat_ros.accommodation import accommodation
+    from adbsat_ros.environment.accommodation import accommodation
 
     matrix, omega = erfa_orientation(time, ut1_minus_utc, polar_motion, step)
     position, velocity = np.array(position, dtype=float), np.array(velocity, dtype=float)
@@ -495,7 +495,7 @@ def test_per_message_fast_path_equals_the_checked_path_bit_for_bit(monkeypatch):
     """A repeated call with the options of an earlier one skips the option checks (their checked
     form is looked up) and unpacks the arrays itself: every field and the free stream equal, bit
     for bit, those of the checked path (inputs as lists, which only it takes)."""
-    import adbsat_ros.flight_conditions as module
+    import adbsat_ros.environment.flight_conditions as module
 
     def no_checked_path(*args):
         raise AssertionError("the per-message case took the checked path")
@@ -598,7 +598,7 @@ def test_remembered_options_never_skip_the_checks_of_bad_ones():
     again = flight_conditions(aware, position, velocity, WEATHER, frame="ECI", polar_motion=[0.0, 0.0],
                               precession_nutation_step=60)
     assert same_bits(again.relative_velocity_eci, good.relative_velocity_eci)
-    import adbsat_ros.flight_conditions as module
+    import adbsat_ros.environment.flight_conditions as module
 
     for i in range(200):  # a new UT1 - UTC at every call: the remembered options stay few
         flight_conditions(aware, position, velocity, WEATHER, ut1_minus_utc=i * 1e-3)

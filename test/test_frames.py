@@ -5,7 +5,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from adbsat_ros.frames import quaternion_matrix
+from adbsat_ros.geometry.frames import quaternion_matrix
 
 components = st.floats(-1.0, 1.0, allow_nan=False)
 

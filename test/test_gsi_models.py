@@ -1,6 +1,6 @@
 """Panel-level checks of the gas-surface interaction models against closed forms.
 
-Every reference below is written out here, independently of adbsat_ros.gsi_models, from the
+Every reference below is written out here, independently of adbsat_ros.physics.gsi_models, from the
 free-molecular flux integrals of a drifting Maxwellian gas on one side of a flat plate:
 
     x = s c (normal speed ratio), E = exp(-x^2), Phi = 1 + erf(x), s = V / sqrt(2 k T_inf / m)
@@ -25,8 +25,8 @@ from scipy.integrate import quad
 from scipy.special import erf
 
 from adbsat_ros import FreeStream, MaterialTable, SurfaceProperties
-from adbsat_ros.constants import AMU, BOLTZMANN, species_mass_kg
-from adbsat_ros.gsi_models import (
+from adbsat_ros.physics.constants import AMU, BOLTZMANN, species_mass_kg
+from adbsat_ros.physics.gsi_models import (
     ModelOptions,
     cll,
     cook,
@@ -596,7 +596,7 @@ def test_split_plate_is_the_model(name, flow_name):
     c_tau / sin(delta), against the closed forms above (Sentman's, and Schaaf & Chambre's, whose
     c_tau is sin(delta) times a function of c alone), also at grazing and head-on incidence where
     sin(delta) = 0 and the ratio cannot be read off c_tau."""
-    from adbsat_ros.gsi_models import SPLIT_MODELS, get_model
+    from adbsat_ros.physics.gsi_models import SPLIT_MODELS, get_model
 
     flow = FLOWS[flow_name]
     surf = surface(alpha=0.8, sigma_n=0.9, sigma_t=0.7, wall_temperature=350.0)

@@ -22,10 +22,10 @@ from rclpy.parameter import Parameter
 from rclpy.serialization import serialize_message
 from scipy.special import erf
 
-from adbsat_ros.atmosphere import SpaceWeather
-from adbsat_ros.flight_conditions import flight_conditions
-from adbsat_ros.node import AdbsatNode
-from adbsat_ros.wrench_settings import EXECUTORS
+from adbsat_ros.environment.atmosphere import SpaceWeather
+from adbsat_ros.environment.flight_conditions import flight_conditions
+from adbsat_ros.ros.node import AdbsatNode
+from adbsat_ros.estimator.settings import EXECUTORS
 
 from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float, to_stamp
 
@@ -126,7 +126,7 @@ def test_circular_orbit_wrench_is_drag_of_a_sphere(ros):
 def test_a_fixed_rate_stream_gets_its_flight_conditions_prepared_and_the_same_wrenches(ros):
     """After each wrench the node readies what the next regular stamp needs (the knots of its flight
     conditions); the wrenches equal those of an estimator fed the same messages without that."""
-    from adbsat_ros.aero_wrench import AeroWrenchEstimator
+    from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 
     node, peer = ros
     pos, vel = circular_orbit_state(300e3)
@@ -154,7 +154,7 @@ def test_attitudes_that_queue_up_are_served_together_in_order_with_their_own_wre
     taken by the attitude callback and computed together: every wrench arrives, in order, bit for
     bit the one an estimator fed the same messages one at a time gives; a NaN among them is
     rejected and counted; the state applies from the attitudes after it."""
-    from adbsat_ros.aero_wrench import AeroWrenchEstimator
+    from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 
     ctx, spinner = make_context(executor)
     node = AdbsatNode(context=ctx, parameter_overrides=[  # the bundled satellite, raycast shading
@@ -387,7 +387,7 @@ def test_parameter_changes_apply_or_are_rejected(ros):
 def test_bad_mesh_stops_the_node_with_one_line_and_status_1(tmp_path):
     env = dict(os.environ)
     proc = subprocess.run(
-        [sys.executable, "-m", "adbsat_ros.node", "--ros-args", "-p", f"mesh:={tmp_path / 'none.obj'}"],
+        [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args", "-p", f"mesh:={tmp_path / 'none.obj'}"],
         capture_output=True, text=True, timeout=60, env=env,
     )
     assert proc.returncode == 1
@@ -397,7 +397,7 @@ def test_bad_mesh_stops_the_node_with_one_line_and_status_1(tmp_path):
 
 def test_node_process_with_the_bundled_params_file(sphere_file):
     """adbsat_node run as its own process with config/adbsat.yaml answers over DDS."""
-    cmd = [sys.executable, "-m", "adbsat_ros.node", "--ros-args", "--params-file", str(ROOT / "config" / "adbsat.yaml"),
+    cmd = [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args", "--params-file", str(ROOT / "config" / "adbsat.yaml"),
            "-p", f"mesh:={sphere_file}", "-p", "time_mode:=epoch", "-p", f"epoch_utc:={EPOCH}"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     ctx, executor = make_context()
@@ -426,7 +426,7 @@ def test_node_process_with_the_bundled_params_file(sphere_file):
 
 
 def test_params_file_lists_every_parameter_with_its_default():
-    from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings, load_parameters_file
+    from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings, load_parameters_file
 
     params = load_parameters_file(ROOT / "config" / "adbsat.yaml")
     assert set(params) == set(PARAMETER_DEFAULTS)
@@ -454,7 +454,7 @@ def test_attitude_can_come_from_the_odometry_pose(ros):
 
 def test_log_throttle_logs_each_key_once_per_period():
     """One line per key and period, whatever the call rate; keys are independent."""
-    from adbsat_ros.node import LogThrottle
+    from adbsat_ros.ros.node import LogThrottle
 
     class Lines:
         def __init__(self):

@@ -18,16 +18,16 @@ import pytest
 import rclpy
 from rclpy.parameter import Parameter
 
-from adbsat_ros.aero_wrench import AeroWrenchEstimator
-from adbsat_ros.atmosphere import SpaceWeather
-from adbsat_ros.database import build_database
-from adbsat_ros.example_satellite import write_obj
-from adbsat_ros.flight_conditions import flight_conditions
-from adbsat_ros.mesh import load_mesh, panels_from_arrays
-from adbsat_ros.node import AdbsatNode
-from adbsat_ros.panel_method import PanelMethod, Reference
-from adbsat_ros.shapes import grid_box
-from adbsat_ros.wrench_settings import PARAMETERS, WrenchSettings
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.environment.atmosphere import SpaceWeather
+from adbsat_ros.database.build import build_database
+from adbsat_ros.geometry.example_satellite import write_obj
+from adbsat_ros.environment.flight_conditions import flight_conditions
+from adbsat_ros.geometry.mesh import load_mesh, panels_from_arrays
+from adbsat_ros.ros.node import AdbsatNode
+from adbsat_ros.physics.panel_method import PanelMethod, Reference
+from adbsat_ros.geometry.shapes import grid_box
+from adbsat_ros.estimator.settings import PARAMETERS, WrenchSettings
 
 from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float
 

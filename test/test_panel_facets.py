@@ -11,14 +11,14 @@ import numpy as np
 import pytest
 import trimesh
 
-from adbsat_ros import frames
-from adbsat_ros.example_satellite import example_satellite
-from adbsat_ros.freestream import FreeStream
-from adbsat_ros.lighting import PanelLighting
-from adbsat_ros.mesh import panels_from_trimesh
-from adbsat_ros.panel_method import PanelMethod, Reference
-from adbsat_ros.shading import make_shader
-from adbsat_ros.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.geometry import frames
+from adbsat_ros.geometry.example_satellite import example_satellite
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.shading.lighting import PanelLighting
+from adbsat_ros.geometry.mesh import panels_from_trimesh
+from adbsat_ros.physics.panel_method import PanelMethod, Reference
+from adbsat_ros.shading.shader import make_shader
+from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 
 SPECIES = {"He": 5e12, "O": 3e15, "N2": 1.5e15, "O2": 8e13, "Ar": 1e11, "H": 2e11, "N": 2e13}
 FLOW = FreeStream(speed=7700.0, temperature=900.0, number_densities=SPECIES)
@@ -93,7 +93,7 @@ def test_partly_lit_panels_with_shifts_and_a_surface_override(satellite, shader)
     alpha[::7] = 0.6
     values = {name: getattr(grouped.surface, name) for name in ("alpha_n", "sigma_n", "sigma_t",
               "wall_temperature", "specular_reflectivity", "diffuse_reflectivity")}
-    from adbsat_ros.surface import PanelSurface
+    from adbsat_ros.physics.surface import PanelSurface
 
     odd = PanelSurface(alpha=alpha, **values)
     assert grouped._facets.surface_of(odd) is None
@@ -133,7 +133,7 @@ def test_a_sphere_is_evaluated_panel_by_panel():
 def test_many_directions_at_once_equal_each_direction_bit_for_bit(satellite, shader, model):
     """coefficients_many: every direction with its own flow, lighting and surface gives what its own
     coefficients() call gives, to the last bit; the split models never take one direction alone."""
-    from adbsat_ros.gsi_models import ModelOptions
+    from adbsat_ros.physics.gsi_models import ModelOptions
 
     options = ModelOptions(adbsat_compat=model.endswith("_adbsat"))
     grouped, _ = pair(satellite, model.removesuffix("_adbsat"), options=options)

@@ -1,4 +1,4 @@
-"""Figures (adbsat_ros.plots) and the `adbsat-ros plot` command.
+"""Figures (adbsat_ros.plotting.plots) and the `adbsat-ros plot` command.
 
 The figures are checked through their Figure objects (which lines, which numbers, which colour
 scale) against quantities computed independently with the panel method and the shader, and
@@ -18,14 +18,18 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-from adbsat_ros import FreeStream, PanelMethod, frames, plots
+from adbsat_ros import FreeStream, PanelMethod
+
+from adbsat_ros.geometry import frames
+
+from adbsat_ros.plotting import plots
 from adbsat_ros.cli import main
 from adbsat_ros.cli.plot import _default_angle
-from adbsat_ros.database import build_database, load_database
-from adbsat_ros.example_satellite import write_obj
-from adbsat_ros.mesh import resolve_mesh
-from adbsat_ros.shading import make_shader
-from adbsat_ros.shapes import combine, grid_box
+from adbsat_ros.database.build import build_database, load_database
+from adbsat_ros.geometry.example_satellite import write_obj
+from adbsat_ros.geometry.mesh import resolve_mesh
+from adbsat_ros.shading.shader import make_shader
+from adbsat_ros.geometry.shapes import combine, grid_box
 
 FLOW = FreeStream(7726.0, 934.0, mean_mass_amu=17.9)
 

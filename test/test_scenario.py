@@ -8,8 +8,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from adbsat_ros import scenario
-from adbsat_ros.constants import EARTH_MU
+from adbsat_ros.bags import scenario
+from adbsat_ros.physics.constants import EARTH_MU
 
 MU = EARTH_MU
 

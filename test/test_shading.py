@@ -16,9 +16,11 @@ import numpy as np
 import pytest
 import trimesh
 
-from adbsat_ros import FreeStream, PanelMethod, frames
-from adbsat_ros.mesh import panels_from_arrays, panels_from_trimesh
-from adbsat_ros.shading import (
+from adbsat_ros import FreeStream, PanelMethod
+
+from adbsat_ros.geometry import frames
+from adbsat_ros.geometry.mesh import panels_from_arrays, panels_from_trimesh
+from adbsat_ros.shading.shader import (
     Shader,
     _any_hit_numpy,
     adbsat_shadowed,
@@ -29,8 +31,8 @@ from adbsat_ros.shading import (
     sample_barycentric,
     shade,
 )
-from adbsat_ros.shapes import combine as join_parts
-from adbsat_ros.shapes import grid_box
+from adbsat_ros.geometry.shapes import combine as join_parts
+from adbsat_ros.geometry.shapes import grid_box
 
 # embreex is a dependency: only a developer machine without it may skip; in CI a missing Embree fails.
 needs_embree = pytest.mark.skipif(
@@ -250,7 +252,7 @@ def test_grazing_rule_fin_in_wake():
     # Treating both grazing faces alike (both lit) would jump by the fin's shear drag (> 1 %).
     both_lit = l0.copy()
     both_lit[fin] = 1.0
-    from adbsat_ros.lighting import PanelLighting
+    from adbsat_ros.shading.lighting import PanelLighting
 
     d_naive = pm.coefficients(FLOW, 0.0, 0.0, lighting=PanelLighting(both_lit)).drag
     assert abs(d_naive - d0) / d0 > 1e-2

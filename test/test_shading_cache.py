@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from adbsat_ros import frames
-from adbsat_ros.mesh import panels_from_arrays
-from adbsat_ros.shading import lit_projected_area, make_shader
-from adbsat_ros.shading_cache import (
+from adbsat_ros.geometry import frames
+from adbsat_ros.geometry.mesh import panels_from_arrays
+from adbsat_ros.shading.shader import lit_projected_area, make_shader
+from adbsat_ros.shading.cache import (
     RECENT_CELLS,
     ShadingCache,
     cells_per_edge,
@@ -19,7 +19,7 @@ from adbsat_ros.shading_cache import (
     key_centres,
     moved_lit_area,
 )
-from adbsat_ros.shapes import grid_box
+from adbsat_ros.geometry.shapes import grid_box
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from adbsat_ros import PanelMethod, Reference, SurfaceProperties, panels_from_arrays
-from adbsat_ros.solar import solar_coefficients
+from adbsat_ros.physics.solar import solar_coefficients
 
 # One square plate (two triangles) of area 1 m^2 in the y-z plane with normal +x.
 PLATE_V = np.array([[0, -0.5, -0.5], [0, 0.5, -0.5], [0, 0.5, 0.5], [0, -0.5, 0.5]], float)

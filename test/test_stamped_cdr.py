@@ -9,8 +9,8 @@ from geometry_msgs.msg import Quaternion, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
 
-from adbsat_ros import bag_io
-from adbsat_ros.stamped_cdr import (
+from adbsat_ros.bags import io as bag_io
+from adbsat_ros.messages.cdr import (
     DiagnosticFields,
     OdometryFields,
     Stamp,

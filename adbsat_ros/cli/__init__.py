@@ -12,7 +12,7 @@ import logging
 import re
 import sys
 
-from ..mesh import MeshError
+from adbsat_ros.geometry.mesh import MeshError
 from .options import CommandLineError, OneLineErrorParser
 
 #: Subcommand modules, in the order ``--help`` lists them.

@@ -13,10 +13,10 @@ import json
 import math
 import sys
 
-from ..accommodation import accommodation_model_names
-from ..atmosphere import FIRST_YEAR, LAST_YEAR, MAX_ALTITUDE, SpaceWeather
-from ..earth_frames import earth_orientation, ecef_to_geodetic
-from ..flight_conditions import (
+from adbsat_ros.environment.accommodation import accommodation_model_names
+from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR, MAX_ALTITUDE, SpaceWeather
+from adbsat_ros.environment.earth_frames import earth_orientation, ecef_to_geodetic
+from adbsat_ros.environment.flight_conditions import (
     DEFAULT_ACCOMMODATION_MODEL,
     flight_conditions,
     flight_conditions_circular_orbit,

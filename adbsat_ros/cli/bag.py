@@ -9,9 +9,9 @@ import os
 import sys
 from pathlib import Path
 
-from .. import bag_analysis
-from ..bag_io import BagError
-from ..wrench_settings import WrenchSettings, load_parameters_file
+from adbsat_ros.bags import analysis as bag_analysis
+from adbsat_ros.bags.io import BagError
+from adbsat_ros.estimator.settings import WrenchSettings, load_parameters_file
 from .options import CommandLineError, is_terminal, number
 
 

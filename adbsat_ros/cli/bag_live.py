@@ -13,7 +13,7 @@ import signal
 import sys
 import threading
 
-from ..bag_io import BagError
+from adbsat_ros.bags.io import BagError
 from .options import non_negative_int, positive_float
 
 
@@ -67,7 +67,7 @@ def register(bag_subparsers) -> None:
 def _import_bag_live():
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     try:
-        from .. import bag_live
+        from adbsat_ros.ros import bag_live
     except ImportError as exc:
         raise RosNotAvailable(
             f"needs the ROS 2 Python packages (rclpy and messages), which cannot be imported: {exc}; "

@@ -8,7 +8,7 @@ import sys
 
 import numpy as np
 
-from .. import frames
+from adbsat_ros.geometry import frames
 from .common import (
     add_flow_arguments,
     add_mesh_arguments,

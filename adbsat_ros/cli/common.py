@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 
-from ..freestream import FreeStream
-from ..gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, SPECIES_MODELS, ModelOptions
-from ..mesh import resolve_mesh
-from ..panel_method import PanelMethod, Reference
-from ..surface import MaterialTable, SurfaceProperties
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, SPECIES_MODELS, ModelOptions
+from adbsat_ros.geometry.mesh import resolve_mesh
+from adbsat_ros.physics.panel_method import PanelMethod, Reference
+from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 from .atmosphere import compute as compute_flight_conditions
 from .options import CommandLineError, fraction, parse_vector3, positive_float
 
@@ -156,7 +156,7 @@ def make_shader_from_args(args, mesh):
     """A shader for the chosen mode, or None for 'none'."""
     if args.shading == "none":
         return None
-    from ..shading import make_shader
+    from adbsat_ros.shading.shader import make_shader
 
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")

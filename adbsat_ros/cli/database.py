@@ -2,8 +2,8 @@
 
 Evaluates the panel method at every pair of ``--aoa`` x ``--aos`` (default the whole sphere of
 flow directions in 5 deg steps) on every core, and writes the database as ``--out FILE.npz``
-(read by :func:`adbsat_ros.database.load_database` and
-:class:`adbsat_ros.coefficient_lookup.CoefficientLookup`) and as a CSV file next to it (same
+(read by :func:`adbsat_ros.database.build.load_database` and
+:class:`adbsat_ros.database.lookup.CoefficientLookup`) and as a CSV file next to it (same
 stem, or ``--csv``). Model, free stream, flight conditions, reference and shading options are
 those of ``coeff``.
 """
@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import time
 
-from ..database import build_database
+from adbsat_ros.database.build import build_database
 from .atmosphere import add_flight_arguments
 from .common import (
     add_flow_arguments,

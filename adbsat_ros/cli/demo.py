@@ -31,7 +31,7 @@ def register(subparsers) -> None:
 def run(args) -> int:
     """Run the demo; 0 if the node answered every attitude, 1 otherwise."""
     try:
-        from ..demo import run_demo
+        from adbsat_ros.ros.demo import run_demo
 
         result = run_demo(args.duration, args.speedup, args.out_dir, args.attitude)
     except ImportError as exc:

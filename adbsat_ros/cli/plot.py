@@ -40,8 +40,8 @@ def _default_angle(grid: np.ndarray) -> float:
 
 
 def run(args) -> int:
-    from .. import plots
-    from ..database import DatabaseError, load_database, method_from_metadata
+    from adbsat_ros.plotting import plots
+    from adbsat_ros.database.build import DatabaseError, load_database, method_from_metadata
 
     path = Path(args.database)
     if not path.exists():

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 
-from .. import bag_io, scenario
-from ..bag_io import BagError
+from adbsat_ros.bags import io as bag_io
+
+
+from adbsat_ros.bags import scenario
+from adbsat_ros.bags.io import BagError
 from .options import CommandLineError, non_negative_float, parse_vector3, positive_float
 
 

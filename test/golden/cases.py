@@ -194,7 +194,7 @@ def node_outputs(meshes: dict) -> dict:
     from rclpy.parameter import Parameter
     from ros_harness import Peer, make_context
 
-    from adbsat_ros.node import AdbsatNode
+    from adbsat_ros.ros.node import AdbsatNode
 
     out = {}
     for name, parameters in NODE_CASES:

@@ -1,0 +1,171 @@
+"""Coefficients from a precomputed database for the wrench estimator (``coefficients_source: database``).
+
+The node, and bag analysis through the same estimator, can take the force and moment
+coefficients from a database made by ``adbsat-ros database`` instead of the live panel method:
+one bilinear lookup (:class:`adbsat_ros.database.lookup.CoefficientLookup`) instead of a
+sweep over the panels and a shading query. The newtons still use the live atmosphere:
+F = q A_ref C_F, T = q A_ref L_ref C_M with q = rho V^2 / 2 at the message's time.
+
+A database holds the coefficients of one set-up, so it is refused unless it was made for what the
+node was told (:func:`database_mismatches`): the same mesh (geometry and material names, by
+fingerprint), the same gas-surface model, incident-temperature form, ADBSat compatibility switch
+and surface properties (default and per material), and the same reference area and length.
+Two things are not mismatches:
+
+* the moment point: moments are carried exactly to the node's centre of mass c from the database's
+  point p, C_M(c) = C_M(p) + (p - c) x C_F / L_ref (since T(c) = T(p) + (p - c) x F);
+* the free stream (speed ratio, temperature): the database was made at one condition and is used
+  at all, which is the approximation a user accepts by choosing this mode. The database's speed
+  ratio is reported so that the difference from the live one can be seen in /diagnostics.
+
+The accommodation coefficient must be fixed (``accommodation_model: fixed``): a database made at
+one alpha cannot follow an accommodation model.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from adbsat_ros.geometry import frames
+from adbsat_ros.database.lookup import CoefficientLookup
+from adbsat_ros.database.build import DatabaseError, surface_values
+from adbsat_ros.physics.panel_method import PanelMethod
+
+#: Relative tolerance on the reference area and length when matching a database.
+REFERENCE_RTOL = 1e-9
+
+
+def database_mismatches(metadata: dict, method: PanelMethod) -> list:
+    """How a database's set-up differs from ``method``'s (empty if it may be used).
+
+    Parameters
+    ----------
+    metadata : dict
+        ``AeroDatabase.metadata``.
+    method : PanelMethod
+        The node's mesh, model, materials, options and reference.
+
+    Returns
+    -------
+    list of str
+        One readable line per mismatch, naming the quantity and both values.
+    """
+    from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+
+    out = []
+    mesh = metadata.get("mesh", {})
+    if mesh.get("fingerprint") != method.mesh.fingerprint():
+        out.append(
+            f"mesh: the database was made for {mesh.get('source', '?')} ({mesh.get('n_panels', '?')} panels, "
+            f"fingerprint {mesh.get('fingerprint')}), the node has {method.mesh.source} "
+            f"({method.mesh.n_panels} panels, fingerprint {method.mesh.fingerprint()})"
+        )
+    model = metadata.get("model", {})
+    for key, ours in (
+        ("name", method.model),
+        ("incident_temperature", method.options.incident_temperature),
+        ("adbsat_compat", bool(method.options.adbsat_compat)),
+    ):
+        if model.get(key) != ours:
+            label = "gsi_model" if key == "name" else key
+            out.append(f"{label}: database {model.get(key)!r}, node {ours!r}")
+    try:
+        materials = metadata["materials"]
+        theirs = MaterialTable.from_texts(SurfaceProperties(**materials["default"]), materials["overrides"])
+    except (KeyError, TypeError, ValueError) as exc:
+        out.append(f"materials: the database's materials cannot be read ({exc})")
+    else:
+        names = sorted(set(method.mesh.material_names))
+        for name in names:
+            a = surface_values(theirs.properties(name))
+            b = surface_values(method.materials.properties(name))
+            diff = [f"{k} database {a[k]:g}, node {b[k]:g}" for k in a if a[k] != b[k]]
+            if diff:
+                out.append(f"surface of material {name!r}: " + "; ".join(diff))
+    ref = metadata.get("reference", {})
+    for key, ours in (("area", method.reference.area), ("length", method.reference.length)):
+        theirs_value = ref.get(key)
+        if not isinstance(theirs_value, (int, float)) or not math.isclose(
+            float(theirs_value), ours, rel_tol=REFERENCE_RTOL
+        ):
+            out.append(f"reference {key}: database {theirs_value!r}, node {ours!r}")
+    return out
+
+
+class DatabaseCoefficients:
+    """Force and moment coefficients in the body frame from a database, for the estimator.
+
+    Parameters
+    ----------
+    path : str
+        Database file (.npz) made by ``adbsat-ros database``.
+    method : PanelMethod
+        The node's set-up; the database must match it (:func:`database_mismatches`), and its
+        reference moment point is the centre of mass the moments are carried to.
+
+    Attributes
+    ----------
+    error_bound : dict
+        ``force_coefficient`` and ``moment_coefficient``: the database's stated interpolation error
+        (bounds on |error of C_F| and |error of C_M|), the moment bound carried to the centre of
+        mass c: e_M(c) = e_M(p) + |p - c| e_F / L_ref.
+    speed_ratio : float
+        Speed ratio of the free stream the database was made for.
+
+    Raises
+    ------
+    ValueError
+        Naming ``database_path`` and saying why: unreadable file, or every mismatch.
+    """
+
+    def __init__(self, path: str, method: PanelMethod):
+        try:
+            self.lookup = CoefficientLookup.load(path)
+        except (DatabaseError, OSError) as exc:
+            raise ValueError(f"parameter database_path: {exc}") from None
+        metadata = self.lookup.database.metadata
+        problems = database_mismatches(metadata, method)
+        if problems:
+            raise ValueError(
+                f"parameter database_path: {path} was not made for this node's set-up: " + "; ".join(problems)
+            )
+        self.path = path
+        self.reference_length = method.reference.length
+        point = np.asarray(metadata["reference"]["moment_point"], dtype=float)
+        self._offset = point - np.asarray(method.reference.moment_point, dtype=float)  # p - c [m]
+        self.speed_ratio = float(metadata.get("flow", {}).get("speed_ratio", float("nan")))
+        stated = self.lookup.error_bound
+        force_error = float(stated.get("force_coefficient", float("nan")))
+        moment_error = float(stated.get("moment_coefficient", float("nan")))
+        # carrying the moment to c adds (p - c) x (error of C_F) / L_ref
+        self.error_bound = {
+            "force_coefficient": force_error,
+            "moment_coefficient": moment_error + float(np.linalg.norm(self._offset)) * force_error / self.reference_length,
+        }
+
+    def body_coefficients(self, u_body):
+        """C_F and C_M (about the centre of mass) in the body frame for flow direction ``u_body``.
+
+        Parameters
+        ----------
+        u_body : ndarray, shape (3,)
+            Unit direction of the gas motion relative to the body, body (mesh) frame.
+
+        Returns
+        -------
+        Cf, Cm : ndarray, shape (3,)
+
+        Raises
+        ------
+        ValueError
+            If the attitude is outside the database's angle range.
+        """
+        aoa, aos = frames.angles_of_flow(u_body)
+        Cf, Cm = self.lookup.body_coefficients(math.degrees(aoa), math.degrees(aos))
+        o = self._offset
+        carry = np.array(
+            [o[1] * Cf[2] - o[2] * Cf[1], o[2] * Cf[0] - o[0] * Cf[2], o[0] * Cf[1] - o[1] * Cf[0]]
+        )
+        return Cf, Cm + carry / self.reference_length

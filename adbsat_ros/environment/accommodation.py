@@ -1,0 +1,374 @@
+"""Energy accommodation coefficient alpha from the atmosphere: models selectable by name.
+
+Models (:data:`ACCOMMODATION_MODELS`)
+-------------------------------------
+``fixed``
+    A given alpha in [0, 1] (option ``alpha``).
+``langmuir``
+    Langmuir isotherm of Pilinski, Argrow & Palo (2010), J. Spacecraft Rockets 47(6):
+    alpha = x / (1 + x), x = K n_O T, with n_O the atomic-oxygen number density [m^-3]
+    (NRLMSISE-00's thermal O; anomalous oxygen is not counted, here or in SESAM), T the local
+    temperature [K] and the fitted K = 7.50e-17 m^3/K (option ``langmuir_constant``).
+    x is K' P_O with the atomic-oxygen partial pressure P_O = n_O k_B T and K' = K / k_B.
+    This K reproduces the ADBSat validation paper's alpha = 0.97 and 0.81 at 300 and 400 km
+    (2015-01-19 00:00 UT, 0 N 0 E, F10.7 = 121.7, F10.7A = 138.1, Ap = 4).
+``goodman``
+    Goodman's clean-surface value alpha_s = K_s mu / (1 + mu)^2 with mu = m_gas / m_surface,
+    m_gas the number-weighted mean molecular mass of the mixture. Options
+    ``substrate_coefficient`` K_s in [2.4, 3.6] (default 2.4) and ``surface_mass_amu``
+    (default 65).
+``sesam``
+    SESAM (Pilinski, Argrow, Palo & Bowman 2013, J. Spacecraft Rockets 50(3)):
+    alpha = (1 - theta) alpha_s + theta, alpha_s the Goodman value and theta the Langmuir
+    coverage K_L P_O / (1 + K_L P_O), with P_O [Torr] the atomic-oxygen "pressure"
+    1/2 rho_O V^2 f(s), f(s) = (2 s^2 + 1) e^{-s^2} / (sqrt(pi) s^3) + (4 s^4 + 4 s^2 - 1)
+    erf(s) / (2 s^4), and K_L = s_o K_L0 + K_Lf (K_L0 = 5e6 Torr^-1, K_Lf = 3e4 Torr^-1); s_o is
+    the fraction of incident O atoms below the adsorption energy E_b = 5.7 eV:
+    s_o = int_0^sqrt(E_b) g(x) dx / int_0^inf g(x) dx with g(x) = x exp(-(x - sqrt(E_r))^2 /
+    (k_B T_ab)), E_r = m_O V^2 / 2 and T_ab = 93.31 K (closed form in
+    :func:`sesam_sticking_fraction`).
+    Same options as ``goodman``.
+
+Differences from ADBSat's code (as physics.md, section 5, describes it)
+----------------------------------------------------------------------
+* ADBSat computes s_o with a factor exp(2 sqrt(E_b E_r) / (k_B T_ab)) that overflows at orbital
+  speeds and is capped at the largest double, and a factor exp(-(E_b + E_r) / (k_B T_ab)) that
+  underflows to 0; together they drop the term
+  k_B T_ab exp(-(sqrt(E_b) - sqrt(E_r))^2 / (k_B T_ab)).
+  We evaluate the same closed form with the exponents combined (no overflow, checked against
+  numerical integration): s_o differs from ADBSat's by ~1e-3 relative at 7.8 km/s and ~5e-3 at
+  8 km/s (ADBSat's s_o is also 0 instead of 1 at rest, by underflow); alpha by less.
+* ADBSat silently replaces a K_s outside [2.4, 3.6] by 2.4; we raise ValueError.
+* ADBSat's Goodman/SESAM mean mass always includes anomalous oxygen; we use the flight
+  conditions' mixture (which includes it by default, so the defaults agree).
+* The atomic mass unit is CODATA's 1.66053906660e-27 kg instead of 1.6605e-27 (2e-5 relative).
+
+SI units throughout (m, s, kg, K, J); only SESAM's Langmuir constants are in Torr^-1 as published.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable, Mapping
+
+from adbsat_ros.environment.atmosphere import AtmosphereState
+from adbsat_ros.physics.constants import AMU, BOLTZMANN, species_mass_kg
+from adbsat_ros.validation import finite as _finite, non_negative as _non_negative, positive as _positive
+
+#: Pilinski et al. (2010) Langmuir constant K [m^3/K], applied as K n_O T.
+LANGMUIR_CONSTANT = 7.50e-17
+#: Goodman substrate coefficient K_s default and allowed range [-].
+SUBSTRATE_COEFFICIENT = 2.4
+SUBSTRATE_COEFFICIENT_RANGE = (2.4, 3.6)
+#: Default mass of a surface atom [amu] (Goodman, SESAM).
+SURFACE_MASS_AMU = 65.0
+#: SESAM constants (Pilinski et al. 2013): adsorption energy [J], transition temperature [K],
+#: initial and final Langmuir parameters [Torr^-1].
+SESAM_ADSORPTION_ENERGY = 5.7 * 1.602176634e-19
+SESAM_TRANSITION_TEMPERATURE = 93.31
+SESAM_LANGMUIR_INITIAL = 5e6
+SESAM_LANGMUIR_FINAL = 3e4
+#: Pascal per Torr.
+PASCAL_PER_TORR = 101325.0 / 760.0
+
+_OXYGEN_MASS = species_mass_kg("O")
+
+
+def _substrate(value) -> float:
+    value = _finite("substrate_coefficient", value)
+    low, high = SUBSTRATE_COEFFICIENT_RANGE
+    if not low <= value <= high:
+        raise ValueError(f"substrate_coefficient must be in [{low}, {high}], got {value!r}")
+    return value
+
+
+# ----------------------------------------------------------------------------------- models
+def langmuir_accommodation(
+    oxygen_number_density: float, temperature: float, langmuir_constant: float = LANGMUIR_CONSTANT
+) -> float:
+    """Langmuir-isotherm accommodation (Pilinski et al. 2010): alpha = K n_O T / (1 + K n_O T).
+
+    Parameters
+    ----------
+    oxygen_number_density : float
+        Atomic-oxygen number density n_O [m^-3], >= 0.
+    temperature : float
+        Local gas temperature T [K], > 0.
+    langmuir_constant : float, optional
+        K [m^3/K], > 0 (default 7.50e-17).
+
+    Returns
+    -------
+    float
+        alpha in [0, 1).
+    """
+    n_o = _non_negative("oxygen_number_density", oxygen_number_density)
+    temperature = _positive("temperature", temperature)
+    constant = _positive("langmuir_constant", langmuir_constant)
+    x = constant * n_o * temperature
+    return x / (1.0 + x)
+
+
+def goodman_accommodation(
+    mean_mass: float,
+    substrate_coefficient: float = SUBSTRATE_COEFFICIENT,
+    surface_mass_amu: float = SURFACE_MASS_AMU,
+) -> float:
+    """Goodman's accommodation alpha_s = K_s mu / (1 + mu)^2, mu = m_gas / m_surface.
+
+    Parameters
+    ----------
+    mean_mass : float
+        Mean molecular mass of the gas [kg], > 0.
+    substrate_coefficient : float, optional
+        K_s in [2.4, 3.6] (default 2.4).
+    surface_mass_amu : float, optional
+        Mass of a surface atom [amu], > 0 (default 65).
+    """
+    mean_mass = _positive("mean_mass", mean_mass)
+    k_s = _substrate(substrate_coefficient)
+    mu = mean_mass / (_positive("surface_mass_amu", surface_mass_amu) * AMU)
+    return k_s * mu / (1.0 + mu) ** 2
+
+
+def sesam_sticking_fraction(incident_energy: float) -> float:
+    """SESAM's s_o: fraction of incident O atoms with energy below the adsorption energy.
+
+    s_o = int_0^a g(x) dx / int_0^inf g(x) dx, g(x) = x exp(-(x - r)^2 / w^2), with
+    a = sqrt(E_b), r = sqrt(E_r), w^2 = k_B T_ab (x is the square root of an energy). With
+    ``erf`` this is
+
+        [r w sqrt(pi) (erf((a - r)/w) + erf(r/w)) + w^2 (exp(-r^2/w^2) - exp(-(a - r)^2/w^2))]
+        / [r w sqrt(pi) (1 + erf(r/w)) + w^2 exp(-r^2/w^2)].
+
+    Parameters
+    ----------
+    incident_energy : float
+        E_r = m_O V^2 / 2 [J], >= 0.
+
+    Returns
+    -------
+    float
+        s_o in [0, 1].
+    """
+    energy = _non_negative("incident_energy", incident_energy)
+    w2 = BOLTZMANN * SESAM_TRANSITION_TEMPERATURE
+    w = math.sqrt(w2)
+    a = math.sqrt(SESAM_ADSORPTION_ENERGY)
+    r = math.sqrt(energy)
+    tail = math.exp(-energy / w2)
+    numerator = r * w * math.sqrt(math.pi) * (math.erf((a - r) / w) + math.erf(r / w)) + w2 * (
+        tail - math.exp(-((a - r) ** 2) / w2)
+    )
+    denominator = r * w * math.sqrt(math.pi) * (1.0 + math.erf(r / w)) + w2 * tail
+    return min(1.0, max(0.0, numerator / denominator))
+
+
+def sesam_oxygen_pressure(oxygen_number_density: float, speed: float, speed_ratio: float) -> float:
+    """SESAM's atomic-oxygen pressure P_O [Pa] = 1/2 rho_O V^2 f(s).
+
+    f(s) = (2 s^2 + 1) e^{-s^2} / (sqrt(pi) s^3) + (4 s^4 + 4 s^2 - 1) erf(s) / (2 s^4), with s
+    the mixture's speed ratio. As s -> 0, V^2 f(s) -> 0 (f ~ 16 / (3 sqrt(pi) s)), so P_O = 0 at
+    zero speed; below s = 1e-3 the leading term is used (the two terms of f cancel there).
+
+    Parameters
+    ----------
+    oxygen_number_density : float
+        n_O [m^-3], >= 0.
+    speed : float
+        Relative speed V [m/s], >= 0.
+    speed_ratio : float
+        s = V / sqrt(2 k_B T / m) of the mixture [-], >= 0 (0 only with V = 0).
+    """
+    n_o = _non_negative("oxygen_number_density", oxygen_number_density)
+    speed = _non_negative("speed", speed)
+    s = _non_negative("speed_ratio", speed_ratio)
+    if speed == 0.0:
+        return 0.0
+    if s == 0.0:
+        raise ValueError("speed_ratio must be > 0 when speed > 0")
+    half_rho_v2 = 0.5 * n_o * _OXYGEN_MASS * speed**2
+    if s < 1e-3:
+        return half_rho_v2 * 16.0 / (3.0 * math.sqrt(math.pi) * s)
+    s2 = s * s
+    f = (2.0 * s2 + 1.0) * math.exp(-s2) / (math.sqrt(math.pi) * s2 * s) + (
+        4.0 * s2 * s2 + 4.0 * s2 - 1.0
+    ) * math.erf(s) / (2.0 * s2 * s2)
+    return half_rho_v2 * f
+
+
+def sesam_accommodation(
+    oxygen_number_density: float,
+    mean_mass: float,
+    speed: float,
+    speed_ratio: float,
+    substrate_coefficient: float = SUBSTRATE_COEFFICIENT,
+    surface_mass_amu: float = SURFACE_MASS_AMU,
+) -> float:
+    """SESAM accommodation (Pilinski et al. 2013): alpha = (1 - theta) alpha_s + theta.
+
+    Parameters
+    ----------
+    oxygen_number_density : float
+        n_O [m^-3].
+    mean_mass : float
+        Mean molecular mass of the mixture [kg] (for Goodman's alpha_s).
+    speed : float
+        Relative speed V [m/s], >= 0.
+    speed_ratio : float
+        Mixture speed ratio s [-].
+    substrate_coefficient, surface_mass_amu : float, optional
+        As :func:`goodman_accommodation`.
+    """
+    clean = goodman_accommodation(mean_mass, substrate_coefficient, surface_mass_amu)
+    pressure_pa = sesam_oxygen_pressure(oxygen_number_density, speed, speed_ratio)
+    pressure_torr = pressure_pa / PASCAL_PER_TORR
+    sticking = sesam_sticking_fraction(0.5 * _OXYGEN_MASS * speed**2)
+    langmuir = sticking * SESAM_LANGMUIR_INITIAL + SESAM_LANGMUIR_FINAL
+    coverage = langmuir * pressure_torr / (1.0 + langmuir * pressure_torr)
+    return (1.0 - coverage) * clean + coverage
+
+
+# --------------------------------------------------------------------------------- registry
+def _fixed(atmosphere: AtmosphereState, speed: float, alpha=None) -> float:
+    if alpha is None:
+        raise ValueError("accommodation model 'fixed' needs alpha (a number in [0, 1])")
+    alpha = _finite("alpha", alpha)
+    if not 0.0 <= alpha <= 1.0:
+        raise ValueError(f"alpha must be in [0, 1], got {alpha!r}")
+    return alpha
+
+
+def _langmuir(
+    atmosphere: AtmosphereState, speed: float, langmuir_constant=LANGMUIR_CONSTANT
+) -> float:
+    return langmuir_accommodation(
+        atmosphere.number_densities["O"], atmosphere.temperature, langmuir_constant
+    )
+
+
+def _goodman(
+    atmosphere: AtmosphereState,
+    speed: float,
+    substrate_coefficient=SUBSTRATE_COEFFICIENT,
+    surface_mass_amu=SURFACE_MASS_AMU,
+) -> float:
+    return goodman_accommodation(atmosphere.mean_mass, substrate_coefficient, surface_mass_amu)
+
+
+def _sesam(
+    atmosphere: AtmosphereState,
+    speed: float,
+    substrate_coefficient=SUBSTRATE_COEFFICIENT,
+    surface_mass_amu=SURFACE_MASS_AMU,
+) -> float:
+    mean_mass = atmosphere.mean_mass
+    thermal_speed = math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / mean_mass)
+    return sesam_accommodation(
+        atmosphere.number_densities["O"],
+        mean_mass,
+        speed,
+        speed / thermal_speed,
+        substrate_coefficient,
+        surface_mass_amu,
+    )
+
+
+#: Accommodation models by name: callables ``(atmosphere, speed, **options) -> alpha``.
+ACCOMMODATION_MODELS: Mapping[str, Callable[..., float]] = {
+    "fixed": _fixed,
+    "langmuir": _langmuir,
+    "goodman": _goodman,
+    "sesam": _sesam,
+}
+
+#: Options each model accepts.
+ACCOMMODATION_OPTIONS: Mapping[str, tuple] = {
+    "fixed": ("alpha",),
+    "langmuir": ("langmuir_constant",),
+    "goodman": ("substrate_coefficient", "surface_mass_amu"),
+    "sesam": ("substrate_coefficient", "surface_mass_amu"),
+}
+
+
+def accommodation_model_names() -> tuple:
+    """Names accepted by :func:`accommodation` (lower case; matching is case-insensitive)."""
+    return tuple(ACCOMMODATION_MODELS)
+
+
+def normalize_model_name(name) -> str:
+    """Lower-cased model name, or ValueError naming the allowed names."""
+    key = str(name).strip().lower()
+    if key not in ACCOMMODATION_MODELS:
+        raise ValueError(
+            f"unknown accommodation model {name!r}; allowed: {', '.join(ACCOMMODATION_MODELS)}"
+        )
+    return key
+
+
+def accommodation(name: str, atmosphere: AtmosphereState, speed: float, **options) -> float:
+    """Energy accommodation coefficient alpha of the model ``name``.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`ACCOMMODATION_MODELS` (``fixed``, ``langmuir``, ``goodman``, ``sesam``),
+        case-insensitive.
+    atmosphere : AtmosphereState
+        Local atmosphere (composition, temperature), e.g. from
+        :func:`adbsat_ros.environment.atmosphere.evaluate_atmosphere`.
+    speed : float
+        Speed of the spacecraft relative to the atmosphere [m/s], >= 0 (only SESAM uses it).
+    **options
+        Model options (see :data:`ACCOMMODATION_OPTIONS`): ``alpha`` (fixed),
+        ``langmuir_constant`` [m^3/K] (langmuir), ``substrate_coefficient`` and
+        ``surface_mass_amu`` (goodman, sesam).
+
+    Returns
+    -------
+    float
+        alpha in [0, 1].
+
+    Raises
+    ------
+    ValueError
+        For an unknown model (the message lists the allowed names), an option the model does not
+        take (listing those it does), or an invalid value (naming it).
+    """
+    key = normalize_model_name(name)
+    if not isinstance(atmosphere, AtmosphereState):
+        raise ValueError(f"atmosphere must be an AtmosphereState, got {type(atmosphere).__name__}")
+    return accommodation_of(key, atmosphere, _non_negative("speed", speed), options)
+
+
+def accommodation_of(key: str, atmosphere: AtmosphereState, speed: float, options: Mapping) -> float:
+    """:func:`accommodation` for a model name already normalised (:func:`normalize_model_name`),
+    an :class:`AtmosphereState` and a float speed >= 0 [m/s]; the options are checked here.
+
+    Raises
+    ------
+    ValueError
+        For an option the model does not take (listing those it does) or an invalid value.
+    """
+    # The per-message cases, a fixed alpha in [0, 1] or the Langmuir isotherm with its default
+    # constant, in the arithmetic of _fixed and langmuir_accommodation; anything else (including
+    # what would raise) goes through the model's function and its checks.
+    if key == "fixed":
+        alpha = options.get("alpha") if len(options) == 1 else None
+        if type(alpha) is float and 0.0 <= alpha <= 1.0:
+            return alpha
+    elif key == "langmuir" and not options:
+        n_o = atmosphere.number_densities["O"]
+        temperature = atmosphere.temperature
+        if type(n_o) is float and type(temperature) is float and 0.0 <= n_o < math.inf and 0.0 < temperature < math.inf:
+            x = LANGMUIR_CONSTANT * n_o * temperature
+            return x / (1.0 + x)
+    allowed = ACCOMMODATION_OPTIONS[key]
+    for option in options:
+        if option not in allowed:
+            unexpected = sorted(set(options) - set(allowed))
+            raise ValueError(
+                f"accommodation model {key!r} does not take {', '.join(unexpected)}; "
+                f"its options are: {', '.join(allowed) or 'none'}"
+            )
+    return ACCOMMODATION_MODELS[key](atmosphere, speed, **options)

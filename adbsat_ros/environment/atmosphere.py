@@ -1,0 +1,390 @@
+"""Thermosphere state from the NRLMSISE-00 empirical model (Picone et al. 2002).
+
+The model is evaluated through the C implementation wrapped by the ``nrlmsise00`` package
+(pynrlmsise00). Its low-level ``gtd7``/``gtd7d`` functions are called directly with the model's
+metric switch on, so the outputs are already SI:
+
+* ``nrlmsise00`` returns number densities in cm^-3 and the mass density in g/cm^3 unless
+  switch 0 of ``flags`` is 1, which makes the C code return m^-3 and kg/m^3 (we set it);
+* its convenience wrapper ``msise_model`` takes degrees and km and builds the day of year
+  through ``strftime`` (about 14 us per call against 8 us for ``gtd7`` itself).
+
+Anomalous oxygen: NRLMSISE-00's ``gtd7`` total mass density is the sum over He, O, N2, O2, Ar, H
+and N; ``gtd7d`` adds the "anomalous oxygen" (hot O, significant above ~500 km) and is the
+"effective total mass density for drag". :func:`evaluate_atmosphere` uses ``gtd7d`` when
+``anomalous_oxygen=True`` (the default, as ADBSat's ``environment.m`` with its AnO flag set) and
+``gtd7`` otherwise; the anomalous-oxygen number density is reported either way.
+
+Inputs follow NRLMSISE-00's definitions: ``f107`` is the daily F10.7 of the *previous* day,
+``f107a`` the 81-day average centred on the day, ``ap`` the daily Ap; the optional 7-element Ap
+history switches the model to its storm-time Ap formulation (switch 9 = -1). The model ignores
+the year: only the day of year and the UT seconds matter.
+
+Units: m, kg, K, rad inside; number densities m^-3; mass densities kg/m^3.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import functools
+import math
+import types
+from dataclasses import dataclass
+from typing import Mapping
+
+from nrlmsise00 import _nrlmsise00
+
+from adbsat_ros.physics.constants import AVOGADRO, MOLAR_MASS_G, SPECIES
+from adbsat_ros.environment.earth_frames import seconds_of_day, utc_datetime, utc_day
+from adbsat_ros.validation import finite as _finite, non_negative as _non_negative
+
+#: Largest altitude NRLMSISE-00 is evaluated at [m].
+MAX_ALTITUDE = 1000e3
+#: Range of UTC years accepted (the space-weather record starts in the late 1950s).
+FIRST_YEAR, LAST_YEAR = 1958, 2100
+
+#: Order of the densities NRLMSISE-00 returns (index 5 is the total mass density).
+_MSIS_SPECIES_INDEX = {"He": 0, "O": 1, "N2": 2, "O2": 3, "Ar": 4, "H": 6, "N": 7, "AnO": 8}
+#: Switches: 0 = SI output (m^-3, kg/m^3), 1..23 = all variations on (the model's standard set).
+_SWITCHES_DAILY_AP = [1] * 24
+#: As above with switch 9 = -1: use the 7-element Ap history.
+_SWITCHES_AP_HISTORY = [1] * 9 + [-1] + [1] * 14
+_SPECIES_MASS_KG = {name: MOLAR_MASS_G[name] / (1000.0 * AVOGADRO) for name in SPECIES}
+#: The species in the order :func:`_model_state` takes their number densities.
+_MODEL_STATE_SPECIES = ("He", "O", "N2", "O2", "Ar", "H", "N", "AnO")
+_SPECIES_WITHOUT_ANO = tuple(s for s in SPECIES if s != "AnO")
+_HE, _O, _N2, _O2, _AR, _H, _N, _ANO = (_SPECIES_MASS_KG[name] for name in SPECIES)
+_UTC = _dt.timezone.utc
+
+
+@dataclass(frozen=True)
+class SpaceWeather:
+    """Solar and geomagnetic activity indices, as NRLMSISE-00 defines them.
+
+    Parameters
+    ----------
+    f107 : float
+        Daily 10.7 cm solar radio flux of the previous day [sfu = 1e-22 W m^-2 Hz^-1], >= 0.
+    f107a : float
+        81-day average of F10.7 centred on the day [sfu], >= 0.
+    ap : float
+        Daily geomagnetic Ap index [-], >= 0.
+    ap_history : sequence of 7 floats, optional
+        NRLMSISE-00's Ap array: daily Ap; 3-h ap now, 3, 6 and 9 h before; mean of the eight
+        3-h ap from 12 to 33 h before; mean from 36 to 57 h before. When given, the model's
+        storm-time formulation uses it (and its first element, not ``ap``).
+
+    Raises
+    ------
+    ValueError
+        Naming the index, for negative, NaN or infinite values or a history that is not 7 long.
+    """
+
+    f107: float
+    f107a: float
+    ap: float
+    ap_history: tuple | None = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "f107", _non_negative("f107", self.f107))
+        object.__setattr__(self, "f107a", _non_negative("f107a", self.f107a))
+        object.__setattr__(self, "ap", _non_negative("ap", self.ap))
+        if self.ap_history is not None:
+            try:
+                history = tuple(self.ap_history)
+            except TypeError:
+                raise ValueError(f"ap_history must be 7 numbers, got {self.ap_history!r}") from None
+            if len(history) != 7:
+                raise ValueError(f"ap_history must have 7 elements, got {len(history)}")
+            history = tuple(_non_negative(f"ap_history[{i}]", v) for i, v in enumerate(history))
+            object.__setattr__(self, "ap_history", history)
+
+
+@dataclass(frozen=True)
+class AtmosphereState:
+    """Neutral atmosphere at one place and time (NRLMSISE-00 output in SI units).
+
+    Attributes
+    ----------
+    number_densities : mapping of str to float
+        Number densities [m^-3] of He, O, N2, O2, Ar, H, N and anomalous oxygen "AnO" (keys as
+        :data:`adbsat_ros.physics.constants.SPECIES`), read-only. O, H and N are 0 below 72.5 km.
+    mass_density : float
+        Total mass density [kg/m^3]; includes anomalous oxygen iff ``anomalous_oxygen``.
+    exospheric_temperature : float
+        Exospheric temperature T_exo [K] (global average below 120 km, as the model defines).
+    temperature : float
+        Local temperature T [K] at the altitude.
+    anomalous_oxygen : bool
+        Whether anomalous oxygen belongs to the gas mixture (``mass_density``,
+        :attr:`mixture_number_densities`, :attr:`mean_mass`).
+    """
+
+    number_densities: Mapping[str, float]
+    mass_density: float
+    exospheric_temperature: float
+    temperature: float
+    anomalous_oxygen: bool = True
+
+    # The derived values below are computed once per state (run_model fills them in as it builds
+    # the state, from the same sums in the same order).
+    @functools.cached_property
+    def mixture_species(self) -> tuple:
+        """Species of the gas mixture: the seven thermal species, plus "AnO" if included."""
+        return SPECIES if self.anomalous_oxygen else _SPECIES_WITHOUT_ANO
+
+    @functools.cached_property
+    def _mixture_densities(self) -> tuple:
+        """Number densities [m^-3] of :attr:`mixture_species`, in that order."""
+        return tuple(self.number_densities[name] for name in self.mixture_species)
+
+    @property
+    def mixture_number_densities(self) -> dict:
+        """Number densities [m^-3] of :attr:`mixture_species` (what a FreeStream is given)."""
+        return {name: self.number_densities[name] for name in self.mixture_species}
+
+    @property
+    def total_number_density(self) -> float:
+        """Sum of the mixture's number densities [m^-3]."""
+        return sum(self.number_densities[name] for name in self.mixture_species)
+
+    @functools.cached_property
+    def mean_mass(self) -> float:
+        """Number-weighted mean molecular mass of the mixture [kg] (as ADBSat's environment.m)."""
+        total = 0.0
+        weighted = 0.0
+        for name in self.mixture_species:
+            n = self.number_densities[name]
+            total += n
+            weighted += n * _SPECIES_MASS_KG[name]
+        return weighted / total
+
+
+def check_time(time) -> _dt.datetime:
+    """Return ``time`` as a naive UTC datetime, refusing years outside 1958..2100.
+
+    Raises
+    ------
+    ValueError
+        Naming ``time``, for a non-datetime or a year outside [1958, 2100].
+    """
+    time = utc_datetime(time)
+    if not FIRST_YEAR <= time.year <= LAST_YEAR:
+        raise ValueError(
+            f"time must be between {FIRST_YEAR}-01-01 and {LAST_YEAR}-12-31 UTC, "
+            f"got {time.isoformat()}"
+        )
+    return time
+
+
+def checked_utc(time) -> _dt.datetime:
+    """``time`` as a timezone-aware UTC datetime, checked as :func:`check_time`.
+
+    An aware :class:`datetime.datetime` already in ``datetime.timezone.utc`` within the years
+    is returned as it is (the per-message case); anything else goes through :func:`check_time`
+    (and its errors).
+    """
+    if type(time) is _dt.datetime and time.tzinfo is _UTC and FIRST_YEAR <= time.year <= LAST_YEAR:
+        return time
+    return check_time(time).replace(tzinfo=_UTC)
+
+
+def check_altitude(altitude) -> float:
+    """Return ``altitude`` [m] as a float, or raise ValueError naming it if outside [0, 1000 km]."""
+    altitude = _finite("altitude", altitude)
+    if not 0.0 <= altitude <= MAX_ALTITUDE:
+        raise ValueError(
+            f"altitude must be between 0 and {MAX_ALTITUDE / 1e3:g} km (NRLMSISE-00 range), "
+            f"got {altitude / 1e3:g} km"
+        )
+    return altitude
+
+
+def evaluate_atmosphere(
+    time,
+    altitude: float,
+    latitude: float,
+    longitude: float,
+    space_weather: SpaceWeather,
+    *,
+    anomalous_oxygen: bool = True,
+    local_solar_time_h: float | None = None,
+) -> AtmosphereState:
+    """Evaluate NRLMSISE-00 at one point.
+
+    Parameters
+    ----------
+    time : datetime.datetime
+        UTC instant (timezone-aware, or naive meaning UTC), years 1958 to 2100.
+    altitude : float
+        Geodetic altitude above the WGS-84 ellipsoid [m], 0 to 1000 km.
+    latitude : float
+        Geodetic latitude [rad], in [-pi/2, pi/2].
+    longitude : float
+        East longitude [rad] (any finite value; wrapped).
+    space_weather : SpaceWeather
+        F10.7, F10.7 81-day average, Ap (and optional Ap history).
+    anomalous_oxygen : bool, optional
+        Include anomalous oxygen in the mixture and the total mass density (``gtd7d``;
+        default) or not (``gtd7``).
+    local_solar_time_h : float, optional
+        Local apparent solar time [h] given to the model. By default it is the one NRLMSISE-00
+        documents and ADBSat uses, UT [h] + longitude [deg] / 15. Override it only to reproduce
+        published test cases (the model's reference test point uses 16 h at 29000 s UT, 70 W).
+
+    Returns
+    -------
+    AtmosphereState
+
+    Raises
+    ------
+    ValueError
+        Naming the input: altitude outside [0, 1000] km, latitude outside [-90, 90] deg,
+        NaN/Inf anywhere, time outside 1958..2100, negative F10.7 or Ap, bad types.
+    """
+    time = check_time(time)
+    altitude = check_altitude(altitude)
+    latitude = _finite("latitude", latitude)
+    if abs(latitude) > math.pi / 2:
+        raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
+    longitude = _finite("longitude", longitude)
+    if not isinstance(space_weather, SpaceWeather):
+        raise ValueError(
+            f"space_weather must be a SpaceWeather(f107, f107a, ap), "
+            f"got {type(space_weather).__name__}"
+        )
+    seconds = seconds_of_day(time)
+    if local_solar_time_h is not None:
+        local_solar_time_h = _finite("local_solar_time_h", local_solar_time_h)
+    return run_model(
+        time.year,
+        utc_day(time.year, time.month, time.day)[2],
+        seconds,
+        altitude,
+        latitude,
+        longitude,
+        space_weather,
+        anomalous_oxygen,
+        local_solar_time_h,
+    )
+
+
+def run_model(
+    year: int,
+    day_of_year: int,
+    seconds: float,
+    altitude: float,
+    latitude: float,
+    longitude: float,
+    space_weather: SpaceWeather,
+    anomalous_oxygen: bool = True,
+    local_solar_time_h: float | None = None,
+) -> AtmosphereState:
+    """NRLMSISE-00 at one point from inputs already checked (see :func:`evaluate_atmosphere`).
+
+    The per-message path of :mod:`adbsat_ros.environment.flight_conditions`, which has already checked the
+    time (``year``, ``day_of_year`` 1..366, UTC ``seconds`` of the day), the ``altitude`` [m] in
+    [0, 1000 km] (:func:`check_altitude`), and has a geodetic ``latitude`` in [-pi/2, pi/2] and a
+    finite ``longitude`` [rad] from :func:`adbsat_ros.environment.earth_frames.geodetic_of_floats`. Only
+    ``space_weather`` is checked here (ValueError naming it).
+    """
+    if not isinstance(space_weather, SpaceWeather):
+        raise ValueError(
+            f"space_weather must be a SpaceWeather(f107, f107a, ap), "
+            f"got {type(space_weather).__name__}"
+        )
+    longitude_deg = (math.degrees(longitude) + 180.0) % 360.0 - 180.0
+    if local_solar_time_h is None:
+        local_solar_time_h = (seconds / 3600.0 + longitude_deg / 15.0) % 24.0
+    model = _nrlmsise00.gtd7d if anomalous_oxygen else _nrlmsise00.gtd7
+    # altitude in km and latitude in degrees, as the model takes them
+    if space_weather.ap_history is None:
+        densities, temperatures = model(
+            year, day_of_year, seconds, altitude * 1e-3, math.degrees(latitude), longitude_deg,
+            local_solar_time_h, space_weather.f107a, space_weather.f107, space_weather.ap,
+            flags=_SWITCHES_DAILY_AP,
+        )
+    else:
+        densities, temperatures = model(
+            year, day_of_year, seconds, altitude * 1e-3, math.degrees(latitude), longitude_deg,
+            local_solar_time_h, space_weather.f107a, space_weather.f107, space_weather.ap,
+            ap_a=list(space_weather.ap_history), flags=_SWITCHES_AP_HISTORY,
+        )
+    he, o, n2, o2, ar, rho, h, n, ano = densities  # the model's order (_MSIS_SPECIES_INDEX)
+    return _model_state(he, o, n2, o2, ar, h, n, ano, rho, temperatures[0], temperatures[1], anomalous_oxygen)
+
+
+def gas_mixture(he, o, n2, o2, ar, h, n, ano, mass_density, temperature, anomalous_oxygen) -> tuple:
+    """The gas mixture of model floats (number densities [m^-3] by species, mass density
+    [kg/m^3], temperature [K]): ``(species, values, mean_mass, usable)``.
+
+    ``species`` and ``values`` are the mixture's species (with "AnO" iff ``anomalous_oxygen``) and
+    their number densities in that order; ``mean_mass`` [kg] is the number-weighted mean molecular
+    mass (None if the total is not > 0); ``usable`` says that a FreeStream can take the mixture as
+    it is (finite positive total, temperature and mass density, no negative density), the checks
+    of :meth:`FreeStream.of_mixture`. :func:`run_model`'s states and the interpolated flight
+    conditions' free streams are both made from this, so their sums are the same bit for bit.
+    """
+    if anomalous_oxygen:
+        species, values = SPECIES, (he, o, n2, o2, ar, h, n, ano)
+        total = 0.0 + he + o + n2 + o2 + ar + h + n + ano
+        weighted = (0.0 + he * _HE + o * _O + n2 * _N2 + o2 * _O2 + ar * _AR + h * _H + n * _N
+                    + ano * _ANO)
+        negative = ano < 0.0
+    else:
+        species, values = _SPECIES_WITHOUT_ANO, (he, o, n2, o2, ar, h, n)
+        total = 0.0 + he + o + n2 + o2 + ar + h + n
+        weighted = 0.0 + he * _HE + o * _O + n2 * _N2 + o2 * _O2 + ar * _AR + h * _H + n * _N
+        negative = False
+    mean_mass = weighted / total if total > 0.0 else None
+    usable = (
+        0.0 < total < math.inf and 0.0 < temperature < math.inf and 0.0 < mass_density < math.inf
+        and not (negative or he < 0.0 or o < 0.0 or n2 < 0.0 or o2 < 0.0 or ar < 0.0 or h < 0.0 or n < 0.0)
+    )
+    return species, values, mean_mass, usable
+
+
+def _model_state(he, o, n2, o2, ar, h, n, ano, rho, exospheric_temperature, temperature,
+                 anomalous_oxygen) -> AtmosphereState:
+    """An AtmosphereState from the model's floats (number densities [m^-3] by species, mass
+    density [kg/m^3], temperatures [K]), as AtmosphereState(...) would make it (its fields need
+    no check), with the derived values of the mixture (:func:`gas_mixture`) filled in."""
+    state = object.__new__(AtmosphereState)
+    fields = state.__dict__
+    fields["number_densities"] = types.MappingProxyType(
+        {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano}
+    )
+    fields["mass_density"] = rho
+    fields["exospheric_temperature"] = exospheric_temperature
+    fields["temperature"] = temperature
+    fields["anomalous_oxygen"] = anomalous_oxygen = bool(anomalous_oxygen)
+    species, values, mean_mass, usable = gas_mixture(he, o, n2, o2, ar, h, n, ano, rho, temperature, anomalous_oxygen)
+    fields["mixture_species"] = species
+    fields["_mixture_densities"] = values
+    if mean_mass is not None:  # else mean_mass raises on access, as it always did
+        fields["mean_mass"] = mean_mass
+    if usable:
+        # What a free stream needs of the mixture, known to pass its checks (FreeStream.of_mixture)
+        fields["_free_stream_mixture"] = (species, values, mean_mass)
+    return state
+
+
+def interpolated_atmosphere(a: AtmosphereState, b: AtmosphereState, weight: float) -> AtmosphereState:
+    """The state ``(1 - weight) a + weight b``: every number density, the mass density and both
+    temperatures interpolated linearly (0 <= weight <= 1); the mean mass and the free-stream
+    mixture follow from the interpolated densities as :func:`run_model` makes them.
+
+    Both states must come from :func:`run_model` with the same ``anomalous_oxygen`` (ValueError
+    otherwise). Used between two evaluations of the model a few tens of metres apart along an
+    orbit (:mod:`adbsat_ros.estimator.estimator`), where the model's fields are smooth.
+    """
+    if a.anomalous_oxygen != b.anomalous_oxygen:
+        raise ValueError("interpolated_atmosphere: both states need the same anomalous_oxygen")
+    v = 1.0 - weight
+    da, db = a.number_densities, b.number_densities
+    return _model_state(
+        *[v * da[name] + weight * db[name] for name in _MODEL_STATE_SPECIES],
+        v * a.mass_density + weight * b.mass_density,
+        v * a.exospheric_temperature + weight * b.exospheric_temperature,
+        v * a.temperature + weight * b.temperature, a.anomalous_oxygen,
+    )

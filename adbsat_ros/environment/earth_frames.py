@@ -1,0 +1,636 @@
+"""Earth orientation and reference frames: GCRF (ECI) <-> ITRF (ECEF) and WGS-84 geodetic.
+
+Frames
+------
+* **ECI** here is the GCRS/GCRF: the IAU 2006/2000A celestial frame realised by pyerfa.
+* **ECEF** is the ITRS/ITRF (with polar motion set to zero unless you pass it, it is the TIRS,
+  which differs from the ITRF by at most ~0.6 arcsec, 3e-6 rad, ~20 m at orbital radius).
+* **Geodetic** coordinates are on the WGS-84 ellipsoid: latitude phi and east longitude lambda
+  [rad], height above the ellipsoid h [m].
+
+The rotation ECI -> ECEF is the CIO-based IAU 2006/2000A product
+``W(xp, yp) R3(ERA(UT1)) Q(TT)``: ``Q`` (GCRS -> CIRS, ``erfa.c2i06a``; IAU 2000B via
+``erfa.c2i00b`` as a faster option), the Earth rotation angle ERA (``erfa.era00``) and polar
+motion ``W`` (``erfa.pom00``).
+
+Accuracy
+--------
+With no Earth-orientation data the defaults are UT1 = UTC and zero polar motion. The dominant
+error is then |UT1 - UTC| <= 0.9 s, i.e. an orientation error of at most
+0.9 s * 7.29e-5 rad/s = 6.6e-5 rad (<= ~450 m along a circle of 6 800 km radius); polar motion
+adds <= ~3e-6 rad (~20 m). Give ``ut1_minus_utc`` and ``polar_motion`` (IERS Bulletin A/B) to
+remove both: the module then reproduces Vallado et al. (2006)'s GCRF/ITRF example to ~1 cm in
+position and ~0.5 mm/s in velocity (see ``test/test_earth_frames.py``). The matrix equals ERFA's
+own ``c2t06a`` (with ERFA's UTC -> TAI -> TT chain) to 1e-12. TT is computed from UTC through
+ERFA's leap-second table (``erfa.dat``); the precession-nutation matrix is insensitive to TT
+errors of seconds.
+
+Velocities include the transport term of the rotating frame, ``v_ecef = R v_eci - omega x r_ecef``
+with omega the rate of the Earth rotation angle (:data:`EARTH_ROTATION_RATE`, the IERS 2010 value
+7.292115146706979e-5 rad/s) along the CIP axis. The neglected rate of precession-nutation is
+< 1e-11 rad/s (< 0.1 mm/s at orbital radius).
+
+Units: metres, metres per second, radians inside; degrees only in names ending ``_deg``.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import functools
+import math
+import warnings
+from dataclasses import dataclass
+
+import erfa
+import numpy as np
+
+#: Rate of the Earth rotation angle [rad/s] (IERS Conventions 2010, eq. 5.15:
+#: 2 pi * 1.00273781191135448 per UT1 day of 86400 s).
+EARTH_ROTATION_RATE = 2.0 * math.pi * 1.00273781191135448 / 86400.0
+
+#: ERFA's identifier of the WGS-84 reference ellipsoid (for ``erfa.gc2gd``/``erfa.gd2gc``).
+WGS84 = 1
+
+#: Precession-nutation models accepted by :func:`earth_orientation`.
+PRECESSION_NUTATION_MODELS = ("iau2006a", "iau2000b")
+
+_MJD_ZERO_ORDINAL = _dt.date(1858, 11, 17).toordinal()  # proleptic ordinal of MJD 0
+_MJD_TO_JD = 2400000.5
+_TT_MINUS_TAI = 32.184  # [s]
+_SECONDS_PER_DAY = 86400.0
+_ARCSEC = math.pi / (180.0 * 3600.0)
+_UTC = _dt.timezone.utc
+_TWO_PI = 2.0 * math.pi
+# WGS-84 ellipsoid (as erfa.eform(WGS84)) and the constants of Fukushima's geodetic solution.
+_WGS84_A = 6378137.0
+_WGS84_F = 1.0 / 298.257223563
+_E2 = (2.0 - _WGS84_F) * _WGS84_F
+_E4T = _E2 * _E2 * 1.5
+_EC2 = 1.0 - _E2
+_EC = math.sqrt(_EC2)
+_POLAR_RADIUS = _WGS84_A * _EC
+_POLAR_AXIS_EPS2 = _WGS84_A * _WGS84_A * 1e-32
+
+
+# ------------------------------------------------------------------------------------------ time
+def utc_datetime(time) -> _dt.datetime:
+    """Return ``time`` as a naive :class:`datetime.datetime` in UTC.
+
+    Parameters
+    ----------
+    time : datetime.datetime
+        A timezone-aware datetime (converted to UTC) or a naive one (taken to be UTC already).
+
+    Raises
+    ------
+    ValueError
+        If ``time`` is not a :class:`datetime.datetime` (a plain ``date`` is refused too).
+    """
+    if not isinstance(time, _dt.datetime):
+        raise ValueError(
+            f"time must be a datetime.datetime (timezone-aware, or naive meaning UTC), "
+            f"got {type(time).__name__} {time!r}"
+        )
+    if time.tzinfo is _UTC:
+        time = time.replace(tzinfo=None)
+    elif time.tzinfo is not None and time.utcoffset() is not None:
+        time = time.astimezone(_UTC).replace(tzinfo=None)
+    elif time.tzinfo is not None:
+        time = time.replace(tzinfo=None)
+    return time
+
+
+@functools.lru_cache(maxsize=512)
+def _tai_minus_utc(year: int, month: int, day: int) -> float:
+    """TAI - UTC [s] on the given UTC day, from ERFA's table (0 before 1960, as ERFA)."""
+    with warnings.catch_warnings():
+        # ERFA flags years before 1960 or well past its table as "dubious"; the value it returns
+        # (the last known offset) is what we want, and only TT depends on it.
+        warnings.simplefilter("ignore", erfa.ErfaWarning)
+        return float(erfa.dat(year, month, day, 0.5))
+
+
+def julian_dates(time, ut1_minus_utc: float = 0.0):
+    """Two-part Julian dates (UTC, TT, UT1) of a UTC datetime.
+
+    Parameters
+    ----------
+    time : datetime.datetime
+        UTC instant (see :func:`utc_datetime`).
+    ut1_minus_utc : float, optional
+        UT1 - UTC [s] (IERS DUT1); 0 by default.
+
+    Returns
+    -------
+    tuple of three (float, float) pairs
+        ``(utc, tt, ut1)``, each a two-part Julian date (integer-and-a-half day, day fraction)
+        as ERFA expects.
+    """
+    time = utc_datetime(time)
+    jd1, tt_offset, _ = utc_day(time.year, time.month, time.day)
+    day_fraction = seconds_of_day(time) / _SECONDS_PER_DAY
+    return (
+        (jd1, day_fraction),
+        (jd1, day_fraction + tt_offset),
+        (jd1, day_fraction + float(ut1_minus_utc) / _SECONDS_PER_DAY),
+    )
+
+
+@functools.lru_cache(maxsize=512)
+def utc_day(year: int, month: int, day: int) -> tuple:
+    """Constants of a UTC calendar day, memoised (the per-call time work is then a few floats).
+
+    Returns
+    -------
+    tuple of (float, float, int)
+        ``(jd1, tt_minus_utc, day_of_year)``: the integer-and-a-half Julian date 2400000.5 + MJD
+        of the day's 0 h UTC (the first part of ERFA's two-part dates), TT - UTC [day] on that
+        day (TAI - UTC from ERFA's leap-second table + 32.184 s), and the day of the year (1..366).
+    """
+    ordinal = _dt.date(year, month, day).toordinal()
+    return (
+        _MJD_TO_JD + (ordinal - _MJD_ZERO_ORDINAL),
+        (_tai_minus_utc(year, month, day) + _TT_MINUS_TAI) / _SECONDS_PER_DAY,
+        ordinal - _dt.date(year, 1, 1).toordinal() + 1,
+    )
+
+
+def seconds_of_day(time: _dt.datetime) -> float:
+    """Seconds since 0 h of ``time``'s day [s] (of a UTC datetime: UTC seconds of the day)."""
+    return time.hour * 3600.0 + time.minute * 60.0 + time.second + time.microsecond * 1e-6
+
+
+# --------------------------------------------------------------------------- Earth orientation
+@dataclass(frozen=True, eq=False)
+class EarthOrientation:
+    """Orientation of the ITRF (ECEF) relative to the GCRF (ECI) at one instant.
+
+    Attributes
+    ----------
+    time : datetime.datetime
+        The UTC instant (naive, UTC).
+    celestial_to_terrestrial : numpy.ndarray, shape (3, 3)
+        Rotation matrix R with ``r_ecef = R @ r_eci`` (GCRS -> ITRS), read-only.
+    earth_rotation_angle : float
+        ERA(UT1) [rad], in [0, 2 pi).
+    rotation_vector_ecef : numpy.ndarray, shape (3,)
+        Angular velocity of the ECEF frame relative to the ECI frame, in ECEF axes [rad/s]:
+        :data:`EARTH_ROTATION_RATE` along the CIP (the ECEF z axis when polar motion is zero).
+    """
+
+    time: _dt.datetime
+    celestial_to_terrestrial: np.ndarray
+    earth_rotation_angle: float
+    rotation_vector_ecef: np.ndarray
+
+    # Positions are row vectors, (3,) or (N, 3): r_ecef = r_eci @ R.T.
+    def eci_to_ecef(self, position_eci, velocity_eci=None):
+        """Rotate a position (and velocity) from ECI (GCRF) to ECEF (ITRF).
+
+        Parameters
+        ----------
+        position_eci : array_like, shape (3,) or (N, 3)
+            Position in ECI [m].
+        velocity_eci : array_like, shape like ``position_eci``, optional
+            Inertial velocity in ECI axes [m/s].
+
+        Returns
+        -------
+        position_ecef : numpy.ndarray
+            Position in ECEF [m].
+        velocity_ecef : numpy.ndarray or None
+            Velocity relative to the rotating Earth, in ECEF axes [m/s]:
+            ``R v_eci - omega x r_ecef``; None if no velocity was given.
+        """
+        matrix = self.celestial_to_terrestrial
+        position_ecef = _as_vectors(position_eci, "position_eci") @ matrix.T
+        if velocity_eci is None:
+            return position_ecef, None
+        velocity = _as_vectors(velocity_eci, "velocity_eci") @ matrix.T
+        return position_ecef, velocity - cross(self.rotation_vector_ecef, position_ecef)
+
+    def ecef_to_eci(self, position_ecef, velocity_ecef=None):
+        """Rotate a position (and velocity) from ECEF (ITRF) to ECI (GCRF).
+
+        Parameters
+        ----------
+        position_ecef : array_like, shape (3,) or (N, 3)
+            Position in ECEF [m].
+        velocity_ecef : array_like, shape like ``position_ecef``, optional
+            Velocity relative to the rotating Earth, in ECEF axes [m/s].
+
+        Returns
+        -------
+        position_eci : numpy.ndarray
+            Position in ECI [m].
+        velocity_eci : numpy.ndarray or None
+            Inertial velocity in ECI axes [m/s]: ``R^T (v_ecef + omega x r_ecef)``; None if no
+            velocity was given.
+        """
+        matrix = self.celestial_to_terrestrial
+        position = _as_vectors(position_ecef, "position_ecef")
+        position_eci = position @ matrix
+        if velocity_ecef is None:
+            return position_eci, None
+        velocity = _as_vectors(velocity_ecef, "velocity_ecef")
+        return position_eci, (velocity + cross(self.rotation_vector_ecef, position)) @ matrix
+
+    def rotate_eci_to_ecef(self, vector_eci) -> np.ndarray:
+        """Express a free vector (no transport term, e.g. a relative velocity) in ECEF axes."""
+        return _as_vectors(vector_eci, "vector_eci") @ self.celestial_to_terrestrial.T
+
+    def rotate_ecef_to_eci(self, vector_ecef) -> np.ndarray:
+        """Express a free vector (no transport term, e.g. a relative velocity) in ECI axes."""
+        return _as_vectors(vector_ecef, "vector_ecef") @ self.celestial_to_terrestrial
+
+
+_CELESTIAL_TO_INTERMEDIATE = {"iau2006a": erfa.c2i06a, "iau2000b": erfa.c2i00b}
+#: Angular velocity of the ECEF frame in ECEF axes with zero polar motion [rad/s].
+_ROTATION_AXIS = (0.0, 0.0, EARTH_ROTATION_RATE)
+_ROTATION_VECTOR_ECEF = np.array(_ROTATION_AXIS)
+_ROTATION_VECTOR_ECEF.setflags(write=False)
+
+
+@functools.lru_cache(maxsize=256)
+def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> tuple:
+    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket`` (J2000-based),
+    as 9 floats in row-major order."""
+    return tuple(_CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days).ravel().tolist())
+
+
+def earth_rotation_angle(ut1_day: float, ut1_fraction: float) -> float:
+    """Earth rotation angle ERA(UT1) [rad] in [0, 2 pi) of a two-part UT1 Julian date.
+
+    IERS Conventions 2010 eq. 5.15, ERA = 2 pi (0.7790572732640 + 1.00273781191135448 Tu), with
+    Tu = JD(UT1) - 2451545.0, evaluated as ``erfa.era00`` does (the fractional days summed
+    apart from the rest of the rate term, then wrapped into [0, 2 pi)); equal to it bit for bit
+    (``test/test_earth_frames.py``) at a fifth of its cost for single floats.
+    """
+    if ut1_day < ut1_fraction:
+        small, large = ut1_day, ut1_fraction
+    else:
+        small, large = ut1_fraction, ut1_day
+    days = small + (large - 2451545.0)
+    fraction = math.fmod(small, 1.0) + math.fmod(large, 1.0)
+    angle = math.fmod(_TWO_PI * (fraction + 0.7790572732640 + 0.00273781191135448 * days), _TWO_PI)
+    return angle + _TWO_PI if angle < 0.0 else angle
+
+
+def check_orientation_options(ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step):
+    """Checked Earth-orientation options of :func:`earth_orientation`.
+
+    Returns
+    -------
+    tuple
+        ``(ut1_minus_utc [s], x_p [rad], y_p [rad], precession_nutation, step [s])`` as floats
+        (and the model name).
+
+    Raises
+    ------
+    ValueError
+        Naming the option: non-finite or out-of-range ``ut1_minus_utc`` (|.| <= 1 s) or
+        ``polar_motion`` (|.| <= 10 arcsec), an unknown ``precession_nutation`` name or a
+        ``precession_nutation_step`` outside [0, 3600] s.
+    """
+    ut1_minus_utc = float(ut1_minus_utc)
+    if not math.isfinite(ut1_minus_utc) or abs(ut1_minus_utc) > 1.0:
+        raise ValueError(
+            f"ut1_minus_utc must be a finite number of seconds in [-1, 1], got {ut1_minus_utc!r}"
+        )
+    try:
+        xp, yp = float(polar_motion[0]), float(polar_motion[1])
+        if len(polar_motion) != 2:
+            raise ValueError
+    except (TypeError, ValueError, IndexError):
+        raise ValueError(
+            f"polar_motion must be a pair (x_p, y_p) in rad, got {polar_motion!r}"
+        ) from None
+    if not (math.isfinite(xp) and math.isfinite(yp)) or max(abs(xp), abs(yp)) > 10 * _ARCSEC:
+        raise ValueError(
+            f"polar_motion must be finite and within 10 arcsec (given in rad), got {polar_motion!r}"
+        )
+    if precession_nutation not in PRECESSION_NUTATION_MODELS:
+        raise ValueError(
+            f"unknown precession_nutation {precession_nutation!r}; "
+            f"allowed: {', '.join(PRECESSION_NUTATION_MODELS)}"
+        )
+    step = float(precession_nutation_step)
+    if not (math.isfinite(step) and 0.0 <= step <= 3600.0):
+        raise ValueError(f"precession_nutation_step must be in [0, 3600] s, got {precession_nutation_step!r}")
+    return ut1_minus_utc, xp, yp, precession_nutation, step
+
+
+def rotation_terms(jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step):
+    """The GCRS -> ITRS rotation of :func:`earth_orientation` as plain floats (no arrays).
+
+    The per-message form used by :func:`adbsat_ros.environment.flight_conditions.flight_conditions`;
+    inputs are already checked (see :func:`check_orientation_options`).
+
+    Parameters
+    ----------
+    jd1, day_fraction : float
+        Two-part Julian date of the UTC instant: ``utc_day(...)[0]`` and UTC seconds of the
+        day / 86400.
+    tt_minus_utc : float
+        TT - UTC [day] (``utc_day(...)[1]``).
+    ut1_minus_utc : float
+        UT1 - UTC [s].
+    xp, yp : float
+        Polar motion [rad].
+    precession_nutation : {"iau2006a", "iau2000b"}
+    step : float
+        Precession-nutation step [s], 0 for none (see :func:`earth_orientation`).
+
+    Returns
+    -------
+    matrix : tuple of 9 floats
+        R (``r_ecef = R @ r_eci``) in row-major order.
+    era : float
+        Earth rotation angle [rad].
+    axis : tuple of 3 floats
+        Angular velocity of ECEF relative to ECI, ECEF axes [rad/s].
+    """
+    tt2 = day_fraction + tt_minus_utc
+    if step > 0.0:
+        step_days = step / _SECONDS_PER_DAY
+        bucket = math.floor(((jd1 - 2451545.0) + tt2) / step_days)
+        q = _celestial_to_intermediate_at(precession_nutation, bucket, step_days)
+    else:
+        q = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2).ravel().tolist()
+    era = earth_rotation_angle(jd1, day_fraction + ut1_minus_utc / _SECONDS_PER_DAY)
+    c, s = math.cos(era), math.sin(era)
+    q00, q01, q02, q10, q11, q12, q20, q21, q22 = q
+    # R3(ERA) @ Q with R3 = [[c, s, 0], [-s, c, 0], [0, 0, 1]]
+    matrix = (
+        c * q00 + s * q10, c * q01 + s * q11, c * q02 + s * q12,
+        c * q10 - s * q00, c * q11 - s * q01, c * q12 - s * q02,
+        q20, q21, q22,
+    )
+    axis = _ROTATION_AXIS
+    if xp != 0.0 or yp != 0.0:
+        polar = erfa.pom00(xp, yp, erfa.sp00(jd1, tt2))
+        matrix = tuple((polar @ np.array(matrix).reshape(3, 3)).ravel().tolist())
+        axis = tuple((polar @ np.array(axis)).tolist())
+    return matrix, era, axis
+
+
+def earth_orientation(
+    time,
+    *,
+    ut1_minus_utc: float = 0.0,
+    polar_motion=(0.0, 0.0),
+    precession_nutation: str = "iau2006a",
+    precession_nutation_step: float = 0.0,
+) -> EarthOrientation:
+    """Earth orientation (GCRF -> ITRF rotation) at a UTC instant.
+
+    Parameters
+    ----------
+    time : datetime.datetime
+        UTC instant; timezone-aware, or naive meaning UTC.
+    ut1_minus_utc : float, optional
+        UT1 - UTC [s]. Default 0 (UT1 = UTC), see the module notes on accuracy.
+    polar_motion : pair of float, optional
+        Pole coordinates (x_p, y_p) [rad]. Default (0, 0).
+    precession_nutation : {"iau2006a", "iau2000b"}, optional
+        ``"iau2006a"`` (default): IAU 2006/2000A, ``erfa.c2i06a`` (~40 us).
+        ``"iau2000b"``: IAU 2000B, ``erfa.c2i00b`` (~5 us), within 1 mas (5e-9 rad, 3 cm at
+        orbital radius) of 2000A over 1995-2050.
+    precession_nutation_step : float, optional
+        0 (default): precession-nutation evaluated at ``time``. A step [s] > 0 evaluates it at
+        the centre of the step-long TT interval holding ``time`` and memoises it: the Earth
+        rotation angle stays exact, and the celestial pole moves by less than 2e-11 rad/s
+        (precession and the fastest nutation terms), so a 60 s step errs by under 1e-9 rad
+        (6 mm at orbital radius) and saves the ~40 us of IAU 2006/2000A on every call. The
+        result depends only on ``time`` (not on call order).
+
+    Returns
+    -------
+    EarthOrientation
+
+    Raises
+    ------
+    ValueError
+        For a ``time`` that is not a datetime, non-finite ``ut1_minus_utc`` or
+        ``polar_motion``, or an unknown ``precession_nutation`` name.
+    """
+    time = utc_datetime(time)
+    options = check_orientation_options(
+        ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
+    )
+    jd1, tt_minus_utc, _ = utc_day(time.year, time.month, time.day)
+    day_fraction = seconds_of_day(time) / _SECONDS_PER_DAY
+    matrix, era, axis = rotation_terms(jd1, day_fraction, tt_minus_utc, *options)
+    matrix = np.array(matrix).reshape(3, 3)
+    matrix.setflags(write=False)
+    if axis is _ROTATION_AXIS:
+        axis = _ROTATION_VECTOR_ECEF
+    else:
+        axis = np.array(axis)
+        axis.setflags(write=False)
+    return EarthOrientation(time, matrix, era, axis)
+
+
+def eci_to_ecef(time, position_eci, velocity_eci=None, **orientation_options):
+    """Rotate position [m] (and velocity [m/s]) from ECI (GCRF) to ECEF (ITRF) at ``time``.
+
+    Shorthand for ``earth_orientation(time, **orientation_options).eci_to_ecef(...)``; see
+    :meth:`EarthOrientation.eci_to_ecef`. Returns ``(position_ecef, velocity_ecef or None)``.
+    """
+    return earth_orientation(time, **orientation_options).eci_to_ecef(position_eci, velocity_eci)
+
+
+def ecef_to_eci(time, position_ecef, velocity_ecef=None, **orientation_options):
+    """Rotate position [m] (and velocity [m/s]) from ECEF (ITRF) to ECI (GCRF) at ``time``.
+
+    Shorthand for ``earth_orientation(time, **orientation_options).ecef_to_eci(...)``; see
+    :meth:`EarthOrientation.ecef_to_eci`. Returns ``(position_eci, velocity_eci or None)``.
+    """
+    return earth_orientation(time, **orientation_options).ecef_to_eci(position_ecef, velocity_ecef)
+
+
+# ------------------------------------------------------------------------------------ geodetic
+def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
+    """WGS-84 geodetic coordinates to an ECEF (ITRF) position.
+
+    Parameters
+    ----------
+    latitude : float or array_like
+        Geodetic latitude [rad], in [-pi/2, pi/2].
+    longitude : float or array_like
+        East longitude [rad].
+    altitude : float or array_like
+        Height above the WGS-84 ellipsoid [m].
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        ECEF position [m].
+
+    Raises
+    ------
+    ValueError
+        Naming the input, for non-finite values or a latitude outside [-pi/2, pi/2].
+    """
+    latitude = np.asarray(latitude, dtype=float)
+    longitude = np.asarray(longitude, dtype=float)
+    altitude = np.asarray(altitude, dtype=float)
+    for name, value in (("latitude", latitude), ("longitude", longitude), ("altitude", altitude)):
+        if not _all_finite(value):
+            raise ValueError(f"{name} must be finite, got {value!r}")
+    if latitude.ndim == 0:
+        if abs(float(latitude)) > math.pi / 2:
+            raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
+    elif np.any(np.abs(latitude) > math.pi / 2):
+        raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
+    # Raw ufunc (skips pyerfa's status-to-warning wrapper); status is non-zero only for a bad
+    # ellipsoid identifier or |latitude| > pi/2, both excluded above.
+    position, _status = erfa.ufunc.gd2gc(WGS84, longitude, latitude, altitude)
+    return position
+
+
+def ecef_to_geodetic(position_ecef):
+    """ECEF (ITRF) position to WGS-84 geodetic coordinates.
+
+    Parameters
+    ----------
+    position_ecef : array_like, shape (3,) or (N, 3)
+        ECEF position [m].
+
+    Returns
+    -------
+    latitude : float or numpy.ndarray
+        Geodetic latitude [rad].
+    longitude : float or numpy.ndarray
+        East longitude [rad], in (-pi, pi].
+    altitude : float or numpy.ndarray
+        Height above the ellipsoid [m].
+
+    Raises
+    ------
+    ValueError
+        If the position is not finite or has the wrong shape.
+    """
+    position = _as_vectors(position_ecef, "position_ecef")
+    # The raw ufunc skips pyerfa's status-to-warning wrapper (~9 us); status < 0 is only possible
+    # for a bad ellipsoid identifier, which WGS84 is not.
+    longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position)
+    if position.ndim == 1:
+        if status != 0:  # pragma: no cover - defensive
+            raise ValueError(f"erfa.gc2gd failed (status {status}) for position {position_ecef!r}")
+        return float(latitude), float(longitude), float(altitude)
+    if np.any(status != 0):  # pragma: no cover - defensive
+        raise ValueError(f"erfa.gc2gd failed for some of the positions {position_ecef!r}")
+    return latitude, longitude, altitude
+
+
+def enu_to_ecef_matrix(latitude: float, longitude: float) -> np.ndarray:
+    """Matrix whose columns are the local East, North, Up unit vectors in ECEF axes.
+
+    ``v_ecef = M @ v_enu`` for a vector given in the local East-North-Up frame at the geodetic
+    ``latitude`` and ``longitude`` [rad] (Up is the ellipsoid normal).
+    """
+    sin_lat, cos_lat = math.sin(latitude), math.cos(latitude)
+    sin_lon, cos_lon = math.sin(longitude), math.cos(longitude)
+    return np.array(
+        [
+            [-sin_lon, -sin_lat * cos_lon, cos_lat * cos_lon],
+            [cos_lon, -sin_lat * sin_lon, cos_lat * sin_lon],
+            [0.0, cos_lat, sin_lat],
+        ]
+    )
+
+
+def geodetic_of(position_ecef: np.ndarray):
+    """``(latitude, longitude, altitude)`` as floats of one checked ECEF position, shape (3,).
+
+    :func:`ecef_to_geodetic` without its input checks, for a position already known to be three
+    finite floats (the per-message path of :mod:`adbsat_ros.environment.flight_conditions`).
+    """
+    longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position_ecef)
+    if status != 0:  # pragma: no cover - defensive (only a bad ellipsoid identifier)
+        raise ValueError(f"erfa.gc2gd failed (status {status}) for position {position_ecef!r}")
+    return float(latitude), float(longitude), float(altitude)
+
+
+def geodetic_of_floats(x: float, y: float, z: float) -> tuple:
+    """``(latitude [rad], longitude [rad], altitude [m])`` of the ECEF position (x, y, z) [m].
+
+    :func:`ecef_to_geodetic` for one position given as three finite floats, in plain float
+    arithmetic: Fukushima's (2006) solution with one Halley step, the method of ERFA's
+    ``gc2gde``, with its operations in its order, so that the result equals ``erfa.gc2gd`` bit for
+    bit (checked in ``test/test_earth_frames.py``) without a numpy array or ufunc call.
+    """
+    p2 = x * x + y * y
+    longitude = math.atan2(y, x) if p2 > 0.0 else 0.0
+    absz = abs(z)
+    if p2 > _POLAR_AXIS_EPS2:
+        p = math.sqrt(p2)
+        s0 = absz / _WGS84_A
+        pn = p / _WGS84_A
+        zc = _EC * s0
+        c0 = _EC * pn
+        c02 = c0 * c0
+        c03 = c02 * c0
+        s02 = s0 * s0
+        s03 = s02 * s0
+        a02 = c02 + s02
+        a0 = math.sqrt(a02)
+        a03 = a02 * a0
+        d0 = zc * a03 + _E2 * s03
+        f0 = pn * a03 - _E2 * c03
+        b0 = _E4T * s02 * c02 * pn * (a0 - _EC)  # Halley correction
+        s1 = d0 * f0 - b0 * s0
+        cc = _EC * (f0 * f0 - b0 * c0)
+        latitude = math.atan(s1 / cc)
+        s12 = s1 * s1
+        cc2 = cc * cc
+        altitude = (p * cc + absz * s1 - _WGS84_A * math.sqrt(_EC2 * s12 + cc2)) / math.sqrt(s12 + cc2)
+    else:  # on the polar axis
+        latitude = math.pi / 2.0
+        altitude = absz - _POLAR_RADIUS
+    if z < 0:
+        latitude = -latitude
+    return latitude, longitude, altitude
+
+
+def enu_to_ecef(latitude: float, longitude: float, east: float, north: float, up: float) -> tuple:
+    """``enu_to_ecef_matrix(latitude, longitude) @ (east, north, up)`` as three floats."""
+    sin_lat, cos_lat = math.sin(latitude), math.cos(latitude)
+    sin_lon, cos_lon = math.sin(longitude), math.cos(longitude)
+    return (
+        -sin_lon * east + -sin_lat * cos_lon * north + cos_lat * cos_lon * up,
+        cos_lon * east + -sin_lat * sin_lon * north + cos_lat * sin_lon * up,
+        cos_lat * north + sin_lat * up,
+    )
+
+
+# -------------------------------------------------------------------------------------- helpers
+def cross(a, b) -> np.ndarray:
+    """Cross product a x b of 3-vectors (fast path for single vectors; else numpy.cross)."""
+    a = np.asarray(a)
+    b = np.asarray(b)
+    if a.shape == (3,) and b.shape == (3,):
+        a1, a2, a3 = a.tolist()
+        b1, b2, b3 = b.tolist()
+        return np.array([a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1])
+    return np.cross(a, b)
+
+
+def _as_vectors(value, name: str) -> np.ndarray:
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers of shape (3,) or (N, 3), got {value!r}") from None
+    if array.shape[-1:] != (3,) or array.ndim > 2:
+        raise ValueError(f"{name} must have shape (3,) or (N, 3), got shape {array.shape}")
+    if not _all_finite(array):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return array
+
+
+def _all_finite(array: np.ndarray) -> bool:
+    """True if every element is finite (pure Python for 3-vectors: 10x faster than numpy)."""
+    if array.size <= 3:
+        return all(map(math.isfinite, array.ravel().tolist()))
+    return bool(np.isfinite(array).all())

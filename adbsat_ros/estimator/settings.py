@@ -1,0 +1,272 @@
+"""Settings of the live aerodynamic wrench computation, shared by the ROS node and bag analysis.
+
+The single table :data:`PARAMETERS` names every setting with its default and meaning; the node
+declares its ROS parameters from it, ``config/adbsat.yaml`` documents it, and bag analysis reads
+the same YAML (ROS ``--params-file`` layout) into the same :class:`WrenchSettings`.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+from dataclasses import dataclass, fields
+
+from adbsat_ros.environment.accommodation import accommodation_model_names
+from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, canonical_model_name
+
+SHADING_MODES = ("none", "projection", "raycast")
+TIME_MODES = ("unix", "epoch")
+STATE_FRAMES = ("eci", "ecef")
+ATTITUDE_SOURCES = ("attitude_topic", "odometry")
+COEFFICIENT_SOURCES = ("panel", "database")
+EXECUTORS = ("events", "single_threaded")
+
+#: (name, default, description) of every setting. Units in the description; SI throughout.
+PARAMETERS = (
+    ("mesh", "example", "mesh file (.obj .stl .ply .off ...) or 'example' for the bundled satellite; read once at start-up"),
+    ("mesh_scale", 1.0, "factor from mesh file units to metres (1e-3 for millimetres)"),
+    ("body_frame_id", "body", "frame_id of published wrenches: the mesh frame, fixed to the body"),
+    ("center_of_mass", [0.0, 0.0, 0.0], "centre of mass in the mesh frame [m]; torques are about it"),
+    ("gsi_model", "sentman", "gas-surface model: " + ", ".join(MODELS)),
+    ("alpha", 1.0, "energy accommodation coefficient [-] (used when accommodation_model is fixed)"),
+    ("alpha_n", 1.0, "CLL normal energy accommodation [-]"),
+    ("sigma_n", 1.0, "normal momentum accommodation [-] (schaaf, storch)"),
+    ("sigma_t", 1.0, "tangential momentum accommodation [-] (schaaf, storch, cll)"),
+    ("wall_temperature", 300.0, "wall temperature [K]"),
+    ("material_overrides", [""], "per-material values, 'NAME:key=value,key=value' (keys as the parameters above)"),
+    ("incident_temperature", "energy", "incident temperature form for sentman/dria: energy (ADBSat) or kinetic"),
+    ("adbsat_compat", False, "reproduce ADBSat's coded quirks (maxwell two-sided plate, cll species weights)"),
+    ("accommodation_model", "fixed", "fixed (use alpha), langmuir, goodman or sesam (alpha from the atmosphere)"),
+    ("shading", "raycast", "shading mode: none, projection (ADBSat), raycast (exact)"),
+    ("shading_samples", 16, "ray samples per panel for raycast shading"),
+    ("shading_cache_resolution_deg", 0.25, "angular resolution of the shading cache [deg]"),
+    ("shading_cache_size", 20000, "maximum number of flow directions kept in the shading cache"),
+    ("f107", 150.0, "F10.7 solar flux of the previous day [sfu]"),
+    ("f107a", 150.0, "81-day average F10.7 [sfu]"),
+    ("ap", 4.0, "daily geomagnetic Ap index [-]"),
+    ("ap_history", [0.0], "optional NRLMSISE-00 7-element Ap history; a single element means unused"),
+    ("anomalous_oxygen", True, "include NRLMSISE-00 anomalous oxygen in the gas"),
+    ("time_mode", "unix", "how header stamps map to UTC: unix (stamp is UNIX time) or epoch (epoch_utc + stamp)"),
+    ("epoch_utc", "2026-01-01T00:00:00", "UTC epoch of stamp 0 for time_mode epoch (ISO 8601)"),
+    ("state_frame", "eci", "frame of the Odometry position: eci (GCRF) or ecef (ITRF)"),
+    ("earth_rotation", True, "the atmosphere co-rotates with the Earth"),
+    ("wind_ecef", [0.0, 0.0, 0.0], "wind relative to the rotating Earth, ECEF axes [m/s]"),
+    ("attitude_source", "attitude_topic", "attitude from the attitude topic or from the Odometry pose (odometry)"),
+    ("state_timeout", 1.0, "a state older than this at the attitude stamp is stale [s]"),
+    ("conditions_step", 0.01, "flight conditions (NRLMSISE-00, Earth orientation, relative wind) are evaluated "
+     "exactly at the stamps that are multiples of this [s] and interpolated linearly in between (density within "
+     "about 2e-9 at 10 ms); 0 evaluates them at every stamp"),
+    ("max_quaternion_norm_error", 1e-3, "quaternions with | |q| - 1 | above this are rejected; below, normalised"),
+    ("min_relative_speed", 1e-3, "below this relative speed [m/s] the wrench is zero"),
+    ("qos_depth", 10, "history depth of subscriptions and publications"),
+    ("diagnostics_period", 1.0, "period of /diagnostics messages [s]"),
+    ("executor", "events", "rclpy executor of adbsat_node: events (rclpy.experimental.EventsExecutor, about half "
+     "the per-message overhead; single_threaded when this rclpy lacks it) or single_threaded"),
+    ("coefficients_source", "panel", "panel (live panel method) or database (interpolated from database_path)"),
+    ("database_path", "", "database (.npz) made by 'adbsat-ros database' for coefficients_source database; it must "
+     "be made for the same mesh, gsi_model, surface properties and reference area/length, else it is refused"),
+)
+
+#: Largest conditions_step [s]: 770 m of orbit, interpolation error still below about 1e-7.
+MAX_CONDITIONS_STEP = 0.1
+
+PARAMETER_DEFAULTS = {name: default for name, default, _ in PARAMETERS}
+PARAMETER_DESCRIPTIONS = {name: text for name, _, text in PARAMETERS}
+#: Settings that need the mesh or its shading structures rebuilt; the node keeps them read-only.
+READ_ONLY_PARAMETERS = ("mesh", "mesh_scale", "qos_depth", "body_frame_id", "executor")
+
+
+def _choice(name, value, allowed):
+    value = str(value)
+    if value not in allowed:
+        raise ValueError(f"parameter {name}: {value!r} is not one of {', '.join(allowed)}")
+    return value
+
+
+def _number(name, value, low=None, high=None, low_open=False):
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"parameter {name}: expected a number, got {value!r}") from None
+    if not math.isfinite(value):
+        raise ValueError(f"parameter {name}: must be finite, got {value!r}")
+    if low is not None and (value < low or (low_open and value == low)):
+        raise ValueError(f"parameter {name}: must be {'>' if low_open else '>='} {low}, got {value!r}")
+    if high is not None and value > high:
+        raise ValueError(f"parameter {name}: must be <= {high}, got {value!r}")
+    return value
+
+
+def _vector3(name, value):
+    try:
+        vec = tuple(float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"parameter {name}: expected three numbers, got {value!r}") from None
+    if len(vec) != 3 or not all(math.isfinite(v) for v in vec):
+        raise ValueError(f"parameter {name}: expected three finite numbers, got {value!r}")
+    return vec
+
+
+def parse_utc(name, text) -> _dt.datetime:
+    """Parse an ISO 8601 UTC time (a trailing Z or +00:00 allowed) into an aware datetime."""
+    try:
+        t = _dt.datetime.fromisoformat(str(text).replace("Z", "+00:00"))
+    except ValueError:
+        raise ValueError(f"parameter {name}: not an ISO 8601 time: {text!r}") from None
+    if t.tzinfo is None:
+        t = t.replace(tzinfo=_dt.timezone.utc)
+    return t.astimezone(_dt.timezone.utc)
+
+
+@dataclass(frozen=True)
+class WrenchSettings:
+    """Validated settings; build with :meth:`from_parameters`. Field meanings: :data:`PARAMETERS`."""
+
+    mesh: str
+    mesh_scale: float
+    body_frame_id: str
+    center_of_mass: tuple
+    gsi_model: str
+    alpha: float
+    alpha_n: float
+    sigma_n: float
+    sigma_t: float
+    wall_temperature: float
+    material_overrides: tuple
+    incident_temperature: str
+    adbsat_compat: bool
+    accommodation_model: str
+    shading: str
+    shading_samples: int
+    shading_cache_resolution_deg: float
+    shading_cache_size: int
+    f107: float
+    f107a: float
+    ap: float
+    ap_history: tuple | None
+    anomalous_oxygen: bool
+    time_mode: str
+    epoch_utc: _dt.datetime
+    state_frame: str
+    earth_rotation: bool
+    wind_ecef: tuple
+    attitude_source: str
+    state_timeout: float
+    conditions_step: float
+    max_quaternion_norm_error: float
+    min_relative_speed: float
+    qos_depth: int
+    diagnostics_period: float
+    executor: str
+    coefficients_source: str
+    database_path: str
+
+    @classmethod
+    def from_parameters(cls, values=None, **overrides) -> "WrenchSettings":
+        """Validate a mapping of parameter names to values (missing names take their defaults).
+
+        Raises
+        ------
+        ValueError
+            ``"parameter NAME: reason"`` for the first bad value or an unknown name.
+        """
+        merged = dict(PARAMETER_DEFAULTS)
+        for source in (values or {}), overrides:
+            for key, value in source.items():
+                if key not in merged:
+                    raise ValueError(
+                        f"parameter {key}: unknown; known parameters are {', '.join(PARAMETER_DEFAULTS)}"
+                    )
+                merged[key] = value
+        v = merged
+        ap_history = tuple(float(x) for x in v["ap_history"]) if len(v["ap_history"]) > 1 else None
+        if ap_history is not None and len(ap_history) != 7:
+            raise ValueError(f"parameter ap_history: needs 7 values (or one to leave it unused), got {len(ap_history)}")
+        try:
+            model = canonical_model_name(v["gsi_model"])
+        except ValueError as exc:
+            raise ValueError(f"parameter gsi_model: {exc}") from None
+        mesh = str(v["mesh"]).strip()
+        if not mesh:
+            raise ValueError("parameter mesh: empty")
+        samples = int(_number("shading_samples", v["shading_samples"], 1, 4096))
+        settings = cls(
+            mesh=mesh,
+            mesh_scale=_number("mesh_scale", v["mesh_scale"], 0.0, low_open=True),
+            body_frame_id=str(v["body_frame_id"]).lstrip("/") or "body",
+            center_of_mass=_vector3("center_of_mass", v["center_of_mass"]),
+            gsi_model=model,
+            alpha=_number("alpha", v["alpha"], 0.0, 1.0),
+            alpha_n=_number("alpha_n", v["alpha_n"], 0.0, 1.0),
+            sigma_n=_number("sigma_n", v["sigma_n"], 0.0, 1.999999),
+            sigma_t=_number("sigma_t", v["sigma_t"], 0.0, 1.0),
+            wall_temperature=_number("wall_temperature", v["wall_temperature"], 0.0, low_open=True),
+            material_overrides=tuple(s for s in (str(x).strip() for x in v["material_overrides"]) if s),
+            incident_temperature=_choice("incident_temperature", v["incident_temperature"], INCIDENT_TEMPERATURE_FORMS),
+            adbsat_compat=bool(v["adbsat_compat"]),
+            accommodation_model=_choice("accommodation_model", str(v["accommodation_model"]).lower(), accommodation_model_names()),
+            shading=_choice("shading", v["shading"], SHADING_MODES),
+            shading_samples=samples,
+            shading_cache_resolution_deg=_number("shading_cache_resolution_deg", v["shading_cache_resolution_deg"], 0.0, 10.0, low_open=True),
+            shading_cache_size=int(_number("shading_cache_size", v["shading_cache_size"], 1)),
+            f107=_number("f107", v["f107"], 0.0),
+            f107a=_number("f107a", v["f107a"], 0.0),
+            ap=_number("ap", v["ap"], 0.0),
+            ap_history=ap_history,
+            anomalous_oxygen=bool(v["anomalous_oxygen"]),
+            time_mode=_choice("time_mode", v["time_mode"], TIME_MODES),
+            epoch_utc=parse_utc("epoch_utc", v["epoch_utc"]),
+            state_frame=_choice("state_frame", str(v["state_frame"]).lower(), STATE_FRAMES),
+            earth_rotation=bool(v["earth_rotation"]),
+            wind_ecef=_vector3("wind_ecef", v["wind_ecef"]),
+            attitude_source=_choice("attitude_source", v["attitude_source"], ATTITUDE_SOURCES),
+            state_timeout=_number("state_timeout", v["state_timeout"], 0.0, low_open=True),
+            conditions_step=_number("conditions_step", v["conditions_step"], 0.0, MAX_CONDITIONS_STEP),
+            max_quaternion_norm_error=_number("max_quaternion_norm_error", v["max_quaternion_norm_error"], 0.0, 0.5),
+            min_relative_speed=_number("min_relative_speed", v["min_relative_speed"], 0.0),
+            qos_depth=int(_number("qos_depth", v["qos_depth"], 1, 10000)),
+            diagnostics_period=_number("diagnostics_period", v["diagnostics_period"], 0.0, low_open=True),
+            executor=_choice("executor", v["executor"], EXECUTORS),
+            coefficients_source=_choice("coefficients_source", v["coefficients_source"], COEFFICIENT_SOURCES),
+            database_path=str(v["database_path"]),
+        )
+        if settings.coefficients_source == "database" and not settings.database_path:
+            raise ValueError("parameter database_path: needed when coefficients_source is database")
+        return settings
+
+    def as_parameters(self) -> dict:
+        """The settings as ROS-parameter-compatible values (inverse of from_parameters)."""
+        out = {}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "epoch_utc":
+                value = value.isoformat()
+            elif f.name == "ap_history":
+                value = list(value) if value else [0.0]
+            elif f.name == "material_overrides":
+                value = list(value) or [""]
+            elif isinstance(value, tuple):
+                value = list(value)
+            out[f.name] = value
+        return out
+
+
+def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:
+    """Read a ROS 2 ``--params-file`` YAML and return the parameters for ``node_name``.
+
+    Keys under ``/**`` apply to every node, keys under the node's name override them.
+    """
+    import yaml
+
+    with open(path, encoding="utf-8") as fh:
+        data = yaml.safe_load(fh) or {}
+    if not isinstance(data, dict):
+        raise ValueError(f"{path}: not a ROS parameters file (top level must be a mapping)")
+    params = {}
+    for key in ("/**", node_name, "/" + node_name):
+        section = data.get(key)
+        if isinstance(section, dict):
+            params.update(section.get("ros__parameters", {}) or {})
+    if not params:
+        raise ValueError(f"{path}: no ros__parameters for '/**' or '{node_name}'")
+    return params

@@ -1,0 +1,75 @@
+"""The bundled example satellite: a box body with two solar wings, built by code.
+
+It is the default mesh of the command line and the ROS node (mesh name ``example``). The body is
+1.2 m long along x_G (the flight direction at zero angle of attack), 0.5 m x 0.5 m in cross
+section, centred on the origin; two solar wings 1.0 m x 0.5 m x 0.03 m stand off the +y and -y
+sides at the rear, in the x-y plane, so at zero angle of attack their large faces lie parallel to
+the flow (the case that breaks barycentre shading) and at other attitudes the body shades them.
+The three parts are separate closed bodies with outward normals. Materials: ``body`` and
+``solar_array``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import trimesh
+
+from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.geometry.shapes import combine
+
+#: Name that stands for this mesh wherever a mesh file is expected.
+EXAMPLE_MESH_NAME = "example"
+
+BODY_SIZE = (1.2, 0.5, 0.5)
+WING_SIZE = (0.5, 1.0, 0.03)
+WING_GAP = 0.05
+WING_X_CENTRE = -0.3
+
+
+def _refined_box(extents, centre, max_edge):
+    box = trimesh.creation.box(extents=extents)
+    vertices, faces = trimesh.remesh.subdivide_to_size(box.vertices, box.faces, max_edge=max_edge)
+    return np.asarray(vertices) + np.asarray(centre), np.asarray(faces)
+
+
+def example_satellite(max_edge: float = 0.09) -> PanelMesh:
+    """Build the example satellite mesh.
+
+    Parameters
+    ----------
+    max_edge : float
+        Longest triangle edge [m]; 0.09 m gives about 5,000 panels.
+
+    Returns
+    -------
+    PanelMesh
+        Panels in metres, mesh frame = body frame (x forward, z completing a right-handed set).
+    """
+    parts = [
+        ("body", _refined_box(BODY_SIZE, (0.0, 0.0, 0.0), max_edge)),
+    ]
+    y_wing = BODY_SIZE[1] / 2 + WING_GAP + WING_SIZE[1] / 2
+    for sign in (1.0, -1.0):
+        parts.append(
+            ("solar_array", _refined_box(WING_SIZE, (WING_X_CENTRE, sign * y_wing, 0.0), max_edge))
+        )
+    return combine(
+        [part for _, part in parts],
+        source="example satellite (body + two solar wings)",
+        part_materials=[name for name, _ in parts],
+        material_names=["body", "solar_array"],
+    )
+
+
+def write_obj(mesh: PanelMesh, path) -> None:
+    """Write a PanelMesh as a Wavefront OBJ with one ``usemtl`` group per material run."""
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(f"# {mesh.source}\n# {mesh.n_panels} triangles, units: metres\n")
+        for v in mesh.vertices.reshape(-1, 3):
+            fh.write(f"v {v[0]:.9g} {v[1]:.9g} {v[2]:.9g}\n")
+        current = None
+        for i, m in enumerate(mesh.material_index):
+            if m != current:
+                fh.write(f"usemtl {mesh.material_names[m]}\n")
+                current = m
+            fh.write(f"f {3 * i + 1} {3 * i + 2} {3 * i + 3}\n")

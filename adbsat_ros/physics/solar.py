@@ -1,0 +1,111 @@
+"""Solar radiation pressure coefficients of the panel mesh (Luthcke et al. 1997 flat-plate model).
+
+For a panel lit by the sun at incidence theta (cos theta = c = -u_s . n, u_s the direction the
+photons travel, i.e. from the sun to the satellite), with specular and diffuse reflectivities
+rho_s and rho_d, the force per unit solar radiation pressure P is (Luthcke 1997; Montenbruck &
+Gill 2000, eq. 3.75)
+
+    F / (P A) = c [(1 - rho_s) u_s - 2 (rho_s c + rho_d / 3) n]
+              = (1 - rho_s) c sin(theta) t - [2 (rho_d c / 3 + rho_s c^2) + (1 - rho_s) c^2] n
+
+which is ADBSat's c_n = 2 (c_D c / 3 + c_R c^2), c_s = (1 - c_R) c with c_R = rho_s, c_D = rho_d.
+
+Differences from ADBSat: the sun direction is given on its own (ADBSat takes the flow direction),
+and faces turned away from the sun (c <= 0) get no force (ADBSat leaves c_n unclipped there).
+Shading by other parts of the satellite comes from a :class:`~adbsat_ros.shading.lighting.PanelLighting`
+computed for the sun direction.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from adbsat_ros.geometry import frames
+from adbsat_ros.shading.lighting import PanelLighting
+from adbsat_ros.physics.panel_method import PanelMethod, sine_of_incidence
+
+
+@dataclass(frozen=True, eq=False)
+class SolarCoefficients:
+    """Solar radiation pressure coefficients for one sun direction.
+
+    Attributes
+    ----------
+    sun_direction : ndarray, shape (3,)
+        Unit vector from the satellite towards the sun, mesh frame G.
+    Cf_G : ndarray, shape (3,)
+        Force per unit solar pressure, divided by A_ref, in G (ADBSat's ``Cf_s`` in G).
+    Cm_G : ndarray, shape (3,)
+        Moment per unit solar pressure / (A_ref L_ref), in G, about the moment point.
+    Cf_s : ndarray, shape (3,)
+        Force coefficient in the wind axes of the given flow angles (ADBSat ``Cf_s``).
+    Cm_S : ndarray, shape (3,)
+        Moment coefficient in ADBSat's body axes B (ADBSat ``Cm_S``).
+    area_lit : float
+        Sunlit area projected normal to the sun direction [m^2].
+    """
+
+    sun_direction: np.ndarray
+    Cf_G: np.ndarray
+    Cm_G: np.ndarray
+    Cf_s: np.ndarray
+    Cm_S: np.ndarray
+    area_lit: float
+
+    def force(self, solar_pressure: float, area: float) -> np.ndarray:
+        """Force [N] in G for solar pressure [Pa] (4.56e-6 at 1 au) and A_ref [m^2]."""
+        return solar_pressure * area * self.Cf_G
+
+
+def solar_coefficients(
+    method: PanelMethod,
+    sun_direction,
+    *,
+    aoa: float = 0.0,
+    aos: float = 0.0,
+    lighting: PanelLighting | None = None,
+) -> SolarCoefficients:
+    """Solar radiation pressure coefficients of a mesh with its materials' reflectivities.
+
+    Parameters
+    ----------
+    method : PanelMethod
+        Mesh, materials (``specular_reflectivity``, ``diffuse_reflectivity``) and references.
+    sun_direction : array_like, shape (3,)
+        Direction from the satellite to the sun in the mesh frame G (need not be unit length).
+    aoa, aos : float
+        Flow angles [rad] defining the wind axes in which ``Cf_s`` is expressed (as ADBSat).
+    lighting : PanelLighting, optional
+        Sunlit fractions from a shading analysis along the sun direction.
+
+    Returns
+    -------
+    SolarCoefficients
+    """
+    s = np.asarray(sun_direction, dtype=float)
+    norm = np.linalg.norm(s)
+    if s.shape != (3,) or not np.isfinite(norm) or norm == 0.0:
+        raise ValueError(f"sun_direction must be a finite non-zero 3-vector, got {sun_direction!r}")
+    s = s / norm
+    u = -s  # photons travel away from the sun
+    c = -(method.mesh.normals @ u)
+    np.clip(c, -1.0, 1.0, out=c)
+    sigma = sine_of_incidence(u, method.mesh.normals, c)
+    rho_s = method.surface.specular_reflectivity
+    rho_d = method.surface.diffuse_reflectivity
+    lit = c > 0.0
+    cs = np.where(lit, (1.0 - rho_s) * c, 0.0)
+    cn = np.where(lit, 2.0 * (rho_d * c / 3.0 + rho_s * c * c), 0.0)
+    cp = cn + cs * c
+    ctau = cs * sigma
+    Cf_G, Cm_G, area_lit = method.integrate(u, c, sigma, cp, ctau, lighting)
+    return SolarCoefficients(
+        sun_direction=s,
+        Cf_G=Cf_G,
+        Cm_G=Cm_G,
+        Cf_s=frames.mesh_to_wind(aoa, aos) @ Cf_G,
+        Cm_S=frames.L_GB @ Cm_G,
+        area_lit=float(area_lit),
+    )

@@ -1,0 +1,392 @@
+"""``adbsat-ros demo``: the ROS 2 node live on the bundled satellite, in one command.
+
+What it does, in one process:
+
+1. starts :class:`adbsat_ros.ros.node.AdbsatNode` with its default parameters (bundled example
+   satellite, Sentman, raycast shading, NRLMSISE-00, stamps read as UNIX time, state in ECI) on
+   its own rclpy Context, spinning in a background thread, in the namespace ``/adbsat_demo``
+   (its ``/diagnostics`` remapped there too), so that it cannot mix with another graph;
+2. generates a scenario with :mod:`adbsat_ros.bags.scenario`: a 300 km circular orbit at 51.6 deg
+   inclination from a real UTC epoch, the satellite nadir-pointing or slowly tumbling;
+3. publishes it live, ``state`` (nav_msgs/Odometry) and ``attitude``
+   (geometry_msgs/QuaternionStamped) with the scenario's stamps, paced in wall time at
+   ``speedup`` times real time (attitudes always arrive at :data:`WALL_RATE_HZ` Hz);
+4. subscribes to ``wrench`` and ``coefficients`` and prints a line every ~0.5 s (simulated time,
+   altitude, density, drag coefficient, |F|, |T|, compute time and end-to-end latency);
+5. writes a CSV and PNG plots (force, torque, density, drag coefficient) into ``out_dir``.
+
+Why in-process rather than a child process: the node starts in about a second with no
+cross-process discovery (0.4-0.7 s on this kind of machine), nothing is left running after
+Ctrl-C, and the demo can show, next to the published wrench, the node's own record of each
+computation (altitude, density, C_D, compute time): the demo registers a sample listener
+(:meth:`AdbsatNode.add_sample_listener`) to keep the samples behind the published wrenches, and
+checks that every published force equals the recorded sample's exactly. Topics still go through the ROS middleware (DDS) as they would
+between processes.
+
+The ROS 2 environment: ROS_AUTOMATIC_DISCOVERY_RANGE is set to LOCALHOST unless it is set
+already, so the demo never multicasts off the machine; ROS_DOMAIN_ID is left as the user set it
+(ROS's default, 0, otherwise): the private namespace keeps the demo's topics apart anyway.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import sys
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+#: Attitude messages per second of wall time, whatever the speedup.
+WALL_RATE_HZ = 20.0
+#: Seconds of wall time between two table lines.
+TABLE_PERIOD_S = 0.5
+#: Namespace of the demo's node and topics.
+NAMESPACE = "/adbsat_demo"
+#: Scenario of the demo (UTC epoch of t = 0, orbit).
+EPOCH_UTC = "2025-06-21T12:00:00Z"
+ALTITUDE_KM = 300.0
+INCLINATION_DEG = 51.6
+TUMBLE_RATE_DEG_S = 1.0
+#: Largest accepted speedup (one attitude message per 30 s of simulated time at 20 Hz).
+MAX_SPEEDUP = 600.0
+#: Seconds to wait for the last wrenches after the last attitude is published.
+DRAIN_TIMEOUT_S = 5.0
+
+
+@dataclass
+class DemoResult:
+    """What the demo did: counts, timing, the files written."""
+
+    attitudes_sent: int = 0
+    states_sent: int = 0
+    wrenches_received: int = 0
+    rejected: dict = field(default_factory=dict)
+    mismatched: int = 0
+    compute_ms_p50: float = math.nan
+    latency_ms_p50: float = math.nan
+    latency_ms_p99: float = math.nan
+    files: list = field(default_factory=list)
+    interrupted: bool = False
+
+
+class _SampleLog:
+    """Keeps every WrenchSample the node publishes, by stamp [ns] (a node sample listener)."""
+
+    def __init__(self):
+        self.samples: dict = {}
+
+    def __call__(self, sample):
+        self.samples[round(sample.stamp * 1e9)] = sample
+
+
+def demo_scenario(duration: float, speedup: float, attitude: str):
+    """The demo's Scenario: ``duration`` wall seconds at ``speedup``, 20 attitudes per wall second."""
+    from adbsat_ros.bags.scenario import Scenario
+
+    rate = WALL_RATE_HZ / speedup
+    return Scenario(
+        epoch_utc=EPOCH_UTC,
+        duration_s=duration * speedup,
+        rate_hz=rate,
+        state_rate_hz=rate,
+        altitude_km=ALTITUDE_KM,
+        eccentricity=0.0,
+        inclination_deg=INCLINATION_DEG,
+        attitude=attitude,
+        tumble_rate_deg_s=TUMBLE_RATE_DEG_S,
+        tumble_axis=(0.3, 1.0, 0.2),
+    )
+
+
+def _events(messages, speedup: float):
+    """(wall offset [s], kind, index) in publishing order.
+
+    A state goes out half an attitude period before the attitude with the same stamp, so the
+    node has it when the attitude arrives.
+    """
+    t0 = int(messages.attitudes.stamps_ns[0])
+    half = 0.5 / WALL_RATE_HZ
+    events = [((int(t) - t0) * 1e-9 / speedup - half, 0, i) for i, t in enumerate(messages.states.stamps_ns)]
+    events += [((int(t) - t0) * 1e-9 / speedup, 1, i) for i, t in enumerate(messages.attitudes.stamps_ns)]
+    events.sort()
+    start = events[0][0]
+    return [(w - start, kind, i) for w, kind, i in events]
+
+
+def _vec(v):
+    return (v.x, v.y, v.z)
+
+
+def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo", attitude: str = "tumble",
+             out=None) -> DemoResult:
+    """Run the demo (see the module docstring); prints to ``out`` (default stdout).
+
+    Parameters
+    ----------
+    duration : float
+        Wall time of the live part [s] (the node's start-up, about a second, comes on top).
+    speedup : float
+        Simulated seconds per wall second, in (0, :data:`MAX_SPEEDUP`].
+    out_dir : path-like
+        Directory for ``demo_wrench.csv`` and the PNG plots (created if needed).
+    attitude : {'tumble', 'nadir'}
+
+    Raises
+    ------
+    ValueError
+        For a bad duration, speedup or attitude (the message names it).
+    """
+    out = out or sys.stdout
+    if not (math.isfinite(duration) and 0 < duration <= 3600):
+        raise ValueError(f"--duration must be in (0, 3600] s, got {duration!r}")
+    if not (math.isfinite(speedup) and 0 < speedup <= MAX_SPEEDUP):
+        raise ValueError(f"--speedup must be in (0, {MAX_SPEEDUP:g}], got {speedup!r}")
+    if attitude not in ("tumble", "nadir"):
+        raise ValueError(f"--attitude must be tumble or nadir, got {attitude!r}")
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+
+    import rclpy
+    from geometry_msgs.msg import QuaternionStamped, WrenchStamped
+    from nav_msgs.msg import Odometry
+    from rclpy.context import Context
+    from rclpy.parameter import Parameter
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+    from adbsat_ros.ros.node import AdbsatNode, make_executor
+    from adbsat_ros.bags.scenario import generate
+
+    def say(line=""):
+        print(line, file=out, flush=True)
+
+    scenario = demo_scenario(duration, speedup, attitude)
+    messages = generate(scenario)
+    result = DemoResult()
+    motion = (f"tumbling at {TUMBLE_RATE_DEG_S:g} deg/s" if attitude == "tumble" else "nadir-pointing")
+    say(f"adbsat-ros demo: {ALTITUDE_KM:g} km circular orbit, {INCLINATION_DEG:g} deg inclination, from "
+        f"{scenario.epoch.isoformat().replace('+00:00', 'Z')}, satellite {motion}; "
+        f"{scenario.duration_s:g} s simulated in {duration:g} s ({speedup:g}x real time)")
+    say(f"ROS 2: ROS_AUTOMATIC_DISCOVERY_RANGE={os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE']}, "
+        f"ROS_DOMAIN_ID={os.environ.get('ROS_DOMAIN_ID', '0 (default)')}, topics under {NAMESPACE}")
+
+    context = Context()
+    rclpy.init(context=context)
+    node = client = executor = spinner = None
+    stop = threading.Event()
+    received = {}  # stamp_ns -> [wrench, coefficients, receive wall time], filled by the executor thread
+    lock = threading.Lock()
+    latest = [None]  # stamp_ns of the newest wrench received
+    sent_wall = {}
+    log = None
+    try:
+        started = time.monotonic()
+        node = AdbsatNode(
+            context=context,
+            namespace=NAMESPACE,
+            cli_args=["--ros-args", "-r", f"/diagnostics:={NAMESPACE}/diagnostics"],
+            parameter_overrides=[
+                Parameter("qos_depth", value=100),
+                Parameter("state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
+            ],
+        )
+        log = _SampleLog()
+        node.add_sample_listener(log)
+        mesh = node.estimator.mesh
+        s = node.estimator.settings
+        say(f"adbsat_node started in {time.monotonic() - started:.2f} s: {Path(str(mesh.source)).name}, "
+            f"{mesh.n_panels} panels, model {s.gsi_model}, shading {s.shading}")
+
+        client = rclpy.create_node("demo_client", namespace=NAMESPACE, context=context)
+        qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
+        attitude_pub = client.create_publisher(QuaternionStamped, "attitude", qos)
+        state_pub = client.create_publisher(Odometry, "state", qos)
+
+        def on_message(slot):
+            def callback(msg):
+                key = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
+                with lock:
+                    entry = received.setdefault(key, [None, None, None])
+                    entry[slot] = msg
+                    if slot == 0:
+                        entry[2] = time.monotonic()
+                        latest[0] = key if latest[0] is None else max(key, latest[0])
+            return callback
+
+        client.create_subscription(WrenchStamped, "wrench", on_message(0), qos)
+        client.create_subscription(WrenchStamped, "coefficients", on_message(1), qos)
+        executor = make_executor(node.estimator.settings.executor, context=context)
+        executor.add_node(node)
+        executor.add_node(client)
+
+        def spin():
+            while not stop.is_set() and context.ok():
+                executor.spin_once(timeout_sec=0.05)
+
+        spinner = threading.Thread(target=spin, name="adbsat-demo-executor", daemon=True)
+        spinner.start()
+        deadline = time.monotonic() + 10.0
+        while attitude_pub.get_subscription_count() < 1 or state_pub.get_subscription_count() < 1 \
+                or node.wrench_pub.get_subscription_count() < 1:
+            if time.monotonic() > deadline:
+                raise RuntimeError("the demo's publishers and the node did not discover each other in 10 s")
+            time.sleep(0.01)
+
+        say()
+        say(f"{'sim time':>9} {'altitude':>9} {'density':>10} {'C_D':>6} {'|F|':>10} {'|T|':>10} "
+            f"{'compute':>8} {'latency':>8}")
+        say(f"{'[s]':>9} {'[km]':>9} {'[kg/m^3]':>10} {'[-]':>6} {'[N]':>10} {'[N m]':>10} "
+            f"{'[ms]':>8} {'[ms]':>8}")
+        t0_ns = int(messages.attitudes.stamps_ns[0])
+
+        def table_line():
+            with lock:
+                key = latest[0]
+                if key is None:
+                    return
+                wrench, _, wall = received[key]
+            sample = log.samples.get(key)
+            c = sample.conditions if sample is not None else None
+            latency = 1e3 * (wall - sent_wall[key]) if key in sent_wall else math.nan
+            say(f"{(key - t0_ns) * 1e-9:9.1f} "
+                f"{(c.altitude * 1e-3 if c else math.nan):9.2f} "
+                f"{(c.mass_density if c else math.nan):10.3e} "
+                f"{(sample.drag_coefficient if sample else math.nan):6.3f} "
+                f"{np.linalg.norm(_vec(wrench.wrench.force)):10.3e} "
+                f"{np.linalg.norm(_vec(wrench.wrench.torque)):10.3e} "
+                f"{(1e3 * sample.compute_seconds if sample else math.nan):8.2f} "
+                f"{latency:8.2f}")
+
+        states, attitudes = messages.states, messages.attitudes
+        start = time.monotonic()
+        next_line = start + TABLE_PERIOD_S
+        for wall, kind, i in _events(messages, speedup):
+            target = start + wall
+            while True:
+                now = time.monotonic()
+                if now >= next_line:
+                    table_line()
+                    next_line += TABLE_PERIOD_S
+                if now >= target:
+                    break
+                time.sleep(min(target, next_line) - now)
+            if kind == 0:
+                state_pub.publish(_odometry(Odometry, int(states.stamps_ns[i]), states.position_eci[i],
+                                            states.velocity_eci[i]))
+                result.states_sent += 1
+            else:
+                stamp_ns = int(attitudes.stamps_ns[i])
+                msg = QuaternionStamped()
+                msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
+                msg.header.frame_id = "eci"
+                q = msg.quaternion
+                q.x, q.y, q.z, q.w = (float(v) for v in attitudes.quaternion_xyzw[i])
+                sent_wall[stamp_ns] = time.monotonic()
+                attitude_pub.publish(msg)
+                result.attitudes_sent += 1
+        deadline = time.monotonic() + DRAIN_TIMEOUT_S
+        while time.monotonic() < deadline:
+            with lock:
+                done = sum(1 for v in received.values() if v[0] is not None and v[1] is not None)
+            if done + sum(node.estimator.rejections.values()) >= result.attitudes_sent:
+                break
+            time.sleep(0.02)
+        table_line()
+    except KeyboardInterrupt:
+        result.interrupted = True
+        say("interrupted: stopping and writing what was received")
+    finally:
+        stop.set()
+        if spinner is not None:
+            spinner.join(timeout=2.0)
+        if executor is not None:
+            executor.shutdown(timeout_sec=1.0)
+        for n in (client, node):
+            if n is not None:
+                n.destroy_node()
+        rclpy.try_shutdown(context=context)
+
+    samples = log.samples if log is not None else {}
+    rows = _rows(received, samples, sent_wall, int(messages.attitudes.stamps_ns[0]), result)
+    result.rejected = {k: v for k, v in (node.estimator.rejections.items() if node is not None else ()) if v}
+    say()
+    say(f"published {result.attitudes_sent} attitudes and {result.states_sent} states; received "
+        f"{result.wrenches_received} wrenches"
+        + (f"; rejected: {', '.join(f'{k} {v}' for k, v in result.rejected.items())}" if result.rejected else "")
+        + (f"; {result.mismatched} wrenches differ from the node's samples" if result.mismatched else ""))
+    if rows:
+        say(f"compute time p50 {result.compute_ms_p50:.2f} ms; end-to-end latency (attitude published -> "
+            f"wrench received) p50 {result.latency_ms_p50:.2f} ms, p99 {result.latency_ms_p99:.2f} ms")
+        result.files = _write_outputs(rows, Path(out_dir))
+        say("wrote: " + ", ".join(str(p) for p in result.files))
+    return result
+
+
+def _odometry(cls, stamp_ns: int, position, velocity):
+    msg = cls()
+    msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
+    msg.header.frame_id = "eci"
+    msg.child_frame_id = "eci"  # the twist is the ECI velocity
+    p, v = msg.pose.pose.position, msg.twist.twist.linear
+    p.x, p.y, p.z = (float(x) for x in position)
+    v.x, v.y, v.z = (float(x) for x in velocity)
+    return msg
+
+
+CSV_COLUMNS = (
+    "time_s", "stamp_unix_s", "altitude_km", "density_kg_m3", "relative_speed_m_s", "drag_coefficient",
+    "force_x_N", "force_y_N", "force_z_N", "torque_x_Nm", "torque_y_Nm", "torque_z_Nm",
+    "cf_x", "cf_y", "cf_z", "cm_x", "cm_y", "cm_z", "compute_ms", "latency_ms",
+)
+
+
+def _rows(received, samples, sent_wall, t0_ns, result: DemoResult) -> list:
+    """One row per wrench received (with its coefficients), in stamp order; fills result's figures."""
+    rows = []
+    for key in sorted(received):
+        wrench, coefficients, wall = received[key]
+        if wrench is None or coefficients is None:
+            continue
+        sample = samples.get(key)
+        force, torque = np.array(_vec(wrench.wrench.force)), np.array(_vec(wrench.wrench.torque))
+        if sample is None or not (np.array_equal(force, sample.force) and np.array_equal(torque, sample.torque)):
+            result.mismatched += 1
+            continue
+        c = sample.conditions
+        rows.append((
+            (key - t0_ns) * 1e-9, key * 1e-9, c.altitude * 1e-3, c.mass_density, c.speed, sample.drag_coefficient,
+            *force, *torque, *_vec(coefficients.wrench.force), *_vec(coefficients.wrench.torque),
+            1e3 * sample.compute_seconds, 1e3 * (wall - sent_wall[key]) if key in sent_wall else math.nan,
+        ))
+    result.wrenches_received = sum(1 for v in received.values() if v[0] is not None)
+    if rows:
+        table = np.array(rows)
+        result.compute_ms_p50 = float(np.median(table[:, -2]))
+        result.latency_ms_p50 = float(np.nanpercentile(table[:, -1], 50))
+        result.latency_ms_p99 = float(np.nanpercentile(table[:, -1], 99))
+    return rows
+
+
+def _write_outputs(rows, out_dir: Path) -> list:
+    """demo_wrench.csv and the time-series PNGs in out_dir; returns the paths."""
+    from adbsat_ros.plotting.plots import plot_time_series
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    path = out_dir / "demo_wrench.csv"
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(CSV_COLUMNS)
+        writer.writerows([[f"{v:.10g}" for v in row] for row in rows])
+    table = np.array(rows)
+    col = {name: i for i, name in enumerate(CSV_COLUMNS)}
+    run = {
+        "force": table[:, col["force_x_N"]:col["force_z_N"] + 1],
+        "torque": table[:, col["torque_x_Nm"]:col["torque_z_Nm"] + 1],
+        "density": table[:, col["density_kg_m3"]],
+        "drag_coefficient": table[:, col["drag_coefficient"]],
+    }
+    plots = plot_time_series(table[:, col["time_s"]], {"adbsat_node (live)": run}, out_dir, prefix="demo_")
+    return [path, *plots]
