@@ -29,7 +29,7 @@ import trimesh
 from adbsat_ros import FreeStream, PanelMethod, panels_from_trimesh
 from adbsat_ros.database.lookup import CoefficientLookup
 from adbsat_ros.database.build import build_database
-from adbsat_ros.geometry.mesh import resolve_mesh
+from adbsat_ros.geometry.loading import resolve_mesh
 
 AOA = np.arange(-180.0, 180.001, 5.0)
 AOS = np.arange(-90.0, 90.001, 5.0)

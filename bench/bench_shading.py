@@ -34,7 +34,8 @@ import time
 import numpy as np
 
 from adbsat_ros.geometry import frames
-from adbsat_ros.shading.shader import embree_available, lit_projected_area, make_shader
+from adbsat_ros.shading.shader import lit_projected_area, make_shader
+from adbsat_ros.shading.rays_embree import embree_available
 from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
 from adbsat_ros.geometry.shapes import combine, grid_box
 

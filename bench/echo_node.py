@@ -32,7 +32,7 @@ def panel_callback(publisher, mesh_path: str):
     """The --echo-panel callback: CDR bytes of an attitude in, of its wrench out."""
     from adbsat_ros.geometry.frames import quaternion_matrix_floats
     from adbsat_ros.physics.freestream import FreeStream
-    from adbsat_ros.geometry.mesh import resolve_mesh
+    from adbsat_ros.geometry.loading import resolve_mesh
     from adbsat_ros.physics.panel_method import PanelMethod
     from adbsat_ros.shading.shader import make_shader
     from adbsat_ros.shading.cache import ShadingCache

@@ -20,7 +20,9 @@ from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import scenario
 from adbsat_ros.bags.analysis import analyze_bag
 from adbsat_ros.bags.io import BagError
-from adbsat_ros.ros.bag_live import message_class, play, record
+from adbsat_ros.ros.graph import message_class
+from adbsat_ros.ros.bag_play import play
+from adbsat_ros.ros.bag_record import record
 from adbsat_ros.cli import main as cli_main
 from adbsat_ros.ros.node import AdbsatNode
 from adbsat_ros.estimator.settings import WrenchSettings

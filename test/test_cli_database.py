@@ -10,7 +10,7 @@ import pytest
 
 from adbsat_ros.cli import main
 from adbsat_ros.database.lookup import CoefficientLookup
-from adbsat_ros.database.build import load_database
+from adbsat_ros.database.format import load_database
 
 FLOW = ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
 

@@ -12,8 +12,9 @@ from adbsat_ros import FreeStream, PanelMethod, panels_from_trimesh
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.database.lookup import CoefficientLookup, bilinear, estimate_interpolation_error
-from adbsat_ros.database.build import AeroDatabase, build_database
-from adbsat_ros.geometry.mesh import resolve_mesh
+from adbsat_ros.database.build import build_database
+from adbsat_ros.database.format import AeroDatabase
+from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.shading.shader import make_shader
 
 FLOW = FreeStream(7500.0, 900.0, mean_mass_amu=16.0)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from adbsat_ros.cli import main as cli_main
-from adbsat_ros.geometry.mesh import resolve_mesh
+from adbsat_ros.geometry.loading import resolve_mesh
 
 
 def test_demo_runs_prints_the_table_and_writes_csv_and_plots(tmp_path, capsys):

@@ -10,18 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from adbsat_ros.environment.earth_frames import (
-    EARTH_ROTATION_RATE,
-    WGS84,
-    earth_orientation,
-    earth_rotation_angle,
-    ecef_to_eci,
-    ecef_to_geodetic,
-    eci_to_ecef,
-    enu_to_ecef_matrix,
-    geodetic_of_floats,
-    geodetic_to_ecef,
-)
+from adbsat_ros.environment.earth_frames import EARTH_ROTATION_RATE, earth_orientation, earth_rotation_angle, ecef_to_eci, eci_to_ecef
+from adbsat_ros.environment.geodetic import WGS84, ecef_to_geodetic, enu_to_ecef_matrix, geodetic_of_floats, geodetic_to_ecef
 
 ARCSEC = math.pi / 180 / 3600
 
@@ -256,7 +246,7 @@ def test_precession_nutation_step_is_accurate_and_order_independent():
 
 # --------------------------------------------------------------- the per-message float path
 def test_day_constants_are_erfa_julian_date_leap_seconds_and_day_of_year():
-    from adbsat_ros.environment.earth_frames import utc_day
+    from adbsat_ros.environment.time_scales import utc_day
 
     for day in (dt.date(1972, 1, 1), dt.date(2016, 12, 31), dt.date(2017, 1, 1), dt.date(2024, 12, 31)):
         jd1, tt_minus_utc, day_of_year = utc_day(day.year, day.month, day.day)
@@ -269,7 +259,7 @@ def test_day_constants_are_erfa_julian_date_leap_seconds_and_day_of_year():
 
 
 def test_enu_to_ecef_floats_equal_the_matrix_product():
-    from adbsat_ros.environment.earth_frames import enu_to_ecef
+    from adbsat_ros.environment.geodetic import enu_to_ecef
 
     rng = np.random.default_rng(3)
     for _ in range(50):

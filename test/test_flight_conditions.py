@@ -10,13 +10,8 @@ import pytest
 
 from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
 from adbsat_ros.physics.constants import AVOGADRO, BOLTZMANN, EARTH_MU, MOLAR_MASS_G
-from adbsat_ros.environment.earth_frames import (
-    EARTH_ROTATION_RATE,
-    earth_orientation,
-    ecef_to_eci,
-    enu_to_ecef_matrix,
-    geodetic_to_ecef,
-)
+from adbsat_ros.environment.earth_frames import EARTH_ROTATION_RATE, earth_orientation, ecef_to_eci
+from adbsat_ros.environment.geodetic import enu_to_ecef_matrix, geodetic_to_ecef
 from adbsat_ros.environment.flight_conditions import (
     FlightConditions,
     circular_orbit_speed,

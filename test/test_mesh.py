@@ -7,7 +7,8 @@ import pytest
 import trimesh
 
 from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
-from adbsat_ros.geometry.mesh import MeshError, load_mesh, panels_from_arrays, resolve_mesh
+from adbsat_ros.geometry.mesh import MeshError, panels_from_arrays
+from adbsat_ros.geometry.loading import load_mesh, resolve_mesh
 
 BOX = trimesh.creation.box(extents=(1.0, 2.0, 3.0))
 BOX_AREA = 2 * (1 * 2 + 2 * 3 + 1 * 3)

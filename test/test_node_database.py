@@ -23,9 +23,11 @@ from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.database.build import build_database
 from adbsat_ros.geometry.example_satellite import write_obj
 from adbsat_ros.environment.flight_conditions import flight_conditions
-from adbsat_ros.geometry.mesh import load_mesh, panels_from_arrays
+from adbsat_ros.geometry.mesh import panels_from_arrays
+from adbsat_ros.geometry.loading import load_mesh
 from adbsat_ros.ros.node import AdbsatNode
-from adbsat_ros.physics.panel_method import PanelMethod, Reference
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.estimator.settings import PARAMETERS, WrenchSettings
 

@@ -15,8 +15,9 @@ from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.example_satellite import example_satellite
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.shading.lighting import PanelLighting
-from adbsat_ros.geometry.mesh import panels_from_trimesh
-from adbsat_ros.physics.panel_method import PanelMethod, Reference
+from adbsat_ros.geometry.loading import panels_from_trimesh
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.shading.shader import make_shader
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 

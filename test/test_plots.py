@@ -1,4 +1,4 @@
-"""Figures (adbsat_ros.plotting.plots) and the `adbsat-ros plot` command.
+"""Figures (adbsat_ros.plotting.coefficients) and the `adbsat-ros plot` command.
 
 The figures are checked through their Figure objects (which lines, which numbers, which colour
 scale) against quantities computed independently with the panel method and the shader, and
@@ -22,12 +22,13 @@ from adbsat_ros import FreeStream, PanelMethod
 
 from adbsat_ros.geometry import frames
 
-from adbsat_ros.plotting import plots
+from adbsat_ros.plotting import coefficients, figures, panels, time_series
 from adbsat_ros.cli import main
 from adbsat_ros.cli.plot import _default_angle
-from adbsat_ros.database.build import build_database, load_database
+from adbsat_ros.database.build import build_database
+from adbsat_ros.database.format import load_database
 from adbsat_ros.geometry.example_satellite import write_obj
-from adbsat_ros.geometry.mesh import resolve_mesh
+from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.shading.shader import make_shader
 from adbsat_ros.geometry.shapes import combine, grid_box
 
@@ -52,7 +53,7 @@ def data_lines(ax):
 def assert_png(path, size_in):
     """A readable PNG of the expected pixel size with non-uniform content."""
     image = imread(path)
-    assert image.shape[:2] == (round(size_in[1] * plots.DPI), round(size_in[0] * plots.DPI))
+    assert image.shape[:2] == (round(size_in[1] * figures.DPI), round(size_in[0] * figures.DPI))
     assert float(image[..., :3].var()) > 1e-3  # not blank
     assert path.stat().st_size < 400_000  # small enough to commit
 
@@ -84,23 +85,23 @@ def database_file(mesh_file, tmp_path_factory):
 
 
 def test_sideslip_line_selection():
-    assert plots.select_sideslip_lines(np.arange(-30.0, 31.0, 10.0)).tolist() == list(range(7))
-    assert plots.select_sideslip_lines([5.0]).tolist() == [0]
+    assert coefficients.select_sideslip_lines(np.arange(-30.0, 31.0, 10.0)).tolist() == list(range(7))
+    assert coefficients.select_sideslip_lines([5.0]).tolist() == [0]
     for grid in (np.arange(-90.0, 91.0, 15.0), np.arange(-80.0, 91.0, 10.0), np.arange(-90.0, 91.0, 1.0)):
-        picks = plots.select_sideslip_lines(grid, 7)
+        picks = coefficients.select_sideslip_lines(grid, 7)
         assert picks.size == 7 and np.all(np.diff(picks) > 0)
         assert picks[0] == 0 and picks[-1] == grid.size - 1  # the ends
         assert 0.0 in grid[picks]  # zero sideslip whenever the grid has it
         gaps = np.diff(grid[picks])
         assert gaps.max() <= 2.0 * gaps.min()  # roughly even
     with pytest.raises(ValueError, match="max_lines"):
-        plots.select_sideslip_lines(np.arange(10.0), 1)
+        coefficients.select_sideslip_lines(np.arange(10.0), 1)
 
 
 def test_database_figures_draw_the_database(database_file):
     db = load_database(database_file)
-    picks = plots.select_sideslip_lines(db.aos_deg)
-    fig = plots.make_force_coefficient_figure(db)
+    picks = coefficients.select_sideslip_lines(db.aos_deg)
+    fig = coefficients.make_force_coefficient_figure(db)
     assert len(fig.legends) == 1 and "7 of 13 shown" in fig.legends[0].get_title().get_text()
     for ax, values in zip(fig.axes, (db.CD, db.CL, db.CY)):
         lines = data_lines(ax)
@@ -113,7 +114,7 @@ def test_database_figures_draw_the_database(database_file):
     title = fig.get_suptitle()
     for word in ("cube_plate.obj", "sentman", f"s = {FLOW.speed_ratio:.2f}", "raycast"):
         assert word in title
-    fig = plots.make_moment_coefficient_figure(db, max_lines=20)
+    fig = coefficients.make_moment_coefficient_figure(db, max_lines=20)
     for i, ax in enumerate(fig.axes):
         lines = data_lines(ax)
         assert len(lines) == db.aos_deg.size
@@ -121,7 +122,7 @@ def test_database_figures_draw_the_database(database_file):
 
 
 def test_plot_database_writes_pngs(database_file, tmp_path):
-    paths = plots.plot_database(load_database(database_file), tmp_path / "out", prefix="x_")
+    paths = coefficients.plot_database(load_database(database_file), tmp_path / "out", prefix="x_")
     assert [p.name for p in paths] == ["x_database_coefficients.png", "x_database_moments.png"]
     for p in paths:
         assert_png(p, (8.0, 6.5))
@@ -142,35 +143,35 @@ def test_pressure_picture_marks_shadows_and_scales_cp(scene, aoa_deg, aos_deg, t
     result = method.coefficients(FLOW, math.radians(aoa_deg), math.radians(aos_deg))  # unshaded cp
     shaded = lit_fraction < 1.0
     assert 0 < shaded.sum() < mesh.n_panels  # the cube shades part of the plate
-    fig = plots.make_panel_pressure_figure(method, FLOW, aoa_deg, aos_deg, shader)
-    counts = plots.legend_panel_counts(fig)
+    fig = panels.make_panel_pressure_figure(method, FLOW, aoa_deg, aos_deg, shader)
+    counts = panels.legend_panel_counts(fig)
     assert counts["shaded"] == int(shaded.sum())
     assert counts["back"] == int(((result.cos_delta < 0) & ~shaded).sum())
     legend = "\n".join(t.get_text() for t in fig.legends[0].get_texts())
     assert f"{int((lit_fraction <= 0).sum())} fully" in legend
     fig.canvas.draw()
-    panels = fig.axes[0].collections[0]
-    assert len(panels.get_paths()) == mesh.n_panels
-    assert panels.norm.vmin == pytest.approx(result.cp[~shaded].min(), rel=1e-12)
-    assert panels.norm.vmax == pytest.approx(result.cp[~shaded].max(), rel=1e-12)
-    unshaded = plots.make_panel_pressure_figure(method, FLOW, aoa_deg, aos_deg, None)
-    assert plots.legend_panel_counts(unshaded)["shaded"] == 0
+    collection = fig.axes[0].collections[0]
+    assert len(collection.get_paths()) == mesh.n_panels
+    assert collection.norm.vmin == pytest.approx(result.cp[~shaded].min(), rel=1e-12)
+    assert collection.norm.vmax == pytest.approx(result.cp[~shaded].max(), rel=1e-12)
+    unshaded = panels.make_panel_pressure_figure(method, FLOW, aoa_deg, aos_deg, None)
+    assert panels.legend_panel_counts(unshaded)["shaded"] == 0
     norm = unshaded.axes[0].collections[0].norm
     assert (norm.vmin, norm.vmax) == (result.cp.min(), result.cp.max())
-    assert_png(plots.plot_panel_pressure(method, FLOW, aoa_deg, aos_deg, shader, tmp_path / "p.png"), (8.0, 6.0))
+    assert_png(panels.plot_panel_pressure(method, FLOW, aoa_deg, aos_deg, shader, tmp_path / "p.png"), (8.0, 6.0))
 
 
 def test_panel_colours():
     cp = np.array([2.0, 1.0, 0.1, 5.0, 0.5, -0.3])
     cos_delta = np.array([1.0, 0.5, -0.5, 1.0, 0.7, 0.2])
     lit = np.array([1.0, 1.0, 1.0, 0.0, 0.4, 1.0])
-    colours, norm, groups = plots.panel_colours(cp, cos_delta, lit)
+    colours, norm, groups = panels.panel_colours(cp, cos_delta, lit)
     assert (norm.vmin, norm.vmax) == (-0.3, 2.0)  # lit panels only: the shaded 5.0 is left out
     assert groups["shaded"].tolist() == [False, False, False, True, True, False]
     assert groups["back"].tolist() == [False, False, True, False, False, False]
-    np.testing.assert_array_equal(colours[3], plots.SHADED_COLOUR)
-    np.testing.assert_array_equal(colours[4], plots.PARTLY_SHADED_COLOUR)
-    plain, _, _ = plots.panel_colours(cp, np.abs(cos_delta), lit)
+    np.testing.assert_array_equal(colours[3], panels.SHADED_COLOUR)
+    np.testing.assert_array_equal(colours[4], panels.PARTLY_SHADED_COLOUR)
+    plain, _, _ = panels.panel_colours(cp, np.abs(cos_delta), lit)
     assert np.all(colours[2, :3] > plain[2, :3])  # back face paler than the same cp facing the flow
     np.testing.assert_array_equal(colours[[0, 1, 5]], plain[[0, 1, 5]])
 
@@ -180,10 +181,10 @@ def test_default_view_looks_from_upstream_at_the_shadows(scene):
     for aoa, aos in ((10.0, 0.0), (0.0, 20.0), (-60.0, 45.0), (180.0, 0.0), (90.0, 0.0)):
         u = frames.flow_direction(math.radians(aoa), math.radians(aos))
         shaded = shader.lighting(u).lit_fraction < 1
-        elev, azim = plots.default_view(u, mesh.normals, mesh.areas, shaded)
+        elev, azim = panels.default_view(u, mesh.normals, mesh.areas, shaded)
         e, a = math.radians(elev), math.radians(azim)
         camera = np.array([math.cos(e) * math.cos(a), math.cos(e) * math.sin(a), math.sin(e)])
-        assert abs(elev) <= plots.MAX_VIEW_ELEVATION_DEG + 1e-9
+        assert abs(elev) <= panels.MAX_VIEW_ELEVATION_DEG + 1e-9
         assert camera @ -u > 0.5  # upstream, within ~60 deg of the flow axis
         if shaded.any():  # the shaded panels face the camera on average
             assert (mesh.normals[shaded] * mesh.areas[shaded, None]).sum(axis=0) @ camera > 0
@@ -194,9 +195,9 @@ def test_pressure_picture_rejects_mismatched_lighting(scene):
     from adbsat_ros import PanelLighting
 
     with pytest.raises(ValueError, match="lighting has 5 panels"):
-        plots.make_panel_pressure_figure(method, FLOW, 0.0, 0.0, PanelLighting(np.ones(5)))
+        panels.make_panel_pressure_figure(method, FLOW, 0.0, 0.0, PanelLighting(np.ones(5)))
     with pytest.raises(ValueError, match="finite"):
-        plots.make_panel_pressure_figure(method, FLOW, float("nan"), 0.0)
+        panels.make_panel_pressure_figure(method, FLOW, float("nan"), 0.0)
 
 
 # ------------------------------------------------------------------------------ time series
@@ -222,10 +223,10 @@ def synthetic_runs(n=300):
 
 def test_time_series_figures(tmp_path):
     t, runs = synthetic_runs()
-    figures = plots.make_time_series_figures(t, runs)
-    assert list(figures) == ["force", "torque", "density", "drag_coefficient"]
+    made = time_series.make_time_series_figures(t, runs)
+    assert list(made) == ["force", "torque", "density", "drag_coefficient"]
     for key in ("force", "torque"):
-        axes = figures[key].axes
+        axes = made[key].axes
         assert len(axes) == 3
         for i, ax in enumerate(axes):
             lines = data_lines(ax)
@@ -233,20 +234,20 @@ def test_time_series_figures(tmp_path):
             np.testing.assert_array_equal(lines[0].get_ydata(), runs["sentman"][key][:, i])
         assert "[min]" in axes[-1].get_xlabel()
         np.testing.assert_allclose(data_lines(axes[0])[0].get_xdata(), t / 60.0)
-    ax = figures["density"].axes[0]
+    ax = made["density"].axes[0]
     assert ax.get_yscale() == "log" and len(data_lines(ax)) == len(runs)
     gap_line = data_lines(ax)[2]
     assert np.isnan(gap_line.get_ydata()[110])  # the gap is kept, not filled
     assert np.flatnonzero(gap_line.get_markevery()).tolist() == [120]  # the lone sample is marked
     assert list(data_lines(ax)[0].get_markevery()) == []  # continuous runs carry no markers
-    assert len(data_lines(figures["drag_coefficient"].axes[0])) == len(runs)
+    assert len(data_lines(made["drag_coefficient"].axes[0])) == len(runs)
 
-    paths = plots.plot_time_series(t, runs, tmp_path, prefix="bag_")
+    paths = time_series.plot_time_series(t, runs, tmp_path, prefix="bag_")
     assert [p.name for p in paths] == ["bag_force.png", "bag_torque.png", "bag_density.png", "bag_drag_coefficient.png"]
     for p in paths:
-        assert_png(p, plots.FIGSIZE)
+        assert_png(p, figures.FIGSIZE)
     # one run: no legend needed, still one line per panel
-    single = plots.make_time_series_figures(t[:10], {"only": {k: v[:10] for k, v in runs["dria"].items()}})
+    single = time_series.make_time_series_figures(t[:10], {"only": {k: v[:10] for k, v in runs["dria"].items()}})
     assert all(len(data_lines(ax)) == 1 for ax in single["force"].axes)
     assert "[s]" in single["force"].axes[-1].get_xlabel()
 
@@ -255,12 +256,12 @@ def test_time_series_input_errors():
     t, runs = synthetic_runs(20)
     bad = {"a": dict(runs["sentman"], density=np.ones(19))}
     with pytest.raises(ValueError, match=r"run 'a': 'density' has shape \(19,\), expected \(20,\)"):
-        plots.make_time_series_figures(t, bad)
+        time_series.make_time_series_figures(t, bad)
     missing = {"b": {k: v for k, v in runs["sentman"].items() if k != "torque"}}
     with pytest.raises(ValueError, match="run 'b': missing 'torque'"):
-        plots.make_time_series_figures(t, missing)
+        time_series.make_time_series_figures(t, missing)
     with pytest.raises(ValueError, match="runs is empty"):
-        plots.make_time_series_figures(t, {})
+        time_series.make_time_series_figures(t, {})
 
 
 # ------------------------------------------------------------------------------ command line

@@ -19,18 +19,13 @@ import trimesh
 from adbsat_ros import FreeStream, PanelMethod
 
 from adbsat_ros.geometry import frames
-from adbsat_ros.geometry.mesh import panels_from_arrays, panels_from_trimesh
-from adbsat_ros.shading.shader import (
-    Shader,
-    _any_hit_numpy,
-    adbsat_shadowed,
-    embree_available,
-    forward_mask,
-    lit_projected_area,
-    make_shader,
-    sample_barycentric,
-    shade,
-)
+from adbsat_ros.geometry.mesh import panels_from_arrays
+from adbsat_ros.geometry.loading import panels_from_trimesh
+from adbsat_ros.shading.shader import Shader, forward_mask, lit_projected_area, make_shader, shade
+from adbsat_ros.shading.projection import adbsat_shadowed
+from adbsat_ros.shading.rays_embree import embree_available
+from adbsat_ros.shading.rays_numpy import _any_hit_numpy
+from adbsat_ros.shading.sampling import sample_barycentric
 from adbsat_ros.geometry.shapes import combine as join_parts
 from adbsat_ros.geometry.shapes import grid_box
 

@@ -11,14 +11,8 @@ import pytest
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.shading.shader import lit_projected_area, make_shader
-from adbsat_ros.shading.cache import (
-    RECENT_CELLS,
-    ShadingCache,
-    cells_per_edge,
-    direction_keys,
-    key_centres,
-    moved_lit_area,
-)
+from adbsat_ros.shading.cache import RECENT_CELLS, ShadingCache, moved_lit_area
+from adbsat_ros.shading.cube_map import cells_per_edge, direction_keys, key_centres
 from adbsat_ros.geometry.shapes import grid_box
 
 

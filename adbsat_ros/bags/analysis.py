@@ -14,7 +14,7 @@ rules (:meth:`adbsat_ros.estimator.estimator.AeroWrenchEstimator.on_odometry`) a
 * a CSV with one row per attitude message (per state message for models whose
   ``attitude_source`` is odometry) and one column group per model (see :data:`MODEL_COLUMNS`);
 * PNG plots of force, torque, density and drag coefficient against time
-  (:func:`adbsat_ros.plotting.plots.plot_time_series`).
+  (:func:`adbsat_ros.plotting.time_series.plot_time_series`).
 
 Outputs are written under temporary names and renamed at the end. If the input turns out to be
 corrupt or truncated part-way, everything analysed before the fault is still written and the
@@ -59,7 +59,7 @@ from adbsat_ros.estimator.estimator import AeroWrenchEstimator, Rejection
 from adbsat_ros.estimator.estimator import stamp_seconds
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.geometry.frames import angles_of_flow
-from adbsat_ros.geometry.mesh import resolve_mesh
+from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.messages.cdr import (
     OdometryFields, header_stamp, odometry_fields, quaternion_stamped_fields, wrench_stamped_cdr,
 )
@@ -937,11 +937,11 @@ class _Analysis:
 
     def _plots(self, plots_dir, overwrite):
         try:
-            from adbsat_ros.plotting.plots import plot_time_series
+            from adbsat_ros.plotting.time_series import plot_time_series
         except ModuleNotFoundError as exc:
-            if exc.name != "adbsat_ros.plotting.plots":
+            if exc.name != "adbsat_ros.plotting.time_series":
                 raise
-            self.report.warnings.append("plots not written: adbsat_ros.plotting.plots is not available")
+            self.report.warnings.append("plots not written: adbsat_ros.plotting.time_series is not available")
             return
         stamps_ns = np.asarray(self.rows_stamp, dtype=np.int64)
         time_s = (stamps_ns - stamps_ns[0]) * 1e-9

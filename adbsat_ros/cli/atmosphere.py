@@ -15,7 +15,8 @@ import sys
 
 from adbsat_ros.environment.accommodation import accommodation_model_names
 from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR, MAX_ALTITUDE, SpaceWeather
-from adbsat_ros.environment.earth_frames import earth_orientation, ecef_to_geodetic
+from adbsat_ros.environment.earth_frames import earth_orientation
+from adbsat_ros.environment.geodetic import ecef_to_geodetic
 from adbsat_ros.environment.flight_conditions import (
     DEFAULT_ACCOMMODATION_MODEL,
     flight_conditions,

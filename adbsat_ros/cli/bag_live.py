@@ -8,6 +8,7 @@ stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE says otherwise.
 from __future__ import annotations
 
 import contextlib
+import importlib
 import os
 import signal
 import sys
@@ -64,16 +65,16 @@ def register(bag_subparsers) -> None:
     record.set_defaults(func=run_record, command="bag record")
 
 
-def _import_bag_live():
+def _import_ros_module(name: str):
+    """``adbsat_ros.ros.<name>``, or RosNotAvailable naming what is missing."""
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     try:
-        from adbsat_ros.ros import bag_live
+        return importlib.import_module(f"adbsat_ros.ros.{name}")
     except ImportError as exc:
         raise RosNotAvailable(
             f"needs the ROS 2 Python packages (rclpy and messages), which cannot be imported: {exc}; "
             "install them with: pip install 'adbsat_ros[ros]'"
         ) from None
-    return bag_live
 
 
 @contextlib.contextmanager
@@ -101,9 +102,9 @@ def _counts(counter) -> str:
 def run_play(args) -> int:
     """Run ``bag play``; returns the exit status."""
     try:
-        bag_live = _import_bag_live()
+        bag_play = _import_ros_module("bag_play")
         with _stop_on_sigterm() as stop:
-            summary = bag_live.play(
+            summary = bag_play.play(
                 args.bag, rate=args.rate, loop=args.loop, topics=args.topics,
                 wait_for_subscribers=args.wait_for_subscribers, wait_timeout=args.wait_timeout,
                 qos_depth=max(1, args.qos_depth), stop=stop, log=_log,
@@ -120,9 +121,9 @@ def run_play(args) -> int:
 def run_record(args) -> int:
     """Run ``bag record``; returns the exit status."""
     try:
-        bag_live = _import_bag_live()
+        bag_record = _import_ros_module("bag_record")
         with _stop_on_sigterm() as stop:
-            summary = bag_live.record(
+            summary = bag_record.record(
                 args.out, args.topics, storage=args.storage, duration=args.duration,
                 qos_depth=max(1, args.qos_depth), stop=stop, log=_log,
             )

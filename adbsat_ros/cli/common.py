@@ -6,8 +6,9 @@ import argparse
 
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, SPECIES_MODELS, ModelOptions
-from adbsat_ros.geometry.mesh import resolve_mesh
-from adbsat_ros.physics.panel_method import PanelMethod, Reference
+from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 from .atmosphere import compute as compute_flight_conditions
 from .options import CommandLineError, fraction, parse_vector3, positive_float

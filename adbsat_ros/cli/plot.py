@@ -40,8 +40,9 @@ def _default_angle(grid: np.ndarray) -> float:
 
 
 def run(args) -> int:
-    from adbsat_ros.plotting import plots
-    from adbsat_ros.database.build import DatabaseError, load_database, method_from_metadata
+    from adbsat_ros.plotting import coefficients, panels
+    from adbsat_ros.database.metadata import method_from_metadata
+    from adbsat_ros.database.format import DatabaseError, load_database
 
     path = Path(args.database)
     if not path.exists():
@@ -60,7 +61,7 @@ def run(args) -> int:
     if out_dir.exists() and not out_dir.is_dir():
         raise CommandLineError(f"--out-dir: {str(out_dir)!r} exists and is not a folder")
 
-    written = plots.plot_database(db, out_dir, max_lines=args.max_lines)
+    written = coefficients.plot_database(db, out_dir, max_lines=args.max_lines)
     if not args.no_mesh:
         try:
             method, flow, shader = method_from_metadata(db.metadata, path=str(path))
@@ -69,8 +70,8 @@ def run(args) -> int:
         aoa = args.aoa if args.aoa is not None else _default_angle(db.aoa_deg)
         aos = args.aos if args.aos is not None else _default_angle(db.aos_deg)
         written.append(
-            plots.plot_panel_pressure(
-                method, flow, aoa, aos, shader, out_dir / "panel_pressure.png", title=plots.database_title(db.metadata)
+            panels.plot_panel_pressure(
+                method, flow, aoa, aos, shader, out_dir / "panel_pressure.png", title=coefficients.database_title(db.metadata)
             )
         )
     for p in written:

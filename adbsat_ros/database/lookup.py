@@ -48,7 +48,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from adbsat_ros.database.build import AeroDatabase, load_database
+from adbsat_ros.database.format import AeroDatabase, load_database
 
 #: Factor from the coarse-grid error to the stated error of the full grid (module docstring).
 ERROR_SCALING = 1.0

@@ -30,7 +30,8 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.database.lookup import CoefficientLookup
-from adbsat_ros.database.build import DatabaseError, surface_values
+from adbsat_ros.database.metadata import surface_values
+from adbsat_ros.database.format import DatabaseError
 from adbsat_ros.physics.panel_method import PanelMethod
 
 #: Relative tolerance on the reference area and length when matching a database.

@@ -35,7 +35,7 @@ from typing import Mapping
 from nrlmsise00 import _nrlmsise00
 
 from adbsat_ros.physics.constants import AVOGADRO, MOLAR_MASS_G, SPECIES
-from adbsat_ros.environment.earth_frames import seconds_of_day, utc_datetime, utc_day
+from adbsat_ros.environment.time_scales import seconds_of_day, utc_datetime, utc_day
 from adbsat_ros.validation import finite as _finite, non_negative as _non_negative
 
 #: Largest altitude NRLMSISE-00 is evaluated at [m].

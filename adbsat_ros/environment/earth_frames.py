@@ -38,126 +38,23 @@ from __future__ import annotations
 import datetime as _dt
 import functools
 import math
-import warnings
 from dataclasses import dataclass
 
 import erfa
 import numpy as np
 
+from adbsat_ros.environment.time_scales import _SECONDS_PER_DAY, seconds_of_day, utc_datetime, utc_day
+
 #: Rate of the Earth rotation angle [rad/s] (IERS Conventions 2010, eq. 5.15:
 #: 2 pi * 1.00273781191135448 per UT1 day of 86400 s).
 EARTH_ROTATION_RATE = 2.0 * math.pi * 1.00273781191135448 / 86400.0
 
-#: ERFA's identifier of the WGS-84 reference ellipsoid (for ``erfa.gc2gd``/``erfa.gd2gc``).
-WGS84 = 1
 
 #: Precession-nutation models accepted by :func:`earth_orientation`.
 PRECESSION_NUTATION_MODELS = ("iau2006a", "iau2000b")
 
-_MJD_ZERO_ORDINAL = _dt.date(1858, 11, 17).toordinal()  # proleptic ordinal of MJD 0
-_MJD_TO_JD = 2400000.5
-_TT_MINUS_TAI = 32.184  # [s]
-_SECONDS_PER_DAY = 86400.0
 _ARCSEC = math.pi / (180.0 * 3600.0)
-_UTC = _dt.timezone.utc
 _TWO_PI = 2.0 * math.pi
-# WGS-84 ellipsoid (as erfa.eform(WGS84)) and the constants of Fukushima's geodetic solution.
-_WGS84_A = 6378137.0
-_WGS84_F = 1.0 / 298.257223563
-_E2 = (2.0 - _WGS84_F) * _WGS84_F
-_E4T = _E2 * _E2 * 1.5
-_EC2 = 1.0 - _E2
-_EC = math.sqrt(_EC2)
-_POLAR_RADIUS = _WGS84_A * _EC
-_POLAR_AXIS_EPS2 = _WGS84_A * _WGS84_A * 1e-32
-
-
-# ------------------------------------------------------------------------------------------ time
-def utc_datetime(time) -> _dt.datetime:
-    """Return ``time`` as a naive :class:`datetime.datetime` in UTC.
-
-    Parameters
-    ----------
-    time : datetime.datetime
-        A timezone-aware datetime (converted to UTC) or a naive one (taken to be UTC already).
-
-    Raises
-    ------
-    ValueError
-        If ``time`` is not a :class:`datetime.datetime` (a plain ``date`` is refused too).
-    """
-    if not isinstance(time, _dt.datetime):
-        raise ValueError(
-            f"time must be a datetime.datetime (timezone-aware, or naive meaning UTC), "
-            f"got {type(time).__name__} {time!r}"
-        )
-    if time.tzinfo is _UTC:
-        time = time.replace(tzinfo=None)
-    elif time.tzinfo is not None and time.utcoffset() is not None:
-        time = time.astimezone(_UTC).replace(tzinfo=None)
-    elif time.tzinfo is not None:
-        time = time.replace(tzinfo=None)
-    return time
-
-
-@functools.lru_cache(maxsize=512)
-def _tai_minus_utc(year: int, month: int, day: int) -> float:
-    """TAI - UTC [s] on the given UTC day, from ERFA's table (0 before 1960, as ERFA)."""
-    with warnings.catch_warnings():
-        # ERFA flags years before 1960 or well past its table as "dubious"; the value it returns
-        # (the last known offset) is what we want, and only TT depends on it.
-        warnings.simplefilter("ignore", erfa.ErfaWarning)
-        return float(erfa.dat(year, month, day, 0.5))
-
-
-def julian_dates(time, ut1_minus_utc: float = 0.0):
-    """Two-part Julian dates (UTC, TT, UT1) of a UTC datetime.
-
-    Parameters
-    ----------
-    time : datetime.datetime
-        UTC instant (see :func:`utc_datetime`).
-    ut1_minus_utc : float, optional
-        UT1 - UTC [s] (IERS DUT1); 0 by default.
-
-    Returns
-    -------
-    tuple of three (float, float) pairs
-        ``(utc, tt, ut1)``, each a two-part Julian date (integer-and-a-half day, day fraction)
-        as ERFA expects.
-    """
-    time = utc_datetime(time)
-    jd1, tt_offset, _ = utc_day(time.year, time.month, time.day)
-    day_fraction = seconds_of_day(time) / _SECONDS_PER_DAY
-    return (
-        (jd1, day_fraction),
-        (jd1, day_fraction + tt_offset),
-        (jd1, day_fraction + float(ut1_minus_utc) / _SECONDS_PER_DAY),
-    )
-
-
-@functools.lru_cache(maxsize=512)
-def utc_day(year: int, month: int, day: int) -> tuple:
-    """Constants of a UTC calendar day, memoised (the per-call time work is then a few floats).
-
-    Returns
-    -------
-    tuple of (float, float, int)
-        ``(jd1, tt_minus_utc, day_of_year)``: the integer-and-a-half Julian date 2400000.5 + MJD
-        of the day's 0 h UTC (the first part of ERFA's two-part dates), TT - UTC [day] on that
-        day (TAI - UTC from ERFA's leap-second table + 32.184 s), and the day of the year (1..366).
-    """
-    ordinal = _dt.date(year, month, day).toordinal()
-    return (
-        _MJD_TO_JD + (ordinal - _MJD_ZERO_ORDINAL),
-        (_tai_minus_utc(year, month, day) + _TT_MINUS_TAI) / _SECONDS_PER_DAY,
-        ordinal - _dt.date(year, 1, 1).toordinal() + 1,
-    )
-
-
-def seconds_of_day(time: _dt.datetime) -> float:
-    """Seconds since 0 h of ``time``'s day [s] (of a UTC datetime: UTC seconds of the day)."""
-    return time.hour * 3600.0 + time.minute * 60.0 + time.second + time.microsecond * 1e-6
 
 
 # --------------------------------------------------------------------------- Earth orientation
@@ -447,162 +344,6 @@ def ecef_to_eci(time, position_ecef, velocity_ecef=None, **orientation_options):
     :meth:`EarthOrientation.ecef_to_eci`. Returns ``(position_eci, velocity_eci or None)``.
     """
     return earth_orientation(time, **orientation_options).ecef_to_eci(position_ecef, velocity_ecef)
-
-
-# ------------------------------------------------------------------------------------ geodetic
-def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
-    """WGS-84 geodetic coordinates to an ECEF (ITRF) position.
-
-    Parameters
-    ----------
-    latitude : float or array_like
-        Geodetic latitude [rad], in [-pi/2, pi/2].
-    longitude : float or array_like
-        East longitude [rad].
-    altitude : float or array_like
-        Height above the WGS-84 ellipsoid [m].
-
-    Returns
-    -------
-    numpy.ndarray, shape (..., 3)
-        ECEF position [m].
-
-    Raises
-    ------
-    ValueError
-        Naming the input, for non-finite values or a latitude outside [-pi/2, pi/2].
-    """
-    latitude = np.asarray(latitude, dtype=float)
-    longitude = np.asarray(longitude, dtype=float)
-    altitude = np.asarray(altitude, dtype=float)
-    for name, value in (("latitude", latitude), ("longitude", longitude), ("altitude", altitude)):
-        if not _all_finite(value):
-            raise ValueError(f"{name} must be finite, got {value!r}")
-    if latitude.ndim == 0:
-        if abs(float(latitude)) > math.pi / 2:
-            raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
-    elif np.any(np.abs(latitude) > math.pi / 2):
-        raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
-    # Raw ufunc (skips pyerfa's status-to-warning wrapper); status is non-zero only for a bad
-    # ellipsoid identifier or |latitude| > pi/2, both excluded above.
-    position, _status = erfa.ufunc.gd2gc(WGS84, longitude, latitude, altitude)
-    return position
-
-
-def ecef_to_geodetic(position_ecef):
-    """ECEF (ITRF) position to WGS-84 geodetic coordinates.
-
-    Parameters
-    ----------
-    position_ecef : array_like, shape (3,) or (N, 3)
-        ECEF position [m].
-
-    Returns
-    -------
-    latitude : float or numpy.ndarray
-        Geodetic latitude [rad].
-    longitude : float or numpy.ndarray
-        East longitude [rad], in (-pi, pi].
-    altitude : float or numpy.ndarray
-        Height above the ellipsoid [m].
-
-    Raises
-    ------
-    ValueError
-        If the position is not finite or has the wrong shape.
-    """
-    position = _as_vectors(position_ecef, "position_ecef")
-    # The raw ufunc skips pyerfa's status-to-warning wrapper (~9 us); status < 0 is only possible
-    # for a bad ellipsoid identifier, which WGS84 is not.
-    longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position)
-    if position.ndim == 1:
-        if status != 0:  # pragma: no cover - defensive
-            raise ValueError(f"erfa.gc2gd failed (status {status}) for position {position_ecef!r}")
-        return float(latitude), float(longitude), float(altitude)
-    if np.any(status != 0):  # pragma: no cover - defensive
-        raise ValueError(f"erfa.gc2gd failed for some of the positions {position_ecef!r}")
-    return latitude, longitude, altitude
-
-
-def enu_to_ecef_matrix(latitude: float, longitude: float) -> np.ndarray:
-    """Matrix whose columns are the local East, North, Up unit vectors in ECEF axes.
-
-    ``v_ecef = M @ v_enu`` for a vector given in the local East-North-Up frame at the geodetic
-    ``latitude`` and ``longitude`` [rad] (Up is the ellipsoid normal).
-    """
-    sin_lat, cos_lat = math.sin(latitude), math.cos(latitude)
-    sin_lon, cos_lon = math.sin(longitude), math.cos(longitude)
-    return np.array(
-        [
-            [-sin_lon, -sin_lat * cos_lon, cos_lat * cos_lon],
-            [cos_lon, -sin_lat * sin_lon, cos_lat * sin_lon],
-            [0.0, cos_lat, sin_lat],
-        ]
-    )
-
-
-def geodetic_of(position_ecef: np.ndarray):
-    """``(latitude, longitude, altitude)`` as floats of one checked ECEF position, shape (3,).
-
-    :func:`ecef_to_geodetic` without its input checks, for a position already known to be three
-    finite floats (the per-message path of :mod:`adbsat_ros.environment.flight_conditions`).
-    """
-    longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position_ecef)
-    if status != 0:  # pragma: no cover - defensive (only a bad ellipsoid identifier)
-        raise ValueError(f"erfa.gc2gd failed (status {status}) for position {position_ecef!r}")
-    return float(latitude), float(longitude), float(altitude)
-
-
-def geodetic_of_floats(x: float, y: float, z: float) -> tuple:
-    """``(latitude [rad], longitude [rad], altitude [m])`` of the ECEF position (x, y, z) [m].
-
-    :func:`ecef_to_geodetic` for one position given as three finite floats, in plain float
-    arithmetic: Fukushima's (2006) solution with one Halley step, the method of ERFA's
-    ``gc2gde``, with its operations in its order, so that the result equals ``erfa.gc2gd`` bit for
-    bit (checked in ``test/test_earth_frames.py``) without a numpy array or ufunc call.
-    """
-    p2 = x * x + y * y
-    longitude = math.atan2(y, x) if p2 > 0.0 else 0.0
-    absz = abs(z)
-    if p2 > _POLAR_AXIS_EPS2:
-        p = math.sqrt(p2)
-        s0 = absz / _WGS84_A
-        pn = p / _WGS84_A
-        zc = _EC * s0
-        c0 = _EC * pn
-        c02 = c0 * c0
-        c03 = c02 * c0
-        s02 = s0 * s0
-        s03 = s02 * s0
-        a02 = c02 + s02
-        a0 = math.sqrt(a02)
-        a03 = a02 * a0
-        d0 = zc * a03 + _E2 * s03
-        f0 = pn * a03 - _E2 * c03
-        b0 = _E4T * s02 * c02 * pn * (a0 - _EC)  # Halley correction
-        s1 = d0 * f0 - b0 * s0
-        cc = _EC * (f0 * f0 - b0 * c0)
-        latitude = math.atan(s1 / cc)
-        s12 = s1 * s1
-        cc2 = cc * cc
-        altitude = (p * cc + absz * s1 - _WGS84_A * math.sqrt(_EC2 * s12 + cc2)) / math.sqrt(s12 + cc2)
-    else:  # on the polar axis
-        latitude = math.pi / 2.0
-        altitude = absz - _POLAR_RADIUS
-    if z < 0:
-        latitude = -latitude
-    return latitude, longitude, altitude
-
-
-def enu_to_ecef(latitude: float, longitude: float, east: float, north: float, up: float) -> tuple:
-    """``enu_to_ecef_matrix(latitude, longitude) @ (east, north, up)`` as three floats."""
-    sin_lat, cos_lat = math.sin(latitude), math.cos(latitude)
-    sin_lon, cos_lon = math.sin(longitude), math.cos(longitude)
-    return (
-        -sin_lon * east + -sin_lat * cos_lon * north + cos_lat * cos_lon * up,
-        cos_lon * east + -sin_lat * sin_lon * north + cos_lat * sin_lon * up,
-        cos_lat * north + sin_lat * up,
-    )
 
 
 # -------------------------------------------------------------------------------------- helpers

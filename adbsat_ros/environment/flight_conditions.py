@@ -50,16 +50,9 @@ from adbsat_ros.environment.atmosphere import (
     run_model,
 )
 from adbsat_ros.physics.constants import BOLTZMANN, EARTH_MU, EARTH_RADIUS_ADBSAT
-from adbsat_ros.environment.earth_frames import (
-    EarthOrientation,
-    check_orientation_options,
-    earth_orientation,
-    enu_to_ecef,
-    geodetic_of_floats,
-    geodetic_to_ecef,
-    rotation_terms,
-    utc_day,
-)
+from adbsat_ros.environment.earth_frames import EarthOrientation, check_orientation_options, earth_orientation, rotation_terms
+from adbsat_ros.environment.time_scales import utc_day
+from adbsat_ros.environment.geodetic import enu_to_ecef, geodetic_of_floats, geodetic_to_ecef
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.validation import non_negative as _non_negative
 

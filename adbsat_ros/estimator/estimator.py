@@ -34,8 +34,10 @@ from adbsat_ros.geometry.frames import quaternion_matrix_floats
 from adbsat_ros.environment.flight_conditions import FlightConditions, flight_conditions, interpolated_flight_conditions
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import ModelOptions
-from adbsat_ros.geometry.mesh import PanelMesh, resolve_mesh
-from adbsat_ros.physics.panel_method import AeroCoefficients, PanelMethod, Reference
+from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
 from adbsat_ros.messages.cdr import OdometryFields
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 from adbsat_ros.estimator.settings import WrenchSettings

@@ -26,6 +26,21 @@ L_GB = np.diag([1.0, -1.0, -1.0])
 L_FB = np.diag([-1.0, 1.0, -1.0])
 
 
+def unit_vector(value, name: str = "flow direction") -> np.ndarray:
+    """``value`` as a unit 3-vector (float array).
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``, if ``value`` is not a finite non-zero 3-vector.
+    """
+    u = np.asarray(value, dtype=float).reshape(-1)
+    norm = float(np.linalg.norm(u)) if u.shape == (3,) else math.nan
+    if u.shape != (3,) or not math.isfinite(norm) or norm == 0.0:
+        raise ValueError(f"{name} must be a finite non-zero 3-vector, got {value!r}")
+    return u / norm
+
+
 def flow_direction(aoa, aos):
     """Unit vector of the gas motion relative to the body, in G.
 

@@ -372,7 +372,7 @@ def _rows(received, samples, sent_wall, t0_ns, result: DemoResult) -> list:
 
 def _write_outputs(rows, out_dir: Path) -> list:
     """demo_wrench.csv and the time-series PNGs in out_dir; returns the paths."""
-    from adbsat_ros.plotting.plots import plot_time_series
+    from adbsat_ros.plotting.time_series import plot_time_series
 
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "demo_wrench.csv"

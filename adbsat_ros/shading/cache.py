@@ -56,119 +56,18 @@ from collections import OrderedDict
 import numpy as np
 
 from adbsat_ros.geometry import frames
+from adbsat_ros.shading.cube_map import _direction_key, cells_per_edge, direction_keys, key_centres
 from adbsat_ros.shading.lighting import PanelLighting
-from adbsat_ros.shading.shader import Shader, _unit_flow, lit_projected_area
+from adbsat_ros.shading.shader import Shader, lit_projected_area
 
 #: Per-panel sampling error allowance of the ray-cast lit fraction (see module docstring).
 SAMPLING_ERROR = 0.05
-
-_QUARTER = 0.25 * math.pi
 
 
 #: Cells whose lighting stays unpacked (read-only) for the next queries: a flow direction that
 #: wanders over the border of a few cells gets the same objects back, with no unpacking, and the
 #: panel method's per-lighting sums (memoised by object) stay valid.
 RECENT_CELLS = 8
-
-
-def cells_per_edge(resolution_deg: float) -> int:
-    """Number n of angular steps along a cube-map face edge for a resolution in degrees.
-
-    The smallest odd n >= 90 / resolution_deg: with n odd the six axis directions (face centres)
-    are cell centres. A body flying along one of its axes, the most common attitude, then stays
-    inside one cell and is shaded exactly at that axis, instead of sitting on the corner of four
-    cells and switching between them with every rounding change of the flow direction.
-    """
-    resolution_deg = float(resolution_deg)
-    if not (math.isfinite(resolution_deg) and 0.0 < resolution_deg <= 90.0):
-        raise ValueError(f"resolution_deg must be in (0, 90], got {resolution_deg!r}")
-    n = max(1, math.ceil(90.0 / resolution_deg - 1e-9))
-    return n if n % 2 == 1 else n + 1
-
-
-def direction_keys(u, n: int) -> np.ndarray:
-    """Cube-map cell keys of flow directions.
-
-    Parameters
-    ----------
-    u : array_like, shape (3,) or (M, 3)
-        Directions in G (need not be unit length, must be non-zero).
-    n : int
-        Angular steps per face edge.
-
-    Returns
-    -------
-    ndarray of int64, shape () or (M,)
-        key = face * n^2 + i * n + j, face = 2 k + (u_k < 0) with k the axis of largest |u_k|.
-    """
-    u = np.asarray(u, dtype=float)
-    single = u.ndim == 1
-    u = np.atleast_2d(u)
-    rows = np.arange(len(u))
-    k = np.argmax(np.abs(u), axis=1)
-    uk = u[rows, k]
-    face = 2 * k + (uk < 0)
-    ak = np.abs(uk)
-    a = np.arctan2(u[rows, (k + 1) % 3], ak)
-    b = np.arctan2(u[rows, (k + 2) % 3], ak)
-    h = 0.5 * math.pi / n
-    i = np.clip(np.floor((a + _QUARTER) / h), 0, n - 1).astype(np.int64)
-    j = np.clip(np.floor((b + _QUARTER) / h), 0, n - 1).astype(np.int64)
-    key = face.astype(np.int64) * n * n + i * n + j
-    return key[0] if single else key
-
-
-def _direction_key(x: float, y: float, z: float, n: int) -> int:
-    """:func:`direction_keys` of one direction in plain floats (no numpy overhead per query).
-
-    The key depends on the direction only (ratios of components), so (x, y, z) need not be unit.
-    """
-    ax, ay, az = abs(x), abs(y), abs(z)
-    # first axis of largest |u_k|, as np.argmax; then the two others in cyclic order
-    if ax >= ay and ax >= az:
-        face, ak, a1, a2 = (x < 0.0), ax, y, z
-    elif ay >= az:
-        face, ak, a1, a2 = 2 + (y < 0.0), ay, z, x
-    else:
-        face, ak, a1, a2 = 4 + (z < 0.0), az, x, y
-    h = 0.5 * math.pi / n
-    i = min(max(math.floor((math.atan2(a1, ak) + _QUARTER) / h), 0), n - 1)
-    j = min(max(math.floor((math.atan2(a2, ak) + _QUARTER) / h), 0), n - 1)
-    return face * n * n + i * n + j
-
-
-def key_centres(keys, n: int) -> np.ndarray:
-    """Unit direction at the centre of cube-map cells.
-
-    Parameters
-    ----------
-    keys : array_like of int, shape () or (M,)
-    n : int
-        Angular steps per face edge.
-
-    Returns
-    -------
-    ndarray, shape (3,) or (M, 3)
-    """
-    keys = np.asarray(keys, dtype=np.int64)
-    single = keys.ndim == 0
-    keys = np.atleast_1d(keys)
-    if np.any((keys < 0) | (keys >= 6 * n * n)):
-        raise ValueError("cube-map key out of range")
-    face, rest = np.divmod(keys, n * n)
-    i, j = np.divmod(rest, n)
-    k = face // 2
-    sign = np.where(face % 2 == 1, -1.0, 1.0)
-    h = 0.5 * math.pi / n
-    a = -_QUARTER + (i + 0.5) * h
-    b = -_QUARTER + (j + 0.5) * h
-    out = np.zeros((len(keys), 3))
-    rows = np.arange(len(keys))
-    out[rows, k] = sign
-    out[rows, (k + 1) % 3] = np.tan(a)
-    out[rows, (k + 2) % 3] = np.tan(b)
-    out /= np.linalg.norm(out, axis=1, keepdims=True)
-    return out[0] if single else out
 
 
 class ShadingCache:
@@ -233,7 +132,7 @@ class ShadingCache:
             x, y, z = u_G.tolist()  # the common case, checked without numpy calls
             if math.isfinite(x) and math.isfinite(y) and math.isfinite(z) and (x or y or z):
                 return _direction_key(x, y, z, self.n)
-        u = _unit_flow(u_G)  # anything else, or the error naming the bad input
+        u = frames.unit_vector(u_G)  # anything else, or the error naming the bad input
         return _direction_key(float(u[0]), float(u[1]), float(u[2]), self.n)
 
     @property
@@ -393,7 +292,7 @@ class ShadingCache:
         float
             theta (D P + A_g) + 2 delta_s A_p (module docstring), theta = angle(u_G, u_c).
         """
-        u = _unit_flow(u_G)
+        u = frames.unit_vector(u_G)
         key = self.key(u)
         uc = self.centre(key)
         theta = math.acos(min(1.0, max(-1.0, float(u @ uc))))
@@ -412,7 +311,7 @@ class ShadingCache:
 
 def moved_lit_area(mesh, u_G, cached: PanelLighting, exact: PanelLighting) -> float:
     """E(u) [m^2]: sum_i |f_i(cached) - f_i(exact)| A_i max(cos delta_i(u), 0) (module doc)."""
-    u = _unit_flow(u_G)
+    u = frames.unit_vector(u_G)
     c = np.maximum(-(mesh.normals @ u), 0.0)
     return float((np.abs(cached.lit_fraction - exact.lit_fraction) * mesh.areas * c).sum())
 

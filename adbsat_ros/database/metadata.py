@@ -1,0 +1,161 @@
+"""The set-up of a database as metadata (mesh fingerprint, model, materials, free stream, reference, shading), and the panel method rebuilt from it."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import os
+
+from adbsat_ros.database.format import FORMAT_VERSION, DatabaseError, _fail, _package_version
+from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.geometry.mesh import MeshError
+from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.gsi_models import ModelOptions
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.physics.surface import SURFACE_PARAMETERS, MaterialTable, SurfaceProperties
+
+
+# ---------------------------------------------------------------------------------- metadata
+def surface_values(props: SurfaceProperties) -> dict:
+    """Every surface parameter of ``props`` as a float, by name (how the metadata records them)."""
+    return {name: float(getattr(props, name)) for name in SURFACE_PARAMETERS}
+
+
+def material_override_texts(materials: MaterialTable) -> list:
+    """``NAME:key=value,...`` texts (every parameter, exact floats) that rebuild ``materials``
+    with :meth:`MaterialTable.from_texts` and the same default."""
+    texts = []
+    for name, props in materials.materials.items():
+        items = ",".join(f"{k}={v!r}" for k, v in surface_values(props).items())
+        texts.append(f"{name}:{items}")
+    return texts
+
+
+def _flow_dict(flow: FreeStream) -> dict:
+    return {
+        "speed": float(flow.speed),
+        "temperature": float(flow.temperature),
+        "mean_mass_amu": None if flow.mean_mass_amu is None else float(flow.mean_mass_amu),
+        "number_densities": None if flow.number_densities is None else dict(flow.number_densities),
+        "density": None if flow.density is None else float(flow.density),
+        "speed_ratio": float(flow.speed_ratio),
+    }
+
+
+def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale) -> str | None:
+    """The spec to record: given specs must reload to the method's mesh (same fingerprint)."""
+    from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME
+
+    if mesh_spec is None:
+        return None
+    mesh_spec = os.fspath(mesh_spec)
+    try:
+        reloaded = resolve_mesh(mesh_spec, scale=mesh_scale).fingerprint()
+    except MeshError as exc:
+        raise ValueError(f"mesh_spec {mesh_spec!r}: {exc}") from None
+    if reloaded != method.mesh.fingerprint():
+        if mesh_spec == EXAMPLE_MESH_NAME:  # the default: the mesh was built some other way
+            return None
+        raise ValueError(
+            f"mesh_spec {mesh_spec!r} (scale {mesh_scale}) does not load the method's mesh "
+            "(fingerprints differ)"
+        )
+    return mesh_spec
+
+
+def describe_setup(method: PanelMethod, flow: FreeStream, *, shading, samples, mesh_spec, mesh_scale,
+                   materials_texts=None) -> dict:
+    """Metadata of a set-up (everything but the grid results and the interpolation error)."""
+    texts = material_override_texts(method.materials)
+    if materials_texts:
+        given = MaterialTable.from_texts(method.materials.default, materials_texts)
+        rebuilt = MaterialTable.from_texts(method.materials.default, texts)
+        if {k: surface_values(v) for k, v in given.materials.items()} != {
+            k: surface_values(v) for k, v in rebuilt.materials.items()
+        }:
+            raise ValueError("materials_texts do not describe the method's materials")
+    mesh = method.mesh
+    ref = method.reference
+    return {
+        "format_version": FORMAT_VERSION,
+        "created_utc": _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat(),
+        "adbsat_ros_version": _package_version(),
+        "mesh": {
+            "spec": _mesh_spec_checked(method, mesh_spec, mesh_scale),
+            "scale": float(mesh_scale),
+            "source": str(mesh.source),
+            "n_panels": int(mesh.n_panels),
+            "fingerprint": mesh.fingerprint(),
+        },
+        "model": {
+            "name": method.model,
+            "incident_temperature": method.options.incident_temperature,
+            "adbsat_compat": bool(method.options.adbsat_compat),
+        },
+        "materials": {"default": surface_values(method.materials.default), "overrides": texts},
+        "flow": _flow_dict(flow),
+        "reference": {
+            "area": float(ref.area),
+            "length": float(ref.length),
+            "moment_point": [float(v) for v in ref.moment_point],
+        },
+        "shading": {"mode": str(shading), "samples": int(samples)},
+    }
+
+
+def method_from_metadata(metadata: dict, path=None):
+    """Rebuild the set-up of a database: ``(PanelMethod, FreeStream, shader or None)``.
+
+    The mesh is reloaded from ``metadata["mesh"]["spec"]`` and ``scale`` and must have the
+    recorded fingerprint.
+
+    Raises
+    ------
+    DatabaseError
+        If the mesh cannot be reloaded (no spec, missing file, changed geometry) or the
+        metadata is incomplete; names ``path`` when given.
+    """
+    where = path or "database"
+    try:
+        mesh_meta = metadata["mesh"]
+        spec = mesh_meta["spec"]
+        if spec is None:
+            _fail(where, "the mesh was built in code (no mesh spec recorded), so it cannot be reloaded")
+        try:
+            mesh = resolve_mesh(spec, scale=float(mesh_meta["scale"]))
+        except MeshError as exc:
+            _fail(where, f"cannot reload the mesh {spec!r}: {exc}")
+        if mesh.fingerprint() != mesh_meta["fingerprint"]:
+            _fail(
+                where,
+                f"the mesh {spec!r} has changed since the database was built "
+                f"(fingerprint {mesh.fingerprint()}, recorded {mesh_meta['fingerprint']})",
+            )
+        mat = metadata["materials"]
+        materials = MaterialTable.from_texts(SurfaceProperties(**mat["default"]), mat["overrides"])
+        model = metadata["model"]
+        options = ModelOptions(
+            incident_temperature=model["incident_temperature"], adbsat_compat=bool(model["adbsat_compat"])
+        )
+        ref = metadata["reference"]
+        reference = Reference(area=ref["area"], length=ref["length"], moment_point=tuple(ref["moment_point"]))
+        method = PanelMethod(mesh, model["name"], materials, options=options, reference=reference)
+        f = metadata["flow"]
+        flow = FreeStream(
+            speed=f["speed"],
+            temperature=f["temperature"],
+            number_densities=f.get("number_densities"),
+            mean_mass_amu=f.get("mean_mass_amu"),
+            density=f.get("density"),
+        )
+        shading = metadata["shading"]
+        shader = None
+        if shading["mode"] != "none":
+            from adbsat_ros.shading.shader import make_shader
+
+            shader = make_shader(mesh, mode=shading["mode"], samples=int(shading["samples"]))
+    except DatabaseError:
+        raise
+    except (KeyError, TypeError, ValueError) as exc:
+        _fail(where, f"metadata does not describe a set-up: {type(exc).__name__}: {exc}")
+    return method, flow, shader

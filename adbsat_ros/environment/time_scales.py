@@ -1,0 +1,105 @@
+"""UTC instants as the Earth-orientation and atmosphere models take them: aware datetimes, Julian dates (UTC, TT, UT1) through ERFA's leap-second table, day of year and seconds of day."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import functools
+import warnings
+
+import erfa
+
+_MJD_ZERO_ORDINAL = _dt.date(1858, 11, 17).toordinal()  # proleptic ordinal of MJD 0
+_MJD_TO_JD = 2400000.5
+_TT_MINUS_TAI = 32.184  # [s]
+_SECONDS_PER_DAY = 86400.0
+
+
+_UTC = _dt.timezone.utc
+
+
+# ------------------------------------------------------------------------------------------ time
+def utc_datetime(time) -> _dt.datetime:
+    """Return ``time`` as a naive :class:`datetime.datetime` in UTC.
+
+    Parameters
+    ----------
+    time : datetime.datetime
+        A timezone-aware datetime (converted to UTC) or a naive one (taken to be UTC already).
+
+    Raises
+    ------
+    ValueError
+        If ``time`` is not a :class:`datetime.datetime` (a plain ``date`` is refused too).
+    """
+    if not isinstance(time, _dt.datetime):
+        raise ValueError(
+            f"time must be a datetime.datetime (timezone-aware, or naive meaning UTC), "
+            f"got {type(time).__name__} {time!r}"
+        )
+    if time.tzinfo is _UTC:
+        time = time.replace(tzinfo=None)
+    elif time.tzinfo is not None and time.utcoffset() is not None:
+        time = time.astimezone(_UTC).replace(tzinfo=None)
+    elif time.tzinfo is not None:
+        time = time.replace(tzinfo=None)
+    return time
+
+
+@functools.lru_cache(maxsize=512)
+def _tai_minus_utc(year: int, month: int, day: int) -> float:
+    """TAI - UTC [s] on the given UTC day, from ERFA's table (0 before 1960, as ERFA)."""
+    with warnings.catch_warnings():
+        # ERFA flags years before 1960 or well past its table as "dubious"; the value it returns
+        # (the last known offset) is what we want, and only TT depends on it.
+        warnings.simplefilter("ignore", erfa.ErfaWarning)
+        return float(erfa.dat(year, month, day, 0.5))
+
+
+def julian_dates(time, ut1_minus_utc: float = 0.0):
+    """Two-part Julian dates (UTC, TT, UT1) of a UTC datetime.
+
+    Parameters
+    ----------
+    time : datetime.datetime
+        UTC instant (see :func:`utc_datetime`).
+    ut1_minus_utc : float, optional
+        UT1 - UTC [s] (IERS DUT1); 0 by default.
+
+    Returns
+    -------
+    tuple of three (float, float) pairs
+        ``(utc, tt, ut1)``, each a two-part Julian date (integer-and-a-half day, day fraction)
+        as ERFA expects.
+    """
+    time = utc_datetime(time)
+    jd1, tt_offset, _ = utc_day(time.year, time.month, time.day)
+    day_fraction = seconds_of_day(time) / _SECONDS_PER_DAY
+    return (
+        (jd1, day_fraction),
+        (jd1, day_fraction + tt_offset),
+        (jd1, day_fraction + float(ut1_minus_utc) / _SECONDS_PER_DAY),
+    )
+
+
+@functools.lru_cache(maxsize=512)
+def utc_day(year: int, month: int, day: int) -> tuple:
+    """Constants of a UTC calendar day, memoised (the per-call time work is then a few floats).
+
+    Returns
+    -------
+    tuple of (float, float, int)
+        ``(jd1, tt_minus_utc, day_of_year)``: the integer-and-a-half Julian date 2400000.5 + MJD
+        of the day's 0 h UTC (the first part of ERFA's two-part dates), TT - UTC [day] on that
+        day (TAI - UTC from ERFA's leap-second table + 32.184 s), and the day of the year (1..366).
+    """
+    ordinal = _dt.date(year, month, day).toordinal()
+    return (
+        _MJD_TO_JD + (ordinal - _MJD_ZERO_ORDINAL),
+        (_tai_minus_utc(year, month, day) + _TT_MINUS_TAI) / _SECONDS_PER_DAY,
+        ordinal - _dt.date(year, 1, 1).toordinal() + 1,
+    )
+
+
+def seconds_of_day(time: _dt.datetime) -> float:
+    """Seconds since 0 h of ``time``'s day [s] (of a UTC datetime: UTC seconds of the day)."""
+    return time.hour * 3600.0 + time.minute * 60.0 + time.second + time.microsecond * 1e-6

@@ -1,0 +1,153 @@
+"""Mesh files to PanelMesh: any format trimesh reads, .obj materials from usemtl, and the bundled example."""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+
+import numpy as np
+import trimesh
+
+from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME, example_satellite
+from adbsat_ros.geometry.mesh import (
+    DEFAULT_MATERIAL,
+    MeshError,
+    PanelMesh,
+    panels_from_arrays,
+)
+
+_FACE_LINE = re.compile(r"^\s*f\s+(.*)$")
+_USEMTL_LINE = re.compile(r"^\s*usemtl\s+(.*?)\s*$")
+
+
+def _obj_material_runs(path: str):
+    """Runs of consecutive faces sharing a ``usemtl`` name in an OBJ file.
+
+    Returns a list of ``(material_name, n_triangles)`` in file order; an n-gon counts as
+    n - 2 triangles (trimesh triangulates polygons as a fan).
+    """
+    runs = []
+    current = None
+    count = 0
+    with open(path, "r", errors="replace") as fh:
+        for line in fh:
+            m = _USEMTL_LINE.match(line)
+            if m:
+                if count:
+                    runs.append((current, count))
+                current, count = m.group(1) or None, 0
+                continue
+            m = _FACE_LINE.match(line)
+            if m:
+                count += max(len(m.group(1).split()) - 2, 0)
+    if count:
+        runs.append((current, count))
+    return runs
+
+
+def _load_obj(path: str):
+    """Vertices, faces and per-face material names of an OBJ file, through trimesh."""
+    runs = _obj_material_runs(path)
+    names = {name for name, _ in runs}
+    if names <= {None}:
+        tm = trimesh.load(path, force="mesh", process=False, skip_materials=True)
+        return tm.vertices, tm.faces, None, (DEFAULT_MATERIAL,)
+    # trimesh splits an OBJ at every usemtl into one geometry per run (group_material=False);
+    # its scene keeps the runs in reverse file order. Verify the split against our own count.
+    scene = trimesh.load(
+        path,
+        force="scene",
+        process=False,
+        group_material=False,
+        skip_materials=True,
+        maintain_order=True,
+    )
+    geoms = list(scene.geometry.values())[::-1]
+    counts = [len(g.faces) for g in geoms]
+    if counts != [n for _, n in runs]:
+        raise MeshError(
+            f"{path}: could not map usemtl groups to faces (trimesh read runs of {counts} "
+            f"faces, the file has {[n for _, n in runs]})"
+        )
+    material_names = []
+    for name, _ in runs:
+        name = name or DEFAULT_MATERIAL
+        if name not in material_names:
+            material_names.append(name)
+    verts, faces, mat = [], [], []
+    offset = 0
+    for (name, _), g in zip(runs, geoms):
+        verts.append(np.asarray(g.vertices, dtype=float))
+        faces.append(np.asarray(g.faces, dtype=np.int64) + offset)
+        mat.append(np.full(len(g.faces), material_names.index(name or DEFAULT_MATERIAL)))
+        offset += len(g.vertices)
+    return np.vstack(verts), np.vstack(faces), np.concatenate(mat), tuple(material_names)
+
+
+def load_mesh(path, scale: float = 1.0, *, fix_normals: bool = True) -> PanelMesh:
+    """Load a triangulated surface mesh from a file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Mesh file in any format trimesh reads (.obj, .stl, .ply, .off, .glb, ...).
+    scale : float
+        Factor applied to all coordinates to get metres (e.g. 1e-3 for CAD in millimetres).
+    fix_normals : bool
+        Flip closed bodies whose faces point inwards (negative signed volume), with a warning.
+
+    Returns
+    -------
+    PanelMesh
+        Panels in the file's coordinate frame, scaled to metres.
+
+    Raises
+    ------
+    MeshError
+        Missing or unreadable file, no faces, NaN/Inf vertices, or no usable face.
+    """
+    path = os.fspath(path)
+    if not math.isfinite(scale) or scale <= 0:
+        raise MeshError(f"{path}: scale must be a finite number > 0, got {scale!r}")
+    if not os.path.isfile(path):
+        raise MeshError(f"mesh file not found: {path}")
+    try:
+        if path.lower().endswith(".obj"):
+            vertices, faces, material_index, material_names = _load_obj(path)
+        else:
+            tm = trimesh.load(path, force="mesh", process=False)
+            vertices, faces = tm.vertices, tm.faces
+            material_index, material_names = None, (DEFAULT_MATERIAL,)
+    except MeshError:
+        raise
+    except Exception as exc:  # trimesh raises many types for unreadable files
+        raise MeshError(f"{path}: cannot read mesh ({type(exc).__name__}: {exc})") from exc
+    vertices = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces)
+    if faces.size == 0:
+        raise MeshError(f"{path}: the mesh has no faces")
+    return panels_from_arrays(
+        vertices * scale,
+        faces.astype(np.int64),
+        material_index,
+        material_names,
+        source=path,
+        fix_normals=fix_normals,
+    )
+
+
+def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) -> PanelMesh:
+    """A checked :class:`PanelMesh` of a trimesh.Trimesh (one material, ``"default"``)."""
+    return panels_from_arrays(mesh.vertices, mesh.faces, source=source, **kwargs)
+
+
+def resolve_mesh(spec, scale: float = 1.0) -> PanelMesh:
+    """A PanelMesh from a file path, or the bundled example for the name ``"example"``."""
+
+    if str(spec) == EXAMPLE_MESH_NAME:
+        mesh = example_satellite()
+        if scale != 1.0:
+            raise MeshError("the example mesh is in metres; scale applies to mesh files only")
+        return mesh
+    return load_mesh(spec, scale=scale)

@@ -1,0 +1,232 @@
+"""Reference quantities and the result of the panel method: force and moment coefficients in ADBSat's frames."""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from adbsat_ros.geometry import frames
+from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.incidence import sine_of_incidence
+from adbsat_ros.shading.lighting import PanelLighting
+
+
+@dataclass(frozen=True)
+class Reference:
+    """Reference quantities of the coefficients; None means ADBSat's default.
+
+    Parameters
+    ----------
+    area : float, optional
+        A_ref [m^2]; default half the total wetted area (ADBSat's choice, not the projected area).
+    length : float, optional
+        L_ref [m]; default the x-extent of the mesh, max x - min x.
+    moment_point : array_like, shape (3,)
+        Point about which moments are taken, in the mesh frame [m]; default the mesh origin.
+    """
+
+    area: float | None = None
+    length: float | None = None
+    moment_point: tuple = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        for name in ("area", "length"):
+            value = getattr(self, name)
+            if value is not None and (not math.isfinite(float(value)) or float(value) <= 0):
+                raise ValueError(f"reference {name} must be a finite number > 0, got {value!r}")
+        point = np.asarray(self.moment_point, dtype=float)
+        if point.shape != (3,) or not np.all(np.isfinite(point)):
+            raise ValueError(f"moment_point must be three finite numbers, got {self.moment_point!r}")
+        object.__setattr__(self, "moment_point", tuple(float(v) for v in point))
+
+    def resolved(self, mesh: PanelMesh) -> "Reference":
+        """A copy with the defaults filled in from ``mesh``."""
+        if self.length is None and not mesh.x_extent > 0.0:
+            raise ValueError(
+                f"{mesh.source}: the mesh has no extent along x, so the default reference length "
+                "(max x - min x) is 0: give a reference length"
+            )
+        return Reference(
+            area=float(self.area) if self.area is not None else 0.5 * mesh.total_area,
+            length=float(self.length) if self.length is not None else mesh.x_extent,
+            moment_point=self.moment_point,
+        )
+
+
+class AeroCoefficients:
+    """Aerodynamic coefficients of one attitude.
+
+    The mesh-frame sums are computed at once; the rest (angles, other axes, per-panel values) on
+    first access, so a caller that needs only ``Cf_G`` and ``Cm_G`` (the ROS node) pays for nothing
+    else.
+
+    Attributes
+    ----------
+    flow_direction : ndarray, shape (3,)
+        Unit vector of the gas motion relative to the body, mesh frame G.
+    Cf_G : ndarray, shape (3,)
+        Force coefficient in the mesh frame G.
+    Cm_G : ndarray, shape (3,)
+        Moment coefficient in G about ``reference.moment_point``.
+    reference : Reference
+        A_ref [m^2], L_ref [m] and moment point [m] used.
+    area_projected : float
+        Lit projected area normal to the flow, sum of f_i A_i cos(delta_i) over front faces [m^2]
+        (ADBSat ``AreaProj``).
+    model : str
+        Gas-surface model name.
+    aoa, aos : float
+        Angle of attack and sideslip [rad] of the flow (frames module).
+    Cf_w : ndarray, shape (3,)
+        Force coefficient in wind axes (ADBSat ``Cf_w``); drag = -Cf_w[0].
+    Cf_f : ndarray, shape (3,)
+        Force coefficient in ADBSat's flight axes (``Cf_f``; x aft, z up).
+    Cm_B : ndarray, shape (3,)
+        Moment coefficient in ADBSat's body axes B (``Cm_B``), about the moment point.
+    cos_delta, cp, ctau : ndarray, shape (N,)
+        Per-panel incidence cosine and local pressure and shear coefficients (before shading).
+    lit_fraction : ndarray, shape (N,)
+        Per-panel lit fraction used (all ones without shading).
+    """
+
+    def __init__(self, flow_direction, Cf_G, Cm_G, reference: Reference, area_projected: float, model: str,
+                 panel_values, panel_index=None, lighting: PanelLighting | None = None, angles=None):
+        self.flow_direction = flow_direction
+        self.Cf_G = Cf_G
+        self.Cm_G = Cm_G
+        self.reference = reference
+        self.area_projected = area_projected
+        self.model = model
+        # (cos_delta, cp, ctau, ctau / sin(delta), normals) per panel, or per facet with panel_index
+        # mapping panels to facets; ctau may be None (then made from ctau / sin(delta) and the
+        # (G, 3) facet normals when asked for), ctau / sin(delta) and normals are None when ctau is
+        # given
+        self._panel_values = panel_values
+        self._panel_index = panel_index
+        self._lighting = lighting
+        self._angles = angles
+
+    def __repr__(self) -> str:
+        return (f"AeroCoefficients(model={self.model!r}, aoa={self.aoa!r}, aos={self.aos!r}, "
+                f"Cf_G={self.Cf_G!r}, Cm_G={self.Cm_G!r}, area_projected={self.area_projected!r})")
+
+    @functools.cached_property
+    def _angles_rad(self) -> tuple:
+        if self._angles is not None:
+            return self._angles
+        return tuple(float(a) for a in frames.angles_of_flow(self.flow_direction))
+
+    @property
+    def aoa(self) -> float:
+        return self._angles_rad[0]
+
+    @property
+    def aos(self) -> float:
+        return self._angles_rad[1]
+
+    @functools.cached_property
+    def _Cf_B(self) -> np.ndarray:
+        return frames.L_GB @ self.Cf_G
+
+    @functools.cached_property
+    def Cf_w(self) -> np.ndarray:
+        return frames.body_to_wind(self.aoa, self.aos) @ self._Cf_B
+
+    @functools.cached_property
+    def Cf_f(self) -> np.ndarray:
+        return frames.L_FB @ self._Cf_B
+
+    @functools.cached_property
+    def Cm_B(self) -> np.ndarray:
+        return frames.L_GB @ self.Cm_G
+
+    def _per_panel(self, values) -> np.ndarray:
+        return values if self._panel_index is None else values[self._panel_index]
+
+    @functools.cached_property
+    def _cos_delta(self) -> np.ndarray:
+        # within [-1, 1]: a unit u and unit normals give |c| <= 1 only to rounding
+        return np.clip(self._panel_values[0], -1.0, 1.0)
+
+    @functools.cached_property
+    def cos_delta(self) -> np.ndarray:
+        return self._per_panel(self._cos_delta)
+
+    @functools.cached_property
+    def cp(self) -> np.ndarray:
+        return self._per_panel(self._panel_values[1])
+
+    @functools.cached_property
+    def ctau(self) -> np.ndarray:
+        _, _, ctau, shear, normals = self._panel_values
+        if ctau is None:
+            ctau = shear * sine_of_incidence(self.flow_direction, normals, self._cos_delta)
+        return self._per_panel(ctau)
+
+    @functools.cached_property
+    def lit_fraction(self) -> np.ndarray:
+        if self._lighting is not None:
+            return self._lighting.lit_fraction
+        return np.ones(self.cos_delta.shape)
+
+    @property
+    def drag(self) -> float:
+        """Drag coefficient C_D = -Cf_w[0] (along the gas motion)."""
+        return float(-self.Cf_w[0])
+
+    @property
+    def side_force(self) -> float:
+        """Side-force coefficient C_Y = Cf_w[1]."""
+        return float(self.Cf_w[1])
+
+    @property
+    def lift(self) -> float:
+        """Lift coefficient C_L = -Cf_w[2]."""
+        return float(-self.Cf_w[2])
+
+    def force(self, dynamic_pressure: float) -> np.ndarray:
+        """Force [N] in the mesh frame G for a dynamic pressure q = rho V^2 / 2 [Pa]."""
+        return dynamic_pressure * self.reference.area * self.Cf_G
+
+    def torque(self, dynamic_pressure: float) -> np.ndarray:
+        """Torque [N m] in G about the moment point, for dynamic pressure q [Pa]."""
+        return dynamic_pressure * self.reference.area * self.reference.length * self.Cm_G
+
+    def to_dict(self, flow: FreeStream | None = None, per_panel: bool = False) -> dict:
+        """A JSON-ready dict with ADBSat's names (angles in degrees, vectors as lists).
+
+        With ``flow`` carrying a density, ``force_N`` and ``torque_Nm`` (mesh frame, about the
+        moment point) and ``dynamic_pressure_Pa`` are added.
+        """
+        out = {
+            "aoa_deg": math.degrees(self.aoa),
+            "aos_deg": math.degrees(self.aos),
+            "model": self.model,
+            "Cf_w": self.Cf_w.tolist(),
+            "Cf_f": self.Cf_f.tolist(),
+            "Cm_B": self.Cm_B.tolist(),
+            "Cf_G": self.Cf_G.tolist(),
+            "Cm_G": self.Cm_G.tolist(),
+            "CD": self.drag,
+            "CL": self.lift,
+            "CY": self.side_force,
+            "Aref": self.reference.area,
+            "Lref": self.reference.length,
+            "moment_ref": list(self.reference.moment_point),
+            "AreaProj": self.area_projected,
+            "flow_direction_G": self.flow_direction.tolist(),
+        }
+        if flow is not None and flow.mass_density is not None:
+            q = flow.dynamic_pressure()
+            out["dynamic_pressure_Pa"] = q
+            out["force_N"] = self.force(q).tolist()
+            out["torque_Nm"] = self.torque(q).tolist()
+        if per_panel:
+            out["cp"] = self.cp.tolist()
+            out["ctau"] = self.ctau.tolist()
+            out["lit_fraction"] = self.lit_fraction.tolist()
+        return out

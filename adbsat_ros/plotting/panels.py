@@ -1,0 +1,241 @@
+"""The mesh coloured by panel pressure coefficient at one attitude, panels in shadow in grey, back faces pale, and the flow arrow."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+from matplotlib.colors import Normalize, to_rgba
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+
+from adbsat_ros.geometry import frames
+from adbsat_ros.plotting.figures import _new_figure, _save
+from adbsat_ros.shading.lighting import PanelLighting
+
+#: Colour map of the pressure coefficient.
+PRESSURE_CMAP = "viridis"
+#: Face colour of panels (partly) shaded from the flow.
+SHADED_COLOUR = (0.45, 0.45, 0.45, 1.0)
+PARTLY_SHADED_COLOUR = (0.72, 0.72, 0.72, 1.0)
+#: Back faces (facing away from the flow) are drawn in their c_p colour mixed with this much white.
+BACK_FACE_WHITE = 0.55
+#: The pressure picture's camera is turned this far [deg] from looking straight down the flow.
+VIEW_TURN_DEG = 35.0
+#: ... and kept within this elevation [deg] above or below the x_G-y_G plane.
+MAX_VIEW_ELEVATION_DEG = 55.0
+
+
+# =============================================================================== panel pressure
+def _resolve_lighting(lighting, mesh, u) -> PanelLighting:
+    if lighting is None:
+        return PanelLighting.all_lit(mesh.n_panels)
+    if isinstance(lighting, PanelLighting):
+        result = lighting
+    elif hasattr(lighting, "lighting"):  # a Shader
+        result = lighting.lighting(u)
+    else:
+        raise TypeError(f"lighting must be a PanelLighting, a Shader or None, got {type(lighting).__name__}")
+    if np.shape(result.lit_fraction) != (mesh.n_panels,):
+        raise ValueError(
+            f"lighting has {np.size(result.lit_fraction)} panels, the mesh has {mesh.n_panels}"
+        )
+    return result
+
+
+def panel_colours(cp, cos_delta, lit_fraction, cmap=PRESSURE_CMAP):
+    """Face colours of the pressure picture and the colour scale.
+
+    Panels fully reached by the flow (lit fraction 1) take the colour of their c_p on a scale
+    from the smallest to the largest c_p among them; those facing away from the flow
+    (cos delta < 0) are mixed with white. Panels with lit fraction < 1 are grey: dark if fully
+    shaded, light if partly.
+
+    Parameters
+    ----------
+    cp, cos_delta, lit_fraction : ndarray, shape (N,)
+        Per-panel pressure coefficient, incidence cosine and lit fraction.
+    cmap : str or Colormap
+
+    Returns
+    -------
+    colours : ndarray, shape (N, 4)
+        RGBA per panel.
+    norm : matplotlib.colors.Normalize
+        The c_p scale (vmin, vmax = min, max c_p of the lit panels).
+    groups : dict of str to ndarray of bool
+        ``lit``, ``back`` (lit and facing away), ``shaded`` (lit fraction < 1),
+        ``fully_shaded`` (lit fraction 0), ``partly_shaded``.
+    """
+    from matplotlib import colormaps
+
+    cmap = colormaps[cmap] if isinstance(cmap, str) else cmap
+    cp = np.asarray(cp, dtype=float)
+    f = np.asarray(lit_fraction, dtype=float)
+    shaded = f < 1.0
+    lit = ~shaded
+    back = lit & (np.asarray(cos_delta, dtype=float) < 0.0)
+    if lit.any():
+        lo, hi = float(cp[lit].min()), float(cp[lit].max())
+    else:
+        lo, hi = 0.0, 1.0
+    norm = Normalize(lo, hi) if hi > lo else Normalize(lo - 0.5, hi + 0.5)
+    colours = cmap(norm(cp))
+    colours[back, :3] = (1.0 - BACK_FACE_WHITE) * colours[back, :3] + BACK_FACE_WHITE
+    fully = f <= 0.0
+    colours[fully] = SHADED_COLOUR
+    colours[shaded & ~fully] = PARTLY_SHADED_COLOUR
+    groups = {
+        "lit": lit,
+        "back": back,
+        "shaded": shaded,
+        "fully_shaded": fully,
+        "partly_shaded": shaded & ~fully,
+    }
+    return colours, norm, groups
+
+
+def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, float]:
+    """Camera elevation and azimuth [deg] for the pressure picture.
+
+    The camera looks roughly along the flow from upstream (position -u), turned by ``VIEW_TURN_DEG``
+    towards the mean normal of the shaded panels if there are any (so the shadows face the
+    camera), otherwise towards +z_G and -y_G ("from upstream, the side and above").
+    """
+    u = np.asarray(u_G, dtype=float)
+    u = u / np.linalg.norm(u)
+    turn = np.array([0.0, -0.6, 0.8])
+    if shaded is not None and np.any(shaded):
+        mean_normal = (normals[shaded] * areas[shaded, None]).sum(axis=0)
+        if np.linalg.norm(mean_normal - (mean_normal @ u) * u) > 1e-9:
+            turn = mean_normal
+    turn = turn - (turn @ u) * u
+    if np.linalg.norm(turn) < 1e-9:  # flow along the preferred turn: any perpendicular
+        turn = np.cross(u, [1.0, 0.0, 0.0] if abs(u[0]) < 0.9 else [0.0, 1.0, 0.0])
+    turn /= np.linalg.norm(turn)
+    camera = -u + math.tan(math.radians(VIEW_TURN_DEG)) * turn
+    camera /= np.linalg.norm(camera)
+    elev = math.degrees(math.asin(max(-1.0, min(1.0, camera[2]))))
+    elev = max(-MAX_VIEW_ELEVATION_DEG, min(MAX_VIEW_ELEVATION_DEG, elev))  # steeper views look confusing
+    azim = math.degrees(math.atan2(camera[1], camera[0]))
+    return elev, azim
+
+
+def make_panel_pressure_figure(
+    method, flow, aoa_deg: float, aos_deg: float, lighting=None, *, view=None, title=None
+) -> Figure:
+    """A 3-D picture of the mesh coloured by per-panel pressure coefficient at one attitude.
+
+    Parameters
+    ----------
+    method : PanelMethod
+        Mesh, model and materials.
+    flow : FreeStream
+    aoa_deg, aos_deg : float
+        Angle of attack and sideslip [deg] (frames module).
+    lighting : PanelLighting or Shader or None
+        Shading for this attitude, or a shader to compute it with; None: nothing shaded.
+    view : (elev, azim) in degrees, optional
+        Camera; default :func:`default_view`.
+    title : str, optional
+        First title line (default: mesh, model, speed ratio, attitude).
+
+    Returns
+    -------
+    Figure
+        One 3-D axes (``fig.axes[0]``) whose first collection is the panels' Poly3DCollection;
+        that collection carries the c_p norm and colour map of the colour bar. The legend names
+        the number of panels with lit fraction < 1 and of back faces.
+    """
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    aoa_deg, aos_deg = float(aoa_deg), float(aos_deg)
+    if not (math.isfinite(aoa_deg) and math.isfinite(aos_deg)):
+        raise ValueError(f"aoa_deg and aos_deg must be finite, got {aoa_deg!r}, {aos_deg!r}")
+    mesh = method.mesh
+    aoa, aos = math.radians(aoa_deg), math.radians(aos_deg)
+    u = frames.flow_direction(aoa, aos)
+    light = _resolve_lighting(lighting, mesh, u)
+    result = method.coefficients(flow, aoa, aos, lighting=light)
+    colours, norm, groups = panel_colours(result.cp, result.cos_delta, light.lit_fraction)
+
+    fig = _new_figure((8.0, 6.0))
+    ax = fig.add_subplot(projection="3d")
+    edge = colours.copy()
+    edge[:, :3] *= 0.85  # faint mesh lines; also hides anti-aliasing seams between triangles
+    panels = Poly3DCollection(mesh.vertices, facecolors=colours, edgecolors=edge, linewidths=0.25)
+    panels.set_cmap(PRESSURE_CMAP)
+    panels.set_norm(norm)
+    ax.add_collection3d(panels)
+
+    # The flow arrow ends just upstream of the mesh's bounding sphere, pointing at its centre.
+    lo, hi = mesh.bounds
+    centre = 0.5 * (lo + hi)
+    radius = 0.5 * float(np.linalg.norm(hi - lo)) or 1.0
+    arrow_len = 0.6 * radius
+    tip = centre - u * 0.75 * radius
+    start = tip - u * arrow_len
+    ax.quiver(*start, *(u * arrow_len), color="crimson", lw=2.5, arrow_length_ratio=0.3)
+    ax.text(*(start - 0.08 * radius * u), "flow", color="crimson", fontsize=9, ha="center")
+    # Equal scaling: a box around the mesh and the arrow, with the aspect of the data.
+    pts = np.vstack([lo, hi, start, tip])
+    pmin, pmax = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.04 * float(np.max(pmax - pmin))
+    pmin, pmax = pmin - pad, pmax + pad
+    ax.set_xlim(pmin[0], pmax[0])
+    ax.set_ylim(pmin[1], pmax[1])
+    ax.set_zlim(pmin[2], pmax[2])
+    ax.set_box_aspect(tuple(pmax - pmin), zoom=1.1)
+    ax.set_xlabel("$x_G$ [m]")
+    ax.set_ylabel("$y_G$ [m]")
+    ax.set_zlabel("$z_G$ [m]")
+    ax.tick_params(labelsize=7)
+    elev, azim = view if view is not None else default_view(u, mesh.normals, mesh.areas, groups["shaded"])
+    ax.view_init(elev=elev, azim=azim)
+
+    n_shaded = int(groups["shaded"].sum())
+    handles = [
+        Patch(
+            facecolor=SHADED_COLOUR,
+            label=f"shaded from the flow (lit fraction < 1): {n_shaded} panels\n"
+            f"  dark: {int(groups['fully_shaded'].sum())} fully, "
+            f"light: {int(groups['partly_shaded'].sum())} partly",
+        ),
+        Patch(
+            facecolor=(1 - BACK_FACE_WHITE) * np.array(to_rgba("tab:purple")[:3]) + BACK_FACE_WHITE,
+            label=f"pale: back faces (facing away from the flow): {int(groups['back'].sum())} panels",
+        ),
+        Line2D([], [], color="crimson", lw=2.5, label="gas flow direction"),
+    ]
+    fig.legend(handles=handles, loc="outside lower center", ncols=2, fontsize=8)
+    cbar = fig.colorbar(panels, ax=ax, shrink=0.65, pad=0.08)
+    cbar.set_label("pressure coefficient $c_p$ (panels reached by the flow)")
+    if title is None:
+        title = f"{Path(str(mesh.source)).name}, {method.model}, speed ratio s = {flow.speed_ratio:.2f}"
+        if lighting is not None:
+            title += f", shading: {getattr(lighting, 'mode', 'given')}"
+    fig.suptitle(
+        f"{title}\nα = {aoa_deg:g}°, β = {aos_deg:g}°: "
+        f"C_D = {result.drag:.3f}, projected area {result.area_projected:.3f} m²",
+        fontsize=10,
+    )
+    return fig
+
+
+def plot_panel_pressure(method, flow, aoa_deg, aos_deg, lighting, out_path, **options) -> Path:
+    """Write :func:`make_panel_pressure_figure` to ``out_path`` (PNG); returns the path."""
+    return _save(make_panel_pressure_figure(method, flow, aoa_deg, aos_deg, lighting, **options), out_path)
+
+
+def legend_panel_counts(fig: Figure) -> dict:
+    """The panel counts stated in a pressure picture's legend (``shaded``, ``back``)."""
+    text = "\n".join(t.get_text() for legend in fig.legends for t in legend.get_texts())
+    out = {}
+    for key, pattern in (("shaded", r"lit fraction < 1\): (\d+) panels"), ("back", r"back faces.*?: (\d+) panels")):
+        match = re.search(pattern, text)
+        if match:
+            out[key] = int(match.group(1))
+    return out

@@ -1,0 +1,117 @@
+"""Force, torque, density and drag coefficient against time, one line per model (bag analysis and the demo)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from adbsat_ros.plotting.figures import _new_figure, _save
+
+# =============================================================================== time series
+TIME_SERIES_KEYS = {"force": 2, "torque": 2, "density": 1, "drag_coefficient": 1}
+
+
+def _check_runs(time_s, runs) -> tuple[np.ndarray, dict]:
+    t = np.asarray(time_s, dtype=float)
+    if t.ndim != 1 or t.size == 0:
+        raise ValueError(f"time_s must be a non-empty 1-D array, got shape {t.shape}")
+    if not runs:
+        raise ValueError("runs is empty: give at least one run (label -> data)")
+    checked = {}
+    for label, data in runs.items():
+        entry = {}
+        for key, ndim in TIME_SERIES_KEYS.items():
+            if key not in data:
+                raise ValueError(f"run {label!r}: missing {key!r}")
+            value = np.asarray(data[key], dtype=float)
+            want = (t.size, 3) if ndim == 2 else (t.size,)
+            if value.shape != want:
+                raise ValueError(f"run {label!r}: {key!r} has shape {value.shape}, expected {want}")
+            entry[key] = value
+        checked[str(label)] = entry
+    return t, checked
+
+
+def _time_axis(t: np.ndarray):
+    span = float(np.nanmax(t) - np.nanmin(t)) if np.isfinite(t).any() else 0.0
+    if span > 3 * 3600:
+        return t / 3600.0, "time since first message [h]"
+    if span > 600:
+        return t / 60.0, "time since first message [min]"
+    return t, "time since first message [s]"
+
+
+def _run_style(values: np.ndarray) -> dict:
+    """Line style of one series: a marker only on isolated samples (NaN on both sides), which
+    a line alone would not show."""
+    ok = np.isfinite(values)
+    before = np.concatenate([[False], ok[:-1]])
+    after = np.concatenate([ok[1:], [False]])
+    isolated = ok & ~before & ~after
+    return {"lw": 1.1, "marker": ".", "ms": 5, "markevery": isolated if isolated.any() else []}
+
+
+def make_time_series_figures(time_s, runs) -> dict:
+    """Time-series figures of one or more runs (e.g. models compared on one rosbag).
+
+    Parameters
+    ----------
+    time_s : array_like, shape (N,)
+        Seconds since the first message.
+    runs : dict of str to dict
+        Label -> ``{'force': (N, 3) [N] body frame, 'torque': (N, 3) [N m] body frame,
+        'density': (N,) [kg/m^3], 'drag_coefficient': (N,)}``; NaN where a run has no sample.
+
+    Returns
+    -------
+    dict of str to Figure
+        ``force``, ``torque`` (three stacked panels x, y, z), ``density`` (log y) and
+        ``drag_coefficient``; one line per run in every panel.
+    """
+    t, runs = _check_runs(time_s, runs)
+    t_plot, t_label = _time_axis(t)
+    several = len(runs) > 1
+    figures = {}
+    for key, quantity, unit in (("force", "force", "N"), ("torque", "torque", "N m")):
+        fig = _new_figure()
+        axes = fig.subplots(3, 1, sharex=True)
+        for i, (ax, comp) in enumerate(zip(axes, "xyz")):
+            for label, data in runs.items():
+                ax.plot(t_plot, data[key][:, i], label=label, **_run_style(data[key][:, i]))
+            ax.set_ylabel(f"{comp} [{unit}]")
+            ax.grid(True, lw=0.4, alpha=0.6)
+            ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4))
+        axes[-1].set_xlabel(t_label)
+        fig.suptitle(f"Aerodynamic {quantity}, body frame", fontsize=10)
+        if several:
+            fig.legend(*axes[0].get_legend_handles_labels(), loc="outside right center", fontsize=8, title="run")
+        figures[key] = fig
+    for key, ylabel, heading in (
+        ("density", "density [kg/m³]", "Free-stream mass density"),
+        ("drag_coefficient", "drag coefficient $C_D$", "Drag coefficient"),
+    ):
+        fig = _new_figure()
+        ax = fig.add_subplot()
+        positive = False
+        for label, data in runs.items():
+            values = data[key]
+            positive |= bool(np.any(values > 0))
+            ax.plot(t_plot, values, label=label, **_run_style(values))
+        if key == "density" and positive:
+            ax.set_yscale("log")
+        ax.set_xlabel(t_label)
+        ax.set_ylabel(ylabel)
+        ax.grid(True, which="both", lw=0.4, alpha=0.6)
+        ax.set_title(heading, fontsize=10)
+        if several:
+            ax.legend(fontsize=8, title="run")
+        figures[key] = fig
+    return figures
+
+
+def plot_time_series(time_s, runs, out_dir, prefix: str = "") -> list[Path]:
+    """Write :func:`make_time_series_figures` as ``{prefix}force.png``, ``{prefix}torque.png``,
+    ``{prefix}density.png`` and ``{prefix}drag_coefficient.png`` in ``out_dir``; returns the paths."""
+    out_dir = Path(out_dir)
+    return [_save(fig, out_dir / f"{prefix}{name}.png") for name, fig in make_time_series_figures(time_s, runs).items()]

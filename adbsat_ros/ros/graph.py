@@ -1,0 +1,69 @@
+"""What the live bag tools share: their own rclpy context, message classes by type name, topic names.
+
+There is no ``ros2 bag`` with the PyPI ROS 2 wheels; :mod:`adbsat_ros.ros.bag_play` and
+:mod:`adbsat_ros.ros.bag_record` stand in for it with rclpy and rosbags. Each runs its own rclpy
+Context (rclpy then installs no signal handlers: Ctrl-C arrives as KeyboardInterrupt). The ROS
+domain and discovery range come from the environment (ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE).
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import rclpy
+from rclpy.context import Context
+
+from adbsat_ros.bags.io import BagError
+
+#: Seconds between two looks at the ROS graph while waiting for topics or subscribers.
+GRAPH_POLL_S = 0.05
+
+
+def message_class(msgtype: str, topic: str = ""):
+    """The rclpy message class of a ROS type name, e.g. ``geometry_msgs/msg/WrenchStamped``.
+
+    Raises
+    ------
+    BagError
+        Naming the topic and the type when the type name is malformed or its Python package is not
+        installed.
+    """
+    where = f"topic {topic}: " if topic else ""
+    parts = msgtype.split("/")
+    if len(parts) == 2:  # 'pkg/Type' (ROS 1 style) -> pkg/msg/Type
+        parts = [parts[0], "msg", parts[1]]
+    if len(parts) != 3 or not all(parts):
+        raise BagError(f"{where}message type {msgtype!r} is not of the form package/msg/Type")
+    package, kind, name = parts
+    try:
+        module = importlib.import_module(f"{package}.{kind}")
+        cls = getattr(module, name)
+    except (ImportError, AttributeError):
+        raise BagError(
+            f"{where}message type {msgtype!r} is not installed in this Python environment "
+            f"(no {package}.{kind}.{name}; install the package's ROS 2 wheel, e.g. ros-jazzy-{package.replace('_', '-')})"
+        ) from None
+    return cls
+
+
+def start_context() -> Context:
+    """A new rclpy Context of its own, initialised (so rclpy installs no signal handlers)."""
+    context = Context()
+    rclpy.init(context=context)
+    return context
+
+
+def close(node, executor, context) -> None:
+    """Shut the executor down, destroy the node and shut the context down (None skips a part)."""
+    if executor is not None:
+        executor.shutdown(timeout_sec=1.0)
+    if node is not None:
+        node.destroy_node()
+    rclpy.try_shutdown(context=context)
+
+
+def absolute_topic(topic: str) -> str:
+    """``topic`` with a leading slash."""
+    topic = topic.strip()
+    return topic if topic.startswith("/") else "/" + topic
+

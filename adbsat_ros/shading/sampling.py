@@ -1,0 +1,85 @@
+"""Where rays start on a panel: a low-discrepancy (R2) pattern with a fixed pseudo-random shift per panel.
+
+Roberts' R2 sequence spreads the points of one panel evenly; the per-panel shift (SplitMix64 of the
+panel index) keeps the sampling errors of neighbouring panels along a shadow edge from adding up.
+Coordinates (a, b) give the point P1 + a (P2 - P1) + b (P3 - P1) of a triangle."""
+
+from __future__ import annotations
+
+import numpy as np
+
+# R2 sequence (Roberts 2018): alpha = (1/g, 1/g^2), g the plastic number.
+_PLASTIC = 1.32471795724474602596
+_R2_ALPHA = np.array([1.0 / _PLASTIC, 1.0 / _PLASTIC**2])
+
+# Triangle coordinates of the corner detection samples (1e-3 inside each corner).
+_CORNERS = np.array([[1e-3, 1e-3], [1.0 - 2e-3, 1e-3], [1e-3, 1.0 - 2e-3]])
+
+
+def _splitmix64(x: np.ndarray) -> np.ndarray:
+    """SplitMix64 hash of uint64 values (vectorised, wrapping arithmetic)."""
+    z = x.astype(np.uint64) + np.uint64(0x9E3779B97F4A7C15)
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return z ^ (z >> np.uint64(31))
+
+
+def panel_shifts(panel_index) -> np.ndarray:
+    """Fixed pseudo-random shift in [0, 1)^2 of each panel's sample pattern.
+
+    Parameters
+    ----------
+    panel_index : array_like of int, shape (K,)
+
+    Returns
+    -------
+    ndarray, shape (K, 2)
+    """
+    i = np.asarray(panel_index, dtype=np.uint64)
+    h1 = _splitmix64(2 * i)
+    h2 = _splitmix64(2 * i + np.uint64(1))
+    scale = 1.0 / float(1 << 53)
+    return np.stack([(h1 >> np.uint64(11)).astype(float) * scale, (h2 >> np.uint64(11)).astype(float) * scale], axis=-1)
+
+
+def _sample_ab(panel_index, start: int, count: int):
+    """Triangle coordinates (a, b), each shape (K, count), of :func:`sample_barycentric`."""
+    shifts = panel_shifts(panel_index)
+    k = np.arange(start, start + count, dtype=float)
+    base = k[:, None] * _R2_ALPHA[None, :]
+    base -= np.floor(base)
+    x = shifts[:, None, :] + base[None, :, :]
+    x -= x >= 1.0
+    a, b = x[..., 0], x[..., 1]
+    fold = (a + b) > 1.0
+    return np.where(fold, 1.0 - a, a), np.where(fold, 1.0 - b, b)
+
+
+def sample_barycentric(panel_index, start: int, count: int) -> np.ndarray:
+    """Sample points k = start .. start+count-1 of each panel, as triangle coordinates.
+
+    The k-th point of panel i is frac(s_i + k alpha) with alpha the R2 generator and s_i the
+    panel's fixed shift (:func:`panel_shifts`), folded into the triangle (a + b > 1 maps to
+    (1 - a, 1 - b)), so points are uniform over the triangle and evenly spread.
+
+    Returns
+    -------
+    ndarray, shape (K, count, 2)
+        (a, b) such that the point is P1 + a (P2 - P1) + b (P3 - P1).
+    """
+    a, b = _sample_ab(panel_index, start, count)
+    return np.stack([a, b], axis=-1)
+
+
+def _sample_points(vertices: np.ndarray, a: np.ndarray, b: np.ndarray, lift=None) -> np.ndarray:
+    """Points (K, S, 3) P1 + a (P2 - P1) + b (P3 - P1) on triangles ``vertices`` (K, 3, 3),
+    plus ``lift`` (K, 3) if given."""
+    v0 = vertices[:, 0, :]
+    e1 = vertices[:, 1, :] - v0
+    e2 = vertices[:, 2, :] - v0
+    if lift is not None:
+        v0 = v0 + lift
+    out = np.empty(a.shape + (3,))
+    for j in range(3):  # three coordinates
+        out[..., j] = v0[:, j, None] + a * e1[:, j, None] + b * e2[:, j, None]
+    return out
