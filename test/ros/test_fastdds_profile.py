@@ -9,7 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-PROFILE = Path(__file__).resolve().parent.parent / "config" / "fastdds_localhost.xml"
+PROFILE = Path(__file__).resolve().parents[2] / "config" / "fastdds_localhost.xml"
 
 # A child process: "listen" subscribes to chatter and reports what it got and its UDP sockets;
 # "talk" publishes on chatter until killed.

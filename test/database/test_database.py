@@ -14,7 +14,7 @@ from adbsat_ros.database.build import build_database
 from adbsat_ros.database.metadata import method_from_metadata
 from adbsat_ros.database.format import FORMAT_VERSION, REQUIRED_METADATA, SCALAR_FIELDS, VECTOR_FIELDS, AeroDatabase, DatabaseError, load_database
 from adbsat_ros.geometry.loading import resolve_mesh
-from test_closed_form_bodies import reemission_temperature, sentman_sphere_cd, unit_sphere_mesh
+from closed_forms import reemission_temperature, sentman_sphere_cd, unit_sphere_mesh
 
 FLOW = FreeStream(7500.0, 900.0, mean_mass_amu=16.0)
 SLOW = FreeStream(1500.0, 1200.0, mean_mass_amu=28.0)

@@ -20,18 +20,18 @@ import trimesh
 from geometry_msgs.msg import QuaternionStamped
 from rclpy.parameter import Parameter
 from rclpy.serialization import serialize_message
-from scipy.special import erf
 
 from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.environment.flight_conditions import flight_conditions
 from adbsat_ros.ros.node import AdbsatNode
 from adbsat_ros.estimator.settings import EXECUTORS
 
+from closed_forms import sentman_sphere_cd
 from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float, to_stamp
 
 RADIUS = 0.5
 EPOCH = "2026-03-20T12:00:00"
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -63,15 +63,6 @@ def ros(sphere_file, request):
     peer.node.destroy_node()
     node.destroy_node()
     rclpy.try_shutdown(context=ctx)
-
-
-def sentman_sphere_cd(s, t_inf, t_r):
-    """Sentman (1961) sphere drag on the projected area pi r^2 (e.g. Bird 1994, eq. 7.67)."""
-    return (
-        (2 * s * s + 1) / (math.sqrt(math.pi) * s**3) * math.exp(-s * s)
-        + (4 * s**4 + 4 * s * s - 1) / (2 * s**4) * erf(s)
-        + 2 * math.sqrt(math.pi) / (3 * s) * math.sqrt(t_r / t_inf)
-    )
 
 
 def angle_deg(a, b):
@@ -108,7 +99,7 @@ def test_circular_orbit_wrench_is_drag_of_a_sphere(ros):
     assert angle_deg(force, -v_rel) < 0.5
     assert np.linalg.norm(v_rel) == pytest.approx(cond.speed, rel=1e-3)
     flow = cond.free_stream()
-    cd = sentman_sphere_cd(flow.speed_ratio, flow.temperature, 300.0)  # alpha = 1: T_r = T_w
+    cd = sentman_sphere_cd(flow.speed_ratio, 300.0 / flow.temperature)  # alpha = 1: T_r = T_w
     expected = 0.5 * cond.mass_density * cond.speed**2 * cd * math.pi * RADIUS**2
     assert np.linalg.norm(force) == pytest.approx(expected, rel=5e-3)
     # torque about the offset centre of mass c of a sphere centred on the origin: (0 - c) x F

@@ -21,7 +21,8 @@ from adbsat_ros import (
     panels_from_arrays,
     panels_from_trimesh,
 )
-from adbsat_ros.physics.constants import BOLTZMANN
+from closed_forms import reemission_temperature, sentman_sphere_cd, unit_sphere_mesh
+
 
 SQRT_PI = math.sqrt(math.pi)
 
@@ -29,44 +30,6 @@ FLOWS = {
     "orbital": FreeStream(7500.0, 900.0, mean_mass_amu=16.0),  # s ~ 7.7
     "slow": FreeStream(1500.0, 1200.0, mean_mass_amu=28.0),  # s ~ 1.9
 }
-
-
-def incident_temperature(flow, form="energy"):
-    """T_i = m V^2/(4k) (energy flux, Koppenwallner) or m V^2/(3k) (kinetic, Moe)."""
-    return flow.mean_mass * flow.speed**2 / ((4.0 if form == "energy" else 3.0) * BOLTZMANN)
-
-
-def reemission_temperature(flow, alpha, Tw, form="energy"):
-    """T_r = T_i + alpha (T_w - T_i) (Sentman 1961 energy accommodation)."""
-    Ti = incident_temperature(flow, form)
-    return Ti + alpha * (Tw - Ti)
-
-
-# ------------------------------------------------------------------------------------- sphere
-_SPHERE_CACHE = {}
-
-
-def unit_sphere_mesh(subdivisions=5, centre=(0.0, 0.0, 0.0)):
-    """Icosphere scaled so its total area is exactly 4 pi (a unit sphere's), then translated."""
-    key = (subdivisions, tuple(centre))
-    if key not in _SPHERE_CACHE:
-        ico = trimesh.creation.icosphere(subdivisions=subdivisions, radius=1.0)
-        ico.apply_scale(math.sqrt(4.0 * math.pi / ico.area))
-        ico.apply_translation(centre)
-        _SPHERE_CACHE[key] = panels_from_trimesh(ico)
-    return _SPHERE_CACHE[key]
-
-
-def sentman_sphere_cd(s, Tr_over_Tinf):
-    """Sentman (1961) sphere drag, diffuse re-emission at T_r, referenced to pi r^2
-    (also Schaaf & Chambre 1961; Bird 1994 Ch. 7):
-    C_D = (2 s^2 + 1) e^{-s^2}/(sqrt(pi) s^3) + (4 s^4 + 4 s^2 - 1) erf(s)/(2 s^4)
-          + (2 sqrt(pi)/(3 s)) sqrt(T_r/T_inf)."""
-    return (
-        (2 * s * s + 1) * math.exp(-s * s) / (SQRT_PI * s**3)
-        + (4 * s**4 + 4 * s * s - 1) * math.erf(s) / (2 * s**4)
-        + 2 * SQRT_PI / (3 * s) * math.sqrt(Tr_over_Tinf)
-    )
 
 
 ATTITUDES_DEG = [(0.0, 0.0), (30.0, 0.0), (17.0, -41.0), (-120.0, 63.0)]
