@@ -25,12 +25,11 @@ import time
 from pathlib import Path
 
 from adbsat_ros.bags import io as bag_io
-
 from adbsat_ros.bags import scenario
-from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.bags.analysis import analyze_bag
-from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
 
 
 def main(argv=None) -> int:
@@ -41,7 +40,9 @@ def main(argv=None) -> int:
     p.add_argument("--shading", default="raycast")
     p.add_argument("--storage", default="mcap")
     p.add_argument("--plots", action="store_true")
-    p.add_argument("--workers", default=f"1,{os.cpu_count() or 1}", help="comma-separated worker counts to run")
+    p.add_argument(
+        "--workers", default=f"1,{os.cpu_count() or 1}", help="comma-separated worker counts to run"
+    )
     args = p.parse_args(argv)
     worker_counts = [int(w) for w in args.workers.split(",")]
     load_before = os.getloadavg()
@@ -52,19 +53,34 @@ def main(argv=None) -> int:
         sc = scenario.Scenario(duration_s=args.duration, rate_hz=args.rate, state_rate_hz=10.0)
         messages = scenario.generate(sc)
         bag_io.write_scenario_bag(messages, tmp / "in", storage=args.storage)
-        settings = WrenchSettings.from_parameters({"mesh": str(tmp / "sat.obj"), "shading": args.shading})
+        settings = WrenchSettings.from_parameters(
+            {"mesh": str(tmp / "sat.obj"), "shading": args.shading}
+        )
         n_att = len(messages.attitudes.stamps_ns)
 
         reports = []
         for run, workers in enumerate(worker_counts):
-            reports.append(analyze_bag(
-                tmp / "in", models=[("bench", settings)], out_bag=tmp / f"out{run}", out_csv=tmp / f"out{run}.csv",
-                plots_dir=tmp / f"plots{run}" if args.plots else None, storage=args.storage, workers=workers))
-        same_csv = len({(tmp / f"out{run}.csv").read_bytes() for run in range(len(worker_counts))}) == 1
+            reports.append(
+                analyze_bag(
+                    tmp / "in",
+                    models=[("bench", settings)],
+                    out_bag=tmp / f"out{run}",
+                    out_csv=tmp / f"out{run}.csv",
+                    plots_dir=tmp / f"plots{run}" if args.plots else None,
+                    storage=args.storage,
+                    workers=workers,
+                )
+            )
+        same_csv = (
+            len({(tmp / f"out{run}.csv").read_bytes() for run in range(len(worker_counts))}) == 1
+        )
 
         est = AeroWrenchEstimator(settings)  # the estimator alone, same inputs, fresh caches
         st, att = messages.states, messages.attitudes
-        events = sorted([(t, 0, i) for i, t in enumerate(st.stamps_ns)] + [(t, 1, i) for i, t in enumerate(att.stamps_ns)])
+        events = sorted(
+            [(t, 0, i) for i, t in enumerate(st.stamps_ns)]
+            + [(t, 1, i) for i, t in enumerate(att.stamps_ns)]
+        )
         t0 = time.perf_counter()
         for _, kind, i in events:
             if kind == 0:
@@ -74,17 +90,31 @@ def main(argv=None) -> int:
         direct = time.perf_counter() - t0
 
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}")
-    print(f"mesh: example satellite max_edge {args.max_edge} m, {mesh.n_panels} faces; shading {args.shading} (cached); "
-          f"storage {args.storage}")
-    print(f"input: {n_att} attitude + {len(messages.states.stamps_ns)} state messages "
-          f"({args.duration:g} s at {args.rate:g} Hz)")
-    print(f"load average (1 min) before {load_before[0]:.2f}, after {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    print(
+        f"mesh: example satellite max_edge {args.max_edge} m, {mesh.n_panels} faces; shading {args.shading} (cached); "
+        f"storage {args.storage}"
+    )
+    print(
+        f"input: {n_att} attitude + {len(messages.states.stamps_ns)} state messages "
+        f"({args.duration:g} s at {args.rate:g} Hz)"
+    )
+    print(
+        f"load average (1 min) before {load_before[0]:.2f}, after {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores"
+    )
     for report in reports:
         total = report.seconds["total"]
-        print(f"analyze_bag, {report.workers} worker(s), {report.chunks} chunk(s): {report.models[0].wrenches} wrenches "
-              f"in {total:.2f} s = {n_att / total:,.0f} attitude messages/s (target > 2,000)")
-        parts = ", ".join(f"{k} {v:.2f} s ({100 * v / total:.0f} %)" for k, v in report.seconds.items() if k != "total")
-        print(f"  phases: {parts}; other {total - sum(v for k, v in report.seconds.items() if k != 'total'):.2f} s")
+        print(
+            f"analyze_bag, {report.workers} worker(s), {report.chunks} chunk(s): {report.models[0].wrenches} wrenches "
+            f"in {total:.2f} s = {n_att / total:,.0f} attitude messages/s (target > 2,000)"
+        )
+        parts = ", ".join(
+            f"{k} {v:.2f} s ({100 * v / total:.0f} %)"
+            for k, v in report.seconds.items()
+            if k != "total"
+        )
+        print(
+            f"  phases: {parts}; other {total - sum(v for k, v in report.seconds.items() if k != 'total'):.2f} s"
+        )
     print(f"CSV identical for all worker counts: {same_csv}")
     print(f"estimator alone: {n_att / direct:,.0f} attitude messages/s")
     return 0

@@ -31,14 +31,14 @@ import time
 
 import numpy as np
 
-from adbsat_ros.geometry import frames
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.example_satellite import example_satellite
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.shading.shader import make_shader
 from adbsat_ros.shading.cache import ShadingCache
-from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+from adbsat_ros.shading.shader import make_shader
 
 
 def percentiles(samples_s):
@@ -50,7 +50,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--max-edge", type=float, default=0.064)
     parser.add_argument("--repeat", type=int, default=3000)
-    parser.add_argument("--together", default="2,4,8", help="burst sizes for on_attitudes, comma-separated")
+    parser.add_argument(
+        "--together", default="2,4,8", help="burst sizes for on_attitudes, comma-separated"
+    )
     args = parser.parse_args()
     together_sizes = [int(x) for x in args.together.split(",") if x]
     mesh = example_satellite(max_edge=args.max_edge)
@@ -58,7 +60,9 @@ def main() -> None:
     flow = FreeStream(speed=7726.0, temperature=934.0, mean_mass_amu=17.9, density=2.4e-11)
     cache = ShadingCache(make_shader(mesh, mode="raycast"), resolution_deg=0.25)
     n = args.repeat
-    print(f"mesh: example satellite, {mesh.n_panels} faces; sentman; raycast cached at 0.25 deg; {n} calls per case")
+    print(
+        f"mesh: example satellite, {mesh.n_panels} faces; sentman; raycast cached at 0.25 deg; {n} calls per case"
+    )
 
     # same cell: tiny attitude changes around aoa 10, aos 5 deg
     base = frames.flow_direction(math.radians(10.0), math.radians(5.0))
@@ -73,7 +77,9 @@ def main() -> None:
     same = percentiles(times)
 
     # stored cells: cycle through 64 cached cells so each query unpacks the store
-    cells = [frames.flow_direction(math.radians(10.0 + 0.5 * k), math.radians(5.0)) for k in range(64)]
+    cells = [
+        frames.flow_direction(math.radians(10.0 + 0.5 * k), math.radians(5.0)) for k in range(64)
+    ]
     cache.precompute(np.array(cells))
     times = []
     for k in range(n):
@@ -146,15 +152,22 @@ def main() -> None:
         ("cache hit, same cell + coefficients()", same),
         ("cache hit, stored cell (unpacked) + coefficients()", stored),
         ("estimator on_attitude (flight conditions included)", whole),
-        *(row for size in together_sizes for row in (
-            (f"estimator on_attitudes, {size} together, per message", together[size][0]),
-            (f"  the same {size} one at a time (on_attitude), interleaved", together[size][1]))),
+        *(
+            row
+            for size in together_sizes
+            for row in (
+                (f"estimator on_attitudes, {size} together, per message", together[size][0]),
+                (f"  the same {size} one at a time (on_attitude), interleaved", together[size][1]),
+            )
+        ),
         ("same, 100 Hz: 10 ms idle before each message", cold[False]),
         ("same, 100 Hz, conditions prepared ahead (the node)", cold[True]),
     ):
         print(f"{name:<52} {p50:8.3f} {p99:8.3f}")
-    print(f"cache: {cache.hits} hits, {cache.misses} misses; estimator cache: "
-          f"{est.shading_cache_hits} hits, {est.shading_cache_misses} misses")
+    print(
+        f"cache: {cache.hits} hits, {cache.misses} misses; estimator cache: "
+        f"{est.shading_cache_hits} hits, {est.shading_cache_misses} misses"
+    )
 
 
 if __name__ == "__main__":

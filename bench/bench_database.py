@@ -27,8 +27,8 @@ import numpy as np
 import trimesh
 
 from adbsat_ros import FreeStream, PanelMethod, panels_from_trimesh
-from adbsat_ros.database.lookup import CoefficientLookup
 from adbsat_ros.database.build import build_database
+from adbsat_ros.database.lookup import CoefficientLookup
 from adbsat_ros.geometry.loading import resolve_mesh
 
 AOA = np.arange(-180.0, 180.001, 5.0)
@@ -38,7 +38,9 @@ FLOW = FreeStream(7500.0, 900.0, mean_mass_amu=16.0)
 
 def build(method, workers, spec):
     start = time.perf_counter()
-    db = build_database(method, FLOW, AOA, AOS, shading="raycast", workers=workers, progress=False, mesh_spec=spec)
+    db = build_database(
+        method, FLOW, AOA, AOS, shading="raycast", workers=workers, progress=False, mesh_spec=spec
+    )
     return db, time.perf_counter() - start
 
 
@@ -72,14 +74,20 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help="skip the example-satellite build (b)")
     args = parser.parse_args(argv)
     print(f"command: {' '.join([os.path.basename(sys.executable)] + sys.argv)}")
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
-    print(f"grid: {AOA.size} aoa x {AOS.size} aos = {AOA.size * AOS.size} attitudes, Sentman, raycast (16 samples)")
+    print(
+        f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
+    )
+    print(
+        f"grid: {AOA.size} aoa x {AOS.size} aos = {AOA.size * AOS.size} attitudes, Sentman, raycast (16 samples)"
+    )
 
     sphere = panels_from_trimesh(trimesh.creation.icosphere(subdivisions=4), source="icosphere")
     db = report_build(f"(a) sphere {sphere.n_panels} faces", PanelMethod(sphere, "sentman"), None)
     if not args.quick:
         sat = resolve_mesh("example")
-        db = report_build(f"(b) example {sat.n_panels} faces", PanelMethod(sat, "sentman"), "example")
+        db = report_build(
+            f"(b) example {sat.n_panels} faces", PanelMethod(sat, "sentman"), "example"
+        )
 
     lookup = CoefficientLookup(db)
     rng = np.random.default_rng(0)
@@ -96,19 +104,33 @@ def main(argv=None) -> int:
         for x, y in zip(al, bl):
             lookup.body_coefficients(x, y)
 
-    u = np.stack([-np.cos(np.radians(a)) * np.cos(np.radians(b)), np.sin(np.radians(b)),
-                  np.sin(np.radians(a)) * np.cos(np.radians(b))], axis=-1)
+    u = np.stack(
+        [
+            -np.cos(np.radians(a)) * np.cos(np.radians(b)),
+            np.sin(np.radians(b)),
+            np.sin(np.radians(a)) * np.cos(np.radians(b)),
+        ],
+        axis=-1,
+    )
     ul = list(u[:2000])
 
     def by_direction():
         for v in ul:
             lookup.coefficients(flow_direction=v)
 
-    print(f"(c) lookup coefficients(aoa, aos) (Cf_G, Cm_G, CD, CL, CY): {per_call_us(full, n, 5):6.1f} us/call")
-    print(f"    lookup coefficients(flow_direction=u_G):                  {per_call_us(by_direction, len(ul), 5):6.1f} us/call")
-    print(f"    lookup body_coefficients(aoa, aos) (Cf_G, Cm_G):          {per_call_us(body, n, 5):6.1f} us/call")
-    print(f"    body_coefficients_many, {n} attitudes:             "
-          f"{per_call_us(lambda: lookup.body_coefficients_many(a, b), n, 5):6.1f} us/attitude")
+    print(
+        f"(c) lookup coefficients(aoa, aos) (Cf_G, Cm_G, CD, CL, CY): {per_call_us(full, n, 5):6.1f} us/call"
+    )
+    print(
+        f"    lookup coefficients(flow_direction=u_G):                  {per_call_us(by_direction, len(ul), 5):6.1f} us/call"
+    )
+    print(
+        f"    lookup body_coefficients(aoa, aos) (Cf_G, Cm_G):          {per_call_us(body, n, 5):6.1f} us/call"
+    )
+    print(
+        f"    body_coefficients_many, {n} attitudes:             "
+        f"{per_call_us(lambda: lookup.body_coefficients_many(a, b), n, 5):6.1f} us/attitude"
+    )
     return 0
 
 

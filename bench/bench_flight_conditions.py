@@ -52,7 +52,10 @@ import numpy as np
 
 from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
 from adbsat_ros.environment.earth_frames import earth_orientation
-from adbsat_ros.environment.flight_conditions import flight_conditions, flight_conditions_circular_orbit
+from adbsat_ros.environment.flight_conditions import (
+    flight_conditions,
+    flight_conditions_circular_orbit,
+)
 
 START = dt.datetime(2015, 1, 19)
 WEATHER = SpaceWeather(f107=121.7, f107a=138.1, ap=4.0)
@@ -79,7 +82,10 @@ def message_stream(number: int):
     """``number`` (aware UTC time, ECI position) pairs of messages MESSAGE_PERIOD_S apart."""
     epoch = START.replace(tzinfo=dt.timezone.utc)
     return [
-        (epoch + dt.timedelta(seconds=i * MESSAGE_PERIOD_S), POSITION + VELOCITY * (i * MESSAGE_PERIOD_S))
+        (
+            epoch + dt.timedelta(seconds=i * MESSAGE_PERIOD_S),
+            POSITION + VELOCITY * (i * MESSAGE_PERIOD_S),
+        )
         for i in range(number)
     ]
 
@@ -95,8 +101,16 @@ def per_message_step(package: str, model: str):
 
     def step(utc, position):
         conditions = conditions_of(
-            utc, position, VELOCITY, weather, frame="eci", earth_rotation=True, wind=None,
-            wind_frame="ecef", anomalous_oxygen=True, accommodation_model=model,
+            utc,
+            position,
+            VELOCITY,
+            weather,
+            frame="eci",
+            earth_rotation=True,
+            wind=None,
+            wind_frame="ecef",
+            anomalous_oxygen=True,
+            accommodation_model=model,
             accommodation_options={"alpha": 1.0} if model == "fixed" else None,
             precession_nutation_step=60.0,
         )
@@ -145,7 +159,8 @@ def extract_package(revision: str, directory: str) -> pathlib.Path:
     """Extract ``adbsat_ros`` as it was at git ``revision`` into ``directory``; return its folder."""
     archive = subprocess.run(
         ["git", "-C", str(REPOSITORY), "archive", "--format=tar", revision, "adbsat_ros"],
-        check=True, capture_output=True,
+        check=True,
+        capture_output=True,
     ).stdout
     with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
         tar.extractall(directory, filter="data")
@@ -169,9 +184,15 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--number", type=int, default=2000, help="calls per timing round")
     parser.add_argument("--repeat", type=int, default=15, help="timing rounds")
-    parser.add_argument("--baseline", metavar="REV", help="also time the per-message path at git revision REV")
-    parser.add_argument("--cold-calls", type=int, default=300,
-                        help="calls of the cold per-message case (each after a 10 ms sleep); 0 skips it")
+    parser.add_argument(
+        "--baseline", metavar="REV", help="also time the per-message path at git revision REV"
+    )
+    parser.add_argument(
+        "--cold-calls",
+        type=int,
+        default=300,
+        help="calls of the cold per-message case (each after a 10 ms sleep); 0 skips it",
+    )
     args = parser.parse_args(argv)
 
     with tempfile.TemporaryDirectory() as directory:
@@ -179,8 +200,10 @@ def main(argv=None) -> None:
         if args.baseline:
             packages[f"baseline {args.baseline}"] = import_baseline(args.baseline, directory)
         messages = message_stream(args.number)
-        print(f"per-message path (flight_conditions + free_stream + dynamic_pressure, as on_attitude), "
-              f"median over {args.repeat} rounds of {args.number} messages {MESSAGE_PERIOD_S} s apart:")
+        print(
+            f"per-message path (flight_conditions + free_stream + dynamic_pressure, as on_attitude), "
+            f"median over {args.repeat} rounds of {args.number} messages {MESSAGE_PERIOD_S} s apart:"
+        )
         for model in ("fixed", "langmuir"):
             runs = {label: per_message_round(package, model) for label, package in packages.items()}
             for run in runs.values():
@@ -194,33 +217,42 @@ def main(argv=None) -> None:
                 print(f"  {model:<8} accommodation, {label:<24} {value:.4f} ms")
             if len(medians) == 2:
                 current, baseline = medians.values()
-                print(f"  {model:<8} accommodation, baseline / working tree   {baseline / current:.2f}x")
+                print(
+                    f"  {model:<8} accommodation, baseline / working tree   {baseline / current:.2f}x"
+                )
         if args.cold_calls > 0:
-            print(f"cold per-message path (the same, each call after time.sleep({COLD_PAUSE_S})), "
-                  f"median of {args.cold_calls} calls:")
+            print(
+                f"cold per-message path (the same, each call after time.sleep({COLD_PAUSE_S})), "
+                f"median of {args.cold_calls} calls:"
+            )
             for model in ("fixed", "langmuir"):
                 medians = cold_medians(packages, model, args.cold_calls, COLD_PAUSE_S)
                 for label, value in medians.items():
                     print(f"  {model:<8} accommodation, {label:<24} {value * 1e3:.4f} ms")
                 if len(medians) == 2:
                     current, baseline = medians.values()
-                    print(f"  {model:<8} accommodation, baseline / working tree   {baseline / current:.2f}x")
+                    print(
+                        f"  {model:<8} accommodation, baseline / working tree   {baseline / current:.2f}x"
+                    )
 
     times = advancing_times()
     fixed_orientation = earth_orientation(START)
     cases = {
-        "flight_conditions (ECI state, IAU 2006/2000A)":
-            lambda: flight_conditions(next(times), POSITION, VELOCITY, WEATHER),
-        "flight_conditions (ECI state, IAU 2000B)":
-            lambda: flight_conditions(next(times), POSITION, VELOCITY, WEATHER,
-                                      precession_nutation="iau2000b"),
-        "flight_conditions (precomputed EarthOrientation)":
-            lambda: flight_conditions(START, POSITION, VELOCITY, WEATHER,
-                                      orientation=fixed_orientation),
-        "flight_conditions_circular_orbit (ADBSat recipe)":
-            lambda: flight_conditions_circular_orbit(next(times), 400e3, 0.1, 0.2, WEATHER),
-        "evaluate_atmosphere (NRLMSISE-00 only)":
-            lambda: evaluate_atmosphere(next(times), 400e3, 0.1, 0.2, WEATHER),
+        "flight_conditions (ECI state, IAU 2006/2000A)": lambda: flight_conditions(
+            next(times), POSITION, VELOCITY, WEATHER
+        ),
+        "flight_conditions (ECI state, IAU 2000B)": lambda: flight_conditions(
+            next(times), POSITION, VELOCITY, WEATHER, precession_nutation="iau2000b"
+        ),
+        "flight_conditions (precomputed EarthOrientation)": lambda: flight_conditions(
+            START, POSITION, VELOCITY, WEATHER, orientation=fixed_orientation
+        ),
+        "flight_conditions_circular_orbit (ADBSat recipe)": lambda: (
+            flight_conditions_circular_orbit(next(times), 400e3, 0.1, 0.2, WEATHER)
+        ),
+        "evaluate_atmosphere (NRLMSISE-00 only)": lambda: evaluate_atmosphere(
+            next(times), 400e3, 0.1, 0.2, WEATHER
+        ),
     }
     print(f"median per call over {args.repeat} rounds of {args.number} calls:")
     width = max(len(name) for name in cases)

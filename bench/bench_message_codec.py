@@ -30,7 +30,12 @@ from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
 
 from adbsat_ros.bags import io as bag_io
-from adbsat_ros.messages.cdr import OdometryFields, odometry_fields, quaternion_stamped_fields, wrench_stamped_cdr
+from adbsat_ros.messages.cdr import (
+    OdometryFields,
+    odometry_fields,
+    quaternion_stamped_fields,
+    wrench_stamped_cdr,
+)
 
 FORCE, TORQUE = [1.0e-3, -2.0e-5, 3.0e-6], [4.0e-7, 5.0e-6, -6.0e-7]
 
@@ -75,7 +80,11 @@ def main() -> None:
         assert back.header.stamp == msg.header.stamp and back.wrench.force.x == FORCE[0]
     assert bytes(with_rosbags()) == with_struct()
 
-    pairs = {"rclpy message objects": with_rclpy, "rosbags codec": with_rosbags, "stamped_cdr (struct)": with_struct}
+    pairs = {
+        "rclpy message objects": with_rclpy,
+        "rosbags codec": with_rosbags,
+        "stamped_cdr (struct)": with_struct,
+    }
 
     odom = Odometry()
     odom.header.frame_id, odom.child_frame_id = "eci", "eci"
@@ -83,14 +92,20 @@ def main() -> None:
     odom.pose.pose.position.x, odom.twist.twist.linear.y = 6678137.0, 7725.8
     odom_raw = bytes(serialize_message(odom))
     states = {
-        "rclpy message objects": lambda: OdometryFields.of_message(deserialize_message(odom_raw, Odometry)),
-        "rosbags codec": lambda: OdometryFields.of_message(bag_io.deserialize(odom_raw, bag_io.ODOMETRY)),
+        "rclpy message objects": lambda: OdometryFields.of_message(
+            deserialize_message(odom_raw, Odometry)
+        ),
+        "rosbags codec": lambda: OdometryFields.of_message(
+            bag_io.deserialize(odom_raw, bag_io.ODOMETRY)
+        ),
         "stamped_cdr (struct)": lambda: odometry_fields(odom_raw),
     }
     assert len({fn() for fn in states.values()}) == 1  # the three read the same fields
 
-    for title, cases in (("one QuaternionStamped read + one WrenchStamped written", pairs),
-                         ("one Odometry read", states)):
+    for title, cases in (
+        ("one QuaternionStamped read + one WrenchStamped written", pairs),
+        ("one Odometry read", states),
+    ):
         block = 500
         times = {name: [] for name in cases}
         for _ in range(max(args.repeat // block, 1)):

@@ -36,12 +36,11 @@ from pathlib import Path
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
 import rclpy  # noqa: E402
+from bench_flight_conditions import import_baseline  # noqa: E402
 from geometry_msgs.msg import QuaternionStamped  # noqa: E402
 from nav_msgs.msg import Odometry  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
-
-from bench_flight_conditions import import_baseline  # noqa: E402
 
 R_ORBIT = 6378137.0 + 300e3
 V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
@@ -70,9 +69,12 @@ class NodeUnderTest:
 
     def __init__(self, package: str, mesh_path: str):
         node_module = importlib.import_module(f"{package}.node")
-        self.node = node_module.AdbsatNode(parameter_overrides=[
-            Parameter("mesh", value=mesh_path), Parameter("time_mode", value="epoch"),
-        ])
+        self.node = node_module.AdbsatNode(
+            parameter_overrides=[
+                Parameter("mesh", value=mesh_path),
+                Parameter("time_mode", value="epoch"),
+            ]
+        )
         self.subscriptions = {sub.topic_name.lstrip("/"): sub for sub in self.node.subscriptions}
         self.k = 0  # attitude stamps [ms]
 
@@ -83,7 +85,10 @@ class NodeUnderTest:
 
     def accepted(self, attitudes, states, number: int) -> None:
         """The next ``number`` of the 1 kHz ``attitudes``, with ``states`` every STATE_EVERY."""
-        on_attitude, on_state = self.subscriptions["attitude"].callback, self.subscriptions["state"].callback
+        on_attitude, on_state = (
+            self.subscriptions["attitude"].callback,
+            self.subscriptions["state"].callback,
+        )
         for _ in range(number):
             k = self.k
             if k % STATE_EVERY == 0:
@@ -126,11 +131,15 @@ def main() -> None:
     nan_attitude = attitude_bytes(0, (math.nan, 0.0, 0.0, 1.0))
     one_state = state_bytes(0)
     cases = {
-        "attitude -> wrench (cache hit, state every 100)": lambda n: n.accepted(attitudes, states, args.number),
+        "attitude -> wrench (cache hit, state every 100)": lambda n: n.accepted(
+            attitudes, states, args.number
+        ),
         "attitude rejected (NaN quaternion)": lambda n: n.rejected(nan_attitude, args.number),
         "state (Odometry)": lambda n: n.state(one_state, args.number),
     }
-    print(f"mesh: example satellite, {mesh.n_panels} faces; {args.repeat} rounds of {args.number} messages")
+    print(
+        f"mesh: example satellite, {mesh.n_panels} faces; {args.repeat} rounds of {args.number} messages"
+    )
     print(f"{'case':<50}" + "".join(f"{label + ' (fastest)':>28}" for label in nodes))
     for name, case in cases.items():
         for node in nodes.values():  # warm-up round (first ray cast, caches), not timed

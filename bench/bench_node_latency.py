@@ -93,11 +93,20 @@ REFERENCES = ("echo", BARE_ECHO)
 def target_held(echo_p99_ms: float, other_p99_ms: float) -> bool:
     """Whether a p99 latency [ms] meets the target against the echo's p99 in the same rounds."""
     return other_p99_ms < echo_p99_ms + TARGET_MARGIN_MS
+
+
 V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
 
 
-def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_deg_s: float,
-              state_rate: float, settle: float) -> None:
+def publisher(
+    rate: float,
+    duration: float,
+    out: str,
+    need_state: bool,
+    tumble_deg_s: float,
+    state_rate: float,
+    settle: float,
+) -> None:
     import rclpy
     from geometry_msgs.msg import QuaternionStamped
     from nav_msgs.msg import Odometry
@@ -110,8 +119,11 @@ def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_d
     st = node.create_publisher(Odometry, "state", qos)
     deadline = time.monotonic() + 30
     ready = Path(out).parent / "receiver-ready"  # written by the receiver once it hears the node
-    while (att.get_subscription_count() == 0 or (need_state and st.get_subscription_count() == 0)
-           or not ready.exists()) and time.monotonic() < deadline:
+    while (
+        att.get_subscription_count() == 0
+        or (need_state and st.get_subscription_count() == 0)
+        or not ready.exists()
+    ) and time.monotonic() < deadline:
         rclpy.spin_once(node, timeout_sec=0.05)
     time.sleep(settle)
     sent = {}  # stamp [ns] -> send time
@@ -120,7 +132,9 @@ def publisher(rate: float, duration: float, out: str, need_state: bool, tumble_d
     period_ns = round(1e9 / rate)
     start = time.monotonic()
     next_state = 0.0
-    q = QuaternionStamped()  # one object refilled (publish serialises at once): little CPU taken from the node
+    q = (
+        QuaternionStamped()
+    )  # one object refilled (publish serialises at once): little CPU taken from the node
     q.header.frame_id = "eci"
     for k in range(n):
         t = k * period
@@ -178,8 +192,8 @@ def receiver(duration: float, out: str) -> None:
     from geometry_msgs.msg import WrenchStamped
     from rclpy.qos import QoSProfile
 
-    from adbsat_ros.ros.node import make_executor
     from adbsat_ros.messages.cdr import header_stamp
+    from adbsat_ros.ros.node import make_executor
 
     rclpy.init()
     node = rclpy.create_node("bench_receiver")
@@ -191,7 +205,9 @@ def receiver(duration: float, out: str) -> None:
         sec, nanosec = header_stamp(raw)
         got[sec * 1_000_000_000 + nanosec] = now
 
-    wrench_sub = node.create_subscription(WrenchStamped, "wrench", on_wrench, QoSProfile(depth=100), raw=True)
+    wrench_sub = node.create_subscription(
+        WrenchStamped, "wrench", on_wrench, QoSProfile(depth=100), raw=True
+    )
     diagnostics = {}
 
     def on_diagnostics(msg):
@@ -211,7 +227,9 @@ def receiver(duration: float, out: str) -> None:
     while time.monotonic() < end:
         executor.spin_once(timeout_sec=0.1)
     stalls.stop()
-    Path(out).write_text(json.dumps({"wrench": got, "diagnostics": diagnostics, "receiver_stall_ms": stalls.max_ms}))
+    Path(out).write_text(
+        json.dumps({"wrench": got, "diagnostics": diagnostics, "receiver_stall_ms": stalls.max_ms})
+    )
     node.destroy_node()
     rclpy.try_shutdown()
 
@@ -244,8 +262,16 @@ def wait_until_idle(pid: int, timeout: float = 60.0) -> None:
 _CASE_NUMBERS = itertools.count()
 
 
-def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_memory=False,
-             echo_work_us: float = 0.0, package_dir: str | None = None) -> dict:
+def run_case(
+    kind: str,
+    rate: float,
+    duration: float,
+    mesh: str,
+    args,
+    measure_memory=False,
+    echo_work_us: float = 0.0,
+    package_dir: str | None = None,
+) -> dict:
     """One run of ``kind``: "adbsat" (the node of the package in ``package_dir`` if given, else of
     this tree), or an echo spinning ``echo_work_us`` per message."""
     env = dict(os.environ)
@@ -276,24 +302,72 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     if not kind.startswith("adbsat"):
         node_cmd = [sys.executable, str(HERE / "echo_node.py")]
     else:
-        node_program = [str(HERE / "traced_node.py")] if args.trace else ["-m", "adbsat_ros.ros.node"]
-        node_cmd = [sys.executable, *node_program, "--ros-args", "-p", f"mesh:={mesh}",
-                    "-p", "time_mode:=epoch", "-p", f"shading:={args.shading}", "-p", "qos_depth:=100",
-                    "-p", f"coefficients_source:={args.coefficients_source}", "-p", f"executor:={args.executor}"]
+        node_program = (
+            [str(HERE / "traced_node.py")] if args.trace else ["-m", "adbsat_ros.ros.node"]
+        )
+        node_cmd = [
+            sys.executable,
+            *node_program,
+            "--ros-args",
+            "-p",
+            f"mesh:={mesh}",
+            "-p",
+            "time_mode:=epoch",
+            "-p",
+            f"shading:={args.shading}",
+            "-p",
+            "qos_depth:=100",
+            "-p",
+            f"coefficients_source:={args.coefficients_source}",
+            "-p",
+            f"executor:={args.executor}",
+        ]
         if args.database:
             node_cmd += ["-p", f"database_path:={args.database}"]
     tmp = Path(tempfile.mkdtemp())
-    node_log = open(tmp / "node.log", "w")  # a file, not a pipe nobody reads (a full pipe would block the node)
-    node = subprocess.Popen(node_cmd, env=node_env, cwd=tmp, stdout=node_log, stderr=subprocess.STDOUT)
+    node_log = open(
+        tmp / "node.log", "w"
+    )  # a file, not a pipe nobody reads (a full pipe would block the node)
+    node = subprocess.Popen(
+        node_cmd, env=node_env, cwd=tmp, stdout=node_log, stderr=subprocess.STDOUT
+    )
     time.sleep(0.5)
     wait_until_idle(node.pid)
-    recv = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--duration", str(duration + 8 + args.settle),
-                             "--out", str(tmp / "recv.json")], env=env)
-    pub = subprocess.Popen([sys.executable, __file__, "--role", "publisher", "--rate", str(rate),
-                            "--duration", str(duration), "--out", str(tmp / "sent.json"),
-                            "--tumble", str(args.tumble), "--state-rate", str(args.state_rate),
-                            "--settle", str(args.settle)]
-                           + (["--need-state"] if kind.startswith("adbsat") else []), env=env)
+    recv = subprocess.Popen(
+        [
+            sys.executable,
+            __file__,
+            "--role",
+            "receiver",
+            "--duration",
+            str(duration + 8 + args.settle),
+            "--out",
+            str(tmp / "recv.json"),
+        ],
+        env=env,
+    )
+    pub = subprocess.Popen(
+        [
+            sys.executable,
+            __file__,
+            "--role",
+            "publisher",
+            "--rate",
+            str(rate),
+            "--duration",
+            str(duration),
+            "--out",
+            str(tmp / "sent.json"),
+            "--tumble",
+            str(args.tumble),
+            "--state-rate",
+            str(args.state_rate),
+            "--settle",
+            str(args.settle),
+        ]
+        + (["--need-state"] if kind.startswith("adbsat") else []),
+        env=env,
+    )
     cpu_start = cpu_seconds(node.pid)  # the node is idle here: set up, waiting for messages
     mem_start = None
     if measure_memory:
@@ -312,7 +386,7 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     trace = {}
     for line in (tmp / "node.log").read_text().splitlines():
         if line.startswith("TRACE "):
-            trace = json.loads(line[len("TRACE "):])
+            trace = json.loads(line[len("TRACE ") :])
     sent = json.loads((tmp / "sent.json").read_text())
     received = json.loads((tmp / "recv.json").read_text())
     got, diagnostics = received["wrench"], received["diagnostics"]
@@ -320,15 +394,21 @@ def run_case(kind: str, rate: float, duration: float, mesh: str, args, measure_m
     counted = [k for k in sent if sent[k] - first >= WARM_UP_S]
     lat = np.array([got[k] - sent[k] for k in counted if k in got]) * 1e3
     return {
-        "kind": kind, "rate_hz": rate, "sent": len(sent), "received": sum(k in got for k in sent),
+        "kind": kind,
+        "rate_hz": rate,
+        "sent": len(sent),
+        "received": sum(k in got for k in sent),
         "latencies_ms": lat,
         "cpu_s": cpu_end - cpu_start,
-        "rss_start_mb": mem_start, "rss_end_mb": mem_end,
+        "rss_start_mb": mem_start,
+        "rss_end_mb": mem_end,
         "compute_p50_ms": float(diagnostics.get("compute_ms_p50", "nan")),
         "compute_p99_ms": float(diagnostics.get("compute_ms_p99", "nan")),
         "compute_max_ms": float(diagnostics.get("compute_ms_max", "nan")),
         "prepared": float(diagnostics.get("conditions_prepared_used", "nan")),
-        "published": float(diagnostics.get("published", "nan")),  # wrenches the node made (some may be dropped)
+        "published": float(
+            diagnostics.get("published", "nan")
+        ),  # wrenches the node made (some may be dropped)
         "receiver_stall_ms": received["receiver_stall_ms"],
         "trace_us": trace,
     }
@@ -341,7 +421,8 @@ def pooled(rounds: list) -> dict:
     sent = sum(r["sent"] for r in rounds)
     received = sum(r["received"] for r in rounds)
     return {
-        "sent": sent, "dropped": sent - received,
+        "sent": sent,
+        "dropped": sent - received,
         "p50_ms": float(np.percentile(warm, 50)) if warm.size else float("nan"),
         "p99_ms": float(np.percentile(warm, 99)) if warm.size else float("nan"),
         "max_ms": float(warm.max()) if warm.size else float("nan"),
@@ -351,13 +432,17 @@ def pooled(rounds: list) -> dict:
         "held": int(np.count_nonzero(warm >= HELD_MS)),
         "runs_held": sum(int(np.any(r["latencies_ms"] >= HELD_MS)) for r in rounds),
         "cpu_ms_per_message": 1e3 * sum(r["cpu_s"] for r in rounds) / max(received, 1),
-        "prepared_share": sum(r["prepared"] for r in rounds) / max(sum(r["published"] for r in rounds), 1),
+        "prepared_share": sum(r["prepared"] for r in rounds)
+        / max(sum(r["published"] for r in rounds), 1),
         "receiver_stall_ms": max(r["receiver_stall_ms"] for r in rounds),
-        "rss_start_mb": rounds[0]["rss_start_mb"], "rss_end_mb": rounds[-1]["rss_end_mb"],
+        "rss_start_mb": rounds[0]["rss_start_mb"],
+        "rss_end_mb": rounds[-1]["rss_end_mb"],
     }
 
 
-def pooled_target(echo_rounds: list, other_rounds: list, resamples: int | None = None, seed: int = 0) -> tuple:
+def pooled_target(
+    echo_rounds: list, other_rounds: list, resamples: int | None = None, seed: int = 0
+) -> tuple:
     """(echo p99, other p99, share): the pooled p99 latencies [ms] of two kinds' rounds, and the
     share of bootstrap resamples in which the other kind's pooled p99 meets the target (target_held).
 
@@ -385,20 +470,31 @@ def pooled_target(echo_rounds: list, other_rounds: list, resamples: int | None =
 
 def build_node_database(mesh_path: Path) -> str:
     """A database (aoa -180:5:180 x aos -90:5:90, raycast) for the node's default set-up on the mesh."""
-    from adbsat_ros.estimator.estimator import AeroWrenchEstimator
     from adbsat_ros.database.build import build_database
-    from adbsat_ros.physics.freestream import FreeStream
+    from adbsat_ros.estimator.estimator import AeroWrenchEstimator
     from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+    from adbsat_ros.physics.freestream import FreeStream
 
-    settings = WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, mesh=str(mesh_path), shading="none"))
+    settings = WrenchSettings.from_parameters(
+        dict(PARAMETER_DEFAULTS, mesh=str(mesh_path), shading="none")
+    )
     method = AeroWrenchEstimator(settings).method
     flow = FreeStream(speed=7726.0, temperature=934.0, mean_mass_amu=17.9, density=2.4e-11)
     t0 = time.perf_counter()
-    db = build_database(method, flow, np.arange(-180.0, 180.1, 5.0), np.arange(-90.0, 90.1, 5.0),
-                        shading="raycast", mesh_spec=str(mesh_path), progress=False)
+    db = build_database(
+        method,
+        flow,
+        np.arange(-180.0, 180.1, 5.0),
+        np.arange(-90.0, 90.1, 5.0),
+        shading="raycast",
+        mesh_spec=str(mesh_path),
+        progress=False,
+    )
     path = str(mesh_path.with_suffix(".npz"))
     db.save(path)
-    print(f"database: {db.n_attitudes} attitudes built in {time.perf_counter() - t0:.1f} s -> {path}")
+    print(
+        f"database: {db.n_attitudes} attitudes built in {time.perf_counter() - t0:.1f} s -> {path}"
+    )
     return path
 
 
@@ -409,54 +505,114 @@ def main() -> None:
     parser.add_argument("--rates", default="100,1000")
     parser.add_argument("--duration", type=float, default=10.0)
     parser.add_argument("--soak", type=float, default=60.0)
-    parser.add_argument("--max-edge", type=float, default=0.0625,
-                        help="longest edge [m] of the example satellite's triangles (0.0625: 11,104 faces)")
+    parser.add_argument(
+        "--max-edge",
+        type=float,
+        default=0.0625,
+        help="longest edge [m] of the example satellite's triangles (0.0625: 11,104 faces)",
+    )
     parser.add_argument("--shading", default="raycast")
     parser.add_argument("--coefficients-source", default="panel")
     parser.add_argument("--database", default="")
-    parser.add_argument("--tumble", type=float, default=1.0,
-                        help="attitude rotation rate [deg/s] about z; 0 = fixed attitude (cache hits only)")
-    parser.add_argument("--executor", default="events", choices=["events", "single_threaded"],
-                        help="rclpy executor of the node under test and of the echo node")
-    parser.add_argument("--state-rate", type=float, default=10.0, help="Odometry messages per second [Hz]")
-    parser.add_argument("--rounds", type=int, default=1,
-                        help="runs of each case (echo and adbsat alternating) pooled into one figure set")
-    parser.add_argument("--settle", type=float, default=0.5,
-                        help="seconds between the receiver matching and the first message")
-    parser.add_argument("--fastdds-profile", default="",
-                        help="Fast DDS XML profile for all three processes (with "
-                             "ROS_AUTOMATIC_DISCOVERY_RANGE=SYSTEM_DEFAULT); default: rmw_fastrtps's "
-                             "LOCALHOST set-up")
-    parser.add_argument("--echo-work-us", type=float, action="append", default=[], metavar="US",
-                        help="also run an echo that spins US microseconds per message (repeatable): "
-                             "a node of known CPU cost beside adbsat, in the same rounds")
-    parser.add_argument("--echo-panel", action="store_true",
-                        help="also run an echo that computes the panel method per message (raw CDR in and "
-                             "out, cached shading, a fixed free stream): the node's arithmetic alone")
-    parser.add_argument("--baseline", metavar="REV",
-                        help="also run adbsat_node as it was at git revision REV, in the same rounds")
-    parser.add_argument("--keep-cpus-busy", action="store_true",
-                        help="run one idle-priority (nice 19) busy loop per CPU for the whole benchmark, so that "
-                             "no CPU sleeps between messages (the cost of a CPU woken from idle, "
-                             "docs/benchmarks.md session 9); every process then gets the CPU whenever it wants it")
-    parser.add_argument("--trace", action="store_true",
-                        help="time the adbsat node's callback parts in the running process (bench/traced_node.py)")
-    parser.add_argument("--trace-part", action="append", default=[], metavar="MODULE:QUALNAME",
-                        help="with --trace, also time this function (e.g. adbsat_ros.physics.panel_method:"
-                             "PanelMethod._unit_coefficients); repeatable")
-    parser.add_argument("--trace-cpu", action="store_true",
-                        help="with --trace, also record each part's thread CPU time (wall time above it is "
-                             "time the node's thread waited: preempted, or on a lock)")
+    parser.add_argument(
+        "--tumble",
+        type=float,
+        default=1.0,
+        help="attitude rotation rate [deg/s] about z; 0 = fixed attitude (cache hits only)",
+    )
+    parser.add_argument(
+        "--executor",
+        default="events",
+        choices=["events", "single_threaded"],
+        help="rclpy executor of the node under test and of the echo node",
+    )
+    parser.add_argument(
+        "--state-rate", type=float, default=10.0, help="Odometry messages per second [Hz]"
+    )
+    parser.add_argument(
+        "--rounds",
+        type=int,
+        default=1,
+        help="runs of each case (echo and adbsat alternating) pooled into one figure set",
+    )
+    parser.add_argument(
+        "--settle",
+        type=float,
+        default=0.5,
+        help="seconds between the receiver matching and the first message",
+    )
+    parser.add_argument(
+        "--fastdds-profile",
+        default="",
+        help="Fast DDS XML profile for all three processes (with "
+        "ROS_AUTOMATIC_DISCOVERY_RANGE=SYSTEM_DEFAULT); default: rmw_fastrtps's "
+        "LOCALHOST set-up",
+    )
+    parser.add_argument(
+        "--echo-work-us",
+        type=float,
+        action="append",
+        default=[],
+        metavar="US",
+        help="also run an echo that spins US microseconds per message (repeatable): "
+        "a node of known CPU cost beside adbsat, in the same rounds",
+    )
+    parser.add_argument(
+        "--echo-panel",
+        action="store_true",
+        help="also run an echo that computes the panel method per message (raw CDR in and "
+        "out, cached shading, a fixed free stream): the node's arithmetic alone",
+    )
+    parser.add_argument(
+        "--baseline",
+        metavar="REV",
+        help="also run adbsat_node as it was at git revision REV, in the same rounds",
+    )
+    parser.add_argument(
+        "--keep-cpus-busy",
+        action="store_true",
+        help="run one idle-priority (nice 19) busy loop per CPU for the whole benchmark, so that "
+        "no CPU sleeps between messages (the cost of a CPU woken from idle, "
+        "docs/benchmarks.md session 9); every process then gets the CPU whenever it wants it",
+    )
+    parser.add_argument(
+        "--trace",
+        action="store_true",
+        help="time the adbsat node's callback parts in the running process (bench/traced_node.py)",
+    )
+    parser.add_argument(
+        "--trace-part",
+        action="append",
+        default=[],
+        metavar="MODULE:QUALNAME",
+        help="with --trace, also time this function (e.g. adbsat_ros.physics.panel_method:"
+        "PanelMethod._unit_coefficients); repeatable",
+    )
+    parser.add_argument(
+        "--trace-cpu",
+        action="store_true",
+        help="with --trace, also record each part's thread CPU time (wall time above it is "
+        "time the node's thread waited: preempted, or on a lock)",
+    )
     parser.add_argument("--out", default="")
-    parser.add_argument("--need-state", action="store_true", help="(publisher) wait for a state subscriber")
+    parser.add_argument(
+        "--need-state", action="store_true", help="(publisher) wait for a state subscriber"
+    )
     args = parser.parse_args()
     if args.role in ("publisher", "receiver"):
         # the measuring processes: no garbage collection pauses of their own in the figures
         # (a run allocates little that lives; everything is freed at exit)
         gc.disable()
     if args.role == "publisher":
-        return publisher(args.rate, args.duration, args.out, args.need_state, args.tumble, args.state_rate,
-                         args.settle)
+        return publisher(
+            args.rate,
+            args.duration,
+            args.out,
+            args.need_state,
+            args.tumble,
+            args.state_rate,
+            args.settle,
+        )
     if args.role == "receiver":
         return receiver(args.duration, args.out)
 
@@ -467,16 +623,25 @@ def main() -> None:
     write_obj(mesh, mesh_path)
     if args.coefficients_source == "database" and not args.database:
         args.database = build_node_database(mesh_path)
-    print(f"mesh: example satellite, {mesh.n_panels} faces; shading {args.shading}; "
-          f"coefficients {args.coefficients_source}; attitude tumbling at {args.tumble:g} deg/s; "
-          f"middleware: {'profile ' + args.fastdds_profile if args.fastdds_profile else 'rmw_fastrtps LOCALHOST'}")
-    print(f"{'node':>15} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
-          f" {'held':>5} {'runs held':>9}"
-          f" {'compute p50':>12} {'compute p99':>12} {'compute max':>12} {'CPU/msg ms':>11} {'prepared':>9}"
-          f" {'recv hold-up':>12}")
+    print(
+        f"mesh: example satellite, {mesh.n_panels} faces; shading {args.shading}; "
+        f"coefficients {args.coefficients_source}; attitude tumbling at {args.tumble:g} deg/s; "
+        f"middleware: {'profile ' + args.fastdds_profile if args.fastdds_profile else 'rmw_fastrtps LOCALHOST'}"
+    )
+    print(
+        f"{'node':>15} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
+        f" {'held':>5} {'runs held':>9}"
+        f" {'compute p50':>12} {'compute p99':>12} {'compute max':>12} {'CPU/msg ms':>11} {'prepared':>9}"
+        f" {'recv hold-up':>12}"
+    )
     # the kinds of node, each with the work [us] its echo spins per message (none for adbsat)
     # (the bare echo right before adbsat in each round: each reference beside a run after it)
-    echo_work = {"echo": 0.0, BARE_ECHO: 0.0, "adbsat": 0.0, **{f"echo+{us:g}us": us for us in args.echo_work_us}}
+    echo_work = {
+        "echo": 0.0,
+        BARE_ECHO: 0.0,
+        "adbsat": 0.0,
+        **{f"echo+{us:g}us": us for us in args.echo_work_us},
+    }
     if args.echo_panel:
         echo_work["echo+panel"] = 0.0
     packages = {}  # kind -> package directory, for nodes of other revisions
@@ -486,8 +651,14 @@ def main() -> None:
 
         packages[kind] = str(extract_package(args.baseline, tempfile.mkdtemp()).parent)
         echo_work[kind] = 0.0
-    spinners = [subprocess.Popen([sys.executable, "-c", "import os\nos.nice(19)\nwhile True: pass"])
-                for _ in range(os.cpu_count() or 1)] if args.keep_cpus_busy else []
+    spinners = (
+        [
+            subprocess.Popen([sys.executable, "-c", "import os\nos.nice(19)\nwhile True: pass"])
+            for _ in range(os.cpu_count() or 1)
+        ]
+        if args.keep_cpus_busy
+        else []
+    )
     try:
         run_all(args, str(mesh_path), echo_work, packages)
     finally:
@@ -505,15 +676,26 @@ def run_all(args, mesh_path: str, echo_work: dict, packages: dict) -> None:
         rounds = {kind: [] for kind in echo_work}
         for _ in range(args.rounds):
             for kind in rounds:
-                rounds[kind].append(run_case(kind, rate, args.duration, mesh_path, args,
-                                             echo_work_us=echo_work[kind], package_dir=packages.get(kind)))
+                rounds[kind].append(
+                    run_case(
+                        kind,
+                        rate,
+                        args.duration,
+                        mesh_path,
+                        args,
+                        echo_work_us=echo_work[kind],
+                        package_dir=packages.get(kind),
+                    )
+                )
         for kind in rounds:
             r = pooled(rounds[kind])
-            print(f"{kind:>15} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
-                  f" {r['held']:5d} {r['runs_held']:4d} of {len(rounds[kind]):<2d}"
-                  f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f} {r['compute_max_ms']:12.3f}"
-                  f" {r['cpu_ms_per_message']:11.3f}"
-                  f" {r['prepared_share']:9.1%} {r['receiver_stall_ms']:12.1f}")
+            print(
+                f"{kind:>15} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
+                f" {r['held']:5d} {r['runs_held']:4d} of {len(rounds[kind]):<2d}"
+                f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f} {r['compute_max_ms']:12.3f}"
+                f" {r['cpu_ms_per_message']:11.3f}"
+                f" {r['prepared_share']:9.1%} {r['receiver_stall_ms']:12.1f}"
+            )
         if args.trace:
             for kind in (k for k in rounds if k.startswith("adbsat")):
                 parts: dict = {}
@@ -523,30 +705,45 @@ def run_all(args, mesh_path: str, echo_work: dict, packages: dict) -> None:
                 for part, durations in parts.items():
                     if durations:
                         p50, p90, p99 = np.percentile(durations, [50, 90, 99])
-                        print(f"{kind:>15} {rate:8.0f} {part:<34} p50 {p50:7.1f} us  p90 {p90:7.1f} us  "
-                              f"p99 {p99:7.1f} us  ({len(durations)} calls)")
+                        print(
+                            f"{kind:>15} {rate:8.0f} {part:<34} p50 {p50:7.1f} us  p90 {p90:7.1f} us  "
+                            f"p99 {p99:7.1f} us  ({len(durations)} calls)"
+                        )
         if args.rounds > 1:
             pairs.append((rate, rounds))
-    for rate, rounds in pairs:  # each echo run beside the runs after it in its round (same machine spell)
+    for (
+        rate,
+        rounds,
+    ) in pairs:  # each echo run beside the runs after it in its round (same machine spell)
         for reference in REFERENCES:
             for other in (kind for kind in rounds if kind not in REFERENCES):
                 verdicts = []
                 for echo, run in zip(rounds[reference], rounds[other]):
-                    e, a = (float(np.percentile(r["latencies_ms"], 99)) if r["latencies_ms"].size else math.inf
-                            for r in (echo, run))
+                    e, a = (
+                        float(np.percentile(r["latencies_ms"], 99))
+                        if r["latencies_ms"].size
+                        else math.inf
+                        for r in (echo, run)
+                    )
                     verdicts.append(f"{e:.2f}/{a:.2f} {'held' if target_held(e, a) else 'MISSED'}")
                 held = sum(v.endswith("held") for v in verdicts)
-                print(f"pairs at {rate:.0f} Hz, p99 ms {reference}/{other}, target {other} < {reference} + 1 ms: "
-                      f"{'; '.join(verdicts)} -> held in {held} of {len(verdicts)}")
+                print(
+                    f"pairs at {rate:.0f} Hz, p99 ms {reference}/{other}, target {other} < {reference} + 1 ms: "
+                    f"{'; '.join(verdicts)} -> held in {held} of {len(verdicts)}"
+                )
                 pooled_echo, pooled_other, share = pooled_target(rounds[reference], rounds[other])
-                print(f"pooled at {rate:.0f} Hz, p99 ms {reference}/{other}: {pooled_echo:.2f}/{pooled_other:.2f} "
-                      f"{'held' if target_held(pooled_echo, pooled_other) else 'MISSED'}; held in {share:.0%} of "
-                      f"{BOOTSTRAP_RESAMPLES} resamples of the round pairs")
+                print(
+                    f"pooled at {rate:.0f} Hz, p99 ms {reference}/{other}: {pooled_echo:.2f}/{pooled_other:.2f} "
+                    f"{'held' if target_held(pooled_echo, pooled_other) else 'MISSED'}; held in {share:.0%} of "
+                    f"{BOOTSTRAP_RESAMPLES} resamples of the round pairs"
+                )
     if args.soak > 0:
         r = pooled([run_case("adbsat", 1000.0, args.soak, mesh_path, args, measure_memory=True)])
-        print(f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "
-              f"p99 {r['p99_ms']:.3f} ms, max {r['max_ms']:.1f} ms, RSS {r['rss_start_mb']:.1f} -> {r['rss_end_mb']:.1f} MB "
-              f"(growth {r['rss_end_mb'] - r['rss_start_mb']:.1f} MB)")
+        print(
+            f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "
+            f"p99 {r['p99_ms']:.3f} ms, max {r['max_ms']:.1f} ms, RSS {r['rss_start_mb']:.1f} -> {r['rss_end_mb']:.1f} MB "
+            f"(growth {r['rss_end_mb'] - r['rss_start_mb']:.1f} MB)"
+        )
 
 
 if __name__ == "__main__":

@@ -21,7 +21,15 @@ import trimesh
 from adbsat_ros import FreeStream, PanelMethod, panels_from_trimesh
 from adbsat_ros.geometry.frames import flow_direction
 
-SPECIES = {"He": 2.1e12, "O": 4.3e15, "N2": 6.9e14, "O2": 2.1e13, "Ar": 3.7e10, "H": 1.2e11, "N": 3.5e13}
+SPECIES = {
+    "He": 2.1e12,
+    "O": 4.3e15,
+    "N2": 6.9e14,
+    "O2": 2.1e13,
+    "Ar": 3.7e10,
+    "H": 1.2e11,
+    "N": 3.5e13,
+}
 
 
 def sphere_with_faces(target: int) -> trimesh.Trimesh:
@@ -63,7 +71,9 @@ def main() -> None:
             c, s, cp, ct = method.panel_coefficients(u, flow)
             method.integrate(u, c, s, cp, ct)
 
-        print(f"{mesh.n_panels:8d} {median_ms(full, args.repeat):18.3f} {median_ms(hot, args.repeat):12.3f}")
+        print(
+            f"{mesh.n_panels:8d} {median_ms(full, args.repeat):18.3f} {median_ms(hot, args.repeat):12.3f}"
+        )
 
 
 if __name__ == "__main__":

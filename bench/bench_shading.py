@@ -34,15 +34,18 @@ import time
 import numpy as np
 
 from adbsat_ros.geometry import frames
-from adbsat_ros.shading.shader import lit_projected_area, make_shader
-from adbsat_ros.shading.rays_embree import embree_available
-from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
 from adbsat_ros.geometry.shapes import combine, grid_box
+from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
+from adbsat_ros.shading.rays_embree import embree_available
+from adbsat_ros.shading.shader import lit_projected_area, make_shader
 
 
 def cube_plate(plate_div, cube_div):
     return combine(
-        [grid_box((2.0, 0, 0), (1, 1, 1), (cube_div,) * 3), grid_box((0, 0, 0), (0.1, 3, 3), (1, plate_div, plate_div))],
+        [
+            grid_box((2.0, 0, 0), (1, 1, 1), (cube_div,) * 3),
+            grid_box((0, 0, 0), (0.1, 3, 3), (1, plate_div, plate_div)),
+        ],
         "cube+plate",
     )
 
@@ -83,7 +86,9 @@ def main(argv=None):
         ("satellite", satellite(21)),
     ]
     have_embree = embree_available()
-    print(f"# python {platform.python_version()}, numpy {np.__version__}, {os.cpu_count()} CPUs, embree: {have_embree}")
+    print(
+        f"# python {platform.python_version()}, numpy {np.__version__}, {os.cpu_count()} CPUs, embree: {have_embree}"
+    )
     print("# flow aoa = 10 deg, aos = 5 deg; times are medians in ms")
     header = f"{'scene':<11} {'faces':>6} {'case':<26} {'median ms':>10} {'rays':>8} {'tested':>7} {'partly lit':>10}"
     print(header)
@@ -133,7 +138,14 @@ def accuracy():
         mesh = cube_plate(div, 2)
         ray = make_shader(mesh)
         proj = make_shader(mesh, mode="projection")
-        for aoa, aos in ((0.0, 0.0), (3.7, 0.0), (10.0, 0.0), (17.3, 0.0), (10.0, 5.0), (-6.0, 12.0)):
+        for aoa, aos in (
+            (0.0, 0.0),
+            (3.7, 0.0),
+            (10.0, 0.0),
+            (17.3, 0.0),
+            (10.0, 5.0),
+            (-6.0, 12.0),
+        ):
             a, b = math.radians(aoa), math.radians(aos)
             u = frames.flow_direction(a, b)
             exact = 9.0 * abs(u[0]) + 0.3 * (abs(u[1]) + abs(u[2]))
@@ -151,7 +163,9 @@ def accuracy():
 
     print()
     print("# ShadingCache on cube+plate (25x25): cached vs exact recompute, 60 random directions")
-    print("# E = lit projected area moved [m^2], dA = |AreaProj cached - exact| [m^2], bound = area_error_bound")
+    print(
+        "# E = lit projected area moved [m^2], dA = |AreaProj cached - exact| [m^2], bound = area_error_bound"
+    )
     header = f"{'res deg':>7} {'mean E':>9} {'max E':>9} {'max dA':>9} {'min bound':>10} {'max E/bound':>12}"
     print(header)
     print("-" * len(header))
@@ -162,7 +176,11 @@ def accuracy():
         rng = np.random.default_rng(3)
         rows = []
         for k in range(60):
-            u = rng.normal(size=3) if k % 3 == 0 else np.array([-1.0, 0.0, 0.0]) + 0.5 * rng.normal(size=3)
+            u = (
+                rng.normal(size=3)
+                if k % 3 == 0
+                else np.array([-1.0, 0.0, 0.0]) + 0.5 * rng.normal(size=3)
+            )
             u /= np.linalg.norm(u)
             cached, exact = cache.lighting(u), shader.lighting(u)
             e = moved_lit_area(mesh, u, cached, exact)

@@ -30,19 +30,21 @@ from adbsat_ros.ros.node import make_executor, spin_until_shutdown
 
 def panel_callback(publisher, mesh_path: str):
     """The --echo-panel callback: CDR bytes of an attitude in, of its wrench out."""
-    from adbsat_ros.geometry.frames import quaternion_matrix_floats
-    from adbsat_ros.physics.freestream import FreeStream
-    from adbsat_ros.geometry.loading import resolve_mesh
-    from adbsat_ros.physics.panel_method import PanelMethod
-    from adbsat_ros.shading.shader import make_shader
-    from adbsat_ros.shading.cache import ShadingCache
-    from adbsat_ros.messages.cdr import quaternion_stamped_fields, wrench_stamped_cdr
     from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS as D
+    from adbsat_ros.geometry.frames import quaternion_matrix_floats
+    from adbsat_ros.geometry.loading import resolve_mesh
+    from adbsat_ros.messages.cdr import quaternion_stamped_fields, wrench_stamped_cdr
+    from adbsat_ros.physics.freestream import FreeStream
+    from adbsat_ros.physics.panel_method import PanelMethod
+    from adbsat_ros.shading.cache import ShadingCache
+    from adbsat_ros.shading.shader import make_shader
 
     mesh = resolve_mesh(mesh_path, 1.0)
     method = PanelMethod(mesh, D["gsi_model"])
-    cache = ShadingCache(make_shader(mesh, mode="raycast", samples=D["shading_samples"]),
-                         resolution_deg=D["shading_cache_resolution_deg"])
+    cache = ShadingCache(
+        make_shader(mesh, mode="raycast", samples=D["shading_samples"]),
+        resolution_deg=D["shading_cache_resolution_deg"],
+    )
     # about 300 km: O and N2 [m^-3], 900 K, 7.7 km/s
     flow = FreeStream(speed=7700.0, temperature=900.0, number_densities={"O": 6e14, "N2": 2e14})
     q = flow.dynamic_pressure()
@@ -51,10 +53,19 @@ def panel_callback(publisher, mesh_path: str):
     def on_attitude(raw):
         stamp, (x, y, z, w) = quaternion_stamped_fields(raw)
         m = quaternion_matrix_floats(x, y, z, w)
-        u = np.array([-m[3], -m[4], -m[5]])  # -R^T v / |v| for v along +y: the gas along -y, body axes
+        u = np.array(
+            [-m[3], -m[4], -m[5]]
+        )  # -R^T v / |v| for v along +y: the gas along -y, body axes
         coefficients = method._unit_coefficients(flow, u, cache.lighting(u))
-        handle.publish_raw(wrench_stamped_cdr(stamp.sec, stamp.nanosec, "body", coefficients.force(q).tolist(),
-                                              coefficients.torque(q).tolist()))
+        handle.publish_raw(
+            wrench_stamped_cdr(
+                stamp.sec,
+                stamp.nanosec,
+                "body",
+                coefficients.force(q).tolist(),
+                coefficients.torque(q).tolist(),
+            )
+        )
 
     return on_attitude
 
@@ -80,7 +91,9 @@ def main():
 
     mesh_path = os.environ.get("ECHO_PANEL_MESH")
     if mesh_path:
-        node.create_subscription(QuaternionStamped, "attitude", panel_callback(pub, mesh_path), qos, raw=True)
+        node.create_subscription(
+            QuaternionStamped, "attitude", panel_callback(pub, mesh_path), qos, raw=True
+        )
     else:
         node.create_subscription(QuaternionStamped, "attitude", echo, qos)
     executor_kind = os.environ.get("ECHO_EXECUTOR", "events")

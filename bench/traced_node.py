@@ -16,21 +16,28 @@ bench/traced_node.py --ros-args ...``.
 
 import atexit
 import gc
+import importlib
 import json
+import os
 import sys
 import time
 
-import importlib
-import os
-
 from adbsat_ros.estimator import estimator as aero_wrench
-
 from adbsat_ros.ros import node
 
 WARM_UP_CALLS = 500
-_durations = {"attitude callback": [], "estimator.on_attitude": [], "estimator.prepare": [], "node._publish": [],
-              "node._take_waiting": [], "estimator.on_attitudes": [], "estimator.on_attitudes per message": [],
-              "gc generation 0": [], "gc generation 1": [], "gc generation 2": []}
+_durations = {
+    "attitude callback": [],
+    "estimator.on_attitude": [],
+    "estimator.prepare": [],
+    "node._publish": [],
+    "node._take_waiting": [],
+    "estimator.on_attitudes": [],
+    "estimator.on_attitudes per message": [],
+    "gc generation 0": [],
+    "gc generation 1": [],
+    "gc generation 2": [],
+}
 _gc_started = [0.0]
 
 
@@ -38,7 +45,9 @@ def _on_gc(phase, info):
     if phase == "start":
         _gc_started[0] = time.perf_counter()
     elif _warm():
-        _durations[f"gc generation {info['generation']}"].append(time.perf_counter() - _gc_started[0])
+        _durations[f"gc generation {info['generation']}"].append(
+            time.perf_counter() - _gc_started[0]
+        )
 
 
 gc.callbacks.append(_on_gc)
@@ -46,9 +55,21 @@ gc.callbacks.append(_on_gc)
 
 #: Parts timed on every call, whose first WARM_UP_CALLS calls are left out at the end; the others
 #: (garbage collections, the takes and bursts of waiting messages) are recorded after the warm-up only.
-_EVERY_MESSAGE = ("attitude callback", "estimator.on_attitude", "estimator.prepare", "node._publish",
-                  *(f"{part} [thread CPU]" for part in ("attitude callback", "estimator.on_attitude",
-                                                        "estimator.prepare", "node._publish")))
+_EVERY_MESSAGE = (
+    "attitude callback",
+    "estimator.on_attitude",
+    "estimator.prepare",
+    "node._publish",
+    *(
+        f"{part} [thread CPU]"
+        for part in (
+            "attitude callback",
+            "estimator.on_attitude",
+            "estimator.prepare",
+            "node._publish",
+        )
+    ),
+)
 
 
 def _warm() -> bool:
@@ -85,9 +106,12 @@ def _traced(function, part):
 
 
 node.AdbsatNode._on_attitude = _traced(node.AdbsatNode._on_attitude, "attitude callback")
-aero_wrench.AeroWrenchEstimator.on_attitude = _traced(aero_wrench.AeroWrenchEstimator.on_attitude,
-                                                     "estimator.on_attitude")
-aero_wrench.AeroWrenchEstimator.prepare = _traced(aero_wrench.AeroWrenchEstimator.prepare, "estimator.prepare")
+aero_wrench.AeroWrenchEstimator.on_attitude = _traced(
+    aero_wrench.AeroWrenchEstimator.on_attitude, "estimator.on_attitude"
+)
+aero_wrench.AeroWrenchEstimator.prepare = _traced(
+    aero_wrench.AeroWrenchEstimator.prepare, "estimator.prepare"
+)
 node.AdbsatNode._publish = _traced(node.AdbsatNode._publish, "node._publish")
 node.AdbsatNode._take_waiting = _traced(node.AdbsatNode._take_waiting, "node._take_waiting")
 _on_attitudes = _traced(aero_wrench.AeroWrenchEstimator.on_attitudes, "estimator.on_attitudes")
@@ -97,7 +121,9 @@ def _on_attitudes_per_message(self, messages):
     t0 = time.perf_counter()
     results = _on_attitudes(self, messages)
     if _warm():
-        _durations["estimator.on_attitudes per message"].append((time.perf_counter() - t0) / len(messages))
+        _durations["estimator.on_attitudes per message"].append(
+            (time.perf_counter() - t0) / len(messages)
+        )
     return results
 
 
@@ -114,8 +140,13 @@ for _path in filter(None, os.environ.get("TRACED_PARTS", "").split(",")):
 
 @atexit.register
 def _report():
-    out = {part: [round(1e6 * d, 1) for d in (durations[WARM_UP_CALLS:] if part in _EVERY_MESSAGE else durations)]
-           for part, durations in _durations.items()}
+    out = {
+        part: [
+            round(1e6 * d, 1)
+            for d in (durations[WARM_UP_CALLS:] if part in _EVERY_MESSAGE else durations)
+        ]
+        for part, durations in _durations.items()
+    }
     print("TRACE " + json.dumps(out), file=sys.stderr, flush=True)
 
 

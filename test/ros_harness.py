@@ -45,7 +45,9 @@ class Peer:
         self.executor = executor
         executor.add_node(self.node)
 
-    def send_state(self, t, position, velocity, frame="eci", child="eci", orientation=(0.0, 0.0, 0.0, 1.0)):
+    def send_state(
+        self, t, position, velocity, frame="eci", child="eci", orientation=(0.0, 0.0, 0.0, 1.0)
+    ):
         msg = Odometry()
         msg.header.stamp = to_stamp(t)
         msg.header.frame_id = frame
@@ -81,7 +83,10 @@ class Peer:
 
     def wait_for_subscribers(self, timeout=5.0):
         return self.spin_until(
-            lambda: self.attitude_pub.get_subscription_count() > 0 and self.state_pub.get_subscription_count() > 0,
+            lambda: (
+                self.attitude_pub.get_subscription_count() > 0
+                and self.state_pub.get_subscription_count() > 0
+            ),
             timeout,
         )
 

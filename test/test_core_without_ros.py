@@ -4,12 +4,28 @@ import subprocess
 import sys
 
 CORE_MODULES = [
-    "adbsat_ros", "adbsat_ros.geometry.mesh", "adbsat_ros.physics.gsi_models", "adbsat_ros.physics.panel_method",
-    "adbsat_ros.shading.shader", "adbsat_ros.shading.cache", "adbsat_ros.physics.solar", "adbsat_ros.environment.atmosphere",
-    "adbsat_ros.environment.flight_conditions", "adbsat_ros.environment.accommodation", "adbsat_ros.estimator.estimator",
-    "adbsat_ros.estimator.settings", "adbsat_ros.cli", "adbsat_ros.database.build", "adbsat_ros.database.lookup",
-    "adbsat_ros.database.matching", "adbsat_ros.plotting.coefficients", "adbsat_ros.bags.scenario", "adbsat_ros.bags.io",
-    "adbsat_ros.bags.analysis", "adbsat_ros.environment.earth_frames", "adbsat_ros.physics.freestream",
+    "adbsat_ros",
+    "adbsat_ros.geometry.mesh",
+    "adbsat_ros.physics.gsi_models",
+    "adbsat_ros.physics.panel_method",
+    "adbsat_ros.shading.shader",
+    "adbsat_ros.shading.cache",
+    "adbsat_ros.physics.solar",
+    "adbsat_ros.environment.atmosphere",
+    "adbsat_ros.environment.flight_conditions",
+    "adbsat_ros.environment.accommodation",
+    "adbsat_ros.estimator.estimator",
+    "adbsat_ros.estimator.settings",
+    "adbsat_ros.cli",
+    "adbsat_ros.database.build",
+    "adbsat_ros.database.lookup",
+    "adbsat_ros.database.matching",
+    "adbsat_ros.plotting.coefficients",
+    "adbsat_ros.bags.scenario",
+    "adbsat_ros.bags.io",
+    "adbsat_ros.bags.analysis",
+    "adbsat_ros.environment.earth_frames",
+    "adbsat_ros.physics.freestream",
 ]
 
 

@@ -55,15 +55,18 @@ from pathlib import Path
 import numpy as np
 
 from adbsat_ros.bags import io as bag_io
-from adbsat_ros.estimator.estimator import AeroWrenchEstimator, Rejection
-from adbsat_ros.estimator.estimator import stamp_seconds
 from adbsat_ros.bags.io import BagError
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator, Rejection, stamp_seconds
+from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.frames import angles_of_flow
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.messages.cdr import (
-    OdometryFields, header_stamp, odometry_fields, quaternion_stamped_fields, wrench_stamped_cdr,
+    OdometryFields,
+    header_stamp,
+    odometry_fields,
+    quaternion_stamped_fields,
+    wrench_stamped_cdr,
 )
-from adbsat_ros.estimator.settings import WrenchSettings
 
 #: Name of the node whose section a parameters file is read from, and whose logic is replayed.
 NODE_NAME = "adbsat_node"
@@ -75,10 +78,29 @@ COMMON_COLUMNS = ("stamp_s", "utc", "time_s", "topic")
 #: Columns of each model's group, prefixed with "LABEL." in the CSV. wind_body is the velocity of
 #: the gas relative to the body in body axes; aoa/aos are ADBSat's angles of that flow (frames.py).
 MODEL_COLUMNS = (
-    "status", "altitude_m", "density_kg_m3", "temperature_K", "relative_speed_m_s",
-    "wind_body_x_m_s", "wind_body_y_m_s", "wind_body_z_m_s", "aoa_deg", "aos_deg",
-    "drag_coefficient", "CF_x", "CF_y", "CF_z", "CM_x", "CM_y", "CM_z",
-    "force_x_N", "force_y_N", "force_z_N", "torque_x_Nm", "torque_y_Nm", "torque_z_Nm",
+    "status",
+    "altitude_m",
+    "density_kg_m3",
+    "temperature_K",
+    "relative_speed_m_s",
+    "wind_body_x_m_s",
+    "wind_body_y_m_s",
+    "wind_body_z_m_s",
+    "aoa_deg",
+    "aos_deg",
+    "drag_coefficient",
+    "CF_x",
+    "CF_y",
+    "CF_z",
+    "CM_x",
+    "CM_y",
+    "CM_z",
+    "force_x_N",
+    "force_y_N",
+    "force_z_N",
+    "torque_x_Nm",
+    "torque_y_Nm",
+    "torque_z_Nm",
 )
 _LABEL_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 _NS = 1_000_000_000
@@ -93,7 +115,9 @@ def label_from_name(name: str) -> str:
 def check_label(label: str) -> str:
     """Return ``label`` if it can be a ROS topic name token, else raise ValueError naming it."""
     if not _LABEL_RE.match(label):
-        raise ValueError(f"model label {label!r}: use letters, digits and '_' and start with a letter")
+        raise ValueError(
+            f"model label {label!r}: use letters, digits and '_' and start with a letter"
+        )
     return label
 
 
@@ -171,8 +195,16 @@ _NO_RESULT = (False, None, None, None, None, None, None, ())
 #: Numbers of the latest sample in the node's DiagnosticStatus (WrenchSample attribute paths).
 _DIAG_FIELDS = ("mass_density", "temperature", "altitude", "speed", "speed_ratio", "alpha")
 #: Plot columns of MODEL_COLUMNS (force, torque, density, drag coefficient).
-_PLOT_COLUMNS = ("force_x_N", "force_y_N", "force_z_N", "torque_x_Nm", "torque_y_Nm", "torque_z_Nm",
-                 "density_kg_m3", "drag_coefficient")
+_PLOT_COLUMNS = (
+    "force_x_N",
+    "force_y_N",
+    "force_z_N",
+    "torque_x_Nm",
+    "torque_y_Nm",
+    "torque_z_Nm",
+    "density_kg_m3",
+    "drag_coefficient",
+)
 _PLOT_INDEX = [MODEL_COLUMNS.index(c) for c in _PLOT_COLUMNS]
 _STATE, _ATTITUDE = 0, 1
 
@@ -211,10 +243,27 @@ class _WorkerModel:
         try:
             _, orientation = self.estimator.on_odometry(msg)
         except Rejection as exc:
-            return (False, None, (exc.reason, exc.message, True), None, None, None, None, self._keys())
+            return (
+                False,
+                None,
+                (exc.reason, exc.message, True),
+                None,
+                None,
+                None,
+                None,
+                self._keys(),
+            )
         except Exception as exc:  # as the node: never let a message stop the analysis
-            return (False, None, ("compute_error", f"{type(exc).__name__}: {exc}", False), None, None, None, None,
-                    self._keys())
+            return (
+                False,
+                None,
+                ("compute_error", f"{type(exc).__name__}: {exc}", False),
+                None,
+                None,
+                None,
+                None,
+                self._keys(),
+            )
         if self.on_attitude_topic:
             return (True, None, None, None, None, None, None, self._keys())
         return (True, *self._compute(msg.stamp, orientation))
@@ -231,13 +280,29 @@ class _WorkerModel:
         except Rejection as exc:
             return exc.reason, (exc.reason, exc.message, True), None, None, None, None, self._keys()
         except Exception as exc:  # as the node
-            return ("compute_error", ("compute_error", f"{type(exc).__name__}: {exc}", False), None, None, None, None,
-                    self._keys())
+            return (
+                "compute_error",
+                ("compute_error", f"{type(exc).__name__}: {exc}", False),
+                None,
+                None,
+                None,
+                None,
+                self._keys(),
+            )
         c = sample.conditions
-        diag = tuple(float(getattr(c, name)) for name in _DIAG_FIELDS) + (float(sample.drag_coefficient),)
-        wrench = wrench_stamped_cdr(stamp.sec, stamp.nanosec, self.frame, sample.force, sample.torque)
-        coefficients = wrench_stamped_cdr(stamp.sec, stamp.nanosec, self.frame, sample.force_coefficients,
-                                          sample.moment_coefficients)
+        diag = tuple(float(getattr(c, name)) for name in _DIAG_FIELDS) + (
+            float(sample.drag_coefficient),
+        )
+        wrench = wrench_stamped_cdr(
+            stamp.sec, stamp.nanosec, self.frame, sample.force, sample.torque
+        )
+        coefficients = wrench_stamped_cdr(
+            stamp.sec,
+            stamp.nanosec,
+            self.frame,
+            sample.force_coefficients,
+            sample.moment_coefficients,
+        )
         return "ok", None, diag, sample.compute_seconds, wrench, coefficients, self._keys(), sample
 
 
@@ -393,7 +458,9 @@ class _ModelRun:
         # Checks the settings before anything is written; gives diagnostic_values() its static
         # part (reference, database) and probes chunk split points. It never computes a wrench.
         self.estimator = AeroWrenchEstimator(settings, mesh)
-        self.summary = ModelSummary(label, f"{NAMESPACE}/{label}/wrench", f"{NAMESPACE}/{label}/coefficients")
+        self.summary = ModelSummary(
+            label, f"{NAMESPACE}/{label}/wrench", f"{NAMESPACE}/{label}/coefficients"
+        )
         self.rejections = collections.Counter()
         self.published = 0
         self.cache = _SequentialCacheCount(settings.shading_cache_size)
@@ -437,15 +504,19 @@ class _ModelRun:
         age = None if self.last_state_ns is None else (now_ns - self.last_state_ns) / _NS
         n_rejected = sum(self.rejections.values())
         if age is None or age > max(s.state_timeout, s.diagnostics_period):
-            level, message = self.ERROR, "no orbital state" if age is None else f"state is stale ({age:.1f} s old)"
+            level, message = (
+                self.ERROR,
+                "no orbital state" if age is None else f"state is stale ({age:.1f} s old)",
+            )
         elif self.last_rejection_reason == "stale_state":
             level, message = self.ERROR, "state is stale relative to the attitude stamps"
         elif n_rejected:
             level, message = self.WARN, f"{n_rejected} inputs rejected so far"
         else:
             level, message = self.OK, "ok"
-        return bag_io.diagnostic_status(level, f"{NODE_NAME}/{self.label}: aerodynamic wrench", message,
-                                        est.mesh.source, values)
+        return bag_io.diagnostic_status(
+            level, f"{NODE_NAME}/{self.label}: aerodynamic wrench", message, est.mesh.source, values
+        )
 
     def accepts_state(self, msg) -> bool:
         """Whether a freshly reset estimator accepts this Odometry (no rejection, no error)."""
@@ -471,10 +542,20 @@ def _row_values(status: str, sample) -> list:
     else:
         aoa = aos = math.nan
     # plain Python floats: the csv module writes them (repr, exact round trip) far faster than numpy's
-    return [status, float(c.altitude), float(c.mass_density), float(c.temperature), float(c.speed),
-            *wind.tolist(), aoa, aos, float(sample.drag_coefficient),
-            *np.concatenate([sample.force_coefficients, sample.moment_coefficients, sample.force,
-                             sample.torque]).tolist()]
+    return [
+        status,
+        float(c.altitude),
+        float(c.mass_density),
+        float(c.temperature),
+        float(c.speed),
+        *wind.tolist(),
+        aoa,
+        aos,
+        float(sample.drag_coefficient),
+        *np.concatenate(
+            [sample.force_coefficients, sample.moment_coefficients, sample.force, sample.torque]
+        ).tolist(),
+    ]
 
 
 def _read_messages(reader, path, connections):
@@ -487,8 +568,10 @@ def _read_messages(reader, path, connections):
         except StopIteration:
             return
         except Exception as exc:  # rosbags raises many kinds (ReaderError, struct, zstd, apsw ...)
-            raise BagError(f"input bag {path}: corrupt or truncated after {count} messages "
-                           f"({type(exc).__name__}: {exc})") from None
+            raise BagError(
+                f"input bag {path}: corrupt or truncated after {count} messages "
+                f"({type(exc).__name__}: {exc})"
+            ) from None
         count += 1
         yield item
 
@@ -561,14 +644,20 @@ def _check_topics(reader, path, topics_types):
     for conn in reader.connections:
         by_topic[conn.topic].add(conn.msgtype)
         counts[conn.topic] += conn.msgcount
-    listing = ", ".join(f"{t} ({', '.join(sorted(ty))})" for t, ty in sorted(by_topic.items())) or "none"
+    listing = (
+        ", ".join(f"{t} ({', '.join(sorted(ty))})" for t, ty in sorted(by_topic.items())) or "none"
+    )
     for option, topic, msgtype in topics_types:
         if topic not in by_topic:
-            raise BagError(f"input bag {path}: no topic {topic} (given by {option}); the bag has: {listing}")
+            raise BagError(
+                f"input bag {path}: no topic {topic} (given by {option}); the bag has: {listing}"
+            )
         other = by_topic[topic] - {msgtype}
         if other:
-            raise BagError(f"input bag {path}: topic {topic} (given by {option}) has message type "
-                           f"{', '.join(sorted(other))}; expected {msgtype}")
+            raise BagError(
+                f"input bag {path}: topic {topic} (given by {option}) has message type "
+                f"{', '.join(sorted(other))}; expected {msgtype}"
+            )
         if counts[topic] == 0:
             raise BagError(f"input bag {path}: topic {topic} (given by {option}) has no messages")
     return by_topic
@@ -579,14 +668,26 @@ def _output_path(path, overwrite: bool, what: str) -> Path | None:
         return None
     path = Path(path)
     if path.exists() and not overwrite:
-        raise BagError(f"output {what} {path}: already exists (choose another name, or overwrite it: --overwrite)")
+        raise BagError(
+            f"output {what} {path}: already exists (choose another name, or overwrite it: --overwrite)"
+        )
     return path
 
 
-def analyze_bag(bag, attitude_topic: str = "/attitude", state_topic: str = "/state",
-                models=None, out_bag=None, out_csv=None, plots_dir=None, storage: str = "mcap",
-                progress: bool = False, overwrite: bool = False, workers: int | None = None,
-                chunk_messages: int | None = None) -> AnalysisReport:
+def analyze_bag(
+    bag,
+    attitude_topic: str = "/attitude",
+    state_topic: str = "/state",
+    models=None,
+    out_bag=None,
+    out_csv=None,
+    plots_dir=None,
+    storage: str = "mcap",
+    progress: bool = False,
+    overwrite: bool = False,
+    workers: int | None = None,
+    chunk_messages: int | None = None,
+) -> AnalysisReport:
     """Replay a bag through the node's logic for each model and write bag, CSV and plots.
 
     Parameters
@@ -664,11 +765,17 @@ def analyze_bag(bag, attitude_topic: str = "/attitude", state_topic: str = "/sta
         for run in runs:
             for topic in (run.summary.wrench_topic, run.summary.coefficients_topic):
                 if topic in by_topic:
-                    raise BagError(f"input bag {bag}: already has topic {topic}; give the model another label")
+                    raise BagError(
+                        f"input bag {bag}: already has topic {topic}; give the model another label"
+                    )
         if by_topic.get(DIAGNOSTICS_TOPIC, {bag_io.DIAGNOSTIC_ARRAY}) != {bag_io.DIAGNOSTIC_ARRAY}:
-            raise BagError(f"input bag {bag}: topic {DIAGNOSTICS_TOPIC} has another type than "
-                           f"{bag_io.DIAGNOSTIC_ARRAY}; the diagnostics cannot be added to it")
-        report = AnalysisReport(bag, models=[r.summary for r in runs], messages_total=reader.message_count)
+            raise BagError(
+                f"input bag {bag}: topic {DIAGNOSTICS_TOPIC} has another type than "
+                f"{bag_io.DIAGNOSTIC_ARRAY}; the diagnostics cannot be added to it"
+            )
+        report = AnalysisReport(
+            bag, models=[r.summary for r in runs], messages_total=reader.message_count
+        )
         analysis = _Analysis(reader, bag, runs, attitude_topic, state_topic, report)
         analysis.read()
     finally:
@@ -747,12 +854,19 @@ class _Analysis:
         t0 = time.perf_counter()
         n = len(self.trigger_kinds)
         if chunk_messages is None:
-            chunk_messages = n if workers == 1 else max(MIN_CHUNK_MESSAGES, -(-n // (CHUNKS_PER_WORKER * workers)))
+            chunk_messages = (
+                n
+                if workers == 1
+                else max(MIN_CHUNK_MESSAGES, -(-n // (CHUNKS_PER_WORKER * workers)))
+            )
         splits = []
         if chunk_messages < n:
             m = len(self.trigger_stamps)  # stamps known up to here
-            candidates = safe_split_points(self.trigger_kinds[:m], self.trigger_stamps,
-                                           [r.settings.attitude_source for r in self.runs])
+            candidates = safe_split_points(
+                self.trigger_kinds[:m],
+                self.trigger_stamps,
+                [r.settings.attitude_source for r in self.runs],
+            )
             target = chunk_messages
             for k in candidates.tolist():
                 if k < target or n - k < max(1, chunk_messages // 4):
@@ -786,11 +900,17 @@ class _Analysis:
             return
         from concurrent.futures import ProcessPoolExecutor
 
-        with ProcessPoolExecutor(max_workers=self.workers, mp_context=_pool_context(),
-                                 initializer=_init_worker, initargs=(self.specs,)) as pool:
+        with ProcessPoolExecutor(
+            max_workers=self.workers,
+            mp_context=_pool_context(),
+            initializer=_init_worker,
+            initargs=(self.specs,),
+        ) as pool:
             todo = iter(self.chunks)
-            pending = collections.deque(pool.submit(_run_chunk, self._chunk_payload(c))
-                                        for c in itertools.islice(todo, 2 * self.workers))
+            pending = collections.deque(
+                pool.submit(_run_chunk, self._chunk_payload(c))
+                for c in itertools.islice(todo, 2 * self.workers)
+            )
             try:
                 while pending:
                     result = pending.popleft().result()
@@ -810,16 +930,23 @@ class _Analysis:
         try:
             if out_csv is not None:
                 out_csv.parent.mkdir(parents=True, exist_ok=True)
-                fd, csv_tmp = tempfile.mkstemp(prefix=f".{out_csv.name}.", suffix=".partial", dir=out_csv.parent)
+                fd, csv_tmp = tempfile.mkstemp(
+                    prefix=f".{out_csv.name}.", suffix=".partial", dir=out_csv.parent
+                )
                 csv_file = os.fdopen(fd, "w", newline="", encoding="utf-8")
                 csv.writer(csv_file).writerow(
-                    list(COMMON_COLUMNS) + [f"{r.label}.{c}" for r in self.runs for c in MODEL_COLUMNS])
+                    list(COMMON_COLUMNS)
+                    + [f"{r.label}.{c}" for r in self.runs for c in MODEL_COLUMNS]
+                )
             self._merge(writer, csv_file, progress)
             last_ns = self._last_ns
             if writer is not None and last_ns is not None:
                 for run in self.runs:  # a last status with the final counts, at the end of the bag
-                    writer.write(DIAGNOSTICS_TOPIC, last_ns,
-                                 bag_io.diagnostic_array_message(last_ns, [run.diagnostic_status(last_ns)]))
+                    writer.write(
+                        DIAGNOSTICS_TOPIC,
+                        last_ns,
+                        bag_io.diagnostic_array_message(last_ns, [run.diagnostic_status(last_ns)]),
+                    )
             if csv_file is not None:
                 csv_file.close()
                 os.replace(csv_tmp, out_csv)
@@ -856,15 +983,24 @@ class _Analysis:
         topics = {cid: c.topic for cid, c in self.connections.items()}
         wrench_conns = coeff_conns = None
         if writer is not None:
-            wrench_conns = [writer.connection(r.summary.wrench_topic, bag_io.WRENCH_STAMPED) for r in runs]
-            coeff_conns = [writer.connection(r.summary.coefficients_topic, bag_io.WRENCH_STAMPED) for r in runs]
+            wrench_conns = [
+                writer.connection(r.summary.wrench_topic, bag_io.WRENCH_STAMPED) for r in runs
+            ]
+            coeff_conns = [
+                writer.connection(r.summary.coefficients_topic, bag_io.WRENCH_STAMPED) for r in runs
+            ]
         results = self._chunk_results()
         bounds = iter(self.chunks)
         chunk_stop = 0  # trigger index where the current chunk result ends
         result = None
         trigger = 0
         first_row_ns = None
-        bar = tqdm(total=report.messages_total, unit="msg", disable=not progress, desc=f"analyse {self.path.name}")
+        bar = tqdm(
+            total=report.messages_total,
+            unit="msg",
+            disable=not progress,
+            desc=f"analyse {self.path.name}",
+        )
         done = 0
         try:
             t0 = pc()
@@ -878,13 +1014,20 @@ class _Analysis:
                 if writer is not None:
                     for run in runs:
                         while run.next_diag_ns <= t_ns:
-                            writer.write(DIAGNOSTICS_TOPIC, run.next_diag_ns, bag_io.diagnostic_array_message(
-                                run.next_diag_ns, [run.diagnostic_status(run.next_diag_ns)]))
+                            writer.write(
+                                DIAGNOSTICS_TOPIC,
+                                run.next_diag_ns,
+                                bag_io.diagnostic_array_message(
+                                    run.next_diag_ns, [run.diagnostic_status(run.next_diag_ns)]
+                                ),
+                            )
                             run.next_diag_ns += run.diag_period_ns
                     out = out_conns.get(conn_id)
                     if out is None:
                         c = self.connections[conn_id]
-                        out = out_conns[conn_id] = writer.connection(c.topic, c.msgtype, c.msgdef.data, c.digest)
+                        out = out_conns[conn_id] = writer.connection(
+                            c.topic, c.msgtype, c.msgdef.data, c.digest
+                        )
                     writer.write_raw(out, t_ns, raw)
                 if conn_id not in self.kind_of:
                     continue
@@ -901,8 +1044,10 @@ class _Analysis:
                 trigger += 1
                 if i == len(result.records):  # this message could not be decoded: stop here
                     c = self.connections[conn_id]
-                    report.error = (f"input bag {self.path}: message {report.messages_read} on {c.topic} cannot be "
-                                    f"decoded as {c.msgtype} ({result.error})")
+                    report.error = (
+                        f"input bag {self.path}: message {report.messages_read} on {c.topic} cannot be "
+                        f"decoded as {c.msgtype} ({result.error})"
+                    )
                     break
                 records = result.records[i]
                 for run, record in zip(runs, records):
@@ -925,8 +1070,10 @@ class _Analysis:
                 self.rows_plot.append(row[2])
                 if csv_file is not None:
                     stamp_s = sec + 1e-9 * nanosec
-                    csv_file.write(f"{stamp_s!r},{row[0]},{(stamp_ns - first_row_ns) * 1e-9!r},"
-                                   f"{topics[conn_id]},{row[1]}\r\n")
+                    csv_file.write(
+                        f"{stamp_s!r},{row[0]},{(stamp_ns - first_row_ns) * 1e-9!r},"
+                        f"{topics[conn_id]},{row[1]}\r\n"
+                    )
                 t0 = pc()
                 seconds["csv"] += t0 - t1
             seconds["write"] += pc() - t0
@@ -941,11 +1088,15 @@ class _Analysis:
         except ModuleNotFoundError as exc:
             if exc.name != "adbsat_ros.plotting.time_series":
                 raise
-            self.report.warnings.append("plots not written: adbsat_ros.plotting.time_series is not available")
+            self.report.warnings.append(
+                "plots not written: adbsat_ros.plotting.time_series is not available"
+            )
             return
         stamps_ns = np.asarray(self.rows_stamp, dtype=np.int64)
         time_s = (stamps_ns - stamps_ns[0]) * 1e-9
-        data = np.asarray(self.rows_plot, dtype=float).reshape(len(stamps_ns), len(self.runs), len(_PLOT_COLUMNS))
+        data = np.asarray(self.rows_plot, dtype=float).reshape(
+            len(stamps_ns), len(self.runs), len(_PLOT_COLUMNS)
+        )
         runs = {}
         for k, run in enumerate(self.runs):
             runs[run.label] = {
@@ -956,7 +1107,9 @@ class _Analysis:
             }
         plots_dir = Path(plots_dir)
         plots_dir.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{plots_dir.name}.", suffix=".partial", dir=plots_dir.parent))
+        tmp = Path(
+            tempfile.mkdtemp(prefix=f".{plots_dir.name}.", suffix=".partial", dir=plots_dir.parent)
+        )
         try:
             written = plot_time_series(time_s, runs, tmp)
             if plots_dir.exists():
@@ -981,10 +1134,14 @@ def _summarise(report: AnalysisReport, runs, attitude_topic, state_topic) -> Non
         run.summary.rejections = rejections
         for reason, count in sorted(rejections.items()):
             if reason == "no_state":
-                text = (f"{count} messages on {attitude_topic} came before the first usable state on "
-                        f"{state_topic}: no wrench for them")
+                text = (
+                    f"{count} messages on {attitude_topic} came before the first usable state on "
+                    f"{state_topic}: no wrench for them"
+                )
             else:
                 text = f"{count} inputs rejected ({reason}), first: {run.summary.first_rejection.get(reason, '')}"
             report.warnings.append(f"model {run.label}: {text}")
         if run.summary.triggers and not run.summary.wrenches:
-            report.warnings.append(f"model {run.label}: no wrench computed from {run.summary.triggers} inputs")
+            report.warnings.append(
+                f"model {run.label}: no wrench computed from {run.summary.triggers} inputs"
+            )

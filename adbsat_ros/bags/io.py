@@ -31,7 +31,11 @@ WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
 DIAGNOSTIC_ARRAY = "diagnostic_msgs/msg/DiagnosticArray"
 
 #: Storage names accepted on the command line -> rosbags storage plugin.
-STORAGES = {"mcap": StoragePlugin.MCAP, "sqlite3": StoragePlugin.SQLITE3, "db3": StoragePlugin.SQLITE3}
+STORAGES = {
+    "mcap": StoragePlugin.MCAP,
+    "sqlite3": StoragePlugin.SQLITE3,
+    "db3": StoragePlugin.SQLITE3,
+}
 #: rosbag2 metadata format version written.
 BAG_VERSION = 9
 _NS = 1_000_000_000
@@ -75,15 +79,26 @@ def _vector(cls, xyz):
 
 
 # --------------------------------------------------------------------------------- builders
-def odometry_message(stamp, frame_id: str, child_frame_id: str, position, velocity,
-                     orientation_xyzw=(0.0, 0.0, 0.0, 1.0), angular_velocity=(0.0, 0.0, 0.0)):
+def odometry_message(
+    stamp,
+    frame_id: str,
+    child_frame_id: str,
+    position,
+    velocity,
+    orientation_xyzw=(0.0, 0.0, 0.0, 1.0),
+    angular_velocity=(0.0, 0.0, 0.0),
+):
     """nav_msgs/Odometry: pose in ``frame_id`` [m], twist in ``child_frame_id`` [m/s, rad/s].
 
     ``stamp`` is integer nanoseconds or a builtin_interfaces/Time; covariances are zero.
     """
     x, y, z, w = (float(v) for v in orientation_xyzw)
-    pose = _T["geometry_msgs/msg/Pose"](position=_vector(_Point, position), orientation=_Quaternion(x=x, y=y, z=z, w=w))
-    twist = _T["geometry_msgs/msg/Twist"](linear=_vector(_Vector3, velocity), angular=_vector(_Vector3, angular_velocity))
+    pose = _T["geometry_msgs/msg/Pose"](
+        position=_vector(_Point, position), orientation=_Quaternion(x=x, y=y, z=z, w=w)
+    )
+    twist = _T["geometry_msgs/msg/Twist"](
+        linear=_vector(_Vector3, velocity), angular=_vector(_Vector3, angular_velocity)
+    )
     return _T[ODOMETRY](
         header=_header(stamp, frame_id),
         child_frame_id=child_frame_id,
@@ -95,12 +110,16 @@ def odometry_message(stamp, frame_id: str, child_frame_id: str, position, veloci
 def quaternion_stamped_message(stamp, frame_id: str, quaternion_xyzw):
     """geometry_msgs/QuaternionStamped (x, y, z, w)."""
     x, y, z, w = (float(v) for v in quaternion_xyzw)
-    return _T[QUATERNION_STAMPED](header=_header(stamp, frame_id), quaternion=_Quaternion(x=x, y=y, z=z, w=w))
+    return _T[QUATERNION_STAMPED](
+        header=_header(stamp, frame_id), quaternion=_Quaternion(x=x, y=y, z=z, w=w)
+    )
 
 
 def wrench_stamped_message(stamp, frame_id: str, force, torque):
     """geometry_msgs/WrenchStamped: force [N] and torque [N m] (or coefficients) in ``frame_id``."""
-    wrench = _T["geometry_msgs/msg/Wrench"](force=_vector(_Vector3, force), torque=_vector(_Vector3, torque))
+    wrench = _T["geometry_msgs/msg/Wrench"](
+        force=_vector(_Vector3, force), torque=_vector(_Vector3, torque)
+    )
     return _T[WRENCH_STAMPED](header=_header(stamp, frame_id), wrench=wrench)
 
 
@@ -108,7 +127,10 @@ def diagnostic_status(level: int, name: str, message: str, hardware_id: str, val
     """diagnostic_msgs/DiagnosticStatus with every value as text (as the node sends them)."""
     kv = _T["diagnostic_msgs/msg/KeyValue"]
     return _T["diagnostic_msgs/msg/DiagnosticStatus"](
-        level=int(level), name=name, message=message, hardware_id=hardware_id,
+        level=int(level),
+        name=name,
+        message=message,
+        hardware_id=hardware_id,
         values=[kv(key=str(k), value=str(v)) for k, v in values.items()],
     )
 
@@ -151,8 +173,10 @@ def open_bag(path) -> Reader:
         reader = Reader(path)
         reader.open()
     except Exception as exc:  # rosbags raises ReaderError, sqlite/apsw, struct and OS errors here
-        raise BagError(f"input bag {path}: cannot be read ({type(exc).__name__}: {exc}); "
-                       "is it a rosbag2 (.mcap or .db3) and complete?") from None
+        raise BagError(
+            f"input bag {path}: cannot be read ({type(exc).__name__}: {exc}); "
+            "is it a rosbag2 (.mcap or .db3) and complete?"
+        ) from None
     return reader
 
 
@@ -185,23 +209,35 @@ class BagWriter:
         self.path = Path(path)
         self.storage = storage_plugin(storage)
         if self.path.exists() and not overwrite:
-            raise BagError(f"output bag {self.path}: already exists (choose another name, or overwrite it: --overwrite)")
+            raise BagError(
+                f"output bag {self.path}: already exists (choose another name, or overwrite it: --overwrite)"
+            )
         if self.path.exists() and not self.path.is_dir():
             raise BagError(f"output bag {self.path}: exists and is not a bag directory")
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._tmp_parent = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".partial", dir=self.path.parent))
-        self._writer = Writer(self._tmp_parent / self.path.name, version=BAG_VERSION, storage_plugin=self.storage)
+        self._tmp_parent = Path(
+            tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".partial", dir=self.path.parent)
+        )
+        self._writer = Writer(
+            self._tmp_parent / self.path.name, version=BAG_VERSION, storage_plugin=self.storage
+        )
         self._writer.open()
         self._connections = {}
         self.count = 0
 
-    def connection(self, topic: str, msgtype: str, msgdef: str | None = None, digest: str | None = None):
+    def connection(
+        self, topic: str, msgtype: str, msgdef: str | None = None, digest: str | None = None
+    ):
         """The connection of (topic, msgtype), added on first use (definitions from Jazzy unless given)."""
         key = (topic, msgtype)
         conn = self._connections.get(key)
         if conn is None:
-            if (msgdef and digest) or msgtype not in TYPESTORE.types:  # keep the recorded definition
-                conn = self._writer.add_connection(topic, msgtype, msgdef=msgdef or "", rihs01=digest or "")
+            if (
+                msgdef and digest
+            ) or msgtype not in TYPESTORE.types:  # keep the recorded definition
+                conn = self._writer.add_connection(
+                    topic, msgtype, msgdef=msgdef or "", rihs01=digest or ""
+                )
             else:
                 conn = self._writer.add_connection(topic, msgtype, typestore=TYPESTORE)
             self._connections[key] = conn
@@ -252,8 +288,15 @@ def write_bag(path, records, storage: str = "mcap", overwrite: bool = False) -> 
     return Path(path)
 
 
-def write_scenario_bag(messages, out_path, attitude_topic: str = "/attitude", state_topic: str = "/state",
-                       storage: str = "mcap", frame_id: str = "eci", overwrite: bool = False) -> Path:
+def write_scenario_bag(
+    messages,
+    out_path,
+    attitude_topic: str = "/attitude",
+    state_topic: str = "/state",
+    storage: str = "mcap",
+    frame_id: str = "eci",
+    overwrite: bool = False,
+) -> Path:
     """Write a :class:`~adbsat_ros.bags.scenario.ScenarioMessages` as a bag.
 
     States become nav_msgs/Odometry (``frame_id`` and ``child_frame_id`` both ``frame_id``: the
@@ -268,12 +311,24 @@ def write_scenario_bag(messages, out_path, attitude_topic: str = "/attitude", st
     def records():
         for t_ns, kind, i in events:
             if kind == 0:
-                yield state_topic, t_ns, odometry_message(
-                    t_ns, frame_id, frame_id, states.position_eci[i], states.velocity_eci[i],
-                    orientation_xyzw=_orientation_at(attitudes, t_ns),
+                yield (
+                    state_topic,
+                    t_ns,
+                    odometry_message(
+                        t_ns,
+                        frame_id,
+                        frame_id,
+                        states.position_eci[i],
+                        states.velocity_eci[i],
+                        orientation_xyzw=_orientation_at(attitudes, t_ns),
+                    ),
                 )
             else:
-                yield attitude_topic, t_ns, quaternion_stamped_message(t_ns, frame_id, attitudes.quaternion_xyzw[i])
+                yield (
+                    attitude_topic,
+                    t_ns,
+                    quaternion_stamped_message(t_ns, frame_id, attitudes.quaternion_xyzw[i]),
+                )
 
     return write_bag(out_path, records(), storage, overwrite)
 
@@ -281,4 +336,6 @@ def write_scenario_bag(messages, out_path, attitude_topic: str = "/attitude", st
 def _orientation_at(attitudes, t_ns):
     """The latest attitude at or before t_ns (or the first), for the Odometry pose orientation."""
     i = int(np.searchsorted(attitudes.stamps_ns, t_ns, side="right")) - 1
-    return attitudes.quaternion_xyzw[max(i, 0)] if len(attitudes.stamps_ns) else (0.0, 0.0, 0.0, 1.0)
+    return (
+        attitudes.quaternion_xyzw[max(i, 0)] if len(attitudes.stamps_ns) else (0.0, 0.0, 0.0, 1.0)
+    )

@@ -32,8 +32,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from adbsat_ros.physics.constants import EARTH_MU
 from adbsat_ros.estimator.settings import parse_utc
+from adbsat_ros.physics.constants import EARTH_MU
 
 #: Earth's equatorial radius [m] (WGS-84) from which ``altitude_km`` is measured.
 EARTH_RADIUS = 6378137.0
@@ -95,29 +95,54 @@ class Scenario:
             if not ok:
                 raise ValueError(f"scenario {name}: {what}, got {getattr(self, name)!r}")
 
-        for name in ("duration_s", "rate_hz", "state_rate_hz", "altitude_km", "eccentricity", "inclination_deg",
-                     "raan_deg", "arg_perigee_deg", "true_anomaly_deg", "tumble_rate_deg_s"):
-            check(name, isinstance(getattr(self, name), (int, float)) and math.isfinite(getattr(self, name)),
-                  "must be a finite number")
+        for name in (
+            "duration_s",
+            "rate_hz",
+            "state_rate_hz",
+            "altitude_km",
+            "eccentricity",
+            "inclination_deg",
+            "raan_deg",
+            "arg_perigee_deg",
+            "true_anomaly_deg",
+            "tumble_rate_deg_s",
+        ):
+            check(
+                name,
+                isinstance(getattr(self, name), (int, float))
+                and math.isfinite(getattr(self, name)),
+                "must be a finite number",
+            )
         check("duration_s", self.duration_s >= 0, "must be >= 0")
         check("rate_hz", self.rate_hz > 0, "must be > 0")
         check("state_rate_hz", self.state_rate_hz > 0, "must be > 0")
         check("altitude_km", 0 < self.altitude_km <= 100000, "must be in (0, 100000] km")
         check("eccentricity", 0 <= self.eccentricity < 1, "must be in [0, 1)")
         check("inclination_deg", 0 <= self.inclination_deg <= 180, "must be in [0, 180]")
-        check("attitude", self.attitude in ATTITUDE_MODES, f"must be one of {', '.join(ATTITUDE_MODES)}")
+        check(
+            "attitude",
+            self.attitude in ATTITUDE_MODES,
+            f"must be one of {', '.join(ATTITUDE_MODES)}",
+        )
         check("time_mode", self.time_mode in TIME_MODES, f"must be one of {', '.join(TIME_MODES)}")
         if self.tumble_axis is not None:
             axis = np.asarray(self.tumble_axis, dtype=float)
-            check("tumble_axis", axis.shape == (3,) and np.all(np.isfinite(axis)) and np.linalg.norm(axis) > 0,
-                  "must be three finite numbers, not all zero")
+            check(
+                "tumble_axis",
+                axis.shape == (3,) and np.all(np.isfinite(axis)) and np.linalg.norm(axis) > 0,
+                "must be three finite numbers, not all zero",
+            )
         parse_utc("epoch_utc", self.epoch_utc) if isinstance(self.epoch_utc, str) else None
 
     @property
     def epoch(self) -> _dt.datetime:
         """UTC of t = 0 as an aware datetime."""
         if isinstance(self.epoch_utc, _dt.datetime):
-            t = self.epoch_utc if self.epoch_utc.tzinfo else self.epoch_utc.replace(tzinfo=_dt.timezone.utc)
+            t = (
+                self.epoch_utc
+                if self.epoch_utc.tzinfo
+                else self.epoch_utc.replace(tzinfo=_dt.timezone.utc)
+            )
             return t.astimezone(_dt.timezone.utc)
         return parse_utc("epoch_utc", self.epoch_utc)
 
@@ -226,7 +251,9 @@ def kepler_states(scenario: Scenario, t) -> tuple[np.ndarray, np.ndarray]:
     a = scenario.semi_major_axis
     n = math.sqrt(EARTH_MU / a**3)
     nu0 = math.radians(scenario.true_anomaly_deg)
-    e0 = 2.0 * math.atan2(math.sqrt(1 - e) * math.sin(nu0 / 2), math.sqrt(1 + e) * math.cos(nu0 / 2))
+    e0 = 2.0 * math.atan2(
+        math.sqrt(1 - e) * math.sin(nu0 / 2), math.sqrt(1 + e) * math.cos(nu0 / 2)
+    )
     m0 = e0 - e * math.sin(e0)
     big_e = solve_kepler(m0 + n * t, e)
     cos_e, sin_e = np.cos(big_e), np.sin(big_e)
@@ -266,7 +293,9 @@ def attitude_quaternions(scenario: Scenario, t) -> np.ndarray:
         rot = nadir_rotation(*kepler_states(scenario, t))
     else:
         start = nadir_rotation(*kepler_states(scenario, [0.0]))
-        spin = Rotation.from_rotvec(np.outer(np.radians(scenario.tumble_rate_deg_s) * t, tumble_axis(scenario)))
+        spin = Rotation.from_rotvec(
+            np.outer(np.radians(scenario.tumble_rate_deg_s) * t, tumble_axis(scenario))
+        )
         rot = start * spin  # body-fixed axis: R(t) = R0 R_axis(w t)
     q = rot.as_quat()
     return np.where(q[:, 3:4] < 0, -q, q)

@@ -13,6 +13,7 @@ import re
 import sys
 
 from adbsat_ros.geometry.mesh import MeshError
+
 from .options import CommandLineError, OneLineErrorParser
 
 #: Subcommand modules, in the order ``--help`` lists them.

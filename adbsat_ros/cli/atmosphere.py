@@ -16,12 +16,13 @@ import sys
 from adbsat_ros.environment.accommodation import accommodation_model_names
 from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR, MAX_ALTITUDE, SpaceWeather
 from adbsat_ros.environment.earth_frames import earth_orientation
-from adbsat_ros.environment.geodetic import ecef_to_geodetic
 from adbsat_ros.environment.flight_conditions import (
     DEFAULT_ACCOMMODATION_MODEL,
     flight_conditions,
     flight_conditions_circular_orbit,
 )
+from adbsat_ros.environment.geodetic import ecef_to_geodetic
+
 from .options import CommandLineError, finite_float, non_negative_float, parse_vector3
 
 #: Space weather used when not given: the NRLMSISE-00 reference test point (moderate activity).
@@ -37,46 +38,93 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
     makes ``--time`` optional (its alternative is ``--speed/--temperature/...``).
     """
     parser.add_argument(
-        "--time", required=time_required, metavar="ISO8601",
+        "--time",
+        required=time_required,
+        metavar="ISO8601",
         help="UTC time, e.g. 2015-01-19T00:00:00Z (no offset means UTC)",
     )
     where = parser.add_argument_group("geodetic point (WGS-84)")
-    where.add_argument("--altitude", type=finite_float("--altitude"), metavar="KM",
-                       help="height above the WGS-84 ellipsoid [km], 0..1000")
-    where.add_argument("--lat", type=finite_float("--lat"), metavar="DEG",
-                       help="geodetic latitude [deg], -90..90")
-    where.add_argument("--lon", type=finite_float("--lon"), metavar="DEG",
-                       help="east longitude [deg]")
+    where.add_argument(
+        "--altitude",
+        type=finite_float("--altitude"),
+        metavar="KM",
+        help="height above the WGS-84 ellipsoid [km], 0..1000",
+    )
+    where.add_argument(
+        "--lat", type=finite_float("--lat"), metavar="DEG", help="geodetic latitude [deg], -90..90"
+    )
+    where.add_argument(
+        "--lon", type=finite_float("--lon"), metavar="DEG", help="east longitude [deg]"
+    )
     state = parser.add_argument_group("orbital state")
     state.add_argument("--position", metavar="X,Y,Z", help="position [m] in --frame")
-    state.add_argument("--velocity", metavar="X,Y,Z",
-                       help="velocity [m/s] in --frame (inertial for eci, Earth-relative for ecef)")
-    state.add_argument("--frame", choices=("eci", "ecef"), default=None,
-                       help="frame of --position/--velocity: eci = GCRF, ecef = ITRF (default eci)")
-    state.add_argument("--wind", metavar="E,N,U",
-                       help="wind [m/s] in local East-North-Up axes (needs --velocity)")
-    state.add_argument("--no-earth-rotation", action="store_true",
-                       help="air at rest in ECI instead of co-rotating (needs --velocity)")
+    state.add_argument(
+        "--velocity",
+        metavar="X,Y,Z",
+        help="velocity [m/s] in --frame (inertial for eci, Earth-relative for ecef)",
+    )
+    state.add_argument(
+        "--frame",
+        choices=("eci", "ecef"),
+        default=None,
+        help="frame of --position/--velocity: eci = GCRF, ecef = ITRF (default eci)",
+    )
+    state.add_argument(
+        "--wind", metavar="E,N,U", help="wind [m/s] in local East-North-Up axes (needs --velocity)"
+    )
+    state.add_argument(
+        "--no-earth-rotation",
+        action="store_true",
+        help="air at rest in ECI instead of co-rotating (needs --velocity)",
+    )
     weather = parser.add_argument_group("space weather")
-    weather.add_argument("--f107", type=non_negative_float("--f107"), default=DEFAULT_F107,
-                         metavar="SFU",
-                         help=f"F10.7 of the previous day (default {DEFAULT_F107:g})")
-    weather.add_argument("--f107a", type=non_negative_float("--f107a"), default=DEFAULT_F107A,
-                         metavar="SFU", help=f"81-day average F10.7 (default {DEFAULT_F107A:g})")
-    weather.add_argument("--ap", type=non_negative_float("--ap"), default=DEFAULT_AP,
-                         metavar="AP", help=f"daily Ap (default {DEFAULT_AP:g})")
-    weather.add_argument("--ap-history", metavar="A0,...,A6",
-                         help="NRLMSISE-00's 7-element Ap array (storm-time formulation)")
+    weather.add_argument(
+        "--f107",
+        type=non_negative_float("--f107"),
+        default=DEFAULT_F107,
+        metavar="SFU",
+        help=f"F10.7 of the previous day (default {DEFAULT_F107:g})",
+    )
+    weather.add_argument(
+        "--f107a",
+        type=non_negative_float("--f107a"),
+        default=DEFAULT_F107A,
+        metavar="SFU",
+        help=f"81-day average F10.7 (default {DEFAULT_F107A:g})",
+    )
+    weather.add_argument(
+        "--ap",
+        type=non_negative_float("--ap"),
+        default=DEFAULT_AP,
+        metavar="AP",
+        help=f"daily Ap (default {DEFAULT_AP:g})",
+    )
+    weather.add_argument(
+        "--ap-history",
+        metavar="A0,...,A6",
+        help="NRLMSISE-00's 7-element Ap array (storm-time formulation)",
+    )
     gas = parser.add_argument_group("gas and surface")
-    gas.add_argument("--no-anomalous-oxygen", action="store_true",
-                     help="leave anomalous oxygen out of the mixture and the mass density (gtd7)")
+    gas.add_argument(
+        "--no-anomalous-oxygen",
+        action="store_true",
+        help="leave anomalous oxygen out of the mixture and the mass density (gtd7)",
+    )
     default = DEFAULT_ACCOMMODATION_MODEL if with_alpha else "fixed"
-    gas.add_argument("--accommodation", type=str.lower, choices=accommodation_model_names(),
-                     default=default,
-                     help=f"accommodation model (default {default}; fixed uses --alpha)")
+    gas.add_argument(
+        "--accommodation",
+        type=str.lower,
+        choices=accommodation_model_names(),
+        default=default,
+        help=f"accommodation model (default {default}; fixed uses --alpha)",
+    )
     if with_alpha:
-        gas.add_argument("--alpha", type=finite_float("--alpha"), metavar="ALPHA",
-                         help="accommodation coefficient for --accommodation fixed, 0..1")
+        gas.add_argument(
+            "--alpha",
+            type=finite_float("--alpha"),
+            metavar="ALPHA",
+            help="accommodation coefficient for --accommodation fixed, 0..1",
+        )
 
 
 def register(subparsers) -> None:
@@ -153,7 +201,9 @@ def compute(args, accommodation_options=None):
     """
     time = _parse_time(args.time)
     weather = _space_weather(args)
-    options = _accommodation_options(args) if accommodation_options is None else accommodation_options
+    options = (
+        _accommodation_options(args) if accommodation_options is None else accommodation_options
+    )
     anomalous_oxygen = not args.no_anomalous_oxygen
     geodetic = [name for name in ("altitude", "lat", "lon") if getattr(args, name) is not None]
     if args.position is not None and geodetic:
@@ -177,8 +227,13 @@ def compute(args, accommodation_options=None):
         if not -90.0 <= args.lat <= 90.0:
             raise CommandLineError(f"--lat: must be in [-90, 90] degrees, got {args.lat:g}")
         return flight_conditions_circular_orbit(
-            time, altitude, math.radians(args.lat), math.radians(args.lon), weather,
-            anomalous_oxygen=anomalous_oxygen, accommodation_model=args.accommodation,
+            time,
+            altitude,
+            math.radians(args.lat),
+            math.radians(args.lon),
+            weather,
+            anomalous_oxygen=anomalous_oxygen,
+            accommodation_model=args.accommodation,
             accommodation_options=options,
         )
     frame = args.frame or "eci"
@@ -194,17 +249,30 @@ def compute(args, accommodation_options=None):
         if args.no_earth_rotation:
             raise CommandLineError("--no-earth-rotation: only valid with --velocity")
         return flight_conditions_circular_orbit(
-            time, altitude, latitude, longitude, weather,
-            anomalous_oxygen=anomalous_oxygen, accommodation_model=args.accommodation,
+            time,
+            altitude,
+            latitude,
+            longitude,
+            weather,
+            anomalous_oxygen=anomalous_oxygen,
+            accommodation_model=args.accommodation,
             accommodation_options=options,
         )
     velocity = parse_vector3(args.velocity, "--velocity")
     wind = None if args.wind is None else parse_vector3(args.wind, "--wind")
     return flight_conditions(
-        time, position, velocity, weather, frame=frame,
-        earth_rotation=not args.no_earth_rotation, wind=wind, wind_frame="enu",
-        anomalous_oxygen=anomalous_oxygen, accommodation_model=args.accommodation,
-        accommodation_options=options, orientation=orientation,
+        time,
+        position,
+        velocity,
+        weather,
+        frame=frame,
+        earth_rotation=not args.no_earth_rotation,
+        wind=wind,
+        wind_frame="enu",
+        anomalous_oxygen=anomalous_oxygen,
+        accommodation_model=args.accommodation,
+        accommodation_options=options,
+        orientation=orientation,
     )
 
 
@@ -228,18 +296,26 @@ def format_table(conditions) -> str:
     for name, value in atmosphere.number_densities.items():
         rows.append((f"n({name})", f"{value:.6e} m^-3"))
     rows += [
-        ("mass density", f"{atmosphere.mass_density:.6e} kg/m^3"
-         + (" (incl. anomalous O)" if atmosphere.anomalous_oxygen else " (excl. anomalous O)")),
+        (
+            "mass density",
+            f"{atmosphere.mass_density:.6e} kg/m^3"
+            + (" (incl. anomalous O)" if atmosphere.anomalous_oxygen else " (excl. anomalous O)"),
+        ),
         ("exospheric temperature", f"{atmosphere.exospheric_temperature:.3f} K"),
         ("temperature", f"{atmosphere.temperature:.3f} K"),
         ("mean molecular mass", f"{conditions.mean_molecular_mass:.6e} kg"),
         ("relative velocity ECI", _vector_text(conditions.relative_velocity_eci) + " m/s"),
         ("relative velocity ECEF", _vector_text(conditions.relative_velocity_ecef) + " m/s"),
-        ("speed", f"{conditions.speed:.3f} m/s"
-         + ("" if conditions.relative_velocity_ecef is not None else " (circular orbit)")),
+        (
+            "speed",
+            f"{conditions.speed:.3f} m/s"
+            + ("" if conditions.relative_velocity_ecef is not None else " (circular orbit)"),
+        ),
         ("speed ratio", f"{conditions.speed_ratio:.6f}"),
-        (f"alpha ({conditions.accommodation_model})",
-         f"{conditions.accommodation_coefficient:.6f}"),
+        (
+            f"alpha ({conditions.accommodation_model})",
+            f"{conditions.accommodation_coefficient:.6f}",
+        ),
     ]
     width = max(len(label) for label, _ in rows)
     return "\n".join(f"{label:<{width}}  {value}" for label, value in rows)

@@ -12,12 +12,16 @@ from pathlib import Path
 from adbsat_ros.bags import analysis as bag_analysis
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.estimator.settings import WrenchSettings, load_parameters_file
+
 from .options import CommandLineError, is_terminal, number
 
 
 def register(subparsers) -> None:
-    p = subparsers.add_parser("bag", help="analyse (and play or record) rosbag2 files",
-                              description="Tools for rosbag2 files (.mcap or .db3).")
+    p = subparsers.add_parser(
+        "bag",
+        help="analyse (and play or record) rosbag2 files",
+        description="Tools for rosbag2 files (.mcap or .db3).",
+    )
     sub = p.add_subparsers(dest="bag_command", metavar="BAG_COMMAND", parser_class=type(p))
     sub.required = True
     register_analyze(sub)
@@ -41,30 +45,64 @@ def register_analyze(sub) -> None:
         "Several --params files compare models in one run.",
     )
     a.add_argument("bag", metavar="BAG", help="input bag: directory, .mcap or .db3 file")
-    a.add_argument("--attitude-topic", default="/attitude", help="geometry_msgs/QuaternionStamped topic (default /attitude)")
-    a.add_argument("--state-topic", default="/state", help="nav_msgs/Odometry topic (default /state)")
-    a.add_argument("--params", action="append", default=[], metavar="YAML",
-                   help="node parameters file (section adbsat_node or /**); repeat to compare models "
-                   "(default: the node's defaults)")
-    a.add_argument("--label", action="append", default=[], metavar="NAME",
-                   help="model label, once per --params in order (default: the file's stem)")
-    a.add_argument("--out", metavar="BAG", help="output bag directory (default: BAG_aero beside the input)")
+    a.add_argument(
+        "--attitude-topic",
+        default="/attitude",
+        help="geometry_msgs/QuaternionStamped topic (default /attitude)",
+    )
+    a.add_argument(
+        "--state-topic", default="/state", help="nav_msgs/Odometry topic (default /state)"
+    )
+    a.add_argument(
+        "--params",
+        action="append",
+        default=[],
+        metavar="YAML",
+        help="node parameters file (section adbsat_node or /**); repeat to compare models "
+        "(default: the node's defaults)",
+    )
+    a.add_argument(
+        "--label",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="model label, once per --params in order (default: the file's stem)",
+    )
+    a.add_argument(
+        "--out", metavar="BAG", help="output bag directory (default: BAG_aero beside the input)"
+    )
     a.add_argument("--csv", metavar="FILE", help="CSV file (default: OUT.csv)")
     a.add_argument("--plots", metavar="DIR", help="directory for PNG plots (default: OUT_plots)")
     a.add_argument("--no-plots", action="store_true", help="write no plots")
-    a.add_argument("--storage", choices=("mcap", "sqlite3"), default="mcap", help="output bag storage (default mcap)")
+    a.add_argument(
+        "--storage",
+        choices=("mcap", "sqlite3"),
+        default="mcap",
+        help="output bag storage (default mcap)",
+    )
     a.add_argument("--overwrite", action="store_true", help="replace existing outputs")
-    a.add_argument("--workers", type=number("--workers", integer=True, low=1), default=None, metavar="N",
-                   help="processes computing wrenches (default: the number of CPUs, "
-                   f"{os.cpu_count() or 1} here); the outputs are the same for any N")
-    a.add_argument("--no-progress", action="store_true", help="no progress bar (shown only on a terminal anyway)")
+    a.add_argument(
+        "--workers",
+        type=number("--workers", integer=True, low=1),
+        default=None,
+        metavar="N",
+        help="processes computing wrenches (default: the number of CPUs, "
+        f"{os.cpu_count() or 1} here); the outputs are the same for any N",
+    )
+    a.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bar (shown only on a terminal anyway)",
+    )
     a.set_defaults(func=run_analyze)
 
 
 def models_from_args(args) -> list:
     """[(label, WrenchSettings)] from --params/--label; errors name the file or option."""
     if args.label and len(args.label) != max(len(args.params), 1):
-        raise CommandLineError(f"--label: given {len(args.label)} times for {len(args.params)} --params files")
+        raise CommandLineError(
+            f"--label: given {len(args.label)} times for {len(args.params)} --params files"
+        )
     if not args.params:
         label = args.label[0] if args.label else "default"
         return [(_label(label, "--label"), WrenchSettings.from_parameters({}))]
@@ -77,7 +115,9 @@ def models_from_args(args) -> list:
             raise CommandLineError(f"--params {path}: no such file") from None
         except ValueError as exc:
             text = str(exc)
-            raise CommandLineError(text if text.startswith(str(path)) else f"--params {path}: {text}") from None
+            raise CommandLineError(
+                text if text.startswith(str(path)) else f"--params {path}: {text}"
+            ) from None
         except Exception as exc:  # e.g. a YAML syntax error
             raise CommandLineError(f"--params {path}: {type(exc).__name__}: {exc}") from None
         if args.label:
@@ -87,7 +127,9 @@ def models_from_args(args) -> list:
         models.append((label, settings))
     labels = [label for label, _ in models]
     if len(set(labels)) != len(labels):
-        raise CommandLineError(f"--label: model labels must differ, got {', '.join(labels)} (give --label)")
+        raise CommandLineError(
+            f"--label: model labels must differ, got {', '.join(labels)} (give --label)"
+        )
     return models
 
 
@@ -109,12 +151,24 @@ def run_analyze(args) -> int:
     models = models_from_args(args)
     out = Path(args.out) if args.out else default_output(args.bag)
     out_csv = Path(args.csv) if args.csv else out.parent / f"{out.name}.csv"
-    plots = None if args.no_plots else (Path(args.plots) if args.plots else out.parent / f"{out.name}_plots")
+    plots = (
+        None
+        if args.no_plots
+        else (Path(args.plots) if args.plots else out.parent / f"{out.name}_plots")
+    )
     progress = not args.no_progress and is_terminal()
     try:
         report = bag_analysis.analyze_bag(
-            args.bag, args.attitude_topic, args.state_topic, models, out_bag=out, out_csv=out_csv,
-            plots_dir=plots, storage=args.storage, progress=progress, overwrite=args.overwrite,
+            args.bag,
+            args.attitude_topic,
+            args.state_topic,
+            models,
+            out_bag=out,
+            out_csv=out_csv,
+            plots_dir=plots,
+            storage=args.storage,
+            progress=progress,
+            overwrite=args.overwrite,
             workers=args.workers,
         )
     except BagError as exc:
@@ -123,22 +177,32 @@ def run_analyze(args) -> int:
     for text in report.warnings:
         print(f"adbsat-ros bag analyze: warning: {text}", file=sys.stderr)
     for m in report.models:
-        print(f"model {m.label}: {m.wrenches} wrenches from {m.triggers} inputs "
-              f"-> {m.wrench_topic}, {m.coefficients_topic}")
+        print(
+            f"model {m.label}: {m.wrenches} wrenches from {m.triggers} inputs "
+            f"-> {m.wrench_topic}, {m.coefficients_topic}"
+        )
     for key in ("bag", "csv"):
         if key in report.outputs:
             print(f"wrote {key}: {report.outputs[key]}")
     if report.outputs.get("plots"):
         print(f"wrote plots: {', '.join(str(p) for p in report.outputs['plots'])}")
     seconds = report.seconds.get("total", 0.0)
-    print(f"{report.messages_read} messages read in {seconds:.2f} s "
-          f"({report.workers} worker process{'es' if report.workers > 1 else ''}, {report.chunks} chunk(s))")
+    print(
+        f"{report.messages_read} messages read in {seconds:.2f} s "
+        f"({report.workers} worker process{'es' if report.workers > 1 else ''}, {report.chunks} chunk(s))"
+    )
     if report.error:
         print(f"adbsat-ros bag analyze: error: {report.error}", file=sys.stderr)
-        print(f"adbsat-ros bag analyze: error: the outputs above are PARTIAL: they hold the "
-              f"{report.messages_read} messages read before the fault", file=sys.stderr)
+        print(
+            f"adbsat-ros bag analyze: error: the outputs above are PARTIAL: they hold the "
+            f"{report.messages_read} messages read before the fault",
+            file=sys.stderr,
+        )
         return 1
     if report.wrenches == 0:
-        print("adbsat-ros bag analyze: error: no wrench could be computed (see the warnings)", file=sys.stderr)
+        print(
+            "adbsat-ros bag analyze: error: no wrench could be computed (see the warnings)",
+            file=sys.stderr,
+        )
         return 1
     return 0

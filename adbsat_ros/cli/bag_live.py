@@ -15,6 +15,7 @@ import sys
 import threading
 
 from adbsat_ros.bags.io import BagError
+
 from .options import non_negative_int, positive_float
 
 
@@ -32,17 +33,41 @@ def register(bag_subparsers) -> None:
         "Discovery stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE is set.",
     )
     play.add_argument("bag", help="rosbag2 bag directory (or its .mcap/.db3 file)")
-    play.add_argument("--rate", type=positive_float("--rate"), default=1.0,
-                      help="playback speed factor (default 1: as recorded; 2: twice as fast)")
-    play.add_argument("--loop", action="store_true",
-                      help="start again from the beginning until Ctrl-C (stamps go back in time at each restart)")
-    play.add_argument("--topics", nargs="+", metavar="TOPIC", help="play only these topics (default: all)")
-    play.add_argument("--wait-for-subscribers", type=non_negative_int("--wait-for-subscribers"), default=0,
-                      metavar="N", help="wait until every played topic has N subscribers before starting")
-    play.add_argument("--wait-timeout", type=positive_float("--wait-timeout"), default=30.0, metavar="S",
-                      help="give up waiting for subscribers after S seconds (default 30)")
-    play.add_argument("--qos-depth", type=int, default=1000, metavar="N",
-                      help="history depth of the (reliable) publishers (default 1000)")
+    play.add_argument(
+        "--rate",
+        type=positive_float("--rate"),
+        default=1.0,
+        help="playback speed factor (default 1: as recorded; 2: twice as fast)",
+    )
+    play.add_argument(
+        "--loop",
+        action="store_true",
+        help="start again from the beginning until Ctrl-C (stamps go back in time at each restart)",
+    )
+    play.add_argument(
+        "--topics", nargs="+", metavar="TOPIC", help="play only these topics (default: all)"
+    )
+    play.add_argument(
+        "--wait-for-subscribers",
+        type=non_negative_int("--wait-for-subscribers"),
+        default=0,
+        metavar="N",
+        help="wait until every played topic has N subscribers before starting",
+    )
+    play.add_argument(
+        "--wait-timeout",
+        type=positive_float("--wait-timeout"),
+        default=30.0,
+        metavar="S",
+        help="give up waiting for subscribers after S seconds (default 30)",
+    )
+    play.add_argument(
+        "--qos-depth",
+        type=int,
+        default=1000,
+        metavar="N",
+        help="history depth of the (reliable) publishers (default 1000)",
+    )
     play.set_defaults(func=run_play, command="bag play")
 
     record = bag_subparsers.add_parser(
@@ -54,14 +79,33 @@ def register(bag_subparsers) -> None:
         "the bag is complete either way (also on SIGTERM). Needs rclpy.",
     )
     record.add_argument("out", metavar="OUT", help="bag directory to create (must not exist)")
-    record.add_argument("--topics", nargs="+", required=True, metavar="TOPIC",
-                        help="topics to record, each /name or /name:package/msg/Type")
-    record.add_argument("--storage", choices=("mcap", "sqlite3"), default="mcap",
-                        help="storage format (default mcap)")
-    record.add_argument("--duration", type=positive_float("--duration"), default=None, metavar="S",
-                        help="stop after S seconds (default: at Ctrl-C)")
-    record.add_argument("--qos-depth", type=int, default=1000, metavar="N",
-                        help="history depth of the subscriptions (default 1000)")
+    record.add_argument(
+        "--topics",
+        nargs="+",
+        required=True,
+        metavar="TOPIC",
+        help="topics to record, each /name or /name:package/msg/Type",
+    )
+    record.add_argument(
+        "--storage",
+        choices=("mcap", "sqlite3"),
+        default="mcap",
+        help="storage format (default mcap)",
+    )
+    record.add_argument(
+        "--duration",
+        type=positive_float("--duration"),
+        default=None,
+        metavar="S",
+        help="stop after S seconds (default: at Ctrl-C)",
+    )
+    record.add_argument(
+        "--qos-depth",
+        type=int,
+        default=1000,
+        metavar="N",
+        help="history depth of the subscriptions (default 1000)",
+    )
     record.set_defaults(func=run_record, command="bag record")
 
 
@@ -105,16 +149,24 @@ def run_play(args) -> int:
         bag_play = _import_ros_module("bag_play")
         with _stop_on_sigterm() as stop:
             summary = bag_play.play(
-                args.bag, rate=args.rate, loop=args.loop, topics=args.topics,
-                wait_for_subscribers=args.wait_for_subscribers, wait_timeout=args.wait_timeout,
-                qos_depth=max(1, args.qos_depth), stop=stop, log=_log,
+                args.bag,
+                rate=args.rate,
+                loop=args.loop,
+                topics=args.topics,
+                wait_for_subscribers=args.wait_for_subscribers,
+                wait_timeout=args.wait_timeout,
+                qos_depth=max(1, args.qos_depth),
+                stop=stop,
+                log=_log,
             )
     except (RosNotAvailable, BagError) as exc:
         print(f"adbsat-ros bag play: error: {exc}", file=sys.stderr)
         return 1
     how = "stopped" if summary.interrupted else "done"
-    print(f"{how}: published {summary.total} messages ({_counts(summary.published)}) "
-          f"in {summary.wall_seconds:.1f} s, {summary.passes} pass(es) through the bag")
+    print(
+        f"{how}: published {summary.total} messages ({_counts(summary.published)}) "
+        f"in {summary.wall_seconds:.1f} s, {summary.passes} pass(es) through the bag"
+    )
     return 0
 
 
@@ -124,15 +176,24 @@ def run_record(args) -> int:
         bag_record = _import_ros_module("bag_record")
         with _stop_on_sigterm() as stop:
             summary = bag_record.record(
-                args.out, args.topics, storage=args.storage, duration=args.duration,
-                qos_depth=max(1, args.qos_depth), stop=stop, log=_log,
+                args.out,
+                args.topics,
+                storage=args.storage,
+                duration=args.duration,
+                qos_depth=max(1, args.qos_depth),
+                stop=stop,
+                log=_log,
             )
     except (RosNotAvailable, BagError) as exc:
         print(f"adbsat-ros bag record: error: {exc}", file=sys.stderr)
         return 1
-    print(f"wrote {summary.path} ({summary.storage}): {summary.total} messages ({_counts(summary.recorded)}) "
-          f"in {summary.wall_seconds:.1f} s")
+    print(
+        f"wrote {summary.path} ({summary.storage}): {summary.total} messages ({_counts(summary.recorded)}) "
+        f"in {summary.wall_seconds:.1f} s"
+    )
     if summary.missing:
-        print(f"warning: no publisher ever appeared on {', '.join(summary.missing)}; nothing recorded from it",
-              file=sys.stderr)
+        print(
+            f"warning: no publisher ever appeared on {', '.join(summary.missing)}; nothing recorded from it",
+            file=sys.stderr,
+        )
     return 0

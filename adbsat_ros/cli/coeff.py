@@ -9,6 +9,8 @@ import sys
 import numpy as np
 
 from adbsat_ros.geometry import frames
+
+from .atmosphere import add_flight_arguments
 from .common import (
     add_flow_arguments,
     add_mesh_arguments,
@@ -18,7 +20,6 @@ from .common import (
     make_shader_from_args,
     method_and_flow_from_args,
 )
-from .atmosphere import add_flight_arguments
 from .options import parse_angle_list
 
 
@@ -42,7 +43,11 @@ def register(subparsers) -> None:
     p.add_argument("--aoa", default="0", help="angles of attack [deg]: list and/or start:step:stop")
     p.add_argument("--aos", default="0", help="sideslip angles [deg]: list and/or start:step:stop")
     p.add_argument("--json", action="store_true", help="print a JSON list, one object per attitude")
-    p.add_argument("--per-panel", action="store_true", help="with --json, include per-panel cp, ctau, lit fraction")
+    p.add_argument(
+        "--per-panel",
+        action="store_true",
+        help="with --json, include per-panel cp, ctau, lit fraction",
+    )
     p.set_defaults(func=run)
 
 

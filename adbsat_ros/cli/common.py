@@ -4,12 +4,18 @@ from __future__ import annotations
 
 import argparse
 
-from adbsat_ros.physics.freestream import FreeStream
-from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, SPECIES_MODELS, ModelOptions
 from adbsat_ros.geometry.loading import resolve_mesh
-from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.gsi_models import (
+    INCIDENT_TEMPERATURE_FORMS,
+    MODELS,
+    SPECIES_MODELS,
+    ModelOptions,
+)
+from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+
 from .atmosphere import compute as compute_flight_conditions
 from .options import CommandLineError, fraction, parse_vector3, positive_float
 
@@ -17,31 +23,71 @@ SHADING_MODES = ("none", "projection", "raycast")
 
 
 def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("mesh", metavar="MESH", help="mesh file (.obj .stl .ply .off ...) or 'example'")
-    parser.add_argument("--scale", type=positive_float("--scale"), default=1.0,
-                        help="factor from file units to metres (1e-3 for millimetres)")
+    parser.add_argument(
+        "mesh", metavar="MESH", help="mesh file (.obj .stl .ply .off ...) or 'example'"
+    )
+    parser.add_argument(
+        "--scale",
+        type=positive_float("--scale"),
+        default=1.0,
+        help="factor from file units to metres (1e-3 for millimetres)",
+    )
 
 
 def add_model_arguments(parser: argparse.ArgumentParser) -> None:
     g = parser.add_argument_group("gas-surface model")
-    g.add_argument("--gsim", default="sentman", type=str.lower, choices=list(MODELS),
-                   help="gas-surface interaction model (default sentman)")
-    g.add_argument("--alpha", type=fraction("--alpha"), default=1.0,
-                   help="energy accommodation (sentman, cook, dria; maxwell diffuse fraction)")
-    g.add_argument("--alpha-n", type=fraction("--alpha-n"), default=1.0,
-                   help="CLL normal energy accommodation")
-    g.add_argument("--sigma-n", type=positive_or_zero_below_two, default=1.0,
-                   help="normal momentum accommodation (schaaf, storch), in [0, 2)")
-    g.add_argument("--sigma-t", type=fraction("--sigma-t"), default=1.0,
-                   help="tangential momentum accommodation (schaaf, storch, cll)")
-    g.add_argument("--wall-temperature", type=positive_float("--wall-temperature"), default=300.0,
-                   help="wall temperature [K] (default 300)")
-    g.add_argument("--material", action="append", default=[], metavar="NAME:KEY=VALUE[,KEY=VALUE]",
-                   help="per-material override, e.g. solar_array:alpha=0.9,wall_temperature=350")
-    g.add_argument("--incident-temperature", choices=INCIDENT_TEMPERATURE_FORMS, default="energy",
-                   help="incident temperature form for sentman/dria (default energy, as ADBSat)")
-    g.add_argument("--adbsat-compat", action="store_true",
-                   help="reproduce ADBSat's coded quirks (maxwell two-sided plate, cll weights)")
+    g.add_argument(
+        "--gsim",
+        default="sentman",
+        type=str.lower,
+        choices=list(MODELS),
+        help="gas-surface interaction model (default sentman)",
+    )
+    g.add_argument(
+        "--alpha",
+        type=fraction("--alpha"),
+        default=1.0,
+        help="energy accommodation (sentman, cook, dria; maxwell diffuse fraction)",
+    )
+    g.add_argument(
+        "--alpha-n", type=fraction("--alpha-n"), default=1.0, help="CLL normal energy accommodation"
+    )
+    g.add_argument(
+        "--sigma-n",
+        type=positive_or_zero_below_two,
+        default=1.0,
+        help="normal momentum accommodation (schaaf, storch), in [0, 2)",
+    )
+    g.add_argument(
+        "--sigma-t",
+        type=fraction("--sigma-t"),
+        default=1.0,
+        help="tangential momentum accommodation (schaaf, storch, cll)",
+    )
+    g.add_argument(
+        "--wall-temperature",
+        type=positive_float("--wall-temperature"),
+        default=300.0,
+        help="wall temperature [K] (default 300)",
+    )
+    g.add_argument(
+        "--material",
+        action="append",
+        default=[],
+        metavar="NAME:KEY=VALUE[,KEY=VALUE]",
+        help="per-material override, e.g. solar_array:alpha=0.9,wall_temperature=350",
+    )
+    g.add_argument(
+        "--incident-temperature",
+        choices=INCIDENT_TEMPERATURE_FORMS,
+        default="energy",
+        help="incident temperature form for sentman/dria (default energy, as ADBSat)",
+    )
+    g.add_argument(
+        "--adbsat-compat",
+        action="store_true",
+        help="reproduce ADBSat's coded quirks (maxwell two-sided plate, cll weights)",
+    )
 
 
 def positive_or_zero_below_two(text):
@@ -57,28 +103,54 @@ def positive_or_zero_below_two(text):
 def add_flow_arguments(parser: argparse.ArgumentParser) -> None:
     g = parser.add_argument_group("free stream (given directly)")
     g.add_argument("--speed", type=positive_float("--speed"), help="relative wind speed [m/s]")
-    g.add_argument("--temperature", type=positive_float("--temperature"), help="gas temperature [K]")
+    g.add_argument(
+        "--temperature", type=positive_float("--temperature"), help="gas temperature [K]"
+    )
     comp = g.add_mutually_exclusive_group()
-    comp.add_argument("--mean-mass", type=positive_float("--mean-mass"), help="mean molecular mass [amu]")
-    comp.add_argument("--species", metavar="He=N,O=N,...",
-                      help="species number densities [m^-3] (He O N2 O2 Ar H N AnO)")
-    g.add_argument("--density", type=positive_float("--density"),
-                   help="mass density [kg/m^3] for forces in newtons (default: from --species)")
+    comp.add_argument(
+        "--mean-mass", type=positive_float("--mean-mass"), help="mean molecular mass [amu]"
+    )
+    comp.add_argument(
+        "--species",
+        metavar="He=N,O=N,...",
+        help="species number densities [m^-3] (He O N2 O2 Ar H N AnO)",
+    )
+    g.add_argument(
+        "--density",
+        type=positive_float("--density"),
+        help="mass density [kg/m^3] for forces in newtons (default: from --species)",
+    )
 
 
 def add_reference_arguments(parser: argparse.ArgumentParser) -> None:
     g = parser.add_argument_group("reference quantities")
-    g.add_argument("--aref", type=positive_float("--aref"), help="reference area [m^2] (default: half the total area)")
-    g.add_argument("--lref", type=positive_float("--lref"), help="reference length [m] (default: x extent)")
-    g.add_argument("--moment-ref", metavar="X,Y,Z", default="0,0,0",
-                   help="moment reference point in the mesh frame [m] (default origin)")
+    g.add_argument(
+        "--aref",
+        type=positive_float("--aref"),
+        help="reference area [m^2] (default: half the total area)",
+    )
+    g.add_argument(
+        "--lref", type=positive_float("--lref"), help="reference length [m] (default: x extent)"
+    )
+    g.add_argument(
+        "--moment-ref",
+        metavar="X,Y,Z",
+        default="0,0,0",
+        help="moment reference point in the mesh frame [m] (default origin)",
+    )
 
 
 def add_shading_arguments(parser: argparse.ArgumentParser, default="raycast") -> None:
     g = parser.add_argument_group("shading")
-    g.add_argument("--shading", choices=SHADING_MODES, default=default,
-                   help=f"shading mode (default {default})")
-    g.add_argument("--samples", type=int, default=16, help="ray samples per panel for raycast (default 16)")
+    g.add_argument(
+        "--shading",
+        choices=SHADING_MODES,
+        default=default,
+        help=f"shading mode (default {default})",
+    )
+    g.add_argument(
+        "--samples", type=int, default=16, help="ray samples per panel for raycast (default 16)"
+    )
 
 
 def parse_species(text: str) -> dict:
@@ -115,7 +187,11 @@ def materials_from_args(args) -> MaterialTable:
 
 def freestream_from_args(args, model: str) -> FreeStream:
     """The FreeStream given by --speed/--temperature/--mean-mass/--species/--density."""
-    missing = [opt for opt, value in (("--speed", args.speed), ("--temperature", args.temperature)) if value is None]
+    missing = [
+        opt
+        for opt, value in (("--speed", args.speed), ("--temperature", args.temperature))
+        if value is None
+    ]
     if args.mean_mass is None and args.species is None:
         missing.append("--mean-mass or --species")
     if missing:
@@ -149,7 +225,9 @@ def panel_method_from_args(args, mesh=None) -> PanelMethod:
         length=args.lref,
         moment_point=tuple(parse_vector3(args.moment_ref, "--moment-ref")),
     )
-    options = ModelOptions(incident_temperature=args.incident_temperature, adbsat_compat=args.adbsat_compat)
+    options = ModelOptions(
+        incident_temperature=args.incident_temperature, adbsat_compat=args.adbsat_compat
+    )
     return PanelMethod(mesh, args.gsim, materials, options=options, reference=reference)
 
 
@@ -176,7 +254,11 @@ def method_and_flow_from_args(args):
     if args.time is None:
         method = panel_method_from_args(args)
         return method, freestream_from_args(args, method.model), None
-    given = [o for o in ("speed", "temperature", "mean_mass", "species", "density") if getattr(args, o) is not None]
+    given = [
+        o
+        for o in ("speed", "temperature", "mean_mass", "species", "density")
+        if getattr(args, o) is not None
+    ]
     if given:
         raise CommandLineError(
             f"--{given[0].replace('_', '-')}: give the gas either directly or by --time and a place, not both"

@@ -14,6 +14,7 @@ import os
 import time
 
 from adbsat_ros.database.build import build_database
+
 from .atmosphere import add_flight_arguments
 from .common import (
     add_flow_arguments,
@@ -46,12 +47,20 @@ def register(subparsers) -> None:
     add_reference_arguments(p)
     add_shading_arguments(p)
     g = p.add_argument_group("grid and output")
-    g.add_argument("--aoa", default=DEFAULT_AOA,
-                   help=f"angles of attack [deg], -360..360: list and/or start:step:stop (default {DEFAULT_AOA})")
-    g.add_argument("--aos", default=DEFAULT_AOS,
-                   help=f"sideslip angles [deg], -90..90 (default {DEFAULT_AOS})")
-    g.add_argument("--workers", type=number("--workers", integer=True, low=1), default=None,
-                   help=f"processes to use (default: every core, here {os.cpu_count()})")
+    g.add_argument(
+        "--aoa",
+        default=DEFAULT_AOA,
+        help=f"angles of attack [deg], -360..360: list and/or start:step:stop (default {DEFAULT_AOA})",
+    )
+    g.add_argument(
+        "--aos", default=DEFAULT_AOS, help=f"sideslip angles [deg], -90..90 (default {DEFAULT_AOS})"
+    )
+    g.add_argument(
+        "--workers",
+        type=number("--workers", integer=True, low=1),
+        default=None,
+        help=f"processes to use (default: every core, here {os.cpu_count()})",
+    )
     g.add_argument("--out", required=True, metavar="FILE.npz", help="database file to write (.npz)")
     g.add_argument("--csv", metavar="FILE.csv", help="CSV file to write (default: --out with .csv)")
     p.set_defaults(func=run)
@@ -68,7 +77,9 @@ def _check_output(path: str, option: str) -> None:
 def _angles(text, option, low, high):
     values = parse_angle_list(text, option)
     if values.min() < low or values.max() > high:
-        raise CommandLineError(f"{option}: angles must lie in [{low:g}, {high:g}] deg, got {text!r}")
+        raise CommandLineError(
+            f"{option}: angles must lie in [{low:g}, {high:g}] deg, got {text!r}"
+        )
     if len(set(values.tolist())) != values.size:
         raise CommandLineError(f"{option}: an angle is given twice in {text!r}")
     return values
@@ -89,8 +100,17 @@ def run(args) -> int:
     workers = args.workers or os.cpu_count() or 1
     start = time.perf_counter()
     db = build_database(
-        method, flow, aoa, aos, shading=args.shading, samples=args.samples, workers=workers,
-        progress=None, mesh_spec=args.mesh, mesh_scale=args.scale, materials_texts=args.material,
+        method,
+        flow,
+        aoa,
+        aos,
+        shading=args.shading,
+        samples=args.samples,
+        workers=workers,
+        progress=None,
+        mesh_spec=args.mesh,
+        mesh_scale=args.scale,
+        materials_texts=args.material,
         conditions=conditions,
     )
     elapsed = time.perf_counter() - start

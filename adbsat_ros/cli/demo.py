@@ -17,14 +17,32 @@ def register(subparsers) -> None:
         "limited to this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE is set; the topics live under "
         "/adbsat_demo.",
     )
-    p.add_argument("--duration", type=positive_float("--duration"), default=8.0, metavar="S",
-                   help="wall seconds of live publishing (default 8)")
-    p.add_argument("--speedup", type=positive_float("--speedup"), default=10.0, metavar="K",
-                   help="simulated seconds per wall second (default 10; attitudes always at 20 Hz wall)")
-    p.add_argument("--attitude", choices=("tumble", "nadir"), default="tumble",
-                   help="tumbling at 1 deg/s (default) or nadir-pointing")
-    p.add_argument("--out-dir", default="adbsat_demo", metavar="DIR",
-                   help="directory for demo_wrench.csv and the plots (default ./adbsat_demo)")
+    p.add_argument(
+        "--duration",
+        type=positive_float("--duration"),
+        default=8.0,
+        metavar="S",
+        help="wall seconds of live publishing (default 8)",
+    )
+    p.add_argument(
+        "--speedup",
+        type=positive_float("--speedup"),
+        default=10.0,
+        metavar="K",
+        help="simulated seconds per wall second (default 10; attitudes always at 20 Hz wall)",
+    )
+    p.add_argument(
+        "--attitude",
+        choices=("tumble", "nadir"),
+        default="tumble",
+        help="tumbling at 1 deg/s (default) or nadir-pointing",
+    )
+    p.add_argument(
+        "--out-dir",
+        default="adbsat_demo",
+        metavar="DIR",
+        help="directory for demo_wrench.csv and the plots (default ./adbsat_demo)",
+    )
     p.set_defaults(func=run)
 
 
@@ -35,12 +53,18 @@ def run(args) -> int:
 
         result = run_demo(args.duration, args.speedup, args.out_dir, args.attitude)
     except ImportError as exc:
-        print(f"adbsat-ros demo: error: needs the ROS 2 Python packages, which cannot be imported: {exc}; "
-              "install them with: pip install 'adbsat_ros[ros]'", file=sys.stderr)
+        print(
+            f"adbsat-ros demo: error: needs the ROS 2 Python packages, which cannot be imported: {exc}; "
+            "install them with: pip install 'adbsat_ros[ros]'",
+            file=sys.stderr,
+        )
         return 1
     if result.interrupted:
         return 130
     if result.wrenches_received == 0 or result.mismatched or not result.files:
-        print("adbsat-ros demo: error: the node did not answer as expected (see above)", file=sys.stderr)
+        print(
+            "adbsat-ros demo: error: the node did not answer as expected (see above)",
+            file=sys.stderr,
+        )
         return 1
     return 0

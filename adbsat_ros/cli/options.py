@@ -75,7 +75,9 @@ def parse_vector3(text: str, option: str) -> np.ndarray:
     return vec
 
 
-def number(option: str, *, integer: bool = False, low=None, high=None, low_open: bool = False, what=None):
+def number(
+    option: str, *, integer: bool = False, low=None, high=None, low_open: bool = False, what=None
+):
     """An argparse ``type`` for a finite number within bounds; the error names ``option``.
 
     Parameters

@@ -20,18 +20,38 @@ def register(subparsers) -> None:
         "marked (panel_pressure.png; the mesh is reloaded and must be unchanged). Prints the "
         "paths written.",
     )
-    p.add_argument("database", metavar="DATABASE", help="database file (.npz) from `adbsat-ros database`")
-    p.add_argument("--out-dir", metavar="DIR",
-                   help="folder for the PNGs (default: DATABASE without .npz plus '_plots')")
-    p.add_argument("--aoa", type=number("--aoa", what="a finite angle in degrees"), default=None,
-                   help="angle of attack of the pressure picture [deg] (default 0 if the database "
-                   "covers it, else its first)")
-    p.add_argument("--aos", type=number("--aos", what="a finite angle in degrees"), default=None,
-                   help="sideslip of the pressure picture [deg] (default 0 if covered, else the first)")
-    p.add_argument("--no-mesh", action="store_true",
-                   help="coefficient plots only: do not reload the mesh or draw the pressure picture")
-    p.add_argument("--max-lines", type=int, default=7,
-                   help="most sideslip lines per plot, evenly spaced if the database has more (default 7)")
+    p.add_argument(
+        "database", metavar="DATABASE", help="database file (.npz) from `adbsat-ros database`"
+    )
+    p.add_argument(
+        "--out-dir",
+        metavar="DIR",
+        help="folder for the PNGs (default: DATABASE without .npz plus '_plots')",
+    )
+    p.add_argument(
+        "--aoa",
+        type=number("--aoa", what="a finite angle in degrees"),
+        default=None,
+        help="angle of attack of the pressure picture [deg] (default 0 if the database "
+        "covers it, else its first)",
+    )
+    p.add_argument(
+        "--aos",
+        type=number("--aos", what="a finite angle in degrees"),
+        default=None,
+        help="sideslip of the pressure picture [deg] (default 0 if covered, else the first)",
+    )
+    p.add_argument(
+        "--no-mesh",
+        action="store_true",
+        help="coefficient plots only: do not reload the mesh or draw the pressure picture",
+    )
+    p.add_argument(
+        "--max-lines",
+        type=int,
+        default=7,
+        help="most sideslip lines per plot, evenly spaced if the database has more (default 7)",
+    )
     p.set_defaults(func=run)
 
 
@@ -40,9 +60,9 @@ def _default_angle(grid: np.ndarray) -> float:
 
 
 def run(args) -> int:
-    from adbsat_ros.plotting import coefficients, panels
-    from adbsat_ros.database.metadata import method_from_metadata
     from adbsat_ros.database.format import DatabaseError, load_database
+    from adbsat_ros.database.metadata import method_from_metadata
+    from adbsat_ros.plotting import coefficients, panels
 
     path = Path(args.database)
     if not path.exists():
@@ -66,12 +86,20 @@ def run(args) -> int:
         try:
             method, flow, shader = method_from_metadata(db.metadata, path=str(path))
         except DatabaseError as exc:
-            raise CommandLineError(f"DATABASE: {exc} (use --no-mesh to draw the coefficient plots only)") from None
+            raise CommandLineError(
+                f"DATABASE: {exc} (use --no-mesh to draw the coefficient plots only)"
+            ) from None
         aoa = args.aoa if args.aoa is not None else _default_angle(db.aoa_deg)
         aos = args.aos if args.aos is not None else _default_angle(db.aos_deg)
         written.append(
             panels.plot_panel_pressure(
-                method, flow, aoa, aos, shader, out_dir / "panel_pressure.png", title=coefficients.database_title(db.metadata)
+                method,
+                flow,
+                aoa,
+                aos,
+                shader,
+                out_dir / "panel_pressure.png",
+                title=coefficients.database_title(db.metadata),
             )
         )
     for p in written:

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-
 from adbsat_ros.bags import io as bag_io
-
-
 from adbsat_ros.bags import scenario
 from adbsat_ros.bags.io import BagError
+
 from .options import CommandLineError, non_negative_float, parse_vector3, positive_float
 
 
@@ -22,27 +20,80 @@ def register(subparsers) -> None:
         "(the example satellite then flies nose first); 'tumble': that attitude at t = 0 turning about a "
         "fixed body axis. Stamps are UNIX time of --epoch + t, as adbsat_node reads them by default.",
     )
-    p.add_argument("--out", required=True, metavar="BAG", help="output bag directory (must not exist)")
-    p.add_argument("--duration", type=non_negative_float("--duration"), default=600.0, help="length [s] (default 600)")
-    p.add_argument("--altitude", type=positive_float("--altitude"), default=400.0,
-                   help="perigee height above the equatorial radius 6378.137 km [km] (default 400)")
-    p.add_argument("--eccentricity", type=float, default=0.0, help="orbit eccentricity in [0, 1) (default 0)")
-    p.add_argument("--inclination", type=float, default=51.6, help="inclination [deg] (default 51.6)")
-    p.add_argument("--raan", type=float, default=0.0, help="right ascension of the ascending node [deg]")
+    p.add_argument(
+        "--out", required=True, metavar="BAG", help="output bag directory (must not exist)"
+    )
+    p.add_argument(
+        "--duration",
+        type=non_negative_float("--duration"),
+        default=600.0,
+        help="length [s] (default 600)",
+    )
+    p.add_argument(
+        "--altitude",
+        type=positive_float("--altitude"),
+        default=400.0,
+        help="perigee height above the equatorial radius 6378.137 km [km] (default 400)",
+    )
+    p.add_argument(
+        "--eccentricity", type=float, default=0.0, help="orbit eccentricity in [0, 1) (default 0)"
+    )
+    p.add_argument(
+        "--inclination", type=float, default=51.6, help="inclination [deg] (default 51.6)"
+    )
+    p.add_argument(
+        "--raan", type=float, default=0.0, help="right ascension of the ascending node [deg]"
+    )
     p.add_argument("--arg-perigee", type=float, default=0.0, help="argument of perigee [deg]")
-    p.add_argument("--true-anomaly", type=float, default=0.0, help="true anomaly at the epoch [deg] (0: perigee)")
-    p.add_argument("--epoch", default="2026-01-01T00:00:00Z", help="UTC of t = 0, ISO 8601 (default 2026-01-01T00:00:00Z)")
-    p.add_argument("--rate", type=positive_float("--rate"), default=10.0, help="attitude messages per second (default 10)")
-    p.add_argument("--state-rate", type=positive_float("--state-rate"), default=10.0,
-                   help="state messages per second (default 10; keep >= 1 for the node's state_timeout 1 s)")
-    p.add_argument("--attitude", choices=scenario.ATTITUDE_MODES, default="nadir", help="attitude law (default nadir)")
+    p.add_argument(
+        "--true-anomaly",
+        type=float,
+        default=0.0,
+        help="true anomaly at the epoch [deg] (0: perigee)",
+    )
+    p.add_argument(
+        "--epoch",
+        default="2026-01-01T00:00:00Z",
+        help="UTC of t = 0, ISO 8601 (default 2026-01-01T00:00:00Z)",
+    )
+    p.add_argument(
+        "--rate",
+        type=positive_float("--rate"),
+        default=10.0,
+        help="attitude messages per second (default 10)",
+    )
+    p.add_argument(
+        "--state-rate",
+        type=positive_float("--state-rate"),
+        default=10.0,
+        help="state messages per second (default 10; keep >= 1 for the node's state_timeout 1 s)",
+    )
+    p.add_argument(
+        "--attitude",
+        choices=scenario.ATTITUDE_MODES,
+        default="nadir",
+        help="attitude law (default nadir)",
+    )
     p.add_argument("--tumble-rate", type=float, default=1.0, help="tumble rate [deg/s] (default 1)")
-    p.add_argument("--tumble-axis", default=None, metavar="X,Y,Z", help="body axis of the tumble (default: random from --seed)")
+    p.add_argument(
+        "--tumble-axis",
+        default=None,
+        metavar="X,Y,Z",
+        help="body axis of the tumble (default: random from --seed)",
+    )
     p.add_argument("--seed", type=int, default=0, help="seed of the random tumble axis")
-    p.add_argument("--time-mode", choices=scenario.TIME_MODES, default="unix",
-                   help="stamps as UNIX time (default) or seconds since --epoch (node time_mode epoch)")
-    p.add_argument("--storage", choices=("mcap", "sqlite3"), default="mcap", help="bag storage (default mcap)")
-    p.add_argument("--attitude-topic", default="/attitude", help="attitude topic (default /attitude)")
+    p.add_argument(
+        "--time-mode",
+        choices=scenario.TIME_MODES,
+        default="unix",
+        help="stamps as UNIX time (default) or seconds since --epoch (node time_mode epoch)",
+    )
+    p.add_argument(
+        "--storage", choices=("mcap", "sqlite3"), default="mcap", help="bag storage (default mcap)"
+    )
+    p.add_argument(
+        "--attitude-topic", default="/attitude", help="attitude topic (default /attitude)"
+    )
     p.add_argument("--state-topic", default="/state", help="state topic (default /state)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output bag")
     p.set_defaults(func=run)
@@ -55,15 +106,30 @@ def scenario_from_args(args) -> scenario.Scenario:
         axis = tuple(parse_vector3(args.tumble_axis, "--tumble-axis"))
     try:
         return scenario.Scenario(
-            epoch_utc=args.epoch, duration_s=args.duration, rate_hz=args.rate, state_rate_hz=args.state_rate,
-            altitude_km=args.altitude, eccentricity=args.eccentricity, inclination_deg=args.inclination,
-            raan_deg=args.raan, arg_perigee_deg=args.arg_perigee, true_anomaly_deg=args.true_anomaly,
-            attitude=args.attitude, tumble_rate_deg_s=args.tumble_rate, tumble_axis=axis, seed=args.seed,
+            epoch_utc=args.epoch,
+            duration_s=args.duration,
+            rate_hz=args.rate,
+            state_rate_hz=args.state_rate,
+            altitude_km=args.altitude,
+            eccentricity=args.eccentricity,
+            inclination_deg=args.inclination,
+            raan_deg=args.raan,
+            arg_perigee_deg=args.arg_perigee,
+            true_anomaly_deg=args.true_anomaly,
+            attitude=args.attitude,
+            tumble_rate_deg_s=args.tumble_rate,
+            tumble_axis=axis,
+            seed=args.seed,
             time_mode=args.time_mode,
         )
     except ValueError as exc:
-        names = {"epoch_utc": "--epoch", "eccentricity": "--eccentricity", "inclination_deg": "--inclination",
-                 "altitude_km": "--altitude", "tumble_axis": "--tumble-axis"}
+        names = {
+            "epoch_utc": "--epoch",
+            "eccentricity": "--eccentricity",
+            "inclination_deg": "--inclination",
+            "altitude_km": "--altitude",
+            "tumble_axis": "--tumble-axis",
+        }
         text = str(exc)
         for field, option in names.items():
             text = text.replace(f"scenario {field}", option).replace(f"parameter {field}", option)
@@ -74,13 +140,23 @@ def run(args) -> int:
     sc = scenario_from_args(args)
     messages = scenario.generate(sc)
     try:
-        path = bag_io.write_scenario_bag(messages, args.out, args.attitude_topic, args.state_topic,
-                                         storage=args.storage, overwrite=args.overwrite)
+        path = bag_io.write_scenario_bag(
+            messages,
+            args.out,
+            args.attitude_topic,
+            args.state_topic,
+            storage=args.storage,
+            overwrite=args.overwrite,
+        )
     except BagError as exc:
         raise CommandLineError(f"--out: {exc}") from None
-    print(f"wrote {path} ({args.storage}): {len(messages.states.stamps_ns)} Odometry on {args.state_topic}, "
-          f"{len(messages.attitudes.stamps_ns)} QuaternionStamped on {args.attitude_topic}")
-    print(f"orbit: perigee {sc.perigee_radius / 1e3:.3f} km, apogee {sc.apogee_radius / 1e3:.3f} km "
-          f"(radius), period {sc.period:.1f} s, epoch {sc.epoch.isoformat()}, attitude {sc.attitude}, "
-          f"stamps {sc.time_mode}")
+    print(
+        f"wrote {path} ({args.storage}): {len(messages.states.stamps_ns)} Odometry on {args.state_topic}, "
+        f"{len(messages.attitudes.stamps_ns)} QuaternionStamped on {args.attitude_topic}"
+    )
+    print(
+        f"orbit: perigee {sc.perigee_radius / 1e3:.3f} km, apogee {sc.apogee_radius / 1e3:.3f} km "
+        f"(radius), period {sc.period:.1f} s, epoch {sc.epoch.isoformat()}, attitude {sc.attitude}, "
+        f"stamps {sc.time_mode}"
+    )
     return 0

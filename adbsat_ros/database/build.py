@@ -54,7 +54,9 @@ def _check_angles(values, name, low, high) -> np.ndarray:
         dup = a[1:][np.diff(a) <= 0][0]
         raise ValueError(f"{name}: angle {dup:g} deg is given twice")
     if a[0] < low or a[-1] > high:
-        raise ValueError(f"{name}: angles must lie in [{low:g}, {high:g}] deg, got {a[0]:g}..{a[-1]:g}")
+        raise ValueError(
+            f"{name}: angles must lie in [{low:g}, {high:g}] deg, got {a[0]:g}..{a[-1]:g}"
+        )
     return a
 
 
@@ -111,7 +113,9 @@ class _Progress:
         elif callable(progress):
             self._callback = progress
         else:
-            raise TypeError("progress must be None, a bool, a callable(done, total) or a tqdm instance")
+            raise TypeError(
+                "progress must be None, a bool, a callable(done, total) or a tqdm instance"
+            )
 
     def update(self, n):
         self._done += n
@@ -207,7 +211,12 @@ def build_database(
     aoa = _check_angles(aoa_deg, "aoa_deg", -360.0, 360.0)
     aos = _check_angles(aos_deg, "aos_deg", -90.0, 90.0)
     metadata = describe_setup(
-        method, flow, shading=shading, samples=samples, mesh_spec=mesh_spec, mesh_scale=mesh_scale,
+        method,
+        flow,
+        shading=shading,
+        samples=samples,
+        mesh_spec=mesh_spec,
+        mesh_scale=mesh_scale,
         materials_texts=materials_texts,
     )
     if conditions is not None:
@@ -241,7 +250,9 @@ def build_database(
                 initializer=_init_worker,
                 initargs=(method, flow, shading, samples),
             ) as pool:
-                futures = {pool.submit(_evaluate_chunk, attitudes[s : s + chunk]): s for s in starts}
+                futures = {
+                    pool.submit(_evaluate_chunk, attitudes[s : s + chunk]): s for s in starts
+                }
                 for future in as_completed(futures):
                     s = futures[future]
                     block = future.result()

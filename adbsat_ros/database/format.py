@@ -221,7 +221,11 @@ def load_database(path) -> AeroDatabase:
         _fail(path, f"not a readable database (.npz) file: {exc}")
     if not isinstance(contents, dict):
         _fail(path, "not a database (.npz) file")
-    missing = [k for k in ("aoa_deg", "aos_deg", "metadata", *SCALAR_FIELDS, *VECTOR_FIELDS) if k not in contents]
+    missing = [
+        k
+        for k in ("aoa_deg", "aos_deg", "metadata", *SCALAR_FIELDS, *VECTOR_FIELDS)
+        if k not in contents
+    ]
     if missing:
         _fail(path, f"missing arrays {', '.join(missing)}")
     raw = contents["metadata"]
@@ -238,7 +242,10 @@ def load_database(path) -> AeroDatabase:
         _fail(path, f"metadata lacks {', '.join(absent)}")
     version = metadata["format_version"]
     if version != FORMAT_VERSION:
-        _fail(path, f"format_version {version!r} is not supported (this version reads {FORMAT_VERSION})")
+        _fail(
+            path,
+            f"format_version {version!r} is not supported (this version reads {FORMAT_VERSION})",
+        )
     for key in ("area", "length", "moment_point"):
         if key not in metadata["reference"]:
             _fail(path, f"metadata reference lacks {key}")

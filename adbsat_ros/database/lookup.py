@@ -128,14 +128,19 @@ def estimate_interpolation_error(db: AeroDatabase) -> dict:
     omitted[np.ix_(ca, cb)] = False
     if not omitted.any():
         out.update(
-            force_coefficient=None, moment_coefficient=None, points=0,
-            coarse_force_error=None, coarse_moment_error=None,
+            force_coefficient=None,
+            moment_coefficient=None,
+            points=0,
+            coarse_force_error=None,
+            coarse_moment_error=None,
             method="unavailable: the grid needs at least 3 nodes along an axis to estimate it",
         )
         return out
     values = np.concatenate([db.Cf_G, db.Cm_G], axis=-1)
     ia, ib = np.nonzero(omitted)
-    coarse = bilinear(db.aoa_deg[ca], db.aos_deg[cb], values[np.ix_(ca, cb)], db.aoa_deg[ia], db.aos_deg[ib])
+    coarse = bilinear(
+        db.aoa_deg[ca], db.aos_deg[cb], values[np.ix_(ca, cb)], db.aoa_deg[ia], db.aos_deg[ib]
+    )
     diff = coarse - values[ia, ib]
     force = float(np.linalg.norm(diff[:, :3], axis=-1).max())
     moment = float(np.linalg.norm(diff[:, 3:], axis=-1).max())
@@ -251,7 +256,9 @@ class CoefficientLookup:
         if not -90.0 - tol <= aos_deg <= 90.0 + tol:
             raise ValueError(f"sideslip {aos_deg:g} deg is outside [-90, 90] deg")
         if not b0 - tol <= aos_deg <= b1 + tol:
-            raise ValueError(f"sideslip {aos_deg:g} deg is outside the database's range [{b0:g}, {b1:g}] deg")
+            raise ValueError(
+                f"sideslip {aos_deg:g} deg is outside the database's range [{b0:g}, {b1:g}] deg"
+            )
         aos_deg = min(max(aos_deg, b0), b1)
         a0, a1 = self.aoa_range
         if not a0 - tol <= aoa_deg <= a1 + tol:
@@ -263,7 +270,11 @@ class CoefficientLookup:
             else:
                 raise ValueError(
                     f"angle of attack {aoa_deg:g} deg is outside the database's range [{a0:g}, {a1:g}] deg"
-                    + ("" if self.periodic else " (the grid is not a full circle, so it does not wrap around)")
+                    + (
+                        ""
+                        if self.periodic
+                        else " (the grid is not a full circle, so it does not wrap around)"
+                    )
                 )
         return min(max(aoa_deg, a0), a1), aos_deg
 
@@ -315,13 +326,17 @@ class CoefficientLookup:
         Cf_G, Cm_G : ndarray, shape (..., 3)
         """
         aoa, aos = np.broadcast_arrays(np.asarray(aoa_deg, float), np.asarray(aos_deg, float))
-        flat = [self._reduce(a, b) for a, b in zip(aoa.reshape(-1).tolist(), aos.reshape(-1).tolist())]
+        flat = [
+            self._reduce(a, b) for a, b in zip(aoa.reshape(-1).tolist(), aos.reshape(-1).tolist())
+        ]
         qa = np.array([f[0] for f in flat])
         qb = np.array([f[1] for f in flat])
         row = bilinear(self._aoa, self._aos, self._values, qa, qb).reshape(aoa.shape + (6,))
         return row[..., :3], row[..., 3:]
 
-    def coefficients(self, aoa_deg=None, aos_deg=None, *, flow_direction=None) -> InterpolatedCoefficients:
+    def coefficients(
+        self, aoa_deg=None, aos_deg=None, *, flow_direction=None
+    ) -> InterpolatedCoefficients:
         """Interpolated coefficients at an attitude given by angles [deg] or a flow direction.
 
         Parameters
@@ -346,7 +361,9 @@ class CoefficientLookup:
             else:
                 norm = float("nan")
             if not math.isfinite(norm) or norm == 0.0:
-                raise ValueError(f"flow_direction must be a finite non-zero 3-vector, got {flow_direction!r}")
+                raise ValueError(
+                    f"flow_direction must be a finite non-zero 3-vector, got {flow_direction!r}"
+                )
             a_rad = math.atan2(z / norm, -x / norm)  # frames.angles_of_flow, on floats
             b_rad = math.asin(max(-1.0, min(1.0, y / norm)))
             aoa_deg, aos_deg = math.degrees(a_rad), math.degrees(b_rad)

@@ -28,10 +28,10 @@ import math
 
 import numpy as np
 
-from adbsat_ros.geometry import frames
+from adbsat_ros.database.format import DatabaseError
 from adbsat_ros.database.lookup import CoefficientLookup
 from adbsat_ros.database.metadata import surface_values
-from adbsat_ros.database.format import DatabaseError
+from adbsat_ros.geometry import frames
 from adbsat_ros.physics.panel_method import PanelMethod
 
 #: Relative tolerance on the reference area and length when matching a database.
@@ -74,7 +74,9 @@ def database_mismatches(metadata: dict, method: PanelMethod) -> list:
             out.append(f"{label}: database {model.get(key)!r}, node {ours!r}")
     try:
         materials = metadata["materials"]
-        theirs = MaterialTable.from_texts(SurfaceProperties(**materials["default"]), materials["overrides"])
+        theirs = MaterialTable.from_texts(
+            SurfaceProperties(**materials["default"]), materials["overrides"]
+        )
     except (KeyError, TypeError, ValueError) as exc:
         out.append(f"materials: the database's materials cannot be read ({exc})")
     else:
@@ -130,7 +132,8 @@ class DatabaseCoefficients:
         problems = database_mismatches(metadata, method)
         if problems:
             raise ValueError(
-                f"parameter database_path: {path} was not made for this node's set-up: " + "; ".join(problems)
+                f"parameter database_path: {path} was not made for this node's set-up: "
+                + "; ".join(problems)
             )
         self.path = path
         self.reference_length = method.reference.length
@@ -143,7 +146,8 @@ class DatabaseCoefficients:
         # carrying the moment to c adds (p - c) x (error of C_F) / L_ref
         self.error_bound = {
             "force_coefficient": force_error,
-            "moment_coefficient": moment_error + float(np.linalg.norm(self._offset)) * force_error / self.reference_length,
+            "moment_coefficient": moment_error
+            + float(np.linalg.norm(self._offset)) * force_error / self.reference_length,
         }
 
     def body_coefficients(self, u_body):

@@ -63,8 +63,16 @@ def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale) -> str | None
     return mesh_spec
 
 
-def describe_setup(method: PanelMethod, flow: FreeStream, *, shading, samples, mesh_spec, mesh_scale,
-                   materials_texts=None) -> dict:
+def describe_setup(
+    method: PanelMethod,
+    flow: FreeStream,
+    *,
+    shading,
+    samples,
+    mesh_spec,
+    mesh_scale,
+    materials_texts=None,
+) -> dict:
     """Metadata of a set-up (everything but the grid results and the interpolation error)."""
     texts = material_override_texts(method.materials)
     if materials_texts:
@@ -120,7 +128,10 @@ def method_from_metadata(metadata: dict, path=None):
         mesh_meta = metadata["mesh"]
         spec = mesh_meta["spec"]
         if spec is None:
-            _fail(where, "the mesh was built in code (no mesh spec recorded), so it cannot be reloaded")
+            _fail(
+                where,
+                "the mesh was built in code (no mesh spec recorded), so it cannot be reloaded",
+            )
         try:
             mesh = resolve_mesh(spec, scale=float(mesh_meta["scale"]))
         except MeshError as exc:
@@ -135,10 +146,13 @@ def method_from_metadata(metadata: dict, path=None):
         materials = MaterialTable.from_texts(SurfaceProperties(**mat["default"]), mat["overrides"])
         model = metadata["model"]
         options = ModelOptions(
-            incident_temperature=model["incident_temperature"], adbsat_compat=bool(model["adbsat_compat"])
+            incident_temperature=model["incident_temperature"],
+            adbsat_compat=bool(model["adbsat_compat"]),
         )
         ref = metadata["reference"]
-        reference = Reference(area=ref["area"], length=ref["length"], moment_point=tuple(ref["moment_point"]))
+        reference = Reference(
+            area=ref["area"], length=ref["length"], moment_point=tuple(ref["moment_point"])
+        )
         method = PanelMethod(mesh, model["name"], materials, options=options, reference=reference)
         f = metadata["flow"]
         flow = FreeStream(

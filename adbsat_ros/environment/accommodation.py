@@ -53,7 +53,15 @@ from typing import Callable, Mapping
 
 from adbsat_ros.environment.atmosphere import AtmosphereState
 from adbsat_ros.physics.constants import AMU, BOLTZMANN, species_mass_kg
-from adbsat_ros.validation import finite as _finite, non_negative as _non_negative, positive as _positive
+from adbsat_ros.validation import (
+    finite as _finite,
+)
+from adbsat_ros.validation import (
+    non_negative as _non_negative,
+)
+from adbsat_ros.validation import (
+    positive as _positive,
+)
 
 #: Pilinski et al. (2010) Langmuir constant K [m^3/K], applied as K n_O T.
 LANGMUIR_CONSTANT = 7.50e-17
@@ -341,7 +349,9 @@ def accommodation(name: str, atmosphere: AtmosphereState, speed: float, **option
     return accommodation_of(key, atmosphere, _non_negative("speed", speed), options)
 
 
-def accommodation_of(key: str, atmosphere: AtmosphereState, speed: float, options: Mapping) -> float:
+def accommodation_of(
+    key: str, atmosphere: AtmosphereState, speed: float, options: Mapping
+) -> float:
     """:func:`accommodation` for a model name already normalised (:func:`normalize_model_name`),
     an :class:`AtmosphereState` and a float speed >= 0 [m/s]; the options are checked here.
 
@@ -360,7 +370,12 @@ def accommodation_of(key: str, atmosphere: AtmosphereState, speed: float, option
     elif key == "langmuir" and not options:
         n_o = atmosphere.number_densities["O"]
         temperature = atmosphere.temperature
-        if type(n_o) is float and type(temperature) is float and 0.0 <= n_o < math.inf and 0.0 < temperature < math.inf:
+        if (
+            type(n_o) is float
+            and type(temperature) is float
+            and 0.0 <= n_o < math.inf
+            and 0.0 < temperature < math.inf
+        ):
             x = LANGMUIR_CONSTANT * n_o * temperature
             return x / (1.0 + x)
     allowed = ACCOMMODATION_OPTIONS[key]

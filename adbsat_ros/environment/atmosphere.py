@@ -34,9 +34,10 @@ from typing import Mapping
 
 from nrlmsise00 import _nrlmsise00
 
-from adbsat_ros.physics.constants import AVOGADRO, MOLAR_MASS_G, SPECIES
 from adbsat_ros.environment.time_scales import seconds_of_day, utc_datetime, utc_day
-from adbsat_ros.validation import finite as _finite, non_negative as _non_negative
+from adbsat_ros.physics.constants import AVOGADRO, MOLAR_MASS_G, SPECIES
+from adbsat_ros.validation import finite as _finite
+from adbsat_ros.validation import non_negative as _non_negative
 
 #: Largest altitude NRLMSISE-00 is evaluated at [m].
 MAX_ALTITUDE = 1000e3
@@ -300,18 +301,37 @@ def run_model(
     # altitude in km and latitude in degrees, as the model takes them
     if space_weather.ap_history is None:
         densities, temperatures = model(
-            year, day_of_year, seconds, altitude * 1e-3, math.degrees(latitude), longitude_deg,
-            local_solar_time_h, space_weather.f107a, space_weather.f107, space_weather.ap,
+            year,
+            day_of_year,
+            seconds,
+            altitude * 1e-3,
+            math.degrees(latitude),
+            longitude_deg,
+            local_solar_time_h,
+            space_weather.f107a,
+            space_weather.f107,
+            space_weather.ap,
             flags=_SWITCHES_DAILY_AP,
         )
     else:
         densities, temperatures = model(
-            year, day_of_year, seconds, altitude * 1e-3, math.degrees(latitude), longitude_deg,
-            local_solar_time_h, space_weather.f107a, space_weather.f107, space_weather.ap,
-            ap_a=list(space_weather.ap_history), flags=_SWITCHES_AP_HISTORY,
+            year,
+            day_of_year,
+            seconds,
+            altitude * 1e-3,
+            math.degrees(latitude),
+            longitude_deg,
+            local_solar_time_h,
+            space_weather.f107a,
+            space_weather.f107,
+            space_weather.ap,
+            ap_a=list(space_weather.ap_history),
+            flags=_SWITCHES_AP_HISTORY,
         )
     he, o, n2, o2, ar, rho, h, n, ano = densities  # the model's order (_MSIS_SPECIES_INDEX)
-    return _model_state(he, o, n2, o2, ar, h, n, ano, rho, temperatures[0], temperatures[1], anomalous_oxygen)
+    return _model_state(
+        he, o, n2, o2, ar, h, n, ano, rho, temperatures[0], temperatures[1], anomalous_oxygen
+    )
 
 
 def gas_mixture(he, o, n2, o2, ar, h, n, ano, mass_density, temperature, anomalous_oxygen) -> tuple:
@@ -328,8 +348,9 @@ def gas_mixture(he, o, n2, o2, ar, h, n, ano, mass_density, temperature, anomalo
     if anomalous_oxygen:
         species, values = SPECIES, (he, o, n2, o2, ar, h, n, ano)
         total = 0.0 + he + o + n2 + o2 + ar + h + n + ano
-        weighted = (0.0 + he * _HE + o * _O + n2 * _N2 + o2 * _O2 + ar * _AR + h * _H + n * _N
-                    + ano * _ANO)
+        weighted = (
+            0.0 + he * _HE + o * _O + n2 * _N2 + o2 * _O2 + ar * _AR + h * _H + n * _N + ano * _ANO
+        )
         negative = ano < 0.0
     else:
         species, values = _SPECIES_WITHOUT_ANO, (he, o, n2, o2, ar, h, n)
@@ -338,14 +359,26 @@ def gas_mixture(he, o, n2, o2, ar, h, n, ano, mass_density, temperature, anomalo
         negative = False
     mean_mass = weighted / total if total > 0.0 else None
     usable = (
-        0.0 < total < math.inf and 0.0 < temperature < math.inf and 0.0 < mass_density < math.inf
-        and not (negative or he < 0.0 or o < 0.0 or n2 < 0.0 or o2 < 0.0 or ar < 0.0 or h < 0.0 or n < 0.0)
+        0.0 < total < math.inf
+        and 0.0 < temperature < math.inf
+        and 0.0 < mass_density < math.inf
+        and not (
+            negative
+            or he < 0.0
+            or o < 0.0
+            or n2 < 0.0
+            or o2 < 0.0
+            or ar < 0.0
+            or h < 0.0
+            or n < 0.0
+        )
     )
     return species, values, mean_mass, usable
 
 
-def _model_state(he, o, n2, o2, ar, h, n, ano, rho, exospheric_temperature, temperature,
-                 anomalous_oxygen) -> AtmosphereState:
+def _model_state(
+    he, o, n2, o2, ar, h, n, ano, rho, exospheric_temperature, temperature, anomalous_oxygen
+) -> AtmosphereState:
     """An AtmosphereState from the model's floats (number densities [m^-3] by species, mass
     density [kg/m^3], temperatures [K]), as AtmosphereState(...) would make it (its fields need
     no check), with the derived values of the mixture (:func:`gas_mixture`) filled in."""
@@ -358,7 +391,9 @@ def _model_state(he, o, n2, o2, ar, h, n, ano, rho, exospheric_temperature, temp
     fields["exospheric_temperature"] = exospheric_temperature
     fields["temperature"] = temperature
     fields["anomalous_oxygen"] = anomalous_oxygen = bool(anomalous_oxygen)
-    species, values, mean_mass, usable = gas_mixture(he, o, n2, o2, ar, h, n, ano, rho, temperature, anomalous_oxygen)
+    species, values, mean_mass, usable = gas_mixture(
+        he, o, n2, o2, ar, h, n, ano, rho, temperature, anomalous_oxygen
+    )
     fields["mixture_species"] = species
     fields["_mixture_densities"] = values
     if mean_mass is not None:  # else mean_mass raises on access, as it always did
@@ -369,7 +404,9 @@ def _model_state(he, o, n2, o2, ar, h, n, ano, rho, exospheric_temperature, temp
     return state
 
 
-def interpolated_atmosphere(a: AtmosphereState, b: AtmosphereState, weight: float) -> AtmosphereState:
+def interpolated_atmosphere(
+    a: AtmosphereState, b: AtmosphereState, weight: float
+) -> AtmosphereState:
     """The state ``(1 - weight) a + weight b``: every number density, the mass density and both
     temperatures interpolated linearly (0 <= weight <= 1); the mean mass and the free-stream
     mixture follow from the interpolated densities as :func:`run_model` makes them.
@@ -386,5 +423,6 @@ def interpolated_atmosphere(a: AtmosphereState, b: AtmosphereState, weight: floa
         *[v * da[name] + weight * db[name] for name in _MODEL_STATE_SPECIES],
         v * a.mass_density + weight * b.mass_density,
         v * a.exospheric_temperature + weight * b.exospheric_temperature,
-        v * a.temperature + weight * b.temperature, a.anomalous_oxygen,
+        v * a.temperature + weight * b.temperature,
+        a.anomalous_oxygen,
     )

@@ -43,7 +43,12 @@ from dataclasses import dataclass
 import erfa
 import numpy as np
 
-from adbsat_ros.environment.time_scales import _SECONDS_PER_DAY, seconds_of_day, utc_datetime, utc_day
+from adbsat_ros.environment.time_scales import (
+    _SECONDS_PER_DAY,
+    seconds_of_day,
+    utc_datetime,
+    utc_day,
+)
 
 #: Rate of the Earth rotation angle [rad/s] (IERS Conventions 2010, eq. 5.15:
 #: 2 pi * 1.00273781191135448 per UT1 day of 86400 s).
@@ -152,7 +157,9 @@ _ROTATION_VECTOR_ECEF.setflags(write=False)
 def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> tuple:
     """Celestial-to-intermediate matrix at the centre of TT interval ``bucket`` (J2000-based),
     as 9 floats in row-major order."""
-    return tuple(_CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days).ravel().tolist())
+    return tuple(
+        _CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days).ravel().tolist()
+    )
 
 
 def earth_rotation_angle(ut1_day: float, ut1_fraction: float) -> float:
@@ -173,7 +180,9 @@ def earth_rotation_angle(ut1_day: float, ut1_fraction: float) -> float:
     return angle + _TWO_PI if angle < 0.0 else angle
 
 
-def check_orientation_options(ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step):
+def check_orientation_options(
+    ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
+):
     """Checked Earth-orientation options of :func:`earth_orientation`.
 
     Returns
@@ -213,11 +222,15 @@ def check_orientation_options(ut1_minus_utc, polar_motion, precession_nutation, 
         )
     step = float(precession_nutation_step)
     if not (math.isfinite(step) and 0.0 <= step <= 3600.0):
-        raise ValueError(f"precession_nutation_step must be in [0, 3600] s, got {precession_nutation_step!r}")
+        raise ValueError(
+            f"precession_nutation_step must be in [0, 3600] s, got {precession_nutation_step!r}"
+        )
     return ut1_minus_utc, xp, yp, precession_nutation, step
 
 
-def rotation_terms(jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step):
+def rotation_terms(
+    jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step
+):
     """The GCRS -> ITRS rotation of :func:`earth_orientation` as plain floats (no arrays).
 
     The per-message form used by :func:`adbsat_ros.environment.flight_conditions.flight_conditions`;
@@ -259,9 +272,15 @@ def rotation_terms(jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, prece
     q00, q01, q02, q10, q11, q12, q20, q21, q22 = q
     # R3(ERA) @ Q with R3 = [[c, s, 0], [-s, c, 0], [0, 0, 1]]
     matrix = (
-        c * q00 + s * q10, c * q01 + s * q11, c * q02 + s * q12,
-        c * q10 - s * q00, c * q11 - s * q01, c * q12 - s * q02,
-        q20, q21, q22,
+        c * q00 + s * q10,
+        c * q01 + s * q11,
+        c * q02 + s * q12,
+        c * q10 - s * q00,
+        c * q11 - s * q01,
+        c * q12 - s * q02,
+        q20,
+        q21,
+        q22,
     )
     axis = _ROTATION_AXIS
     if xp != 0.0 or yp != 0.0:

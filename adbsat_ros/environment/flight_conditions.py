@@ -35,10 +35,10 @@ import numpy as np
 
 from adbsat_ros.environment.accommodation import accommodation_of, normalize_model_name
 from adbsat_ros.environment.atmosphere import (
+    _MODEL_STATE_SPECIES,
     FIRST_YEAR,
     LAST_YEAR,
     MAX_ALTITUDE,
-    _MODEL_STATE_SPECIES,
     AtmosphereState,
     SpaceWeather,
     check_altitude,
@@ -49,10 +49,15 @@ from adbsat_ros.environment.atmosphere import (
     interpolated_atmosphere,
     run_model,
 )
-from adbsat_ros.physics.constants import BOLTZMANN, EARTH_MU, EARTH_RADIUS_ADBSAT
-from adbsat_ros.environment.earth_frames import EarthOrientation, check_orientation_options, earth_orientation, rotation_terms
-from adbsat_ros.environment.time_scales import utc_day
+from adbsat_ros.environment.earth_frames import (
+    EarthOrientation,
+    check_orientation_options,
+    earth_orientation,
+    rotation_terms,
+)
 from adbsat_ros.environment.geodetic import enu_to_ecef, geodetic_of_floats, geodetic_to_ecef
+from adbsat_ros.environment.time_scales import utc_day
+from adbsat_ros.physics.constants import BOLTZMANN, EARTH_MU, EARTH_RADIUS_ADBSAT
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.validation import non_negative as _non_negative
 
@@ -278,14 +283,21 @@ class FlightConditions:
         mixture = fields.get("_free_stream_mixture")
         if mixture is not None:  # interpolated conditions: their mixture, checked (gas_mixture)
             species, values, temperature, mass_density, mean_mass = mixture
-            return FreeStream._of_checked_mixture(speed, temperature, species, values, mass_density, mean_mass)
+            return FreeStream._of_checked_mixture(
+                speed, temperature, species, values, mass_density, mean_mass
+            )
         atmosphere = self.atmosphere
         mixture = atmosphere.__dict__.get("_free_stream_mixture")
         if mixture is not None and type(speed) is float and speed < math.inf:
             # an atmosphere of run_model, whose mixture passed of_mixture's checks there
             species, values, mean_mass = mixture
             return FreeStream._of_checked_mixture(
-                speed, atmosphere.temperature, species, values, atmosphere.mass_density, mean_mass,
+                speed,
+                atmosphere.temperature,
+                species,
+                values,
+                atmosphere.mass_density,
+                mean_mass,
             )
         return FreeStream.of_mixture(
             speed,
@@ -320,7 +332,9 @@ class _VectorOnFirstRead:
         try:
             vector = fields["_vectors"][self.index]
         except KeyError:
-            raise AttributeError(f"{type(instance).__name__!r} object has no attribute {self.name!r}") from None
+            raise AttributeError(
+                f"{type(instance).__name__!r} object has no attribute {self.name!r}"
+            ) from None
         if vector is not None:
             vector = np.array(vector)
             vector.setflags(write=False)
@@ -348,7 +362,9 @@ class _InterpolatedOnFirstRead:
             return self
         fields = instance.__dict__
         if "_interpolation" not in fields:
-            raise AttributeError(f"{type(instance).__name__!r} object has no attribute {self.name!r}")
+            raise AttributeError(
+                f"{type(instance).__name__!r} object has no attribute {self.name!r}"
+            )
         _complete_interpolation(fields)
         return fields[self.name]
 
@@ -365,11 +381,15 @@ def _vector_floats(conditions: FlightConditions) -> tuple:
     vectors = conditions.__dict__.get("_vectors")
     if vectors is not None:
         return vectors
-    return tuple(None if (v := getattr(conditions, name)) is None else tuple(v.tolist()) for name in _VECTOR_FIELDS)
+    return tuple(
+        None if (v := getattr(conditions, name)) is None else tuple(v.tolist())
+        for name in _VECTOR_FIELDS
+    )
 
 
-def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, weight: float,
-                                   time: _dt.datetime) -> FlightConditions:
+def interpolated_flight_conditions(
+    a: FlightConditions, b: FlightConditions, weight: float, time: _dt.datetime
+) -> FlightConditions:
     """The flight conditions at ``time``, a fraction ``weight`` (0..1) of the way from ``a`` to ``b``.
 
     ``a`` and ``b`` are :func:`flight_conditions` of one orbital state propagated to two nearby
@@ -395,8 +415,11 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
         If the two conditions were made with different options (accommodation model, Earth rotation,
         space weather, anomalous oxygen).
     """
-    if (a.accommodation_model != b.accommodation_model or a.earth_rotation != b.earth_rotation
-            or (a.space_weather is not b.space_weather and a.space_weather != b.space_weather)):
+    if (
+        a.accommodation_model != b.accommodation_model
+        or a.earth_rotation != b.earth_rotation
+        or (a.space_weather is not b.space_weather and a.space_weather != b.space_weather)
+    ):
         raise ValueError("interpolated_flight_conditions: a and b were made with different options")
     if weight == 0.0:  # a itself, at the time given (its fields are immutable or read-only arrays)
         conditions = _new_conditions(FlightConditions)
@@ -417,19 +440,21 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
         if usable and anomalous_oxygen == b.atmosphere.anomalous_oxygen:
             speed = math.sqrt(ex * ex + ey * ey + ez * ez)
             conditions = _new_conditions(FlightConditions)
-            conditions.__dict__.update({
-                "time": time,
-                "_interpolation": (a, b, weight),
-                "_relative": ((rx, ry, rz), (ex, ey, ez)),
-                "_free_stream_mixture": (species, values, temperature, mass_density, mean_mass),
-                "mean_molecular_mass": mean_mass,
-                "speed": speed,
-                "speed_ratio": _speed_ratio(speed, temperature, mean_mass),
-                "accommodation_model": a.accommodation_model,
-                "accommodation_coefficient": alpha,
-                "earth_rotation": a.earth_rotation,
-                "space_weather": a.space_weather,
-            })
+            conditions.__dict__.update(
+                {
+                    "time": time,
+                    "_interpolation": (a, b, weight),
+                    "_relative": ((rx, ry, rz), (ex, ey, ez)),
+                    "_free_stream_mixture": (species, values, temperature, mass_density, mean_mass),
+                    "mean_molecular_mass": mean_mass,
+                    "speed": speed,
+                    "speed_ratio": _speed_ratio(speed, temperature, mean_mass),
+                    "accommodation_model": a.accommodation_model,
+                    "accommodation_coefficient": alpha,
+                    "earth_rotation": a.earth_rotation,
+                    "space_weather": a.space_weather,
+                }
+            )
             return conditions
     # (no relative velocity, or a mixture a free stream would not take: everything now, the same way)
     whole = {"_interpolation": (a, b, weight)}
@@ -441,9 +466,17 @@ def interpolated_flight_conditions(a: FlightConditions, b: FlightConditions, wei
         x, y, z = vectors[5]
         speed = math.sqrt(x * x + y * y + z * z)
     return _made_conditions(
-        time, vectors, whole["latitude"], whole["longitude"], whole["altitude"], whole["atmosphere"], speed,
-        a.accommodation_model, (1.0 - weight) * a.accommodation_coefficient + weight * b.accommodation_coefficient,
-        a.earth_rotation, a.space_weather,
+        time,
+        vectors,
+        whole["latitude"],
+        whole["longitude"],
+        whole["altitude"],
+        whole["atmosphere"],
+        speed,
+        a.accommodation_model,
+        (1.0 - weight) * a.accommodation_coefficient + weight * b.accommodation_coefficient,
+        a.earth_rotation,
+        a.space_weather,
     )
 
 
@@ -458,11 +491,21 @@ def _interpolation_numbers(conditions: FlightConditions) -> tuple | None:
         vectors = _vector_floats(conditions)
         atmosphere = conditions.atmosphere
         densities = atmosphere.number_densities
-        if vectors[4] is None or vectors[5] is None or any(name not in densities for name in _MODEL_STATE_SPECIES):
+        if (
+            vectors[4] is None
+            or vectors[5] is None
+            or any(name not in densities for name in _MODEL_STATE_SPECIES)
+        ):
             numbers = None
         else:
-            numbers = (*vectors[4], *vectors[5], atmosphere.temperature, atmosphere.mass_density,
-                       *(densities[name] for name in _MODEL_STATE_SPECIES), conditions.accommodation_coefficient)
+            numbers = (
+                *vectors[4],
+                *vectors[5],
+                atmosphere.temperature,
+                atmosphere.mass_density,
+                *(densities[name] for name in _MODEL_STATE_SPECIES),
+                conditions.accommodation_coefficient,
+            )
         fields["_interpolation_numbers"] = numbers
     return numbers
 
@@ -483,13 +526,15 @@ def _complete_interpolation(fields: dict) -> None:
     pb, qb, rb, sb, tb, ub = _vector_floats(b)
     vectors = (mix(pa, pb), mix(qa, qb), mix(ra, rb), mix(sa, sb), mix(ta, tb), mix(ua, ub))
     latitude, longitude, altitude = geodetic_of_floats(*vectors[1])
-    fields.update({
-        "_vectors": vectors,
-        "latitude": latitude,
-        "longitude": longitude,
-        "altitude": altitude,
-        "atmosphere": interpolated_atmosphere(a.atmosphere, b.atmosphere, weight),
-    })
+    fields.update(
+        {
+            "_vectors": vectors,
+            "latitude": latitude,
+            "longitude": longitude,
+            "altitude": altitude,
+            "atmosphere": interpolated_atmosphere(a.atmosphere, b.atmosphere, weight),
+        }
+    )
 
 
 def _three_floats(value, name: str) -> tuple:
@@ -611,17 +656,28 @@ def flight_conditions(
     # checks every input as documented and raises its error.
     try:
         options = _CHECKED_OPTIONS[
-            frame, wind_frame, accommodation_model, ut1_minus_utc, polar_motion,
-            precession_nutation, precession_nutation_step,
+            frame,
+            wind_frame,
+            accommodation_model,
+            ut1_minus_utc,
+            polar_motion,
+            precession_nutation,
+            precession_nutation_step,
         ]
     except (KeyError, TypeError):
         options = None
     if (
         options is not None
         and orientation is None
-        and type(time) is _dt.datetime and time.tzinfo is _UTC and FIRST_YEAR <= time.year <= LAST_YEAR
-        and type(position) is _NDARRAY and position.dtype is _FLOAT64 and position.shape == _SHAPE3
-        and type(velocity) is _NDARRAY and velocity.dtype is _FLOAT64 and velocity.shape == _SHAPE3
+        and type(time) is _dt.datetime
+        and time.tzinfo is _UTC
+        and FIRST_YEAR <= time.year <= LAST_YEAR
+        and type(position) is _NDARRAY
+        and position.dtype is _FLOAT64
+        and position.shape == _SHAPE3
+        and type(velocity) is _NDARRAY
+        and velocity.dtype is _FLOAT64
+        and velocity.shape == _SHAPE3
     ):
         x, y, z = position.tolist()
         vx, vy, vz = velocity.tolist()
@@ -635,20 +691,57 @@ def flight_conditions(
         if total - total == 0.0:  # all finite (an overflowing sum just takes the checked path)
             frame_key, wind_frame_key, model, orientation_options = options
             return _evaluate(
-                time, (x, y, z), (vx, vy, vz), wind, space_weather, frame_key, earth_rotation,
-                wind_frame_key, anomalous_oxygen, model, accommodation_options, orientation_options, None,
+                time,
+                (x, y, z),
+                (vx, vy, vz),
+                wind,
+                space_weather,
+                frame_key,
+                earth_rotation,
+                wind_frame_key,
+                anomalous_oxygen,
+                model,
+                accommodation_options,
+                orientation_options,
+                None,
             )
     return _checked_flight_conditions(
-        time, position, velocity, space_weather, frame, earth_rotation, wind, wind_frame,
-        anomalous_oxygen, accommodation_model, accommodation_options, orientation, ut1_minus_utc,
-        polar_motion, precession_nutation, precession_nutation_step,
+        time,
+        position,
+        velocity,
+        space_weather,
+        frame,
+        earth_rotation,
+        wind,
+        wind_frame,
+        anomalous_oxygen,
+        accommodation_model,
+        accommodation_options,
+        orientation,
+        ut1_minus_utc,
+        polar_motion,
+        precession_nutation,
+        precession_nutation_step,
     )
 
 
 def _checked_flight_conditions(
-    time, position, velocity, space_weather, frame, earth_rotation, wind, wind_frame,
-    anomalous_oxygen, accommodation_model, accommodation_options, orientation, ut1_minus_utc,
-    polar_motion, precession_nutation, precession_nutation_step,
+    time,
+    position,
+    velocity,
+    space_weather,
+    frame,
+    earth_rotation,
+    wind,
+    wind_frame,
+    anomalous_oxygen,
+    accommodation_model,
+    accommodation_options,
+    orientation,
+    ut1_minus_utc,
+    polar_motion,
+    precession_nutation,
+    precession_nutation_step,
 ) -> FlightConditions:
     """:func:`flight_conditions` with every input checked (ValueError naming it) and normalised;
     remembers the checked options for the per-message case."""
@@ -668,8 +761,15 @@ def _checked_flight_conditions(
         orientation_options = check_orientation_options(
             ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
         )
-        key = (frame, wind_frame, accommodation_model, ut1_minus_utc, polar_motion,
-               precession_nutation, precession_nutation_step)
+        key = (
+            frame,
+            wind_frame,
+            accommodation_model,
+            ut1_minus_utc,
+            polar_motion,
+            precession_nutation,
+            precession_nutation_step,
+        )
         if len(_CHECKED_OPTIONS) >= _MAX_CHECKED_OPTIONS:
             _CHECKED_OPTIONS.clear()
         try:
@@ -687,14 +787,36 @@ def _checked_flight_conditions(
                 f"orientation is for {orientation.time.isoformat()}, not for time {naive.isoformat()}"
             )
     return _evaluate(
-        utc, position, velocity, wind_vector, space_weather, frame_key, earth_rotation,
-        wind_frame_key, anomalous_oxygen, model, accommodation_options, orientation_options, orientation,
+        utc,
+        position,
+        velocity,
+        wind_vector,
+        space_weather,
+        frame_key,
+        earth_rotation,
+        wind_frame_key,
+        anomalous_oxygen,
+        model,
+        accommodation_options,
+        orientation_options,
+        orientation,
     )
 
 
 def _evaluate(
-    utc, position, velocity, wind, space_weather, frame_key, earth_rotation, wind_frame_key,
-    anomalous_oxygen, model, accommodation_options, orientation_options, orientation,
+    utc,
+    position,
+    velocity,
+    wind,
+    space_weather,
+    frame_key,
+    earth_rotation,
+    wind_frame_key,
+    anomalous_oxygen,
+    model,
+    accommodation_options,
+    orientation_options,
+    orientation,
 ) -> FlightConditions:
     """The flight conditions from checked inputs: an aware UTC time, position, velocity and wind
     (or None) as float 3-tuples, the frame keys, the model name, and either the checked
@@ -705,9 +827,13 @@ def _evaluate(
     tuples and makes its arrays when they are read.
     """
     jd1, tt_minus_utc, day_of_year = utc_day(utc.year, utc.month, utc.day)
-    seconds = utc.hour * 3600.0 + utc.minute * 60.0 + utc.second + utc.microsecond * 1e-6  # seconds_of_day
+    seconds = (
+        utc.hour * 3600.0 + utc.minute * 60.0 + utc.second + utc.microsecond * 1e-6
+    )  # seconds_of_day
     if orientation is None:
-        matrix, _, omega = rotation_terms(jd1, seconds / 86400.0, tt_minus_utc, *orientation_options)
+        matrix, _, omega = rotation_terms(
+            jd1, seconds / 86400.0, tt_minus_utc, *orientation_options
+        )
     else:
         matrix = tuple(orientation.celestial_to_terrestrial.ravel().tolist())
         omega = tuple(orientation.rotation_vector_ecef.tolist())
@@ -741,7 +867,14 @@ def _evaluate(
         except ValueError as exc:
             raise ValueError(f"position: {exc}") from None
     atmosphere = run_model(
-        utc.year, day_of_year, seconds, altitude, latitude, longitude, space_weather, anomalous_oxygen
+        utc.year,
+        day_of_year,
+        seconds,
+        altitude,
+        latitude,
+        longitude,
+        space_weather,
+        anomalous_oxygen,
     )
     if wind is not None and wind_frame_key == "enu":
         wind = enu_to_ecef(latitude, longitude, *wind)
@@ -755,7 +888,9 @@ def _evaluate(
             m2 * x + m5 * y + m8 * z,
         )
     else:
-        relative_eci = velocity_eci if wind is None else _minus(velocity_eci, _rotate_back(matrix, *wind))
+        relative_eci = (
+            velocity_eci if wind is None else _minus(velocity_eci, _rotate_back(matrix, *wind))
+        )
         relative_ecef = x, y, z = _rotate(matrix, *relative_eci)
     speed = math.sqrt(x * x + y * y + z * z)
     if not speed < math.inf:
@@ -764,33 +899,55 @@ def _evaluate(
         accommodation_options = dict(accommodation_options or {})
     alpha = accommodation_of(model, atmosphere, speed, accommodation_options)
     return _made_conditions(
-        utc, (position_eci, position_ecef, velocity_eci, velocity_ecef, relative_eci, relative_ecef),
-        latitude, longitude, altitude, atmosphere, speed, model, float(alpha), bool(earth_rotation), space_weather,
+        utc,
+        (position_eci, position_ecef, velocity_eci, velocity_ecef, relative_eci, relative_ecef),
+        latitude,
+        longitude,
+        altitude,
+        atmosphere,
+        speed,
+        model,
+        float(alpha),
+        bool(earth_rotation),
+        space_weather,
     )
 
 
-def _made_conditions(time, vectors, latitude, longitude, altitude, atmosphere, speed, model, alpha,
-                     earth_rotation, space_weather) -> FlightConditions:
+def _made_conditions(
+    time,
+    vectors,
+    latitude,
+    longitude,
+    altitude,
+    atmosphere,
+    speed,
+    model,
+    alpha,
+    earth_rotation,
+    space_weather,
+) -> FlightConditions:
     """FlightConditions as FlightConditions(...) makes them, from checked values (the six vectors
     as float tuples in the order of ``_VECTOR_FIELDS``, made into arrays on first access); the
     mean mass and speed ratio follow from the atmosphere and the speed."""
     mean_mass = atmosphere.mean_mass
     conditions = _new_conditions(FlightConditions)
-    conditions.__dict__.update({
-        "time": time,
-        "_vectors": vectors,
-        "latitude": latitude,
-        "longitude": longitude,
-        "altitude": altitude,
-        "atmosphere": atmosphere,
-        "mean_molecular_mass": mean_mass,
-        "speed": speed,
-        "speed_ratio": _speed_ratio(speed, atmosphere.temperature, mean_mass),
-        "accommodation_model": model,
-        "accommodation_coefficient": alpha,
-        "earth_rotation": earth_rotation,
-        "space_weather": space_weather,
-    })
+    conditions.__dict__.update(
+        {
+            "time": time,
+            "_vectors": vectors,
+            "latitude": latitude,
+            "longitude": longitude,
+            "altitude": altitude,
+            "atmosphere": atmosphere,
+            "mean_molecular_mass": mean_mass,
+            "speed": speed,
+            "speed_ratio": _speed_ratio(speed, atmosphere.temperature, mean_mass),
+            "accommodation_model": model,
+            "accommodation_coefficient": alpha,
+            "earth_rotation": earth_rotation,
+            "space_weather": space_weather,
+        }
+    )
     return conditions
 
 

@@ -160,7 +160,9 @@ def geodetic_of_floats(x: float, y: float, z: float) -> tuple:
         latitude = math.atan(s1 / cc)
         s12 = s1 * s1
         cc2 = cc * cc
-        altitude = (p * cc + absz * s1 - _WGS84_A * math.sqrt(_EC2 * s12 + cc2)) / math.sqrt(s12 + cc2)
+        altitude = (p * cc + absz * s1 - _WGS84_A * math.sqrt(_EC2 * s12 + cc2)) / math.sqrt(
+            s12 + cc2
+        )
     else:  # on the polar axis
         latitude = math.pi / 2.0
         altitude = absz - _POLAR_RADIUS

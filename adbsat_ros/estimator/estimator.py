@@ -28,19 +28,23 @@ from typing import NamedTuple
 
 import numpy as np
 
-from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.database.matching import DatabaseCoefficients
+from adbsat_ros.environment.atmosphere import SpaceWeather
+from adbsat_ros.environment.flight_conditions import (
+    FlightConditions,
+    flight_conditions,
+    interpolated_flight_conditions,
+)
+from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.frames import quaternion_matrix_floats
-from adbsat_ros.environment.flight_conditions import FlightConditions, flight_conditions, interpolated_flight_conditions
+from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.messages.cdr import OdometryFields
+from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import ModelOptions
-from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
-from adbsat_ros.messages.cdr import OdometryFields
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
-from adbsat_ros.estimator.settings import WrenchSettings
 
 #: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).
 REJECTION_REASONS = (
@@ -220,12 +224,16 @@ class _ShadingSource:
     """Lighting for a flow direction, through the shading cache (or nothing for 'none')."""
 
     def __init__(self, mesh: PanelMesh, settings: WrenchSettings):
-        self.key = (settings.shading, settings.shading_samples, settings.shading_cache_resolution_deg,
-                    settings.shading_cache_size)
+        self.key = (
+            settings.shading,
+            settings.shading_samples,
+            settings.shading_cache_resolution_deg,
+            settings.shading_cache_size,
+        )
         self.cache = None
         if settings.shading != "none":
-            from adbsat_ros.shading.shader import make_shader
             from adbsat_ros.shading.cache import ShadingCache
+            from adbsat_ros.shading.shader import make_shader
 
             shader = make_shader(mesh, mode=settings.shading, samples=settings.shading_samples)
             self.cache = ShadingCache(
@@ -292,7 +300,9 @@ class AeroWrenchEstimator:
         if self.settings is not None:
             for name in ("mesh", "mesh_scale"):
                 if getattr(settings, name) != getattr(self.settings, name):
-                    raise ValueError(f"parameter {name}: the mesh is loaded once at start-up and cannot change")
+                    raise ValueError(
+                        f"parameter {name}: the mesh is loaded once at start-up and cannot change"
+                    )
         materials = materials_from_settings(settings)
         unknown = materials.check_names(self.mesh.material_names)
         if unknown:
@@ -315,16 +325,24 @@ class AeroWrenchEstimator:
                     "parameter accommodation_model: coefficients_source database needs a fixed accommodation "
                     f"(the database was made at one alpha), got {settings.accommodation_model}"
                 )
-            database = DatabaseCoefficients(settings.database_path, method)  # checked against this set-up
+            database = DatabaseCoefficients(
+                settings.database_path, method
+            )  # checked against this set-up
         shading = self._shading
-        key = (settings.shading, settings.shading_samples, settings.shading_cache_resolution_deg,
-               settings.shading_cache_size)
+        key = (
+            settings.shading,
+            settings.shading_samples,
+            settings.shading_cache_resolution_deg,
+            settings.shading_cache_size,
+        )
         if database is None and (shading is None or shading.key != key):
             shading = _ShadingSource(self.mesh, settings)  # built when first needed
         self.method, self.weather, self._shading, self.settings = method, weather, shading, settings
         self._database = database
         self._wind = np.asarray(settings.wind_ecef) if any(settings.wind_ecef) else None
-        self._accommodation_options = {"alpha": settings.alpha} if settings.accommodation_model == "fixed" else None
+        self._accommodation_options = (
+            {"alpha": settings.alpha} if settings.accommodation_model == "fixed" else None
+        )
 
     @property
     def shading_cache_hits(self) -> int:
@@ -364,8 +382,14 @@ class AeroWrenchEstimator:
         raise Rejection(reason, message)
 
     # ----------------------------------------------------------------------------- inputs
-    def on_state(self, stamp: float, position, velocity, velocity_in_body_frame: bool = False,
-                 orientation_xyzw=None) -> OrbitalState:
+    def on_state(
+        self,
+        stamp: float,
+        position,
+        velocity,
+        velocity_in_body_frame: bool = False,
+        orientation_xyzw=None,
+    ) -> OrbitalState:
         """Accept an orbital state.
 
         Parameters
@@ -387,7 +411,9 @@ class AeroWrenchEstimator:
         """
         position = np.asarray(position, dtype=float)
         velocity = np.asarray(velocity, dtype=float)
-        if not (math.isfinite(stamp) and np.all(np.isfinite(position)) and np.all(np.isfinite(velocity))):
+        if not (
+            math.isfinite(stamp) and np.all(np.isfinite(position)) and np.all(np.isfinite(velocity))
+        ):
             self._reject("non_finite", "state has NaN or Inf in its stamp, position or velocity")
         if velocity_in_body_frame:
             m = self._rotation(orientation_xyzw, "state orientation")
@@ -398,7 +424,9 @@ class AeroWrenchEstimator:
             self.rejections["time_backwards"] += 1
             self._last_state_stamp = stamp
             self._state = OrbitalState(stamp, position, velocity)
-            raise Rejection("time_backwards", f"state time went back by {jump:.3f} s: history reset, state kept")
+            raise Rejection(
+                "time_backwards", f"state time went back by {jump:.3f} s: history reset, state kept"
+            )
         self._last_state_stamp = stamp
         self._state = OrbitalState(stamp, position, velocity)
         return self._state
@@ -430,7 +458,10 @@ class AeroWrenchEstimator:
         header_frame = odom.frame_id.lstrip("/")
         frame = header_frame.lower()
         if frame in ("eci", "ecef") and frame != s.state_frame:
-            self._reject("bad_state", f"state frame_id '{frame}' but parameter state_frame is {s.state_frame}")
+            self._reject(
+                "bad_state",
+                f"state frame_id '{frame}' but parameter state_frame is {s.state_frame}",
+            )
         child = odom.child_frame_id.lstrip("/")
         if child == s.body_frame_id:
             in_body = True
@@ -442,8 +473,13 @@ class AeroWrenchEstimator:
                 f"twist child_frame_id '{child}' is neither the body frame '{s.body_frame_id}' nor the state frame",
             )
         orientation = list(odom.orientation_xyzw)
-        state = self.on_state(stamp_seconds(odom.stamp), list(odom.position), list(odom.linear_velocity), in_body,
-                              orientation)
+        state = self.on_state(
+            stamp_seconds(odom.stamp),
+            list(odom.position),
+            list(odom.linear_velocity),
+            in_body,
+            orientation,
+        )
         return state, orientation
 
     def diagnostic_values(self, last_sample: "WrenchSample | None", compute_ms) -> dict:
@@ -475,7 +511,11 @@ class AeroWrenchEstimator:
             for key in ("force_coefficient", "moment_coefficient"):
                 if key in database.error_bound:
                     values[f"database_{key}_error"] = database.error_bound[key]
-        times = compute_ms if isinstance(compute_ms, np.ndarray) else np.fromiter(compute_ms, dtype=float)
+        times = (
+            compute_ms
+            if isinstance(compute_ms, np.ndarray)
+            else np.fromiter(compute_ms, dtype=float)
+        )
         n = times.size
         if n:
             # nearest-rank percentiles (the ceil(p n)-th smallest), one partial sort for all three;
@@ -529,7 +569,9 @@ class AeroWrenchEstimator:
         t0 = time.perf_counter()
         request = self._request(stamp, quaternion_xyzw, t0)
         if isinstance(request, _PanelRequest):
-            request = self._panel_sample(request, self._coefficients(request), time.perf_counter() - t0)
+            request = self._panel_sample(
+                request, self._coefficients(request), time.perf_counter() - t0
+            )
         self.published += 1
         return request
 
@@ -569,8 +611,10 @@ class AeroWrenchEstimator:
             results.append(request)
         try:  # (one request or none: coefficients_many is a plain coefficients call)
             coefficients = self.method._unit_coefficients_many(
-                [r.flow for _, r in requests], [r.flow_direction for _, r in requests],
-                [r.lighting for _, r in requests], [r.surface for _, r in requests],
+                [r.flow for _, r in requests],
+                [r.flow_direction for _, r in requests],
+                [r.lighting for _, r in requests],
+                [r.surface for _, r in requests],
             )
         except ValueError:  # then each on its own, for its own rejection
             coefficients = [None] * len(requests)
@@ -594,14 +638,19 @@ class AeroWrenchEstimator:
         if self._last_attitude_stamp is not None and stamp < self._last_attitude_stamp:
             jump = self._last_attitude_stamp - stamp
             self.reset()
-            self._reject("time_backwards", f"attitude time went back by {jump:.3f} s: history reset")
+            self._reject(
+                "time_backwards", f"attitude time went back by {jump:.3f} s: history reset"
+            )
         state = self._state
         if state is None:
             self._reject("no_state", "no orbital state received yet")
         dt = stamp - state.stamp
         if abs(dt) > self.settings.state_timeout:
-            self._reject("stale_state", f"latest state is {dt:.3f} s from the attitude stamp "
-                         f"(state_timeout {self.settings.state_timeout:g} s)")
+            self._reject(
+                "stale_state",
+                f"latest state is {dt:.3f} s from the attitude stamp "
+                f"(state_timeout {self.settings.state_timeout:g} s)",
+            )
         self._last_attitude_stamp = stamp
         try:
             utc, conditions, flow = self._conditions_at(stamp, state)
@@ -624,7 +673,12 @@ class AeroWrenchEstimator:
         """
         s = self.settings
         prepared = self._prepared
-        if prepared is not None and prepared[0] == stamp and prepared[1] is state and prepared[2] is s:
+        if (
+            prepared is not None
+            and prepared[0] == stamp
+            and prepared[1] is state
+            and prepared[2] is s
+        ):
             self.prepared_used += 1
         for kept in self._conditions_memo:
             if kept.state is state and kept.stamp == stamp and kept.settings is s:
@@ -640,20 +694,32 @@ class AeroWrenchEstimator:
         self._conditions_memo = self._conditions_memo[-1:] + (kept,)
         return utc, conditions, flow
 
-    def _exact_conditions(self, stamp: float, state: OrbitalState, utc: _dt.datetime) -> FlightConditions:
+    def _exact_conditions(
+        self, stamp: float, state: OrbitalState, utc: _dt.datetime
+    ) -> FlightConditions:
         """:func:`flight_conditions` of ``state`` propagated (first order) to ``stamp``."""
         s = self.settings
-        position = state.position + state.velocity * (stamp - state.stamp)  # first-order propagation
+        position = state.position + state.velocity * (
+            stamp - state.stamp
+        )  # first-order propagation
         return flight_conditions(
-            utc, position, state.velocity, self.weather, frame=s.state_frame,
-            earth_rotation=s.earth_rotation, wind=self._wind, wind_frame="ecef",
-            anomalous_oxygen=s.anomalous_oxygen, accommodation_model=s.accommodation_model,
+            utc,
+            position,
+            state.velocity,
+            self.weather,
+            frame=s.state_frame,
+            earth_rotation=s.earth_rotation,
+            wind=self._wind,
+            wind_frame="ecef",
+            anomalous_oxygen=s.anomalous_oxygen,
+            accommodation_model=s.accommodation_model,
             accommodation_options=self._accommodation_options,
             precession_nutation_step=PRECESSION_NUTATION_STEP_S,
         )
 
-    def _interpolated_conditions(self, stamp: float, state: OrbitalState, utc: _dt.datetime,
-                                 step: float) -> FlightConditions | None:
+    def _interpolated_conditions(
+        self, stamp: float, state: OrbitalState, utc: _dt.datetime, step: float
+    ) -> FlightConditions | None:
         """The conditions at ``stamp`` interpolated between the knots around it: the exact
         conditions of ``state`` at the stamps ``j step`` for integers j (so the same stamp and
         state always give the same numbers, live or from a bag, and a stream stamped on multiples
@@ -741,10 +807,26 @@ class AeroWrenchEstimator:
         s = self.settings
         ref = self.method.reference
         speed = conditions.speed
-        if speed < s.min_relative_speed or flow is None:  # at rest in the air: no free stream, no force
+        if (
+            speed < s.min_relative_speed or flow is None
+        ):  # at rest in the air: no free stream, no force
             zero = np.zeros(3)
-            return WrenchSample(stamp, utc, zero, zero.copy(), zero.copy(), zero.copy(), ref.area, ref.length,
-                                0.0, conditions, None, zero.copy(), None, time.perf_counter() - t0)
+            return WrenchSample(
+                stamp,
+                utc,
+                zero,
+                zero.copy(),
+                zero.copy(),
+                zero.copy(),
+                ref.area,
+                ref.length,
+                0.0,
+                conditions,
+                None,
+                zero.copy(),
+                None,
+                time.perf_counter() - t0,
+            )
         # gas motion relative to the body, body axes: u = -R^T v_rel / |R^T v_rel|, in floats (a unit
         # vector as the panel method takes it: PanelMethod._unit_coefficients)
         vx, vy, vz = conditions.relative_velocity_floats(s.state_frame)
@@ -761,11 +843,20 @@ class AeroWrenchEstimator:
             except ValueError as exc:
                 self._reject("outside_database", str(exc))
             return WrenchSample(
-                stamp=stamp, time=utc, force=q * ref.area * cf, torque=(q * ref.area * ref.length) * cm,
-                force_coefficients=cf, moment_coefficients=cm,
-                reference_area=ref.area, reference_length=ref.length, dynamic_pressure=q,
-                conditions=conditions, coefficients=None, flow_direction_body=u_body,
-                shading_cache_hit=None, compute_seconds=time.perf_counter() - t0,
+                stamp=stamp,
+                time=utc,
+                force=q * ref.area * cf,
+                torque=(q * ref.area * ref.length) * cm,
+                force_coefficients=cf,
+                moment_coefficients=cm,
+                reference_area=ref.area,
+                reference_length=ref.length,
+                dynamic_pressure=q,
+                conditions=conditions,
+                coefficients=None,
+                flow_direction_body=u_body,
+                shading_cache_hit=None,
+                compute_seconds=time.perf_counter() - t0,
             )
         lighting, hit = self._shading.lighting(u_body)
         surface = None
@@ -775,17 +866,32 @@ class AeroWrenchEstimator:
 
     def _coefficients(self, request: "_PanelRequest") -> AeroCoefficients:
         try:
-            return self.method._unit_coefficients(request.flow, request.flow_direction, request.lighting,
-                                                  request.surface)
+            return self.method._unit_coefficients(
+                request.flow, request.flow_direction, request.lighting, request.surface
+            )
         except ValueError as exc:
             self._reject("compute_error", str(exc))
 
-    def _panel_sample(self, request: "_PanelRequest", coeffs: AeroCoefficients, compute_seconds: float) -> WrenchSample:
+    def _panel_sample(
+        self, request: "_PanelRequest", coeffs: AeroCoefficients, compute_seconds: float
+    ) -> WrenchSample:
         ref = self.method.reference
         q = request.dynamic_pressure
         return WrenchSample._made(
-            request.stamp, request.utc, coeffs.force(q), coeffs.torque(q), coeffs.Cf_G, coeffs.Cm_G,
-            ref.area, ref.length, q, request.conditions, coeffs, request.flow_direction, request.hit, compute_seconds,
+            request.stamp,
+            request.utc,
+            coeffs.force(q),
+            coeffs.torque(q),
+            coeffs.Cf_G,
+            coeffs.Cm_G,
+            ref.area,
+            ref.length,
+            q,
+            request.conditions,
+            coeffs,
+            request.flow_direction,
+            request.hit,
+            compute_seconds,
         )
 
 

@@ -23,20 +23,44 @@ EXECUTORS = ("events", "single_threaded")
 
 #: (name, default, description) of every setting. Units in the description; SI throughout.
 PARAMETERS = (
-    ("mesh", "example", "mesh file (.obj .stl .ply .off ...) or 'example' for the bundled satellite; read once at start-up"),
+    (
+        "mesh",
+        "example",
+        "mesh file (.obj .stl .ply .off ...) or 'example' for the bundled satellite; read once at start-up",
+    ),
     ("mesh_scale", 1.0, "factor from mesh file units to metres (1e-3 for millimetres)"),
     ("body_frame_id", "body", "frame_id of published wrenches: the mesh frame, fixed to the body"),
-    ("center_of_mass", [0.0, 0.0, 0.0], "centre of mass in the mesh frame [m]; torques are about it"),
+    (
+        "center_of_mass",
+        [0.0, 0.0, 0.0],
+        "centre of mass in the mesh frame [m]; torques are about it",
+    ),
     ("gsi_model", "sentman", "gas-surface model: " + ", ".join(MODELS)),
     ("alpha", 1.0, "energy accommodation coefficient [-] (used when accommodation_model is fixed)"),
     ("alpha_n", 1.0, "CLL normal energy accommodation [-]"),
     ("sigma_n", 1.0, "normal momentum accommodation [-] (schaaf, storch)"),
     ("sigma_t", 1.0, "tangential momentum accommodation [-] (schaaf, storch, cll)"),
     ("wall_temperature", 300.0, "wall temperature [K]"),
-    ("material_overrides", [""], "per-material values, 'NAME:key=value,key=value' (keys as the parameters above)"),
-    ("incident_temperature", "energy", "incident temperature form for sentman/dria: energy (ADBSat) or kinetic"),
-    ("adbsat_compat", False, "reproduce ADBSat's coded quirks (maxwell two-sided plate, cll species weights)"),
-    ("accommodation_model", "fixed", "fixed (use alpha), langmuir, goodman or sesam (alpha from the atmosphere)"),
+    (
+        "material_overrides",
+        [""],
+        "per-material values, 'NAME:key=value,key=value' (keys as the parameters above)",
+    ),
+    (
+        "incident_temperature",
+        "energy",
+        "incident temperature form for sentman/dria: energy (ADBSat) or kinetic",
+    ),
+    (
+        "adbsat_compat",
+        False,
+        "reproduce ADBSat's coded quirks (maxwell two-sided plate, cll species weights)",
+    ),
+    (
+        "accommodation_model",
+        "fixed",
+        "fixed (use alpha), langmuir, goodman or sesam (alpha from the atmosphere)",
+    ),
     ("shading", "raycast", "shading mode: none, projection (ADBSat), raycast (exact)"),
     ("shading_samples", 16, "ray samples per panel for raycast shading"),
     ("shading_cache_resolution_deg", 0.25, "angular resolution of the shading cache [deg]"),
@@ -44,27 +68,59 @@ PARAMETERS = (
     ("f107", 150.0, "F10.7 solar flux of the previous day [sfu]"),
     ("f107a", 150.0, "81-day average F10.7 [sfu]"),
     ("ap", 4.0, "daily geomagnetic Ap index [-]"),
-    ("ap_history", [0.0], "optional NRLMSISE-00 7-element Ap history; a single element means unused"),
+    (
+        "ap_history",
+        [0.0],
+        "optional NRLMSISE-00 7-element Ap history; a single element means unused",
+    ),
     ("anomalous_oxygen", True, "include NRLMSISE-00 anomalous oxygen in the gas"),
-    ("time_mode", "unix", "how header stamps map to UTC: unix (stamp is UNIX time) or epoch (epoch_utc + stamp)"),
+    (
+        "time_mode",
+        "unix",
+        "how header stamps map to UTC: unix (stamp is UNIX time) or epoch (epoch_utc + stamp)",
+    ),
     ("epoch_utc", "2026-01-01T00:00:00", "UTC epoch of stamp 0 for time_mode epoch (ISO 8601)"),
     ("state_frame", "eci", "frame of the Odometry position: eci (GCRF) or ecef (ITRF)"),
     ("earth_rotation", True, "the atmosphere co-rotates with the Earth"),
     ("wind_ecef", [0.0, 0.0, 0.0], "wind relative to the rotating Earth, ECEF axes [m/s]"),
-    ("attitude_source", "attitude_topic", "attitude from the attitude topic or from the Odometry pose (odometry)"),
+    (
+        "attitude_source",
+        "attitude_topic",
+        "attitude from the attitude topic or from the Odometry pose (odometry)",
+    ),
     ("state_timeout", 1.0, "a state older than this at the attitude stamp is stale [s]"),
-    ("conditions_step", 0.01, "flight conditions (NRLMSISE-00, Earth orientation, relative wind) are evaluated "
-     "exactly at the stamps that are multiples of this [s] and interpolated linearly in between (density within "
-     "about 2e-9 at 10 ms); 0 evaluates them at every stamp"),
-    ("max_quaternion_norm_error", 1e-3, "quaternions with | |q| - 1 | above this are rejected; below, normalised"),
+    (
+        "conditions_step",
+        0.01,
+        "flight conditions (NRLMSISE-00, Earth orientation, relative wind) are evaluated "
+        "exactly at the stamps that are multiples of this [s] and interpolated linearly in between (density within "
+        "about 2e-9 at 10 ms); 0 evaluates them at every stamp",
+    ),
+    (
+        "max_quaternion_norm_error",
+        1e-3,
+        "quaternions with | |q| - 1 | above this are rejected; below, normalised",
+    ),
     ("min_relative_speed", 1e-3, "below this relative speed [m/s] the wrench is zero"),
     ("qos_depth", 10, "history depth of subscriptions and publications"),
     ("diagnostics_period", 1.0, "period of /diagnostics messages [s]"),
-    ("executor", "events", "rclpy executor of adbsat_node: events (rclpy.experimental.EventsExecutor, about half "
-     "the per-message overhead; single_threaded when this rclpy lacks it) or single_threaded"),
-    ("coefficients_source", "panel", "panel (live panel method) or database (interpolated from database_path)"),
-    ("database_path", "", "database (.npz) made by 'adbsat-ros database' for coefficients_source database; it must "
-     "be made for the same mesh, gsi_model, surface properties and reference area/length, else it is refused"),
+    (
+        "executor",
+        "events",
+        "rclpy executor of adbsat_node: events (rclpy.experimental.EventsExecutor, about half "
+        "the per-message overhead; single_threaded when this rclpy lacks it) or single_threaded",
+    ),
+    (
+        "coefficients_source",
+        "panel",
+        "panel (live panel method) or database (interpolated from database_path)",
+    ),
+    (
+        "database_path",
+        "",
+        "database (.npz) made by 'adbsat-ros database' for coefficients_source database; it must "
+        "be made for the same mesh, gsi_model, surface properties and reference area/length, else it is refused",
+    ),
 )
 
 #: Largest conditions_step [s]: 770 m of orbit, interpolation error still below about 1e-7.
@@ -91,7 +147,9 @@ def _number(name, value, low=None, high=None, low_open=False):
     if not math.isfinite(value):
         raise ValueError(f"parameter {name}: must be finite, got {value!r}")
     if low is not None and (value < low or (low_open and value == low)):
-        raise ValueError(f"parameter {name}: must be {'>' if low_open else '>='} {low}, got {value!r}")
+        raise ValueError(
+            f"parameter {name}: must be {'>' if low_open else '>='} {low}, got {value!r}"
+        )
     if high is not None and value > high:
         raise ValueError(f"parameter {name}: must be <= {high}, got {value!r}")
     return value
@@ -181,7 +239,9 @@ class WrenchSettings:
         v = merged
         ap_history = tuple(float(x) for x in v["ap_history"]) if len(v["ap_history"]) > 1 else None
         if ap_history is not None and len(ap_history) != 7:
-            raise ValueError(f"parameter ap_history: needs 7 values (or one to leave it unused), got {len(ap_history)}")
+            raise ValueError(
+                f"parameter ap_history: needs 7 values (or one to leave it unused), got {len(ap_history)}"
+            )
         try:
             model = canonical_model_name(v["gsi_model"])
         except ValueError as exc:
@@ -201,13 +261,27 @@ class WrenchSettings:
             sigma_n=_number("sigma_n", v["sigma_n"], 0.0, 1.999999),
             sigma_t=_number("sigma_t", v["sigma_t"], 0.0, 1.0),
             wall_temperature=_number("wall_temperature", v["wall_temperature"], 0.0, low_open=True),
-            material_overrides=tuple(s for s in (str(x).strip() for x in v["material_overrides"]) if s),
-            incident_temperature=_choice("incident_temperature", v["incident_temperature"], INCIDENT_TEMPERATURE_FORMS),
+            material_overrides=tuple(
+                s for s in (str(x).strip() for x in v["material_overrides"]) if s
+            ),
+            incident_temperature=_choice(
+                "incident_temperature", v["incident_temperature"], INCIDENT_TEMPERATURE_FORMS
+            ),
             adbsat_compat=bool(v["adbsat_compat"]),
-            accommodation_model=_choice("accommodation_model", str(v["accommodation_model"]).lower(), accommodation_model_names()),
+            accommodation_model=_choice(
+                "accommodation_model",
+                str(v["accommodation_model"]).lower(),
+                accommodation_model_names(),
+            ),
             shading=_choice("shading", v["shading"], SHADING_MODES),
             shading_samples=samples,
-            shading_cache_resolution_deg=_number("shading_cache_resolution_deg", v["shading_cache_resolution_deg"], 0.0, 10.0, low_open=True),
+            shading_cache_resolution_deg=_number(
+                "shading_cache_resolution_deg",
+                v["shading_cache_resolution_deg"],
+                0.0,
+                10.0,
+                low_open=True,
+            ),
             shading_cache_size=int(_number("shading_cache_size", v["shading_cache_size"], 1)),
             f107=_number("f107", v["f107"], 0.0),
             f107a=_number("f107a", v["f107a"], 0.0),
@@ -221,13 +295,21 @@ class WrenchSettings:
             wind_ecef=_vector3("wind_ecef", v["wind_ecef"]),
             attitude_source=_choice("attitude_source", v["attitude_source"], ATTITUDE_SOURCES),
             state_timeout=_number("state_timeout", v["state_timeout"], 0.0, low_open=True),
-            conditions_step=_number("conditions_step", v["conditions_step"], 0.0, MAX_CONDITIONS_STEP),
-            max_quaternion_norm_error=_number("max_quaternion_norm_error", v["max_quaternion_norm_error"], 0.0, 0.5),
+            conditions_step=_number(
+                "conditions_step", v["conditions_step"], 0.0, MAX_CONDITIONS_STEP
+            ),
+            max_quaternion_norm_error=_number(
+                "max_quaternion_norm_error", v["max_quaternion_norm_error"], 0.0, 0.5
+            ),
             min_relative_speed=_number("min_relative_speed", v["min_relative_speed"], 0.0),
             qos_depth=int(_number("qos_depth", v["qos_depth"], 1, 10000)),
-            diagnostics_period=_number("diagnostics_period", v["diagnostics_period"], 0.0, low_open=True),
+            diagnostics_period=_number(
+                "diagnostics_period", v["diagnostics_period"], 0.0, low_open=True
+            ),
             executor=_choice("executor", v["executor"], EXECUTORS),
-            coefficients_source=_choice("coefficients_source", v["coefficients_source"], COEFFICIENT_SOURCES),
+            coefficients_source=_choice(
+                "coefficients_source", v["coefficients_source"], COEFFICIENT_SOURCES
+            ),
             database_path=str(v["database_path"]),
         )
         if settings.coefficients_source == "database" and not settings.database_path:

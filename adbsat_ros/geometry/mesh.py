@@ -269,5 +269,3 @@ def panels_from_arrays(
         report=report,
         source=source,
     )
-
-

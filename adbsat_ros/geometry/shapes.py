@@ -34,7 +34,9 @@ def grid_box(center, size, divisions):
         a1, a2 = (axis + 1) % 3, (axis + 2) % 3
         n1, n2 = divisions[a1], divisions[a2]
         g1, g2 = np.meshgrid(
-            np.linspace(-0.5, 0.5, n1 + 1) * size[a1], np.linspace(-0.5, 0.5, n2 + 1) * size[a2], indexing="ij"
+            np.linspace(-0.5, 0.5, n1 + 1) * size[a1],
+            np.linspace(-0.5, 0.5, n2 + 1) * size[a2],
+            indexing="ij",
         )
         for sign in (1.0, -1.0):
             p = np.zeros((n1 + 1, n2 + 1, 3))
@@ -43,7 +45,12 @@ def grid_box(center, size, divisions):
             verts.append(p.reshape(-1, 3) + center)
             idx = np.arange((n1 + 1) * (n2 + 1)).reshape(n1 + 1, n2 + 1) + off
             q00, q10, q11, q01 = idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]
-            f = np.concatenate([np.stack([q00, q10, q11], -1).reshape(-1, 3), np.stack([q00, q11, q01], -1).reshape(-1, 3)])
+            f = np.concatenate(
+                [
+                    np.stack([q00, q10, q11], -1).reshape(-1, 3),
+                    np.stack([q00, q11, q01], -1).reshape(-1, 3),
+                ]
+            )
             faces.append(f if sign > 0 else f[:, ::-1])
             off += (n1 + 1) * (n2 + 1)
     return np.concatenate(verts), np.concatenate(faces)
@@ -66,7 +73,9 @@ def combine(parts, source: str = "scene", part_materials=None, material_names=No
     parts = list(parts)
     if part_materials is None:
         part_materials = ["default"] * len(parts)
-    names = list(material_names) if material_names is not None else list(dict.fromkeys(part_materials))
+    names = (
+        list(material_names) if material_names is not None else list(dict.fromkeys(part_materials))
+    )
     vertices, faces, material = [], [], []
     offset = 0
     for (v, f), name in zip(parts, part_materials):

@@ -95,8 +95,14 @@ class OdometryFields(NamedTuple):
     def of_message(cls, msg) -> "OdometryFields":
         """The fields of an Odometry message object (rclpy's or rosbags')."""
         p, o, v = msg.pose.pose.position, msg.pose.pose.orientation, msg.twist.twist.linear
-        return cls(Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec), msg.header.frame_id, msg.child_frame_id,
-                   (p.x, p.y, p.z), (o.x, o.y, o.z, o.w), (v.x, v.y, v.z))
+        return cls(
+            Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec),
+            msg.header.frame_id,
+            msg.child_frame_id,
+            (p.x, p.y, p.z),
+            (o.x, o.y, o.z, o.w),
+            (v.x, v.y, v.z),
+        )
 
 
 #: float64 values after Odometry's two strings: pose (position 3, orientation 4, covariance 36),
@@ -116,7 +122,7 @@ def _cdr_string(raw, order: str, pos: int) -> tuple[str, int]:
     end = pos + 4 + length
     if length < 1 or end > len(raw) or raw[end - 1] != 0:
         raise ValueError("not a NUL-terminated CDR string")
-    return raw[pos + 4:end - 1].decode("utf-8"), end
+    return raw[pos + 4 : end - 1].decode("utf-8"), end
 
 
 def odometry_fields(raw) -> OdometryFields:

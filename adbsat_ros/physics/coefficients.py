@@ -40,7 +40,9 @@ class Reference:
                 raise ValueError(f"reference {name} must be a finite number > 0, got {value!r}")
         point = np.asarray(self.moment_point, dtype=float)
         if point.shape != (3,) or not np.all(np.isfinite(point)):
-            raise ValueError(f"moment_point must be three finite numbers, got {self.moment_point!r}")
+            raise ValueError(
+                f"moment_point must be three finite numbers, got {self.moment_point!r}"
+            )
         object.__setattr__(self, "moment_point", tuple(float(v) for v in point))
 
     def resolved(self, mesh: PanelMesh) -> "Reference":
@@ -93,8 +95,19 @@ class AeroCoefficients:
         Per-panel lit fraction used (all ones without shading).
     """
 
-    def __init__(self, flow_direction, Cf_G, Cm_G, reference: Reference, area_projected: float, model: str,
-                 panel_values, panel_index=None, lighting: PanelLighting | None = None, angles=None):
+    def __init__(
+        self,
+        flow_direction,
+        Cf_G,
+        Cm_G,
+        reference: Reference,
+        area_projected: float,
+        model: str,
+        panel_values,
+        panel_index=None,
+        lighting: PanelLighting | None = None,
+        angles=None,
+    ):
         self.flow_direction = flow_direction
         self.Cf_G = Cf_G
         self.Cm_G = Cm_G
@@ -111,8 +124,10 @@ class AeroCoefficients:
         self._angles = angles
 
     def __repr__(self) -> str:
-        return (f"AeroCoefficients(model={self.model!r}, aoa={self.aoa!r}, aos={self.aos!r}, "
-                f"Cf_G={self.Cf_G!r}, Cm_G={self.Cm_G!r}, area_projected={self.area_projected!r})")
+        return (
+            f"AeroCoefficients(model={self.model!r}, aoa={self.aoa!r}, aos={self.aos!r}, "
+            f"Cf_G={self.Cf_G!r}, Cm_G={self.Cm_G!r}, area_projected={self.area_projected!r})"
+        )
 
     @functools.cached_property
     def _angles_rad(self) -> tuple:

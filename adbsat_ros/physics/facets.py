@@ -81,7 +81,9 @@ class _Facets:
     @classmethod
     def of(cls, mesh: PanelMesh, surface) -> "_Facets | None":
         """The facets of ``mesh``, or None if grouping would not save work (e.g. a sphere)."""
-        key = np.column_stack([np.round(mesh.normals, cls.NORMAL_DECIMALS) + 0.0, mesh.material_index])
+        key = np.column_stack(
+            [np.round(mesh.normals, cls.NORMAL_DECIMALS) + 0.0, mesh.material_index]
+        )
         _, first, index = np.unique(key, axis=0, return_index=True, return_inverse=True)
         if len(first) * cls.MIN_PANELS_PER_FACET > mesh.n_panels:
             return None
@@ -91,8 +93,13 @@ class _Facets:
         """Facet sums for panel weights w_i = f_i A_i and w_i (r_i + shift_i), as one (G, 10) matrix
         of columns W_g, W_g n_g, Q_g and Q_g x n_g (W = sum w_i, Q = sum w_i (r_i + shift_i))."""
         W = np.bincount(self.index, weights=weights, minlength=self.n)
-        Q = np.stack([np.bincount(self.index, weights=weighted_bary[:, k], minlength=self.n) for k in range(3)],
-                     axis=-1)
+        Q = np.stack(
+            [
+                np.bincount(self.index, weights=weighted_bary[:, k], minlength=self.n)
+                for k in range(3)
+            ],
+            axis=-1,
+        )
         sums = np.column_stack([W, W[:, None] * self.normals, Q, _cross(Q, self.normals)])
         sums.setflags(write=False)
         return sums
@@ -131,7 +138,9 @@ class _Facets:
         values = {}
         for name in SURFACE_PARAMETERS:
             value = getattr(surface, name)
-            if type(value) is float or np.ndim(value) == 0:  # (the type test first: np.ndim costs ~1 us)
+            if (
+                type(value) is float or np.ndim(value) == 0
+            ):  # (the type test first: np.ndim costs ~1 us)
                 values[name] = value
                 continue
             if self._surface is not None and value is getattr(self._surface, name):

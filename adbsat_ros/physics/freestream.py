@@ -30,7 +30,11 @@ _SPECIES_MASS_KG = {name: species_mass_kg(name) for name in MOLAR_MASS_G}
 @functools.lru_cache(maxsize=64)
 def _species_masses(species: tuple):
     """Read-only particle masses [kg] of distinct known ``species``, or None if they are not."""
-    if not species or len(set(species)) != len(species) or not all(s in MOLAR_MASS_G for s in species):
+    if (
+        not species
+        or len(set(species)) != len(species)
+        or not all(s in MOLAR_MASS_G for s in species)
+    ):
         return None
     masses = np.array([species_mass_kg(s) for s in species])
     masses.setflags(write=False)
@@ -138,7 +142,9 @@ class FreeStream:
         if not (
             masses is not None
             and len(values) == len(species)
-            and type(speed) is float and type(temperature) is float and type(density) is float
+            and type(speed) is float
+            and type(temperature) is float
+            and type(density) is float
             and 0.0 < speed < math.inf
             and 0.0 < temperature < math.inf
             and 0.0 < density < math.inf
@@ -155,16 +161,18 @@ class FreeStream:
         flow = object.__new__(cls)
         # the fields __post_init__ would set, from values that pass its checks (but the array of
         # number densities, made when first read: see __getattr__)
-        flow.__dict__.update({
-            "speed": speed,
-            "temperature": temperature,
-            "number_densities": dict(zip(species, values)),
-            "mean_mass_amu": None,
-            "density": density,
-            "_species": species,
-            "_values": tuple(values),
-            "_m": masses,
-        })
+        flow.__dict__.update(
+            {
+                "speed": speed,
+                "temperature": temperature,
+                "number_densities": dict(zip(species, values)),
+                "mean_mass_amu": None,
+                "density": density,
+                "_species": species,
+                "_values": tuple(values),
+                "_m": masses,
+            }
+        )
         return flow
 
     @classmethod
@@ -173,17 +181,19 @@ class FreeStream:
         density and the total of ``values`` finite and > 0, ``values`` >= 0), with the mixture's
         :attr:`mean_mass` (as it computes it)."""
         flow = object.__new__(cls)
-        flow.__dict__.update({
-            "speed": speed,
-            "temperature": temperature,
-            "number_densities": dict(zip(species, values)),
-            "mean_mass_amu": None,
-            "density": density,
-            "_species": species,
-            "_values": values,
-            "_m": _species_masses(species),
-            "mean_mass": mean_mass,
-        })
+        flow.__dict__.update(
+            {
+                "speed": speed,
+                "temperature": temperature,
+                "number_densities": dict(zip(species, values)),
+                "mean_mass_amu": None,
+                "density": density,
+                "_species": species,
+                "_values": values,
+                "_m": _species_masses(species),
+                "mean_mass": mean_mass,
+            }
+        )
         return flow
 
     # ----------------------------------------------------------------------------- derived values
@@ -279,7 +289,9 @@ class _NumberDensityArray:
         try:
             values = fields["_values"]
         except KeyError:
-            raise AttributeError(f"{type(instance).__name__!r} object has no attribute '_n'") from None
+            raise AttributeError(
+                f"{type(instance).__name__!r} object has no attribute '_n'"
+            ) from None
         return fields.setdefault("_n", np.array(values, dtype=float))
 
 

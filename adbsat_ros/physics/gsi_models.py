@@ -133,7 +133,11 @@ def _re_emission_K(alpha, wall_temperature, incident_temperature, particle_mass,
     k_squared = 2.0 * BOLTZMANN * t_r / (particle_mass * speed * speed)
     # one value for all panels: math.sqrt (the same correctly rounded root) keeps K a Python float,
     # so the plate's scalar factors of K are float arithmetic, not numpy scalars'
-    return math.sqrt(k_squared) if type(k_squared) is float and k_squared >= 0.0 else np.sqrt(k_squared)
+    return (
+        math.sqrt(k_squared)
+        if type(k_squared) is float and k_squared >= 0.0
+        else np.sqrt(k_squared)
+    )
 
 
 def sentman(c, sigma, surface, flow, options):
@@ -151,7 +155,9 @@ def sentman(c, sigma, surface, flow, options):
 def sentman_parameters(surface, flow, options):
     """Sentman's (s, K) for :func:`_sentman_plate`: K per panel if alpha or T_w is an array."""
     Ti = options.incident_temperature_of(flow.mean_mass, flow.speed)
-    return flow.speed_ratio, _re_emission_K(surface.alpha, surface.wall_temperature, Ti, flow.mean_mass, flow.speed)
+    return flow.speed_ratio, _re_emission_K(
+        surface.alpha, surface.wall_temperature, Ti, flow.mean_mass, flow.speed
+    )
 
 
 def _schaaf_plate(c, s, sigma_n, sigma_t, r):
@@ -267,8 +273,18 @@ _CLL_FIT = {
 }
 # He and H depend on the alpha_n band: (0.95, 1], (0.9, 0.95], (0.5, 0.9], [0, 0.5].
 _CLL_FIT_BANDED = {
-    "He": ((6.2, 0.38, 3.3, 0.74), (3.8, 0.52, 3.4, 1.12), (3.45, 0.52, 2.4, 0.93), (0.08, 0.52, 4.2, 1.1)),
-    "H": ((3.9, 0.195, 1.4, 0.3), (3.5, 0.42, 2.0, 0.72), (3.45, 0.52, 2.4, 0.93), (0.095, 0.465, 2.9, 0.92)),
+    "He": (
+        (6.2, 0.38, 3.3, 0.74),
+        (3.8, 0.52, 3.4, 1.12),
+        (3.45, 0.52, 2.4, 0.93),
+        (0.08, 0.52, 4.2, 1.1),
+    ),
+    "H": (
+        (3.9, 0.195, 1.4, 0.3),
+        (3.5, 0.42, 2.0, 0.72),
+        (3.45, 0.52, 2.4, 0.93),
+        (0.095, 0.465, 2.9, 0.92),
+    ),
 }
 #: Species that the CLL fits cover (Ar and anomalous O are not fitted and are left out).
 CLL_SPECIES = ("He", "O", "N2", "O2", "H", "N")
@@ -314,7 +330,9 @@ def cll(c, sigma, surface, flow, options):
         raise ValueError("the cll model needs the gas composition (number_densities / --species)")
     names = [n for n in CLL_SPECIES if n in flow.species and flow.number_densities[n] > 0]
     if not names:
-        raise ValueError(f"the cll model needs at least one of the species {', '.join(CLL_SPECIES)}")
+        raise ValueError(
+            f"the cll model needs at least one of the species {', '.join(CLL_SPECIES)}"
+        )
     weights = _species_weights(flow, names, options, "cll")
     alpha_n = surface.alpha_n
     Tw, Tinf = surface.wall_temperature, flow.temperature
@@ -327,7 +345,9 @@ def cll(c, sigma, surface, flow, options):
     cp_total = 0.0
     ctau_total = 0.0
     for name, w in zip(names, weights):
-        s = flow.speed / math.sqrt(2.0 * BOLTZMANN * Tinf / flow.species_masses[flow.species.index(name)])
+        s = flow.speed / math.sqrt(
+            2.0 * BOLTZMANN * Tinf / flow.species_masses[flow.species.index(name)]
+        )
         x = s * c
         E = np.exp(-x * x)
         Phi = erfc(-x)  # = 1 + erf(x), without cancellation for x << 0

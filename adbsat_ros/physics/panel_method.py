@@ -67,8 +67,15 @@ class PanelMethod:
         the same result to rounding). False evaluates every panel, e.g. as a reference in tests.
     """
 
-    def __init__(self, mesh: PanelMesh, model="sentman", materials=None, options=None, reference=None,
-                 group_facets: bool = True):
+    def __init__(
+        self,
+        mesh: PanelMesh,
+        model="sentman",
+        materials=None,
+        options=None,
+        reference=None,
+        group_facets: bool = True,
+    ):
         from adbsat_ros.physics.surface import SurfaceProperties
 
         self.mesh = mesh
@@ -151,7 +158,9 @@ class PanelMethod:
         split = self._split
         parameters = None if split is None else split[0](facet_surface, flow, self.options)
         if parameters is None:
-            c, sigma, cp, ctau = self._local_coefficients(u, self._facets.inward_normals_T, facet_surface, flow)
+            c, sigma, cp, ctau = self._local_coefficients(
+                u, self._facets.inward_normals_T, facet_surface, flow
+            )
             return c, cp, _shear_per_sine(ctau, sigma), ctau
         c = u @ self._facets.inward_normals_T
         cp, shear = split[1](c, *parameters)  # (float arrays like c: the plates are elementwise)
@@ -166,8 +175,11 @@ class PanelMethod:
         with the facet sums (W, W n, Q, Q x n) gives every sum needed.
         """
         sums = self._facets.lit_sums(lighting)
-        (r_w, _, _, _, r_qx, r_qy, r_qz, _, _, _), (_, k_nx, k_ny, k_nz, _, _, _, k_mx, k_my, k_mz), \
-            (area_projected, *_) = (rows @ sums).tolist()
+        (
+            (r_w, _, _, _, r_qx, r_qy, r_qz, _, _, _),
+            (_, k_nx, k_ny, k_nz, _, _, _, k_mx, k_my, k_mz),
+            (area_projected, *_),
+        ) = (rows @ sums).tolist()
         ux, uy, uz = u.tolist()
         fx, fy, fz = r_w * ux + k_nx, r_w * uy + k_ny, r_w * uz + k_nz
         px, py, pz = self.reference.moment_point
@@ -177,8 +189,11 @@ class PanelMethod:
         mz = r_qx * uy - r_qy * ux + k_mz - (px * fy - py * fx)
         area = self.reference.area
         area_length = area * self.reference.length
-        return (np.array([fx / area, fy / area, fz / area]),
-                np.array([mx / area_length, my / area_length, mz / area_length]), area_projected)
+        return (
+            np.array([fx / area, fy / area, fz / area]),
+            np.array([mx / area_length, my / area_length, mz / area_length]),
+            area_projected,
+        )
 
     # ------------------------------------------------------------------------------ integration
     def integrate(self, u_G, c, sigma, cp, ctau, lighting: PanelLighting | None = None):
@@ -258,8 +273,9 @@ class PanelMethod:
             angles = (aoa, aos)
         return self._unit_coefficients(flow, u, lighting, surface, angles)
 
-    def _unit_coefficients(self, flow: FreeStream, u: np.ndarray, lighting=None, surface=None,
-                           angles=None) -> AeroCoefficients:
+    def _unit_coefficients(
+        self, flow: FreeStream, u: np.ndarray, lighting=None, surface=None, angles=None
+    ) -> AeroCoefficients:
         """:meth:`coefficients` at the unit flow direction ``u`` (float array, shape (3,), G),
         taken as it is (the ROS node's per-message path, which makes ``u`` a unit vector itself);
         ``angles`` (aoa, aos) [rad] if ``u`` was made from them."""
@@ -321,9 +337,16 @@ class PanelMethod:
         lightings = [None] * m if lightings is None else list(lightings)
         surfaces = [None] * m if surfaces is None else list(surfaces)
         if not (len(flow_directions) == len(lightings) == len(surfaces) == m):
-            raise ValueError(f"coefficients_many: {m} flows, {len(flow_directions)} flow_directions, "
-                             f"{len(lightings)} lightings and {len(surfaces)} surfaces")
-        return self._unit_coefficients_many(flows, [frames.unit_vector(d, "flow_direction") for d in flow_directions], lightings, surfaces)
+            raise ValueError(
+                f"coefficients_many: {m} flows, {len(flow_directions)} flow_directions, "
+                f"{len(lightings)} lightings and {len(surfaces)} surfaces"
+            )
+        return self._unit_coefficients_many(
+            flows,
+            [frames.unit_vector(d, "flow_direction") for d in flow_directions],
+            lightings,
+            surfaces,
+        )
 
     def _unit_coefficients_many(self, flows, units, lightings, surfaces) -> list:
         """:meth:`coefficients_many` at unit flow directions ``units`` taken as they are, with a
@@ -337,17 +360,25 @@ class PanelMethod:
             parameters_of, plate = split
             for flow, surface in zip(flows, surfaces):
                 facet_surface = facets.surface_of(surface or self.surface)
-                values = None if facet_surface is None else parameters_of(facet_surface, flow, self.options)
+                values = (
+                    None
+                    if facet_surface is None
+                    else parameters_of(facet_surface, flow, self.options)
+                )
                 if values is None:
                     break
                 parameters.append(values)
         if len(parameters) < m or m < 2:
-            return [self._unit_coefficients(flow, u, lighting, surface)
-                    for flow, u, lighting, surface in zip(flows, units, lightings, surfaces)]
+            return [
+                self._unit_coefficients(flow, u, lighting, surface)
+                for flow, u, lighting, surface in zip(flows, units, lightings, surfaces)
+            ]
         # M directions' G facet values in one flat (M G,) array: numpy's fastest loops (a 2-D
         # broadcast costs several microseconds more per operation), the same value in each element
         g = facets.n
-        c = np.concatenate([u @ facets.inward_normals_T for u in units])  # each its own (3,) @ (3, G)
+        c = np.concatenate(
+            [u @ facets.inward_normals_T for u in units]
+        )  # each its own (3,) @ (3, G)
         cp, shear = plate(c, *(_stacked(values, g) for values in zip(*parameters)))
         # (3, M G) rows made (M, 3, G): rows[k] the C-contiguous (3, G) rows of direction k
         rows = np.ascontiguousarray(_facet_rows(c, cp, shear).reshape(3, m, g).transpose(1, 0, 2))
@@ -355,10 +386,18 @@ class PanelMethod:
         for k, (u, lighting) in enumerate(zip(units, lightings)):
             Cf_G, Cm_G, area_proj = self._facet_totals(u, rows[k], lighting)
             own = slice(k * g, (k + 1) * g)
-            results.append(AeroCoefficients(
-                flow_direction=u, Cf_G=Cf_G, Cm_G=Cm_G, reference=self.reference,
-                area_projected=float(area_proj), model=self.model,
-                panel_values=(c[own], cp[own], None, shear[own], facets.normals),
-                panel_index=facets.index, lighting=lighting, angles=None,
-            ))
+            results.append(
+                AeroCoefficients(
+                    flow_direction=u,
+                    Cf_G=Cf_G,
+                    Cm_G=Cm_G,
+                    reference=self.reference,
+                    area_projected=float(area_proj),
+                    model=self.model,
+                    panel_values=(c[own], cp[own], None, shear[own], facets.normals),
+                    panel_index=facets.index,
+                    lighting=lighting,
+                    angles=None,
+                )
+            )
         return results

@@ -23,9 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from adbsat_ros.geometry import frames
-from adbsat_ros.shading.lighting import PanelLighting
-from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.incidence import sine_of_incidence
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.shading.lighting import PanelLighting
 
 
 @dataclass(frozen=True, eq=False)

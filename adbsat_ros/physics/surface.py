@@ -66,7 +66,13 @@ class SurfaceProperties:
             if not math.isfinite(value):
                 raise ValueError(f"{f.name} must be finite, got {value!r}")
             object.__setattr__(self, f.name, value)
-        for name in ("alpha", "alpha_n", "sigma_t", "specular_reflectivity", "diffuse_reflectivity"):
+        for name in (
+            "alpha",
+            "alpha_n",
+            "sigma_t",
+            "specular_reflectivity",
+            "diffuse_reflectivity",
+        ):
             value = getattr(self, name)
             if not 0.0 <= value <= 1.0:
                 raise ValueError(f"{name} must be in [0, 1], got {value!r}")

@@ -71,7 +71,9 @@ def _meta(metadata: dict, *keys, default=None):
 
 def database_title(metadata: dict) -> str:
     """One line naming the mesh, model, speed ratio and shading mode of a database."""
-    mesh = _meta(metadata, "mesh", "spec", default=None) or _meta(metadata, "mesh", "source", default="?")
+    mesh = _meta(metadata, "mesh", "spec", default=None) or _meta(
+        metadata, "mesh", "source", default="?"
+    )
     mesh = Path(str(mesh)).name if str(mesh) != "example" else "example satellite"
     n_panels = _meta(metadata, "mesh", "n_panels")
     model = _meta(metadata, "model", "name", default="?")
@@ -93,7 +95,14 @@ def _sideslip_lines(ax, aoa, values, aos, picks):
     span = max(float(np.max(np.abs(aos[picks]))), 1e-12)
     for j in picks:
         colour = cmap(0.82 * abs(aos[j]) / span)
-        ax.plot(aoa, values[:, j], color=colour, lw=1.3, ls=(0, (4, 2)) if aos[j] < 0 else "-", label=f"{aos[j]:g}")
+        ax.plot(
+            aoa,
+            values[:, j],
+            color=colour,
+            lw=1.3,
+            ls=(0, (4, 2)) if aos[j] < 0 else "-",
+            label=f"{aos[j]:g}",
+        )
 
 
 def _angle_axis(ax, aoa):
@@ -129,8 +138,14 @@ def _database_figure(db, series, ylabels, heading, max_lines) -> Figure:
         ax.set_ylabel(label)
     axes[-1].set_xlabel("angle of attack α [deg]")
     handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside right center", title=_legend_title(aos, picks), fontsize=8,
-               title_fontsize=8)
+    fig.legend(
+        handles,
+        labels,
+        loc="outside right center",
+        title=_legend_title(aos, picks),
+        fontsize=8,
+        title_fontsize=8,
+    )
     fig.suptitle(f"{heading}\n{database_title(getattr(db, 'metadata', {}) or {})}", fontsize=10)
     return fig
 
@@ -190,8 +205,11 @@ def plot_database(db, out_dir, prefix: str = "", max_lines: int = MAX_SIDESLIP_L
     """
     out_dir = Path(out_dir)
     return [
-        _save(make_force_coefficient_figure(db, max_lines), out_dir / f"{prefix}database_coefficients.png"),
-        _save(make_moment_coefficient_figure(db, max_lines), out_dir / f"{prefix}database_moments.png"),
+        _save(
+            make_force_coefficient_figure(db, max_lines),
+            out_dir / f"{prefix}database_coefficients.png",
+        ),
+        _save(
+            make_moment_coefficient_figure(db, max_lines), out_dir / f"{prefix}database_moments.png"
+        ),
     ]
-
-

@@ -38,7 +38,9 @@ def _resolve_lighting(lighting, mesh, u) -> PanelLighting:
     elif hasattr(lighting, "lighting"):  # a Shader
         result = lighting.lighting(u)
     else:
-        raise TypeError(f"lighting must be a PanelLighting, a Shader or None, got {type(lighting).__name__}")
+        raise TypeError(
+            f"lighting must be a PanelLighting, a Shader or None, got {type(lighting).__name__}"
+        )
     if np.shape(result.lit_fraction) != (mesh.n_panels,):
         raise ValueError(
             f"lighting has {np.size(result.lit_fraction)} panels, the mesh has {mesh.n_panels}"
@@ -119,7 +121,9 @@ def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, flo
     camera = -u + math.tan(math.radians(VIEW_TURN_DEG)) * turn
     camera /= np.linalg.norm(camera)
     elev = math.degrees(math.asin(max(-1.0, min(1.0, camera[2]))))
-    elev = max(-MAX_VIEW_ELEVATION_DEG, min(MAX_VIEW_ELEVATION_DEG, elev))  # steeper views look confusing
+    elev = max(
+        -MAX_VIEW_ELEVATION_DEG, min(MAX_VIEW_ELEVATION_DEG, elev)
+    )  # steeper views look confusing
     azim = math.degrees(math.atan2(camera[1], camera[0]))
     return elev, azim
 
@@ -193,7 +197,9 @@ def make_panel_pressure_figure(
     ax.set_ylabel("$y_G$ [m]")
     ax.set_zlabel("$z_G$ [m]")
     ax.tick_params(labelsize=7)
-    elev, azim = view if view is not None else default_view(u, mesh.normals, mesh.areas, groups["shaded"])
+    elev, azim = (
+        view if view is not None else default_view(u, mesh.normals, mesh.areas, groups["shaded"])
+    )
     ax.view_init(elev=elev, azim=azim)
 
     n_shaded = int(groups["shaded"].sum())
@@ -214,7 +220,9 @@ def make_panel_pressure_figure(
     cbar = fig.colorbar(panels, ax=ax, shrink=0.65, pad=0.08)
     cbar.set_label("pressure coefficient $c_p$ (panels reached by the flow)")
     if title is None:
-        title = f"{Path(str(mesh.source)).name}, {method.model}, speed ratio s = {flow.speed_ratio:.2f}"
+        title = (
+            f"{Path(str(mesh.source)).name}, {method.model}, speed ratio s = {flow.speed_ratio:.2f}"
+        )
         if lighting is not None:
             title += f", shading: {getattr(lighting, 'mode', 'given')}"
     fig.suptitle(
@@ -227,14 +235,19 @@ def make_panel_pressure_figure(
 
 def plot_panel_pressure(method, flow, aoa_deg, aos_deg, lighting, out_path, **options) -> Path:
     """Write :func:`make_panel_pressure_figure` to ``out_path`` (PNG); returns the path."""
-    return _save(make_panel_pressure_figure(method, flow, aoa_deg, aos_deg, lighting, **options), out_path)
+    return _save(
+        make_panel_pressure_figure(method, flow, aoa_deg, aos_deg, lighting, **options), out_path
+    )
 
 
 def legend_panel_counts(fig: Figure) -> dict:
     """The panel counts stated in a pressure picture's legend (``shaded``, ``back``)."""
     text = "\n".join(t.get_text() for legend in fig.legends for t in legend.get_texts())
     out = {}
-    for key, pattern in (("shaded", r"lit fraction < 1\): (\d+) panels"), ("back", r"back faces.*?: (\d+) panels")):
+    for key, pattern in (
+        ("shaded", r"lit fraction < 1\): (\d+) panels"),
+        ("back", r"back faces.*?: (\d+) panels"),
+    ):
         match = re.search(pattern, text)
         if match:
             out[key] = int(match.group(1))

@@ -85,7 +85,12 @@ def make_time_series_figures(time_s, runs) -> dict:
         axes[-1].set_xlabel(t_label)
         fig.suptitle(f"Aerodynamic {quantity}, body frame", fontsize=10)
         if several:
-            fig.legend(*axes[0].get_legend_handles_labels(), loc="outside right center", fontsize=8, title="run")
+            fig.legend(
+                *axes[0].get_legend_handles_labels(),
+                loc="outside right center",
+                fontsize=8,
+                title="run",
+            )
         figures[key] = fig
     for key, ylabel, heading in (
         ("density", "density [kg/m³]", "Free-stream mass density"),
@@ -114,4 +119,7 @@ def plot_time_series(time_s, runs, out_dir, prefix: str = "") -> list[Path]:
     """Write :func:`make_time_series_figures` as ``{prefix}force.png``, ``{prefix}torque.png``,
     ``{prefix}density.png`` and ``{prefix}drag_coefficient.png`` in ``out_dir``; returns the paths."""
     out_dir = Path(out_dir)
-    return [_save(fig, out_dir / f"{prefix}{name}.png") for name, fig in make_time_series_figures(time_s, runs).items()]
+    return [
+        _save(fig, out_dir / f"{prefix}{name}.png")
+        for name, fig in make_time_series_figures(time_s, runs).items()
+    ]

@@ -45,7 +45,9 @@ class PlaySummary:
 
 def _publisher_qos(connection, depth: int) -> QoSProfile:
     """Reliable, volatile (or transient-local if the recording publisher was) with ``depth``."""
-    qos = QoSProfile(depth=depth, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+    qos = QoSProfile(
+        depth=depth, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE
+    )
     offered = getattr(connection.ext, "offered_qos_profiles", None) or []
     if offered and all(p.durability == QosDurability.TRANSIENT_LOCAL for p in offered):
         qos.durability = DurabilityPolicy.TRANSIENT_LOCAL
@@ -131,12 +133,16 @@ def play(
         node = rclpy.create_node(node_name, context=context)
         executor = SingleThreadedExecutor(context=context)
         executor.add_node(node)
-        publishers = {topic: node.create_publisher(cls, topic, qos[topic]) for topic, cls in classes.items()}
+        publishers = {
+            topic: node.create_publisher(cls, topic, qos[topic]) for topic, cls in classes.items()
+        }
         if wait_for_subscribers:
             waited = {t: p for t, p in publishers.items() if t in played}
             _wait_for_subscribers(waited, wait_for_subscribers, wait_timeout, executor, stop, log)
-        log(f"playing {count} messages on {len(publishers)} topics of {path} at rate {rate:g}"
-            + (" (looping)" if loop else ""))
+        log(
+            f"playing {count} messages on {len(publishers)} topics of {path} at rate {rate:g}"
+            + (" (looping)" if loop else "")
+        )
         start = time.monotonic()
         while not stop.is_set():
             summary.passes += 1
@@ -163,7 +169,9 @@ def _select_connections(path: Path, connections, topics):
     for c in connections:
         fmt = getattr(c.ext, "serialization_format", None)
         if fmt != "cdr":
-            raise BagError(f"input bag {path}: topic {c.topic} is serialized as {fmt!r}; only rosbag2 CDR bags can be played")
+            raise BagError(
+                f"input bag {path}: topic {c.topic} is serialized as {fmt!r}; only rosbag2 CDR bags can be played"
+            )
     if topics is None:
         return list(connections)
     wanted = [absolute_topic(t) for t in topics]

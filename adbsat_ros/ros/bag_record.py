@@ -125,14 +125,20 @@ def record(
         executor = SingleThreadedExecutor(context=context)
         executor.add_node(node)
         deadline = None if duration is None else start + duration
-        log(f"recording {', '.join(pending)} into {out} ({storage})"
-            + (f" for {duration:g} s" if duration else " until Ctrl-C"))
+        log(
+            f"recording {', '.join(pending)} into {out} ({storage})"
+            + (f" for {duration:g} s" if duration else " until Ctrl-C")
+        )
         while not stop.is_set() and (deadline is None or time.monotonic() < deadline):
             if pending:
                 _subscribe_ready_topics(node, writer, pending, summary, qos_depth, log)
                 if not pending and ready is not None:
                     ready.set()
-            timeout = GRAPH_POLL_S if deadline is None else max(0.0, min(GRAPH_POLL_S, deadline - time.monotonic()))
+            timeout = (
+                GRAPH_POLL_S
+                if deadline is None
+                else max(0.0, min(GRAPH_POLL_S, deadline - time.monotonic()))
+            )
             executor.spin_once(timeout_sec=timeout)
         # take what is already in the subscriptions' queues
         for _ in range(10000):
@@ -160,7 +166,9 @@ def _check_rosbags_type(msgtype: str, topic: str) -> None:
         )
 
 
-def _subscribe_ready_topics(node, writer, pending: dict, summary: RecordSummary, depth: int, log) -> None:
+def _subscribe_ready_topics(
+    node, writer, pending: dict, summary: RecordSummary, depth: int, log
+) -> None:
     """Subscribe to every pending topic whose type is known (given, or seen in the graph)."""
     graph = None
     for topic in list(pending):
@@ -172,15 +180,19 @@ def _subscribe_ready_topics(node, writer, pending: dict, summary: RecordSummary,
             if not types:
                 continue
             if len(types) > 1:
-                raise BagError(f"topic {topic} has several types in the graph ({', '.join(types)}); "
-                               f"give one as {topic}:TYPE")
+                raise BagError(
+                    f"topic {topic} has several types in the graph ({', '.join(types)}); "
+                    f"give one as {topic}:TYPE"
+                )
             msgtype = types[0]
             message_class(msgtype, topic)
             _check_rosbags_type(msgtype, topic)
         connection = writer.connection(topic, msgtype)
         reliability = ReliabilityPolicy.RELIABLE
         offered = node.get_publishers_info_by_topic(topic)
-        if offered and all(p.qos_profile.reliability == ReliabilityPolicy.BEST_EFFORT for p in offered):
+        if offered and all(
+            p.qos_profile.reliability == ReliabilityPolicy.BEST_EFFORT for p in offered
+        ):
             reliability = ReliabilityPolicy.BEST_EFFORT
         qos = QoSProfile(depth=depth, reliability=reliability)
 

@@ -111,8 +111,13 @@ def _events(messages, speedup: float):
     """
     t0 = int(messages.attitudes.stamps_ns[0])
     half = 0.5 / WALL_RATE_HZ
-    events = [((int(t) - t0) * 1e-9 / speedup - half, 0, i) for i, t in enumerate(messages.states.stamps_ns)]
-    events += [((int(t) - t0) * 1e-9 / speedup, 1, i) for i, t in enumerate(messages.attitudes.stamps_ns)]
+    events = [
+        ((int(t) - t0) * 1e-9 / speedup - half, 0, i)
+        for i, t in enumerate(messages.states.stamps_ns)
+    ]
+    events += [
+        ((int(t) - t0) * 1e-9 / speedup, 1, i) for i, t in enumerate(messages.attitudes.stamps_ns)
+    ]
     events.sort()
     start = events[0][0]
     return [(w - start, kind, i) for w, kind, i in events]
@@ -122,8 +127,13 @@ def _vec(v):
     return (v.x, v.y, v.z)
 
 
-def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo", attitude: str = "tumble",
-             out=None) -> DemoResult:
+def run_demo(
+    duration: float = 8.0,
+    speedup: float = 10.0,
+    out_dir="adbsat_demo",
+    attitude: str = "tumble",
+    out=None,
+) -> DemoResult:
     """Run the demo (see the module docstring); prints to ``out`` (default stdout).
 
     Parameters
@@ -157,8 +167,8 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
     from rclpy.parameter import Parameter
     from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-    from adbsat_ros.ros.node import AdbsatNode, make_executor
     from adbsat_ros.bags.scenario import generate
+    from adbsat_ros.ros.node import AdbsatNode, make_executor
 
     def say(line=""):
         print(line, file=out, flush=True)
@@ -166,12 +176,18 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
     scenario = demo_scenario(duration, speedup, attitude)
     messages = generate(scenario)
     result = DemoResult()
-    motion = (f"tumbling at {TUMBLE_RATE_DEG_S:g} deg/s" if attitude == "tumble" else "nadir-pointing")
-    say(f"adbsat-ros demo: {ALTITUDE_KM:g} km circular orbit, {INCLINATION_DEG:g} deg inclination, from "
+    motion = (
+        f"tumbling at {TUMBLE_RATE_DEG_S:g} deg/s" if attitude == "tumble" else "nadir-pointing"
+    )
+    say(
+        f"adbsat-ros demo: {ALTITUDE_KM:g} km circular orbit, {INCLINATION_DEG:g} deg inclination, from "
         f"{scenario.epoch.isoformat().replace('+00:00', 'Z')}, satellite {motion}; "
-        f"{scenario.duration_s:g} s simulated in {duration:g} s ({speedup:g}x real time)")
-    say(f"ROS 2: ROS_AUTOMATIC_DISCOVERY_RANGE={os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE']}, "
-        f"ROS_DOMAIN_ID={os.environ.get('ROS_DOMAIN_ID', '0 (default)')}, topics under {NAMESPACE}")
+        f"{scenario.duration_s:g} s simulated in {duration:g} s ({speedup:g}x real time)"
+    )
+    say(
+        f"ROS 2: ROS_AUTOMATIC_DISCOVERY_RANGE={os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE']}, "
+        f"ROS_DOMAIN_ID={os.environ.get('ROS_DOMAIN_ID', '0 (default)')}, topics under {NAMESPACE}"
+    )
 
     context = Context()
     rclpy.init(context=context)
@@ -197,8 +213,10 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
         node.add_sample_listener(log)
         mesh = node.estimator.mesh
         s = node.estimator.settings
-        say(f"adbsat_node started in {time.monotonic() - started:.2f} s: {Path(str(mesh.source)).name}, "
-            f"{mesh.n_panels} panels, model {s.gsi_model}, shading {s.shading}")
+        say(
+            f"adbsat_node started in {time.monotonic() - started:.2f} s: {Path(str(mesh.source)).name}, "
+            f"{mesh.n_panels} panels, model {s.gsi_model}, shading {s.shading}"
+        )
 
         client = rclpy.create_node("demo_client", namespace=NAMESPACE, context=context)
         qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
@@ -214,6 +232,7 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
                     if slot == 0:
                         entry[2] = time.monotonic()
                         latest[0] = key if latest[0] is None else max(key, latest[0])
+
             return callback
 
         client.create_subscription(WrenchStamped, "wrench", on_message(0), qos)
@@ -229,17 +248,26 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
         spinner = threading.Thread(target=spin, name="adbsat-demo-executor", daemon=True)
         spinner.start()
         deadline = time.monotonic() + 10.0
-        while attitude_pub.get_subscription_count() < 1 or state_pub.get_subscription_count() < 1 \
-                or node.wrench_pub.get_subscription_count() < 1:
+        while (
+            attitude_pub.get_subscription_count() < 1
+            or state_pub.get_subscription_count() < 1
+            or node.wrench_pub.get_subscription_count() < 1
+        ):
             if time.monotonic() > deadline:
-                raise RuntimeError("the demo's publishers and the node did not discover each other in 10 s")
+                raise RuntimeError(
+                    "the demo's publishers and the node did not discover each other in 10 s"
+                )
             time.sleep(0.01)
 
         say()
-        say(f"{'sim time':>9} {'altitude':>9} {'density':>10} {'C_D':>6} {'|F|':>10} {'|T|':>10} "
-            f"{'compute':>8} {'latency':>8}")
-        say(f"{'[s]':>9} {'[km]':>9} {'[kg/m^3]':>10} {'[-]':>6} {'[N]':>10} {'[N m]':>10} "
-            f"{'[ms]':>8} {'[ms]':>8}")
+        say(
+            f"{'sim time':>9} {'altitude':>9} {'density':>10} {'C_D':>6} {'|F|':>10} {'|T|':>10} "
+            f"{'compute':>8} {'latency':>8}"
+        )
+        say(
+            f"{'[s]':>9} {'[km]':>9} {'[kg/m^3]':>10} {'[-]':>6} {'[N]':>10} {'[N m]':>10} "
+            f"{'[ms]':>8} {'[ms]':>8}"
+        )
         t0_ns = int(messages.attitudes.stamps_ns[0])
 
         def table_line():
@@ -251,14 +279,16 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
             sample = log.samples.get(key)
             c = sample.conditions if sample is not None else None
             latency = 1e3 * (wall - sent_wall[key]) if key in sent_wall else math.nan
-            say(f"{(key - t0_ns) * 1e-9:9.1f} "
+            say(
+                f"{(key - t0_ns) * 1e-9:9.1f} "
                 f"{(c.altitude * 1e-3 if c else math.nan):9.2f} "
                 f"{(c.mass_density if c else math.nan):10.3e} "
                 f"{(sample.drag_coefficient if sample else math.nan):6.3f} "
                 f"{np.linalg.norm(_vec(wrench.wrench.force)):10.3e} "
                 f"{np.linalg.norm(_vec(wrench.wrench.torque)):10.3e} "
                 f"{(1e3 * sample.compute_seconds if sample else math.nan):8.2f} "
-                f"{latency:8.2f}")
+                f"{latency:8.2f}"
+            )
 
         states, attitudes = messages.states, messages.attitudes
         start = time.monotonic()
@@ -274,8 +304,14 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
                     break
                 time.sleep(min(target, next_line) - now)
             if kind == 0:
-                state_pub.publish(_odometry(Odometry, int(states.stamps_ns[i]), states.position_eci[i],
-                                            states.velocity_eci[i]))
+                state_pub.publish(
+                    _odometry(
+                        Odometry,
+                        int(states.stamps_ns[i]),
+                        states.position_eci[i],
+                        states.velocity_eci[i],
+                    )
+                )
                 result.states_sent += 1
             else:
                 stamp_ns = int(attitudes.stamps_ns[i])
@@ -311,15 +347,29 @@ def run_demo(duration: float = 8.0, speedup: float = 10.0, out_dir="adbsat_demo"
 
     samples = log.samples if log is not None else {}
     rows = _rows(received, samples, sent_wall, int(messages.attitudes.stamps_ns[0]), result)
-    result.rejected = {k: v for k, v in (node.estimator.rejections.items() if node is not None else ()) if v}
+    result.rejected = {
+        k: v for k, v in (node.estimator.rejections.items() if node is not None else ()) if v
+    }
     say()
-    say(f"published {result.attitudes_sent} attitudes and {result.states_sent} states; received "
+    say(
+        f"published {result.attitudes_sent} attitudes and {result.states_sent} states; received "
         f"{result.wrenches_received} wrenches"
-        + (f"; rejected: {', '.join(f'{k} {v}' for k, v in result.rejected.items())}" if result.rejected else "")
-        + (f"; {result.mismatched} wrenches differ from the node's samples" if result.mismatched else ""))
+        + (
+            f"; rejected: {', '.join(f'{k} {v}' for k, v in result.rejected.items())}"
+            if result.rejected
+            else ""
+        )
+        + (
+            f"; {result.mismatched} wrenches differ from the node's samples"
+            if result.mismatched
+            else ""
+        )
+    )
     if rows:
-        say(f"compute time p50 {result.compute_ms_p50:.2f} ms; end-to-end latency (attitude published -> "
-            f"wrench received) p50 {result.latency_ms_p50:.2f} ms, p99 {result.latency_ms_p99:.2f} ms")
+        say(
+            f"compute time p50 {result.compute_ms_p50:.2f} ms; end-to-end latency (attitude published -> "
+            f"wrench received) p50 {result.latency_ms_p50:.2f} ms, p99 {result.latency_ms_p99:.2f} ms"
+        )
         result.files = _write_outputs(rows, Path(out_dir))
         say("wrote: " + ", ".join(str(p) for p in result.files))
     return result
@@ -337,9 +387,26 @@ def _odometry(cls, stamp_ns: int, position, velocity):
 
 
 CSV_COLUMNS = (
-    "time_s", "stamp_unix_s", "altitude_km", "density_kg_m3", "relative_speed_m_s", "drag_coefficient",
-    "force_x_N", "force_y_N", "force_z_N", "torque_x_Nm", "torque_y_Nm", "torque_z_Nm",
-    "cf_x", "cf_y", "cf_z", "cm_x", "cm_y", "cm_z", "compute_ms", "latency_ms",
+    "time_s",
+    "stamp_unix_s",
+    "altitude_km",
+    "density_kg_m3",
+    "relative_speed_m_s",
+    "drag_coefficient",
+    "force_x_N",
+    "force_y_N",
+    "force_z_N",
+    "torque_x_Nm",
+    "torque_y_Nm",
+    "torque_z_Nm",
+    "cf_x",
+    "cf_y",
+    "cf_z",
+    "cm_x",
+    "cm_y",
+    "cm_z",
+    "compute_ms",
+    "latency_ms",
 )
 
 
@@ -352,15 +419,28 @@ def _rows(received, samples, sent_wall, t0_ns, result: DemoResult) -> list:
             continue
         sample = samples.get(key)
         force, torque = np.array(_vec(wrench.wrench.force)), np.array(_vec(wrench.wrench.torque))
-        if sample is None or not (np.array_equal(force, sample.force) and np.array_equal(torque, sample.torque)):
+        if sample is None or not (
+            np.array_equal(force, sample.force) and np.array_equal(torque, sample.torque)
+        ):
             result.mismatched += 1
             continue
         c = sample.conditions
-        rows.append((
-            (key - t0_ns) * 1e-9, key * 1e-9, c.altitude * 1e-3, c.mass_density, c.speed, sample.drag_coefficient,
-            *force, *torque, *_vec(coefficients.wrench.force), *_vec(coefficients.wrench.torque),
-            1e3 * sample.compute_seconds, 1e3 * (wall - sent_wall[key]) if key in sent_wall else math.nan,
-        ))
+        rows.append(
+            (
+                (key - t0_ns) * 1e-9,
+                key * 1e-9,
+                c.altitude * 1e-3,
+                c.mass_density,
+                c.speed,
+                sample.drag_coefficient,
+                *force,
+                *torque,
+                *_vec(coefficients.wrench.force),
+                *_vec(coefficients.wrench.torque),
+                1e3 * sample.compute_seconds,
+                1e3 * (wall - sent_wall[key]) if key in sent_wall else math.nan,
+            )
+        )
     result.wrenches_received = sum(1 for v in received.values() if v[0] is not None)
     if rows:
         table = np.array(rows)
@@ -383,10 +463,12 @@ def _write_outputs(rows, out_dir: Path) -> list:
     table = np.array(rows)
     col = {name: i for i, name in enumerate(CSV_COLUMNS)}
     run = {
-        "force": table[:, col["force_x_N"]:col["force_z_N"] + 1],
-        "torque": table[:, col["torque_x_Nm"]:col["torque_z_Nm"] + 1],
+        "force": table[:, col["force_x_N"] : col["force_z_N"] + 1],
+        "torque": table[:, col["torque_x_Nm"] : col["torque_z_Nm"] + 1],
         "density": table[:, col["density_kg_m3"]],
         "drag_coefficient": table[:, col["drag_coefficient"]],
     }
-    plots = plot_time_series(table[:, col["time_s"]], {"adbsat_node (live)": run}, out_dir, prefix="demo_")
+    plots = plot_time_series(
+        table[:, col["time_s"]], {"adbsat_node (live)": run}, out_dir, prefix="demo_"
+    )
     return [path, *plots]

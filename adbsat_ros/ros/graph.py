@@ -66,4 +66,3 @@ def absolute_topic(topic: str) -> str:
     """``topic`` with a leading slash."""
     topic = topic.strip()
     return topic if topic.startswith("/") else "/" + topic
-

@@ -48,13 +48,24 @@ from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 
-from adbsat_ros.estimator.estimator import AeroWrenchEstimator, Rejection, WrenchSample, next_regular_stamp, stamp_seconds
-from adbsat_ros.geometry.mesh import MeshError
-from adbsat_ros.messages.cdr import (
-    DiagnosticFields, OdometryFields, Stamp, diagnostic_array_cdr, odometry_fields, quaternion_stamped_fields,
-    wrench_stamped_cdr,
+from adbsat_ros.estimator.estimator import (
+    AeroWrenchEstimator,
+    Rejection,
+    WrenchSample,
+    next_regular_stamp,
+    stamp_seconds,
 )
 from adbsat_ros.estimator.settings import PARAMETERS, READ_ONLY_PARAMETERS, WrenchSettings
+from adbsat_ros.geometry.mesh import MeshError
+from adbsat_ros.messages.cdr import (
+    DiagnosticFields,
+    OdometryFields,
+    Stamp,
+    diagnostic_array_cdr,
+    odometry_fields,
+    quaternion_stamped_fields,
+    wrench_stamped_cdr,
+)
 
 NODE_NAME = "adbsat_node"
 #: Compute times kept for the p50/p99/max of /diagnostics (the latest this many messages).
@@ -99,16 +110,24 @@ class AdbsatNode(Node):
         super().__init__(NODE_NAME, **node_kwargs)
         for name, default, text in PARAMETERS:
             self.declare_parameter(
-                name, default, ParameterDescriptor(description=text, read_only=name in READ_ONLY_PARAMETERS)
+                name,
+                default,
+                ParameterDescriptor(description=text, read_only=name in READ_ONLY_PARAMETERS),
             )
         settings = WrenchSettings.from_parameters(self._parameter_values())
         self.estimator = AeroWrenchEstimator(settings)
         ref = self.estimator.method.reference
         for name, value, text in (
-            ("reference_area", ref.area, "A_ref of the coefficients topic [m^2] (half the wetted area)"),
+            (
+                "reference_area",
+                ref.area,
+                "A_ref of the coefficients topic [m^2] (half the wetted area)",
+            ),
             ("reference_length", ref.length, "L_ref of the coefficients topic [m] (mesh x extent)"),
         ):
-            self.declare_parameter(name, value, ParameterDescriptor(description=text, read_only=True))
+            self.declare_parameter(
+                name, value, ParameterDescriptor(description=text, read_only=True)
+            )
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
         qos = QoSProfile(depth=settings.qos_depth, reliability=ReliabilityPolicy.RELIABLE)
@@ -117,7 +136,9 @@ class AdbsatNode(Node):
         # (get_subscription_count costs 4-10 us, a few per cent of a wrench)
         self._coefficient_readers = 0
         self.coefficients_pub = self.create_publisher(
-            WrenchStamped, "coefficients", qos,
+            WrenchStamped,
+            "coefficients",
+            qos,
             event_callbacks=PublisherEventCallbacks(matched=self._on_coefficients_matched),
         )
         self._coefficient_readers = self.coefficients_pub.get_subscription_count()
@@ -127,7 +148,9 @@ class AdbsatNode(Node):
         # State first: when a state and an attitude are waiting together, the executor takes them
         # in the order the subscriptions were made, and the attitude wants the newest state.
         self._state_sub = self.create_subscription(Odometry, "state", self._on_state, qos, raw=True)
-        self._attitude_sub = self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos, raw=True)
+        self._attitude_sub = self.create_subscription(
+            QuaternionStamped, "attitude", self._on_attitude, qos, raw=True
+        )
         # attitudes an attitude callback took from the queue behind its own (a burst)
         self.attitudes_taken_waiting = 0
         # compute times [ms] of the latest COMPUTE_WINDOW wrenches, a ring written in place
@@ -141,8 +164,11 @@ class AdbsatNode(Node):
         self._log_throttled = LogThrottle(self.get_logger())
         self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
         mesh = self.estimator.mesh
-        source = (f"coefficients from database {settings.database_path}" if settings.coefficients_source == "database"
-                  else f"shading {settings.shading}")
+        source = (
+            f"coefficients from database {settings.database_path}"
+            if settings.coefficients_source == "database"
+            else f"shading {settings.shading}"
+        )
         self.get_logger().info(
             f"mesh {mesh.source}: {mesh.n_panels} panels; model {settings.gsi_model}, {source}; "
             f"publishing '{self.resolve_topic_name('wrench')}' in frame '{settings.body_frame_id}'"
@@ -172,8 +198,12 @@ class AdbsatNode(Node):
         if settings.diagnostics_period != self._diag_timer.timer_period_ns * 1e-9:
             self._diag_timer.cancel()
             self.destroy_timer(self._diag_timer)
-            self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
-        self.get_logger().info("parameters changed: " + ", ".join(f"{p.name}={p.value}" for p in relevant))
+            self._diag_timer = self.create_timer(
+                settings.diagnostics_period, self._publish_diagnostics
+            )
+        self.get_logger().info(
+            "parameters changed: " + ", ".join(f"{p.name}={p.value}" for p in relevant)
+        )
         return SetParametersResult(successful=True)
 
     # ----------------------------------------------------------------------------- inputs
@@ -189,7 +219,9 @@ class AdbsatNode(Node):
         """A state as the CDR bytes of a nav_msgs/Odometry."""
         try:
             odom = odometry_fields(raw)
-        except ValueError:  # not plain CDR (e.g. XCDR2 from another RMW): the typesupport decodes it
+        except (
+            ValueError
+        ):  # not plain CDR (e.g. XCDR2 from another RMW): the typesupport decodes it
             try:
                 odom = OdometryFields.of_message(deserialize_message(raw, Odometry))
             except Exception as exc:
@@ -214,7 +246,9 @@ class AdbsatNode(Node):
         """(stamp, quaternion x y z w) of the CDR bytes of a QuaternionStamped, or None (counted)."""
         try:
             return quaternion_stamped_fields(raw)
-        except ValueError:  # not plain CDR (e.g. XCDR2 from another RMW): the typesupport decodes it
+        except (
+            ValueError
+        ):  # not plain CDR (e.g. XCDR2 from another RMW): the typesupport decodes it
             try:
                 msg = deserialize_message(raw, QuaternionStamped)
             except Exception as exc:
@@ -241,7 +275,9 @@ class AdbsatNode(Node):
         try:
             return self._take_waiting()
         except Exception as exc:  # e.g. a subscription destroyed at shutdown
-            self._log_throttled("error", "take_failed", f"taking the waiting messages failed: {exc!r}")
+            self._log_throttled(
+                "error", "take_failed", f"taking the waiting messages failed: {exc!r}"
+            )
             return []
 
     def _take_waiting(self) -> list:
@@ -309,7 +345,9 @@ class AdbsatNode(Node):
         if not attitudes:
             return
         try:
-            results = self.estimator.on_attitudes([(stamp_seconds(stamp), q) for stamp, q in attitudes])
+            results = self.estimator.on_attitudes(
+                [(stamp_seconds(stamp), q) for stamp, q in attitudes]
+            )
         except Exception as exc:  # never let a message take the node down
             self.estimator.rejections["compute_error"] += len(attitudes)
             self._log_throttled("error", "compute_failed", f"wrench computation failed: {exc!r}")
@@ -346,9 +384,15 @@ class AdbsatNode(Node):
             wrench_stamped_cdr(sec, nanosec, frame, sample.force.tolist(), sample.torque.tolist())
         )
         if self._coefficient_readers:  # nobody listening: skip the serialisation
-            self.coefficients_pub.handle.publish_raw(wrench_stamped_cdr(
-                sec, nanosec, frame, sample.force_coefficients.tolist(), sample.moment_coefficients.tolist()
-            ))
+            self.coefficients_pub.handle.publish_raw(
+                wrench_stamped_cdr(
+                    sec,
+                    nanosec,
+                    frame,
+                    sample.force_coefficients.tolist(),
+                    sample.moment_coefficients.tolist(),
+                )
+            )
         self._compute_ms[self._computed % COMPUTE_WINDOW] = 1e3 * sample.compute_seconds
         self._computed += 1
         self._last_sample = sample
@@ -367,7 +411,9 @@ class AdbsatNode(Node):
             if expected is not None:
                 self.estimator.prepare(expected)
         except Exception as exc:  # never let it take the node down
-            self._log_throttled("error", "prepare_failed", f"preparing the next message failed: {exc!r}")
+            self._log_throttled(
+                "error", "prepare_failed", f"preparing the next message failed: {exc!r}"
+            )
 
     def add_sample_listener(self, callback) -> None:
         """Call ``callback(sample)`` with every :class:`WrenchSample` published (in-process users:
@@ -379,7 +425,9 @@ class AdbsatNode(Node):
         """The node's health and latest values: level, name, message, hardware id, key/values."""
         est = self.estimator
         s = est.settings
-        values = est.diagnostic_values(self._last_sample, self._compute_ms[:min(self._computed, COMPUTE_WINDOW)])
+        values = est.diagnostic_values(
+            self._last_sample, self._compute_ms[: min(self._computed, COMPUTE_WINDOW)]
+        )
         values["attitudes_taken_waiting"] = self.attitudes_taken_waiting
         age = None if self._last_state_wall is None else time.monotonic() - self._last_state_wall
         rejected = sum(est.rejections.values())
@@ -387,14 +435,20 @@ class AdbsatNode(Node):
             level = DiagnosticStatus.ERROR
             message = "no orbital state" if age is None else f"state is stale ({age:.1f} s old)"
         elif self._last_rejection is not None and self._last_rejection.reason == "stale_state":
-            level, message = DiagnosticStatus.ERROR, "state is stale relative to the attitude stamps"
+            level, message = (
+                DiagnosticStatus.ERROR,
+                "state is stale relative to the attitude stamps",
+            )
         elif rejected:
             level, message = DiagnosticStatus.WARN, f"{rejected} inputs rejected so far"
         else:
             level, message = DiagnosticStatus.OK, "ok"
         return DiagnosticFields(
-            level=ord(level), name=f"{self.get_name()}: aerodynamic wrench", message=message,
-            hardware_id=est.mesh.source, values=tuple((k, str(v)) for k, v in values.items()),
+            level=ord(level),
+            name=f"{self.get_name()}: aerodynamic wrench",
+            message=message,
+            hardware_id=est.mesh.source,
+            values=tuple((k, str(v)) for k, v in values.items()),
         )
 
     def _publish_diagnostics(self) -> None:
@@ -402,7 +456,9 @@ class AdbsatNode(Node):
         # serialise, up to 2 ms right after the process slept; a hold-up for the attitudes at 1 kHz
         try:
             sec, nanosec = self.get_clock().now().seconds_nanoseconds()
-            self.diagnostics_pub.publish(diagnostic_array_cdr(sec, nanosec, "", [self.diagnostic_fields()]))
+            self.diagnostics_pub.publish(
+                diagnostic_array_cdr(sec, nanosec, "", [self.diagnostic_fields()])
+            )
         except Exception as exc:  # diagnostics must never take the node down
             self._log_throttled("error", "diagnostics_failed", f"diagnostics failed: {exc!r}")
 

@@ -18,8 +18,12 @@ EARTH_RADIUS = 6378137.0
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="adbsat_orbit_publisher", description=__doc__.splitlines()[0])
-    parser.add_argument("--altitude", type=float, default=300.0, help="orbit altitude [km] (default 300)")
+    parser = argparse.ArgumentParser(
+        prog="adbsat_orbit_publisher", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument(
+        "--altitude", type=float, default=300.0, help="orbit altitude [km] (default 300)"
+    )
     parser.add_argument("--rate", type=float, default=10.0, help="attitude rate [Hz] (default 10)")
     parser.add_argument("--duration", type=float, default=5.0, help="seconds to run (default 5)")
     parser.add_argument("--yaw-rate", type=float, default=0.0, help="body rotation about z [deg/s]")
@@ -38,9 +42,11 @@ def main(argv=None) -> int:
 
     def show(msg):
         f, t = msg.wrench.force, msg.wrench.torque
-        print(f"t={msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec:7.2f} s  "
-              f"force [N] ({f.x:+.3e}, {f.y:+.3e}, {f.z:+.3e})  torque [N m] ({t.x:+.3e}, {t.y:+.3e}, {t.z:+.3e})",
-              flush=True)
+        print(
+            f"t={msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec:7.2f} s  "
+            f"force [N] ({f.x:+.3e}, {f.y:+.3e}, {f.z:+.3e})  torque [N m] ({t.x:+.3e}, {t.y:+.3e}, {t.z:+.3e})",
+            flush=True,
+        )
 
     node.create_subscription(WrenchStamped, "wrench", show, 10)
     r = EARTH_RADIUS + 1e3 * args.altitude
@@ -58,8 +64,14 @@ def main(argv=None) -> int:
             if t >= next_state:
                 o = Odometry()
                 o.header.stamp, o.header.frame_id, o.child_frame_id = stamp, "eci", "eci"
-                o.pose.pose.position.x, o.pose.pose.position.y = r * math.cos(w * t), r * math.sin(w * t)
-                o.twist.twist.linear.x, o.twist.twist.linear.y = -v * math.sin(w * t), v * math.cos(w * t)
+                o.pose.pose.position.x, o.pose.pose.position.y = (
+                    r * math.cos(w * t),
+                    r * math.sin(w * t),
+                )
+                o.twist.twist.linear.x, o.twist.twist.linear.y = (
+                    -v * math.sin(w * t),
+                    v * math.cos(w * t),
+                )
                 state.publish(o)
                 next_state += 0.1
             # body x along the velocity (+90 deg about z from ECI x at t = 0), plus the yaw rate

@@ -108,7 +108,10 @@ class ShadingCache:
         self.step = 0.5 * math.pi / self.n
         self.max_entries = None if max_entries is None else int(max_entries)
         self._store: OrderedDict = OrderedDict()
-        self._last = (None, None)  # (key, PanelLighting) of the latest query: consecutive hits reuse it
+        self._last = (
+            None,
+            None,
+        )  # (key, PanelLighting) of the latest query: consecutive hits reuse it
         self._recent: OrderedDict = OrderedDict()  # the RECENT_CELLS latest cells, unpacked
         self.hits = 0
         self.misses = 0
@@ -306,7 +309,10 @@ class ShadingCache:
         grazing_area = float(mesh.areas[np.abs(c) <= math.sin(theta) + 1e-12].sum())
         part = lighting.partly_lit
         partial_area = float((mesh.areas[part] * np.maximum(c[part], 0.0)).sum())
-        return theta * (diag * self.shadow_perimeter() + grazing_area) + 2.0 * SAMPLING_ERROR * partial_area
+        return (
+            theta * (diag * self.shadow_perimeter() + grazing_area)
+            + 2.0 * SAMPLING_ERROR * partial_area
+        )
 
 
 def moved_lit_area(mesh, u_G, cached: PanelLighting, exact: PanelLighting) -> float:
@@ -340,7 +346,9 @@ def _silhouette_length_bound(mesh) -> float:
         sharp = np.einsum("ij,ij->i", n[adj[:, 0]], n[adj[:, 1]]) < 1.0 - 1e-9
         edges = part.face_adjacency_edges[sharp]
         length = float(np.linalg.norm(pts[edges[:, 0]] - pts[edges[:, 1]], axis=1).sum())
-        boundary = part.edges_sorted[trimesh.grouping.group_rows(part.edges_sorted, require_count=1)]
+        boundary = part.edges_sorted[
+            trimesh.grouping.group_rows(part.edges_sorted, require_count=1)
+        ]
         if len(boundary):
             length += float(np.linalg.norm(pts[boundary[:, 0]] - pts[boundary[:, 1]], axis=1).sum())
         total += length

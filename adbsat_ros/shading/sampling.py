@@ -39,7 +39,10 @@ def panel_shifts(panel_index) -> np.ndarray:
     h1 = _splitmix64(2 * i)
     h2 = _splitmix64(2 * i + np.uint64(1))
     scale = 1.0 / float(1 << 53)
-    return np.stack([(h1 >> np.uint64(11)).astype(float) * scale, (h2 >> np.uint64(11)).astype(float) * scale], axis=-1)
+    return np.stack(
+        [(h1 >> np.uint64(11)).astype(float) * scale, (h2 >> np.uint64(11)).astype(float) * scale],
+        axis=-1,
+    )
 
 
 def _sample_ab(panel_index, start: int, count: int):

@@ -227,7 +227,9 @@ class Shader:
         self.prefilter = bool(prefilter)
         lo, hi = mesh.bounds
         self.diagonal = float(np.linalg.norm(hi - lo)) or 1.0
-        self.offset = float(offset) if offset is not None else DEFAULT_OFFSET_FRACTION * self.diagonal
+        self.offset = (
+            float(offset) if offset is not None else DEFAULT_OFFSET_FRACTION * self.diagonal
+        )
         if not (math.isfinite(self.offset) and self.offset >= 0.0):
             raise ValueError(f"offset must be a finite number >= 0, got {offset!r}")
         self.last_stats: dict = {}
@@ -245,7 +247,8 @@ class Shader:
         faces = np.asarray(tm.faces, dtype=np.int64)
         adjacency = np.asarray(tm.face_adjacency, dtype=np.int64).reshape(-1, 2)
         labels = np.asarray(
-            trimesh.graph.connected_component_labels(adjacency, node_count=len(faces)), dtype=np.int64
+            trimesh.graph.connected_component_labels(adjacency, node_count=len(faces)),
+            dtype=np.int64,
         )
         n_comp = int(labels.max()) + 1 if labels.size else 0
         self.component = labels
@@ -306,7 +309,14 @@ class Shader:
         u = frames.unit_vector(u_G)
         n = self.mesh.n_panels
         if self.trivial:
-            self.last_stats = {"forward": 0, "tested": 0, "rays": 0, "partly_lit": 0, "refined": 0, "probed": 0}
+            self.last_stats = {
+                "forward": 0,
+                "tested": 0,
+                "rays": 0,
+                "partly_lit": 0,
+                "refined": 0,
+                "probed": 0,
+            }
             return PanelLighting.all_lit(n)
         if self.mode == "projection":
             shadowed = adbsat_shadowed(self.mesh, u)
@@ -356,7 +366,9 @@ class Shader:
                 need[j] = overlap.any(axis=1)
         return np.flatnonzero(need)
 
-    def _cast(self, origins: np.ndarray, d: np.ndarray, occluder: np.ndarray, any_grazing: bool) -> np.ndarray:
+    def _cast(
+        self, origins: np.ndarray, d: np.ndarray, occluder: np.ndarray, any_grazing: bool
+    ) -> np.ndarray:
         """Blocked flag of rays origins + t d (t > 0) against the occluding faces."""
         if origins.shape[0] == 0:
             return np.zeros(0, dtype=bool)
@@ -451,13 +463,17 @@ class Shader:
             again = probe[lit_p.any(axis=1) & ~lit_p.all(axis=1)]
             final = [(refine, lit_sets[0])]
             if again.size:
-                more = self._cast_sets([(again, S + n_probe, R)], tri, lift, cand, d, occluder, any_grazing, stats)
+                more = self._cast_sets(
+                    [(again, S + n_probe, R)], tri, lift, cand, d, occluder, any_grazing, stats
+                )
                 final.append((again, more[0]))
             for idx, (lit_r, origins_r) in final:
                 if idx.size == 0:
                     continue
                 n_lit[idx] = lit_r.sum(axis=1)
-                lit_sum[idx] = np.einsum("ks,ksj->kj", lit_r, origins_r) - n_lit[idx, None] * lift[idx]
+                lit_sum[idx] = (
+                    np.einsum("ks,ksj->kj", lit_r, origins_r) - n_lit[idx, None] * lift[idx]
+                )
                 total[idx] = R
             stats["refined"] = int(refine.size + again.size)
             stats["probed"] = int(probe.size)
@@ -474,7 +490,11 @@ class Shader:
 
 # ---------------------------------------------------------------------------------- factory
 def make_shader(
-    mesh: PanelMesh, mode: str = "raycast", samples: int = DEFAULT_SAMPLES, backend: str = "auto", **options
+    mesh: PanelMesh,
+    mode: str = "raycast",
+    samples: int = DEFAULT_SAMPLES,
+    backend: str = "auto",
+    **options,
 ) -> Shader:
     """Build a :class:`Shader` for ``mesh`` (see :class:`Shader` for the parameters)."""
     return Shader(mesh, mode=mode, samples=samples, backend=backend, **options)

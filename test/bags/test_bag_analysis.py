@@ -10,13 +10,12 @@ import pytest
 from rosbags.rosbag2 import Reader
 
 from adbsat_ros.bags import io as bag_io
-
 from adbsat_ros.bags import scenario
-from adbsat_ros.estimator.estimator import AeroWrenchEstimator, Rejection, stamp_seconds
 from adbsat_ros.bags.analysis import MODEL_COLUMNS, analyze_bag, safe_split_points
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator, Rejection, stamp_seconds
+from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
 from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.geometry.shapes import grid_box
-from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
 
 FAST = {"shading": "none"}
 
@@ -45,10 +44,16 @@ def direct_wrenches(messages, settings):
     forces, torques = [], []
     for _, kind, i in sorted(events):
         if kind == 0:
-            est.on_state(messages.states.stamps[i], messages.states.position_eci[i], messages.states.velocity_eci[i])
+            est.on_state(
+                messages.states.stamps[i],
+                messages.states.position_eci[i],
+                messages.states.velocity_eci[i],
+            )
         else:
             try:
-                s = est.on_attitude(messages.attitudes.stamps[i], messages.attitudes.quaternion_xyzw[i])
+                s = est.on_attitude(
+                    messages.attitudes.stamps[i], messages.attitudes.quaternion_xyzw[i]
+                )
             except Rejection:
                 continue
             forces.append(s.force)
@@ -64,15 +69,24 @@ def vec(v):
 def flight(tmp_path_factory):
     """A 10-minute nadir flight at 1 Hz (state and attitude), analysed into mcap and db3."""
     root = tmp_path_factory.mktemp("flight")
-    sc = scenario.Scenario(duration_s=600, rate_hz=1.0, state_rate_hz=1.0, altitude_km=350, inclination_deg=51.6)
+    sc = scenario.Scenario(
+        duration_s=600, rate_hz=1.0, state_rate_hz=1.0, altitude_km=350, inclination_deg=51.6
+    )
     messages = scenario.generate(sc)
     bag_io.write_scenario_bag(messages, root / "in", storage="mcap")
     settings = WrenchSettings.from_parameters(FAST)
     reports = {}
     for storage in ("mcap", "sqlite3"):
-        reports[storage] = analyze_bag(root / "in", "/attitude", "/state", [("fast", settings)],
-                                       out_bag=root / f"out_{storage}", out_csv=root / f"out_{storage}.csv",
-                                       plots_dir=root / f"plots_{storage}", storage=storage)
+        reports[storage] = analyze_bag(
+            root / "in",
+            "/attitude",
+            "/state",
+            [("fast", settings)],
+            out_bag=root / f"out_{storage}",
+            out_csv=root / f"out_{storage}.csv",
+            plots_dir=root / f"plots_{storage}",
+            storage=storage,
+        )
     return root, messages, settings, reports
 
 
@@ -86,13 +100,24 @@ def test_wrench_per_attitude_and_bag_reads_back(flight):
         bag = root / f"out_{storage}"
         assert (bag / f"out_{storage}{suffix}").is_file()
         topics, types = read_bag(bag)
-        assert types["/adbsat/fast/wrench"] == types["/adbsat/fast/coefficients"] == bag_io.WRENCH_STAMPED
+        assert (
+            types["/adbsat/fast/wrench"]
+            == types["/adbsat/fast/coefficients"]
+            == bag_io.WRENCH_STAMPED
+        )
         assert types["/diagnostics"] == bag_io.DIAGNOSTIC_ARRAY
-        assert len(topics["/adbsat/fast/wrench"]) == len(topics["/adbsat/fast/coefficients"]) == n_att
-        assert len(topics["/attitude"]) == n_att and len(topics["/state"]) == n_state  # inputs copied
+        assert (
+            len(topics["/adbsat/fast/wrench"]) == len(topics["/adbsat/fast/coefficients"]) == n_att
+        )
+        assert (
+            len(topics["/attitude"]) == n_att and len(topics["/state"]) == n_state
+        )  # inputs copied
         # wrench stamped like its attitude message, logged at the attitude's log time
         for (t_w, w), (t_a, a) in zip(topics["/adbsat/fast/wrench"], topics["/attitude"]):
-            assert t_w == t_a and (w.header.stamp.sec, w.header.stamp.nanosec) == (a.header.stamp.sec, a.header.stamp.nanosec)
+            assert t_w == t_a and (w.header.stamp.sec, w.header.stamp.nanosec) == (
+                a.header.stamp.sec,
+                a.header.stamp.nanosec,
+            )
             assert w.header.frame_id == "body"
         # one DiagnosticArray per second of bag time, plus one at the end with the final counts
         diags = topics["/diagnostics"]
@@ -124,10 +149,18 @@ def test_csv_matches_bag_and_closed_forms(flight):
     coefficients = topics["/adbsat/fast/coefficients"]
     assert len(rows) == len(wrenches)
     for axis, i in (("x", 0), ("y", 1), ("z", 2)):
-        np.testing.assert_array_equal(data(f"fast.force_{axis}_N"), [vec(m.wrench.force)[i] for _, m in wrenches])
-        np.testing.assert_array_equal(data(f"fast.torque_{axis}_Nm"), [vec(m.wrench.torque)[i] for _, m in wrenches])
-        np.testing.assert_array_equal(data(f"fast.CF_{axis}"), [vec(m.wrench.force)[i] for _, m in coefficients])
-        np.testing.assert_array_equal(data(f"fast.CM_{axis}"), [vec(m.wrench.torque)[i] for _, m in coefficients])
+        np.testing.assert_array_equal(
+            data(f"fast.force_{axis}_N"), [vec(m.wrench.force)[i] for _, m in wrenches]
+        )
+        np.testing.assert_array_equal(
+            data(f"fast.torque_{axis}_Nm"), [vec(m.wrench.torque)[i] for _, m in wrenches]
+        )
+        np.testing.assert_array_equal(
+            data(f"fast.CF_{axis}"), [vec(m.wrench.force)[i] for _, m in coefficients]
+        )
+        np.testing.assert_array_equal(
+            data(f"fast.CM_{axis}"), [vec(m.wrench.torque)[i] for _, m in coefficients]
+        )
     np.testing.assert_array_equal(data("stamp_s"), messages.attitudes.stamps)
     np.testing.assert_allclose(data("time_s"), np.arange(601.0), atol=1e-9)
     assert rows[0][col["utc"]] == "2026-01-01T00:00:00+00:00"
@@ -138,9 +171,13 @@ def test_csv_matches_bag_and_closed_forms(flight):
     np.testing.assert_allclose(data("fast.force_x_N"), q * a_ref * data("fast.CF_x"), rtol=1e-12)
     # the relative wind has the relative speed as norm; altitude of the circular orbit above the ellipsoid
     wind = np.stack([data(f"fast.wind_body_{a}_m_s") for a in "xyz"], axis=1)
-    np.testing.assert_allclose(np.linalg.norm(wind, axis=1), data("fast.relative_speed_m_s"), rtol=1e-12)
+    np.testing.assert_allclose(
+        np.linalg.norm(wind, axis=1), data("fast.relative_speed_m_s"), rtol=1e-12
+    )
     alt = data("fast.altitude_m")
-    assert 350e3 - 1 < alt.min() and alt.max() < 350e3 + 22e3  # the ellipsoid is lower at high latitude
+    assert (
+        350e3 - 1 < alt.min() and alt.max() < 350e3 + 22e3
+    )  # the ellipsoid is lower at high latitude
 
 
 def test_nadir_flight_meets_the_example_satellite_nose_first(flight):
@@ -156,7 +193,9 @@ def test_nadir_flight_meets_the_example_satellite_nose_first(flight):
     assert np.all(data("fast.force_x_N") < 0)
     cf = np.stack([data(f"fast.CF_{a}") for a in "xyz"], axis=1)
     wind = np.stack([data(f"fast.wind_body_{a}_m_s") for a in "xyz"], axis=1)
-    cd = np.sum(cf * wind, axis=1) / data("fast.relative_speed_m_s")  # C_D: C_F along the gas motion
+    cd = np.sum(cf * wind, axis=1) / data(
+        "fast.relative_speed_m_s"
+    )  # C_D: C_F along the gas motion
     np.testing.assert_allclose(data("fast.drag_coefficient"), cd, rtol=1e-12)
     assert np.all(cd > 0)
 
@@ -164,41 +203,70 @@ def test_nadir_flight_meets_the_example_satellite_nose_first(flight):
 def test_plots_written(flight):
     root, _, _, reports = flight
     plots = reports["mcap"].outputs["plots"]
-    assert len(plots) == 4 and all(Path(p).is_file() and Path(p).stat().st_size > 1000 for p in plots)
+    assert len(plots) == 4 and all(
+        Path(p).is_file() and Path(p).stat().st_size > 1000 for p in plots
+    )
     assert not list(root.glob(".*partial"))  # no temporary leftovers
 
 
 def test_multi_model_comparison_columns_and_topics(tmp_path):
     messages = scenario.generate(scenario.Scenario(duration_s=20, rate_hz=1, state_rate_hz=1))
     bag_io.write_scenario_bag(messages, tmp_path / "in")
-    models = [("diffuse", WrenchSettings.from_parameters(FAST)),
-              ("specular", WrenchSettings.from_parameters(dict(FAST, gsi_model="maxwell", alpha=0.2)))]
-    report = analyze_bag(tmp_path / "in", models=models, out_bag=tmp_path / "out", out_csv=tmp_path / "out.csv")
+    models = [
+        ("diffuse", WrenchSettings.from_parameters(FAST)),
+        ("specular", WrenchSettings.from_parameters(dict(FAST, gsi_model="maxwell", alpha=0.2))),
+    ]
+    report = analyze_bag(
+        tmp_path / "in", models=models, out_bag=tmp_path / "out", out_csv=tmp_path / "out.csv"
+    )
     assert [m.wrenches for m in report.models] == [21, 21]
     header, rows = read_csv(tmp_path / "out.csv")
-    assert sum(h.startswith("diffuse.") for h in header) == sum(h.startswith("specular.") for h in header) == len(MODEL_COLUMNS)
+    assert (
+        sum(h.startswith("diffuse.") for h in header)
+        == sum(h.startswith("specular.") for h in header)
+        == len(MODEL_COLUMNS)
+    )
     col = {name: i for i, name in enumerate(header)}
-    cd = {m: np.array([float(r[col[f"{m}.drag_coefficient"]]) for r in rows]) for m in ("diffuse", "specular")}
+    cd = {
+        m: np.array([float(r[col[f"{m}.drag_coefficient"]]) for r in rows])
+        for m in ("diffuse", "specular")
+    }
     assert np.all(np.abs(cd["diffuse"] - cd["specular"]) > 1e-3)
     topics, _ = read_bag(tmp_path / "out")
     for label, settings in models:
         forces, _ = direct_wrenches(messages, settings)
-        np.testing.assert_array_equal([vec(m.wrench.force) for _, m in topics[f"/adbsat/{label}/wrench"]], forces)
+        np.testing.assert_array_equal(
+            [vec(m.wrench.force) for _, m in topics[f"/adbsat/{label}/wrench"]], forces
+        )
     assert {s.name for _, d in topics["/diagnostics"] for s in d.status} == {
-        "adbsat_node/diffuse: aerodynamic wrench", "adbsat_node/specular: aerodynamic wrench"}
+        "adbsat_node/diffuse: aerodynamic wrench",
+        "adbsat_node/specular: aerodynamic wrench",
+    }
 
 
 def test_raycast_tumbling_flight_equals_direct_calls(tmp_path):
-    messages = scenario.generate(scenario.Scenario(duration_s=30, rate_hz=2, state_rate_hz=1, attitude="tumble",
-                                                   tumble_rate_deg_s=6.0, seed=3))
+    messages = scenario.generate(
+        scenario.Scenario(
+            duration_s=30,
+            rate_hz=2,
+            state_rate_hz=1,
+            attitude="tumble",
+            tumble_rate_deg_s=6.0,
+            seed=3,
+        )
+    )
     bag_io.write_scenario_bag(messages, tmp_path / "in", storage="sqlite3")
     settings = WrenchSettings.from_parameters({"shading": "raycast", "shading_samples": 4})
     report = analyze_bag(tmp_path / "in", models=[("ray", settings)], out_bag=tmp_path / "out")
     assert report.models[0].wrenches == 61
     topics, _ = read_bag(tmp_path / "out")
     forces, torques = direct_wrenches(messages, settings)
-    np.testing.assert_array_equal([vec(m.wrench.force) for _, m in topics["/adbsat/ray/wrench"]], forces)
-    np.testing.assert_array_equal([vec(m.wrench.torque) for _, m in topics["/adbsat/ray/wrench"]], torques)
+    np.testing.assert_array_equal(
+        [vec(m.wrench.force) for _, m in topics["/adbsat/ray/wrench"]], forces
+    )
+    np.testing.assert_array_equal(
+        [vec(m.wrench.torque) for _, m in topics["/adbsat/ray/wrench"]], torques
+    )
     diag = {kv.key: kv.value for kv in topics["/diagnostics"][-1][1].status[0].values}
     assert diag["shading"] == "raycast" and int(diag["shading_cache_misses"]) > 0
 
@@ -212,15 +280,25 @@ def test_body_frame_twist_and_odometry_attitude_source(tmp_path):
     for i, t in enumerate(st.stamps_ns):
         q = att.quaternion_xyzw[i]
         v_body = bag_io_rotate_inverse(q, st.velocity_eci[i])
-        records.append(("/state", int(t), bag_io.odometry_message(int(t), "eci", "body", st.position_eci[i], v_body, q)))
+        records.append(
+            (
+                "/state",
+                int(t),
+                bag_io.odometry_message(int(t), "eci", "body", st.position_eci[i], v_body, q),
+            )
+        )
     bag_io.write_bag(tmp_path / "in", records)
     settings = WrenchSettings.from_parameters(dict(FAST, attitude_source="odometry"))
     report = analyze_bag(tmp_path / "in", models=[("odo", settings)], out_bag=tmp_path / "out")
     assert report.models[0].wrenches == 6
     topics, _ = read_bag(tmp_path / "out")
     forces, _ = direct_wrenches(messages, WrenchSettings.from_parameters(FAST))
-    np.testing.assert_allclose([vec(m.wrench.force) for _, m in topics["/adbsat/odo/wrench"]], forces,
-                               rtol=1e-9, atol=1e-12 * np.abs(forces).max())
+    np.testing.assert_allclose(
+        [vec(m.wrench.force) for _, m in topics["/adbsat/odo/wrench"]],
+        forces,
+        rtol=1e-9,
+        atol=1e-12 * np.abs(forces).max(),
+    )
 
 
 def bag_io_rotate_inverse(q, v):
@@ -232,31 +310,46 @@ def bag_io_rotate_inverse(q, v):
 def test_odometry_from_a_bag_follows_the_node_frame_rules():
     """Bag messages (rosbags types) go through the estimator's own Odometry rules, as the node's do."""
     settings = WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, shading="none"))
-    est = AeroWrenchEstimator(settings, panels_from_arrays(*grid_box((0, 0, 0), (1, 1, 1), (1, 1, 1))))
+    est = AeroWrenchEstimator(
+        settings, panels_from_arrays(*grid_box((0, 0, 0), (1, 1, 1), (1, 1, 1)))
+    )
     with pytest.raises(Rejection, match="state_frame is eci"):
         est.on_odometry(bag_io.odometry_message(1_500_000_000, "ecef", "eci", [1, 2, 3], [4, 5, 6]))
     with pytest.raises(Rejection, match="child_frame_id 'sensor'"):
-        est.on_odometry(bag_io.odometry_message(1_500_000_000, "eci", "sensor", [1, 2, 3], [4, 5, 6]))
+        est.on_odometry(
+            bag_io.odometry_message(1_500_000_000, "eci", "sensor", [1, 2, 3], [4, 5, 6])
+        )
     h = math.sqrt(0.5)  # body turned 90 deg about z: body x is state y
-    state, q = est.on_odometry(bag_io.odometry_message(1_500_000_000, "eci", "body", [1, 2, 3], [4, 5, 6],
-                                                       orientation_xyzw=[0.0, 0.0, h, h]))
+    state, q = est.on_odometry(
+        bag_io.odometry_message(
+            1_500_000_000, "eci", "body", [1, 2, 3], [4, 5, 6], orientation_xyzw=[0.0, 0.0, h, h]
+        )
+    )
     assert state.stamp == 1.5 and q == [0.0, 0.0, h, h]
     np.testing.assert_allclose(state.velocity, [-5.0, 4.0, 6.0], atol=1e-12)
-    state, _ = est.on_odometry(bag_io.odometry_message(2_000_000_000, "eci", "eci", [1, 2, 3], [4, 5, 6]))
+    state, _ = est.on_odometry(
+        bag_io.odometry_message(2_000_000_000, "eci", "eci", [1, 2, 3], [4, 5, 6])
+    )
     np.testing.assert_allclose(state.velocity, [4.0, 5.0, 6.0])
-    assert math.isclose(stamp_seconds(bag_io.time_message(1_767_225_600_123_456_789)), 1_767_225_600.123456789)
+    assert math.isclose(
+        stamp_seconds(bag_io.time_message(1_767_225_600_123_456_789)), 1_767_225_600.123456789
+    )
 
 
 # ------------------------------------------------------------------------- parallel analysis
 def test_safe_split_points_closed_forms():
     S, A = 0, 1
     # time-ordered: every state but the first
-    assert safe_split_points([S, A, A, S, A, A, S, A], [0, 0, 1, 2, 2, 3, 4, 4], ["attitude_topic"]).tolist() == [3, 6]
+    assert safe_split_points(
+        [S, A, A, S, A, A, S, A], [0, 0, 1, 2, 2, 3, 4, 4], ["attitude_topic"]
+    ).tolist() == [3, 6]
     # the attitude stamped 3 after one stamped 5: no split before it (sequential would reject it, fresh not)
     kinds, stamps = [S, A, A, S, A, S, A], [0, 1, 5, 2, 3, 6, 7]
     assert safe_split_points(kinds, stamps, ["attitude_topic"]).tolist() == [5]
     # a state going back (5 after 10) is no split point; the next one, later than all, is
-    assert safe_split_points([S, A, S, A, S, A], [10, 10, 5, 11, 12, 12], ["attitude_topic"]).tolist() == [4]
+    assert safe_split_points(
+        [S, A, S, A, S, A], [10, 10, 5, 11, 12, 12], ["attitude_topic"]
+    ).tolist() == [4]
     # attitude from odometry: state stamps are the attitude stamps
     assert safe_split_points([S, S, S, S], [0, 2, 1, 3], ["odometry"]).tolist() == [1, 3]
     # (an odometry attitude stamped 1 after ones at 2 and 3: conservatively, no split before it)
@@ -275,10 +368,14 @@ def messy_flight(path):
     back in time, a gap in the states, a non-unit quaternion, a NaN position, an unrelated topic."""
     sc = dict(duration_s=40, rate_hz=4, state_rate_hz=1)
     nadir = scenario.generate(scenario.Scenario(**sc))
-    tumble = scenario.generate(scenario.Scenario(**sc, attitude="tumble", tumble_rate_deg_s=2.0, seed=5))
+    tumble = scenario.generate(
+        scenario.Scenario(**sc, attitude="tumble", tumble_rate_deg_s=2.0, seed=5)
+    )
     st, att = nadir.states, nadir.attitudes
-    quats = [tumble.attitudes.quaternion_xyzw[i] if i % 4 >= 2 else att.quaternion_xyzw[i]
-             for i in range(len(att.stamps_ns))]
+    quats = [
+        tumble.attitudes.quaternion_xyzw[i] if i % 4 >= 2 else att.quaternion_xyzw[i]
+        for i in range(len(att.stamps_ns))
+    ]
     s = 1_000_000_000
     records = []
     for i, t in enumerate(st.stamps_ns):
@@ -293,14 +390,23 @@ def messy_flight(path):
             stamp = t - 3 * s
         if rel == 37:
             position[1] = math.nan
-        records.append(("/state", t, bag_io.odometry_message(stamp, "eci", child, position, st.velocity_eci[i],
-                                                           quats[4 * i])))
+        records.append(
+            (
+                "/state",
+                t,
+                bag_io.odometry_message(
+                    stamp, "eci", child, position, st.velocity_eci[i], quats[4 * i]
+                ),
+            )
+        )
     for i, t in enumerate(att.stamps_ns):
         t = int(t)
         rel = (t - int(att.stamps_ns[0])) / s
         stamp, q = t, np.array(quats[i])
         if rel == 12:
-            stamp = t - 2 * s  # right after the state at 12 s: sequential resets (time_backwards), fresh not
+            stamp = (
+                t - 2 * s
+            )  # right after the state at 12 s: sequential resets (time_backwards), fresh not
         if rel == 35:
             q = 1.1 * q
         records.append(("/attitude", t, bag_io.quaternion_stamped_message(stamp, "eci", q)))
@@ -334,13 +440,29 @@ def sequential(records, settings):
 
 def test_workers_and_chunks_give_identical_outputs(tmp_path):
     records = messy_flight(tmp_path / "in")
-    models = [("att", WrenchSettings.from_parameters({"shading": "projection", "shading_cache_resolution_deg": 1.0,
-                                                      "shading_cache_size": 3})),
-              ("odo", WrenchSettings.from_parameters(dict(FAST, attitude_source="odometry")))]
+    models = [
+        (
+            "att",
+            WrenchSettings.from_parameters(
+                {
+                    "shading": "projection",
+                    "shading_cache_resolution_deg": 1.0,
+                    "shading_cache_size": 3,
+                }
+            ),
+        ),
+        ("odo", WrenchSettings.from_parameters(dict(FAST, attitude_source="odometry"))),
+    ]
     runs = {}
     for name, workers, chunk in (("one", 1, None), ("chunks", 1, 1), ("pool", 2, 7)):
-        report = analyze_bag(tmp_path / "in", models=models, out_bag=tmp_path / name, out_csv=tmp_path / f"{name}.csv",
-                             workers=workers, chunk_messages=chunk)
+        report = analyze_bag(
+            tmp_path / "in",
+            models=models,
+            out_bag=tmp_path / name,
+            out_csv=tmp_path / f"{name}.csv",
+            workers=workers,
+            chunk_messages=chunk,
+        )
         runs[name] = report, (tmp_path / f"{name}.csv").read_bytes()
     one, pool = runs["one"][0], runs["pool"][0]
     assert one.chunks == 1 and one.workers == 1
@@ -351,8 +473,9 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path):
     assert 3 < pool.chunks and pool.workers == 2
     for name in ("chunks", "pool"):
         assert runs[name][1] == runs["one"][1]  # CSV byte for byte
-        assert [(m.triggers, m.wrenches, m.rejections, m.first_rejection) for m in runs[name][0].models] == \
-               [(m.triggers, m.wrenches, m.rejections, m.first_rejection) for m in one.models]
+        assert [
+            (m.triggers, m.wrenches, m.rejections, m.first_rejection) for m in runs[name][0].models
+        ] == [(m.triggers, m.wrenches, m.rejections, m.first_rejection) for m in one.models]
         assert runs[name][0].warnings == one.warnings
     # the output bags: every message the same, diagnostics but for the measured compute times
     contents = {}
@@ -362,9 +485,20 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path):
             for conn, t, raw in reader.messages():
                 if conn.topic == "/diagnostics":
                     msg = bag_io.deserialize(raw, conn.msgtype)
-                    item = [(s.level, s.name, s.message, s.hardware_id,
-                             [(kv.key, kv.value) for kv in s.values if not kv.key.startswith("compute_ms")])
-                            for s in msg.status]
+                    item = [
+                        (
+                            s.level,
+                            s.name,
+                            s.message,
+                            s.hardware_id,
+                            [
+                                (kv.key, kv.value)
+                                for kv in s.values
+                                if not kv.key.startswith("compute_ms")
+                            ],
+                        )
+                        for s in msg.status
+                    ]
                 else:
                     item = bytes(raw)
                 topics.setdefault(conn.topic, []).append((t, item))
@@ -375,17 +509,30 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path):
     for k, (label, settings) in enumerate(models):
         forces, rejections, est = sequential(records, settings)
         assert one.models[k].rejections == rejections
-        bag_f = [bag_io.deserialize(raw, bag_io.WRENCH_STAMPED).wrench.force for _, raw in
-                 contents["one"][f"/adbsat/{label}/wrench"]]
+        bag_f = [
+            bag_io.deserialize(raw, bag_io.WRENCH_STAMPED).wrench.force
+            for _, raw in contents["one"][f"/adbsat/{label}/wrench"]
+        ]
         np.testing.assert_array_equal([vec(f) for f in bag_f], forces)
         final = dict([d for _, d in diags if d[0][1].startswith(f"adbsat_node/{label}:")][-1][0][4])
         assert int(final["published"]) == len(forces)
-        assert (int(final["shading_cache_hits"]), int(final["shading_cache_misses"])) == \
-               (est.shading_cache_hits, est.shading_cache_misses)
+        assert (int(final["shading_cache_hits"]), int(final["shading_cache_misses"])) == (
+            est.shading_cache_hits,
+            est.shading_cache_misses,
+        )
     att_rejections = one.models[0].rejections
-    assert set(att_rejections) == {"no_state", "time_backwards", "stale_state", "bad_state", "non_finite",
-                                   "bad_quaternion"}
-    hits, misses = int(final_att(diags)["shading_cache_hits"]), int(final_att(diags)["shading_cache_misses"])
+    assert set(att_rejections) == {
+        "no_state",
+        "time_backwards",
+        "stale_state",
+        "bad_state",
+        "non_finite",
+        "bad_quaternion",
+    }
+    hits, misses = (
+        int(final_att(diags)["shading_cache_hits"]),
+        int(final_att(diags)["shading_cache_misses"]),
+    )
     assert hits > 0 and misses > 3  # the cache of 3 entries evicted some cells
 
 

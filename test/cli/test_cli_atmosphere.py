@@ -33,11 +33,26 @@ def test_json_has_every_field_in_si_units(capsys, monkeypatch):
     assert status == 0, err
     data = json.loads(out)
     for key in (
-        "time", "latitude", "longitude", "altitude", "position_eci", "position_ecef",
-        "number_densities", "mass_density", "exospheric_temperature", "temperature",
-        "mean_molecular_mass", "speed", "speed_ratio", "relative_velocity_eci",
-        "relative_velocity_ecef", "accommodation_model", "accommodation_coefficient",
-        "anomalous_oxygen", "space_weather", "units",
+        "time",
+        "latitude",
+        "longitude",
+        "altitude",
+        "position_eci",
+        "position_ecef",
+        "number_densities",
+        "mass_density",
+        "exospheric_temperature",
+        "temperature",
+        "mean_molecular_mass",
+        "speed",
+        "speed_ratio",
+        "relative_velocity_eci",
+        "relative_velocity_ecef",
+        "accommodation_model",
+        "accommodation_coefficient",
+        "anomalous_oxygen",
+        "space_weather",
+        "units",
     ):
         assert key in data, key
     assert data["altitude"] == pytest.approx(400e3)  # m, not km
@@ -64,8 +79,21 @@ def test_state_in_ecef_at_rest_gives_zero_speed(capsys, monkeypatch):
 
 
 def test_state_in_eci_and_options(capsys, monkeypatch):
-    argv = [*PAPER, "--position", "6778137,0,0", "--velocity", "0,7668.6,0", "--json",
-            "--accommodation", "fixed", "--alpha", "0.9", "--no-anomalous-oxygen", "--wind", "0,50,0"]
+    argv = [
+        *PAPER,
+        "--position",
+        "6778137,0,0",
+        "--velocity",
+        "0,7668.6,0",
+        "--json",
+        "--accommodation",
+        "fixed",
+        "--alpha",
+        "0.9",
+        "--no-anomalous-oxygen",
+        "--wind",
+        "0,50,0",
+    ]
     status, out, err = run(argv, capsys, monkeypatch)
     assert status == 0, err
     data = json.loads(out)
@@ -127,7 +155,10 @@ def test_console_entry_point_runs():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     result = subprocess.run(
         [sys.executable, "-m", "adbsat_ros.cli", "atmosphere", *PAPER, *POINT, "--json"],
-        cwd=root, capture_output=True, text=True, timeout=60,
+        cwd=root,
+        capture_output=True,
+        text=True,
+        timeout=60,
     )
     assert result.returncode == 0, result.stderr
     assert json.loads(result.stdout)["altitude"] == pytest.approx(400e3)

@@ -29,7 +29,9 @@ def leftovers(directory):
 
 
 def simulate(capsys, path, *extra):
-    code, out, err = run(capsys, "simulate", "--duration", 10, "--rate", 2, "--state-rate", 1, "--out", path, *extra)
+    code, out, err = run(
+        capsys, "simulate", "--duration", 10, "--rate", 2, "--state-rate", 1, "--out", path, *extra
+    )
     assert code == 0, err
     return out
 
@@ -40,8 +42,19 @@ def test_simulate_then_analyze_two_models(tmp_path, capsys):
     assert (tmp_path / "sim" / "sim.db3").is_file()
     for model in ("sentman", "newton"):
         (tmp_path / f"{model}.yaml").write_text(YAML.format(model=model))
-    code, out, err = run(capsys, "bag", "analyze", tmp_path / "sim", "--params", tmp_path / "sentman.yaml",
-                         "--params", tmp_path / "newton.yaml", "--no-plots", "--workers", 2)
+    code, out, err = run(
+        capsys,
+        "bag",
+        "analyze",
+        tmp_path / "sim",
+        "--params",
+        tmp_path / "sentman.yaml",
+        "--params",
+        tmp_path / "newton.yaml",
+        "--no-plots",
+        "--workers",
+        2,
+    )
     assert code == 0, err
     assert "model sentman: 21 wrenches from 21 inputs" in out and "model newton: 21 wrenches" in out
     out_bag = tmp_path / "sim_aero"
@@ -64,33 +77,61 @@ def test_simulate_then_analyze_two_models(tmp_path, capsys):
 def test_labels_must_match_params(tmp_path, capsys):
     simulate(capsys, tmp_path / "sim")
     (tmp_path / "a.yaml").write_text(YAML.format(model="sentman"))
-    code, _, err = run(capsys, "bag", "analyze", tmp_path / "sim", "--params", tmp_path / "a.yaml",
-                       "--label", "x", "--label", "y")
+    code, _, err = run(
+        capsys,
+        "bag",
+        "analyze",
+        tmp_path / "sim",
+        "--params",
+        tmp_path / "a.yaml",
+        "--label",
+        "x",
+        "--label",
+        "y",
+    )
     assert code == 2 and "--label" in err
-    code, _, err = run(capsys, "bag", "analyze", tmp_path / "sim", "--params", tmp_path / "missing.yaml")
+    code, _, err = run(
+        capsys, "bag", "analyze", tmp_path / "sim", "--params", tmp_path / "missing.yaml"
+    )
     assert code == 2 and "missing.yaml" in err
     with pytest.raises(SystemExit) as exit_info:  # argparse rejects it
         main(["bag", "analyze", str(tmp_path / "sim"), "--workers", "0"])
-    assert exit_info.value.code == 2 and "--workers must be a whole number >= 1, got '0'" in capsys.readouterr().err
+    assert (
+        exit_info.value.code == 2
+        and "--workers must be a whole number >= 1, got '0'" in capsys.readouterr().err
+    )
 
 
 def test_missing_topic(tmp_path, capsys):
     simulate(capsys, tmp_path / "sim")
-    code, _, err = run(capsys, "bag", "analyze", tmp_path / "sim", "--attitude-topic", "/att", "--no-plots")
+    code, _, err = run(
+        capsys, "bag", "analyze", tmp_path / "sim", "--attitude-topic", "/att", "--no-plots"
+    )
     assert code == 1
-    assert "no topic /att (given by --attitude-topic)" in err and "/attitude (geometry_msgs/msg/QuaternionStamped)" in err
+    assert (
+        "no topic /att (given by --attitude-topic)" in err
+        and "/attitude (geometry_msgs/msg/QuaternionStamped)" in err
+    )
     assert not (tmp_path / "sim_aero").exists() and leftovers(tmp_path) == []
 
 
 def test_topic_with_another_message_type(tmp_path, capsys):
     string = bag_io.TYPESTORE.types["std_msgs/msg/String"]
-    records = [("/state", 1_000_000_000, bag_io.odometry_message(1_000_000_000, "eci", "eci", [7e6, 0, 0], [0, 7.5e3, 0])),
-               ("/attitude", 1_000_000_000, string(data="not a quaternion"))]
+    records = [
+        (
+            "/state",
+            1_000_000_000,
+            bag_io.odometry_message(1_000_000_000, "eci", "eci", [7e6, 0, 0], [0, 7.5e3, 0]),
+        ),
+        ("/attitude", 1_000_000_000, string(data="not a quaternion")),
+    ]
     bag_io.write_bag(tmp_path / "bad", records)
     code, _, err = run(capsys, "bag", "analyze", tmp_path / "bad", "--no-plots")
     assert code == 1
-    assert ("topic /attitude (given by --attitude-topic) has message type std_msgs/msg/String; "
-            "expected geometry_msgs/msg/QuaternionStamped") in err
+    assert (
+        "topic /attitude (given by --attitude-topic) has message type std_msgs/msg/String; "
+        "expected geometry_msgs/msg/QuaternionStamped"
+    ) in err
 
 
 @pytest.mark.parametrize("storage, suffix", [("mcap", ".mcap"), ("sqlite3", ".db3")])
@@ -105,10 +146,17 @@ def test_truncated_file(tmp_path, capsys, storage, suffix):
     assert not (tmp_path / "sim_aero").exists() and leftovers(tmp_path) == []
 
 
-@pytest.mark.parametrize("bad_topic, message, wrenches", [
-    ("/attitude", "message 10 on /attitude cannot be decoded as geometry_msgs/msg/QuaternionStamped", 4),
-    ("/state", "message 9 on /state cannot be decoded as nav_msgs/msg/Odometry", 4),
-])
+@pytest.mark.parametrize(
+    "bad_topic, message, wrenches",
+    [
+        (
+            "/attitude",
+            "message 10 on /attitude cannot be decoded as geometry_msgs/msg/QuaternionStamped",
+            4,
+        ),
+        ("/state", "message 9 on /state cannot be decoded as nav_msgs/msg/Odometry", 4),
+    ],
+)
 def test_corrupt_message_gives_partial_outputs(tmp_path, capsys, bad_topic, message, wrenches):
     """A message that cannot be decoded stops the replay; what came before is written and said to be partial."""
     r, v = [6.7e6, 0, 0], [0, 7.7e3, 0]
@@ -117,13 +165,21 @@ def test_corrupt_message_gives_partial_outputs(tmp_path, capsys, bad_topic, mess
         for k in range(6):
             t = t0 + k * 500_000_000
             if k == 4 and bad_topic == "/state":
-                writer.write_raw(writer.connection("/state", bag_io.ODOMETRY), t, b"\x00\x01\x00\x00\x07")
+                writer.write_raw(
+                    writer.connection("/state", bag_io.ODOMETRY), t, b"\x00\x01\x00\x00\x07"
+                )
             else:
                 writer.write("/state", t, bag_io.odometry_message(t, "eci", "eci", r, v))
             if k == 4 and bad_topic == "/attitude":
-                writer.write_raw(writer.connection("/attitude", bag_io.QUATERNION_STAMPED), t, b"\x00\x01\x00\x00\x07")
+                writer.write_raw(
+                    writer.connection("/attitude", bag_io.QUATERNION_STAMPED),
+                    t,
+                    b"\x00\x01\x00\x00\x07",
+                )
             else:
-                writer.write("/attitude", t, bag_io.quaternion_stamped_message(t, "eci", [0, 0, 0, 1]))
+                writer.write(
+                    "/attitude", t, bag_io.quaternion_stamped_message(t, "eci", [0, 0, 0, 1])
+                )
     code, out, err = run(capsys, "bag", "analyze", tmp_path / "bad", "--no-plots")
     assert code == 1
     assert message in err
@@ -139,9 +195,18 @@ def test_corrupt_message_gives_partial_outputs(tmp_path, capsys, bad_topic, mess
 def test_attitude_before_any_state(tmp_path, capsys):
     t0 = 1_767_225_600_000_000_000
     r, v = [6.7e6, 0, 0], [0, 7.7e3, 0]
-    records = [("/attitude", t0 + k * 100_000_000, bag_io.quaternion_stamped_message(t0 + k * 100_000_000, "eci", [0, 0, 0, 1]))
-               for k in range(10)]
-    records.insert(5, ("/state", t0 + 450_000_000, bag_io.odometry_message(t0 + 450_000_000, "eci", "eci", r, v)))
+    records = [
+        (
+            "/attitude",
+            t0 + k * 100_000_000,
+            bag_io.quaternion_stamped_message(t0 + k * 100_000_000, "eci", [0, 0, 0, 1]),
+        )
+        for k in range(10)
+    ]
+    records.insert(
+        5,
+        ("/state", t0 + 450_000_000, bag_io.odometry_message(t0 + 450_000_000, "eci", "eci", r, v)),
+    )
     bag_io.write_bag(tmp_path / "late", records)
     code, out, err = run(capsys, "bag", "analyze", tmp_path / "late", "--no-plots")
     assert code == 0
@@ -152,7 +217,12 @@ def test_attitude_before_any_state(tmp_path, capsys):
     assert status == ["no_state"] * 5 + ["ok"] * 5
     # with no state at all before the last attitude there is nothing to analyse: an error
     records = [rec for rec in records if rec[0] == "/attitude"] + [
-        ("/state", t0 + 2_000_000_000, bag_io.odometry_message(t0 + 2_000_000_000, "eci", "eci", r, v))]
+        (
+            "/state",
+            t0 + 2_000_000_000,
+            bag_io.odometry_message(t0 + 2_000_000_000, "eci", "eci", r, v),
+        )
+    ]
     bag_io.write_bag(tmp_path / "never", records)
     code, out, err = run(capsys, "bag", "analyze", tmp_path / "never", "--no-plots")
     assert code == 1 and "10 messages on /attitude came before the first usable state" in err

@@ -42,12 +42,40 @@ def test_angle_lists_and_ranges():
 
 
 def test_json_has_one_object_per_attitude_pair(capsys, box_file):
-    code, out, _ = run_cli(capsys, str(box_file), "--shading", "none", "--aoa", "0:30:60", "--aos", "0,10",
-                           "--density", "1e-11", "--moment-ref", "0.2,0,0", "--json", *FLOW)
+    code, out, _ = run_cli(
+        capsys,
+        str(box_file),
+        "--shading",
+        "none",
+        "--aoa",
+        "0:30:60",
+        "--aos",
+        "0,10",
+        "--density",
+        "1e-11",
+        "--moment-ref",
+        "0.2,0,0",
+        "--json",
+        *FLOW,
+    )
     assert code == 0
     data = json.loads(out)
-    assert [(d["aoa_deg"], d["aos_deg"]) for d in data] == [(a, b) for a in (0, 30, 60) for b in (0, 10)]
-    for key in ("Cf_w", "Cf_f", "Cm_B", "Aref", "Lref", "AreaProj", "CD", "CL", "CY", "force_N", "torque_Nm"):
+    assert [(d["aoa_deg"], d["aos_deg"]) for d in data] == [
+        (a, b) for a in (0, 30, 60) for b in (0, 10)
+    ]
+    for key in (
+        "Cf_w",
+        "Cf_f",
+        "Cm_B",
+        "Aref",
+        "Lref",
+        "AreaProj",
+        "CD",
+        "CL",
+        "CY",
+        "force_N",
+        "torque_Nm",
+    ):
         assert key in data[0]
     # the same numbers as the Python API
     method = PanelMethod(load_mesh(box_file), "sentman", reference=None)
@@ -63,7 +91,9 @@ def test_json_has_one_object_per_attitude_pair(capsys, box_file):
 
 
 def test_table_output(capsys, box_file):
-    code, out, _ = run_cli(capsys, str(box_file), "--shading", "none", "--gsim", "newton", "--aoa", "0", *FLOW)
+    code, out, _ = run_cli(
+        capsys, str(box_file), "--shading", "none", "--gsim", "newton", "--aoa", "0", *FLOW
+    )
     assert code == 0
     lines = out.strip().splitlines()
     assert lines[2].split()[:3] == ["aoa", "aos", "CD"]
@@ -107,27 +137,69 @@ def test_flight_conditions_give_the_gas(capsys, box_file):
     from adbsat_ros.environment.atmosphere import SpaceWeather
     from adbsat_ros.environment.flight_conditions import flight_conditions_circular_orbit
 
-    code, out, _ = run_cli(capsys, str(box_file), "--shading", "none", "--time", "2015-01-19T00:00:00Z",
-                           "--altitude", "300", "--lat", "0", "--lon", "0", "--f107", "121.7",
-                           "--f107a", "138.1", "--ap", "4", "--accommodation", "langmuir", "--json")
+    code, out, _ = run_cli(
+        capsys,
+        str(box_file),
+        "--shading",
+        "none",
+        "--time",
+        "2015-01-19T00:00:00Z",
+        "--altitude",
+        "300",
+        "--lat",
+        "0",
+        "--lon",
+        "0",
+        "--f107",
+        "121.7",
+        "--f107a",
+        "138.1",
+        "--ap",
+        "4",
+        "--accommodation",
+        "langmuir",
+        "--json",
+    )
     assert code == 0
     data = json.loads(out)[0]
-    cond = flight_conditions_circular_orbit(dt.datetime(2015, 1, 19), 300e3, 0.0, 0.0,
-                                            SpaceWeather(121.7, 138.1, 4.0), accommodation_model="langmuir")
+    cond = flight_conditions_circular_orbit(
+        dt.datetime(2015, 1, 19),
+        300e3,
+        0.0,
+        0.0,
+        SpaceWeather(121.7, 138.1, 4.0),
+        accommodation_model="langmuir",
+    )
     assert cond.alpha == pytest.approx(0.97, abs=0.02)
     method = PanelMethod(load_mesh(box_file), "sentman")
     flow = cond.free_stream()
-    expected = method.coefficients(flow, 0.0, 0.0, surface=method.surface_with(alpha=cond.alpha, alpha_n=cond.alpha))
+    expected = method.coefficients(
+        flow, 0.0, 0.0, surface=method.surface_with(alpha=cond.alpha, alpha_n=cond.alpha)
+    )
     assert data["CD"] == pytest.approx(expected.drag, rel=1e-12)
-    assert data["dynamic_pressure_Pa"] == pytest.approx(0.5 * cond.mass_density * cond.speed**2, rel=1e-12)
+    assert data["dynamic_pressure_Pa"] == pytest.approx(
+        0.5 * cond.mass_density * cond.speed**2, rel=1e-12
+    )
     # alpha < 1 changes the drag: the accommodation model is really used
     full = method.coefficients(flow, 0.0, 0.0)
     assert abs(full.drag - expected.drag) > 1e-4
 
 
 def test_direct_gas_and_flight_conditions_are_exclusive(capsys, box_file):
-    code, _, err = run_cli(capsys, str(box_file), "--time", "2015-01-19T00:00:00Z", "--altitude", "300",
-                           "--lat", "0", "--lon", "0", "--speed", "7000")
+    code, _, err = run_cli(
+        capsys,
+        str(box_file),
+        "--time",
+        "2015-01-19T00:00:00Z",
+        "--altitude",
+        "300",
+        "--lat",
+        "0",
+        "--lon",
+        "0",
+        "--speed",
+        "7000",
+    )
     assert code == 2 and "--speed" in err
 
 
@@ -141,8 +213,14 @@ def test_negative_ranges_and_lists_need_no_equals_sign(capsys, box_file):
         outputs.append(json.loads(capsys.readouterr()[0]))
     assert outputs[0] == outputs[1]
     assert [(r["aoa_deg"], r["aos_deg"]) for r in outputs[1]] == [
-        (a, b) for a in (-60.0, -30.0, 0.0, 30.0, 60.0) for b in (-10.0, 0.0)]
+        (a, b) for a in (-60.0, -30.0, 0.0, 30.0, 60.0) for b in (-10.0, 0.0)
+    ]
     from adbsat_ros.cli import join_signed_lists
 
     assert join_signed_lists(["--aoa", "-.5:0.25:0", "--aos", "-5", "--gsim", "-1:2"]) == [
-        "--aoa=-.5:0.25:0", "--aos", "-5", "--gsim", "-1:2"]
+        "--aoa=-.5:0.25:0",
+        "--aos",
+        "-5",
+        "--gsim",
+        "-1:2",
+    ]

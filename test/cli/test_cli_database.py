@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from adbsat_ros.cli import main
-from adbsat_ros.database.lookup import CoefficientLookup
 from adbsat_ros.database.format import load_database
+from adbsat_ros.database.lookup import CoefficientLookup
 
 FLOW = ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
 
@@ -36,8 +36,21 @@ def run(capsys, *argv):
 
 def test_end_to_end_and_agreement_with_coeff(capsys, mesh_file, tmp_path):
     out = tmp_path / "ell.npz"
-    code, text, _ = run(capsys, mesh_file, *FLOW, "--aoa=-180:60:180", "--aos=-90:45:90", "--gsim", "cook",
-                        "--moment-ref", "0.1,0,0.2", "--workers", "2", "--out", out)
+    code, text, _ = run(
+        capsys,
+        mesh_file,
+        *FLOW,
+        "--aoa=-180:60:180",
+        "--aos=-90:45:90",
+        "--gsim",
+        "cook",
+        "--moment-ref",
+        "0.1,0,0.2",
+        "--workers",
+        "2",
+        "--out",
+        out,
+    )
     assert code == 0
     assert "7 aoa (-180..180 deg) x 5 aos (-90..90 deg) = 35" in text
     assert "stated interpolation error" in text and f"wrote {out}" in text
@@ -51,8 +64,20 @@ def test_end_to_end_and_agreement_with_coeff(capsys, mesh_file, tmp_path):
     err = CoefficientLookup(db).error_bound
     assert f"|dCf_G| <= {err['force_coefficient']:.3g}" in text
     # the same attitudes through `coeff --json` (an independent loop over attitudes)
-    code = main(["coeff", str(mesh_file), *FLOW, "--aoa=-180:60:180", "--aos=-90:45:90", "--gsim", "cook",
-                 "--moment-ref", "0.1,0,0.2", "--json"])
+    code = main(
+        [
+            "coeff",
+            str(mesh_file),
+            *FLOW,
+            "--aoa=-180:60:180",
+            "--aos=-90:45:90",
+            "--gsim",
+            "cook",
+            "--moment-ref",
+            "0.1,0,0.2",
+            "--json",
+        ]
+    )
     rows = json.loads(capsys.readouterr()[0])
     assert code == 0 and len(rows) == db.n_attitudes
     for k, row in enumerate(rows):
@@ -62,9 +87,23 @@ def test_end_to_end_and_agreement_with_coeff(capsys, mesh_file, tmp_path):
             np.testing.assert_array_equal(row[name], getattr(db, name)[i, j], err_msg=name)
         assert (row["CD"], row["AreaProj"]) == (db.CD[i, j], db.AreaProj[i, j])
     # one worker and an explicit CSV path: the same numbers
-    code, _, _ = run(capsys, mesh_file, *FLOW, "--aoa=-180:60:180", "--aos=-90:45:90", "--gsim", "cook",
-                     "--moment-ref", "0.1,0,0.2", "--workers", "1", "--out", tmp_path / "one.npz",
-                     "--csv", tmp_path / "other.csv")
+    code, _, _ = run(
+        capsys,
+        mesh_file,
+        *FLOW,
+        "--aoa=-180:60:180",
+        "--aos=-90:45:90",
+        "--gsim",
+        "cook",
+        "--moment-ref",
+        "0.1,0,0.2",
+        "--workers",
+        "1",
+        "--out",
+        tmp_path / "one.npz",
+        "--csv",
+        tmp_path / "other.csv",
+    )
     assert code == 0 and (tmp_path / "other.csv").exists() and not (tmp_path / "one.csv").exists()
     np.testing.assert_array_equal(load_database(tmp_path / "one.npz").Cf_G, db.Cf_G)
 
@@ -72,14 +111,35 @@ def test_end_to_end_and_agreement_with_coeff(capsys, mesh_file, tmp_path):
 def test_flight_conditions_fold_alpha_into_materials(capsys, mesh_file, tmp_path):
     """--time and a place: the accommodation model's alpha lands in the recorded materials, and the
     numbers equal `coeff` with the same flight conditions."""
-    common = [str(mesh_file), "--shading", "none", "--time", "2015-01-19T00:00:00Z", "--altitude", "300",
-              "--lat", "0", "--lon", "0", "--accommodation", "langmuir", "--aoa", "0,30", "--aos", "10"]
+    common = [
+        str(mesh_file),
+        "--shading",
+        "none",
+        "--time",
+        "2015-01-19T00:00:00Z",
+        "--altitude",
+        "300",
+        "--lat",
+        "0",
+        "--lon",
+        "0",
+        "--accommodation",
+        "langmuir",
+        "--aoa",
+        "0,30",
+        "--aos",
+        "10",
+    ]
     code, _, err = run(capsys, *common, "--out", tmp_path / "fc.npz")
     assert code == 0, err
     db = load_database(tmp_path / "fc.npz")
     alpha = db.metadata["conditions"]["alpha"]
     assert 0.9 < alpha < 1.0
-    assert db.metadata["materials"]["default"]["alpha"] == alpha == db.metadata["materials"]["default"]["alpha_n"]
+    assert (
+        db.metadata["materials"]["default"]["alpha"]
+        == alpha
+        == db.metadata["materials"]["default"]["alpha_n"]
+    )
     assert main(["coeff", *common, "--json"]) == 0
     rows = json.loads(capsys.readouterr()[0])
     for k, row in enumerate(rows):
@@ -118,9 +178,27 @@ def test_bad_values_give_one_line_and_status_2(capsys, mesh_file, tmp_path, argv
 
 def test_module_entry_point(mesh_file, tmp_path):
     """`python -m adbsat_ros.cli database` runs as a separate process."""
-    proc = subprocess.run([sys.executable, "-m", "adbsat_ros.cli", "database", str(mesh_file), *FLOW, "--aoa", "0,90",
-                           "--aos", "0", "--shading", "none", "--out", str(tmp_path / "p.npz")],
-                          capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "adbsat_ros.cli",
+            "database",
+            str(mesh_file),
+            *FLOW,
+            "--aoa",
+            "0,90",
+            "--aos",
+            "0",
+            "--shading",
+            "none",
+            "--out",
+            str(tmp_path / "p.npz"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == ""  # no progress bar when stderr is not a terminal
     assert load_database(tmp_path / "p.npz").shape == (2, 1)

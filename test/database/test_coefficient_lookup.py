@@ -9,11 +9,10 @@ import pytest
 import trimesh
 
 from adbsat_ros import FreeStream, PanelMethod, panels_from_trimesh
-
-from adbsat_ros.geometry import frames
-from adbsat_ros.database.lookup import CoefficientLookup, bilinear, estimate_interpolation_error
 from adbsat_ros.database.build import build_database
 from adbsat_ros.database.format import AeroDatabase
+from adbsat_ros.database.lookup import CoefficientLookup, bilinear, estimate_interpolation_error
+from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.shading.shader import make_shader
 
@@ -30,8 +29,15 @@ def box_mesh():
 def satellite():
     """Example satellite (concave: real shadows), Sentman, ray-cast, 15 deg full-sphere grid."""
     method = PanelMethod(resolve_mesh("example"), "sentman")
-    db = build_database(method, FLOW, np.arange(-180, 181, 15.0), np.arange(-90, 91, 15.0),
-                        shading="raycast", workers=2, progress=False)
+    db = build_database(
+        method,
+        FLOW,
+        np.arange(-180, 181, 15.0),
+        np.arange(-90, 91, 15.0),
+        shading="raycast",
+        workers=2,
+        progress=False,
+    )
     return method, db
 
 
@@ -39,8 +45,16 @@ def satellite():
 def box():
     """Offset box, Newton (kinks where faces turn to grazing), 10 deg grid, no shading."""
     method = PanelMethod(box_mesh(), "newton")
-    db = build_database(method, FLOW, np.arange(-180, 181, 10.0), np.arange(-90, 91, 10.0),
-                        shading="none", workers=1, progress=False, mesh_spec=None)
+    db = build_database(
+        method,
+        FLOW,
+        np.arange(-180, 181, 10.0),
+        np.arange(-90, 91, 10.0),
+        shading="none",
+        workers=1,
+        progress=False,
+        mesh_spec=None,
+    )
     return method, db
 
 
@@ -59,7 +73,9 @@ def test_exact_at_grid_nodes(satellite):
             r = lookup.coefficients(db.aoa_deg[i], db.aos_deg[j])
             np.testing.assert_array_equal(r.Cf_G, db.Cf_G[i, j])
             np.testing.assert_array_equal(r.Cm_G, db.Cm_G[i, j])
-            assert (r.CD, r.CL, r.CY) == pytest.approx((db.CD[i, j], db.CL[i, j], db.CY[i, j]), abs=1e-14)
+            assert (r.CD, r.CL, r.CY) == pytest.approx(
+                (db.CD[i, j], db.CL[i, j], db.CY[i, j]), abs=1e-14
+            )
 
 
 # ------------------------------------------------------------------------------ stated error
@@ -72,7 +88,11 @@ def test_within_stated_error_between_nodes(satellite, box, body, n, seed):
     lookup = CoefficientLookup(db)
     bound = lookup.error_bound
     assert bound["force_coefficient"] < 0.2 * bound["max_force_coefficient"]
-    shader = make_shader(method.mesh, db.metadata["shading"]["mode"]) if db.metadata["shading"]["mode"] != "none" else None
+    shader = (
+        make_shader(method.mesh, db.metadata["shading"]["mode"])
+        if db.metadata["shading"]["mode"] != "none"
+        else None
+    )
     worst_f = worst_m = 0.0
     for a, b in zip(*random_attitudes(n, seed)):
         ar, br = math.radians(a), math.radians(b)
@@ -98,8 +118,20 @@ def test_estimator_on_known_functions():
 
     def database(fx):
         vec = np.stack([fx, zero, zero], axis=-1)
-        return AeroDatabase(aoa, aos, zero, zero, zero, zero, vec, vec, vec, vec, 0.5 * vec,
-                            metadata={"reference": {"area": 1.0, "length": 1.0}})
+        return AeroDatabase(
+            aoa,
+            aos,
+            zero,
+            zero,
+            zero,
+            zero,
+            vec,
+            vec,
+            vec,
+            vec,
+            0.5 * vec,
+            metadata={"reference": {"area": 1.0, "length": 1.0}},
+        )
 
     linear = estimate_interpolation_error(database(0.01 * a - 0.02 * b + 3.0))
     assert linear["force_coefficient"] == pytest.approx(0.0, abs=1e-13)
@@ -111,7 +143,9 @@ def test_estimator_on_known_functions():
 
 def test_too_small_grid_has_no_estimate():
     method = PanelMethod(box_mesh(), "newton")
-    db = build_database(method, FLOW, [0, 10], [0, 5], shading="none", workers=1, progress=False, mesh_spec=None)
+    db = build_database(
+        method, FLOW, [0, 10], [0, 5], shading="none", workers=1, progress=False, mesh_spec=None
+    )
     assert db.metadata["interpolation_error"]["force_coefficient"] is None
     assert "unavailable" in CoefficientLookup(db).error_bound["method"]
 
@@ -125,27 +159,51 @@ def test_wrap_around_at_180(box):
         left = lookup.coefficients(179.9999, b).Cf_G
         right = lookup.coefficients(-179.9999, b).Cf_G
         np.testing.assert_allclose(left, right, atol=1e-4)
-        np.testing.assert_array_equal(lookup.coefficients(190.0, b).Cf_G, lookup.coefficients(-170.0, b).Cf_G)
-        np.testing.assert_allclose(lookup.coefficients(-545.0, b).Cf_G, lookup.coefficients(175.0, b).Cf_G, atol=1e-15)
+        np.testing.assert_array_equal(
+            lookup.coefficients(190.0, b).Cf_G, lookup.coefficients(-170.0, b).Cf_G
+        )
+        np.testing.assert_allclose(
+            lookup.coefficients(-545.0, b).Cf_G, lookup.coefficients(175.0, b).Cf_G, atol=1e-15
+        )
 
 
 def test_open_circle_grid_closes_with_the_first_node():
     """aoa -180:30:150 leaves a 30 deg gap: it wraps, and 165 deg is halfway between 150 and -180."""
     method = PanelMethod(box_mesh(), "newton")
-    db = build_database(method, FLOW, np.arange(-180, 151, 30.0), [0.0, 20.0], shading="none", workers=1,
-                        progress=False, mesh_spec=None)
+    db = build_database(
+        method,
+        FLOW,
+        np.arange(-180, 151, 30.0),
+        [0.0, 20.0],
+        shading="none",
+        workers=1,
+        progress=False,
+        mesh_spec=None,
+    )
     lookup = CoefficientLookup(db)
     assert lookup.periodic and lookup.aoa_range == (-180.0, 180.0)
-    np.testing.assert_allclose(lookup.coefficients(165.0, 0.0).Cf_G, 0.5 * (db.Cf_G[-1, 0] + db.Cf_G[0, 0]), atol=1e-15)
+    np.testing.assert_allclose(
+        lookup.coefficients(165.0, 0.0).Cf_G, 0.5 * (db.Cf_G[-1, 0] + db.Cf_G[0, 0]), atol=1e-15
+    )
 
 
 def test_partial_grid_range_errors_and_reduction():
     method = PanelMethod(box_mesh(), "newton")
-    db = build_database(method, FLOW, np.arange(0, 91, 10.0), np.arange(-30, 31, 10.0), shading="none", workers=1,
-                        progress=False, mesh_spec=None)
+    db = build_database(
+        method,
+        FLOW,
+        np.arange(0, 91, 10.0),
+        np.arange(-30, 31, 10.0),
+        shading="none",
+        workers=1,
+        progress=False,
+        mesh_spec=None,
+    )
     lookup = CoefficientLookup(db)
     assert not lookup.periodic
-    np.testing.assert_array_equal(lookup.coefficients(370.0, 10.0).Cf_G, db.Cf_G[1, 4])  # 370 = 10 deg
+    np.testing.assert_array_equal(
+        lookup.coefficients(370.0, 10.0).Cf_G, db.Cf_G[1, 4]
+    )  # 370 = 10 deg
     with pytest.raises(ValueError, match=r"angle of attack 100 deg .*\[0, 90\]"):
         lookup.coefficients(100.0, 0.0)
     with pytest.raises(ValueError, match=r"sideslip 40 deg .*\[-30, 30\]"):
@@ -164,7 +222,9 @@ def test_sideslip_pole_and_flow_direction(box):
     at_pole = [lookup.coefficients(a, 90.0).Cf_G for a in (-180.0, -37.0, 0.0, 121.0)]
     for v in at_pole[1:]:
         np.testing.assert_allclose(v, at_pole[0], atol=1e-12)
-    np.testing.assert_allclose(lookup.coefficients(flow_direction=[0.0, 2.0, 0.0]).Cf_G, at_pole[0], atol=1e-12)
+    np.testing.assert_allclose(
+        lookup.coefficients(flow_direction=[0.0, 2.0, 0.0]).Cf_G, at_pole[0], atol=1e-12
+    )
     exact = method.coefficients(FLOW, flow_direction=[0.0, 1.0, 0.0])
     np.testing.assert_allclose(at_pole[0], exact.Cf_G, atol=1e-12)
     u = np.array([-0.3, 0.5, 0.7])
@@ -191,9 +251,15 @@ def test_vectorised_lookup_matches_scalar_and_bilinear(box):
     i, j, t, s = 4, 5, 0.3, 0.8
     qa = db.aoa_deg[i] + t * 10.0
     qb = db.aos_deg[j] + s * 10.0
-    expected = ((1 - t) * (1 - s) * db.Cf_G[i, j] + (1 - t) * s * db.Cf_G[i, j + 1]
-                + t * (1 - s) * db.Cf_G[i + 1, j] + t * s * db.Cf_G[i + 1, j + 1])
-    np.testing.assert_allclose(bilinear(db.aoa_deg, db.aos_deg, db.Cf_G, [qa], [qb])[0], expected, atol=1e-15)
+    expected = (
+        (1 - t) * (1 - s) * db.Cf_G[i, j]
+        + (1 - t) * s * db.Cf_G[i, j + 1]
+        + t * (1 - s) * db.Cf_G[i + 1, j]
+        + t * s * db.Cf_G[i + 1, j + 1]
+    )
+    np.testing.assert_allclose(
+        bilinear(db.aoa_deg, db.aos_deg, db.Cf_G, [qa], [qb])[0], expected, atol=1e-15
+    )
 
 
 def test_load_and_forces(box, tmp_path):

@@ -8,13 +8,28 @@ import math
 import numpy as np
 import pytest
 import trimesh
-
-from adbsat_ros import FreeStream, MaterialTable, PanelMethod, Reference, SurfaceProperties, panels_from_arrays
-from adbsat_ros.database.build import build_database
-from adbsat_ros.database.metadata import method_from_metadata
-from adbsat_ros.database.format import FORMAT_VERSION, REQUIRED_METADATA, SCALAR_FIELDS, VECTOR_FIELDS, AeroDatabase, DatabaseError, load_database
-from adbsat_ros.geometry.loading import resolve_mesh
 from closed_forms import reemission_temperature, sentman_sphere_cd, unit_sphere_mesh
+
+from adbsat_ros import (
+    FreeStream,
+    MaterialTable,
+    PanelMethod,
+    Reference,
+    SurfaceProperties,
+    panels_from_arrays,
+)
+from adbsat_ros.database.build import build_database
+from adbsat_ros.database.format import (
+    FORMAT_VERSION,
+    REQUIRED_METADATA,
+    SCALAR_FIELDS,
+    VECTOR_FIELDS,
+    AeroDatabase,
+    DatabaseError,
+    load_database,
+)
+from adbsat_ros.database.metadata import method_from_metadata
+from adbsat_ros.geometry.loading import resolve_mesh
 
 FLOW = FreeStream(7500.0, 900.0, mean_mass_amu=16.0)
 SLOW = FreeStream(1500.0, 1200.0, mean_mass_amu=28.0)
@@ -35,11 +50,24 @@ def two_sided_plate(size=1.5):
 @pytest.fixture(scope="module")
 def example_db():
     """Example satellite, Sentman, ray-cast shading, a coarse full-sphere grid, one worker."""
-    method = PanelMethod(resolve_mesh("example"), "sentman",
-                         MaterialTable.from_texts(SurfaceProperties(alpha=0.9), ["solar_array:alpha=0.8,wall_temperature=350"]))
-    return build_database(method, FLOW, np.arange(-180, 181, 45.0), np.arange(-90, 91, 45.0),
-                          shading="raycast", workers=1, progress=False, mesh_spec="example",
-                          materials_texts=["solar_array:alpha=0.8,wall_temperature=350"])
+    method = PanelMethod(
+        resolve_mesh("example"),
+        "sentman",
+        MaterialTable.from_texts(
+            SurfaceProperties(alpha=0.9), ["solar_array:alpha=0.8,wall_temperature=350"]
+        ),
+    )
+    return build_database(
+        method,
+        FLOW,
+        np.arange(-180, 181, 45.0),
+        np.arange(-90, 91, 45.0),
+        shading="raycast",
+        workers=1,
+        progress=False,
+        mesh_spec="example",
+        materials_texts=["solar_array:alpha=0.8,wall_temperature=350"],
+    )
 
 
 # ------------------------------------------------------------------------------ closed forms
@@ -51,7 +79,9 @@ def test_newton_plate_database_matches_closed_form_everywhere():
     A = 1.5**2
     method = PanelMethod(two_sided_plate(), "newton", reference=Reference(area=A, length=1.0))
     aoa, aos = np.arange(-180, 181, 30.0), np.arange(-90, 91, 30.0)
-    db = build_database(method, FLOW, aoa, aos, shading="none", workers=1, progress=False, mesh_spec=None)
+    db = build_database(
+        method, FLOW, aoa, aos, shading="none", workers=1, progress=False, mesh_spec=None
+    )
     a, b = np.meshgrid(np.radians(aoa), np.radians(aos), indexing="ij")
     k = np.cos(a) * np.cos(b)
     c = np.abs(k)
@@ -72,13 +102,23 @@ def test_sentman_sphere_database_matches_closed_form_everywhere():
     """Icosphere (area 4 pi, convex: ray-cast shading has nothing to do): C_D = Sentman's sphere
     at every grid point, the force along the flow, no lift, side force or moment about the centre."""
     alpha, Tw = 0.9, 300.0
-    method = PanelMethod(unit_sphere_mesh(5), "sentman", SurfaceProperties(alpha=alpha, wall_temperature=Tw),
-                         reference=Reference(area=math.pi, length=2.0))
+    method = PanelMethod(
+        unit_sphere_mesh(5),
+        "sentman",
+        SurfaceProperties(alpha=alpha, wall_temperature=Tw),
+        reference=Reference(area=math.pi, length=2.0),
+    )
     aoa, aos = np.arange(-180, 181, 60.0), np.arange(-90, 91, 45.0)
-    db = build_database(method, SLOW, aoa, aos, shading="raycast", workers=1, progress=False, mesh_spec=None)
-    expected = sentman_sphere_cd(SLOW.speed_ratio, reemission_temperature(SLOW, alpha, Tw) / SLOW.temperature)
+    db = build_database(
+        method, SLOW, aoa, aos, shading="raycast", workers=1, progress=False, mesh_spec=None
+    )
+    expected = sentman_sphere_cd(
+        SLOW.speed_ratio, reemission_temperature(SLOW, alpha, Tw) / SLOW.temperature
+    )
     np.testing.assert_allclose(db.CD, expected, rtol=1e-4)
-    np.testing.assert_allclose(db.Cf_G, db.CD[..., None] * db.flow_directions(), atol=2e-5 * expected)
+    np.testing.assert_allclose(
+        db.Cf_G, db.CD[..., None] * db.flow_directions(), atol=2e-5 * expected
+    )
     assert np.abs(db.CL).max() < 2e-5 * expected and np.abs(db.CY).max() < 2e-5 * expected
     assert np.abs(db.Cm_G).max() < 2e-6 * expected
     np.testing.assert_allclose(db.AreaProj, math.pi, rtol=1e-4)
@@ -104,8 +144,16 @@ def test_worker_count_does_not_change_results(example_db):
     """Two worker processes, odd chunking, give the same numbers bit for bit as one process."""
     method, flow, _ = method_from_metadata(example_db.metadata)
     calls = []
-    db2 = build_database(method, flow, example_db.aoa_deg, example_db.aos_deg, shading="raycast", workers=2,
-                         progress=lambda done, total: calls.append((done, total)), mesh_spec="example")
+    db2 = build_database(
+        method,
+        flow,
+        example_db.aoa_deg,
+        example_db.aos_deg,
+        shading="raycast",
+        workers=2,
+        progress=lambda done, total: calls.append((done, total)),
+        mesh_spec="example",
+    )
     for name in SCALAR_FIELDS + VECTOR_FIELDS:
         np.testing.assert_array_equal(getattr(db2, name), getattr(example_db, name), err_msg=name)
     assert calls[-1] == (example_db.n_attitudes, example_db.n_attitudes)
@@ -120,7 +168,16 @@ def test_progress_tqdm_instance_is_updated():
 
     method = plate_method()
     with tqdm(total=6, file=io.StringIO()) as bar:
-        build_database(method, FLOW, [0, 10, 20], [0, 5], shading="none", workers=1, progress=bar, mesh_spec=None)
+        build_database(
+            method,
+            FLOW,
+            [0, 10, 20],
+            [0, 5],
+            shading="none",
+            workers=1,
+            progress=bar,
+            mesh_spec=None,
+        )
         assert bar.n == 6
 
 
@@ -145,7 +202,10 @@ def test_csv_agrees_with_npz(example_db, tmp_path):
     header = [line[2:] for line in lines if line.startswith("# ")]
     meta = dict(line.split(": ", 1) for line in header[1:])
     assert int(meta["format_version"]) == FORMAT_VERSION
-    assert meta["shading"].startswith("raycast") and "fingerprint " + back.metadata["mesh"]["fingerprint"] in meta["mesh"]
+    assert (
+        meta["shading"].startswith("raycast")
+        and "fingerprint " + back.metadata["mesh"]["fingerprint"] in meta["mesh"]
+    )
     rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
     assert len(rows) == back.n_attitudes
     na, nb = back.shape
@@ -156,7 +216,10 @@ def test_csv_agrees_with_npz(example_db, tmp_path):
             assert float(row[name]) == getattr(back, name)[i, j]
         for name in VECTOR_FIELDS:
             assert [float(row[f"{name}_{x}"]) for x in "xyz"] == getattr(back, name)[i, j].tolist()
-        assert float(row["Aref"]) == back.reference_area and float(row["Lref"]) == back.reference_length
+        assert (
+            float(row["Aref"]) == back.reference_area
+            and float(row["Lref"]) == back.reference_length
+        )
 
 
 def test_save_refuses_other_suffixes(example_db, tmp_path):
@@ -166,8 +229,11 @@ def test_save_refuses_other_suffixes(example_db, tmp_path):
 
 def _corrupt(example_db, path, **changes):
     """Write example_db to path with some arrays replaced (None: left out)."""
-    arrays = {"aoa_deg": example_db.aoa_deg, "aos_deg": example_db.aos_deg,
-              "metadata": np.array(json.dumps(example_db.metadata))}
+    arrays = {
+        "aoa_deg": example_db.aoa_deg,
+        "aos_deg": example_db.aos_deg,
+        "metadata": np.array(json.dumps(example_db.metadata)),
+    }
     arrays.update({n: getattr(example_db, n) for n in SCALAR_FIELDS + VECTOR_FIELDS})
     for key, value in changes.items():
         if value is None:
@@ -254,7 +320,9 @@ def test_metadata_refuses_changed_or_unknown_meshes(example_db, tmp_path):
     from adbsat_ros import load_mesh
 
     method = PanelMethod(load_mesh(path), "sentman")
-    db = build_database(method, FLOW, [0, 90], [0], shading="none", workers=1, progress=False, mesh_spec=str(path))
+    db = build_database(
+        method, FLOW, [0, 90], [0], shading="none", workers=1, progress=False, mesh_spec=str(path)
+    )
     assert method_from_metadata(db.metadata)[0].mesh.fingerprint() == method.mesh.fingerprint()
     box.apply_scale(1.1)
     box.export(path)
@@ -263,8 +331,16 @@ def test_metadata_refuses_changed_or_unknown_meshes(example_db, tmp_path):
     with pytest.raises(DatabaseError, match="built in code"):
         method_from_metadata(dict(db.metadata, mesh=dict(db.metadata["mesh"], spec=None)))
     with pytest.raises(ValueError, match="does not load the method's mesh"):
-        build_database(plate_method(), FLOW, [0], [0], shading="none", workers=1,
-                       progress=False, mesh_spec=str(path))
+        build_database(
+            plate_method(),
+            FLOW,
+            [0],
+            [0],
+            shading="none",
+            workers=1,
+            progress=False,
+            mesh_spec=str(path),
+        )
 
 
 @pytest.mark.parametrize(
@@ -279,14 +355,29 @@ def test_metadata_refuses_changed_or_unknown_meshes(example_db, tmp_path):
     ],
 )
 def test_bad_build_arguments(kwargs, needle):
-    args = {"aoa_deg": [0, 10], "aos_deg": [0], "shading": "none", "workers": 1, "progress": False, "mesh_spec": None}
+    args = {
+        "aoa_deg": [0, 10],
+        "aos_deg": [0],
+        "shading": "none",
+        "workers": 1,
+        "progress": False,
+        "mesh_spec": None,
+    }
     args.update(kwargs)
     with pytest.raises(ValueError, match=needle):
         build_database(plate_method(), FLOW, **args)
 
 
 def test_angles_are_sorted():
-    db = build_database(plate_method(), FLOW, [30, -30, 0], [10, 0], shading="none",
-                        workers=1, progress=False, mesh_spec=None)
+    db = build_database(
+        plate_method(),
+        FLOW,
+        [30, -30, 0],
+        [10, 0],
+        shading="none",
+        workers=1,
+        progress=False,
+        mesh_spec=None,
+    )
     assert db.aoa_deg.tolist() == [-30, 0, 30] and db.aos_deg.tolist() == [0, 10]
     assert isinstance(db, AeroDatabase) and db.shape == (3, 2)

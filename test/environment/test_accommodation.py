@@ -60,7 +60,9 @@ def test_goodman_closed_form():
     # alpha = K_s m_g m_s / (m_g + m_s)^2: 2.4 * 16 * 65 / 81^2 = 2496 / 6561
     assert goodman_accommodation(16 * AMU) == pytest.approx(2496 / 6561, rel=1e-12)
     # maximum K_s / 4 when the masses are equal
-    assert goodman_accommodation(65 * AMU, substrate_coefficient=3.6) == pytest.approx(0.9, rel=1e-12)
+    assert goodman_accommodation(65 * AMU, substrate_coefficient=3.6) == pytest.approx(
+        0.9, rel=1e-12
+    )
 
 
 def test_sesam_sticking_fraction_matches_numerical_integral():
@@ -71,10 +73,14 @@ def test_sesam_sticking_fraction_matches_numerical_integral():
         r = math.sqrt(0.5 * species_mass_kg("O") * speed**2)
 
         def g(x):
-            return x * math.exp(-((x - r) / w) ** 2)
+            return x * math.exp(-(((x - r) / w) ** 2))
 
         low, high = max(0.0, r - 15 * w), r + 15 * w
-        below = quad(g, low, min(a, high), points=[r] if low < r < a else None, limit=200)[0] if a > low else 0.0
+        below = (
+            quad(g, low, min(a, high), points=[r] if low < r < a else None, limit=200)[0]
+            if a > low
+            else 0.0
+        )
         total = quad(g, low, high, points=[r], limit=200)[0]
         assert sesam_sticking_fraction(0.5 * species_mass_kg("O") * speed**2) == pytest.approx(
             below / total, rel=1e-6, abs=1e-12
@@ -92,7 +98,9 @@ def test_sesam_pressure_limits():
     n_o, mass = 1e14, species_mass_kg("O")
     # large s: e^{-s^2} vanishes and erf(s) = 1, f(s) = 2 + 2/s^2 - 1/(2 s^4) -> P -> rho_O V^2
     p = sesam_oxygen_pressure(n_o, 7800.0, 50.0)
-    assert p / (0.5 * n_o * mass * 7800.0**2) == pytest.approx(2 + 2 / 50**2 - 0.5 / 50**4, rel=1e-12)
+    assert p / (0.5 * n_o * mass * 7800.0**2) == pytest.approx(
+        2 + 2 / 50**2 - 0.5 / 50**4, rel=1e-12
+    )
     # continuous across the small-s switch at 1e-3, and zero at rest
     below = sesam_oxygen_pressure(n_o, 0.999e-3, 0.999e-3) / 0.999e-3
     above = sesam_oxygen_pressure(n_o, 1.001e-3, 1.001e-3) / 1.001e-3
@@ -159,7 +167,9 @@ def test_registry_fixed_and_langmuir_equal_the_model_functions():
         expected = langmuir_accommodation(n_o, temperature)
         assert accommodation("langmuir", atmosphere, 7700.0) == expected
         assert accommodation("langmuir", atmosphere, 7700.0, langmuir_constant=7.5e-17) == expected
-        numpy_state = AtmosphereState({"O": np.float64(n_o)}, 1e-12, 1000.0, np.float64(temperature))
+        numpy_state = AtmosphereState(
+            {"O": np.float64(n_o)}, 1e-12, 1000.0, np.float64(temperature)
+        )
         assert accommodation("langmuir", numpy_state, 7700.0) == expected
         for alpha in (0.0, 0.37, 1.0, np.float64(0.5), 1):
             assert accommodation("fixed", atmosphere, 7700.0, alpha=alpha) == float(alpha)

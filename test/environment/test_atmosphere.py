@@ -16,8 +16,17 @@ from adbsat_ros.environment.atmosphere import AtmosphereState, SpaceWeather, eva
 # computed with gtd7 (total mass density WITHOUT anomalous oxygen). Published in cgs:
 # He, O, N2, O2, Ar [cm^-3], rho [g/cm^3], H, N, anomalous O [cm^-3], T_exo, T [K].
 CASE1_CGS = (
-    6.665177e05, 1.138806e08, 1.998211e07, 4.022764e05, 3.557465e03,
-    4.074714e-15, 3.475312e04, 4.095913e06, 2.667273e04, 1.250540e03, 1.241416e03,
+    6.665177e05,
+    1.138806e08,
+    1.998211e07,
+    4.022764e05,
+    3.557465e03,
+    4.074714e-15,
+    3.475312e04,
+    4.095913e06,
+    2.667273e04,
+    1.250540e03,
+    1.241416e03,
 )
 CASE1_ORDER = ("He", "O", "N2", "O2", "Ar", None, "H", "N", "AnO")
 # Day 172 of 2009 is 21 June; 29000 s = 08:03:20 UT.
@@ -64,14 +73,24 @@ def test_anomalous_oxygen_total_is_gtd7d():
 @pytest.mark.parametrize("altitude, rho_g_cm3", [(400e3, 5.881940e-15), (100e3, 2.914304e-10)])
 def test_published_cases_16_17_ap_history(altitude, rho_g_cm3):
     state = evaluate_atmosphere(
-        CASE1_TIME, altitude, CASE1_LAT, CASE1_LON, STORM, anomalous_oxygen=False,
+        CASE1_TIME,
+        altitude,
+        CASE1_LAT,
+        CASE1_LON,
+        STORM,
+        anomalous_oxygen=False,
         local_solar_time_h=16.0,
     )
     assert state.mass_density == pytest.approx(rho_g_cm3 * 1e3, rel=1e-6)
     # and the history really changes the answer (storm vs quiet: denser at 400 km, cooler and
     # lighter at 100 km)
     quiet = evaluate_atmosphere(
-        CASE1_TIME, altitude, CASE1_LAT, CASE1_LON, MODERATE, anomalous_oxygen=False,
+        CASE1_TIME,
+        altitude,
+        CASE1_LAT,
+        CASE1_LON,
+        MODERATE,
+        anomalous_oxygen=False,
         local_solar_time_h=16.0,
     )
     assert abs(state.mass_density / quiet.mass_density - 1.0) > 0.05
@@ -80,8 +99,12 @@ def test_published_cases_16_17_ap_history(altitude, rho_g_cm3):
 def test_year_does_not_matter_only_day_of_year():
     # NRLMSISE-00 ignores the year: day 172 is 20 June in the leap year 2008, 21 June in 2009.
     a = evaluate_atmosphere(CASE1_TIME, 400e3, CASE1_LAT, CASE1_LON, MODERATE)
-    b = evaluate_atmosphere(dt.datetime(2008, 6, 20, 8, 3, 20), 400e3, CASE1_LAT, CASE1_LON, MODERATE)
-    c = evaluate_atmosphere(dt.datetime(2008, 6, 21, 8, 3, 20), 400e3, CASE1_LAT, CASE1_LON, MODERATE)
+    b = evaluate_atmosphere(
+        dt.datetime(2008, 6, 20, 8, 3, 20), 400e3, CASE1_LAT, CASE1_LON, MODERATE
+    )
+    c = evaluate_atmosphere(
+        dt.datetime(2008, 6, 21, 8, 3, 20), 400e3, CASE1_LAT, CASE1_LON, MODERATE
+    )
     assert a == b
     assert a.mass_density != c.mass_density
 
@@ -100,7 +123,16 @@ def test_matches_package_wrapper_with_default_local_time():
         CASE1_TIME, 400.0, 60.0, -70.0, 150.0, 150.0, 4.0, method="gtd7d"
     )
     state = evaluate_atmosphere(CASE1_TIME, 400e3, CASE1_LAT, CASE1_LON, MODERATE)
-    for name, index in (("He", 0), ("O", 1), ("N2", 2), ("O2", 3), ("Ar", 4), ("H", 6), ("N", 7), ("AnO", 8)):
+    for name, index in (
+        ("He", 0),
+        ("O", 1),
+        ("N2", 2),
+        ("O2", 3),
+        ("Ar", 4),
+        ("H", 6),
+        ("N", 7),
+        ("AnO", 8),
+    ):
         assert state.number_densities[name] == pytest.approx(densities[index] * 1e6, rel=1e-12)
     assert state.mass_density == pytest.approx(densities[5] * 1e3, rel=1e-12)
     assert state.temperature == pytest.approx(temperatures[1], rel=1e-12)
@@ -110,8 +142,16 @@ def test_matches_package_wrapper_with_default_local_time():
 
 def test_mean_mass_is_number_weighted():
     state = case1()
-    amu_g = {"He": 4.002602, "O": 15.9994, "N2": 28.0134, "O2": 31.9988, "Ar": 39.948,
-             "H": 1.0079, "N": 14.0067, "AnO": 15.99}
+    amu_g = {
+        "He": 4.002602,
+        "O": 15.9994,
+        "N2": 28.0134,
+        "O2": 31.9988,
+        "Ar": 39.948,
+        "H": 1.0079,
+        "N": 14.0067,
+        "AnO": 15.99,
+    }
     n = state.number_densities
     expected = sum(n[k] * amu_g[k] for k in amu_g) / sum(n.values()) / 1000 / 6.02214076e23
     assert state.mean_mass == pytest.approx(expected, rel=1e-12)
@@ -136,8 +176,13 @@ def test_mean_mass_is_number_weighted():
     ],
 )
 def test_bad_inputs_name_the_input(kwargs, name):
-    args = dict(time=CASE1_TIME, altitude=400e3, latitude=CASE1_LAT, longitude=CASE1_LON,
-                space_weather=MODERATE)
+    args = dict(
+        time=CASE1_TIME,
+        altitude=400e3,
+        latitude=CASE1_LAT,
+        longitude=CASE1_LON,
+        space_weather=MODERATE,
+    )
     args.update(kwargs)
     with pytest.raises(ValueError, match=name):
         evaluate_atmosphere(**args)
@@ -191,8 +236,12 @@ def test_checked_utc_is_an_aware_utc_time_or_the_time_error():
     assert naive == aware and naive.tzinfo is dt.timezone.utc
     shifted = checked_utc(aware.astimezone(dt.timezone(dt.timedelta(hours=-5))))
     assert shifted == aware and shifted.tzinfo is dt.timezone.utc and shifted.hour == 6
-    for bad in (dt.datetime(2101, 1, 1, tzinfo=dt.timezone.utc), dt.datetime(1957, 12, 31), "2015-01-19",
-                dt.date(2015, 1, 19)):
+    for bad in (
+        dt.datetime(2101, 1, 1, tzinfo=dt.timezone.utc),
+        dt.datetime(1957, 12, 31),
+        "2015-01-19",
+        dt.date(2015, 1, 19),
+    ):
         with pytest.raises(ValueError, match="time"):
             checked_utc(bad)
 
@@ -203,10 +252,21 @@ def test_model_states_equal_the_constructed_state_and_its_derived_values():
     weather = SpaceWeather(f107=150.0, f107a=150.0, ap=4.0)
     for anomalous_oxygen in (True, False):
         for altitude in (90e3, 400e3, 950e3):
-            state = evaluate_atmosphere(dt.datetime(2015, 1, 19, 6), altitude, 0.3, -1.2, weather,
-                                        anomalous_oxygen=anomalous_oxygen)
-            fresh = AtmosphereState(dict(state.number_densities), state.mass_density,
-                                    state.exospheric_temperature, state.temperature, anomalous_oxygen)
+            state = evaluate_atmosphere(
+                dt.datetime(2015, 1, 19, 6),
+                altitude,
+                0.3,
+                -1.2,
+                weather,
+                anomalous_oxygen=anomalous_oxygen,
+            )
+            fresh = AtmosphereState(
+                dict(state.number_densities),
+                state.mass_density,
+                state.exospheric_temperature,
+                state.temperature,
+                anomalous_oxygen,
+            )
             assert state == fresh and type(state.anomalous_oxygen) is bool
             assert state.mixture_species == fresh.mixture_species
             assert state.mixture_number_densities == fresh.mixture_number_densities

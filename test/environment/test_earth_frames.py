@@ -10,8 +10,20 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from adbsat_ros.environment.earth_frames import EARTH_ROTATION_RATE, earth_orientation, earth_rotation_angle, ecef_to_eci, eci_to_ecef
-from adbsat_ros.environment.geodetic import WGS84, ecef_to_geodetic, enu_to_ecef_matrix, geodetic_of_floats, geodetic_to_ecef
+from adbsat_ros.environment.earth_frames import (
+    EARTH_ROTATION_RATE,
+    earth_orientation,
+    earth_rotation_angle,
+    ecef_to_eci,
+    eci_to_ecef,
+)
+from adbsat_ros.environment.geodetic import (
+    WGS84,
+    ecef_to_geodetic,
+    enu_to_ecef_matrix,
+    geodetic_of_floats,
+    geodetic_to_ecef,
+)
 
 ARCSEC = math.pi / 180 / 3600
 
@@ -39,7 +51,13 @@ def test_rotation_rate_is_the_iers_value():
 
 
 @pytest.mark.parametrize(
-    "time", [VALLADO_TIME, dt.datetime(2015, 1, 19), dt.datetime(1972, 7, 1, 12), dt.datetime(2090, 3, 3, 3, 3, 3)]
+    "time",
+    [
+        VALLADO_TIME,
+        dt.datetime(2015, 1, 19),
+        dt.datetime(1972, 7, 1, 12),
+        dt.datetime(2090, 3, 3, 3, 3, 3),
+    ],
 )
 def test_matrix_equals_erfa_c2t06a_through_erfa_time_scales(time):
     # Reference chain entirely in ERFA: dtf2d (UTC) -> utctai -> taitt, utcut1, then c2t06a.
@@ -80,7 +98,9 @@ def test_default_orientation_error_is_the_stated_ut1_error():
 
 def test_iau2000b_within_one_milliarcsecond_of_2006a():
     a = earth_orientation(dt.datetime(2015, 1, 19)).celestial_to_terrestrial
-    b = earth_orientation(dt.datetime(2015, 1, 19), precession_nutation="iau2000b").celestial_to_terrestrial
+    b = earth_orientation(
+        dt.datetime(2015, 1, 19), precession_nutation="iau2000b"
+    ).celestial_to_terrestrial
     skew = a @ b.T - b @ a.T  # 2 sin(angle) [axis]_x for the small rotation between them
     angle = math.hypot(skew[2, 1], skew[0, 2], skew[1, 0]) / 2
     assert 0.0 < angle < 1e-3 * ARCSEC * 1.5
@@ -180,7 +200,11 @@ def test_geodetic_round_trip_to_a_millimetre(lat_deg, lon_deg, altitude):
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.lists(st.floats(-8e6, 8e6), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 6.2e6))
+@given(
+    st.lists(st.floats(-8e6, 8e6), min_size=3, max_size=3).filter(
+        lambda v: np.linalg.norm(v) > 6.2e6
+    )
+)
 def test_ecef_round_trip_to_a_millimetre(position):
     lat, lon, alt = ecef_to_geodetic(position)
     assert np.linalg.norm(geodetic_to_ecef(lat, lon, alt) - np.array(position)) < 1e-3
@@ -204,11 +228,20 @@ def test_enu_matrix_is_local_east_north_up():
     [
         (lambda: earth_orientation("2015-01-19"), "time"),
         (lambda: earth_orientation(dt.date(2015, 1, 19)), "time"),
-        (lambda: earth_orientation(dt.datetime(2015, 1, 1), ut1_minus_utc=float("nan")), "ut1_minus_utc"),
+        (
+            lambda: earth_orientation(dt.datetime(2015, 1, 1), ut1_minus_utc=float("nan")),
+            "ut1_minus_utc",
+        ),
         (lambda: earth_orientation(dt.datetime(2015, 1, 1), polar_motion=(0.0,)), "polar_motion"),
-        (lambda: earth_orientation(dt.datetime(2015, 1, 1), precession_nutation="iau1976"), "iau2006a, iau2000b"),
+        (
+            lambda: earth_orientation(dt.datetime(2015, 1, 1), precession_nutation="iau1976"),
+            "iau2006a, iau2000b",
+        ),
         (lambda: eci_to_ecef(dt.datetime(2015, 1, 1), [1.0, 2.0]), "position_eci"),
-        (lambda: eci_to_ecef(dt.datetime(2015, 1, 1), [7e6, 0, 0], [0, float("nan"), 0]), "velocity_eci"),
+        (
+            lambda: eci_to_ecef(dt.datetime(2015, 1, 1), [7e6, 0, 0], [0, float("nan"), 0]),
+            "velocity_eci",
+        ),
         (lambda: ecef_to_eci(dt.datetime(2015, 1, 1), [7e6, 0, float("inf")]), "position_ecef"),
         (lambda: ecef_to_geodetic([7e6, "x", 0]), "position_ecef"),
         (lambda: geodetic_to_ecef(2.0, 0.0, 0.0), "latitude"),
@@ -239,7 +272,9 @@ def test_precession_nutation_step_is_accurate_and_order_independent():
     t = base + dt.timedelta(seconds=45.0)
     first = earth_orientation(t, precession_nutation_step=60.0).celestial_to_terrestrial.copy()
     earth_orientation(base + dt.timedelta(days=3), precession_nutation_step=60.0)
-    assert np.array_equal(first, earth_orientation(t, precession_nutation_step=60.0).celestial_to_terrestrial)
+    assert np.array_equal(
+        first, earth_orientation(t, precession_nutation_step=60.0).celestial_to_terrestrial
+    )
     with pytest.raises(ValueError, match="precession_nutation_step"):
         earth_orientation(t, precession_nutation_step=-1.0)
 
@@ -248,14 +283,22 @@ def test_precession_nutation_step_is_accurate_and_order_independent():
 def test_day_constants_are_erfa_julian_date_leap_seconds_and_day_of_year():
     from adbsat_ros.environment.time_scales import utc_day
 
-    for day in (dt.date(1972, 1, 1), dt.date(2016, 12, 31), dt.date(2017, 1, 1), dt.date(2024, 12, 31)):
+    for day in (
+        dt.date(1972, 1, 1),
+        dt.date(2016, 12, 31),
+        dt.date(2017, 1, 1),
+        dt.date(2024, 12, 31),
+    ):
         jd1, tt_minus_utc, day_of_year = utc_day(day.year, day.month, day.day)
         assert (jd1, 0.0) == erfa.dtf2d("UTC", day.year, day.month, day.day, 0, 0, 0.0)
-        assert tt_minus_utc * 86400.0 == pytest.approx(erfa.dat(day.year, day.month, day.day, 0.5) + 32.184,
-                                                       abs=1e-9)
+        assert tt_minus_utc * 86400.0 == pytest.approx(
+            erfa.dat(day.year, day.month, day.day, 0.5) + 32.184, abs=1e-9
+        )
         assert day_of_year == day.timetuple().tm_yday
     # 2016-12-31 ended with a leap second: TT - UTC grows by 1 s from the next day
-    assert (utc_day(2017, 1, 1)[1] - utc_day(2016, 12, 31)[1]) * 86400.0 == pytest.approx(1.0, abs=1e-9)
+    assert (utc_day(2017, 1, 1)[1] - utc_day(2016, 12, 31)[1]) * 86400.0 == pytest.approx(
+        1.0, abs=1e-9
+    )
 
 
 def test_enu_to_ecef_floats_equal_the_matrix_product():
@@ -265,7 +308,9 @@ def test_enu_to_ecef_floats_equal_the_matrix_product():
     for _ in range(50):
         lat, lon = rng.uniform(-math.pi / 2, math.pi / 2), rng.uniform(-math.pi, math.pi)
         wind = rng.normal(size=3) * 100.0
-        assert np.allclose(enu_to_ecef(lat, lon, *wind), enu_to_ecef_matrix(lat, lon) @ wind, rtol=0, atol=1e-12)
+        assert np.allclose(
+            enu_to_ecef(lat, lon, *wind), enu_to_ecef_matrix(lat, lon) @ wind, rtol=0, atol=1e-12
+        )
 
 
 @pytest.mark.parametrize("model", ["iau2006a", "iau2000b"])
@@ -275,8 +320,9 @@ def test_orientation_over_random_instants_equals_erfa_built_matrix(model):
     c2i = {"iau2006a": erfa.c2i06a, "iau2000b": erfa.c2i00b}[model]
     rng = np.random.default_rng(11)
     for _ in range(60):
-        time = dt.datetime(1972, 1, 1) + dt.timedelta(days=int(rng.integers(0, 128 * 365)),
-                                                      seconds=float(rng.uniform(0, 86400)))
+        time = dt.datetime(1972, 1, 1) + dt.timedelta(
+            days=int(rng.integers(0, 128 * 365)), seconds=float(rng.uniform(0, 86400))
+        )
         dut1 = float(rng.uniform(-0.9, 0.9))
         polar = tuple(rng.uniform(-0.5, 0.5, 2) * ARCSEC) if rng.random() < 0.5 else (0.0, 0.0)
         step = float(rng.choice([0.0, 1.0, 60.0, 3600.0]))
@@ -292,12 +338,25 @@ def test_orientation_over_random_instants_equals_erfa_built_matrix(model):
         else:
             q = c2i(t1, t2)
         w = np.eye(3) if polar == (0.0, 0.0) else erfa.pom00(polar[0], polar[1], erfa.sp00(t1, t2))
-        ours = earth_orientation(time, ut1_minus_utc=dut1, polar_motion=polar, precession_nutation=model,
-                                 precession_nutation_step=step)
-        assert np.abs(ours.celestial_to_terrestrial - erfa.c2tcio(q, erfa.era00(b1, b2), w)).max() < 1e-12
+        ours = earth_orientation(
+            time,
+            ut1_minus_utc=dut1,
+            polar_motion=polar,
+            precession_nutation=model,
+            precession_nutation_step=step,
+        )
+        assert (
+            np.abs(ours.celestial_to_terrestrial - erfa.c2tcio(q, erfa.era00(b1, b2), w)).max()
+            < 1e-12
+        )
         assert ours.earth_rotation_angle == pytest.approx(erfa.era00(b1, b2), abs=1e-12)
-        assert np.allclose(ours.rotation_vector_ecef, w @ [0.0, 0.0, EARTH_ROTATION_RATE], rtol=1e-12, atol=0)
-        assert not ours.celestial_to_terrestrial.flags.writeable and not ours.rotation_vector_ecef.flags.writeable
+        assert np.allclose(
+            ours.rotation_vector_ecef, w @ [0.0, 0.0, EARTH_ROTATION_RATE], rtol=1e-12, atol=0
+        )
+        assert (
+            not ours.celestial_to_terrestrial.flags.writeable
+            and not ours.rotation_vector_ecef.flags.writeable
+        )
 
 
 def test_float_geodetic_equals_erfa_gc2gd_bit_for_bit():
@@ -307,11 +366,20 @@ def test_float_geodetic_equals_erfa_gc2gd_bit_for_bit():
     direction = rng.normal(size=(20000, 3))
     radius = rng.uniform(6.2e6, 7.6e6, size=(20000, 1))
     positions = direction / np.linalg.norm(direction, axis=1, keepdims=True) * radius
-    special = np.array([
-        [6378137.0, 0.0, 0.0], [0.0, 0.0, 6356752.314245], [0.0, 0.0, -6.8e6], [1e-3, 0.0, 6.8e6],
-        [0.0, 0.0, 0.0], [-6.8e6, 0.0, 0.0], [0.0, -6.8e6, 1.0], [4.2e7, 1e3, -2e3], [1e-9, 1e-9, 1e-9],
-        [6.8e6, 0.0, -0.0],
-    ])
+    special = np.array(
+        [
+            [6378137.0, 0.0, 0.0],
+            [0.0, 0.0, 6356752.314245],
+            [0.0, 0.0, -6.8e6],
+            [1e-3, 0.0, 6.8e6],
+            [0.0, 0.0, 0.0],
+            [-6.8e6, 0.0, 0.0],
+            [0.0, -6.8e6, 1.0],
+            [4.2e7, 1e3, -2e3],
+            [1e-9, 1e-9, 1e-9],
+            [6.8e6, 0.0, -0.0],
+        ]
+    )
     for position in np.vstack([positions, special]):
         longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position)
         assert status == 0

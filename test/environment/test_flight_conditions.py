@@ -9,9 +9,7 @@ import numpy as np
 import pytest
 
 from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
-from adbsat_ros.physics.constants import AVOGADRO, BOLTZMANN, EARTH_MU, MOLAR_MASS_G
 from adbsat_ros.environment.earth_frames import EARTH_ROTATION_RATE, earth_orientation, ecef_to_eci
-from adbsat_ros.environment.geodetic import enu_to_ecef_matrix, geodetic_to_ecef
 from adbsat_ros.environment.flight_conditions import (
     FlightConditions,
     circular_orbit_speed,
@@ -19,6 +17,8 @@ from adbsat_ros.environment.flight_conditions import (
     flight_conditions_circular_orbit,
     interpolated_flight_conditions,
 )
+from adbsat_ros.environment.geodetic import enu_to_ecef_matrix, geodetic_to_ecef
+from adbsat_ros.physics.constants import AVOGADRO, BOLTZMANN, EARTH_MU, MOLAR_MASS_G
 from adbsat_ros.physics.freestream import FreeStream
 
 TIME = dt.datetime(2015, 1, 19, 6, 30)
@@ -58,7 +58,12 @@ def test_satellite_at_rest_in_ecef_has_no_relative_wind():
 
 
 def test_zero_relative_speed_does_not_crash_but_has_no_free_stream():
-    for model, options in (("langmuir", None), ("goodman", None), ("sesam", None), ("fixed", {"alpha": 0.9})):
+    for model, options in (
+        ("langmuir", None),
+        ("goodman", None),
+        ("sesam", None),
+        ("fixed", {"alpha": 0.9}),
+    ):
         conditions = at_rest_in_ecef(accommodation_model=model, accommodation_options=options)
         assert 0.0 < conditions.alpha <= 1.0
         assert conditions.flow_direction_ecef is None
@@ -105,8 +110,12 @@ def test_eci_and_ecef_relative_velocity_are_the_same_vector():
     velocity = np.array([5.0e3, 5.5e3, 0.5e3])
     conditions = flight_conditions(TIME, position, velocity, WEATHER, wind=[10.0, 20.0, 0.0])
     matrix = earth_orientation(TIME).celestial_to_terrestrial
-    assert np.allclose(matrix @ conditions.relative_velocity_eci, conditions.relative_velocity_ecef, atol=1e-9)
-    assert np.linalg.norm(conditions.relative_velocity_eci) == pytest.approx(conditions.speed, rel=1e-12)
+    assert np.allclose(
+        matrix @ conditions.relative_velocity_eci, conditions.relative_velocity_ecef, atol=1e-9
+    )
+    assert np.linalg.norm(conditions.relative_velocity_eci) == pytest.approx(
+        conditions.speed, rel=1e-12
+    )
 
 
 def test_free_stream_carries_the_conditions():
@@ -146,7 +155,9 @@ def test_circular_orbit_speed_as_adbsat():
     assert conditions.atmosphere == evaluate_atmosphere(PAPER_TIME, 400e3, 0.0, 0.0, WEATHER)
 
 
-@pytest.mark.parametrize("altitude, expected", [(100e3, 1.0), (200e3, 1.0), (300e3, 0.97), (400e3, 0.81)])
+@pytest.mark.parametrize(
+    "altitude, expected", [(100e3, 1.0), (200e3, 1.0), (300e3, 0.97), (400e3, 0.81)]
+)
 def test_validation_paper_langmuir_alphas(altitude, expected):
     conditions = flight_conditions_circular_orbit(PAPER_TIME, altitude, 0.0, 0.0, WEATHER)
     assert conditions.accommodation_model == "langmuir"
@@ -171,7 +182,9 @@ def test_timezone_aware_time_and_precomputed_orientation():
         assert a.atmosphere == other.atmosphere
     assert a.time == b.time and a.time.tzinfo is dt.timezone.utc
     with pytest.raises(ValueError, match="orientation"):
-        flight_conditions(TIME, position, velocity, WEATHER, orientation=earth_orientation(PAPER_TIME))
+        flight_conditions(
+            TIME, position, velocity, WEATHER, orientation=earth_orientation(PAPER_TIME)
+        )
 
 
 def test_results_are_read_only_and_do_not_alias_inputs():
@@ -214,7 +227,9 @@ def test_as_dict_is_strict_json_in_si_units():
     ],
 )
 def test_bad_inputs_name_the_input(kwargs, name):
-    args = dict(time=TIME, position=[6778e3, 0.0, 0.0], velocity=[0.0, 7668.0, 0.0], space_weather=WEATHER)
+    args = dict(
+        time=TIME, position=[6778e3, 0.0, 0.0], velocity=[0.0, 7668.0, 0.0], space_weather=WEATHER
+    )
     args.update(kwargs)
     with pytest.raises(ValueError, match=name):
         flight_conditions(**args)
@@ -247,7 +262,9 @@ def erfa_orientation(time, ut1_minus_utc, polar_motion, step, model="iau2006a"):
     seconds = naive.second + naive.microsecond * 1e-6
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", erfa.ErfaWarning)  # "dubious year" past ERFA's table
-        u1, u2 = erfa.dtf2d("UTC", naive.year, naive.month, naive.day, naive.hour, naive.minute, seconds)
+        u1, u2 = erfa.dtf2d(
+            "UTC", naive.year, naive.month, naive.day, naive.hour, naive.minute, seconds
+        )
         t1, t2 = erfa.taitt(*erfa.utctai(u1, u2))
         b1, b2 = erfa.utcut1(u1, u2, ut1_minus_utc)
     c2i = {"iau2006a": erfa.c2i06a, "iau2000b": erfa.c2i00b}[model]
@@ -261,11 +278,28 @@ def erfa_orientation(time, ut1_minus_utc, polar_motion, step, model="iau2006a"):
         polar = np.eye(3)  # no polar motion given: the TIRS, no TIO locator either (module notes)
     else:
         polar = erfa.pom00(polar_motion[0], polar_motion[1], erfa.sp00(t1, t2))
-    return erfa.c2tcio(q, erfa.era00(b1, b2), polar), polar @ np.array([0.0, 0.0, EARTH_ROTATION_RATE])
+    return erfa.c2tcio(q, erfa.era00(b1, b2), polar), polar @ np.array(
+        [0.0, 0.0, EARTH_ROTATION_RATE]
+    )
 
 
-def reference_conditions(time, position, velocity, weather, *, frame, earth_rotation, wind, wind_frame,
-                         anomalous_oxygen, model, options, ut1_minus_utc, polar_motion, step):
+def reference_conditions(
+    time,
+    position,
+    velocity,
+    weather,
+    *,
+    frame,
+    earth_rotation,
+    wind,
+    wind_frame,
+    anomalous_oxygen,
+    model,
+    options,
+    ut1_minus_utc,
+    polar_motion,
+    step,
+):
     """Flight conditions computed the plain way: pyerfa matrices, numpy 3-vectors, public checks."""
     import erfa
 
@@ -282,10 +316,16 @@ def reference_conditions(time, position, velocity, weather, *, frame, earth_rota
         r_eci = matrix.T @ r_ecef
         v_eci = matrix.T @ (v_ecef + np.cross(omega, r_ecef))
     lon, lat, alt = erfa.gc2gd(1, r_ecef)
-    atmosphere = evaluate_atmosphere(time, alt, lat, lon, weather, anomalous_oxygen=anomalous_oxygen)
+    atmosphere = evaluate_atmosphere(
+        time, alt, lat, lon, weather, anomalous_oxygen=anomalous_oxygen
+    )
     wind_ecef = np.zeros(3)
     if wind is not None:
-        wind_ecef = enu_to_ecef_matrix(lat, lon) @ np.asarray(wind) if wind_frame == "enu" else np.asarray(wind)
+        wind_ecef = (
+            enu_to_ecef_matrix(lat, lon) @ np.asarray(wind)
+            if wind_frame == "enu"
+            else np.asarray(wind)
+        )
     if earth_rotation:
         rel_ecef = v_ecef - wind_ecef
         rel_eci = matrix.T @ rel_ecef
@@ -293,13 +333,26 @@ def reference_conditions(time, position, velocity, weather, *, frame, earth_rota
         rel_eci = v_eci - matrix.T @ wind_ecef
         rel_ecef = matrix @ rel_eci
     speed = float(np.linalg.norm(rel_ecef))
-    flow = FreeStream(speed=speed, temperature=atmosphere.temperature,
-                      number_densities=atmosphere.mixture_number_densities, density=atmosphere.mass_density)
+    flow = FreeStream(
+        speed=speed,
+        temperature=atmosphere.temperature,
+        number_densities=atmosphere.mixture_number_densities,
+        density=atmosphere.mass_density,
+    )
     return dict(
-        position_eci=r_eci, position_ecef=r_ecef, velocity_eci=v_eci, velocity_ecef=v_ecef,
-        relative_velocity_eci=rel_eci, relative_velocity_ecef=rel_ecef, latitude=float(lat),
-        longitude=float(lon), altitude=float(alt), speed=speed, atmosphere=atmosphere,
-        alpha=accommodation(model, atmosphere, speed, **(options or {})), flow=flow,
+        position_eci=r_eci,
+        position_ecef=r_ecef,
+        velocity_eci=v_eci,
+        velocity_ecef=v_ecef,
+        relative_velocity_eci=rel_eci,
+        relative_velocity_ecef=rel_ecef,
+        latitude=float(lat),
+        longitude=float(lon),
+        altitude=float(alt),
+        speed=speed,
+        atmosphere=atmosphere,
+        alpha=accommodation(model, atmosphere, speed, **(options or {})),
+        flow=flow,
     )
 
 
@@ -310,13 +363,17 @@ def random_case(rng):
     take TAI - UTC at the instant, the module at noon (TT and UT1 then differ by up to 1 ms).
     """
     time = dt.datetime(1972, 1, 1) + dt.timedelta(
-        days=int(rng.integers(0, 128 * 365)), seconds=int(rng.integers(0, 86400)),
-        microseconds=int(rng.integers(0, 10**6)))
+        days=int(rng.integers(0, 128 * 365)),
+        seconds=int(rng.integers(0, 86400)),
+        microseconds=int(rng.integers(0, 10**6)),
+    )
     zone = rng.integers(0, 3)
     if zone == 1:
         time = time.replace(tzinfo=dt.timezone.utc)
     elif zone == 2:
-        time = time.replace(tzinfo=dt.timezone.utc).astimezone(dt.timezone(dt.timedelta(hours=5, minutes=30)))
+        time = time.replace(tzinfo=dt.timezone.utc).astimezone(
+            dt.timezone(dt.timedelta(hours=5, minutes=30))
+        )
     direction = rng.normal(size=3)
     position = direction / np.linalg.norm(direction) * rng.uniform(6.6e6, 7.2e6)
     velocity = rng.normal(size=3) * 5e3
@@ -327,12 +384,22 @@ def random_case(rng):
     arcsec = math.pi / 180 / 3600
     precise = rng.random() < 0.3
     return dict(
-        time=time, position=position if rng.random() < 0.8 else position.tolist(), velocity=velocity,
-        weather=SpaceWeather(f107=rng.uniform(60, 250), f107a=rng.uniform(60, 250), ap=rng.uniform(0, 50),
-                             ap_history=tuple(rng.uniform(0, 100, 7)) if rng.random() < 0.2 else None),
-        frame=("eci", "ecef")[rng.integers(0, 2)], earth_rotation=bool(rng.random() < 0.7), wind=wind,
-        wind_frame=("enu", "ecef")[rng.integers(0, 2)], anomalous_oxygen=bool(rng.random() < 0.7),
-        model=model, options={"alpha": float(rng.uniform(0, 1))} if model == "fixed" else None,
+        time=time,
+        position=position if rng.random() < 0.8 else position.tolist(),
+        velocity=velocity,
+        weather=SpaceWeather(
+            f107=rng.uniform(60, 250),
+            f107a=rng.uniform(60, 250),
+            ap=rng.uniform(0, 50),
+            ap_history=tuple(rng.uniform(0, 100, 7)) if rng.random() < 0.2 else None,
+        ),
+        frame=("eci", "ecef")[rng.integers(0, 2)],
+        earth_rotation=bool(rng.random() < 0.7),
+        wind=wind,
+        wind_frame=("enu", "ecef")[rng.integers(0, 2)],
+        anomalous_oxygen=bool(rng.random() < 0.7),
+        model=model,
+        options={"alpha": float(rng.uniform(0, 1))} if model == "fixed" else None,
         ut1_minus_utc=float(rng.uniform(-0.9, 0.9)) if precise else 0.0,
         polar_motion=tuple(rng.uniform(-0.5, 0.5, 2) * arcsec) if precise else (0.0, 0.0),
         step=(0.0, 60.0, 60.0, 1.0)[rng.integers(0, 4)],
@@ -352,20 +419,45 @@ def test_per_message_path_equals_plain_reference_over_random_states():
     for _ in range(300):
         case = random_case(rng)
         expected = reference_conditions(
-            case["time"], case["position"], case["velocity"], case["weather"], frame=case["frame"],
-            earth_rotation=case["earth_rotation"], wind=case["wind"], wind_frame=case["wind_frame"],
-            anomalous_oxygen=case["anomalous_oxygen"], model=case["model"], options=case["options"],
-            ut1_minus_utc=case["ut1_minus_utc"], polar_motion=case["polar_motion"], step=case["step"],
+            case["time"],
+            case["position"],
+            case["velocity"],
+            case["weather"],
+            frame=case["frame"],
+            earth_rotation=case["earth_rotation"],
+            wind=case["wind"],
+            wind_frame=case["wind_frame"],
+            anomalous_oxygen=case["anomalous_oxygen"],
+            model=case["model"],
+            options=case["options"],
+            ut1_minus_utc=case["ut1_minus_utc"],
+            polar_motion=case["polar_motion"],
+            step=case["step"],
         )
         actual = flight_conditions(
-            case["time"], case["position"], case["velocity"], case["weather"], frame=case["frame"],
-            earth_rotation=case["earth_rotation"], wind=case["wind"], wind_frame=case["wind_frame"],
-            anomalous_oxygen=case["anomalous_oxygen"], accommodation_model=case["model"],
-            accommodation_options=case["options"], ut1_minus_utc=case["ut1_minus_utc"],
-            polar_motion=case["polar_motion"], precession_nutation_step=case["step"],
+            case["time"],
+            case["position"],
+            case["velocity"],
+            case["weather"],
+            frame=case["frame"],
+            earth_rotation=case["earth_rotation"],
+            wind=case["wind"],
+            wind_frame=case["wind_frame"],
+            anomalous_oxygen=case["anomalous_oxygen"],
+            accommodation_model=case["model"],
+            accommodation_options=case["options"],
+            ut1_minus_utc=case["ut1_minus_utc"],
+            polar_motion=case["polar_motion"],
+            precession_nutation_step=case["step"],
         )
-        for name in ("position_eci", "position_ecef", "velocity_eci", "velocity_ecef",
-                     "relative_velocity_eci", "relative_velocity_ecef"):
+        for name in (
+            "position_eci",
+            "position_ecef",
+            "velocity_eci",
+            "velocity_ecef",
+            "relative_velocity_eci",
+            "relative_velocity_ecef",
+        ):
             assert_close_vector(getattr(actual, name), expected[name], name)
         assert actual.latitude == pytest.approx(expected["latitude"], abs=1e-12)
         assert actual.longitude == pytest.approx(expected["longitude"], abs=1e-12)
@@ -380,9 +472,13 @@ def test_per_message_path_equals_plain_reference_over_random_states():
         assert flow.species == reference_flow.species
         assert np.array_equal(flow.species_masses, reference_flow.species_masses)
         for name in ("species_number_densities", "speed", "temperature", "density"):
-            assert getattr(flow, name) == pytest.approx(getattr(reference_flow, name), rel=1e-12), name
+            assert getattr(flow, name) == pytest.approx(getattr(reference_flow, name), rel=1e-12), (
+                name
+            )
         assert flow.mean_mass == pytest.approx(reference_flow.mean_mass, rel=1e-12)
-        assert flow.dynamic_pressure() == pytest.approx(reference_flow.dynamic_pressure(), rel=1e-12)
+        assert flow.dynamic_pressure() == pytest.approx(
+            reference_flow.dynamic_pressure(), rel=1e-12
+        )
         assert actual.speed_ratio == pytest.approx(reference_flow.speed_ratio, rel=1e-12)
 
 
@@ -394,8 +490,14 @@ def test_free_stream_of_mixture_equals_the_checked_constructor():
     fast = FreeStream.of_mixture(7000.0, 900.0, species, values, 3e-12)
     checked = FreeStream(7000.0, 900.0, dict(zip(species, values)), density=3e-12)
     assert fast == checked
-    for name in ("species", "species_number_densities", "species_masses", "mean_mass", "mass_density",
-                 "speed_ratio"):
+    for name in (
+        "species",
+        "species_number_densities",
+        "species_masses",
+        "mean_mass",
+        "mass_density",
+        "speed_ratio",
+    ):
         assert np.array_equal(getattr(fast, name), getattr(checked, name)), name
     assert fast.dynamic_pressure() == checked.dynamic_pressure()
     assert fast.species_number_densities.dtype == np.float64
@@ -438,8 +540,12 @@ def test_free_stream_of_mixture_refuses_what_the_constructor_refuses(args, name)
     ],
 )
 def test_bad_per_message_inputs_name_the_input(kwargs, name):
-    args = dict(time=TIME, position=np.array([6778e3, 0.0, 0.0]), velocity=np.array([0.0, 7668.0, 0.0]),
-                space_weather=WEATHER)
+    args = dict(
+        time=TIME,
+        position=np.array([6778e3, 0.0, 0.0]),
+        velocity=np.array([0.0, 7668.0, 0.0]),
+        space_weather=WEATHER,
+    )
     args.update(kwargs)
     with pytest.raises(ValueError, match=name):
         flight_conditions(**args)
@@ -449,10 +555,15 @@ def test_other_array_types_give_the_same_conditions():
     position = np.array([6778e3, 1e3, 2e3])
     velocity = np.array([0.0, 7668.0, 10.0])
     a = flight_conditions(TIME, position, velocity, WEATHER)
-    for p, v in ((position.tolist(), tuple(velocity)), (position.astype(np.float32).astype(np.float64), velocity),
-                 (position.astype(np.int64), velocity.astype(np.float32).astype(np.float64))):
+    for p, v in (
+        (position.tolist(), tuple(velocity)),
+        (position.astype(np.float32).astype(np.float64), velocity),
+        (position.astype(np.int64), velocity.astype(np.float32).astype(np.float64)),
+    ):
         b = flight_conditions(TIME, p, v, WEATHER)
-        assert_close_vector(b.relative_velocity_ecef, a.relative_velocity_ecef, "relative", rel=1e-6)
+        assert_close_vector(
+            b.relative_velocity_ecef, a.relative_velocity_ecef, "relative", rel=1e-6
+        )
     b = flight_conditions(TIME, position.astype(np.float32), velocity.astype(np.float32), WEATHER)
     assert_close_vector(b.position_ecef, a.position_ecef, "position_ecef", rel=1e-7)
 
@@ -462,7 +573,9 @@ def per_message_case(rng):
     """A random case as the node passes it: an aware UTC time and float64 arrays."""
     case = random_case(rng)
     time = case["time"]
-    case["time"] = time.astimezone(dt.timezone.utc) if time.tzinfo else time.replace(tzinfo=dt.timezone.utc)
+    case["time"] = (
+        time.astimezone(dt.timezone.utc) if time.tzinfo else time.replace(tzinfo=dt.timezone.utc)
+    )
     case["position"] = np.array(case["position"], dtype=float)
     if case["wind"] is not None:
         case["wind"] = np.array(case["wind"], dtype=float)
@@ -471,11 +584,19 @@ def per_message_case(rng):
 
 def call(case, **changes):
     args = dict(
-        time=case["time"], position=case["position"], velocity=case["velocity"],
-        space_weather=case["weather"], frame=case["frame"], earth_rotation=case["earth_rotation"],
-        wind=case["wind"], wind_frame=case["wind_frame"], anomalous_oxygen=case["anomalous_oxygen"],
-        accommodation_model=case["model"], accommodation_options=case["options"],
-        ut1_minus_utc=case["ut1_minus_utc"], polar_motion=case["polar_motion"],
+        time=case["time"],
+        position=case["position"],
+        velocity=case["velocity"],
+        space_weather=case["weather"],
+        frame=case["frame"],
+        earth_rotation=case["earth_rotation"],
+        wind=case["wind"],
+        wind_frame=case["wind_frame"],
+        anomalous_oxygen=case["anomalous_oxygen"],
+        accommodation_model=case["model"],
+        accommodation_options=case["options"],
+        ut1_minus_utc=case["ut1_minus_utc"],
+        polar_motion=case["polar_motion"],
         precession_nutation_step=case["step"],
     )
     args.update(changes)
@@ -500,7 +621,9 @@ def test_per_message_fast_path_equals_the_checked_path_bit_for_bit(monkeypatch):
         case = per_message_case(rng)
         wind = None if case["wind"] is None else case["wind"].tolist()
         # the checked path (which remembers the options)
-        expected = call(case, position=case["position"].tolist(), velocity=case["velocity"].tolist(), wind=wind)
+        expected = call(
+            case, position=case["position"].tolist(), velocity=case["velocity"].tolist(), wind=wind
+        )
         with monkeypatch.context() as patch:
             patch.setattr(module, "_checked_flight_conditions", no_checked_path)
             actual = call(case)
@@ -526,12 +649,22 @@ def test_per_message_free_stream_equals_the_checked_constructor():
         atmosphere = conditions.atmosphere
         flow = conditions.free_stream()
         species = atmosphere.mixture_species
-        checked = FreeStream(conditions.speed, atmosphere.temperature,
-                             {name: atmosphere.number_densities[name] for name in species},
-                             density=atmosphere.mass_density)
+        checked = FreeStream(
+            conditions.speed,
+            atmosphere.temperature,
+            {name: atmosphere.number_densities[name] for name in species},
+            density=atmosphere.mass_density,
+        )
         assert flow == checked and flow.species == species
-        for name in ("species_number_densities", "species_masses", "mean_mass", "mass_density", "speed_ratio",
-                     "thermal_speed", "specific_gas_constant"):
+        for name in (
+            "species_number_densities",
+            "species_masses",
+            "mean_mass",
+            "mass_density",
+            "speed_ratio",
+            "thermal_speed",
+            "specific_gas_constant",
+        ):
             assert same_bits(getattr(flow, name), getattr(checked, name)), name
         assert same_bits(flow.mass_fractions(), checked.mass_fractions())
         assert same_bits(flow.species_speed_ratios(), checked.species_speed_ratios())
@@ -540,10 +673,16 @@ def test_per_message_free_stream_equals_the_checked_constructor():
         # the mean mass is summed in species order; numpy's dot and sum differ by rounding only
         n, m = checked.species_number_densities, checked.species_masses
         assert flow.mean_mass == pytest.approx(float(np.dot(n, m) / n.sum()), rel=1e-15, abs=0.0)
-        assert dataclasses.replace(flow, speed=2.0 * flow.speed).speed_ratio == 2.0 * flow.speed_ratio
+        assert (
+            dataclasses.replace(flow, speed=2.0 * flow.speed).speed_ratio == 2.0 * flow.speed_ratio
+        )
         # each free stream owns its number densities
         flow.number_densities["O"] = -1.0
-        assert conditions.free_stream().number_densities["O"] == atmosphere.number_densities["O"] >= 0.0
+        assert (
+            conditions.free_stream().number_densities["O"]
+            == atmosphere.number_densities["O"]
+            >= 0.0
+        )
 
 
 def test_per_message_conditions_behave_as_constructed_ones():
@@ -557,17 +696,27 @@ def test_per_message_conditions_behave_as_constructed_ones():
     first = flight_conditions(aware, position, velocity, WEATHER)
     conditions = flight_conditions(aware, position, velocity, WEATHER)  # the per-message path
     duplicate = copy.copy(conditions)
-    names = ("position_eci", "position_ecef", "velocity_eci", "velocity_ecef", "relative_velocity_eci",
-             "relative_velocity_ecef")
+    names = (
+        "position_eci",
+        "position_ecef",
+        "velocity_eci",
+        "velocity_ecef",
+        "relative_velocity_eci",
+        "relative_velocity_ecef",
+    )
     for name in names:
         value = getattr(conditions, name)
         assert isinstance(value, np.ndarray) and value.shape == (3,) and value.dtype == np.float64
         assert not value.flags.writeable and getattr(conditions, name) is value
         assert same_bits(value, getattr(first, name)) and same_bits(getattr(duplicate, name), value)
         assert not np.shares_memory(value, position) and not np.shares_memory(value, velocity)
-    assert same_bits(conditions.position_eci, position) and same_bits(conditions.velocity_eci, velocity)
+    assert same_bits(conditions.position_eci, position) and same_bits(
+        conditions.velocity_eci, velocity
+    )
     fresh = flight_conditions(aware, position, velocity, WEATHER)
-    assert same_bits([getattr(fresh, name) for name in names], [getattr(first, name) for name in names])
+    assert same_bits(
+        [getattr(fresh, name) for name in names], [getattr(first, name) for name in names]
+    )
     rebuilt = dataclasses.replace(flight_conditions(aware, position, velocity, WEATHER), speed=1.0)
     assert rebuilt.speed == 1.0 and same_bits(rebuilt.position_ecef, first.position_ecef)
     assert repr(flight_conditions(aware, position, velocity, WEATHER)) == repr(first)
@@ -579,19 +728,38 @@ def test_per_message_conditions_behave_as_constructed_ones():
 def test_remembered_options_never_skip_the_checks_of_bad_ones():
     aware = TIME.replace(tzinfo=dt.timezone.utc)
     position, velocity = np.array([6778e3, 0.0, 0.0]), np.array([0.0, 7668.0, 0.0])
-    good = flight_conditions(aware, position, velocity, WEATHER, frame="eci", precession_nutation_step=60.0)
+    good = flight_conditions(
+        aware, position, velocity, WEATHER, frame="eci", precession_nutation_step=60.0
+    )
     for _ in range(2):
         with pytest.raises(ValueError, match="frame"):
-            flight_conditions(aware, position, velocity, WEATHER, frame="gcrf", precession_nutation_step=60.0)
+            flight_conditions(
+                aware, position, velocity, WEATHER, frame="gcrf", precession_nutation_step=60.0
+            )
         with pytest.raises(ValueError, match="precession_nutation_step"):
             flight_conditions(aware, position, velocity, WEATHER, precession_nutation_step=7200.0)
         with pytest.raises(ValueError, match="alpha"):
-            flight_conditions(aware, position, velocity, WEATHER, accommodation_model="fixed",
-                              accommodation_options={"alpha": 1.5})
+            flight_conditions(
+                aware,
+                position,
+                velocity,
+                WEATHER,
+                accommodation_model="fixed",
+                accommodation_options={"alpha": 1.5},
+            )
         with pytest.raises(ValueError, match="space_weather"):
-            flight_conditions(aware, position, velocity, (121.7, 138.1, 4.0), precession_nutation_step=60.0)
-    again = flight_conditions(aware, position, velocity, WEATHER, frame="ECI", polar_motion=[0.0, 0.0],
-                              precession_nutation_step=60)
+            flight_conditions(
+                aware, position, velocity, (121.7, 138.1, 4.0), precession_nutation_step=60.0
+            )
+    again = flight_conditions(
+        aware,
+        position,
+        velocity,
+        WEATHER,
+        frame="ECI",
+        polar_motion=[0.0, 0.0],
+        precession_nutation_step=60,
+    )
     assert same_bits(again.relative_velocity_eci, good.relative_velocity_eci)
     import adbsat_ros.environment.flight_conditions as module
 
@@ -604,13 +772,22 @@ def test_remembered_options_never_skip_the_checks_of_bad_ones():
 def _orbit_point(rng, radius, radial_speed):
     """A point on a random inclined circular orbit, with a radial velocity added [m, m/s]."""
     theta, inclination = rng.uniform(0.0, 2.0 * math.pi), rng.uniform(0.0, math.pi)
-    along = np.array([math.cos(theta), math.sin(theta) * math.cos(inclination),
-                      math.sin(theta) * math.sin(inclination)])
-    across = np.array([-math.sin(theta), math.cos(theta) * math.cos(inclination),
-                       math.cos(theta) * math.sin(inclination)])
+    along = np.array(
+        [
+            math.cos(theta),
+            math.sin(theta) * math.cos(inclination),
+            math.sin(theta) * math.sin(inclination),
+        ]
+    )
+    across = np.array(
+        [
+            -math.sin(theta),
+            math.cos(theta) * math.cos(inclination),
+            math.cos(theta) * math.sin(inclination),
+        ]
+    )
     speed = math.sqrt(EARTH_MU / radius)
     return radius * along, speed * across + radial_speed * along
-
 
 
 @pytest.mark.parametrize("step, density_rel", [(0.01, 1e-8), (0.1, 1e-6)])
@@ -626,10 +803,13 @@ def test_interpolated_conditions_match_the_exact_ones_between_two_knots(step, de
         position, velocity = _orbit_point(rng, 6378137.0 + 350e3, rng.uniform(-150.0, 150.0))
         t0 = start + dt.timedelta(seconds=float(rng.uniform(0.0, 86400.0)))
         a = flight_conditions(t0, position, velocity, weather)
-        b = flight_conditions(t0 + dt.timedelta(seconds=step), position + velocity * step, velocity, weather)
+        b = flight_conditions(
+            t0 + dt.timedelta(seconds=step), position + velocity * step, velocity, weather
+        )
         f = float(rng.uniform())
-        exact = flight_conditions(t0 + dt.timedelta(seconds=f * step), position + velocity * (f * step),
-                                  velocity, weather)
+        exact = flight_conditions(
+            t0 + dt.timedelta(seconds=f * step), position + velocity * (f * step), velocity, weather
+        )
         mixed = interpolated_flight_conditions(a, b, f, exact.time)
         assert mixed.time == exact.time
         assert mixed.mass_density == pytest.approx(exact.mass_density, rel=density_rel)
@@ -637,14 +817,20 @@ def test_interpolated_conditions_match_the_exact_ones_between_two_knots(step, de
         assert mixed.speed_ratio == pytest.approx(exact.speed_ratio, rel=density_rel / 10)
         assert mixed.speed == pytest.approx(exact.speed, rel=1e-10)
         assert mixed.alpha == pytest.approx(exact.alpha, rel=density_rel)
-        assert mixed.mean_molecular_mass == pytest.approx(exact.mean_molecular_mass, rel=density_rel)
+        assert mixed.mean_molecular_mass == pytest.approx(
+            exact.mean_molecular_mass, rel=density_rel
+        )
         # positions are linear in time; the ECEF ones differ by the exact path's UTC rounding to 1 us
         np.testing.assert_allclose(mixed.position_eci, exact.position_eci, rtol=0, atol=1e-6)
         np.testing.assert_allclose(mixed.position_ecef, exact.position_ecef, rtol=0, atol=2e-3)
-        np.testing.assert_allclose(mixed.relative_velocity_eci, exact.relative_velocity_eci, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(
+            mixed.relative_velocity_eci, exact.relative_velocity_eci, rtol=0, atol=1e-9
+        )
         assert mixed.altitude == pytest.approx(exact.altitude, abs=0.02)
         assert mixed.latitude == pytest.approx(exact.latitude, abs=1e-8)
-        assert math.remainder(mixed.longitude - exact.longitude, 2 * math.pi) == pytest.approx(0.0, abs=1e-7)
+        assert math.remainder(mixed.longitude - exact.longitude, 2 * math.pi) == pytest.approx(
+            0.0, abs=1e-7
+        )
         flow = mixed.free_stream()  # a free stream of the interpolated gas
         assert flow.density == mixed.mass_density and flow.temperature == mixed.temperature
 
@@ -660,11 +846,19 @@ def test_interpolated_conditions_defer_what_a_wrench_does_not_read_and_agree_wit
     for case in range(12):
         position, velocity = _orbit_point(rng, 6378137.0 + 350e3, rng.uniform(-150.0, 150.0))
         model = ("fixed", "langmuir", "sesam")[case % 3]
-        options = dict(anomalous_oxygen=bool(case % 2), accommodation_model=model,
-                       accommodation_options={"alpha": 0.9} if model == "fixed" else None)
+        options = dict(
+            anomalous_oxygen=bool(case % 2),
+            accommodation_model=model,
+            accommodation_options={"alpha": 0.9} if model == "fixed" else None,
+        )
         a = flight_conditions(TIME, position, velocity, weather, **options)
-        b = flight_conditions(TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather,
-                              **options)
+        b = flight_conditions(
+            TIME + dt.timedelta(seconds=0.01),
+            position + 0.01 * velocity,
+            velocity,
+            weather,
+            **options,
+        )
         f = float(rng.uniform(0.01, 0.99))
         first, second = (interpolated_flight_conditions(a, b, f, TIME) for _ in range(2))
         assert "atmosphere" not in first.__dict__ and "latitude" not in first.__dict__  # deferred
@@ -672,14 +866,28 @@ def test_interpolated_conditions_defer_what_a_wrench_does_not_read_and_agree_wit
         speed, alpha = first.speed, first.alpha
         relative = (first.relative_velocity_floats("eci"), first.relative_velocity_floats("ecef"))
         atmosphere = first.atmosphere  # now the deferred fields
-        reference = FreeStream.of_mixture(speed, atmosphere.temperature, atmosphere.mixture_species,
-                                          atmosphere._mixture_densities, atmosphere.mass_density)
-        for name in ("speed", "temperature", "density", "mean_mass", "speed_ratio", "number_densities"):
+        reference = FreeStream.of_mixture(
+            speed,
+            atmosphere.temperature,
+            atmosphere.mixture_species,
+            atmosphere._mixture_densities,
+            atmosphere.mass_density,
+        )
+        for name in (
+            "speed",
+            "temperature",
+            "density",
+            "mean_mass",
+            "speed_ratio",
+            "number_densities",
+        ):
             assert getattr(flow, name) == getattr(reference, name), name
         assert first.mean_molecular_mass == atmosphere.mean_mass
         ex, ey, ez = first.relative_velocity_ecef.tolist()
         assert speed == math.sqrt(ex * ex + ey * ey + ez * ez)
-        assert first.speed_ratio == speed / math.sqrt(2.0 * BOLTZMANN * atmosphere.temperature / atmosphere.mean_mass)
+        assert first.speed_ratio == speed / math.sqrt(
+            2.0 * BOLTZMANN * atmosphere.temperature / atmosphere.mean_mass
+        )
         assert relative == (tuple(first.relative_velocity_eci.tolist()), (ex, ey, ez))
         with pytest.raises(ValueError):
             first.relative_velocity_floats("enu")  # not a frame of the conditions
@@ -713,14 +921,26 @@ def test_interpolation_takes_the_short_way_round_the_antimeridian():
     position = np.array([-r, 1.0, 0.0])  # just east of -180 deg in ECEF, moving west across it
     velocity = np.array([0.0, -v, 0.0])
     a = flight_conditions(TIME, position, velocity, weather, frame="ecef")
-    b = flight_conditions(TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather,
-                          frame="ecef")
+    b = flight_conditions(
+        TIME + dt.timedelta(seconds=0.01),
+        position + 0.01 * velocity,
+        velocity,
+        weather,
+        frame="ecef",
+    )
     assert a.longitude > 3.0 and b.longitude < -3.0  # the two knots on either side of +-180 deg
-    exact = flight_conditions(TIME + dt.timedelta(seconds=0.005), position + 0.005 * velocity, velocity,
-                              weather, frame="ecef")
+    exact = flight_conditions(
+        TIME + dt.timedelta(seconds=0.005),
+        position + 0.005 * velocity,
+        velocity,
+        weather,
+        frame="ecef",
+    )
     mixed = interpolated_flight_conditions(a, b, 0.5, exact.time)
     assert abs(mixed.longitude) > 3.14  # not the mean of +pi and -pi, which would be 0
-    assert math.remainder(mixed.longitude - exact.longitude, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+    assert math.remainder(mixed.longitude - exact.longitude, 2 * math.pi) == pytest.approx(
+        0.0, abs=1e-9
+    )
     assert -math.pi <= mixed.longitude <= math.pi
     assert mixed.mass_density == pytest.approx(exact.mass_density, rel=1e-9)
 
@@ -733,15 +953,27 @@ def test_interpolation_over_a_pole_keeps_the_geodetic_position_exact():
     position = np.array([-30.0, 0.0, r])  # 30 m short of the north pole, moving over it along +x
     velocity = np.array([v, 0.0, 0.0])
     a = flight_conditions(TIME, position, velocity, weather, frame="ecef")
-    b = flight_conditions(TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather,
-                          frame="ecef")
+    b = flight_conditions(
+        TIME + dt.timedelta(seconds=0.01),
+        position + 0.01 * velocity,
+        velocity,
+        weather,
+        frame="ecef",
+    )
     assert abs(math.remainder(a.longitude - b.longitude, 2 * math.pi)) == pytest.approx(math.pi)
     for f in (0.1, 0.3, 0.6):
-        exact = flight_conditions(TIME + dt.timedelta(seconds=0.01 * f), position + 0.01 * f * velocity,
-                                  velocity, weather, frame="ecef")
+        exact = flight_conditions(
+            TIME + dt.timedelta(seconds=0.01 * f),
+            position + 0.01 * f * velocity,
+            velocity,
+            weather,
+            frame="ecef",
+        )
         mixed = interpolated_flight_conditions(a, b, f, exact.time)
         assert mixed.latitude == pytest.approx(exact.latitude, abs=1e-12)
-        assert math.remainder(mixed.longitude - exact.longitude, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+        assert math.remainder(mixed.longitude - exact.longitude, 2 * math.pi) == pytest.approx(
+            0.0, abs=1e-9
+        )
         assert mixed.altitude == pytest.approx(exact.altitude, abs=1e-6)
 
 
@@ -749,15 +981,23 @@ def test_interpolation_ends_are_the_knots_and_mixed_options_are_refused():
     weather = SpaceWeather(150.0, 150.0, 4.0)
     position, velocity = np.array([6378137.0 + 350e3, 0.0, 0.0]), np.array([0.0, 7700.0, 0.0])
     a = flight_conditions(TIME, position, velocity, weather)
-    b = flight_conditions(TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather)
+    b = flight_conditions(
+        TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather
+    )
     for weight, end in ((0.0, a), (1.0, b)):
         mixed = interpolated_flight_conditions(a, b, weight, end.time)
         assert mixed.mass_density == end.mass_density
         assert mixed.atmosphere.number_densities == end.atmosphere.number_densities
         assert mixed.speed_ratio == pytest.approx(end.speed_ratio, rel=1e-15)
         np.testing.assert_allclose(mixed.position_eci, end.position_eci, rtol=1e-15)
-    other = flight_conditions(TIME, position, velocity, weather, accommodation_model="fixed",
-                              accommodation_options={"alpha": 0.9})
+    other = flight_conditions(
+        TIME,
+        position,
+        velocity,
+        weather,
+        accommodation_model="fixed",
+        accommodation_options={"alpha": 0.9},
+    )
     with pytest.raises(ValueError, match="different options"):
         interpolated_flight_conditions(a, other, 0.5, TIME)
 
@@ -779,8 +1019,13 @@ def test_nrlmsise00_steps_at_300_km_and_interpolation_stays_between_the_knots():
     down = -position / np.linalg.norm(position)
     velocity = 0.1 * down / 0.01  # 10 cm per 10 ms, straight down (ECEF, at rest otherwise)
     a = flight_conditions(TIME, position, velocity, weather, frame="ecef")
-    b = flight_conditions(TIME + dt.timedelta(seconds=0.01), position + 0.01 * velocity, velocity, weather,
-                          frame="ecef")
+    b = flight_conditions(
+        TIME + dt.timedelta(seconds=0.01),
+        position + 0.01 * velocity,
+        velocity,
+        weather,
+        frame="ecef",
+    )
     assert a.altitude > 300e3 > b.altitude
     for f in (0.25, 0.5, 0.75):
         mixed = interpolated_flight_conditions(a, b, f, TIME)

@@ -59,11 +59,14 @@ def test_a_settings_change_recomputes_the_conditions():
     est = estimator()
     est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
     quiet = est.on_attitude(1.0, TILTED)
-    est.apply_settings(WrenchSettings.from_parameters(
-        dict(est.settings.as_parameters(), f107=250.0, f107a=250.0)))
+    est.apply_settings(
+        WrenchSettings.from_parameters(dict(est.settings.as_parameters(), f107=250.0, f107a=250.0))
+    )
     active = est.on_attitude(1.0, TILTED)
     assert active.conditions.mass_density > 1.5 * quiet.conditions.mass_density
-    np.testing.assert_array_equal(active.force, fresh_sample(1.0, 1.0, TILTED, f107=250.0, f107a=250.0).force)
+    np.testing.assert_array_equal(
+        active.force, fresh_sample(1.0, 1.0, TILTED, f107=250.0, f107a=250.0).force
+    )
 
 
 @pytest.mark.parametrize("step", [0.01, 0.0])
@@ -92,7 +95,9 @@ def test_prepare_readies_that_stamp_only_and_changes_no_result(step):
     assert est.prepare(1.015)
     irregular = est.on_attitude(1.0143, TILTED)  # not the prepared stamp: computed as usual
     assert est.prepared_used == 1
-    np.testing.assert_array_equal(irregular.force, fresh_sample(1.0143, 1.0, TILTED, conditions_step=step).force)
+    np.testing.assert_array_equal(
+        irregular.force, fresh_sample(1.0143, 1.0, TILTED, conditions_step=step).force
+    )
     assert not est.prepare(2.5)  # beyond the state time-out
     assert sum(est.rejections.values()) == 0  # preparing counts nothing
 
@@ -106,12 +111,16 @@ def test_prepare_evaluates_the_knot_after_next_so_that_a_burst_into_the_next_int
     prepared, plain = estimator(), estimator()
     for est in (prepared, plain):
         est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
-    for k in range(6):  # 1.000 .. 1.005, each followed by prepare of the next stamp, as the node does
+    for k in range(
+        6
+    ):  # 1.000 .. 1.005, each followed by prepare of the next stamp, as the node does
         stamp = 1.0 + 0.001 * k
         prepared.on_attitude(stamp, TILTED)
         plain.on_attitude(stamp, TILTED)
         assert prepared.prepare(stamp + 0.001)
-    assert prepared.knots_evaluated == 3 and plain.knots_evaluated == 2  # knots 100, 101 (+102 ahead)
+    assert (
+        prepared.knots_evaluated == 3 and plain.knots_evaluated == 2
+    )  # knots 100, 101 (+102 ahead)
     burst = [(1.006 + 0.001 * k, TILTED) for k in range(8)]  # 1.006 .. 1.013
     before = prepared.knots_evaluated, plain.knots_evaluated
     together, reference = prepared.on_attitudes(burst), plain.on_attitudes(burst)
@@ -120,7 +129,9 @@ def test_prepare_evaluates_the_knot_after_next_so_that_a_burst_into_the_next_int
     for a, b in zip(together, reference):
         np.testing.assert_array_equal(a.force, b.force)
         np.testing.assert_array_equal(a.torque, b.torque)
-    assert prepared.prepare(1.014) and prepared.knots_evaluated == before[0] + 1  # the next one ahead: 103
+    assert (
+        prepared.prepare(1.014) and prepared.knots_evaluated == before[0] + 1
+    )  # the next one ahead: 103
 
 
 @pytest.mark.parametrize("period_ns", [10_000_000, 1_000_000, 3_333_333, 999_999_999])
@@ -130,8 +141,13 @@ def test_next_regular_stamp_is_bit_equal_to_the_next_message_stamp(period_ns, st
 
     from adbsat_ros.estimator.estimator import next_regular_stamp, stamp_seconds
 
-    stamps = [Time(sec=(start_s * 10**9 + k * period_ns) // 10**9, nanosec=(start_s * 10**9 + k * period_ns) % 10**9)
-              for k in range(300)]
+    stamps = [
+        Time(
+            sec=(start_s * 10**9 + k * period_ns) // 10**9,
+            nanosec=(start_s * 10**9 + k * period_ns) % 10**9,
+        )
+        for k in range(300)
+    ]
     for previous, latest, following in zip(stamps, stamps[1:], stamps[2:]):
         assert next_regular_stamp(previous, latest) == stamp_seconds(following)
     assert next_regular_stamp(stamps[1], stamps[1]) is None
@@ -157,8 +173,12 @@ def test_conditions_between_knots_are_interpolated_within_1e_9_of_the_exact_ones
         assert a.conditions.mass_density == pytest.approx(b.conditions.mass_density, rel=1e-9)
         assert a.conditions.speed_ratio == pytest.approx(b.conditions.speed_ratio, rel=1e-10)
         np.testing.assert_allclose(a.force, b.force, rtol=2e-9)
-        np.testing.assert_allclose(a.torque, b.torque, rtol=2e-9, atol=1e-9 * np.abs(b.torque).max())
-        np.testing.assert_allclose(a.conditions.position_eci, b.conditions.position_eci, rtol=0, atol=1e-6)
+        np.testing.assert_allclose(
+            a.torque, b.torque, rtol=2e-9, atol=1e-9 * np.abs(b.torque).max()
+        )
+        np.testing.assert_allclose(
+            a.conditions.position_eci, b.conditions.position_eci, rtol=0, atol=1e-6
+        )
 
 
 def test_interpolated_conditions_depend_on_the_stamp_and_state_only():
@@ -218,9 +238,15 @@ def test_compute_time_percentiles_are_nearest_rank_from_arrays_and_sequences():
     for given in (times, deque(times.tolist(), maxlen=2000), times[:1]):
         values = est.diagnostic_values(None, given)
         expected = (50.0, 99.0, 100.0) if len(given) == 100 else (times[0],) * 3
-        assert (values["compute_ms_p50"], values["compute_ms_p99"], values["compute_ms_max"]) == expected
+        assert (
+            values["compute_ms_p50"],
+            values["compute_ms_p99"],
+            values["compute_ms_max"],
+        ) == expected
     assert "compute_ms_p50" not in est.diagnostic_values(None, np.zeros(0))
-    np.testing.assert_array_equal(times, np.random.default_rng(3).permutation(np.arange(1.0, 101.0)))  # untouched
+    np.testing.assert_array_equal(
+        times, np.random.default_rng(3).permutation(np.arange(1.0, 101.0))
+    )  # untouched
 
 
 def test_unix_stamps_on_whole_steps_land_on_knots():
@@ -232,7 +258,9 @@ def test_unix_stamps_on_whole_steps_land_on_knots():
     for est in (knots, exact):
         est.on_state(t0, [R, 0.0, 1e3], [0.0, V, 10.0])
     for k in range(1, 10):
-        stamp = (1_767_225_600_000_000_000 + k * 10_000_000) * 1e-9  # as stamp_seconds() of a 10 ms stream
+        stamp = (
+            1_767_225_600_000_000_000 + k * 10_000_000
+        ) * 1e-9  # as stamp_seconds() of a 10 ms stream
         a, b = knots.on_attitude(stamp, TILTED), exact.on_attitude(stamp, TILTED)
         assert len(knots._knots[2]) == min(k, 4)  # a new knot per message, none beside it
         # the knot is evaluated at j x 10 ms, the exact path at the stamp itself: both the same
@@ -241,7 +269,9 @@ def test_unix_stamps_on_whole_steps_land_on_knots():
         assert a.conditions.time == b.conditions.time == a.time
     off = knots.on_attitude(t0 + 0.095, TILTED)  # between knots 9 and 10
     reference = exact.on_attitude(t0 + 0.095, TILTED).force
-    np.testing.assert_allclose(off.force, reference, rtol=2e-9, atol=2e-9 * np.linalg.norm(reference))
+    np.testing.assert_allclose(
+        off.force, reference, rtol=2e-9, atol=2e-9 * np.linalg.norm(reference)
+    )
     assert len(knots._knots[2]) == 4
 
 
@@ -249,16 +279,29 @@ def _wrench_fields(result):
     """What a message's result publishes, for exact comparison (a Rejection by its reason)."""
     if isinstance(result, Rejection):
         return ("rejected", result.reason)
-    return ("wrench", result.stamp, result.force.tolist(), result.torque.tolist(),
-            result.force_coefficients.tolist(), result.moment_coefficients.tolist(), result.shading_cache_hit)
+    return (
+        "wrench",
+        result.stamp,
+        result.force.tolist(),
+        result.torque.tolist(),
+        result.force_coefficients.tolist(),
+        result.moment_coefficients.tolist(),
+        result.shading_cache_hit,
+    )
 
 
-@pytest.mark.parametrize("overrides, stacked", [
-    (dict(shading="raycast"), True),  # sentman, facets, cached shading
-    (dict(shading="raycast", accommodation_model="sesam", gsi_model="maxwell"), True),  # alpha per stamp
-    (dict(gsi_model="schaaf", conditions_step=0.0), True),
-    (dict(gsi_model="cll"), False),  # a species model: one coefficients call per message
-])
+@pytest.mark.parametrize(
+    "overrides, stacked",
+    [
+        (dict(shading="raycast"), True),  # sentman, facets, cached shading
+        (
+            dict(shading="raycast", accommodation_model="sesam", gsi_model="maxwell"),
+            True,
+        ),  # alpha per stamp
+        (dict(gsi_model="schaaf", conditions_step=0.0), True),
+        (dict(gsi_model="cll"), False),  # a species model: one coefficients call per message
+    ],
+)
 def test_attitudes_taken_together_give_each_message_its_own_result_bit_for_bit(overrides, stacked):
     """on_attitudes over bursts equals on_attitude message by message: samples, rejections
     (a NaN, a non-unit quaternion, time going back, which resets the state) and counters."""
@@ -271,7 +314,10 @@ def test_attitudes_taken_together_give_each_message_its_own_result_bit_for_bit(o
         messages.append((1.0 + 0.001 * k, [v / norm for v in q]))
     messages[7] = (messages[7][0], [math.nan, 0.0, 0.0, 1.0])
     messages[19] = (messages[19][0], [0.0, 0.0, 0.0, 2.0])
-    messages[41] = (1.0, messages[41][1])  # back in time: history reset, the next ones have no state
+    messages[41] = (
+        1.0,
+        messages[41][1],
+    )  # back in time: history reset, the next ones have no state
     states = {0: 1.0, 30: 1.03, 50: 1.05}  # message index -> state stamp, given before that message
 
     def state(est, stamp):
@@ -299,9 +345,17 @@ def test_attitudes_taken_together_give_each_message_its_own_result_bit_for_bit(o
         k = end
     assert [_wrench_fields(r) for r in got] == [_wrench_fields(r) for r in expected]
     assert together.rejections == one_by_one.rejections
-    assert together.published == one_by_one.published == sum(isinstance(r, Rejection) is False for r in expected)
+    assert (
+        together.published
+        == one_by_one.published
+        == sum(isinstance(r, Rejection) is False for r in expected)
+    )
     assert {r.reason for r in expected if isinstance(r, Rejection)} == {
-        "non_finite", "bad_quaternion", "time_backwards", "no_state"}
+        "non_finite",
+        "bad_quaternion",
+        "time_backwards",
+        "no_state",
+    }
     assert sum(isinstance(r, Rejection) for r in expected) < 20  # most messages made wrenches
     if stacked:  # the panel method ran once per burst; only a burst of one took one direction alone
         assert len(single_calls) < together.published / 3

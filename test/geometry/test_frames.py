@@ -26,4 +26,6 @@ def test_quaternion_matrix_equals_scipy(x, y, z, w):
 
 def test_quaternion_matrix_turns_x_to_y_for_90_degrees_about_z():
     h = np.sqrt(0.5)
-    np.testing.assert_allclose(quaternion_matrix(0.0, 0.0, h, h) @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-15)
+    np.testing.assert_allclose(
+        quaternion_matrix(0.0, 0.0, h, h) @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-15
+    )

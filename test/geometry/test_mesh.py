@@ -7,8 +7,8 @@ import pytest
 import trimesh
 
 from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
-from adbsat_ros.geometry.mesh import MeshError, panels_from_arrays
 from adbsat_ros.geometry.loading import load_mesh, resolve_mesh
+from adbsat_ros.geometry.mesh import MeshError, panels_from_arrays
 
 BOX = trimesh.creation.box(extents=(1.0, 2.0, 3.0))
 BOX_AREA = 2 * (1 * 2 + 2 * 3 + 1 * 3)
@@ -44,7 +44,12 @@ def test_obj_usemtl_groups_become_named_materials(tmp_path):
     # a unit tetrahedron with a quad-free mix of face syntaxes and three usemtl runs
     text = "\n".join(
         [
-            "v 0 0 0", "v 1 0 0", "v 0 1 0", "v 0 0 1", "vn 0 0 1", "vt 0 0",
+            "v 0 0 0",
+            "v 1 0 0",
+            "v 0 1 0",
+            "v 0 0 1",
+            "vn 0 0 1",
+            "vt 0 0",
             "f 1 3 2",
             "usemtl hull",
             "f 1/1 2/1 4/1",
@@ -58,7 +63,12 @@ def test_obj_usemtl_groups_become_named_materials(tmp_path):
     path.write_text(text + "\n")
     mesh = load_mesh(path)
     assert mesh.material_names == ("default", "hull", "radiator")
-    assert [mesh.material_names[i] for i in mesh.material_index] == ["default", "hull", "radiator", "hull"]
+    assert [mesh.material_names[i] for i in mesh.material_index] == [
+        "default",
+        "hull",
+        "radiator",
+        "hull",
+    ]
     # face order kept: the last face is the slanted one with normal (1,1,1)/sqrt(3)
     assert np.allclose(mesh.normals[3], np.ones(3) / np.sqrt(3))
 
@@ -67,9 +77,9 @@ def test_obj_quads_are_triangulated_with_their_material(tmp_path):
     v = BOX.vertices
     lines = [f"v {x} {y} {z}" for x, y, z in v]
     lines.append("usemtl a")
-    lines += [f"f {f[0]+1} {f[1]+1} {f[2]+1}" for f in BOX.faces[:6]]
+    lines += [f"f {f[0] + 1} {f[1] + 1} {f[2] + 1}" for f in BOX.faces[:6]]
     lines.append("usemtl b")
-    lines += [f"f {f[0]+1} {f[1]+1} {f[2]+1}" for f in BOX.faces[6:]]
+    lines += [f"f {f[0] + 1} {f[1] + 1} {f[2] + 1}" for f in BOX.faces[6:]]
     path = tmp_path / "box.obj"
     path.write_text("\n".join(lines) + "\n")
     mesh = load_mesh(path)

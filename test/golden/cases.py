@@ -20,8 +20,16 @@ import numpy as np
 import trimesh
 
 FLOW = ["--speed", "7700", "--temperature", "900", "--mean-mass", "16", "--density", "3e-11"]
-SPECIES = ["--speed", "7650", "--temperature", "1000",
-           "--species", "He=1e12,O=4e15,N2=8e14,O2=4e13,Ar=1e10,H=2e11,N=3e12", "--density", "2e-11"]
+SPECIES = [
+    "--speed",
+    "7650",
+    "--temperature",
+    "1000",
+    "--species",
+    "He=1e12,O=4e15,N2=8e14,O2=4e13,Ar=1e10,H=2e11,N=3e12",
+    "--density",
+    "2e-11",
+]
 ANGLES = ["--aoa=-40,0,25,90", "--aos=-10,0,30"]
 
 
@@ -45,57 +53,229 @@ def write_meshes(folder: Path) -> dict:
 
 #: coeff cases: (name, mesh key or "example", options)
 COEFF_CASES = (
-    ("example_sentman_raycast", "example", ["--gsim", "sentman", "--shading", "raycast", *ANGLES, *FLOW]),
-    ("example_newton_projection", "example", ["--gsim", "newton", "--shading", "projection", *ANGLES, *FLOW]),
-    ("example_dria_raycast_materials", "example",
-     ["--gsim", "dria", "--shading", "raycast", "--alpha", "0.9",
-      "--material", "solar_array:alpha=0.7,wall_temperature=350", *ANGLES, *SPECIES]),
-    ("box_cook_none", "box", ["--gsim", "cook", "--alpha", "0.8", "--shading", "none", *ANGLES, *FLOW]),
-    ("box_schaaf_perpanel", "box",
-     ["--gsim", "schaaf", "--sigma-n", "0.9", "--sigma-t", "0.8", "--shading", "none", "--per-panel",
-      "--moment-ref", "0.1,0.2,-0.3", *ANGLES, *FLOW]),
-    ("box_storch_none", "box", ["--gsim", "storch", "--sigma-n", "0.85", "--shading", "none", *ANGLES, *FLOW]),
-    ("sphere_cll_none", "sphere",
-     ["--gsim", "cll", "--alpha-n", "0.9", "--sigma-t", "0.95", "--shading", "none", *ANGLES, *SPECIES]),
-    ("sphere_maxwell_compat", "sphere",
-     ["--gsim", "maxwell", "--alpha", "0.9", "--adbsat-compat", "--shading", "none", *ANGLES, *FLOW]),
-    ("sphere_sentman_kinetic", "sphere",
-     ["--gsim", "sentman", "--incident-temperature", "kinetic", "--alpha", "0.85", "--shading", "none",
-      *ANGLES, *FLOW]),
-    ("cube_plate_maxwell_raycast", "cube_plate",
-     ["--gsim", "maxwell", "--alpha", "0.8", "--shading", "raycast", *ANGLES, *FLOW]),
-    ("cube_plate_sentman_projection", "cube_plate",
-     ["--gsim", "sentman", "--shading", "projection", "--aref", "2.0", "--lref", "1.5", *ANGLES, *FLOW]),
-    ("box_environment_langmuir", "box",
-     ["--gsim", "sentman", "--shading", "none", "--time", "2015-01-19T00:00:00Z", "--altitude", "300",
-      "--lat", "10", "--lon", "20", "--f107", "121.7", "--f107a", "138.1", "--ap", "4",
-      "--accommodation", "langmuir", *ANGLES]),
-    ("box_environment_state", "box",
-     ["--gsim", "dria", "--shading", "none", "--time", "2024-05-01T12:00:00Z",
-      "--position", "6778137,0,0", "--velocity", "0,7668.6,0", "--frame", "eci", "--wind", "10,-5,0",
-      "--accommodation", "sesam", *ANGLES]),
+    (
+        "example_sentman_raycast",
+        "example",
+        ["--gsim", "sentman", "--shading", "raycast", *ANGLES, *FLOW],
+    ),
+    (
+        "example_newton_projection",
+        "example",
+        ["--gsim", "newton", "--shading", "projection", *ANGLES, *FLOW],
+    ),
+    (
+        "example_dria_raycast_materials",
+        "example",
+        [
+            "--gsim",
+            "dria",
+            "--shading",
+            "raycast",
+            "--alpha",
+            "0.9",
+            "--material",
+            "solar_array:alpha=0.7,wall_temperature=350",
+            *ANGLES,
+            *SPECIES,
+        ],
+    ),
+    (
+        "box_cook_none",
+        "box",
+        ["--gsim", "cook", "--alpha", "0.8", "--shading", "none", *ANGLES, *FLOW],
+    ),
+    (
+        "box_schaaf_perpanel",
+        "box",
+        [
+            "--gsim",
+            "schaaf",
+            "--sigma-n",
+            "0.9",
+            "--sigma-t",
+            "0.8",
+            "--shading",
+            "none",
+            "--per-panel",
+            "--moment-ref",
+            "0.1,0.2,-0.3",
+            *ANGLES,
+            *FLOW,
+        ],
+    ),
+    (
+        "box_storch_none",
+        "box",
+        ["--gsim", "storch", "--sigma-n", "0.85", "--shading", "none", *ANGLES, *FLOW],
+    ),
+    (
+        "sphere_cll_none",
+        "sphere",
+        [
+            "--gsim",
+            "cll",
+            "--alpha-n",
+            "0.9",
+            "--sigma-t",
+            "0.95",
+            "--shading",
+            "none",
+            *ANGLES,
+            *SPECIES,
+        ],
+    ),
+    (
+        "sphere_maxwell_compat",
+        "sphere",
+        [
+            "--gsim",
+            "maxwell",
+            "--alpha",
+            "0.9",
+            "--adbsat-compat",
+            "--shading",
+            "none",
+            *ANGLES,
+            *FLOW,
+        ],
+    ),
+    (
+        "sphere_sentman_kinetic",
+        "sphere",
+        [
+            "--gsim",
+            "sentman",
+            "--incident-temperature",
+            "kinetic",
+            "--alpha",
+            "0.85",
+            "--shading",
+            "none",
+            *ANGLES,
+            *FLOW,
+        ],
+    ),
+    (
+        "cube_plate_maxwell_raycast",
+        "cube_plate",
+        ["--gsim", "maxwell", "--alpha", "0.8", "--shading", "raycast", *ANGLES, *FLOW],
+    ),
+    (
+        "cube_plate_sentman_projection",
+        "cube_plate",
+        [
+            "--gsim",
+            "sentman",
+            "--shading",
+            "projection",
+            "--aref",
+            "2.0",
+            "--lref",
+            "1.5",
+            *ANGLES,
+            *FLOW,
+        ],
+    ),
+    (
+        "box_environment_langmuir",
+        "box",
+        [
+            "--gsim",
+            "sentman",
+            "--shading",
+            "none",
+            "--time",
+            "2015-01-19T00:00:00Z",
+            "--altitude",
+            "300",
+            "--lat",
+            "10",
+            "--lon",
+            "20",
+            "--f107",
+            "121.7",
+            "--f107a",
+            "138.1",
+            "--ap",
+            "4",
+            "--accommodation",
+            "langmuir",
+            *ANGLES,
+        ],
+    ),
+    (
+        "box_environment_state",
+        "box",
+        [
+            "--gsim",
+            "dria",
+            "--shading",
+            "none",
+            "--time",
+            "2024-05-01T12:00:00Z",
+            "--position",
+            "6778137,0,0",
+            "--velocity",
+            "0,7668.6,0",
+            "--frame",
+            "eci",
+            "--wind",
+            "10,-5,0",
+            "--accommodation",
+            "sesam",
+            *ANGLES,
+        ],
+    ),
 )
 
 #: database cases: (name, mesh key or "example", options)
 DATABASE_CASES = (
-    ("example_sentman_raycast", "example",
-     ["--gsim", "sentman", "--shading", "raycast", "--aoa=-30:15:30", "--aos=-20:20:20", *FLOW]),
-    ("box_cll_none", "box",
-     ["--gsim", "cll", "--shading", "none", "--aoa=-180:30:180", "--aos=-90:30:90", *SPECIES]),
+    (
+        "example_sentman_raycast",
+        "example",
+        ["--gsim", "sentman", "--shading", "raycast", "--aoa=-30:15:30", "--aos=-20:20:20", *FLOW],
+    ),
+    (
+        "box_cll_none",
+        "box",
+        ["--gsim", "cll", "--shading", "none", "--aoa=-180:30:180", "--aos=-90:30:90", *SPECIES],
+    ),
 )
 
 PARAMS_FILES = {
     "fixed": {"gsi_model": "sentman", "shading": "raycast", "center_of_mass": [0.1, 0.0, -0.05]},
-    "langmuir_cll": {"gsi_model": "cll", "alpha_n": 0.9, "sigma_t": 0.9, "shading": "projection",
-                     "accommodation_model": "langmuir", "conditions_step": 0.0},
+    "langmuir_cll": {
+        "gsi_model": "cll",
+        "alpha_n": 0.9,
+        "sigma_t": 0.9,
+        "shading": "projection",
+        "accommodation_model": "langmuir",
+        "conditions_step": 0.0,
+    },
 }
 
 #: node cases: (name, parameters); messages from node_messages()
 NODE_CASES = (
-    ("example_sentman_raycast", {"mesh": "example", "shading": "raycast", "gsi_model": "sentman",
-                                 "accommodation_model": "langmuir", "center_of_mass": [0.05, 0.01, -0.02]}),
-    ("box_dria_exact_conditions", {"mesh": "@box", "shading": "none", "gsi_model": "dria",
-                                   "conditions_step": 0.0, "alpha": 0.9}),
+    (
+        "example_sentman_raycast",
+        {
+            "mesh": "example",
+            "shading": "raycast",
+            "gsi_model": "sentman",
+            "accommodation_model": "langmuir",
+            "center_of_mass": [0.05, 0.01, -0.02],
+        },
+    ),
+    (
+        "box_dria_exact_conditions",
+        {
+            "mesh": "@box",
+            "shading": "none",
+            "gsi_model": "dria",
+            "conditions_step": 0.0,
+            "alpha": 0.9,
+        },
+    ),
 )
 
 
@@ -124,11 +304,14 @@ def database_outputs(meshes: dict, folder: Path) -> dict:
     out = {}
     for name, key, options in DATABASE_CASES:
         path = folder / f"{name}.npz"
-        code = cli(["database", mesh_argument(key, meshes), "--workers", "2", "--out", path, *options])
+        code = cli(
+            ["database", mesh_argument(key, meshes), "--workers", "2", "--out", path, *options]
+        )
         assert code == 0, name
         with np.load(path, allow_pickle=False) as data:
-            out[name] = {k: data[k].tolist() for k in sorted(data.files)
-                         if data[k].dtype.kind in "fiu"}
+            out[name] = {
+                k: data[k].tolist() for k in sorted(data.files) if data[k].dtype.kind in "fiu"
+            }
         with open(path.with_suffix(".csv"), newline="", encoding="utf-8") as f:
             rows = [row for row in csv.reader(line for line in f if not line.startswith("#"))]
         out[name]["csv"] = [[float(x) for x in row] for row in rows[1:]]
@@ -140,17 +323,57 @@ def bag_outputs(meshes: dict, folder: Path) -> dict:
     import yaml
 
     bag = folder / "flight"
-    assert cli(["simulate", "--out", bag, "--duration", "12", "--rate", "5", "--state-rate", "1",
-                "--altitude", "280", "--eccentricity", "0.01", "--attitude", "tumble", "--tumble-rate", "7",
-                "--seed", "3"]) == 0
+    assert (
+        cli(
+            [
+                "simulate",
+                "--out",
+                bag,
+                "--duration",
+                "12",
+                "--rate",
+                "5",
+                "--state-rate",
+                "1",
+                "--altitude",
+                "280",
+                "--eccentricity",
+                "0.01",
+                "--attitude",
+                "tumble",
+                "--tumble-rate",
+                "7",
+                "--seed",
+                "3",
+            ]
+        )
+        == 0
+    )
     params = []
     for label, values in PARAMS_FILES.items():
         path = folder / f"{label}.yaml"
-        path.write_text(yaml.safe_dump({"adbsat_node": {"ros__parameters": values}}), encoding="utf-8")
+        path.write_text(
+            yaml.safe_dump({"adbsat_node": {"ros__parameters": values}}), encoding="utf-8"
+        )
         params += ["--params", path]
     out_bag = folder / "flight_aero"
-    assert cli(["bag", "analyze", bag, *params, "--out", out_bag, "--no-plots", "--no-progress",
-                "--workers", "2"]) == 0
+    assert (
+        cli(
+            [
+                "bag",
+                "analyze",
+                bag,
+                *params,
+                "--out",
+                out_bag,
+                "--no-plots",
+                "--no-progress",
+                "--workers",
+                "2",
+            ]
+        )
+        == 0
+    )
     csv_path = Path(str(out_bag) + ".csv")
     with open(csv_path, newline="", encoding="utf-8") as f:
         rows = list(csv.reader(line for line in f if not line.startswith("#")))
@@ -202,7 +425,9 @@ def node_outputs(meshes: dict) -> dict:
         values = dict(parameters, time_mode="epoch", epoch_utc="2026-03-20T12:00:00")
         if values["mesh"].startswith("@"):
             values["mesh"] = str(meshes[values["mesh"][1:]])
-        node = AdbsatNode(context=ctx, parameter_overrides=[Parameter(k, value=v) for k, v in values.items()])
+        node = AdbsatNode(
+            context=ctx, parameter_overrides=[Parameter(k, value=v) for k, v in values.items()]
+        )
         executor.add_node(node)
         peer = Peer(ctx, executor)
         try:
@@ -217,14 +442,22 @@ def node_outputs(meshes: dict) -> dict:
                     continue
                 n = len(peer.wrenches)
                 peer.send_attitude(t, payload)
-                assert peer.spin_until(lambda: len(peer.wrenches) > n and len(peer.coefficients) > n), (name, t)
+                assert peer.spin_until(
+                    lambda: len(peer.wrenches) > n and len(peer.coefficients) > n
+                ), (name, t)
             for w, c in zip(peer.wrenches, peer.coefficients):
                 stamp = w.header.stamp.sec + 1e-9 * w.header.stamp.nanosec
                 f, m = w.wrench.force, w.wrench.torque
                 cf, cm = c.wrench.force, c.wrench.torque
-                wrenches.append({"stamp": stamp, "force": [f.x, f.y, f.z], "torque": [m.x, m.y, m.z],
-                                 "force_coefficients": [cf.x, cf.y, cf.z],
-                                 "moment_coefficients": [cm.x, cm.y, cm.z]})
+                wrenches.append(
+                    {
+                        "stamp": stamp,
+                        "force": [f.x, f.y, f.z],
+                        "torque": [m.x, m.y, m.z],
+                        "force_coefficients": [cf.x, cf.y, cf.z],
+                        "moment_coefficients": [cm.x, cm.y, cm.z],
+                    }
+                )
             out[name] = wrenches
         finally:
             executor.shutdown()
@@ -246,11 +479,17 @@ def compare(reference, actual, rtol: float, path: str = "") -> list:
         return problems
     if isinstance(reference, list):
         if not isinstance(actual, list) or len(reference) != len(actual):
-            return [f"{path}: length {len(reference)} != {len(actual) if isinstance(actual, list) else actual!r}"]
+            return [
+                f"{path}: length {len(reference)} != {len(actual) if isinstance(actual, list) else actual!r}"
+            ]
         numbers = [x for x in reference if isinstance(x, (int, float)) and not isinstance(x, bool)]
         scale = max((abs(x) for x in numbers if math.isfinite(x)), default=0.0)
         for i, (a, b) in enumerate(zip(reference, actual)):
-            if isinstance(a, (int, float)) and not isinstance(a, bool) and isinstance(b, (int, float)):
+            if (
+                isinstance(a, (int, float))
+                and not isinstance(a, bool)
+                and isinstance(b, (int, float))
+            ):
                 if math.isnan(a) and math.isnan(b):
                     continue
                 if not abs(a - b) <= rtol * max(scale, abs(a)):

@@ -26,11 +26,27 @@ from adbsat_ros import FreeStream, ModelOptions, PanelMethod, SurfaceProperties,
 R_GAS = 8.31446261815324
 K_B = 1.3806503e-23
 N_A = 6.02214076e23
-M_G = {"He": 4.002602, "O": 15.9994, "N2": 28.0134, "O2": 31.9988, "Ar": 39.948, "H": 1.0079, "N": 14.0067}
+M_G = {
+    "He": 4.002602,
+    "O": 15.9994,
+    "N2": 28.0134,
+    "O2": 31.9988,
+    "Ar": 39.948,
+    "H": 1.0079,
+    "N": 14.0067,
+}
 SQ = math.sqrt(math.pi)
 
 # NRLMSISE-like composition near 400 km [m^-3]
-N_DENS = {"He": 2.5e12, "O": 3.5e14, "N2": 2.0e13, "O2": 6.0e11, "Ar": 1.0e10, "H": 1.5e11, "N": 4.0e12}
+N_DENS = {
+    "He": 2.5e12,
+    "O": 3.5e14,
+    "N2": 2.0e13,
+    "O2": 6.0e11,
+    "Ar": 1.0e10,
+    "H": 1.5e11,
+    "N": 4.0e12,
+}
 V_INF, T_INF = 7600.0, 1000.0
 ALPHA, SIGMA_N, SIGMA_T, T_W = 0.85, 0.9, 0.8, 350.0
 
@@ -60,7 +76,7 @@ def model_newton(c, sg, env):
 def model_sentman(c, sg, env):
     s = env["s"]
     K = math.sqrt(0.5 * (1 + ALPHA * (2 * T_W / (T_INF * s * s) - 1)))
-    E, Phi = math.exp(-(s * c) ** 2), 1 + erf(s * c)
+    E, Phi = math.exp(-((s * c) ** 2)), 1 + erf(s * c)
     cp = (c * c + 1 / (2 * s * s)) * Phi + c * E / (SQ * s) + K / 2 * (SQ * c * Phi + E / s)
     ctau = sg * (c * Phi + E / (SQ * s))
     return cp, ctau
@@ -77,8 +93,11 @@ def model_cook(c, sg, env):
 def model_schaaf(c, sg, env):
     s, sn, st = env["s"], SIGMA_N, SIGMA_T
     r = math.sqrt(T_W / T_INF)
-    E, Phi = math.exp(-(s * c) ** 2), 1 + erf(s * c)
-    cp = (((2 - sn) * s * c / SQ + sn / 2 * r) * E + ((2 - sn) * (0.5 + s * s * c * c) + sn / 2 * r * SQ * s * c) * Phi) / s**2
+    E, Phi = math.exp(-((s * c) ** 2)), 1 + erf(s * c)
+    cp = (
+        ((2 - sn) * s * c / SQ + sn / 2 * r) * E
+        + ((2 - sn) * (0.5 + s * s * c * c) + sn / 2 * r * SQ * s * c) * Phi
+    ) / s**2
     ctau = st * sg / (s * SQ) * (E + SQ * s * c * Phi)
     return cp, ctau
 
@@ -91,9 +110,17 @@ def model_maxwell(c, sg, env):
     r = math.sqrt(T_W / T_INF)
     theta = math.pi / 2 - math.acos(c)
     cos2t = math.cos(2 * theta)
-    E = math.exp(-(s * c) ** 2)
-    cd = 2 * (1 - f * cos2t) * E / (SQ * s) + c / s**2 * (1 + 2 * s * s + f * (1 - 2 * s * s * cos2t)) * erf(s * c) + ALPHA * SQ / s * c * c * r
-    cl = 4 * f / (SQ * s) * c * sg * E + sg / s**2 * (1 + f * (1 + 4 * s * s * c * c)) * erf(s * c) + ALPHA * SQ / s * c * sg * r
+    E = math.exp(-((s * c) ** 2))
+    cd = (
+        2 * (1 - f * cos2t) * E / (SQ * s)
+        + c / s**2 * (1 + 2 * s * s + f * (1 - 2 * s * s * cos2t)) * erf(s * c)
+        + ALPHA * SQ / s * c * c * r
+    )
+    cl = (
+        4 * f / (SQ * s) * c * sg * E
+        + sg / s**2 * (1 + f * (1 + 4 * s * s * c * c)) * erf(s * c)
+        + ALPHA * SQ / s * c * sg * r
+    )
     return from_cd_cl(cd, cl, c, sg)
 
 
@@ -197,7 +224,12 @@ BODIES = {
     "unit_cube": ((1.0, 1.0, 1.0), (0.3, -0.2, 0.5)),
     "box_2x1x0.5": ((2.0, 1.0, 0.5), (-0.4, 0.7, 0.25)),
 }
-ATTITUDES = {"a0": (0.0, 0.0), "a45": (45.0, 0.0), "a30_b20": (30.0, 20.0), "a-110_b-35": (-110.0, -35.0)}
+ATTITUDES = {
+    "a0": (0.0, 0.0),
+    "a45": (45.0, 0.0),
+    "a30_b20": (30.0, 20.0),
+    "a-110_b-35": (-110.0, -35.0),
+}
 
 
 def make_mesh(extents, centre):
@@ -216,7 +248,9 @@ def env_dict(compat_density_factor=None):
 
 def compare(result, expected):
     for key in ("Cf_w", "Cf_f", "Cm_B"):
-        np.testing.assert_allclose(getattr(result, key), expected[key], rtol=1e-6, atol=1e-12, err_msg=key)
+        np.testing.assert_allclose(
+            getattr(result, key), expected[key], rtol=1e-6, atol=1e-12, err_msg=key
+        )
     assert result.reference.area == pytest.approx(expected["Aref"], rel=1e-12)
     assert result.reference.length == pytest.approx(expected["Lref"], rel=1e-12)
     assert result.area_projected == pytest.approx(expected["AreaProj"], rel=1e-12, abs=1e-12)
@@ -238,7 +272,9 @@ def test_parity_with_hand_derived_adbsat(model, body, att):
         options=ModelOptions(adbsat_compat=True),
     )
     res = pm.coefficients(flow, math.radians(aoa_deg), math.radians(aos_deg))
-    expected = adbsat_by_hand(model, extents, centre, math.radians(aoa_deg), math.radians(aos_deg), env)
+    expected = adbsat_by_hand(
+        model, extents, centre, math.radians(aoa_deg), math.radians(aos_deg), env
+    )
     compare(res, expected)
     # moments about the mesh origin are non-trivial for the shifted bodies
     assert np.linalg.norm(expected["Cm_B"]) > 1e-3
@@ -252,10 +288,16 @@ def test_dria_compat_with_given_total_density(att):
     aoa_deg, aos_deg = ATTITUDES[att]
     rho = adbsat_environment()[3]
     flow = FreeStream(V_INF, T_INF, number_densities=N_DENS, density=1.03 * rho)
-    pm = PanelMethod(make_mesh(extents, centre), "dria", SurfaceProperties(alpha=ALPHA, wall_temperature=T_W),
-                     options=ModelOptions(adbsat_compat=True))
+    pm = PanelMethod(
+        make_mesh(extents, centre),
+        "dria",
+        SurfaceProperties(alpha=ALPHA, wall_temperature=T_W),
+        options=ModelOptions(adbsat_compat=True),
+    )
     res = pm.coefficients(flow, math.radians(aoa_deg), math.radians(aos_deg))
-    expected = adbsat_by_hand("dria", extents, centre, math.radians(aoa_deg), math.radians(aos_deg), env_dict(1.03))
+    expected = adbsat_by_hand(
+        "dria", extents, centre, math.radians(aoa_deg), math.radians(aos_deg), env_dict(1.03)
+    )
     compare(res, expected)
 
 
@@ -268,7 +310,9 @@ def test_non_compat_matches_adbsat_for_models_without_quirks(model):
     props = SurfaceProperties(alpha=ALPHA, sigma_n=SIGMA_N, sigma_t=SIGMA_T, wall_temperature=T_W)
     mesh = make_mesh(extents, centre)
     a = PanelMethod(mesh, model, props).coefficients(flow, 0.5, -0.3)
-    b = PanelMethod(mesh, model, props, options=ModelOptions(adbsat_compat=True)).coefficients(flow, 0.5, -0.3)
+    b = PanelMethod(mesh, model, props, options=ModelOptions(adbsat_compat=True)).coefficients(
+        flow, 0.5, -0.3
+    )
     np.testing.assert_allclose(a.Cf_w, b.Cf_w, rtol=1e-13, atol=1e-15)
     np.testing.assert_allclose(a.Cm_B, b.Cm_B, rtol=1e-13, atol=1e-15)
 
@@ -283,10 +327,14 @@ def test_maxwell_default_differs_from_adbsat_compat():
     mesh = make_mesh(extents, centre)
     props = SurfaceProperties(alpha=ALPHA, wall_temperature=T_W)
     one = PanelMethod(mesh, "maxwell", props).coefficients(flow, 0.0, 0.0)
-    two = PanelMethod(mesh, "maxwell", props, options=ModelOptions(adbsat_compat=True)).coefficients(flow, 0.0, 0.0)
+    two = PanelMethod(
+        mesh, "maxwell", props, options=ModelOptions(adbsat_compat=True)
+    ).coefficients(flow, 0.0, 0.0)
     s = flow.speed_ratio
     # one-sided: equals schaaf with sigma_n = sigma_t = alpha on every face
-    sch = PanelMethod(mesh, "schaaf", SurfaceProperties(sigma_n=ALPHA, sigma_t=ALPHA, wall_temperature=T_W)).coefficients(flow, 0.0, 0.0)
+    sch = PanelMethod(
+        mesh, "schaaf", SurfaceProperties(sigma_n=ALPHA, sigma_t=ALPHA, wall_temperature=T_W)
+    ).coefficients(flow, 0.0, 0.0)
     np.testing.assert_allclose(one.Cf_w, sch.Cf_w, rtol=1e-13, atol=1e-15)
     # grazing-face shear: 4 faces x 1 m^2 x alpha/(sqrt(pi) s) more in compat, over Aref = 3.
     # Front/rear: compat gives the front plate p(1) - p(-1) and zeroes the rear face; one-sided
@@ -307,7 +355,9 @@ def test_newton_offset_cube_aoa0_by_hand():
     np.testing.assert_allclose(r.Cf_f, [2 / 3, 0, 0], atol=1e-15)
     np.testing.assert_allclose(r.Cm_B, [0, 1 / 3, 0.4 / 3], atol=1e-15)
     assert r.drag == pytest.approx(2 / 3) and r.Cf_f[0] == pytest.approx(r.drag)
-    assert (r.reference.area, r.reference.length, r.area_projected) == pytest.approx((3.0, 1.0, 1.0))
+    assert (r.reference.area, r.reference.length, r.area_projected) == pytest.approx(
+        (3.0, 1.0, 1.0)
+    )
 
 
 def test_newton_offset_cube_aoa45_by_hand():
@@ -329,9 +379,12 @@ def test_sign_conventions_at_zero_angles(model):
     """At aoa = aos = 0 the gas moves along -x_G: drag = -Cf_w[0] > 0 and Cf_f[0] = +C_D
     (physics.md Sec. 2), and a positive angle of attack puts the flow on the -z_G (= +z_B) face."""
     flow = FreeStream(V_INF, T_INF, number_densities=N_DENS)
-    pm = PanelMethod(make_mesh(*BODIES["box_2x1x0.5"]), model,
-                     SurfaceProperties(alpha=ALPHA, sigma_n=SIGMA_N, sigma_t=SIGMA_T, wall_temperature=T_W),
-                     options=ModelOptions(adbsat_compat=True))
+    pm = PanelMethod(
+        make_mesh(*BODIES["box_2x1x0.5"]),
+        model,
+        SurfaceProperties(alpha=ALPHA, sigma_n=SIGMA_N, sigma_t=SIGMA_T, wall_temperature=T_W),
+        options=ModelOptions(adbsat_compat=True),
+    )
     r = pm.coefficients(flow, 0.0, 0.0)
     np.testing.assert_allclose(r.flow_direction, [-1, 0, 0], atol=1e-15)
     assert r.drag > 0 and r.Cf_w[0] < 0

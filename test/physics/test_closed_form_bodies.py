@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 import trimesh
+from closed_forms import reemission_temperature, sentman_sphere_cd, unit_sphere_mesh
 from scipy.special import ive
 
 from adbsat_ros import (
@@ -21,8 +22,6 @@ from adbsat_ros import (
     panels_from_arrays,
     panels_from_trimesh,
 )
-from closed_forms import reemission_temperature, sentman_sphere_cd, unit_sphere_mesh
-
 
 SQRT_PI = math.sqrt(math.pi)
 
@@ -51,7 +50,9 @@ def test_sentman_sphere_drag(flow_name, alpha, aoa_deg, aos_deg):
         reference=Reference(area=math.pi),
     )
     r = pm.coefficients(flow, math.radians(aoa_deg), math.radians(aos_deg))
-    expected = sentman_sphere_cd(flow.speed_ratio, reemission_temperature(flow, alpha, Tw) / flow.temperature)
+    expected = sentman_sphere_cd(
+        flow.speed_ratio, reemission_temperature(flow, alpha, Tw) / flow.temperature
+    )
     assert r.drag == pytest.approx(expected, rel=1e-4)
     # and the projected area of the sphere is pi r^2 (to the same faceting accuracy)
     assert r.area_projected == pytest.approx(math.pi, rel=1e-4)
@@ -71,7 +72,9 @@ def test_sentman_sphere_drag_kinetic_incident_temperature(alpha):
         reference=Reference(area=math.pi),
     )
     r = pm.coefficients(flow, 0.0, 0.0)
-    expected = sentman_sphere_cd(flow.speed_ratio, reemission_temperature(flow, alpha, Tw, "kinetic") / flow.temperature)
+    expected = sentman_sphere_cd(
+        flow.speed_ratio, reemission_temperature(flow, alpha, Tw, "kinetic") / flow.temperature
+    )
     assert r.drag == pytest.approx(expected, rel=1e-4)
 
 
@@ -84,7 +87,9 @@ def test_icosphere_faceting_error_is_small():
         pm = PanelMethod(unit_sphere_mesh(sub), "sentman", reference=Reference(area=math.pi))
         vals.append(pm.coefficients(flow, 0.2, 0.1).drag)
     assert abs(vals[0] - vals[1]) < 1e-5 * vals[1]
-    assert vals[1] == pytest.approx(sentman_sphere_cd(flow.speed_ratio, 300.0 / flow.temperature), rel=2e-6)
+    assert vals[1] == pytest.approx(
+        sentman_sphere_cd(flow.speed_ratio, 300.0 / flow.temperature), rel=2e-6
+    )
 
 
 def test_newton_sphere_drag():
@@ -139,9 +144,9 @@ def sentman_cylinder_cd_side(s, Tr_over_Tinf):
     (e^{-z} I_nu(z) = scipy's ive). The re-emission term follows from
     int_0^{2 pi} cos(theta) (E + sqrt(pi) s cos(theta) Phi) d theta = pi^{3/2} s."""
     z = s * s / 2
-    return SQRT_PI / s * ((s * s + 1.5) * ive(0, z) + (s * s + 0.5) * ive(1, z)) + math.pi**1.5 / (4 * s) * math.sqrt(
-        Tr_over_Tinf
-    )
+    return SQRT_PI / s * ((s * s + 1.5) * ive(0, z) + (s * s + 0.5) * ive(1, z)) + math.pi**1.5 / (
+        4 * s
+    ) * math.sqrt(Tr_over_Tinf)
 
 
 @pytest.mark.parametrize("flow_name", list(FLOWS))
@@ -155,9 +160,9 @@ def test_cylinder_cross_flow_sentman_and_newton(flow_name, aos_deg):
     mesh, _ = cylinder_mesh(R, L, 720, caps=False)
     ref = Reference(area=2 * R * L)
     alpha, Tw = 0.9, 300.0
-    r = PanelMethod(mesh, "sentman", SurfaceProperties(alpha=alpha, wall_temperature=Tw), reference=ref).coefficients(
-        flow, 0.0, math.radians(aos_deg)
-    )
+    r = PanelMethod(
+        mesh, "sentman", SurfaceProperties(alpha=alpha, wall_temperature=Tw), reference=ref
+    ).coefficients(flow, 0.0, math.radians(aos_deg))
     Tr = reemission_temperature(flow, alpha, Tw) / flow.temperature
     assert r.drag == pytest.approx(sentman_cylinder_cd_side(flow.speed_ratio, Tr), rel=1e-5)
     assert abs(r.lift) < 1e-9 and abs(r.side_force) < 1e-6 * r.drag
@@ -177,8 +182,12 @@ def test_closed_cylinder_caps_add_grazing_shear_only():
     k = (math.pi / N) / math.sin(math.pi / N)
     A_cap = 0.5 * N * (k * R) ** 2 * math.sin(2 * math.pi / N)  # regular N-gon of circumradius kR
     s = flow.speed_ratio
-    r = PanelMethod(mesh, "sentman", reference=Reference(area=2 * R * L)).coefficients(flow, 0.0, 0.0)
-    expected = sentman_cylinder_cd_side(s, 300.0 / flow.temperature) + 2 * A_cap / (SQRT_PI * s * 2 * R * L)
+    r = PanelMethod(mesh, "sentman", reference=Reference(area=2 * R * L)).coefficients(
+        flow, 0.0, 0.0
+    )
+    expected = sentman_cylinder_cd_side(s, 300.0 / flow.temperature) + 2 * A_cap / (
+        SQRT_PI * s * 2 * R * L
+    )
     assert r.drag == pytest.approx(expected, rel=1e-5)
 
 
@@ -214,16 +223,28 @@ def test_one_sided_plate_sentman(aoa_deg):
     alpha, Tw = 0.7, 300.0
     Tr = reemission_temperature(flow, alpha, Tw) / flow.temperature
     c, sg = plate_frames(a)
-    E, Phi = math.exp(-(s * c) ** 2), 1 + math.erf(s * c)
-    cp = (c * c + 0.5 / s**2) * Phi + c * E / (SQRT_PI * s) + math.sqrt(Tr) * (E + SQRT_PI * s * c * Phi) / (2 * s * s)
+    E, Phi = math.exp(-((s * c) ** 2)), 1 + math.erf(s * c)
+    cp = (
+        (c * c + 0.5 / s**2) * Phi
+        + c * E / (SQRT_PI * s)
+        + math.sqrt(Tr) * (E + SQRT_PI * s * c * Phi) / (2 * s * s)
+    )
     ctau = sg * (c * Phi + E / (SQRT_PI * s))
     A = 1.5**2
-    r = PanelMethod(square_plate(False), "sentman", SurfaceProperties(alpha=alpha, wall_temperature=Tw),
-                    reference=Reference(area=A, length=1.0)).coefficients(flow, a, 0.0)
-    np.testing.assert_allclose(r.Cf_G, [-cp, 0.0, math.copysign(ctau, a) if a else 0.0], rtol=1e-12, atol=1e-13)
+    r = PanelMethod(
+        square_plate(False),
+        "sentman",
+        SurfaceProperties(alpha=alpha, wall_temperature=Tw),
+        reference=Reference(area=A, length=1.0),
+    ).coefficients(flow, a, 0.0)
+    np.testing.assert_allclose(
+        r.Cf_G, [-cp, 0.0, math.copysign(ctau, a) if a else 0.0], rtol=1e-12, atol=1e-13
+    )
     # drag and lift per plate area: c_d = c_p c + c_tau sin, lift = c_tau c - c_p sin(a)
     assert r.drag == pytest.approx(cp * c + ctau * sg, rel=1e-12)
-    assert r.lift == pytest.approx(ctau * c * math.copysign(1, a) - cp * math.sin(a), rel=1e-12, abs=1e-13)
+    assert r.lift == pytest.approx(
+        ctau * c * math.copysign(1, a) - cp * math.sin(a), rel=1e-12, abs=1e-13
+    )
     assert r.area_projected == pytest.approx(A * c, rel=1e-12)
 
 
@@ -242,11 +263,19 @@ def test_two_sided_plate_sentman_is_bird_plate(aoa_deg):
     Tr = reemission_temperature(flow, alpha, Tw) / flow.temperature
     c = abs(math.cos(a))
     sg = math.sqrt(max(1 - c * c, 0.0))
-    CD = 2 * math.exp(-(s * c) ** 2) / (SQRT_PI * s) + (c / s**2) * (1 + 2 * s * s) * math.erf(s * c) + SQRT_PI / s * c * c * math.sqrt(Tr)
+    CD = (
+        2 * math.exp(-((s * c) ** 2)) / (SQRT_PI * s)
+        + (c / s**2) * (1 + 2 * s * s) * math.erf(s * c)
+        + SQRT_PI / s * c * c * math.sqrt(Tr)
+    )
     CL = (sg / s**2) * math.erf(s * c) + SQRT_PI / s * c * sg * math.sqrt(Tr)
     A = 1.5**2
-    r = PanelMethod(square_plate(True), "sentman", SurfaceProperties(alpha=alpha, wall_temperature=Tw),
-                    reference=Reference(area=A, length=1.0)).coefficients(flow, a, 0.0)
+    r = PanelMethod(
+        square_plate(True),
+        "sentman",
+        SurfaceProperties(alpha=alpha, wall_temperature=Tw),
+        reference=Reference(area=A, length=1.0),
+    ).coefficients(flow, a, 0.0)
     assert r.drag == pytest.approx(CD, rel=1e-12)
     assert abs(r.lift) == pytest.approx(CL, rel=1e-12, abs=1e-14)
     assert r.side_force == pytest.approx(0.0, abs=1e-14)
@@ -258,7 +287,9 @@ def test_two_sided_plate_newton(aoa_deg):
     C_D = 2 sin^3 theta, |C_L| = 2 sin^2 theta cos theta per plate area, sin theta = |cos a|."""
     a = math.radians(aoa_deg)
     st, ct = abs(math.cos(a)), abs(math.sin(a))
-    r = PanelMethod(square_plate(True), "newton", reference=Reference(area=1.5**2, length=1.0)).coefficients(FLOWS["orbital"], a, 0.0)
+    r = PanelMethod(
+        square_plate(True), "newton", reference=Reference(area=1.5**2, length=1.0)
+    ).coefficients(FLOWS["orbital"], a, 0.0)
     assert r.drag == pytest.approx(2 * st**3, rel=1e-12, abs=1e-15)
     assert abs(r.lift) == pytest.approx(2 * st**2 * ct, rel=1e-12, abs=1e-15)
 
@@ -268,7 +299,12 @@ def test_two_sided_plate_newton(aoa_deg):
     "aoa_deg,aos_deg,expected_cd_proj,expected_proj",
     [
         (0.0, 0.0, 2.0, 1.0),  # one face, c = 1: C_D = 2 per face area
-        (45.0, 0.0, 1.0, math.sqrt(2)),  # two faces at c = 1/sqrt2: drag 2*2c^3 = sqrt2, A_p = sqrt2
+        (
+            45.0,
+            0.0,
+            1.0,
+            math.sqrt(2),
+        ),  # two faces at c = 1/sqrt2: drag 2*2c^3 = sqrt2, A_p = sqrt2
         (0.0, 45.0, 1.0, math.sqrt(2)),
     ],
 )
@@ -276,7 +312,9 @@ def test_newton_cube(aoa_deg, aos_deg, expected_cd_proj, expected_proj):
     """Unit cube, Newtonian: drag = sum_front 2 c^3 A, projected area sum_front c A, no lift at
     these symmetric attitudes; ADBSat's A_ref = 3 m^2 (half the wetted area) by default."""
     cube = panels_from_trimesh(trimesh.creation.box(extents=(1, 1, 1)))
-    r = PanelMethod(cube, "newton").coefficients(FLOWS["orbital"], math.radians(aoa_deg), math.radians(aos_deg))
+    r = PanelMethod(cube, "newton").coefficients(
+        FLOWS["orbital"], math.radians(aoa_deg), math.radians(aos_deg)
+    )
     assert r.reference.area == pytest.approx(3.0)
     assert r.area_projected == pytest.approx(expected_proj, rel=1e-12)
     assert r.drag * 3.0 / r.area_projected == pytest.approx(expected_cd_proj, rel=1e-12)

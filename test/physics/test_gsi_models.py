@@ -103,7 +103,9 @@ def reemission_temperature_ratio(flow, m, alpha, Tw, form="energy"):
 
 
 def assert_close(actual, expected, rtol=1e-10, atol=1e-13):
-    np.testing.assert_allclose(np.asarray(actual, float), np.asarray(expected, float), rtol=rtol, atol=atol)
+    np.testing.assert_allclose(
+        np.asarray(actual, float), np.asarray(expected, float), rtol=rtol, atol=atol
+    )
 
 
 # ------------------------------------------------------------------------- the flux integrals
@@ -127,7 +129,12 @@ def test_flux_closed_forms_match_quadrature(s, delta_deg):
     assert_close(p_i, [2.0 * I2 / s**2], rtol=1e-9, atol=1e-14)
     assert_close(tau_i, [2.0 * s * sg[0] * I1 / s**2], rtol=1e-9, atol=1e-14)
     T_ratio = 0.37
-    assert_close(reemitted_pressure(c, s, T_ratio), [math.sqrt(math.pi * T_ratio) * I1 / s**2], rtol=1e-9, atol=1e-14)
+    assert_close(
+        reemitted_pressure(c, s, T_ratio),
+        [math.sqrt(math.pi * T_ratio) * I1 / s**2],
+        rtol=1e-9,
+        atol=1e-14,
+    )
 
 
 # ------------------------------------------------------------------------------------- newton
@@ -137,7 +144,9 @@ def test_newton_plate():
     no shear."""
     c, sg = angles(DELTAS_DEG)
     cp, ctau = newton(c, sg, surface(), FLOWS["orbital"], ModelOptions())
-    expected = np.where(np.radians(DELTAS_DEG) < math.pi / 2 - 1e-12, 2.0 * np.cos(np.radians(DELTAS_DEG)) ** 2, 0.0)
+    expected = np.where(
+        np.radians(DELTAS_DEG) < math.pi / 2 - 1e-12, 2.0 * np.cos(np.radians(DELTAS_DEG)) ** 2, 0.0
+    )
     assert_close(cp, expected, atol=1e-12)
     assert np.all(np.asarray(ctau) == 0.0)
     assert cp[0] == pytest.approx(2.0)
@@ -172,10 +181,18 @@ def test_sentman_schamberg_form_head_on():
     s, Tinf, Tw, alpha = flow.speed_ratio, flow.temperature, 400.0, 0.6
     Tr = (s * s / 2.0) * Tinf + alpha * (Tw - (s * s / 2.0) * Tinf)  # m V^2/(4k) = s^2 T_inf / 2
     E = math.exp(-s * s)
-    expected = (1 + 0.5 / s**2) * (1 + math.erf(s)) + E / (SQRT_PI * s) + math.sqrt(Tr / Tinf) * (
-        E + SQRT_PI * s * (1 + math.erf(s))
-    ) / (2 * s * s)
-    cp, ctau = sentman(np.array([1.0]), np.array([0.0]), surface(alpha=alpha, wall_temperature=Tw), flow, ModelOptions())
+    expected = (
+        (1 + 0.5 / s**2) * (1 + math.erf(s))
+        + E / (SQRT_PI * s)
+        + math.sqrt(Tr / Tinf) * (E + SQRT_PI * s * (1 + math.erf(s))) / (2 * s * s)
+    )
+    cp, ctau = sentman(
+        np.array([1.0]),
+        np.array([0.0]),
+        surface(alpha=alpha, wall_temperature=Tw),
+        flow,
+        ModelOptions(),
+    )
     assert cp[0] == pytest.approx(expected, rel=1e-12)
     assert ctau[0] == 0.0
 
@@ -224,15 +241,21 @@ def test_sentman_hyperthermal_limit_fast_gas_is_newtonian_absorbing():
 
 # ------------------------------------------------------------------------------------- schaaf
 @pytest.mark.parametrize("flow_name", list(FLOWS))
-@pytest.mark.parametrize("sigma_n,sigma_t", [(1.0, 1.0), (0.0, 0.0), (0.5, 0.6), (1.5, 0.9), (0.9, 0.0)])
+@pytest.mark.parametrize(
+    "sigma_n,sigma_t", [(1.0, 1.0), (0.0, 0.0), (0.5, 0.6), (1.5, 0.9), (0.9, 0.0)]
+)
 def test_schaaf_plate(flow_name, sigma_n, sigma_t):
     """Schaaf & Chambre (1961) one-sided plate, p = (2 - sigma_n) p_i + sigma_n p_w(T_w),
     tau = sigma_t tau_i, all incidences."""
     flow = FLOWS[flow_name]
     Tw = 320.0
     c, sg = angles(DELTAS_DEG)
-    cp, ctau = schaaf(c, sg, surface(sigma_n=sigma_n, sigma_t=sigma_t, wall_temperature=Tw), flow, ModelOptions())
-    cp_ref, ctau_ref = schaaf_plate(c, sg, flow.speed_ratio, sigma_n, sigma_t, Tw / flow.temperature)
+    cp, ctau = schaaf(
+        c, sg, surface(sigma_n=sigma_n, sigma_t=sigma_t, wall_temperature=Tw), flow, ModelOptions()
+    )
+    cp_ref, ctau_ref = schaaf_plate(
+        c, sg, flow.speed_ratio, sigma_n, sigma_t, Tw / flow.temperature
+    )
     assert_close(cp, cp_ref)
     assert_close(ctau, ctau_ref)
 
@@ -304,7 +327,9 @@ def test_storch_plate(sigma_n, sigma_t):
     front = c >= 0
     cp_ref = np.where(front, 2 * (2 - sigma_n) * c * c + 2 * sigma_n * c * Vw / flow.speed, 0.0)
     ctau_ref = np.where(front, 2 * sigma_t * c * sg, 0.0)
-    cp, ctau = storch(c, sg, surface(sigma_n=sigma_n, sigma_t=sigma_t, wall_temperature=Tw), flow, ModelOptions())
+    cp, ctau = storch(
+        c, sg, surface(sigma_n=sigma_n, sigma_t=sigma_t, wall_temperature=Tw), flow, ModelOptions()
+    )
     assert_close(cp, cp_ref, atol=1e-12)
     assert_close(ctau, ctau_ref, atol=1e-12)
 
@@ -348,7 +373,9 @@ def test_maxwell_compat_two_sided_plate(flow_name, alpha):
     Tw = 300.0
     s = flow.speed_ratio
     c, sg = angles(DELTAS_DEG)
-    cp, ctau = maxwell(c, sg, surface(alpha=alpha, wall_temperature=Tw), flow, ModelOptions(adbsat_compat=True))
+    cp, ctau = maxwell(
+        c, sg, surface(alpha=alpha, wall_temperature=Tw), flow, ModelOptions(adbsat_compat=True)
+    )
     pf, tf = schaaf_plate(c, sg, s, alpha, alpha, Tw / flow.temperature)
     pb, tb = schaaf_plate(-c, sg, s, alpha, alpha, Tw / flow.temperature)
     front = c >= 0
@@ -369,15 +396,29 @@ def test_maxwell_compat_diffuse_is_bird_plate():
     s, Tw = flow.speed_ratio, 250.0
     r = math.sqrt(Tw / flow.temperature)
     c, sg = angles(FRONT_DELTAS_DEG + [90.0])
-    CD = 2 * np.exp(-(s * c) ** 2) / (SQRT_PI * s) + (c / s**2) * (1 + 2 * s * s) * erf(s * c) + (SQRT_PI / s) * c * c * r
+    CD = (
+        2 * np.exp(-((s * c) ** 2)) / (SQRT_PI * s)
+        + (c / s**2) * (1 + 2 * s * s) * erf(s * c)
+        + (SQRT_PI / s) * c * c * r
+    )
     CL = (sg / s**2) * erf(s * c) + (SQRT_PI / s) * c * sg * r
-    cp, ctau = maxwell(c, sg, surface(alpha=1.0, wall_temperature=Tw), flow, ModelOptions(adbsat_compat=True))
+    cp, ctau = maxwell(
+        c, sg, surface(alpha=1.0, wall_temperature=Tw), flow, ModelOptions(adbsat_compat=True)
+    )
     assert_close(cp, CD * c + CL * sg, atol=1e-12)
     assert_close(ctau, CD * sg - CL * c, atol=1e-12)
 
 
 # --------------------------------------------------------------------------------- dria / cll
-ATMOSPHERE_400KM = {"He": 2.5e12, "O": 3.5e14, "N2": 2.0e13, "O2": 6.0e11, "Ar": 1.0e10, "H": 1.5e11, "N": 4.0e12}
+ATMOSPHERE_400KM = {
+    "He": 2.5e12,
+    "O": 3.5e14,
+    "N2": 2.0e13,
+    "O2": 6.0e11,
+    "Ar": 1.0e10,
+    "H": 1.5e11,
+    "N": 4.0e12,
+}
 
 
 @pytest.mark.parametrize("species", ["O", "N2", "He"])
@@ -463,8 +504,10 @@ def test_cll_mixture_weights():
         m = species_mass_kg(k)
         s = flow.speed / math.sqrt(2 * BOLTZMANN * flow.temperature / m)
         per[k] = schaaf_plate(c, sg, s, 1.0, 1.0, Tw / flow.temperature)
-    for compat, wfun in [(False, lambda k: ATMOSPHERE_400KM[k] * species_mass_kg(k)),
-                         (True, lambda k: ATMOSPHERE_400KM[k] ** 2 * species_mass_kg(k))]:
+    for compat, wfun in [
+        (False, lambda k: ATMOSPHERE_400KM[k] * species_mass_kg(k)),
+        (True, lambda k: ATMOSPHERE_400KM[k] ** 2 * species_mass_kg(k)),
+    ]:
         w = {k: wfun(k) for k in six}
         W = sum(w.values())
         cp_ref = sum(w[k] / W * per[k][0] for k in six)
@@ -489,8 +532,19 @@ def test_cll_partial_accommodation_as_coded():
     G1 = (x * E + SQRT_PI / 2 * (1 + 2 * x * x) * Z) / SQRT_PI
     G2 = (E + SQRT_PI * x * Z) / SQRT_PI
     tr = Tw / flow.temperature
-    cp_ref = ((1 + math.sqrt(1 - an)) * G1 + 0.5 * math.exp(-5.85 * (1 - an) ** 0.2) * tr**0.48 * (31.0 / s) * math.sqrt(tr) * SQRT_PI * G2) / s**2
-    cp, ctau = cll(c, sg, surface(alpha_n=an, sigma_t=st, wall_temperature=Tw), flow, ModelOptions())
+    cp_ref = (
+        (1 + math.sqrt(1 - an)) * G1
+        + 0.5
+        * math.exp(-5.85 * (1 - an) ** 0.2)
+        * tr**0.48
+        * (31.0 / s)
+        * math.sqrt(tr)
+        * SQRT_PI
+        * G2
+    ) / s**2
+    cp, ctau = cll(
+        c, sg, surface(alpha_n=an, sigma_t=st, wall_temperature=Tw), flow, ModelOptions()
+    )
     assert_close(cp, cp_ref)
     assert_close(ctau, st * sg * G2 / s)
 
@@ -503,11 +557,20 @@ def test_energy_form_matches_reference(flow_name, alpha):
     plate with T_r = T_i + alpha (T_w - T_i)."""
     flow = FLOWS[flow_name]
     c, sg = angles(DELTAS_DEG)
-    cp, _ = sentman(c, sg, surface(alpha=alpha, wall_temperature=300.0), flow, ModelOptions(incident_temperature="energy"))
-    ref = sentman_plate(c, sg, flow.speed_ratio, reemission_temperature_ratio(flow, flow.mean_mass, alpha, 300.0, "energy"))
+    cp, _ = sentman(
+        c,
+        sg,
+        surface(alpha=alpha, wall_temperature=300.0),
+        flow,
+        ModelOptions(incident_temperature="energy"),
+    )
+    ref = sentman_plate(
+        c,
+        sg,
+        flow.speed_ratio,
+        reemission_temperature_ratio(flow, flow.mean_mass, alpha, 300.0, "energy"),
+    )
     assert_close(cp, ref[0])
-
-
 
 
 @pytest.mark.parametrize("model", [sentman, dria])
@@ -530,8 +593,19 @@ def test_kinetic_form_matches_reference(alpha):
     T_r = T_i + alpha (T_w - T_i), p_r/q = sqrt(T_r/T_inf)(E + sqrt(pi) x Phi)/(2 s^2)."""
     flow = FLOWS["orbital"]
     c, sg = angles(DELTAS_DEG)
-    cp, _ = sentman(c, sg, surface(alpha=alpha, wall_temperature=300.0), flow, ModelOptions(incident_temperature="kinetic"))
-    ref = sentman_plate(c, sg, flow.speed_ratio, reemission_temperature_ratio(flow, flow.mean_mass, alpha, 300.0, "kinetic"))
+    cp, _ = sentman(
+        c,
+        sg,
+        surface(alpha=alpha, wall_temperature=300.0),
+        flow,
+        ModelOptions(incident_temperature="kinetic"),
+    )
+    ref = sentman_plate(
+        c,
+        sg,
+        flow.speed_ratio,
+        reemission_temperature_ratio(flow, flow.mean_mass, alpha, 300.0, "kinetic"),
+    )
     assert_close(cp, ref[0], rtol=1e-9)
 
 
@@ -561,7 +635,17 @@ def test_energy_and_kinetic_differ_when_alpha_below_one(alpha):
 
 
 # ------------------------------------------------------------------------------- broadcasting
-@pytest.mark.parametrize("name,model", [("sentman", sentman), ("schaaf", schaaf), ("cook", cook), ("storch", storch), ("maxwell", maxwell), ("newton", newton)])
+@pytest.mark.parametrize(
+    "name,model",
+    [
+        ("sentman", sentman),
+        ("schaaf", schaaf),
+        ("cook", cook),
+        ("storch", storch),
+        ("maxwell", maxwell),
+        ("newton", newton),
+    ],
+)
 def test_models_broadcast_attitudes_by_panels(name, model):
     """(M attitudes, N panels) input gives, row by row, the same as (N,) input."""
     flow = FLOWS["slow"]
@@ -608,10 +692,16 @@ def test_split_plate_is_the_model(name, flow_name):
     assert_close(shear * sg, ctau_model, rtol=1e-14)
     m = flow.mean_mass
     if name == "sentman":
-        cp_ref, tau_ref = sentman_plate(c, 1.0, flow.speed_ratio, reemission_temperature_ratio(flow, m, 0.8, 350.0))
+        cp_ref, tau_ref = sentman_plate(
+            c, 1.0, flow.speed_ratio, reemission_temperature_ratio(flow, m, 0.8, 350.0)
+        )
     else:
         sigma_n, sigma_t = (0.9, 0.7) if name == "schaaf" else (0.8, 0.8)
-        cp_ref, tau_ref = schaaf_plate(c, 1.0, flow.speed_ratio, sigma_n, sigma_t, 350.0 / flow.temperature)
+        cp_ref, tau_ref = schaaf_plate(
+            c, 1.0, flow.speed_ratio, sigma_n, sigma_t, 350.0 / flow.temperature
+        )
     assert_close(cp, cp_ref)
     assert_close(shear, tau_ref)  # (tau_i with sin(delta) = 1: c_tau / sin(delta))
-    assert np.all(np.isfinite(shear)) and shear[0] > 0.0  # head-on: a ratio c_tau / sin(delta) of 0/0
+    assert (
+        np.all(np.isfinite(shear)) and shear[0] > 0.0
+    )  # head-on: a ratio c_tau / sin(delta) of 0/0

@@ -13,13 +13,13 @@ import trimesh
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.example_satellite import example_satellite
-from adbsat_ros.physics.freestream import FreeStream
-from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.geometry.loading import panels_from_trimesh
-from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.coefficients import Reference
-from adbsat_ros.shading.shader import make_shader
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.shading.lighting import PanelLighting
+from adbsat_ros.shading.shader import make_shader
 
 SPECIES = {"He": 5e12, "O": 3e15, "N2": 1.5e15, "O2": 8e13, "Ar": 1e11, "H": 2e11, "N": 2e13}
 FLOW = FreeStream(speed=7700.0, temperature=900.0, number_densities=SPECIES)
@@ -36,11 +36,15 @@ def shader(satellite):
 
 
 def pair(mesh, model, **kwargs):
-    materials = MaterialTable(SurfaceProperties(alpha=0.93, alpha_n=0.9, sigma_t=0.95, sigma_n=0.9),
-                              {"solar_array": {"alpha": 0.8, "wall_temperature": 350.0}})
+    materials = MaterialTable(
+        SurfaceProperties(alpha=0.93, alpha_n=0.9, sigma_t=0.95, sigma_n=0.9),
+        {"solar_array": {"alpha": 0.8, "wall_temperature": 350.0}},
+    )
     ref = Reference(moment_point=(0.1, -0.05, 0.02))
-    return (PanelMethod(mesh, model, materials, reference=ref, **kwargs),
-            PanelMethod(mesh, model, materials, reference=ref, group_facets=False, **kwargs))
+    return (
+        PanelMethod(mesh, model, materials, reference=ref, **kwargs),
+        PanelMethod(mesh, model, materials, reference=ref, group_facets=False, **kwargs),
+    )
 
 
 def assert_same(a, b):
@@ -63,14 +67,18 @@ def test_the_example_satellite_has_few_facets(satellite):
     assert np.all(satellite.material_index == satellite.material_index[f.first][f.index])
 
 
-@pytest.mark.parametrize("model", ["sentman", "newton", "cook", "schaaf", "storch", "maxwell", "cll", "dria"])
+@pytest.mark.parametrize(
+    "model", ["sentman", "newton", "cook", "schaaf", "storch", "maxwell", "cll", "dria"]
+)
 def test_facets_equal_panels_with_raycast_shading(satellite, shader, model):
     grouped, panel_by_panel = pair(satellite, model)
     for aoa, aos in ((0.0, 0.0), (10.0, 5.0), (-20.0, 30.0), (75.0, -40.0), (180.0, 0.0)):
         u = frames.flow_direction(math.radians(aoa), math.radians(aos))
         lighting = shader.lighting(u)
         a = grouped.coefficients(FLOW, math.radians(aoa), math.radians(aos), lighting=lighting)
-        b = panel_by_panel.coefficients(FLOW, math.radians(aoa), math.radians(aos), lighting=lighting)
+        b = panel_by_panel.coefficients(
+            FLOW, math.radians(aoa), math.radians(aos), lighting=lighting
+        )
         assert_same(a, b)
         # the plates see c unclipped (|c| <= 1 to rounding); what is reported is a cosine, and a
         # face head-on (aoa 0 and 180: sin(delta) = 0, to the rounding of the direction made
@@ -92,14 +100,25 @@ def test_partly_lit_panels_with_shifts_and_a_surface_override(satellite, shader)
     # a surface that varies inside a facet falls back to panel-by-panel evaluation, still right
     alpha = np.full(satellite.n_panels, 0.9)
     alpha[::7] = 0.6
-    values = {name: getattr(grouped.surface, name) for name in ("alpha_n", "sigma_n", "sigma_t",
-              "wall_temperature", "specular_reflectivity", "diffuse_reflectivity")}
+    values = {
+        name: getattr(grouped.surface, name)
+        for name in (
+            "alpha_n",
+            "sigma_n",
+            "sigma_t",
+            "wall_temperature",
+            "specular_reflectivity",
+            "diffuse_reflectivity",
+        )
+    }
     from adbsat_ros.physics.surface import PanelSurface
 
     odd = PanelSurface(alpha=alpha, **values)
     assert grouped._facets.surface_of(odd) is None
-    assert_same(grouped.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=odd),
-                panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=odd))
+    assert_same(
+        grouped.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=odd),
+        panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=odd),
+    )
 
 
 def test_a_changed_writable_lighting_is_not_taken_from_the_memo(satellite, shader):
@@ -120,8 +139,10 @@ def test_a_changed_writable_lighting_is_not_taken_from_the_memo(satellite, shade
     grouped.coefficients(FLOW, flow_direction=u, lighting=frozen)
     assert grouped._facets._memo[id(frozen)][0] is frozen
     assert id(mutable) not in grouped._facets._memo  # a writable one never is
-    assert_same(grouped.coefficients(FLOW, flow_direction=u, lighting=frozen),
-                panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=frozen))
+    assert_same(
+        grouped.coefficients(FLOW, flow_direction=u, lighting=frozen),
+        panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=frozen),
+    )
 
 
 def test_a_sphere_is_evaluated_panel_by_panel():
@@ -130,7 +151,9 @@ def test_a_sphere_is_evaluated_panel_by_panel():
     assert grouped._facets is None
 
 
-@pytest.mark.parametrize("model", ["sentman", "schaaf", "maxwell", "maxwell_adbsat", "newton", "cll", "dria"])
+@pytest.mark.parametrize(
+    "model", ["sentman", "schaaf", "maxwell", "maxwell_adbsat", "newton", "cll", "dria"]
+)
 def test_many_directions_at_once_equal_each_direction_bit_for_bit(satellite, shader, model):
     """coefficients_many: every direction with its own flow, lighting and surface gives what its own
     coefficients() call gives, to the last bit; the split models never take one direction alone."""
@@ -140,11 +163,21 @@ def test_many_directions_at_once_equal_each_direction_bit_for_bit(satellite, sha
     grouped, _ = pair(satellite, model.removesuffix("_adbsat"), options=options)
     rng = np.random.default_rng(3)
     m = 7
-    flows = [FreeStream(speed=float(rng.uniform(6500.0, 8000.0)), temperature=float(rng.uniform(600.0, 1400.0)),
-                        number_densities=SPECIES) for _ in range(m)]
-    directions = [rng.standard_normal(3) * rng.uniform(0.5, 2.0) for _ in range(m)]  # not unit: normalised
+    flows = [
+        FreeStream(
+            speed=float(rng.uniform(6500.0, 8000.0)),
+            temperature=float(rng.uniform(600.0, 1400.0)),
+            number_densities=SPECIES,
+        )
+        for _ in range(m)
+    ]
+    directions = [
+        rng.standard_normal(3) * rng.uniform(0.5, 2.0) for _ in range(m)
+    ]  # not unit: normalised
     directions[2] = np.array([-1.0, 0.0, 0.0])  # along an axis: some facets exactly grazing
-    lightings = [shader.lighting(d / np.linalg.norm(d)) if k % 3 else None for k, d in enumerate(directions)]
+    lightings = [
+        shader.lighting(d / np.linalg.norm(d)) if k % 3 else None for k, d in enumerate(directions)
+    ]
     surfaces = [grouped.surface_with(alpha=0.7 + 0.04 * k) if k % 2 else None for k in range(m)]
     calls = []
     single = grouped._unit_coefficients  # one direction's panel method

@@ -17,13 +17,22 @@ import trimesh
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from adbsat_ros import FreeStream, ModelOptions, PanelMethod, Reference, SurfaceProperties, panels_from_arrays
+from adbsat_ros import (
+    FreeStream,
+    ModelOptions,
+    PanelMethod,
+    Reference,
+    SurfaceProperties,
+    panels_from_arrays,
+)
 from adbsat_ros.geometry.frames import flow_direction
 
 SETTINGS = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 FLOW = FreeStream(7400.0, 950.0, mean_mass_amu=17.5)
-SPECIES_FLOW = FreeStream(7600.0, 1000.0, number_densities={"O": 3.5e14, "N2": 2.0e13, "He": 2.5e12, "O2": 6e11})
+SPECIES_FLOW = FreeStream(
+    7600.0, 1000.0, number_densities={"O": 3.5e14, "N2": 2.0e13, "He": 2.5e12, "O2": 6e11}
+)
 PROPS = SurfaceProperties(alpha=0.85, alpha_n=0.7, sigma_n=0.9, sigma_t=0.8, wall_temperature=320.0)
 MODELS = ["newton", "sentman", "schaaf", "cook", "storch", "maxwell", "dria", "cll"]
 
@@ -56,7 +65,9 @@ def irregular_body():
 
 def evaluate(vertices, faces, model, aoa, aos, options=None, reference=None, **kw):
     mesh = panels_from_arrays(vertices, faces, **kw)
-    pm = PanelMethod(mesh, model, PROPS, options=options, reference=reference or Reference(area=2.0, length=1.5))
+    pm = PanelMethod(
+        mesh, model, PROPS, options=options, reference=reference or Reference(area=2.0, length=1.5)
+    )
     return pm.coefficients(flow_for(model), aoa, aos)
 
 
@@ -68,8 +79,15 @@ def assert_vec(a, b, rtol=1e-9, scale=None):
 
 # -------------------------------------------------------------------- re-triangulation
 @SETTINGS
-@given(model=models, ex=st.tuples(lengths, lengths, lengths), ctr=st.tuples(offsets, offsets, offsets),
-       aoa=angles, aos=sideslip, adb=compat, levels=st.integers(1, 2))
+@given(
+    model=models,
+    ex=st.tuples(lengths, lengths, lengths),
+    ctr=st.tuples(offsets, offsets, offsets),
+    aoa=angles,
+    aos=sideslip,
+    adb=compat,
+    levels=st.integers(1, 2),
+)
 def test_force_and_moment_invariant_under_subdivision(model, ex, ctr, aoa, aos, adb, levels):
     """Each box face split into 4^levels triangles: same F (per A_ref) and M (per A_ref L_ref)."""
     v, f = box_arrays(ex, ctr)
@@ -120,11 +138,13 @@ quaternions = st.tuples(*[st.floats(-1, 1)] * 4).filter(lambda q: 0.1 < np.linal
 
 def rotation_matrix(q):
     w, x, y, z = np.asarray(q) / np.linalg.norm(q)
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 @SETTINGS
@@ -148,7 +168,9 @@ def test_rotation_equivariance(model, q, aoa, aos, adb):
     assert b.area_projected == pytest.approx(a.area_projected, rel=1e-10)
     # the wind-frame coefficients (drag, lift, side force magnitudes) are frame independent
     assert b.drag == pytest.approx(a.drag, rel=1e-10, abs=1e-12)
-    assert math.hypot(b.lift, b.side_force) == pytest.approx(math.hypot(a.lift, a.side_force), rel=1e-8, abs=1e-10)
+    assert math.hypot(b.lift, b.side_force) == pytest.approx(
+        math.hypot(a.lift, a.side_force), rel=1e-8, abs=1e-10
+    )
 
 
 @SETTINGS
@@ -176,8 +198,12 @@ def test_moment_transfer_between_reference_points(model, p1, p2, aoa, aos):
     mesh = panels_from_arrays(v, f)
     flow = flow_for(model)
     q = 0.5 * 2.3e-12 * flow.speed**2
-    r1 = PanelMethod(mesh, model, PROPS, reference=Reference(moment_point=p1)).coefficients(flow, aoa, aos)
-    r2 = PanelMethod(mesh, model, PROPS, reference=Reference(moment_point=p2)).coefficients(flow, aoa, aos)
+    r1 = PanelMethod(mesh, model, PROPS, reference=Reference(moment_point=p1)).coefficients(
+        flow, aoa, aos
+    )
+    r2 = PanelMethod(mesh, model, PROPS, reference=Reference(moment_point=p2)).coefficients(
+        flow, aoa, aos
+    )
     F = r1.force(q)
     assert_vec(r2.force(q), F, 1e-14)
     expected = r1.torque(q) + np.cross(np.asarray(p1) - np.asarray(p2), F)
@@ -196,7 +222,9 @@ def test_force_in_newtons(model, aoa, aos, rho):
     v, f = irregular_body()
     base = flow_for(model)
     if base.has_species:
-        flow = FreeStream(base.speed, base.temperature, number_densities=base.number_densities, density=rho)
+        flow = FreeStream(
+            base.speed, base.temperature, number_densities=base.number_densities, density=rho
+        )
     else:
         flow = FreeStream(base.speed, base.temperature, mean_mass_amu=17.5, density=rho)
     q = flow.dynamic_pressure()
@@ -205,7 +233,9 @@ def test_force_in_newtons(model, aoa, aos, rho):
     F = r.force(q)
     qA = q * r.reference.area
     assert F @ r.flow_direction == pytest.approx(qA * r.drag, rel=1e-12)
-    assert np.linalg.norm(F) == pytest.approx(qA * math.sqrt(r.drag**2 + r.lift**2 + r.side_force**2), rel=1e-12)
+    assert np.linalg.norm(F) == pytest.approx(
+        qA * math.sqrt(r.drag**2 + r.lift**2 + r.side_force**2), rel=1e-12
+    )
     d = r.to_dict(flow)
     np.testing.assert_allclose(d["force_N"], F, rtol=1e-15)
     assert d["dynamic_pressure_Pa"] == pytest.approx(q, rel=1e-15)
@@ -213,7 +243,8 @@ def test_force_in_newtons(model, aoa, aos, rho):
 
 def test_mass_density_from_species():
     """Without an explicit density, rho = sum n_j m_j (m_j = M_j/(1000 N_A)) and q = rho V^2/2."""
-    from adbsat_ros.physics.constants import MOLAR_MASS_G, AVOGADRO
+    from adbsat_ros.physics.constants import AVOGADRO, MOLAR_MASS_G
+
     n = SPECIES_FLOW.number_densities
     rho = sum(n[k] * MOLAR_MASS_G[k] / (1000 * AVOGADRO) for k in n)
     assert SPECIES_FLOW.mass_density == pytest.approx(rho, rel=1e-14)
@@ -222,7 +253,9 @@ def test_mass_density_from_species():
 
 # -------------------------------------------------------------------- ADBSat references
 @SETTINGS
-@given(ex=st.tuples(lengths, lengths, lengths), ctr=st.tuples(offsets, offsets, offsets), q=quaternions)
+@given(
+    ex=st.tuples(lengths, lengths, lengths), ctr=st.tuples(offsets, offsets, offsets), q=quaternions
+)
 def test_default_reference_area_and_length(ex, ctr, q):
     """ADBSat: A_ref = half the total wetted area (box: ab + bc + ca), L_ref = max x - min x over
     all vertices (box along the axes: a; rotated: the x-extent of the rotated vertices)."""
@@ -239,11 +272,17 @@ def test_default_reference_area_and_length(ex, ctr, q):
     r = pm_r.coefficients(FLOW, 0.1, 0.2)
     assert r.reference.moment_point == (0.0, 0.0, 0.0)
     # explicit values override the defaults, and coefficients scale as 1/A_ref and 1/(A_ref L_ref)
-    pm_e = PanelMethod(panels_from_arrays(vr, f), "newton", reference=Reference(area=1.0, length=1.0))
+    pm_e = PanelMethod(
+        panels_from_arrays(vr, f), "newton", reference=Reference(area=1.0, length=1.0)
+    )
     re = pm_e.coefficients(FLOW, 0.1, 0.2)
     assert_vec(re.Cf_G, r.Cf_G * pm_r.reference.area, 1e-12)
-    assert_vec(re.Cm_G, r.Cm_G * pm_r.reference.area * pm_r.reference.length, 1e-12,
-               np.max(np.abs(re.Cf_G)) * (1 + np.linalg.norm(ctr) + max(ex)))
+    assert_vec(
+        re.Cm_G,
+        r.Cm_G * pm_r.reference.area * pm_r.reference.length,
+        1e-12,
+        np.max(np.abs(re.Cf_G)) * (1 + np.linalg.norm(ctr) + max(ex)),
+    )
 
 
 # -------------------------------------------------------------------- symmetry and additivity
@@ -263,7 +302,9 @@ def test_mirror_symmetry_in_sideslip(model, aoa, aos, ex):
 
 @SETTINGS
 @given(model=models, aoa=angles, aos=sideslip)
-@example(model="sentman", aoa=0.0, aos=2.824831440513767e-11)  # (a front face's shear lost to sqrt(1 - c^2))
+@example(
+    model="sentman", aoa=0.0, aos=2.824831440513767e-11
+)  # (a front face's shear lost to sqrt(1 - c^2))
 def test_additivity_over_separate_bodies(model, aoa, aos):
     """Without shading, the load of two disjoint bodies is the sum of their loads (same A_ref,
     L_ref, moment point)."""
@@ -272,12 +313,17 @@ def test_additivity_over_separate_bodies(model, aoa, aos):
     ref = Reference(area=2.0, length=1.5, moment_point=(0.2, 0.1, -0.3))
     v = np.vstack([v1, v2])
     f = np.vstack([f1, f2 + len(v1)])
-    parts = [evaluate(v1, f1, model, aoa, aos, reference=ref), evaluate(v2, f2, model, aoa, aos, reference=ref)]
+    parts = [
+        evaluate(v1, f1, model, aoa, aos, reference=ref),
+        evaluate(v2, f2, model, aoa, aos, reference=ref),
+    ]
     whole = evaluate(v, f, model, aoa, aos, reference=ref)
     scale = np.max(np.abs(whole.Cf_G))
     assert_vec(whole.Cf_G, parts[0].Cf_G + parts[1].Cf_G, 1e-12, scale)
     assert_vec(whole.Cm_G, parts[0].Cm_G + parts[1].Cm_G, 1e-12, 4 * scale)
-    assert whole.area_projected == pytest.approx(parts[0].area_projected + parts[1].area_projected, rel=1e-12)
+    assert whole.area_projected == pytest.approx(
+        parts[0].area_projected + parts[1].area_projected, rel=1e-12
+    )
 
 
 # -------------------------------------------------------------------- near normal incidence

@@ -19,18 +19,16 @@ import pytest
 from matplotlib.image import imread
 
 from adbsat_ros import FreeStream, PanelMethod
-
-from adbsat_ros.geometry import frames
-
-from adbsat_ros.plotting import coefficients, figures, panels, time_series
 from adbsat_ros.cli import main
 from adbsat_ros.cli.plot import _default_angle
 from adbsat_ros.database.build import build_database
 from adbsat_ros.database.format import load_database
+from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.example_satellite import write_obj
 from adbsat_ros.geometry.loading import resolve_mesh
-from adbsat_ros.shading.shader import make_shader
 from adbsat_ros.geometry.shapes import combine, grid_box
+from adbsat_ros.plotting import coefficients, figures, panels, time_series
+from adbsat_ros.shading.shader import make_shader
 
 FLOW = FreeStream(7726.0, 934.0, mean_mass_amu=17.9)
 
@@ -85,9 +83,15 @@ def database_file(mesh_file, tmp_path_factory):
 
 
 def test_sideslip_line_selection():
-    assert coefficients.select_sideslip_lines(np.arange(-30.0, 31.0, 10.0)).tolist() == list(range(7))
+    assert coefficients.select_sideslip_lines(np.arange(-30.0, 31.0, 10.0)).tolist() == list(
+        range(7)
+    )
     assert coefficients.select_sideslip_lines([5.0]).tolist() == [0]
-    for grid in (np.arange(-90.0, 91.0, 15.0), np.arange(-80.0, 91.0, 10.0), np.arange(-90.0, 91.0, 1.0)):
+    for grid in (
+        np.arange(-90.0, 91.0, 15.0),
+        np.arange(-80.0, 91.0, 10.0),
+        np.arange(-90.0, 91.0, 1.0),
+    ):
         picks = coefficients.select_sideslip_lines(grid, 7)
         assert picks.size == 7 and np.all(np.diff(picks) > 0)
         assert picks[0] == 0 and picks[-1] == grid.size - 1  # the ends
@@ -158,7 +162,10 @@ def test_pressure_picture_marks_shadows_and_scales_cp(scene, aoa_deg, aos_deg, t
     assert panels.legend_panel_counts(unshaded)["shaded"] == 0
     norm = unshaded.axes[0].collections[0].norm
     assert (norm.vmin, norm.vmax) == (result.cp.min(), result.cp.max())
-    assert_png(panels.plot_panel_pressure(method, FLOW, aoa_deg, aos_deg, shader, tmp_path / "p.png"), (8.0, 6.0))
+    assert_png(
+        panels.plot_panel_pressure(method, FLOW, aoa_deg, aos_deg, shader, tmp_path / "p.png"),
+        (8.0, 6.0),
+    )
 
 
 def test_panel_colours():
@@ -207,7 +214,9 @@ def synthetic_runs(n=300):
     runs = {}
     for label, scale in (("sentman", 1.0), ("dria", 0.93), ("cll", 1.05)):
         rho = 3e-12 * np.exp(0.8 * np.cos(orbit))
-        force = -scale * np.column_stack([1e-6 * rho / 3e-12, 1e-8 * np.sin(orbit), 2e-8 * np.cos(orbit)])
+        force = -scale * np.column_stack(
+            [1e-6 * rho / 3e-12, 1e-8 * np.sin(orbit), 2e-8 * np.cos(orbit)]
+        )
         runs[label] = {
             "force": force,
             "torque": 0.1 * force[:, [1, 2, 0]],
@@ -243,11 +252,18 @@ def test_time_series_figures(tmp_path):
     assert len(data_lines(made["drag_coefficient"].axes[0])) == len(runs)
 
     paths = time_series.plot_time_series(t, runs, tmp_path, prefix="bag_")
-    assert [p.name for p in paths] == ["bag_force.png", "bag_torque.png", "bag_density.png", "bag_drag_coefficient.png"]
+    assert [p.name for p in paths] == [
+        "bag_force.png",
+        "bag_torque.png",
+        "bag_density.png",
+        "bag_drag_coefficient.png",
+    ]
     for p in paths:
         assert_png(p, figures.FIGSIZE)
     # one run: no legend needed, still one line per panel
-    single = time_series.make_time_series_figures(t[:10], {"only": {k: v[:10] for k, v in runs["dria"].items()}})
+    single = time_series.make_time_series_figures(
+        t[:10], {"only": {k: v[:10] for k, v in runs["dria"].items()}}
+    )
     assert all(len(data_lines(ax)) == 1 for ax in single["force"].axes)
     assert "[s]" in single["force"].axes[-1].get_xlabel()
 
@@ -272,7 +288,9 @@ def run_plot(capsys, *argv):
 
 
 def test_cli_writes_all_figures(database_file, tmp_path, capsys):
-    code, out, err = run_plot(capsys, database_file, "--out-dir", tmp_path / "figs", "--aoa", "10", "--aos", "0")
+    code, out, err = run_plot(
+        capsys, database_file, "--out-dir", tmp_path / "figs", "--aoa", "10", "--aos", "0"
+    )
     assert code == 0, err
     names = ("database_coefficients.png", "database_moments.png", "panel_pressure.png")
     paths = [tmp_path / "figs" / name for name in names]
@@ -299,13 +317,17 @@ def test_cli_errors(database_file, mesh_file, tmp_path, capsys):
     junk = tmp_path / "junk.npz"
     junk.write_text("not a zip file")
     code, _, err = run_plot(capsys, junk)
-    assert code == 2 and "junk.npz" in err and "database" in err and len(err.strip().splitlines()) == 1
+    assert (
+        code == 2 and "junk.npz" in err and "database" in err and len(err.strip().splitlines()) == 1
+    )
 
     for option, value in (("--aoa", "ten"), ("--aos", "nan")):
         with pytest.raises(SystemExit) as exc:
             main(["plot", str(database_file), option, value])
         assert exc.value.code == 2
-        assert re.search(rf"{option} must be a finite angle in degrees, got '{value}'", capsys.readouterr().err)
+        assert re.search(
+            rf"{option} must be a finite angle in degrees, got '{value}'", capsys.readouterr().err
+        )
     code, _, err = run_plot(capsys, database_file, "--aos", "120")
     assert code == 2 and "--aos must be in [-90, 90]" in err
 
@@ -314,13 +336,23 @@ def test_cli_refuses_a_changed_mesh(tmp_path, capsys):
     mesh_path = tmp_path / "sat.obj"
     write_obj(cube_plate(), mesh_path)
     db = build_database(
-        PanelMethod(resolve_mesh(str(mesh_path)), "newton"), FLOW, [0.0, 10.0], [0.0],
-        shading="none", workers=1, progress=False, mesh_spec=str(mesh_path),
+        PanelMethod(resolve_mesh(str(mesh_path)), "newton"),
+        FLOW,
+        [0.0, 10.0],
+        [0.0],
+        shading="none",
+        workers=1,
+        progress=False,
+        mesh_spec=str(mesh_path),
     )
     db.save(tmp_path / "sat.npz")
-    write_obj(combine([grid_box((0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (1, 1, 1))], source="other"), mesh_path)
+    write_obj(
+        combine([grid_box((0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (1, 1, 1))], source="other"), mesh_path
+    )
     code, _, err = run_plot(capsys, tmp_path / "sat.npz", "--out-dir", tmp_path / "o")
     assert code == 2 and "changed since the database was built" in err and "--no-mesh" in err
     assert not (tmp_path / "o" / "panel_pressure.png").exists()
-    code, out, err = run_plot(capsys, tmp_path / "sat.npz", "--out-dir", tmp_path / "o", "--no-mesh")
+    code, out, err = run_plot(
+        capsys, tmp_path / "sat.npz", "--out-dir", tmp_path / "o", "--no-mesh"
+    )
     assert code == 0 and len(out.split()) == 2

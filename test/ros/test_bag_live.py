@@ -14,20 +14,18 @@ import pytest
 import rclpy
 from geometry_msgs.msg import WrenchStamped
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from ros_harness import make_context, spinning
 
 from adbsat_ros.bags import io as bag_io
-
 from adbsat_ros.bags import scenario
 from adbsat_ros.bags.analysis import analyze_bag
 from adbsat_ros.bags.io import BagError
-from adbsat_ros.ros.graph import message_class
+from adbsat_ros.cli import main as cli_main
+from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.ros.bag_play import play
 from adbsat_ros.ros.bag_record import record
-from adbsat_ros.cli import main as cli_main
+from adbsat_ros.ros.graph import message_class
 from adbsat_ros.ros.node import AdbsatNode
-from adbsat_ros.estimator.settings import WrenchSettings
-
-from ros_harness import make_context, spinning
 
 MS = 1_000_000
 T0_NS = 1_750_000_000 * 1_000_000_000  # a UNIX time in 2025
@@ -36,8 +34,11 @@ T0_NS = 1_750_000_000 * 1_000_000_000  # a UNIX time in 2025
 def as_plain(value):
     """A rosbags message (nested dataclasses, numpy arrays) as nested tuples, for comparisons."""
     if dataclasses.is_dataclass(value):
-        return tuple((f.name, as_plain(getattr(value, f.name))) for f in dataclasses.fields(value)
-                     if f.name != "__msgtype__")
+        return tuple(
+            (f.name, as_plain(getattr(value, f.name)))
+            for f in dataclasses.fields(value)
+            if f.name != "__msgtype__"
+        )
     if isinstance(value, np.ndarray):
         return tuple(value.tolist())
     if isinstance(value, (list, tuple)):
@@ -67,9 +68,21 @@ def small_bag(path, storage="mcap"):
         records.append(("/attitude", t, bag_io.quaternion_stamped_message(t, "eci", q)))
     for k in range(10):
         t = T0_NS + k * 100 * MS + 25 * MS
-        records.append(("/state", t, bag_io.odometry_message(
-            t, "eci", "body", (6.7e6 + k, -2.0 * k, 0.5), (1.0, 7.6e3 - k, 0.25 * k), (0.0, 0.6, 0.0, 0.8),
-            angular_velocity=(0.01 * k, 0.0, -0.02))))
+        records.append(
+            (
+                "/state",
+                t,
+                bag_io.odometry_message(
+                    t,
+                    "eci",
+                    "body",
+                    (6.7e6 + k, -2.0 * k, 0.5),
+                    (1.0, 7.6e3 - k, 0.25 * k),
+                    (0.0, 0.6, 0.0, 0.8),
+                    angular_velocity=(0.01 * k, 0.0, -0.02),
+                ),
+            )
+        )
     records.sort(key=lambda r: r[1])
     return bag_io.write_bag(path, records, storage=storage)
 
@@ -83,7 +96,9 @@ class Recorder:
 
         def run():
             try:
-                self.summary = record(out, topics, storage=storage, stop=self.stop_event, ready=self.ready)
+                self.summary = record(
+                    out, topics, storage=storage, stop=self.stop_event, ready=self.ready
+                )
             except Exception as exc:  # reported by stop()
                 self.error = exc
 
@@ -118,7 +133,9 @@ def test_play_then_record_round_trip(tmp_path, storage, rate):
     first_original = min(t for msgs in original.values() for t, _ in msgs)
     first_copy = min(t for msgs in copy.values() for t, _ in msgs)
     for topic in original:
-        assert [as_plain(m) for _, m in copy[topic]] == [as_plain(m) for _, m in original[topic]], topic
+        assert [as_plain(m) for _, m in copy[topic]] == [as_plain(m) for _, m in original[topic]], (
+            topic
+        )
         # receive times keep the recorded spacing, scaled by the rate (tolerance: scheduling on 2 cores)
         expected = np.array([t - first_original for t, _ in original[topic]]) / rate
         got = np.array([t - first_copy for t, _ in copy[topic]])
@@ -137,12 +154,19 @@ def test_loop_restarts_from_the_beginning(tmp_path):
         if len(stamps) >= 45:
             stop.set()
 
-    node.create_subscription(message_class(bag_io.QUATERNION_STAMPED), "/attitude", on_attitude,
-                             QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE), raw=True)
+    node.create_subscription(
+        message_class(bag_io.QUATERNION_STAMPED),
+        "/attitude",
+        on_attitude,
+        QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE),
+        raw=True,
+    )
     executor.add_node(node)
     try:
         with spinning(executor):
-            summary = play(source, rate=4.0, loop=True, topics=["attitude"], wait_for_subscribers=1, stop=stop)
+            summary = play(
+                source, rate=4.0, loop=True, topics=["attitude"], wait_for_subscribers=1, stop=stop
+            )
     finally:
         executor.shutdown()
         node.destroy_node()
@@ -156,31 +180,50 @@ def test_loop_restarts_from_the_beginning(tmp_path):
 def test_played_bag_through_the_node_equals_the_offline_analysis(tmp_path):
     """THE check of the rosbag tools: a simulated flight played live into adbsat_node gives, wrench by
     wrench, what `bag analyze` computes from the same bag without ROS."""
-    sim = scenario.Scenario(epoch_utc="2025-06-21T12:00:00Z", duration_s=4.0, rate_hz=10.0, state_rate_hz=2.0,
-                            altitude_km=300.0, attitude="tumble", tumble_rate_deg_s=1.0, tumble_axis=(0.3, 1.0, 0.2))
+    sim = scenario.Scenario(
+        epoch_utc="2025-06-21T12:00:00Z",
+        duration_s=4.0,
+        rate_hz=10.0,
+        state_rate_hz=2.0,
+        altitude_km=300.0,
+        attitude="tumble",
+        tumble_rate_deg_s=1.0,
+        tumble_axis=(0.3, 1.0, 0.2),
+    )
     messages = scenario.generate(sim)
     # States 50 ms before the attitudes that share their stamps: the node's two subscriptions then
     # never hold a state and an attitude at once, so it handles them in bag order, as the analysis does.
     states = messages.states
     messages = scenario.ScenarioMessages(
-        sim, scenario.StateRecords(states.stamps_ns - 50 * MS, states.position_eci, states.velocity_eci),
-        messages.attitudes)
+        sim,
+        scenario.StateRecords(states.stamps_ns - 50 * MS, states.position_eci, states.velocity_eci),
+        messages.attitudes,
+    )
     bag = bag_io.write_scenario_bag(messages, tmp_path / "flight")
     n_attitudes = len(messages.attitudes.stamps_ns)
 
-    settings = WrenchSettings.from_parameters({})  # the node's defaults: example satellite, raycast shading
+    settings = WrenchSettings.from_parameters(
+        {}
+    )  # the node's defaults: example satellite, raycast shading
     report = analyze_bag(bag, models=[("offline", settings)], out_bag=tmp_path / "analysed")
-    offline = {bag_io.stamp_nanoseconds(m.header.stamp): m
-               for _, m in read_bag(tmp_path / "analysed")["/adbsat/offline/wrench"]}
+    offline = {
+        bag_io.stamp_nanoseconds(m.header.stamp): m
+        for _, m in read_bag(tmp_path / "analysed")["/adbsat/offline/wrench"]
+    }
     assert report.wrenches == len(offline) == n_attitudes
 
     ctx, executor = make_context()
-    node = AdbsatNode(context=ctx, parameter_overrides=[rclpy.parameter.Parameter("qos_depth", value=1000)])
+    node = AdbsatNode(
+        context=ctx, parameter_overrides=[rclpy.parameter.Parameter("qos_depth", value=1000)]
+    )
     listener = rclpy.create_node("wrench_listener", context=ctx)
     live = {}
     listener.create_subscription(
-        WrenchStamped, "/wrench", lambda m: live.setdefault(bag_io.stamp_nanoseconds(m.header.stamp), m),
-        QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE))
+        WrenchStamped,
+        "/wrench",
+        lambda m: live.setdefault(bag_io.stamp_nanoseconds(m.header.stamp), m),
+        QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE),
+    )
     executor.add_node(node)
     executor.add_node(listener)
     try:
@@ -211,7 +254,12 @@ def test_played_bag_through_the_node_equals_the_offline_analysis(tmp_path):
             got = np.array([getattr(getattr(msg.wrench, part), c) for c in "xyz"])
             want = np.array([getattr(getattr(ref.wrench, part), c) for c in "xyz"])
             assert np.linalg.norm(want) > 0
-            assert np.linalg.norm(got - want) <= 1e-9 * np.linalg.norm(want), (stamp, part, got, want)
+            assert np.linalg.norm(got - want) <= 1e-9 * np.linalg.norm(want), (
+                stamp,
+                part,
+                got,
+                want,
+            )
 
 
 # ----------------------------------------------------------------------------- errors
@@ -228,15 +276,21 @@ def test_play_missing_bag_and_unknown_topic_fail_clearly(tmp_path, capsys):
 
 def test_play_message_type_not_installed_names_topic_and_type(tmp_path):
     with bag_io.BagWriter(tmp_path / "custom") as writer:
-        conn = writer.connection("/thing", "my_robot_msgs/msg/Thing", msgdef="float64 x\n", digest="RIHS01_" + "0" * 64)
+        conn = writer.connection(
+            "/thing", "my_robot_msgs/msg/Thing", msgdef="float64 x\n", digest="RIHS01_" + "0" * 64
+        )
         writer.write_raw(conn, T0_NS, bytes([0, 1, 0, 0]) + bytes(8))
-    with pytest.raises(BagError, match=r"topic /thing: message type 'my_robot_msgs/msg/Thing' is not installed"):
+    with pytest.raises(
+        BagError, match=r"topic /thing: message type 'my_robot_msgs/msg/Thing' is not installed"
+    ):
         play(tmp_path / "custom")
 
 
 def test_play_times_out_without_subscribers(tmp_path):
     source = small_bag(tmp_path / "source")
-    with pytest.raises(BagError, match=r"no 1 subscriber\(s\) within 0.3 s on topic\(s\) /attitude, /state"):
+    with pytest.raises(
+        BagError, match=r"no 1 subscriber\(s\) within 0.3 s on topic\(s\) /attitude, /state"
+    ):
         play(source, wait_for_subscribers=1, wait_timeout=0.3)
 
 
@@ -250,18 +304,38 @@ def test_record_without_topics_or_into_an_existing_path_fails_clearly(tmp_path, 
     with pytest.raises(BagError, match="no topics given"):
         record(tmp_path / "out", [])
     existing = small_bag(tmp_path / "existing")
-    assert cli_main(["bag", "record", str(existing), "--topics", "/attitude", "--duration", "1"]) == 1
+    assert (
+        cli_main(["bag", "record", str(existing), "--topics", "/attitude", "--duration", "1"]) == 1
+    )
     assert "already exists" in capsys.readouterr().err
-    assert cli_main(["bag", "record", str(tmp_path / "out"), "--topics", "/a:no_pkg/msg/Nothing"]) == 1
+    assert (
+        cli_main(["bag", "record", str(tmp_path / "out"), "--topics", "/a:no_pkg/msg/Nothing"]) == 1
+    )
     assert "'no_pkg/msg/Nothing' is not installed" in capsys.readouterr().err
     assert not (tmp_path / "out").exists()
 
 
-def test_record_for_a_duration_writes_a_readable_empty_bag_and_names_silent_topics(tmp_path, capsys):
+def test_record_for_a_duration_writes_a_readable_empty_bag_and_names_silent_topics(
+    tmp_path, capsys
+):
     out = tmp_path / "quiet"
     start = time.monotonic()
-    assert cli_main(["bag", "record", str(out), "--topics", "/nobody_publishes_this", "--storage", "sqlite3",
-                     "--duration", "0.5"]) == 0
+    assert (
+        cli_main(
+            [
+                "bag",
+                "record",
+                str(out),
+                "--topics",
+                "/nobody_publishes_this",
+                "--storage",
+                "sqlite3",
+                "--duration",
+                "0.5",
+            ]
+        )
+        == 0
+    )
     assert 0.5 <= time.monotonic() - start < 5
     captured = capsys.readouterr()
     assert "0 messages" in captured.out

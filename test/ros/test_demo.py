@@ -16,9 +16,11 @@ def test_demo_runs_prints_the_table_and_writes_csv_and_plots(tmp_path, capsys):
     text = capsys.readouterr().out
     lines = text.splitlines()
     assert "ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST" in text
-    header = next(i for i, line in enumerate(lines) if line.split()[:3] == ["sim", "time", "altitude"])
+    header = next(
+        i for i, line in enumerate(lines) if line.split()[:3] == ["sim", "time", "altitude"]
+    )
     rows = []
-    for line in lines[header + 2:]:
+    for line in lines[header + 2 :]:
         if not line.strip():
             break
         rows.append([float(v) for v in line.split()])

@@ -63,13 +63,25 @@ else:
 
 
 def test_profile_discovers_over_loopback_only():
-    env = dict(os.environ, ROS_AUTOMATIC_DISCOVERY_RANGE="SYSTEM_DEFAULT",
-               FASTRTPS_DEFAULT_PROFILES_FILE=str(PROFILE))
-    talker = subprocess.Popen([sys.executable, "-c", CHILD, "talk"], env=env,
-                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    env = dict(
+        os.environ,
+        ROS_AUTOMATIC_DISCOVERY_RANGE="SYSTEM_DEFAULT",
+        FASTRTPS_DEFAULT_PROFILES_FILE=str(PROFILE),
+    )
+    talker = subprocess.Popen(
+        [sys.executable, "-c", CHILD, "talk"],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
     try:
-        listener = subprocess.run([sys.executable, "-c", CHILD, "listen"], env=env,
-                                  capture_output=True, text=True, timeout=45)
+        listener = subprocess.run(
+            [sys.executable, "-c", CHILD, "listen"],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=45,
+        )
     finally:
         talker.kill()
         talker.wait()

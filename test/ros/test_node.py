@@ -17,17 +17,16 @@ import numpy as np
 import pytest
 import rclpy
 import trimesh
+from closed_forms import sentman_sphere_cd
 from geometry_msgs.msg import QuaternionStamped
 from rclpy.parameter import Parameter
 from rclpy.serialization import serialize_message
+from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float, to_stamp
 
 from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.environment.flight_conditions import flight_conditions
-from adbsat_ros.ros.node import AdbsatNode
 from adbsat_ros.estimator.settings import EXECUTORS
-
-from closed_forms import sentman_sphere_cd
-from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float, to_stamp
+from adbsat_ros.ros.node import AdbsatNode
 
 RADIUS = 0.5
 EPOCH = "2026-03-20T12:00:00"
@@ -85,14 +84,23 @@ def test_circular_orbit_wrench_is_drag_of_a_sphere(ros):
     assert peer.spin_until(lambda: len(peer.wrenches) == 10), f"got {len(peer.wrenches)} wrenches"
     w = peer.wrenches[-1]
     assert w.header.frame_id == "body"
-    assert [stamp_to_float(m.header.stamp) for m in peer.wrenches] == pytest.approx(stamps, abs=1e-9)
+    assert [stamp_to_float(m.header.stamp) for m in peer.wrenches] == pytest.approx(
+        stamps, abs=1e-9
+    )
     force, torque = vec(w.wrench.force), vec(w.wrench.torque)
 
     # Independent flight conditions at the last stamp (state propagated 0.1 s at constant velocity)
     t = stamps[-1]
     utc = dt.datetime.fromisoformat(EPOCH).replace(tzinfo=dt.timezone.utc) + dt.timedelta(seconds=t)
-    cond = flight_conditions(utc, np.add(pos, np.multiply(vel, t)), vel, SpaceWeather(150, 150, 4),
-                             frame="eci", accommodation_model="fixed", accommodation_options={"alpha": 1.0})
+    cond = flight_conditions(
+        utc,
+        np.add(pos, np.multiply(vel, t)),
+        vel,
+        SpaceWeather(150, 150, 4),
+        frame="eci",
+        accommodation_model="fixed",
+        accommodation_options={"alpha": 1.0},
+    )
     # relative wind: satellite velocity minus the co-rotating air, omega x r (omega ~ z in ECI)
     omega = np.array([0.0, 0.0, 7.292115e-5])
     v_rel = np.asarray(vel) - np.cross(omega, np.add(pos, np.multiply(vel, t)))
@@ -148,10 +156,15 @@ def test_attitudes_that_queue_up_are_served_together_in_order_with_their_own_wre
     from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 
     ctx, spinner = make_context(executor)
-    node = AdbsatNode(context=ctx, parameter_overrides=[  # the bundled satellite, raycast shading
-        Parameter("time_mode", value="epoch"), Parameter("epoch_utc", value=EPOCH),
-        Parameter("qos_depth", value=50), Parameter("center_of_mass", value=[0.1, -0.02, 0.03]),
-    ])
+    node = AdbsatNode(
+        context=ctx,
+        parameter_overrides=[  # the bundled satellite, raycast shading
+            Parameter("time_mode", value="epoch"),
+            Parameter("epoch_utc", value=EPOCH),
+            Parameter("qos_depth", value=50),
+            Parameter("center_of_mass", value=[0.1, -0.02, 0.03]),
+        ],
+    )
     spinner.add_node(node)
     peer = Peer(ctx, spinner)
     try:
@@ -159,7 +172,9 @@ def test_attitudes_that_queue_up_are_served_together_in_order_with_their_own_wre
         pos, vel = (np.asarray(v, dtype=float) for v in circular_orbit_state(300e3))
         later_vel = vel + np.array([0.0, 0.0, 25.0])  # a second state with some cross-track wind
         peer.send_state(0.0, pos, vel)
-        assert peer.spin_until(lambda: node.estimator.rejections["no_state"] == 0 and node._last_state_wall)
+        assert peer.spin_until(
+            lambda: node.estimator.rejections["no_state"] == 0 and node._last_state_wall
+        )
 
         def attitude(k):  # tilting by 1 deg per message about y, a little about z
             a, b = math.radians(1.0 * k), math.radians(0.3 * k)
@@ -213,9 +228,14 @@ def test_a_stream_faster_than_the_node_loses_no_attitude_and_keeps_the_order(exe
     import threading
 
     ctx, spinner = make_context(executor)
-    node = AdbsatNode(context=ctx, parameter_overrides=[
-        Parameter("time_mode", value="epoch"), Parameter("epoch_utc", value=EPOCH), Parameter("qos_depth", value=1000),
-    ])
+    node = AdbsatNode(
+        context=ctx,
+        parameter_overrides=[
+            Parameter("time_mode", value="epoch"),
+            Parameter("epoch_utc", value=EPOCH),
+            Parameter("qos_depth", value=1000),
+        ],
+    )
     spinner.add_node(node)
     peer = Peer(ctx, spinner)
     n = 400
@@ -334,12 +354,17 @@ def test_bad_inputs_are_rejected_counted_and_the_node_stays_up(ros):
     peer.attitude_pub.publish(bytes(serialize_message(msg)) + bytes(8))
     assert peer.spin_until(lambda: len(peer.wrenches) == 4)
     assert stamp_to_float(peer.wrenches[-1].header.stamp) == pytest.approx(4.01, abs=1e-9)
-    assert np.allclose(vec(peer.wrenches[-1].wrench.force), vec(peer.wrenches[-2].wrench.force), rtol=1e-3)
+    assert np.allclose(
+        vec(peer.wrenches[-1].wrench.force), vec(peer.wrenches[-2].wrench.force), rtol=1e-3
+    )
     # diagnostics report the rejections
-    assert peer.spin_until(lambda: any(
-        any(kv.key == "rejected_bad_quaternion" and kv.value == "2" for kv in st.values)
-        for d in peer.diagnostics for st in d.status
-    ))
+    assert peer.spin_until(
+        lambda: any(
+            any(kv.key == "rejected_bad_quaternion" and kv.value == "2" for kv in st.values)
+            for d in peer.diagnostics
+            for st in d.status
+        )
+    )
 
 
 def test_parameter_changes_apply_or_are_rejected(ros):
@@ -378,8 +403,18 @@ def test_parameter_changes_apply_or_are_rejected(ros):
 def test_bad_mesh_stops_the_node_with_one_line_and_status_1(tmp_path):
     env = dict(os.environ)
     proc = subprocess.run(
-        [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args", "-p", f"mesh:={tmp_path / 'none.obj'}"],
-        capture_output=True, text=True, timeout=60, env=env,
+        [
+            sys.executable,
+            "-m",
+            "adbsat_ros.ros.node",
+            "--ros-args",
+            "-p",
+            f"mesh:={tmp_path / 'none.obj'}",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env=env,
     )
     assert proc.returncode == 1
     lines = proc.stderr.strip().splitlines()
@@ -388,8 +423,20 @@ def test_bad_mesh_stops_the_node_with_one_line_and_status_1(tmp_path):
 
 def test_node_process_with_the_bundled_params_file(sphere_file):
     """adbsat_node run as its own process with config/adbsat.yaml answers over DDS."""
-    cmd = [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args", "--params-file", str(ROOT / "config" / "adbsat.yaml"),
-           "-p", f"mesh:={sphere_file}", "-p", "time_mode:=epoch", "-p", f"epoch_utc:={EPOCH}"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "adbsat_ros.ros.node",
+        "--ros-args",
+        "--params-file",
+        str(ROOT / "config" / "adbsat.yaml"),
+        "-p",
+        f"mesh:={sphere_file}",
+        "-p",
+        "time_mode:=epoch",
+        "-p",
+        f"epoch_utc:={EPOCH}",
+    ]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     ctx, executor = make_context()
     peer = Peer(ctx, executor, name="remote_peer")
@@ -417,7 +464,11 @@ def test_node_process_with_the_bundled_params_file(sphere_file):
 
 
 def test_params_file_lists_every_parameter_with_its_default():
-    from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings, load_parameters_file
+    from adbsat_ros.estimator.settings import (
+        PARAMETER_DEFAULTS,
+        WrenchSettings,
+        load_parameters_file,
+    )
 
     params = load_parameters_file(ROOT / "config" / "adbsat.yaml")
     assert set(params) == set(PARAMETER_DEFAULTS)
@@ -493,11 +544,15 @@ def test_a_burst_of_bad_input_is_counted_and_logged_once_per_reason(ros):
             peer.send_attitude(t, (math.nan, 0, 0, 1))
             peer.send_attitude(t, (0, 0, 0, 0))
         n = 5 * (batch + 1)
-        assert peer.spin_until(lambda: rejected_since("non_finite") == n and rejected_since("bad_quaternion") == n), dict(est.rejections)
+        assert peer.spin_until(
+            lambda: rejected_since("non_finite") == n and rejected_since("bad_quaternion") == n
+        ), dict(est.rejections)
     peer.send_attitude(1.1, (0, 0, 0, 1))
     assert peer.spin_until(lambda: len(peer.wrenches) == 1)
     peer.spin_for(0.2)
-    rejected = [m.msg for m in logs if m.name == node.get_name() and m.msg.startswith("input rejected")]
+    rejected = [
+        m.msg for m in logs if m.name == node.get_name() and m.msg.startswith("input rejected")
+    ]
     assert sum(m.startswith("input rejected (non_finite)") for m in rejected) == 1, rejected
     assert sum(m.startswith("input rejected (bad_quaternion)") for m in rejected) == 1, rejected
     assert len(rejected) == 2, rejected
@@ -513,7 +568,9 @@ def test_state_bytes_that_are_no_odometry_are_counted_and_a_padded_one_is_decode
     est = node.estimator
     before = dict(est.rejections)
     peer.state_pub.publish(b"\x00\x01\x00\x00" + b"\xff" * 40)
-    assert peer.spin_until(lambda: est.rejections["undecodable"] == before.get("undecodable", 0) + 1)
+    assert peer.spin_until(
+        lambda: est.rejections["undecodable"] == before.get("undecodable", 0) + 1
+    )
     peer.send_attitude(1.0, (0.0, 0.0, 0.0, 1.0))
     assert peer.spin_until(lambda: est.rejections["no_state"] == before.get("no_state", 0) + 1)
     pos, vel = circular_orbit_state(300e3)
@@ -531,7 +588,9 @@ def test_state_bytes_that_are_no_odometry_are_counted_and_a_padded_one_is_decode
     assert peer.spin_until(lambda: len(peer.wrenches) == 2)
     first, second = (vec(w.wrench.force) for w in peer.wrenches)
     assert np.linalg.norm(first) > 1e-5
-    assert np.allclose(first, second, rtol=1e-3)  # 1 s apart: the atmosphere and Earth turn a little
+    assert np.allclose(
+        first, second, rtol=1e-3
+    )  # 1 s apart: the atmosphere and Earth turn a little
 
 
 def test_coefficients_follow_their_subscribers_as_they_come_and_go(ros):
@@ -546,10 +605,14 @@ def test_coefficients_follow_their_subscribers_as_they_come_and_go(ros):
     peer.send_state(0.0, pos, vel)
     assert peer.spin_until(lambda: node.estimator._state is not None)
     assert peer.spin_until(lambda: node._coefficient_readers == 1)
-    extra = peer.node.create_subscription(WrenchStamped, "coefficients", lambda msg: None, QoSProfile(depth=10))
+    extra = peer.node.create_subscription(
+        WrenchStamped, "coefficients", lambda msg: None, QoSProfile(depth=10)
+    )
     assert peer.spin_until(lambda: node._coefficient_readers == 2)
     peer.node.destroy_subscription(extra)
-    peer.node.destroy_subscription(next(s for s in peer.node.subscriptions if s.topic_name == "/coefficients"))
+    peer.node.destroy_subscription(
+        next(s for s in peer.node.subscriptions if s.topic_name == "/coefficients")
+    )
     assert peer.spin_until(lambda: node._coefficient_readers == 0)
     before = len(peer.coefficients)
     for k in range(5):
@@ -557,7 +620,9 @@ def test_coefficients_follow_their_subscribers_as_they_come_and_go(ros):
     assert peer.spin_until(lambda: node.estimator.published >= 5)
     peer.spin_for(0.2)
     assert len(peer.coefficients) == before  # nobody listening: nothing sent
-    peer.node.create_subscription(WrenchStamped, "coefficients", peer.coefficients.append, QoSProfile(depth=100))
+    peer.node.create_subscription(
+        WrenchStamped, "coefficients", peer.coefficients.append, QoSProfile(depth=100)
+    )
     assert peer.spin_until(lambda: node._coefficient_readers == 1)
     peer.send_attitude(0.06, (0.0, 0.0, 0.0, 1.0))
     assert peer.spin_until(lambda: len(peer.coefficients) > before)

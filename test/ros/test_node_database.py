@@ -17,21 +17,20 @@ import numpy as np
 import pytest
 import rclpy
 from rclpy.parameter import Parameter
-
-from adbsat_ros.estimator.estimator import AeroWrenchEstimator
-from adbsat_ros.environment.atmosphere import SpaceWeather
-from adbsat_ros.database.build import build_database
-from adbsat_ros.geometry.example_satellite import write_obj
-from adbsat_ros.environment.flight_conditions import flight_conditions
-from adbsat_ros.geometry.mesh import panels_from_arrays
-from adbsat_ros.geometry.loading import load_mesh
-from adbsat_ros.ros.node import AdbsatNode
-from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.physics.coefficients import Reference
-from adbsat_ros.geometry.shapes import grid_box
-from adbsat_ros.estimator.settings import PARAMETERS, WrenchSettings
-
 from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float
+
+from adbsat_ros.database.build import build_database
+from adbsat_ros.environment.atmosphere import SpaceWeather
+from adbsat_ros.environment.flight_conditions import flight_conditions
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.settings import PARAMETERS, WrenchSettings
+from adbsat_ros.geometry.example_satellite import write_obj
+from adbsat_ros.geometry.loading import load_mesh
+from adbsat_ros.geometry.mesh import panels_from_arrays
+from adbsat_ros.geometry.shapes import grid_box
+from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.ros.node import AdbsatNode
 
 EPOCH = "2026-03-20T12:00:00"
 ALTITUDE = 300e3
@@ -42,13 +41,17 @@ COM = [0.05, -0.02, 0.03]  # centre of mass [m], not the database's moment point
 def box_file(tmp_path_factory):
     """A 0.6 x 0.3 x 0.2 m box (convex) as an OBJ file."""
     path = tmp_path_factory.mktemp("mesh") / "box.obj"
-    write_obj(panels_from_arrays(*grid_box((0, 0, 0), (0.6, 0.3, 0.2), (2, 2, 2)), source="box"), path)
+    write_obj(
+        panels_from_arrays(*grid_box((0, 0, 0), (0.6, 0.3, 0.2), (2, 2, 2)), source="box"), path
+    )
     return str(path)
 
 
 def node_settings(box_file, **changes) -> WrenchSettings:
     values = {name: default for name, default, _ in PARAMETERS}
-    values.update(mesh=box_file, shading="none", time_mode="epoch", epoch_utc=EPOCH, center_of_mass=COM)
+    values.update(
+        mesh=box_file, shading="none", time_mode="epoch", epoch_utc=EPOCH, center_of_mass=COM
+    )
     values.update(changes)
     return WrenchSettings.from_parameters(values)
 
@@ -57,8 +60,15 @@ def flow_seen_by_node(t):
     """The free stream the node computes at stamp t for the test's orbit (same settings)."""
     pos, vel = circular_orbit_state(ALTITUDE)
     utc = dt.datetime.fromisoformat(EPOCH).replace(tzinfo=dt.timezone.utc) + dt.timedelta(seconds=t)
-    cond = flight_conditions(utc, np.add(pos, np.multiply(vel, t)), vel, SpaceWeather(150, 150, 4), frame="eci",
-                             accommodation_model="fixed", accommodation_options={"alpha": 1.0})
+    cond = flight_conditions(
+        utc,
+        np.add(pos, np.multiply(vel, t)),
+        vel,
+        SpaceWeather(150, 150, 4),
+        frame="eci",
+        accommodation_model="fixed",
+        accommodation_options={"alpha": 1.0},
+    )
     return cond.free_stream()
 
 
@@ -68,25 +78,47 @@ def databases(box_file, tmp_path_factory):
     out = tmp_path_factory.mktemp("db")
     method = AeroWrenchEstimator(node_settings(box_file)).method
     # the database's moment point is the origin; the node's is COM: moments must be carried over
-    method = PanelMethod(method.mesh, method.model, method.materials, options=method.options,
-                         reference=Reference(area=method.reference.area, length=method.reference.length))
+    method = PanelMethod(
+        method.mesh,
+        method.model,
+        method.materials,
+        options=method.options,
+        reference=Reference(area=method.reference.area, length=method.reference.length),
+    )
     flow = flow_seen_by_node(0.05)
-    grid = dict(aoa_deg=np.arange(-180.0, 180.1, 10.0), aos_deg=np.arange(-90.0, 90.1, 10.0),
-                shading="none", workers=1, progress=False, mesh_spec=box_file)
+    grid = dict(
+        aoa_deg=np.arange(-180.0, 180.1, 10.0),
+        aos_deg=np.arange(-90.0, 90.1, 10.0),
+        shading="none",
+        workers=1,
+        progress=False,
+        mesh_spec=box_file,
+    )
     paths = {}
     db = build_database(method, flow, **grid)
     paths["good"] = db.save(out / "good.npz")
     newton = PanelMethod(method.mesh, "newton", method.materials, reference=method.reference)
     paths["model"] = build_database(newton, flow, **grid).save(out / "newton.npz")
     bigger = Reference(area=2.0 * method.reference.area, length=method.reference.length)
-    other_ref = PanelMethod(method.mesh, method.model, method.materials, options=method.options, reference=bigger)
+    other_ref = PanelMethod(
+        method.mesh, method.model, method.materials, options=method.options, reference=bigger
+    )
     paths["reference"] = build_database(other_ref, flow, **grid).save(out / "aref.npz")
     other_mesh_file = out / "box2.obj"
-    write_obj(panels_from_arrays(*grid_box((0, 0, 0), (0.6, 0.3, 0.22), (2, 2, 2)), source="box2"), other_mesh_file)
-    other_mesh = PanelMethod(load_mesh(other_mesh_file), method.model, method.materials, options=method.options,
-                             reference=method.reference)
-    paths["mesh"] = build_database(other_mesh, flow, **dict(grid, mesh_spec=str(other_mesh_file))).save(
-        out / "box2.npz")
+    write_obj(
+        panels_from_arrays(*grid_box((0, 0, 0), (0.6, 0.3, 0.22), (2, 2, 2)), source="box2"),
+        other_mesh_file,
+    )
+    other_mesh = PanelMethod(
+        load_mesh(other_mesh_file),
+        method.model,
+        method.materials,
+        options=method.options,
+        reference=method.reference,
+    )
+    paths["mesh"] = build_database(
+        other_mesh, flow, **dict(grid, mesh_spec=str(other_mesh_file))
+    ).save(out / "box2.npz")
     return paths, db.metadata["interpolation_error"]
 
 
@@ -96,9 +128,19 @@ def ros(box_file):
     created = []
 
     def start(**params):
-        overrides = [Parameter(k, value=v) for k, v in dict(
-            mesh=box_file, shading="none", time_mode="epoch", epoch_utc=EPOCH, center_of_mass=COM,
-            diagnostics_period=0.1, qos_depth=100, **params).items()]
+        overrides = [
+            Parameter(k, value=v)
+            for k, v in dict(
+                mesh=box_file,
+                shading="none",
+                time_mode="epoch",
+                epoch_utc=EPOCH,
+                center_of_mass=COM,
+                diagnostics_period=0.1,
+                qos_depth=100,
+                **params,
+            ).items()
+        ]
         node = AdbsatNode(context=ctx, parameter_overrides=overrides)
         executor.add_node(node)
         created.append(node)
@@ -133,7 +175,8 @@ def exchange(peer, attitudes, t0=0.05):
         peer.send_attitude(t, q)
     n = len(attitudes)
     assert peer.spin_until(lambda: len(peer.wrenches) == n and len(peer.coefficients) == n), (
-        f"got {len(peer.wrenches)} wrenches, {len(peer.coefficients)} coefficients of {n}")
+        f"got {len(peer.wrenches)} wrenches, {len(peer.coefficients)} coefficients of {n}"
+    )
     w = {round(stamp_to_float(m.header.stamp), 6): m for m in peer.wrenches}
     c = {round(stamp_to_float(m.header.stamp), 6): m for m in peer.coefficients}
     return [(w[round(t, 6)], c[round(t, 6)]) for t in stamps]
@@ -141,12 +184,14 @@ def exchange(peer, attitudes, t0=0.05):
 
 def latest_diagnostics(peer, after_published):
     """Values of the first /diagnostics status that counts at least ``after_published`` wrenches."""
+
     def ready():
         for msg in peer.diagnostics:
             values = {kv.key: kv.value for kv in msg.status[0].values}
             if int(values.get("published", 0)) >= after_published:
                 return values
         return None
+
     assert peer.spin_until(lambda: ready() is not None, timeout=5.0)
     return ready()
 
@@ -154,23 +199,38 @@ def latest_diagnostics(peer, after_published):
 @pytest.mark.parametrize("source", ["panel", "database"])
 def test_coefficients_topic_times_q_aref_is_the_wrench(ros, databases, source):
     start, peer = ros
-    params = {} if source == "panel" else dict(coefficients_source="database", database_path=databases[0]["good"])
+    params = (
+        {}
+        if source == "panel"
+        else dict(coefficients_source="database", database_path=databases[0]["good"])
+    )
     node = start(**params)
     assert peer.wait_for_subscribers()
     area = node.get_parameter("reference_area").value
     length = node.get_parameter("reference_length").value
-    for k, angle in enumerate((0.3, 1.1, 2.5)):  # one attitude at a time: diagnostics then hold its q
+    for k, angle in enumerate(
+        (0.3, 1.1, 2.5)
+    ):  # one attitude at a time: diagnostics then hold its q
         peer.diagnostics.clear()
         [(w, c)] = exchange(peer, [quaternion_z(angle)], t0=0.05 + 0.01 * k)
         values = latest_diagnostics(peer, after_published=k + 1)
         assert values["coefficients_source"] == source
-        assert float(values["reference_area_m2"]) == area and float(values["reference_length_m"]) == length
+        assert (
+            float(values["reference_area_m2"]) == area
+            and float(values["reference_length_m"]) == length
+        )
         q = 0.5 * float(values["density_kg_m3"]) * float(values["relative_speed_m_s"]) ** 2
         force, torque = vec(w.wrench.force), vec(w.wrench.torque)
         assert np.linalg.norm(force) > 0 and c.header.frame_id == w.header.frame_id
-        np.testing.assert_allclose(q * area * vec(c.wrench.force), force, rtol=1e-9, atol=1e-9 * np.linalg.norm(force))
-        np.testing.assert_allclose(q * area * length * vec(c.wrench.torque), torque, rtol=1e-9,
-                                   atol=1e-9 * np.linalg.norm(torque))
+        np.testing.assert_allclose(
+            q * area * vec(c.wrench.force), force, rtol=1e-9, atol=1e-9 * np.linalg.norm(force)
+        )
+        np.testing.assert_allclose(
+            q * area * length * vec(c.wrench.torque),
+            torque,
+            rtol=1e-9,
+            atol=1e-9 * np.linalg.norm(torque),
+        )
 
 
 def test_database_mode_agrees_with_the_panel_method_within_the_stated_error(ros, databases):
@@ -187,14 +247,22 @@ def test_database_mode_agrees_with_the_panel_method_within_the_stated_error(ros,
         angle = rng.uniform(0, math.pi)
         attitudes.append(tuple(np.append(axis * math.sin(angle / 2), math.cos(angle / 2))))
     panel = exchange(peer, attitudes)
-    result = node.set_parameters([Parameter("database_path", value=paths["good"]),
-                                  Parameter("coefficients_source", value="database")])
+    result = node.set_parameters(
+        [
+            Parameter("database_path", value=paths["good"]),
+            Parameter("coefficients_source", value="database"),
+        ]
+    )
     assert all(r.successful for r in result), [r.reason for r in result]
     database = exchange(peer, attitudes, t0=0.2)  # new stamps; the flow changes by < 1e-6 relative
     # the stated error, with the moment bound carried from the database's point to the centre of mass
     error = node.estimator.database.error_bound
-    carried = stated["moment_coefficient"] + np.linalg.norm(COM) * stated["force_coefficient"] / node.get_parameter(
-        "reference_length").value
+    carried = (
+        stated["moment_coefficient"]
+        + np.linalg.norm(COM)
+        * stated["force_coefficient"]
+        / node.get_parameter("reference_length").value
+    )
     assert error["force_coefficient"] == stated["force_coefficient"]
     assert error["moment_coefficient"] == pytest.approx(carried, rel=1e-12)
     area = node.get_parameter("reference_area").value
@@ -206,19 +274,26 @@ def test_database_mode_agrees_with_the_panel_method_within_the_stated_error(ros,
         worst_f, worst_m = max(worst_f, df), max(worst_m, dm)
         # newtons: same relation through q A (the flow differs by far less than the error bound)
         scale = np.linalg.norm(vec(wp.wrench.force)) / np.linalg.norm(vec(cp.wrench.force))
-        assert np.linalg.norm(vec(wd.wrench.force) - vec(wp.wrench.force)) <= scale * (error["force_coefficient"] + 1e-6)
-    print(f"worst |dCf| {worst_f:.3g} (bound {error['force_coefficient']:.3g}), |dCm| {worst_m:.3g} (bound {error['moment_coefficient']:.3g})")
+        assert np.linalg.norm(vec(wd.wrench.force) - vec(wp.wrench.force)) <= scale * (
+            error["force_coefficient"] + 1e-6
+        )
+    print(
+        f"worst |dCf| {worst_f:.3g} (bound {error['force_coefficient']:.3g}), |dCm| {worst_m:.3g} (bound {error['moment_coefficient']:.3g})"
+    )
     assert worst_f <= error["force_coefficient"] + 1e-6
     assert worst_m <= error["moment_coefficient"] + 1e-6
     assert worst_f > 0.0  # the attitudes really are between nodes: interpolation is not exact there
     assert area > 0 and length > 0
 
 
-@pytest.mark.parametrize("which, words", [
-    ("model", ["gsi_model", "newton", "sentman"]),
-    ("reference", ["reference area"]),
-    ("mesh", ["mesh", "fingerprint"]),
-])
+@pytest.mark.parametrize(
+    "which, words",
+    [
+        ("model", ["gsi_model", "newton", "sentman"]),
+        ("reference", ["reference area"]),
+        ("mesh", ["mesh", "fingerprint"]),
+    ],
+)
 def test_mismatched_database_is_refused_naming_the_mismatch(ros, databases, which, words):
     paths, _ = databases
     start, peer = ros
@@ -229,8 +304,12 @@ def test_mismatched_database_is_refused_naming_the_mismatch(ros, databases, whic
         assert word in str(info.value)
     # as a run-time change: rejected with the reason, the node keeps computing with the panel method
     node = start()
-    result = node.set_parameters([Parameter("database_path", value=paths[which]),
-                                  Parameter("coefficients_source", value="database")])
+    result = node.set_parameters(
+        [
+            Parameter("database_path", value=paths[which]),
+            Parameter("coefficients_source", value="database"),
+        ]
+    )
     assert not all(r.successful for r in result)
     assert any(words[0] in r.reason for r in result)
     assert node.get_parameter("coefficients_source").value == "panel"
@@ -240,7 +319,11 @@ def test_mismatched_database_is_refused_naming_the_mismatch(ros, databases, whic
 def test_database_mode_needs_a_fixed_accommodation(ros, databases):
     start, _ = ros
     with pytest.raises(ValueError, match="accommodation_model"):
-        start(coefficients_source="database", database_path=databases[0]["good"], accommodation_model="langmuir")
+        start(
+            coefficients_source="database",
+            database_path=databases[0]["good"],
+            accommodation_model="langmuir",
+        )
 
 
 def test_unreadable_database_is_refused_naming_the_file(ros, tmp_path):

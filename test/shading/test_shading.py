@@ -17,17 +17,16 @@ import pytest
 import trimesh
 
 from adbsat_ros import FreeStream, PanelMethod
-
 from adbsat_ros.geometry import frames
-from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.geometry.loading import panels_from_trimesh
-from adbsat_ros.shading.shader import Shader, forward_mask, lit_projected_area, make_shader, shade
+from adbsat_ros.geometry.mesh import panels_from_arrays
+from adbsat_ros.geometry.shapes import combine as join_parts
+from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.shading.projection import adbsat_shadowed
 from adbsat_ros.shading.rays_embree import embree_available
 from adbsat_ros.shading.rays_numpy import _any_hit_numpy
 from adbsat_ros.shading.sampling import sample_barycentric
-from adbsat_ros.geometry.shapes import combine as join_parts
-from adbsat_ros.geometry.shapes import grid_box
+from adbsat_ros.shading.shader import Shader, forward_mask, lit_projected_area, make_shader, shade
 
 # embreex is a dependency: only a developer machine without it may skip; in CI a missing Embree fails.
 needs_embree = pytest.mark.skipif(
@@ -82,7 +81,9 @@ FLOW = FreeStream(7700.0, 900.0, mean_mass_amu=16.0)
 
 
 def front_plate_panels(mesh):
-    return np.flatnonzero((mesh.normals[:, 0] > 0.99) & (np.abs(mesh.barycentres[:, 0] - 0.05) < 1e-9))
+    return np.flatnonzero(
+        (mesh.normals[:, 0] > 0.99) & (np.abs(mesh.barycentres[:, 0] - 0.05) < 1e-9)
+    )
 
 
 # ------------------------------------------------------------------------------ exact reference
@@ -126,13 +127,22 @@ def exact_plate_lighting(mesh, aoa):
         tri = [np.array(p, float) for p in mesh.vertices[i][:, 1:]]
         a_tri, c_tri = _area_centroid(tri)
         poly = tri
-        for axis, val, keep_less in [(0, box[0], False), (0, box[1], True), (1, box[2], False), (1, box[3], True)]:
+        for axis, val, keep_less in [
+            (0, box[0], False),
+            (0, box[1], True),
+            (1, box[2], False),
+            (1, box[3], True),
+        ]:
             poly = _clip(poly, axis, val, keep_less)
             if not poly:
                 break
         a_sh, c_sh = _area_centroid(poly) if poly else (0.0, None)
         frac[i] = 1.0 - a_sh / a_tri
-        cen[i] = c_tri if a_sh == 0 else ((a_tri * c_tri - a_sh * c_sh) / (a_tri - a_sh) if a_tri > a_sh else None)
+        cen[i] = (
+            c_tri
+            if a_sh == 0
+            else ((a_tri * c_tri - a_sh * c_sh) / (a_tri - a_sh) if a_tri > a_sh else None)
+        )
     return frac, cen
 
 
@@ -239,8 +249,12 @@ def test_grazing_rule_fin_in_wake():
     bottom_shaded = np.all(l0[bottom] == 0.0)
     assert top_shaded != bottom_shaded
     assert np.all(l0[top] == 1.0) or np.all(l0[bottom] == 1.0)
-    assert np.all(res[0.1][0].lit_fraction[bottom] == 0.0) and np.all(res[0.1][0].lit_fraction[top] == 1.0)
-    assert np.all(res[-0.1][0].lit_fraction[top] == 0.0) and np.all(res[-0.1][0].lit_fraction[bottom] == 1.0)
+    assert np.all(res[0.1][0].lit_fraction[bottom] == 0.0) and np.all(
+        res[0.1][0].lit_fraction[top] == 1.0
+    )
+    assert np.all(res[-0.1][0].lit_fraction[top] == 0.0) and np.all(
+        res[-0.1][0].lit_fraction[bottom] == 1.0
+    )
     d0 = res[0.0][1]
     for deg in (-0.1, 0.1):
         assert abs(res[deg][1] - d0) / d0 < 1e-3
@@ -254,7 +268,9 @@ def test_grazing_rule_fin_in_wake():
 
 
 def test_forward_mask_tie_break_is_one_sided():
-    normals = np.array([[0, 0, 1.0], [0, 0, -1.0], [0, 1.0, 0], [0, -1.0, 0], [1.0, 0, 0], [-1.0, 0, 0]])
+    normals = np.array(
+        [[0, 0, 1.0], [0, 0, -1.0], [0, 1.0, 0], [0, -1.0, 0], [1.0, 0, 0], [-1.0, 0, 0]]
+    )
     c = -(normals @ np.array([-1.0, 0, 0]))  # head-on along -x
     f = forward_mask(c, normals, 1e-6)
     assert f[4] and not f[5]
@@ -264,7 +280,9 @@ def test_forward_mask_tie_break_is_one_sided():
 def test_grazing_faces_do_not_occlude():
     # A square lying in the plane y = 0; a ray travelling in that plane is not blocked by it
     # (zero projected area), one crossing it is.
-    sq = trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1]], [[0, 1, 2], [0, 2, 3]], process=False)
+    sq = trimesh.Trimesh(
+        [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1]], [[0, 1, 2], [0, 2, 3]], process=False
+    )
     tri = np.asarray(sq.triangles)
     d = np.array([1.0, 0.0, 0.0])
     origins = np.array([[-1.0, 0.0, 0.5], [-1.0, 0.0, 0.25]])
@@ -367,7 +385,9 @@ def _adbsat_loop(mesh, u):
             vv = (d00 * d12 - d01 * d02) * inv
             hit = (uu >= 0) & (vv >= 0) & (uu + vv < 1)
         b = bc[ok][hit]
-        if b.size and np.any(np.einsum("ij,ij->i", mesh.normals[b], mesh.barycentres[f] - mesh.vertices[b, 0]) > 1e-5):
+        if b.size and np.any(
+            np.einsum("ij,ij->i", mesh.normals[b], mesh.barycentres[f] - mesh.vertices[b, 0]) > 1e-5
+        ):
             out[f] = True
     return out
 

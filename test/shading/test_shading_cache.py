@@ -10,10 +10,10 @@ import pytest
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import panels_from_arrays
-from adbsat_ros.shading.shader import lit_projected_area, make_shader
+from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.shading.cache import RECENT_CELLS, ShadingCache, moved_lit_area
 from adbsat_ros.shading.cube_map import cells_per_edge, direction_keys, key_centres
-from adbsat_ros.geometry.shapes import grid_box
+from adbsat_ros.shading.shader import lit_projected_area, make_shader
 
 
 @pytest.fixture(scope="module")
@@ -21,7 +21,9 @@ def scene():
     """Cube 1 m at x = +2, plate 3 x 3 x 0.1 m at x = 0 (front face at x = +0.05)."""
     v1, f1 = grid_box((2.0, 0.0, 0.0), (1.0, 1.0, 1.0), (2, 2, 2))
     v2, f2 = grid_box((0.0, 0.0, 0.0), (0.1, 3.0, 3.0), (1, 25, 25))
-    return panels_from_arrays(np.vstack([v1, v2]), np.vstack([f1, f2 + len(v1)]), source="cube+plate")
+    return panels_from_arrays(
+        np.vstack([v1, v2]), np.vstack([f1, f2 + len(v1)]), source="cube+plate"
+    )
 
 
 @pytest.fixture(scope="module")
@@ -41,8 +43,23 @@ def test_quantisation_error_bounded_everywhere(resolution_deg):
     rng = np.random.default_rng(0)
     u = rng.normal(size=(100_000, 3))
     # poles, axis directions, cube-map edges and corners, near-pole directions
-    special = [[0, 0, 1], [0, 0, -1], [1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [1, 1, 0], [1, 0, -1],
-               [0, 1, 1], [1, 1, 1], [-1, -1, -1], [1, 1, -1], [1e-9, 0, 1], [0, 1e-12, -1], [1, 1 - 1e-12, 0]]
+    special = [
+        [0, 0, 1],
+        [0, 0, -1],
+        [1, 0, 0],
+        [-1, 0, 0],
+        [0, 1, 0],
+        [0, -1, 0],
+        [1, 1, 0],
+        [1, 0, -1],
+        [0, 1, 1],
+        [1, 1, 1],
+        [-1, -1, -1],
+        [1, 1, -1],
+        [1e-9, 0, 1],
+        [0, 1e-12, -1],
+        [1, 1 - 1e-12, 0],
+    ]
     u = np.vstack([u, special])
     u /= np.linalg.norm(u, axis=1, keepdims=True)
     c = key_centres(direction_keys(u, n), n)
@@ -89,7 +106,9 @@ def test_per_query_key_equals_vectorised_keys(shader):
     cell edges, cube edges and corners where ties between axes decide the face."""
     rng = np.random.default_rng(3)
     u = rng.normal(size=(2000, 3))
-    edges = np.array([[1, 1, 0], [1, -1, 1], [-1, -1, -1], [0, 0, -1], [1, 0, 0], [0.5, 0.5, -0.5]], float)
+    edges = np.array(
+        [[1, 1, 0], [1, -1, 1], [-1, -1, -1], [0, 0, -1], [1, 0, 0], [0.5, 0.5, -0.5]], float
+    )
     u = np.vstack([u, edges, key_centres(np.arange(24), 2)])
     for resolution in (0.25, 1.0, 7.5):
         cache = ShadingCache(shader, resolution_deg=resolution)
@@ -142,7 +161,10 @@ def test_cached_answer_is_the_cell_centre_shading(shader, scene):
     back = cache.lighting(-u)  # another cell; u's cell stays among the recent ones, unpacked
     assert cache.lighting(u) is again and cache.lighting(-u) is back
     # RECENT_CELLS other cells later, u's cell is rebuilt from the sparse store
-    others = [frames.flow_direction(math.radians(8.4 + 3.0 * k), math.radians(20.0)) for k in range(RECENT_CELLS)]
+    others = [
+        frames.flow_direction(math.radians(8.4 + 3.0 * k), math.radians(20.0))
+        for k in range(RECENT_CELLS)
+    ]
     for v in others:
         cache.lighting(v)
     rebuilt = cache.lighting(u)
@@ -162,7 +184,9 @@ def test_cached_answer_is_the_cell_centre_shading(shader, scene):
 
 def test_precompute_grid(shader):
     cache = ShadingCache(shader, resolution_deg=2.0)
-    aoa, aos = np.meshgrid(np.radians(np.arange(-10.0, 10.1, 2.0)), np.radians(np.arange(-4.0, 4.1, 2.0)))
+    aoa, aos = np.meshgrid(
+        np.radians(np.arange(-10.0, 10.1, 2.0)), np.radians(np.arange(-4.0, 4.1, 2.0))
+    )
     dirs = frames.flow_direction(aoa.ravel(), aos.ravel())
     n_cells = len(np.unique(direction_keys(dirs, cache.n)))
     assert cache.precompute(dirs) == n_cells
@@ -188,7 +212,11 @@ def test_cached_answers_stay_within_stated_bound(shader, scene, resolution_deg):
     moved = []
     for k in range(24):
         # mostly flows that throw the cube's shadow on the plate, some anywhere
-        u = rng.normal(size=3) if k % 4 == 0 else np.array([-1.0, 0.0, 0.0]) + 0.4 * rng.normal(size=3)
+        u = (
+            rng.normal(size=3)
+            if k % 4 == 0
+            else np.array([-1.0, 0.0, 0.0]) + 0.4 * rng.normal(size=3)
+        )
         u /= np.linalg.norm(u)
         cached = cache.lighting(u)
         exact = shader.lighting(u)
