@@ -56,7 +56,9 @@ import numpy as np
 
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags.io import BagError
-from adbsat_ros.estimator.estimator import AeroWrenchEstimator, Rejection, stamp_seconds
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.samples import Rejection
+from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.frames import angles_of_flow
 from adbsat_ros.geometry.loading import resolve_mesh

@@ -20,7 +20,7 @@ import numpy as np
 from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
-from adbsat_ros.estimator.estimator import stamp_seconds
+from adbsat_ros.messages.stamps import stamp_seconds
 
 #: The message types of ROS 2 Jazzy (the project's distribution).
 TYPESTORE = get_typestore(Stores.ROS2_JAZZY)

@@ -23,7 +23,6 @@ import datetime as _dt
 import math
 import time
 from collections import Counter
-from dataclasses import dataclass, fields
 from typing import NamedTuple
 
 import numpy as np
@@ -35,30 +34,17 @@ from adbsat_ros.environment.flight_conditions import (
     flight_conditions,
     interpolated_flight_conditions,
 )
-from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.estimator.samples import OrbitalState, Rejection, WrenchSample
+from adbsat_ros.estimator.settings import WrenchSettings, materials_from_settings
 from adbsat_ros.geometry.frames import quaternion_matrix_floats
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.messages.cdr import OdometryFields
+from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import ModelOptions
 from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
-
-#: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).
-REJECTION_REASONS = (
-    "undecodable",
-    "non_finite",
-    "bad_quaternion",
-    "no_state",
-    "stale_state",
-    "time_backwards",
-    "altitude_out_of_range",
-    "bad_state",
-    "outside_database",
-    "compute_error",
-)
 
 #: Precession-nutation is evaluated once per minute of TT (error < 1e-9 rad; see earth_frames).
 PRECESSION_NUTATION_STEP_S = 60.0
@@ -80,11 +66,6 @@ KNOT_LOOKAHEAD = 2
 STATE_FRAME_NAMES = ("", "eci", "ecef", "gcrf", "itrf", "j2000", "earth", "world", "map")
 
 
-def stamp_seconds(stamp) -> float:
-    """A builtin_interfaces/Time (rclpy or rosbags message: fields sec, nanosec) as float seconds."""
-    return stamp.sec + 1e-9 * stamp.nanosec
-
-
 def _knot_position(stamp: float, step: float) -> tuple:
     """(j, past): the knot j step at or before ``stamp`` and the time past it [s], a stamp within
     KNOT_SNAP_S of a knot taking that knot (past = 0)."""
@@ -97,19 +78,6 @@ def _knot_position(stamp: float, step: float) -> tuple:
     return j, past
 
 
-def next_regular_stamp(previous, latest) -> float | None:
-    """The stamp [s] after ``latest`` at the interval from ``previous`` to ``latest`` (two
-    builtin_interfaces/Time), as :func:`stamp_seconds` of that Time would give it; None when the
-    interval is not positive. Worked in integer nanoseconds, so a fixed-rate stream's next stamp
-    comes out bit-equal to the one its message will carry."""
-    latest_ns = latest.sec * 1_000_000_000 + latest.nanosec
-    step_ns = latest_ns - (previous.sec * 1_000_000_000 + previous.nanosec)
-    if step_ns <= 0:
-        return None
-    sec, nanosec = divmod(latest_ns + step_ns, 1_000_000_000)
-    return sec + 1e-9 * nanosec
-
-
 class _KeptConditions(NamedTuple):
     """Flight conditions kept by the estimator for one stamp (see ``_conditions_at``)."""
 
@@ -119,105 +87,6 @@ class _KeptConditions(NamedTuple):
     utc: _dt.datetime
     conditions: FlightConditions
     flow: FreeStream | None
-
-
-class Rejection(Exception):
-    """An input that produced no wrench: ``reason`` (one of REJECTION_REASONS) and a message."""
-
-    def __init__(self, reason: str, message: str):
-        super().__init__(message)
-        self.reason = reason
-        self.message = message
-
-
-@dataclass(frozen=True, eq=False)
-class OrbitalState:
-    """The latest accepted orbital state, in the state frame (ECI or ECEF) [m, m/s]."""
-
-    stamp: float
-    position: np.ndarray
-    velocity: np.ndarray
-
-
-@dataclass(frozen=True, eq=False)
-class WrenchSample:
-    """The aerodynamic wrench at one attitude message.
-
-    Attributes
-    ----------
-    stamp : float
-        Message time [s] (the attitude's header stamp).
-    time : datetime.datetime
-        UTC of the stamp.
-    force, torque : ndarray, shape (3,)
-        Force [N] and torque about the centre of mass [N m], body (mesh) frame.
-    force_coefficients, moment_coefficients : ndarray, shape (3,)
-        C_F and C_M in the body frame (moment about the centre of mass), normalised by
-        ``reference_area`` and ``reference_length``; zero when the relative speed is zero.
-    reference_area, reference_length : float
-        A_ref [m^2] and L_ref [m].
-    dynamic_pressure : float
-        q = rho V^2 / 2 [Pa].
-    conditions : FlightConditions
-        Atmosphere, position and relative wind at the stamp.
-    coefficients : AeroCoefficients or None
-        Full panel-method result (None when the relative speed is below the threshold, and when the
-        coefficients come from a database).
-    flow_direction_body : ndarray, shape (3,)
-        Unit direction of the gas motion relative to the body (zero if at rest).
-    shading_cache_hit : bool or None
-        Whether the shading came from the cache (None without shading).
-    compute_seconds : float
-        Wall time spent computing this sample [s].
-    """
-
-    stamp: float
-    time: _dt.datetime
-    force: np.ndarray
-    torque: np.ndarray
-    force_coefficients: np.ndarray
-    moment_coefficients: np.ndarray
-    reference_area: float
-    reference_length: float
-    dynamic_pressure: float
-    conditions: FlightConditions
-    coefficients: AeroCoefficients | None
-    flow_direction_body: np.ndarray
-    shading_cache_hit: bool | None
-    compute_seconds: float
-
-    @property
-    def drag_coefficient(self) -> float:
-        """C_D: force coefficient along the gas motion (0 at rest)."""
-        return float(self.force_coefficients @ self.flow_direction_body)
-
-    @classmethod
-    def _made(cls, *values) -> "WrenchSample":
-        """``WrenchSample(*values)`` (the fields in order) without the frozen dataclass's
-        ``__init__``, which sets each field through ``object.__setattr__``: 1 us instead of 4,
-        once per message. The fields need no checks."""
-        sample = _new_object(cls)
-        sample.__dict__.update(zip(_SAMPLE_FIELDS, values))
-        return sample
-
-
-_new_object = object.__new__
-_SAMPLE_FIELDS = tuple(f.name for f in fields(WrenchSample))
-
-
-def materials_from_settings(settings: WrenchSettings) -> MaterialTable:
-    """The MaterialTable the settings describe (default properties + per-material overrides)."""
-    default = SurfaceProperties(
-        alpha=settings.alpha,
-        alpha_n=settings.alpha_n,
-        sigma_n=settings.sigma_n,
-        sigma_t=settings.sigma_t,
-        wall_temperature=settings.wall_temperature,
-    )
-    try:
-        return MaterialTable.from_texts(default, settings.material_overrides)
-    except ValueError as exc:
-        raise ValueError(f"parameter material_overrides: {exc}") from None
 
 
 class _ShadingSource:

@@ -13,6 +13,7 @@ from dataclasses import dataclass, fields
 
 from adbsat_ros.environment.accommodation import accommodation_model_names
 from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, canonical_model_name
+from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 
 SHADING_MODES = ("none", "projection", "raycast")
 TIME_MODES = ("unix", "epoch")
@@ -352,3 +353,18 @@ def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:
     if not params:
         raise ValueError(f"{path}: no ros__parameters for '/**' or '{node_name}'")
     return params
+
+
+def materials_from_settings(settings: WrenchSettings) -> MaterialTable:
+    """The MaterialTable the settings describe (default properties + per-material overrides)."""
+    default = SurfaceProperties(
+        alpha=settings.alpha,
+        alpha_n=settings.alpha_n,
+        sigma_n=settings.sigma_n,
+        sigma_t=settings.sigma_t,
+        wall_temperature=settings.wall_temperature,
+    )
+    try:
+        return MaterialTable.from_texts(default, settings.material_overrides)
+    except ValueError as exc:
+        raise ValueError(f"parameter material_overrides: {exc}") from None

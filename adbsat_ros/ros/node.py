@@ -48,13 +48,9 @@ from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 
-from adbsat_ros.estimator.estimator import (
-    AeroWrenchEstimator,
-    Rejection,
-    WrenchSample,
-    next_regular_stamp,
-    stamp_seconds,
-)
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.samples import Rejection, WrenchSample
+from adbsat_ros.messages.stamps import next_regular_stamp, stamp_seconds
 from adbsat_ros.estimator.settings import PARAMETERS, READ_ONLY_PARAMETERS, WrenchSettings
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import (

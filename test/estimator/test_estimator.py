@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from adbsat_ros.estimator.estimator import AeroWrenchEstimator, Rejection, WrenchSample
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.samples import Rejection, WrenchSample
 from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
 
 R = 6378137.0 + 300e3
@@ -139,7 +140,7 @@ def test_prepare_evaluates_the_knot_after_next_so_that_a_burst_into_the_next_int
 def test_next_regular_stamp_is_bit_equal_to_the_next_message_stamp(period_ns, start_s):
     from types import SimpleNamespace as Time  # a builtin_interfaces/Time's two fields
 
-    from adbsat_ros.estimator.estimator import next_regular_stamp, stamp_seconds
+    from adbsat_ros.messages.stamps import next_regular_stamp, stamp_seconds
 
     stamps = [
         Time(

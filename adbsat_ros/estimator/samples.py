@@ -1,0 +1,111 @@
+"""What the estimator returns for one message: a wrench sample, or the rejection that says why there is none; and the orbital state it keeps."""
+
+from __future__ import annotations
+
+import datetime as _dt
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from adbsat_ros.environment.flight_conditions import (
+    FlightConditions,
+)
+from adbsat_ros.physics.coefficients import AeroCoefficients
+
+#: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).
+REJECTION_REASONS = (
+    "undecodable",
+    "non_finite",
+    "bad_quaternion",
+    "no_state",
+    "stale_state",
+    "time_backwards",
+    "altitude_out_of_range",
+    "bad_state",
+    "outside_database",
+    "compute_error",
+)
+
+
+class Rejection(Exception):
+    """An input that produced no wrench: ``reason`` (one of REJECTION_REASONS) and a message."""
+
+    def __init__(self, reason: str, message: str):
+        super().__init__(message)
+        self.reason = reason
+        self.message = message
+
+
+@dataclass(frozen=True, eq=False)
+class OrbitalState:
+    """The latest accepted orbital state, in the state frame (ECI or ECEF) [m, m/s]."""
+
+    stamp: float
+    position: np.ndarray
+    velocity: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class WrenchSample:
+    """The aerodynamic wrench at one attitude message.
+
+    Attributes
+    ----------
+    stamp : float
+        Message time [s] (the attitude's header stamp).
+    time : datetime.datetime
+        UTC of the stamp.
+    force, torque : ndarray, shape (3,)
+        Force [N] and torque about the centre of mass [N m], body (mesh) frame.
+    force_coefficients, moment_coefficients : ndarray, shape (3,)
+        C_F and C_M in the body frame (moment about the centre of mass), normalised by
+        ``reference_area`` and ``reference_length``; zero when the relative speed is zero.
+    reference_area, reference_length : float
+        A_ref [m^2] and L_ref [m].
+    dynamic_pressure : float
+        q = rho V^2 / 2 [Pa].
+    conditions : FlightConditions
+        Atmosphere, position and relative wind at the stamp.
+    coefficients : AeroCoefficients or None
+        Full panel-method result (None when the relative speed is below the threshold, and when the
+        coefficients come from a database).
+    flow_direction_body : ndarray, shape (3,)
+        Unit direction of the gas motion relative to the body (zero if at rest).
+    shading_cache_hit : bool or None
+        Whether the shading came from the cache (None without shading).
+    compute_seconds : float
+        Wall time spent computing this sample [s].
+    """
+
+    stamp: float
+    time: _dt.datetime
+    force: np.ndarray
+    torque: np.ndarray
+    force_coefficients: np.ndarray
+    moment_coefficients: np.ndarray
+    reference_area: float
+    reference_length: float
+    dynamic_pressure: float
+    conditions: FlightConditions
+    coefficients: AeroCoefficients | None
+    flow_direction_body: np.ndarray
+    shading_cache_hit: bool | None
+    compute_seconds: float
+
+    @property
+    def drag_coefficient(self) -> float:
+        """C_D: force coefficient along the gas motion (0 at rest)."""
+        return float(self.force_coefficients @ self.flow_direction_body)
+
+    @classmethod
+    def _made(cls, *values) -> "WrenchSample":
+        """``WrenchSample(*values)`` (the fields in order) without the frozen dataclass's
+        ``__init__``, which sets each field through ``object.__setattr__``: 1 us instead of 4,
+        once per message. The fields need no checks."""
+        sample = _new_object(cls)
+        sample.__dict__.update(zip(_SAMPLE_FIELDS, values))
+        return sample
+
+
+_new_object = object.__new__
+_SAMPLE_FIELDS = tuple(f.name for f in fields(WrenchSample))
