@@ -12,7 +12,7 @@ compare them with each other; the load average is printed). Reports messages per
 the whole analysis and for the estimator alone (the same AeroWrenchEstimator fed directly, no
 bag), and the analysis time by phase: read (bag reading, chunk planning), estimate (computing
 chunks or waiting for the workers: CDR decoding + estimator), write (output bag), csv.
-Target (issue #6): over 2,000 attitude messages per second on ~10k faces.
+Target: over 2,000 attitude messages per second on ~10k faces.
 """
 
 from __future__ import annotations

@@ -23,7 +23,7 @@ on the same spell of this shared machine), and the pooled verdict comes with the
 bootstrap resamples of those pairs in which it holds (how much it depends on the spells met).
 
 Two echoes, both bench/echo_node.py with rclpy message objects: "bare echo" is the textbook
-rclpy node (``rclpy.spin(node)``, rclpy's default SingleThreadedExecutor), the issue's baseline;
+rclpy node (``rclpy.spin(node)``, rclpy's default SingleThreadedExecutor), the latency reference;
 "echo" is the same echo on the node's own executor (``--executor``, rclpy's EventsExecutor by
 default), which costs it about half the CPU per message: against it, the target is the node's own
 work alone. Every other kind is judged against both.
@@ -102,7 +102,7 @@ WARM_UP_S = 0.2
 HELD_MS = 100.0
 #: Bootstrap resamples of the round pairs behind the pooled verdict's share (pooled_target).
 BOOTSTRAP_RESAMPLES = 1000
-#: The issue's target: the node's p99 latency under the echo's p99 plus this [ms].
+#: The latency target: the node's p99 latency under the echo's p99 plus this [ms].
 TARGET_MARGIN_MS = 1.0
 #: The kind that is the textbook rclpy echo: typed messages, ``rclpy.spin(node)`` (rclpy's default
 #: executor). The kind "echo" is the same echo on the node's own executor (``--executor``).
@@ -636,7 +636,7 @@ def main() -> None:
         action="store_true",
         help="run one idle-priority (nice 19) busy loop per CPU for the whole benchmark, so that "
         "no CPU sleeps between messages (the cost of a CPU woken from idle, "
-        "docs/benchmarks.md session 9); every process then gets the CPU whenever it wants it",
+        "docs/benchmarks.md); every process then gets the CPU whenever it wants it",
     )
     parser.add_argument(
         "--trace",

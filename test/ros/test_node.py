@@ -1,4 +1,5 @@
-"""The ROS 2 node with real rclpy (no mocks): physics of the published wrench, bad inputs, parameters.
+"""The ROS 2 node with real rclpy (no mocks): physics of the published wrench, bad inputs,
+parameters, queued messages.
 
 Every test runs the node and a peer node in one process on a fresh rclpy context, on the test run's
 own ROS_DOMAIN_ID with discovery limited to localhost (conftest.py); one test runs the node as a
@@ -42,8 +43,8 @@ def sphere_file(tmp_path_factory):
 
 @pytest.fixture(params=EXECUTORS)
 def ros(sphere_file, request):
-    """A context, an executor of each kind the node offers, the node (sphere, epoch time, no shading)
-    and a peer."""
+    """A context, an executor of each kind the node offers, the node (sphere, epoch time, no
+    shading) and a peer."""
     ctx, executor = make_context(request.param)
     overrides = [
         Parameter("mesh", value=sphere_file),
