@@ -12,7 +12,7 @@ compare them with each other; the load average is printed). Reports messages per
 the whole analysis and for the estimator alone (the same AeroWrenchEstimator fed directly, no
 bag), and the analysis time by phase: read (bag reading, chunk planning), estimate (computing
 chunks or waiting for the workers: CDR decoding + estimator), write (output bag), csv.
-Target (issue #6): over 2,000 attitude messages per second on ~10k faces.
+Target: over 2,000 attitude messages per second on ~10k faces.
 """
 
 from __future__ import annotations
@@ -24,12 +24,14 @@ import tempfile
 import time
 from pathlib import Path
 
-from adbsat_ros.bags import io as bag_io
-from adbsat_ros.bags import scenario
-from adbsat_ros.bags.analysis import analyze_bag
-from adbsat_ros.estimator.estimator import AeroWrenchEstimator
-from adbsat_ros.estimator.settings import WrenchSettings
-from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
+
+from adbsat_ros.bags import io as bag_io  # noqa: E402
+from adbsat_ros.bags import scenario  # noqa: E402
+from adbsat_ros.bags.analysis import analyze_bag  # noqa: E402
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator  # noqa: E402
+from adbsat_ros.estimator.settings import WrenchSettings  # noqa: E402
+from adbsat_ros.geometry.example_satellite import example_satellite, write_obj  # noqa: E402
 
 
 def main(argv=None) -> int:
@@ -91,30 +93,31 @@ def main(argv=None) -> int:
 
     print(f"command: {' '.join([Path(sys.executable).name, *sys.argv])}")
     print(
-        f"mesh: example satellite max_edge {args.max_edge} m, {mesh.n_panels} faces; shading {args.shading} (cached); "
-        f"storage {args.storage}"
+        f"mesh: example satellite max_edge {args.max_edge} m, {mesh.n_panels} faces; "
+        f"shading {args.shading} (cached); storage {args.storage}"
     )
     print(
         f"input: {n_att} attitude + {len(messages.states.stamps_ns)} state messages "
         f"({args.duration:g} s at {args.rate:g} Hz)"
     )
     print(
-        f"load average (1 min) before {load_before[0]:.2f}, after {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores"
+        f"load average (1 min) before {load_before[0]:.2f}, after {os.getloadavg()[0]:.2f} "
+        f"on {os.cpu_count()} cores"
     )
     for report in reports:
         total = report.seconds["total"]
         print(
-            f"analyze_bag, {report.workers} worker(s), {report.chunks} chunk(s): {report.models[0].wrenches} wrenches "
-            f"in {total:.2f} s = {n_att / total:,.0f} attitude messages/s (target > 2,000)"
+            f"analyze_bag, {report.workers} worker(s), {report.chunks} chunk(s): "
+            f"{report.models[0].wrenches} wrenches in {total:.2f} s = "
+            f"{n_att / total:,.0f} attitude messages/s (target > 2,000)"
         )
         parts = ", ".join(
             f"{k} {v:.2f} s ({100 * v / total:.0f} %)"
             for k, v in report.seconds.items()
             if k != "total"
         )
-        print(
-            f"  phases: {parts}; other {total - sum(v for k, v in report.seconds.items() if k != 'total'):.2f} s"
-        )
+        other = total - sum(v for k, v in report.seconds.items() if k != "total")
+        print(f"  phases: {parts}; other {other:.2f} s")
     print(f"CSV identical for all worker counts: {same_csv}")
     print(f"estimator alone: {n_att / direct:,.0f} attitude messages/s")
     return 0

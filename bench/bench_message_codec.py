@@ -1,4 +1,5 @@
-"""Cost of one attitude in and one wrench out, and of one state in, as message objects or as CDR bytes.
+"""Cost of one attitude in and one wrench out, and of one state in, as message objects or as CDR
+bytes.
 
 Usage:
     python bench/bench_message_codec.py [--repeat 20000]
@@ -22,15 +23,19 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
 
-from adbsat_ros.bags import io as bag_io
-from adbsat_ros.messages.cdr import (
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
+
+from adbsat_ros.bags import io as bag_io  # noqa: E402
+from adbsat_ros.messages.cdr import (  # noqa: E402
     OdometryFields,
     odometry_fields,
     quaternion_stamped_fields,

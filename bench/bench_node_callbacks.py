@@ -1,7 +1,8 @@
 """The node's own CPU per message, without the middleware: its callbacks called directly.
 
 Usage:
-    python bench/bench_node_callbacks.py [--max-edge 0.064] [--number 2000] [--repeat 7] [--baseline REV]
+    python bench/bench_node_callbacks.py [--max-edge 0.064] [--number 2000] [--repeat 7]
+        [--baseline DIR_OR_REV]
 
 Builds adbsat_node (rclpy, one process, nobody subscribed) on the example satellite refined to
 ~9,600 faces with its default parameters (sentman, raycast shading cached) and epoch stamps, and
@@ -14,19 +15,25 @@ times what its subscriptions do with one message, as the executor would call the
 * an Odometry state: what the subscription receives (CDR bytes, or for a typed subscription the
   message rclpy deserialises first, which is counted here too).
 
-``--baseline REV`` builds the node of git revision REV too (``adbsat_ros`` extracted and imported
-as ``adbsat_ros_baseline``) and times both in alternating rounds, so that both see the same machine
-load. Prints the median over rounds of the mean time per message in microseconds, the fastest
-round's in brackets, and with a baseline the median over rounds of the ratio of the two nodes'
-times in that round (the paired comparison: each pair of rounds saw the same spell of the machine).
+``--baseline DIR_OR_REV`` builds the node of another tree too: a checkout directory (e.g. the flat
+layout at /work/baseline, whose node is ``adbsat_ros.node``) or a git revision, its ``adbsat_ros``
+copied and imported as ``adbsat_ros_baseline`` (which works for a tree whose modules import each
+other relatively, as the flat layout's do), and times both in alternating rounds, so that both
+see the same machine load. Prints the median over rounds of the mean CPU time of the process per
+message (``time.process_time``: time the machine's other load takes from it is not counted) in
+microseconds, the fastest round's in brackets, and with a baseline the median over rounds of the
+ratio of the two nodes' times in that round (the paired comparison: each pair of rounds saw the
+same spell of the machine).
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.util
 import math
 import os
+import shutil
 import statistics
 import sys
 import tempfile
@@ -34,6 +41,7 @@ import time
 from pathlib import Path
 
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
 
 import rclpy  # noqa: E402
 from bench_flight_conditions import import_baseline  # noqa: E402
@@ -64,12 +72,39 @@ def state_bytes(k: int) -> bytes:
     return bytes(serialize_message(msg))
 
 
+def node_module(package: str):
+    """The node module of an imported package: ``ros.node`` (subpackage layout) or ``node``."""
+    try:
+        return importlib.import_module(f"{package}.ros.node")
+    except ModuleNotFoundError:
+        return importlib.import_module(f"{package}.node")
+
+
+def import_tree(spec: str) -> str:
+    """Import the ``adbsat_ros`` of a checkout directory or git revision as
+    ``adbsat_ros_baseline``; return that name."""
+    if not (Path(spec) / "adbsat_ros").is_dir():
+        return import_baseline(spec, tempfile.mkdtemp())
+    package_dir = Path(tempfile.mkdtemp()) / "adbsat_ros"
+    shutil.copytree(
+        Path(spec) / "adbsat_ros", package_dir, ignore=shutil.ignore_patterns("__pycache__")
+    )
+    name = "adbsat_ros_baseline"
+    module_spec = importlib.util.spec_from_file_location(
+        name, package_dir / "__init__.py", submodule_search_locations=[str(package_dir)]
+    )
+    module = importlib.util.module_from_spec(module_spec)
+    sys.modules[name] = module
+    module_spec.loader.exec_module(module)
+    return name
+
+
 class NodeUnderTest:
     """One package's node, and what its subscriptions are handed for a CDR message."""
 
     def __init__(self, package: str, mesh_path: str):
-        node_module = importlib.import_module(f"{package}.node")
-        self.node = node_module.AdbsatNode(
+        node_module_ = node_module(package)
+        self.node = node_module_.AdbsatNode(
             parameter_overrides=[
                 Parameter("mesh", value=mesh_path),
                 Parameter("time_mode", value="epoch"),
@@ -112,7 +147,11 @@ def main() -> None:
     parser.add_argument("--max-edge", type=float, default=0.064)
     parser.add_argument("--number", type=int, default=2000, help="messages per timing round")
     parser.add_argument("--repeat", type=int, default=7, help="rounds")
-    parser.add_argument("--baseline", metavar="REV", help="also time the node of git revision REV")
+    parser.add_argument(
+        "--baseline",
+        metavar="DIR_OR_REV",
+        help="also time the node of another tree (a checkout directory or a git revision)",
+    )
     args = parser.parse_args()
 
     from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
@@ -122,7 +161,7 @@ def main() -> None:
     write_obj(mesh, mesh_path)
     packages = {"working tree": "adbsat_ros"}
     if args.baseline:
-        packages[f"baseline {args.baseline}"] = import_baseline(args.baseline, tempfile.mkdtemp())
+        packages[f"baseline {args.baseline}"] = import_tree(args.baseline)
     rclpy.init()
     nodes = {label: NodeUnderTest(package, str(mesh_path)) for label, package in packages.items()}
     total = args.number * (args.repeat + 1)
@@ -138,7 +177,8 @@ def main() -> None:
         "state (Odometry)": lambda n: n.state(one_state, args.number),
     }
     print(
-        f"mesh: example satellite, {mesh.n_panels} faces; {args.repeat} rounds of {args.number} messages"
+        f"mesh: example satellite, {mesh.n_panels} faces; {args.repeat} rounds of "
+        f"{args.number} messages"
     )
     print(f"{'case':<50}" + "".join(f"{label + ' (fastest)':>28}" for label in nodes))
     for name, case in cases.items():
@@ -149,9 +189,9 @@ def main() -> None:
         times = {label: [] for label in nodes}
         for _ in range(args.repeat):
             for label, node in nodes.items():
-                t0 = time.perf_counter()
+                t0 = time.process_time()
                 case(node)
-                times[label].append((time.perf_counter() - t0) / args.number)
+                times[label].append((time.process_time() - t0) / args.number)
         medians = [statistics.median(t) * 1e6 for t in times.values()]
         fastest = [min(t) * 1e6 for t in times.values()]
         line = f"{name:<50}" + "".join(f"{m:17.1f} ({f:5.1f}) us" for m, f in zip(medians, fastest))

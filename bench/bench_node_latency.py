@@ -1,11 +1,17 @@
-"""End-to-end latency of adbsat_node (attitude published -> wrench received) against a bare echo node.
+"""End-to-end latency and CPU per message of adbsat_node (attitude published -> wrench received)
+against echo nodes, and against another tree's adbsat_node.
 
 Usage:
     python bench/bench_node_latency.py [--rates 100,1000] [--duration 10] [--rounds 1] [--soak 60]
         [--max-edge 0.0625] [--shading raycast] [--coefficients-source panel|database]
         [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
-        [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...] [--echo-panel] [--baseline REV]
-        [--keep-cpus-busy] [--trace [--trace-part module:Class.method ...] [--trace-cpu]]
+        [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...] [--echo-panel]
+        [--baseline DIR_OR_REV] [--no-echo] [--keep-cpus-busy]
+        [--trace [--trace-part module:Class.method ...] [--trace-cpu]]
+
+A/B of the node's CPU per message against an older tree, e.g. (a few rounds, 1 kHz):
+    python bench/bench_node_latency.py --baseline /work/baseline --rates 1000 --rounds 4 \
+        --duration 5 --soak 0
 
 Runs three processes per case: the node under test (adbsat_node on an 11,104-face example satellite,
 or bench/echo_node.py), a publisher (Odometry at 10 Hz or --state-rate, QuaternionStamped at the
@@ -17,7 +23,7 @@ on the same spell of this shared machine), and the pooled verdict comes with the
 bootstrap resamples of those pairs in which it holds (how much it depends on the spells met).
 
 Two echoes, both bench/echo_node.py with rclpy message objects: "bare echo" is the textbook
-rclpy node (``rclpy.spin(node)``, rclpy's default SingleThreadedExecutor), the issue's baseline;
+rclpy node (``rclpy.spin(node)``, rclpy's default SingleThreadedExecutor), the latency reference;
 "echo" is the same echo on the node's own executor (``--executor``, rclpy's EventsExecutor by
 default), which costs it about half the CPU per message: against it, the target is the node's own
 work alone. Every other kind is judged against both.
@@ -34,19 +40,26 @@ and wrenches out as CDR bytes, the panel method with cached shading at a fixed f
 the node's arithmetic costs in the running process, without its flight conditions, checks and
 bookkeeping.
 
-With --baseline REV the rounds also run adbsat_node as it was at git revision REV (its package
-extracted with ``git archive`` and put first on the node process's PYTHONPATH): the node before
-and after a change, in the same spell of the machine.
+With --baseline DIR_OR_REV the rounds also run adbsat_node of another tree, right after this
+tree's in every round: DIR is a checkout holding ``adbsat_ros`` (its package is copied to a
+temporary folder), REV a git revision of this repository (extracted with ``git archive``); the
+copy is put first on the node process's PYTHONPATH, and the node module is found in its layout
+(``adbsat_ros.ros.node``, or ``adbsat_ros.node`` in the older flat one). The node before and
+after a change, in the same spells of the machine. At the end, per rate, every kind's CPU time
+per message answered and the ratio of this tree's node to the baseline's (pooled, and the median
+of the rounds' ratios: each round's two runs met the same spell). --no-echo leaves the echoes
+out (only the nodes compared).
 
 With --keep-cpus-busy one busy loop per CPU runs at idle priority (nice 19) for the whole
 benchmark: no CPU then sleeps between messages, and none is woken cold by the next one (the other
 processes preempt the loops whenever they want the CPU).
 
-With --trace the adbsat node runs as bench/traced_node.py, which times its attitude callback's parts
-(``on_attitude``, ``prepare``, ``_publish``, the takes of waiting messages, the bursts computed
-together) and the garbage collections inside the running process; their p50/p90/p99 follow the
-table. ``--trace-part module:Class.method`` (repeatable) times more functions so, and with
-``--trace-cpu`` each part also shows the CPU time its thread spent in it ("[thread CPU]").
+With --trace this tree's node runs as bench/traced_node.py, which times its attitude callback's
+parts (the decoding, the handler with the estimator inside it, the publishing, the preparing of
+the next stamp) and the garbage collections inside the running process; their p50/p90/p99
+follow the table. ``--trace-part module:Class.method`` (repeatable) times more functions so,
+and with ``--trace-cpu`` each part also shows the CPU time its thread spent in it ("[thread
+CPU]").
 
 Middleware: by default every process runs with ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, i.e.
 rmw_fastrtps's own transports (shared memory with Fast DDS's default 1 s port health check, and
@@ -59,12 +72,15 @@ from __future__ import annotations
 
 import argparse
 import gc
+import io
 import itertools
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
+import tarfile
 import tempfile
 import time
 from pathlib import Path
@@ -73,6 +89,11 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 REPOSITORY = HERE.parent
+# this tree's adbsat_ros before any installed one, here and in the processes started from here
+sys.path.insert(0, str(REPOSITORY))
+os.environ["PYTHONPATH"] = os.pathsep.join(
+    p for p in (str(REPOSITORY), os.environ.get("PYTHONPATH")) if p
+)
 R_ORBIT = 6378137.0 + 300e3
 #: Seconds at the start of each run whose messages are not counted: the node's first ray cast
 #: (~40 ms cold) and the messages queued behind it.
@@ -81,7 +102,7 @@ WARM_UP_S = 0.2
 HELD_MS = 100.0
 #: Bootstrap resamples of the round pairs behind the pooled verdict's share (pooled_target).
 BOOTSTRAP_RESAMPLES = 1000
-#: The issue's target: the node's p99 latency under the echo's p99 plus this [ms].
+#: The latency target: the node's p99 latency under the echo's p99 plus this [ms].
 TARGET_MARGIN_MS = 1.0
 #: The kind that is the textbook rclpy echo: typed messages, ``rclpy.spin(node)`` (rclpy's default
 #: executor). The kind "echo" is the same echo on the node's own executor (``--executor``).
@@ -96,6 +117,36 @@ def target_held(echo_p99_ms: float, other_p99_ms: float) -> bool:
 
 
 V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
+#: The node module of this tree, and of the older flat layout (a baseline's).
+NODE_MODULE, FLAT_NODE_MODULE = "adbsat_ros.ros.node", "adbsat_ros.node"
+
+
+def baseline_package(spec: str) -> tuple:
+    """(directory holding a copy of ``adbsat_ros``, its node module) of ``spec``: a checkout
+    directory (its ``adbsat_ros`` copied, so nothing is written into it), or a git revision of
+    this repository (extracted with ``git archive``)."""
+    target = Path(tempfile.mkdtemp(prefix="bench-baseline-"))
+    source = Path(spec)
+    if (source / "adbsat_ros").is_dir():
+        shutil.copytree(
+            source / "adbsat_ros",
+            target / "adbsat_ros",
+            ignore=shutil.ignore_patterns("__pycache__", "*.pyc"),
+        )
+    else:
+        archive = subprocess.run(
+            ["git", "-C", str(REPOSITORY), "archive", "--format=tar", spec, "adbsat_ros"],
+            check=True,
+            capture_output=True,
+        ).stdout
+        with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
+            tar.extractall(target, filter="data")
+    package = target / "adbsat_ros"
+    if (package / "ros" / "node.py").is_file():
+        return str(target), NODE_MODULE
+    if (package / "node.py").is_file():
+        return str(target), FLAT_NODE_MODULE
+    raise SystemExit(f"--baseline {spec}: no adbsat_ros/ros/node.py nor adbsat_ros/node.py in it")
 
 
 def publisher(
@@ -270,10 +321,11 @@ def run_case(
     args,
     measure_memory=False,
     echo_work_us: float = 0.0,
-    package_dir: str | None = None,
+    package: tuple | None = None,
 ) -> dict:
-    """One run of ``kind``: "adbsat" (the node of the package in ``package_dir`` if given, else of
-    this tree), or an echo spinning ``echo_work_us`` per message."""
+    """One run of ``kind``: "adbsat..." (the node of ``package``, (directory holding
+    ``adbsat_ros``, node module), if given, else of this tree), or an echo spinning
+    ``echo_work_us`` per message."""
     env = dict(os.environ)
     if args.fastdds_profile:  # the profile keeps discovery on the machine itself
         env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "SYSTEM_DEFAULT"
@@ -297,14 +349,17 @@ def run_case(
     # baseline's package.
     node_env = dict(env)
     node_env["PYTHONPATH"] = os.pathsep.join(
-        p for p in (package_dir or str(REPOSITORY), env.get("PYTHONPATH")) if p
+        p for p in (package[0] if package else str(REPOSITORY), env.get("PYTHONPATH")) if p
     )
     if not kind.startswith("adbsat"):
         node_cmd = [sys.executable, str(HERE / "echo_node.py")]
     else:
-        node_program = (
-            [str(HERE / "traced_node.py")] if args.trace else ["-m", "adbsat_ros.ros.node"]
-        )
+        if package:  # another tree's node, untraced (traced_node wraps this tree's)
+            node_program = ["-m", package[1]]
+        elif args.trace:
+            node_program = [str(HERE / "traced_node.py")]
+        else:
+            node_program = ["-m", NODE_MODULE]
         node_cmd = [
             sys.executable,
             *node_program,
@@ -444,7 +499,8 @@ def pooled_target(
     echo_rounds: list, other_rounds: list, resamples: int | None = None, seed: int = 0
 ) -> tuple:
     """(echo p99, other p99, share): the pooled p99 latencies [ms] of two kinds' rounds, and the
-    share of bootstrap resamples in which the other kind's pooled p99 meets the target (target_held).
+    share of bootstrap resamples in which the other kind's pooled p99 meets the target
+    (target_held).
 
     Each resample draws as many round pairs as were run, with replacement, keeping each echo run
     with the run of the other kind after it (the same spell of the machine), and pools their
@@ -469,7 +525,8 @@ def pooled_target(
 
 
 def build_node_database(mesh_path: Path) -> str:
-    """A database (aoa -180:5:180 x aos -90:5:90, raycast) for the node's default set-up on the mesh."""
+    """A database (aoa -180:5:180 x aos -90:5:90, raycast) for the node's default set-up on the
+    mesh."""
     from adbsat_ros.database.build import build_database
     from adbsat_ros.estimator.estimator import AeroWrenchEstimator
     from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
@@ -565,15 +622,21 @@ def main() -> None:
     )
     parser.add_argument(
         "--baseline",
-        metavar="REV",
-        help="also run adbsat_node as it was at git revision REV, in the same rounds",
+        metavar="DIR_OR_REV",
+        help="also run the adbsat_node of another tree in the same rounds: a checkout directory "
+        "holding adbsat_ros (flat or subpackage layout), or a git revision of this repository",
+    )
+    parser.add_argument(
+        "--no-echo",
+        action="store_true",
+        help="run no echo node: only this tree's node (and the baseline's)",
     )
     parser.add_argument(
         "--keep-cpus-busy",
         action="store_true",
         help="run one idle-priority (nice 19) busy loop per CPU for the whole benchmark, so that "
         "no CPU sleeps between messages (the cost of a CPU woken from idle, "
-        "docs/benchmarks.md session 9); every process then gets the CPU whenever it wants it",
+        "docs/benchmarks.md); every process then gets the CPU whenever it wants it",
     )
     parser.add_argument(
         "--trace",
@@ -623,34 +686,31 @@ def main() -> None:
     write_obj(mesh, mesh_path)
     if args.coefficients_source == "database" and not args.database:
         args.database = build_node_database(mesh_path)
+    middleware = (
+        f"profile {args.fastdds_profile}" if args.fastdds_profile else "rmw_fastrtps LOCALHOST"
+    )
     print(
         f"mesh: example satellite, {mesh.n_panels} faces; shading {args.shading}; "
         f"coefficients {args.coefficients_source}; attitude tumbling at {args.tumble:g} deg/s; "
-        f"middleware: {'profile ' + args.fastdds_profile if args.fastdds_profile else 'rmw_fastrtps LOCALHOST'}"
+        f"middleware: {middleware}"
     )
-    print(
-        f"{'node':>15} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8} {'max ms':>8}"
-        f" {'held':>5} {'runs held':>9}"
-        f" {'compute p50':>12} {'compute p99':>12} {'compute max':>12} {'CPU/msg ms':>11} {'prepared':>9}"
-        f" {'recv hold-up':>12}"
-    )
-    # the kinds of node, each with the work [us] its echo spins per message (none for adbsat)
-    # (the bare echo right before adbsat in each round: each reference beside a run after it)
-    echo_work = {
-        "echo": 0.0,
-        BARE_ECHO: 0.0,
-        "adbsat": 0.0,
-        **{f"echo+{us:g}us": us for us in args.echo_work_us},
-    }
-    if args.echo_panel:
-        echo_work["echo+panel"] = 0.0
-    packages = {}  # kind -> package directory, for nodes of other revisions
+    # the kinds of node, each with the work [us] its echo spins per message (none for a node);
+    # in each round the bare echo right before adbsat (each reference beside a run after it),
+    # and a baseline's node right after it
+    echo_work = {} if args.no_echo else {"echo": 0.0, BARE_ECHO: 0.0}
+    echo_work["adbsat"] = 0.0
+    packages = {}  # kind -> (package directory, node module), for nodes of other trees
     if args.baseline:
-        kind = f"adbsat@{args.baseline[:7]}"
-        from bench_flight_conditions import extract_package  # git archive of the package
-
-        packages[kind] = str(extract_package(args.baseline, tempfile.mkdtemp()).parent)
+        package = baseline_package(args.baseline)
+        kind = f"adbsat@{Path(args.baseline).name[:12] or args.baseline[:7]}"
+        print(f"baseline {args.baseline}: node module {package[1]} from {package[0]}")
+        packages[kind] = package
         echo_work[kind] = 0.0
+    if not args.no_echo:
+        echo_work.update({f"echo+{us:g}us": us for us in args.echo_work_us})
+        if args.echo_panel:
+            echo_work["echo+panel"] = 0.0
+    print(TABLE_HEADER)
     spinners = (
         [
             subprocess.Popen([sys.executable, "-c", "import os\nos.nice(19)\nwhile True: pass"])
@@ -667,12 +727,60 @@ def main() -> None:
             spinner.wait()
 
 
+TABLE_HEADER = (
+    f"{'node':>15} {'rate Hz':>8} {'sent':>7} {'dropped':>8} {'p50 ms':>8} {'p99 ms':>8}"
+    f" {'max ms':>8} {'held':>5} {'runs held':>9} {'compute p50':>12} {'compute p99':>12}"
+    f" {'compute max':>12} {'CPU/msg ms':>11} {'prepared':>9} {'recv hold-up':>12}"
+)
+
+
+def table_line(kind: str, rate: float, runs: list) -> str:
+    """The figures of one kind's runs at one rate (see TABLE_HEADER)."""
+    r = pooled(runs)
+    return (
+        f"{kind:>15} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f}"
+        f" {r['p99_ms']:8.3f} {r['max_ms']:8.2f} {r['held']:5d} {r['runs_held']:4d} of"
+        f" {len(runs):<2d} {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f}"
+        f" {r['compute_max_ms']:12.3f} {r['cpu_ms_per_message']:11.3f}"
+        f" {r['prepared_share']:9.1%} {r['receiver_stall_ms']:12.1f}"
+    )
+
+
+def cpu_ms_per_message(run: dict) -> float:
+    """The node process's CPU time [ms] per wrench received in one run."""
+    return 1e3 * run["cpu_s"] / max(run["received"], 1)
+
+
+def cpu_summary(rate: float, rounds: dict, packages: dict) -> list:
+    """Lines: each kind's CPU per message [ms] (pooled, and each round's), and this tree's node
+    against each baseline's: the pooled ratio and the median of the rounds' ratios."""
+    lines = [f"CPU per message at {rate:.0f} Hz [ms] (pooled; each round):"]
+    for kind, runs in rounds.items():
+        each = ", ".join(f"{cpu_ms_per_message(r):.3f}" for r in runs)
+        lines.append(f"  {kind:>15} {pooled(runs)['cpu_ms_per_message']:8.3f}   ({each})")
+    for kind in packages:
+        ratios = [
+            cpu_ms_per_message(a) / cpu_ms_per_message(b)
+            for a, b in zip(rounds["adbsat"], rounds[kind])
+        ]
+        ratio = (
+            pooled(rounds["adbsat"])["cpu_ms_per_message"]
+            / pooled(rounds[kind])["cpu_ms_per_message"]
+        )
+        lines.append(
+            f"  node / baseline (adbsat / {kind}): pooled {ratio:.3f}, median of rounds "
+            f"{float(np.median(ratios)):.3f} ({', '.join(f'{x:.3f}' for x in ratios)})"
+        )
+    return lines
+
+
 def run_all(args, mesh_path: str, echo_work: dict, packages: dict) -> None:
-    """The rounds at every rate, the pairs and the soak, printed."""
+    """The rounds at every rate, the pairs, the CPU summary and the soak, printed."""
     pairs = []
+    summaries = []
     for rate in (float(r) for r in args.rates.split(",")):
-        # echo and adbsat alternate, round after round: a slow spell of this shared machine then
-        # falls on both rather than on one
+        # the kinds alternate, round after round: a slow spell of this shared machine then
+        # falls on all of them rather than on one
         rounds = {kind: [] for kind in echo_work}
         for _ in range(args.rounds):
             for kind in rounds:
@@ -684,66 +792,73 @@ def run_all(args, mesh_path: str, echo_work: dict, packages: dict) -> None:
                         mesh_path,
                         args,
                         echo_work_us=echo_work[kind],
-                        package_dir=packages.get(kind),
+                        package=packages.get(kind),
                     )
                 )
         for kind in rounds:
-            r = pooled(rounds[kind])
-            print(
-                f"{kind:>15} {rate:8.0f} {r['sent']:7d} {r['dropped']:8d} {r['p50_ms']:8.3f} {r['p99_ms']:8.3f} {r['max_ms']:8.2f}"
-                f" {r['held']:5d} {r['runs_held']:4d} of {len(rounds[kind]):<2d}"
-                f" {r['compute_p50_ms']:12.3f} {r['compute_p99_ms']:12.3f} {r['compute_max_ms']:12.3f}"
-                f" {r['cpu_ms_per_message']:11.3f}"
-                f" {r['prepared_share']:9.1%} {r['receiver_stall_ms']:12.1f}"
-            )
+            print(table_line(kind, rate, rounds[kind]))
         if args.trace:
-            for kind in (k for k in rounds if k.startswith("adbsat")):
-                parts: dict = {}
-                for run in rounds[kind]:
-                    for part, durations in run["trace_us"].items():
-                        parts.setdefault(part, []).extend(durations)
-                for part, durations in parts.items():
-                    if durations:
-                        p50, p90, p99 = np.percentile(durations, [50, 90, 99])
-                        print(
-                            f"{kind:>15} {rate:8.0f} {part:<34} p50 {p50:7.1f} us  p90 {p90:7.1f} us  "
-                            f"p99 {p99:7.1f} us  ({len(durations)} calls)"
-                        )
-        if args.rounds > 1:
+            print_trace(rate, rounds)
+        summaries.append(cpu_summary(rate, rounds, packages))
+        if args.rounds > 1 and not args.no_echo:
             pairs.append((rate, rounds))
-    for (
-        rate,
-        rounds,
-    ) in pairs:  # each echo run beside the runs after it in its round (same machine spell)
-        for reference in REFERENCES:
-            for other in (kind for kind in rounds if kind not in REFERENCES):
-                verdicts = []
-                for echo, run in zip(rounds[reference], rounds[other]):
-                    e, a = (
-                        float(np.percentile(r["latencies_ms"], 99))
-                        if r["latencies_ms"].size
-                        else math.inf
-                        for r in (echo, run)
-                    )
-                    verdicts.append(f"{e:.2f}/{a:.2f} {'held' if target_held(e, a) else 'MISSED'}")
-                held = sum(v.endswith("held") for v in verdicts)
-                print(
-                    f"pairs at {rate:.0f} Hz, p99 ms {reference}/{other}, target {other} < {reference} + 1 ms: "
-                    f"{'; '.join(verdicts)} -> held in {held} of {len(verdicts)}"
-                )
-                pooled_echo, pooled_other, share = pooled_target(rounds[reference], rounds[other])
-                print(
-                    f"pooled at {rate:.0f} Hz, p99 ms {reference}/{other}: {pooled_echo:.2f}/{pooled_other:.2f} "
-                    f"{'held' if target_held(pooled_echo, pooled_other) else 'MISSED'}; held in {share:.0%} of "
-                    f"{BOOTSTRAP_RESAMPLES} resamples of the round pairs"
-                )
+    for rate, rounds in pairs:  # each echo run beside the runs after it in its round
+        for line in pair_lines(rate, rounds):
+            print(line)
+    for lines in summaries:
+        print("\n".join(lines))
     if args.soak > 0:
         r = pooled([run_case("adbsat", 1000.0, args.soak, mesh_path, args, measure_memory=True)])
         print(
-            f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, p50 {r['p50_ms']:.3f} ms, "
-            f"p99 {r['p99_ms']:.3f} ms, max {r['max_ms']:.1f} ms, RSS {r['rss_start_mb']:.1f} -> {r['rss_end_mb']:.1f} MB "
+            f"soak {args.soak:.0f} s at 1 kHz: sent {r['sent']}, dropped {r['dropped']}, "
+            f"p50 {r['p50_ms']:.3f} ms, p99 {r['p99_ms']:.3f} ms, max {r['max_ms']:.1f} ms, "
+            f"RSS {r['rss_start_mb']:.1f} -> {r['rss_end_mb']:.1f} MB "
             f"(growth {r['rss_end_mb'] - r['rss_start_mb']:.1f} MB)"
         )
+
+
+def print_trace(rate: float, rounds: dict) -> None:
+    """The traced parts' p50/p90/p99 of this tree's node (--trace)."""
+    parts: dict = {}
+    for run in rounds["adbsat"]:
+        for part, durations in run["trace_us"].items():
+            parts.setdefault(part, []).extend(durations)
+    for part, durations in parts.items():
+        if durations:
+            p50, p90, p99 = np.percentile(durations, [50, 90, 99])
+            print(
+                f"{'adbsat':>15} {rate:8.0f} {part:<34} p50 {p50:7.1f} us  p90 {p90:7.1f} us  "
+                f"p99 {p99:7.1f} us  ({len(durations)} calls)"
+            )
+
+
+def pair_lines(rate: float, rounds: dict) -> list:
+    """Each reference (echo) run against the runs after it in its round, and pooled."""
+    lines = []
+    for reference in REFERENCES:
+        for other in (kind for kind in rounds if kind not in REFERENCES):
+            verdicts = []
+            for echo, run in zip(rounds[reference], rounds[other]):
+                e, a = (
+                    float(np.percentile(r["latencies_ms"], 99))
+                    if r["latencies_ms"].size
+                    else math.inf
+                    for r in (echo, run)
+                )
+                verdicts.append(f"{e:.2f}/{a:.2f} {'held' if target_held(e, a) else 'MISSED'}")
+            held = sum(v.endswith("held") for v in verdicts)
+            lines.append(
+                f"pairs at {rate:.0f} Hz, p99 ms {reference}/{other}, target {other} < "
+                f"{reference} + 1 ms: {'; '.join(verdicts)} -> held in {held} of {len(verdicts)}"
+            )
+            pooled_echo, pooled_other, share = pooled_target(rounds[reference], rounds[other])
+            verdict = "held" if target_held(pooled_echo, pooled_other) else "MISSED"
+            lines.append(
+                f"pooled at {rate:.0f} Hz, p99 ms {reference}/{other}: {pooled_echo:.2f}/"
+                f"{pooled_other:.2f} {verdict}; held in {share:.0%} of {BOOTSTRAP_RESAMPLES} "
+                "resamples of the round pairs"
+            )
+    return lines
 
 
 if __name__ == "__main__":

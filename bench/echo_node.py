@@ -11,8 +11,8 @@ echo that costs as much CPU per message as a node of known cost, for bench_node_
 
 With ECHO_PANEL_MESH=PATH it is instead the panel method alone, for bench_node_latency's
 --echo-panel: the attitudes taken and the wrenches published as CDR bytes (as adbsat_node does),
-and for each one the panel method (PanelMethod._unit_coefficients, the node's default model and
-cached raycast shading) at a fixed free stream, the satellite flying along +y of the state frame: the
+and for each one the panel method (PanelMethod.coefficients, the node's default model and cached
+raycast shading) at a fixed free stream, the satellite flying along +y of the state frame: the
 node's own arithmetic per message, without its flight conditions, checks, samples or bookkeeping.
 """
 
@@ -25,7 +25,7 @@ import rclpy
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from rclpy.qos import QoSProfile
 
-from adbsat_ros.ros.node import make_executor, spin_until_shutdown
+from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
 
 
 def panel_callback(publisher, mesh_path: str):
@@ -48,7 +48,6 @@ def panel_callback(publisher, mesh_path: str):
     # about 300 km: O and N2 [m^-3], 900 K, 7.7 km/s
     flow = FreeStream(speed=7700.0, temperature=900.0, number_densities={"O": 6e14, "N2": 2e14})
     q = flow.dynamic_pressure()
-    handle = publisher.handle
 
     def on_attitude(raw):
         stamp, (x, y, z, w) = quaternion_stamped_fields(raw)
@@ -56,8 +55,8 @@ def panel_callback(publisher, mesh_path: str):
         u = np.array(
             [-m[3], -m[4], -m[5]]
         )  # -R^T v / |v| for v along +y: the gas along -y, body axes
-        coefficients = method._unit_coefficients(flow, u, cache.lighting(u))
-        handle.publish_raw(
+        coefficients = method.coefficients(flow, flow_direction=u, lighting=cache.lighting(u))
+        publisher.publish(
             wrench_stamped_cdr(
                 stamp.sec,
                 stamp.nanosec,

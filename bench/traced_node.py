@@ -1,14 +1,16 @@
 """adbsat_node with its callback's parts timed, for bench_node_latency's --trace.
 
-Runs ``adbsat_ros.ros.node.main`` with the attitude callback, ``AeroWrenchEstimator.on_attitude``,
-``AeroWrenchEstimator.prepare``, ``AdbsatNode._publish`` (CDR packing, the publish and the node's
-bookkeeping), the serving of waiting attitudes (``AdbsatNode._take_waiting``,
-``AeroWrenchEstimator.on_attitudes`` and its time per message) wrapped in ``time.perf_counter``
-calls (a few microseconds of their own per message), and every garbage collection (``gc.callbacks``)
-by generation. ``TRACED_PARTS`` in the environment (comma-separated ``module:Class.method`` or
-``module:function``, e.g. ``adbsat_ros.physics.panel_method:PanelMethod._unit_coefficients``) adds parts,
-timed on every call after the warm-up (a function is replaced in its own module: one that another
-module imported by name is timed there only if given as that module's). At exit it writes one JSON line to stderr,
+Runs ``adbsat_ros.ros.node.main`` with these parts wrapped in ``time.perf_counter`` calls (a few
+microseconds of their own per message): the attitude callback (``AdbsatNode._on_attitude``), the
+decoding of its bytes (``decode_attitude`` as the node module calls it), the per-message handler
+(``MessageHandler.on_attitude``: the estimator and the CDR packing), the estimator alone
+(``AeroWrenchEstimator.on_attitude``), the publishing and bookkeeping (``AdbsatNode._serve``) and
+the preparing of the next stamp (``AeroWrenchEstimator.prepare``); and every garbage collection
+(``gc.callbacks``) by generation. ``TRACED_PARTS`` in the environment (comma-separated
+``module:Class.method`` or ``module:function``, e.g.
+``adbsat_ros.physics.panel_method:PanelMethod.coefficients``) adds parts, timed on every call
+after the warm-up (a function is replaced in its own module: one that another module imported by
+name is timed there only if given as that module's). At exit it writes one JSON line to stderr,
 ``TRACE {"part": [microseconds, ...], ...}``, the durations of every call (and collection) after
 the first 500 attitudes (the first ray cast and the warm-up). Run it as the node is run: ``python
 bench/traced_node.py --ros-args ...``.
@@ -23,21 +25,22 @@ import sys
 import time
 
 from adbsat_ros.estimator import estimator as aero_wrench
+from adbsat_ros.estimator import handling
 from adbsat_ros.ros import node
 
 WARM_UP_CALLS = 500
-_durations = {
-    "attitude callback": [],
-    "estimator.on_attitude": [],
-    "estimator.prepare": [],
-    "node._publish": [],
-    "node._take_waiting": [],
-    "estimator.on_attitudes": [],
-    "estimator.on_attitudes per message": [],
-    "gc generation 0": [],
-    "gc generation 1": [],
-    "gc generation 2": [],
-}
+#: Parts timed on every call, whose first WARM_UP_CALLS calls are left out at the end; the others
+#: (garbage collections, the TRACED_PARTS) are recorded after the warm-up only.
+_PARTS = (
+    "attitude callback",
+    "decode_attitude",
+    "handler.on_attitude",
+    "estimator.on_attitude",
+    "node._serve",
+    "estimator.prepare",
+)
+_durations = {part: [] for part in _PARTS}
+_durations.update({f"gc generation {g}": [] for g in range(3)})
 _gc_started = [0.0]
 
 
@@ -52,24 +55,7 @@ def _on_gc(phase, info):
 
 gc.callbacks.append(_on_gc)
 
-
-#: Parts timed on every call, whose first WARM_UP_CALLS calls are left out at the end; the others
-#: (garbage collections, the takes and bursts of waiting messages) are recorded after the warm-up only.
-_EVERY_MESSAGE = (
-    "attitude callback",
-    "estimator.on_attitude",
-    "estimator.prepare",
-    "node._publish",
-    *(
-        f"{part} [thread CPU]"
-        for part in (
-            "attitude callback",
-            "estimator.on_attitude",
-            "estimator.prepare",
-            "node._publish",
-        )
-    ),
-)
+_EVERY_MESSAGE = (*_PARTS, *(f"{part} [thread CPU]" for part in _PARTS))
 
 
 def _warm() -> bool:
@@ -83,7 +69,8 @@ TRACE_CPU = os.environ.get("TRACE_CPU", "") == "1"
 
 
 def _timed(function, part, clock=time.perf_counter, suffix=""):
-    """``function`` wrapped so that each call's ``clock`` time is recorded under ``part + suffix``."""
+    """``function`` wrapped so that each call's ``clock`` time is recorded under ``part +
+    suffix``."""
     record = _durations.setdefault(part + suffix, []).append
     every = part in _EVERY_MESSAGE
 
@@ -99,35 +86,24 @@ def _timed(function, part, clock=time.perf_counter, suffix=""):
 
 
 def _traced(function, part):
-    """``function`` with its wall time recorded under ``part`` (and with TRACE_CPU its thread's CPU
-    time under "PART [thread CPU]", read around the wall-time wrapper)."""
+    """``function`` with its wall time recorded under ``part`` (and with TRACE_CPU its thread's
+    CPU time under "PART [thread CPU]", read around the wall-time wrapper)."""
     timed = _timed(function, part)
     return _timed(timed, part, time.thread_time, " [thread CPU]") if TRACE_CPU else timed
 
 
 node.AdbsatNode._on_attitude = _traced(node.AdbsatNode._on_attitude, "attitude callback")
+node.decode_attitude = _traced(node.decode_attitude, "decode_attitude")
+handling.MessageHandler.on_attitude = _traced(
+    handling.MessageHandler.on_attitude, "handler.on_attitude"
+)
 aero_wrench.AeroWrenchEstimator.on_attitude = _traced(
     aero_wrench.AeroWrenchEstimator.on_attitude, "estimator.on_attitude"
 )
+node.AdbsatNode._serve = _traced(node.AdbsatNode._serve, "node._serve")
 aero_wrench.AeroWrenchEstimator.prepare = _traced(
     aero_wrench.AeroWrenchEstimator.prepare, "estimator.prepare"
 )
-node.AdbsatNode._publish = _traced(node.AdbsatNode._publish, "node._publish")
-node.AdbsatNode._take_waiting = _traced(node.AdbsatNode._take_waiting, "node._take_waiting")
-_on_attitudes = _traced(aero_wrench.AeroWrenchEstimator.on_attitudes, "estimator.on_attitudes")
-
-
-def _on_attitudes_per_message(self, messages):
-    t0 = time.perf_counter()
-    results = _on_attitudes(self, messages)
-    if _warm():
-        _durations["estimator.on_attitudes per message"].append(
-            (time.perf_counter() - t0) / len(messages)
-        )
-    return results
-
-
-aero_wrench.AeroWrenchEstimator.on_attitudes = _on_attitudes_per_message
 
 for _path in filter(None, os.environ.get("TRACED_PARTS", "").split(",")):
     _module_name, _, _attribute = _path.strip().partition(":")

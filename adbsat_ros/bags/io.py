@@ -1,10 +1,11 @@
 """Reading and writing rosbag2 files (.mcap and .db3) without ROS, with the ``rosbags`` library.
 
 The one place that knows the message layouts in bags: builders for the messages the project
-writes (Odometry, QuaternionStamped, WrenchStamped, DiagnosticArray), decoders for the inputs the
-node reads (the same rules as :mod:`adbsat_ros.ros.node`), an :func:`open_bag` that turns every
-failure into a :class:`BagError` naming the file, and a :class:`BagWriter` that writes under a
-temporary name and only puts the bag at its final path on :meth:`BagWriter.commit`.
+writes (Odometry, QuaternionStamped, WrenchStamped, DiagnosticArray), the deserialisers of the
+inputs the node reads (the fallback of :mod:`adbsat_ros.messages.decoding` for bytes its struct
+codec refuses), an :func:`open_bag` that turns every failure into a :class:`BagError` naming the
+file, and a :class:`BagWriter` that writes under a temporary name and only puts the bag at its
+final path on :meth:`BagWriter.commit`.
 
 Message builders take stamps as integer nanoseconds (``builtin_interfaces/Time`` sec + nanosec).
 """
@@ -20,13 +21,12 @@ import numpy as np
 from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
+from adbsat_ros.messages.decoding import ODOMETRY, QUATERNION_STAMPED
 from adbsat_ros.messages.stamps import stamp_seconds
 
 #: The message types of ROS 2 Jazzy (the project's distribution).
 TYPESTORE = get_typestore(Stores.ROS2_JAZZY)
 
-ODOMETRY = "nav_msgs/msg/Odometry"
-QUATERNION_STAMPED = "geometry_msgs/msg/QuaternionStamped"
 WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
 DIAGNOSTIC_ARRAY = "diagnostic_msgs/msg/DiagnosticArray"
 
@@ -150,6 +150,16 @@ def deserialize(raw, msgtype: str):
     return TYPESTORE.deserialize_cdr(raw, msgtype)
 
 
+def deserialize_attitude(raw):
+    """A geometry_msgs/QuaternionStamped from CDR bytes (raises for anything else)."""
+    return TYPESTORE.deserialize_cdr(raw, QUATERNION_STAMPED)
+
+
+def deserialize_odometry(raw):
+    """A nav_msgs/Odometry from CDR bytes (raises for anything else)."""
+    return TYPESTORE.deserialize_cdr(raw, ODOMETRY)
+
+
 # --------------------------------------------------------------------------------- decoders
 def decode_quaternion_stamped(msg) -> tuple[float, list]:
     """(stamp [s], [x, y, z, w]) of a geometry_msgs/QuaternionStamped."""
@@ -210,7 +220,8 @@ class BagWriter:
         self.storage = storage_plugin(storage)
         if self.path.exists() and not overwrite:
             raise BagError(
-                f"output bag {self.path}: already exists (choose another name, or overwrite it: --overwrite)"
+                f"output bag {self.path}: already exists (choose another name, or overwrite it: "
+                "--overwrite)"
             )
         if self.path.exists() and not self.path.is_dir():
             raise BagError(f"output bag {self.path}: exists and is not a bag directory")
@@ -228,7 +239,8 @@ class BagWriter:
     def connection(
         self, topic: str, msgtype: str, msgdef: str | None = None, digest: str | None = None
     ):
-        """The connection of (topic, msgtype), added on first use (definitions from Jazzy unless given)."""
+        """The connection of (topic, msgtype), added on first use (definitions from Jazzy unless
+        given)."""
         key = (topic, msgtype)
         conn = self._connections.get(key)
         if conn is None:
@@ -281,7 +293,8 @@ class BagWriter:
 
 
 def write_bag(path, records, storage: str = "mcap", overwrite: bool = False) -> Path:
-    """Write ``(topic, t_ns, msg)`` records (messages built here) into a new bag; returns its path."""
+    """Write ``(topic, t_ns, msg)`` records (messages built here) into a new bag; returns its
+    path."""
     with BagWriter(path, storage, overwrite) as writer:
         for topic, t_ns, msg in records:
             writer.write(topic, t_ns, msg)

@@ -50,14 +50,28 @@ def header_stamp(raw) -> Stamp:
     return Stamp._make(struct.unpack_from("<iI" if raw[1] == 1 else ">iI", raw, 4))
 
 
-def quaternion_stamped_fields(raw) -> tuple[Stamp, list]:
+class AttitudeFields(NamedTuple):
+    """What the wrench needs of a geometry_msgs/QuaternionStamped (field names as in it)."""
+
+    stamp: Stamp
+    """header.stamp."""
+    quaternion_xyzw: list
+    """quaternion x, y, z, w as sent (float64): the body's orientation in the state frame."""
+
+    @classmethod
+    def of_message(cls, msg) -> "AttitudeFields":
+        """The fields of a QuaternionStamped message object (rclpy's or rosbags')."""
+        q = msg.quaternion
+        return cls(Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec), [q.x, q.y, q.z, q.w])
+
+
+def quaternion_stamped_fields(raw) -> AttitudeFields:
     """Header stamp and quaternion of a CDR-serialised geometry_msgs/QuaternionStamped.
 
     Returns
     -------
-    stamp : Stamp
-    quaternion_xyzw : list of float
-        The four float64 values as sent, order x, y, z, w.
+    AttitudeFields
+        The stamp, and the four float64 values of the quaternion as sent, order x, y, z, w.
 
     Raises
     ------
@@ -72,7 +86,7 @@ def quaternion_stamped_fields(raw) -> tuple[Stamp, list]:
     start = end + (-(end - 4) % 8)  # the float64s align to 8 from the end of the encapsulation
     if length < 1 or len(raw) != start + 32 or raw[end - 1] != 0:
         raise ValueError("not a QuaternionStamped")
-    return Stamp(sec, nanosec), list(struct.unpack_from(order + "4d", raw, start))
+    return AttitudeFields(Stamp(sec, nanosec), list(struct.unpack_from(order + "4d", raw, start)))
 
 
 class OdometryFields(NamedTuple):
@@ -197,7 +211,8 @@ def _put_string(parts: list, offset: int, text: str) -> int:
 
 
 def _put_count(parts: list, offset: int, count: int) -> int:
-    """Append a 4-aligned CDR uint32 (a sequence length) at ``offset``; return the offset after it."""
+    """Append a 4-aligned CDR uint32 (a sequence length) at ``offset``; return the offset
+    after it."""
     pad = -offset % 4
     parts.append(b"\x00" * pad + struct.pack("<I", count))
     return offset + pad + 4

@@ -1,10 +1,11 @@
-"""Message stamps (builtin_interfaces/Time: sec, nanosec) as float seconds, and the next stamp of a fixed-rate stream."""
+"""Message stamps (builtin_interfaces/Time: sec, nanosec) as float seconds, and the next stamp of
+a fixed-rate stream."""
 
 from __future__ import annotations
 
 
 def stamp_seconds(stamp) -> float:
-    """A builtin_interfaces/Time (rclpy or rosbags message: fields sec, nanosec) as float seconds."""
+    """A builtin_interfaces/Time (rclpy or rosbags message: sec, nanosec) as float seconds."""
     return stamp.sec + 1e-9 * stamp.nanosec
 
 

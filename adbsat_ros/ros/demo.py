@@ -168,7 +168,8 @@ def run_demo(
     from rclpy.qos import QoSProfile, ReliabilityPolicy
 
     from adbsat_ros.bags.scenario import generate
-    from adbsat_ros.ros.node import AdbsatNode, make_executor
+    from adbsat_ros.ros.executors import make_executor
+    from adbsat_ros.ros.node import AdbsatNode
 
     def say(line=""):
         print(line, file=out, flush=True)

@@ -14,10 +14,10 @@ from adbsat_ros.bags import scenario
 from adbsat_ros.bags.analysis import MODEL_COLUMNS, analyze_bag, safe_split_points
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.samples import Rejection
-from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
 from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.geometry.shapes import grid_box
+from adbsat_ros.messages.stamps import stamp_seconds
 
 FAST = {"shading": "none"}
 
@@ -171,7 +171,8 @@ def test_csv_matches_bag_and_closed_forms(flight):
     a_ref = float(diag["reference_area_m2"])
     q = 0.5 * data("fast.density_kg_m3") * data("fast.relative_speed_m_s") ** 2
     np.testing.assert_allclose(data("fast.force_x_N"), q * a_ref * data("fast.CF_x"), rtol=1e-12)
-    # the relative wind has the relative speed as norm; altitude of the circular orbit above the ellipsoid
+    # the relative wind has the relative speed as norm; altitude of the circular orbit above the
+    # ellipsoid
     wind = np.stack([data(f"fast.wind_body_{a}_m_s") for a in "xyz"], axis=1)
     np.testing.assert_allclose(
         np.linalg.norm(wind, axis=1), data("fast.relative_speed_m_s"), rtol=1e-12
@@ -310,7 +311,8 @@ def bag_io_rotate_inverse(q, v):
 
 
 def test_odometry_from_a_bag_follows_the_node_frame_rules():
-    """Bag messages (rosbags types) go through the estimator's own Odometry rules, as the node's do."""
+    """Bag messages (rosbags types) go through the estimator's own Odometry rules, as the node's
+    do."""
     settings = WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, shading="none"))
     est = AeroWrenchEstimator(
         settings, panels_from_arrays(*grid_box((0, 0, 0), (1, 1, 1), (1, 1, 1)))
@@ -345,7 +347,8 @@ def test_safe_split_points_closed_forms():
     assert safe_split_points(
         [S, A, A, S, A, A, S, A], [0, 0, 1, 2, 2, 3, 4, 4], ["attitude_topic"]
     ).tolist() == [3, 6]
-    # the attitude stamped 3 after one stamped 5: no split before it (sequential would reject it, fresh not)
+    # the attitude stamped 3 after one stamped 5: no split before it (sequential would reject it,
+    # fresh not)
     kinds, stamps = [S, A, A, S, A, S, A], [0, 1, 5, 2, 3, 6, 7]
     assert safe_split_points(kinds, stamps, ["attitude_topic"]).tolist() == [5]
     # a state going back (5 after 10) is no split point; the next one, later than all, is
@@ -420,7 +423,8 @@ def messy_flight(path):
 
 
 def sequential(records, settings):
-    """The node's handling, message by message, with one estimator: forces, rejections, cache counts."""
+    """The node's handling, message by message, with one estimator: forces, rejections, cache
+    counts."""
     est = AeroWrenchEstimator(settings)
     forces = []
     for topic, _, msg in records:
@@ -468,9 +472,10 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path):
         runs[name] = report, (tmp_path / f"{name}.csv").read_bytes()
     one, pool = runs["one"][0], runs["pool"][0]
     assert one.chunks == 1 and one.workers == 1
-    # chunk_messages=1 splits at every safe state: all 38 but those at 10 s (unknown frame) and 37 s (NaN),
-    # 11 and 12 s (an attitude stamped 10 s follows), 20 s (stamped 17 s) and, for the odometry model,
-    # 19 s (its attitude stamps then go back to 17 s; at 18 s they do not go below the 17 s before)
+    # chunk_messages=1 splits at every safe state: all 38 but those at 10 s (unknown frame) and
+    # 37 s (NaN), 11 and 12 s (an attitude stamped 10 s follows), 20 s (stamped 17 s) and, for the
+    # odometry model, 19 s (its attitude stamps then go back to 17 s; at 18 s they do not go below
+    # the 17 s before)
     assert runs["chunks"][0].chunks == 1 + 38 - 6
     assert 3 < pool.chunks and pool.workers == 2
     for name in ("chunks", "pool"):

@@ -1,4 +1,5 @@
-"""The scenario generator: Keplerian invariants, closed forms, an independent integration, attitudes."""
+"""The scenario generator: Keplerian invariants, closed forms, an independent integration,
+attitudes."""
 
 import datetime as dt
 import math
@@ -60,7 +61,8 @@ def test_elliptic_orbit_perigee_apogee_energy_momentum_period():
     np.testing.assert_allclose(
         np.linalg.norm(h - h[0], axis=1) / np.linalg.norm(h[0]), 0.0, atol=1e-11
     )
-    # periodic: back at perigee after one period; the perigee direction is set by RAAN and arg of perigee
+    # periodic: back at perigee after one period; the perigee direction is set by RAAN and arg of
+    # perigee
     np.testing.assert_allclose(r[-1], r[0], rtol=0, atol=1e-4)
     perigee_dir = Rotation.from_euler("ZXZ", [40, 98, 70], degrees=True).apply([1.0, 0, 0])
     np.testing.assert_allclose(r[0] / rp, perigee_dir, atol=1e-12)
@@ -122,7 +124,8 @@ def test_messages_stamps_counts_and_unit_quaternions():
 
 @pytest.mark.parametrize("eccentricity", [0.0, 0.08])
 def test_nadir_attitude_axes(eccentricity):
-    """Body +z to nadir, +y along -h, +x = y x z (the velocity direction within the flight-path angle)."""
+    """Body +z to nadir, +y along -h, +x = y x z (the velocity direction within the flight-path
+    angle)."""
     sc = scenario.Scenario(
         duration_s=2000, rate_hz=0.01, eccentricity=eccentricity, inclination_deg=63, raan_deg=10
     )

@@ -1,7 +1,8 @@
-"""The node as a server of coefficients, and its database mode, with real rclpy (issue 7).
+"""The node as a server of coefficients, and its database mode, with real rclpy.
 
-* The ``coefficients`` topic times q A_ref (q A_ref L_ref for moments) equals the ``wrench`` topic to
-  1e-9, with q = rho V^2 / 2 from the node's own /diagnostics (printed with repr, so exact).
+* The ``coefficients`` topic times q A_ref (q A_ref L_ref for moments) equals the ``wrench``
+  topic to 1e-9, with q = rho V^2 / 2 from the node's own /diagnostics (printed with repr, so
+  exact).
 * With ``coefficients_source: database`` the wrench agrees with the live panel method within the
   database's stated interpolation error at attitudes between grid nodes. The database is built
   for the flow the node sees (NRLMSISE-00 at the test's stamp), so the only difference left is
@@ -164,7 +165,8 @@ def quaternion_z(angle):
 
 
 def exchange(peer, attitudes, t0=0.05):
-    """Send a state at 0 and one attitude per entry at t0 + 1e-3 k; return {stamp: (wrench, coefficients)}."""
+    """Send a state at 0 and one attitude per entry at t0 + 1e-3 k; return {stamp: (wrench,
+    coefficients)}."""
     pos, vel = circular_orbit_state(ALTITUDE)
     peer.wrenches.clear()
     peer.coefficients.clear()
@@ -255,7 +257,8 @@ def test_database_mode_agrees_with_the_panel_method_within_the_stated_error(ros,
     )
     assert all(r.successful for r in result), [r.reason for r in result]
     database = exchange(peer, attitudes, t0=0.2)  # new stamps; the flow changes by < 1e-6 relative
-    # the stated error, with the moment bound carried from the database's point to the centre of mass
+    # the stated error, with the moment bound carried from the database's point to the centre of
+    # mass
     error = node.estimator.database.error_bound
     carried = (
         stated["moment_coefficient"]
@@ -278,7 +281,8 @@ def test_database_mode_agrees_with_the_panel_method_within_the_stated_error(ros,
             error["force_coefficient"] + 1e-6
         )
     print(
-        f"worst |dCf| {worst_f:.3g} (bound {error['force_coefficient']:.3g}), |dCm| {worst_m:.3g} (bound {error['moment_coefficient']:.3g})"
+        f"worst |dCf| {worst_f:.3g} (bound {error['force_coefficient']:.3g}), "
+        f"|dCm| {worst_m:.3g} (bound {error['moment_coefficient']:.3g})"
     )
     assert worst_f <= error["force_coefficient"] + 1e-6
     assert worst_m <= error["moment_coefficient"] + 1e-6

@@ -1,0 +1,121 @@
+"""One model's cumulative state rebuilt in bag order from the workers' records, and its
+diagnostics.
+
+The workers replay chunks from reset estimators; what the node would have accumulated over the
+whole bag (rejection counters, wrenches published, the latest sample and rejection, the state's
+age, the hits and misses of one shading cache fed every query in order) is rebuilt here from the
+records, message by message, and written as the node's DiagnosticStatus
+(:mod:`adbsat_ros.estimator.health`), with the state's age in bag time.
+"""
+
+from __future__ import annotations
+
+import collections
+
+from adbsat_ros.bags import io as bag_io
+from adbsat_ros.bags.report import NODE_NAME, ModelSummary
+from adbsat_ros.bags.worker import MessageRecord
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.health import Health
+from adbsat_ros.estimator.settings import WrenchSettings
+
+_NS = 1_000_000_000
+
+
+class SequentialCacheCount:
+    """Hits and misses of one ShadingCache fed every query in bag order (same policy: a repeat of
+    the latest cell is a hit without reordering; otherwise LRU with ``max_entries``)."""
+
+    def __init__(self, max_entries):
+        self.max_entries = max_entries
+        self.store = collections.OrderedDict()
+        self.last = None
+        self.hits = self.misses = 0
+
+    def query(self, key) -> None:
+        """Count a query of the cell ``key``."""
+        if key == self.last:
+            self.hits += 1
+            return
+        store = self.store
+        if key in store:
+            store.move_to_end(key)
+            self.hits += 1
+        else:
+            self.misses += 1
+            store[key] = None
+            if self.max_entries is not None and len(store) > self.max_entries:
+                store.popitem(last=False)
+        self.last = key
+
+
+class ModelState:
+    """One model on the merge side: the node's cumulative state after the records applied so far.
+
+    Parameters
+    ----------
+    label : str
+    settings : WrenchSettings
+    mesh : PanelMesh
+        Loaded once per mesh for all models.
+    """
+
+    def __init__(self, label: str, settings: WrenchSettings, mesh):
+        self.label = label
+        self.settings = settings
+        self.mesh = mesh
+        # Checks the settings before anything is written; gives diagnostic_values() its static
+        # part (reference, database) and probes chunk split points. It never computes a wrench.
+        self.estimator = AeroWrenchEstimator(settings, mesh)
+        self.summary = ModelSummary.of_label(label)
+        self.rejections = collections.Counter()
+        self.published = 0
+        self.cache = SequentialCacheCount(settings.shading_cache_size)
+        self.health = Health(ticks_per_second=_NS)
+        self.diagnostics_period_ns = max(1, int(round(settings.diagnostics_period * _NS)))
+        self.next_diagnostics_ns = None
+
+    def apply(self, record: MessageRecord, t_ns: int) -> None:
+        """Account for one message's record, logged at t_ns [ns]."""
+        if record.state_accepted:
+            self.health.state_accepted(t_ns)
+        if record.status is not None:
+            self.summary.triggers += 1
+        if record.reason is not None:
+            self.rejections[record.reason] += 1
+            self.summary.first_rejection.setdefault(record.reason, record.reason_text)
+            if record.latest_rejection:
+                self.health.rejected(record.reason)
+        if record.numbers is not None:
+            self.published += 1
+            self.summary.wrenches += 1
+            self.health.sample_computed(record.compute_seconds, record.numbers)
+        for key in record.cache_keys:
+            self.cache.query(key)
+
+    def diagnostic_status(self, now_ns: int):
+        """The node's DiagnosticStatus (rosbags message) after the records applied so far."""
+        est, health = self.estimator, self.health
+        est.rejections = collections.Counter(self.rejections)
+        est.published = self.published
+        values = est.diagnostic_values(health.last_sample, health.compute_ms())
+        values["shading_cache_hits"] = self.cache.hits  # one cache fed every query in bag order
+        values["shading_cache_misses"] = self.cache.misses
+        level, message = health.level(now_ns, self.settings, sum(self.rejections.values()))
+        return bag_io.diagnostic_status(
+            level, f"{NODE_NAME}/{self.label}: aerodynamic wrench", message, est.mesh.source, values
+        )
+
+    def accepts_state(self, odometry) -> bool:
+        """Whether a freshly reset estimator accepts this Odometry (no rejection, no error)."""
+        est = self.estimator
+        est.reset()
+        try:
+            est.on_odometry(odometry)
+        except Exception:
+            return False
+        return True
+
+    def finish(self) -> None:
+        """Copy the rejection counts into the summary."""
+        self.summary.rejections = dict(self.rejections)

@@ -1,0 +1,273 @@
+"""The bag analysis's outputs, written in bag order: the output bag, the CSV and the plots.
+
+:func:`write_outputs` walks every input message in bag order: it copies each to the output bag,
+applies the workers' records of the trigger messages to the models' cumulative state
+(:class:`~adbsat_ros.bags.model_state.ModelState`), and writes the wrenches, the coefficients,
+the diagnostics (one per model every ``diagnostics_period`` of bag time, and one at the end) and
+the CSV rows. The bag and the CSV are written under temporary names and put at their paths only
+when complete; a message that cannot be decoded ends the walk, with everything before it written
+and the report's error saying where.
+"""
+
+from __future__ import annotations
+
+import collections
+import csv
+import os
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from adbsat_ros.bags import io as bag_io
+from adbsat_ros.bags.report import DIAGNOSTICS_TOPIC
+from adbsat_ros.bags.table import PLOT_COLUMNS, header
+from adbsat_ros.messages.cdr import header_stamp
+
+_NS = 1_000_000_000
+
+
+class _CsvFile:
+    """The CSV written under a temporary name beside ``path``, put there by :meth:`commit`."""
+
+    def __init__(self, path: Path, labels):
+        self.path = path
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, self.tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial", dir=path.parent)
+        self.file = os.fdopen(fd, "w", newline="", encoding="utf-8")
+        csv.writer(self.file).writerow(header(labels))
+
+    def commit(self) -> Path:
+        self.file.close()
+        os.replace(self.tmp, self.path)
+        return self.path
+
+    def discard(self) -> None:
+        try:
+            self.file.close()
+        finally:
+            os.unlink(self.tmp)
+
+
+class _Walk:
+    """One walk over the messages in bag order (see :func:`write_outputs`)."""
+
+    def __init__(self, read, chunks, results, states, report, writer, csv_file, seconds):
+        self.read, self.chunks, self.results = read, chunks, results
+        self.states, self.report = states, report
+        self.writer, self.csv_file, self.seconds = writer, csv_file, seconds
+        self.last_ns = None
+        self.rows_stamp, self.rows_plot = [], []  # CSV/plot rows: stamps [ns], plot numbers
+        self.out_connections = {}
+        self.topics = {cid: c.topic for cid, c in read.connections.items()}
+        if writer is not None:
+            self.wrench_connections = [
+                writer.connection(s.summary.wrench_topic, bag_io.WRENCH_STAMPED) for s in states
+            ]
+            self.coefficient_connections = [
+                writer.connection(s.summary.coefficients_topic, bag_io.WRENCH_STAMPED)
+                for s in states
+            ]
+
+    def diagnostics(self, state, t_ns: int) -> None:
+        self.writer.write(
+            DIAGNOSTICS_TOPIC,
+            t_ns,
+            bag_io.diagnostic_array_message(t_ns, [state.diagnostic_status(t_ns)]),
+        )
+
+    def copy(self, conn_id: int, t_ns: int, raw: bytes) -> None:
+        """Copy an input message, after the diagnostics due by its log time."""
+        writer = self.writer
+        for state in self.states:
+            while state.next_diagnostics_ns <= t_ns:
+                self.diagnostics(state, state.next_diagnostics_ns)
+                state.next_diagnostics_ns += state.diagnostics_period_ns
+        out = self.out_connections.get(conn_id)
+        if out is None:
+            c = self.read.connections[conn_id]
+            out = self.out_connections[conn_id] = writer.connection(
+                c.topic, c.msgtype, c.msgdef.data, c.digest
+            )
+        writer.write_raw(out, t_ns, raw)
+
+    def run(self, progress: bool) -> None:
+        report, states, seconds, writer = self.report, self.states, self.seconds, self.writer
+        pc = time.perf_counter
+        bounds = iter(self.chunks)
+        chunk_start = chunk_stop = 0  # trigger indices of the current chunk result
+        result = None
+        trigger = 0
+        first_row_ns = None
+        bar = tqdm(
+            total=report.messages_total,
+            unit="msg",
+            disable=not progress,
+            desc=f"analyse {report.input.name}",
+        )
+        done = 0
+        try:
+            t0 = pc()
+            for conn_id, t_ns, raw in self.read.messages:
+                if self.last_ns is None:
+                    for state in states:
+                        state.next_diagnostics_ns = t_ns + state.diagnostics_period_ns
+                self.last_ns = t_ns
+                report.messages_read += 1
+                done += 1
+                if writer is not None:
+                    self.copy(conn_id, t_ns, raw)
+                if conn_id not in self.read.kind_of:
+                    continue
+                if trigger == chunk_stop:  # the next chunk's results
+                    t1 = pc()
+                    seconds["write"] += t1 - t0
+                    bar.update(done)
+                    done = 0
+                    result = next(self.results)
+                    chunk_start, chunk_stop = next(bounds)
+                    t0 = pc()
+                    seconds["estimate"] += t0 - t1
+                i = trigger - chunk_start
+                trigger += 1
+                if i == len(result.records):  # this message could not be decoded: stop here
+                    c = self.read.connections[conn_id]
+                    report.error = (
+                        f"input bag {report.input}: message {report.messages_read} on {c.topic} "
+                        f"cannot be decoded as {c.msgtype} ({result.error})"
+                    )
+                    break
+                records = result.records[i]
+                for state, record in zip(states, records):
+                    state.apply(record, t_ns)
+                row = result.rows[i]
+                if row is None:
+                    continue
+                if writer is not None:
+                    for k, record in enumerate(records):
+                        if record.wrench_cdr is not None:
+                            writer.write_raw(self.wrench_connections[k], t_ns, record.wrench_cdr)
+                            writer.write_raw(
+                                self.coefficient_connections[k], t_ns, record.coefficients_cdr
+                            )
+                t1 = pc()
+                seconds["write"] += t1 - t0
+                sec, nanosec = header_stamp(raw)
+                stamp_ns = sec * _NS + nanosec
+                if first_row_ns is None:
+                    first_row_ns = stamp_ns
+                self.rows_stamp.append(stamp_ns)
+                self.rows_plot.append(row.plot)
+                if self.csv_file is not None:
+                    stamp_s = sec + 1e-9 * nanosec
+                    self.csv_file.file.write(
+                        f"{stamp_s!r},{row.utc},{(stamp_ns - first_row_ns) * 1e-9!r},"
+                        f"{self.topics[conn_id]},{row.cells}\r\n"
+                    )
+                t0 = pc()
+                seconds["csv"] += t0 - t1
+            seconds["write"] += pc() - t0
+        finally:
+            bar.update(done)
+            bar.close()
+            self.results.close()
+
+
+def write_outputs(
+    read, chunks, results, states, report, out_bag, out_csv, plots_dir, storage, progress, overwrite
+) -> None:
+    """Walk the messages in bag order and write the outputs asked for.
+
+    Parameters
+    ----------
+    read : BagMessages
+        Every input message (:func:`adbsat_ros.bags.reading.read_bag_messages`).
+    chunks : list of (int, int)
+        The chunks of trigger messages, in order.
+    results : generator of ChunkResult
+        Their results, in order (:func:`adbsat_ros.bags.worker.chunk_results`; closed here).
+    states : list of ModelState
+        The models, in order.
+    report : AnalysisReport
+        Filled in: messages read, error, outputs written, warnings, seconds by phase.
+    out_bag, out_csv, plots_dir : Path or None
+        The outputs (None: not written).
+    storage : str
+        'mcap' or 'sqlite3' for the output bag.
+    progress : bool
+        Show a progress bar.
+    overwrite : bool
+        Replace existing outputs.
+    """
+    seconds = collections.Counter()
+    writer = bag_io.BagWriter(out_bag, storage, overwrite) if out_bag is not None else None
+    csv_file = None
+    try:
+        if out_csv is not None:
+            csv_file = _CsvFile(out_csv, [s.label for s in states])
+        walk = _Walk(read, chunks, results, states, report, writer, csv_file, seconds)
+        walk.run(progress)
+        if writer is not None and walk.last_ns is not None:
+            for state in states:  # a last status with the final counts, at the end of the bag
+                walk.diagnostics(state, walk.last_ns)
+        if csv_file is not None:
+            report.outputs["csv"] = csv_file.commit()
+            csv_file = None
+        if writer is not None:
+            t0 = time.perf_counter()
+            report.outputs["bag"] = writer.commit()
+            seconds["write"] += time.perf_counter() - t0
+            writer = None
+    finally:
+        if writer is not None:
+            writer.discard()
+        if csv_file is not None:
+            csv_file.discard()
+    if plots_dir is not None and walk.rows_stamp:
+        t0 = time.perf_counter()
+        write_plots(plots_dir, walk.rows_stamp, walk.rows_plot, [s.label for s in states], report)
+        seconds["plots"] += time.perf_counter() - t0
+    report.seconds.update(seconds)
+
+
+def write_plots(plots_dir, stamps_ns, rows_plot, labels, report) -> None:
+    """PNG plots of force, torque, density and drag coefficient of every model against time,
+    into ``plots_dir`` (replaced as a whole); their paths in ``report.outputs['plots']``."""
+    try:
+        from adbsat_ros.plotting.time_series import plot_time_series  # matplotlib: when asked
+    except ModuleNotFoundError as exc:
+        if exc.name != "adbsat_ros.plotting.time_series":
+            raise
+        report.warnings.append(
+            "plots not written: adbsat_ros.plotting.time_series is not available"
+        )
+        return
+    stamps_ns = np.asarray(stamps_ns, dtype=np.int64)
+    time_s = (stamps_ns - stamps_ns[0]) * 1e-9
+    data = np.asarray(rows_plot, dtype=float).reshape(
+        len(stamps_ns), len(labels), len(PLOT_COLUMNS)
+    )
+    runs = {}
+    for k, label in enumerate(labels):
+        runs[label] = {
+            "force": data[:, k, 0:3],
+            "torque": data[:, k, 3:6],
+            "density": data[:, k, 6],
+            "drag_coefficient": data[:, k, 7],
+        }
+    plots_dir = Path(plots_dir)
+    plots_dir.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(
+        tempfile.mkdtemp(prefix=f".{plots_dir.name}.", suffix=".partial", dir=plots_dir.parent)
+    )
+    try:
+        written = plot_time_series(time_s, runs, tmp)
+        if plots_dir.exists():
+            shutil.rmtree(plots_dir)
+        os.replace(tmp, plots_dir)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    report.outputs["plots"] = [plots_dir / Path(p).name for p in written]

@@ -1,0 +1,131 @@
+"""Planning the parallel replay: where a bag's trigger messages can be cut into chunks.
+
+A chunk is replayed by a worker from a freshly reset estimator; it gives the results of one
+estimator fed every message in order only if it starts where the two provably agree
+(:func:`safe_split_points`, and the state there must pass a reset estimator's checks).
+:func:`plan_chunks` cuts at such places, about ``chunk_messages`` apart; with none there are
+fewer chunks (one, at worst).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from adbsat_ros.bags.reading import ATTITUDE, STATE
+
+#: Smallest default chunk: below this a process pool costs more than it saves.
+MIN_CHUNK_MESSAGES = 250
+#: Chunks per worker by default (load balance, and the merge writes while workers compute).
+CHUNKS_PER_WORKER = 8
+
+
+def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
+    """Trigger-message indices where a freshly reset estimator gives the sequential results.
+
+    A chunk starting at index k is replayed by an estimator with no state and no last stamps.
+    The sequential estimator at k differs only in its latest state and its last state and
+    attitude stamps (the shading cache answers the lighting of the cell centre, whatever it
+    holds). Both give the same outputs from k on if the state message at k is accepted by both
+    and no later time-goes-backwards test can tell them apart:
+
+    * k is a state message whose stamp is >= every earlier state stamp (so the sequential
+      estimator takes it without a time-backwards reset; after it both hold the same state and
+      last state stamp), and
+    * for every model, no stamp it treats as an attitude (attitude messages, or state messages
+      when ``attitude_source`` is odometry) at or after k is earlier than one before k (the
+      sequential last attitude stamp is one of the latter, so it never rejects where the fresh
+      estimator, with none, accepts; from the first accepted attitude on both hold the same).
+
+    That the state at k passes the message's own checks (frames, finite values, quaternion) is
+    tested separately on the decoded message (the ``accepted`` argument of :func:`plan_chunks`).
+
+    Parameters
+    ----------
+    kinds : array_like of int, shape (N,)
+        0 for a state message, 1 for an attitude message, in bag order.
+    stamps : array_like of float, shape (N,)
+        Header stamps [s] as the estimator reads them (sec + 1e-9 nanosec).
+    attitude_sources : sequence of str
+        Each model's ``attitude_source`` ('attitude_topic' or 'odometry').
+
+    Returns
+    -------
+    ndarray of int
+        Increasing indices k >= 1 (index 0 always starts the first chunk).
+    """
+    kinds = np.asarray(kinds)
+    stamps = np.asarray(stamps, dtype=float)
+    n = len(kinds)
+    if n < 2:
+        return np.zeros(0, dtype=np.int64)
+    finite = np.isfinite(stamps)
+
+    def before_max(mask):  # max over j < k of stamps[j] where mask, -inf if none
+        x = np.where(mask & finite, stamps, -np.inf)
+        out = np.empty(n)
+        out[0] = -np.inf
+        np.maximum.accumulate(x[:-1], out=out[1:])
+        return out
+
+    def from_min(mask):  # min over j >= k of stamps[j] where mask, +inf if none
+        x = np.where(mask & finite, stamps, np.inf)
+        return np.minimum.accumulate(x[::-1])[::-1]
+
+    is_state = kinds == STATE
+    ok = is_state & finite & (stamps >= before_max(is_state))
+    for source in set(attitude_sources):
+        trigger = is_state if source == "odometry" else kinds == ATTITUDE
+        ok &= from_min(trigger) >= before_max(trigger)
+    ok[0] = False
+    return np.flatnonzero(ok)
+
+
+def plan_chunks(
+    kinds,
+    stamps,
+    attitude_sources,
+    workers: int,
+    chunk_messages: int | None,
+    accepted,
+) -> list:
+    """Cut the trigger messages into chunks [start, stop) at safe split points.
+
+    Parameters
+    ----------
+    kinds : sequence of int
+        STATE or ATTITUDE of every trigger message, in bag order.
+    stamps : sequence of float
+        Their stamps [s], possibly fewer (up to the first unreadable one: no cut after it).
+    attitude_sources : sequence of str
+        Each model's ``attitude_source``.
+    workers : int
+        Processes that will compute the chunks.
+    chunk_messages : int or None
+        Messages per chunk (default: enough chunks for CHUNKS_PER_WORKER per worker, at least
+        MIN_CHUNK_MESSAGES each; one chunk with one worker).
+    accepted : callable
+        ``accepted(k)``: whether every model's freshly reset estimator accepts the state
+        message k.
+
+    Returns
+    -------
+    list of (int, int)
+        The chunks in order, covering every message.
+    """
+    n = len(kinds)
+    if chunk_messages is None:
+        chunk_messages = (
+            n if workers == 1 else max(MIN_CHUNK_MESSAGES, -(-n // (CHUNKS_PER_WORKER * workers)))
+        )
+    splits = []
+    if chunk_messages < n:
+        candidates = safe_split_points(kinds[: len(stamps)], stamps, attitude_sources)
+        target = chunk_messages
+        for k in candidates.tolist():
+            if k < target or n - k < max(1, chunk_messages // 4):
+                continue
+            if accepted(k):
+                splits.append(k)
+                target = k + chunk_messages
+    bounds = [0, *splits, n]
+    return [(a, b) for a, b in zip(bounds[:-1], bounds[1:]) if b > a]

@@ -1,0 +1,135 @@
+"""What a bag analysis reports: the models' labels and topics, their summaries, the outcome.
+
+The per-model output topics are ``NAMESPACE/LABEL/wrench`` and ``NAMESPACE/LABEL/coefficients``;
+a label is a ROS topic-name token (:func:`check_label`).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+#: Name of the node whose section a parameters file is read from, and whose logic is replayed.
+NODE_NAME = "adbsat_node"
+#: Namespace of the per-model output topics: NAMESPACE/LABEL/wrench and .../coefficients.
+NAMESPACE = "/adbsat"
+DIAGNOSTICS_TOPIC = "/diagnostics"
+_LABEL_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+
+
+def label_from_name(name: str) -> str:
+    """A topic-safe model label from a file stem: other characters become '_', a leading digit
+    gets 'm'."""
+    label = re.sub(r"[^A-Za-z0-9_]", "_", str(name)) or "model"
+    return label if label[0].isalpha() else "m" + label
+
+
+def check_label(label: str) -> str:
+    """Return ``label`` if it can be a ROS topic name token, else raise ValueError naming it."""
+    if not _LABEL_RE.match(label):
+        raise ValueError(
+            f"model label {label!r}: use letters, digits and '_' and start with a letter"
+        )
+    return label
+
+
+@dataclass
+class ModelSummary:
+    """What one model produced: triggers seen, wrenches written, rejections by reason.
+
+    Attributes
+    ----------
+    label : str
+    wrench_topic, coefficients_topic : str
+        Its output topics.
+    triggers : int
+        Messages that asked it for a wrench (attitudes, or states with ``attitude_source``
+        odometry).
+    wrenches : int
+        Wrenches written.
+    rejections : dict
+        Rejected inputs by reason.
+    first_rejection : dict
+        The message of the first rejection of each reason.
+    """
+
+    label: str
+    wrench_topic: str
+    coefficients_topic: str
+    triggers: int = 0
+    wrenches: int = 0
+    rejections: dict = field(default_factory=dict)
+    first_rejection: dict = field(default_factory=dict)
+
+    @classmethod
+    def of_label(cls, label: str) -> "ModelSummary":
+        """An empty summary of the model ``label``, with its topics."""
+        return cls(label, f"{NAMESPACE}/{label}/wrench", f"{NAMESPACE}/{label}/coefficients")
+
+
+@dataclass
+class AnalysisReport:
+    """Outcome of :func:`adbsat_ros.bags.analysis.analyze_bag`.
+
+    Attributes
+    ----------
+    input : Path
+    outputs : dict
+        'bag', 'csv', 'plots' (list of PNG paths) that were written.
+    models : list of ModelSummary
+    messages_read : int
+        Input messages read (and copied to the output bag).
+    messages_total : int
+        Messages the input's index announced.
+    error : str or None
+        Why the input could not be read to its end (the outputs then hold what came before).
+    warnings : list of str
+    seconds : dict
+        Wall time by phase: read (reading, and planning the chunks), estimate (computing the
+        chunks here, or waiting for the workers: decoding and estimator), write (output bag),
+        csv, plots, total.
+    workers : int
+        Processes that computed the wrenches (1: this process).
+    chunks : int
+        Chunks the messages were cut into.
+    """
+
+    input: Path
+    outputs: dict = field(default_factory=dict)
+    models: list = field(default_factory=list)
+    messages_read: int = 0
+    messages_total: int = 0
+    error: str | None = None
+    warnings: list = field(default_factory=list)
+    seconds: dict = field(default_factory=dict)
+    workers: int = 1
+    chunks: int = 0
+
+    @property
+    def partial(self) -> bool:
+        """True if the input could not be read to its end."""
+        return self.error is not None
+
+    @property
+    def wrenches(self) -> int:
+        """Wrenches written, all models."""
+        return sum(m.wrenches for m in self.models)
+
+    def add_rejection_warnings(self, attitude_topic: str, state_topic: str) -> None:
+        """Turn the models' rejections into warnings that say what was wrong with the input."""
+        for summary in self.models:
+            for reason, count in sorted(summary.rejections.items()):
+                if reason == "no_state":
+                    text = (
+                        f"{count} messages on {attitude_topic} came before the first usable "
+                        f"state on {state_topic}: no wrench for them"
+                    )
+                else:
+                    first = summary.first_rejection.get(reason, "")
+                    text = f"{count} inputs rejected ({reason}), first: {first}"
+                self.warnings.append(f"model {summary.label}: {text}")
+            if summary.triggers and not summary.wrenches:
+                self.warnings.append(
+                    f"model {summary.label}: no wrench computed from {summary.triggers} inputs"
+                )

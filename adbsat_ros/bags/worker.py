@@ -1,0 +1,268 @@
+"""The bag analysis's workers: chunks of trigger messages replayed through the node's handling.
+
+A worker holds one estimator per model (the mesh and shading cache built once per process). It
+replays a contiguous chunk of the state and attitude messages from reset estimators, each
+message decoded as the node decodes it (rosbags' deserialiser as the fallback) and handled by
+the node's own per-message path (:class:`~adbsat_ros.estimator.handling.MessageHandler`), and
+returns per message and model a :class:`MessageRecord`: only numbers and bytes, what the merge
+in bag order writes and counts (never the panel method's results), and the CSV row.
+"""
+
+from __future__ import annotations
+
+import collections
+import itertools
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor
+from typing import NamedTuple
+
+from adbsat_ros.bags import io as bag_io
+from adbsat_ros.bags.reading import STATE
+from adbsat_ros.bags.table import model_cells, utc_text
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.handling import MessageHandler, Outcome
+from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
+from adbsat_ros.messages.stamps import stamp_seconds
+
+
+class ConditionNumbers(NamedTuple):
+    """The flight conditions of a sample that the diagnostics report (FlightConditions names)."""
+
+    mass_density: float
+    temperature: float
+    altitude: float
+    speed: float
+    speed_ratio: float
+    alpha: float
+
+
+class SampleNumbers(NamedTuple):
+    """The numbers of a WrenchSample that the diagnostics report (its attribute names)."""
+
+    conditions: ConditionNumbers
+    drag_coefficient: float
+
+    @classmethod
+    def of_sample(cls, sample) -> "SampleNumbers":
+        """The numbers of a WrenchSample."""
+        c = sample.conditions
+        return cls(
+            ConditionNumbers(
+                float(c.mass_density),
+                float(c.temperature),
+                float(c.altitude),
+                float(c.speed),
+                float(c.speed_ratio),
+                float(c.alpha),
+            ),
+            float(sample.drag_coefficient),
+        )
+
+
+class MessageRecord(NamedTuple):
+    """What one message came to for one model, as the merge needs it.
+
+    Attributes
+    ----------
+    state_accepted : bool
+        A state the estimator accepted.
+    status : str or None
+        None if the message asked this model for no wrench, ``ok``, or the rejection reason.
+    reason, reason_text : str or None
+        A rejection's reason and message, or ``compute_error`` and the failure.
+    latest_rejection : bool
+        Whether it is a rejection (then the diagnostics' latest), not a failure.
+    numbers : SampleNumbers or None
+        The sample's numbers for the diagnostics.
+    compute_seconds : float or None
+        Time the estimator took for the sample [s].
+    wrench_cdr, coefficients_cdr : bytes or None
+        The wrench and coefficient messages to write.
+    cache_keys : tuple
+        The shading-cache cells queried for it (at most one).
+    """
+
+    state_accepted: bool = False
+    status: str | None = None
+    reason: str | None = None
+    reason_text: str | None = None
+    latest_rejection: bool = False
+    numbers: SampleNumbers | None = None
+    compute_seconds: float | None = None
+    wrench_cdr: bytes | None = None
+    coefficients_cdr: bytes | None = None
+    cache_keys: tuple = ()
+
+
+class Row(NamedTuple):
+    """The CSV row of a message: UTC text, the models' cells as CSV text, their plot numbers."""
+
+    utc: str
+    cells: str
+    plot: list
+
+
+class ChunkResult(NamedTuple):
+    """What a worker returns for one chunk of trigger messages.
+
+    ``records[i]`` holds one MessageRecord per model for message i, ``rows[i]`` its Row or None
+    (no model was asked for a wrench). If message ``len(records)`` could not be decoded,
+    ``error`` says why (the analysis stops there).
+    """
+
+    records: list
+    rows: list
+    error: str | None = None
+
+
+class WorkerModel:
+    """One model's estimator in a worker, and the node's per-message handling around it."""
+
+    def __init__(self, settings, mesh):
+        self.estimator = AeroWrenchEstimator(settings, mesh)
+        self.handler = MessageHandler(self.estimator)
+        self._queries = self._query_count()
+
+    def start_chunk(self) -> None:
+        """Reset for a chunk: it starts at a state message a fresh estimator accepts alike."""
+        self.estimator.reset()
+        self._queries = self._query_count()
+
+    def _query_count(self) -> int:
+        cache = self.estimator.shading_cache
+        return 0 if cache is None else cache.hits + cache.misses
+
+    def record(self, outcome: Outcome) -> MessageRecord:
+        """The record of ``outcome``, the message just handled."""
+        # the cell of the shading-cache query made for it, if any, so that the merge can count
+        # hits and misses as one sequential cache would (a worker's cache saw its chunks only)
+        count = self._query_count()
+        keys = ()
+        if count != self._queries:
+            self._queries = count
+            keys = (self.estimator.shading_cache.last_key,)
+        reason = reason_text = None
+        if outcome.rejection is not None:
+            reason, reason_text = outcome.rejection.reason, outcome.rejection.message
+        elif outcome.error is not None:
+            error = outcome.error
+            reason, reason_text = "compute_error", f"{type(error).__name__}: {error}"
+        sample = outcome.sample
+        if sample is None:
+            return MessageRecord(
+                outcome.state_accepted,
+                outcome.status,
+                reason,
+                reason_text,
+                outcome.rejection is not None,
+                cache_keys=keys,
+            )
+        return MessageRecord(
+            outcome.state_accepted,
+            "ok",
+            numbers=SampleNumbers.of_sample(sample),
+            compute_seconds=sample.compute_seconds,
+            wrench_cdr=outcome.wrench_cdr,
+            coefficients_cdr=outcome.coefficients_cdr,
+            cache_keys=keys,
+        )
+
+
+class Worker:
+    """The models of one process; :meth:`run` replays a chunk from reset estimators.
+
+    Parameters
+    ----------
+    specs : sequence of (WrenchSettings, PanelMesh)
+        One per model, in order.
+    """
+
+    def __init__(self, specs):
+        self.models = [WorkerModel(settings, mesh) for settings, mesh in specs]
+
+    def run(self, chunk) -> ChunkResult:
+        """Replay ``chunk``, (kinds, CDR bytes) of consecutive trigger messages."""
+        kinds, raws = chunk
+        models = self.models
+        for m in models:
+            m.start_chunk()
+        utc_of = models[0].estimator.utc
+        records, rows = [], []
+        for kind, raw in zip(kinds, raws):
+            try:
+                if kind == STATE:
+                    odometry = decode_odometry(raw, bag_io.deserialize_odometry)
+                    stamp = odometry.stamp
+                    outcomes = [m.handler.on_state(odometry) for m in models]
+                else:
+                    attitude = decode_attitude(raw, bag_io.deserialize_attitude)
+                    stamp = attitude.stamp
+                    outcomes = [m.handler.on_attitude(attitude) for m in models]
+            except UndecodableMessage as exc:
+                return ChunkResult(records, rows, exc.reason)
+            row = None
+            if any(o.triggered for o in outcomes):
+                cells, plot = model_cells(outcomes)
+                row = Row(utc_text(utc_of, stamp_seconds(stamp)), cells, plot)
+            records.append(tuple(m.record(o) for m, o in zip(models, outcomes)))
+            rows.append(row)
+        return ChunkResult(records, rows)
+
+
+_WORKER: Worker | None = None
+
+
+def _init_worker(specs) -> None:
+    """Process-pool initializer: load the estimators once per process (mesh, shading cache)."""
+    global _WORKER
+    _WORKER = Worker(specs)
+
+
+def _run_chunk(chunk) -> ChunkResult:
+    return _WORKER.run(chunk)
+
+
+def _pool_context():
+    """Fork where available (workers start at once and inherit the imports and meshes)."""
+    if "fork" in multiprocessing.get_all_start_methods():
+        return multiprocessing.get_context("fork")
+    return multiprocessing.get_context()
+
+
+def chunk_results(specs, chunks, workers: int):
+    """The ChunkResult of each chunk, in order: computed here (``workers`` 1), or by a pool of
+    ``workers`` processes kept a few chunks ahead of the caller.
+
+    Parameters
+    ----------
+    specs : sequence of (WrenchSettings, PanelMesh)
+        The models.
+    chunks : iterable of (kinds, CDR bytes)
+        The chunks, taken as they are needed.
+    workers : int
+    """
+    if workers <= 1:
+        worker = Worker(specs)
+        for chunk in chunks:
+            yield worker.run(chunk)
+        return
+    with ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=_pool_context(),
+        initializer=_init_worker,
+        initargs=(specs,),
+    ) as pool:
+        todo = iter(chunks)
+        pending = collections.deque(
+            pool.submit(_run_chunk, c) for c in itertools.islice(todo, 2 * workers)
+        )
+        try:
+            while pending:
+                result = pending.popleft().result()
+                chunk = next(todo, None)
+                if chunk is not None:
+                    pending.append(pool.submit(_run_chunk, chunk))
+                yield result
+        finally:
+            for future in pending:
+                future.cancel()

@@ -1,0 +1,174 @@
+"""One input message through the estimator: the per-message path of the node and the bag analysis.
+
+:class:`MessageHandler` takes the decoded fields of an attitude or state message
+(:mod:`adbsat_ros.messages.decoding`), feeds them to an
+:class:`~adbsat_ros.estimator.estimator.AeroWrenchEstimator` with the node's rules (a rejected
+input is counted by its reason; any other failure is counted as ``compute_error`` and never
+stops the caller; with ``attitude_source`` odometry a state's pose is the attitude) and returns
+an :class:`Outcome`: the sample or why there is none, and the CDR bytes of the wrench and
+coefficient messages to publish. The ROS node publishes from it; the bag analysis writes it.
+Both therefore compute and serialise every message the same way, bit for bit.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.samples import Rejection, WrenchSample
+from adbsat_ros.messages.cdr import AttitudeFields, OdometryFields, Stamp, wrench_stamped_cdr
+from adbsat_ros.messages.decoding import UndecodableMessage
+from adbsat_ros.messages.stamps import next_regular_stamp, stamp_seconds
+
+
+class Outcome(NamedTuple):
+    """What one input message came to.
+
+    Attributes
+    ----------
+    stamp : Stamp or None
+        The message's header stamp (the wrench's), None for bytes that could not be decoded.
+    triggered : bool
+        Whether the message asked for a wrench: an attitude, or a state accepted while the
+        attitude comes from the odometry pose.
+    state_accepted : bool
+        Whether the message was a state the estimator accepted.
+    sample : WrenchSample or None
+        The wrench computed.
+    rejection : Rejection or None
+        Why the input was refused (reason and message; counted by the estimator).
+    error : Exception or None
+        An unexpected failure (counted as ``compute_error``).
+    wrench_cdr : bytes or None
+        CDR bytes of the geometry_msgs/WrenchStamped: force [N] and torque [N m] about the
+        centre of mass, body frame (``body_frame_id``), stamped like the message.
+    coefficients_cdr : bytes or None
+        CDR bytes of the coefficients' WrenchStamped (C_F in ``force``, C_M in ``torque``), when
+        asked for.
+    """
+
+    stamp: Stamp | None
+    triggered: bool = False
+    state_accepted: bool = False
+    sample: WrenchSample | None = None
+    rejection: Rejection | None = None
+    error: Exception | None = None
+    wrench_cdr: bytes | None = None
+    coefficients_cdr: bytes | None = None
+
+    @property
+    def reason(self) -> str | None:
+        """The rejection's reason, ``compute_error`` for a failure, else None."""
+        if self.rejection is not None:
+            return self.rejection.reason
+        return None if self.error is None else "compute_error"
+
+    @property
+    def status(self) -> str | None:
+        """None if the message asked for no wrench, ``ok`` if it got one, else the reason."""
+        if not self.triggered:
+            return None
+        return "ok" if self.sample is not None else self.reason
+
+
+#: The outcome of an attitude while the attitude comes from the odometry pose.
+IGNORED = Outcome(None)
+
+
+class MessageHandler:
+    """The node's handling of input messages around one estimator, without ROS.
+
+    Parameters
+    ----------
+    estimator : AeroWrenchEstimator
+        The estimator fed (its counters count the rejections and failures).
+    """
+
+    def __init__(self, estimator: AeroWrenchEstimator):
+        self.estimator = estimator
+        self._stamps: tuple = (None, None)  # stamps of the two latest wrenches
+
+    @property
+    def uses_attitude_topic(self) -> bool:
+        """Whether attitudes come from their own messages (else from the odometry pose)."""
+        return self.estimator.settings.attitude_source == "attitude_topic"
+
+    def on_state(self, odometry: OdometryFields, coefficients: bool = True) -> Outcome:
+        """A state message: accepted (and with ``attitude_source`` odometry, its wrench), or not.
+
+        Parameters
+        ----------
+        odometry : OdometryFields
+            The decoded nav_msgs/Odometry.
+        coefficients : bool
+            Whether to serialise the coefficients message too.
+        """
+        try:
+            _, orientation = self.estimator.on_odometry(odometry)
+        except Rejection as exc:
+            return Outcome(odometry.stamp, rejection=exc)
+        except Exception as exc:  # never let a message take the caller down
+            self.estimator.rejections["compute_error"] += 1
+            return Outcome(odometry.stamp, error=exc)
+        if self.uses_attitude_topic:
+            return Outcome(odometry.stamp, state_accepted=True)
+        return self._wrench(odometry.stamp, orientation, coefficients, True)
+
+    def on_attitude(self, attitude: AttitudeFields, coefficients: bool = True) -> Outcome:
+        """An attitude message: its wrench, or why there is none (:data:`IGNORED` while the
+        attitude comes from the odometry pose).
+
+        Parameters
+        ----------
+        attitude : AttitudeFields
+            The decoded geometry_msgs/QuaternionStamped.
+        coefficients : bool
+            Whether to serialise the coefficients message too.
+        """
+        if not self.uses_attitude_topic:
+            return IGNORED
+        return self._wrench(attitude.stamp, attitude.quaternion_xyzw, coefficients, False)
+
+    def undecodable(self, what: str, exc: UndecodableMessage) -> Outcome:
+        """Bytes on the ``what`` input ('attitude', 'state') that are no message: counted as
+        ``undecodable``; the outcome's rejection says what was wrong."""
+        self.estimator.rejections["undecodable"] += 1
+        return Outcome(None, rejection=Rejection("undecodable", f"{what} message {exc}"))
+
+    def _wrench(self, stamp: Stamp, quaternion, coefficients: bool, state: bool) -> Outcome:
+        estimator = self.estimator
+        try:
+            sample = estimator.on_attitude(stamp_seconds(stamp), quaternion)
+        except Rejection as exc:
+            return Outcome(stamp, True, state, rejection=exc)
+        except Exception as exc:  # never let a message take the caller down
+            estimator.rejections["compute_error"] += 1
+            return Outcome(stamp, True, state, error=exc)
+        frame = estimator.settings.body_frame_id
+        sec, nanosec = stamp.sec, stamp.nanosec
+        wrench = wrench_stamped_cdr(
+            sec, nanosec, frame, sample.force.tolist(), sample.torque.tolist()
+        )
+        coefficients_cdr = None
+        if coefficients:
+            coefficients_cdr = wrench_stamped_cdr(
+                sec,
+                nanosec,
+                frame,
+                sample.force_coefficients.tolist(),
+                sample.moment_coefficients.tolist(),
+            )
+        self._stamps = (self._stamps[1], stamp)
+        return Outcome(stamp, True, state, sample, None, None, wrench, coefficients_cdr)
+
+    def next_stamp(self) -> float | None:
+        """The stamp [s] the next wrench most likely has: the latest plus the latest interval
+        between wrenches (:func:`next_regular_stamp`); None before two wrenches."""
+        previous, latest = self._stamps
+        return None if previous is None else next_regular_stamp(previous, latest)
+
+    def prepare_next(self) -> bool:
+        """Compute ahead what the next regular attitude would wait for
+        (:meth:`AeroWrenchEstimator.prepare` of :meth:`next_stamp`); whether it did."""
+        expected = self.next_stamp()
+        return expected is not None and self.estimator.prepare(expected)

@@ -1,0 +1,49 @@
+"""The rclpy executor the node spins on, and spinning it until the process is told to stop."""
+
+from __future__ import annotations
+
+import io
+
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+
+try:  # rclpy 7.1.5 and later (Jazzy wheels); older Jazzy builds lack it
+    from rclpy.experimental import EventsExecutor
+except ImportError:
+    EventsExecutor = None
+
+
+def make_executor(kind: str = "events", context=None):
+    """An rclpy executor: ``"events"`` or ``"single_threaded"``.
+
+    ``events`` is rclpy.experimental.EventsExecutor (C++ event queue: callbacks in arrival order,
+    about half the per-message overhead of the SingleThreadedExecutor, which rebuilds a wait set
+    in Python for every wait; see docs/benchmarks.md). An rclpy without it gets the
+    SingleThreadedExecutor, and so does a process whose sys.stderr is not a file. Spin either
+    with :func:`spin_until_shutdown`: the EventsExecutor's own ``spin()`` in the Jazzy 7.1
+    wheels busy-waits and does not return on SIGINT/SIGTERM, its ``spin_once(timeout)`` sleeps
+    and returns.
+
+    Raises
+    ------
+    ValueError
+        For another ``kind``.
+    """
+    if kind == "events":
+        if EventsExecutor is None:
+            return SingleThreadedExecutor(context=context)
+        try:
+            return EventsExecutor(context=context)
+        except (io.UnsupportedOperation, AttributeError, ValueError):
+            # it enables faulthandler on sys.stderr, which needs a real file (not so in a notebook
+            # or under pytest's capsys)
+            return SingleThreadedExecutor(context=context)
+    if kind == "single_threaded":
+        return SingleThreadedExecutor(context=context)
+    raise ValueError(f"executor must be events or single_threaded, got {kind!r}")
+
+
+def spin_until_shutdown(executor, context=None) -> None:
+    """Spin ``executor`` until its context shuts down (SIGINT/SIGTERM, or rclpy.shutdown)."""
+    while rclpy.ok(context=context):
+        executor.spin_once(timeout_sec=0.5)

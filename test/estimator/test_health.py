@@ -1,0 +1,61 @@
+"""The health levels of the diagnostics (node and bag analysis), and what Health keeps."""
+
+import numpy as np
+import pytest
+
+from adbsat_ros.estimator.health import ERROR, OK, WARN, Health, health_level
+from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+
+
+def test_levels_and_messages():
+    assert health_level(None, None, 0, 1.0, 1.0) == (ERROR, "no orbital state")
+    # stale beyond the larger of the state time-out and the diagnostics period
+    assert health_level(2.04, None, 0, 2.0, 1.0) == (ERROR, "state is stale (2.0 s old)")
+    assert health_level(2.04, None, 0, 1.0, 2.0) == (ERROR, "state is stale (2.0 s old)")
+    assert health_level(2.0, None, 0, 2.0, 1.0) == (OK, "ok")  # at the limit: not yet
+    assert health_level(1.5, None, 0, 1.0, 2.0) == (OK, "ok")
+    # the latest rejection a state too far from the attitudes: ERROR whatever the counts
+    assert health_level(0.1, "stale_state", 3, 1.0, 1.0) == (
+        ERROR,
+        "state is stale relative to the attitude stamps",
+    )
+    assert health_level(0.1, "no_state", 3, 1.0, 1.0) == (WARN, "3 inputs rejected so far")
+    assert health_level(0.1, None, 0, 1.0, 1.0) == (OK, "ok")
+    assert (OK, WARN, ERROR) == (0, 1, 2)  # diagnostic_msgs/DiagnosticStatus levels
+
+
+def test_health_follows_states_rejections_and_samples():
+    settings = WrenchSettings.from_parameters(
+        dict(PARAMETER_DEFAULTS, state_timeout=1.0, diagnostics_period=1.0)
+    )
+    health = Health()
+    assert health.state_age(10.0) is None and health.level(10.0, settings, 0)[0] == ERROR
+    health.state_accepted(10.0)
+    assert health.state_age(10.25) == 0.25
+    assert health.level(10.25, settings, 0) == (OK, "ok")
+    assert health.level(11.5, settings, 0) == (ERROR, "state is stale (1.5 s old)")
+    health.rejected("bad_quaternion")
+    assert health.last_rejection_reason == "bad_quaternion"
+    assert health.level(10.5, settings, 1) == (WARN, "1 inputs rejected so far")
+    health.rejected("stale_state")
+    assert health.level(10.5, settings, 2)[0] == ERROR
+    sample = object()
+    health.sample_computed(0.002, sample)
+    assert health.last_sample is sample and health.computed == 1
+    assert health.compute_ms().tolist() == [2.0]
+
+
+def test_integer_nanosecond_ticks_are_subtracted_exactly():
+    health = Health(ticks_per_second=1_000_000_000)
+    t = 1_767_225_600_123_456_789
+    health.state_accepted(t)
+    assert health.state_age(t + 1_500_000_001) == 1_500_000_001 / 1e9
+
+
+def test_the_compute_window_keeps_the_latest_times():
+    health = Health(window=5)
+    assert health.compute_ms().size == 0
+    for k in range(1, 13):
+        health.sample_computed(k * 1e-3, None)
+    assert sorted(health.compute_ms().tolist()) == pytest.approx([8.0, 9.0, 10.0, 11.0, 12.0])
+    assert health.computed == 12 and isinstance(health.compute_ms(), np.ndarray)

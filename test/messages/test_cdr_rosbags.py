@@ -1,0 +1,142 @@
+"""The struct-based CDR readers and writers against rosbags' pure-Python codec (no ROS needed)."""
+
+import math
+
+import numpy as np
+import pytest
+from cdr_cases import DIAGNOSTIC_STATUSES, FRAMES, POSITION, STAMPS_NS, VELOCITY, Q, odometry
+
+from adbsat_ros.bags import io as bag_io
+from adbsat_ros.messages.cdr import (
+    OdometryFields,
+    Stamp,
+    diagnostic_array_cdr,
+    header_stamp,
+    odometry_fields,
+    quaternion_stamped_fields,
+    wrench_stamped_cdr,
+)
+
+
+@pytest.mark.parametrize("little_endian", [True, False])
+def test_quaternion_stamped_read_equals_rosbags(little_endian):
+    for frame in FRAMES:
+        for stamp in STAMPS_NS:
+            t = bag_io.time_message(stamp)
+            msg = bag_io.quaternion_stamped_message(stamp, frame, Q)
+            raw = bytes(
+                bag_io.TYPESTORE.serialize_cdr(
+                    msg, bag_io.QUATERNION_STAMPED, little_endian=little_endian
+                )
+            )
+            assert header_stamp(raw) == Stamp(t.sec, t.nanosec)
+            back = bag_io.deserialize(raw, bag_io.QUATERNION_STAMPED)
+            q = back.quaternion
+            fields = quaternion_stamped_fields(raw)
+            assert fields == (Stamp(t.sec, t.nanosec), [q.x, q.y, q.z, q.w])
+            assert (fields.stamp, fields.quaternion_xyzw) == tuple(fields)
+
+
+def test_wrench_stamped_write_equals_rosbags_byte_for_byte():
+    for frame in FRAMES:
+        for stamp in STAMPS_NS:
+            t = bag_io.time_message(stamp)
+            force, torque = np.array([1.5, -2.0, 3e-300]), [4.0, -0.0, math.nan]
+            raw = bytes(
+                bag_io.serialize(bag_io.wrench_stamped_message(stamp, frame, force, torque))
+            )
+            assert wrench_stamped_cdr(t.sec, t.nanosec, frame, force, torque) == raw
+
+
+def test_anything_but_a_plain_cdr_quaternion_stamped_is_refused():
+    raw = bytes(bag_io.serialize(bag_io.quaternion_stamped_message(10**9, "eci", Q)))
+    wrench = bytes(
+        bag_io.serialize(bag_io.wrench_stamped_message(10**9, "eci", [0, 0, 0], [0, 0, 0]))
+    )
+    xcdr2 = b"\x00\x07" + raw[2:]  # XCDR2 little endian: other alignment rules
+    bad_string = raw[:15] + b"\x40" + raw[16:]  # frame_id length past the end
+    no_nul = bytearray(raw)
+    no_nul[16 + 3] = ord("x")  # the frame_id's NUL overwritten
+    for bad in (
+        raw[:-8],
+        raw + b"\x00" * 8,
+        wrench,
+        xcdr2,
+        bad_string,
+        bytes(no_nul),
+        b"",
+        raw[:11],
+    ):
+        with pytest.raises(ValueError):
+            quaternion_stamped_fields(bad)
+    for bad in (xcdr2, raw[:11]):
+        with pytest.raises(ValueError):
+            header_stamp(bad)
+
+
+@pytest.mark.parametrize("little_endian", [True, False])
+def test_odometry_read_equals_rosbags(little_endian):
+    for frame in FRAMES:
+        for child in FRAMES:
+            for stamp in STAMPS_NS[1:]:
+                t = bag_io.time_message(stamp)
+                raw = bytes(
+                    bag_io.TYPESTORE.serialize_cdr(
+                        odometry(stamp, frame, child), bag_io.ODOMETRY, little_endian=little_endian
+                    )
+                )
+                fields = odometry_fields(raw)
+                assert fields == OdometryFields.of_message(bag_io.deserialize(raw, bag_io.ODOMETRY))
+                assert fields == (
+                    Stamp(t.sec, t.nanosec),
+                    frame,
+                    child,
+                    POSITION,
+                    tuple(Q),
+                    VELOCITY,
+                )
+
+
+def test_anything_but_a_plain_cdr_odometry_is_refused():
+    raw = bytes(bag_io.serialize(odometry(10**9, "eci", "body")))
+    xcdr2 = b"\x00\x07" + raw[2:]
+    no_nul = bytearray(raw)
+    no_nul[16 + 3] = ord("x")  # header.frame_id "eci" loses its NUL
+    child_too_long = bytearray(raw)
+    child_too_long[20:24] = (10**6).to_bytes(4, "little")  # child_frame_id length past the end
+    not_utf8 = bytearray(raw)
+    not_utf8[16] = 0xFF
+    quaternion = bytes(bag_io.serialize(bag_io.quaternion_stamped_message(10**9, "eci", Q)))
+    for bad in (
+        raw[:-8],
+        raw + b"\x00" * 8,
+        xcdr2,
+        bytes(no_nul),
+        bytes(child_too_long),
+        bytes(not_utf8),
+        quaternion,
+        b"",
+        raw[:13],
+        raw[:22],
+    ):
+        with pytest.raises(ValueError):
+            odometry_fields(bad)
+
+
+def test_diagnostic_array_write_equals_rosbags_byte_for_byte():
+    """Strings of every length mod 4, UTF-8, no values, several statuses, each level."""
+    statuses = DIAGNOSTIC_STATUSES
+    for frame in FRAMES:
+        for count in range(len(statuses) + 1):
+            raw = diagnostic_array_cdr(1_767_225_600, 5, frame, statuses[:count])
+            ours = bag_io.diagnostic_array_message(
+                1_767_225_600 * 10**9 + 5,
+                [
+                    bag_io.diagnostic_status(
+                        f.level, f.name, f.message, f.hardware_id, dict(f.values)
+                    )
+                    for f in statuses[:count]
+                ],
+            )
+            ours.header.frame_id = frame
+            assert raw == bytes(bag_io.serialize(ours))
