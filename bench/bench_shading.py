@@ -16,9 +16,9 @@ default ray-cast settings and with ADBSat's projection method.
 
 Run::
 
-    /work/venv/bin/python bench/bench_shading.py               # timing table
-    /work/venv/bin/python bench/bench_shading.py --quick       # fewer repeats
-    /work/venv/bin/python bench/bench_shading.py --accuracy    # plus the accuracy table
+    python bench/bench_shading.py               # timing table
+    python bench/bench_shading.py --quick       # fewer repeats
+    python bench/bench_shading.py --accuracy    # plus the accuracy table
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ import numpy as np
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.shapes import combine, grid_box
 from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
-from adbsat_ros.shading.rays_embree import embree_available
+from adbsat_ros.shading.rays import has_embree
 from adbsat_ros.shading.shader import lit_projected_area, make_shader
 
 
@@ -85,7 +85,7 @@ def main(argv=None):
         ("cube+plate", cube_plate(110, 8)),
         ("satellite", satellite(21)),
     ]
-    have_embree = embree_available()
+    have_embree = has_embree
     print(
         f"# python {platform.python_version()}, numpy {np.__version__}, {os.cpu_count()} CPUs, embree: {have_embree}"
     )
