@@ -24,7 +24,8 @@ This tree and the tree at ``--baseline`` (the flat layout before the subpackages
 measured through its public ``coefficients`` and through ``_unit_coefficients`` (the node's
 entry point there). For this tree, two ways without the lit-sums cache are measured beside the
 default: the sums made again at each call, and the all-lit sums plus a sparse correction over
-the panels not fully lit (rounding differs from the per-panel sums: see docs/shading.md).
+the panels not fully lit (its rounding differs from the per-panel sums, see
+adbsat_ros.physics.facets.LitSumsCache).
 """
 
 from __future__ import annotations

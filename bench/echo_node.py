@@ -11,7 +11,7 @@ echo that costs as much CPU per message as a node of known cost, for bench_node_
 
 With ECHO_PANEL_MESH=PATH it is instead the panel method alone, for bench_node_latency's
 --echo-panel: the attitudes taken and the wrenches published as CDR bytes (as adbsat_node does),
-and for each one the panel method (PanelMethod._unit_coefficients, the node's default model and
+and for each one the panel method (PanelMethod.coefficients, the node's default model and
 cached raycast shading) at a fixed free stream, the satellite flying along +y of the state frame: the
 node's own arithmetic per message, without its flight conditions, checks, samples or bookkeeping.
 """
@@ -56,7 +56,7 @@ def panel_callback(publisher, mesh_path: str):
         u = np.array(
             [-m[3], -m[4], -m[5]]
         )  # -R^T v / |v| for v along +y: the gas along -y, body axes
-        coefficients = method._unit_coefficients(flow, u, cache.lighting(u))
+        coefficients = method.coefficients(flow, flow_direction=u, lighting=cache.lighting(u))
         handle.publish_raw(
             wrench_stamped_cdr(
                 stamp.sec,
