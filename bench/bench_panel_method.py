@@ -137,6 +137,7 @@ class SparseCorrection:
 
 def worker(calls: int, blocks: int) -> dict:
     """CPU microseconds per attitude of each case and variant in the tree on sys.path."""
+    # imported here: the tree is the one on PYTHONPATH, in the subpackage or the flat layout
     try:
         from adbsat_ros.geometry import frames
         from adbsat_ros.geometry.example_satellite import example_satellite
