@@ -16,9 +16,9 @@ default ray-cast settings and with ADBSat's projection method.
 
 Run::
 
-    /work/venv/bin/python bench/bench_shading.py               # timing table
-    /work/venv/bin/python bench/bench_shading.py --quick       # fewer repeats
-    /work/venv/bin/python bench/bench_shading.py --accuracy    # plus the accuracy table
+    python bench/bench_shading.py               # timing table
+    python bench/bench_shading.py --quick       # fewer repeats
+    python bench/bench_shading.py --accuracy    # plus the accuracy table
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ import numpy as np
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.shapes import combine, grid_box
 from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
-from adbsat_ros.shading.rays_embree import embree_available
+from adbsat_ros.shading.rays import has_embree
 from adbsat_ros.shading.shader import lit_projected_area, make_shader
 
 
@@ -85,12 +85,16 @@ def main(argv=None):
         ("cube+plate", cube_plate(110, 8)),
         ("satellite", satellite(21)),
     ]
-    have_embree = embree_available()
+    have_embree = has_embree
     print(
-        f"# python {platform.python_version()}, numpy {np.__version__}, {os.cpu_count()} CPUs, embree: {have_embree}"
+        f"# python {platform.python_version()}, numpy {np.__version__}, {os.cpu_count()} CPUs, "
+        f"embree: {have_embree}"
     )
     print("# flow aoa = 10 deg, aos = 5 deg; times are medians in ms")
-    header = f"{'scene':<11} {'faces':>6} {'case':<26} {'median ms':>10} {'rays':>8} {'tested':>7} {'partly lit':>10}"
+    header = (
+        f"{'scene':<11} {'faces':>6} {'case':<26} {'median ms':>10} {'rays':>8} {'tested':>7} "
+        f"{'partly lit':>10}"
+    )
     print(header)
     print("-" * len(header))
     for name, mesh in scenes:
@@ -128,8 +132,8 @@ def accuracy():
     print()
     print("# lit projected area of cube+plate vs exact 9|u_x| + 0.3(|u_y| + |u_z|)")
     header = (
-        f"{'plate grid':>10} {'faces':>6} {'aoa':>5} {'aos':>5} {'exact m2':>9} {'raycast rel err':>16} "
-        f"{'shadow rel err':>15} {'projection rel err':>19}"
+        f"{'plate grid':>10} {'faces':>6} {'aoa':>5} {'aos':>5} {'exact m2':>9} "
+        f"{'raycast rel err':>16} {'shadow rel err':>15} {'projection rel err':>19}"
     )
     print(header)
     print("-" * len(header))
@@ -156,17 +160,21 @@ def accuracy():
             if div > 7:
                 worst = max(worst, abs(err))
             print(
-                f"{div:>7}x{div:<2} {mesh.n_panels:>6} {aoa:>5.1f} {aos:>5.1f} {exact:>9.5f} {err:>+16.2e} "
-                f"{(got - exact) / shadow:>+15.2e} {(got_p - exact) / exact:>+19.2e}"
+                f"{div:>7}x{div:<2} {mesh.n_panels:>6} {aoa:>5.1f} {aos:>5.1f} {exact:>9.5f} "
+                f"{err:>+16.2e} {(got - exact) / shadow:>+15.2e} {(got_p - exact) / exact:>+19.2e}"
             )
     print(f"# worst raycast relative error for plate grids >= 25x25: {worst:.2e}")
 
     print()
     print("# ShadingCache on cube+plate (25x25): cached vs exact recompute, 60 random directions")
     print(
-        "# E = lit projected area moved [m^2], dA = |AreaProj cached - exact| [m^2], bound = area_error_bound"
+        "# E = lit projected area moved [m^2], dA = |AreaProj cached - exact| [m^2], "
+        "bound = area_error_bound"
     )
-    header = f"{'res deg':>7} {'mean E':>9} {'max E':>9} {'max dA':>9} {'min bound':>10} {'max E/bound':>12}"
+    header = (
+        f"{'res deg':>7} {'mean E':>9} {'max E':>9} {'max dA':>9} {'min bound':>10} "
+        f"{'max E/bound':>12}"
+    )
     print(header)
     print("-" * len(header))
     mesh = cube_plate(25, 2)

@@ -478,15 +478,7 @@ class AeroWrenchEstimator:
             if isinstance(request, _PanelRequest):
                 requests.append((len(results), request))
             results.append(request)
-        try:  # (one request or none: coefficients_many is a plain coefficients call)
-            coefficients = self.method._unit_coefficients_many(
-                [r.flow for _, r in requests],
-                [r.flow_direction for _, r in requests],
-                [r.lighting for _, r in requests],
-                [r.surface for _, r in requests],
-            )
-        except ValueError:  # then each on its own, for its own rejection
-            coefficients = [None] * len(requests)
+        coefficients = [None] * len(requests)  # each computed below, with its own rejection
         share = (time.perf_counter() - t0) / max(len(results), 1)
         for (i, request), coeffs in zip(requests, coefficients):
             try:
@@ -735,8 +727,11 @@ class AeroWrenchEstimator:
 
     def _coefficients(self, request: "_PanelRequest") -> AeroCoefficients:
         try:
-            return self.method._unit_coefficients(
-                request.flow, request.flow_direction, request.lighting, request.surface
+            return self.method.coefficients(
+                request.flow,
+                flow_direction=request.flow_direction,
+                lighting=request.lighting,
+                surface=request.surface,
             )
         except ValueError as exc:
             self._reject("compute_error", str(exc))

@@ -6,7 +6,7 @@ section, centred on the origin; two solar wings 1.0 m x 0.5 m x 0.03 m stand off
 sides at the rear, in the x-y plane, so at zero angle of attack their large faces lie parallel to
 the flow (the case that breaks barycentre shading) and at other attitudes the body shades them.
 The three parts are separate closed bodies with outward normals. Materials: ``body`` and
-``solar_array``.
+``solar_array``. :func:`write_obj` writes any PanelMesh as a Wavefront OBJ with its materials.
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ WING_X_CENTRE = -0.3
 
 
 def _refined_box(extents, centre, max_edge):
+    """Vertices and faces [m] of a box of ``extents`` at ``centre``, edges <= ``max_edge``."""
     box = trimesh.creation.box(extents=extents)
     vertices, faces = trimesh.remesh.subdivide_to_size(box.vertices, box.faces, max_edge=max_edge)
     return np.asarray(vertices) + np.asarray(centre), np.asarray(faces)

@@ -35,7 +35,7 @@ def unit_vector(value, name: str = "flow direction") -> np.ndarray:
         Naming ``name``, if ``value`` is not a finite non-zero 3-vector.
     """
     u = np.asarray(value, dtype=float).reshape(-1)
-    norm = float(np.linalg.norm(u)) if u.shape == (3,) else math.nan
+    norm = math.sqrt(u.dot(u)) if u.shape == (3,) else math.nan  # np.linalg.norm(u), exactly
     if u.shape != (3,) or not math.isfinite(norm) or norm == 0.0:
         raise ValueError(f"{name} must be a finite non-zero 3-vector, got {value!r}")
     return u / norm

@@ -1,4 +1,10 @@
-"""Mesh files to PanelMesh: any format trimesh reads, .obj materials from usemtl, and the bundled example."""
+"""Mesh files to a PanelMesh: any format trimesh reads, .obj materials from ``usemtl`` groups.
+
+:func:`load_mesh` reads a file (scaled to metres), :func:`resolve_mesh` also accepts the name of
+the bundled example satellite (:mod:`adbsat_ros.geometry.example_satellite`), and
+:func:`panels_from_trimesh` converts a ``trimesh.Trimesh``. Every mesh is checked by
+:func:`adbsat_ros.geometry.mesh.panels_from_arrays`.
+"""
 
 from __future__ import annotations
 
@@ -143,8 +149,13 @@ def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) 
 
 
 def resolve_mesh(spec, scale: float = 1.0) -> PanelMesh:
-    """A PanelMesh from a file path, or the bundled example for the name ``"example"``."""
+    """A PanelMesh from a file path, or the bundled example for the name ``"example"``.
 
+    Raises
+    ------
+    MeshError
+        As :func:`load_mesh`, or a ``scale`` other than 1 with the example (it is in metres).
+    """
     if str(spec) == EXAMPLE_MESH_NAME:
         mesh = example_satellite()
         if scale != 1.0:

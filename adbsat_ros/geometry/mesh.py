@@ -1,16 +1,16 @@
-"""Triangulated satellite surface: loading, checking and per-panel geometry.
+"""Triangulated satellite surface: the panels, their checks and per-panel geometry.
 
 A :class:`PanelMesh` holds what the panel method needs for every triangle (panel): vertices,
 outward unit normal, area, barycentre and material, as contiguous float64 arrays in the mesh
-(geometric, "G") frame of the file, in metres after ``scale``.
-
-Loading goes through trimesh, so every format it reads works (.obj, .stl ascii/binary, .ply,
-.off, .glb, ...). Wavefront ``usemtl`` groups become named materials; other formats give one
-material named ``"default"``.
+(geometric, "G") frame, in metres. :func:`panels_from_arrays` builds one from vertex and face
+arrays and checks it (bad indices, NaN or Inf, degenerate faces dropped, inward-facing closed
+bodies flipped, open and convex bodies reported in a :class:`MeshReport`); a :class:`MeshError`
+names the input and the problem. Reading files is :mod:`adbsat_ros.geometry.loading`.
 """
 
 from __future__ import annotations
 
+import hashlib
 import logging
 from dataclasses import dataclass, field
 
@@ -124,8 +124,6 @@ class PanelMesh:
 
     def fingerprint(self) -> str:
         """A short hash of the panel geometry and materials, to match databases to meshes."""
-        import hashlib
-
         h = hashlib.sha256()
         h.update(np.ascontiguousarray(np.round(self.vertices, 9)).tobytes())
         h.update(np.ascontiguousarray(self.material_index).tobytes())

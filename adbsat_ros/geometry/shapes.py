@@ -1,6 +1,9 @@
-"""Closed shapes with regular face grids, for validation scenes (cube before a plate, fins, pits).
+"""Closed shapes with regular face grids, and parts joined into one checked mesh.
 
-Used by the shading tests and benchmarks; handy to build simple satellites by code.
+:func:`grid_box` makes a box whose faces are regular grids, :func:`combine` joins parts (separate
+bodies, each with its material) into one :class:`~adbsat_ros.geometry.mesh.PanelMesh`. The example
+satellite is built with them, and so are the validation scenes of the shading tests and
+benchmarks (a cube before a plate, fins, pits). Units: metres, mesh frame G.
 """
 
 from __future__ import annotations

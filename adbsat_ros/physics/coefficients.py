@@ -1,4 +1,9 @@
-"""Reference quantities and the result of the panel method: force and moment coefficients in ADBSat's frames."""
+"""Reference quantities and the result of the panel method: force and moment coefficients.
+
+:class:`Reference` holds A_ref [m^2], L_ref [m] and the moment point [m, mesh frame G];
+:class:`AeroCoefficients` the coefficients of one attitude in the mesh frame G, and on demand in
+ADBSat's wind, flight and body frames (:mod:`adbsat_ros.geometry.frames`).
+"""
 
 from __future__ import annotations
 
@@ -137,10 +142,12 @@ class AeroCoefficients:
 
     @property
     def aoa(self) -> float:
+        """Angle of attack [rad] of the flow (frames module)."""
         return self._angles_rad[0]
 
     @property
     def aos(self) -> float:
+        """Angle of sideslip [rad] of the flow (frames module)."""
         return self._angles_rad[1]
 
     @functools.cached_property
@@ -149,14 +156,17 @@ class AeroCoefficients:
 
     @functools.cached_property
     def Cf_w(self) -> np.ndarray:
+        """Force coefficient in wind axes, shape (3,) (ADBSat ``Cf_w``; drag = -Cf_w[0])."""
         return frames.body_to_wind(self.aoa, self.aos) @ self._Cf_B
 
     @functools.cached_property
     def Cf_f(self) -> np.ndarray:
+        """Force coefficient in ADBSat's flight axes, shape (3,) (``Cf_f``; x aft, z up)."""
         return frames.L_FB @ self._Cf_B
 
     @functools.cached_property
     def Cm_B(self) -> np.ndarray:
+        """Moment coefficient in ADBSat's body axes B about the moment point, shape (3,)."""
         return frames.L_GB @ self.Cm_G
 
     def _per_panel(self, values) -> np.ndarray:
@@ -169,14 +179,17 @@ class AeroCoefficients:
 
     @functools.cached_property
     def cos_delta(self) -> np.ndarray:
+        """Incidence cosine -u . n of every panel, shape (N,), in [-1, 1]."""
         return self._per_panel(self._cos_delta)
 
     @functools.cached_property
     def cp(self) -> np.ndarray:
+        """Local pressure coefficient of every panel, shape (N,) (before shading)."""
         return self._per_panel(self._panel_values[1])
 
     @functools.cached_property
     def ctau(self) -> np.ndarray:
+        """Local shear coefficient of every panel, shape (N,) (before shading)."""
         _, _, ctau, shear, normals = self._panel_values
         if ctau is None:
             ctau = shear * sine_of_incidence(self.flow_direction, normals, self._cos_delta)
@@ -184,6 +197,7 @@ class AeroCoefficients:
 
     @functools.cached_property
     def lit_fraction(self) -> np.ndarray:
+        """Lit fraction of every panel used, shape (N,) (all ones without shading)."""
         if self._lighting is not None:
             return self._lighting.lit_fraction
         return np.ones(self.cos_delta.shape)

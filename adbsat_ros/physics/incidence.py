@@ -1,12 +1,19 @@
-"""Incidence of the flow on panels: sin(delta) without cancellation near normal incidence, and a small cross product."""
+"""Incidence of the flow on panels: sin(delta) without cancellation near normal incidence.
+
+Also the cross product over the last axis used by the panel sums (vectors in the mesh frame G).
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
 
-def _cross(a, b):
-    """Cross product over the last axis (np.cross without its per-call overhead)."""
+def cross(a, b) -> np.ndarray:
+    """Cross product a x b over the last axis (shapes (3,) or (..., 3), broadcast).
+
+    The same numbers as ``np.cross`` (the three component formulas), without its checks and
+    axis moves, which cost more than the product itself for the panel method's (3,) vectors.
+    """
     if a.ndim == 1 and b.ndim == 1:
         a0, a1, a2 = (float(v) for v in a)
         b0, b1, b2 = (float(v) for v in b)
@@ -45,9 +52,9 @@ def sine_of_incidence(u, normals, c) -> np.ndarray:
     near = sigma < NEAR_NORMAL_SINE
     if near.any():
         if c.ndim == 1:
-            cross = _cross(u, normals[near])
+            u_x_n = cross(u, normals[near])
         else:
             rows, panels = np.nonzero(near)
-            cross = _cross(u[rows], normals[panels])
-        sigma[near] = np.sqrt((cross * cross).sum(axis=-1))
+            u_x_n = cross(u[rows], normals[panels])
+        sigma[near] = np.sqrt((u_x_n * u_x_n).sum(axis=-1))
     return sigma

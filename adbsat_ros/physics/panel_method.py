@@ -18,7 +18,8 @@ the same outward normal, to 1e-12, and the same material) and sums exactly:
 sum_i f_i A_i phi_i = W_g phi_g with W_g = sum f_i A_i, and sum_i f_i A_i r_i x phi_g =
 Q_g x phi_g with Q_g = sum f_i A_i r_i (lit centroids included). A CAD satellite of flat faces
 meshed into 10k triangles has a few hundred facets; a sphere has one per panel, and is evaluated
-panel by panel as before. The per-panel outputs (cp, ctau, cos_delta) are the facet values.
+panel by panel. The per-panel outputs (cp, ctau, cos_delta) are the facet values. Shading enters
+the facet sums through the panels it does not leave fully lit (:mod:`adbsat_ros.physics.facets`).
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ import numpy as np
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
-from adbsat_ros.physics.facets import _facet_rows, _Facets, _shear_per_sine, _stacked
+from adbsat_ros.physics.facets import Facets, facet_rows, shear_per_sine
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import (
     SPECIES_MODELS,
@@ -39,8 +40,13 @@ from adbsat_ros.physics.gsi_models import (
     canonical_model_name,
     get_model,
 )
-from adbsat_ros.physics.incidence import _cross, sine_of_incidence
-from adbsat_ros.physics.surface import MaterialTable
+from adbsat_ros.physics.incidence import cross, sine_of_incidence
+from adbsat_ros.physics.surface import (
+    SURFACE_PARAMETERS,
+    MaterialTable,
+    PanelSurface,
+    SurfaceProperties,
+)
 from adbsat_ros.shading.lighting import PanelLighting
 
 
@@ -65,6 +71,20 @@ class PanelMethod:
     group_facets : bool
         Evaluate the model once per facet of coplanar panels of one material (module docstring;
         the same result to rounding). False evaluates every panel, e.g. as a reference in tests.
+
+    Attributes
+    ----------
+    mesh : PanelMesh
+        The satellite surface.
+    model : str
+        Registry name of the gas-surface model.
+    reference : Reference
+        Reference area, length and moment point, defaults resolved for ``mesh``.
+    surface : PanelSurface
+        Per-panel surface parameters of the materials.
+    facets : Facets or None
+        The panels grouped into facets (None when grouping would not save work, or with
+        ``group_facets=False``).
     """
 
     def __init__(
@@ -76,8 +96,6 @@ class PanelMethod:
         reference=None,
         group_facets: bool = True,
     ):
-        from adbsat_ros.physics.surface import SurfaceProperties
-
         self.mesh = mesh
         self.model = canonical_model_name(model)
         self._model_fn = get_model(self.model)
@@ -96,7 +114,7 @@ class PanelMethod:
         self._bary = mesh.barycentres
         self._r_cross_n = np.ascontiguousarray(np.cross(mesh.barycentres, mesh.normals))
         self._moment_point = np.asarray(self.reference.moment_point)
-        self._facets = _Facets.of(mesh, self.surface) if group_facets else None
+        self.facets = Facets.of(mesh, self.surface) if group_facets else None
 
     @property
     def needs_species(self) -> bool:
@@ -110,8 +128,6 @@ class PanelMethod:
         E.g. ``surface_with(alpha=0.9)`` when an accommodation model gives alpha from the
         atmosphere. Pass the result as ``surface=`` to :meth:`coefficients`.
         """
-        from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
-
         values = {name: getattr(self.surface, name) for name in SURFACE_PARAMETERS}
         for name, value in changes.items():
             if name not in values:
@@ -159,27 +175,26 @@ class PanelMethod:
         parameters = None if split is None else split[0](facet_surface, flow, self.options)
         if parameters is None:
             c, sigma, cp, ctau = self._local_coefficients(
-                u, self._facets.inward_normals_T, facet_surface, flow
+                u, self.facets.inward_normals_T, facet_surface, flow
             )
-            return c, cp, _shear_per_sine(ctau, sigma), ctau
-        c = u @ self._facets.inward_normals_T
+            return c, cp, shear_per_sine(ctau, sigma), ctau
+        c = u @ self.facets.inward_normals_T
         cp, shear = split[1](c, *parameters)  # (float arrays like c: the plates are elementwise)
         return c, cp, shear, None
 
     def _facet_totals(self, u, rows, lighting):
         """Cf_G, Cm_G and the lit projected area from the (3, G) rows (q, k, max(c, 0)) of
-        :func:`_facet_rows`, q = c_tau / sin(delta) and k = q c - c_p per facet.
+        :func:`facet_rows`, q = c_tau / sin(delta) and k = q c - c_p per facet.
 
         Facet g carries the force W_g (q_g u + k_g n_g) (the shear along t = (u + c n) /
         sin(delta)) and the moment q_g (Q_g x u) + k_g (Q_g x n_g); so one product of the rows
         with the facet sums (W, W n, Q, Q x n) gives every sum needed.
         """
-        sums = self._facets.lit_sums(lighting)
         (
             (r_w, _, _, _, r_qx, r_qy, r_qz, _, _, _),
             (_, k_nx, k_ny, k_nz, _, _, _, k_mx, k_my, k_mz),
             (area_projected, *_),
-        ) = (rows @ sums).tolist()
+        ) = (rows @ self.facets.lit_sums(lighting)).tolist()
         ux, uy, uz = u.tolist()
         fx, fy, fz = r_w * ux + k_nx, r_w * uy + k_ny, r_w * uz + k_nz
         px, py, pz = self.reference.moment_point
@@ -222,12 +237,12 @@ class PanelMethod:
         sum_w = w_t.sum(axis=-1)
         u = np.asarray(u_G, dtype=float)
         force = sum_w[..., None] * u + g @ self._normals
-        moment = _cross(w_t @ self._bary, u) + g @ self._r_cross_n
+        moment = cross(w_t @ self._bary, u) + g @ self._r_cross_n
         if lighting is not None and lighting.shift_index.size:
             i, d = lighting.shift_index, lighting.shift
-            moment = moment + _cross(w_t[i] @ d, u) + g[i] @ _cross(d, self._normals[i])
+            moment = moment + cross(w_t[i] @ d, u) + g[i] @ cross(d, self._normals[i])
         ref = self.reference
-        moment = moment - _cross(self._moment_point, force)
+        moment = moment - cross(self._moment_point, force)
         Cf = force / ref.area
         Cm = moment / (ref.area * ref.length)
         area_projected = (area * np.maximum(c, 0.0)).sum(axis=-1)
@@ -271,19 +286,15 @@ class PanelMethod:
                 raise ValueError(f"aoa and aos must be finite, got {aoa!r}, {aos!r}")
             u = frames.flow_direction(aoa, aos)
             angles = (aoa, aos)
-        return self._unit_coefficients(flow, u, lighting, surface, angles)
-
-    def _unit_coefficients(
-        self, flow: FreeStream, u: np.ndarray, lighting=None, surface=None, angles=None
-    ) -> AeroCoefficients:
-        """:meth:`coefficients` at the unit flow direction ``u`` (float array, shape (3,), G),
-        taken as it is (the ROS node's per-message path, which makes ``u`` a unit vector itself);
-        ``angles`` (aoa, aos) [rad] if ``u`` was made from them."""
-        facets = self._facets
+        if lighting is not None and lighting.n_panels != self.mesh.n_panels:
+            raise ValueError(
+                f"lighting has {lighting.n_panels} panels, the mesh has {self.mesh.n_panels}"
+            )
+        facets = self.facets
         facet_surface = None if facets is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:
             c, cp, shear, ctau = self._facet_coefficients(u, facet_surface, flow)
-            Cf_G, Cm_G, area_proj = self._facet_totals(u, _facet_rows(c, cp, shear), lighting)
+            Cf_G, Cm_G, area_proj = self._facet_totals(u, facet_rows(c, cp, shear), lighting)
             index, normals = facets.index, facets.normals
         else:
             c, sigma, cp, ctau = self.panel_coefficients(u, flow, surface)
@@ -301,103 +312,3 @@ class PanelMethod:
             lighting=lighting,
             angles=angles,
         )
-
-    def coefficients_many(self, flows, flow_directions, lightings=None, surfaces=None) -> list:
-        """:meth:`coefficients` at several flow directions, each with its own free stream,
-        lighting and surface: the same results, bit for bit, for less than the calls' cost.
-
-        On a mesh grouped into facets, with a model of :data:`gsi_models.SPLIT_MODELS`, the
-        incidences of all directions are laid out in one (M G,) array and the model's elementwise
-        plate runs once over it; each direction's parameters (speed ratio, re-emission ...) and its
-        final facet sums are its own, computed as :meth:`coefficients` computes them. Otherwise
-        (a sphere, a species model, ADBSat's maxwell) each direction is evaluated on its own, as
-        :meth:`coefficients` evaluates it.
-
-        Parameters
-        ----------
-        flows : sequence of FreeStream
-        flow_directions : sequence of array_like, shape (3,)
-            Gas motion relative to the body in G, one per flow (normalised here).
-        lightings : sequence of PanelLighting or None, optional
-            Shading of each direction (None: nothing occluded).
-        surfaces : sequence of PanelSurface or None, optional
-            Surface parameters of each direction (None: the materials').
-
-        Returns
-        -------
-        list of AeroCoefficients
-            One per flow, in order.
-
-        Raises
-        ------
-        ValueError
-            If the sequences differ in length or a direction is not a finite non-zero 3-vector.
-        """
-        m = len(flows)
-        lightings = [None] * m if lightings is None else list(lightings)
-        surfaces = [None] * m if surfaces is None else list(surfaces)
-        if not (len(flow_directions) == len(lightings) == len(surfaces) == m):
-            raise ValueError(
-                f"coefficients_many: {m} flows, {len(flow_directions)} flow_directions, "
-                f"{len(lightings)} lightings and {len(surfaces)} surfaces"
-            )
-        return self._unit_coefficients_many(
-            flows,
-            [frames.unit_vector(d, "flow_direction") for d in flow_directions],
-            lightings,
-            surfaces,
-        )
-
-    def _unit_coefficients_many(self, flows, units, lightings, surfaces) -> list:
-        """:meth:`coefficients_many` at unit flow directions ``units`` taken as they are, with a
-        lighting and a surface (or None) for each: each result is :meth:`_unit_coefficients`'s,
-        bit for bit."""
-        m = len(flows)
-        facets = self._facets
-        split = self._split
-        parameters = []
-        if facets is not None and split is not None and m > 1:
-            parameters_of, plate = split
-            for flow, surface in zip(flows, surfaces):
-                facet_surface = facets.surface_of(surface or self.surface)
-                values = (
-                    None
-                    if facet_surface is None
-                    else parameters_of(facet_surface, flow, self.options)
-                )
-                if values is None:
-                    break
-                parameters.append(values)
-        if len(parameters) < m or m < 2:
-            return [
-                self._unit_coefficients(flow, u, lighting, surface)
-                for flow, u, lighting, surface in zip(flows, units, lightings, surfaces)
-            ]
-        # M directions' G facet values in one flat (M G,) array: numpy's fastest loops (a 2-D
-        # broadcast costs several microseconds more per operation), the same value in each element
-        g = facets.n
-        c = np.concatenate(
-            [u @ facets.inward_normals_T for u in units]
-        )  # each its own (3,) @ (3, G)
-        cp, shear = plate(c, *(_stacked(values, g) for values in zip(*parameters)))
-        # (3, M G) rows made (M, 3, G): rows[k] the C-contiguous (3, G) rows of direction k
-        rows = np.ascontiguousarray(_facet_rows(c, cp, shear).reshape(3, m, g).transpose(1, 0, 2))
-        results = []
-        for k, (u, lighting) in enumerate(zip(units, lightings)):
-            Cf_G, Cm_G, area_proj = self._facet_totals(u, rows[k], lighting)
-            own = slice(k * g, (k + 1) * g)
-            results.append(
-                AeroCoefficients(
-                    flow_direction=u,
-                    Cf_G=Cf_G,
-                    Cm_G=Cm_G,
-                    reference=self.reference,
-                    area_projected=float(area_proj),
-                    model=self.model,
-                    panel_values=(c[own], cp[own], None, shear[own], facets.normals),
-                    panel_index=facets.index,
-                    lighting=lighting,
-                    angles=None,
-                )
-            )
-        return results

@@ -1,4 +1,4 @@
-"""Solar radiation pressure coefficients of the panel mesh (Luthcke et al. 1997 flat-plate model).
+"""Solar radiation pressure coefficients of the panel mesh (Luthcke et al. 1997 flat plate).
 
 For a panel lit by the sun at incidence theta (cos theta = c = -u_s . n, u_s the direction the
 photons travel, i.e. from the sun to the satellite), with specular and diffuse reflectivities
@@ -12,8 +12,8 @@ which is ADBSat's c_n = 2 (c_D c / 3 + c_R c^2), c_s = (1 - c_R) c with c_R = rh
 
 Differences from ADBSat: the sun direction is given on its own (ADBSat takes the flow direction),
 and faces turned away from the sun (c <= 0) get no force (ADBSat leaves c_n unclipped there).
-Shading by other parts of the satellite comes from a :class:`~adbsat_ros.shading.lighting.PanelLighting`
-computed for the sun direction.
+Shading by other parts of the satellite comes from a
+:class:`~adbsat_ros.shading.lighting.PanelLighting` computed for the sun direction.
 """
 
 from __future__ import annotations

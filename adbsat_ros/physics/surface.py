@@ -183,7 +183,8 @@ def parse_material_override(text: str):
         key = key.strip().replace("-", "_")
         if not sep or key not in SURFACE_PARAMETERS:
             raise ValueError(
-                f"material {name}: unknown parameter {key!r}; allowed: {', '.join(SURFACE_PARAMETERS)}"
+                f"material {name}: unknown parameter {key!r}; "
+                f"allowed: {', '.join(SURFACE_PARAMETERS)}"
             )
         try:
             values[key] = float(value)

@@ -1,4 +1,4 @@
-"""A bounded cache of shading results keyed by the quantised flow direction.
+"""The cache of shading: lightings keyed by the quantised flow direction, bounded, counted.
 
 Shading depends only on the flow direction u in the mesh frame G, and changes little when u
 moves a little, so a simulation that calls the panel method at slowly varying attitudes can
@@ -9,7 +9,7 @@ reuse results. :class:`ShadingCache` sits in front of a :class:`~adbsat_ros.shad
   beta = atan(u_b / |u_k|) in [-45, 45] deg, each cut into n equal steps of
   h = 90 deg / n <= resolution_deg, n the smallest odd number >= 90 / resolution_deg (odd, so
   that the axis directions are cell centres, see :func:`cells_per_edge`). The cube map has no
-  pole: every cell has the same shape class and size within a factor ~1.4 everywhere on the sphere.
+  pole: every cell has the same shape class and size within a factor ~1.4 on the whole sphere.
 * **Value.** The lighting of the cell *centre* u_c (computed once, whatever direction first
   hit the cell), so answers do not depend on the order of the queries.
 * **Quantisation bound.** angle(u, u_c) <= h <= resolution_deg for every u, poles and cube
@@ -18,9 +18,12 @@ reuse results. :class:`ShadingCache` sits in front of a :class:`~adbsat_ros.shad
   (the inequality reduces to sec^2(alpha) <= 1 + sec(beta), true on the face), and likewise
   for beta; the path alpha -> alpha_c then beta -> beta_c has length <= h/2 + h/2.
   (Measured maximum: about 0.79 h.)
-* **LRU** with ``max_entries`` entries, hit/miss/eviction counters, :meth:`precompute` over given
-  directions or the whole grid. Entries are stored sparsely (panels with lit fraction < 1
-  only), so memory grows with the shaded area, not with the mesh size.
+* **Bound.** Least recently used entries beyond ``max_entries`` are evicted; hits, misses and
+  evictions are counted (:meth:`ShadingCache.info`); :meth:`ShadingCache.precompute` fills
+  cells of given directions or of the whole sphere. Entries are the
+  :class:`~adbsat_ros.shading.lighting.PanelLighting` objects themselves, which are sparse
+  (panels with lit fraction < 1 only) and read-only: memory grows with the shaded area, not
+  with the mesh size, and a hit hands out the stored object as it is.
 
 Error bound of a cached answer
 ------------------------------
@@ -37,15 +40,15 @@ it. :meth:`ShadingCache.area_error_bound` returns
 where theta <= h is the quantisation angle, D the bounding-box diagonal (the longest distance a
 shadow can be thrown), P a bound on the length of the shadow-casting silhouette edges (for a
 convex component pi x its bounding-box diagonal: its projection is a planar convex set of no
-larger diameter, whose perimeter is at most pi x diameter; for any other component the total length of its non-flat
-and open edges, which contain every silhouette edge), A_g the area of the panels within theta
-of grazing at u (they may change from backward to forward) and A_p the projected area of the
-panels partly lit in the cached answer; delta_s = 0.05 is the per-panel sampling error
-allowance of the ray-cast estimate (measured 1-sigma 0.014 with 256 refinement rays). The
-geometric part holds because turning the flow by theta moves the image of a silhouette point
-thrown a distance d by at most theta d in the plane normal to the flow, so each silhouette edge
-of projected length l sweeps at most l d theta of projected area. The bound is conservative
-(often 10-50x the observed E); the tests check it on a cube in front of a plate.
+larger diameter, whose perimeter is at most pi x diameter; for any other component the total
+length of its non-flat and open edges, which contain every silhouette edge), A_g the area of the
+panels within theta of grazing at u (they may change from backward to forward) and A_p the
+projected area of the panels partly lit in the cached answer; delta_s = 0.05 is the per-panel
+sampling error allowance of the ray-cast estimate (measured 1-sigma 0.014 with 256 refinement
+rays). The geometric part holds because turning the flow by theta moves the image of a
+silhouette point thrown a distance d by at most theta d in the plane normal to the flow, so each
+silhouette edge of projected length l sweeps at most l d theta of projected area. The bound is
+conservative (often 10-50x the observed E); the tests check it on a cube in front of a plate.
 """
 
 from __future__ import annotations
@@ -54,24 +57,20 @@ import math
 from collections import OrderedDict
 
 import numpy as np
+import trimesh
 
 from adbsat_ros.geometry import frames
-from adbsat_ros.shading.cube_map import _direction_key, cells_per_edge, direction_keys, key_centres
+from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.shading.cube_map import cells_per_edge, direction_key, direction_keys, key_centres
 from adbsat_ros.shading.lighting import PanelLighting
-from adbsat_ros.shading.shader import Shader, lit_projected_area
+from adbsat_ros.shading.shader import Shader
 
 #: Per-panel sampling error allowance of the ray-cast lit fraction (see module docstring).
 SAMPLING_ERROR = 0.05
 
 
-#: Cells whose lighting stays unpacked (read-only) for the next queries: a flow direction that
-#: wanders over the border of a few cells gets the same objects back, with no unpacking, and the
-#: panel method's per-lighting sums (memoised by object) stay valid.
-RECENT_CELLS = 8
-
-
 class ShadingCache:
-    """LRU cache of :class:`~adbsat_ros.shading.lighting.PanelLighting` by quantised flow direction.
+    """The cache of shading: lightings by cube-map cell of the flow direction, LRU-bounded.
 
     Parameters
     ----------
@@ -81,21 +80,26 @@ class ShadingCache:
         Largest angle [deg] between a query direction and the direction its answer was
         computed for (the cube-map step h = 90 / n <= resolution_deg, :func:`cells_per_edge`).
     max_entries : int or None
-        Largest number of stored directions (least recently used evicted first); None for no
+        Largest number of stored cells (least recently used evicted first); None for no
         limit.
 
     Attributes
     ----------
     hits, misses, evictions : int
-        Counters since construction (or :meth:`clear`).
+        Counters since construction (or :meth:`clear`): queries answered from the store,
+        queries that shaded their cell, entries dropped to stay within ``max_entries``.
     n : int
         Cube-map steps per face edge (6 n^2 cells in all).
     step : float
         Cell size h [rad]; also the proven bound on the quantisation angle.
+    last_key : int or None
+        Cell key of the latest :meth:`lighting` query (None before the first).
 
     Notes
     -----
-    Error bound of a cached answer: see the module docstring and :meth:`area_error_bound`.
+    Key: :meth:`key` (the cube-map cell). Value: the lighting of the cell centre. Bound:
+    ``max_entries``. Error bound of a cached answer: see the module docstring and
+    :meth:`area_error_bound`.
     """
 
     def __init__(self, shader: Shader, resolution_deg: float = 1.0, max_entries: int | None = 4096):
@@ -107,12 +111,8 @@ class ShadingCache:
         self.n = cells_per_edge(resolution_deg)
         self.step = 0.5 * math.pi / self.n
         self.max_entries = None if max_entries is None else int(max_entries)
-        self._store: OrderedDict = OrderedDict()
-        self._last = (
-            None,
-            None,
-        )  # (key, PanelLighting) of the latest query: consecutive hits reuse it
-        self._recent: OrderedDict = OrderedDict()  # the RECENT_CELLS latest cells, unpacked
+        self._store: OrderedDict = OrderedDict()  # key -> PanelLighting, least recent first
+        self.last_key: int | None = None
         self.hits = 0
         self.misses = 0
         self.evictions = 0
@@ -130,18 +130,19 @@ class ShadingCache:
         return 6 * self.n * self.n
 
     def key(self, u_G) -> int:
-        """Cell key of flow direction ``u_G`` (G frame); same as :func:`direction_keys`."""
+        """Cell key of flow direction ``u_G`` (G frame); same as :func:`direction_keys`.
+
+        Raises
+        ------
+        ValueError
+            If ``u_G`` is not a finite non-zero 3-vector.
+        """
         if type(u_G) is np.ndarray and u_G.shape == (3,) and u_G.dtype == np.float64:
             x, y, z = u_G.tolist()  # the common case, checked without numpy calls
             if math.isfinite(x) and math.isfinite(y) and math.isfinite(z) and (x or y or z):
-                return _direction_key(x, y, z, self.n)
+                return direction_key(x, y, z, self.n)
         u = frames.unit_vector(u_G)  # anything else, or the error naming the bad input
-        return _direction_key(float(u[0]), float(u[1]), float(u[2]), self.n)
-
-    @property
-    def last_key(self) -> int | None:
-        """Cell key of the latest :meth:`lighting` query (None before the first)."""
-        return self._last[0]
+        return direction_key(float(u[0]), float(u[1]), float(u[2]), self.n)
 
     def centre(self, key: int) -> np.ndarray:
         """Unit flow direction (G) at the centre of cell ``key``: the direction shaded."""
@@ -152,23 +153,10 @@ class ShadingCache:
         return key_centres(np.arange(self.n_cells), self.n)
 
     # ------------------------------------------------------------------------------ storage
-    @staticmethod
-    def _pack(lighting: PanelLighting):
-        f = lighting.lit_fraction
-        idx = np.flatnonzero(f < 1.0).astype(np.int32)
-        return idx, f[idx].copy(), lighting.shift_index.copy(), lighting.shift.copy()
-
-    def _unpack(self, entry) -> PanelLighting:
-        idx, frac, shift_index, shift = entry
-        f = np.ones(self.mesh.n_panels)
-        f[idx] = frac
-        return PanelLighting(f, shift_index.copy(), shift.copy())
-
-    def _insert(self, key: int, entry):
-        self._store[key] = entry
+    def _insert(self, key: int, lighting: PanelLighting):
+        self._store[key] = lighting
         if self.max_entries is not None and len(self._store) > self.max_entries:
-            evicted, _ = self._store.popitem(last=False)
-            self._recent.pop(evicted, None)
+            self._store.popitem(last=False)
             self.evictions += 1
 
     def __len__(self) -> int:
@@ -180,8 +168,7 @@ class ShadingCache:
     def clear(self):
         """Drop every entry and reset the counters."""
         self._store.clear()
-        self._recent.clear()
-        self._last = (None, None)
+        self.last_key = None
         self.hits = self.misses = self.evictions = 0
 
     def info(self) -> dict:
@@ -204,34 +191,18 @@ class ShadingCache:
         -------
         PanelLighting
             The exact shading of the cell centre u_c, angle(u_G, u_c) <= :attr:`max_angle`.
-            Its arrays are read-only: consecutive queries in one cell share them.
+            The stored object itself (read-only): every query in one cell gets the same one.
         """
         key = self.key(u_G)
-        last_key, last_lighting = self._last
-        if key == last_key:  # the usual case at GNC rates: the same cell as the previous query
-            self.hits += 1
-            return last_lighting
-        lighting = self._recent.get(key)
-        if lighting is not None:  # a cell used a moment ago (e.g. the flow wanders across a border)
-            self._recent.move_to_end(key)
+        self.last_key = key
+        lighting = self._store.get(key)
+        if lighting is not None:
             self._store.move_to_end(key)
             self.hits += 1
-        else:
-            entry = self._store.get(key)
-            if entry is not None:
-                self._store.move_to_end(key)
-                self.hits += 1
-                lighting = self._unpack(entry)
-            else:
-                self.misses += 1
-                lighting = self.shader.lighting(self.centre(key))
-                self._insert(key, self._pack(lighting))
-            for array in (lighting.lit_fraction, lighting.shift_index, lighting.shift):
-                array.setflags(write=False)  # shared with later hits: nobody may change it
-            self._recent[key] = lighting
-            if len(self._recent) > RECENT_CELLS:
-                self._recent.popitem(last=False)
-        self._last = (key, lighting)
+            return lighting
+        self.misses += 1
+        lighting = self.shader.lighting(self.centre(key))
+        self._insert(key, lighting)
         return lighting
 
     __call__ = lighting
@@ -268,7 +239,7 @@ class ShadingCache:
             if key in self._store:
                 self._store.move_to_end(key)
                 continue
-            self._insert(key, self._pack(self.shader.lighting(self.centre(key))))
+            self._insert(key, self.shader.lighting(self.centre(key)))
             computed += 1
         return computed
 
@@ -300,8 +271,9 @@ class ShadingCache:
         uc = self.centre(key)
         theta = math.acos(min(1.0, max(-1.0, float(u @ uc))))
         if lighting is None:
-            entry = self._store.get(key)
-            lighting = self._unpack(entry) if entry is not None else self.shader.lighting(uc)
+            lighting = self._store.get(key)
+        if lighting is None:
+            lighting = self.shader.lighting(uc)
         mesh = self.mesh
         lo, hi = mesh.bounds
         diag = float(np.linalg.norm(hi - lo))
@@ -315,17 +287,15 @@ class ShadingCache:
         )
 
 
-def moved_lit_area(mesh, u_G, cached: PanelLighting, exact: PanelLighting) -> float:
+def moved_lit_area(mesh: PanelMesh, u_G, cached: PanelLighting, exact: PanelLighting) -> float:
     """E(u) [m^2]: sum_i |f_i(cached) - f_i(exact)| A_i max(cos delta_i(u), 0) (module doc)."""
     u = frames.unit_vector(u_G)
     c = np.maximum(-(mesh.normals @ u), 0.0)
     return float((np.abs(cached.lit_fraction - exact.lit_fraction) * mesh.areas * c).sum())
 
 
-def _silhouette_length_bound(mesh) -> float:
+def _silhouette_length_bound(mesh: PanelMesh) -> float:
     """Sum over connected components of pi x diameter (convex) or non-flat edge length (other)."""
-    import trimesh
-
     tm = mesh.to_trimesh()
     faces = np.asarray(tm.faces)
     verts = np.asarray(tm.vertices)
@@ -353,14 +323,3 @@ def _silhouette_length_bound(mesh) -> float:
             length += float(np.linalg.norm(pts[boundary[:, 0]] - pts[boundary[:, 1]], axis=1).sum())
         total += length
     return total
-
-
-__all__ = [
-    "SAMPLING_ERROR",
-    "ShadingCache",
-    "cells_per_edge",
-    "direction_keys",
-    "key_centres",
-    "lit_projected_area",
-    "moved_lit_area",
-]

@@ -3,7 +3,9 @@
 A direction u is mapped to the face of the cube it points through (largest |component|) and two
 angles atan(u_a / |u_k|), atan(u_b / |u_k|) in [-45, 45] deg, each cut into n equal steps. Every
 cell has the same shape class and size within a factor ~1.4 on the whole sphere (no pole), and
-every direction lies within one step of its cell centre (proof in adbsat_ros.shading.cache)."""
+every direction lies within one step of its cell centre (proof in adbsat_ros.shading.cache).
+Directions are in the mesh frame G and need not be unit vectors.
+"""
 
 from __future__ import annotations
 
@@ -61,8 +63,8 @@ def direction_keys(u, n: int) -> np.ndarray:
     return key[0] if single else key
 
 
-def _direction_key(x: float, y: float, z: float, n: int) -> int:
-    """:func:`direction_keys` of one direction in plain floats (no numpy overhead per query).
+def direction_key(x: float, y: float, z: float, n: int) -> int:
+    """:func:`direction_keys` of one direction given as three floats (no numpy per query).
 
     The key depends on the direction only (ratios of components), so (x, y, z) need not be unit.
     """

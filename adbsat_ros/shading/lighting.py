@@ -3,44 +3,122 @@
 A :class:`PanelLighting` is what the panel method needs from a shading analysis: the lit fraction
 of every panel (its effective area is A_i times the fraction), and for partly lit panels the shift
 of the centre of pressure from the barycentre to the centroid of the lit part.
+
+It is stored sparsely: only the panels that are not fully lit (``shaded_index``, their
+``shaded_fraction``) and the shifts, so its size grows with the shaded area, not with the mesh.
+The shading cache keeps lightings as they are, and the panel method corrects its all-lit sums
+over those panels alone.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 
-@dataclass(frozen=True, eq=False)
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array.setflags(write=False)
+    return array
+
+
 class PanelLighting:
     """Lit fraction and lit-centroid shift of every panel, for one flow direction.
 
+    Parameters
+    ----------
+    lit_fraction : array_like, shape (N,)
+        Fraction of each panel's area reached by the flow, in [0, 1].
+    shift_index : array_like of int, shape (K,), optional
+        Panels whose lit part has its centroid away from the barycentre (partly lit panels).
+    shift : array_like, shape (K, 3), optional
+        Lit centroid minus barycentre of those panels [m], in the mesh frame G.
+
     Attributes
     ----------
-    lit_fraction : ndarray, shape (N,)
-        Fraction of each panel's area reached by the flow, in [0, 1].
-    shift_index : ndarray of int, shape (K,)
-        Panels whose lit part has its centroid away from the barycentre (partly lit panels).
+    n_panels : int
+        Number of panels N.
+    shaded_index : ndarray of int32, shape (S,)
+        Panels not fully lit (lit fraction < 1), ascending.
+    shaded_fraction : ndarray, shape (S,)
+        Their lit fractions, in [0, 1).
+    shift_index : ndarray of int64, shape (K,)
+        As given.
     shift : ndarray, shape (K, 3)
-        Lit centroid minus barycentre of those panels [m], in the mesh frame G.
+        As given [m], G.
+    shift_fraction : ndarray, shape (K,)
+        Lit fraction of the panels of ``shift_index``.
+
+    Raises
+    ------
+    ValueError
+        If ``lit_fraction`` is not a 1-D array of numbers in [0, 1], or the shifts do not match
+        (shape, panel indices out of range).
+
+    Notes
+    -----
+    Every array is read-only, so a lighting can be shared (the shading cache hands out the
+    same object for every query in one cell). The index arrays are int32 in the cache's sparse
+    entries and int64 for the shifts, as numpy indexes with either.
     """
 
-    lit_fraction: np.ndarray
-    shift_index: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
-    shift: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    __slots__ = (
+        "n_panels",
+        "shaded_index",
+        "shaded_fraction",
+        "shift_index",
+        "shift",
+        "shift_fraction",
+    )
+
+    def __init__(self, lit_fraction, shift_index=None, shift=None):
+        f = np.asarray(lit_fraction, dtype=float)
+        if f.ndim != 1 or not np.all((f >= 0.0) & (f <= 1.0)):
+            raise ValueError("lit_fraction must be a 1-D array of numbers in [0, 1]")
+        index = np.zeros(0, dtype=np.int64) if shift_index is None else shift_index
+        index = np.asarray(index, dtype=np.int64).reshape(-1)
+        shift = np.zeros((0, 3)) if shift is None else np.asarray(shift, dtype=float)
+        if shift.shape != (index.size, 3):
+            raise ValueError(
+                f"shift must have shape ({index.size}, 3) for {index.size} shift_index entries, "
+                f"got {shift.shape}"
+            )
+        if index.size and (index.min() < 0 or index.max() >= f.size):
+            raise ValueError(f"shift_index must be panel indices in [0, {f.size - 1}]")
+        self.n_panels = int(f.size)
+        shaded = np.flatnonzero(f < 1.0)
+        self.shaded_index = _read_only(shaded.astype(np.int32))
+        self.shaded_fraction = _read_only(f[shaded])
+        self.shift_index = _read_only(index.copy())
+        self.shift = _read_only(shift.copy())
+        self.shift_fraction = _read_only(f[index])
 
     @classmethod
     def all_lit(cls, n_panels: int) -> "PanelLighting":
-        """Every panel fully lit (no occlusion)."""
+        """Every one of ``n_panels`` panels fully lit (no occlusion)."""
         return cls(np.ones(n_panels))
+
+    def __repr__(self) -> str:
+        return (
+            f"PanelLighting(n_panels={self.n_panels}, not fully lit={self.shaded_index.size}, "
+            f"shifted={self.shift_index.size})"
+        )
+
+    @property
+    def lit_fraction(self) -> np.ndarray:
+        """Lit fraction of every panel, shape (N,), in [0, 1] (a new read-only array)."""
+        f = np.ones(self.n_panels)
+        f[self.shaded_index] = self.shaded_fraction
+        return _read_only(f)
 
     @property
     def shaded(self) -> np.ndarray:
         """Boolean (N,): panels entirely in shadow."""
-        return self.lit_fraction <= 0.0
+        out = np.zeros(self.n_panels, dtype=bool)
+        out[self.shaded_index[self.shaded_fraction <= 0.0]] = True
+        return out
 
     @property
     def partly_lit(self) -> np.ndarray:
         """Boolean (N,): panels partly in shadow."""
-        return (self.lit_fraction > 0.0) & (self.lit_fraction < 1.0)
+        out = np.zeros(self.n_panels, dtype=bool)
+        out[self.shaded_index[self.shaded_fraction > 0.0]] = True
+        return out

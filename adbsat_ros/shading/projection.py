@@ -1,4 +1,8 @@
-"""ADBSat's shading (shadowAnaly): a forward panel is in shadow if its barycentre, projected along the flow, falls inside an upstream back face (docs/physics.md)."""
+"""ADBSat's shading (``shadowAnaly``), vectorised.
+
+A forward panel is in shadow, all or nothing, if its barycentre, projected along the flow, falls
+inside an upstream back face (docs/physics.md, section 6). Units: metres, mesh frame G.
+"""
 
 from __future__ import annotations
 
@@ -6,7 +10,7 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.shading.rays_numpy import MAX_PAIRS, _grid_pairs
+from adbsat_ros.shading.flow_plane import MAX_PAIRS, grid_pairs
 
 # ADBSat's thresholds (physics.md section 6).
 ADBSAT_BACKWARD_DEG = 90.0001
@@ -82,7 +86,7 @@ def adbsat_shadowed(mesh: PanelMesh, u_G, max_pairs: int = MAX_PAIRS) -> np.ndar
     fy, fz = bw[f_idx, 1], bw[f_idx, 2]
     bmin = np.stack([ymin, zmin], axis=1)
     bmax = np.stack([ymax, zmax], axis=1)
-    for fi, bi in _grid_pairs(fy, fz, bmin, bmax, max_pairs):
+    for fi, bi in grid_pairs(fy, fz, bmin, bmax, max_pairs):
         y, z = fy[fi], fz[fi]
         # "not all strictly one sign" in y and in z after translating by the barycentre
         keep = (ymin[bi] <= y) & (y <= ymax[bi]) & (zmin[bi] <= z) & (z <= zmax[bi])

@@ -1,36 +1,90 @@
-"""Ray casting with Embree (through embreex, the engine behind trimesh's RayMeshIntersector): float32, fast."""
+"""Ray casting with Embree (through embreex, the engine behind trimesh's RayMeshIntersector).
+
+Float32 and very fast. Importing this module imports embreex: :mod:`adbsat_ros.shading.rays`
+does so once and sets ``has_embree``. :class:`EmbreeScene` is this backend behind the interface
+of :mod:`adbsat_ros.shading.rays`; it returns what :class:`~adbsat_ros.shading.rays_numpy.\
+NumpyScene` returns for the same rays, except for rays within float32 rounding (~1e-7 of the
+mesh size) of an edge.
+
+Units: metres, mesh frame G; directions unitless.
+"""
 
 from __future__ import annotations
 
 import numpy as np
-import trimesh
+from embreex import rtcore_scene
+from embreex.mesh_construction import TriangleMesh
+
+from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.shading.rays_numpy import any_hit
+
+#: The scene's coordinates are rescaled so that the largest extent of the mesh is this long,
+#: which keeps float32 rounding relative to the mesh size whatever its units.
+SCENE_EXTENT = 100.0
 
 
-# ---------------------------------------------------------------------------------- embree
-class _EmbreeScene:
-    """An Embree scene of the whole mesh (float32, coordinates rescaled to ~100 units)."""
+class EmbreeScene:
+    """The panels of a mesh as an Embree scene (float32, vertices merged, rescaled).
 
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray):
-        from embreex import rtcore_scene
-        from embreex.mesh_construction import TriangleMesh
+    Parameters
+    ----------
+    mesh : PanelMesh
+        Panels [m], mesh frame G; face i of the scene is panel i.
 
-        vertices = np.asarray(vertices, dtype=np.float64)
+    Attributes
+    ----------
+    backend : str
+        ``"embree"``.
+    """
+
+    backend = "embree"
+
+    def __init__(self, mesh: PanelMesh):
+        tm = mesh.to_trimesh()
+        vertices = np.asarray(tm.vertices, dtype=np.float64)
+        self.triangles = mesh.vertices
         self.origin = vertices.min(axis=0)
         extent = float(np.max(vertices.max(axis=0) - self.origin))
-        self.scale = 100.0 / extent if extent > 0 else 1.0
+        self.scale = SCENE_EXTENT / extent if extent > 0 else 1.0
         self.scene = rtcore_scene.EmbreeScene()
         TriangleMesh(
             scene=self.scene,
             vertices=((vertices - self.origin) * self.scale).astype(np.float32),
-            indices=np.asarray(faces, dtype=np.int32),
+            indices=np.asarray(tm.faces, dtype=np.int32),
         )
 
-    def run(self, origins: np.ndarray, d: np.ndarray, query: str) -> np.ndarray:
+    def _run(self, origins: np.ndarray, d: np.ndarray, query: str) -> np.ndarray:
         o = ((origins - self.origin) * self.scale).astype(np.float32)
         dirs = np.broadcast_to(d.astype(np.float32), o.shape).copy()
         return self.scene.run(o, dirs, query=query)
 
+    def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
+        """Whether each ray origins[r] + t direction, t > 0, meets an occluding panel.
 
-def embree_available() -> bool:
-    """True if trimesh can use Embree (embreex importable)."""
-    return bool(getattr(trimesh.ray, "has_embree", False))
+        Parameters
+        ----------
+        origins : ndarray, shape (R, 3)
+            Ray origins [m], G.
+        direction : ndarray, shape (3,)
+            Common unit ray direction (G).
+        occluder : ndarray of bool, shape (N,), optional
+            Panels that can block a ray (default all). The scene holds every panel: a ray
+            whose first hit is a panel outside ``occluder`` is cast again in float64 against
+            the occluders alone (:func:`~adbsat_ros.shading.rays_numpy.any_hit`).
+
+        Returns
+        -------
+        ndarray of bool, shape (R,)
+        """
+        origins = np.asarray(origins, dtype=float)
+        if origins.shape[0] == 0:
+            return np.zeros(0, dtype=bool)
+        d = np.asarray(direction, dtype=float)
+        if occluder is None:
+            return self._run(origins, d, "OCCLUDED") != -1
+        first = self._run(origins, d, "INTERSECT")
+        blocked = first != -1
+        redo = np.flatnonzero(blocked & ~occluder[np.maximum(first, 0)])
+        if redo.size:
+            blocked[redo] = any_hit(origins[redo], d, self.triangles[occluder])
+        return blocked

@@ -1,8 +1,10 @@
-"""Where rays start on a panel: a low-discrepancy (R2) pattern with a fixed pseudo-random shift per panel.
+"""Where rays start on a panel: a low-discrepancy (R2) pattern, shifted per panel.
 
-Roberts' R2 sequence spreads the points of one panel evenly; the per-panel shift (SplitMix64 of the
-panel index) keeps the sampling errors of neighbouring panels along a shadow edge from adding up.
-Coordinates (a, b) give the point P1 + a (P2 - P1) + b (P3 - P1) of a triangle."""
+Roberts' R2 sequence spreads the points of one panel evenly; a fixed pseudo-random shift per panel
+(SplitMix64 of the panel index) keeps the sampling errors of neighbouring panels along a shadow
+edge from adding up. Triangle coordinates (a, b) give the point P1 + a (P2 - P1) + b (P3 - P1)
+of a triangle with corners P1, P2, P3 (metres, mesh frame G).
+"""
 
 from __future__ import annotations
 
@@ -12,8 +14,8 @@ import numpy as np
 _PLASTIC = 1.32471795724474602596
 _R2_ALPHA = np.array([1.0 / _PLASTIC, 1.0 / _PLASTIC**2])
 
-# Triangle coordinates of the corner detection samples (1e-3 inside each corner).
-_CORNERS = np.array([[1e-3, 1e-3], [1.0 - 2e-3, 1e-3], [1e-3, 1.0 - 2e-3]])
+#: Triangle coordinates (a, b) of the corner detection samples (1e-3 inside each corner).
+CORNERS = np.array([[1e-3, 1e-3], [1.0 - 2e-3, 1e-3], [1e-3, 1.0 - 2e-3]])
 
 
 def _splitmix64(x: np.ndarray) -> np.ndarray:
@@ -45,8 +47,14 @@ def panel_shifts(panel_index) -> np.ndarray:
     )
 
 
-def _sample_ab(panel_index, start: int, count: int):
-    """Triangle coordinates (a, b), each shape (K, count), of :func:`sample_barycentric`."""
+def sample_coordinates(panel_index, start: int, count: int):
+    """Triangle coordinates of :func:`sample_barycentric` as two arrays.
+
+    Returns
+    -------
+    a, b : ndarray, shape (K, count)
+        The point is P1 + a (P2 - P1) + b (P3 - P1).
+    """
     shifts = panel_shifts(panel_index)
     k = np.arange(start, start + count, dtype=float)
     base = k[:, None] * _R2_ALPHA[None, :]
@@ -70,13 +78,27 @@ def sample_barycentric(panel_index, start: int, count: int) -> np.ndarray:
     ndarray, shape (K, count, 2)
         (a, b) such that the point is P1 + a (P2 - P1) + b (P3 - P1).
     """
-    a, b = _sample_ab(panel_index, start, count)
+    a, b = sample_coordinates(panel_index, start, count)
     return np.stack([a, b], axis=-1)
 
 
-def _sample_points(vertices: np.ndarray, a: np.ndarray, b: np.ndarray, lift=None) -> np.ndarray:
-    """Points (K, S, 3) P1 + a (P2 - P1) + b (P3 - P1) on triangles ``vertices`` (K, 3, 3),
-    plus ``lift`` (K, 3) if given."""
+def sample_points(vertices: np.ndarray, a: np.ndarray, b: np.ndarray, lift=None) -> np.ndarray:
+    """Points P1 + a (P2 - P1) + b (P3 - P1) (+ lift) on triangles.
+
+    Parameters
+    ----------
+    vertices : ndarray, shape (K, 3, 3)
+        Corners P1, P2, P3 of each triangle [m].
+    a, b : ndarray, shape (K, S)
+        Triangle coordinates of S points per triangle.
+    lift : ndarray, shape (K, 3), optional
+        Offset [m] added to every point of a triangle (e.g. along its normal).
+
+    Returns
+    -------
+    ndarray, shape (K, S, 3)
+        The points [m], in the frame of ``vertices``.
+    """
     v0 = vertices[:, 0, :]
     e1 = vertices[:, 1, :] - v0
     e2 = vertices[:, 2, :] - v0

@@ -39,12 +39,11 @@ With c_i = cos(delta_i) = -u . n_i and tolerance ``graze_tol`` (default 1e-6, i.
 
 * a face with |c_i| <= graze_tol does not occlude (it has no projected area; a ray that first
   meets such a face continues through it);
-* forward faces are those with c_i > graze_tol, plus the grazing faces (|c_i| <= graze_tol)
-  that face the fixed, generic tie-break direction -w (-w . n_i > 0, then a second generic
-  vector if that is zero too). This is the classification the flow u + epsilon w would give,
-  so a head-on attitude gets the limit of the lit fractions from one side rather than a mix
-  of both sides. Other faces are backward: lit fraction 1 (the gas-surface model handles
-  them; ADBSat never shades them);
+* forward faces are those with c_i > graze_tol, plus the grazing faces that face a fixed,
+  generic tie-break direction (:func:`adbsat_ros.shading.candidates.forward_mask`), so a
+  head-on attitude gets the limit of the lit fractions from one side rather than a mix of both
+  sides. Other faces are backward: lit fraction 1 (the gas-surface model handles them; ADBSat
+  never shades them);
 * every sample point is moved off its panel by ``offset`` (default 1e-5 of the bounding-box
   diagonal) along the panel normal, so a ray never hits its own panel or a coplanar
   neighbour, and float32 rounding in Embree cannot turn that into a hit;
@@ -58,16 +57,15 @@ head-on flow on a boxy body gives the same answer as 0.1 deg off it up to the tr
 change.
 
 Filtering: a mesh with ``report.convex`` does no work at all (in any mode). In raycast mode
-a forward panel is tested only if it is not on the convex hull of its own
-connected component (a hull face's upstream ray leaves the hull at once) or if another
-component lies upstream of it with overlapping bounding boxes in the plane normal to the flow.
+a forward panel is tested only if it could be shaded
+(:class:`adbsat_ros.shading.candidates.CandidateFilter`: not on the convex hull of its own
+component, or another component upstream of it).
 
-Backends (raycast): ``"embree"`` (Embree through embreex, the engine behind trimesh's
-``RayMeshIntersector``; float32, very fast), ``"numpy"`` (vectorised Moeller-Trumbore against
-candidate triangles found with a uniform 2-D grid in the plane normal to the flow, chunked,
-float64) and ``"auto"`` (Embree if ``trimesh.ray.has_embree``, else numpy). Both cast the same
-rays from the same points and agree to rounding (rays within ~1e-7 of the mesh size from an
-edge).
+Backends (raycast): the rays are cast through :func:`adbsat_ros.shading.rays.ray_scene`:
+``"embree"`` (Embree through embreex, float32, very fast), ``"numpy"`` (vectorised
+Moeller-Trumbore, float64) and ``"auto"`` (Embree if ``rays.has_embree``, else numpy). Both
+cast the same rays from the same points and agree to rounding (rays within ~1e-7 of the mesh
+size from an edge).
 
 Units: metres, frame G, flow direction unitless; angles in radians.
 """
@@ -77,25 +75,16 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import trimesh
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.shading.candidates import CandidateFilter, forward_mask
 from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.shading.projection import adbsat_shadowed
-from adbsat_ros.shading.rays_embree import _EmbreeScene, embree_available
-from adbsat_ros.shading.rays_numpy import (
-    MAX_PAIRS,
-    _any_hit_numpy,
-    _coords,
-    _max3,
-    _min3,
-    _perp_basis,
-)
-from adbsat_ros.shading.sampling import _CORNERS, _sample_ab, _sample_points
+from adbsat_ros.shading.rays import ray_scene, resolve_backend
+from adbsat_ros.shading.sampling import CORNERS, sample_coordinates, sample_points
 
 MODES = ("none", "projection", "raycast")
-BACKENDS = ("auto", "embree", "numpy")
 
 #: Default number of sample points (rays) per forward panel that could be shaded.
 DEFAULT_SAMPLES = 16
@@ -105,53 +94,8 @@ DEFAULT_REFINE_SAMPLES = 256
 DEFAULT_GRAZE_TOL = 1e-6
 #: Offset of the ray origins along the panel normal, as a fraction of the bounding-box diagonal.
 DEFAULT_OFFSET_FRACTION = 1e-5
-#: Faces within this fraction of the bounding-box diagonal of their component's convex hull
-#: count as hull faces (cannot be shaded by their own component).
-HULL_TOL_FRACTION = 1e-8
 
 
-# Tie-break directions for grazing faces (generic, fixed).
-_TIE_W1 = np.array([0.8164965809277260, 0.4472135954999579, 0.3651483716701107])
-_TIE_W1 = _TIE_W1 / np.linalg.norm(_TIE_W1)
-_TIE_W2 = np.array([-0.2360679774997897, 0.6457513110645906, 0.7071067811865476])
-_TIE_W2 = _TIE_W2 - (_TIE_W2 @ _TIE_W1) * _TIE_W1
-_TIE_W2 = _TIE_W2 / np.linalg.norm(_TIE_W2)
-
-
-# Above this many connected components the inter-component filter is skipped (all forward
-# panels of a multi-component mesh are then tested).
-_MAX_COMPONENTS_FILTER = 64
-
-
-# ---------------------------------------------------------------------------------- helpers
-def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -> np.ndarray:
-    """Forward-facing panels under the grazing rule (see module docstring).
-
-    Parameters
-    ----------
-    cos_delta : ndarray, shape (N,)
-        c_i = -u . n_i.
-    normals : ndarray, shape (N, 3)
-        Unit outward normals in G.
-    graze_tol : float
-        |c| at or below which a panel is grazing.
-
-    Returns
-    -------
-    ndarray of bool, shape (N,)
-    """
-    forward = cos_delta > graze_tol
-    grazing = np.abs(cos_delta) <= graze_tol
-    if grazing.any():
-        idx = np.flatnonzero(grazing)
-        t1 = -(normals[idx] @ _TIE_W1)
-        t2 = -(normals[idx] @ _TIE_W2)
-        tie = np.where(np.abs(t1) > 1e-12, t1 > 0.0, t2 > 0.0)
-        forward[idx] = tie
-    return forward
-
-
-# ---------------------------------------------------------------------------------- shader
 class Shader:
     """Shading of one mesh for any flow direction; build once, call :meth:`lighting` often.
 
@@ -164,7 +108,8 @@ class Shader:
     samples : int
         Rays per forward panel that could be shaded (raycast).
     backend : {"auto", "embree", "numpy"}
-        Ray engine (raycast). ``"embree"`` raises if embreex is not available.
+        Ray engine (raycast, :mod:`adbsat_ros.shading.rays`). ``"embree"`` raises if embreex
+        is not available.
     refine_samples : int
         Extra rays for each panel found partly lit by the first ``samples`` (raycast).
     graze_tol : float
@@ -182,6 +127,10 @@ class Shader:
 
     Attributes
     ----------
+    backend : str
+        The ray engine used, ``"embree"`` or ``"numpy"`` (``"auto"`` resolved).
+    trivial : bool
+        True for mode ``"none"`` or a convex mesh: every panel lit, no work.
     last_stats : dict
         Counts from the latest call: forward panels, tested panels, rays cast, partly lit.
     """
@@ -202,9 +151,6 @@ class Shader:
         mode = str(mode).lower()
         if mode not in MODES:
             raise ValueError(f"unknown shading mode {mode!r}; choose one of {', '.join(MODES)}")
-        backend = str(backend).lower()
-        if backend not in BACKENDS:
-            raise ValueError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
         samples = int(samples)
         refine_samples = int(refine_samples)
         if samples < 1 or refine_samples < 0:
@@ -212,14 +158,9 @@ class Shader:
         graze_tol = float(graze_tol)
         if not (0.0 <= graze_tol < 1.0):
             raise ValueError(f"graze_tol must be in [0, 1), got {graze_tol!r}")
-        if backend == "embree" and not embree_available():
-            raise RuntimeError("backend 'embree' requested but embreex is not available")
-        if backend == "auto":
-            backend = "embree" if embree_available() else "numpy"
-
         self.mesh = mesh
         self.mode = mode
-        self.backend = backend
+        self.backend = resolve_backend(backend)
         self.samples = samples
         self.refine_samples = refine_samples
         self.graze_tol = graze_tol
@@ -235,64 +176,11 @@ class Shader:
         self.last_stats: dict = {}
         # A single closed convex body never shades itself: nothing to build.
         self.trivial = mode == "none" or bool(mesh.report.convex)
-        self._scene = None
-        if self.trivial or mode == "projection":
-            return
-        self._build_raycast()
+        self.filter = self.scene = None
+        if not self.trivial and mode == "raycast":
+            self.filter = CandidateFilter(mesh, self.diagonal)
+            self.scene = ray_scene(mesh, self.backend)
 
-    # -------------------------------------------------------------------------- build
-    def _build_raycast(self):
-        mesh = self.mesh
-        tm = mesh.to_trimesh()
-        faces = np.asarray(tm.faces, dtype=np.int64)
-        adjacency = np.asarray(tm.face_adjacency, dtype=np.int64).reshape(-1, 2)
-        labels = np.asarray(
-            trimesh.graph.connected_component_labels(adjacency, node_count=len(faces)),
-            dtype=np.int64,
-        )
-        n_comp = int(labels.max()) + 1 if labels.size else 0
-        self.component = labels
-        self.n_components = n_comp
-        # Faces sorted by component, for per-component work and reductions.
-        self._comp_order = np.argsort(labels, kind="stable")
-        counts = np.bincount(labels, minlength=n_comp)
-        self._comp_start = np.cumsum(counts) - counts
-        self.on_hull = self._hull_faces(np.asarray(tm.vertices, dtype=float), faces)
-        self.self_shading_possible = ~self.on_hull
-        self._adjacency = adjacency
-        if self.backend == "embree":
-            self._scene = _EmbreeScene(tm.vertices, faces)
-
-    def _hull_faces(self, vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-        """Faces on the convex hull of their own component, normal pointing out of the hull.
-
-        Such a face cannot be shaded by its own component: its upstream ray leaves the
-        supporting half-space at once. A face counts if the support of its component in the
-        direction of its normal is within ``HULL_TOL_FRACTION`` of the diagonal of its plane.
-        """
-        from scipy.spatial import ConvexHull, QhullError
-
-        mesh = self.mesh
-        on_hull = np.zeros(mesh.n_panels, dtype=bool)
-        tol = HULL_TOL_FRACTION * self.diagonal
-        normals = mesh.normals
-        level = np.einsum("ij,ij->i", normals, mesh.vertices[:, 0, :])
-        order, start = self._comp_order, self._comp_start
-        stop = np.append(start[1:], order.size)
-        for a, b in zip(start, stop):  # loop over bodies (few), vectorised over their faces
-            idx = order[a:b]
-            pts = vertices[np.unique(faces[idx])]
-            try:
-                hull_pts = pts[ConvexHull(pts).vertices]
-            except (QhullError, ValueError):
-                hull_pts = pts  # flat or degenerate body: all its points
-            step = max(1, MAX_PAIRS // max(len(hull_pts), 1))
-            for s in range(0, idx.size, step):
-                j = idx[s : s + step]
-                on_hull[j] = (normals[j] @ hull_pts.T).max(axis=1) <= level[j] + tol
-        return on_hull
-
-    # -------------------------------------------------------------------------- public
     def lighting(self, u_G) -> PanelLighting:
         """Lit fraction and lit-centroid shift of every panel for one flow direction.
 
@@ -307,17 +195,11 @@ class Shader:
             lit_fraction (N,) in [0, 1]; shift (K, 3) [m] in G for the partly lit panels.
         """
         u = frames.unit_vector(u_G)
-        n = self.mesh.n_panels
         if self.trivial:
-            self.last_stats = {
-                "forward": 0,
-                "tested": 0,
-                "rays": 0,
-                "partly_lit": 0,
-                "refined": 0,
-                "probed": 0,
-            }
-            return PanelLighting.all_lit(n)
+            self.last_stats = dict.fromkeys(
+                ("forward", "tested", "rays", "partly_lit", "refined", "probed"), 0
+            )
+            return PanelLighting.all_lit(self.mesh.n_panels)
         if self.mode == "projection":
             shadowed = adbsat_shadowed(self.mesh, u)
             self.last_stats = {"rays": 0, "partly_lit": 0, "shaded": int(shadowed.sum())}
@@ -330,71 +212,29 @@ class Shader:
 
     __call__ = lighting
 
-    # -------------------------------------------------------------------------- raycast
     def candidates(self, u: np.ndarray, forward: np.ndarray) -> np.ndarray:
-        """Indices of forward panels that could be shaded for unit flow direction ``u``."""
-        mesh = self.mesh
+        """Indices of forward panels that could be shaded for unit flow direction ``u`` (G).
+
+        All of ``forward`` without the prefilter (or for a trivial shader, none).
+        """
+        if self.filter is None:
+            return np.zeros(0, dtype=np.int64)
         if not self.prefilter:
             return np.flatnonzero(forward)
-        need = forward & self.self_shading_possible
-        if self.n_components <= 1:
-            return np.flatnonzero(need)
-        rest = forward & ~need
-        if self.n_components > _MAX_COMPONENTS_FILTER:
-            return np.flatnonzero(forward)
-        idx = np.flatnonzero(rest)
-        if idx.size:
-            basis = _perp_basis(-u)  # columns p1, p2, s (s grows upstream)
-            coords = _coords(mesh.vertices, basis)  # three (N, 3) arrays
-            pmin = np.stack([_min3(a) for a in coords], axis=1)  # (N, 3)
-            pmax = np.stack([_max3(a) for a in coords], axis=1)
-            order, start = self._comp_order, self._comp_start
-            cmin = np.minimum.reduceat(pmin[order], start, axis=0)  # (C, 3)
-            cmax = np.maximum.reduceat(pmax[order], start, axis=0)
-            comp = self.component
-            step = max(1, MAX_PAIRS // self.n_components)
-            for s in range(0, idx.size, step):
-                j = idx[s : s + step]
-                overlap = (
-                    (cmax[None, :, 2] > pmin[j, None, 2])
-                    & (cmax[None, :, 0] >= pmin[j, None, 0])
-                    & (cmin[None, :, 0] <= pmax[j, None, 0])
-                    & (cmax[None, :, 1] >= pmin[j, None, 1])
-                    & (cmin[None, :, 1] <= pmax[j, None, 1])
-                )
-                overlap[np.arange(j.size), comp[j]] = False
-                need[j] = overlap.any(axis=1)
-        return np.flatnonzero(need)
+        return self.filter.candidates(u, forward)
 
-    def _cast(
-        self, origins: np.ndarray, d: np.ndarray, occluder: np.ndarray, any_grazing: bool
-    ) -> np.ndarray:
-        """Blocked flag of rays origins + t d (t > 0) against the occluding faces."""
-        if origins.shape[0] == 0:
-            return np.zeros(0, dtype=bool)
-        if self.backend == "embree":
-            if not any_grazing:
-                return self._scene.run(origins, d, "OCCLUDED") != -1
-            first = self._scene.run(origins, d, "INTERSECT")
-            blocked = first != -1
-            # First hit on a grazing face: recast that ray against the occluding faces only.
-            redo = np.flatnonzero(blocked & ~occluder[np.maximum(first, 0)])
-            if redo.size:
-                blocked[redo] = _any_hit_numpy(origins[redo], d, self.mesh.vertices[occluder])
-            return blocked
-        return _any_hit_numpy(origins, d, self.mesh.vertices[occluder])
-
-    def _cast_sets(self, sets, tri, lift, cand, d, occluder, any_grazing, stats):
+    # -------------------------------------------------------------------------- raycast
+    def _cast_sets(self, sets, tri, lift, cand, d, occluder, stats):
         """Cast the sample sets [(rows of cand, first sample, count), ...] in one batch.
 
         Returns [(lit (k, count) bool, origins (k, count, 3)), ...] in the order given.
         """
         parts = []
         for idx, start, count in sets:
-            a, b = _sample_ab(cand[idx], start, count)
-            parts.append(_sample_points(tri[idx], a, b, lift[idx]))
+            a, b = sample_coordinates(cand[idx], start, count)
+            parts.append(sample_points(tri[idx], a, b, lift[idx]))
         flat = np.concatenate([p.reshape(-1, 3) for p in parts]) if parts else np.zeros((0, 3))
-        blocked = self._cast(flat, d, occluder, any_grazing)
+        blocked = self.scene.any_hit(flat, d, occluder)
         stats["rays"] += int(blocked.size)
         out, pos = [], 0
         for p in parts:
@@ -409,7 +249,8 @@ class Shader:
         c = -(mesh.normals @ u)
         forward = forward_mask(c, mesh.normals, self.graze_tol)
         occluder = np.abs(c) > self.graze_tol
-        any_grazing = not bool(occluder.all())
+        if occluder.all():
+            occluder = None  # no grazing face: every face occludes
         cand = self.candidates(u, forward)
         d = -u
         lit_fraction = np.ones(n)
@@ -424,12 +265,12 @@ class Shader:
         # interior samples all fall on one side; they serve detection only.
         S = self.samples
         tri = mesh.vertices[cand]
-        a, b = _sample_ab(cand, 0, S)
-        a = np.concatenate([a, np.broadcast_to(_CORNERS[:, 0], (cand.size, 3))], axis=1)
-        b = np.concatenate([b, np.broadcast_to(_CORNERS[:, 1], (cand.size, 3))], axis=1)
+        a, b = sample_coordinates(cand, 0, S)
+        a = np.concatenate([a, np.broadcast_to(CORNERS[:, 0], (cand.size, 3))], axis=1)
+        b = np.concatenate([b, np.broadcast_to(CORNERS[:, 1], (cand.size, 3))], axis=1)
         lift = self.offset * mesh.normals[cand]
-        origins = _sample_points(tri, a, b, lift)  # (K, S + 3, 3)
-        blocked = self._cast(origins.reshape(-1, 3), d, occluder, any_grazing).reshape(-1, S + 3)
+        origins = sample_points(tri, a, b, lift)  # (K, S + 3, 3)
+        blocked = self.scene.any_hit(origins.reshape(-1, 3), d, occluder).reshape(-1, S + 3)
         stats["rays"] = int(blocked.size)
         lit_all = ~blocked
         partial = lit_all.any(axis=1) & ~lit_all.all(axis=1)
@@ -449,22 +290,23 @@ class Shader:
             refine = np.flatnonzero(partial)
             probe = np.zeros(0, dtype=np.int64)
             n_probe = max(1, R // 8)
-            if self.dilate and self._adjacency.size:
+            adjacency = self.filter.adjacency
+            if self.dilate and adjacency.size:
                 mark = np.zeros(n, dtype=bool)
                 mark[cand[partial]] = True
-                e0, e1 = self._adjacency[:, 0], self._adjacency[:, 1]
+                e0, e1 = adjacency[:, 0], adjacency[:, 1]
                 grow = np.zeros(n, dtype=bool)
                 grow[e1[mark[e0]]] = True
                 grow[e0[mark[e1]]] = True
                 probe = np.flatnonzero(grow[cand] & ~partial)
             sets = [(refine, S, R), (probe, S, n_probe)]
-            lit_sets = self._cast_sets(sets, tri, lift, cand, d, occluder, any_grazing, stats)
+            lit_sets = self._cast_sets(sets, tri, lift, cand, d, occluder, stats)
             lit_p = lit_sets[1][0]
             again = probe[lit_p.any(axis=1) & ~lit_p.all(axis=1)]
             final = [(refine, lit_sets[0])]
             if again.size:
                 more = self._cast_sets(
-                    [(again, S + n_probe, R)], tri, lift, cand, d, occluder, any_grazing, stats
+                    [(again, S + n_probe, R)], tri, lift, cand, d, occluder, stats
                 )
                 final.append((again, more[0]))
             for idx, (lit_r, origins_r) in final:
@@ -488,7 +330,6 @@ class Shader:
         return PanelLighting(lit_fraction, shift_index.astype(np.int64), shift)
 
 
-# ---------------------------------------------------------------------------------- factory
 def make_shader(
     mesh: PanelMesh,
     mode: str = "raycast",

@@ -215,7 +215,8 @@ def test_one_sided_plate_sentman(aoa_deg):
     """Single-sided Sentman plate (one face, normal +x) at angle of attack a: delta = |a|.
     Force in G (units q A): (-c_p, 0, c_tau sign(a)) with the Sentman (1961) plate
     c_p = p_i + p_r(T_r), c_tau = tau_i written out:
-        c_p = (c^2 + 1/(2 s^2)) Phi + c E/(sqrt(pi) s) + sqrt(T_r/T_inf)(E + sqrt(pi) s c Phi)/(2 s^2)
+        c_p = (c^2 + 1/(2 s^2)) Phi + c E/(sqrt(pi) s)
+              + sqrt(T_r/T_inf)(E + sqrt(pi) s c Phi)/(2 s^2)
         c_tau = sin(delta)(c Phi + E/(sqrt(pi) s))."""
     flow = FLOWS["slow"]
     a = math.radians(aoa_deg)
@@ -253,7 +254,8 @@ def test_two_sided_plate_sentman_is_bird_plate(aoa_deg):
     """Zero-thickness two-sided plate with the (one-sided, per face) Sentman model = the classic
     two-sided diffuse plate (Sentman 1961; Bird 1994 Ch. 7), with theta the angle between plate
     and flow, sin(theta) = |cos a| = c:
-        C_D = 2 e^{-s^2 c^2}/(sqrt(pi) s) + (c/s^2)(1 + 2 s^2) erf(s c) + (sqrt(pi)/s) c^2 sqrt(T_r/T_inf)
+        C_D = 2 e^{-s^2 c^2}/(sqrt(pi) s) + (c/s^2)(1 + 2 s^2) erf(s c)
+              + (sqrt(pi)/s) c^2 sqrt(T_r/T_inf)
         |C_L| = (sqrt(1-c^2)/s^2) erf(s c) + (sqrt(pi)/s) c sqrt(1-c^2) sqrt(T_r/T_inf)
     per plate area."""
     flow = FLOWS["slow"]

@@ -1,8 +1,9 @@
 """Evaluating coplanar panels once per facet gives what evaluating every panel gives.
 
 The identity used (panel_method module docstring): panels with one normal and one material share
-c, cp and ctau, so sum_i f_i A_i phi = W phi and sum_i f_i A_i r_i x phi = Q x phi. The reference is
-the same PanelMethod with ``group_facets=False``; agreement is to rounding (1e-12 relative).
+c, cp and ctau, so sum_i f_i A_i phi = W phi and sum_i f_i A_i r_i x phi = Q x phi. The reference
+is the same PanelMethod with ``group_facets=False`` (the fast path against the reference path);
+agreement is to rounding (1e-12 relative).
 """
 
 import math
@@ -16,8 +17,9 @@ from adbsat_ros.geometry.example_satellite import example_satellite
 from adbsat_ros.geometry.loading import panels_from_trimesh
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.gsi_models import ModelOptions
 from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.physics.surface import MaterialTable, PanelSurface, SurfaceProperties
 from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.shading.shader import make_shader
 
@@ -59,10 +61,10 @@ def assert_same(a, b):
 
 def test_the_example_satellite_has_few_facets(satellite):
     grouped, panel_by_panel = pair(satellite, "sentman")
-    assert grouped._facets is not None and panel_by_panel._facets is None
-    assert grouped._facets.n < satellite.n_panels / 20
+    assert grouped.facets is not None and panel_by_panel.facets is None
+    assert grouped.facets.n < satellite.n_panels / 20
     # every facet is coplanar-facing and of one material
-    f = grouped._facets
+    f = grouped.facets
     assert np.abs(satellite.normals - f.normals[f.index]).max() < 1e-11
     assert np.all(satellite.material_index == satellite.material_index[f.first][f.index])
 
@@ -111,56 +113,98 @@ def test_partly_lit_panels_with_shifts_and_a_surface_override(satellite, shader)
             "diffuse_reflectivity",
         )
     }
-    from adbsat_ros.physics.surface import PanelSurface
-
     odd = PanelSurface(alpha=alpha, **values)
-    assert grouped._facets.surface_of(odd) is None
+    assert grouped.facets.surface_of(odd) is None
     assert_same(
         grouped.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=odd),
         panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=odd),
     )
 
 
-def test_a_changed_writable_lighting_is_not_taken_from_the_memo(satellite, shader):
+def test_the_sums_of_one_lighting_are_made_once_and_stay_right(satellite, shader):
     grouped, panel_by_panel = pair(satellite, "sentman")
+    cache = grouped.facets.lit_sums_cache
     u = frames.flow_direction(math.radians(10.0), math.radians(5.0))
     lighting = shader.lighting(u)
+    first = grouped.coefficients(FLOW, flow_direction=u, lighting=lighting)
+    assert (cache.hits, cache.misses) == (0, 1)
+    again = grouped.coefficients(FLOW, flow_direction=u, lighting=lighting)
+    assert (cache.hits, cache.misses) == (1, 1)
+    np.testing.assert_array_equal(again.Cf_G, first.Cf_G)
+    np.testing.assert_array_equal(again.Cm_G, first.Cm_G)
+    assert_same(first, panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=lighting))
+    # a lighting cannot change under the cache: its arrays are read-only
+    with pytest.raises(ValueError):
+        lighting.shaded_fraction[:] = 0.0
+    # another lighting, even with the caller's array changed in between, is summed anew
     f = np.array(lighting.lit_fraction)
-    mutable = PanelLighting(f, np.array(lighting.shift_index), np.array(lighting.shift))
-    first = grouped.coefficients(FLOW, flow_direction=u, lighting=mutable)
-    f[: satellite.n_panels // 2] = 0.0  # the caller changes its array in place
-    second = grouped.coefficients(FLOW, flow_direction=u, lighting=mutable)
-    assert_same(second, panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=mutable))
+    f[: satellite.n_panels // 2] = 0.0
+    darker = PanelLighting(f, lighting.shift_index, lighting.shift)
+    second = grouped.coefficients(FLOW, flow_direction=u, lighting=darker)
+    assert (cache.hits, cache.misses) == (1, 2)
+    assert_same(second, panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=darker))
     assert not np.allclose(first.Cf_G, second.Cf_G)
-    # a read-only lighting (the shading cache's) is summed once and reused
-    frozen = PanelLighting(f.copy(), np.array(lighting.shift_index), np.array(lighting.shift))
-    for array in (frozen.lit_fraction, frozen.shift_index, frozen.shift):
-        array.setflags(write=False)
-    grouped.coefficients(FLOW, flow_direction=u, lighting=frozen)
-    assert grouped._facets._memo[id(frozen)][0] is frozen
-    assert id(mutable) not in grouped._facets._memo  # a writable one never is
-    assert_same(
-        grouped.coefficients(FLOW, flow_direction=u, lighting=frozen),
-        panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=frozen),
-    )
+    # bounded: the oldest lightings are dropped
+    for k in range(cache.max_entries + 2):
+        grouped.coefficients(FLOW, flow_direction=u, lighting=PanelLighting(f * (0.5 + 0.01 * k)))
+    assert len(cache) == cache.max_entries
+    assert cache.info() == {
+        "hits": 1,
+        "misses": cache.max_entries + 4,
+        "size": cache.max_entries,
+        "max_entries": cache.max_entries,
+    }
+
+
+def test_lit_facet_sums_equal_panel_by_panel_sums_for_shaded_lightings(satellite, shader):
+    """Facets.lit_sums against the sums written out per panel: W_g = sum f_i A_i,
+    Q_g = sum f_i A_i (r_i + s_i), W_g n_g, Q_g x n_g, for ray-cast lightings and for random
+    ones (lit fractions 0, 1 and between, shifts on the partly lit panels)."""
+    grouped, _ = pair(satellite, "sentman")
+    facets = grouped.facets
+    rng = np.random.default_rng(12)
+    n = satellite.n_panels
+    lightings = [
+        shader.lighting(frames.flow_direction(a, b)) for a, b in ((-0.5, -0.35), (0.3, 0.5))
+    ]
+    for _ in range(3):
+        f = rng.choice([0.0, 1.0, 0.3], size=n, p=[0.2, 0.6, 0.2]) * rng.uniform(0.2, 1.0, n)
+        f[f > 0.99] = 1.0
+        part = np.flatnonzero((f > 0.0) & (f < 1.0))
+        shift = 0.01 * rng.normal(size=(part.size, 3))
+        lightings.append(PanelLighting(f, part, shift))
+    for lighting in lightings:
+        assert lighting.shaded_index.size > 0 and lighting.shift_index.size > 0
+        f = lighting.lit_fraction
+        points = satellite.barycentres.copy()
+        points[lighting.shift_index] += lighting.shift
+        w = f * satellite.areas
+        W = np.zeros(facets.n)
+        Q = np.zeros((facets.n, 3))
+        np.add.at(W, facets.index, w)
+        np.add.at(Q, facets.index, w[:, None] * points)
+        expected = np.column_stack([W, W[:, None] * facets.normals, Q, np.cross(Q, facets.normals)])
+        np.testing.assert_allclose(facets.lit_sums(lighting), expected, rtol=0, atol=1e-13)
+        np.testing.assert_allclose(
+            facets.lit_sums(None)[:, 0], np.bincount(facets.index, satellite.areas), rtol=1e-14
+        )
 
 
 def test_a_sphere_is_evaluated_panel_by_panel():
     sphere = panels_from_trimesh(trimesh.creation.icosphere(subdivisions=3, radius=0.5))
     grouped, _ = pair(sphere, "sentman")
-    assert grouped._facets is None
+    assert grouped.facets is None
 
 
 @pytest.mark.parametrize(
     "model", ["sentman", "schaaf", "maxwell", "maxwell_adbsat", "newton", "cll", "dria"]
 )
-def test_many_directions_at_once_equal_each_direction_bit_for_bit(satellite, shader, model):
-    """coefficients_many: every direction with its own flow, lighting and surface gives what its own
-    coefficients() call gives, to the last bit; the split models never take one direction alone."""
-    from adbsat_ros.physics.gsi_models import ModelOptions
-
+def test_facets_equal_panels_for_each_flow_lighting_and_surface(satellite, shader, model):
+    """Directions each with its own free stream, lighting (or none) and surface (or the
+    materials'), some not unit length and one along an axis (facets exactly grazing): the facet
+    sums give what the panel-by-panel sums give, and the direction is normalised either way."""
     options = ModelOptions(adbsat_compat=model.endswith("_adbsat"))
-    grouped, _ = pair(satellite, model.removesuffix("_adbsat"), options=options)
+    grouped, panel_by_panel = pair(satellite, model.removesuffix("_adbsat"), options=options)
     rng = np.random.default_rng(3)
     m = 7
     flows = [
@@ -171,30 +215,25 @@ def test_many_directions_at_once_equal_each_direction_bit_for_bit(satellite, sha
         )
         for _ in range(m)
     ]
-    directions = [
-        rng.standard_normal(3) * rng.uniform(0.5, 2.0) for _ in range(m)
-    ]  # not unit: normalised
+    directions = [rng.standard_normal(3) * rng.uniform(0.5, 2.0) for _ in range(m)]
     directions[2] = np.array([-1.0, 0.0, 0.0])  # along an axis: some facets exactly grazing
     lightings = [
         shader.lighting(d / np.linalg.norm(d)) if k % 3 else None for k, d in enumerate(directions)
     ]
     surfaces = [grouped.surface_with(alpha=0.7 + 0.04 * k) if k % 2 else None for k in range(m)]
-    calls = []
-    single = grouped._unit_coefficients  # one direction's panel method
-    grouped._unit_coefficients = lambda *a, **kw: calls.append(1) or single(*a, **kw)
-    many = grouped.coefficients_many(flows, directions, lightings, surfaces)
-    del grouped._unit_coefficients
-    stacked = model in ("sentman", "schaaf", "maxwell")
-    assert len(calls) == (0 if stacked else m)
-    for got, flow, d, lighting, surface in zip(many, flows, directions, lightings, surfaces):
-        own = grouped.coefficients(flow, flow_direction=d, lighting=lighting, surface=surface)
-        np.testing.assert_array_equal(got.Cf_G, own.Cf_G)
-        np.testing.assert_array_equal(got.Cm_G, own.Cm_G)
-        assert got.area_projected == own.area_projected
-        for name in ("cos_delta", "cp", "ctau"):
-            np.testing.assert_array_equal(getattr(got, name), getattr(own, name))
-    assert len({tuple(c.Cf_G) for c in many}) == m  # the directions did differ
-    with pytest.raises(ValueError, match="3 flows, 2 flow_directions"):
-        grouped.coefficients_many(flows[:3], directions[:2])
+    results = []
+    for flow, d, lighting, surface in zip(flows, directions, lightings, surfaces):
+        got = grouped.coefficients(flow, flow_direction=d, lighting=lighting, surface=surface)
+        ref = panel_by_panel.coefficients(
+            flow, flow_direction=d, lighting=lighting, surface=surface
+        )
+        assert_same(got, ref)
+        np.testing.assert_allclose(got.flow_direction, d / np.linalg.norm(d), rtol=0, atol=1e-16)
+        results.append(got)
+    assert len({tuple(c.Cf_G) for c in results}) == m  # the directions did differ
     with pytest.raises(ValueError, match="flow_direction must be a finite non-zero 3-vector"):
-        grouped.coefficients_many(flows[:2], [directions[0], [0.0, 0.0, 0.0]])
+        grouped.coefficients(flows[0], flow_direction=[0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="lighting has 5 panels, the mesh has"):
+        grouped.coefficients(
+            flows[0], flow_direction=directions[0], lighting=PanelLighting.all_lit(5)
+        )

@@ -26,6 +26,7 @@ from adbsat_ros import (
     panels_from_arrays,
 )
 from adbsat_ros.geometry.frames import flow_direction
+from adbsat_ros.physics.constants import AVOGADRO, MOLAR_MASS_G
 
 SETTINGS = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -243,8 +244,6 @@ def test_force_in_newtons(model, aoa, aos, rho):
 
 def test_mass_density_from_species():
     """Without an explicit density, rho = sum n_j m_j (m_j = M_j/(1000 N_A)) and q = rho V^2/2."""
-    from adbsat_ros.physics.constants import AVOGADRO, MOLAR_MASS_G
-
     n = SPECIES_FLOW.number_densities
     rho = sum(n[k] * MOLAR_MASS_G[k] / (1000 * AVOGADRO) for k in n)
     assert SPECIES_FLOW.mass_density == pytest.approx(rho, rel=1e-14)

@@ -1,4 +1,5 @@
-"""Solar radiation pressure against the Luthcke flat-plate closed forms (Montenbruck & Gill 3.75)."""
+"""Solar radiation pressure against the Luthcke flat-plate closed forms (Montenbruck & Gill,
+eq. 3.75)."""
 
 import math
 

@@ -11,7 +11,7 @@ import pytest
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.geometry.shapes import grid_box
-from adbsat_ros.shading.cache import RECENT_CELLS, ShadingCache, moved_lit_area
+from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
 from adbsat_ros.shading.cube_map import cells_per_edge, direction_keys, key_centres
 from adbsat_ros.shading.shader import lit_projected_area, make_shader
 
@@ -148,38 +148,83 @@ def test_hits_misses_and_lru(shader):
 
 
 def test_cached_answer_is_the_cell_centre_shading(shader, scene):
-    cache = ShadingCache(shader, resolution_deg=1.0)
+    cache = ShadingCache(shader, resolution_deg=1.0, max_entries=3)
     u = frames.flow_direction(math.radians(8.4), math.radians(-3.3))
     got = cache.lighting(u)
+    assert cache.last_key == cache.key(u)
     ref = shader.lighting(cache.centre(cache.key(u)))
     np.testing.assert_array_equal(got.lit_fraction, ref.lit_fraction)
     np.testing.assert_array_equal(got.shift_index, ref.shift_index)
     np.testing.assert_allclose(got.shift, ref.shift)
-    again = cache.lighting(u)  # hit on the latest cell: the same answer again
-    np.testing.assert_array_equal(again.lit_fraction, ref.lit_fraction)
-    np.testing.assert_allclose(again.shift, ref.shift)
-    back = cache.lighting(-u)  # another cell; u's cell stays among the recent ones, unpacked
-    assert cache.lighting(u) is again and cache.lighting(-u) is back
-    # RECENT_CELLS other cells later, u's cell is rebuilt from the sparse store
+    assert got.shaded_index.size > 0  # the direction does throw a shadow on the plate
+    # every query in a stored cell gets the stored lighting itself, also after other cells
+    assert cache.lighting(u) is got
+    back = cache.lighting(-u)
+    assert cache.last_key == cache.key(-u) != cache.key(u)
+    assert cache.lighting(u) is got and cache.lighting(-u) is back
+    assert (cache.hits, cache.misses, cache.evictions) == (3, 2, 0)
+    # three other cells later (max_entries = 3), u's cell was evicted: shaded again, same answer
     others = [
-        frames.flow_direction(math.radians(8.4 + 3.0 * k), math.radians(20.0))
-        for k in range(RECENT_CELLS)
+        frames.flow_direction(math.radians(8.4 + 3.0 * k), math.radians(20.0)) for k in range(3)
     ]
     for v in others:
         cache.lighting(v)
-    rebuilt = cache.lighting(u)
-    assert rebuilt is not again
-    np.testing.assert_array_equal(rebuilt.lit_fraction, ref.lit_fraction)
-    np.testing.assert_array_equal(rebuilt.shift_index, ref.shift_index)
-    np.testing.assert_allclose(rebuilt.shift, ref.shift)
-    assert (cache.hits, cache.misses) == (4, 2 + RECENT_CELLS)
+    assert cache.key(u) not in cache and cache.evictions == 2
+    again = cache.lighting(u)
+    assert again is not got
+    np.testing.assert_array_equal(again.lit_fraction, ref.lit_fraction)
+    np.testing.assert_array_equal(again.shift_index, ref.shift_index)
+    np.testing.assert_allclose(again.shift, ref.shift)
+    assert (cache.hits, cache.misses, cache.evictions) == (3, 6, 3)
     # what callers get is read-only, so nobody can corrupt the cache through it
-    for lighting in (got, again, rebuilt):
+    for lighting in (got, again):
+        for array in (lighting.shaded_fraction, lighting.shaded_index, lighting.shift):
+            with pytest.raises(ValueError):
+                array[...] = 0
         with pytest.raises(ValueError):
             lighting.lit_fraction[:] = 0.0
-        with pytest.raises(ValueError):
-            lighting.shift[:] = 0.0
     np.testing.assert_array_equal(cache.lighting(u).lit_fraction, ref.lit_fraction)
+
+
+def test_counters_and_the_bound(shader):
+    """hits + misses = queries; the store never exceeds max_entries; evictions = cells computed
+    beyond the bound; info() reports them; clear() resets them."""
+    cache = ShadingCache(shader, resolution_deg=5.0, max_entries=4)
+    rng = np.random.default_rng(8)
+    u = rng.normal(size=(300, 3))
+    queries = np.vstack([np.repeat(u[:30], 2, axis=0), u])  # 30 cells asked twice in a row
+    keys = []
+    for k, v in enumerate(queries):
+        cache.lighting(v)
+        keys.append(cache.key(v))
+        assert len(cache) <= 4
+        assert cache.hits + cache.misses == k + 1
+    info = cache.info()
+    assert info == {
+        "hits": cache.hits,
+        "misses": cache.misses,
+        "evictions": cache.misses - 4,
+        "size": 4,
+        "max_entries": 4,
+        "n": cache.n,
+        "step_deg": pytest.approx(90.0 / cache.n),
+    }
+    assert cache.hits >= 30 and cache.misses > 4
+    assert all(key in cache for key in keys[-1:])  # the latest cell is stored
+    unbounded = ShadingCache(shader, resolution_deg=5.0, max_entries=None)
+    for v in queries:
+        unbounded.lighting(v)
+    assert unbounded.evictions == 0 and len(unbounded) == len(set(keys)) == unbounded.misses
+    cache.clear()
+    assert (len(cache), cache.hits, cache.misses, cache.evictions, cache.last_key) == (
+        0,
+        0,
+        0,
+        0,
+        None,
+    )
+    with pytest.raises(ValueError, match="flow direction must be a finite non-zero 3-vector"):
+        cache.lighting([0.0, np.nan, 1.0])
 
 
 def test_precompute_grid(shader):

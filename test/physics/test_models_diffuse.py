@@ -1,7 +1,8 @@
-"""Panel-level checks of the gas-surface interaction models against closed forms.
+"""Diffuse models (sentman, schaaf, dria) at panel level against closed forms; the incident
+temperature forms; broadcasting, positivity and the split plates of every such model.
 
-Every reference below is written out here, independently of adbsat_ros.physics.gsi_models, from the
-free-molecular flux integrals of a drifting Maxwellian gas on one side of a flat plate:
+Every reference is written out in model_references.py, independently of adbsat_ros.physics.models,
+from the free-molecular flux integrals of a drifting Maxwellian gas on one side of a flat plate:
 
     x = s c (normal speed ratio), E = exp(-x^2), Phi = 1 + erf(x), s = V / sqrt(2 k T_inf / m)
 
@@ -11,8 +12,8 @@ free-molecular flux integrals of a drifting Maxwellian gas on one side of a flat
     diffuse re-emission at T  p_w / q         = sqrt(T / T_inf) (E + sqrt(pi) x Phi) / (2 s^2)
 
 (Schaaf & Chambre 1961, "Flow of Rarefied Gases", free-molecule plate p and tau; Bird 1994,
-"Molecular Gas Dynamics and the DSMC of Gas Flows", Ch. 7 (collisionless flows); the re-emitted pressure is
-N_i m sqrt(pi k T / (2 m)), the mean normal momentum of a half-range Maxwellian at T.)
+"Molecular Gas Dynamics and the DSMC of Gas Flows", Ch. 7 (collisionless flows); the re-emitted
+pressure is N_i m sqrt(pi k T / (2 m)), the mean normal momentum of a half-range Maxwellian at T.)
 q = rho V^2 / 2.  These closed forms are themselves checked against direct quadrature of the
 Maxwellian below (test_flux_closed_forms_match_quadrature).
 """
@@ -21,91 +22,36 @@ import math
 
 import numpy as np
 import pytest
+from model_references import (
+    DELTAS_DEG,
+    FLOWS,
+    FRONT_DELTAS_DEG,
+    SQRT_PI,
+    angles,
+    assert_close,
+    incident_fluxes,
+    reemission_temperature_ratio,
+    reemitted_pressure,
+    schaaf_plate,
+    sentman_plate,
+    surface,
+)
 from scipy.integrate import quad
-from scipy.special import erf
 
-from adbsat_ros import FreeStream, MaterialTable, SurfaceProperties
-from adbsat_ros.physics.constants import AMU, BOLTZMANN, species_mass_kg
+from adbsat_ros import FreeStream
+from adbsat_ros.physics.constants import AMU, BOLTZMANN
 from adbsat_ros.physics.gsi_models import (
+    SPLIT_MODELS,
     ModelOptions,
-    cll,
     cook,
     dria,
+    get_model,
     maxwell,
     newton,
     schaaf,
     sentman,
     storch,
 )
-
-SQRT_PI = math.sqrt(math.pi)
-
-DELTAS_DEG = [0.0, 10.0, 30.0, 45.0, 60.0, 80.0, 89.9, 90.0, 100.0, 135.0, 170.0, 180.0]
-FRONT_DELTAS_DEG = [d for d in DELTAS_DEG if d < 90.0]
-
-# Two free streams: orbital (s ~ 7.7) and a slow, hot one (s ~ 1.9) where thermal terms matter.
-FLOWS = {
-    "orbital": FreeStream(7500.0, 900.0, mean_mass_amu=16.0),
-    "slow": FreeStream(1500.0, 1200.0, mean_mass_amu=28.0),
-}
-
-
-def surface(**kw):
-    """Uniform per-panel surface parameters (scalars) for one material."""
-    return MaterialTable(SurfaceProperties(**kw)).expand(("default",), np.array([0]))
-
-
-def angles(deg_list):
-    d = np.radians(np.asarray(deg_list, dtype=float))
-    c = np.cos(d)
-    sg = np.sin(d)
-    # exact values at the special angles, as the panel method computes them (sigma = sqrt(1-c^2))
-    sg = np.sqrt(np.clip(1.0 - c * c, 0.0, None))
-    return c, sg
-
-
-# ------------------------------------------------------------------------- reference formulas
-def incident_fluxes(c, sg, s):
-    """(N_i/(n v_th), p_i/q, tau_i/q): Schaaf & Chambre (1961) one-sided plate, incident part."""
-    x = s * c
-    E = np.exp(-x * x)
-    Phi = 1.0 + erf(x)
-    n_flux = (E + SQRT_PI * x * Phi) / (2.0 * SQRT_PI)
-    p_i = (x * E / SQRT_PI + (0.5 + x * x) * Phi) / s**2
-    tau_i = sg * (E + SQRT_PI * x * Phi) / (SQRT_PI * s)
-    return n_flux, p_i, tau_i
-
-
-def reemitted_pressure(c, s, T_over_Tinf):
-    """p_w/q of diffuse (cosine-law) re-emission at temperature T (Schaaf & Chambre 1961)."""
-    x = s * c
-    return np.sqrt(T_over_Tinf) * (np.exp(-x * x) + SQRT_PI * x * (1.0 + erf(x))) / (2.0 * s**2)
-
-
-def sentman_plate(c, sg, s, Tr_over_Tinf):
-    """Sentman (1961) one-sided plate: incident momentum fully absorbed, diffuse re-emission at
-    T_r (tangential momentum fully accommodated): c_p = p_i + p_r, c_tau = tau_i."""
-    _, p_i, tau_i = incident_fluxes(c, sg, s)
-    return p_i + reemitted_pressure(c, s, Tr_over_Tinf), tau_i
-
-
-def schaaf_plate(c, sg, s, sigma_n, sigma_t, Tw_over_Tinf):
-    """Schaaf & Chambre (1961): p = (2 - sigma_n) p_i + sigma_n p_w, tau = sigma_t tau_i."""
-    _, p_i, tau_i = incident_fluxes(c, sg, s)
-    return (2.0 - sigma_n) * p_i + sigma_n * reemitted_pressure(c, s, Tw_over_Tinf), sigma_t * tau_i
-
-
-def reemission_temperature_ratio(flow, m, alpha, Tw, form="energy"):
-    """T_r / T_inf with T_r = T_i + alpha (T_w - T_i) (Sentman 1961's energy accommodation);
-    T_i = m V^2 / (4 k) (Koppenwallner, energy flux) or m V^2 / (3 k) (Moe, kinetic)."""
-    Ti = m * flow.speed**2 / ((4.0 if form == "energy" else 3.0) * BOLTZMANN)
-    return (Ti + alpha * (Tw - Ti)) / flow.temperature
-
-
-def assert_close(actual, expected, rtol=1e-10, atol=1e-13):
-    np.testing.assert_allclose(
-        np.asarray(actual, float), np.asarray(expected, float), rtol=rtol, atol=atol
-    )
 
 
 # ------------------------------------------------------------------------- the flux integrals
@@ -135,21 +81,6 @@ def test_flux_closed_forms_match_quadrature(s, delta_deg):
         rtol=1e-9,
         atol=1e-14,
     )
-
-
-# ------------------------------------------------------------------------------------- newton
-def test_newton_plate():
-    """Newtonian impact (Newton; e.g. Anderson 2006, Hypersonic and high-temperature gas
-    dynamics, Ch. 3, Newtonian theory with C_p,max = 2): c_p = 2 cos^2 delta on faces seen by the flow, 0 behind;
-    no shear."""
-    c, sg = angles(DELTAS_DEG)
-    cp, ctau = newton(c, sg, surface(), FLOWS["orbital"], ModelOptions())
-    expected = np.where(
-        np.radians(DELTAS_DEG) < math.pi / 2 - 1e-12, 2.0 * np.cos(np.radians(DELTAS_DEG)) ** 2, 0.0
-    )
-    assert_close(cp, expected, atol=1e-12)
-    assert np.all(np.asarray(ctau) == 0.0)
-    assert cp[0] == pytest.approx(2.0)
 
 
 # ------------------------------------------------------------------------------------ sentman
@@ -289,266 +220,6 @@ def test_schaaf_hyperthermal_limit_is_storch(sigma_n, sigma_t):
     assert_close(a[1], b[1], rtol=2e-5, atol=1e-6)
 
 
-# --------------------------------------------------------------------------------------- cook
-@pytest.mark.parametrize("alpha", [1.0, 0.7, 0.0])
-def test_cook_plate(alpha):
-    """Cook (1965): plate drag/lift per unit area c_d = 2 c (1 + (2/3) c sqrt(T_r/T_k)),
-    c_l = (4/3) c sin(delta) sqrt(T_r/T_k), T_k = m V^2 / (3 k), T_r = T_k + alpha (T_w - T_k);
-    then c_p = c_d c + c_l sin(delta), c_tau = c_d sin(delta) - c_l c. Zero for delta >= 90 deg."""
-    flow = FLOWS["orbital"]
-    Tw = 300.0
-    Tk = flow.mean_mass * flow.speed**2 / (3 * BOLTZMANN)
-    W = math.sqrt((Tk + alpha * (Tw - Tk)) / Tk)
-    c, sg = angles(DELTAS_DEG)
-    cd = 2 * c * (1 + (2.0 / 3.0) * c * W)
-    cl = (4.0 / 3.0) * c * sg * W
-    front = c > 0
-    cp_ref = np.where(front, cd * c + cl * sg, 0.0)
-    ctau_ref = np.where(front, cd * sg - cl * c, 0.0)
-    cp, ctau = cook(c, sg, surface(alpha=alpha, wall_temperature=Tw), flow, ModelOptions())
-    assert_close(cp, cp_ref, atol=1e-12)
-    assert_close(ctau, ctau_ref, atol=1e-12)
-    # head-on, alpha = 0: T_r = T_k, W = 1 -> c_p = 2 + 4/3
-    if alpha == 0.0:
-        assert cp[0] == pytest.approx(2.0 + 4.0 / 3.0, rel=1e-12)
-
-
-# ------------------------------------------------------------------------------------- storch
-@pytest.mark.parametrize("sigma_n,sigma_t", [(1.0, 1.0), (0.0, 0.0), (0.8, 0.5), (1.6, 1.0)])
-def test_storch_plate(sigma_n, sigma_t):
-    """Storch (2002) hyperthermal plate: p = (2 - sigma_n) rho V^2 c^2 + sigma_n rho V c V_w with
-    V_w = sqrt(pi R T_w / 2) (mean normal momentum per unit mass of cosine-law re-emission at T_w),
-    tau = sigma_t rho V^2 c sin(delta); divided by q = rho V^2 / 2. Zero behind."""
-    flow = FLOWS["orbital"]
-    Tw = 300.0
-    R = BOLTZMANN / flow.mean_mass
-    Vw = math.sqrt(math.pi * R * Tw / 2)
-    c, sg = angles(DELTAS_DEG)
-    front = c >= 0
-    cp_ref = np.where(front, 2 * (2 - sigma_n) * c * c + 2 * sigma_n * c * Vw / flow.speed, 0.0)
-    ctau_ref = np.where(front, 2 * sigma_t * c * sg, 0.0)
-    cp, ctau = storch(
-        c, sg, surface(sigma_n=sigma_n, sigma_t=sigma_t, wall_temperature=Tw), flow, ModelOptions()
-    )
-    assert_close(cp, cp_ref, atol=1e-12)
-    assert_close(ctau, ctau_ref, atol=1e-12)
-
-
-# ------------------------------------------------------------------------------------ maxwell
-@pytest.mark.parametrize("flow_name", list(FLOWS))
-def test_maxwell_specular_has_no_shear(flow_name):
-    """Maxwell with alpha = 0 (pure specular reflection, Maxwell 1879): the tangential momentum
-    is returned unchanged so c_tau = 0, and the normal momentum is reversed: c_p = 2 p_i/q."""
-    flow = FLOWS[flow_name]
-    c, sg = angles(DELTAS_DEG)
-    cp, ctau = maxwell(c, sg, surface(alpha=0.0), flow, ModelOptions())
-    assert np.all(np.abs(ctau) <= 1e-15)
-    _, p_i, _ = incident_fluxes(c, sg, flow.speed_ratio)
-    assert_close(cp, 2.0 * p_i)
-
-
-@pytest.mark.parametrize("alpha", [0.0, 0.35, 1.0])
-def test_maxwell_one_sided_is_schaaf(alpha):
-    """Maxwell diffuse fraction alpha on one side: p = p_i + (1 - alpha) p_i + alpha p_w =
-    (2 - alpha) p_i + alpha p_w and tau = alpha tau_i, i.e. Schaaf & Chambre with
-    sigma_n = sigma_t = alpha."""
-    flow = FLOWS["slow"]
-    Tw = 310.0
-    c, sg = angles(DELTAS_DEG)
-    cp, ctau = maxwell(c, sg, surface(alpha=alpha, wall_temperature=Tw), flow, ModelOptions())
-    cp_ref, ctau_ref = schaaf_plate(c, sg, flow.speed_ratio, alpha, alpha, Tw / flow.temperature)
-    assert_close(cp, cp_ref)
-    assert_close(ctau, ctau_ref)
-
-
-@pytest.mark.parametrize("flow_name", list(FLOWS))
-@pytest.mark.parametrize("alpha", [0.0, 0.4, 1.0])
-def test_maxwell_compat_two_sided_plate(flow_name, alpha):
-    """ADBSat's maxwell (compat) is the thin plate exposed on both faces: front minus back
-    pressure, front plus back shear, both faces Maxwell/Schaaf with sigma_n = sigma_t = alpha
-    (Bird 1994 Ch. 7 plate; derived from the one-sided forms above with c -> -c for the back):
-        c_p = p(c) - p(-c),  c_tau = tau(c) + tau(-c)  for delta <= 90 deg, zero behind.
-    At grazing incidence (c = 0): c_tau = 2 alpha / (sqrt(pi) s), c_p = 0."""
-    flow = FLOWS[flow_name]
-    Tw = 300.0
-    s = flow.speed_ratio
-    c, sg = angles(DELTAS_DEG)
-    cp, ctau = maxwell(
-        c, sg, surface(alpha=alpha, wall_temperature=Tw), flow, ModelOptions(adbsat_compat=True)
-    )
-    pf, tf = schaaf_plate(c, sg, s, alpha, alpha, Tw / flow.temperature)
-    pb, tb = schaaf_plate(-c, sg, s, alpha, alpha, Tw / flow.temperature)
-    front = c >= 0
-    assert_close(cp, np.where(front, pf - pb, 0.0), atol=1e-12)
-    assert_close(ctau, np.where(front, tf + tb, 0.0), atol=1e-12)
-    i90 = DELTAS_DEG.index(90.0)
-    assert ctau[i90] == pytest.approx(2 * alpha / (SQRT_PI * s), rel=1e-12, abs=1e-15)
-    assert cp[i90] == pytest.approx(0.0, abs=1e-15)
-
-
-def test_maxwell_compat_diffuse_is_bird_plate():
-    """alpha = 1: the two-sided diffuse plate of Sentman (1961)/Bird (1994, Ch. 7), with
-    c = sin(plate angle of attack) and T_r = T_w:
-        C_D = 2 e^{-s^2 c^2}/(sqrt(pi) s) + (c/s^2)(1 + 2 s^2) erf(s c) + (sqrt(pi)/s) c^2 sqrt(T_r/T_inf)
-        C_L = (sin(delta)/s^2) erf(s c) + (sqrt(pi)/s) c sin(delta) sqrt(T_r/T_inf)
-    with c_p = C_D c + C_L sin(delta), c_tau = C_D sin(delta) - C_L c."""
-    flow = FLOWS["slow"]
-    s, Tw = flow.speed_ratio, 250.0
-    r = math.sqrt(Tw / flow.temperature)
-    c, sg = angles(FRONT_DELTAS_DEG + [90.0])
-    CD = (
-        2 * np.exp(-((s * c) ** 2)) / (SQRT_PI * s)
-        + (c / s**2) * (1 + 2 * s * s) * erf(s * c)
-        + (SQRT_PI / s) * c * c * r
-    )
-    CL = (sg / s**2) * erf(s * c) + (SQRT_PI / s) * c * sg * r
-    cp, ctau = maxwell(
-        c, sg, surface(alpha=1.0, wall_temperature=Tw), flow, ModelOptions(adbsat_compat=True)
-    )
-    assert_close(cp, CD * c + CL * sg, atol=1e-12)
-    assert_close(ctau, CD * sg - CL * c, atol=1e-12)
-
-
-# --------------------------------------------------------------------------------- dria / cll
-ATMOSPHERE_400KM = {
-    "He": 2.5e12,
-    "O": 3.5e14,
-    "N2": 2.0e13,
-    "O2": 6.0e11,
-    "Ar": 1.0e10,
-    "H": 1.5e11,
-    "N": 4.0e12,
-}
-
-
-@pytest.mark.parametrize("species", ["O", "N2", "He"])
-@pytest.mark.parametrize("alpha", [1.0, 0.75])
-def test_dria_single_species_is_sentman(species, alpha):
-    """DRIA for a one-species gas is Sentman's plate with that species' mass (s_j = s, T_i,j = T_i)."""
-    flow = FreeStream(7600.0, 1000.0, number_densities={species: 1.0e14})
-    surf = surface(alpha=alpha, wall_temperature=330.0)
-    c, sg = angles(DELTAS_DEG)
-    a = dria(c, sg, surf, flow, ModelOptions())
-    b = sentman(c, sg, surf, flow, ModelOptions())
-    assert_close(a[0], b[0], rtol=1e-13)
-    assert_close(a[1], b[1], rtol=1e-13)
-    # and against the independent reference with m_j
-    m = species_mass_kg(species)
-    s = flow.speed / math.sqrt(2 * BOLTZMANN * flow.temperature / m)
-    ref = sentman_plate(c, sg, s, reemission_temperature_ratio(flow, m, alpha, 330.0))
-    assert_close(a[0], ref[0])
-    assert_close(a[1], ref[1])
-
-
-def test_dria_mixture_is_mass_fraction_sum():
-    """Force = sum_j q_j A C_j with q_j = rho_j V^2/2, so the mixture coefficient (per total q)
-    is sum_j (rho_j/rho) C_j with C_j Sentman's plate for species j alone."""
-    flow = FreeStream(7600.0, 1000.0, number_densities=ATMOSPHERE_400KM)
-    alpha, Tw = 0.85, 300.0
-    c, sg = angles(DELTAS_DEG)
-    cp, ctau = dria(c, sg, surface(alpha=alpha, wall_temperature=Tw), flow, ModelOptions())
-    rho = {k: n * species_mass_kg(k) for k, n in ATMOSPHERE_400KM.items()}
-    rho_tot = sum(rho.values())
-    cp_ref = 0.0
-    ctau_ref = 0.0
-    for k in ATMOSPHERE_400KM:
-        m = species_mass_kg(k)
-        s = flow.speed / math.sqrt(2 * BOLTZMANN * flow.temperature / m)
-        p, t = sentman_plate(c, sg, s, reemission_temperature_ratio(flow, m, alpha, Tw))
-        cp_ref = cp_ref + rho[k] / rho_tot * p
-        ctau_ref = ctau_ref + rho[k] / rho_tot * t
-    assert_close(cp, cp_ref)
-    assert_close(ctau, ctau_ref)
-
-
-def test_dria_compat_divides_by_given_density():
-    """ADBSat's DRIA weights are massConc_j = rho_j / rho_total(NRLMSISE), not renormalised: a
-    given total density 5 % above sum(rho_j) scales both coefficients by 1/1.05."""
-    base = FreeStream(7600.0, 1000.0, number_densities=ATMOSPHERE_400KM)
-    rho_sum = base.mass_density
-    flow = FreeStream(7600.0, 1000.0, number_densities=ATMOSPHERE_400KM, density=1.05 * rho_sum)
-    surf = surface(alpha=0.9)
-    c, sg = angles(DELTAS_DEG)
-    a = dria(c, sg, surf, flow, ModelOptions(adbsat_compat=True))
-    b = dria(c, sg, surf, base, ModelOptions())
-    assert_close(np.asarray(a[0]) * 1.05, b[0], rtol=1e-12)
-    assert_close(np.asarray(a[1]) * 1.05, b[1], rtol=1e-12, atol=1e-15)
-
-
-@pytest.mark.parametrize("sigma_t", [1.0, 0.6])
-def test_cll_full_normal_accommodation_is_schaaf(sigma_t):
-    """CLL with alpha_n = 1 falls back to Schaaf & Chambre with sigma_n = 1 (ADBSat's branch);
-    for one species (O) this is schaaf with the O mass, c_tau = sigma_t tau_i."""
-    flow = FreeStream(7600.0, 1000.0, number_densities={"O": 1.0e14})
-    Tw = 300.0
-    surf = surface(alpha_n=1.0, sigma_n=1.0, sigma_t=sigma_t, wall_temperature=Tw)
-    c, sg = angles(DELTAS_DEG)
-    cp, ctau = cll(c, sg, surf, flow, ModelOptions())
-    ref = schaaf_plate(c, sg, flow.speed_ratio, 1.0, sigma_t, Tw / flow.temperature)
-    assert_close(cp, ref[0])
-    assert_close(ctau, ref[1])
-    b = schaaf(c, sg, surf, flow, ModelOptions())
-    assert_close(cp, b[0], rtol=1e-13)
-
-
-def test_cll_mixture_weights():
-    """alpha_n = 1, six CLL species (Ar excluded): default mixing by mass fraction renormalised
-    over the six; ADBSat compat weights w_j proportional to M_j n_j^2 (physics.md Sec. 3)."""
-    flow = FreeStream(7600.0, 1000.0, number_densities=ATMOSPHERE_400KM)
-    Tw = 300.0
-    surf = surface(alpha_n=1.0, sigma_t=1.0, wall_temperature=Tw)
-    c, sg = angles(DELTAS_DEG)
-    six = ["He", "O", "N2", "O2", "H", "N"]
-    per = {}
-    for k in six:
-        m = species_mass_kg(k)
-        s = flow.speed / math.sqrt(2 * BOLTZMANN * flow.temperature / m)
-        per[k] = schaaf_plate(c, sg, s, 1.0, 1.0, Tw / flow.temperature)
-    for compat, wfun in [
-        (False, lambda k: ATMOSPHERE_400KM[k] * species_mass_kg(k)),
-        (True, lambda k: ATMOSPHERE_400KM[k] ** 2 * species_mass_kg(k)),
-    ]:
-        w = {k: wfun(k) for k in six}
-        W = sum(w.values())
-        cp_ref = sum(w[k] / W * per[k][0] for k in six)
-        ctau_ref = sum(w[k] / W * per[k][1] for k in six)
-        cp, ctau = cll(c, sg, surf, flow, ModelOptions(adbsat_compat=compat))
-        assert_close(cp, cp_ref)
-        assert_close(ctau, ctau_ref)
-
-
-def test_cll_partial_accommodation_as_coded():
-    """alpha_n < 1, atomic oxygen only (Walker et al. 2014 fit beta, gamma, delta, zeta =
-    5.85, 0.2, 0.48, 31, as coded in ADBSat, physics.md Sec. 3):
-    c_p = (1/s^2)[(1 + sqrt(1 - a_n)) G1 + 1/2 e^{-beta (1-a_n)^gamma} (T_w/T)^delta (zeta/s)
-          sqrt(T_w/T) sqrt(pi) G2],  c_tau = sigma_t sin(delta) G2 / s."""
-    flow = FreeStream(7600.0, 1000.0, number_densities={"O": 1.0e14})
-    an, st, Tw = 0.7, 0.8, 300.0
-    s = flow.speed_ratio
-    c, sg = angles(DELTAS_DEG)
-    x = s * c
-    E = np.exp(-x * x)
-    Z = 1 + erf(x)
-    G1 = (x * E + SQRT_PI / 2 * (1 + 2 * x * x) * Z) / SQRT_PI
-    G2 = (E + SQRT_PI * x * Z) / SQRT_PI
-    tr = Tw / flow.temperature
-    cp_ref = (
-        (1 + math.sqrt(1 - an)) * G1
-        + 0.5
-        * math.exp(-5.85 * (1 - an) ** 0.2)
-        * tr**0.48
-        * (31.0 / s)
-        * math.sqrt(tr)
-        * SQRT_PI
-        * G2
-    ) / s**2
-    cp, ctau = cll(
-        c, sg, surface(alpha_n=an, sigma_t=st, wall_temperature=Tw), flow, ModelOptions()
-    )
-    assert_close(cp, cp_ref)
-    assert_close(ctau, st * sg * G2 / s)
-
-
 # ------------------------------------------------------------------- incident temperature form
 @pytest.mark.parametrize("flow_name", list(FLOWS))
 @pytest.mark.parametrize("alpha", [0.0, 0.5, 0.9])
@@ -680,8 +351,6 @@ def test_split_plate_is_the_model(name, flow_name):
     c_tau / sin(delta), against the closed forms above (Sentman's, and Schaaf & Chambre's, whose
     c_tau is sin(delta) times a function of c alone), also at grazing and head-on incidence where
     sin(delta) = 0 and the ratio cannot be read off c_tau."""
-    from adbsat_ros.physics.gsi_models import SPLIT_MODELS, get_model
-
     flow = FLOWS[flow_name]
     surf = surface(alpha=0.8, sigma_n=0.9, sigma_t=0.7, wall_temperature=350.0)
     parameters_of, plate = SPLIT_MODELS[name]

@@ -1,0 +1,166 @@
+"""Models of a drifting Maxwellian gas with diffuse or partly accommodated re-emission.
+
+The thermal motion of the molecules is kept (speed ratio s = V / sqrt(2 k_B T_inf / m)), so back
+faces get the molecules that catch up with them. Inputs ``c = cos(delta)`` and
+``sigma = sin(delta)`` of any shape; surface parameters floats or (N,) arrays; results
+normalised by q = rho V^2 / 2. Each model is written as a *plate*, c_p and c_tau / sin(delta) as
+elementwise functions of c and a few parameters, and its parameters from the surface and the
+flow (:data:`adbsat_ros.physics.gsi_models.SPLIT_MODELS`).
+
+Sources:
+
+* sentman: L. H. Sentman, "Free molecule flow theory and its application to the determination
+  of aerodynamic forces", Lockheed Missiles and Space Co., LMSC-448514 (1961): diffuse
+  re-emission at T_r = T_i + alpha (T_w - T_i); the incident temperature T_i as in
+  :class:`~adbsat_ros.physics.models.options.ModelOptions`.
+* schaaf: S. A. Schaaf and P. L. Chambre, "Flow of Rarefied Gases", Princeton University Press
+  (1961): normal and tangential momentum accommodation sigma_n, sigma_t.
+* dria: diffuse reflection with incomplete accommodation, Sentman's plate per species mixed by
+  mass fraction (Walker, Mehta and Koller, "Drag coefficient model using the Cercignani-Lampis-
+  Lord gas-surface interaction model", Journal of Spacecraft and Rockets 51 (2014) 1544-1563).
+
+As in ADBSat (Sinpetru et al., Computer Physics Communications 275 (2022) 108326).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.special import erfc
+
+from adbsat_ros.physics.constants import BOLTZMANN
+from adbsat_ros.physics.models.mixture import species_speed_ratio, species_weights
+
+SQRT_PI = math.sqrt(math.pi)
+
+
+def sentman_plate(c, s, K):
+    """Sentman's plate for one gas: c_p and c_tau / sin(delta) for speed ratio s and
+    K = sqrt(T_r / T_inf) / s (floats, or arrays like ``c``), elementwise in ``c``.
+
+    With Phi = 1 + erf(s c) and e = exp(-s^2 c^2):
+    c_tau / sin(delta) = c Phi + e / (sqrt(pi) s),
+    c_p = c (c_tau / sin(delta)) + Phi / (2 s^2) + (K sqrt(pi) / 2) c Phi + (K / (2 s)) e,
+    15 array operations for float s and K.
+    """
+    minus_x = c * -s
+    Phi = erfc(minus_x)  # = 1 + erf(x), without cancellation for x << 0
+    e = np.exp(-(minus_x * minus_x))
+    c_phi = c * Phi
+    shear = e * (1.0 / (SQRT_PI * s))
+    shear += c_phi
+    cp = c * shear
+    Phi *= 0.5 / (s * s)
+    cp += Phi
+    c_phi *= (0.5 * SQRT_PI) * K
+    cp += c_phi
+    e *= 0.5 * K / s
+    cp += e
+    return cp, shear
+
+
+def sentman_coefficients(c, sigma, s, K):
+    """Sentman's plate for one gas: c_p and c_tau (:func:`sentman_plate`)."""
+    cp, shear = sentman_plate(c, s, K)
+    return cp, shear * sigma
+
+
+def re_emission_k(alpha, wall_temperature, incident_temperature, particle_mass, speed):
+    """K = sqrt(T_r / T_inf) / s = sqrt(2 k_B T_r / (m V^2)), T_r = T_i + alpha (T_w - T_i).
+
+    Diffusely re-emitted molecules at T_r carry the normal momentum flux N m sqrt(pi k_B T_r/(2m))
+    (Schaaf & Chambre 1961), which is (K/2)(sqrt(pi) c Phi + E/s) in units of q. With the
+    energy-flux T_i = m V^2/(4 k_B) this is ADBSat's sqrt(0.5 [1 + alpha (T_w/T_i - 1)]).
+    """
+    t_r = incident_temperature + alpha * (wall_temperature - incident_temperature)
+    k_squared = 2.0 * BOLTZMANN * t_r / (particle_mass * speed * speed)
+    # one value for all panels: math.sqrt (the same correctly rounded root) keeps K a Python float,
+    # so the plate's scalar factors of K are float arithmetic, not numpy scalars'
+    return (
+        math.sqrt(k_squared)
+        if type(k_squared) is float and k_squared >= 0.0
+        else np.sqrt(k_squared)
+    )
+
+
+def sentman(c, sigma, surface, flow, options):
+    """Sentman (1961) diffuse model with energy accommodation ``alpha``; back faces kept.
+
+    c_p = (c^2 + 1/(2 s^2)) (1 + erf(s c)) + c e^{-s^2 c^2} / (sqrt(pi) s)
+          + (K/2) (sqrt(pi) c (1 + erf(s c)) + e^{-s^2 c^2} / s),
+    c_tau = sin(delta) (c (1 + erf(s c)) + e^{-s^2 c^2} / (sqrt(pi) s)),
+    K = sqrt(T_r / T_inf) / s with T_r = T_i + alpha (T_w - T_i) (for the energy-flux T_i this is
+    ADBSat's sqrt(0.5 [1 + alpha (T_w / T_i - 1)])).
+    """
+    return sentman_coefficients(c, sigma, *sentman_parameters(surface, flow, options))
+
+
+def sentman_parameters(surface, flow, options):
+    """Sentman's (s, K) for :func:`sentman_plate`: K per panel if alpha or T_w is an array."""
+    Ti = options.incident_temperature_of(flow.mean_mass, flow.speed)
+    return flow.speed_ratio, re_emission_k(
+        surface.alpha, surface.wall_temperature, Ti, flow.mean_mass, flow.speed
+    )
+
+
+def schaaf_plate(c, s, sigma_n, sigma_t, r):
+    """Schaaf & Chambre plate for one gas: c_p and c_tau / sin(delta); r = sqrt(T_w / T_inf)."""
+    x = s * c
+    E = np.exp(-x * x)
+    Phi = erfc(-x)  # = 1 + erf(x), without cancellation for x << 0
+    cp = (
+        ((2.0 - sigma_n) * x / SQRT_PI + 0.5 * sigma_n * r) * E
+        + ((2.0 - sigma_n) * (0.5 + x * x) + 0.5 * sigma_n * r * SQRT_PI * x) * Phi
+    ) / (s * s)
+    shear = sigma_t / (s * SQRT_PI) * (E + SQRT_PI * x * Phi)
+    return cp, shear
+
+
+def schaaf_coefficients(c, sigma, s, sigma_n, sigma_t, r):
+    """Schaaf & Chambre plate for one gas: c_p and c_tau (:func:`schaaf_plate`)."""
+    cp, shear = schaaf_plate(c, s, sigma_n, sigma_t, r)
+    return cp, shear * sigma
+
+
+def schaaf(c, sigma, surface, flow, options):
+    """Schaaf & Chambre (1961) with momentum accommodation sigma_n, sigma_t; back faces kept.
+
+    c_p = (1/s^2) {[(2 - sigma_n) s c / sqrt(pi) + (sigma_n/2) r] e^{-s^2 c^2}
+          + [(2 - sigma_n)(1/2 + s^2 c^2) + (sigma_n/2) r sqrt(pi) s c] (1 + erf(s c))},
+    c_tau = sigma_t sin(delta) / (s sqrt(pi)) (e^{-s^2 c^2} + sqrt(pi) s c (1 + erf(s c))),
+    r = sqrt(T_w / T_inf).
+    """
+    return schaaf_coefficients(c, sigma, *schaaf_parameters(surface, flow, options))
+
+
+def schaaf_parameters(surface, flow, options):
+    """Schaaf & Chambre's (s, sigma_n, sigma_t, r) for :func:`schaaf_plate`."""
+    r = np.sqrt(surface.wall_temperature / flow.temperature)
+    return flow.speed_ratio, surface.sigma_n, surface.sigma_t, r
+
+
+def dria(c, sigma, surface, flow, options):
+    """Diffuse reflection with incomplete accommodation: Sentman's plate per species, mixed.
+
+    Per species j: c_d,j = P/sqrt(pi) + c Q Z + (c/2) K_j (c sqrt(pi) Z + P),
+    c_l,j = sin(delta) G Z + (sin(delta)/2) K_j (c sqrt(pi) Z + P), with P = e^{-c^2 s_j^2}/s_j,
+    G = 1/(2 s_j^2), Q = 1 + G, Z = 1 + erf(c s_j), K_j = sqrt(2 k_B T_r,j / (m_j V^2));
+    c_p = c_d c + c_l sin(delta), c_tau = c_d sin(delta) - c_l c, which is Sentman's plate for
+    species j. Species are mixed by mass fraction. Back faces are kept.
+    """
+    if not flow.has_species:
+        raise ValueError("the dria model needs the gas composition (number_densities / --species)")
+    names = [n for n in flow.species if flow.number_densities[n] > 0]
+    weights = species_weights(flow, names, options, "dria")
+    cp_total = 0.0
+    ctau_total = 0.0
+    for name, w in zip(names, weights):
+        m = flow.species_masses[flow.species.index(name)]
+        s = species_speed_ratio(flow, m)
+        Ti = options.incident_temperature_of(m, flow.speed)
+        K = re_emission_k(surface.alpha, surface.wall_temperature, Ti, m, flow.speed)
+        cp, ctau = sentman_coefficients(c, sigma, s, K)
+        cp_total = cp_total + w * cp
+        ctau_total = ctau_total + w * ctau
+    return cp_total, ctau_total

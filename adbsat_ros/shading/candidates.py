@@ -1,0 +1,172 @@
+"""Which panels the ray-cast shader tests: the grazing rule and the filters.
+
+Grazing rule. With c_i = cos(delta_i) = -u . n_i and a tolerance ``graze_tol``, forward panels
+are those with c_i > graze_tol, plus the grazing ones (|c_i| <= graze_tol) that face the fixed,
+generic tie-break direction -w (-w . n_i > 0, then a second generic vector if that is zero
+too): the classification the flow u + epsilon w would give (:func:`forward_mask`).
+
+Filters (:class:`CandidateFilter`). A forward panel can be shaded only if it is not on the
+convex hull of its own connected component (a hull face's upstream ray leaves the hull at once)
+or if another component lies upstream of it with overlapping bounding boxes in the plane
+normal to the flow.
+
+Units: metres, mesh frame G; directions unitless.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import trimesh
+from scipy.spatial import ConvexHull, QhullError
+
+from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.shading.flow_plane import MAX_PAIRS, coordinates, max3, min3, perp_basis
+
+#: Faces within this fraction of the bounding-box diagonal of their component's convex hull
+#: count as hull faces (cannot be shaded by their own component).
+HULL_TOL_FRACTION = 1e-8
+#: Above this many connected components the inter-component filter is skipped (all forward
+#: panels of a multi-component mesh are then tested).
+MAX_COMPONENTS_FILTER = 64
+
+
+def _unit(v):
+    v = np.asarray(v, dtype=float)
+    return v / np.linalg.norm(v)
+
+
+#: First tie-break direction w of grazing faces (generic, fixed; unitless, G).
+TIE_W1 = _unit([0.8164965809277260, 0.4472135954999579, 0.3651483716701107])
+_W2 = np.array([-0.2360679774997897, 0.6457513110645906, 0.7071067811865476])
+#: Second tie-break direction, for faces normal to the first (orthogonal to it).
+TIE_W2 = _unit(_W2 - (_W2 @ TIE_W1) * TIE_W1)
+
+
+def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -> np.ndarray:
+    """Forward-facing panels under the grazing rule (module docstring).
+
+    Parameters
+    ----------
+    cos_delta : ndarray, shape (N,)
+        c_i = -u . n_i.
+    normals : ndarray, shape (N, 3)
+        Unit outward normals in G.
+    graze_tol : float
+        |c| at or below which a panel is grazing.
+
+    Returns
+    -------
+    ndarray of bool, shape (N,)
+    """
+    forward = cos_delta > graze_tol
+    grazing = np.abs(cos_delta) <= graze_tol
+    if grazing.any():
+        idx = np.flatnonzero(grazing)
+        t1 = -(normals[idx] @ TIE_W1)
+        t2 = -(normals[idx] @ TIE_W2)
+        tie = np.where(np.abs(t1) > 1e-12, t1 > 0.0, t2 > 0.0)
+        forward[idx] = tie
+    return forward
+
+
+class CandidateFilter:
+    """Connected components, hull faces and the filter of panels that could be shaded.
+
+    Parameters
+    ----------
+    mesh : PanelMesh
+        Panels [m], mesh frame G.
+    diagonal : float
+        Bounding-box diagonal of the mesh [m] (scale of the hull tolerance).
+
+    Attributes
+    ----------
+    adjacency : ndarray of int, shape (E, 2)
+        Pairs of panels that share an edge.
+    component : ndarray of int, shape (N,)
+        Connected component of every panel.
+    n_components : int
+        Number of connected components.
+    on_hull : ndarray of bool, shape (N,)
+        Panels on the convex hull of their own component, normal pointing out of it.
+    """
+
+    def __init__(self, mesh: PanelMesh, diagonal: float):
+        self.mesh = mesh
+        tm = mesh.to_trimesh()
+        faces = np.asarray(tm.faces, dtype=np.int64)
+        self.adjacency = np.asarray(tm.face_adjacency, dtype=np.int64).reshape(-1, 2)
+        labels = trimesh.graph.connected_component_labels(self.adjacency, node_count=len(faces))
+        self.component = np.asarray(labels, dtype=np.int64)
+        self.n_components = int(self.component.max()) + 1 if self.component.size else 0
+        # Faces sorted by component, for per-component work and reductions.
+        self._order = np.argsort(self.component, kind="stable")
+        counts = np.bincount(self.component, minlength=self.n_components)
+        self._start = np.cumsum(counts) - counts
+        self.on_hull = self._hull_faces(np.asarray(tm.vertices, dtype=float), faces, diagonal)
+
+    def _hull_faces(self, vertices: np.ndarray, faces: np.ndarray, diagonal: float) -> np.ndarray:
+        """Faces on the convex hull of their own component, normal pointing out of the hull.
+
+        A face counts if the support of its component in the direction of its normal is within
+        ``HULL_TOL_FRACTION`` of the diagonal of its plane.
+        """
+        mesh = self.mesh
+        on_hull = np.zeros(mesh.n_panels, dtype=bool)
+        tol = HULL_TOL_FRACTION * diagonal
+        normals = mesh.normals
+        level = np.einsum("ij,ij->i", normals, mesh.vertices[:, 0, :])
+        stop = np.append(self._start[1:], self._order.size)
+        for a, b in zip(self._start, stop):  # loop over bodies (few), vectorised over faces
+            idx = self._order[a:b]
+            pts = vertices[np.unique(faces[idx])]
+            try:
+                hull_pts = pts[ConvexHull(pts).vertices]
+            except (QhullError, ValueError):
+                hull_pts = pts  # flat or degenerate body: all its points
+            step = max(1, MAX_PAIRS // max(len(hull_pts), 1))
+            for s in range(0, idx.size, step):
+                j = idx[s : s + step]
+                on_hull[j] = (normals[j] @ hull_pts.T).max(axis=1) <= level[j] + tol
+        return on_hull
+
+    def candidates(self, u: np.ndarray, forward: np.ndarray) -> np.ndarray:
+        """Indices of the forward panels that could be shaded for unit flow direction ``u``.
+
+        Parameters
+        ----------
+        u : ndarray, shape (3,)
+            Unit flow direction (G).
+        forward : ndarray of bool, shape (N,)
+            Forward panels (:func:`forward_mask`).
+
+        Returns
+        -------
+        ndarray of int, shape (K,)
+            Ascending panel indices.
+        """
+        need = forward & ~self.on_hull
+        if self.n_components <= 1:
+            return np.flatnonzero(need)
+        if self.n_components > MAX_COMPONENTS_FILTER:
+            return np.flatnonzero(forward)
+        idx = np.flatnonzero(forward & ~need)
+        if idx.size:
+            coords = coordinates(self.mesh.vertices, perp_basis(-u))  # s grows upstream
+            pmin = np.stack([min3(a) for a in coords], axis=1)  # (N, 3)
+            pmax = np.stack([max3(a) for a in coords], axis=1)
+            cmin = np.minimum.reduceat(pmin[self._order], self._start, axis=0)  # (C, 3)
+            cmax = np.maximum.reduceat(pmax[self._order], self._start, axis=0)
+            step = max(1, MAX_PAIRS // self.n_components)
+            for s in range(0, idx.size, step):
+                j = idx[s : s + step]
+                overlap = (
+                    (cmax[None, :, 2] > pmin[j, None, 2])
+                    & (cmax[None, :, 0] >= pmin[j, None, 0])
+                    & (cmin[None, :, 0] <= pmax[j, None, 0])
+                    & (cmax[None, :, 1] >= pmin[j, None, 1])
+                    & (cmin[None, :, 1] <= pmax[j, None, 1])
+                )
+                overlap[np.arange(j.size), self.component[j]] = False
+                need[j] = overlap.any(axis=1)
+        return np.flatnonzero(need)

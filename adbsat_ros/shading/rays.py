@@ -1,0 +1,115 @@
+"""Ray casting against a mesh: one interface, two backends.
+
+A *ray scene* holds the panels of one mesh and answers one question for a batch of rays with a
+common direction: does the ray from each origin meet an occluding panel at a distance t > 0?
+Two backends implement it with the same rules (shared edges count as inside both triangles):
+
+``"embree"``
+    Embree through embreex (:mod:`adbsat_ros.shading.rays_embree`), float32, very fast.
+``"numpy"``
+    Vectorised Moeller-Trumbore in float64 (:mod:`adbsat_ros.shading.rays_numpy`), the
+    reference, and the fallback when embreex is not installed.
+
+Both give the same answer except for rays within float32 rounding (~1e-7 of the mesh size) of
+an edge. ``has_embree`` says whether embreex could be imported (once, here); ``"auto"`` picks
+Embree when it is available.
+
+Units: metres, mesh frame G; directions unitless.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import numpy as np
+
+from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.shading.rays_numpy import NumpyScene
+
+try:
+    from adbsat_ros.shading.rays_embree import EmbreeScene
+except (ImportError, OSError) as exc:  # embreex missing, or its Embree library
+    EmbreeScene = None
+    #: Why Embree is not available (None if it is).
+    EMBREE_ERROR = f"{type(exc).__name__}: {exc}"
+else:
+    EMBREE_ERROR = None
+
+#: True if the Embree backend can be used.
+has_embree = EmbreeScene is not None
+
+#: Valid values of the ``backend`` argument.
+BACKENDS = ("auto", "embree", "numpy")
+
+
+class RayScene(Protocol):
+    """What a ray backend's scene provides (:class:`NumpyScene`, :class:`EmbreeScene`)."""
+
+    #: Name of the backend, ``"embree"`` or ``"numpy"``.
+    backend: str
+
+    def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
+        """Whether each ray origins[r] + t direction, t > 0, meets an occluding panel.
+
+        Parameters
+        ----------
+        origins : ndarray, shape (R, 3)
+            Ray origins [m], mesh frame G.
+        direction : ndarray, shape (3,)
+            Common unit ray direction (G).
+        occluder : ndarray of bool, shape (N,), optional
+            Panels that can block a ray (default all); panels parallel to ``direction`` must
+            be left out.
+
+        Returns
+        -------
+        ndarray of bool, shape (R,)
+        """
+        ...
+
+
+def resolve_backend(backend: str) -> str:
+    """The backend that ``backend`` names: ``"embree"`` or ``"numpy"``.
+
+    Parameters
+    ----------
+    backend : {"auto", "embree", "numpy"}
+        ``"auto"`` is ``"embree"`` if :data:`has_embree`, else ``"numpy"``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, listing :data:`BACKENDS`.
+    RuntimeError
+        For ``"embree"`` when embreex is not available, saying why.
+    """
+    name = str(backend).lower()
+    if name not in BACKENDS:
+        raise ValueError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
+    if name == "auto":
+        return "embree" if has_embree else "numpy"
+    if name == "embree" and not has_embree:
+        raise RuntimeError(
+            f"backend 'embree' requested but embreex is not available ({EMBREE_ERROR})"
+        )
+    return name
+
+
+def ray_scene(mesh: PanelMesh, backend: str = "auto") -> RayScene:
+    """A ray scene of the panels of ``mesh`` with the given backend.
+
+    Parameters
+    ----------
+    mesh : PanelMesh
+        Panels [m], mesh frame G; face i of the scene is panel i.
+    backend : {"auto", "embree", "numpy"}
+        See :func:`resolve_backend`.
+
+    Returns
+    -------
+    RayScene
+        An :class:`EmbreeScene` or a :class:`NumpyScene`.
+    """
+    if resolve_backend(backend) == "embree":
+        return EmbreeScene(mesh)
+    return NumpyScene(mesh)
