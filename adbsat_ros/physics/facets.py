@@ -8,8 +8,8 @@ panel by panel.
 
 Shading changes the sums: W_g and Q_g are made from the lit fractions and shifts of a lighting
 in one pass over the panels (np.bincount, in panel order). On a shading-cache hit, the node's
-usual message, the lighting is the object of the previous message, so :class:`LitSumsCache` keeps
-the sums of the latest lightings.
+usual message, the lighting is that of the previous message, so :class:`LitSumsCache` keeps the
+sums of the latest lightings under their content fingerprint.
 
 Units: metres and square metres, mesh frame G.
 """
@@ -67,13 +67,12 @@ def _sum_columns(weights, moments, normals) -> np.ndarray:
 class LitSumsCache:
     """The facet sums of the latest lightings: the panel method's one cache.
 
-    Key: the :class:`~adbsat_ros.shading.lighting.PanelLighting` object. Its arrays are
-    read-only, so its sums never change, and the cache holds the objects it keys, so the
-    identity of one is never reused while it is stored. Value: the (G, 10) facet sums.
+    Key: the lighting's content fingerprint (:attr:`PanelLighting.key`), so the same shading
+    gives the same sums whichever object carries it. Value: the (G, 10) facet sums.
     Bound: the ``max_entries`` most recently used. Counters: hits, misses.
 
-    Why it exists: on a shading-cache hit, the node's usual message, the lighting is the object
-    of the previous message, and summing it again over the panels is most of the panel method.
+    Why it exists: on a shading-cache hit, the node's usual message, the lighting is that of
+    the previous message, and summing it again over the panels is most of the panel method.
     Measured in one run (``python bench/bench_panel_method.py --cached``, 11,104-face example
     satellite, sentman, raycast shading cached at 0.25 deg; CPU per attitude of the cache hit
     and the panel method, medians of 6 alternating rounds): 21.8 us with this cache; 286 us
@@ -104,13 +103,14 @@ class LitSumsCache:
 
     def get(self, lighting: PanelLighting, compute) -> np.ndarray:
         """The sums of ``lighting``: stored ones, or ``compute(lighting)`` (then stored)."""
-        sums = self._store.get(lighting)
+        key = lighting.key
+        sums = self._store.get(key)
         if sums is not None:
-            self._store.move_to_end(lighting)
+            self._store.move_to_end(key)
             self.hits += 1
             return sums
         self.misses += 1
-        sums = self._store[lighting] = compute(lighting)
+        sums = self._store[key] = compute(lighting)
         if len(self._store) > self.max_entries:
             self._store.popitem(last=False)
         return sums

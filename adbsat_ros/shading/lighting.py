@@ -12,6 +12,8 @@ over those panels alone.
 
 from __future__ import annotations
 
+import hashlib
+
 import numpy as np
 
 
@@ -46,6 +48,10 @@ class PanelLighting:
         As given [m], G.
     shift_fraction : ndarray, shape (K,)
         Lit fraction of the panels of ``shift_index``.
+    key : bytes
+        Fingerprint of the content (BLAKE2b, 128 bits, of the panel count and the sparse
+        arrays): two lightings with the same key are the same lighting, so results derived
+        from one (the panel method's facet sums) can be kept under it.
 
     Raises
     ------
@@ -67,6 +73,7 @@ class PanelLighting:
         "shift_index",
         "shift",
         "shift_fraction",
+        "key",
     )
 
     def __init__(self, lit_fraction, shift_index=None, shift=None):
@@ -90,6 +97,11 @@ class PanelLighting:
         self.shift_index = _read_only(index.copy())
         self.shift = _read_only(shift.copy())
         self.shift_fraction = _read_only(f[index])
+        digest = hashlib.blake2b(digest_size=16)
+        digest.update(self.n_panels.to_bytes(8, "little"))
+        for array in (self.shaded_index, self.shaded_fraction, self.shift_index, self.shift):
+            digest.update(array.tobytes())
+        self.key = digest.digest()
 
     @classmethod
     def all_lit(cls, n_panels: int) -> "PanelLighting":

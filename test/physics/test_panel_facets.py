@@ -133,6 +133,13 @@ def test_the_sums_of_one_lighting_are_made_once_and_stay_right(satellite, shader
     np.testing.assert_array_equal(again.Cf_G, first.Cf_G)
     np.testing.assert_array_equal(again.Cm_G, first.Cm_G)
     assert_same(first, panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=lighting))
+    # the key is the content: an equal lighting made anew finds the same entry
+    twin = PanelLighting(lighting.lit_fraction, lighting.shift_index, lighting.shift)
+    assert twin is not lighting and twin.key == lighting.key
+    np.testing.assert_array_equal(
+        grouped.coefficients(FLOW, flow_direction=u, lighting=twin).Cf_G, first.Cf_G
+    )
+    assert (cache.hits, cache.misses) == (2, 1)
     # a lighting cannot change under the cache: its arrays are read-only
     with pytest.raises(ValueError):
         lighting.shaded_fraction[:] = 0.0
@@ -141,7 +148,8 @@ def test_the_sums_of_one_lighting_are_made_once_and_stay_right(satellite, shader
     f[: satellite.n_panels // 2] = 0.0
     darker = PanelLighting(f, lighting.shift_index, lighting.shift)
     second = grouped.coefficients(FLOW, flow_direction=u, lighting=darker)
-    assert (cache.hits, cache.misses) == (1, 2)
+    assert darker.key != lighting.key
+    assert (cache.hits, cache.misses) == (2, 2)
     assert_same(second, panel_by_panel.coefficients(FLOW, flow_direction=u, lighting=darker))
     assert not np.allclose(first.Cf_G, second.Cf_G)
     # bounded: the oldest lightings are dropped
