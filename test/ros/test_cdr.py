@@ -1,10 +1,14 @@
 """The struct-based CDR readers and writer against two independent codecs: rosbags (pure Python)
 and rclpy's (the RMW's C typesupport, what the node's peers actually send)."""
 
+import pytest
+
+pytestmark = pytest.mark.ros
+pytest.importorskip("rclpy")
+
 import math
 
 import numpy as np
-import pytest
 from geometry_msgs.msg import Quaternion, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
