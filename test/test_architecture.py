@@ -5,15 +5,19 @@
   (every import statement, function-level ones included) and when imported (``sys.modules``);
 * no import cycles between modules (grimp's import graph, strongly connected components), and the
   subpackages form the layers below: a subpackage imports only from layers beneath its own;
-* no module over 450 lines.
+* no module over 450 lines;
+* every third-party package it imports is declared in setup.py (``install_requires``; ROS 2
+  packages come with the ``ros`` extra).
 """
 
 from __future__ import annotations
 
 import ast
 import copy
+import importlib.metadata
 import importlib.util
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -328,6 +332,47 @@ def test_subpackages_import_only_from_layers_below(graph):
         chain = " -> ".join([min(route.heads), *route.middle, min(route.tails)])
         found.append(f"{dependency.importer} imports {dependency.imported}: {chain}")
     assert not found, "imports against the layers (LAYERS, top first):\n" + "\n".join(found)
+
+
+# ----------------------------------------------------------------------------------------------
+# Declared dependencies
+
+
+def distribution_key(requirement: str) -> str:
+    """The normalised distribution name of a requirement string (PEP 503)."""
+    name = re.split(r"[<>=!~;\[ ]", requirement, maxsplit=1)[0]
+    return re.sub(r"[-_.]+", "-", name).lower()
+
+
+def setup_py_list(name: str) -> list[str]:
+    """The literal list assigned to ``name`` at the top of setup.py."""
+    tree = ast.parse((Path(__file__).resolve().parents[1] / "setup.py").read_text("utf-8"))
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and [t.id for t in node.targets] == [name]:
+            return ast.literal_eval(node.value)
+    raise AssertionError(f"setup.py has no list {name}")
+
+
+def test_every_imported_package_is_declared_in_setup_py():
+    declared = {distribution_key(r) for r in setup_py_list("REQUIRES")}
+    providers = importlib.metadata.packages_distributions()
+    imported = {
+        name.split(".")[0]
+        for path in MODULE_FILES.values()
+        for _, name in imports_in_source(path.read_text(encoding="utf-8"))
+    }
+    third_party = {
+        top
+        for top in imported
+        if top != PACKAGE and top not in sys.stdlib_module_names and not is_ros_module(top)
+    }
+    assert {"numpy", "yaml"} <= third_party  # the scan sees module- and function-level imports
+    missing = {
+        top: providers.get(top, [top])
+        for top in sorted(third_party)
+        if not any(distribution_key(d) in declared for d in providers.get(top, [top]))
+    }
+    assert not missing, f"imported but not in setup.py's install_requires: {missing}"
 
 
 # ----------------------------------------------------------------------------------------------
