@@ -47,5 +47,7 @@ def test_bag_analyze(golden, meshes, tmp_path):
     check(golden["bag_analyze"], cases.bag_outputs(meshes, tmp_path))
 
 
+@pytest.mark.ros
 def test_node_wrenches(golden, meshes):
+    pytest.importorskip("rclpy")
     check(golden["node"], cases.node_outputs(meshes))

@@ -5,12 +5,16 @@ Everything runs on the test run's own ROS_DOMAIN_ID with discovery limited to lo
 (conftest.py); each play/record call makes its own rclpy Context.
 """
 
+import pytest
+
+pytestmark = pytest.mark.ros
+pytest.importorskip("rclpy")
+
 import dataclasses
 import threading
 import time
 
 import numpy as np
-import pytest
 import rclpy
 from geometry_msgs.msg import WrenchStamped
 from rclpy.qos import QoSProfile, ReliabilityPolicy

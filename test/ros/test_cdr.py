@@ -2,6 +2,10 @@
 the node's peers actually send), and the decoding with rclpy's deserialiser as the fallback."""
 
 import pytest
+
+pytestmark = pytest.mark.ros
+pytest.importorskip("rclpy")
+
 from cdr_cases import DIAGNOSTIC_STATUSES, FRAMES, POSITION, VELOCITY, Q
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Quaternion, QuaternionStamped, WrenchStamped

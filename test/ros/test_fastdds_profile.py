@@ -3,6 +3,11 @@ socket Fast DDS opens in them is bound to 127.0.0.1 (the profile replaces rmw_fa
 LOCALHOST set-up, so it must keep discovery off the network itself; rmw_fastrtps's own set-up
 binds to 0.0.0.0, so a profile Fast DDS ignored would fail here)."""
 
+import pytest
+
+pytestmark = pytest.mark.ros
+pytest.importorskip("rclpy")
+
 import json
 import os
 import subprocess

@@ -6,6 +6,11 @@ own ROS_DOMAIN_ID with discovery limited to localhost (conftest.py); one test ru
 separate process from the command line with the bundled parameters file.
 """
 
+import pytest
+
+pytestmark = pytest.mark.ros
+pytest.importorskip("rclpy")
+
 import datetime as dt
 import math
 import os
@@ -15,7 +20,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-import pytest
 import rclpy
 import trimesh
 from closed_forms import sentman_sphere_cd

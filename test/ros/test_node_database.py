@@ -11,11 +11,15 @@
   start-up and as a parameter change (which leaves the old value in place).
 """
 
+import pytest
+
+pytestmark = pytest.mark.ros
+pytest.importorskip("rclpy")
+
 import datetime as dt
 import math
 
 import numpy as np
-import pytest
 import rclpy
 from rclpy.parameter import Parameter
 from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float
