@@ -20,7 +20,8 @@ cross-process discovery (0.4-0.7 s on this kind of machine), nothing is left run
 Ctrl-C, and the demo can show, next to the published wrench, the node's own record of each
 computation (altitude, density, C_D, compute time): the demo registers a sample listener
 (:meth:`AdbsatNode.add_sample_listener`) to keep the samples behind the published wrenches, and
-checks that every published force equals the recorded sample's exactly. Topics still go through the ROS middleware (DDS) as they would
+checks that every published force equals the recorded sample's exactly. Topics still go through
+the ROS middleware (DDS) as they would
 between processes.
 
 The ROS 2 environment: ROS_AUTOMATIC_DISCOVERY_RANGE is set to LOCALHOST unless it is set
@@ -30,16 +31,25 @@ already, so the demo never multicasts off the machine; ROS_DOMAIN_ID is left as 
 
 from __future__ import annotations
 
-import csv
 import math
 import os
 import sys
 import threading
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import rclpy
+from geometry_msgs.msg import QuaternionStamped, WrenchStamped
+from nav_msgs.msg import Odometry
+from rclpy.context import Context
+from rclpy.parameter import Parameter
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+from adbsat_ros.bags.scenario import Scenario, generate
+from adbsat_ros.ros.demo_report import DemoResult, SampleLog, table_rows, vector, write_outputs
+from adbsat_ros.ros.executors import make_executor
+from adbsat_ros.ros.node import AdbsatNode
 
 #: Attitude messages per second of wall time, whatever the speedup.
 WALL_RATE_HZ = 20.0
@@ -58,35 +68,8 @@ MAX_SPEEDUP = 600.0
 DRAIN_TIMEOUT_S = 5.0
 
 
-@dataclass
-class DemoResult:
-    """What the demo did: counts, timing, the files written."""
-
-    attitudes_sent: int = 0
-    states_sent: int = 0
-    wrenches_received: int = 0
-    rejected: dict = field(default_factory=dict)
-    mismatched: int = 0
-    compute_ms_p50: float = math.nan
-    latency_ms_p50: float = math.nan
-    latency_ms_p99: float = math.nan
-    files: list = field(default_factory=list)
-    interrupted: bool = False
-
-
-class _SampleLog:
-    """Keeps every WrenchSample the node publishes, by stamp [ns] (a node sample listener)."""
-
-    def __init__(self):
-        self.samples: dict = {}
-
-    def __call__(self, sample):
-        self.samples[round(sample.stamp * 1e9)] = sample
-
-
 def demo_scenario(duration: float, speedup: float, attitude: str):
-    """The demo's Scenario: ``duration`` wall seconds at ``speedup``, 20 attitudes per wall second."""
-    from adbsat_ros.bags.scenario import Scenario
+    """The demo's Scenario: ``duration`` wall seconds at ``speedup``, 20 attitudes a wall second."""
 
     rate = WALL_RATE_HZ / speedup
     return Scenario(
@@ -123,10 +106,6 @@ def _events(messages, speedup: float):
     return [(w - start, kind, i) for w, kind, i in events]
 
 
-def _vec(v):
-    return (v.x, v.y, v.z)
-
-
 def run_demo(
     duration: float = 8.0,
     speedup: float = 10.0,
@@ -160,17 +139,6 @@ def run_demo(
         raise ValueError(f"--attitude must be tumble or nadir, got {attitude!r}")
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
-    import rclpy
-    from geometry_msgs.msg import QuaternionStamped, WrenchStamped
-    from nav_msgs.msg import Odometry
-    from rclpy.context import Context
-    from rclpy.parameter import Parameter
-    from rclpy.qos import QoSProfile, ReliabilityPolicy
-
-    from adbsat_ros.bags.scenario import generate
-    from adbsat_ros.ros.executors import make_executor
-    from adbsat_ros.ros.node import AdbsatNode
-
     def say(line=""):
         print(line, file=out, flush=True)
 
@@ -181,7 +149,8 @@ def run_demo(
         f"tumbling at {TUMBLE_RATE_DEG_S:g} deg/s" if attitude == "tumble" else "nadir-pointing"
     )
     say(
-        f"adbsat-ros demo: {ALTITUDE_KM:g} km circular orbit, {INCLINATION_DEG:g} deg inclination, from "
+        f"adbsat-ros demo: {ALTITUDE_KM:g} km circular orbit, {INCLINATION_DEG:g} deg inclination, "
+        "from "
         f"{scenario.epoch.isoformat().replace('+00:00', 'Z')}, satellite {motion}; "
         f"{scenario.duration_s:g} s simulated in {duration:g} s ({speedup:g}x real time)"
     )
@@ -194,7 +163,8 @@ def run_demo(
     rclpy.init(context=context)
     node = client = executor = spinner = None
     stop = threading.Event()
-    received = {}  # stamp_ns -> [wrench, coefficients, receive wall time], filled by the executor thread
+    # stamp_ns -> [wrench, coefficients, receive wall time], filled by the executor thread
+    received = {}
     lock = threading.Lock()
     latest = [None]  # stamp_ns of the newest wrench received
     sent_wall = {}
@@ -210,12 +180,13 @@ def run_demo(
                 Parameter("state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
             ],
         )
-        log = _SampleLog()
+        log = SampleLog()
         node.add_sample_listener(log)
         mesh = node.estimator.mesh
         s = node.estimator.settings
         say(
-            f"adbsat_node started in {time.monotonic() - started:.2f} s: {Path(str(mesh.source)).name}, "
+            f"adbsat_node started in {time.monotonic() - started:.2f} s: "
+            f"{Path(str(mesh.source)).name}, "
             f"{mesh.n_panels} panels, model {s.gsi_model}, shading {s.shading}"
         )
 
@@ -285,8 +256,8 @@ def run_demo(
                 f"{(c.altitude * 1e-3 if c else math.nan):9.2f} "
                 f"{(c.mass_density if c else math.nan):10.3e} "
                 f"{(sample.drag_coefficient if sample else math.nan):6.3f} "
-                f"{np.linalg.norm(_vec(wrench.wrench.force)):10.3e} "
-                f"{np.linalg.norm(_vec(wrench.wrench.torque)):10.3e} "
+                f"{np.linalg.norm(vector(wrench.wrench.force)):10.3e} "
+                f"{np.linalg.norm(vector(wrench.wrench.torque)):10.3e} "
                 f"{(1e3 * sample.compute_seconds if sample else math.nan):8.2f} "
                 f"{latency:8.2f}"
             )
@@ -347,7 +318,7 @@ def run_demo(
         rclpy.try_shutdown(context=context)
 
     samples = log.samples if log is not None else {}
-    rows = _rows(received, samples, sent_wall, int(messages.attitudes.stamps_ns[0]), result)
+    rows = table_rows(received, samples, sent_wall, int(messages.attitudes.stamps_ns[0]), result)
     result.rejected = {
         k: v for k, v in (node.estimator.rejections.items() if node is not None else ()) if v
     }
@@ -368,10 +339,11 @@ def run_demo(
     )
     if rows:
         say(
-            f"compute time p50 {result.compute_ms_p50:.2f} ms; end-to-end latency (attitude published -> "
-            f"wrench received) p50 {result.latency_ms_p50:.2f} ms, p99 {result.latency_ms_p99:.2f} ms"
+            f"compute time p50 {result.compute_ms_p50:.2f} ms; end-to-end latency (attitude "
+            f"published -> wrench received) p50 {result.latency_ms_p50:.2f} ms, "
+            f"p99 {result.latency_ms_p99:.2f} ms"
         )
-        result.files = _write_outputs(rows, Path(out_dir))
+        result.files = write_outputs(rows, Path(out_dir))
         say("wrote: " + ", ".join(str(p) for p in result.files))
     return result
 
@@ -385,91 +357,3 @@ def _odometry(cls, stamp_ns: int, position, velocity):
     p.x, p.y, p.z = (float(x) for x in position)
     v.x, v.y, v.z = (float(x) for x in velocity)
     return msg
-
-
-CSV_COLUMNS = (
-    "time_s",
-    "stamp_unix_s",
-    "altitude_km",
-    "density_kg_m3",
-    "relative_speed_m_s",
-    "drag_coefficient",
-    "force_x_N",
-    "force_y_N",
-    "force_z_N",
-    "torque_x_Nm",
-    "torque_y_Nm",
-    "torque_z_Nm",
-    "cf_x",
-    "cf_y",
-    "cf_z",
-    "cm_x",
-    "cm_y",
-    "cm_z",
-    "compute_ms",
-    "latency_ms",
-)
-
-
-def _rows(received, samples, sent_wall, t0_ns, result: DemoResult) -> list:
-    """One row per wrench received (with its coefficients), in stamp order; fills result's figures."""
-    rows = []
-    for key in sorted(received):
-        wrench, coefficients, wall = received[key]
-        if wrench is None or coefficients is None:
-            continue
-        sample = samples.get(key)
-        force, torque = np.array(_vec(wrench.wrench.force)), np.array(_vec(wrench.wrench.torque))
-        if sample is None or not (
-            np.array_equal(force, sample.force) and np.array_equal(torque, sample.torque)
-        ):
-            result.mismatched += 1
-            continue
-        c = sample.conditions
-        rows.append(
-            (
-                (key - t0_ns) * 1e-9,
-                key * 1e-9,
-                c.altitude * 1e-3,
-                c.mass_density,
-                c.speed,
-                sample.drag_coefficient,
-                *force,
-                *torque,
-                *_vec(coefficients.wrench.force),
-                *_vec(coefficients.wrench.torque),
-                1e3 * sample.compute_seconds,
-                1e3 * (wall - sent_wall[key]) if key in sent_wall else math.nan,
-            )
-        )
-    result.wrenches_received = sum(1 for v in received.values() if v[0] is not None)
-    if rows:
-        table = np.array(rows)
-        result.compute_ms_p50 = float(np.median(table[:, -2]))
-        result.latency_ms_p50 = float(np.nanpercentile(table[:, -1], 50))
-        result.latency_ms_p99 = float(np.nanpercentile(table[:, -1], 99))
-    return rows
-
-
-def _write_outputs(rows, out_dir: Path) -> list:
-    """demo_wrench.csv and the time-series PNGs in out_dir; returns the paths."""
-    from adbsat_ros.plotting.time_series import plot_time_series
-
-    out_dir.mkdir(parents=True, exist_ok=True)
-    path = out_dir / "demo_wrench.csv"
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(CSV_COLUMNS)
-        writer.writerows([[f"{v:.10g}" for v in row] for row in rows])
-    table = np.array(rows)
-    col = {name: i for i, name in enumerate(CSV_COLUMNS)}
-    run = {
-        "force": table[:, col["force_x_N"] : col["force_z_N"] + 1],
-        "torque": table[:, col["torque_x_Nm"] : col["torque_z_Nm"] + 1],
-        "density": table[:, col["density_kg_m3"]],
-        "drag_coefficient": table[:, col["drag_coefficient"]],
-    }
-    plots = plot_time_series(
-        table[:, col["time_s"]], {"adbsat_node (live)": run}, out_dir, prefix="demo_"
-    )
-    return [path, *plots]
