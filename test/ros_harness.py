@@ -33,7 +33,8 @@ def circular_orbit_state(altitude_m: float, t: float = 0.0):
 
 
 class Peer:
-    """A test node that publishes attitude and state and collects wrench, coefficients, diagnostics."""
+    """A test node that publishes attitude and state and collects wrench, coefficients and
+    diagnostics."""
 
     def __init__(self, context, executor, name="test_peer"):
         self.node = Node(name, context=context)
@@ -107,7 +108,8 @@ def stamp_to_float(stamp) -> float:
 
 
 def make_context(executor: str = "single_threaded"):
-    """A fresh rclpy context and an executor of the kind adbsat_node can use (events or single_threaded)."""
+    """A fresh rclpy context and an executor of the kind adbsat_node can use (events or
+    single_threaded)."""
     from adbsat_ros.ros.node import make_executor
 
     ctx = rclpy.context.Context()

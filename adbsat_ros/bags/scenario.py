@@ -1,7 +1,8 @@
 """Built-in flight scenarios: a Keplerian orbit and an attitude history, as message records.
 
 The orbit is the two-body (Keplerian) solution around a point-mass Earth
-(mu = :data:`~adbsat_ros.physics.constants.EARTH_MU`): no J2, no drag, no third bodies. It is given in
+(mu = :data:`~adbsat_ros.physics.constants.EARTH_MU`): no J2, no drag, no third bodies. It is given
+in
 ECI (GCRF axes, treated as inertial) by classical elements; ``altitude_km`` is the perigee height
 above the equatorial radius :data:`EARTH_RADIUS` (for a circular orbit, the height), so the
 perigee radius is ``r_p = EARTH_RADIUS + altitude`` and the semi-major axis ``a = r_p / (1 - e)``.
@@ -12,7 +13,8 @@ Attitude conventions (quaternions x, y, z, w rotate body vectors into ECI, v_eci
   +y along the negative orbit normal (-h/|h|), body +x = y x z, the along-track direction in the
   orbit plane (the velocity direction for a circular orbit, within the flight-path angle for an
   elliptic one). With the example satellite (long axis and ADBSat's zero angle of attack along
-  +x, see :mod:`adbsat_ros.geometry.frames`) the flow hits the front +x face and the wings lie in the
+  +x, see :mod:`adbsat_ros.geometry.frames`) the flow hits the front +x face and the wings lie in
+  the
   orbit-normal/along-track plane.
 * ``tumble``: the nadir attitude at t = 0, then a constant rotation at ``tumble_rate_deg_s``
   about a fixed body axis (``tumble_axis``, or a random unit axis drawn from ``seed``).
@@ -169,7 +171,8 @@ class Scenario:
 
 @dataclass(frozen=True, eq=False)
 class StateRecords:
-    """Orbital states in time order: stamps_ns (N,) int64 [ns], position_eci (N, 3) [m], velocity_eci (N, 3) [m/s]."""
+    """Orbital states in time order: stamps_ns (N,) int64 [ns], position_eci (N, 3) [m],
+    velocity_eci (N, 3) [m/s]."""
 
     stamps_ns: np.ndarray
     position_eci: np.ndarray
@@ -267,7 +270,8 @@ def kepler_states(scenario: Scenario, t) -> tuple[np.ndarray, np.ndarray]:
 
 
 def nadir_rotation(position, velocity) -> Rotation:
-    """Body -> ECI rotations of the nadir (LVLH) attitude: +z nadir, +y = -orbit normal, +x = y x z."""
+    """Body -> ECI rotations of the nadir (LVLH) attitude: +z nadir, +y = -orbit normal,
+    +x = y x z."""
     r = np.atleast_2d(np.asarray(position, dtype=float))
     v = np.atleast_2d(np.asarray(velocity, dtype=float))
     z = -r / np.linalg.norm(r, axis=-1, keepdims=True)

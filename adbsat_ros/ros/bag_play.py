@@ -31,7 +31,8 @@ ACK_TIMEOUT_S = 5.0
 
 @dataclass
 class PlaySummary:
-    """What :func:`play` published: message counts per topic, passes through the bag, wall time [s]."""
+    """What :func:`play` published: message counts per topic, passes through the bag, wall time
+    [s]."""
 
     published: Counter = field(default_factory=Counter)
     passes: int = 0
@@ -40,6 +41,7 @@ class PlaySummary:
 
     @property
     def total(self) -> int:
+        """Messages published, all topics together."""
         return sum(self.published.values())
 
 
@@ -170,7 +172,8 @@ def _select_connections(path: Path, connections, topics):
         fmt = getattr(c.ext, "serialization_format", None)
         if fmt != "cdr":
             raise BagError(
-                f"input bag {path}: topic {c.topic} is serialized as {fmt!r}; only rosbag2 CDR bags can be played"
+                f"input bag {path}: topic {c.topic} is serialized as {fmt!r}; "
+                "only rosbag2 CDR bags can be played"
             )
     if topics is None:
         return list(connections)
@@ -179,7 +182,8 @@ def _select_connections(path: Path, connections, topics):
     unknown = [t for t in wanted if t not in available]
     if unknown:
         raise BagError(
-            f"input bag {path}: no topic {', '.join(unknown)} in the bag; its topics are {', '.join(available) or '(none)'}"
+            f"input bag {path}: no topic {', '.join(unknown)} in the bag; "
+            f"its topics are {', '.join(available) or '(none)'}"
         )
     return [c for c in connections if c.topic in wanted]
 
@@ -194,7 +198,8 @@ def _wait_for_subscribers(publishers, n, timeout, executor, stop, log) -> None:
         if time.monotonic() > deadline:
             raise BagError(
                 f"no {n} subscriber(s) within {timeout:g} s on topic(s) {', '.join(lacking)} "
-                "(play only the topics someone listens to with --topics, or drop --wait-for-subscribers)"
+                "(play only the topics someone listens to with --topics, "
+                "or drop --wait-for-subscribers)"
             )
         executor.spin_once(timeout_sec=GRAPH_POLL_S)
 

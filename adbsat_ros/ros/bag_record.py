@@ -40,6 +40,7 @@ class RecordSummary:
 
     @property
     def total(self) -> int:
+        """Messages recorded, all topics together."""
         return sum(self.recorded.values())
 
 

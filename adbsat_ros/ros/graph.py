@@ -1,4 +1,5 @@
-"""What the live bag tools share: their own rclpy context, message classes by type name, topic names.
+"""What the live bag tools share: an rclpy context of their own, message classes by type name, and
+topic names.
 
 There is no ``ros2 bag`` with the PyPI ROS 2 wheels; :mod:`adbsat_ros.ros.bag_play` and
 :mod:`adbsat_ros.ros.bag_record` stand in for it with rclpy and rosbags. Each runs its own rclpy
@@ -41,7 +42,8 @@ def message_class(msgtype: str, topic: str = ""):
     except (ImportError, AttributeError):
         raise BagError(
             f"{where}message type {msgtype!r} is not installed in this Python environment "
-            f"(no {package}.{kind}.{name}; install the package's ROS 2 wheel, e.g. ros-jazzy-{package.replace('_', '-')})"
+            f"(no {package}.{kind}.{name}; install the package's ROS 2 wheel, "
+            f"e.g. ros-jazzy-{package.replace('_', '-')})"
         ) from None
     return cls
 

@@ -18,6 +18,7 @@ EARTH_RADIUS = 6378137.0
 
 
 def main(argv=None) -> int:
+    """Console script ``adbsat_orbit_publisher``; returns the exit status."""
     parser = argparse.ArgumentParser(
         prog="adbsat_orbit_publisher", description=__doc__.splitlines()[0]
     )
@@ -44,7 +45,8 @@ def main(argv=None) -> int:
         f, t = msg.wrench.force, msg.wrench.torque
         print(
             f"t={msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec:7.2f} s  "
-            f"force [N] ({f.x:+.3e}, {f.y:+.3e}, {f.z:+.3e})  torque [N m] ({t.x:+.3e}, {t.y:+.3e}, {t.z:+.3e})",
+            f"force [N] ({f.x:+.3e}, {f.y:+.3e}, {f.z:+.3e})  "
+            f"torque [N m] ({t.x:+.3e}, {t.y:+.3e}, {t.z:+.3e})",
             flush=True,
         )
 

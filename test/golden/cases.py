@@ -480,7 +480,8 @@ def compare(reference, actual, rtol: float, path: str = "") -> list:
     if isinstance(reference, list):
         if not isinstance(actual, list) or len(reference) != len(actual):
             return [
-                f"{path}: length {len(reference)} != {len(actual) if isinstance(actual, list) else actual!r}"
+                f"{path}: length {len(reference)} != "
+                f"{len(actual) if isinstance(actual, list) else actual!r}"
             ]
         numbers = [x for x in reference if isinstance(x, (int, float)) and not isinstance(x, bool)]
         scale = max((abs(x) for x in numbers if math.isfinite(x)), default=0.0)

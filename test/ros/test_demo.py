@@ -1,5 +1,6 @@
-"""``adbsat-ros demo`` end to end with real rclpy: exit status, the live table, and the files it writes,
-cross-checked against the physics they must satisfy (F = q A_ref C_F, a 300 km orbit's altitude)."""
+"""``adbsat-ros demo`` end to end with real rclpy: exit status, the live table, and the files it
+writes, cross-checked against the physics they must satisfy (F = q A_ref C_F, a 300 km orbit's
+altitude)."""
 
 import pytest
 
