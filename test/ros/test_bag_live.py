@@ -185,8 +185,7 @@ def test_loop_restarts_from_the_beginning(tmp_path):
 
 def test_played_bag_through_the_node_equals_the_offline_analysis(tmp_path):
     """THE check of the rosbag tools: a simulated flight played live into adbsat_node gives, wrench
-    by
-    wrench, what `bag analyze` computes from the same bag without ROS."""
+    by wrench, what `bag analyze` computes from the same bag without ROS."""
     sim = scenario.Scenario(
         epoch_utc="2025-06-21T12:00:00Z",
         duration_s=4.0,
