@@ -124,8 +124,8 @@ def test_play_then_record_round_trip(tmp_path, storage, rate):
     out = tmp_path / "recorded"
     recorder = Recorder(out, ["/attitude", "/state:nav_msgs/msg/Odometry"], storage)
     played = play(source, rate=rate, wait_for_subscribers=1, wait_timeout=20)
-    # play() returns once the recorder acknowledged every message; record() drains its queues on
-    # stop
+    # play() returns once the recorder acknowledged every message; record() drains its queues
+    # when stopped
     summary = recorder.stop()
     assert played.published == {"/attitude": 20, "/state": 10}
     assert summary.recorded == {"/attitude": 20, "/state": 10}
@@ -141,8 +141,8 @@ def test_play_then_record_round_trip(tmp_path, storage, rate):
         assert [as_plain(m) for _, m in copy[topic]] == [as_plain(m) for _, m in original[topic]], (
             topic
         )
-        # receive times keep the recorded spacing, scaled by the rate (tolerance: scheduling on 2
-        # cores)
+        # receive times keep the recorded spacing, scaled by the rate (the tolerance allows for
+        # scheduling on 2 cores)
         expected = np.array([t - first_original for t, _ in original[topic]]) / rate
         got = np.array([t - first_copy for t, _ in copy[topic]])
         assert np.max(np.abs(got - expected)) < 40 * MS, topic
@@ -198,8 +198,8 @@ def test_played_bag_through_the_node_equals_the_offline_analysis(tmp_path):
     )
     messages = scenario.generate(sim)
     # States 50 ms before the attitudes that share their stamps: the node's two subscriptions then
-    # never hold a state and an attitude at once, so it handles them in bag order, as the analysis
-    # does.
+    # never hold a state and an attitude at once, so it handles them in bag order, as the
+    # analysis does.
     states = messages.states
     messages = scenario.ScenarioMessages(
         sim,
