@@ -1,4 +1,8 @@
-"""WGS-84 geodetic coordinates: latitude, east longitude [rad] and height above the ellipsoid [m] from and to ECEF, and local East-North-Up axes."""
+"""WGS-84 geodetic coordinates and local axes.
+
+Latitude, east longitude [rad] and height above the ellipsoid [m] from and to ECEF (ITRF)
+positions, and the local East-North-Up axes.
+"""
 
 from __future__ import annotations
 

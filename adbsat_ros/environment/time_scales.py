@@ -1,4 +1,10 @@
-"""UTC instants as the Earth-orientation and atmosphere models take them: aware datetimes, Julian dates (UTC, TT, UT1) through ERFA's leap-second table, day of year and seconds of day."""
+"""UTC instants as the Earth-orientation and atmosphere models take them.
+
+Aware datetimes, two-part Julian dates (UTC, TT, UT1) through ERFA's leap-second table, day of
+year and seconds of day. The constants of a calendar day come from :func:`utc_day`, a pure
+function of the date with its own cache (``functools.lru_cache``: key the date, bound 512 days,
+hits and misses in ``utc_day.cache_info()``), as does ERFA's TAI - UTC of a day.
+"""
 
 from __future__ import annotations
 
