@@ -206,18 +206,22 @@ def flight_conditions(
     x, y, z = relative_ecef
     speed = _finite("speed", math.sqrt(x * x + y * y + z * z))
     alpha = accommodation_of(model, atmosphere, speed, dict(accommodation_options or {}))
+    vectors = np.array(
+        (position_eci, position_ecef, velocity_eci, velocity_ecef, relative_eci, relative_ecef)
+    )
+    vectors.setflags(write=False)  # one read-only (6, 3) array, the fields its rows
     return FlightConditions(
         time=utc,
-        position_eci=_read_only(position_eci),
-        position_ecef=_read_only(position_ecef),
-        velocity_eci=_read_only(velocity_eci),
-        velocity_ecef=_read_only(velocity_ecef),
+        position_eci=vectors[0],
+        position_ecef=vectors[1],
+        velocity_eci=vectors[2],
+        velocity_ecef=vectors[3],
         latitude=latitude,
         longitude=longitude,
         altitude=altitude,
         atmosphere=atmosphere,
-        relative_velocity_eci=_read_only(relative_eci),
-        relative_velocity_ecef=_read_only(relative_ecef),
+        relative_velocity_eci=vectors[4],
+        relative_velocity_ecef=vectors[5],
         speed=speed,
         accommodation_model=model,
         accommodation_coefficient=float(alpha),
