@@ -28,25 +28,38 @@ _SPECIES_MASS_KG = {name: species_mass_kg(name) for name in MOLAR_MASS_G}
 
 
 @functools.lru_cache(maxsize=64)
-def _species_masses(species: tuple) -> np.ndarray:
-    """Read-only particle masses [kg] of known ``species`` (a tuple of names).
+def _species_masses(species: tuple) -> tuple | None:
+    """Particle masses [kg] of ``species`` (a tuple of names), or None if one is unknown.
 
     A pure function of its argument, cached (key: the names; bound: 64 species tuples, a run
-    meets one or two; hits and misses in ``cache_info()``): the free streams of one mixture
-    share the array.
+    meets one or two; hits and misses in ``_species_masses.cache_info()``).
     """
-    masses = np.array([_SPECIES_MASS_KG[name] for name in species])
-    masses.setflags(write=False)
-    return masses
+    if not all(name in _SPECIES_MASS_KG for name in species):
+        return None
+    return tuple(_SPECIES_MASS_KG[name] for name in species)
 
 
-def _density_error(name, value) -> ValueError:
-    """The error naming a species or number density that a free stream does not take."""
-    if name not in MOLAR_MASS_G:
-        return ValueError(
-            f"unknown species {name!r} in number_densities; known species are {', '.join(SPECIES)}"
-        )
-    return ValueError(f"number density of {name} must be finite and >= 0, got {value!r}")
+def _checked_number_densities(number_densities: Mapping) -> list:
+    """The number densities as floats, in order; ValueError naming the first species or density
+    that is not allowed (an unknown species, a density that is not a finite number >= 0, or all
+    of them 0)."""
+    values = []
+    for name, value in number_densities.items():
+        if name not in MOLAR_MASS_G:
+            raise ValueError(
+                f"unknown species {name!r} in number_densities; "
+                f"known species are {', '.join(SPECIES)}"
+            )
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            number = math.nan
+        if not 0.0 <= number < math.inf:
+            raise ValueError(f"number density of {name} must be finite and >= 0, got {value!r}")
+        values.append(number)
+    if not any(value > 0.0 for value in values):
+        raise ValueError("number_densities: at least one species must have n > 0")
+    return values
 
 
 @dataclass(frozen=True)
@@ -105,24 +118,21 @@ class FreeStream:
         if (densities is None) == (self.mean_mass_amu is None):
             raise ValueError("give exactly one of number_densities and mean_mass_amu")
         if densities is not None:
-            # each density checked, and the mean mass summed in species order
-            values = []
+            species = tuple(densities)
+            masses = _species_masses(species)
+            try:
+                values = [float(value) for value in densities.values()]
+            except (TypeError, ValueError):
+                values = None
+            # one test of the usual case (known species, densities >= 0 with a finite positive
+            # total); anything else is checked density by density, for the error naming it
+            if not (masses and values and min(values) >= 0.0 and 0.0 < sum(values) < math.inf):
+                values = _checked_number_densities(densities)  # (or a total that overflows)
             total = 0.0
             weighted = 0.0
-            for name, value in densities.items():
-                mass = _SPECIES_MASS_KG.get(name)
-                try:
-                    value = float(value)
-                except (TypeError, ValueError):
-                    raise _density_error(name, value) from None
-                if mass is None or not 0.0 <= value < math.inf:
-                    raise _density_error(name, value)
-                values.append(value)
-                total += value
-                weighted += value * mass
-            if not total > 0.0:
-                raise ValueError("number_densities: at least one species must have n > 0")
-            species = tuple(densities)
+            for n, m in zip(values, masses):  # in species order, as ADBSat's environment.m
+                total += n
+                weighted += n * m
             object.__setattr__(self, "number_densities", dict(zip(species, values)))
             object.__setattr__(self, "_species", species)
             object.__setattr__(self, "mean_mass", weighted / total)
@@ -151,8 +161,8 @@ class FreeStream:
 
     @functools.cached_property
     def species_masses(self) -> np.ndarray:
-        """Particle masses m_j [kg] of :attr:`species`, read-only."""
-        return _species_masses(self._species)
+        """Particle masses m_j [kg] of :attr:`species` (an array made on first read)."""
+        return np.array(_species_masses(self._species) or (), dtype=float)
 
     @property
     def mass_density(self) -> float | None:
