@@ -18,6 +18,7 @@ own steps (e.g. at exactly 300 km) are spread over the interval that crosses the
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as _dt
 import math
 from typing import Callable, NamedTuple
@@ -170,29 +171,6 @@ def _mixed(a: _Ends, b: _Ends, weight: float, time: _dt.datetime) -> FlightCondi
     )
 
 
-def _at_time(conditions: FlightConditions, time: _dt.datetime) -> FlightConditions:
-    """``conditions`` with another time (``dataclasses.replace(conditions, time=time)``)."""
-    c = conditions
-    return FlightConditions(
-        time,
-        c.position_eci,
-        c.position_ecef,
-        c.velocity_eci,
-        c.velocity_ecef,
-        c.latitude,
-        c.longitude,
-        c.altitude,
-        c.atmosphere,
-        c.relative_velocity_eci,
-        c.relative_velocity_ecef,
-        c.speed,
-        c.accommodation_model,
-        c.accommodation_coefficient,
-        c.earth_rotation,
-        c.space_weather,
-    )
-
-
 def interpolated_flight_conditions(
     a: FlightConditions, b: FlightConditions, weight: float, time: _dt.datetime
 ) -> FlightConditions:
@@ -224,7 +202,7 @@ def interpolated_flight_conditions(
     """
     _check_ends(a, b)
     if weight == 0.0:
-        return _at_time(a, time)
+        return dataclasses.replace(a, time=time)
     return _mixed(_ends(a), _ends(b), weight, time)
 
 
@@ -335,7 +313,7 @@ class KnotGrid:
             self.prepared_used += 1
         step = self.step
         if step <= 0.0:  # (a copy: the kept knot is nobody else's)
-            return _at_time(self._knot(key, stamp).conditions, time)
+            return dataclasses.replace(self._knot(key, stamp).conditions, time=time)
         j, past = knot_position(stamp, step)
         try:
             a = self._knot(key, j)
@@ -345,7 +323,7 @@ class KnotGrid:
             self.evaluations += 1
             return conditions
         if past == 0.0:
-            return _at_time(a.conditions, time)
+            return dataclasses.replace(a.conditions, time=time)
         return _mixed(a, b, past / step, time)
 
     def prepare(self, key, stamp: float) -> bool:
