@@ -61,14 +61,9 @@ def speed_ratio(speed: float, temperature: float, mean_mass: float) -> float:
     return speed / math.sqrt(2.0 * BOLTZMANN * temperature / mean_mass)
 
 
-@dataclass(eq=False)
+@dataclass(frozen=True, eq=False)
 class FlightConditions:
-    """Conditions a spacecraft flies in at one instant.
-
-    A value: the functions that make it never change it afterwards, its vectors are read-only
-    arrays and its atmosphere is immutable. (Not a frozen dataclass: a frozen dataclass's
-    ``__init__`` sets every field through ``object.__setattr__``, ~2.5 us more for these 16
-    fields, and the estimator makes one per attitude message; see docs/benchmarks.md.)
+    """Conditions a spacecraft flies in at one instant (a value: frozen, vectors read-only).
 
     Attributes
     ----------

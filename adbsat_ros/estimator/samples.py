@@ -47,13 +47,9 @@ class OrbitalState:
     velocity: np.ndarray
 
 
-@dataclass(eq=False)
+@dataclass(frozen=True, eq=False)
 class WrenchSample:
     """The aerodynamic wrench at one attitude message.
-
-    A value: the estimator never changes it after making it. (Not a frozen dataclass: a frozen
-    dataclass's ``__init__`` sets every field through ``object.__setattr__``, ~2 us more for
-    these 14 fields, once per attitude message; see docs/benchmarks.md.)
 
     Attributes
     ----------
