@@ -101,7 +101,7 @@ class AeroWrenchEstimator:
             shading = ShadingSource(self.mesh, settings)
         if self.knots is None:
             self.knots = KnotGrid(settings.conditions_step, conditions)
-        else:  # new knots (their key includes the settings), the counters run on
+        else:  # the knots of the old settings go, the counters run on
             self.knots.configure(settings.conditions_step, conditions)
         self.method, self._shading, self._database = method, shading, database
         self.weather = conditions.weather
