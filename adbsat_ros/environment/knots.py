@@ -312,13 +312,8 @@ class KnotGrid:
         if prepared is not None and prepared[1] == stamp and prepared[0] is key:
             self.prepared_used += 1
         step = self.step
-        if step <= 0.0:
-            conditions = self._knot(key, stamp).conditions
-            return (
-                conditions
-                if conditions.time == time
-                else dataclasses.replace(conditions, time=time)
-            )
+        if step <= 0.0:  # (a copy: the kept conditions are nobody else's)
+            return dataclasses.replace(self._knot(key, stamp).conditions, time=time)
         j, past = knot_position(stamp, step)
         try:
             a = self._knot(key, j)

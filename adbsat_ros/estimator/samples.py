@@ -47,9 +47,12 @@ class OrbitalState:
     velocity: np.ndarray
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False)
 class WrenchSample:
     """The aerodynamic wrench at one attitude message.
+
+    A value: the estimator never changes it after making it. (Not a frozen dataclass, for the
+    measured reason given in :class:`~adbsat_ros.environment.conditions.FlightConditions`.)
 
     Attributes
     ----------
