@@ -1,8 +1,10 @@
-"""Checks of scalar inputs that raise ValueError naming the input."""
+"""Checks of inputs that raise ValueError naming the input: numbers and 3-vectors."""
 
 from __future__ import annotations
 
 import math
+
+import numpy as np
 
 
 def finite(name: str, value) -> float:
@@ -30,3 +32,24 @@ def positive(name: str, value) -> float:
     if value <= 0.0:
         raise ValueError(f"{name} must be > 0, got {value!r}")
     return value
+
+
+def all_finite(array: np.ndarray) -> bool:
+    """True if every element of ``array`` is finite (Python floats for up to 3 elements, where
+    that is several times faster than numpy)."""
+    if array.size <= 3:
+        return all(map(math.isfinite, array.ravel().tolist()))
+    return bool(np.isfinite(array).all())
+
+
+def vectors3(value, name: str) -> np.ndarray:
+    """``value`` as a float array of shape (3,) or (N, 3), finite, or ValueError naming ``name``."""
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers of shape (3,) or (N, 3), got {value!r}") from None
+    if array.shape[-1:] != (3,) or array.ndim > 2:
+        raise ValueError(f"{name} must have shape (3,) or (N, 3), got shape {array.shape}")
+    if not all_finite(array):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return array

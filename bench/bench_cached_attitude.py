@@ -1,7 +1,7 @@
 """Cost of one attitude on a ~10k-face mesh when the shading comes from the cache.
 
 Usage:
-    python bench/bench_cached_attitude.py [--max-edge 0.064] [--repeat 3000] [--together 2,4,8]
+    python bench/bench_cached_attitude.py [--max-edge 0.064] [--repeat 3000]
 
 Cases, on the example satellite refined to ~9,600 faces, sentman, raycast shading cached at
 0.25 deg:
@@ -11,16 +11,13 @@ Cases, on the example satellite refined to ~9,600 faces, sentman, raycast shadin
 * "stored cells": every query in another cell, all already in the cache (the sparse store is
   unpacked each time);
 * "estimator": AeroWrenchEstimator.on_attitude, i.e. the node's whole per-message work
-  (flight conditions with NRLMSISE-00, rotation, cache, panel method), same cell;
-* "estimator, N together": AeroWrenchEstimator.on_attitudes over N consecutive 1 kHz attitudes
-  (what the node does with the attitudes that queued up while it was busy), per message, for
-  each N of ``--together``, beside the same bursts one message at a time on a twin estimator
-  (each burst right after the other, so both see the same spell of the machine);
+  (flight conditions from the knot grid, rotation, cache, panel method), same cell;
 * the same at 100 Hz, sleeping 10 ms before each message (the cost after the CPU idled), without
   and with the flight conditions prepared ahead (``AeroWrenchEstimator.prepare``, as the node
   does right after each wrench).
 
-Prints the median and 99th percentile of each in milliseconds.
+Prints the median and 99th percentile of each in milliseconds (wall time; for CPU time per
+attitude against another source tree see ``bench/bench_estimator.py``).
 """
 
 from __future__ import annotations
@@ -50,18 +47,15 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--max-edge", type=float, default=0.064)
     parser.add_argument("--repeat", type=int, default=3000)
-    parser.add_argument(
-        "--together", default="2,4,8", help="burst sizes for on_attitudes, comma-separated"
-    )
     args = parser.parse_args()
-    together_sizes = [int(x) for x in args.together.split(",") if x]
     mesh = example_satellite(max_edge=args.max_edge)
     method = PanelMethod(mesh, "sentman")
     flow = FreeStream(speed=7726.0, temperature=934.0, mean_mass_amu=17.9, density=2.4e-11)
     cache = ShadingCache(make_shader(mesh, mode="raycast"), resolution_deg=0.25)
     n = args.repeat
     print(
-        f"mesh: example satellite, {mesh.n_panels} faces; sentman; raycast cached at 0.25 deg; {n} calls per case"
+        f"mesh: example satellite, {mesh.n_panels} faces; sentman; raycast cached at 0.25 deg; "
+        f"{n} calls per case"
     )
 
     # same cell: tiny attitude changes around aoa 10, aos 5 deg
@@ -104,30 +98,6 @@ def main() -> None:
         times.append(time.perf_counter() - t0)
     whole = percentiles(times[100:])
 
-    # attitudes that waited together, as the node serves a burst, per message; each burst also one
-    # message at a time on a twin estimator right after it (interleaved: the same machine spell)
-    together = {}
-    for size in together_sizes:
-        est, twin = AeroWrenchEstimator(settings, mesh), AeroWrenchEstimator(settings, mesh)
-        times, one_by_one = [], []
-        k = 0
-        while k < n:
-            if k % 100 < size:  # a state every 100 ms, as above, before the burst that crosses it
-                t = 1e-3 * (k - k % 100)
-                for e in (est, twin):
-                    e.on_state(t, [r, v * t, 0.0], [0.0, v, 0.0])
-            burst = [(1e-3 * (k + i), (0.0, 0.0, 0.0, 1.0)) for i in range(size)]
-            t0 = time.perf_counter()
-            est.on_attitudes(burst)
-            t1 = time.perf_counter()
-            for stamp, q in burst:
-                twin.on_attitude(stamp, q)
-            times.append((t1 - t0) / size)
-            one_by_one.append((time.perf_counter() - t1) / size)
-            k += size
-        skip = 100 // size + 1
-        together[size] = (percentiles(times[skip:]), percentiles(one_by_one[skip:]))
-
     # the same after 10 ms of idleness before each message (a 100 Hz stream: the CPU has gone
     # idle and the process's code and data are cold), without and with the conditions prepared
     # ahead as the node does right after publishing (AeroWrenchEstimator.prepare)
@@ -152,14 +122,6 @@ def main() -> None:
         ("cache hit, same cell + coefficients()", same),
         ("cache hit, stored cell (unpacked) + coefficients()", stored),
         ("estimator on_attitude (flight conditions included)", whole),
-        *(
-            row
-            for size in together_sizes
-            for row in (
-                (f"estimator on_attitudes, {size} together, per message", together[size][0]),
-                (f"  the same {size} one at a time (on_attitude), interleaved", together[size][1]),
-            )
-        ),
         ("same, 100 Hz: 10 ms idle before each message", cold[False]),
         ("same, 100 Hz, conditions prepared ahead (the node)", cold[True]),
     ):

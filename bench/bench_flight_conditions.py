@@ -5,13 +5,15 @@ Usage: python bench/bench_flight_conditions.py [--number 2000] [--repeat 15] [--
 
 Prints the median time per call in milliseconds (``--repeat`` rounds of ``--number`` calls) of:
 
-* the per-message path of the node and the bag analysis, as
-  ``AeroWrenchEstimator.on_attitude`` calls it: ``flight_conditions`` on an ECI state with an aware
-  UTC time, ``precession_nutation_step=60`` s and a fixed alpha (the default), then
-  ``free_stream()`` and ``dynamic_pressure()``, and the values the node then reads (relative
-  velocity, speed, the free stream's mean mass three times and speed ratio as the Sentman model
-  does, the diagnostics); messages 0.1 s apart (a 10 Hz attitude stream), the position propagated
-  along the velocity; and the same with the Langmuir alpha;
+* an exact evaluation as ``AeroWrenchEstimator`` makes one at a knot (or at every stamp with
+  ``conditions_step`` 0): ``flight_conditions`` on an ECI state with an aware UTC time,
+  ``precession_nutation_step=60`` s and a fixed alpha (the default), then ``free_stream()`` and
+  ``dynamic_pressure()``, and the values the node then reads (relative velocity, speed, the free
+  stream's mean mass three times and speed ratio as the Sentman model does, the diagnostics);
+  messages 0.1 s apart (a 10 Hz attitude stream), the position propagated along the velocity;
+  and the same with the Langmuir alpha;
+* the per-message path at 1 kHz between knots (working tree only): ``KnotGrid.conditions`` (the
+  conditions interpolated between the 10 ms knots, kept) and then the same reads;
 * "cold": the same per-message step, each call timed alone right after ``time.sleep(0.01)``
   (median of ``--cold-calls`` calls): the cost when the process sleeps between messages, as it
   does on a 100 Hz stream, and finds its code and data out of the CPU caches;
@@ -24,10 +26,12 @@ Prints the median time per call in milliseconds (``--repeat`` rounds of ``--numb
 Outside the per-message cases the time advances by one second at every call, so nothing
 time-dependent is reused between calls (only the per-day constants are memoised).
 
-``--baseline REV`` also times the per-message cases with the ``adbsat_ros`` package of git
+``--baseline REV`` also times the exact evaluations with the ``adbsat_ros`` package of git
 revision REV of this repository (extracted with ``git archive`` into a temporary directory and
-imported as ``adbsat_ros_baseline``), alternating rounds with the working tree so that both see the
-same machine load, and prints the ratio. Example: ``--baseline HEAD`` to measure uncommitted work.
+imported as ``adbsat_ros_baseline``: a revision of the flat layout, whose modules import each
+other relatively), alternating rounds with the working tree so that both see the same machine
+load, and prints the ratio. Example: ``--baseline 386e56c``. Trees of the subpackage layout are
+compared in separate processes by ``bench/bench_estimator.py --tree``.
 """
 
 from __future__ import annotations
@@ -56,6 +60,7 @@ from adbsat_ros.environment.flight_conditions import (
     flight_conditions,
     flight_conditions_circular_orbit,
 )
+from adbsat_ros.environment.knots import KnotGrid
 
 START = dt.datetime(2015, 1, 19)
 WEATHER = SpaceWeather(f107=121.7, f107a=138.1, ap=4.0)
@@ -63,6 +68,8 @@ RADIUS = 6778137.0
 POSITION = np.array([RADIUS * math.cos(0.3), RADIUS * math.sin(0.3), 1.0e5])
 VELOCITY = np.array([-7668.0 * math.sin(0.3), 7668.0 * math.cos(0.3), 100.0])
 MESSAGE_PERIOD_S = 0.1
+KNOT_STEP_S = 0.01
+ATTITUDE_PERIOD_S = 0.001
 COLD_PAUSE_S = 0.01
 REPOSITORY = pathlib.Path(__file__).resolve().parents[1]
 
@@ -90,13 +97,31 @@ def message_stream(number: int):
     ]
 
 
+def module_of(package: str, name: str):
+    """``package``'s module ``name`` in the subpackage layout (environment.name) or the flat one."""
+    try:
+        return importlib.import_module(f"{package}.environment.{name}")
+    except ImportError:
+        return importlib.import_module(f"{package}.{name}")
+
+
+def reads(conditions):
+    """What the estimator reads of one message's conditions: the relative velocity and speed, the
+    free stream and its dynamic pressure, the free-stream values the Sentman model reads (mean
+    mass three times, speed ratio) and the diagnostics (density, temperature, altitude, speed
+    ratio, alpha)."""
+    conditions.relative_velocity_eci, conditions.speed
+    flow = conditions.free_stream()
+    flow.dynamic_pressure(), flow.mean_mass, flow.mean_mass, flow.mean_mass, flow.speed_ratio
+    conditions.mass_density, conditions.temperature, conditions.altitude, conditions.speed_ratio
+    return conditions.alpha
+
+
 def per_message_step(package: str, model: str):
-    """``step(utc, position)``: what ``AeroWrenchEstimator.on_attitude`` does with ``package``'s
-    flight conditions for one message: the call, the free stream and its dynamic pressure, the
-    relative velocity and speed, the free-stream values the Sentman model reads (mean mass three
-    times, speed ratio) and the diagnostics (density, temperature, altitude, speed ratio, alpha)."""
-    conditions_of = importlib.import_module(f"{package}.flight_conditions").flight_conditions
-    weather_type = importlib.import_module(f"{package}.atmosphere").SpaceWeather
+    """``step(utc, position)``: an exact evaluation of ``package``'s flight conditions and what
+    the estimator reads of them (:func:`reads`)."""
+    conditions_of = module_of(package, "flight_conditions").flight_conditions
+    weather_type = module_of(package, "atmosphere").SpaceWeather
     weather = weather_type(WEATHER.f107, WEATHER.f107a, WEATHER.ap)
 
     def step(utc, position):
@@ -114,13 +139,40 @@ def per_message_step(package: str, model: str):
             accommodation_options={"alpha": 1.0} if model == "fixed" else None,
             precession_nutation_step=60.0,
         )
-        conditions.relative_velocity_eci, conditions.speed
-        flow = conditions.free_stream()
-        flow.dynamic_pressure(), flow.mean_mass, flow.mean_mass, flow.mean_mass, flow.speed_ratio
-        conditions.mass_density, conditions.temperature, conditions.altitude, conditions.speed_ratio
-        return conditions.alpha
+        return reads(conditions)
 
     return step
+
+
+def knot_grid_ms(number: int, repeat: int) -> float:
+    """Median time [ms] per 1 kHz message of ``KnotGrid.conditions`` and :func:`reads`, the
+    knots 10 ms apart kept in the grid (one new knot every ten messages, as in the estimator)."""
+    epoch = START.replace(tzinfo=dt.timezone.utc)
+
+    def exact(_, stamp):
+        return flight_conditions(
+            epoch + dt.timedelta(seconds=stamp),
+            POSITION + VELOCITY * stamp,
+            VELOCITY,
+            WEATHER,
+            accommodation_model="fixed",
+            accommodation_options={"alpha": 1.0},
+            precession_nutation_step=60.0,
+        )
+
+    grid = KnotGrid(KNOT_STEP_S, exact)
+    key = object()  # one orbital state
+    stamps = [0.0005 + ATTITUDE_PERIOD_S * i for i in range(number)]
+    times = [epoch + dt.timedelta(seconds=stamp) for stamp in stamps]
+
+    def run() -> float:
+        start = time.perf_counter()
+        for stamp, utc in zip(stamps, times):
+            reads(grid.conditions(key, stamp, utc))
+        return (time.perf_counter() - start) / number
+
+    run()
+    return statistics.median(run() for _ in range(repeat)) * 1e3
 
 
 def per_message_round(package: str, model: str):
@@ -156,7 +208,7 @@ def cold_medians(packages: dict, model: str, calls: int, pause: float) -> dict:
 
 
 def extract_package(revision: str, directory: str) -> pathlib.Path:
-    """Extract ``adbsat_ros`` as it was at git ``revision`` into ``directory``; return its folder."""
+    """Extract ``adbsat_ros`` as it was at git ``revision`` into ``directory``; its folder."""
     archive = subprocess.run(
         ["git", "-C", str(REPOSITORY), "archive", "--format=tar", revision, "adbsat_ros"],
         check=True,
@@ -168,8 +220,22 @@ def extract_package(revision: str, directory: str) -> pathlib.Path:
 
 
 def import_baseline(revision: str, directory: str) -> str:
-    """Extract ``adbsat_ros`` at git ``revision`` into ``directory``; import it as adbsat_ros_baseline."""
+    """Extract ``adbsat_ros`` at git ``revision`` into ``directory``; import it as
+    adbsat_ros_baseline.
+
+    Only a package whose modules import each other relatively (the flat layout) can be imported
+    under another name beside this one: a revision with absolute ``adbsat_ros.`` imports would
+    run this tree's modules for the baseline's, so it is refused (SystemExit); compare such trees
+    in separate processes with ``bench/bench_estimator.py --tree``.
+    """
     package_dir = extract_package(revision, directory)
+    for path in package_dir.rglob("*.py"):
+        text = path.read_text(encoding="utf-8")
+        if "\nfrom adbsat_ros." in text or "\nimport adbsat_ros." in text:
+            raise SystemExit(
+                f"--baseline {revision}: its modules import adbsat_ros absolutely, so it cannot be "
+                "imported beside this tree; use bench/bench_estimator.py --tree for such trees"
+            )
     name = "adbsat_ros_baseline"
     spec = importlib.util.spec_from_file_location(
         name, package_dir / "__init__.py", submodule_search_locations=[str(package_dir)]
@@ -201,8 +267,9 @@ def main(argv=None) -> None:
             packages[f"baseline {args.baseline}"] = import_baseline(args.baseline, directory)
         messages = message_stream(args.number)
         print(
-            f"per-message path (flight_conditions + free_stream + dynamic_pressure, as on_attitude), "
-            f"median over {args.repeat} rounds of {args.number} messages {MESSAGE_PERIOD_S} s apart:"
+            "exact evaluation (flight_conditions + free_stream + dynamic_pressure, as at a knot), "
+            f"median over {args.repeat} rounds of {args.number} messages {MESSAGE_PERIOD_S} s "
+            "apart:"
         )
         for model in ("fixed", "langmuir"):
             runs = {label: per_message_round(package, model) for label, package in packages.items()}
@@ -217,9 +284,12 @@ def main(argv=None) -> None:
                 print(f"  {model:<8} accommodation, {label:<24} {value:.4f} ms")
             if len(medians) == 2:
                 current, baseline = medians.values()
-                print(
-                    f"  {model:<8} accommodation, baseline / working tree   {baseline / current:.2f}x"
-                )
+                ratio = baseline / current
+                print(f"  {model:<8} accommodation, baseline / working tree   {ratio:.2f}x")
+        print(
+            "per-message path at 1 kHz between 10 ms knots (KnotGrid.conditions + the same reads), "
+            f"working tree: {knot_grid_ms(args.number, args.repeat):.4f} ms"
+        )
         if args.cold_calls > 0:
             print(
                 f"cold per-message path (the same, each call after time.sleep({COLD_PAUSE_S})), "
@@ -231,9 +301,8 @@ def main(argv=None) -> None:
                     print(f"  {model:<8} accommodation, {label:<24} {value * 1e3:.4f} ms")
                 if len(medians) == 2:
                     current, baseline = medians.values()
-                    print(
-                        f"  {model:<8} accommodation, baseline / working tree   {baseline / current:.2f}x"
-                    )
+                    ratio = baseline / current
+                    print(f"  {model:<8} accommodation, baseline / working tree   {ratio:.2f}x")
 
     times = advancing_times()
     fixed_orientation = earth_orientation(START)

@@ -53,15 +53,9 @@ from typing import Callable, Mapping
 
 from adbsat_ros.environment.atmosphere import AtmosphereState
 from adbsat_ros.physics.constants import AMU, BOLTZMANN, species_mass_kg
-from adbsat_ros.validation import (
-    finite as _finite,
-)
-from adbsat_ros.validation import (
-    non_negative as _non_negative,
-)
-from adbsat_ros.validation import (
-    positive as _positive,
-)
+from adbsat_ros.validation import finite as _finite
+from adbsat_ros.validation import non_negative as _non_negative
+from adbsat_ros.validation import positive as _positive
 
 #: Pilinski et al. (2010) Langmuir constant K [m^3/K], applied as K n_O T.
 LANGMUIR_CONSTANT = 7.50e-17
@@ -360,24 +354,6 @@ def accommodation_of(
     ValueError
         For an option the model does not take (listing those it does) or an invalid value.
     """
-    # The per-message cases, a fixed alpha in [0, 1] or the Langmuir isotherm with its default
-    # constant, in the arithmetic of _fixed and langmuir_accommodation; anything else (including
-    # what would raise) goes through the model's function and its checks.
-    if key == "fixed":
-        alpha = options.get("alpha") if len(options) == 1 else None
-        if type(alpha) is float and 0.0 <= alpha <= 1.0:
-            return alpha
-    elif key == "langmuir" and not options:
-        n_o = atmosphere.number_densities["O"]
-        temperature = atmosphere.temperature
-        if (
-            type(n_o) is float
-            and type(temperature) is float
-            and 0.0 <= n_o < math.inf
-            and 0.0 < temperature < math.inf
-        ):
-            x = LANGMUIR_CONSTANT * n_o * temperature
-            return x / (1.0 + x)
     allowed = ACCOMMODATION_OPTIONS[key]
     for option in options:
         if option not in allowed:

@@ -51,10 +51,7 @@ _SWITCHES_DAILY_AP = [1] * 24
 #: As above with switch 9 = -1: use the 7-element Ap history.
 _SWITCHES_AP_HISTORY = [1] * 9 + [-1] + [1] * 14
 _SPECIES_MASS_KG = {name: MOLAR_MASS_G[name] / (1000.0 * AVOGADRO) for name in SPECIES}
-#: The species in the order :func:`_model_state` takes their number densities.
-_MODEL_STATE_SPECIES = ("He", "O", "N2", "O2", "Ar", "H", "N", "AnO")
 _SPECIES_WITHOUT_ANO = tuple(s for s in SPECIES if s != "AnO")
-_HE, _O, _N2, _O2, _AR, _H, _N, _ANO = (_SPECIES_MASS_KG[name] for name in SPECIES)
 _UTC = _dt.timezone.utc
 
 
@@ -109,7 +106,8 @@ class AtmosphereState:
     ----------
     number_densities : mapping of str to float
         Number densities [m^-3] of He, O, N2, O2, Ar, H, N and anomalous oxygen "AnO" (keys as
-        :data:`adbsat_ros.physics.constants.SPECIES`), read-only. O, H and N are 0 below 72.5 km.
+        :data:`adbsat_ros.physics.constants.SPECIES`), a read-only copy of the mapping given.
+        O, H and N are 0 below 72.5 km.
     mass_density : float
         Total mass density [kg/m^3]; includes anomalous oxygen iff ``anomalous_oxygen``.
     exospheric_temperature : float
@@ -127,35 +125,50 @@ class AtmosphereState:
     temperature: float
     anomalous_oxygen: bool = True
 
-    # The derived values below are computed once per state (run_model fills them in as it builds
-    # the state, from the same sums in the same order).
-    @functools.cached_property
+    def __post_init__(self):
+        object.__setattr__(
+            self, "number_densities", types.MappingProxyType(dict(self.number_densities))
+        )
+        object.__setattr__(self, "anomalous_oxygen", bool(self.anomalous_oxygen))
+
+    @property
     def mixture_species(self) -> tuple:
         """Species of the gas mixture: the seven thermal species, plus "AnO" if included."""
         return SPECIES if self.anomalous_oxygen else _SPECIES_WITHOUT_ANO
 
-    @functools.cached_property
-    def _mixture_densities(self) -> tuple:
+    @property
+    def mixture_densities(self) -> tuple:
         """Number densities [m^-3] of :attr:`mixture_species`, in that order."""
-        return tuple(self.number_densities[name] for name in self.mixture_species)
+        densities = self.number_densities
+        return tuple([densities[name] for name in self.mixture_species])
 
     @property
-    def mixture_number_densities(self) -> dict:
-        """Number densities [m^-3] of :attr:`mixture_species` (what a FreeStream is given)."""
-        return {name: self.number_densities[name] for name in self.mixture_species}
+    def mixture_number_densities(self) -> Mapping[str, float]:
+        """Number densities [m^-3] of :attr:`mixture_species` (what a FreeStream is given), a
+        read-only mapping in that order (:attr:`number_densities` itself when the mixture
+        includes anomalous oxygen, which it does by default)."""
+        densities = self.number_densities
+        if self.anomalous_oxygen and tuple(densities) == SPECIES:
+            return densities
+        return types.MappingProxyType({name: densities[name] for name in self.mixture_species})
 
     @property
     def total_number_density(self) -> float:
         """Sum of the mixture's number densities [m^-3]."""
-        return sum(self.number_densities[name] for name in self.mixture_species)
+        return sum(self.mixture_densities)
 
     @functools.cached_property
     def mean_mass(self) -> float:
-        """Number-weighted mean molecular mass of the mixture [kg] (as ADBSat's environment.m)."""
+        """Number-weighted mean molecular mass of the mixture [kg] (as ADBSat's environment.m).
+
+        sum(n_j m_j) / sum(n_j), both summed in the order of :attr:`mixture_species` (as
+        :attr:`adbsat_ros.physics.freestream.FreeStream.mean_mass` sums them).
+        """
+        densities = self.number_densities
         total = 0.0
         weighted = 0.0
         for name in self.mixture_species:
-            n = self.number_densities[name]
+            n = densities[name]
             total += n
             weighted += n * _SPECIES_MASS_KG[name]
         return weighted / total
@@ -283,11 +296,12 @@ def run_model(
 ) -> AtmosphereState:
     """NRLMSISE-00 at one point from inputs already checked (see :func:`evaluate_atmosphere`).
 
-    The per-message path of :mod:`adbsat_ros.environment.flight_conditions`, which has already checked the
-    time (``year``, ``day_of_year`` 1..366, UTC ``seconds`` of the day), the ``altitude`` [m] in
-    [0, 1000 km] (:func:`check_altitude`), and has a geodetic ``latitude`` in [-pi/2, pi/2] and a
-    finite ``longitude`` [rad] from :func:`adbsat_ros.environment.earth_frames.geodetic_of_floats`. Only
-    ``space_weather`` is checked here (ValueError naming it).
+    Used by :func:`adbsat_ros.environment.flight_conditions.flight_conditions`, which has already
+    checked the time (``year``, ``day_of_year`` 1..366, UTC ``seconds`` of the day), the
+    ``altitude`` [m] in [0, 1000 km] (:func:`check_altitude`), and has a geodetic ``latitude`` in
+    [-pi/2, pi/2] and a finite ``longitude`` [rad] from
+    :func:`adbsat_ros.environment.geodetic.geodetic_of_floats`. Only ``space_weather`` is checked
+    here (ValueError naming it).
     """
     if not isinstance(space_weather, SpaceWeather):
         raise ValueError(
@@ -329,100 +343,10 @@ def run_model(
             flags=_SWITCHES_AP_HISTORY,
         )
     he, o, n2, o2, ar, rho, h, n, ano = densities  # the model's order (_MSIS_SPECIES_INDEX)
-    return _model_state(
-        he, o, n2, o2, ar, h, n, ano, rho, temperatures[0], temperatures[1], anomalous_oxygen
-    )
-
-
-def gas_mixture(he, o, n2, o2, ar, h, n, ano, mass_density, temperature, anomalous_oxygen) -> tuple:
-    """The gas mixture of model floats (number densities [m^-3] by species, mass density
-    [kg/m^3], temperature [K]): ``(species, values, mean_mass, usable)``.
-
-    ``species`` and ``values`` are the mixture's species (with "AnO" iff ``anomalous_oxygen``) and
-    their number densities in that order; ``mean_mass`` [kg] is the number-weighted mean molecular
-    mass (None if the total is not > 0); ``usable`` says that a FreeStream can take the mixture as
-    it is (finite positive total, temperature and mass density, no negative density), the checks
-    of :meth:`FreeStream.of_mixture`. :func:`run_model`'s states and the interpolated flight
-    conditions' free streams are both made from this, so their sums are the same bit for bit.
-    """
-    if anomalous_oxygen:
-        species, values = SPECIES, (he, o, n2, o2, ar, h, n, ano)
-        total = 0.0 + he + o + n2 + o2 + ar + h + n + ano
-        weighted = (
-            0.0 + he * _HE + o * _O + n2 * _N2 + o2 * _O2 + ar * _AR + h * _H + n * _N + ano * _ANO
-        )
-        negative = ano < 0.0
-    else:
-        species, values = _SPECIES_WITHOUT_ANO, (he, o, n2, o2, ar, h, n)
-        total = 0.0 + he + o + n2 + o2 + ar + h + n
-        weighted = 0.0 + he * _HE + o * _O + n2 * _N2 + o2 * _O2 + ar * _AR + h * _H + n * _N
-        negative = False
-    mean_mass = weighted / total if total > 0.0 else None
-    usable = (
-        0.0 < total < math.inf
-        and 0.0 < temperature < math.inf
-        and 0.0 < mass_density < math.inf
-        and not (
-            negative
-            or he < 0.0
-            or o < 0.0
-            or n2 < 0.0
-            or o2 < 0.0
-            or ar < 0.0
-            or h < 0.0
-            or n < 0.0
-        )
-    )
-    return species, values, mean_mass, usable
-
-
-def _model_state(
-    he, o, n2, o2, ar, h, n, ano, rho, exospheric_temperature, temperature, anomalous_oxygen
-) -> AtmosphereState:
-    """An AtmosphereState from the model's floats (number densities [m^-3] by species, mass
-    density [kg/m^3], temperatures [K]), as AtmosphereState(...) would make it (its fields need
-    no check), with the derived values of the mixture (:func:`gas_mixture`) filled in."""
-    state = object.__new__(AtmosphereState)
-    fields = state.__dict__
-    fields["number_densities"] = types.MappingProxyType(
-        {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano}
-    )
-    fields["mass_density"] = rho
-    fields["exospheric_temperature"] = exospheric_temperature
-    fields["temperature"] = temperature
-    fields["anomalous_oxygen"] = anomalous_oxygen = bool(anomalous_oxygen)
-    species, values, mean_mass, usable = gas_mixture(
-        he, o, n2, o2, ar, h, n, ano, rho, temperature, anomalous_oxygen
-    )
-    fields["mixture_species"] = species
-    fields["_mixture_densities"] = values
-    if mean_mass is not None:  # else mean_mass raises on access, as it always did
-        fields["mean_mass"] = mean_mass
-    if usable:
-        # What a free stream needs of the mixture, known to pass its checks (FreeStream.of_mixture)
-        fields["_free_stream_mixture"] = (species, values, mean_mass)
-    return state
-
-
-def interpolated_atmosphere(
-    a: AtmosphereState, b: AtmosphereState, weight: float
-) -> AtmosphereState:
-    """The state ``(1 - weight) a + weight b``: every number density, the mass density and both
-    temperatures interpolated linearly (0 <= weight <= 1); the mean mass and the free-stream
-    mixture follow from the interpolated densities as :func:`run_model` makes them.
-
-    Both states must come from :func:`run_model` with the same ``anomalous_oxygen`` (ValueError
-    otherwise). Used between two evaluations of the model a few tens of metres apart along an
-    orbit (:mod:`adbsat_ros.estimator.estimator`), where the model's fields are smooth.
-    """
-    if a.anomalous_oxygen != b.anomalous_oxygen:
-        raise ValueError("interpolated_atmosphere: both states need the same anomalous_oxygen")
-    v = 1.0 - weight
-    da, db = a.number_densities, b.number_densities
-    return _model_state(
-        *[v * da[name] + weight * db[name] for name in _MODEL_STATE_SPECIES],
-        v * a.mass_density + weight * b.mass_density,
-        v * a.exospheric_temperature + weight * b.exospheric_temperature,
-        v * a.temperature + weight * b.temperature,
-        a.anomalous_oxygen,
+    return AtmosphereState(
+        {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano},
+        rho,
+        temperatures[0],
+        temperatures[1],
+        anomalous_oxygen,
     )

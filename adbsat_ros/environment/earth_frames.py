@@ -44,11 +44,12 @@ import erfa
 import numpy as np
 
 from adbsat_ros.environment.time_scales import (
-    _SECONDS_PER_DAY,
+    SECONDS_PER_DAY,
     seconds_of_day,
     utc_datetime,
     utc_day,
 )
+from adbsat_ros.validation import vectors3
 
 #: Rate of the Earth rotation angle [rad/s] (IERS Conventions 2010, eq. 5.15:
 #: 2 pi * 1.00273781191135448 per UT1 day of 86400 s).
@@ -105,10 +106,10 @@ class EarthOrientation:
             ``R v_eci - omega x r_ecef``; None if no velocity was given.
         """
         matrix = self.celestial_to_terrestrial
-        position_ecef = _as_vectors(position_eci, "position_eci") @ matrix.T
+        position_ecef = vectors3(position_eci, "position_eci") @ matrix.T
         if velocity_eci is None:
             return position_ecef, None
-        velocity = _as_vectors(velocity_eci, "velocity_eci") @ matrix.T
+        velocity = vectors3(velocity_eci, "velocity_eci") @ matrix.T
         return position_ecef, velocity - cross(self.rotation_vector_ecef, position_ecef)
 
     def ecef_to_eci(self, position_ecef, velocity_ecef=None):
@@ -130,20 +131,20 @@ class EarthOrientation:
             velocity was given.
         """
         matrix = self.celestial_to_terrestrial
-        position = _as_vectors(position_ecef, "position_ecef")
+        position = vectors3(position_ecef, "position_ecef")
         position_eci = position @ matrix
         if velocity_ecef is None:
             return position_eci, None
-        velocity = _as_vectors(velocity_ecef, "velocity_ecef")
+        velocity = vectors3(velocity_ecef, "velocity_ecef")
         return position_eci, (velocity + cross(self.rotation_vector_ecef, position)) @ matrix
 
     def rotate_eci_to_ecef(self, vector_eci) -> np.ndarray:
         """Express a free vector (no transport term, e.g. a relative velocity) in ECEF axes."""
-        return _as_vectors(vector_eci, "vector_eci") @ self.celestial_to_terrestrial.T
+        return vectors3(vector_eci, "vector_eci") @ self.celestial_to_terrestrial.T
 
     def rotate_ecef_to_eci(self, vector_ecef) -> np.ndarray:
         """Express a free vector (no transport term, e.g. a relative velocity) in ECI axes."""
-        return _as_vectors(vector_ecef, "vector_ecef") @ self.celestial_to_terrestrial
+        return vectors3(vector_ecef, "vector_ecef") @ self.celestial_to_terrestrial
 
 
 _CELESTIAL_TO_INTERMEDIATE = {"iau2006a": erfa.c2i06a, "iau2000b": erfa.c2i00b}
@@ -156,7 +157,12 @@ _ROTATION_VECTOR_ECEF.setflags(write=False)
 @functools.lru_cache(maxsize=256)
 def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> tuple:
     """Celestial-to-intermediate matrix at the centre of TT interval ``bucket`` (J2000-based),
-    as 9 floats in row-major order."""
+    as 9 floats in row-major order.
+
+    The cache of the precession-nutation buckets: a pure function of its arguments (key: model,
+    bucket, step; bound: 256 buckets, over four hours at the 60 s step the estimator uses; hits
+    and misses in ``_celestial_to_intermediate_at.cache_info()``).
+    """
     return tuple(
         _CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days).ravel().tolist()
     )
@@ -262,12 +268,12 @@ def rotation_terms(
     """
     tt2 = day_fraction + tt_minus_utc
     if step > 0.0:
-        step_days = step / _SECONDS_PER_DAY
+        step_days = step / SECONDS_PER_DAY
         bucket = math.floor(((jd1 - 2451545.0) + tt2) / step_days)
         q = _celestial_to_intermediate_at(precession_nutation, bucket, step_days)
     else:
         q = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2).ravel().tolist()
-    era = earth_rotation_angle(jd1, day_fraction + ut1_minus_utc / _SECONDS_PER_DAY)
+    era = earth_rotation_angle(jd1, day_fraction + ut1_minus_utc / SECONDS_PER_DAY)
     c, s = math.cos(era), math.sin(era)
     q00, q01, q02, q10, q11, q12, q20, q21, q22 = q
     # R3(ERA) @ Q with R3 = [[c, s, 0], [-s, c, 0], [0, 0, 1]]
@@ -335,7 +341,7 @@ def earth_orientation(
         ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
     )
     jd1, tt_minus_utc, _ = utc_day(time.year, time.month, time.day)
-    day_fraction = seconds_of_day(time) / _SECONDS_PER_DAY
+    day_fraction = seconds_of_day(time) / SECONDS_PER_DAY
     matrix, era, axis = rotation_terms(jd1, day_fraction, tt_minus_utc, *options)
     matrix = np.array(matrix).reshape(3, 3)
     matrix.setflags(write=False)
@@ -375,22 +381,3 @@ def cross(a, b) -> np.ndarray:
         b1, b2, b3 = b.tolist()
         return np.array([a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1])
     return np.cross(a, b)
-
-
-def _as_vectors(value, name: str) -> np.ndarray:
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be numbers of shape (3,) or (N, 3), got {value!r}") from None
-    if array.shape[-1:] != (3,) or array.ndim > 2:
-        raise ValueError(f"{name} must have shape (3,) or (N, 3), got shape {array.shape}")
-    if not _all_finite(array):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return array
-
-
-def _all_finite(array: np.ndarray) -> bool:
-    """True if every element is finite (pure Python for 3-vectors: 10x faster than numpy)."""
-    if array.size <= 3:
-        return all(map(math.isfinite, array.ravel().tolist()))
-    return bool(np.isfinite(array).all())

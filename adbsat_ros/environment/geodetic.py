@@ -1,4 +1,8 @@
-"""WGS-84 geodetic coordinates: latitude, east longitude [rad] and height above the ellipsoid [m] from and to ECEF, and local East-North-Up axes."""
+"""WGS-84 geodetic coordinates and local axes.
+
+Latitude, east longitude [rad] and height above the ellipsoid [m] from and to ECEF (ITRF)
+positions, and the local East-North-Up axes.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +11,7 @@ import math
 import erfa
 import numpy as np
 
-from adbsat_ros.environment.earth_frames import _all_finite, _as_vectors
+from adbsat_ros.validation import all_finite, vectors3
 
 #: ERFA's identifier of the WGS-84 reference ellipsoid (for ``erfa.gc2gd``/``erfa.gd2gc``).
 WGS84 = 1
@@ -51,7 +55,7 @@ def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
     longitude = np.asarray(longitude, dtype=float)
     altitude = np.asarray(altitude, dtype=float)
     for name, value in (("latitude", latitude), ("longitude", longitude), ("altitude", altitude)):
-        if not _all_finite(value):
+        if not all_finite(value):
             raise ValueError(f"{name} must be finite, got {value!r}")
     if latitude.ndim == 0:
         if abs(float(latitude)) > math.pi / 2:
@@ -86,7 +90,7 @@ def ecef_to_geodetic(position_ecef):
     ValueError
         If the position is not finite or has the wrong shape.
     """
-    position = _as_vectors(position_ecef, "position_ecef")
+    position = vectors3(position_ecef, "position_ecef")
     # The raw ufunc skips pyerfa's status-to-warning wrapper (~9 us); status < 0 is only possible
     # for a bad ellipsoid identifier, which WGS84 is not.
     longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position)

@@ -1,4 +1,10 @@
-"""UTC instants as the Earth-orientation and atmosphere models take them: aware datetimes, Julian dates (UTC, TT, UT1) through ERFA's leap-second table, day of year and seconds of day."""
+"""UTC instants as the Earth-orientation and atmosphere models take them.
+
+Aware datetimes, two-part Julian dates (UTC, TT, UT1) through ERFA's leap-second table, day of
+year and seconds of day. The constants of a calendar day come from :func:`utc_day`, a pure
+function of the date with its own cache (``functools.lru_cache``: key the date, bound 512 days,
+hits and misses in ``utc_day.cache_info()``), as does ERFA's TAI - UTC of a day.
+"""
 
 from __future__ import annotations
 
@@ -11,7 +17,8 @@ import erfa
 _MJD_ZERO_ORDINAL = _dt.date(1858, 11, 17).toordinal()  # proleptic ordinal of MJD 0
 _MJD_TO_JD = 2400000.5
 _TT_MINUS_TAI = 32.184  # [s]
-_SECONDS_PER_DAY = 86400.0
+#: Seconds in a day of 86400 SI seconds (Julian dates count such days).
+SECONDS_PER_DAY = 86400.0
 
 
 _UTC = _dt.timezone.utc
@@ -73,11 +80,11 @@ def julian_dates(time, ut1_minus_utc: float = 0.0):
     """
     time = utc_datetime(time)
     jd1, tt_offset, _ = utc_day(time.year, time.month, time.day)
-    day_fraction = seconds_of_day(time) / _SECONDS_PER_DAY
+    day_fraction = seconds_of_day(time) / SECONDS_PER_DAY
     return (
         (jd1, day_fraction),
         (jd1, day_fraction + tt_offset),
-        (jd1, day_fraction + float(ut1_minus_utc) / _SECONDS_PER_DAY),
+        (jd1, day_fraction + float(ut1_minus_utc) / SECONDS_PER_DAY),
     )
 
 
@@ -95,7 +102,7 @@ def utc_day(year: int, month: int, day: int) -> tuple:
     ordinal = _dt.date(year, month, day).toordinal()
     return (
         _MJD_TO_JD + (ordinal - _MJD_ZERO_ORDINAL),
-        (_tai_minus_utc(year, month, day) + _TT_MINUS_TAI) / _SECONDS_PER_DAY,
+        (_tai_minus_utc(year, month, day) + _TT_MINUS_TAI) / SECONDS_PER_DAY,
         ordinal - _dt.date(year, 1, 1).toordinal() + 1,
     )
 

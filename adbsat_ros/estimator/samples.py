@@ -1,15 +1,17 @@
-"""What the estimator returns for one message: a wrench sample, or the rejection that says why there is none; and the orbital state it keeps."""
+"""What the estimator returns for one message, and the orbital state it keeps.
+
+A message gives a :class:`WrenchSample`, or a :class:`Rejection` that says why there is none
+(one of :data:`REJECTION_REASONS`).
+"""
 
 from __future__ import annotations
 
 import datetime as _dt
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
-from adbsat_ros.environment.flight_conditions import (
-    FlightConditions,
-)
+from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.physics.coefficients import AeroCoefficients
 
 #: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).
@@ -45,9 +47,12 @@ class OrbitalState:
     velocity: np.ndarray
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False)
 class WrenchSample:
     """The aerodynamic wrench at one attitude message.
+
+    A value: the estimator never changes it after making it. (Not a frozen dataclass, for the
+    measured reason given in :class:`~adbsat_ros.environment.conditions.FlightConditions`.)
 
     Attributes
     ----------
@@ -98,14 +103,31 @@ class WrenchSample:
         return float(self.force_coefficients @ self.flow_direction_body)
 
     @classmethod
-    def _made(cls, *values) -> "WrenchSample":
-        """``WrenchSample(*values)`` (the fields in order) without the frozen dataclass's
-        ``__init__``, which sets each field through ``object.__setattr__``: 1 us instead of 4,
-        once per message. The fields need no checks."""
-        sample = _new_object(cls)
-        sample.__dict__.update(zip(_SAMPLE_FIELDS, values))
-        return sample
+    def at_rest(
+        cls, stamp: float, time: _dt.datetime, reference, conditions, compute_seconds: float
+    ) -> WrenchSample:
+        """The sample of a body at rest in the air: zero force, torque and flow direction.
 
-
-_new_object = object.__new__
-_SAMPLE_FIELDS = tuple(f.name for f in fields(WrenchSample))
+        Parameters
+        ----------
+        stamp, time, conditions, compute_seconds
+            As the fields.
+        reference : Reference
+            Its ``area`` [m^2] and ``length`` [m] are the sample's reference area and length.
+        """
+        return cls(
+            stamp=stamp,
+            time=time,
+            force=np.zeros(3),
+            torque=np.zeros(3),
+            force_coefficients=np.zeros(3),
+            moment_coefficients=np.zeros(3),
+            reference_area=reference.area,
+            reference_length=reference.length,
+            dynamic_pressure=0.0,
+            conditions=conditions,
+            coefficients=None,
+            flow_direction_body=np.zeros(3),
+            shading_cache_hit=None,
+            compute_seconds=compute_seconds,
+        )

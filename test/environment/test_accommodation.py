@@ -19,13 +19,14 @@ from adbsat_ros.environment.accommodation import (
     sesam_oxygen_pressure,
     sesam_sticking_fraction,
 )
-from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
+from adbsat_ros.environment.atmosphere import AtmosphereState, SpaceWeather, evaluate_atmosphere
 from adbsat_ros.physics.constants import AMU, BOLTZMANN, species_mass_kg
 
 # ADBSat validation paper (Sinpetru, Crisp et al. 2022, "ADBSat: Verification and validation of a
 # novel panel method for quick aerodynamic analysis of satellites", Comput. Phys. Commun. 275),
-# conditions of its accommodation values: 2015-01-19 00:00 UT, 0 N 0 E, F10.7 = 121.7, F10.7A = 138.1, Ap 2.9-9
-# (we use 4); Langmuir alpha = 1, 1, 0.97, 0.81 at 100, 200, 300, 400 km (physics.md, top).
+# conditions of its accommodation values: 2015-01-19 00:00 UT, 0 N 0 E, F10.7 = 121.7,
+# F10.7A = 138.1, Ap 2.9-9 (we use 4); Langmuir alpha = 1, 1, 0.97, 0.81 at 100, 200, 300,
+# 400 km (physics.md, top).
 PAPER_TIME = dt.datetime(2015, 1, 19)
 PAPER_WEATHER = SpaceWeather(f107=121.7, f107a=138.1, ap=4.0)
 
@@ -157,10 +158,8 @@ def test_atmosphere_must_be_an_atmosphere_state():
 
 
 def test_registry_fixed_and_langmuir_equal_the_model_functions():
-    """The per-message shortcuts of accommodation_of (fixed alpha, default Langmuir) give what the
-    model functions give, bit for bit, for model states and for hand-made ones of other types."""
-    from adbsat_ros.environment.atmosphere import AtmosphereState
-
+    """The registry's fixed alpha and Langmuir isotherm give what the model functions give, bit for
+    bit, for model states and for hand-made ones of other number types."""
     for altitude in (200e3, 400e3, 700e3):
         atmosphere = paper_atmosphere(altitude)
         n_o, temperature = atmosphere.number_densities["O"], atmosphere.temperature

@@ -1,4 +1,4 @@
-"""NRLMSISE-00 through adbsat_ros.environment.atmosphere: published values, units, validation, cost."""
+"""NRLMSISE-00 through adbsat_ros.environment.atmosphere: published values, units, checks, cost."""
 
 import datetime as dt
 import math
@@ -8,7 +8,12 @@ import time as _time
 import nrlmsise00
 import pytest
 
-from adbsat_ros.environment.atmosphere import AtmosphereState, SpaceWeather, evaluate_atmosphere
+from adbsat_ros.environment.atmosphere import (
+    AtmosphereState,
+    SpaceWeather,
+    checked_utc,
+    evaluate_atmosphere,
+)
 
 # Reference test case 1 of the NRLMSISE-00 C distribution (nrlmsise-00_test.c, D. Brodowski;
 # the same numbers are printed by the original Fortran test driver): day 172, 29000 s UT,
@@ -228,8 +233,6 @@ def test_cost_per_call_is_well_under_0_2_ms():
 
 
 def test_checked_utc_is_an_aware_utc_time_or_the_time_error():
-    from adbsat_ros.environment.atmosphere import checked_utc
-
     aware = dt.datetime(2015, 1, 19, 6, 30, tzinfo=dt.timezone.utc)
     assert checked_utc(aware) is aware  # already what is needed: returned as it is
     naive = checked_utc(dt.datetime(2015, 1, 19, 6, 30))
@@ -247,8 +250,8 @@ def test_checked_utc_is_an_aware_utc_time_or_the_time_error():
 
 
 def test_model_states_equal_the_constructed_state_and_its_derived_values():
-    """evaluate_atmosphere builds its state without the dataclass constructor and fills in the
-    derived values; they equal, bit for bit, those of AtmosphereState(...) on the same fields."""
+    """A model state and AtmosphereState(...) made of its fields by hand are equal, and so are
+    their derived values (mixture, mean mass, total), bit for bit; both are read-only."""
     weather = SpaceWeather(f107=150.0, f107a=150.0, ap=4.0)
     for anomalous_oxygen in (True, False):
         for altitude in (90e3, 400e3, 950e3):
@@ -273,5 +276,6 @@ def test_model_states_equal_the_constructed_state_and_its_derived_values():
             assert state.mean_mass == fresh.mean_mass  # the same sums in the same order
             assert state.total_number_density == fresh.total_number_density
             assert len(state.mixture_species) == (8 if anomalous_oxygen else 7)
-            with pytest.raises(TypeError):
-                state.number_densities["O"] = 0.0  # read-only
+            for read_only in (state, fresh):
+                with pytest.raises(TypeError):
+                    read_only.number_densities["O"] = 0.0

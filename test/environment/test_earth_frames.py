@@ -20,10 +20,12 @@ from adbsat_ros.environment.earth_frames import (
 from adbsat_ros.environment.geodetic import (
     WGS84,
     ecef_to_geodetic,
+    enu_to_ecef,
     enu_to_ecef_matrix,
     geodetic_of_floats,
     geodetic_to_ecef,
 )
+from adbsat_ros.environment.time_scales import utc_day
 
 ARCSEC = math.pi / 180 / 3600
 
@@ -255,11 +257,8 @@ def test_bad_inputs_name_the_input(call, name):
 
 
 def test_precession_nutation_step_is_accurate_and_order_independent():
-    """A 60 s precession-nutation step moves the GCRF->ITRF matrix by < 1e-9 rad (docstring bound)."""
-    import datetime as dt
-
-    from adbsat_ros.environment.earth_frames import earth_orientation
-
+    """A 60 s precession-nutation step moves the GCRF->ITRF matrix by < 1e-9 rad (the docstring's
+    bound)."""
     base = dt.datetime(2026, 3, 20, 12, 0, 0)
     worst = 0.0
     for seconds in (0.0, 17.3, 29.9, 30.1, 59.99, 3600.5, 86400.0 * 200):
@@ -281,8 +280,6 @@ def test_precession_nutation_step_is_accurate_and_order_independent():
 
 # --------------------------------------------------------------- the per-message float path
 def test_day_constants_are_erfa_julian_date_leap_seconds_and_day_of_year():
-    from adbsat_ros.environment.time_scales import utc_day
-
     for day in (
         dt.date(1972, 1, 1),
         dt.date(2016, 12, 31),
@@ -302,8 +299,6 @@ def test_day_constants_are_erfa_julian_date_leap_seconds_and_day_of_year():
 
 
 def test_enu_to_ecef_floats_equal_the_matrix_product():
-    from adbsat_ros.environment.geodetic import enu_to_ecef
-
     rng = np.random.default_rng(3)
     for _ in range(50):
         lat, lon = rng.uniform(-math.pi / 2, math.pi / 2), rng.uniform(-math.pi, math.pi)

@@ -1,0 +1,226 @@
+"""The conditions a spacecraft flies in at one instant: :class:`FlightConditions`, a value object.
+
+They are made by :func:`adbsat_ros.environment.flight_conditions.flight_conditions` (from an
+orbital state), :func:`adbsat_ros.environment.flight_conditions.flight_conditions_circular_orbit`
+(ADBSat's recipe) and :func:`adbsat_ros.environment.knots.interpolated_flight_conditions`
+(between two of them); :meth:`FlightConditions.free_stream` turns them into the
+:class:`~adbsat_ros.physics.freestream.FreeStream` of the gas-surface models.
+
+Units: m, m/s, kg, K, rad.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from adbsat_ros.environment.atmosphere import AtmosphereState, SpaceWeather
+from adbsat_ros.physics.constants import BOLTZMANN
+from adbsat_ros.physics.freestream import FreeStream
+
+#: Units of the numeric fields of :meth:`FlightConditions.as_dict`.
+UNITS = {
+    "latitude": "rad",
+    "longitude": "rad",
+    "altitude": "m",
+    "position_eci": "m",
+    "position_ecef": "m",
+    "velocity_eci": "m/s",
+    "velocity_ecef": "m/s",
+    "space_weather.f107": "sfu (1e-22 W m^-2 Hz^-1)",
+    "space_weather.f107a": "sfu (1e-22 W m^-2 Hz^-1)",
+    "space_weather.ap": "1",
+    "number_densities": "m^-3",
+    "mass_density": "kg/m^3",
+    "exospheric_temperature": "K",
+    "temperature": "K",
+    "mean_molecular_mass": "kg",
+    "relative_velocity_eci": "m/s",
+    "relative_velocity_ecef": "m/s",
+    "speed": "m/s",
+    "speed_ratio": "1",
+    "accommodation_coefficient": "1",
+}
+
+
+def speed_ratio(speed: float, temperature: float, mean_mass: float) -> float:
+    """Molecular speed ratio s = V / sqrt(2 k_B T / m) [-].
+
+    Parameters
+    ----------
+    speed : float
+        Relative speed V [m/s].
+    temperature : float
+        Gas temperature T [K].
+    mean_mass : float
+        Mean molecular mass m [kg].
+    """
+    return speed / math.sqrt(2.0 * BOLTZMANN * temperature / mean_mass)
+
+
+@dataclass(eq=False)
+class FlightConditions:
+    """Conditions a spacecraft flies in at one instant.
+
+    A value: nothing changes it after it is made, its vectors are read-only arrays and its
+    atmosphere is frozen. (The dataclass itself is not frozen: a frozen dataclass sets each of
+    these 16 fields through ``object.__setattr__``, and the estimator makes one per attitude
+    message; frozen FlightConditions and WrenchSample cost 3.3 us more per attitude, 47.3 against
+    44.0 us of CPU, in one interleaved run of ``bench/bench_estimator.py``.)
+
+    Attributes
+    ----------
+    time : datetime.datetime
+        UTC instant (timezone-aware, UTC).
+    position_eci, position_ecef : numpy.ndarray, shape (3,)
+        Position in ECI (GCRF) and ECEF (ITRF) [m], read-only.
+    velocity_eci : numpy.ndarray or None
+        Inertial velocity in ECI axes [m/s]; None for the circular-orbit convenience.
+    velocity_ecef : numpy.ndarray or None
+        Velocity relative to the rotating Earth, ECEF axes [m/s]; None as above.
+    latitude, longitude : float
+        WGS-84 geodetic latitude and east longitude [rad].
+    altitude : float
+        Height above the WGS-84 ellipsoid [m].
+    atmosphere : AtmosphereState
+        NRLMSISE-00 state (densities [m^-3], mass density [kg/m^3], temperatures [K]).
+    relative_velocity_eci, relative_velocity_ecef : numpy.ndarray or None
+        Velocity of the satellite relative to the air (satellite minus co-rotating atmosphere
+        minus wind) in ECI and ECEF axes [m/s]; None when only a speed is known (circular orbit).
+    speed : float
+        |relative velocity| [m/s], >= 0.
+    accommodation_model : str
+        Name of the accommodation model used.
+    accommodation_coefficient : float
+        Energy accommodation coefficient alpha [-].
+    earth_rotation : bool
+        Whether the air co-rotates with the Earth.
+    space_weather : SpaceWeather or None
+        The space weather the atmosphere was evaluated with.
+    """
+
+    time: _dt.datetime
+    position_eci: np.ndarray
+    position_ecef: np.ndarray
+    velocity_eci: np.ndarray | None
+    velocity_ecef: np.ndarray | None
+    latitude: float
+    longitude: float
+    altitude: float
+    atmosphere: AtmosphereState
+    relative_velocity_eci: np.ndarray | None
+    relative_velocity_ecef: np.ndarray | None
+    speed: float
+    accommodation_model: str
+    accommodation_coefficient: float
+    earth_rotation: bool = True
+    space_weather: SpaceWeather | None = field(default=None, repr=False)
+
+    @property
+    def alpha(self) -> float:
+        """Shorthand for :attr:`accommodation_coefficient`."""
+        return self.accommodation_coefficient
+
+    @property
+    def mean_molecular_mass(self) -> float:
+        """Number-weighted mean molecular mass of the mixture [kg] (as ADBSat)."""
+        return self.atmosphere.mean_mass
+
+    @property
+    def speed_ratio(self) -> float:
+        """Molecular speed ratio s = speed / sqrt(2 k_B T / m) [-]."""
+        atmosphere = self.atmosphere
+        return speed_ratio(self.speed, atmosphere.temperature, atmosphere.mean_mass)
+
+    @property
+    def temperature(self) -> float:
+        """Local gas temperature [K]."""
+        return self.atmosphere.temperature
+
+    @property
+    def mass_density(self) -> float:
+        """Total mass density [kg/m^3] (with anomalous O if the atmosphere includes it)."""
+        return self.atmosphere.mass_density
+
+    @property
+    def flow_direction_ecef(self) -> np.ndarray | None:
+        """Unit vector along which the gas moves past the satellite, ECEF axes: -v_rel / |v_rel|.
+
+        None if the speed is zero or only a speed is known.
+        """
+        if self.relative_velocity_ecef is None or self.speed == 0.0:
+            return None
+        return -self.relative_velocity_ecef / self.speed
+
+    def as_dict(self) -> dict:
+        """Every field as JSON-ready Python values, in SI units (rad, m, m/s, kg, K, m^-3).
+
+        Vectors become lists (or None), the time an ISO 8601 string; ``units`` maps each
+        numeric field to its unit.
+        """
+
+        def vector(value):
+            return None if value is None else [float(x) for x in value]
+
+        atmosphere = self.atmosphere
+        weather = self.space_weather
+        return {
+            "time": self.time.isoformat(),
+            "latitude": self.latitude,
+            "longitude": self.longitude,
+            "altitude": self.altitude,
+            "position_eci": vector(self.position_eci),
+            "position_ecef": vector(self.position_ecef),
+            "velocity_eci": vector(self.velocity_eci),
+            "velocity_ecef": vector(self.velocity_ecef),
+            "space_weather": None
+            if weather is None
+            else {
+                "f107": weather.f107,
+                "f107a": weather.f107a,
+                "ap": weather.ap,
+                "ap_history": None if weather.ap_history is None else list(weather.ap_history),
+            },
+            "anomalous_oxygen": atmosphere.anomalous_oxygen,
+            "number_densities": {k: float(v) for k, v in atmosphere.number_densities.items()},
+            "mass_density": float(atmosphere.mass_density),
+            "exospheric_temperature": float(atmosphere.exospheric_temperature),
+            "temperature": float(atmosphere.temperature),
+            "mean_molecular_mass": self.mean_molecular_mass,
+            "earth_rotation": self.earth_rotation,
+            "relative_velocity_eci": vector(self.relative_velocity_eci),
+            "relative_velocity_ecef": vector(self.relative_velocity_ecef),
+            "speed": self.speed,
+            "speed_ratio": self.speed_ratio,
+            "accommodation_model": self.accommodation_model,
+            "accommodation_coefficient": self.accommodation_coefficient,
+            "units": dict(UNITS),
+        }
+
+    def free_stream(self) -> FreeStream:
+        """The free stream for the gas-surface models.
+
+        speed = |v_rel|, temperature = local T, number_densities = the mixture's species
+        (with "AnO" iff the atmosphere includes anomalous oxygen), density = total mass density.
+
+        Raises
+        ------
+        ValueError
+            If the relative speed is zero (a free stream needs speed > 0), or the atmosphere is
+            not a gas a free stream takes (naming what is wrong).
+        """
+        if not self.speed > 0.0:
+            raise ValueError(
+                "relative speed is 0 m/s (the satellite is at rest in the air): "
+                "no free stream; check FlightConditions.speed before asking for one"
+            )
+        atmosphere = self.atmosphere
+        return FreeStream(
+            self.speed,
+            atmosphere.temperature,
+            atmosphere.mixture_number_densities,
+            density=atmosphere.mass_density,
+        )

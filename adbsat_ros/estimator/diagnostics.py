@@ -1,0 +1,97 @@
+"""The key/values of the estimator's diagnostics (the node's DiagnosticStatus, bag analysis)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def nearest_rank_percentiles(values) -> tuple | None:
+    """The 50th and 99th percentiles (nearest rank) and the largest of some numbers.
+
+    The p-th percentile is the ceil(p n)-th smallest value; one partial sort gives all three
+    (numpy's interpolating percentile costs ~0.1 ms more per call).
+
+    Parameters
+    ----------
+    values : sequence or ndarray of float
+        The numbers (not modified).
+
+    Returns
+    -------
+    tuple of 3 floats or None
+        ``(p50, p99, max)``, or None for no numbers.
+    """
+    array = values if isinstance(values, np.ndarray) else np.fromiter(values, dtype=float)
+    n = array.size
+    if not n:
+        return None
+    ranks = [max(math.ceil(0.50 * n) - 1, 0), max(math.ceil(0.99 * n) - 1, 0), n - 1]
+    return tuple(np.partition(array, ranks)[ranks].tolist())
+
+
+def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
+    """Key/values of an estimator's diagnostics.
+
+    Parameters
+    ----------
+    estimator : AeroWrenchEstimator
+        Its settings, counters, reference, database and knot grid.
+    last_sample : WrenchSample or None
+        The latest wrench computed (its conditions and drag coefficient are reported).
+    compute_ms : sequence or ndarray of float
+        Recent compute times [ms]; their p50, p99 (nearest rank) and largest are reported.
+
+    Returns
+    -------
+    dict
+        Settings (gsi_model, coefficients_source, shading), counters (published, shading cache
+        hits and misses, the flight-conditions knots: ``conditions_prepared_used``,
+        ``conditions_knot_hits``, ``conditions_knot_misses``, ``conditions_evaluations``), the
+        reference area [m^2] and length [m], the database's path, speed ratio and error bounds,
+        ``compute_ms_p50``/``p99``/``max``, the latest conditions (``density_kg_m3``,
+        ``temperature_K``, ``altitude_m``, ``relative_speed_m_s``, ``speed_ratio``, ``alpha``,
+        ``drag_coefficient``) and ``rejected_<reason>`` for each rejection counted.
+    """
+    s = estimator.settings
+    knots = estimator.knots
+    reference = estimator.method.reference
+    values = {
+        "gsi_model": s.gsi_model,
+        "coefficients_source": s.coefficients_source,
+        "shading": s.shading,
+        "published": estimator.published,
+        "shading_cache_hits": estimator.shading_cache_hits,
+        "shading_cache_misses": estimator.shading_cache_misses,
+        "conditions_prepared_used": knots.prepared_used,
+        "conditions_knot_hits": knots.hits,
+        "conditions_knot_misses": knots.misses,
+        "conditions_evaluations": knots.evaluations,
+        "reference_area_m2": reference.area,
+        "reference_length_m": reference.length,
+    }
+    database = estimator.database
+    if database is not None:
+        values["database_path"] = database.path
+        values["database_speed_ratio"] = database.speed_ratio
+        for key in ("force_coefficient", "moment_coefficient"):
+            if key in database.error_bound:
+                values[f"database_{key}_error"] = database.error_bound[key]
+    percentiles = nearest_rank_percentiles(compute_ms)
+    if percentiles is not None:
+        values["compute_ms_p50"], values["compute_ms_p99"], values["compute_ms_max"] = percentiles
+    if last_sample is not None:
+        c = last_sample.conditions
+        values.update(
+            density_kg_m3=c.mass_density,
+            temperature_K=c.temperature,
+            altitude_m=c.altitude,
+            relative_speed_m_s=c.speed,
+            speed_ratio=c.speed_ratio,
+            alpha=c.alpha,
+            drag_coefficient=last_sample.drag_coefficient,
+        )
+    for reason in sorted(estimator.rejections):
+        values[f"rejected_{reason}"] = estimator.rejections[reason]
+    return values
