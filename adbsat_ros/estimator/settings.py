@@ -11,6 +11,8 @@ import datetime as _dt
 import math
 from dataclasses import dataclass, fields
 
+import yaml
+
 from adbsat_ros.environment.accommodation import accommodation_model_names
 from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, canonical_model_name
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
@@ -27,7 +29,8 @@ PARAMETERS = (
     (
         "mesh",
         "example",
-        "mesh file (.obj .stl .ply .off ...) or 'example' for the bundled satellite; read once at start-up",
+        "mesh file (.obj .stl .ply .off ...) or 'example' for the bundled satellite; "
+        "read once at start-up",
     ),
     ("mesh_scale", 1.0, "factor from mesh file units to metres (1e-3 for millimetres)"),
     ("body_frame_id", "body", "frame_id of published wrenches: the mesh frame, fixed to the body"),
@@ -94,7 +97,8 @@ PARAMETERS = (
         "conditions_step",
         0.01,
         "flight conditions (NRLMSISE-00, Earth orientation, relative wind) are evaluated "
-        "exactly at the stamps that are multiples of this [s] and interpolated linearly in between (density within "
+        "exactly at the stamps that are multiples of this [s] and interpolated linearly in between "
+        "(density within "
         "about 2e-9 at 10 ms); 0 evaluates them at every stamp",
     ),
     (
@@ -120,7 +124,8 @@ PARAMETERS = (
         "database_path",
         "",
         "database (.npz) made by 'adbsat-ros database' for coefficients_source database; it must "
-        "be made for the same mesh, gsi_model, surface properties and reference area/length, else it is refused",
+        "be made for the same mesh, gsi_model, surface properties and reference area/length, "
+        "else it is refused",
     ),
 )
 
@@ -179,7 +184,7 @@ def parse_utc(name, text) -> _dt.datetime:
 
 @dataclass(frozen=True)
 class WrenchSettings:
-    """Validated settings; build with :meth:`from_parameters`. Field meanings: :data:`PARAMETERS`."""
+    """Validated settings; build with :meth:`from_parameters`. Meanings: :data:`PARAMETERS`."""
 
     mesh: str
     mesh_scale: float
@@ -234,14 +239,16 @@ class WrenchSettings:
             for key, value in source.items():
                 if key not in merged:
                     raise ValueError(
-                        f"parameter {key}: unknown; known parameters are {', '.join(PARAMETER_DEFAULTS)}"
+                        f"parameter {key}: unknown; known parameters are "
+                        f"{', '.join(PARAMETER_DEFAULTS)}"
                     )
                 merged[key] = value
         v = merged
         ap_history = tuple(float(x) for x in v["ap_history"]) if len(v["ap_history"]) > 1 else None
         if ap_history is not None and len(ap_history) != 7:
             raise ValueError(
-                f"parameter ap_history: needs 7 values (or one to leave it unused), got {len(ap_history)}"
+                f"parameter ap_history: needs 7 values (or one to leave it unused), "
+                f"got {len(ap_history)}"
             )
         try:
             model = canonical_model_name(v["gsi_model"])
@@ -339,8 +346,6 @@ def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:
 
     Keys under ``/**`` apply to every node, keys under the node's name override them.
     """
-    import yaml
-
     with open(path, encoding="utf-8") as fh:
         data = yaml.safe_load(fh) or {}
     if not isinstance(data, dict):
