@@ -649,7 +649,7 @@ def main() -> None:
         default=[],
         metavar="MODULE:QUALNAME",
         help="with --trace, also time this function (e.g. adbsat_ros.physics.panel_method:"
-        "PanelMethod._unit_coefficients); repeatable",
+        "PanelMethod.coefficients); repeatable",
     )
     parser.add_argument(
         "--trace-cpu",

@@ -24,7 +24,7 @@ import os
 import sys
 import time
 
-from adbsat_ros.estimator import estimator as aero_wrench
+from adbsat_ros.estimator import estimator as estimator_module
 from adbsat_ros.estimator import handling
 from adbsat_ros.ros import node
 
@@ -97,12 +97,12 @@ node.decode_attitude = _traced(node.decode_attitude, "decode_attitude")
 handling.MessageHandler.on_attitude = _traced(
     handling.MessageHandler.on_attitude, "handler.on_attitude"
 )
-aero_wrench.AeroWrenchEstimator.on_attitude = _traced(
-    aero_wrench.AeroWrenchEstimator.on_attitude, "estimator.on_attitude"
+estimator_module.AeroWrenchEstimator.on_attitude = _traced(
+    estimator_module.AeroWrenchEstimator.on_attitude, "estimator.on_attitude"
 )
 node.AdbsatNode._serve = _traced(node.AdbsatNode._serve, "node._serve")
-aero_wrench.AeroWrenchEstimator.prepare = _traced(
-    aero_wrench.AeroWrenchEstimator.prepare, "estimator.prepare"
+estimator_module.AeroWrenchEstimator.prepare = _traced(
+    estimator_module.AeroWrenchEstimator.prepare, "estimator.prepare"
 )
 
 for _path in filter(None, os.environ.get("TRACED_PARTS", "").split(",")):
