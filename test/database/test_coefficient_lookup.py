@@ -11,7 +11,8 @@ import trimesh
 from adbsat_ros import FreeStream, PanelMethod, panels_from_trimesh
 from adbsat_ros.database.build import build_database
 from adbsat_ros.database.format import AeroDatabase
-from adbsat_ros.database.lookup import CoefficientLookup, bilinear, estimate_interpolation_error
+from adbsat_ros.database.interpolation import bilinear, estimate_interpolation_error
+from adbsat_ros.database.lookup import CoefficientLookup
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.shading.shader import make_shader
