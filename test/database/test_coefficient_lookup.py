@@ -84,7 +84,8 @@ def test_exact_at_grid_nodes(satellite):
 def test_within_stated_error_between_nodes(satellite, box, body, n, seed):
     """Exact panel-method values (same shading) at random off-grid attitudes differ from the
     lookup by no more than the stated bound, for |dCf_G|, |dCm_G| and CD, CL, CY; the bound is
-    not vacuous (below 20 % of the largest coefficient on these coarse grids) and the worst error uses a fair share of it."""
+    not vacuous (below 20 % of the largest coefficient on these coarse grids) and the worst error
+    uses a fair share of it."""
     method, db = satellite if body == "satellite" else box
     lookup = CoefficientLookup(db)
     bound = lookup.error_bound
@@ -169,7 +170,7 @@ def test_wrap_around_at_180(box):
 
 
 def test_open_circle_grid_closes_with_the_first_node():
-    """aoa -180:30:150 leaves a 30 deg gap: it wraps, and 165 deg is halfway between 150 and -180."""
+    """aoa -180:30:150 leaves a 30 deg gap: it wraps; 165 deg is halfway between 150 and -180."""
     method = PanelMethod(box_mesh(), "newton")
     db = build_database(
         method,
