@@ -5,12 +5,15 @@ it gives the subcommand's parser its description and options and sets ``func`` (
 parsed arguments, returns the exit status).
 
 Start-up time: the command line answers at once because it imports only what the chosen
-subcommand needs, when it needs it. ``adbsat-ros --help`` lists the subcommands from
-:data:`SUBCOMMANDS` without importing their modules; only the chosen subcommand's module is
-imported and configured; and the subcommand modules import numpy, the physics, matplotlib,
-rosbags, scipy, trimesh and the ray engine inside the functions that build their options (for the
-lists of choices) or run them, not at the top of the module. Those function-local imports are
-there for start-up time only, not to dodge import cycles (the package has none).
+subcommand needs. ``adbsat-ros --help`` lists the subcommands from :data:`SUBCOMMANDS` without
+importing their modules (nor numpy, which the top-level package does not import either, see
+:mod:`adbsat_ros`); :func:`main` imports and configures only the subcommand named on the command
+line. A subcommand module imports at its top what its subcommand always needs; what only some
+runs need is imported inside the function that needs it: the environment (NRLMSISE-00, Earth
+orientation) for ``--time``, the shader for a shading mode, bag analysis for ``bag analyze``,
+rclpy for the live tools, numpy for the option parsers that return arrays. Those
+function-local imports are there for start-up time only, not to dodge import cycles (the
+package has none).
 """
 
 from __future__ import annotations
