@@ -21,8 +21,10 @@ The two ways of starting can differ by up to ~0.15 s of system time on CPython 3
 stack grows in 16 KiB chunks, and when the stack depth of a hot loop (here scipy's docstring
 processing while it is imported) sits on a chunk boundary, every call maps and unmaps a chunk;
 ``-m`` adds the frames of runpy and moves that depth.
-``--importtime`` also runs ``coeff`` once per tree under ``python -X importtime`` and prints
-where its import time goes, by top-level package. Run::
+``--packages`` adds ``python -c "import numpy"`` and the like for the third-party packages on
+coeff's path, to tell what they cost by themselves. ``--importtime`` also runs ``coeff`` (as the
+script) 5 times per tree under ``python -X importtime`` and prints where its import time goes,
+by top-level package. Run::
 
     python bench/bench_cli.py --tree /work/baseline --tree .
     python bench/bench_cli.py --importtime --mesh satellite.stl
@@ -51,6 +53,14 @@ SCRIPT = "import sys; from adbsat_ros.cli import main; sys.exit(main())"
 STARTS = {"-m": ["-m", "adbsat_ros.cli"], "script": ["-c", SCRIPT]}
 #: The one-attitude coeff call (a free stream given directly, the default shading).
 COEFF_OPTIONS = ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
+#: With --packages: the third-party imports on coeff's path, each alone in a fresh process.
+PACKAGE_IMPORTS = (
+    "numpy",
+    "numpy, scipy.special",
+    "numpy, scipy.special, scipy.spatial",
+    "trimesh",
+    "trimesh, embreex, scipy.special",
+)
 #: Guard variable of the ROS 2 wheels' bootstrapper: set, it does not re-execute python.
 BOOTSTRAP_GUARD = "_ROS_WHEELS_BOOTSTRAP_COMPLETE"
 
@@ -77,19 +87,32 @@ def run_once(argv, cwd, env=None) -> tuple:
     return wall, cpu
 
 
-def import_breakdown(tree: Path, mesh: Path, env: dict, top: int) -> str:
-    """Self import time of ``coeff`` summed by top-level package, largest first."""
-    argv = [sys.executable, "-X", "importtime", "-m", "adbsat_ros.cli", "coeff", str(mesh)]
-    done = subprocess.run(argv + COEFF_OPTIONS, cwd=tree, env=env, capture_output=True, text=True)
-    by_package = collections.Counter()
-    for line in done.stderr.splitlines():
-        if not line.startswith("import time:") or "self [us]" in line:
-            continue
-        self_us, _, name = (part.strip() for part in line[len("import time:") :].split("|"))
-        by_package[name.split(".")[0]] += int(self_us)
-    total = sum(by_package.values())
-    lines = [f"  imports of coeff in {tree}: {total / 1e6:.3f} s in all (under -X importtime)"]
-    for package, us in by_package.most_common(top):
+def import_breakdown(tree: Path, mesh: Path, env: dict, runs: int, top: int) -> str:
+    """Self import time of ``coeff`` (started as the console script) by top-level package.
+
+    The median over ``runs`` runs under ``python -X importtime``, largest first.
+    """
+    argv = [sys.executable, "-X", "importtime", *STARTS["script"], "coeff", str(mesh)]
+    counts = []
+    for _ in range(runs):
+        done = subprocess.run(
+            argv + COEFF_OPTIONS, cwd=tree, env=env, capture_output=True, text=True
+        )
+        by_package = collections.Counter()
+        for line in done.stderr.splitlines():
+            if not line.startswith("import time:") or "self [us]" in line:
+                continue
+            self_us, _, name = (part.strip() for part in line[len("import time:") :].split("|"))
+            by_package[name.split(".")[0]] += int(self_us)
+        counts.append(by_package)
+    packages = set().union(*counts)
+    median = {p: statistics.median(count[p] for count in counts) for p in packages}
+    total = statistics.median(sum(count.values()) for count in counts)
+    lines = [
+        f"  imports of coeff (script) in {tree}: {total / 1e6:.3f} s in all, median of {runs} "
+        "runs under -X importtime (which inflates them)"
+    ]
+    for package, us in sorted(median.items(), key=lambda item: -item[1])[:top]:
         lines.append(f"    {package:<28} {us / 1e6:7.3f} s  {100 * us / total:5.1f} %")
     return "\n".join(lines)
 
@@ -111,6 +134,11 @@ def main() -> int:
     parser.add_argument(
         "--importtime", action="store_true", help="also print coeff's import time by package"
     )
+    parser.add_argument(
+        "--packages",
+        action="store_true",
+        help="also time python -c 'import X' for the third-party packages coeff imports",
+    )
     args = parser.parse_args()
     trees = [tree.resolve() for tree in (args.tree or [THIS_TREE])]
     for tree in trees:
@@ -126,6 +154,10 @@ def main() -> int:
             ("python -c pass", None, [sys.executable, "-c", "pass"], shell),
             ("python -c pass (no re-exec)", None, [sys.executable, "-c", "pass"], no_reexec),
         ]
+        if args.packages:
+            for names in PACKAGE_IMPORTS:
+                argv = [sys.executable, "-c", f"import {names}"]
+                cases.append((f"import {names}", None, argv, shell))
         for tree in trees:
             for start, how in STARTS.items():
                 cli = [sys.executable, *how]
@@ -142,7 +174,7 @@ def main() -> int:
             f"load average {os.getloadavg()[0]:.2f}; coeff mesh {mesh.name}; "
             f"median of {args.repeat} runs"
         )
-        print(f"{'case':<30} {'tree':<28} {'wall s':>7} {'cpu s':>7} {'min':>6} {'max':>6}  target")
+        print(f"{'case':<40} {'tree':<20} {'wall s':>7} {'cpu s':>7} {'min':>6} {'max':>6}  target")
         for index, (name, tree, _, _) in enumerate(cases):
             wall = [w for w, _ in times[index]]
             cpu = [c for _, c in times[index]]
@@ -152,12 +184,12 @@ def main() -> int:
                 met = statistics.median(wall) < target
                 verdict = f"< {target:g} s {'met' if met else 'NOT met'}"
             print(
-                f"{name:<30} {str(tree or '-'):<28} {statistics.median(wall):7.3f} "
+                f"{name:<40} {str(tree or '-'):<20} {statistics.median(wall):7.3f} "
                 f"{statistics.median(cpu):7.3f} {min(wall):6.3f} {max(wall):6.3f}  {verdict}"
             )
         if args.importtime:
             for tree in trees:
-                print(import_breakdown(tree, mesh, shell, top=12))
+                print(import_breakdown(tree, mesh, shell, runs=5, top=12))
     return 0
 
 
