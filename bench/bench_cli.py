@@ -19,9 +19,10 @@ time (user + system) of the process, with the fastest and slowest wall times.
 
 The two ways of starting can differ by up to ~0.15 s of system time on CPython 3.11: its frame
 stack grows in 16 KiB chunks, and when a loop of calls sits on a chunk boundary every call maps
-and unmaps a chunk (measured: up to 28,000 mmap/munmap pairs, all while scipy and trimesh are
-imported, their depth set by the chain of imports above them); ``-m`` adds the frames of runpy
-and moves that depth.
+and unmaps a chunk (measured: up to 28,000 mmap/munmap pairs while coeff's modules are imported,
+in scipy's docstring processing, scipy._lib._docscrape, some 400,000 Python calls reached
+through trimesh; their depth is set by the chain of imports above them). ``-m`` adds the frames
+of runpy and moves that depth.
 ``--packages`` adds ``python -c "import numpy"`` and the like for the third-party packages on
 coeff's path, to tell what they cost by themselves. ``--importtime`` also runs ``coeff`` (as the
 script) 5 times per tree under ``python -X importtime`` and prints where its import time goes,
