@@ -2,41 +2,83 @@
 
 The physics core (mesh, models, shading, atmosphere, databases) imports no rclpy. Start with::
 
-    from adbsat_ros import load_mesh, PanelMethod, FreeStream
+    from adbsat_ros import FreeStream, PanelMethod, load_mesh
+
     mesh = load_mesh("satellite.obj")
-    result = PanelMethod(mesh, "sentman").coefficients(FreeStream(7700.0, 900.0, mean_mass_amu=16.0))
+    flow = FreeStream(7700.0, 900.0, mean_mass_amu=16.0)
+    result = PanelMethod(mesh, "sentman").coefficients(flow)
     print(result.drag, result.Cf_w, result.Cm_B)
+
+The public API, by task (each name documented on the object itself):
+
+* meshes: :func:`load_mesh`, :func:`panels_from_arrays`, :func:`panels_from_trimesh`,
+  :func:`example_satellite`, :class:`PanelMesh`, :class:`MeshError`;
+* the panel method: :class:`PanelMethod`, :class:`AeroCoefficients`, :class:`Reference`,
+  :class:`ModelOptions`, :data:`MODELS`, :class:`MaterialTable`, :class:`SurfaceProperties`;
+* shading: :func:`make_shader`, :class:`Shader`, :class:`ShadingCache`, :class:`PanelLighting`;
+* the gas: :class:`FreeStream`, and from an orbital state :func:`flight_conditions`,
+  :func:`flight_conditions_circular_orbit`, :class:`FlightConditions`, :class:`SpaceWeather`;
+* the wrench estimator (the ROS node's logic without ROS): :class:`AeroWrenchEstimator`,
+  :class:`WrenchSettings`;
+* databases: :func:`build_database`, :func:`load_database`, :class:`AeroDatabase`,
+  :class:`CoefficientLookup`.
+
+These names are loaded on first use (PEP 562 module ``__getattr__``): ``import adbsat_ros`` (and
+so ``import adbsat_ros.cli``) does not import numpy, trimesh or scipy, which keeps the command
+line's start-up short. ``from adbsat_ros import PanelMethod`` works as for any module.
 """
 
-from adbsat_ros.geometry.loading import load_mesh, panels_from_trimesh
-from adbsat_ros.geometry.mesh import MeshError, PanelMesh, panels_from_arrays
-from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
-from adbsat_ros.physics.freestream import FreeStream
-from adbsat_ros.physics.gsi_models import MODELS, ModelOptions
-from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
-from adbsat_ros.shading.cache import ShadingCache
-from adbsat_ros.shading.lighting import PanelLighting
-from adbsat_ros.shading.shader import Shader, make_shader
+from __future__ import annotations
 
-__version__ = "0.1.0"
+import importlib
 
-__all__ = [
-    "AeroCoefficients",
-    "FreeStream",
-    "MODELS",
-    "MaterialTable",
-    "MeshError",
-    "ModelOptions",
-    "PanelLighting",
-    "PanelMesh",
-    "PanelMethod",
-    "Reference",
-    "Shader",
-    "ShadingCache",
-    "SurfaceProperties",
-    "load_mesh",
-    "make_shader",
-    "panels_from_arrays",
-    "panels_from_trimesh",
-]
+from adbsat_ros._version import __version__
+
+#: Module that defines each public name.
+_EXPORTS = {
+    "load_mesh": "adbsat_ros.geometry.loading",
+    "panels_from_trimesh": "adbsat_ros.geometry.loading",
+    "panels_from_arrays": "adbsat_ros.geometry.mesh",
+    "PanelMesh": "adbsat_ros.geometry.mesh",
+    "MeshError": "adbsat_ros.geometry.mesh",
+    "example_satellite": "adbsat_ros.geometry.example_satellite",
+    "PanelMethod": "adbsat_ros.physics.panel_method",
+    "AeroCoefficients": "adbsat_ros.physics.coefficients",
+    "Reference": "adbsat_ros.physics.coefficients",
+    "ModelOptions": "adbsat_ros.physics.gsi_models",
+    "MODELS": "adbsat_ros.physics.gsi_models",
+    "MaterialTable": "adbsat_ros.physics.surface",
+    "SurfaceProperties": "adbsat_ros.physics.surface",
+    "make_shader": "adbsat_ros.shading.shader",
+    "Shader": "adbsat_ros.shading.shader",
+    "ShadingCache": "adbsat_ros.shading.cache",
+    "PanelLighting": "adbsat_ros.shading.lighting",
+    "FreeStream": "adbsat_ros.physics.freestream",
+    "flight_conditions": "adbsat_ros.environment.flight_conditions",
+    "flight_conditions_circular_orbit": "adbsat_ros.environment.flight_conditions",
+    "FlightConditions": "adbsat_ros.environment.flight_conditions",
+    "SpaceWeather": "adbsat_ros.environment.atmosphere",
+    "AeroWrenchEstimator": "adbsat_ros.estimator.estimator",
+    "WrenchSettings": "adbsat_ros.estimator.settings",
+    "build_database": "adbsat_ros.database.build",
+    "load_database": "adbsat_ros.database.format",
+    "AeroDatabase": "adbsat_ros.database.format",
+    "CoefficientLookup": "adbsat_ros.database.lookup",
+}
+
+__all__ = ["__version__", *sorted(_EXPORTS)]
+
+
+def __getattr__(name: str):
+    """Import the module defining the public ``name`` on first use and return the object."""
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # later look-ups find it without calling this function
+    return value
+
+
+def __dir__() -> list:
+    """The module's attributes and every public name, loaded or not."""
+    return sorted(set(globals()) | set(__all__))

@@ -10,8 +10,8 @@
 Each build is timed once (wall clock, including the process pool's start); lookups are the median
 of repeated batches. Run::
 
-    /work/venv/bin/python bench/bench_database.py            # everything
-    /work/venv/bin/python bench/bench_database.py --quick    # skip (b)
+    python bench/bench_database.py            # everything
+    python bench/bench_database.py --quick    # skip (b)
 """
 
 from __future__ import annotations
@@ -51,8 +51,10 @@ def report_build(label, method, spec):
         results[workers] = db
         err = db.metadata["interpolation_error"]
         print(
-            f"{label:<28} workers {workers}: {seconds:6.2f} s  ({1e3 * seconds / db.n_attitudes:.2f} ms/attitude)  "
-            f"stated error |dCf_G| {err['force_coefficient']:.2e}, |dCm_G| {err['moment_coefficient']:.2e}",
+            f"{label:<28} workers {workers}: {seconds:6.2f} s  "
+            f"({1e3 * seconds / db.n_attitudes:.2f} ms/attitude)  "
+            f"stated error |dCf_G| {err['force_coefficient']:.2e}, "
+            f"|dCm_G| {err['moment_coefficient']:.2e}",
             flush=True,
         )
     same = np.array_equal(results[1].Cf_G, results[2].Cf_G)
@@ -75,10 +77,12 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     print(f"command: {' '.join([os.path.basename(sys.executable)] + sys.argv)}")
     print(
-        f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
+        f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+        f"Python {platform.python_version()}"
     )
     print(
-        f"grid: {AOA.size} aoa x {AOS.size} aos = {AOA.size * AOS.size} attitudes, Sentman, raycast (16 samples)"
+        f"grid: {AOA.size} aoa x {AOS.size} aos = {AOA.size * AOS.size} attitudes, Sentman, "
+        "raycast (16 samples)"
     )
 
     sphere = panels_from_trimesh(trimesh.creation.icosphere(subdivisions=4), source="icosphere")
@@ -118,15 +122,13 @@ def main(argv=None) -> int:
         for v in ul:
             lookup.coefficients(flow_direction=v)
 
-    print(
-        f"(c) lookup coefficients(aoa, aos) (Cf_G, Cm_G, CD, CL, CY): {per_call_us(full, n, 5):6.1f} us/call"
+    rows = (
+        ("(c) lookup coefficients(aoa, aos) (Cf_G, Cm_G, CD, CL, CY):", full, n),
+        ("    lookup coefficients(flow_direction=u_G):", by_direction, len(ul)),
+        ("    lookup body_coefficients(aoa, aos) (Cf_G, Cm_G):", body, n),
     )
-    print(
-        f"    lookup coefficients(flow_direction=u_G):                  {per_call_us(by_direction, len(ul), 5):6.1f} us/call"
-    )
-    print(
-        f"    lookup body_coefficients(aoa, aos) (Cf_G, Cm_G):          {per_call_us(body, n, 5):6.1f} us/call"
-    )
+    for label, fn, calls in rows:
+        print(f"{label:<61} {per_call_us(fn, calls, 5):6.1f} us/call")
     print(
         f"    body_coefficients_many, {n} attitudes:             "
         f"{per_call_us(lambda: lookup.body_coefficients_many(a, b), n, 5):6.1f} us/attitude"

@@ -1,7 +1,19 @@
 """The ``adbsat-ros`` command line.
 
-Each subcommand lives in its own module of this package and exposes ``register(subparsers)``,
-which adds its parser and sets ``func`` (called with the parsed arguments, returns the exit code).
+Each subcommand lives in its own module of this package, which exposes ``configure(parser)``:
+it gives the subcommand's parser its description and options and sets ``func`` (called with the
+parsed arguments, returns the exit status).
+
+Start-up time: the command line answers at once because it imports only what the chosen
+subcommand needs. ``adbsat-ros --help`` lists the subcommands from :data:`SUBCOMMANDS` without
+importing their modules (nor numpy, which the top-level package does not import either, see
+:mod:`adbsat_ros`); :func:`main` imports and configures only the subcommand named on the command
+line. A subcommand module imports at its top what its subcommand always needs; what only some
+runs need is imported inside the function that needs it: the environment (NRLMSISE-00, Earth
+orientation) for ``--time``, the shader for a shading mode, bag analysis for ``bag analyze``,
+rclpy for the live tools, numpy for the option parsers that return arrays. Those
+function-local imports are there for start-up time only, not to dodge import cycles (the
+package has none).
 """
 
 from __future__ import annotations
@@ -12,13 +24,19 @@ import logging
 import re
 import sys
 
-from adbsat_ros.geometry.mesh import MeshError
+from adbsat_ros.cli.options import CommandLineError, OneLineErrorParser
 
-from .options import CommandLineError, OneLineErrorParser
-
-#: Subcommand modules, in the order ``--help`` lists them.
-SUBCOMMANDS = ("coeff", "atmosphere", "database", "plot", "simulate", "bag", "demo")
-
+#: The subcommands in the order ``--help`` lists them, with their one-line help; each is
+#: configured by the module of the same name in this package.
+SUBCOMMANDS = {
+    "coeff": "force and moment coefficients at given attitudes",
+    "atmosphere": "flight conditions: NRLMSISE-00 atmosphere, relative wind, accommodation",
+    "database": "coefficients over a grid of angle of attack and sideslip (npz + csv)",
+    "plot": "PNG figures of an aerodynamic database",
+    "simulate": "write a bag of a simulated flight (orbit state + attitude)",
+    "bag": "analyse (and play or record) rosbag2 files",
+    "demo": "run adbsat_node live on a simulated orbit and print, plot and save its wrenches",
+}
 
 #: Options whose value is an angle list or range, which may begin with a minus sign.
 SIGNED_LIST_OPTIONS = ("--aoa", "--aos")
@@ -38,8 +56,36 @@ def join_signed_lists(argv):
     return out
 
 
-def build_parser(subcommands=SUBCOMMANDS) -> argparse.ArgumentParser:
-    """The top-level parser with the given subcommands registered (default: all)."""
+def chosen_subcommand(argv) -> str | None:
+    """The subcommand named in ``argv`` (its first word that is not an option), or None.
+
+    The top-level options (``-v``, ``-h``) take no value, so the first other word is the
+    subcommand; None if there is none or it is not one of :data:`SUBCOMMANDS`.
+    """
+    for token in argv:
+        if not token.startswith("-"):
+            return token if token in SUBCOMMANDS else None
+    return None
+
+
+def build_parser(configured=None) -> argparse.ArgumentParser:
+    """The top-level parser, with every subcommand listed.
+
+    Parameters
+    ----------
+    configured : iterable of str, optional
+        The subcommands whose modules are imported and whose options are registered; the
+        others are listed by name and one-line help only (enough for ``--help`` and for
+        rejecting an unknown name). None configures every subcommand.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+    """
+    configured = set(SUBCOMMANDS if configured is None else configured)
+    unknown = configured - set(SUBCOMMANDS)
+    if unknown:
+        raise ValueError(f"configured: unknown subcommands {', '.join(sorted(unknown))}")
     parser = OneLineErrorParser(
         prog="adbsat-ros",
         description="Free-molecular aerodynamics of satellites (ADBSat's panel method), "
@@ -48,15 +94,19 @@ def build_parser(subcommands=SUBCOMMANDS) -> argparse.ArgumentParser:
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress and warnings")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineErrorParser)
     sub.required = True
-    for name in subcommands:
-        importlib.import_module(f"{__name__}.{name}").register(sub)
+    for name, summary in SUBCOMMANDS.items():
+        subparser = sub.add_parser(name, help=summary)
+        if name in configured:
+            importlib.import_module(f"{__name__}.{name}").configure(subparser)
     return parser
 
 
-def main(argv=None, subcommands=SUBCOMMANDS) -> int:
+def main(argv=None) -> int:
     """Entry point of the ``adbsat-ros`` console script; returns the process exit status."""
-    parser = build_parser(subcommands)
-    args = parser.parse_args(join_signed_lists(sys.argv[1:] if argv is None else argv))
+    argv = join_signed_lists(sys.argv[1:] if argv is None else argv)
+    command = chosen_subcommand(argv)
+    parser = build_parser(() if command is None else (command,))
+    args = parser.parse_args(argv)
     logging.basicConfig(
         level=logging.INFO if args.verbose else logging.WARNING,
         format="adbsat-ros: %(levelname)s: %(message)s",
@@ -65,9 +115,6 @@ def main(argv=None, subcommands=SUBCOMMANDS) -> int:
         return int(args.func(args) or 0)
     except CommandLineError as exc:
         print(f"adbsat-ros {args.command}: error: {exc}", file=sys.stderr)
-        return 2
-    except MeshError as exc:
-        print(f"adbsat-ros {args.command}: error: MESH: {exc}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # e.g. output piped into `head`
         sys.stderr.close()

@@ -2,6 +2,6 @@
 
 import sys
 
-from . import main
+from adbsat_ros.cli import main
 
 sys.exit(main())

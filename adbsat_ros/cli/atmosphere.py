@@ -4,6 +4,11 @@ Where: either a geodetic point ``--altitude KM --lat DEG --lon DEG`` (speed = ci
 speed, as ADBSat's environment.m), or a position ``--position X,Y,Z`` [m] in ``--frame eci|ecef``
 with an optional ``--velocity X,Y,Z`` [m/s] in the same frame (without it, the circular-orbit
 speed at that point is used). ``--json`` prints every field in SI units; otherwise a table.
+
+``coeff`` and ``database`` share the flight options (:func:`add_flight_arguments`) and compute
+their free stream from them with :func:`compute` only when ``--time`` is given, so the
+environment modules (NRLMSISE-00, the Earth-orientation library) are imported in the functions
+that need them (start-up time, see :mod:`adbsat_ros.cli`).
 """
 
 from __future__ import annotations
@@ -13,17 +18,12 @@ import json
 import math
 import sys
 
-from adbsat_ros.environment.accommodation import accommodation_model_names
-from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR, MAX_ALTITUDE, SpaceWeather
-from adbsat_ros.environment.earth_frames import earth_orientation
-from adbsat_ros.environment.flight_conditions import (
-    DEFAULT_ACCOMMODATION_MODEL,
-    flight_conditions,
-    flight_conditions_circular_orbit,
+from adbsat_ros.cli.options import (
+    CommandLineError,
+    finite_float,
+    non_negative_float,
+    parse_vector3,
 )
-from adbsat_ros.environment.geodetic import ecef_to_geodetic
-
-from .options import CommandLineError, finite_float, non_negative_float, parse_vector3
 
 #: Space weather used when not given: the NRLMSISE-00 reference test point (moderate activity).
 DEFAULT_F107 = 150.0
@@ -37,6 +37,8 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
     Shared by ``atmosphere`` and ``coeff``; ``coeff`` has its own ``--alpha`` (the model's) and
     makes ``--time`` optional (its alternative is ``--speed/--temperature/...``).
     """
+    from adbsat_ros.environment.accommodation import accommodation_model_names
+
     parser.add_argument(
         "--time",
         required=time_required,
@@ -110,7 +112,10 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
         action="store_true",
         help="leave anomalous oxygen out of the mixture and the mass density (gtd7)",
     )
-    default = DEFAULT_ACCOMMODATION_MODEL if with_alpha else "fixed"
+    if with_alpha:  # the flight conditions' default model
+        from adbsat_ros.environment.flight_conditions import DEFAULT_ACCOMMODATION_MODEL as default
+    else:
+        default = "fixed"
     gas.add_argument(
         "--accommodation",
         type=str.lower,
@@ -127,16 +132,12 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
         )
 
 
-def register(subparsers) -> None:
-    """Add the ``atmosphere`` subcommand to ``subparsers``."""
-    parser = subparsers.add_parser(
-        "atmosphere",
-        help="flight conditions: NRLMSISE-00 atmosphere, relative wind, accommodation",
-        description=(
-            "Evaluate NRLMSISE-00 and the flight conditions at a geodetic point "
-            "(--altitude/--lat/--lon, circular-orbit speed as ADBSat) or at an orbital state "
-            "(--position [--velocity] in --frame eci|ecef). SI units in --json."
-        ),
+def configure(parser) -> None:
+    """Give the ``atmosphere`` subcommand's parser its description and options."""
+    parser.description = (
+        "Evaluate NRLMSISE-00 and the flight conditions at a geodetic point "
+        "(--altitude/--lat/--lon, circular-orbit speed as ADBSat) or at an orbital state "
+        "(--position [--velocity] in --frame eci|ecef). SI units in --json."
     )
     add_flight_arguments(parser, time_required=True, with_alpha=True)
     parser.add_argument("--json", action="store_true", help="print JSON, every field in SI units")
@@ -144,6 +145,8 @@ def register(subparsers) -> None:
 
 
 def _parse_time(text: str) -> _dt.datetime:
+    from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR
+
     try:
         time = _dt.datetime.fromisoformat(text.strip())
     except ValueError:
@@ -160,13 +163,17 @@ def _parse_time(text: str) -> _dt.datetime:
 
 
 def _check_altitude_m(altitude_m: float, option: str) -> None:
+    from adbsat_ros.environment.atmosphere import MAX_ALTITUDE
+
     if not 0.0 <= altitude_m <= MAX_ALTITUDE:
         raise CommandLineError(
             f"{option}: altitude {altitude_m / 1e3:.6g} km is outside 0..{MAX_ALTITUDE / 1e3:g} km"
         )
 
 
-def _space_weather(args) -> SpaceWeather:
+def _space_weather(args):
+    from adbsat_ros.environment.atmosphere import SpaceWeather
+
     history = None
     if args.ap_history is not None:
         try:
@@ -199,6 +206,13 @@ def compute(args, accommodation_options=None):
 
     ``accommodation_options`` replaces the options taken from ``--accommodation/--alpha``.
     """
+    from adbsat_ros.environment.earth_frames import earth_orientation
+    from adbsat_ros.environment.flight_conditions import (
+        flight_conditions,
+        flight_conditions_circular_orbit,
+    )
+    from adbsat_ros.environment.geodetic import ecef_to_geodetic
+
     time = _parse_time(args.time)
     weather = _space_weather(args)
     options = (

@@ -1,6 +1,8 @@
-"""``adbsat-ros bag``: tools for rosbag2 files; ``bag analyze`` replays a bag through the node's logic.
+"""``adbsat-ros bag``: tools for rosbag2 files; ``bag analyze`` replays a bag through the node.
 
-``play`` and ``record`` (live ROS tools) come from :mod:`adbsat_ros.cli.bag_live` when present.
+``play`` and ``record`` (live ROS tools) are configured by :mod:`adbsat_ros.cli.bag_live`. Bag
+analysis (the estimator, the physics, the plots) is imported when ``bag analyze`` runs, not for
+``play`` and ``record`` (start-up time, see :mod:`adbsat_ros.cli`).
 """
 
 from __future__ import annotations
@@ -9,40 +11,41 @@ import os
 import sys
 from pathlib import Path
 
-from adbsat_ros.bags import analysis as bag_analysis
 from adbsat_ros.bags.io import BagError
-from adbsat_ros.estimator.settings import WrenchSettings, load_parameters_file
+from adbsat_ros.cli.bag_live import configure_play, configure_record
+from adbsat_ros.cli.options import CommandLineError, is_terminal, number
 
-from .options import CommandLineError, is_terminal, number
 
-
-def register(subparsers) -> None:
-    p = subparsers.add_parser(
-        "bag",
-        help="analyse (and play or record) rosbag2 files",
-        description="Tools for rosbag2 files (.mcap or .db3).",
-    )
+def configure(p) -> None:
+    """Give the ``bag`` command group's parser ``p`` its description and subcommands."""
+    p.description = "Tools for rosbag2 files (.mcap or .db3)."
     sub = p.add_subparsers(dest="bag_command", metavar="BAG_COMMAND", parser_class=type(p))
     sub.required = True
-    register_analyze(sub)
-    try:
-        from .bag_live import register as register_live
-    except ModuleNotFoundError as exc:
-        if exc.name != f"{__package__}.bag_live":
-            raise
-    else:
-        register_live(sub)
+    configure_analyze(
+        sub.add_parser(
+            "analyze", help="compute the node's wrench at every attitude message of a bag"
+        )
+    )
+    configure_play(
+        sub.add_parser(
+            "play",
+            help="publish a bag's messages into the ROS 2 graph with their recorded timing",
+        )
+    )
+    configure_record(
+        sub.add_parser("record", help="record topics of the ROS 2 graph into a new bag")
+    )
 
 
-def register_analyze(sub) -> None:
-    a = sub.add_parser(
-        "analyze",
-        help="compute the node's wrench at every attitude message of a bag",
-        description="Replay a rosbag2 through adbsat_node's logic (no ROS needed) and write a new bag "
-        "with the input messages plus, per model LABEL, /adbsat/LABEL/wrench and /adbsat/LABEL/coefficients "
-        "(geometry_msgs/WrenchStamped, body frame) and /diagnostics; a CSV (one row per attitude message, "
-        "one column group per model) and PNG plots of force, torque, density and drag coefficient. "
-        "Several --params files compare models in one run.",
+def configure_analyze(a) -> None:
+    """Give the ``bag analyze`` parser ``a`` its description and options."""
+    a.description = (
+        "Replay a rosbag2 through adbsat_node's logic (no ROS needed) and write a new bag with "
+        "the input messages plus, per model LABEL, /adbsat/LABEL/wrench and "
+        "/adbsat/LABEL/coefficients (geometry_msgs/WrenchStamped, body frame) and /diagnostics; "
+        "a CSV (one row per attitude message, one column group per model) and PNG plots of "
+        "force, torque, density and drag coefficient. Several --params files compare models in "
+        "one run."
     )
     a.add_argument("bag", metavar="BAG", help="input bag: directory, .mcap or .db3 file")
     a.add_argument(
@@ -99,6 +102,9 @@ def register_analyze(sub) -> None:
 
 def models_from_args(args) -> list:
     """[(label, WrenchSettings)] from --params/--label; errors name the file or option."""
+    from adbsat_ros.bags import analysis as bag_analysis
+    from adbsat_ros.estimator.settings import WrenchSettings, load_parameters_file
+
     if args.label and len(args.label) != max(len(args.params), 1):
         raise CommandLineError(
             f"--label: given {len(args.label)} times for {len(args.params)} --params files"
@@ -134,8 +140,10 @@ def models_from_args(args) -> list:
 
 
 def _label(text, option):
+    from adbsat_ros.bags.analysis import check_label
+
     try:
-        return bag_analysis.check_label(text)
+        return check_label(text)
     except ValueError as exc:
         raise CommandLineError(f"{option}: {exc}") from None
 
@@ -148,6 +156,10 @@ def default_output(bag) -> Path:
 
 
 def run_analyze(args) -> int:
+    """Run ``adbsat-ros bag analyze``; returns the exit status."""
+    from adbsat_ros.bags import analysis as bag_analysis
+    from adbsat_ros.geometry.mesh import MeshError
+
     models = models_from_args(args)
     out = Path(args.out) if args.out else default_output(args.bag)
     out_csv = Path(args.csv) if args.csv else out.parent / f"{out.name}.csv"
@@ -174,6 +186,8 @@ def run_analyze(args) -> int:
     except BagError as exc:
         print(f"adbsat-ros bag analyze: error: {exc}", file=sys.stderr)
         return 1
+    except MeshError as exc:
+        raise CommandLineError(f"MESH: {exc}") from None
     for text in report.warnings:
         print(f"adbsat-ros bag analyze: warning: {text}", file=sys.stderr)
     for m in report.models:
@@ -188,8 +202,8 @@ def run_analyze(args) -> int:
         print(f"wrote plots: {', '.join(str(p) for p in report.outputs['plots'])}")
     seconds = report.seconds.get("total", 0.0)
     print(
-        f"{report.messages_read} messages read in {seconds:.2f} s "
-        f"({report.workers} worker process{'es' if report.workers > 1 else ''}, {report.chunks} chunk(s))"
+        f"{report.messages_read} messages read in {seconds:.2f} s ({report.workers} worker "
+        f"process{'es' if report.workers > 1 else ''}, {report.chunks} chunk(s))"
     )
     if report.error:
         print(f"adbsat-ros bag analyze: error: {report.error}", file=sys.stderr)

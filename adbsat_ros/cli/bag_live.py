@@ -1,8 +1,9 @@
 """``adbsat-ros bag play`` and ``adbsat-ros bag record``: live rosbag tools (need rclpy).
 
-Registered into the ``bag`` command group by :mod:`adbsat_ros.cli.bag`; rclpy is imported only
-when one of these runs, so the rest of the command line works without ROS installed. Discovery
-stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE says otherwise.
+Configured into the ``bag`` command group by :mod:`adbsat_ros.cli.bag`; rclpy and the ROS tools
+are imported only when one of these runs, so the rest of the command line works without ROS
+installed (and starts without paying for it). Discovery stays on this machine unless
+ROS_AUTOMATIC_DISCOVERY_RANGE says otherwise.
 """
 
 from __future__ import annotations
@@ -15,22 +16,19 @@ import sys
 import threading
 
 from adbsat_ros.bags.io import BagError
-
-from .options import non_negative_int, positive_float
+from adbsat_ros.cli.options import non_negative_int, positive_float
 
 
 class RosNotAvailable(RuntimeError):
     """rclpy or the message packages cannot be imported."""
 
 
-def register(bag_subparsers) -> None:
-    """Add ``play`` and ``record`` to the ``bag`` command group's subparsers."""
-    play = bag_subparsers.add_parser(
-        "play",
-        help="publish a bag's messages into the ROS 2 graph with their recorded timing",
-        description="Publish the messages of a rosbag2 bag (.mcap or .db3) on their topics, unchanged "
+def configure_play(play) -> None:
+    """Give the ``bag play`` parser its description and options."""
+    play.description = (
+        "Publish the messages of a rosbag2 bag (.mcap or .db3) on their topics, unchanged "
         "(header stamps as recorded), spaced as recorded and scaled by --rate. Needs rclpy. "
-        "Discovery stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE is set.",
+        "Discovery stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE is set."
     )
     play.add_argument("bag", help="rosbag2 bag directory (or its .mcap/.db3 file)")
     play.add_argument(
@@ -70,13 +68,14 @@ def register(bag_subparsers) -> None:
     )
     play.set_defaults(func=run_play, command="bag play")
 
-    record = bag_subparsers.add_parser(
-        "record",
-        help="record topics of the ROS 2 graph into a new bag",
-        description="Subscribe to the given topics and write their messages (serialized, as received) "
-        "into a new rosbag2 bag, stamped with the receive time. A topic's type is taken from the "
-        "graph once a publisher appears, or given as TOPIC:TYPE. Stops after --duration or on Ctrl-C; "
-        "the bag is complete either way (also on SIGTERM). Needs rclpy.",
+
+def configure_record(record) -> None:
+    """Give the ``bag record`` parser its description and options."""
+    record.description = (
+        "Subscribe to the given topics and write their messages (serialized, as received) into "
+        "a new rosbag2 bag, stamped with the receive time. A topic's type is taken from the "
+        "graph once a publisher appears, or given as TOPIC:TYPE. Stops after --duration or on "
+        "Ctrl-C; the bag is complete either way (also on SIGTERM). Needs rclpy."
     )
     record.add_argument("out", metavar="OUT", help="bag directory to create (must not exist)")
     record.add_argument(
@@ -116,14 +115,14 @@ def _import_ros_module(name: str):
         return importlib.import_module(f"adbsat_ros.ros.{name}")
     except ImportError as exc:
         raise RosNotAvailable(
-            f"needs the ROS 2 Python packages (rclpy and messages), which cannot be imported: {exc}; "
-            "install them with: pip install 'adbsat_ros[ros]'"
+            "needs the ROS 2 Python packages (rclpy and messages), which cannot be imported: "
+            f"{exc}; install them with: pip install 'adbsat_ros[ros]'"
         ) from None
 
 
 @contextlib.contextmanager
 def _stop_on_sigterm():
-    """An Event set by SIGTERM while the block runs, so a terminated recording still ends cleanly."""
+    """An Event set by SIGTERM while the block runs (a terminated recording still ends cleanly)."""
     stop = threading.Event()
     if threading.current_thread() is not threading.main_thread():
         yield stop
@@ -188,12 +187,13 @@ def run_record(args) -> int:
         print(f"adbsat-ros bag record: error: {exc}", file=sys.stderr)
         return 1
     print(
-        f"wrote {summary.path} ({summary.storage}): {summary.total} messages ({_counts(summary.recorded)}) "
-        f"in {summary.wall_seconds:.1f} s"
+        f"wrote {summary.path} ({summary.storage}): {summary.total} messages "
+        f"({_counts(summary.recorded)}) in {summary.wall_seconds:.1f} s"
     )
     if summary.missing:
         print(
-            f"warning: no publisher ever appeared on {', '.join(summary.missing)}; nothing recorded from it",
+            f"warning: no publisher ever appeared on {', '.join(summary.missing)}; nothing "
+            "recorded from it",
             file=sys.stderr,
         )
     return 0

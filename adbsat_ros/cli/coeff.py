@@ -8,10 +8,8 @@ import sys
 
 import numpy as np
 
-from adbsat_ros.geometry import frames
-
-from .atmosphere import add_flight_arguments
-from .common import (
+from adbsat_ros.cli.atmosphere import add_flight_arguments
+from adbsat_ros.cli.common import (
     add_flow_arguments,
     add_mesh_arguments,
     add_model_arguments,
@@ -20,19 +18,20 @@ from .common import (
     make_shader_from_args,
     method_and_flow_from_args,
 )
-from .options import parse_angle_list
+from adbsat_ros.cli.options import parse_angle_list
+from adbsat_ros.geometry import frames
 
 
-def register(subparsers) -> None:
-    p = subparsers.add_parser(
-        "coeff",
-        help="force and moment coefficients at given attitudes",
-        description="Compute ADBSat-convention coefficients (Cf_w, Cf_f, Cm_B, Aref, Lref, "
-        "AreaProj, CD/CL/CY) for every pair of --aoa x --aos; with a density, also the force "
-        "[N] and torque [N m] in the mesh frame about --moment-ref. The gas is given either "
-        "directly (--speed --temperature --mean-mass|--species [--density]) or by flight "
-        "conditions (--time with --altitude/--lat/--lon or --position/--velocity, space weather): "
-        "NRLMSISE-00 then gives density, temperature and composition, as ADBSat's environment path.",
+def configure(p) -> None:
+    """Give the ``coeff`` subcommand's parser ``p`` its description and options."""
+    p.description = (
+        "Compute ADBSat-convention coefficients (Cf_w, Cf_f, Cm_B, Aref, Lref, AreaProj, "
+        "CD/CL/CY) for every pair of --aoa x --aos; with a density, also the force [N] and "
+        "torque [N m] in the mesh frame about --moment-ref. The gas is given either directly "
+        "(--speed --temperature --mean-mass|--species [--density]) or by flight conditions "
+        "(--time with --altitude/--lat/--lon or --position/--velocity, space weather): "
+        "NRLMSISE-00 then gives density, temperature and composition, as ADBSat's environment "
+        "path."
     )
     add_mesh_arguments(p)
     add_model_arguments(p)
@@ -52,6 +51,7 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
+    """Run ``adbsat-ros coeff``; returns the exit status."""
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
     aos_deg = parse_angle_list(args.aos, "--aos")
     method, flow, _ = method_and_flow_from_args(args)
@@ -75,6 +75,7 @@ def run(args) -> int:
 
 
 def print_table(results, method, flow) -> None:
+    """Print the results of :func:`run` as a table, one line per attitude, after a set-up line."""
     mesh = method.mesh
     print(f"mesh {mesh.source}: {mesh.n_panels} panels, materials {', '.join(mesh.material_names)}")
     print(
@@ -83,7 +84,10 @@ def print_table(results, method, flow) -> None:
         f"Lref = {method.reference.length:.4g} m"
     )
     has_force = "force_N" in results[0]
-    head = f"{'aoa':>7} {'aos':>7} {'CD':>9} {'CL':>9} {'CY':>9} {'Cm_B x':>10} {'Cm_B y':>10} {'Cm_B z':>10} {'AreaProj':>9}"
+    head = (
+        f"{'aoa':>7} {'aos':>7} {'CD':>9} {'CL':>9} {'CY':>9} "
+        f"{'Cm_B x':>10} {'Cm_B y':>10} {'Cm_B z':>10} {'AreaProj':>9}"
+    )
     if has_force:
         head += f" {'|F| [N]':>10} {'|T| [Nm]':>10}"
     print(head)

@@ -1,10 +1,17 @@
-"""Option groups shared by the subcommands that evaluate the panel method."""
+"""Option groups shared by the subcommands that evaluate the panel method (coeff, database).
+
+Imported only when one of those runs, so the mesh loading and the physics are imported at the
+top; the shader, which only some options need, is imported when made.
+"""
 
 from __future__ import annotations
 
 import argparse
 
+from adbsat_ros.cli.atmosphere import compute as compute_flight_conditions
+from adbsat_ros.cli.options import CommandLineError, fraction, parse_vector3, positive_float
 from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import (
@@ -16,13 +23,12 @@ from adbsat_ros.physics.gsi_models import (
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 
-from .atmosphere import compute as compute_flight_conditions
-from .options import CommandLineError, fraction, parse_vector3, positive_float
-
+#: Values of ``--shading``.
 SHADING_MODES = ("none", "projection", "raycast")
 
 
 def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the MESH argument and ``--scale``."""
     parser.add_argument(
         "mesh", metavar="MESH", help="mesh file (.obj .stl .ply .off ...) or 'example'"
     )
@@ -35,6 +41,7 @@ def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def add_model_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the gas-surface model options: model, accommodation, wall, materials, switches."""
     g = parser.add_argument_group("gas-surface model")
     g.add_argument(
         "--gsim",
@@ -91,6 +98,7 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def positive_or_zero_below_two(text):
+    """An argparse ``type`` for ``--sigma-n``: a number in [0, 2)."""
     try:
         value = float(text)
     except ValueError:
@@ -101,6 +109,7 @@ def positive_or_zero_below_two(text):
 
 
 def add_flow_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the options that give the free stream directly (speed, temperature, gas, density)."""
     g = parser.add_argument_group("free stream (given directly)")
     g.add_argument("--speed", type=positive_float("--speed"), help="relative wind speed [m/s]")
     g.add_argument(
@@ -123,6 +132,7 @@ def add_flow_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def add_reference_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the reference area, length and moment point options."""
     g = parser.add_argument_group("reference quantities")
     g.add_argument(
         "--aref",
@@ -141,6 +151,7 @@ def add_reference_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def add_shading_arguments(parser: argparse.ArgumentParser, default="raycast") -> None:
+    """Add ``--shading`` (default ``default``) and ``--samples``."""
     g = parser.add_argument_group("shading")
     g.add_argument(
         "--shading",
@@ -170,6 +181,7 @@ def parse_species(text: str) -> dict:
 
 
 def materials_from_args(args) -> MaterialTable:
+    """The default surface and the ``--material`` overrides; CommandLineError if not valid."""
     try:
         default = SurfaceProperties(
             alpha=args.alpha,
@@ -211,8 +223,15 @@ def freestream_from_args(args, model: str) -> FreeStream:
 
 
 def panel_method_from_args(args, mesh=None) -> PanelMethod:
-    """Mesh (loaded once), model, materials, options and references from the arguments."""
-    mesh = mesh if mesh is not None else resolve_mesh(args.mesh, scale=args.scale)
+    """Mesh (loaded once), model, materials, options and references from the arguments.
+
+    A mesh that cannot be loaded is a CommandLineError that starts with ``MESH:``.
+    """
+    if mesh is None:
+        try:
+            mesh = resolve_mesh(args.mesh, scale=args.scale)
+        except MeshError as exc:
+            raise CommandLineError(f"MESH: {exc}") from None
     materials = materials_from_args(args)
     unknown = materials.check_names(mesh.material_names)
     if unknown:
@@ -261,7 +280,8 @@ def method_and_flow_from_args(args):
     ]
     if given:
         raise CommandLineError(
-            f"--{given[0].replace('_', '-')}: give the gas either directly or by --time and a place, not both"
+            f"--{given[0].replace('_', '-')}: give the gas either directly or by --time and a "
+            "place, not both"
         )
     options = {"alpha": args.alpha} if args.accommodation == "fixed" else {}
     try:

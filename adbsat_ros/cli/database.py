@@ -2,7 +2,7 @@
 
 Evaluates the panel method at every pair of ``--aoa`` x ``--aos`` (default the whole sphere of
 flow directions in 5 deg steps) on every core, and writes the database as ``--out FILE.npz``
-(read by :func:`adbsat_ros.database.build.load_database` and
+(read by :func:`adbsat_ros.database.format.load_database` and
 :class:`adbsat_ros.database.lookup.CoefficientLookup`) and as a CSV file next to it (same
 stem, or ``--csv``). Model, free stream, flight conditions, reference and shading options are
 those of ``coeff``.
@@ -13,10 +13,8 @@ from __future__ import annotations
 import os
 import time
 
-from adbsat_ros.database.build import build_database
-
-from .atmosphere import add_flight_arguments
-from .common import (
+from adbsat_ros.cli.atmosphere import add_flight_arguments
+from adbsat_ros.cli.common import (
     add_flow_arguments,
     add_mesh_arguments,
     add_model_arguments,
@@ -24,21 +22,22 @@ from .common import (
     add_shading_arguments,
     method_and_flow_from_args,
 )
-from .options import CommandLineError, number, parse_angle_list
+from adbsat_ros.cli.options import CommandLineError, number, parse_angle_list
+from adbsat_ros.database.build import build_database
 
+#: Default angle-of-attack and sideslip grids [deg]: the whole sphere in 5 deg steps.
 DEFAULT_AOA = "-180:5:180"
 DEFAULT_AOS = "-90:5:90"
 
 
-def register(subparsers) -> None:
-    p = subparsers.add_parser(
-        "database",
-        help="coefficients over a grid of angle of attack and sideslip (npz + csv)",
-        description="Sweep the panel method over every pair of --aoa x --aos [deg] (ranges as "
+def configure(p) -> None:
+    """Give the ``database`` subcommand's parser ``p`` its description and options."""
+    p.description = (
+        "Sweep the panel method over every pair of --aoa x --aos [deg] (ranges as "
         "start:step:stop; default the whole sphere in 5 deg steps) on --workers processes and "
         "write an .npz database (for the interpolating lookup and the ROS node) and a CSV file "
         "with ADBSat's column names. The stated interpolation error of the grid is computed and "
-        "stored. Gas, model, reference and shading options are those of `coeff`.",
+        "stored. Gas, model, reference and shading options are those of `coeff`."
     )
     add_mesh_arguments(p)
     add_model_arguments(p)
@@ -50,7 +49,8 @@ def register(subparsers) -> None:
     g.add_argument(
         "--aoa",
         default=DEFAULT_AOA,
-        help=f"angles of attack [deg], -360..360: list and/or start:step:stop (default {DEFAULT_AOA})",
+        help="angles of attack [deg], -360..360: list and/or start:step:stop "
+        f"(default {DEFAULT_AOA})",
     )
     g.add_argument(
         "--aos", default=DEFAULT_AOS, help=f"sideslip angles [deg], -90..90 (default {DEFAULT_AOS})"
@@ -86,6 +86,7 @@ def _angles(text, option, low, high):
 
 
 def run(args) -> int:
+    """Run ``adbsat-ros database``; returns the exit status."""
     aoa = _angles(args.aoa, "--aoa", -360.0, 360.0)
     aos = _angles(args.aos, "--aos", -90.0, 90.0)
     out = args.out

@@ -1,21 +1,24 @@
-"""``adbsat-ros demo``: run the ROS 2 node live on the bundled satellite and show what it computes."""
+"""``adbsat-ros demo``: run the ROS 2 node live on the bundled satellite and show what it computes.
+
+The node and rclpy are imported when the demo runs (start-up time, and a clear message when ROS
+is not installed).
+"""
 
 from __future__ import annotations
 
 import sys
 
-from .options import positive_float
+from adbsat_ros.cli.options import positive_float
 
 
-def register(subparsers) -> None:
-    p = subparsers.add_parser(
-        "demo",
-        help="run adbsat_node live on a simulated orbit and print, plot and save its wrenches",
-        description="Start adbsat_node (bundled satellite, default parameters) in this process, publish "
-        "a 300 km circular orbit with a tumbling (or nadir-pointing) attitude to it live, print a line "
-        "of its results every 0.5 s, and write a CSV and PNG plots. Needs rclpy. ROS discovery is "
-        "limited to this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE is set; the topics live under "
-        "/adbsat_demo.",
+def configure(p) -> None:
+    """Give the ``demo`` subcommand's parser ``p`` its description and options."""
+    p.description = (
+        "Start adbsat_node (bundled satellite, default parameters) in this process, publish a "
+        "300 km circular orbit with a tumbling (or nadir-pointing) attitude to it live, print a "
+        "line of its results every 0.5 s, and write a CSV and PNG plots. Needs rclpy. ROS "
+        "discovery is limited to this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE is set; the "
+        "topics live under /adbsat_demo."
     )
     p.add_argument(
         "--duration",
@@ -54,8 +57,8 @@ def run(args) -> int:
         result = run_demo(args.duration, args.speedup, args.out_dir, args.attitude)
     except ImportError as exc:
         print(
-            f"adbsat-ros demo: error: needs the ROS 2 Python packages, which cannot be imported: {exc}; "
-            "install them with: pip install 'adbsat_ros[ros]'",
+            "adbsat-ros demo: error: needs the ROS 2 Python packages, which cannot be imported: "
+            f"{exc}; install them with: pip install 'adbsat_ros[ros]'",
             file=sys.stderr,
         )
         return 1

@@ -1,12 +1,15 @@
-"""Shared command-line machinery: one-line errors and parsers for option values."""
+"""Shared command-line machinery: one-line errors and parsers for option values.
+
+Imported at every start of the command line, so it imports only the standard library at the top;
+the two parsers that return arrays import numpy when called (start-up time, see
+:mod:`adbsat_ros.cli`).
+"""
 
 from __future__ import annotations
 
 import argparse
 import math
 import sys
-
-import numpy as np
 
 
 class CommandLineError(Exception):
@@ -16,21 +19,29 @@ class CommandLineError(Exception):
 class OneLineErrorParser(argparse.ArgumentParser):
     """An ArgumentParser whose errors are one line on stderr and exit status 2."""
 
-    def error(self, message):  # noqa: D401 - argparse API
+    def error(self, message):
+        """Print ``prog: error: message`` as one line on stderr and exit with status 2."""
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def parse_angle_list(text: str, option: str) -> np.ndarray:
+def parse_angle_list(text: str, option: str):
     """Parse a list of angles in degrees.
 
     Accepts comma-separated items, each a number or an inclusive range ``start:step:stop``
-    (e.g. ``-180:5:180``), e.g. ``"0,10,20:5:30"``. Returns the values in the order given.
+    (e.g. ``-180:5:180``), e.g. ``"0,10,20:5:30"``.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The angles [deg] in the order given.
 
     Raises
     ------
     CommandLineError
         Naming ``option`` and the accepted forms, for anything else.
     """
+    import numpy as np
+
     values = []
     for item in str(text).split(","):
         item = item.strip()
@@ -64,8 +75,10 @@ def parse_angle_list(text: str, option: str) -> np.ndarray:
     return np.asarray(values, dtype=float)
 
 
-def parse_vector3(text: str, option: str) -> np.ndarray:
-    """Parse ``X,Y,Z`` into a finite 3-vector, or raise CommandLineError naming ``option``."""
+def parse_vector3(text: str, option: str):
+    """Parse ``X,Y,Z`` into a finite 3-vector (ndarray); CommandLineError naming ``option``."""
+    import numpy as np
+
     try:
         vec = np.array([float(v) for v in str(text).split(",")])
     except ValueError:

@@ -4,21 +4,21 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
+from adbsat_ros.cli.options import CommandLineError, number
+from adbsat_ros.database.format import DatabaseError, load_database
+from adbsat_ros.database.metadata import method_from_metadata
+from adbsat_ros.plotting import coefficients, panels
 
-from .options import CommandLineError, number
 
-
-def register(subparsers) -> None:
-    p = subparsers.add_parser(
-        "plot",
-        help="PNG figures of an aerodynamic database",
-        description="Draw the coefficients of a database written by `adbsat-ros database` against "
-        "angle of attack, one line per sideslip angle (database_coefficients.png: CD, CL, CY; "
+def configure(p) -> None:
+    """Give the ``plot`` subcommand's parser ``p`` its description and options."""
+    p.description = (
+        "Draw the coefficients of a database written by `adbsat-ros database` against angle of "
+        "attack, one line per sideslip angle (database_coefficients.png: CD, CL, CY; "
         "database_moments.png: Cm_B x, y, z), and a 3-D picture of the mesh coloured by "
         "per-panel pressure coefficient at one attitude, with the panels shaded from the flow "
         "marked (panel_pressure.png; the mesh is reloaded and must be unchanged). Prints the "
-        "paths written.",
+        "paths written."
     )
     p.add_argument(
         "database", metavar="DATABASE", help="database file (.npz) from `adbsat-ros database`"
@@ -55,15 +55,13 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def _default_angle(grid: np.ndarray) -> float:
+def default_angle(grid) -> float:
+    """Angle of the pressure picture on one grid axis [deg]: 0 if covered, else the first."""
     return 0.0 if grid[0] <= 0.0 <= grid[-1] else float(grid[0])
 
 
 def run(args) -> int:
-    from adbsat_ros.database.format import DatabaseError, load_database
-    from adbsat_ros.database.metadata import method_from_metadata
-    from adbsat_ros.plotting import coefficients, panels
-
+    """Run ``adbsat-ros plot``; returns the exit status."""
     path = Path(args.database)
     if not path.exists():
         raise CommandLineError(f"DATABASE: no such file {str(path)!r}")
@@ -89,8 +87,8 @@ def run(args) -> int:
             raise CommandLineError(
                 f"DATABASE: {exc} (use --no-mesh to draw the coefficient plots only)"
             ) from None
-        aoa = args.aoa if args.aoa is not None else _default_angle(db.aoa_deg)
-        aos = args.aos if args.aos is not None else _default_angle(db.aos_deg)
+        aoa = args.aoa if args.aoa is not None else default_angle(db.aoa_deg)
+        aos = args.aos if args.aos is not None else default_angle(db.aos_deg)
         written.append(
             panels.plot_panel_pressure(
                 method,

@@ -5,20 +5,24 @@ from __future__ import annotations
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import scenario
 from adbsat_ros.bags.io import BagError
+from adbsat_ros.cli.options import (
+    CommandLineError,
+    non_negative_float,
+    parse_vector3,
+    positive_float,
+)
 
-from .options import CommandLineError, non_negative_float, parse_vector3, positive_float
 
-
-def register(subparsers) -> None:
-    p = subparsers.add_parser(
-        "simulate",
-        help="write a bag of a simulated flight (orbit state + attitude)",
-        description="Write a rosbag2 holding a two-body (Keplerian) orbit in ECI as nav_msgs/Odometry "
+def configure(p) -> None:
+    """Give the ``simulate`` subcommand's parser ``p`` its description and options."""
+    p.description = (
+        "Write a rosbag2 holding a two-body (Keplerian) orbit in ECI as nav_msgs/Odometry "
         "(frame_id and child_frame_id 'eci', twist = ECI velocity) and the attitude as "
-        "geometry_msgs/QuaternionStamped (body -> ECI, x y z w). Point-mass Earth only: no J2, no drag. "
-        "Attitude 'nadir': body +x along-track (the velocity direction), +z to nadir, +y = -orbit normal "
-        "(the example satellite then flies nose first); 'tumble': that attitude at t = 0 turning about a "
-        "fixed body axis. Stamps are UNIX time of --epoch + t, as adbsat_node reads them by default.",
+        "geometry_msgs/QuaternionStamped (body -> ECI, x y z w). Point-mass Earth only: no J2, "
+        "no drag. Attitude 'nadir': body +x along-track (the velocity direction), +z to nadir, "
+        "+y = -orbit normal (the example satellite then flies nose first); 'tumble': that "
+        "attitude at t = 0 turning about a fixed body axis. Stamps are UNIX time of --epoch + t, "
+        "as adbsat_node reads them by default."
     )
     p.add_argument(
         "--out", required=True, metavar="BAG", help="output bag directory (must not exist)"
@@ -137,6 +141,7 @@ def scenario_from_args(args) -> scenario.Scenario:
 
 
 def run(args) -> int:
+    """Run ``adbsat-ros simulate``; returns the exit status."""
     sc = scenario_from_args(args)
     messages = scenario.generate(sc)
     try:
@@ -151,12 +156,13 @@ def run(args) -> int:
     except BagError as exc:
         raise CommandLineError(f"--out: {exc}") from None
     print(
-        f"wrote {path} ({args.storage}): {len(messages.states.stamps_ns)} Odometry on {args.state_topic}, "
-        f"{len(messages.attitudes.stamps_ns)} QuaternionStamped on {args.attitude_topic}"
+        f"wrote {path} ({args.storage}): {len(messages.states.stamps_ns)} Odometry on "
+        f"{args.state_topic}, {len(messages.attitudes.stamps_ns)} QuaternionStamped on "
+        f"{args.attitude_topic}"
     )
     print(
-        f"orbit: perigee {sc.perigee_radius / 1e3:.3f} km, apogee {sc.apogee_radius / 1e3:.3f} km "
-        f"(radius), period {sc.period:.1f} s, epoch {sc.epoch.isoformat()}, attitude {sc.attitude}, "
-        f"stamps {sc.time_mode}"
+        f"orbit: perigee {sc.perigee_radius / 1e3:.3f} km, apogee {sc.apogee_radius / 1e3:.3f} "
+        f"km (radius), period {sc.period:.1f} s, epoch {sc.epoch.isoformat()}, attitude "
+        f"{sc.attitude}, stamps {sc.time_mode}"
     )
     return 0

@@ -1,48 +1,40 @@
-"""Aerodynamic databases: the panel method swept over a grid of angle of attack and sideslip.
+"""Building an aerodynamic database: the panel method swept over a grid of aoa and sideslip.
 
-An :class:`AeroDatabase` holds ADBSat's coefficients at every pair (aoa_i, aos_j) of two strictly
-increasing angle lists [deg], with the metadata needed to know (and rebuild) what was computed:
-mesh (spec, scale, fingerprint), gas-surface model and materials, free stream, reference
-quantities, shading, and the stated interpolation error of the grid (see
-:mod:`adbsat_ros.database.lookup`).
+:func:`build_database` evaluates the panel method (with the chosen shading) at every pair
+(aoa_i, aos_j) of two angle lists [deg] and returns an
+:class:`~adbsat_ros.database.format.AeroDatabase` with its set-up recorded as metadata
+(:mod:`adbsat_ros.database.metadata`) and the stated interpolation error of the grid
+(:mod:`adbsat_ros.database.interpolation`).
 
-Coefficient arrays (ADBSat's names and frames; frames in :mod:`adbsat_ros.geometry.frames`):
-
-* ``CD, CL, CY, AreaProj``: shape (na, nb); AreaProj in m^2, the others dimensionless;
-* ``Cf_w, Cf_f, Cm_B, Cf_G, Cm_G``: shape (na, nb, 3); force coefficients in wind (W), flight (F)
-  and mesh (G) axes, moment coefficients in ADBSat body axes (B) and mesh axes (G) about the
-  reference moment point.
-
-Forces are ``q A_ref Cf`` [N] and torques ``q A_ref L_ref Cm`` [N m] with q = rho V^2 / 2.
-
-Files: :meth:`AeroDatabase.save` writes a compressed ``.npz`` (one array per name plus the
-metadata as a JSON string under ``"metadata"``), :func:`load_database` reads and validates it;
-:meth:`AeroDatabase.save_csv` writes one row per attitude with ``# key: value`` header lines.
-
-:func:`build_database` evaluates the attitudes in chunks on a process pool (every core by
-default). Each attitude is computed by the same code whatever the chunking, so the result does
-not depend on the number of workers (bit for bit).
+The attitudes are evaluated in chunks on a process pool (every core by default; forked workers
+where the platform has fork, so they start in milliseconds with the imports inherited). Each
+attitude is computed by the same code whatever the chunking, so the result does not depend on the
+number of workers (bit for bit).
 """
 
 from __future__ import annotations
 
 import math
+import multiprocessing
 import os
 import sys
+from concurrent.futures import ProcessPoolExecutor, as_completed
 
 import numpy as np
+from tqdm import tqdm
 
 from adbsat_ros.database.format import AeroDatabase
+from adbsat_ros.database.interpolation import estimate_interpolation_error
 from adbsat_ros.database.metadata import describe_setup
 from adbsat_ros.geometry import frames
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.shading.shader import MODES, make_shader
 
 #: Largest attitude count of a chunk handed to one worker.
 MAX_CHUNK = 64
 
 
-# ---------------------------------------------------------------------------------- building
 def _check_angles(values, name, low, high) -> np.ndarray:
     a = np.asarray(values, dtype=float).reshape(-1)
     if a.size == 0:
@@ -60,25 +52,26 @@ def _check_angles(values, name, low, high) -> np.ndarray:
     return a
 
 
-# Per-process state of the workers: (method, flow, shader) built once by _init_worker.
+#: Per-process state of the workers: (method, flow, shader), built once by _init_worker.
 _WORKER = None
 
 
 def _init_worker(method, flow, shading, samples):
+    """Set this process's worker state; a convex body needs no shader (nothing is occluded)."""
     global _WORKER
     shader = None
     if shading != "none":
-        from adbsat_ros.shading.shader import make_shader
-
         shader = make_shader(method.mesh, mode=shading, samples=samples)
-        if shader.trivial:  # convex body: nothing is ever occluded
+        if shader.trivial:
             shader = None
     _WORKER = (method, flow, shader)
 
 
 def _evaluate_chunk(attitudes_deg):
-    """Coefficients of a chunk of attitudes, shape (K, 2) [deg]: array (K, 19) in the order
-    Cf_G, Cm_G, Cf_w, Cf_f, Cm_B (3 each), AreaProj, CD, CL, CY."""
+    """Coefficients of a chunk of attitudes (K, 2) [deg], evaluated with the worker's state.
+
+    Returns an array (K, 19): Cf_G, Cm_G, Cf_w, Cf_f, Cm_B (3 columns each), AreaProj, CD, CL, CY.
+    """
     method, flow, shader = _WORKER
     out = np.empty((len(attitudes_deg), 19))
     for k, (a_deg, b_deg) in enumerate(attitudes_deg):
@@ -102,8 +95,6 @@ class _Progress:
         if progress is None:  # a bar only for a person watching a terminal
             progress = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
         if progress is True:
-            from tqdm import tqdm
-
             self._bar = tqdm(total=total, unit="att", desc="database", file=sys.stderr, leave=False)
             self._own = True
         elif progress is False:
@@ -131,8 +122,6 @@ class _Progress:
 
 def _pool_context():
     """Fork where available (workers start in milliseconds and inherit the imports)."""
-    import multiprocessing
-
     if "fork" in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("fork")
     return multiprocessing.get_context()
@@ -192,11 +181,8 @@ def build_database(
     -------
     AeroDatabase
         With ``metadata["interpolation_error"]`` set (see
-        :func:`adbsat_ros.database.lookup.estimate_interpolation_error`).
+        :func:`adbsat_ros.database.interpolation.estimate_interpolation_error`).
     """
-    from adbsat_ros.database.lookup import estimate_interpolation_error
-    from adbsat_ros.shading.shader import MODES
-
     shading = str(shading).lower()
     if shading not in MODES:
         raise ValueError(f"unknown shading mode {shading!r}; choose one of {', '.join(MODES)}")
@@ -242,8 +228,6 @@ def build_database(
             finally:
                 _WORKER = saved
         else:
-            from concurrent.futures import ProcessPoolExecutor, as_completed
-
             with ProcessPoolExecutor(
                 max_workers=workers,
                 mp_context=_pool_context(),
@@ -262,7 +246,10 @@ def build_database(
         bar.close()
 
     shape = (aoa.size, aos.size)
-    vec = lambda k: results[:, k : k + 3].reshape(shape + (3,)).copy()  # noqa: E731
+
+    def vec(k):
+        return results[:, k : k + 3].reshape(shape + (3,)).copy()
+
     db = AeroDatabase(
         aoa_deg=aoa,
         aos_deg=aos,

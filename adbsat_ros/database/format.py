@@ -1,4 +1,25 @@
-"""The aerodynamic database file: a compressed .npz of coefficient grids over (aoa, aos) with the set-up as JSON metadata, and its loader."""
+"""The aerodynamic database: coefficient grids over (aoa, aos) with their set-up, and its files.
+
+An :class:`AeroDatabase` holds ADBSat's coefficients at every pair (aoa_i, aos_j) of two strictly
+increasing angle lists [deg], with the metadata needed to know (and rebuild) what was computed:
+mesh (spec, scale, fingerprint), gas-surface model and materials, free stream, reference
+quantities, shading, and the stated interpolation error of the grid
+(:mod:`adbsat_ros.database.interpolation`).
+
+Coefficient arrays (ADBSat's names and frames; frames in :mod:`adbsat_ros.geometry.frames`):
+
+* ``CD, CL, CY, AreaProj``: shape (na, nb); AreaProj in m^2, the others dimensionless;
+* ``Cf_w, Cf_f, Cm_B, Cf_G, Cm_G``: shape (na, nb, 3); force coefficients in wind (W), flight (F)
+  and mesh (G) axes, moment coefficients in ADBSat body axes (B) and mesh axes (G) about the
+  reference moment point.
+
+Forces are ``q A_ref Cf`` [N] and torques ``q A_ref L_ref Cm`` [N m] with q = rho V^2 / 2.
+
+Files: :meth:`AeroDatabase.save` writes a compressed ``.npz`` (one array per name plus the
+metadata as a JSON string under ``"metadata"``), :func:`load_database` reads and validates it;
+:meth:`AeroDatabase.save_csv` writes one row per attitude with ``# key: value`` header lines.
+Databases are made by :func:`adbsat_ros.database.build.build_database`.
+"""
 
 from __future__ import annotations
 
@@ -11,7 +32,8 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 
-#: Version of the file layout written by :meth:`AeroDatabase.save`; :func:`load_database` reads it.
+#: Version of the file layout that :meth:`AeroDatabase.save` writes and :func:`load_database`
+#: reads.
 FORMAT_VERSION = 1
 
 #: Per-attitude scalar arrays, shape (na, nb).
@@ -37,12 +59,6 @@ class DatabaseError(ValueError):
     """A database file (or its metadata) that cannot be used; the message names the file."""
 
 
-def _package_version() -> str:
-    from adbsat_ros import __version__
-
-    return __version__
-
-
 # ---------------------------------------------------------------------------------- the data
 @dataclass(eq=False)
 class AeroDatabase:
@@ -62,7 +78,9 @@ class AeroDatabase:
         Force coefficients in wind, flight and mesh axes; moment coefficients in ADBSat body
         axes and mesh axes, about ``metadata["reference"]["moment_point"]``.
     metadata : dict
-        JSON-ready description of the set-up (module docstring, contract in the notes).
+        JSON-ready description of the set-up: the keys of :data:`REQUIRED_METADATA`, written by
+        :func:`adbsat_ros.database.metadata.describe_setup` and the build, and optionally
+        ``conditions`` (the flight conditions the free stream came from).
     path : str or None
         File the database was loaded from (for messages), else None.
     """
@@ -163,6 +181,7 @@ class AeroDatabase:
         """The ``key: value`` lines that head the CSV file (metadata essentials)."""
         m = self.metadata
         mesh, flow, ref, shading = m["mesh"], m["flow"], m["reference"], m["shading"]
+        model = m["model"]
         gas = (
             f"mean_mass_amu={flow['mean_mass_amu']}"
             if flow.get("mean_mass_amu") is not None
@@ -175,12 +194,13 @@ class AeroDatabase:
             f"adbsat_ros_version: {m['adbsat_ros_version']}",
             f"mesh: {mesh['spec']} (scale {mesh['scale']}, {mesh['n_panels']} panels, "
             f"fingerprint {mesh['fingerprint']})",
-            f"model: {m['model']['name']} (incident_temperature {m['model']['incident_temperature']}, "
-            f"adbsat_compat {m['model']['adbsat_compat']})",
+            f"model: {model['name']} (incident_temperature {model['incident_temperature']}, "
+            f"adbsat_compat {model['adbsat_compat']})",
             "materials: " + json.dumps(m["materials"]),
             f"flow: speed={flow['speed']} m/s, temperature={flow['temperature']} K, {gas}, "
             f"density={flow.get('density')} kg/m^3, speed_ratio={flow['speed_ratio']:.6g}",
-            f"reference: Aref={ref['area']} m^2, Lref={ref['length']} m, moment_point={ref['moment_point']} m",
+            f"reference: Aref={ref['area']} m^2, Lref={ref['length']} m, "
+            f"moment_point={ref['moment_point']} m",
             f"shading: {shading['mode']} (samples {shading['samples']})",
             f"grid: {self.shape[0]} aoa x {self.shape[1]} aos",
         ]
@@ -205,6 +225,16 @@ def _fail(path, message):
 def load_database(path) -> AeroDatabase:
     """Read and validate a database written by :meth:`AeroDatabase.save`.
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.npz`` file.
+
+    Returns
+    -------
+    AeroDatabase
+        With float arrays, the metadata as written and ``path`` set.
+
     Raises
     ------
     DatabaseError
@@ -219,8 +249,6 @@ def load_database(path) -> AeroDatabase:
         _fail(path, "no such file")
     except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
         _fail(path, f"not a readable database (.npz) file: {exc}")
-    if not isinstance(contents, dict):
-        _fail(path, "not a database (.npz) file")
     missing = [
         k
         for k in ("aoa_deg", "aos_deg", "metadata", *SCALAR_FIELDS, *VECTOR_FIELDS)

@@ -1,4 +1,4 @@
-"""Coefficients at any attitude from an aerodynamic database, by interpolation, with a stated error.
+"""Coefficients at any attitude from an aerodynamic database, by interpolation, with stated error.
 
 Method: bilinear interpolation in (angle of attack, sideslip) of the mesh-frame (G) force and
 moment coefficient vectors Cf_G and Cm_G; CD, CL and CY are then obtained from the interpolated
@@ -24,20 +24,8 @@ reduced modulo 360 deg into the grid's range and raises ValueError if it is stil
 sideslip must lie in [-90, 90] deg and inside the grid's range. At a pole (|aos| = 90 deg, in the
 grid) the aoa does not matter.
 
-Stated error (:func:`estimate_interpolation_error`, computed when the database is built and stored
-in ``metadata["interpolation_error"]``): the grid is coarsened by 2 along each axis (every other
-node, keeping the last), the coarse grid's bilinear interpolant is compared with the exact values
-at every omitted node (edge and cell midpoints of the coarse cells), and the largest Euclidean
-error of the vector is stated as the bound for the full grid, without scaling it down. In theory
-halving the step divides the error by 4 where the coefficients are smooth and by 2 at kinks; but
-near shadow edges that sweep fast (e.g. the body's shadow on the wings near the sideslip poles)
-the convergence is not yet asymptotic, and the first-order factor 1/2 was measured to be exceeded
-(true error 1.36 x the halved estimate on the example satellite, 5 deg grid). Unscaled, the
-bound held with true/stated <= 0.7 in every case measured (example satellite and boxes, sentman
-and newton, raycast and no shading, 5 to 30 deg grids, 150 to 1500 random attitudes each). The
-bound is on |Cf_G(interpolated) - Cf_G(exact)| (likewise Cm_G), so it bounds every component and,
-the rotation being orthogonal, the errors of CD, CL and CY. It is an a-posteriori estimate checked
-by the tests against exact panel-method values at random off-grid attitudes, not a proof.
+The stated error of a lookup (:attr:`CoefficientLookup.error_bound`) is the one stored in the
+database when it was built (:mod:`adbsat_ros.database.interpolation`).
 """
 
 from __future__ import annotations
@@ -49,109 +37,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from adbsat_ros.database.format import AeroDatabase, load_database
+from adbsat_ros.database.interpolation import bilinear
 
-#: Factor from the coarse-grid error to the stated error of the full grid (module docstring).
-ERROR_SCALING = 1.0
 #: Angles within this many degrees of the grid's ends count as inside (rounding).
 ANGLE_TOLERANCE_DEG = 1e-9
-ERROR_METHOD = (
-    "coarsen-by-2: bilinear interpolant of every other node vs exact values at the omitted nodes, "
-    "max Euclidean vector error, not scaled down"
-)
-
-
-# ---------------------------------------------------------------------------------- bilinear core
-def _locate(nodes: np.ndarray, x: np.ndarray):
-    """Cell index i (nodes[i] <= x <= nodes[i+1]) and fraction t in [0, 1] for each x."""
-    if nodes.size == 1:
-        return np.zeros(np.shape(x), dtype=np.intp), np.zeros(np.shape(x))
-    i = np.clip(np.searchsorted(nodes, x, side="right") - 1, 0, nodes.size - 2)
-    t = (x - nodes[i]) / (nodes[i + 1] - nodes[i])
-    return i, t
-
-
-def bilinear(a_nodes, b_nodes, values, qa, qb) -> np.ndarray:
-    """Bilinear interpolation on a rectilinear grid (no wrap-around, no range checks).
-
-    Parameters
-    ----------
-    a_nodes, b_nodes : ndarray, shape (na,), (nb,)
-        Strictly increasing node coordinates (an axis with one node is constant along it).
-    values : ndarray, shape (na, nb, k)
-        Values at the nodes.
-    qa, qb : array_like, shape (M,)
-        Query coordinates inside the grid.
-
-    Returns
-    -------
-    ndarray, shape (M, k)
-    """
-    qa, qb = np.broadcast_arrays(np.asarray(qa, float), np.asarray(qb, float))
-    ia, ta = _locate(a_nodes, qa)
-    ib, tb = _locate(b_nodes, qb)
-    ia1 = ia + (1 if a_nodes.size > 1 else 0)
-    ib1 = ib + (1 if b_nodes.size > 1 else 0)
-    ta, tb = ta[..., None], tb[..., None]
-    return (1.0 - ta) * ((1.0 - tb) * values[ia, ib] + tb * values[ia, ib1]) + ta * (
-        (1.0 - tb) * values[ia1, ib] + tb * values[ia1, ib1]
-    )
-
-
-def _coarse_indices(n: int) -> np.ndarray:
-    """Every other index of an axis of n nodes, always keeping the last."""
-    return np.unique(np.append(np.arange(0, n, 2), n - 1))
-
-
-def estimate_interpolation_error(db: AeroDatabase) -> dict:
-    """Stated bilinear interpolation error of a database's grid (module docstring).
-
-    Returns
-    -------
-    dict
-        ``force_coefficient`` and ``moment_coefficient``: bounds on the Euclidean norm of the
-        interpolation error of Cf_G and Cm_G (None if the grid has fewer than 3 nodes along
-        every axis); ``method``, ``scaling``, ``points`` (omitted nodes compared),
-        ``coarse_force_error`` and ``coarse_moment_error`` (the unscaled maxima),
-        ``max_force_coefficient`` and ``max_moment_coefficient`` (largest |Cf_G|, |Cm_G| of the
-        grid, for scale).
-    """
-    na, nb = db.shape
-    out = {
-        "method": ERROR_METHOD,
-        "scaling": ERROR_SCALING,
-        "max_force_coefficient": float(np.linalg.norm(db.Cf_G, axis=-1).max()),
-        "max_moment_coefficient": float(np.linalg.norm(db.Cm_G, axis=-1).max()),
-    }
-    ca = _coarse_indices(na) if na >= 3 else np.arange(na)
-    cb = _coarse_indices(nb) if nb >= 3 else np.arange(nb)
-    omitted = np.ones((na, nb), dtype=bool)
-    omitted[np.ix_(ca, cb)] = False
-    if not omitted.any():
-        out.update(
-            force_coefficient=None,
-            moment_coefficient=None,
-            points=0,
-            coarse_force_error=None,
-            coarse_moment_error=None,
-            method="unavailable: the grid needs at least 3 nodes along an axis to estimate it",
-        )
-        return out
-    values = np.concatenate([db.Cf_G, db.Cm_G], axis=-1)
-    ia, ib = np.nonzero(omitted)
-    coarse = bilinear(
-        db.aoa_deg[ca], db.aos_deg[cb], values[np.ix_(ca, cb)], db.aoa_deg[ia], db.aos_deg[ib]
-    )
-    diff = coarse - values[ia, ib]
-    force = float(np.linalg.norm(diff[:, :3], axis=-1).max())
-    moment = float(np.linalg.norm(diff[:, 3:], axis=-1).max())
-    out.update(
-        force_coefficient=ERROR_SCALING * force,
-        moment_coefficient=ERROR_SCALING * moment,
-        points=int(ia.size),
-        coarse_force_error=force,
-        coarse_moment_error=moment,
-    )
-    return out
 
 
 # ---------------------------------------------------------------------------------- results
@@ -211,7 +100,7 @@ class CoefficientLookup:
         The stated interpolation error: ``force_coefficient`` and ``moment_coefficient``
         (bounds on the Euclidean norm of the error of Cf_G and Cm_G, hence of each component and
         of CD, CL, CY), ``method`` and the other fields of
-        :func:`estimate_interpolation_error`.
+        :func:`adbsat_ros.database.interpolation.estimate_interpolation_error`.
     """
 
     def __init__(self, database: AeroDatabase):
@@ -243,7 +132,7 @@ class CoefficientLookup:
 
     @classmethod
     def load(cls, path) -> "CoefficientLookup":
-        """A lookup of the database file ``path`` (:func:`adbsat_ros.database.build.load_database`)."""
+        """A lookup of the database file ``path`` (read by :func:`load_database`)."""
         return cls(load_database(path))
 
     # ------------------------------------------------------------------------------ angles
@@ -268,13 +157,14 @@ class CoefficientLookup:
             elif abs(aos_deg) >= 90.0:  # a pole: every aoa is the same flow direction
                 aoa_deg = a0
             else:
+                why = (
+                    ""
+                    if self.periodic
+                    else " (the grid is not a full circle, so it does not wrap around)"
+                )
                 raise ValueError(
-                    f"angle of attack {aoa_deg:g} deg is outside the database's range [{a0:g}, {a1:g}] deg"
-                    + (
-                        ""
-                        if self.periodic
-                        else " (the grid is not a full circle, so it does not wrap around)"
-                    )
+                    f"angle of attack {aoa_deg:g} deg is outside the database's range "
+                    f"[{a0:g}, {a1:g}] deg{why}"
                 )
         return min(max(aoa_deg, a0), a1), aos_deg
 

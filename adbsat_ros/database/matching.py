@@ -1,7 +1,8 @@
-"""Coefficients from a precomputed database for the wrench estimator (``coefficients_source: database``).
+"""A database matched to the node's set-up, as the estimator's source of coefficients.
 
-The node, and bag analysis through the same estimator, can take the force and moment
-coefficients from a database made by ``adbsat-ros database`` instead of the live panel method:
+With ``coefficients_source: database``, the node (and bag analysis, through the same estimator)
+takes the force and moment coefficients from a database made by ``adbsat-ros database`` instead
+of the live panel method:
 one bilinear lookup (:class:`adbsat_ros.database.lookup.CoefficientLookup`) instead of a
 sweep over the panels and a shading query. The newtons still use the live atmosphere:
 F = q A_ref C_F, T = q A_ref L_ref C_M with q = rho V^2 / 2 at the message's time.
@@ -33,6 +34,7 @@ from adbsat_ros.database.lookup import CoefficientLookup
 from adbsat_ros.database.metadata import surface_values
 from adbsat_ros.geometry import frames
 from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 
 #: Relative tolerance on the reference area and length when matching a database.
 REFERENCE_RTOL = 1e-9
@@ -53,14 +55,13 @@ def database_mismatches(metadata: dict, method: PanelMethod) -> list:
     list of str
         One readable line per mismatch, naming the quantity and both values.
     """
-    from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
-
     out = []
     mesh = metadata.get("mesh", {})
     if mesh.get("fingerprint") != method.mesh.fingerprint():
         out.append(
-            f"mesh: the database was made for {mesh.get('source', '?')} ({mesh.get('n_panels', '?')} panels, "
-            f"fingerprint {mesh.get('fingerprint')}), the node has {method.mesh.source} "
+            f"mesh: the database was made for {mesh.get('source', '?')} "
+            f"({mesh.get('n_panels', '?')} panels, fingerprint {mesh.get('fingerprint')}), "
+            f"the node has {method.mesh.source} "
             f"({method.mesh.n_panels} panels, fingerprint {method.mesh.fingerprint()})"
         )
     model = metadata.get("model", {})

@@ -1,11 +1,19 @@
-"""The set-up of a database as metadata (mesh fingerprint, model, materials, free stream, reference, shading), and the panel method rebuilt from it."""
+"""The set-up of a database as JSON metadata, and the set-up rebuilt from it.
+
+:func:`describe_setup` records what a database was computed for (mesh spec, scale and
+fingerprint, gas-surface model and options, materials as exact texts, free stream, reference
+quantities, shading); :func:`method_from_metadata` rebuilds the panel method, free stream and
+shader from that record, refusing a mesh that has changed since.
+"""
 
 from __future__ import annotations
 
 import datetime as _dt
 import os
 
-from adbsat_ros.database.format import FORMAT_VERSION, DatabaseError, _fail, _package_version
+from adbsat_ros._version import __version__
+from adbsat_ros.database.format import FORMAT_VERSION, DatabaseError
+from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.physics.coefficients import Reference
@@ -13,6 +21,7 @@ from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import ModelOptions
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, MaterialTable, SurfaceProperties
+from adbsat_ros.shading.shader import make_shader
 
 
 # ---------------------------------------------------------------------------------- metadata
@@ -22,8 +31,11 @@ def surface_values(props: SurfaceProperties) -> dict:
 
 
 def material_override_texts(materials: MaterialTable) -> list:
-    """``NAME:key=value,...`` texts (every parameter, exact floats) that rebuild ``materials``
-    with :meth:`MaterialTable.from_texts` and the same default."""
+    """``NAME:key=value,...`` texts that rebuild ``materials`` (with the same default).
+
+    Every parameter of every named material is written as an exact float (``repr``), so
+    :meth:`MaterialTable.from_texts` gives back the same table.
+    """
     texts = []
     for name, props in materials.materials.items():
         items = ",".join(f"{k}={v!r}" for k, v in surface_values(props).items())
@@ -44,8 +56,6 @@ def _flow_dict(flow: FreeStream) -> dict:
 
 def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale) -> str | None:
     """The spec to record: given specs must reload to the method's mesh (same fingerprint)."""
-    from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME
-
     if mesh_spec is None:
         return None
     mesh_spec = os.fspath(mesh_spec)
@@ -73,7 +83,38 @@ def describe_setup(
     mesh_scale,
     materials_texts=None,
 ) -> dict:
-    """Metadata of a set-up (everything but the grid results and the interpolation error)."""
+    """Metadata of a set-up: everything but the grid results and the interpolation error.
+
+    Parameters
+    ----------
+    method : PanelMethod
+        Mesh, model, options, materials and reference quantities.
+    flow : FreeStream
+        The free stream.
+    shading : str
+        Shading mode; ``samples`` is its rays per panel.
+    samples : int
+        Rays per panel of raycast shading.
+    mesh_spec : str, os.PathLike or None
+        How the mesh is reloaded (path or ``"example"``); it must reload to the method's mesh.
+        ``"example"`` for a mesh built some other way, and None, record None (not reloadable).
+    mesh_scale : float
+        Scale given when loading the mesh file.
+    materials_texts : sequence of str, optional
+        Override texts the materials were built from; checked against ``method.materials``.
+
+    Returns
+    -------
+    dict
+        JSON-ready; the keys of :data:`adbsat_ros.database.format.REQUIRED_METADATA` except
+        ``interpolation_error``.
+
+    Raises
+    ------
+    ValueError
+        If ``mesh_spec`` does not load the method's mesh, or ``materials_texts`` do not
+        describe its materials.
+    """
     texts = material_override_texts(method.materials)
     if materials_texts:
         given = MaterialTable.from_texts(method.materials.default, materials_texts)
@@ -87,7 +128,7 @@ def describe_setup(
     return {
         "format_version": FORMAT_VERSION,
         "created_utc": _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat(),
-        "adbsat_ros_version": _package_version(),
+        "adbsat_ros_version": __version__,
         "mesh": {
             "spec": _mesh_spec_checked(method, mesh_spec, mesh_scale),
             "scale": float(mesh_scale),
@@ -112,10 +153,26 @@ def describe_setup(
 
 
 def method_from_metadata(metadata: dict, path=None):
-    """Rebuild the set-up of a database: ``(PanelMethod, FreeStream, shader or None)``.
+    """Rebuild the set-up of a database.
 
     The mesh is reloaded from ``metadata["mesh"]["spec"]`` and ``scale`` and must have the
     recorded fingerprint.
+
+    Parameters
+    ----------
+    metadata : dict
+        ``AeroDatabase.metadata``.
+    path : str, optional
+        The database file, named in error messages.
+
+    Returns
+    -------
+    method : PanelMethod
+        Mesh, model, options, materials and reference as recorded.
+    flow : FreeStream
+        The recorded free stream.
+    shader : Shader or None
+        The recorded shading (None for ``"none"``).
 
     Raises
     ------
@@ -128,18 +185,17 @@ def method_from_metadata(metadata: dict, path=None):
         mesh_meta = metadata["mesh"]
         spec = mesh_meta["spec"]
         if spec is None:
-            _fail(
-                where,
-                "the mesh was built in code (no mesh spec recorded), so it cannot be reloaded",
+            raise DatabaseError(
+                f"{where}: the mesh was built in code (no mesh spec recorded), so it cannot be "
+                "reloaded"
             )
         try:
             mesh = resolve_mesh(spec, scale=float(mesh_meta["scale"]))
         except MeshError as exc:
-            _fail(where, f"cannot reload the mesh {spec!r}: {exc}")
+            raise DatabaseError(f"{where}: cannot reload the mesh {spec!r}: {exc}") from None
         if mesh.fingerprint() != mesh_meta["fingerprint"]:
-            _fail(
-                where,
-                f"the mesh {spec!r} has changed since the database was built "
+            raise DatabaseError(
+                f"{where}: the mesh {spec!r} has changed since the database was built "
                 f"(fingerprint {mesh.fingerprint()}, recorded {mesh_meta['fingerprint']})",
             )
         mat = metadata["materials"]
@@ -165,11 +221,11 @@ def method_from_metadata(metadata: dict, path=None):
         shading = metadata["shading"]
         shader = None
         if shading["mode"] != "none":
-            from adbsat_ros.shading.shader import make_shader
-
             shader = make_shader(mesh, mode=shading["mode"], samples=int(shading["samples"]))
     except DatabaseError:
         raise
     except (KeyError, TypeError, ValueError) as exc:
-        _fail(where, f"metadata does not describe a set-up: {type(exc).__name__}: {exc}")
+        raise DatabaseError(
+            f"{where}: metadata does not describe a set-up: {type(exc).__name__}: {exc}"
+        ) from None
     return method, flow, shader

@@ -1,14 +1,8 @@
-"""Figures: aerodynamic databases, per-panel pressure on the mesh, and rosbag time series.
+"""Figures of an aerodynamic database: coefficients against angle of attack, one line per sideslip.
 
-Everything here draws on :class:`matplotlib.figure.Figure` objects with the Agg canvas, never
-through pyplot, so it works headless and leaves no global state behind. Each figure has a
-``make_*_figure`` function that returns the Figure (for tests and notebooks) and a ``plot_*``
-function that writes PNG files (about 8 x 5 in at 100 dpi, small enough to commit).
-
-Conventions (see :mod:`adbsat_ros.geometry.frames`): angles in degrees at this interface; coefficients
-as ADBSat names them (``CD``, ``CL``, ``CY`` in wind axes, ``Cm_B`` in ADBSat's body frame B,
-x_B = x_G, y_B = -y_G, z_B = -z_G, about the reference moment point); the panel picture is
-drawn in the mesh frame G [m].
+Conventions (see :mod:`adbsat_ros.geometry.frames`): angles in degrees; coefficients as ADBSat
+names them (``CD``, ``CL``, ``CY`` in wind axes, ``Cm_B`` in ADBSat's body frame B, x_B = x_G,
+y_B = -y_G, z_B = -z_G, about the database's reference moment point).
 """
 
 from __future__ import annotations
@@ -17,15 +11,15 @@ import math
 from pathlib import Path
 
 import numpy as np
+from matplotlib import colormaps
 from matplotlib.figure import Figure
 
-from adbsat_ros.plotting.figures import _new_figure, _save
+from adbsat_ros.plotting.figures import new_figure, save_png
 
 #: At most this many sideslip lines per database panel (evenly spaced if there are more).
 MAX_SIDESLIP_LINES = 7
 
 
-# =============================================================================== database
 def select_sideslip_lines(aos_deg, max_lines: int = MAX_SIDESLIP_LINES) -> np.ndarray:
     """Indices of the sideslip angles to draw as lines.
 
@@ -60,7 +54,8 @@ def select_sideslip_lines(aos_deg, max_lines: int = MAX_SIDESLIP_LINES) -> np.nd
     return picks
 
 
-def _meta(metadata: dict, *keys, default=None):
+def _metadata_value(metadata: dict, *keys, default=None):
+    """``metadata[k0][k1]...``, or ``default`` where a key is missing."""
     value = metadata
     for key in keys:
         if not isinstance(value, dict) or key not in value:
@@ -71,14 +66,14 @@ def _meta(metadata: dict, *keys, default=None):
 
 def database_title(metadata: dict) -> str:
     """One line naming the mesh, model, speed ratio and shading mode of a database."""
-    mesh = _meta(metadata, "mesh", "spec", default=None) or _meta(
+    mesh = _metadata_value(metadata, "mesh", "spec", default=None) or _metadata_value(
         metadata, "mesh", "source", default="?"
     )
     mesh = Path(str(mesh)).name if str(mesh) != "example" else "example satellite"
-    n_panels = _meta(metadata, "mesh", "n_panels")
-    model = _meta(metadata, "model", "name", default="?")
-    s = _meta(metadata, "flow", "speed_ratio")
-    shading = _meta(metadata, "shading", "mode", default="?")
+    n_panels = _metadata_value(metadata, "mesh", "n_panels")
+    model = _metadata_value(metadata, "model", "name", default="?")
+    s = _metadata_value(metadata, "flow", "speed_ratio")
+    shading = _metadata_value(metadata, "shading", "mode", default="?")
     parts = [f"{mesh}" + (f" ({n_panels} panels)" if n_panels is not None else ""), f"{model}"]
     if s is not None:
         parts.append(f"speed ratio s = {float(s):.2f}")
@@ -87,10 +82,10 @@ def database_title(metadata: dict) -> str:
 
 
 def _sideslip_lines(ax, aoa, values, aos, picks):
-    """One line per picked sideslip: colour by |beta|, dashed for negative beta (so that
-    +beta and -beta share a colour and a symmetric body shows as overlapping pairs)."""
-    from matplotlib import colormaps
+    """One line per picked sideslip, coloured by |beta|, dashed for negative beta.
 
+    +beta and -beta share a colour, so a symmetric body shows as overlapping pairs.
+    """
     cmap = colormaps["plasma"]
     span = max(float(np.max(np.abs(aos[picks]))), 1e-12)
     for j in picks:
@@ -106,6 +101,7 @@ def _sideslip_lines(ax, aoa, values, aos, picks):
 
 
 def _angle_axis(ax, aoa):
+    """The angle-of-attack axis: the grid's range, ticks every 5 to 90 deg, a zero line."""
     lo, hi = float(np.min(aoa)), float(np.max(aoa))
     ax.set_xlim(lo, hi)
     span = hi - lo
@@ -117,6 +113,7 @@ def _angle_axis(ax, aoa):
 
 
 def _legend_title(aos, picks) -> str:
+    """Title of the sideslip legend, saying how many lines are shown if not all."""
     title = "sideslip β [deg]"
     if picks.size < aos.size:
         title += f"\n({picks.size} of {aos.size} shown)"
@@ -124,10 +121,11 @@ def _legend_title(aos, picks) -> str:
 
 
 def _database_figure(db, series, ylabels, heading, max_lines) -> Figure:
+    """Stacked panels, one per array of ``series`` (shape (na, nb)), against angle of attack."""
     aoa = np.asarray(db.aoa_deg, dtype=float)
     aos = np.asarray(db.aos_deg, dtype=float)
     picks = select_sideslip_lines(aos, max_lines)
-    fig = _new_figure((8.0, 6.5))
+    fig = new_figure((8.0, 6.5))
     axes = fig.subplots(len(series), 1, sharex=True)
     for ax, values, label in zip(axes, series, ylabels):
         values = np.asarray(values, dtype=float)
@@ -157,7 +155,7 @@ def make_force_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> Fi
     ----------
     db : AeroDatabase
         Anything with ``aoa_deg`` (na,), ``aos_deg`` (nb,) [deg], ``CD``, ``CL``, ``CY`` (na, nb)
-        and ``metadata`` (dict, see :mod:`adbsat_ros.database.build`).
+        and ``metadata`` (dict, see :mod:`adbsat_ros.database.format`).
     max_lines : int
         Most sideslip lines per panel (:func:`select_sideslip_lines`).
     """
@@ -175,11 +173,19 @@ def make_moment_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> F
 
     Cm_B is the moment coefficient in ADBSat's body frame B (x_B = x_G, y_B = -y_G, z_B = -z_G)
     about the database's reference moment point, normalised by A_ref L_ref.
+
+    Parameters
+    ----------
+    db : AeroDatabase
+        Anything with ``aoa_deg`` (na,), ``aos_deg`` (nb,) [deg], ``Cm_B`` (na, nb, 3) and
+        ``metadata``.
+    max_lines : int
+        Most sideslip lines per panel (:func:`select_sideslip_lines`).
     """
     cm = np.asarray(db.Cm_B, dtype=float)
     if cm.ndim != 3 or cm.shape[-1] != 3:
         raise ValueError(f"Cm_B: expected shape (na, nb, 3), got {cm.shape}")
-    point = _meta(getattr(db, "metadata", {}) or {}, "reference", "moment_point")
+    point = _metadata_value(getattr(db, "metadata", {}) or {}, "reference", "moment_point")
     heading = "Moment coefficients $C_{m,B}$ (ADBSat body axes: x fwd, y = -y$_G$, z = -z$_G$)"
     if point is not None:
         heading += " about (" + ", ".join(f"{float(v):g}" for v in point) + ") m"
@@ -198,6 +204,17 @@ def plot_database(db, out_dir, prefix: str = "", max_lines: int = MAX_SIDESLIP_L
     Writes ``{prefix}database_coefficients.png`` (C_D, C_L, C_Y) and
     ``{prefix}database_moments.png`` (Cm_B x, y, z) into ``out_dir`` (created if needed).
 
+    Parameters
+    ----------
+    db : AeroDatabase
+        The database (see :func:`make_force_coefficient_figure`).
+    out_dir : str or Path
+        Folder of the PNGs.
+    prefix : str
+        Prepended to the file names.
+    max_lines : int
+        Most sideslip lines per panel.
+
     Returns
     -------
     list of Path
@@ -205,11 +222,11 @@ def plot_database(db, out_dir, prefix: str = "", max_lines: int = MAX_SIDESLIP_L
     """
     out_dir = Path(out_dir)
     return [
-        _save(
+        save_png(
             make_force_coefficient_figure(db, max_lines),
             out_dir / f"{prefix}database_coefficients.png",
         ),
-        _save(
+        save_png(
             make_moment_coefficient_figure(db, max_lines), out_dir / f"{prefix}database_moments.png"
         ),
     ]

@@ -1,4 +1,4 @@
-"""Matplotlib figures without a display (the Agg canvas): one size, one resolution, saved as PNG."""
+"""Matplotlib figures without a display (the Agg canvas): one resolution, saved as PNG."""
 
 from __future__ import annotations
 
@@ -13,13 +13,15 @@ DPI = 100
 FIGSIZE = (8.0, 5.0)
 
 
-def _new_figure(figsize=FIGSIZE) -> Figure:
+def new_figure(figsize=FIGSIZE) -> Figure:
+    """A Figure of ``figsize`` [in] with constrained layout on its own Agg canvas (no pyplot)."""
     fig = Figure(figsize=figsize, dpi=DPI, layout="constrained")
     FigureCanvasAgg(fig)
     return fig
 
 
-def _save(fig: Figure, path) -> Path:
+def save_png(fig: Figure, path) -> Path:
+    """Write ``fig`` as a PNG at :data:`DPI` to ``path`` (folders created); returns the path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=DPI, format="png")

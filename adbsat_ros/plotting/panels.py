@@ -1,4 +1,9 @@
-"""The mesh coloured by panel pressure coefficient at one attitude, panels in shadow in grey, back faces pale, and the flow arrow."""
+"""The mesh coloured by panel pressure coefficient at one attitude, with the flow arrow.
+
+Panels shaded from the flow are grey (dark if fully shaded, light if partly), back faces (facing
+away from the flow) pale; the picture is drawn in the mesh frame G [m], attitudes in degrees
+(:mod:`adbsat_ros.geometry.frames`).
+"""
 
 from __future__ import annotations
 
@@ -7,30 +12,32 @@ import re
 from pathlib import Path
 
 import numpy as np
+from matplotlib import colormaps
 from matplotlib.colors import Normalize, to_rgba
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from adbsat_ros.geometry import frames
-from adbsat_ros.plotting.figures import _new_figure, _save
+from adbsat_ros.plotting.figures import new_figure, save_png
 from adbsat_ros.shading.lighting import PanelLighting
 
 #: Colour map of the pressure coefficient.
 PRESSURE_CMAP = "viridis"
-#: Face colour of panels (partly) shaded from the flow.
+#: Face colours of panels fully and partly shaded from the flow.
 SHADED_COLOUR = (0.45, 0.45, 0.45, 1.0)
 PARTLY_SHADED_COLOUR = (0.72, 0.72, 0.72, 1.0)
 #: Back faces (facing away from the flow) are drawn in their c_p colour mixed with this much white.
 BACK_FACE_WHITE = 0.55
-#: The pressure picture's camera is turned this far [deg] from looking straight down the flow.
+#: The pressure picture's camera is turned this far [deg] from looking straight down the flow,
 VIEW_TURN_DEG = 35.0
-#: ... and kept within this elevation [deg] above or below the x_G-y_G plane.
+#: and kept within this elevation [deg] above or below the x_G-y_G plane.
 MAX_VIEW_ELEVATION_DEG = 55.0
 
 
-# =============================================================================== panel pressure
 def _resolve_lighting(lighting, mesh, u) -> PanelLighting:
+    """The PanelLighting for flow direction ``u`` from a PanelLighting, a Shader or None."""
     if lighting is None:
         return PanelLighting.all_lit(mesh.n_panels)
     if isinstance(lighting, PanelLighting):
@@ -72,8 +79,6 @@ def panel_colours(cp, cos_delta, lit_fraction, cmap=PRESSURE_CMAP):
         ``lit``, ``back`` (lit and facing away), ``shaded`` (lit fraction < 1),
         ``fully_shaded`` (lit fraction 0), ``partly_shaded``.
     """
-    from matplotlib import colormaps
-
     cmap = colormaps[cmap] if isinstance(cmap, str) else cmap
     cp = np.asarray(cp, dtype=float)
     f = np.asarray(lit_fraction, dtype=float)
@@ -103,9 +108,26 @@ def panel_colours(cp, cos_delta, lit_fraction, cmap=PRESSURE_CMAP):
 def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, float]:
     """Camera elevation and azimuth [deg] for the pressure picture.
 
-    The camera looks roughly along the flow from upstream (position -u), turned by ``VIEW_TURN_DEG``
-    towards the mean normal of the shaded panels if there are any (so the shadows face the
-    camera), otherwise towards +z_G and -y_G ("from upstream, the side and above").
+    The camera looks roughly along the flow from upstream (position -u), turned by
+    :data:`VIEW_TURN_DEG` towards the mean normal of the shaded panels if there are any (so the
+    shadows face the camera), otherwise towards +z_G and -y_G ("from upstream, the side and
+    above"), and kept within :data:`MAX_VIEW_ELEVATION_DEG` (steeper views look confusing).
+
+    Parameters
+    ----------
+    u_G : array_like, shape (3,)
+        Flow direction in the mesh frame G (any length > 0).
+    normals : ndarray, shape (N, 3), optional
+        Unit panel normals in G; with ``areas`` and ``shaded``, needed only if a panel is shaded.
+    areas : ndarray, shape (N,), optional
+        Panel areas [m^2].
+    shaded : ndarray of bool, shape (N,), optional
+        Panels shaded from the flow.
+
+    Returns
+    -------
+    elev, azim : float
+        Camera elevation and azimuth [deg], as :meth:`Axes3D.view_init` takes them.
     """
     u = np.asarray(u_G, dtype=float)
     u = u / np.linalg.norm(u)
@@ -121,9 +143,7 @@ def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, flo
     camera = -u + math.tan(math.radians(VIEW_TURN_DEG)) * turn
     camera /= np.linalg.norm(camera)
     elev = math.degrees(math.asin(max(-1.0, min(1.0, camera[2]))))
-    elev = max(
-        -MAX_VIEW_ELEVATION_DEG, min(MAX_VIEW_ELEVATION_DEG, elev)
-    )  # steeper views look confusing
+    elev = max(-MAX_VIEW_ELEVATION_DEG, min(MAX_VIEW_ELEVATION_DEG, elev))
     azim = math.degrees(math.atan2(camera[1], camera[0]))
     return elev, azim
 
@@ -154,8 +174,6 @@ def make_panel_pressure_figure(
         that collection carries the c_p norm and colour map of the colour bar. The legend names
         the number of panels with lit fraction < 1 and of back faces.
     """
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
-
     aoa_deg, aos_deg = float(aoa_deg), float(aos_deg)
     if not (math.isfinite(aoa_deg) and math.isfinite(aos_deg)):
         raise ValueError(f"aoa_deg and aos_deg must be finite, got {aoa_deg!r}, {aos_deg!r}")
@@ -166,7 +184,7 @@ def make_panel_pressure_figure(
     result = method.coefficients(flow, aoa, aos, lighting=light)
     colours, norm, groups = panel_colours(result.cp, result.cos_delta, light.lit_fraction)
 
-    fig = _new_figure((8.0, 6.0))
+    fig = new_figure((8.0, 6.0))
     ax = fig.add_subplot(projection="3d")
     edge = colours.copy()
     edge[:, :3] *= 0.85  # faint mesh lines; also hides anti-aliasing seams between triangles
@@ -212,7 +230,8 @@ def make_panel_pressure_figure(
         ),
         Patch(
             facecolor=(1 - BACK_FACE_WHITE) * np.array(to_rgba("tab:purple")[:3]) + BACK_FACE_WHITE,
-            label=f"pale: back faces (facing away from the flow): {int(groups['back'].sum())} panels",
+            label="pale: back faces (facing away from the flow): "
+            f"{int(groups['back'].sum())} panels",
         ),
         Line2D([], [], color="crimson", lw=2.5, label="gas flow direction"),
     ]
@@ -234,14 +253,21 @@ def make_panel_pressure_figure(
 
 
 def plot_panel_pressure(method, flow, aoa_deg, aos_deg, lighting, out_path, **options) -> Path:
-    """Write :func:`make_panel_pressure_figure` to ``out_path`` (PNG); returns the path."""
-    return _save(
+    """Write :func:`make_panel_pressure_figure` to ``out_path`` (PNG); returns the path.
+
+    ``options`` (``view``, ``title``) are passed on to :func:`make_panel_pressure_figure`.
+    """
+    return save_png(
         make_panel_pressure_figure(method, flow, aoa_deg, aos_deg, lighting, **options), out_path
     )
 
 
 def legend_panel_counts(fig: Figure) -> dict:
-    """The panel counts stated in a pressure picture's legend (``shaded``, ``back``)."""
+    """The panel counts a pressure picture's legend states: ``shaded`` and ``back`` panels.
+
+    Reads them back from the legend text of a figure made by :func:`make_panel_pressure_figure`
+    (for checking a picture against the shading it was drawn with).
+    """
     text = "\n".join(t.get_text() for legend in fig.legends for t in legend.get_texts())
     out = {}
     for key, pattern in (

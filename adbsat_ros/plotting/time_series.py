@@ -1,4 +1,7 @@
-"""Force, torque, density and drag coefficient against time, one line per model (bag analysis and the demo)."""
+"""Force, torque, density and drag coefficient against time, one line per model.
+
+Used by bag analysis and the demo; forces and torques in the body frame [N, N m].
+"""
 
 from __future__ import annotations
 
@@ -6,13 +9,14 @@ from pathlib import Path
 
 import numpy as np
 
-from adbsat_ros.plotting.figures import _new_figure, _save
+from adbsat_ros.plotting.figures import new_figure, save_png
 
-# =============================================================================== time series
+#: The series every run holds, with their number of dimensions: (N, 3) or (N,).
 TIME_SERIES_KEYS = {"force": 2, "torque": 2, "density": 1, "drag_coefficient": 1}
 
 
 def _check_runs(time_s, runs) -> tuple[np.ndarray, dict]:
+    """The times and runs as float arrays, or ValueError naming the run and series at fault."""
     t = np.asarray(time_s, dtype=float)
     if t.ndim != 1 or t.size == 0:
         raise ValueError(f"time_s must be a non-empty 1-D array, got shape {t.shape}")
@@ -34,6 +38,7 @@ def _check_runs(time_s, runs) -> tuple[np.ndarray, dict]:
 
 
 def _time_axis(t: np.ndarray):
+    """Times in seconds, minutes or hours, whichever reads best for their span, and the label."""
     span = float(np.nanmax(t) - np.nanmin(t)) if np.isfinite(t).any() else 0.0
     if span > 3 * 3600:
         return t / 3600.0, "time since first message [h]"
@@ -43,8 +48,10 @@ def _time_axis(t: np.ndarray):
 
 
 def _run_style(values: np.ndarray) -> dict:
-    """Line style of one series: a marker only on isolated samples (NaN on both sides), which
-    a line alone would not show."""
+    """Line style of one series: a marker only on isolated samples (NaN on both sides).
+
+    A line alone would not show a sample without neighbours.
+    """
     ok = np.isfinite(values)
     before = np.concatenate([[False], ok[:-1]])
     after = np.concatenate([ok[1:], [False]])
@@ -74,7 +81,7 @@ def make_time_series_figures(time_s, runs) -> dict:
     several = len(runs) > 1
     figures = {}
     for key, quantity, unit in (("force", "force", "N"), ("torque", "torque", "N m")):
-        fig = _new_figure()
+        fig = new_figure()
         axes = fig.subplots(3, 1, sharex=True)
         for i, (ax, comp) in enumerate(zip(axes, "xyz")):
             for label, data in runs.items():
@@ -96,7 +103,7 @@ def make_time_series_figures(time_s, runs) -> dict:
         ("density", "density [kg/m³]", "Free-stream mass density"),
         ("drag_coefficient", "drag coefficient $C_D$", "Drag coefficient"),
     ):
-        fig = _new_figure()
+        fig = new_figure()
         ax = fig.add_subplot()
         positive = False
         for label, data in runs.items():
@@ -116,10 +123,13 @@ def make_time_series_figures(time_s, runs) -> dict:
 
 
 def plot_time_series(time_s, runs, out_dir, prefix: str = "") -> list[Path]:
-    """Write :func:`make_time_series_figures` as ``{prefix}force.png``, ``{prefix}torque.png``,
-    ``{prefix}density.png`` and ``{prefix}drag_coefficient.png`` in ``out_dir``; returns the paths."""
+    """Write :func:`make_time_series_figures` as PNGs in ``out_dir``; returns the paths.
+
+    The files are ``{prefix}force.png``, ``{prefix}torque.png``, ``{prefix}density.png`` and
+    ``{prefix}drag_coefficient.png``.
+    """
     out_dir = Path(out_dir)
     return [
-        _save(fig, out_dir / f"{prefix}{name}.png")
+        save_png(fig, out_dir / f"{prefix}{name}.png")
         for name, fig in make_time_series_figures(time_s, runs).items()
     ]

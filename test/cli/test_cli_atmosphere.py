@@ -14,12 +14,11 @@ PAPER = ["--time", "2015-01-19T00:00:00Z", "--f107", "121.7", "--f107a", "138.1"
 POINT = ["--altitude", "400", "--lat", "0", "--lon", "0"]
 
 
-def run(argv, capsys, monkeypatch):
-    """Run the real ``adbsat-ros`` main with only this subcommand registered.
+def run(argv, capsys):
+    """Run the real ``adbsat-ros`` main.
 
     Returns (exit status, stdout, stderr). argparse errors raise SystemExit; both paths count.
     """
-    monkeypatch.setattr(cli, "SUBCOMMANDS", ("atmosphere",))
     try:
         status = cli.main(["atmosphere", *argv])
     except SystemExit as exc:
@@ -28,8 +27,8 @@ def run(argv, capsys, monkeypatch):
     return status, out, err
 
 
-def test_json_has_every_field_in_si_units(capsys, monkeypatch):
-    status, out, err = run([*PAPER, *POINT, "--json"], capsys, monkeypatch)
+def test_json_has_every_field_in_si_units(capsys):
+    status, out, err = run([*PAPER, *POINT, "--json"], capsys)
     assert status == 0, err
     data = json.loads(out)
     for key in (
@@ -69,16 +68,16 @@ def test_json_has_every_field_in_si_units(capsys, monkeypatch):
     assert data["space_weather"]["f107"] == 121.7
 
 
-def test_state_in_ecef_at_rest_gives_zero_speed(capsys, monkeypatch):
+def test_state_in_ecef_at_rest_gives_zero_speed(capsys):
     argv = [*PAPER, "--position", "6778137,0,0", "--velocity", "0,0,0", "--frame", "ecef", "--json"]
-    status, out, err = run(argv, capsys, monkeypatch)
+    status, out, err = run(argv, capsys)
     assert status == 0, err
     data = json.loads(out)
     assert data["speed"] == 0.0 and data["relative_velocity_ecef"] == [0.0, 0.0, 0.0]
     assert data["altitude"] == pytest.approx(400e3, abs=1e-6)
 
 
-def test_state_in_eci_and_options(capsys, monkeypatch):
+def test_state_in_eci_and_options(capsys):
     argv = [
         *PAPER,
         "--position",
@@ -94,7 +93,7 @@ def test_state_in_eci_and_options(capsys, monkeypatch):
         "--wind",
         "0,50,0",
     ]
-    status, out, err = run(argv, capsys, monkeypatch)
+    status, out, err = run(argv, capsys)
     assert status == 0, err
     data = json.loads(out)
     assert data["accommodation_coefficient"] == 0.9
@@ -104,8 +103,8 @@ def test_state_in_eci_and_options(capsys, monkeypatch):
     assert 7000 < data["speed"] < 7300  # co-rotating air takes ~480 m/s off a prograde orbit
 
 
-def test_table_output(capsys, monkeypatch):
-    status, out, err = run([*PAPER, *POINT, "--accommodation", "SESAM"], capsys, monkeypatch)
+def test_table_output(capsys):
+    status, out, err = run([*PAPER, *POINT, "--accommodation", "SESAM"], capsys)
     assert status == 0, err
     assert "alpha (sesam)" in out and "kg/m^3" in out and "m^-3" in out
     assert "{" not in out
@@ -141,8 +140,8 @@ def test_table_output(capsys, monkeypatch):
         ([*POINT], "--time"),
     ],
 )
-def test_bad_values_exit_2_with_one_line_naming_the_option(argv, option, capsys, monkeypatch):
-    status, out, err = run(argv, capsys, monkeypatch)
+def test_bad_values_exit_2_with_one_line_naming_the_option(argv, option, capsys):
+    status, out, err = run(argv, capsys)
     assert status == 2
     assert out == ""
     lines = err.strip().splitlines()

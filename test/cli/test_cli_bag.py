@@ -158,7 +158,7 @@ def test_truncated_file(tmp_path, capsys, storage, suffix):
     ],
 )
 def test_corrupt_message_gives_partial_outputs(tmp_path, capsys, bad_topic, message, wrenches):
-    """A message that cannot be decoded stops the replay; what came before is written and said to be partial."""
+    """An undecodable message stops the replay; what came before is written and marked partial."""
     r, v = [6.7e6, 0, 0], [0, 7.7e3, 0]
     t0 = 1_767_225_600_000_000_000
     with bag_io.BagWriter(tmp_path / "bad") as writer:

@@ -128,6 +128,7 @@ def test_bad_values_give_one_line_and_status_2(box_file, argv, needle):
 def test_missing_mesh_is_status_2(capsys):
     code, _, err = run_cli(capsys, "missing.obj", *FLOW)
     assert code == 2 and "missing.obj" in err and len(err.strip().splitlines()) == 1
+    assert err.startswith("adbsat-ros coeff: error: MESH: ")
 
 
 def test_flight_conditions_give_the_gas(capsys, box_file):

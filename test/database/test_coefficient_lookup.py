@@ -11,7 +11,8 @@ import trimesh
 from adbsat_ros import FreeStream, PanelMethod, panels_from_trimesh
 from adbsat_ros.database.build import build_database
 from adbsat_ros.database.format import AeroDatabase
-from adbsat_ros.database.lookup import CoefficientLookup, bilinear, estimate_interpolation_error
+from adbsat_ros.database.interpolation import bilinear, estimate_interpolation_error
+from adbsat_ros.database.lookup import CoefficientLookup
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.shading.shader import make_shader
@@ -83,7 +84,8 @@ def test_exact_at_grid_nodes(satellite):
 def test_within_stated_error_between_nodes(satellite, box, body, n, seed):
     """Exact panel-method values (same shading) at random off-grid attitudes differ from the
     lookup by no more than the stated bound, for |dCf_G|, |dCm_G| and CD, CL, CY; the bound is
-    not vacuous (below 20 % of the largest coefficient on these coarse grids) and the worst error uses a fair share of it."""
+    not vacuous (below 20 % of the largest coefficient on these coarse grids) and the worst error
+    uses a fair share of it."""
     method, db = satellite if body == "satellite" else box
     lookup = CoefficientLookup(db)
     bound = lookup.error_bound
@@ -168,7 +170,7 @@ def test_wrap_around_at_180(box):
 
 
 def test_open_circle_grid_closes_with_the_first_node():
-    """aoa -180:30:150 leaves a 30 deg gap: it wraps, and 165 deg is halfway between 150 and -180."""
+    """aoa -180:30:150 leaves a 30 deg gap: it wraps; 165 deg is halfway between 150 and -180."""
     method = PanelMethod(box_mesh(), "newton")
     db = build_database(
         method,

@@ -100,7 +100,8 @@ def test_newton_plate_database_matches_closed_form_everywhere():
 
 def test_sentman_sphere_database_matches_closed_form_everywhere():
     """Icosphere (area 4 pi, convex: ray-cast shading has nothing to do): C_D = Sentman's sphere
-    at every grid point, the force along the flow, no lift, side force or moment about the centre."""
+    at every grid point, the force along the flow, no lift, side force or moment about the
+    centre."""
     alpha, Tw = 0.9, 300.0
     method = PanelMethod(
         unit_sphere_mesh(5),

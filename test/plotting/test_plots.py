@@ -20,7 +20,7 @@ from matplotlib.image import imread
 
 from adbsat_ros import FreeStream, PanelMethod
 from adbsat_ros.cli import main
-from adbsat_ros.cli.plot import _default_angle
+from adbsat_ros.cli.plot import default_angle
 from adbsat_ros.database.build import build_database
 from adbsat_ros.database.format import load_database
 from adbsat_ros.geometry import frames
@@ -306,8 +306,8 @@ def test_cli_default_output_folder_and_angles(database_file, tmp_path, capsys):
     assert code == 0, err
     names = ("database_coefficients.png", "database_moments.png")
     assert out.split() == [str(tmp_path / "mine_plots" / n) for n in names]
-    assert _default_angle(np.array([-30.0, 0.0, 30.0])) == 0.0
-    assert _default_angle(np.array([10.0, 20.0])) == 10.0
+    assert default_angle(np.array([-30.0, 0.0, 30.0])) == 0.0
+    assert default_angle(np.array([10.0, 20.0])) == 10.0
 
 
 def test_cli_errors(database_file, mesh_file, tmp_path, capsys):

@@ -1,0 +1,137 @@
+"""What the command line imports at start-up, and the top-level API loaded on first use.
+
+Each check runs in a fresh interpreter, since this test process has long imported everything.
+"""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+#: Heavy packages the command line must not import before a subcommand needs them.
+HEAVY = ("numpy", "matplotlib", "rosbags", "trimesh", "scipy", "embreex", "nrlmsise00", "rclpy")
+
+
+def imported_after(code: str) -> dict:
+    """Run ``code`` in a fresh interpreter; which HEAVY packages and adbsat_ros modules it left.
+
+    ``code`` may raise SystemExit (as ``--help`` does); the report is printed at exit.
+    """
+    wrapper = (
+        "import atexit, json, sys\n"
+        "def report():\n"
+        "    heavy = sorted(n for n in %r if n in sys.modules)\n"
+        "    ours = sorted(n for n in sys.modules if n.startswith('adbsat_ros'))\n"
+        "    sys.__stdout__.write('\\nREPORT' + json.dumps({'heavy': heavy, 'ours': ours}))\n"
+        "atexit.register(report)\n" % (HEAVY,)
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", wrapper + code], capture_output=True, text=True, timeout=120
+    )
+    assert "REPORT" in proc.stdout, proc.stderr
+    return json.loads(proc.stdout.rsplit("REPORT", 1)[1])
+
+
+def test_importing_the_package_and_the_cli_imports_no_heavy_package():
+    report = imported_after("import adbsat_ros, adbsat_ros.cli\nassert adbsat_ros.__version__")
+    assert report["heavy"] == []
+
+
+def test_help_imports_no_subcommand_module_and_no_heavy_package():
+    report = imported_after("from adbsat_ros.cli import main\nmain(['--help'])")
+    assert report["heavy"] == []
+    assert report["ours"] == [
+        "adbsat_ros",
+        "adbsat_ros._version",
+        "adbsat_ros.cli",
+        "adbsat_ros.cli.options",
+    ]
+
+
+def test_a_subcommand_imports_what_it_needs_and_not_the_others_needs(tmp_path):
+    """The check can fail: coeff does import numpy and trimesh, but not rosbags or matplotlib."""
+    code = (
+        "from adbsat_ros.cli import main\n"
+        "main(['coeff', 'example', '--shading', 'none', '--speed', '7700',"
+        " '--temperature', '900', '--mean-mass', '16'])\n"
+    )
+    report = imported_after(code)
+    assert {"numpy", "trimesh", "scipy"} <= set(report["heavy"])
+    assert not {"rosbags", "matplotlib", "rclpy"} & set(report["heavy"])
+    assert "adbsat_ros.cli.bag" not in report["ours"]
+
+
+def test_public_names_resolve_to_the_documented_objects_of_the_subpackages():
+    import adbsat_ros
+
+    names = [name for name in adbsat_ros.__all__ if name != "__version__"]
+    for expected in (
+        "load_mesh",
+        "PanelMethod",
+        "FreeStream",
+        "flight_conditions",
+        "FlightConditions",
+        "AeroWrenchEstimator",
+        "CoefficientLookup",
+        "load_database",
+        "build_database",
+        "ShadingCache",
+        "MeshError",
+    ):
+        assert expected in names
+    for name in names:
+        value = getattr(adbsat_ros, name)
+        assert getattr(value, "__module__", "").startswith("adbsat_ros.") or name == "MODELS"
+        if callable(value):
+            assert value.__doc__ and value.__doc__.strip(), name
+    from adbsat_ros.physics.panel_method import PanelMethod
+
+    assert adbsat_ros.PanelMethod is PanelMethod
+    from adbsat_ros import AeroWrenchEstimator, CoefficientLookup  # the import statement works
+
+    assert CoefficientLookup.__module__ == "adbsat_ros.database.lookup"
+    assert AeroWrenchEstimator.__module__ == "adbsat_ros.estimator.estimator"
+
+
+def test_dir_lists_the_public_names_before_they_are_loaded():
+    code = (
+        "import sys, adbsat_ros\n"
+        "listed = dir(adbsat_ros)\n"
+        "assert all(name in listed for name in adbsat_ros.__all__), listed\n"
+        "assert 'numpy' not in sys.modules\n"
+        "namespace = {}\n"
+        "exec('from adbsat_ros import *', namespace)\n"
+        "assert set(adbsat_ros.__all__) <= set(namespace)\n"
+        "assert 'PanelMethod' in vars(adbsat_ros)  # kept once loaded\n"
+        "print('ok')\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.stdout.strip() == "ok", proc.stderr
+
+
+def test_an_unknown_name_is_an_attribute_error_naming_it():
+    import adbsat_ros
+
+    with pytest.raises(AttributeError, match="NoSuchThing"):
+        adbsat_ros.NoSuchThing  # noqa: B018
+
+
+def test_unknown_or_missing_subcommand_is_one_line_and_status_2(capsys):
+    from adbsat_ros.cli import main
+
+    for argv, needle in ((["coef"], "invalid choice: 'coef'"), ([], "required: COMMAND")):
+        with pytest.raises(SystemExit) as exit_info:
+            main(argv)
+        err = capsys.readouterr().err
+        assert exit_info.value.code == 2
+        assert needle in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_verbose_flag_before_the_subcommand(capsys):
+    from adbsat_ros.cli import main
+
+    argv = ["-v", "coeff", "example", "--shading", "none", "--speed", "7700"]
+    argv += ["--temperature", "900", "--mean-mass", "16", "--json"]
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)[0]["aoa_deg"] == 0.0
