@@ -131,6 +131,15 @@ class PanelMesh:
         return h.hexdigest()[:16]
 
 
+def signed_volume(triangles: np.ndarray) -> float:
+    """Volume enclosed by closed triangles (K, 3, 3) [m^3]: positive when they face outwards.
+
+    The divergence theorem: the sum over the triangles of det(P1, P2, P3) / 6.
+    """
+    p1, p2, p3 = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+    return float(np.einsum("ij,ij->", p1, np.cross(p2, p3)) / 6.0)
+
+
 def panels_from_arrays(
     vertices,
     faces,
@@ -215,12 +224,15 @@ def panels_from_arrays(
     n_components = int(labels.max()) + 1
     for comp in range(n_components):
         sel = labels == comp
-        part = trimesh.Trimesh(vertices=tm.vertices, faces=faces_merged[sel], process=False)
-        part.remove_unreferenced_vertices()
+        part = (
+            tm
+            if n_components == 1
+            else trimesh.Trimesh(vertices=tm.vertices, faces=faces_merged[sel], process=False)
+        )
         if not (part.is_watertight and part.is_winding_consistent):
             open_components += 1
             continue
-        if fix_normals and part.volume < 0:
+        if fix_normals and signed_volume(tm.vertices[part.faces]) < 0:
             flip[sel] = True
             flipped += 1
     if open_components:
@@ -247,9 +259,10 @@ def panels_from_arrays(
     normals = np.ascontiguousarray(cross / double_area[:, None])
     convex = False
     if open_components == 0 and n_components == 1:
-        tm_fixed = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
-        tm_fixed.merge_vertices()
-        convex = bool(tm_fixed.is_convex)
+        # the merged mesh with its orientation fixed (the vertices are merged once, above)
+        if flipped:
+            tm = trimesh.Trimesh(vertices=tm.vertices, faces=faces_merged[:, ::-1], process=False)
+        convex = bool(tm.is_convex)
     report = MeshReport(
         dropped_zero_area=n_dropped,
         flipped_components=flipped,
