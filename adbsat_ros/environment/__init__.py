@@ -1,1 +1,18 @@
-"""environment."""
+"""Where the satellite is and what gas it meets: Earth frames, atmosphere, flight conditions.
+
+Modules:
+
+- :mod:`~adbsat_ros.environment.flight_conditions`: :func:`flight_conditions` of an orbital state
+  (ECI or ECEF) at a UTC instant, and ADBSat's circular-orbit recipe;
+  :mod:`~adbsat_ros.environment.conditions` holds the result, :class:`FlightConditions`.
+- :mod:`~adbsat_ros.environment.knots`: :class:`KnotGrid`, the per-message cache of flight
+  conditions (exact at fixed stamps, interpolated in between).
+- :mod:`~adbsat_ros.environment.atmosphere`: NRLMSISE-00 and the space weather.
+- :mod:`~adbsat_ros.environment.accommodation`: energy accommodation models (fixed, Langmuir,
+  Goodman, SESAM).
+- :mod:`~adbsat_ros.environment.earth_frames`, :mod:`~adbsat_ros.environment.geodetic`,
+  :mod:`~adbsat_ros.environment.time_scales`: GCRF/ITRF with pyerfa, WGS-84, UTC/TT/UT1.
+
+Imports physics (the free stream and constants) and the shared input checks. Formulas and
+sources: docs/physics.md, section 5.
+"""

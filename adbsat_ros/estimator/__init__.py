@@ -1,1 +1,22 @@
-"""estimator."""
+"""The node's logic without ROS: from attitude and state messages to the aerodynamic wrench.
+
+Modules:
+
+- :mod:`~adbsat_ros.estimator.estimator`: :class:`AeroWrenchEstimator`, the per-attitude
+  computation (flight conditions, flow direction in the body, shading, panel method or database).
+- :mod:`~adbsat_ros.estimator.handling`: :class:`MessageHandler`, one decoded message through the
+  estimator to a named outcome with the bytes to publish: the path shared by the node and bag
+  analysis.
+- :mod:`~adbsat_ros.estimator.settings`: the parameter table (names, defaults, meanings) and
+  :class:`WrenchSettings`, shared by the node, its YAML and bag analysis.
+- :mod:`~adbsat_ros.estimator.samples`: what one message gives (a sample or a rejection).
+- :mod:`~adbsat_ros.estimator.state`, :mod:`~adbsat_ros.estimator.timing`,
+  :mod:`~adbsat_ros.estimator.conditions`, :mod:`~adbsat_ros.estimator.shading`,
+  :mod:`~adbsat_ros.estimator.assembly`: accepting inputs, stamps to UTC, the exact flight
+  conditions of a state, the lighting source, and what the estimator is assembled from.
+- :mod:`~adbsat_ros.estimator.diagnostics` and :mod:`~adbsat_ros.estimator.health`: the
+  diagnostic key/values and their level, written once for the node and bag analysis.
+
+Imports everything below it (database, environment, physics, shading, geometry, messages), and
+no ROS.
+"""

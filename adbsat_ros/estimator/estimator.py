@@ -28,11 +28,11 @@ import numpy as np
 
 from adbsat_ros.database.matching import DatabaseCoefficients
 from adbsat_ros.environment.knots import KnotGrid
+from adbsat_ros.estimator.assembly import coefficient_database, panel_method
 from adbsat_ros.estimator.conditions import PropagatedConditions
 from adbsat_ros.estimator.diagnostics import diagnostic_values
 from adbsat_ros.estimator.samples import OrbitalState, Rejection, WrenchSample
 from adbsat_ros.estimator.settings import WrenchSettings
-from adbsat_ros.estimator.assembly import coefficient_database, panel_method
 from adbsat_ros.estimator.shading import ShadingSource
 from adbsat_ros.estimator.state import checked_rotation, checked_state, odometry_inputs
 from adbsat_ros.estimator.timing import stamp_utc

@@ -1,1 +1,18 @@
-"""physics."""
+"""The panel method: gas-surface models, free stream, surfaces, and the force and moment sums.
+
+Modules:
+
+- :mod:`~adbsat_ros.physics.panel_method`: :class:`PanelMethod`, force and moment coefficients of
+  a mesh at any attitude; :mod:`~adbsat_ros.physics.coefficients` holds its result and reference
+  quantities, :mod:`~adbsat_ros.physics.facets` the grouping of coplanar panels (and the one cache
+  of facet sums), :mod:`~adbsat_ros.physics.incidence` the incidence of the flow on panels.
+- :mod:`~adbsat_ros.physics.gsi_models`: the registry of gas-surface models; the formulas are in
+  :mod:`adbsat_ros.physics.models`, by family.
+- :mod:`~adbsat_ros.physics.freestream`: :class:`FreeStream`, the gas met (speed, temperature,
+  composition, density).
+- :mod:`~adbsat_ros.physics.surface`: per-material surface properties.
+- :mod:`~adbsat_ros.physics.solar`: solar radiation pressure (Luthcke et al. 1997).
+- :mod:`~adbsat_ros.physics.constants`: physical constants and species data.
+
+Imports geometry and shading. Formulas and sources: docs/physics.md.
+"""

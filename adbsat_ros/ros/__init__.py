@@ -1,1 +1,12 @@
-"""ros."""
+"""ROS 2: the node, the live bag tools and the demo; the only part of adbsat_ros importing rclpy.
+
+Modules:
+
+- :mod:`~adbsat_ros.ros.node`: :class:`AdbsatNode`, a thin shell over the estimator's
+  per-message handler; :mod:`~adbsat_ros.ros.executors` and :mod:`~adbsat_ros.ros.log_throttle`
+  are its helpers.
+- :mod:`~adbsat_ros.ros.bag_play`, :mod:`~adbsat_ros.ros.bag_record`, :mod:`~adbsat_ros.ros.graph`:
+  ``bag play`` and ``bag record`` without the ``ros2`` command.
+- :mod:`~adbsat_ros.ros.demo`, :mod:`~adbsat_ros.ros.demo_report`: ``adbsat-ros demo``.
+- :mod:`~adbsat_ros.ros.orbit_publisher`: a small publisher to try the node.
+"""
