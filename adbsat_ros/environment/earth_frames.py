@@ -20,10 +20,10 @@ error is then |UT1 - UTC| <= 0.9 s, i.e. an orientation error of at most
 0.9 s * 7.29e-5 rad/s = 6.6e-5 rad (<= ~450 m along a circle of 6 800 km radius); polar motion
 adds <= ~3e-6 rad (~20 m). Give ``ut1_minus_utc`` and ``polar_motion`` (IERS Bulletin A/B) to
 remove both: the module then reproduces Vallado et al. (2006)'s GCRF/ITRF example to ~1 cm in
-position and ~0.5 mm/s in velocity (see ``test/test_earth_frames.py``). The matrix equals ERFA's
-own ``c2t06a`` (with ERFA's UTC -> TAI -> TT chain) to 1e-12. TT is computed from UTC through
-ERFA's leap-second table (``erfa.dat``); the precession-nutation matrix is insensitive to TT
-errors of seconds.
+position and ~0.5 mm/s in velocity (see ``test/environment/test_earth_frames.py``). The matrix
+equals ERFA's own ``c2t06a`` (with ERFA's UTC -> TAI -> TT chain) to 1e-12. TT is computed from
+UTC through ERFA's leap-second table (``erfa.dat``); the precession-nutation matrix is
+insensitive to TT errors of seconds.
 
 Velocities include the transport term of the rotating frame, ``v_ecef = R v_eci - omega x r_ecef``
 with omega the rate of the Earth rotation angle (:data:`EARTH_ROTATION_RATE`, the IERS 2010 value
@@ -174,7 +174,7 @@ def earth_rotation_angle(ut1_day: float, ut1_fraction: float) -> float:
     IERS Conventions 2010 eq. 5.15, ERA = 2 pi (0.7790572732640 + 1.00273781191135448 Tu), with
     Tu = JD(UT1) - 2451545.0, evaluated as ``erfa.era00`` does (the fractional days summed
     apart from the rest of the rate term, then wrapped into [0, 2 pi)); equal to it bit for bit
-    (``test/test_earth_frames.py``) at a fifth of its cost for single floats.
+    (``test/environment/test_earth_frames.py``) at a fifth of its cost for single floats.
     """
     if ut1_day < ut1_fraction:
         small, large = ut1_day, ut1_fraction

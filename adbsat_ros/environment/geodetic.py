@@ -138,7 +138,7 @@ def geodetic_of_floats(x: float, y: float, z: float) -> tuple:
     :func:`ecef_to_geodetic` for one position given as three finite floats, in plain float
     arithmetic: Fukushima's (2006) solution with one Halley step, the method of ERFA's
     ``gc2gde``, with its operations in its order, so that the result equals ``erfa.gc2gd`` bit for
-    bit (checked in ``test/test_earth_frames.py``) without a numpy array or ufunc call.
+    bit (checked in ``test/environment/test_earth_frames.py``) without a numpy array or ufunc call.
     """
     p2 = x * x + y * y
     longitude = math.atan2(y, x) if p2 > 0.0 else 0.0
