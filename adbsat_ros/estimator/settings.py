@@ -184,7 +184,14 @@ def parse_utc(name, text) -> _dt.datetime:
 
 @dataclass(frozen=True)
 class WrenchSettings:
-    """Validated settings; build with :meth:`from_parameters`. Meanings: :data:`PARAMETERS`."""
+    """Validated settings of the wrench computation: the node's parameters as values.
+
+    Build with :meth:`from_parameters` (the node's parameter values, a params YAML's, or
+    keyword overrides of the defaults), which checks every value and raises ValueError naming
+    the parameter and its allowed values. The fields are the parameters of :data:`PARAMETERS`
+    (name, default, meaning and unit), in SI units, with ``epoch_utc`` parsed to an aware UTC
+    datetime; :meth:`as_parameters` gives the parameter values back.
+    """
 
     mesh: str
     mesh_scale: float

@@ -144,7 +144,26 @@ def load_mesh(path, scale: float = 1.0, *, fix_normals: bool = True) -> PanelMes
 
 
 def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) -> PanelMesh:
-    """A checked :class:`PanelMesh` of a trimesh.Trimesh (one material, ``"default"``)."""
+    """A checked :class:`PanelMesh` of a trimesh.Trimesh (one material, ``"default"``).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        Triangles in metres; the winding sets the outward normal (right-hand rule).
+    source : str
+        Name used in messages.
+    **kwargs
+        ``fix_normals`` etc., as :func:`adbsat_ros.geometry.mesh.panels_from_arrays`.
+
+    Returns
+    -------
+    PanelMesh
+
+    Raises
+    ------
+    MeshError
+        As :func:`adbsat_ros.geometry.mesh.panels_from_arrays`.
+    """
     return panels_from_arrays(mesh.vertices, mesh.faces, source=source, **kwargs)
 
 

@@ -337,7 +337,31 @@ def make_shader(
     backend: str = "auto",
     **options,
 ) -> Shader:
-    """Build a :class:`Shader` for ``mesh`` (see :class:`Shader` for the parameters)."""
+    """Build a :class:`Shader` for ``mesh``.
+
+    Parameters
+    ----------
+    mesh : PanelMesh
+        The surface to shade (metres, mesh frame G).
+    mode : {"raycast", "projection", "none"}
+        Exact ray-cast shading (default), ADBSat's barycentre projection, or no occlusion.
+    samples : int
+        Rays per panel that could be shaded (raycast), >= 1.
+    backend : {"auto", "embree", "numpy"}
+        Ray engine (raycast): Embree if installed, else numpy; both give the same answers.
+    **options
+        Further :class:`Shader` parameters (refinement rays, grazing tolerance, offset).
+
+    Returns
+    -------
+    Shader
+        Its :meth:`Shader.lighting` gives the :class:`PanelLighting` of a flow direction.
+
+    Raises
+    ------
+    ValueError
+        Naming a mode, backend or option outside its allowed values.
+    """
     return Shader(mesh, mode=mode, samples=samples, backend=backend, **options)
 
 
