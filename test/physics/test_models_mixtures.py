@@ -20,7 +20,7 @@ from model_references import (
 )
 from scipy.special import erf
 
-from adbsat_ros import FreeStream
+from adbsat_ros import FreeStream, MaterialTable, SurfaceProperties
 from adbsat_ros.physics.constants import BOLTZMANN, species_mass_kg
 from adbsat_ros.physics.gsi_models import (
     ModelOptions,
@@ -247,3 +247,30 @@ def test_cll_partial_accommodation_as_coded():
     )
     assert_close(cp, cp_ref)
     assert_close(ctau, st * sg * G2 / s)
+
+
+def test_cll_compat_on_a_mesh_of_mixed_alpha_n_is_schaaf_with_sigma_n_alpha_n():
+    """Two materials, alpha_n = 0.7 and 1, atomic oxygen only. By default the fit applies where
+    alpha_n < 1 and Schaaf & Chambre (sigma_n = 1) where alpha_n = 1; with ADBSat's compat the fit
+    applies only if every panel has alpha_n < 1, and otherwise every panel is Schaaf & Chambre
+    with sigma_n = alpha_n of its own (physics.md Sec. 3.7)."""
+    flow = FreeStream(7600.0, 1000.0, number_densities={"O": 1.0e14})
+    Tw, st = 300.0, 0.8
+    alpha_n = np.array([0.7, 1.0])
+    mixed = MaterialTable(
+        SurfaceProperties(alpha_n=1.0, sigma_t=st, wall_temperature=Tw),
+        {"coated": {"alpha_n": 0.7}},
+    ).expand(("coated", "bare"), np.array([0, 1]))
+    c, sg = angles([30.0, 60.0])
+    s, tr = flow.speed_ratio, Tw / flow.temperature
+    compat = cll(c, sg, mixed, flow, ModelOptions(adbsat_compat=True))
+    ref = schaaf_plate(c, sg, s, alpha_n, st, tr)
+    assert_close(compat[0], ref[0])
+    assert_close(compat[1], ref[1])
+    default = cll(c, sg, mixed, flow, ModelOptions())
+    fit = cll(
+        c[:1], sg[:1], surface(alpha_n=0.7, sigma_t=st, wall_temperature=Tw), flow, ModelOptions()
+    )
+    assert_close(default[0][:1], fit[0])
+    assert_close(default[0][1:], schaaf_plate(c[1:], sg[1:], s, 1.0, st, tr)[0])
+    assert not np.allclose(default[0][0], compat[0][0])

@@ -65,8 +65,10 @@ def cll(c, sigma, surface, flow, options):
     c_tau,j = sigma_t sin(delta) G2 / s_j,
     G1 = [x e^{-x^2} + (sqrt(pi)/2)(1 + 2x^2)(1 + erf x)] / sqrt(pi),
     G2 = [e^{-x^2} + sqrt(pi) x (1 + erf x)] / sqrt(pi);
-    panels with alpha_n = 1 use Schaaf & Chambre with sigma_n = 1. Species are mixed by mass
-    fraction (the force is sum_j q_j C_j with q_j = rho_j V^2 / 2). Back faces are kept.
+    panels with alpha_n = 1 use Schaaf & Chambre with sigma_n = 1. With ``adbsat_compat`` the fit
+    applies only if every panel has alpha_n < 1, else every panel is Schaaf & Chambre with
+    sigma_n = its alpha_n (ADBSat's branch). Species are mixed by mass fraction (the force is
+    sum_j q_j C_j with q_j = rho_j V^2 / 2). Back faces are kept.
     """
     if not flow.has_species:
         raise ValueError("the cll model needs the gas composition (number_densities / --species)")
@@ -98,7 +100,9 @@ def cll(c, sigma, surface, flow, options):
             (1.0 + np.sqrt(one_minus)) * G1
             + 0.5 * np.exp(-beta * one_minus**gamma) * ratio**delta * (zeta / s) * r * SQRT_PI * G2
         ) / (s * s)
-        cp_schaaf, _ = schaaf_plate(c, s, 1.0, surface.sigma_t, r)
+        # Schaaf & Chambre with sigma_n = alpha_n: 1 on the panels that take it by default; every
+        # panel's own alpha_n under ADBSat's compat rule (its fallback when not all are < 1)
+        cp_schaaf, _ = schaaf_plate(c, s, alpha_n, surface.sigma_t, r)
         cp = np.where(use_fit, cp_fit, cp_schaaf)
         ctau = surface.sigma_t * sigma * G2 / s
         cp_total = cp_total + w * cp
