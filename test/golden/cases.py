@@ -467,15 +467,46 @@ def node_outputs(meshes: dict) -> dict:
     return out
 
 
-def compare(reference, actual, rtol: float, path: str = "") -> list:
+#: Numbers of a record (a JSON object of numbers and 3-vectors) that are rounding noise around
+#: zero are judged within this fraction of the record's largest magnitude times the tolerance: a
+#: sphere's moments about its centre (~1e-17 of its drag) round differently with another numpy,
+#: and are zero either way.
+RECORD_FLOOR = 1e-4
+
+
+def _magnitude(value) -> float:
+    """The largest finite magnitude of the numbers in a nested output (0 if none)."""
+    if isinstance(value, dict):
+        return max((_magnitude(v) for v in value.values()), default=0.0)
+    if isinstance(value, list):
+        return max((_magnitude(v) for v in value), default=0.0)
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value):
+        return abs(value)
+    return 0.0
+
+
+def _is_vector(value) -> bool:
+    """Whether ``value`` is a list of at most three numbers (a vector of a record)."""
+    return (
+        isinstance(value, list)
+        and len(value) <= 3
+        and all(isinstance(x, (int, float)) for x in value)
+    )
+
+
+def compare(reference, actual, rtol: float, path: str = "", floor: float = 0.0) -> list:
     """Differences between two nested outputs: numbers within ``rtol`` of the largest magnitude
-    of their list (so components near zero are judged on the list's scale), the rest equal."""
+    of their list (so components near zero are judged on the list's scale) plus ``floor``, the
+    rest equal. Entering a record sets the floor to ``RECORD_FLOOR * rtol`` times its largest
+    magnitude (a record: an object of numbers and 3-vectors, as one attitude's output)."""
     problems = []
     if isinstance(reference, dict):
         if set(reference) != set(actual):
             return [f"{path}: keys {sorted(set(reference) ^ set(actual))} differ"]
+        if all(not isinstance(v, (list, dict)) or _is_vector(v) for v in reference.values()):
+            floor = RECORD_FLOOR * rtol * _magnitude(reference)  # one attitude's record
         for key in reference:
-            problems += compare(reference[key], actual[key], rtol, f"{path}/{key}")
+            problems += compare(reference[key], actual[key], rtol, f"{path}/{key}", floor)
         return problems
     if isinstance(reference, list):
         if not isinstance(actual, list) or len(reference) != len(actual):
@@ -493,13 +524,16 @@ def compare(reference, actual, rtol: float, path: str = "") -> list:
             ):
                 if math.isnan(a) and math.isnan(b):
                     continue
-                if not abs(a - b) <= rtol * max(scale, abs(a)):
+                if not abs(a - b) <= rtol * max(scale, abs(a)) + floor:
                     problems.append(f"{path}[{i}]: {b!r} != {a!r}")
             else:
-                problems += compare(a, b, rtol, f"{path}[{i}]")
+                problems += compare(a, b, rtol, f"{path}[{i}]", floor)
         return problems
     if isinstance(reference, (int, float)) and not isinstance(reference, bool):
-        if isinstance(actual, (int, float)) and abs(reference - actual) <= rtol * abs(reference):
+        if (
+            isinstance(actual, (int, float))
+            and abs(reference - actual) <= rtol * abs(reference) + floor
+        ):
             return []
         return [f"{path}: {actual!r} != {reference!r}"]
     return [] if reference == actual else [f"{path}: {actual!r} != {reference!r}"]
