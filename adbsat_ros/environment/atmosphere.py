@@ -312,36 +312,24 @@ def run_model(
     if local_solar_time_h is None:
         local_solar_time_h = (seconds / 3600.0 + longitude_deg / 15.0) % 24.0
     model = _nrlmsise00.gtd7d if anomalous_oxygen else _nrlmsise00.gtd7
-    # altitude in km and latitude in degrees, as the model takes them
     if space_weather.ap_history is None:
-        densities, temperatures = model(
-            year,
-            day_of_year,
-            seconds,
-            altitude * 1e-3,
-            math.degrees(latitude),
-            longitude_deg,
-            local_solar_time_h,
-            space_weather.f107a,
-            space_weather.f107,
-            space_weather.ap,
-            flags=_SWITCHES_DAILY_AP,
-        )
+        history = {"flags": _SWITCHES_DAILY_AP}
     else:
-        densities, temperatures = model(
-            year,
-            day_of_year,
-            seconds,
-            altitude * 1e-3,
-            math.degrees(latitude),
-            longitude_deg,
-            local_solar_time_h,
-            space_weather.f107a,
-            space_weather.f107,
-            space_weather.ap,
-            ap_a=list(space_weather.ap_history),
-            flags=_SWITCHES_AP_HISTORY,
-        )
+        history = {"ap_a": list(space_weather.ap_history), "flags": _SWITCHES_AP_HISTORY}
+    # altitude in km and latitude in degrees, as the model takes them
+    densities, temperatures = model(
+        year,
+        day_of_year,
+        seconds,
+        altitude * 1e-3,
+        math.degrees(latitude),
+        longitude_deg,
+        local_solar_time_h,
+        space_weather.f107a,
+        space_weather.f107,
+        space_weather.ap,
+        **history,
+    )
     he, o, n2, o2, ar, rho, h, n, ano = densities  # the model's order (_MSIS_SPECIES_INDEX)
     return AtmosphereState(
         {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano},
