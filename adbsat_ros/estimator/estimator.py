@@ -36,6 +36,7 @@ from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.estimator.shading import ShadingSource
 from adbsat_ros.estimator.state import checked_rotation, checked_state, odometry_inputs
 from adbsat_ros.estimator.timing import stamp_utc
+from adbsat_ros.geometry.frames import unit_vector
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.cache import ShadingCache
@@ -291,20 +292,23 @@ class AeroWrenchEstimator:
         reference = self.method.reference
         if flow is None or conditions.speed < s.min_relative_speed:  # at rest in the air
             return WrenchSample.at_rest(stamp, utc, reference, conditions, time.perf_counter() - t0)
-        # gas motion relative to the body, body axes: u = -R^T v_rel / |R^T v_rel|
+        # gas motion relative to the body, body axes: -R^T v_rel (its direction is the flow's)
         relative = (
             conditions.relative_velocity_eci
             if s.state_frame == "eci"
             else conditions.relative_velocity_ecef
         )
         vx, vy, vz = relative.tolist()
-        gx = -(m[0] * vx + m[3] * vy + m[6] * vz)
-        gy = -(m[1] * vx + m[4] * vy + m[7] * vz)
-        gz = -(m[2] * vx + m[5] * vy + m[8] * vz)
-        norm = math.sqrt(gx * gx + gy * gy + gz * gz)  # the speed, to rounding (R is a rotation)
-        u_body = np.array([gx / norm, gy / norm, gz / norm])
+        gas_body = np.array(
+            [
+                -(m[0] * vx + m[3] * vy + m[6] * vz),
+                -(m[1] * vx + m[4] * vy + m[7] * vz),
+                -(m[2] * vx + m[5] * vy + m[8] * vz),
+            ]
+        )
         q = flow.dynamic_pressure()
         if self._database is not None:
+            u_body = unit_vector(gas_body)
             try:
                 cf, cm = self._database.body_coefficients(u_body)
             except ValueError as exc:
@@ -325,13 +329,13 @@ class AeroWrenchEstimator:
                 shading_cache_hit=None,
                 compute_seconds=time.perf_counter() - t0,
             )
-        lighting, hit = self._shading.lighting(u_body)
+        lighting, hit = self._shading.lighting(gas_body)  # (the cache keys on the direction)
         surface = None
         if s.accommodation_model != "fixed":
             surface = self.method.surface_with(alpha=conditions.alpha, alpha_n=conditions.alpha)
-        try:
+        try:  # (the panel method makes the direction a unit vector)
             coefficients = self.method.coefficients(
-                flow, flow_direction=u_body, lighting=lighting, surface=surface
+                flow, flow_direction=gas_body, lighting=lighting, surface=surface
             )
         except ValueError as exc:
             raise Rejection("compute_error", str(exc)) from None
@@ -347,7 +351,7 @@ class AeroWrenchEstimator:
             dynamic_pressure=q,
             conditions=conditions,
             coefficients=coefficients,
-            flow_direction_body=u_body,
+            flow_direction_body=coefficients.flow_direction,
             shading_cache_hit=hit,
             compute_seconds=time.perf_counter() - t0,
         )
