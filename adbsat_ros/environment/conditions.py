@@ -2,7 +2,7 @@
 
 They are made by :func:`adbsat_ros.environment.flight_conditions.flight_conditions` (from an
 orbital state), :func:`adbsat_ros.environment.flight_conditions.flight_conditions_circular_orbit`
-(ADBSat's recipe) and :func:`adbsat_ros.environment.knots.interpolated_flight_conditions`
+(ADBSat's recipe) and :func:`adbsat_ros.environment.interpolation.interpolated_flight_conditions`
 (between two of them); :meth:`FlightConditions.free_stream` turns them into the
 :class:`~adbsat_ros.physics.freestream.FreeStream` of the gas-surface models.
 

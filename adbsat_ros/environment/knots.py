@@ -4,7 +4,7 @@ An attitude stream at 1 kHz asks for the flight conditions of one orbital state 
 NRLMSISE-00, the Earth's orientation and the accommodation model cost ~30-60 us per exact
 evaluation. :class:`KnotGrid` evaluates them exactly only at the *knots*, the stamps ``j step``
 for integers j (``step`` = ``conditions_step``, 10 ms by default), and interpolates linearly in
-between (:func:`interpolated_flight_conditions`). The knots are fixed stamps, not set by the
+between (:mod:`adbsat_ros.environment.interpolation`). The knots are fixed stamps, not set by the
 messages, so a stamp and a state always get the same numbers whatever came before (live, or
 replayed from a bag in any order), and a stream stamped on multiples of the step lands on knots.
 
@@ -21,13 +21,15 @@ from __future__ import annotations
 import dataclasses
 import datetime as _dt
 import math
-from typing import Callable, NamedTuple
+from typing import Callable
 
-import numpy as np
-
-from adbsat_ros.environment.atmosphere import AtmosphereState
 from adbsat_ros.environment.conditions import FlightConditions
-from adbsat_ros.environment.geodetic import geodetic_of_floats
+from adbsat_ros.environment.interpolation import (
+    KnotEnds,
+    StampConditions,
+    knot_ends,
+    stamp_conditions_between,
+)
 
 #: A stamp this close to a knot [s] takes the knot's conditions alone: UNIX stamps as float
 #: seconds resolve 0.24 us, so a stream stamped on multiples of the step (e.g. 100 Hz at the
@@ -40,18 +42,6 @@ KNOTS_KEPT = 4
 #: the prepared stamp (when that stamp needed no new knot), so that the attitudes of the next
 #: interval find its far knot ready.
 KNOT_LOOKAHEAD = 2
-
-#: The vector fields of FlightConditions, in the order of the interpolation numbers.
-_VECTORS = (
-    "position_eci",
-    "position_ecef",
-    "velocity_eci",
-    "velocity_ecef",
-    "relative_velocity_eci",
-    "relative_velocity_ecef",
-)
-#: Index of the first scalar in the interpolation numbers (after the six vectors).
-_SPEED, _ALPHA, _MASS_DENSITY, _EXOSPHERIC, _TEMPERATURE, _DENSITIES = range(18, 24)
 
 
 def knot_position(stamp: float, step: float) -> tuple:
@@ -80,130 +70,6 @@ def knot_position(stamp: float, step: float) -> tuple:
     if past <= KNOT_SNAP_S:
         return j, 0.0
     return j, past
-
-
-class _Ends(NamedTuple):
-    """What the interpolation mixes of one end (a knot): the conditions, their numbers (a
-    read-only float array: the six vectors, zeros for a vector that is None, then the speed,
-    alpha, the mass density, both temperatures and the number densities in the atmosphere's key
-    order) and which of the six vectors they have."""
-
-    conditions: FlightConditions
-    numbers: np.ndarray
-    vectors: tuple
-
-
-def _ends(conditions: FlightConditions) -> _Ends:
-    """The :class:`_Ends` of one set of conditions."""
-    atmosphere = conditions.atmosphere
-    values = []
-    present = []
-    for name in _VECTORS:
-        vector = getattr(conditions, name)
-        values.extend((0.0, 0.0, 0.0) if vector is None else vector.tolist())
-        present.append(vector is not None)
-    values += (
-        conditions.speed,
-        conditions.accommodation_coefficient,
-        atmosphere.mass_density,
-        atmosphere.exospheric_temperature,
-        atmosphere.temperature,
-        *atmosphere.number_densities.values(),
-    )
-    numbers = np.array(values, dtype=float)
-    numbers.setflags(write=False)
-    return _Ends(conditions, numbers, tuple(present))
-
-
-def _check_ends(a: FlightConditions, b: FlightConditions) -> None:
-    """ValueError unless ``a`` and ``b`` were made with the same options and species."""
-    if (
-        a.accommodation_model != b.accommodation_model
-        or a.earth_rotation != b.earth_rotation
-        or (a.space_weather is not b.space_weather and a.space_weather != b.space_weather)
-        or a.atmosphere.anomalous_oxygen != b.atmosphere.anomalous_oxygen
-        or a.atmosphere.number_densities.keys() != b.atmosphere.number_densities.keys()
-    ):
-        raise ValueError("interpolated_flight_conditions: a and b were made with different options")
-
-
-def _mixed(a: _Ends, b: _Ends, weight: float, time: _dt.datetime) -> FlightConditions:
-    """The conditions ``(1 - weight) a + weight b`` at ``time`` (the numbers of both ends mixed
-    as ``(1 - weight) x_a + weight x_b``; see :func:`interpolated_flight_conditions`)."""
-    mixed = a.numbers * (1.0 - weight)
-    mixed += b.numbers * weight
-    mixed.setflags(write=False)
-    values = mixed.tolist()
-    vectors = list(mixed[:18].reshape(6, 3))  # read-only views
-    if a.vectors != b.vectors or not all(a.vectors):
-        vectors = [v if p and q else None for v, p, q in zip(vectors, a.vectors, b.vectors)]
-    if vectors[5] is None:
-        speed = values[_SPEED]
-    else:
-        x, y, z = values[15:18]
-        speed = math.sqrt(x * x + y * y + z * z)
-    latitude, longitude, altitude = geodetic_of_floats(*values[3:6])
-    ends = a.conditions
-    atmosphere = AtmosphereState(
-        dict(zip(ends.atmosphere.number_densities, values[_DENSITIES:])),
-        values[_MASS_DENSITY],
-        values[_EXOSPHERIC],
-        values[_TEMPERATURE],
-        ends.atmosphere.anomalous_oxygen,
-    )
-    return FlightConditions(
-        time,
-        vectors[0],
-        vectors[1],
-        vectors[2],
-        vectors[3],
-        latitude,
-        longitude,
-        altitude,
-        atmosphere,
-        vectors[4],
-        vectors[5],
-        speed,
-        ends.accommodation_model,
-        values[_ALPHA],
-        ends.earth_rotation,
-        ends.space_weather,
-    )
-
-
-def interpolated_flight_conditions(
-    a: FlightConditions, b: FlightConditions, weight: float, time: _dt.datetime
-) -> FlightConditions:
-    """The flight conditions at ``time``, a fraction ``weight`` (0..1) of the way from a to b.
-
-    ``a`` and ``b`` are the flight conditions of one orbital state propagated to two nearby
-    instants (the same options and space weather; ``b`` at the later one). Every vector, the
-    atmosphere (number densities, mass density, both temperatures), the accommodation
-    coefficient and, without a relative velocity, the speed are mixed linearly as
-    ``(1 - weight) x_a + weight x_b``; the geodetic position is that of the mixed ECEF position
-    (exact, also over a pole), the speed the norm of the mixed ECEF relative velocity (so the
-    mean mass and speed ratio are those of the mixed atmosphere and speed). A weight of 0 gives
-    ``a`` at ``time``. See the module notes for the error.
-
-    Parameters
-    ----------
-    a, b : FlightConditions
-        The conditions at both ends.
-    weight : float
-        Fraction of the way from a to b [-].
-    time : datetime.datetime
-        UTC of the result.
-
-    Raises
-    ------
-    ValueError
-        If the two conditions were made with different options (accommodation model, Earth
-        rotation, space weather, anomalous oxygen).
-    """
-    _check_ends(a, b)
-    if weight == 0.0:
-        return dataclasses.replace(a, time=time)
-    return _mixed(_ends(a), _ends(b), weight, time)
 
 
 class KnotGrid:
@@ -288,11 +154,11 @@ class KnotGrid:
     def clear(self) -> None:
         """Forget the knots and the prepared stamp (the counters stay)."""
         self._key = None
-        self._knots: dict = {}  # knot index (j, or the stamp with step 0) -> _Ends
+        self._knots: dict = {}  # knot index (j, or the stamp with step 0) -> KnotEnds
         self._prepared: tuple | None = None  # (key, stamp) of the latest prepare()
 
-    def conditions(self, key, stamp: float, time: _dt.datetime) -> FlightConditions:
-        """The flight conditions of the orbital state ``key`` at ``stamp``.
+    def at(self, key, stamp: float, time: _dt.datetime) -> StampConditions:
+        """The flight conditions of the orbital state ``key`` at ``stamp``, as a wrench needs them.
 
         Parameters
         ----------
@@ -306,14 +172,17 @@ class KnotGrid:
         Raises
         ------
         ValueError
-            From ``evaluate`` at the stamp itself (e.g. an altitude outside the model).
+            From ``evaluate`` at the stamp itself (e.g. an altitude outside the model), or if
+            the conditions are no gas a free stream takes.
         """
         prepared = self._prepared
         if prepared is not None and prepared[1] == stamp and prepared[0] is key:
             self.prepared_used += 1
         step = self.step
         if step <= 0.0:  # (a copy: the kept conditions are nobody else's)
-            return dataclasses.replace(self._knot(key, stamp).conditions, time=time)
+            return StampConditions.of(
+                dataclasses.replace(self._knot(key, stamp).conditions, time=time)
+            )
         j, past = knot_position(stamp, step)
         try:
             a = self._knot(key, j)
@@ -321,10 +190,15 @@ class KnotGrid:
         except ValueError:  # a knot outside the model's range: the stamp itself, exactly
             conditions = self.evaluate(key, stamp)
             self.evaluations += 1
-            return conditions
+            return StampConditions.of(conditions)
         if past == 0.0:
-            return dataclasses.replace(a.conditions, time=time)
-        return _mixed(a, b, past / step, time)
+            return StampConditions.of(dataclasses.replace(a.conditions, time=time))
+        return stamp_conditions_between(a, b, past / step, time)
+
+    def conditions(self, key, stamp: float, time: _dt.datetime) -> FlightConditions:
+        """The full flight conditions of the orbital state ``key`` at ``stamp``
+        (:meth:`at`'s :attr:`StampConditions.conditions`)."""
+        return self.at(key, stamp, time).conditions
 
     def prepare(self, key, stamp: float) -> bool:
         """Evaluate ahead the knots a request at ``stamp`` will need.
@@ -360,7 +234,7 @@ class KnotGrid:
         self._prepared = (key, stamp)
         return True
 
-    def _knot(self, key, index) -> _Ends:
+    def _knot(self, key, index) -> KnotEnds:
         """Knot ``index`` of ``key``, kept or evaluated (and kept, the oldest going first)."""
         if key is not self._key:
             self._key = key
@@ -373,9 +247,9 @@ class KnotGrid:
         self.misses += 1
         step = self.step
         if step > 0.0:
-            knot = _ends(self.evaluate(key, index * step))
+            knot = knot_ends(self.evaluate(key, index * step))
         else:  # nothing to interpolate
-            knot = _Ends(self.evaluate(key, index), None, ())
+            knot = KnotEnds(self.evaluate(key, index), None, ())
         self.evaluations += 1
         if len(knots) >= self.kept:
             del knots[next(iter(knots))]

@@ -284,12 +284,12 @@ class AeroWrenchEstimator:
         self._last_attitude_stamp = stamp
         utc = self.utc(stamp)
         try:
-            conditions = self.knots.conditions(state, stamp, utc)
-            flow = conditions.free_stream() if conditions.speed > 0.0 else None
+            conditions = self.knots.at(state, stamp, utc)
         except ValueError as exc:
             reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
             raise Rejection(reason, str(exc)) from None
         reference = self.method.reference
+        flow = conditions.free_stream
         if flow is None or conditions.speed < s.min_relative_speed:  # at rest in the air
             return WrenchSample.at_rest(stamp, utc, reference, conditions, time.perf_counter() - t0)
         # gas motion relative to the body, body axes: -R^T v_rel (its direction is the flow's)
@@ -323,7 +323,7 @@ class AeroWrenchEstimator:
                 reference_area=reference.area,
                 reference_length=reference.length,
                 dynamic_pressure=q,
-                conditions=conditions,
+                stamp_conditions=conditions,
                 coefficients=None,
                 flow_direction_body=u_body,
                 shading_cache_hit=None,
@@ -349,7 +349,7 @@ class AeroWrenchEstimator:
             reference_area=reference.area,
             reference_length=reference.length,
             dynamic_pressure=q,
-            conditions=conditions,
+            stamp_conditions=conditions,
             coefficients=coefficients,
             flow_direction_body=coefficients.flow_direction,
             shading_cache_hit=hit,

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from adbsat_ros.environment.conditions import FlightConditions
+from adbsat_ros.environment.interpolation import StampConditions
 from adbsat_ros.physics.coefficients import AeroCoefficients
 
 #: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).
@@ -69,8 +70,9 @@ class WrenchSample:
         A_ref [m^2] and L_ref [m].
     dynamic_pressure : float
         q = rho V^2 / 2 [Pa].
-    conditions : FlightConditions
-        Atmosphere, position and relative wind at the stamp.
+    stamp_conditions : StampConditions
+        The flight conditions at the stamp as the wrench used them (relative wind, speed,
+        accommodation, free stream); the full ones are :attr:`conditions`.
     coefficients : AeroCoefficients or None
         Full panel-method result (None when the relative speed is below the threshold, and when the
         coefficients come from a database).
@@ -91,11 +93,16 @@ class WrenchSample:
     reference_area: float
     reference_length: float
     dynamic_pressure: float
-    conditions: FlightConditions
+    stamp_conditions: StampConditions
     coefficients: AeroCoefficients | None
     flow_direction_body: np.ndarray
     shading_cache_hit: bool | None
     compute_seconds: float
+
+    @property
+    def conditions(self) -> FlightConditions:
+        """Atmosphere, geodetic position and relative wind at the stamp (in full)."""
+        return self.stamp_conditions.conditions
 
     @property
     def drag_coefficient(self) -> float:
@@ -104,13 +111,18 @@ class WrenchSample:
 
     @classmethod
     def at_rest(
-        cls, stamp: float, time: _dt.datetime, reference, conditions, compute_seconds: float
+        cls,
+        stamp: float,
+        time: _dt.datetime,
+        reference,
+        stamp_conditions: StampConditions,
+        compute_seconds: float,
     ) -> WrenchSample:
         """The sample of a body at rest in the air: zero force, torque and flow direction.
 
         Parameters
         ----------
-        stamp, time, conditions, compute_seconds
+        stamp, time, stamp_conditions, compute_seconds
             As the fields.
         reference : Reference
             Its ``area`` [m^2] and ``length`` [m] are the sample's reference area and length.
@@ -125,7 +137,7 @@ class WrenchSample:
             reference_area=reference.area,
             reference_length=reference.length,
             dynamic_pressure=0.0,
-            conditions=conditions,
+            stamp_conditions=stamp_conditions,
             coefficients=None,
             flow_direction_body=np.zeros(3),
             shading_cache_hit=None,

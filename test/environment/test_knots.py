@@ -12,12 +12,12 @@ from adbsat_ros.environment.flight_conditions import (
     flight_conditions_circular_orbit,
 )
 from adbsat_ros.environment.geodetic import geodetic_of_floats, geodetic_to_ecef
+from adbsat_ros.environment.interpolation import interpolated_flight_conditions
 from adbsat_ros.environment.knots import (
     KNOT_LOOKAHEAD,
     KNOT_SNAP_S,
     KNOTS_KEPT,
     KnotGrid,
-    interpolated_flight_conditions,
     knot_position,
 )
 from adbsat_ros.physics.constants import BOLTZMANN, EARTH_MU
@@ -505,3 +505,58 @@ def test_bad_grid_settings_are_refused_naming_them(step, kept, name):
         with pytest.raises(ValueError, match="step"):
             grid.configure(step, exact)
         assert grid.step == 0.01  # unchanged
+
+
+def _same_free_stream(a: FreeStream, b: FreeStream) -> bool:
+    return (
+        a.speed == b.speed
+        and a.temperature == b.temperature
+        and dict(a.number_densities) == dict(b.number_densities)
+        and a.density == b.density
+        and a.mean_mass == b.mean_mass
+    )
+
+
+@pytest.mark.parametrize("anomalous_oxygen", [True, False])
+def test_a_stamps_record_holds_what_its_full_conditions_give(anomalous_oxygen):
+    """KnotGrid.at: the relative velocities, speed, alpha and free stream a wrench needs are those
+    of the full interpolated conditions, bit for bit, on and between knots; the full conditions
+    are made on first read, once, and equal the grid's own."""
+
+    def evaluate(state, stamp):
+        position = state.position + state.velocity * (stamp - state.stamp)
+        return flight_conditions(
+            utc(stamp), position, state.velocity, WEATHER, anomalous_oxygen=anomalous_oxygen
+        )
+
+    state = circular()
+    grid = KnotGrid(0.01, evaluate)
+    for stamp in (1.0037, 1.0061, 1.01, 1.0243):
+        record = grid.at(state, stamp, utc(stamp))
+        full = grid.conditions(state, stamp, utc(stamp))
+        assert record.time == full.time and record.speed == full.speed
+        assert record.alpha == full.alpha
+        for frame in ("eci", "ecef"):
+            np.testing.assert_array_equal(
+                getattr(record, f"relative_velocity_{frame}"),
+                getattr(full, f"relative_velocity_{frame}"),
+            )
+        assert _same_free_stream(record.free_stream, full.free_stream())
+        assert ("AnO" in record.free_stream.number_densities) == anomalous_oxygen
+        assert record.conditions is record.conditions  # made once
+        assert numbers(record.conditions) == numbers(full)
+
+
+def test_a_stamp_at_rest_in_the_air_has_no_free_stream():
+    """With the air moving with the satellite (zero relative speed) the record has no free
+    stream, and its conditions say so."""
+    state = circular()
+    grid = KnotGrid(0.01, exact)
+    assert grid.at(state, 1.0037, utc(1.0037)).free_stream is not None  # an orbit
+
+    def at_rest(state, stamp):  # (a geodetic point with no relative velocity)
+        return flight_conditions_circular_orbit(utc(stamp), 350e3, LAT, LON, WEATHER, speed=0.0)
+
+    record = KnotGrid(0.01, at_rest).at(state, 1.0037, utc(1.0037))
+    assert record.speed == 0.0 and record.free_stream is None
+    assert record.relative_velocity_eci is None and record.conditions.speed == 0.0

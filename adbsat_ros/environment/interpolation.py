@@ -1,0 +1,265 @@
+"""Flight conditions between two knots: linear interpolation, and the record a message needs.
+
+The numbers of the conditions at two nearby instants of one orbital state (the six vectors, the
+speed, alpha, the atmosphere's densities and temperatures) are mixed linearly; the geodetic
+position is that of the mixed ECEF position, the speed the norm of the mixed relative velocity.
+:class:`StampConditions` holds what a wrench needs at once and makes the full
+:class:`FlightConditions` on first read. The interpolation error is discussed in
+:mod:`adbsat_ros.environment.knots`."""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime as _dt
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from adbsat_ros.environment.atmosphere import AtmosphereState
+from adbsat_ros.environment.conditions import FlightConditions
+from adbsat_ros.environment.geodetic import geodetic_of_floats
+from adbsat_ros.physics.freestream import FreeStream
+
+#: The vector fields of FlightConditions, in the order of the interpolation numbers.
+_VECTORS = (
+    "position_eci",
+    "position_ecef",
+    "velocity_eci",
+    "velocity_ecef",
+    "relative_velocity_eci",
+    "relative_velocity_ecef",
+)
+#: Index of the first scalar in the interpolation numbers (after the six vectors).
+_SPEED, _ALPHA, _MASS_DENSITY, _EXOSPHERIC, _TEMPERATURE, _DENSITIES = range(18, 24)
+
+
+class KnotEnds(NamedTuple):
+    """What the interpolation mixes of one end (a knot): the conditions, their numbers (a
+    read-only float array: the six vectors, zeros for a vector that is None, then the speed,
+    alpha, the mass density, both temperatures and the number densities in the atmosphere's key
+    order) and which of the six vectors they have."""
+
+    conditions: FlightConditions
+    numbers: np.ndarray
+    vectors: tuple
+
+
+def knot_ends(conditions: FlightConditions) -> KnotEnds:
+    """The :class:`KnotEnds` of one set of conditions."""
+    atmosphere = conditions.atmosphere
+    values = []
+    present = []
+    for name in _VECTORS:
+        vector = getattr(conditions, name)
+        values.extend((0.0, 0.0, 0.0) if vector is None else vector.tolist())
+        present.append(vector is not None)
+    values += (
+        conditions.speed,
+        conditions.accommodation_coefficient,
+        atmosphere.mass_density,
+        atmosphere.exospheric_temperature,
+        atmosphere.temperature,
+        *atmosphere.number_densities.values(),
+    )
+    numbers = np.array(values, dtype=float)
+    numbers.setflags(write=False)
+    return KnotEnds(conditions, numbers, tuple(present))
+
+
+def check_ends(a: FlightConditions, b: FlightConditions) -> None:
+    """ValueError unless ``a`` and ``b`` were made with the same options and species."""
+    if (
+        a.accommodation_model != b.accommodation_model
+        or a.earth_rotation != b.earth_rotation
+        or (a.space_weather is not b.space_weather and a.space_weather != b.space_weather)
+        or a.atmosphere.anomalous_oxygen != b.atmosphere.anomalous_oxygen
+        or a.atmosphere.number_densities.keys() != b.atmosphere.number_densities.keys()
+    ):
+        raise ValueError("interpolated_flight_conditions: a and b were made with different options")
+
+
+def mixed_conditions(
+    a: KnotEnds, b: KnotEnds, weight: float, time: _dt.datetime
+) -> FlightConditions:
+    """The conditions ``(1 - weight) a + weight b`` at ``time`` (the numbers of both ends mixed
+    as ``(1 - weight) x_a + weight x_b``; see :func:`interpolated_flight_conditions`)."""
+    mixed = a.numbers * (1.0 - weight)
+    mixed += b.numbers * weight
+    mixed.setflags(write=False)
+    values = mixed.tolist()
+    vectors = list(mixed[:18].reshape(6, 3))  # read-only views
+    if a.vectors != b.vectors or not all(a.vectors):
+        vectors = [v if p and q else None for v, p, q in zip(vectors, a.vectors, b.vectors)]
+    if vectors[5] is None:
+        speed = values[_SPEED]
+    else:
+        x, y, z = values[15:18]
+        speed = math.sqrt(x * x + y * y + z * z)
+    latitude, longitude, altitude = geodetic_of_floats(*values[3:6])
+    ends = a.conditions
+    atmosphere = AtmosphereState(
+        dict(zip(ends.atmosphere.number_densities, values[_DENSITIES:])),
+        values[_MASS_DENSITY],
+        values[_EXOSPHERIC],
+        values[_TEMPERATURE],
+        ends.atmosphere.anomalous_oxygen,
+    )
+    return FlightConditions(
+        time,
+        vectors[0],
+        vectors[1],
+        vectors[2],
+        vectors[3],
+        latitude,
+        longitude,
+        altitude,
+        atmosphere,
+        vectors[4],
+        vectors[5],
+        speed,
+        ends.accommodation_model,
+        values[_ALPHA],
+        ends.earth_rotation,
+        ends.space_weather,
+    )
+
+
+class StampConditions:
+    """The flight conditions at one message stamp: what a wrench needs at once, the rest on read.
+
+    A wrench needs the relative velocity, the speed, the accommodation coefficient and the free
+    stream; the full :class:`FlightConditions` (geodetic position, the atmosphere, every vector),
+    which only reports read, is made from the same knots when :attr:`conditions` is first read,
+    and is the same whenever it is made. Making it for every message would cost the node about
+    6 us of its ~40 us per attitude (``bench/bench_estimator.py``, one interleaved run), more
+    than the 5 % of its CPU per message allowed for the whole per-message path.
+
+    Attributes
+    ----------
+    time : datetime.datetime
+        UTC of the stamp.
+    speed : float
+        Relative speed [m/s], >= 0.
+    accommodation_coefficient : float
+        Energy accommodation coefficient alpha [-].
+    relative_velocity_eci, relative_velocity_ecef : numpy.ndarray or None
+        Velocity relative to the air in ECI and ECEF axes [m/s] (read-only).
+    free_stream : FreeStream or None
+        The free stream of the gas-surface models (None at zero relative speed).
+    """
+
+    __slots__ = (
+        "time",
+        "speed",
+        "accommodation_coefficient",
+        "relative_velocity_eci",
+        "relative_velocity_ecef",
+        "free_stream",
+        "_made",
+        "_conditions",
+    )
+
+    def __init__(self, time, speed, alpha, relative_eci, relative_ecef, free_stream, made):
+        self.time = time
+        self.speed = speed
+        self.accommodation_coefficient = alpha
+        self.relative_velocity_eci = relative_eci
+        self.relative_velocity_ecef = relative_ecef
+        self.free_stream = free_stream
+        self._made = made  # () -> FlightConditions
+        self._conditions = None
+
+    @classmethod
+    def of(cls, conditions: FlightConditions) -> StampConditions:
+        """The record of conditions known in full (an exact evaluation, a knot's own stamp)."""
+        flow = conditions.free_stream() if conditions.speed > 0.0 else None
+        return cls(
+            conditions.time,
+            conditions.speed,
+            conditions.accommodation_coefficient,
+            conditions.relative_velocity_eci,
+            conditions.relative_velocity_ecef,
+            flow,
+            lambda: conditions,
+        )
+
+    @property
+    def alpha(self) -> float:
+        """Shorthand for :attr:`accommodation_coefficient`."""
+        return self.accommodation_coefficient
+
+    @property
+    def conditions(self) -> FlightConditions:
+        """The full flight conditions at the stamp (made on first read, then kept)."""
+        if self._conditions is None:
+            self._conditions = self._made()
+        return self._conditions
+
+
+def stamp_conditions_between(
+    a: KnotEnds, b: KnotEnds, weight: float, time: _dt.datetime
+) -> StampConditions:
+    """:class:`StampConditions` between two knots, with the numbers of
+    :func:`mixed_conditions`."""
+    mixed = a.numbers * (1.0 - weight)
+    mixed += b.numbers * weight
+    mixed.setflags(write=False)
+    values = mixed.tolist()
+    present = a.vectors[4] and b.vectors[4], a.vectors[5] and b.vectors[5]
+    if present[1]:
+        x, y, z = values[15:18]
+        speed = math.sqrt(x * x + y * y + z * z)
+    else:
+        speed = values[_SPEED]
+    flow = None
+    if speed > 0.0:
+        atmosphere = a.conditions.atmosphere
+        densities = dict(zip(atmosphere.number_densities, values[_DENSITIES:]))
+        if not atmosphere.anomalous_oxygen:
+            del densities["AnO"]
+        flow = FreeStream(speed, values[_TEMPERATURE], densities, density=values[_MASS_DENSITY])
+    return StampConditions(
+        time,
+        speed,
+        values[_ALPHA],
+        mixed[12:15] if present[0] else None,
+        mixed[15:18] if present[1] else None,
+        flow,
+        lambda: mixed_conditions(a, b, weight, time),
+    )
+
+
+def interpolated_flight_conditions(
+    a: FlightConditions, b: FlightConditions, weight: float, time: _dt.datetime
+) -> FlightConditions:
+    """The flight conditions at ``time``, a fraction ``weight`` (0..1) of the way from a to b.
+
+    ``a`` and ``b`` are the flight conditions of one orbital state propagated to two nearby
+    instants (the same options and space weather; ``b`` at the later one). Every vector, the
+    atmosphere (number densities, mass density, both temperatures), the accommodation
+    coefficient and, without a relative velocity, the speed are mixed linearly as
+    ``(1 - weight) x_a + weight x_b``; the geodetic position is that of the mixed ECEF position
+    (exact, also over a pole), the speed the norm of the mixed ECEF relative velocity (so the
+    mean mass and speed ratio are those of the mixed atmosphere and speed). A weight of 0 gives
+    ``a`` at ``time``. See the module notes for the error.
+
+    Parameters
+    ----------
+    a, b : FlightConditions
+        The conditions at both ends.
+    weight : float
+        Fraction of the way from a to b [-].
+    time : datetime.datetime
+        UTC of the result.
+
+    Raises
+    ------
+    ValueError
+        If the two conditions were made with different options (accommodation model, Earth
+        rotation, space weather, anomalous oxygen).
+    """
+    check_ends(a, b)
+    if weight == 0.0:
+        return dataclasses.replace(a, time=time)
+    return mixed_conditions(knot_ends(a), knot_ends(b), weight, time)
