@@ -55,7 +55,7 @@ _EXPORTS = {
     "PanelLighting": "adbsat_ros.shading.lighting",
     "FreeStream": "adbsat_ros.physics.freestream",
     "flight_conditions": "adbsat_ros.environment.flight_conditions",
-    "flight_conditions_circular_orbit": "adbsat_ros.environment.flight_conditions",
+    "flight_conditions_circular_orbit": "adbsat_ros.environment.circular_orbit",
     "FlightConditions": "adbsat_ros.environment.flight_conditions",
     "SpaceWeather": "adbsat_ros.environment.atmosphere",
     "AeroWrenchEstimator": "adbsat_ros.estimator.estimator",

@@ -55,11 +55,9 @@ import timeit
 import numpy as np
 
 from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
+from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
 from adbsat_ros.environment.earth_frames import earth_orientation
-from adbsat_ros.environment.flight_conditions import (
-    flight_conditions,
-    flight_conditions_circular_orbit,
-)
+from adbsat_ros.environment.flight_conditions import flight_conditions
 from adbsat_ros.environment.knots import KnotGrid
 
 START = dt.datetime(2015, 1, 19)

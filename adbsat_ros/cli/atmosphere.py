@@ -206,11 +206,9 @@ def compute(args, accommodation_options=None):
 
     ``accommodation_options`` replaces the options taken from ``--accommodation/--alpha``.
     """
+    from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
     from adbsat_ros.environment.earth_frames import earth_orientation
-    from adbsat_ros.environment.flight_conditions import (
-        flight_conditions,
-        flight_conditions_circular_orbit,
-    )
+    from adbsat_ros.environment.flight_conditions import flight_conditions
     from adbsat_ros.environment.geodetic import ecef_to_geodetic
 
     time = _parse_time(args.time)

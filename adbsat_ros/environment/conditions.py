@@ -1,7 +1,7 @@
 """The conditions a spacecraft flies in at one instant: :class:`FlightConditions`, a value object.
 
 They are made by :func:`adbsat_ros.environment.flight_conditions.flight_conditions` (from an
-orbital state), :func:`adbsat_ros.environment.flight_conditions.flight_conditions_circular_orbit`
+orbital state), :func:`adbsat_ros.environment.circular_orbit.flight_conditions_circular_orbit`
 (ADBSat's recipe) and :func:`adbsat_ros.environment.interpolation.interpolated_flight_conditions`
 (between two of them); :meth:`FlightConditions.free_stream` turns them into the
 :class:`~adbsat_ros.physics.freestream.FreeStream` of the gas-surface models.

@@ -20,16 +20,18 @@ still returned (speed 0, speed ratio 0; accommodation models take the zero-speed
 :meth:`FlightConditions.free_stream` raises ValueError because a free stream needs a speed > 0;
 check :attr:`FlightConditions.speed` first if that can happen.
 
-:func:`flight_conditions_circular_orbit` is ADBSat's ``environment.m`` recipe: a geodetic point
-and the circular-orbit speed sqrt(mu / (R_E + h)), with no direction (no co-rotation, no wind).
+ADBSat's ``environment.m`` recipe (a geodetic point and the circular-orbit speed) is
+:func:`adbsat_ros.environment.circular_orbit.flight_conditions_circular_orbit`.
 
 Units: m, m/s, kg, K, rad inside; degrees only in names ending ``_deg``.
 """
 
 from __future__ import annotations
 
-import datetime as _dt
 import math
+import types
+from dataclasses import dataclass
+from typing import Mapping
 
 import numpy as np
 
@@ -37,21 +39,17 @@ from adbsat_ros.environment.accommodation import accommodation_of, normalize_mod
 from adbsat_ros.environment.atmosphere import (
     SpaceWeather,
     check_altitude,
-    check_time,
     checked_utc,
-    evaluate_atmosphere,
     run_model,
 )
 from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.earth_frames import (
     EarthOrientation,
     check_orientation_options,
-    earth_orientation,
     rotation_terms,
 )
-from adbsat_ros.environment.geodetic import enu_to_ecef, geodetic_of_floats, geodetic_to_ecef
+from adbsat_ros.environment.geodetic import enu_to_ecef, geodetic_of_floats
 from adbsat_ros.environment.time_scales import seconds_of_day, utc_day
-from adbsat_ros.physics.constants import EARTH_MU, EARTH_RADIUS_ADBSAT
 from adbsat_ros.validation import finite as _finite
 
 #: Frames an orbital state may be given in.
@@ -60,6 +58,82 @@ STATE_FRAMES = ("eci", "ecef")
 WIND_FRAMES = ("enu", "ecef")
 #: Default accommodation model.
 DEFAULT_ACCOMMODATION_MODEL = "langmuir"
+
+
+@dataclass(frozen=True)
+class ConditionsOptions:
+    """The options of :func:`flight_conditions`, checked once (see :func:`conditions_options`).
+
+    A stream of states evaluated with the same options (the ROS node, bag analysis) checks them
+    once, not at every state: ~5 us of an exact evaluation's ~15 us (one run of
+    ``bench/bench_flight_conditions.py``), which a 100 Hz stream on the node's knots pays at
+    every message.
+
+    Attributes
+    ----------
+    frame : {"eci", "ecef"}
+    earth_rotation : bool
+    wind : tuple of 3 floats or None
+        [m/s], in ``wind_frame``.
+    wind_frame : {"enu", "ecef"}
+    anomalous_oxygen : bool
+    accommodation_model : str
+        A canonical model name.
+    accommodation_options : mapping
+        Its options (read-only).
+    orientation_options : tuple
+        The checked Earth-orientation options (``check_orientation_options``).
+    """
+
+    frame: str
+    earth_rotation: bool
+    wind: tuple | None
+    wind_frame: str
+    anomalous_oxygen: bool
+    accommodation_model: str
+    accommodation_options: Mapping
+    orientation_options: tuple
+
+
+def conditions_options(
+    *,
+    frame: str = "eci",
+    earth_rotation: bool = True,
+    wind=None,
+    wind_frame: str = "enu",
+    anomalous_oxygen: bool = True,
+    accommodation_model: str = DEFAULT_ACCOMMODATION_MODEL,
+    accommodation_options=None,
+    ut1_minus_utc: float = 0.0,
+    polar_motion=(0.0, 0.0),
+    precession_nutation: str = "iau2006a",
+    precession_nutation_step: float = 0.0,
+) -> ConditionsOptions:
+    """The options of :func:`flight_conditions` (same names and meanings), checked.
+
+    Raises
+    ------
+    ValueError
+        Naming the option that is not allowed.
+    """
+    frame_key = str(frame).lower()
+    if frame_key not in STATE_FRAMES:
+        raise ValueError(f"frame must be one of {', '.join(STATE_FRAMES)}, got {frame!r}")
+    wind_frame_key = str(wind_frame).lower()
+    if wind_frame_key not in WIND_FRAMES:
+        raise ValueError(f"wind_frame must be one of {', '.join(WIND_FRAMES)}, got {wind_frame!r}")
+    return ConditionsOptions(
+        frame=frame_key,
+        earth_rotation=bool(earth_rotation),
+        wind=None if wind is None else _three_floats(wind, "wind"),
+        wind_frame=wind_frame_key,
+        anomalous_oxygen=bool(anomalous_oxygen),
+        accommodation_model=normalize_model_name(accommodation_model),
+        accommodation_options=types.MappingProxyType(dict(accommodation_options or {})),
+        orientation_options=check_orientation_options(
+            ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
+        ),
+    )
 
 
 def flight_conditions(
@@ -126,24 +200,56 @@ def flight_conditions(
         Naming the input: bad frame names, non-finite or mis-shaped vectors, an altitude outside
         0..1000 km, a time outside 1958..2100, invalid space weather or accommodation options.
     """
+    options = conditions_options(
+        frame=frame,
+        earth_rotation=earth_rotation,
+        wind=wind,
+        wind_frame=wind_frame,
+        anomalous_oxygen=anomalous_oxygen,
+        accommodation_model=accommodation_model,
+        accommodation_options=accommodation_options,
+        ut1_minus_utc=ut1_minus_utc,
+        polar_motion=polar_motion,
+        precession_nutation=precession_nutation,
+        precession_nutation_step=precession_nutation_step,
+    )
+    return evaluate_flight_conditions(time, position, velocity, space_weather, options, orientation)
+
+
+def evaluate_flight_conditions(
+    time,
+    position,
+    velocity,
+    space_weather: SpaceWeather,
+    options: ConditionsOptions,
+    orientation: EarthOrientation | None = None,
+) -> FlightConditions:
+    """:func:`flight_conditions` with its options checked already (:func:`conditions_options`).
+
+    Parameters
+    ----------
+    time, position, velocity, space_weather, orientation
+        As :func:`flight_conditions`.
+    options : ConditionsOptions
+        The other options.
+
+    Raises
+    ------
+    ValueError
+        Naming the input, as :func:`flight_conditions`.
+    """
     utc = checked_utc(time)
-    frame_key = str(frame).lower()
-    if frame_key not in STATE_FRAMES:
-        raise ValueError(f"frame must be one of {', '.join(STATE_FRAMES)}, got {frame!r}")
-    wind_frame_key = str(wind_frame).lower()
-    if wind_frame_key not in WIND_FRAMES:
-        raise ValueError(f"wind_frame must be one of {', '.join(WIND_FRAMES)}, got {wind_frame!r}")
-    model = normalize_model_name(accommodation_model)
+    frame_key = options.frame
+    model = options.accommodation_model
     position = _three_floats(position, "position")
     velocity = _three_floats(velocity, "velocity")
-    wind = None if wind is None else _three_floats(wind, "wind")
+    wind = options.wind
     jd1, tt_minus_utc, day_of_year = utc_day(utc.year, utc.month, utc.day)
     seconds = seconds_of_day(utc)
     if orientation is None:
-        options = check_orientation_options(
-            ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
+        matrix, _, omega = rotation_terms(
+            jd1, seconds / 86400.0, tt_minus_utc, *options.orientation_options
         )
-        matrix, _, omega = rotation_terms(jd1, seconds / 86400.0, tt_minus_utc, *options)
     elif not isinstance(orientation, EarthOrientation):
         raise ValueError(
             f"orientation must be an EarthOrientation, got {type(orientation).__name__}"
@@ -190,11 +296,11 @@ def flight_conditions(
         latitude,
         longitude,
         space_weather,
-        anomalous_oxygen,
+        options.anomalous_oxygen,
     )
-    if wind is not None and wind_frame_key == "enu":
+    if wind is not None and options.wind_frame == "enu":
         wind = enu_to_ecef(latitude, longitude, *wind)
-    if earth_rotation:
+    if options.earth_rotation:
         # v_rel,ecef = v_ecef - wind; v_rel,eci = R^T v_rel,ecef
         relative_ecef = velocity_ecef if wind is None else _minus(velocity_ecef, wind)
         relative_eci = _rotate_back(matrix, *relative_ecef)
@@ -205,7 +311,7 @@ def flight_conditions(
         relative_ecef = _rotate(matrix, *relative_eci)
     x, y, z = relative_ecef
     speed = _finite("speed", math.sqrt(x * x + y * y + z * z))
-    alpha = accommodation_of(model, atmosphere, speed, dict(accommodation_options or {}))
+    alpha = accommodation_of(model, atmosphere, speed, dict(options.accommodation_options))
     vectors = np.array(
         (position_eci, position_ecef, velocity_eci, velocity_ecef, relative_eci, relative_ecef)
     )
@@ -225,97 +331,9 @@ def flight_conditions(
         speed=speed,
         accommodation_model=model,
         accommodation_coefficient=float(alpha),
-        earth_rotation=bool(earth_rotation),
+        earth_rotation=options.earth_rotation,
         space_weather=space_weather,
     )
-
-
-def circular_orbit_speed(altitude: float) -> float:
-    """Circular-orbit speed sqrt(mu / (R_E + h)) [m/s] with ADBSat's mu and R_E = 6378.13649 km."""
-    return math.sqrt(EARTH_MU / (EARTH_RADIUS_ADBSAT + float(altitude)))
-
-
-def flight_conditions_circular_orbit(
-    time,
-    altitude: float,
-    latitude: float,
-    longitude: float,
-    space_weather: SpaceWeather,
-    *,
-    anomalous_oxygen: bool = True,
-    accommodation_model: str = DEFAULT_ACCOMMODATION_MODEL,
-    accommodation_options=None,
-    speed: float | None = None,
-    precession_nutation: str = "iau2006a",
-) -> FlightConditions:
-    """Flight conditions at a geodetic point with the circular-orbit speed (ADBSat parity).
-
-    As ADBSat's ``environment.m``: the atmosphere at (time, altitude, latitude, longitude) and the
-    speed sqrt(mu / (R_E + h)) (:func:`circular_orbit_speed`), with no co-rotation and no wind.
-    No direction is known, so the velocity and relative-velocity vectors are None.
-
-    Parameters
-    ----------
-    time : datetime.datetime
-        UTC instant (aware, or naive meaning UTC), years 1958..2100.
-    altitude : float
-        Height above the WGS-84 ellipsoid [m], 0..1000 km.
-    latitude, longitude : float
-        Geodetic latitude and east longitude [rad].
-    space_weather : SpaceWeather
-    anomalous_oxygen, accommodation_model, accommodation_options
-        As :func:`flight_conditions`.
-    speed : float, optional
-        Relative speed [m/s] to use instead of the circular-orbit speed (>= 0).
-    precession_nutation : str, optional
-        Only used to express the position in ECI.
-
-    Returns
-    -------
-    FlightConditions
-    """
-    time = check_time(time)
-    model = normalize_model_name(accommodation_model)
-    altitude = check_altitude(altitude)
-    position_ecef = geodetic_to_ecef(latitude, longitude, altitude)
-    atmosphere = evaluate_atmosphere(
-        time, altitude, latitude, longitude, space_weather, anomalous_oxygen=anomalous_oxygen
-    )
-    if speed is None:
-        speed = circular_orbit_speed(altitude)
-    else:
-        speed = float(speed)
-        if not math.isfinite(speed) or speed < 0.0:
-            raise ValueError(f"speed must be a finite number >= 0, got {speed!r}")
-    orientation = earth_orientation(time, precession_nutation=precession_nutation)
-    position_eci = position_ecef @ orientation.celestial_to_terrestrial
-    return FlightConditions(
-        time=time.replace(tzinfo=_dt.timezone.utc),
-        position_eci=_read_only(position_eci),
-        position_ecef=_read_only(position_ecef),
-        velocity_eci=None,
-        velocity_ecef=None,
-        latitude=float(latitude),
-        longitude=float(longitude),
-        altitude=altitude,
-        atmosphere=atmosphere,
-        relative_velocity_eci=None,
-        relative_velocity_ecef=None,
-        speed=speed,
-        accommodation_model=model,
-        accommodation_coefficient=float(
-            accommodation_of(model, atmosphere, speed, dict(accommodation_options or {}))
-        ),
-        earth_rotation=False,
-        space_weather=space_weather,
-    )
-
-
-def _read_only(vector) -> np.ndarray:
-    """A new read-only float array of a 3-vector (never the caller's array)."""
-    array = np.array(vector, dtype=float)
-    array.setflags(write=False)
-    return array
 
 
 def _three_floats(value, name: str) -> tuple:

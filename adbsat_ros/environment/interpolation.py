@@ -12,7 +12,6 @@ from __future__ import annotations
 import dataclasses
 import datetime as _dt
 import math
-from typing import NamedTuple
 
 import numpy as np
 
@@ -34,19 +33,46 @@ _VECTORS = (
 _SPEED, _ALPHA, _MASS_DENSITY, _EXOSPHERIC, _TEMPERATURE, _DENSITIES = range(18, 24)
 
 
-class KnotEnds(NamedTuple):
-    """What the interpolation mixes of one end (a knot): the conditions, their numbers (a
-    read-only float array: the six vectors, zeros for a vector that is None, then the speed,
-    alpha, the mass density, both temperatures and the number densities in the atmosphere's key
-    order) and which of the six vectors they have."""
+class KnotEnds:
+    """One end of an interpolation (a knot): its conditions and, made when first asked for (a
+    stream stamped on the knots never asks), the numbers the interpolation mixes.
 
-    conditions: FlightConditions
-    numbers: np.ndarray
-    vectors: tuple
+    Parameters
+    ----------
+    conditions : FlightConditions
+        The exact conditions at the knot.
+
+    Attributes
+    ----------
+    conditions : FlightConditions
+        As given.
+    """
+
+    __slots__ = ("conditions", "_numbers", "_vectors")
+
+    def __init__(self, conditions: FlightConditions):
+        self.conditions = conditions
+        self._numbers = None
+        self._vectors = ()
+
+    @property
+    def numbers(self) -> np.ndarray:
+        """A read-only float array: the six vectors (zeros for a vector that is None), then the
+        speed, alpha, the mass density, both temperatures and the number densities in the
+        atmosphere's key order."""
+        if self._numbers is None:
+            self._numbers, self._vectors = _numbers_of(self.conditions)
+        return self._numbers
+
+    @property
+    def vectors(self) -> tuple:
+        """Which of the six vectors the conditions have (bools, in the order of the numbers)."""
+        self.numbers  # (made with the numbers)
+        return self._vectors
 
 
-def knot_ends(conditions: FlightConditions) -> KnotEnds:
-    """The :class:`KnotEnds` of one set of conditions."""
+def _numbers_of(conditions: FlightConditions) -> tuple:
+    """(numbers, vectors) of :class:`KnotEnds`."""
     atmosphere = conditions.atmosphere
     values = []
     present = []
@@ -64,7 +90,7 @@ def knot_ends(conditions: FlightConditions) -> KnotEnds:
     )
     numbers = np.array(values, dtype=float)
     numbers.setflags(write=False)
-    return KnotEnds(conditions, numbers, tuple(present))
+    return numbers, tuple(present)
 
 
 def check_ends(a: FlightConditions, b: FlightConditions) -> None:
@@ -171,17 +197,26 @@ class StampConditions:
         self._conditions = None
 
     @classmethod
-    def of(cls, conditions: FlightConditions) -> StampConditions:
-        """The record of conditions known in full (an exact evaluation, a knot's own stamp)."""
+    def of(cls, conditions: FlightConditions, time: _dt.datetime | None = None) -> StampConditions:
+        """The record of conditions known in full (an exact evaluation, a knot), at ``time``
+        (default theirs; a knot's conditions serve the stamps within the snap of it)."""
         flow = conditions.free_stream() if conditions.speed > 0.0 else None
+        if time is None:
+            time = conditions.time
+
+        def made() -> FlightConditions:  # (a copy with the stamp's time, when read)
+            if time == conditions.time:
+                return conditions
+            return dataclasses.replace(conditions, time=time)
+
         return cls(
-            conditions.time,
+            time,
             conditions.speed,
             conditions.accommodation_coefficient,
             conditions.relative_velocity_eci,
             conditions.relative_velocity_ecef,
             flow,
-            lambda: conditions,
+            made,
         )
 
     @property
@@ -262,4 +297,4 @@ def interpolated_flight_conditions(
     check_ends(a, b)
     if weight == 0.0:
         return dataclasses.replace(a, time=time)
-    return mixed_conditions(knot_ends(a), knot_ends(b), weight, time)
+    return mixed_conditions(KnotEnds(a), KnotEnds(b), weight, time)

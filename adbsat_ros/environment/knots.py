@@ -18,7 +18,6 @@ own steps (e.g. at exactly 300 km) are spread over the interval that crosses the
 
 from __future__ import annotations
 
-import dataclasses
 import datetime as _dt
 import math
 from typing import Callable
@@ -27,7 +26,6 @@ from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.interpolation import (
     KnotEnds,
     StampConditions,
-    knot_ends,
     stamp_conditions_between,
 )
 
@@ -179,10 +177,8 @@ class KnotGrid:
         if prepared is not None and prepared[1] == stamp and prepared[0] is key:
             self.prepared_used += 1
         step = self.step
-        if step <= 0.0:  # (a copy: the kept conditions are nobody else's)
-            return StampConditions.of(
-                dataclasses.replace(self._knot(key, stamp).conditions, time=time)
-            )
+        if step <= 0.0:  # every stamp its own knot
+            return StampConditions.of(self._knot(key, stamp).conditions, time)
         j, past = knot_position(stamp, step)
         try:
             a = self._knot(key, j)
@@ -192,7 +188,7 @@ class KnotGrid:
             self.evaluations += 1
             return StampConditions.of(conditions)
         if past == 0.0:
-            return StampConditions.of(dataclasses.replace(a.conditions, time=time))
+            return StampConditions.of(a.conditions, time)
         return stamp_conditions_between(a, b, past / step, time)
 
     def conditions(self, key, stamp: float, time: _dt.datetime) -> FlightConditions:
@@ -247,9 +243,9 @@ class KnotGrid:
         self.misses += 1
         step = self.step
         if step > 0.0:
-            knot = knot_ends(self.evaluate(key, index * step))
+            knot = KnotEnds(self.evaluate(key, index * step))
         else:  # nothing to interpolate
-            knot = KnotEnds(self.evaluate(key, index), None, ())
+            knot = KnotEnds(self.evaluate(key, index))
         self.evaluations += 1
         if len(knots) >= self.kept:
             del knots[next(iter(knots))]

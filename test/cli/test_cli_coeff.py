@@ -136,7 +136,7 @@ def test_flight_conditions_give_the_gas(capsys, box_file):
     import datetime as dt
 
     from adbsat_ros.environment.atmosphere import SpaceWeather
-    from adbsat_ros.environment.flight_conditions import flight_conditions_circular_orbit
+    from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
 
     code, out, _ = run_cli(
         capsys,

@@ -10,12 +10,16 @@ import numpy as np
 import pytest
 
 from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
+from adbsat_ros.environment.circular_orbit import (
+    circular_orbit_speed,
+    flight_conditions_circular_orbit,
+)
 from adbsat_ros.environment.earth_frames import EARTH_ROTATION_RATE, earth_orientation, ecef_to_eci
 from adbsat_ros.environment.flight_conditions import (
     FlightConditions,
-    circular_orbit_speed,
+    conditions_options,
+    evaluate_flight_conditions,
     flight_conditions,
-    flight_conditions_circular_orbit,
 )
 from adbsat_ros.environment.geodetic import enu_to_ecef_matrix, geodetic_to_ecef
 from adbsat_ros.physics.constants import AVOGADRO, BOLTZMANN, MOLAR_MASS_G
@@ -359,3 +363,34 @@ def test_bad_options_are_refused_at_every_call():
     )
     assert same_bits(again.relative_velocity_eci, good.relative_velocity_eci)
     assert again.as_dict() == good.as_dict()
+
+
+def test_options_checked_once_give_the_same_conditions():
+    """evaluate_flight_conditions with options checked by conditions_options gives what
+    flight_conditions gives with the same options, bit for bit; a bad option is refused when the
+    options are made, naming it."""
+    r = np.array([6778137.0, 1200.0, -3400.0])
+    v = np.array([-5.0, 6000.0, 4800.0])
+    options = dict(
+        frame="ecef",
+        earth_rotation=True,
+        wind=(30.0, -10.0, 2.0),
+        wind_frame="enu",
+        anomalous_oxygen=False,
+        accommodation_model="goodman",
+        precession_nutation="iau2000b",
+        precession_nutation_step=60.0,
+    )
+    checked = conditions_options(**options)
+    once = evaluate_flight_conditions(TIME, r, v, WEATHER, checked)
+    every = flight_conditions(TIME, r, v, WEATHER, **options)
+    assert json.dumps(once.as_dict()) == json.dumps(every.as_dict())
+    for name, value, named in (
+        ("frame", "itrf", "frame"),
+        ("wind_frame", "ned", "wind_frame"),
+        ("wind", (1.0, math.nan, 0.0), "wind"),
+        ("accommodation_model", "magic", "accommodation model"),
+        ("precession_nutation_step", -1.0, "precession_nutation_step"),
+    ):
+        with pytest.raises(ValueError, match=named):
+            conditions_options(**{**options, name: value})

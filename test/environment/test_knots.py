@@ -7,10 +7,8 @@ import numpy as np
 import pytest
 
 from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
-from adbsat_ros.environment.flight_conditions import (
-    flight_conditions,
-    flight_conditions_circular_orbit,
-)
+from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
+from adbsat_ros.environment.flight_conditions import flight_conditions
 from adbsat_ros.environment.geodetic import geodetic_of_floats, geodetic_to_ecef
 from adbsat_ros.environment.interpolation import interpolated_flight_conditions
 from adbsat_ros.environment.knots import (
