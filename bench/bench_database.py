@@ -22,9 +22,12 @@ import platform
 import statistics
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import trimesh
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
 
 from adbsat_ros import FreeStream, PanelMethod, panels_from_trimesh
 from adbsat_ros.database.build import build_database

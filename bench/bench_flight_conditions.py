@@ -54,6 +54,8 @@ import timeit
 
 import numpy as np
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # this tree first
+
 from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
 from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
 from adbsat_ros.environment.earth_frames import earth_orientation

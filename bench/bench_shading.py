@@ -30,8 +30,11 @@ import platform
 import statistics
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.shapes import combine, grid_box
