@@ -241,7 +241,8 @@ def stamp_conditions_between(
     mixed += b.numbers * weight
     mixed.setflags(write=False)
     values = mixed.tolist()
-    present = a.vectors[4] and b.vectors[4], a.vectors[5] and b.vectors[5]
+    a_vectors, b_vectors = a.vectors, b.vectors
+    present = a_vectors[4] and b_vectors[4], a_vectors[5] and b_vectors[5]
     if present[1]:
         x, y, z = values[15:18]
         speed = math.sqrt(x * x + y * y + z * z)
