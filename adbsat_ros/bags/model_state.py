@@ -49,6 +49,16 @@ class SequentialCacheCount:
         self.last = key
 
 
+#: Diagnostic keys of the live node that bag analysis leaves out: its knot grid's counters (the
+#: workers evaluate the knots; the merge, which writes the diagnostics, does not see them).
+LIVE_ONLY_KEYS = (
+    "conditions_prepared_used",
+    "conditions_knot_hits",
+    "conditions_knot_misses",
+    "conditions_evaluations",
+)
+
+
 class ModelState:
     """One model on the merge side: the node's cumulative state after the records applied so far.
 
@@ -101,6 +111,9 @@ class ModelState:
         values = est.diagnostic_values(health.last_sample, health.compute_ms())
         values["shading_cache_hits"] = self.cache.hits  # one cache fed every query in bag order
         values["shading_cache_misses"] = self.cache.misses
+        # the live node's knots and their prefetching; the workers' knots are not seen here
+        for key in LIVE_ONLY_KEYS:
+            del values[key]
         level, message = health.level(now_ns, self.settings, sum(self.rejections.values()))
         return bag_io.diagnostic_status(
             level, f"{NODE_NAME}/{self.label}: aerodynamic wrench", message, est.mesh.source, values

@@ -25,7 +25,6 @@ from tqdm import tqdm
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags.report import DIAGNOSTICS_TOPIC
 from adbsat_ros.bags.table import PLOT_COLUMNS, header
-from adbsat_ros.messages.cdr import header_stamp
 
 _NS = 1_000_000_000
 
@@ -155,7 +154,7 @@ class _Walk:
                             )
                 t1 = pc()
                 seconds["write"] += t1 - t0
-                sec, nanosec = header_stamp(raw)
+                sec, nanosec = row.stamp.sec, row.stamp.nanosec  # (as decoded, either way)
                 stamp_ns = sec * _NS + nanosec
                 if first_row_ns is None:
                     first_row_ns = stamp_ns
@@ -236,15 +235,9 @@ def write_outputs(
 def write_plots(plots_dir, stamps_ns, rows_plot, labels, report) -> None:
     """PNG plots of force, torque, density and drag coefficient of every model against time,
     into ``plots_dir`` (replaced as a whole); their paths in ``report.outputs['plots']``."""
-    try:
-        from adbsat_ros.plotting.time_series import plot_time_series  # matplotlib: when asked
-    except ModuleNotFoundError as exc:
-        if exc.name != "adbsat_ros.plotting.time_series":
-            raise
-        report.warnings.append(
-            "plots not written: adbsat_ros.plotting.time_series is not available"
-        )
-        return
+    # imported when plots are asked for: matplotlib takes about 0.3 s to import
+    from adbsat_ros.plotting.time_series import plot_time_series
+
     stamps_ns = np.asarray(stamps_ns, dtype=np.int64)
     time_s = (stamps_ns - stamps_ns[0]) * 1e-9
     data = np.asarray(rows_plot, dtype=float).reshape(

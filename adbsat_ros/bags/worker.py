@@ -21,6 +21,7 @@ from adbsat_ros.bags.reading import STATE
 from adbsat_ros.bags.table import model_cells, utc_text
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
+from adbsat_ros.messages.cdr import Stamp
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
 from adbsat_ros.messages.stamps import stamp_seconds
 
@@ -95,8 +96,10 @@ class MessageRecord(NamedTuple):
 
 
 class Row(NamedTuple):
-    """The CSV row of a message: UTC text, the models' cells as CSV text, their plot numbers."""
+    """The CSV row of a message: its header stamp, UTC text, the models' cells as CSV text, and
+    their plot numbers."""
 
+    stamp: Stamp
     utc: str
     cells: str
     plot: list
@@ -203,7 +206,7 @@ class Worker:
             row = None
             if any(o.triggered for o in outcomes):
                 cells, plot = model_cells(outcomes)
-                row = Row(utc_text(utc_of, stamp_seconds(stamp)), cells, plot)
+                row = Row(stamp, utc_text(utc_of, stamp_seconds(stamp)), cells, plot)
             records.append(tuple(m.record(o) for m, o in zip(models, outcomes)))
             rows.append(row)
         return ChunkResult(records, rows)

@@ -282,7 +282,12 @@ class AeroWrenchEstimator:
                 f"(state_timeout {s.state_timeout:g} s)",
             )
         self._last_attitude_stamp = stamp
-        utc = self.utc(stamp)
+        try:
+            utc = self.utc(stamp)
+        except (ValueError, OverflowError) as exc:  # e.g. a UNIX stamp beyond year 9999
+            raise Rejection(
+                "bad_state", f"attitude stamp {stamp!r} s is no UTC time: {exc}"
+            ) from None
         try:
             conditions = self.knots.at(state, stamp, utc)
         except ValueError as exc:

@@ -247,6 +247,32 @@ def test_multi_model_comparison_columns_and_topics(tmp_path):
     }
 
 
+def test_an_attitude_only_the_general_deserialiser_reads_is_analysed_with_its_stamp(tmp_path):
+    """An attitude with CDR padding after its last field is refused by the fast codec and read by
+    rosbags' deserialiser: it still gets its wrench, and the CSV row carries its header stamp."""
+    messages = scenario.generate(scenario.Scenario(duration_s=4, rate_hz=1, state_rate_hz=1))
+    bag_io.write_scenario_bag(messages, tmp_path / "plain")
+    padded_stamp = int(messages.attitudes.stamps_ns[2]) + 250_000_000  # between two attitudes
+    with Reader(tmp_path / "plain") as reader, bag_io.BagWriter(tmp_path / "in") as writer:
+        for conn, t, raw in reader.messages():
+            writer.write_raw(writer.connection(conn.topic, conn.msgtype), t, raw)
+            if conn.topic == "/attitude" and t == messages.attitudes.stamps_ns[2]:
+                msg = bag_io.quaternion_stamped_message(
+                    padded_stamp, "eci", messages.attitudes.quaternion_xyzw[2]
+                )
+                padded = bytes(bag_io.serialize(msg)) + b"\0\0"
+                writer.write_raw(writer.connection("/attitude", conn.msgtype), t + 1, padded)
+    report = analyze_bag(
+        tmp_path / "in",
+        models=[("m", WrenchSettings.from_parameters(FAST))],
+        out_csv=tmp_path / "out.csv",
+    )
+    assert report.error is None and report.models[0].wrenches == 5 + 1
+    header, rows = read_csv(tmp_path / "out.csv")
+    stamps = [float(r[header.index("stamp_s")]) for r in rows]
+    assert padded_stamp * 1e-9 in stamps and stamps == sorted(stamps)
+
+
 def test_raycast_tumbling_flight_equals_direct_calls(tmp_path):
     messages = scenario.generate(
         scenario.Scenario(

@@ -339,3 +339,14 @@ def test_settings_change_keeps_the_knot_counters_and_evaluates_new_knots():
     active = est.on_attitude(1.0014, TILTED)
     assert est.knots.evaluations == evaluations + 2
     np.testing.assert_array_equal(active.force, fresh_sample(1.0014, 1.0, TILTED, f107=250.0).force)
+
+
+def test_a_stamp_that_is_no_utc_time_is_a_counted_rejection():
+    """A UNIX stamp beyond the year 9999 has no UTC time: the attitude is rejected as bad_state
+    and counted, not raised as another error."""
+    est = estimator(time_mode="unix")
+    est.on_state(1e12, [R, 0.0, 1e3], [0.0, V, 10.0])
+    with pytest.raises(Rejection) as caught:
+        est.on_attitude(1e12 + 0.01, [0.0, 0.0, 0.0, 1.0])
+    assert caught.value.reason == "bad_state" and "1000000000000.01" in caught.value.message
+    assert est.rejections["bad_state"] == 1
