@@ -49,6 +49,7 @@ from adbsat_ros.environment.time_scales import (
     utc_datetime,
     utc_day,
 )
+from adbsat_ros.geometry.frames import cross
 from adbsat_ros.validation import vectors3
 
 #: Rate of the Earth rotation angle [rad/s] (IERS Conventions 2010, eq. 5.15:
@@ -369,15 +370,3 @@ def ecef_to_eci(time, position_ecef, velocity_ecef=None, **orientation_options):
     :meth:`EarthOrientation.ecef_to_eci`. Returns ``(position_eci, velocity_eci or None)``.
     """
     return earth_orientation(time, **orientation_options).ecef_to_eci(position_ecef, velocity_ecef)
-
-
-# -------------------------------------------------------------------------------------- helpers
-def cross(a, b) -> np.ndarray:
-    """Cross product a x b of 3-vectors (fast path for single vectors; else numpy.cross)."""
-    a = np.asarray(a)
-    b = np.asarray(b)
-    if a.shape == (3,) and b.shape == (3,):
-        a1, a2, a3 = a.tolist()
-        b1, b2, b3 = b.tolist()
-        return np.array([a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1])
-    return np.cross(a, b)

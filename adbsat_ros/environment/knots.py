@@ -202,7 +202,7 @@ class KnotGrid:
         With ``step`` > 0: the knots around the stamp and, if they were kept already, the knot
         :data:`KNOT_LOOKAHEAD` steps on, so that at most one knot is evaluated per call in a
         regular stream, one interval before any stamp needs it. With ``step`` = 0: the exact
-        conditions at the stamp. A later :meth:`conditions` at this stamp and key counts in
+        conditions at the stamp. A later :meth:`at` at this stamp and key counts in
         :attr:`prepared_used`. The numbers of any request are those it would have had without.
 
         Returns

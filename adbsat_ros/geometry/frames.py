@@ -20,6 +20,26 @@ import math
 
 import numpy as np
 
+
+def cross(a, b) -> np.ndarray:
+    """Cross product a x b over the last axis (arrays of shape (3,) or (..., 3), broadcast).
+
+    The three component formulas, as ``np.cross`` evaluates them (the same numbers), without its
+    checks and axis moves. Measured in one run (``timeit``, two (3,) vectors): 1.7 us here
+    against 12.9 us for ``np.cross``; the panel method takes two or three per attitude, so
+    ``np.cross`` would add 20-30 us to the estimator's ~41 us per attitude.
+    """
+    a = np.asarray(a)
+    b = np.asarray(b)
+    if a.ndim == 1 and b.ndim == 1:
+        a0, a1, a2 = a.tolist()
+        b0, b1, b2 = b.tolist()
+        return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+
+
 #: Mesh frame G to ADBSat body frame B (and back: it is its own inverse).
 L_GB = np.diag([1.0, -1.0, -1.0])
 #: ADBSat body frame B to flight frame F.

@@ -20,8 +20,8 @@ from collections import OrderedDict
 
 import numpy as np
 
+from adbsat_ros.geometry.frames import cross
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.physics.incidence import cross
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import PanelLighting
 
@@ -79,8 +79,7 @@ class LitSumsCache:
     summing at every call (+264 us, about +50 % of the node's ~0.5 ms per message); 94 us with
     the all-lit sums plus a sparse correction over the panels not fully lit (+72 us, +14 %),
     whose rounding, unlike the sums here, is not that of the per-panel sums: it moved a small
-    side-force coefficient of the golden outputs by 1.5e-12 of its size. The flat-layout code
-    before it took 19.4 us through its private per-message entry point.
+    side-force coefficient of the golden outputs by 1.5e-12 of its size.
 
     Parameters
     ----------

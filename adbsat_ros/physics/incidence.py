@@ -7,21 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-
-def cross(a, b) -> np.ndarray:
-    """Cross product a x b over the last axis (shapes (3,) or (..., 3), broadcast).
-
-    The same numbers as ``np.cross`` (the three component formulas), without its checks and
-    axis moves, which cost more than the product itself for the panel method's (3,) vectors.
-    """
-    if a.ndim == 1 and b.ndim == 1:
-        a0, a1, a2 = (float(v) for v in a)
-        b0, b1, b2 = (float(v) for v in b)
-        return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
-
+from adbsat_ros.geometry.frames import cross
 
 #: Below this sin(delta) [-] (within 0.06 deg of normal incidence) :func:`sine_of_incidence`
 #: takes |u x n| instead of sqrt(1 - c^2).

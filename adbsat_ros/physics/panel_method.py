@@ -19,7 +19,8 @@ sum_i f_i A_i phi_i = W_g phi_g with W_g = sum f_i A_i, and sum_i f_i A_i r_i x 
 Q_g x phi_g with Q_g = sum f_i A_i r_i (lit centroids included). A CAD satellite of flat faces
 meshed into 10k triangles has a few hundred facets; a sphere has one per panel, and is evaluated
 panel by panel. The per-panel outputs (cp, ctau, cos_delta) are the facet values. Shading enters
-the facet sums through the panels it does not leave fully lit (:mod:`adbsat_ros.physics.facets`).
+through W_g and Q_g, summed from the lighting's fractions and shifts
+(:mod:`adbsat_ros.physics.facets`).
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ from adbsat_ros.physics.gsi_models import (
     canonical_model_name,
     get_model,
 )
-from adbsat_ros.physics.incidence import cross, sine_of_incidence
+from adbsat_ros.physics.incidence import sine_of_incidence
 from adbsat_ros.physics.surface import (
     SURFACE_PARAMETERS,
     MaterialTable,
@@ -237,12 +238,12 @@ class PanelMethod:
         sum_w = w_t.sum(axis=-1)
         u = np.asarray(u_G, dtype=float)
         force = sum_w[..., None] * u + g @ self._normals
-        moment = cross(w_t @ self._bary, u) + g @ self._r_cross_n
+        moment = frames.cross(w_t @ self._bary, u) + g @ self._r_cross_n
         if lighting is not None and lighting.shift_index.size:
             i, d = lighting.shift_index, lighting.shift
-            moment = moment + cross(w_t[i] @ d, u) + g[i] @ cross(d, self._normals[i])
+            moment = moment + frames.cross(w_t[i] @ d, u) + g[i] @ frames.cross(d, self._normals[i])
         ref = self.reference
-        moment = moment - cross(self._moment_point, force)
+        moment = moment - frames.cross(self._moment_point, force)
         Cf = force / ref.area
         Cm = moment / (ref.area * ref.length)
         area_projected = (area * np.maximum(c, 0.0)).sum(axis=-1)

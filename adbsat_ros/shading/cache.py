@@ -137,12 +137,8 @@ class ShadingCache:
         ValueError
             If ``u_G`` is not a finite non-zero 3-vector.
         """
-        if type(u_G) is np.ndarray and u_G.shape == (3,) and u_G.dtype == np.float64:
-            x, y, z = u_G.tolist()  # the common case, checked without numpy calls
-            if math.isfinite(x) and math.isfinite(y) and math.isfinite(z) and (x or y or z):
-                return direction_key(x, y, z, self.n)
-        u = frames.unit_vector(u_G)  # anything else, or the error naming the bad input
-        return direction_key(float(u[0]), float(u[1]), float(u[2]), self.n)
+        x, y, z = frames.unit_vector(u_G).tolist()
+        return direction_key(x, y, z, self.n)
 
     def centre(self, key: int) -> np.ndarray:
         """Unit flow direction (G) at the centre of cell ``key``: the direction shaded."""

@@ -6,8 +6,8 @@ of the centre of pressure from the barycentre to the centroid of the lit part.
 
 It is stored sparsely: only the panels that are not fully lit (``shaded_index``, their
 ``shaded_fraction``) and the shifts, so its size grows with the shaded area, not with the mesh.
-The shading cache keeps lightings as they are, and the panel method corrects its all-lit sums
-over those panels alone.
+The shading cache keeps lightings as they are; the panel method sums a lighting's facet weights
+once and keeps them under its content fingerprint (:attr:`PanelLighting.key`).
 """
 
 from __future__ import annotations
@@ -62,8 +62,8 @@ class PanelLighting:
     Notes
     -----
     Every array is read-only, so a lighting can be shared (the shading cache hands out the
-    same object for every query in one cell). The index arrays are int32 in the cache's sparse
-    entries and int64 for the shifts, as numpy indexes with either.
+    same object for every query in one cell). ``shaded_index`` is stored as int32 (half the
+    memory of a cached entry); numpy indexes with it as with int64.
     """
 
     __slots__ = (
