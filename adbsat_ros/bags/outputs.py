@@ -154,7 +154,7 @@ class _Walk:
                             )
                 t1 = pc()
                 seconds["write"] += t1 - t0
-                sec, nanosec = row.stamp.sec, row.stamp.nanosec  # (as decoded, either way)
+                sec, nanosec = row.stamp_sec, row.stamp_nanosec  # (as decoded, either way)
                 stamp_ns = sec * _NS + nanosec
                 if first_row_ns is None:
                     first_row_ns = stamp_ns

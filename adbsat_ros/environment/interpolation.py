@@ -37,6 +37,10 @@ class KnotEnds:
     """One end of an interpolation (a knot): its conditions and, made when first asked for (a
     stream stamped on the knots never asks), the numbers the interpolation mixes.
 
+    Made lazily because bag analysis at 100 Hz meets a knot at every attitude: making the
+    numbers with each knot measured +9 us per attitude in one run (cProfile of the estimator fed
+    a 60 s, 100 Hz flight, 9,600-face satellite), about 9 % of its ~100 us.
+
     Parameters
     ----------
     conditions : FlightConditions

@@ -2,6 +2,7 @@
 AeroWrenchEstimator calls, the written bag (read back with rosbags), the CSV and closed forms."""
 
 import csv
+import gc
 import math
 from pathlib import Path
 
@@ -571,3 +572,23 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path):
 
 def final_att(diags):
     return dict([d for _, d in diags if d[0][1].startswith("adbsat_node/att:")][-1][0][4])
+
+
+def test_the_garbage_collector_is_left_as_found(tmp_path):
+    """The analysis keeps the heap out of the collector's passes while it runs (frozen), and
+    leaves nothing frozen after it, nor thaws what its caller froze."""
+    messages = scenario.generate(scenario.Scenario(duration_s=3, rate_hz=1, state_rate_hz=1))
+    bag_io.write_scenario_bag(messages, tmp_path / "in")
+    models = [("m", WrenchSettings.from_parameters(FAST))]
+    assert gc.get_freeze_count() == 0
+    for workers in (1, 2):
+        report = analyze_bag(tmp_path / "in", models=models, workers=workers)
+        assert report.error is None and report.models[0].wrenches == 4
+        assert gc.get_freeze_count() == 0
+    gc.freeze()
+    try:
+        frozen = gc.get_freeze_count()
+        analyze_bag(tmp_path / "in", models=models, workers=1)
+        assert gc.get_freeze_count() > frozen // 2  # (frozen objects freed by refcount leave)
+    finally:
+        gc.unfreeze()
