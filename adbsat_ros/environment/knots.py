@@ -74,7 +74,7 @@ class KnotGrid:
     """The flight conditions of one orbital state on the knots, interpolated in between.
 
     A cache with one concern: its key is the orbital state the knots belong to (compared by
-    identity: every state accepted is a new key, and a new key forgets the knots), its bound
+    value, ``==``: another state forgets the knots, the same one sent again keeps them), its bound
     ``kept`` knots (the oldest goes first), and it counts its lookups (:attr:`hits`,
     :attr:`misses`), the exact evaluations made (:attr:`evaluations`) and the requests at the
     stamp :meth:`prepare` made ready (:attr:`prepared_used`).
@@ -161,7 +161,7 @@ class KnotGrid:
         Parameters
         ----------
         key : object
-            The orbital state (what ``evaluate`` takes).
+            The orbital state (what ``evaluate`` takes; compared with ``==``).
         stamp : float
             Message stamp [s].
         time : datetime.datetime
@@ -174,7 +174,7 @@ class KnotGrid:
             the conditions are no gas a free stream takes.
         """
         prepared = self._prepared
-        if prepared is not None and prepared[1] == stamp and prepared[0] is key:
+        if prepared is not None and prepared[1] == stamp and prepared[0] == key:
             self.prepared_used += 1
         step = self.step
         if step <= 0.0:  # every stamp its own knot
@@ -232,7 +232,7 @@ class KnotGrid:
 
     def _knot(self, key, index) -> KnotEnds:
         """Knot ``index`` of ``key``, kept or evaluated (and kept, the oldest going first)."""
-        if key is not self._key:
+        if key != self._key:
             self._key = key
             self._knots = {}
         knots = self._knots

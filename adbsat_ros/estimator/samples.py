@@ -41,11 +41,28 @@ class Rejection(Exception):
 
 @dataclass(frozen=True, eq=False)
 class OrbitalState:
-    """The latest accepted orbital state, in the state frame (ECI or ECEF) [m, m/s]."""
+    """The latest accepted orbital state, in the state frame (ECI or ECEF) [m, m/s].
+
+    Equal to another with the same stamp, position and velocity (the key of the estimator's
+    flight-conditions knots); not hashable.
+    """
 
     stamp: float
     position: np.ndarray
     velocity: np.ndarray
+
+    def __eq__(self, other):
+        if self is other:
+            return True
+        if not isinstance(other, OrbitalState):
+            return NotImplemented
+        return (
+            self.stamp == other.stamp
+            and np.array_equal(self.position, other.position)
+            and np.array_equal(self.velocity, other.velocity)
+        )
+
+    __hash__ = None
 
 
 @dataclass(eq=False)

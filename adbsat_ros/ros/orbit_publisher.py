@@ -13,7 +13,13 @@ import os
 import sys
 import time
 
-EARTH_MU = 3.986004418e14
+import rclpy
+from geometry_msgs.msg import QuaternionStamped, WrenchStamped
+from nav_msgs.msg import Odometry
+
+from adbsat_ros.physics.constants import EARTH_MU
+
+#: Equatorial radius of WGS-84 [m]: the orbit's radius is this plus the altitude.
 EARTH_RADIUS = 6378137.0
 
 
@@ -31,11 +37,7 @@ def main(argv=None) -> int:
     args, ros_args = parser.parse_known_args(argv)
     if not (0 < args.altitude <= 1000 and args.rate > 0 and args.duration > 0):
         parser.error("--altitude must be in (0, 1000] km, --rate and --duration > 0")
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    import rclpy
-    from geometry_msgs.msg import QuaternionStamped, WrenchStamped
-    from nav_msgs.msg import Odometry
-
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")  # read by rclpy.init
     rclpy.init(args=[sys.argv[0], *ros_args])
     node = rclpy.create_node("orbit_publisher")
     attitude = node.create_publisher(QuaternionStamped, "attitude", 10)

@@ -306,12 +306,22 @@ V_350 = math.sqrt(EARTH_MU / R_350)
 
 
 class State:
-    """An orbital state as the estimator keeps one: stamp [s], ECI position [m], velocity [m/s]."""
+    """An orbital state as the estimator keeps one: stamp [s], ECI position [m], velocity [m/s];
+    equal to another with the same numbers."""
 
     def __init__(self, stamp, position, velocity):
         self.stamp = stamp
         self.position = np.asarray(position, dtype=float)
         self.velocity = np.asarray(velocity, dtype=float)
+
+    def __eq__(self, other):
+        if not isinstance(other, State):
+            return NotImplemented
+        return (
+            self.stamp == other.stamp
+            and np.array_equal(self.position, other.position)
+            and np.array_equal(self.velocity, other.velocity)
+        )
 
 
 def utc(stamp: float) -> dt.datetime:
@@ -407,25 +417,29 @@ def test_the_grid_keeps_at_most_its_bound_of_knots_and_counts_its_lookups():
 
 
 def test_a_new_state_is_a_new_key_and_the_numbers_depend_on_the_stamp_and_state_only():
-    """Knots belong to one state: another state object (even with the same numbers) evaluates
-    its own, and the old ones go. A stamp gets the same numbers whatever was asked before, from
-    a fresh grid, and from interpolated_flight_conditions between the exact knots."""
-    first, second = circular(), circular()
+    """Knots belong to one state, compared by value: the same numbers sent again keep them,
+    another state evaluates its own and the old ones go. A stamp gets the same numbers whatever
+    was asked before, from a fresh grid, and from interpolated_flight_conditions between the
+    exact knots."""
+    first, second = circular(), circular(stamp=1.0005)
     grid, fresh = KnotGrid(0.01, exact), KnotGrid(0.01, exact)
     for stamp in (1.0013, 1.0042, 1.0311, 1.0522):
         grid.conditions(first, stamp, utc(stamp))
     before = grid.misses
+    grid.conditions(circular(), 1.0522, utc(1.0522))  # equal to the first: its knots serve
+    assert grid.misses == before and len(grid) == 4
     again = grid.conditions(second, 1.0137, utc(1.0137))
     assert grid.key is second and grid.misses == before + 2 and len(grid) == 2
-    lone = fresh.conditions(first, 1.0137, utc(1.0137))
+    lone = fresh.conditions(second, 1.0137, utc(1.0137))
     assert numbers(again) == numbers(lone)
     reference = interpolated_flight_conditions(
-        exact(first, 1.01), exact(first, 1.02), (1.0137 - 1.01) / 0.01, utc(1.0137)
+        exact(second, 1.01), exact(second, 1.02), (1.0137 - 1.01) / 0.01, utc(1.0137)
     )
     assert numbers(lone) == numbers(reference)
     back = grid.conditions(first, 1.0137, utc(1.0137))  # the first state's knots went: again
     assert grid.key is first and grid.misses == before + 4
-    assert numbers(back) == numbers(lone)
+    assert numbers(back) != numbers(lone)
+    assert numbers(back) == numbers(KnotGrid(0.01, exact).conditions(first, 1.0137, utc(1.0137)))
 
 
 def test_prepare_evaluates_the_knots_of_a_stamp_then_the_one_after_next():
@@ -441,7 +455,7 @@ def test_prepare_evaluates_the_knots_of_a_stamp_then_the_one_after_next():
     assert grid.prepared_used == 2
     grid.conditions(state, 1.0107, utc(1.0107))  # the next interval: its far knot is ready
     assert grid.misses == 3 and grid.prepared_used == 2  # and 1.0107 was not prepared
-    other = circular()
+    other = circular(stamp=1.0001)
     grid.conditions(other, 1.0015, utc(1.0015))  # the prepared stamp, but another state
     assert grid.prepared_used == 2
     grid.prepare(other, 1.0125)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
-from adbsat_ros.estimator.samples import Rejection
+from adbsat_ros.estimator.samples import OrbitalState, Rejection
 from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
 from adbsat_ros.estimator.state import (
     STATE_FRAME_NAMES,
@@ -93,3 +93,15 @@ def test_the_estimator_counts_odometry_rejections_and_rotates_a_body_twist():
         with pytest.raises(Rejection):
             est.on_odometry(message)
     assert est.rejections == {"bad_state": 2} and est.state is state
+
+
+def test_orbital_states_are_equal_by_value():
+    """Two states with the same stamp, position and velocity are equal (the knots' key); any
+    difference makes them unequal; a state is not hashable (it holds arrays)."""
+    a = OrbitalState(1.5, np.array([7e6, 0.0, 0.0]), np.array([0.0, 7.5e3, 0.0]))
+    assert a == OrbitalState(1.5, np.array([7e6, 0.0, 0.0]), np.array([0.0, 7.5e3, 0.0]))
+    assert a != OrbitalState(1.5, np.array([7e6, 0.0, 1e-9]), np.array([0.0, 7.5e3, 0.0]))
+    assert a != OrbitalState(1.5, np.array([7e6, 0.0, 0.0]), np.array([0.0, 7.5e3, 1e-9]))
+    assert a != OrbitalState(1.25, a.position, a.velocity) and a != None  # noqa: E711
+    with pytest.raises(TypeError):
+        hash(a)
