@@ -6,10 +6,10 @@ Usage:
 Cases, on the example satellite refined to ~9,600 faces, sentman, raycast shading cached at
 0.25 deg:
 
-* "same cell": consecutive attitudes in one cache cell (a GNC loop at a high rate), the cache's
-  memo of the latest cell answers;
-* "stored cells": every query in another cell, all already in the cache (the sparse store is
-  unpacked each time);
+* "same cell": consecutive attitudes in one cache cell (a GNC loop at a high rate): the latest
+  cell answers, and the panel method's facet sums of its lighting are kept;
+* "stored cells": every query in another cell, all already in the cache (the lighting is
+  stored; its facet sums are made again when it is not among the latest few);
 * "estimator": AeroWrenchEstimator.on_attitude, i.e. the node's whole per-message work
   (flight conditions from the knot grid, rotation, cache, panel method), same cell;
 * the same at 100 Hz, sleeping 10 ms before each message (the cost after the CPU idled), without

@@ -28,7 +28,7 @@ coeff's path, to tell what they cost by themselves. ``--importtime`` also runs `
 script) 5 times per tree under ``python -X importtime`` and prints where its import time goes,
 by top-level package. Run::
 
-    python bench/bench_cli.py --tree /work/baseline --tree .
+    python bench/bench_cli.py --tree ../baseline --tree .
     python bench/bench_cli.py --importtime --mesh satellite.stl
 """
 

@@ -16,7 +16,7 @@ times what its subscriptions do with one message, as the executor would call the
   message rclpy deserialises first, which is counted here too).
 
 ``--baseline DIR_OR_REV`` builds the node of another tree too: a checkout directory (e.g. the flat
-layout at /work/baseline, whose node is ``adbsat_ros.node``) or a git revision, its ``adbsat_ros``
+layout at ../baseline, whose node is ``adbsat_ros.node``) or a git revision, its ``adbsat_ros``
 copied and imported as ``adbsat_ros_baseline`` (which works for a tree whose modules import each
 other relatively, as the flat layout's do), and times both in alternating rounds, so that both
 see the same machine load. Prints the median over rounds of the mean CPU time of the process per

@@ -10,7 +10,7 @@ Usage:
         [--trace [--trace-part module:Class.method ...] [--trace-cpu]]
 
 A/B of the node's CPU per message against an older tree, e.g. (a few rounds, 1 kHz):
-    python bench/bench_node_latency.py --baseline /work/baseline --rates 1000 --rounds 4 \
+    python bench/bench_node_latency.py --baseline ../baseline --rates 1000 --rounds 4 \
         --duration 5 --soak 0
 
 Runs three processes per case: the node under test (adbsat_node on an 11,104-face example satellite,

@@ -3,7 +3,7 @@
 Usage::
 
     python bench/bench_panel_method.py [--model sentman] [--repeat 200]
-    python bench/bench_panel_method.py --cached [--baseline /work/baseline] [--rounds 6]
+    python bench/bench_panel_method.py --cached [--baseline ../baseline] [--rounds 6]
 
 Without ``--cached``: per sphere of about 1k, 10k and 100k faces (no shading), the median wall time
 of ``PanelMethod.coefficients`` (the full public call) and of the bare ``panel_coefficients +
@@ -19,7 +19,7 @@ panel method, as the ROS node does per message, on the 11,104-face example satel
 * ``cache hit only``: the shading-cache lookup alone, same cell.
 
 This tree and the tree at ``--baseline`` (the flat layout before the subpackages, e.g.
-/work/baseline) each run in a worker process of their own, alternately (ABAB...) for
+../baseline) each run in a worker process of their own, alternately (ABAB...) for
 ``--rounds`` rounds; the table gives the median over the rounds in microseconds. The baseline is
 measured through its public ``coefficients`` and through ``_unit_coefficients`` (the node's
 entry point there). For this tree, two ways without the lit-sums cache are measured beside the
@@ -250,7 +250,7 @@ def main() -> None:
     parser.add_argument("--model", default="sentman")
     parser.add_argument("--repeat", type=int, default=200)
     parser.add_argument("--cached", action="store_true", help="shading-cache hit + panel method")
-    parser.add_argument("--baseline", default="/work/baseline", help="tree to compare with")
+    parser.add_argument("--baseline", default="../baseline", help="tree to compare with")
     parser.add_argument("--rounds", type=int, default=6)
     parser.add_argument("--calls", type=int, default=2000)
     parser.add_argument("--blocks", type=int, default=3)

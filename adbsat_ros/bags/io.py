@@ -22,7 +22,6 @@ from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
 from adbsat_ros.messages.decoding import ODOMETRY, QUATERNION_STAMPED
-from adbsat_ros.messages.stamps import stamp_seconds
 
 #: The message types of ROS 2 Jazzy (the project's distribution).
 TYPESTORE = get_typestore(Stores.ROS2_JAZZY)
@@ -158,13 +157,6 @@ def deserialize_attitude(raw):
 def deserialize_odometry(raw):
     """A nav_msgs/Odometry from CDR bytes (raises for anything else)."""
     return TYPESTORE.deserialize_cdr(raw, ODOMETRY)
-
-
-# --------------------------------------------------------------------------------- decoders
-def decode_quaternion_stamped(msg) -> tuple[float, list]:
-    """(stamp [s], [x, y, z, w]) of a geometry_msgs/QuaternionStamped."""
-    q = msg.quaternion
-    return stamp_seconds(msg.header.stamp), [q.x, q.y, q.z, q.w]
 
 
 # --------------------------------------------------------------------------------- reading

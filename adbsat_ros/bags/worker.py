@@ -11,10 +11,7 @@ in bag order writes and counts (never the panel method's results), and the CSV r
 from __future__ import annotations
 
 import collections
-import contextlib
-import gc
 import itertools
-import multiprocessing
 from concurrent.futures import ProcessPoolExecutor
 from typing import NamedTuple
 
@@ -25,6 +22,7 @@ from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
 from adbsat_ros.messages.stamps import stamp_seconds
+from adbsat_ros.processes import frozen_heap, pool_context
 
 
 class SampleNumbers(NamedTuple):
@@ -229,34 +227,6 @@ def _run_chunk(chunk) -> ChunkResult:
     return _WORKER.run(chunk)
 
 
-def _pool_context():
-    """Fork where available (workers start at once and inherit the imports and meshes)."""
-    if "fork" in multiprocessing.get_all_start_methods():
-        return multiprocessing.get_context("fork")
-    return multiprocessing.get_context()
-
-
-@contextlib.contextmanager
-def frozen_heap():
-    """Keep the objects that exist now out of the garbage collector's passes while inside.
-
-    The analysis makes some 20 tracked objects per message and keeps a chunk's worth; every
-    full collection then walks the whole heap (some 130,000 objects: numpy, trimesh, rosbags,
-    the meshes). Unpickling one 6,602-message chunk took 41 ms with the heap walked, 11.5 ms
-    frozen (:func:`gc.freeze`), in one run. Frozen before the workers fork, the heap also stays
-    shared with them, as the :mod:`gc` documentation advises. Nothing is frozen if the caller
-    froze objects already.
-    """
-    if gc.get_freeze_count():
-        yield
-        return
-    gc.freeze()
-    try:
-        yield
-    finally:
-        gc.unfreeze()
-
-
 def chunk_results(specs, chunks, workers: int):
     """The ChunkResult of each chunk, in order: computed here (``workers`` 1), or by a pool of
     ``workers`` processes kept a few chunks ahead of the caller.
@@ -281,7 +251,7 @@ def _chunk_results(specs, chunks, workers: int):
         return
     with ProcessPoolExecutor(
         max_workers=workers,
-        mp_context=_pool_context(),
+        mp_context=pool_context(),
         initializer=_init_worker,
         initargs=(specs,),
     ) as pool:

@@ -1,7 +1,7 @@
 """Option groups shared by the subcommands that evaluate the panel method (coeff, database).
 
-Imported only when one of those runs, so the mesh loading and the physics are imported at the
-top; the shader, which only some options need, is imported when made.
+Imported only when one of those runs, so the mesh loading, the physics and the shaders are
+imported at the top.
 """
 
 from __future__ import annotations
@@ -22,9 +22,8 @@ from adbsat_ros.physics.gsi_models import (
 )
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
-
-#: Values of ``--shading``.
-SHADING_MODES = ("none", "projection", "raycast")
+from adbsat_ros.shading.shader import MODES as SHADING_MODES
+from adbsat_ros.shading.shader import make_shader
 
 
 def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
@@ -254,8 +253,6 @@ def make_shader_from_args(args, mesh):
     """A shader for the chosen mode, or None for 'none'."""
     if args.shading == "none":
         return None
-    from adbsat_ros.shading.shader import make_shader
-
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
     return make_shader(mesh, mode=args.shading, samples=args.samples)

@@ -15,7 +15,6 @@ number of workers (bit for bit).
 from __future__ import annotations
 
 import math
-import multiprocessing
 import os
 import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -29,6 +28,7 @@ from adbsat_ros.database.metadata import describe_setup
 from adbsat_ros.geometry import frames
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.processes import pool_context
 from adbsat_ros.shading.shader import MODES, make_shader
 
 #: Largest attitude count of a chunk handed to one worker.
@@ -118,13 +118,6 @@ class _Progress:
     def close(self):
         if self._bar is not None and self._own:
             self._bar.close()
-
-
-def _pool_context():
-    """Fork where available (workers start in milliseconds and inherit the imports)."""
-    if "fork" in multiprocessing.get_all_start_methods():
-        return multiprocessing.get_context("fork")
-    return multiprocessing.get_context()
 
 
 def build_database(
@@ -230,7 +223,7 @@ def build_database(
         else:
             with ProcessPoolExecutor(
                 max_workers=workers,
-                mp_context=_pool_context(),
+                mp_context=pool_context(),
                 initializer=_init_worker,
                 initargs=(method, flow, shading, samples),
             ) as pool:

@@ -14,12 +14,12 @@ from dataclasses import dataclass, fields
 import yaml
 
 from adbsat_ros.environment.accommodation import accommodation_model_names
+from adbsat_ros.environment.flight_conditions import STATE_FRAMES
 from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, canonical_model_name
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.shading.shader import MODES as SHADING_MODES
 
-SHADING_MODES = ("none", "projection", "raycast")
 TIME_MODES = ("unix", "epoch")
-STATE_FRAMES = ("eci", "ecef")
 ATTITUDE_SOURCES = ("attitude_topic", "odometry")
 COEFFICIENT_SOURCES = ("panel", "database")
 EXECUTORS = ("events", "single_threaded")

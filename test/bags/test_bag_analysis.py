@@ -462,7 +462,8 @@ def sequential(records, settings):
                 if settings.attitude_source != "odometry":
                     continue
             elif topic == "/attitude" and settings.attitude_source == "attitude_topic":
-                stamp, q = bag_io.decode_quaternion_stamped(msg)
+                q = msg.quaternion
+                stamp, q = stamp_seconds(msg.header.stamp), [q.x, q.y, q.z, q.w]
             else:
                 continue
             forces.append(est.on_attitude(stamp, q).force)
