@@ -174,7 +174,11 @@ class KnotGrid:
             the conditions are no gas a free stream takes.
         """
         prepared = self._prepared
-        if prepared is not None and prepared[1] == stamp and prepared[0] == key:
+        if (
+            prepared is not None
+            and prepared[1] == stamp
+            and (prepared[0] is key or prepared[0] == key)
+        ):
             self.prepared_used += 1
         step = self.step
         if step <= 0.0:  # every stamp its own knot
@@ -232,7 +236,7 @@ class KnotGrid:
 
     def _knot(self, key, index) -> KnotEnds:
         """Knot ``index`` of ``key``, kept or evaluated (and kept, the oldest going first)."""
-        if key != self._key:
+        if key is not self._key and key != self._key:  # (as containers compare)
             self._key = key
             self._knots = {}
         knots = self._knots
