@@ -46,6 +46,30 @@ L_GB = np.diag([1.0, -1.0, -1.0])
 L_FB = np.diag([-1.0, 1.0, -1.0])
 
 
+def _floats(value, name: str) -> np.ndarray:
+    """``value`` as a flat float array, or ValueError naming ``name`` if it holds no numbers."""
+    try:
+        return np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite non-zero 3-vector, got {value!r}") from None
+
+
+def direction_components(value, name: str = "flow direction") -> tuple:
+    """The components (x, y, z) of a direction as three floats, not normalised.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``, if ``value`` is not a finite non-zero 3-vector.
+    """
+    u = _floats(value, name)
+    if u.shape == (3,):
+        x, y, z = u.tolist()
+        if math.isfinite(x) and math.isfinite(y) and math.isfinite(z) and (x or y or z):
+            return x, y, z
+    raise ValueError(f"{name} must be a finite non-zero 3-vector, got {value!r}")
+
+
 def unit_vector(value, name: str = "flow direction") -> np.ndarray:
     """``value`` as a unit 3-vector (float array).
 
@@ -54,7 +78,7 @@ def unit_vector(value, name: str = "flow direction") -> np.ndarray:
     ValueError
         Naming ``name``, if ``value`` is not a finite non-zero 3-vector.
     """
-    u = np.asarray(value, dtype=float).reshape(-1)
+    u = _floats(value, name)
     norm = math.sqrt(u.dot(u)) if u.shape == (3,) else math.nan  # np.linalg.norm(u), exactly
     if u.shape != (3,) or not math.isfinite(norm) or norm == 0.0:
         raise ValueError(f"{name} must be a finite non-zero 3-vector, got {value!r}")

@@ -137,8 +137,7 @@ class ShadingCache:
         ValueError
             If ``u_G`` is not a finite non-zero 3-vector.
         """
-        x, y, z = frames.unit_vector(u_G).tolist()
-        return direction_key(x, y, z, self.n)
+        return direction_key(*frames.direction_components(u_G), self.n)
 
     def centre(self, key: int) -> np.ndarray:
         """Unit flow direction (G) at the centre of cell ``key``: the direction shaded."""
