@@ -33,7 +33,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
-from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
+from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.example_satellite import example_satellite
 from adbsat_ros.physics.freestream import FreeStream

@@ -56,7 +56,8 @@ def worker(tree: str, max_edge: float) -> None:
 
     try:  # subpackages
         from adbsat_ros.estimator.estimator import AeroWrenchEstimator
-        from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+        from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
+        from adbsat_ros.estimator.settings import WrenchSettings
         from adbsat_ros.geometry.example_satellite import example_satellite
     except ImportError:  # the flat layout
         from adbsat_ros.aero_wrench import AeroWrenchEstimator

@@ -529,7 +529,8 @@ def build_node_database(mesh_path: Path) -> str:
     mesh."""
     from adbsat_ros.database.build import build_database
     from adbsat_ros.estimator.estimator import AeroWrenchEstimator
-    from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+    from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
+    from adbsat_ros.estimator.settings import WrenchSettings
     from adbsat_ros.physics.freestream import FreeStream
 
     settings = WrenchSettings.from_parameters(

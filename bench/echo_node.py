@@ -30,7 +30,7 @@ from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
 
 def panel_callback(publisher, mesh_path: str):
     """The --echo-panel callback: CDR bytes of an attitude in, of its wrench out."""
-    from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS as D
+    from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS as D
     from adbsat_ros.geometry.frames import quaternion_matrix_floats
     from adbsat_ros.geometry.loading import resolve_mesh
     from adbsat_ros.messages.cdr import quaternion_stamped_fields, wrench_stamped_cdr

@@ -103,7 +103,8 @@ def configure_analyze(a) -> None:
 def models_from_args(args) -> list:
     """[(label, WrenchSettings)] from --params/--label; errors name the file or option."""
     from adbsat_ros.bags import analysis as bag_analysis
-    from adbsat_ros.estimator.settings import WrenchSettings, load_parameters_file
+    from adbsat_ros.estimator.parameters import load_parameters_file
+    from adbsat_ros.estimator.settings import WrenchSettings
 
     if args.label and len(args.label) != max(len(args.params), 1):
         raise CommandLineError(

@@ -34,7 +34,7 @@ from adbsat_ros.estimator.diagnostics import diagnostic_values
 from adbsat_ros.estimator.samples import OrbitalState, Rejection, WrenchSample
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.estimator.shading import ShadingSource
-from adbsat_ros.estimator.state import checked_rotation, checked_state, odometry_inputs
+from adbsat_ros.estimator.state import checked_rotation, checked_state, jumps_back, odometry_inputs
 from adbsat_ros.estimator.timing import stamp_utc
 from adbsat_ros.geometry.frames import unit_vector
 from adbsat_ros.geometry.loading import resolve_mesh
@@ -175,8 +175,9 @@ class AeroWrenchEstimator:
         Raises
         ------
         Rejection
-            ``non_finite``, ``bad_quaternion`` or ``time_backwards`` (which resets the history
-            and keeps this state).
+            ``non_finite``, ``bad_quaternion``, ``out_of_order`` (a stamp before the latest
+            state's, within ``time_jump_reset``: the latest state stays) or ``time_backwards``
+            (further back: the history restarts from this state).
         """
         try:
             state = checked_state(
@@ -191,7 +192,12 @@ class AeroWrenchEstimator:
             self.rejections[exc.reason] += 1
             raise
         last = self._last_state_stamp
-        if last is not None and stamp < last:
+        try:
+            restart = jumps_back(stamp, last, self.settings.time_jump_reset, "state")
+        except Rejection as exc:
+            self.rejections[exc.reason] += 1
+            raise
+        if restart:
             self.reset()
             self._last_state_stamp, self._state = stamp, state
             self.rejections["time_backwards"] += 1
@@ -225,7 +231,7 @@ class AeroWrenchEstimator:
         s = self.settings
         try:
             stamp, position, velocity, in_body, orientation = odometry_inputs(
-                msg, s.state_frame, s.body_frame_id
+                msg, s.state_frame, s.body_frame_id, s.frame_ids
             )
         except Rejection as exc:
             self.rejections[exc.reason] += 1
@@ -246,7 +252,8 @@ class AeroWrenchEstimator:
         ------
         Rejection
             With the reason (counted in :attr:`rejections`); nothing is published for it:
-            ``non_finite``, ``bad_quaternion``, ``time_backwards`` (the history is reset),
+            ``non_finite``, ``bad_quaternion``, ``out_of_order`` (before the latest attitude,
+            within ``time_jump_reset``), ``time_backwards`` (further back: the history is reset),
             ``no_state``, ``stale_state``, ``altitude_out_of_range``, ``bad_state``,
             ``outside_database`` or ``compute_error``.
         """
@@ -266,7 +273,7 @@ class AeroWrenchEstimator:
             raise Rejection("non_finite", "attitude stamp is not finite")
         m = checked_rotation(quaternion_xyzw, "attitude quaternion", s.max_quaternion_norm_error)
         last = self._last_attitude_stamp
-        if last is not None and stamp < last:
+        if jumps_back(stamp, last, s.time_jump_reset, "attitude"):
             self.reset()
             raise Rejection(
                 "time_backwards", f"attitude time went back by {last - stamp:.3f} s: history reset"

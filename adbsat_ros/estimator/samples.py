@@ -22,6 +22,7 @@ REJECTION_REASONS = (
     "bad_quaternion",
     "no_state",
     "stale_state",
+    "out_of_order",
     "time_backwards",
     "altitude_out_of_range",
     "bad_state",

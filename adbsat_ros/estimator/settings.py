@@ -1,8 +1,6 @@
-"""Settings of the live aerodynamic wrench computation, shared by the ROS node and bag analysis.
-
-The single table :data:`PARAMETERS` names every setting with its default and meaning; the node
-declares its ROS parameters from it, ``config/adbsat.yaml`` documents it, and bag analysis reads
-the same YAML (ROS ``--params-file`` layout) into the same :class:`WrenchSettings`.
+"""Settings of the live aerodynamic wrench computation, shared by the ROS node and bag analysis:
+the parameters of :data:`adbsat_ros.estimator.parameters.PARAMETERS` checked into one value,
+:class:`WrenchSettings`.
 """
 
 from __future__ import annotations
@@ -10,132 +8,21 @@ from __future__ import annotations
 import datetime as _dt
 import math
 from dataclasses import dataclass, fields
-
-import yaml
+from typing import NamedTuple
 
 from adbsat_ros.environment.accommodation import accommodation_model_names
-from adbsat_ros.environment.flight_conditions import STATE_FRAMES
-from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, MODELS, canonical_model_name
-from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
-from adbsat_ros.shading.shader import MODES as SHADING_MODES
-
-TIME_MODES = ("unix", "epoch")
-ATTITUDE_SOURCES = ("attitude_topic", "odometry")
-COEFFICIENT_SOURCES = ("panel", "database")
-EXECUTORS = ("events", "single_threaded")
-
-#: (name, default, description) of every setting. Units in the description; SI throughout.
-PARAMETERS = (
-    (
-        "mesh",
-        "example",
-        "mesh file (.obj .stl .ply .off ...) or 'example' for the bundled satellite; "
-        "read once at start-up",
-    ),
-    ("mesh_scale", 1.0, "factor from mesh file units to metres (1e-3 for millimetres)"),
-    ("body_frame_id", "body", "frame_id of published wrenches: the mesh frame, fixed to the body"),
-    (
-        "center_of_mass",
-        [0.0, 0.0, 0.0],
-        "centre of mass in the mesh frame [m]; torques are about it",
-    ),
-    ("gsi_model", "sentman", "gas-surface model: " + ", ".join(MODELS)),
-    ("alpha", 1.0, "energy accommodation coefficient [-] (used when accommodation_model is fixed)"),
-    ("alpha_n", 1.0, "CLL normal energy accommodation [-]"),
-    ("sigma_n", 1.0, "normal momentum accommodation [-] (schaaf, storch)"),
-    ("sigma_t", 1.0, "tangential momentum accommodation [-] (schaaf, storch, cll)"),
-    ("wall_temperature", 300.0, "wall temperature [K]"),
-    (
-        "material_overrides",
-        [""],
-        "per-material values, 'NAME:key=value,key=value' (keys as the parameters above)",
-    ),
-    (
-        "incident_temperature",
-        "energy",
-        "incident temperature form for sentman/dria: energy (ADBSat) or kinetic",
-    ),
-    (
-        "adbsat_compat",
-        False,
-        "reproduce ADBSat's coded quirks (maxwell two-sided plate, cll species weights)",
-    ),
-    (
-        "accommodation_model",
-        "fixed",
-        "fixed (use alpha), langmuir, goodman or sesam (alpha from the atmosphere)",
-    ),
-    ("shading", "raycast", "shading mode: none, projection (ADBSat), raycast (exact)"),
-    ("shading_samples", 16, "ray samples per panel for raycast shading"),
-    ("shading_cache_resolution_deg", 0.25, "angular resolution of the shading cache [deg]"),
-    ("shading_cache_size", 20000, "maximum number of flow directions kept in the shading cache"),
-    ("f107", 150.0, "F10.7 solar flux of the previous day [sfu]"),
-    ("f107a", 150.0, "81-day average F10.7 [sfu]"),
-    ("ap", 4.0, "daily geomagnetic Ap index [-]"),
-    (
-        "ap_history",
-        [0.0],
-        "optional NRLMSISE-00 7-element Ap history; a single element means unused",
-    ),
-    ("anomalous_oxygen", True, "include NRLMSISE-00 anomalous oxygen in the gas"),
-    (
-        "time_mode",
-        "unix",
-        "how header stamps map to UTC: unix (stamp is UNIX time) or epoch (epoch_utc + stamp)",
-    ),
-    ("epoch_utc", "2026-01-01T00:00:00", "UTC epoch of stamp 0 for time_mode epoch (ISO 8601)"),
-    ("state_frame", "eci", "frame of the Odometry position: eci (GCRF) or ecef (ITRF)"),
-    ("earth_rotation", True, "the atmosphere co-rotates with the Earth"),
-    ("wind_ecef", [0.0, 0.0, 0.0], "wind relative to the rotating Earth, ECEF axes [m/s]"),
-    (
-        "attitude_source",
-        "attitude_topic",
-        "attitude from the attitude topic or from the Odometry pose (odometry)",
-    ),
-    ("state_timeout", 1.0, "a state older than this at the attitude stamp is stale [s]"),
-    (
-        "conditions_step",
-        0.01,
-        "flight conditions (NRLMSISE-00, Earth orientation, relative wind) are evaluated "
-        "exactly at the stamps that are multiples of this [s] and interpolated linearly in between "
-        "(density within "
-        "about 2e-9 at 10 ms); 0 evaluates them at every stamp",
-    ),
-    (
-        "max_quaternion_norm_error",
-        1e-3,
-        "quaternions with | |q| - 1 | above this are rejected; below, normalised",
-    ),
-    ("min_relative_speed", 1e-3, "below this relative speed [m/s] the wrench is zero"),
-    ("qos_depth", 10, "history depth of subscriptions and publications"),
-    ("diagnostics_period", 1.0, "period of /diagnostics messages [s]"),
-    (
-        "executor",
-        "events",
-        "rclpy executor of adbsat_node: events (rclpy.experimental.EventsExecutor, about half "
-        "the per-message overhead; single_threaded when this rclpy lacks it) or single_threaded",
-    ),
-    (
-        "coefficients_source",
-        "panel",
-        "panel (live panel method) or database (interpolated from database_path)",
-    ),
-    (
-        "database_path",
-        "",
-        "database (.npz) made by 'adbsat-ros database' for coefficients_source database; it must "
-        "be made for the same mesh, gsi_model, surface properties and reference area/length, "
-        "else it is refused",
-    ),
+from adbsat_ros.estimator.parameters import (
+    ATTITUDE_SOURCES,
+    COEFFICIENT_SOURCES,
+    EXECUTORS,
+    MAX_CONDITIONS_STEP,
+    PARAMETER_DEFAULTS,
+    SHADING_MODES,
+    STATE_FRAMES,
+    TIME_MODES,
 )
-
-#: Largest conditions_step [s]: 770 m of orbit, interpolation error still below about 1e-7.
-MAX_CONDITIONS_STEP = 0.1
-
-PARAMETER_DEFAULTS = {name: default for name, default, _ in PARAMETERS}
-PARAMETER_DESCRIPTIONS = {name: text for name, _, text in PARAMETERS}
-#: Settings that need the mesh or its shading structures rebuilt; the node keeps them read-only.
-READ_ONLY_PARAMETERS = ("mesh", "mesh_scale", "qos_depth", "body_frame_id", "executor")
+from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, canonical_model_name
+from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 
 
 def _choice(name, value, allowed):
@@ -159,6 +46,25 @@ def _number(name, value, low=None, high=None, low_open=False):
     if high is not None and value > high:
         raise ValueError(f"parameter {name}: must be <= {high}, got {value!r}")
     return value
+
+
+def _frame_ids(name, value) -> tuple:
+    """Frame names as a tuple of lower-case strings without a leading "/"."""
+    if isinstance(value, str) or not all(isinstance(x, str) for x in value):
+        raise ValueError(f"parameter {name}: expected a list of frame names, got {value!r}")
+    names = tuple(x.strip().lstrip("/").lower() for x in value)
+    if not names:
+        raise ValueError(f"parameter {name}: {name} must name at least one frame")
+    if not all(names):
+        raise ValueError(f"parameter {name}: {name}: names must be non-empty, got {value!r}")
+    return names
+
+
+class FrameIds(NamedTuple):
+    """The names of each state frame (lower case)."""
+
+    eci: tuple
+    ecef: tuple
 
 
 def _vector3(name, value):
@@ -219,10 +125,13 @@ class WrenchSettings:
     time_mode: str
     epoch_utc: _dt.datetime
     state_frame: str
+    eci_frame_ids: tuple
+    ecef_frame_ids: tuple
     earth_rotation: bool
     wind_ecef: tuple
     attitude_source: str
     state_timeout: float
+    time_jump_reset: float
     conditions_step: float
     max_quaternion_norm_error: float
     min_relative_speed: float
@@ -306,10 +215,13 @@ class WrenchSettings:
             time_mode=_choice("time_mode", v["time_mode"], TIME_MODES),
             epoch_utc=parse_utc("epoch_utc", v["epoch_utc"]),
             state_frame=_choice("state_frame", str(v["state_frame"]).lower(), STATE_FRAMES),
+            eci_frame_ids=_frame_ids("eci_frame_ids", v["eci_frame_ids"]),
+            ecef_frame_ids=_frame_ids("ecef_frame_ids", v["ecef_frame_ids"]),
             earth_rotation=bool(v["earth_rotation"]),
             wind_ecef=_vector3("wind_ecef", v["wind_ecef"]),
             attitude_source=_choice("attitude_source", v["attitude_source"], ATTITUDE_SOURCES),
             state_timeout=_number("state_timeout", v["state_timeout"], 0.0, low_open=True),
+            time_jump_reset=_number("time_jump_reset", v["time_jump_reset"], 0.0, low_open=True),
             conditions_step=_number(
                 "conditions_step", v["conditions_step"], 0.0, MAX_CONDITIONS_STEP
             ),
@@ -327,9 +239,20 @@ class WrenchSettings:
             ),
             database_path=str(v["database_path"]),
         )
+        both = set(settings.eci_frame_ids) & set(settings.ecef_frame_ids)
+        if both:
+            raise ValueError(
+                f"parameters eci_frame_ids and ecef_frame_ids: '{sorted(both)[0]}' names both "
+                "frames"
+            )
         if settings.coefficients_source == "database" and not settings.database_path:
             raise ValueError("parameter database_path: needed when coefficients_source is database")
         return settings
+
+    @property
+    def frame_ids(self) -> "FrameIds":
+        """The state frame names, lower case, as :func:`~.state.odometry_inputs` takes them."""
+        return FrameIds(self.eci_frame_ids, self.ecef_frame_ids)
 
     def as_parameters(self) -> dict:
         """The settings as ROS-parameter-compatible values (inverse of from_parameters)."""
@@ -346,25 +269,6 @@ class WrenchSettings:
                 value = list(value)
             out[f.name] = value
         return out
-
-
-def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:
-    """Read a ROS 2 ``--params-file`` YAML and return the parameters for ``node_name``.
-
-    Keys under ``/**`` apply to every node, keys under the node's name override them.
-    """
-    with open(path, encoding="utf-8") as fh:
-        data = yaml.safe_load(fh) or {}
-    if not isinstance(data, dict):
-        raise ValueError(f"{path}: not a ROS parameters file (top level must be a mapping)")
-    params = {}
-    for key in ("/**", node_name, "/" + node_name):
-        section = data.get(key)
-        if isinstance(section, dict):
-            params.update(section.get("ros__parameters", {}) or {})
-    if not params:
-        raise ValueError(f"{path}: no ros__parameters for '/**' or '{node_name}'")
-    return params
 
 
 def materials_from_settings(settings: WrenchSettings) -> MaterialTable:

@@ -20,8 +20,26 @@ from adbsat_ros.geometry.frames import quaternion_matrix_floats
 from adbsat_ros.messages.cdr import OdometryFields
 from adbsat_ros.messages.stamps import stamp_seconds
 
-#: Names accepted in Odometry.child_frame_id for a twist already in the state frame.
-STATE_FRAME_NAMES = ("", "eci", "ecef", "gcrf", "itrf", "j2000", "earth", "world", "map")
+
+def jumps_back(stamp: float, latest: float | None, time_jump_reset: float, what: str) -> bool:
+    """Whether ``stamp`` [s] lies more than ``time_jump_reset`` before ``latest``, the latest
+    stamp of its kind (a bag played again: the history restarts); False if it is not before it.
+
+    Raises
+    ------
+    Rejection
+        ``out_of_order`` for a stamp less far back: that message alone is refused (one late
+        message must not cost the state and the messages after it).
+    """
+    if latest is None or stamp >= latest:
+        return False
+    back = latest - stamp
+    if back > time_jump_reset:
+        return True
+    raise Rejection(
+        "out_of_order",
+        f"{what} stamp {back:.3f} s before the latest {what}: refused alone (the state is kept)",
+    )
 
 
 def checked_rotation(quaternion_xyzw, what: str, max_norm_error: float) -> tuple:
@@ -105,13 +123,14 @@ def checked_state(
     return OrbitalState(stamp, position, velocity)
 
 
-def odometry_inputs(msg, state_frame: str, body_frame_id: str) -> tuple:
+def odometry_inputs(msg, state_frame: str, body_frame_id: str, frame_ids) -> tuple:
     """What an Odometry message gives :func:`checked_state`, by the frame rules.
 
-    ``header.frame_id`` naming 'eci' or 'ecef' must match ``state_frame``. The twist is in the
-    body frame if ``child_frame_id`` is ``body_frame_id`` (it is then rotated with the pose
-    orientation), in the state frame if ``child_frame_id`` is empty, one of
-    :data:`STATE_FRAME_NAMES` or the header's frame_id.
+    ``header.frame_id`` names the frame of the state: one of the names of ECI or ECEF in
+    ``frame_ids`` (any case, a leading "/" ignored), and that frame must be ``state_frame``. The
+    twist is in the body frame if ``child_frame_id`` is ``body_frame_id`` (it is then rotated with
+    the pose orientation), in the state frame if ``child_frame_id`` is empty, the header's
+    frame_id or another name of the state frame.
 
     Parameters
     ----------
@@ -122,6 +141,9 @@ def odometry_inputs(msg, state_frame: str, body_frame_id: str) -> tuple:
         The frame states are expected in.
     body_frame_id : str
         The body (mesh) frame's name.
+    frame_ids : FrameIds
+        The names of each frame, lower case (:attr:`WrenchSettings.frame_ids
+        <adbsat_ros.estimator.settings.WrenchSettings.frame_ids>`).
 
     Returns
     -------
@@ -132,19 +154,32 @@ def odometry_inputs(msg, state_frame: str, body_frame_id: str) -> tuple:
     Raises
     ------
     Rejection
-        ``bad_state`` for a frame mismatch or a child_frame_id that is neither frame.
+        ``bad_state`` for a frame_id of the other frame or of neither, or a child_frame_id that
+        is neither the body nor the state frame.
     """
     odom = msg if isinstance(msg, OdometryFields) else OdometryFields.of_message(msg)
     header_frame = odom.frame_id.lstrip("/")
     frame = header_frame.lower()
-    if frame in ("eci", "ecef") and frame != state_frame:
+    own = frame_ids.eci if state_frame == "eci" else frame_ids.ecef
+    if frame not in own:
+        other, other_name = (
+            (frame_ids.ecef, "ECEF") if state_frame == "eci" else (frame_ids.eci, "ECI")
+        )
+        if frame in other:
+            raise Rejection(
+                "bad_state",
+                f"state frame_id '{frame}' is {other_name} but parameter state_frame is "
+                f"{state_frame}",
+            )
         raise Rejection(
-            "bad_state", f"state frame_id '{frame}' but parameter state_frame is {state_frame}"
+            "bad_state",
+            f"unknown frame_id '{frame}' of a state: not among the names of eci_frame_ids "
+            f"({', '.join(frame_ids.eci)}) or ecef_frame_ids ({', '.join(frame_ids.ecef)})",
         )
     child = odom.child_frame_id.lstrip("/")
     if child == body_frame_id:
         in_body = True
-    elif child.lower() in STATE_FRAME_NAMES or child == header_frame:
+    elif child == "" or child == header_frame or child.lower() in own:
         in_body = False
     else:
         raise Rejection(

@@ -50,7 +50,8 @@ from rclpy.serialization import deserialize_message
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
 from adbsat_ros.estimator.health import Health
-from adbsat_ros.estimator.settings import PARAMETERS, READ_ONLY_PARAMETERS, WrenchSettings
+from adbsat_ros.estimator.parameters import PARAMETERS, READ_ONLY_PARAMETERS
+from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry

@@ -14,8 +14,9 @@ from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import scenario
 from adbsat_ros.bags.analysis import MODEL_COLUMNS, analyze_bag, safe_split_points
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.samples import Rejection
-from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.messages.stamps import stamp_seconds

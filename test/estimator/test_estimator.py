@@ -11,8 +11,9 @@ import pytest
 
 from adbsat_ros.environment.knots import KNOTS_KEPT
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.samples import Rejection
-from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.messages.stamps import next_regular_stamp, stamp_seconds
 
 R = 6378137.0 + 300e3
@@ -279,11 +280,11 @@ def test_unix_stamps_on_whole_steps_land_on_knots():
 
 
 def test_rejections_are_counted_by_reason_and_time_going_back_resets_the_history():
-    """A NaN quaternion, a non-unit one, an attitude before any state, a stale state and time
-    going back are each rejected with their reason and counted; going back forgets the state (the
-    next attitudes have none) until a new state comes, whose wrenches are those of a fresh
-    estimator."""
-    est = estimator()
+    """A NaN quaternion, a non-unit one, an attitude before any state, a stale state, a late
+    attitude and time going back are each rejected with their reason and counted; the late one
+    alone, while going back beyond time_jump_reset forgets the state (the next attitudes have
+    none) until a new state comes, whose wrenches are those of a fresh estimator."""
+    est = estimator(time_jump_reset=0.002)
     reasons = []
 
     def attitude(stamp, q=TILTED):
@@ -300,18 +301,22 @@ def test_rejections_are_counted_by_reason_and_time_going_back_resets_the_history
     attitude(1.003, [0.0, 0.0, 0.0, 2.0])
     attitude(2.5)  # 1.5 s after the state: stale
     assert attitude(1.004) is not None  # (a stale attitude is not a stamp seen)
-    attitude(1.0035)  # before the latest attitude: back in time
+    attitude(1.0035)  # 0.5 ms before the latest attitude: out of order, refused alone
+    assert attitude(1.0041) is not None
+    attitude(1.0015)  # 2.6 ms back, beyond time_jump_reset: back in time
     attitude(1.005)  # the history was reset: no state
     assert reasons == ["no_state", "non_finite", "bad_quaternion", "stale_state"] + [
+        "out_of_order",
         "time_backwards",
         "no_state",
     ]
-    assert est.state is None and est.published == 2
+    assert est.state is None and est.published == 3
     assert est.rejections == {
         "no_state": 2,
         "non_finite": 1,
         "bad_quaternion": 1,
         "stale_state": 1,
+        "out_of_order": 1,
         "time_backwards": 1,
     }
     est.on_state(1.006, [R, 0.0, 1e3], [0.0, V, 10.0])
@@ -322,7 +327,8 @@ def test_rejections_are_counted_by_reason_and_time_going_back_resets_the_history
     assert back.value.reason == "time_backwards" and est.state.stamp == 1.0
     assert est.rejections["time_backwards"] == 2
     values = est.diagnostic_values(None, [])
-    assert values["rejected_time_backwards"] == 2 and values["published"] == 3
+    assert values["rejected_time_backwards"] == 2 and values["published"] == 4
+    assert values["rejected_out_of_order"] == 1
     assert values["conditions_evaluations"] == est.knots.evaluations > 0
     assert values["conditions_knot_hits"] + values["conditions_knot_misses"] > 0
 

@@ -9,7 +9,8 @@ import pytest
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import IGNORED, MessageHandler
-from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
+from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.messages.cdr import AttitudeFields, OdometryFields, Stamp
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude
 from adbsat_ros.messages.stamps import stamp_seconds

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from adbsat_ros.estimator.health import ERROR, OK, WARN, Health, health_level
-from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
+from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
+from adbsat_ros.estimator.settings import WrenchSettings
 
 
 def test_levels_and_messages():

@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
-from adbsat_ros.estimator.samples import OrbitalState, Rejection
-from adbsat_ros.estimator.settings import PARAMETER_DEFAULTS, WrenchSettings
-from adbsat_ros.estimator.state import (
-    STATE_FRAME_NAMES,
-    checked_rotation,
-    checked_state,
-    odometry_inputs,
+from adbsat_ros.estimator.parameters import (
+    DEFAULT_ECEF_FRAME_IDS,
+    DEFAULT_ECI_FRAME_IDS,
+    PARAMETER_DEFAULTS,
 )
+from adbsat_ros.estimator.samples import OrbitalState, Rejection
+from adbsat_ros.estimator.settings import FrameIds, WrenchSettings
+from adbsat_ros.estimator.state import checked_rotation, checked_state, odometry_inputs
 from adbsat_ros.messages.cdr import OdometryFields, Stamp
 
 R = 6378137.0 + 300e3
@@ -59,25 +59,61 @@ def test_a_state_velocity_in_the_body_frame_is_rotated_into_the_state_frame():
     assert rejected.value.reason == "bad_quaternion"
 
 
-@pytest.mark.parametrize("child", [*STATE_FRAME_NAMES, "ECI", "/eci"])
+FRAME_IDS = FrameIds(eci=DEFAULT_ECI_FRAME_IDS, ecef=DEFAULT_ECEF_FRAME_IDS)
+
+
+@pytest.mark.parametrize("child", ["", "eci", "ECI", "/eci", "gcrf", "j2000"])
 def test_a_twist_in_the_state_frame_is_taken_as_it_is(child):
     stamp, position, velocity, in_body, orientation = odometry_inputs(
-        odometry(child=child), "eci", "body"
+        odometry(child=child), "eci", "body", FRAME_IDS
     )
     assert stamp == 12.5 and position == [R, 0.0, 1e3] and velocity == [0.0, V, 0.0]
     assert not in_body and orientation == list(QUARTER_TURN_Z)
 
 
-def test_a_twist_in_the_body_frame_or_the_header_frame_and_the_frame_rules():
-    assert odometry_inputs(odometry(child="/body"), "eci", "body")[3]
-    assert not odometry_inputs(odometry(frame="sim_world", child="sim_world"), "eci", "body")[3]
-    for message, text in (
-        (odometry(frame="ecef"), "state_frame is eci"),
-        (odometry(child="camera"), "neither the body frame 'body' nor the state frame"),
-    ):
-        with pytest.raises(Rejection, match=text) as rejected:
-            odometry_inputs(message, "eci", "body")
+@pytest.mark.parametrize("state_frame", ["eci", "ecef"])
+def test_the_frame_of_a_state_is_read_from_its_names(state_frame):
+    """Every default name of the expected frame is taken (any case, a leading slash); a name of
+    the other frame is refused as that frame; a name of neither is refused with the name."""
+    own = FRAME_IDS.eci if state_frame == "eci" else FRAME_IDS.ecef
+    other = FRAME_IDS.ecef if state_frame == "eci" else FRAME_IDS.eci
+    other_name = "ECEF" if state_frame == "eci" else "ECI"
+    for name in own:
+        for spelling in (name, name.upper(), "/" + name):
+            assert not odometry_inputs(odometry(frame=spelling), state_frame, "body", FRAME_IDS)[3]
+    for name in other:
+        with pytest.raises(Rejection, match=f"frame_id '{name}' is {other_name}") as rejected:
+            odometry_inputs(odometry(frame=name), state_frame, "body", FRAME_IDS)
         assert rejected.value.reason == "bad_state"
+    for name in ("", "sim_world", "map", "odom", "teme"):
+        with pytest.raises(Rejection, match=f"unknown frame_id '{name}'") as rejected:
+            odometry_inputs(odometry(frame=name), state_frame, "body", FRAME_IDS)
+        assert rejected.value.reason == "bad_state" and "eci_frame_ids" in rejected.value.message
+
+
+def test_frame_names_are_settings_and_the_twist_frame_rules():
+    custom = FrameIds(eci=("sim_inertial",), ecef=("sim_earth",))
+    assert not odometry_inputs(odometry(frame="sim_inertial"), "eci", "body", custom)[3]
+    with pytest.raises(Rejection, match="unknown frame_id 'eci'"):
+        odometry_inputs(odometry(frame="eci"), "eci", "body", custom)
+    assert odometry_inputs(odometry(child="/body"), "eci", "body", FRAME_IDS)[3]
+    assert not odometry_inputs(odometry(frame="gcrf", child="eci"), "eci", "body", FRAME_IDS)[3]
+    for child in ("camera", "itrf"):
+        with pytest.raises(Rejection, match="neither the body frame 'body' nor the state frame"):
+            odometry_inputs(odometry(child=child), "eci", "body", FRAME_IDS)
+    settings = WrenchSettings.from_parameters(
+        dict(PARAMETER_DEFAULTS, eci_frame_ids=["Sim_Inertial"], ecef_frame_ids=["sim_earth"])
+    )
+    assert settings.frame_ids == FrameIds(eci=("sim_inertial",), ecef=("sim_earth",))
+    for eci, ecef, text in (
+        (["eci", "itrf"], ["itrf"], "'itrf' names both frames"),
+        ([], ["itrf"], "eci_frame_ids must name at least one frame"),
+        (["eci"], ["ecef", ""], "ecef_frame_ids: names must be non-empty"),
+    ):
+        with pytest.raises(ValueError, match=text):
+            WrenchSettings.from_parameters(
+                dict(PARAMETER_DEFAULTS, eci_frame_ids=eci, ecef_frame_ids=ecef)
+            )
 
 
 def test_the_estimator_counts_odometry_rejections_and_rotates_a_body_twist():

@@ -30,7 +30,7 @@ from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float
 
 from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.environment.flight_conditions import flight_conditions
-from adbsat_ros.estimator.settings import EXECUTORS
+from adbsat_ros.estimator.parameters import EXECUTORS
 from adbsat_ros.ros.node import AdbsatNode
 
 RADIUS = 0.5
@@ -383,37 +383,42 @@ def test_bad_inputs_are_rejected_counted_and_the_node_stays_up(ros):
     # slightly non-unit quaternion: normalised and used
     peer.send_attitude(1.05, (0, 0, 0, 1.0004))
     assert peer.spin_until(lambda: len(peer.wrenches) == 1)
-    # time going backwards (a looping bag): rejected, history reset
-    expect("time_backwards", 1, lambda: peer.send_attitude(1.0, good))
-    expect("no_state", 1, lambda: peer.send_attitude(1.06, good))
+    # one attitude out of order: refused alone, the state kept
+    expect("out_of_order", 1, lambda: peer.send_attitude(1.0, good))
+    peer.send_attitude(1.06, good)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 2)
+    # time going back beyond time_jump_reset (a looping bag): rejected, history reset
+    expect("time_backwards", 2, lambda: peer.send_attitude(0.0, good))
+    expect("no_state", 2, lambda: peer.send_attitude(1.07, good))
     # altitude outside the atmosphere model
     far = np.asarray(pos) * (6378137.0 + 2000e3) / np.linalg.norm(pos)
     peer.send_state(2.0, far, vel)
     peer.spin_for(0.05)
-    expect("altitude_out_of_range", 1, lambda: peer.send_attitude(2.0, good))
-    # a twist in an unknown frame
-    expect("bad_state", 1, lambda: peer.send_state(2.1, pos, vel, child="camera"))
+    expect("altitude_out_of_range", 2, lambda: peer.send_attitude(2.0, good))
+    # a twist in an unknown frame, a state in a frame of no known name
+    expect("bad_state", 2, lambda: peer.send_state(2.1, pos, vel, child="camera"))
+    expect("bad_state", 2, lambda: peer.send_state(2.2, pos, vel, frame="sim_world"))
     # zero relative velocity (at rest in the co-rotating air): a zero wrench is published
     omega = np.array([0.0, 0.0, 7.292115e-5])
     peer.send_state(3.0, pos, np.cross(omega, pos))
     peer.spin_for(0.05)
     peer.send_attitude(3.0, good)
-    assert peer.spin_until(lambda: len(peer.wrenches) == 2)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 3)
     # the near-zero residual comes from precession-nutation, far below any real drag
     assert np.linalg.norm(vec(peer.wrenches[-1].wrench.force)) < 1e-9
     # still up and computing
     peer.send_state(4.0, pos, vel)
     peer.spin_for(0.05)
     peer.send_attitude(4.0, good)
-    assert peer.spin_until(lambda: len(peer.wrenches) == 3)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 4)
     assert np.linalg.norm(vec(peer.wrenches[-1].wrench.force)) > 1e-5
     # attitudes arrive as CDR bytes: bytes that are no QuaternionStamped are counted, not used
-    expect("undecodable", 3, lambda: peer.attitude_pub.publish(b"\x00\x01\x00\x00" + b"\xff" * 12))
+    expect("undecodable", 4, lambda: peer.attitude_pub.publish(b"\x00\x01\x00\x00" + b"\xff" * 12))
     # a valid message that the fast reader refuses (trailing bytes) is decoded by the typesupport
     msg = QuaternionStamped()
     msg.header.stamp, msg.header.frame_id, msg.quaternion.w = to_stamp(4.01), "eci", 1.0
     peer.attitude_pub.publish(bytes(serialize_message(msg)) + bytes(8))
-    assert peer.spin_until(lambda: len(peer.wrenches) == 4)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 5)
     assert stamp_to_float(peer.wrenches[-1].header.stamp) == pytest.approx(4.01, abs=1e-9)
     assert np.allclose(
         vec(peer.wrenches[-1].wrench.force), vec(peer.wrenches[-2].wrench.force), rtol=1e-3
@@ -525,11 +530,8 @@ def test_node_process_with_the_bundled_params_file(sphere_file):
 
 
 def test_params_file_lists_every_parameter_with_its_default():
-    from adbsat_ros.estimator.settings import (
-        PARAMETER_DEFAULTS,
-        WrenchSettings,
-        load_parameters_file,
-    )
+    from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS, load_parameters_file
+    from adbsat_ros.estimator.settings import WrenchSettings
 
     params = load_parameters_file(ROOT / "config" / "adbsat.yaml")
     assert set(params) == set(PARAMETER_DEFAULTS)

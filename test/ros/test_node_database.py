@@ -28,7 +28,8 @@ from adbsat_ros.database.build import build_database
 from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.environment.flight_conditions import flight_conditions
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
-from adbsat_ros.estimator.settings import PARAMETERS, WrenchSettings
+from adbsat_ros.estimator.parameters import PARAMETERS
+from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.example_satellite import write_obj
 from adbsat_ros.geometry.loading import load_mesh
 from adbsat_ros.geometry.mesh import panels_from_arrays

@@ -1,0 +1,190 @@
+"""The node's parameters: every setting's name, default and meaning in one table, and the
+ROS 2 parameters files that give them values.
+
+:data:`PARAMETERS` is the single table: the node declares its ROS parameters from it,
+``config/adbsat.yaml`` documents it, and :class:`~adbsat_ros.estimator.settings.WrenchSettings`
+checks values against it (bag analysis reads the same YAML into the same settings).
+"""
+
+from __future__ import annotations
+
+import yaml
+
+from adbsat_ros.environment.flight_conditions import STATE_FRAMES
+from adbsat_ros.physics.gsi_models import MODELS
+from adbsat_ros.shading.shader import MODES as SHADING_MODES
+
+__all__ = [
+    "ATTITUDE_SOURCES",
+    "COEFFICIENT_SOURCES",
+    "DEFAULT_ECEF_FRAME_IDS",
+    "DEFAULT_ECI_FRAME_IDS",
+    "EXECUTORS",
+    "MAX_CONDITIONS_STEP",
+    "PARAMETERS",
+    "PARAMETER_DEFAULTS",
+    "PARAMETER_DESCRIPTIONS",
+    "READ_ONLY_PARAMETERS",
+    "SHADING_MODES",
+    "STATE_FRAMES",
+    "TIME_MODES",
+    "load_parameters_file",
+]
+
+TIME_MODES = ("unix", "epoch")
+ATTITUDE_SOURCES = ("attitude_topic", "odometry")
+COEFFICIENT_SOURCES = ("panel", "database")
+EXECUTORS = ("events", "single_threaded")
+#: Default names (any case, a leading "/" ignored) of an Earth-centred inertial state frame:
+#: GCRF/GCRS and ICRF, and J2000/EME2000 (within 0.02 arcsec of GCRF, the frame bias).
+DEFAULT_ECI_FRAME_IDS = ("eci", "gcrf", "gcrs", "icrf", "j2000", "eme2000")
+#: Default names of the Earth-fixed frame: ITRF/ITRS, WGS 84, and REP 105's ``earth``.
+DEFAULT_ECEF_FRAME_IDS = ("ecef", "itrf", "itrs", "wgs84", "earth")
+
+#: (name, default, description) of every setting. Units in the description; SI throughout.
+PARAMETERS = (
+    (
+        "mesh",
+        "example",
+        "mesh file (.obj .stl .ply .off ...) or 'example' for the bundled satellite; "
+        "read once at start-up",
+    ),
+    ("mesh_scale", 1.0, "factor from mesh file units to metres (1e-3 for millimetres)"),
+    ("body_frame_id", "body", "frame_id of published wrenches: the mesh frame, fixed to the body"),
+    (
+        "center_of_mass",
+        [0.0, 0.0, 0.0],
+        "centre of mass in the mesh frame [m]; torques are about it",
+    ),
+    ("gsi_model", "sentman", "gas-surface model: " + ", ".join(MODELS)),
+    ("alpha", 1.0, "energy accommodation coefficient [-] (used when accommodation_model is fixed)"),
+    ("alpha_n", 1.0, "CLL normal energy accommodation [-]"),
+    ("sigma_n", 1.0, "normal momentum accommodation [-] (schaaf, storch)"),
+    ("sigma_t", 1.0, "tangential momentum accommodation [-] (schaaf, storch, cll)"),
+    ("wall_temperature", 300.0, "wall temperature [K]"),
+    (
+        "material_overrides",
+        [""],
+        "per-material values, 'NAME:key=value,key=value' (keys as the parameters above)",
+    ),
+    (
+        "incident_temperature",
+        "energy",
+        "incident temperature form for sentman/dria: energy (ADBSat) or kinetic",
+    ),
+    (
+        "adbsat_compat",
+        False,
+        "reproduce ADBSat's coded quirks (maxwell two-sided plate, cll species weights)",
+    ),
+    (
+        "accommodation_model",
+        "fixed",
+        "fixed (use alpha), langmuir, goodman or sesam (alpha from the atmosphere)",
+    ),
+    ("shading", "raycast", "shading mode: none, projection (ADBSat), raycast (exact)"),
+    ("shading_samples", 16, "ray samples per panel for raycast shading"),
+    ("shading_cache_resolution_deg", 0.25, "angular resolution of the shading cache [deg]"),
+    ("shading_cache_size", 20000, "maximum number of flow directions kept in the shading cache"),
+    ("f107", 150.0, "F10.7 solar flux of the previous day [sfu]"),
+    ("f107a", 150.0, "81-day average F10.7 [sfu]"),
+    ("ap", 4.0, "daily geomagnetic Ap index [-]"),
+    (
+        "ap_history",
+        [0.0],
+        "optional NRLMSISE-00 7-element Ap history; a single element means unused",
+    ),
+    ("anomalous_oxygen", True, "include NRLMSISE-00 anomalous oxygen in the gas"),
+    (
+        "time_mode",
+        "unix",
+        "how header stamps map to UTC: unix (stamp is UNIX time) or epoch (epoch_utc + stamp)",
+    ),
+    ("epoch_utc", "2026-01-01T00:00:00", "UTC epoch of stamp 0 for time_mode epoch (ISO 8601)"),
+    ("state_frame", "eci", "frame of the Odometry position: eci (GCRF) or ecef (ITRF)"),
+    (
+        "eci_frame_ids",
+        list(DEFAULT_ECI_FRAME_IDS),
+        "Odometry frame_id names that mean ECI (any case); a name in neither list is refused",
+    ),
+    (
+        "ecef_frame_ids",
+        list(DEFAULT_ECEF_FRAME_IDS),
+        "Odometry frame_id names that mean ECEF (any case)",
+    ),
+    ("earth_rotation", True, "the atmosphere co-rotates with the Earth"),
+    ("wind_ecef", [0.0, 0.0, 0.0], "wind relative to the rotating Earth, ECEF axes [m/s]"),
+    (
+        "attitude_source",
+        "attitude_topic",
+        "attitude from the attitude topic or from the Odometry pose (odometry)",
+    ),
+    ("state_timeout", 1.0, "a state older than this at the attitude stamp is stale [s]"),
+    (
+        "time_jump_reset",
+        1.0,
+        "a message stamped more than this [s] before the latest of its kind restarts the history "
+        "(a bag played again); one less far back is refused alone as out of order (> 0)",
+    ),
+    (
+        "conditions_step",
+        0.01,
+        "flight conditions (NRLMSISE-00, Earth orientation, relative wind) are evaluated "
+        "exactly at the stamps that are multiples of this [s] and interpolated linearly in between "
+        "(density within "
+        "about 2e-9 at 10 ms); 0 evaluates them at every stamp",
+    ),
+    (
+        "max_quaternion_norm_error",
+        1e-3,
+        "quaternions with | |q| - 1 | above this are rejected; below, normalised",
+    ),
+    ("min_relative_speed", 1e-3, "below this relative speed [m/s] the wrench is zero"),
+    ("qos_depth", 10, "history depth of subscriptions and publications"),
+    ("diagnostics_period", 1.0, "period of /diagnostics messages [s]"),
+    (
+        "executor",
+        "events",
+        "rclpy executor of adbsat_node: events (rclpy.experimental.EventsExecutor, about half "
+        "the per-message overhead; single_threaded when this rclpy lacks it) or single_threaded",
+    ),
+    (
+        "coefficients_source",
+        "panel",
+        "panel (live panel method) or database (interpolated from database_path)",
+    ),
+    (
+        "database_path",
+        "",
+        "database (.npz) made by 'adbsat-ros database' for coefficients_source database; it must "
+        "be made for the same mesh, gsi_model, surface properties and reference area/length, "
+        "else it is refused",
+    ),
+)
+
+#: Largest conditions_step [s]: 770 m of orbit, interpolation error still below about 1e-7.
+MAX_CONDITIONS_STEP = 0.1
+
+PARAMETER_DEFAULTS = {name: default for name, default, _ in PARAMETERS}
+PARAMETER_DESCRIPTIONS = {name: text for name, _, text in PARAMETERS}
+#: Settings that need the mesh or its shading structures rebuilt; the node keeps them read-only.
+READ_ONLY_PARAMETERS = ("mesh", "mesh_scale", "qos_depth", "body_frame_id", "executor")
+
+
+def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:
+    """Read a ROS 2 ``--params-file`` YAML and return the parameters for ``node_name``.
+
+    Keys under ``/**`` apply to every node, keys under the node's name override them.
+    """
+    with open(path, encoding="utf-8") as fh:
+        data = yaml.safe_load(fh) or {}
+    if not isinstance(data, dict):
+        raise ValueError(f"{path}: not a ROS parameters file (top level must be a mapping)")
+    params = {}
+    for key in ("/**", node_name, "/" + node_name):
+        section = data.get(key)
+        if isinstance(section, dict):
+            params.update(section.get("ros__parameters", {}) or {})
+    if not params:
+        raise ValueError(f"{path}: no ros__parameters for '/**' or '{node_name}'")
+    return params

@@ -1,0 +1,96 @@
+"""Messages out of order and time jumping back: one late message is refused alone and the state
+kept; only a jump back beyond ``time_jump_reset`` (a looping bag) resets the history."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
+from adbsat_ros.estimator.samples import Rejection
+from adbsat_ros.estimator.settings import WrenchSettings
+
+R = 6378137.0 + 300e3
+V = math.sqrt(3.986004418e14 / R)
+LEVEL = (0.0, 0.0, 0.0, 1.0)
+
+
+def estimator(**overrides) -> AeroWrenchEstimator:
+    params = dict(PARAMETER_DEFAULTS, mesh="example", shading="none", time_mode="epoch")
+    params.update(overrides)
+    return AeroWrenchEstimator(WrenchSettings.from_parameters(params))
+
+
+def state_at(stamp):
+    """A circular orbit in the x-y plane, sampled at ``stamp`` [s]."""
+    w = V / R
+    c, s = math.cos(w * stamp), math.sin(w * stamp)
+    return [R * c, R * s, 0.0], [-V * s, V * c, 0.0]
+
+
+def test_a_1khz_stream_with_one_late_attitude_loses_that_attitude_only():
+    """Attitudes at 1 kHz, states at 10 Hz, two attitudes swapped (the later one arrives first):
+    the late one is refused as out_of_order and every other attitude gets its wrench, equal to
+    the one of the same stream without the late message."""
+    stamps = [1.0 + 1e-3 * k for k in range(400)]
+    order = list(range(400))
+    order[250], order[251] = 251, 250  # attitude 250 arrives 1 ms late
+    est, reference = estimator(), estimator()
+    forces, expected = {}, {}
+    for target, sequence in ((est, order), (reference, [k for k in range(400) if k != 250])):
+        out = forces if target is est else expected
+        for k in sequence:
+            stamp = stamps[k]
+            if k % 100 == 0:
+                target.on_state(stamp, *state_at(stamp))
+            try:
+                out[k] = target.on_attitude(stamp, LEVEL).force
+            except Rejection as exc:
+                out[k] = exc.reason
+    assert forces.pop(250) == "out_of_order"
+    assert all(isinstance(f, np.ndarray) for f in forces.values()) and len(forces) == 399
+    assert est.rejections == {"out_of_order": 1} and est.published == 399
+    for k, force in expected.items():
+        np.testing.assert_array_equal(forces[k], force)
+
+
+def test_an_attitude_jumping_back_beyond_the_limit_resets_the_history():
+    """A step back larger than time_jump_reset (the bag started again) is time_backwards: the
+    state goes, and the next attitude has none; a step back within it is out_of_order only."""
+    est = estimator(time_jump_reset=0.5)
+    est.on_state(10.0, *state_at(10.0))
+    est.on_attitude(10.2, LEVEL)
+    with pytest.raises(Rejection) as late:
+        est.on_attitude(9.75, LEVEL)  # 0.45 s back: within the limit
+    assert late.value.reason == "out_of_order" and "0.450 s" in late.value.message
+    assert est.state is not None and est.on_attitude(10.21, LEVEL) is not None
+    with pytest.raises(Rejection) as back:
+        est.on_attitude(9.6, LEVEL)  # 0.61 s back
+    assert back.value.reason == "time_backwards" and est.state is None
+    with pytest.raises(Rejection) as none:
+        est.on_attitude(9.61, LEVEL)
+    assert none.value.reason == "no_state"
+    assert est.rejections == {"out_of_order": 1, "time_backwards": 1, "no_state": 1}
+
+
+def test_a_late_state_is_refused_alone_and_a_state_far_back_starts_a_new_history():
+    est = estimator(time_jump_reset=1.0)
+    newer = est.on_state(5.0, *state_at(5.0))
+    with pytest.raises(Rejection) as late:
+        est.on_state(4.95, *state_at(4.95))
+    assert late.value.reason == "out_of_order" and est.state is newer
+    assert est.on_attitude(5.01, LEVEL).stamp_conditions is not None
+    with pytest.raises(Rejection) as back:
+        est.on_state(3.5, *state_at(3.5))
+    assert back.value.reason == "time_backwards" and est.state.stamp == 3.5
+    assert est.on_attitude(3.51, LEVEL) is not None  # the new history goes on from there
+    assert est.rejections == {"out_of_order": 1, "time_backwards": 1}
+
+
+@pytest.mark.parametrize("value", [0.0, -1.0, math.inf, math.nan, "soon"])
+def test_time_jump_reset_must_be_a_positive_number_of_seconds(value):
+    with pytest.raises(ValueError, match=r"^parameter time_jump_reset: "):
+        WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, time_jump_reset=value))
