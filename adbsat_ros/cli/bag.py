@@ -103,8 +103,7 @@ def configure_analyze(a) -> None:
 def models_from_args(args) -> list:
     """[(label, WrenchSettings)] from --params/--label; errors name the file or option."""
     from adbsat_ros.bags import analysis as bag_analysis
-    from adbsat_ros.estimator.parameters import load_parameters_file
-    from adbsat_ros.estimator.settings import WrenchSettings
+    from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
 
     if args.label and len(args.label) != max(len(args.params), 1):
         raise CommandLineError(
@@ -116,17 +115,9 @@ def models_from_args(args) -> list:
     models = []
     for i, path in enumerate(args.params):
         try:
-            values = load_parameters_file(path, bag_analysis.NODE_NAME)
-            settings = WrenchSettings.from_parameters(values)
-        except FileNotFoundError:
-            raise CommandLineError(f"--params {path}: no such file") from None
-        except ValueError as exc:
-            text = str(exc)
-            raise CommandLineError(
-                text if text.startswith(str(path)) else f"--params {path}: {text}"
-            ) from None
-        except Exception as exc:  # e.g. a YAML syntax error
-            raise CommandLineError(f"--params {path}: {type(exc).__name__}: {exc}") from None
+            settings = settings_from_file(path, bag_analysis.NODE_NAME)
+        except ValueError as exc:  # (its text starts with the file's name)
+            raise CommandLineError(f"--params {exc}") from None
         if args.label:
             label = _label(args.label[i], "--label")
         else:

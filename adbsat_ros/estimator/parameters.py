@@ -8,6 +8,8 @@ checks values against it (bag analysis reads the same YAML into the same setting
 
 from __future__ import annotations
 
+import difflib
+
 import yaml
 
 from adbsat_ros.environment.flight_conditions import STATE_FRAMES
@@ -25,10 +27,12 @@ __all__ = [
     "PARAMETER_DEFAULTS",
     "PARAMETER_DESCRIPTIONS",
     "READ_ONLY_PARAMETERS",
+    "ROS_PARAMETERS",
     "SHADING_MODES",
     "STATE_FRAMES",
     "TIME_MODES",
     "load_parameters_file",
+    "unknown_parameter",
 ]
 
 TIME_MODES = ("unix", "epoch")
@@ -171,13 +175,40 @@ PARAMETER_DESCRIPTIONS = {name: text for name, _, text in PARAMETERS}
 READ_ONLY_PARAMETERS = ("mesh", "mesh_scale", "qos_depth", "body_frame_id", "executor")
 
 
+#: Parameters rclpy declares on every node: a params file may set them, the settings ignore them.
+ROS_PARAMETERS = ("use_sim_time", "start_type_description_service", "qos_overrides")
+
+
+def unknown_parameter(name: str) -> str:
+    """The error text for a parameter ``name`` that is not in :data:`PARAMETERS`, with the
+    closest known name when one is close."""
+    close = difflib.get_close_matches(str(name), list(PARAMETER_DEFAULTS), n=1)
+    if close:
+        return f"parameter {name}: unknown (did you mean {close[0]}?)"
+    return f"parameter {name}: unknown; known parameters are {', '.join(PARAMETER_DEFAULTS)}"
+
+
 def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:
     """Read a ROS 2 ``--params-file`` YAML and return the parameters for ``node_name``.
 
     Keys under ``/**`` apply to every node, keys under the node's name override them.
+
+    Raises
+    ------
+    ValueError
+        Naming the file: it cannot be read, is no YAML, or holds no parameters for the node.
     """
-    with open(path, encoding="utf-8") as fh:
-        data = yaml.safe_load(fh) or {}
+    try:
+        with open(path, encoding="utf-8") as fh:
+            data = yaml.safe_load(fh) or {}
+    except FileNotFoundError:
+        raise ValueError(f"{path}: no such parameters file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot be read ({exc})") from None
+    except yaml.YAMLError as exc:
+        where = getattr(exc, "problem_mark", None)
+        line = f" at line {where.line + 1}" if where is not None else ""
+        raise ValueError(f"{path}: not valid YAML{line}") from None
     if not isinstance(data, dict):
         raise ValueError(f"{path}: not a ROS parameters file (top level must be a mapping)")
     params = {}

@@ -17,9 +17,12 @@ from adbsat_ros.estimator.parameters import (
     EXECUTORS,
     MAX_CONDITIONS_STEP,
     PARAMETER_DEFAULTS,
+    ROS_PARAMETERS,
     SHADING_MODES,
     STATE_FRAMES,
     TIME_MODES,
+    load_parameters_file,
+    unknown_parameter,
 )
 from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, canonical_model_name
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
@@ -154,10 +157,7 @@ class WrenchSettings:
         for source in (values or {}), overrides:
             for key, value in source.items():
                 if key not in merged:
-                    raise ValueError(
-                        f"parameter {key}: unknown; known parameters are "
-                        f"{', '.join(PARAMETER_DEFAULTS)}"
-                    )
+                    raise ValueError(unknown_parameter(key))
                 merged[key] = value
         v = merged
         ap_history = tuple(float(x) for x in v["ap_history"]) if len(v["ap_history"]) > 1 else None
@@ -269,6 +269,24 @@ class WrenchSettings:
                 value = list(value)
             out[f.name] = value
         return out
+
+
+def settings_from_file(path, node_name: str = "adbsat_node") -> WrenchSettings:
+    """The settings a ROS 2 ``--params-file`` gives ``node_name``, checked (parameters it does
+    not set take their defaults; rclpy's own, :data:`ROS_PARAMETERS`, are allowed and ignored).
+
+    Raises
+    ------
+    ValueError
+        ``"PATH: ..."``: the file cannot be read, or ``"PATH: parameter NAME: reason"`` for an
+        unknown name (with the closest known one) or a value out of its range.
+    """
+    values = load_parameters_file(path, node_name)
+    own = {key: value for key, value in values.items() if key not in ROS_PARAMETERS}
+    try:
+        return WrenchSettings.from_parameters(own)
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc}") from None
 
 
 def materials_from_settings(settings: WrenchSettings) -> MaterialTable:

@@ -51,7 +51,7 @@ from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
 from adbsat_ros.estimator.health import Health
 from adbsat_ros.estimator.parameters import PARAMETERS, READ_ONLY_PARAMETERS
-from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
@@ -85,7 +85,13 @@ class AdbsatNode(Node):
             self.declare_parameter(
                 name,
                 default,
-                ParameterDescriptor(description=text, read_only=name in READ_ONLY_PARAMETERS),
+                ParameterDescriptor(
+                    description=text,
+                    read_only=name in READ_ONLY_PARAMETERS,
+                    # a number parameter takes an integer too (f107: 150 in a YAML file); the
+                    # settings check every value whatever its type
+                    dynamic_typing=_is_number(default),
+                ),
             )
         settings = WrenchSettings.from_parameters(self._parameter_values())
         self.estimator = AeroWrenchEstimator(settings)
@@ -274,6 +280,26 @@ class AdbsatNode(Node):
             self._log_throttled("error", "diagnostics_failed", f"diagnostics failed: {exc!r}")
 
 
+def _is_number(default) -> bool:
+    """Whether a parameter's default is a float or a list of floats."""
+    if isinstance(default, list):
+        return bool(default) and all(isinstance(x, float) for x in default)
+    return isinstance(default, float)
+
+
+def params_files(argv) -> list:
+    """The files given with ``--params-file`` among the ROS arguments of ``argv``."""
+    files, ros, tokens = [], False, iter(argv)
+    for token in tokens:
+        if token == "--ros-args":
+            ros = True
+        elif token == "--":
+            ros = False
+        elif ros and token == "--params-file":
+            files.append(next(tokens, ""))
+    return files
+
+
 def main(args=None) -> int:
     """Console script ``adbsat_node``: ``adbsat_node --ros-args --params-file config/adbsat.yaml``.
 
@@ -281,7 +307,14 @@ def main(args=None) -> int:
     set up.
     """
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    rclpy.init(args=sys.argv if args is None else args)
+    argv = sys.argv if args is None else args
+    for path in params_files(argv):  # checked here: rclpy ignores unknown names, and a missing
+        try:  # file fails its init with a traceback
+            settings_from_file(path, NODE_NAME)
+        except ValueError as exc:
+            print(f"{NODE_NAME}: error: {exc}", file=sys.stderr)
+            return 1
+    rclpy.init(args=argv)
     node = None
     try:
         try:

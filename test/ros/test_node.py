@@ -529,6 +529,67 @@ def test_node_process_with_the_bundled_params_file(sphere_file):
         rclpy.try_shutdown(context=ctx)
 
 
+def test_a_bad_params_file_stops_the_node_with_one_line(tmp_path):
+    """A params file with a misspelt name, a value of the wrong type, or none at all: the node
+    process stops at start-up with status 1 and one line naming the file and the parameter."""
+    typo = tmp_path / "typo.yaml"
+    typo.write_text("adbsat_node:\n  ros__parameters:\n    shadnig: none\n", encoding="utf-8")
+    wrong = tmp_path / "wrong.yaml"
+    wrong.write_text("adbsat_node:\n  ros__parameters:\n    f107: high\n", encoding="utf-8")
+    for path, text in (
+        (typo, "parameter shadnig: unknown (did you mean shading?)"),
+        (wrong, "parameter f107: expected a number"),
+        (tmp_path / "missing.yaml", "no such parameters file"),
+    ):
+        cmd = [
+            sys.executable,
+            "-m",
+            "adbsat_ros.ros.node",
+            "--ros-args",
+            "--params-file",
+            str(path),
+        ]
+        done = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+        assert done.returncode == 1
+        assert done.stderr.startswith(f"adbsat_node: error: {path}: {text}")
+        assert done.stderr.count("\n") == 1 and done.stderr.endswith("\n")
+
+
+def test_a_params_file_may_give_numbers_as_integers(tmp_path, sphere_file):
+    """``f107: 150`` and ``center_of_mass: [0, 0, 0]`` in YAML are integers to rclpy: the node
+    takes them for its number parameters and answers."""
+    path = tmp_path / "ints.yaml"
+    path.write_text(
+        "adbsat_node:\n  ros__parameters:\n    f107: 150\n    center_of_mass: [0, 0, 0]\n"
+        f"    mesh: {sphere_file}\n    time_mode: epoch\n",
+        encoding="utf-8",
+    )
+    cmd = [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args", "--params-file", str(path)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ctx, executor = make_context()
+    peer = Peer(ctx, executor, name="ints_peer")
+    try:
+        assert peer.wait_for_subscribers(timeout=30), "node process did not come up"
+        pos, vel = circular_orbit_state(300e3)
+        deadline = time.monotonic() + 20
+        t = 0.0
+        while not peer.wrenches and time.monotonic() < deadline:
+            t += 0.01
+            peer.send_state(t, pos, vel)
+            peer.send_attitude(t, (0, 0, 0, 1.0))
+            peer.spin_for(0.05)
+        assert peer.wrenches, "no wrench from the node process"
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+        executor.shutdown()
+        peer.node.destroy_node()
+        rclpy.try_shutdown(context=ctx)
+
+
 def test_params_file_lists_every_parameter_with_its_default():
     from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS, load_parameters_file
     from adbsat_ros.estimator.settings import WrenchSettings

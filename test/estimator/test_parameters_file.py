@@ -1,0 +1,66 @@
+"""ROS 2 params files read into settings: every fault names the file and the parameter."""
+
+from __future__ import annotations
+
+import pytest
+
+from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS, load_parameters_file
+from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
+
+
+def params_file(tmp_path, body: str, name: str = "p.yaml"):
+    path = tmp_path / name
+    path.write_text(body, encoding="utf-8")
+    return path
+
+
+def test_a_params_file_gives_the_node_its_settings_and_rclpy_keys_are_allowed(tmp_path):
+    path = params_file(
+        tmp_path,
+        "/**:\n  ros__parameters:\n    use_sim_time: false\n    f107: 120\n"
+        "adbsat_node:\n  ros__parameters:\n    f107: 180.0\n    shading: none\n"
+        "    qos_overrides:\n      /wrench:\n        publisher:\n          depth: 5\n",
+    )
+    settings = settings_from_file(path)
+    assert settings.f107 == 180.0 and settings.shading == "none"
+    assert settings == WrenchSettings.from_parameters(dict(f107=180, shading="none"))
+    assert settings.ap == PARAMETER_DEFAULTS["ap"]
+
+
+@pytest.mark.parametrize(
+    "body, text",
+    [
+        ("adbsat_node:\n  ros__parameters:\n    shadnig: none\n", "did you mean shading?"),
+        ("adbsat_node:\n  ros__parameters:\n    f170: 150.0\n", "did you mean f107?"),
+        ("adbsat_node:\n  ros__parameters:\n    zzz: 1\n", "unknown; known parameters are mesh"),
+        ("adbsat_node:\n  ros__parameters:\n    f107: high\n", "parameter f107: expected a number"),
+        ("adbsat_node:\n  ros__parameters:\n    alpha: 2.0\n", "parameter alpha: must be <= 1.0"),
+    ],
+)
+def test_an_unknown_name_or_a_bad_value_is_named_with_the_file(tmp_path, body, text):
+    path = params_file(tmp_path, body)
+    with pytest.raises(ValueError) as caught:
+        settings_from_file(path)
+    message = str(caught.value)
+    assert message.startswith(f"{path}: ") and text in message and "\n" not in message
+
+
+@pytest.mark.parametrize(
+    "body, text",
+    [
+        (None, "no such parameters file"),
+        ("adbsat_node:\n  ros__parameters:\n    f107: [1,\n", "not valid YAML at line"),
+        ("- just\n- a list\n", "not a ROS parameters file"),
+        ("other_node:\n  ros__parameters:\n    f107: 100.0\n", "no ros__parameters for"),
+        (b"f107: \xe9\n", "cannot be read"),
+    ],
+)
+def test_a_file_that_is_no_params_file_is_named(tmp_path, body, text):
+    path = tmp_path / "p.yaml"
+    if isinstance(body, bytes):
+        path.write_bytes(body)
+    elif body is not None:
+        path.write_text(body, encoding="utf-8")
+    with pytest.raises(ValueError) as caught:
+        load_parameters_file(path)
+    assert str(caught.value).startswith(f"{path}: ") and text in str(caught.value)
