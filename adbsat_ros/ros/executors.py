@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import io
+import signal
+import threading
 
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
@@ -43,7 +46,28 @@ def make_executor(kind: str = "events", context=None):
     raise ValueError(f"executor must be events or single_threaded, got {kind!r}")
 
 
-def spin_until_shutdown(executor, context=None) -> None:
-    """Spin ``executor`` until its context shuts down (SIGINT/SIGTERM, or rclpy.shutdown)."""
-    while rclpy.ok(context=context):
-        executor.spin_once(timeout_sec=0.5)
+def spin_until_shutdown(executor, context=None, stop=None) -> None:
+    """Spin ``executor`` until its context shuts down (rclpy.shutdown) or ``stop``, a
+    :class:`threading.Event` (e.g. of :func:`stop_on_signals`), is set: within 0.2 s of it."""
+    while rclpy.ok(context=context) and not (stop is not None and stop.is_set()):
+        executor.spin_once(timeout_sec=0.2)
+
+
+@contextlib.contextmanager
+def stop_on_signals():
+    """An event set by SIGINT or SIGTERM while inside (the previous handlers come back after).
+
+    For a process that initialised rclpy with ``SignalHandlerOptions.NO``: rclpy's own handlers
+    shut the context down at once, and a callback still running then fails to publish ("the
+    publisher's context is invalid") with a traceback and exit status 1. With this event the
+    spin loop ends first, and the node is destroyed and rclpy shut down in order.
+    """
+    stop = threading.Event()
+    handlers = {}
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        handlers[signum] = signal.signal(signum, lambda *_: stop.set())
+    try:
+        yield stop
+    finally:
+        for signum, handler in handlers.items():
+            signal.signal(signum, handler)

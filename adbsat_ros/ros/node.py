@@ -46,6 +46,7 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
+from rclpy.signals import SignalHandlerOptions
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
@@ -55,7 +56,7 @@ from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
-from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
+from adbsat_ros.ros.executors import make_executor, spin_until_shutdown, stop_on_signals
 from adbsat_ros.ros.log_throttle import LogThrottle
 
 NODE_NAME = "adbsat_node"
@@ -314,7 +315,14 @@ def main(args=None) -> int:
         except ValueError as exc:
             print(f"{NODE_NAME}: error: {exc}", file=sys.stderr)
             return 1
-    rclpy.init(args=argv)
+    rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+    with stop_on_signals() as stop:  # (a signal while the node is made stops it once made)
+        return _run(stop)
+
+
+def _run(stop) -> int:
+    """Make the node, spin it until ``stop`` or a shutdown, and take everything down in order;
+    the exit status."""
     node = None
     try:
         try:
@@ -333,9 +341,11 @@ def main(args=None) -> int:
         gc.collect()
         gc.freeze()
         try:
-            spin_until_shutdown(executor)
-        except (KeyboardInterrupt, ExternalShutdownException):
+            spin_until_shutdown(executor, stop=stop)
+        except ExternalShutdownException:
             pass
+        finally:
+            executor.shutdown()
         return 0
     finally:
         if node is not None:

@@ -1,0 +1,78 @@
+"""adbsat_node stopped by SIGINT or SIGTERM while attitudes stream in: status 0, no traceback."""
+
+from __future__ import annotations
+
+import pytest
+
+pytestmark = pytest.mark.ros
+pytest.importorskip("rclpy")
+
+import signal  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+
+import rclpy  # noqa: E402
+import trimesh  # noqa: E402
+from ros_harness import Peer, circular_orbit_state, make_context  # noqa: E402
+
+#: Runs per signal (the fault this guards against showed in about half the runs).
+RUNS = 5
+
+
+@pytest.fixture(scope="module")
+def sphere_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("mesh") / "sphere.stl"
+    trimesh.creation.icosphere(subdivisions=3, radius=0.5).export(path)
+    return str(path)
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_under_a_stream_stops_the_node_cleanly(sphere_file, signum):
+    ctx, executor = make_context()
+    peer = Peer(ctx, executor, name="signal_peer")
+    pos, vel = circular_orbit_state(300e3)
+    try:
+        for run in range(RUNS):
+            cmd = [
+                sys.executable,
+                "-m",
+                "adbsat_ros.ros.node",
+                "--ros-args",
+                "-p",
+                f"mesh:={sphere_file}",
+                "-p",
+                "time_mode:=epoch",
+            ]
+            proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            try:
+                assert peer.wait_for_subscribers(timeout=30), "node process did not come up"
+                t, sent, wrenches, signalled = 0.0, 0, len(peer.wrenches), False
+                deadline = time.monotonic() + 30
+                while proc.poll() is None and time.monotonic() < deadline:
+                    t += 0.001
+                    if sent % 100 == 0:
+                        peer.send_state(t, pos, vel)
+                    peer.send_attitude(t, (0.0, 0.0, 0.0, 1.0))
+                    sent += 1
+                    if sent % 20 == 0:
+                        peer.spin_for(0.001)
+                    # mid-stream, once the node answers, at a different point each run
+                    answering = len(peer.wrenches) > wrenches
+                    if not signalled and answering and sent >= 300 + 37 * run:
+                        proc.send_signal(signum)
+                        signalled = True
+                assert signalled, "the node never answered"
+                out, err = proc.communicate(timeout=10)
+            finally:
+                if proc.poll() is None:
+                    proc.kill()
+                    proc.communicate()
+            assert proc.returncode == 0, (run, err)
+            for word in ("Traceback", "FATAL", "Error", "error"):
+                assert word not in err, (run, err)
+            peer.spin_until(lambda: peer.attitude_pub.get_subscription_count() == 0, timeout=5)
+    finally:
+        executor.shutdown()
+        peer.node.destroy_node()
+        rclpy.try_shutdown(context=ctx)
