@@ -6,6 +6,35 @@ from __future__ import annotations
 import contextlib
 import gc
 import multiprocessing
+import os
+
+
+def usable_cpus() -> int:
+    """The CPUs this process may run on (its affinity mask where the platform has one)."""
+    try:
+        return len(os.sched_getaffinity(0)) or 1
+    except AttributeError:  # (no affinity masks on this platform)
+        return os.cpu_count() or 1
+
+
+def worker_count(requested: int | None) -> tuple:
+    """``(workers, note)``: ``requested`` processes (default: every usable CPU), at most
+    :func:`usable_cpus` (more only add memory and switching: 1,000 workers took 11 GB); ``note``
+    says so when it capped the request, else it is None.
+
+    Raises
+    ------
+    ValueError
+        For a count that is not a whole number >= 1.
+    """
+    cpus = usable_cpus()
+    if requested is None:
+        return cpus, None
+    if isinstance(requested, bool) or int(requested) != requested or requested < 1:
+        raise ValueError(f"workers must be a whole number >= 1, got {requested!r}")
+    if requested > cpus:
+        return cpus, f"{requested} workers asked for, {cpus} used: the usable CPUs here"
+    return int(requested), None
 
 
 def pool_context():

@@ -40,7 +40,7 @@ LAYERS = (
     {"database", "environment", "plotting"},
     {"physics"},
     {"shading"},
-    {"geometry", "messages", "processes", "validation", "_version"},
+    {"bounds", "geometry", "messages", "processes", "validation", "_version"},
 )
 
 # Top-level names of ROS 2 Python packages: the client library, its support packages and every

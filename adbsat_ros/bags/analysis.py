@@ -39,7 +39,6 @@ Parallel replay, same results as one estimator fed every message in order:
 
 from __future__ import annotations
 
-import os
 import time
 from pathlib import Path
 
@@ -63,6 +62,7 @@ from adbsat_ros.bags.worker import chunk_results
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_odometry
+from adbsat_ros.processes import worker_count
 
 __all__ = [
     "COMMON_COLUMNS",
@@ -193,9 +193,7 @@ def analyze_bag(
     labels = [check_label(label) for label, _ in models]
     if len(set(labels)) != len(labels):
         raise ValueError(f"model labels must differ, got {', '.join(labels)}")
-    workers = (os.cpu_count() or 1) if workers is None else int(workers)
-    if workers < 1:
-        raise ValueError(f"workers must be >= 1, got {workers}")
+    workers, capped = worker_count(workers)
     if chunk_messages is not None and int(chunk_messages) < 1:
         raise ValueError(f"chunk_messages must be >= 1, got {chunk_messages}")
     bag_io.storage_plugin(storage)  # an unknown storage name fails before any work
@@ -216,6 +214,8 @@ def analyze_bag(
         report = AnalysisReport(
             bag, models=[s.summary for s in states], messages_total=reader.message_count
         )
+        if capped:
+            report.warnings.append(f"workers: {capped}")
         t0 = time.perf_counter()
         read = read_bag_messages(
             reader, bag, state_topic, attitude_topic if uses_attitudes else None

@@ -21,8 +21,8 @@ import sys
 from adbsat_ros.cli.options import (
     CommandLineError,
     finite_float,
-    non_negative_float,
     parse_vector3,
+    within,
 )
 
 #: Space weather used when not given: the NRLMSISE-00 reference test point (moderate activity).
@@ -82,21 +82,21 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
     weather = parser.add_argument_group("space weather")
     weather.add_argument(
         "--f107",
-        type=non_negative_float("--f107"),
+        type=within("--f107", "f107"),
         default=DEFAULT_F107,
         metavar="SFU",
         help=f"F10.7 of the previous day (default {DEFAULT_F107:g})",
     )
     weather.add_argument(
         "--f107a",
-        type=non_negative_float("--f107a"),
+        type=within("--f107a", "f107"),
         default=DEFAULT_F107A,
         metavar="SFU",
         help=f"81-day average F10.7 (default {DEFAULT_F107A:g})",
     )
     weather.add_argument(
         "--ap",
-        type=non_negative_float("--ap"),
+        type=within("--ap", "ap"),
         default=DEFAULT_AP,
         metavar="AP",
         help=f"daily Ap (default {DEFAULT_AP:g})",

@@ -7,13 +7,13 @@ analysis (the estimator, the physics, the plots) is imported when ``bag analyze`
 
 from __future__ import annotations
 
-import os
 import sys
 from pathlib import Path
 
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.cli.bag_live import configure_play, configure_record
 from adbsat_ros.cli.options import CommandLineError, is_terminal, number
+from adbsat_ros.processes import usable_cpus
 
 
 def configure(p) -> None:
@@ -89,8 +89,8 @@ def configure_analyze(a) -> None:
         type=number("--workers", integer=True, low=1),
         default=None,
         metavar="N",
-        help="processes computing wrenches (default: the number of CPUs, "
-        f"{os.cpu_count() or 1} here); the outputs are the same for any N",
+        help="processes computing wrenches (default and most: the usable CPUs, "
+        f"{usable_cpus()} here); the outputs are the same for any N",
     )
     a.add_argument(
         "--no-progress",

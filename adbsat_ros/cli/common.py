@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import argparse
 
+from adbsat_ros.bounds import bounded
 from adbsat_ros.cli.atmosphere import compute as compute_flight_conditions
-from adbsat_ros.cli.options import CommandLineError, fraction, parse_vector3, positive_float
+from adbsat_ros.cli.options import CommandLineError, fraction, parse_vector3, positive_float, within
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.physics.coefficients import Reference
@@ -72,7 +73,7 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
     )
     g.add_argument(
         "--wall-temperature",
-        type=positive_float("--wall-temperature"),
+        type=within("--wall-temperature", "wall_temperature"),
         default=300.0,
         help="wall temperature [K] (default 300)",
     )
@@ -110,13 +111,13 @@ def positive_or_zero_below_two(text):
 def add_flow_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options that give the free stream directly (speed, temperature, gas, density)."""
     g = parser.add_argument_group("free stream (given directly)")
-    g.add_argument("--speed", type=positive_float("--speed"), help="relative wind speed [m/s]")
+    g.add_argument("--speed", type=within("--speed", "speed"), help="relative wind speed [m/s]")
     g.add_argument(
-        "--temperature", type=positive_float("--temperature"), help="gas temperature [K]"
+        "--temperature", type=within("--temperature", "temperature"), help="gas temperature [K]"
     )
     comp = g.add_mutually_exclusive_group()
     comp.add_argument(
-        "--mean-mass", type=positive_float("--mean-mass"), help="mean molecular mass [amu]"
+        "--mean-mass", type=within("--mean-mass", "mean_mass_amu"), help="mean molecular mass [amu]"
     )
     comp.add_argument(
         "--species",
@@ -125,7 +126,7 @@ def add_flow_arguments(parser: argparse.ArgumentParser) -> None:
     )
     g.add_argument(
         "--density",
-        type=positive_float("--density"),
+        type=within("--density", "mass_density"),
         help="mass density [kg/m^3] for forces in newtons (default: from --species)",
     )
 
@@ -135,11 +136,11 @@ def add_reference_arguments(parser: argparse.ArgumentParser) -> None:
     g = parser.add_argument_group("reference quantities")
     g.add_argument(
         "--aref",
-        type=positive_float("--aref"),
+        type=within("--aref", "area"),
         help="reference area [m^2] (default: half the total area)",
     )
     g.add_argument(
-        "--lref", type=positive_float("--lref"), help="reference length [m] (default: x extent)"
+        "--lref", type=within("--lref", "length"), help="reference length [m] (default: x extent)"
     )
     g.add_argument(
         "--moment-ref",
@@ -175,7 +176,12 @@ def parse_species(text: str) -> dict:
             number = None
         if not sep or number is None:
             raise CommandLineError(f"--species: expected NAME=NUMBER items, got {item!r}")
-        out[name] = number
+        if name in out:
+            raise CommandLineError(f"--species: {name} given twice ({text})")
+        try:
+            out[name] = bounded(f"--species: {name}", number, "number_density")
+        except ValueError as exc:
+            raise CommandLineError(str(exc)) from None
     return out
 
 

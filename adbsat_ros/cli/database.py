@@ -11,6 +11,7 @@ those of ``coeff``.
 from __future__ import annotations
 
 import os
+import sys
 import time
 
 from adbsat_ros.cli.atmosphere import add_flight_arguments
@@ -24,6 +25,7 @@ from adbsat_ros.cli.common import (
 )
 from adbsat_ros.cli.options import CommandLineError, number, parse_angle_list
 from adbsat_ros.database.build import build_database
+from adbsat_ros.processes import usable_cpus, worker_count
 
 #: Default angle-of-attack and sideslip grids [deg]: the whole sphere in 5 deg steps.
 DEFAULT_AOA = "-180:5:180"
@@ -59,7 +61,7 @@ def configure(p) -> None:
         "--workers",
         type=number("--workers", integer=True, low=1),
         default=None,
-        help=f"processes to use (default: every core, here {os.cpu_count()})",
+        help=f"processes to use (default and most: every usable CPU, here {usable_cpus()})",
     )
     g.add_argument("--out", required=True, metavar="FILE.npz", help="database file to write (.npz)")
     g.add_argument("--csv", metavar="FILE.csv", help="CSV file to write (default: --out with .csv)")
@@ -98,7 +100,9 @@ def run(args) -> int:
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
     method, flow, conditions = method_and_flow_from_args(args)
-    workers = args.workers or os.cpu_count() or 1
+    workers, capped = worker_count(args.workers)
+    if capped:
+        print(f"adbsat-ros database: warning: --workers: {capped}", file=sys.stderr)
     start = time.perf_counter()
     db = build_database(
         method,

@@ -11,6 +11,8 @@ import argparse
 import math
 import sys
 
+from adbsat_ros.bounds import bounded
+
 
 class CommandLineError(Exception):
     """A command-line value that is not allowed; the message names the option."""
@@ -132,6 +134,20 @@ def number(
 def positive_float(option: str):
     """An argparse ``type`` accepting finite numbers > 0 (error names ``option``)."""
     return number(option, low=0.0, low_open=True)
+
+
+def within(option: str, bound: str):
+    """An argparse ``type`` accepting the range :data:`adbsat_ros.bounds.BOUNDS` gives
+    ``bound``; the error names ``option``, the range and its reason."""
+
+    def convert(text):
+        try:
+            return bounded(option, text, bound)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    convert.__name__ = option
+    return convert
 
 
 def fraction(option: str):

@@ -15,7 +15,6 @@ number of workers (bit for bit).
 from __future__ import annotations
 
 import math
-import os
 import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -28,7 +27,7 @@ from adbsat_ros.database.metadata import describe_setup
 from adbsat_ros.geometry import frames
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.processes import pool_context
+from adbsat_ros.processes import pool_context, worker_count
 from adbsat_ros.shading.shader import MODES, make_shader
 
 #: Largest attitude count of a chunk handed to one worker.
@@ -182,11 +181,7 @@ def build_database(
     samples = int(samples)
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
-    if workers is None:
-        workers = os.cpu_count() or 1
-    if isinstance(workers, bool) or int(workers) != workers or workers < 1:
-        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
-    workers = int(workers)
+    workers, _ = worker_count(workers)  # (at most the usable CPUs)
     aoa = _check_angles(aoa_deg, "aoa_deg", -360.0, 360.0)
     aos = _check_angles(aos_deg, "aos_deg", -90.0, 90.0)
     metadata = describe_setup(

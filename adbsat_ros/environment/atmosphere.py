@@ -34,10 +34,10 @@ from typing import Mapping
 
 from nrlmsise00 import _nrlmsise00
 
+from adbsat_ros.bounds import bounded
 from adbsat_ros.environment.time_scales import seconds_of_day, utc_datetime, utc_day
 from adbsat_ros.physics.constants import AVOGADRO, MOLAR_MASS_G, SPECIES
 from adbsat_ros.validation import finite as _finite
-from adbsat_ros.validation import non_negative as _non_negative
 
 #: Largest altitude NRLMSISE-00 is evaluated at [m].
 MAX_ALTITUDE = 1000e3
@@ -84,9 +84,9 @@ class SpaceWeather:
     ap_history: tuple | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "f107", _non_negative("f107", self.f107))
-        object.__setattr__(self, "f107a", _non_negative("f107a", self.f107a))
-        object.__setattr__(self, "ap", _non_negative("ap", self.ap))
+        object.__setattr__(self, "f107", bounded("f107", self.f107))
+        object.__setattr__(self, "f107a", bounded("f107a", self.f107a, "f107"))
+        object.__setattr__(self, "ap", bounded("ap", self.ap))
         if self.ap_history is not None:
             try:
                 history = tuple(self.ap_history)
@@ -94,7 +94,7 @@ class SpaceWeather:
                 raise ValueError(f"ap_history must be 7 numbers, got {self.ap_history!r}") from None
             if len(history) != 7:
                 raise ValueError(f"ap_history must have 7 elements, got {len(history)}")
-            history = tuple(_non_negative(f"ap_history[{i}]", v) for i, v in enumerate(history))
+            history = tuple(bounded(f"ap_history[{i}]", v, "ap") for i, v in enumerate(history))
             object.__setattr__(self, "ap_history", history)
 
 

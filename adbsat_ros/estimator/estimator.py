@@ -260,6 +260,8 @@ class AeroWrenchEstimator:
         t0 = time.perf_counter()
         try:
             sample = self._sample(stamp, quaternion_xyzw, t0)
+            if not all(map(math.isfinite, [*sample.force.tolist(), *sample.torque.tolist()])):
+                raise Rejection("compute_error", "the wrench is not finite: nothing published")
         except Rejection as exc:
             self.rejections[exc.reason] += 1
             raise

@@ -10,6 +10,7 @@ import math
 from dataclasses import dataclass, fields
 from typing import NamedTuple
 
+from adbsat_ros.bounds import bounded
 from adbsat_ros.environment.accommodation import accommodation_model_names
 from adbsat_ros.estimator.parameters import (
     ATTITUDE_SOURCES,
@@ -68,6 +69,23 @@ class FrameIds(NamedTuple):
 
     eci: tuple
     ecef: tuple
+
+
+def _within(name, value, bound=None) -> float:
+    """``value`` within its range of :data:`adbsat_ros.bounds.BOUNDS`, or ValueError
+    ``"parameter NAME: ..."`` with the range and its reason."""
+    try:
+        return bounded(name, value, bound)
+    except ValueError as exc:
+        raise ValueError(f"parameter {name.split('[')[0]}: {exc}") from None
+
+
+def _offset(name, value) -> tuple:
+    """A point on the satellite [m]: three finite numbers, each within the ``offset`` bound."""
+    vec = _vector3(name, value)
+    for axis, x in zip("xyz", vec):
+        _within(f"{name}[{axis}]", abs(x), "offset")
+    return vec
 
 
 def _vector3(name, value):
@@ -160,7 +178,10 @@ class WrenchSettings:
                     raise ValueError(unknown_parameter(key))
                 merged[key] = value
         v = merged
-        ap_history = tuple(float(x) for x in v["ap_history"]) if len(v["ap_history"]) > 1 else None
+        history = v["ap_history"]
+        ap_history = None
+        if len(history) > 1:
+            ap_history = tuple(_within(f"ap_history[{i}]", x, "ap") for i, x in enumerate(history))
         if ap_history is not None and len(ap_history) != 7:
             raise ValueError(
                 f"parameter ap_history: needs 7 values (or one to leave it unused), "
@@ -178,13 +199,13 @@ class WrenchSettings:
             mesh=mesh,
             mesh_scale=_number("mesh_scale", v["mesh_scale"], 0.0, low_open=True),
             body_frame_id=str(v["body_frame_id"]).lstrip("/") or "body",
-            center_of_mass=_vector3("center_of_mass", v["center_of_mass"]),
+            center_of_mass=_offset("center_of_mass", v["center_of_mass"]),
             gsi_model=model,
             alpha=_number("alpha", v["alpha"], 0.0, 1.0),
             alpha_n=_number("alpha_n", v["alpha_n"], 0.0, 1.0),
             sigma_n=_number("sigma_n", v["sigma_n"], 0.0, 1.999999),
             sigma_t=_number("sigma_t", v["sigma_t"], 0.0, 1.0),
-            wall_temperature=_number("wall_temperature", v["wall_temperature"], 0.0, low_open=True),
+            wall_temperature=_within("wall_temperature", v["wall_temperature"]),
             material_overrides=tuple(
                 s for s in (str(x).strip() for x in v["material_overrides"]) if s
             ),
@@ -207,9 +228,9 @@ class WrenchSettings:
                 low_open=True,
             ),
             shading_cache_size=int(_number("shading_cache_size", v["shading_cache_size"], 1)),
-            f107=_number("f107", v["f107"], 0.0),
-            f107a=_number("f107a", v["f107a"], 0.0),
-            ap=_number("ap", v["ap"], 0.0),
+            f107=_within("f107", v["f107"]),
+            f107a=_within("f107a", v["f107a"], "f107"),
+            ap=_within("ap", v["ap"]),
             ap_history=ap_history,
             anomalous_oxygen=bool(v["anomalous_oxygen"]),
             time_mode=_choice("time_mode", v["time_mode"], TIME_MODES),

@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+from adbsat_ros.bounds import BOUNDS
 from adbsat_ros.estimator.samples import OrbitalState, Rejection
 from adbsat_ros.geometry.frames import quaternion_matrix_floats
 from adbsat_ros.messages.cdr import OdometryFields
@@ -117,6 +118,12 @@ def checked_state(
         math.isfinite(stamp) and np.all(np.isfinite(position)) and np.all(np.isfinite(velocity))
     ):
         raise Rejection("non_finite", "state has NaN or Inf in its stamp, position or velocity")
+    speed = math.sqrt(float(velocity @ velocity))
+    if not BOUNDS["orbital_speed"].contains(speed):
+        rule = BOUNDS["orbital_speed"]
+        raise Rejection(
+            "bad_state", f"state speed {speed:.6g} m/s is not in {rule.text()} ({rule.reason})"
+        )
     if velocity_in_body_frame:
         rotation = checked_rotation(orientation_xyzw, "state orientation", max_norm_error)
         velocity = np.array(rotation).reshape(3, 3) @ velocity

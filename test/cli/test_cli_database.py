@@ -11,6 +11,7 @@ import pytest
 from adbsat_ros.cli import main
 from adbsat_ros.database.format import load_database
 from adbsat_ros.database.lookup import CoefficientLookup
+from adbsat_ros.processes import usable_cpus
 
 FLOW = ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
 
@@ -202,3 +203,13 @@ def test_module_entry_point(mesh_file, tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == ""  # no progress bar when stderr is not a terminal
     assert load_database(tmp_path / "p.npz").shape == (2, 1)
+
+
+def test_more_workers_than_cpus_are_capped_with_a_warning(capsys, mesh_file, tmp_path):
+    out = tmp_path / "capped.npz"
+    code, _, err = run(
+        capsys, mesh_file, *FLOW, "--aoa=0:30:60", "--aos=0", "--workers", "1000", "--out", out
+    )
+    cpus = usable_cpus()
+    assert code == 0 and out.is_file()
+    assert f"warning: --workers: 1000 workers asked for, {cpus} used" in err

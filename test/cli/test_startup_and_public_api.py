@@ -44,6 +44,7 @@ def test_help_imports_no_subcommand_module_and_no_heavy_package():
     assert report["ours"] == [
         "adbsat_ros",
         "adbsat_ros._version",
+        "adbsat_ros.bounds",  # (the ranges of the options: the standard library only)
         "adbsat_ros.cli",
         "adbsat_ros.cli.options",
     ]

@@ -150,6 +150,7 @@ def random_case(rng):
     direction = rng.normal(size=3)
     position = direction / np.linalg.norm(direction) * rng.uniform(6.6e6, 7.2e6)
     velocity = rng.normal(size=3) * 5e3
+    velocity *= min(1.0, 12e3 / np.linalg.norm(velocity))  # an Earth orbit's speed at most
     model = ("fixed", "langmuir", "goodman", "sesam")[rng.integers(0, 4)]
     wind = None if rng.random() < 0.4 else rng.normal(size=3) * 100.0
     if rng.random() < 0.3 and wind is not None:

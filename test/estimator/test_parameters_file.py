@@ -33,7 +33,10 @@ def test_a_params_file_gives_the_node_its_settings_and_rclpy_keys_are_allowed(tm
         ("adbsat_node:\n  ros__parameters:\n    shadnig: none\n", "did you mean shading?"),
         ("adbsat_node:\n  ros__parameters:\n    f170: 150.0\n", "did you mean f107?"),
         ("adbsat_node:\n  ros__parameters:\n    zzz: 1\n", "unknown; known parameters are mesh"),
-        ("adbsat_node:\n  ros__parameters:\n    f107: high\n", "parameter f107: expected a number"),
+        (
+            "adbsat_node:\n  ros__parameters:\n    f107: high\n",
+            "parameter f107: f107 must be a number",
+        ),
         ("adbsat_node:\n  ros__parameters:\n    alpha: 2.0\n", "parameter alpha: must be <= 1.0"),
     ],
 )

@@ -456,11 +456,18 @@ def test_parameter_changes_apply_or_are_rejected(ros):
         ("center_of_mass", [1.0, 2.0], "center_of_mass"),
         ("material_overrides", ["nonexistent:alpha=0.5"], "nonexistent"),
         ("mesh", "example", "mesh"),
+        ("f107", 5000.0, "f107 must be in [50, 500] sfu"),
+        ("ap", 1e4, "ap must be in [0, 400]"),
+        ("wall_temperature", 1e300, "wall_temperature must be in [1, 3000] K"),
+        ("center_of_mass", [1e300, 0.0, 0.0], "center_of_mass[x] must be in [0, 1000] m"),
+        ("time_jump_reset", 0.0, "time_jump_reset"),
+        ("eci_frame_ids", ["eci", "itrf"], "names both frames"),
     ]:
         result = node.set_parameters([Parameter(name, value=value)])[0]
         assert not result.successful and needle in result.reason, (name, result.reason)
     assert node.get_parameter("gsi_model").value == "newton"
     assert node.get_parameter("alpha").value == 1.0
+    assert node.get_parameter("f107").value == 150.0 and node.estimator.settings.f107 == 150.0
     peer.send_attitude(0.03, (0, 0, 0, 1.0))
     assert peer.spin_until(lambda: len(peer.wrenches) == 3)
     assert np.linalg.norm(vec(peer.wrenches[2].wrench.force)) == pytest.approx(newton, rel=1e-4)
@@ -538,7 +545,7 @@ def test_a_bad_params_file_stops_the_node_with_one_line(tmp_path):
     wrong.write_text("adbsat_node:\n  ros__parameters:\n    f107: high\n", encoding="utf-8")
     for path, text in (
         (typo, "parameter shadnig: unknown (did you mean shading?)"),
-        (wrong, "parameter f107: expected a number"),
+        (wrong, "parameter f107: f107 must be a number"),
         (tmp_path / "missing.yaml", "no such parameters file"),
     ):
         cmd = [

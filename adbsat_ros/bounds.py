@@ -1,0 +1,138 @@
+"""The valid range of every physical input, in one table, each bound with its reason.
+
+The command line, the node's parameters and params files, and the node's messages are checked
+against :data:`BOUNDS` through the constructors that take these numbers (the free stream, the
+space weather, the surface, the orbital state): a value outside its range is refused with its
+name, the value and the range, never turned into a wrong number. The table is also printed in
+docs/physics.md (section "Valid inputs").
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Bound:
+    """The closed range [low, high] of one input, its unit and why.
+
+    ``low_open`` makes the low end open (a value must be above it: speeds, temperatures).
+    """
+
+    low: float
+    high: float
+    unit: str
+    reason: str
+    low_open: bool = False
+
+    def text(self) -> str:
+        """The range as shown in errors, e.g. ``(0, 20000] m/s``."""
+        unit = f" {self.unit}" if self.unit else ""
+        return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}]{unit}"
+
+    def contains(self, value: float) -> bool:
+        """Whether a float lies in the range (False for NaN)."""
+        above = value > self.low if self.low_open else value >= self.low
+        return above and value <= self.high
+
+
+BOUNDS = {
+    "speed": Bound(
+        1.0,
+        20_000.0,
+        "m/s",
+        "speed relative to the gas: Earth escape speed at the surface is 11.2 km/s, plus 0.5 km/s "
+        "of co-rotating air and winds; 20 km/s leaves room for any Earth orbit, and below 1 m/s "
+        "there is no flow to speak of",
+    ),
+    "temperature": Bound(
+        50.0,
+        5_000.0,
+        "K",
+        "gas temperature: NRLMSISE-00 gives 180-2,500 K from the ground to 1,000 km; 5,000 K "
+        "leaves room for any storm",
+    ),
+    "wall_temperature": Bound(
+        1.0,
+        3_000.0,
+        "K",
+        "surface temperature: above 3,000 K nearly every spacecraft material has melted",
+    ),
+    "mean_mass_amu": Bound(
+        1.0,
+        100.0,
+        "amu",
+        "mean molecular mass of the gas: atomic hydrogen (1 amu) to beyond argon (40 amu)",
+    ),
+    "mass_density": Bound(
+        0.0,
+        2.0,
+        "kg/m^3",
+        "sea-level air is 1.2 kg/m^3; a free-molecular flow is many orders thinner",
+        low_open=True,
+    ),
+    "number_density": Bound(
+        0.0,
+        1e26,
+        "m^-3",
+        "a species' number density: sea-level air holds 2.5e25 m^-3 in all",
+    ),
+    "f107": Bound(
+        50.0,
+        500.0,
+        "sfu",
+        "10.7 cm solar flux: the values observed since 1947 lie between about 60 and 460 sfu, the "
+        "era of the data NRLMSISE-00 was fitted to; beyond, its density is an extrapolation",
+    ),
+    "ap": Bound(
+        0.0,
+        400.0,
+        "",
+        "geomagnetic ap index: its scale runs from 0 to 400 by definition",
+    ),
+    "orbital_speed": Bound(
+        0.0,
+        20_000.0,
+        "m/s",
+        "speed of a state: above Earth escape speed (11.2 km/s) with a margin",
+    ),
+    "length": Bound(
+        1e-3,
+        1_000.0,
+        "m",
+        "a reference length: from a millimetre to a kilometre, longer than any spacecraft",
+    ),
+    "offset": Bound(
+        0.0,
+        1_000.0,
+        "m",
+        "the distance of a point of the satellite (the centre of mass) from the mesh origin, per "
+        "axis: no spacecraft is a kilometre long",
+    ),
+    "area": Bound(
+        1e-6,
+        1e5,
+        "m^2",
+        "a reference area: from a square millimetre to a square of 316 m on a side",
+    ),
+}
+
+
+def bounded(name: str, value, bound: str | None = None) -> float:
+    """``value`` as a float within the range :data:`BOUNDS` gives ``bound`` (default ``name``).
+
+    Raises
+    ------
+    ValueError
+        ``"NAME must be in RANGE (REASON), got VALUE"`` for a number outside the range, NaN or
+        infinity included, and ``"NAME must be a number, got VALUE"`` for anything else.
+    """
+    rule = BOUNDS[bound or name]
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not (math.isfinite(number) and rule.contains(number)):
+        raise ValueError(f"{name} must be in {rule.text()} ({rule.reason}), got {value!r}")
+    return number
