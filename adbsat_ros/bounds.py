@@ -110,6 +110,13 @@ BOUNDS = {
         "the distance of a point of the satellite (the centre of mass) from the mesh origin, per "
         "axis: no spacecraft is a kilometre long",
     ),
+    "mesh_extent": Bound(
+        1e-3,
+        200.0,
+        "m",
+        "the largest side of a mesh's bounding box: a satellite is between a millimetre and "
+        "200 m across (the ISS is 109 m); outside, the file's units are likely not metres",
+    ),
     "area": Bound(
         1e-6,
         1e5,

@@ -40,7 +40,8 @@ LAYERS = (
     {"database", "environment", "plotting"},
     {"physics"},
     {"shading"},
-    {"bounds", "geometry", "messages", "processes", "validation", "_version"},
+    {"geometry", "messages", "processes", "validation", "_version"},
+    {"bounds"},
 )
 
 # Top-level names of ROS 2 Python packages: the client library, its support packages and every

@@ -38,6 +38,12 @@ def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
         default=1.0,
         help="factor from file units to metres (1e-3 for millimetres)",
     )
+    parser.add_argument(
+        "--accept-size",
+        action="store_true",
+        help="take a mesh (at --scale 1) that is under 1 mm or over 200 m across, which is "
+        "otherwise refused as probably not in metres",
+    )
 
 
 def add_model_arguments(parser: argparse.ArgumentParser) -> None:
@@ -234,7 +240,7 @@ def panel_method_from_args(args, mesh=None) -> PanelMethod:
     """
     if mesh is None:
         try:
-            mesh = resolve_mesh(args.mesh, scale=args.scale)
+            mesh = resolve_mesh(args.mesh, scale=args.scale, accept_size=args.accept_size)
         except MeshError as exc:
             raise CommandLineError(f"MESH: {exc}") from None
     materials = materials_from_args(args)

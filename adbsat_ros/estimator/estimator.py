@@ -72,7 +72,11 @@ class AeroWrenchEstimator:
     """
 
     def __init__(self, settings: WrenchSettings, mesh: PanelMesh | None = None):
-        self.mesh = mesh if mesh is not None else resolve_mesh(settings.mesh, settings.mesh_scale)
+        self.mesh = (
+            mesh
+            if mesh is not None
+            else resolve_mesh(settings.mesh, settings.mesh_scale, settings.mesh_accept_size)
+        )
         self.rejections: Counter = Counter()
         self.published = 0
         self._state: OrbitalState | None = None
@@ -89,7 +93,7 @@ class AeroWrenchEstimator:
     def apply_settings(self, settings: WrenchSettings) -> None:
         """Switch to new settings; ValueError (and the old ones kept) if they do not apply."""
         if self.settings is not None:
-            for name in ("mesh", "mesh_scale"):
+            for name in ("mesh", "mesh_scale", "mesh_accept_size"):
                 if getattr(settings, name) != getattr(self.settings, name):
                     raise ValueError(
                         f"parameter {name}: the mesh is loaded once at start-up and cannot change"

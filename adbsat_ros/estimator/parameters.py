@@ -54,6 +54,12 @@ PARAMETERS = (
         "read once at start-up",
     ),
     ("mesh_scale", 1.0, "factor from mesh file units to metres (1e-3 for millimetres)"),
+    (
+        "mesh_accept_size",
+        False,
+        "take a mesh (at mesh_scale 1) under 1 mm or over 200 m across, which is otherwise "
+        "refused as probably not in metres",
+    ),
     ("body_frame_id", "body", "frame_id of published wrenches: the mesh frame, fixed to the body"),
     (
         "center_of_mass",
@@ -172,7 +178,14 @@ MAX_CONDITIONS_STEP = 0.1
 PARAMETER_DEFAULTS = {name: default for name, default, _ in PARAMETERS}
 PARAMETER_DESCRIPTIONS = {name: text for name, _, text in PARAMETERS}
 #: Settings that need the mesh or its shading structures rebuilt; the node keeps them read-only.
-READ_ONLY_PARAMETERS = ("mesh", "mesh_scale", "qos_depth", "body_frame_id", "executor")
+READ_ONLY_PARAMETERS = (
+    "mesh",
+    "mesh_scale",
+    "mesh_accept_size",
+    "qos_depth",
+    "body_frame_id",
+    "executor",
+)
 
 
 #: Parameters rclpy declares on every node: a params file may set them, the settings ignore them.

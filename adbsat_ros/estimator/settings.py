@@ -122,6 +122,7 @@ class WrenchSettings:
 
     mesh: str
     mesh_scale: float
+    mesh_accept_size: bool
     body_frame_id: str
     center_of_mass: tuple
     gsi_model: str
@@ -198,6 +199,7 @@ class WrenchSettings:
         settings = cls(
             mesh=mesh,
             mesh_scale=_number("mesh_scale", v["mesh_scale"], 0.0, low_open=True),
+            mesh_accept_size=bool(v["mesh_accept_size"]),
             body_frame_id=str(v["body_frame_id"]).lstrip("/") or "body",
             center_of_mass=_offset("center_of_mass", v["center_of_mass"]),
             gsi_model=model,

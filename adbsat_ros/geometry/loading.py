@@ -15,6 +15,7 @@ import re
 import numpy as np
 import trimesh
 
+from adbsat_ros.bounds import BOUNDS
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME, example_satellite
 from adbsat_ros.geometry.mesh import (
     DEFAULT_MATERIAL,
@@ -91,7 +92,9 @@ def _load_obj(path: str):
     return np.vstack(verts), np.vstack(faces), np.concatenate(mat), tuple(material_names)
 
 
-def load_mesh(path, scale: float = 1.0, *, fix_normals: bool = True) -> PanelMesh:
+def load_mesh(
+    path, scale: float = 1.0, *, fix_normals: bool = True, accept_size: bool = False
+) -> PanelMesh:
     """Load a triangulated surface mesh from a file.
 
     Parameters
@@ -102,6 +105,10 @@ def load_mesh(path, scale: float = 1.0, *, fix_normals: bool = True) -> PanelMes
         Factor applied to all coordinates to get metres (e.g. 1e-3 for CAD in millimetres).
     fix_normals : bool
         Flip closed bodies whose faces point inwards (negative signed volume), with a warning.
+    accept_size : bool
+        Take a mesh of scale 1 whose size is no satellite's (``mesh_extent`` of
+        :data:`adbsat_ros.bounds.BOUNDS`: 1 mm to 200 m across), which is otherwise refused
+        as probably not in metres.
 
     Returns
     -------
@@ -111,7 +118,8 @@ def load_mesh(path, scale: float = 1.0, *, fix_normals: bool = True) -> PanelMes
     Raises
     ------
     MeshError
-        Missing or unreadable file, no faces, NaN/Inf vertices, or no usable face.
+        Missing or unreadable file, no faces, NaN/Inf vertices, no usable face, or a size
+        that is no satellite's (naming the likely unit).
     """
     path = os.fspath(path)
     if not math.isfinite(scale) or scale <= 0:
@@ -133,13 +141,36 @@ def load_mesh(path, scale: float = 1.0, *, fix_normals: bool = True) -> PanelMes
     faces = np.asarray(faces)
     if faces.size == 0:
         raise MeshError(f"{path}: the mesh has no faces")
-    return panels_from_arrays(
+    mesh = panels_from_arrays(
         vertices * scale,
         faces.astype(np.int64),
         material_index,
         material_names,
         source=path,
         fix_normals=fix_normals,
+    )
+    if scale == 1.0 and not accept_size:
+        _check_size(path, mesh)
+    return mesh
+
+
+#: Units a mesh file is often written in, with their factor to metres.
+_UNITS = ((1e-3, "millimetres"), (1e-2, "centimetres"), (0.0254, "inches"), (1e3, "kilometres"))
+
+
+def _check_size(path, mesh: PanelMesh) -> None:
+    """MeshError if the mesh (in metres) is no satellite's size, naming the likely unit."""
+    corners = mesh.vertices.reshape(-1, 3)
+    extent = float(np.max(corners.max(axis=0) - corners.min(axis=0)))
+    rule = BOUNDS["mesh_extent"]
+    if rule.contains(extent):
+        return
+    likely = [(f, unit) for f, unit in _UNITS if rule.contains(extent * f)]
+    hint = f"its units are probably {likely[0][1]} (scale {likely[0][0]:g}); " if likely else ""
+    raise MeshError(
+        f"{path}: the mesh is {extent:.6g} m across, outside {rule.text()} ({rule.reason}): "
+        f"{hint}give the scale to metres, or accept the size as it is (--accept-size, "
+        "parameter mesh_accept_size)"
     )
 
 
@@ -167,7 +198,7 @@ def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) 
     return panels_from_arrays(mesh.vertices, mesh.faces, source=source, **kwargs)
 
 
-def resolve_mesh(spec, scale: float = 1.0) -> PanelMesh:
+def resolve_mesh(spec, scale: float = 1.0, accept_size: bool = False) -> PanelMesh:
     """A PanelMesh from a file path, or the bundled example for the name ``"example"``.
 
     Raises
@@ -180,4 +211,4 @@ def resolve_mesh(spec, scale: float = 1.0) -> PanelMesh:
         if scale != 1.0:
             raise MeshError("the example mesh is in metres; scale applies to mesh files only")
         return mesh
-    return load_mesh(spec, scale=scale)
+    return load_mesh(spec, scale=scale, accept_size=accept_size)

@@ -8,6 +8,7 @@ import time as _time
 import nrlmsise00
 import pytest
 
+from adbsat_ros.bounds import BOUNDS
 from adbsat_ros.environment.atmosphere import (
     AtmosphereState,
     SpaceWeather,
@@ -279,3 +280,20 @@ def test_model_states_equal_the_constructed_state_and_its_derived_values():
             for read_only in (state, fresh):
                 with pytest.raises(TypeError):
                     read_only.number_densities["O"] = 0.0
+
+
+def test_nrlmsise00_stays_silent_and_finite_over_the_valid_inputs(capfd):
+    """Its C code prints "dnet log error" to stdout (into ``atmosphere --json``) for space
+    weather far outside what it was fitted to; over the corners of the ranges the inputs are
+    checked against, from the ground to 1000 km, it prints nothing and every number is finite."""
+    f107, ap = BOUNDS["f107"], BOUNDS["ap"]
+    t = dt.datetime(2025, 3, 1, tzinfo=dt.timezone.utc)
+    for flux in (f107.low, f107.high):
+        for index in (ap.low, ap.high):
+            weather = SpaceWeather(flux, flux, index, (index,) * 7)
+            for altitude in (0.0, 20e3, 90e3, 120e3, 300e3, 1000e3):
+                for latitude in (-math.pi / 2, 0.3, math.pi / 2):
+                    state = evaluate_atmosphere(t, altitude, latitude, 2.0, weather)
+                    assert math.isfinite(state.mass_density) and state.mass_density > 0
+                    assert all(math.isfinite(n) for n in state.number_densities.values())
+    assert capfd.readouterr().out == ""

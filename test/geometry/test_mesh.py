@@ -162,3 +162,33 @@ def test_example_satellite_is_closed_nonconvex_with_two_materials(tmp_path):
     assert np.allclose(again.vertices, mesh.vertices)
     assert np.array_equal(again.material_index, mesh.material_index)
     assert resolve_mesh("example").n_panels == mesh.n_panels
+
+
+@pytest.mark.parametrize(
+    "radius, unit, scale",
+    [(500.0, "millimetres", 1e-3), (2e-4, "kilometres", 1e3)],
+)
+def test_a_mesh_of_no_satellites_size_is_refused_naming_its_likely_unit(
+    tmp_path, radius, unit, scale
+):
+    """A file at scale 1 that is over 200 m or under 1 mm across is most likely not in metres:
+    refused with the unit it is probably in; its scale, or accepting the size, loads it."""
+    path = tmp_path / "body.stl"
+    trimesh.creation.icosphere(subdivisions=1, radius=radius).export(path)
+    with pytest.raises(MeshError) as caught:
+        load_mesh(path)
+    text = str(caught.value)
+    assert str(path) in text and f"{2 * radius:.6g} m across" in text
+    assert f"probably {unit} (scale {scale:g})" in text and "--accept-size" in text
+    assert load_mesh(path, scale=scale).n_panels == 80
+    assert load_mesh(path, accept_size=True).n_panels == 80
+    with pytest.raises(MeshError):
+        resolve_mesh(str(path))
+    assert resolve_mesh(str(path), accept_size=True).n_panels == 80
+
+
+def test_a_mesh_from_a_millimetre_to_200_m_across_loads(tmp_path):
+    for radius in (0.5e-3, 100.0):
+        path = tmp_path / f"r{radius}.stl"
+        trimesh.creation.icosphere(subdivisions=1, radius=radius).export(path)
+        assert load_mesh(path).n_panels == 80
