@@ -1,5 +1,6 @@
-"""Process pools of the parallel jobs (database builds, bag analysis): how workers start, and the
-heap kept out of the garbage collector's passes while they run."""
+"""Processes of the long jobs (database builds, bag analysis, the node): how workers start and
+how many, the heap kept out of the garbage collector's passes while they run, and stopping on
+SIGINT/SIGTERM in order."""
 
 from __future__ import annotations
 
@@ -7,6 +8,8 @@ import contextlib
 import gc
 import multiprocessing
 import os
+import signal
+import threading
 
 
 def usable_cpus() -> int:
@@ -64,3 +67,22 @@ def frozen_heap():
         yield
     finally:
         gc.unfreeze()
+
+
+@contextlib.contextmanager
+def stop_on_signals():
+    """An event set by SIGINT or SIGTERM while inside (the previous handlers come back after).
+
+    A long job checks the event and stops in order: the ROS node ends its spin loop before it
+    takes rclpy down (rclpy's own handlers shut the context down under a running callback,
+    which then fails to publish with a traceback); bag analysis keeps what it wrote as PARTIAL.
+    """
+    stop = threading.Event()
+    handlers = {}
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        handlers[signum] = signal.signal(signum, lambda *_: stop.set())
+    try:
+        yield stop
+    finally:
+        for signum, handler in handlers.items():
+            signal.signal(signum, handler)

@@ -142,6 +142,7 @@ def analyze_bag(
     overwrite: bool = False,
     workers: int | None = None,
     chunk_messages: int | None = None,
+    stop=None,
 ) -> AnalysisReport:
     """Replay a bag through the node's logic for each model and write bag, CSV and plots.
 
@@ -173,6 +174,9 @@ def analyze_bag(
     chunk_messages : int, optional
         State + attitude messages per chunk (default: enough chunks for 8 per worker, at least
         :data:`MIN_CHUNK_MESSAGES` each; one chunk with one worker).
+    stop : threading.Event, optional
+        Set to stop at the next message (e.g. by :func:`adbsat_ros.processes.stop_on_signals`):
+        the report's error says so and the outputs so far are kept as PARTIAL.
 
     Returns
     -------
@@ -182,8 +186,10 @@ def analyze_bag(
     ------
     BagError
         Before anything is written: the input cannot be opened, a topic is missing, has another
-        message type or no messages, or an output exists. (A fault found while reading is
-        reported in :attr:`AnalysisReport.error` instead, with the outputs written so far.)
+        message type or no messages, or an output exists. (A fault found while reading, or a
+        stop, is reported in :attr:`AnalysisReport.error` instead; the outputs written so far
+        are then kept under names that say PARTIAL, never the final ones:
+        :func:`adbsat_ros.bags.outputs.partial_path`.)
     ValueError, MeshError
         For models that cannot be set up, or ``workers`` / ``chunk_messages`` < 1.
     """
@@ -250,6 +256,7 @@ def analyze_bag(
         storage,
         progress,
         overwrite,
+        stop,
     )
     report.seconds["total"] = time.perf_counter() - t_start
     for state in states:

@@ -256,14 +256,16 @@ class BagWriter:
         """Serialize a message built here and write it on ``topic``."""
         self.write_raw(self.connection(topic, msg.__msgtype__), t_ns, serialize(msg))
 
-    def commit(self) -> Path:
-        """Close the bag and move it to its final path; returns that path."""
+    def commit(self, path=None) -> Path:
+        """Close the bag and move it to its final path, or to ``path`` (replacing a bag there);
+        returns where it is."""
         self._writer.close()
-        if self.path.exists():
-            shutil.rmtree(self.path)
-        os.replace(self._tmp_parent / self.path.name, self.path)
+        path = self.path if path is None else Path(path)
+        if path.exists():
+            shutil.rmtree(path)
+        os.replace(self._tmp_parent / self.path.name, path)
         shutil.rmtree(self._tmp_parent, ignore_errors=True)
-        return self.path
+        return path
 
     def discard(self) -> None:
         """Drop everything written."""

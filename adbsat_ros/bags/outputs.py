@@ -39,10 +39,12 @@ class _CsvFile:
         self.file = os.fdopen(fd, "w", newline="", encoding="utf-8")
         csv.writer(self.file).writerow(header(labels))
 
-    def commit(self) -> Path:
+    def commit(self, path: Path | None = None) -> Path:
+        """Close the file and move it to ``path`` (default its own); returns where it is."""
         self.file.close()
-        os.replace(self.tmp, self.path)
-        return self.path
+        path = self.path if path is None else path
+        os.replace(self.tmp, path)
+        return path
 
     def discard(self) -> None:
         try:
@@ -93,7 +95,7 @@ class _Walk:
             )
         writer.write_raw(out, t_ns, raw)
 
-    def run(self, progress: bool) -> None:
+    def run(self, progress: bool, stop=None) -> None:
         report, states, seconds, writer = self.report, self.states, self.seconds, self.writer
         pc = time.perf_counter
         bounds = iter(self.chunks)
@@ -111,6 +113,9 @@ class _Walk:
         try:
             t0 = pc()
             for conn_id, t_ns, raw in self.read.messages:
+                if stop is not None and stop.is_set():
+                    report.error = f"stopped by a signal after {report.messages_read} messages"
+                    break
                 if self.last_ns is None:
                     for state in states:
                         state.next_diagnostics_ns = t_ns + state.diagnostics_period_ns
@@ -175,8 +180,26 @@ class _Walk:
             self.results.close()
 
 
+def partial_path(path) -> Path:
+    """Where an output goes when the analysis stopped early: ``NAME.PARTIAL.EXT`` beside it
+    (``flight.csv`` -> ``flight.PARTIAL.csv``, a bag directory ``out`` -> ``out.PARTIAL``)."""
+    path = Path(path)
+    return path.with_name(f"{path.stem}.PARTIAL{path.suffix}")
+
+
 def write_outputs(
-    read, chunks, results, states, report, out_bag, out_csv, plots_dir, storage, progress, overwrite
+    read,
+    chunks,
+    results,
+    states,
+    report,
+    out_bag,
+    out_csv,
+    plots_dir,
+    storage,
+    progress,
+    overwrite,
+    stop=None,
 ) -> None:
     """Walk the messages in bag order and write the outputs asked for.
 
@@ -200,6 +223,12 @@ def write_outputs(
         Show a progress bar.
     overwrite : bool
         Replace existing outputs.
+    stop : threading.Event, optional
+        Stop at the next message once set.
+
+    If the walk stops early (a message that cannot be decoded, or ``stop``), every output is
+    kept under :func:`partial_path` of its name (replacing an older partial one) and the final
+    names are left as they were.
     """
     seconds = collections.Counter()
     writer = bag_io.BagWriter(out_bag, storage, overwrite) if out_bag is not None else None
@@ -208,16 +237,21 @@ def write_outputs(
         if out_csv is not None:
             csv_file = _CsvFile(out_csv, [s.label for s in states])
         walk = _Walk(read, chunks, results, states, report, writer, csv_file, seconds)
-        walk.run(progress)
+        walk.run(progress, stop)
+        if report.error is not None:  # kept, under names that say so
+            out_csv = None if out_csv is None else partial_path(out_csv)
+            plots_dir = None if plots_dir is None else partial_path(plots_dir)
         if writer is not None and walk.last_ns is not None:
             for state in states:  # a last status with the final counts, at the end of the bag
                 walk.diagnostics(state, walk.last_ns)
         if csv_file is not None:
-            report.outputs["csv"] = csv_file.commit()
+            report.outputs["csv"] = csv_file.commit(out_csv)
             csv_file = None
         if writer is not None:
             t0 = time.perf_counter()
-            report.outputs["bag"] = writer.commit()
+            report.outputs["bag"] = writer.commit(
+                None if report.error is None else partial_path(out_bag)
+            )
             seconds["write"] += time.perf_counter() - t0
             writer = None
     finally:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import collections
 import itertools
+import signal
 from concurrent.futures import ProcessPoolExecutor
 from typing import NamedTuple
 
@@ -218,8 +219,12 @@ _WORKER: Worker | None = None
 
 
 def _init_worker(specs) -> None:
-    """Process-pool initializer: load the estimators once per process (mesh, shading cache)."""
+    """Process-pool initializer: load the estimators once per process (mesh, shading cache).
+
+    A worker ignores SIGINT: Ctrl-C reaches the whole process group, and the analysis, not each
+    worker, decides how to stop (it keeps its outputs as PARTIAL)."""
     global _WORKER
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     _WORKER = Worker(specs)
 
 

@@ -13,7 +13,7 @@ from pathlib import Path
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.cli.bag_live import configure_play, configure_record
 from adbsat_ros.cli.options import CommandLineError, is_terminal, number
-from adbsat_ros.processes import usable_cpus
+from adbsat_ros.processes import stop_on_signals, usable_cpus
 
 
 def configure(p) -> None:
@@ -162,19 +162,21 @@ def run_analyze(args) -> int:
     )
     progress = not args.no_progress and is_terminal()
     try:
-        report = bag_analysis.analyze_bag(
-            args.bag,
-            args.attitude_topic,
-            args.state_topic,
-            models,
-            out_bag=out,
-            out_csv=out_csv,
-            plots_dir=plots,
-            storage=args.storage,
-            progress=progress,
-            overwrite=args.overwrite,
-            workers=args.workers,
-        )
+        with stop_on_signals() as stop:
+            report = bag_analysis.analyze_bag(
+                args.bag,
+                args.attitude_topic,
+                args.state_topic,
+                models,
+                out_bag=out,
+                out_csv=out_csv,
+                plots_dir=plots,
+                storage=args.storage,
+                progress=progress,
+                overwrite=args.overwrite,
+                workers=args.workers,
+                stop=stop,
+            )
     except BagError as exc:
         print(f"adbsat-ros bag analyze: error: {exc}", file=sys.stderr)
         return 1
@@ -198,10 +200,9 @@ def run_analyze(args) -> int:
         f"process{'es' if report.workers > 1 else ''}, {report.chunks} chunk(s))"
     )
     if report.error:
-        print(f"adbsat-ros bag analyze: error: {report.error}", file=sys.stderr)
         print(
-            f"adbsat-ros bag analyze: error: the outputs above are PARTIAL: they hold the "
-            f"{report.messages_read} messages read before the fault",
+            f"adbsat-ros bag analyze: error: {report.error}; the outputs above are PARTIAL (so "
+            f"named): they hold the {report.messages_read} messages read before it",
             file=sys.stderr,
         )
         return 1

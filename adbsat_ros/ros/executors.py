@@ -2,10 +2,7 @@
 
 from __future__ import annotations
 
-import contextlib
 import io
-import signal
-import threading
 
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
@@ -48,26 +45,7 @@ def make_executor(kind: str = "events", context=None):
 
 def spin_until_shutdown(executor, context=None, stop=None) -> None:
     """Spin ``executor`` until its context shuts down (rclpy.shutdown) or ``stop``, a
-    :class:`threading.Event` (e.g. of :func:`stop_on_signals`), is set: within 0.2 s of it."""
+    :class:`threading.Event` (e.g. of :func:`adbsat_ros.processes.stop_on_signals`), is set:
+    within 0.2 s of it."""
     while rclpy.ok(context=context) and not (stop is not None and stop.is_set()):
         executor.spin_once(timeout_sec=0.2)
-
-
-@contextlib.contextmanager
-def stop_on_signals():
-    """An event set by SIGINT or SIGTERM while inside (the previous handlers come back after).
-
-    For a process that initialised rclpy with ``SignalHandlerOptions.NO``: rclpy's own handlers
-    shut the context down at once, and a callback still running then fails to publish ("the
-    publisher's context is invalid") with a traceback and exit status 1. With this event the
-    spin loop ends first, and the node is destroyed and rclpy shut down in order.
-    """
-    stop = threading.Event()
-    handlers = {}
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        handlers[signum] = signal.signal(signum, lambda *_: stop.set())
-    try:
-        yield stop
-    finally:
-        for signum, handler in handlers.items():
-            signal.signal(signum, handler)

@@ -56,7 +56,8 @@ from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
-from adbsat_ros.ros.executors import make_executor, spin_until_shutdown, stop_on_signals
+from adbsat_ros.processes import stop_on_signals
+from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
 from adbsat_ros.ros.log_throttle import LogThrottle
 
 NODE_NAME = "adbsat_node"

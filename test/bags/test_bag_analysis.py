@@ -594,3 +594,43 @@ def test_the_garbage_collector_is_left_as_found(tmp_path):
         assert gc.get_freeze_count() > frozen // 2  # (frozen objects freed by refcount leave)
     finally:
         gc.unfreeze()
+
+
+class StopAfter:
+    """A stop event that is set once it has been asked ``n`` times (a signal mid-walk)."""
+
+    def __init__(self, n):
+        self.n = n
+
+    def is_set(self):
+        self.n -= 1
+        return self.n < 0
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_stop_keeps_the_outputs_so_far_as_partial(tmp_path, workers):
+    """Stopped mid-walk, the analysis reports it, writes nothing under the final names and
+    keeps what it has under PARTIAL names: a readable bag and CSV with the messages so far."""
+    messages = scenario.generate(scenario.Scenario(duration_s=30, rate_hz=4, state_rate_hz=1))
+    bag_io.write_scenario_bag(messages, tmp_path / "in")
+    out = dict(out_bag=tmp_path / "out", out_csv=tmp_path / "out.csv", plots_dir=tmp_path / "p")
+    report = analyze_bag(
+        tmp_path / "in",
+        models=[("m", WrenchSettings.from_parameters(FAST))],
+        workers=workers,
+        chunk_messages=20,
+        stop=StopAfter(60),
+        **out,
+    )
+    assert report.error == "stopped by a signal after 60 messages" and report.partial
+    assert not any(path.exists() for path in out.values())
+    assert report.outputs["bag"] == tmp_path / "out.PARTIAL"
+    assert report.outputs["csv"] == tmp_path / "out.PARTIAL.csv"
+    topics, _ = read_bag(tmp_path / "out.PARTIAL")
+    _, rows = read_csv(tmp_path / "out.PARTIAL.csv")
+    wrenches = report.models[0].wrenches
+    assert 0 < wrenches < len(messages.attitudes.stamps_ns)
+    assert len(topics["/adbsat/m/wrench"]) == len(rows) == wrenches
+    assert len(topics["/attitude"]) + len(topics["/state"]) == 60
+    assert all(Path(p).parent == tmp_path / "p.PARTIAL" for p in report.outputs["plots"])
+    assert not list(tmp_path.glob(".*partial"))

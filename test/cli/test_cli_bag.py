@@ -2,6 +2,11 @@
 clear message, a non-zero exit status, and never a half-written output."""
 
 import csv
+import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -9,6 +14,7 @@ import pytest
 from rosbags.rosbag2 import Reader
 
 from adbsat_ros.bags import io as bag_io
+from adbsat_ros.bags import scenario
 from adbsat_ros.cli import main
 
 YAML = """adbsat_node:
@@ -158,7 +164,8 @@ def test_truncated_file(tmp_path, capsys, storage, suffix):
     ],
 )
 def test_corrupt_message_gives_partial_outputs(tmp_path, capsys, bad_topic, message, wrenches):
-    """An undecodable message stops the replay; what came before is written and marked partial."""
+    """An undecodable message stops the replay; what came before is written under names that say
+    PARTIAL, and nothing under the final names."""
     r, v = [6.7e6, 0, 0], [0, 7.7e3, 0]
     t0 = 1_767_225_600_000_000_000
     with bag_io.BagWriter(tmp_path / "bad") as writer:
@@ -184,10 +191,12 @@ def test_corrupt_message_gives_partial_outputs(tmp_path, capsys, bad_topic, mess
     assert code == 1
     assert message in err
     assert "PARTIAL" in err and f"model default: {wrenches} wrenches from {wrenches} inputs" in out
-    with Reader(tmp_path / "bad_aero") as reader:
+    assert not (tmp_path / "bad_aero").exists() and not (tmp_path / "bad_aero.csv").exists()
+    assert f"wrote bag: {tmp_path / 'bad_aero.PARTIAL'}" in out
+    with Reader(tmp_path / "bad_aero.PARTIAL") as reader:
         counts = {c.topic: c.msgcount for c in reader.connections}
     assert counts["/adbsat/default/wrench"] == wrenches
-    with open(tmp_path / "bad_aero.csv") as fh:
+    with open(tmp_path / "bad_aero.PARTIAL.csv") as fh:
         assert len(fh.readlines()) == 1 + wrenches
     assert leftovers(tmp_path) == []
 
@@ -241,3 +250,32 @@ def test_simulate_rejects_bad_orbit(tmp_path, capsys):
     code, _, err = run(capsys, "simulate", "--out", tmp_path / "x", "--eccentricity", "1.2")
     assert code == 2 and "--eccentricity" in err
     assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_stops_the_analysis_within_a_second_keeping_partial_outputs(tmp_path, signum):
+    """Ctrl-C (SIGINT to the whole process group, workers included) or SIGTERM mid-analysis:
+    the command stops within about a second with one line and status 1; its outputs so far are
+    kept under PARTIAL names, nothing under the final ones, no temporary files, no traceback."""
+    messages = scenario.generate(scenario.Scenario(duration_s=1200, rate_hz=100, state_rate_hz=10))
+    bag_io.write_scenario_bag(messages, tmp_path / "long")
+    cmd = [sys.executable, "-m", "adbsat_ros.cli", "bag", "analyze", str(tmp_path / "long")]
+    cmd += ["--out", str(tmp_path / "out"), "--no-plots", "--workers", "2"]
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
+    )
+    time.sleep(3.0)
+    assert proc.poll() is None, "the analysis ended before the signal: give it a longer bag"
+    sent = time.monotonic()
+    os.killpg(proc.pid, signum)
+    out, err = proc.communicate(timeout=30)
+    assert time.monotonic() - sent < 2.0
+    assert proc.returncode == 1 and "Traceback" not in err
+    errors = [line for line in err.splitlines() if "error" in line]
+    assert len(errors) == 1 and "stopped by a signal after" in errors[0]
+    assert "PARTIAL" in errors[0]
+    assert not (tmp_path / "out").exists() and not (tmp_path / "out.csv").exists()
+    with Reader(tmp_path / "out.PARTIAL") as reader:
+        assert reader.message_count > 0
+    assert f"wrote csv: {tmp_path / 'out.PARTIAL.csv'}" in out
+    assert leftovers(tmp_path) == []
