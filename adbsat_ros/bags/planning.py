@@ -28,9 +28,9 @@ def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
     holds). Both give the same outputs from k on if the state message at k is accepted by both
     and no later time-goes-backwards test can tell them apart:
 
-    * k is a state message whose stamp is >= every earlier state stamp (so the sequential
-      estimator takes it without a time-backwards reset; after it both hold the same state and
-      last state stamp), and
+    * k is a state message whose stamp is > every earlier state stamp (so the sequential
+      estimator takes it: no time-backwards reset, no out-of-order or conflicting duplicate;
+      after it both hold the same state and last state stamp), and
     * for every model, no stamp it treats as an attitude (attitude messages, or state messages
       when ``attitude_source`` is odometry) at or after k is earlier than one before k (the
       sequential last attitude stamp is one of the latter, so it never rejects where the fresh
@@ -72,7 +72,7 @@ def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
         return np.minimum.accumulate(x[::-1])[::-1]
 
     is_state = kinds == STATE
-    ok = is_state & finite & (stamps >= before_max(is_state))
+    ok = is_state & finite & (stamps > before_max(is_state))
     for source in set(attitude_sources):
         trigger = is_state if source == "odometry" else kinds == ATTITUDE
         ok &= from_min(trigger) >= before_max(trigger)

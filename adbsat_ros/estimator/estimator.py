@@ -209,6 +209,12 @@ class AeroWrenchEstimator:
                 "time_backwards",
                 f"state time went back by {last - stamp:.3f} s: history reset, state kept",
             )
+        if stamp == last and state != self._state:  # a duplicate stamp that disagrees
+            self.rejections["conflicting_state"] += 1
+            raise Rejection(
+                "conflicting_state",
+                f"a second state at stamp {stamp!r} s with other numbers: the first is kept",
+            )
         self._last_state_stamp, self._state = stamp, state
         return state
 

@@ -23,6 +23,7 @@ REJECTION_REASONS = (
     "no_state",
     "stale_state",
     "out_of_order",
+    "conflicting_state",
     "time_backwards",
     "altitude_out_of_range",
     "bad_state",

@@ -94,3 +94,18 @@ def test_a_late_state_is_refused_alone_and_a_state_far_back_starts_a_new_history
 def test_time_jump_reset_must_be_a_positive_number_of_seconds(value):
     with pytest.raises(ValueError, match=r"^parameter time_jump_reset: "):
         WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS, time_jump_reset=value))
+
+
+def test_two_states_at_one_stamp_must_agree():
+    """The same state sent twice is taken (and keeps its knots); a second state at that stamp
+    with other numbers is refused as conflicting_state and the first one kept."""
+    est = estimator()
+    position, velocity = state_at(5.0)
+    first = est.on_state(5.0, position, velocity)
+    est.on_state(5.0, list(position), list(velocity))
+    assert est.rejections == {} and est.state == first
+    with pytest.raises(Rejection) as caught:
+        est.on_state(5.0, position, [velocity[0], velocity[1] + 1.0, velocity[2]])
+    assert caught.value.reason == "conflicting_state" and "5.0 s" in caught.value.message
+    assert est.state == first and est.rejections == {"conflicting_state": 1}
+    assert est.on_attitude(5.01, LEVEL) is not None
