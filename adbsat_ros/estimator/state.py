@@ -118,7 +118,7 @@ def checked_state(
         math.isfinite(stamp) and np.all(np.isfinite(position)) and np.all(np.isfinite(velocity))
     ):
         raise Rejection("non_finite", "state has NaN or Inf in its stamp, position or velocity")
-    speed = math.sqrt(float(velocity @ velocity))
+    speed = math.hypot(*velocity.tolist())  # (no overflow for huge components)
     if not BOUNDS["orbital_speed"].contains(speed):
         rule = BOUNDS["orbital_speed"]
         raise Rejection(
