@@ -285,7 +285,11 @@ class AeroWrenchEstimator:
             raise Rejection("non_finite", "attitude stamp is not finite")
         m = checked_rotation(quaternion_xyzw, "attitude quaternion", s.max_quaternion_norm_error)
         last = self._last_attitude_stamp
-        if jumps_back(stamp, last, s.time_jump_reset, "attitude"):
+        if (
+            last is not None
+            and stamp < last
+            and jumps_back(stamp, last, s.time_jump_reset, "attitude")
+        ):
             self.reset()
             raise Rejection(
                 "time_backwards", f"attitude time went back by {last - stamp:.3f} s: history reset"
