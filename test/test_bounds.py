@@ -48,6 +48,7 @@ def test_every_bound_takes_its_edges_and_refuses_just_beyond(name):
 
 
 COEFF = ["coeff", "example", "--shading", "none", "--speed", "7700", "--temperature", "900"]
+ATMOSPHERE = "atmosphere --time 2025-03-01T00:00:00 --altitude 300 --lat 0 --lon 0".split()
 OPTIONS = [
     (
         ["coeff", "example", "--shading", "none", "--temperature", "900", "--mean-mass", "16"],
@@ -61,32 +62,12 @@ OPTIONS = [
     (COEFF + ["--mean-mass", "16"], "--aref", "area"),
     (COEFF + ["--mean-mass", "16"], "--lref", "length"),
     (
-        [
-            "atmosphere",
-            "--time",
-            "2025-03-01T00:00:00",
-            "--altitude",
-            "300",
-            "--lat",
-            "0",
-            "--lon",
-            "0",
-        ],
+        ATMOSPHERE,
         "--f107",
         "f107",
     ),
     (
-        [
-            "atmosphere",
-            "--time",
-            "2025-03-01T00:00:00",
-            "--altitude",
-            "300",
-            "--lat",
-            "0",
-            "--lon",
-            "0",
-        ],
+        ATMOSPHERE,
         "--ap",
         "ap",
     ),

@@ -494,22 +494,9 @@ def test_bad_mesh_stops_the_node_with_one_line_and_status_1(tmp_path):
     assert len(lines) == 1 and "not found" in lines[0], proc.stderr
 
 
-def test_node_process_with_the_bundled_params_file(sphere_file):
-    """adbsat_node run as its own process with config/adbsat.yaml answers over DDS."""
-    cmd = [
-        sys.executable,
-        "-m",
-        "adbsat_ros.ros.node",
-        "--ros-args",
-        "--params-file",
-        str(ROOT / "config" / "adbsat.yaml"),
-        "-p",
-        f"mesh:={sphere_file}",
-        "-p",
-        "time_mode:=epoch",
-        "-p",
-        f"epoch_utc:={EPOCH}",
-    ]
+def first_wrench_of_node_process(cmd) -> None:
+    """Start adbsat_node with ``cmd``, stream states and attitudes to it over DDS until a
+    wrench comes back (asserting it does, and is not zero), then stop it."""
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     ctx, executor = make_context()
     peer = Peer(ctx, executor, name="remote_peer")
@@ -534,6 +521,25 @@ def test_node_process_with_the_bundled_params_file(sphere_file):
         executor.shutdown()
         peer.node.destroy_node()
         rclpy.try_shutdown(context=ctx)
+
+
+def test_node_process_with_the_bundled_params_file(sphere_file):
+    """adbsat_node run as its own process with config/adbsat.yaml answers over DDS."""
+    cmd = [
+        sys.executable,
+        "-m",
+        "adbsat_ros.ros.node",
+        "--ros-args",
+        "--params-file",
+        str(ROOT / "config" / "adbsat.yaml"),
+        "-p",
+        f"mesh:={sphere_file}",
+        "-p",
+        "time_mode:=epoch",
+        "-p",
+        f"epoch_utc:={EPOCH}",
+    ]
+    first_wrench_of_node_process(cmd)
 
 
 def test_a_bad_params_file_stops_the_node_with_one_line(tmp_path):
@@ -572,29 +578,7 @@ def test_a_params_file_may_give_numbers_as_integers(tmp_path, sphere_file):
         encoding="utf-8",
     )
     cmd = [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args", "--params-file", str(path)]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ctx, executor = make_context()
-    peer = Peer(ctx, executor, name="ints_peer")
-    try:
-        assert peer.wait_for_subscribers(timeout=30), "node process did not come up"
-        pos, vel = circular_orbit_state(300e3)
-        deadline = time.monotonic() + 20
-        t = 0.0
-        while not peer.wrenches and time.monotonic() < deadline:
-            t += 0.01
-            peer.send_state(t, pos, vel)
-            peer.send_attitude(t, (0, 0, 0, 1.0))
-            peer.spin_for(0.05)
-        assert peer.wrenches, "no wrench from the node process"
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-        executor.shutdown()
-        peer.node.destroy_node()
-        rclpy.try_shutdown(context=ctx)
+    first_wrench_of_node_process(cmd)
 
 
 def test_params_file_lists_every_parameter_with_its_default():
