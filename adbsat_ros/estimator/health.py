@@ -10,6 +10,8 @@ the latest sample and the recent compute times.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 #: Levels of a diagnostic_msgs/DiagnosticStatus.
@@ -113,3 +115,48 @@ class Health:
             settings.state_timeout,
             settings.diagnostics_period,
         )
+
+
+class StampGaps:
+    """Messages missing from a regular stream, estimated from its stamps.
+
+    A GNC loop stamps its attitudes at a fixed interval. A step between consecutive stamps of
+    more than 1.5 intervals is counted as round(step / interval) - 1 missing messages (lost by
+    the middleware, or never sent: a paused simulator counts too); any other step is the new
+    interval. Two such steps in a row of one size (within 10 %) are a slower stream: the second
+    becomes the interval (the first stays counted). Stamps that do not advance are left out.
+
+    Attributes
+    ----------
+    missing : int
+        Messages estimated missing so far.
+    interval : float or None
+        The latest regular interval [s].
+    """
+
+    def __init__(self):
+        self.missing = 0
+        self.interval: float | None = None
+        self._latest: float | None = None
+        self._gap: float | None = None  # the step counted as a gap just before
+
+    def stamp(self, stamp: float) -> None:
+        """A message stamped ``stamp`` [s] arrived."""
+        if not math.isfinite(stamp):
+            return
+        latest = self._latest
+        if latest is None or not stamp > latest:
+            if latest is None:
+                self._latest = stamp
+            return
+        step = stamp - latest
+        interval = self.interval
+        if interval is not None and step > 1.5 * interval:
+            if self._gap is not None and abs(step - self._gap) <= 0.1 * step:
+                self.interval, self._gap = step, None  # the stream slowed down
+            else:
+                self.missing += round(step / interval) - 1
+                self._gap = step
+        else:
+            self.interval, self._gap = step, None
+        self._latest = stamp

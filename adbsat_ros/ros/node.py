@@ -41,7 +41,7 @@ from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
-from rclpy.event_handler import PublisherEventCallbacks
+from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
@@ -50,12 +50,13 @@ from rclpy.signals import SignalHandlerOptions
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
-from adbsat_ros.estimator.health import Health
+from adbsat_ros.estimator.health import Health, StampGaps
 from adbsat_ros.estimator.parameters import PARAMETERS, READ_ONLY_PARAMETERS
 from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
+from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.processes import stop_on_signals
 from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
 from adbsat_ros.ros.log_throttle import LogThrottle
@@ -135,8 +136,17 @@ class AdbsatNode(Node):
         self._attitude_message = functools.partial(
             deserialize_message, message_type=QuaternionStamped
         )
-        self.create_subscription(Odometry, "state", self._on_state, qos, raw=True)
-        self.create_subscription(QuaternionStamped, "attitude", self._on_attitude, qos, raw=True)
+        # messages the middleware reports lost (where the RMW reports it), and attitudes missing
+        # from the stream by its stamps (StampGaps): both in /diagnostics
+        self.messages_lost = 0
+        self.attitude_gaps = StampGaps()
+        lost = SubscriptionEventCallbacks(message_lost=self._on_message_lost)
+        self.create_subscription(
+            Odometry, "state", self._on_state, qos, raw=True, event_callbacks=lost
+        )
+        self.create_subscription(
+            QuaternionStamped, "attitude", self._on_attitude, qos, raw=True, event_callbacks=lost
+        )
         self._sample_listeners: list = []
         self._log_throttled = LogThrottle(self.get_logger())
         self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
@@ -212,8 +222,12 @@ class AdbsatNode(Node):
         except UndecodableMessage as exc:
             self._serve(handler.undecodable("attitude", exc))
         else:
+            self.attitude_gaps.stamp(stamp_seconds(attitude.stamp))
             self._serve(handler.on_attitude(attitude, self._coefficient_readers > 0))
         self._prepare_next()
+
+    def _on_message_lost(self, status) -> None:
+        self.messages_lost += status.total_count_change
 
     def _serve(self, outcome: Outcome) -> None:
         """Publish what ``outcome`` holds, keep its health, log its rejection or failure."""
@@ -261,6 +275,8 @@ class AdbsatNode(Node):
         est = self.estimator
         health = self.health
         values = est.diagnostic_values(health.last_sample, health.compute_ms())
+        values["messages_lost"] = self.messages_lost
+        values["attitudes_missing"] = self.attitude_gaps.missing
         level, message = health.level(time.monotonic(), est.settings, sum(est.rejections.values()))
         return DiagnosticFields(
             level=level,

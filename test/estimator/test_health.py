@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from adbsat_ros.estimator.health import ERROR, OK, WARN, Health, health_level
+from adbsat_ros.estimator.health import ERROR, OK, WARN, Health, StampGaps, health_level
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.settings import WrenchSettings
 
@@ -60,3 +60,25 @@ def test_the_compute_window_keeps_the_latest_times():
         health.sample_computed(k * 1e-3, None)
     assert sorted(health.compute_ms().tolist()) == pytest.approx([8.0, 9.0, 10.0, 11.0, 12.0])
     assert health.computed == 12 and isinstance(health.compute_ms(), np.ndarray)
+
+
+def test_stamp_gaps_count_the_messages_missing_from_a_regular_stream():
+    gaps = StampGaps()
+    for k in [0, 1, 2, 3, 7, 8, 9, 10, 12, 13]:  # 4, 5, 6 and 11 missing
+        gaps.stamp(1.0 + 0.01 * k)
+    assert gaps.missing == 4 and gaps.interval == pytest.approx(0.01)
+    gaps.stamp(1.13)  # a repeat and a stamp back in time are no gap
+    gaps.stamp(1.05)
+    gaps.stamp(float("nan"))
+    gaps.stamp(float("inf"))
+    assert gaps.missing == 4
+    gaps.stamp(1.14)
+    assert gaps.missing == 4
+    faster = StampGaps()  # a faster stream is followed at once
+    for t in [0.0, 0.01, 0.02, 0.03, 0.035, 0.04, 0.045]:
+        faster.stamp(t)
+    assert faster.missing == 0 and faster.interval == pytest.approx(0.005)
+    slower = StampGaps()  # a slower one costs one count, then is followed
+    for t in [0.0, 0.005, 0.01, 0.015, 0.025, 0.035, 0.045, 0.055]:
+        slower.stamp(t)
+    assert slower.missing == 1 and slower.interval == pytest.approx(0.01)

@@ -741,3 +741,19 @@ def test_coefficients_follow_their_subscribers_as_they_come_and_go(ros):
     assert peer.spin_until(lambda: node.coefficient_readers == 1)
     peer.send_attitude(0.06, (0.0, 0.0, 0.0, 1.0))
     assert peer.spin_until(lambda: len(peer.coefficients) > before)
+
+
+def test_attitudes_missing_from_the_stream_are_counted_in_the_diagnostics(ros):
+    """A 100 Hz attitude stream with three messages never sent: /diagnostics says three are
+    missing; the middleware reported none lost."""
+    node, peer = ros
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(1.0, pos, vel)
+    peer.spin_for(0.05)
+    sent = [k for k in range(20) if k not in (7, 8, 9)]
+    for k in sent:
+        peer.send_attitude(1.0 + 0.01 * k, (0, 0, 0, 1.0))
+        peer.spin_for(0.005)
+    assert peer.spin_until(lambda: len(peer.wrenches) == len(sent))
+    values = dict(node.diagnostic_fields().values)
+    assert values["attitudes_missing"] == "3" and values["messages_lost"] == "0"
