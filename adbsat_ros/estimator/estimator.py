@@ -191,6 +191,7 @@ class AeroWrenchEstimator:
                 velocity_in_body_frame,
                 orientation_xyzw,
                 self.settings.max_quaternion_norm_error,
+                self.settings.min_altitude,
             )
         except Rejection as exc:
             self.rejections[exc.reason] += 1

@@ -131,6 +131,18 @@ PARAMETERS = (
     ),
     ("state_timeout", 1.0, "a state older than this at the attitude stamp is stale [s]"),
     (
+        "min_altitude",
+        120e3,
+        "states below this geodetic altitude [m] are refused: the flow about a metre-sized body "
+        "is no longer free-molecular there (Kn about 3 at 120 km, 0.1 at 100 km) [0, 1e6]",
+    ),
+    (
+        "knudsen_warning",
+        10.0,
+        "/diagnostics warns while the Knudsen number (mean free path over reference_length) of "
+        "the latest wrench is below this (> 0)",
+    ),
+    (
         "time_jump_reset",
         1.0,
         "a message stamped more than this [s] before the latest of its kind restarts the history "

@@ -153,6 +153,8 @@ class WrenchSettings:
     wind_ecef: tuple
     attitude_source: str
     state_timeout: float
+    min_altitude: float
+    knudsen_warning: float
     time_jump_reset: float
     conditions_step: float
     max_quaternion_norm_error: float
@@ -244,6 +246,8 @@ class WrenchSettings:
             wind_ecef=_vector3("wind_ecef", v["wind_ecef"]),
             attitude_source=_choice("attitude_source", v["attitude_source"], ATTITUDE_SOURCES),
             state_timeout=_number("state_timeout", v["state_timeout"], 0.0, low_open=True),
+            min_altitude=_number("min_altitude", v["min_altitude"], 0.0, 1e6),
+            knudsen_warning=_number("knudsen_warning", v["knudsen_warning"], 0.0, low_open=True),
             time_jump_reset=_number("time_jump_reset", v["time_jump_reset"], 0.0, low_open=True),
             conditions_step=_number(
                 "conditions_step", v["conditions_step"], 0.0, MAX_CONDITIONS_STEP

@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from adbsat_ros.bounds import BOUNDS
+from adbsat_ros.environment.geodetic import geodetic_of_floats
 from adbsat_ros.estimator.samples import OrbitalState, Rejection
 from adbsat_ros.geometry.frames import quaternion_matrix_floats
 from adbsat_ros.messages.cdr import OdometryFields
@@ -88,6 +89,7 @@ def checked_state(
     velocity_in_body_frame: bool,
     orientation_xyzw,
     max_norm_error: float,
+    min_altitude: float = 0.0,
 ) -> OrbitalState:
     """An orbital state from a message's numbers, its velocity in the state frame.
 
@@ -106,11 +108,15 @@ def checked_state(
         Body orientation (x, y, z, w), needed for a body-frame velocity.
     max_norm_error : float
         Largest accepted | |q| - 1 | of the orientation.
+    min_altitude : float
+        Lowest geodetic altitude [m] of a state taken.
 
     Raises
     ------
     Rejection
-        ``non_finite`` (NaN or Inf in the stamp or a vector) or ``bad_quaternion``.
+        ``non_finite`` (NaN or Inf in the stamp or a vector), ``bad_quaternion``,
+        ``altitude_out_of_range`` (below ``min_altitude``) or ``bad_state`` (a speed beyond any
+        Earth orbit's).
     """
     position = np.asarray(position, dtype=float)
     velocity = np.asarray(velocity, dtype=float)
@@ -118,6 +124,13 @@ def checked_state(
         math.isfinite(stamp) and np.all(np.isfinite(position)) and np.all(np.isfinite(velocity))
     ):
         raise Rejection("non_finite", "state has NaN or Inf in its stamp, position or velocity")
+    altitude = geodetic_of_floats(*position.tolist())[2]
+    if altitude < min_altitude:  # (an ECI position taken as ECEF: the pole's drift, < 1 km)
+        raise Rejection(
+            "altitude_out_of_range",
+            f"state altitude {altitude / 1e3:.1f} km is below min_altitude "
+            f"{min_altitude / 1e3:g} km (the flow is not free-molecular there)",
+        )
     speed = math.hypot(*velocity.tolist())  # (no overflow for huge components)
     if not BOUNDS["orbital_speed"].contains(speed):
         rule = BOUNDS["orbital_speed"]

@@ -50,13 +50,14 @@ from rclpy.signals import SignalHandlerOptions
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
-from adbsat_ros.estimator.health import Health, StampGaps
+from adbsat_ros.estimator.health import OK, WARN, Health, StampGaps
 from adbsat_ros.estimator.parameters import PARAMETERS, READ_ONLY_PARAMETERS
 from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
 from adbsat_ros.messages.stamps import stamp_seconds
+from adbsat_ros.physics.knudsen import knudsen_number
 from adbsat_ros.processes import stop_on_signals
 from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
 from adbsat_ros.ros.log_throttle import LogThrottle
@@ -278,6 +279,18 @@ class AdbsatNode(Node):
         values["messages_lost"] = self.messages_lost
         values["attitudes_missing"] = self.attitude_gaps.missing
         level, message = health.level(time.monotonic(), est.settings, sum(est.rejections.values()))
+        sample = health.last_sample
+        if sample is not None and sample.conditions.speed > 0.0:
+            kn = knudsen_number(
+                sample.conditions.atmosphere.total_number_density, est.method.reference.length
+            )
+            values["knudsen_number"] = kn
+            if kn < est.settings.knudsen_warning and level == OK:
+                level = WARN
+                message = (
+                    f"flow not free-molecular: Kn {kn:.3g} < knudsen_warning "
+                    f"{est.settings.knudsen_warning:g}"
+                )
         return DiagnosticFields(
             level=level,
             name=f"{self.get_name()}: aerodynamic wrench",

@@ -109,3 +109,15 @@ def test_two_states_at_one_stamp_must_agree():
     assert caught.value.reason == "conflicting_state" and "5.0 s" in caught.value.message
     assert est.state == first and est.rejections == {"conflicting_state": 1}
     assert est.on_attitude(5.01, LEVEL) is not None
+
+
+def test_a_state_below_min_altitude_is_refused():
+    """Below min_altitude (default 120 km) the flow about a metre-sized body is not
+    free-molecular: such a state is refused and counted; the limit is a setting."""
+    est = estimator()
+    low = [6378137.0 + 110e3, 0.0, 0.0], [0.0, V, 0.0]
+    with pytest.raises(Rejection, match="state altitude 110.0 km is below min_altitude 120 km"):
+        est.on_state(1.0, *low)
+    assert est.rejections == {"altitude_out_of_range": 1} and est.state is None
+    est.on_state(1.0, [6378137.0 + 125e3, 0.0, 0.0], [0.0, V, 0.0])
+    assert estimator(min_altitude=100e3).on_state(1.0, *low).stamp == 1.0

@@ -757,3 +757,20 @@ def test_attitudes_missing_from_the_stream_are_counted_in_the_diagnostics(ros):
     assert peer.spin_until(lambda: len(peer.wrenches) == len(sent))
     values = dict(node.diagnostic_fields().values)
     assert values["attitudes_missing"] == "3" and values["messages_lost"] == "0"
+
+
+def test_the_knudsen_number_is_reported_and_warned_about(ros):
+    """/diagnostics reports Kn of the latest wrench (mean free path over the reference length);
+    below knudsen_warning the status is WARN and says why."""
+    node, peer = ros
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(1.0, pos, vel)
+    peer.spin_for(0.05)
+    peer.send_attitude(1.0, (0, 0, 0, 1.0))
+    assert peer.spin_until(lambda: len(peer.wrenches) == 1)
+    fields = node.diagnostic_fields()
+    kn = float(dict(fields.values)["knudsen_number"])
+    assert kn > 1e3 and fields.level == 0  # 300 km: free-molecular by far
+    assert node.set_parameters([Parameter("knudsen_warning", value=10 * kn)])[0].successful
+    fields = node.diagnostic_fields()
+    assert fields.level == 1 and "flow not free-molecular" in fields.message

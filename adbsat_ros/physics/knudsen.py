@@ -1,0 +1,36 @@
+"""How rarefied the flow is: the mean free path of the gas and the Knudsen number of the body.
+
+The panel method assumes free-molecular flow: molecules that hit the body have not met the ones
+it re-emits, Kn = lambda / L >> 1 (in practice Kn > 10). The mean free path is that of the U.S.
+Standard Atmosphere 1976 (NOAA-S/T 76-1562, section 1.3.15), a hard-sphere gas of one effective
+collision diameter sigma = 3.65e-10 m:
+
+    lambda = 1 / (sqrt(2) pi sigma^2 n)
+
+with n the total number density. For NRLMSISE-00's composition it agrees within 20 % with
+Bird's mixture formula (Molecular Gas Dynamics, 1994, eq. 4.76) from 100 to 200 km; the regime
+boundaries it serves are orders of magnitude apart. For a body 1 m long, Kn is about 0.1 at
+100 km, 3 at 120 km, 10 at 130 km and 35 at 150 km (moderate solar activity). Formulas:
+docs/physics.md, section 11.
+"""
+
+from __future__ import annotations
+
+import math
+
+#: The effective collision diameter of air of the U.S. Standard Atmosphere 1976 [m].
+COLLISION_DIAMETER = 3.65e-10
+
+
+def mean_free_path(number_density: float) -> float:
+    """Mean free path [m] of a gas of ``number_density`` molecules per m^3 (> 0)."""
+    if not number_density > 0.0:
+        raise ValueError(f"number_density must be > 0, got {number_density!r}")
+    return 1.0 / (math.sqrt(2.0) * math.pi * COLLISION_DIAMETER**2 * number_density)
+
+
+def knudsen_number(number_density: float, length: float) -> float:
+    """Knudsen number lambda / L of a body of characteristic length ``length`` [m] (> 0)."""
+    if not length > 0.0:
+        raise ValueError(f"length must be > 0, got {length!r}")
+    return mean_free_path(number_density) / length
