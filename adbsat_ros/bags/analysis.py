@@ -46,7 +46,12 @@ from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.bags.model_state import ModelState
 from adbsat_ros.bags.outputs import write_outputs
-from adbsat_ros.bags.planning import MIN_CHUNK_MESSAGES, plan_chunks, safe_split_points
+from adbsat_ros.bags.planning import (
+    MAX_CHUNK_MESSAGES,
+    MIN_CHUNK_MESSAGES,
+    plan_chunks,
+    safe_split_points,
+)
 from adbsat_ros.bags.reading import check_topics, read_bag_messages
 from adbsat_ros.bags.report import (
     DIAGNOSTICS_TOPIC,
@@ -67,6 +72,7 @@ from adbsat_ros.processes import worker_count
 __all__ = [
     "COMMON_COLUMNS",
     "DIAGNOSTICS_TOPIC",
+    "MAX_CHUNK_MESSAGES",
     "MIN_CHUNK_MESSAGES",
     "MODEL_COLUMNS",
     "NAMESPACE",
@@ -173,7 +179,7 @@ def analyze_bag(
         are rebuilt in bag order.
     chunk_messages : int, optional
         State + attitude messages per chunk (default: enough chunks for 8 per worker, at least
-        :data:`MIN_CHUNK_MESSAGES` each; one chunk with one worker).
+        :data:`MIN_CHUNK_MESSAGES` and at most :data:`MAX_CHUNK_MESSAGES` each).
     stop : threading.Event, optional
         Set to stop at the next message (e.g. by :func:`adbsat_ros.processes.stop_on_signals`):
         the report's error says so and the outputs so far are kept as PARTIAL.

@@ -17,6 +17,9 @@ from adbsat_ros.bags.reading import ATTITUDE, STATE
 MIN_CHUNK_MESSAGES = 250
 #: Chunks per worker by default (load balance, and the merge writes while workers compute).
 CHUNKS_PER_WORKER = 8
+#: Largest default chunk with several workers: a stop waits for the chunks being computed, and
+#: 2,000 messages take about 0.2 s (bench/bench_bag_analysis.py: ~10,000 messages/s).
+MAX_CHUNK_MESSAGES = 2000
 
 
 def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
@@ -102,7 +105,8 @@ def plan_chunks(
         Processes that will compute the chunks.
     chunk_messages : int or None
         Messages per chunk (default: enough chunks for CHUNKS_PER_WORKER per worker, at least
-        MIN_CHUNK_MESSAGES each; one chunk with one worker).
+        MIN_CHUNK_MESSAGES and at most MAX_CHUNK_MESSAGES each; with one worker too, which
+        computes a chunk before the merge writes it: a stop waits for one chunk only).
     accepted : callable
         ``accepted(k)``: whether every model's freshly reset estimator accepts the state
         message k.
@@ -114,9 +118,8 @@ def plan_chunks(
     """
     n = len(kinds)
     if chunk_messages is None:
-        chunk_messages = (
-            n if workers == 1 else max(MIN_CHUNK_MESSAGES, -(-n // (CHUNKS_PER_WORKER * workers)))
-        )
+        per_worker = -(-n // (CHUNKS_PER_WORKER * workers))
+        chunk_messages = min(MAX_CHUNK_MESSAGES, max(MIN_CHUNK_MESSAGES, per_worker))
     splits = []
     if chunk_messages < n:
         candidates = safe_split_points(kinds[: len(stamps)], stamps, attitude_sources)

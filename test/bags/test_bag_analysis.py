@@ -346,21 +346,28 @@ def test_odometry_from_a_bag_follows_the_node_frame_rules():
         settings, panels_from_arrays(*grid_box((0, 0, 0), (1, 1, 1), (1, 1, 1)))
     )
     with pytest.raises(Rejection, match="state_frame is eci"):
-        est.on_odometry(bag_io.odometry_message(1_500_000_000, "ecef", "eci", [1, 2, 3], [4, 5, 6]))
+        est.on_odometry(
+            bag_io.odometry_message(1_500_000_000, "ecef", "eci", [6.7e6, 2, 3], [4, 5, 6])
+        )
     with pytest.raises(Rejection, match="child_frame_id 'sensor'"):
         est.on_odometry(
-            bag_io.odometry_message(1_500_000_000, "eci", "sensor", [1, 2, 3], [4, 5, 6])
+            bag_io.odometry_message(1_500_000_000, "eci", "sensor", [6.7e6, 2, 3], [4, 5, 6])
         )
     h = math.sqrt(0.5)  # body turned 90 deg about z: body x is state y
     state, q = est.on_odometry(
         bag_io.odometry_message(
-            1_500_000_000, "eci", "body", [1, 2, 3], [4, 5, 6], orientation_xyzw=[0.0, 0.0, h, h]
+            1_500_000_000,
+            "eci",
+            "body",
+            [6.7e6, 2, 3],
+            [4, 5, 6],
+            orientation_xyzw=[0.0, 0.0, h, h],
         )
     )
     assert state.stamp == 1.5 and q == [0.0, 0.0, h, h]
     np.testing.assert_allclose(state.velocity, [-5.0, 4.0, 6.0], atol=1e-12)
     state, _ = est.on_odometry(
-        bag_io.odometry_message(2_000_000_000, "eci", "eci", [1, 2, 3], [4, 5, 6])
+        bag_io.odometry_message(2_000_000_000, "eci", "eci", [6.7e6, 2, 3], [4, 5, 6])
     )
     np.testing.assert_allclose(state.velocity, [4.0, 5.0, 6.0])
     assert math.isclose(
