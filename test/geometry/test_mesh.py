@@ -1,6 +1,7 @@
 """Mesh import: formats, materials, scale, and every kind of bad mesh."""
 
 import logging
+import math
 
 import numpy as np
 import pytest
@@ -192,3 +193,21 @@ def test_a_mesh_from_a_millimetre_to_200_m_across_loads(tmp_path):
         path = tmp_path / f"r{radius}.stl"
         trimesh.creation.icosphere(subdivisions=1, radius=radius).export(path)
         assert load_mesh(path).n_panels == 80
+
+
+def test_an_obj_with_latin1_text_loads(tmp_path):
+    """A comment and a material name in Latin-1 (not UTF-8): the file still loads, its
+    geometry intact (the text is decoded by detection)."""
+    path = tmp_path / "latin1.obj"
+    text = (
+        "# modèle réalisé à Toulouse\n"
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+        "usemtl aluminium_poli\n"
+        "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+    )
+    path.write_bytes(text.encode("latin-1"))
+    with pytest.raises(UnicodeDecodeError):
+        path.read_bytes().decode("utf-8")
+    mesh = load_mesh(path, accept_size=False)
+    assert mesh.n_panels == 4
+    assert mesh.total_area == pytest.approx(1.5 + math.sqrt(3) / 2)
