@@ -129,7 +129,7 @@ def _check_output_topics(bag, by_topic: dict, states) -> None:
 def _accepted_by_fresh_estimators(read, states, k: int) -> bool:
     """Whether every model's reset estimator accepts trigger message k (a state)."""
     try:
-        odometry = decode_odometry(read.trigger_raws[k], bag_io.deserialize_odometry)
+        odometry = decode_odometry(read.state_raws[k], bag_io.deserialize_odometry)
     except UndecodableMessage:
         return False
     return all(state.accepts_state(odometry) for state in states)
@@ -245,25 +245,29 @@ def analyze_bag(
     )
     report.workers, report.chunks = min(workers, len(chunks)) or 1, len(chunks)
     report.seconds["read"] = time.perf_counter() - t0
-    results = chunk_results(
-        [(s.settings, s.mesh) for s in states],
-        ((read.trigger_kinds[a:b], read.trigger_raws[a:b]) for a, b in chunks),
-        report.workers,
-    )
-    write_outputs(
-        read,
-        chunks,
-        results,
-        states,
-        report,
-        out_bag,
-        out_csv,
-        plots_dir,
-        storage,
-        progress,
-        overwrite,
-        stop,
-    )
+    read.state_raws.clear()  # (only the planning needed them)
+    stream = read.stream()
+    try:
+        results = chunk_results(
+            [(s.settings, s.mesh) for s in states], stream.chunks(chunks), report.workers
+        )
+        write_outputs(
+            read,
+            stream,
+            chunks,
+            results,
+            states,
+            report,
+            out_bag,
+            out_csv,
+            plots_dir,
+            storage,
+            progress,
+            overwrite,
+            stop,
+        )
+    finally:
+        stream.close()
     report.seconds["total"] = time.perf_counter() - t_start
     for state in states:
         state.finish()

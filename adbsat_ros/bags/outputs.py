@@ -11,6 +11,7 @@ and the report's error saying where.
 
 from __future__ import annotations
 
+import array
 import collections
 import csv
 import os
@@ -56,12 +57,27 @@ class _CsvFile:
 class _Walk:
     """One walk over the messages in bag order (see :func:`write_outputs`)."""
 
-    def __init__(self, read, chunks, results, states, report, writer, csv_file, seconds):
-        self.read, self.chunks, self.results = read, chunks, results
+    def __init__(
+        self,
+        read,
+        stream,
+        chunks,
+        results,
+        states,
+        report,
+        writer,
+        csv_file,
+        seconds,
+        keep_plot_rows: bool,
+    ):
+        self.read, self.stream, self.chunks, self.results = read, stream, chunks, results
         self.states, self.report = states, report
         self.writer, self.csv_file, self.seconds = writer, csv_file, seconds
         self.last_ns = None
-        self.rows_stamp, self.rows_plot = [], []  # CSV/plot rows: stamps [ns], plot numbers
+        # the plots' rows, when plots are asked for: stamps [ns] and the plot numbers, flat (8
+        # bytes a number: a row of lists would cost about 300 bytes a message)
+        self.keep_plot_rows = keep_plot_rows
+        self.rows_stamp, self.rows_plot = array.array("q"), array.array("d")
         self.out_connections = {}
         self.topics = {cid: c.topic for cid, c in read.connections.items()}
         if writer is not None:
@@ -112,7 +128,7 @@ class _Walk:
         done = 0
         try:
             t0 = pc()
-            for conn_id, t_ns, raw in self.read.messages:
+            for conn_id, t_ns, raw in self.stream.messages():
                 if stop is not None and stop.is_set():
                     report.error = f"stopped by a signal after {report.messages_read} messages"
                     break
@@ -163,8 +179,9 @@ class _Walk:
                 stamp_ns = sec * _NS + nanosec
                 if first_row_ns is None:
                     first_row_ns = stamp_ns
-                self.rows_stamp.append(stamp_ns)
-                self.rows_plot.append(row.plot)
+                if self.keep_plot_rows:
+                    self.rows_stamp.append(stamp_ns)
+                    self.rows_plot.extend(row.plot)
                 if self.csv_file is not None:
                     stamp_s = sec + 1e-9 * nanosec
                     self.csv_file.file.write(
@@ -189,6 +206,7 @@ def partial_path(path) -> Path:
 
 def write_outputs(
     read,
+    stream,
     chunks,
     results,
     states,
@@ -206,7 +224,9 @@ def write_outputs(
     Parameters
     ----------
     read : BagMessages
-        Every input message (:func:`adbsat_ros.bags.reading.read_bag_messages`).
+        The first pass over the input (:func:`adbsat_ros.bags.reading.read_bag_messages`).
+    stream : MessageStream
+        The second: every message, in bag order (:meth:`BagMessages.stream`).
     chunks : list of (int, int)
         The chunks of trigger messages, in order.
     results : generator of ChunkResult
@@ -236,7 +256,18 @@ def write_outputs(
     try:
         if out_csv is not None:
             csv_file = _CsvFile(out_csv, [s.label for s in states])
-        walk = _Walk(read, chunks, results, states, report, writer, csv_file, seconds)
+        walk = _Walk(
+            read,
+            stream,
+            chunks,
+            results,
+            states,
+            report,
+            writer,
+            csv_file,
+            seconds,
+            keep_plot_rows=plots_dir is not None,
+        )
         walk.run(progress, stop)
         if report.error is not None:  # kept, under names that say so
             out_csv = None if out_csv is None else partial_path(out_csv)
@@ -274,7 +305,7 @@ def write_plots(plots_dir, stamps_ns, rows_plot, labels, report) -> None:
 
     stamps_ns = np.asarray(stamps_ns, dtype=np.int64)
     time_s = (stamps_ns - stamps_ns[0]) * 1e-9
-    data = np.asarray(rows_plot, dtype=float).reshape(
+    data = np.frombuffer(rows_plot, dtype=float).reshape(
         len(stamps_ns), len(labels), len(PLOT_COLUMNS)
     )
     runs = {}

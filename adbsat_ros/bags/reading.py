@@ -1,17 +1,19 @@
-"""Reading an input bag for the analysis: its topics checked, every message once, in bag order.
-
-The analysis holds every message's CDR bytes in memory (about the bag's size): they are copied
-to the output bag, and the state and attitude ("trigger") messages are replayed through the
-estimators. A fault of the reader part-way (a corrupt or truncated file) ends the reading; what
-came before is kept and the fault is reported.
+"""Reading an input bag for the analysis, in two passes, in memory that does not grow with the
+bag: its topics checked; a first pass keeps the kinds and stamps of the state and attitude
+("trigger") messages, to plan the chunks; a second pass streams every message to the workers
+(the triggers) and to the merge (all of them, copied to the output bag). A fault of the reader
+part-way (a corrupt or truncated file) ends the first pass; the second stops at the same place,
+and the fault is reported.
 """
 
 from __future__ import annotations
 
+import array
 import collections
+import itertools
 from dataclasses import dataclass, field
 
-from adbsat_ros.bags.io import BagError
+from adbsat_ros.bags.io import BagError, open_bag
 from adbsat_ros.messages.cdr import header_stamp
 
 #: Kinds of trigger message.
@@ -72,40 +74,50 @@ def check_topics(reader, path, topics_types) -> dict:
 
 @dataclass
 class BagMessages:
-    """Every message of a bag, and its trigger messages.
+    """What the first pass over a bag keeps: the trigger messages' kinds and stamps (a few bytes
+    each) and the states' CDR bytes (to test where chunks may start); :meth:`stream` reads the
+    messages again for the second pass.
 
     Attributes
     ----------
+    path : Path
+        The bag.
     connections : dict
         The reader's connections by id.
-    messages : list of (int, int, bytes)
-        (connection id, log time [ns], CDR bytes) of every message, in bag order.
+    count : int
+        Messages read (up to a fault of the reader, if any).
     kind_of : dict
         {connection id: STATE or ATTITUDE} of the trigger topics.
-    trigger_kinds : list of int
+    trigger_kinds : array of int
         STATE or ATTITUDE of each trigger message, in bag order.
-    trigger_raws : list of bytes
-        Their CDR bytes.
-    trigger_stamps : list of float
+    trigger_stamps : array of float
         Their header stamps [s] as the estimator reads them (sec + 1e-9 nanosec), up to the
         first message whose stamp cannot be read (no chunk starts after it).
+    state_raws : dict
+        {trigger index: CDR bytes} of the state messages.
     error : str or None
         Why the reading stopped before the end.
     """
 
+    path: object
     connections: dict
-    messages: list = field(default_factory=list)
+    count: int = 0
     kind_of: dict = field(default_factory=dict)
-    trigger_kinds: list = field(default_factory=list)
-    trigger_raws: list = field(default_factory=list)
-    trigger_stamps: list = field(default_factory=list)
+    trigger_kinds: array.array = field(default_factory=lambda: array.array("b"))
+    trigger_stamps: array.array = field(default_factory=lambda: array.array("d"))
+    state_raws: dict = field(default_factory=dict)
     error: str | None = None
+
+    def stream(self) -> "MessageStream":
+        """The second pass: the same :attr:`count` messages again, in bag order."""
+        return MessageStream(self)
 
 
 def read_bag_messages(reader, path, state_topic: str, attitude_topic: str | None) -> BagMessages:
-    """Every message of an open bag (raw CDR) in bag order, and the trigger messages: those on
-    ``state_topic``, and on ``attitude_topic`` unless it is None (no model uses attitudes)."""
-    read = BagMessages({c.id: c for c in reader.connections})
+    """The first pass over an open bag: its trigger messages (those on ``state_topic``, and on
+    ``attitude_topic`` unless it is None: no model uses attitudes), their kinds and stamps, the
+    states' bytes. Memory grows by about 9 bytes per trigger message, plus the states."""
+    read = BagMessages(path, {c.id: c for c in reader.connections})
     for c in reader.connections:
         if c.topic == state_topic:
             read.kind_of[c.id] = STATE
@@ -113,14 +125,14 @@ def read_bag_messages(reader, path, state_topic: str, attitude_topic: str | None
             read.kind_of[c.id] = ATTITUDE
     stamps_ok = True
     try:
-        for conn, t_ns, raw in read_messages(reader, path, reader.connections):
-            raw = bytes(raw)
-            read.messages.append((conn.id, t_ns, raw))
+        for conn, _, raw in read_messages(reader, path, reader.connections):
+            read.count += 1
             kind = read.kind_of.get(conn.id)
             if kind is None:
                 continue
+            if kind == STATE:
+                read.state_raws[len(read.trigger_kinds)] = bytes(raw)
             read.trigger_kinds.append(kind)
-            read.trigger_raws.append(raw)
             if stamps_ok:
                 try:
                     sec, nanosec = header_stamp(raw)
@@ -131,3 +143,59 @@ def read_bag_messages(reader, path, state_topic: str, attitude_topic: str | None
     except BagError as exc:
         read.error = str(exc)
     return read
+
+
+class MessageStream:
+    """The second pass over a bag, read once and shared by two consumers that run at their own
+    pace: :meth:`chunks` (the trigger messages of each chunk, for the workers, requested ahead)
+    and :meth:`messages` (every message in bag order, for the merge, which writes the outputs).
+    Whichever reads a message first queues it for the other, so memory is bounded by how far
+    apart the two are (the chunks requested ahead), not by the bag.
+    """
+
+    def __init__(self, read: BagMessages):
+        self._kind_of = read.kind_of
+        self._reader = open_bag(read.path)
+        self._source = itertools.islice(
+            read_messages(self._reader, read.path, self._reader.connections), read.count
+        )
+        self._unmerged = collections.deque()  # (connection id, log time, CDR bytes)
+        self._unchunked = collections.deque()  # (kind, CDR bytes) of trigger messages
+
+    def _pull(self) -> bool:
+        """Read the next message into both queues; False at the end."""
+        try:
+            conn, t_ns, raw = next(self._source)
+        except StopIteration:
+            return False
+        raw = bytes(raw)
+        self._unmerged.append((conn.id, t_ns, raw))
+        kind = self._kind_of.get(conn.id)
+        if kind is not None:
+            self._unchunked.append((kind, raw))
+        return True
+
+    def chunks(self, bounds):
+        """``(kinds, CDR bytes)`` of the trigger messages of each chunk ``[start, stop)`` of
+        ``bounds`` (trigger indices, in order, covering them all)."""
+        queue = self._unchunked
+        for start, stop in bounds:
+            kinds, raws = [], []
+            while len(kinds) < stop - start:
+                if not queue and not self._pull():
+                    break
+                if queue:
+                    kind, raw = queue.popleft()
+                    kinds.append(kind)
+                    raws.append(raw)
+            yield kinds, raws
+
+    def messages(self):
+        """Every message, ``(connection id, log time [ns], CDR bytes)``, in bag order."""
+        queue = self._unmerged
+        while queue or self._pull():
+            yield queue.popleft()
+
+    def close(self) -> None:
+        """Close the bag."""
+        self._reader.close()
