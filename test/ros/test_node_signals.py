@@ -47,6 +47,10 @@ def test_a_signal_under_a_stream_stops_the_node_cleanly(sphere_file, signum):
             proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
             try:
                 assert peer.wait_for_subscribers(timeout=30), "node process did not come up"
+                # (and its wrench publisher seen, so that the first wrenches are not lost)
+                assert peer.spin_until(
+                    lambda: peer.node.count_publishers("/wrench") > 0, timeout=30
+                )
                 t, sent, wrenches, signalled = 0.0, 0, len(peer.wrenches), False
                 deadline = time.monotonic() + 30
                 while proc.poll() is None and time.monotonic() < deadline:
@@ -62,7 +66,9 @@ def test_a_signal_under_a_stream_stops_the_node_cleanly(sphere_file, signum):
                     if not signalled and answering and sent >= 300 + 37 * run:
                         proc.send_signal(signum)
                         signalled = True
-                assert signalled, "the node never answered"
+                if not signalled:
+                    proc.kill()
+                    pytest.fail(f"the node never answered (run {run}): {proc.communicate()[1]}")
                 out, err = proc.communicate(timeout=10)
             finally:
                 if proc.poll() is None:
@@ -71,7 +77,14 @@ def test_a_signal_under_a_stream_stops_the_node_cleanly(sphere_file, signum):
             assert proc.returncode == 0, (run, err)
             for word in ("Traceback", "FATAL", "Error", "error"):
                 assert word not in err, (run, err)
-            peer.spin_until(lambda: peer.attitude_pub.get_subscription_count() == 0, timeout=5)
+            # the node gone from the graph before the next one starts
+            assert peer.spin_until(
+                lambda: (
+                    peer.attitude_pub.get_subscription_count() == 0
+                    and peer.node.count_publishers("/wrench") == 0
+                ),
+                timeout=30,
+            )
     finally:
         executor.shutdown()
         peer.node.destroy_node()
