@@ -16,6 +16,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import math
+import os
 import sys
 
 from adbsat_ros.cli.options import (
@@ -202,6 +203,20 @@ def _accommodation_options(args) -> dict:
 
 
 def compute(args, accommodation_options=None):
+    """The flight conditions the options give (:func:`_compute`), with what the NRLMSISE-00 C
+    library prints (its "dnet log error" lines) sent to stderr instead of the command's output,
+    which may be JSON."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        os.dup2(2, 1)
+        return _compute(args, accommodation_options)
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+
+
+def _compute(args, accommodation_options=None):
     """Flight conditions for parsed arguments; raises CommandLineError naming the bad option.
 
     ``accommodation_options`` replaces the options taken from ``--accommodation/--alpha``.
@@ -340,8 +355,13 @@ def run(args) -> int:
     except ValueError as exc:  # a library check the CLI did not anticipate: still a bad value
         raise CommandLineError(str(exc)) from None
     if args.json:
-        json.dump(conditions.as_dict(), sys.stdout, indent=2, allow_nan=False)
-        sys.stdout.write("\n")
+        try:  # (made whole first: a refused number must not leave half a document)
+            text = json.dumps(conditions.as_dict(), indent=2, allow_nan=False)
+        except ValueError:
+            raise CommandLineError(
+                "the atmosphere model gave a number that is not finite for these inputs"
+            ) from None
+        sys.stdout.write(text + "\n")
     else:
         print(format_table(conditions))
     return 0

@@ -18,7 +18,7 @@ from adbsat_ros.cli.common import (
     make_shader_from_args,
     method_and_flow_from_args,
 )
-from adbsat_ros.cli.options import parse_angle_list
+from adbsat_ros.cli.options import CommandLineError, parse_angle_list
 from adbsat_ros.geometry import frames
 
 
@@ -67,8 +67,11 @@ def run(args) -> int:
             d["shading"] = args.shading
             results.append(d)
     if args.json:
-        json.dump(results, sys.stdout, indent=1)
-        sys.stdout.write("\n")
+        try:  # (made whole first: a refused number must not leave half a document)
+            text = json.dumps(results, indent=1, allow_nan=False)
+        except ValueError:
+            raise CommandLineError("a coefficient is not finite for these inputs") from None
+        sys.stdout.write(text + "\n")
     else:
         print_table(results, method, flow)
     return 0

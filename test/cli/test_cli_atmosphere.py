@@ -161,3 +161,25 @@ def test_console_entry_point_runs():
     )
     assert result.returncode == 0, result.stderr
     assert json.loads(result.stdout)["altitude"] == pytest.approx(400e3)
+
+
+def test_what_nrlmsise00_prints_goes_to_stderr_not_into_the_json(monkeypatch, capfd):
+    """NRLMSISE-00's C code prints "dnet log error" lines for space weather far beyond its
+    fit. With the range of F10.7 widened to reach it, those lines land on stderr and stdout
+    stays one JSON document."""
+    from adbsat_ros.bounds import BOUNDS, Bound
+
+    wide = Bound(0.0, 1e5, "sfu", BOUNDS["f107"].reason)
+    monkeypatch.setitem(BOUNDS, "f107", wide)
+    argv = ["atmosphere", "--time", "2025-03-01T00:00:00", "--altitude", "300", "--lat", "0"]
+    argv += ["--lon", "0", "--f107", "20000", "--f107a", "20000", "--json"]
+    try:
+        code = cli.main(argv)
+    except SystemExit as exc:  # (a non-finite number refused)
+        code = exc.code
+    out, err = capfd.readouterr()
+    assert "dnet" in err and "dnet" not in out
+    if code == 0:
+        assert json.loads(out)["space_weather"]["f107"] == 20000.0
+    else:
+        assert out == "" and "Traceback" not in err
