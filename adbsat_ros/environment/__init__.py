@@ -17,6 +17,7 @@ Modules:
 - :mod:`~adbsat_ros.environment.earth_frames`, :mod:`~adbsat_ros.environment.geodetic`,
   :mod:`~adbsat_ros.environment.time_scales`: GCRF/ITRF with pyerfa, WGS-84, UTC/TT/UT1.
 
-Imports physics (the free stream and constants) and the shared input checks. Formulas and
+Imports physics (the free stream and constants), the shared input checks and the table of
+valid ranges (space weather). Formulas and
 sources: docs/physics.md, section 5.
 """

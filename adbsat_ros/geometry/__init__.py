@@ -11,5 +11,5 @@ Modules:
 - :mod:`~adbsat_ros.geometry.frames`: the mesh, body, wind and flight frames, aoa/aos and the flow
   direction, quaternions (docs/physics.md, section 2).
 
-The bottom layer: it imports nothing else of adbsat_ros.
+Next to the bottom layer: of adbsat_ros it imports only the table of valid ranges (a mesh's size).
 """

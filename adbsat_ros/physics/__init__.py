@@ -12,6 +12,8 @@ Modules:
   composition, density).
 - :mod:`~adbsat_ros.physics.surface`: per-material surface properties.
 - :mod:`~adbsat_ros.physics.solar`: solar radiation pressure (Luthcke et al. 1997).
+- :mod:`~adbsat_ros.physics.knudsen`: mean free path and Knudsen number (how free-molecular
+  the flow is).
 - :mod:`~adbsat_ros.physics.constants`: physical constants and species data.
 
 Imports geometry and shading. Formulas and sources: docs/physics.md.
