@@ -45,7 +45,7 @@ from pathlib import Path
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.bags.model_state import ModelState
-from adbsat_ros.bags.outputs import write_outputs
+from adbsat_ros.bags.outputs import Outputs, Replay, write_outputs
 from adbsat_ros.bags.planning import (
     MAX_CHUNK_MESSAGES,
     MIN_CHUNK_MESSAGES,
@@ -252,18 +252,8 @@ def analyze_bag(
             [(s.settings, s.mesh) for s in states], stream.chunks(chunks), report.workers
         )
         write_outputs(
-            read,
-            stream,
-            chunks,
-            results,
-            states,
-            report,
-            out_bag,
-            out_csv,
-            plots_dir,
-            storage,
-            progress,
-            overwrite,
+            Replay(read, stream, chunks, results, states, report),
+            Outputs(out_bag, out_csv, plots_dir, storage, overwrite, progress),
             stop,
         )
     finally:

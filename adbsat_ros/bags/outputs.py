@@ -18,6 +18,7 @@ import os
 import shutil
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -54,24 +55,55 @@ class _CsvFile:
             os.unlink(self.tmp)
 
 
+@dataclass
+class Replay:
+    """What the merge walks through: the two passes over the input, the chunks and their
+    results, the models and the report.
+
+    Attributes
+    ----------
+    read : BagMessages
+        The first pass over the input (:func:`adbsat_ros.bags.reading.read_bag_messages`).
+    stream : MessageStream
+        The second: every message, in bag order (:meth:`BagMessages.stream`).
+    chunks : list of (int, int)
+        The chunks of trigger messages, in order.
+    results : generator of ChunkResult
+        Their results, in order (:func:`adbsat_ros.bags.worker.chunk_results`).
+    states : list of ModelState
+        The models, in order.
+    report : AnalysisReport
+        Filled in: messages read, error, outputs written, warnings, seconds by phase.
+    """
+
+    read: object
+    stream: object
+    chunks: list
+    results: object
+    states: list
+    report: object
+
+
+@dataclass
+class Outputs:
+    """The outputs asked for: ``bag``, ``csv`` and ``plots`` paths (None: not written), the
+    bag's ``storage`` ('mcap' or 'sqlite3'), ``overwrite`` existing outputs, show ``progress``."""
+
+    bag: Path | None
+    csv: Path | None
+    plots: Path | None
+    storage: str = "mcap"
+    overwrite: bool = False
+    progress: bool = False
+
+
 class _Walk:
     """One walk over the messages in bag order (see :func:`write_outputs`)."""
 
-    def __init__(
-        self,
-        read,
-        stream,
-        chunks,
-        results,
-        states,
-        report,
-        writer,
-        csv_file,
-        seconds,
-        keep_plot_rows: bool,
-    ):
-        self.read, self.stream, self.chunks, self.results = read, stream, chunks, results
-        self.states, self.report = states, report
+    def __init__(self, replay: Replay, writer, csv_file, seconds, keep_plot_rows: bool):
+        self.read, self.stream = replay.read, replay.stream
+        self.chunks, self.results = replay.chunks, replay.results
+        self.states, self.report = replay.states, replay.report
         self.writer, self.csv_file, self.seconds = writer, csv_file, seconds
         self.last_ns = None
         # the plots' rows, when plots are asked for: stamps [ns] and the plot numbers, flat (8
@@ -79,14 +111,15 @@ class _Walk:
         self.keep_plot_rows = keep_plot_rows
         self.rows_stamp, self.rows_plot = array.array("q"), array.array("d")
         self.out_connections = {}
-        self.topics = {cid: c.topic for cid, c in read.connections.items()}
+        self.topics = {cid: c.topic for cid, c in self.read.connections.items()}
         if writer is not None:
             self.wrench_connections = [
-                writer.connection(s.summary.wrench_topic, bag_io.WRENCH_STAMPED) for s in states
+                writer.connection(s.summary.wrench_topic, bag_io.WRENCH_STAMPED)
+                for s in self.states
             ]
             self.coefficient_connections = [
                 writer.connection(s.summary.coefficients_topic, bag_io.WRENCH_STAMPED)
-                for s in states
+                for s in self.states
             ]
 
     def diagnostics(self, state, t_ns: int) -> None:
@@ -204,45 +237,15 @@ def partial_path(path) -> Path:
     return path.with_name(f"{path.stem}.PARTIAL{path.suffix}")
 
 
-def write_outputs(
-    read,
-    stream,
-    chunks,
-    results,
-    states,
-    report,
-    out_bag,
-    out_csv,
-    plots_dir,
-    storage,
-    progress,
-    overwrite,
-    stop=None,
-) -> None:
+def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
     """Walk the messages in bag order and write the outputs asked for.
 
     Parameters
     ----------
-    read : BagMessages
-        The first pass over the input (:func:`adbsat_ros.bags.reading.read_bag_messages`).
-    stream : MessageStream
-        The second: every message, in bag order (:meth:`BagMessages.stream`).
-    chunks : list of (int, int)
-        The chunks of trigger messages, in order.
-    results : generator of ChunkResult
-        Their results, in order (:func:`adbsat_ros.bags.worker.chunk_results`; closed here).
-    states : list of ModelState
-        The models, in order.
-    report : AnalysisReport
-        Filled in: messages read, error, outputs written, warnings, seconds by phase.
-    out_bag, out_csv, plots_dir : Path or None
-        The outputs (None: not written).
-    storage : str
-        'mcap' or 'sqlite3' for the output bag.
-    progress : bool
-        Show a progress bar.
-    overwrite : bool
-        Replace existing outputs.
+    replay : Replay
+        The input, the chunks' results (closed here), the models and the report.
+    outputs : Outputs
+        What to write, and how.
     stop : threading.Event, optional
         Stop at the next message once set.
 
@@ -250,25 +253,20 @@ def write_outputs(
     kept under :func:`partial_path` of its name (replacing an older partial one) and the final
     names are left as they were.
     """
+    states, report = replay.states, replay.report
+    out_bag, out_csv, plots_dir = outputs.bag, outputs.csv, outputs.plots
     seconds = collections.Counter()
-    writer = bag_io.BagWriter(out_bag, storage, overwrite) if out_bag is not None else None
+    writer = (
+        bag_io.BagWriter(out_bag, outputs.storage, outputs.overwrite)
+        if out_bag is not None
+        else None
+    )
     csv_file = None
     try:
         if out_csv is not None:
             csv_file = _CsvFile(out_csv, [s.label for s in states])
-        walk = _Walk(
-            read,
-            stream,
-            chunks,
-            results,
-            states,
-            report,
-            writer,
-            csv_file,
-            seconds,
-            keep_plot_rows=plots_dir is not None,
-        )
-        walk.run(progress, stop)
+        walk = _Walk(replay, writer, csv_file, seconds, keep_plot_rows=plots_dir is not None)
+        walk.run(outputs.progress, stop)
         if report.error is not None:  # kept, under names that say so
             out_csv = None if out_csv is None else partial_path(out_csv)
             plots_dir = None if plots_dir is None else partial_path(plots_dir)
