@@ -17,7 +17,7 @@ from dataclasses import dataclass
 class Bound:
     """The closed range [low, high] of one input, its unit and why.
 
-    ``low_open`` makes the low end open (a value must be above it: speeds, temperatures).
+    ``low_open`` (``high_open``) makes that end open: a value must be above (below) it.
     """
 
     low: float
@@ -25,16 +25,31 @@ class Bound:
     unit: str
     reason: str
     low_open: bool = False
+    high_open: bool = False
 
     def text(self) -> str:
         """The range as shown in errors, e.g. ``(0, 20000] m/s``."""
         unit = f" {self.unit}" if self.unit else ""
-        return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}]{unit}"
+        opening, closing = "(" if self.low_open else "[", ")" if self.high_open else "]"
+        return f"{opening}{self.low:g}, {self.high:g}{closing}{unit}"
 
     def contains(self, value: float) -> bool:
         """Whether a float lies in the range (False for NaN)."""
         above = value > self.low if self.low_open else value >= self.low
-        return above and value <= self.high
+        below = value < self.high if self.high_open else value <= self.high
+        return above and below
+
+    def check(self, name: str, value) -> float:
+        """``value`` as a float in the range, else ValueError naming ``name`` (:func:`bounded`)."""
+        try:
+            if isinstance(value, bool):  # (True is 1.0 to float(): a flag is not a number)
+                raise TypeError
+            number = float(value)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be a number, got {value!r}") from None
+        if not (math.isfinite(number) and self.contains(number)):
+            raise ValueError(f"{name} must be in {self.text()} ({self.reason}), got {value!r}")
+        return number
 
 
 BOUNDS = {
@@ -104,11 +119,18 @@ BOUNDS = {
         "a reference length: from a millimetre to a kilometre, longer than any spacecraft",
     ),
     "offset": Bound(
-        0.0,
+        -1_000.0,
         1_000.0,
         "m",
-        "the distance of a point of the satellite (the centre of mass) from the mesh origin, per "
-        "axis: no spacecraft is a kilometre long",
+        "a coordinate of a point of the satellite (the centre of mass) in the mesh frame: no "
+        "spacecraft is a kilometre long",
+    ),
+    "wind": Bound(
+        -2_000.0,
+        2_000.0,
+        "m/s",
+        "a component of the wind relative to the rotating Earth: thermospheric winds reach "
+        "several hundred m/s in storms (HWM14); 2 km/s leaves a wide margin",
     ),
     "mesh_extent": Bound(
         1e-3,
@@ -126,8 +148,9 @@ BOUNDS = {
 }
 
 
-def bounded(name: str, value, bound: str | None = None) -> float:
-    """``value`` as a float within the range :data:`BOUNDS` gives ``bound`` (default ``name``).
+def bounded(name: str, value, bound: str | Bound | None = None) -> float:
+    """``value`` as a float within the range ``bound``: a :class:`Bound`, or the name of one in
+    :data:`BOUNDS` (default ``name``).
 
     Raises
     ------
@@ -135,11 +158,5 @@ def bounded(name: str, value, bound: str | None = None) -> float:
         ``"NAME must be in RANGE (REASON), got VALUE"`` for a number outside the range, NaN or
         infinity included, and ``"NAME must be a number, got VALUE"`` for anything else.
     """
-    rule = BOUNDS[bound or name]
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not (math.isfinite(number) and rule.contains(number)):
-        raise ValueError(f"{name} must be in {rule.text()} ({rule.reason}), got {value!r}")
-    return number
+    rule = bound if isinstance(bound, Bound) else BOUNDS[bound or name]
+    return rule.check(name, value)

@@ -19,6 +19,7 @@ import math
 import os
 import sys
 
+from adbsat_ros.bounds import bounded
 from adbsat_ros.cli.options import (
     CommandLineError,
     finite_float,
@@ -286,7 +287,11 @@ def _compute(args, accommodation_options=None):
             accommodation_options=options,
         )
     velocity = parse_vector3(args.velocity, "--velocity")
-    wind = None if args.wind is None else parse_vector3(args.wind, "--wind")
+    try:
+        bounded("--velocity: the speed", math.hypot(*velocity.tolist()), "orbital_speed")
+    except ValueError as exc:
+        raise CommandLineError(str(exc)) from None
+    wind = None if args.wind is None else parse_vector3(args.wind, "--wind", "wind")
     return flight_conditions(
         time,
         position,

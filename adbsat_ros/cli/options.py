@@ -77,8 +77,9 @@ def parse_angle_list(text: str, option: str):
     return np.asarray(values, dtype=float)
 
 
-def parse_vector3(text: str, option: str):
-    """Parse ``X,Y,Z`` into a finite 3-vector (ndarray); CommandLineError naming ``option``."""
+def parse_vector3(text: str, option: str, bound: str | None = None):
+    """Parse ``X,Y,Z`` into a finite 3-vector (ndarray), each component within
+    :data:`adbsat_ros.bounds.BOUNDS` ``[bound]`` if given; CommandLineError naming ``option``."""
     import numpy as np
 
     try:
@@ -87,6 +88,12 @@ def parse_vector3(text: str, option: str):
         vec = np.zeros(0)
     if vec.shape != (3,) or not np.all(np.isfinite(vec)):
         raise CommandLineError(f"{option}: expected three finite numbers X,Y,Z, got {text!r}")
+    if bound is not None:
+        try:
+            for axis, x in zip("xyz", vec.tolist()):
+                bounded(f"{option} {axis}", x, bound)
+        except ValueError as exc:
+            raise CommandLineError(str(exc)) from None
     return vec
 
 

@@ -12,6 +12,7 @@ import difflib
 
 import yaml
 
+from adbsat_ros.bounds import BOUNDS, Bound
 from adbsat_ros.environment.flight_conditions import STATE_FRAMES
 from adbsat_ros.physics.gsi_models import MODELS
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
@@ -26,12 +27,15 @@ __all__ = [
     "PARAMETERS",
     "PARAMETER_DEFAULTS",
     "PARAMETER_DESCRIPTIONS",
+    "PARAMETER_RANGES",
     "READ_ONLY_PARAMETERS",
     "ROS_PARAMETERS",
     "SHADING_MODES",
     "STATE_FRAMES",
     "TIME_MODES",
+    "WHOLE_NUMBER_PARAMETERS",
     "load_parameters_file",
+    "parameter_range_text",
     "unknown_parameter",
 ]
 
@@ -134,19 +138,19 @@ PARAMETERS = (
         "min_altitude",
         120e3,
         "states below this geodetic altitude [m] are refused: the flow about a metre-sized body "
-        "is no longer free-molecular there (Kn about 3 at 120 km, 0.1 at 100 km) [0, 1e6]",
+        "is no longer free-molecular there (Kn about 3 at 120 km, 0.1 at 100 km)",
     ),
     (
         "knudsen_warning",
         10.0,
         "/diagnostics warns while the Knudsen number (mean free path over reference_length) of "
-        "the latest wrench is below this (> 0)",
+        "the latest wrench is below this",
     ),
     (
         "time_jump_reset",
         1.0,
         "a message stamped more than this [s] before the latest of its kind restarts the history "
-        "(a bag played again); one less far back is refused alone as out of order (> 0)",
+        "(a bag played again); one less far back is refused alone as out of order",
     ),
     (
         "conditions_step",
@@ -186,6 +190,104 @@ PARAMETERS = (
 
 #: Largest conditions_step [s]: 770 m of orbit, interpolation error still below about 1e-7.
 MAX_CONDITIONS_STEP = 0.1
+
+_ACCOMMODATION = "an accommodation coefficient: 0 none (specular reflection), 1 full (diffuse)"
+_DAY = "a day: a longer time is no longer about the live stream"
+
+#: The valid range of every number parameter (of each element of a list of numbers), with its
+#: reason; physical quantities take theirs from :data:`adbsat_ros.bounds.BOUNDS`.
+PARAMETER_RANGES = {
+    "mesh_scale": Bound(
+        1e-6,
+        1_000.0,
+        "",
+        "metres per file unit: 1e-6 for micrometres, 1e-3 for millimetres, 0.0254 for inches, "
+        "1000 for kilometres",
+    ),
+    "center_of_mass": BOUNDS["offset"],
+    "alpha": Bound(0.0, 1.0, "", _ACCOMMODATION),
+    "alpha_n": Bound(0.0, 1.0, "", _ACCOMMODATION),
+    "sigma_n": Bound(
+        0.0,
+        2.0,
+        "",
+        "normal momentum accommodation (p_i - p_r) / (p_i - p_w): 0 specular, 1 diffuse at the "
+        "wall temperature; at 2 the re-emitted molecules would push into the wall",
+        high_open=True,
+    ),
+    "sigma_t": Bound(0.0, 1.0, "", _ACCOMMODATION),
+    "wall_temperature": BOUNDS["wall_temperature"],
+    "shading_samples": Bound(
+        1.0,
+        4096.0,
+        "",
+        "rays per panel: 16 give a panel's lit fraction within about 0.03; 4096 (64 x 64) is as "
+        "fine as the projection method's grids",
+    ),
+    "shading_cache_resolution_deg": Bound(
+        1e-3,
+        10.0,
+        "deg",
+        "cells finer than 0.001 deg (3.6 arcsec) are below any attitude sensor's accuracy; "
+        "coarser than 10 deg they would share one lighting between flows far apart",
+    ),
+    "shading_cache_size": Bound(
+        1.0,
+        1e6,
+        "",
+        "flow directions kept: 660,000 cells of 0.25 deg cover the whole sphere",
+    ),
+    "f107": BOUNDS["f107"],
+    "f107a": BOUNDS["f107"],
+    "ap": BOUNDS["ap"],
+    "ap_history": BOUNDS["ap"],
+    "wind_ecef": BOUNDS["wind"],
+    "state_timeout": Bound(0.0, 86_400.0, "s", _DAY, low_open=True),
+    "min_altitude": Bound(0.0, 1e6, "m", "NRLMSISE-00's altitudes: from the ground to 1,000 km"),
+    "knudsen_warning": Bound(
+        0.0,
+        1e6,
+        "",
+        "a Knudsen number: the flow is free-molecular above about 10; a threshold of 1e6 would "
+        "warn about every satellite",
+        low_open=True,
+    ),
+    "time_jump_reset": Bound(0.0, 86_400.0, "s", _DAY, low_open=True),
+    "conditions_step": Bound(
+        0.0,
+        MAX_CONDITIONS_STEP,
+        "s",
+        "0.1 s is 770 m of orbit, the interpolation error still below about 1e-7; 0 evaluates "
+        "at every stamp",
+    ),
+    "max_quaternion_norm_error": Bound(
+        0.0, 0.5, "", "a quaternion's norm off 1 by half is no rotation to normalise"
+    ),
+    "min_relative_speed": Bound(
+        0.0, BOUNDS["speed"].high, "m/s", "at most the largest speed relative to the gas"
+    ),
+    "qos_depth": Bound(1.0, 10_000.0, "", "messages kept per topic: 10 s at 1 kHz"),
+    "diagnostics_period": Bound(
+        0.01,
+        3_600.0,
+        "s",
+        "from 100 Hz (faster, the reports would load the node they watch) to once an hour",
+    ),
+}
+#: Number parameters that take whole numbers only.
+WHOLE_NUMBER_PARAMETERS = ("shading_samples", "shading_cache_size", "qos_depth")
+
+
+def parameter_range_text(name: str) -> str:
+    """The valid range of a parameter in words (empty for one without a range), e.g.
+    ``"in [0, 1]: an accommodation coefficient ..."``; ``"each in ..."`` for a list of numbers."""
+    rule = PARAMETER_RANGES.get(name)
+    if rule is None:
+        return ""
+    each = "each " if isinstance(PARAMETER_DEFAULTS[name], list) else ""
+    whole = ", a whole number" if name in WHOLE_NUMBER_PARAMETERS else ""
+    return f"{each}in {rule.text()}{whole}: {rule.reason}"
+
 
 PARAMETER_DEFAULTS = {name: default for name, default, _ in PARAMETERS}
 PARAMETER_DESCRIPTIONS = {name: text for name, _, text in PARAMETERS}

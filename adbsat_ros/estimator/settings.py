@@ -6,7 +6,6 @@ the parameters of :data:`adbsat_ros.estimator.parameters.PARAMETERS` checked int
 from __future__ import annotations
 
 import datetime as _dt
-import math
 from dataclasses import dataclass, fields
 from typing import NamedTuple
 
@@ -16,12 +15,13 @@ from adbsat_ros.estimator.parameters import (
     ATTITUDE_SOURCES,
     COEFFICIENT_SOURCES,
     EXECUTORS,
-    MAX_CONDITIONS_STEP,
     PARAMETER_DEFAULTS,
+    PARAMETER_RANGES,
     ROS_PARAMETERS,
     SHADING_MODES,
     STATE_FRAMES,
     TIME_MODES,
+    WHOLE_NUMBER_PARAMETERS,
     load_parameters_file,
     unknown_parameter,
 )
@@ -33,22 +33,6 @@ def _choice(name, value, allowed):
     value = str(value)
     if value not in allowed:
         raise ValueError(f"parameter {name}: {value!r} is not one of {', '.join(allowed)}")
-    return value
-
-
-def _number(name, value, low=None, high=None, low_open=False):
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"parameter {name}: expected a number, got {value!r}") from None
-    if not math.isfinite(value):
-        raise ValueError(f"parameter {name}: must be finite, got {value!r}")
-    if low is not None and (value < low or (low_open and value == low)):
-        raise ValueError(
-            f"parameter {name}: must be {'>' if low_open else '>='} {low}, got {value!r}"
-        )
-    if high is not None and value > high:
-        raise ValueError(f"parameter {name}: must be <= {high}, got {value!r}")
     return value
 
 
@@ -71,31 +55,38 @@ class FrameIds(NamedTuple):
     ecef: tuple
 
 
-def _within(name, value, bound=None) -> float:
-    """``value`` within its range of :data:`adbsat_ros.bounds.BOUNDS`, or ValueError
-    ``"parameter NAME: ..."`` with the range and its reason."""
+def _within(name, value, rule) -> float:
+    """``value`` within the Bound ``rule``, or ValueError ``"parameter NAME: ..."`` with the range
+    and its reason."""
     try:
-        return bounded(name, value, bound)
+        return bounded(name, value, rule)
     except ValueError as exc:
         raise ValueError(f"parameter {name.split('[')[0]}: {exc}") from None
 
 
-def _offset(name, value) -> tuple:
-    """A point on the satellite [m]: three finite numbers, each within the ``offset`` bound."""
-    vec = _vector3(name, value)
-    for axis, x in zip("xyz", vec):
-        _within(f"{name}[{axis}]", abs(x), "offset")
-    return vec
+def _number(values, name) -> float:
+    """The number parameter ``name`` of ``values`` within its :data:`PARAMETER_RANGES` range."""
+    number = _within(name, values[name], PARAMETER_RANGES[name])
+    if name in WHOLE_NUMBER_PARAMETERS and not number.is_integer():
+        raise ValueError(f"parameter {name}: {name} must be a whole number, got {values[name]!r}")
+    return int(number) if name in WHOLE_NUMBER_PARAMETERS else number
 
 
-def _vector3(name, value):
-    try:
-        vec = tuple(float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ValueError(f"parameter {name}: expected three numbers, got {value!r}") from None
-    if len(vec) != 3 or not all(math.isfinite(v) for v in vec):
-        raise ValueError(f"parameter {name}: expected three finite numbers, got {value!r}")
-    return vec
+def _vector3(values, name) -> tuple:
+    """The list parameter ``name``: three numbers, each within its range."""
+    value = values[name]
+    if isinstance(value, str) or not hasattr(value, "__len__") or len(value) != 3:
+        raise ValueError(f"parameter {name}: expected three numbers, got {value!r}")
+    rule = PARAMETER_RANGES[name]
+    return tuple(_within(f"{name}[{axis}]", x, rule) for axis, x in zip("xyz", value))
+
+
+def _flag(values, name) -> bool:
+    """The boolean parameter ``name`` (a string such as "false" is not taken for True)."""
+    value = values[name]
+    if not isinstance(value, bool):
+        raise ValueError(f"parameter {name}: expected true or false, got {value!r}")
+    return value
 
 
 def parse_utc(name, text) -> _dt.datetime:
@@ -182,9 +173,12 @@ class WrenchSettings:
                 merged[key] = value
         v = merged
         history = v["ap_history"]
+        if isinstance(history, str) or not hasattr(history, "__len__"):
+            raise ValueError(f"parameter ap_history: expected a list of numbers, got {history!r}")
         ap_history = None
         if len(history) > 1:
-            ap_history = tuple(_within(f"ap_history[{i}]", x, "ap") for i, x in enumerate(history))
+            rule = PARAMETER_RANGES["ap_history"]
+            ap_history = tuple(_within(f"ap_history[{i}]", x, rule) for i, x in enumerate(history))
         if ap_history is not None and len(ap_history) != 7:
             raise ValueError(
                 f"parameter ap_history: needs 7 values (or one to leave it unused), "
@@ -197,69 +191,56 @@ class WrenchSettings:
         mesh = str(v["mesh"]).strip()
         if not mesh:
             raise ValueError("parameter mesh: empty")
-        samples = int(_number("shading_samples", v["shading_samples"], 1, 4096))
         settings = cls(
             mesh=mesh,
-            mesh_scale=_number("mesh_scale", v["mesh_scale"], 0.0, low_open=True),
-            mesh_accept_size=bool(v["mesh_accept_size"]),
+            mesh_scale=_number(v, "mesh_scale"),
+            mesh_accept_size=_flag(v, "mesh_accept_size"),
             body_frame_id=str(v["body_frame_id"]).lstrip("/") or "body",
-            center_of_mass=_offset("center_of_mass", v["center_of_mass"]),
+            center_of_mass=_vector3(v, "center_of_mass"),
             gsi_model=model,
-            alpha=_number("alpha", v["alpha"], 0.0, 1.0),
-            alpha_n=_number("alpha_n", v["alpha_n"], 0.0, 1.0),
-            sigma_n=_number("sigma_n", v["sigma_n"], 0.0, 1.999999),
-            sigma_t=_number("sigma_t", v["sigma_t"], 0.0, 1.0),
-            wall_temperature=_within("wall_temperature", v["wall_temperature"]),
+            alpha=_number(v, "alpha"),
+            alpha_n=_number(v, "alpha_n"),
+            sigma_n=_number(v, "sigma_n"),
+            sigma_t=_number(v, "sigma_t"),
+            wall_temperature=_number(v, "wall_temperature"),
             material_overrides=tuple(
                 s for s in (str(x).strip() for x in v["material_overrides"]) if s
             ),
             incident_temperature=_choice(
                 "incident_temperature", v["incident_temperature"], INCIDENT_TEMPERATURE_FORMS
             ),
-            adbsat_compat=bool(v["adbsat_compat"]),
+            adbsat_compat=_flag(v, "adbsat_compat"),
             accommodation_model=_choice(
                 "accommodation_model",
                 str(v["accommodation_model"]).lower(),
                 accommodation_model_names(),
             ),
             shading=_choice("shading", v["shading"], SHADING_MODES),
-            shading_samples=samples,
-            shading_cache_resolution_deg=_number(
-                "shading_cache_resolution_deg",
-                v["shading_cache_resolution_deg"],
-                0.0,
-                10.0,
-                low_open=True,
-            ),
-            shading_cache_size=int(_number("shading_cache_size", v["shading_cache_size"], 1)),
-            f107=_within("f107", v["f107"]),
-            f107a=_within("f107a", v["f107a"], "f107"),
-            ap=_within("ap", v["ap"]),
+            shading_samples=_number(v, "shading_samples"),
+            shading_cache_resolution_deg=_number(v, "shading_cache_resolution_deg"),
+            shading_cache_size=_number(v, "shading_cache_size"),
+            f107=_number(v, "f107"),
+            f107a=_number(v, "f107a"),
+            ap=_number(v, "ap"),
             ap_history=ap_history,
-            anomalous_oxygen=bool(v["anomalous_oxygen"]),
+            anomalous_oxygen=_flag(v, "anomalous_oxygen"),
             time_mode=_choice("time_mode", v["time_mode"], TIME_MODES),
             epoch_utc=parse_utc("epoch_utc", v["epoch_utc"]),
             state_frame=_choice("state_frame", str(v["state_frame"]).lower(), STATE_FRAMES),
             eci_frame_ids=_frame_ids("eci_frame_ids", v["eci_frame_ids"]),
             ecef_frame_ids=_frame_ids("ecef_frame_ids", v["ecef_frame_ids"]),
-            earth_rotation=bool(v["earth_rotation"]),
-            wind_ecef=_vector3("wind_ecef", v["wind_ecef"]),
+            earth_rotation=_flag(v, "earth_rotation"),
+            wind_ecef=_vector3(v, "wind_ecef"),
             attitude_source=_choice("attitude_source", v["attitude_source"], ATTITUDE_SOURCES),
-            state_timeout=_number("state_timeout", v["state_timeout"], 0.0, low_open=True),
-            min_altitude=_number("min_altitude", v["min_altitude"], 0.0, 1e6),
-            knudsen_warning=_number("knudsen_warning", v["knudsen_warning"], 0.0, low_open=True),
-            time_jump_reset=_number("time_jump_reset", v["time_jump_reset"], 0.0, low_open=True),
-            conditions_step=_number(
-                "conditions_step", v["conditions_step"], 0.0, MAX_CONDITIONS_STEP
-            ),
-            max_quaternion_norm_error=_number(
-                "max_quaternion_norm_error", v["max_quaternion_norm_error"], 0.0, 0.5
-            ),
-            min_relative_speed=_number("min_relative_speed", v["min_relative_speed"], 0.0),
-            qos_depth=int(_number("qos_depth", v["qos_depth"], 1, 10000)),
-            diagnostics_period=_number(
-                "diagnostics_period", v["diagnostics_period"], 0.0, low_open=True
-            ),
+            state_timeout=_number(v, "state_timeout"),
+            min_altitude=_number(v, "min_altitude"),
+            knudsen_warning=_number(v, "knudsen_warning"),
+            time_jump_reset=_number(v, "time_jump_reset"),
+            conditions_step=_number(v, "conditions_step"),
+            max_quaternion_norm_error=_number(v, "max_quaternion_norm_error"),
+            min_relative_speed=_number(v, "min_relative_speed"),
+            qos_depth=_number(v, "qos_depth"),
+            diagnostics_period=_number(v, "diagnostics_period"),
             executor=_choice("executor", v["executor"], EXECUTORS),
             coefficients_source=_choice(
                 "coefficients_source", v["coefficients_source"], COEFFICIENT_SOURCES

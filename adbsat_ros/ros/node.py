@@ -51,7 +51,11 @@ from rclpy.signals import SignalHandlerOptions
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
 from adbsat_ros.estimator.health import OK, WARN, Health, StampGaps
-from adbsat_ros.estimator.parameters import PARAMETERS, READ_ONLY_PARAMETERS
+from adbsat_ros.estimator.parameters import (
+    PARAMETERS,
+    READ_ONLY_PARAMETERS,
+    parameter_range_text,
+)
 from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
@@ -91,6 +95,7 @@ class AdbsatNode(Node):
                 default,
                 ParameterDescriptor(
                     description=text,
+                    additional_constraints=parameter_range_text(name),
                     read_only=name in READ_ONLY_PARAMETERS,
                     # a number parameter takes an integer too (f107: 150 in a YAML file); the
                     # settings check every value whatever its type

@@ -37,7 +37,10 @@ def test_a_params_file_gives_the_node_its_settings_and_rclpy_keys_are_allowed(tm
             "adbsat_node:\n  ros__parameters:\n    f107: high\n",
             "parameter f107: f107 must be a number",
         ),
-        ("adbsat_node:\n  ros__parameters:\n    alpha: 2.0\n", "parameter alpha: must be <= 1.0"),
+        (
+            "adbsat_node:\n  ros__parameters:\n    alpha: 2.0\n",
+            "parameter alpha: alpha must be in [0, 1]",
+        ),
     ],
 )
 def test_an_unknown_name_or_a_bad_value_is_named_with_the_file(tmp_path, body, text):

@@ -23,14 +23,22 @@ import numpy as np
 import rclpy
 import trimesh
 from closed_forms import sentman_sphere_cd
+from edges import NUMBER_PARAMETERS, as_parameter, parameter_edges
 from geometry_msgs.msg import QuaternionStamped
 from rclpy.parameter import Parameter
+from rclpy.parameter_client import AsyncParameterClient
 from rclpy.serialization import serialize_message
 from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float, to_stamp
 
 from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.environment.flight_conditions import flight_conditions
-from adbsat_ros.estimator.parameters import EXECUTORS
+from adbsat_ros.estimator.parameters import (
+    EXECUTORS,
+    PARAMETER_DEFAULTS,
+    READ_ONLY_PARAMETERS,
+    parameter_range_text,
+)
+from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.ros.node import AdbsatNode
 
 RADIUS = 0.5
@@ -459,7 +467,7 @@ def test_parameter_changes_apply_or_are_rejected(ros):
         ("f107", 5000.0, "f107 must be in [50, 500] sfu"),
         ("ap", 1e4, "ap must be in [0, 400]"),
         ("wall_temperature", 1e300, "wall_temperature must be in [1, 3000] K"),
-        ("center_of_mass", [1e300, 0.0, 0.0], "center_of_mass[x] must be in [0, 1000] m"),
+        ("center_of_mass", [1e300, 0.0, 0.0], "center_of_mass[x] must be in [-1000, 1000] m"),
         ("time_jump_reset", 0.0, "time_jump_reset"),
         ("eci_frame_ids", ["eci", "itrf"], "names both frames"),
     ]:
@@ -774,3 +782,41 @@ def test_the_knudsen_number_is_reported_and_warned_about(ros):
     assert node.set_parameters([Parameter("knudsen_warning", value=10 * kn)])[0].successful
     fields = node.diagnostic_fields()
     assert fields.level == 1 and "flow not free-molecular" in fields.message
+
+
+def test_every_number_parameter_takes_its_edges_at_run_time_and_refuses_beyond(ros):
+    """Through the node's parameter service (what ``ros2 param set`` calls): every run-time
+    number parameter takes the edges of its range and refuses just beyond with the range in the
+    reason, its old value kept; ``ros2 param describe`` shows the range."""
+    node, peer = ros
+    client = AsyncParameterClient(peer.node, node.get_name())
+    assert client.wait_for_services(timeout_sec=5.0)
+
+    def call(future):
+        assert peer.spin_until(future.done)
+        return future.result()
+
+    names = [n for n in NUMBER_PARAMETERS if n not in READ_ONLY_PARAMETERS]
+    described = call(client.describe_parameters(names)).descriptors
+    for name, descriptor in zip(names, described):
+        assert descriptor.additional_constraints == parameter_range_text(name) != ""
+    for name in names:
+        inside, outside = parameter_edges(name)
+        for x in inside:
+            value = as_parameter(name, x)
+            result = call(client.set_parameters([Parameter(name, value=value)])).results[0]
+            assert result.successful, (name, x, result.reason)
+            assert node.get_parameter(name).value == pytest.approx(value, abs=0.0)
+        kept = node.get_parameter(name).value
+        for x in outside:
+            result = call(client.set_parameters([Parameter(name, value=as_parameter(name, x))]))
+            reason = result.results[0].reason
+            assert not result.results[0].successful, (name, x)
+            # (an integer parameter given a fraction, NaN or infinity: refused by its type)
+            assert "must be in" in reason or "expected 'Type.INTEGER'" in reason, reason
+            assert node.get_parameter(name).value == pytest.approx(kept, abs=0.0)
+        # back to its default, so that the next parameter's edges apply alone
+        default = Parameter(name, value=PARAMETER_DEFAULTS[name])
+        assert call(client.set_parameters([default])).results[0].successful
+    values = {name: node.get_parameter(name).value for name in PARAMETER_DEFAULTS}
+    assert node.estimator.settings == WrenchSettings.from_parameters(values)

@@ -17,7 +17,7 @@ import trimesh  # noqa: E402
 from ros_harness import Peer, circular_orbit_state, make_context  # noqa: E402
 
 #: Runs per signal (the fault this guards against showed in about half the runs).
-RUNS = 5
+RUNS = 10
 
 
 @pytest.fixture(scope="module")
