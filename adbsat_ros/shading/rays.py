@@ -1,8 +1,10 @@
 """Ray casting against a mesh: one interface, two backends.
 
-A *ray scene* holds the panels of one mesh and answers one question for a batch of rays with a
-common direction: does the ray from each origin meet an occluding panel at a distance t > 0?
-Two backends implement it with the same rules (shared edges count as inside both triangles):
+A *ray scene* holds the panels of one mesh and answers two questions: for a batch of rays with a
+common direction (shading), does the ray from each origin meet an occluding panel at a distance
+t > 0; and for rays of their own directions (test particles), which panel does each meet first,
+and how far away. Two backends implement them with the same rules (shared edges count as inside
+both triangles):
 
 ``"embree"``
     Embree through embreex (:mod:`adbsat_ros.shading.rays_embree`), float32, very fast.
@@ -64,6 +66,23 @@ class RayScene(Protocol):
         Returns
         -------
         ndarray of bool, shape (R,)
+        """
+        ...
+
+    def first_hit(self, origins, directions) -> tuple:
+        """The first panel each ray origins[r] + t directions[r], t > 0, meets.
+
+        Parameters
+        ----------
+        origins, directions : ndarray, shape (R, 3)
+            Ray origins [m] and unit directions (G).
+
+        Returns
+        -------
+        face : ndarray of int64, shape (R,)
+            Panel index, -1 where the ray meets none.
+        distance : ndarray, shape (R,)
+            Distance t [m] to it (inf where none).
         """
         ...
 

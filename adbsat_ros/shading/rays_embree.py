@@ -58,6 +58,32 @@ class EmbreeScene:
         dirs = np.broadcast_to(d.astype(np.float32), o.shape).copy()
         return self.scene.run(o, dirs, query=query)
 
+    def first_hit(self, origins, directions) -> tuple:
+        """The first panel each ray origins[r] + t directions[r], t > 0, meets.
+
+        Parameters
+        ----------
+        origins, directions : ndarray, shape (R, 3)
+            Ray origins [m] and unit directions (G).
+
+        Returns
+        -------
+        face : ndarray of int64, shape (R,)
+            Index of the panel met, -1 for none.
+        distance : ndarray, shape (R,)
+            Its distance t [m] (inf for none), to float32 rounding of the scene.
+        """
+        origins = np.asarray(origins, dtype=float)
+        if origins.shape[0] == 0:
+            return np.zeros(0, dtype=np.int64), np.zeros(0)
+        o = ((origins - self.origin) * self.scale).astype(np.float32)
+        out = self.scene.run(
+            o, np.asarray(directions, dtype=np.float32), query="INTERSECT", output=1
+        )
+        face = out["primID"].astype(np.int64)
+        distance = np.where(face >= 0, out["tfar"].astype(np.float64) / self.scale, np.inf)
+        return face, distance
+
     def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
         """Whether each ray origins[r] + t direction, t > 0, meets an occluding panel.
 

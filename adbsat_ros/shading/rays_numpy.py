@@ -1,8 +1,10 @@
-"""Ray casting in numpy: do rays along one direction meet any of a set of triangles (float64).
+"""Ray casting in numpy (float64): do rays along one direction meet any of a set of triangles,
+and where does each ray of its own direction first meet one.
 
 The reference ray backend, and the fallback when Embree is not installed: Moeller-Trumbore with
 the direction fixed, candidate (ray, triangle) pairs from a uniform 2-D grid in the plane normal
-to the rays (:func:`adbsat_ros.shading.flow_plane.grid_pairs`), in chunks of bounded memory.
+to the rays (:func:`adbsat_ros.shading.flow_plane.grid_pairs`), in chunks of bounded memory; for
+rays of many directions (test particles), every (ray, triangle) pair in chunks.
 :class:`NumpyScene` is this backend behind the interface of :mod:`adbsat_ros.shading.rays`.
 
 Units: metres, mesh frame G; directions unitless.
@@ -95,6 +97,64 @@ def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
     return hit
 
 
+def first_hit(origins, directions, tri_vertices, max_pairs=MAX_PAIRS // 4) -> tuple:
+    """The first triangle each ray origins[r] + t directions[r], t > 0, meets (float64).
+
+    Parameters
+    ----------
+    origins, directions : ndarray, shape (R, 3)
+        Ray origins [m] and unit directions (G).
+    tri_vertices : ndarray, shape (T, 3, 3)
+        Triangles [m], G.
+    max_pairs : int
+        Largest number of (ray, triangle) pairs tested at once (memory bound).
+
+    Returns
+    -------
+    face : ndarray of int64, shape (R,)
+        Index of the first triangle met, -1 for none.
+    distance : ndarray, shape (R,)
+        Its distance t [m] (inf for none).
+
+    Notes
+    -----
+    Moeller-Trumbore on every pair, edges inclusive as in :func:`any_hit`; the cost is R x T
+    pairs, so this is the reference for small scenes, not a fast path.
+    """
+    origins = np.asarray(origins, dtype=float)
+    directions = np.asarray(directions, dtype=float)
+    n_rays = len(origins)
+    face = np.full(n_rays, -1, dtype=np.int64)
+    distance = np.full(n_rays, np.inf)
+    if n_rays == 0 or len(tri_vertices) == 0:
+        return face, distance
+    v0 = tri_vertices[:, 0]
+    e1 = tri_vertices[:, 1] - v0
+    e2 = tri_vertices[:, 2] - v0
+    step = max(1, int(max_pairs) // len(tri_vertices))
+    eps = EDGE_TOLERANCE
+    for start in range(0, n_rays, step):
+        o = origins[start : start + step, None, :]
+        d = directions[start : start + step, None, :]
+        pvec = np.cross(d, e2)
+        det = np.einsum("rtk,tk->rt", pvec, e1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = 1.0 / det
+            tvec = o - v0
+            u = np.einsum("rtk,rtk->rt", tvec, pvec) * inv
+            qvec = np.cross(tvec, e1)
+            v = np.einsum("rtk,rtk->rt", d, qvec) * inv
+            t = np.einsum("rtk,tk->rt", qvec, e2) * inv
+        ok = (det != 0.0) & (u >= -eps) & (v >= -eps) & (u + v <= 1.0 + eps) & (t > 0.0)
+        t = np.where(ok, t, np.inf)
+        best = np.argmin(t, axis=1)
+        best_t = t[np.arange(len(best)), best]
+        met = np.isfinite(best_t)
+        face[start : start + step] = np.where(met, best, -1)
+        distance[start : start + step] = best_t
+    return face, distance
+
+
 class NumpyScene:
     """The panels of a mesh as a numpy ray-casting scene (float64, exact coordinates).
 
@@ -113,6 +173,10 @@ class NumpyScene:
 
     def __init__(self, mesh: PanelMesh):
         self.triangles = mesh.vertices
+
+    def first_hit(self, origins, directions) -> tuple:
+        """``(face, distance)`` of the first panel each ray meets (:func:`first_hit`)."""
+        return first_hit(origins, directions, self.triangles)
 
     def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
         """Whether each ray origins[r] + t direction, t > 0, meets an occluding panel.

@@ -1,0 +1,98 @@
+"""Batches of test particles: one flow about one body as a picklable problem, the sums one batch
+of molecules gives, and the worker processes that run batches.
+
+Batch k of a run with ``seed`` draws its molecules from ``SeedSequence(seed, spawn_key=(k,))``:
+which process runs it does not change its numbers.
+
+Units: SI, mesh frame G.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from adbsat_ros.physics.tpmc.tracing import trace
+from adbsat_ros.shading.rays import ray_scene
+
+
+@dataclass
+class BatchSums:
+    """Sums over the molecules of one batch (what a worker sends back)."""
+
+    count: int
+    sums: np.ndarray  # (6,): momentum and moment given to the body, per molecule summed
+    squares: np.ndarray  # (6, 6): sum of their outer products
+    panel_impulse: np.ndarray  # (N, 3)
+    panel_hits: np.ndarray  # (N,)
+    hits: int
+    trapped: int
+    entry_momentum: np.ndarray  # (3,): sum of m v at entry
+    exit_momentum: np.ndarray  # (3,): sum of m v on leaving
+
+
+class Problem:
+    """One flow about one body, ready to run batches anywhere (it pickles without its scene).
+
+    Parameters
+    ----------
+    mesh, kernel, surface, inflow, moment_point, backend
+        The body, the scattering kernel name, its per-panel surface, the inflow box, the point
+        of the moments [m] and the ray backend.
+    """
+
+    def __init__(self, mesh, kernel, surface, inflow, moment_point, backend):
+        self.mesh, self.kernel, self.surface = mesh, kernel, surface
+        self.inflow, self.moment_point, self.backend = inflow, moment_point, backend
+        self._scene = None
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state["_scene"] = None  # an Embree scene does not pickle: each process makes its own
+        return state
+
+    def run_batch(self, k: int, seed: int, size: int) -> BatchSums:
+        """Molecules of batch ``k`` of the run with ``seed``."""
+        if self._scene is None:
+            self._scene = ray_scene(self.mesh, self.backend)
+        rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(k,)))
+        pos, vel, species = self.inflow.sample(size, rng)
+        mass = self.inflow.masses[species]
+        tally = trace(
+            self._scene,
+            self.mesh,
+            self.kernel,
+            self.surface,
+            pos,
+            vel,
+            mass,
+            rng,
+            self.moment_point,
+        )
+        y = np.hstack([tally.impulse, tally.moment])
+        return BatchSums(
+            count=size,
+            sums=y.sum(axis=0),
+            squares=y.T @ y,
+            panel_impulse=tally.panel_impulse,
+            panel_hits=tally.panel_hits,
+            hits=tally.hits,
+            trapped=tally.trapped,
+            entry_momentum=mass @ vel,
+            exit_momentum=mass @ tally.exit_velocity,
+        )
+
+
+_WORKER_PROBLEM: Problem | None = None
+
+
+def init_worker(problem: Problem) -> None:
+    """Keep the problem in a worker process (the pool's initializer)."""
+    global _WORKER_PROBLEM
+    _WORKER_PROBLEM = problem
+
+
+def run_batch(k: int, seed: int, size: int) -> BatchSums:
+    """Batch ``k`` of the worker's problem."""
+    return _WORKER_PROBLEM.run_batch(k, seed, size)

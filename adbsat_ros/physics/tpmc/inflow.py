@@ -1,0 +1,203 @@
+"""Molecules entering a box around the body from a drifting Maxwellian gas, sampled exactly.
+
+The box is the body's bounding box grown by a margin on every side. Through each of its six
+faces molecules enter from the free stream: for a species of most probable thermal speed
+c = sqrt(2 k_B T / m) drifting with velocity U, and a face of inward normal n, with
+s_n = U . n / c, the number flux per unit area and unit number density is
+
+    Gamma = c / sqrt(pi) * G(inf),   G(inf) = exp(-s_n^2) / 2 + sqrt(pi) / 2 * s_n (1 + erf(s_n)),
+
+and the entering molecules' normal speeds v_n = c x have the density x exp(-(x - s_n)^2) on
+x > 0 (whose integral over x > 0 is G(inf)).
+
+A molecule's face and species are drawn in proportion to mole fraction x face area x Gamma, its
+normal speed exactly from that density by rejection (:func:`normal_speed_ratios`), its two
+tangential components from normal distributions of mean U_t and standard deviation c / sqrt(2),
+its position uniformly on the face. The momentum flux the sample must carry is
+:meth:`InflowBox.momentum_flux` (closed form; see docs/physics.md, "Test-particle Monte Carlo").
+
+Units: SI; positions in the mesh frame G [m].
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.special import erf, erfcx
+
+from adbsat_ros.physics.constants import BOLTZMANN
+
+SQRT_PI = math.sqrt(math.pi)
+
+
+def flux_factor(s) -> np.ndarray:
+    """G(inf) = exp(-s^2) / 2 + sqrt(pi) / 2 s (1 + erf(s)) (number flux n c G(inf) / sqrt(pi)),
+    written with erfcx where s < 0 so that it keeps its digits however far downstream."""
+    s = np.asarray(s, dtype=float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        up = 0.5 * np.exp(-s * s) + 0.5 * SQRT_PI * s * (1.0 + erf(s))
+        down = np.exp(-s * s) * (0.5 + 0.5 * SQRT_PI * s * erfcx(-s))
+    return np.where(s >= 0.0, up, down)
+
+
+def normal_speed_ratios(s, rng: np.random.Generator) -> np.ndarray:
+    """Normal speeds over c of entering molecules, x > 0 drawn from x exp(-(x - s)^2), exactly.
+
+    By rejection, each molecule until accepted (vectorised over those still waiting). With
+    y = x - s: for s >= 0 the proposal (|y| + s) exp(-y^2) on y > -s, a mixture of
+    |y| exp(-y^2) (Rayleigh halves) and s exp(-y^2) (a normal truncated at -s), accepted with
+    (y + s) / (|y| + s); for -1 < s < 0 the proposal x exp(-x^2) (Rayleigh), accepted with
+    exp(2 s x); for s <= -1 the proposal x exp(2 s x) (gamma of shape 2 and scale -1 / (2 s)),
+    accepted with exp(-x^2). Each accepts at least about a third of its draws.
+
+    Parameters
+    ----------
+    s : ndarray, shape (P,)
+        Normal speed ratio U . n / c of each molecule's face and species.
+    rng : numpy.random.Generator
+    """
+    s = np.asarray(s, dtype=float)
+    x = np.empty_like(s)
+    waiting = np.arange(s.size)
+    while waiting.size:
+        sw = s[waiting]
+        count = sw.size
+        u = 1.0 - rng.random((count, 3))  # (0, 1]
+        up = sw >= 0.0
+        # s >= 0: the mixture's weights, 1 - exp(-s^2) / 2 and sqrt(pi) / 2 s (1 + erf(s))
+        e = np.exp(-sw * sw)
+        w_abs = 1.0 - 0.5 * e
+        w_normal = 0.5 * SQRT_PI * sw * (1.0 + erf(sw))
+        pick_abs = u[:, 0] * (w_abs + w_normal) < w_abs
+        positive = u[:, 1] * w_abs < 0.5  # the upper half of |y| exp(-y^2), weight 1/2
+        r = u[:, 2]
+        y_abs = np.where(positive, np.sqrt(-np.log(r)), -np.sqrt(-np.log(1.0 - r * (1.0 - e))))
+        y_normal = rng.standard_normal(count) / math.sqrt(2.0)
+        y = np.where(pick_abs, y_abs, y_normal)
+        v = rng.random(count)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            accept_up = (y > -sw) & (v * (np.abs(y) + sw) <= y + sw)
+        # s < 0
+        near = sw > -1.0
+        rayleigh = np.sqrt(-np.log(u[:, 2]))
+        gamma = rng.gamma(2.0, 1.0, count) / np.maximum(-2.0 * sw, 1e-300)
+        x_down = np.where(near, rayleigh, gamma)
+        accept_down = np.where(near, v <= np.exp(2.0 * sw * x_down), v <= np.exp(-(x_down**2)))
+        value = np.where(up, y + sw, x_down)
+        accept = np.where(up, accept_up, accept_down)
+        x[waiting[accept]] = value[accept]
+        waiting = waiting[~accept]
+    return x
+
+
+class InflowBox:
+    """The box the molecules enter through, and the free stream's flux through its faces.
+
+    Parameters
+    ----------
+    lower, upper : array_like, shape (3,)
+        Corners of the body's bounding box [m], G.
+    drift : array_like, shape (3,)
+        Velocity of the gas relative to the body, U = V u [m/s], G.
+    temperature : float
+        Gas temperature T [K].
+    masses : array_like, shape (J,)
+        Molecular mass of each species [kg].
+    mole_fractions : array_like, shape (J,)
+        Number fraction of each species (sums to 1).
+    margin : float
+        The box is the bounding box grown by this fraction of its largest side on every side.
+
+    Attributes
+    ----------
+    lower, upper : ndarray, shape (3,)
+        The box's corners [m].
+    normals : ndarray, shape (6, 3)
+        Inward unit normal of each face (-x, +x, -y, +y, -z, +z sides in that order).
+    areas : ndarray, shape (6,)
+        Face areas [m^2].
+    thermal_speeds : ndarray, shape (J,)
+        c_j = sqrt(2 k_B T / m_j) [m/s].
+    rates : ndarray, shape (6, J)
+        Number of molecules entering per second per unit number density of the gas [m^3/s],
+        by face and species: x_j A_f c_j G_fj(inf) / sqrt(pi).
+    """
+
+    def __init__(self, lower, upper, drift, temperature, masses, mole_fractions, margin=0.05):
+        lower = np.asarray(lower, dtype=float)
+        upper = np.asarray(upper, dtype=float)
+        grow = margin * float(np.max(upper - lower))
+        self.lower, self.upper = lower - grow, upper + grow
+        self.drift = np.asarray(drift, dtype=float)
+        self.temperature = float(temperature)
+        self.masses = np.asarray(masses, dtype=float)
+        self.mole_fractions = np.asarray(mole_fractions, dtype=float)
+        side = self.upper - self.lower
+        self.normals = np.zeros((6, 3))
+        self.areas = np.zeros(6)
+        for axis in range(3):
+            others = [k for k in range(3) if k != axis]
+            for end, sign in ((0, 1.0), (1, -1.0)):
+                self.normals[2 * axis + end, axis] = sign
+                self.areas[2 * axis + end] = side[others[0]] * side[others[1]]
+        self.thermal_speeds = np.sqrt(2.0 * BOLTZMANN * self.temperature / self.masses)
+        self.speed_ratios = (self.normals @ self.drift)[:, None] / self.thermal_speeds[None, :]
+        self.rates = (
+            self.mole_fractions[None, :]
+            * self.areas[:, None]
+            * self.thermal_speeds[None, :]
+            * flux_factor(self.speed_ratios)
+            / SQRT_PI
+        )
+
+    @property
+    def rate(self) -> float:
+        """Molecules entering per second per unit number density [m^3/s]."""
+        return float(self.rates.sum())
+
+    def momentum_flux(self) -> np.ndarray:
+        """Momentum entering per second per unit number density [kg m^4 / s^2 per m^3], G.
+
+        The closed form: through a face, the normal momentum flux of the molecules with
+        v_n > 0 is n m c^2 / sqrt(pi) [s_n exp(-s_n^2) / 2 + sqrt(pi) / 4 (1 + 2 s_n^2)
+        (1 + erf(s_n))], and their tangential momentum is their number flux times m U_t.
+        """
+        total = np.zeros(3)
+        for f in range(6):
+            n = self.normals[f]
+            tangential = self.drift - (self.drift @ n) * n
+            for j, (m, c) in enumerate(zip(self.masses, self.thermal_speeds)):
+                s = self.speed_ratios[f, j]
+                normal = (
+                    m
+                    * c
+                    * c
+                    / SQRT_PI
+                    * (
+                        0.5 * s * math.exp(-s * s)
+                        + 0.25 * SQRT_PI * (1.0 + 2.0 * s * s) * (1.0 + math.erf(s))
+                    )
+                )
+                x_area = self.mole_fractions[j] * self.areas[f]
+                total += x_area * normal * n + self.rates[f, j] * m * tangential
+        return total
+
+    def sample(self, count: int, rng: np.random.Generator) -> tuple:
+        """``count`` entering molecules: positions [m] (count, 3), velocities [m/s] (count, 3)
+        and species indices (count,), drawn from ``rng``."""
+        weights = self.rates.ravel()
+        pick = rng.choice(weights.size, size=count, p=weights / weights.sum())
+        face, species = np.divmod(pick, self.masses.size)
+        axis = face // 2
+        n = self.normals[face]
+        c = self.thermal_speeds[species]
+        x = normal_speed_ratios(self.speed_ratios[face, species], rng)
+        thermal = rng.standard_normal((count, 3)) * (c / math.sqrt(2.0))[:, None]
+        velocity = self.drift + thermal
+        # the normal component replaced by the sampled one (n is +-e_axis)
+        rows = np.arange(count)
+        velocity[rows, axis] = n[rows, axis] * c * x
+        position = self.lower + rng.random((count, 3)) * (self.upper - self.lower)
+        position[rows, axis] = np.where(face % 2 == 0, self.lower[axis], self.upper[axis])
+        return position, velocity, species

@@ -1,0 +1,138 @@
+"""Re-emission of a molecule from a surface: the gas-surface scattering kernels.
+
+Each kernel takes the velocities of molecules hitting panels and returns the velocities they
+leave with, into the half-space they came from. ``n`` below is the unit normal of that side
+(the panel normal, flipped for a molecule that hits the back of a thin plate), ``t1, t2`` two
+unit tangents, c_w = sqrt(2 k_B T_w / m) the most probable thermal speed at the wall
+temperature, u, u' uniform numbers in (0, 1] and g, g' standard normal ones.
+
+``diffuse`` (sentman, dria)
+    Cosine-law re-emission at a temperature T_r from energy accommodation alpha. A molecule of
+    incident kinetic energy E_i = m |v|^2 / 2 counts as a molecule of a flux at temperature
+    T_i = E_i / (2 k_B) (a Maxwellian flux carries 2 k_B T per molecule), and leaves from the
+    flux Maxwellian of T_r = T_i + alpha (T_w - T_i), so that its expected energy is
+    E_i + alpha (2 k_B T_w - E_i), the definition of alpha:
+    v' = c_r (sqrt(-ln u) n + (g t1 + g' t2) / sqrt(2)), c_r = sqrt(2 k_B T_r / m).
+    With alpha = 1 every molecule leaves at the wall temperature, Sentman's model exactly.
+``maxwell``
+    A fraction alpha diffusely at T_w (as above with alpha = 1), the rest specularly,
+    v' = v - 2 (v . n) n.
+``cll``
+    Cercignani-Lampis-Lord (Lord 1991), in units of c_w: the normal speed
+    w_n' = sqrt(r^2 + (1 - alpha_n) w_n^2 + 2 r sqrt(1 - alpha_n) w_n cos(theta)) with
+    r = sqrt(-alpha_n ln u), theta = 2 pi u'; each tangential component
+    w_t' = sqrt(1 - alpha_t) w_t + r_t (cos, sin)(theta_t) with r_t = sqrt(-alpha_t ln u''),
+    alpha_t = sigma_t (2 - sigma_t). alpha_n = sigma_t = 1 is diffuse re-emission at T_w,
+    alpha_n = sigma_t = 0 specular reflection.
+
+Surface parameters are floats or per-hit arrays. Sources: J. C. Maxwell, Phil. Trans. R. Soc.
+170 (1879) 231-256; R. G. Lord, Physics of Fluids A 3 (1991) 706-710; G. A. Bird, "Molecular Gas
+Dynamics and the Direct Simulation of Gas Flows", Oxford (1994), section 12.5.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from adbsat_ros.physics.constants import BOLTZMANN
+
+#: Kernel of each gas-surface model the test-particle solver can run.
+KERNEL_OF_MODEL = {
+    "sentman": "diffuse",
+    "dria": "diffuse",
+    "maxwell": "maxwell",
+    "cll": "cll",
+}
+
+
+def tangents(n: np.ndarray) -> tuple:
+    """Two unit vectors t1, t2 with (t1, t2, n) right-handed, for each row of ``n``."""
+    helper = np.zeros_like(n)
+    use_x = np.abs(n[:, 0]) < 0.9
+    helper[use_x, 0] = 1.0
+    helper[~use_x, 1] = 1.0
+    t1 = np.cross(n, helper)
+    t1 /= np.linalg.norm(t1, axis=1)[:, None]
+    return t1, np.cross(n, t1)
+
+
+def _open_uniform(rng, count) -> np.ndarray:
+    """Uniform numbers in (0, 1] (so that log(u) is finite)."""
+    return 1.0 - rng.random(count)
+
+
+def diffuse(v, n, mass, alpha, wall_temperature, rng) -> np.ndarray:
+    """Cosine-law re-emission with energy accommodation ``alpha`` (module docstring)."""
+    count = len(v)
+    incident = mass * np.einsum("ij,ij->i", v, v) / (4.0 * BOLTZMANN)  # T_i = E_i / (2 k_B)
+    emitted = incident + alpha * (wall_temperature - incident)
+    return _wall_flux(n, np.sqrt(2.0 * BOLTZMANN * emitted / mass), rng, count)
+
+
+def _wall_flux(n, c, rng, count) -> np.ndarray:
+    """Velocities from the flux Maxwellian of most probable speed ``c`` leaving along ``n``."""
+    t1, t2 = tangents(n)
+    normal = np.sqrt(-np.log(_open_uniform(rng, count)))
+    g = rng.standard_normal((count, 2)) / math.sqrt(2.0)
+    return c[:, None] * (normal[:, None] * n + g[:, :1] * t1 + g[:, 1:] * t2)
+
+
+def maxwell(v, n, mass, alpha, wall_temperature, rng) -> np.ndarray:
+    """A fraction ``alpha`` re-emitted diffusely at T_w, the rest specularly."""
+    count = len(v)
+    c = np.broadcast_to(np.sqrt(2.0 * BOLTZMANN * wall_temperature / mass), (count,))
+    out = _wall_flux(n, c, rng, count)
+    specular = rng.random(count) >= alpha
+    mirrored = v - 2.0 * np.einsum("ij,ij->i", v, n)[:, None] * n
+    out[specular] = mirrored[specular]
+    return out
+
+
+def cll(v, n, mass, alpha_n, sigma_t, wall_temperature, rng) -> np.ndarray:
+    """Cercignani-Lampis-Lord re-emission (module docstring)."""
+    count = len(v)
+    c = np.broadcast_to(np.sqrt(2.0 * BOLTZMANN * wall_temperature / mass), (count,))
+    alpha_n = np.broadcast_to(alpha_n, (count,))
+    alpha_t = np.broadcast_to(sigma_t * (2.0 - sigma_t), (count,))
+    t1, t2 = tangents(n)
+    w = v / c[:, None]
+    w_n = -np.einsum("ij,ij->i", w, n)  # > 0: towards the surface
+    r = np.sqrt(-alpha_n * np.log(_open_uniform(rng, count)))
+    theta = 2.0 * math.pi * rng.random(count)
+    kept = np.sqrt(1.0 - alpha_n) * w_n
+    normal = np.sqrt(np.maximum(r * r + kept * kept + 2.0 * r * kept * np.cos(theta), 0.0))
+    r_t = np.sqrt(-alpha_t * np.log(_open_uniform(rng, count)))
+    theta_t = 2.0 * math.pi * rng.random(count)
+    keep_t = np.sqrt(1.0 - alpha_t)
+    w1 = keep_t * np.einsum("ij,ij->i", w, t1) + r_t * np.cos(theta_t)
+    w2 = keep_t * np.einsum("ij,ij->i", w, t2) + r_t * np.sin(theta_t)
+    return c[:, None] * (normal[:, None] * n + w1[:, None] * t1 + w2[:, None] * t2)
+
+
+def reemit(kernel: str, v, n, mass, surface, rng) -> np.ndarray:
+    """Velocities [m/s] of the molecules leaving the panels they hit.
+
+    Parameters
+    ----------
+    kernel : {"diffuse", "maxwell", "cll"}
+        The scattering kernel (:data:`KERNEL_OF_MODEL`).
+    v : ndarray, shape (H, 3)
+        Incident velocities [m/s].
+    n : ndarray, shape (H, 3)
+        Unit normals of the side hit, pointing into the gas the molecules came from.
+    mass : ndarray, shape (H,)
+        Molecular masses [kg].
+    surface : mapping of str to float or ndarray of shape (H,)
+        ``alpha``, ``alpha_n``, ``sigma_t`` and ``wall_temperature`` [K] at each hit.
+    rng : numpy.random.Generator
+    """
+    t_w = surface["wall_temperature"]
+    if kernel == "diffuse":
+        return diffuse(v, n, mass, surface["alpha"], t_w, rng)
+    if kernel == "maxwell":
+        return maxwell(v, n, mass, surface["alpha"], t_w, rng)
+    if kernel == "cll":
+        return cll(v, n, mass, surface["alpha_n"], surface["sigma_t"], t_w, rng)
+    raise ValueError(f"unknown kernel {kernel!r}; choose one of diffuse, maxwell, cll")

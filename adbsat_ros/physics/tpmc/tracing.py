@@ -1,0 +1,148 @@
+"""Following test particles through the body's panels until they leave: the momentum each
+molecule gives the body, and each panel's share.
+
+Free-molecular flow has no molecule-molecule collisions, so every molecule is traced alone: a
+straight line to the first panel it meets (the ray scene), re-emission there by the scattering
+kernel into the side it came from, and again, until its line meets no panel. Every step is done
+for the whole batch of molecules still in flight at once.
+
+Units: SI, mesh frame G.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from adbsat_ros.physics.tpmc.kernels import reemit
+
+#: A re-emitted molecule starts this fraction of the scene's size off the panel, on the side it
+#: leaves into: clear of float32 rounding of the Embree scene (7.6e-8 of its size) by 13 times.
+LIFT_OFF = 1e-6
+#: A molecule still bouncing after this many hits is stopped and counted as ``trapped``.
+MAX_BOUNCES = 100_000
+
+
+@dataclass
+class Tally:
+    """What a batch of molecules did.
+
+    Attributes
+    ----------
+    impulse : ndarray, shape (P, 3)
+        Momentum each molecule gave the body, sum of m (v_in - v_out) over its hits [kg m/s].
+    moment : ndarray, shape (P, 3)
+        Its moment about the moment point, sum of (r_hit - r_ref) x m (v_in - v_out) [kg m^2/s].
+    exit_velocity : ndarray, shape (P, 3)
+        Velocity each molecule leaves the body with (its entry velocity if it hit nothing).
+    panel_impulse : ndarray, shape (N, 3)
+        Momentum given to each panel [kg m/s].
+    panel_hits : ndarray of int64, shape (N,)
+        Hits on each panel.
+    hits : int
+        Molecule-surface collisions in all.
+    trapped : int
+        Molecules stopped after :data:`MAX_BOUNCES` hits.
+    """
+
+    impulse: np.ndarray
+    moment: np.ndarray
+    exit_velocity: np.ndarray
+    panel_impulse: np.ndarray
+    panel_hits: np.ndarray
+    hits: int = 0
+    trapped: int = 0
+
+
+def surface_at(surface, faces) -> dict:
+    """The scattering parameters of the panels ``faces`` from a PanelSurface."""
+    out = {}
+    for name in ("alpha", "alpha_n", "sigma_t", "wall_temperature"):
+        value = getattr(surface, name)
+        out[name] = value if np.isscalar(value) else value[faces]
+    return out
+
+
+def trace(scene, mesh, kernel, surface, positions, velocities, masses, rng, moment_point):
+    """Follow molecules from their entry until they leave the body.
+
+    Parameters
+    ----------
+    scene : RayScene
+        The panels of ``mesh`` (:func:`adbsat_ros.shading.rays.ray_scene`).
+    mesh : PanelMesh
+        The body (normals for the re-emission side).
+    kernel : str
+        Scattering kernel (:mod:`adbsat_ros.physics.tpmc.kernels`).
+    surface : PanelSurface
+        Per-panel surface parameters.
+    positions, velocities : ndarray, shape (P, 3)
+        Where the molecules start [m] and their velocities [m/s].
+    masses : ndarray, shape (P,)
+        Their masses [kg].
+    rng : numpy.random.Generator
+        The batch's random numbers (re-emission).
+    moment_point : array_like, shape (3,)
+        Point the moments are taken about [m].
+
+    Returns
+    -------
+    Tally
+    """
+    count = len(positions)
+    n_panels = mesh.n_panels
+    size = float(np.max(mesh.bounds[1] - mesh.bounds[0]))
+    lift = LIFT_OFF * size
+    ref = np.asarray(moment_point, dtype=float)
+    tally = Tally(
+        impulse=np.zeros((count, 3)),
+        moment=np.zeros((count, 3)),
+        exit_velocity=np.array(velocities, dtype=float),
+        panel_impulse=np.zeros((n_panels, 3)),
+        panel_hits=np.zeros(n_panels, dtype=np.int64),
+    )
+    index = np.arange(count)
+    pos = np.array(positions, dtype=float)
+    vel = np.array(velocities, dtype=float)
+    mass = np.asarray(masses, dtype=float)
+    last = np.full(count, -1, dtype=np.int64)
+    bounces = 0
+    while index.size:
+        speed = np.linalg.norm(vel, axis=1)
+        direction = vel / speed[:, None]
+        face, distance = scene.first_hit(pos, direction)
+        # a panel met again straight after leaving it is float rounding (a plane cannot be
+        # met twice by a line leaving it): step past the point and look again
+        again = (face == last) & (face >= 0)
+        gone = (face < 0) & ~again
+        tally.exit_velocity[index[gone]] = vel[gone]
+        hit = (face >= 0) & ~again
+        stay = hit | again
+        if again.any():
+            pos[again] += (distance[again] + lift)[:, None] * direction[again]
+        if hit.any():
+            f = face[hit]
+            v_in = vel[hit]
+            point = pos[hit] + distance[hit, None] * direction[hit]
+            normal = mesh.normals[f]
+            side = np.where((np.einsum("ij,ij->i", v_in, normal) < 0.0)[:, None], normal, -normal)
+            v_out = reemit(kernel, v_in, side, mass[hit], surface_at(surface, f), rng)
+            dp = mass[hit, None] * (v_in - v_out)
+            who = index[hit]
+            tally.impulse[who] += dp
+            tally.moment[who] += np.cross(point - ref, dp)
+            for k in range(3):
+                tally.panel_impulse[:, k] += np.bincount(f, weights=dp[:, k], minlength=n_panels)
+            tally.panel_hits += np.bincount(f, minlength=n_panels)
+            tally.hits += int(f.size)
+            pos[hit] = point + lift * side
+            vel[hit] = v_out
+            last[hit] = f
+        index, pos, vel, mass, last = index[stay], pos[stay], vel[stay], mass[stay], last[stay]
+        bounces += 1
+        if bounces >= MAX_BOUNCES and index.size:
+            tally.trapped = int(index.size)
+            tally.exit_velocity[index] = vel
+            break
+    return tally
