@@ -19,6 +19,7 @@ from adbsat_ros.cli.common import (
     method_and_flow_from_args,
 )
 from adbsat_ros.cli.options import CommandLineError, parse_angle_list
+from adbsat_ros.cli.solvers import add_solver_arguments, run_tpmc, test_particle_method
 from adbsat_ros.geometry import frames
 
 
@@ -39,6 +40,7 @@ def configure(p) -> None:
     add_flight_arguments(p, time_required=False, with_alpha=False)
     add_reference_arguments(p)
     add_shading_arguments(p)
+    add_solver_arguments(p)
     p.add_argument("--aoa", default="0", help="angles of attack [deg]: list and/or start:step:stop")
     p.add_argument("--aos", default="0", help="sideslip angles [deg]: list and/or start:step:stop")
     p.add_argument("--json", action="store_true", help="print a JSON list, one object per attitude")
@@ -55,16 +57,28 @@ def run(args) -> int:
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
     aos_deg = parse_angle_list(args.aos, "--aos")
     method, flow, _ = method_and_flow_from_args(args)
-    shader = make_shader_from_args(args, method.mesh)
+    shader = make_shader_from_args(args, method.mesh) if args.method != "tpmc" else None
+    solver = test_particle_method(args, method) if args.method != "panel" else None
     results = []
     for a in aoa_deg:
         for b in aos_deg:
-            u = frames.flow_direction(math.radians(a), math.radians(b))
-            lighting = shader.lighting(u) if shader is not None else None
-            r = method.coefficients(flow, math.radians(a), math.radians(b), lighting=lighting)
-            d = r.to_dict(flow, per_panel=args.per_panel)
+            aoa, aos = math.radians(a), math.radians(b)
+            d = {}
+            if args.method != "tpmc":
+                u = frames.flow_direction(aoa, aos)
+                lighting = shader.lighting(u) if shader is not None else None
+                r = method.coefficients(flow, aoa, aos, lighting=lighting)
+                d["panel"] = dict(r.to_dict(flow, per_panel=args.per_panel), shading=args.shading)
+            if solver is not None:
+                d["tpmc"] = run_tpmc(args, solver, flow, aoa, aos).to_dict(
+                    flow, per_panel=args.per_panel
+                )
+            if args.method == "both":
+                d = dict(aoa_deg=float(a), aos_deg=float(b), **d)
+                d["difference"] = difference(d["tpmc"], d["panel"])
+            else:
+                d = d[args.method]
             d["aoa_deg"], d["aos_deg"] = float(a), float(b)  # exact as given
-            d["shading"] = args.shading
             results.append(d)
     if args.json:
         try:  # (made whole first: a refused number must not leave half a document)
@@ -73,12 +87,24 @@ def run(args) -> int:
             raise CommandLineError("a coefficient is not finite for these inputs") from None
         sys.stdout.write(text + "\n")
     else:
-        print_table(results, method, flow)
+        print_table(results, method, flow, args.method)
     return 0
 
 
-def print_table(results, method, flow) -> None:
-    """Print the results of :func:`run` as a table, one line per attitude, after a set-up line."""
+def difference(tpmc: dict, panel: dict) -> dict:
+    """TPMC less panel method for C_D, C_L, C_Y and Cm_B, with the standard errors (those of
+    the test-particle values: the panel method has none)."""
+    out = {}
+    for name in ("CD", "CL", "CY"):
+        out[name] = tpmc[name] - panel[name]
+        out[f"{name}_error"] = tpmc[f"{name}_error"]
+    out["Cm_B"] = [t - p for t, p in zip(tpmc["Cm_B"], panel["Cm_B"])]
+    out["Cm_B_error"] = tpmc["Cm_B_error"]
+    return out
+
+
+def print_table(results, method, flow, solver: str = "panel") -> None:
+    """Print the results of :func:`run` as a table, one line per attitude, after set-up lines."""
     mesh = method.mesh
     print(f"mesh {mesh.source}: {mesh.n_panels} panels, materials {', '.join(mesh.material_names)}")
     print(
@@ -86,6 +112,12 @@ def print_table(results, method, flow) -> None:
         f"s = {flow.speed_ratio:.3f}, Aref = {method.reference.area:.4g} m^2, "
         f"Lref = {method.reference.length:.4g} m"
     )
+    if solver == "both":
+        print_comparison(results)
+        return
+    if solver == "tpmc":
+        print_tpmc(results)
+        return
     has_force = "force_N" in results[0]
     head = (
         f"{'aoa':>7} {'aos':>7} {'CD':>9} {'CL':>9} {'CY':>9} "
@@ -102,3 +134,40 @@ def print_table(results, method, flow) -> None:
         if has_force:
             line += f" {np.linalg.norm(d['force_N']):10.4e} {np.linalg.norm(d['torque_Nm']):10.4e}"
         print(line)
+
+
+def _pm(value, error) -> str:
+    return f"{value:9.5f} +- {error:7.5f}"
+
+
+def print_tpmc(results) -> None:
+    """Test-particle results: each coefficient with its standard error."""
+    print(f"test-particle Monte Carlo, seed {results[0]['seed']}; +- one standard error")
+    print(f"{'aoa':>7} {'aos':>7} {'CD':>20} {'CL':>20} {'CY':>20} {'molecules':>10} {'hits':>10}")
+    for d in results:
+        print(
+            f"{d['aoa_deg']:7.2f} {d['aos_deg']:7.2f} {_pm(d['CD'], d['CD_error']):>20} "
+            f"{_pm(d['CL'], d['CL_error']):>20} {_pm(d['CY'], d['CY_error']):>20} "
+            f"{d['particles']:10d} {d['hits']:10d}"
+        )
+
+
+def print_comparison(results) -> None:
+    """Panel method and test particles side by side, and their difference in standard errors."""
+    print(
+        "panel method against test-particle Monte Carlo (every reflection); +- one standard error"
+    )
+    print(
+        f"{'aoa':>7} {'aos':>7} {'CD panel':>9} {'CD tpmc':>20} {'difference':>20} {'in %':>7} "
+        f"{'sigmas':>7} {'CL panel':>9} {'CL tpmc':>20}"
+    )
+    for d in results:
+        p, t, x = d["panel"], d["tpmc"], d["difference"]
+        error = x["CD_error"]
+        print(
+            f"{d['aoa_deg']:7.2f} {d['aos_deg']:7.2f} {p['CD']:9.5f} "
+            f"{_pm(t['CD'], t['CD_error']):>20} {_pm(x['CD'], error):>20} "
+            f"{100 * x['CD'] / p['CD']:7.2f} "
+            f"{x['CD'] / error if error > 0 else float('inf'):7.1f} {p['CL']:9.5f} "
+            f"{_pm(t['CL'], t['CL_error']):>20}"
+        )

@@ -124,15 +124,17 @@ def number(
 
     def convert(text):
         try:
-            value = int(text) if integer else float(text)
+            value = float(text)  # (a whole number may be written 1e6)
         except ValueError:
+            value = float("nan")
+        if integer and math.isfinite(value) and not value.is_integer():
             value = float("nan")
         ok = math.isfinite(value)
         ok = ok and (low is None or (value > low if low_open else value >= low))
         ok = ok and (high is None or value <= high)
         if not ok:
             raise argparse.ArgumentTypeError(f"{option} must be {what}, got {text!r}")
-        return value
+        return int(value) if integer else value
 
     convert.__name__ = option
     return convert

@@ -114,6 +114,12 @@ def test_table_output(capsys, box_file):
         (["--gsim", "cll"], "--species"),
         (["--material", "nothere:alpha=0.5"], "--material"),
         (["--material", "default:beta=0.5"], "--material"),
+        (["--method", "tpmc", "--gsim", "newton"], "has no test-particle kernel"),
+        (["--method", "monte"], "--method"),
+        (["--method", "tpmc", "--particles", "0"], "--particles"),
+        (["--method", "tpmc", "--particles", "2.5"], "--particles"),
+        (["--method", "tpmc", "--tolerance", "1"], "--tolerance"),
+        (["--method", "tpmc", "--seed", "-1"], "--seed"),
     ],
 )
 def test_bad_values_give_one_line_and_status_2(box_file, argv, needle):
@@ -225,3 +231,25 @@ def test_negative_ranges_and_lists_need_no_equals_sign(capsys, box_file):
         "--gsim",
         "-1:2",
     ]
+
+
+def test_the_two_methods_side_by_side(capsys, box_file):
+    """--method both: each method's full record and the test particles' difference from the
+    panel method with its error; on a convex box the difference is within three errors."""
+    argv = [str(box_file), *FLOW, "--aoa", "0,30", "--method", "both", "--particles", "200000"]
+    code, out, err = run_cli(capsys, *argv, "--json")
+    assert code == 0, err
+    rows = json.loads(out)
+    assert [(r["aoa_deg"], r["aos_deg"]) for r in rows] == [(0.0, 0.0), (30.0, 0.0)]
+    for r in rows:
+        panel, tpmc, diff = r["panel"], r["tpmc"], r["difference"]
+        assert tpmc["method"] == "tpmc" and tpmc["particles"] == 4 * 65_536 and tpmc["seed"] == 0
+        assert diff["CD"] == pytest.approx(tpmc["CD"] - panel["CD"], abs=1e-15)
+        assert diff["CD_error"] == tpmc["CD_error"] > 0.0
+        assert abs(diff["CD"]) <= 3.0 * diff["CD_error"]
+        assert len(tpmc["Cf_w_error"]) == 3 and "force_N" not in tpmc
+    code, out, err = run_cli(capsys, *argv)
+    assert code == 0, err
+    lines = out.splitlines()
+    assert "panel method against test-particle Monte Carlo" in lines[2]
+    assert len(lines) == 4 + 2 and "+-" in lines[4]

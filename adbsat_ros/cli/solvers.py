@@ -1,0 +1,96 @@
+"""``--method panel|tpmc|both`` and the test-particle options, and running the test-particle
+solver from the command line (with a progress bar on a terminal)."""
+
+from __future__ import annotations
+
+import math
+import sys
+
+from adbsat_ros.cli.options import CommandLineError, number
+
+METHODS = ("panel", "tpmc", "both")
+
+
+def add_solver_arguments(parser, with_both: bool = True) -> None:
+    """Add ``--method`` and the test-particle options (particles, tolerance, seed, workers)."""
+    g = parser.add_argument_group("solver")
+    g.add_argument(
+        "--method",
+        default="panel",
+        choices=METHODS if with_both else METHODS[:2],
+        help="panel: the panel method (one reflection); tpmc: test-particle Monte Carlo "
+        "(every reflection, with standard errors)"
+        + ("; both: each, and their difference" if with_both else "")
+        + " (default panel)",
+    )
+    g.add_argument(
+        "--particles",
+        type=number("--particles", integer=True, low=1),
+        help="tpmc: most molecules per attitude (default 1e6, or 1e8 with --tolerance)",
+    )
+    g.add_argument(
+        "--tolerance",
+        type=number(
+            "--tolerance",
+            low=0.0,
+            high=math.nextafter(1.0, 0.0),
+            low_open=True,
+            what="a number in (0, 1)",
+        ),
+        help="tpmc: stop once the standard error of C_D is at most this fraction of C_D",
+    )
+    g.add_argument(
+        "--seed", type=number("--seed", integer=True, low=0), default=0, help="tpmc: random seed"
+    )
+    g.add_argument(
+        "--workers",
+        type=number("--workers", integer=True, low=1),
+        default=1,
+        help="tpmc: processes (default 1; at most the usable CPUs)",
+    )
+
+
+def test_particle_method(args, method):
+    """The :class:`TestParticleMethod` of the panel method ``method``'s mesh, model, materials
+    and reference; CommandLineError for a model without a test-particle kernel."""
+    from adbsat_ros.physics.tpmc.method import TestParticleMethod
+
+    try:
+        return TestParticleMethod(
+            method.mesh, method.model, method.materials, reference=method.reference
+        )
+    except ValueError as exc:
+        raise CommandLineError(f"--method {args.method}: {exc}") from None
+
+
+def run_tpmc(args, solver, flow, aoa, aos):
+    """The test-particle coefficients at one attitude [rad], a bar on stderr if it is a terminal."""
+    from tqdm import tqdm
+
+    from adbsat_ros.processes import worker_count
+
+    workers, note = worker_count(args.workers)
+    if note:
+        print(f"adbsat-ros: {note}", file=sys.stderr)
+    bar = None
+    if hasattr(sys.stderr, "isatty") and sys.stderr.isatty():
+        bar = tqdm(unit="molecule", unit_scale=True, desc="tpmc", file=sys.stderr, leave=False)
+
+    def progress(done):
+        if bar is not None:
+            bar.update(done - bar.n)
+
+    try:
+        return solver.coefficients(
+            flow,
+            aoa,
+            aos,
+            particles=args.particles,
+            tolerance=args.tolerance,
+            seed=args.seed,
+            workers=workers,
+            progress=progress,
+        )
+    finally:
+        if bar is not None:
+            bar.close()
