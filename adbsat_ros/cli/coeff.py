@@ -45,6 +45,18 @@ def configure(p) -> None:
     p.add_argument("--aos", default="0", help="sideslip angles [deg]: list and/or start:step:stop")
     p.add_argument("--json", action="store_true", help="print a JSON list, one object per attitude")
     p.add_argument(
+        "--plot",
+        metavar="PNG",
+        help="draw the mesh coloured by per-panel pressure coefficient at the first attitude "
+        "(the test particles' with --method tpmc or both) into this PNG file",
+    )
+    p.add_argument(
+        "--view",
+        metavar="ELEV,AZIM",
+        help="with --plot, the camera's elevation and azimuth [deg] (default: chosen to show "
+        "the panels the flow reaches)",
+    )
+    p.add_argument(
         "--per-panel",
         action="store_true",
         help="with --json, include per-panel cp, ctau, lit fraction",
@@ -59,7 +71,8 @@ def run(args) -> int:
     method, flow, _ = method_and_flow_from_args(args)
     shader = make_shader_from_args(args, method.mesh) if args.method != "tpmc" else None
     solver = test_particle_method(args, method) if args.method != "panel" else None
-    results = []
+    view = parse_view(args.view) if args.view is not None else None
+    results, first = [], None
     for a in aoa_deg:
         for b in aos_deg:
             aoa, aos = math.radians(a), math.radians(b)
@@ -70,9 +83,10 @@ def run(args) -> int:
                 r = method.coefficients(flow, aoa, aos, lighting=lighting)
                 d["panel"] = dict(r.to_dict(flow, per_panel=args.per_panel), shading=args.shading)
             if solver is not None:
-                d["tpmc"] = run_tpmc(args, solver, flow, aoa, aos).to_dict(
-                    flow, per_panel=args.per_panel
-                )
+                r = run_tpmc(args, solver, flow, aoa, aos)
+                d["tpmc"] = r.to_dict(flow, per_panel=args.per_panel)
+            if first is None:
+                first = (a, b, r)
             if args.method == "both":
                 d = dict(aoa_deg=float(a), aos_deg=float(b), **d)
                 d["difference"] = difference(d["tpmc"], d["panel"])
@@ -88,7 +102,24 @@ def run(args) -> int:
         sys.stdout.write(text + "\n")
     else:
         print_table(results, method, flow, args.method)
+    if args.plot is not None:
+        from adbsat_ros.plotting.panels import plot_panel_pressure
+
+        a, b, r = first
+        path = plot_panel_pressure(method, flow, a, b, None, args.plot, view=view, result=r)
+        print(f"wrote {path}", file=sys.stderr)
     return 0
+
+
+def parse_view(text: str) -> tuple:
+    """``ELEV,AZIM`` in degrees, two finite numbers; CommandLineError naming --view."""
+    try:
+        elev, azim = (float(x) for x in text.split(","))
+    except ValueError:
+        raise CommandLineError(f"--view: expected two numbers ELEV,AZIM, got {text!r}") from None
+    if not (math.isfinite(elev) and math.isfinite(azim)):
+        raise CommandLineError(f"--view: expected two finite numbers, got {text!r}")
+    return elev, azim
 
 
 def difference(tpmc: dict, panel: dict) -> dict:

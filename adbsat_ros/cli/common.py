@@ -30,7 +30,10 @@ from adbsat_ros.shading.shader import make_shader
 def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the MESH argument and ``--scale``."""
     parser.add_argument(
-        "mesh", metavar="MESH", help="mesh file (.obj .stl .ply .off ...) or 'example'"
+        "mesh",
+        metavar="MESH",
+        help="mesh file (.obj .stl .ply .off ...), or a bundled body: 'example' (the "
+        "example satellite), 'grooved-cylinder', 'cylinder', 'intake-box'",
     )
     parser.add_argument(
         "--scale",

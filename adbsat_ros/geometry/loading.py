@@ -16,6 +16,7 @@ import numpy as np
 import trimesh
 
 from adbsat_ros.bounds import BOUNDS
+from adbsat_ros.geometry.concave_bodies import CONCAVE_BODIES
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME, example_satellite
 from adbsat_ros.geometry.mesh import (
     DEFAULT_MATERIAL,
@@ -199,16 +200,18 @@ def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) 
 
 
 def resolve_mesh(spec, scale: float = 1.0, accept_size: bool = False) -> PanelMesh:
-    """A PanelMesh from a file path, or the bundled example for the name ``"example"``.
+    """A PanelMesh from a file path, or a bundled body by name: ``"example"`` (the example
+    satellite) or one of :data:`~adbsat_ros.geometry.concave_bodies.CONCAVE_BODIES`
+    (``grooved-cylinder``, ``cylinder``, ``intake-box``).
 
     Raises
     ------
     MeshError
-        As :func:`load_mesh`, or a ``scale`` other than 1 with the example (it is in metres).
+        As :func:`load_mesh`, or a ``scale`` other than 1 with a bundled body (it is in metres).
     """
-    if str(spec) == EXAMPLE_MESH_NAME:
-        mesh = example_satellite()
+    name = str(spec)
+    if name == EXAMPLE_MESH_NAME or name in CONCAVE_BODIES:
         if scale != 1.0:
-            raise MeshError("the example mesh is in metres; scale applies to mesh files only")
-        return mesh
+            raise MeshError(f"the {name} mesh is in metres; scale applies to mesh files only")
+        return example_satellite() if name == EXAMPLE_MESH_NAME else CONCAVE_BODIES[name]()
     return load_mesh(spec, scale=scale, accept_size=accept_size)

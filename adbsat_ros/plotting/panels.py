@@ -149,7 +149,15 @@ def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, flo
 
 
 def make_panel_pressure_figure(
-    method, flow, aoa_deg: float, aos_deg: float, lighting=None, *, view=None, title=None
+    method,
+    flow,
+    aoa_deg: float,
+    aos_deg: float,
+    lighting=None,
+    *,
+    view=None,
+    title=None,
+    result=None,
 ) -> Figure:
     """A 3-D picture of the mesh coloured by per-panel pressure coefficient at one attitude.
 
@@ -166,6 +174,10 @@ def make_panel_pressure_figure(
         Camera; default :func:`default_view`.
     title : str, optional
         First title line (default: mesh, model, speed ratio, attitude).
+    result : AeroCoefficients, optional
+        The coefficients to draw, computed already (e.g. by the test-particle solver, whose
+        per-panel pressures include every reflection and whose panels count as all reached);
+        default: ``method`` at this attitude with ``lighting``.
 
     Returns
     -------
@@ -180,9 +192,10 @@ def make_panel_pressure_figure(
     mesh = method.mesh
     aoa, aos = math.radians(aoa_deg), math.radians(aos_deg)
     u = frames.flow_direction(aoa, aos)
-    light = _resolve_lighting(lighting, mesh, u)
-    result = method.coefficients(flow, aoa, aos, lighting=light)
-    colours, norm, groups = panel_colours(result.cp, result.cos_delta, light.lit_fraction)
+    if result is None:
+        light = _resolve_lighting(lighting, mesh, u)
+        result = method.coefficients(flow, aoa, aos, lighting=light)
+    colours, norm, groups = panel_colours(result.cp, result.cos_delta, result.lit_fraction)
 
     fig = new_figure((8.0, 6.0))
     ax = fig.add_subplot(projection="3d")
@@ -242,7 +255,9 @@ def make_panel_pressure_figure(
         title = (
             f"{Path(str(mesh.source)).name}, {method.model}, speed ratio s = {flow.speed_ratio:.2f}"
         )
-        if lighting is not None:
+        if hasattr(result, "particles"):
+            title += f", test particles: {result.particles:,}"
+        elif lighting is not None:
             title += f", shading: {getattr(lighting, 'mode', 'given')}"
     fig.suptitle(
         f"{title}\nα = {aoa_deg:g}°, β = {aos_deg:g}°: "
@@ -255,7 +270,7 @@ def make_panel_pressure_figure(
 def plot_panel_pressure(method, flow, aoa_deg, aos_deg, lighting, out_path, **options) -> Path:
     """Write :func:`make_panel_pressure_figure` to ``out_path`` (PNG); returns the path.
 
-    ``options`` (``view``, ``title``) are passed on to :func:`make_panel_pressure_figure`.
+    ``options`` (``view``, ``title``, ``result``) go to :func:`make_panel_pressure_figure`.
     """
     return save_png(
         make_panel_pressure_figure(method, flow, aoa_deg, aos_deg, lighting, **options), out_path
