@@ -75,14 +75,15 @@ class RayScene(Protocol):
         Parameters
         ----------
         origins, directions : ndarray, shape (R, 3)
-            Ray origins [m] and unit directions (G).
+            Ray origins [m] and directions (G; any non-zero length, e.g. velocities).
 
         Returns
         -------
         face : ndarray of int64, shape (R,)
             Panel index, -1 where the ray meets none.
-        distance : ndarray, shape (R,)
-            Distance t [m] to it (inf where none).
+        t : ndarray, shape (R,)
+            The hit is at origins + t directions (t the distance [m] for unit directions; inf
+            where none).
         """
         ...
 

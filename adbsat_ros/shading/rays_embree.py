@@ -64,14 +64,15 @@ class EmbreeScene:
         Parameters
         ----------
         origins, directions : ndarray, shape (R, 3)
-            Ray origins [m] and unit directions (G).
+            Ray origins [m] and directions (G; any non-zero length, e.g. velocities).
 
         Returns
         -------
         face : ndarray of int64, shape (R,)
             Index of the panel met, -1 for none.
-        distance : ndarray, shape (R,)
-            Its distance t [m] (inf for none), to float32 rounding of the scene.
+        t : ndarray, shape (R,)
+            The hit is at origins + t directions (inf for none), to float32 rounding of the
+            scene.
         """
         origins = np.asarray(origins, dtype=float)
         if origins.shape[0] == 0:

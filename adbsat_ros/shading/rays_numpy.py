@@ -103,7 +103,7 @@ def first_hit(origins, directions, tri_vertices, max_pairs=MAX_PAIRS // 4) -> tu
     Parameters
     ----------
     origins, directions : ndarray, shape (R, 3)
-        Ray origins [m] and unit directions (G).
+        Ray origins [m] and directions (G; any non-zero length, e.g. velocities).
     tri_vertices : ndarray, shape (T, 3, 3)
         Triangles [m], G.
     max_pairs : int
@@ -113,8 +113,8 @@ def first_hit(origins, directions, tri_vertices, max_pairs=MAX_PAIRS // 4) -> tu
     -------
     face : ndarray of int64, shape (R,)
         Index of the first triangle met, -1 for none.
-    distance : ndarray, shape (R,)
-        Its distance t [m] (inf for none).
+    t : ndarray, shape (R,)
+        The hit is at origins + t directions (inf for none).
 
     Notes
     -----
@@ -175,7 +175,7 @@ class NumpyScene:
         self.triangles = mesh.vertices
 
     def first_hit(self, origins, directions) -> tuple:
-        """``(face, distance)`` of the first panel each ray meets (:func:`first_hit`)."""
+        """``(face, t)`` of the first panel each ray meets (:func:`first_hit`)."""
         return first_hit(origins, directions, self.triangles)
 
     def any_hit(self, origins, direction, occluder=None) -> np.ndarray:

@@ -59,36 +59,50 @@ def normal_speed_ratios(s, rng: np.random.Generator) -> np.ndarray:
     """
     s = np.asarray(s, dtype=float)
     x = np.empty_like(s)
+    up = s >= 0.0
+    x[up] = _rejection(s[up], rng, _upstream)
+    x[~up] = _rejection(s[~up], rng, _downstream)
+    return x
+
+
+def _rejection(s, rng, draw) -> np.ndarray:
+    """Draw for every element of ``s`` until each is accepted (``draw`` gives values and their
+    acceptance for the elements still waiting)."""
+    x = np.empty_like(s)
     waiting = np.arange(s.size)
     while waiting.size:
-        sw = s[waiting]
-        count = sw.size
-        u = 1.0 - rng.random((count, 3))  # (0, 1]
-        up = sw >= 0.0
-        # s >= 0: the mixture's weights, 1 - exp(-s^2) / 2 and sqrt(pi) / 2 s (1 + erf(s))
-        e = np.exp(-sw * sw)
-        w_abs = 1.0 - 0.5 * e
-        w_normal = 0.5 * SQRT_PI * sw * (1.0 + erf(sw))
-        pick_abs = u[:, 0] * (w_abs + w_normal) < w_abs
-        positive = u[:, 1] * w_abs < 0.5  # the upper half of |y| exp(-y^2), weight 1/2
-        r = u[:, 2]
-        y_abs = np.where(positive, np.sqrt(-np.log(r)), -np.sqrt(-np.log(1.0 - r * (1.0 - e))))
-        y_normal = rng.standard_normal(count) / math.sqrt(2.0)
-        y = np.where(pick_abs, y_abs, y_normal)
-        v = rng.random(count)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            accept_up = (y > -sw) & (v * (np.abs(y) + sw) <= y + sw)
-        # s < 0
-        near = sw > -1.0
-        rayleigh = np.sqrt(-np.log(u[:, 2]))
-        gamma = rng.gamma(2.0, 1.0, count) / np.maximum(-2.0 * sw, 1e-300)
-        x_down = np.where(near, rayleigh, gamma)
-        accept_down = np.where(near, v <= np.exp(2.0 * sw * x_down), v <= np.exp(-(x_down**2)))
-        value = np.where(up, y + sw, x_down)
-        accept = np.where(up, accept_up, accept_down)
+        value, accept = draw(s[waiting], rng)
         x[waiting[accept]] = value[accept]
         waiting = waiting[~accept]
     return x
+
+
+def _upstream(s, rng) -> tuple:
+    """One draw of the s >= 0 proposal and its acceptance (:func:`normal_speed_ratios`)."""
+    count = s.size
+    u = 1.0 - rng.random((count, 4))  # (0, 1]
+    e = np.exp(-s * s)
+    w_abs = 1.0 - 0.5 * e  # weights of the mixture: |y| exp(-y^2) and s exp(-y^2) on y > -s
+    w_normal = 0.5 * SQRT_PI * s * (1.0 + erf(s))
+    positive = u[:, 1] * w_abs < 0.5  # the upper half of |y| exp(-y^2), weight 1/2
+    r = u[:, 2]
+    y = np.where(positive, np.sqrt(-np.log(r)), -np.sqrt(-np.log(1.0 - r * (1.0 - e))))
+    normal = u[:, 0] * (w_abs + w_normal) >= w_abs
+    y[normal] = rng.standard_normal(int(normal.sum())) / math.sqrt(2.0)
+    accept = (y > -s) & (u[:, 3] * (np.abs(y) + s) <= y + s)
+    return y + s, accept
+
+
+def _downstream(s, rng) -> tuple:
+    """One draw of the s < 0 proposals and their acceptance (:func:`normal_speed_ratios`)."""
+    count = s.size
+    u = 1.0 - rng.random((count, 2))
+    near = s > -1.0
+    x = np.sqrt(-np.log(u[:, 0]))
+    far = ~near
+    x[far] = rng.gamma(2.0, 1.0, int(far.sum())) / (-2.0 * s[far])
+    accept = np.where(near, u[:, 1] <= np.exp(2.0 * s * x), u[:, 1] <= np.exp(-x * x))
+    return x, accept
 
 
 class InflowBox:
@@ -186,8 +200,9 @@ class InflowBox:
     def sample(self, count: int, rng: np.random.Generator) -> tuple:
         """``count`` entering molecules: positions [m] (count, 3), velocities [m/s] (count, 3)
         and species indices (count,), drawn from ``rng``."""
-        weights = self.rates.ravel()
-        pick = rng.choice(weights.size, size=count, p=weights / weights.sum())
+        cumulative = np.cumsum(self.rates.ravel())
+        pick = np.searchsorted(cumulative, rng.random(count) * cumulative[-1], side="right")
+        pick = np.minimum(pick, cumulative.size - 1)
         face, species = np.divmod(pick, self.masses.size)
         axis = face // 2
         n = self.normals[face]

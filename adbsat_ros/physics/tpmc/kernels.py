@@ -63,40 +63,41 @@ def _open_uniform(rng, count) -> np.ndarray:
     return 1.0 - rng.random(count)
 
 
-def diffuse(v, n, mass, alpha, wall_temperature, rng) -> np.ndarray:
+def diffuse(v, frame, mass, alpha, wall_temperature, rng) -> np.ndarray:
     """Cosine-law re-emission with energy accommodation ``alpha`` (module docstring)."""
     count = len(v)
     incident = mass * np.einsum("ij,ij->i", v, v) / (4.0 * BOLTZMANN)  # T_i = E_i / (2 k_B)
     emitted = incident + alpha * (wall_temperature - incident)
-    return _wall_flux(n, np.sqrt(2.0 * BOLTZMANN * emitted / mass), rng, count)
+    return _wall_flux(frame, np.sqrt(2.0 * BOLTZMANN * emitted / mass), rng, count)
 
 
-def _wall_flux(n, c, rng, count) -> np.ndarray:
-    """Velocities from the flux Maxwellian of most probable speed ``c`` leaving along ``n``."""
-    t1, t2 = tangents(n)
+def _wall_flux(frame, c, rng, count) -> np.ndarray:
+    """Velocities from the flux Maxwellian of most probable speed ``c`` leaving along n."""
+    n, t1, t2 = frame
     normal = np.sqrt(-np.log(_open_uniform(rng, count)))
     g = rng.standard_normal((count, 2)) / math.sqrt(2.0)
     return c[:, None] * (normal[:, None] * n + g[:, :1] * t1 + g[:, 1:] * t2)
 
 
-def maxwell(v, n, mass, alpha, wall_temperature, rng) -> np.ndarray:
+def maxwell(v, frame, mass, alpha, wall_temperature, rng) -> np.ndarray:
     """A fraction ``alpha`` re-emitted diffusely at T_w, the rest specularly."""
     count = len(v)
+    n = frame[0]
     c = np.broadcast_to(np.sqrt(2.0 * BOLTZMANN * wall_temperature / mass), (count,))
-    out = _wall_flux(n, c, rng, count)
+    out = _wall_flux(frame, c, rng, count)
     specular = rng.random(count) >= alpha
     mirrored = v - 2.0 * np.einsum("ij,ij->i", v, n)[:, None] * n
     out[specular] = mirrored[specular]
     return out
 
 
-def cll(v, n, mass, alpha_n, sigma_t, wall_temperature, rng) -> np.ndarray:
+def cll(v, frame, mass, alpha_n, sigma_t, wall_temperature, rng) -> np.ndarray:
     """Cercignani-Lampis-Lord re-emission (module docstring)."""
     count = len(v)
+    n, t1, t2 = frame
     c = np.broadcast_to(np.sqrt(2.0 * BOLTZMANN * wall_temperature / mass), (count,))
     alpha_n = np.broadcast_to(alpha_n, (count,))
     alpha_t = np.broadcast_to(sigma_t * (2.0 - sigma_t), (count,))
-    t1, t2 = tangents(n)
     w = v / c[:, None]
     w_n = -np.einsum("ij,ij->i", w, n)  # > 0: towards the surface
     r = np.sqrt(-alpha_n * np.log(_open_uniform(rng, count)))
@@ -111,7 +112,7 @@ def cll(v, n, mass, alpha_n, sigma_t, wall_temperature, rng) -> np.ndarray:
     return c[:, None] * (normal[:, None] * n + w1[:, None] * t1 + w2[:, None] * t2)
 
 
-def reemit(kernel: str, v, n, mass, surface, rng) -> np.ndarray:
+def reemit(kernel: str, v, frame, mass, surface, rng) -> np.ndarray:
     """Velocities [m/s] of the molecules leaving the panels they hit.
 
     Parameters
@@ -120,8 +121,9 @@ def reemit(kernel: str, v, n, mass, surface, rng) -> np.ndarray:
         The scattering kernel (:data:`KERNEL_OF_MODEL`).
     v : ndarray, shape (H, 3)
         Incident velocities [m/s].
-    n : ndarray, shape (H, 3)
-        Unit normals of the side hit, pointing into the gas the molecules came from.
+    frame : tuple of 3 ndarrays, shape (H, 3) each
+        (n, t1, t2): unit normal of the side hit, pointing into the gas the molecules came from,
+        and two unit tangents, mutually orthogonal.
     mass : ndarray, shape (H,)
         Molecular masses [kg].
     surface : mapping of str to float or ndarray of shape (H,)
@@ -130,9 +132,9 @@ def reemit(kernel: str, v, n, mass, surface, rng) -> np.ndarray:
     """
     t_w = surface["wall_temperature"]
     if kernel == "diffuse":
-        return diffuse(v, n, mass, surface["alpha"], t_w, rng)
+        return diffuse(v, frame, mass, surface["alpha"], t_w, rng)
     if kernel == "maxwell":
-        return maxwell(v, n, mass, surface["alpha"], t_w, rng)
+        return maxwell(v, frame, mass, surface["alpha"], t_w, rng)
     if kernel == "cll":
-        return cll(v, n, mass, surface["alpha_n"], surface["sigma_t"], t_w, rng)
+        return cll(v, frame, mass, surface["alpha_n"], surface["sigma_t"], t_w, rng)
     raise ValueError(f"unknown kernel {kernel!r}; choose one of diffuse, maxwell, cll")

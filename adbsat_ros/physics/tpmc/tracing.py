@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from adbsat_ros.physics.tpmc.kernels import reemit
+from adbsat_ros.physics.tpmc.kernels import reemit, tangents
 
 #: A re-emitted molecule starts this fraction of the scene's size off the panel, on the side it
 #: leaves into: clear of float32 rounding of the Embree scene (7.6e-8 of its size) by 13 times.
@@ -107,11 +107,12 @@ def trace(scene, mesh, kernel, surface, positions, velocities, masses, rng, mome
     vel = np.array(velocities, dtype=float)
     mass = np.asarray(masses, dtype=float)
     last = np.full(count, -1, dtype=np.int64)
+    normals = mesh.normals
+    t1_all, t2_all = tangents(normals)
     bounces = 0
     while index.size:
-        speed = np.linalg.norm(vel, axis=1)
-        direction = vel / speed[:, None]
-        face, distance = scene.first_hit(pos, direction)
+        # the rays along the velocities: a hit is at pos + t vel, t the time of flight [s]
+        face, flight = scene.first_hit(pos, vel)
         # a panel met again straight after leaving it is float rounding (a plane cannot be
         # met twice by a line leaving it): step past the point and look again
         again = (face == last) & (face >= 0)
@@ -120,14 +121,18 @@ def trace(scene, mesh, kernel, surface, positions, velocities, masses, rng, mome
         hit = (face >= 0) & ~again
         stay = hit | again
         if again.any():
-            pos[again] += (distance[again] + lift)[:, None] * direction[again]
+            step = flight[again] + lift / np.linalg.norm(vel[again], axis=1)
+            pos[again] += step[:, None] * vel[again]
         if hit.any():
             f = face[hit]
             v_in = vel[hit]
-            point = pos[hit] + distance[hit, None] * direction[hit]
-            normal = mesh.normals[f]
-            side = np.where((np.einsum("ij,ij->i", v_in, normal) < 0.0)[:, None], normal, -normal)
-            v_out = reemit(kernel, v_in, side, mass[hit], surface_at(surface, f), rng)
+            point = pos[hit] + flight[hit, None] * v_in
+            normal = normals[f]
+            # the side the molecule came from; (t1, -t2, -n) is right-handed as (t1, t2, n) is
+            sign = np.where(np.einsum("ij,ij->i", v_in, normal) < 0.0, 1.0, -1.0)[:, None]
+            side = sign * normal
+            frame = (side, t1_all[f], sign * t2_all[f])
+            v_out = reemit(kernel, v_in, frame, mass[hit], surface_at(surface, f), rng)
             dp = mass[hit, None] * (v_in - v_out)
             who = index[hit]
             tally.impulse[who] += dp
