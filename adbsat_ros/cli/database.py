@@ -24,6 +24,7 @@ from adbsat_ros.cli.common import (
     method_and_flow_from_args,
 )
 from adbsat_ros.cli.options import CommandLineError, number, parse_angle_list
+from adbsat_ros.cli.solvers import add_solver_arguments, test_particle_method
 from adbsat_ros.database.build import build_database
 from adbsat_ros.processes import usable_cpus, worker_count
 
@@ -47,6 +48,7 @@ def configure(p) -> None:
     add_flight_arguments(p, time_required=False, with_alpha=False)
     add_reference_arguments(p)
     add_shading_arguments(p)
+    add_solver_arguments(p, with_both=False, with_workers=False)
     g = p.add_argument_group("grid and output")
     g.add_argument(
         "--aoa",
@@ -100,6 +102,8 @@ def run(args) -> int:
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
     method, flow, conditions = method_and_flow_from_args(args)
+    if args.method == "tpmc":
+        test_particle_method(args, method)  # (a model without a kernel: one line, status 2)
     workers, capped = worker_count(args.workers)
     if capped:
         print(f"adbsat-ros database: warning: --workers: {capped}", file=sys.stderr)
@@ -117,6 +121,10 @@ def run(args) -> int:
         mesh_scale=args.scale,
         materials_texts=args.material,
         conditions=conditions,
+        solver=args.method,
+        particles=args.particles,
+        tolerance=args.tolerance,
+        seed=args.seed,
     )
     elapsed = time.perf_counter() - start
     db.save(out)
@@ -132,7 +140,12 @@ def summary(db, elapsed: float, workers: int, files) -> str:
     err = m["interpolation_error"]
     lines = [
         f"mesh {m['mesh']['source']}: {m['mesh']['n_panels']} panels; model {m['model']['name']}; "
-        f"shading {m['shading']['mode']}; s = {m['flow']['speed_ratio']:.3f}; "
+        + (
+            "test particles (every reflection); "
+            if m.get("solver", {}).get("method") == "tpmc"
+            else f"shading {m['shading']['mode']}; "
+        )
+        + f"s = {m['flow']['speed_ratio']:.3f}; "
         f"Aref = {m['reference']['area']:.4g} m^2, Lref = {m['reference']['length']:.4g} m",
         f"attitudes: {na} aoa ({db.aoa_deg[0]:g}..{db.aoa_deg[-1]:g} deg) x {nb} aos "
         f"({db.aos_deg[0]:g}..{db.aos_deg[-1]:g} deg) = {db.n_attitudes}",
@@ -142,12 +155,21 @@ def summary(db, elapsed: float, workers: int, files) -> str:
     if err.get("force_coefficient") is not None:
         f, mo = err["force_coefficient"], err["moment_coefficient"]
         fmax, mmax = err["max_force_coefficient"], err["max_moment_coefficient"]
+        kind = "interpolation" if "statistical_force_coefficient" not in err else "total"
         lines.append(
-            f"stated interpolation error (bilinear): |dCf_G| <= {f:.3g} "
+            f"stated {kind} error (bilinear"
+            + (", with 3 standard errors" if kind == "total" else "")
+            + f"): |dCf_G| <= {f:.3g} "
             f"({100 * f / fmax if fmax else 0:.2g}% of max |Cf_G| {fmax:.3g}), |dCm_G| <= {mo:.3g} "
             f"({100 * mo / mmax if mmax else 0:.2g}% of max |Cm_G| {mmax:.3g})"
         )
     else:
         lines.append(f"stated interpolation error: {err['method']}")
+        if "statistical_force_coefficient" in err:
+            lines.append(
+                f"statistical error (3 standard errors): |dCf_G| <= "
+                f"{err['statistical_force_coefficient']:.3g}, |dCm_G| <= "
+                f"{err['statistical_moment_coefficient']:.3g}"
+            )
     lines += [f"wrote {path}" for path in files]
     return "\n".join(lines)

@@ -11,8 +11,9 @@ from adbsat_ros.cli.options import CommandLineError, number
 METHODS = ("panel", "tpmc", "both")
 
 
-def add_solver_arguments(parser, with_both: bool = True) -> None:
-    """Add ``--method`` and the test-particle options (particles, tolerance, seed, workers)."""
+def add_solver_arguments(parser, with_both: bool = True, with_workers: bool = True) -> None:
+    """Add ``--method`` and the test-particle options (particles, tolerance, seed and, unless
+    the command has its own, workers)."""
     g = parser.add_argument_group("solver")
     g.add_argument(
         "--method",
@@ -42,12 +43,13 @@ def add_solver_arguments(parser, with_both: bool = True) -> None:
     g.add_argument(
         "--seed", type=number("--seed", integer=True, low=0), default=0, help="tpmc: random seed"
     )
-    g.add_argument(
-        "--workers",
-        type=number("--workers", integer=True, low=1),
-        default=1,
-        help="tpmc: processes (default 1; at most the usable CPUs)",
-    )
+    if with_workers:
+        g.add_argument(
+            "--workers",
+            type=number("--workers", integer=True, low=1),
+            default=1,
+            help="tpmc: processes (default 1; at most the usable CPUs)",
+        )
 
 
 def test_particle_method(args, method):

@@ -1,7 +1,8 @@
-"""Building an aerodynamic database: the panel method swept over a grid of aoa and sideslip.
+"""Building an aerodynamic database: a solver swept over a grid of aoa and sideslip.
 
-:func:`build_database` evaluates the panel method (with the chosen shading) at every pair
-(aoa_i, aos_j) of two angle lists [deg] and returns an
+:func:`build_database` evaluates the panel method (with the chosen shading), or the
+test-particle Monte Carlo solver (every reflection; :mod:`adbsat_ros.physics.tpmc`), at every
+pair (aoa_i, aos_j) of two angle lists [deg] and returns an
 :class:`~adbsat_ros.database.format.AeroDatabase` with its set-up recorded as metadata
 (:mod:`adbsat_ros.database.metadata`) and the stated interpolation error of the grid
 (:mod:`adbsat_ros.database.interpolation`).
@@ -9,7 +10,9 @@
 The attitudes are evaluated in chunks on a process pool (every core by default; forked workers
 where the platform has fork, so they start in milliseconds with the imports inherited). Each
 attitude is computed by the same code whatever the chunking, so the result does not depend on the
-number of workers (bit for bit).
+number of workers (bit for bit): with test particles, attitude i draws from its own seed,
+``SeedSequence(seed, spawn_key=(i,))``. Their standard errors are stored with the coefficients,
+and the stated error of the database adds three of the largest to the interpolation error.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from adbsat_ros.database.metadata import describe_setup
 from adbsat_ros.geometry import frames
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.physics.tpmc.method import TestParticleMethod, run_settings
 from adbsat_ros.processes import pool_context, worker_count
 from adbsat_ros.shading.shader import MODES, make_shader
 
@@ -51,32 +55,63 @@ def _check_angles(values, name, low, high) -> np.ndarray:
     return a
 
 
-#: Per-process state of the workers: (method, flow, shader), built once by _init_worker.
+#: Per-process state of the workers: (method, flow, shader, test-particle run or None), built
+#: once by _init_worker.
 _WORKER = None
+#: Columns of a chunk's results: Cf_G, Cm_G, Cf_w, Cf_f, Cm_B (3 each), AreaProj, CD, CL, CY,
+#: and the standard errors (norms) of Cf_G and Cm_G (0 for the panel method).
+COLUMNS = 21
 
 
-def _init_worker(method, flow, shading, samples):
-    """Set this process's worker state; a convex body needs no shader (nothing is occluded)."""
+def _init_worker(method, flow, shading, samples, tpmc=None):
+    """Set this process's worker state; a convex body needs no shader (nothing is occluded).
+    ``tpmc``: None for the panel method, else the test-particle run's settings (a dict of
+    ``particles``, ``tolerance`` and ``seed``)."""
     global _WORKER
     shader = None
+    if tpmc is not None:
+        solver = TestParticleMethod(
+            method.mesh, method.model, method.materials, reference=method.reference
+        )
+        _WORKER = (method, flow, None, (solver, tpmc))
+        return
     if shading != "none":
         shader = make_shader(method.mesh, mode=shading, samples=samples)
         if shader.trivial:
             shader = None
-    _WORKER = (method, flow, shader)
+    _WORKER = (method, flow, shader, None)
 
 
-def _evaluate_chunk(attitudes_deg):
-    """Coefficients of a chunk of attitudes (K, 2) [deg], evaluated with the worker's state.
+def attitude_seed(seed: int, index: int) -> int:
+    """The seed of attitude ``index`` of a test-particle database made with ``seed``."""
+    return int(np.random.SeedSequence(seed, spawn_key=(index,)).generate_state(1)[0])
 
-    Returns an array (K, 19): Cf_G, Cm_G, Cf_w, Cf_f, Cm_B (3 columns each), AreaProj, CD, CL, CY.
+
+def _evaluate_chunk(attitudes_deg, first: int = 0):
+    """Coefficients of a chunk of attitudes (K, 2) [deg], evaluated with the worker's state;
+    ``first`` is the index of the chunk's first attitude in the grid.
+
+    Returns an array (K, :data:`COLUMNS`).
     """
-    method, flow, shader = _WORKER
-    out = np.empty((len(attitudes_deg), 19))
+    method, flow, shader, tpmc = _WORKER
+    out = np.zeros((len(attitudes_deg), COLUMNS))
     for k, (a_deg, b_deg) in enumerate(attitudes_deg):
         a, b = math.radians(a_deg), math.radians(b_deg)
-        lighting = shader.lighting(frames.flow_direction(a, b)) if shader is not None else None
-        r = method.coefficients(flow, a, b, lighting=lighting)
+        if tpmc is not None:
+            solver, run = tpmc
+            r = solver.coefficients(
+                flow,
+                a,
+                b,
+                particles=run["particles"],
+                tolerance=run["tolerance"],
+                seed=attitude_seed(run["seed"], first + k),
+            )
+            out[k, 19] = float(np.linalg.norm(r.Cf_G_error))
+            out[k, 20] = float(np.linalg.norm(r.Cm_G_error))
+        else:
+            lighting = shader.lighting(frames.flow_direction(a, b)) if shader is not None else None
+            r = method.coefficients(flow, a, b, lighting=lighting)
         out[k, 0:3], out[k, 3:6], out[k, 6:9] = r.Cf_G, r.Cm_G, r.Cf_w
         out[k, 9:12], out[k, 12:15] = r.Cf_f, r.Cm_B
         out[k, 15:19] = (r.area_projected, r.drag, r.lift, r.side_force)
@@ -133,8 +168,12 @@ def build_database(
     mesh_scale: float = 1.0,
     materials_texts=(),
     conditions: dict | None = None,
+    solver: str = "panel",
+    particles: int | None = None,
+    tolerance: float | None = None,
+    seed: int = 0,
 ) -> AeroDatabase:
-    """Evaluate the panel method at every (aoa, aos) pair of two angle lists.
+    """Evaluate the panel method, or test particles, at every (aoa, aos) pair of two angle lists.
 
     Parameters
     ----------
@@ -168,12 +207,21 @@ def build_database(
     conditions : dict, optional
         JSON-ready description of the flight conditions the flow came from, recorded as
         ``metadata["conditions"]``.
+    solver : {"panel", "tpmc"}
+        The panel method, or test-particle Monte Carlo (then ``shading`` is not used: the
+        molecules find the body themselves).
+    particles, tolerance, seed
+        The test-particle run at each attitude (see
+        :meth:`~adbsat_ros.physics.tpmc.method.TestParticleMethod.coefficients`).
 
     Returns
     -------
     AeroDatabase
         With ``metadata["interpolation_error"]`` set (see
-        :func:`adbsat_ros.database.interpolation.estimate_interpolation_error`).
+        :func:`adbsat_ros.database.interpolation.estimate_interpolation_error`); with test
+        particles, ``metadata["solver"]`` records the run and the stated error includes three
+        of the largest standard errors (``statistical_force_coefficient`` and
+        ``statistical_moment_coefficient``).
     """
     shading = str(shading).lower()
     if shading not in MODES:
@@ -181,6 +229,13 @@ def build_database(
     samples = int(samples)
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
+    if solver not in ("panel", "tpmc"):
+        raise ValueError(f"solver must be panel or tpmc, got {solver!r}")
+    tpmc = None
+    if solver == "tpmc":
+        tpmc = {"particles": particles, "tolerance": tolerance, "seed": seed}
+        TestParticleMethod(method.mesh, method.model, method.materials)  # (a kernel for it?)
+        run_settings(particles, tolerance, seed)
     workers, _ = worker_count(workers)  # (at most the usable CPUs)
     aoa = _check_angles(aoa_deg, "aoa_deg", -360.0, 360.0)
     aos = _check_angles(aos_deg, "aos_deg", -90.0, 90.0)
@@ -202,16 +257,16 @@ def build_database(
     workers = min(workers, total)
     chunk = max(1, min(MAX_CHUNK, math.ceil(total / (8 * workers))))
     starts = range(0, total, chunk)
-    results = np.empty((total, 19))
+    results = np.empty((total, COLUMNS))
     bar = _Progress(progress, total)
     try:
         if workers == 1:
             global _WORKER
             saved = _WORKER
-            _init_worker(method, flow, shading, samples)
+            _init_worker(method, flow, shading, samples, tpmc)
             try:
                 for s in starts:
-                    results[s : s + chunk] = _evaluate_chunk(attitudes[s : s + chunk])
+                    results[s : s + chunk] = _evaluate_chunk(attitudes[s : s + chunk], s)
                     bar.update(len(attitudes[s : s + chunk]))
             finally:
                 _WORKER = saved
@@ -220,10 +275,10 @@ def build_database(
                 max_workers=workers,
                 mp_context=pool_context(),
                 initializer=_init_worker,
-                initargs=(method, flow, shading, samples),
+                initargs=(method, flow, shading, samples, tpmc),
             ) as pool:
                 futures = {
-                    pool.submit(_evaluate_chunk, attitudes[s : s + chunk]): s for s in starts
+                    pool.submit(_evaluate_chunk, attitudes[s : s + chunk], s): s for s in starts
                 }
                 for future in as_completed(futures):
                     s = futures[future]
@@ -252,5 +307,17 @@ def build_database(
         CY=results[:, 18].reshape(shape).copy(),
         metadata=metadata,
     )
-    db.metadata["interpolation_error"] = estimate_interpolation_error(db)
+    error = estimate_interpolation_error(db)
+    if tpmc is not None:
+        force = 3.0 * float(results[:, 19].max())
+        moment = 3.0 * float(results[:, 20].max())
+        db.metadata["solver"] = dict(method="tpmc", **tpmc)
+        error.update(statistical_force_coefficient=force, statistical_moment_coefficient=moment)
+        if error["force_coefficient"] is not None:
+            error["force_coefficient"] += force
+            error["moment_coefficient"] += moment
+            error["method"] += "; plus three times the largest standard error of the particles"
+    else:
+        db.metadata["solver"] = {"method": "panel"}
+    db.metadata["interpolation_error"] = error
     return db

@@ -213,3 +213,25 @@ def test_more_workers_than_cpus_are_capped_with_a_warning(capsys, mesh_file, tmp
     cpus = usable_cpus()
     assert code == 0 and out.is_file()
     assert f"warning: --workers: 1000 workers asked for, {cpus} used" in err
+
+
+def test_a_test_particle_database_agrees_with_coeff(capsys, tmp_path):
+    """database --method tpmc: the summary says so, the metadata records the run, and an
+    attitude equals `coeff --method tpmc` with that attitude's seed."""
+    from adbsat_ros.database.build import attitude_seed
+
+    out = tmp_path / "tp.npz"
+    argv = ["database", "intake-box", *FLOW, "--method", "tpmc", "--particles", "30000"]
+    assert main([*argv, "--aoa", "0,10,20", "--aos", "0", "--seed", "4", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "test particles (every reflection)" in text and "with 3 standard errors" in text
+    db = load_database(out)
+    assert db.metadata["solver"]["method"] == "tpmc"
+    seed = attitude_seed(4, 1)  # aoa 10 deg, the second attitude
+    args = ["coeff", "intake-box", *FLOW, "--method", "tpmc", "--particles", "30000"]
+    assert main([*args, "--aoa", "10", "--seed", str(seed), "--json"]) == 0
+    row = json.loads(capsys.readouterr().out)[0]
+    np.testing.assert_array_equal(db.Cf_G[1, 0], row["Cf_G"])
+    assert main([*argv[:-4], "--gsim", "newton", "--method", "tpmc", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "has no test-particle kernel" in err and len(err.strip().splitlines()) == 1

@@ -382,3 +382,45 @@ def test_angles_are_sorted():
     )
     assert db.aoa_deg.tolist() == [-30, 0, 30] and db.aos_deg.tolist() == [0, 10]
     assert isinstance(db, AeroDatabase) and db.shape == (3, 2)
+
+
+def test_a_test_particle_database_is_each_attitudes_own_run_for_any_worker_count():
+    """--method tpmc: attitude i is the test-particle run with its own seed (attitude_seed), the
+    same for 1 and 2 workers; the stated error adds three of the largest standard errors, and
+    the lookup (the node's database source) reads it unchanged."""
+    from adbsat_ros.database.build import attitude_seed
+    from adbsat_ros.database.lookup import CoefficientLookup
+    from adbsat_ros.physics.tpmc.method import TestParticleMethod
+
+    mesh = resolve_mesh("cylinder")
+    method = PanelMethod(mesh, "sentman")
+    run = dict(solver="tpmc", particles=70_000, seed=9, mesh_spec="cylinder")
+    dbs = [
+        build_database(method, FLOW, [0, 20, 40], [0, 15], workers=w, progress=False, **run)
+        for w in (1, 2)
+    ]
+    for name in VECTOR_FIELDS + SCALAR_FIELDS:
+        np.testing.assert_array_equal(getattr(dbs[0], name), getattr(dbs[1], name))
+    db = dbs[0]
+    assert db.metadata["solver"] == {
+        "method": "tpmc",
+        "particles": 70_000,
+        "tolerance": None,
+        "seed": 9,
+    }
+    solver = TestParticleMethod(mesh, "sentman")
+    index = 1 * 2 + 1  # aoa 20, aos 15 in the grid's row-major order
+    direct = solver.coefficients(
+        FLOW, math.radians(20), math.radians(15), particles=70_000, seed=attitude_seed(9, index)
+    )
+    np.testing.assert_array_equal(db.Cf_G[1, 1], direct.Cf_G)
+    np.testing.assert_array_equal(db.Cm_G[1, 1], direct.Cm_G)
+    error = db.metadata["interpolation_error"]
+    assert error["statistical_force_coefficient"] >= 3.0 * np.linalg.norm(direct.Cf_G_error)
+    lookup = CoefficientLookup(db)
+    cf, _ = lookup.body_coefficients(20.0, 15.0)
+    np.testing.assert_allclose(cf, direct.Cf_G, rtol=1e-12)  # (mesh frame G)
+    assert (
+        lookup.error_bound["statistical_force_coefficient"]
+        == error["statistical_force_coefficient"]
+    )

@@ -159,9 +159,7 @@ class TestParticleMethod:
             Called with the molecules traced so far after every block.
         """
         u, angles = _direction(aoa, aos, flow_direction)
-        budget, tol = _budget(particles, tolerance)
-        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-            raise ValueError(f"seed must be a whole number >= 0, got {seed!r}")
+        budget, tol = run_settings(particles, tolerance, seed)
         workers, _ = worker_count(workers)
         problem = self.problem(flow, u)
         size = min(BATCH_SIZE, budget)
@@ -196,7 +194,11 @@ def _direction(aoa, aos, flow_direction) -> tuple:
     return frames.flow_direction(aoa, aos), (aoa, aos)
 
 
-def _budget(particles, tolerance) -> tuple:
+def run_settings(particles, tolerance, seed) -> tuple:
+    """``(particle budget, tolerance or None)`` of a run, checked as
+    :meth:`TestParticleMethod.coefficients` takes them; ValueError naming a bad one."""
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be a whole number >= 0, got {seed!r}")
     tol = None
     if tolerance is not None:
         tol = float(tolerance)
