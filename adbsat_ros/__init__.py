@@ -15,6 +15,8 @@ The public API, by task (each name documented on the object itself):
   :func:`example_satellite`, :class:`PanelMesh`, :class:`MeshError`;
 * the panel method: :class:`PanelMethod`, :class:`AeroCoefficients`, :class:`Reference`,
   :class:`ModelOptions`, :data:`MODELS`, :class:`MaterialTable`, :class:`SurfaceProperties`;
+* multiple reflections: :class:`TestParticleMethod` (test-particle Monte Carlo, the same inputs
+  and results as the panel method, with standard errors: :class:`TpmcCoefficients`);
 * shading: :func:`make_shader`, :class:`Shader`, :class:`ShadingCache`, :class:`PanelLighting`;
 * the gas: :class:`FreeStream`, and from an orbital state :func:`flight_conditions`,
   :func:`flight_conditions_circular_orbit`, :class:`FlightConditions`, :class:`SpaceWeather`;
@@ -49,6 +51,8 @@ _EXPORTS = {
     "MODELS": "adbsat_ros.physics.gsi_models",
     "MaterialTable": "adbsat_ros.physics.surface",
     "SurfaceProperties": "adbsat_ros.physics.surface",
+    "TestParticleMethod": "adbsat_ros.physics.tpmc.method",
+    "TpmcCoefficients": "adbsat_ros.physics.tpmc.results",
     "make_shader": "adbsat_ros.shading.shader",
     "Shader": "adbsat_ros.shading.shader",
     "ShadingCache": "adbsat_ros.shading.cache",

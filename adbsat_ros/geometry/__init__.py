@@ -5,9 +5,12 @@ Modules:
 - :mod:`~adbsat_ros.geometry.mesh`: :class:`PanelMesh` (vertices, outward normals, areas,
   barycentres, materials of every panel, in metres, mesh frame G) and the checks that make one.
 - :mod:`~adbsat_ros.geometry.loading`: mesh files (any format trimesh reads; .obj materials from
-  ``usemtl``) and the bundled example by name.
+  ``usemtl``) and the bundled bodies by name.
 - :mod:`~adbsat_ros.geometry.shapes`: closed shapes with regular face grids, parts joined.
 - :mod:`~adbsat_ros.geometry.example_satellite`: the bundled example satellite.
+- :mod:`~adbsat_ros.geometry.concave_bodies`: bundled bodies where molecules meet the surface
+  more than once (a cylinder with deep grooves in its front face, the plain cylinder, a box
+  with a deep intake).
 - :mod:`~adbsat_ros.geometry.frames`: the mesh, body, wind and flight frames, aoa/aos and the flow
   direction, quaternions (docs/physics.md, section 2).
 

@@ -6,6 +6,9 @@ Modules:
   a mesh at any attitude; :mod:`~adbsat_ros.physics.coefficients` holds its result and reference
   quantities, :mod:`~adbsat_ros.physics.facets` the grouping of coplanar panels (and the one cache
   of facet sums), :mod:`~adbsat_ros.physics.incidence` the incidence of the flow on panels.
+- :mod:`adbsat_ros.physics.tpmc`: the test-particle Monte Carlo solver of the same problem with
+  every reflection (concave bodies), by module: inflow, kernels, tracing, batches, results,
+  method.
 - :mod:`~adbsat_ros.physics.gsi_models`: the registry of gas-surface models; the formulas are in
   :mod:`adbsat_ros.physics.models`, by family.
 - :mod:`~adbsat_ros.physics.freestream`: :class:`FreeStream`, the gas met (speed, temperature,
@@ -16,5 +19,6 @@ Modules:
   the flow is).
 - :mod:`~adbsat_ros.physics.constants`: physical constants and species data.
 
-Imports geometry and shading. Formulas and sources: docs/physics.md.
+Imports geometry, shading and processes (the test particles' worker pool). Formulas and
+sources: docs/physics.md.
 """

@@ -27,7 +27,7 @@ temperature, u, u' uniform numbers in (0, 1] and g, g' standard normal ones.
 
 Surface parameters are floats or per-hit arrays. Sources: J. C. Maxwell, Phil. Trans. R. Soc.
 170 (1879) 231-256; R. G. Lord, Physics of Fluids A 3 (1991) 706-710; G. A. Bird, "Molecular Gas
-Dynamics and the Direct Simulation of Gas Flows", Oxford (1994), section 12.5.
+Dynamics and the Direct Simulation of Gas Flows", Oxford (1994).
 """
 
 from __future__ import annotations
