@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from adbsat_ros.cli.options import CommandLineError, number
@@ -60,6 +61,27 @@ def default_angle(grid) -> float:
     return 0.0 if grid[0] <= 0.0 <= grid[-1] else float(grid[0])
 
 
+def test_particle_result(metadata, method, flow, aoa_deg, aos_deg):
+    """For a database made by test particles, a run of its settings at the picture's attitude
+    (its per-panel pressures include every reflection); None for a panel-method database."""
+    run = metadata.get("solver", {})
+    if run.get("method") != "tpmc":
+        return None
+    from adbsat_ros.physics.tpmc.method import TestParticleMethod
+
+    solver = TestParticleMethod(
+        method.mesh, method.model, method.materials, reference=method.reference
+    )
+    return solver.coefficients(
+        flow,
+        math.radians(aoa_deg),
+        math.radians(aos_deg),
+        particles=run.get("particles"),
+        tolerance=run.get("tolerance"),
+        seed=int(run.get("seed", 0)),
+    )
+
+
 def run(args) -> int:
     """Run ``adbsat-ros plot``; returns the exit status."""
     path = Path(args.database)
@@ -98,6 +120,7 @@ def run(args) -> int:
                 shader,
                 out_dir / "panel_pressure.png",
                 title=coefficients.database_title(db.metadata),
+                result=test_particle_result(db.metadata, method, flow, aoa, aos),
             )
         )
     for p in written:

@@ -65,7 +65,8 @@ def _metadata_value(metadata: dict, *keys, default=None):
 
 
 def database_title(metadata: dict) -> str:
-    """One line naming the mesh, model, speed ratio and shading mode of a database."""
+    """One line naming the mesh, model, speed ratio and shading mode (or test particles) of a
+    database."""
     mesh = _metadata_value(metadata, "mesh", "spec", default=None) or _metadata_value(
         metadata, "mesh", "source", default="?"
     )
@@ -77,7 +78,11 @@ def database_title(metadata: dict) -> str:
     parts = [f"{mesh}" + (f" ({n_panels} panels)" if n_panels is not None else ""), f"{model}"]
     if s is not None:
         parts.append(f"speed ratio s = {float(s):.2f}")
-    parts.append(f"shading: {shading}")
+    if _metadata_value(metadata, "solver", "method") == "tpmc":
+        particles = _metadata_value(metadata, "solver", "particles")
+        parts.append("test particles" + (f": {particles:,} per attitude" if particles else ""))
+    else:
+        parts.append(f"shading: {shading}")
     return ", ".join(parts)
 
 

@@ -356,3 +356,38 @@ def test_cli_refuses_a_changed_mesh(tmp_path, capsys):
         capsys, tmp_path / "sat.npz", "--out-dir", tmp_path / "o", "--no-mesh"
     )
     assert code == 0 and len(out.split()) == 2
+
+
+def test_a_test_particle_database_draws_the_test_particles_pressures(tmp_path, capsys):
+    """`plot` of a database made by test particles draws their per-panel pressures (every
+    reflection) at the picture's attitude, from a run of the database's own settings."""
+    from adbsat_ros.cli.plot import test_particle_result
+    from adbsat_ros.database.metadata import method_from_metadata
+
+    mesh = resolve_mesh("intake-box")
+    method = PanelMethod(mesh, "sentman")
+    db = build_database(
+        method,
+        FLOW,
+        [0, 10, 20],
+        [0],
+        solver="tpmc",
+        particles=20_000,
+        seed=3,
+        mesh_spec="intake-box",
+        workers=1,
+        progress=False,
+    )
+    path = db.save(tmp_path / "tp.npz")
+    rebuilt, flow, _ = method_from_metadata(load_database(path).metadata)
+    result = test_particle_result(db.metadata, rebuilt, flow, 0.0, 0.0)
+    assert result.particles == 20_000 and result.seed == 3
+    fig = panels.make_panel_pressure_figure(rebuilt, flow, 0.0, 0.0, None, result=result)
+    norm = fig.axes[0].collections[0].norm
+    assert (norm.vmin, norm.vmax) == (result.cp.min(), result.cp.max())
+    panel_cp = rebuilt.coefficients(flow, 0.0, 0.0).cp
+    assert not np.allclose(result.cp, panel_cp, atol=0.05)  # the intake's walls differ
+    assert "test particles" in fig._suptitle.get_text()
+    assert test_particle_result({"solver": {"method": "panel"}}, rebuilt, flow, 0, 0) is None
+    assert main(["plot", str(path), "--out-dir", str(tmp_path / "plots")]) == 0
+    assert "panel_pressure.png" in capsys.readouterr().out
