@@ -64,16 +64,23 @@ def configure(p) -> None:
     p.set_defaults(func=run)
 
 
+#: Exit status of a run stopped by SIGINT or SIGTERM (its results so far are written).
+INTERRUPTED = 130
+
+
 def run(args) -> int:
-    """Run ``adbsat-ros coeff``; returns the exit status."""
+    """Run ``adbsat-ros coeff``; returns the exit status (:data:`INTERRUPTED` if a test-particle
+    run was stopped by a signal: the attitudes done, the stopped one included, are written)."""
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
     aos_deg = parse_angle_list(args.aos, "--aos")
     method, flow, _ = method_and_flow_from_args(args)
     shader = make_shader_from_args(args, method.mesh) if args.method != "tpmc" else None
     solver = test_particle_method(args, method) if args.method != "panel" else None
     view = parse_view(args.view) if args.view is not None else None
-    results, first = [], None
+    results, first, stopped = [], None, False
     for a in aoa_deg:
+        if stopped:
+            break
         for b in aos_deg:
             aoa, aos = math.radians(a), math.radians(b)
             d = {}
@@ -85,6 +92,7 @@ def run(args) -> int:
             if solver is not None:
                 r = run_tpmc(args, solver, flow, aoa, aos)
                 d["tpmc"] = r.to_dict(flow, per_panel=args.per_panel)
+                stopped = r.stopped
             if first is None:
                 first = (a, b, r)
             if args.method == "both":
@@ -94,6 +102,8 @@ def run(args) -> int:
                 d = d[args.method]
             d["aoa_deg"], d["aos_deg"] = float(a), float(b)  # exact as given
             results.append(d)
+            if stopped:  # (SIGINT or SIGTERM: what is done is written, the rest is not run)
+                break
     if args.json:
         try:  # (made whole first: a refused number must not leave half a document)
             text = json.dumps(results, indent=1, allow_nan=False)
@@ -108,7 +118,7 @@ def run(args) -> int:
         a, b, r = first
         path = plot_panel_pressure(method, flow, a, b, None, args.plot, view=view, result=r)
         print(f"wrote {path}", file=sys.stderr)
-    return 0
+    return INTERRUPTED if stopped else 0
 
 
 def parse_view(text: str) -> tuple:

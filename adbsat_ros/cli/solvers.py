@@ -66,10 +66,13 @@ def test_particle_method(args, method):
 
 
 def run_tpmc(args, solver, flow, aoa, aos):
-    """The test-particle coefficients at one attitude [rad], a bar on stderr if it is a terminal."""
+    """The test-particle coefficients at one attitude [rad], a bar on stderr if it is a terminal.
+
+    SIGINT or SIGTERM stops the run after its current block of batches: the result of the
+    molecules traced so far is kept, and said to be partial."""
     from tqdm import tqdm
 
-    from adbsat_ros.processes import worker_count
+    from adbsat_ros.processes import stop_on_signals, worker_count
 
     workers, note = worker_count(args.workers)
     if note:
@@ -83,16 +86,25 @@ def run_tpmc(args, solver, flow, aoa, aos):
             bar.update(done - bar.n)
 
     try:
-        return solver.coefficients(
-            flow,
-            aoa,
-            aos,
-            particles=args.particles,
-            tolerance=args.tolerance,
-            seed=args.seed,
-            workers=workers,
-            progress=progress,
-        )
+        with stop_on_signals() as stop:
+            result = solver.coefficients(
+                flow,
+                aoa,
+                aos,
+                particles=args.particles,
+                tolerance=args.tolerance,
+                seed=args.seed,
+                workers=workers,
+                progress=progress,
+                stop=stop,
+            )
     finally:
         if bar is not None:
             bar.close()
+    if result.stopped:
+        print(
+            f"adbsat-ros: interrupted: the results are those of the {result.particles:,} "
+            "molecules traced (with their standard errors)",
+            file=sys.stderr,
+        )
+    return result

@@ -253,3 +253,25 @@ def test_the_two_methods_side_by_side(capsys, box_file):
     lines = out.splitlines()
     assert "panel method against test-particle Monte Carlo" in lines[2]
     assert len(lines) == 4 + 2 and "+-" in lines[4]
+
+
+@pytest.mark.parametrize("signum", ["SIGINT", "SIGTERM"])
+def test_a_signal_stops_a_test_particle_run_and_keeps_what_it_traced(signum):
+    """Ctrl-C (or SIGTERM) ends a long run after its current block: the JSON of the molecules
+    traced so far is written, marked stopped, with one line on stderr and status 130."""
+    import signal
+    import time
+
+    cmd = [sys.executable, "-m", "adbsat_ros.cli", "coeff", "intake-box", *FLOW]
+    cmd += ["--method", "tpmc", "--particles", "1e9", "--workers", "2", "--aoa", "0,10", "--json"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(6.0)
+    proc.send_signal(getattr(signal, signum))
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    rows = json.loads(out)
+    assert len(rows) == 1 and rows[0]["stopped"] is True  # the second attitude was not run
+    assert rows[0]["particles"] % (4 * 65_536) == 0 and rows[0]["particles"] > 0
+    assert rows[0]["CD_error"] > 0.0
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "interrupted" in lines[0] and "Traceback" not in err

@@ -259,3 +259,16 @@ def test_bad_run_settings_are_named(kwargs, message):
 def test_a_model_without_a_kernel_is_refused_by_name():
     with pytest.raises(ValueError, match="model 'newton' has no test-particle kernel; choose"):
         TestParticleMethod(BODIES["cube"](), "newton")
+
+
+def test_a_stopped_run_is_the_run_of_the_molecules_it_traced():
+    import threading
+
+    stop = threading.Event()
+    stop.set()  # already set: the run ends after its first block
+    method = TestParticleMethod(BODIES["cube"]())
+    stopped = method.coefficients(FLOW, particles=10**8, seed=6, stop=stop)
+    whole = method.coefficients(FLOW, particles=4 * 65_536, seed=6)
+    assert stopped.stopped and not whole.stopped
+    assert stopped.particles == whole.particles == 4 * 65_536
+    np.testing.assert_array_equal(stopped.Cf_G, whole.Cf_G)

@@ -9,6 +9,7 @@ Units: SI, mesh frame G.
 
 from __future__ import annotations
 
+import signal
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,7 +89,9 @@ _WORKER_PROBLEM: Problem | None = None
 
 
 def init_worker(problem: Problem) -> None:
-    """Keep the problem in a worker process (the pool's initializer)."""
+    """Keep the problem in a worker process (the pool's initializer). SIGINT is left to the
+    parent, which stops the run between blocks (a Ctrl-C reaches the whole process group)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     global _WORKER_PROBLEM
     _WORKER_PROBLEM = problem
 

@@ -135,6 +135,7 @@ class TestParticleMethod:
         seed: int = 0,
         workers: int = 1,
         progress=None,
+        stop=None,
     ) -> TpmcCoefficients:
         """Coefficients at one attitude, by angles or by the flow direction.
 
@@ -157,6 +158,10 @@ class TestParticleMethod:
             Processes (at most the usable CPUs).
         progress : callable, optional
             Called with the molecules traced so far after every block.
+        stop : threading.Event, optional
+            Checked after every block: once set, the run ends there and its result, from the
+            molecules traced so far, says so (``stopped``); the same seed and block count give
+            the same numbers as an uninterrupted run of that length.
         """
         u, angles = _direction(aoa, aos, flow_direction)
         budget, tol = run_settings(particles, tolerance, seed)
@@ -178,6 +183,9 @@ class TestParticleMethod:
                 if progress is not None:
                     progress(total.count)
                 if tol is not None and total.relative_drag_error(problem, flow, self, u) <= tol:
+                    break
+                if stop is not None and stop.is_set() and total.count < budget:
+                    total.stopped = True
                     break
         return total.coefficients(problem, flow, self, u, angles, int(seed))
 
@@ -259,6 +267,7 @@ class _Totals:
         self.panel_hits = np.zeros(n_panels, dtype=np.int64)
         self.hits = self.trapped = 0
         self.exit_momentum = np.zeros(3)
+        self.stopped = False
 
     def add(self, b: BatchSums) -> None:
         self.count += b.count
@@ -333,4 +342,5 @@ class _Totals:
             hits=self.hits,
             trapped=self.trapped,
             force_balance=balance,
+            stopped=self.stopped,
         )

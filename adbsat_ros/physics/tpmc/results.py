@@ -34,13 +34,18 @@ class TpmcCoefficients(AeroCoefficients):
     force_balance : ndarray, shape (3,)
         Momentum in minus momentum out through the box per second per unit dynamic pressure and
         reference area (the closed-form inflow, the traced outflow): equals Cf_G within errors.
+    stopped : bool
+        The run was stopped (by its ``stop`` event) before its budget or tolerance.
     """
 
-    def __init__(self, *args, covariance, particles, seed, hits, trapped, force_balance, **kw):
+    def __init__(
+        self, *args, covariance, particles, seed, hits, trapped, force_balance, stopped, **kw
+    ):
         super().__init__(*args, **kw)
         self.covariance = covariance
         self.particles, self.seed, self.hits, self.trapped = particles, seed, hits, trapped
         self.force_balance = force_balance
+        self.stopped = stopped
 
     def error_of(self, matrix) -> np.ndarray:
         """Standard errors of ``matrix @ (Cf_G, Cm_G)`` (matrix of shape (K, 6))."""
@@ -106,5 +111,6 @@ class TpmcCoefficients(AeroCoefficients):
             particles=self.particles,
             seed=self.seed,
             hits=self.hits,
+            stopped=self.stopped,
         )
         return out
