@@ -64,8 +64,9 @@ def configure(p) -> None:
     p.set_defaults(func=run)
 
 
-#: Exit status of a run stopped by SIGINT or SIGTERM (its results so far are written).
-INTERRUPTED = 130
+#: Exit status of a run stopped by SIGINT or SIGTERM (its results so far are written), as for
+#: the other long commands (bag analyze, database): the command did not finish.
+INTERRUPTED = 1
 
 
 def run(args) -> int:

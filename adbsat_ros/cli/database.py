@@ -26,7 +26,7 @@ from adbsat_ros.cli.common import (
 from adbsat_ros.cli.options import CommandLineError, number, parse_angle_list
 from adbsat_ros.cli.solvers import add_solver_arguments, test_particle_method
 from adbsat_ros.database.build import build_database
-from adbsat_ros.processes import usable_cpus, worker_count
+from adbsat_ros.processes import stop_on_signals, usable_cpus, worker_count
 
 #: Default angle-of-attack and sideslip grids [deg]: the whole sphere in 5 deg steps.
 DEFAULT_AOA = "-180:5:180"
@@ -108,29 +108,48 @@ def run(args) -> int:
     if capped:
         print(f"adbsat-ros database: warning: --workers: {capped}", file=sys.stderr)
     start = time.perf_counter()
-    db = build_database(
-        method,
-        flow,
-        aoa,
-        aos,
-        shading=args.shading,
-        samples=args.samples,
-        workers=workers,
-        progress=None,
-        mesh_spec=args.mesh,
-        mesh_scale=args.scale,
-        materials_texts=args.material,
-        conditions=conditions,
-        solver=args.method,
-        particles=args.particles,
-        tolerance=args.tolerance,
-        seed=args.seed,
-    )
+    with stop_on_signals() as stop:
+        db = build_database(
+            method,
+            flow,
+            aoa,
+            aos,
+            shading=args.shading,
+            samples=args.samples,
+            workers=workers,
+            progress=None,
+            mesh_spec=args.mesh,
+            mesh_scale=args.scale,
+            materials_texts=args.material,
+            conditions=conditions,
+            solver=args.method,
+            particles=args.particles,
+            tolerance=args.tolerance,
+            seed=args.seed,
+            stop=stop,
+        )
     elapsed = time.perf_counter() - start
+    partial = db.metadata.get("partial")
+    if partial:
+        path = partial_path(csv_path)
+        db.save_csv(path)
+        print(
+            f"adbsat-ros database: error: stopped by a signal after {partial['attitudes_done']} "
+            f"of {partial['attitudes']} attitudes; those are in {path} (PARTIAL), no database "
+            "was written",
+            file=sys.stderr,
+        )
+        return 1
     db.save(out)
     db.save_csv(csv_path)
     print(summary(db, elapsed, workers, [out, csv_path]))
     return 0
+
+
+def partial_path(csv_path: str) -> str:
+    """Where a stopped build's attitudes go: ``NAME.PARTIAL.csv`` beside ``NAME.csv``."""
+    stem = csv_path[: -len(".csv")] if csv_path.lower().endswith(".csv") else csv_path
+    return stem + ".PARTIAL.csv"
 
 
 def summary(db, elapsed: float, workers: int, files) -> str:

@@ -18,6 +18,7 @@ and the stated error of the database adds three of the largest to the interpolat
 from __future__ import annotations
 
 import math
+import signal
 import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -80,6 +81,13 @@ def _init_worker(method, flow, shading, samples, tpmc=None):
         if shader.trivial:
             shader = None
     _WORKER = (method, flow, shader, None)
+
+
+def _init_pool_worker(*args):
+    """A pool worker's initializer: SIGINT is left to the parent, which stops the build (a
+    Ctrl-C reaches the whole process group)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _init_worker(*args)
 
 
 def attitude_seed(seed: int, index: int) -> int:
@@ -172,6 +180,7 @@ def build_database(
     particles: int | None = None,
     tolerance: float | None = None,
     seed: int = 0,
+    stop=None,
 ) -> AeroDatabase:
     """Evaluate the panel method, or test particles, at every (aoa, aos) pair of two angle lists.
 
@@ -213,6 +222,11 @@ def build_database(
     particles, tolerance, seed
         The test-particle run at each attitude (see
         :meth:`~adbsat_ros.physics.tpmc.method.TestParticleMethod.coefficients`).
+    stop : threading.Event, optional
+        Checked after every chunk (one attitude with test particles): once set, the build ends
+        when the attitudes being computed are done; the database then holds NaN at the others,
+        ``metadata["partial"]`` says how many are done, and it cannot be saved as .npz (its CSV
+        holds the attitudes done).
 
     Returns
     -------
@@ -256,8 +270,10 @@ def build_database(
     total = len(attitudes)
     workers = min(workers, total)
     chunk = max(1, min(MAX_CHUNK, math.ceil(total / (8 * workers))))
+    if tpmc is not None:
+        chunk = 1  # (an attitude is a long run already: a stop waits for one at most)
     starts = range(0, total, chunk)
-    results = np.empty((total, COLUMNS))
+    results = np.full((total, COLUMNS), np.nan)
     bar = _Progress(progress, total)
     try:
         if workers == 1:
@@ -268,13 +284,15 @@ def build_database(
                 for s in starts:
                     results[s : s + chunk] = _evaluate_chunk(attitudes[s : s + chunk], s)
                     bar.update(len(attitudes[s : s + chunk]))
+                    if stop is not None and stop.is_set():
+                        break
             finally:
                 _WORKER = saved
         else:
             with ProcessPoolExecutor(
                 max_workers=workers,
                 mp_context=pool_context(),
-                initializer=_init_worker,
+                initializer=_init_pool_worker,
                 initargs=(method, flow, shading, samples, tpmc),
             ) as pool:
                 futures = {
@@ -285,6 +303,13 @@ def build_database(
                     block = future.result()
                     results[s : s + len(block)] = block
                     bar.update(len(block))
+                    if stop is not None and stop.is_set():
+                        pool.shutdown(wait=True, cancel_futures=True)
+                        for other, first in futures.items():  # the ones that ran on: kept
+                            if other.done() and not other.cancelled():
+                                part = other.result()
+                                results[first : first + len(part)] = part
+                        break
     finally:
         bar.close()
 
@@ -307,6 +332,16 @@ def build_database(
         CY=results[:, 18].reshape(shape).copy(),
         metadata=metadata,
     )
+    done = np.isfinite(results[:, 16])
+    if not done.all():  # stopped: no grid to interpolate
+        db.metadata["solver"] = dict(method=solver, **(tpmc or {}))
+        db.metadata["partial"] = {"attitudes_done": int(done.sum()), "attitudes": total}
+        db.metadata["interpolation_error"] = {
+            "method": "not estimated: the build was stopped",
+            "force_coefficient": None,
+            "moment_coefficient": None,
+        }
+        return db
     error = estimate_interpolation_error(db)
     if tpmc is not None:
         force = 3.0 * float(results[:, 19].max())

@@ -131,13 +131,16 @@ class AeroDatabase:
         Raises
         ------
         ValueError
-            If ``path`` does not end in ``.npz`` (numpy would silently append it).
+            If ``path`` does not end in ``.npz`` (numpy would silently append it), or the build
+            was stopped (``metadata["partial"]``: not every attitude has its coefficients).
         OSError
             If the file cannot be written.
         """
         path = os.fspath(path)
         if not path.lower().endswith(".npz"):
             raise ValueError(f"{path}: a database file must end in .npz")
+        if self.metadata.get("partial"):
+            raise ValueError(f"{path}: the build was stopped; a partial grid is not a database")
         arrays = {"aoa_deg": self.aoa_deg, "aos_deg": self.aos_deg}
         for name in SCALAR_FIELDS + VECTOR_FIELDS:
             arrays[name] = getattr(self, name)
@@ -154,7 +157,8 @@ class AeroDatabase:
         return columns + ["AreaProj", "Aref", "Lref"]
 
     def save_csv(self, path) -> str:
-        """Write one row per attitude (aoa varies slowest) with ``# key: value`` header lines.
+        """Write one row per attitude (aoa varies slowest) with ``# key: value`` header lines;
+        a stopped build's database (``metadata["partial"]``) has rows for the attitudes done.
 
         Values are written with 17 significant digits, so they read back exactly.
         """
@@ -170,6 +174,7 @@ class AeroDatabase:
         columns.append(np.full(na * nb, self.reference_area))
         columns.append(np.full(na * nb, self.reference_length))
         table = np.column_stack(columns)
+        table = table[np.isfinite(table[:, 2])]  # (a stopped build: the attitudes done only)
         with open(path, "w", encoding="utf-8", newline="\n") as stream:
             for line in self.header_lines():
                 stream.write(f"# {line}\n")

@@ -235,3 +235,39 @@ def test_a_test_particle_database_agrees_with_coeff(capsys, tmp_path):
     assert main([*argv[:-4], "--gsim", "newton", "--method", "tpmc", "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "has no test-particle kernel" in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize(
+    "signum, method", [("SIGINT", "tpmc"), ("SIGTERM", "panel")], ids=["SIGINT-tpmc", "SIGTERM"]
+)
+def test_a_signal_stops_the_build_keeping_the_attitudes_done(tmp_path, signum, method):
+    """Ctrl-C (to the whole process group) or SIGTERM mid-build: the command ends soon with one
+    line and status 1; the attitudes done are in NAME.PARTIAL.csv, no database is written under
+    the final names, no traceback."""
+    import csv as csv_module
+    import os
+    import signal
+    import time
+
+    cmd = [sys.executable, "-m", "adbsat_ros.cli", "database", "example", *FLOW]
+    cmd += ["--aos", "-90:5:90", "--out", str(tmp_path / "db.npz"), "--workers", "2"]
+    if method == "tpmc":
+        cmd += ["--method", "tpmc", "--particles", "1e6", "--aos", "0"]
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
+    )
+    time.sleep(4.0 if method == "tpmc" else 3.0)
+    assert proc.poll() is None, "the build ended before the signal"
+    sent = time.monotonic()
+    os.killpg(proc.pid, getattr(signal, signum))
+    out, err = proc.communicate(timeout=60)
+    assert time.monotonic() - sent < 10.0
+    assert proc.returncode == 1 and "Traceback" not in err, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "stopped by a signal after" in lines[0] and "PARTIAL" in lines[0]
+    assert not (tmp_path / "db.npz").exists() and not (tmp_path / "db.csv").exists()
+    with open(tmp_path / "db.PARTIAL.csv", encoding="utf-8") as stream:
+        rows = list(csv_module.reader(line for line in stream if not line.startswith("#")))
+    done = int(lines[0].split("after ")[1].split(" of")[0])
+    assert len(rows) - 1 == done > 0  # a header, then one row per attitude done
+    assert all(np.isfinite([float(x) for x in row]).all() for row in rows[1:])

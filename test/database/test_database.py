@@ -424,3 +424,28 @@ def test_a_test_particle_database_is_each_attitudes_own_run_for_any_worker_count
         lookup.error_bound["statistical_force_coefficient"]
         == error["statistical_force_coefficient"]
     )
+
+
+def test_a_stopped_build_keeps_the_attitudes_done_and_is_no_database(tmp_path):
+    import threading
+
+    stop = threading.Event()
+    stop.set()  # set before: the build ends after its first chunk
+    method = PanelMethod(resolve_mesh("cylinder"), "sentman")
+    db = build_database(
+        method, FLOW, [0, 10, 20, 30], [0, 10], workers=1, progress=False, stop=stop
+    )
+    partial = db.metadata["partial"]
+    assert 0 < partial["attitudes_done"] < partial["attitudes"] == 8
+    done = np.isfinite(db.CD)
+    assert done.sum() == partial["attitudes_done"]
+    full = build_database(method, FLOW, [0, 10, 20, 30], [0, 10], workers=1, progress=False)
+    np.testing.assert_array_equal(db.Cf_G[done], full.Cf_G[done])
+    with pytest.raises(ValueError, match="the build was stopped; a partial grid is not a database"):
+        db.save(tmp_path / "p.npz")
+    rows = [
+        line
+        for line in open(db.save_csv(tmp_path / "p.csv"), encoding="utf-8")
+        if not line.startswith("#")
+    ]
+    assert len(rows) == 1 + partial["attitudes_done"]
