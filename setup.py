@@ -37,6 +37,8 @@ REQUIRES = [
     "matplotlib>=3.8",
     "tqdm>=4.66",
     "PyYAML>=6.0",
+    # URDF: articulated satellites (links, joints, forward kinematics)
+    "yourdfpy>=0.0.60",
 ]
 
 # ROS 2 Jazzy as PyPI wheels: rclpy, an RMW and the message packages the node uses.

@@ -11,6 +11,7 @@ import numpy as np
 from adbsat_ros.cli.atmosphere import add_flight_arguments
 from adbsat_ros.cli.common import (
     add_flow_arguments,
+    add_joint_arguments,
     add_mesh_arguments,
     add_model_arguments,
     add_reference_arguments,
@@ -35,6 +36,7 @@ def configure(p) -> None:
         "path."
     )
     add_mesh_arguments(p)
+    add_joint_arguments(p)
     add_model_arguments(p)
     add_flow_arguments(p)
     add_flight_arguments(p, time_required=False, with_alpha=False)

@@ -7,11 +7,12 @@ imported at the top.
 from __future__ import annotations
 
 import argparse
+import math
 
 from adbsat_ros.bounds import bounded
 from adbsat_ros.cli.atmosphere import compute as compute_flight_conditions
 from adbsat_ros.cli.options import CommandLineError, fraction, parse_vector3, positive_float, within
-from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.geometry.loading import articulated_body, is_urdf, resolve_mesh
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.freestream import FreeStream
@@ -32,8 +33,9 @@ def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "mesh",
         metavar="MESH",
-        help="mesh file (.obj .stl .ply .off ...), or a bundled body: 'example' (the "
-        "example satellite), 'grooved-cylinder', 'cylinder', 'intake-box'",
+        help="mesh file (.obj .stl .ply .off ...), a URDF (.urdf; joints at --joint, else 0), "
+        "or a bundled body: 'example' (the example satellite), 'example-articulated' (its "
+        "URDF, wings on hinges), 'grooved-cylinder', 'cylinder', 'intake-box'",
     )
     parser.add_argument(
         "--scale",
@@ -236,6 +238,48 @@ def freestream_from_args(args, model: str) -> FreeStream:
         raise CommandLineError(f"--species: {exc}" if args.species else str(exc)) from None
 
 
+def add_joint_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add ``--joint NAME=VALUE`` (repeatable): a joint position of a URDF body."""
+    parser.add_argument(
+        "--joint",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="with a URDF MESH (a .urdf file or 'example-articulated'): a joint's position, "
+        "degrees for revolute and continuous joints, metres for prismatic ones (repeatable; "
+        "others at 0)",
+    )
+
+
+def configured_mesh(args):
+    """The panels of the URDF ``args.mesh`` at the ``--joint`` positions; CommandLineError
+    naming ``--joint`` for a mesh that is no URDF or a bad position."""
+    if not is_urdf(args.mesh):
+        raise CommandLineError(
+            f"--joint: MESH {args.mesh!r} is no URDF (a .urdf file or 'example-articulated')"
+        )
+    if args.scale != 1.0:
+        raise CommandLineError("--scale: a URDF is in metres; scale applies to mesh files only")
+    body = articulated_body(args.mesh, accept_size=args.accept_size)
+    positions = {}
+    for text in args.joint:
+        name, sep, value = str(text).partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise CommandLineError(f"--joint: expected NAME=VALUE, got {text!r}")
+        try:
+            number = float(value)
+        except ValueError:
+            raise CommandLineError(f"--joint: {name}: {value!r} is not a number") from None
+        joint = body.joints.get(name)
+        angular = joint is not None and joint.kind != "prismatic"
+        positions[name] = math.radians(number) if angular else number
+    try:
+        return body.mesh(positions)
+    except ValueError as exc:  # (the limits in radians: a revolute position was converted)
+        raise CommandLineError(f"--joint {' '.join(args.joint)}: {exc}") from None
+
+
 def panel_method_from_args(args, mesh=None) -> PanelMethod:
     """Mesh (loaded once), model, materials, options and references from the arguments.
 
@@ -243,7 +287,10 @@ def panel_method_from_args(args, mesh=None) -> PanelMethod:
     """
     if mesh is None:
         try:
-            mesh = resolve_mesh(args.mesh, scale=args.scale, accept_size=args.accept_size)
+            if getattr(args, "joint", None):
+                mesh = configured_mesh(args)
+            else:
+                mesh = resolve_mesh(args.mesh, scale=args.scale, accept_size=args.accept_size)
         except MeshError as exc:
             raise CommandLineError(f"MESH: {exc}") from None
     materials = materials_from_args(args)

@@ -15,13 +15,15 @@ import re
 import numpy as np
 import trimesh
 
-from adbsat_ros.bounds import BOUNDS
+from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.concave_bodies import CONCAVE_BODIES
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME, example_satellite
+from adbsat_ros.geometry.example_urdf import EXAMPLE_URDF_NAME, example_satellite_urdf
 from adbsat_ros.geometry.mesh import (
     DEFAULT_MATERIAL,
     MeshError,
     PanelMesh,
+    check_size,
     panels_from_arrays,
 )
 
@@ -151,28 +153,8 @@ def load_mesh(
         fix_normals=fix_normals,
     )
     if scale == 1.0 and not accept_size:
-        _check_size(path, mesh)
+        check_size(path, mesh)
     return mesh
-
-
-#: Units a mesh file is often written in, with their factor to metres.
-_UNITS = ((1e-3, "millimetres"), (1e-2, "centimetres"), (0.0254, "inches"), (1e3, "kilometres"))
-
-
-def _check_size(path, mesh: PanelMesh) -> None:
-    """MeshError if the mesh (in metres) is no satellite's size, naming the likely unit."""
-    corners = mesh.vertices.reshape(-1, 3)
-    extent = float(np.max(corners.max(axis=0) - corners.min(axis=0)))
-    rule = BOUNDS["mesh_extent"]
-    if rule.contains(extent):
-        return
-    likely = [(f, unit) for f, unit in _UNITS if rule.contains(extent * f)]
-    hint = f"its units are probably {likely[0][1]} (scale {likely[0][0]:g}); " if likely else ""
-    raise MeshError(
-        f"{path}: the mesh is {extent:.6g} m across, outside {rule.text()} ({rule.reason}): "
-        f"{hint}give the scale to metres, or accept the size as it is (--accept-size, "
-        "parameter mesh_accept_size)"
-    )
 
 
 def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) -> PanelMesh:
@@ -199,19 +181,38 @@ def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) 
     return panels_from_arrays(mesh.vertices, mesh.faces, source=source, **kwargs)
 
 
+def is_urdf(spec) -> bool:
+    """Whether a mesh spec names a URDF: a ``.urdf`` file or the bundled articulated example."""
+    name = str(spec)
+    return name == EXAMPLE_URDF_NAME or name.lower().endswith(".urdf")
+
+
+def articulated_body(spec, accept_size: bool = False) -> ArticulatedBody:
+    """The :class:`ArticulatedBody` of a URDF spec (:func:`is_urdf`)."""
+    if str(spec) == EXAMPLE_URDF_NAME:
+        return ArticulatedBody.from_urdf(
+            example_satellite_urdf(), accept_size=accept_size, source=EXAMPLE_URDF_NAME
+        )
+    return ArticulatedBody.from_urdf(spec, accept_size=accept_size)
+
+
 def resolve_mesh(spec, scale: float = 1.0, accept_size: bool = False) -> PanelMesh:
     """A PanelMesh from a file path, or a bundled body by name: ``"example"`` (the example
     satellite) or one of :data:`~adbsat_ros.geometry.concave_bodies.CONCAVE_BODIES`
-    (``grooved-cylinder``, ``cylinder``, ``intake-box``).
+    (``grooved-cylinder``, ``cylinder``, ``intake-box``); a URDF (a ``.urdf`` file, or
+    ``example-articulated``) at zero joint positions (:func:`articulated_body` for others).
 
     Raises
     ------
     MeshError
-        As :func:`load_mesh`, or a ``scale`` other than 1 with a bundled body (it is in metres).
+        As :func:`load_mesh`, or a ``scale`` other than 1 with a bundled body or a URDF (they
+        are in metres).
     """
     name = str(spec)
-    if name == EXAMPLE_MESH_NAME or name in CONCAVE_BODIES:
+    if name == EXAMPLE_MESH_NAME or name in CONCAVE_BODIES or is_urdf(name):
         if scale != 1.0:
             raise MeshError(f"the {name} mesh is in metres; scale applies to mesh files only")
+        if is_urdf(name):
+            return articulated_body(name, accept_size).mesh()
         return example_satellite() if name == EXAMPLE_MESH_NAME else CONCAVE_BODIES[name]()
     return load_mesh(spec, scale=scale, accept_size=accept_size)

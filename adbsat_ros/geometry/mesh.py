@@ -17,6 +17,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import trimesh
 
+from adbsat_ros.bounds import BOUNDS
+
 log = logging.getLogger(__name__)
 
 #: Name of the material given to faces with no ``usemtl`` (and to meshes of other formats).
@@ -279,4 +281,25 @@ def panels_from_arrays(
         material_names=material_names,
         report=report,
         source=source,
+    )
+
+
+#: Units a mesh file is often written in, with their factor to metres.
+_UNITS = ((1e-3, "millimetres"), (1e-2, "centimetres"), (0.0254, "inches"), (1e3, "kilometres"))
+
+
+def check_size(path, mesh: PanelMesh) -> None:
+    """MeshError if the mesh (in metres) is no satellite's size (:data:`BOUNDS`
+    ``mesh_extent``), naming ``path`` and the likely unit."""
+    corners = mesh.vertices.reshape(-1, 3)
+    extent = float(np.max(corners.max(axis=0) - corners.min(axis=0)))
+    rule = BOUNDS["mesh_extent"]
+    if rule.contains(extent):
+        return
+    likely = [(f, unit) for f, unit in _UNITS if rule.contains(extent * f)]
+    hint = f"its units are probably {likely[0][1]} (scale {likely[0][0]:g}); " if likely else ""
+    raise MeshError(
+        f"{path}: the mesh is {extent:.6g} m across, outside {rule.text()} ({rule.reason}): "
+        f"{hint}give the scale to metres, or accept the size as it is (--accept-size, "
+        "parameter mesh_accept_size)"
     )

@@ -275,3 +275,33 @@ def test_a_signal_stops_a_test_particle_run_and_keeps_what_it_traced(signum):
     assert rows[0]["CD_error"] > 0.0
     lines = err.strip().splitlines()
     assert len(lines) == 1 and "interrupted" in lines[0] and "Traceback" not in err
+
+
+def test_a_urdf_body_at_given_joint_positions(capsys, tmp_path):
+    """MESH may be a URDF with --joint NAME=DEGREES: the articulated example at zero is the rigid
+    example; a wing turned 90 deg faces the flow; bad joints are one line with status 2."""
+    from adbsat_ros.geometry.example_urdf import example_satellite_urdf
+
+    path = tmp_path / "sat.urdf"
+    path.write_text(example_satellite_urdf())
+    rows = {}
+    for name, argv in {
+        "rigid": ["example"],
+        "zero": [str(path)],
+        "turned": [str(path), "--joint", "wing_left_hinge=90"],
+    }.items():
+        code, out, err = run_cli(capsys, *argv, *FLOW, "--json")
+        assert code == 0, err
+        rows[name] = json.loads(out)[0]
+    assert rows["zero"]["CD"] == pytest.approx(rows["rigid"]["CD"], rel=1e-12)
+    # the turned wing shows its 1.0 m x 0.5 m face instead of its 1.0 m x 0.03 m edge
+    assert rows["turned"]["AreaProj"] - rows["zero"]["AreaProj"] == pytest.approx(0.47, rel=1e-9)
+    for argv, needle in [
+        (["--joint", "wing_left_hinge=200"], "outside its limits"),
+        (["--joint", "knee=3"], "joint 'knee' is not a moving joint"),
+        (["--joint", "wing_left_hinge"], "expected NAME=VALUE"),
+    ]:
+        code, _, err = run_cli(capsys, str(path), *FLOW, *argv)
+        assert code == 2 and needle in err and len(err.strip().splitlines()) == 1, err
+    code, _, err = run_cli(capsys, "example", *FLOW, "--joint", "a=1")
+    assert code == 2 and "is no URDF" in err

@@ -1,0 +1,315 @@
+"""Articulated satellites: rigid links joined by joints, from a URDF, as panels for any joint
+configuration.
+
+A URDF (Unified Robot Description Format, ROS's description of a robot: links with geometry,
+joints with axes and limits) is read with yourdfpy. Every visual of a link (box, cylinder, sphere
+or mesh file) becomes a part of the panel mesh, in the link's frame, with its URDF material name
+as its surface material (as ``usemtl`` names an .obj's). The root link's frame is the body frame
+(mesh frame G). Joints may be fixed, revolute, continuous or prismatic (mimic joints follow
+theirs); their positions [rad or m] place the links by yourdfpy's forward kinematics.
+
+:meth:`ArticulatedBody.mesh` gives the :class:`~adbsat_ros.geometry.mesh.PanelMesh` of a
+configuration: the parts are checked once (:func:`~adbsat_ros.geometry.mesh.panels_from_arrays`:
+zero-area faces dropped, closed parts turned outwards) and each configuration moves their
+vertices and recomputes normals, areas and barycentres exactly as that function does, so the
+panels of a configuration are those of its parts merged into one mesh, bit for bit, in the same
+order for every configuration (:attr:`ArticulatedBody.panel_link` names each panel's link).
+
+Units: metres and radians; mesh frame G = the root link's frame.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import os
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+import trimesh
+import yourdfpy
+
+from adbsat_ros.geometry.mesh import (
+    DEFAULT_MATERIAL,
+    MeshError,
+    MeshReport,
+    PanelMesh,
+    check_size,
+    panels_from_arrays,
+)
+
+#: Joint types whose position moves their child link.
+MOVING_JOINTS = ("revolute", "continuous", "prismatic")
+#: Sections around a URDF cylinder, and subdivisions of a URDF sphere's icosphere.
+CYLINDER_SECTIONS = 48
+SPHERE_SUBDIVISIONS = 3
+#: A URDF box or cylinder is refined until no edge is longer than this fraction of its size.
+EDGE_FRACTION = 1.0 / 12.0
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint that moves: its type, axis (in its own frame), limits, and the links it joins.
+
+    ``lower`` and ``upper`` are its position limits [rad or m] (-inf, inf for a continuous one).
+    """
+
+    name: str
+    kind: str
+    parent: str
+    child: str
+    axis: tuple
+    lower: float
+    upper: float
+
+
+@dataclass
+class _Part:
+    link: int
+    vertices: np.ndarray  # (V, 3) in the link's frame [m]
+    faces: np.ndarray  # (F, 3), oriented, zero-area faces dropped
+    material: int
+
+
+def _primitive(geometry, max_edge_fraction: float, resolve) -> trimesh.Trimesh:
+    """The triangles of a URDF geometry in its visual frame [m]."""
+    if geometry.box is not None:
+        size = np.asarray(geometry.box.size, dtype=float)
+        box = trimesh.creation.box(extents=size)
+        v, f = trimesh.remesh.subdivide_to_size(
+            box.vertices, box.faces, max_edge=max_edge_fraction * float(size.max())
+        )
+        return trimesh.Trimesh(v, f, process=False)
+    if geometry.cylinder is not None:
+        c = geometry.cylinder
+        return trimesh.creation.cylinder(
+            radius=float(c.radius), height=float(c.length), sections=CYLINDER_SECTIONS
+        )
+    if geometry.sphere is not None:
+        return trimesh.creation.icosphere(
+            subdivisions=SPHERE_SUBDIVISIONS, radius=float(geometry.sphere.radius)
+        )
+    if geometry.mesh is not None:
+        path = resolve(geometry.mesh.filename)
+        try:
+            tm = trimesh.load(path, force="mesh", process=False)
+        except (OSError, ValueError) as exc:
+            raise MeshError(f"URDF mesh {geometry.mesh.filename}: {exc}") from None
+        scale = geometry.mesh.scale
+        if scale is not None:
+            tm.apply_scale(np.broadcast_to(np.asarray(scale, dtype=float), (3,)))
+        return tm
+    raise MeshError("a URDF visual without geometry")
+
+
+class ArticulatedBody:
+    """A satellite of links and joints from a URDF, as panels for any joint configuration.
+
+    Build with :meth:`from_urdf`.
+
+    Attributes
+    ----------
+    links : tuple of str
+        Link names; :attr:`panel_link` indexes it.
+    joints : dict of str to Joint
+        The joints that move (revolute, continuous, prismatic; not mimic ones), by name.
+    root : str
+        The root link, whose frame is the body frame.
+    material_names : tuple of str
+        Surface materials, in order of first appearance.
+    panel_link : ndarray of int, shape (N,)
+        Link of each panel of :meth:`mesh` (the same for every configuration).
+    source : str
+        Where the URDF came from.
+    """
+
+    def __init__(
+        self,
+        urdf: yourdfpy.URDF,
+        source: str,
+        max_edge_fraction=EDGE_FRACTION,
+        accept_size: bool = False,
+    ):
+        self._urdf = urdf
+        self.source = source
+        self.root = urdf.base_link
+        self.links = tuple(urdf.link_map)
+        mimics = {name for name, j in urdf.joint_map.items() if j.mimic is not None}
+        self.joints = {}
+        for name, j in urdf.joint_map.items():
+            if j.type not in MOVING_JOINTS + ("fixed",):
+                raise MeshError(f"{source}: joint {name}: type {j.type!r} is not supported")
+            if j.type == "fixed" or name in mimics:
+                continue
+            limit = j.limit
+            lower, upper = -math.inf, math.inf
+            if j.type != "continuous" and limit is not None:
+                lower = -math.inf if limit.lower is None else float(limit.lower)
+                upper = math.inf if limit.upper is None else float(limit.upper)
+            axis = tuple(float(x) for x in (j.axis if j.axis is not None else (1.0, 0.0, 0.0)))
+            self.joints[name] = Joint(name, j.type, j.parent, j.child, axis, lower, upper)
+        directory = os.path.dirname(os.path.abspath(source)) if os.path.isfile(source) else "."
+
+        def resolve(filename):
+            return yourdfpy.filename_handler_magic(filename, dir=directory)
+
+        names, parts, reports = [], [], []
+        for index, link_name in enumerate(self.links):
+            for visual in urdf.link_map[link_name].visuals:
+                tm = _primitive(visual.geometry, max_edge_fraction, resolve)
+                if visual.origin is not None:
+                    tm.apply_transform(np.asarray(visual.origin, dtype=float))
+                material = visual.material.name if visual.material is not None else None
+                material = material or DEFAULT_MATERIAL
+                if material not in names:
+                    names.append(material)
+                checked = panels_from_arrays(
+                    tm.vertices, tm.faces, source=f"{source}: link {link_name}"
+                )
+                reports.append(checked.report)
+                parts.append(_Part(index, *self._faces_of(tm, checked), names.index(material)))
+        if not parts:
+            raise MeshError(f"{source}: no link has geometry")
+        self._parts = parts
+        self.material_names = tuple(names)
+        self.panel_link = np.concatenate([np.full(len(p.faces), p.link) for p in parts])
+        self._report = MeshReport(
+            dropped_zero_area=sum(r.dropped_zero_area for r in reports),
+            flipped_components=sum(r.flipped_components for r in reports),
+            open_components=sum(r.open_components for r in reports),
+            watertight=all(r.watertight for r in reports),
+            convex=False,
+        )
+        if not accept_size:
+            check_size(source, self.mesh())
+
+    @staticmethod
+    def _faces_of(tm, checked) -> tuple:
+        """A part's vertices and its faces as ``checked`` keeps them (oriented, none of zero
+        area): each checked panel is found among the original faces by its vertices."""
+        vertices = np.asarray(tm.vertices, dtype=float)
+        faces = np.asarray(tm.faces)
+        tri = vertices[faces]
+        keep = {tuple(t.ravel()): i for i, t in enumerate(tri)}
+        out = []
+        for panel in checked.vertices:
+            i = keep.get(tuple(panel.ravel()))
+            out.append(faces[i] if i is not None else faces[keep[tuple(panel[::-1].ravel())]][::-1])
+        return vertices, np.asarray(out)
+
+    @classmethod
+    def from_urdf(
+        cls,
+        urdf,
+        max_edge_fraction: float = EDGE_FRACTION,
+        accept_size: bool = False,
+        source: str | None = None,
+    ) -> "ArticulatedBody":
+        """Read a URDF: a file path, or its XML text (as the ``robot_description`` parameter).
+
+        Mesh files are found relative to the URDF file (or the working directory for text), and
+        ``package://`` names as yourdfpy finds them. Primitives are refined until no edge is
+        longer than ``max_edge_fraction`` of their size. The body at zero joint positions must
+        be 1 mm to 200 m across, unless ``accept_size``. ``source`` names it in messages
+        (default: the file, or ``robot_description`` for text).
+
+        Raises
+        ------
+        MeshError
+            The URDF cannot be read or parsed, a mesh file cannot be loaded, a joint type is not
+            supported, no link has geometry, or the body's size is no satellite's; the message
+            names the file and the element.
+        """
+        text = str(urdf)
+        is_xml = text.lstrip().startswith("<")
+        path = None if is_xml else os.fspath(urdf)
+        source = source or path or "robot_description"
+        try:
+            stream = io.StringIO(text) if is_xml else path
+            model = yourdfpy.URDF.load(stream, build_scene_graph=True, load_meshes=False)
+        except (OSError, ValueError, yourdfpy.URDFError) as exc:
+            raise MeshError(f"{source}: not a readable URDF: {exc}") from None
+        except Exception as exc:  # (lxml's XMLSyntaxError and the like)
+            raise MeshError(f"{source}: not a readable URDF: {exc}") from None
+        return cls(model, source, max_edge_fraction, accept_size)
+
+    def positions(self, values: Mapping[str, float] | None = None) -> dict:
+        """Joint positions checked and completed with zeros: ``{name: value}`` of every moving
+        joint.
+
+        Raises
+        ------
+        ValueError
+            A name that is not a moving joint (the known ones listed), a value that is not a
+            finite number, or one outside the joint's limits (the range named).
+        """
+        out = {name: 0.0 for name in self.joints}
+        for name, value in (values or {}).items():
+            joint = self.joints.get(name)
+            if joint is None:
+                raise ValueError(
+                    f"joint {name!r} is not a moving joint of {self.source}; its joints are "
+                    f"{', '.join(self.joints) or 'none'}"
+                )
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                raise ValueError(
+                    f"joint {name}: position must be a number, got {value!r}"
+                ) from None
+            if not math.isfinite(number):
+                raise ValueError(f"joint {name}: position must be finite, got {value!r}")
+            if not joint.lower <= number <= joint.upper:
+                unit = "m" if joint.kind == "prismatic" else "rad"
+                raise ValueError(
+                    f"joint {name}: position {number!r} {unit} is outside its limits "
+                    f"[{joint.lower:g}, {joint.upper:g}] {unit}"
+                )
+            out[name] = number
+        return out
+
+    def link_poses(self, values: Mapping[str, float] | None = None) -> np.ndarray:
+        """4 x 4 pose of every link in the body frame, shape (L, 4, 4), for joint ``values``."""
+        positions = self.positions(values)
+        if positions:
+            self._urdf.update_cfg(positions)
+        return np.stack([self._urdf.get_transform(link, self.root) for link in self.links])
+
+    def mesh(self, values: Mapping[str, float] | None = None) -> PanelMesh:
+        """The panels of the configuration ``values`` (joint name to position; others at 0)."""
+        poses = self.link_poses(values)
+        tris, materials = [], []
+        for part in self._parts:
+            pose = poses[part.link]
+            vertices = part.vertices @ pose[:3, :3].T + pose[:3, 3]
+            tris.append(vertices[part.faces])
+            materials.append(np.full(len(part.faces), part.material))
+        tri = np.ascontiguousarray(np.concatenate(tris))
+        cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        double_area = np.linalg.norm(cross, axis=1)
+        return PanelMesh(
+            vertices=tri,
+            normals=np.ascontiguousarray(cross / double_area[:, None]),
+            areas=np.ascontiguousarray(0.5 * double_area),
+            barycentres=np.ascontiguousarray(tri.mean(axis=1)),
+            material_index=np.ascontiguousarray(np.concatenate(materials)),
+            material_names=self.material_names,
+            report=self._report,
+            source=self.source,
+        )
+
+    def parts(self, values: Mapping[str, float] | None = None) -> list:
+        """``(link name, vertices, faces, material name)`` of every part in the body frame for
+        ``values``: what :func:`~adbsat_ros.geometry.shapes.combine` merges into the same
+        panels."""
+        poses = self.link_poses(values)
+        return [
+            (
+                self.links[p.link],
+                p.vertices @ poses[p.link][:3, :3].T + poses[p.link][:3, 3],
+                p.faces,
+                self.material_names[p.material],
+            )
+            for p in self._parts
+        ]

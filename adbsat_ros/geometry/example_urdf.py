@@ -1,0 +1,53 @@
+"""The bundled articulated example: the example satellite with its two solar wings on hinges.
+
+The body and wings are those of :mod:`adbsat_ros.geometry.example_satellite` (body 1.2 m x 0.5 m
+x 0.5 m; wings 0.5 m x 1.0 m x 0.03 m, 5 cm off the body's +y and -y sides, centred 0.3 m aft),
+as a URDF: link ``body`` (the body frame) and links ``wing_left`` (+y) and ``wing_right`` (-y),
+each on a revolute joint (``wing_left_hinge``, ``wing_right_hinge``) along its long axis (y)
+through its root, limits +-pi: at zero, as in the rigid example, the wings lie in the x-y plane;
+turning a hinge by theta tilts its wing's normal towards x (a sun-tracking array's motion).
+Materials ``body`` and ``solar_array``. Bundled by the name ``example-articulated``.
+"""
+
+from __future__ import annotations
+
+from adbsat_ros.geometry.example_satellite import BODY_SIZE, WING_GAP, WING_SIZE, WING_X_CENTRE
+
+#: Name that stands for this URDF wherever a mesh or URDF file is expected.
+EXAMPLE_URDF_NAME = "example-articulated"
+
+
+def _box(size) -> str:
+    return f'<box size="{size[0]!r} {size[1]!r} {size[2]!r}"/>'
+
+
+def example_satellite_urdf() -> str:
+    """The URDF text of the articulated example (module docstring)."""
+    root_y = BODY_SIZE[1] / 2 + WING_GAP
+    half_span = WING_SIZE[1] / 2
+    lines = [
+        '<?xml version="1.0"?>',
+        '<robot name="example_satellite">',
+        '  <material name="body"><color rgba="0.7 0.7 0.7 1"/></material>',
+        '  <material name="solar_array"><color rgba="0.1 0.1 0.5 1"/></material>',
+        '  <link name="body">',
+        f'    <visual><geometry>{_box(BODY_SIZE)}</geometry><material name="body"/></visual>',
+        "  </link>",
+    ]
+    for name, sign in (("wing_left", 1.0), ("wing_right", -1.0)):
+        lines += [
+            f'  <link name="{name}">',
+            f'    <visual><origin xyz="0 {sign * half_span!r} 0"/>',
+            f'      <geometry>{_box(WING_SIZE)}</geometry><material name="solar_array"/>',
+            "    </visual>",
+            "  </link>",
+            f'  <joint name="{name}_hinge" type="revolute">',
+            f'    <parent link="body"/><child link="{name}"/>',
+            f'    <origin xyz="{WING_X_CENTRE!r} {sign * root_y!r} 0"/>',
+            '    <axis xyz="0 1 0"/>',
+            '    <limit lower="-3.141592653589793" upper="3.141592653589793" effort="1" '
+            'velocity="1"/>',
+            "  </joint>",
+        ]
+    lines.append("</robot>")
+    return "\n".join(lines) + "\n"
