@@ -35,7 +35,8 @@ def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="MESH",
         help="mesh file (.obj .stl .ply .off ...), a URDF (.urdf; joints at --joint, else 0), "
         "or a bundled body: 'example' (the example satellite), 'example-articulated' (its "
-        "URDF, wings on hinges), 'grooved-cylinder', 'cylinder', 'intake-box'",
+        "URDF, wings on hinges), 'example-finned' (four steerable fins), 'grooved-cylinder', "
+        "'cylinder', 'intake-box'",
     )
     parser.add_argument(
         "--scale",
@@ -245,7 +246,8 @@ def add_joint_arguments(parser: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="NAME=VALUE",
-        help="with a URDF MESH (a .urdf file or 'example-articulated'): a joint's position, "
+        help="with a URDF MESH (a .urdf file, 'example-articulated', 'example-finned'): a "
+        "joint's position, "
         "degrees for revolute and continuous joints, metres for prismatic ones (repeatable; "
         "others at 0)",
     )
@@ -256,7 +258,8 @@ def configured_mesh(args):
     naming ``--joint`` for a mesh that is no URDF or a bad position."""
     if not is_urdf(args.mesh):
         raise CommandLineError(
-            f"--joint: MESH {args.mesh!r} is no URDF (a .urdf file or 'example-articulated')"
+            f"--joint: MESH {args.mesh!r} is no URDF (a .urdf file, 'example-articulated' or "
+            "'example-finned')"
         )
     if args.scale != 1.0:
         raise CommandLineError("--scale: a URDF is in metres; scale applies to mesh files only")

@@ -64,6 +64,28 @@ class Joint:
     upper: float
 
 
+@dataclass(frozen=True)
+class BodyLoads:
+    """The load on every link and the effort on every moving joint, as coefficients.
+
+    Attributes
+    ----------
+    link_force : ndarray, shape (L, 3)
+        Force coefficient on each link (its panels summed), body frame; sums to Cf_G.
+    link_moment : ndarray, shape (L, 3)
+        Its moment coefficient about the moment point; sums to Cm_G.
+    joint_effort : dict of str to float
+        For each moving joint, what its drive must hold: the moment coefficient of the loads on
+        the links it carries (its child and everything beyond) about its axis through it, for a
+        revolute or continuous joint (times q A_ref L_ref: N m); for a prismatic joint their
+        force coefficient along its axis (times q A_ref: N).
+    """
+
+    link_force: np.ndarray
+    link_moment: np.ndarray
+    joint_effort: dict
+
+
 @dataclass
 class _Part:
     link: int
@@ -298,6 +320,57 @@ class ArticulatedBody:
             report=self._report,
             source=self.source,
         )
+
+    def carried_links(self, joint: str) -> np.ndarray:
+        """Indices of the links a joint carries: its child and every link beyond it."""
+        children = {}
+        for j in self._urdf.joint_map.values():
+            children.setdefault(j.parent, []).append(j.child)
+        out, stack = [], [self.joints[joint].child]
+        while stack:
+            link = stack.pop()
+            out.append(self.links.index(link))
+            stack.extend(children.get(link, []))
+        return np.array(sorted(out))
+
+    def loads(self, force, point, values, moment_point, length) -> BodyLoads:
+        """Per-link loads and per-joint efforts of per-panel loads at a configuration.
+
+        Parameters
+        ----------
+        force, point : ndarray, shape (N, 3)
+            Force coefficient of every panel of :meth:`mesh` ``(values)`` and where it acts [m]
+            (:func:`adbsat_ros.physics.panel_loads.panel_loads`).
+        values : mapping of str to float
+            The joint positions the panels were computed at.
+        moment_point : array_like, shape (3,)
+            Point of the link moments [m].
+        length : float
+            Reference length L_ref [m].
+        """
+        force = np.asarray(force, dtype=float)
+        point = np.asarray(point, dtype=float)
+        moments = np.cross(point - np.asarray(moment_point, dtype=float), force) / length
+        n_links = len(self.links)
+        link_force = np.zeros((n_links, 3))
+        link_moment = np.zeros((n_links, 3))
+        for k in range(3):
+            link_force[:, k] = np.bincount(self.panel_link, force[:, k], minlength=n_links)
+            link_moment[:, k] = np.bincount(self.panel_link, moments[:, k], minlength=n_links)
+        poses = self.link_poses(values)
+        effort = {}
+        for name, joint in self.joints.items():
+            child = poses[self.links.index(joint.child)]
+            axis = child[:3, :3] @ np.asarray(joint.axis, dtype=float)
+            axis /= np.linalg.norm(axis)
+            carried = np.isin(self.panel_link, self.carried_links(name))
+            f = force[carried]
+            if joint.kind == "prismatic":
+                effort[name] = float(f.sum(axis=0) @ axis)
+            else:
+                arm = point[carried] - child[:3, 3]
+                effort[name] = float(np.cross(arm, f).sum(axis=0) @ axis) / length
+        return BodyLoads(link_force, link_moment, effort)
 
     def parts(self, values: Mapping[str, float] | None = None) -> list:
         """``(link name, vertices, faces, material name)`` of every part in the body frame for

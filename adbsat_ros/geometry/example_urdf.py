@@ -51,3 +51,58 @@ def example_satellite_urdf() -> str:
         ]
     lines.append("</robot>")
     return "\n".join(lines) + "\n"
+
+
+#: Name of the bundled finned body.
+EXAMPLE_FINNED_NAME = "example-finned"
+FINNED_BODY_SIZE = (0.6, 0.3, 0.3)
+#: Fin chord (x), span and thickness [m]; the hinge runs along the span at the chord's front.
+FIN_SIZE = (0.2, 0.15, 0.005)
+FIN_HINGE_X = -0.15
+
+
+def example_finned_urdf() -> str:
+    """The URDF text of a small finned body: four steerable fins at the rear, as VLEO
+    aerodynamic attitude control test beds carry them.
+
+    The body (link ``body``, 0.6 m x 0.3 m x 0.3 m) carries fins ``fin_py``, ``fin_ny`` (on its
+    +y and -y sides, spans along y: deflecting them turns their chords towards z, a pitch
+    control) and ``fin_pz``, ``fin_nz`` (on +z and -z, spans along z: yaw). Each turns on a
+    revolute joint ``<fin>_hinge`` along its span through its leading edge (x = -0.15 m), limits
+    +-0.6 rad; at zero the fins lie edge-on to a flow along x. Materials ``body`` and ``fin``.
+    """
+    chord, span, thick = FIN_SIZE
+    half = FINNED_BODY_SIZE[1] / 2
+    lines = [
+        '<?xml version="1.0"?>',
+        '<robot name="finned_body">',
+        '  <link name="body">',
+        f'    <visual><geometry>{_box(FINNED_BODY_SIZE)}</geometry><material name="body"/>',
+        "    </visual>",
+        "  </link>",
+    ]
+    # (name, hinge position, span direction, fin box size in the fin's frame)
+    fins = [
+        ("fin_py", (0.0, half, 0.0), (0.0, 1.0, 0.0), (chord, span, thick)),
+        ("fin_ny", (0.0, -half, 0.0), (0.0, -1.0, 0.0), (chord, span, thick)),
+        ("fin_pz", (0.0, 0.0, half), (0.0, 0.0, 1.0), (chord, thick, span)),
+        ("fin_nz", (0.0, 0.0, -half), (0.0, 0.0, -1.0), (chord, thick, span)),
+    ]
+    for name, (_, hy, hz), direction, size in fins:
+        centre = [-chord / 2] + [d * span / 2 for d in direction[1:]]
+        axis = " ".join(repr(abs(d)) for d in direction)
+        lines += [
+            f'  <link name="{name}">',
+            f'    <visual><origin xyz="{centre[0]!r} {centre[1]!r} {centre[2]!r}"/>',
+            f'      <geometry>{_box(size)}</geometry><material name="fin"/>',
+            "    </visual>",
+            "  </link>",
+            f'  <joint name="{name}_hinge" type="revolute">',
+            f'    <parent link="body"/><child link="{name}"/>',
+            f'    <origin xyz="{FIN_HINGE_X!r} {hy!r} {hz!r}"/>',
+            f'    <axis xyz="{axis}"/>',
+            '    <limit lower="-0.6" upper="0.6" effort="1" velocity="1"/>',
+            "  </joint>",
+        ]
+    lines.append("</robot>")
+    return "\n".join(lines) + "\n"

@@ -18,7 +18,12 @@ import trimesh
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.concave_bodies import CONCAVE_BODIES
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME, example_satellite
-from adbsat_ros.geometry.example_urdf import EXAMPLE_URDF_NAME, example_satellite_urdf
+from adbsat_ros.geometry.example_urdf import (
+    EXAMPLE_FINNED_NAME,
+    EXAMPLE_URDF_NAME,
+    example_finned_urdf,
+    example_satellite_urdf,
+)
 from adbsat_ros.geometry.mesh import (
     DEFAULT_MATERIAL,
     MeshError,
@@ -26,6 +31,12 @@ from adbsat_ros.geometry.mesh import (
     check_size,
     panels_from_arrays,
 )
+
+#: The bundled URDF bodies by name.
+BUNDLED_URDFS = {
+    EXAMPLE_URDF_NAME: example_satellite_urdf,
+    EXAMPLE_FINNED_NAME: example_finned_urdf,
+}
 
 _FACE_LINE = re.compile(r"^\s*f\s+(.*)$")
 _USEMTL_LINE = re.compile(r"^\s*usemtl\s+(.*?)\s*$")
@@ -182,16 +193,17 @@ def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) 
 
 
 def is_urdf(spec) -> bool:
-    """Whether a mesh spec names a URDF: a ``.urdf`` file or the bundled articulated example."""
+    """Whether a mesh spec names a URDF: a ``.urdf`` file or a bundled one (BUNDLED_URDFS)."""
     name = str(spec)
-    return name == EXAMPLE_URDF_NAME or name.lower().endswith(".urdf")
+    return name in BUNDLED_URDFS or name.lower().endswith(".urdf")
 
 
 def articulated_body(spec, accept_size: bool = False) -> ArticulatedBody:
     """The :class:`ArticulatedBody` of a URDF spec (:func:`is_urdf`)."""
-    if str(spec) == EXAMPLE_URDF_NAME:
+    name = str(spec)
+    if name in BUNDLED_URDFS:
         return ArticulatedBody.from_urdf(
-            example_satellite_urdf(), accept_size=accept_size, source=EXAMPLE_URDF_NAME
+            BUNDLED_URDFS[name](), accept_size=accept_size, source=name
         )
     return ArticulatedBody.from_urdf(spec, accept_size=accept_size)
 
@@ -200,7 +212,8 @@ def resolve_mesh(spec, scale: float = 1.0, accept_size: bool = False) -> PanelMe
     """A PanelMesh from a file path, or a bundled body by name: ``"example"`` (the example
     satellite) or one of :data:`~adbsat_ros.geometry.concave_bodies.CONCAVE_BODIES`
     (``grooved-cylinder``, ``cylinder``, ``intake-box``); a URDF (a ``.urdf`` file, or
-    ``example-articulated``) at zero joint positions (:func:`articulated_body` for others).
+    ``example-articulated``, ``example-finned``) at zero joint positions
+    (:func:`articulated_body` for others).
 
     Raises
     ------

@@ -195,6 +195,11 @@ class AeroCoefficients:
             ctau = shear * sine_of_incidence(self.flow_direction, normals, self._cos_delta)
         return self._per_panel(ctau)
 
+    @property
+    def lighting(self) -> PanelLighting | None:
+        """The shading used (lit fractions and lit-centroid shifts), or None for none."""
+        return self._lighting
+
     @functools.cached_property
     def lit_fraction(self) -> np.ndarray:
         """Lit fraction of every panel used, shape (N,) (all ones without shading)."""

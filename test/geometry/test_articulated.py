@@ -128,3 +128,99 @@ def test_bad_joint_positions_are_refused_by_name(body, values, message):
 def test_bad_urdfs_are_refused_naming_the_problem(text, message):
     with pytest.raises(MeshError, match=message):
         ArticulatedBody.from_urdf(text)
+
+
+def test_the_links_loads_sum_to_the_totals(body):
+    """Per-panel loads (panel_loads) summed per link give the total force and moment, with
+    shading (partly lit panels act at their lit centroids)."""
+    from adbsat_ros.physics.panel_loads import panel_loads
+
+    values = {"wing_left_hinge": 0.7, "wing_right_hinge": -0.3}
+    mesh = body.mesh(values)
+    result = coefficients(mesh, 25.0, 40.0)
+    assert result.lighting.shift_index.size > 0  # some panels partly shaded
+    loads = panel_loads(mesh, result)
+    split = body.loads(loads.force, loads.point, values, loads.moment_point, loads.reference_length)
+    np.testing.assert_allclose(split.link_force.sum(axis=0), result.Cf_G, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(split.link_moment.sum(axis=0), result.Cm_G, rtol=0, atol=1e-13)
+    assert set(split.joint_effort) == {"wing_left_hinge", "wing_right_hinge"}
+
+
+FIN_URDF = """<robot name="fin">
+  <link name="base"/>
+  <link name="fin"><visual><origin xyz="-0.1 0.075 0"/>
+    <geometry><box size="0.2 0.15 0.01"/></geometry></visual></link>
+  <joint name="hinge" type="revolute"><parent link="base"/><child link="fin"/>
+    <origin xyz="0.3 0.2 0"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>"""
+
+
+def newton_fin_effort(d, u):
+    """The hinge torque coefficient (about +y through the hinge, A_ref = L_ref = 1) of the
+    Newtonian fin deflected by d, by hand: each of the box's six faces, a rectangle of area A
+    and outward normal n facing the flow (c = -u . n > 0), carries q A 2 c^2 along -n at its
+    centre."""
+    rot = rotation_y(d)
+    size = np.array([0.2, 0.15, 0.01])
+    centre = np.array([-0.1, 0.075, 0.0])
+    torque = 0.0
+    for axis in range(3):
+        for sign in (1.0, -1.0):
+            n_local = np.zeros(3)
+            n_local[axis] = sign
+            others = [k for k in range(3) if k != axis]
+            area = size[others[0]] * size[others[1]]
+            face_centre = centre + 0.5 * size[axis] * n_local
+            n = rot @ n_local
+            c = -float(u @ n)
+            if c <= 0.0:
+                continue
+            force = -2.0 * c * c * area * n
+            arm = rot @ face_centre  # the hinge is the fin frame's origin
+            torque += float(np.cross(arm, force)[1])
+    return torque
+
+
+@pytest.mark.parametrize("d", [0.2, -0.35, 0.6])
+def test_a_fins_hinge_torque_is_the_hand_computed_one(d):
+    from adbsat_ros.geometry import frames
+    from adbsat_ros.physics.coefficients import Reference
+    from adbsat_ros.physics.panel_loads import panel_loads
+
+    fin = ArticulatedBody.from_urdf(FIN_URDF)
+    mesh = fin.mesh({"hinge": d})
+    method = PanelMethod(mesh, "newton", reference=Reference(area=1.0, length=1.0))
+    aoa, aos = math.radians(5.0), math.radians(-3.0)
+    result = method.coefficients(FLOW, aoa, aos)
+    loads = panel_loads(mesh, result)
+    split = fin.loads(loads.force, loads.point, {"hinge": d}, np.zeros(3), 1.0)
+    expected = newton_fin_effort(d, frames.flow_direction(aoa, aos))
+    assert split.joint_effort["hinge"] == pytest.approx(expected, rel=1e-9)
+    assert abs(expected) > 1e-5  # (a fin's load passes close to its hinge)
+
+
+def test_fins_deflected_either_way_give_mirrored_pitch_and_yaw():
+    """The finned example (symmetric about its x-z and x-y planes) in a flow along x: the pitch
+    fins deflected by +d and -d give opposite pitch moments and hinge torques, the yaw fins
+    opposite yaw moments; nothing else changes sign."""
+    from adbsat_ros.geometry.loading import articulated_body
+    from adbsat_ros.physics.panel_loads import panel_loads
+
+    finned = articulated_body("example-finned")
+    method_for = {}
+    out = {}
+    for sign in (1.0, -1.0):
+        values = {"fin_py_hinge": sign * 0.3, "fin_ny_hinge": sign * 0.3}
+        values |= {"fin_pz_hinge": sign * 0.2, "fin_nz_hinge": sign * 0.2}
+        mesh = finned.mesh(values)
+        method_for[sign] = PanelMethod(mesh, "sentman")
+        result = method_for[sign].coefficients(FLOW, 0.0, 0.0)
+        loads = panel_loads(mesh, result)
+        out[sign] = (result, finned.loads(loads.force, loads.point, values, np.zeros(3), 1.0))
+    (rp, lp), (rn, ln) = out[1.0], out[-1.0]
+    assert rp.drag == pytest.approx(rn.drag, rel=1e-9)
+    np.testing.assert_allclose(rp.Cm_G[1:], -rn.Cm_G[1:], rtol=1e-9, atol=1e-15)
+    assert abs(rp.Cm_G[1]) > 1e-3 and abs(rp.Cm_G[2]) > 1e-3  # pitch and yaw
+    for name in finned.joints:
+        assert lp.joint_effort[name] == pytest.approx(-ln.joint_effort[name], rel=1e-9)
