@@ -12,7 +12,9 @@ The physics core (mesh, models, shading, atmosphere, databases) imports no rclpy
 The public API, by task (each name documented on the object itself):
 
 * meshes: :func:`load_mesh`, :func:`panels_from_arrays`, :func:`panels_from_trimesh`,
-  :func:`example_satellite`, :class:`PanelMesh`, :class:`MeshError`;
+  :func:`example_satellite`, :class:`PanelMesh`, :class:`MeshError`; bodies with moving parts
+  from a URDF: :class:`ArticulatedBody`, with :func:`panel_loads` for the load on every link and
+  joint;
 * the panel method: :class:`PanelMethod`, :class:`AeroCoefficients`, :class:`Reference`,
   :class:`ModelOptions`, :data:`MODELS`, :class:`MaterialTable`, :class:`SurfaceProperties`;
 * multiple reflections: :class:`TestParticleMethod` (test-particle Monte Carlo, the same inputs
@@ -44,6 +46,8 @@ _EXPORTS = {
     "PanelMesh": "adbsat_ros.geometry.mesh",
     "MeshError": "adbsat_ros.geometry.mesh",
     "example_satellite": "adbsat_ros.geometry.example_satellite",
+    "ArticulatedBody": "adbsat_ros.geometry.articulated",
+    "panel_loads": "adbsat_ros.physics.panel_loads",
     "PanelMethod": "adbsat_ros.physics.panel_method",
     "AeroCoefficients": "adbsat_ros.physics.coefficients",
     "Reference": "adbsat_ros.physics.coefficients",

@@ -92,6 +92,8 @@ def run(args) -> int:
                 lighting = shader.lighting(u) if shader is not None else None
                 r = method.coefficients(flow, aoa, aos, lighting=lighting)
                 d["panel"] = dict(r.to_dict(flow, per_panel=args.per_panel), shading=args.shading)
+                if getattr(args, "articulation", None) is not None:
+                    d["panel"].update(articulated_outputs(args.articulation, method, r, flow))
             if solver is not None:
                 r = run_tpmc(args, solver, flow, aoa, aos)
                 d["tpmc"] = r.to_dict(flow, per_panel=args.per_panel)
@@ -133,6 +135,33 @@ def parse_view(text: str) -> tuple:
     if not (math.isfinite(elev) and math.isfinite(azim)):
         raise CommandLineError(f"--view: expected two finite numbers, got {text!r}")
     return elev, azim
+
+
+def articulated_outputs(articulation, method, result, flow) -> dict:
+    """A URDF body's per-link loads and per-joint efforts (coefficients; with a density also
+    N and N m): ``links`` and ``joints`` of the JSON."""
+    from adbsat_ros.physics.panel_loads import panel_loads
+
+    body, positions = articulation
+    loads = panel_loads(method.mesh, result)
+    split = body.loads(
+        loads.force, loads.point, positions, loads.moment_point, loads.reference_length
+    )
+    links = {
+        name: {"Cf_G": split.link_force[i].tolist(), "Cm_G": split.link_moment[i].tolist()}
+        for i, name in enumerate(body.links)
+    }
+    joints = {}
+    ref = method.reference
+    q = flow.dynamic_pressure() if flow.mass_density is not None else None
+    for name, effort in split.joint_effort.items():
+        prismatic = body.joints[name].kind == "prismatic"
+        entry = {"position": positions[name], "effort_coefficient": effort}
+        if q is not None:
+            scale = q * ref.area * (1.0 if prismatic else ref.length)
+            entry["force_N" if prismatic else "torque_Nm"] = effort * scale
+        joints[name] = entry
+    return {"links": links, "joints": joints}
 
 
 def difference(tpmc: dict, panel: dict) -> dict:

@@ -254,8 +254,9 @@ def add_joint_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def configured_mesh(args):
-    """The panels of the URDF ``args.mesh`` at the ``--joint`` positions; CommandLineError
-    naming ``--joint`` for a mesh that is no URDF or a bad position."""
+    """The panels of the URDF ``args.mesh`` at the ``--joint`` positions (kept with its body as
+    ``args.articulation``); CommandLineError naming ``--joint`` for a mesh that is no URDF or a
+    bad position."""
     if not is_urdf(args.mesh):
         raise CommandLineError(
             f"--joint: MESH {args.mesh!r} is no URDF (a .urdf file, 'example-articulated' or "
@@ -278,9 +279,11 @@ def configured_mesh(args):
         angular = joint is not None and joint.kind != "prismatic"
         positions[name] = math.radians(number) if angular else number
     try:
-        return body.mesh(positions)
+        mesh = body.mesh(positions)
     except ValueError as exc:  # (the limits in radians: a revolute position was converted)
         raise CommandLineError(f"--joint {' '.join(args.joint)}: {exc}") from None
+    args.articulation = (body, body.positions(positions))  # (for per-link and joint outputs)
+    return mesh
 
 
 def panel_method_from_args(args, mesh=None) -> PanelMethod:
@@ -290,7 +293,7 @@ def panel_method_from_args(args, mesh=None) -> PanelMethod:
     """
     if mesh is None:
         try:
-            if getattr(args, "joint", None):
+            if getattr(args, "joint", None) or (is_urdf(args.mesh) and hasattr(args, "joint")):
                 mesh = configured_mesh(args)
             else:
                 mesh = resolve_mesh(args.mesh, scale=args.scale, accept_size=args.accept_size)

@@ -9,6 +9,8 @@ Modules:
 - :mod:`adbsat_ros.physics.tpmc`: the test-particle Monte Carlo solver of the same problem with
   every reflection (concave bodies), by module: inflow, kernels, tracing, batches, results,
   method.
+- :mod:`~adbsat_ros.physics.panel_loads`: each panel's force and where it acts (for the loads on
+  the links and joints of an articulated body).
 - :mod:`~adbsat_ros.physics.gsi_models`: the registry of gas-surface models; the formulas are in
   :mod:`adbsat_ros.physics.models`, by family.
 - :mod:`~adbsat_ros.physics.freestream`: :class:`FreeStream`, the gas met (speed, temperature,

@@ -294,6 +294,14 @@ def test_a_urdf_body_at_given_joint_positions(capsys, tmp_path):
         assert code == 0, err
         rows[name] = json.loads(out)[0]
     assert rows["zero"]["CD"] == pytest.approx(rows["rigid"]["CD"], rel=1e-12)
+    assert "links" not in rows["rigid"]
+    turned = rows["turned"]
+    assert set(turned["links"]) == {"body", "wing_left", "wing_right"}
+    total = np.sum([link["Cf_G"] for link in turned["links"].values()], axis=0)
+    np.testing.assert_allclose(total, turned["Cf_G"], rtol=0, atol=1e-13)
+    hinge = turned["joints"]["wing_left_hinge"]
+    assert hinge["position"] == pytest.approx(math.pi / 2, rel=1e-15)  # SI: radians
+    assert hinge["effort_coefficient"] != 0.0 and "torque_Nm" not in hinge  # no density given
     # the turned wing shows its 1.0 m x 0.5 m face instead of its 1.0 m x 0.03 m edge
     assert rows["turned"]["AreaProj"] - rows["zero"]["AreaProj"] == pytest.approx(0.47, rel=1e-9)
     for argv, needle in [
