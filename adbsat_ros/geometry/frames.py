@@ -107,6 +107,41 @@ def flow_direction(aoa, aos):
     return np.stack(np.broadcast_arrays(-ca * cb, sb, sa * cb), axis=-1)
 
 
+def attitude_flow(aoa=None, aos=None, direction=None) -> tuple:
+    """The flow of an attitude given either by angles or by the flow direction, as the solvers'
+    ``coefficients`` take it: ``(u, angles)``.
+
+    Parameters
+    ----------
+    aoa, aos : float, optional
+        Angle of attack and sideslip [rad], finite (each 0 if not given).
+    direction : array_like, shape (3,), optional
+        Direction of the gas motion relative to the body in G, instead of the angles (the
+        solvers' ``flow_direction``).
+
+    Returns
+    -------
+    u : ndarray, shape (3,)
+        Unit flow direction in G.
+    angles : tuple of 2 floats or None
+        (aoa, aos) as given, or None for a flow direction (found from u when asked for).
+
+    Raises
+    ------
+    ValueError
+        Both angles and a direction, a non-finite angle, or a direction that is no vector.
+    """
+    if direction is not None:
+        if aoa is not None or aos is not None:
+            raise ValueError("give either aoa/aos or flow_direction, not both")
+        return unit_vector(direction, "flow_direction"), None
+    aoa = 0.0 if aoa is None else float(aoa)
+    aos = 0.0 if aos is None else float(aos)
+    if not (math.isfinite(aoa) and math.isfinite(aos)):
+        raise ValueError(f"aoa and aos must be finite, got {aoa!r}, {aos!r}")
+    return flow_direction(aoa, aos), (aoa, aos)
+
+
 def angles_of_flow(u_G):
     """Angle of attack and sideslip [rad] of a gas-flow direction given in G.
 

@@ -25,8 +25,6 @@ through W_g and Q_g, summed from the lighting's fractions and shifts
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from adbsat_ros.geometry import frames
@@ -275,18 +273,7 @@ class PanelMethod:
         surface : PanelSurface, optional
             Surface parameters overriding the materials' (see :meth:`surface_with`).
         """
-        if flow_direction is not None:
-            if aoa is not None or aos is not None:
-                raise ValueError("give either aoa/aos or flow_direction, not both")
-            u = frames.unit_vector(flow_direction, "flow_direction")
-            angles = None  # from u, when asked for
-        else:
-            aoa = 0.0 if aoa is None else float(aoa)
-            aos = 0.0 if aos is None else float(aos)
-            if not (math.isfinite(aoa) and math.isfinite(aos)):
-                raise ValueError(f"aoa and aos must be finite, got {aoa!r}, {aos!r}")
-            u = frames.flow_direction(aoa, aos)
-            angles = (aoa, aos)
+        u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         if lighting is not None and lighting.n_panels != self.mesh.n_panels:
             raise ValueError(
                 f"lighting has {lighting.n_panels} panels, the mesh has {self.mesh.n_panels}"

@@ -163,7 +163,7 @@ class TestParticleMethod:
             molecules traced so far, says so (``stopped``); the same seed and block count give
             the same numbers as an uninterrupted run of that length.
         """
-        u, angles = _direction(aoa, aos, flow_direction)
+        u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         budget, tol = run_settings(particles, tolerance, seed)
         workers, _ = worker_count(workers)
         problem = self.problem(flow, u)
@@ -188,18 +188,6 @@ class TestParticleMethod:
                     total.stopped = True
                     break
         return total.coefficients(problem, flow, self, u, angles, int(seed))
-
-
-def _direction(aoa, aos, flow_direction) -> tuple:
-    if flow_direction is not None:
-        if aoa is not None or aos is not None:
-            raise ValueError("give either aoa/aos or flow_direction, not both")
-        return frames.unit_vector(flow_direction, "flow_direction"), None
-    aoa = 0.0 if aoa is None else float(aoa)
-    aos = 0.0 if aos is None else float(aos)
-    if not (math.isfinite(aoa) and math.isfinite(aos)):
-        raise ValueError(f"aoa and aos must be finite, got {aoa!r}, {aos!r}")
-    return frames.flow_direction(aoa, aos), (aoa, aos)
 
 
 def run_settings(particles, tolerance, seed) -> tuple:
