@@ -31,6 +31,13 @@ from adbsat_ros.bags.table import PLOT_COLUMNS, header
 _NS = 1_000_000_000
 
 
+def _umask() -> int:
+    """The process's umask (read by setting it and setting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 class _CsvFile:
     """The CSV written under a temporary name beside ``path``, put there by :meth:`commit`."""
 
@@ -38,6 +45,8 @@ class _CsvFile:
         self.path = path
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, self.tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial", dir=path.parent)
+        # mkstemp makes it 0600; the file the user gets follows their umask, as open's would
+        os.chmod(fd, 0o666 & ~_umask())
         self.file = os.fdopen(fd, "w", newline="", encoding="utf-8")
         csv.writer(self.file).writerow(header(labels))
 

@@ -24,6 +24,7 @@ import logging
 import re
 import sys
 
+from adbsat_ros._version import __version__
 from adbsat_ros.cli.options import CommandLineError, OneLineErrorParser
 
 #: The subcommands in the order ``--help`` lists them, with their one-line help; each is
@@ -92,6 +93,9 @@ def build_parser(configured=None) -> argparse.ArgumentParser:
         "as a library, a command line and a ROS 2 node.",
     )
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress and warnings")
+    parser.add_argument(
+        "--version", action="version", version=f"adbsat-ros {__version__}", help="print the version"
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineErrorParser)
     sub.required = True
     for name, summary in SUBCOMMANDS.items():

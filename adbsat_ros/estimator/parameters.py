@@ -54,8 +54,9 @@ PARAMETERS = (
     (
         "mesh",
         "example",
-        "mesh file (.obj .stl .ply .off ...) or 'example' for the bundled satellite; "
-        "read once at start-up",
+        "mesh file (.obj .stl .ply .off ...), a URDF at zero joint positions, or a bundled "
+        "body ('example', 'example-articulated', 'example-finned', 'grooved-cylinder', "
+        "'cylinder', 'intake-box'); read once at start-up",
     ),
     ("mesh_scale", 1.0, "factor from mesh file units to metres (1e-3 for millimetres)"),
     (

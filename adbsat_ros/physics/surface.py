@@ -152,7 +152,20 @@ class MaterialTable:
         return sorted(set(self.materials) - set(mesh_material_names))
 
     def expand(self, material_names, material_index) -> PanelSurface:
-        """Per-panel parameters for a mesh: scalars where uniform over the panels, else arrays."""
+        """Per-panel parameters for a mesh: scalars where uniform over the panels, else arrays.
+
+        Raises
+        ------
+        ValueError
+            If the table names a material the mesh does not have (a typo would otherwise leave
+            that material at the default properties without a word).
+        """
+        unknown = self.check_names(material_names)
+        if unknown:
+            raise ValueError(
+                f"material {', '.join(map(repr, unknown))} is not in the mesh; its materials are "
+                f"{', '.join(material_names)}"
+            )
         props = [self.properties(n) for n in material_names]
         used = np.unique(material_index)
         values = {}

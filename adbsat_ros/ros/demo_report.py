@@ -120,7 +120,8 @@ def write_outputs(rows, out_dir: Path) -> list:
     with open(path, "w", newline="", encoding="utf-8") as fh:
         writer = csv.writer(fh)
         writer.writerow(CSV_COLUMNS)
-        writer.writerows([[f"{v:.10g}" for v in row] for row in rows])
+        # (repr: each number exactly, the UNIX stamps with their fraction of a second)
+        writer.writerows([[repr(float(v)) for v in row] for row in rows])
     table = np.array(rows)
     col = {name: i for i, name in enumerate(CSV_COLUMNS)}
     run = {

@@ -336,14 +336,51 @@ def params_files(argv) -> list:
     return files
 
 
+#: The node's topics: (name, type, direction, meaning), for ``adbsat_node --help``.
+TOPICS = (
+    ("attitude", "geometry_msgs/QuaternionStamped", "in", "body orientation in the state frame"),
+    ("state", "nav_msgs/Odometry", "in", "orbital state, ECI or ECEF (state_frame)"),
+    ("wrench", "geometry_msgs/WrenchStamped", "out", "force [N], torque about the CoM [N m]"),
+    ("coefficients", "geometry_msgs/WrenchStamped", "out", "C_F and C_M (while subscribed)"),
+    ("/diagnostics", "diagnostic_msgs/DiagnosticArray", "out", "health, every period"),
+)
+
+
+def help_text() -> str:
+    """What ``adbsat_node --help`` prints: usage, topics, and every parameter with its default,
+    valid range and meaning."""
+    lines = [
+        f"usage: {NODE_NAME} [--help] --ros-args [--params-file FILE] [-p NAME:=VALUE ...]",
+        "",
+        "Aerodynamic force and torque of a satellite in free-molecular flow, for every attitude "
+        "message.",
+        "",
+        "topics:",
+    ]
+    lines += [f"  {n:<14} {d:<4} {t:<32} {m}" for n, t, d, m in TOPICS]
+    lines += ["", "parameters (config/adbsat.yaml documents each; read-only ones marked):"]
+    for name, default, text in PARAMETERS:
+        flags = " (read-only)" if name in READ_ONLY_PARAMETERS else ""
+        lines.append(f"  {name} = {default!r}{flags}")
+        lines.append(f"      {text}")
+        valid = parameter_range_text(name)
+        if valid:
+            lines.append(f"      valid: {valid}")
+    return "\n".join(lines)
+
+
 def main(args=None) -> int:
     """Console script ``adbsat_node``: ``adbsat_node --ros-args --params-file config/adbsat.yaml``.
 
-    Returns the exit status: 0 after a shutdown, 1 (one line on stderr) if the node cannot be
-    set up.
+    ``--help`` (before ``--ros-args``) prints :func:`help_text` and exits. Returns the exit
+    status: 0 after a shutdown or the help, 1 (one line on stderr) if the node cannot be set up.
     """
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     argv = sys.argv if args is None else args
+    own = argv[1 : argv.index("--ros-args")] if "--ros-args" in argv else argv[1:]
+    if "--help" in own or "-h" in own:
+        print(help_text())
+        return 0
     for path in params_files(argv):  # checked here: rclpy ignores unknown names, and a missing
         try:  # file fails its init with a traceback
             settings_from_file(path, NODE_NAME)

@@ -641,3 +641,23 @@ def test_a_stop_keeps_the_outputs_so_far_as_partial(tmp_path, workers):
     assert len(topics["/attitude"]) + len(topics["/state"]) == 60
     assert all(Path(p).parent == tmp_path / "p.PARTIAL" for p in report.outputs["plots"])
     assert not list(tmp_path.glob(".*partial"))
+
+
+def test_the_csv_follows_the_umask(tmp_path):
+    """The CSV is written under a temporary name (made 0600) and renamed: its mode must still be
+    what the user's umask gives any new file."""
+    import os
+    import stat
+
+    messages = scenario.generate(scenario.Scenario(duration_s=2, rate_hz=1, state_rate_hz=1))
+    bag_io.write_scenario_bag(messages, tmp_path / "in")
+    old = os.umask(0o027)
+    try:
+        analyze_bag(
+            tmp_path / "in",
+            models=[("m", WrenchSettings.from_parameters(FAST))],
+            out_csv=tmp_path / "out.csv",
+        )
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "out.csv").stat().st_mode) == 0o640

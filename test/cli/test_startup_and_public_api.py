@@ -136,3 +136,30 @@ def test_verbose_flag_before_the_subcommand(capsys):
     argv += ["--temperature", "900", "--mean-mass", "16", "--json"]
     assert main(argv) == 0
     assert json.loads(capsys.readouterr().out)[0]["aoa_deg"] == 0.0
+
+
+def test_version(capsys):
+    from adbsat_ros import __version__
+    from adbsat_ros.cli import main
+
+    with pytest.raises(SystemExit) as exited:
+        main(["--version"])
+    assert exited.value.code == 0
+    assert capsys.readouterr().out.strip() == f"adbsat-ros {__version__}"
+
+
+def test_the_bundled_params_files_are_valid():
+    """config/*.yaml: the node's parameters file and the examples the docs use (bag analysis'
+    --params), each read as the node and bag analysis read them."""
+    from pathlib import Path
+
+    from adbsat_ros.estimator.settings import settings_from_file
+
+    files = sorted((Path(__file__).resolve().parents[2] / "config").glob("*.yaml"))
+    assert {f.name for f in files} >= {"adbsat.yaml", "fixed_alpha.yaml", "langmuir.yaml"}
+    settings = {f.stem: settings_from_file(f) for f in files}
+    assert settings["langmuir"].accommodation_model == "langmuir"
+    assert (
+        settings["fixed_alpha"].accommodation_model == "fixed"
+        and settings["fixed_alpha"].alpha == 1.0
+    )

@@ -347,3 +347,16 @@ def test_the_side_force_of_a_box_is_linear_in_a_tiny_sideslip(model, group_facet
     assert side_per_sideslip(1e-9) == pytest.approx(slope, rel=1e-5)
     assert side_per_sideslip(-1e-9) == pytest.approx(slope, rel=1e-5)
     assert side_per_sideslip(1e-11) == pytest.approx(slope, rel=1e-3)
+
+
+def test_a_material_the_mesh_does_not_have_is_refused_by_name():
+    """A misspelled material in a MaterialTable would leave that material at the default
+    properties without a word: refused, naming it and the mesh's materials."""
+    from adbsat_ros.geometry.loading import resolve_mesh
+    from adbsat_ros.physics.panel_method import PanelMethod
+    from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+
+    mesh = resolve_mesh("example")
+    table = MaterialTable(SurfaceProperties(), {"solar_aray": {"alpha": 0.5}})
+    with pytest.raises(ValueError, match="material 'solar_aray' is not in the mesh; its materials"):
+        PanelMethod(mesh, "sentman", table)

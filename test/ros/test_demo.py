@@ -42,6 +42,10 @@ def test_demo_runs_prints_the_table_and_writes_csv_and_plots(tmp_path, capsys):
     with open(out_dir / "demo_wrench.csv", newline="") as fh:
         data = list(csv.DictReader(fh))
     assert len(data) == received
+    # the UNIX stamps keep their fraction of a second (steps of 0.5 s of simulated time)
+    stamps = np.array([float(row["stamp_unix_s"]) for row in data])
+    assert np.allclose(np.diff(stamps), 0.5, atol=1e-6) and stamps[0] > 1.7e9
+    assert np.any(stamps % 1.0 != 0.0)
 
     # F = q A_ref C_F component by component, q = rho V^2 / 2, A_ref half the wetted area
     mesh = resolve_mesh("example")
