@@ -38,9 +38,10 @@ def shader(satellite):
 
 
 def pair(mesh, model, **kwargs):
+    arrays = {"solar_array": {"alpha": 0.8, "wall_temperature": 350.0}}
     materials = MaterialTable(
         SurfaceProperties(alpha=0.93, alpha_n=0.9, sigma_t=0.95, sigma_n=0.9),
-        {"solar_array": {"alpha": 0.8, "wall_temperature": 350.0}},
+        {name: v for name, v in arrays.items() if name in mesh.material_names},
     )
     ref = Reference(moment_point=(0.1, -0.05, 0.02))
     return (
