@@ -34,7 +34,14 @@ def is_number_parameter(default) -> bool:
     return isinstance(default, (int, float)) and not isinstance(default, bool)
 
 
-NUMBER_PARAMETERS = sorted(n for n, d in PARAMETER_DEFAULTS.items() if is_number_parameter(d))
+#: Parameters whose numbers must also fit together (the inertia tensor: symmetric, positive
+#: definite), so that a number inside its range is not always a valid value: tested on their own.
+TENSOR_PARAMETERS = ("inertia",)
+NUMBER_PARAMETERS = sorted(
+    n
+    for n, d in PARAMETER_DEFAULTS.items()
+    if is_number_parameter(d) and n not in TENSOR_PARAMETERS
+)
 
 
 def parameter_edges(name):

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from edges import NUMBER_PARAMETERS, as_parameter, edges, parameter_edges
+from edges import NUMBER_PARAMETERS, TENSOR_PARAMETERS, as_parameter, edges, parameter_edges
 
 from adbsat_ros.bounds import BOUNDS, bounded
 from adbsat_ros.cli import main
@@ -116,7 +116,7 @@ def refusal(name) -> str:
 
 
 def test_every_number_parameter_has_a_range_with_its_reason():
-    assert set(NUMBER_PARAMETERS) == set(PARAMETER_RANGES)
+    assert set(NUMBER_PARAMETERS) | set(TENSOR_PARAMETERS) == set(PARAMETER_RANGES)
     for name in NUMBER_PARAMETERS:
         rule = PARAMETER_RANGES[name]
         default = PARAMETER_DEFAULTS[name]
@@ -272,3 +272,28 @@ def test_the_bundled_params_file_shows_every_range():
             comments = []
     for name in PARAMETER_RANGES:
         assert f"valid: {parameter_range_text(name)}" in shown[name], name
+
+
+def test_the_inertia_is_a_symmetric_positive_definite_tensor_within_its_range():
+    """Each of its 9 numbers within the range (at both edges and just beyond, on the diagonal of
+    an otherwise valid tensor where the value is positive), symmetric, positive definite; all 0
+    means no angular acceleration."""
+    rule = PARAMETER_RANGES["inertia"]
+    assert WrenchSettings.from_parameters({"inertia": [0.0] * 9}).inertia is None
+    inside, outside = edges(rule)
+    for x in [v for v in inside if v > 0.0]:
+        tensor = [x, 0.0, 0.0, 0.0, x, 0.0, 0.0, 0.0, x]
+        assert WrenchSettings.from_parameters({"inertia": tensor}).inertia == tuple(tensor)
+    for x in outside:
+        tensor = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, x]
+        with pytest.raises(ValueError, match=r"^parameter inertia: inertia\[8\] must be in"):
+            WrenchSettings.from_parameters({"inertia": tensor})
+    with pytest.raises(ValueError, match="must be symmetric"):
+        WrenchSettings.from_parameters({"inertia": [2.0, 0.5, 0, 0, 2.0, 0, 0, 0, 2.0]})
+    with pytest.raises(ValueError, match="must be positive definite"):
+        WrenchSettings.from_parameters({"inertia": [1.0, 2.0, 0, 2.0, 1.0, 0, 0, 0, 1.0]})
+    with pytest.raises(ValueError, match=r"expected 9 numbers"):
+        WrenchSettings.from_parameters({"inertia": [1.0, 1.0, 1.0]})
+    tensor = [rule.low, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]  # in range, not positive
+    with pytest.raises(ValueError, match="must be positive definite"):
+        WrenchSettings.from_parameters({"inertia": tensor})

@@ -320,7 +320,9 @@ class AeroWrenchEstimator:
         reference = self.method.reference
         flow = conditions.free_stream
         if flow is None or conditions.speed < s.min_relative_speed:  # at rest in the air
-            return WrenchSample.at_rest(stamp, utc, reference, conditions, time.perf_counter() - t0)
+            return WrenchSample.at_rest(
+                stamp, utc, reference, conditions, time.perf_counter() - t0, m
+            )
         # gas motion relative to the body, body axes: -R^T v_rel (its direction is the flow's)
         relative = (
             conditions.relative_velocity_eci
@@ -357,6 +359,7 @@ class AeroWrenchEstimator:
                 flow_direction_body=u_body,
                 shading_cache_hit=None,
                 compute_seconds=time.perf_counter() - t0,
+                rotation=m,
             )
         lighting, hit = self._shading.lighting(gas_body)  # (the cache keys on the direction)
         surface = None
@@ -383,6 +386,7 @@ class AeroWrenchEstimator:
             flow_direction_body=coefficients.flow_direction,
             shading_cache_hit=hit,
             compute_seconds=time.perf_counter() - t0,
+            rotation=m,
         )
 
     def prepare(self, stamp: float) -> bool:

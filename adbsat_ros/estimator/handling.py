@@ -14,9 +14,17 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import numpy as np
+
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.samples import Rejection, WrenchSample
-from adbsat_ros.messages.cdr import AttitudeFields, OdometryFields, Stamp, wrench_stamped_cdr
+from adbsat_ros.messages.cdr import (
+    AttitudeFields,
+    OdometryFields,
+    Stamp,
+    accel_stamped_cdr,
+    wrench_stamped_cdr,
+)
 from adbsat_ros.messages.decoding import UndecodableMessage
 from adbsat_ros.messages.stamps import next_regular_stamp, stamp_seconds
 
@@ -45,6 +53,14 @@ class Outcome(NamedTuple):
     coefficients_cdr : bytes or None
         CDR bytes of the coefficients' WrenchStamped (C_F in ``force``, C_M in ``torque``), when
         asked for.
+    inertial_cdr : bytes or None
+        When asked for: CDR bytes of a WrenchStamped with the force [N] in the state frame (its
+        frame_id the state frame's, ``state_frame``) and the torque [N m] in the body frame, as
+        torques are applied.
+    acceleration_cdr : bytes or None
+        When asked for and a ``mass`` is set: CDR bytes of a geometry_msgs/AccelStamped, the
+        non-gravitational acceleration force / mass [m/s^2] in the state frame and, with an
+        ``inertia``, the angular acceleration inertia^-1 torque [rad/s^2] in the body frame.
     """
 
     stamp: Stamp | None
@@ -55,6 +71,8 @@ class Outcome(NamedTuple):
     error: Exception | None = None
     wrench_cdr: bytes | None = None
     coefficients_cdr: bytes | None = None
+    inertial_cdr: bytes | None = None
+    acceleration_cdr: bytes | None = None
 
     @property
     def reason(self) -> str | None:
@@ -93,7 +111,9 @@ class MessageHandler:
         """Whether attitudes come from their own messages (else from the odometry pose)."""
         return self.estimator.settings.attitude_source == "attitude_topic"
 
-    def on_state(self, odometry: OdometryFields, coefficients: bool = True) -> Outcome:
+    def on_state(
+        self, odometry: OdometryFields, coefficients: bool = True, inertial: bool = False
+    ) -> Outcome:
         """A state message: accepted (and with ``attitude_source`` odometry, its wrench), or not.
 
         Parameters
@@ -102,6 +122,8 @@ class MessageHandler:
             The decoded nav_msgs/Odometry.
         coefficients : bool
             Whether to serialise the coefficients message too.
+        inertial : bool
+            Whether to serialise the state-frame wrench and the acceleration too.
         """
         try:
             _, orientation = self.estimator.on_odometry(odometry)
@@ -112,9 +134,11 @@ class MessageHandler:
             return Outcome(odometry.stamp, error=exc)
         if self.uses_attitude_topic:
             return Outcome(odometry.stamp, state_accepted=True)
-        return self._wrench(odometry.stamp, orientation, coefficients, True)
+        return self._wrench(odometry.stamp, orientation, coefficients, True, inertial)
 
-    def on_attitude(self, attitude: AttitudeFields, coefficients: bool = True) -> Outcome:
+    def on_attitude(
+        self, attitude: AttitudeFields, coefficients: bool = True, inertial: bool = False
+    ) -> Outcome:
         """An attitude message: its wrench, or why there is none (:data:`IGNORED` while the
         attitude comes from the odometry pose).
 
@@ -124,10 +148,12 @@ class MessageHandler:
             The decoded geometry_msgs/QuaternionStamped.
         coefficients : bool
             Whether to serialise the coefficients message too.
+        inertial : bool
+            Whether to serialise the state-frame wrench and the acceleration too.
         """
         if not self.uses_attitude_topic:
             return IGNORED
-        return self._wrench(attitude.stamp, attitude.quaternion_xyzw, coefficients, False)
+        return self._wrench(attitude.stamp, attitude.quaternion_xyzw, coefficients, False, inertial)
 
     def undecodable(self, what: str, exc: UndecodableMessage) -> Outcome:
         """Bytes on the ``what`` input ('attitude', 'state') that are no message: counted as
@@ -135,7 +161,9 @@ class MessageHandler:
         self.estimator.rejections["undecodable"] += 1
         return Outcome(None, rejection=Rejection("undecodable", f"{what} message {exc}"))
 
-    def _wrench(self, stamp: Stamp, quaternion, coefficients: bool, state: bool) -> Outcome:
+    def _wrench(
+        self, stamp: Stamp, quaternion, coefficients: bool, state: bool, inertial: bool = False
+    ) -> Outcome:
         estimator = self.estimator
         try:
             sample = estimator.on_attitude(stamp_seconds(stamp), quaternion)
@@ -158,8 +186,38 @@ class MessageHandler:
                 sample.force_coefficients.tolist(),
                 sample.moment_coefficients.tolist(),
             )
+        inertial_cdr = acceleration_cdr = None
+        if inertial:
+            inertial_cdr, acceleration_cdr = self._inertial(stamp, sample)
         self._stamps = (self._stamps[1], stamp)
-        return Outcome(stamp, True, state, sample, None, None, wrench, coefficients_cdr)
+        return Outcome(
+            stamp,
+            True,
+            state,
+            sample,
+            None,
+            None,
+            wrench,
+            coefficients_cdr,
+            inertial_cdr,
+            acceleration_cdr,
+        )
+
+    def _inertial(self, stamp: Stamp, sample: WrenchSample) -> tuple:
+        """The state-frame wrench and (with a mass) the acceleration, as CDR bytes."""
+        settings = self.estimator.settings
+        force = sample.force_state_frame
+        frame = settings.state_frame
+        torque = sample.torque.tolist()
+        inertial = wrench_stamped_cdr(stamp.sec, stamp.nanosec, frame, force.tolist(), torque)
+        if settings.mass <= 0.0:
+            return inertial, None
+        angular = [0.0, 0.0, 0.0]
+        if settings.inertia is not None:
+            tensor = np.array(settings.inertia).reshape(3, 3)
+            angular = np.linalg.solve(tensor, sample.torque).tolist()
+        linear = (force / settings.mass).tolist()
+        return inertial, accel_stamped_cdr(stamp.sec, stamp.nanosec, frame, linear, angular)
 
     def next_stamp(self) -> float | None:
         """The stamp [s] the next wrench most likely has: the latest plus the latest interval

@@ -71,6 +71,19 @@ PARAMETERS = (
         [0.0, 0.0, 0.0],
         "centre of mass in the mesh frame [m]; torques are about it",
     ),
+    (
+        "mass",
+        0.0,
+        "satellite mass [kg] for the acceleration topic (the force over the mass); 0: the "
+        "topic is not published",
+    ),
+    (
+        "inertia",
+        [0.0] * 9,
+        "inertia tensor about the centre of mass, body frame, row-major 3 x 3 [kg m^2], "
+        "symmetric and positive definite, for the angular part of the acceleration topic "
+        "(inertia^-1 torque); all 0: angular part 0",
+    ),
     ("gsi_model", "sentman", "gas-surface model: " + ", ".join(MODELS)),
     ("alpha", 1.0, "energy accommodation coefficient [-] (used when accommodation_model is fixed)"),
     ("alpha_n", 1.0, "CLL normal energy accommodation [-]"),
@@ -206,6 +219,15 @@ PARAMETER_RANGES = {
         "1000 for kilometres",
     ),
     "center_of_mass": BOUNDS["offset"],
+    "mass": Bound(
+        0.0, 1e6, "kg", "a satellite's mass: the ISS is 420 t; 0 turns the acceleration off"
+    ),
+    "inertia": Bound(
+        -1e9,
+        1e9,
+        "kg m^2",
+        "each element of the tensor: the ISS's largest moment of inertia is about 1e8 kg m^2",
+    ),
     "alpha": Bound(0.0, 1.0, "", _ACCOMMODATION),
     "alpha_n": Bound(0.0, 1.0, "", _ACCOMMODATION),
     "sigma_n": Bound(

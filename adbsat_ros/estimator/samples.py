@@ -101,6 +101,8 @@ class WrenchSample:
         Whether the shading came from the cache (None without shading).
     compute_seconds : float
         Wall time spent computing this sample [s].
+    rotation : tuple of 9 float
+        The attitude: rotation from the body frame to the state frame, row-major.
     """
 
     stamp: float
@@ -117,11 +119,17 @@ class WrenchSample:
     flow_direction_body: np.ndarray
     shading_cache_hit: bool | None
     compute_seconds: float
+    rotation: tuple
 
     @property
     def conditions(self) -> FlightConditions:
         """Atmosphere, geodetic position and relative wind at the stamp (in full)."""
         return self.stamp_conditions.conditions
+
+    @property
+    def force_state_frame(self) -> np.ndarray:
+        """The force [N] in the state frame (ECI or ECEF): R force."""
+        return np.array(self.rotation).reshape(3, 3) @ self.force
 
     @property
     def drag_coefficient(self) -> float:
@@ -136,12 +144,13 @@ class WrenchSample:
         reference,
         stamp_conditions: StampConditions,
         compute_seconds: float,
+        rotation: tuple,
     ) -> WrenchSample:
         """The sample of a body at rest in the air: zero force, torque and flow direction.
 
         Parameters
         ----------
-        stamp, time, stamp_conditions, compute_seconds
+        stamp, time, stamp_conditions, compute_seconds, rotation
             As the fields.
         reference : Reference
             Its ``area`` [m^2] and ``length`` [m] are the sample's reference area and length.
@@ -161,4 +170,5 @@ class WrenchSample:
             flow_direction_body=np.zeros(3),
             shading_cache_hit=None,
             compute_seconds=compute_seconds,
+            rotation=rotation,
         )

@@ -9,6 +9,8 @@ import datetime as _dt
 from dataclasses import dataclass, fields
 from typing import NamedTuple
 
+import numpy as np
+
 from adbsat_ros.bounds import bounded
 from adbsat_ros.environment.accommodation import accommodation_model_names
 from adbsat_ros.estimator.parameters import (
@@ -81,6 +83,27 @@ def _vector3(values, name) -> tuple:
     return tuple(_within(f"{name}[{axis}]", x, rule) for axis, x in zip("xyz", value))
 
 
+def _inertia(values) -> tuple | None:
+    """The inertia tensor (9 numbers, row-major) checked: each in its range, symmetric and
+    positive definite; None when all are 0 (no angular acceleration)."""
+    value = values["inertia"]
+    if isinstance(value, str) or not hasattr(value, "__len__") or len(value) != 9:
+        raise ValueError(f"parameter inertia: expected 9 numbers (3 x 3, row-major), got {value!r}")
+    rule = PARAMETER_RANGES["inertia"]
+    tensor = tuple(_within(f"inertia[{i}]", x, rule) for i, x in enumerate(value))
+    if not any(tensor):
+        return None
+    matrix = np.array(tensor).reshape(3, 3)
+    if np.max(np.abs(matrix - matrix.T)) > 1e-9 * np.max(np.abs(matrix)):
+        raise ValueError(f"parameter inertia: the tensor must be symmetric, got {value!r}")
+    if np.linalg.eigvalsh(matrix).min() <= 0.0:
+        raise ValueError(
+            f"parameter inertia: the tensor must be positive definite (every principal moment "
+            f"> 0), got {value!r}"
+        )
+    return tensor
+
+
 def _flag(values, name) -> bool:
     """The boolean parameter ``name`` (a string such as "false" is not taken for True)."""
     value = values[name]
@@ -116,6 +139,8 @@ class WrenchSettings:
     mesh_accept_size: bool
     body_frame_id: str
     center_of_mass: tuple
+    mass: float
+    inertia: tuple | None
     gsi_model: str
     alpha: float
     alpha_n: float
@@ -197,6 +222,8 @@ class WrenchSettings:
             mesh_accept_size=_flag(v, "mesh_accept_size"),
             body_frame_id=str(v["body_frame_id"]).lstrip("/") or "body",
             center_of_mass=_vector3(v, "center_of_mass"),
+            mass=_number(v, "mass"),
+            inertia=_inertia(v),
             gsi_model=model,
             alpha=_number(v, "alpha"),
             alpha_n=_number(v, "alpha_n"),
@@ -271,6 +298,8 @@ class WrenchSettings:
                 value = value.isoformat()
             elif f.name == "ap_history":
                 value = list(value) if value else [0.0]
+            elif f.name == "inertia":
+                value = list(value) if value else [0.0] * 9
             elif f.name == "material_overrides":
                 value = list(value) or [""]
             elif isinstance(value, tuple):

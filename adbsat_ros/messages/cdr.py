@@ -190,6 +190,12 @@ def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> 
     return layout.pack(CDR_LE_HEADER, sec, nanosec, len(name), name, *force, *torque)
 
 
+def accel_stamped_cdr(sec: int, nanosec: int, frame_id: str, linear, angular) -> bytes:
+    """CDR bytes of a geometry_msgs/AccelStamped: a header and two Vector3 (linear [m/s^2],
+    angular [rad/s^2]), the layout of a WrenchStamped, so the same bytes."""
+    return wrench_stamped_cdr(sec, nanosec, frame_id, linear, angular)
+
+
 class DiagnosticFields(NamedTuple):
     """The fields of one diagnostic_msgs/DiagnosticStatus: level (OK 0, WARN 1, ERROR 2, STALE 3),
     name, message, hardware_id, and the values as (key, value) string pairs."""

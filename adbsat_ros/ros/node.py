@@ -14,6 +14,12 @@ Topics (relative names, remappable):
   subscriber): force coefficients in ``force`` and moment coefficients in ``torque``, body
   frame, about the centre of mass, normalised by the read-only parameters ``reference_area`` and
   ``reference_length``.
+* ``wrench_inertial`` (geometry_msgs/WrenchStamped, published with every wrench while it has a
+  subscriber): the force [N] in the state frame (frame_id ``eci`` or ``ecef``, the
+  ``state_frame``), the torque [N m] in the body frame, as torques are applied.
+* ``acceleration`` (geometry_msgs/AccelStamped, likewise, with a ``mass``): force / mass
+  [m/s^2] in the state frame and, with an ``inertia``, inertia^-1 torque [rad/s^2] in the body
+  frame.
 * ``/diagnostics`` (diagnostic_msgs/DiagnosticArray, every ``diagnostics_period`` s).
 
 The node is a shell around the per-message path it shares with the bag analysis
@@ -38,7 +44,7 @@ import time
 
 import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import QuaternionStamped, WrenchStamped
+from geometry_msgs.msg import AccelStamped, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
@@ -65,8 +71,7 @@ from adbsat_ros.physics.knudsen import knudsen_number
 from adbsat_ros.processes import stop_on_signals
 from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
 from adbsat_ros.ros.log_throttle import LogThrottle
-
-NODE_NAME = "adbsat_node"
+from adbsat_ros.ros.node_help import NODE_NAME, help_text
 
 
 class AdbsatNode(Node):
@@ -132,6 +137,27 @@ class AdbsatNode(Node):
             event_callbacks=PublisherEventCallbacks(matched=self._on_coefficients_matched),
         )
         self._coefficient_readers = self.coefficients_pub.get_subscription_count()
+        # for a propagator, while subscribed: the force in the state frame, and the acceleration
+        self._inertial_readers = {"wrench_inertial": 0, "acceleration": 0}
+        self.inertial_pub = self.create_publisher(
+            WrenchStamped,
+            "wrench_inertial",
+            qos,
+            event_callbacks=PublisherEventCallbacks(
+                matched=functools.partial(self._on_inertial_matched, "wrench_inertial")
+            ),
+        )
+        self.acceleration_pub = self.create_publisher(
+            AccelStamped,
+            "acceleration",
+            qos,
+            event_callbacks=PublisherEventCallbacks(
+                matched=functools.partial(self._on_inertial_matched, "acceleration")
+            ),
+        )
+        self._inertial_readers["wrench_inertial"] = self.inertial_pub.get_subscription_count()
+        self._inertial_readers["acceleration"] = self.acceleration_pub.get_subscription_count()
+        self._inertial = any(self._inertial_readers.values())
         self.diagnostics_pub = self.create_publisher(DiagnosticArray, "/diagnostics", 10)
         # the messages come in as CDR bytes, read by the struct codec (messages.cdr): rclpy
         # message objects would cost more than the wrench itself; rclpy's deserialiser reads the
@@ -176,6 +202,10 @@ class AdbsatNode(Node):
     def _on_coefficients_matched(self, info) -> None:
         self._coefficient_readers = info.current_count
 
+    def _on_inertial_matched(self, topic: str, info) -> None:
+        self._inertial_readers[topic] = info.current_count
+        self._inertial = any(self._inertial_readers.values())
+
     # ----------------------------------------------------------------------------- parameters
     def _parameter_values(self, changes=()) -> dict:
         values = {name: self.get_parameter(name).value for name, _, _ in PARAMETERS}
@@ -213,7 +243,7 @@ class AdbsatNode(Node):
         except UndecodableMessage as exc:
             self._serve(self.handler.undecodable("state", exc))
             return
-        outcome = self.handler.on_state(odometry, self._coefficient_readers > 0)
+        outcome = self.handler.on_state(odometry, self._coefficient_readers > 0, self._inertial)
         self._serve(outcome)
         if outcome.triggered:
             self._prepare_next()
@@ -229,7 +259,9 @@ class AdbsatNode(Node):
             self._serve(handler.undecodable("attitude", exc))
         else:
             self.attitude_gaps.stamp(stamp_seconds(attitude.stamp))
-            self._serve(handler.on_attitude(attitude, self._coefficient_readers > 0))
+            self._serve(
+                handler.on_attitude(attitude, self._coefficient_readers > 0, self._inertial)
+            )
         self._prepare_next()
 
     def _on_message_lost(self, status) -> None:
@@ -244,6 +276,10 @@ class AdbsatNode(Node):
             self.wrench_pub.publish(outcome.wrench_cdr)
             if outcome.coefficients_cdr is not None:
                 self.coefficients_pub.publish(outcome.coefficients_cdr)
+            if outcome.inertial_cdr is not None:
+                self.inertial_pub.publish(outcome.inertial_cdr)
+            if outcome.acceleration_cdr is not None:
+                self.acceleration_pub.publish(outcome.acceleration_cdr)
             self.health.sample_computed(sample.compute_seconds, sample)
             for listener in self._sample_listeners:
                 listener(sample)
@@ -334,39 +370,6 @@ def params_files(argv) -> list:
         elif ros and token == "--params-file":
             files.append(next(tokens, ""))
     return files
-
-
-#: The node's topics: (name, type, direction, meaning), for ``adbsat_node --help``.
-TOPICS = (
-    ("attitude", "geometry_msgs/QuaternionStamped", "in", "body orientation in the state frame"),
-    ("state", "nav_msgs/Odometry", "in", "orbital state, ECI or ECEF (state_frame)"),
-    ("wrench", "geometry_msgs/WrenchStamped", "out", "force [N], torque about the CoM [N m]"),
-    ("coefficients", "geometry_msgs/WrenchStamped", "out", "C_F and C_M (while subscribed)"),
-    ("/diagnostics", "diagnostic_msgs/DiagnosticArray", "out", "health, every period"),
-)
-
-
-def help_text() -> str:
-    """What ``adbsat_node --help`` prints: usage, topics, and every parameter with its default,
-    valid range and meaning."""
-    lines = [
-        f"usage: {NODE_NAME} [--help] --ros-args [--params-file FILE] [-p NAME:=VALUE ...]",
-        "",
-        "Aerodynamic force and torque of a satellite in free-molecular flow, for every attitude "
-        "message.",
-        "",
-        "topics:",
-    ]
-    lines += [f"  {n:<14} {d:<4} {t:<32} {m}" for n, t, d, m in TOPICS]
-    lines += ["", "parameters (config/adbsat.yaml documents each; read-only ones marked):"]
-    for name, default, text in PARAMETERS:
-        flags = " (read-only)" if name in READ_ONLY_PARAMETERS else ""
-        lines.append(f"  {name} = {default!r}{flags}")
-        lines.append(f"      {text}")
-        valid = parameter_range_text(name)
-        if valid:
-            lines.append(f"      valid: {valid}")
-    return "\n".join(lines)
 
 
 def main(args=None) -> int:

@@ -840,3 +840,55 @@ def test_help_prints_the_topics_and_parameters_and_exits():
         assert f"  {name} = {default!r}" in proc.stdout
         if parameter_range_text(name):
             assert f"valid: {parameter_range_text(name)}" in proc.stdout
+
+
+def test_the_propagator_outputs_are_the_wrench_in_the_state_frame_and_over_the_mass(ros):
+    """wrench_inertial: the body force turned by the attitude into the state frame (frame_id
+    the state frame's), the torque as in the body frame; acceleration: that force over the
+    mass, and the inertia's inverse times the torque. Published while subscribed."""
+    from geometry_msgs.msg import AccelStamped, WrenchStamped
+
+    node, peer = ros
+    inertia = [[12.0, 0.5, 0.0], [0.5, 20.0, -1.0], [0.0, -1.0, 25.0]]
+    result = node.set_parameters(
+        [
+            Parameter("mass", value=150.0),
+            Parameter("inertia", value=[x for row in inertia for x in row]),
+        ]
+    )
+    assert all(r.successful for r in result), [r.reason for r in result]
+    inertial, accel = [], []
+    peer.node.create_subscription(WrenchStamped, "wrench_inertial", inertial.append, 10)
+    peer.node.create_subscription(AccelStamped, "acceleration", accel.append, 10)
+    assert peer.spin_until(lambda: node.count_subscribers("acceleration") == 1)
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(0.0, pos, vel)
+    peer.spin_for(0.05)
+    angle = 0.7  # the body turned about z in ECI
+    q = (0.0, 0.0, math.sin(angle / 2), math.cos(angle / 2))
+    peer.send_attitude(0.01, q)
+    assert peer.spin_until(lambda: peer.wrenches and inertial and accel)
+    body = peer.wrenches[-1].wrench
+    rotation = np.array(
+        [
+            [math.cos(angle), -math.sin(angle), 0.0],
+            [math.sin(angle), math.cos(angle), 0.0],
+            [0, 0, 1],
+        ]
+    )
+    force_eci = rotation @ vec(body.force)
+    got = inertial[-1]
+    assert got.header.frame_id == "eci" and got.header.stamp == peer.wrenches[-1].header.stamp
+    scale = np.linalg.norm(force_eci)  # (components far below it carry its rounding)
+    np.testing.assert_allclose(vec(got.wrench.force), force_eci, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_array_equal(vec(got.wrench.torque), vec(body.torque))
+    a = accel[-1]
+    assert a.header.frame_id == "eci"
+    np.testing.assert_allclose(
+        vec(a.accel.linear), force_eci / 150.0, rtol=0, atol=1e-12 * scale / 150.0
+    )
+    expected = np.linalg.solve(np.array(inertia), vec(body.torque))
+    np.testing.assert_allclose(
+        vec(a.accel.angular), expected, rtol=0, atol=1e-12 * np.linalg.norm(expected)
+    )
+    assert np.linalg.norm(vec(a.accel.linear)) > 0.0

@@ -1,0 +1,46 @@
+"""What ``adbsat_node --help`` prints: its usage, topics, and every parameter with its default,
+valid range and meaning (from the one table of :mod:`adbsat_ros.estimator.parameters`)."""
+
+from __future__ import annotations
+
+from adbsat_ros.estimator.parameters import (
+    PARAMETERS,
+    READ_ONLY_PARAMETERS,
+    parameter_range_text,
+)
+
+NODE_NAME = "adbsat_node"
+
+#: The node's topics: (name, type, direction, meaning), for ``adbsat_node --help``.
+TOPICS = (
+    ("attitude", "geometry_msgs/QuaternionStamped", "in", "body orientation in the state frame"),
+    ("state", "nav_msgs/Odometry", "in", "orbital state, ECI or ECEF (state_frame)"),
+    ("wrench", "geometry_msgs/WrenchStamped", "out", "force [N], torque about the CoM [N m]"),
+    ("coefficients", "geometry_msgs/WrenchStamped", "out", "C_F and C_M (while subscribed)"),
+    ("wrench_inertial", "geometry_msgs/WrenchStamped", "out", "force in the state frame [N]"),
+    ("acceleration", "geometry_msgs/AccelStamped", "out", "force / mass [m/s^2] (with a mass)"),
+    ("/diagnostics", "diagnostic_msgs/DiagnosticArray", "out", "health, every period"),
+)
+
+
+def help_text() -> str:
+    """What ``adbsat_node --help`` prints: usage, topics, and every parameter with its default,
+    valid range and meaning."""
+    lines = [
+        f"usage: {NODE_NAME} [--help] --ros-args [--params-file FILE] [-p NAME:=VALUE ...]",
+        "",
+        "Aerodynamic force and torque of a satellite in free-molecular flow, for every attitude "
+        "message.",
+        "",
+        "topics:",
+    ]
+    lines += [f"  {n:<16} {d:<4} {t:<32} {m}" for n, t, d, m in TOPICS]
+    lines += ["", "parameters (config/adbsat.yaml documents each; read-only ones marked):"]
+    for name, default, text in PARAMETERS:
+        flags = " (read-only)" if name in READ_ONLY_PARAMETERS else ""
+        lines.append(f"  {name} = {default!r}{flags}")
+        lines.append(f"      {text}")
+        valid = parameter_range_text(name)
+        if valid:
+            lines.append(f"      valid: {valid}")
+    return "\n".join(lines)
