@@ -37,6 +37,8 @@ SUBCOMMANDS = {
     "simulate": "write a bag of a simulated flight (orbit state + attitude)",
     "bag": "analyse (and play or record) rosbag2 files",
     "demo": "run adbsat_node live on a simulated orbit and print, plot and save its wrenches",
+    "param": "list, get or set a running node's parameters (as ros2 param)",
+    "echo": "print a topic's messages (as ros2 topic echo)",
 }
 
 #: Options whose value is an angle list or range, which may begin with a minus sign.

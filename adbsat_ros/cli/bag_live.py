@@ -108,7 +108,7 @@ def configure_record(record) -> None:
     record.set_defaults(func=run_record, command="bag record")
 
 
-def _import_ros_module(name: str):
+def ros_module(name: str):
     """``adbsat_ros.ros.<name>``, or RosNotAvailable naming what is missing."""
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     try:
@@ -145,7 +145,7 @@ def _counts(counter) -> str:
 def run_play(args) -> int:
     """Run ``bag play``; returns the exit status."""
     try:
-        bag_play = _import_ros_module("bag_play")
+        bag_play = ros_module("bag_play")
         with _stop_on_sigterm() as stop:
             summary = bag_play.play(
                 args.bag,
@@ -172,7 +172,7 @@ def run_play(args) -> int:
 def run_record(args) -> int:
     """Run ``bag record``; returns the exit status."""
     try:
-        bag_record = _import_ros_module("bag_record")
+        bag_record = ros_module("bag_record")
         with _stop_on_sigterm() as stop:
             summary = bag_record.record(
                 args.out,

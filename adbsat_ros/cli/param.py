@@ -1,0 +1,60 @@
+"""``adbsat-ros param list|get|set NODE [NAME [VALUE]]``: a running node's parameters over the
+standard parameter services, for machines without the ``ros2`` command (needs rclpy)."""
+
+from __future__ import annotations
+
+import sys
+
+from adbsat_ros.cli.bag_live import RosNotAvailable, ros_module
+from adbsat_ros.cli.options import CommandLineError, positive_float
+
+
+def configure(p) -> None:
+    """Give the ``param`` subcommand's parser ``p`` its description and options."""
+    p.description = (
+        "List, get or set the parameters of a running ROS 2 node (e.g. adbsat_node) over its "
+        "parameter services, as `ros2 param` does; a rejected value prints the node's reason. "
+        "Needs rclpy; discovery stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE says "
+        "otherwise."
+    )
+    p.add_argument("action", choices=("list", "get", "set"), help="what to do")
+    p.add_argument("node", metavar="NODE", help="the node's name, e.g. adbsat_node (or /ns/name)")
+    p.add_argument("name", metavar="NAME", nargs="?", help="parameter name (get, set)")
+    p.add_argument(
+        "value", metavar="VALUE", nargs="?", help="value for set, read as YAML: 150, true, [1, 2]"
+    )
+    p.add_argument(
+        "--timeout",
+        type=positive_float("--timeout"),
+        default=5.0,
+        help="seconds to wait for the node (default 5)",
+    )
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """Run ``adbsat-ros param``; returns the exit status (1 if the node rejects or is absent)."""
+    if args.action in ("get", "set") and args.name is None:
+        raise CommandLineError(f"param {args.action}: NAME is needed")
+    if args.action == "set" and args.value is None:
+        raise CommandLineError("param set: VALUE is needed")
+    if args.action == "list" and args.name is not None:
+        raise CommandLineError("param list: takes no NAME")
+    try:
+        tools = ros_module("graph_tools")
+    except RosNotAvailable as exc:
+        print(f"adbsat-ros param: error: {exc}", file=sys.stderr)
+        return 1
+    try:
+        if args.action == "list":
+            for name, value in tools.list_parameters(args.node, args.timeout).items():
+                print(f"{name}: {value!r}")
+        elif args.action == "get":
+            print(repr(tools.get_parameter(args.node, args.name, args.timeout)))
+        else:
+            value = tools.set_parameter(args.node, args.name, args.value, args.timeout)
+            print(f"set {args.name} = {value!r}")
+    except tools.ToolError as exc:
+        print(f"adbsat-ros param: error: {exc}", file=sys.stderr)
+        return 1
+    return 0

@@ -1,0 +1,192 @@
+"""A running node's parameters and topics without the ``ros2`` command (pip-installed ROS 2 has
+none): list, get and set parameters over the standard parameter services, and print the
+messages of a topic.
+
+Each function makes its own rclpy context and node (``adbsat_ros_tool``), waits at most
+``timeout`` seconds for the other side, and takes everything down on return.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import time
+
+import yaml
+from rcl_interfaces.msg import ParameterType
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter, parameter_value_to_python
+from rclpy.parameter_client import AsyncParameterClient
+
+from adbsat_ros.bags.io import BagError
+from adbsat_ros.ros.graph import (
+    GRAPH_POLL_S,
+    absolute_topic,
+    close,
+    message_class,
+    start_context,
+)
+
+
+class ToolError(RuntimeError):
+    """What went wrong, in one line (no such node, a timeout, a rejected value)."""
+
+
+class _Tool:
+    """A node in a context of its own, and an executor of that context to spin it."""
+
+    def __init__(self):
+        self.context = start_context()
+        self.node = Node("adbsat_ros_tool", context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+
+    def spin_once(self) -> None:
+        self.executor.spin_once(timeout_sec=GRAPH_POLL_S)
+
+
+@contextlib.contextmanager
+def tool_node():
+    """A :class:`_Tool`, taken down on exit."""
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    tool = _Tool()
+    try:
+        yield tool
+    finally:
+        close(tool.node, tool.executor, tool.context)
+
+
+def _wait(tool, future, timeout: float, what: str):
+    deadline = time.monotonic() + timeout
+    while not future.done():
+        if time.monotonic() > deadline:
+            raise ToolError(f"{what}: no answer within {timeout:g} s")
+        tool.spin_once()
+    return future.result()
+
+
+def _client(tool, target: str, timeout: float) -> AsyncParameterClient:
+    client = AsyncParameterClient(tool.node, target)
+    deadline = time.monotonic() + timeout
+    while not client.services_are_ready():
+        if time.monotonic() > deadline:
+            raise ToolError(
+                f"node {target}: its parameter services did not appear within {timeout:g} s "
+                "(is it running, on this ROS_DOMAIN_ID?)"
+            )
+        tool.spin_once()
+    return client
+
+
+def list_parameters(target: str, timeout: float = 5.0) -> dict:
+    """Every parameter of node ``target`` and its value (Python values), by name."""
+    with tool_node() as tool:
+        client = _client(tool, target, timeout)
+        names = _wait(tool, client.list_parameters(), timeout, f"node {target}").result.names
+        values = _wait(tool, client.get_parameters(names), timeout, f"node {target}").values
+        found = {n: parameter_value_to_python(v) for n, v in zip(names, values)}
+        return dict(sorted(found.items()))
+
+
+def get_parameter(target: str, name: str, timeout: float = 5.0):
+    """The value of parameter ``name`` of node ``target``; ToolError if it has none."""
+    with tool_node() as tool:
+        client = _client(tool, target, timeout)
+        value = _wait(tool, client.get_parameters([name]), timeout, f"node {target}").values
+        if not value or value[0].type == ParameterType.PARAMETER_NOT_SET:
+            raise ToolError(f"node {target} has no parameter {name!r}")
+        return parameter_value_to_python(value[0])
+
+
+def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
+    """Set parameter ``name`` of node ``target`` to ``text`` read as YAML (as ``ros2 param set``
+    does: ``150`` a number, ``true`` a flag, ``[1, 2, 3]`` a list); returns the value set.
+
+    Raises
+    ------
+    ToolError
+        The node rejected it (its reason), or did not answer.
+    """
+    try:
+        value = yaml.safe_load(text)
+    except yaml.YAMLError:
+        value = text
+    if value is None:
+        value = text
+    with tool_node() as tool:
+        client = _client(tool, target, timeout)
+        result = _wait(
+            tool, client.set_parameters([Parameter(name, value=value)]), timeout, f"node {target}"
+        ).results[0]
+        if not result.successful:
+            raise ToolError(f"node {target} rejected {name}={text}: {result.reason}")
+        return value
+
+
+def _is_message_list(value) -> bool:
+    return (
+        isinstance(value, (list, tuple))
+        and bool(value)
+        and hasattr(value[0], "get_fields_and_field_types")
+    )
+
+
+def message_text(message, indent: str = "") -> str:
+    """A message as indented ``field: value`` lines (as ``ros2 topic echo`` prints)."""
+    lines = []
+    for field in message.get_fields_and_field_types():
+        value = getattr(message, field)
+        if hasattr(value, "get_fields_and_field_types"):
+            lines.append(f"{indent}{field}:")
+            lines.append(message_text(value, indent + "  "))
+        elif _is_message_list(value):
+            lines.append(f"{indent}{field}:")
+            for item in value:
+                body = message_text(item, indent + "  ").lstrip()
+                lines.append(f"{indent}- {body}")
+        else:
+            if isinstance(value, bytes):  # (a byte field, e.g. a diagnostic level: its number)
+                shown = value[0] if len(value) == 1 else list(value)
+            else:
+                shown = repr(value) if isinstance(value, str) else value
+            lines.append(f"{indent}{field}: {shown}")
+    return "\n".join(lines)
+
+
+def echo(topic: str, count: int, timeout: float, write) -> int:
+    """Print ``count`` messages of ``topic`` (of the type the graph gives it) with ``write``;
+    returns how many came, none more than ``timeout`` seconds after the one before.
+
+    Raises
+    ------
+    ToolError
+        The topic is not in the graph within ``timeout``, or its type is not installed.
+    """
+    topic = absolute_topic(topic)
+    with tool_node() as tool:
+        deadline = time.monotonic() + timeout
+        kind = None
+        while kind is None:
+            kinds = dict(tool.node.get_topic_names_and_types()).get(topic)
+            if kinds:
+                kind = kinds[0]
+            elif time.monotonic() > deadline:
+                raise ToolError(f"topic {topic}: not in the ROS graph within {timeout:g} s")
+            else:
+                tool.spin_once()
+        try:
+            message_type = message_class(kind, topic)
+        except BagError as exc:
+            raise ToolError(str(exc)) from None
+        received = []
+        tool.node.create_subscription(message_type, topic, received.append, 10)
+        printed = 0
+        deadline = time.monotonic() + timeout
+        while printed < count and time.monotonic() < deadline:
+            tool.spin_once()
+            while received and printed < count:
+                write(message_text(received.pop(0)) + "\n---")
+                printed += 1
+                deadline = time.monotonic() + timeout
+        return printed

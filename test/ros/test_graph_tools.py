@@ -1,0 +1,67 @@
+"""`adbsat-ros param` and `adbsat-ros echo` against a running adbsat_node process, with real
+rclpy: what `ros2 param` and `ros2 topic echo` do, without the ros2 command."""
+
+import pytest
+
+pytestmark = pytest.mark.ros
+pytest.importorskip("rclpy")
+
+import subprocess
+import sys
+import time
+
+from adbsat_ros.cli import main
+
+
+@pytest.fixture(scope="module")
+def node_process():
+    """adbsat_node (the example, no shading, /diagnostics every 0.2 s) as its own process."""
+    cmd = [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args"]
+    cmd += ["-p", "shading:=none", "-p", "diagnostics_period:=0.2"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline:  # up when it answers
+        if main(["param", "get", "adbsat_node", "mesh", "--timeout", "2"]) == 0:
+            break
+    yield proc
+    proc.terminate()
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+
+
+def test_param_gets_sets_and_shows_a_rejection(node_process, capsys):
+    capsys.readouterr()
+    assert main(["param", "get", "adbsat_node", "f107"]) == 0
+    assert capsys.readouterr().out.strip() == "150.0"
+    assert main(["param", "set", "adbsat_node", "f107", "200"]) == 0
+    assert capsys.readouterr().out.strip() == "set f107 = 200"
+    assert main(["param", "get", "adbsat_node", "f107"]) == 0
+    assert capsys.readouterr().out.strip() == "200"
+    assert main(["param", "set", "adbsat_node", "f107", "5000"]) == 1
+    err = capsys.readouterr().err
+    assert "rejected f107=5000" in err and "f107 must be in [50, 500] sfu" in err
+    assert main(["param", "get", "adbsat_node", "f107"]) == 0
+    assert capsys.readouterr().out.strip() == "200"  # the old value kept
+    assert main(["param", "list", "adbsat_node"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert "mesh: 'example'" in lines and "shading: 'none'" in lines
+    assert main(["param", "get", "adbsat_node", "no_such"]) == 1
+    assert "has no parameter 'no_such'" in capsys.readouterr().err
+
+
+def test_param_names_a_missing_node(capsys):
+    assert main(["param", "get", "nobody_here", "f107", "--timeout", "1"]) == 1
+    err = capsys.readouterr().err
+    assert "node nobody_here: its parameter services did not appear within 1 s" in err
+
+
+def test_echo_prints_the_diagnostics(node_process, capsys):
+    capsys.readouterr()
+    assert main(["echo", "/diagnostics", "--count", "2"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("\n---") == 2 and "status:" in out and "  name: 'adbsat_node" in out
+    assert "- level: 2" in out or "- level: 1" in out or "- level: 0" in out  # (a number)
+    assert main(["echo", "/no_such_topic", "--timeout", "1"]) == 1
+    assert "not in the ROS graph within 1 s" in capsys.readouterr().err
