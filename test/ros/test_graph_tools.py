@@ -19,16 +19,18 @@ def node_process():
     cmd = [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args"]
     cmd += ["-p", "shading:=none", "-p", "diagnostics_period:=0.2"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 30
-    while time.monotonic() < deadline:  # up when it answers
-        if main(["param", "get", "adbsat_node", "mesh", "--timeout", "2"]) == 0:
-            break
-    yield proc
-    proc.terminate()
-    try:
-        proc.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
+    try:  # (whatever happens, the process goes: a stray node would answer other tests)
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:  # up when it answers
+            if main(["param", "get", "adbsat_node", "mesh", "--timeout", "2"]) == 0:
+                break
+        yield proc
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
 
 
 def test_param_gets_sets_and_shows_a_rejection(node_process, capsys):

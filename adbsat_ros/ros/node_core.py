@@ -1,0 +1,361 @@
+"""The wrench node's interfaces and callbacks, shared by the plain node (:mod:`.node`) and the
+managed one (:mod:`.managed_node`): its parameters, the publishers and subscriptions, the
+per-message callbacks around the estimator's handler, parameter changes and /diagnostics.
+
+A class mixes :class:`WrenchNodeCore` into an rclpy ``Node`` (or ``LifecycleNode``) and calls
+:meth:`~WrenchNodeCore.declare_wrench_parameters`, then :meth:`~WrenchNodeCore.set_up` to load the
+set-up and make the interfaces (with the publisher factory it wants: lifecycle publishers publish
+only while active), and :meth:`~WrenchNodeCore.tear_down` to free them.
+"""
+
+from __future__ import annotations
+
+import functools
+import time
+
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import AccelStamped, QuaternionStamped, WrenchStamped
+from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
+
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.handling import MessageHandler, Outcome
+from adbsat_ros.estimator.health import OK, WARN, Health, StampGaps
+from adbsat_ros.estimator.parameters import (
+    PARAMETERS,
+    READ_ONLY_PARAMETERS,
+    parameter_range_text,
+)
+from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.geometry.mesh import MeshError
+from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
+from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
+from adbsat_ros.messages.stamps import stamp_seconds
+from adbsat_ros.physics.knudsen import knudsen_number
+from adbsat_ros.ros.log_throttle import LogThrottle
+
+
+class WrenchNodeCore:
+    """The wrench node's parameters, interfaces and callbacks (module docstring).
+
+    Attributes (once set up)
+    ------------------------
+    estimator : AeroWrenchEstimator
+        The node's logic without ROS.
+    handler : MessageHandler
+        The per-message path around it.
+    health : Health
+        What /diagnostics reports (latest state, rejection and sample; compute times).
+    """
+
+    #: Whether messages are served (a managed node serves them only while active).
+    serving = True
+
+    def declare_wrench_parameters(self) -> None:
+        """Declare every parameter of :data:`PARAMETERS` and the parameter-change callback."""
+        for name, default, text in PARAMETERS:
+            self.declare_parameter(
+                name,
+                default,
+                ParameterDescriptor(
+                    description=text,
+                    additional_constraints=parameter_range_text(name),
+                    read_only=name in READ_ONLY_PARAMETERS,
+                    # a number parameter takes an integer too (f107: 150 in a YAML file); the
+                    # settings check every value whatever its type
+                    dynamic_typing=_is_number(default),
+                ),
+            )
+        self.estimator = None
+        self._publishers_made, self._subscriptions_made = [], []
+        self._diag_timer = None
+        self.add_on_set_parameters_callback(self._on_set_parameters)
+
+    def set_up(self, create_publisher) -> None:
+        """Load the set-up the parameters give (mesh, models, shading: MeshError or ValueError
+        if it cannot be) and make the publishers (with ``create_publisher``, the node's own or
+        its lifecycle one), subscriptions and the diagnostics timer."""
+        settings = WrenchSettings.from_parameters(self._parameter_values())
+        self.estimator = AeroWrenchEstimator(settings)
+        self.handler = MessageHandler(self.estimator)
+        self.health = Health()
+        ref = self.estimator.method.reference
+        for name, value, text in (
+            (
+                "reference_area",
+                ref.area,
+                "A_ref of the coefficients topic [m^2] (half the wetted area)",
+            ),
+            ("reference_length", ref.length, "L_ref of the coefficients topic [m] (mesh x extent)"),
+        ):
+            if not self.has_parameter(name):
+                self.declare_parameter(
+                    name, value, ParameterDescriptor(description=text, read_only=True)
+                )
+        qos = QoSProfile(depth=settings.qos_depth, reliability=ReliabilityPolicy.RELIABLE)
+        self.wrench_pub = create_publisher(WrenchStamped, "wrench", qos)
+        # its subscribers counted by the middleware's matched events, not asked for per message
+        # (get_subscription_count costs 4-10 us, a few per cent of a wrench)
+        self._coefficient_readers = 0
+        self.coefficients_pub = create_publisher(
+            WrenchStamped,
+            "coefficients",
+            qos,
+            event_callbacks=PublisherEventCallbacks(matched=self._on_coefficients_matched),
+        )
+        self._coefficient_readers = self.coefficients_pub.get_subscription_count()
+        # for a propagator, while subscribed: the force in the state frame, and the acceleration
+        self._inertial_readers = {"wrench_inertial": 0, "acceleration": 0}
+        self.inertial_pub = create_publisher(
+            WrenchStamped,
+            "wrench_inertial",
+            qos,
+            event_callbacks=PublisherEventCallbacks(
+                matched=functools.partial(self._on_inertial_matched, "wrench_inertial")
+            ),
+        )
+        self.acceleration_pub = create_publisher(
+            AccelStamped,
+            "acceleration",
+            qos,
+            event_callbacks=PublisherEventCallbacks(
+                matched=functools.partial(self._on_inertial_matched, "acceleration")
+            ),
+        )
+        self._inertial_readers["wrench_inertial"] = self.inertial_pub.get_subscription_count()
+        self._inertial_readers["acceleration"] = self.acceleration_pub.get_subscription_count()
+        self._inertial = any(self._inertial_readers.values())
+        self.diagnostics_pub = create_publisher(DiagnosticArray, "/diagnostics", 10)
+        # the messages come in as CDR bytes, read by the struct codec (messages.cdr): rclpy
+        # message objects would cost more than the wrench itself; rclpy's deserialiser reads the
+        # rest. State first: when a state and an attitude wait together, the single-threaded
+        # executor takes them in the order the subscriptions were made, and the attitude wants
+        # the newest state.
+        self._odometry_message = functools.partial(deserialize_message, message_type=Odometry)
+        self._attitude_message = functools.partial(
+            deserialize_message, message_type=QuaternionStamped
+        )
+        # messages the middleware reports lost (where the RMW reports it), and attitudes missing
+        # from the stream by its stamps (StampGaps): both in /diagnostics
+        self.messages_lost = 0
+        self.attitude_gaps = StampGaps()
+        lost = SubscriptionEventCallbacks(message_lost=self._on_message_lost)
+        subscriptions = [
+            self.create_subscription(
+                Odometry, "state", self._on_state, qos, raw=True, event_callbacks=lost
+            ),
+            self.create_subscription(
+                QuaternionStamped,
+                "attitude",
+                self._on_attitude,
+                qos,
+                raw=True,
+                event_callbacks=lost,
+            ),
+        ]
+        self._sample_listeners: list = []
+        self._log_throttled = LogThrottle(self.get_logger())
+        self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
+        self._publishers_made = [
+            self.wrench_pub,
+            self.coefficients_pub,
+            self.inertial_pub,
+            self.acceleration_pub,
+            self.diagnostics_pub,
+        ]
+        self._subscriptions_made = subscriptions
+        mesh = self.estimator.mesh
+        source = (
+            f"coefficients from database {settings.database_path}"
+            if settings.coefficients_source == "database"
+            else f"shading {settings.shading}"
+        )
+        self.get_logger().info(
+            f"mesh {mesh.source}: {mesh.n_panels} panels; model {settings.gsi_model}, {source}; "
+            f"publishing '{self.resolve_topic_name('wrench')}' in frame '{settings.body_frame_id}'"
+        )
+
+    def tear_down(self, destroy_publisher) -> None:
+        """Destroy the publishers (with ``destroy_publisher``, the counterpart of the factory
+        given to :meth:`set_up`), subscriptions and timer, and drop the set-up."""
+        for publisher in self._publishers_made:
+            destroy_publisher(publisher)
+        for subscription in self._subscriptions_made:
+            self.destroy_subscription(subscription)
+        self._publishers_made, self._subscriptions_made = [], []
+        if self._diag_timer is not None:
+            self.destroy_timer(self._diag_timer)
+            self._diag_timer = None
+        self.estimator = None
+
+    @property
+    def coefficient_readers(self) -> int:
+        """Subscribers of the coefficients topic, as the middleware's matched events count them
+        (the topic is published only while there is one)."""
+        return self._coefficient_readers
+
+    def _on_coefficients_matched(self, info) -> None:
+        self._coefficient_readers = info.current_count
+
+    def _on_inertial_matched(self, topic: str, info) -> None:
+        self._inertial_readers[topic] = info.current_count
+        self._inertial = any(self._inertial_readers.values())
+
+    # ----------------------------------------------------------------------------- parameters
+    def _parameter_values(self, changes=()) -> dict:
+        values = {name: self.get_parameter(name).value for name, _, _ in PARAMETERS}
+        for p in changes:
+            values[p.name] = p.value
+        return values
+
+    def _on_set_parameters(self, params) -> SetParametersResult:
+        known = {name for name, _, _ in PARAMETERS}
+        relevant = [p for p in params if p.name in known]
+        if not relevant:
+            return SetParametersResult(successful=True)
+        try:
+            settings = WrenchSettings.from_parameters(self._parameter_values(relevant))
+            if self.estimator is None:  # (not set up yet: checked, used at set-up)
+                return SetParametersResult(successful=True)
+            self.estimator.apply_settings(settings)
+        except (ValueError, MeshError) as exc:
+            self.get_logger().warning(f"parameter change rejected: {exc}")
+            return SetParametersResult(successful=False, reason=str(exc))
+        if settings.diagnostics_period != self._diag_timer.timer_period_ns * 1e-9:
+            self._diag_timer.cancel()
+            self.destroy_timer(self._diag_timer)
+            self._diag_timer = self.create_timer(
+                settings.diagnostics_period, self._publish_diagnostics
+            )
+        self.get_logger().info(
+            "parameters changed: " + ", ".join(f"{p.name}={p.value}" for p in relevant)
+        )
+        return SetParametersResult(successful=True)
+
+    # ----------------------------------------------------------------------------- messages
+    def _on_state(self, raw: bytes) -> None:
+        """A state as the CDR bytes of a nav_msgs/Odometry."""
+        if not self.serving:
+            return
+        try:
+            odometry = decode_odometry(raw, self._odometry_message)
+        except UndecodableMessage as exc:
+            self._serve(self.handler.undecodable("state", exc))
+            return
+        outcome = self.handler.on_state(odometry, self._coefficient_readers > 0, self._inertial)
+        self._serve(outcome)
+        if outcome.triggered:
+            self._prepare_next()
+
+    def _on_attitude(self, raw: bytes) -> None:
+        """An attitude as the CDR bytes of a QuaternionStamped; then what the next stamp needs."""
+        handler = self.handler
+        if not (self.serving and handler.uses_attitude_topic):
+            return
+        try:
+            attitude = decode_attitude(raw, self._attitude_message)
+        except UndecodableMessage as exc:
+            self._serve(handler.undecodable("attitude", exc))
+        else:
+            self.attitude_gaps.stamp(stamp_seconds(attitude.stamp))
+            self._serve(
+                handler.on_attitude(attitude, self._coefficient_readers > 0, self._inertial)
+            )
+        self._prepare_next()
+
+    def _on_message_lost(self, status) -> None:
+        self.messages_lost += status.total_count_change
+
+    def _serve(self, outcome: Outcome) -> None:
+        """Publish what ``outcome`` holds, keep its health, log its rejection or failure."""
+        if outcome.state_accepted:
+            self.health.state_accepted(time.monotonic())
+        sample = outcome.sample
+        if sample is not None:
+            self.wrench_pub.publish(outcome.wrench_cdr)
+            if outcome.coefficients_cdr is not None:
+                self.coefficients_pub.publish(outcome.coefficients_cdr)
+            if outcome.inertial_cdr is not None:
+                self.inertial_pub.publish(outcome.inertial_cdr)
+            if outcome.acceleration_cdr is not None:
+                self.acceleration_pub.publish(outcome.acceleration_cdr)
+            self.health.sample_computed(sample.compute_seconds, sample)
+            for listener in self._sample_listeners:
+                listener(sample)
+        elif outcome.rejection is not None:
+            exc = outcome.rejection
+            self.health.rejected(exc.reason)
+            self._log_throttled(
+                "warning", exc.reason, f"input rejected ({exc.reason}): {exc.message}"
+            )
+        elif outcome.error is not None:
+            if outcome.triggered:
+                key, text = "compute_failed", "wrench computation failed"
+            else:
+                key, text = "state_failed", "state message failed"
+            self._log_throttled("error", key, f"{text}: {outcome.error!r}")
+
+    def _prepare_next(self) -> None:
+        """What the next regular attitude would wait for, now that the wrench is out."""
+        try:
+            self.handler.prepare_next()
+        except Exception as exc:  # never let it take the node down
+            self._log_throttled(
+                "error", "prepare_failed", f"preparing the next message failed: {exc!r}"
+            )
+
+    def add_sample_listener(self, callback) -> None:
+        """Call ``callback(sample)`` with every :class:`WrenchSample` published (in-process
+        users: the full flight conditions and coefficients behind each wrench, e.g. for a live
+        table)."""
+        self._sample_listeners.append(callback)
+
+    # ----------------------------------------------------------------------------- diagnostics
+    def diagnostic_fields(self) -> DiagnosticFields:
+        """The node's health and latest values: level, name, message, hardware id, key/values."""
+        est = self.estimator
+        health = self.health
+        values = est.diagnostic_values(health.last_sample, health.compute_ms())
+        values["messages_lost"] = self.messages_lost
+        values["attitudes_missing"] = self.attitude_gaps.missing
+        level, message = health.level(time.monotonic(), est.settings, sum(est.rejections.values()))
+        sample = health.last_sample
+        if sample is not None and sample.conditions.speed > 0.0:
+            kn = knudsen_number(
+                sample.conditions.atmosphere.total_number_density, est.method.reference.length
+            )
+            values["knudsen_number"] = kn
+            if kn < est.settings.knudsen_warning and level == OK:
+                level = WARN
+                message = (
+                    f"flow not free-molecular: Kn {kn:.3g} < knudsen_warning "
+                    f"{est.settings.knudsen_warning:g}"
+                )
+        return DiagnosticFields(
+            level=level,
+            name=f"{self.get_name()}: aerodynamic wrench",
+            message=message,
+            hardware_id=est.mesh.source,
+            values=tuple((k, str(v)) for k, v in values.items()),
+        )
+
+    def _publish_diagnostics(self) -> None:
+        # as CDR bytes: rclpy message objects for ~20 key/values cost 0.3-0.5 ms to build and
+        # serialise, up to 2 ms right after the process slept; a hold-up for the attitudes at 1 kHz
+        try:
+            sec, nanosec = self.get_clock().now().seconds_nanoseconds()
+            self.diagnostics_pub.publish(
+                diagnostic_array_cdr(sec, nanosec, "", [self.diagnostic_fields()])
+            )
+        except Exception as exc:  # diagnostics must never take the node down
+            self._log_throttled("error", "diagnostics_failed", f"diagnostics failed: {exc!r}")
+
+
+def _is_number(default) -> bool:
+    """Whether a parameter's default is a float or a list of floats."""
+    if isinstance(default, list):
+        return bool(default) and all(isinstance(x, float) for x in default)
+    return isinstance(default, float)
