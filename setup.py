@@ -75,6 +75,7 @@ setup(
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),
         (f"share/{PACKAGE}/config", package_files("config/*.yaml") + package_files("config/*.xml")),
+        (f"share/{PACKAGE}/launch", package_files("launch/*.launch.py")),
     ],
     install_requires=REQUIRES,
     extras_require={"ros": ROS_JAZZY, "test": TEST},

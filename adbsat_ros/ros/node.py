@@ -49,6 +49,7 @@ from adbsat_ros.estimator.settings import settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.processes import stop_on_signals
 from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
+from adbsat_ros.ros.managed_node import AdbsatLifecycleNode
 from adbsat_ros.ros.node_core import WrenchNodeCore
 from adbsat_ros.ros.node_help import NODE_NAME, help_text
 
@@ -93,8 +94,10 @@ def params_files(argv) -> list:
 def main(args=None) -> int:
     """Console script ``adbsat_node``: ``adbsat_node --ros-args --params-file config/adbsat.yaml``.
 
-    ``--help`` (before ``--ros-args``) prints :func:`help_text` and exits. Returns the exit
-    status: 0 after a shutdown or the help, 1 (one line on stderr) if the node cannot be set up.
+    ``--help`` (before ``--ros-args``) prints :func:`help_text` and exits; ``--managed`` runs the
+    managed (lifecycle) node (:mod:`.managed_node`), which waits for ``configure``. Returns the
+    exit status: 0 after a shutdown or the help, 1 (one line on stderr) if the node cannot be
+    set up.
     """
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     argv = sys.argv if args is None else args
@@ -102,6 +105,13 @@ def main(args=None) -> int:
     if "--help" in own or "-h" in own:
         print(help_text())
         return 0
+    unknown = [a for a in own if a != "--managed"]
+    if unknown:
+        print(
+            f"{NODE_NAME}: error: unknown option {unknown[0]!r} (--help, --managed)",
+            file=sys.stderr,
+        )
+        return 1
     for path in params_files(argv):  # checked here: rclpy ignores unknown names, and a missing
         try:  # file fails its init with a traceback
             settings_from_file(path, NODE_NAME)
@@ -110,23 +120,23 @@ def main(args=None) -> int:
             return 1
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
     with stop_on_signals() as stop:  # (a signal while the node is made stops it once made)
-        return _run(stop)
+        return _run(stop, managed="--managed" in own)
 
 
-def _run(stop) -> int:
-    """Make the node, spin it until ``stop`` or a shutdown, and take everything down in order;
-    the exit status."""
+def _run(stop, managed: bool = False) -> int:
+    """Make the node (the managed one with ``managed``), spin it until ``stop`` or a shutdown,
+    and take everything down in order; the exit status."""
     node = None
     try:
         try:
-            node = AdbsatNode()
+            node = AdbsatLifecycleNode() if managed else AdbsatNode()
         except (MeshError, ValueError, OSError) as exc:
             print(f"{NODE_NAME}: error: {exc}", file=sys.stderr)
             return 1
         except Exception as exc:  # e.g. a parameter of the wrong type in the params file
             print(f"{NODE_NAME}: error: {type(exc).__name__}: {exc}", file=sys.stderr)
             return 1
-        executor = make_executor(node.estimator.settings.executor)
+        executor = make_executor(node.get_parameter("executor").value)
         executor.add_node(node)
         # everything made so far (mesh, shading structures, imported modules) lives as long as the
         # process: move it out of the collector's generations, so that no collection the message

@@ -53,6 +53,9 @@ class WrenchNodeCore:
 
     #: Whether messages are served (a managed node serves them only while active).
     serving = True
+    #: A managed node takes changes of its set-up parameters (mesh, qos_depth ...) while
+    #: unconfigured; the plain node declares them read-only.
+    managed = False
 
     def declare_wrench_parameters(self) -> None:
         """Declare every parameter of :data:`PARAMETERS` and the parameter-change callback."""
@@ -63,7 +66,7 @@ class WrenchNodeCore:
                 ParameterDescriptor(
                     description=text,
                     additional_constraints=parameter_range_text(name),
-                    read_only=name in READ_ONLY_PARAMETERS,
+                    read_only=name in READ_ONLY_PARAMETERS and not self.managed,
                     # a number parameter takes an integer too (f107: 150 in a YAML file); the
                     # settings check every value whatever its type
                     dynamic_typing=_is_number(default),
@@ -216,6 +219,10 @@ class WrenchNodeCore:
         relevant = [p for p in params if p.name in known]
         if not relevant:
             return SetParametersResult(successful=True)
+        fixed = [p.name for p in relevant if p.name in READ_ONLY_PARAMETERS]
+        if fixed and self.estimator is not None:  # (a managed node while configured)
+            reason = f"parameter {fixed[0]}: changes only while the node is unconfigured"
+            return SetParametersResult(successful=False, reason=reason)
         try:
             settings = WrenchSettings.from_parameters(self._parameter_values(relevant))
             if self.estimator is None:  # (not set up yet: checked, used at set-up)

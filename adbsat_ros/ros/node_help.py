@@ -27,7 +27,10 @@ def help_text() -> str:
     """What ``adbsat_node --help`` prints: usage, topics, and every parameter with its default,
     valid range and meaning."""
     lines = [
-        f"usage: {NODE_NAME} [--help] --ros-args [--params-file FILE] [-p NAME:=VALUE ...]",
+        f"usage: {NODE_NAME} [--help] [--managed] --ros-args [--params-file FILE] "
+        "[-p NAME:=VALUE ...]",
+        "",
+        "--managed: the managed (lifecycle) node: configure, activate, deactivate, cleanup.",
         "",
         "Aerodynamic force and torque of a satellite in free-molecular flow, for every attitude "
         "message.",
