@@ -62,14 +62,7 @@ class AdbsatNode(WrenchNodeCore, Node):
     **node_kwargs
         Passed to ``rclpy.node.Node`` (e.g. ``context``, ``parameter_overrides``).
 
-    Attributes
-    ----------
-    estimator : AeroWrenchEstimator
-        The node's logic without ROS.
-    handler : MessageHandler
-        The per-message path around it.
-    health : Health
-        What /diagnostics reports (latest state, rejection and sample; compute times).
+    Its attributes (``estimator``, ``handler``, ``health``) are :class:`WrenchNodeCore`'s.
     """
 
     def __init__(self, **node_kwargs):
