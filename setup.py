@@ -49,6 +49,7 @@ ROS_JAZZY = [
     "ros-jazzy-nav-msgs>=5.3",
     "ros-jazzy-std-msgs>=5.3",
     "ros-jazzy-diagnostic-msgs>=5.3",
+    "ros-jazzy-visualization-msgs>=5.3",
 ]
 
 TEST = [

@@ -183,6 +183,12 @@ PARAMETERS = (
     ("qos_depth", 10, "history depth of subscriptions and publications"),
     ("diagnostics_period", 1.0, "period of /diagnostics messages [s]"),
     (
+        "marker_period",
+        1.0,
+        "period of the panel_marker topic [s] (the mesh coloured by panel pressure, for RViz), "
+        "published while it has a subscriber",
+    ),
+    (
         "executor",
         "events",
         "rclpy executor of adbsat_node: events (rclpy.experimental.EventsExecutor, about half "
@@ -290,6 +296,12 @@ PARAMETER_RANGES = {
         0.0, BOUNDS["speed"].high, "m/s", "at most the largest speed relative to the gas"
     ),
     "qos_depth": Bound(1.0, 10_000.0, "", "messages kept per topic: 10 s at 1 kHz"),
+    "marker_period": Bound(
+        0.1,
+        3_600.0,
+        "s",
+        "from 10 Hz (each picture takes tens of milliseconds to build) to once an hour",
+    ),
     "diagnostics_period": Bound(
         0.01,
         3_600.0,

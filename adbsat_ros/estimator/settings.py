@@ -177,6 +177,7 @@ class WrenchSettings:
     min_relative_speed: float
     qos_depth: int
     diagnostics_period: float
+    marker_period: float
     executor: str
     coefficients_source: str
     database_path: str
@@ -268,6 +269,7 @@ class WrenchSettings:
             min_relative_speed=_number(v, "min_relative_speed"),
             qos_depth=_number(v, "qos_depth"),
             diagnostics_period=_number(v, "diagnostics_period"),
+            marker_period=_number(v, "marker_period"),
             executor=_choice("executor", v["executor"], EXECUTORS),
             coefficients_source=_choice(
                 "coefficients_source", v["coefficients_source"], COEFFICIENT_SOURCES

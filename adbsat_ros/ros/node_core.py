@@ -13,6 +13,7 @@ from __future__ import annotations
 import functools
 import time
 
+from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import AccelStamped, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
@@ -20,6 +21,7 @@ from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
+from visualization_msgs.msg import Marker
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
@@ -74,7 +76,7 @@ class WrenchNodeCore:
             )
         self.estimator = None
         self._publishers_made, self._subscriptions_made = [], []
-        self._diag_timer = None
+        self._diag_timer = self._marker_timer = None
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
     def set_up(self, create_publisher) -> None:
@@ -132,6 +134,14 @@ class WrenchNodeCore:
         self._inertial_readers["acceleration"] = self.acceleration_pub.get_subscription_count()
         self._inertial = any(self._inertial_readers.values())
         self.diagnostics_pub = create_publisher(DiagnosticArray, "/diagnostics", 10)
+        self._marker_readers = 0
+        self.marker_pub = create_publisher(
+            Marker,
+            "panel_marker",
+            1,
+            event_callbacks=PublisherEventCallbacks(matched=self._on_marker_matched),
+        )
+        self._marker_readers = self.marker_pub.get_subscription_count()
         # the messages come in as CDR bytes, read by the struct codec (messages.cdr): rclpy
         # message objects would cost more than the wrench itself; rclpy's deserialiser reads the
         # rest. State first: when a state and an attitude wait together, the single-threaded
@@ -162,12 +172,14 @@ class WrenchNodeCore:
         self._sample_listeners: list = []
         self._log_throttled = LogThrottle(self.get_logger())
         self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
+        self._marker_timer = self.create_timer(settings.marker_period, self._publish_marker)
         self._publishers_made = [
             self.wrench_pub,
             self.coefficients_pub,
             self.inertial_pub,
             self.acceleration_pub,
             self.diagnostics_pub,
+            self.marker_pub,
         ]
         self._subscriptions_made = subscriptions
         mesh = self.estimator.mesh
@@ -189,9 +201,10 @@ class WrenchNodeCore:
         for subscription in self._subscriptions_made:
             self.destroy_subscription(subscription)
         self._publishers_made, self._subscriptions_made = [], []
-        if self._diag_timer is not None:
-            self.destroy_timer(self._diag_timer)
-            self._diag_timer = None
+        for timer in (self._diag_timer, self._marker_timer):
+            if timer is not None:
+                self.destroy_timer(timer)
+        self._diag_timer = self._marker_timer = None
         self.estimator = None
 
     @property
@@ -202,6 +215,9 @@ class WrenchNodeCore:
 
     def _on_coefficients_matched(self, info) -> None:
         self._coefficient_readers = info.current_count
+
+    def _on_marker_matched(self, info) -> None:
+        self._marker_readers = info.current_count
 
     def _on_inertial_matched(self, topic: str, info) -> None:
         self._inertial_readers[topic] = info.current_count
@@ -237,6 +253,10 @@ class WrenchNodeCore:
             self._diag_timer = self.create_timer(
                 settings.diagnostics_period, self._publish_diagnostics
             )
+        if settings.marker_period != self._marker_timer.timer_period_ns * 1e-9:
+            self._marker_timer.cancel()
+            self.destroy_timer(self._marker_timer)
+            self._marker_timer = self.create_timer(settings.marker_period, self._publish_marker)
         self.get_logger().info(
             "parameters changed: " + ", ".join(f"{p.name}={p.value}" for p in relevant)
         )
@@ -348,6 +368,25 @@ class WrenchNodeCore:
             hardware_id=est.mesh.source,
             values=tuple((k, str(v)) for k, v in values.items()),
         )
+
+    def _publish_marker(self) -> None:
+        """The panels coloured by the latest wrench's pressures, while someone subscribes."""
+        sample = self.health.last_sample
+        if not (self.serving and self._marker_readers) or sample is None:
+            return
+        if sample.coefficients is None:  # (at rest, or coefficients from a database)
+            return
+        try:
+            from adbsat_ros.ros.panel_marker import panel_marker  # (matplotlib: when first asked)
+
+            sec, nanosec = divmod(round(sample.stamp * 1e9), 1_000_000_000)
+            stamp = Time(sec=int(sec), nanosec=int(nanosec))
+            frame = self.estimator.settings.body_frame_id
+            self.marker_pub.publish(
+                panel_marker(self.estimator.mesh, sample.coefficients, frame, stamp)
+            )
+        except Exception as exc:  # the picture must never take the node down
+            self._log_throttled("error", "marker_failed", f"panel marker failed: {exc!r}")
 
     def _publish_diagnostics(self) -> None:
         # as CDR bytes: rclpy message objects for ~20 key/values cost 0.3-0.5 ms to build and

@@ -892,3 +892,35 @@ def test_the_propagator_outputs_are_the_wrench_in_the_state_frame_and_over_the_m
         vec(a.accel.angular), expected, rtol=0, atol=1e-12 * np.linalg.norm(expected)
     )
     assert np.linalg.norm(vec(a.accel.linear)) > 0.0
+
+
+def test_the_panel_marker_shows_every_panel_coloured_by_its_pressure(ros):
+    """panel_marker: one triangle per panel of the mesh, in the body frame, coloured as the
+    pressure picture colours the latest wrench's panels; published while subscribed."""
+    from visualization_msgs.msg import Marker
+
+    from adbsat_ros.plotting.panels import panel_colours
+
+    node, peer = ros
+    assert node.set_parameters([Parameter("marker_period", value=0.2)])[0].successful
+    markers = []
+    peer.node.create_subscription(Marker, "panel_marker", markers.append, 1)
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(0.0, pos, vel)
+    peer.spin_for(0.05)
+    peer.send_attitude(0.01, (0.0, 0.0, 0.0, 1.0))
+    assert peer.spin_until(lambda: bool(peer.wrenches))
+    assert peer.spin_until(lambda: bool(markers), timeout=5.0)
+    marker = markers[-1]
+    mesh = node.estimator.mesh
+    assert marker.type == Marker.TRIANGLE_LIST and marker.header.frame_id == "body"
+    assert len(marker.points) == len(marker.colors) == 3 * mesh.n_panels
+    np.testing.assert_allclose(
+        [(p.x, p.y, p.z) for p in marker.points[:6]], mesh.vertices[:2].reshape(-1, 3), atol=1e-12
+    )
+    colours = np.array([(c.r, c.g, c.b) for c in marker.colors[::3]])
+    assert np.all((colours >= 0.0) & (colours <= 1.0))
+    sample = node.health.last_sample.coefficients
+    expected, _, _ = panel_colours(sample.cp, sample.cos_delta, sample.lit_fraction)
+    np.testing.assert_allclose(colours, expected[:, :3], atol=1e-6)  # (float32 in the message)
+    assert len(np.unique(colours.round(3), axis=0)) > 10  # the pressures vary over the sphere

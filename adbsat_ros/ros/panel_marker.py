@@ -1,0 +1,51 @@
+"""The live picture of the load: the mesh as a visualization_msgs/Marker (a triangle list), each
+panel coloured by its pressure coefficient as ``adbsat-ros plot`` colours it
+(:func:`adbsat_ros.plotting.panels.panel_colours`: shaded panels grey, back faces pale), so RViz
+shows where the load acts.
+
+Building the message takes tens of milliseconds for 10,000 panels (rclpy message objects, one
+per vertex), so the node publishes it at a low rate, and only while it has a subscriber.
+"""
+
+from __future__ import annotations
+
+from geometry_msgs.msg import Point
+from std_msgs.msg import ColorRGBA
+from visualization_msgs.msg import Marker
+
+from adbsat_ros.plotting.panels import panel_colours
+
+
+def panel_marker(mesh, coefficients, frame_id: str, stamp) -> Marker:
+    """A TRIANGLE_LIST Marker of ``mesh`` coloured by the panels' c_p of ``coefficients``.
+
+    Parameters
+    ----------
+    mesh : PanelMesh
+        The panels [m], body frame.
+    coefficients : AeroCoefficients
+        The result whose ``cp``, ``cos_delta`` and ``lit_fraction`` colour the panels.
+    frame_id : str
+        The body frame's name.
+    stamp : builtin_interfaces/Time
+        The header stamp (the wrench's).
+    """
+    colours, _, _ = panel_colours(
+        coefficients.cp, coefficients.cos_delta, coefficients.lit_fraction
+    )
+    marker = Marker()
+    marker.header.frame_id = frame_id
+    marker.header.stamp = stamp
+    marker.ns = "panel_pressure"
+    marker.id = 0
+    marker.type = Marker.TRIANGLE_LIST
+    marker.action = Marker.ADD
+    marker.pose.orientation.w = 1.0
+    marker.scale.x = marker.scale.y = marker.scale.z = 1.0
+    marker.color.a = 1.0
+    marker.points = [
+        Point(x=float(x), y=float(y), z=float(z)) for x, y, z in mesh.vertices.reshape(-1, 3)
+    ]
+    per_panel = [ColorRGBA(r=float(r), g=float(g), b=float(b), a=1.0) for r, g, b, _ in colours]
+    marker.colors = [c for c in per_panel for _ in range(3)]
+    return marker
