@@ -343,7 +343,16 @@ def run_demo(
             f"published -> wrench received) p50 {result.latency_ms_p50:.2f} ms, "
             f"p99 {result.latency_ms_p99:.2f} ms"
         )
-        result.files = write_outputs(rows, Path(out_dir))
+        latest = [s for _, s in sorted(samples.items()) if s.coefficients is not None]
+        picture = None
+        if latest and node is not None:
+            sample = latest[-1]
+            picture = (
+                node.estimator.method,
+                sample.stamp_conditions.free_stream,
+                sample.coefficients,
+            )
+        result.files = write_outputs(rows, Path(out_dir), picture)
         say("wrote: " + ", ".join(str(p) for p in result.files))
     return result
 

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from adbsat_ros.plotting.panels import plot_panel_pressure
 from adbsat_ros.plotting.time_series import plot_time_series
 
 
@@ -113,8 +114,10 @@ def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult) -> list:
     return rows
 
 
-def write_outputs(rows, out_dir: Path) -> list:
-    """demo_wrench.csv and the time-series PNGs in out_dir; returns the paths."""
+def write_outputs(rows, out_dir: Path, picture=None) -> list:
+    """demo_wrench.csv and the time-series PNGs in out_dir and, with ``picture`` (the node's
+    panel method, the flow and the coefficients of its latest wrench), demo_panel_pressure.png:
+    the pressure picture the node's panel_marker topic shows live; returns the paths."""
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "demo_wrench.csv"
     with open(path, "w", newline="", encoding="utf-8") as fh:
@@ -133,4 +136,17 @@ def write_outputs(rows, out_dir: Path) -> list:
     plots = plot_time_series(
         table[:, col["time_s"]], {"adbsat_node (live)": run}, out_dir, prefix="demo_"
     )
+    if picture is not None:
+        method, flow, coefficients = picture
+        plots.append(
+            plot_panel_pressure(
+                method,
+                flow,
+                math.degrees(coefficients.aoa),
+                math.degrees(coefficients.aos),
+                None,
+                out_dir / "demo_panel_pressure.png",
+                result=coefficients,
+            )
+        )
     return [path, *plots]

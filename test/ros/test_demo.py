@@ -58,7 +58,7 @@ def test_demo_runs_prints_the_table_and_writes_csv_and_plots(tmp_path, capsys):
         assert 1e-12 < float(row["density_kg_m3"]) < 1e-9
         assert math.isfinite(float(row["latency_ms"])) and float(row["latency_ms"]) > 0
 
-    for name in ("force", "torque", "density", "drag_coefficient"):
+    for name in ("force", "torque", "density", "drag_coefficient", "panel_pressure"):
         png = out_dir / f"demo_{name}.png"
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000
     assert str(out_dir / "demo_force.png") in text
