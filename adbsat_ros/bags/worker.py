@@ -144,7 +144,7 @@ class WorkerModel:
         keys = ()
         if count != self._queries:
             self._queries = count
-            keys = (self.estimator.shading_cache.last_key,)
+            keys = self.estimator.shading_cache.last_keys
         reason = reason_text = None
         if outcome.rejection is not None:
             reason, reason_text = outcome.rejection.reason, outcome.rejection.message

@@ -114,6 +114,12 @@ PARAMETERS = (
     ("shading_samples", 16, "ray samples per panel for raycast shading"),
     ("shading_cache_resolution_deg", 0.25, "angular resolution of the shading cache [deg]"),
     ("shading_cache_size", 20000, "maximum number of flow directions kept in the shading cache"),
+    (
+        "shading_interpolation",
+        True,
+        "blend the cached shading of the three cell centres around the flow direction "
+        "(continuous in attitude) instead of the nearest cell's",
+    ),
     ("f107", 150.0, "F10.7 solar flux of the previous day [sfu]"),
     ("f107a", 150.0, "81-day average F10.7 [sfu]"),
     ("ap", 4.0, "daily geomagnetic Ap index [-]"),

@@ -155,6 +155,7 @@ class WrenchSettings:
     shading_samples: int
     shading_cache_resolution_deg: float
     shading_cache_size: int
+    shading_interpolation: bool
     f107: float
     f107a: float
     ap: float
@@ -247,6 +248,7 @@ class WrenchSettings:
             shading_samples=_number(v, "shading_samples"),
             shading_cache_resolution_deg=_number(v, "shading_cache_resolution_deg"),
             shading_cache_size=_number(v, "shading_cache_size"),
+            shading_interpolation=_flag(v, "shading_interpolation"),
             f107=_number(v, "f107"),
             f107a=_number(v, "f107a"),
             ap=_number(v, "ap"),

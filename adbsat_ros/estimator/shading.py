@@ -5,7 +5,6 @@ from __future__ import annotations
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.cache import ShadingCache
-from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.shading.shader import make_shader
 
 
@@ -18,7 +17,8 @@ class ShadingSource:
         The body's panels (mesh frame = body frame).
     settings : WrenchSettings
         ``shading`` (none, projection, raycast), ``shading_samples``,
-        ``shading_cache_resolution_deg`` and ``shading_cache_size``.
+        ``shading_cache_resolution_deg``, ``shading_cache_size`` and
+        ``shading_interpolation``.
     """
 
     def __init__(self, mesh: PanelMesh, settings: WrenchSettings):
@@ -30,6 +30,7 @@ class ShadingSource:
                 shader,
                 resolution_deg=settings.shading_cache_resolution_deg,
                 max_entries=settings.shading_cache_size,
+                interpolate=settings.shading_interpolation,
             )
 
     @staticmethod
@@ -40,6 +41,7 @@ class ShadingSource:
             settings.shading_samples,
             settings.shading_cache_resolution_deg,
             settings.shading_cache_size,
+            settings.shading_interpolation,
         )
 
     def lighting(self, flow_direction) -> tuple:
@@ -47,16 +49,16 @@ class ShadingSource:
 
         Returns
         -------
-        lighting : PanelLighting or None
+        lighting : PanelLighting, LightingBlend or None
             None without shading.
         hit : bool or None
-            Whether the cache had it (None without shading).
+            Whether the cache had every cell it read (None without shading).
         """
         if self.cache is None:
             return None, None
-        hits = self.cache.hits
-        lighting: PanelLighting = self.cache.lighting(flow_direction)
-        return lighting, self.cache.hits > hits
+        misses = self.cache.misses
+        lighting = self.cache.lighting(flow_direction)
+        return lighting, self.cache.misses == misses
 
     @property
     def hits(self) -> int:

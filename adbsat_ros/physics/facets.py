@@ -23,7 +23,7 @@ import numpy as np
 from adbsat_ros.geometry.frames import cross
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
-from adbsat_ros.shading.lighting import PanelLighting
+from adbsat_ros.shading.lighting import LightingBlend, PanelLighting
 
 #: Columns of the facet sums: W, W n (3), Q (3), Q x n (3).
 N_SUMS = 10
@@ -217,10 +217,17 @@ class Facets:
 
         Columns W_g = sum f_i A_i [m^2], W_g n_g, Q_g = sum f_i A_i (r_i + shift_i) [m^3] and
         Q_g x n_g, summed over the members i of each facet g (:attr:`all_lit` for None; the
-        latest lightings' from :attr:`lit_sums_cache`).
+        latest lightings' from :attr:`lit_sums_cache`; a :class:`LightingBlend`'s as the
+        weighted sum of its parts').
         """
         if lighting is None:
             return self.all_lit
+        if isinstance(lighting, LightingBlend):  # linear in the lit fractions and shifts
+            (w, first), *rest = lighting.parts
+            sums = w * self.lit_sums(first)
+            for w, part in rest:
+                sums += w * self.lit_sums(part)
+            return sums
         return self.lit_sums_cache.get(lighting, self._lit_sums_of)
 
     def surface_of(self, surface) -> PanelSurface | None:

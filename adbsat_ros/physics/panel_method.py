@@ -219,7 +219,7 @@ class PanelMethod:
             Flow direction(s) used for ``c`` (unit vectors, G).
         c, sigma, cp, ctau : ndarray, shape (N,) or (M, N)
             As returned by :meth:`panel_coefficients`.
-        lighting : PanelLighting, optional
+        lighting : PanelLighting or LightingBlend, optional
             Lit fractions and lit-centroid shifts (single direction only).
 
         Returns
@@ -268,7 +268,7 @@ class PanelMethod:
             Angle of attack and sideslip [rad] (frames module conventions).
         flow_direction : array_like, shape (3,), optional
             Direction of the gas motion relative to the body in G, instead of the angles.
-        lighting : PanelLighting, optional
+        lighting : PanelLighting or LightingBlend, optional
             Shading result for this flow direction (default: nothing occluded).
         surface : PanelSurface, optional
             Surface parameters overriding the materials' (see :meth:`surface_with`).

@@ -3,7 +3,8 @@
 Modules:
 
 - :mod:`~adbsat_ros.shading.lighting`: :class:`PanelLighting`, the result (lit fractions and
-  lit-centroid shifts, stored sparsely, read-only, with a content key).
+  lit-centroid shifts, stored sparsely, read-only, with a content key), and
+  :class:`LightingBlend`, a weighted mean of lightings.
 - :mod:`~adbsat_ros.shading.shader`: :class:`Shader` and :func:`make_shader`, the three modes
   (none, ADBSat's projection, ray cast) behind one interface.
 - :mod:`~adbsat_ros.shading.rays`: ray casting, one interface;
@@ -15,7 +16,9 @@ Modules:
   geometry of the plane normal to the flow.
 - :mod:`~adbsat_ros.shading.projection`: ADBSat's ``shadowAnaly``.
 - :mod:`~adbsat_ros.shading.cache` and :mod:`~adbsat_ros.shading.cube_map`: the shading cache,
-  keyed by cube-map cells of the flow direction, with a stated error bound.
+  keyed by cube-map cells of the flow direction, with a stated error bound;
+  :mod:`~adbsat_ros.shading.cell_triangles`: the triangles over the cell centres through which
+  it interpolates (:class:`~adbsat_ros.shading.lighting.LightingBlend`).
 
 Imports geometry only. Details and accuracy: docs/shading.md.
 """

@@ -134,3 +134,118 @@ class PanelLighting:
         out = np.zeros(self.n_panels, dtype=bool)
         out[self.shaded_index[self.shaded_fraction > 0.0]] = True
         return out
+
+
+class LightingBlend:
+    """A weighted mean of lightings: what the interpolating shading cache hands out.
+
+    The lit fraction of panel i is f_i = sum_k w_k f_k,i, and its lit-centroid shift
+    d_i = sum_k w_k f_k,i d_k,i / f_i: the panel method is linear in f_i and in f_i d_i, so its
+    result with the blend is the weighted mean of its results with the parts (the facet sums
+    of a blend are summed so, from the parts' stored sums).
+
+    Parameters
+    ----------
+    parts : sequence of (float, PanelLighting)
+        Weights (positive, summing to 1 within 1e-9) and lightings of one mesh.
+
+    Attributes
+    ----------
+    parts : tuple of (float, PanelLighting)
+    n_panels : int
+
+    Notes
+    -----
+    The per-panel view (:attr:`lit_fraction`, :attr:`shift_index`, ... as in
+    :class:`PanelLighting`) is made on first use, from :attr:`combined`.
+    """
+
+    def __init__(self, parts):
+        parts = tuple(parts)
+        weights = [w for w, _ in parts]
+        if not (weights and all(w > 0.0 for w in weights) and abs(sum(weights) - 1.0) <= 1e-9):
+            raise ValueError(f"blend weights must be positive and sum to 1, got {weights}")
+        sizes = {lighting.n_panels for _, lighting in parts}
+        if len(sizes) != 1:
+            raise ValueError(f"blended lightings must have one panel count, got {sorted(sizes)}")
+        self.parts = parts
+        self.n_panels = sizes.pop()
+        self._combined = None
+
+    @classmethod
+    def of(cls, parts) -> "PanelLighting | LightingBlend":
+        """The blend of ``parts``, or the one lighting itself if there is only one."""
+        if len(parts) == 1:
+            return parts[0][1]
+        return cls(parts)
+
+    def __repr__(self) -> str:
+        weights = ", ".join(f"{w:.3f}" for w, _ in self.parts)
+        return f"LightingBlend(n_panels={self.n_panels}, weights=({weights}))"
+
+    @property
+    def combined(self) -> PanelLighting:
+        """The blend as one :class:`PanelLighting` (made once)."""
+        if self._combined is None:
+            f = np.zeros(self.n_panels)
+            for w, lighting in self.parts:
+                f += w * lighting.lit_fraction
+            index = np.concatenate([lighting.shift_index for _, lighting in self.parts])
+            moments = np.concatenate(
+                [
+                    (w * lighting.shift_fraction)[:, None] * lighting.shift
+                    for w, lighting in self.parts
+                ]
+            )
+            index, inverse = np.unique(index, return_inverse=True)
+            summed = np.zeros((index.size, 3))
+            np.add.at(summed, inverse.reshape(-1), moments)
+            lit = f[index][:, None]
+            shift = np.divide(summed, lit, out=np.zeros_like(summed), where=lit > 0.0)
+            self._combined = PanelLighting(np.clip(f, 0.0, 1.0), index, shift)
+        return self._combined
+
+    @property
+    def key(self) -> bytes:
+        """Fingerprint of the content (that of :attr:`combined`)."""
+        return self.combined.key
+
+    @property
+    def lit_fraction(self) -> np.ndarray:
+        """Lit fraction of every panel, shape (N,), in [0, 1]."""
+        return self.combined.lit_fraction
+
+    @property
+    def shaded_index(self) -> np.ndarray:
+        """Panels not fully lit, ascending."""
+        return self.combined.shaded_index
+
+    @property
+    def shaded_fraction(self) -> np.ndarray:
+        """Their lit fractions."""
+        return self.combined.shaded_fraction
+
+    @property
+    def shift_index(self) -> np.ndarray:
+        """Panels with a lit-centroid shift."""
+        return self.combined.shift_index
+
+    @property
+    def shift(self) -> np.ndarray:
+        """Their shifts [m], G."""
+        return self.combined.shift
+
+    @property
+    def shift_fraction(self) -> np.ndarray:
+        """Lit fractions of the panels of :attr:`shift_index`."""
+        return self.combined.shift_fraction
+
+    @property
+    def shaded(self) -> np.ndarray:
+        """Boolean (N,): panels entirely in shadow."""
+        return self.combined.shaded
+
+    @property
+    def partly_lit(self) -> np.ndarray:
+        """Boolean (N,): panels partly in shadow."""
+        return self.combined.partly_lit

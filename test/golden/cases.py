@@ -243,12 +243,18 @@ DATABASE_CASES = (
 )
 
 PARAMS_FILES = {
-    "fixed": {"gsi_model": "sentman", "shading": "raycast", "center_of_mass": [0.1, 0.0, -0.05]},
+    "fixed": {
+        "gsi_model": "sentman",
+        "shading": "raycast",
+        "shading_interpolation": False,  # (the golden outputs were made with the nearest cell)
+        "center_of_mass": [0.1, 0.0, -0.05],
+    },
     "langmuir_cll": {
         "gsi_model": "cll",
         "alpha_n": 0.9,
         "sigma_t": 0.9,
         "shading": "projection",
+        "shading_interpolation": False,
         "accommodation_model": "langmuir",
         "conditions_step": 0.0,
     },
@@ -261,6 +267,7 @@ NODE_CASES = (
         {
             "mesh": "example",
             "shading": "raycast",
+            "shading_interpolation": False,
             "gsi_model": "sentman",
             "accommodation_model": "langmuir",
             "center_of_mass": [0.05, 0.01, -0.02],

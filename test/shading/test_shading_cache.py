@@ -151,7 +151,7 @@ def test_cached_answer_is_the_cell_centre_shading(shader, scene):
     cache = ShadingCache(shader, resolution_deg=1.0, max_entries=3)
     u = frames.flow_direction(math.radians(8.4), math.radians(-3.3))
     got = cache.lighting(u)
-    assert cache.last_key == cache.key(u)
+    assert cache.last_keys == (cache.key(u),)
     ref = shader.lighting(cache.centre(cache.key(u)))
     np.testing.assert_array_equal(got.lit_fraction, ref.lit_fraction)
     np.testing.assert_array_equal(got.shift_index, ref.shift_index)
@@ -160,7 +160,7 @@ def test_cached_answer_is_the_cell_centre_shading(shader, scene):
     # every query in a stored cell gets the stored lighting itself, also after other cells
     assert cache.lighting(u) is got
     back = cache.lighting(-u)
-    assert cache.last_key == cache.key(-u) != cache.key(u)
+    assert cache.last_keys == (cache.key(-u),) != (cache.key(u),)
     assert cache.lighting(u) is got and cache.lighting(-u) is back
     assert (cache.hits, cache.misses, cache.evictions) == (3, 2, 0)
     # three other cells later (max_entries = 3), u's cell was evicted: shaded again, same answer
@@ -216,12 +216,12 @@ def test_counters_and_the_bound(shader):
         unbounded.lighting(v)
     assert unbounded.evictions == 0 and len(unbounded) == len(set(keys)) == unbounded.misses
     cache.clear()
-    assert (len(cache), cache.hits, cache.misses, cache.evictions, cache.last_key) == (
+    assert (len(cache), cache.hits, cache.misses, cache.evictions, cache.last_keys) == (
         0,
         0,
         0,
         0,
-        None,
+        (),
     )
     with pytest.raises(ValueError, match="flow direction must be a finite non-zero 3-vector"):
         cache.lighting([0.0, np.nan, 1.0])

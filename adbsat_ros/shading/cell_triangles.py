@@ -1,0 +1,224 @@
+"""Triangles over the centres of the cube-map cells: where a direction lies between three centres.
+
+The shading cache computes the lighting of cube-map cell centres (:mod:`.cube_map`). Handing out
+the nearest centre's lighting makes every result a step function of the flow direction; weighing
+the lightings of the three centres around the direction makes it continuous. This module gives
+those three centres and their weights.
+
+**The triangles.** The 6 n^2 cell centres are the vertices of a triangulation of the sphere:
+
+* inside a face, every quad of four neighbouring centres (i, j), (i+1, j), (i+1, j+1), (i, j+1)
+  is cut along its (i, j)-(i+1, j+1) diagonal: 2 (n-1)^2 triangles per face;
+* along each of the 12 cube edges, the n edge centres of one face and their mirror images across
+  the edge (the edge centres of the other face: the cube map is symmetric under that reflection)
+  make n-1 quads, 2 triangles each;
+* at each of the 8 cube corners, the corner centres of the three faces make one triangle.
+
+That is 12 n^2 - 4 triangles, 2 V - 4 for V = 6 n^2 vertices as for any triangulation of the
+sphere (a test checks it, and that every direction lies in one of them).
+
+**The weights.** A direction u in the triangle of unit centres v_1, v_2, v_3 is
+u / s = lambda_1 v_1 + lambda_2 v_2 + lambda_3 v_3 with lambda_k >= 0 summing to 1 (s > 0): the
+barycentric coordinates of the point where u meets the triangle's plane. On an edge shared by two
+triangles both give the same two weights and 0 to the third vertex, so the weights are continuous
+functions of u on the whole sphere, and a linear function of u is reproduced exactly.
+
+**Point location.** Inside a face the gnomonic coordinates X = u_a / |u_k|, Y = u_b / |u_k| (the
+axes of :func:`.cube_map.direction_keys`) map great circles to straight lines, the centres to a
+rectangular grid (tan of the centre angles) and the triangles to halves of its rectangles: two
+bisections find the triangle, and its weights follow from the planar ones, mu_k, as
+lambda_k = mu_k |v_k'| / sum (v_k' = v_k / |v_k,k|, the gnomonic image of a centre). Directions
+outside the grid of their face (within half a cell of a cube edge) are tested against the edge
+and corner triangles around their cell.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+
+import numpy as np
+
+from adbsat_ros.shading.cube_map import direction_key, direction_keys, key_centres
+
+_QUARTER = 0.25 * math.pi
+
+
+class CellTriangulation:
+    """The triangles over the cube-map cell centres of ``n`` steps per face edge.
+
+    Parameters
+    ----------
+    n : int
+        Cube-map steps per face edge (:func:`.cube_map.cells_per_edge`), >= 1.
+
+    Attributes
+    ----------
+    n : int
+    border_triangles : ndarray of int64, shape (12 (n - 1) 2 + 8, 3)
+        Vertex keys of the triangles across cube edges and at cube corners.
+
+    Notes
+    -----
+    Only the edge and corner triangles are stored (O(n) memory); the triangles inside the faces
+    follow from the grid. :meth:`triangles` lists all of them (O(n^2), for tests and plots).
+    """
+
+    def __init__(self, n: int):
+        n = int(n)
+        if n < 1:
+            raise ValueError(f"n must be >= 1 cube-map steps per face edge, got {n!r}")
+        self.n = n
+        angles = -_QUARTER + (np.arange(n) + 0.5) * (0.5 * math.pi / n)
+        self._tan = np.tan(angles).tolist()  # gnomonic coordinate of the centre rows, ascending
+        self.border_triangles = _border_triangles(n)
+        self._border_vertices = key_centres(self.border_triangles.reshape(-1), n).reshape(-1, 3, 3)
+        self._border_of_key: dict = {}
+        for t, keys in enumerate(self.border_triangles.tolist()):
+            for key in keys:
+                self._border_of_key.setdefault(key, []).append(t)
+
+    # ------------------------------------------------------------------------------ queries
+    def locate(self, x: float, y: float, z: float) -> tuple:
+        """The three cell keys around direction (x, y, z) and the weights of their centres.
+
+        Parameters
+        ----------
+        x, y, z : float
+            A finite non-zero direction (need not be unit length), same frame as the keys.
+
+        Returns
+        -------
+        keys : tuple of 3 int
+        weights : tuple of 3 float
+            Non-negative, summing to 1 (within rounding): u / s = sum weights_k centre_k.
+        """
+        ax, ay, az = abs(x), abs(y), abs(z)
+        # the face of direction_key: first axis of largest |u_k|, then the others cyclically
+        if ax >= ay and ax >= az:
+            face, ak, a1, a2 = (x < 0.0), ax, y, z
+        elif ay >= az:
+            face, ak, a1, a2 = 2 + (y < 0.0), ay, z, x
+        else:
+            face, ak, a1, a2 = 4 + (z < 0.0), az, x, y
+        gx, gy = a1 / ak, a2 / ak
+        tan, n = self._tan, self.n
+        if n > 1 and tan[0] <= gx <= tan[-1] and tan[0] <= gy <= tan[-1]:
+            return self._inside_face(face, gx, gy)
+        return self._across_edges(x, y, z)
+
+    def _inside_face(self, face: int, gx: float, gy: float) -> tuple:
+        tan, n = self._tan, self.n
+        i = min(max(bisect.bisect_right(tan, gx) - 1, 0), n - 2)
+        j = min(max(bisect.bisect_right(tan, gy) - 1, 0), n - 2)
+        s = (gx - tan[i]) / (tan[i + 1] - tan[i])
+        t = (gy - tan[j]) / (tan[j + 1] - tan[j])
+        base = face * n * n
+        k00, k11 = base + i * n + j, base + (i + 1) * n + j + 1
+        if s >= t:  # triangle (i, j), (i+1, j), (i+1, j+1)
+            corners = ((i, j, 1.0 - s), (i + 1, j, s - t), (i + 1, j + 1, t))
+            keys = (k00, k00 + n, k11)
+        else:  # triangle (i, j), (i+1, j+1), (i, j+1)
+            corners = ((i, j, 1.0 - t), (i + 1, j + 1, s), (i, j + 1, t - s))
+            keys = (k00, k11, k00 + 1)
+        # planar weights mu to the weights of the unit centres: mu_k |v_k'|, normalised
+        scaled = [mu * math.sqrt(1.0 + tan[a] ** 2 + tan[b] ** 2) for a, b, mu in corners]
+        total = scaled[0] + scaled[1] + scaled[2]
+        return keys, (scaled[0] / total, scaled[1] / total, scaled[2] / total)
+
+    def _across_edges(self, x: float, y: float, z: float) -> tuple:
+        """Weights in the edge and corner triangles near the cell of (x, y, z): the one whose
+        smallest weight is largest (>= 0 up to rounding: the test suite checks it)."""
+        key = direction_key(x, y, z, self.n)
+        near = set(self._border_of_key.get(key, ()))
+        for t in list(near):  # and one ring further
+            for vertex in self.border_triangles[t].tolist():
+                near.update(self._border_of_key.get(vertex, ()))
+        if not near:  # n = 1: the corner triangles only
+            near = set(range(len(self.border_triangles)))
+        candidates = np.fromiter(near, dtype=np.int64)
+        weights = _barycentric(self._border_vertices[candidates], np.array([x, y, z]))
+        best = int(np.argmax(weights.min(axis=1)))
+        w = np.clip(weights[best], 0.0, None)
+        w /= w.sum()
+        return tuple(self.border_triangles[candidates[best]].tolist()), tuple(w.tolist())
+
+    # ------------------------------------------------------------------------------ listing
+    def triangles(self) -> np.ndarray:
+        """Vertex keys of every triangle, shape (12 n^2 - 4, 3)."""
+        n = self.n
+        i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
+        k00 = (i * n + j).reshape(-1)
+        k11 = k00 + n + 1
+        per_face = np.concatenate(
+            [np.stack([k00, k00 + n, k11], axis=1), np.stack([k00, k11, k00 + 1], axis=1)]
+        )
+        faces = [per_face + f * n * n for f in range(6)]
+        return np.concatenate([*faces, self.border_triangles])
+
+
+def _barycentric(vertices: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Weights (M, 3) of direction u in M triangles of vertices (M, 3, 3), each row summing to 1
+    (lambda_k proportional to det of u with the two other vertices, over det(v_1, v_2, v_3));
+    -inf in the rows of triangles that face away from u."""
+    v1, v2, v3 = vertices[:, 0], vertices[:, 1], vertices[:, 2]
+    volume = np.einsum("ij,ij->i", v1, np.cross(v2, v3))
+    w = np.stack(
+        [
+            np.cross(v2, v3) @ u,
+            np.cross(v3, v1) @ u,
+            np.cross(v1, v2) @ u,
+        ],
+        axis=1,
+    )
+    w /= volume[:, None]
+    total = w.sum(axis=1, keepdims=True)
+    # a triangle on the far side of the sphere (total <= 0) holds no weights for u
+    return np.divide(w, total, out=np.full_like(w, -np.inf), where=total > 0.0)
+
+
+def _border_triangles(n: int) -> np.ndarray:
+    """Vertex keys of the triangles across the 12 cube edges and at the 8 corners."""
+    faces = []
+    for face in range(6):
+        k = face // 2
+        sign = -1.0 if face % 2 else 1.0
+        for along_first, at_end in ((True, False), (True, True), (False, False), (False, True)):
+            # the edge cells of this face on one cube edge, in order along the edge
+            fixed = n - 1 if at_end else 0
+            rows = [(fixed, m) if along_first else (m, fixed) for m in range(n)]
+            keys = [face * n * n + a * n + b for a, b in rows]
+            # the neighbouring face: the axis this edge leans to, with its sign
+            axis = (k + 1) % 3 if along_first else (k + 2) % 3
+            other = 2 * axis + (0 if at_end else 1)
+            normal = np.zeros(3)
+            normal[k] = sign
+            normal[axis] = -1.0 if at_end else 1.0
+            normal /= math.sqrt(2.0)
+            faces.append((face, other, keys, normal))
+    triangles, corners = [], set()
+    for face, other, keys, normal in faces:
+        centres = key_centres(np.array(keys), n)
+        mirrored = centres - 2.0 * (centres @ normal)[:, None] * normal
+        images = direction_keys(mirrored, n).tolist()
+        if face < other:  # each cube edge once
+            for m in range(n - 1):
+                a, b, c, d = keys[m], keys[m + 1], images[m + 1], images[m]
+                triangles += [(a, b, c), (a, c, d)]
+        for end in (0, n - 1):  # the corner cells of this edge: their triangle, once
+            corners.add((keys[end], images[end]))
+    return np.array(triangles + _corner_triangles(corners), dtype=np.int64).reshape(-1, 3)
+
+
+def _corner_triangles(pairs: set) -> list:
+    """The 8 corner triangles from the (corner cell, its image across an edge) pairs."""
+    neighbours: dict = {}
+    for a, b in pairs:
+        neighbours.setdefault(a, set()).add(b)
+        neighbours.setdefault(b, set()).add(a)
+    found = set()
+    for a, others in neighbours.items():
+        for b in others:
+            for c in neighbours[b] & others:
+                found.add(tuple(sorted((a, b, c))))
+    return sorted(found)
