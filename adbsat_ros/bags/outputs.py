@@ -41,14 +41,14 @@ def _umask() -> int:
 class _CsvFile:
     """The CSV written under a temporary name beside ``path``, put there by :meth:`commit`."""
 
-    def __init__(self, path: Path, labels):
+    def __init__(self, path: Path, labels, solar=()):
         self.path = path
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, self.tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial", dir=path.parent)
         # mkstemp makes it 0600; the file the user gets follows their umask, as open's would
         os.chmod(fd, 0o666 & ~_umask())
         self.file = os.fdopen(fd, "w", newline="", encoding="utf-8")
-        csv.writer(self.file).writerow(header(labels))
+        csv.writer(self.file).writerow(header(labels, solar))
 
     def commit(self, path: Path | None = None) -> Path:
         """Close the file and move it to ``path`` (default its own); returns where it is."""
@@ -128,6 +128,15 @@ class _Walk:
             ]
             self.coefficient_connections = [
                 writer.connection(s.summary.coefficients_topic, bag_io.WRENCH_STAMPED)
+                for s in self.states
+            ]
+            self.solar_connections = [
+                (
+                    writer.connection(s.summary.solar_topic, bag_io.WRENCH_STAMPED),
+                    writer.connection(s.summary.total_topic, bag_io.WRENCH_STAMPED),
+                )
+                if s.settings.solar_pressure
+                else None
                 for s in self.states
             ]
 
@@ -215,6 +224,10 @@ class _Walk:
                             writer.write_raw(
                                 self.coefficient_connections[k], t_ns, record.coefficients_cdr
                             )
+                        if record.solar_cdr is not None:
+                            solar, total = self.solar_connections[k]
+                            writer.write_raw(solar, t_ns, record.solar_cdr)
+                            writer.write_raw(total, t_ns, record.total_cdr)
                 t1 = pc()
                 seconds["write"] += t1 - t0
                 sec, nanosec = row.stamp_sec, row.stamp_nanosec  # (as decoded, either way)
@@ -273,7 +286,9 @@ def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
     csv_file = None
     try:
         if out_csv is not None:
-            csv_file = _CsvFile(out_csv, [s.label for s in states])
+            csv_file = _CsvFile(
+                out_csv, [s.label for s in states], [s.settings.solar_pressure for s in states]
+            )
         walk = _Walk(replay, writer, csv_file, seconds, keep_plot_rows=plots_dir is not None)
         walk.run(outputs.progress, stop)
         if report.error is not None:  # kept, under names that say so

@@ -43,6 +43,8 @@ class ModelSummary:
     label : str
     wrench_topic, coefficients_topic : str
         Its output topics.
+    solar_topic, total_topic : str
+        Its output topics of the solar and the total wrench (written with ``solar_pressure``).
     triggers : int
         Messages that asked it for a wrench (attitudes, or states with ``attitude_source``
         odometry).
@@ -57,6 +59,8 @@ class ModelSummary:
     label: str
     wrench_topic: str
     coefficients_topic: str
+    solar_topic: str
+    total_topic: str
     triggers: int = 0
     wrenches: int = 0
     rejections: dict = field(default_factory=dict)
@@ -65,7 +69,14 @@ class ModelSummary:
     @classmethod
     def of_label(cls, label: str) -> "ModelSummary":
         """An empty summary of the model ``label``, with its topics."""
-        return cls(label, f"{NAMESPACE}/{label}/wrench", f"{NAMESPACE}/{label}/coefficients")
+        topic = f"{NAMESPACE}/{label}"
+        return cls(
+            label,
+            f"{topic}/wrench",
+            f"{topic}/coefficients",
+            f"{topic}/solar_wrench",
+            f"{topic}/total_wrench",
+        )
 
 
 @dataclass

@@ -2,7 +2,8 @@
 
 One row per message that asked some model for a wrench (attitudes; states for models whose
 ``attitude_source`` is odometry): the columns :data:`COMMON_COLUMNS`, then per model ``LABEL``
-the group :data:`MODEL_COLUMNS` prefixed with ``LABEL.``. Numbers are written with ``repr``
+the group :data:`MODEL_COLUMNS` (and :data:`SOLAR_COLUMNS` with ``solar_pressure`` on) prefixed
+with ``LABEL.``. Numbers are written with ``repr``
 (exact round trip); a model without a wrench for the message has its status (the rejection
 reason, or empty if the message was not for it) and NaN.
 """
@@ -44,6 +45,17 @@ MODEL_COLUMNS = (
     "torque_y_Nm",
     "torque_z_Nm",
 )
+#: Columns appended to the group of a model with ``solar_pressure`` on: the fraction of the solar
+#: disc visible past the Earth, and the solar radiation force and torque (body frame).
+SOLAR_COLUMNS = (
+    "sun_lit_fraction",
+    "solar_force_x_N",
+    "solar_force_y_N",
+    "solar_force_z_N",
+    "solar_torque_x_Nm",
+    "solar_torque_y_Nm",
+    "solar_torque_z_Nm",
+)
 #: The columns of MODEL_COLUMNS plotted (force, torque, density, drag coefficient), in order.
 PLOT_COLUMNS = (
     "force_x_N",
@@ -58,11 +70,18 @@ PLOT_COLUMNS = (
 _PLOT_INDEX = [MODEL_COLUMNS.index(c) for c in PLOT_COLUMNS]
 _NAN_CELLS = ",nan" * (len(MODEL_COLUMNS) - 1)
 _NAN_PLOT = [math.nan] * len(PLOT_COLUMNS)
+_NAN_SOLAR = ",nan" * len(SOLAR_COLUMNS)
 
 
-def header(labels) -> list:
-    """The CSV header for the models ``labels``."""
-    return list(COMMON_COLUMNS) + [f"{label}.{c}" for label in labels for c in MODEL_COLUMNS]
+def header(labels, solar=()) -> list:
+    """The CSV header for the models ``labels`` (``solar``: per model, whether it has the
+    :data:`SOLAR_COLUMNS`; none by default)."""
+    solar = tuple(solar) or (False,) * len(labels)
+    return list(COMMON_COLUMNS) + [
+        f"{label}.{c}"
+        for label, has_solar in zip(labels, solar, strict=True)
+        for c in (MODEL_COLUMNS + SOLAR_COLUMNS if has_solar else MODEL_COLUMNS)
+    ]
 
 
 def row_values(status: str, sample) -> list:
@@ -96,18 +115,30 @@ def row_values(status: str, sample) -> list:
     ]
 
 
-def model_cells(outcomes) -> tuple[str, list]:
+def solar_values(sample) -> list:
+    """The :data:`SOLAR_COLUMNS` of a WrenchSample with a solar wrench."""
+    solar = sample.solar
+    return [float(solar.lit_fraction), *solar.force.tolist(), *solar.torque.tolist()]
+
+
+def model_cells(outcomes, solar=()) -> tuple[str, list]:
     """The models' cells of one row as CSV text, and their plot numbers (PLOT_COLUMNS per model,
-    in order), from each model's :class:`~adbsat_ros.estimator.handling.Outcome`."""
+    in order), from each model's :class:`~adbsat_ros.estimator.handling.Outcome` (``solar`` as
+    in :func:`header`)."""
     cells, plot = [], []
-    for outcome in outcomes:
+    solar = tuple(solar) or (False,) * len(outcomes)
+    for outcome, has_solar in zip(outcomes, solar, strict=True):
         sample = outcome.sample
         if sample is None:
             status = outcome.status
             cells.append(("" if status is None else status) + _NAN_CELLS)
+            if has_solar:
+                cells[-1] += _NAN_SOLAR
             plot.extend(_NAN_PLOT)
         else:
             values = row_values("ok", sample)
+            if has_solar:
+                values += solar_values(sample)
             cells.append(",".join(["ok", *map(repr, values[1:])]))
             plot.extend(values[i] for i in _PLOT_INDEX)
     return ",".join(cells), plot

@@ -39,6 +39,7 @@ class SampleNumbers(NamedTuple):
     speed_ratio: float
     alpha: float
     drag_coefficient: float
+    solar_diagnostics: dict | None = None
 
     @property
     def conditions(self) -> "SampleNumbers":
@@ -57,6 +58,7 @@ class SampleNumbers(NamedTuple):
             float(c.speed_ratio),
             float(c.alpha),
             float(sample.drag_coefficient),
+            sample.solar_diagnostics,
         )
 
 
@@ -80,7 +82,9 @@ class MessageRecord(NamedTuple):
     wrench_cdr, coefficients_cdr : bytes or None
         The wrench and coefficient messages to write.
     cache_keys : tuple
-        The shading-cache cells queried for it (at most one).
+        The shading-cache cells read for it (one, three when interpolating, or none).
+    solar_cdr, total_cdr : bytes or None
+        The solar and total wrench messages to write (with ``solar_pressure``).
     """
 
     state_accepted: bool = False
@@ -93,6 +97,8 @@ class MessageRecord(NamedTuple):
     wrench_cdr: bytes | None = None
     coefficients_cdr: bytes | None = None
     cache_keys: tuple = ()
+    solar_cdr: bytes | None = None
+    total_cdr: bytes | None = None
 
 
 class Row(NamedTuple):
@@ -169,6 +175,8 @@ class WorkerModel:
             wrench_cdr=outcome.wrench_cdr,
             coefficients_cdr=outcome.coefficients_cdr,
             cache_keys=keys,
+            solar_cdr=outcome.solar_cdr,
+            total_cdr=outcome.total_cdr,
         )
 
 
@@ -183,6 +191,7 @@ class Worker:
 
     def __init__(self, specs):
         self.models = [WorkerModel(settings, mesh) for settings, mesh in specs]
+        self.solar = tuple(settings.solar_pressure for settings, _ in specs)
 
     def run(self, chunk) -> ChunkResult:
         """Replay ``chunk``, (kinds, CDR bytes) of consecutive trigger messages."""
@@ -206,7 +215,7 @@ class Worker:
                 return ChunkResult(records, rows, exc.reason)
             row = None
             if any(o.triggered for o in outcomes):
-                cells, plot = model_cells(outcomes)
+                cells, plot = model_cells(outcomes, self.solar)
                 row = Row(
                     stamp.sec, stamp.nanosec, utc_text(utc_of, stamp_seconds(stamp)), cells, plot
                 )

@@ -52,7 +52,9 @@ def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
         reference area [m^2] and length [m], the database's path, speed ratio and error bounds,
         ``compute_ms_p50``/``p99``/``max``, the latest conditions (``density_kg_m3``,
         ``temperature_K``, ``altitude_m``, ``relative_speed_m_s``, ``speed_ratio``, ``alpha``,
-        ``drag_coefficient``) and ``rejected_<reason>`` for each rejection counted.
+        ``drag_coefficient``), with ``solar_pressure`` the latest solar wrench
+        (``solar_lit_fraction``, ``solar_pressure_Pa``, ``solar_force_N``, ``solar_torque_N_m``
+        and ``aero_force_N`` beside it) and ``rejected_<reason>`` for each rejection counted.
     """
     s = estimator.settings
     knots = estimator.knots
@@ -92,6 +94,7 @@ def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
             alpha=c.alpha,
             drag_coefficient=last_sample.drag_coefficient,
         )
+        values.update(last_sample.solar_diagnostics or {})
     for reason in sorted(estimator.rejections):
         values[f"rejected_{reason}"] = estimator.rejections[reason]
     return values

@@ -35,6 +35,7 @@ from adbsat_ros.estimator.samples import OrbitalState, Rejection, WrenchSample
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.estimator.shading import ShadingSource
 from adbsat_ros.estimator.state import checked_rotation, checked_state, jumps_back, odometry_inputs
+from adbsat_ros.estimator.sunlight import SolarPressureSource
 from adbsat_ros.estimator.timing import stamp_utc
 from adbsat_ros.geometry.frames import unit_vector
 from adbsat_ros.geometry.loading import resolve_mesh
@@ -83,6 +84,7 @@ class AeroWrenchEstimator:
         self._last_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
         self._shading: ShadingSource | None = None
+        self._solar: SolarPressureSource | None = None
         self._database: DatabaseCoefficients | None = None
         self.settings = None
         self.method = None
@@ -104,11 +106,18 @@ class AeroWrenchEstimator:
         shading = self._shading
         if database is None and (shading is None or shading.key != ShadingSource.key_of(settings)):
             shading = ShadingSource(self.mesh, settings)
+        solar = None
+        if settings.solar_pressure:
+            old = None if self._solar is None else self._solar.shading
+            solar = SolarPressureSource(
+                method, settings, conditions.options.orientation_options, old
+            )
         if self.knots is None:
             self.knots = KnotGrid(settings.conditions_step, conditions)
         else:  # the knots of the old settings go, the counters run on
             self.knots.configure(settings.conditions_step, conditions)
         self.method, self._shading, self._database = method, shading, database
+        self._solar = solar
         self.weather = conditions.weather
         self.settings = settings
 
@@ -271,6 +280,8 @@ class AeroWrenchEstimator:
         t0 = time.perf_counter()
         try:
             sample = self._sample(stamp, quaternion_xyzw, t0)
+            if self._solar is not None:
+                sample = self._solar.with_sunlight(sample, t0)
             if not all(map(math.isfinite, [*sample.force.tolist(), *sample.torque.tolist()])):
                 raise Rejection("compute_error", "the wrench is not finite: nothing published")
         except Rejection as exc:

@@ -61,6 +61,10 @@ class Outcome(NamedTuple):
         When asked for and a ``mass`` is set: CDR bytes of a geometry_msgs/AccelStamped, the
         non-gravitational acceleration force / mass [m/s^2] in the state frame and, with an
         ``inertia``, the angular acceleration inertia^-1 torque [rad/s^2] in the body frame.
+        (With ``solar_pressure`` on, these two carry the total of both wrenches.)
+    solar_cdr, total_cdr : bytes or None
+        With ``solar_pressure`` on: CDR bytes of the solar radiation pressure WrenchStamped and
+        of the aerodynamic plus solar one, body frame, stamped like the message.
     """
 
     stamp: Stamp | None
@@ -73,6 +77,8 @@ class Outcome(NamedTuple):
     coefficients_cdr: bytes | None = None
     inertial_cdr: bytes | None = None
     acceleration_cdr: bytes | None = None
+    solar_cdr: bytes | None = None
+    total_cdr: bytes | None = None
 
     @property
     def reason(self) -> str | None:
@@ -186,9 +192,16 @@ class MessageHandler:
                 sample.force_coefficients.tolist(),
                 sample.moment_coefficients.tolist(),
             )
-        inertial_cdr = acceleration_cdr = None
+        inertial_cdr = acceleration_cdr = solar_cdr = total_cdr = None
         if inertial:
             inertial_cdr, acceleration_cdr = self._inertial(stamp, sample)
+        if sample.solar is not None:
+            solar_cdr = wrench_stamped_cdr(
+                sec, nanosec, frame, sample.solar.force.tolist(), sample.solar.torque.tolist()
+            )
+            total_cdr = wrench_stamped_cdr(
+                sec, nanosec, frame, sample.total_force.tolist(), sample.total_torque.tolist()
+            )
         self._stamps = (self._stamps[1], stamp)
         return Outcome(
             stamp,
@@ -201,21 +214,24 @@ class MessageHandler:
             coefficients_cdr,
             inertial_cdr,
             acceleration_cdr,
+            solar_cdr,
+            total_cdr,
         )
 
     def _inertial(self, stamp: Stamp, sample: WrenchSample) -> tuple:
-        """The state-frame wrench and (with a mass) the acceleration, as CDR bytes."""
+        """The state-frame wrench and (with a mass) the acceleration, as CDR bytes: of the
+        aerodynamic wrench, plus the solar one with ``solar_pressure`` on."""
         settings = self.estimator.settings
-        force = sample.force_state_frame
+        force = np.array(sample.rotation).reshape(3, 3) @ sample.total_force
         frame = settings.state_frame
-        torque = sample.torque.tolist()
+        torque = sample.total_torque.tolist()
         inertial = wrench_stamped_cdr(stamp.sec, stamp.nanosec, frame, force.tolist(), torque)
         if settings.mass <= 0.0:
             return inertial, None
         angular = [0.0, 0.0, 0.0]
         if settings.inertia is not None:
             tensor = np.array(settings.inertia).reshape(3, 3)
-            angular = np.linalg.solve(tensor, sample.torque).tolist()
+            angular = np.linalg.solve(tensor, sample.total_torque).tolist()
         linear = (force / settings.mass).tolist()
         return inertial, accel_stamped_cdr(stamp.sec, stamp.nanosec, frame, linear, angular)
 

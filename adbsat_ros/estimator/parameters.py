@@ -91,6 +91,17 @@ PARAMETERS = (
     ("sigma_t", 1.0, "tangential momentum accommodation [-] (schaaf, storch, cll)"),
     ("wall_temperature", 300.0, "wall temperature [K]"),
     (
+        "specular_reflectivity",
+        0.0,
+        "fraction of sunlight reflected specularly [-] (solar radiation pressure)",
+    ),
+    (
+        "diffuse_reflectivity",
+        0.0,
+        "fraction of sunlight reflected diffusely [-] (solar radiation pressure); the two "
+        "reflectivities sum to at most 1, the rest is absorbed",
+    ),
+    (
         "material_overrides",
         [""],
         "per-material values, 'NAME:key=value,key=value' (keys as the parameters above)",
@@ -109,6 +120,13 @@ PARAMETERS = (
         "accommodation_model",
         "fixed",
         "fixed (use alpha), langmuir, goodman or sesam (alpha from the atmosphere)",
+    ),
+    (
+        "solar_pressure",
+        False,
+        "also compute the solar radiation pressure (sun from an ephemeris, Earth's shadow, the "
+        "body's own shading of sunlit panels): published as solar_wrench, and with the "
+        "aerodynamic wrench as total_wrench",
     ),
     ("shading", "raycast", "shading mode: none, projection (ADBSat), raycast (exact)"),
     ("shading_samples", 16, "ray samples per panel for raycast shading"),
@@ -217,6 +235,10 @@ PARAMETERS = (
 #: Largest conditions_step [s]: 770 m of orbit, interpolation error still below about 1e-7.
 MAX_CONDITIONS_STEP = 0.1
 
+_REFLECTIVITY = (
+    "a fraction of the incident sunlight: 0 absorbed, 1 all reflected (the specular and diffuse "
+    "fractions together at most 1)"
+)
 _ACCOMMODATION = "an accommodation coefficient: 0 none (specular reflection), 1 full (diffuse)"
 _DAY = "a day: a longer time is no longer about the live stream"
 
@@ -251,6 +273,8 @@ PARAMETER_RANGES = {
         high_open=True,
     ),
     "sigma_t": Bound(0.0, 1.0, "", _ACCOMMODATION),
+    "specular_reflectivity": Bound(0.0, 1.0, "", _REFLECTIVITY),
+    "diffuse_reflectivity": Bound(0.0, 1.0, "", _REFLECTIVITY),
     "wall_temperature": BOUNDS["wall_temperature"],
     "shading_samples": Bound(
         1.0,

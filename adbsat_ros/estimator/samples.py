@@ -67,6 +67,33 @@ class OrbitalState:
     __hash__ = None
 
 
+@dataclass(frozen=True, eq=False)
+class SolarSample:
+    """The solar radiation pressure wrench at one message.
+
+    Attributes
+    ----------
+    force, torque : ndarray, shape (3,)
+        Force [N] and torque about the centre of mass [N m], body frame.
+    sun_direction_body : ndarray, shape (3,)
+        Unit vector from the satellite towards the Sun, body frame.
+    lit_fraction : float
+        Fraction of the solar disc visible past the Earth, in [0, 1] (0 in umbra).
+    pressure : float
+        Solar radiation pressure at the Sun's distance, before the shadow [Pa].
+    area_lit : float
+        Sunlit area of the body projected normal to the Sun's direction, before the shadow
+        [m^2] (0 in umbra, where it is not computed).
+    """
+
+    force: np.ndarray
+    torque: np.ndarray
+    sun_direction_body: np.ndarray
+    lit_fraction: float
+    pressure: float
+    area_lit: float
+
+
 @dataclass(eq=False)
 class WrenchSample:
     """The aerodynamic wrench at one attitude message.
@@ -103,6 +130,8 @@ class WrenchSample:
         Wall time spent computing this sample [s].
     rotation : tuple of 9 float
         The attitude: rotation from the body frame to the state frame, row-major.
+    solar : SolarSample or None
+        The solar radiation pressure wrench (with ``solar_pressure`` on; None otherwise).
     """
 
     stamp: float
@@ -120,11 +149,38 @@ class WrenchSample:
     shading_cache_hit: bool | None
     compute_seconds: float
     rotation: tuple
+    solar: SolarSample | None = None
 
     @property
     def conditions(self) -> FlightConditions:
         """Atmosphere, geodetic position and relative wind at the stamp (in full)."""
         return self.stamp_conditions.conditions
+
+    @property
+    def solar_diagnostics(self) -> dict | None:
+        """The solar wrench's diagnostic values (None without one): ``solar_lit_fraction``,
+        ``solar_pressure_Pa``, the magnitudes ``solar_force_N``, ``solar_torque_N_m`` and, to
+        compare, ``aero_force_N``."""
+        solar = self.solar
+        if solar is None:
+            return None
+        return {
+            "solar_lit_fraction": float(solar.lit_fraction),
+            "solar_pressure_Pa": float(solar.pressure),
+            "solar_force_N": float(np.linalg.norm(solar.force)),
+            "solar_torque_N_m": float(np.linalg.norm(solar.torque)),
+            "aero_force_N": float(np.linalg.norm(self.force)),
+        }
+
+    @property
+    def total_force(self) -> np.ndarray:
+        """Aerodynamic plus solar radiation force [N], body frame."""
+        return self.force if self.solar is None else self.force + self.solar.force
+
+    @property
+    def total_torque(self) -> np.ndarray:
+        """Aerodynamic plus solar radiation torque [N m] about the centre of mass, body frame."""
+        return self.torque if self.solar is None else self.torque + self.solar.torque
 
     @property
     def force_state_frame(self) -> np.ndarray:

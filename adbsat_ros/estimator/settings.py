@@ -144,6 +144,8 @@ class WrenchSettings:
     gsi_model: str
     alpha: float
     alpha_n: float
+    specular_reflectivity: float
+    diffuse_reflectivity: float
     sigma_n: float
     sigma_t: float
     wall_temperature: float
@@ -151,6 +153,7 @@ class WrenchSettings:
     incident_temperature: str
     adbsat_compat: bool
     accommodation_model: str
+    solar_pressure: bool
     shading: str
     shading_samples: int
     shading_cache_resolution_deg: float
@@ -229,6 +232,8 @@ class WrenchSettings:
             gsi_model=model,
             alpha=_number(v, "alpha"),
             alpha_n=_number(v, "alpha_n"),
+            specular_reflectivity=_number(v, "specular_reflectivity"),
+            diffuse_reflectivity=_number(v, "diffuse_reflectivity"),
             sigma_n=_number(v, "sigma_n"),
             sigma_t=_number(v, "sigma_t"),
             wall_temperature=_number(v, "wall_temperature"),
@@ -244,6 +249,7 @@ class WrenchSettings:
                 str(v["accommodation_model"]).lower(),
                 accommodation_model_names(),
             ),
+            solar_pressure=_flag(v, "solar_pressure"),
             shading=_choice("shading", v["shading"], SHADING_MODES),
             shading_samples=_number(v, "shading_samples"),
             shading_cache_resolution_deg=_number(v, "shading_cache_resolution_deg"),
@@ -283,6 +289,12 @@ class WrenchSettings:
             raise ValueError(
                 f"parameters eci_frame_ids and ecef_frame_ids: '{sorted(both)[0]}' names both "
                 "frames"
+            )
+        reflected = settings.specular_reflectivity + settings.diffuse_reflectivity
+        if reflected > 1.0:
+            raise ValueError(
+                "parameters specular_reflectivity and diffuse_reflectivity: they sum to "
+                f"{reflected:g}; at most 1 of the sunlight can be reflected"
             )
         if settings.coefficients_source == "database" and not settings.database_path:
             raise ValueError("parameter database_path: needed when coefficients_source is database")
@@ -338,6 +350,8 @@ def materials_from_settings(settings: WrenchSettings) -> MaterialTable:
         sigma_n=settings.sigma_n,
         sigma_t=settings.sigma_t,
         wall_temperature=settings.wall_temperature,
+        specular_reflectivity=settings.specular_reflectivity,
+        diffuse_reflectivity=settings.diffuse_reflectivity,
     )
     try:
         return MaterialTable.from_texts(default, settings.material_overrides)

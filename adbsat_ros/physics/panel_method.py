@@ -210,6 +210,26 @@ class PanelMethod:
         )
 
     # ------------------------------------------------------------------------------ integration
+    def integrate_facets(self, u, c, cp, shear, lighting=None):
+        """Sum facet loads into force and moment coefficients in G (meshes with :attr:`facets`).
+
+        Parameters
+        ----------
+        u : ndarray, shape (3,)
+            Unit direction of the incoming gas or light (G).
+        c, cp, shear : ndarray, shape (G,)
+            cos(delta) = -u . n, c_p and c_tau / sin(delta) of every facet.
+        lighting : PanelLighting or LightingBlend, optional
+
+        Returns
+        -------
+        Cf_G, Cm_G : ndarray, shape (3,)
+        area_projected : float
+            Lit projected area [m^2].
+        """
+        return self._facet_totals(u, facet_rows(c, cp, shear), lighting)
+
+    # ------------------------------------------------------------------------------ integration
     def integrate(self, u_G, c, sigma, cp, ctau, lighting: PanelLighting | None = None):
         """Sum panel loads into force and moment coefficients in G.
 

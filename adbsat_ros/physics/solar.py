@@ -91,17 +91,21 @@ def solar_coefficients(
         raise ValueError(f"sun_direction must be a finite non-zero 3-vector, got {sun_direction!r}")
     s = s / norm
     u = -s  # photons travel away from the sun
-    c = -(method.mesh.normals @ u)
-    np.clip(c, -1.0, 1.0, out=c)
-    sigma = sine_of_incidence(u, method.mesh.normals, c)
-    rho_s = method.surface.specular_reflectivity
-    rho_d = method.surface.diffuse_reflectivity
-    lit = c > 0.0
-    cs = np.where(lit, (1.0 - rho_s) * c, 0.0)
-    cn = np.where(lit, 2.0 * (rho_d * c / 3.0 + rho_s * c * c), 0.0)
-    cp = cn + cs * c
-    ctau = cs * sigma
-    Cf_G, Cm_G, area_lit = method.integrate(u, c, sigma, cp, ctau, lighting)
+    facets = method.facets
+    surface = None if facets is None else facets.surface_of(method.surface)
+    if surface is not None:  # one plate per facet of coplanar panels of one material
+        c = u @ facets.inward_normals_T
+        np.clip(c, -1.0, 1.0, out=c)
+        cs, cp = _luthcke(c, surface.specular_reflectivity, surface.diffuse_reflectivity)
+        # c_tau / sin(theta) = c_s: the shear along (u + c n) / sin(theta)
+        Cf_G, Cm_G, area_lit = method.integrate_facets(u, c, cp, cs, lighting)
+    else:
+        c = -(method.mesh.normals @ u)
+        np.clip(c, -1.0, 1.0, out=c)
+        sigma = sine_of_incidence(u, method.mesh.normals, c)
+        surface = method.surface
+        cs, cp = _luthcke(c, surface.specular_reflectivity, surface.diffuse_reflectivity)
+        Cf_G, Cm_G, area_lit = method.integrate(u, c, sigma, cp, cs * sigma, lighting)
     return SolarCoefficients(
         sun_direction=s,
         Cf_G=Cf_G,
@@ -110,3 +114,11 @@ def solar_coefficients(
         Cm_S=frames.L_GB @ Cm_G,
         area_lit=float(area_lit),
     )
+
+
+def _luthcke(c, rho_s, rho_d) -> tuple:
+    """c_s and c_p = c_n + c_s c of plates at cos(theta) = c (0 where c <= 0)."""
+    lit = c > 0.0
+    cs = np.where(lit, (1.0 - rho_s) * c, 0.0)
+    cn = np.where(lit, 2.0 * (rho_d * c / 3.0 + rho_s * c * c), 0.0)
+    return cs, cn + cs * c

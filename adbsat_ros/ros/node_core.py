@@ -133,6 +133,9 @@ class WrenchNodeCore:
         self._inertial_readers["wrench_inertial"] = self.inertial_pub.get_subscription_count()
         self._inertial_readers["acceleration"] = self.acceleration_pub.get_subscription_count()
         self._inertial = any(self._inertial_readers.values())
+        # with solar_pressure on: the solar radiation wrench, and the sum of both
+        self.solar_pub = create_publisher(WrenchStamped, "solar_wrench", qos)
+        self.total_pub = create_publisher(WrenchStamped, "total_wrench", qos)
         self.diagnostics_pub = create_publisher(DiagnosticArray, "/diagnostics", 10)
         self._marker_readers = 0
         self.marker_pub = create_publisher(
@@ -178,6 +181,8 @@ class WrenchNodeCore:
             self.coefficients_pub,
             self.inertial_pub,
             self.acceleration_pub,
+            self.solar_pub,
+            self.total_pub,
             self.diagnostics_pub,
             self.marker_pub,
         ]
@@ -309,6 +314,9 @@ class WrenchNodeCore:
                 self.inertial_pub.publish(outcome.inertial_cdr)
             if outcome.acceleration_cdr is not None:
                 self.acceleration_pub.publish(outcome.acceleration_cdr)
+            if outcome.solar_cdr is not None:
+                self.solar_pub.publish(outcome.solar_cdr)
+                self.total_pub.publish(outcome.total_cdr)
             self.health.sample_computed(sample.compute_seconds, sample)
             for listener in self._sample_listeners:
                 listener(sample)

@@ -19,6 +19,8 @@ TOPICS = (
     ("coefficients", "geometry_msgs/WrenchStamped", "out", "C_F and C_M (while subscribed)"),
     ("wrench_inertial", "geometry_msgs/WrenchStamped", "out", "force in the state frame [N]"),
     ("acceleration", "geometry_msgs/AccelStamped", "out", "force / mass [m/s^2] (with a mass)"),
+    ("solar_wrench", "geometry_msgs/WrenchStamped", "out", "solar pressure (solar_pressure)"),
+    ("total_wrench", "geometry_msgs/WrenchStamped", "out", "aerodynamic + solar (solar_pressure)"),
     ("panel_marker", "visualization_msgs/Marker", "out", "panels coloured by c_p (RViz)"),
     ("/diagnostics", "diagnostic_msgs/DiagnosticArray", "out", "health, every period"),
 )

@@ -6,8 +6,16 @@ import math
 import numpy as np
 import pytest
 
-from adbsat_ros import PanelMethod, Reference, SurfaceProperties, panels_from_arrays
+from adbsat_ros import (
+    MaterialTable,
+    PanelMethod,
+    Reference,
+    SurfaceProperties,
+    example_satellite,
+    panels_from_arrays,
+)
 from adbsat_ros.physics.solar import solar_coefficients
+from adbsat_ros.shading.shader import make_shader
 
 # One square plate (two triangles) of area 1 m^2 in the y-z plane with normal +x.
 PLATE_V = np.array([[0, -0.5, -0.5], [0, 0.5, -0.5], [0, 0.5, 0.5], [0, -0.5, 0.5]], float)
@@ -60,3 +68,26 @@ def test_absorbing_plate_force_is_along_the_photons():
 def test_bad_sun_direction():
     with pytest.raises(ValueError, match="sun_direction"):
         solar_coefficients(plate_method(0, 0), [0.0, 0.0, 0.0])
+
+
+def test_facets_and_panels_give_the_same_solar_force():
+    """The example satellite, its arrays reflecting differently from its body, the Sun oblique
+    and the body's shadow on the arrays: summed per facet of coplanar panels or panel by panel,
+    the same coefficients (to rounding)."""
+    mesh = example_satellite()
+    materials = MaterialTable(
+        SurfaceProperties(specular_reflectivity=0.1, diffuse_reflectivity=0.2),
+        {"solar_array": {"specular_reflectivity": 0.05, "diffuse_reflectivity": 0.02}},
+    )
+    sun = np.array([0.3, -0.9, 0.4])
+    lighting = make_shader(mesh).lighting(-sun / np.linalg.norm(sun))
+    assert lighting.shaded_index.size > 0
+    results = []
+    for grouped in (True, False):
+        method = PanelMethod(mesh, "newton", materials, group_facets=grouped)
+        assert (method.facets is not None) == grouped
+        results.append(solar_coefficients(method, sun, lighting=lighting))
+    facet, panel = results
+    np.testing.assert_allclose(facet.Cf_G, panel.Cf_G, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(facet.Cm_G, panel.Cm_G, rtol=1e-12, atol=1e-15)
+    assert facet.area_lit == pytest.approx(panel.area_lit, rel=1e-12)

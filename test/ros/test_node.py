@@ -894,6 +894,43 @@ def test_the_propagator_outputs_are_the_wrench_in_the_state_frame_and_over_the_m
     assert np.linalg.norm(vec(a.accel.linear)) > 0.0
 
 
+def test_solar_pressure_publishes_the_solar_and_the_total_wrench(ros):
+    """With solar_pressure set at run time: solar_wrench (the Sun at +x of the equinox noon
+    pushes the sphere along -x: a sphere of radius r, absorbing, gets P pi r^2), total_wrench
+    the sum of it and the wrench, the solar values in /diagnostics."""
+    from geometry_msgs.msg import WrenchStamped
+
+    from adbsat_ros.environment.sun import sun_state
+
+    node, peer = ros
+    assert node.set_parameters([Parameter("solar_pressure", value=True)])[0].successful
+    solar, total = [], []
+    peer.node.create_subscription(WrenchStamped, "solar_wrench", solar.append, 10)
+    peer.node.create_subscription(WrenchStamped, "total_wrench", total.append, 10)
+    assert peer.spin_until(lambda: node.count_subscribers("total_wrench") == 1)
+    pos, vel = circular_orbit_state(300e3)
+    peer.send_state(0.0, pos, vel)
+    peer.spin_for(0.05)
+    peer.send_attitude(0.01, (0.0, 0.0, 0.0, 1.0))
+    assert peer.spin_until(lambda: peer.wrenches and solar and total)
+    aero, sun_push, both = peer.wrenches[-1].wrench, solar[-1].wrench, total[-1].wrench
+    assert solar[-1].header == total[-1].header == peer.wrenches[-1].header
+    np.testing.assert_array_equal(vec(both.force), vec(aero.force) + vec(sun_push.force))
+    np.testing.assert_array_equal(vec(both.torque), vec(aero.torque) + vec(sun_push.torque))
+    sun = sun_state(dt.datetime(2026, 3, 20, 12, 0, 0, 10_000), pos)
+    assert sun.lit_fraction == 1.0
+    area = node.estimator.mesh.areas.sum() / 4.0  # a sphere's cross-section: a quarter
+    expected = -sun.pressure * area * sun.direction_eci
+    np.testing.assert_allclose(vec(sun_push.force), expected, rtol=2e-2, atol=1e-3 * sun.pressure)
+    assert peer.spin_until(
+        lambda: any(
+            any(kv.key == "solar_lit_fraction" and kv.value == "1.0" for kv in st.values)
+            for d in peer.diagnostics
+            for st in d.status
+        )
+    )
+
+
 def test_the_panel_marker_shows_every_panel_coloured_by_its_pressure(ros):
     """panel_marker: one triangle per panel of the mesh, in the body frame, coloured as the
     pressure picture colours the latest wrench's panels; published while subscribed."""

@@ -1,0 +1,174 @@
+"""The Sun as solar radiation pressure sees it: where it is, how hard it pushes, how much of it
+Earth hides.
+
+- :func:`sun_position_eci`: the geocentric position of the Sun in the GCRS (the package's ECI),
+  from ERFA's ``epv00`` (VSOP2000-fitted Earth ephemeris, heliocentric position of the Earth in
+  BCRS axes; the Sun is minus it). TT stands for TDB (they differ by under 2 ms); light time and
+  aberration (20 arcsec) are neglected: a change of the Sun's direction of 1e-4 rad.
+- :func:`solar_pressure`: the radiation pressure of sunlight absorbed by a surface normal to it,
+  P = S / c (1 au / d)^2 with the total solar irradiance S at 1 au.
+- :func:`lit_fraction`: Earth's shadow as a cone, with umbra and penumbra: the fraction of the
+  solar disc seen past a spherical Earth (Montenbruck & Gill, Satellite Orbits, 2000, 3.4.2).
+- :func:`sun_state`: all of it for a satellite at a time and place (:class:`SunState`).
+
+Valid inputs: times ERFA's ephemeris covers (1900-2100 to its stated accuracy), positions
+outside the Earth ([m], GCRS). Formulas and sources: docs/physics.md, section 7.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import erfa
+import numpy as np
+
+from adbsat_ros.environment.time_scales import julian_dates
+
+#: Total solar irradiance at 1 au [W/m^2]: 1360.8 +- 0.5 at solar minimum (Kopp & Lean 2011,
+#: Geophys. Res. Lett. 38, L01706); it varies by about 0.1 % over a solar cycle.
+SOLAR_IRRADIANCE_1AU = 1361.0
+#: Speed of light [m/s] (exact).
+SPEED_OF_LIGHT = 299_792_458.0
+#: Solar radiation pressure at 1 au [Pa] (S / c, about 4.54e-6).
+SOLAR_PRESSURE_1AU = SOLAR_IRRADIANCE_1AU / SPEED_OF_LIGHT
+#: Astronomical unit [m] (IAU 2012, exact; ERFA's DAU).
+ASTRONOMICAL_UNIT = float(erfa.DAU)
+#: Nominal solar radius [m] (IAU 2015 Resolution B3).
+SUN_RADIUS = 6.957e8
+#: Radius of the Earth's shadow-casting sphere [m]: the WGS-84 equatorial radius (a spherical
+#: Earth; the flattening moves the shadow's edge by at most about 20 km, a few seconds of orbit).
+EARTH_SHADOW_RADIUS = 6_378_137.0
+
+
+@dataclass(frozen=True)
+class SunState:
+    """The Sun seen from a satellite.
+
+    Attributes
+    ----------
+    direction_eci : ndarray, shape (3,)
+        Unit vector from the satellite towards the Sun, GCRS.
+    distance : float
+        Satellite-Sun distance [m].
+    lit_fraction : float
+        Fraction of the solar disc visible past the Earth, in [0, 1].
+    pressure : float
+        Solar radiation pressure at that distance [Pa], the shadow not applied (multiply by
+        ``lit_fraction`` for the pressure the satellite feels).
+    """
+
+    direction_eci: np.ndarray
+    distance: float
+    lit_fraction: float
+    pressure: float
+
+
+def sun_position_eci(time) -> np.ndarray:
+    """Geocentric position of the Sun [m], GCRS axes, at a UTC ``time`` (datetime, naive UTC or
+    aware)."""
+    _, (tt1, tt2), _ = julian_dates(time)
+    heliocentric, _ = erfa.epv00(tt1, tt2)
+    return -np.asarray(heliocentric["p"], dtype=float) * ASTRONOMICAL_UNIT
+
+
+def solar_pressure(sun_distance) -> float:
+    """Solar radiation pressure [Pa] at ``sun_distance`` [m] from the Sun: P_1au (1 au / d)^2.
+
+    Raises
+    ------
+    ValueError
+        If ``sun_distance`` is not a finite positive number.
+    """
+    d = float(sun_distance)
+    if not (math.isfinite(d) and d > 0.0):
+        raise ValueError(f"sun_distance must be a finite positive number of metres, got {d!r}")
+    return SOLAR_PRESSURE_1AU * (ASTRONOMICAL_UNIT / d) ** 2
+
+
+def lit_fraction(position_eci, sun_position_eci):
+    """Fraction of the solar disc visible from ``position_eci`` past a spherical Earth.
+
+    With r the satellite's position and s the Sun's (geocentric), the Sun's apparent radius is
+    a = asin(R_sun / |s - r|), the Earth's b = asin(R_E / |r|), and the angle between their
+    centres c = acos(-r . (s - r) / (|r| |s - r|)). The discs do not overlap for c >= a + b
+    (fraction 1); the Earth covers the Sun for c <= b - a (umbra, 0); the Sun is annular around
+    the Earth for c <= a - b (1 - b^2 / a^2, never at Earth orbit heights); in between
+    (penumbra) the overlap of two discs of radii a, b at distance c, taken as flat
+    (a, b, c << 1 rad for the Sun),
+
+        A = a^2 acos(x / a) + b^2 acos((c - x) / b) - c y,
+        x = (c^2 + a^2 - b^2) / (2 c),  y = sqrt(a^2 - x^2),
+
+    and the fraction is 1 - A / (pi a^2) (Montenbruck & Gill 2000, eqs. 3.85-3.87). It falls
+    continuously from 1 to 0 through the penumbra.
+
+    Parameters
+    ----------
+    position_eci : array_like, shape (3,) or (N, 3)
+        Satellite position(s) [m], GCRS, outside the Earth (|r| >= 6,378,137 m).
+    sun_position_eci : array_like, shape (3,)
+        The Sun's geocentric position [m] (:func:`sun_position_eci`).
+
+    Returns
+    -------
+    float or ndarray, shape (N,)
+        In [0, 1].
+
+    Raises
+    ------
+    ValueError
+        For non-finite positions or a position inside the Earth, naming the input.
+    """
+    r = np.asarray(position_eci, dtype=float)
+    s = np.asarray(sun_position_eci, dtype=float)
+    if r.shape[-1:] != (3,) or r.ndim > 2 or not np.all(np.isfinite(r)):
+        raise ValueError("position_eci must be finite, shape (3,) or (N, 3), in metres")
+    if s.shape != (3,) or not np.all(np.isfinite(s)) or not np.any(s):
+        raise ValueError("sun_position_eci must be a finite non-zero 3-vector in metres")
+    single = r.ndim == 1
+    r = np.atleast_2d(r)
+    radius = np.linalg.norm(r, axis=1)
+    if np.any(radius < EARTH_SHADOW_RADIUS):
+        raise ValueError(
+            f"position_eci must be outside the Earth (|r| >= {EARTH_SHADOW_RADIUS:.0f} m), got "
+            f"|r| = {radius.min():.0f} m"
+        )
+    to_sun = s - r
+    distance = np.linalg.norm(to_sun, axis=1)
+    a = np.arcsin(np.minimum(SUN_RADIUS / distance, 1.0))
+    b = np.arcsin(np.minimum(EARTH_SHADOW_RADIUS / radius, 1.0))
+    cos_c = -np.einsum("ij,ij->i", r, to_sun) / (radius * distance)
+    c = np.arccos(np.clip(cos_c, -1.0, 1.0))
+    fraction = np.ones_like(c)
+    fraction[c <= b - a] = 0.0
+    annular = (c < a - b) & (c > b - a)
+    fraction[annular] = 1.0 - (b[annular] / a[annular]) ** 2
+    partial = (c < a + b) & (c > np.abs(a - b))
+    if np.any(partial):
+        ap, bp, cp = a[partial], b[partial], c[partial]
+        x = (cp * cp + ap * ap - bp * bp) / (2.0 * cp)
+        y = np.sqrt(np.maximum(ap * ap - x * x, 0.0))
+        overlap = (
+            ap * ap * np.arccos(np.clip(x / ap, -1.0, 1.0))
+            + bp * bp * np.arccos(np.clip((cp - x) / bp, -1.0, 1.0))
+            - cp * y
+        )
+        fraction[partial] = 1.0 - overlap / (math.pi * ap * ap)
+    fraction = np.clip(fraction, 0.0, 1.0)
+    return float(fraction[0]) if single else fraction
+
+
+def sun_state(time, position_eci) -> SunState:
+    """The Sun seen from a satellite at ``position_eci`` [m] (GCRS) at UTC ``time``.
+
+    Raises
+    ------
+    ValueError
+        As :func:`lit_fraction`.
+    """
+    sun = sun_position_eci(time)
+    to_sun = sun - np.asarray(position_eci, dtype=float)
+    distance = float(np.linalg.norm(to_sun))
+    fraction = lit_fraction(position_eci, sun)
+    return SunState(to_sun / distance, distance, fraction, solar_pressure(distance))
