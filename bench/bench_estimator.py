@@ -1,17 +1,20 @@
 """CPU time per attitude of the estimator (the node's logic without ROS), one tree against others.
 
 Usage:
-    python bench/bench_estimator.py [--tree PATH ...] [--rounds 7] [--messages 2000]
-        [--warmup 3000] [--max-edge 0.0625]
+    python bench/bench_estimator.py [--tree PATH ...] [--variant LABEL[:NAME=VALUE,...] ...]
+        [--rounds 7] [--messages 2000] [--warmup 3000] [--max-edge 0.0625]
 
 Each tree (default: this one; give ``--tree`` once per tree, e.g. ``--tree . --tree
 /path/to/old/checkout``) runs in its own worker process that imports that tree's ``adbsat_ros``
 (the package layout of either the subpackages or the older flat modules) and builds
 ``AeroWrenchEstimator`` with the default parameters (sentman, raycast shading cached at
 0.25 deg, flight conditions on 10 ms knots, UNIX stamps) on ``example_satellite(max_edge)``
-(~11,100 faces at 0.0625 m). The workers then run the same message stream: attitudes at 1 kHz
-turning slowly (0.5 deg/s about a tilted axis, so most lookups hit the shading cache) and a
-state every 100 ms (``on_state``, a circular orbit at 300 km), with ``--warmup`` messages first.
+(~11,100 faces at 0.0625 m), or with the parameters of each ``--variant`` changed (e.g.
+``--variant nearest:shading_interpolation=false --variant solar:solar_pressure=true``; values
+as YAML reads them; every tree runs every variant). The workers then run the same message
+stream: attitudes at 1 kHz turning slowly (0.5 deg/s about a tilted axis, so most lookups hit
+the shading cache) and a state every 100 ms (``on_state``, a circular orbit at 300 km), with
+``--warmup`` messages first.
 
 Rounds are interleaved (ABAB...: each worker in turn runs the next ``--messages`` messages of its
 stream), so that every tree sees the same spells of the shared machine. Each ``on_attitude`` call
@@ -49,7 +52,7 @@ def attitude(k: int) -> tuple:
     return (axis[0] * s, axis[1] * s, axis[2] * s, math.cos(angle / 2))
 
 
-def worker(tree: str, max_edge: float) -> None:
+def worker(tree: str, max_edge: float, changes: str) -> None:
     """Serve 'run N' requests on stdin with the CPU times [ns] of the next N attitudes."""
     sys.path.insert(0, str(Path(tree).resolve()))
     import time
@@ -65,7 +68,13 @@ def worker(tree: str, max_edge: float) -> None:
         from adbsat_ros.wrench_settings import PARAMETER_DEFAULTS, WrenchSettings
 
     mesh = example_satellite(max_edge=max_edge)
-    estimator = AeroWrenchEstimator(WrenchSettings.from_parameters(dict(PARAMETER_DEFAULTS)), mesh)
+    import yaml
+
+    params = dict(PARAMETER_DEFAULTS)
+    for item in filter(None, changes.split(",")):
+        name, value = item.split("=", 1)
+        params[name] = yaml.safe_load(value)
+    estimator = AeroWrenchEstimator(WrenchSettings.from_parameters(params), mesh)
     clock = time.thread_time_ns
     k = 0
     print(json.dumps({"faces": mesh.n_panels}), flush=True)
@@ -94,11 +103,21 @@ def worker(tree: str, max_edge: float) -> None:
 class Worker:
     """One tree's worker process."""
 
-    def __init__(self, tree: str, max_edge: float):
-        self.tree = tree
+    def __init__(self, tree: str, max_edge: float, variant: str = ""):
+        label, _, changes = variant.partition(":")
+        self.tree = f"{tree} {label}".strip()
         env = dict(os.environ, PYTHONPATH="")
         self.process = subprocess.Popen(
-            [sys.executable, __file__, "--worker", tree, "--max-edge", str(max_edge)],
+            [
+                sys.executable,
+                __file__,
+                "--worker",
+                tree,
+                "--max-edge",
+                str(max_edge),
+                "--changes",
+                changes,
+            ],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             text=True,
@@ -124,13 +143,20 @@ def main() -> None:
     parser.add_argument("--messages", type=int, default=2000, help="attitudes per round")
     parser.add_argument("--warmup", type=int, default=3000, help="attitudes before the rounds")
     parser.add_argument("--max-edge", type=float, default=0.0625)
+    parser.add_argument(
+        "--variant", action="append", help="LABEL[:NAME=VALUE,...] parameters changed (repeatable)"
+    )
     parser.add_argument("--worker", help=argparse.SUPPRESS)
+    parser.add_argument("--changes", default="", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
-        worker(args.worker, args.max_edge)
+        worker(args.worker, args.max_edge, args.changes)
         return
-    trees = args.tree or [str(Path(__file__).resolve().parents[1])]
-    workers = [Worker(tree, args.max_edge) for tree in trees]
+    sources = args.tree or [str(Path(__file__).resolve().parents[1])]
+    workers = [
+        Worker(tree, args.max_edge, variant) for tree in sources for variant in args.variant or [""]
+    ]
+    trees = [w.tree for w in workers]
     print(
         f"example satellite, {workers[0].faces} faces; sentman, raycast cached at 0.25 deg; "
         f"1 kHz attitudes, a state every 100 ms; {args.rounds} rounds of {args.messages}"

@@ -1,13 +1,15 @@
 """Solar radiation pressure at one message: the Sun, the Earth's shadow, the sunlit panels.
 
 For the satellite's position at the stamp, :func:`~adbsat_ros.environment.sun.sun_state` gives
-the direction to the Sun (GCRS), the solar pressure at the Sun's distance and the fraction of the
-solar disc Earth leaves visible (umbra 0, penumbra in between, 1 in sunlight). The direction is
-turned into the body frame with the attitude (through the ITRS for an ECEF state); the panels the
-body itself hides from the Sun come from a shading cache of their own (photons travel along
-minus the Sun's direction; the same shader, resolution and interpolation as the flow's); the
-materials' reflectivities give the force (Luthcke's flat plate,
-:func:`~adbsat_ros.physics.solar.solar_coefficients`). Formulas: docs/physics.md, section 7.
+the direction to the Sun (GCRS; the Sun's position from a
+:class:`~adbsat_ros.environment.sun.SunTrack`, exact knots a minute apart), the solar pressure
+at the Sun's distance and the fraction of the solar disc Earth leaves visible (umbra 0, penumbra
+in between, 1 in sunlight). The direction is turned into the body frame with the attitude
+(through the ITRS for an ECEF state); the panels the body itself hides from the Sun come from a
+shading cache of their own (photons travel along minus the Sun's direction; the same shader,
+resolution and interpolation as the flow's); the materials' reflectivities give the force
+(Luthcke's flat plate, :func:`~adbsat_ros.physics.solar.solar_coefficients`). Formulas:
+docs/physics.md, section 7.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import numpy as np
 
 from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.earth_frames import rotation_terms
-from adbsat_ros.environment.sun import sun_state
+from adbsat_ros.environment.sun import SunTrack, sun_state
 from adbsat_ros.environment.time_scales import seconds_of_day, utc_day
 from adbsat_ros.estimator.samples import Rejection, SolarSample, WrenchSample
 from adbsat_ros.estimator.settings import WrenchSettings
@@ -59,11 +61,14 @@ class SolarPressureSource:
         if shading is None or shading.key != ShadingSource.key_of(settings):
             shading = ShadingSource(method.mesh, settings)
         self.shading = shading
+        self.sun_track = SunTrack()
 
     def sample(self, conditions: FlightConditions, rotation) -> SolarSample:
         """The wrench of sunlight at ``conditions`` (time and ECI position) for the attitude
         ``rotation`` (body to state frame, 9 floats row-major)."""
-        sun = sun_state(conditions.time, conditions.position_eci)
+        sun = sun_state(
+            conditions.time, conditions.position_eci, self.sun_track.position(conditions.time)
+        )
         direction = sun.direction_eci
         if self.state_frame == "ecef":
             utc = conditions.time

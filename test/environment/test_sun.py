@@ -14,6 +14,7 @@ from adbsat_ros.environment.sun import (
     ASTRONOMICAL_UNIT,
     EARTH_SHADOW_RADIUS,
     SUN_RADIUS,
+    SunTrack,
     lit_fraction,
     solar_pressure,
     sun_position_eci,
@@ -154,3 +155,37 @@ def test_the_state_of_the_sun_for_a_satellite():
 def test_bad_positions_are_refused_by_name(position, match):
     with pytest.raises(ValueError, match=match):
         lit_fraction(position, [ASTRONOMICAL_UNIT, 0.0, 0.0])
+
+
+def test_one_position_and_many_give_the_same_shadow():
+    """sun_state's shadow of one position (floats) equals lit_fraction's of many (arrays),
+    through umbra, penumbra and sunlight."""
+    sun = sun_position_eci(dt.datetime(2026, 8, 1))
+    u = sun / np.linalg.norm(sun)
+    e2 = np.cross(u, [0.0, 0.0, 1.0])
+    e2 /= np.linalg.norm(e2)
+    rng = np.random.default_rng(5)
+    r = EARTH_SHADOW_RADIUS + rng.uniform(150e3, 40000e3, 3000)
+    edge = math.pi - np.arcsin(EARTH_SHADOW_RADIUS / r)
+    theta = edge + rng.normal(0.0, 0.01, r.size)  # most within a few penumbra widths
+    positions = r[:, None] * (np.cos(theta)[:, None] * u + np.sin(theta)[:, None] * e2)
+    many = lit_fraction(positions, sun)
+    one = [sun_state(dt.datetime(2026, 8, 1), p, sun).lit_fraction for p in positions]
+    assert 0.2 < np.mean((many > 0) & (many < 1)) < 0.9
+    # (rounding, which the overlap amplifies where the discs are about to touch)
+    np.testing.assert_allclose(one, many, rtol=0, atol=1e-8)
+
+
+def test_the_sun_track_follows_the_ephemeris_within_its_bound():
+    """Linear between knots a minute apart: within 3 m of ERFA's position (the bound 2.7 m),
+    and a stream of stamps evaluates each knot once."""
+    track = SunTrack(60.0)
+    start = dt.datetime(2026, 5, 17, 3, 0, 7)
+    worst = 0.0
+    for k in range(600):
+        time = start + dt.timedelta(seconds=0.5 * k)
+        worst = max(worst, np.linalg.norm(track.position(time) - sun_position_eci(time)))
+    assert worst < 3.0
+    assert track.misses == 7 and track.hits == 600 - 6  # knots 03:00 ... 03:06; 6 calls made them
+    with pytest.raises(ValueError, match="step"):
+        SunTrack(0.0)
