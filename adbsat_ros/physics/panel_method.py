@@ -47,6 +47,11 @@ from adbsat_ros.physics.surface import (
     SurfaceProperties,
 )
 from adbsat_ros.shading.lighting import PanelLighting
+from adbsat_ros.shading.shader import MODES as SHADING_MODES
+from adbsat_ros.shading.shader import make_shader
+
+#: The default of :meth:`PanelMethod.coefficients`' ``lighting``: the method's own shading.
+OWN_SHADING = object()
 
 
 class PanelMethod:
@@ -70,6 +75,11 @@ class PanelMethod:
     group_facets : bool
         Evaluate the model once per facet of coplanar panels of one material (module docstring;
         the same result to rounding). False evaluates every panel, e.g. as a reference in tests.
+    shading : {"raycast", "projection", "none"}
+        How :meth:`coefficients` shades the panels when it is given no ``lighting``: exact ray
+        casting (the default, as the command line and the node), ADBSat's projection, or no
+        occlusion. A shader for it is made on first use
+        (:func:`~adbsat_ros.shading.shader.make_shader`).
 
     Attributes
     ----------
@@ -94,6 +104,7 @@ class PanelMethod:
         options=None,
         reference=None,
         group_facets: bool = True,
+        shading: str = "raycast",
     ):
         self.mesh = mesh
         self.model = canonical_model_name(model)
@@ -114,6 +125,10 @@ class PanelMethod:
         self._r_cross_n = np.ascontiguousarray(np.cross(mesh.barycentres, mesh.normals))
         self._moment_point = np.asarray(self.reference.moment_point)
         self.facets = Facets.of(mesh, self.surface) if group_facets else None
+        if shading not in SHADING_MODES:
+            raise ValueError(f"shading must be one of {', '.join(SHADING_MODES)}, got {shading!r}")
+        self.shading = shading
+        self._shader = None
 
     @property
     def needs_species(self) -> bool:
@@ -268,6 +283,15 @@ class PanelMethod:
         return Cf, Cm, area_projected
 
     # ------------------------------------------------------------------------------ public API
+    def lighting_of(self, u_G) -> PanelLighting | None:
+        """The method's own ``shading`` of flow direction ``u_G`` (G): a lighting, or None for
+        ``shading`` none."""
+        if self.shading == "none":
+            return None
+        if self._shader is None:
+            self._shader = make_shader(self.mesh, mode=self.shading)
+        return self._shader.lighting(u_G)
+
     def coefficients(
         self,
         flow: FreeStream,
@@ -275,7 +299,7 @@ class PanelMethod:
         aos: float | None = None,
         *,
         flow_direction=None,
-        lighting: PanelLighting | None = None,
+        lighting=OWN_SHADING,
         surface=None,
     ) -> AeroCoefficients:
         """Coefficients at one attitude, given by angles or by the flow direction.
@@ -288,12 +312,15 @@ class PanelMethod:
             Angle of attack and sideslip [rad] (frames module conventions).
         flow_direction : array_like, shape (3,), optional
             Direction of the gas motion relative to the body in G, instead of the angles.
-        lighting : PanelLighting or LightingBlend, optional
-            Shading result for this flow direction (default: nothing occluded).
+        lighting : PanelLighting, LightingBlend or None, optional
+            Shading result for this flow direction; None for nothing occluded. By default the
+            method's own ``shading`` of the direction (:meth:`lighting_of`).
         surface : PanelSurface, optional
             Surface parameters overriding the materials' (see :meth:`surface_with`).
         """
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
+        if lighting is OWN_SHADING:
+            lighting = self.lighting_of(u)
         if lighting is not None and lighting.n_panels != self.mesh.n_panels:
             raise ValueError(
                 f"lighting has {lighting.n_panels} panels, the mesh has {self.mesh.n_panels}"
