@@ -142,6 +142,9 @@ class ArticulatedBody:
         Surface materials, in order of first appearance.
     panel_link : ndarray of int, shape (N,)
         Link of each panel of :meth:`mesh` (the same for every configuration).
+    link_spans : dict of int to (int, int)
+        ``{link index: (start, stop)}``: the panels of :meth:`mesh` of every link with
+        geometry (each link's panels are consecutive).
     source : str
         Where the URDF came from.
     """
@@ -196,6 +199,10 @@ class ArticulatedBody:
         self._parts = parts
         self.material_names = tuple(names)
         self.panel_link = np.concatenate([np.full(len(p.faces), p.link) for p in parts])
+        self.link_spans = {}
+        for link in np.unique(self.panel_link):  # (parts are made link by link)
+            where = np.flatnonzero(self.panel_link == link)
+            self.link_spans[int(link)] = (int(where[0]), int(where[-1]) + 1)
         self._report = MeshReport(
             dropped_zero_area=sum(r.dropped_zero_area for r in reports),
             flipped_components=sum(r.flipped_components for r in reports),
@@ -300,9 +307,19 @@ class ArticulatedBody:
 
     def mesh(self, values: Mapping[str, float] | None = None) -> PanelMesh:
         """The panels of the configuration ``values`` (joint name to position; others at 0)."""
-        poses = self.link_poses(values)
+        return self._panels(self._parts, self.link_poses(values))
+
+    def link_mesh(self, link: int) -> PanelMesh:
+        """The panels of link ``link`` (an index of :attr:`links`) in the link's own frame, in
+        the order they have in :meth:`mesh`."""
+        parts = [p for p in self._parts if p.link == link]
+        if not parts:
+            raise ValueError(f"link {self.links[link]} has no geometry")
+        return self._panels(parts, np.broadcast_to(np.eye(4), (len(self.links), 4, 4)))
+
+    def _panels(self, parts, poses) -> PanelMesh:
         tris, materials = [], []
-        for part in self._parts:
+        for part in parts:
             pose = poses[part.link]
             vertices = part.vertices @ pose[:3, :3].T + pose[:3, 3]
             tris.append(vertices[part.faces])

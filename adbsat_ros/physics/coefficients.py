@@ -122,8 +122,8 @@ class AeroCoefficients:
         # (cos_delta, cp, ctau, ctau / sin(delta), normals) per panel, or per facet with panel_index
         # mapping panels to facets; ctau may be None (then made from ctau / sin(delta) and the
         # (G, 3) facet normals when asked for), ctau / sin(delta) and normals are None when ctau is
-        # given
-        self._panel_values = panel_values
+        # given; or a function without arguments that returns that tuple when it is first needed
+        self._panel_source = panel_values
         self._panel_index = panel_index
         self._lighting = lighting
         self._angles = angles
@@ -133,6 +133,11 @@ class AeroCoefficients:
             f"AeroCoefficients(model={self.model!r}, aoa={self.aoa!r}, aos={self.aos!r}, "
             f"Cf_G={self.Cf_G!r}, Cm_G={self.Cm_G!r}, area_projected={self.area_projected!r})"
         )
+
+    @functools.cached_property
+    def _panel_values(self) -> tuple:
+        source = self._panel_source  # (the tuple, or what makes it when first asked for)
+        return source() if callable(source) else source
 
     @functools.cached_property
     def _angles_rad(self) -> tuple:

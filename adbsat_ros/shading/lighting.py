@@ -249,3 +249,39 @@ class LightingBlend:
     def partly_lit(self) -> np.ndarray:
         """Boolean (N,): panels partly in shadow."""
         return self.combined.partly_lit
+
+
+def panel_range(lighting, start: int, stop: int, rotation=None):
+    """The lighting of panels ``start`` to ``stop - 1`` alone, or None if they are all lit.
+
+    For the panels of one part of a body evaluated in the part's own frame: ``rotation`` (3 x 3,
+    optional) takes the shifts from the lighting's frame to that frame (d' = rotation d).
+
+    Parameters
+    ----------
+    lighting : PanelLighting, LightingBlend or None
+    start, stop : int
+        The panel range, 0 <= start < stop <= N.
+    rotation : array_like, shape (3, 3), optional
+    """
+    if lighting is None:
+        return None
+    if isinstance(lighting, LightingBlend):
+        parts = [(w, panel_range(part, start, stop, rotation)) for w, part in lighting.parts]
+        if all(part is None for _, part in parts):
+            return None
+        n = stop - start
+        return LightingBlend(
+            [(w, PanelLighting.all_lit(n) if part is None else part) for w, part in parts]
+        )
+    shaded = lighting.shaded_index
+    lo, hi = np.searchsorted(shaded, (start, stop))
+    if lo == hi:  # (a panel with a shift is partly lit, so among the shaded ones)
+        return None
+    f = np.ones(stop - start)
+    f[shaded[lo:hi] - start] = lighting.shaded_fraction[lo:hi]
+    keep = (lighting.shift_index >= start) & (lighting.shift_index < stop)
+    shift = lighting.shift[keep]
+    if rotation is not None:
+        shift = shift @ np.asarray(rotation, dtype=float).T
+    return PanelLighting(f, lighting.shift_index[keep] - start, shift)

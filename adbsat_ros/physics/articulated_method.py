@@ -1,0 +1,252 @@
+"""The panel method of an articulated body, exact at every joint configuration.
+
+Each link's panels are rigid in the link's own frame, so the link is evaluated there, with a
+:class:`~adbsat_ros.physics.panel_method.PanelMethod` made once: for link l at pose (R_l, t_l) in
+the body frame G and the flow direction u (G), its coefficients about its own origin are those of
+its panels at u_l = R_l^T u, and in the body frame (section 8 of docs/physics.md)
+
+    F_l = R_l Cf_l,    M_l = R_l Cm_l + (t_l - r_ref) x F_l / L_ref,
+
+summed over the links to the body's Cf_G and Cm_G. Nothing is rebuilt when a joint moves: the
+geometry is exact at any joint positions, and a wrench costs one evaluation per link with
+geometry. The effort on a joint is the moment of the loads of the links it carries about its
+axis through the joint (revolute, continuous) or their force along it (prismatic).
+
+The same numbers, to rounding, as a :class:`PanelMethod` of
+:meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh` at those positions (tested).
+Shading is the only thing that depends on the configuration as a whole (one part shades
+another): the lighting of the posed body, panels in the order of
+:meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh`, is split by link.
+
+Units: metres, radians; frame G = the root link's frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+
+from adbsat_ros.geometry import frames
+from adbsat_ros.geometry.articulated import ArticulatedBody
+from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.panel_method import OWN_SHADING, PanelMethod
+from adbsat_ros.shading.lighting import panel_range
+from adbsat_ros.shading.shader import MODES as SHADING_MODES
+from adbsat_ros.shading.shader import make_shader
+
+
+@dataclass(frozen=True)
+class ArticulatedCoefficients:
+    """The coefficients of an articulated body at one configuration and flow direction.
+
+    Attributes
+    ----------
+    total : AeroCoefficients
+        The whole body's (as :meth:`PanelMethod.coefficients` of the posed mesh: Cf_G, Cm_G,
+        area_projected, wind axes, and per-panel values in the posed mesh's order).
+    link_force, link_moment : ndarray, shape (L, 3)
+        Force and moment coefficient of every link of the body (zero for links without
+        geometry), body frame, moments about the reference moment point; they sum to the total.
+    joint_effort : dict of str to float
+        For each moving joint, the moment coefficient of the loads on the links it carries
+        about its axis through it (revolute, continuous; times q A_ref L_ref: N m), or their
+        force coefficient along its axis (prismatic; times q A_ref: N).
+    positions : dict of str to float
+        The joint positions [rad or m].
+    joint_kinds : dict of str to str
+        Each moving joint's type (revolute, continuous, prismatic).
+    """
+
+    total: AeroCoefficients
+    link_force: np.ndarray
+    link_moment: np.ndarray
+    joint_effort: dict
+    positions: dict
+    joint_kinds: dict
+
+    def joint_efforts(self, dynamic_pressure: float) -> dict:
+        """Joint efforts [N m, or N for a prismatic joint] at dynamic pressure q [Pa]."""
+        ref = self.total.reference
+        return {
+            name: dynamic_pressure
+            * ref.area
+            * (1.0 if self.joint_kinds[name] == "prismatic" else ref.length)
+            * value
+            for name, value in self.joint_effort.items()
+        }
+
+
+class ArticulatedMethod:
+    """The panel method of an :class:`ArticulatedBody` at any joint positions.
+
+    Parameters
+    ----------
+    body : ArticulatedBody
+    model, materials, options, group_facets
+        As for :class:`PanelMethod` (the materials by the URDF's material names).
+    reference : Reference, optional
+        A_ref, L_ref and moment point (body frame); unset values as :class:`PanelMethod` sets
+        them for the body at zero joint positions.
+    shading : {"raycast", "projection", "none"}
+        How :meth:`coefficients` shades the posed body when given no ``lighting``.
+    """
+
+    def __init__(
+        self,
+        body: ArticulatedBody,
+        model: str = "sentman",
+        materials=None,
+        *,
+        options=None,
+        reference=None,
+        group_facets: bool = True,
+        shading: str = "raycast",
+    ):
+        if shading not in SHADING_MODES:
+            raise ValueError(f"shading must be one of {', '.join(SHADING_MODES)}, got {shading!r}")
+        self.body = body
+        self.shading = shading
+        zero = body.mesh()
+        self.reference = (reference or Reference()).resolved(zero)
+        own = Reference(area=self.reference.area, length=self.reference.length)
+        self._links = []  # (link index, first panel, end, its method in its frame)
+        for link, (start, stop) in sorted(body.link_spans.items()):
+            method = PanelMethod(
+                body.link_mesh(link),
+                model,
+                materials,
+                options=options,
+                reference=own,
+                group_facets=group_facets,
+                shading="none",
+            )
+            self._links.append((link, start, stop, method))
+        self.model = self._links[0][3].model
+        self.n_panels = zero.n_panels
+        self._carried = {name: body.carried_links(name) for name in body.joints}
+
+    @property
+    def needs_species(self) -> bool:
+        """Whether the model needs the gas composition (as :attr:`PanelMethod.needs_species`)."""
+        return self._links[0][3].needs_species
+
+    def surface_with(self, **changes) -> tuple:
+        """Per-link surface parameters with some set to one value (see
+        :meth:`PanelMethod.surface_with`); pass as ``surface=`` to :meth:`coefficients`."""
+        return tuple(method.surface_with(**changes) for *_, method in self._links)
+
+    def lighting_of(self, u_G, positions=None):
+        """The method's own ``shading`` of the body posed at ``positions``, for flow direction
+        ``u_G``: a lighting of the posed mesh's panels, or None for shading none (a shader is
+        made for every call: for many calls use a cache)."""
+        if self.shading == "none":
+            return None
+        return make_shader(self.body.mesh(positions), mode=self.shading).lighting(u_G)
+
+    def coefficients(
+        self,
+        flow: FreeStream,
+        positions: Mapping[str, float] | None = None,
+        aoa: float | None = None,
+        aos: float | None = None,
+        *,
+        flow_direction=None,
+        lighting=OWN_SHADING,
+        surface=None,
+    ) -> ArticulatedCoefficients:
+        """Coefficients at joint ``positions`` and one attitude.
+
+        Parameters
+        ----------
+        flow : FreeStream
+        positions : mapping of str to float, optional
+            Joint positions [rad or m] (others at zero), checked as
+            :meth:`ArticulatedBody.positions` checks them.
+        aoa, aos : float, optional
+            Angle of attack and sideslip [rad], or ``flow_direction`` (G) instead.
+        lighting : PanelLighting, LightingBlend or None, optional
+            The posed body's lighting (panels in the order of ``body.mesh(positions)``); None
+            for nothing occluded; by default the method's own ``shading``.
+        surface : tuple of PanelSurface, optional
+            From :meth:`surface_with`.
+
+        Raises
+        ------
+        ValueError
+            A bad joint position (named, with its limits), or a lighting of another panel count.
+        """
+        u, angles = frames.attitude_flow(aoa, aos, flow_direction)
+        positions = self.body.positions(positions)
+        poses = self.body.link_poses(positions)
+        if lighting is OWN_SHADING:
+            lighting = self.lighting_of(u, positions)
+        if lighting is not None and lighting.n_panels != self.n_panels:
+            raise ValueError(
+                f"lighting has {lighting.n_panels} panels, the body has {self.n_panels}"
+            )
+        ref = self.reference
+        moment_point = np.asarray(ref.moment_point)
+        n_links = len(self.body.links)
+        link_force = np.zeros((n_links, 3))
+        link_moment = np.zeros((n_links, 3))
+        link_origin_moment = np.zeros((n_links, 3))  # about the link's own origin, G
+        area_projected = 0.0
+        results = []
+        for k, (link, start, stop, method) in enumerate(self._links):
+            rotation, origin = poses[link][:3, :3], poses[link][:3, 3]
+            own = panel_range(lighting, start, stop, rotation.T)
+            r = method.coefficients(
+                flow,
+                flow_direction=rotation.T @ u,
+                lighting=own,
+                surface=None if surface is None else surface[k],
+            )
+            results.append(r)
+            force = rotation @ r.Cf_G
+            link_force[link] = force
+            link_origin_moment[link] = rotation @ r.Cm_G
+            link_moment[link] = (
+                link_origin_moment[link] + np.cross(origin - moment_point, force) / ref.length
+            )
+            area_projected += r.area_projected
+        effort = {}
+        for name, joint in self.body.joints.items():
+            child = poses[self.body.links.index(joint.child)]
+            axis = child[:3, :3] @ np.asarray(joint.axis, dtype=float)
+            axis /= np.linalg.norm(axis)
+            carried = self._carried[name]
+            if joint.kind == "prismatic":
+                effort[name] = float(link_force[carried].sum(axis=0) @ axis)
+            else:  # moments about the joint: M_l(origin l) + (t_l - p_joint) x F_l
+                arms = poses[carried, :3, 3] - child[:3, 3]
+                about = (
+                    link_origin_moment[carried] + np.cross(arms, link_force[carried]) / ref.length
+                )
+                effort[name] = float(about.sum(axis=0) @ axis)
+        total = AeroCoefficients(
+            flow_direction=u,
+            Cf_G=link_force.sum(axis=0),
+            Cm_G=link_moment.sum(axis=0),
+            reference=ref,
+            area_projected=float(area_projected),
+            model=self.model,
+            panel_values=lambda: _joined_panel_values(results),
+            lighting=lighting,
+            angles=angles,
+        )
+        kinds = {name: joint.kind for name, joint in self.body.joints.items()}
+        return ArticulatedCoefficients(total, link_force, link_moment, effort, positions, kinds)
+
+
+def _joined_panel_values(results) -> tuple:
+    """(cos_delta, cp, ctau, None, None) of every panel of the posed body from its links'."""
+    return (
+        np.concatenate([r.cos_delta for r in results]),
+        np.concatenate([r.cp for r in results]),
+        np.concatenate([r.ctau for r in results]),
+        None,
+        None,
+    )

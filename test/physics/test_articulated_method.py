@@ -1,0 +1,174 @@
+"""The articulated panel method (each link in its own frame, made once) against the panel method
+of the posed body's merged mesh: the same totals, per-panel values, link loads and joint efforts
+at every configuration, with shading; the fin's hinge torque against a hand computation."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from adbsat_ros.geometry import frames
+from adbsat_ros.geometry.articulated import ArticulatedBody
+from adbsat_ros.geometry.example_urdf import example_finned_urdf, example_satellite_urdf
+from adbsat_ros.physics.articulated_method import ArticulatedMethod
+from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.panel_loads import panel_loads
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.shading.shader import make_shader
+
+FLOW = FreeStream(7800.0, 1000.0, mean_mass_amu=16.0)
+REFERENCE = Reference(moment_point=(0.1, 0.02, -0.03))
+
+
+@pytest.fixture(scope="module", params=["wings", "fins"])
+def body(request):
+    text = example_satellite_urdf() if request.param == "wings" else example_finned_urdf()
+    return ArticulatedBody.from_urdf(text)
+
+
+def configurations(body):
+    """Three configurations within the joints' limits, each joint at its own position."""
+    out = []
+    for scale in (0.0, 0.5, -0.9):
+        values = {}
+        for k, (name, joint) in enumerate(body.joints.items()):
+            span = min(joint.upper, 1.0)
+            values[name] = scale * span * (1.0 - 0.2 * k)
+        out.append(values)
+    return out
+
+
+def directions():
+    out = []
+    for aoa, aos in ((0.0, 0.0), (25.0, 40.0), (-60.0, 130.0)):
+        out.append(frames.flow_direction(math.radians(aoa), math.radians(aos)))
+    return out
+
+
+def test_equals_the_panel_method_of_the_posed_mesh(body):
+    """One method object for every configuration: nothing is rebuilt when a joint moves."""
+    method = ArticulatedMethod(body, "sentman", reference=REFERENCE)
+    shaded_somewhere = False
+    for values in configurations(body):
+        mesh = body.mesh(values)
+        shader = make_shader(mesh)
+        merged = PanelMethod(mesh, "sentman", reference=method.reference)
+        for u in directions():
+            lighting = shader.lighting(u)
+            shaded_somewhere |= lighting.shaded_index.size > 0
+            got = method.coefficients(FLOW, values, flow_direction=u, lighting=lighting)
+            want = merged.coefficients(FLOW, flow_direction=u, lighting=lighting)
+            total = got.total
+            np.testing.assert_allclose(total.Cf_G, want.Cf_G, rtol=0, atol=1e-13)
+            np.testing.assert_allclose(total.Cm_G, want.Cm_G, rtol=0, atol=1e-13)
+            assert total.area_projected == pytest.approx(want.area_projected, rel=1e-13)
+            np.testing.assert_allclose(total.cp, want.cp, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(total.ctau, want.ctau, rtol=0, atol=1e-12)
+            np.testing.assert_array_equal(total.lit_fraction, want.lit_fraction)
+            assert total.drag == pytest.approx(want.drag, rel=1e-12)
+            loads = panel_loads(mesh, want)
+            split = body.loads(
+                loads.force, loads.point, values, loads.moment_point, loads.reference_length
+            )
+            np.testing.assert_allclose(got.link_force, split.link_force, rtol=0, atol=1e-13)
+            np.testing.assert_allclose(got.link_moment, split.link_moment, rtol=0, atol=1e-13)
+            for name, effort in split.joint_effort.items():
+                assert got.joint_effort[name] == pytest.approx(effort, rel=1e-9, abs=1e-15)
+    assert shaded_somewhere  # (inter-part shading was exercised)
+
+
+def test_link_loads_sum_to_the_total(body):
+    method = ArticulatedMethod(body, "cll", reference=REFERENCE)
+    flow = FreeStream(7600.0, 800.0, number_densities={"O": 1e15, "N2": 2e14, "He": 1e13})
+    values = configurations(body)[1]
+    got = method.coefficients(flow, values, math.radians(10.0), math.radians(-20.0))
+    np.testing.assert_allclose(got.link_force.sum(axis=0), got.total.Cf_G, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(got.link_moment.sum(axis=0), got.total.Cm_G, rtol=0, atol=1e-15)
+
+
+def test_by_default_it_ray_casts_the_posed_body(body):
+    method = ArticulatedMethod(body, "sentman")
+    values = configurations(body)[2]
+    u = directions()[1]
+    own = method.coefficients(FLOW, values, flow_direction=u)
+    lighting = make_shader(body.mesh(values)).lighting(u)
+    given = method.coefficients(FLOW, values, flow_direction=u, lighting=lighting)
+    np.testing.assert_array_equal(own.total.Cf_G, given.total.Cf_G)
+    unshaded = ArticulatedMethod(body, "sentman", shading="none")
+    assert unshaded.coefficients(FLOW, values, flow_direction=u).total.lighting is None
+
+
+FIN_URDF = """<robot name="fin">
+  <link name="base"/>
+  <link name="fin"><visual><origin xyz="-0.1 0.075 0"/>
+    <geometry><box size="0.2 0.15 0.01"/></geometry></visual></link>
+  <joint name="hinge" type="revolute"><parent link="base"/><child link="fin"/>
+    <origin xyz="0.3 0.2 0"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>"""
+
+
+def newton_hinge_torque(d, u):
+    """The Newtonian fin's hinge torque coefficient (about +y through the hinge, A_ref = L_ref
+    = 1) by hand: a face of area A and outward normal n facing the flow (c = -u . n > 0)
+    carries 2 c^2 A along -n at its centre; the fin (a 0.2 x 0.15 x 0.01 m box, centre
+    (-0.1, 0.075, 0) from the hinge) turned by d about y."""
+    c_d, s_d = math.cos(d), math.sin(d)
+    rot = np.array([[c_d, 0.0, s_d], [0.0, 1.0, 0.0], [-s_d, 0.0, c_d]])
+    size = np.array([0.2, 0.15, 0.01])
+    centre = np.array([-0.1, 0.075, 0.0])
+    torque = 0.0
+    for axis in range(3):
+        for sign in (1.0, -1.0):
+            n_local = np.zeros(3)
+            n_local[axis] = sign
+            area = np.prod(np.delete(size, axis))
+            n = rot @ n_local
+            c = -float(u @ n)
+            if c > 0.0:
+                arm = rot @ (centre + 0.5 * size[axis] * n_local)
+                torque += float(np.cross(arm, -2.0 * c * c * area * n)[1])
+    return torque
+
+
+@pytest.mark.parametrize("d", [0.25, -0.4])
+def test_a_fins_hinge_torque_is_the_hand_computed_one(d):
+    fin = ArticulatedBody.from_urdf(FIN_URDF)
+    method = ArticulatedMethod(fin, "newton", reference=Reference(area=1.0, length=1.0))
+    aoa, aos = math.radians(5.0), math.radians(-3.0)
+    got = method.coefficients(FLOW, {"hinge": d}, aoa, aos)
+    expected = newton_hinge_torque(d, frames.flow_direction(aoa, aos))
+    assert abs(expected) > 1e-5
+    assert got.joint_effort["hinge"] == pytest.approx(expected, rel=1e-9)
+    q = 0.01
+    assert got.joint_efforts(q)["hinge"] == pytest.approx(q * expected, rel=1e-12)  # N m
+
+
+def test_a_prismatic_joints_effort_is_the_force_along_it():
+    urdf = FIN_URDF.replace('type="revolute"', 'type="prismatic"').replace(
+        '<axis xyz="0 1 0"/>', '<axis xyz="1 0 0"/>'
+    )
+    body = ArticulatedBody.from_urdf(urdf)
+    method = ArticulatedMethod(body, "newton", reference=Reference(area=2.0, length=3.0))
+    got = method.coefficients(FLOW, {"hinge": 0.05}, math.radians(20.0), 0.0)
+    assert got.joint_effort["hinge"] == pytest.approx(got.total.Cf_G[0], rel=1e-12)
+    assert got.joint_efforts(10.0)["hinge"] == pytest.approx(10.0 * 2.0 * got.total.Cf_G[0])
+
+
+def test_bad_positions_and_lightings_are_refused_by_name(body):
+    method = ArticulatedMethod(body, "sentman", shading="none")
+    name = next(iter(body.joints))
+    with pytest.raises(ValueError, match=f"joint {name}: position .* outside its limits"):
+        method.coefficients(FLOW, {name: 10.0}, 0.0, 0.0)
+    with pytest.raises(ValueError, match="joint 'nope' is not a moving joint"):
+        method.coefficients(FLOW, {"nope": 0.0}, 0.0, 0.0)
+    with pytest.raises(ValueError, match=f"joint {name}: position must be finite"):
+        method.coefficients(FLOW, {name: math.nan}, 0.0, 0.0)
+    wrong = make_shader(body.link_mesh(body.links.index(body.root))).lighting_angles(0.1, 0.2)
+    with pytest.raises(ValueError, match="lighting has"):
+        method.coefficients(FLOW, None, 0.1, 0.2, lighting=wrong)
+    with pytest.raises(ValueError, match="shading must be one of"):
+        ArticulatedMethod(body, "sentman", shading="rays")
