@@ -28,17 +28,17 @@ import numpy as np
 
 from adbsat_ros.database.matching import DatabaseCoefficients
 from adbsat_ros.environment.knots import KnotGrid
-from adbsat_ros.estimator.assembly import coefficient_database, panel_method
+from adbsat_ros.estimator.assembly import coefficient_database, load_body, panel_method
 from adbsat_ros.estimator.conditions import PropagatedConditions
 from adbsat_ros.estimator.diagnostics import diagnostic_values
+from adbsat_ros.estimator.joints import JointStates
 from adbsat_ros.estimator.samples import OrbitalState, Rejection, WrenchSample
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.estimator.shading import ShadingSource
 from adbsat_ros.estimator.state import checked_rotation, checked_state, jumps_back, odometry_inputs
 from adbsat_ros.estimator.sunlight import SolarPressureSource
 from adbsat_ros.estimator.timing import stamp_utc
-from adbsat_ros.geometry.frames import unit_vector
-from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.estimator.wrench import Moment, database_wrench, panel_wrench
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.cache import ShadingCache
 
@@ -51,7 +51,9 @@ class AeroWrenchEstimator:
     settings : WrenchSettings
         Everything but the ROS plumbing (see :data:`adbsat_ros.estimator.settings.PARAMETERS`).
     mesh : PanelMesh, optional
-        An already loaded mesh (default: load ``settings.mesh`` once).
+        An already loaded mesh (default: load ``settings.mesh`` once). Not for an articulated
+        body (``robot_description``, or a URDF as ``mesh``), which is always read from the
+        settings.
 
     Attributes
     ----------
@@ -63,6 +65,13 @@ class AeroWrenchEstimator:
     knots : KnotGrid
         The flight conditions of the latest state on the knots (its counters: knot hits and
         misses, exact evaluations, prepared stamps used).
+    body : ArticulatedBody or None
+        The articulated body (its joint positions from :meth:`on_joint_state`), or None for a
+        rigid mesh.
+    joints : JointStates or None
+        The latest joint positions of an articulated body.
+    mesh : PanelMesh
+        The body's panels (an articulated body's at zero joint positions).
 
     Raises
     ------
@@ -73,11 +82,8 @@ class AeroWrenchEstimator:
     """
 
     def __init__(self, settings: WrenchSettings, mesh: PanelMesh | None = None):
-        self.mesh = (
-            mesh
-            if mesh is not None
-            else resolve_mesh(settings.mesh, settings.mesh_scale, settings.mesh_accept_size)
-        )
+        self.body, self.mesh = load_body(settings, mesh)
+        self.joints = None
         self.rejections: Counter = Counter()
         self.published = 0
         self._state: OrbitalState | None = None
@@ -95,17 +101,17 @@ class AeroWrenchEstimator:
     def apply_settings(self, settings: WrenchSettings) -> None:
         """Switch to new settings; ValueError (and the old ones kept) if they do not apply."""
         if self.settings is not None:
-            for name in ("mesh", "mesh_scale", "mesh_accept_size"):
+            for name in ("mesh", "mesh_scale", "mesh_accept_size", "robot_description"):
                 if getattr(settings, name) != getattr(self.settings, name):
                     raise ValueError(
                         f"parameter {name}: the mesh is loaded once at start-up and cannot change"
                     )
-        method = panel_method(self.mesh, settings)
+        method = panel_method(self.mesh, settings, self.body)
         database = coefficient_database(settings, method)
         conditions = PropagatedConditions(settings)
         shading = self._shading
         if database is None and (shading is None or shading.key != ShadingSource.key_of(settings)):
-            shading = ShadingSource(self.mesh, settings)
+            shading = ShadingSource(self.mesh, settings, self.body)
         solar = None
         if settings.solar_pressure:
             old = None if self._solar is None else self._solar.shading
@@ -116,6 +122,10 @@ class AeroWrenchEstimator:
             self.knots = KnotGrid(settings.conditions_step, conditions)
         else:  # the knots of the old settings go, the counters run on
             self.knots.configure(settings.conditions_step, conditions)
+        if self.body is not None:
+            if self.joints is None:
+                self.joints = JointStates(self.body, settings.joint_state_timeout)
+            self.joints.timeout = settings.joint_state_timeout
         self.method, self._shading, self._database = method, shading, database
         self._solar = solar
         self.weather = conditions.weather
@@ -161,6 +171,8 @@ class AeroWrenchEstimator:
         self._last_attitude_stamp = None
         self._last_state_stamp = None
         self.knots.clear()
+        if self.joints is not None:
+            self.joints.clear()
 
     # ----------------------------------------------------------------------------- inputs
     def on_state(
@@ -258,6 +270,40 @@ class AeroWrenchEstimator:
             raise
         return self.on_state(stamp, position, velocity, in_body, orientation), orientation
 
+    def on_joint_state(self, stamp: float, names, positions) -> dict:
+        """Accept a sensor_msgs/JointState's positions (articulated bodies).
+
+        Parameters
+        ----------
+        stamp : float
+            Message stamp [s].
+        names : sequence of str
+            Joint names; those of fixed or mimic joints are ignored.
+        positions : sequence of float
+            Their positions [rad or m].
+
+        Returns
+        -------
+        dict of str to float
+            The moving joints' positions taken.
+
+        Raises
+        ------
+        Rejection
+            ``bad_joint_state`` (for a rigid mesh too, which has no joints): an unknown joint,
+            a position not finite or beyond its joint's limits, names and positions that do
+            not pair up; nothing of the message is taken.
+        """
+        try:
+            if self.joints is None:
+                raise Rejection(
+                    "bad_joint_state", "joint_state for a rigid mesh: the body has no joints"
+                )
+            return self.joints.on_joint_state(stamp, names, positions)
+        except Rejection as exc:
+            self.rejections[exc.reason] += 1
+            raise
+
     def on_attitude(self, stamp: float, quaternion_xyzw) -> WrenchSample:
         """The wrench at an attitude message, with the latest state brought to its stamp.
 
@@ -316,6 +362,7 @@ class AeroWrenchEstimator:
                 f"latest state is {dt:.3f} s from the attitude stamp "
                 f"(state_timeout {s.state_timeout:g} s)",
             )
+        positions = None if self.joints is None else self.joints.positions_at(stamp)
         self._last_attitude_stamp = stamp
         try:
             utc = self.utc(stamp)
@@ -348,57 +395,13 @@ class AeroWrenchEstimator:
                 -(m[2] * vx + m[5] * vy + m[8] * vz),
             ]
         )
-        q = flow.dynamic_pressure()
+        moment = Moment(stamp, utc, conditions, m, t0)
         if self._database is not None:
-            u_body = unit_vector(gas_body)
-            try:
-                cf, cm = self._database.body_coefficients(u_body)
-            except ValueError as exc:
-                raise Rejection("outside_database", str(exc)) from None
-            return WrenchSample(
-                stamp=stamp,
-                time=utc,
-                force=q * reference.area * cf,
-                torque=(q * reference.area * reference.length) * cm,
-                force_coefficients=cf,
-                moment_coefficients=cm,
-                reference_area=reference.area,
-                reference_length=reference.length,
-                dynamic_pressure=q,
-                stamp_conditions=conditions,
-                coefficients=None,
-                flow_direction_body=u_body,
-                shading_cache_hit=None,
-                compute_seconds=time.perf_counter() - t0,
-                rotation=m,
+            return database_wrench(
+                self._database, reference, gas_body, flow.dynamic_pressure(), moment
             )
-        lighting, hit = self._shading.lighting(gas_body)  # (the cache keys on the direction)
-        surface = None
-        if s.accommodation_model != "fixed":
-            surface = self.method.surface_with(alpha=conditions.alpha, alpha_n=conditions.alpha)
-        try:  # (the panel method makes the direction a unit vector)
-            coefficients = self.method.coefficients(
-                flow, flow_direction=gas_body, lighting=lighting, surface=surface
-            )
-        except ValueError as exc:
-            raise Rejection("compute_error", str(exc)) from None
-        return WrenchSample(
-            stamp=stamp,
-            time=utc,
-            force=coefficients.force(q),
-            torque=coefficients.torque(q),
-            force_coefficients=coefficients.Cf_G,
-            moment_coefficients=coefficients.Cm_G,
-            reference_area=reference.area,
-            reference_length=reference.length,
-            dynamic_pressure=q,
-            stamp_conditions=conditions,
-            coefficients=coefficients,
-            flow_direction_body=coefficients.flow_direction,
-            shading_cache_hit=hit,
-            compute_seconds=time.perf_counter() - t0,
-            rotation=m,
-        )
+        alpha = None if s.accommodation_model == "fixed" else conditions.alpha
+        return panel_wrench(self.method, self._shading, gas_body, flow, alpha, positions, moment)
 
     def prepare(self, stamp: float) -> bool:
         """Compute ahead what an attitude expected at ``stamp`` [s] would wait for.

@@ -12,8 +12,12 @@ import difflib
 
 import yaml
 
-from adbsat_ros.bounds import BOUNDS, Bound
 from adbsat_ros.environment.flight_conditions import STATE_FRAMES
+from adbsat_ros.estimator.parameter_ranges import (
+    MAX_CONDITIONS_STEP,
+    PARAMETER_RANGES,
+    WHOLE_NUMBER_PARAMETERS,
+)
 from adbsat_ros.physics.gsi_models import MODELS
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 
@@ -64,6 +68,13 @@ PARAMETERS = (
         False,
         "take a mesh (at mesh_scale 1) under 1 mm or over 200 m across, which is otherwise "
         "refused as probably not in metres",
+    ),
+    (
+        "robot_description",
+        "",
+        "URDF text of an articulated body (links with geometry, joints), as "
+        "robot_state_publisher takes it; when set it is the body instead of mesh, and the "
+        "joint positions come from the joint_states topic; read once at start-up",
     ),
     ("body_frame_id", "body", "frame_id of published wrenches: the mesh frame, fixed to the body"),
     (
@@ -137,6 +148,28 @@ PARAMETERS = (
         True,
         "blend the cached shading of the three cell centres around the flow direction "
         "(continuous in attitude) instead of the nearest cell's",
+    ),
+    (
+        "joint_state_timeout",
+        1.0,
+        "articulated bodies: a joint position older than this at the attitude stamp is stale "
+        "and the attitude refused [s]",
+    ),
+    (
+        "joint_shading_resolution_deg",
+        0.25,
+        "articulated bodies: the shading is cached per configuration on a grid of this step "
+        "in every revolute or continuous joint [deg] (the geometry itself is exact)",
+    ),
+    (
+        "joint_shading_resolution_m",
+        0.001,
+        "articulated bodies: the configuration grid's step in every prismatic joint [m]",
+    ),
+    (
+        "joint_shading_cache_size",
+        64,
+        "articulated bodies: joint configurations whose shading is kept",
     ),
     ("f107", 150.0, "F10.7 solar flux of the previous day [sfu]"),
     ("f107a", 150.0, "81-day average F10.7 [sfu]"),
@@ -232,128 +265,6 @@ PARAMETERS = (
     ),
 )
 
-#: Largest conditions_step [s]: 770 m of orbit, interpolation error still below about 1e-7.
-MAX_CONDITIONS_STEP = 0.1
-
-_REFLECTIVITY = (
-    "a fraction of the incident sunlight: 0 absorbed, 1 all reflected (the specular and diffuse "
-    "fractions together at most 1)"
-)
-_ACCOMMODATION = "an accommodation coefficient: 0 none (specular reflection), 1 full (diffuse)"
-_DAY = "a day: a longer time is no longer about the live stream"
-
-#: The valid range of every number parameter (of each element of a list of numbers), with its
-#: reason; physical quantities take theirs from :data:`adbsat_ros.bounds.BOUNDS`.
-PARAMETER_RANGES = {
-    "mesh_scale": Bound(
-        1e-6,
-        1_000.0,
-        "",
-        "metres per file unit: 1e-6 for micrometres, 1e-3 for millimetres, 0.0254 for inches, "
-        "1000 for kilometres",
-    ),
-    "center_of_mass": BOUNDS["offset"],
-    "mass": Bound(
-        0.0, 1e6, "kg", "a satellite's mass: the ISS is 420 t; 0 turns the acceleration off"
-    ),
-    "inertia": Bound(
-        -1e9,
-        1e9,
-        "kg m^2",
-        "each element of the tensor: the ISS's largest moment of inertia is about 1e8 kg m^2",
-    ),
-    "alpha": Bound(0.0, 1.0, "", _ACCOMMODATION),
-    "alpha_n": Bound(0.0, 1.0, "", _ACCOMMODATION),
-    "sigma_n": Bound(
-        0.0,
-        2.0,
-        "",
-        "normal momentum accommodation (p_i - p_r) / (p_i - p_w): 0 specular, 1 diffuse at the "
-        "wall temperature; at 2 the re-emitted molecules would push into the wall",
-        high_open=True,
-    ),
-    "sigma_t": Bound(0.0, 1.0, "", _ACCOMMODATION),
-    "specular_reflectivity": Bound(0.0, 1.0, "", _REFLECTIVITY),
-    "diffuse_reflectivity": Bound(0.0, 1.0, "", _REFLECTIVITY),
-    "wall_temperature": BOUNDS["wall_temperature"],
-    "shading_samples": Bound(
-        1.0,
-        4096.0,
-        "",
-        "rays per panel: 16 give a panel's lit fraction within about 0.03; 4096 (64 x 64) is as "
-        "fine as the projection method's grids",
-    ),
-    "shading_cache_resolution_deg": Bound(
-        1e-3,
-        10.0,
-        "deg",
-        "cells finer than 0.001 deg (3.6 arcsec) are below any attitude sensor's accuracy; "
-        "coarser than 10 deg they would share one lighting between flows far apart",
-    ),
-    "shading_cache_size": Bound(
-        1.0,
-        1e6,
-        "",
-        "flow directions kept: 660,000 cells of 0.25 deg cover the whole sphere",
-    ),
-    "f107": BOUNDS["f107"],
-    "f107a": BOUNDS["f107"],
-    "ap": BOUNDS["ap"],
-    "ap_history": BOUNDS["ap"],
-    "wind_ecef": BOUNDS["wind"],
-    "state_timeout": Bound(0.0, 86_400.0, "s", _DAY, low_open=True),
-    "min_altitude": Bound(0.0, 1e6, "m", "NRLMSISE-00's altitudes: from the ground to 1,000 km"),
-    "knudsen_warning": Bound(
-        0.0,
-        1e6,
-        "",
-        "a Knudsen number: the flow is free-molecular above about 10; a threshold of 1e6 would "
-        "warn about every satellite",
-        low_open=True,
-    ),
-    "time_jump_reset": Bound(0.0, 86_400.0, "s", _DAY, low_open=True),
-    "conditions_step": Bound(
-        0.0,
-        MAX_CONDITIONS_STEP,
-        "s",
-        "0.1 s is 770 m of orbit, the interpolation error still below about 1e-7; 0 evaluates "
-        "at every stamp",
-    ),
-    "max_quaternion_norm_error": Bound(
-        0.0, 0.5, "", "a quaternion's norm off 1 by half is no rotation to normalise"
-    ),
-    "min_relative_speed": Bound(
-        0.0, BOUNDS["speed"].high, "m/s", "at most the largest speed relative to the gas"
-    ),
-    "qos_depth": Bound(1.0, 10_000.0, "", "messages kept per topic: 10 s at 1 kHz"),
-    "marker_period": Bound(
-        0.1,
-        3_600.0,
-        "s",
-        "from 10 Hz (each picture takes tens of milliseconds to build) to once an hour",
-    ),
-    "diagnostics_period": Bound(
-        0.01,
-        3_600.0,
-        "s",
-        "from 100 Hz (faster, the reports would load the node they watch) to once an hour",
-    ),
-}
-#: Number parameters that take whole numbers only.
-WHOLE_NUMBER_PARAMETERS = ("shading_samples", "shading_cache_size", "qos_depth")
-
-
-def parameter_range_text(name: str) -> str:
-    """The valid range of a parameter in words (empty for one without a range), e.g.
-    ``"in [0, 1]: an accommodation coefficient ..."``; ``"each in ..."`` for a list of numbers."""
-    rule = PARAMETER_RANGES.get(name)
-    if rule is None:
-        return ""
-    each = "each " if isinstance(PARAMETER_DEFAULTS[name], list) else ""
-    whole = ", a whole number" if name in WHOLE_NUMBER_PARAMETERS else ""
-    return f"{each}in {rule.text()}{whole}: {rule.reason}"
-
-
 PARAMETER_DEFAULTS = {name: default for name, default, _ in PARAMETERS}
 PARAMETER_DESCRIPTIONS = {name: text for name, _, text in PARAMETERS}
 #: Settings that need the mesh or its shading structures rebuilt; the node keeps them read-only.
@@ -361,6 +272,7 @@ READ_ONLY_PARAMETERS = (
     "mesh",
     "mesh_scale",
     "mesh_accept_size",
+    "robot_description",
     "qos_depth",
     "body_frame_id",
     "executor",
@@ -411,3 +323,14 @@ def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:
     if not params:
         raise ValueError(f"{path}: no ros__parameters for '/**' or '{node_name}'")
     return params
+
+
+def parameter_range_text(name: str) -> str:
+    """The valid range of a parameter in words (empty for one without a range), e.g.
+    ``"in [0, 1]: an accommodation coefficient ..."``; ``"each in ..."`` for a list of numbers."""
+    rule = PARAMETER_RANGES.get(name)
+    if rule is None:
+        return ""
+    each = "each " if isinstance(PARAMETER_DEFAULTS[name], list) else ""
+    whole = ", a whole number" if name in WHOLE_NUMBER_PARAMETERS else ""
+    return f"{each}in {rule.text()}{whole}: {rule.reason}"

@@ -28,6 +28,9 @@ REJECTION_REASONS = (
     "altitude_out_of_range",
     "bad_state",
     "outside_database",
+    "no_joint_state",
+    "stale_joint_state",
+    "bad_joint_state",
     "compute_error",
 )
 
@@ -65,6 +68,34 @@ class OrbitalState:
         )
 
     __hash__ = None
+
+
+@dataclass(frozen=True, eq=False)
+class JointSample:
+    """The joints of an articulated body at one message.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The moving joints, in the body's order.
+    positions : ndarray, shape (J,)
+        Their positions used [rad or m].
+    efforts : ndarray, shape (J,)
+        The aerodynamic effort each drive must hold [N m about a revolute joint's axis, N along
+        a prismatic joint's].
+    link_names : tuple of str
+        The links, in the body's order.
+    link_forces, link_torques : ndarray, shape (L, 3)
+        Force [N] on every link and its torque [N m] about the centre of mass, body frame; they
+        sum to the wrench.
+    """
+
+    names: tuple
+    positions: np.ndarray
+    efforts: np.ndarray
+    link_names: tuple
+    link_forces: np.ndarray
+    link_torques: np.ndarray
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,6 +163,8 @@ class WrenchSample:
         The attitude: rotation from the body frame to the state frame, row-major.
     solar : SolarSample or None
         The solar radiation pressure wrench (with ``solar_pressure`` on; None otherwise).
+    joints : JointSample or None
+        The joints' positions and efforts and the links' loads (articulated bodies only).
     """
 
     stamp: float
@@ -150,6 +183,7 @@ class WrenchSample:
     compute_seconds: float
     rotation: tuple
     solar: SolarSample | None = None
+    joints: JointSample | None = None
 
     @property
     def conditions(self) -> FlightConditions:

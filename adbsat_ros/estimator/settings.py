@@ -137,6 +137,7 @@ class WrenchSettings:
     mesh: str
     mesh_scale: float
     mesh_accept_size: bool
+    robot_description: str
     body_frame_id: str
     center_of_mass: tuple
     mass: float
@@ -159,6 +160,10 @@ class WrenchSettings:
     shading_cache_resolution_deg: float
     shading_cache_size: int
     shading_interpolation: bool
+    joint_state_timeout: float
+    joint_shading_resolution_deg: float
+    joint_shading_resolution_m: float
+    joint_shading_cache_size: int
     f107: float
     f107a: float
     ap: float
@@ -225,6 +230,7 @@ class WrenchSettings:
             mesh=mesh,
             mesh_scale=_number(v, "mesh_scale"),
             mesh_accept_size=_flag(v, "mesh_accept_size"),
+            robot_description=str(v["robot_description"]).strip(),
             body_frame_id=str(v["body_frame_id"]).lstrip("/") or "body",
             center_of_mass=_vector3(v, "center_of_mass"),
             mass=_number(v, "mass"),
@@ -255,6 +261,10 @@ class WrenchSettings:
             shading_cache_resolution_deg=_number(v, "shading_cache_resolution_deg"),
             shading_cache_size=_number(v, "shading_cache_size"),
             shading_interpolation=_flag(v, "shading_interpolation"),
+            joint_state_timeout=_number(v, "joint_state_timeout"),
+            joint_shading_resolution_deg=_number(v, "joint_shading_resolution_deg"),
+            joint_shading_resolution_m=_number(v, "joint_shading_resolution_m"),
+            joint_shading_cache_size=_number(v, "joint_shading_cache_size"),
             f107=_number(v, "f107"),
             f107a=_number(v, "f107a"),
             ap=_number(v, "ap"),

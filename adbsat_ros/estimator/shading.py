@@ -1,15 +1,23 @@
-"""Lighting of the panels for a flow direction, through the shading cache (or none)."""
+"""Lighting of the panels for a flow direction (and joint positions), through the shading cache
+(or none)."""
 
 from __future__ import annotations
 
+import math
+
 from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.cache import ShadingCache
+from adbsat_ros.shading.configurations import ConfigurationShadingCache
 from adbsat_ros.shading.shader import make_shader
 
 
 class ShadingSource:
     """The estimator's shading: a :class:`ShadingCache` of the settings' shader, or nothing.
+
+    For an articulated body, a :class:`ConfigurationShadingCache` of such caches, one per
+    configuration of its grid (``joint_shading_*`` settings).
 
     Parameters
     ----------
@@ -18,20 +26,38 @@ class ShadingSource:
     settings : WrenchSettings
         ``shading`` (none, projection, raycast), ``shading_samples``,
         ``shading_cache_resolution_deg``, ``shading_cache_size`` and
-        ``shading_interpolation``.
+        ``shading_interpolation``; for an articulated body also
+        ``joint_shading_resolution_deg``, ``joint_shading_resolution_m`` and
+        ``joint_shading_cache_size``.
+    body : ArticulatedBody, optional
+        The articulated body whose (zero-configuration) panels ``mesh`` are.
     """
 
-    def __init__(self, mesh: PanelMesh, settings: WrenchSettings):
+    def __init__(self, mesh: PanelMesh, settings: WrenchSettings, body=None):
         self.key = self.key_of(settings)
         self.cache = None
-        if settings.shading != "none":
-            shader = make_shader(mesh, mode=settings.shading, samples=settings.shading_samples)
-            self.cache = ShadingCache(
+        if settings.shading == "none":
+            return
+
+        def cache_of(panels: PanelMesh) -> ShadingCache:
+            shader = make_shader(panels, mode=settings.shading, samples=settings.shading_samples)
+            return ShadingCache(
                 shader,
                 resolution_deg=settings.shading_cache_resolution_deg,
                 max_entries=settings.shading_cache_size,
                 interpolate=settings.shading_interpolation,
             )
+
+        if isinstance(body, ArticulatedBody):
+            self.cache = ConfigurationShadingCache(
+                body,
+                cache_of,
+                math.radians(settings.joint_shading_resolution_deg),
+                settings.joint_shading_resolution_m,
+                settings.joint_shading_cache_size,
+            )
+        else:
+            self.cache = cache_of(mesh)
 
     @staticmethod
     def key_of(settings: WrenchSettings) -> tuple:
@@ -42,10 +68,14 @@ class ShadingSource:
             settings.shading_cache_resolution_deg,
             settings.shading_cache_size,
             settings.shading_interpolation,
+            settings.joint_shading_resolution_deg,
+            settings.joint_shading_resolution_m,
+            settings.joint_shading_cache_size,
         )
 
-    def lighting(self, flow_direction) -> tuple:
-        """``(lighting, hit)`` for a unit flow direction in the body frame.
+    def lighting(self, flow_direction, positions=None) -> tuple:
+        """``(lighting, hit)`` for a unit flow direction in the body frame (and, for an
+        articulated body, the joint ``positions``).
 
         Returns
         -------
@@ -57,7 +87,10 @@ class ShadingSource:
         if self.cache is None:
             return None, None
         misses = self.cache.misses
-        lighting = self.cache.lighting(flow_direction)
+        if positions is None:
+            lighting = self.cache.lighting(flow_direction)
+        else:
+            lighting = self.cache.lighting(flow_direction, positions)
         return lighting, self.cache.misses == misses
 
     @property

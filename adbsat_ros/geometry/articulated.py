@@ -136,6 +136,8 @@ class ArticulatedBody:
         Link names; :attr:`panel_link` indexes it.
     joints : dict of str to Joint
         The joints that move (revolute, continuous, prismatic; not mimic ones), by name.
+    all_joint_names : tuple of str
+        Every joint of the URDF, fixed and mimic ones included.
     root : str
         The root link, whose frame is the body frame.
     material_names : tuple of str
@@ -161,6 +163,7 @@ class ArticulatedBody:
         self.root = urdf.base_link
         self.links = tuple(urdf.link_map)
         mimics = {name for name, j in urdf.joint_map.items() if j.mimic is not None}
+        self.all_joint_names = tuple(urdf.joint_map)
         self.joints = {}
         for name, j in urdf.joint_map.items():
             if j.type not in MOVING_JOINTS + ("fixed",):

@@ -1,0 +1,192 @@
+"""The estimator with an articulated body: joint positions from joint states (state-like: stale,
+missing and bad ones refused and counted), the wrench of the body posed at them with its
+per-link loads and joint efforts, shading cached per configuration."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
+from adbsat_ros.estimator.samples import Rejection
+from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.geometry.example_urdf import example_satellite_urdf
+from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.panel_method import PanelMethod
+
+R = 6378137.0 + 300e3
+V = math.sqrt(3.986004418e14 / R)
+# body x along the orbital velocity (90 deg about z), then 23 deg about body y: the flow meets
+# the wings at an angle, off their hinges' axis
+_C, _S = math.cos(math.pi / 4), math.sin(math.pi / 4)
+_c, _s = math.cos(0.2), math.sin(0.2)
+TILTED = (-_S * _s, _C * _s, _S * _c, _C * _c)
+HINGES = ("wing_left_hinge", "wing_right_hinge")
+
+
+def estimator(**overrides) -> AeroWrenchEstimator:
+    params = dict(
+        PARAMETER_DEFAULTS,
+        mesh="example-articulated",
+        time_mode="epoch",
+        center_of_mass=[0.05, 0.0, 0.01],
+    )
+    params.update(overrides)
+    return AeroWrenchEstimator(WrenchSettings.from_parameters(params))
+
+
+def ready(est, angles=(0.3, -0.5), stamp=1.0):
+    est.on_state(stamp, [R, 0.0, 1e3], [0.0, V, 10.0])
+    est.on_joint_state(stamp, HINGES, angles)
+    return est
+
+
+def test_the_wrench_is_the_panel_method_of_the_posed_body():
+    """With ray-cast shading at the cell of the flow (nearest cell, no interpolation) the
+    estimator's wrench equals a PanelMethod of the merged mesh at the joint positions with the
+    shading of the configuration grid's point (here the positions themselves, on the grid)."""
+    step = 0.25
+    angles = (math.radians(20 * step), math.radians(-8 * step))  # on the joint grid
+    est = ready(estimator(shading_interpolation=False), angles)
+    sample = est.on_attitude(1.0, TILTED)
+    positions = dict(zip(HINGES, angles))
+    mesh = est.body.mesh(positions)
+    cache = est.shading_cache
+    grid_key, _ = cache.cache_of(positions)
+    np.testing.assert_allclose(
+        list(cache.configuration(grid_key).values()), angles, rtol=0, atol=1e-15
+    )
+    method = PanelMethod(mesh, "sentman", reference=est.method.reference)
+    u = sample.flow_direction_body
+    _, inner = cache.cache_of(positions)
+    lighting = inner.cell_lighting(inner.key(u))
+    want = method.coefficients(_flow(sample), flow_direction=u, lighting=lighting)
+    q = sample.dynamic_pressure
+    np.testing.assert_allclose(sample.force, want.force(q), rtol=1e-12, atol=1e-18)
+    np.testing.assert_allclose(sample.torque, want.torque(q), rtol=1e-12, atol=1e-18)
+    joints = sample.joints
+    assert joints.names == HINGES
+    np.testing.assert_array_equal(joints.positions, angles)
+    np.testing.assert_allclose(joints.link_forces.sum(axis=0), sample.force, rtol=1e-12)
+    np.testing.assert_allclose(joints.link_torques.sum(axis=0), sample.torque, rtol=1e-12)
+    assert abs(joints.efforts[0]) > 0.0
+
+
+def _flow(sample):
+    return sample.stamp_conditions.free_stream
+
+
+def test_turning_a_wing_changes_the_wrench_and_its_hinge_torque():
+    est = ready(estimator(), (0.0, 0.0))
+    flat = est.on_attitude(1.0, TILTED)
+    est.on_joint_state(1.01, HINGES, (0.8, 0.0))
+    turned = est.on_attitude(1.01, TILTED)
+    assert not np.allclose(flat.force, turned.force, rtol=1e-3)
+    assert not np.allclose(flat.joints.link_forces[1], turned.joints.link_forces[1], rtol=1e-3)
+    right = flat.joints.link_forces[2]  # the other wing: only the 10 ms later stamp differs
+    np.testing.assert_allclose(
+        turned.joints.link_forces[2], right, rtol=0, atol=1e-4 * abs(right).max()
+    )
+    assert turned.joints.positions[0] == 0.8
+    # each hinge runs along its wing's span through the middle of its chord: a flat plate's
+    # load acts at its centroid, so the hinge holds (almost) nothing, turned or not
+    for sample in (flat, turned):
+        wing_load = np.linalg.norm(sample.joints.link_forces[1]) * 0.5  # N x chord [m]
+        assert wing_load > 0.0
+        assert abs(sample.joints.efforts[0]) < 1e-9 * wing_load
+
+
+def test_no_joint_state_yet_refuses_the_attitude():
+    est = estimator()
+    est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    with pytest.raises(Rejection, match="no position received yet for joint wing_left_hinge"):
+        est.on_attitude(1.0, TILTED)
+    est.on_joint_state(1.0, HINGES[:1], (0.1,))  # one joint only
+    with pytest.raises(Rejection, match="wing_right_hinge") as info:
+        est.on_attitude(1.0, TILTED)
+    assert info.value.reason == "no_joint_state"
+    assert est.rejections["no_joint_state"] == 2
+
+
+def test_a_stale_joint_state_refuses_the_attitude():
+    est = ready(estimator(joint_state_timeout=0.5))
+    est.on_state(2.0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    with pytest.raises(Rejection, match="joint_state_timeout 0.5 s") as info:
+        est.on_attitude(2.0, TILTED)
+    assert info.value.reason == "stale_joint_state"
+    est.on_joint_state(1.9, HINGES, (0.1, 0.1))
+    assert est.on_attitude(2.0, TILTED).joints is not None
+    assert est.rejections["stale_joint_state"] == 1
+
+
+@pytest.mark.parametrize(
+    "names, positions, message",
+    [
+        (("antenna",), (0.0,), "joint 'antenna' is not in example-articulated"),
+        (HINGES, (math.nan, 0.0), "joint wing_left_hinge: position must be finite"),
+        (HINGES, (4.0, 0.0), r"joint wing_left_hinge: position 4.0 rad is outside its limits"),
+        (HINGES, (0.0,), "2 names and 1 positions"),
+        (HINGES + HINGES[:1], (0.0, 0.0, 0.0), "names a joint twice"),
+    ],
+)
+def test_bad_joint_states_are_refused_whole_and_counted(names, positions, message):
+    est = ready(estimator(), (0.2, 0.2))
+    with pytest.raises(Rejection, match=message) as info:
+        est.on_joint_state(1.0, names, positions)
+    assert info.value.reason == "bad_joint_state"
+    assert est.rejections["bad_joint_state"] == 1
+    sample = est.on_attitude(1.0, TILTED)  # the earlier positions stand
+    np.testing.assert_array_equal(sample.joints.positions, (0.2, 0.2))
+
+
+def test_a_rigid_mesh_refuses_joint_states():
+    est = estimator(mesh="example")
+    with pytest.raises(Rejection, match="the body has no joints"):
+        est.on_joint_state(1.0, HINGES, (0.0, 0.0))
+
+
+def test_robot_description_text_is_the_body():
+    est = ready(estimator(mesh="example", robot_description=example_satellite_urdf()))
+    assert est.body.source == "robot_description"
+    assert est.on_attitude(1.0, TILTED).joints.names == HINGES
+
+
+def test_a_slowly_turning_array_poses_the_body_once_per_grid_step():
+    """Sun tracking: 0.1 deg/s for 20 s at 20 Hz (400 messages, 2 deg) with the default grid
+    of 0.25 deg: about 2 / 0.25 + 1 configurations shaded, every other message a hit."""
+    est = estimator(shading_interpolation=False)
+    est.on_state(0.0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    cache = est.shading_cache
+    for k in range(400):
+        t = 0.05 * k
+        if k % 20 == 0:
+            est.on_state(t, [R, 0.0, 1e3], [0.0, V, 10.0])
+        angle = math.radians(10.0 + 0.1 * t)
+        est.on_joint_state(t, HINGES, (angle, angle))  # (both wings track the Sun)
+        est.on_attitude(t, TILTED)
+    assert 8 <= cache.configuration_misses <= 10
+    assert cache.configuration_hits == 400 - cache.configuration_misses
+
+
+def test_articulated_bodies_refuse_a_database_and_solar_pressure():
+    with pytest.raises(ValueError, match="parameter solar_pressure"):
+        estimator(solar_pressure=True)
+    with pytest.raises(ValueError, match="parameter coefficients_source"):
+        estimator(coefficients_source="database", database_path="x.npz")
+
+
+def test_the_unshaded_wrench_needs_no_shader():
+    est = ready(estimator(shading="none"))
+    sample = est.on_attitude(1.0, TILTED)
+    positions = dict(zip(HINGES, (0.3, -0.5)))
+    mesh = est.body.mesh(positions)
+    ref = Reference(moment_point=(0.05, 0.0, 0.01)).resolved(est.body.mesh())
+    want = PanelMethod(mesh, "sentman", reference=ref, shading="none").coefficients(
+        _flow(sample), flow_direction=sample.flow_direction_body
+    )
+    np.testing.assert_allclose(
+        sample.force, want.force(sample.dynamic_pressure), rtol=1e-12, atol=1e-18
+    )
