@@ -50,6 +50,7 @@ ROS_JAZZY = [
     "ros-jazzy-std-msgs>=5.3",
     "ros-jazzy-diagnostic-msgs>=5.3",
     "ros-jazzy-visualization-msgs>=5.3",
+    "ros-jazzy-sensor-msgs>=5.3",
 ]
 
 TEST = [

@@ -21,7 +21,7 @@ import numpy as np
 from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
-from adbsat_ros.messages.decoding import ODOMETRY, QUATERNION_STAMPED
+from adbsat_ros.messages.decoding import JOINT_STATE, ODOMETRY, QUATERNION_STAMPED
 
 #: The message types of ROS 2 Jazzy (the project's distribution).
 TYPESTORE = get_typestore(Stores.ROS2_JAZZY)
@@ -122,6 +122,18 @@ def wrench_stamped_message(stamp, frame_id: str, force, torque):
     return _T[WRENCH_STAMPED](header=_header(stamp, frame_id), wrench=wrench)
 
 
+def joint_state_message(stamp, frame_id: str, names, positions, velocities=(), efforts=()):
+    """sensor_msgs/JointState: names and positions [rad or m] (velocities and efforts [N m or
+    N] each empty or one per name)."""
+    return _T[JOINT_STATE](
+        header=_header(stamp, frame_id),
+        name=[str(n) for n in names],
+        position=np.asarray(positions, dtype=float).reshape(-1),
+        velocity=np.asarray(velocities, dtype=float).reshape(-1),
+        effort=np.asarray(efforts, dtype=float).reshape(-1),
+    )
+
+
 def diagnostic_status(level: int, name: str, message: str, hardware_id: str, values: dict):
     """diagnostic_msgs/DiagnosticStatus with every value as text (as the node sends them)."""
     kv = _T["diagnostic_msgs/msg/KeyValue"]
@@ -152,6 +164,11 @@ def deserialize(raw, msgtype: str):
 def deserialize_attitude(raw):
     """A geometry_msgs/QuaternionStamped from CDR bytes (raises for anything else)."""
     return TYPESTORE.deserialize_cdr(raw, QUATERNION_STAMPED)
+
+
+def deserialize_joint_state(raw):
+    """A sensor_msgs/JointState from CDR bytes (raises for anything else)."""
+    return TYPESTORE.deserialize_cdr(raw, JOINT_STATE)
 
 
 def deserialize_odometry(raw):

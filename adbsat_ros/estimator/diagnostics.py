@@ -54,7 +54,9 @@ def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
         ``temperature_K``, ``altitude_m``, ``relative_speed_m_s``, ``speed_ratio``, ``alpha``,
         ``drag_coefficient``), with ``solar_pressure`` the latest solar wrench
         (``solar_lit_fraction``, ``solar_pressure_Pa``, ``solar_force_N``, ``solar_torque_N_m``
-        and ``aero_force_N`` beside it) and ``rejected_<reason>`` for each rejection counted.
+        and ``aero_force_N`` beside it), for an articulated body ``joint_states_accepted`` and
+        the configuration grid's ``joint_configurations_shaded`` and
+        ``joint_configuration_hits``, and ``rejected_<reason>`` for each rejection counted.
     """
     s = estimator.settings
     knots = estimator.knots
@@ -95,6 +97,12 @@ def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
             drag_coefficient=last_sample.drag_coefficient,
         )
         values.update(last_sample.solar_diagnostics or {})
+    if estimator.joints is not None:  # an articulated body
+        values["joint_states_accepted"] = estimator.joints.accepted
+        cache = estimator.shading_cache
+        if cache is not None:
+            values["joint_configurations_shaded"] = cache.configuration_misses
+            values["joint_configuration_hits"] = cache.configuration_hits
     for reason in sorted(estimator.rejections):
         values[f"rejected_{reason}"] = estimator.rejections[reason]
     return values

@@ -20,9 +20,11 @@ from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.samples import Rejection, WrenchSample
 from adbsat_ros.messages.cdr import (
     AttitudeFields,
+    JointStateFields,
     OdometryFields,
     Stamp,
     accel_stamped_cdr,
+    joint_state_cdr,
     wrench_stamped_cdr,
 )
 from adbsat_ros.messages.decoding import UndecodableMessage
@@ -65,6 +67,10 @@ class Outcome(NamedTuple):
     solar_cdr, total_cdr : bytes or None
         With ``solar_pressure`` on: CDR bytes of the solar radiation pressure WrenchStamped and
         of the aerodynamic plus solar one, body frame, stamped like the message.
+    joint_torques_cdr : bytes or None
+        For an articulated body: CDR bytes of a sensor_msgs/JointState, stamped like the
+        message, with every moving joint's name, the position used and, as ``effort``, the
+        aerodynamic torque about its axis [N m] (force along a prismatic one [N]).
     """
 
     stamp: Stamp | None
@@ -79,6 +85,7 @@ class Outcome(NamedTuple):
     acceleration_cdr: bytes | None = None
     solar_cdr: bytes | None = None
     total_cdr: bytes | None = None
+    joint_torques_cdr: bytes | None = None
 
     @property
     def reason(self) -> str | None:
@@ -161,9 +168,23 @@ class MessageHandler:
             return IGNORED
         return self._wrench(attitude.stamp, attitude.quaternion_xyzw, coefficients, False, inertial)
 
+    def on_joint_state(self, joint_state: JointStateFields) -> Outcome:
+        """A joint_states message: its positions taken for the next wrenches, or refused
+        (``bad_joint_state``, counted); it asks for no wrench."""
+        try:
+            self.estimator.on_joint_state(
+                stamp_seconds(joint_state.stamp), joint_state.names, joint_state.positions
+            )
+        except Rejection as exc:
+            return Outcome(joint_state.stamp, rejection=exc)
+        except Exception as exc:  # never let a message take the caller down
+            self.estimator.rejections["compute_error"] += 1
+            return Outcome(joint_state.stamp, error=exc)
+        return Outcome(joint_state.stamp)
+
     def undecodable(self, what: str, exc: UndecodableMessage) -> Outcome:
-        """Bytes on the ``what`` input ('attitude', 'state') that are no message: counted as
-        ``undecodable``; the outcome's rejection says what was wrong."""
+        """Bytes on the ``what`` input ('attitude', 'state', 'joint_states') that are no
+        message: counted as ``undecodable``; the outcome's rejection says what was wrong."""
         self.estimator.rejections["undecodable"] += 1
         return Outcome(None, rejection=Rejection("undecodable", f"{what} message {exc}"))
 
@@ -202,6 +223,12 @@ class MessageHandler:
             total_cdr = wrench_stamped_cdr(
                 sec, nanosec, frame, sample.total_force.tolist(), sample.total_torque.tolist()
             )
+        joints_cdr = None
+        if sample.joints is not None:
+            joints = sample.joints
+            joints_cdr = joint_state_cdr(
+                sec, nanosec, frame, joints.names, joints.positions, (), joints.efforts
+            )
         self._stamps = (self._stamps[1], stamp)
         return Outcome(
             stamp,
@@ -216,6 +243,7 @@ class MessageHandler:
             acceleration_cdr,
             solar_cdr,
             total_cdr,
+            joints_cdr,
         )
 
     def _inertial(self, stamp: Stamp, sample: WrenchSample) -> tuple:

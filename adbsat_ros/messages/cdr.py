@@ -250,3 +250,56 @@ def diagnostic_array_cdr(sec: int, nanosec: int, frame_id: str, statuses) -> byt
             offset = _put_string(parts, offset, key)
             offset = _put_string(parts, offset, value)
     return b"".join(parts)
+
+
+class JointStateFields(NamedTuple):
+    """Of a sensor_msgs/JointState: stamp, joint names, and their positions [rad or m]."""
+
+    stamp: Stamp
+    names: tuple
+    positions: tuple
+
+    @classmethod
+    def of_message(cls, msg) -> "JointStateFields":
+        """The fields of an rclpy or rosbags JointState message object."""
+        stamp = msg.header.stamp
+        return cls(
+            Stamp(int(stamp.sec), int(stamp.nanosec)),
+            tuple(str(n) for n in msg.name),
+            tuple(float(x) for x in msg.position),
+        )
+
+
+def _put_doubles(parts: list, offset: int, values) -> int:
+    """Append a CDR float64 sequence (4-aligned count, then 8-aligned values); return the
+    offset after it."""
+    values = [float(x) for x in values]
+    offset = _put_count(parts, offset, len(values))
+    if values:
+        pad = -offset % 8
+        parts.append(b"\x00" * pad + struct.pack(f"<{len(values)}d", *values))
+        offset += pad + 8 * len(values)
+    return offset
+
+
+def joint_state_cdr(
+    sec: int, nanosec: int, frame_id: str, names, positions, velocities, efforts
+) -> bytes:
+    """CDR bytes (little endian) of a sensor_msgs/JointState.
+
+    Parameters
+    ----------
+    sec, nanosec : int
+        Header stamp.
+    frame_id : str
+    names : sequence of str
+    positions, velocities, efforts : sequence of float
+        Each empty or one per name.
+    """
+    parts = [CDR_LE_HEADER, struct.pack("<iI", sec, nanosec)]
+    offset = _put_count(parts, _put_string(parts, 8, frame_id), len(names))
+    for name in names:
+        offset = _put_string(parts, offset, name)
+    for values in (positions, velocities, efforts):
+        offset = _put_doubles(parts, offset, values)
+    return b"".join(parts)

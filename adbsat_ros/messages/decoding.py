@@ -14,6 +14,7 @@ from typing import Callable
 
 from adbsat_ros.messages.cdr import (
     AttitudeFields,
+    JointStateFields,
     OdometryFields,
     odometry_fields,
     quaternion_stamped_fields,
@@ -22,6 +23,7 @@ from adbsat_ros.messages.cdr import (
 #: The message types read here (ROS 2 names).
 QUATERNION_STAMPED = "geometry_msgs/msg/QuaternionStamped"
 ODOMETRY = "nav_msgs/msg/Odometry"
+JOINT_STATE = "sensor_msgs/msg/JointState"
 
 
 class UndecodableMessage(Exception):
@@ -91,3 +93,18 @@ def decode_odometry(raw, fallback: Callable) -> OdometryFields:
         return OdometryFields.of_message(fallback(raw))
     except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
         raise UndecodableMessage(ODOMETRY, exc) from None
+
+
+def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
+    """Stamp, names and positions of the CDR bytes of a sensor_msgs/JointState, read by
+    ``deserialise(raw)`` (the full deserialiser: joint states come at a low rate).
+
+    Raises
+    ------
+    UndecodableMessage
+        If ``deserialise`` cannot read ``raw``.
+    """
+    try:
+        return JointStateFields.of_message(deserialise(raw))
+    except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
+        raise UndecodableMessage(JOINT_STATE, exc) from None

@@ -21,6 +21,7 @@ from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
+from sensor_msgs.msg import JointState
 from visualization_msgs.msg import Marker
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
@@ -34,7 +35,12 @@ from adbsat_ros.estimator.parameters import (
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
-from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
+from adbsat_ros.messages.decoding import (
+    UndecodableMessage,
+    decode_attitude,
+    decode_joint_state,
+    decode_odometry,
+)
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.physics.knudsen import knudsen_number
 from adbsat_ros.ros.log_throttle import LogThrottle
@@ -172,6 +178,17 @@ class WrenchNodeCore:
                 event_callbacks=lost,
             ),
         ]
+        self.joint_torques_pub = None
+        if self.estimator.body is not None:  # an articulated body: its joints in and out
+            self._joint_state_message = functools.partial(
+                deserialize_message, message_type=JointState
+            )
+            subscriptions.append(
+                self.create_subscription(
+                    JointState, "joint_states", self._on_joint_state, qos, raw=True
+                )
+            )
+            self.joint_torques_pub = create_publisher(JointState, "joint_torques", qos)
         self._sample_listeners: list = []
         self._log_throttled = LogThrottle(self.get_logger())
         self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
@@ -185,7 +202,7 @@ class WrenchNodeCore:
             self.total_pub,
             self.diagnostics_pub,
             self.marker_pub,
-        ]
+        ] + ([self.joint_torques_pub] if self.joint_torques_pub is not None else [])
         self._subscriptions_made = subscriptions
         mesh = self.estimator.mesh
         source = (
@@ -298,6 +315,17 @@ class WrenchNodeCore:
             )
         self._prepare_next()
 
+    def _on_joint_state(self, raw: bytes) -> None:
+        """Joint positions as the CDR bytes of a sensor_msgs/JointState."""
+        if not self.serving:
+            return
+        try:
+            joint_state = decode_joint_state(raw, self._joint_state_message)
+        except UndecodableMessage as exc:
+            self._serve(self.handler.undecodable("joint_states", exc))
+            return
+        self._serve(self.handler.on_joint_state(joint_state))
+
     def _on_message_lost(self, status) -> None:
         self.messages_lost += status.total_count_change
 
@@ -317,6 +345,8 @@ class WrenchNodeCore:
             if outcome.solar_cdr is not None:
                 self.solar_pub.publish(outcome.solar_cdr)
                 self.total_pub.publish(outcome.total_cdr)
+            if outcome.joint_torques_cdr is not None:
+                self.joint_torques_pub.publish(outcome.joint_torques_cdr)
             self.health.sample_computed(sample.compute_seconds, sample)
             for listener in self._sample_listeners:
                 listener(sample)
@@ -389,10 +419,14 @@ class WrenchNodeCore:
 
             sec, nanosec = divmod(round(sample.stamp * 1e9), 1_000_000_000)
             stamp = Time(sec=int(sec), nanosec=int(nanosec))
-            frame = self.estimator.settings.body_frame_id
-            self.marker_pub.publish(
-                panel_marker(self.estimator.mesh, sample.coefficients, frame, stamp)
+            est, joints = self.estimator, sample.joints
+            mesh = (
+                est.mesh
+                if joints is None
+                else est.body.mesh(dict(zip(joints.names, joints.positions)))
             )
+            frame = est.settings.body_frame_id
+            self.marker_pub.publish(panel_marker(mesh, sample.coefficients, frame, stamp))
         except Exception as exc:  # the picture must never take the node down
             self._log_throttled("error", "marker_failed", f"panel marker failed: {exc!r}")
 

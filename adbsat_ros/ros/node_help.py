@@ -15,12 +15,14 @@ NODE_NAME = "adbsat_node"
 TOPICS = (
     ("attitude", "geometry_msgs/QuaternionStamped", "in", "body orientation in the state frame"),
     ("state", "nav_msgs/Odometry", "in", "orbital state, ECI or ECEF (state_frame)"),
+    ("joint_states", "sensor_msgs/JointState", "in", "joint positions (articulated body)"),
     ("wrench", "geometry_msgs/WrenchStamped", "out", "force [N], torque about the CoM [N m]"),
     ("coefficients", "geometry_msgs/WrenchStamped", "out", "C_F and C_M (while subscribed)"),
     ("wrench_inertial", "geometry_msgs/WrenchStamped", "out", "force in the state frame [N]"),
     ("acceleration", "geometry_msgs/AccelStamped", "out", "force / mass [m/s^2] (with a mass)"),
     ("solar_wrench", "geometry_msgs/WrenchStamped", "out", "solar pressure (solar_pressure)"),
     ("total_wrench", "geometry_msgs/WrenchStamped", "out", "aerodynamic + solar (solar_pressure)"),
+    ("joint_torques", "sensor_msgs/JointState", "out", "aerodynamic torque per joint (effort)"),
     ("panel_marker", "visualization_msgs/Marker", "out", "panels coloured by c_p (RViz)"),
     ("/diagnostics", "diagnostic_msgs/DiagnosticArray", "out", "health, every period"),
 )

@@ -8,14 +8,17 @@ from cdr_cases import DIAGNOSTIC_STATUSES, FRAMES, POSITION, STAMPS_NS, VELOCITY
 
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.messages.cdr import (
+    JointStateFields,
     OdometryFields,
     Stamp,
     diagnostic_array_cdr,
     header_stamp,
+    joint_state_cdr,
     odometry_fields,
     quaternion_stamped_fields,
     wrench_stamped_cdr,
 )
+from adbsat_ros.messages.decoding import UndecodableMessage, decode_joint_state
 
 
 @pytest.mark.parametrize("little_endian", [True, False])
@@ -140,3 +143,29 @@ def test_diagnostic_array_write_equals_rosbags_byte_for_byte():
             )
             ours.header.frame_id = frame
             assert raw == bytes(bag_io.serialize(ours))
+
+
+@pytest.mark.parametrize(
+    "names, positions, efforts",
+    [
+        ((), (), ()),
+        (("hinge",), (0.25,), (-3e-5,)),
+        (("wing_left_hinge", "wing_right_hinge", "fin"), (0.1, -0.2, 1e-300), (4.0, -0.0, 2.5)),
+    ],
+)
+def test_joint_state_write_equals_rosbags_byte_for_byte(names, positions, efforts):
+    """The joint_torques message: names, positions and efforts, no velocities."""
+    for frame in FRAMES:
+        for stamp in STAMPS_NS:
+            t = bag_io.time_message(stamp)
+            msg = bag_io.joint_state_message(stamp, frame, names, positions, (), efforts)
+            raw = joint_state_cdr(t.sec, t.nanosec, frame, names, positions, (), efforts)
+            assert raw == bytes(bag_io.serialize(msg))
+            back = decode_joint_state(raw, bag_io.deserialize_joint_state)
+            assert back == JointStateFields(Stamp(t.sec, t.nanosec), names, positions)
+
+
+def test_bytes_that_are_no_joint_state_are_undecodable():
+    raw = bytes(bag_io.serialize(bag_io.quaternion_stamped_message(10**9, "eci", Q)))
+    with pytest.raises(UndecodableMessage, match="not a sensor_msgs/msg/JointState"):
+        decode_joint_state(raw[:20], bag_io.deserialize_joint_state)
