@@ -11,6 +11,7 @@ import pytest
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
+from adbsat_ros.geometry.example_satellite import BODY_SIZE, WING_GAP, WING_SIZE, WING_X_CENTRE
 from adbsat_ros.geometry.example_urdf import example_finned_urdf, example_satellite_urdf
 from adbsat_ros.physics.articulated_method import ArticulatedMethod
 from adbsat_ros.physics.coefficients import Reference
@@ -172,3 +173,33 @@ def test_bad_positions_and_lightings_are_refused_by_name(body):
         method.coefficients(FLOW, None, 0.1, 0.2, lighting=wrong)
     with pytest.raises(ValueError, match="shading must be one of"):
         ArticulatedMethod(body, "sentman", shading="rays")
+
+
+@pytest.mark.parametrize("gamma_deg", [20.0, 30.0])
+def test_the_body_shades_the_root_of_the_wing_behind_it_by_geometry(gamma_deg):
+    """Both wings of the example turned 90 deg about their hinges face +x; the gas comes from
+    +x and +y at gamma to x (u = (-cos g, -sin g, 0)). The left wing (+y) is upstream of the
+    body and fully lit; the body's -y face (y = -0.25, x up to 0.6) shades the right wing's
+    front face (x = WING_X_CENTRE + 0.015) over the span 0.05 m from its root up to
+    (0.6 - x_face) tan g - 0.05 m. The ray-cast lit areas match, and the shaded wing carries
+    less load than the lit one."""
+    body = ArticulatedBody.from_urdf(example_satellite_urdf())
+    values = {"wing_left_hinge": math.pi / 2, "wing_right_hinge": math.pi / 2}
+    mesh = body.mesh(values)
+    g = math.radians(gamma_deg)
+    u = np.array([-math.cos(g), -math.sin(g), 0.0])
+    lighting = make_shader(mesh).lighting(u)
+    face_x = WING_X_CENTRE + WING_SIZE[2] / 2
+    shaded_span = (BODY_SIZE[0] / 2 - face_x) * math.tan(g) - WING_GAP
+    assert 0.0 < shaded_span < WING_SIZE[1]
+    front = mesh.normals[:, 0] > 0.999
+    lit = {}
+    for name in ("wing_left", "wing_right"):
+        on_link = front & (body.panel_link == body.links.index(name))
+        lit[name] = float((lighting.lit_fraction[on_link] * mesh.areas[on_link]).sum())
+    chord = WING_SIZE[0]
+    assert lit["wing_left"] == pytest.approx(chord * WING_SIZE[1], rel=1e-9)
+    assert lit["wing_right"] == pytest.approx(chord * (WING_SIZE[1] - shaded_span), rel=5e-3)
+    result = ArticulatedMethod(body, "sentman").coefficients(FLOW, values, flow_direction=u)
+    left, right = (result.link_force[body.links.index(n)] for n in ("wing_left", "wing_right"))
+    assert abs(right[0]) < 0.85 * abs(left[0])
