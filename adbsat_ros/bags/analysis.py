@@ -149,6 +149,7 @@ def analyze_bag(
     workers: int | None = None,
     chunk_messages: int | None = None,
     stop=None,
+    joint_topic: str = "/joint_states",
 ) -> AnalysisReport:
     """Replay a bag through the node's logic for each model and write bag, CSV and plots.
 
@@ -183,6 +184,9 @@ def analyze_bag(
     stop : threading.Event, optional
         Set to stop at the next message (e.g. by :func:`adbsat_ros.processes.stop_on_signals`):
         the report's error says so and the outputs so far are kept as PARTIAL.
+    joint_topic : str
+        sensor_msgs/JointState topic of the joint positions, read when a model is an
+        articulated body (as the node subscribes ``joint_states``).
 
     Returns
     -------
@@ -220,8 +224,11 @@ def analyze_bag(
         if uses_attitudes:
             needed.append(("--attitude-topic", attitude_topic, bag_io.QUATERNION_STAMPED))
         needed.append(("--state-topic", state_topic, bag_io.ODOMETRY))
-        by_topic = check_topics(reader, bag, needed)
         states = _model_states(models)
+        articulated = any(s.estimator.body is not None for s in states)
+        if articulated:
+            needed.append(("--joint-states-topic", joint_topic, bag_io.JOINT_STATE))
+        by_topic = check_topics(reader, bag, needed)
         _check_output_topics(bag, by_topic, states)
         report = AnalysisReport(
             bag, models=[s.summary for s in states], messages_total=reader.message_count
@@ -230,7 +237,11 @@ def analyze_bag(
             report.warnings.append(f"workers: {capped}")
         t0 = time.perf_counter()
         read = read_bag_messages(
-            reader, bag, state_topic, attitude_topic if uses_attitudes else None
+            reader,
+            bag,
+            state_topic,
+            attitude_topic if uses_attitudes else None,
+            joint_topic if articulated else None,
         )
         report.error = read.error
     finally:

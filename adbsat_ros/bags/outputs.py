@@ -26,7 +26,7 @@ from tqdm import tqdm
 
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags.report import DIAGNOSTICS_TOPIC
-from adbsat_ros.bags.table import PLOT_COLUMNS, header
+from adbsat_ros.bags.table import PLOT_COLUMNS, header, model_extra_columns
 
 _NS = 1_000_000_000
 
@@ -41,14 +41,14 @@ def _umask() -> int:
 class _CsvFile:
     """The CSV written under a temporary name beside ``path``, put there by :meth:`commit`."""
 
-    def __init__(self, path: Path, labels, solar=()):
+    def __init__(self, path: Path, labels, extras=()):
         self.path = path
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, self.tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial", dir=path.parent)
         # mkstemp makes it 0600; the file the user gets follows their umask, as open's would
         os.chmod(fd, 0o666 & ~_umask())
         self.file = os.fdopen(fd, "w", newline="", encoding="utf-8")
-        csv.writer(self.file).writerow(header(labels, solar))
+        csv.writer(self.file).writerow(header(labels, extras))
 
     def commit(self, path: Path | None = None) -> Path:
         """Close the file and move it to ``path`` (default its own); returns where it is."""
@@ -136,6 +136,12 @@ class _Walk:
                     writer.connection(s.summary.total_topic, bag_io.WRENCH_STAMPED),
                 )
                 if s.settings.solar_pressure
+                else None
+                for s in self.states
+            ]
+            self.joint_connections = [
+                writer.connection(s.summary.joint_torques_topic, bag_io.JOINT_STATE)
+                if s.estimator.body is not None
                 else None
                 for s in self.states
             ]
@@ -228,6 +234,9 @@ class _Walk:
                             solar, total = self.solar_connections[k]
                             writer.write_raw(solar, t_ns, record.solar_cdr)
                             writer.write_raw(total, t_ns, record.total_cdr)
+                        if record.joint_torques_cdr is not None:
+                            joints = self.joint_connections[k]
+                            writer.write_raw(joints, t_ns, record.joint_torques_cdr)
                 t1 = pc()
                 seconds["write"] += t1 - t0
                 sec, nanosec = row.stamp_sec, row.stamp_nanosec  # (as decoded, either way)
@@ -287,7 +296,9 @@ def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
     try:
         if out_csv is not None:
             csv_file = _CsvFile(
-                out_csv, [s.label for s in states], [s.settings.solar_pressure for s in states]
+                out_csv,
+                [s.label for s in states],
+                [model_extra_columns(s.estimator) for s in states],
             )
         walk = _Walk(replay, writer, csv_file, seconds, keep_plot_rows=plots_dir is not None)
         walk.run(outputs.progress, stop)

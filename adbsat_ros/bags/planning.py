@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from adbsat_ros.bags.reading import ATTITUDE, STATE
+from adbsat_ros.bags.reading import ATTITUDE, JOINTS, STATE
 
 #: Smallest default chunk: below this a process pool costs more than it saves.
 MIN_CHUNK_MESSAGES = 250
@@ -39,13 +39,16 @@ def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
       sequential last attitude stamp is one of the latter, so it never rejects where the fresh
       estimator, with none, accepts; from the first accepted attitude on both hold the same).
 
+    * no joint state comes before k: the joint positions are history a fresh estimator has
+      not got (an articulated body's bag is one chunk from its first joint state on).
+
     That the state at k passes the message's own checks (frames, finite values, quaternion) is
     tested separately on the decoded message (the ``accepted`` argument of :func:`plan_chunks`).
 
     Parameters
     ----------
     kinds : array_like of int, shape (N,)
-        0 for a state message, 1 for an attitude message, in bag order.
+        STATE, ATTITUDE or JOINTS of each message, in bag order.
     stamps : array_like of float, shape (N,)
         Header stamps [s] as the estimator reads them (sec + 1e-9 nanosec).
     attitude_sources : sequence of str
@@ -79,6 +82,9 @@ def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
     for source in set(attitude_sources):
         trigger = is_state if source == "odometry" else kinds == ATTITUDE
         ok &= from_min(trigger) >= before_max(trigger)
+    joints = np.flatnonzero(kinds == JOINTS)
+    if joints.size:
+        ok[joints[0] + 1 :] = False
     ok[0] = False
     return np.flatnonzero(ok)
 
@@ -96,7 +102,7 @@ def plan_chunks(
     Parameters
     ----------
     kinds : sequence of int
-        STATE or ATTITUDE of every trigger message, in bag order.
+        STATE, ATTITUDE or JOINTS of every trigger message, in bag order.
     stamps : sequence of float
         Their stamps [s], possibly fewer (up to the first unreadable one: no cut after it).
     attitude_sources : sequence of str

@@ -16,8 +16,8 @@ from dataclasses import dataclass, field
 from adbsat_ros.bags.io import BagError, open_bag
 from adbsat_ros.messages.cdr import header_stamp
 
-#: Kinds of trigger message.
-STATE, ATTITUDE = 0, 1
+#: Kinds of trigger message (joint states are history, as states are: handled in order too).
+STATE, ATTITUDE, JOINTS = 0, 1, 2
 
 
 def read_messages(reader, path, connections):
@@ -87,9 +87,9 @@ class BagMessages:
     count : int
         Messages read (up to a fault of the reader, if any).
     kind_of : dict
-        {connection id: STATE or ATTITUDE} of the trigger topics.
+        {connection id: STATE, ATTITUDE or JOINTS} of the trigger topics.
     trigger_kinds : array of int
-        STATE or ATTITUDE of each trigger message, in bag order.
+        STATE, ATTITUDE or JOINTS of each trigger message, in bag order.
     trigger_stamps : array of float
         Their header stamps [s] as the estimator reads them (sec + 1e-9 nanosec), up to the
         first message whose stamp cannot be read (no chunk starts after it).
@@ -113,16 +113,21 @@ class BagMessages:
         return MessageStream(self)
 
 
-def read_bag_messages(reader, path, state_topic: str, attitude_topic: str | None) -> BagMessages:
-    """The first pass over an open bag: its trigger messages (those on ``state_topic``, and on
-    ``attitude_topic`` unless it is None: no model uses attitudes), their kinds and stamps, the
-    states' bytes. Memory grows by about 9 bytes per trigger message, plus the states."""
+def read_bag_messages(
+    reader, path, state_topic: str, attitude_topic: str | None, joint_topic: str | None = None
+) -> BagMessages:
+    """The first pass over an open bag: its trigger messages (those on ``state_topic``, on
+    ``attitude_topic`` unless it is None: no model uses attitudes, and on ``joint_topic`` unless
+    it is None: no model is articulated), their kinds and stamps, the states' bytes. Memory
+    grows by about 9 bytes per trigger message, plus the states."""
     read = BagMessages(path, {c.id: c for c in reader.connections})
     for c in reader.connections:
         if c.topic == state_topic:
             read.kind_of[c.id] = STATE
         elif attitude_topic is not None and c.topic == attitude_topic:
             read.kind_of[c.id] = ATTITUDE
+        elif joint_topic is not None and c.topic == joint_topic:
+            read.kind_of[c.id] = JOINTS
     stamps_ok = True
     try:
         for conn, _, raw in read_messages(reader, path, reader.connections):

@@ -45,6 +45,8 @@ class ModelSummary:
         Its output topics.
     solar_topic, total_topic : str
         Its output topics of the solar and the total wrench (written with ``solar_pressure``).
+    joint_torques_topic : str
+        Its output topic of the joints' aerodynamic torques (articulated bodies).
     triggers : int
         Messages that asked it for a wrench (attitudes, or states with ``attitude_source``
         odometry).
@@ -61,6 +63,7 @@ class ModelSummary:
     coefficients_topic: str
     solar_topic: str
     total_topic: str
+    joint_torques_topic: str
     triggers: int = 0
     wrenches: int = 0
     rejections: dict = field(default_factory=dict)
@@ -76,6 +79,7 @@ class ModelSummary:
             f"{topic}/coefficients",
             f"{topic}/solar_wrench",
             f"{topic}/total_wrench",
+            f"{topic}/joint_torques",
         )
 
 

@@ -2,8 +2,9 @@
 
 One row per message that asked some model for a wrench (attitudes; states for models whose
 ``attitude_source`` is odometry): the columns :data:`COMMON_COLUMNS`, then per model ``LABEL``
-the group :data:`MODEL_COLUMNS` (and :data:`SOLAR_COLUMNS` with ``solar_pressure`` on) prefixed
-with ``LABEL.``. Numbers are written with ``repr``
+the group :data:`MODEL_COLUMNS` and its extra columns (:func:`extra_columns`: the
+:data:`SOLAR_COLUMNS` with ``solar_pressure`` on, two columns per joint of an articulated body)
+prefixed with ``LABEL.``. Numbers are written with ``repr``
 (exact round trip); a model without a wrench for the message has its status (the rejection
 reason, or empty if the message was not for it) and NaN.
 """
@@ -70,17 +71,33 @@ PLOT_COLUMNS = (
 _PLOT_INDEX = [MODEL_COLUMNS.index(c) for c in PLOT_COLUMNS]
 _NAN_CELLS = ",nan" * (len(MODEL_COLUMNS) - 1)
 _NAN_PLOT = [math.nan] * len(PLOT_COLUMNS)
-_NAN_SOLAR = ",nan" * len(SOLAR_COLUMNS)
+#: The columns of each moving joint ``NAME`` of an articulated body, as ``joint.NAME.<suffix>``:
+#: its position [rad or m] and the aerodynamic effort on it [N m, or N for a prismatic joint].
+JOINT_COLUMNS = ("position", "effort")
 
 
-def header(labels, solar=()) -> list:
-    """The CSV header for the models ``labels`` (``solar``: per model, whether it has the
-    :data:`SOLAR_COLUMNS`; none by default)."""
-    solar = tuple(solar) or (False,) * len(labels)
+def extra_columns(solar: bool, joint_names=()) -> tuple:
+    """A model's columns after :data:`MODEL_COLUMNS`: the :data:`SOLAR_COLUMNS` if ``solar``,
+    then :data:`JOINT_COLUMNS` of every joint of ``joint_names``."""
+    joints = tuple(f"joint.{name}.{c}" for name in joint_names for c in JOINT_COLUMNS)
+    return (SOLAR_COLUMNS if solar else ()) + joints
+
+
+def model_extra_columns(estimator) -> tuple:
+    """The :func:`extra_columns` of a model's AeroWrenchEstimator: solar ones with
+    ``solar_pressure``, and those of its body's joints."""
+    body = estimator.body
+    return extra_columns(estimator.settings.solar_pressure, () if body is None else body.joints)
+
+
+def header(labels, extras=()) -> list:
+    """The CSV header for the models ``labels`` (``extras``: per model, its
+    :func:`extra_columns`; none by default)."""
+    extras = tuple(extras) or ((),) * len(labels)
     return list(COMMON_COLUMNS) + [
         f"{label}.{c}"
-        for label, has_solar in zip(labels, solar, strict=True)
-        for c in (MODEL_COLUMNS + SOLAR_COLUMNS if has_solar else MODEL_COLUMNS)
+        for label, more in zip(labels, extras, strict=True)
+        for c in MODEL_COLUMNS + tuple(more)
     ]
 
 
@@ -115,30 +132,41 @@ def row_values(status: str, sample) -> list:
     ]
 
 
-def solar_values(sample) -> list:
-    """The :data:`SOLAR_COLUMNS` of a WrenchSample with a solar wrench."""
-    solar = sample.solar
-    return [float(solar.lit_fraction), *solar.force.tolist(), *solar.torque.tolist()]
+def extra_values(sample, columns) -> list:
+    """The values of a WrenchSample for a model's :func:`extra_columns` (NaN for what it does
+    not have: no joints at rest, say)."""
+    out = []
+    if columns[: len(SOLAR_COLUMNS)] == SOLAR_COLUMNS:
+        solar = sample.solar
+        if solar is None:
+            out += [math.nan] * len(SOLAR_COLUMNS)
+        else:
+            out += [float(solar.lit_fraction), *solar.force.tolist(), *solar.torque.tolist()]
+    n_joints = (len(columns) - len(out)) // len(JOINT_COLUMNS)
+    joints = sample.joints
+    if joints is None:
+        out += [math.nan] * (n_joints * len(JOINT_COLUMNS))
+    else:
+        out += np.column_stack([joints.positions, joints.efforts]).ravel().tolist()
+    return out
 
 
-def model_cells(outcomes, solar=()) -> tuple[str, list]:
+def model_cells(outcomes, extras=()) -> tuple[str, list]:
     """The models' cells of one row as CSV text, and their plot numbers (PLOT_COLUMNS per model,
-    in order), from each model's :class:`~adbsat_ros.estimator.handling.Outcome` (``solar`` as
+    in order), from each model's :class:`~adbsat_ros.estimator.handling.Outcome` (``extras`` as
     in :func:`header`)."""
     cells, plot = [], []
-    solar = tuple(solar) or (False,) * len(outcomes)
-    for outcome, has_solar in zip(outcomes, solar, strict=True):
+    extras = tuple(extras) or ((),) * len(outcomes)
+    for outcome, more in zip(outcomes, extras, strict=True):
         sample = outcome.sample
         if sample is None:
             status = outcome.status
-            cells.append(("" if status is None else status) + _NAN_CELLS)
-            if has_solar:
-                cells[-1] += _NAN_SOLAR
+            cells.append(("" if status is None else status) + _NAN_CELLS + ",nan" * len(more))
             plot.extend(_NAN_PLOT)
         else:
             values = row_values("ok", sample)
-            if has_solar:
-                values += solar_values(sample)
+            if more:
+                values += extra_values(sample, more)
             cells.append(",".join(["ok", *map(repr, values[1:])]))
             plot.extend(values[i] for i in _PLOT_INDEX)
     return ",".join(cells), plot

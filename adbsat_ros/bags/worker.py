@@ -17,11 +17,16 @@ from concurrent.futures import ProcessPoolExecutor
 from typing import NamedTuple
 
 from adbsat_ros.bags import io as bag_io
-from adbsat_ros.bags.reading import STATE
-from adbsat_ros.bags.table import model_cells, utc_text
+from adbsat_ros.bags.reading import JOINTS, STATE
+from adbsat_ros.bags.table import model_cells, model_extra_columns, utc_text
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
-from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
+from adbsat_ros.messages.decoding import (
+    UndecodableMessage,
+    decode_attitude,
+    decode_joint_state,
+    decode_odometry,
+)
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.processes import frozen_heap, pool_context
 
@@ -85,6 +90,8 @@ class MessageRecord(NamedTuple):
         The shading-cache cells read for it (one, three when interpolating, or none).
     solar_cdr, total_cdr : bytes or None
         The solar and total wrench messages to write (with ``solar_pressure``).
+    joint_torques_cdr : bytes or None
+        The joint torques message to write (articulated bodies).
     """
 
     state_accepted: bool = False
@@ -99,6 +106,7 @@ class MessageRecord(NamedTuple):
     cache_keys: tuple = ()
     solar_cdr: bytes | None = None
     total_cdr: bytes | None = None
+    joint_torques_cdr: bytes | None = None
 
 
 class Row(NamedTuple):
@@ -177,6 +185,7 @@ class WorkerModel:
             cache_keys=keys,
             solar_cdr=outcome.solar_cdr,
             total_cdr=outcome.total_cdr,
+            joint_torques_cdr=outcome.joint_torques_cdr,
         )
 
 
@@ -191,7 +200,7 @@ class Worker:
 
     def __init__(self, specs):
         self.models = [WorkerModel(settings, mesh) for settings, mesh in specs]
-        self.solar = tuple(settings.solar_pressure for settings, _ in specs)
+        self.extras = tuple(model_extra_columns(m.estimator) for m in self.models)
 
     def run(self, chunk) -> ChunkResult:
         """Replay ``chunk``, (kinds, CDR bytes) of consecutive trigger messages."""
@@ -203,7 +212,16 @@ class Worker:
         records, rows = [], []
         for kind, raw in zip(kinds, raws):
             try:
-                if kind == STATE:
+                if kind == JOINTS:
+                    joint_state = decode_joint_state(raw, bag_io.deserialize_joint_state)
+                    stamp = joint_state.stamp
+                    outcomes = [
+                        m.handler.on_joint_state(joint_state)
+                        if m.estimator.body is not None
+                        else Outcome(stamp)  # (a rigid model has no joints to set)
+                        for m in models
+                    ]
+                elif kind == STATE:
                     odometry = decode_odometry(raw, bag_io.deserialize_odometry)
                     stamp = odometry.stamp
                     outcomes = [m.handler.on_state(odometry) for m in models]
@@ -215,7 +233,7 @@ class Worker:
                 return ChunkResult(records, rows, exc.reason)
             row = None
             if any(o.triggered for o in outcomes):
-                cells, plot = model_cells(outcomes, self.solar)
+                cells, plot = model_cells(outcomes, self.extras)
                 row = Row(
                     stamp.sec, stamp.nanosec, utc_text(utc_of, stamp_seconds(stamp)), cells, plot
                 )

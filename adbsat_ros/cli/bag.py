@@ -57,6 +57,12 @@ def configure_analyze(a) -> None:
         "--state-topic", default="/state", help="nav_msgs/Odometry topic (default /state)"
     )
     a.add_argument(
+        "--joint-states-topic",
+        default="/joint_states",
+        help="sensor_msgs/JointState topic of an articulated body's joint positions (default "
+        "/joint_states; read only for a URDF model)",
+    )
+    a.add_argument(
         "--params",
         action="append",
         default=[],
@@ -176,6 +182,7 @@ def run_analyze(args) -> int:
                 overwrite=args.overwrite,
                 workers=args.workers,
                 stop=stop,
+                joint_topic=args.joint_states_topic,
             )
     except BagError as exc:
         print(f"adbsat-ros bag analyze: error: {exc}", file=sys.stderr)
