@@ -18,16 +18,19 @@ from adbsat_ros.physics.gsi_models import ModelOptions
 from adbsat_ros.physics.panel_method import PanelMethod
 
 
-def load_body(settings: WrenchSettings, mesh: PanelMesh | None = None) -> tuple:
+def load_body(settings: WrenchSettings, mesh: PanelMesh | ArticulatedBody | None = None) -> tuple:
     """``(body, mesh)``: the articulated body of ``robot_description`` (or of a URDF as
     ``mesh``) and its panels at zero joint positions, or None and the rigid mesh (``mesh`` if
-    given, else loaded from the settings).
+    given, else loaded from the settings). An ArticulatedBody given as ``mesh`` is taken as it
+    is (e.g. one read with a finer ``max_edge_fraction``).
 
     Raises
     ------
     MeshError
         If the mesh or URDF cannot be loaded (or ``mesh_scale`` is set for a URDF).
     """
+    if isinstance(mesh, ArticulatedBody):
+        return mesh, mesh.mesh()
     if settings.robot_description:
         body = ArticulatedBody.from_urdf(
             settings.robot_description,

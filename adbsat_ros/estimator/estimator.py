@@ -39,7 +39,6 @@ from adbsat_ros.estimator.state import checked_rotation, checked_state, jumps_ba
 from adbsat_ros.estimator.sunlight import SolarPressureSource
 from adbsat_ros.estimator.timing import stamp_utc
 from adbsat_ros.estimator.wrench import Moment, database_wrench, panel_wrench
-from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.cache import ShadingCache
 
 
@@ -50,10 +49,9 @@ class AeroWrenchEstimator:
     ----------
     settings : WrenchSettings
         Everything but the ROS plumbing (see :data:`adbsat_ros.estimator.settings.PARAMETERS`).
-    mesh : PanelMesh, optional
-        An already loaded mesh (default: load ``settings.mesh`` once). Not for an articulated
-        body (``robot_description``, or a URDF as ``mesh``), which is always read from the
-        settings.
+    mesh : PanelMesh or ArticulatedBody, optional
+        An already loaded mesh or articulated body (default: load ``settings.mesh``, or the
+        URDF of ``robot_description``, once).
 
     Attributes
     ----------
@@ -81,7 +79,7 @@ class AeroWrenchEstimator:
         For settings that cannot be applied (e.g. an unknown material name).
     """
 
-    def __init__(self, settings: WrenchSettings, mesh: PanelMesh | None = None):
+    def __init__(self, settings: WrenchSettings, mesh=None):
         self.body, self.mesh = load_body(settings, mesh)
         self.joints = None
         self.rejections: Counter = Counter()

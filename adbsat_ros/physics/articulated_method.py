@@ -30,10 +30,11 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
+from adbsat_ros.geometry.poses import PoseCache
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import OWN_SHADING, PanelMethod
-from adbsat_ros.shading.lighting import panel_range
+from adbsat_ros.shading.link_split import LinkSplitCache
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 from adbsat_ros.shading.shader import make_shader
 
@@ -126,7 +127,24 @@ class ArticulatedMethod:
             self._links.append((link, start, stop, method))
         self.model = self._links[0][3].model
         self.n_panels = zero.n_panels
-        self._carried = {name: body.carried_links(name) for name in body.joints}
+        self._link_index = np.array([link for link, *_ in self._links])
+        evaluated = {link: k for k, link in enumerate(self._link_index.tolist())}
+        # each joint's carried links with geometry, as indices of the evaluated links
+        self._carried = [
+            np.array([evaluated[c] for c in body.carried_links(name) if c in evaluated], dtype=int)
+            for name in body.joints
+        ]
+        self._kinds = {name: joint.kind for name, joint in body.joints.items()}
+        self._moment_point = np.asarray(self.reference.moment_point)
+        self._prismatic = [joint.kind == "prismatic" for joint in body.joints.values()]
+        #: The links' and joints' frames of the latest configurations.
+        self.poses = PoseCache(body)
+        #: The lightings of the posed body split by link, in the links' frames.
+        self.splits = LinkSplitCache([(start, stop) for _, start, stop, _ in self._links])
+
+    def _origins_arm(self, poses, k: int) -> np.ndarray:
+        """From the moment point to the origin of evaluated link k [m]."""
+        return poses.origins[self._link_index[k]] - self._moment_point
 
     @property
     def needs_species(self) -> bool:
@@ -180,7 +198,7 @@ class ArticulatedMethod:
         """
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         positions = self.body.positions(positions)
-        poses = self.body.link_poses(positions)
+        poses = self.poses.poses(positions)
         if lighting is OWN_SHADING:
             lighting = self.lighting_of(u, positions)
         if lighting is not None and lighting.n_panels != self.n_panels:
@@ -188,48 +206,44 @@ class ArticulatedMethod:
                 f"lighting has {lighting.n_panels} panels, the body has {self.n_panels}"
             )
         ref = self.reference
-        moment_point = np.asarray(ref.moment_point)
-        n_links = len(self.body.links)
-        link_force = np.zeros((n_links, 3))
-        link_moment = np.zeros((n_links, 3))
-        link_origin_moment = np.zeros((n_links, 3))  # about the link's own origin, G
+        rotations = poses.rotations[self._link_index]
+        own = self.splits.split(lighting, rotations, poses.key)
+        u_links = rotations.transpose(0, 2, 1) @ u  # the flow seen by each link
+        n = len(self._links)
+        forces, moments = np.empty((n, 3)), np.empty((n, 3))  # body frame; about the point
         area_projected = 0.0
         results = []
-        for k, (link, start, stop, method) in enumerate(self._links):
-            rotation, origin = poses[link][:3, :3], poses[link][:3, 3]
-            own = panel_range(lighting, start, stop, rotation.T)
+        for k, (_, _, _, method) in enumerate(self._links):
             r = method.coefficients(
                 flow,
-                flow_direction=rotation.T @ u,
-                lighting=own,
+                flow_direction=u_links[k],
+                lighting=own[k],
                 surface=None if surface is None else surface[k],
             )
             results.append(r)
-            force = rotation @ r.Cf_G
-            link_force[link] = force
-            link_origin_moment[link] = rotation @ r.Cm_G
-            link_moment[link] = (
-                link_origin_moment[link] + np.cross(origin - moment_point, force) / ref.length
-            )
+            rotation = rotations[k]
+            forces[k] = force = rotation @ r.Cf_G
+            arm = self._origins_arm(poses, k)
+            moments[k] = rotation @ r.Cm_G + frames.cross(arm, force) / ref.length
             area_projected += r.area_projected
         effort = {}
-        for name, joint in self.body.joints.items():
-            child = poses[self.body.links.index(joint.child)]
-            axis = child[:3, :3] @ np.asarray(joint.axis, dtype=float)
-            axis /= np.linalg.norm(axis)
-            carried = self._carried[name]
-            if joint.kind == "prismatic":
-                effort[name] = float(link_force[carried].sum(axis=0) @ axis)
-            else:  # moments about the joint: M_l(origin l) + (t_l - p_joint) x F_l
-                arms = poses[carried, :3, 3] - child[:3, 3]
-                about = (
-                    link_origin_moment[carried] + np.cross(arms, link_force[carried]) / ref.length
-                )
-                effort[name] = float(about.sum(axis=0) @ axis)
+        for j, name in enumerate(self.body.joints):
+            carried, axis = self._carried[j], poses.joint_axes[j]
+            force = forces[carried].sum(axis=0)
+            if self._prismatic[j]:
+                effort[name] = float(force @ axis)
+            else:  # the carried links' moment about the joint: M(point) + (point - p) x F
+                arm = self._moment_point - poses.joint_origins[j]
+                about = moments[carried].sum(axis=0) + frames.cross(arm, force) / ref.length
+                effort[name] = float(about @ axis)
+        link_force = np.zeros((len(self.body.links), 3))
+        link_moment = np.zeros((len(self.body.links), 3))
+        link_force[self._link_index] = forces
+        link_moment[self._link_index] = moments
         total = AeroCoefficients(
             flow_direction=u,
-            Cf_G=link_force.sum(axis=0),
-            Cm_G=link_moment.sum(axis=0),
+            Cf_G=forces.sum(axis=0),
+            Cm_G=moments.sum(axis=0),
             reference=ref,
             area_projected=float(area_projected),
             model=self.model,
@@ -237,8 +251,9 @@ class ArticulatedMethod:
             lighting=lighting,
             angles=angles,
         )
-        kinds = {name: joint.kind for name, joint in self.body.joints.items()}
-        return ArticulatedCoefficients(total, link_force, link_moment, effort, positions, kinds)
+        return ArticulatedCoefficients(
+            total, link_force, link_moment, effort, positions, self._kinds
+        )
 
 
 def _joined_panel_values(results) -> tuple:

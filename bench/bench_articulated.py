@@ -1,0 +1,182 @@
+"""CPU time per message of an articulated body's wrench against the rigid body of the same
+panels, in one run.
+
+Usage:
+    python bench/bench_articulated.py [--rounds 5] [--messages 4000] [--fin-messages 200]
+        [--max-edge-fraction 0.0625]
+
+Each message goes through the node's per-message path without ROS
+(:class:`~adbsat_ros.estimator.handling.MessageHandler`: the estimator and the CDR bytes of the
+outputs), timed in CPU time of this thread. The stream is the node benchmark's: attitudes at
+1 kHz turning slowly (0.5 deg/s about a tilted axis), a state every 100 ms (a circular orbit at
+300 km), with the default parameters (sentman, ray-cast shading cached at 0.25 deg, interpolated;
+the joint configuration grid at 0.25 deg). Cases:
+
+* ``rigid``: the example satellite with wings, read from its URDF at zero and merged into one
+  mesh (``--max-edge-fraction`` 0.0625 refines it to 10,464 faces), as a plain mesh;
+* ``fixed``: the same URDF as an articulated body, its joint states (unchanged) at 10 Hz;
+* ``tracking``: its arrays turning at 0.1 deg/s (sun tracking), joint states at 10 Hz;
+* ``fins``: the finned example, its four fins stepping to a new deflection (a 0.4 deg step of a
+  +-10 deg sweep) with every message; ``fins-2deg`` the same with the configuration grid at
+  2 deg (``joint_shading_resolution_deg``), so that the sweep's configurations are kept.
+
+Rounds are interleaved (rigid, fixed, tracking each run the next ``--messages`` of their stream
+in turn); ``fins`` runs ``--fin-messages`` messages per round. Printed per case: the median over
+rounds of the mean CPU time per message [us] (joint states included), its ratio to ``rigid``,
+and the shading counters (cells and configurations shaded, hits).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+
+from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.handling import MessageHandler
+from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.geometry.articulated import ArticulatedBody
+from adbsat_ros.geometry.example_urdf import example_finned_urdf, example_satellite_urdf
+from adbsat_ros.messages.cdr import AttitudeFields, JointStateFields, OdometryFields, Stamp
+
+R_ORBIT = 6378137.0 + 300e3
+V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
+T0_NS = 1_767_225_600_000_000_000  # 2026-01-01T00:00:00Z, UNIX time [ns]
+PERIOD_NS = 1_000_000  # 1 kHz attitudes
+STATE_EVERY = 100  # 10 Hz states
+JOINTS_EVERY = 100  # 10 Hz joint states (tracking, fixed)
+TURN_RATE = math.radians(0.5)  # attitude [rad/s]
+TRACK_RATE = math.radians(0.1)  # arrays [rad/s]
+
+
+def stamp(k: int) -> Stamp:
+    return Stamp(*divmod(T0_NS + k * PERIOD_NS, 1_000_000_000))
+
+
+def attitude(k: int) -> AttitudeFields:
+    angle = 0.2 + TURN_RATE * k * PERIOD_NS * 1e-9
+    axis = (0.3, 0.8, 0.52)
+    norm = math.sqrt(sum(a * a for a in axis))
+    s = math.sin(angle / 2) / norm
+    return AttitudeFields(stamp(k), [axis[0] * s, axis[1] * s, axis[2] * s, math.cos(angle / 2)])
+
+
+def state(k: int) -> OdometryFields:
+    t = k * PERIOD_NS * 1e-9
+    w = V_ORBIT / R_ORBIT
+    position = (R_ORBIT * math.cos(w * t), R_ORBIT * math.sin(w * t), 0.0)
+    velocity = (-V_ORBIT * math.sin(w * t), V_ORBIT * math.cos(w * t), 0.0)
+    return OdometryFields(stamp(k), "eci", "eci", position, (0.0, 0.0, 0.0, 1.0), velocity)
+
+
+class Case:
+    """A handler and its message stream: ``joints(k)`` gives the joint state due at message k
+    (or None)."""
+
+    def __init__(self, name, handler, joints=None):
+        self.name, self.handler, self.joints = name, handler, joints
+        self.k = 0
+        self.means = []
+
+    def run(self, n: int) -> None:
+        handler, clock = self.handler, time.thread_time_ns
+        t0 = clock()
+        for _ in range(n):
+            k = self.k
+            if k % STATE_EVERY == 0:
+                handler.on_state(state(k))
+            if self.joints is not None:
+                joint_state = self.joints(k)
+                if joint_state is not None:
+                    handler.on_joint_state(joint_state)
+            outcome = handler.on_attitude(attitude(k))
+            if outcome.sample is None:
+                raise RuntimeError(f"{self.name}: message {k} refused: {outcome.rejection}")
+            self.k += 1
+        self.means.append((clock() - t0) / n / 1e3)
+
+    def counters(self) -> str:
+        cache = self.handler.estimator.shading_cache
+        text = f"cells shaded {cache.misses}, hits {cache.hits}"
+        if hasattr(cache, "configuration_misses"):
+            text += (
+                f"; configurations shaded {cache.configuration_misses}, "
+                f"hits {cache.configuration_hits}"
+            )
+        return text
+
+
+def handler(settings, body) -> MessageHandler:
+    return MessageHandler(AeroWrenchEstimator(settings, body))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--messages", type=int, default=4000)
+    parser.add_argument("--fin-messages", type=int, default=200)
+    parser.add_argument("--max-edge-fraction", type=float, default=0.0625)
+    args = parser.parse_args()
+
+    wings = ArticulatedBody.from_urdf(
+        example_satellite_urdf(), max_edge_fraction=args.max_edge_fraction, source="wings"
+    )
+    finned = ArticulatedBody.from_urdf(
+        example_finned_urdf(), max_edge_fraction=args.max_edge_fraction, source="finned"
+    )
+    settings = WrenchSettings.from_parameters({})
+    hinges = tuple(wings.joints)
+    fins = tuple(finned.joints)
+
+    def fixed(k):
+        if k % JOINTS_EVERY:
+            return None
+        return JointStateFields(stamp(k), hinges, (0.3, 0.3))
+
+    def tracking(k):
+        if k % JOINTS_EVERY:
+            return None
+        angle = 0.3 + TRACK_RATE * k * PERIOD_NS * 1e-9
+        return JointStateFields(stamp(k), hinges, (angle, angle))
+
+    def stepping(k):
+        d = math.radians(10.0) * math.sin(k * math.radians(0.4) / math.radians(10.0))
+        return JointStateFields(stamp(k), fins, (d, -d, 0.5 * d, -0.5 * d))
+
+    cases = [
+        Case("rigid", handler(settings, wings.mesh())),
+        Case("fixed", handler(settings, wings), fixed),
+        Case("tracking", handler(settings, wings), tracking),
+    ]
+    coarse = WrenchSettings.from_parameters({"joint_shading_resolution_deg": 2.0})
+    fin_cases = [
+        Case("fins", handler(settings, finned), stepping),
+        Case("fins-2deg", handler(coarse, finned), stepping),
+    ]
+    for case in cases:  # warm-up: the first cells and configurations
+        case.run(args.messages // 4)
+        case.means.clear()
+    for case in fin_cases:
+        case.run(100 if case.name == "fins-2deg" else 5)  # (the coarse grid: its sweep, once)
+        case.means.clear()
+    for _ in range(args.rounds):
+        for case in cases:
+            case.run(args.messages)
+        for case in fin_cases:
+            case.run(args.fin_messages)
+    rigid = statistics.median(cases[0].means)
+    print(
+        f"faces: wings {wings.mesh().n_panels}, finned {finned.mesh().n_panels}; "
+        f"{args.rounds} rounds of {args.messages} messages ({args.fin_messages} for fins)"
+    )
+    for case in cases + fin_cases:
+        mean = statistics.median(case.means)
+        print(
+            f"{case.name:9s} {mean:10.1f} us/message  ratio to rigid {mean / rigid:6.3f}  "
+            f"({case.counters()})"
+        )
+
+
+if __name__ == "__main__":
+    main()
