@@ -13,8 +13,8 @@ The public API, by task (each name documented on the object itself):
 
 * meshes: :func:`load_mesh`, :func:`panels_from_arrays`, :func:`panels_from_trimesh`,
   :func:`example_satellite`, :class:`PanelMesh`, :class:`MeshError`; bodies with moving parts
-  from a URDF: :class:`ArticulatedBody`, with :func:`panel_loads` for the load on every link and
-  joint;
+  from a URDF: :class:`ArticulatedBody`, :class:`ArticulatedMethod` (its wrench, per-link loads
+  and joint torques at any joint positions), and :func:`panel_loads` for the load on every panel;
 * the panel method: :class:`PanelMethod`, :class:`AeroCoefficients`, :class:`Reference`,
   :class:`ModelOptions`, :data:`MODELS`, :class:`MaterialTable`, :class:`SurfaceProperties`;
 * multiple reflections: :class:`TestParticleMethod` (test-particle Monte Carlo, the same inputs
@@ -47,6 +47,7 @@ _EXPORTS = {
     "MeshError": "adbsat_ros.geometry.mesh",
     "example_satellite": "adbsat_ros.geometry.example_satellite",
     "ArticulatedBody": "adbsat_ros.geometry.articulated",
+    "ArticulatedMethod": "adbsat_ros.physics.articulated_method",
     "panel_loads": "adbsat_ros.physics.panel_loads",
     "PanelMethod": "adbsat_ros.physics.panel_method",
     "AeroCoefficients": "adbsat_ros.physics.coefficients",
