@@ -32,8 +32,10 @@ from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.poses import PoseCache
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
+from adbsat_ros.physics.facets import facet_rows
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import OWN_SHADING, PanelMethod
+from adbsat_ros.physics.posed_facets import PosedFacets
 from adbsat_ros.shading.link_split import LinkSplitCache
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 from adbsat_ros.shading.shader import make_shader
@@ -130,21 +132,28 @@ class ArticulatedMethod:
         self._link_index = np.array([link for link, *_ in self._links])
         evaluated = {link: k for k, link in enumerate(self._link_index.tolist())}
         # each joint's carried links with geometry, as indices of the evaluated links
-        self._carried = [
-            np.array([evaluated[c] for c in body.carried_links(name) if c in evaluated], dtype=int)
-            for name in body.joints
-        ]
+        self._carries = np.zeros((len(body.joints), len(self._links)))  # joint j carries link
+        for j, name in enumerate(body.joints):
+            for link in body.carried_links(name):
+                if link in evaluated:
+                    self._carries[j, evaluated[link]] = 1.0
         self._kinds = {name: joint.kind for name, joint in body.joints.items()}
         self._moment_point = np.asarray(self.reference.moment_point)
-        self._prismatic = [joint.kind == "prismatic" for joint in body.joints.values()]
+        self._prismatic = np.array([j.kind == "prismatic" for j in body.joints.values()], bool)
         #: The links' and joints' frames of the latest configurations.
         self.poses = PoseCache(body)
         #: The lightings of the posed body split by link, in the links' frames.
         self.splits = LinkSplitCache([(start, stop) for _, start, stop, _ in self._links])
-
-    def _origins_arm(self, poses, k: int) -> np.ndarray:
-        """From the moment point to the origin of evaluated link k [m]."""
-        return poses.origins[self._link_index[k]] - self._moment_point
+        methods = [method for *_, method in self._links]
+        #: The links' facets posed in the body frame (None if a link is evaluated panel by
+        #: panel; then every link is evaluated in its own frame).
+        self.facets = PosedFacets.of(methods, self.splits)
+        self._evaluator = methods[0]  # (every link has the model and options)
+        self._facet_surface = None
+        if self.facets is not None:
+            self._facet_surface = self.facets.surface([m.surface for m in methods])
+        # r_ref x F = -(F @ cross(I, r_ref)), row by row
+        self._cross_point = np.cross(np.eye(3), self._moment_point)
 
     @property
     def needs_species(self) -> bool:
@@ -205,37 +214,22 @@ class ArticulatedMethod:
             raise ValueError(
                 f"lighting has {lighting.n_panels} panels, the body has {self.n_panels}"
             )
-        ref = self.reference
         rotations = poses.rotations[self._link_index]
-        own = self.splits.split(lighting, rotations, poses.key)
-        u_links = rotations.transpose(0, 2, 1) @ u  # the flow seen by each link
-        n = len(self._links)
-        forces, moments = np.empty((n, 3)), np.empty((n, 3))  # body frame; about the point
-        area_projected = 0.0
-        results = []
-        for k, (_, _, _, method) in enumerate(self._links):
-            r = method.coefficients(
-                flow,
-                flow_direction=u_links[k],
-                lighting=own[k],
-                surface=None if surface is None else surface[k],
-            )
-            results.append(r)
-            rotation = rotations[k]
-            forces[k] = force = rotation @ r.Cf_G
-            arm = self._origins_arm(poses, k)
-            moments[k] = rotation @ r.Cm_G + frames.cross(arm, force) / ref.length
-            area_projected += r.area_projected
-        effort = {}
-        for j, name in enumerate(self.body.joints):
-            carried, axis = self._carried[j], poses.joint_axes[j]
-            force = forces[carried].sum(axis=0)
-            if self._prismatic[j]:
-                effort[name] = float(force @ axis)
-            else:  # the carried links' moment about the joint: M(point) + (point - p) x F
-                arm = self._moment_point - poses.joint_origins[j]
-                about = moments[carried].sum(axis=0) + frames.cross(arm, force) / ref.length
-                effort[name] = float(about @ axis)
+        origins = poses.origins[self._link_index]
+        evaluated = None
+        if self.facets is not None:
+            evaluated = self._posed_loads(flow, u, lighting, surface, poses, rotations, origins)
+        if evaluated is None:  # (a link without facets, or a surface varying within a facet)
+            evaluated = self._link_loads(flow, u, lighting, surface, poses, rotations, origins)
+        forces, moments, area_projected, panel_values, panel_index = evaluated
+        ref = self.reference
+        # every joint at once: the loads of the links it carries, their moment about it
+        carried_force = self._carries @ forces
+        about = self._carries @ moments + (
+            frames.cross(self._moment_point - poses.joint_origins, carried_force) / ref.length
+        )
+        about[self._prismatic] = carried_force[self._prismatic]  # (along a prismatic joint)
+        effort = dict(zip(self.body.joints, (about * poses.joint_axes).sum(axis=1).tolist()))
         link_force = np.zeros((len(self.body.links), 3))
         link_moment = np.zeros((len(self.body.links), 3))
         link_force[self._link_index] = forces
@@ -247,13 +241,75 @@ class ArticulatedMethod:
             reference=ref,
             area_projected=float(area_projected),
             model=self.model,
-            panel_values=lambda: _joined_panel_values(results),
+            panel_values=panel_values,
+            panel_index=panel_index,
             lighting=lighting,
             angles=angles,
         )
         return ArticulatedCoefficients(
             total, link_force, link_moment, effort, positions, self._kinds
         )
+
+    def _posed_loads(self, flow, u, lighting, surface, poses, rotations, origins):
+        """Every evaluated link's force and moment coefficients (body frame, about the moment
+        point), their lit projected area, and the per-facet values, from the posed facets in
+        one evaluation (None if the surface varies within a facet)."""
+        facets = self.facets
+        facet_surface = self._facet_surface if surface is None else facets.surface(surface)
+        if facet_surface is None:
+            return None
+        normals, inward_T = facets.normals(poses, rotations)
+        c, cp, shear, ctau = self._evaluator.facet_coefficients(u, inward_T, facet_surface, flow)
+        rows = facet_rows(c, cp, shear)
+        sums = facets.sums(lighting, poses, rotations, origins)
+        # facet g: force W (q u) + k (W n); moment q (Q x u) + k (Q x n), about the origin of
+        # G; projected area max(c, 0) W: the weighted columns summed link by link
+        weighted = np.empty((facets.n, 11))
+        np.multiply(rows[_ROW_OF_SUM].T, sums, out=weighted[:, :10])
+        np.multiply(rows[2], sums[:, 0], out=weighted[:, 10])
+        per_link = np.add.reduceat(weighted, facets.starts)
+        q_w, k_wn, q_q, k_qn = per_link[:, 0], per_link[:, 1:4], per_link[:, 4:7], per_link[:, 7:10]
+        area = float(per_link[:, 10].sum())
+        force = q_w[:, None] * u + k_wn
+        ux, uy, uz = u.tolist()
+        cross_u = np.array([[0.0, -uz, uy], [uz, 0.0, -ux], [-uy, ux, 0.0]])  # a x u = a @ it
+        moment = q_q @ cross_u + k_qn + force @ self._cross_point  # (- r_ref x F)
+        ref = self.reference
+        return (
+            force / ref.area,
+            moment / (ref.area * ref.length),
+            area,
+            (c, cp, ctau, shear, normals),
+            facets.panel_index,
+        )
+
+    def _link_loads(self, flow, u, lighting, surface, poses, rotations, origins):
+        """As :meth:`_posed_loads`, link by link in the links' frames (per-panel values)."""
+        own = self.splits.split(lighting, rotations, poses.key)
+        u_links = rotations.transpose(0, 2, 1) @ u  # the flow seen by each link
+        n = len(self._links)
+        forces, moments = np.empty((n, 3)), np.empty((n, 3))  # body frame; about the point
+        area_projected = 0.0
+        results = []
+        ref = self.reference
+        for k, (_, _, _, method) in enumerate(self._links):
+            r = method.coefficients(
+                flow,
+                flow_direction=u_links[k],
+                lighting=own[k],
+                surface=None if surface is None else surface[k],
+            )
+            results.append(r)
+            forces[k] = force = rotations[k] @ r.Cf_G
+            arm = origins[k] - self._moment_point
+            moments[k] = rotations[k] @ r.Cm_G + frames.cross(arm, force) / ref.length
+            area_projected += r.area_projected
+        return forces, moments, area_projected, lambda: _joined_panel_values(results), None
+
+
+#: Which row of :func:`facet_rows` (q, k) weights each column of the facet sums (W, W n, Q,
+#: Q x n) in the load: q W, k W n, q Q, k Q x n.
+_ROW_OF_SUM = np.array([0, 1, 1, 1, 0, 0, 0, 1, 1, 1])
 
 
 def _joined_panel_values(results) -> tuple:

@@ -178,8 +178,13 @@ class PanelMethod:
         return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
 
     def _facet_coefficients(self, u, facet_surface, flow):
+        return self.facet_coefficients(u, self.facets.inward_normals_T, facet_surface, flow)
+
+    def facet_coefficients(self, u, inward_normals_T, facet_surface, flow):
         """c = cos(delta), c_p and c_tau / sin(delta) of every facet (shape (G,)) for one unit
-        direction ``u``, and c_tau when the model gave it (else None).
+        direction ``u``, and c_tau when the model gave it (else None), for facets of normals n
+        given as the (3, G) array -n^T (this method's :attr:`facets`, or another body's of the
+        same model: an articulated body's posed facets).
 
         A model of :data:`gsi_models.SPLIT_MODELS` is its plate, which gives c_tau / sin(delta)
         itself: no sin(delta), and no clipping of c (within rounding of [-1, 1], where the plates
@@ -188,17 +193,20 @@ class PanelMethod:
         split = self._split
         parameters = None if split is None else split[0](facet_surface, flow, self.options)
         if parameters is None:
-            c, sigma, cp, ctau = self._local_coefficients(
-                u, self.facets.inward_normals_T, facet_surface, flow
-            )
+            c, sigma, cp, ctau = self._local_coefficients(u, inward_normals_T, facet_surface, flow)
             return c, cp, shear_per_sine(ctau, sigma), ctau
-        c = u @ self.facets.inward_normals_T
+        c = u @ inward_normals_T
         cp, shear = split[1](c, *parameters)  # (float arrays like c: the plates are elementwise)
         return c, cp, shear, None
 
     def _facet_totals(self, u, rows, lighting):
+        return self.totals_of_sums(u, rows, self.facets.lit_sums(lighting), self.reference)
+
+    @staticmethod
+    def totals_of_sums(u, rows, sums, reference):
         """Cf_G, Cm_G and the lit projected area from the (3, G) rows (q, k, max(c, 0)) of
-        :func:`facet_rows`, q = c_tau / sin(delta) and k = q c - c_p per facet.
+        :func:`facet_rows`, q = c_tau / sin(delta) and k = q c - c_p per facet, and the (G, 10)
+        facet sums (W, W n, Q, Q x n) of :meth:`Facets.lit_sums`, for ``reference``.
 
         Facet g carries the force W_g (q_g u + k_g n_g) (the shear along t = (u + c n) /
         sin(delta)) and the moment q_g (Q_g x u) + k_g (Q_g x n_g); so one product of the rows
@@ -208,16 +216,16 @@ class PanelMethod:
             (r_w, _, _, _, r_qx, r_qy, r_qz, _, _, _),
             (_, k_nx, k_ny, k_nz, _, _, _, k_mx, k_my, k_mz),
             (area_projected, *_),
-        ) = (rows @ self.facets.lit_sums(lighting)).tolist()
+        ) = (rows @ sums).tolist()
         ux, uy, uz = u.tolist()
         fx, fy, fz = r_w * ux + k_nx, r_w * uy + k_ny, r_w * uz + k_nz
-        px, py, pz = self.reference.moment_point
+        px, py, pz = reference.moment_point
         # moment = (sum r Q) x u + sum k (Q x n) - r_ref x force
         mx = r_qy * uz - r_qz * uy + k_mx - (py * fz - pz * fy)
         my = r_qz * ux - r_qx * uz + k_my - (pz * fx - px * fz)
         mz = r_qx * uy - r_qy * ux + k_mz - (px * fy - py * fx)
-        area = self.reference.area
-        area_length = area * self.reference.length
+        area = reference.area
+        area_length = area * reference.length
         return (
             np.array([fx / area, fy / area, fz / area]),
             np.array([mx / area_length, my / area_length, mz / area_length]),

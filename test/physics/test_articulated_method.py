@@ -52,6 +52,7 @@ def directions():
 def test_equals_the_panel_method_of_the_posed_mesh(body):
     """One method object for every configuration: nothing is rebuilt when a joint moves."""
     method = ArticulatedMethod(body, "sentman", reference=REFERENCE)
+    assert method.facets is not None  # (boxes: the links' facets posed, one evaluation)
     shaded_somewhere = False
     for values in configurations(body):
         mesh = body.mesh(values)
@@ -203,3 +204,32 @@ def test_the_body_shades_the_root_of_the_wing_behind_it_by_geometry(gamma_deg):
     result = ArticulatedMethod(body, "sentman").coefficients(FLOW, values, flow_direction=u)
     left, right = (result.link_force[body.links.index(n)] for n in ("wing_left", "wing_right"))
     assert abs(right[0]) < 0.85 * abs(left[0])
+
+
+SPHERE_ARM_URDF = """<robot name="arm">
+  <link name="base"><visual><geometry><box size="0.4 0.4 0.4"/></geometry></visual></link>
+  <link name="ball"><visual><origin xyz="0.5 0 0"/>
+    <geometry><sphere radius="0.1"/></geometry></visual></link>
+  <joint name="swing" type="revolute"><parent link="base"/><child link="ball"/>
+    <origin xyz="0.2 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+</robot>"""
+
+
+def test_a_link_without_facets_is_evaluated_in_its_own_frame_with_the_same_result():
+    """A sphere's panels all face their own ways (no facets to group), so the body is evaluated
+    link by link in the links' frames instead of as posed facets: the same numbers."""
+    body = ArticulatedBody.from_urdf(SPHERE_ARM_URDF)
+    method = ArticulatedMethod(body, "sentman", reference=REFERENCE)
+    assert method.facets is None
+    values = {"swing": 0.7}
+    mesh = body.mesh(values)
+    u = directions()[1]
+    lighting = make_shader(mesh).lighting(u)
+    got = method.coefficients(FLOW, values, flow_direction=u, lighting=lighting)
+    want = PanelMethod(mesh, "sentman", reference=method.reference).coefficients(
+        FLOW, flow_direction=u, lighting=lighting
+    )
+    np.testing.assert_allclose(got.total.Cf_G, want.Cf_G, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(got.total.Cm_G, want.Cm_G, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(got.total.cp, want.cp, rtol=0, atol=1e-12)

@@ -1,0 +1,142 @@
+"""An articulated body's facets posed in the body frame: one panel-method evaluation for the
+whole body at any joint positions.
+
+Each link's panels are grouped into facets once, in the link's frame
+(:class:`~adbsat_ros.physics.facets.Facets`: coplanar panels of one material; the model runs
+once per facet). A facet's sums W, W n, Q, Q x n (area, area-weighted normal, first moment and
+its cross product with the normal; lit fractions and lit-centroid shifts included) move with its
+link: for a link at rotation R and origin t in the body frame G,
+
+    W' = W,  (W n)' = R (W n),  Q' = R Q + W t,  (Q x n)' = R (Q x n) + t x (W n)',
+
+so the posed body is the links' facets side by side, evaluated as one rigid body's
+(docs/physics.md, section 8). The sums of a lighting are linear in it, so a blend's are the
+weighted sum of its parts', and :class:`PosedFacets` keeps the posed sums of the latest
+(lighting, configuration) pairs and the posed normals of the latest configurations.
+
+Units: metres and square metres, body frame G.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+
+import numpy as np
+
+from adbsat_ros.geometry import frames
+from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
+from adbsat_ros.shading.lighting import LightingBlend
+from adbsat_ros.shading.link_split import LinkSplitCache
+
+
+def _posed(sums: np.ndarray, rotation: np.ndarray, origin: np.ndarray) -> np.ndarray:
+    """A link's (g, 10) facet sums moved from its frame to G by (rotation, origin)."""
+    out = np.empty_like(sums)
+    w = sums[:, 0]
+    out[:, 0] = w
+    out[:, 1:4] = sums[:, 1:4] @ rotation.T
+    out[:, 4:7] = sums[:, 4:7] @ rotation.T + w[:, None] * origin
+    out[:, 7:10] = sums[:, 7:10] @ rotation.T + frames.cross(origin, out[:, 1:4])
+    return out
+
+
+class PosedFacets:
+    """The facets of every link of an articulated body, posed per configuration.
+
+    Build with :meth:`of`. Caches (key, value; bound; counters ``hits``, ``misses``):
+    posed sums, (lighting part's content key or None, configuration key) -> (G, 10) array,
+    ``max_entries``; posed normals, configuration key -> normals, ``max_entries``.
+
+    Attributes
+    ----------
+    n : int
+        Facets G over all links, link after link.
+    starts : ndarray of int
+        Index of each link's first facet.
+    panel_index : ndarray of int, shape (N,)
+        The facet of every panel of the posed body, in panel order.
+    """
+
+    def __init__(self, link_facets, splits: LinkSplitCache, max_entries: int = 64):
+        self._facets = list(link_facets)
+        self._splits = splits
+        counts = [f.n for f in self._facets]
+        self.n = int(sum(counts))
+        self.starts = np.cumsum([0, *counts[:-1]])
+        self.panel_index = np.concatenate(
+            [f.index + start for f, start in zip(self._facets, self.starts)]
+        )
+        self.max_entries = int(max_entries)
+        self._sums: OrderedDict = OrderedDict()
+        self._normals: OrderedDict = OrderedDict()
+        self.hits = self.misses = 0
+
+    @classmethod
+    def of(cls, link_methods, splits: LinkSplitCache) -> "PosedFacets | None":
+        """The posed facets of the links' panel methods, or None if a link has no facets (its
+        panels are evaluated one by one: a sphere, say)."""
+        if any(m.facets is None for m in link_methods):
+            return None
+        return cls([m.facets for m in link_methods], splits)
+
+    def surface(self, link_surfaces) -> PanelSurface | None:
+        """The facets' surface from each link's per-panel surface, or None if a parameter
+        varies within a facet."""
+        parts = [f.surface_of(s) for f, s in zip(self._facets, link_surfaces)]
+        if any(p is None for p in parts):
+            return None
+        values = {}
+        for name in SURFACE_PARAMETERS:
+            link_values = [getattr(p, name) for p in parts]
+            if all(np.ndim(v) == 0 for v in link_values) and len(set(link_values)) == 1:
+                values[name] = float(link_values[0])
+            else:
+                values[name] = np.concatenate(
+                    [np.broadcast_to(v, (f.n,)) for v, f in zip(link_values, self._facets)]
+                )
+        return PanelSurface(**values)
+
+    def normals(self, poses, rotations) -> tuple:
+        """``(normals (G, 3), -normals^T (3, G))`` of the posed facets."""
+        found = self._normals.get(poses.key)
+        if found is not None:
+            self._normals.move_to_end(poses.key)
+            return found
+        normals = np.concatenate([f.normals @ r.T for f, r in zip(self._facets, rotations)])
+        found = (normals, np.ascontiguousarray(-normals.T))
+        self._store(self._normals, poses.key, found)
+        return found
+
+    def sums(self, lighting, poses, rotations, origins) -> np.ndarray:
+        """The (G, 10) posed facet sums of the body's ``lighting`` (None: all lit)."""
+        if isinstance(lighting, LightingBlend):
+            (w, first), *rest = lighting.parts
+            out = w * self._part_sums(first, poses, rotations, origins)
+            for w, part in rest:
+                out += w * self._part_sums(part, poses, rotations, origins)
+            return out
+        return self._part_sums(lighting, poses, rotations, origins)
+
+    def _part_sums(self, lighting, poses, rotations, origins) -> np.ndarray:
+        key = (None if lighting is None else lighting.key, poses.key)
+        found = self._sums.get(key)
+        if found is not None:
+            self._sums.move_to_end(key)
+            self.hits += 1
+            return found
+        self.misses += 1
+        pieces = self._splits.split(lighting, rotations, poses.key)
+        found = np.concatenate(
+            [
+                _posed(f.lit_sums(piece), r, t)
+                for f, piece, r, t in zip(self._facets, pieces, rotations, origins)
+            ]
+        )
+        found.setflags(write=False)
+        self._store(self._sums, key, found)
+        return found
+
+    def _store(self, store: OrderedDict, key, value) -> None:
+        store[key] = value
+        if len(store) > self.max_entries:
+            store.popitem(last=False)
