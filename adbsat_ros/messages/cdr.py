@@ -282,10 +282,34 @@ def _put_doubles(parts: list, offset: int, values) -> int:
     return offset
 
 
+@functools.lru_cache(maxsize=64)
+def _joint_state_layout(frame_id: str, names: tuple, positions: int, efforts: int):
+    """The struct of a JointState with these frame and names, ``positions`` positions, no
+    velocities and ``efforts`` efforts: everything but the stamp and the numbers is fixed."""
+    parts = []
+    offset = _put_count(parts, _put_string(parts, 8, frame_id), len(names))
+    for name in names:
+        offset = _put_string(parts, offset, name)
+    middle = b"".join(parts)
+    fmt = f"<4siI{len(middle)}s"
+    for count in (positions, 0, efforts):
+        pad = -offset % 4
+        fmt += f"{pad}xI"
+        offset += pad + 4
+        if count:
+            pad = -offset % 8
+            fmt += f"{pad}x{count}d"
+            offset += pad + 8 * count
+    return struct.Struct(fmt), middle
+
+
 def joint_state_cdr(
     sec: int, nanosec: int, frame_id: str, names, positions, velocities, efforts
 ) -> bytes:
     """CDR bytes (little endian) of a sensor_msgs/JointState.
+
+    The node's joint_torques message, one per wrench: its layout is made once per frame and
+    names (:func:`functools.lru_cache`, 64 kept).
 
     Parameters
     ----------
@@ -296,10 +320,26 @@ def joint_state_cdr(
     positions, velocities, efforts : sequence of float
         Each empty or one per name.
     """
-    parts = [CDR_LE_HEADER, struct.pack("<iI", sec, nanosec)]
-    offset = _put_count(parts, _put_string(parts, 8, frame_id), len(names))
-    for name in names:
-        offset = _put_string(parts, offset, name)
-    for values in (positions, velocities, efforts):
-        offset = _put_doubles(parts, offset, values)
-    return b"".join(parts)
+    positions = [float(x) for x in positions]
+    velocities = [float(x) for x in velocities]
+    efforts = [float(x) for x in efforts]
+    if velocities:  # (not what the node sends: the general form)
+        parts = [CDR_LE_HEADER, struct.pack("<iI", sec, nanosec)]
+        offset = _put_count(parts, _put_string(parts, 8, frame_id), len(names))
+        for name in names:
+            offset = _put_string(parts, offset, name)
+        for values in (positions, velocities, efforts):
+            offset = _put_doubles(parts, offset, values)
+        return b"".join(parts)
+    layout, middle = _joint_state_layout(frame_id, tuple(names), len(positions), len(efforts))
+    return layout.pack(
+        CDR_LE_HEADER,
+        sec,
+        nanosec,
+        middle,
+        len(positions),
+        *positions,
+        0,
+        len(efforts),
+        *efforts,
+    )

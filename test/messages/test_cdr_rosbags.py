@@ -169,3 +169,11 @@ def test_bytes_that_are_no_joint_state_are_undecodable():
     raw = bytes(bag_io.serialize(bag_io.quaternion_stamped_message(10**9, "eci", Q)))
     with pytest.raises(UndecodableMessage, match="not a sensor_msgs/msg/JointState"):
         decode_joint_state(raw[:20], bag_io.deserialize_joint_state)
+
+
+def test_joint_state_with_velocities_equals_rosbags_byte_for_byte():
+    names, positions, velocities, efforts = ("a", "bcd"), (0.5, -1.0), (2.0, 3.5), ()
+    t = bag_io.time_message(STAMPS_NS[0])
+    msg = bag_io.joint_state_message(STAMPS_NS[0], "body", names, positions, velocities, efforts)
+    raw = joint_state_cdr(t.sec, t.nanosec, "body", names, positions, velocities, efforts)
+    assert raw == bytes(bag_io.serialize(msg))
