@@ -17,6 +17,7 @@ import time
 from adbsat_ros.cli.atmosphere import add_flight_arguments
 from adbsat_ros.cli.common import (
     add_flow_arguments,
+    add_joint_arguments,
     add_mesh_arguments,
     add_model_arguments,
     add_reference_arguments,
@@ -43,6 +44,7 @@ def configure(p) -> None:
         "stored. Gas, model, reference and shading options are those of `coeff`."
     )
     add_mesh_arguments(p)
+    add_joint_arguments(p)
     add_model_arguments(p)
     add_flow_arguments(p)
     add_flight_arguments(p, time_required=False, with_alpha=False)
@@ -119,6 +121,7 @@ def run(args) -> int:
             workers=workers,
             progress=None,
             mesh_spec=args.mesh,
+            mesh_joints=getattr(args, "articulation", (None, None))[1],
             mesh_scale=args.scale,
             materials_texts=args.material,
             conditions=conditions,

@@ -181,6 +181,7 @@ def build_database(
     tolerance: float | None = None,
     seed: int = 0,
     stop=None,
+    mesh_joints: dict | None = None,
 ) -> AeroDatabase:
     """Evaluate the panel method, or test particles, at every (aoa, aos) pair of two angle lists.
 
@@ -210,6 +211,9 @@ def build_database(
         mesh is the example (else None: not reloadable).
     mesh_scale : float
         Scale given when loading the mesh file.
+    mesh_joints : dict of str to float, optional
+        For a URDF ``mesh_spec``: the joint positions [rad or m] the mesh is posed at
+        (recorded, and used to reload it).
     materials_texts : sequence of str
         Override texts the materials were built from (checked against ``method.materials``;
         the metadata always records exact texts derived from the table).
@@ -260,6 +264,7 @@ def build_database(
         samples=samples,
         mesh_spec=mesh_spec,
         mesh_scale=mesh_scale,
+        mesh_joints=mesh_joints,
         materials_texts=materials_texts,
     )
     if conditions is not None:

@@ -14,7 +14,7 @@ import os
 from adbsat_ros._version import __version__
 from adbsat_ros.database.format import FORMAT_VERSION, DatabaseError
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME
-from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.geometry.loading import articulated_body, resolve_mesh
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.freestream import FreeStream
@@ -54,13 +54,23 @@ def _flow_dict(flow: FreeStream) -> dict:
     }
 
 
-def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale) -> str | None:
+def _reload_mesh(spec, scale: float, joints: dict | None):
+    """The mesh of a spec: a file or bundled body, or a URDF posed at ``joints`` [rad or m]."""
+    if joints:
+        try:
+            return articulated_body(spec).mesh(joints)
+        except ValueError as exc:  # (a joint position the URDF refuses)
+            raise MeshError(str(exc)) from None
+    return resolve_mesh(spec, scale=scale)
+
+
+def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale, joints=None) -> str | None:
     """The spec to record: given specs must reload to the method's mesh (same fingerprint)."""
     if mesh_spec is None:
         return None
     mesh_spec = os.fspath(mesh_spec)
     try:
-        reloaded = resolve_mesh(mesh_spec, scale=mesh_scale).fingerprint()
+        reloaded = _reload_mesh(mesh_spec, mesh_scale, joints).fingerprint()
     except MeshError as exc:
         raise ValueError(f"mesh_spec {mesh_spec!r}: {exc}") from None
     if reloaded != method.mesh.fingerprint():
@@ -82,6 +92,7 @@ def describe_setup(
     mesh_spec,
     mesh_scale,
     materials_texts=None,
+    mesh_joints=None,
 ) -> dict:
     """Metadata of a set-up: everything but the grid results and the interpolation error.
 
@@ -102,6 +113,8 @@ def describe_setup(
         Scale given when loading the mesh file.
     materials_texts : sequence of str, optional
         Override texts the materials were built from; checked against ``method.materials``.
+    mesh_joints : dict of str to float, optional
+        For a URDF ``mesh_spec``: the joint positions [rad or m] the mesh is posed at.
 
     Returns
     -------
@@ -130,8 +143,9 @@ def describe_setup(
         "created_utc": _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat(),
         "adbsat_ros_version": __version__,
         "mesh": {
-            "spec": _mesh_spec_checked(method, mesh_spec, mesh_scale),
+            "spec": _mesh_spec_checked(method, mesh_spec, mesh_scale, mesh_joints),
             "scale": float(mesh_scale),
+            "joints": {str(k): float(v) for k, v in (mesh_joints or {}).items()},
             "source": str(mesh.source),
             "n_panels": int(mesh.n_panels),
             "fingerprint": mesh.fingerprint(),
@@ -190,7 +204,7 @@ def method_from_metadata(metadata: dict, path=None):
                 "reloaded"
             )
         try:
-            mesh = resolve_mesh(spec, scale=float(mesh_meta["scale"]))
+            mesh = _reload_mesh(spec, float(mesh_meta["scale"]), mesh_meta.get("joints"))
         except MeshError as exc:
             raise DatabaseError(f"{where}: cannot reload the mesh {spec!r}: {exc}") from None
         if mesh.fingerprint() != mesh_meta["fingerprint"]:

@@ -130,7 +130,7 @@ class ShadingCache:
         self.max_entries = None if max_entries is None else int(max_entries)
         self._store: OrderedDict = OrderedDict()  # key -> PanelLighting, least recent first
         self.interpolate = bool(interpolate)
-        self.triangulation = CellTriangulation(self.n) if self.interpolate else None
+        self.triangulation = CellTriangulation.of(self.n) if self.interpolate else None
         self.last_keys: tuple = ()
         self.hits = 0
         self.misses = 0

@@ -11,6 +11,7 @@ import pytest
 from adbsat_ros.cli import main
 from adbsat_ros.database.format import load_database
 from adbsat_ros.database.lookup import CoefficientLookup
+from adbsat_ros.database.metadata import method_from_metadata
 from adbsat_ros.processes import usable_cpus
 
 FLOW = ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
@@ -271,3 +272,25 @@ def test_a_signal_stops_the_build_keeping_the_attitudes_done(tmp_path, signum, m
     done = int(lines[0].split("after ")[1].split(" of")[0])
     assert len(rows) - 1 == done > 0  # a header, then one row per attitude done
     assert all(np.isfinite([float(x) for x in row]).all() for row in rows[1:])
+
+
+def test_a_urdf_database_at_joint_positions_agrees_with_coeff(capsys, tmp_path):
+    """database MESH.urdf --joint: the body posed there (ray-cast shading, one wing turned), the
+    same numbers as coeff at those joints, and the joints in the mesh spec."""
+    out = tmp_path / "wings.npz"
+    joints = ["--joint", "wing_left_hinge=40", "--joint", "wing_right_hinge=-15"]
+    argv = ["example-articulated", *FLOW, *joints, "--aoa", "0,30", "--aos", "0,20"]
+    code, _, _ = run(capsys, *argv, "--out", out)
+    assert code == 0
+    db = load_database(out)
+    assert db.metadata["mesh"]["joints"]["wing_left_hinge"] == pytest.approx(np.radians(40.0))
+    method, _, _ = method_from_metadata(db.metadata, out)  # the posed body reloads
+    assert method.mesh.fingerprint() == db.metadata["mesh"]["fingerprint"]
+    assert main(["coeff", *argv[:-4], "--aoa", "30", "--aos", "20", "--json"]) == 0
+    row = json.loads(capsys.readouterr().out)[0]
+    np.testing.assert_allclose(db.Cf_G[1, 1], row["Cf_G"], rtol=1e-12, atol=1e-15)
+    assert (
+        main(["coeff", "example-articulated", *FLOW, "--aoa", "30", "--aos", "20", "--json"]) == 0
+    )
+    flat = json.loads(capsys.readouterr().out)[0]
+    assert not np.allclose(db.Cf_G[1, 1], flat["Cf_G"], rtol=1e-3)
