@@ -37,8 +37,15 @@ def configure(p) -> None:
     p.add_argument(
         "--attitude",
         choices=("tumble", "nadir"),
-        default="tumble",
-        help="tumbling at 1 deg/s (default) or nadir-pointing",
+        default=None,
+        help="tumbling at 1 deg/s (default) or nadir-pointing (the default with --articulated)",
+    )
+    p.add_argument(
+        "--articulated",
+        action="store_true",
+        help="the bundled finned body (example-finned) instead, steering its four fins +-10 deg "
+        "through joint_states: the table and the CSV add the fins' positions and hinge "
+        "torques, and demo_hinge_torques.png plots them",
     )
     p.add_argument(
         "--out-dir",
@@ -54,7 +61,13 @@ def run(args) -> int:
     try:
         from adbsat_ros.ros.demo import run_demo
 
-        result = run_demo(args.duration, args.speedup, args.out_dir, args.attitude)
+        result = run_demo(
+            args.duration,
+            args.speedup,
+            args.out_dir,
+            args.attitude,
+            articulated=args.articulated,
+        )
     except ImportError as exc:
         print(
             "adbsat-ros demo: error: needs the ROS 2 Python packages, which cannot be imported: "

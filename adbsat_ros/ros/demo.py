@@ -45,8 +45,12 @@ from nav_msgs.msg import Odometry
 from rclpy.context import Context
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import JointState
 
 from adbsat_ros.bags.scenario import Scenario, generate
+from adbsat_ros.estimator.settings import materials_from_settings
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.ros import demo_joints
 from adbsat_ros.ros.demo_report import DemoResult, SampleLog, table_rows, vector, write_outputs
 from adbsat_ros.ros.executors import make_executor
 from adbsat_ros.ros.node import AdbsatNode
@@ -110,8 +114,9 @@ def run_demo(
     duration: float = 8.0,
     speedup: float = 10.0,
     out_dir="adbsat_demo",
-    attitude: str = "tumble",
+    attitude: str | None = None,
     out=None,
+    articulated: bool = False,
 ) -> DemoResult:
     """Run the demo (see the module docstring); prints to ``out`` (default stdout).
 
@@ -123,7 +128,11 @@ def run_demo(
         Simulated seconds per wall second, in (0, :data:`MAX_SPEEDUP`].
     out_dir : path-like
         Directory for ``demo_wrench.csv`` and the PNG plots (created if needed).
-    attitude : {'tumble', 'nadir'}
+    attitude : {'tumble', 'nadir'}, optional
+        Default tumble, or nadir with ``articulated``.
+    articulated : bool
+        The finned body steering its fins instead of the example satellite
+        (:mod:`adbsat_ros.ros.demo_joints`).
 
     Raises
     ------
@@ -135,6 +144,7 @@ def run_demo(
         raise ValueError(f"--duration must be in (0, 3600] s, got {duration!r}")
     if not (math.isfinite(speedup) and 0 < speedup <= MAX_SPEEDUP):
         raise ValueError(f"--speedup must be in (0, {MAX_SPEEDUP:g}], got {speedup!r}")
+    attitude = attitude or ("nadir" if articulated else "tumble")
     if attitude not in ("tumble", "nadir"):
         raise ValueError(f"--attitude must be tumble or nadir, got {attitude!r}")
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
@@ -153,6 +163,11 @@ def run_demo(
         "from "
         f"{scenario.epoch.isoformat().replace('+00:00', 'Z')}, satellite {motion}; "
         f"{scenario.duration_s:g} s simulated in {duration:g} s ({speedup:g}x real time)"
+        + (
+            f"; {demo_joints.BODY} steering its fins +-{demo_joints.AMPLITUDE_DEG:g} deg"
+            if articulated
+            else ""
+        )
     )
     say(
         f"ROS 2: ROS_AUTOMATIC_DISCOVERY_RANGE={os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE']}, "
@@ -178,7 +193,16 @@ def run_demo(
             parameter_overrides=[
                 Parameter("qos_depth", value=100),
                 Parameter("state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
-            ],
+            ]
+            + (
+                [
+                    Parameter("mesh", value=demo_joints.BODY),
+                    Parameter("joint_state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
+                    Parameter("joint_shading_resolution_deg", value=demo_joints.SHADING_GRID_DEG),
+                ]
+                if articulated
+                else []
+            ),
         )
         log = SampleLog()
         node.add_sample_listener(log)
@@ -194,6 +218,8 @@ def run_demo(
         qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
         attitude_pub = client.create_publisher(QuaternionStamped, "attitude", qos)
         state_pub = client.create_publisher(Odometry, "state", qos)
+        if articulated:
+            joints_pub = client.create_publisher(JointState, "joint_states", qos)
 
         def on_message(slot):
             def callback(msg):
@@ -235,10 +261,11 @@ def run_demo(
         say(
             f"{'sim time':>9} {'altitude':>9} {'density':>10} {'C_D':>6} {'|F|':>10} {'|T|':>10} "
             f"{'compute':>8} {'latency':>8}"
+            + (f" {demo_joints.TABLE_HEADER[0]}" if articulated else "")
         )
         say(
             f"{'[s]':>9} {'[km]':>9} {'[kg/m^3]':>10} {'[-]':>6} {'[N]':>10} {'[N m]':>10} "
-            f"{'[ms]':>8} {'[ms]':>8}"
+            f"{'[ms]':>8} {'[ms]':>8}" + (f" {demo_joints.TABLE_HEADER[1]}" if articulated else "")
         )
         t0_ns = int(messages.attitudes.stamps_ns[0])
 
@@ -259,7 +286,7 @@ def run_demo(
                 f"{np.linalg.norm(vector(wrench.wrench.force)):10.3e} "
                 f"{np.linalg.norm(vector(wrench.wrench.torque)):10.3e} "
                 f"{(1e3 * sample.compute_seconds if sample else math.nan):8.2f} "
-                f"{latency:8.2f}"
+                f"{latency:8.2f}" + (f" {demo_joints.table_cells(sample)}" if articulated else "")
             )
 
         states, attitudes = messages.states, messages.attitudes
@@ -287,6 +314,13 @@ def run_demo(
                 result.states_sent += 1
             else:
                 stamp_ns = int(attitudes.stamps_ns[i])
+                if articulated:  # the fins' positions at this stamp, just before the attitude
+                    fraction = i / max(1, len(attitudes.stamps_ns) - 1)
+                    joints_pub.publish(
+                        demo_joints.joint_state(
+                            JointState, stamp_ns, demo_joints.fin_positions(fraction)
+                        )
+                    )
                 msg = QuaternionStamped()
                 msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
                 msg.header.frame_id = "eci"
@@ -318,7 +352,8 @@ def run_demo(
         rclpy.try_shutdown(context=context)
 
     samples = log.samples if log is not None else {}
-    rows = table_rows(received, samples, sent_wall, int(messages.attitudes.stamps_ns[0]), result)
+    t0_ns = int(messages.attitudes.stamps_ns[0])
+    rows = table_rows(received, samples, sent_wall, t0_ns, result, joints=articulated)
     result.rejected = {
         k: v for k, v in (node.estimator.rejections.items() if node is not None else ()) if v
     }
@@ -347,12 +382,14 @@ def run_demo(
         picture = None
         if latest and node is not None:
             sample = latest[-1]
-            picture = (
-                node.estimator.method,
-                sample.stamp_conditions.free_stream,
-                sample.coefficients,
-            )
-        result.files = write_outputs(rows, Path(out_dir), picture)
+            method = node.estimator.method
+            if sample.joints is not None:  # (the body as posed for that wrench)
+                settings, body = node.estimator.settings, node.estimator.body
+                mesh = body.mesh(dict(zip(sample.joints.names, sample.joints.positions)))
+                materials = materials_from_settings(settings)
+                method = PanelMethod(mesh, settings.gsi_model, materials, shading="none")
+            picture = (method, sample.stamp_conditions.free_stream, sample.coefficients)
+        result.files = write_outputs(rows, Path(out_dir), picture, joints=articulated)
         say("wrote: " + ", ".join(str(p) for p in result.files))
     return result
 

@@ -12,6 +12,7 @@ import numpy as np
 
 from adbsat_ros.plotting.panels import plot_panel_pressure
 from adbsat_ros.plotting.time_series import plot_time_series
+from adbsat_ros.ros import demo_joints
 
 
 @dataclass
@@ -70,9 +71,9 @@ CSV_COLUMNS = (
 )
 
 
-def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult) -> list:
-    """One row per wrench received (with its coefficients), in stamp order; fills ``result``'s
-    figures."""
+def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult, joints=False) -> list:
+    """One row per wrench received (with its coefficients), in stamp order (with ``joints``,
+    :data:`demo_joints.CSV_COLUMNS` after :data:`CSV_COLUMNS`); fills ``result``'s figures."""
     rows = []
     for key in sorted(received):
         wrench, coefficients, wall = received[key]
@@ -103,26 +104,29 @@ def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult) -> list:
                 *vector(coefficients.wrench.torque),
                 1e3 * sample.compute_seconds,
                 1e3 * (wall - sent_wall[key]) if key in sent_wall else math.nan,
+                *(demo_joints.csv_values(sample) if joints else ()),
             )
         )
     result.wrenches_received = sum(1 for v in received.values() if v[0] is not None)
     if rows:
         table = np.array(rows)
-        result.compute_ms_p50 = float(np.median(table[:, -2]))
-        result.latency_ms_p50 = float(np.nanpercentile(table[:, -1], 50))
-        result.latency_ms_p99 = float(np.nanpercentile(table[:, -1], 99))
+        compute, latency = CSV_COLUMNS.index("compute_ms"), CSV_COLUMNS.index("latency_ms")
+        result.compute_ms_p50 = float(np.median(table[:, compute]))
+        result.latency_ms_p50 = float(np.nanpercentile(table[:, latency], 50))
+        result.latency_ms_p99 = float(np.nanpercentile(table[:, latency], 99))
     return rows
 
 
-def write_outputs(rows, out_dir: Path, picture=None) -> list:
-    """demo_wrench.csv and the time-series PNGs in out_dir and, with ``picture`` (the node's
-    panel method, the flow and the coefficients of its latest wrench), demo_panel_pressure.png:
-    the pressure picture the node's panel_marker topic shows live; returns the paths."""
+def write_outputs(rows, out_dir: Path, picture=None, joints=False) -> list:
+    """demo_wrench.csv and the time-series PNGs in out_dir and, with ``picture`` (a panel
+    method of the body as posed, the flow and the coefficients of the latest wrench),
+    demo_panel_pressure.png: the pressure picture the node's panel_marker topic shows live;
+    with ``joints``, the joint columns and demo_hinge_torques.png; returns the paths."""
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "demo_wrench.csv"
     with open(path, "w", newline="", encoding="utf-8") as fh:
         writer = csv.writer(fh)
-        writer.writerow(CSV_COLUMNS)
+        writer.writerow(CSV_COLUMNS + (demo_joints.CSV_COLUMNS if joints else ()))
         # (repr: each number exactly, the UNIX stamps with their fraction of a second)
         writer.writerows([[repr(float(v)) for v in row] for row in rows])
     table = np.array(rows)
@@ -136,6 +140,14 @@ def write_outputs(rows, out_dir: Path, picture=None) -> list:
     plots = plot_time_series(
         table[:, col["time_s"]], {"adbsat_node (live)": run}, out_dir, prefix="demo_"
     )
+    if joints:
+        plots.append(
+            demo_joints.plot_hinge_torques(
+                table[:, col["time_s"]],
+                table[:, len(CSV_COLUMNS) :],
+                out_dir / "demo_hinge_torques.png",
+            )
+        )
     if picture is not None:
         method, flow, coefficients = picture
         plots.append(
