@@ -133,3 +133,23 @@ def spinning(executor, period: float = 0.02):
     finally:
         done.set()
         spinner.join(timeout=5)
+
+
+@contextlib.contextmanager
+def node_and_peer(overrides, executor: str = "single_threaded"):
+    """adbsat_node with the parameter ``overrides`` (rclpy Parameters) and a :class:`Peer` on a
+    fresh context and executor, both discovered; everything taken down after the block."""
+    from adbsat_ros.ros.node import AdbsatNode
+
+    ctx, spinner = make_context(executor)
+    node = AdbsatNode(context=ctx, parameter_overrides=list(overrides))
+    spinner.add_node(node)
+    peer = Peer(ctx, spinner)
+    try:
+        assert peer.wait_for_subscribers()
+        yield node, peer
+    finally:
+        spinner.shutdown()
+        peer.node.destroy_node()
+        node.destroy_node()
+        rclpy.try_shutdown(context=ctx)

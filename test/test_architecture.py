@@ -41,7 +41,7 @@ LAYERS = (
     {"physics"},
     {"shading"},
     {"geometry", "messages", "processes", "validation", "_version"},
-    {"bounds"},
+    {"bounds", "lru"},
 )
 
 # Top-level names of ROS 2 Python packages: the client library, its support packages and every

@@ -8,12 +8,12 @@ the poses of the latest configurations.
 
 from __future__ import annotations
 
-from collections import OrderedDict
 from typing import NamedTuple
 
 import numpy as np
 
 from adbsat_ros.geometry.articulated import ArticulatedBody
+from adbsat_ros.lru import LruStore
 
 
 class Poses(NamedTuple):
@@ -44,33 +44,25 @@ class PoseCache:
     """The :class:`Poses` of a body's latest joint configurations.
 
     Key: the checked joint positions in joint order (exact floats). Value: the Poses. Bound:
-    ``max_entries`` (least recently used dropped). Counters: ``hits``, ``misses``.
+    ``max_entries`` (least recently used dropped). Counters: :attr:`store`'s ``hits`` and
+    ``misses``.
     """
 
     def __init__(self, body: ArticulatedBody, max_entries: int = 16):
         self.body = body
-        self.max_entries = int(max_entries)
-        self._store: OrderedDict = OrderedDict()
-        self.hits = self.misses = 0
+        self.store = LruStore(max_entries)
         self._child = [body.links.index(j.child) for j in body.joints.values()]
         self._axes = np.array([j.axis for j in body.joints.values()], dtype=float).reshape(-1, 3)
 
     def poses(self, positions: dict) -> Poses:
         """The Poses of checked ``positions`` (every moving joint named)."""
         key = tuple(positions[name] for name in self.body.joints)
-        found = self._store.get(key)
-        if found is not None:
-            self._store.move_to_end(key)
-            self.hits += 1
-            return found
-        self.misses += 1
+        return self.store.get(key, lambda: self._poses(key, positions))
+
+    def _poses(self, key: tuple, positions: dict) -> Poses:
         matrices = self.body.link_poses(positions)
         rotations = np.ascontiguousarray(matrices[:, :3, :3])
         origins = np.ascontiguousarray(matrices[:, :3, 3])
         axes = np.einsum("jab,jb->ja", rotations[self._child], self._axes)
         axes /= np.linalg.norm(axes, axis=1, keepdims=True)
-        found = Poses(key, rotations, origins, axes, origins[self._child])
-        self._store[key] = found
-        if len(self._store) > self.max_entries:
-            self._store.popitem(last=False)
-        return found
+        return Poses(key, rotations, origins, axes, origins[self._child])

@@ -19,11 +19,10 @@ Units: metres and square metres, body frame G.
 
 from __future__ import annotations
 
-from collections import OrderedDict
-
 import numpy as np
 
 from adbsat_ros.geometry import frames
+from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
 from adbsat_ros.shading.link_split import LinkSplitCache
@@ -43,9 +42,9 @@ def _posed(sums: np.ndarray, rotation: np.ndarray, origin: np.ndarray) -> np.nda
 class PosedFacets:
     """The facets of every link of an articulated body, posed per configuration.
 
-    Build with :meth:`of`. Caches (key, value; bound; counters ``hits``, ``misses``):
-    posed sums, (lighting part's content key or None, configuration key) -> (G, 10) array,
-    ``max_entries``; posed normals, configuration key -> normals, ``max_entries``.
+    Build with :meth:`of`. Two stores (key -> value; bound; counters in each): :attr:`sums_store`,
+    (a lighting part's content key or None, configuration key) -> its posed (G, 10) sums;
+    :attr:`normals_store`, configuration key -> the posed normals; ``max_entries`` each.
 
     Attributes
     ----------
@@ -66,10 +65,8 @@ class PosedFacets:
         self.panel_index = np.concatenate(
             [f.index + start for f, start in zip(self._facets, self.starts)]
         )
-        self.max_entries = int(max_entries)
-        self._sums: OrderedDict = OrderedDict()
-        self._normals: OrderedDict = OrderedDict()
-        self.hits = self.misses = 0
+        self.sums_store = LruStore(max_entries)
+        self.normals_store = LruStore(max_entries)
 
     @classmethod
     def of(cls, link_methods, splits: LinkSplitCache) -> "PosedFacets | None":
@@ -98,14 +95,12 @@ class PosedFacets:
 
     def normals(self, poses, rotations) -> tuple:
         """``(normals (G, 3), -normals^T (3, G))`` of the posed facets."""
-        found = self._normals.get(poses.key)
-        if found is not None:
-            self._normals.move_to_end(poses.key)
-            return found
-        normals = np.concatenate([f.normals @ r.T for f, r in zip(self._facets, rotations)])
-        found = (normals, np.ascontiguousarray(-normals.T))
-        self._store(self._normals, poses.key, found)
-        return found
+
+        def make():
+            normals = np.concatenate([f.normals @ r.T for f, r in zip(self._facets, rotations)])
+            return normals, np.ascontiguousarray(-normals.T)
+
+        return self.normals_store.get(poses.key, make)
 
     def sums(self, lighting, poses, rotations, origins) -> np.ndarray:
         """The (G, 10) posed facet sums of the body's ``lighting`` (None: all lit)."""
@@ -118,25 +113,15 @@ class PosedFacets:
         return self._part_sums(lighting, poses, rotations, origins)
 
     def _part_sums(self, lighting, poses, rotations, origins) -> np.ndarray:
-        key = (None if lighting is None else lighting.key, poses.key)
-        found = self._sums.get(key)
-        if found is not None:
-            self._sums.move_to_end(key)
-            self.hits += 1
-            return found
-        self.misses += 1
-        pieces = self._splits.split(lighting, rotations, poses.key)
-        found = np.concatenate(
-            [
-                _posed(f.lit_sums(piece), r, t)
-                for f, piece, r, t in zip(self._facets, pieces, rotations, origins)
-            ]
-        )
-        found.setflags(write=False)
-        self._store(self._sums, key, found)
-        return found
+        def make():
+            pieces = self._splits.split(lighting, rotations, poses.key)
+            sums = np.concatenate(
+                [
+                    _posed(f.lit_sums(piece), r, t)
+                    for f, piece, r, t in zip(self._facets, pieces, rotations, origins)
+                ]
+            )
+            sums.setflags(write=False)
+            return sums
 
-    def _store(self, store: OrderedDict, key, value) -> None:
-        store[key] = value
-        if len(store) > self.max_entries:
-            store.popitem(last=False)
+        return self.sums_store.get((None if lighting is None else lighting.key, poses.key), make)

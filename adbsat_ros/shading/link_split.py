@@ -9,8 +9,7 @@ cell lightings come back message after message, so :class:`LinkSplitCache` keeps
 
 from __future__ import annotations
 
-from collections import OrderedDict
-
+from adbsat_ros.lru import LruStore
 from adbsat_ros.shading.lighting import LightingBlend, PanelLighting, panel_range
 
 
@@ -27,14 +26,13 @@ class LinkSplitCache:
     Notes
     -----
     Key: (the lighting's content key, the configuration's key). Value: one lighting (or None,
-    all lit) per link. Bound: ``max_entries``. Counters: ``hits``, ``misses``.
+    all lit) per link. Bound: ``max_entries``. Counters: :attr:`store`'s ``hits`` and
+    ``misses``.
     """
 
     def __init__(self, spans, max_entries: int = 256):
         self.spans = tuple((int(a), int(b)) for a, b in spans)
-        self.max_entries = int(max_entries)
-        self._store: OrderedDict = OrderedDict()
-        self.hits = self.misses = 0
+        self.store = LruStore(max_entries)
         self._all_lit = [PanelLighting.all_lit(b - a) for a, b in self.spans]
 
     def split(self, lighting, rotations, configuration: tuple) -> list:
@@ -72,18 +70,10 @@ class LinkSplitCache:
         return self._split(lighting, rotations, configuration)
 
     def _split(self, lighting: PanelLighting, rotations, configuration: tuple) -> list:
-        key = (lighting.key, configuration)
-        found = self._store.get(key)
-        if found is not None:
-            self._store.move_to_end(key)
-            self.hits += 1
-            return found
-        self.misses += 1
-        found = [
-            panel_range(lighting, start, stop, rotation.T)
-            for (start, stop), rotation in zip(self.spans, rotations)
-        ]
-        self._store[key] = found
-        if len(self._store) > self.max_entries:
-            self._store.popitem(last=False)
-        return found
+        return self.store.get(
+            (lighting.key, configuration),
+            lambda: [
+                panel_range(lighting, start, stop, rotation.T)
+                for (start, stop), rotation in zip(self.spans, rotations)
+            ],
+        )

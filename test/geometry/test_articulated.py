@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+from fin_cases import FIN_URDF, newton_hinge_torque, rotation_y
 
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_satellite import BODY_SIZE, WING_GAP, WING_X_CENTRE
@@ -50,11 +51,6 @@ def test_at_zero_the_panels_are_the_parts_merged_into_one_mesh(body):
     np.testing.assert_array_equal(a.Cm_G, b.Cm_G)
     assert body.panel_link.shape == (mesh.n_panels,)
     assert set(np.unique(body.panel_link)) == {0, 1, 2}
-
-
-def rotation_y(theta):
-    c, s = math.cos(theta), math.sin(theta)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 @pytest.mark.parametrize("theta_deg", [-60.0, 15.0, 90.0, 150.0])
@@ -146,42 +142,6 @@ def test_the_links_loads_sum_to_the_totals(body):
     assert set(split.joint_effort) == {"wing_left_hinge", "wing_right_hinge"}
 
 
-FIN_URDF = """<robot name="fin">
-  <link name="base"/>
-  <link name="fin"><visual><origin xyz="-0.1 0.075 0"/>
-    <geometry><box size="0.2 0.15 0.01"/></geometry></visual></link>
-  <joint name="hinge" type="revolute"><parent link="base"/><child link="fin"/>
-    <origin xyz="0.3 0.2 0"/><axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
-</robot>"""
-
-
-def newton_fin_effort(d, u):
-    """The hinge torque coefficient (about +y through the hinge, A_ref = L_ref = 1) of the
-    Newtonian fin deflected by d, by hand: each of the box's six faces, a rectangle of area A
-    and outward normal n facing the flow (c = -u . n > 0), carries q A 2 c^2 along -n at its
-    centre."""
-    rot = rotation_y(d)
-    size = np.array([0.2, 0.15, 0.01])
-    centre = np.array([-0.1, 0.075, 0.0])
-    torque = 0.0
-    for axis in range(3):
-        for sign in (1.0, -1.0):
-            n_local = np.zeros(3)
-            n_local[axis] = sign
-            others = [k for k in range(3) if k != axis]
-            area = size[others[0]] * size[others[1]]
-            face_centre = centre + 0.5 * size[axis] * n_local
-            n = rot @ n_local
-            c = -float(u @ n)
-            if c <= 0.0:
-                continue
-            force = -2.0 * c * c * area * n
-            arm = rot @ face_centre  # the hinge is the fin frame's origin
-            torque += float(np.cross(arm, force)[1])
-    return torque
-
-
 @pytest.mark.parametrize("d", [0.2, -0.35, 0.6])
 def test_a_fins_hinge_torque_is_the_hand_computed_one(d):
     from adbsat_ros.geometry import frames
@@ -195,7 +155,7 @@ def test_a_fins_hinge_torque_is_the_hand_computed_one(d):
     result = method.coefficients(FLOW, aoa, aos)
     loads = panel_loads(mesh, result)
     split = fin.loads(loads.force, loads.point, {"hinge": d}, np.zeros(3), 1.0)
-    expected = newton_fin_effort(d, frames.flow_direction(aoa, aos))
+    expected = newton_hinge_torque(d, frames.flow_direction(aoa, aos))
     assert split.joint_effort["hinge"] == pytest.approx(expected, rel=1e-9)
     assert abs(expected) > 1e-5  # (a fin's load passes close to its hinge)
 

@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+from fin_cases import FIN_URDF, newton_hinge_torque
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
@@ -101,39 +102,6 @@ def test_by_default_it_ray_casts_the_posed_body(body):
     np.testing.assert_array_equal(own.total.Cf_G, given.total.Cf_G)
     unshaded = ArticulatedMethod(body, "sentman", shading="none")
     assert unshaded.coefficients(FLOW, values, flow_direction=u).total.lighting is None
-
-
-FIN_URDF = """<robot name="fin">
-  <link name="base"/>
-  <link name="fin"><visual><origin xyz="-0.1 0.075 0"/>
-    <geometry><box size="0.2 0.15 0.01"/></geometry></visual></link>
-  <joint name="hinge" type="revolute"><parent link="base"/><child link="fin"/>
-    <origin xyz="0.3 0.2 0"/><axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
-</robot>"""
-
-
-def newton_hinge_torque(d, u):
-    """The Newtonian fin's hinge torque coefficient (about +y through the hinge, A_ref = L_ref
-    = 1) by hand: a face of area A and outward normal n facing the flow (c = -u . n > 0)
-    carries 2 c^2 A along -n at its centre; the fin (a 0.2 x 0.15 x 0.01 m box, centre
-    (-0.1, 0.075, 0) from the hinge) turned by d about y."""
-    c_d, s_d = math.cos(d), math.sin(d)
-    rot = np.array([[c_d, 0.0, s_d], [0.0, 1.0, 0.0], [-s_d, 0.0, c_d]])
-    size = np.array([0.2, 0.15, 0.01])
-    centre = np.array([-0.1, 0.075, 0.0])
-    torque = 0.0
-    for axis in range(3):
-        for sign in (1.0, -1.0):
-            n_local = np.zeros(3)
-            n_local[axis] = sign
-            area = np.prod(np.delete(size, axis))
-            n = rot @ n_local
-            c = -float(u @ n)
-            if c > 0.0:
-                arm = rot @ (centre + 0.5 * size[axis] * n_local)
-                torque += float(np.cross(arm, -2.0 * c * c * area * n)[1])
-    return torque
 
 
 @pytest.mark.parametrize("d", [0.25, -0.4])

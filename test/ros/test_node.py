@@ -28,7 +28,14 @@ from geometry_msgs.msg import QuaternionStamped
 from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.serialization import serialize_message
-from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float, to_stamp
+from ros_harness import (
+    Peer,
+    circular_orbit_state,
+    make_context,
+    node_and_peer,
+    stamp_to_float,
+    to_stamp,
+)
 
 from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.environment.flight_conditions import flight_conditions
@@ -57,7 +64,6 @@ def sphere_file(tmp_path_factory):
 def ros(sphere_file, request):
     """A context, an executor of each kind the node offers, the node (sphere, epoch time, no
     shading) and a peer."""
-    ctx, executor = make_context(request.param)
     overrides = [
         Parameter("mesh", value=sphere_file),
         Parameter("shading", value="none"),
@@ -66,15 +72,8 @@ def ros(sphere_file, request):
         Parameter("center_of_mass", value=[0.1, -0.2, 0.3]),
         Parameter("diagnostics_period", value=0.2),
     ]
-    node = AdbsatNode(context=ctx, parameter_overrides=overrides)
-    executor.add_node(node)
-    peer = Peer(ctx, executor)
-    assert peer.wait_for_subscribers()
-    yield node, peer
-    executor.shutdown()
-    peer.node.destroy_node()
-    node.destroy_node()
-    rclpy.try_shutdown(context=ctx)
+    with node_and_peer(overrides, request.param) as running:
+        yield running
 
 
 def state_accepted(node) -> bool:

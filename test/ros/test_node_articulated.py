@@ -10,15 +10,13 @@ pytest.importorskip("rclpy")
 import math  # noqa: E402
 
 import numpy as np  # noqa: E402
-import rclpy  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
-from ros_harness import Peer, circular_orbit_state, make_context, to_stamp  # noqa: E402
+from ros_harness import circular_orbit_state, node_and_peer, to_stamp  # noqa: E402
 from sensor_msgs.msg import JointState  # noqa: E402
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator  # noqa: E402
 from adbsat_ros.estimator.settings import WrenchSettings  # noqa: E402
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf  # noqa: E402
-from adbsat_ros.ros.node import AdbsatNode  # noqa: E402
 
 EPOCH = "2026-03-20T12:00:00"
 HINGES = ["wing_left_hinge", "wing_right_hinge"]
@@ -36,17 +34,8 @@ SETTINGS = {
 
 @pytest.fixture
 def ros():
-    ctx, executor = make_context()
-    overrides = [Parameter(k, value=v) for k, v in SETTINGS.items()]
-    node = AdbsatNode(context=ctx, parameter_overrides=overrides)
-    executor.add_node(node)
-    peer = Peer(ctx, executor)
-    assert peer.wait_for_subscribers()
-    yield node, peer
-    executor.shutdown()
-    peer.node.destroy_node()
-    node.destroy_node()
-    rclpy.try_shutdown(context=ctx)
+    with node_and_peer(Parameter(k, value=v) for k, v in SETTINGS.items()) as running:
+        yield running
 
 
 def joint_state(t, names, positions):

@@ -1,0 +1,63 @@
+"""A bounded store of the most recently used entries, with its hit and miss counts.
+
+The package's caches are each a named object that says what its key is and why its values are
+worth keeping (the shading per flow direction, an articulated body's poses per configuration
+...); this is where such an object keeps its entries.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from typing import Callable
+
+
+class LruStore:
+    """At most ``max_entries`` values by key; the least recently used goes first.
+
+    Attributes
+    ----------
+    max_entries : int
+    hits, misses, evictions : int
+        Lookups that found their key, lookups that did not, entries dropped for the bound.
+    """
+
+    def __init__(self, max_entries: int):
+        if int(max_entries) < 1:
+            raise ValueError(f"max_entries must be >= 1, got {max_entries!r}")
+        self.max_entries = int(max_entries)
+        self._entries: OrderedDict = OrderedDict()
+        self.hits = self.misses = self.evictions = 0
+
+    def get(self, key, make: Callable[[], object]):
+        """The value of ``key``: the stored one, or ``make()`` (then stored)."""
+        value = self._entries.get(key)
+        if value is not None:
+            self._entries.move_to_end(key)
+            self.hits += 1
+            return value
+        self.misses += 1
+        value = self._entries[key] = make()
+        if len(self._entries) > self.max_entries:
+            self._entries.popitem(last=False)
+            self.evictions += 1
+        return value
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def __contains__(self, key) -> bool:
+        return key in self._entries
+
+    def clear(self) -> None:
+        """Drop every entry (the counters run on)."""
+        self._entries.clear()
+
+    def info(self) -> dict:
+        """Counters and size: hits, misses, evictions, size, max_entries."""
+        return {
+            "hits": self.hits,
+            "misses": self.misses,
+            "evictions": self.evictions,
+            "size": len(self._entries),
+            "max_entries": self.max_entries,
+        }
