@@ -39,6 +39,11 @@ REQUIRES = [
     "PyYAML>=6.0",
     # URDF: articulated satellites (links, joints, forward kinematics)
     "yourdfpy>=0.0.60",
+    # sweeps: tasks on a local or remote Dask cluster, results as labelled arrays in Zarr
+    "dask>=2026.8",
+    "distributed>=2026.8",
+    "xarray>=2026.9",
+    "zarr>=3.1",
 ]
 
 # ROS 2 Jazzy as PyPI wheels: rclpy, an RMW and the message packages the node uses.

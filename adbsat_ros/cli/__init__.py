@@ -34,6 +34,7 @@ SUBCOMMANDS = {
     "atmosphere": "flight conditions: NRLMSISE-00 atmosphere, relative wind, accommodation",
     "database": "coefficients over a grid of angle of attack and sideslip (npz + csv)",
     "plot": "PNG figures of an aerodynamic database",
+    "sweep": "coefficients over N axes (attitude, gas, surface, joints) on Dask, into Zarr",
     "simulate": "write a bag of a simulated flight (orbit state + attitude)",
     "bag": "analyse (and play or record) rosbag2 files",
     "demo": "run adbsat_node live on a simulated orbit and print, plot and save its wrenches",

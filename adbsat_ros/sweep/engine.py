@@ -1,0 +1,145 @@
+"""Running a sweep on Dask: the chunks as tasks, each written to the store as it finishes.
+
+Without a scheduler address the sweep starts a ``distributed.LocalCluster`` of worker processes
+on this machine (one thread each: the panel method holds the GIL); with one, it connects to that
+running scheduler (``dask scheduler`` and ``dask worker`` processes, or a cluster that
+dask-jobqueue or dask-kubernetes started). The spec is sent to every worker once
+(``Client.scatter(..., broadcast=True)``) and every worker builds its set-up once
+(:mod:`adbsat_ros.sweep.evaluate`). A worker that dies takes its running chunks with it; the
+scheduler gives them to another worker. Nothing in a chunk depends on where or when it ran, so
+the store is the same whatever the workers and the order.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+from adbsat_ros.sweep.evaluate import SweepSetup, compute_chunk
+from adbsat_ros.sweep.spec import SweepSpec
+from adbsat_ros.sweep.store import SweepStore
+
+
+@dataclass
+class SweepReport:
+    """What a run did: chunks in all, found written, computed now; points; wall time [s];
+    whether it stopped early (a signal), and the workers it had."""
+
+    chunks: int = 0
+    already_done: int = 0
+    computed: int = 0
+    points: int = 0
+    seconds: float = 0.0
+    stopped: bool = False
+    workers: int = 0
+    notes: list = field(default_factory=list)
+
+
+def run_sweep(
+    spec: SweepSpec,
+    out,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    overwrite: bool = False,
+    progress: bool = False,
+    stop=None,
+) -> SweepReport:
+    """Compute the chunks of ``spec`` not in the store at ``out`` yet, on Dask.
+
+    Parameters
+    ----------
+    spec : SweepSpec
+    out : path
+        The Zarr store (made, or taken up where it stopped).
+    scheduler : str, optional
+        Address of a running Dask scheduler (``tcp://host:8786``); None: a LocalCluster here.
+    workers : int, optional
+        Worker processes of the LocalCluster (default: every usable CPU).
+    overwrite : bool
+        Replace a store of another spec at ``out``.
+    progress : bool
+        A progress bar (tqdm, on stderr).
+    stop : threading.Event, optional
+        Set to stop after the chunks finishing now (they are written; rerun to go on).
+
+    Raises
+    ------
+    StoreError
+        ``out`` holds something else.
+    MeshError, ValueError
+        The spec's body or materials cannot be set up.
+    """
+    import distributed  # noqa: F401  (its loggers exist from here on)
+
+    started = time.perf_counter()
+    # its INFO lines (the in-process scheduler's) would bury the progress bar
+    loggers = [
+        logging.getLogger(name)
+        for name in list(logging.root.manager.loggerDict)
+        if name.split(".")[0] == "distributed"
+    ]
+    levels = [logger.level for logger in loggers]
+    for logger in loggers:
+        logger.setLevel(logging.ERROR)
+    try:
+        return _run(spec, out, scheduler, workers, overwrite, progress, stop, started)
+    finally:
+        for logger, level in zip(loggers, levels):
+            logger.setLevel(level)
+
+
+def _run(spec, out, scheduler, workers, overwrite, progress, stop, started) -> SweepReport:
+    from distributed import Client, LocalCluster, as_completed
+    from tqdm import tqdm
+
+    from adbsat_ros.processes import worker_count
+
+    setup = SweepSetup(spec)  # (checked here first: a bad mesh fails before any worker starts)
+    store = SweepStore.open(out, spec, setup, overwrite)
+    todo = store.missing()
+    report = SweepReport(chunks=len(store.slices), already_done=len(store.slices) - len(todo))
+    if not todo:
+        report.seconds = time.perf_counter() - started
+        return report
+    cluster = None
+    if scheduler is None:
+        count, note = worker_count(workers)
+        if note:
+            report.notes.append(f"--workers: {note}")
+        cluster = LocalCluster(
+            n_workers=count,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",  # (a free port: two sweeps on one machine never clash)
+            silence_logs=logging.ERROR,
+        )
+    client = Client(cluster if cluster is not None else scheduler)
+    try:
+        report.workers = len(client.scheduler_info()["workers"])
+        sent = client.scatter(spec, broadcast=True)
+        futures = {client.submit(compute_chunk, sent, store.slices[i], pure=False): i for i in todo}
+        bar = tqdm(total=len(store.slices), initial=report.already_done, disable=not progress)
+        with bar:
+            for future in as_completed(futures):
+                index = futures[future]
+                store.write(index, future.result())
+                report.computed += 1
+                bar.update(1)
+                if stop is not None and stop.is_set():
+                    report.stopped = True
+                    break
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    report.points = sum(_points(store.slices[i]) for i in todo[: report.computed])
+    report.seconds = time.perf_counter() - started
+    return report
+
+
+def _points(slices) -> int:
+    count = 1
+    for a, b in slices:
+        count *= b - a
+    return count
