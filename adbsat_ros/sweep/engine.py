@@ -3,11 +3,11 @@
 Without a scheduler address the sweep starts a ``distributed.LocalCluster`` of worker processes
 on this machine (one thread each: the panel method holds the GIL); with one, it connects to that
 running scheduler (``dask scheduler`` and ``dask worker`` processes, or a cluster that
-dask-jobqueue or dask-kubernetes started). The spec is sent to every worker once
-(``Client.scatter(..., broadcast=True)``) and every worker builds its set-up once
-(:mod:`adbsat_ros.sweep.evaluate`). A worker that dies takes its running chunks with it; the
-scheduler gives them to another worker. Nothing in a chunk depends on where or when it ran, so
-the store is the same whatever the workers and the order.
+dask-jobqueue or dask-kubernetes started). Each task carries the spec (a few kilobytes); every
+worker builds the set-up it names (mesh, shader) once (:mod:`adbsat_ros.sweep.evaluate`), so
+a mesh file must be readable at the same path on the workers. A worker that dies takes its
+running chunks with it; the scheduler gives them to another worker. Nothing in a chunk depends
+on where or when it ran, so the store is the same whatever the workers and the order.
 """
 
 from __future__ import annotations
@@ -19,6 +19,10 @@ from dataclasses import dataclass, field
 from adbsat_ros.sweep.evaluate import SweepSetup, compute_chunk
 from adbsat_ros.sweep.spec import SweepSpec
 from adbsat_ros.sweep.store import SweepStore
+
+#: Times a chunk is submitted again after its worker died with it (dask itself recomputes what
+#: it can; this covers a task it gives up on or forgets).
+MAX_RETRIES = 3
 
 
 @dataclass
@@ -91,6 +95,9 @@ def run_sweep(
 
 def _run(spec, out, scheduler, workers, overwrite, progress, stop, started) -> SweepReport:
     from distributed import Client, LocalCluster, as_completed
+    from distributed.client import FutureCancelledError as CancelledError
+    from distributed.comm.core import CommClosedError
+    from distributed.scheduler import KilledWorker
     from tqdm import tqdm
 
     from adbsat_ros.processes import worker_count
@@ -117,13 +124,34 @@ def _run(spec, out, scheduler, workers, overwrite, progress, stop, started) -> S
     client = Client(cluster if cluster is not None else scheduler)
     try:
         report.workers = len(client.scheduler_info()["workers"])
-        sent = client.scatter(spec, broadcast=True)
-        futures = {client.submit(compute_chunk, sent, store.slices[i], pure=False): i for i in todo}
+
+        # the spec (a few kB) goes with each task, and the set-up it names is built once per
+        # worker: scattered data would have no lineage, and its loss with a worker would
+        # cancel the tasks that need it
+        def submit(index):
+            return client.submit(compute_chunk, spec, store.slices[index], pure=False)
+
+        futures = {submit(i): i for i in todo}
+        retries = dict.fromkeys(todo, 0)
+        pending = as_completed(futures)
         bar = tqdm(total=len(store.slices), initial=report.already_done, disable=not progress)
         with bar:
-            for future in as_completed(futures):
-                index = futures[future]
-                store.write(index, future.result())
+            for future in pending:
+                index = futures.pop(future)
+                try:
+                    results = future.result()
+                except (CancelledError, KilledWorker, CommClosedError) as exc:
+                    # (its worker died, or its result with it): compute it again elsewhere
+                    retries[index] += 1
+                    if retries[index] > MAX_RETRIES:
+                        raise RuntimeError(
+                            f"chunk {index} failed {MAX_RETRIES + 1} times; the last: {exc!r}"
+                        ) from None
+                    again = submit(index)
+                    futures[again] = index
+                    pending.add(again)
+                    continue
+                store.write(index, results)
                 report.computed += 1
                 bar.update(1)
                 if stop is not None and stop.is_set():
@@ -133,7 +161,7 @@ def _run(spec, out, scheduler, workers, overwrite, progress, stop, started) -> S
         client.close()
         if cluster is not None:
             cluster.close()
-    report.points = sum(_points(store.slices[i]) for i in todo[: report.computed])
+    report.points = sum(_points(store.slices[i]) for i in set(todo) - set(store.missing()))
     report.seconds = time.perf_counter() - started
     return report
 

@@ -5,11 +5,14 @@ store; an articulated body's joint axis equals the posed bodies'."""
 
 from __future__ import annotations
 
+import json
 import math
+import os
 import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -174,3 +177,93 @@ def test_a_joint_axis_sweeps_the_posed_bodies(tmp_path):
             np.testing.assert_allclose(ds["Cm_G"][point].values, r.Cm_G, rtol=0, atol=1e-13)
     pitch = ds["Cm_G"].sel(component=1) if "component" in ds.coords else ds["Cm_G"][..., 1]
     assert np.ptp(pitch.values[0, 0, :]) > 1e-4  # the fin's deflection pitches the body
+
+
+def _dask_cli(*args) -> list:
+    return [str(Path(sys.executable).with_name("dask")), *args]
+
+
+@pytest.fixture
+def external_cluster(tmp_path):
+    """A scheduler and two workers started as separate processes on 127.0.0.1 (as `dask
+    scheduler` and `dask worker` start them on a cluster's nodes); the workers' process ids."""
+    info = tmp_path / "scheduler.json"
+    quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+    processes = [
+        subprocess.Popen(
+            _dask_cli(
+                "scheduler",
+                "--host",
+                "127.0.0.1",
+                "--port",
+                "0",
+                "--no-dashboard",
+                "--scheduler-file",
+                str(info),
+            ),
+            **quiet,
+        )
+    ]
+    deadline = time.monotonic() + 60
+    while not info.exists() and time.monotonic() < deadline:
+        time.sleep(0.1)
+    address = json.loads(info.read_text())["address"]
+    for k in range(2):
+        processes.append(
+            subprocess.Popen(
+                _dask_cli(
+                    "worker",
+                    address,
+                    "--nthreads",
+                    "1",
+                    "--no-nanny",
+                    "--no-dashboard",
+                    "--name",
+                    f"w{k}",
+                    "--host",
+                    "127.0.0.1",
+                ),
+                **quiet,
+            )
+        )
+    from distributed import Client
+
+    with Client(address) as client:
+        client.wait_for_workers(2, timeout=60)
+    try:
+        yield address, [p.pid for p in processes[1:]]
+    finally:
+        for p in processes:
+            p.kill()
+            p.wait(timeout=30)
+
+
+def test_a_sweep_on_a_running_scheduler_with_a_worker_killed_gives_the_same_store(
+    four_axis, external_cluster, tmp_path
+):
+    """Against a scheduler and two workers of their own processes; one worker is killed with
+    SIGKILL once the first chunks are in: its chunks go to the other, the store is the same."""
+    spec, ds = four_axis
+    address, workers = external_cluster
+    fine = parse_spec({**FOUR_AXES, "chunk_points": 1}, "")  # 24 chunks
+    out = tmp_path / "remote.zarr"
+
+    class KillAfter:
+        """Kills the first worker once three chunks are written (checked as chunks finish)."""
+
+        killed = False
+
+        def is_set(self):
+            done = int(xr.open_zarr(out, consolidated=False)["chunk_done"].values.sum())
+            if done >= 3 and not self.killed:
+                os.kill(workers[0], signal.SIGKILL)
+                self.killed = True
+            return False
+
+    stopper = KillAfter()
+    report = run_sweep(fine, out, scheduler=address, stop=stopper)
+    assert stopper.killed and report.workers == 2
+    assert report.computed == report.chunks == 24
+    again = load(out)
+    for name in RESULTS:
+        np.testing.assert_array_equal(again[name].values, ds[name].values)
