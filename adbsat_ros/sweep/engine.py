@@ -94,6 +94,7 @@ def run_sweep(
 
 
 def _run(spec, out, scheduler, workers, overwrite, progress, stop, started) -> SweepReport:
+    import dask
     from distributed import Client, LocalCluster, as_completed
     from distributed.client import FutureCancelledError as CancelledError
     from distributed.comm.core import CommClosedError
@@ -114,13 +115,14 @@ def _run(spec, out, scheduler, workers, overwrite, progress, stop, started) -> S
         count, note = worker_count(workers)
         if note:
             report.notes.append(f"--workers: {note}")
-        cluster = LocalCluster(
-            n_workers=count,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=":0",  # (a free port: two sweeps on one machine never clash)
-            silence_logs=logging.ERROR,
-        )
+        with dask.config.set({"distributed.nanny.pre-spawn-environ": _worker_environment()}):
+            cluster = LocalCluster(
+                n_workers=count,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=":0",  # (a free port: two sweeps on one machine never clash)
+                silence_logs=logging.ERROR,
+            )
     client = Client(cluster if cluster is not None else scheduler)
     try:
         report.workers = len(client.scheduler_info()["workers"])
@@ -164,6 +166,18 @@ def _run(spec, out, scheduler, workers, overwrite, progress, stop, started) -> S
     report.points = sum(_points(store.slices[i]) for i in set(todo) - set(store.missing()))
     report.seconds = time.perf_counter() - started
     return report
+
+
+def _worker_environment() -> dict:
+    """Dask's environment for worker processes without ``MALLOC_TRIM_THRESHOLD_``: a fixed
+    trim threshold (Dask sets 64 KiB) makes glibc give memory back at every turn of the panel
+    method's small arrays; measured in one run, 2,701 attitudes of the example satellite took
+    18.2 s in one process with it and 12.1 s without (the work itself takes a few hundred MB)."""
+    import dask
+
+    environment = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
+    environment.pop("MALLOC_TRIM_THRESHOLD_", None)
+    return environment
 
 
 def _points(slices) -> int:

@@ -61,6 +61,7 @@ class SweepStore:
         self.spec = spec
         self.sizes = sizes
         self.slices = slices
+        self._opened = None
 
     @classmethod
     def open(cls, path, spec: SweepSpec, setup, overwrite: bool = False) -> "SweepStore":
@@ -137,20 +138,25 @@ class SweepStore:
             dataset[name].attrs["component"] = "x, y, z"
         dataset.to_zarr(self.path, compute=False, mode="w", consolidated=False)
 
+    def _arrays(self) -> dict:
+        """The store's Zarr arrays by name, opened once (each opening reads its metadata)."""
+        if self._opened is None:
+            import zarr
+
+            group = zarr.open_group(str(self.path), mode="r+")
+            names = (*VECTORS, *SCALARS, "chunk_done")
+            self._opened = {name: group[name] for name in names}
+        return self._opened
+
     def missing(self) -> list:
         """Indices of the chunks not written yet."""
-        import zarr
-
-        done = zarr.open_array(str(self.path / "chunk_done"), mode="r")[:]
+        done = self._arrays()["chunk_done"][:]
         return [int(i) for i in np.flatnonzero(done == 0)]
 
     def write(self, index: int, results: dict) -> None:
         """Write chunk ``index``'s results, then its flag."""
-        import zarr
-
+        arrays = self._arrays()
         region = tuple(slice(a, b) for a, b in self.slices[index])
         for name, values in results.items():
-            array = zarr.open_array(str(self.path / name), mode="r+")
-            array[region + ((slice(None),) if name in VECTORS else ())] = values
-        done = zarr.open_array(str(self.path / "chunk_done"), mode="r+")
-        done[index] = 1
+            arrays[name][region + ((slice(None),) if name in VECTORS else ())] = values
+        arrays["chunk_done"][index] = 1
