@@ -35,7 +35,7 @@ MAX_LINES = 450
 LAYERS = (
     {"cli"},
     {"ros"},
-    {"bags"},
+    {"bags", "sweep"},
     {"estimator"},
     {"database", "environment", "plotting"},
     {"physics"},
