@@ -189,48 +189,49 @@ def external_cluster(tmp_path):
     scheduler` and `dask worker` start them on a cluster's nodes); the workers' process ids."""
     info = tmp_path / "scheduler.json"
     quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
-    processes = [
-        subprocess.Popen(
-            _dask_cli(
-                "scheduler",
-                "--host",
-                "127.0.0.1",
-                "--port",
-                "0",
-                "--no-dashboard",
-                "--scheduler-file",
-                str(info),
-            ),
-            **quiet,
-        )
-    ]
-    deadline = time.monotonic() + 60
-    while not info.exists() and time.monotonic() < deadline:
-        time.sleep(0.1)
-    address = json.loads(info.read_text())["address"]
-    for k in range(2):
+    processes = []
+    try:  # (every process is killed, even when starting the others fails)
         processes.append(
             subprocess.Popen(
                 _dask_cli(
-                    "worker",
-                    address,
-                    "--nthreads",
-                    "1",
-                    "--no-nanny",
-                    "--no-dashboard",
-                    "--name",
-                    f"w{k}",
+                    "scheduler",
                     "--host",
                     "127.0.0.1",
+                    "--port",
+                    "0",
+                    "--no-dashboard",
+                    "--scheduler-file",
+                    str(info),
                 ),
                 **quiet,
             )
         )
-    from distributed import Client
+        deadline = time.monotonic() + 60
+        while not info.exists() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        address = json.loads(info.read_text())["address"]
+        for k in range(2):
+            processes.append(
+                subprocess.Popen(
+                    _dask_cli(
+                        "worker",
+                        address,
+                        "--nthreads",
+                        "1",
+                        "--no-nanny",
+                        "--no-dashboard",
+                        "--name",
+                        f"w{k}",
+                        "--host",
+                        "127.0.0.1",
+                    ),
+                    **quiet,
+                )
+            )
+        from distributed import Client
 
-    with Client(address) as client:
-        client.wait_for_workers(2, timeout=60)
-    try:
+        with Client(address) as client:
+            client.wait_for_workers(2, timeout=60)
         yield address, [p.pid for p in processes[1:]]
     finally:
         for p in processes:
