@@ -11,11 +11,14 @@ worker, in any order.
 
 from __future__ import annotations
 
+import datetime as _dt
 import itertools
 import math
 
 import numpy as np
 
+from adbsat_ros.environment.atmosphere import SpaceWeather
+from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
 from adbsat_ros.geometry.loading import articulated_body, is_urdf, resolve_mesh
 from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.articulated_method import ArticulatedMethod
@@ -24,13 +27,15 @@ from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 from adbsat_ros.shading.shader import make_shader
-from adbsat_ros.sweep.spec import DEFAULTS, SweepSpec
+from adbsat_ros.sweep.spec import ATMOSPHERE, ATMOSPHERE_DEFAULTS, DEFAULTS, SweepSpec
 
 #: Results with x, y, z components: force and moment coefficients in the mesh (body) frame G,
 #: in wind axes and in ADBSat's body axes B.
 VECTORS = ("Cf_G", "Cm_G", "Cf_w", "Cm_B")
-#: Scalar results: C_D, C_L, C_Y and the lit projected area [m^2].
-SCALARS = ("CD", "CL", "CY", "area_projected")
+#: Scalar results: C_D, C_L, C_Y, the lit projected area [m^2], and the gas the point was
+#: computed in: mass density [kg/m^3] (NaN unless the gas is the atmosphere's), temperature [K]
+#: and speed [m/s].
+SCALARS = ("CD", "CL", "CY", "area_projected", "density", "gas_temperature", "gas_speed")
 
 
 class SweepSetup:
@@ -80,15 +85,39 @@ class SweepSetup:
 
         return self.shaders.get(tuple(sorted(positions.items())), make)
 
-    def point(self, values: dict, lightings: dict):
+    def flow(self, inputs: dict, flows: dict):
+        """The free stream of a point: given (speed, temperature, mean mass), or the
+        atmosphere's at a circular orbit (NRLMSISE-00 at the spec's time; ``speed`` if given,
+        else the orbit's); ``flows`` holds those already made for this chunk."""
+        spec = self.spec
+        if not spec.atmosphere:
+            return FreeStream(
+                inputs["speed"], inputs["temperature"], mean_mass_amu=inputs["mean_mass_amu"]
+            )
+        values = {**ATMOSPHERE_DEFAULTS, **inputs}
+        key = tuple(values[k] for k in ATMOSPHERE) + (inputs.get("speed"),)
+        if key not in flows:
+            weather = SpaceWeather(values["f107"], values["f107a"], values["ap"])
+            conditions = flight_conditions_circular_orbit(
+                _dt.datetime.fromisoformat(spec.time),
+                1e3 * values["altitude"],
+                math.radians(values["latitude"]),
+                math.radians(values["longitude"]),
+                weather,
+                speed=inputs.get("speed"),
+            )
+            flows[key] = conditions.free_stream()
+        return flows[key]
+
+    def point(self, values: dict, lightings: dict, flows: dict):
         """The AeroCoefficients of one point (axis and fixed values in the spec's units);
         ``lightings`` holds the lightings already cast for this chunk, by attitude and joint
         positions."""
         spec = self.spec
-        inputs = {**DEFAULTS, **spec.fixed, **values}
-        flow = FreeStream(
-            inputs["speed"], inputs["temperature"], mean_mass_amu=inputs["mean_mass_amu"]
-        )
+        inputs = {**spec.fixed, **values}
+        if not spec.atmosphere:
+            inputs = {**DEFAULTS, **inputs}
+        flow = self.flow(inputs, flows)
         aoa, aos = math.radians(inputs["aoa"]), math.radians(inputs["aos"])
         positions = {}
         for joint, axis in spec.joint_axes().items():
@@ -103,10 +132,12 @@ class SweepSetup:
                 lightings[key] = self._shader(positions).lighting_angles(aoa, aos)
             lighting = lightings[key]
         if self.body is None:
-            return self.method.coefficients(flow, aoa, aos, lighting=lighting, surface=surface)
-        return self.method.coefficients(
-            flow, positions, aoa, aos, lighting=lighting, surface=surface
-        ).total
+            result = self.method.coefficients(flow, aoa, aos, lighting=lighting, surface=surface)
+        else:
+            result = self.method.coefficients(
+                flow, positions, aoa, aos, lighting=lighting, surface=surface
+            ).total
+        return result, flow
 
     def evaluate(self, slices) -> dict:
         """The results of the block ``slices`` ((start, stop) per axis) of the grid."""
@@ -115,11 +146,11 @@ class SweepSetup:
         shape = tuple(len(r) for r in ranges)
         out = {name: np.empty((*shape, 3)) for name in VECTORS}
         out.update({name: np.empty(shape) for name in SCALARS})
-        lightings = {}
+        lightings, flows = {}, {}
         for local in itertools.product(*(range(n) for n in shape)):
             index = tuple(r[i] for r, i in zip(ranges, local))
             values = {n: float(self.spec.axes[n][i]) for n, i in zip(names, index)}
-            r = self.point(values, lightings)
+            r, flow = self.point(values, lightings, flows)
             out["Cf_G"][local] = r.Cf_G
             out["Cm_G"][local] = r.Cm_G
             out["Cf_w"][local] = r.Cf_w
@@ -128,6 +159,10 @@ class SweepSetup:
             out["CL"][local] = r.lift
             out["CY"][local] = r.side_force
             out["area_projected"][local] = r.area_projected
+            density = flow.mass_density
+            out["density"][local] = math.nan if density is None else density
+            out["gas_temperature"][local] = flow.temperature
+            out["gas_speed"][local] = flow.speed
         return out
 
 

@@ -24,6 +24,7 @@ bad field is a :class:`SpecError` naming it.
 
 from __future__ import annotations
 
+import datetime as _dt
 import hashlib
 import json
 import math
@@ -33,6 +34,7 @@ import numpy as np
 import yaml
 
 from adbsat_ros.bounds import BOUNDS, Bound
+from adbsat_ros.environment.atmosphere import check_time
 from adbsat_ros.physics.gsi_models import MODELS, canonical_model_name
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 
@@ -47,7 +49,22 @@ AXES = {
     "mean_mass_amu": (BOUNDS["mean_mass_amu"], "amu"),
     "alpha": (_ACCOMMODATION, ""),
     "wall_temperature": (BOUNDS["wall_temperature"], "K"),
+    # the atmosphere (NRLMSISE-00) at a circular orbit's speed: any of these gives the gas
+    "altitude": (
+        Bound(100.0, 1000.0, "km", "NRLMSISE-00 up to 1,000 km; below 100 km no free flow"),
+        "km",
+    ),
+    "latitude": (Bound(-90.0, 90.0, "deg", "a geodetic latitude"), "deg"),
+    "longitude": (Bound(-360.0, 360.0, "deg", "an east longitude"), "deg"),
+    "f107": (BOUNDS["f107"], "sfu"),
+    "f107a": (BOUNDS["f107"], "sfu"),
+    "ap": (BOUNDS["ap"], ""),
 }
+#: Inputs that make the gas that of the atmosphere (with ``time``, a fixed UTC).
+ATMOSPHERE = ("altitude", "latitude", "longitude", "f107", "f107a", "ap")
+#: The atmosphere's defaults, and the UTC of a sweep that gives none.
+ATMOSPHERE_DEFAULTS = {"latitude": 0.0, "longitude": 0.0, "f107": 150.0, "f107a": 150.0, "ap": 4.0}
+DEFAULT_TIME = "2026-01-01T00:00:00"
 #: Inputs a spec may fix (any axis but the attitude).
 FIXED = tuple(name for name in AXES if name not in ("aoa", "aos"))
 #: Values of the inputs neither fixed nor swept (alpha and wall_temperature: the materials').
@@ -55,7 +72,17 @@ DEFAULTS = {"speed": 7700.0, "temperature": 900.0, "mean_mass_amu": 16.0}
 #: Points per task unless the spec says: a few seconds of ray-cast panel method.
 CHUNK_POINTS = 256
 #: Fields of a spec.
-FIELDS = ("mesh", "model", "shading", "reference", "materials", "fixed", "axes", "chunk_points")
+FIELDS = (
+    "mesh",
+    "model",
+    "shading",
+    "reference",
+    "materials",
+    "time",
+    "fixed",
+    "axes",
+    "chunk_points",
+)
 JOINT_PREFIX = "joint."
 
 
@@ -79,6 +106,8 @@ class SweepSpec:
     axes : dict of str to ndarray
         Axis name -> its values in the spec's units (deg for angles), in sweep order.
     chunk_points : int
+    time : str
+        UTC (ISO 8601) of the atmosphere.
     text : str
         The spec as YAML (recorded in the result).
     """
@@ -92,6 +121,12 @@ class SweepSpec:
     axes: dict
     chunk_points: int
     text: str
+    time: str = DEFAULT_TIME
+
+    @property
+    def atmosphere(self) -> bool:
+        """Whether the gas is the atmosphere's (an atmosphere input is fixed or swept)."""
+        return any(name in self.fixed or name in self.axes for name in ATMOSPHERE)
 
     @property
     def shape(self) -> tuple:
@@ -110,6 +145,7 @@ class SweepSpec:
             "fixed": self.fixed,
             "axes": {k: [float(x) for x in v] for k, v in self.axes.items()},
             "chunk_points": self.chunk_points,
+            "time": self.time,
         }
         return hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()
 
@@ -232,11 +268,22 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
         if name in fixed:
             raise SpecError(f"axes.{name}: also fixed; an input is fixed or swept, not both")
         axes[name] = _checked(name, axis_values(given, name), AXES[name][0], "axes")
+    time = str(data.get("time", DEFAULT_TIME))
+    try:
+        check_time(_dt.datetime.fromisoformat(time))
+    except ValueError as exc:
+        raise SpecError(f"time: {time!r} is no UTC time in 1958..2100 ({exc})") from None
+    given = set(fixed) | set(axes)
+    if given & set(ATMOSPHERE) and given & {"temperature", "mean_mass_amu"}:
+        raise SpecError(
+            "axes and fixed: the gas is the atmosphere's (altitude ...) or given (temperature, "
+            "mean_mass_amu), not both"
+        )
     chunk = data.get("chunk_points", CHUNK_POINTS)
     if isinstance(chunk, bool) or not isinstance(chunk, int) or not 1 <= chunk <= 1_000_000:
         raise SpecError(f"chunk_points: a whole number in [1, 1000000], got {chunk!r}")
     return SweepSpec(
-        mesh, model, shading, dict(reference), tuple(materials), fixed, axes, chunk, text
+        mesh, model, shading, dict(reference), tuple(materials), fixed, axes, chunk, text, time
     )
 
 

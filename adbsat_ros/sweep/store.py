@@ -126,6 +126,9 @@ class SweepStore:
             "model": spec.model,
             "shading": spec.shading,
             "fixed_inputs": json.dumps(spec.fixed, sort_keys=True),
+            "atmosphere": "NRLMSISE-00 at a circular orbit's speed, UTC " + spec.time
+            if spec.atmosphere
+            else "none: the gas as given",
             "reference_area_m2": float(method.reference.area),
             "reference_length_m": float(method.reference.length),
             "moment_point_m": [float(v) for v in method.reference.moment_point],
@@ -134,6 +137,8 @@ class SweepStore:
         }
         dataset = xr.Dataset(data, coords=coords, attrs=attrs)
         dataset["area_projected"].attrs["units"] = "m^2"
+        for name, unit in (("density", "kg/m^3"), ("gas_temperature", "K"), ("gas_speed", "m/s")):
+            dataset[name].attrs["units"] = unit
         for name in VECTORS:  # (no coordinate: a string one has no Zarr 3 data type yet)
             dataset[name].attrs["component"] = "x, y, z"
         dataset.to_zarr(self.path, compute=False, mode="w", consolidated=False)

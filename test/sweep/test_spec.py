@@ -98,3 +98,14 @@ def test_the_command_line_says_what_is_wrong_in_one_line_with_status_2(
     assert len(err.splitlines()) == 1 and err.startswith("adbsat-ros sweep: error: ")
     assert __import__("re").search(message, err), err
     assert not (tmp_path / "out.zarr").exists()
+
+
+def test_the_gas_is_the_atmospheres_or_given_not_both():
+    assert spec(axes={"aoa": 0, "altitude": [300, 400]}).atmosphere
+    assert not spec().atmosphere
+    with pytest.raises(SpecError, match="the gas is the atmosphere's"):
+        spec(axes={"aoa": 0, "altitude": [300]}, fixed={"temperature": 900})
+    with pytest.raises(SpecError, match=r"axes.altitude must be in \[100, 1000\] km"):
+        spec(axes={"aoa": 0, "altitude": [50]})
+    with pytest.raises(SpecError, match="time: '2026-13-01' is no UTC time"):
+        spec(time="2026-13-01")

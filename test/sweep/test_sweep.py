@@ -268,3 +268,43 @@ def test_a_sweep_on_a_running_scheduler_with_a_worker_killed_gives_the_same_stor
     again = load(out)
     for name in RESULTS:
         np.testing.assert_array_equal(again[name].values, ds[name].values)
+
+
+def test_an_atmosphere_sweep_is_nrlmsise_at_each_altitude_and_flux(tmp_path):
+    """Altitude and F10.7 axes: each point's gas is NRLMSISE-00's at a circular orbit's speed
+    (flight_conditions_circular_orbit at the spec's time), the same numbers as computed here;
+    the density it was computed in is recorded, and falls with altitude, rises with F10.7."""
+    import datetime as dt
+
+    from adbsat_ros.environment.atmosphere import SpaceWeather
+    from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
+
+    data = {
+        "mesh": "example",
+        "shading": "none",
+        "time": "2026-06-21T12:00:00",
+        "fixed": {"ap": 15},
+        "axes": {"aoa": [0, 40], "altitude": [250, 450], "f107": [80, 220]},
+    }
+    spec = parse_spec(data, "")
+    run_sweep(spec, tmp_path / "air.zarr", workers=1)
+    ds = load(tmp_path / "air.zarr")
+    method = PanelMethod(example_satellite(), "sentman", shading="none")
+    for i, aoa in enumerate(spec.axes["aoa"]):
+        for k, altitude in enumerate(spec.axes["altitude"]):
+            for m, f107 in enumerate(spec.axes["f107"]):
+                conditions = flight_conditions_circular_orbit(
+                    dt.datetime(2026, 6, 21, 12),
+                    1e3 * altitude,
+                    0.0,
+                    0.0,
+                    SpaceWeather(f107, 150.0, 15.0),
+                )
+                flow = conditions.free_stream()
+                r = method.coefficients(flow, math.radians(aoa), 0.0)
+                point = {"aoa": i, "aos": 0, "altitude": k, "f107": m}
+                np.testing.assert_array_equal(ds["Cf_G"][point].values, r.Cf_G)
+                assert ds["density"][point].item() == flow.mass_density
+                assert ds["gas_speed"][point].item() == flow.speed
+    density = ds["density"].values[0, 0]
+    assert density[0, 0] > 10 * density[1, 0] and density[1, 1] > density[1, 0]
