@@ -1,0 +1,70 @@
+"""A sweep as a lookup: exact at the grid points, bilinear in attitude as a database, linear in
+the other axes, close to the panel method between them; queries outside refused by name."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from adbsat_ros.geometry.example_satellite import example_satellite
+from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.sweep.engine import run_sweep
+from adbsat_ros.sweep.lookup import SweepLookup
+from adbsat_ros.sweep.spec import parse_spec
+
+SPEC = {
+    "mesh": "example",
+    "shading": "none",
+    "axes": {"aoa": "-180:30:180", "aos": "-90:30:90", "speed": [7000, 7400, 7800]},
+    "chunk_points": 512,
+}
+
+
+@pytest.fixture(scope="module")
+def sweep(tmp_path_factory):
+    out = tmp_path_factory.mktemp("lookup") / "s.zarr"
+    run_sweep(parse_spec(SPEC, ""), out, workers=1)
+    return xr.open_zarr(out, consolidated=False).load(), SweepLookup.open(out)
+
+
+def test_at_the_grid_points_it_is_the_sweep(sweep):
+    ds, lookup = sweep
+    for i, j, k in ((2, 3, 0), (5, 1, 2), (12, 6, 1)):
+        aoa, aos = ds["aoa"].values[i], ds["aos"].values[j]
+        r = lookup.coefficients(aoa, aos, speed=ds["speed"].values[k])
+        point = {"aoa": i, "aos": j, "speed": k}
+        np.testing.assert_allclose(r.Cf_G, ds["Cf_G"][point].values, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(r.Cm_G, ds["Cm_G"][point].values, rtol=0, atol=1e-15)
+        assert r.CD == pytest.approx(ds["CD"][point].item(), abs=1e-13)
+        assert r.CL == pytest.approx(ds["CL"][point].item(), abs=1e-13)
+        assert r.CY == pytest.approx(ds["CY"][point].item(), abs=1e-13)
+
+
+def test_between_speeds_it_is_linear_and_close_to_the_panel_method(sweep):
+    ds, lookup = sweep
+    aoa, aos = 30.0, 30.0  # a grid attitude: only the speed is interpolated
+    low = lookup.body_coefficients(aoa, aos, speed=7000.0)[0]
+    high = lookup.body_coefficients(aoa, aos, speed=7400.0)[0]
+    middle = lookup.body_coefficients(aoa, aos, speed=7100.0)[0]
+    np.testing.assert_allclose(middle, 0.75 * low + 0.25 * high, rtol=1e-14, atol=1e-16)
+    method = PanelMethod(example_satellite(), "sentman", shading="none")
+    exact = method.coefficients(
+        FreeStream(7100.0, 900.0, mean_mass_amu=16.0), math.radians(aoa), math.radians(aos)
+    )
+    assert np.linalg.norm(middle - exact.Cf_G) < 1e-3 * np.linalg.norm(exact.Cf_G)
+
+
+def test_queries_outside_the_sweep_are_refused_by_name(sweep):
+    _, lookup = sweep
+    with pytest.raises(
+        ValueError, match=r"speed 8000.0 is outside the sweep's range \[7000, 7800\]"
+    ):
+        lookup.coefficients(0.0, 0.0, speed=8000.0)
+    with pytest.raises(ValueError, match="missing \\['speed'\\]"):
+        lookup.coefficients(0.0, 0.0)
+    with pytest.raises(ValueError, match="unknown \\['alpha'\\]"):
+        lookup.coefficients(0.0, 0.0, speed=7000.0, alpha=0.9)
