@@ -1,16 +1,17 @@
 """Sweeps on Dask: against the database pool, scaling, overhead per task, a 10^5-point sweep.
 
 Usage:
-    python bench/bench_sweep.py [--workers 2] [--out-dir /tmp/bench_sweep]
+    python bench/bench_sweep.py [--workers 2] [--baseline TREE] [--rounds 3]
+                                [--out-dir /tmp/bench_sweep]
 
-Measured in one run, on LocalClusters of this machine started here (processes, one thread
-each; their start-up is not counted), with the example satellite (4,192 faces), sentman,
-ray-cast shading:
+Measured in one run, with the example satellite (4,192 faces), sentman, ray-cast shading:
 
-1. the 73 x 37 attitude database (aoa -180:5:180, aos -90:5:90) by ``build_database`` (the
-   ``database`` command's process pool) and by a sweep of the same axes (chunks of the default
-   256 points), both on ``--workers`` processes: wall time and ratio;
-2. the same sweep on 1 and on 2 workers: scaling;
+1. the ``database`` command (aoa -180:5:180 x aos -90:5:90, 2,701 attitudes, ``--workers``
+   processes) as a whole process, start-up included: this tree (the task engine on Dask)
+   against ``--baseline`` (a checkout of an earlier revision, say its process pool), the trees
+   interleaved, the median of ``--rounds`` runs each, and their ratio;
+2. the same grid as a sweep (chunks of the default 256 points) on LocalClusters of 1 and of
+   ``--workers`` workers started here (their start-up not counted): scaling;
 3. overhead per task: 2,000 points without shading as 2,000 one-point chunks and as 8 chunks of
    250: the difference per task;
 4. a 4-axis sweep of 101,088 points (aoa 0:5:355 x aos -90:15:90 x speed 6800:200:8600 (10) x
@@ -21,18 +22,32 @@ ray-cast shading:
 from __future__ import annotations
 
 import argparse
-import logging
 import resource
 import shutil
+import statistics
+import subprocess
+import sys
 import time
 from pathlib import Path
 
-import numpy as np
+THIS_TREE = Path(__file__).resolve().parents[1]
 
 
 def worker_peak_rss_mb() -> float:
     """The calling process's largest resident set [MB] (run on each worker)."""
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def database_seconds(tree: Path, workers: int, out: Path) -> float:
+    """Wall time [s] of the ``database`` command of ``tree`` as a whole process (its working
+    directory the tree, so that tree's package is imported): the 73 x 37 grid of the example
+    satellite, sentman, ray-cast shading, on ``workers`` processes."""
+    command = [sys.executable, "-m", "adbsat_ros.cli", "database", "example"]
+    command += ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
+    command += ["--workers", str(workers), "--out", str(out / "database.npz")]
+    t0 = time.perf_counter()
+    subprocess.run(command, cwd=tree, check=True, capture_output=True)
+    return time.perf_counter() - t0
 
 
 def sweep_seconds(data: dict, out: Path, address: str) -> float:
@@ -51,15 +66,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out-dir", default="/tmp/bench_sweep")
+    parser.add_argument(
+        "--baseline", help="a checkout whose database command is compared with this tree's"
+    )
+    parser.add_argument("--rounds", type=int, default=3, help="database runs per tree")
     args = parser.parse_args()
-    import dask
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
-    from adbsat_ros.database.build import build_database
-    from adbsat_ros.geometry.example_satellite import example_satellite
-    from adbsat_ros.physics.freestream import FreeStream
-    from adbsat_ros.physics.panel_method import PanelMethod
-    from adbsat_ros.sweep.engine import _worker_environment
+    from adbsat_ros.tasks import local_cluster
 
     out = Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -69,44 +83,39 @@ def main() -> None:
         "axes": {"aoa": "-180:5:180", "aos": "-90:5:90"},
     }
 
-    def cluster(n):  # (as run_sweep makes its own: see _worker_environment)
-        with dask.config.set({"distributed.nanny.pre-spawn-environ": _worker_environment()}):
-            return LocalCluster(
-                n_workers=n,
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=":0",
-                silence_logs=logging.ERROR,
-            )
+    # 1. the database command, this tree against the baseline's, interleaved
+    trees = {"this tree": THIS_TREE}
+    if args.baseline:
+        trees = {"baseline": Path(args.baseline).resolve(), **trees}
+    walls = {name: [] for name in trees}
+    for _ in range(args.rounds):
+        for name, tree in trees.items():
+            walls[name].append(database_seconds(tree, args.workers, out))
+    medians = {name: statistics.median(values) for name, values in walls.items()}
+    for name, median in medians.items():
+        spread = f"{min(walls[name]):.2f}..{max(walls[name]):.2f}"
+        print(
+            f"database, 73 x 37 attitudes, {args.workers} workers, {name} ({trees[name]}): "
+            f"median {median:.2f} s over {args.rounds} ({spread})"
+        )
+    if args.baseline:
+        print(f"ratio this tree / baseline: {medians['this tree'] / medians['baseline']:.3f}")
 
-    # 1. the database pool against the sweep, same workers
-    method = PanelMethod(example_satellite(), "sentman", shading="none")
-    flow = FreeStream(7700.0, 900.0, mean_mass_amu=16.0)
-    t0 = time.perf_counter()
-    build_database(
-        method,
-        flow,
-        np.arange(-180.0, 180.1, 5.0),
-        np.arange(-90.0, 90.1, 5.0),
-        shading="raycast",
-        workers=args.workers,
-    )
-    pool = time.perf_counter() - t0
+    # 2. the same grid as a sweep, on 1 and on 2 workers
     times = {}
     for n in (1, args.workers):
-        with cluster(n) as c, Client(c) as client:
+        with local_cluster(n) as c, Client(c) as client:
             client.wait_for_workers(n)
             times[n] = sweep_seconds(attitudes, out / f"db{n}.zarr", c.scheduler_address)
-    print(f"73 x 37 attitudes: database pool ({args.workers} processes) {pool:.2f} s")
     print(
-        f"73 x 37 attitudes: sweep on {args.workers} workers {times[args.workers]:.2f} s "
-        f"(ratio to the pool {times[args.workers] / pool:.3f}); on 1 worker {times[1]:.2f} s "
-        f"(speed-up 1 -> {args.workers}: {times[1] / times[args.workers]:.2f})"
+        f"73 x 37 attitudes as a sweep: {args.workers} workers {times[args.workers]:.2f} s; "
+        f"1 worker {times[1]:.2f} s (speed-up 1 -> {args.workers}: "
+        f"{times[1] / times[args.workers]:.2f})"
     )
 
     # 3. overhead per task
     small = {"mesh": "example", "shading": "none", "axes": {"aoa": "0:0.18:359.82"}}
-    with cluster(args.workers) as c, Client(c) as client:
+    with local_cluster(args.workers) as c, Client(c) as client:
         client.wait_for_workers(args.workers)
         one = sweep_seconds({**small, "chunk_points": 1}, out / "one.zarr", c.scheduler_address)
         big = sweep_seconds({**small, "chunk_points": 250}, out / "big.zarr", c.scheduler_address)
@@ -127,7 +136,7 @@ def main() -> None:
         },
         "chunk_points": 256,
     }
-    with cluster(args.workers) as c, Client(c) as client:
+    with local_cluster(args.workers) as c, Client(c) as client:
         client.wait_for_workers(args.workers)
         seconds = sweep_seconds(four, out / "four.zarr", c.scheduler_address)
         peaks = client.run(worker_peak_rss_mb)

@@ -40,6 +40,7 @@ LAYERS = (
     {"database", "environment", "plotting"},
     {"physics"},
     {"shading"},
+    {"tasks"},
     {"geometry", "messages", "processes", "validation", "_version"},
     {"bounds", "lru"},
 )

@@ -67,6 +67,12 @@ def configure(p) -> None:
         default=None,
         help=f"processes to use (default and most: every usable CPU, here {usable_cpus()})",
     )
+    g.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="a running Dask scheduler (tcp://HOST:8786) whose workers compute the attitudes "
+        "(default: processes on this machine)",
+    )
     g.add_argument("--out", required=True, metavar="FILE.npz", help="database file to write (.npz)")
     g.add_argument("--csv", metavar="FILE.csv", help="CSV file to write (default: --out with .csv)")
     p.set_defaults(func=run)
@@ -130,6 +136,7 @@ def run(args) -> int:
             tolerance=args.tolerance,
             seed=args.seed,
             stop=stop,
+            scheduler=args.scheduler,
         )
     elapsed = time.perf_counter() - start
     partial = db.metadata.get("partial")

@@ -7,20 +7,20 @@ pair (aoa_i, aos_j) of two angle lists [deg] and returns an
 (:mod:`adbsat_ros.database.metadata`) and the stated interpolation error of the grid
 (:mod:`adbsat_ros.database.interpolation`).
 
-The attitudes are evaluated in chunks on a process pool (every core by default; forked workers
-where the platform has fork, so they start in milliseconds with the imports inherited). Each
-attitude is computed by the same code whatever the chunking, so the result does not depend on the
-number of workers (bit for bit): with test particles, attitude i draws from its own seed,
-``SeedSequence(seed, spawn_key=(i,))``. Their standard errors are stored with the coefficients,
-and the stated error of the database adds three of the largest to the interpolation error.
+The attitudes are evaluated in chunks on the task engine of sweeps (:mod:`adbsat_ros.tasks`):
+worker processes on this machine (every core by default), or the workers of a running Dask
+scheduler. Each attitude is computed by the same code whatever the chunking, so the result does
+not depend on the number of workers (bit for bit): with test particles, attitude i draws from
+its own seed, ``SeedSequence(seed, spawn_key=(i,))``. Their standard errors are stored with the
+coefficients, and the stated error of the database adds three of the largest to the
+interpolation error.
 """
 
 from __future__ import annotations
 
 import math
-import signal
 import sys
-from concurrent.futures import ProcessPoolExecutor, as_completed
+import uuid
 
 import numpy as np
 from tqdm import tqdm
@@ -32,8 +32,9 @@ from adbsat_ros.geometry import frames
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.tpmc.method import TestParticleMethod, run_settings
-from adbsat_ros.processes import pool_context, worker_count
+from adbsat_ros.processes import worker_count
 from adbsat_ros.shading.shader import MODES, make_shader
+from adbsat_ros.tasks import run_chunks
 
 #: Largest attitude count of a chunk handed to one worker.
 MAX_CHUNK = 64
@@ -56,38 +57,9 @@ def _check_angles(values, name, low, high) -> np.ndarray:
     return a
 
 
-#: Per-process state of the workers: (method, flow, shader, test-particle run or None), built
-#: once by _init_worker.
-_WORKER = None
 #: Columns of a chunk's results: Cf_G, Cm_G, Cf_w, Cf_f, Cm_B (3 each), AreaProj, CD, CL, CY,
 #: and the standard errors (norms) of Cf_G and Cm_G (0 for the panel method).
 COLUMNS = 21
-
-
-def _init_worker(method, flow, shading, samples, tpmc=None):
-    """Set this process's worker state; a convex body needs no shader (nothing is occluded).
-    ``tpmc``: None for the panel method, else the test-particle run's settings (a dict of
-    ``particles``, ``tolerance`` and ``seed``)."""
-    global _WORKER
-    shader = None
-    if tpmc is not None:
-        solver = TestParticleMethod(
-            method.mesh, method.model, method.materials, reference=method.reference
-        )
-        _WORKER = (method, flow, None, (solver, tpmc))
-        return
-    if shading != "none":
-        shader = make_shader(method.mesh, mode=shading, samples=samples)
-        if shader.trivial:
-            shader = None
-    _WORKER = (method, flow, shader, None)
-
-
-def _init_pool_worker(*args):
-    """A pool worker's initializer: SIGINT is left to the parent, which stops the build (a
-    Ctrl-C reaches the whole process group)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _init_worker(*args)
 
 
 def attitude_seed(seed: int, index: int) -> int:
@@ -95,35 +67,64 @@ def attitude_seed(seed: int, index: int) -> int:
     return int(np.random.SeedSequence(seed, spawn_key=(index,)).generate_state(1)[0])
 
 
-def _evaluate_chunk(attitudes_deg, first: int = 0):
-    """Coefficients of a chunk of attitudes (K, 2) [deg], evaluated with the worker's state;
-    ``first`` is the index of the chunk's first attitude in the grid.
+class DatabaseJob:
+    """A database build as a job of :func:`adbsat_ros.tasks.run_chunks`: a chunk is
+    ``(first, attitudes)``, the grid index of its first attitude and the attitudes (K, 2) [deg];
+    its result an array (K, :data:`COLUMNS`). ``tpmc``: None for the panel method, else the
+    test-particle run's settings (a dict of ``particles``, ``tolerance`` and ``seed``)."""
 
-    Returns an array (K, :data:`COLUMNS`).
-    """
-    method, flow, shader, tpmc = _WORKER
-    out = np.zeros((len(attitudes_deg), COLUMNS))
-    for k, (a_deg, b_deg) in enumerate(attitudes_deg):
-        a, b = math.radians(a_deg), math.radians(b_deg)
-        if tpmc is not None:
-            solver, run = tpmc
-            r = solver.coefficients(
-                flow,
-                a,
-                b,
-                particles=run["particles"],
-                tolerance=run["tolerance"],
-                seed=attitude_seed(run["seed"], first + k),
+    def __init__(self, method, flow, shading: str, samples: int, tpmc=None):
+        self.method, self.flow = method, flow
+        self.shading, self.samples, self.tpmc = shading, samples, tpmc
+        self.key = "database " + uuid.uuid4().hex  # (one build, one set-up per worker)
+
+    def setup(self) -> "DatabaseSetup":
+        """The solver and shader of this build."""
+        return DatabaseSetup(self)
+
+
+class DatabaseSetup:
+    """A build's solver (the panel method and its shader, or test particles), made once where
+    its chunks run; a convex body gets no shader (nothing is occluded)."""
+
+    def __init__(self, job: DatabaseJob):
+        self.method, self.flow, self.tpmc = job.method, job.flow, job.tpmc
+        self.shader = self.solver = None
+        if job.tpmc is not None:
+            method = job.method
+            self.solver = TestParticleMethod(
+                method.mesh, method.model, method.materials, reference=method.reference
             )
-            out[k, 19] = float(np.linalg.norm(r.Cf_G_error))
-            out[k, 20] = float(np.linalg.norm(r.Cm_G_error))
-        else:
-            lighting = shader.lighting(frames.flow_direction(a, b)) if shader is not None else None
-            r = method.coefficients(flow, a, b, lighting=lighting)
-        out[k, 0:3], out[k, 3:6], out[k, 6:9] = r.Cf_G, r.Cm_G, r.Cf_w
-        out[k, 9:12], out[k, 12:15] = r.Cf_f, r.Cm_B
-        out[k, 15:19] = (r.area_projected, r.drag, r.lift, r.side_force)
-    return out
+        elif job.shading != "none":
+            shader = make_shader(job.method.mesh, mode=job.shading, samples=job.samples)
+            self.shader = None if shader.trivial else shader
+
+    def evaluate(self, chunk) -> np.ndarray:
+        """The coefficients of a chunk ``(first, attitudes)`` (:class:`DatabaseJob`)."""
+        first, attitudes_deg = chunk
+        out = np.zeros((len(attitudes_deg), COLUMNS))
+        for k, (a_deg, b_deg) in enumerate(attitudes_deg):
+            a, b = math.radians(a_deg), math.radians(b_deg)
+            if self.solver is not None:
+                run = self.tpmc
+                r = self.solver.coefficients(
+                    self.flow,
+                    a,
+                    b,
+                    particles=run["particles"],
+                    tolerance=run["tolerance"],
+                    seed=attitude_seed(run["seed"], first + k),
+                )
+                out[k, 19] = float(np.linalg.norm(r.Cf_G_error))
+                out[k, 20] = float(np.linalg.norm(r.Cm_G_error))
+            else:
+                shader = self.shader
+                lighting = shader.lighting(frames.flow_direction(a, b)) if shader else None
+                r = self.method.coefficients(self.flow, a, b, lighting=lighting)
+            out[k, 0:3], out[k, 3:6], out[k, 6:9] = r.Cf_G, r.Cm_G, r.Cf_w
+            out[k, 9:12], out[k, 12:15] = r.Cf_f, r.Cm_B
+            out[k, 15:19] = (r.area_projected, r.drag, r.lift, r.side_force)
+        return out
 
 
 class _Progress:
@@ -182,6 +183,7 @@ def build_database(
     seed: int = 0,
     stop=None,
     mesh_joints: dict | None = None,
+    scheduler: str | None = None,
 ) -> AeroDatabase:
     """Evaluate the panel method, or test particles, at every (aoa, aos) pair of two angle lists.
 
@@ -199,8 +201,8 @@ def build_database(
     samples : int
         Rays per panel for raycast shading.
     workers : int, optional
-        Processes to use (default ``os.cpu_count()``); 1 computes in this process. The result
-        does not depend on it.
+        Worker processes on this machine (default: every usable CPU); 1 computes in this
+        process. The result does not depend on it.
     progress : None, bool, callable or tqdm, optional
         None: a tqdm bar on stderr if stderr is a terminal, else nothing; True/False: bar or
         not; a callable is called as ``progress(done, total)``; an object with ``update(n)``
@@ -231,6 +233,9 @@ def build_database(
         when the attitudes being computed are done; the database then holds NaN at the others,
         ``metadata["partial"]`` says how many are done, and it cannot be saved as .npz (its CSV
         holds the attitudes done).
+    scheduler : str, optional
+        Address of a running Dask scheduler (``tcp://host:8786``) whose workers compute the
+        attitudes (the mesh and solver travel with each chunk); None: this machine.
 
     Returns
     -------
@@ -273,48 +278,27 @@ def build_database(
     grid_a, grid_b = np.meshgrid(aoa, aos, indexing="ij")
     attitudes = np.column_stack([grid_a.reshape(-1), grid_b.reshape(-1)])
     total = len(attitudes)
-    workers = min(workers, total)
-    chunk = max(1, min(MAX_CHUNK, math.ceil(total / (8 * workers))))
+    # chunks: about eight per worker (the last ones then finish together), at most MAX_CHUNK
+    chunk = max(1, min(MAX_CHUNK, math.ceil(total / (8 * min(workers, total)))))
     if tpmc is not None:
         chunk = 1  # (an attitude is a long run already: a stop waits for one at most)
-    starts = range(0, total, chunk)
+    chunks = {s: (s, attitudes[s : s + chunk]) for s in range(0, total, chunk)}
     results = np.full((total, COLUMNS), np.nan)
     bar = _Progress(progress, total)
+
+    def take(first, block):
+        results[first : first + len(block)] = block
+        bar.update(len(block))
+
     try:
-        if workers == 1:
-            global _WORKER
-            saved = _WORKER
-            _init_worker(method, flow, shading, samples, tpmc)
-            try:
-                for s in starts:
-                    results[s : s + chunk] = _evaluate_chunk(attitudes[s : s + chunk], s)
-                    bar.update(len(attitudes[s : s + chunk]))
-                    if stop is not None and stop.is_set():
-                        break
-            finally:
-                _WORKER = saved
-        else:
-            with ProcessPoolExecutor(
-                max_workers=workers,
-                mp_context=pool_context(),
-                initializer=_init_pool_worker,
-                initargs=(method, flow, shading, samples, tpmc),
-            ) as pool:
-                futures = {
-                    pool.submit(_evaluate_chunk, attitudes[s : s + chunk], s): s for s in starts
-                }
-                for future in as_completed(futures):
-                    s = futures[future]
-                    block = future.result()
-                    results[s : s + len(block)] = block
-                    bar.update(len(block))
-                    if stop is not None and stop.is_set():
-                        pool.shutdown(wait=True, cancel_futures=True)
-                        for other, first in futures.items():  # the ones that ran on: kept
-                            if other.done() and not other.cancelled():
-                                part = other.result()
-                                results[first : first + len(part)] = part
-                        break
+        run_chunks(
+            DatabaseJob(method, flow, shading, samples, tpmc),
+            chunks,
+            take,
+            scheduler=scheduler,
+            workers=workers,
+            stop=stop,
+        )
     finally:
         bar.close()
 

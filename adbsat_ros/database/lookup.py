@@ -38,6 +38,7 @@ import numpy as np
 
 from adbsat_ros.database.format import AeroDatabase, load_database
 from adbsat_ros.database.interpolation import bilinear
+from adbsat_ros.database.sweep_reader import is_sweep_store, open_sweep, sweep_database
 
 #: Angles within this many degrees of the grid's ends count as inside (rounding).
 ANGLE_TOLERANCE_DEG = 1e-9
@@ -131,8 +132,26 @@ class CoefficientLookup:
         self.error_bound = dict(database.metadata.get("interpolation_error") or {})
 
     @classmethod
-    def load(cls, path) -> "CoefficientLookup":
-        """A lookup of the database file ``path`` (read by :func:`load_database`)."""
+    def load(cls, path, **values) -> "CoefficientLookup":
+        """A lookup of the database file ``path`` (read by :func:`load_database`), or of a
+        sweep's Zarr store at a value of each of its axes besides aoa and aos, given by name
+        (``speed=7600.0``: linear between the sweep's grid values; see
+        :func:`adbsat_ros.database.sweep_reader.sweep_database`).
+
+        Raises
+        ------
+        DatabaseError
+            A database file that cannot be read.
+        ValueError
+            A sweep store that is incomplete, an axis value missing, unknown or out of range;
+            axis values given for a database file.
+        """
+        if is_sweep_store(path):
+            return cls(sweep_database(open_sweep(path), **values))
+        if values:
+            raise ValueError(
+                f"{path}: a database file has no axes besides aoa and aos; got {sorted(values)}"
+            )
         return cls(load_database(path))
 
     # ------------------------------------------------------------------------------ angles

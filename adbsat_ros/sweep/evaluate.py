@@ -1,45 +1,54 @@
 """One chunk of a sweep, computed where a worker runs it.
 
-:func:`compute_chunk` is the task: given the spec and the chunk's index ranges along every axis
-it returns the chunk's results (:data:`VECTORS` with a trailing axis of 3, :data:`SCALARS`).
-A worker builds a spec's :class:`SweepSetup` (mesh, panel method, shader) on its first task of
-that spec and keeps it for the next ones (:data:`SETUPS`). Every point is computed from its own
-inputs alone: exact ray-cast shading of its attitude (and joint configuration), no cache whose
-contents depend on what came before, so a chunk gives the same numbers bit for bit on any
-worker, in any order.
-"""
+:class:`SweepJob` is a sweep as a job of the task engine (:mod:`adbsat_ros.tasks`): a chunk is
+its index ranges along every axis, and its result the chunk's :data:`VECTORS` (a trailing axis
+of 3) and :data:`SCALARS`. A worker builds a spec's :class:`SweepSetup` (mesh, panel method,
+shader) on its first chunk of that spec and keeps it for the next ones. Every point is computed
+from its own inputs alone: exact ray-cast shading of its attitude (and joint configuration), no
+cache whose contents depend on what came before, so a chunk gives the same numbers bit for bit
+on any worker, in any order."""
 
 from __future__ import annotations
 
-import datetime as _dt
 import itertools
 import math
+from dataclasses import replace
 
 import numpy as np
 
-from adbsat_ros.environment.atmosphere import SpaceWeather
-from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
+from adbsat_ros.database.build import attitude_seed
 from adbsat_ros.geometry.loading import articulated_body, is_urdf, resolve_mesh
 from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.articulated_method import ArticulatedMethod
 from adbsat_ros.physics.coefficients import Reference
-from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.physics.tpmc.method import TestParticleMethod
 from adbsat_ros.shading.shader import make_shader
-from adbsat_ros.sweep.spec import ATMOSPHERE, ATMOSPHERE_DEFAULTS, DEFAULTS, SweepSpec
+from adbsat_ros.sweep.gas import point_gas, point_inputs
+from adbsat_ros.sweep.spec import SweepSpec
 
 #: Results with x, y, z components: force and moment coefficients in the mesh (body) frame G,
 #: in wind axes and in ADBSat's body axes B.
 VECTORS = ("Cf_G", "Cm_G", "Cf_w", "Cm_B")
+#: With test particles also their standard errors, of Cf_G and Cm_G.
+ERRORS = ("Cf_G_error", "Cm_G_error")
 #: Scalar results: C_D, C_L, C_Y, the lit projected area [m^2], and the gas the point was
 #: computed in: mass density [kg/m^3] (NaN unless the gas is the atmosphere's), temperature [K]
 #: and speed [m/s].
 SCALARS = ("CD", "CL", "CY", "area_projected", "density", "gas_temperature", "gas_speed")
+#: Surface parameters a sweep may set on every panel.
+SURFACE_AXES = ("alpha", "wall_temperature")
 
 
-class SweepSetup:
-    """A spec's body, panel method and shading, made once per worker.
+def vector_results(spec: SweepSpec) -> tuple:
+    """The names of a sweep's results with x, y, z components."""
+    return VECTORS + ERRORS if spec.tpmc is not None else VECTORS
+
+
+class BodySetup:
+    """One body of a sweep (its mesh, or one of its mesh variants): panels, panel method,
+    shaders by joint configuration and test-particle solvers by configuration and surface.
 
     Attributes
     ----------
@@ -47,20 +56,21 @@ class SweepSetup:
     body : ArticulatedBody or None
     mesh : PanelMesh
         The body's panels (an articulated body's at zero joint positions).
-    shaders : LruStore
-        Shaders by joint configuration (one entry, ``()``, for a rigid body).
+    shaders, solvers : LruStore
+        Shaders by joint configuration (one entry, ``()``, for a rigid body); test-particle
+        solvers by joint configuration and surface parameters.
     """
 
-    def __init__(self, spec: SweepSpec):
+    def __init__(self, spec: SweepSpec, mesh: str):
         self.spec = spec
-        self.body = articulated_body(spec.mesh) if is_urdf(spec.mesh) else None
-        self.mesh = self.body.mesh() if self.body is not None else resolve_mesh(spec.mesh)
-        materials = MaterialTable.from_texts(SurfaceProperties(), spec.materials)
-        unknown = materials.check_names(self.mesh.material_names)
+        self.body = articulated_body(mesh) if is_urdf(mesh) else None
+        self.mesh = self.body.mesh() if self.body is not None else resolve_mesh(mesh)
+        self.materials = MaterialTable.from_texts(SurfaceProperties(), spec.materials)
+        unknown = self.materials.check_names(self.mesh.material_names)
         if unknown:
             raise ValueError(
-                f"materials: the mesh has no material {', '.join(map(repr, unknown))}; its "
-                f"materials are {', '.join(self.mesh.material_names)}"
+                f"materials: the mesh {mesh} has no material {', '.join(map(repr, unknown))}; "
+                f"its materials are {', '.join(self.mesh.material_names)}"
             )
         ref = spec.reference
         reference = Reference(
@@ -68,73 +78,104 @@ class SweepSetup:
             length=ref.get("length"),
             moment_point=tuple(ref.get("moment_point", (0.0, 0.0, 0.0))),
         )
-        if self.body is None:
-            self.method = PanelMethod(
-                self.mesh, spec.model, materials, reference=reference, shading="none"
-            )
-        else:
-            self.method = ArticulatedMethod(
-                self.body, spec.model, materials, reference=reference, shading="none"
-            )
+        kind = PanelMethod if self.body is None else ArticulatedMethod
+        self.method = kind(
+            self.mesh if self.body is None else self.body,
+            spec.model,
+            self.materials,
+            reference=reference,
+            shading="none",
+        )
+        if spec.tpmc is not None:
+            TestParticleMethod(self.mesh, spec.model, self.materials)  # (a kernel for it?)
         self.shaders = LruStore(8)
+        self.solvers = LruStore(8)
 
-    def _shader(self, positions: dict):
+    def posed(self, positions: dict):
+        """The panels at joint ``positions`` [rad or m]."""
+        return self.mesh if self.body is None else self.body.mesh(positions)
+
+    def shader(self, positions: dict):
+        """The ray caster of the body at joint ``positions``."""
+
         def make():
-            mesh = self.mesh if self.body is None else self.body.mesh(positions)
-            return make_shader(mesh, mode=self.spec.shading)
+            return make_shader(self.posed(positions), mode=self.spec.shading)
 
         return self.shaders.get(tuple(sorted(positions.items())), make)
 
-    def flow(self, inputs: dict, flows: dict):
-        """The free stream of a point: given (speed, temperature, mean mass), or the
-        atmosphere's at a circular orbit (NRLMSISE-00 at the spec's time; ``speed`` if given,
-        else the orbit's); ``flows`` holds those already made for this chunk."""
-        spec = self.spec
-        if not spec.atmosphere:
-            return FreeStream(
-                inputs["speed"], inputs["temperature"], mean_mass_amu=inputs["mean_mass_amu"]
-            )
-        values = {**ATMOSPHERE_DEFAULTS, **inputs}
-        key = tuple(values[k] for k in ATMOSPHERE) + (inputs.get("speed"),)
-        if key not in flows:
-            weather = SpaceWeather(values["f107"], values["f107a"], values["ap"])
-            conditions = flight_conditions_circular_orbit(
-                _dt.datetime.fromisoformat(spec.time),
-                1e3 * values["altitude"],
-                math.radians(values["latitude"]),
-                math.radians(values["longitude"]),
-                weather,
-                speed=inputs.get("speed"),
-            )
-            flows[key] = conditions.free_stream()
-        return flows[key]
+    def solver(self, positions: dict, changes: dict) -> TestParticleMethod:
+        """The test-particle solver of the body at joint ``positions``, with the surface
+        parameters ``changes`` on every panel."""
 
-    def point(self, values: dict, lightings: dict, flows: dict):
-        """The AeroCoefficients of one point (axis and fixed values in the spec's units);
-        ``lightings`` holds the lightings already cast for this chunk, by attitude and joint
-        positions."""
+        def make():
+            table = self.materials
+            if changes:
+                table = MaterialTable(
+                    replace(table.default, **changes),
+                    {k: replace(v, **changes) for k, v in table.materials.items()},
+                )
+            return TestParticleMethod(
+                self.posed(positions), self.spec.model, table, reference=self.method.reference
+            )
+
+        key = (tuple(sorted(positions.items())), tuple(sorted(changes.items())))
+        return self.solvers.get(key, make)
+
+
+class SweepSetup:
+    """A spec's bodies (one, or one per mesh variant), made once per worker.
+
+    Attributes
+    ----------
+    bodies : list of BodySetup
+        By mesh variant (one without a ``mesh`` axis).
+    body, mesh, method
+        Those of the first body (:class:`BodySetup`).
+    """
+
+    def __init__(self, spec: SweepSpec):
+        self.spec = spec
+        self.bodies = [BodySetup(spec, mesh) for mesh in spec.meshes or (spec.mesh,)]
+        first = self.bodies[0]
+        self.body, self.mesh, self.method = first.body, first.mesh, first.method
+
+    def point(self, index: tuple, values: dict, lightings: dict, flows: dict):
+        """The coefficients and the gas of one point: its grid ``index`` and axis ``values``
+        in the spec's units; ``lightings`` and ``flows`` hold the lightings and gases already
+        made for this chunk."""
         spec = self.spec
-        inputs = {**spec.fixed, **values}
-        if not spec.atmosphere:
-            inputs = {**DEFAULTS, **inputs}
-        flow = self.flow(inputs, flows)
+        inputs = point_inputs(spec, values)
+        flow = point_gas(spec, inputs, flows)
+        variant = int(inputs.get("mesh", 0))
+        body = self.bodies[variant]
         aoa, aos = math.radians(inputs["aoa"]), math.radians(inputs["aos"])
         positions = {}
         for joint, axis in spec.joint_axes().items():
-            kind = self.body.joints[joint].kind
+            kind = body.body.joints[joint].kind
             positions[joint] = inputs[axis] if kind == "prismatic" else math.radians(inputs[axis])
-        changes = {k: inputs[k] for k in ("alpha", "wall_temperature") if k in inputs}
-        surface = self.method.surface_with(**changes) if changes else None
+        changes = {k: inputs[k] for k in SURFACE_AXES if k in inputs}
+        run = spec.tpmc
+        if run is not None:
+            seed = attitude_seed(run["seed"], int(np.ravel_multi_index(index, spec.shape)))
+            return body.solver(positions, changes).coefficients(
+                flow,
+                aoa,
+                aos,
+                particles=run["particles"],
+                tolerance=run["tolerance"],
+                seed=seed,
+            ), flow
+        surface = body.method.surface_with(**changes) if changes else None
         lighting = None
-        if self.spec.shading != "none":  # (the same attitude and joints: the same rays)
-            key = (aoa, aos, tuple(positions.values()))
+        if spec.shading != "none":  # (the same body, attitude and joints: the same rays)
+            key = (variant, aoa, aos, tuple(positions.values()))
             if key not in lightings:
-                lightings[key] = self._shader(positions).lighting_angles(aoa, aos)
+                lightings[key] = body.shader(positions).lighting_angles(aoa, aos)
             lighting = lightings[key]
-        if self.body is None:
-            result = self.method.coefficients(flow, aoa, aos, lighting=lighting, surface=surface)
+        if body.body is None:
+            result = body.method.coefficients(flow, aoa, aos, lighting=lighting, surface=surface)
         else:
-            result = self.method.coefficients(
+            result = body.method.coefficients(
                 flow, positions, aoa, aos, lighting=lighting, surface=surface
             ).total
         return result, flow
@@ -144,17 +185,16 @@ class SweepSetup:
         names = list(self.spec.axes)
         ranges = [range(a, b) for a, b in slices]
         shape = tuple(len(r) for r in ranges)
-        out = {name: np.empty((*shape, 3)) for name in VECTORS}
+        vectors = vector_results(self.spec)
+        out = {name: np.empty((*shape, 3)) for name in vectors}
         out.update({name: np.empty(shape) for name in SCALARS})
         lightings, flows = {}, {}
         for local in itertools.product(*(range(n) for n in shape)):
             index = tuple(r[i] for r, i in zip(ranges, local))
             values = {n: float(self.spec.axes[n][i]) for n, i in zip(names, index)}
-            r, flow = self.point(values, lightings, flows)
-            out["Cf_G"][local] = r.Cf_G
-            out["Cm_G"][local] = r.Cm_G
-            out["Cf_w"][local] = r.Cf_w
-            out["Cm_B"][local] = r.Cm_B
+            r, flow = self.point(index, values, lightings, flows)
+            for name in vectors:
+                out[name][local] = getattr(r, name)
             out["CD"][local] = r.drag
             out["CL"][local] = r.lift
             out["CY"][local] = r.side_force
@@ -166,12 +206,14 @@ class SweepSetup:
         return out
 
 
-#: Setups of the latest specs on this process, by the spec's fingerprint: a worker builds a
-#: spec's mesh and shader on its first chunk and keeps them for the rest.
-SETUPS = LruStore(2)
+class SweepJob:
+    """A sweep as a job of :func:`adbsat_ros.tasks.run_chunks`: its chunks are index ranges
+    ((start, stop) per axis); a worker builds the spec's :class:`SweepSetup` once."""
 
+    def __init__(self, spec: SweepSpec):
+        self.spec = spec
+        self.key = "sweep " + spec.fingerprint
 
-def compute_chunk(spec: SweepSpec, slices) -> dict:
-    """The task: the results of one chunk (:meth:`SweepSetup.evaluate`)."""
-    setup = SETUPS.get(spec.fingerprint, lambda: SweepSetup(spec))
-    return setup.evaluate(slices)
+    def setup(self) -> SweepSetup:
+        """The spec's set-up (mesh, panel method, shaders)."""
+        return SweepSetup(spec=self.spec)

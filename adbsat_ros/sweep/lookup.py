@@ -11,18 +11,14 @@ range is refused with the axis and its range; an axis with one value takes only 
 
 from __future__ import annotations
 
-import bisect
 import itertools
 
 import numpy as np
 
-from adbsat_ros.database.format import AeroDatabase
 from adbsat_ros.database.lookup import CoefficientLookup, InterpolatedCoefficients
+from adbsat_ros.database.sweep_reader import bracket, open_sweep, other_axes, slice_database
 from adbsat_ros.geometry import frames
 from adbsat_ros.lru import LruStore
-
-#: Values within this much of an axis's ends count as inside (rounding).
-TOLERANCE = 1e-9
 
 
 class SweepLookup:
@@ -31,7 +27,7 @@ class SweepLookup:
     Parameters
     ----------
     dataset : xarray.Dataset
-        A sweep's result (``xarray.open_zarr(path)``), complete.
+        A sweep's result (:func:`~adbsat_ros.database.sweep_reader.open_sweep`), complete.
 
     Attributes
     ----------
@@ -45,11 +41,7 @@ class SweepLookup:
         if "chunk_done" in dataset and not bool(dataset["chunk_done"].values.all()):
             raise ValueError("the sweep is not complete: run it again to compute the rest")
         self._ds = dataset
-        self.axes = {
-            name: np.asarray(dataset[name].values, dtype=float)
-            for name in dataset["Cf_G"].dims
-            if name not in ("aoa", "aos", "component")
-        }
+        self.axes = other_axes(dataset)
         self._reference = {
             "area": float(dataset.attrs["reference_area_m2"]),
             "length": float(dataset.attrs["reference_length_m"]),
@@ -59,48 +51,13 @@ class SweepLookup:
     @classmethod
     def open(cls, path) -> "SweepLookup":
         """The lookup of the sweep store at ``path``."""
-        import xarray as xr
-
-        return cls(xr.open_zarr(path, consolidated=False))
+        return cls(open_sweep(path))
 
     def _slice(self, index: tuple) -> CoefficientLookup:
         def make():
-            point = dict(zip(self.axes, index))
-            database = AeroDatabase(
-                aoa_deg=np.asarray(self._ds["aoa"].values, dtype=float),
-                aos_deg=np.asarray(self._ds["aos"].values, dtype=float),
-                **{
-                    name: np.asarray(self._ds[source].isel(point).values, dtype=float)
-                    for name, source in (
-                        ("CD", "CD"),
-                        ("CL", "CL"),
-                        ("CY", "CY"),
-                        ("AreaProj", "area_projected"),
-                        ("Cf_w", "Cf_w"),
-                        ("Cf_f", "Cf_w"),  # (not read by the lookup)
-                        ("Cm_B", "Cm_B"),
-                        ("Cf_G", "Cf_G"),
-                        ("Cm_G", "Cm_G"),
-                    )
-                },
-                metadata={"reference": self._reference},
-            )
-            return CoefficientLookup(database)
+            return CoefficientLookup(slice_database(self._ds, dict(zip(self.axes, index))))
 
         return self.slices.get(index, make)
-
-    def _bracket(self, name: str, value: float) -> list:
-        """``[(index, weight), ...]`` of the grid values around ``value`` on axis ``name``."""
-        nodes = self.axes[name]
-        low, high = float(nodes[0]), float(nodes[-1])
-        if not low - TOLERANCE <= value <= high + TOLERANCE:
-            raise ValueError(f"{name} {value!r} is outside the sweep's range [{low:g}, {high:g}]")
-        if nodes.size == 1:
-            return [(0, 1.0)]
-        k = min(max(bisect.bisect_right(nodes.tolist(), value) - 1, 0), nodes.size - 2)
-        t = (value - nodes[k]) / (nodes[k + 1] - nodes[k])
-        t = min(max(t, 0.0), 1.0)
-        return [(k, 1.0 - t), (k + 1, t)]
 
     def body_coefficients(self, aoa_deg: float, aos_deg: float, **values):
         """Interpolated Cf_G and Cm_G at an attitude [deg] and a value of every other axis.
@@ -117,7 +74,7 @@ class SweepLookup:
                 f"give a value of every axis of the sweep ({', '.join(self.axes) or 'none'}); "
                 f"missing {missing}, unknown {unknown}"
             )
-        brackets = [self._bracket(name, float(values[name])) for name in self.axes]
+        brackets = [bracket(self.axes[name], name, float(values[name])) for name in self.axes]
         cf, cm = np.zeros(3), np.zeros(3)
         for corner in itertools.product(*brackets):
             weight = float(np.prod([w for _, w in corner]))

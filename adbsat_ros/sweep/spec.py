@@ -14,12 +14,17 @@ A spec names the body, the model and shading, the fixed inputs and the axes::
       alpha: [0.8, 0.9, 1.0]
       joint.wing_left_hinge: 0:15:90   # [deg] (revolute), [m] (prismatic)
     chunk_points: 256              # points per task (optional)
+    solver: {method: tpmc, particles: 200000, seed: 1}             # optional (default panel)
 
-Axes (:data:`AXES`, and ``joint.NAME`` for a URDF's moving joints) and fixed inputs take the
+Axes (:data:`AXES`, ``joint.NAME`` for a URDF's moving joints, ``scale.SPECIES`` for a factor
+on one species of the atmosphere, ``mesh`` for design variants) and fixed inputs take the
 units and valid ranges of docs/physics.md section 11. ``aoa`` and ``aos`` are always axes
-(a single value if they do not vary). An input that is neither fixed nor an axis takes its
-default (:data:`DEFAULTS`; ``alpha`` and ``wall_temperature`` default to the materials'). Any
-bad field is a :class:`SpecError` naming it.
+(a single value if they do not vary). ``time`` is hours after the spec's ``time`` (the epoch of
+the atmosphere). ``mesh`` as an axis is a list of mesh files compared at one reference area and
+length (then given) instead of the one ``mesh``; its coordinate is the variant's index. An input
+that is neither fixed nor an axis takes its default (:data:`DEFAULTS`; ``alpha`` and
+``wall_temperature`` default to the materials'). Any bad field is a :class:`SpecError` naming
+it.
 """
 
 from __future__ import annotations
@@ -27,48 +32,31 @@ from __future__ import annotations
 import datetime as _dt
 import hashlib
 import json
-import math
 from dataclasses import dataclass
 
 import numpy as np
 import yaml
 
-from adbsat_ros.bounds import BOUNDS, Bound
 from adbsat_ros.environment.atmosphere import check_time
 from adbsat_ros.physics.gsi_models import MODELS, canonical_model_name
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
+from adbsat_ros.sweep.axes import (
+    ATMOSPHERE,
+    AXES,
+    DEFAULT_TIME,
+    FIXED,
+    JOINT_PREFIX,
+    SCALE_PREFIX,
+    SpecError,
+    axis_values,
+    checked,
+    joint_values_checked,
+    mesh_variants,
+    number,
+    scale_rule,
+    solver_settings,
+)
 
-_ACCOMMODATION = Bound(0.0, 1.0, "", "an accommodation coefficient: 0 specular, 1 diffuse")
-
-#: The axes a sweep may have besides ``joint.NAME``: name -> (range, unit).
-AXES = {
-    "aoa": (Bound(-360.0, 360.0, "deg", "an angle of attack, once around and back"), "deg"),
-    "aos": (Bound(-90.0, 90.0, "deg", "a sideslip angle (ADBSat's range)"), "deg"),
-    "speed": (BOUNDS["speed"], "m/s"),
-    "temperature": (BOUNDS["temperature"], "K"),
-    "mean_mass_amu": (BOUNDS["mean_mass_amu"], "amu"),
-    "alpha": (_ACCOMMODATION, ""),
-    "wall_temperature": (BOUNDS["wall_temperature"], "K"),
-    # the atmosphere (NRLMSISE-00) at a circular orbit's speed: any of these gives the gas
-    "altitude": (
-        Bound(100.0, 1000.0, "km", "NRLMSISE-00 up to 1,000 km; below 100 km no free flow"),
-        "km",
-    ),
-    "latitude": (Bound(-90.0, 90.0, "deg", "a geodetic latitude"), "deg"),
-    "longitude": (Bound(-360.0, 360.0, "deg", "an east longitude"), "deg"),
-    "f107": (BOUNDS["f107"], "sfu"),
-    "f107a": (BOUNDS["f107"], "sfu"),
-    "ap": (BOUNDS["ap"], ""),
-}
-#: Inputs that make the gas that of the atmosphere (with ``time``, a fixed UTC).
-ATMOSPHERE = ("altitude", "latitude", "longitude", "f107", "f107a", "ap")
-#: The atmosphere's defaults, and the UTC of a sweep that gives none.
-ATMOSPHERE_DEFAULTS = {"latitude": 0.0, "longitude": 0.0, "f107": 150.0, "f107a": 150.0, "ap": 4.0}
-DEFAULT_TIME = "2026-01-01T00:00:00"
-#: Inputs a spec may fix (any axis but the attitude).
-FIXED = tuple(name for name in AXES if name not in ("aoa", "aos"))
-#: Values of the inputs neither fixed nor swept (alpha and wall_temperature: the materials').
-DEFAULTS = {"speed": 7700.0, "temperature": 900.0, "mean_mass_amu": 16.0}
 #: Points per task unless the spec says: a few seconds of ray-cast panel method.
 CHUNK_POINTS = 256
 #: Fields of a spec.
@@ -82,12 +70,8 @@ FIELDS = (
     "fixed",
     "axes",
     "chunk_points",
+    "solver",
 )
-JOINT_PREFIX = "joint."
-
-
-class SpecError(ValueError):
-    """A spec that cannot be swept; the message names the field."""
 
 
 @dataclass(frozen=True)
@@ -110,6 +94,11 @@ class SweepSpec:
         UTC (ISO 8601) of the atmosphere.
     text : str
         The spec as YAML (recorded in the result).
+    solver : dict
+        ``method`` (``panel`` or ``tpmc``) and, for test particles, ``particles``,
+        ``tolerance`` and ``seed`` (:func:`~adbsat_ros.physics.tpmc.method.run_settings`).
+    meshes : tuple of str
+        The mesh variants of a ``mesh`` axis (``mesh`` is the first); empty without one.
     """
 
     mesh: str
@@ -122,6 +111,8 @@ class SweepSpec:
     chunk_points: int
     text: str
     time: str = DEFAULT_TIME
+    solver: tuple = (("method", "panel"),)
+    meshes: tuple = ()
 
     @property
     def atmosphere(self) -> bool:
@@ -147,49 +138,27 @@ class SweepSpec:
             "chunk_points": self.chunk_points,
             "time": self.time,
         }
+        if self.tpmc is not None:  # (the panel method's specs keep their fingerprints)
+            canonical["solver"] = dict(self.solver)
+        if self.meshes:
+            canonical["meshes"] = list(self.meshes)
         return hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()
+
+    @property
+    def tpmc(self) -> dict | None:
+        """The test-particle run (``particles``, ``tolerance``, ``seed``), or None for the
+        panel method."""
+        solver = dict(self.solver)
+        return None if solver["method"] == "panel" else solver
+
+    def scales(self) -> dict:
+        """``{species: factor}`` of the scaled species (fixed or swept names)."""
+        names = [*self.fixed, *self.axes]
+        return {k[len(SCALE_PREFIX) :]: k for k in names if k.startswith(SCALE_PREFIX)}
 
     def joint_axes(self) -> dict:
         """``{joint name: axis name}`` of the swept joints."""
         return {k[len(JOINT_PREFIX) :]: k for k in self.axes if k.startswith(JOINT_PREFIX)}
-
-
-def axis_values(text, name: str) -> np.ndarray:
-    """The values of an axis: a number, a list of numbers, or ``start:step:stop`` (inclusive of
-    stop when the steps reach it)."""
-    if isinstance(text, str) and ":" in text:
-        parts = text.split(":")
-        try:
-            start, step, stop = (float(p) for p in parts)
-        except ValueError:
-            raise SpecError(f"axes.{name}: expected start:step:stop, got {text!r}") from None
-        if len(parts) != 3 or step <= 0 or stop < start:
-            raise SpecError(
-                f"axes.{name}: start:step:stop needs a step > 0 and stop >= start, got {text!r}"
-            )
-        count = int(math.floor((stop - start) / step + 1e-9)) + 1
-        return start + step * np.arange(count)
-    values = text if isinstance(text, list) else [text]
-    try:
-        out = np.array([float(v) for v in values if not isinstance(v, bool)], dtype=float)
-    except (TypeError, ValueError):
-        raise SpecError(f"axes.{name}: expected numbers, got {text!r}") from None
-    if len(out) != len(values):
-        raise SpecError(f"axes.{name}: expected numbers, got {text!r}")
-    if out.size == 0:
-        raise SpecError(f"axes.{name}: empty; give at least one value")
-    if len(set(out.tolist())) != out.size:
-        raise SpecError(f"axes.{name}: a value appears twice")
-    return out
-
-
-def _checked(name: str, values: np.ndarray, rule: Bound, where: str) -> np.ndarray:
-    for v in values.tolist():
-        try:
-            rule.check(f"{where}.{name}", v)
-        except ValueError as exc:
-            raise SpecError(str(exc)) from None
-    return values
 
 
 def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
@@ -215,7 +184,11 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
     unknown = sorted(set(data) - set(FIELDS))
     if unknown:
         raise SpecError(f"{unknown[0]}: not a spec field; the fields are {', '.join(FIELDS)}")
-    mesh = str(data.get("mesh", "")).strip()
+    raw_axes = data.get("axes")
+    if not isinstance(raw_axes, dict) or not raw_axes:
+        raise SpecError("axes: missing; give at least aoa or aos")
+    meshes = mesh_variants(data, raw_axes)
+    mesh = meshes[0] if meshes else str(data.get("mesh", "")).strip()
     if not mesh:
         raise SpecError("mesh: missing; give a mesh file, a URDF or a bundled body")
     try:
@@ -233,21 +206,28 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
         raise SpecError("materials: a list of NAME:key=value texts")
     fixed = {}
     for name, value in (data.get("fixed") or {}).items():
-        if name not in FIXED:
-            raise SpecError(f"fixed.{name}: not an input; the fixed inputs are {', '.join(FIXED)}")
-        fixed[name] = float(
-            _checked(name, np.array([_number(value, name)]), AXES[name][0], "fixed")[0]
-        )
-    raw_axes = data.get("axes")
-    if not isinstance(raw_axes, dict) or not raw_axes:
-        raise SpecError("axes: missing; give at least aoa or aos")
+        rule = scale_rule(name, "fixed") if name.startswith(SCALE_PREFIX) else None
+        if rule is None and name not in FIXED:
+            known = ", ".join([*FIXED, "scale.SPECIES"])
+            raise SpecError(f"fixed.{name}: not an input; the fixed inputs are {known}")
+        rule = rule or AXES[name][0]
+        fixed[name] = float(checked(name, np.array([number(value, name)]), rule, "fixed")[0])
     axes = {}
     for name in ("aoa", "aos"):
-        axes[name] = _checked(
+        axes[name] = checked(
             name, axis_values(raw_axes.get(name, 0.0), name), AXES[name][0], "axes"
         )
     for name, given in raw_axes.items():
         if name in ("aoa", "aos"):
+            continue
+        if name == "mesh":
+            axes[name] = np.arange(len(meshes), dtype=float)
+            continue
+        if name.startswith(SCALE_PREFIX):
+            if name in fixed:
+                raise SpecError(f"axes.{name}: also fixed; an input is fixed or swept, not both")
+            rule = scale_rule(name, "axes")
+            axes[name] = checked(name, axis_values(given, name), rule, "axes")
             continue
         if name.startswith(JOINT_PREFIX):
             joint = name[len(JOINT_PREFIX) :]
@@ -259,7 +239,7 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
                     f"{', '.join(joints) or 'none'}"
                 )
             values = axis_values(given, name)
-            _joint_values_checked(name, values, joints[joint])
+            joint_values_checked(name, values, joints[joint])
             axes[name] = values
             continue
         if name not in AXES:
@@ -267,13 +247,39 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
             raise SpecError(f"axes.{name}: not an axis; the axes are {known}")
         if name in fixed:
             raise SpecError(f"axes.{name}: also fixed; an input is fixed or swept, not both")
-        axes[name] = _checked(name, axis_values(given, name), AXES[name][0], "axes")
+        axes[name] = checked(name, axis_values(given, name), AXES[name][0], "axes")
     time = str(data.get("time", DEFAULT_TIME))
     try:
-        check_time(_dt.datetime.fromisoformat(time))
+        epoch = _dt.datetime.fromisoformat(time)
+        check_time(epoch)
     except ValueError as exc:
         raise SpecError(f"time: {time!r} is no UTC time in 1958..2100 ({exc})") from None
+    for where, hours in (("fixed", fixed.get("time")), ("axes", axes.get("time"))):
+        for value in np.atleast_1d(hours if hours is not None else []).tolist():
+            try:
+                check_time(epoch + _dt.timedelta(hours=value))
+            except (ValueError, OverflowError):
+                raise SpecError(
+                    f"{where}.time: {value:g} h after {time} is outside 1958..2100"
+                ) from None
     given = set(fixed) | set(axes)
+    if given & set(ATMOSPHERE) and "altitude" not in given:
+        raise SpecError(
+            "altitude: the atmosphere's gas (asked for by "
+            f"{', '.join(sorted(given & set(ATMOSPHERE)))}) needs an altitude, fixed or an axis"
+        )
+    if any(name.startswith(SCALE_PREFIX) for name in given) and not given & set(ATMOSPHERE):
+        raise SpecError(
+            "scale: species are scaled in the atmosphere's gas; fix or sweep altitude (or "
+            "another atmosphere input) with it"
+        )
+    if meshes and any(name.startswith(JOINT_PREFIX) for name in axes):
+        raise SpecError("axes.mesh: mesh variants are rigid meshes; no joint axis with them")
+    if meshes and not {"area", "length"} <= set(reference):
+        raise SpecError(
+            "reference: mesh variants are compared at one reference area and length: give both"
+        )
+    solver = solver_settings(data.get("solver"))
     if given & set(ATMOSPHERE) and given & {"temperature", "mean_mass_amu"}:
         raise SpecError(
             "axes and fixed: the gas is the atmosphere's (altitude ...) or given (temperature, "
@@ -283,33 +289,19 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
     if isinstance(chunk, bool) or not isinstance(chunk, int) or not 1 <= chunk <= 1_000_000:
         raise SpecError(f"chunk_points: a whole number in [1, 1000000], got {chunk!r}")
     return SweepSpec(
-        mesh, model, shading, dict(reference), tuple(materials), fixed, axes, chunk, text, time
+        mesh,
+        model,
+        shading,
+        dict(reference),
+        tuple(materials),
+        fixed,
+        axes,
+        chunk,
+        text,
+        time,
+        solver,
+        meshes,
     )
-
-
-def _number(value, name: str) -> float:
-    try:
-        if isinstance(value, bool):
-            raise TypeError
-        return float(value)
-    except (TypeError, ValueError):
-        raise SpecError(f"fixed.{name}: expected a number, got {value!r}") from None
-
-
-def _joint_values_checked(name: str, values: np.ndarray, joint) -> None:
-    """Joint axis values (deg for revolute and continuous joints, m for prismatic) within the
-    joint's limits."""
-    positions = values if joint.kind == "prismatic" else np.radians(values)
-    unit = "m" if joint.kind == "prismatic" else "deg"
-    for value, position in zip(values.tolist(), positions.tolist()):
-        if not joint.lower <= position <= joint.upper:
-            low, high = joint.lower, joint.upper
-            if unit == "deg":
-                low, high = math.degrees(low), math.degrees(high)
-            raise SpecError(
-                f"axes.{name}: {value:g} {unit} is outside the joint's limits [{low:g}, {high:g}] "
-                f"{unit}"
-            )
 
 
 def load_spec(path) -> tuple:

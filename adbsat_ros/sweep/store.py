@@ -19,8 +19,9 @@ from pathlib import Path
 import numpy as np
 
 from adbsat_ros._version import __version__
-from adbsat_ros.sweep.evaluate import SCALARS, VECTORS
-from adbsat_ros.sweep.spec import AXES, JOINT_PREFIX, SweepSpec
+from adbsat_ros.sweep.axes import AXES, JOINT_PREFIX
+from adbsat_ros.sweep.evaluate import SCALARS, vector_results
+from adbsat_ros.sweep.spec import SweepSpec
 
 
 class StoreError(ValueError):
@@ -50,7 +51,9 @@ def _unit(axis: str, setup) -> str:
     if axis.startswith(JOINT_PREFIX):
         kind = setup.body.joints[axis[len(JOINT_PREFIX) :]].kind
         return "m" if kind == "prismatic" else "deg"
-    return AXES[axis][1]
+    if axis == "time":  # (CF conventions: xarray reads it as dates)
+        return f"hours since {setup.spec.time}"
+    return AXES[axis][1] if axis in AXES else ""  # (scale.SPECIES, mesh: numbers)
 
 
 class SweepStore:
@@ -83,7 +86,7 @@ class SweepStore:
             shutil.rmtree(path) if path.is_dir() else path.unlink()
         if path.exists():
             try:
-                attrs = xr.open_zarr(path, consolidated=False).attrs
+                attrs = xr.open_zarr(path, consolidated=False, decode_times=False).attrs
             except Exception as exc:  # (zarr and xarray raise many kinds for a non-store)
                 raise StoreError(
                     f"--out {path}: exists and is not a sweep store ({type(exc).__name__}); "
@@ -107,8 +110,10 @@ class SweepStore:
             name: (name, np.asarray(values), {"units": _unit(name, setup)})
             for name, values in spec.axes.items()
         }
+        if "mesh" in coords:
+            coords["mesh"][2]["meshes"] = list(spec.meshes)
         data = {}
-        for name in VECTORS:
+        for name in vector_results(spec):
             shape, chunks = (*spec.shape, 3), (*self.sizes, 3)
             data[name] = ([*dims, "component"], da.full(shape, np.nan, chunks=chunks))
         for name in SCALARS:
@@ -123,6 +128,7 @@ class SweepStore:
             "mesh": spec.mesh,
             "mesh_fingerprint": setup.mesh.fingerprint(),
             "n_panels": int(setup.mesh.n_panels),
+            "solver": json.dumps(dict(spec.solver), sort_keys=True),
             "model": spec.model,
             "shading": spec.shading,
             "fixed_inputs": json.dumps(spec.fixed, sort_keys=True),
@@ -139,7 +145,13 @@ class SweepStore:
         dataset["area_projected"].attrs["units"] = "m^2"
         for name, unit in (("density", "kg/m^3"), ("gas_temperature", "K"), ("gas_speed", "m/s")):
             dataset[name].attrs["units"] = unit
-        for name in VECTORS:  # (no coordinate: a string one has no Zarr 3 data type yet)
+        if spec.meshes:
+            attrs = dataset.attrs
+            attrs["mesh_variants"] = list(spec.meshes)
+            attrs["mesh_fingerprints"] = [body.mesh.fingerprint() for body in setup.bodies]
+            attrs["n_panels_of_variants"] = [int(body.mesh.n_panels) for body in setup.bodies]
+        # (no coordinate for the components: a string one has no Zarr 3 data type yet)
+        for name in vector_results(spec):
             dataset[name].attrs["component"] = "x, y, z"
         dataset.to_zarr(self.path, compute=False, mode="w", consolidated=False)
 
@@ -149,7 +161,7 @@ class SweepStore:
             import zarr
 
             group = zarr.open_group(str(self.path), mode="r+")
-            names = (*VECTORS, *SCALARS, "chunk_done")
+            names = (*vector_results(self.spec), *SCALARS, "chunk_done")
             self._opened = {name: group[name] for name in names}
         return self._opened
 
@@ -163,5 +175,5 @@ class SweepStore:
         arrays = self._arrays()
         region = tuple(slice(a, b) for a, b in self.slices[index])
         for name, values in results.items():
-            arrays[name][region + ((slice(None),) if name in VECTORS else ())] = values
+            arrays[name][region + ((slice(None),) if values.ndim > len(region) else ())] = values
         arrays["chunk_done"][index] = 1

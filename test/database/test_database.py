@@ -162,6 +162,43 @@ def test_worker_count_does_not_change_results(example_db):
     assert db2.metadata["interpolation_error"] == example_db.metadata["interpolation_error"]
 
 
+def test_a_running_scheduler_gives_the_same_database(example_db, tmp_path):
+    """The attitudes computed by the workers of a running Dask scheduler (here a LocalCluster
+    of two processes), by the API and by ``database --scheduler``: the same numbers bit for
+    bit as one process."""
+    from distributed import Client
+
+    from adbsat_ros.cli import main
+    from adbsat_ros.database.format import load_database
+    from adbsat_ros.tasks import local_cluster
+
+    method, flow, _ = method_from_metadata(example_db.metadata)
+    with local_cluster(2) as cluster, Client(cluster) as client:
+        client.wait_for_workers(2)
+        db2 = build_database(
+            method,
+            flow,
+            example_db.aoa_deg,
+            example_db.aos_deg,
+            shading="raycast",
+            progress=False,
+            mesh_spec="example",
+            scheduler=cluster.scheduler_address,
+        )
+        out = tmp_path / "remote.npz"
+        argv = ["database", "example", "--speed", "7500", "--temperature", "900"]
+        argv += ["--mean-mass", "16", "--aoa", "-180:45:180", "--aos", "-90:45:90"]
+        argv += ["--scheduler", cluster.scheduler_address, "--out", str(out)]
+        assert main(argv) == 0
+    for name in SCALAR_FIELDS + VECTOR_FIELDS:
+        np.testing.assert_array_equal(getattr(db2, name), getattr(example_db, name), err_msg=name)
+    here = tmp_path / "here.npz"
+    assert main([*argv[:-4], "--workers", "1", "--out", str(here)]) == 0
+    remote, local = load_database(out), load_database(here)
+    for name in SCALAR_FIELDS + VECTOR_FIELDS:
+        np.testing.assert_array_equal(getattr(remote, name), getattr(local, name), err_msg=name)
+
+
 def test_progress_tqdm_instance_is_updated():
     import io
 

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from adbsat_ros.database.lookup import CoefficientLookup
 from adbsat_ros.geometry.example_satellite import example_satellite
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import PanelMethod
@@ -25,10 +26,15 @@ SPEC = {
 
 
 @pytest.fixture(scope="module")
-def sweep(tmp_path_factory):
+def store(tmp_path_factory):
     out = tmp_path_factory.mktemp("lookup") / "s.zarr"
     run_sweep(parse_spec(SPEC, ""), out, workers=1)
-    return xr.open_zarr(out, consolidated=False).load(), SweepLookup.open(out)
+    return out
+
+
+@pytest.fixture(scope="module")
+def sweep(store):
+    return xr.open_zarr(store, consolidated=False).load(), SweepLookup.open(store)
 
 
 def test_at_the_grid_points_it_is_the_sweep(sweep):
@@ -68,3 +74,32 @@ def test_queries_outside_the_sweep_are_refused_by_name(sweep):
         lookup.coefficients(0.0, 0.0)
     with pytest.raises(ValueError, match="unknown \\['alpha'\\]"):
         lookup.coefficients(0.0, 0.0, speed=7000.0, alpha=0.9)
+
+
+def test_a_coefficient_lookup_reads_the_store_at_a_speed(store, sweep):
+    """CoefficientLookup of the store at one speed: bilinear in attitude and linear in speed,
+    as the sweep's own lookup, with the stated error of the blended grid."""
+    _, lookup = sweep
+    at_speed = CoefficientLookup.load(store, speed=7250.0)
+    assert at_speed.error_bound["force_coefficient"] > 0.0
+    for aoa, aos in ((12.5, -7.0), (-140.0, 44.0), (90.0, 0.0)):
+        cf, cm = at_speed.body_coefficients(aoa, aos)
+        cf_sweep, cm_sweep = lookup.body_coefficients(aoa, aos, speed=7250.0)
+        np.testing.assert_allclose(cf, cf_sweep, rtol=1e-13, atol=1e-15)
+        np.testing.assert_allclose(cm, cm_sweep, rtol=1e-13, atol=1e-15)
+    with pytest.raises(ValueError, match=r"speed 6000.0 is outside the sweep's range"):
+        CoefficientLookup.load(store, speed=6000.0)
+    with pytest.raises(ValueError, match=r"missing \['speed'\]"):
+        CoefficientLookup.load(store)
+
+
+def test_a_database_file_takes_no_axis_values(tmp_path):
+    from adbsat_ros.database.build import build_database
+
+    method = PanelMethod(example_satellite(), "sentman", shading="none")
+    flow = FreeStream(7400.0, 900.0, mean_mass_amu=16.0)
+    path = tmp_path / "d.npz"
+    build_database(method, flow, [-10, 0, 10], [0, 5], shading="none", workers=1).save(path)
+    assert CoefficientLookup.load(path).body_coefficients(5.0, 2.0)[0].shape == (3,)
+    with pytest.raises(ValueError, match="has no axes besides aoa and aos"):
+        CoefficientLookup.load(path, speed=7400.0)

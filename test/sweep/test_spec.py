@@ -16,7 +16,8 @@ BASE = {"mesh": "example", "axes": {"aoa": "0:30:60", "aos": [0, 20]}}
 
 
 def spec(**changes):
-    data = {**BASE, **changes}
+    """BASE with ``changes`` (a field changed to None is left out)."""
+    data = {k: v for k, v in {**BASE, **changes}.items() if v is not None}
     return parse_spec(data, "")
 
 
@@ -57,6 +58,32 @@ def test_the_fingerprint_changes_with_what_is_swept_only():
         ({"mesh": ""}, "mesh: missing"),
         ({"axes": {}}, "axes: missing"),
         ({"colour": "red"}, "colour: not a spec field"),
+        (
+            {"fixed": {"altitude": 300}, "axes": {"aoa": 0, "scale.Xe": [1, 2]}},
+            "axes.scale.Xe: 'Xe' is not a species of NRLMSISE-00",
+        ),
+        (
+            {"fixed": {"altitude": 300}, "axes": {"aoa": 0, "scale.O": [1, 200]}},
+            r"axes.scale.O must be in \[0, 100\]",
+        ),
+        ({"axes": {"aoa": 0, "scale.O": [1, 2]}}, "scale: species are scaled in the atmosphere"),
+        ({"fixed": {"latitude": 10}}, "altitude: the atmosphere's gas .* needs an altitude"),
+        (
+            {"time": "2099-12-01T00:00:00", "fixed": {"altitude": 300}, "axes": {"time": [0, 1e5]}},
+            "axes.time: 100000 h after 2099-12-01T00:00:00 is outside 1958..2100",
+        ),
+        ({"axes": {"aoa": 0, "mesh": ["example", "cylinder"]}}, "axes.mesh: also the field mesh"),
+        (
+            {"mesh": None, "axes": {"aoa": 0, "mesh": ["example", "cylinder"]}},
+            "reference: mesh variants are compared at one reference area and length",
+        ),
+        ({"mesh": None, "axes": {"aoa": 0, "mesh": []}}, "axes.mesh: a list of mesh files"),
+        ({"solver": {"method": "dsmc"}}, "solver.method: 'dsmc' is not panel or tpmc"),
+        (
+            {"solver": {"method": "tpmc", "particles": 0}},
+            "solver: particles must be a whole number >= 1",
+        ),
+        ({"solver": {"method": "panel", "seed": 1}}, "solver: particles, tolerance and seed"),
     ],
 )
 def test_bad_fields_are_refused_by_name(changes, message):

@@ -1,0 +1,157 @@
+"""A sweep's Zarr store read as aerodynamic databases: its (aoa, aos) grid at any point of the
+other axes.
+
+A sweep (``adbsat-ros sweep``) stores C_F and C_M over aoa, aos and further axes (speed,
+alpha, altitude, joint positions ...). :func:`sweep_database` gives the attitude grid at a value
+of every other axis as an :class:`~adbsat_ros.database.format.AeroDatabase`: at a grid value the
+stored slice, between two the slices blended linearly (multilinear over several axes). Since
+the bilinear interpolation in attitude is linear in the grid's values, a lookup of that
+database is bilinear in attitude and linear in the other axes at once, as
+:class:`~adbsat_ros.database.lookup.CoefficientLookup` reads it. A value outside an axis's
+range is refused with the axis and its range; an axis with one value takes only that value.
+"""
+
+from __future__ import annotations
+
+import bisect
+import itertools
+import os
+
+import numpy as np
+
+from adbsat_ros.database.format import AeroDatabase
+from adbsat_ros.database.interpolation import estimate_interpolation_error
+
+#: Values within this much of an axis's ends count as inside (rounding).
+TOLERANCE = 1e-9
+#: The database's arrays and the sweep's variables they are read from.
+FIELDS = (
+    ("CD", "CD"),
+    ("CL", "CL"),
+    ("CY", "CY"),
+    ("AreaProj", "area_projected"),
+    ("Cf_w", "Cf_w"),
+    ("Cm_B", "Cm_B"),
+    ("Cf_G", "Cf_G"),
+    ("Cm_G", "Cm_G"),
+)
+
+
+def is_sweep_store(path) -> bool:
+    """Whether ``path`` is a directory holding a Zarr group (a sweep's store, say)."""
+    path = os.fspath(path)
+    return os.path.isdir(path) and any(
+        os.path.exists(os.path.join(path, name)) for name in ("zarr.json", ".zgroup")
+    )
+
+
+def open_sweep(path):
+    """The xarray Dataset of the complete sweep store at ``path``.
+
+    Raises
+    ------
+    ValueError
+        ``path`` is no sweep store, or the sweep is not complete (naming the path).
+    """
+    import xarray as xr
+
+    try:
+        # (time stays hours after the epoch: every axis is a number here)
+        dataset = xr.open_zarr(os.fspath(path), consolidated=False, decode_times=False)
+    except Exception as exc:  # (zarr and xarray raise many kinds for a non-store)
+        raise ValueError(f"{path}: not a sweep store ({type(exc).__name__})") from None
+    if "Cf_G" not in dataset or "reference_area_m2" not in dataset.attrs:
+        raise ValueError(f"{path}: not a sweep store (no Cf_G or reference quantities)")
+    if "chunk_done" in dataset and not bool(dataset["chunk_done"].values.all()):
+        raise ValueError(f"{path}: the sweep is not complete: run it again to compute the rest")
+    return dataset
+
+
+def other_axes(dataset) -> dict:
+    """The sweep's axes other than aoa and aos: name -> values."""
+    return {
+        name: np.asarray(dataset[name].values, dtype=float)
+        for name in dataset["Cf_G"].dims
+        if name not in ("aoa", "aos", "component")
+    }
+
+
+def bracket(nodes: np.ndarray, name: str, value: float) -> list:
+    """``[(index, weight), ...]`` of the grid values of axis ``name`` around ``value``."""
+    low, high = float(nodes[0]), float(nodes[-1])
+    if not low - TOLERANCE <= value <= high + TOLERANCE:
+        raise ValueError(f"{name} {value!r} is outside the sweep's range [{low:g}, {high:g}]")
+    if nodes.size == 1:
+        return [(0, 1.0)]
+    k = min(max(bisect.bisect_right(nodes.tolist(), value) - 1, 0), nodes.size - 2)
+    t = (value - nodes[k]) / (nodes[k + 1] - nodes[k])
+    t = min(max(t, 0.0), 1.0)
+    return [(k, 1.0 - t), (k + 1, t)]
+
+
+def slice_database(dataset, index: dict, stated_error: bool = False) -> AeroDatabase:
+    """The attitude grid at grid point ``index`` (axis name -> position) of the other axes."""
+    arrays = {
+        name: np.asarray(dataset[source].isel(index).values, dtype=float) for name, source in FIELDS
+    }
+    return _database(dataset, arrays, {}, stated_error)
+
+
+def sweep_database(dataset, **values) -> AeroDatabase:
+    """The attitude grid at a value of every other axis (module docstring), with its stated
+    interpolation error in attitude.
+
+    Raises
+    ------
+    ValueError
+        An axis not given or unknown, or a value outside its range (named).
+    """
+    axes = other_axes(dataset)
+    missing = sorted(set(axes) - set(values))
+    unknown = sorted(set(values) - set(axes))
+    if missing or unknown:
+        raise ValueError(
+            f"give a value of every axis of the sweep besides aoa and aos "
+            f"({', '.join(axes) or 'none'}); missing {missing}, unknown {unknown}"
+        )
+    brackets = [bracket(axes[name], name, float(values[name])) for name in axes]
+    arrays = None
+    for corner in itertools.product(*brackets):
+        weight = float(np.prod([w for _, w in corner]))
+        if weight == 0.0:
+            continue
+        index = {name: i for name, (i, _) in zip(axes, corner)}
+        part = {
+            name: weight * np.asarray(dataset[source].isel(index).values, dtype=float)
+            for name, source in FIELDS
+        }
+        arrays = part if arrays is None else {k: arrays[k] + part[k] for k in arrays}
+    at = {name: float(values[name]) for name in axes}
+    return _database(dataset, arrays, at, stated_error=True)
+
+
+def _database(dataset, arrays: dict, at: dict, stated_error: bool) -> AeroDatabase:
+    attrs = dataset.attrs
+    database = AeroDatabase(
+        aoa_deg=np.asarray(dataset["aoa"].values, dtype=float),
+        aos_deg=np.asarray(dataset["aos"].values, dtype=float),
+        Cf_f=arrays["Cf_w"],  # (not stored by a sweep, nor read by the lookup)
+        **arrays,
+        metadata={
+            "reference": {
+                "area": float(attrs["reference_area_m2"]),
+                "length": float(attrs["reference_length_m"]),
+                "moment_point": [float(v) for v in attrs["moment_point_m"]],
+            },
+            "sweep": {
+                "spec_fingerprint": attrs.get("spec_fingerprint"),
+                "mesh": attrs.get("mesh"),
+                "model": attrs.get("model"),
+                "shading": attrs.get("shading"),
+                "at": at,
+            },
+        },
+    )
+    if stated_error:
+        database.metadata["interpolation_error"] = estimate_interpolation_error(database)
+    return database
