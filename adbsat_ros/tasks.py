@@ -24,6 +24,7 @@ results are then the same whatever the workers and the order.
 
 from __future__ import annotations
 
+import ctypes
 import logging
 import multiprocessing
 from dataclasses import dataclass, field
@@ -64,7 +65,36 @@ class TaskReport:
 
 def run_chunk(job: ChunkJob, chunk):
     """The task: ``chunk``'s result, with this process's set-up of ``job``."""
+    keep_freed_memory()
     return SETUPS.get(job.key, job.setup).evaluate(chunk)
+
+
+_MALLOC = {"set": False}
+#: glibc's ``mallopt`` parameters (malloc.h) and the values a worker sets.
+M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3
+TRIM_THRESHOLD, MMAP_THRESHOLD = 512 << 20, 32 << 20
+
+
+def keep_freed_memory() -> None:
+    """Make glibc keep the memory this process frees for its next allocations (once per
+    process; nothing where there is no glibc).
+
+    A Dask worker runs its tasks in a thread, whose malloc arena gives freed pages back to the
+    system at every turn, so the megabyte-sized arrays of each attitude come back as fresh
+    pages: measured in one run, 296 attitudes of the example satellite took 1.71 s of CPU in a
+    thread against 1.54 s in the main thread (71,000 page faults against none); with a trim
+    threshold of 512 MB and an mmap threshold of 32 MB (what the main thread's arena reaches by
+    itself) the thread did as well as the main thread, with no page faults.
+    """
+    if _MALLOC["set"]:
+        return
+    _MALLOC["set"] = True
+    try:
+        libc = ctypes.CDLL(None)
+        libc.mallopt(M_TRIM_THRESHOLD, TRIM_THRESHOLD)
+        libc.mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD)
+    except (OSError, AttributeError):  # (not glibc: its own allocator's ways)
+        pass
 
 
 def run_chunks(
@@ -177,6 +207,10 @@ def local_cluster(count: int):
     settings = {
         "distributed.nanny.pre-spawn-environ": worker_environment(),
         "distributed.worker.multiprocessing-method": method,
+        # no statistical profiler sampling each worker's stack every 10 ms (it feeds the
+        # dashboard): measured in three interleaved runs of the 2,701-attitude database on
+        # two workers, 13.9 s of CPU without it against 14.2 s with it
+        "distributed.worker.profile.enabled": False,
     }
     with dask.config.set(settings):
         return LocalCluster(
