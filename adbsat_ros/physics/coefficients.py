@@ -165,6 +165,12 @@ class AeroCoefficients:
         return frames.body_to_wind(self.aoa, self.aos) @ self._Cf_B
 
     @functools.cached_property
+    def Cm_w(self) -> np.ndarray:
+        """Moment coefficient in wind axes about the moment point, shape (3,) (the rotation of
+        :attr:`Cf_w`: roll about the flow, then the wind axes' y and z)."""
+        return frames.body_to_wind(self.aoa, self.aos) @ (frames.L_GB @ self.Cm_G)
+
+    @functools.cached_property
     def Cf_f(self) -> np.ndarray:
         """Force coefficient in ADBSat's flight axes, shape (3,) (``Cf_f``; x aft, z up)."""
         return frames.L_FB @ self._Cf_B

@@ -21,6 +21,7 @@ from adbsat_ros.geometry.loading import articulated_body, is_urdf, resolve_mesh
 from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.articulated_method import ArticulatedMethod
 from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.constants import AMU
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 from adbsat_ros.physics.tpmc.method import TestParticleMethod
@@ -29,14 +30,24 @@ from adbsat_ros.sweep.gas import point_gas, point_inputs
 from adbsat_ros.sweep.spec import SweepSpec
 
 #: Results with x, y, z components: force and moment coefficients in the mesh (body) frame G,
-#: in wind axes and in ADBSat's body axes B.
-VECTORS = ("Cf_G", "Cm_G", "Cf_w", "Cm_B")
+#: in wind axes, and the moment in ADBSat's body axes B.
+VECTORS = ("Cf_G", "Cm_G", "Cf_w", "Cm_w", "Cm_B")
 #: With test particles also their standard errors, of Cf_G and Cm_G.
 ERRORS = ("Cf_G_error", "Cm_G_error")
 #: Scalar results: C_D, C_L, C_Y, the lit projected area [m^2], and the gas the point was
-#: computed in: mass density [kg/m^3] (NaN unless the gas is the atmosphere's), temperature [K]
-#: and speed [m/s].
-SCALARS = ("CD", "CL", "CY", "area_projected", "density", "gas_temperature", "gas_speed")
+#: computed in: mass density [kg/m^3] (NaN unless the gas is the atmosphere's), temperature [K],
+#: speed [m/s], mean molecular mass [amu] and speed ratio.
+SCALARS = (
+    "CD",
+    "CL",
+    "CY",
+    "area_projected",
+    "density",
+    "gas_temperature",
+    "gas_speed",
+    "gas_mean_mass",
+    "speed_ratio",
+)
 #: Surface parameters a sweep may set on every panel.
 SURFACE_AXES = ("alpha", "wall_temperature")
 
@@ -203,6 +214,8 @@ class SweepSetup:
             out["density"][local] = math.nan if density is None else density
             out["gas_temperature"][local] = flow.temperature
             out["gas_speed"][local] = flow.speed
+            out["gas_mean_mass"][local] = flow.mean_mass / AMU
+            out["speed_ratio"][local] = flow.speed_ratio
         return out
 
 

@@ -138,12 +138,18 @@ class SweepStore:
             "reference_area_m2": float(method.reference.area),
             "reference_length_m": float(method.reference.length),
             "moment_point_m": [float(v) for v in method.reference.moment_point],
-            "frames": "Cf_G, Cm_G: mesh (body) frame G; Cf_w: wind axes (CD = -Cf_w[0]); "
+            "frames": "Cf_G, Cm_G: mesh (body) frame G; Cf_w, Cm_w: wind axes (CD = -Cf_w[0]); "
             "Cm_B: ADBSat's body axes B (docs/physics.md section 2)",
         }
         dataset = xr.Dataset(data, coords=coords, attrs=attrs)
         dataset["area_projected"].attrs["units"] = "m^2"
-        for name, unit in (("density", "kg/m^3"), ("gas_temperature", "K"), ("gas_speed", "m/s")):
+        units = (
+            ("density", "kg/m^3"),
+            ("gas_temperature", "K"),
+            ("gas_speed", "m/s"),
+            ("gas_mean_mass", "amu"),
+        )
+        for name, unit in units:
             dataset[name].attrs["units"] = unit
         if spec.meshes:
             attrs = dataset.attrs

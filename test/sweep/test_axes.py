@@ -153,3 +153,31 @@ def test_test_particles_give_standard_errors_and_the_same_numbers_on_any_workers
                 seed=attitude_seed(7, int(np.ravel_multi_index(index, spec.shape))),
             )
             np.testing.assert_array_equal(one["Cf_G"][point].values, r.Cf_G)
+
+
+def test_each_point_records_its_gas_and_its_moment_in_wind_axes(tmp_path):
+    """The gas's mean molecular mass and speed ratio are the free stream's; Cm_w is Cm_G
+    turned to wind axes by the rotation that turns Cf_G into Cf_w (lengths kept)."""
+    from adbsat_ros.geometry import frames
+    from adbsat_ros.physics.constants import AMU
+
+    data = {
+        "mesh": "example",
+        "shading": "none",
+        "time": EPOCH.isoformat(),
+        "fixed": {"altitude": 300},
+        "axes": {"aoa": [-30, 40], "aos": [-20, 10]},
+    }
+    _, ds = swept(tmp_path, data)
+    flow = air(0.0)
+    assert np.all(ds["gas_mean_mass"].values == flow.mean_mass / AMU)
+    assert np.all(ds["speed_ratio"].values == flow.speed_ratio)
+    for i, aoa in enumerate((-30.0, 40.0)):
+        for j, aos in enumerate((-20.0, 10.0)):
+            point = {"aoa": i, "aos": j}
+            turn = frames.body_to_wind(math.radians(aoa), math.radians(aos)) @ frames.L_GB
+            cm_g, cf_g = ds["Cm_G"][point].values, ds["Cf_G"][point].values
+            np.testing.assert_allclose(ds["Cm_w"][point].values, turn @ cm_g, atol=1e-15)
+            np.testing.assert_allclose(ds["Cf_w"][point].values, turn @ cf_g, atol=1e-15)
+            cm_w = ds["Cm_w"][point].values
+            assert np.linalg.norm(cm_w) == pytest.approx(np.linalg.norm(cm_g), rel=1e-13)
