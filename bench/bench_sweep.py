@@ -9,7 +9,8 @@ Measured in one run, with the example satellite (4,192 faces), sentman, ray-cast
 1. the ``database`` command (aoa -180:5:180 x aos -90:5:90, 2,701 attitudes, ``--workers``
    processes) as a whole process, start-up included: this tree (the task engine on Dask)
    against ``--baseline`` (a checkout of an earlier revision, say its process pool), the trees
-   interleaved, the median of ``--rounds`` runs each, and their ratio;
+   interleaved, the median of ``--rounds`` runs each of the wall time and of the CPU time (the
+   process and its workers: less moved by a busy host than the wall time), and their ratios;
 2. the same grid as a sweep (chunks of the default 256 points) on LocalClusters of 1 and of
    ``--workers`` workers started here (their start-up not counted): scaling;
 3. overhead per task: 2,000 points without shading as 2,000 one-point chunks and as 8 chunks of
@@ -38,16 +39,21 @@ def worker_peak_rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-def database_seconds(tree: Path, workers: int, out: Path) -> float:
-    """Wall time [s] of the ``database`` command of ``tree`` as a whole process (its working
-    directory the tree, so that tree's package is imported): the 73 x 37 grid of the example
-    satellite, sentman, ray-cast shading, on ``workers`` processes."""
+def database_seconds(tree: Path, workers: int, out: Path) -> tuple:
+    """Wall time and CPU time (user and system, the process and its workers) [s] of the
+    ``database`` command of ``tree`` as a whole process (its working directory the tree, so
+    that tree's package is imported): the 73 x 37 grid of the example satellite, sentman,
+    ray-cast shading, on ``workers`` processes."""
     command = [sys.executable, "-m", "adbsat_ros.cli", "database", "example"]
     command += ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
     command += ["--workers", str(workers), "--out", str(out / "database.npz")]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     subprocess.run(command, cwd=tree, check=True, capture_output=True)
-    return time.perf_counter() - t0
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+    return wall, cpu
 
 
 def sweep_seconds(data: dict, out: Path, address: str) -> float:
@@ -88,18 +94,25 @@ def main() -> None:
     if args.baseline:
         trees = {"baseline": Path(args.baseline).resolve(), **trees}
     walls = {name: [] for name in trees}
+    cpus = {name: [] for name in trees}
     for _ in range(args.rounds):
         for name, tree in trees.items():
-            walls[name].append(database_seconds(tree, args.workers, out))
+            wall, cpu = database_seconds(tree, args.workers, out)
+            walls[name].append(wall)
+            cpus[name].append(cpu)
     medians = {name: statistics.median(values) for name, values in walls.items()}
+    cpu_medians = {name: statistics.median(values) for name, values in cpus.items()}
     for name, median in medians.items():
         spread = f"{min(walls[name]):.2f}..{max(walls[name]):.2f}"
         print(
             f"database, 73 x 37 attitudes, {args.workers} workers, {name} ({trees[name]}): "
-            f"median {median:.2f} s over {args.rounds} ({spread})"
+            f"median {median:.2f} s over {args.rounds} ({spread}); CPU {cpu_medians[name]:.2f} s"
         )
     if args.baseline:
-        print(f"ratio this tree / baseline: {medians['this tree'] / medians['baseline']:.3f}")
+        print(
+            f"ratio this tree / baseline: wall {medians['this tree'] / medians['baseline']:.3f}, "
+            f"CPU {cpu_medians['this tree'] / cpu_medians['baseline']:.3f}"
+        )
 
     # 2. the same grid as a sweep, on 1 and on 2 workers
     times = {}
