@@ -160,7 +160,12 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
     from distributed.scheduler import KilledWorker
 
     cluster = local_cluster(count) if scheduler is None else None
-    client = Client(cluster if cluster is not None else scheduler)
+    try:
+        client = Client(cluster if cluster is not None else scheduler)
+    except (OSError, TimeoutError) as exc:
+        if cluster is not None:
+            cluster.close()
+        raise OSError(f"scheduler {scheduler}: no Dask scheduler answers there ({exc})") from None
     try:
         report.workers = len(client.scheduler_info()["workers"])
 

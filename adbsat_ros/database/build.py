@@ -230,7 +230,8 @@ def build_database(
         :meth:`~adbsat_ros.physics.tpmc.method.TestParticleMethod.coefficients`).
     stop : threading.Event, optional
         Checked after every chunk (one attitude with test particles): once set, the build ends
-        when the attitudes being computed are done; the database then holds NaN at the others,
+        with the chunk that finished (those still running are dropped); the database then holds
+        NaN at the attitudes not done,
         ``metadata["partial"]`` says how many are done, and it cannot be saved as .npz (its CSV
         holds the attitudes done).
     scheduler : str, optional

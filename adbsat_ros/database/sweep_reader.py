@@ -21,6 +21,7 @@ import numpy as np
 
 from adbsat_ros.database.format import AeroDatabase
 from adbsat_ros.database.interpolation import estimate_interpolation_error
+from adbsat_ros.geometry import frames
 
 #: Values within this much of an axis's ends count as inside (rounding).
 TOLERANCE = 1e-9
@@ -135,7 +136,7 @@ def _database(dataset, arrays: dict, at: dict, stated_error: bool) -> AeroDataba
     database = AeroDatabase(
         aoa_deg=np.asarray(dataset["aoa"].values, dtype=float),
         aos_deg=np.asarray(dataset["aos"].values, dtype=float),
-        Cf_f=arrays["Cf_w"],  # (not stored by a sweep, nor read by the lookup)
+        Cf_f=arrays["Cf_G"] @ (frames.L_FB @ frames.L_GB).T,  # (ADBSat's flight axes)
         **arrays,
         metadata={
             "reference": {

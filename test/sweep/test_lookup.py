@@ -103,3 +103,20 @@ def test_a_database_file_takes_no_axis_values(tmp_path):
     assert CoefficientLookup.load(path).body_coefficients(5.0, 2.0)[0].shape == (3,)
     with pytest.raises(ValueError, match="has no axes besides aoa and aos"):
         CoefficientLookup.load(path, speed=7400.0)
+
+
+def test_at_a_grid_speed_the_stores_database_is_the_database_builds(store):
+    """The attitude grid read from the store at a grid speed is the database ``database``
+    builds for that gas: every array, Cf_f in ADBSat's flight axes included."""
+    from adbsat_ros.database.build import build_database
+
+    read = CoefficientLookup.load(store, speed=7400.0).database
+    method = PanelMethod(example_satellite(), "sentman", shading="none")
+    flow = FreeStream(7400.0, 900.0, mean_mass_amu=16.0)
+    built = build_database(
+        method, flow, read.aoa_deg, read.aos_deg, shading="none", workers=1, progress=False
+    )
+    for name in ("Cf_G", "Cm_G", "Cf_w", "Cf_f", "Cm_B", "CD", "CL", "CY", "AreaProj"):
+        np.testing.assert_allclose(
+            getattr(read, name), getattr(built, name), rtol=1e-13, atol=1e-15, err_msg=name
+        )
