@@ -12,9 +12,11 @@ outputs), timed in CPU time of this thread. The stream is the node benchmark's: 
 300 km), with the default parameters (sentman, ray-cast shading cached at 0.25 deg, interpolated;
 the joint configuration grid at 0.25 deg). Cases:
 
-* ``rigid``: the example satellite with wings, read from its URDF at zero and merged into one
-  mesh (``--max-edge-fraction`` 0.0625 refines it to 10,464 faces), as a plain mesh;
-* ``fixed``: the same URDF as an articulated body, its joint states (unchanged) at 10 Hz;
+* ``rigid``: the example satellite with wings, read from its URDF with both wings at 0.3 rad
+  and merged into one mesh (``--max-edge-fraction`` 0.0625 refines it to 10,464 faces), as a
+  plain mesh;
+* ``fixed``: the same URDF as an articulated body, its joint states (both wings at 0.3 rad,
+  unchanged) at 10 Hz;
 * ``tracking``: its arrays turning at 0.1 deg/s (sun tracking), joint states at 10 Hz;
 * ``fins``: the finned example, its four fins stepping to a new deflection (a 0.4 deg step of a
   +-10 deg sweep) with every message; ``fins-2deg`` the same with the configuration grid at
@@ -48,6 +50,7 @@ STATE_EVERY = 100  # 10 Hz states
 JOINTS_EVERY = 100  # 10 Hz joint states (tracking, fixed)
 TURN_RATE = math.radians(0.5)  # attitude [rad/s]
 TRACK_RATE = math.radians(0.1)  # arrays [rad/s]
+FIXED_ANGLE = 0.3  # the wings' hinges [rad] (rigid, fixed; where tracking starts)
 
 
 def stamp(k: int) -> Stamp:
@@ -132,12 +135,12 @@ def main() -> None:
     def fixed(k):
         if k % JOINTS_EVERY:
             return None
-        return JointStateFields(stamp(k), hinges, (0.3, 0.3))
+        return JointStateFields(stamp(k), hinges, (FIXED_ANGLE, FIXED_ANGLE))
 
     def tracking(k):
         if k % JOINTS_EVERY:
             return None
-        angle = 0.3 + TRACK_RATE * k * PERIOD_NS * 1e-9
+        angle = FIXED_ANGLE + TRACK_RATE * k * PERIOD_NS * 1e-9
         return JointStateFields(stamp(k), hinges, (angle, angle))
 
     def stepping(k):
@@ -145,7 +148,7 @@ def main() -> None:
         return JointStateFields(stamp(k), fins, (d, -d, 0.5 * d, -0.5 * d))
 
     cases = [
-        Case("rigid", handler(settings, wings.mesh())),
+        Case("rigid", handler(settings, wings.mesh(dict.fromkeys(hinges, FIXED_ANGLE)))),
         Case("fixed", handler(settings, wings), fixed),
         Case("tracking", handler(settings, wings), tracking),
     ]

@@ -13,8 +13,6 @@ import datetime as _dt
 import time
 from typing import NamedTuple
 
-import numpy as np
-
 from adbsat_ros.database.matching import DatabaseCoefficients
 from adbsat_ros.environment.interpolation import StampConditions
 from adbsat_ros.estimator.samples import JointSample, Rejection, WrenchSample
@@ -134,11 +132,10 @@ def joint_sample(body, articulated, q: float) -> JointSample:
     :class:`~adbsat_ros.physics.articulated_method.ArticulatedCoefficients` at dynamic pressure
     q [Pa]."""
     ref = articulated.total.reference
-    efforts = articulated.joint_efforts(q)
     return JointSample(
-        names=tuple(body.joints),
-        positions=np.array([articulated.positions[name] for name in body.joints]),
-        efforts=np.array([efforts[name] for name in body.joints]),
+        names=articulated.joint_names,
+        positions=articulated.joint_positions,
+        efforts=articulated.efforts(q),
         link_names=body.links,
         link_forces=(q * ref.area) * articulated.link_force,
         link_torques=(q * ref.area * ref.length) * articulated.link_moment,

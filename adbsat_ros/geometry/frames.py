@@ -46,6 +46,12 @@ L_GB = np.diag([1.0, -1.0, -1.0])
 L_FB = np.diag([-1.0, 1.0, -1.0])
 
 
+def cross_matrix(a) -> np.ndarray:
+    """The (3, 3) matrix [a]x of the cross product with ``a``: a x b = [a]x @ b."""
+    x, y, z = np.asarray(a, dtype=float).tolist()
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
 def _floats(value, name: str) -> np.ndarray:
     """``value`` as a flat float array, or ValueError naming ``name`` if it holds no numbers."""
     try:

@@ -30,9 +30,10 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
-from adbsat_ros.geometry.poses import PoseCache
+from adbsat_ros.geometry.poses import PoseCache, Poses
+from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
-from adbsat_ros.physics.facets import facet_rows
+from adbsat_ros.physics.facets import N_SUMS, facet_rows
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import OWN_SHADING, PanelMethod
 from adbsat_ros.physics.posed_facets import PosedFacets
@@ -53,33 +54,45 @@ class ArticulatedCoefficients:
     link_force, link_moment : ndarray, shape (L, 3)
         Force and moment coefficient of every link of the body (zero for links without
         geometry), body frame, moments about the reference moment point; they sum to the total.
-    joint_effort : dict of str to float
+    joint_names : tuple of str
+        The moving joints, in the body's order.
+    effort_coefficients : ndarray, shape (J,)
         For each moving joint, the moment coefficient of the loads on the links it carries
-        about its axis through it (revolute, continuous; times q A_ref L_ref: N m), or their
-        force coefficient along its axis (prismatic; times q A_ref: N).
-    positions : dict of str to float
+        about its axis through it (revolute, continuous), or their force coefficient along its
+        axis (prismatic).
+    joint_positions : ndarray, shape (J,)
         The joint positions [rad or m].
-    joint_kinds : dict of str to str
-        Each moving joint's type (revolute, continuous, prismatic).
+    effort_scales : ndarray, shape (J,)
+        What turns an effort coefficient into newton metres or newtons once multiplied by the
+        dynamic pressure: A_ref L_ref [m^3] (revolute, continuous) or A_ref [m^2] (prismatic).
     """
 
     total: AeroCoefficients
     link_force: np.ndarray
     link_moment: np.ndarray
-    joint_effort: dict
-    positions: dict
-    joint_kinds: dict
+    joint_names: tuple
+    effort_coefficients: np.ndarray
+    joint_positions: np.ndarray
+    effort_scales: np.ndarray
+
+    @property
+    def joint_effort(self) -> dict:
+        """Each moving joint's effort coefficient, by name."""
+        return dict(zip(self.joint_names, self.effort_coefficients.tolist()))
+
+    @property
+    def positions(self) -> dict:
+        """Each moving joint's position [rad or m], by name."""
+        return dict(zip(self.joint_names, self.joint_positions.tolist()))
+
+    def efforts(self, dynamic_pressure: float) -> np.ndarray:
+        """Joint efforts [N m, or N for a prismatic joint] at dynamic pressure q [Pa], in the
+        order of :attr:`joint_names`."""
+        return (dynamic_pressure * self.effort_scales) * self.effort_coefficients
 
     def joint_efforts(self, dynamic_pressure: float) -> dict:
-        """Joint efforts [N m, or N for a prismatic joint] at dynamic pressure q [Pa]."""
-        ref = self.total.reference
-        return {
-            name: dynamic_pressure
-            * ref.area
-            * (1.0 if self.joint_kinds[name] == "prismatic" else ref.length)
-            * value
-            for name, value in self.joint_effort.items()
-        }
+        """:meth:`efforts` by joint name."""
+        return dict(zip(self.joint_names, self.efforts(dynamic_pressure).tolist()))
 
 
 class ArticulatedMethod:
@@ -137,23 +150,36 @@ class ArticulatedMethod:
             for link in body.carried_links(name):
                 if link in evaluated:
                     self._carries[j, evaluated[link]] = 1.0
-        self._kinds = {name: joint.kind for name, joint in body.joints.items()}
-        self._moment_point = np.asarray(self.reference.moment_point)
+        self._joint_names = tuple(body.joints)
         self._prismatic = np.array([j.kind == "prismatic" for j in body.joints.values()], bool)
         #: The links' and joints' frames of the latest configurations.
         self.poses = PoseCache(body)
+        #: The linear map from the links' loads to every output, per configuration (key: the
+        #: poses' key; bound 16, as the poses').
+        self.load_maps = LruStore(16)
         #: The lightings of the posed body split by link, in the links' frames.
         self.splits = LinkSplitCache([(start, stop) for _, start, stop, _ in self._links])
         methods = [method for *_, method in self._links]
         #: The links' facets posed in the body frame (None if a link is evaluated panel by
         #: panel; then every link is evaluated in its own frame).
-        self.facets = PosedFacets.of(methods, self.splits)
+        self.facets = PosedFacets.of(methods, self._link_index, self.splits)
         self._evaluator = methods[0]  # (every link has the model and options)
         self._facet_surface = None
         if self.facets is not None:
             self._facet_surface = self.facets.surface([m.surface for m in methods])
-        # r_ref x F = -(F @ cross(I, r_ref)), row by row
-        self._cross_point = np.cross(np.eye(3), self._moment_point)
+            # which link each facet belongs to: the (L, G) sum of a column link by link
+            self._link_of_facet = np.zeros((len(self._links), self.facets.n))
+            for k, (start, stop) in enumerate(
+                zip(self.facets.starts, [*self.facets.starts[1:], self.facets.n])
+            ):
+                self._link_of_facet[k, start:stop] = 1.0
+        n_links, n_joints = len(body.links), len(body.joints)
+        area_length = self.reference.area * self.reference.length
+        self._effort_scales = np.where(self._prismatic, self.reference.area, area_length)
+        self._effort_scales.setflags(write=False)
+        #: Where each output starts in a load map's rows: Cf_G, Cm_G, links' forces, links'
+        #: moments, joints' efforts, lit projected area.
+        self._outputs = np.cumsum([0, 3, 3, 3 * n_links, 3 * n_links, n_joints, 1])
 
     @property
     def needs_species(self) -> bool:
@@ -214,32 +240,21 @@ class ArticulatedMethod:
             raise ValueError(
                 f"lighting has {lighting.n_panels} panels, the body has {self.n_panels}"
             )
-        rotations = poses.rotations[self._link_index]
-        origins = poses.origins[self._link_index]
-        evaluated = None
+        loads = None
         if self.facets is not None:
-            evaluated = self._posed_loads(flow, u, lighting, surface, poses, rotations, origins)
-        if evaluated is None:  # (a link without facets, or a surface varying within a facet)
-            evaluated = self._link_loads(flow, u, lighting, surface, poses, rotations, origins)
-        forces, moments, area_projected, panel_values, panel_index = evaluated
-        ref = self.reference
-        # every joint at once: the loads of the links it carries, their moment about it
-        carried_force = self._carries @ forces
-        about = self._carries @ moments + (
-            frames.cross(self._moment_point - poses.joint_origins, carried_force) / ref.length
-        )
-        about[self._prismatic] = carried_force[self._prismatic]  # (along a prismatic joint)
-        effort = dict(zip(self.body.joints, (about * poses.joint_axes).sum(axis=1).tolist()))
-        link_force = np.zeros((len(self.body.links), 3))
-        link_moment = np.zeros((len(self.body.links), 3))
-        link_force[self._link_index] = forces
-        link_moment[self._link_index] = moments
+            loads = self._posed_loads(flow, u, lighting, surface, poses)
+        if loads is None:  # (a link without facets, or a surface varying within a facet)
+            loads = self._link_loads(flow, u, lighting, surface, poses)
+        link_loads, panel_values, panel_index = loads
+        o = self._outputs
+        out = self.load_maps.get(poses.key, lambda: self._load_map(poses)) @ link_loads
+        n_links = len(self.body.links)
         total = AeroCoefficients(
             flow_direction=u,
-            Cf_G=forces.sum(axis=0),
-            Cm_G=moments.sum(axis=0),
-            reference=ref,
-            area_projected=float(area_projected),
+            Cf_G=out[o[0] : o[1]],
+            Cm_G=out[o[1] : o[2]],
+            reference=self.reference,
+            area_projected=float(out[o[5]]),
             model=self.model,
             panel_values=panel_values,
             panel_index=panel_index,
@@ -247,51 +262,83 @@ class ArticulatedMethod:
             angles=angles,
         )
         return ArticulatedCoefficients(
-            total, link_force, link_moment, effort, positions, self._kinds
+            total,
+            out[o[2] : o[3]].reshape(n_links, 3),
+            out[o[3] : o[4]].reshape(n_links, 3),
+            self._joint_names,
+            out[o[4] : o[5]],
+            np.array(poses.key),
+            self._effort_scales,
         )
 
-    def _posed_loads(self, flow, u, lighting, surface, poses, rotations, origins):
-        """Every evaluated link's force and moment coefficients (body frame, about the moment
-        point), their lit projected area, and the per-facet values, from the posed facets in
-        one evaluation (None if the surface varies within a facet)."""
+    def _load_map(self, poses: Poses) -> np.ndarray:
+        """The matrix that takes the evaluated links' loads to every output at the configuration
+        of ``poses``.
+
+        Its input is, link after link, (F, M, S): the link's force W (q u + k n) summed over its
+        facets [m^2], their moment about G's origin [m^3] (body frame) and its lit projected
+        area [m^2]. Its output: Cf_G, Cm_G (about the reference point r), each link's force and
+        moment coefficients (all links, zero without geometry), each joint's effort coefficient
+        and the body's lit projected area. A link's coefficients are f = F / A_ref and, about r,
+        (M - r x F) / (A_ref L_ref); joint j (axis a through o) carrying the links C_j has the
+        effort coefficient sum_(l in C_j) a . (M_l - o x F_l) / (A_ref L_ref) =
+        (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns, and sum_(l in C_j) a . F_l / A_ref
+        if it slides.
+        """
+        n_eval, n_joints = len(self._links), len(self.body.joints)
+        area, length = self.reference.area, self.reference.length
+        force = np.eye(3, _LINK_LOADS) / area  # (F, M, S) -> f
+        about_point = np.zeros((3, _LINK_LOADS))  # (F, M, S) -> m - r x f / L_ref
+        about_point[:, 0:3] = -frames.cross_matrix(self.reference.moment_point)
+        about_point[:, 3:6] = np.eye(3)
+        about_point /= area * length
+        axes, origins = poses.joint_axes, poses.joint_origins
+        per_joint = np.zeros((n_joints, _LINK_LOADS))
+        per_joint[:, 0:3] = np.where(self._prismatic[:, None], axes, -np.cross(axes, origins))
+        per_joint[:, 3:6] = np.where(self._prismatic[:, None], 0.0, axes)
+        per_joint[:, 0:6] /= np.where(self._prismatic, area, area * length)[:, None]
+        o = self._outputs
+        out = np.zeros((o[-1], _LINK_LOADS * n_eval))
+        for k, link in enumerate(self._link_index.tolist()):
+            columns = slice(_LINK_LOADS * k, _LINK_LOADS * (k + 1))
+            out[o[0] : o[1], columns] = force
+            out[o[1] : o[2], columns] = about_point
+            out[o[2] + 3 * link : o[2] + 3 * link + 3, columns] = force
+            out[o[3] + 3 * link : o[3] + 3 * link + 3, columns] = about_point
+            out[o[4] : o[5], columns] = self._carries[:, k, None] * per_joint
+            out[o[5], _LINK_LOADS * k + 6] = 1.0  # the lit projected area
+        out.setflags(write=False)
+        return out
+
+    def _posed_loads(self, flow, u, lighting, surface, poses):
+        """Every evaluated link's loads (F, M, S of :meth:`_load_map`) side by side and the
+        per-facet values, from the posed facets in one evaluation (None if the surface varies
+        within a facet)."""
         facets = self.facets
         facet_surface = self._facet_surface if surface is None else facets.surface(surface)
         if facet_surface is None:
             return None
-        normals, inward_T = facets.normals(poses, rotations)
+        normals, inward_T = facets.normals(poses)
         c, cp, shear, ctau = self._evaluator.facet_coefficients(u, inward_T, facet_surface, flow)
         rows = facet_rows(c, cp, shear)
-        sums = facets.sums(lighting, poses, rotations, origins)
-        # facet g: force W (q u) + k (W n); moment q (Q x u) + k (Q x n), about the origin of
-        # G; projected area max(c, 0) W: the weighted columns summed link by link
-        weighted = np.empty((facets.n, 11))
-        np.multiply(rows[_ROW_OF_SUM].T, sums, out=weighted[:, :10])
-        np.multiply(rows[2], sums[:, 0], out=weighted[:, 10])
-        per_link = np.add.reduceat(weighted, facets.starts)
-        q_w, k_wn, q_q, k_qn = per_link[:, 0], per_link[:, 1:4], per_link[:, 4:7], per_link[:, 7:10]
-        area = float(per_link[:, 10].sum())
-        force = q_w[:, None] * u + k_wn
-        ux, uy, uz = u.tolist()
-        cross_u = np.array([[0.0, -uz, uy], [uz, 0.0, -ux], [-uy, ux, 0.0]])  # a x u = a @ it
-        moment = q_q @ cross_u + k_qn + force @ self._cross_point  # (- r_ref x F)
-        ref = self.reference
+        sums = facets.sums(lighting, poses)
+        # every link's sums weighted by each row (q, k, max(c, 0)): (L, 10 sums x 3 rows)
+        weighted = (sums @ rows.T).reshape(len(self._links), 3 * N_SUMS)
         return (
-            force / ref.area,
-            moment / (ref.area * ref.length),
-            area,
+            (weighted @ _sums_to_loads(u)).ravel(),
             (c, cp, ctau, shear, normals),
             facets.panel_index,
         )
 
-    def _link_loads(self, flow, u, lighting, surface, poses, rotations, origins):
+    def _link_loads(self, flow, u, lighting, surface, poses):
         """As :meth:`_posed_loads`, link by link in the links' frames (per-panel values)."""
+        rotations = poses.rotations[self._link_index]
+        origins = poses.origins[self._link_index]
         own = self.splits.split(lighting, rotations, poses.key)
         u_links = rotations.transpose(0, 2, 1) @ u  # the flow seen by each link
-        n = len(self._links)
-        forces, moments = np.empty((n, 3)), np.empty((n, 3))  # body frame; about the point
-        area_projected = 0.0
+        loads = np.empty((len(self._links), _LINK_LOADS))
         results = []
-        ref = self.reference
+        area, length = self.reference.area, self.reference.length
         for k, (_, _, _, method) in enumerate(self._links):
             r = method.coefficients(
                 flow,
@@ -300,16 +347,35 @@ class ArticulatedMethod:
                 surface=None if surface is None else surface[k],
             )
             results.append(r)
-            forces[k] = force = rotations[k] @ r.Cf_G
-            arm = origins[k] - self._moment_point
-            moments[k] = rotations[k] @ r.Cm_G + frames.cross(arm, force) / ref.length
-            area_projected += r.area_projected
-        return forces, moments, area_projected, lambda: _joined_panel_values(results), None
+            loads[k, 0:3] = force = area * (rotations[k] @ r.Cf_G)
+            loads[k, 3:6] = (area * length) * (rotations[k] @ r.Cm_G) + frames.cross(
+                origins[k], force
+            )
+            loads[k, 6] = r.area_projected
+        return loads.ravel(), lambda: _joined_panel_values(results), None
 
 
-#: Which row of :func:`facet_rows` (q, k) weights each column of the facet sums (W, W n, Q,
-#: Q x n) in the load: q W, k W n, q Q, k Q x n.
-_ROW_OF_SUM = np.array([0, 1, 1, 1, 0, 0, 0, 1, 1, 1])
+#: Loads of a link: force (3), moment about G's origin (3), lit projected area.
+_LINK_LOADS = 7
+
+
+def _sums_to_loads(u) -> np.ndarray:
+    """The (30, 7) matrix that takes a link's facet sums (W, W n, Q, Q x n), each summed with
+    the weights q, k and max(c, 0) (row 3 c + r for sum column c and weight r), to its loads
+    (F, M, S): F = (q W) u + (k W n), M = (q Q) x u + (k Q x n), S = max(c, 0) W."""
+    ux, uy, uz = u.tolist()
+    out = _SUMS_TO_LOADS.copy()
+    out[0, 0:3] = ux, uy, uz  # q W -> F
+    out[12, 3:6] = 0.0, -uz, uy  # q Q -> M: (a x u) = a @ [[0, -uz, uy], ...]
+    out[15, 3:6] = uz, 0.0, -ux
+    out[18, 3:6] = -uy, ux, 0.0
+    return out
+
+
+_SUMS_TO_LOADS = np.zeros((3 * N_SUMS, _LINK_LOADS))
+_SUMS_TO_LOADS[[4, 7, 10], [0, 1, 2]] = 1.0  # k W n -> F
+_SUMS_TO_LOADS[[22, 25, 28], [3, 4, 5]] = 1.0  # k Q x n -> M
+_SUMS_TO_LOADS[2, 6] = 1.0  # max(c, 0) W -> S
 
 
 def _joined_panel_values(results) -> tuple:

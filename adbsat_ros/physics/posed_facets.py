@@ -23,6 +23,7 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.lru import LruStore
+from adbsat_ros.physics.facets import N_SUMS
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
 from adbsat_ros.shading.link_split import LinkSplitCache
@@ -43,7 +44,7 @@ class PosedFacets:
     """The facets of every link of an articulated body, posed per configuration.
 
     Build with :meth:`of`. Two stores (key -> value; bound; counters in each): :attr:`sums_store`,
-    (a lighting part's content key or None, configuration key) -> its posed (G, 10) sums;
+    (a lighting part's content key or None, configuration key) -> its posed sums (:meth:`sums`);
     :attr:`normals_store`, configuration key -> the posed normals; ``max_entries`` each.
 
     Attributes
@@ -56,8 +57,9 @@ class PosedFacets:
         The facet of every panel of the posed body, in panel order.
     """
 
-    def __init__(self, link_facets, splits: LinkSplitCache, max_entries: int = 64):
+    def __init__(self, link_facets, link_index, splits: LinkSplitCache, max_entries: int = 64):
         self._facets = list(link_facets)
+        self._link_index = np.asarray(link_index)
         self._splits = splits
         counts = [f.n for f in self._facets]
         self.n = int(sum(counts))
@@ -69,12 +71,13 @@ class PosedFacets:
         self.normals_store = LruStore(max_entries)
 
     @classmethod
-    def of(cls, link_methods, splits: LinkSplitCache) -> "PosedFacets | None":
-        """The posed facets of the links' panel methods, or None if a link has no facets (its
-        panels are evaluated one by one: a sphere, say)."""
+    def of(cls, link_methods, link_index, splits: LinkSplitCache) -> "PosedFacets | None":
+        """The posed facets of the links' panel methods (the links ``link_index`` of the body,
+        in the poses' order), or None if a link has no facets (its panels are evaluated one by
+        one: a sphere, say)."""
         if any(m.facets is None for m in link_methods):
             return None
-        return cls([m.facets for m in link_methods], splits)
+        return cls([m.facets for m in link_methods], link_index, splits)
 
     def surface(self, link_surfaces) -> PanelSurface | None:
         """The facets' surface from each link's per-panel surface, or None if a parameter
@@ -93,34 +96,40 @@ class PosedFacets:
                 )
         return PanelSurface(**values)
 
-    def normals(self, poses, rotations) -> tuple:
-        """``(normals (G, 3), -normals^T (3, G))`` of the posed facets."""
+    def normals(self, poses) -> tuple:
+        """``(normals (G, 3), -normals^T (3, G))`` of the facets posed at ``poses``."""
 
         def make():
+            rotations = poses.rotations[self._link_index]
             normals = np.concatenate([f.normals @ r.T for f, r in zip(self._facets, rotations)])
             return normals, np.ascontiguousarray(-normals.T)
 
         return self.normals_store.get(poses.key, make)
 
-    def sums(self, lighting, poses, rotations, origins) -> np.ndarray:
-        """The (G, 10) posed facet sums of the body's ``lighting`` (None: all lit)."""
+    def sums(self, lighting, poses) -> np.ndarray:
+        """The posed facet sums of the body's ``lighting`` (None: all lit), link by link: a
+        (10 L, G) array whose rows 10 l .. 10 l + 9 hold the sums (W, W n, Q, Q x n) of link l's
+        facets and zeros elsewhere, so that one product with per-facet weights sums every
+        link's columns at once."""
         if isinstance(lighting, LightingBlend):
             (w, first), *rest = lighting.parts
-            out = w * self._part_sums(first, poses, rotations, origins)
+            out = w * self._part_sums(first, poses)
             for w, part in rest:
-                out += w * self._part_sums(part, poses, rotations, origins)
+                out += w * self._part_sums(part, poses)
             return out
-        return self._part_sums(lighting, poses, rotations, origins)
+        return self._part_sums(lighting, poses)
 
-    def _part_sums(self, lighting, poses, rotations, origins) -> np.ndarray:
+    def _part_sums(self, lighting, poses) -> np.ndarray:
         def make():
+            rotations = poses.rotations[self._link_index]
+            origins = poses.origins[self._link_index]
             pieces = self._splits.split(lighting, rotations, poses.key)
-            sums = np.concatenate(
-                [
-                    _posed(f.lit_sums(piece), r, t)
-                    for f, piece, r, t in zip(self._facets, pieces, rotations, origins)
-                ]
-            )
+            sums = np.zeros((N_SUMS * len(self._facets), self.n))
+            for k, (f, piece, r, t) in enumerate(zip(self._facets, pieces, rotations, origins)):
+                start = self.starts[k]
+                sums[N_SUMS * k : N_SUMS * (k + 1), start : start + f.n] = _posed(
+                    f.lit_sums(piece), r, t
+                ).T
             sums.setflags(write=False)
             return sums
 
