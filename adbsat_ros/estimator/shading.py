@@ -10,6 +10,7 @@ from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.cache import ShadingCache
 from adbsat_ros.shading.configurations import ConfigurationShadingCache
+from adbsat_ros.shading.posed_scene import LinkScenes
 from adbsat_ros.shading.shader import make_shader
 
 
@@ -39,8 +40,10 @@ class ShadingSource:
         if settings.shading == "none":
             return
 
-        def cache_of(panels: PanelMesh) -> ShadingCache:
-            shader = make_shader(panels, mode=settings.shading, samples=settings.shading_samples)
+        def cache_of(panels: PanelMesh, **made) -> ShadingCache:
+            shader = make_shader(
+                panels, mode=settings.shading, samples=settings.shading_samples, **made
+            )
             return ShadingCache(
                 shader,
                 resolution_deg=settings.shading_cache_resolution_deg,
@@ -49,9 +52,22 @@ class ShadingSource:
             )
 
         if isinstance(body, ArticulatedBody):
+            # the links' ray scenes and filter topology, made once for every configuration
+            scenes = LinkScenes(body) if settings.shading == "raycast" else None
+
+            def configuration_cache(positions: dict) -> ShadingCache:
+                panels = body.mesh(positions)
+                if scenes is None:
+                    return cache_of(panels)
+                return cache_of(
+                    panels,
+                    scene=scenes.scene(panels, body.link_poses(positions)),
+                    candidate_filter=scenes.candidate_filter(panels),
+                )
+
             self.cache = ConfigurationShadingCache(
                 body,
-                cache_of,
+                configuration_cache,
                 math.radians(settings.joint_shading_resolution_deg),
                 settings.joint_shading_resolution_m,
                 settings.joint_shading_cache_size,

@@ -15,6 +15,8 @@ Units: metres, mesh frame G; directions unitless.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import trimesh
 from scipy.spatial import ConvexHull, QhullError
@@ -69,6 +71,78 @@ def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -
     return forward
 
 
+class MeshTopology(NamedTuple):
+    """What the candidate filter knows of a mesh apart from its pose: edge neighbours,
+    connected components and hull faces (all unchanged by moving the mesh rigidly).
+
+    Attributes
+    ----------
+    adjacency : ndarray of int, shape (E, 2)
+        Pairs of panels that share an edge.
+    component : ndarray of int, shape (N,)
+        Connected component of every panel.
+    on_hull : ndarray of bool, shape (N,)
+        Panels on the convex hull of their own component, normal pointing out of it.
+    """
+
+    adjacency: np.ndarray
+    component: np.ndarray
+    on_hull: np.ndarray
+
+    @classmethod
+    def of(cls, mesh: PanelMesh, diagonal: float) -> "MeshTopology":
+        """The topology of ``mesh`` (vertices merged), hull faces within ``HULL_TOL_FRACTION``
+        of ``diagonal`` [m]."""
+        tm = mesh.to_trimesh()
+        faces = np.asarray(tm.faces, dtype=np.int64)
+        adjacency = np.asarray(tm.face_adjacency, dtype=np.int64).reshape(-1, 2)
+        labels = trimesh.graph.connected_component_labels(adjacency, node_count=len(faces))
+        component = np.asarray(labels, dtype=np.int64)
+        vertices = np.asarray(tm.vertices, dtype=float)
+        return cls(adjacency, component, _hull_faces(mesh, component, vertices, faces, diagonal))
+
+    @classmethod
+    def joined(cls, parts) -> "MeshTopology":
+        """The topology of meshes put one after the other (panels and components renumbered;
+        no edge joins two of them)."""
+        adjacency, component, on_hull = [], [], []
+        panels = components = 0
+        for part in parts:
+            adjacency.append(part.adjacency + panels)
+            component.append(part.component + components)
+            on_hull.append(part.on_hull)
+            panels += part.component.size
+            components += int(part.component.max()) + 1 if part.component.size else 0
+        return cls(np.concatenate(adjacency), np.concatenate(component), np.concatenate(on_hull))
+
+
+def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
+    """Faces on the convex hull of their own component, normal pointing out of the hull.
+
+    A face counts if the support of its component in the direction of its normal is within
+    ``HULL_TOL_FRACTION`` of ``diagonal`` of its plane.
+    """
+    on_hull = np.zeros(mesh.n_panels, dtype=bool)
+    tol = HULL_TOL_FRACTION * diagonal
+    normals = mesh.normals
+    level = np.einsum("ij,ij->i", normals, mesh.vertices[:, 0, :])
+    order = np.argsort(component, kind="stable")
+    counts = np.bincount(component)
+    stop = np.cumsum(counts)
+    for a, b in zip(stop - counts, stop):  # loop over bodies (few), vectorised over faces
+        idx = order[a:b]
+        pts = vertices[np.unique(faces[idx])]
+        try:
+            hull_pts = pts[ConvexHull(pts).vertices]
+        except (QhullError, ValueError):
+            hull_pts = pts  # flat or degenerate body: all its points
+        step = max(1, MAX_PAIRS // max(len(hull_pts), 1))
+        for s in range(0, idx.size, step):
+            j = idx[s : s + step]
+            on_hull[j] = (normals[j] @ hull_pts.T).max(axis=1) <= level[j] + tol
+    return on_hull
+
+
 class CandidateFilter:
     """Connected components, hull faces and the filter of panels that could be shaded.
 
@@ -76,8 +150,12 @@ class CandidateFilter:
     ----------
     mesh : PanelMesh
         Panels [m], mesh frame G.
-    diagonal : float
-        Bounding-box diagonal of the mesh [m] (scale of the hull tolerance).
+    diagonal : float, optional
+        Bounding-box diagonal of the mesh [m] (scale of the hull tolerance); needed unless
+        ``topology`` is given.
+    topology : MeshTopology, optional
+        The mesh's topology, made before (e.g. of rigid parts that the mesh has posed:
+        :class:`~adbsat_ros.shading.posed_scene.LinkScenes`).
 
     Attributes
     ----------
@@ -91,44 +169,24 @@ class CandidateFilter:
         Panels on the convex hull of their own component, normal pointing out of it.
     """
 
-    def __init__(self, mesh: PanelMesh, diagonal: float):
+    def __init__(
+        self, mesh: PanelMesh, diagonal: float | None = None, topology: MeshTopology | None = None
+    ):
+        if topology is None:
+            if diagonal is None:
+                raise ValueError("CandidateFilter needs the mesh's diagonal or its topology")
+            topology = MeshTopology.of(mesh, diagonal)
+        if topology.component.size != mesh.n_panels:
+            raise ValueError(
+                f"topology of {topology.component.size} panels for a mesh of {mesh.n_panels}"
+            )
         self.mesh = mesh
-        tm = mesh.to_trimesh()
-        faces = np.asarray(tm.faces, dtype=np.int64)
-        self.adjacency = np.asarray(tm.face_adjacency, dtype=np.int64).reshape(-1, 2)
-        labels = trimesh.graph.connected_component_labels(self.adjacency, node_count=len(faces))
-        self.component = np.asarray(labels, dtype=np.int64)
+        self.adjacency, self.component, self.on_hull = topology
         self.n_components = int(self.component.max()) + 1 if self.component.size else 0
         # Faces sorted by component, for per-component work and reductions.
         self._order = np.argsort(self.component, kind="stable")
         counts = np.bincount(self.component, minlength=self.n_components)
         self._start = np.cumsum(counts) - counts
-        self.on_hull = self._hull_faces(np.asarray(tm.vertices, dtype=float), faces, diagonal)
-
-    def _hull_faces(self, vertices: np.ndarray, faces: np.ndarray, diagonal: float) -> np.ndarray:
-        """Faces on the convex hull of their own component, normal pointing out of the hull.
-
-        A face counts if the support of its component in the direction of its normal is within
-        ``HULL_TOL_FRACTION`` of the diagonal of its plane.
-        """
-        mesh = self.mesh
-        on_hull = np.zeros(mesh.n_panels, dtype=bool)
-        tol = HULL_TOL_FRACTION * diagonal
-        normals = mesh.normals
-        level = np.einsum("ij,ij->i", normals, mesh.vertices[:, 0, :])
-        stop = np.append(self._start[1:], self._order.size)
-        for a, b in zip(self._start, stop):  # loop over bodies (few), vectorised over faces
-            idx = self._order[a:b]
-            pts = vertices[np.unique(faces[idx])]
-            try:
-                hull_pts = pts[ConvexHull(pts).vertices]
-            except (QhullError, ValueError):
-                hull_pts = pts  # flat or degenerate body: all its points
-            step = max(1, MAX_PAIRS // max(len(hull_pts), 1))
-            for s in range(0, idx.size, step):
-                j = idx[s : s + step]
-                on_hull[j] = (normals[j] @ hull_pts.T).max(axis=1) <= level[j] + tol
-        return on_hull
 
     def candidates(self, u: np.ndarray, forward: np.ndarray) -> np.ndarray:
         """Indices of the forward panels that could be shaded for unit flow direction ``u``.

@@ -27,7 +27,6 @@ from collections import OrderedDict
 from typing import Callable, Mapping
 
 from adbsat_ros.geometry.articulated import ArticulatedBody
-from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.cache import ShadingCache
 
 
@@ -38,7 +37,9 @@ class ConfigurationShadingCache:
     ----------
     body : ArticulatedBody
     make_cache : callable
-        ``make_cache(mesh)``: the :class:`ShadingCache` of a posed body's panels.
+        ``make_cache(positions)``: the :class:`ShadingCache` of the body posed at joint
+        ``positions`` (a dict of every moving joint's position), of the panels of
+        ``body.mesh(positions)``.
     angle_step : float
         Grid step h_r of revolute and continuous joints [rad], > 0.
     length_step : float
@@ -61,7 +62,7 @@ class ConfigurationShadingCache:
     def __init__(
         self,
         body: ArticulatedBody,
-        make_cache: Callable[[PanelMesh], ShadingCache],
+        make_cache: Callable[[dict], ShadingCache],
         angle_step: float,
         length_step: float,
         max_configurations: int,
@@ -108,7 +109,7 @@ class ConfigurationShadingCache:
             self.configuration_hits += 1
             return key, cache
         self.configuration_misses += 1
-        cache = self._make_cache(self.body.mesh(self.configuration(key)))
+        cache = self._make_cache(self.configuration(key))
         self._store[key] = cache
         if len(self._store) > self.max_configurations:
             self._store.popitem(last=False)

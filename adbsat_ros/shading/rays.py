@@ -115,7 +115,7 @@ def resolve_backend(backend: str) -> str:
     return name
 
 
-def ray_scene(mesh: PanelMesh, backend: str = "auto") -> RayScene:
+def ray_scene(mesh: PanelMesh, backend: str = "auto", indexed: tuple | None = None) -> RayScene:
     """A ray scene of the panels of ``mesh`` with the given backend.
 
     Parameters
@@ -124,6 +124,9 @@ def ray_scene(mesh: PanelMesh, backend: str = "auto") -> RayScene:
         Panels [m], mesh frame G; face i of the scene is panel i.
     backend : {"auto", "embree", "numpy"}
         See :func:`resolve_backend`.
+    indexed : (ndarray, ndarray), optional
+        The panels as vertices (V, 3) and faces (N, 3), made before (Embree; see
+        :class:`~adbsat_ros.shading.rays_embree.EmbreeScene`).
 
     Returns
     -------
@@ -131,5 +134,5 @@ def ray_scene(mesh: PanelMesh, backend: str = "auto") -> RayScene:
         An :class:`EmbreeScene` or a :class:`NumpyScene`.
     """
     if resolve_backend(backend) == "embree":
-        return EmbreeScene(mesh)
+        return EmbreeScene(mesh, indexed)
     return NumpyScene(mesh)

@@ -30,6 +30,10 @@ class EmbreeScene:
     ----------
     mesh : PanelMesh
         Panels [m], mesh frame G; face i of the scene is panel i.
+    indexed : (ndarray, ndarray), optional
+        The panels as vertices (V, 3) [m] and faces (N, 3) of vertex indices, made before (an
+        articulated body's links posed, :mod:`adbsat_ros.shading.posed_scene`); by default
+        the mesh with its vertices merged (``mesh.to_trimesh()``).
 
     Attributes
     ----------
@@ -39,9 +43,12 @@ class EmbreeScene:
 
     backend = "embree"
 
-    def __init__(self, mesh: PanelMesh):
-        tm = mesh.to_trimesh()
-        vertices = np.asarray(tm.vertices, dtype=np.float64)
+    def __init__(self, mesh: PanelMesh, indexed: tuple | None = None):
+        if indexed is None:
+            tm = mesh.to_trimesh()
+            indexed = (tm.vertices, tm.faces)
+        vertices = np.asarray(indexed[0], dtype=np.float64)
+        faces = indexed[1]
         self.triangles = mesh.vertices
         self.origin = vertices.min(axis=0)
         extent = float(np.max(vertices.max(axis=0) - self.origin))
@@ -50,7 +57,7 @@ class EmbreeScene:
         TriangleMesh(
             scene=self.scene,
             vertices=((vertices - self.origin) * self.scale).astype(np.float32),
-            indices=np.asarray(tm.faces, dtype=np.int32),
+            indices=np.asarray(faces, dtype=np.int32),
         )
 
     def _run(self, origins: np.ndarray, d: np.ndarray, query: str) -> np.ndarray:

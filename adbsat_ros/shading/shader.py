@@ -124,6 +124,12 @@ class Shader:
         Also probe the edge neighbours of partly lit panels with ``refine_samples // 8`` rays
         and refine them if partly lit (catches shadow corners that slip between a panel's
         first samples).
+    scene : RayScene, optional
+        The ray scene of ``mesh``'s panels (raycast), made before: for a body posed from
+        rigid parts, :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.posed` (then
+        ``backend`` is the scene's).
+    candidate_filter : CandidateFilter, optional
+        The candidate filter of ``mesh`` (raycast), made before (likewise).
 
     Attributes
     ----------
@@ -147,6 +153,8 @@ class Shader:
         offset: float | None = None,
         dilate: bool = True,
         prefilter: bool = True,
+        scene=None,
+        candidate_filter: CandidateFilter | None = None,
     ):
         mode = str(mode).lower()
         if mode not in MODES:
@@ -178,8 +186,9 @@ class Shader:
         self.trivial = mode == "none" or bool(mesh.report.convex)
         self.filter = self.scene = None
         if not self.trivial and mode == "raycast":
-            self.filter = CandidateFilter(mesh, self.diagonal)
-            self.scene = ray_scene(mesh, self.backend)
+            self.filter = candidate_filter or CandidateFilter(mesh, self.diagonal)
+            self.scene = scene or ray_scene(mesh, self.backend)
+            self.backend = self.scene.backend
 
     def lighting(self, u_G) -> PanelLighting:
         """Lit fraction and lit-centroid shift of every panel for one flow direction.

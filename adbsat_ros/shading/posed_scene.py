@@ -1,0 +1,77 @@
+"""What ray-cast shading needs of an articulated body, made once for every configuration.
+
+Shading a configuration needs a ray scene of the posed body's panels and the candidate filter's
+topology (edge neighbours, connected components, hull faces). Both come from the links, which
+are rigid: :class:`LinkScenes` merges each link's vertices and finds its topology once, in the
+link's own frame. For a configuration it poses the merged vertices (a rotation and a shift per
+link) and builds the ray scene from them, with no vertex merging, and joins the links'
+topologies, which moving a link does not change. The panels, their order and every rule of the
+ray cast are those of :func:`~adbsat_ros.shading.rays.ray_scene` on
+:meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh`.
+
+Two links are never one component here, so the panels of two links that touch are not edge
+neighbours (the shader's probe of a partly lit panel's neighbours stays within its link).
+
+Units: metres, body frame G.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from adbsat_ros.geometry.articulated import ArticulatedBody
+from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.shading.candidates import CandidateFilter, MeshTopology
+from adbsat_ros.shading.rays import RayScene, ray_scene, resolve_backend
+
+
+class LinkScenes:
+    """Every link's merged vertices and filter topology, made once; the scene and the
+    candidate filter of the body at any configuration.
+
+    Parameters
+    ----------
+    body : ArticulatedBody
+    backend : {"auto", "embree", "numpy"}
+        Ray engine (:func:`~adbsat_ros.shading.rays.resolve_backend`).
+
+    Attributes
+    ----------
+    backend : str
+        ``"embree"`` or ``"numpy"``.
+    topology : MeshTopology
+        The candidate filter's topology of the body's panels (in the order of ``body.mesh``).
+    """
+
+    def __init__(self, body: ArticulatedBody, backend: str = "auto"):
+        self.backend = resolve_backend(backend)
+        spans = sorted(body.link_spans.items(), key=lambda item: item[1][0])
+        lo, hi = body.mesh().bounds
+        diagonal = float(np.linalg.norm(hi - lo)) or 1.0
+        self._links = np.array([link for link, _ in spans], dtype=np.int64)
+        vertices, faces, owner, topologies = [], [], [], []
+        first = 0
+        for k, (link, _) in enumerate(spans):
+            mesh = body.link_mesh(int(link))
+            tm = mesh.to_trimesh()
+            vertices.append(np.asarray(tm.vertices, dtype=float))
+            faces.append(np.asarray(tm.faces, dtype=np.int64) + first)
+            owner.append(np.full(len(tm.vertices), k))
+            first += len(tm.vertices)
+            topologies.append(MeshTopology.of(mesh, diagonal))
+        self._vertices = np.concatenate(vertices)  # every link's, in its own frame
+        self._faces = np.concatenate(faces)
+        self._owner = np.concatenate(owner)  # the (evaluated) link of every vertex
+        self.topology = MeshTopology.joined(topologies)
+
+    def scene(self, mesh: PanelMesh, link_poses: np.ndarray) -> RayScene:
+        """The ray scene of the body's panels ``mesh`` at the configuration where its links
+        have ``link_poses`` ((L, 4, 4) link-to-G poses of every link, as
+        :meth:`ArticulatedBody.link_poses` gives them)."""
+        poses = np.asarray(link_poses, dtype=float)[self._links][self._owner]  # per vertex
+        posed = np.einsum("vab,vb->va", poses[:, :3, :3], self._vertices) + poses[:, :3, 3]
+        return ray_scene(mesh, self.backend, indexed=(posed, self._faces))
+
+    def candidate_filter(self, mesh: PanelMesh) -> CandidateFilter:
+        """The candidate filter of the body's panels ``mesh`` (at any configuration)."""
+        return CandidateFilter(mesh, topology=self.topology)
