@@ -167,6 +167,14 @@ PARAMETERS = (
         "articulated bodies: the configuration grid's step in every prismatic joint [m]",
     ),
     (
+        "joint_shading_interpolation",
+        False,
+        "articulated bodies: blend the shading of the (at most joints + 1) grid configurations "
+        "around the joint positions (continuous in them: no steps in the joint efforts; as "
+        "accurate on a 2 deg grid as the nearest point of a 0.25 deg one) instead of the "
+        "nearest one's; costs that many configurations' shading",
+    ),
+    (
         "joint_shading_cache_size",
         64,
         "articulated bodies: joint configurations whose shading is kept",

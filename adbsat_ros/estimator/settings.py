@@ -163,6 +163,7 @@ class WrenchSettings:
     joint_state_timeout: float
     joint_shading_resolution_deg: float
     joint_shading_resolution_m: float
+    joint_shading_interpolation: bool
     joint_shading_cache_size: int
     f107: float
     f107a: float
@@ -264,6 +265,7 @@ class WrenchSettings:
             joint_state_timeout=_number(v, "joint_state_timeout"),
             joint_shading_resolution_deg=_number(v, "joint_shading_resolution_deg"),
             joint_shading_resolution_m=_number(v, "joint_shading_resolution_m"),
+            joint_shading_interpolation=_flag(v, "joint_shading_interpolation"),
             joint_shading_cache_size=_number(v, "joint_shading_cache_size"),
             f107=_number(v, "f107"),
             f107a=_number(v, "f107a"),

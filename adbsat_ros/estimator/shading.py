@@ -28,8 +28,8 @@ class ShadingSource:
         ``shading`` (none, projection, raycast), ``shading_samples``,
         ``shading_cache_resolution_deg``, ``shading_cache_size`` and
         ``shading_interpolation``; for an articulated body also
-        ``joint_shading_resolution_deg``, ``joint_shading_resolution_m`` and
-        ``joint_shading_cache_size``.
+        ``joint_shading_resolution_deg``, ``joint_shading_resolution_m``,
+        ``joint_shading_interpolation`` and ``joint_shading_cache_size``.
     body : ArticulatedBody, optional
         The articulated body whose (zero-configuration) panels ``mesh`` are.
     """
@@ -71,6 +71,7 @@ class ShadingSource:
                 math.radians(settings.joint_shading_resolution_deg),
                 settings.joint_shading_resolution_m,
                 settings.joint_shading_cache_size,
+                interpolate=settings.joint_shading_interpolation,
             )
         else:
             self.cache = cache_of(mesh)
@@ -86,6 +87,7 @@ class ShadingSource:
             settings.shading_interpolation,
             settings.joint_shading_resolution_deg,
             settings.joint_shading_resolution_m,
+            settings.joint_shading_interpolation,
             settings.joint_shading_cache_size,
         )
 

@@ -1,22 +1,35 @@
 """Shading of an articulated body, cached per joint configuration.
 
 One part of an articulated body shades another depending on the joint positions, so its
-lighting depends on the configuration as well as on the flow direction. The cache snaps the
-configuration to a grid (step h_r in every revolute or continuous joint, h_p in every prismatic
-one, clipped to the joints' limits) and keeps, per grid configuration, a
+lighting depends on the configuration as well as on the flow direction. The cache lays a grid
+over the configurations (step h_r in every revolute or continuous joint, h_p in every prismatic
+one, grid points clipped to the joints' limits) and keeps, per grid configuration, a
 :class:`~adbsat_ros.shading.cache.ShadingCache` of the body posed there (its flow-direction
 cells, interpolated or not, as for a rigid body). A slowly turning array therefore costs one
 pose and shader per grid step, not a ray cast per message.
 
-Key: the grid indices of the joint positions, in the body's joint order. Value: the posed
-body's ShadingCache. Bound: ``max_configurations`` (least recently used dropped).
+Key: the grid indices of a configuration, in the body's joint order. Value: the posed body's
+ShadingCache. Bound: ``max_configurations`` (least recently used dropped).
 
-Error bound: the lighting is that of a configuration within h_r / 2 of every revolute joint
-(h_p / 2 of every prismatic one). Turning a part by an angle d moves the shadows it casts, and
-the shadows cast on it, as turning the flow by d does for that part, so with h_r equal to the
-direction cache's resolution the configuration grid adds an error of the direction cache's own
-kind and size (:meth:`ShadingCache.area_error_bound`); a prismatic joint moves shadows by at most
-h_p / 2. The geometry of the wrench itself is exact
+Interpolation (``interpolate=True``). In grid units x_j = q_j / h_j the positions
+lie in a cell of the grid, which the Kuhn (Freudenthal) triangulation cuts into simplices: with
+b = floor(x), f = x - b and the joints ordered by decreasing f (f_(1) >= ... >= f_(J)), the
+simplex's vertices are v_0 = b and v_k = v_(k-1) + e_(k), with the barycentric weights
+1 - f_(1), f_(1) - f_(2), ..., f_(J). The lighting is the blend of the vertices' lightings with
+those weights (at most J + 1 configurations, only those of positive weight): continuous in the
+joint positions, so joint efforts have no steps at grid lines, exact at grid points and where the
+lighting varies linearly with the positions. Without it, the nearest grid configuration's
+lighting is used.
+
+Error. Turning a part by d moves the shadows it casts, and those cast on it, as turning the flow
+by d does for that part, so snapping to the nearest grid point (within h_r / 2) adds an error
+of the direction cache's kind (:meth:`ShadingCache.area_error_bound` with theta = h_r / 2). The
+blend is exact to first order: its error is of second order in h_r where the shadow edges move
+smoothly. Measured on the finned example (8,736 faces, 12 random attitudes and deflections
+within +-10 deg, against shading at the exact configuration): the largest errors relative to
+the wrench's were, at h_r = 2 deg, 3e-5 (force), 3e-4 (moment) and 9e-4 of the largest joint
+effort blended, against 6e-4, 6e-3 and 1e-2 snapped (and 1e-4, 1e-3 and 1.5e-3 snapped at
+0.25 deg). The geometry of the wrench itself is exact
 (:class:`~adbsat_ros.physics.articulated_method.ArticulatedMethod`).
 """
 
@@ -28,6 +41,11 @@ from typing import Callable, Mapping
 
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.shading.cache import ShadingCache
+from adbsat_ros.shading.lighting import LightingBlend
+
+#: Distance to a grid point, in grid steps, within which a joint is taken to be on it (a
+#: position given as a multiple of the step, up to rounding, blends no second configuration).
+ON_GRID = 1e-9
 
 
 class ConfigurationShadingCache:
@@ -46,6 +64,9 @@ class ConfigurationShadingCache:
         Grid step h_p of prismatic joints [m], > 0.
     max_configurations : int
         Grid configurations kept, >= 1.
+    interpolate : bool
+        Blend the grid configurations of the simplex around the positions (module docstring)
+        instead of taking the nearest one's lighting.
 
     Attributes
     ----------
@@ -53,8 +74,8 @@ class ConfigurationShadingCache:
         Flow-direction cells read from a configuration's cache, and those that had to be
         shaded (over every configuration, also those dropped since).
     configuration_hits, configuration_misses : int
-        Queries whose grid configuration was kept, and those that had to pose the body and
-        make its shader.
+        Grid configurations read that were kept, and those that had to pose the body and make
+        its shader.
     last_keys : tuple
         ``(configuration key, cell key)`` of each cell the latest query read.
     """
@@ -66,6 +87,7 @@ class ConfigurationShadingCache:
         angle_step: float,
         length_step: float,
         max_configurations: int,
+        interpolate: bool = False,
     ):
         if not (angle_step > 0.0 and length_step > 0.0):
             raise ValueError(
@@ -75,6 +97,7 @@ class ConfigurationShadingCache:
         if int(max_configurations) < 1:
             raise ValueError(f"max_configurations must be >= 1, got {max_configurations!r}")
         self.body = body
+        self.interpolate = bool(interpolate)
         self._make_cache = make_cache
         self._steps = tuple(
             length_step if joint.kind == "prismatic" else angle_step
@@ -87,11 +110,38 @@ class ConfigurationShadingCache:
         self.last_keys: tuple = ()
 
     def key(self, positions: Mapping[str, float]) -> tuple:
-        """Grid indices of checked joint positions (every moving joint named)."""
+        """Grid indices of the grid configuration nearest checked joint ``positions`` (every
+        moving joint named)."""
         return tuple(
             math.floor(positions[name] / step + 0.5)
             for name, step in zip(self.body.joints, self._steps)
         )
+
+    def vertices(self, positions: Mapping[str, float]) -> list:
+        """``[(weight, key), ...]``: the grid configurations blended for ``positions`` and
+        their weights (positive, summing to 1): the Kuhn simplex around them (module
+        docstring), or the nearest configuration alone without interpolation."""
+        if not self.interpolate:
+            return [(1.0, self.key(positions))]
+        base, fractions = [], []
+        for name, step in zip(self.body.joints, self._steps):
+            x = positions[name] / step
+            nearest = round(x)
+            if abs(x - nearest) <= ON_GRID:
+                x = nearest
+            index = math.floor(x)
+            base.append(index)
+            fractions.append(x - index)
+        order = sorted(range(len(base)), key=fractions.__getitem__, reverse=True)
+        out, vertex, previous = [], list(base), 1.0
+        for j in order:
+            if previous - fractions[j] > 0.0:
+                out.append((previous - fractions[j], tuple(vertex)))
+            vertex[j] += 1
+            previous = fractions[j]
+        if previous > 0.0:
+            out.append((previous, tuple(vertex)))
+        return out
 
     def configuration(self, key: tuple) -> dict:
         """The joint positions of a grid key, clipped to the joints' limits."""
@@ -100,31 +150,42 @@ class ConfigurationShadingCache:
             out[name] = min(max(index * step, joint.lower), joint.upper)
         return out
 
-    def cache_of(self, positions: Mapping[str, float]) -> tuple:
-        """``(key, ShadingCache)`` of the grid configuration nearest ``positions``."""
-        key = self.key(positions)
+    def cache_at(self, key: tuple) -> ShadingCache:
+        """The ShadingCache of the grid configuration ``key`` (posed and made if not kept)."""
         cache = self._store.get(key)
         if cache is not None:
             self._store.move_to_end(key)
             self.configuration_hits += 1
-            return key, cache
+            return cache
         self.configuration_misses += 1
         cache = self._make_cache(self.configuration(key))
         self._store[key] = cache
         if len(self._store) > self.max_configurations:
             self._store.popitem(last=False)
-        return key, cache
+        return cache
+
+    def cache_of(self, positions: Mapping[str, float]) -> tuple:
+        """``(key, ShadingCache)`` of the grid configuration nearest ``positions``."""
+        key = self.key(positions)
+        return key, self.cache_at(key)
 
     def lighting(self, u_G, positions: Mapping[str, float]):
-        """The lighting of the body at (nearly) ``positions`` for unit flow direction ``u_G``:
-        a PanelLighting or LightingBlend of :meth:`ArticulatedBody.mesh`'s panels."""
-        key, cache = self.cache_of(positions)
-        hits, misses = cache.hits, cache.misses
-        lighting = cache.lighting(u_G)
-        self.hits += cache.hits - hits
-        self.misses += cache.misses - misses
-        self.last_keys = tuple((key, cell) for cell in cache.last_keys)
-        return lighting
+        """The lighting of the body at ``positions`` for unit flow direction ``u_G``: a
+        PanelLighting or LightingBlend of :meth:`ArticulatedBody.mesh`'s panels."""
+        parts, keys = [], []
+        for weight, key in self.vertices(positions):
+            cache = self.cache_at(key)
+            hits, misses = cache.hits, cache.misses
+            lighting = cache.lighting(u_G)
+            self.hits += cache.hits - hits
+            self.misses += cache.misses - misses
+            keys.extend((key, cell) for cell in cache.last_keys)
+            if isinstance(lighting, LightingBlend):
+                parts.extend((weight * w, part) for w, part in lighting.parts)
+            else:
+                parts.append((weight, lighting))
+        self.last_keys = tuple(keys)
+        return LightingBlend.of(parts)
 
     def __len__(self) -> int:
         return len(self._store)

@@ -190,3 +190,18 @@ def test_the_unshaded_wrench_needs_no_shader():
     np.testing.assert_allclose(
         sample.force, want.force(sample.dynamic_pressure), rtol=1e-12, atol=1e-18
     )
+
+
+def test_interpolated_configurations_blend_the_grid_points_around_the_joints():
+    """joint_shading_interpolation: both wings at one angle between grid points read the two
+    grid configurations of their simplex for every attitude."""
+    est = estimator(joint_shading_interpolation=True, joint_shading_resolution_deg=2.0)
+    angle = math.radians(2.0 * 5.3)
+    ready(est, (angle, angle))
+    cache = est.shading_cache
+    for k in range(10):
+        est.on_attitude(1.0 + 0.01 * k, TILTED)
+    assert cache.interpolate
+    assert cache.configuration_misses == 2
+    assert cache.configuration_hits == 2 * 10 - 2
+    assert {key for key, _ in cache.last_keys} == {(5, 5), (6, 6)}
