@@ -162,7 +162,9 @@ class ArticulatedMethod:
         methods = [method for *_, method in self._links]
         #: The links' facets posed in the body frame (None if a link is evaluated panel by
         #: panel; then every link is evaluated in its own frame).
-        self.facets = PosedFacets.of(methods, self._link_index, self.splits)
+        self.facets = PosedFacets.of(
+            methods, self._link_index, [(start, stop) for _, start, stop, _ in self._links]
+        )
         self._evaluator = methods[0]  # (every link has the model and options)
         self._facet_surface = None
         if self.facets is not None:

@@ -172,8 +172,10 @@ class Facets:
         self.normals = np.ascontiguousarray(mesh.normals[first])
         self.inward_normals_T = np.ascontiguousarray(-self.normals.T)
         self._areas = mesh.areas
-        self._weighted_bary = mesh.areas[:, None] * mesh.barycentres
-        self.all_lit = self._sums(mesh.areas, self._weighted_bary)
+        #: A_i r_i of every panel [m^3].
+        self.weighted_barycentres = mesh.areas[:, None] * mesh.barycentres
+        self._weighted_bary = self.weighted_barycentres
+        self.all_lit = self.sums_of(mesh.areas, self._weighted_bary)
         self.lit_sums_cache = LitSumsCache()
         self._surface = surface
         self._facet_surface = self._facet_values(surface)
@@ -189,8 +191,9 @@ class Facets:
             return None
         return cls(mesh, index.reshape(-1), first, surface)
 
-    def _sums(self, weights, weighted_points) -> np.ndarray:
-        """Read-only (G, 10) facet sums of panel weights w_i and moments w_i (r_i + shift_i)."""
+    def sums_of(self, weights, weighted_points) -> np.ndarray:
+        """Read-only (G, 10) facet sums of panel weights w_i [m^2] and moments
+        w_i (r_i + shift_i) [m^3] (shape (N, 3))."""
         W = np.bincount(self.index, weights=weights, minlength=self.n)
         Q = np.stack(
             [
@@ -210,7 +213,7 @@ class Facets:
         i = lighting.shift_index
         if i.size:
             wr[i] += w[i, None] * lighting.shift
-        return self._sums(w, wr)
+        return self.sums_of(w, wr)
 
     def lit_sums(self, lighting: PanelLighting | None) -> np.ndarray:
         """The (G, 10) facet sums with the lit fractions and shifts of ``lighting``.

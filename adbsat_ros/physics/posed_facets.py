@@ -4,15 +4,18 @@ whole body at any joint positions.
 Each link's panels are grouped into facets once, in the link's frame
 (:class:`~adbsat_ros.physics.facets.Facets`: coplanar panels of one material; the model runs
 once per facet). A facet's sums W, W n, Q, Q x n (area, area-weighted normal, first moment and
-its cross product with the normal; lit fractions and lit-centroid shifts included) move with its
-link: for a link at rotation R and origin t in the body frame G,
+its cross product with the normal, lit fractions included) move with its link: for a link at
+rotation R and origin t in the body frame G,
 
-    W' = W,  (W n)' = R (W n),  Q' = R Q + W t,  (Q x n)' = R (Q x n) + t x (W n)',
+    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n',
 
-so the posed body is the links' facets side by side, evaluated as one rigid body's
-(docs/physics.md, section 8). The sums of a lighting are linear in it, so a blend's are the
-weighted sum of its parts', and :class:`PosedFacets` keeps the posed sums of the latest
-(lighting, configuration) pairs and the posed normals of the latest configurations.
+where S = sum f_i A_i s_i is the facet's sum of lit-centroid shifts s_i, which a lighting gives
+in G (docs/physics.md, section 8). So a lighting's sums in the links' frames without shifts, and
+its shift sums S, are made once per lighting, whatever the configuration; a configuration only
+turns and moves them. The sums of a lighting are linear in it, so a blend's are the weighted sum
+of its parts'. :class:`PosedFacets` keeps the links' sums of the latest lightings, their posed
+sums for the latest (lighting, configuration) pairs and the posed normals of the latest
+configurations.
 
 Units: metres and square metres, body frame G.
 """
@@ -26,7 +29,6 @@ from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.facets import N_SUMS
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
-from adbsat_ros.shading.link_split import LinkSplitCache
 
 
 def _posed(sums: np.ndarray, rotation: np.ndarray, origin: np.ndarray) -> np.ndarray:
@@ -43,9 +45,11 @@ def _posed(sums: np.ndarray, rotation: np.ndarray, origin: np.ndarray) -> np.nda
 class PosedFacets:
     """The facets of every link of an articulated body, posed per configuration.
 
-    Build with :meth:`of`. Two stores (key -> value; bound; counters in each): :attr:`sums_store`,
-    (a lighting part's content key or None, configuration key) -> its posed sums (:meth:`sums`);
-    :attr:`normals_store`, configuration key -> the posed normals; ``max_entries`` each.
+    Build with :meth:`of`. Three stores (key -> value; bound ``max_entries`` each; counters in
+    each): :attr:`link_sums_store`, a lighting part's content key -> its sums in the links'
+    frames and its shift sums; :attr:`sums_store`, (a lighting part's content key or None,
+    configuration key) -> its posed sums (:meth:`sums`); :attr:`normals_store`, configuration
+    key -> the posed normals.
 
     Attributes
     ----------
@@ -57,27 +61,28 @@ class PosedFacets:
         The facet of every panel of the posed body, in panel order.
     """
 
-    def __init__(self, link_facets, link_index, splits: LinkSplitCache, max_entries: int = 64):
+    def __init__(self, link_facets, link_index, spans, max_entries: int = 64):
         self._facets = list(link_facets)
         self._link_index = np.asarray(link_index)
-        self._splits = splits
+        self._spans = [(int(a), int(b)) for a, b in spans]
         counts = [f.n for f in self._facets]
         self.n = int(sum(counts))
         self.starts = np.cumsum([0, *counts[:-1]])
         self.panel_index = np.concatenate(
             [f.index + start for f, start in zip(self._facets, self.starts)]
         )
+        self.link_sums_store = LruStore(max_entries)
         self.sums_store = LruStore(max_entries)
         self.normals_store = LruStore(max_entries)
 
     @classmethod
-    def of(cls, link_methods, link_index, splits: LinkSplitCache) -> "PosedFacets | None":
+    def of(cls, link_methods, link_index, spans) -> "PosedFacets | None":
         """The posed facets of the links' panel methods (the links ``link_index`` of the body,
-        in the poses' order), or None if a link has no facets (its panels are evaluated one by
-        one: a sphere, say)."""
+        in the poses' order; their panels ``spans``, [start, stop) of the posed body's), or
+        None if a link has no facets (its panels are evaluated one by one: a sphere, say)."""
         if any(m.facets is None for m in link_methods):
             return None
-        return cls([m.facets for m in link_methods], link_index, splits)
+        return cls([m.facets for m in link_methods], link_index, spans)
 
     def surface(self, link_surfaces) -> PanelSurface | None:
         """The facets' surface from each link's per-panel surface, or None if a parameter
@@ -123,14 +128,47 @@ class PosedFacets:
         def make():
             rotations = poses.rotations[self._link_index]
             origins = poses.origins[self._link_index]
-            pieces = self._splits.split(lighting, rotations, poses.key)
+            normals = self.normals(poses)[0]
             sums = np.zeros((N_SUMS * len(self._facets), self.n))
-            for k, (f, piece, r, t) in enumerate(zip(self._facets, pieces, rotations, origins)):
+            parts = zip(self._facets, self._link_sums(lighting), rotations, origins)
+            for k, (f, (own, shifts), r, t) in enumerate(parts):
                 start = self.starts[k]
-                sums[N_SUMS * k : N_SUMS * (k + 1), start : start + f.n] = _posed(
-                    f.lit_sums(piece), r, t
-                ).T
+                posed = _posed(own, r, t)
+                if shifts is not None:
+                    posed[:, 4:7] += shifts
+                    posed[:, 7:10] += frames.cross(shifts, normals[start : start + f.n])
+                sums[N_SUMS * k : N_SUMS * (k + 1), start : start + f.n] = posed.T
             sums.setflags(write=False)
             return sums
 
         return self.sums_store.get((None if lighting is None else lighting.key, poses.key), make)
+
+    def _link_sums(self, lighting) -> list:
+        """Per link: its facets' sums (G_l, 10) of ``lighting``'s lit fractions, in its own
+        frame and without the shifts, and its facets' shift sums S (G_l, 3) in G (None if no
+        panel of the link has a shift)."""
+        if lighting is None:
+            return [(f.all_lit, None) for f in self._facets]
+
+        def make():
+            out = []
+            fraction, index, shift = lighting.lit_fraction, lighting.shift_index, lighting.shift
+            for f, (start, stop) in zip(self._facets, self._spans):
+                lit = fraction[start:stop]
+                own = f.sums_of(f.mesh.areas * lit, lit[:, None] * f.weighted_barycentres)
+                inside = (index >= start) & (index < stop)
+                shifts = None
+                if inside.any():
+                    panels = index[inside] - start
+                    weighted = (f.mesh.areas[panels] * lit[panels])[:, None] * shift[inside]
+                    shifts = np.stack(
+                        [
+                            np.bincount(f.index[panels], weights=weighted[:, j], minlength=f.n)
+                            for j in range(3)
+                        ],
+                        axis=-1,
+                    )
+                out.append((own, shifts))
+            return out
+
+        return self.link_sums_store.get(lighting.key, make)
