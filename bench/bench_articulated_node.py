@@ -109,7 +109,7 @@ class NodeCase:
 
     def __init__(self, name: str, node: AdbsatNode, hinges, angle=None):
         self.name, self.node, self.hinges, self.angle = name, node, hinges, angle
-        subs = {sub.topic_name.lstrip("/"): sub.callback for sub in node.subscriptions}
+        subs = {sub.topic_name.split("/")[-1]: sub.callback for sub in node.subscriptions}
         self.on_attitude, self.on_state = subs["attitude"], subs["state"]
         self.on_joint_state = subs.get("joint_states")
         self.k = 0
