@@ -19,8 +19,11 @@ the joint configuration grid at 0.25 deg). Cases:
   unchanged) at 10 Hz;
 * ``tracking``: its arrays turning at 0.1 deg/s (sun tracking), joint states at 10 Hz;
 * ``fins``: the finned example, its four fins stepping to a new deflection (a 0.4 deg step of a
-  +-10 deg sweep) with every message; ``fins-2deg`` the same with the configuration grid at
-  2 deg (``joint_shading_resolution_deg``), so that the sweep's configurations are kept.
+  +-10 deg sweep, 157 messages a period) with every message, every message a new grid
+  configuration (the first sweep); ``fins-swept`` the same after one whole sweep, with room for
+  every configuration of it (``joint_shading_cache_size`` 256); ``fins-2deg`` after a sweep
+  with the configuration grid at 2 deg (``joint_shading_resolution_deg``), nearest point;
+  ``fins-2deg-blend`` the same with ``joint_shading_interpolation``.
 
 Rounds are interleaved (rigid, fixed, tracking each run the next ``--messages`` of their stream
 in turn); ``fins`` runs ``--fin-messages`` messages per round. Printed per case: the median over
@@ -51,6 +54,7 @@ JOINTS_EVERY = 100  # 10 Hz joint states (tracking, fixed)
 TURN_RATE = math.radians(0.5)  # attitude [rad/s]
 TRACK_RATE = math.radians(0.1)  # arrays [rad/s]
 FIXED_ANGLE = 0.3  # the wings' hinges [rad] (rigid, fixed; where tracking starts)
+SWEEP = 158  # messages of one period of the fins' sweep, and one more
 
 
 def stamp(k: int) -> Stamp:
@@ -152,16 +156,32 @@ def main() -> None:
         Case("fixed", handler(settings, wings), fixed),
         Case("tracking", handler(settings, wings), tracking),
     ]
-    coarse = WrenchSettings.from_parameters({"joint_shading_resolution_deg": 2.0})
+
+    def fin_settings(**values):
+        return WrenchSettings.from_parameters({"joint_shading_cache_size": 256, **values})
+
     fin_cases = [
         Case("fins", handler(settings, finned), stepping),
-        Case("fins-2deg", handler(coarse, finned), stepping),
+        Case("fins-swept", handler(fin_settings(), finned), stepping),
+        Case(
+            "fins-2deg",
+            handler(fin_settings(joint_shading_resolution_deg=2.0), finned),
+            stepping,
+        ),
+        Case(
+            "fins-2deg-blend",
+            handler(
+                fin_settings(joint_shading_resolution_deg=2.0, joint_shading_interpolation=True),
+                finned,
+            ),
+            stepping,
+        ),
     ]
     for case in cases:  # warm-up: the first cells and configurations
         case.run(args.messages // 4)
         case.means.clear()
     for case in fin_cases:
-        case.run(100 if case.name == "fins-2deg" else 5)  # (the coarse grid: its sweep, once)
+        case.run(5 if case.name == "fins" else SWEEP)  # (the others: one whole sweep)
         case.means.clear()
     for _ in range(args.rounds):
         for case in cases:
