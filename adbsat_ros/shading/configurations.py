@@ -172,20 +172,23 @@ class ConfigurationShadingCache:
     def lighting(self, u_G, positions: Mapping[str, float]):
         """The lighting of the body at ``positions`` for unit flow direction ``u_G``: a
         PanelLighting or LightingBlend of :meth:`ArticulatedBody.mesh`'s panels."""
+        vertices = self.vertices(positions)
         parts, keys = [], []
-        for weight, key in self.vertices(positions):
+        for weight, key in vertices:
             cache = self.cache_at(key)
             hits, misses = cache.hits, cache.misses
             lighting = cache.lighting(u_G)
             self.hits += cache.hits - hits
             self.misses += cache.misses - misses
             keys.extend((key, cell) for cell in cache.last_keys)
+            if len(vertices) == 1:  # (one configuration: its own answer)
+                break
             if isinstance(lighting, LightingBlend):
                 parts.extend((weight * w, part) for w, part in lighting.parts)
             else:
                 parts.append((weight, lighting))
         self.last_keys = tuple(keys)
-        return LightingBlend.of(parts)
+        return lighting if len(vertices) == 1 else LightingBlend(parts)
 
     def __len__(self) -> int:
         return len(self._store)
