@@ -2,7 +2,7 @@
 
 Usage:
     python bench/bench_node_callbacks.py [--max-edge 0.064] [--number 2000] [--repeat 7]
-        [--baseline DIR_OR_REV]
+        [--baseline DIR_OR_REV] [--param NAME=VALUE ...]
 
 Builds adbsat_node (rclpy, one process, nobody subscribed) on the example satellite refined to
 ~9,600 faces with its default parameters (sentman, raycast shading cached) and epoch stamps, and
@@ -44,6 +44,7 @@ os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
 
 import rclpy  # noqa: E402
+import yaml  # noqa: E402
 from bench_flight_conditions import import_baseline  # noqa: E402
 from geometry_msgs.msg import QuaternionStamped  # noqa: E402
 from nav_msgs.msg import Odometry  # noqa: E402
@@ -102,12 +103,13 @@ def import_tree(spec: str) -> str:
 class NodeUnderTest:
     """One package's node, and what its subscriptions are handed for a CDR message."""
 
-    def __init__(self, package: str, mesh_path: str):
+    def __init__(self, package: str, mesh_path: str, parameters=()):
         node_module_ = node_module(package)
         self.node = node_module_.AdbsatNode(
             parameter_overrides=[
                 Parameter("mesh", value=mesh_path),
                 Parameter("time_mode", value="epoch"),
+                *parameters,
             ]
         )
         self.subscriptions = {sub.topic_name.lstrip("/"): sub for sub in self.node.subscriptions}
@@ -152,7 +154,19 @@ def main() -> None:
         metavar="DIR_OR_REV",
         help="also time the node of another tree (a checkout directory or a git revision)",
     )
+    parser.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="a parameter of the working tree's node (a YAML value), e.g. "
+        "shading_interpolation=false to compare with a tree that had no interpolation",
+    )
     args = parser.parse_args()
+    parameters = []
+    for item in args.param:
+        name, _, value = item.partition("=")
+        parameters.append(Parameter(name, value=yaml.safe_load(value)))
 
     from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
 
@@ -163,7 +177,10 @@ def main() -> None:
     if args.baseline:
         packages[f"baseline {args.baseline}"] = import_tree(args.baseline)
     rclpy.init()
-    nodes = {label: NodeUnderTest(package, str(mesh_path)) for label, package in packages.items()}
+    nodes = {
+        label: NodeUnderTest(package, str(mesh_path), parameters if package == "adbsat_ros" else ())
+        for label, package in packages.items()
+    }
     total = args.number * (args.repeat + 1)
     attitudes = [attitude_bytes(k) for k in range(total)]
     states = [state_bytes(k) for k in range(0, total, STATE_EVERY)]

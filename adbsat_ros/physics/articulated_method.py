@@ -181,7 +181,11 @@ class ArticulatedMethod:
         self._effort_scales.setflags(write=False)
         #: Where each output starts in a load map's rows: Cf_G, Cm_G, links' forces, links'
         #: moments, joints' efforts, lit projected area.
-        self._outputs = np.cumsum([0, 3, 3, 3 * n_links, 3 * n_links, n_joints, 1])
+        self._outputs = np.cumsum([0, 3, 3, 3 * n_links, 3 * n_links, n_joints, 1]).tolist()
+        o = self._outputs
+        # (the rows of each output, as slices: Cf_G, Cm_G, links' forces, links' moments,
+        # joints' efforts, lit projected area)
+        self._rows = tuple(slice(a, b) for a, b in zip(o[:-1], o[1:]))
 
     @property
     def needs_species(self) -> bool:
@@ -248,15 +252,15 @@ class ArticulatedMethod:
         if loads is None:  # (a link without facets, or a surface varying within a facet)
             loads = self._link_loads(flow, u, lighting, surface, poses)
         link_loads, panel_values, panel_index = loads
-        o = self._outputs
+        cf, cm, forces, moments, efforts, area = self._rows
         out = self.load_maps.get(poses.key, lambda: self._load_map(poses)) @ link_loads
         n_links = len(self.body.links)
         total = AeroCoefficients(
             flow_direction=u,
-            Cf_G=out[o[0] : o[1]],
-            Cm_G=out[o[1] : o[2]],
+            Cf_G=out[cf],
+            Cm_G=out[cm],
             reference=self.reference,
-            area_projected=float(out[o[5]]),
+            area_projected=float(out[area][0]),
             model=self.model,
             panel_values=panel_values,
             panel_index=panel_index,
@@ -265,10 +269,10 @@ class ArticulatedMethod:
         )
         return ArticulatedCoefficients(
             total,
-            out[o[2] : o[3]].reshape(n_links, 3),
-            out[o[3] : o[4]].reshape(n_links, 3),
+            out[forces].reshape(n_links, 3),
+            out[moments].reshape(n_links, 3),
             self._joint_names,
-            out[o[4] : o[5]],
+            out[efforts],
             np.array(poses.key),
             self._effort_scales,
         )
@@ -367,10 +371,8 @@ def _sums_to_loads(u) -> np.ndarray:
     (F, M, S): F = (q W) u + (k W n), M = (q Q) x u + (k Q x n), S = max(c, 0) W."""
     ux, uy, uz = u.tolist()
     out = _SUMS_TO_LOADS.copy()
-    out[0, 0:3] = ux, uy, uz  # q W -> F
-    out[12, 3:6] = 0.0, -uz, uy  # q Q -> M: (a x u) = a @ [[0, -uz, uy], ...]
-    out[15, 3:6] = uz, 0.0, -ux
-    out[18, 3:6] = -uy, ux, 0.0
+    # q W -> F: u; q Q -> M: (a x u) = a @ [[0, -uz, uy], [uz, 0, -ux], [-uy, ux, 0]]
+    out.flat[_FLOW_ENTRIES] = (ux, uy, uz, -uz, uy, uz, -ux, -uy, ux)
     return out
 
 
@@ -378,6 +380,10 @@ _SUMS_TO_LOADS = np.zeros((3 * N_SUMS, _LINK_LOADS))
 _SUMS_TO_LOADS[[4, 7, 10], [0, 1, 2]] = 1.0  # k W n -> F
 _SUMS_TO_LOADS[[22, 25, 28], [3, 4, 5]] = 1.0  # k Q x n -> M
 _SUMS_TO_LOADS[2, 6] = 1.0  # max(c, 0) W -> S
+#: Where the flow direction's components go in it (flat indices, in the order set there).
+_FLOW_ENTRIES = np.ravel_multi_index(
+    ([0, 0, 0, 12, 12, 15, 15, 18, 18], [0, 1, 2, 4, 5, 3, 5, 3, 4]), _SUMS_TO_LOADS.shape
+)
 
 
 def _joined_panel_values(results) -> tuple:
