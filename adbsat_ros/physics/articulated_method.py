@@ -8,15 +8,22 @@ its panels at u_l = R_l^T u, and in the body frame (section 8 of docs/physics.md
     F_l = R_l Cf_l,    M_l = R_l Cm_l + (t_l - r_ref) x F_l / L_ref,
 
 summed over the links to the body's Cf_G and Cm_G. Nothing is rebuilt when a joint moves: the
-geometry is exact at any joint positions, and a wrench costs one evaluation per link with
-geometry. The effort on a joint is the moment of the loads of the links it carries about its
-axis through the joint (revolute, continuous) or their force along it (prismatic).
+geometry is exact at any joint positions. The effort on a joint is the moment of the loads of
+the links it carries about its axis through the joint (revolute, continuous) or their force
+along it (prismatic).
+
+When every link's panels group into facets (boxes, plates, most meshes), the links' facets are
+posed in G and evaluated as one body (:class:`~adbsat_ros.physics.posed_facets.PosedFacets`),
+their weighted sums taken link by link; each link's force and moment (about G's origin) and lit
+projected area then give every output through one linear map per configuration
+(its ``load_maps``). Otherwise each link is evaluated in its own frame as
+above, with the lighting split by link.
 
 The same numbers, to rounding, as a :class:`PanelMethod` of
 :meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh` at those positions (tested).
 Shading is the only thing that depends on the configuration as a whole (one part shades
-another): the lighting of the posed body, panels in the order of
-:meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh`, is split by link.
+another): it is a lighting of the posed body, panels in the order of
+:meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh`.
 
 Units: metres, radians; frame G = the root link's frame.
 """
@@ -169,12 +176,6 @@ class ArticulatedMethod:
         self._facet_surface = None
         if self.facets is not None:
             self._facet_surface = self.facets.surface([m.surface for m in methods])
-            # which link each facet belongs to: the (L, G) sum of a column link by link
-            self._link_of_facet = np.zeros((len(self._links), self.facets.n))
-            for k, (start, stop) in enumerate(
-                zip(self.facets.starts, [*self.facets.starts[1:], self.facets.n])
-            ):
-                self._link_of_facet[k, start:stop] = 1.0
         n_links, n_joints = len(body.links), len(body.joints)
         area_length = self.reference.area * self.reference.length
         self._effort_scales = np.where(self._prismatic, self.reference.area, area_length)
@@ -380,6 +381,7 @@ _SUMS_TO_LOADS = np.zeros((3 * N_SUMS, _LINK_LOADS))
 _SUMS_TO_LOADS[[4, 7, 10], [0, 1, 2]] = 1.0  # k W n -> F
 _SUMS_TO_LOADS[[22, 25, 28], [3, 4, 5]] = 1.0  # k Q x n -> M
 _SUMS_TO_LOADS[2, 6] = 1.0  # max(c, 0) W -> S
+_SUMS_TO_LOADS.setflags(write=False)
 #: Where the flow direction's components go in it (flat indices, in the order set there).
 _FLOW_ENTRIES = np.ravel_multi_index(
     ([0, 0, 0, 12, 12, 15, 15, 18, 18], [0, 1, 2, 4, 5, 3, 5, 3, 4]), _SUMS_TO_LOADS.shape

@@ -174,8 +174,7 @@ class Facets:
         self._areas = mesh.areas
         #: A_i r_i of every panel [m^3].
         self.weighted_barycentres = mesh.areas[:, None] * mesh.barycentres
-        self._weighted_bary = self.weighted_barycentres
-        self.all_lit = self.sums_of(mesh.areas, self._weighted_bary)
+        self.all_lit = self.sums_of(mesh.areas, self.weighted_barycentres)
         self.lit_sums_cache = LitSumsCache()
         self._surface = surface
         self._facet_surface = self._facet_values(surface)
@@ -209,7 +208,7 @@ class Facets:
     def _lit_sums_of(self, lighting: PanelLighting) -> np.ndarray:
         f = lighting.lit_fraction
         w = self._areas * f
-        wr = f[:, None] * self._weighted_bary
+        wr = f[:, None] * self.weighted_barycentres
         i = lighting.shift_index
         if i.size:
             wr[i] += w[i, None] * lighting.shift

@@ -15,11 +15,12 @@ Interpolation (``interpolate=True``). In grid units x_j = q_j / h_j the position
 lie in a cell of the grid, which the Kuhn (Freudenthal) triangulation cuts into simplices: with
 b = floor(x), f = x - b and the joints ordered by decreasing f (f_(1) >= ... >= f_(J)), the
 simplex's vertices are v_0 = b and v_k = v_(k-1) + e_(k), with the barycentric weights
-1 - f_(1), f_(1) - f_(2), ..., f_(J). The lighting is the blend of the vertices' lightings with
-those weights (at most J + 1 configurations, only those of positive weight): continuous in the
-joint positions, so joint efforts have no steps at grid lines, exact at grid points and where the
-lighting varies linearly with the positions. Without it, the nearest grid configuration's
-lighting is used.
+1 - f_(1), f_(1) - f_(2), ..., f_(J) (in a cell that a joint's limit cuts, f is measured
+between the cell's grid positions as clipped to the limit). The lighting is the blend of the
+vertices' lightings with those weights (at most J + 1 configurations, only those of positive
+weight): continuous in the joint positions, so joint efforts have no steps at grid lines, exact
+at grid points and where the lighting varies linearly with the positions. Without it, the
+nearest grid configuration's lighting is used.
 
 Error. Turning a part by d moves the shadows it casts, and those cast on it, as turning the flow
 by d does for that part, so snapping to the nearest grid point (within h_r / 2) adds an error
@@ -44,7 +45,8 @@ from adbsat_ros.shading.cache import ShadingCache
 from adbsat_ros.shading.lighting import LightingBlend
 
 #: Distance to a grid point, in grid steps, within which a joint is taken to be on it (a
-#: position given as a multiple of the step, up to rounding, blends no second configuration).
+#: position given as a multiple of the step, up to rounding, blends no second configuration);
+#: also the smallest weight a grid configuration is blended with.
 ON_GRID = 1e-9
 
 
@@ -124,24 +126,31 @@ class ConfigurationShadingCache:
         if not self.interpolate:
             return [(1.0, self.key(positions))]
         base, fractions = [], []
-        for name, step in zip(self.body.joints, self._steps):
-            x = positions[name] / step
+        for (name, joint), step in zip(self.body.joints.items(), self._steps):
+            q = positions[name]
+            x = q / step
             nearest = round(x)
             if abs(x - nearest) <= ON_GRID:
                 x = nearest
             index = math.floor(x)
             base.append(index)
-            fractions.append(x - index)
+            # the fraction between the cell's two grid positions as clipped to the limits, so
+            # that the blend reproduces q in a cell a limit cuts (and is exact at the limit)
+            low = min(max(index * step, joint.lower), joint.upper)
+            high = min(max((index + 1) * step, joint.lower), joint.upper)
+            fraction = 0.0 if high <= low else min(max((q - low) / (high - low), 0.0), 1.0)
+            fractions.append(fraction if fraction > ON_GRID else 0.0)
         order = sorted(range(len(base)), key=fractions.__getitem__, reverse=True)
         out, vertex, previous = [], list(base), 1.0
         for j in order:
-            if previous - fractions[j] > 0.0:
+            if previous - fractions[j] > ON_GRID:  # (a weight of rounding size: no vertex)
                 out.append((previous - fractions[j], tuple(vertex)))
             vertex[j] += 1
             previous = fractions[j]
-        if previous > 0.0:
+        if previous > ON_GRID:
             out.append((previous, tuple(vertex)))
-        return out
+        total = sum(w for w, _ in out)
+        return [(w / total, key) for w, key in out]
 
     def configuration(self, key: tuple) -> dict:
         """The joint positions of a grid key, clipped to the joints' limits."""

@@ -48,28 +48,30 @@ class LinkScenes:
         spans = sorted(body.link_spans.items(), key=lambda item: item[1][0])
         lo, hi = body.mesh().bounds
         diagonal = float(np.linalg.norm(hi - lo)) or 1.0
-        self._links = np.array([link for link, _ in spans], dtype=np.int64)
-        vertices, faces, owner, topologies = [], [], [], []
+        self._links = [int(link) for link, _ in spans]
+        self._vertices, faces, topologies = [], [], []  # every link's, in its own frame
         first = 0
-        for k, (link, _) in enumerate(spans):
-            mesh = body.link_mesh(int(link))
+        for link in self._links:
+            mesh = body.link_mesh(link)
             tm = mesh.to_trimesh()
-            vertices.append(np.asarray(tm.vertices, dtype=float))
+            self._vertices.append(np.asarray(tm.vertices, dtype=float))
             faces.append(np.asarray(tm.faces, dtype=np.int64) + first)
-            owner.append(np.full(len(tm.vertices), k))
             first += len(tm.vertices)
             topologies.append(MeshTopology.of(mesh, diagonal))
-        self._vertices = np.concatenate(vertices)  # every link's, in its own frame
         self._faces = np.concatenate(faces)
-        self._owner = np.concatenate(owner)  # the (evaluated) link of every vertex
         self.topology = MeshTopology.joined(topologies)
 
     def scene(self, mesh: PanelMesh, link_poses: np.ndarray) -> RayScene:
         """The ray scene of the body's panels ``mesh`` at the configuration where its links
         have ``link_poses`` ((L, 4, 4) link-to-G poses of every link, as
         :meth:`ArticulatedBody.link_poses` gives them)."""
-        poses = np.asarray(link_poses, dtype=float)[self._links][self._owner]  # per vertex
-        posed = np.einsum("vab,vb->va", poses[:, :3, :3], self._vertices) + poses[:, :3, 3]
+        poses = np.asarray(link_poses, dtype=float)
+        posed = np.concatenate(  # (as the body poses its panels' corners: the same numbers)
+            [
+                v @ poses[link, :3, :3].T + poses[link, :3, 3]
+                for link, v in zip(self._links, self._vertices)
+            ]
+        )
         return ray_scene(mesh, self.backend, indexed=(posed, self._faces))
 
     def candidate_filter(self, mesh: PanelMesh) -> CandidateFilter:

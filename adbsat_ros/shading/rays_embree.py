@@ -48,7 +48,11 @@ class EmbreeScene:
             tm = mesh.to_trimesh()
             indexed = (tm.vertices, tm.faces)
         vertices = np.asarray(indexed[0], dtype=np.float64)
-        faces = indexed[1]
+        faces = np.asarray(indexed[1])
+        if faces.shape != (mesh.n_panels, 3):
+            raise ValueError(
+                f"indexed faces of shape {faces.shape} for a mesh of {mesh.n_panels} panels"
+            )
         self.triangles = mesh.vertices
         self.origin = vertices.min(axis=0)
         extent = float(np.max(vertices.max(axis=0) - self.origin))

@@ -51,6 +51,24 @@ def test_the_simplex_weights_reproduce_the_positions(fins):
         assert (np.abs(points - q) <= STEP * (1 + 1e-9)).all()
 
 
+def test_at_and_near_a_joint_limit_the_blend_reproduces_the_positions(fins):
+    """The fins' limits (+-0.6 rad) are no multiple of 2 deg: in the cell the limit cuts, the
+    weights are measured between the clipped grid positions."""
+    cache = configuration_cache(fins, True)
+    names = list(fins.joints)
+    for q0 in (0.6, 0.599, -0.6, -0.5995):
+        positions = {name: (q0 if k == 0 else 0.1 * k) for k, name in enumerate(names)}
+        vertices = cache.vertices(positions)
+        weights = np.array([w for w, _ in vertices])
+        points = np.array([list(cache.configuration(key).values()) for _, key in vertices])
+        assert (weights > 0.0).all() and weights.sum() == pytest.approx(1.0, abs=1e-12)
+        np.testing.assert_allclose(weights @ points, list(positions.values()), atol=1e-12)
+    at_limit = {name: 0.6 for name in names}
+    assert [list(cache.configuration(key).values()) for _, key in cache.vertices(at_limit)] == [
+        [0.6] * 4
+    ]
+
+
 def test_on_a_grid_point_one_configuration_is_used(fins):
     cache = configuration_cache(fins, True)
     on_grid = {name: math.radians(2.0 * k) for k, name in enumerate(fins.joints)}  # (rounding)

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import needs_embree
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
@@ -92,6 +93,15 @@ def test_first_hits_through_the_posed_scene(backend, body):
     assert (face >= 0).sum() > 200  # (most rays meet the body)
     np.testing.assert_array_equal(face, want_face)
     np.testing.assert_allclose(t[face >= 0], want_t[face >= 0], rtol=1e-6)
+
+
+@needs_embree
+def test_an_embree_scene_of_other_faces_is_refused(body):
+    mesh = body.mesh()
+    vertices = mesh.vertices.reshape(-1, 3)
+    faces = np.arange(vertices.shape[0]).reshape(-1, 3)[:-1]  # (one panel short)
+    with pytest.raises(ValueError, match=f"for a mesh of {mesh.n_panels} panels"):
+        ray_scene(mesh, "embree", indexed=(vertices, faces))
 
 
 def test_a_topology_of_another_mesh_is_refused(body):
