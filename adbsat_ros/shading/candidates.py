@@ -159,14 +159,10 @@ class CandidateFilter:
 
     Attributes
     ----------
-    adjacency : ndarray of int, shape (E, 2)
-        Pairs of panels that share an edge.
-    component : ndarray of int, shape (N,)
-        Connected component of every panel.
+    adjacency, component, on_hull : ndarray
+        The mesh's :class:`MeshTopology`.
     n_components : int
         Number of connected components.
-    on_hull : ndarray of bool, shape (N,)
-        Panels on the convex hull of their own component, normal pointing out of it.
     """
 
     def __init__(
