@@ -36,8 +36,8 @@ class Peer:
     """A test node that publishes attitude and state and collects wrench, coefficients and
     diagnostics."""
 
-    def __init__(self, context, executor, name="test_peer"):
-        self.node = Node(name, context=context)
+    def __init__(self, context, executor, name="test_peer", namespace=""):
+        self.node = Node(name, context=context, namespace=namespace)
         qos = QoSProfile(depth=100)
         self.attitude_pub = self.node.create_publisher(QuaternionStamped, "attitude", qos)
         self.state_pub = self.node.create_publisher(Odometry, "state", qos)

@@ -40,15 +40,20 @@ def signal_mid_stream(sphere_file, signum, run: int) -> tuple:
     """Start a node process, stream attitudes (1 ms apart) and states to it from a peer of a
     context of its own, send ``signum`` once it answers (later each run), and return its exit
     status and stderr."""
+    # each run in a namespace of its own: the endpoints of the run before, whose process has
+    # gone, may linger in the graph for a while and must not pass for this node's
+    namespace = f"/signal_{signum.name.lower()}_{run}"
     cmd = [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args", "-p", f"mesh:={sphere_file}"]
-    cmd += ["-p", "time_mode:=epoch"]
+    cmd += ["-p", "time_mode:=epoch", "-r", f"__ns:={namespace}"]
     ctx, executor = make_context()
-    peer = Peer(ctx, executor, name=f"signal_peer_{run}")
+    peer = Peer(ctx, executor, name=f"signal_peer_{run}", namespace=namespace)
     pos, vel = circular_orbit_state(300e3)
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         assert peer.wait_for_subscribers(timeout=30), "node process did not come up"
-        assert peer.spin_until(lambda: peer.node.count_publishers("/wrench") > 0, timeout=30)
+        assert peer.spin_until(
+            lambda: peer.node.count_publishers(f"{namespace}/wrench") > 0, timeout=30
+        )
         t, sent, signalled = 0.0, 0, False
         deadline = time.monotonic() + 30
         while proc.poll() is None and time.monotonic() < deadline:
@@ -64,7 +69,10 @@ def signal_mid_stream(sphere_file, signum, run: int) -> tuple:
                 signalled = True
         if not signalled:
             proc.kill()
-            pytest.fail(f"the node never answered (run {run}): {proc.communicate()[1]}")
+            pytest.fail(
+                f"the node never answered (run {run}, {sent} attitudes sent): "
+                f"{proc.communicate()[1]}"
+            )
         _, err = proc.communicate(timeout=10)
         return proc.returncode, err
     finally:
