@@ -125,7 +125,11 @@ class MessageHandler:
         return self.estimator.settings.attitude_source == "attitude_topic"
 
     def on_state(
-        self, odometry: OdometryFields, coefficients: bool = True, inertial: bool = False
+        self,
+        odometry: OdometryFields,
+        coefficients: bool = True,
+        inertial: bool = False,
+        joint_torques: bool = True,
     ) -> Outcome:
         """A state message: accepted (and with ``attitude_source`` odometry, its wrench), or not.
 
@@ -137,6 +141,8 @@ class MessageHandler:
             Whether to serialise the coefficients message too.
         inertial : bool
             Whether to serialise the state-frame wrench and the acceleration too.
+        joint_torques : bool
+            Whether to serialise an articulated body's joint torques too.
         """
         try:
             _, orientation = self.estimator.on_odometry(odometry)
@@ -147,10 +153,16 @@ class MessageHandler:
             return Outcome(odometry.stamp, error=exc)
         if self.uses_attitude_topic:
             return Outcome(odometry.stamp, state_accepted=True)
-        return self._wrench(odometry.stamp, orientation, coefficients, True, inertial)
+        return self._wrench(
+            odometry.stamp, orientation, coefficients, True, inertial, joint_torques
+        )
 
     def on_attitude(
-        self, attitude: AttitudeFields, coefficients: bool = True, inertial: bool = False
+        self,
+        attitude: AttitudeFields,
+        coefficients: bool = True,
+        inertial: bool = False,
+        joint_torques: bool = True,
     ) -> Outcome:
         """An attitude message: its wrench, or why there is none (:data:`IGNORED` while the
         attitude comes from the odometry pose).
@@ -163,10 +175,19 @@ class MessageHandler:
             Whether to serialise the coefficients message too.
         inertial : bool
             Whether to serialise the state-frame wrench and the acceleration too.
+        joint_torques : bool
+            Whether to serialise an articulated body's joint torques too.
         """
         if not self.uses_attitude_topic:
             return IGNORED
-        return self._wrench(attitude.stamp, attitude.quaternion_xyzw, coefficients, False, inertial)
+        return self._wrench(
+            attitude.stamp,
+            attitude.quaternion_xyzw,
+            coefficients,
+            False,
+            inertial,
+            joint_torques,
+        )
 
     def on_joint_state(self, joint_state: JointStateFields) -> Outcome:
         """A joint_states message: its positions taken for the next wrenches, or refused
@@ -189,7 +210,13 @@ class MessageHandler:
         return Outcome(None, rejection=Rejection("undecodable", f"{what} message {exc}"))
 
     def _wrench(
-        self, stamp: Stamp, quaternion, coefficients: bool, state: bool, inertial: bool = False
+        self,
+        stamp: Stamp,
+        quaternion,
+        coefficients: bool,
+        state: bool,
+        inertial: bool = False,
+        joint_torques: bool = True,
     ) -> Outcome:
         estimator = self.estimator
         try:
@@ -224,7 +251,7 @@ class MessageHandler:
                 sec, nanosec, frame, sample.total_force.tolist(), sample.total_torque.tolist()
             )
         joints_cdr = None
-        if sample.joints is not None:
+        if joint_torques and sample.joints is not None:
             joints = sample.joints
             joints_cdr = joint_state_cdr(
                 sec, nanosec, frame, joints.names, joints.positions, (), joints.efforts

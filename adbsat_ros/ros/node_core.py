@@ -179,6 +179,7 @@ class WrenchNodeCore:
             ),
         ]
         self.joint_torques_pub = None
+        self._joint_torque_readers = 0  # (published while subscribed, as the coefficients)
         if self.estimator.body is not None:  # an articulated body: its joints in and out
             self._joint_state_message = functools.partial(
                 deserialize_message, message_type=JointState
@@ -188,7 +189,13 @@ class WrenchNodeCore:
                     JointState, "joint_states", self._on_joint_state, qos, raw=True
                 )
             )
-            self.joint_torques_pub = create_publisher(JointState, "joint_torques", qos)
+            self.joint_torques_pub = create_publisher(
+                JointState,
+                "joint_torques",
+                qos,
+                event_callbacks=PublisherEventCallbacks(matched=self._on_joint_torques_matched),
+            )
+            self._joint_torque_readers = self.joint_torques_pub.get_subscription_count()
         self._sample_listeners: list = []
         self._log_throttled = LogThrottle(self.get_logger())
         self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
@@ -235,8 +242,17 @@ class WrenchNodeCore:
         (the topic is published only while there is one)."""
         return self._coefficient_readers
 
+    @property
+    def joint_torque_readers(self) -> int:
+        """Subscribers of the joint_torques topic (an articulated body's; published only while
+        there is one), counted as :attr:`coefficient_readers`."""
+        return self._joint_torque_readers
+
     def _on_coefficients_matched(self, info) -> None:
         self._coefficient_readers = info.current_count
+
+    def _on_joint_torques_matched(self, info) -> None:
+        self._joint_torque_readers = info.current_count
 
     def _on_marker_matched(self, info) -> None:
         self._marker_readers = info.current_count
@@ -294,7 +310,12 @@ class WrenchNodeCore:
         except UndecodableMessage as exc:
             self._serve(self.handler.undecodable("state", exc))
             return
-        outcome = self.handler.on_state(odometry, self._coefficient_readers > 0, self._inertial)
+        outcome = self.handler.on_state(
+            odometry,
+            self._coefficient_readers > 0,
+            self._inertial,
+            self._joint_torque_readers > 0,
+        )
         self._serve(outcome)
         if outcome.triggered:
             self._prepare_next()
@@ -311,7 +332,12 @@ class WrenchNodeCore:
         else:
             self.attitude_gaps.stamp(stamp_seconds(attitude.stamp))
             self._serve(
-                handler.on_attitude(attitude, self._coefficient_readers > 0, self._inertial)
+                handler.on_attitude(
+                    attitude,
+                    self._coefficient_readers > 0,
+                    self._inertial,
+                    self._joint_torque_readers > 0,
+                )
             )
         self._prepare_next()
 

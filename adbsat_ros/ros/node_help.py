@@ -22,7 +22,12 @@ TOPICS = (
     ("acceleration", "geometry_msgs/AccelStamped", "out", "force / mass [m/s^2] (with a mass)"),
     ("solar_wrench", "geometry_msgs/WrenchStamped", "out", "solar pressure (solar_pressure)"),
     ("total_wrench", "geometry_msgs/WrenchStamped", "out", "aerodynamic + solar (solar_pressure)"),
-    ("joint_torques", "sensor_msgs/JointState", "out", "aerodynamic torque per joint (effort)"),
+    (
+        "joint_torques",
+        "sensor_msgs/JointState",
+        "out",
+        "aerodynamic torque per joint (effort; while subscribed)",
+    ),
     ("panel_marker", "visualization_msgs/Marker", "out", "panels coloured by c_p (RViz)"),
     ("/diagnostics", "diagnostic_msgs/DiagnosticArray", "out", "health, every period"),
 )

@@ -10,10 +10,12 @@ import numpy as np
 import pytest
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
+from adbsat_ros.estimator.handling import MessageHandler
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.samples import Rejection
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf
+from adbsat_ros.messages.cdr import AttitudeFields, Stamp
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.panel_method import PanelMethod
 
@@ -205,3 +207,16 @@ def test_interpolated_configurations_blend_the_grid_points_around_the_joints():
     assert cache.configuration_misses == 2
     assert cache.configuration_hits == 2 * 10 - 2
     assert {key for key, _ in cache.last_keys} == {(5, 5), (6, 6)}
+
+
+def test_the_joint_torques_message_is_made_only_when_asked_for():
+    """The node asks for it while joint_torques has a subscriber; the wrench is the same."""
+    est = ready(estimator())
+    handler = MessageHandler(est)
+    attitude = AttitudeFields(Stamp(1, 0), TILTED)
+    with_torques = handler.on_attitude(attitude)
+    without = handler.on_attitude(AttitudeFields(Stamp(1, 10_000_000), TILTED), joint_torques=False)
+    assert with_torques.joint_torques_cdr is not None
+    assert without.joint_torques_cdr is None
+    assert without.sample.joints is not None  # (computed all the same: bag analysis writes it)
+    assert without.wrench_cdr is not None

@@ -51,7 +51,7 @@ def test_joint_torques_come_with_every_wrench_as_the_estimator_computes_them(ros
     joints_pub = peer.node.create_publisher(JointState, "joint_states", 10)
     torques = []
     peer.node.create_subscription(JointState, "joint_torques", torques.append, 10)
-    assert peer.spin_until(lambda: node.count_subscribers("joint_torques") == 1)
+    assert peer.spin_until(lambda: node.joint_torque_readers == 1)  # (published while subscribed)
     assert peer.spin_until(lambda: joints_pub.get_subscription_count() == 1)
     pos, vel = circular_orbit_state(300e3)
     inputs = [(0.0, (0.3, -0.2)), (0.02, (0.6, -0.2))]
