@@ -18,7 +18,7 @@ from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import AccelStamped, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
-from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
+from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import JointState
@@ -44,6 +44,7 @@ from adbsat_ros.messages.decoding import (
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.physics.knudsen import knudsen_number
 from adbsat_ros.ros.log_throttle import LogThrottle
+from adbsat_ros.ros.readers import Readers
 
 
 class WrenchNodeCore:
@@ -108,49 +109,17 @@ class WrenchNodeCore:
                 )
         qos = QoSProfile(depth=settings.qos_depth, reliability=ReliabilityPolicy.RELIABLE)
         self.wrench_pub = create_publisher(WrenchStamped, "wrench", qos)
-        # its subscribers counted by the middleware's matched events, not asked for per message
-        # (get_subscription_count costs 4-10 us, a few per cent of a wrench)
-        self._coefficient_readers = 0
-        self.coefficients_pub = create_publisher(
-            WrenchStamped,
-            "coefficients",
-            qos,
-            event_callbacks=PublisherEventCallbacks(matched=self._on_coefficients_matched),
-        )
-        self._coefficient_readers = self.coefficients_pub.get_subscription_count()
+        # the optional outputs' readers, counted by matched events (ros/readers.py)
+        self.readers = readers = Readers(create_publisher)
+        self.coefficients_pub = readers.publisher(WrenchStamped, "coefficients", qos)
         # for a propagator, while subscribed: the force in the state frame, and the acceleration
-        self._inertial_readers = {"wrench_inertial": 0, "acceleration": 0}
-        self.inertial_pub = create_publisher(
-            WrenchStamped,
-            "wrench_inertial",
-            qos,
-            event_callbacks=PublisherEventCallbacks(
-                matched=functools.partial(self._on_inertial_matched, "wrench_inertial")
-            ),
-        )
-        self.acceleration_pub = create_publisher(
-            AccelStamped,
-            "acceleration",
-            qos,
-            event_callbacks=PublisherEventCallbacks(
-                matched=functools.partial(self._on_inertial_matched, "acceleration")
-            ),
-        )
-        self._inertial_readers["wrench_inertial"] = self.inertial_pub.get_subscription_count()
-        self._inertial_readers["acceleration"] = self.acceleration_pub.get_subscription_count()
-        self._inertial = any(self._inertial_readers.values())
+        self.inertial_pub = readers.publisher(WrenchStamped, "wrench_inertial", qos)
+        self.acceleration_pub = readers.publisher(AccelStamped, "acceleration", qos)
         # with solar_pressure on: the solar radiation wrench, and the sum of both
         self.solar_pub = create_publisher(WrenchStamped, "solar_wrench", qos)
         self.total_pub = create_publisher(WrenchStamped, "total_wrench", qos)
         self.diagnostics_pub = create_publisher(DiagnosticArray, "/diagnostics", 10)
-        self._marker_readers = 0
-        self.marker_pub = create_publisher(
-            Marker,
-            "panel_marker",
-            1,
-            event_callbacks=PublisherEventCallbacks(matched=self._on_marker_matched),
-        )
-        self._marker_readers = self.marker_pub.get_subscription_count()
+        self.marker_pub = readers.publisher(Marker, "panel_marker", 1)
         # the messages come in as CDR bytes, read by the struct codec (messages.cdr): rclpy
         # message objects would cost more than the wrench itself; rclpy's deserialiser reads the
         # rest. State first: when a state and an attitude wait together, the single-threaded
@@ -179,7 +148,6 @@ class WrenchNodeCore:
             ),
         ]
         self.joint_torques_pub = None
-        self._joint_torque_readers = 0  # (published while subscribed, as the coefficients)
         if self.estimator.body is not None:  # an articulated body: its joints in and out
             self._joint_state_message = functools.partial(
                 deserialize_message, message_type=JointState
@@ -189,13 +157,7 @@ class WrenchNodeCore:
                     JointState, "joint_states", self._on_joint_state, qos, raw=True
                 )
             )
-            self.joint_torques_pub = create_publisher(
-                JointState,
-                "joint_torques",
-                qos,
-                event_callbacks=PublisherEventCallbacks(matched=self._on_joint_torques_matched),
-            )
-            self._joint_torque_readers = self.joint_torques_pub.get_subscription_count()
+            self.joint_torques_pub = readers.publisher(JointState, "joint_torques", qos)
         self._sample_listeners: list = []
         self._log_throttled = LogThrottle(self.get_logger())
         self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
@@ -240,26 +202,13 @@ class WrenchNodeCore:
     def coefficient_readers(self) -> int:
         """Subscribers of the coefficients topic, as the middleware's matched events count them
         (the topic is published only while there is one)."""
-        return self._coefficient_readers
+        return self.readers.counts.get("coefficients", 0)
 
     @property
     def joint_torque_readers(self) -> int:
         """Subscribers of the joint_torques topic (an articulated body's; published only while
         there is one), counted as :attr:`coefficient_readers`."""
-        return self._joint_torque_readers
-
-    def _on_coefficients_matched(self, info) -> None:
-        self._coefficient_readers = info.current_count
-
-    def _on_joint_torques_matched(self, info) -> None:
-        self._joint_torque_readers = info.current_count
-
-    def _on_marker_matched(self, info) -> None:
-        self._marker_readers = info.current_count
-
-    def _on_inertial_matched(self, topic: str, info) -> None:
-        self._inertial_readers[topic] = info.current_count
-        self._inertial = any(self._inertial_readers.values())
+        return self.readers.counts.get("joint_torques", 0)
 
     # ----------------------------------------------------------------------------- parameters
     def _parameter_values(self, changes=()) -> dict:
@@ -310,11 +259,9 @@ class WrenchNodeCore:
         except UndecodableMessage as exc:
             self._serve(self.handler.undecodable("state", exc))
             return
+        readers = self.readers
         outcome = self.handler.on_state(
-            odometry,
-            self._coefficient_readers > 0,
-            self._inertial,
-            self._joint_torque_readers > 0,
+            odometry, readers.coefficients, readers.inertial, readers.joint_torques
         )
         self._serve(outcome)
         if outcome.triggered:
@@ -331,12 +278,10 @@ class WrenchNodeCore:
             self._serve(handler.undecodable("attitude", exc))
         else:
             self.attitude_gaps.stamp(stamp_seconds(attitude.stamp))
+            readers = self.readers
             self._serve(
                 handler.on_attitude(
-                    attitude,
-                    self._coefficient_readers > 0,
-                    self._inertial,
-                    self._joint_torque_readers > 0,
+                    attitude, readers.coefficients, readers.inertial, readers.joint_torques
                 )
             )
         self._prepare_next()
@@ -436,7 +381,7 @@ class WrenchNodeCore:
     def _publish_marker(self) -> None:
         """The panels coloured by the latest wrench's pressures, while someone subscribes."""
         sample = self.health.last_sample
-        if not (self.serving and self._marker_readers) or sample is None:
+        if not (self.serving and self.readers.marker) or sample is None:
             return
         if sample.coefficients is None:  # (at rest, or coefficients from a database)
             return
