@@ -6,7 +6,7 @@ Usage:
         [--max-edge 0.0625] [--shading raycast] [--coefficients-source panel|database]
         [--tumble DEG_PER_S] [--state-rate HZ] [--executor events|single_threaded] [--settle S]
         [--fastdds-profile config/fastdds_localhost.xml] [--echo-work-us US ...] [--echo-panel]
-        [--baseline DIR_OR_REV] [--no-echo] [--keep-cpus-busy]
+        [--baseline DIR_OR_REV] [--no-echo] [--keep-cpus-busy] [--param NAME:=VALUE ...]
         [--trace [--trace-part module:Class.method ...] [--trace-cpu]]
 
 A/B of the node's CPU per message against an older tree, e.g. (a few rounds, 1 kHz):
@@ -379,6 +379,9 @@ def run_case(
         ]
         if args.database:
             node_cmd += ["-p", f"database_path:={args.database}"]
+        if not package:  # (this tree's node: parameters the other tree may not have)
+            for item in args.param:
+                node_cmd += ["-p", item]
     tmp = Path(tempfile.mkdtemp())
     node_log = open(
         tmp / "node.log", "w"
@@ -570,6 +573,14 @@ def main() -> None:
         help="longest edge [m] of the example satellite's triangles (0.0625: 11,104 faces)",
     )
     parser.add_argument("--shading", default="raycast")
+    parser.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME:=VALUE",
+        help="a parameter of this tree's node only, e.g. shading_interpolation:=false to compare "
+        "with a tree that had no interpolation",
+    )
     parser.add_argument("--coefficients-source", default="panel")
     parser.add_argument("--database", default="")
     parser.add_argument(
