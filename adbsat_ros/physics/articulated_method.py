@@ -180,13 +180,10 @@ class ArticulatedMethod:
         area_length = self.reference.area * self.reference.length
         self._effort_scales = np.where(self._prismatic, self.reference.area, area_length)
         self._effort_scales.setflags(write=False)
-        #: Where each output starts in a load map's rows: Cf_G, Cm_G, links' forces, links'
-        #: moments, joints' efforts, lit projected area.
-        self._outputs = np.cumsum([0, 3, 3, 3 * n_links, 3 * n_links, n_joints, 1]).tolist()
-        o = self._outputs
-        # (the rows of each output, as slices: Cf_G, Cm_G, links' forces, links' moments,
-        # joints' efforts, lit projected area)
-        self._rows = tuple(slice(a, b) for a, b in zip(o[:-1], o[1:]))
+        # the rows of a load map's outputs: Cf_G, Cm_G, links' forces, links' moments, joints'
+        # efforts, lit projected area
+        ends = np.cumsum([0, 3, 3, 3 * n_links, 3 * n_links, n_joints, 1]).tolist()
+        self._rows = tuple(slice(a, b) for a, b in zip(ends[:-1], ends[1:]))
 
     @property
     def needs_species(self) -> bool:
@@ -304,16 +301,16 @@ class ArticulatedMethod:
         per_joint[:, 0:3] = np.where(self._prismatic[:, None], axes, -np.cross(axes, origins))
         per_joint[:, 3:6] = np.where(self._prismatic[:, None], 0.0, axes)
         per_joint[:, 0:6] /= np.where(self._prismatic, area, area * length)[:, None]
-        o = self._outputs
-        out = np.zeros((o[-1], _LINK_LOADS * n_eval))
+        cf, cm, forces, moments, efforts, area_row = self._rows
+        out = np.zeros((area_row.stop, _LINK_LOADS * n_eval))
         for k, link in enumerate(self._link_index.tolist()):
             columns = slice(_LINK_LOADS * k, _LINK_LOADS * (k + 1))
-            out[o[0] : o[1], columns] = force
-            out[o[1] : o[2], columns] = about_point
-            out[o[2] + 3 * link : o[2] + 3 * link + 3, columns] = force
-            out[o[3] + 3 * link : o[3] + 3 * link + 3, columns] = about_point
-            out[o[4] : o[5], columns] = self._carries[:, k, None] * per_joint
-            out[o[5], _LINK_LOADS * k + 6] = 1.0  # the lit projected area
+            out[cf, columns] = force
+            out[cm, columns] = about_point
+            out[forces.start + 3 * link : forces.start + 3 * link + 3, columns] = force
+            out[moments.start + 3 * link : moments.start + 3 * link + 3, columns] = about_point
+            out[efforts, columns] = self._carries[:, k, None] * per_joint
+            out[area_row.start, _LINK_LOADS * k + 6] = 1.0  # the lit projected area
         out.setflags(write=False)
         return out
 

@@ -194,16 +194,18 @@ class Facets:
         """Read-only (G, 10) facet sums of panel weights w_i [m^2] and moments
         w_i (r_i + shift_i) [m^3] (shape (N, 3))."""
         W = np.bincount(self.index, weights=weights, minlength=self.n)
-        Q = np.stack(
-            [
-                np.bincount(self.index, weights=weighted_points[:, k], minlength=self.n)
-                for k in range(3)
-            ],
-            axis=-1,
-        )
-        sums = _sum_columns(W, Q, self.normals)
+        sums = _sum_columns(W, self.vector_sums(weighted_points), self.normals)
         sums.setflags(write=False)
         return sums
+
+    def vector_sums(self, vectors, panels=None) -> np.ndarray:
+        """The (G, 3) sums over each facet's members of per-panel ``vectors`` (shape (N, 3), or
+        one row per panel of ``panels``, an index array: the other panels count as zero)."""
+        index = self.index if panels is None else self.index[panels]
+        return np.stack(
+            [np.bincount(index, weights=vectors[:, k], minlength=self.n) for k in range(3)],
+            axis=-1,
+        )
 
     def _lit_sums_of(self, lighting: PanelLighting) -> np.ndarray:
         f = lighting.lit_fraction

@@ -161,13 +161,7 @@ class PosedFacets:
                 if inside.any():
                     panels = index[inside] - start
                     weighted = (f.mesh.areas[panels] * lit[panels])[:, None] * shift[inside]
-                    shifts = np.stack(
-                        [
-                            np.bincount(f.index[panels], weights=weighted[:, j], minlength=f.n)
-                            for j in range(3)
-                        ],
-                        axis=-1,
-                    )
+                    shifts = f.vector_sums(weighted, panels)
                 out.append((own, shifts))
             return out
 

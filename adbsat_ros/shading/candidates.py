@@ -90,10 +90,14 @@ class MeshTopology(NamedTuple):
     on_hull: np.ndarray
 
     @classmethod
-    def of(cls, mesh: PanelMesh, diagonal: float) -> "MeshTopology":
-        """The topology of ``mesh`` (vertices merged), hull faces within ``HULL_TOL_FRACTION``
-        of ``diagonal`` [m]."""
-        tm = mesh.to_trimesh()
+    def of(cls, mesh: PanelMesh, diagonal: float, indexed: tuple | None = None) -> "MeshTopology":
+        """The topology of ``mesh``, hull faces within ``HULL_TOL_FRACTION`` of ``diagonal``
+        [m]; ``indexed``: the panels as vertices (V, 3) and faces (N, 3) with the vertices
+        merged, if made before (by default ``mesh.to_trimesh()`` merges them)."""
+        if indexed is None:
+            tm = mesh.to_trimesh()
+        else:
+            tm = trimesh.Trimesh(vertices=indexed[0], faces=indexed[1], process=False)
         faces = np.asarray(tm.faces, dtype=np.int64)
         adjacency = np.asarray(tm.face_adjacency, dtype=np.int64).reshape(-1, 2)
         labels = trimesh.graph.connected_component_labels(adjacency, node_count=len(faces))

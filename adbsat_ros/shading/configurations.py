@@ -37,10 +37,10 @@ effort blended, against 6e-4, 6e-3 and 1e-2 snapped (and 1e-4, 1e-3 and 1.5e-3 s
 from __future__ import annotations
 
 import math
-from collections import OrderedDict
 from typing import Callable, Mapping
 
 from adbsat_ros.geometry.articulated import ArticulatedBody
+from adbsat_ros.lru import LruStore
 from adbsat_ros.shading.cache import ShadingCache
 from adbsat_ros.shading.lighting import LightingBlend
 
@@ -106,10 +106,19 @@ class ConfigurationShadingCache:
             for joint in body.joints.values()
         )
         self.max_configurations = int(max_configurations)
-        self._store: OrderedDict = OrderedDict()  # key -> ShadingCache, least recent first
+        self._store = LruStore(self.max_configurations)  # grid key -> ShadingCache
         self.hits = self.misses = 0
-        self.configuration_hits = self.configuration_misses = 0
         self.last_keys: tuple = ()
+
+    @property
+    def configuration_hits(self) -> int:
+        """Grid configurations read that were kept."""
+        return self._store.hits
+
+    @property
+    def configuration_misses(self) -> int:
+        """Grid configurations read that had to be posed and shaded."""
+        return self._store.misses
 
     def key(self, positions: Mapping[str, float]) -> tuple:
         """Grid indices of the grid configuration nearest checked joint ``positions`` (every
@@ -136,8 +145,7 @@ class ConfigurationShadingCache:
             base.append(index)
             # the fraction between the cell's two grid positions as clipped to the limits, so
             # that the blend reproduces q in a cell a limit cuts (and is exact at the limit)
-            low = min(max(index * step, joint.lower), joint.upper)
-            high = min(max((index + 1) * step, joint.lower), joint.upper)
+            low, high = _clipped(joint, index * step), _clipped(joint, (index + 1) * step)
             fraction = 0.0 if high <= low else min(max((q - low) / (high - low), 0.0), 1.0)
             fractions.append(fraction if fraction > ON_GRID else 0.0)
         order = sorted(range(len(base)), key=fractions.__getitem__, reverse=True)
@@ -154,24 +162,14 @@ class ConfigurationShadingCache:
 
     def configuration(self, key: tuple) -> dict:
         """The joint positions of a grid key, clipped to the joints' limits."""
-        out = {}
-        for (name, joint), index, step in zip(self.body.joints.items(), key, self._steps):
-            out[name] = min(max(index * step, joint.lower), joint.upper)
-        return out
+        return {
+            name: _clipped(joint, index * step)
+            for (name, joint), index, step in zip(self.body.joints.items(), key, self._steps)
+        }
 
     def cache_at(self, key: tuple) -> ShadingCache:
         """The ShadingCache of the grid configuration ``key`` (posed and made if not kept)."""
-        cache = self._store.get(key)
-        if cache is not None:
-            self._store.move_to_end(key)
-            self.configuration_hits += 1
-            return cache
-        self.configuration_misses += 1
-        cache = self._make_cache(self.configuration(key))
-        self._store[key] = cache
-        if len(self._store) > self.max_configurations:
-            self._store.popitem(last=False)
-        return cache
+        return self._store.get(key, lambda: self._make_cache(self.configuration(key)))
 
     def cache_of(self, positions: Mapping[str, float]) -> tuple:
         """``(key, ShadingCache)`` of the grid configuration nearest ``positions``."""
@@ -181,23 +179,26 @@ class ConfigurationShadingCache:
     def lighting(self, u_G, positions: Mapping[str, float]):
         """The lighting of the body at ``positions`` for unit flow direction ``u_G``: a
         PanelLighting or LightingBlend of :meth:`ArticulatedBody.mesh`'s panels."""
-        vertices = self.vertices(positions)
         parts, keys = [], []
-        for weight, key in vertices:
+        for weight, key in self.vertices(positions):
             cache = self.cache_at(key)
             hits, misses = cache.hits, cache.misses
-            lighting = cache.lighting(u_G)
+            parts.append((weight, cache.lighting(u_G)))
             self.hits += cache.hits - hits
             self.misses += cache.misses - misses
             keys.extend((key, cell) for cell in cache.last_keys)
-            if len(vertices) == 1:  # (one configuration: its own answer)
-                break
-            if isinstance(lighting, LightingBlend):
-                parts.extend((weight * w, part) for w, part in lighting.parts)
-            else:
-                parts.append((weight, lighting))
         self.last_keys = tuple(keys)
-        return lighting if len(vertices) == 1 else LightingBlend(parts)
+        if len(parts) == 1:  # (one configuration: its own answer)
+            return parts[0][1]
+        return LightingBlend(  # (the blend of blends, flattened)
+            [
+                (weight * w, part)
+                for weight, lighting in parts
+                for w, part in (
+                    lighting.parts if isinstance(lighting, LightingBlend) else [(1.0, lighting)]
+                )
+            ]
+        )
 
     def __len__(self) -> int:
         return len(self._store)
@@ -212,3 +213,8 @@ class ConfigurationShadingCache:
             "hits": self.hits,
             "misses": self.misses,
         }
+
+
+def _clipped(joint, position: float) -> float:
+    """``position`` clipped to ``joint``'s limits."""
+    return min(max(position, joint.lower), joint.upper)

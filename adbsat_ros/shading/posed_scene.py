@@ -57,7 +57,7 @@ class LinkScenes:
             self._vertices.append(np.asarray(tm.vertices, dtype=float))
             faces.append(np.asarray(tm.faces, dtype=np.int64) + first)
             first += len(tm.vertices)
-            topologies.append(MeshTopology.of(mesh, diagonal))
+            topologies.append(MeshTopology.of(mesh, diagonal, (tm.vertices, tm.faces)))
         self._faces = np.concatenate(faces)
         self.topology = MeshTopology.joined(topologies)
 

@@ -78,7 +78,7 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.shading.candidates import CandidateFilter, forward_mask
+from adbsat_ros.shading.candidates import CandidateFilter, MeshTopology, forward_mask
 from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.shading.projection import adbsat_shadowed
 from adbsat_ros.shading.rays import ray_scene, resolve_backend
@@ -126,7 +126,7 @@ class Shader:
         first samples).
     scene : RayScene, optional
         The ray scene of ``mesh``'s panels (raycast), made before: for a body posed from
-        rigid parts, :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.posed` (then
+        rigid parts, :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.scene` (then
         ``backend`` is the scene's).
     candidate_filter : CandidateFilter, optional
         The candidate filter of ``mesh`` (raycast), made before (likewise).
@@ -186,8 +186,15 @@ class Shader:
         self.trivial = mode == "none" or bool(mesh.report.convex)
         self.filter = self.scene = None
         if not self.trivial and mode == "raycast":
-            self.filter = candidate_filter or CandidateFilter(mesh, self.diagonal)
-            self.scene = scene or ray_scene(mesh, self.backend)
+            indexed = None
+            if candidate_filter is None or scene is None:  # (the vertices merged once, for both)
+                tm = mesh.to_trimesh()
+                indexed = (tm.vertices, tm.faces)
+            if candidate_filter is None:
+                topology = MeshTopology.of(mesh, self.diagonal, indexed)
+                candidate_filter = CandidateFilter(mesh, topology=topology)
+            self.filter = candidate_filter
+            self.scene = scene or ray_scene(mesh, self.backend, indexed)
             self.backend = self.scene.backend
 
     def lighting(self, u_G) -> PanelLighting:
