@@ -142,7 +142,13 @@ PARAMETERS = (
     ("shading", "raycast", "shading mode: none, projection (ADBSat), raycast (exact)"),
     ("shading_samples", 16, "ray samples per panel for raycast shading"),
     ("shading_cache_resolution_deg", 0.25, "angular resolution of the shading cache [deg]"),
-    ("shading_cache_size", 20000, "maximum number of flow directions kept in the shading cache"),
+    (
+        "shading_cache_size",
+        20000,
+        "maximum number of flow directions kept in the shading cache (articulated bodies: in "
+        "all configurations together, each keeping shading_cache_size // "
+        "joint_shading_cache_size)",
+    ),
     (
         "shading_interpolation",
         True,

@@ -18,7 +18,10 @@ class ShadingSource:
     """The estimator's shading: a :class:`ShadingCache` of the settings' shader, or nothing.
 
     For an articulated body, a :class:`ConfigurationShadingCache` of such caches, one per
-    configuration of its grid (``joint_shading_*`` settings).
+    configuration of its grid (``joint_shading_*`` settings), which share the bound: each keeps
+    ``shading_cache_size // joint_shading_cache_size`` flow directions (at least one), so the
+    lightings kept number ``shading_cache_size`` at most, as for a rigid body (or
+    ``joint_shading_cache_size`` if that is larger).
 
     Parameters
     ----------
@@ -40,27 +43,31 @@ class ShadingSource:
         if settings.shading == "none":
             return
 
-        def cache_of(panels: PanelMesh, **made) -> ShadingCache:
+        def cache_of(panels: PanelMesh, max_entries: int, **made) -> ShadingCache:
             shader = make_shader(
                 panels, mode=settings.shading, samples=settings.shading_samples, **made
             )
             return ShadingCache(
                 shader,
                 resolution_deg=settings.shading_cache_resolution_deg,
-                max_entries=settings.shading_cache_size,
+                max_entries=max_entries,
                 interpolate=settings.shading_interpolation,
             )
 
         if isinstance(body, ArticulatedBody):
             # the links' ray scenes and filter topology, made once for every configuration
             scenes = LinkScenes(body) if settings.shading == "raycast" else None
+            # the configurations share the bound on the lightings kept: each keeps at most
+            # shading_cache_size // joint_shading_cache_size flow directions (at least one)
+            cells = max(1, settings.shading_cache_size // settings.joint_shading_cache_size)
 
             def configuration_cache(positions: dict) -> ShadingCache:
                 panels = body.mesh(positions)
                 if scenes is None:
-                    return cache_of(panels)
+                    return cache_of(panels, cells)
                 return cache_of(
                     panels,
+                    cells,
                     scene=scenes.scene(panels, body.link_poses(positions)),
                     candidate_filter=scenes.candidate_filter(panels),
                 )
@@ -74,7 +81,7 @@ class ShadingSource:
                 interpolate=settings.joint_shading_interpolation,
             )
         else:
-            self.cache = cache_of(mesh)
+            self.cache = cache_of(mesh, settings.shading_cache_size)
 
     @staticmethod
     def key_of(settings: WrenchSettings) -> tuple:

@@ -173,6 +173,23 @@ def test_a_slowly_turning_array_poses_the_body_once_per_grid_step():
     assert cache.configuration_hits == 400 - cache.configuration_misses
 
 
+def test_the_configurations_share_the_bound_on_the_lightings_kept():
+    """shading_cache_size bounds the lightings kept in all: with 6 of them over 2
+    configurations, each configuration keeps 3 flow directions, the least recently used
+    dropped."""
+    est = estimator(shading_interpolation=False, shading_cache_size=6, joint_shading_cache_size=2)
+    ready(est)
+    cache = est.shading_cache
+    for k in range(8):  # eight attitudes 2 deg apart about x: eight direction cells
+        turn = math.radians(2.0 * k)
+        est.on_attitude(1.0 + 0.01 * k, (math.sin(turn / 2), 0.0, 0.0, math.cos(turn / 2)))
+    assert cache.misses == 8 and cache.configuration_misses == 1
+    (key,) = {configuration for configuration, _ in cache.last_keys}
+    kept = cache.cache_at(key)
+    assert kept.max_entries == 3
+    assert len(kept) == 3 and kept.evictions == 5
+
+
 def test_articulated_bodies_refuse_a_database_and_solar_pressure():
     with pytest.raises(ValueError, match="parameter solar_pressure"):
         estimator(solar_pressure=True)
