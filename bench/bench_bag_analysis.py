@@ -2,7 +2,7 @@
 
 Usage:
     python bench/bench_bag_analysis.py [--duration 60] [--rate 100] [--max-edge 0.064]
-        [--shading raycast] [--storage mcap] [--plots] [--workers 1,2]
+        [--shading raycast] [--storage mcap] [--plots] [--workers 1,2] [--param NAME=VALUE ...]
 
 Simulates a nadir-pointing flight (state at 10 Hz, attitude at --rate) into a bag, then runs
 ``analyze_bag`` on it with the example satellite refined to --max-edge (0.064 m: 9,600 faces)
@@ -12,7 +12,9 @@ compare them with each other; the load average is printed). Reports messages per
 the whole analysis and for the estimator alone (the same AeroWrenchEstimator fed directly, no
 bag), and the analysis time by phase: read (bag reading, chunk planning), estimate (computing
 chunks or waiting for the workers: CDR decoding + estimator), write (output bag), csv.
-Target: over 2,000 attitude messages per second on ~10k faces.
+Target: over 2,000 attitude messages per second on ~10k faces. ``--param NAME=VALUE`` (a YAML
+value) sets another node parameter, e.g. ``shading_interpolation=false`` to compare with a tree
+whose shading had no interpolation.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
 
@@ -45,7 +49,18 @@ def main(argv=None) -> int:
     p.add_argument(
         "--workers", default=f"1,{os.cpu_count() or 1}", help="comma-separated worker counts to run"
     )
+    p.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="another node parameter (a YAML value), e.g. shading_interpolation=false",
+    )
     args = p.parse_args(argv)
+    parameters = {}
+    for item in args.param:
+        name, _, value = item.partition("=")
+        parameters[name] = yaml.safe_load(value)
     worker_counts = [int(w) for w in args.workers.split(",")]
     load_before = os.getloadavg()
     with tempfile.TemporaryDirectory() as tmp:
@@ -56,7 +71,7 @@ def main(argv=None) -> int:
         messages = scenario.generate(sc)
         bag_io.write_scenario_bag(messages, tmp / "in", storage=args.storage)
         settings = WrenchSettings.from_parameters(
-            {"mesh": str(tmp / "sat.obj"), "shading": args.shading}
+            {"mesh": str(tmp / "sat.obj"), "shading": args.shading, **parameters}
         )
         n_att = len(messages.attitudes.stamps_ns)
 
@@ -95,6 +110,7 @@ def main(argv=None) -> int:
     print(
         f"mesh: example satellite max_edge {args.max_edge} m, {mesh.n_panels} faces; "
         f"shading {args.shading} (cached); storage {args.storage}"
+        + "".join(f"; {item}" for item in args.param)
     )
     print(
         f"input: {n_att} attitude + {len(messages.states.stamps_ns)} state messages "
