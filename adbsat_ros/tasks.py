@@ -246,8 +246,11 @@ def worker_environment() -> dict:
 
 
 class _quiet_distributed:
-    """Dask's loggers at ERROR while inside: the INFO lines of an in-process scheduler would
-    bury a progress bar."""
+    """Dask's loggers at CRITICAL while inside (and in the local workers, which inherit them
+    when forked): the INFO lines of an in-process scheduler would bury a progress bar, and a
+    worker's error lines repeat what the client reports (a chunk's failure: computed again,
+    then said in one line) or, while a signal stops a build, tell of its lost scheduler with a
+    traceback."""
 
     def __enter__(self):
         import distributed  # noqa: F401  (its loggers exist from here on)
@@ -259,7 +262,7 @@ class _quiet_distributed:
             for logger in [logging.getLogger(name)]
         ]
         for logger, _ in self._saved:
-            logger.setLevel(logging.ERROR)
+            logger.setLevel(logging.CRITICAL)
         return self
 
     def __exit__(self, *exc):

@@ -108,16 +108,37 @@ def build_parser(configured=None) -> argparse.ArgumentParser:
     return parser
 
 
+class OneLineFormatter(logging.Formatter):
+    """Log records as ``adbsat-ros: LEVEL: message``, one line each: without a traceback
+    unless ``tracebacks`` (``--verbose``), so that a library's exception (a Dask worker that
+    loses its scheduler while a signal stops a build, say) reaches the user as its message."""
+
+    def __init__(self, tracebacks: bool = False):
+        super().__init__("adbsat-ros: %(levelname)s: %(message)s")
+        self.tracebacks = bool(tracebacks)
+
+    def format(self, record: logging.LogRecord) -> str:
+        """The record's line (and, with ``tracebacks``, its traceback); the record is left as
+        it was."""
+        if self.tracebacks:
+            return super().format(record)
+        saved = record.exc_info, record.exc_text, record.stack_info
+        record.exc_info = record.exc_text = record.stack_info = None
+        try:
+            return super().format(record)
+        finally:
+            record.exc_info, record.exc_text, record.stack_info = saved
+
+
 def main(argv=None) -> int:
     """Entry point of the ``adbsat-ros`` console script; returns the process exit status."""
     argv = join_signed_lists(sys.argv[1:] if argv is None else argv)
     command = chosen_subcommand(argv)
     parser = build_parser(() if command is None else (command,))
     args = parser.parse_args(argv)
-    logging.basicConfig(
-        level=logging.INFO if args.verbose else logging.WARNING,
-        format="adbsat-ros: %(levelname)s: %(message)s",
-    )
+    handler = logging.StreamHandler()
+    handler.setFormatter(OneLineFormatter(tracebacks=args.verbose))
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, handlers=[handler])
     try:
         return int(args.func(args) or 0)
     except CommandLineError as exc:
