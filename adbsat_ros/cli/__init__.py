@@ -95,7 +95,12 @@ def build_parser(configured=None) -> argparse.ArgumentParser:
         description="Free-molecular aerodynamics of satellites (ADBSat's panel method), "
         "as a library, a command line and a ROS 2 node.",
     )
-    parser.add_argument("-v", "--verbose", action="store_true", help="log progress and warnings")
+    parser.add_argument(
+        "-v",
+        "--verbose",
+        action="store_true",
+        help="log progress, and the traceback of an error a library logs",
+    )
     parser.add_argument(
         "--version", action="version", version=f"adbsat-ros {__version__}", help="print the version"
     )
