@@ -11,11 +11,11 @@ from __future__ import annotations
 import math
 import os
 import re
-from typing import TYPE_CHECKING
 
 import numpy as np
 import trimesh
 
+from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.concave_bodies import CONCAVE_BODIES
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME, example_satellite
 from adbsat_ros.geometry.example_urdf import (
@@ -37,9 +37,6 @@ BUNDLED_URDFS = {
     EXAMPLE_URDF_NAME: example_satellite_urdf,
     EXAMPLE_FINNED_NAME: example_finned_urdf,
 }
-
-if TYPE_CHECKING:
-    from adbsat_ros.geometry.articulated import ArticulatedBody
 
 _FACE_LINE = re.compile(r"^\s*f\s+(.*)$")
 _USEMTL_LINE = re.compile(r"^\s*usemtl\s+(.*?)\s*$")
@@ -203,10 +200,6 @@ def is_urdf(spec) -> bool:
 
 def articulated_body(spec, accept_size: bool = False) -> ArticulatedBody:
     """The :class:`ArticulatedBody` of a URDF spec (:func:`is_urdf`)."""
-    # imported here, when a URDF is read: yourdfpy brings networkx and lxml, 0.3 s of the
-    # command line's 0.8 s for a one-attitude coeff of a plain mesh (bench/bench_cli.py)
-    from adbsat_ros.geometry.articulated import ArticulatedBody
-
     name = str(spec)
     if name in BUNDLED_URDFS:
         return ArticulatedBody.from_urdf(

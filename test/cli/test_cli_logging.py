@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import subprocess
 import sys
 
 from adbsat_ros.cli import OneLineFormatter
@@ -66,8 +67,6 @@ print(sorted(done))
 def test_the_local_workers_error_lines_do_not_reach_the_user():
     """A chunk job on two local Dask workers: what a worker logs at ERROR (with a traceback)
     stays out of the command's stderr; the results arrive."""
-    import subprocess
-
     proc = subprocess.run(
         [sys.executable, "-c", WORKER_LOGS], capture_output=True, text=True, timeout=120
     )
