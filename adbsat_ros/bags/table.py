@@ -109,7 +109,7 @@ def row_values(status: str, sample) -> list:
     c = sample.conditions
     u = sample.flow_direction_body
     wind = u * c.speed
-    if np.any(u):
+    if u.any():
         aoa, aos = angles_of_flow(u)
         aoa, aos = math.degrees(aoa), math.degrees(aos)
     else:
@@ -172,8 +172,11 @@ def model_cells(outcomes, extras=()) -> tuple[str, list]:
     return ",".join(cells), plot
 
 
-def utc_text(utc_of, stamp_s: float) -> str:
-    """``utc_of(stamp_s)`` in ISO format, or empty if the stamp has no UTC."""
+def utc_text(utc_of, stamp_s: float, sample=None) -> str:
+    """``utc_of(stamp_s)`` in ISO format, or empty if the stamp has no UTC; ``sample``: a
+    WrenchSample that ``utc_of``'s estimator made, whose time is read if it is at ``stamp_s``."""
+    if sample is not None and sample.stamp == stamp_s:
+        return sample.time.isoformat()
     try:
         return utc_of(stamp_s).isoformat()
     except (OverflowError, ValueError, OSError):

@@ -234,9 +234,8 @@ class Worker:
             row = None
             if any(o.triggered for o in outcomes):
                 cells, plot = model_cells(outcomes, self.extras)
-                row = Row(
-                    stamp.sec, stamp.nanosec, utc_text(utc_of, stamp_seconds(stamp)), cells, plot
-                )
+                utc = utc_text(utc_of, stamp_seconds(stamp), outcomes[0].sample)
+                row = Row(stamp.sec, stamp.nanosec, utc, cells, plot)
             records.append(tuple(m.record(o) for m, o in zip(models, outcomes)))
             rows.append(row)
         return ChunkResult(records, rows)

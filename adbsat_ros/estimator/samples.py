@@ -7,6 +7,7 @@ A message gives a :class:`WrenchSample`, or a :class:`Rejection` that says why t
 from __future__ import annotations
 
 import datetime as _dt
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -221,9 +222,10 @@ class WrenchSample:
         """The force [N] in the state frame (ECI or ECEF): R force."""
         return np.array(self.rotation).reshape(3, 3) @ self.force
 
-    @property
+    @functools.cached_property
     def drag_coefficient(self) -> float:
-        """C_D: force coefficient along the gas motion (0 at rest)."""
+        """C_D: force coefficient along the gas motion (0 at rest; computed once, when first
+        read: the diagnostics and a bag's rows both read it)."""
         return float(self.force_coefficients @ self.flow_direction_body)
 
     @classmethod
