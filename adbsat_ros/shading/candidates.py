@@ -167,6 +167,10 @@ class CandidateFilter:
         The mesh's :class:`MeshTopology`.
     n_components : int
         Number of connected components.
+    convex : ndarray of bool, shape (n_components,)
+        Components that are closed convex surfaces: every edge shared by two of its panels
+        (3/2 edge pairs per panel) and every panel on its convex hull. Such a component casts
+        a convex shadow (:class:`~adbsat_ros.shading.shader.Shader`).
     """
 
     def __init__(
@@ -187,6 +191,9 @@ class CandidateFilter:
         self._order = np.argsort(self.component, kind="stable")
         counts = np.bincount(self.component, minlength=self.n_components)
         self._start = np.cumsum(counts) - counts
+        pairs = np.bincount(self.component[self.adjacency[:, 0]], minlength=self.n_components)
+        off_hull = np.bincount(self.component[~self.on_hull], minlength=self.n_components)
+        self.convex = (2 * pairs == 3 * counts) & (off_hull == 0) & (counts > 0)
 
     def candidates(self, u: np.ndarray, forward: np.ndarray) -> np.ndarray:
         """Indices of the forward panels that could be shaded for unit flow direction ``u``.

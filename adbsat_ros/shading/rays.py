@@ -1,10 +1,10 @@
 """Ray casting against a mesh: one interface, two backends.
 
-A *ray scene* holds the panels of one mesh and answers two questions: for a batch of rays with a
-common direction (shading), does the ray from each origin meet an occluding panel at a distance
-t > 0; and for rays of their own directions (test particles), which panel does each meet first,
-and how far away. Two backends implement them with the same rules (shared edges count as inside
-both triangles):
+A *ray scene* holds the panels of one mesh and answers three questions: for a batch of rays with
+a common direction (shading), does the ray from each origin meet an occluding panel at a
+distance t > 0, and which occluding panel does it meet first; and for rays of their own
+directions (test particles), which panel does each meet first, and how far away. Two backends
+implement them with the same rules (shared edges count as inside both triangles):
 
 ``"embree"``
     Embree through embreex (:mod:`adbsat_ros.shading.rays_embree`), float32, very fast.
@@ -66,6 +66,22 @@ class RayScene(Protocol):
         Returns
         -------
         ndarray of bool, shape (R,)
+        """
+        ...
+
+    def first_face(self, origins, direction, occluder=None) -> np.ndarray:
+        """The first occluding panel each ray origins[r] + t direction, t > 0, meets.
+
+        Parameters
+        ----------
+        origins, direction, occluder
+            As :meth:`any_hit`.
+
+        Returns
+        -------
+        ndarray of int64, shape (R,)
+            Panel index, -1 where the ray meets none: a ray meets a panel exactly where
+            :meth:`any_hit` says it is blocked.
         """
         ...
 

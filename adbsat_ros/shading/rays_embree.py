@@ -16,7 +16,7 @@ from embreex import rtcore_scene
 from embreex.mesh_construction import TriangleMesh
 
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.shading.rays_numpy import any_hit
+from adbsat_ros.shading.rays_numpy import any_hit, first_along
 
 #: The scene's coordinates are rescaled so that the largest extent of the mesh is this long,
 #: which keeps float32 rounding relative to the mesh size whatever its units.
@@ -126,3 +126,30 @@ class EmbreeScene:
         if redo.size:
             blocked[redo] = any_hit(origins[redo], d, self.triangles[occluder])
         return blocked
+
+    def first_face(self, origins, direction, occluder=None) -> np.ndarray:
+        """The first occluding panel each ray origins[r] + t direction, t > 0, meets.
+
+        Parameters
+        ----------
+        origins, direction, occluder
+            As :meth:`any_hit`; a ray whose first hit is a panel outside ``occluder`` is cast
+            again in float64 against the occluders alone.
+
+        Returns
+        -------
+        ndarray of int64, shape (R,)
+            Panel index, -1 where the ray meets none (exactly where :meth:`any_hit` is False).
+        """
+        origins = np.asarray(origins, dtype=float)
+        if origins.shape[0] == 0:
+            return np.zeros(0, dtype=np.int64)
+        d = np.asarray(direction, dtype=float)
+        face = self._run(origins, d, "INTERSECT").astype(np.int64)
+        if occluder is not None:
+            redo = np.flatnonzero((face >= 0) & ~occluder[np.maximum(face, 0)])
+            if redo.size:
+                index = np.flatnonzero(occluder)
+                again = first_along(origins[redo], d, self.triangles[index])
+                face[redo] = np.where(again >= 0, index[np.maximum(again, 0)], -1)
+        return face

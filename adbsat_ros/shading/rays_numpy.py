@@ -46,10 +46,56 @@ def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
     ray is tested only against the triangles whose projected bounding box touches its cell.
     Edges are inclusive (u, v >= -1e-12, u + v <= 1 + 1e-12).
     """
+    origins = np.asarray(origins, dtype=float)
+    hit = np.zeros(len(origins), dtype=bool)
+    for ray, _, _ in _hits_along(origins, d, tri_vertices, max_pairs):
+        hit[ray] = True
+    return hit
+
+
+def first_along(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
+    """The first triangle each ray origins[r] + t d, t > 0, meets (float64), as :func:`any_hit`
+    tests them.
+
+    Parameters
+    ----------
+    origins : ndarray, shape (R, 3)
+        Ray origins [m], G.
+    d : ndarray, shape (3,)
+        Common unit ray direction (G).
+    tri_vertices : ndarray, shape (T, 3, 3)
+        Candidate occluders [m], G; none may be parallel to d.
+    max_pairs : int
+        Largest number of (ray, triangle) pairs tested at once (memory bound).
+
+    Returns
+    -------
+    ndarray of int64, shape (R,)
+        Index of the nearest triangle met (the lower index where two are met at the same t),
+        -1 for none.
+    """
+    origins = np.asarray(origins, dtype=float)
     n_rays = len(origins)
-    hit = np.zeros(n_rays, dtype=bool)
-    if n_rays == 0 or len(tri_vertices) == 0:
-        return hit
+    face = np.full(n_rays, -1, dtype=np.int64)
+    nearest = np.full(n_rays, np.inf)
+    for ray, tri, t in _hits_along(origins, d, tri_vertices, max_pairs):
+        order = np.lexsort((tri, t, ray))  # by ray, then t, then triangle
+        ray, tri, t = ray[order], tri[order], t[order]
+        first = np.ones(ray.size, dtype=bool)
+        first[1:] = ray[1:] != ray[:-1]
+        ray, tri, t = ray[first], tri[first], t[first]
+        better = (t < nearest[ray]) | ((t == nearest[ray]) & (tri < face[ray]))
+        nearest[ray[better]] = t[better]
+        face[ray[better]] = tri[better]
+    return face
+
+
+def _hits_along(origins, d, tri_vertices, max_pairs):
+    """Chunks ``(ray, triangle, t)`` of the (ray, triangle) pairs that meet at t > 0 (index
+    arrays into ``origins`` and ``tri_vertices``, and the distance along d), for
+    :func:`any_hit` and :func:`first_along`."""
+    if len(origins) == 0 or len(tri_vertices) == 0:
+        return
     basis = perp_basis(d)
     rx, ry, rs = coordinates(origins, basis)
     tx, ty, ts = coordinates(tri_vertices, basis)  # (T, 3) each
@@ -66,7 +112,8 @@ def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
         & (tymin <= rhi[1] + margin)
     )
     if not keep.any():
-        return hit
+        return
+    kept = np.flatnonzero(keep)
     tri = tri_vertices[keep]
     tmin = np.stack([txmin[keep], tymin[keep]], axis=1) - margin
     tmax = np.stack([txmax[keep], tymax[keep]], axis=1) + margin
@@ -93,8 +140,7 @@ def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
         ok = (u >= -eps) & (v >= -eps) & (u + v <= 1.0 + eps)
         t = ox * coef[6][t_idx] + oy * coef[7][t_idx] + oz * coef[8][t_idx] - const[2][t_idx]
         ok &= t > 0.0
-        hit[r_rep[ok]] = True
-    return hit
+        yield r_rep[ok], kept[t_idx[ok]], t[ok]
 
 
 def first_hit(origins, directions, tri_vertices, max_pairs=MAX_PAIRS // 4) -> tuple:
@@ -197,3 +243,22 @@ class NumpyScene:
         """
         triangles = self.triangles if occluder is None else self.triangles[occluder]
         return any_hit(np.asarray(origins, dtype=float), direction, triangles)
+
+    def first_face(self, origins, direction, occluder=None) -> np.ndarray:
+        """The first occluding panel each ray origins[r] + t direction, t > 0, meets.
+
+        Parameters
+        ----------
+        origins, direction, occluder
+            As :meth:`any_hit`.
+
+        Returns
+        -------
+        ndarray of int64, shape (R,)
+            Panel index, -1 where the ray meets none (exactly where :meth:`any_hit` is False).
+        """
+        if occluder is None:
+            return first_along(origins, direction, self.triangles)
+        index = np.flatnonzero(occluder)
+        face = first_along(origins, direction, self.triangles[index])
+        return np.where(face >= 0, index[np.maximum(face, 0)], -1)

@@ -23,7 +23,9 @@ Three modes, one interface (:func:`make_shader`):
     Every forward panel that could be shaded is sampled at ``samples`` points spread over the
     triangle (a rank-2 Kronecker (R2) low-discrepancy pattern with a fixed pseudo-random shift
     per panel, so that errors along a shadow edge do not add up) plus 3 points just inside its
-    corners; each point casts a ray upstream against the whole mesh. A shadow edge that
+    corners; each point casts a ray upstream against the whole mesh. A panel whose three
+    corner rays first meet one closed convex component lies wholly in its shadow (a convex
+    body's shadow is convex) and casts no more rays. A shadow edge that
     crosses a panel separates its corners, so disagreeing rays flag the panel as partly lit;
     those panels are refined with ``refine_samples`` fresh rays, and their edge neighbours
     are probed with ``refine_samples // 8`` rays (refined too if partly lit). A panel's lit
@@ -124,6 +126,11 @@ class Shader:
         Also probe the edge neighbours of partly lit panels with ``refine_samples // 8`` rays
         and refine them if partly lit (catches shadow corners that slip between a panel's
         first samples).
+    convex_shadows : bool
+        Take a panel whose three corner rays first meet one closed convex component (another
+        than its own) as wholly shaded, without its interior samples (exact but for a shadow
+        edge within 1e-3 of a corner; :meth:`_corner_rays`). False casts every sample (for
+        checks).
     scene : RayScene, optional
         The ray scene of ``mesh``'s panels (raycast), made before: for a body posed from
         rigid parts, :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.scene` (then
@@ -153,6 +160,7 @@ class Shader:
         offset: float | None = None,
         dilate: bool = True,
         prefilter: bool = True,
+        convex_shadows: bool = True,
         scene=None,
         candidate_filter: CandidateFilter | None = None,
     ):
@@ -174,6 +182,7 @@ class Shader:
         self.graze_tol = graze_tol
         self.dilate = bool(dilate)
         self.prefilter = bool(prefilter)
+        self.convex_shadows = bool(convex_shadows)
         lo, hi = mesh.bounds
         self.diagonal = float(np.linalg.norm(hi - lo)) or 1.0
         self.offset = (
@@ -213,7 +222,8 @@ class Shader:
         u = frames.unit_vector(u_G)
         if self.trivial:
             self.last_stats = dict.fromkeys(
-                ("forward", "tested", "rays", "partly_lit", "refined", "probed"), 0
+                ("forward", "tested", "rays", "corner_shaded", "partly_lit", "refined", "probed"),
+                0,
             )
             return PanelLighting.all_lit(self.mesh.n_panels)
         if self.mode == "projection":
@@ -259,6 +269,36 @@ class Shader:
             pos += k
         return out
 
+    def _corner_rays(self, corners, d, occluder, cand) -> tuple:
+        """The corner rays of the candidates ``cand`` (points (K, 3, 3)): which are lit (K, 3),
+        and which panels lie wholly in the shadow of one closed convex component (K,).
+
+        A closed convex component C casts a convex shadow: the points p of a plane whose ray
+        p - t u, t > 0, meets C's solid form a convex set (if p - t u and p' - t' u lie in C,
+        the convex combination of p and p' has its ray through the same combination of those
+        points, at a positive distance). So a panel whose three corner rays first meet C
+        (another component than its own) lies wholly in C's shadow: every ray from it is
+        blocked, and casting its interior samples would only confirm it. Only with
+        ``convex_shadows``; the corner points are 1e-3 inside the corners, so a shadow edge
+        within that of a corner is missed, where the interior samples would rarely see it.
+        """
+        n = cand.size
+        if not self.convex_shadows or not self.filter.convex.any():
+            lit = ~self.scene.any_hit(corners.reshape(-1, 3), d, occluder).reshape(n, 3)
+            return lit, np.zeros(n, dtype=bool)
+        face = self.scene.first_face(corners.reshape(-1, 3), d, occluder).reshape(n, 3)
+        component = self.filter.component
+        by = np.where(face >= 0, component[np.maximum(face, 0)], -1)
+        first = by[:, 0]
+        whole = (
+            (first >= 0)
+            & (by[:, 1] == first)
+            & (by[:, 2] == first)
+            & (first != component[cand])
+            & self.filter.convex[np.maximum(first, 0)]
+        )
+        return face < 0, whole
+
     def _raycast(self, u: np.ndarray) -> PanelLighting:
         mesh = self.mesh
         n = mesh.n_panels
@@ -271,28 +311,40 @@ class Shader:
         d = -u
         lit_fraction = np.ones(n)
         stats = {"forward": int(forward.sum()), "tested": int(cand.size), "rays": 0}
-        stats.update(partly_lit=0, refined=0, probed=0)
+        stats.update(corner_shaded=0, partly_lit=0, refined=0, probed=0)
         if cand.size == 0:
             self.last_stats = stats
             return PanelLighting(lit_fraction)
 
-        # First pass: S interior samples plus 3 near the corners. A shadow edge that crosses a
-        # panel separates its corners, so the corner rays catch the partly lit panels whose
-        # interior samples all fall on one side; they serve detection only.
+        # First pass: 3 rays near the corners plus S interior samples. A shadow edge that
+        # crosses a panel separates its corners, so the corner rays catch the partly lit panels
+        # whose interior samples all fall on one side; they serve detection only.
         S = self.samples
         tri = mesh.vertices[cand]
-        a, b = sample_coordinates(cand, 0, S)
-        a = np.concatenate([a, np.broadcast_to(CORNERS[:, 0], (cand.size, 3))], axis=1)
-        b = np.concatenate([b, np.broadcast_to(CORNERS[:, 1], (cand.size, 3))], axis=1)
         lift = self.offset * mesh.normals[cand]
-        origins = sample_points(tri, a, b, lift)  # (K, S + 3, 3)
-        blocked = self.scene.any_hit(origins.reshape(-1, 3), d, occluder).reshape(-1, S + 3)
-        stats["rays"] = int(blocked.size)
-        lit_all = ~blocked
-        partial = lit_all.any(axis=1) & ~lit_all.all(axis=1)
-        lit = lit_all[:, :S]
+        corners = sample_points(
+            tri,
+            np.broadcast_to(CORNERS[:, 0], (cand.size, 3)),
+            np.broadcast_to(CORNERS[:, 1], (cand.size, 3)),
+            lift,
+        )
+        corner_lit, whole = self._corner_rays(corners, d, occluder, cand)
+        # The panels wholly in one convex component's shadow are shaded: their interior rays
+        # would all be blocked too. The others cast their interior samples.
+        rest = np.flatnonzero(~whole)
+        a, b = sample_coordinates(cand[rest], 0, S)
+        origins = sample_points(tri[rest], a, b, lift[rest])  # (K', S, 3)
+        blocked = self.scene.any_hit(origins.reshape(-1, 3), d, occluder).reshape(-1, S)
+        stats["rays"] = int(corner_lit.size + blocked.size)
+        stats["corner_shaded"] = int(cand.size - rest.size)
+        lit = np.zeros((cand.size, S), dtype=bool)
+        lit[rest] = ~blocked
+        partial = (lit.any(axis=1) | corner_lit.any(axis=1)) & ~(
+            lit.all(axis=1) & corner_lit.all(axis=1)
+        )
         n_lit = lit.sum(axis=1)
-        lit_sum = np.einsum("ks,ksj->kj", lit, origins[:, :S]) - n_lit[:, None] * lift
+        lit_sum = np.zeros((cand.size, 3))
+        lit_sum[rest] = np.einsum("ks,ksj->kj", lit[rest], origins) - n_lit[rest, None] * lift[rest]
         total = np.full(cand.size, S)
 
         # Refine the panels found partly lit with R rays. Their edge neighbours that looked

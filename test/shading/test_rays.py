@@ -95,6 +95,46 @@ def test_panels_left_out_of_the_occluders_let_rays_through(backend):
         assert bool(scene.any_hit(origin, d, occluder)[0]) is blocked, occluding_plates
 
 
+def test_the_first_face_met_is_the_nearest_occluder(backend):
+    # plates at x = 0, -1, -2 (panels 0-1, 2-3, 4-5); rays from x = 1 along -x through their
+    # middle meet them in that order, and a ray beside them meets none
+    mesh = plates(0.0, -1.0, -2.0)
+    scene = ray_scene(mesh, backend)
+    origins = np.array([[1.0, 0.2, -0.1], [1.0, -0.3, 0.25], [-0.5, 0.1, 0.1], [1.0, 2.0, 0.0]])
+    d = np.array([-1.0, 0.0, 0.0])
+    face = scene.first_face(origins, d)
+    assert face.dtype == np.int64
+    assert face[0] // 2 == 0 and face[1] // 2 == 0  # the plate at x = 0
+    assert face[2] // 2 == 1  # starting between the plates: the one at x = -1
+    assert face[3] == -1
+    # left out of the occluders, the first plate lets the rays on to the second
+    occluder = np.ones(mesh.n_panels, dtype=bool)
+    occluder[0:2] = False
+    face = scene.first_face(origins, d, occluder)
+    assert face[0] // 2 == 1 and face[1] // 2 == 1 and face[2] // 2 == 1 and face[3] == -1
+    # a face is met exactly where a ray is blocked
+    np.testing.assert_array_equal(face >= 0, scene.any_hit(origins, d, occluder))
+
+
+@needs_embree
+@pytest.mark.parametrize("mesh_factory", [satellite, dented_box])
+def test_both_backends_meet_the_same_first_faces(mesh_factory):
+    mesh = mesh_factory()
+    rng = np.random.default_rng(5)
+    lo, hi = mesh.bounds
+    origins = rng.uniform(lo - 0.5, hi + 0.5, size=(3000, 3))
+    embree, numpy_ = ray_scene(mesh, "embree"), ray_scene(mesh, "numpy")
+    met = 0
+    for d in rng.normal(size=(4, 3)):
+        d /= np.linalg.norm(d)
+        occluder = np.abs(mesh.normals @ d) > 1e-6
+        e, n = embree.first_face(origins, d, occluder), numpy_.first_face(origins, d, occluder)
+        assert np.count_nonzero(e != n) <= 2  # (3000 rays; float32 rounding at edges)
+        np.testing.assert_array_equal(n >= 0, numpy_.any_hit(origins, d, occluder))
+        met += int((n >= 0).sum())
+    assert 0.05 * 4 * 3000 < met < 0.95 * 4 * 3000
+
+
 @needs_embree
 @pytest.mark.parametrize("mesh_factory", [satellite, dented_box, lambda: cube_plate(17)])
 def test_both_backends_give_the_same_hits_for_random_rays(mesh_factory):

@@ -16,6 +16,7 @@ import trimesh
 from shading_scenes import (
     FLOW,
     box_with_fin,
+    combine,
     cube_plate,
     dented_box,
     exact_plate_lighting,
@@ -26,7 +27,8 @@ from shading_scenes import (
 from adbsat_ros import PanelMethod
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.loading import panels_from_trimesh
-from adbsat_ros.shading.candidates import forward_mask
+from adbsat_ros.geometry.shapes import grid_box
+from adbsat_ros.shading.candidates import CandidateFilter, forward_mask
 from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.shading.projection import adbsat_shadowed
 from adbsat_ros.shading.sampling import sample_barycentric
@@ -217,6 +219,65 @@ def test_prefilter_does_not_change_answers(mesh_factory):
         assert fast.last_stats["tested"] <= full.last_stats["tested"]
         shaded_any |= bool((a.lit_fraction < 1).any())
     assert shaded_any
+
+
+@pytest.mark.parametrize("mesh_factory", [satellite, box_with_fin, cube_plate])
+def test_convex_shadows_change_no_answer_and_save_rays(mesh_factory, backend):
+    # A panel whose three corner rays first meet one closed convex component lies wholly in
+    # its (convex) shadow: it is taken as shaded without its interior rays. The lit fractions
+    # are those of casting every ray.
+    mesh = mesh_factory()
+    fast = make_shader(mesh, backend=backend)
+    full = make_shader(mesh, backend=backend, convex_shadows=False)
+    rng = np.random.default_rng(3)
+    u_list = list(frames.flow_direction(rng.uniform(-1.2, 1.2, 5), rng.uniform(-0.8, 0.8, 5)))
+    u_list.append(np.array([-1.0, 0, 0]))
+    saved = 0
+    for u in u_list:
+        a, b = fast.lighting(u), full.lighting(u)
+        np.testing.assert_array_equal(a.lit_fraction, b.lit_fraction)
+        np.testing.assert_allclose(a.shift, b.shift, rtol=0, atol=1e-12)
+        assert full.last_stats["corner_shaded"] == 0
+        if fast.last_stats["corner_shaded"]:
+            assert fast.last_stats["rays"] < full.last_stats["rays"]
+            saved += 1
+    assert saved  # (the scenes do put panels in a convex part's shadow)
+
+
+def test_corners_under_different_occluders_are_not_taken_as_shaded(backend):
+    # One large square panel pair at x = 0 and three 0.4 m cubes upstream (x = 1), one over
+    # each of three corners of the square: every corner ray of the lower-left triangle is
+    # blocked, by three different components, and its middle is lit. It must come out partly
+    # lit, with the exact lit area: the triangle's 2 m^2 less the three cubes' 0.2 x 0.2 m
+    # corner squares (one over the right angle, two over the acute corners, of which the
+    # triangle holds half).
+    square = (
+        np.array([[0.0, -1, -1], [0, 1, -1], [0, 1, 1], [0, -1, 1]]),
+        np.array([[0, 1, 3], [1, 2, 3]]),
+    )
+    cubes = [
+        grid_box((1.0, y, z), (0.4, 0.4, 0.4), (1, 1, 1)) for y, z in [(-1, -1), (1, -1), (-1, 1)]
+    ]
+    mesh = combine(square, *cubes)
+    sh = make_shader(mesh, backend=backend, refine_samples=4096)
+    light = sh.lighting(np.array([-1.0, 0.0, 0.0]))
+    lit_area = light.lit_fraction[0] * mesh.areas[0]
+    assert sh.last_stats["corner_shaded"] == 0
+    assert lit_area == pytest.approx(2.0 - 3 * 0.04 + 0.04, abs=0.01)
+
+
+def test_only_closed_convex_components_count_as_convex():
+    box = trimesh.creation.box(extents=(1, 1, 1))
+    lid = trimesh.Trimesh(box.vertices, box.faces[:-2], process=False)  # one side open
+    dented = dented_box()
+    for mesh, convex in [
+        (panels_from_trimesh(box, source="box"), True),
+        (panels_from_trimesh(lid, source="open box"), False),
+        (dented, False),
+    ]:
+        lo, hi = mesh.bounds
+        flt = CandidateFilter(mesh, diagonal=float(np.linalg.norm(hi - lo)))
+        assert flt.convex.tolist() == [convex], mesh.source
 
 
 def test_dented_box_pit_is_shaded():
