@@ -54,19 +54,8 @@ def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
 
 
 def first_along(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
-    """The first triangle each ray origins[r] + t d, t > 0, meets (float64), as :func:`any_hit`
-    tests them.
-
-    Parameters
-    ----------
-    origins : ndarray, shape (R, 3)
-        Ray origins [m], G.
-    d : ndarray, shape (3,)
-        Common unit ray direction (G).
-    tri_vertices : ndarray, shape (T, 3, 3)
-        Candidate occluders [m], G; none may be parallel to d.
-    max_pairs : int
-        Largest number of (ray, triangle) pairs tested at once (memory bound).
+    """The first triangle each ray origins[r] + t d, t > 0, meets (float64): the parameters and
+    the test of :func:`any_hit`.
 
     Returns
     -------
@@ -245,18 +234,8 @@ class NumpyScene:
         return any_hit(np.asarray(origins, dtype=float), direction, triangles)
 
     def first_face(self, origins, direction, occluder=None) -> np.ndarray:
-        """The first occluding panel each ray origins[r] + t direction, t > 0, meets.
-
-        Parameters
-        ----------
-        origins, direction, occluder
-            As :meth:`any_hit`.
-
-        Returns
-        -------
-        ndarray of int64, shape (R,)
-            Panel index, -1 where the ray meets none (exactly where :meth:`any_hit` is False).
-        """
+        """The first occluding panel each ray meets, -1 for none
+        (:meth:`~adbsat_ros.shading.rays.RayScene.first_face`)."""
         if occluder is None:
             return first_along(origins, direction, self.triangles)
         index = np.flatnonzero(occluder)
