@@ -65,11 +65,13 @@ class ShadingSource:
                 panels = body.mesh(positions)
                 if scenes is None:
                     return cache_of(panels, cells)
+                poses = body.link_poses(positions)
                 return cache_of(
                     panels,
                     cells,
-                    scene=scenes.scene(panels, body.link_poses(positions)),
+                    scene=scenes.scene(panels, poses),
                     candidate_filter=scenes.candidate_filter(panels),
+                    hull_corners=scenes.hull_corners(poses),
                 )
 
             self.cache = ConfigurationShadingCache(

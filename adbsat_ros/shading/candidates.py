@@ -71,6 +71,29 @@ def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -
     return forward
 
 
+class FlowBoxes(NamedTuple):
+    """A mesh seen along one flow direction (:meth:`CandidateFilter.flow_boxes`).
+
+    Attributes
+    ----------
+    basis : ndarray, shape (3, 3)
+        Columns p1, p2 spanning the plane normal to the flow, and -u (upstream).
+    coords : tuple of three ndarray, each (N, 3)
+        The panels' corners along p1, p2 and upstream [m].
+    pmin, pmax : ndarray, shape (N, 3)
+        Each panel's bounding box in those coordinates [m].
+    cmin, cmax : ndarray, shape (C, 3)
+        Each connected component's bounding box [m].
+    """
+
+    basis: np.ndarray
+    coords: tuple
+    pmin: np.ndarray
+    pmax: np.ndarray
+    cmin: np.ndarray
+    cmax: np.ndarray
+
+
 class MeshTopology(NamedTuple):
     """What the candidate filter knows of a mesh apart from its pose: edge neighbours,
     connected components and hull faces (all unchanged by moving the mesh rigidly).
@@ -195,7 +218,41 @@ class CandidateFilter:
         off_hull = np.bincount(self.component[~self.on_hull], minlength=self.n_components)
         self.convex = (2 * pairs == 3 * counts) & (off_hull == 0) & (counts > 0)
 
-    def candidates(self, u: np.ndarray, forward: np.ndarray) -> np.ndarray:
+    def flow_boxes(self, u: np.ndarray) -> FlowBoxes:
+        """The panels and components as seen along unit flow direction ``u`` (G): coordinates
+        in the plane normal to the flow and upstream, and their bounding boxes there."""
+        basis = perp_basis(-u)
+        coords = coordinates(self.mesh.vertices, basis)  # s grows upstream
+        pmin = np.stack([min3(a) for a in coords], axis=1)  # (N, 3)
+        pmax = np.stack([max3(a) for a in coords], axis=1)
+        cmin = np.minimum.reduceat(pmin[self._order], self._start, axis=0)  # (C, 3)
+        cmax = np.maximum.reduceat(pmax[self._order], self._start, axis=0)
+        return FlowBoxes(basis, coords, pmin, pmax, cmin, cmax)
+
+    def occluders(self, boxes: FlowBoxes, panels: np.ndarray) -> np.ndarray:
+        """Which other components could shade each of ``panels``: those whose bounding box in
+        the plane normal to the flow overlaps the panel's and that reach upstream of its
+        lowest point.
+
+        Returns
+        -------
+        ndarray of bool, shape (K, n_components)
+        """
+        pmin, pmax, cmin, cmax = boxes.pmin, boxes.pmax, boxes.cmin, boxes.cmax
+        j = np.asarray(panels)
+        overlap = (
+            (cmax[None, :, 2] > pmin[j, None, 2])
+            & (cmax[None, :, 0] >= pmin[j, None, 0])
+            & (cmin[None, :, 0] <= pmax[j, None, 0])
+            & (cmax[None, :, 1] >= pmin[j, None, 1])
+            & (cmin[None, :, 1] <= pmax[j, None, 1])
+        )
+        overlap[np.arange(j.size), self.component[j]] = False
+        return overlap
+
+    def candidates(
+        self, u: np.ndarray, forward: np.ndarray, boxes: FlowBoxes | None = None
+    ) -> np.ndarray:
         """Indices of the forward panels that could be shaded for unit flow direction ``u``.
 
         Parameters
@@ -204,6 +261,8 @@ class CandidateFilter:
             Unit flow direction (G).
         forward : ndarray of bool, shape (N,)
             Forward panels (:func:`forward_mask`).
+        boxes : FlowBoxes, optional
+            :meth:`flow_boxes` of ``u``, if made already.
 
         Returns
         -------
@@ -217,21 +276,9 @@ class CandidateFilter:
             return np.flatnonzero(forward)
         idx = np.flatnonzero(forward & ~need)
         if idx.size:
-            coords = coordinates(self.mesh.vertices, perp_basis(-u))  # s grows upstream
-            pmin = np.stack([min3(a) for a in coords], axis=1)  # (N, 3)
-            pmax = np.stack([max3(a) for a in coords], axis=1)
-            cmin = np.minimum.reduceat(pmin[self._order], self._start, axis=0)  # (C, 3)
-            cmax = np.maximum.reduceat(pmax[self._order], self._start, axis=0)
+            boxes = self.flow_boxes(u) if boxes is None else boxes
             step = max(1, MAX_PAIRS // self.n_components)
             for s in range(0, idx.size, step):
                 j = idx[s : s + step]
-                overlap = (
-                    (cmax[None, :, 2] > pmin[j, None, 2])
-                    & (cmax[None, :, 0] >= pmin[j, None, 0])
-                    & (cmin[None, :, 0] <= pmax[j, None, 0])
-                    & (cmax[None, :, 1] >= pmin[j, None, 1])
-                    & (cmin[None, :, 1] <= pmax[j, None, 1])
-                )
-                overlap[np.arange(j.size), self.component[j]] = False
-                need[j] = overlap.any(axis=1)
+                need[j] = self.occluders(boxes, j).any(axis=1)
         return np.flatnonzero(need)

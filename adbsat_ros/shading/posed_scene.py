@@ -22,6 +22,7 @@ import numpy as np
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.candidates import CandidateFilter, MeshTopology
+from adbsat_ros.shading.convex_shadow import hull_corners
 from adbsat_ros.shading.rays import RayScene, ray_scene, resolve_backend
 
 
@@ -50,14 +51,22 @@ class LinkScenes:
         diagonal = float(np.linalg.norm(hi - lo)) or 1.0
         self._links = [int(link) for link, _ in spans]
         self._vertices, faces, topologies = [], [], []  # every link's, in its own frame
-        first = 0
-        for link in self._links:
+        self._hulls = []  # (link, component of the body, its hull corners in the link's frame)
+        first = components = 0
+        for k, link in enumerate(self._links):
             mesh = body.link_mesh(link)
             tm = mesh.to_trimesh()
-            self._vertices.append(np.asarray(tm.vertices, dtype=float))
-            faces.append(np.asarray(tm.faces, dtype=np.int64) + first)
-            first += len(tm.vertices)
-            topologies.append(MeshTopology.of(mesh, diagonal, (tm.vertices, tm.faces)))
+            vertices = np.asarray(tm.vertices, dtype=float)
+            link_faces = np.asarray(tm.faces, dtype=np.int64)
+            self._vertices.append(vertices)
+            faces.append(link_faces + first)
+            first += len(vertices)
+            topology = MeshTopology.of(mesh, diagonal, (tm.vertices, tm.faces))
+            topologies.append(topology)
+            for c in range(int(topology.component.max()) + 1 if topology.component.size else 0):
+                own = np.unique(link_faces[topology.component == c])
+                self._hulls.append((k, components + c, hull_corners(vertices[own])))
+            components += int(topology.component.max()) + 1 if topology.component.size else 0
         self._faces = np.concatenate(faces)
         self.topology = MeshTopology.joined(topologies)
 
@@ -73,6 +82,17 @@ class LinkScenes:
             ]
         )
         return ray_scene(mesh, self.backend, indexed=(posed, self._faces))
+
+    def hull_corners(self, link_poses: np.ndarray) -> dict:
+        """The corners of every component's convex hull [m] at the configuration where the
+        links have ``link_poses`` (as :meth:`scene`): component of the body's panels -> (h, 3),
+        G (the links' hulls made once, posed here)."""
+        poses = np.asarray(link_poses, dtype=float)
+        out = {}
+        for k, component, corners in self._hulls:
+            pose = poses[self._links[k]]
+            out[component] = corners @ pose[:3, :3].T + pose[:3, 3]
+        return out
 
     def candidate_filter(self, mesh: PanelMesh) -> CandidateFilter:
         """The candidate filter of the body's panels ``mesh`` (at any configuration)."""

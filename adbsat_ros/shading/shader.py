@@ -20,54 +20,26 @@ Three modes, one interface (:func:`make_shader`):
     panel, only back faces occlude. Vectorised over (forward, backward) candidate pairs, in
     chunks. Use it to reproduce ADBSat's numbers.
 ``"raycast"`` (default)
-    Every forward panel that could be shaded is sampled at ``samples`` points spread over the
-    triangle (a rank-2 Kronecker (R2) low-discrepancy pattern with a fixed pseudo-random shift
-    per panel, so that errors along a shadow edge do not add up) plus 3 points just inside its
-    corners; each point casts a ray upstream against the whole mesh. A panel whose three
-    corner rays first meet one closed convex component lies wholly in its shadow (a convex
-    body's shadow is convex) and casts no more rays. A shadow edge that
-    crosses a panel separates its corners, so disagreeing rays flag the panel as partly lit;
-    those panels are refined with ``refine_samples`` fresh rays, and their edge neighbours
-    are probed with ``refine_samples // 8`` rays (refined too if partly lit). A panel's lit
-    fraction is the fraction of lit rays of its last set; the shift is the centroid of those
-    lit sample points minus the barycentre. Measured on a cube in front of a plate: lit
-    projected area within 1.3e-4 of exact (25 x 25 to 64 x 64 plate grids), per-panel lit
-    fraction within 0.03 (1-sigma 0.01).
+    A forward panel that one closed convex component alone can shade, lying wholly in front of
+    it, is lit exactly, by clipping its projection with the component's
+    (:mod:`adbsat_ros.shading.convex_shadow`). Every other forward panel that could be shaded
+    (:class:`~adbsat_ros.shading.candidates.CandidateFilter`) casts rays upstream from
+    ``samples`` points spread over the triangle (R2 low-discrepancy, shifted per panel) and 3
+    points just inside its corners; a panel whose corner rays first meet one closed convex
+    component is wholly in its shadow and casts no more. Panels whose rays disagree are
+    refined with ``refine_samples`` fresh rays and their edge neighbours probed with
+    ``refine_samples // 8``; a panel's lit fraction is the lit share of its last set of rays,
+    its shift the centroid of those lit points minus the barycentre.
 
-Grazing rule (raycast)
-----------------------
-With c_i = cos(delta_i) = -u . n_i and tolerance ``graze_tol`` (default 1e-6, i.e. within
-~0.2 arcsec of grazing):
-
-* a face with |c_i| <= graze_tol does not occlude (it has no projected area; a ray that first
-  meets such a face continues through it);
-* forward faces are those with c_i > graze_tol, plus the grazing faces that face a fixed,
-  generic tie-break direction (:func:`adbsat_ros.shading.candidates.forward_mask`), so a
-  head-on attitude gets the limit of the lit fractions from one side rather than a mix of both
-  sides. Other faces are backward: lit fraction 1 (the gas-surface model handles them; ADBSat
-  never shades them);
-* every sample point is moved off its panel by ``offset`` (default 1e-5 of the bounding-box
-  diagonal) along the panel normal, so a ray never hits its own panel or a coplanar
-  neighbour, and float32 rounding in Embree cannot turn that into a hit;
-* a ray is blocked by any hit at distance t > 0 from the offset origin. Shared edges count
-  as inside both triangles (inclusive barycentric test in the numpy backend, Embree's
-  watertight test), so a ray through a shared edge of an occluder is always blocked.
-
-Sample points are interior points in general position, so the measure-zero cases (a ray
-exactly along an edge) are practically never met; the rule makes the rest deterministic, and
-head-on flow on a boxy body gives the same answer as 0.1 deg off it up to the true geometric
-change.
-
-Filtering: a mesh with ``report.convex`` does no work at all (in any mode). In raycast mode
-a forward panel is tested only if it could be shaded
-(:class:`adbsat_ros.shading.candidates.CandidateFilter`: not on the convex hull of its own
-component, or another component upstream of it).
-
-Backends (raycast): the rays are cast through :func:`adbsat_ros.shading.rays.ray_scene`:
-``"embree"`` (Embree through embreex, float32, very fast), ``"numpy"`` (vectorised
-Moeller-Trumbore, float64) and ``"auto"`` (Embree if ``rays.has_embree``, else numpy). Both
-cast the same rays from the same points and agree to rounding (rays within ~1e-7 of the mesh
-size from an edge).
+Grazing rule (raycast), with c_i = cos(delta_i) = -u . n_i: a face with |c_i| <= ``graze_tol``
+(default 1e-6) occludes nothing; forward faces are those with c_i > graze_tol plus the grazing
+faces that face a fixed generic tie-break direction
+(:func:`~adbsat_ros.shading.candidates.forward_mask`); sample points are lifted off their
+panel by ``offset`` (1e-5 of the bounding-box diagonal) along its normal; a ray is blocked by a
+hit at t > 0, shared edges counting as inside both triangles. A mesh with ``report.convex``
+does no work in any mode. Rays are cast through :func:`~adbsat_ros.shading.rays.ray_scene`
+(``"embree"``, ``"numpy"`` or ``"auto"``); both backends cast the same rays and agree to
+rounding. The method, its proofs and its measured accuracy: docs/shading.md.
 
 Units: metres, frame G, flow direction unitless; angles in radians.
 """
@@ -80,7 +52,13 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.shading.candidates import CandidateFilter, MeshTopology, forward_mask
+from adbsat_ros.shading.candidates import (
+    MAX_COMPONENTS_FILTER,
+    CandidateFilter,
+    MeshTopology,
+    forward_mask,
+)
+from adbsat_ros.shading.convex_shadow import ConvexParts
 from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.shading.projection import adbsat_shadowed
 from adbsat_ros.shading.rays import ray_scene, resolve_backend
@@ -127,16 +105,19 @@ class Shader:
         and refine them if partly lit (catches shadow corners that slip between a panel's
         first samples).
     convex_shadows : bool
-        Take a panel whose three corner rays first meet one closed convex component (another
-        than its own) as wholly shaded, without its interior samples (exact but for a shadow
-        edge within 1e-3 of a corner; :meth:`_corner_rays`). False casts every sample (for
-        checks).
+        Light exactly, without rays, the panels that one closed convex component alone can
+        shade (:class:`~adbsat_ros.shading.convex_shadow.ConvexParts`), and take a panel whose
+        three corner rays first meet one closed convex component (another than its own) as
+        wholly shaded, without its interior samples (:meth:`_corner_rays`). False casts every
+        panel's rays (for checks of the rays).
     scene : RayScene, optional
         The ray scene of ``mesh``'s panels (raycast), made before: for a body posed from
         rigid parts, :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.scene` (then
         ``backend`` is the scene's).
     candidate_filter : CandidateFilter, optional
         The candidate filter of ``mesh`` (raycast), made before (likewise).
+    hull_corners : dict, optional
+        Its components' convex hull corners, made before (likewise, ``LinkScenes.hull_corners``).
 
     Attributes
     ----------
@@ -163,6 +144,7 @@ class Shader:
         convex_shadows: bool = True,
         scene=None,
         candidate_filter: CandidateFilter | None = None,
+        hull_corners: dict | None = None,
     ):
         mode = str(mode).lower()
         if mode not in MODES:
@@ -193,7 +175,7 @@ class Shader:
         self.last_stats: dict = {}
         # A single closed convex body never shades itself: nothing to build.
         self.trivial = mode == "none" or bool(mesh.report.convex)
-        self.filter = self.scene = None
+        self.filter = self.scene = self.parts = None
         if not self.trivial and mode == "raycast":
             indexed = None
             if candidate_filter is None or scene is None:  # (the vertices merged once, for both)
@@ -205,6 +187,12 @@ class Shader:
             self.filter = candidate_filter
             self.scene = scene or ray_scene(mesh, self.backend, indexed)
             self.backend = self.scene.backend
+            if (
+                self.convex_shadows
+                and candidate_filter.convex.any()
+                and 1 < candidate_filter.n_components <= MAX_COMPONENTS_FILTER
+            ):
+                self.parts = ConvexParts(mesh, candidate_filter, self.diagonal, hull_corners)
 
     def lighting(self, u_G) -> PanelLighting:
         """Lit fraction and lit-centroid shift of every panel for one flow direction.
@@ -238,8 +226,9 @@ class Shader:
 
     __call__ = lighting
 
-    def candidates(self, u: np.ndarray, forward: np.ndarray) -> np.ndarray:
-        """Indices of forward panels that could be shaded for unit flow direction ``u`` (G).
+    def candidates(self, u: np.ndarray, forward: np.ndarray, boxes=None) -> np.ndarray:
+        """Indices of forward panels that could be shaded for unit flow direction ``u`` (G)
+        (``boxes``: the filter's ``flow_boxes(u)``, if made already).
 
         All of ``forward`` without the prefilter (or for a trivial shader, none).
         """
@@ -247,7 +236,7 @@ class Shader:
             return np.zeros(0, dtype=np.int64)
         if not self.prefilter:
             return np.flatnonzero(forward)
-        return self.filter.candidates(u, forward)
+        return self.filter.candidates(u, forward, boxes)
 
     # -------------------------------------------------------------------------- raycast
     def _cast_sets(self, sets, tri, lift, cand, d, occluder, stats):
@@ -271,16 +260,10 @@ class Shader:
 
     def _corner_rays(self, corners, d, occluder, cand) -> tuple:
         """The corner rays of the candidates ``cand`` (points (K, 3, 3)): which are lit (K, 3),
-        and which panels lie wholly in the shadow of one closed convex component (K,).
-
-        A closed convex component C casts a convex shadow: the points p of a plane whose ray
-        p - t u, t > 0, meets C's solid form a convex set (if p - t u and p' - t' u lie in C,
-        the convex combination of p and p' has its ray through the same combination of those
-        points, at a positive distance). So a panel whose three corner rays first meet C
-        (another component than its own) lies wholly in C's shadow: every ray from it is
-        blocked, and casting its interior samples would only confirm it. Only with
-        ``convex_shadows``; the corner points are 1e-3 inside the corners, so a shadow edge
-        within that of a corner is missed, where the interior samples would rarely see it.
+        and which panels lie wholly in the shadow of one closed convex component (K,): those
+        whose three corner rays first meet it, another component than their own (its shadow
+        is convex, :mod:`~adbsat_ros.shading.convex_shadow`; only a shadow edge within the
+        1e-3 corner inset escapes). None without ``convex_shadows``.
         """
         n = cand.size
         if not self.convex_shadows or not self.filter.convex.any():
@@ -307,14 +290,26 @@ class Shader:
         occluder = np.abs(c) > self.graze_tol
         if occluder.all():
             occluder = None  # no grazing face: every face occludes
-        cand = self.candidates(u, forward)
+        boxes = None
+        if self.parts is not None:
+            boxes = self.filter.flow_boxes(u)
+        cand = self.candidates(u, forward, boxes)
         d = -u
         lit_fraction = np.ones(n)
         stats = {"forward": int(forward.sum()), "tested": int(cand.size), "rays": 0}
-        stats.update(corner_shaded=0, partly_lit=0, refined=0, probed=0)
+        stats.update(exact=0, corner_shaded=0, partly_lit=0, refined=0, probed=0)
+        shifts = [(np.zeros(0, dtype=np.int64), np.zeros((0, 3)))]
+        if boxes is not None and cand.size:
+            # the panels that one convex part alone can shade: lit exactly, no rays
+            done, fraction, centroid = self.parts.lighting(boxes, cand)
+            exact, cand = cand[done], cand[~done]
+            lit_fraction[exact] = fraction
+            partly = (fraction > 0.0) & (fraction < 1.0)
+            shifts.append((exact[partly], centroid[partly] - mesh.barycentres[exact[partly]]))
+            stats["exact"] = int(exact.size)
         if cand.size == 0:
             self.last_stats = stats
-            return PanelLighting(lit_fraction)
+            return self._lighting(lit_fraction, shifts)
 
         # First pass: 3 rays near the corners plus S interior samples. A shadow edge that
         # crosses a panel separates its corners, so the corner rays catch the partly lit panels
@@ -395,7 +390,16 @@ class Shader:
         shift_index = cand[part]
         shift = lit_sum[part] / n_lit[part][:, None] - mesh.barycentres[shift_index]
         self.last_stats = stats
-        return PanelLighting(lit_fraction, shift_index.astype(np.int64), shift)
+        return self._lighting(lit_fraction, [*shifts, (shift_index, shift)])
+
+    @staticmethod
+    def _lighting(lit_fraction, shifts) -> PanelLighting:
+        """The PanelLighting of ``lit_fraction`` and the shifts ``[(index, shift), ...]`` of its
+        partly lit panels (lit exactly, ray-cast), in panel order."""
+        index = np.concatenate([i for i, _ in shifts]).astype(np.int64)
+        order = np.argsort(index, kind="stable")
+        shift = np.concatenate([v for _, v in shifts])
+        return PanelLighting(lit_fraction, index[order], shift[order])
 
 
 def make_shader(

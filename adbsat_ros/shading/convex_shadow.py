@@ -1,0 +1,256 @@
+"""The exact shadow of one closed convex part: what of each panel behind it stays lit.
+
+A closed convex part C casts a convex shadow: the points p of a plane whose ray p - t u,
+t > 0, meets C's solid form a convex set (if p - t u and p' - t' u lie in C, the convex
+combination of p and p' has its ray through the same combination of those points, at a
+positive distance). So a panel whose three corners are in C's shadow is wholly in it (the
+shader's corner rule), and the shadow of C on a plane is C's projection along the flow.
+
+A panel that only one closed convex component C can shade (the panel on its own component's
+convex hull, no other component overlapping it in the plane normal to the flow) and that C lies
+wholly in front of (every point of C on the panel's upstream side) is in C's shadow exactly
+where the panel's projection along the flow falls inside the projection of C. Projected on the
+plane normal to the flow u, C is a convex polygon (the 2-D convex hull of its vertices) and the
+panel a triangle; the parallel projection from the panel's plane to that plane is affine, so the
+lit fraction is 1 - area(T ∩ H) / area(T) and the lit centroid, mapped back through the
+triangle's own corners, is exact.
+
+:func:`convex_outline` makes the polygon H, :func:`lit_parts` the lit fraction and lit centroid
+of many triangles against it (Sutherland-Hodgman clipping of each triangle by H's edges,
+vectorised over the triangles; the only loop is over H's edges).
+
+Units: metres; 2-D points in the plane normal to the flow
+(:func:`~adbsat_ros.shading.flow_plane.perp_basis`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import ConvexHull, QhullError
+
+from adbsat_ros.geometry.mesh import PanelMesh
+
+#: Smallest cos delta of a panel lit exactly (a panel nearer grazing projects to a sliver).
+FACING_MIN = 1e-6
+#: A convex part counts as wholly in front of a panel if each of its hull corners is at least
+#: this fraction of the mesh's bounding-box diagonal in front of the panel's plane.
+FRONT_TOL_FRACTION = 1e-9
+
+
+class ConvexParts:
+    """The closed convex components of a mesh, for exact shadows.
+
+    Parameters
+    ----------
+    mesh : PanelMesh
+        Panels [m], G.
+    candidate_filter : CandidateFilter
+        The mesh's filter (its components and which are convex).
+    diagonal : float
+        The mesh's bounding-box diagonal [m] (scale of the front tolerance).
+    corners : dict, optional
+        The hull corners (h, 3) [m], G, of some components, made before (an articulated body's
+        links' hulls posed: :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.hull_corners`);
+        the others' are made from the panels when first needed.
+    """
+
+    def __init__(self, mesh: PanelMesh, candidate_filter, diagonal: float, corners=None):
+        self.mesh = mesh
+        self.filter = candidate_filter
+        self.tolerance = FRONT_TOL_FRACTION * diagonal
+        self._corners = dict(corners or {})  # component -> its hull corners (h, 3)
+
+    def corners(self, component: int) -> np.ndarray:
+        """The corners of a component's convex hull [m], G (made once, when first asked)."""
+        corners = self._corners.get(component)
+        if corners is None:
+            corners = hull_corners(self.mesh.vertices[self.filter.component == component])
+            self._corners[component] = corners
+        return corners
+
+    def lighting(self, boxes, panels: np.ndarray) -> tuple:
+        """The panels among ``panels`` that one convex part alone can shade, lit exactly.
+
+        A panel qualifies if it faces the flow (cos delta > :data:`FACING_MIN`), it is on its
+        own component's hull (its own component cannot shade it), exactly one other component
+        could shade it (``filter.occluders``), that component is closed and convex, and it lies
+        wholly in front of the panel's plane.
+
+        Parameters
+        ----------
+        boxes : FlowBoxes
+            The mesh seen along the flow (``filter.flow_boxes(u)``).
+        panels : ndarray of int, shape (K,)
+            Forward panels that could be shaded.
+
+        Returns
+        -------
+        done : ndarray of bool, shape (K,)
+            The panels lit here.
+        fraction : ndarray, shape (D,)
+            Their lit fractions (D = done.sum()), in the order of ``panels``.
+        centroid : ndarray, shape (D, 3)
+            The centroids of their lit parts [m], G (the barycentre where all is lit).
+        """
+        flt = self.filter
+        k = panels.size
+        occluders = flt.occluders(boxes, panels)
+        by = np.argmax(occluders, axis=1)
+        facing = self.mesh.normals[panels] @ boxes.basis[:, 2] > FACING_MIN
+        done = facing & (occluders.sum(axis=1) == 1) & flt.on_hull[panels] & flt.convex[by]
+        fraction = np.ones(k)
+        centroid = self.mesh.barycentres[panels].copy()
+        mesh = self.mesh
+        x, y, _ = boxes.coords
+        for part in np.unique(by[done]).tolist():  # (a loop over the convex parts, few)
+            rows = np.flatnonzero(done & (by == part))
+            corners = self.corners(part)
+            normals, v0 = mesh.normals[panels[rows]], mesh.vertices[panels[rows], 0]
+            height = normals @ corners.T - np.einsum("kj,kj->k", normals, v0)[:, None]
+            in_front = height.min(axis=1) > self.tolerance
+            done[rows[~in_front]] = False
+            rows = rows[in_front]
+            outline = convex_outline(corners @ boxes.basis[:, :2])
+            if outline is None or rows.size == 0:
+                done[rows] = False
+                continue
+            j = panels[rows]
+            triangles = np.stack([x[j], y[j]], axis=-1)  # (R, 3, 2)
+            f, c2 = lit_parts(triangles, outline)
+            fraction[rows] = f
+            # the lit centroid back on the panel, through its triangle coordinates
+            e = np.stack([triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]], 2)
+            ab = np.linalg.solve(e, (c2 - triangles[:, 0])[..., None])[..., 0]
+            v = mesh.vertices[j]
+            centroid[rows] = (
+                v[:, 0] + ab[:, :1] * (v[:, 1] - v[:, 0]) + ab[:, 1:] * (v[:, 2] - v[:, 0])
+            )
+        return done, fraction[done], centroid[done]
+
+
+def hull_corners(points: np.ndarray) -> np.ndarray:
+    """The corners of the convex hull of 3-D points [m] (all the points if they span no
+    volume)."""
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    try:
+        return points[ConvexHull(points).vertices]
+    except (QhullError, ValueError):
+        return points
+
+
+def convex_outline(points: np.ndarray) -> np.ndarray | None:
+    """The convex hull of 2-D points as a polygon.
+
+    Parameters
+    ----------
+    points : ndarray, shape (P, 2)
+        Points [m].
+
+    Returns
+    -------
+    ndarray, shape (m, 2) or None
+        The hull's corners, counter-clockwise; None if the points span no area.
+    """
+    try:
+        hull = ConvexHull(points)
+    except (QhullError, ValueError):
+        return None
+    return points[hull.vertices]  # (Qhull lists a 2-D hull's corners counter-clockwise)
+
+
+def lit_parts(triangles: np.ndarray, outline: np.ndarray) -> tuple:
+    """The part of each triangle outside a convex polygon: its area fraction and centroid.
+
+    Parameters
+    ----------
+    triangles : ndarray, shape (K, 3, 2)
+        Triangles [m] (either orientation, non-degenerate).
+    outline : ndarray, shape (m, 2)
+        Convex polygon [m], counter-clockwise (:func:`convex_outline`).
+
+    Returns
+    -------
+    fraction : ndarray, shape (K,)
+        Area of the triangle outside the polygon over the triangle's area, in [0, 1].
+    centroid : ndarray, shape (K, 2)
+        Centroid of that part [m] (the triangle's centroid where none of it is covered; any
+        value where all of it is).
+    """
+    tri = np.asarray(triangles, dtype=float)
+    k = tri.shape[0]
+    area_t, centroid_t = _area_centroid(tri, np.full(k, 3))
+    # which side of each outline edge each corner is on (>= 0: inside)
+    a, b = outline, np.roll(outline, -1, axis=0)
+    edge = b - a  # (m, 2)
+    side = edge[:, 0] * (tri[..., 1, None] - a[:, 1]) - edge[:, 1] * (tri[..., 0, None] - a[:, 0])
+    inside = (side >= 0.0).all(axis=(1, 2))  # every corner inside: all covered
+    outside = (side < 0.0).all(axis=1).any(axis=1)  # all corners beyond one edge: none
+    area_i = np.where(inside, area_t, 0.0)
+    centroid_i = centroid_t.copy()
+    cut = np.flatnonzero(~inside & ~outside)
+    if cut.size:
+        # Sutherland-Hodgman: clip the triangles the outline's edges cross by the half-planes
+        # left of those edges
+        m = outline.shape[0]
+        capacity = 3 + m
+        poly = np.zeros((cut.size, capacity, 2))
+        poly[:, :3] = tri[cut]
+        count = np.full(cut.size, 3)
+        for e in range(m):
+            poly, count = _clip(poly, count, a[e], b[e], capacity)
+        area_i[cut], centroid_i[cut] = _area_centroid(poly, count)
+    area_i = np.clip(area_i, 0.0, area_t)
+    lit = area_t - area_i
+    fraction = lit / area_t
+    with np.errstate(invalid="ignore", divide="ignore"):
+        centroid = (area_t[:, None] * centroid_t - area_i[:, None] * centroid_i) / lit[:, None]
+    centroid = np.where((area_i > 0.0)[:, None], centroid, centroid_t)
+    return fraction, np.where(np.isfinite(centroid), centroid, centroid_t)
+
+
+def _clip(poly, count, a, b, capacity):
+    """Polygons (K, capacity, 2) with ``count`` corners each, clipped to the half-plane left of
+    the directed line a -> b (the inside of a counter-clockwise outline)."""
+    k = poly.shape[0]
+    index = np.arange(capacity)
+    valid = index[None, :] < count[:, None]
+    nxt = np.where(index[None, :] + 1 < count[:, None], index[None, :] + 1, 0)
+    p = poly
+    q = np.take_along_axis(poly, nxt[..., None], axis=1)
+    edge = b - a
+    side_p = edge[0] * (p[..., 1] - a[1]) - edge[1] * (p[..., 0] - a[0])  # >= 0: inside
+    side_q = np.take_along_axis(side_p, nxt, axis=1)
+    in_p, in_q = side_p >= 0.0, side_q >= 0.0
+    crossing = valid & (in_p != in_q)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = side_p / (side_p - side_q)
+        cut = p + t[..., None] * (q - p)
+    # per edge p -> q: the crossing point (if it crosses), then q (if q is inside)
+    emit_cut = crossing
+    emit_q = valid & in_q
+    n_out = emit_cut.astype(int) + emit_q.astype(int)
+    start = np.cumsum(n_out, axis=1) - n_out
+    out = np.zeros_like(poly)
+    rows = np.broadcast_to(np.arange(k)[:, None], (k, capacity))
+    out[rows[emit_cut], start[emit_cut]] = cut[emit_cut]
+    shift = start + emit_cut
+    out[rows[emit_q], shift[emit_q]] = q[emit_q]
+    return out, n_out.sum(axis=1).clip(max=capacity)
+
+
+def _area_centroid(poly, count):
+    """Area (absolute) and centroid of polygons (K, capacity, 2) with ``count`` corners each
+    (shoelace; zero area and any centroid for fewer than three corners)."""
+    capacity = poly.shape[1]
+    index = np.arange(capacity)
+    valid = index[None, :] < count[:, None]
+    nxt = np.where(index[None, :] + 1 < count[:, None], index[None, :] + 1, 0)
+    p = poly
+    q = np.take_along_axis(poly, nxt[..., None], axis=1)
+    cross = np.where(valid, p[..., 0] * q[..., 1] - q[..., 0] * p[..., 1], 0.0)
+    twice = cross.sum(axis=1)
+    cx = ((p[..., 0] + q[..., 0]) * cross).sum(axis=1)
+    cy = ((p[..., 1] + q[..., 1]) * cross).sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        centroid = np.stack([cx, cy], axis=1) / (3.0 * twice[:, None])
+    return np.abs(0.5 * twice), centroid
