@@ -212,11 +212,8 @@ def _clip(poly, count, a, b, capacity):
     """Polygons (K, capacity, 2) with ``count`` corners each, clipped to the half-plane left of
     the directed line a -> b (the inside of a counter-clockwise outline)."""
     k = poly.shape[0]
-    index = np.arange(capacity)
-    valid = index[None, :] < count[:, None]
-    nxt = np.where(index[None, :] + 1 < count[:, None], index[None, :] + 1, 0)
+    valid, nxt, q = _edges(poly, count)
     p = poly
-    q = np.take_along_axis(poly, nxt[..., None], axis=1)
     edge = b - a
     side_p = edge[0] * (p[..., 1] - a[1]) - edge[1] * (p[..., 0] - a[0])  # >= 0: inside
     side_q = np.take_along_axis(side_p, nxt, axis=1)
@@ -241,12 +238,8 @@ def _clip(poly, count, a, b, capacity):
 def _area_centroid(poly, count):
     """Area (absolute) and centroid of polygons (K, capacity, 2) with ``count`` corners each
     (shoelace; zero area and any centroid for fewer than three corners)."""
-    capacity = poly.shape[1]
-    index = np.arange(capacity)
-    valid = index[None, :] < count[:, None]
-    nxt = np.where(index[None, :] + 1 < count[:, None], index[None, :] + 1, 0)
+    valid, _, q = _edges(poly, count)
     p = poly
-    q = np.take_along_axis(poly, nxt[..., None], axis=1)
     cross = np.where(valid, p[..., 0] * q[..., 1] - q[..., 0] * p[..., 1], 0.0)
     twice = cross.sum(axis=1)
     cx = ((p[..., 0] + q[..., 0]) * cross).sum(axis=1)
@@ -254,3 +247,13 @@ def _area_centroid(poly, count):
     with np.errstate(invalid="ignore", divide="ignore"):
         centroid = np.stack([cx, cy], axis=1) / (3.0 * twice[:, None])
     return np.abs(0.5 * twice), centroid
+
+
+def _edges(poly, count):
+    """The edges p -> q of polygons (K, capacity, 2) with ``count`` corners each: which corner
+    slots are corners (K, capacity), the index of each corner's successor, and the successors
+    (K, capacity, 2)."""
+    index = np.arange(poly.shape[1])
+    valid = index[None, :] < count[:, None]
+    nxt = np.where(index[None, :] + 1 < count[:, None], index[None, :] + 1, 0)
+    return valid, nxt, np.take_along_axis(poly, nxt[..., None], axis=1)
