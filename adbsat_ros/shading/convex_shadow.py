@@ -1,4 +1,4 @@
-"""The exact shadow of one closed convex part: what of each panel behind it stays lit.
+"""The exact shadows of closed convex parts: what of each panel behind them stays lit.
 
 A closed convex part C casts a convex shadow: the points p of a plane whose ray p - t u,
 t > 0, meets C's solid form a convex set (if p - t u and p' - t' u lie in C, the convex
@@ -6,18 +6,19 @@ combination of p and p' has its ray through the same combination of those points
 positive distance). So a panel whose three corners are in C's shadow is wholly in it (the
 shader's corner rule), and the shadow of C on a plane is C's projection along the flow.
 
-A panel that only one closed convex component C can shade (the panel on its own component's
-convex hull, no other component overlapping it in the plane normal to the flow) and that C lies
-wholly in front of (every point of C on the panel's upstream side) is in C's shadow exactly
-where the panel's projection along the flow falls inside the projection of C. Projected on the
-plane normal to the flow u, C is a convex polygon (the 2-D convex hull of its vertices) and the
-panel a triangle; the parallel projection from the panel's plane to that plane is affine, so the
-lit fraction is 1 - area(T ∩ H) / area(T) and the lit centroid, mapped back through the
-triangle's own corners, is exact.
+A panel that only closed convex components can shade (the panel on its own component's convex
+hull; one to three others overlapping it in the plane normal to the flow) and that they lie
+wholly in front of (every point of each on the panel's upstream side) is in their shadow
+exactly where the panel's projection along the flow falls inside the union of their
+projections. Projected on the plane normal to the flow u, each part is a convex polygon H (the
+2-D convex hull of its corners) and the panel a triangle T; the parallel projection from the
+panel's plane to that plane is affine, so the lit fraction is 1 - area(T ∩ (H_1 ∪ ...)) /
+area(T) and the lit centroid, mapped back through the triangle's own corners, is exact.
 
-:func:`convex_outline` makes the polygon H, :func:`lit_parts` the lit fraction and lit centroid
-of many triangles against it (Sutherland-Hodgman clipping of each triangle by H's edges,
-vectorised over the triangles; the only loop is over H's edges).
+:func:`convex_outline` makes the polygon H of a part, :func:`lit_parts` the lit fraction and
+lit centroid of many triangles against the polygons (Sutherland-Hodgman clipping of each
+triangle by the polygons' edges, vectorised over the triangles, the union by inclusion-exclusion;
+the only loops are over the polygons' edges and their sets).
 
 Units: metres; 2-D points in the plane normal to the flow
 (:func:`~adbsat_ros.shading.flow_plane.perp_basis`).
@@ -30,6 +31,9 @@ from scipy.spatial import ConvexHull, QhullError
 
 from adbsat_ros.geometry.mesh import PanelMesh
 
+#: Most convex parts whose shadows on one panel are joined exactly (their union is summed by
+#: inclusion-exclusion over 2^n - 1 intersections).
+MAX_OCCLUDERS = 3
 #: Smallest cos delta of a panel lit exactly (a panel nearer grazing projects to a sliver).
 FACING_MIN = 1e-6
 #: A convex part counts as wholly in front of a panel if each of its hull corners is at least
@@ -69,12 +73,13 @@ class ConvexParts:
         return corners
 
     def lighting(self, boxes, panels: np.ndarray) -> tuple:
-        """The panels among ``panels`` that one convex part alone can shade, lit exactly.
+        """The panels among ``panels`` that convex parts alone can shade, lit exactly.
 
         A panel qualifies if it faces the flow (cos delta > :data:`FACING_MIN`), it is on its
-        own component's hull (its own component cannot shade it), exactly one other component
-        could shade it (``filter.occluders``), that component is closed and convex, and it lies
-        wholly in front of the panel's plane.
+        own component's hull (its own component cannot shade it), the other components that
+        could shade it (``filter.occluders``) are one to :data:`MAX_OCCLUDERS`, all closed and
+        convex, and each lies wholly in front of the panel's plane. Its shadow is then the
+        union of their projections.
 
         Parameters
         ----------
@@ -92,31 +97,38 @@ class ConvexParts:
         centroid : ndarray, shape (D, 3)
             The centroids of their lit parts [m], G (the barycentre where all is lit).
         """
-        flt = self.filter
-        k = panels.size
+        flt, mesh = self.filter, self.mesh
         occluders = flt.occluders(boxes, panels)
-        by = np.argmax(occluders, axis=1)
-        facing = self.mesh.normals[panels] @ boxes.basis[:, 2] > FACING_MIN
-        done = facing & (occluders.sum(axis=1) == 1) & flt.on_hull[panels] & flt.convex[by]
-        fraction = np.ones(k)
-        centroid = self.mesh.barycentres[panels].copy()
-        mesh = self.mesh
+        count = occluders.sum(axis=1)
+        facing = mesh.normals[panels] @ boxes.basis[:, 2] > FACING_MIN
+        convex = ~(occluders & ~flt.convex[None, :]).any(axis=1)
+        done = facing & flt.on_hull[panels] & convex & (count >= 1) & (count <= MAX_OCCLUDERS)
+        fraction = np.ones(panels.size)
+        centroid = mesh.barycentres[panels].copy()
         x, y, _ = boxes.coords
-        for part in np.unique(by[done]).tolist():  # (a loop over the convex parts, few)
-            rows = np.flatnonzero(done & (by == part))
-            corners = self.corners(part)
+        outlines: dict = {}  # component -> its projected outline, for this direction
+        sets, which = np.unique(occluders[done], axis=0, return_inverse=True)
+        rows_done = np.flatnonzero(done)
+        for s, parts in enumerate(sets):  # (a loop over the sets of parts in front, few)
+            rows = rows_done[which.ravel() == s]
             normals, v0 = mesh.normals[panels[rows]], mesh.vertices[panels[rows], 0]
-            height = normals @ corners.T - np.einsum("kj,kj->k", normals, v0)[:, None]
-            in_front = height.min(axis=1) > self.tolerance
+            level = np.einsum("kj,kj->k", normals, v0)[:, None]
+            in_front = np.ones(rows.size, dtype=bool)
+            for part in np.flatnonzero(parts).tolist():
+                height = normals @ self.corners(part).T - level
+                in_front &= height.min(axis=1) > self.tolerance
+                if part not in outlines:
+                    outlines[part] = convex_outline(self.corners(part) @ boxes.basis[:, :2])
+            shapes = [outlines[part] for part in np.flatnonzero(parts).tolist()]
+            if any(shape is None for shape in shapes):
+                in_front[:] = False
             done[rows[~in_front]] = False
             rows = rows[in_front]
-            outline = convex_outline(corners @ boxes.basis[:, :2])
-            if outline is None or rows.size == 0:
-                done[rows] = False
+            if rows.size == 0:
                 continue
             j = panels[rows]
             triangles = np.stack([x[j], y[j]], axis=-1)  # (R, 3, 2)
-            f, c2 = lit_parts(triangles, outline)
+            f, c2 = lit_parts(triangles, shapes)
             fraction[rows] = f
             # the lit centroid back on the panel, through its triangle coordinates
             e = np.stack([triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]], 2)
@@ -158,20 +170,25 @@ def convex_outline(points: np.ndarray) -> np.ndarray | None:
     return points[hull.vertices]  # (Qhull lists a 2-D hull's corners counter-clockwise)
 
 
-def lit_parts(triangles: np.ndarray, outline: np.ndarray) -> tuple:
-    """The part of each triangle outside a convex polygon: its area fraction and centroid.
+def lit_parts(triangles: np.ndarray, outlines) -> tuple:
+    """The part of each triangle outside some convex polygons: its area fraction and centroid.
+
+    The covered part is the union of the triangle's intersections with the polygons, its area
+    and first moment summed by inclusion-exclusion over the intersections of the triangle with
+    every non-empty set of polygons (each one convex: the triangle clipped by each polygon of
+    the set in turn).
 
     Parameters
     ----------
     triangles : ndarray, shape (K, 3, 2)
         Triangles [m] (either orientation, non-degenerate).
-    outline : ndarray, shape (m, 2)
-        Convex polygon [m], counter-clockwise (:func:`convex_outline`).
+    outlines : sequence of ndarray, each of shape (m, 2)
+        Convex polygons [m], counter-clockwise (:func:`convex_outline`).
 
     Returns
     -------
     fraction : ndarray, shape (K,)
-        Area of the triangle outside the polygon over the triangle's area, in [0, 1].
+        Area of the triangle outside the polygons over the triangle's area, in [0, 1].
     centroid : ndarray, shape (K, 2)
         Centroid of that part [m] (the triangle's centroid where none of it is covered; any
         value where all of it is).
@@ -179,33 +196,50 @@ def lit_parts(triangles: np.ndarray, outline: np.ndarray) -> tuple:
     tri = np.asarray(triangles, dtype=float)
     k = tri.shape[0]
     area_t, centroid_t = _area_centroid(tri, np.full(k, 3))
-    # which side of each outline edge each corner is on (>= 0: inside)
-    a, b = outline, np.roll(outline, -1, axis=0)
-    edge = b - a  # (m, 2)
-    side = edge[:, 0] * (tri[..., 1, None] - a[:, 1]) - edge[:, 1] * (tri[..., 0, None] - a[:, 0])
-    inside = (side >= 0.0).all(axis=(1, 2))  # every corner inside: all covered
-    outside = (side < 0.0).all(axis=1).any(axis=1)  # all corners beyond one edge: none
-    area_i = np.where(inside, area_t, 0.0)
-    centroid_i = centroid_t.copy()
+    area_u, moment_u = np.zeros(k), np.zeros((k, 2))
+    n = len(outlines)
+    for subset in range(1, 1 << n):  # (2^n - 1 intersections, n <= MAX_OCCLUDERS)
+        chosen = [outlines[i] for i in range(n) if subset >> i & 1]
+        area, centroid = _covered(tri, area_t, centroid_t, chosen)
+        sign = 1.0 if len(chosen) % 2 else -1.0
+        area_u += sign * area
+        moment_u += sign * area[:, None] * centroid
+    area_u = np.clip(area_u, 0.0, area_t)
+    lit = area_t - area_u
+    fraction = lit / area_t
+    with np.errstate(invalid="ignore", divide="ignore"):
+        centroid = (area_t[:, None] * centroid_t - moment_u) / lit[:, None]
+    centroid = np.where((area_u > 0.0)[:, None], centroid, centroid_t)
+    return fraction, np.where(np.isfinite(centroid), centroid, centroid_t)
+
+
+def _covered(tri, area_t, centroid_t, outlines) -> tuple:
+    """Area (K,) and centroid (K, 2) of each triangle's intersection with every one of the
+    convex ``outlines`` (the triangle's own where it lies inside all, zero where outside one)."""
+    k = tri.shape[0]
+    inside = np.ones(k, dtype=bool)
+    outside = np.zeros(k, dtype=bool)
+    for outline in outlines:  # which side of each edge each corner is on (>= 0: inside)
+        a, edge = outline, np.roll(outline, -1, axis=0) - outline
+        side = edge[:, 0] * (tri[..., 1, None] - a[:, 1]) - edge[:, 1] * (
+            tri[..., 0, None] - a[:, 0]
+        )
+        inside &= (side >= 0.0).all(axis=(1, 2))
+        outside |= (side < 0.0).all(axis=1).any(axis=1)  # all corners beyond one edge
+    area = np.where(inside & ~outside, area_t, 0.0)
+    centroid = centroid_t.copy()
     cut = np.flatnonzero(~inside & ~outside)
     if cut.size:
-        # Sutherland-Hodgman: clip the triangles the outline's edges cross by the half-planes
-        # left of those edges
-        m = outline.shape[0]
-        capacity = 3 + m
+        # Sutherland-Hodgman: clip the triangles by the half-planes left of every edge
+        capacity = 3 + sum(len(o) for o in outlines)
         poly = np.zeros((cut.size, capacity, 2))
         poly[:, :3] = tri[cut]
         count = np.full(cut.size, 3)
-        for e in range(m):
-            poly, count = _clip(poly, count, a[e], b[e], capacity)
-        area_i[cut], centroid_i[cut] = _area_centroid(poly, count)
-    area_i = np.clip(area_i, 0.0, area_t)
-    lit = area_t - area_i
-    fraction = lit / area_t
-    with np.errstate(invalid="ignore", divide="ignore"):
-        centroid = (area_t[:, None] * centroid_t - area_i[:, None] * centroid_i) / lit[:, None]
-    centroid = np.where((area_i > 0.0)[:, None], centroid, centroid_t)
-    return fraction, np.where(np.isfinite(centroid), centroid, centroid_t)
+        for outline in outlines:
+            for a, b in zip(outline, np.roll(outline, -1, axis=0)):
+                poly, count = _clip(poly, count, a, b, capacity)
+        area[cut], centroid[cut] = _area_centroid(poly, count)
+    return np.clip(area, 0.0, area_t), centroid
 
 
 def _clip(poly, count, a, b, capacity):

@@ -20,8 +20,8 @@ Three modes, one interface (:func:`make_shader`):
     panel, only back faces occlude. Vectorised over (forward, backward) candidate pairs, in
     chunks. Use it to reproduce ADBSat's numbers.
 ``"raycast"`` (default)
-    A forward panel that one closed convex component alone can shade, lying wholly in front of
-    it, is lit exactly, by clipping its projection with the component's
+    A forward panel that only closed convex components (one to three) can shade, lying wholly
+    in front of it, is lit exactly, by clipping its projection with theirs
     (:mod:`adbsat_ros.shading.convex_shadow`). Every other forward panel that could be shaded
     (:class:`~adbsat_ros.shading.candidates.CandidateFilter`) casts rays upstream from
     ``samples`` points spread over the triangle (R2 low-discrepancy, shifted per panel) and 3
@@ -105,8 +105,8 @@ class Shader:
         and refine them if partly lit (catches shadow corners that slip between a panel's
         first samples).
     convex_shadows : bool
-        Light exactly, without rays, the panels that one closed convex component alone can
-        shade (:class:`~adbsat_ros.shading.convex_shadow.ConvexParts`), and take a panel whose
+        Light exactly, without rays, the panels that only closed convex components can shade
+        (:class:`~adbsat_ros.shading.convex_shadow.ConvexParts`), and take a panel whose
         three corner rays first meet one closed convex component (another than its own) as
         wholly shaded, without its interior samples (:meth:`_corner_rays`). False casts every
         panel's rays (for checks of the rays).

@@ -279,6 +279,30 @@ def test_convex_shadows_agree_with_every_ray_and_save_rays(mesh_factory, backend
     assert saved  # (the scenes do put panels in a convex part's shadow)
 
 
+@pytest.mark.parametrize("aoa_deg, aos_deg", [(0.0, 0.0), (4.0, 8.0), (12.0, 10.0)])
+def test_overlapping_shadows_of_convex_parts_are_exact(aoa_deg, aos_deg):
+    # A second cube (0.6 m, further upstream, off-centre) whose shadow overlaps the first's on
+    # the plate and covers part of the first cube: panels under both shadows are lit from the
+    # union of the two projections (inclusion-exclusion). Both cubes and their shadows stay
+    # inside the plate's outline, so the lit projected area of the whole scene is the plate's
+    # silhouette, 9 |u_x| + 0.3 (|u_y| + |u_z|), exactly.
+    mesh = combine(
+        grid_box((2.0, 0.0, 0.0), (1.0, 1.0, 1.0), (4, 4, 4)),
+        grid_box((3.5, 0.5, 0.3), (0.6, 0.6, 0.6), (3, 3, 3)),
+        grid_box((0.0, 0.0, 0.0), (0.1, 3.0, 3.0), (1, 25, 25)),
+    )
+    u = frames.flow_direction(math.radians(aoa_deg), math.radians(aos_deg))
+    sh = make_shader(mesh)
+    lighting = sh.lighting(u)
+    stats = dict(sh.last_stats)
+    exact = 9.0 * abs(u[0]) + 0.3 * (abs(u[1]) + abs(u[2]))
+    assert stats["exact"] == stats["tested"] > 100
+    assert stats["rays"] == 0
+    assert lit_projected_area(mesh, u, lighting) == pytest.approx(exact, rel=1e-12)
+    rays = make_shader(mesh, convex_shadows=False).lighting(u)
+    assert np.abs(lighting.lit_fraction - rays.lit_fraction).max() < 0.06
+
+
 def test_a_part_across_the_panel_plane_is_not_clipped():
     # A 1 m cube through the plate's front plane (x = 0.05; the cube spans x = -0.2 .. 0.8):
     # only its part in front of the plane shades the plate, so its whole projection would
