@@ -203,7 +203,7 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
         area, centroid = _covered(tri, area_t, centroid_t, chosen)
         sign = 1.0 if len(chosen) % 2 else -1.0
         area_u += sign * area
-        moment_u += sign * area[:, None] * centroid
+        moment_u += sign * area[:, None] * centroid  # (a centroid is finite, also of area 0)
     area_u = np.clip(area_u, 0.0, area_t)
     lit = area_t - area_u
     fraction = lit / area_t
@@ -238,7 +238,9 @@ def _covered(tri, area_t, centroid_t, outlines) -> tuple:
         for outline in outlines:
             for a, b in zip(outline, np.roll(outline, -1, axis=0)):
                 poly, count = _clip(poly, count, a, b, capacity)
-        area[cut], centroid[cut] = _area_centroid(poly, count)
+        area_cut, centroid_cut = _area_centroid(poly, count)
+        area[cut] = area_cut
+        centroid[cut] = np.where((area_cut > 0.0)[:, None], centroid_cut, centroid_t[cut])
     return np.clip(area, 0.0, area_t), centroid
 
 

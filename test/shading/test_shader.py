@@ -301,6 +301,19 @@ def test_overlapping_shadows_of_convex_parts_are_exact(aoa_deg, aos_deg):
     assert lit_projected_area(mesh, u, lighting) == pytest.approx(exact, rel=1e-12)
     rays = make_shader(mesh, convex_shadows=False).lighting(u)
     assert np.abs(lighting.lit_fraction - rays.lit_fraction).max() < 0.06
+    # the lit centroids: on their panels, and where the rays' lit samples put them
+    assert np.isfinite(lighting.shift).all()
+    common, mine, theirs = np.intersect1d(
+        lighting.shift_index, rays.shift_index, return_indices=True
+    )
+    assert common.size > 20
+    size = np.sqrt(mesh.areas[common])[:, None]
+    moved = np.abs(lighting.shift[mine] - rays.shift[theirs]) / size
+    assert np.median(moved) < 0.05
+    assert (
+        np.abs(np.einsum("kj,kj->k", lighting.shift, mesh.normals[lighting.shift_index])).max()
+        < 1e-12
+    )
 
 
 def test_a_part_across_the_panel_plane_is_not_clipped():

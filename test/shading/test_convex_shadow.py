@@ -1,0 +1,77 @@
+"""The exact shadows of convex parts: the triangles' lit parts against convex polygons, against
+areas and centroids worked out by hand."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from adbsat_ros.shading.convex_shadow import convex_outline, lit_parts
+
+#: A right triangle with legs 4 along x and y: area 8, centroid (4/3, 4/3).
+TRIANGLE = np.array([[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]])
+
+
+def square(x0, y0, side):
+    """A counter-clockwise square with lower-left corner (x0, y0)."""
+    corners = np.array([[x0, y0], [x0 + side, y0], [x0 + side, y0 + side], [x0, y0 + side]])
+    outline = convex_outline(corners)
+    assert outline is not None
+    return outline
+
+
+def lit_centroid(parts):
+    """Area and centroid of the triangle less some disjoint covered parts [(area, centroid)]."""
+    area = 8.0 - sum(a for a, _ in parts)
+    moment = 8.0 * np.array([4 / 3, 4 / 3]) - sum(a * np.asarray(c) for a, c in parts)
+    return area / 8.0, moment / area
+
+
+def test_a_polygon_wholly_inside_covers_its_own_area():
+    fraction, centroid = lit_parts(TRIANGLE, [square(0.5, 0.5, 1.0)])
+    want_f, want_c = lit_centroid([(1.0, (1.0, 1.0))])
+    assert fraction[0] == pytest.approx(want_f, rel=1e-14)
+    np.testing.assert_allclose(centroid[0], want_c, rtol=1e-13)
+
+
+def test_two_apart_cover_the_sum_of_their_areas():
+    # their intersection within the triangle is empty: its clipped polygon has no area, and
+    # must add nothing (not an undefined centroid) to the covered part's moment
+    parts = [square(0.25, 0.25, 1.0), square(2.0, 0.25, 0.5)]
+    fraction, centroid = lit_parts(TRIANGLE, parts)
+    want_f, want_c = lit_centroid([(1.0, (0.75, 0.75)), (0.25, (2.25, 0.5))])
+    assert fraction[0] == pytest.approx(want_f, rel=1e-14)
+    np.testing.assert_allclose(centroid[0], want_c, rtol=1e-13)
+
+
+def test_two_overlapping_cover_their_union():
+    # squares [0.5, 1.5]^2 and [1, 2] x [0.5, 1.5]: union 1.5 x 1 = [0.5, 2] x [0.5, 1.5], wholly
+    # inside the triangle (x + y <= 3.5 < 4)
+    parts = [square(0.5, 0.5, 1.0), square(1.0, 0.5, 1.0)]
+    fraction, centroid = lit_parts(TRIANGLE, parts)
+    want_f, want_c = lit_centroid([(1.5, (1.25, 1.0))])
+    assert fraction[0] == pytest.approx(want_f, rel=1e-14)
+    np.testing.assert_allclose(centroid[0], want_c, rtol=1e-13)
+
+
+def test_a_polygon_across_the_hypotenuse_and_one_outside():
+    # the square [3, 5] x [0, 2] meets the triangle in the part below x + y = 4 with x >= 3:
+    # the triangle (3, 0), (4, 0), (3, 1), area 1/2, centroid (10/3, 1/3); the other square lies
+    # beyond the hypotenuse and covers nothing
+    parts = [square(3.0, 0.0, 2.0), square(3.0, 3.0, 1.0)]
+    fraction, centroid = lit_parts(TRIANGLE, parts)
+    want_f, want_c = lit_centroid([(0.5, (10 / 3, 1 / 3))])
+    assert fraction[0] == pytest.approx(want_f, rel=1e-14)
+    np.testing.assert_allclose(centroid[0], want_c, rtol=1e-13)
+
+
+def test_a_triangle_wholly_covered_or_wholly_clear():
+    triangles = np.concatenate([TRIANGLE, TRIANGLE + 10.0])
+    fraction, centroid = lit_parts(triangles, [square(-1.0, -1.0, 6.0)])
+    assert fraction.tolist() == [0.0, 1.0]
+    np.testing.assert_allclose(centroid[1], [10 + 4 / 3, 10 + 4 / 3], rtol=1e-14)
+    assert np.isfinite(centroid).all()
+
+
+def test_points_without_area_have_no_outline():
+    assert convex_outline(np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]])) is None
