@@ -34,8 +34,6 @@ from adbsat_ros.geometry.mesh import PanelMesh
 #: Most convex parts whose shadows on one panel are joined exactly (their union is summed by
 #: inclusion-exclusion over 2^n - 1 intersections).
 MAX_OCCLUDERS = 3
-#: Smallest cos delta of a panel lit exactly (a panel nearer grazing projects to a sliver).
-FACING_MIN = 1e-6
 #: A convex part counts as wholly in front of a panel if each of its hull corners is at least
 #: this fraction of the mesh's bounding-box diagonal in front of the panel's plane.
 FRONT_TOL_FRACTION = 1e-9
@@ -52,16 +50,22 @@ class ConvexParts:
         The mesh's filter (its components and which are convex).
     diagonal : float
         The mesh's bounding-box diagonal [m] (scale of the front tolerance).
+    graze_tol : float
+        The shader's grazing tolerance: a panel lit exactly has cos delta above it (a panel
+        nearer grazing projects to a sliver).
     corners : dict, optional
         The hull corners (h, 3) [m], G, of some components, made before (an articulated body's
         links' hulls posed: :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.hull_corners`);
         the others' are made from the panels when first needed.
     """
 
-    def __init__(self, mesh: PanelMesh, candidate_filter, diagonal: float, corners=None):
+    def __init__(
+        self, mesh: PanelMesh, candidate_filter, diagonal: float, graze_tol: float, corners=None
+    ):
         self.mesh = mesh
         self.filter = candidate_filter
         self.tolerance = FRONT_TOL_FRACTION * diagonal
+        self.graze_tol = graze_tol
         self._corners = dict(corners or {})  # component -> its hull corners (h, 3)
 
     def corners(self, component: int) -> np.ndarray:
@@ -75,7 +79,7 @@ class ConvexParts:
     def lighting(self, boxes, panels: np.ndarray) -> tuple:
         """The panels among ``panels`` that convex parts alone can shade, lit exactly.
 
-        A panel qualifies if it faces the flow (cos delta > :data:`FACING_MIN`), it is on its
+        A panel qualifies if it faces the flow (cos delta > ``graze_tol``), it is on its
         own component's hull (its own component cannot shade it), the other components that
         could shade it (``filter.occluders``) are one to :data:`MAX_OCCLUDERS`, all closed and
         convex, and each lies wholly in front of the panel's plane. Its shadow is then the
@@ -100,7 +104,7 @@ class ConvexParts:
         flt, mesh = self.filter, self.mesh
         occluders = flt.occluders(boxes, panels)
         count = occluders.sum(axis=1)
-        facing = mesh.normals[panels] @ boxes.basis[:, 2] > FACING_MIN
+        facing = mesh.normals[panels] @ boxes.basis[:, 2] > self.graze_tol
         convex = ~(occluders & ~flt.convex[None, :]).any(axis=1)
         done = facing & flt.on_hull[panels] & convex & (count >= 1) & (count <= MAX_OCCLUDERS)
         fraction = np.ones(panels.size)
@@ -114,12 +118,13 @@ class ConvexParts:
             normals, v0 = mesh.normals[panels[rows]], mesh.vertices[panels[rows], 0]
             level = np.einsum("kj,kj->k", normals, v0)[:, None]
             in_front = np.ones(rows.size, dtype=bool)
-            for part in np.flatnonzero(parts).tolist():
-                height = normals @ self.corners(part).T - level
-                in_front &= height.min(axis=1) > self.tolerance
+            members = np.flatnonzero(parts).tolist()
+            for part in members:
+                corners = self.corners(part)
+                in_front &= (normals @ corners.T - level).min(axis=1) > self.tolerance
                 if part not in outlines:
-                    outlines[part] = convex_outline(self.corners(part) @ boxes.basis[:, :2])
-            shapes = [outlines[part] for part in np.flatnonzero(parts).tolist()]
+                    outlines[part] = convex_outline(corners @ boxes.basis[:, :2])
+            shapes = [outlines[part] for part in members]
             if any(shape is None for shape in shapes):
                 in_front[:] = False
             done[rows[~in_front]] = False

@@ -63,10 +63,11 @@ class LinkScenes:
             first += len(vertices)
             topology = MeshTopology.of(mesh, diagonal, (tm.vertices, tm.faces))
             topologies.append(topology)
-            for c in range(int(topology.component.max()) + 1 if topology.component.size else 0):
+            n_components = int(topology.component.max()) + 1 if topology.component.size else 0
+            for c in range(n_components):
                 own = np.unique(link_faces[topology.component == c])
                 self._hulls.append((k, components + c, hull_corners(vertices[own])))
-            components += int(topology.component.max()) + 1 if topology.component.size else 0
+            components += n_components
         self._faces = np.concatenate(faces)
         self.topology = MeshTopology.joined(topologies)
 

@@ -74,6 +74,8 @@ DEFAULT_REFINE_SAMPLES = 256
 DEFAULT_GRAZE_TOL = 1e-6
 #: Offset of the ray origins along the panel normal, as a fraction of the bounding-box diagonal.
 DEFAULT_OFFSET_FRACTION = 1e-5
+#: The counts of :attr:`Shader.last_stats` (raycast and no shading).
+STATS = ("forward", "tested", "rays", "exact", "corner_shaded", "partly_lit", "refined", "probed")
 
 
 class Shader:
@@ -192,7 +194,9 @@ class Shader:
                 and candidate_filter.convex.any()
                 and 1 < candidate_filter.n_components <= MAX_COMPONENTS_FILTER
             ):
-                self.parts = ConvexParts(mesh, candidate_filter, self.diagonal, hull_corners)
+                self.parts = ConvexParts(
+                    mesh, candidate_filter, self.diagonal, graze_tol, hull_corners
+                )
 
     def lighting(self, u_G) -> PanelLighting:
         """Lit fraction and lit-centroid shift of every panel for one flow direction.
@@ -209,10 +213,7 @@ class Shader:
         """
         u = frames.unit_vector(u_G)
         if self.trivial:
-            self.last_stats = dict.fromkeys(
-                ("forward", "tested", "rays", "corner_shaded", "partly_lit", "refined", "probed"),
-                0,
-            )
+            self.last_stats = dict.fromkeys(STATS, 0)
             return PanelLighting.all_lit(self.mesh.n_panels)
         if self.mode == "projection":
             shadowed = adbsat_shadowed(self.mesh, u)
@@ -263,7 +264,7 @@ class Shader:
         and which panels lie wholly in the shadow of one closed convex component (K,): those
         whose three corner rays first meet it, another component than their own (its shadow
         is convex, :mod:`~adbsat_ros.shading.convex_shadow`; only a shadow edge within the
-        1e-3 corner inset escapes). None without ``convex_shadows``.
+        1e-3 corner inset escapes). No panel without ``convex_shadows``.
         """
         n = cand.size
         if not self.convex_shadows or not self.filter.convex.any():
@@ -296,11 +297,10 @@ class Shader:
         cand = self.candidates(u, forward, boxes)
         d = -u
         lit_fraction = np.ones(n)
-        stats = {"forward": int(forward.sum()), "tested": int(cand.size), "rays": 0}
-        stats.update(exact=0, corner_shaded=0, partly_lit=0, refined=0, probed=0)
+        stats = dict.fromkeys(STATS, 0) | {"forward": int(forward.sum()), "tested": int(cand.size)}
         shifts = [(np.zeros(0, dtype=np.int64), np.zeros((0, 3)))]
         if boxes is not None and cand.size:
-            # the panels that one convex part alone can shade: lit exactly, no rays
+            # the panels that only convex parts can shade: lit exactly, no rays
             done, fraction, centroid = self.parts.lighting(boxes, cand)
             exact, cand = cand[done], cand[~done]
             lit_fraction[exact] = fraction

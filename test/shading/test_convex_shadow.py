@@ -27,40 +27,26 @@ def lit_centroid(parts):
     return area / 8.0, moment / area
 
 
-def test_a_polygon_wholly_inside_covers_its_own_area():
-    fraction, centroid = lit_parts(TRIANGLE, [square(0.5, 0.5, 1.0)])
-    want_f, want_c = lit_centroid([(1.0, (1.0, 1.0))])
-    assert fraction[0] == pytest.approx(want_f, rel=1e-14)
-    np.testing.assert_allclose(centroid[0], want_c, rtol=1e-13)
-
-
-def test_two_apart_cover_the_sum_of_their_areas():
-    # their intersection within the triangle is empty: its clipped polygon has no area, and
-    # must add nothing (not an undefined centroid) to the covered part's moment
-    parts = [square(0.25, 0.25, 1.0), square(2.0, 0.25, 0.5)]
-    fraction, centroid = lit_parts(TRIANGLE, parts)
-    want_f, want_c = lit_centroid([(1.0, (0.75, 0.75)), (0.25, (2.25, 0.5))])
-    assert fraction[0] == pytest.approx(want_f, rel=1e-14)
-    np.testing.assert_allclose(centroid[0], want_c, rtol=1e-13)
-
-
-def test_two_overlapping_cover_their_union():
-    # squares [0.5, 1.5]^2 and [1, 2] x [0.5, 1.5]: union 1.5 x 1 = [0.5, 2] x [0.5, 1.5], wholly
-    # inside the triangle (x + y <= 3.5 < 4)
-    parts = [square(0.5, 0.5, 1.0), square(1.0, 0.5, 1.0)]
-    fraction, centroid = lit_parts(TRIANGLE, parts)
-    want_f, want_c = lit_centroid([(1.5, (1.25, 1.0))])
-    assert fraction[0] == pytest.approx(want_f, rel=1e-14)
-    np.testing.assert_allclose(centroid[0], want_c, rtol=1e-13)
-
-
-def test_a_polygon_across_the_hypotenuse_and_one_outside():
-    # the square [3, 5] x [0, 2] meets the triangle in the part below x + y = 4 with x >= 3:
-    # the triangle (3, 0), (4, 0), (3, 1), area 1/2, centroid (10/3, 1/3); the other square lies
-    # beyond the hypotenuse and covers nothing
-    parts = [square(3.0, 0.0, 2.0), square(3.0, 3.0, 1.0)]
-    fraction, centroid = lit_parts(TRIANGLE, parts)
-    want_f, want_c = lit_centroid([(0.5, (10 / 3, 1 / 3))])
+@pytest.mark.parametrize(
+    "squares, covered",
+    [
+        # one wholly inside: its own area is covered
+        ([(0.5, 0.5, 1.0)], [(1.0, (1.0, 1.0))]),
+        # two apart: their intersection within the triangle is empty (its clipped polygon has
+        # no area, and must add nothing, not an undefined centroid, to the covered moment)
+        ([(0.25, 0.25, 1.0), (2.0, 0.25, 0.5)], [(1.0, (0.75, 0.75)), (0.25, (2.25, 0.5))]),
+        # two overlapping, [0.5, 1.5]^2 and [1, 2] x [0.5, 1.5]: their union [0.5, 2] x
+        # [0.5, 1.5], wholly inside the triangle (x + y <= 3.5 < 4)
+        ([(0.5, 0.5, 1.0), (1.0, 0.5, 1.0)], [(1.5, (1.25, 1.0))]),
+        # [3, 5] x [0, 2] meets the triangle in (3, 0), (4, 0), (3, 1): area 1/2, centroid
+        # (10/3, 1/3); the other square lies beyond the hypotenuse and covers nothing
+        ([(3.0, 0.0, 2.0), (3.0, 3.0, 1.0)], [(0.5, (10 / 3, 1 / 3))]),
+    ],
+    ids=["inside", "apart", "overlapping", "across-and-outside"],
+)
+def test_the_lit_part_is_the_triangle_less_the_union(squares, covered):
+    fraction, centroid = lit_parts(TRIANGLE, [square(*sq) for sq in squares])
+    want_f, want_c = lit_centroid(covered)
     assert fraction[0] == pytest.approx(want_f, rel=1e-14)
     np.testing.assert_allclose(centroid[0], want_c, rtol=1e-13)
 
