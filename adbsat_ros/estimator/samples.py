@@ -14,6 +14,7 @@ import numpy as np
 
 from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.interpolation import StampConditions
+from adbsat_ros.physics.articulated_method import ArticulatedCoefficients
 from adbsat_ros.physics.coefficients import AeroCoefficients
 
 #: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).
@@ -75,17 +76,23 @@ class OrbitalState:
 class JointSample:
     """The joints of an articulated body at one message.
 
+    The efforts and the links' loads are computed from ``coefficients`` when first read.
+
     Attributes
     ----------
     names : tuple of str
         The moving joints, in the body's order.
     positions : ndarray, shape (J,)
         Their positions used [rad or m].
+    link_names : tuple of str
+        The links, in the body's order.
+    coefficients : ArticulatedCoefficients
+        The body's coefficients at this message.
+    dynamic_pressure : float
+        q [Pa].
     efforts : ndarray, shape (J,)
         The aerodynamic effort each drive must hold [N m about a revolute joint's axis, N along
         a prismatic joint's].
-    link_names : tuple of str
-        The links, in the body's order.
     link_forces, link_torques : ndarray, shape (L, 3)
         Force [N] on every link and its torque [N m] about the centre of mass, body frame; they
         sum to the wrench.
@@ -93,10 +100,27 @@ class JointSample:
 
     names: tuple
     positions: np.ndarray
-    efforts: np.ndarray
     link_names: tuple
-    link_forces: np.ndarray
-    link_torques: np.ndarray
+    coefficients: ArticulatedCoefficients
+    dynamic_pressure: float
+
+    @functools.cached_property
+    def efforts(self) -> np.ndarray:
+        """Joint efforts [N m or N] (J,)."""
+        return self.coefficients.efforts(self.dynamic_pressure)
+
+    @functools.cached_property
+    def link_forces(self) -> np.ndarray:
+        """Every link's force [N] (L, 3), body frame."""
+        area = self.coefficients.total.reference.area
+        return (self.dynamic_pressure * area) * self.coefficients.link_force
+
+    @functools.cached_property
+    def link_torques(self) -> np.ndarray:
+        """Every link's torque [N m] (L, 3) about the centre of mass, body frame."""
+        reference = self.coefficients.total.reference
+        scale = self.dynamic_pressure * reference.area * reference.length
+        return scale * self.coefficients.link_moment
 
 
 @dataclass(frozen=True, eq=False)

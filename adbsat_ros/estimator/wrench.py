@@ -131,12 +131,10 @@ def joint_sample(body, articulated, q: float) -> JointSample:
     """The joints' positions and efforts and the links' loads of an
     :class:`~adbsat_ros.physics.articulated_method.ArticulatedCoefficients` at dynamic pressure
     q [Pa]."""
-    ref = articulated.total.reference
     return JointSample(
         names=articulated.joint_names,
         positions=articulated.joint_positions,
-        efforts=articulated.efforts(q),
         link_names=body.links,
-        link_forces=(q * ref.area) * articulated.link_force,
-        link_torques=(q * ref.area * ref.length) * articulated.link_moment,
+        coefficients=articulated,
+        dynamic_pressure=q,
     )

@@ -13,11 +13,13 @@ the links it carries about its axis through the joint (revolute, continuous) or 
 along it (prismatic).
 
 When every link's panels group into facets (boxes, plates, most meshes), the links' facets are
-posed in G and evaluated as one body (:class:`~adbsat_ros.physics.posed_facets.PosedFacets`),
-their weighted sums taken link by link; each link's force and moment (about G's origin) and lit
-projected area then give every output through one linear map per configuration
-(its ``load_maps``). Otherwise each link is evaluated in its own frame as
-above, with the lighting split by link.
+posed in G and evaluated as one rigid body of them
+(:class:`~adbsat_ros.physics.posed_facets.PosedFacets`): the totals come as a
+:class:`PanelMethod`'s do. The links' and joints' values are read, when asked for, from the same
+facet sums taken link by link: each link's force and moment (about G's origin) and lit projected
+area give them through one linear map per configuration (its ``load_maps``). Otherwise each link
+is evaluated in its own frame as above, with the lighting split by link, and the map gives the
+totals too.
 
 The same numbers, to rounding, as a :class:`PanelMethod` of
 :meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh` at those positions (tested).
@@ -30,7 +32,7 @@ Units: metres, radians; frame G = the root link's frame.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from functools import cached_property
 from typing import Mapping
 
 import numpy as np
@@ -49,9 +51,12 @@ from adbsat_ros.shading.shader import MODES as SHADING_MODES
 from adbsat_ros.shading.shader import make_shader
 
 
-@dataclass(frozen=True)
 class ArticulatedCoefficients:
     """The coefficients of an articulated body at one configuration and flow direction.
+
+    The links' and joints' values are computed from the evaluation's sums when first read, so
+    a caller that needs only the total (a node publishing the wrench alone) does not pay for
+    them.
 
     Attributes
     ----------
@@ -74,13 +79,31 @@ class ArticulatedCoefficients:
         dynamic pressure: A_ref L_ref [m^3] (revolute, continuous) or A_ref [m^2] (prismatic).
     """
 
-    total: AeroCoefficients
-    link_force: np.ndarray
-    link_moment: np.ndarray
-    joint_names: tuple
-    effort_coefficients: np.ndarray
-    joint_positions: np.ndarray
-    effort_scales: np.ndarray
+    def __init__(self, total, joint_names, joint_positions, effort_scales, link_outputs):
+        self.total = total
+        self.joint_names = joint_names
+        self.joint_positions = joint_positions
+        self.effort_scales = effort_scales
+        self._link_outputs = link_outputs  # () -> (link_force, link_moment, effort_coefficients)
+
+    @cached_property
+    def _outputs(self) -> tuple:
+        return self._link_outputs()
+
+    @property
+    def link_force(self) -> np.ndarray:
+        """Every link's force coefficient (L, 3), body frame."""
+        return self._outputs[0]
+
+    @property
+    def link_moment(self) -> np.ndarray:
+        """Every link's moment coefficient (L, 3) about the reference moment point."""
+        return self._outputs[1]
+
+    @property
+    def effort_coefficients(self) -> np.ndarray:
+        """Every moving joint's effort coefficient (J,)."""
+        return self._outputs[2]
 
     @property
     def joint_effort(self) -> dict:
@@ -244,38 +267,49 @@ class ArticulatedMethod:
             raise ValueError(
                 f"lighting has {lighting.n_panels} panels, the body has {self.n_panels}"
             )
-        loads = None
+        posed = None
         if self.facets is not None:
-            loads = self._posed_loads(flow, u, lighting, surface, poses)
-        if loads is None:  # (a link without facets, or a surface varying within a facet)
-            loads = self._link_loads(flow, u, lighting, surface, poses)
-        link_loads, panel_values, panel_index = loads
-        cf, cm, forces, moments, efforts, area = self._rows
-        out = self.load_maps.get(poses.key, lambda: self._load_map(poses)) @ link_loads
-        n_links = len(self.body.links)
+            posed = self._posed_evaluation(flow, u, lighting, surface, poses)
+        if posed is not None:
+            (Cf_G, Cm_G, area_projected), panel_values, panel_index, link_loads = posed
+        else:  # (a link without facets, or a surface varying within a facet)
+            loads, panel_values = self._link_loads(flow, u, lighting, surface, poses)
+            out = self._load_map(poses) @ loads
+            cf, cm, area = self._rows[0], self._rows[1], self._rows[-1]
+            Cf_G, Cm_G, area_projected = out[cf], out[cm], float(out[area][0])
+            panel_index = None
+
+            def link_loads():
+                return loads
+
         total = AeroCoefficients(
             flow_direction=u,
-            Cf_G=out[cf],
-            Cm_G=out[cm],
+            Cf_G=Cf_G,
+            Cm_G=Cm_G,
             reference=self.reference,
-            area_projected=float(out[area][0]),
+            area_projected=area_projected,
             model=self.model,
             panel_values=panel_values,
             panel_index=panel_index,
             lighting=lighting,
             angles=angles,
         )
+
+        def link_outputs():
+            _, _, forces, moments, efforts, _ = self._rows
+            out = self._load_map(poses) @ link_loads()
+            n_links = len(self.body.links)
+            return out[forces].reshape(n_links, 3), out[moments].reshape(n_links, 3), out[efforts]
+
         return ArticulatedCoefficients(
-            total,
-            out[forces].reshape(n_links, 3),
-            out[moments].reshape(n_links, 3),
-            self._joint_names,
-            out[efforts],
-            np.array(poses.key),
-            self._effort_scales,
+            total, self._joint_names, np.array(poses.key), self._effort_scales, link_outputs
         )
 
     def _load_map(self, poses: Poses) -> np.ndarray:
+        """The load map of ``poses``' configuration, from :attr:`load_maps`."""
+        return self.load_maps.get(poses.key, lambda: self._make_load_map(poses))
+
+    def _make_load_map(self, poses: Poses) -> np.ndarray:
         """The matrix that takes the evaluated links' loads to every output at the configuration
         of ``poses``.
 
@@ -314,10 +348,11 @@ class ArticulatedMethod:
         out.setflags(write=False)
         return out
 
-    def _posed_loads(self, flow, u, lighting, surface, poses):
-        """Every evaluated link's loads (F, M, S of :meth:`_load_map`) side by side and the
-        per-facet values, from the posed facets in one evaluation (None if the surface varies
-        within a facet)."""
+    def _posed_evaluation(self, flow, u, lighting, surface, poses):
+        """The posed facets in one evaluation, as a rigid body of them (None if the surface
+        varies within a facet): the totals (Cf_G, Cm_G, lit projected area), the per-facet
+        values, the facet of every panel, and a function that gives every evaluated link's
+        loads (F, M, S of :meth:`_make_load_map`) side by side."""
         facets = self.facets
         facet_surface = self._facet_surface if surface is None else facets.surface(surface)
         if facet_surface is None:
@@ -326,16 +361,20 @@ class ArticulatedMethod:
         c, cp, shear, ctau = self._evaluator.facet_coefficients(u, inward_T, facet_surface, flow)
         rows = facet_rows(c, cp, shear)
         sums = facets.sums(lighting, poses)
-        # every link's sums weighted by each row (q, k, max(c, 0)): (L, 10 sums x 3 rows)
-        weighted = (sums @ rows.T).reshape(len(self._links), 3 * N_SUMS)
+
+        def link_loads():
+            return (facets.link_products(rows, sums) @ _sums_to_loads(u)).ravel()
+
         return (
-            (weighted @ _sums_to_loads(u)).ravel(),
+            PanelMethod.totals_of_sums(u, rows, sums, self.reference),
             (c, cp, ctau, shear, normals),
             facets.panel_index,
+            link_loads,
         )
 
     def _link_loads(self, flow, u, lighting, surface, poses):
-        """As :meth:`_posed_loads`, link by link in the links' frames (per-panel values)."""
+        """Every evaluated link's loads (F, M, S of :meth:`_make_load_map`) side by side, link
+        by link in the links' frames, and the per-panel values."""
         rotations = poses.rotations[self._link_index]
         origins = poses.origins[self._link_index]
         own = self.splits.split(lighting, rotations, poses.key)
@@ -356,7 +395,7 @@ class ArticulatedMethod:
                 origins[k], force
             )
             loads[k, 6] = r.area_projected
-        return loads.ravel(), lambda: _joined_panel_values(results), None
+        return loads.ravel(), lambda: _joined_panel_values(results)
 
 
 #: Loads of a link: force (3), moment about G's origin (3), lit projected area.

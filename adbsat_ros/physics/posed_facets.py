@@ -26,7 +26,6 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.lru import LruStore
-from adbsat_ros.physics.facets import N_SUMS
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
 
@@ -67,6 +66,8 @@ class PosedFacets:
         self._spans = [(int(a), int(b)) for a, b in spans]
         counts = [f.n for f in self._facets]
         self.n = int(sum(counts))
+        if min(counts) < 1:
+            raise ValueError("every link needs at least one facet")
         self.starts = np.cumsum([0, *counts[:-1]])
         self.panel_index = np.concatenate(
             [f.index + start for f, start in zip(self._facets, self.starts)]
@@ -112,10 +113,10 @@ class PosedFacets:
         return self.normals_store.get(poses.key, make)
 
     def sums(self, lighting, poses) -> np.ndarray:
-        """The posed facet sums of the body's ``lighting`` (None: all lit), link by link: a
-        (10 L, G) array whose rows 10 l .. 10 l + 9 hold the sums (W, W n, Q, Q x n) of link l's
-        facets and zeros elsewhere, so that one product with per-facet weights sums every
-        link's columns at once."""
+        """The (G, 10) facet sums (W, W n, Q, Q x n) of the body's ``lighting`` (None: all lit)
+        posed at ``poses``, link after link: the layout of
+        :meth:`~adbsat_ros.physics.facets.Facets.lit_sums`, so that the whole body's totals are
+        those of a rigid body of these facets."""
         if isinstance(lighting, LightingBlend):
             (w, first), *rest = lighting.parts
             out = w * self._part_sums(first, poses)
@@ -124,20 +125,27 @@ class PosedFacets:
             return out
         return self._part_sums(lighting, poses)
 
+    def link_products(self, rows: np.ndarray, sums: np.ndarray) -> np.ndarray:
+        """Every link's facet ``sums`` (G, 10) weighted by each of the (3, G) per-facet ``rows``
+        and summed over its facets: an (L, 30) array, entry [l, 3 c + r] the sum over link l's
+        facets of ``rows[r] * sums[:, c]``."""
+        weighted = sums[:, :, None] * rows.T[:, None, :]  # (G, 10, 3)
+        return np.add.reduceat(weighted, self.starts, axis=0).reshape(len(self.starts), -1)
+
     def _part_sums(self, lighting, poses) -> np.ndarray:
         def make():
             rotations = poses.rotations[self._link_index]
             origins = poses.origins[self._link_index]
             normals = self.normals(poses)[0]
-            sums = np.zeros((N_SUMS * len(self._facets), self.n))
-            parts = zip(self._facets, self._link_sums(lighting), rotations, origins)
-            for k, (f, (own, shifts), r, t) in enumerate(parts):
-                start = self.starts[k]
-                posed = _posed(own, r, t)
+            parts = []
+            for k, (own, shifts) in enumerate(self._link_sums(lighting)):
+                posed = _posed(own, rotations[k], origins[k])
                 if shifts is not None:
+                    start = self.starts[k]
                     posed[:, 4:7] += shifts
-                    posed[:, 7:10] += frames.cross(shifts, normals[start : start + f.n])
-                sums[N_SUMS * k : N_SUMS * (k + 1), start : start + f.n] = posed.T
+                    posed[:, 7:10] += frames.cross(shifts, normals[start : start + len(own)])
+                parts.append(posed)
+            sums = np.concatenate(parts)
             sums.setflags(write=False)
             return sums
 
