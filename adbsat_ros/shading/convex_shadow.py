@@ -7,13 +7,18 @@ positive distance). So a panel whose three corners are in C's shadow is wholly i
 shader's corner rule), and the shadow of C on a plane is C's projection along the flow.
 
 A panel that only closed convex components can shade (the panel on its own component's convex
-hull; one to three others overlapping it in the plane normal to the flow) and that they lie
-wholly in front of (every point of each on the panel's upstream side) is in their shadow
-exactly where the panel's projection along the flow falls inside the union of their
-projections. Projected on the plane normal to the flow u, each part is a convex polygon H (the
-2-D convex hull of its corners) and the panel a triangle T; the parallel projection from the
-panel's plane to that plane is affine, so the lit fraction is 1 - area(T ∩ (H_1 ∪ ...)) /
-area(T) and the lit centroid, mapped back through the triangle's own corners, is exact.
+hull; one to three others overlapping it in the plane normal to the flow) is in their shadow
+exactly where the panel's projection along the flow falls inside the union of the projections
+of their parts in front of the panel's plane: the ray upstream from a panel that faces the flow
+never leaves the half-space in front of it. A convex part C cut by that plane leaves the convex
+solid C ∩ {n . x >= n . p}, the convex hull of C's corners in front and of the points where the
+plane cuts the segments between corners on its two sides (a fin whose root meets the body:
+only the body's part in front of the fin shades it). Projected on the plane normal to the flow
+u, each such solid is a convex polygon H (the 2-D convex hull of its corners) and the panel a
+triangle T; the parallel projection from the panel's plane to that plane is affine, so the lit
+fraction is 1 - area(T ∩ (H_1 ∪ ...)) / area(T) and the lit centroid, mapped back through the
+triangle's own corners, is exact. The panels of one flat face share the plane, so the cut is
+made once per face.
 
 :func:`convex_outline` makes the polygon H of a part, :func:`lit_parts` the lit fraction and
 lit centroid of many triangles against the polygons (Sutherland-Hodgman clipping of each
@@ -35,8 +40,12 @@ from adbsat_ros.geometry.mesh import PanelMesh
 #: inclusion-exclusion over 2^n - 1 intersections).
 MAX_OCCLUDERS = 3
 #: A convex part counts as wholly in front of a panel if each of its hull corners is at least
-#: this fraction of the mesh's bounding-box diagonal in front of the panel's plane.
+#: this fraction of the mesh's bounding-box diagonal in front of the panel's plane (and as
+#: wholly behind if none is).
 FRONT_TOL_FRACTION = 1e-9
+#: Panels share a plane if their unit normals and their planes' offsets (as fractions of the
+#: bounding-box diagonal) agree to this many decimals.
+PLANE_DIGITS = 12
 
 
 class ConvexParts:
@@ -64,6 +73,7 @@ class ConvexParts:
     ):
         self.mesh = mesh
         self.filter = candidate_filter
+        self.diagonal = diagonal
         self.tolerance = FRONT_TOL_FRACTION * diagonal
         self.graze_tol = graze_tol
         self._corners = dict(corners or {})  # component -> its hull corners (h, 3)
@@ -82,8 +92,8 @@ class ConvexParts:
         A panel qualifies if it faces the flow (cos delta > ``graze_tol``), it is on its
         own component's hull (its own component cannot shade it), the other components that
         could shade it (``filter.occluders``) are one to :data:`MAX_OCCLUDERS`, all closed and
-        convex, and each lies wholly in front of the panel's plane. Its shadow is then the
-        union of their projections.
+        convex. Its shadow is then the union of the projections of their parts in front of
+        the panel's plane (the rays from a panel facing the flow stay in front of it).
 
         Parameters
         ----------
@@ -109,40 +119,88 @@ class ConvexParts:
         done = facing & flt.on_hull[panels] & convex & (count >= 1) & (count <= MAX_OCCLUDERS)
         fraction = np.ones(panels.size)
         centroid = mesh.barycentres[panels].copy()
-        x, y, _ = boxes.coords
         outlines: dict = {}  # component -> its projected outline, for this direction
         sets, which = np.unique(occluders[done], axis=0, return_inverse=True)
         rows_done = np.flatnonzero(done)
         for s, parts in enumerate(sets):  # (a loop over the sets of parts in front, few)
             rows = rows_done[which.ravel() == s]
-            normals, v0 = mesh.normals[panels[rows]], mesh.vertices[panels[rows], 0]
-            level = np.einsum("kj,kj->k", normals, v0)[:, None]
-            in_front = np.ones(rows.size, dtype=bool)
+            j = panels[rows]
+            normals = mesh.normals[j]
+            level = np.einsum("kj,kj->k", normals, mesh.vertices[j, 0])
             members = np.flatnonzero(parts).tolist()
+            in_front = np.ones(rows.size, dtype=bool)
             for part in members:
-                corners = self.corners(part)
-                in_front &= (normals @ corners.T - level).min(axis=1) > self.tolerance
+                in_front &= (normals @ self.corners(part).T).min(axis=1) - level > self.tolerance
+            # the panels with every part wholly in front of them: the parts' whole outlines
+            for part in members:
                 if part not in outlines:
-                    outlines[part] = convex_outline(corners @ boxes.basis[:, :2])
+                    outlines[part] = convex_outline(self.corners(part) @ boxes.basis[:, :2])
             shapes = [outlines[part] for part in members]
             if any(shape is None for shape in shapes):
-                in_front[:] = False
-            done[rows[~in_front]] = False
-            rows = rows[in_front]
-            if rows.size == 0:
+                done[rows] = False
                 continue
-            j = panels[rows]
-            triangles = np.stack([x[j], y[j]], axis=-1)  # (R, 3, 2)
-            f, c2 = lit_parts(triangles, shapes)
-            fraction[rows] = f
-            # the lit centroid back on the panel, through its triangle coordinates
-            e = np.stack([triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]], 2)
-            ab = np.linalg.solve(e, (c2 - triangles[:, 0])[..., None])[..., 0]
-            v = mesh.vertices[j]
-            centroid[rows] = (
-                v[:, 0] + ab[:, :1] * (v[:, 1] - v[:, 0]) + ab[:, 1:] * (v[:, 2] - v[:, 0])
+            self._clip_panels(boxes, j[in_front], rows[in_front], shapes, fraction, centroid)
+            # the others, one plane (a flat face) at a time: the parts' outlines in front of it
+            cut = np.flatnonzero(~in_front)
+            if cut.size == 0:
+                continue
+            planes, plane_of = np.unique(
+                np.round(np.column_stack([normals[cut], level[cut] / self.diagonal]), PLANE_DIGITS),
+                axis=0,
+                return_inverse=True,
             )
+            plane_of = plane_of.ravel()
+            for k in range(len(planes)):
+                on_plane = cut[plane_of == k]
+                first = on_plane[0]
+                shapes = self._shadows(members, normals[first], level[first], boxes.basis)
+                if shapes is None:  # (a part projects to no area: left to the rays)
+                    done[rows[on_plane]] = False
+                    continue
+                self._clip_panels(boxes, j[on_plane], rows[on_plane], shapes, fraction, centroid)
         return done, fraction[done], centroid[done]
+
+    def _shadows(self, members, normal, level: float, basis) -> list | None:
+        """The outlines (in the plane normal to the flow) of the parts ``members`` in front of
+        the plane n . x = level: each part's corners that lie in front of it and the points
+        where the plane cuts the segments between corners on its two sides (a convex part
+        meets the plane in the convex hull of those); a part wholly behind casts none. None
+        if a part's outline spans no area."""
+        shapes = []
+        for part in members:
+            corners = self.corners(part)
+            height = corners @ normal - level
+            if height.min() > self.tolerance:  # wholly in front
+                points = corners
+            elif height.max() <= self.tolerance:  # wholly behind: no shadow on this plane
+                continue
+            else:
+                front, back = height > 0.0, height < 0.0
+                a, b = corners[front], corners[back]
+                ha, hb = height[front], height[back]
+                t = (ha[:, None] / (ha[:, None] - hb[None, :]))[..., None]
+                cut = a[:, None, :] + t * (b[None, :, :] - a[:, None, :])
+                points = np.concatenate([corners[~back], cut.reshape(-1, 3)])
+            outline = convex_outline(points @ basis[:, :2])
+            if outline is None:
+                return None
+            shapes.append(outline)
+        return shapes
+
+    def _clip_panels(self, boxes, j, rows, shapes, fraction, centroid) -> None:
+        """Set ``fraction[rows]`` and ``centroid[rows]`` of panels ``j`` from the polygons
+        ``shapes`` (none: all lit)."""
+        if not shapes or j.size == 0:
+            return
+        x, y, _ = boxes.coords
+        triangles = np.stack([x[j], y[j]], axis=-1)  # (R, 3, 2)
+        f, c2 = lit_parts(triangles, shapes)
+        fraction[rows] = f
+        # the lit centroid back on the panel, through its triangle coordinates
+        e = np.stack([triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]], 2)
+        ab = np.linalg.solve(e, (c2 - triangles[:, 0])[..., None])[..., 0]
+        v = self.mesh.vertices[j]
+        centroid[rows] = v[:, 0] + ab[:, :1] * (v[:, 1] - v[:, 0]) + ab[:, 1:] * (v[:, 2] - v[:, 0])
 
 
 def hull_corners(points: np.ndarray) -> np.ndarray:

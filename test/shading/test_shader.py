@@ -316,22 +316,32 @@ def test_overlapping_shadows_of_convex_parts_are_exact(aoa_deg, aos_deg):
     )
 
 
-def test_a_part_across_the_panel_plane_is_not_clipped():
+@pytest.mark.parametrize("aoa_deg, aos_deg", [(40.0, 10.0), (-25.0, -30.0)])
+def test_a_part_across_the_panel_plane_shades_with_its_part_in_front(aoa_deg, aos_deg):
     # A 1 m cube through the plate's front plane (x = 0.05; the cube spans x = -0.2 .. 0.8):
-    # only its part in front of the plane shades the plate, so its whole projection would
-    # shade too much. The front panels are not lit by clipping but by their rays, as without
-    # convex shadows.
+    # only its part in front of the plane, a 0.75 m deep box, shades the plate. Its shadow on
+    # the plane is the unit square swept by 0.75 (u_y, u_z) / |u_x|, of area
+    # 1 + 0.75 (|u_y| + |u_z|) / |u_x| (inside the plate at these attitudes), so the plate's
+    # front panels have the lit projected area |u_x| (9 - that), exactly; the whole cube's
+    # projection would shade 0.25 (|u_y| + |u_z|) / |u_x| m^2 more.
     mesh = combine(
         grid_box((0.3, 0.0, 0.0), (1.0, 1.0, 1.0), (2, 2, 2)),
         grid_box((0.0, 0.0, 0.0), (0.1, 3.0, 3.0), (1, 25, 25)),
     )
-    u = frames.flow_direction(math.radians(40.0), math.radians(10.0))
+    u = frames.flow_direction(math.radians(aoa_deg), math.radians(aos_deg))
+    ux, uy, uz = np.abs(u)
+    shadow = 1.0 + 0.75 * (uy + uz) / ux
     fast, full = make_shader(mesh), make_shader(mesh, convex_shadows=False)
     a, b = fast.lighting(u), full.lighting(u)
     front = front_plate_panels(mesh)
-    assert fast.last_stats["exact"] == 0
-    assert (b.lit_fraction[front] < 1.0).any()
-    np.testing.assert_array_equal(a.lit_fraction[front], b.lit_fraction[front])
+    assert fast.last_stats["exact"] > 100
+    assert fast.last_stats["rays"] < full.last_stats["rays"]
+    lit = ux * (mesh.areas[front] * a.lit_fraction[front]).sum()
+    assert lit == pytest.approx(ux * (9.0 - shadow), rel=1e-12)
+    # the rays agree, to their sampling error
+    assert np.abs(a.lit_fraction[front] - b.lit_fraction[front]).max() < 0.06
+    rays = ux * (mesh.areas[front] * b.lit_fraction[front]).sum()
+    assert rays == pytest.approx(lit, rel=2e-3)
 
 
 def test_corners_under_different_occluders_are_not_taken_as_shaded(backend):
