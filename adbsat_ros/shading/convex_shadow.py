@@ -120,6 +120,7 @@ class ConvexParts:
         fraction = np.ones(panels.size)
         centroid = mesh.barycentres[panels].copy()
         outlines: dict = {}  # component -> its projected outline, for this direction
+        groups: dict = {}  # number of shadows -> [(panels, rows, their outlines), ...]
         sets, which = np.unique(occluders[done], axis=0, return_inverse=True)
         rows_done = np.flatnonzero(done)
         for s, parts in enumerate(sets):  # (a loop over the sets of parts in front, few)
@@ -139,7 +140,8 @@ class ConvexParts:
             if any(shape is None for shape in shapes):
                 done[rows] = False
                 continue
-            self._clip_panels(boxes, j[in_front], rows[in_front], shapes, fraction, centroid)
+            if in_front.any():
+                groups.setdefault(len(shapes), []).append((j[in_front], rows[in_front], shapes))
             # the others, one plane (a flat face) at a time: the parts' outlines in front of it
             cut = np.flatnonzero(~in_front)
             if cut.size == 0:
@@ -156,8 +158,13 @@ class ConvexParts:
                 shapes = self._shadows(members, normals[first], level[first], boxes.basis)
                 if shapes is None:  # (a part projects to no area: left to the rays)
                     done[rows[on_plane]] = False
-                    continue
-                self._clip_panels(boxes, j[on_plane], rows[on_plane], shapes, fraction, centroid)
+                elif shapes:  # (no shapes: every part behind the plane, all lit)
+                    groups.setdefault(len(shapes), []).append((j[on_plane], rows[on_plane], shapes))
+        for same in groups.values():  # (one clipping per number of shadows, at most three)
+            j = np.concatenate([g[0] for g in same])
+            rows = np.concatenate([g[1] for g in same])
+            polygons = _per_panel_outlines([(g[0].size, g[2]) for g in same])
+            self._clip_panels(boxes, j, rows, polygons, fraction, centroid)
         return done, fraction[done], centroid[done]
 
     def _shadows(self, members, normal, level: float, basis) -> list | None:
@@ -189,9 +196,7 @@ class ConvexParts:
 
     def _clip_panels(self, boxes, j, rows, shapes, fraction, centroid) -> None:
         """Set ``fraction[rows]`` and ``centroid[rows]`` of panels ``j`` from the polygons
-        ``shapes`` (none: all lit)."""
-        if not shapes or j.size == 0:
-            return
+        ``shapes`` (as :func:`lit_parts` takes them)."""
         x, y, _ = boxes.coords
         triangles = np.stack([x[j], y[j]], axis=-1)  # (R, 3, 2)
         f, c2 = lit_parts(triangles, shapes)
@@ -201,6 +206,22 @@ class ConvexParts:
         ab = np.linalg.solve(e, (c2 - triangles[:, 0])[..., None])[..., 0]
         v = self.mesh.vertices[j]
         centroid[rows] = v[:, 0] + ab[:, :1] * (v[:, 1] - v[:, 0]) + ab[:, 1:] * (v[:, 2] - v[:, 0])
+
+
+def _per_panel_outlines(groups) -> list:
+    """Groups of panels that share their shadows, ``[(count, outlines), ...]`` (the same number
+    of outlines in each), as one (K, m, 2) array per outline slot: each group's polygon
+    repeated for its panels, padded to m corners by repeating its last corner (an edge of
+    zero length clips nothing)."""
+    out = []
+    for slot in range(len(groups[0][1])):
+        polygons = [outlines[slot] for _, outlines in groups]
+        m = max(len(p) for p in polygons)
+        padded = np.stack(
+            [np.concatenate([p, np.repeat(p[-1:], m - len(p), axis=0)]) for p in polygons]
+        )
+        out.append(np.repeat(padded, [count for count, _ in groups], axis=0))
+    return out
 
 
 def hull_corners(points: np.ndarray) -> np.ndarray:
@@ -245,8 +266,9 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     ----------
     triangles : ndarray, shape (K, 3, 2)
         Triangles [m] (either orientation, non-degenerate).
-    outlines : sequence of ndarray, each of shape (m, 2)
-        Convex polygons [m], counter-clockwise (:func:`convex_outline`).
+    outlines : sequence of ndarray, each of shape (m, 2) or (K, m, 2)
+        Convex polygons [m], counter-clockwise (:func:`convex_outline`): one for every
+        triangle, or one per triangle (a polygon may repeat its last corner).
 
     Returns
     -------
@@ -258,6 +280,7 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     """
     tri = np.asarray(triangles, dtype=float)
     k = tri.shape[0]
+    outlines = [np.broadcast_to(o, (k, *np.shape(o)[-2:])) for o in outlines]
     area_t, centroid_t = _area_centroid(tri, np.full(k, 3))
     area_u, moment_u = np.zeros(k), np.zeros((k, 2))
     n = len(outlines)
@@ -278,14 +301,15 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
 
 def _covered(tri, area_t, centroid_t, outlines) -> tuple:
     """Area (K,) and centroid (K, 2) of each triangle's intersection with every one of the
-    convex ``outlines`` (the triangle's own where it lies inside all, zero where outside one)."""
+    convex ``outlines`` ((K, m, 2) each: the polygons of each triangle; the triangle's own
+    area and centroid where it lies inside all, zero where outside one)."""
     k = tri.shape[0]
     inside = np.ones(k, dtype=bool)
     outside = np.zeros(k, dtype=bool)
     for outline in outlines:  # which side of each edge each corner is on (>= 0: inside)
-        a, edge = outline, np.roll(outline, -1, axis=0) - outline
-        side = edge[:, 0] * (tri[..., 1, None] - a[:, 1]) - edge[:, 1] * (
-            tri[..., 0, None] - a[:, 0]
+        a, edge = outline[:, None], np.roll(outline, -1, axis=1)[:, None] - outline[:, None]
+        side = edge[..., 0] * (tri[..., 1, None] - a[..., 1]) - edge[..., 1] * (
+            tri[..., 0, None] - a[..., 0]
         )
         inside &= (side >= 0.0).all(axis=(1, 2))
         outside |= (side < 0.0).all(axis=1).any(axis=1)  # all corners beyond one edge
@@ -294,13 +318,15 @@ def _covered(tri, area_t, centroid_t, outlines) -> tuple:
     cut = np.flatnonzero(~inside & ~outside)
     if cut.size:
         # Sutherland-Hodgman: clip the triangles by the half-planes left of every edge
-        capacity = 3 + sum(len(o) for o in outlines)
+        capacity = 3 + sum(o.shape[1] for o in outlines)
         poly = np.zeros((cut.size, capacity, 2))
         poly[:, :3] = tri[cut]
         count = np.full(cut.size, 3)
         for outline in outlines:
-            for a, b in zip(outline, np.roll(outline, -1, axis=0)):
-                poly, count = _clip(poly, count, a, b, capacity)
+            corners = outline[cut]
+            following = np.roll(corners, -1, axis=1)
+            for e in range(corners.shape[1]):
+                poly, count = _clip(poly, count, corners[:, e], following[:, e], capacity)
         area_cut, centroid_cut = _area_centroid(poly, count)
         area[cut] = area_cut
         centroid[cut] = np.where((area_cut > 0.0)[:, None], centroid_cut, centroid_t[cut])
@@ -309,12 +335,13 @@ def _covered(tri, area_t, centroid_t, outlines) -> tuple:
 
 def _clip(poly, count, a, b, capacity):
     """Polygons (K, capacity, 2) with ``count`` corners each, clipped to the half-plane left of
-    the directed line a -> b (the inside of a counter-clockwise outline)."""
+    the directed line a -> b ((K, 2) each: the inside of a counter-clockwise outline)."""
     k = poly.shape[0]
     valid, nxt, q = _edges(poly, count)
     p = poly
-    edge = b - a
-    side_p = edge[0] * (p[..., 1] - a[1]) - edge[1] * (p[..., 0] - a[0])  # >= 0: inside
+    edge = (b - a)[:, None, :]
+    a = a[:, None, :]
+    side_p = edge[..., 0] * (p[..., 1] - a[..., 1]) - edge[..., 1] * (p[..., 0] - a[..., 0])
     side_q = np.take_along_axis(side_p, nxt, axis=1)
     in_p, in_q = side_p >= 0.0, side_q >= 0.0
     crossing = valid & (in_p != in_q)

@@ -7,7 +7,8 @@ link's own frame. For a configuration it poses the merged vertices (a rotation a
 link) and builds the ray scene from them, with no vertex merging, and joins the links'
 topologies, which moving a link does not change. The panels, their order and every rule of the
 ray cast are those of :func:`~adbsat_ros.shading.rays.ray_scene` on
-:meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh`.
+:meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh`; the scene is built when the
+first ray is cast (:class:`DeferredScene`).
 
 Two links are never one component here, so the panels of two links that touch are not edge
 neighbours (the shader's probe of a partly lit panel's neighbours stays within its link).
@@ -71,18 +72,22 @@ class LinkScenes:
         self._faces = np.concatenate(faces)
         self.topology = MeshTopology.joined(topologies)
 
-    def scene(self, mesh: PanelMesh, link_poses: np.ndarray) -> RayScene:
+    def scene(self, mesh: PanelMesh, link_poses: np.ndarray) -> "DeferredScene":
         """The ray scene of the body's panels ``mesh`` at the configuration where its links
         have ``link_poses`` ((L, 4, 4) link-to-G poses of every link, as
-        :meth:`ArticulatedBody.link_poses` gives them)."""
-        poses = np.asarray(link_poses, dtype=float)
-        posed = np.concatenate(  # (as the body poses its panels' corners: the same numbers)
-            [
-                v @ poses[link, :3, :3].T + poses[link, :3, 3]
-                for link, v in zip(self._links, self._vertices)
-            ]
-        )
-        return ray_scene(mesh, self.backend, indexed=(posed, self._faces))
+        :meth:`ArticulatedBody.link_poses` gives them), built when a ray is first cast."""
+        poses = np.array(link_poses, dtype=float)
+
+        def build() -> RayScene:
+            posed = np.concatenate(  # (as the body poses its panels' corners: the same numbers)
+                [
+                    v @ poses[link, :3, :3].T + poses[link, :3, 3]
+                    for link, v in zip(self._links, self._vertices)
+                ]
+            )
+            return ray_scene(mesh, self.backend, indexed=(posed, self._faces))
+
+        return DeferredScene(self.backend, build)
 
     def hull_corners(self, link_poses: np.ndarray) -> dict:
         """The corners of every component's convex hull [m] at the configuration where the
@@ -98,3 +103,48 @@ class LinkScenes:
     def candidate_filter(self, mesh: PanelMesh) -> CandidateFilter:
         """The candidate filter of the body's panels ``mesh`` (at any configuration)."""
         return CandidateFilter(mesh, topology=self.topology)
+
+
+class DeferredScene:
+    """A ray scene built when a ray is first cast through it (:class:`RayScene`'s methods).
+
+    Building an Embree scene of a posed body costs about 6 ms at 10,000 faces, and the exact
+    shadows of convex parts often leave no ray to cast for a configuration (none for the
+    bundled articulated examples at the benchmarks' attitudes), so a configuration's scene
+    waits for its first ray.
+
+    Parameters
+    ----------
+    backend : str
+        ``"embree"`` or ``"numpy"``.
+    build : callable
+        ``build()`` makes the scene.
+
+    """
+
+    def __init__(self, backend: str, build):
+        self.backend = backend
+        self._build = build
+        self._scene: RayScene | None = None
+
+    @property
+    def built(self) -> bool:
+        """Whether the scene has been built."""
+        return self._scene is not None
+
+    def _ready(self) -> RayScene:
+        if self._scene is None:
+            self._scene = self._build()
+        return self._scene
+
+    def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
+        """:meth:`RayScene.any_hit`."""
+        return self._ready().any_hit(origins, direction, occluder)
+
+    def first_face(self, origins, direction, occluder=None) -> np.ndarray:
+        """:meth:`RayScene.first_face`."""
+        return self._ready().first_face(origins, direction, occluder)
+
+    def first_hit(self, origins, directions) -> tuple:
+        """:meth:`RayScene.first_hit`."""
+        return self._ready().first_hit(origins, directions)

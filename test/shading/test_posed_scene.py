@@ -95,6 +95,31 @@ def test_first_hits_through_the_posed_scene(backend, body):
     np.testing.assert_allclose(t[face >= 0], want_t[face >= 0], rtol=1e-6)
 
 
+def test_a_configuration_scene_is_built_at_its_first_ray(backend, body):
+    # The bundled bodies are boxes: at these directions their exact convex shadows leave no
+    # ray to cast, so the configuration's scene is never built; the first ray builds it.
+    scenes = LinkScenes(body, backend)
+    values = configurations(body)[1]
+    mesh = body.mesh(values)
+    poses = body.link_poses(values)
+    scene = scenes.scene(mesh, poses)
+    shader = make_shader(
+        mesh,
+        scene=scene,
+        candidate_filter=scenes.candidate_filter(mesh),
+        hull_corners=scenes.hull_corners(poses),
+    )
+    for aoa, aos in DIRECTIONS[:2]:
+        shader.lighting(frames.flow_direction(math.radians(aoa), math.radians(aos)))
+        assert shader.last_stats["rays"] == 0
+    assert not scene.built
+    origins = mesh.barycentres[:50] + 2.0 * mesh.normals[:50]
+    u = -mesh.normals[0]
+    got = scene.any_hit(origins, u)
+    assert scene.built
+    np.testing.assert_array_equal(got, ray_scene(mesh, backend).any_hit(origins, u))
+
+
 @needs_embree
 def test_an_embree_scene_of_other_faces_is_refused(body):
     mesh = body.mesh()
