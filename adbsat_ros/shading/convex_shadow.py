@@ -121,10 +121,10 @@ class ConvexParts:
         centroid = mesh.barycentres[panels].copy()
         outlines: dict = {}  # component -> its projected outline, for this direction
         groups: dict = {}  # number of shadows -> [(panels, rows, their outlines), ...]
-        sets, which = np.unique(occluders[done], axis=0, return_inverse=True)
+        sets, which = _distinct_rows(occluders[done])
         rows_done = np.flatnonzero(done)
         for s, parts in enumerate(sets):  # (a loop over the sets of parts in front, few)
-            rows = rows_done[which.ravel() == s]
+            rows = rows_done[which == s]
             j = panels[rows]
             normals = mesh.normals[j]
             level = np.einsum("kj,kj->k", normals, mesh.vertices[j, 0])
@@ -146,12 +146,9 @@ class ConvexParts:
             cut = np.flatnonzero(~in_front)
             if cut.size == 0:
                 continue
-            planes, plane_of = np.unique(
-                np.round(np.column_stack([normals[cut], level[cut] / self.diagonal]), PLANE_DIGITS),
-                axis=0,
-                return_inverse=True,
+            planes, plane_of = _distinct_rows(
+                np.round(np.column_stack([normals[cut], level[cut] / self.diagonal]), PLANE_DIGITS)
             )
-            plane_of = plane_of.ravel()
             for k in range(len(planes)):
                 on_plane = cut[plane_of == k]
                 first = on_plane[0]
@@ -206,6 +203,23 @@ class ConvexParts:
         ab = np.linalg.solve(e, (c2 - triangles[:, 0])[..., None])[..., 0]
         v = self.mesh.vertices[j]
         centroid[rows] = v[:, 0] + ab[:, :1] * (v[:, 1] - v[:, 0]) + ab[:, 1:] * (v[:, 2] - v[:, 0])
+
+
+def _distinct_rows(keys: np.ndarray) -> tuple:
+    """The distinct rows of ``keys`` (K, c) and which of them each row is ((K,) indices), as
+    ``np.unique(keys, axis=0, return_inverse=True)`` gives them, by a lexicographic sort of
+    the columns (``np.unique`` sorts the rows as records: 1.3 ms for 2,000 rows of four
+    floats against 0.34 ms here, and a configuration of the finned example groups its panels
+    about fifteen times)."""
+    if len(keys) == 0:
+        return keys[:0], np.zeros(0, dtype=np.int64)
+    order = np.lexsort(keys.T[::-1])
+    ordered = keys[order]
+    first = np.ones(len(keys), dtype=bool)
+    first[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
+    which = np.empty(len(keys), dtype=np.int64)
+    which[order] = np.cumsum(first) - 1
+    return ordered[first], which
 
 
 def _per_panel_outlines(groups) -> list:
