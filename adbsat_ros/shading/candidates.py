@@ -24,9 +24,11 @@ from scipy.spatial import ConvexHull, QhullError
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.flow_plane import MAX_PAIRS, coordinates, max3, min3, perp_basis
 
-#: Faces within this fraction of the bounding-box diagonal of their component's convex hull
-#: count as hull faces (cannot be shaded by their own component).
-HULL_TOL_FRACTION = 1e-8
+#: Faces whose centroid is within this fraction of the bounding-box diagonal of their
+#: component's convex hull surface count as hull faces (cannot be shaded by their own
+#: component). It covers vertices rounded to float32, as binary STL stores them (6e-8 of the
+#: coordinates); a dent shallower than this shades nothing that matters.
+HULL_TOL_FRACTION = 1e-6
 #: Above this many connected components the inter-component filter is skipped (all forward
 #: panels of a multi-component mesh are then tested).
 MAX_COMPONENTS_FILTER = 64
@@ -146,12 +148,18 @@ class MeshTopology(NamedTuple):
 def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
     """Faces on the convex hull of their own component, normal pointing out of the hull.
 
-    A face counts if the support of its component in the direction of its normal is within
-    ``HULL_TOL_FRACTION`` of ``diagonal`` of its plane.
+    A face counts if its centroid lies within ``HULL_TOL_FRACTION`` of ``diagonal`` of the
+    surface of its component's hull and its normal points out of the hull facet nearest the
+    centroid. The centroid's distance to the hull does not depend on the face's own normal,
+    which rounding of the vertices tilts by up to (rounding / narrowest altitude): a sliver's
+    normal, used as a support direction, would reach a far hull point beyond the tolerance.
+    A component that spans no volume (a single plate) is tested by the support of its points
+    along the face's normal instead.
     """
     on_hull = np.zeros(mesh.n_panels, dtype=bool)
     tol = HULL_TOL_FRACTION * diagonal
     normals = mesh.normals
+    centroids = mesh.barycentres
     level = np.einsum("ij,ij->i", normals, mesh.vertices[:, 0, :])
     order = np.argsort(component, kind="stable")
     counts = np.bincount(component)
@@ -160,13 +168,22 @@ def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
         idx = order[a:b]
         pts = vertices[np.unique(faces[idx])]
         try:
-            hull_pts = pts[ConvexHull(pts).vertices]
+            planes = ConvexHull(pts).equations  # (F, 4): n . x + d <= 0 inside, n outward
         except (QhullError, ValueError):
-            hull_pts = pts  # flat or degenerate body: all its points
-        step = max(1, MAX_PAIRS // max(len(hull_pts), 1))
+            planes = None  # flat or degenerate body
+        if planes is not None:
+            step = max(1, MAX_PAIRS // len(planes))
+            for s in range(0, idx.size, step):
+                j = idx[s : s + step]
+                distance = centroids[j] @ planes[:, :3].T + planes[:, 3]  # (<= 0 inside)
+                nearest = distance.argmax(axis=1)
+                outward = np.einsum("kj,kj->k", normals[j], planes[nearest, :3]) > 0.0
+                on_hull[j] = (distance[np.arange(j.size), nearest] >= -tol) & outward
+            continue
+        step = max(1, MAX_PAIRS // max(len(pts), 1))
         for s in range(0, idx.size, step):
             j = idx[s : s + step]
-            on_hull[j] = (normals[j] @ hull_pts.T).max(axis=1) <= level[j] + tol
+            on_hull[j] = (normals[j] @ pts.T).max(axis=1) <= level[j] + tol
     return on_hull
 
 

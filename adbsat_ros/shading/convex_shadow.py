@@ -44,8 +44,10 @@ MAX_OCCLUDERS = 3
 #: wholly behind if none is).
 FRONT_TOL_FRACTION = 1e-9
 #: Panels share a plane if their unit normals and their planes' offsets (as fractions of the
-#: bounding-box diagonal) agree to this many decimals.
-PLANE_DIGITS = 12
+#: bounding-box diagonal) agree to this many decimals: the rounding of a mesh's vertices
+#: (float32 in a binary STL, nine digits in an OBJ) tilts the panels of one flat face by up to
+#: about 1e-7, and a plane a millionth of the body's size off moves a shadow by as much.
+PLANE_DIGITS = 6
 
 
 class ConvexParts:

@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 import trimesh
+from scipy.spatial.transform import Rotation
 from shading_scenes import (
     FLOW,
     box_with_fin,
@@ -27,6 +28,7 @@ from shading_scenes import (
 from adbsat_ros import PanelMethod
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.loading import panels_from_trimesh
+from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.shading.candidates import CandidateFilter, forward_mask
 from adbsat_ros.shading.lighting import PanelLighting
@@ -378,6 +380,25 @@ def test_only_closed_convex_components_count_as_convex():
         lo, hi = mesh.bounds
         flt = CandidateFilter(mesh, diagonal=float(np.linalg.norm(hi - lo)))
         assert flt.convex.tolist() == [convex], mesh.source
+
+
+def test_a_convex_part_rounded_to_float32_is_still_convex():
+    # A thin slab (2 x 1 x 0.004 m, its 4 mm sides cut into slivers) turned to no particular
+    # attitude, its vertices rounded to float32 as a binary STL stores them: the rounding tilts
+    # the slivers' normals by ~1e-5, yet every face is on the hull and the slab is convex. A
+    # dent a thousandth of the slab's size deep is still a dent.
+    turn = Rotation.from_euler("xyz", [0.3, -0.7, 1.1])
+    v, f = grid_box((0.0, 0.0, 0.0), (2.0, 1.0, 0.004), (40, 20, 1))
+    rounded = turn.apply(v).astype(np.float32).astype(float)
+    dented = v.copy()
+    middle = (np.abs(v[:, 0]) < 0.3) & (np.abs(v[:, 1]) < 0.2) & (v[:, 2] > 0)
+    dented[middle, 2] -= 2.2e-3  # 2.2 mm deep: through the slab's upper face
+    for vertices, convex in ((rounded, True), (turn.apply(dented), False)):
+        mesh = panels_from_arrays(vertices, f, source="slab")
+        lo, hi = mesh.bounds
+        flt = CandidateFilter(mesh, diagonal=float(np.linalg.norm(hi - lo)))
+        assert flt.convex.tolist() == [convex]
+        assert flt.on_hull.all() == convex
 
 
 def test_dented_box_pit_is_shaded():
