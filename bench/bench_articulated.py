@@ -30,6 +30,11 @@ the joint configuration grid at 0.25 deg). Cases:
   (``joint_shading_resolution_deg``), nearest point; ``fins-2deg-blend`` the same with
   ``joint_shading_interpolation``.
 
+Then, with ``--new-configurations`` N (default 12): what one new grid configuration costs the
+node's shading (``ShadingSource.lighting`` at a configuration not seen before: posing the body,
+its candidate filter and hulls, and shading the direction cells around the flow at the
+stream's attitude), CPU time, median of N, every moving joint 0.3 deg further each time.
+
 Rounds are interleaved (rigid, fixed, tracking each run the next ``--messages`` of their stream
 in turn, the fin cases theirs). Printed per case: the median over rounds of the mean CPU time
 per message [us] (joint states included), its ratio to ``rigid``, the mean over every message
@@ -47,6 +52,8 @@ import time
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler
 from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.estimator.shading import ShadingSource
+from adbsat_ros.estimator.state import checked_rotation
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_urdf import example_finned_urdf, example_satellite_urdf
 from adbsat_ros.messages.cdr import AttitudeFields, JointStateFields, OdometryFields, Stamp
@@ -132,6 +139,7 @@ def main() -> None:
     parser.add_argument("--fin-messages", type=int, default=200)
     parser.add_argument("--max-edge-fraction", type=float, default=0.0625)
     parser.add_argument("--fin-edge-fraction", type=float, default=0.075)
+    parser.add_argument("--new-configurations", type=int, default=12)
     args = parser.parse_args()
 
     wings = ArticulatedBody.from_urdf(
@@ -208,6 +216,31 @@ def main() -> None:
             f"{case.name:15s} {median:10.1f} us/message  ratio to rigid {median / rigid:7.3f}  "
             f"mean {statistics.fmean(case.means):10.1f} us  ({case.counters()})"
         )
+    for body in (wings, finned):
+        times = new_configuration_times(body, args.new_configurations)
+        print(
+            f"new configuration, {body.source}: {statistics.median(times):.1f} ms "
+            f"(median of {len(times)}; {min(times):.1f}-{max(times):.1f})"
+        )
+
+
+def new_configuration_times(body, n: int) -> list:
+    """CPU times [ms] of the node's shading at ``n`` configurations never seen before."""
+    source = ShadingSource(body.mesh(), WrenchSettings.from_parameters({}), body)
+    m = checked_rotation(attitude(1000).quaternion_xyzw, "attitude", 1e-6)
+    # the gas moves along -y (the orbit's velocity is +y there): in the body, R^T (0, -1, 0)
+    flow_body = [-m[1], -m[4], -m[7]]
+
+    def positions(k):
+        return {name: math.radians(0.3 * k) for name in body.joints}
+
+    source.lighting(flow_body, positions(0))
+    out = []
+    for k in range(1, n + 1):
+        t0 = time.process_time()
+        source.lighting(flow_body, positions(k))
+        out.append((time.process_time() - t0) * 1e3)
+    return out
 
 
 if __name__ == "__main__":
