@@ -45,7 +45,7 @@ from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
 from adbsat_ros.physics.facets import N_SUMS, facet_rows
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import OWN_SHADING, PanelMethod
-from adbsat_ros.physics.posed_facets import PosedFacets
+from adbsat_ros.physics.posed_facets import EffortColumns, PosedFacets
 from adbsat_ros.shading.link_split import LinkSplitCache
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 from adbsat_ros.shading.shader import make_shader
@@ -54,9 +54,9 @@ from adbsat_ros.shading.shader import make_shader
 class ArticulatedCoefficients:
     """The coefficients of an articulated body at one configuration and flow direction.
 
-    The links' and joints' values are computed from the evaluation's sums when first read, so
-    a caller that needs only the total (a node publishing the wrench alone) does not pay for
-    them.
+    The links' forces and moments are computed from the evaluation's sums when first read, so
+    a caller that needs only the total and the joints' efforts (a node publishing the wrench
+    and the joint torques) does not pay for them.
 
     Attributes
     ----------
@@ -79,12 +79,15 @@ class ArticulatedCoefficients:
         dynamic pressure: A_ref L_ref [m^3] (revolute, continuous) or A_ref [m^2] (prismatic).
     """
 
-    def __init__(self, total, joint_names, joint_positions, effort_scales, link_outputs):
+    def __init__(
+        self, total, joint_names, joint_positions, effort_coefficients, effort_scales, link_outputs
+    ):
         self.total = total
         self.joint_names = joint_names
         self.joint_positions = joint_positions
+        self.effort_coefficients = effort_coefficients
         self.effort_scales = effort_scales
-        self._link_outputs = link_outputs  # () -> (link_force, link_moment, effort_coefficients)
+        self._link_outputs = link_outputs  # () -> (link_force, link_moment)
 
     @cached_property
     def _outputs(self) -> tuple:
@@ -99,11 +102,6 @@ class ArticulatedCoefficients:
     def link_moment(self) -> np.ndarray:
         """Every link's moment coefficient (L, 3) about the reference moment point."""
         return self._outputs[1]
-
-    @property
-    def effort_coefficients(self) -> np.ndarray:
-        """Every moving joint's effort coefficient (J,)."""
-        return self._outputs[2]
 
     @property
     def joint_effort(self) -> dict:
@@ -193,7 +191,12 @@ class ArticulatedMethod:
         #: The links' facets posed in the body frame (None if a link is evaluated panel by
         #: panel; then every link is evaluated in its own frame).
         self.facets = PosedFacets.of(
-            methods, self._link_index, [(start, stop) for _, start, stop, _ in self._links]
+            methods,
+            self._link_index,
+            [(start, stop) for _, start, stop, _ in self._links],
+            EffortColumns(
+                self._carries, self._prismatic, self.reference.area, self.reference.length
+            ),
         )
         self._evaluator = methods[0]  # (every link has the model and options)
         self._facet_surface = None
@@ -271,12 +274,13 @@ class ArticulatedMethod:
         if self.facets is not None:
             posed = self._posed_evaluation(flow, u, lighting, surface, poses)
         if posed is not None:
-            (Cf_G, Cm_G, area_projected), panel_values, panel_index, link_loads = posed
+            (Cf_G, Cm_G, area_projected), efforts, panel_values, panel_index, link_loads = posed
         else:  # (a link without facets, or a surface varying within a facet)
             loads, panel_values = self._link_loads(flow, u, lighting, surface, poses)
             out = self._load_map(poses) @ loads
-            cf, cm, area = self._rows[0], self._rows[1], self._rows[-1]
+            cf, cm, _, _, effort, area = self._rows
             Cf_G, Cm_G, area_projected = out[cf], out[cm], float(out[area][0])
+            efforts = out[effort]
             panel_index = None
 
             def link_loads():
@@ -296,13 +300,18 @@ class ArticulatedMethod:
         )
 
         def link_outputs():
-            _, _, forces, moments, efforts, _ = self._rows
+            _, _, forces, moments, _, _ = self._rows
             out = self._load_map(poses) @ link_loads()
             n_links = len(self.body.links)
-            return out[forces].reshape(n_links, 3), out[moments].reshape(n_links, 3), out[efforts]
+            return out[forces].reshape(n_links, 3), out[moments].reshape(n_links, 3)
 
         return ArticulatedCoefficients(
-            total, self._joint_names, np.array(poses.key), self._effort_scales, link_outputs
+            total,
+            self._joint_names,
+            np.array(poses.key),
+            efforts,
+            self._effort_scales,
+            link_outputs,
         )
 
     def _load_map(self, poses: Poses) -> np.ndarray:
@@ -350,9 +359,10 @@ class ArticulatedMethod:
 
     def _posed_evaluation(self, flow, u, lighting, surface, poses):
         """The posed facets in one evaluation, as a rigid body of them (None if the surface
-        varies within a facet): the totals (Cf_G, Cm_G, lit projected area), the per-facet
-        values, the facet of every panel, and a function that gives every evaluated link's
-        loads (F, M, S of :meth:`_make_load_map`) side by side."""
+        varies within a facet): the totals (Cf_G, Cm_G, lit projected area), the joints' effort
+        coefficients (:class:`EffortColumns`), the per-facet values, the facet of every panel,
+        and a function that gives every evaluated link's loads (F, M, S of
+        :meth:`_make_load_map`) side by side."""
         facets = self.facets
         facet_surface = self._facet_surface if surface is None else facets.surface(surface)
         if facet_surface is None:
@@ -361,12 +371,14 @@ class ArticulatedMethod:
         c, cp, shear, ctau = self._evaluator.facet_coefficients(u, inward_T, facet_surface, flow)
         rows = facet_rows(c, cp, shear)
         sums = facets.sums(lighting, poses)
+        products = rows @ sums
 
         def link_loads():
             return (facets.link_products(rows, sums) @ _sums_to_loads(u)).ravel()
 
         return (
-            PanelMethod.totals_of_sums(u, rows, sums, self.reference),
+            PanelMethod.totals_of_products(u, products[:, :N_SUMS], self.reference),
+            EffortColumns.efforts(products, u),
             (c, cp, ctau, shear, normals),
             facets.panel_index,
             link_loads,
