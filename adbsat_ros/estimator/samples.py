@@ -183,7 +183,8 @@ class WrenchSample:
     shading_cache_hit : bool or None
         Whether the shading came from the cache (None without shading).
     compute_seconds : float
-        Wall time spent computing this sample [s].
+        Wall time spent computing this sample [s] (for an articulated body, not the links'
+        loads, which are computed when first read).
     rotation : tuple of 9 float
         The attitude: rotation from the body frame to the state frame, row-major.
     solar : SolarSample or None

@@ -15,11 +15,13 @@ along it (prismatic).
 When every link's panels group into facets (boxes, plates, most meshes), the links' facets are
 posed in G and evaluated as one rigid body of them
 (:class:`~adbsat_ros.physics.posed_facets.PosedFacets`): the totals come as a
-:class:`PanelMethod`'s do. The links' and joints' values are read, when asked for, from the same
-facet sums taken link by link: each link's force and moment (about G's origin) and lit projected
-area give them through one linear map per configuration (its ``load_maps``). Otherwise each link
-is evaluated in its own frame as above, with the lighting split by link, and the map gives the
-totals too.
+:class:`PanelMethod`'s do, and the joints' efforts from columns the posed sums carry
+(:class:`~adbsat_ros.physics.link_loads.EffortColumns`), in the same product. The links' forces
+and moments are read, when asked for, from the same facet sums taken link by link
+(:class:`~adbsat_ros.physics.link_loads.LinkLoads`): each link's force and moment (about G's
+origin) and lit projected area give them through one linear map per configuration (its
+``load_maps``). Otherwise each link is evaluated in its own frame as above, with the lighting
+split by link, and the map gives every output.
 
 The same numbers, to rounding, as a :class:`PanelMethod` of
 :meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh` at those positions (tested).
@@ -32,7 +34,6 @@ Units: metres, radians; frame G = the root link's frame.
 
 from __future__ import annotations
 
-from functools import cached_property
 from typing import Mapping
 
 import numpy as np
@@ -44,8 +45,9 @@ from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
 from adbsat_ros.physics.facets import N_SUMS, facet_rows
 from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.link_loads import LINK_LOADS, EffortColumns, LinkLoads
 from adbsat_ros.physics.panel_method import OWN_SHADING, PanelMethod
-from adbsat_ros.physics.posed_facets import EffortColumns, PosedFacets
+from adbsat_ros.physics.posed_facets import PosedFacets
 from adbsat_ros.shading.link_split import LinkSplitCache
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 from adbsat_ros.shading.shader import make_shader
@@ -54,9 +56,10 @@ from adbsat_ros.shading.shader import make_shader
 class ArticulatedCoefficients:
     """The coefficients of an articulated body at one configuration and flow direction.
 
-    The links' forces and moments are computed from the evaluation's sums when first read, so
-    a caller that needs only the total and the joints' efforts (a node publishing the wrench
-    and the joint torques) does not pay for them.
+    The links' forces and moments are computed from the evaluation's sums when first read
+    (:class:`~adbsat_ros.physics.link_loads.LinkLoads`), so a caller that needs only the total
+    and the joints' efforts (a node publishing the wrench and the joint torques) does not pay
+    for them.
 
     Attributes
     ----------
@@ -77,31 +80,29 @@ class ArticulatedCoefficients:
     effort_scales : ndarray, shape (J,)
         What turns an effort coefficient into newton metres or newtons once multiplied by the
         dynamic pressure: A_ref L_ref [m^3] (revolute, continuous) or A_ref [m^2] (prismatic).
+    link_loads : LinkLoads
+        What gives ``link_force`` and ``link_moment``.
     """
 
     def __init__(
-        self, total, joint_names, joint_positions, effort_coefficients, effort_scales, link_outputs
+        self, total, joint_names, joint_positions, effort_coefficients, effort_scales, link_loads
     ):
         self.total = total
         self.joint_names = joint_names
         self.joint_positions = joint_positions
         self.effort_coefficients = effort_coefficients
         self.effort_scales = effort_scales
-        self._link_outputs = link_outputs  # () -> (link_force, link_moment)
-
-    @cached_property
-    def _outputs(self) -> tuple:
-        return self._link_outputs()
+        self.link_loads = link_loads
 
     @property
     def link_force(self) -> np.ndarray:
         """Every link's force coefficient (L, 3), body frame."""
-        return self._outputs[0]
+        return self.link_loads.values[0]
 
     @property
     def link_moment(self) -> np.ndarray:
         """Every link's moment coefficient (L, 3) about the reference moment point."""
-        return self._outputs[1]
+        return self.link_loads.values[1]
 
     @property
     def joint_effort(self) -> dict:
@@ -273,18 +274,20 @@ class ArticulatedMethod:
         posed = None
         if self.facets is not None:
             posed = self._posed_evaluation(flow, u, lighting, surface, poses)
+        _, _, forces, moments, _, _ = self._rows
+        n_links = len(self.body.links)
+        load_map = self.load_map(poses)
         if posed is not None:
-            (Cf_G, Cm_G, area_projected), efforts, panel_values, panel_index, link_loads = posed
+            (Cf_G, Cm_G, area_projected), efforts, panel_values, panel_index, facet_terms = posed
+            link_loads = LinkLoads(load_map, forces, moments, n_links, facets=facet_terms)
         else:  # (a link without facets, or a surface varying within a facet)
             loads, panel_values = self._link_loads(flow, u, lighting, surface, poses)
-            out = self._load_map(poses) @ loads
+            out = load_map @ loads
             cf, cm, _, _, effort, area = self._rows
             Cf_G, Cm_G, area_projected = out[cf], out[cm], float(out[area][0])
             efforts = out[effort]
             panel_index = None
-
-            def link_loads():
-                return loads
+            link_loads = LinkLoads(load_map, forces, moments, n_links, loads=loads)
 
         total = AeroCoefficients(
             flow_direction=u,
@@ -299,23 +302,18 @@ class ArticulatedMethod:
             angles=angles,
         )
 
-        def link_outputs():
-            _, _, forces, moments, _, _ = self._rows
-            out = self._load_map(poses) @ link_loads()
-            n_links = len(self.body.links)
-            return out[forces].reshape(n_links, 3), out[moments].reshape(n_links, 3)
-
         return ArticulatedCoefficients(
             total,
             self._joint_names,
             np.array(poses.key),
             efforts,
             self._effort_scales,
-            link_outputs,
+            link_loads,
         )
 
-    def _load_map(self, poses: Poses) -> np.ndarray:
-        """The load map of ``poses``' configuration, from :attr:`load_maps`."""
+    def load_map(self, poses: Poses) -> np.ndarray:
+        """The map from the evaluated links' loads to every output at ``poses``' configuration
+        (:attr:`load_maps`; made by :meth:`_make_load_map`)."""
         return self.load_maps.get(poses.key, lambda: self._make_load_map(poses))
 
     def _make_load_map(self, poses: Poses) -> np.ndarray:
@@ -334,26 +332,26 @@ class ArticulatedMethod:
         """
         n_eval, n_joints = len(self._links), len(self.body.joints)
         area, length = self.reference.area, self.reference.length
-        force = np.eye(3, _LINK_LOADS) / area  # (F, M, S) -> f
-        about_point = np.zeros((3, _LINK_LOADS))  # (F, M, S) -> m - r x f / L_ref
+        force = np.eye(3, LINK_LOADS) / area  # (F, M, S) -> f
+        about_point = np.zeros((3, LINK_LOADS))  # (F, M, S) -> m - r x f / L_ref
         about_point[:, 0:3] = -frames.cross_matrix(self.reference.moment_point)
         about_point[:, 3:6] = np.eye(3)
         about_point /= area * length
         axes, origins = poses.joint_axes, poses.joint_origins
-        per_joint = np.zeros((n_joints, _LINK_LOADS))
+        per_joint = np.zeros((n_joints, LINK_LOADS))
         per_joint[:, 0:3] = np.where(self._prismatic[:, None], axes, -np.cross(axes, origins))
         per_joint[:, 3:6] = np.where(self._prismatic[:, None], 0.0, axes)
         per_joint[:, 0:6] /= np.where(self._prismatic, area, area * length)[:, None]
         cf, cm, forces, moments, efforts, area_row = self._rows
-        out = np.zeros((area_row.stop, _LINK_LOADS * n_eval))
+        out = np.zeros((area_row.stop, LINK_LOADS * n_eval))
         for k, link in enumerate(self._link_index.tolist()):
-            columns = slice(_LINK_LOADS * k, _LINK_LOADS * (k + 1))
+            columns = slice(LINK_LOADS * k, LINK_LOADS * (k + 1))
             out[cf, columns] = force
             out[cm, columns] = about_point
             out[forces.start + 3 * link : forces.start + 3 * link + 3, columns] = force
             out[moments.start + 3 * link : moments.start + 3 * link + 3, columns] = about_point
             out[efforts, columns] = self._carries[:, k, None] * per_joint
-            out[area_row.start, _LINK_LOADS * k + 6] = 1.0  # the lit projected area
+            out[area_row.start, LINK_LOADS * k + 6] = 1.0  # the lit projected area
         out.setflags(write=False)
         return out
 
@@ -361,8 +359,7 @@ class ArticulatedMethod:
         """The posed facets in one evaluation, as a rigid body of them (None if the surface
         varies within a facet): the totals (Cf_G, Cm_G, lit projected area), the joints' effort
         coefficients (:class:`EffortColumns`), the per-facet values, the facet of every panel,
-        and a function that gives every evaluated link's loads (F, M, S of
-        :meth:`_make_load_map`) side by side."""
+        and what :class:`LinkLoads` takes to compute the links' loads."""
         facets = self.facets
         facet_surface = self._facet_surface if surface is None else facets.surface(surface)
         if facet_surface is None:
@@ -373,15 +370,12 @@ class ArticulatedMethod:
         sums = facets.sums(lighting, poses)
         products = rows @ sums
 
-        def link_loads():
-            return (facets.link_products(rows, sums) @ _sums_to_loads(u)).ravel()
-
         return (
             PanelMethod.totals_of_products(u, products[:, :N_SUMS], self.reference),
             EffortColumns.efforts(products, u),
             (c, cp, ctau, shear, normals),
             facets.panel_index,
-            link_loads,
+            (rows, sums, facets.starts, u),
         )
 
     def _link_loads(self, flow, u, lighting, surface, poses):
@@ -391,7 +385,7 @@ class ArticulatedMethod:
         origins = poses.origins[self._link_index]
         own = self.splits.split(lighting, rotations, poses.key)
         u_links = rotations.transpose(0, 2, 1) @ u  # the flow seen by each link
-        loads = np.empty((len(self._links), _LINK_LOADS))
+        loads = np.empty((len(self._links), LINK_LOADS))
         results = []
         area, length = self.reference.area, self.reference.length
         for k, (_, _, _, method) in enumerate(self._links):
@@ -408,32 +402,6 @@ class ArticulatedMethod:
             )
             loads[k, 6] = r.area_projected
         return loads.ravel(), lambda: _joined_panel_values(results)
-
-
-#: Loads of a link: force (3), moment about G's origin (3), lit projected area.
-_LINK_LOADS = 7
-
-
-def _sums_to_loads(u) -> np.ndarray:
-    """The (30, 7) matrix that takes a link's facet sums (W, W n, Q, Q x n), each summed with
-    the weights q, k and max(c, 0) (row 3 c + r for sum column c and weight r), to its loads
-    (F, M, S): F = (q W) u + (k W n), M = (q Q) x u + (k Q x n), S = max(c, 0) W."""
-    ux, uy, uz = u.tolist()
-    out = _SUMS_TO_LOADS.copy()
-    # q W -> F: u; q Q -> M: (a x u) = a @ [[0, -uz, uy], [uz, 0, -ux], [-uy, ux, 0]]
-    out.flat[_FLOW_ENTRIES] = (ux, uy, uz, -uz, uy, uz, -ux, -uy, ux)
-    return out
-
-
-_SUMS_TO_LOADS = np.zeros((3 * N_SUMS, _LINK_LOADS))
-_SUMS_TO_LOADS[[4, 7, 10], [0, 1, 2]] = 1.0  # k W n -> F
-_SUMS_TO_LOADS[[22, 25, 28], [3, 4, 5]] = 1.0  # k Q x n -> M
-_SUMS_TO_LOADS[2, 6] = 1.0  # max(c, 0) W -> S
-_SUMS_TO_LOADS.setflags(write=False)
-#: Where the flow direction's components go in it (flat indices, in the order set there).
-_FLOW_ENTRIES = np.ravel_multi_index(
-    ([0, 0, 0, 12, 12, 15, 15, 18, 18], [0, 1, 2, 4, 5, 3, 5, 3, 4]), _SUMS_TO_LOADS.shape
-)
 
 
 def _joined_panel_values(results) -> tuple:

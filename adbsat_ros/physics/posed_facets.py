@@ -26,7 +26,6 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.lru import LruStore
-from adbsat_ros.physics.facets import N_SUMS
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
 
@@ -62,6 +61,8 @@ class PosedFacets:
     """
 
     def __init__(self, link_facets, link_index, spans, joints=None, max_entries: int = 64):
+        # joints: an EffortColumns (adbsat_ros.physics.link_loads) whose columns follow the
+        # ten sums, or None
         self._facets = list(link_facets)
         self._joints = joints
         self._link_index = np.asarray(link_index)
@@ -120,7 +121,7 @@ class PosedFacets:
         at ``poses``, link after link, in the ten first columns: the layout of
         :meth:`~adbsat_ros.physics.facets.Facets.lit_sums`, so that the whole body's totals are
         those of a rigid body of these facets; then, with ``joints``, their
-        :meth:`EffortColumns.columns`. Shape (G, 10 + 4 J)."""
+        :meth:`~adbsat_ros.physics.link_loads.EffortColumns.columns`. Shape (G, 10 + 4 J)."""
         if isinstance(lighting, LightingBlend):
             (w, first), *rest = lighting.parts
             out = w * self._part_sums(first, poses)
@@ -128,13 +129,6 @@ class PosedFacets:
                 out += w * self._part_sums(part, poses)
             return out
         return self._part_sums(lighting, poses)
-
-    def link_products(self, rows: np.ndarray, sums: np.ndarray) -> np.ndarray:
-        """Every link's facet ``sums`` (their ten first columns) weighted by each of the (3, G)
-        per-facet ``rows`` and summed over its facets: an (L, 30) array, entry [l, 3 c + r] the
-        sum over link l's facets of ``rows[r] * sums[:, c]``."""
-        weighted = sums[:, :N_SUMS, None] * rows.T[:, None, :]  # (G, 10, 3)
-        return np.add.reduceat(weighted, self.starts, axis=0).reshape(len(self.starts), -1)
 
     def _part_sums(self, lighting, poses) -> np.ndarray:
         def make():
@@ -180,55 +174,3 @@ class PosedFacets:
             return out
 
         return self.link_sums_store.get(lighting.key, make)
-
-
-class EffortColumns:
-    """The joints' effort terms as columns of the posed facet sums.
-
-    The effort coefficient of a joint j (unit axis a through o, carrying the links C_j) is
-    sum over the facets g of C_j of q_g u . V_g + k_g s_g, where q_g, k_g are the facet's
-    model weights (rows 0 and 1 of :func:`~adbsat_ros.physics.facets.facet_rows`) and
-
-        revolute:  V_g = (a x Q_g - W_g (a x o)) / (A_ref L_ref),
-                   s_g = (a . (Q x n)_g - (a x o) . (W n)_g) / (A_ref L_ref);
-        prismatic: V_g = W_g a / A_ref,   s_g = a . (W n)_g / A_ref
-
-    (a . (M - o x F) with F = q W u + k W n and M = q Q x u + k Q x n summed over the facets;
-    a . F for a prismatic joint). V and s depend on the configuration and the lighting only, so
-    they are posed with the sums, and one product of the rows with the sums gives every
-    effort with the totals.
-
-    Parameters
-    ----------
-    carries : ndarray, shape (J, L)
-        1 where joint j carries evaluated link l.
-    prismatic : ndarray of bool, shape (J,)
-    area, length : float
-        A_ref [m^2] and L_ref [m].
-    """
-
-    def __init__(self, carries, prismatic, area: float, length: float):
-        self.carries = np.asarray(carries, dtype=float)
-        self.prismatic = np.asarray(prismatic, dtype=bool)
-        self.scale = np.where(self.prismatic, 1.0 / area, 1.0 / (area * length))
-
-    def columns(self, sums, poses, link_of_facet) -> np.ndarray:
-        """(G, 4 J): for each joint, V (3 columns) and s, of the posed (G, 10) ``sums`` at
-        ``poses`` (facet g on evaluated link ``link_of_facet[g]``)."""
-        w, wn, q, qn = sums[:, 0], sums[:, 1:4], sums[:, 4:7], sums[:, 7:10]
-        a, o = poses.joint_axes, poses.joint_origins
-        a_o = frames.cross(a, o)  # (J, 3)
-        turning = frames.cross(a[:, None, :], q[None, :, :]) - w[None, :, None] * a_o[:, None]
-        sliding = w[None, :, None] * a[:, None, :]
-        v = np.where(self.prismatic[:, None, None], sliding, turning)  # (J, G, 3)
-        s = np.where(self.prismatic[:, None], (wn @ a.T).T, (qn @ a.T).T - (wn @ a_o.T).T)
-        weight = self.scale[:, None] * self.carries[:, link_of_facet]  # (J, G)
-        out = np.concatenate([v * weight[..., None], (s * weight)[..., None]], axis=2)
-        return out.transpose(1, 0, 2).reshape(len(w), -1)
-
-    @staticmethod
-    def efforts(products: np.ndarray, u) -> np.ndarray:
-        """The effort coefficients (J,) from the (3, 10 + 4 J) product of the rows with the
-        sums and the flow direction u."""
-        terms = products[:, N_SUMS:].reshape(3, -1, 4)
-        return terms[0, :, :3] @ u + terms[1, :, 3]

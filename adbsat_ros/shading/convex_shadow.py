@@ -69,7 +69,8 @@ class ConvexParts:
     candidate_filter : CandidateFilter
         The mesh's filter (its components and which are convex).
     diagonal : float
-        The mesh's bounding-box diagonal [m] (scale of the front tolerance).
+        The mesh's bounding-box diagonal [m] (scale of the front tolerance and of the
+        planes' offsets when panels are grouped by plane).
     graze_tol : float
         The shader's grazing tolerance: a panel lit exactly has cos delta above it (a panel
         nearer grazing projects to a sliver).

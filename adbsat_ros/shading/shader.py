@@ -20,8 +20,8 @@ Three modes, one interface (:func:`make_shader`):
     panel, only back faces occlude. Vectorised over (forward, backward) candidate pairs, in
     chunks. Use it to reproduce ADBSat's numbers.
 ``"raycast"`` (default)
-    A forward panel that only closed convex components (one to three) can shade, lying wholly
-    in front of it, is lit exactly, by clipping its projection with theirs
+    A forward panel that only closed convex components (one to three) can shade is lit
+    exactly, by clipping its projection with those of their parts in front of its plane
     (:mod:`adbsat_ros.shading.convex_shadow`). Every other forward panel that could be shaded
     (:class:`~adbsat_ros.shading.candidates.CandidateFilter`) casts rays upstream from
     ``samples`` points spread over the triangle (R2 low-discrepancy, shifted per panel) and 3

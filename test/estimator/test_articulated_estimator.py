@@ -5,6 +5,7 @@ per-link loads and joint efforts, shading cached per configuration."""
 from __future__ import annotations
 
 import math
+import pickle
 
 import numpy as np
 import pytest
@@ -239,3 +240,16 @@ def test_the_joint_torques_message_is_made_only_when_asked_for():
     assert without.joint_torques_cdr is None
     assert without.sample.joints is not None  # (computed all the same: bag analysis writes it)
     assert without.wrench_cdr is not None
+
+
+def test_a_joint_sample_pickles_with_its_link_loads():
+    # The links' loads are computed when first read, from the sample's own numbers (not from
+    # the method's caches): a joint sample pickled before they are read gives them afterwards,
+    # equal to the original's.
+    est = ready(estimator())
+    joints = est.on_attitude(1.0, TILTED).joints
+    copy = pickle.loads(pickle.dumps(joints))
+    np.testing.assert_array_equal(copy.link_forces, joints.link_forces)
+    np.testing.assert_array_equal(copy.link_torques, joints.link_torques)
+    np.testing.assert_array_equal(copy.efforts, joints.efforts)
+    assert np.abs(copy.link_forces).max() > 0.0

@@ -61,3 +61,21 @@ def test_a_triangle_wholly_covered_or_wholly_clear():
 
 def test_points_without_area_have_no_outline():
     assert convex_outline(np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]])) is None
+
+
+def test_each_triangle_with_its_own_polygons():
+    # The four hand-worked cases above at once, each triangle with its own two polygons (a
+    # (K, m, 2) array per slot): the same fractions and centroids as one at a time.
+    cases = [
+        ([(0.25, 0.25, 1.0), (2.0, 0.25, 0.5)], [(1.0, (0.75, 0.75)), (0.25, (2.25, 0.5))]),
+        ([(0.5, 0.5, 1.0), (1.0, 0.5, 1.0)], [(1.5, (1.25, 1.0))]),
+        ([(3.0, 0.0, 2.0), (3.0, 3.0, 1.0)], [(0.5, (10 / 3, 1 / 3))]),
+        ([(5.0, 5.0, 1.0), (0.5, 0.5, 1.0)], [(1.0, (1.0, 1.0))]),
+    ]
+    triangles = np.concatenate([TRIANGLE] * len(cases))
+    slots = [np.stack([square(*squares[k]) for squares, _ in cases]) for k in range(2)]
+    fraction, centroid = lit_parts(triangles, slots)
+    for i, (_, covered) in enumerate(cases):
+        want_f, want_c = lit_centroid(covered)
+        assert fraction[i] == pytest.approx(want_f, rel=1e-14)
+        np.testing.assert_allclose(centroid[i], want_c, rtol=1e-13)

@@ -1,0 +1,150 @@
+"""The loads of an articulated body's links and the efforts on its joints, from the facet sums.
+
+An articulated body's facets are posed in the body frame and evaluated as one rigid body
+(:mod:`adbsat_ros.physics.posed_facets`); with the model's per-facet weights (the rows q, k,
+max(c, 0) of :func:`~adbsat_ros.physics.facets.facet_rows`) the facet sums give:
+
+* every joint's effort, through columns that the posed sums carry after their ten sums
+  (:class:`EffortColumns`): one product of the rows with the sums gives the totals and the
+  efforts;
+* every link's force and moment, from the same sums taken link by link (:class:`LinkLoads`),
+  computed when first read: a node publishing the wrench and the joint torques never needs
+  them.
+
+Units: metres, body frame G; coefficients per A_ref (forces) and A_ref L_ref (moments).
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from adbsat_ros.geometry import frames
+from adbsat_ros.physics.facets import N_SUMS
+
+
+class EffortColumns:
+    """The joints' effort terms as columns of the posed facet sums.
+
+    The effort coefficient of a joint j (unit axis a through o, carrying the links C_j) is
+    sum over the facets g of C_j of q_g u . V_g + k_g s_g, where q_g, k_g are the facet's
+    model weights (rows 0 and 1 of :func:`~adbsat_ros.physics.facets.facet_rows`) and
+
+        revolute:  V_g = (a x Q_g - W_g (a x o)) / (A_ref L_ref),
+                   s_g = (a . (Q x n)_g - (a x o) . (W n)_g) / (A_ref L_ref);
+        prismatic: V_g = W_g a / A_ref,   s_g = a . (W n)_g / A_ref
+
+    (a . (M - o x F) with F = q W u + k W n and M = q Q x u + k Q x n summed over the facets;
+    a . F for a prismatic joint). V and s depend on the configuration and the lighting only, so
+    they are posed with the sums, and one product of the rows with the sums gives every
+    effort with the totals.
+
+    Parameters
+    ----------
+    carries : ndarray, shape (J, L)
+        1 where joint j carries evaluated link l.
+    prismatic : ndarray of bool, shape (J,)
+    area, length : float
+        A_ref [m^2] and L_ref [m].
+    """
+
+    def __init__(self, carries, prismatic, area: float, length: float):
+        self.carries = np.asarray(carries, dtype=float)
+        self.prismatic = np.asarray(prismatic, dtype=bool)
+        self.scale = np.where(self.prismatic, 1.0 / area, 1.0 / (area * length))
+
+    def columns(self, sums, poses, link_of_facet) -> np.ndarray:
+        """(G, 4 J): for each joint, V (3 columns) and s, of the posed (G, 10) ``sums`` at
+        ``poses`` (facet g on evaluated link ``link_of_facet[g]``)."""
+        w, wn, q, qn = sums[:, 0], sums[:, 1:4], sums[:, 4:7], sums[:, 7:10]
+        a, o = poses.joint_axes, poses.joint_origins
+        a_o = frames.cross(a, o)  # (J, 3)
+        turning = frames.cross(a[:, None, :], q[None, :, :]) - w[None, :, None] * a_o[:, None]
+        sliding = w[None, :, None] * a[:, None, :]
+        v = np.where(self.prismatic[:, None, None], sliding, turning)  # (J, G, 3)
+        s = np.where(self.prismatic[:, None], (wn @ a.T).T, (qn @ a.T).T - (wn @ a_o.T).T)
+        weight = self.scale[:, None] * self.carries[:, link_of_facet]  # (J, G)
+        out = np.concatenate([v * weight[..., None], (s * weight)[..., None]], axis=2)
+        return out.transpose(1, 0, 2).reshape(len(w), -1)
+
+    @staticmethod
+    def efforts(products: np.ndarray, u) -> np.ndarray:
+        """The effort coefficients (J,) from the (3, 10 + 4 J) product of the rows with the
+        sums and the flow direction u."""
+        terms = products[:, N_SUMS:].reshape(3, -1, 4)
+        return terms[0, :, :3] @ u + terms[1, :, 3]
+
+
+class LinkLoads:
+    """Every link's force and moment coefficients of one evaluation, computed when first read.
+
+    It holds the evaluation's own numbers, not the method that made them: a sample that keeps
+    it keeps no cache alive, and pickles.
+
+    Parameters
+    ----------
+    load_map : ndarray, shape (R, 7 E)
+        The configuration's map from the E evaluated links' loads (F, M, S) to every output
+        (:meth:`~adbsat_ros.physics.articulated_method.ArticulatedMethod.load_map`).
+    forces, moments : slice
+        Its rows of the links' force and moment coefficients.
+    n_links : int
+        Links of the body (L).
+    loads : ndarray, shape (7 E,), optional
+        The evaluated links' loads, if known; else computed from ``facets``.
+    facets : tuple, optional
+        ``(rows, sums, starts, u)``: the (3, G) facet rows, the (G, >= 10) posed facet sums,
+        the index of each evaluated link's first facet and the flow direction.
+    """
+
+    def __init__(self, load_map, forces, moments, n_links, loads=None, facets=None):
+        if (loads is None) == (facets is None):
+            raise ValueError("give exactly one of loads and facets")
+        self.load_map = load_map
+        self.forces, self.moments = forces, moments
+        self.n_links = int(n_links)
+        self._loads = loads
+        self._facets = facets
+
+    @functools.cached_property
+    def values(self) -> tuple:
+        """``(link_force, link_moment)``, each (L, 3): body frame, moments about the reference
+        moment point."""
+        loads = self._loads
+        if loads is None:
+            rows, sums, starts, u = self._facets
+            weighted = sums[:, :N_SUMS, None] * rows.T[:, None, :]  # (G, 10, 3)
+            per_link = np.add.reduceat(weighted, starts, axis=0).reshape(len(starts), -1)
+            loads = (per_link @ sums_to_loads(u)).ravel()
+        out = self.load_map @ loads
+        return (
+            out[self.forces].reshape(self.n_links, 3),
+            out[self.moments].reshape(self.n_links, 3),
+        )
+
+
+#: Loads of a link: force (3), moment about G's origin (3), lit projected area.
+LINK_LOADS = 7
+
+
+def sums_to_loads(u) -> np.ndarray:
+    """The (30, 7) matrix that takes a link's facet sums (W, W n, Q, Q x n), each summed with
+    the weights q, k and max(c, 0) (row 3 c + r for sum column c and weight r), to its loads
+    (F, M, S): F = (q W) u + (k W n), M = (q Q) x u + (k Q x n), S = max(c, 0) W."""
+    ux, uy, uz = u.tolist()
+    out = _SUMS_TO_LOADS.copy()
+    # q W -> F: u; q Q -> M: (a x u) = a @ [[0, -uz, uy], [uz, 0, -ux], [-uy, ux, 0]]
+    out.flat[_FLOW_ENTRIES] = (ux, uy, uz, -uz, uy, uz, -ux, -uy, ux)
+    return out
+
+
+_SUMS_TO_LOADS = np.zeros((3 * N_SUMS, LINK_LOADS))
+_SUMS_TO_LOADS[[4, 7, 10], [0, 1, 2]] = 1.0  # k W n -> F
+_SUMS_TO_LOADS[[22, 25, 28], [3, 4, 5]] = 1.0  # k Q x n -> M
+_SUMS_TO_LOADS[2, 6] = 1.0  # max(c, 0) W -> S
+_SUMS_TO_LOADS.setflags(write=False)
+#: Where the flow direction's components go in it (flat indices, in the order set there).
+_FLOW_ENTRIES = np.ravel_multi_index(
+    ([0, 0, 0, 12, 12, 15, 15, 18, 18], [0, 1, 2, 4, 5, 3, 5, 3, 4]), _SUMS_TO_LOADS.shape
+)
