@@ -34,6 +34,7 @@ Units: metres, radians; frame G = the root link's frame.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Mapping
 
 import numpy as np
@@ -53,6 +54,7 @@ from adbsat_ros.shading.shader import MODES as SHADING_MODES
 from adbsat_ros.shading.shader import make_shader
 
 
+@dataclass(frozen=True, eq=False)
 class ArticulatedCoefficients:
     """The coefficients of an articulated body at one configuration and flow direction.
 
@@ -84,15 +86,12 @@ class ArticulatedCoefficients:
         What gives ``link_force`` and ``link_moment``.
     """
 
-    def __init__(
-        self, total, joint_names, joint_positions, effort_coefficients, effort_scales, link_loads
-    ):
-        self.total = total
-        self.joint_names = joint_names
-        self.joint_positions = joint_positions
-        self.effort_coefficients = effort_coefficients
-        self.effort_scales = effort_scales
-        self.link_loads = link_loads
+    total: AeroCoefficients
+    joint_names: tuple
+    joint_positions: np.ndarray
+    effort_coefficients: np.ndarray
+    effort_scales: np.ndarray
+    link_loads: LinkLoads
 
     @property
     def link_force(self) -> np.ndarray:
