@@ -273,7 +273,7 @@ class ArticulatedMethod:
         posed = None
         if self.facets is not None:
             posed = self._posed_evaluation(flow, u, lighting, surface, poses)
-        _, _, forces, moments, _, _ = self._rows
+        cf, cm, forces, moments, effort, area = self._rows
         n_links = len(self.body.links)
         load_map = self.load_map(poses)
         if posed is not None:
@@ -282,7 +282,6 @@ class ArticulatedMethod:
         else:  # (a link without facets, or a surface varying within a facet)
             loads, panel_values = self._link_loads(flow, u, lighting, surface, poses)
             out = load_map @ loads
-            cf, cm, _, _, effort, area = self._rows
             Cf_G, Cm_G, area_projected = out[cf], out[cm], float(out[area][0])
             efforts = out[effort]
             panel_index = None
@@ -300,7 +299,6 @@ class ArticulatedMethod:
             lighting=lighting,
             angles=angles,
         )
-
         return ArticulatedCoefficients(
             total,
             self._joint_names,

@@ -50,6 +50,20 @@ class PosedFacets:
     configuration key) -> its posed sums (:meth:`sums`); :attr:`normals_store`, configuration
     key -> the posed normals.
 
+    Parameters
+    ----------
+    link_facets : sequence of Facets
+        Every evaluated link's facets, in its own frame.
+    link_index : array_like of int
+        Each of them, as an index of the body's links (the poses' order).
+    spans : sequence of (int, int)
+        Their panels, [start, stop) of the posed body's.
+    joints : EffortColumns, optional
+        The joints' effort columns (:mod:`adbsat_ros.physics.link_loads`), posed after the ten
+        sums (:meth:`sums`); none without.
+    max_entries : int
+        Bound of each store.
+
     Attributes
     ----------
     n : int
@@ -61,8 +75,6 @@ class PosedFacets:
     """
 
     def __init__(self, link_facets, link_index, spans, joints=None, max_entries: int = 64):
-        # joints: an EffortColumns (adbsat_ros.physics.link_loads) whose columns follow the
-        # ten sums, or None
         self._facets = list(link_facets)
         self._joints = joints
         self._link_index = np.asarray(link_index)

@@ -160,7 +160,6 @@ def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
     tol = HULL_TOL_FRACTION * diagonal
     normals = mesh.normals
     centroids = mesh.barycentres
-    level = np.einsum("ij,ij->i", normals, mesh.vertices[:, 0, :])
     order = np.argsort(component, kind="stable")
     counts = np.bincount(component)
     stop = np.cumsum(counts)
@@ -183,7 +182,8 @@ def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
         step = max(1, MAX_PAIRS // max(len(pts), 1))
         for s in range(0, idx.size, step):
             j = idx[s : s + step]
-            on_hull[j] = (normals[j] @ pts.T).max(axis=1) <= level[j] + tol
+            level = np.einsum("ij,ij->i", normals[j], mesh.vertices[j, 0, :])
+            on_hull[j] = (normals[j] @ pts.T).max(axis=1) <= level + tol
     return on_hull
 
 

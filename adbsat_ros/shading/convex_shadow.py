@@ -132,7 +132,7 @@ class ConvexParts:
         fraction = np.ones(panels.size)
         centroid = mesh.barycentres[panels].copy()
         outlines: dict = {}  # component -> its projected outline, for this direction
-        groups: dict = {}  # number of shadows -> [(panels, rows, their outlines), ...]
+        groups: dict = {}  # the outlines' sizes -> [(panels, rows, their outlines), ...]
         sets, which = _distinct_rows(occluders[done])
         rows_done = np.flatnonzero(done)
         for s, parts in enumerate(sets):  # (a loop over the sets of parts in front, few)
@@ -167,7 +167,7 @@ class ConvexParts:
             for k in range(len(planes)):
                 on_plane = cut[plane_of == k]
                 first = on_plane[0]
-                shapes = self._shadows(members, normals[first], level[first], boxes.basis)
+                shapes = self._shadows(members, normals[first], level[first], boxes, outlines)
                 if shapes is None:  # (a part projects to no area: left to the rays)
                     done[rows[on_plane]] = False
                 elif shapes:  # (no shapes: every part behind the plane, all lit)
@@ -181,21 +181,23 @@ class ConvexParts:
             self._clip_panels(boxes, j, rows, polygons, fraction, centroid)
         return done, fraction[done], centroid[done]
 
-    def _shadows(self, members, normal, level: float, basis) -> list | None:
+    def _shadows(self, members, normal, level: float, boxes, outlines: dict) -> list | None:
         """The outlines (in the plane normal to the flow) of the parts ``members`` in front of
-        the plane n . x = level: each part's corners that lie in front of it and the points
-        where the plane cuts the segments between corners on its two sides (a convex part
-        meets the plane in the convex hull of those); a part wholly behind casts none. None
-        if a part's outline spans no area."""
+        the plane n . x = level: a part wholly in front, its whole outline (``outlines``, the
+        direction's, by part); a part the plane cuts, the outline of its corners in front and
+        of the points where the plane cuts the segments between corners on its two sides (a
+        convex part meets the plane in the convex hull of those); a part wholly behind, none.
+        None if an outline spans no area or a cut part has more than
+        :data:`MAX_CUT_CORNERS` corners (the panels are left to the rays)."""
         shapes = []
         for part in members:
             corners = self.corners(part)
             height = corners @ normal - level
             if height.min() > self.tolerance:  # wholly in front
-                points = corners
+                outline = outlines[part]
             elif height.max() <= self.tolerance:  # wholly behind: no shadow on this plane
                 continue
-            elif len(corners) > MAX_CUT_CORNERS:  # (every pair of corners: left to the rays)
+            elif len(corners) > MAX_CUT_CORNERS:
                 return None
             else:
                 front, back = height > 0.0, height < 0.0
@@ -204,7 +206,7 @@ class ConvexParts:
                 t = (ha[:, None] / (ha[:, None] - hb[None, :]))[..., None]
                 cut = a[:, None, :] + t * (b[None, :, :] - a[:, None, :])
                 points = np.concatenate([corners[~back], cut.reshape(-1, 3)])
-            outline = convex_outline(points @ basis[:, :2])
+                outline = convex_outline(points @ boxes.basis[:, :2])
             if outline is None:
                 return None
             shapes.append(outline)
