@@ -22,8 +22,8 @@ made once per face.
 
 :func:`convex_outline` makes the polygon H of a part, :func:`lit_parts` the lit fraction and
 lit centroid of many triangles against the polygons (Sutherland-Hodgman clipping of each
-triangle by the polygons' edges, vectorised over the triangles, the union by inclusion-exclusion;
-the only loops are over the polygons' edges and their sets).
+triangle by the polygons' edges that cut it, vectorised over the triangles, the union by
+inclusion-exclusion; the only loops are over the clipping passes and the sets of polygons).
 
 Units: metres; 2-D points in the plane normal to the flow
 (:func:`~adbsat_ros.shading.flow_plane.perp_basis`).
@@ -339,31 +339,47 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
 def _covered(tri, area_t, centroid_t, outlines) -> tuple:
     """Area (K,) and centroid (K, 2) of each triangle's intersection with every one of the
     convex ``outlines`` ((K, m, 2) each: the polygons of each triangle; the triangle's own
-    area and centroid where it lies inside all, zero where outside one)."""
-    k = tri.shape[0]
-    inside = np.ones(k, dtype=bool)
-    outside = np.zeros(k, dtype=bool)
+    area and centroid where it lies inside all, zero where outside one).
+
+    A triangle is clipped only by the edges that have one of its corners outside: the part
+    clipped so far lies in the triangle, so an edge with the whole triangle on its inner side
+    cuts nothing. The edges that cut are taken row by row, as many passes as the most any
+    triangle needs (a panel crossing one side of a part's outline: one pass, not one per
+    side of the outline)."""
+    starts, ends, sides = [], [], []
     for outline in outlines:  # which side of each edge each corner is on (>= 0: inside)
-        a, edge = outline[:, None], np.roll(outline, -1, axis=1)[:, None] - outline[:, None]
-        side = edge[..., 0] * (tri[..., 1, None] - a[..., 1]) - edge[..., 1] * (
-            tri[..., 0, None] - a[..., 0]
+        a, b = outline, np.roll(outline, -1, axis=1)
+        edge = (b - a)[:, :, None]
+        side = edge[..., 0] * (tri[:, None, :, 1] - a[:, :, None, 1]) - edge[..., 1] * (
+            tri[:, None, :, 0] - a[:, :, None, 0]
         )
-        inside &= (side >= 0.0).all(axis=(1, 2))
-        outside |= (side < 0.0).all(axis=1).any(axis=1)  # all corners beyond one edge
+        starts.append(a)
+        ends.append(b)
+        sides.append(side)  # (K, m, 3)
+    side = np.concatenate(sides, axis=1)  # (K, E, 3): every edge of every outline
+    inside = (side >= 0.0).all(axis=(1, 2))
+    outside = (side < 0.0).all(axis=2).any(axis=1)  # all corners beyond one edge
     area = np.where(inside & ~outside, area_t, 0.0)
     centroid = centroid_t.copy()
     cut = np.flatnonzero(~inside & ~outside)
     if cut.size:
-        # Sutherland-Hodgman: clip the triangles by the half-planes left of every edge
-        capacity = 3 + sum(o.shape[1] for o in outlines)
+        # Sutherland-Hodgman: clip the triangles by the half-planes left of the edges that cut
+        needed = (side[cut] < 0.0).any(axis=2)  # (C, E)
+        passes = needed.sum(axis=1)
+        order = np.argsort(~needed, axis=1, kind="stable")  # each row's cutting edges first
+        a_all = np.concatenate(starts, axis=1)[cut]
+        b_all = np.concatenate(ends, axis=1)[cut]
+        capacity = 3 + int(passes.max())
         poly = np.zeros((cut.size, capacity, 2))
         poly[:, :3] = tri[cut]
         count = np.full(cut.size, 3)
-        for outline in outlines:
-            corners = outline[cut]
-            following = np.roll(corners, -1, axis=1)
-            for e in range(corners.shape[1]):
-                poly, count = _clip(poly, count, corners[:, e], following[:, e], capacity)
+        rows = np.arange(cut.size)
+        for p in range(int(passes.max())):
+            e = order[:, p]
+            active = p < passes
+            clipped, clipped_count = _clip(poly, count, a_all[rows, e], b_all[rows, e], capacity)
+            poly = np.where(active[:, None, None], clipped, poly)
+            count = np.where(active, clipped_count, count)
         area_cut, centroid_cut = _area_centroid(poly, count)
         area[cut] = area_cut
         centroid[cut] = np.where((area_cut > 0.0)[:, None], centroid_cut, centroid_t[cut])

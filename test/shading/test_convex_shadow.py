@@ -79,3 +79,34 @@ def test_each_triangle_with_its_own_polygons():
         want_f, want_c = lit_centroid(covered)
         assert fraction[i] == pytest.approx(want_f, rel=1e-14)
         np.testing.assert_allclose(centroid[i], want_c, rtol=1e-13)
+
+
+def test_triangles_crossing_different_numbers_of_a_polygons_edges_at_once():
+    # A regular hexagon (circumradius 1, apothem a = sqrt(3)/2) and, in one batch, six narrow
+    # triangles each poking through one of its sides (apex a depth h inside, base a height H
+    # from the apex, half-width w there), one triangle clear of it and one holding it whole.
+    # A poking triangle's covered part is the tip cut off by the side: area w h^2 / H, its
+    # centroid on the axis 2h/3 from the apex; the holding triangle's is the hexagon.
+    hexagon = convex_outline(
+        np.array([[np.cos(t), np.sin(t)] for t in np.radians(np.arange(0, 360, 60))])
+    )
+    a, h, H, w = np.sqrt(3) / 2, 0.2, 0.7, 0.25
+    triangles, want = [], []
+    for k in range(6):
+        axis = np.array([np.cos(np.radians(60 * k + 30)), np.sin(np.radians(60 * k + 30))])
+        side = np.array([-axis[1], axis[0]])
+        apex = (a - h) * axis
+        base = (a - h + H) * axis
+        triangles.append([apex, base + w * side, base - w * side])
+        area_t, area_c = w * H, w * h * h / H
+        lit_at = (area_t * (a - h + 2 * H / 3) - area_c * (a - h + 2 * h / 3)) / (area_t - area_c)
+        want.append((1 - area_c / area_t, lit_at * axis))
+    triangles.append([[3.0, 3.0], [4.0, 3.0], [3.0, 4.0]])
+    want.append((1.0, np.array([10 / 3, 10 / 3])))
+    big = np.array([[-4.0, -2.0], [4.0, -2.0], [0.0, 4.0]])  # area 24, centroid (0, 0)
+    triangles.append(big)
+    want.append((1 - (3 * np.sqrt(3) / 2) / 24.0, np.zeros(2)))
+    fraction, centroid = lit_parts(np.array(triangles), [hexagon])
+    for i, (want_f, want_c) in enumerate(want):
+        assert fraction[i] == pytest.approx(want_f, rel=1e-13)
+        np.testing.assert_allclose(centroid[i], want_c, rtol=1e-12, atol=1e-13)
