@@ -319,14 +319,15 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     k = tri.shape[0]
     outlines = [np.broadcast_to(o, (k, *np.shape(o)[-2:])) for o in outlines]
     area_t, centroid_t = _area_centroid(tri, np.full(k, 3))
-    area_u, moment_u = np.zeros(k), np.zeros((k, 2))
     n = len(outlines)
-    for subset in range(1, 1 << n):  # (2^n - 1 intersections, n <= MAX_OCCLUDERS)
-        chosen = [outlines[i] for i in range(n) if subset >> i & 1]
-        area, centroid = _covered(tri, area_t, centroid_t, chosen)
-        sign = 1.0 if len(chosen) % 2 else -1.0
-        area_u += sign * area
-        moment_u += sign * area[:, None] * centroid  # (a centroid is finite, also of area 0)
+    # the 2^n - 1 non-empty sets of polygons (n <= MAX_OCCLUDERS), one row each
+    sets = np.array([[s >> i & 1 for i in range(n)] for s in range(1, 1 << n)], dtype=bool)
+    area, centroid = _covered(tri, area_t, centroid_t, outlines, sets)
+    area_u, moment_u = np.zeros(k), np.zeros((k, 2))
+    for s, chosen in enumerate(sets):
+        sign = 1.0 if chosen.sum() % 2 else -1.0
+        area_u += sign * area[s]
+        moment_u += sign * area[s, :, None] * centroid[s]  # (finite, also of area 0)
     area_u = np.clip(area_u, 0.0, area_t)
     lit = area_t - area_u
     fraction = lit / area_t
@@ -336,44 +337,52 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     return fraction, np.where(np.isfinite(centroid), centroid, centroid_t)
 
 
-def _covered(tri, area_t, centroid_t, outlines) -> tuple:
-    """Area (K,) and centroid (K, 2) of each triangle's intersection with every one of the
-    convex ``outlines`` ((K, m, 2) each: the polygons of each triangle; the triangle's own
-    area and centroid where it lies inside all, zero where outside one).
+def _covered(tri, area_t, centroid_t, outlines, sets) -> tuple:
+    """Area (S, K) and centroid (S, K, 2) of each triangle's intersection with the polygons of
+    each set: ``outlines`` ((K, m, 2) each: the polygons of each triangle), ``sets`` (S, n)
+    which of them each set holds (the triangle's own area and centroid where it lies inside
+    all of a set, zero where outside one).
 
-    A triangle is clipped only by the edges that have one of its corners outside: the part
-    clipped so far lies in the triangle, so an edge with the whole triangle on its inner side
-    cuts nothing. The edges that cut are taken row by row, as many passes as the most any
-    triangle needs (a panel crossing one side of a part's outline: one pass, not one per
-    side of the outline)."""
-    starts, ends, sides = [], [], []
-    for outline in outlines:  # which side of each edge each corner is on (>= 0: inside)
+    A triangle is clipped only by the edges of the set's polygons that have one of its
+    corners outside: the part clipped so far lies in the triangle, so an edge with the whole
+    triangle on its inner side cuts nothing. Every set's triangles are clipped together, the
+    edges that cut taken row by row: as many passes as the most any row needs (a panel
+    crossing one side of a part's outline: one pass, not one per side of the outline)."""
+    starts, ends, sides, owner = [], [], [], []
+    for i, outline in enumerate(outlines):  # which side of each edge each corner is on
         a, b = outline, np.roll(outline, -1, axis=1)
         edge = (b - a)[:, :, None]
-        side = edge[..., 0] * (tri[:, None, :, 1] - a[:, :, None, 1]) - edge[..., 1] * (
-            tri[:, None, :, 0] - a[:, :, None, 0]
+        sides.append(  # (K, m, 3), >= 0: inside
+            edge[..., 0] * (tri[:, None, :, 1] - a[:, :, None, 1])
+            - edge[..., 1] * (tri[:, None, :, 0] - a[:, :, None, 0])
         )
         starts.append(a)
         ends.append(b)
-        sides.append(side)  # (K, m, 3)
-    side = np.concatenate(sides, axis=1)  # (K, E, 3): every edge of every outline
-    inside = (side >= 0.0).all(axis=(1, 2))
-    outside = (side < 0.0).all(axis=2).any(axis=1)  # all corners beyond one edge
+        owner += [i] * outline.shape[1]
+    corner_out = np.concatenate(sides, axis=1) < 0.0  # (K, E, 3): every edge of every outline
+    owner = np.array(owner)
+    cutting = corner_out.any(axis=2)  # (K, E): some corner beyond the edge
+    beyond = corner_out.all(axis=2)  # (K, E): every corner beyond it
+    own = owner[None, :] == np.arange(len(outlines))[:, None]  # (n, E)
+    within = ~(cutting[:, None, :] & own).any(axis=2)  # (K, n): inside the polygon
+    apart = (beyond[:, None, :] & own).any(axis=2)  # (K, n): outside it
+    inside = (within[None] | ~sets[:, None, :]).all(axis=2)  # (S, K)
+    outside = (apart[None] & sets[:, None, :]).any(axis=2)
     area = np.where(inside & ~outside, area_t, 0.0)
-    centroid = centroid_t.copy()
-    cut = np.flatnonzero(~inside & ~outside)
-    if cut.size:
+    centroid = np.repeat(centroid_t[None], len(sets), axis=0)
+    s, k = np.nonzero(~inside & ~outside)
+    if k.size:
         # Sutherland-Hodgman: clip the triangles by the half-planes left of the edges that cut
-        needed = (side[cut] < 0.0).any(axis=2)  # (C, E)
+        needed = cutting[k] & sets[s][:, owner]  # (C, E)
         passes = needed.sum(axis=1)
         order = np.argsort(~needed, axis=1, kind="stable")  # each row's cutting edges first
-        a_all = np.concatenate(starts, axis=1)[cut]
-        b_all = np.concatenate(ends, axis=1)[cut]
+        a_all = np.concatenate(starts, axis=1)[k]
+        b_all = np.concatenate(ends, axis=1)[k]
         capacity = 3 + int(passes.max())
-        poly = np.zeros((cut.size, capacity, 2))
-        poly[:, :3] = tri[cut]
-        count = np.full(cut.size, 3)
-        rows = np.arange(cut.size)
+        poly = np.zeros((k.size, capacity, 2))
+        poly[:, :3] = tri[k]
+        count = np.full(k.size, 3)
+        rows = np.arange(k.size)
         for p in range(int(passes.max())):
             e = order[:, p]
             active = p < passes
@@ -381,8 +390,8 @@ def _covered(tri, area_t, centroid_t, outlines) -> tuple:
             poly = np.where(active[:, None, None], clipped, poly)
             count = np.where(active, clipped_count, count)
         area_cut, centroid_cut = _area_centroid(poly, count)
-        area[cut] = area_cut
-        centroid[cut] = np.where((area_cut > 0.0)[:, None], centroid_cut, centroid_t[cut])
+        area[s, k] = area_cut
+        centroid[s, k] = np.where((area_cut > 0.0)[:, None], centroid_cut, centroid_t[k])
     return np.clip(area, 0.0, area_t), centroid
 
 
