@@ -30,14 +30,17 @@ from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
 
 
-def _posed(sums: np.ndarray, rotation: np.ndarray, origin: np.ndarray) -> np.ndarray:
-    """A link's (g, 10) facet sums moved from its frame to G by (rotation, origin)."""
+def _posed(sums: np.ndarray, rotations: np.ndarray, origins: np.ndarray) -> np.ndarray:
+    """Facet sums (G, 10) moved from their links' frames to G, each facet by its link's
+    rotation (G, 3, 3) and origin (G, 3)."""
     out = np.empty_like(sums)
     w = sums[:, 0]
     out[:, 0] = w
-    out[:, 1:4] = sums[:, 1:4] @ rotation.T
-    out[:, 4:7] = sums[:, 4:7] @ rotation.T + w[:, None] * origin
-    out[:, 7:10] = sums[:, 7:10] @ rotation.T + frames.cross(origin, out[:, 1:4])
+    out[:, 1:4] = np.einsum("gij,gj->gi", rotations, sums[:, 1:4])
+    out[:, 4:7] = np.einsum("gij,gj->gi", rotations, sums[:, 4:7]) + w[:, None] * origins
+    out[:, 7:10] = np.einsum("gij,gj->gi", rotations, sums[:, 7:10]) + frames.cross(
+        origins, out[:, 1:4]
+    )
     return out
 
 
@@ -84,6 +87,7 @@ class PosedFacets:
         if min(counts) < 1:
             raise ValueError("every link needs at least one facet")
         self.starts = np.cumsum([0, *counts[:-1]])
+        self._all_lit = np.concatenate([f.all_lit for f in self._facets])
         self._link_of_facet = np.repeat(np.arange(len(counts)), counts)  # (evaluated links)
         self.panel_index = np.concatenate(
             [f.index + start for f, start in zip(self._facets, self.starts)]
@@ -144,18 +148,12 @@ class PosedFacets:
 
     def _part_sums(self, lighting, poses) -> np.ndarray:
         def make():
-            rotations = poses.rotations[self._link_index]
-            origins = poses.origins[self._link_index]
-            normals = self.normals(poses)[0]
-            parts = []
-            for k, (own, shifts) in enumerate(self._link_sums(lighting)):
-                posed = _posed(own, rotations[k], origins[k])
-                if shifts is not None:
-                    start = self.starts[k]
-                    posed[:, 4:7] += shifts
-                    posed[:, 7:10] += frames.cross(shifts, normals[start : start + len(own)])
-                parts.append(posed)
-            sums = np.concatenate(parts)
+            links = self._link_index[self._link_of_facet]  # every facet's link
+            own, shifts = self._link_sums(lighting)
+            sums = _posed(own, poses.rotations[links], poses.origins[links])
+            if shifts is not None:
+                sums[:, 4:7] += shifts
+                sums[:, 7:10] += frames.cross(shifts, self.normals(poses)[0])
             if self._joints is not None:
                 sums = np.hstack([sums, self._joints.columns(sums, poses, self._link_of_facet)])
             sums.setflags(write=False)
@@ -163,26 +161,26 @@ class PosedFacets:
 
         return self.sums_store.get((None if lighting is None else lighting.key, poses.key), make)
 
-    def _link_sums(self, lighting) -> list:
-        """Per link: its facets' sums (G_l, 10) of ``lighting``'s lit fractions, in its own
-        frame and without the shifts, and its facets' shift sums S (G_l, 3) in G (None if no
-        panel of the link has a shift)."""
+    def _link_sums(self, lighting) -> tuple:
+        """The facets' sums (G, 10) of ``lighting``'s lit fractions, each in its link's own
+        frame and without the shifts, and their shift sums S (G, 3) in G (None if no panel has
+        a shift)."""
         if lighting is None:
-            return [(f.all_lit, None) for f in self._facets]
+            return self._all_lit, None
 
         def make():
-            out = []
+            own, shifts = [], []
             fraction, index, shift = lighting.lit_fraction, lighting.shift_index, lighting.shift
             for f, (start, stop) in zip(self._facets, self._spans):
                 lit = fraction[start:stop]
-                own = f.sums_of(f.mesh.areas * lit, lit[:, None] * f.weighted_barycentres)
+                own.append(f.sums_of(f.mesh.areas * lit, lit[:, None] * f.weighted_barycentres))
                 inside = (index >= start) & (index < stop)
-                shifts = None
+                link_shifts = np.zeros((f.n, 3))
                 if inside.any():
                     panels = index[inside] - start
                     weighted = (f.mesh.areas[panels] * lit[panels])[:, None] * shift[inside]
-                    shifts = f.vector_sums(weighted, panels)
-                out.append((own, shifts))
-            return out
+                    link_shifts = f.vector_sums(weighted, panels)
+                shifts.append(link_shifts)
+            return np.concatenate(own), (np.concatenate(shifts) if index.size else None)
 
         return self.link_sums_store.get(lighting.key, make)
