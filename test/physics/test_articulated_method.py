@@ -19,6 +19,7 @@ from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_loads import panel_loads
 from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 from adbsat_ros.shading.shader import make_shader
 
 FLOW = FreeStream(7800.0, 1000.0, mean_mass_amu=16.0)
@@ -182,6 +183,53 @@ SPHERE_ARM_URDF = """<robot name="arm">
     <origin xyz="0.2 0 0"/><axis xyz="0 0 1"/>
     <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
 </robot>"""
+
+
+def test_a_surface_with_one_value_changed_equals_the_posed_mesh_with_it(body):
+    # An accommodation model sets alpha at every message (surface_with): the articulated body
+    # with its links' surfaces so changed equals the posed mesh's panel method with its own,
+    # materials differing by link (their wall temperatures stay per material); and links
+    # given different values of a parameter equal the posed mesh with that parameter per panel.
+    names = body.material_names
+    materials = MaterialTable(
+        SurfaceProperties(wall_temperature=280.0),
+        {name: {"wall_temperature": 300.0 + 40.0 * k} for k, name in enumerate(names)},
+    )
+    method = ArticulatedMethod(body, "sentman", materials, reference=REFERENCE)
+    values = configurations(body)[1]
+    mesh = body.mesh(values)
+    merged = PanelMethod(mesh, "sentman", materials, reference=method.reference)
+    u = directions()[1]
+    lighting = make_shader(mesh).lighting(u)
+    for alpha in (0.62, 0.95):
+        got = method.coefficients(
+            FLOW,
+            values,
+            flow_direction=u,
+            lighting=lighting,
+            surface=method.surface_with(alpha=alpha, alpha_n=alpha),
+        ).total
+        want = merged.coefficients(
+            FLOW,
+            flow_direction=u,
+            lighting=lighting,
+            surface=merged.surface_with(alpha=alpha, alpha_n=alpha),
+        )
+        np.testing.assert_allclose(got.Cf_G, want.Cf_G, rtol=0, atol=1e-13)
+        np.testing.assert_allclose(got.Cm_G, want.Cm_G, rtol=0, atol=1e-13)
+    # a different alpha on every link: per panel on the posed mesh
+    surfaces = method.surface_with()  # (every link with geometry, in the order of link_spans)
+    spans = [span for _, span in sorted(body.link_spans.items())]
+    assert len(surfaces) == len(spans)
+    per_panel = merged.surface_with()
+    per_panel.alpha = np.ones(mesh.n_panels)
+    for k, (surface, (start, stop)) in enumerate(zip(surfaces, spans)):
+        surface.alpha = 0.5 + 0.1 * k
+        per_panel.alpha[start:stop] = surface.alpha
+    got = method.coefficients(FLOW, values, flow_direction=u, lighting=lighting, surface=surfaces)
+    want = merged.coefficients(FLOW, flow_direction=u, lighting=lighting, surface=per_panel)
+    np.testing.assert_allclose(got.total.Cf_G, want.Cf_G, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(got.total.Cm_G, want.Cm_G, rtol=0, atol=1e-13)
 
 
 def test_a_link_without_facets_is_evaluated_in_its_own_frame_with_the_same_result():
