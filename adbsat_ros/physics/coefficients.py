@@ -160,15 +160,27 @@ class AeroCoefficients:
         return frames.L_GB @ self.Cf_G
 
     @functools.cached_property
+    def _body_to_wind(self) -> np.ndarray:
+        """L_WB of the angles, its first row (the wind axis x: the vehicle's motion through
+        the gas, in B) taken from the flow direction itself. At a sideslip of +-90 deg the
+        angles lose that axis's small x and z components (cos(aos) rounds to 0 there), and the
+        drag would be off by about the force times 1e-9; the other rows are those of the
+        angles (the split of the cross-flow force between lift and side force is not defined
+        there)."""
+        matrix = frames.body_to_wind(self.aoa, self.aos)
+        matrix[0] = frames.L_GB @ -np.asarray(self.flow_direction, dtype=float)
+        return matrix
+
+    @functools.cached_property
     def Cf_w(self) -> np.ndarray:
         """Force coefficient in wind axes, shape (3,) (ADBSat ``Cf_w``; drag = -Cf_w[0])."""
-        return frames.body_to_wind(self.aoa, self.aos) @ self._Cf_B
+        return self._body_to_wind @ self._Cf_B
 
     @functools.cached_property
     def Cm_w(self) -> np.ndarray:
         """Moment coefficient in wind axes about the moment point, shape (3,) (the rotation of
         :attr:`Cf_w`: roll about the flow, then the wind axes' y and z)."""
-        return frames.body_to_wind(self.aoa, self.aos) @ (frames.L_GB @ self.Cm_G)
+        return self._body_to_wind @ (frames.L_GB @ self.Cm_G)
 
     @functools.cached_property
     def Cf_f(self) -> np.ndarray:
