@@ -15,9 +15,10 @@ along it (prismatic).
 When every link's panels group into facets (boxes, plates, most meshes), the links' facets are
 posed in G and evaluated as one rigid body of them
 (:class:`~adbsat_ros.physics.posed_facets.PosedFacets`): the totals come as a
-:class:`PanelMethod`'s do, and the joints' efforts from columns the posed sums carry
-(:class:`~adbsat_ros.physics.link_loads.EffortColumns`), in the same product. The links' forces
-and moments are read, when asked for, from the same facet sums taken link by link
+:class:`PanelMethod`'s do, and the joints' efforts, when asked for, from columns the posed
+sums carry (:class:`~adbsat_ros.physics.link_loads.EffortColumns`), in one product of the rows
+with them. The links' forces and moments are read, when asked for, from the same facet sums
+taken link by link
 (:class:`~adbsat_ros.physics.link_loads.LinkLoads`): each link's force and moment (about G's
 origin) and lit projected area give them through one linear map per configuration (its
 ``load_maps``). Otherwise each link is evaluated in its own frame as above, with the lighting
@@ -58,10 +59,9 @@ from adbsat_ros.shading.shader import make_shader
 class ArticulatedCoefficients:
     """The coefficients of an articulated body at one configuration and flow direction.
 
-    The links' forces and moments are computed from the evaluation's sums when first read
-    (:class:`~adbsat_ros.physics.link_loads.LinkLoads`), so a caller that needs only the total
-    and the joints' efforts (a node publishing the wrench and the joint torques) does not pay
-    for them.
+    The links' forces and moments and the joints' efforts are computed from the evaluation's
+    sums when first read (:class:`~adbsat_ros.physics.link_loads.LinkLoads`), so a caller that
+    needs only the total (a node publishing the wrench) does not pay for them.
 
     Attributes
     ----------
@@ -89,9 +89,13 @@ class ArticulatedCoefficients:
     total: AeroCoefficients
     joint_names: tuple
     joint_positions: np.ndarray
-    effort_coefficients: np.ndarray
     effort_scales: np.ndarray
     link_loads: LinkLoads
+
+    @property
+    def effort_coefficients(self) -> np.ndarray:
+        """Each moving joint's effort coefficient (J,), in the order of :attr:`joint_names`."""
+        return self.link_loads.effort_coefficients
 
     @property
     def link_force(self) -> np.ndarray:
@@ -277,15 +281,14 @@ class ArticulatedMethod:
         n_links = len(self.body.links)
         load_map = self.load_map(poses)
         if posed is not None:
-            (Cf_G, Cm_G, area_projected), efforts, panel_values, panel_index, facet_terms = posed
-            link_loads = LinkLoads(load_map, forces, moments, n_links, facets=facet_terms)
+            (Cf_G, Cm_G, area_projected), panel_values, panel_index, facet_terms = posed
+            link_loads = LinkLoads(load_map, forces, moments, effort, n_links, facets=facet_terms)
         else:  # (a link without facets, or a surface varying within a facet)
             loads, panel_values = self._link_loads(flow, u, lighting, surface, poses)
-            out = load_map @ loads
+            link_loads = LinkLoads(load_map, forces, moments, effort, n_links, loads=loads)
+            out = link_loads._outputs
             Cf_G, Cm_G, area_projected = out[cf], out[cm], float(out[area][0])
-            efforts = out[effort]
             panel_index = None
-            link_loads = LinkLoads(load_map, forces, moments, n_links, loads=loads)
 
         total = AeroCoefficients(
             flow_direction=u,
@@ -303,7 +306,6 @@ class ArticulatedMethod:
             total,
             self._joint_names,
             np.array(poses.key),
-            efforts,
             self._effort_scales,
             link_loads,
         )
@@ -354,9 +356,9 @@ class ArticulatedMethod:
 
     def _posed_evaluation(self, flow, u, lighting, surface, poses):
         """The posed facets in one evaluation, as a rigid body of them (None if the surface
-        varies within a facet): the totals (Cf_G, Cm_G, lit projected area), the joints' effort
-        coefficients (:class:`EffortColumns`), the per-facet values, the facet of every panel,
-        and what :class:`LinkLoads` takes to compute the links' loads."""
+        varies within a facet): the totals (Cf_G, Cm_G, lit projected area), the per-facet
+        values, the facet of every panel, and what :class:`LinkLoads` takes to compute the
+        links' loads and the joints' efforts (from the sums' :class:`EffortColumns`)."""
         facets = self.facets
         facet_surface = self._facet_surface if surface is None else facets.surface(surface)
         if facet_surface is None:
@@ -365,11 +367,8 @@ class ArticulatedMethod:
         c, cp, shear, ctau = self._evaluator.facet_coefficients(u, inward_T, facet_surface, flow)
         rows = facet_rows(c, cp, shear)
         sums = facets.sums(lighting, poses)
-        products = rows @ sums
-
         return (
-            PanelMethod.totals_of_products(u, products[:, :N_SUMS], self.reference),
-            EffortColumns.efforts(products, u),
+            PanelMethod.totals_of_products(u, rows @ sums[:, :N_SUMS], self.reference),
             (c, cp, ctau, shear, normals),
             facets.panel_index,
             (rows, sums, facets.starts, u),

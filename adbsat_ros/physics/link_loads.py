@@ -7,9 +7,10 @@ max(c, 0) of :func:`~adbsat_ros.physics.facets.facet_rows`) the facet sums give:
 * every joint's effort, through columns that the posed sums carry after their ten sums
   (:class:`EffortColumns`): one product of the rows with the sums gives the totals and the
   efforts;
-* every link's force and moment, from the same sums taken link by link (:class:`LinkLoads`),
-  computed when first read: a node publishing the wrench and the joint torques never needs
-  them.
+* every link's force and moment, from the same sums taken link by link.
+
+:class:`LinkLoads` computes the efforts and the links' loads when first read: a node publishing
+only the wrench needs neither, one publishing the joint torques only the efforts.
 
 Units: metres, body frame G; coefficients per A_ref (forces) and A_ref L_ref (moments).
 """
@@ -77,32 +78,36 @@ class EffortColumns:
 
 
 class LinkLoads:
-    """Every link's force and moment coefficients of one evaluation, computed when first read.
+    """Every link's force and moment coefficients and every joint's effort coefficient of one
+    evaluation, computed when first read.
 
     It holds the evaluation's own numbers, not the method that made them: a sample that keeps
-    it keeps no cache alive, and pickles.
+    it keeps no cache alive, and pickles. A node publishing only the wrench reads neither (the
+    efforts cost about 2 us per message, a tenth of what an articulated body adds to a rigid
+    one's message in the node).
 
     Parameters
     ----------
     load_map : ndarray, shape (R, 7 E)
         The configuration's map from the E evaluated links' loads (F, M, S) to every output
         (:meth:`~adbsat_ros.physics.articulated_method.ArticulatedMethod.load_map`).
-    forces, moments : slice
-        Its rows of the links' force and moment coefficients.
+    forces, moments, efforts : slice
+        Its rows of the links' force and moment coefficients and of the joints' efforts.
     n_links : int
         Links of the body (L).
     loads : ndarray, shape (7 E,), optional
         The evaluated links' loads, if known; else computed from ``facets``.
     facets : tuple, optional
-        ``(rows, sums, starts, u)``: the (3, G) facet rows, the (G, >= 10) posed facet sums,
-        the index of each evaluated link's first facet and the flow direction.
+        ``(rows, sums, starts, u)``: the (3, G) facet rows, the (G, 10 + 4 J) posed facet sums
+        with the joints' effort columns (:class:`EffortColumns`), the index of each evaluated
+        link's first facet and the flow direction.
     """
 
-    def __init__(self, load_map, forces, moments, n_links, loads=None, facets=None):
+    def __init__(self, load_map, forces, moments, efforts, n_links, loads=None, facets=None):
         if (loads is None) == (facets is None):
             raise ValueError("give exactly one of loads and facets")
         self.load_map = load_map
-        self.forces, self.moments = forces, moments
+        self.forces, self.moments, self.efforts = forces, moments, efforts
         self.n_links = int(n_links)
         self._loads = loads
         self._facets = facets
@@ -111,17 +116,31 @@ class LinkLoads:
     def values(self) -> tuple:
         """``(link_force, link_moment)``, each (L, 3): body frame, moments about the reference
         moment point."""
+        out = self._outputs
+        return (
+            out[self.forces].reshape(self.n_links, 3),
+            out[self.moments].reshape(self.n_links, 3),
+        )
+
+    @functools.cached_property
+    def effort_coefficients(self) -> np.ndarray:
+        """The joints' effort coefficients (J,): from the facet sums' effort columns, or
+        through the load map."""
+        if self._facets is not None:
+            rows, sums, _, u = self._facets
+            return EffortColumns.efforts(rows @ sums, u)
+        return self._outputs[self.efforts]
+
+    @functools.cached_property
+    def _outputs(self) -> np.ndarray:
+        """Every output of the load map from the evaluated links' loads."""
         loads = self._loads
         if loads is None:
             rows, sums, starts, u = self._facets
             weighted = sums[:, :N_SUMS, None] * rows.T[:, None, :]  # (G, 10, 3)
             per_link = np.add.reduceat(weighted, starts, axis=0).reshape(len(starts), -1)
             loads = (per_link @ sums_to_loads(u)).ravel()
-        out = self.load_map @ loads
-        return (
-            out[self.forces].reshape(self.n_links, 3),
-            out[self.moments].reshape(self.n_links, 3),
-        )
+        return self.load_map @ loads
 
 
 #: Loads of a link: force (3), moment about G's origin (3), lit projected area.
