@@ -31,7 +31,7 @@ from adbsat_ros.environment.knots import KnotGrid
 from adbsat_ros.estimator.assembly import coefficient_database, load_body, panel_method
 from adbsat_ros.estimator.conditions import PropagatedConditions
 from adbsat_ros.estimator.diagnostics import diagnostic_values
-from adbsat_ros.estimator.joints import JointStates
+from adbsat_ros.estimator.joints import JointStates, preparation
 from adbsat_ros.estimator.samples import OrbitalState, Rejection, WrenchSample
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.estimator.shading import ShadingSource
@@ -124,6 +124,7 @@ class AeroWrenchEstimator:
             if self.joints is None:
                 self.joints = JointStates(self.body, settings.joint_state_timeout)
             self.joints.timeout = settings.joint_state_timeout
+            self.joints.set_prepare(preparation(method, shading if database is None else None))
         self.method, self._shading, self._database = method, shading, database
         self._solar = solar
         self.weather = conditions.weather
@@ -360,7 +361,7 @@ class AeroWrenchEstimator:
                 f"latest state is {dt:.3f} s from the attitude stamp "
                 f"(state_timeout {s.state_timeout:g} s)",
             )
-        positions = None if self.joints is None else self.joints.positions_at(stamp)
+        joints = None if self.joints is None else self.joints.configuration_at(stamp)
         self._last_attitude_stamp = stamp
         try:
             utc = self.utc(stamp)
@@ -399,7 +400,7 @@ class AeroWrenchEstimator:
                 self._database, reference, gas_body, flow.dynamic_pressure(), moment
             )
         alpha = None if s.accommodation_model == "fixed" else conditions.alpha
-        return panel_wrench(self.method, self._shading, gas_body, flow, alpha, positions, moment)
+        return panel_wrench(self.method, self._shading, gas_body, flow, alpha, joints, moment)
 
     def prepare(self, stamp: float) -> bool:
         """Compute ahead what an attitude expected at ``stamp`` [s] would wait for.

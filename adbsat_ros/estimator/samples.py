@@ -14,7 +14,7 @@ import numpy as np
 
 from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.interpolation import StampConditions
-from adbsat_ros.physics.articulated_method import ArticulatedCoefficients
+from adbsat_ros.physics.articulated_results import ArticulatedCoefficients
 from adbsat_ros.physics.coefficients import AeroCoefficients
 
 #: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).

@@ -100,9 +100,14 @@ class ShadingSource:
             settings.joint_shading_cache_size,
         )
 
-    def lighting(self, flow_direction, positions=None) -> tuple:
+    def vertices(self, positions: dict) -> list | None:
+        """An articulated body's grid configurations and weights for joint ``positions``
+        (:meth:`ConfigurationShadingCache.vertices`), or None without shading."""
+        return None if self.cache is None else self.cache.vertices(positions)
+
+    def lighting(self, flow_direction, positions=None, vertices=None) -> tuple:
         """``(lighting, hit)`` for a unit flow direction in the body frame (and, for an
-        articulated body, the joint ``positions``).
+        articulated body, the joint ``positions``, with their grid ``vertices`` if known).
 
         Returns
         -------
@@ -117,7 +122,7 @@ class ShadingSource:
         if positions is None:
             lighting = self.cache.lighting(flow_direction)
         else:
-            lighting = self.cache.lighting(flow_direction, positions)
+            lighting = self.cache.lighting(flow_direction, positions, vertices)
         return lighting, self.cache.misses == misses
 
     @property

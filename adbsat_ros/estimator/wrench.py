@@ -15,6 +15,7 @@ from typing import NamedTuple
 
 from adbsat_ros.database.matching import DatabaseCoefficients
 from adbsat_ros.environment.interpolation import StampConditions
+from adbsat_ros.estimator.joints import JointConfiguration
 from adbsat_ros.estimator.samples import JointSample, Rejection, WrenchSample
 from adbsat_ros.estimator.shading import ShadingSource
 from adbsat_ros.geometry.frames import unit_vector
@@ -73,37 +74,43 @@ def panel_wrench(
     gas_body,
     flow,
     alpha: float | None,
-    positions: dict | None,
+    joints: JointConfiguration | None,
     moment: Moment,
 ) -> WrenchSample:
-    """The wrench of the panel method (a PanelMethod, or an ArticulatedMethod at joint
-    ``positions``) at the flow direction ``gas_body`` (body axes).
+    """The wrench of the panel method (a PanelMethod, or an ArticulatedMethod at the joint
+    configuration ``joints``) at the flow direction ``gas_body`` (body axes).
 
     Parameters
     ----------
     alpha : float or None
         The accommodation coefficient from an accommodation model (None: the materials').
+    joints : JointConfiguration or None
+        An articulated body's joint positions, made ready (:mod:`adbsat_ros.estimator.joints`).
 
     Raises
     ------
     Rejection
         ``compute_error`` for what the panel method refuses.
     """
-    lighting, hit = shading.lighting(gas_body, positions)  # (the cache keys on the direction)
+    # (the caches key on the direction)
+    if joints is None:
+        lighting, hit = shading.lighting(gas_body)
+    else:
+        lighting, hit = shading.lighting(gas_body, joints.positions, joints.vertices)
     surface = None if alpha is None else method.surface_with(alpha=alpha, alpha_n=alpha)
     q = flow.dynamic_pressure()
-    joints = None
+    sample = None
     try:  # (the panel method makes the direction a unit vector)
-        if positions is None:
+        if joints is None:
             coefficients = method.coefficients(
                 flow, flow_direction=gas_body, lighting=lighting, surface=surface
             )
         else:
             articulated = method.coefficients(
-                flow, positions, flow_direction=gas_body, lighting=lighting, surface=surface
+                flow, joints.posed, flow_direction=gas_body, lighting=lighting, surface=surface
             )
             coefficients = articulated.total
-            joints = joint_sample(method.body, articulated, q)
+            sample = joint_sample(method.body, articulated, q)
     except ValueError as exc:
         raise Rejection("compute_error", str(exc)) from None
     reference = coefficients.reference
@@ -123,13 +130,13 @@ def panel_wrench(
         shading_cache_hit=hit,
         compute_seconds=time.perf_counter() - moment.started,
         rotation=moment.rotation,
-        joints=joints,
+        joints=sample,
     )
 
 
 def joint_sample(body, articulated, q: float) -> JointSample:
     """The joints' positions and efforts and the links' loads of an
-    :class:`~adbsat_ros.physics.articulated_method.ArticulatedCoefficients` at dynamic pressure
+    :class:`~adbsat_ros.physics.articulated_results.ArticulatedCoefficients` at dynamic pressure
     q [Pa]."""
     return JointSample(
         names=articulated.joint_names,

@@ -35,7 +35,6 @@ Units: metres, radians; frame G = the root link's frame.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Mapping
 
 import numpy as np
@@ -44,6 +43,7 @@ from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.poses import PoseCache, Poses
 from adbsat_ros.lru import LruStore
+from adbsat_ros.physics.articulated_results import ArticulatedCoefficients, Configuration
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
 from adbsat_ros.physics.facets import N_SUMS, facet_rows
 from adbsat_ros.physics.freestream import FreeStream
@@ -53,78 +53,6 @@ from adbsat_ros.physics.posed_facets import PosedFacets
 from adbsat_ros.shading.link_split import LinkSplitCache
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 from adbsat_ros.shading.shader import make_shader
-
-
-@dataclass(frozen=True, eq=False)
-class ArticulatedCoefficients:
-    """The coefficients of an articulated body at one configuration and flow direction.
-
-    The links' forces and moments and the joints' efforts are computed from the evaluation's
-    sums when first read (:class:`~adbsat_ros.physics.link_loads.LinkLoads`), so a caller that
-    needs only the total (a node publishing the wrench) does not pay for them.
-
-    Attributes
-    ----------
-    total : AeroCoefficients
-        The whole body's (as :meth:`PanelMethod.coefficients` of the posed mesh: Cf_G, Cm_G,
-        area_projected, wind axes, and per-panel values in the posed mesh's order).
-    link_force, link_moment : ndarray, shape (L, 3)
-        Force and moment coefficient of every link of the body (zero for links without
-        geometry), body frame, moments about the reference moment point; they sum to the total.
-    joint_names : tuple of str
-        The moving joints, in the body's order.
-    effort_coefficients : ndarray, shape (J,)
-        For each moving joint, the moment coefficient of the loads on the links it carries
-        about its axis through it (revolute, continuous), or their force coefficient along its
-        axis (prismatic).
-    joint_positions : ndarray, shape (J,)
-        The joint positions [rad or m].
-    effort_scales : ndarray, shape (J,)
-        What turns an effort coefficient into newton metres or newtons once multiplied by the
-        dynamic pressure: A_ref L_ref [m^3] (revolute, continuous) or A_ref [m^2] (prismatic).
-    link_loads : LinkLoads
-        What gives ``link_force`` and ``link_moment``.
-    """
-
-    total: AeroCoefficients
-    joint_names: tuple
-    joint_positions: np.ndarray
-    effort_scales: np.ndarray
-    link_loads: LinkLoads
-
-    @property
-    def effort_coefficients(self) -> np.ndarray:
-        """Each moving joint's effort coefficient (J,), in the order of :attr:`joint_names`."""
-        return self.link_loads.effort_coefficients
-
-    @property
-    def link_force(self) -> np.ndarray:
-        """Every link's force coefficient (L, 3), body frame."""
-        return self.link_loads.values[0]
-
-    @property
-    def link_moment(self) -> np.ndarray:
-        """Every link's moment coefficient (L, 3) about the reference moment point."""
-        return self.link_loads.values[1]
-
-    @property
-    def joint_effort(self) -> dict:
-        """Each moving joint's effort coefficient, by name."""
-        return dict(zip(self.joint_names, self.effort_coefficients.tolist()))
-
-    @property
-    def positions(self) -> dict:
-        """Each moving joint's position [rad or m], by name."""
-        return dict(zip(self.joint_names, self.joint_positions.tolist()))
-
-    def efforts(self, dynamic_pressure: float) -> np.ndarray:
-        """Joint efforts [N m, or N for a prismatic joint] at dynamic pressure q [Pa], in the
-        order of :attr:`joint_names`."""
-        return (dynamic_pressure * self.effort_scales) * self.effort_coefficients
-
-    def joint_efforts(self, dynamic_pressure: float) -> dict:
-        """:meth:`efforts` by joint name."""
-        return dict(zip(self.joint_names, self.efforts(dynamic_pressure).tolist()))
 
 
 class ArticulatedMethod:
@@ -249,9 +177,10 @@ class ArticulatedMethod:
         Parameters
         ----------
         flow : FreeStream
-        positions : mapping of str to float, optional
+        positions : mapping of str to float or Configuration, optional
             Joint positions [rad or m] (others at zero), checked as
-            :meth:`ArticulatedBody.positions` checks them.
+            :meth:`ArticulatedBody.positions` checks them; or their :meth:`configuration`,
+            made once for many calls.
         aoa, aos : float, optional
             Angle of attack and sideslip [rad], or ``flow_direction`` (G) instead.
         lighting : PanelLighting, LightingBlend or None, optional
@@ -266,20 +195,21 @@ class ArticulatedMethod:
             A bad joint position (named, with its limits), or a lighting of another panel count.
         """
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
-        positions = self.body.positions(positions)
-        poses = self.poses.poses(positions)
+        if not isinstance(positions, Configuration):
+            positions = self.configuration(positions)
+        configuration, poses = positions, positions.poses
         if lighting is OWN_SHADING:
-            lighting = self.lighting_of(u, positions)
+            lighting = self.lighting_of(u, configuration.positions)
         if lighting is not None and lighting.n_panels != self.n_panels:
             raise ValueError(
                 f"lighting has {lighting.n_panels} panels, the body has {self.n_panels}"
             )
         posed = None
         if self.facets is not None:
-            posed = self._posed_evaluation(flow, u, lighting, surface, poses)
+            posed = self._posed_evaluation(flow, u, lighting, surface, configuration)
         cf, cm, forces, moments, effort, area = self._rows
         n_links = len(self.body.links)
-        load_map = self.load_map(poses)
+        load_map = configuration.load_map
         if posed is not None:
             (Cf_G, Cm_G, area_projected), panel_values, panel_index, facet_terms = posed
             link_loads = LinkLoads(load_map, forces, moments, effort, n_links, facets=facet_terms)
@@ -305,10 +235,20 @@ class ArticulatedMethod:
         return ArticulatedCoefficients(
             total,
             self._joint_names,
-            np.array(poses.key),
+            configuration.joint_positions,
             self._effort_scales,
             link_loads,
         )
+
+    def configuration(self, positions: Mapping[str, float] | None = None) -> Configuration:
+        """The :class:`Configuration` of joint ``positions`` (others at zero), checked as
+        :meth:`ArticulatedBody.positions` checks them (ValueError naming a bad one)."""
+        positions = self.body.positions(positions)
+        poses = self.poses.poses(positions)
+        joint_positions = np.array(poses.key, dtype=float)
+        joint_positions.setflags(write=False)
+        normals = None if self.facets is None else self.facets.normals(poses)
+        return Configuration(positions, poses, joint_positions, normals, self.load_map(poses))
 
     def load_map(self, poses: Poses) -> np.ndarray:
         """The map from the evaluated links' loads to every output at ``poses``' configuration
@@ -354,7 +294,7 @@ class ArticulatedMethod:
         out.setflags(write=False)
         return out
 
-    def _posed_evaluation(self, flow, u, lighting, surface, poses):
+    def _posed_evaluation(self, flow, u, lighting, surface, configuration):
         """The posed facets in one evaluation, as a rigid body of them (None if the surface
         varies within a facet): the totals (Cf_G, Cm_G, lit projected area), the per-facet
         values, the facet of every panel, and what :class:`LinkLoads` takes to compute the
@@ -363,10 +303,10 @@ class ArticulatedMethod:
         facet_surface = self._facet_surface if surface is None else facets.surface(surface)
         if facet_surface is None:
             return None
-        normals, inward_T = facets.normals(poses)
+        normals, inward_T = configuration.normals
         c, cp, shear, ctau = self._evaluator.facet_coefficients(u, inward_T, facet_surface, flow)
         rows = facet_rows(c, cp, shear)
-        sums = facets.sums(lighting, poses)
+        sums = facets.sums(lighting, configuration.poses)
         return (
             PanelMethod.totals_of_products(u, rows @ sums[:, :N_SUMS], self.reference),
             (c, cp, ctau, shear, normals),

@@ -176,11 +176,12 @@ class ConfigurationShadingCache:
         key = self.key(positions)
         return key, self.cache_at(key)
 
-    def lighting(self, u_G, positions: Mapping[str, float]):
+    def lighting(self, u_G, positions: Mapping[str, float], vertices: list | None = None):
         """The lighting of the body at ``positions`` for unit flow direction ``u_G``: a
-        PanelLighting or LightingBlend of :meth:`ArticulatedBody.mesh`'s panels."""
+        PanelLighting or LightingBlend of :meth:`ArticulatedBody.mesh`'s panels
+        (``vertices``: :meth:`vertices` of the positions, if made already)."""
         parts, keys = [], []
-        for weight, key in self.vertices(positions):
+        for weight, key in vertices or self.vertices(positions):
             cache = self.cache_at(key)
             hits, misses = cache.hits, cache.misses
             parts.append((weight, cache.lighting(u_G)))

@@ -253,3 +253,28 @@ def test_a_joint_sample_pickles_with_its_link_loads():
     np.testing.assert_array_equal(copy.link_torques, joints.link_torques)
     np.testing.assert_array_equal(copy.efforts, joints.efforts)
     assert np.abs(copy.link_forces).max() > 0.0
+
+
+@pytest.mark.parametrize(
+    "change",
+    [
+        {"joint_shading_resolution_deg": 2.0},
+        {"joint_shading_interpolation": True},
+        {"shading": "none"},
+        {"gsi_model": "cll"},
+    ],
+    ids=["grid", "blend", "no-shading", "model"],
+)
+def test_new_settings_apply_to_the_joint_positions_already_received(change):
+    # The joint positions are made ready when they arrive; settings changed after that must
+    # still give the wrench a fresh estimator with the new settings gives at those positions.
+    est = ready(estimator())
+    est.on_attitude(1.0, TILTED)
+    params = dict(PARAMETER_DEFAULTS, mesh="example-articulated", time_mode="epoch")
+    params.update(center_of_mass=[0.05, 0.0, 0.01], **change)
+    est.apply_settings(WrenchSettings.from_parameters(params))
+    got = est.on_attitude(1.01, TILTED)
+    want = ready(estimator(**change)).on_attitude(1.01, TILTED)
+    np.testing.assert_array_equal(got.force, want.force)
+    np.testing.assert_array_equal(got.torque, want.torque)
+    np.testing.assert_array_equal(got.joints.efforts, want.joints.efforts)

@@ -1,0 +1,115 @@
+"""What an articulated body's panel method takes and gives besides the joint positions: a
+:class:`Configuration` (positions checked and posed, made once for many evaluations) and the
+:class:`ArticulatedCoefficients` of one evaluation.
+
+Units: metres, radians; frame G = the root link's frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from adbsat_ros.geometry.poses import Poses
+from adbsat_ros.physics.coefficients import AeroCoefficients
+from adbsat_ros.physics.link_loads import LinkLoads
+
+
+class Configuration(NamedTuple):
+    """Joint positions checked and posed, with what an evaluation there reads: made by
+    :meth:`ArticulatedMethod.configuration` once, given to :meth:`ArticulatedMethod.coefficients`
+    for every attitude at those positions (a node between two joint states).
+
+    Attributes
+    ----------
+    positions : dict of str to float
+        Every moving joint's position [rad or m], checked.
+    poses : Poses
+        The links' and joints' frames.
+    joint_positions : ndarray, shape (J,)
+        The positions in the body's joint order (read-only).
+    normals : tuple or None
+        The posed facets' ``(normals, -normals^T)``; None without posed facets.
+    load_map : ndarray
+        The map from the links' loads to every output (:meth:`ArticulatedMethod.load_map`).
+    """
+
+    positions: dict
+    poses: Poses
+    joint_positions: np.ndarray
+    normals: tuple | None
+    load_map: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class ArticulatedCoefficients:
+    """The coefficients of an articulated body at one configuration and flow direction.
+
+    The links' forces and moments and the joints' efforts are computed from the evaluation's
+    sums when first read (:class:`~adbsat_ros.physics.link_loads.LinkLoads`), so a caller that
+    needs only the total (a node publishing the wrench) does not pay for them.
+
+    Attributes
+    ----------
+    total : AeroCoefficients
+        The whole body's (as :meth:`PanelMethod.coefficients` of the posed mesh: Cf_G, Cm_G,
+        area_projected, wind axes, and per-panel values in the posed mesh's order).
+    link_force, link_moment : ndarray, shape (L, 3)
+        Force and moment coefficient of every link of the body (zero for links without
+        geometry), body frame, moments about the reference moment point; they sum to the total.
+    joint_names : tuple of str
+        The moving joints, in the body's order.
+    effort_coefficients : ndarray, shape (J,)
+        For each moving joint, the moment coefficient of the loads on the links it carries
+        about its axis through it (revolute, continuous), or their force coefficient along its
+        axis (prismatic).
+    joint_positions : ndarray, shape (J,)
+        The joint positions [rad or m].
+    effort_scales : ndarray, shape (J,)
+        What turns an effort coefficient into newton metres or newtons once multiplied by the
+        dynamic pressure: A_ref L_ref [m^3] (revolute, continuous) or A_ref [m^2] (prismatic).
+    link_loads : LinkLoads
+        What gives ``link_force`` and ``link_moment``.
+    """
+
+    total: AeroCoefficients
+    joint_names: tuple
+    joint_positions: np.ndarray
+    effort_scales: np.ndarray
+    link_loads: LinkLoads
+
+    @property
+    def effort_coefficients(self) -> np.ndarray:
+        """Each moving joint's effort coefficient (J,), in the order of :attr:`joint_names`."""
+        return self.link_loads.effort_coefficients
+
+    @property
+    def link_force(self) -> np.ndarray:
+        """Every link's force coefficient (L, 3), body frame."""
+        return self.link_loads.values[0]
+
+    @property
+    def link_moment(self) -> np.ndarray:
+        """Every link's moment coefficient (L, 3) about the reference moment point."""
+        return self.link_loads.values[1]
+
+    @property
+    def joint_effort(self) -> dict:
+        """Each moving joint's effort coefficient, by name."""
+        return dict(zip(self.joint_names, self.effort_coefficients.tolist()))
+
+    @property
+    def positions(self) -> dict:
+        """Each moving joint's position [rad or m], by name."""
+        return dict(zip(self.joint_names, self.joint_positions.tolist()))
+
+    def efforts(self, dynamic_pressure: float) -> np.ndarray:
+        """Joint efforts [N m, or N for a prismatic joint] at dynamic pressure q [Pa], in the
+        order of :attr:`joint_names`."""
+        return (dynamic_pressure * self.effort_scales) * self.effort_coefficients
+
+    def joint_efforts(self, dynamic_pressure: float) -> dict:
+        """:meth:`efforts` by joint name."""
+        return dict(zip(self.joint_names, self.efforts(dynamic_pressure).tolist()))
