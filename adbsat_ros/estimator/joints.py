@@ -43,12 +43,14 @@ class JointConfiguration(NamedTuple):
 class JointStates:
     """The latest position [rad or m] and stamp [s] of every moving joint of ``body``.
 
-    Once every moving joint has a position, each accepted message makes their
-    :class:`JointConfiguration` (``prepare``), and the attitudes until the next one use it: the
-    positions' checks, the links' poses and the shading grid's configurations are then found
-    once per joint state, not once per attitude: with joints fixed, the node took 1.005-1.034
-    times the rigid node's CPU per attitude against 1.073-1.079 (about 6 of its 115 us at
-    1 kHz; ``bench/bench_articulated_node.py``, three interleaved pairs).
+    The first attitude after a joint state (or after :meth:`clear`, or a new ``prepare``) makes
+    the positions' :class:`JointConfiguration` (``prepare``), and the attitudes until the next
+    joint state use it: the positions' checks, the links' poses and the shading grid's
+    configurations are then found once per joint state, not once per attitude: with joints
+    fixed, the node took 1.005-1.034 times the rigid node's CPU per attitude against
+    1.073-1.079 (about 6 of its 115 us at 1 kHz; ``bench/bench_articulated_node.py``, three
+    interleaved pairs). A body without moving joints has one configuration, made at its first
+    attitude.
 
     Parameters
     ----------
@@ -78,11 +80,10 @@ class JointStates:
         self._configuration = None
 
     def set_prepare(self, prepare: Callable) -> None:
-        """Make the configurations with ``prepare`` from now on, the latest one too (the
-        estimator's method or shading changed)."""
+        """Make the configurations with ``prepare`` from now on (the estimator's method or
+        shading changed): the latest positions' too, when an attitude next needs it."""
         self.prepare = prepare
-        if self._configuration is not None:
-            self._configuration = prepare(self._configuration.positions)
+        self._configuration = None
 
     def on_joint_state(self, stamp: float, names, positions) -> dict:
         """Take a JointState's positions.
@@ -127,8 +128,7 @@ class JointStates:
         for name in given:
             latest[name] = (stamp, checked[name])
         self.accepted += 1
-        if len(latest) == len(self.body.joints):
-            self._configuration = self.prepare({name: latest[name][1] for name in self.body.joints})
+        self._configuration = None  # (made when an attitude first needs it)
         return {name: checked[name] for name in given}
 
     def configuration_at(self, stamp: float) -> JointConfiguration:
@@ -150,6 +150,9 @@ class JointStates:
                     f"joint {name}'s latest position is {dt:.3f} s from the attitude stamp "
                     f"(joint_state_timeout {self.timeout:g} s)",
                 )
+        if self._configuration is None:
+            latest = self._latest
+            self._configuration = self.prepare({name: latest[name][1] for name in self.body.joints})
         return self._configuration
 
 

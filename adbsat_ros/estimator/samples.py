@@ -83,7 +83,7 @@ class JointSample:
     names : tuple of str
         The moving joints, in the body's order.
     positions : ndarray, shape (J,)
-        Their positions used [rad or m].
+        Their positions used [rad or m] (read-only).
     link_names : tuple of str
         The links, in the body's order.
     coefficients : ArticulatedCoefficients

@@ -197,6 +197,8 @@ class ArticulatedMethod:
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         if not isinstance(positions, Configuration):
             positions = self.configuration(positions)
+        elif positions.method is not self:
+            raise ValueError("positions: a Configuration made by another ArticulatedMethod")
         configuration, poses = positions, positions.poses
         if lighting is OWN_SHADING:
             lighting = self.lighting_of(u, configuration.positions)
@@ -248,7 +250,7 @@ class ArticulatedMethod:
         joint_positions = np.array(poses.key, dtype=float)
         joint_positions.setflags(write=False)
         normals = None if self.facets is None else self.facets.normals(poses)
-        return Configuration(positions, poses, joint_positions, normals, self.load_map(poses))
+        return Configuration(positions, poses, joint_positions, normals, self.load_map(poses), self)
 
     def load_map(self, poses: Poses) -> np.ndarray:
         """The map from the evaluated links' loads to every output at ``poses``' configuration

@@ -34,6 +34,8 @@ class Configuration(NamedTuple):
         The posed facets' ``(normals, -normals^T)``; None without posed facets.
     load_map : ndarray
         The map from the links' loads to every output (:meth:`ArticulatedMethod.load_map`).
+    method : ArticulatedMethod
+        The method it was made by, and for (its facets and reference).
     """
 
     positions: dict
@@ -41,6 +43,7 @@ class Configuration(NamedTuple):
     joint_positions: np.ndarray
     normals: tuple | None
     load_map: np.ndarray
+    method: object
 
 
 @dataclass(frozen=True, eq=False)
@@ -66,12 +69,12 @@ class ArticulatedCoefficients:
         about its axis through it (revolute, continuous), or their force coefficient along its
         axis (prismatic).
     joint_positions : ndarray, shape (J,)
-        The joint positions [rad or m].
+        The joint positions [rad or m] (read-only: the configuration's own array).
     effort_scales : ndarray, shape (J,)
         What turns an effort coefficient into newton metres or newtons once multiplied by the
         dynamic pressure: A_ref L_ref [m^3] (revolute, continuous) or A_ref [m^2] (prismatic).
     link_loads : LinkLoads
-        What gives ``link_force`` and ``link_moment``.
+        What gives ``link_force``, ``link_moment`` and ``effort_coefficients``.
     """
 
     total: AeroCoefficients

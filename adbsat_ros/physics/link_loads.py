@@ -5,8 +5,8 @@ An articulated body's facets are posed in the body frame and evaluated as one ri
 max(c, 0) of :func:`~adbsat_ros.physics.facets.facet_rows`) the facet sums give:
 
 * every joint's effort, through columns that the posed sums carry after their ten sums
-  (:class:`EffortColumns`): one product of the rows with the sums gives the totals and the
-  efforts;
+  (:class:`EffortColumns`): the product of the rows with those columns gives the efforts, as
+  their product with the ten sums gives the totals;
 * every link's force and moment, from the same sums taken link by link.
 
 :class:`LinkLoads` computes the efforts and the links' loads when first read: a node publishing

@@ -278,3 +278,33 @@ def test_new_settings_apply_to_the_joint_positions_already_received(change):
     np.testing.assert_array_equal(got.force, want.force)
     np.testing.assert_array_equal(got.torque, want.torque)
     np.testing.assert_array_equal(got.joints.efforts, want.joints.efforts)
+
+
+@pytest.mark.parametrize("shading", ["raycast", "none"])
+def test_a_body_without_moving_joints_needs_no_joint_state(shading):
+    # Both hinges fixed: the URDF's body has no moving joint, so no joint state can come; its
+    # wrench is the one of the same panels as a plain mesh, before and after a reset.
+    text = example_satellite_urdf().replace('type="revolute"', 'type="fixed"')
+    est = estimator(mesh="example", robot_description=text, shading=shading)
+    assert est.body is not None and not est.body.joints
+    rigid = AeroWrenchEstimator(
+        WrenchSettings.from_parameters(
+            dict(
+                PARAMETER_DEFAULTS,
+                mesh="example",
+                time_mode="epoch",
+                shading=shading,
+                center_of_mass=[0.05, 0.0, 0.01],
+            )
+        ),
+        est.body.mesh(),
+    )
+    for e in (est, rigid):
+        e.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    got, want = est.on_attitude(1.0, TILTED), rigid.on_attitude(1.0, TILTED)
+    assert got.joints.names == ()
+    for a, b in ((got.force, want.force), (got.torque, want.torque)):  # (to rounding of the
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * np.abs(b).max())  # largest)
+    est.reset()
+    est.on_state(2.0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    assert np.isfinite(est.on_attitude(2.0, TILTED).force).all()

@@ -232,6 +232,22 @@ def test_a_surface_with_one_value_changed_equals_the_posed_mesh_with_it(body):
     np.testing.assert_allclose(got.total.Cm_G, want.Cm_G, rtol=0, atol=1e-13)
 
 
+def test_a_configuration_serves_many_calls_and_only_its_own_method(body):
+    method = ArticulatedMethod(body, "sentman", reference=REFERENCE)
+    values = configurations(body)[2]
+    configuration = method.configuration(values)
+    u = directions()[1]
+    lighting = make_shader(body.mesh(values)).lighting(u)
+    by_positions = method.coefficients(FLOW, values, flow_direction=u, lighting=lighting)
+    by_configuration = method.coefficients(FLOW, configuration, flow_direction=u, lighting=lighting)
+    np.testing.assert_array_equal(by_configuration.total.Cf_G, by_positions.total.Cf_G)
+    np.testing.assert_array_equal(by_configuration.total.Cm_G, by_positions.total.Cm_G)
+    np.testing.assert_array_equal(by_configuration.link_moment, by_positions.link_moment)
+    other = ArticulatedMethod(body, "sentman", reference=Reference(moment_point=(0.0, 0.3, 0.0)))
+    with pytest.raises(ValueError, match="another ArticulatedMethod"):
+        other.coefficients(FLOW, configuration, flow_direction=u, lighting=lighting)
+
+
 def test_a_link_without_facets_is_evaluated_in_its_own_frame_with_the_same_result():
     """A sphere's panels all face their own ways (no facets to group), so the body is evaluated
     link by link in the links' frames instead of as posed facets: the same numbers."""

@@ -3,10 +3,13 @@ areas and centroids worked out by hand."""
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 import pytest
 
-from adbsat_ros.shading.convex_shadow import convex_outline, lit_parts
+from adbsat_ros.shading.clipping import lit_parts
+from adbsat_ros.shading.convex_shadow import convex_outline
 
 #: A right triangle with legs 4 along x and y: area 8, centroid (4/3, 4/3).
 TRIANGLE = np.array([[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]])
@@ -110,3 +113,81 @@ def test_triangles_crossing_different_numbers_of_a_polygons_edges_at_once():
     for i, (want_f, want_c) in enumerate(want):
         assert fraction[i] == pytest.approx(want_f, rel=1e-13)
         np.testing.assert_allclose(centroid[i], want_c, rtol=1e-12, atol=1e-13)
+
+
+# A triangle with a corner on a corner of the polygon (found by a randomised search): rounding
+# put the clipped polygon's corners on both sides of a side's line at once, one corner more
+# than the clipping's buffer holds (IndexError).
+CORNER_ON_CORNER = [
+    (
+        [
+            [0.5116993974802456, -2.0265816501067624],
+            [0.762952402851434, 0.92011438569096],
+            [-0.8016963688648513, -0.5612326559391406],
+        ],
+        [
+            [0.06453367409367051, 1.2216494303299912],
+            [-0.19911269819847338, 1.3091781608950455],
+            [0.5116993974802456, -2.0265816501067624],
+            [0.5565965973569775, -1.3383666409920691],
+        ],
+    ),
+    (
+        [
+            [-0.07831474578877105, -1.619071229323576],
+            [1.0838756025936405, -0.6757849483597046],
+            [-4.735056242210552, -0.8793363181464668],
+        ],
+        [
+            [-0.7373577625720553, -1.0860347034352849],
+            [-0.07831474578877105, -1.619071229323576],
+            [-0.7190977859551962, -0.5320148935194625],
+        ],
+    ),
+    (
+        [
+            [-0.029617179674001126, -0.5576471688015437],
+            [-0.13028518185226234, -0.2959370149153701],
+            [-6.086842383269245, -5.132119868826887],
+        ],
+        [
+            [-0.9692993102092242, -0.9886436780224251],
+            [-0.029617179674001126, -0.5576471688015437],
+            [-0.8422392318341243, 0.555064007931584],
+        ],
+    ),
+]
+
+
+def exact_clip(polygon, outline):
+    """The polygon clipped by the convex outline's sides, in exact rational arithmetic."""
+    for a, b in zip(outline, outline[1:] + outline[:1]):
+        side = [(b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) for p in polygon]
+        out = []
+        for i, p in enumerate(polygon):
+            j = (i + 1) % len(polygon)
+            q, sp, sq = polygon[j], side[i], side[j]
+            if sp * sq < 0:
+                t = sp / (sp - sq)
+                out.append((p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])))
+            if sq >= 0:
+                out.append(q)
+        polygon = out
+    return polygon
+
+
+def exact_area(polygon):
+    return (
+        abs(sum(p[0] * q[1] - q[0] * p[1] for p, q in zip(polygon, polygon[1:] + polygon[:1]))) / 2
+    )
+
+
+@pytest.mark.parametrize("triangle, outline", CORNER_ON_CORNER)
+def test_a_triangle_with_a_corner_on_the_polygons_corner(triangle, outline):
+    exact = [[Fraction(x) for x in p] for p in triangle]
+    corners = [[Fraction(x) for x in p] for p in outline]
+    covered = exact_area(exact_clip(exact, corners))
+    want = float(1 - covered / exact_area(exact))
+    fraction, centroid = lit_parts(np.array([triangle]), [np.array(outline)])
+    assert fraction[0] == pytest.approx(want, rel=1e-12, abs=1e-12)
+    assert np.isfinite(centroid).all()
