@@ -310,7 +310,7 @@ class ArticulatedMethod:
         rows = facet_rows(c, cp, shear)
         sums = facets.sums(lighting, configuration.poses)
         return (
-            PanelMethod.totals_of_products(u, rows @ sums[:, :N_SUMS], self.reference),
+            PanelMethod.totals_of_sums(u, rows, sums[:, :N_SUMS], self.reference),
             (c, cp, ctau, shear, normals),
             facets.panel_index,
             (rows, sums, facets.starts, u),

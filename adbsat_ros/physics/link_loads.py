@@ -38,8 +38,8 @@ class EffortColumns:
 
     (a . (M - o x F) with F = q W u + k W n and M = q Q x u + k Q x n summed over the facets;
     a . F for a prismatic joint). V and s depend on the configuration and the lighting only, so
-    they are posed with the sums, and one product of the rows with the sums gives every
-    effort with the totals.
+    they are posed with the sums, and the product of the rows with these columns gives every
+    effort.
 
     Parameters
     ----------
@@ -70,10 +70,10 @@ class EffortColumns:
         return out.transpose(1, 0, 2).reshape(len(w), -1)
 
     @staticmethod
-    def efforts(products: np.ndarray, u) -> np.ndarray:
-        """The effort coefficients (J,) from the (3, 10 + 4 J) product of the rows with the
-        sums and the flow direction u."""
-        terms = products[:, N_SUMS:].reshape(3, -1, 4)
+    def efforts(rows: np.ndarray, sums: np.ndarray, u) -> np.ndarray:
+        """The effort coefficients (J,) from the (3, G) facet rows, the (G, 10 + 4 J) posed
+        sums with these columns, and the flow direction u."""
+        terms = (rows[:2] @ sums[:, N_SUMS:]).reshape(2, -1, 4)
         return terms[0, :, :3] @ u + terms[1, :, 3]
 
 
@@ -128,7 +128,7 @@ class LinkLoads:
         through the load map."""
         if self._facets is not None:
             rows, sums, _, u = self._facets
-            return EffortColumns.efforts(rows @ sums, u)
+            return EffortColumns.efforts(rows, sums, u)
         return self._outputs[self.efforts]
 
     @functools.cached_property

@@ -210,20 +210,13 @@ class PanelMethod:
 
         Facet g carries the force W_g (q_g u + k_g n_g) (the shear along t = (u + c n) /
         sin(delta)) and the moment q_g (Q_g x u) + k_g (Q_g x n_g); so one product of the rows
-        with the facet sums (W, W n, Q, Q x n) gives every sum needed
-        (:meth:`totals_of_products`).
+        with the facet sums (W, W n, Q, Q x n) gives every sum needed.
         """
-        return PanelMethod.totals_of_products(u, rows @ sums, reference)
-
-    @staticmethod
-    def totals_of_products(u, products, reference):
-        """Cf_G, Cm_G and the lit projected area from the (3, 10) product of the rows with the
-        facet sums (:meth:`totals_of_sums`)."""
         (
             (r_w, _, _, _, r_qx, r_qy, r_qz, _, _, _),
             (_, k_nx, k_ny, k_nz, _, _, _, k_mx, k_my, k_mz),
             (area_projected, *_),
-        ) = products.tolist()
+        ) = (rows @ sums).tolist()
         ux, uy, uz = u.tolist()
         fx, fy, fz = r_w * ux + k_nx, r_w * uy + k_ny, r_w * uz + k_nz
         px, py, pz = reference.moment_point

@@ -247,8 +247,7 @@ def _distinct_rows(keys: np.ndarray) -> tuple:
 
 def _sizes(shapes) -> tuple:
     """The corner counts of a panel group's polygons: groups with the same counts are clipped
-    together, each panel with its own polygons (a group's polygons made larger to join others
-    would cost every panel of it the largest one's edges)."""
+    together, each panel with its own polygons, as they are (stacked, no padding)."""
     return tuple(len(shape) for shape in shapes)
 
 
