@@ -10,7 +10,13 @@ by ``python -c`` (``script``):
   variable to show what that costs);
 * ``--help``: the list of subcommands (target: under 0.3 s);
 * ``coeff``: one attitude (aoa 0, aos 0, the default raycast shading, a free stream given
-  directly) on a 5,120-face icosphere written as STL (target: under 0.5 s).
+  directly) on a 5,120-face icosphere written as STL (target: under 0.5 s), the mesh read back
+  from the store of checked meshes (:mod:`adbsat_ros.geometry.mesh_store`, in a directory of
+  this run, filled by one run before the timed ones: what every run after a file's first load
+  sees); ``coeff, no store`` the same with the store off (``ADBSAT_ROS_CACHE_DIR=off``: a file's
+  first load, parsed and checked with trimesh); ``coeff concave`` and ``coeff concave, no
+  store`` the same on the example satellite refined to 6,496 faces (an OBJ with two materials,
+  three bodies that shade each other: the shader's topology and its ray scene are made).
 
 Every tree given with ``--tree`` (default: the tree holding this script) is measured in the same
 run, the cases interleaved (A B A B ...) so that a change in the machine's load touches all
@@ -63,8 +69,19 @@ PACKAGE_IMPORTS = (
     "trimesh",
     "trimesh, embreex, scipy.special",
 )
+#: The mesh store's directory variable (adbsat_ros.geometry.mesh_store.CACHE_DIR_VARIABLE).
+CACHE_DIR_VARIABLE = "ADBSAT_ROS_CACHE_DIR"
 #: Guard variable of the ROS 2 wheels' bootstrapper: set, it does not re-execute python.
 BOOTSTRAP_GUARD = "_ROS_WHEELS_BOOTSTRAP_COMPLETE"
+
+
+def write_satellite(folder: Path) -> Path:
+    """The example satellite refined to 6,496 faces, as an OBJ file in ``folder``."""
+    from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+
+    path = folder / "satellite_6496.obj"
+    write_obj(example_satellite(max_edge=0.08), path)
+    return path
 
 
 def write_sphere(folder: Path) -> Path:
@@ -149,8 +166,11 @@ def main() -> int:
 
     with tempfile.TemporaryDirectory() as folder:
         mesh = args.mesh.resolve() if args.mesh else write_sphere(Path(folder))
+        concave = write_satellite(Path(folder))
         # as started from a shell: without the guard this process may have inherited
         shell = {k: v for k, v in os.environ.items() if k != BOOTSTRAP_GUARD}
+        shell[CACHE_DIR_VARIABLE] = str(Path(folder) / "cache")  # (this run's mesh store)
+        no_store = dict(shell, **{CACHE_DIR_VARIABLE: "off"})
         no_reexec = dict(shell, **{BOOTSTRAP_GUARD: "1"})
         cases = [
             ("python -c pass", None, [sys.executable, "-c", "pass"], shell),
@@ -166,6 +186,15 @@ def main() -> int:
                 cases.append((f"--help ({start})", tree, cli + ["--help"], shell))
                 coeff = cli + ["coeff", str(mesh)] + COEFF_OPTIONS
                 cases.append((f"coeff ({start})", tree, coeff, shell))
+            cli = [sys.executable, *STARTS["script"]]
+            for name, path in (("coeff", mesh), ("coeff concave", concave)):
+                coeff = cli + ["coeff", str(path)] + COEFF_OPTIONS
+                if name != "coeff":
+                    cases.append((f"{name} (script)", tree, coeff, shell))
+                cases.append((f"{name}, no store (script)", tree, coeff, no_store))
+        for _, tree, argv, env in cases:  # the mesh store filled: every timed run reads back
+            if tree is not None and env is shell:
+                run_once(argv, tree, env)
         times = {index: [] for index in range(len(cases))}
         for _ in range(args.repeat):
             for index, (_, tree, argv, env) in enumerate(cases):

@@ -7,6 +7,8 @@ CI installs everything and must run everything.
 """
 
 import os
+import shutil
+import tempfile
 
 import pytest
 
@@ -14,6 +16,11 @@ import pytest
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 # One ROS domain per test run (0-101 are valid), so parallel runs do not see each other.
 os.environ.setdefault("ROS_DOMAIN_ID", str(10 + os.getpid() % 90))
+
+# Meshes checked during the run are kept in a store of the run's own, not in the user's cache
+# (adbsat_ros.geometry.mesh_store); command lines started by tests inherit it.
+RUN_CACHE_DIR = tempfile.mkdtemp(prefix="adbsat_ros_test_cache_")
+os.environ["ADBSAT_ROS_CACHE_DIR"] = RUN_CACHE_DIR
 
 FAIL_ON_SKIP = "ADBSAT_ROS_FAIL_ON_SKIP"
 
@@ -28,6 +35,11 @@ def skip_reason(longrepr):
     if isinstance(longrepr, tuple) and len(longrepr) == 3:
         return str(longrepr[2])
     return str(longrepr)
+
+
+def pytest_unconfigure(config):
+    """Remove the run's mesh store."""
+    shutil.rmtree(RUN_CACHE_DIR, ignore_errors=True)
 
 
 def pytest_configure(config):

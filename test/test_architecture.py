@@ -41,8 +41,8 @@ LAYERS = (
     {"physics"},
     {"shading"},
     {"tasks"},
-    {"geometry", "messages", "processes", "validation", "_version"},
-    {"bounds", "lru"},
+    {"geometry", "messages", "processes", "validation"},
+    {"bounds", "lru", "_version"},
 )
 
 # Top-level names of ROS 2 Python packages: the client library, its support packages and every

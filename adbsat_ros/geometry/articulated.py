@@ -212,6 +212,7 @@ class ArticulatedBody:
             open_components=sum(r.open_components for r in reports),
             watertight=all(r.watertight for r in reports),
             convex=False,
+            components=sum(r.components for r in reports),
         )
         if not accept_size:
             check_size(source, self.mesh())

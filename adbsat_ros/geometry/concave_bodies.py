@@ -17,7 +17,6 @@ Each is closed, in metres, mesh frame G, the gas arriving from +x at zero angles
 from __future__ import annotations
 
 import numpy as np
-import trimesh
 
 from adbsat_ros.geometry.mesh import PanelMesh, panels_from_arrays
 
@@ -33,6 +32,8 @@ SECTIONS = 96
 def _revolved(profile, source: str) -> PanelMesh:
     """The closed body of revolution of a (radius, height) profile from the axis back to it,
     turned so that its axis (height) is x and centred on the origin."""
+    import trimesh  # (when a body is built: not at start-up, docs/benchmarks.md)
+
     tm = trimesh.creation.revolve(np.asarray(profile, dtype=float), sections=SECTIONS)
     tm.merge_vertices()
     turn = trimesh.transformations.rotation_matrix(np.pi / 2.0, [0.0, 1.0, 0.0])  # z -> x
@@ -78,6 +79,8 @@ def _grid(corner, e1, e2, n1, n2, normal):
 
 def intake_box(cell: float = 0.1) -> PanelMesh:
     """The box with a deep blind intake (module docstring), faces as grids of ``cell`` [m]."""
+    import trimesh  # (when a body is built: not at start-up, docs/benchmarks.md)
+
     x0, x1, half, inner, bottom = -1.0, 1.0, 0.5, 0.3, -0.5
 
     def n(length):

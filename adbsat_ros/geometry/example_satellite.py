@@ -12,7 +12,6 @@ The three parts are separate closed bodies with outward normals. Materials: ``bo
 from __future__ import annotations
 
 import numpy as np
-import trimesh
 
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.geometry.shapes import combine
@@ -28,6 +27,8 @@ WING_X_CENTRE = -0.3
 
 def _refined_box(extents, centre, max_edge):
     """Vertices and faces [m] of a box of ``extents`` at ``centre``, edges <= ``max_edge``."""
+    import trimesh  # (when a body is built: not at start-up, docs/benchmarks.md)
+
     box = trimesh.creation.box(extents=extents)
     vertices, faces = trimesh.remesh.subdivide_to_size(box.vertices, box.faces, max_edge=max_edge)
     return np.asarray(vertices) + np.asarray(centre), np.asarray(faces)

@@ -3,7 +3,12 @@
 :func:`load_mesh` reads a file (scaled to metres), :func:`resolve_mesh` also accepts the name of
 the bundled example satellite (:mod:`adbsat_ros.geometry.example_satellite`), and
 :func:`panels_from_trimesh` converts a ``trimesh.Trimesh``. Every mesh is checked by
-:func:`adbsat_ros.geometry.mesh.panels_from_arrays`.
+:func:`adbsat_ros.geometry.mesh.panels_from_arrays`, and kept checked in the mesh store
+(:mod:`adbsat_ros.geometry.mesh_store`): a file loaded before is read back from there.
+
+trimesh (which reads the files) and yourdfpy (URDF bodies) are imported when a file is parsed
+or a URDF read, not with this module: importing trimesh takes about 0.6 s, more than the
+command line may take to answer (docs/benchmarks.md, command line start-up).
 """
 
 from __future__ import annotations
@@ -11,11 +16,10 @@ from __future__ import annotations
 import math
 import os
 import re
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
-from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.concave_bodies import CONCAVE_BODIES
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME, example_satellite
 from adbsat_ros.geometry.example_urdf import (
@@ -29,8 +33,15 @@ from adbsat_ros.geometry.mesh import (
     MeshError,
     PanelMesh,
     check_size,
+    log_report,
     panels_from_arrays,
 )
+from adbsat_ros.geometry.mesh_store import MeshStore, default_store
+
+if TYPE_CHECKING:
+    import trimesh
+
+    from adbsat_ros.geometry.articulated import ArticulatedBody
 
 #: The bundled URDF bodies by name.
 BUNDLED_URDFS = {
@@ -69,6 +80,8 @@ def _obj_material_runs(path: str):
 
 def _load_obj(path: str):
     """Vertices, faces and per-face material names of an OBJ file, through trimesh."""
+    import trimesh
+
     runs = _obj_material_runs(path)
     names = {name for name, _ in runs}
     if names <= {None}:
@@ -106,8 +119,17 @@ def _load_obj(path: str):
     return np.vstack(verts), np.vstack(faces), np.concatenate(mat), tuple(material_names)
 
 
+#: ``store`` of :func:`load_mesh` by default: the store of the environment's cache directory.
+DEFAULT_STORE = "default"
+
+
 def load_mesh(
-    path, scale: float = 1.0, *, fix_normals: bool = True, accept_size: bool = False
+    path,
+    scale: float = 1.0,
+    *,
+    fix_normals: bool = True,
+    accept_size: bool = False,
+    store: MeshStore | str | None = DEFAULT_STORE,
 ) -> PanelMesh:
     """Load a triangulated surface mesh from a file.
 
@@ -123,6 +145,11 @@ def load_mesh(
         Take a mesh of scale 1 whose size is no satellite's (``mesh_extent`` of
         :data:`adbsat_ros.bounds.BOUNDS`: 1 mm to 200 m across), which is otherwise refused
         as probably not in metres.
+    store : MeshStore, "default" or None
+        Where the checked mesh is kept and, for a file of the same content loaded before, read
+        back from (the same panels, report and warnings); by default the store of the
+        environment's cache directory (:func:`~adbsat_ros.geometry.mesh_store.default_store`);
+        None for none.
 
     Returns
     -------
@@ -140,6 +167,30 @@ def load_mesh(
         raise MeshError(f"{path}: scale must be a finite number > 0, got {scale!r}")
     if not os.path.isfile(path):
         raise MeshError(f"mesh file not found: {path}")
+    if isinstance(store, str):
+        if store != DEFAULT_STORE:
+            raise ValueError(f"store must be a MeshStore, {DEFAULT_STORE!r} or None, got {store!r}")
+        store = default_store()
+    try:
+        key = None if store is None else store.key(path, scale, fix_normals)
+    except OSError as exc:
+        raise MeshError(f"{path}: cannot read mesh ({type(exc).__name__}: {exc})") from exc
+    mesh = None if key is None else store.get(key, path)
+    if mesh is not None:
+        log_report(path, mesh.report)  # (what the checks found, told again)
+    else:
+        mesh = _parse(path, scale, fix_normals)
+        if key is not None:
+            store.put(key, mesh)
+    if scale == 1.0 and not accept_size:
+        check_size(path, mesh)
+    return mesh
+
+
+def _parse(path: str, scale: float, fix_normals: bool) -> PanelMesh:
+    """The checked panels of the mesh file ``path``, parsed by trimesh."""
+    import trimesh
+
     try:
         if path.lower().endswith(".obj"):
             vertices, faces, material_index, material_names = _load_obj(path)
@@ -155,7 +206,7 @@ def load_mesh(
     faces = np.asarray(faces)
     if faces.size == 0:
         raise MeshError(f"{path}: the mesh has no faces")
-    mesh = panels_from_arrays(
+    return panels_from_arrays(
         vertices * scale,
         faces.astype(np.int64),
         material_index,
@@ -163,9 +214,6 @@ def load_mesh(
         source=path,
         fix_normals=fix_normals,
     )
-    if scale == 1.0 and not accept_size:
-        check_size(path, mesh)
-    return mesh
 
 
 def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) -> PanelMesh:
@@ -200,6 +248,8 @@ def is_urdf(spec) -> bool:
 
 def articulated_body(spec, accept_size: bool = False) -> ArticulatedBody:
     """The :class:`ArticulatedBody` of a URDF spec (:func:`is_urdf`)."""
+    from adbsat_ros.geometry.articulated import ArticulatedBody  # (yourdfpy imports trimesh)
+
     name = str(spec)
     if name in BUNDLED_URDFS:
         return ArticulatedBody.from_urdf(

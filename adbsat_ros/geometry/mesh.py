@@ -6,6 +6,10 @@ outward unit normal, area, barycentre and material, as contiguous float64 arrays
 arrays and checks it (bad indices, NaN or Inf, degenerate faces dropped, inward-facing closed
 bodies flipped, open and convex bodies reported in a :class:`MeshReport`); a :class:`MeshError`
 names the input and the problem. Reading files is :mod:`adbsat_ros.geometry.loading`.
+
+The checks use trimesh, imported when a mesh is checked: importing it takes about 0.6 s, and a
+mesh read back from the store of checked meshes (:mod:`adbsat_ros.geometry.mesh_store`) needs
+none of it (docs/benchmarks.md, command line start-up).
 """
 
 from __future__ import annotations
@@ -13,11 +17,14 @@ from __future__ import annotations
 import hashlib
 import logging
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from adbsat_ros.bounds import BOUNDS
+
+if TYPE_CHECKING:
+    import trimesh
 
 log = logging.getLogger(__name__)
 
@@ -50,6 +57,8 @@ class MeshReport:
         True if every component is closed and consistently wound.
     convex : bool
         True if the mesh is one closed convex body (it then never shades itself).
+    components : int
+        Connected components (separate bodies) of the mesh.
     """
 
     dropped_zero_area: int = 0
@@ -57,6 +66,7 @@ class MeshReport:
     open_components: int = 0
     watertight: bool = True
     convex: bool = False
+    components: int = 1
 
 
 @dataclass(frozen=True, eq=False)
@@ -120,6 +130,8 @@ class PanelMesh:
 
     def to_trimesh(self) -> trimesh.Trimesh:
         """A trimesh.Trimesh of the panels, face i being panel i (vertices merged)."""
+        import trimesh
+
         mesh = trimesh.Trimesh(
             vertices=self.vertices.reshape(-1, 3),
             faces=np.arange(3 * self.n_panels).reshape(-1, 3),
@@ -211,13 +223,14 @@ def panels_from_arrays(
     degenerate = double_area <= ZERO_AREA_RELATIVE * max(scale, 1e-300) ** 2
     n_dropped = int(degenerate.sum())
     if n_dropped:
-        log.warning("%s: dropped %d zero-area faces", source, n_dropped)
         keep = ~degenerate
         faces, material_index = faces[keep], material_index[keep]
     if len(faces) == 0:
         raise MeshError(f"{source}: every face has zero area")
 
     # Orientation and closedness, per connected component (separate bodies are common).
+    import trimesh
+
     tm = trimesh.Trimesh(vertices=vertices, faces=faces, process=False)
     tm.merge_vertices()
     faces_merged = tm.faces
@@ -241,21 +254,7 @@ def panels_from_arrays(
         if fix_normals and signed_volume(tm.vertices[part.faces]) < 0:
             flip[sel] = True
             flipped += 1
-    if open_components:
-        log.warning(
-            "%s: %d of %d connected components are open or non-manifold; their inward/outward "
-            "orientation cannot be checked (shading still works)",
-            source,
-            open_components,
-            n_components,
-        )
     if flipped:
-        log.warning(
-            "%s: %d closed components had inward-facing normals (negative signed volume); "
-            "flipped them outwards",
-            source,
-            flipped,
-        )
         faces = faces.copy()
         faces[flip] = faces[flip][:, ::-1]
 
@@ -275,7 +274,9 @@ def panels_from_arrays(
         open_components=open_components,
         watertight=open_components == 0,
         convex=convex,
+        components=n_components,
     )
+    log_report(source, report)
     return PanelMesh(
         vertices=tri,
         normals=normals,
@@ -286,6 +287,28 @@ def panels_from_arrays(
         report=report,
         source=source,
     )
+
+
+def log_report(source: str, report: MeshReport) -> None:
+    """Warn of what the checks of the mesh ``source`` found and changed (``report``): faces
+    dropped, components left open, components flipped."""
+    if report.dropped_zero_area:
+        log.warning("%s: dropped %d zero-area faces", source, report.dropped_zero_area)
+    if report.open_components:
+        log.warning(
+            "%s: %d of %d connected components are open or non-manifold; their inward/outward "
+            "orientation cannot be checked (shading still works)",
+            source,
+            report.open_components,
+            report.components,
+        )
+    if report.flipped_components:
+        log.warning(
+            "%s: %d closed components had inward-facing normals (negative signed volume); "
+            "flipped them outwards",
+            source,
+            report.flipped_components,
+        )
 
 
 #: Units a mesh file is often written in, with their factor to metres.

@@ -63,7 +63,6 @@ import math
 from collections import OrderedDict
 
 import numpy as np
-import trimesh
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import PanelMesh
@@ -337,6 +336,8 @@ def moved_lit_area(mesh: PanelMesh, u_G, cached: PanelLighting, exact: PanelLigh
 
 def _silhouette_length_bound(mesh: PanelMesh) -> float:
     """Sum over connected components of pi x diameter (convex) or non-flat edge length (other)."""
+    import trimesh  # (for the error bound only: not at start-up)
+
     tm = mesh.to_trimesh()
     faces = np.asarray(tm.faces)
     verts = np.asarray(tm.vertices)

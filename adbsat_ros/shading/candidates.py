@@ -18,8 +18,6 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-import trimesh
-from scipy.spatial import ConvexHull, QhullError
 
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.flow_plane import MAX_PAIRS, coordinates, max3, min3, perp_basis
@@ -119,6 +117,8 @@ class MeshTopology(NamedTuple):
         """The topology of ``mesh``, hull faces within ``HULL_TOL_FRACTION`` of ``diagonal``
         [m]; ``indexed``: the panels as vertices (V, 3) and faces (N, 3) with the vertices
         merged, if made before (by default ``mesh.to_trimesh()`` merges them)."""
+        import trimesh  # (with the first shader that needs it: not at start-up)
+
         if indexed is None:
             tm = mesh.to_trimesh()
         else:
@@ -156,6 +156,8 @@ def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
     A component that spans no volume (a single plate) is tested by the support of its points
     along the face's normal instead.
     """
+    from scipy.spatial import ConvexHull, QhullError  # (not at start-up)
+
     on_hull = np.zeros(mesh.n_panels, dtype=bool)
     tol = HULL_TOL_FRACTION * diagonal
     normals = mesh.normals

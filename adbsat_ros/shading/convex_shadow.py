@@ -33,7 +33,6 @@ Units: metres; 2-D points in the plane normal to the flow
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.clipping import lit_parts
@@ -265,6 +264,8 @@ def _per_panel_outlines(groups) -> list:
 def hull_corners(points: np.ndarray) -> np.ndarray:
     """The corners of the convex hull of 3-D points [m] (all the points if they span no
     volume)."""
+    from scipy.spatial import ConvexHull, QhullError  # (not at start-up)
+
     points = np.asarray(points, dtype=float).reshape(-1, 3)
     try:
         return points[ConvexHull(points).vertices]
@@ -285,6 +286,8 @@ def convex_outline(points: np.ndarray) -> np.ndarray | None:
     ndarray, shape (m, 2) or None
         The hull's corners, counter-clockwise; None if the points span no area.
     """
+    from scipy.spatial import ConvexHull, QhullError  # (not at start-up)
+
     try:
         hull = ConvexHull(points)
     except (QhullError, ValueError):
