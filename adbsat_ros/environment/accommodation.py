@@ -343,23 +343,30 @@ def accommodation(name: str, atmosphere: AtmosphereState, speed: float, **option
     return accommodation_of(key, atmosphere, _non_negative("speed", speed), options)
 
 
+def checked_options(key: str, options: Mapping) -> dict:
+    """The options of the accommodation model ``key`` (a name already normalised,
+    :func:`normalize_model_name`) as a dict, or ValueError for one the model does not take
+    (listing those it does). Their values are checked by the model when it runs."""
+    allowed = ACCOMMODATION_OPTIONS[key]
+    unexpected = sorted(set(options) - set(allowed))
+    if unexpected:
+        raise ValueError(
+            f"accommodation model {key!r} does not take {', '.join(unexpected)}; "
+            f"its options are: {', '.join(allowed) or 'none'}"
+        )
+    return dict(options)
+
+
 def accommodation_of(
     key: str, atmosphere: AtmosphereState, speed: float, options: Mapping
 ) -> float:
     """:func:`accommodation` for a model name already normalised (:func:`normalize_model_name`),
-    an :class:`AtmosphereState` and a float speed >= 0 [m/s]; the options are checked here.
+    an :class:`AtmosphereState` and a float speed >= 0 [m/s]; the options are checked here
+    (:func:`checked_options`).
 
     Raises
     ------
     ValueError
         For an option the model does not take (listing those it does) or an invalid value.
     """
-    allowed = ACCOMMODATION_OPTIONS[key]
-    for option in options:
-        if option not in allowed:
-            unexpected = sorted(set(options) - set(allowed))
-            raise ValueError(
-                f"accommodation model {key!r} does not take {', '.join(unexpected)}; "
-                f"its options are: {', '.join(allowed) or 'none'}"
-            )
-    return ACCOMMODATION_MODELS[key](atmosphere, speed, **options)
+    return ACCOMMODATION_MODELS[key](atmosphere, speed, **checked_options(key, options))

@@ -35,7 +35,11 @@ from typing import Mapping
 
 import numpy as np
 
-from adbsat_ros.environment.accommodation import accommodation_of, normalize_model_name
+from adbsat_ros.environment.accommodation import (
+    ACCOMMODATION_MODELS,
+    checked_options,
+    normalize_model_name,
+)
 from adbsat_ros.environment.atmosphere import (
     SpaceWeather,
     check_altitude,
@@ -122,14 +126,17 @@ def conditions_options(
     wind_frame_key = str(wind_frame).lower()
     if wind_frame_key not in WIND_FRAMES:
         raise ValueError(f"wind_frame must be one of {', '.join(WIND_FRAMES)}, got {wind_frame!r}")
+    model = normalize_model_name(accommodation_model)
     return ConditionsOptions(
         frame=frame_key,
         earth_rotation=bool(earth_rotation),
         wind=None if wind is None else _three_floats(wind, "wind"),
         wind_frame=wind_frame_key,
         anomalous_oxygen=bool(anomalous_oxygen),
-        accommodation_model=normalize_model_name(accommodation_model),
-        accommodation_options=types.MappingProxyType(dict(accommodation_options or {})),
+        accommodation_model=model,
+        accommodation_options=types.MappingProxyType(
+            checked_options(model, accommodation_options or {})
+        ),
         orientation_options=check_orientation_options(
             ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
         ),
@@ -311,7 +318,8 @@ def evaluate_flight_conditions(
         relative_ecef = _rotate(matrix, *relative_eci)
     x, y, z = relative_ecef
     speed = _finite("speed", math.sqrt(x * x + y * y + z * z))
-    alpha = accommodation_of(model, atmosphere, speed, dict(options.accommodation_options))
+    # (the options' names were checked with the options; the model checks their values)
+    alpha = ACCOMMODATION_MODELS[model](atmosphere, speed, **options.accommodation_options)
     vectors = np.array(
         (position_eci, position_ecef, velocity_eci, velocity_ecef, relative_eci, relative_ecef)
     )
