@@ -39,8 +39,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbs
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.shapes import combine, grid_box
 from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
+from adbsat_ros.shading.lighting import lit_projected_area
 from adbsat_ros.shading.rays import has_embree
-from adbsat_ros.shading.shader import lit_projected_area, make_shader
+from adbsat_ros.shading.shader import make_shader
 
 
 def cube_plate(plate_div, cube_div):

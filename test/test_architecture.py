@@ -42,7 +42,7 @@ LAYERS = (
     {"shading"},
     {"tasks"},
     {"geometry", "messages", "processes", "validation"},
-    {"bounds", "lru", "_version"},
+    {"bounds", "lru", "npz_store", "_version"},
 )
 
 # Top-level names of ROS 2 Python packages: the client library, its support packages and every

@@ -16,6 +16,9 @@ import hashlib
 
 import numpy as np
 
+from adbsat_ros.geometry import frames
+from adbsat_ros.geometry.mesh import PanelMesh
+
 
 def _read_only(array: np.ndarray) -> np.ndarray:
     array.setflags(write=False)
@@ -285,3 +288,11 @@ def panel_range(lighting, start: int, stop: int, rotation=None):
     if rotation is not None:
         shift = shift @ np.asarray(rotation, dtype=float).T
     return PanelLighting(f, lighting.shift_index[keep] - start, shift)
+
+
+def lit_projected_area(mesh: PanelMesh, u_G, lighting: PanelLighting | None = None) -> float:
+    """Lit projected area sum_i f_i A_i max(cos delta_i, 0) [m^2] for flow direction ``u_G``."""
+    u = frames.unit_vector(u_G)
+    c = np.maximum(-(mesh.normals @ u), 0.0)
+    f = 1.0 if lighting is None else lighting.lit_fraction
+    return float((f * mesh.areas * c).sum())

@@ -55,7 +55,6 @@ from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.candidates import (
     MAX_COMPONENTS_FILTER,
     CandidateFilter,
-    MeshTopology,
     forward_mask,
 )
 from adbsat_ros.shading.convex_shadow import ConvexParts
@@ -63,6 +62,8 @@ from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.shading.projection import adbsat_shadowed
 from adbsat_ros.shading.rays import ray_scene, resolve_backend
 from adbsat_ros.shading.sampling import CORNERS, sample_coordinates, sample_points
+from adbsat_ros.shading.topology_store import TopologyStore, indexed_topology
+from adbsat_ros.shading.topology_store import default_store as default_topology_store
 
 MODES = ("none", "projection", "raycast")
 
@@ -120,6 +121,11 @@ class Shader:
         The candidate filter of ``mesh`` (raycast), made before (likewise).
     hull_corners : dict, optional
         Its components' convex hull corners, made before (likewise, ``LinkScenes.hull_corners``).
+    topology_store : TopologyStore, "default" or None
+        Where the merged vertices and the filter's topology of ``mesh`` are read back from, or
+        kept once made (raycast, when neither ``scene`` nor ``candidate_filter`` is given):
+        by default the store of the environment's cache directory
+        (:mod:`~adbsat_ros.shading.topology_store`); None for none.
 
     Attributes
     ----------
@@ -147,6 +153,7 @@ class Shader:
         scene=None,
         candidate_filter: CandidateFilter | None = None,
         hull_corners: dict | None = None,
+        topology_store: TopologyStore | str | None = "default",
     ):
         mode = str(mode).lower()
         if mode not in MODES:
@@ -179,12 +186,12 @@ class Shader:
         self.trivial = mode == "none" or bool(mesh.report.convex)
         self.filter = self.scene = self.parts = None
         if not self.trivial and mode == "raycast":
-            indexed = None
-            if candidate_filter is None or scene is None:  # (the vertices merged once, for both)
-                tm = mesh.to_trimesh()
-                indexed = (tm.vertices, tm.faces)
+            indexed = topology = None
+            if candidate_filter is None or scene is None:  # (made once for both, or read back)
+                if topology_store == "default":
+                    topology_store = default_topology_store()
+                indexed, topology = indexed_topology(mesh, self.diagonal, topology_store)
             if candidate_filter is None:
-                topology = MeshTopology.of(mesh, self.diagonal, indexed)
                 candidate_filter = CandidateFilter(mesh, topology=topology)
             self.filter = candidate_filter
             self.scene = scene or ray_scene(mesh, self.backend, indexed)
@@ -440,11 +447,3 @@ def make_shader(
 def shade(mesh: PanelMesh, u_G, mode: str = "raycast", **options) -> PanelLighting:
     """One-shot shading of ``mesh`` for flow direction ``u_G`` (builds a throw-away Shader)."""
     return make_shader(mesh, mode=mode, **options).lighting(u_G)
-
-
-def lit_projected_area(mesh: PanelMesh, u_G, lighting: PanelLighting | None = None) -> float:
-    """Lit projected area sum_i f_i A_i max(cos delta_i, 0) [m^2] for flow direction ``u_G``."""
-    u = frames.unit_vector(u_G)
-    c = np.maximum(-(mesh.normals @ u), 0.0)
-    f = 1.0 if lighting is None else lighting.lit_fraction
-    return float((f * mesh.areas * c).sum())

@@ -12,7 +12,8 @@ import trimesh
 from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
 from adbsat_ros.geometry.loading import load_mesh
 from adbsat_ros.geometry.mesh import MeshError
-from adbsat_ros.geometry.mesh_store import CACHE_DIR_VARIABLE, MeshStore, default_store
+from adbsat_ros.geometry.mesh_store import MeshStore, default_store
+from adbsat_ros.npz_store import CACHE_DIR_VARIABLE
 
 ARRAYS = ("vertices", "normals", "areas", "barycentres", "material_index")
 

@@ -13,7 +13,8 @@ from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_urdf import example_finned_urdf, example_satellite_urdf
 from adbsat_ros.shading.cache import ShadingCache
 from adbsat_ros.shading.configurations import ConfigurationShadingCache
-from adbsat_ros.shading.shader import lit_projected_area, make_shader
+from adbsat_ros.shading.lighting import lit_projected_area
+from adbsat_ros.shading.shader import make_shader
 
 STEP = math.radians(2.0)
 

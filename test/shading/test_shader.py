@@ -31,10 +31,10 @@ from adbsat_ros.geometry.loading import panels_from_trimesh
 from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.shading.candidates import CandidateFilter, forward_mask
-from adbsat_ros.shading.lighting import PanelLighting
+from adbsat_ros.shading.lighting import PanelLighting, lit_projected_area
 from adbsat_ros.shading.projection import adbsat_shadowed
 from adbsat_ros.shading.sampling import sample_barycentric
-from adbsat_ros.shading.shader import lit_projected_area, make_shader, shade
+from adbsat_ros.shading.shader import make_shader, shade
 
 
 # ------------------------------------------------------------------------------ cube + plate

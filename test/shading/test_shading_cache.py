@@ -13,7 +13,8 @@ from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
 from adbsat_ros.shading.cube_map import cells_per_edge, direction_keys, key_centres
-from adbsat_ros.shading.shader import lit_projected_area, make_shader
+from adbsat_ros.shading.lighting import lit_projected_area
+from adbsat_ros.shading.shader import make_shader
 
 
 @pytest.fixture(scope="module")

@@ -38,8 +38,9 @@ from adbsat_ros.physics.tpmc.inflow import InflowBox
 from adbsat_ros.physics.tpmc.kernels import KERNEL_OF_MODEL
 from adbsat_ros.physics.tpmc.results import TpmcCoefficients
 from adbsat_ros.processes import pool_context, worker_count
+from adbsat_ros.shading.lighting import lit_projected_area
 from adbsat_ros.shading.rays import resolve_backend
-from adbsat_ros.shading.shader import lit_projected_area, shade
+from adbsat_ros.shading.shader import shade
 
 #: Molecules per batch: numpy's per-call costs vanish, and a run can stop soon after its target.
 BATCH_SIZE = 65_536

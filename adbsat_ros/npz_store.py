@@ -1,0 +1,151 @@
+"""Named numpy arrays kept on disk by key: what the stores of prepared data are made of.
+
+The store of checked meshes (:mod:`adbsat_ros.geometry.mesh_store`) and that of the shader's
+topology (:mod:`adbsat_ros.shading.topology_store`) keep what takes trimesh to make, so that a
+later run reads it back with numpy alone. :class:`NpzStore` holds one ``.npz`` file per key in a
+directory (no pickles), each written whole or not at all (a temporary file renamed over it), and
+keeps the ``max_entries`` most recently used (a read touches its file; the oldest beyond the
+bound are removed after a write). A directory that cannot be written, or an entry that cannot be
+read, is passed over with a debug message: what was asked for is then made again.
+
+Directories: ``$ADBSAT_ROS_CACHE_DIR/<kind>``, by default ``$XDG_CACHE_HOME/adbsat_ros/<kind>``
+or ``~/.cache/adbsat_ros/<kind>``; ``ADBSAT_ROS_CACHE_DIR=off`` turns every store off.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import tempfile
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+log = logging.getLogger(__name__)
+
+#: Environment variable naming the cache directory (``off``: no store).
+CACHE_DIR_VARIABLE = "ADBSAT_ROS_CACHE_DIR"
+#: Entries kept by default.
+DEFAULT_MAX_ENTRIES = 64
+
+
+class NpzStore:
+    """Named arrays on disk by key.
+
+    Parameters
+    ----------
+    directory : path-like
+        Where the entries are kept (made when first written).
+    max_entries : int
+        Entries kept, >= 1.
+
+    Attributes
+    ----------
+    hits, misses, writes : int
+        Reads that found their entry, reads that did not, and entries written.
+    """
+
+    def __init__(self, directory, max_entries: int = DEFAULT_MAX_ENTRIES):
+        if int(max_entries) < 1:
+            raise ValueError(f"max_entries must be >= 1, got {max_entries!r}")
+        self.directory = Path(directory)
+        self.max_entries = int(max_entries)
+        self.hits = self.misses = self.writes = 0
+
+    def entry(self, key: str) -> Path:
+        """The file of ``key``."""
+        return self.directory / f"{key}.npz"
+
+    def read(self, key: str, names) -> dict | None:
+        """The arrays ``names`` kept for ``key``, or None (counted as a miss) if there is no
+        entry or it cannot be read whole."""
+        entry = self.entry(key)
+        try:
+            with np.load(entry, allow_pickle=False) as data:
+                arrays = {name: np.ascontiguousarray(data[name]) for name in names}
+        except FileNotFoundError:
+            self.misses += 1
+            return None
+        except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as exc:  # (damaged)
+            log.debug("%s: cannot read %s (%s)", type(self).__name__, entry, exc)
+            self.misses += 1
+            return None
+        try:
+            os.utime(entry)  # (the most recently used now)
+        except OSError:  # (a store one may read but not write)
+            pass
+        self.hits += 1
+        return arrays
+
+    def write(self, key: str, arrays: dict) -> bool:
+        """Keep ``arrays`` (name to array) for ``key``; whether they were written."""
+        try:
+            self.directory.mkdir(parents=True, exist_ok=True)
+            handle, temporary = tempfile.mkstemp(suffix=".npz.part", dir=self.directory)
+            try:
+                with os.fdopen(handle, "wb") as fh:
+                    np.savez(fh, **arrays)
+                os.replace(temporary, self.entry(key))
+            except BaseException:
+                Path(temporary).unlink(missing_ok=True)
+                raise
+        except OSError as exc:
+            log.debug("%s: cannot write to %s (%s)", type(self).__name__, self.directory, exc)
+            return False
+        self.writes += 1
+        self._prune()
+        return True
+
+    def _prune(self) -> None:
+        """Remove the least recently used entries beyond ``max_entries``."""
+        entries = []
+        for entry in self.directory.glob("*.npz"):
+            try:
+                entries.append((entry.stat().st_mtime_ns, entry))
+            except FileNotFoundError:  # (removed meanwhile by another process)
+                continue
+        entries.sort(reverse=True)
+        for _, entry in entries[self.max_entries :]:
+            entry.unlink(missing_ok=True)
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self.directory.glob("*.npz")) if self.directory.is_dir() else 0
+
+    def info(self) -> dict:
+        """Directory, bound, entries and counters, for reports."""
+        return {
+            "directory": str(self.directory),
+            "max_entries": self.max_entries,
+            "entries": len(self),
+            "hits": self.hits,
+            "misses": self.misses,
+            "writes": self.writes,
+        }
+
+
+def cache_directory(kind: str) -> Path | None:
+    """The directory of the stores of ``kind`` (:data:`CACHE_DIR_VARIABLE` read now), or None
+    if it is ``off``."""
+    base = os.environ.get(CACHE_DIR_VARIABLE)
+    if base is None:
+        xdg = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        base = os.path.join(xdg, "adbsat_ros")
+    elif base.strip().lower() == "off":
+        return None
+    return Path(base) / kind
+
+
+_shared: dict = {}  # (store class, directory) -> the store (its counters the process's)
+
+
+def shared_store(cls, kind: str):
+    """The one ``cls`` (an :class:`NpzStore`) of the directory of ``kind`` in this process, or
+    None if the stores are off."""
+    directory = cache_directory(kind)
+    if directory is None:
+        return None
+    store = _shared.get((cls, directory))
+    if store is None:
+        store = _shared[(cls, directory)] = cls(directory)
+    return store
