@@ -159,7 +159,9 @@ class ArticulatedMethod:
         made for every call: for many calls use a cache)."""
         if self.shading == "none":
             return None
-        return make_shader(self.body.mesh(positions), mode=self.shading).lighting(u_G)
+        # (no topology store: each configuration's posed panels would be another entry)
+        posed = self.body.mesh(positions)
+        return make_shader(posed, mode=self.shading, topology_store=None).lighting(u_G)
 
     def coefficients(
         self,

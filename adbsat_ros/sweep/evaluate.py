@@ -110,7 +110,11 @@ class BodySetup:
         """The ray caster of the body at joint ``positions``."""
 
         def make():
-            return make_shader(self.posed(positions), mode=self.spec.shading)
+            if self.body is None:
+                return make_shader(self.mesh, mode=self.spec.shading)
+            # (no topology store: each configuration's posed panels would be another entry)
+            posed = self.body.mesh(positions)
+            return make_shader(posed, mode=self.spec.shading, topology_store=None)
 
         return self.shaders.get(tuple(sorted(positions.items())), make)
 
