@@ -17,6 +17,7 @@ from __future__ import annotations
 import logging
 import os
 import tempfile
+import time
 import zipfile
 from pathlib import Path
 
@@ -28,6 +29,8 @@ log = logging.getLogger(__name__)
 CACHE_DIR_VARIABLE = "ADBSAT_ROS_CACHE_DIR"
 #: Entries kept by default.
 DEFAULT_MAX_ENTRIES = 64
+#: Age [s] beyond which a temporary file of a write is taken as left by a killed process.
+STALE_PART_S = 86400.0
 
 
 class NpzStore:
@@ -98,7 +101,15 @@ class NpzStore:
         return True
 
     def _prune(self) -> None:
-        """Remove the least recently used entries beyond ``max_entries``."""
+        """Remove the least recently used entries beyond ``max_entries``, and the temporary
+        files of writes that never finished (a process killed while writing) after a day."""
+        stale = time.time() - STALE_PART_S
+        for part in self.directory.glob("*.npz.part"):
+            try:
+                if part.stat().st_mtime < stale:
+                    part.unlink()
+            except FileNotFoundError:  # (renamed or removed meanwhile by another process)
+                continue
         entries = []
         for entry in self.directory.glob("*.npz"):
             try:

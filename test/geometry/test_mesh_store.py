@@ -119,6 +119,14 @@ def test_the_least_recently_used_entries_go_beyond_the_bound(tmp_path):
     load_mesh(paths[2], store=store)
     assert [e.exists() for e in entries] == [True, False, True]
     assert len(store) == 2
+    # a temporary file a killed writer left: removed at a later write once it is a day old
+    fresh, old = tmp_path / "store" / "a.npz.part", tmp_path / "store" / "b.npz.part"
+    fresh.write_bytes(b"")
+    old.write_bytes(b"")
+    os.utime(old, (1, 1))
+    trimesh.creation.box(extents=(5.0, 1.0, 1.0)).export(paths[1])
+    load_mesh(paths[1], store=store)
+    assert fresh.exists() and not old.exists()
     with pytest.raises(ValueError, match="max_entries"):
         MeshStore(tmp_path, max_entries=0)
 
