@@ -14,6 +14,9 @@ or ``~/.cache/adbsat_ros/<kind>``; ``ADBSAT_ROS_CACHE_DIR=off`` turns every stor
 
 from __future__ import annotations
 
+import functools
+import hashlib
+import importlib.util
 import logging
 import os
 import tempfile
@@ -89,12 +92,14 @@ class NpzStore:
             try:
                 with os.fdopen(handle, "wb") as fh:
                     np.savez(fh, **arrays)
+                os.chmod(temporary, 0o644)  # (mkstemp makes it 0600: a shared cache reads it)
                 os.replace(temporary, self.entry(key))
             except BaseException:
                 Path(temporary).unlink(missing_ok=True)
                 raise
         except OSError as exc:
             log.debug("%s: cannot write to %s (%s)", type(self).__name__, self.directory, exc)
+            self._prune()  # (a full disk: room for the next write)
             return False
         self.writes += 1
         self._prune()
@@ -102,7 +107,14 @@ class NpzStore:
 
     def _prune(self) -> None:
         """Remove the least recently used entries beyond ``max_entries``, and the temporary
-        files of writes that never finished (a process killed while writing) after a day."""
+        files of writes that never finished (a process killed while writing) after a day; a
+        file that cannot be removed (another user's) is left, with a debug message."""
+        try:
+            self._remove_old()
+        except OSError as exc:
+            log.debug("%s: cannot prune %s (%s)", type(self).__name__, self.directory, exc)
+
+    def _remove_old(self) -> None:
         stale = time.time() - STALE_PART_S
         for part in self.directory.glob("*.npz.part"):
             try:
@@ -139,12 +151,42 @@ def cache_directory(kind: str) -> Path | None:
     """The directory of the stores of ``kind`` (:data:`CACHE_DIR_VARIABLE` read now), or None
     if it is ``off``."""
     base = os.environ.get(CACHE_DIR_VARIABLE)
-    if base is None:
+    if not base or not base.strip():  # (unset or empty: the default place)
         xdg = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
         base = os.path.join(xdg, "adbsat_ros")
     elif base.strip().lower() == "off":
         return None
     return Path(base) / kind
+
+
+@functools.lru_cache(maxsize=16)
+def code_fingerprint(modules: tuple, packages: tuple = ()) -> str:
+    """A short hash of what makes a store's entries: the source of ``modules`` (dotted names
+    of this package's modules) and the installed files of ``packages`` (their top module's
+    path, size and modification time: a new release or reinstall changes them), found
+    without importing them; made once per process. Part of the stores' keys, so that entries
+    made by other code are never read back."""
+    digest = hashlib.sha256()
+    for name in modules:
+        spec = importlib.util.find_spec(name)
+        digest.update(Path(spec.origin).read_bytes())
+    for name in packages:
+        spec = importlib.util.find_spec(name)
+        if spec is None or spec.origin is None:
+            digest.update(f"{name}: none".encode())
+            continue
+        stat = os.stat(spec.origin)
+        digest.update(f"{spec.origin}|{stat.st_size}|{stat.st_mtime_ns}".encode())
+    return digest.hexdigest()[:16]
+
+
+def file_digest(path) -> "hashlib._Hash":
+    """SHA-256 of a file's bytes, read in chunks (OSError if it cannot be read)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(chunk)
+    return digest
 
 
 _shared: dict = {}  # (store class, directory) -> the store (its counters the process's)

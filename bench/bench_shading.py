@@ -104,7 +104,7 @@ def main(argv=None):
     for name, mesh in scenes:
         rows = []
         backend = "embree" if have_embree else "numpy"
-        build = median_ms(lambda: make_shader(mesh, backend=backend), rep_slow)
+        build = median_ms(lambda: make_shader(mesh, backend=backend, topology_store=None), rep_slow)
         rows.append((f"build Shader ({backend})", build, None))
         for be in (["embree"] if have_embree else []) + ["numpy"]:
             sh = make_shader(mesh, backend=be)

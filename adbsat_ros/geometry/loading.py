@@ -36,7 +36,7 @@ from adbsat_ros.geometry.mesh import (
     log_report,
     panels_from_arrays,
 )
-from adbsat_ros.geometry.mesh_store import MeshStore, default_store
+from adbsat_ros.geometry.mesh_store import STORED_SUFFIXES, MeshStore, default_store
 
 if TYPE_CHECKING:
     import trimesh
@@ -171,6 +171,8 @@ def load_mesh(
         if store != DEFAULT_STORE:
             raise ValueError(f"store must be a MeshStore, {DEFAULT_STORE!r} or None, got {store!r}")
         store = default_store()
+    if not path.lower().endswith(STORED_SUFFIXES):
+        store = None
     try:
         key = None if store is None else store.key(path, scale, fix_normals)
     except OSError as exc:

@@ -6,8 +6,11 @@ per connected component); importing trimesh alone takes about 0.6 s, more than a
 keeps what the checks made, so that the next load of the same file reads the panels back
 with numpy alone, as ADBSat reads a mesh once imported to a .mat file.
 
-Key: the SHA-256 of the file's bytes, the scale to metres, whether normals are fixed, the
-store's format and the package version (a new release parses files anew). Value: the
+Key: the SHA-256 of the file's bytes, its suffix, the scale to metres, whether normals are
+fixed, the store's format and the code that makes the entries (the source of the loading and
+checking modules, the installed trimesh: :func:`~adbsat_ros.npz_store.code_fingerprint`), so a
+changed file or a changed parser makes the entry anew. Only formats held in one file are kept
+(:data:`STORED_SUFFIXES`). Value: the
 :class:`~adbsat_ros.geometry.mesh.PanelMesh` arrays, material names and report. Bound: the 64
 most recently used entries. Counters: ``hits``, ``misses``, ``writes``. On disk as
 :class:`~adbsat_ros.npz_store.NpzStore` keeps them, in ``$ADBSAT_ROS_CACHE_DIR/meshes`` (by
@@ -18,17 +21,20 @@ loading then works as without the store.
 
 from __future__ import annotations
 
-import hashlib
 from pathlib import Path
 
 import numpy as np
 
 from adbsat_ros._version import __version__
 from adbsat_ros.geometry.mesh import MeshReport, PanelMesh
-from adbsat_ros.npz_store import NpzStore, shared_store
+from adbsat_ros.npz_store import NpzStore, code_fingerprint, file_digest, shared_store
 
 #: Version of the entries' layout (part of the key).
 FORMAT = 1
+#: Mesh formats kept: those held whole in one file (a .gltf's buffers may be other files).
+STORED_SUFFIXES = (".obj", ".stl", ".ply", ".off")
+#: The modules whose code makes an entry (part of the key, by their source).
+_MAKERS = ("adbsat_ros.geometry.mesh", "adbsat_ros.geometry.loading")
 #: The report's fields, in the order they are stored.
 _REPORT_FIELDS = (
     "dropped_zero_area",
@@ -49,8 +55,12 @@ class MeshStore(NpzStore):
     def key(path, scale: float, fix_normals: bool) -> str:
         """The key of the file ``path`` loaded at ``scale`` with or without ``fix_normals``
         (hex SHA-256). Raises OSError if the file cannot be read."""
-        digest = hashlib.sha256(Path(path).read_bytes())
-        digest.update(f"|{float(scale)!r}|{bool(fix_normals)}|{FORMAT}|{__version__}".encode())
+        digest = file_digest(path)
+        code = code_fingerprint(_MAKERS, ("trimesh",))
+        digest.update(
+            f"|{Path(path).suffix.lower()}|{float(scale)!r}|{bool(fix_normals)}|{FORMAT}|"
+            f"{__version__}|{code}".encode()
+        )
         return digest.hexdigest()
 
     def get(self, key: str, source: str) -> PanelMesh | None:

@@ -188,8 +188,8 @@ class Shader:
         if not self.trivial and mode == "raycast":
             indexed = topology = None
             if candidate_filter is None or scene is None:  # (made once for both, or read back)
-                if topology_store == "default":
-                    topology_store = default_topology_store()
+                if isinstance(topology_store, str):  # ("default", or a mistake named)
+                    topology_store = default_topology_store(name=topology_store)
                 indexed, topology = indexed_topology(mesh, self.diagonal, topology_store)
             if candidate_filter is None:
                 candidate_filter = CandidateFilter(mesh, topology=topology)

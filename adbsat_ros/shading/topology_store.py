@@ -9,7 +9,9 @@ that the next shader of the same panels (the next ``adbsat-ros coeff`` on a mesh
 started again) reads them back with numpy.
 
 Key: the SHA-256 of the panels' vertex coordinates (exact bytes), the bounding-box diagonal the
-hull tolerance is taken from, the store's format and the package version. Value: the merged
+hull tolerance is taken from, the store's format and the code that makes the entries (the
+source of the topology's modules, the installed trimesh and scipy:
+:func:`~adbsat_ros.npz_store.code_fingerprint`). Value: the merged
 vertices and faces, the edge neighbours, the components and the hull faces. Bound: the 64 most
 recently used entries. Counters: ``hits``, ``misses``, ``writes``. On disk as
 :class:`~adbsat_ros.npz_store.NpzStore` keeps them, in ``$ADBSAT_ROS_CACHE_DIR/topology``.
@@ -23,12 +25,14 @@ import numpy as np
 
 from adbsat_ros._version import __version__
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.npz_store import NpzStore, shared_store
+from adbsat_ros.npz_store import NpzStore, code_fingerprint, shared_store
 from adbsat_ros.shading.candidates import MeshTopology
 
 #: Version of the entries' layout (part of the key).
 FORMAT = 1
 _ARRAYS = ("vertices", "faces", "adjacency", "component", "on_hull")
+#: The modules whose code makes an entry (part of the key, by their source).
+_MAKERS = ("adbsat_ros.geometry.mesh", "adbsat_ros.shading.candidates")
 
 
 class TopologyStore(NpzStore):
@@ -39,7 +43,8 @@ class TopologyStore(NpzStore):
     def key(mesh: PanelMesh, diagonal: float) -> str:
         """The key of ``mesh``'s panels with the hull tolerance of ``diagonal`` [m]."""
         digest = hashlib.sha256(np.ascontiguousarray(mesh.vertices, dtype=float).tobytes())
-        digest.update(f"|{float(diagonal)!r}|{FORMAT}|{__version__}".encode())
+        code = code_fingerprint(_MAKERS, ("trimesh", "scipy"))
+        digest.update(f"|{float(diagonal)!r}|{FORMAT}|{__version__}|{code}".encode())
         return digest.hexdigest()
 
     def get(self, key: str) -> tuple | None:
@@ -66,9 +71,12 @@ class TopologyStore(NpzStore):
         )
 
 
-def default_store() -> TopologyStore | None:
+def default_store(name: str = "default") -> TopologyStore | None:
     """The store of the environment's cache directory (``$ADBSAT_ROS_CACHE_DIR/topology``, read
-    now; one per directory in a process), or None if the stores are off."""
+    now; one per directory in a process), or None if the stores are off; ``name`` is what a
+    caller was given for it, ValueError unless ``"default"``."""
+    if name != "default":
+        raise ValueError(f"topology_store must be a TopologyStore, 'default' or None, got {name!r}")
     return shared_store(TopologyStore, "topology")
 
 

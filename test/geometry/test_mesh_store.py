@@ -6,9 +6,11 @@ import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 import trimesh
 
+from adbsat_ros.geometry import mesh_store
 from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
 from adbsat_ros.geometry.loading import load_mesh
 from adbsat_ros.geometry.mesh import MeshError
@@ -178,3 +180,52 @@ def test_a_mesh_read_back_needs_no_trimesh(tmp_path):
     ]
     assert runs == [["1", "320"], ["0", "320"]]
     assert len(list((tmp_path / "cache" / "meshes").glob("*.npz"))) == 1
+
+
+def test_entries_made_by_other_code_are_not_read_back(tmp_path, satellite_obj, monkeypatch):
+    """The key holds the code that makes the entries: another parser or checks (here a
+    changed fingerprint of them) miss, and the file is parsed again."""
+    store = MeshStore(tmp_path / "store")
+    load_mesh(satellite_obj, store=store)
+    monkeypatch.setattr(mesh_store, "code_fingerprint", lambda *names: "other code")
+    load_mesh(satellite_obj, store=store)
+    assert (store.hits, store.misses) == (0, 2)
+
+
+def test_formats_with_other_files_are_not_kept(tmp_path):
+    store = MeshStore(tmp_path / "store")
+    path = tmp_path / "box.glb"
+    trimesh.creation.box(extents=(1.0, 2.0, 3.0)).export(path)
+    for _ in range(2):
+        assert load_mesh(path, store=store).n_panels == 12
+    assert (store.hits, store.misses, store.writes) == (0, 0, 0)
+
+
+def test_every_warning_of_the_checks_is_told_again(tmp_path, caplog):
+    # an open box (two faces missing) with a zero-area face
+    box = trimesh.creation.box(extents=(1.0, 2.0, 3.0))
+    faces = np.vstack([box.faces[:10], [[0, 0, 1]]])
+    path = tmp_path / "open.stl"
+    trimesh.Trimesh(box.vertices, faces, process=False).export(path)
+    store = MeshStore(tmp_path / "store")
+    texts = []
+    for _ in range(2):
+        caplog.clear()
+        with caplog.at_level(logging.WARNING):
+            load_mesh(path, store=store)
+        texts.append([r.getMessage() for r in caplog.records])
+    assert store.hits == 1 and texts[0] == texts[1]
+    assert any("open or non-manifold" in t for t in texts[1])
+
+
+def test_an_empty_cache_variable_means_the_default_place(tmp_path, monkeypatch):
+    monkeypatch.setenv(CACHE_DIR_VARIABLE, "")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert default_store().directory == tmp_path / "xdg" / "adbsat_ros" / "meshes"
+
+
+def test_entries_are_readable_by_others(tmp_path, satellite_obj):
+    store = MeshStore(tmp_path / "store")
+    load_mesh(satellite_obj, store=store)
+    (entry,) = (tmp_path / "store").glob("*.npz")
+    assert entry.stat().st_mode & 0o777 == 0o644

@@ -5,6 +5,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
@@ -82,3 +83,8 @@ def test_a_concave_mesh_loaded_again_is_shaded_without_trimesh(tmp_path):
     )
     assert first[0] == "1" and second[0] == "0"
     assert first[1] == second[1]
+
+
+def test_a_store_named_wrongly_is_refused():
+    with pytest.raises(ValueError, match="topology_store"):
+        make_shader(example_satellite(), topology_store="defualt")

@@ -315,7 +315,7 @@ class _Totals:
         balance = (inflow.momentum_flux() - inflow.rate * self.exit_momentum / n) / (
             rho_over_n * 0.5 * flow.speed**2 * ref.area
         )
-        area = lit_projected_area(mesh, u, shade(mesh, u, "raycast"))
+        area = lit_projected_area(mesh, u, shade(mesh, u, "raycast", topology_store=None))
         return TpmcCoefficients(
             flow_direction=u,
             Cf_G=cf,
