@@ -52,12 +52,41 @@ class NpzStore:
         Reads that found their entry, reads that did not, and entries written.
     """
 
+    #: Set by each kind of store: its directory's name under the cache directory, its
+    #: entries' layout version, and the modules and packages whose code makes its entries
+    #: (:func:`code_fingerprint`), all part of its keys (:meth:`finish_key`).
+    KIND = "arrays"
+    FORMAT = 1
+    MAKERS: tuple = ()
+    PACKAGES: tuple = ()
+
     def __init__(self, directory, max_entries: int = DEFAULT_MAX_ENTRIES):
         if int(max_entries) < 1:
             raise ValueError(f"max_entries must be >= 1, got {max_entries!r}")
         self.directory = Path(directory)
         self.max_entries = int(max_entries)
         self.hits = self.misses = self.writes = 0
+
+    @classmethod
+    def finish_key(cls, digest, *parts) -> str:
+        """The key (hex SHA-256) of ``digest`` (a hashlib SHA-256 of the entry's data) with the
+        ``parts`` that also change the entry, the store's format and the code that makes it."""
+        code = code_fingerprint(cls.MAKERS, cls.PACKAGES)
+        digest.update("|".join(map(repr, (*parts, cls.KIND, cls.FORMAT, code))).encode())
+        return digest.hexdigest()
+
+    @classmethod
+    def resolve(cls, store, name: str = "store"):
+        """``store`` as given to a user of the store (its parameter ``name``): ``"default"``,
+        the environment's store of this kind (:func:`shared_store`, None if the stores are
+        off), a store or None as they are; ValueError naming it for another string."""
+        if isinstance(store, str):
+            if store != "default":
+                raise ValueError(
+                    f"{name} must be a {cls.__name__}, 'default' or None, got {store!r}"
+                )
+            return shared_store(cls)
+        return store
 
     def entry(self, key: str) -> Path:
         """The file of ``key``."""
@@ -192,10 +221,10 @@ def file_digest(path) -> "hashlib._Hash":
 _shared: dict = {}  # (store class, directory) -> the store (its counters the process's)
 
 
-def shared_store(cls, kind: str):
-    """The one ``cls`` (an :class:`NpzStore`) of the directory of ``kind`` in this process, or
-    None if the stores are off."""
-    directory = cache_directory(kind)
+def shared_store(cls):
+    """The one ``cls`` (an :class:`NpzStore`) of the environment's directory of its ``KIND``
+    in this process, or None if the stores are off."""
+    directory = cache_directory(cls.KIND)
     if directory is None:
         return None
     store = _shared.get((cls, directory))

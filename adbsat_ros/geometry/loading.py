@@ -36,7 +36,7 @@ from adbsat_ros.geometry.mesh import (
     log_report,
     panels_from_arrays,
 )
-from adbsat_ros.geometry.mesh_store import STORED_SUFFIXES, MeshStore, default_store
+from adbsat_ros.geometry.mesh_store import STORED_SUFFIXES, MeshStore
 
 if TYPE_CHECKING:
     import trimesh
@@ -148,7 +148,7 @@ def load_mesh(
     store : MeshStore, "default" or None
         Where the checked mesh is kept and, for a file of the same content loaded before, read
         back from (the same panels, report and warnings); by default the store of the
-        environment's cache directory (:func:`~adbsat_ros.geometry.mesh_store.default_store`);
+        environment's cache directory (``MeshStore.resolve``);
         None for none.
 
     Returns
@@ -167,10 +167,7 @@ def load_mesh(
         raise MeshError(f"{path}: scale must be a finite number > 0, got {scale!r}")
     if not os.path.isfile(path):
         raise MeshError(f"mesh file not found: {path}")
-    if isinstance(store, str):
-        if store != DEFAULT_STORE:
-            raise ValueError(f"store must be a MeshStore, {DEFAULT_STORE!r} or None, got {store!r}")
-        store = default_store()
+    store = MeshStore.resolve(store)
     if not path.lower().endswith(STORED_SUFFIXES):
         store = None
     try:

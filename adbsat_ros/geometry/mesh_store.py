@@ -25,16 +25,11 @@ from pathlib import Path
 
 import numpy as np
 
-from adbsat_ros._version import __version__
 from adbsat_ros.geometry.mesh import MeshReport, PanelMesh
-from adbsat_ros.npz_store import NpzStore, code_fingerprint, file_digest, shared_store
+from adbsat_ros.npz_store import NpzStore, file_digest, shared_store
 
-#: Version of the entries' layout (part of the key).
-FORMAT = 1
 #: Mesh formats kept: those held whole in one file (a .gltf's buffers may be other files).
 STORED_SUFFIXES = (".obj", ".stl", ".ply", ".off")
-#: The modules whose code makes an entry (part of the key, by their source).
-_MAKERS = ("adbsat_ros.geometry.mesh", "adbsat_ros.geometry.loading")
 #: The report's fields, in the order they are stored.
 _REPORT_FIELDS = (
     "dropped_zero_area",
@@ -51,17 +46,16 @@ class MeshStore(NpzStore):
     """Checked meshes on disk, by the content of the file they were loaded from (an
     :class:`~adbsat_ros.npz_store.NpzStore`: ``directory``, ``max_entries``, counters)."""
 
-    @staticmethod
-    def key(path, scale: float, fix_normals: bool) -> str:
+    KIND = "meshes"
+    MAKERS = ("adbsat_ros.geometry.mesh", "adbsat_ros.geometry.loading")
+    PACKAGES = ("trimesh",)
+
+    @classmethod
+    def key(cls, path, scale: float, fix_normals: bool) -> str:
         """The key of the file ``path`` loaded at ``scale`` with or without ``fix_normals``
         (hex SHA-256). Raises OSError if the file cannot be read."""
-        digest = file_digest(path)
-        code = code_fingerprint(_MAKERS, ("trimesh",))
-        digest.update(
-            f"|{Path(path).suffix.lower()}|{float(scale)!r}|{bool(fix_normals)}|{FORMAT}|"
-            f"{__version__}|{code}".encode()
-        )
-        return digest.hexdigest()
+        suffix = Path(path).suffix.lower()
+        return cls.finish_key(file_digest(path), suffix, float(scale), bool(fix_normals))
 
     def get(self, key: str, source: str) -> PanelMesh | None:
         """The mesh kept for ``key`` (named ``source``), or None (counted as a miss)."""
@@ -97,4 +91,4 @@ class MeshStore(NpzStore):
 def default_store() -> MeshStore | None:
     """The store of the environment's cache directory (``$ADBSAT_ROS_CACHE_DIR/meshes``, read
     now; one per directory in a process), or None if the stores are off."""
-    return shared_store(MeshStore, "meshes")
+    return shared_store(MeshStore)

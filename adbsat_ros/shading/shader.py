@@ -63,7 +63,6 @@ from adbsat_ros.shading.projection import adbsat_shadowed
 from adbsat_ros.shading.rays import ray_scene, resolve_backend
 from adbsat_ros.shading.sampling import CORNERS, sample_coordinates, sample_points
 from adbsat_ros.shading.topology_store import TopologyStore, indexed_topology
-from adbsat_ros.shading.topology_store import default_store as default_topology_store
 
 MODES = ("none", "projection", "raycast")
 
@@ -188,9 +187,8 @@ class Shader:
         if not self.trivial and mode == "raycast":
             indexed = topology = None
             if candidate_filter is None or scene is None:  # (made once for both, or read back)
-                if isinstance(topology_store, str):  # ("default", or a mistake named)
-                    topology_store = default_topology_store(name=topology_store)
-                indexed, topology = indexed_topology(mesh, self.diagonal, topology_store)
+                store = TopologyStore.resolve(topology_store, "topology_store")
+                indexed, topology = indexed_topology(mesh, self.diagonal, store)
             if candidate_filter is None:
                 candidate_filter = CandidateFilter(mesh, topology=topology)
             self.filter = candidate_filter

@@ -23,29 +23,26 @@ import hashlib
 
 import numpy as np
 
-from adbsat_ros._version import __version__
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.npz_store import NpzStore, code_fingerprint, shared_store
+from adbsat_ros.npz_store import NpzStore, shared_store
 from adbsat_ros.shading.candidates import MeshTopology
 
-#: Version of the entries' layout (part of the key).
-FORMAT = 1
 _ARRAYS = ("vertices", "faces", "adjacency", "component", "on_hull")
-#: The modules whose code makes an entry (part of the key, by their source).
-_MAKERS = ("adbsat_ros.geometry.mesh", "adbsat_ros.shading.candidates")
 
 
 class TopologyStore(NpzStore):
     """The shader's topology of meshes on disk, by the panels' content (an
     :class:`~adbsat_ros.npz_store.NpzStore`: ``directory``, ``max_entries``, counters)."""
 
-    @staticmethod
-    def key(mesh: PanelMesh, diagonal: float) -> str:
+    KIND = "topology"
+    MAKERS = ("adbsat_ros.geometry.mesh", "adbsat_ros.shading.candidates")
+    PACKAGES = ("trimesh", "scipy")
+
+    @classmethod
+    def key(cls, mesh: PanelMesh, diagonal: float) -> str:
         """The key of ``mesh``'s panels with the hull tolerance of ``diagonal`` [m]."""
-        digest = hashlib.sha256(np.ascontiguousarray(mesh.vertices, dtype=float).tobytes())
-        code = code_fingerprint(_MAKERS, ("trimesh", "scipy"))
-        digest.update(f"|{float(diagonal)!r}|{FORMAT}|{__version__}|{code}".encode())
-        return digest.hexdigest()
+        vertices = np.ascontiguousarray(mesh.vertices, dtype=float)
+        return cls.finish_key(hashlib.sha256(vertices.tobytes()), float(diagonal))
 
     def get(self, key: str) -> tuple | None:
         """``(indexed, topology)`` kept for ``key``: the merged vertices (V, 3) and faces
@@ -71,13 +68,10 @@ class TopologyStore(NpzStore):
         )
 
 
-def default_store(name: str = "default") -> TopologyStore | None:
+def default_store() -> TopologyStore | None:
     """The store of the environment's cache directory (``$ADBSAT_ROS_CACHE_DIR/topology``, read
-    now; one per directory in a process), or None if the stores are off; ``name`` is what a
-    caller was given for it, ValueError unless ``"default"``."""
-    if name != "default":
-        raise ValueError(f"topology_store must be a TopologyStore, 'default' or None, got {name!r}")
-    return shared_store(TopologyStore, "topology")
+    now; one per directory in a process), or None if the stores are off."""
+    return shared_store(TopologyStore)
 
 
 def indexed_topology(mesh: PanelMesh, diagonal: float, store: TopologyStore | None) -> tuple:
