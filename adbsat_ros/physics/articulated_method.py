@@ -142,6 +142,7 @@ class ArticulatedMethod:
         # efforts, lit projected area
         ends = np.cumsum([0, 3, 3, 3 * n_links, 3 * n_links, n_joints, 1]).tolist()
         self._rows = tuple(slice(a, b) for a, b in zip(ends[:-1], ends[1:]))
+        self._links_map = self._make_links_map()
 
     @property
     def needs_species(self) -> bool:
@@ -273,29 +274,38 @@ class ArticulatedMethod:
         (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns, and sum_(l in C_j) a . F_l / A_ref
         if it slides.
         """
-        n_eval, n_joints = len(self._links), len(self.body.joints)
+        area, length = self.reference.area, self.reference.length
+        axes, origins = poses.joint_axes, poses.joint_origins
+        per_joint = np.zeros((len(self.body.joints), LINK_LOADS))
+        per_joint[:, 0:3] = np.where(self._prismatic[:, None], axes, -frames.cross(axes, origins))
+        per_joint[:, 3:6] = np.where(self._prismatic[:, None], 0.0, axes)
+        per_joint[:, 0:6] /= np.where(self._prismatic, area, area * length)[:, None]
+        out = self._links_map.copy()
+        # joint j's row: per_joint[j] in the columns of every link it carries
+        out[self._rows[4]] = (self._carries[:, :, None] * per_joint[:, None, :]).reshape(
+            len(per_joint), out.shape[1]
+        )
+        out.setflags(write=False)
+        return out
+
+    def _make_links_map(self) -> np.ndarray:
+        """The rows of :meth:`_make_load_map` that no joint's pose changes: Cf_G, Cm_G, the
+        links' loads and the lit projected area (the joints' efforts' rows zero)."""
         area, length = self.reference.area, self.reference.length
         force = np.eye(3, LINK_LOADS) / area  # (F, M, S) -> f
         about_point = np.zeros((3, LINK_LOADS))  # (F, M, S) -> m - r x f / L_ref
         about_point[:, 0:3] = -frames.cross_matrix(self.reference.moment_point)
         about_point[:, 3:6] = np.eye(3)
         about_point /= area * length
-        axes, origins = poses.joint_axes, poses.joint_origins
-        per_joint = np.zeros((n_joints, LINK_LOADS))
-        per_joint[:, 0:3] = np.where(self._prismatic[:, None], axes, -np.cross(axes, origins))
-        per_joint[:, 3:6] = np.where(self._prismatic[:, None], 0.0, axes)
-        per_joint[:, 0:6] /= np.where(self._prismatic, area, area * length)[:, None]
-        cf, cm, forces, moments, efforts, area_row = self._rows
-        out = np.zeros((area_row.stop, LINK_LOADS * n_eval))
+        cf, cm, forces, moments, _, area_row = self._rows
+        out = np.zeros((area_row.stop, LINK_LOADS * len(self._links)))
         for k, link in enumerate(self._link_index.tolist()):
             columns = slice(LINK_LOADS * k, LINK_LOADS * (k + 1))
             out[cf, columns] = force
             out[cm, columns] = about_point
             out[forces.start + 3 * link : forces.start + 3 * link + 3, columns] = force
             out[moments.start + 3 * link : moments.start + 3 * link + 3, columns] = about_point
-            out[efforts, columns] = self._carries[:, k, None] * per_joint
             out[area_row.start, LINK_LOADS * k + 6] = 1.0  # the lit projected area
-        out.setflags(write=False)
         return out
 
     def _posed_evaluation(self, flow, u, lighting, surface, configuration):

@@ -64,7 +64,14 @@ class EffortColumns:
         turning = frames.cross(a[:, None, :], q[None, :, :]) - w[None, :, None] * a_o[:, None]
         sliding = w[None, :, None] * a[:, None, :]
         v = np.where(self.prismatic[:, None, None], sliding, turning)  # (J, G, 3)
-        s = np.where(self.prismatic[:, None], (wn @ a.T).T, (qn @ a.T).T - (wn @ a_o.T).T)
+        # (row by row, as einsum sums them, not through BLAS: a facet's columns are the same
+        # numbers whatever other facets are posed with it)
+        wn_a = np.einsum("gk,jk->jg", wn, a)
+        s = np.where(
+            self.prismatic[:, None],
+            wn_a,
+            np.einsum("gk,jk->jg", qn, a) - np.einsum("gk,jk->jg", wn, a_o),
+        )
         weight = self.scale[:, None] * self.carries[:, link_of_facet]  # (J, G)
         out = np.concatenate([v * weight[..., None], (s * weight)[..., None]], axis=2)
         return out.transpose(1, 0, 2).reshape(len(w), -1)

@@ -181,29 +181,56 @@ class PosedFacets:
         at ``poses``, link after link, in the ten first columns: the layout of
         :meth:`~adbsat_ros.physics.facets.Facets.lit_sums`, so that the whole body's totals are
         those of a rigid body of these facets; then, with ``joints``, their
-        :meth:`~adbsat_ros.physics.link_loads.EffortColumns.columns`. Shape (G, 10 + 4 J)."""
-        if isinstance(lighting, LightingBlend):
-            (w, first), *rest = lighting.parts
-            out = w * self._part_sums(first, poses)
-            for w, part in rest:
-                out += w * self._part_sums(part, poses)
-            return out
-        return self._part_sums(lighting, poses)
+        :meth:`~adbsat_ros.physics.link_loads.EffortColumns.columns`. Shape (G, 10 + 4 J).
 
-    def _part_sums(self, lighting, poses) -> np.ndarray:
-        def make():
-            links = self._link_index[self._link_of_facet]  # every facet's link
-            own, shifts = self._link_sums(lighting)
-            sums = _posed(own, poses.rotations[links], poses.origins[links])
-            if shifts is not None:
-                sums[:, 4:7] += shifts
-                sums[:, 7:10] += frames.cross(shifts, self.normals(poses)[0])
-            if self._joints is not None:
-                sums = np.hstack([sums, self._joints.columns(sums, poses, self._link_of_facet)])
-            sums.setflags(write=False)
-            return sums
+        A blend's parts not kept for ``poses`` are posed together, in one pass over their
+        stacked sums (every number is computed row by row, so a part's sums are the same
+        posed alone or with others): a joint state moves every part of the blend at once, and
+        posing three parts apart cost 177 us against 66 us together (``timeit``, the example
+        satellite's wings, 18 facets, one run), about 1 us per attitude at 10 joint states per
+        100 attitudes.
+        """
+        parts = lighting.parts if isinstance(lighting, LightingBlend) else [(1.0, lighting)]
+        store = self.sums_store
+        keys = [(None if part is None else part.key, poses.key) for _, part in parts]
+        missing = {}  # key -> lighting part, each once
+        for key, (_, part) in zip(keys, parts):
+            if key not in store and key not in missing:
+                missing[key] = part
+        made = {}
+        if missing:
+            made = dict(zip(missing, self._posed_parts(list(missing.values()), poses)))
+        values = [store.get(key, lambda key=key: made[key]) for key in keys]
+        if len(parts) == 1:
+            return values[0]
+        (w, _), *rest = parts
+        out = w * values[0]
+        for (w, _), value in zip(rest, values[1:]):
+            out += w * value
+        return out
 
-        return self.sums_store.get((None if lighting is None else lighting.key, poses.key), make)
+    def _posed_parts(self, parts, poses) -> list:
+        """The posed sums of the lighting ``parts`` at ``poses`` (each as :meth:`sums` of that
+        part alone, read-only), posed in one pass."""
+        g = self.n
+        links = np.tile(self._link_index[self._link_of_facet], len(parts))  # every facet's link
+        own, shifts = zip(*(self._link_sums(part) for part in parts))
+        sums = _posed(np.concatenate(own), poses.rotations[links], poses.origins[links])
+        normals = self.normals(poses)[0]
+        for k, part_shifts in enumerate(shifts):
+            if part_shifts is not None:
+                rows = slice(k * g, (k + 1) * g)
+                sums[rows, 4:7] += part_shifts
+                sums[rows, 7:10] += frames.cross(part_shifts, normals)
+        if self._joints is not None:
+            link_of_facet = np.tile(self._link_of_facet, len(parts))
+            sums = np.hstack([sums, self._joints.columns(sums, poses, link_of_facet)])
+        out = []
+        for k in range(len(parts)):
+            part = sums[k * g : (k + 1) * g]
+            part.setflags(write=False)
+            out.append(part)
+        return out
 
     def _link_sums(self, lighting) -> tuple:
         """The facets' sums (G, 10) of ``lighting``'s lit fractions, each in its link's own

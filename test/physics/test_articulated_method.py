@@ -20,6 +20,7 @@ from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_loads import panel_loads
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.shading.lighting import LightingBlend
 from adbsat_ros.shading.shader import make_shader
 
 FLOW = FreeStream(7800.0, 1000.0, mean_mass_amu=16.0)
@@ -265,3 +266,38 @@ def test_a_link_without_facets_is_evaluated_in_its_own_frame_with_the_same_resul
     np.testing.assert_allclose(got.total.Cf_G, want.Cf_G, rtol=0, atol=1e-13)
     np.testing.assert_allclose(got.total.Cm_G, want.Cm_G, rtol=0, atol=1e-13)
     np.testing.assert_allclose(got.total.cp, want.cp, rtol=0, atol=1e-12)
+
+
+def test_a_blend_gives_the_same_numbers_whichever_of_its_parts_were_seen_before(body):
+    """A joint state poses a blend's parts together; a part seen alone before is read back.
+    Either way every output is the same, bit for bit (offline analysis and a live node meet
+    the parts in different orders)."""
+    values = configurations(body)[1]
+    us = directions()
+    mesh = body.mesh(values)
+    shader = make_shader(mesh)
+    parts = [shader.lighting(u) for u in us]
+    blend = LightingBlend([(0.5, parts[0]), (0.3, parts[1]), (0.2, parts[2])])
+    together = ArticulatedMethod(body, "sentman", reference=REFERENCE)
+    one_by_one = ArticulatedMethod(body, "sentman", reference=REFERENCE)
+    u = us[0]
+    for part in parts[:2]:  # (two parts met alone first, at these positions)
+        one_by_one.coefficients(FLOW, values, flow_direction=u, lighting=part)
+    a = together.coefficients(FLOW, values, flow_direction=u, lighting=blend)
+    b = one_by_one.coefficients(FLOW, values, flow_direction=u, lighting=blend)
+    for name in ("Cf_G", "Cm_G"):
+        np.testing.assert_array_equal(getattr(a.total, name), getattr(b.total, name))
+    np.testing.assert_array_equal(a.link_force, b.link_force)
+    np.testing.assert_array_equal(a.link_moment, b.link_moment)
+    np.testing.assert_array_equal(a.effort_coefficients, b.effort_coefficients)
+    # and the blend is the weighted mean of its parts' results (the method is linear in them)
+    alone = [
+        ArticulatedMethod(body, "sentman", reference=REFERENCE).coefficients(
+            FLOW, values, flow_direction=u, lighting=part
+        )
+        for part in parts
+    ]
+    mean = sum(w * c.total.Cf_G for w, c in zip((0.5, 0.3, 0.2), alone))
+    np.testing.assert_allclose(a.total.Cf_G, mean, rtol=1e-12, atol=1e-15)
+    efforts = sum(w * c.effort_coefficients for w, c in zip((0.5, 0.3, 0.2), alone))
+    np.testing.assert_allclose(a.effort_coefficients, efforts, rtol=1e-10, atol=1e-14)
