@@ -37,6 +37,7 @@ from adbsat_ros.geometry.mesh import (
     PanelMesh,
     check_size,
     panels_from_arrays,
+    triangle_geometry,
 )
 
 #: Joint types whose position moves their child link.
@@ -322,20 +323,21 @@ class ArticulatedBody:
         return self._panels(parts, np.broadcast_to(np.eye(4), (len(self.links), 4, 4)))
 
     def _panels(self, parts, poses) -> PanelMesh:
-        tris, materials = [], []
+        tri = np.empty((sum(len(part.faces) for part in parts), 3, 3))
+        materials, start = [], 0
         for part in parts:
             pose = poses[part.link]
             vertices = part.vertices @ pose[:3, :3].T + pose[:3, 3]
-            tris.append(vertices[part.faces])
+            stop = start + len(part.faces)
+            np.take(vertices, part.faces, axis=0, out=tri[start:stop])
             materials.append(np.full(len(part.faces), part.material))
-        tri = np.ascontiguousarray(np.concatenate(tris))
-        cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-        double_area = np.linalg.norm(cross, axis=1)
+            start = stop
+        normals, areas, barycentres = triangle_geometry(tri)
         return PanelMesh(
             vertices=tri,
-            normals=np.ascontiguousarray(cross / double_area[:, None]),
-            areas=np.ascontiguousarray(0.5 * double_area),
-            barycentres=np.ascontiguousarray(tri.mean(axis=1)),
+            normals=normals,
+            areas=areas,
+            barycentres=barycentres,
             material_index=np.ascontiguousarray(np.concatenate(materials)),
             material_names=self.material_names,
             report=self._report,
