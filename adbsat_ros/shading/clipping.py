@@ -94,8 +94,11 @@ def _covered(tri, area_t, centroid_t, outlines, sets) -> tuple:
         owner += [i] * outline.shape[1]
     corner_out = np.concatenate(sides, axis=1) < 0.0  # (K, E, 3): every edge of every outline
     owner = np.array(owner)
-    cutting = corner_out.any(axis=2)  # (K, E): some corner beyond the edge
-    beyond = corner_out.all(axis=2)  # (K, E): every corner beyond it
+    # (the three corners joined elementwise: any/all over the axis of length 3 cost 0.1 ms
+    # more, 5 % of clipping 1,518 panels against one outline, in one run)
+    c0, c1, c2 = corner_out[..., 0], corner_out[..., 1], corner_out[..., 2]
+    cutting = c0 | c1 | c2  # (K, E): some corner beyond the edge
+    beyond = c0 & c1 & c2  # (K, E): every corner beyond it
     own = owner[None, :] == np.arange(len(outlines))[:, None]  # (n, E)
     within = ~(cutting[:, None, :] & own).any(axis=2)  # (K, n): inside the polygon
     apart = (beyond[:, None, :] & own).any(axis=2)  # (K, n): outside it
