@@ -190,23 +190,30 @@ class PosedFacets:
         satellite's wings, 18 facets, one run), about 1 us per attitude at 10 joint states per
         100 attitudes.
         """
-        parts = lighting.parts if isinstance(lighting, LightingBlend) else [(1.0, lighting)]
-        store = self.sums_store
-        keys = [(None if part is None else part.key, poses.key) for _, part in parts]
-        missing = {}  # key -> lighting part, each once
-        for key, (_, part) in zip(keys, parts):
-            if key not in store and key not in missing:
-                missing[key] = part
-        made = {}
-        if missing:
-            made = dict(zip(missing, self._posed_parts(list(missing.values()), poses)))
-        values = [store.get(key, lambda key=key: made[key]) for key in keys]
-        if len(parts) == 1:
-            return values[0]
-        (w, _), *rest = parts
-        out = w * values[0]
-        for (w, _), value in zip(rest, values[1:]):
-            out += w * value
+        parts = lighting.parts if isinstance(lighting, LightingBlend) else ((1.0, lighting),)
+        store, batch = self.sums_store, {}
+
+        def posed(part):
+            key = (None if part is None else part.key, poses.key)
+
+            def make():  # (the first part missing poses every missing part, once)
+                if key not in batch:
+                    todo = {}
+                    for _, other in parts:
+                        k = (None if other is None else other.key, poses.key)
+                        if k not in store and k not in batch:
+                            todo[k] = other
+                    batch.update(zip(todo, self._posed_parts(list(todo.values()), poses)))
+                return batch[key]
+
+            return store.get(key, make)
+
+        (w, first), *rest = parts
+        if not rest:
+            return posed(first)
+        out = w * posed(first)
+        for w, part in rest:
+            out += w * posed(part)
         return out
 
     def _posed_parts(self, parts, poses) -> list:
