@@ -6,7 +6,8 @@ joints with axes and limits) is read with yourdfpy. Every visual of a link (box,
 or mesh file) becomes a part of the panel mesh, in the link's frame, with its URDF material name
 as its surface material (as ``usemtl`` names an .obj's). The root link's frame is the body frame
 (mesh frame G). Joints may be fixed, revolute, continuous or prismatic (mimic joints follow
-theirs); their positions [rad or m] place the links by yourdfpy's forward kinematics.
+theirs); their positions [rad or m] place the links by forward kinematics
+(:mod:`~adbsat_ros.geometry.kinematics`, from yourdfpy's joints).
 
 :meth:`ArticulatedBody.mesh` gives the :class:`~adbsat_ros.geometry.mesh.PanelMesh` of a
 configuration: the parts are checked once (:func:`~adbsat_ros.geometry.mesh.panels_from_arrays`:
@@ -30,6 +31,7 @@ import numpy as np
 import trimesh
 import yourdfpy
 
+from adbsat_ros.geometry.kinematics import KinematicChain
 from adbsat_ros.geometry.mesh import (
     DEFAULT_MATERIAL,
     MeshError,
@@ -178,6 +180,7 @@ class ArticulatedBody:
                 upper = math.inf if limit.upper is None else float(limit.upper)
             axis = tuple(float(x) for x in (j.axis if j.axis is not None else (1.0, 0.0, 0.0)))
             self.joints[name] = Joint(name, j.type, j.parent, j.child, axis, lower, upper)
+        self._chain = KinematicChain(urdf, self.links, self.root, self.joints)
         directory = os.path.dirname(os.path.abspath(source)) if os.path.isfile(source) else "."
 
         def resolve(filename):
@@ -305,10 +308,7 @@ class ArticulatedBody:
 
     def link_poses(self, values: Mapping[str, float] | None = None) -> np.ndarray:
         """4 x 4 pose of every link in the body frame, shape (L, 4, 4), for joint ``values``."""
-        positions = self.positions(values)
-        if positions:
-            self._urdf.update_cfg(positions)
-        return np.stack([self._urdf.get_transform(link, self.root) for link in self.links])
+        return self._chain.poses(self.positions(values))
 
     def mesh(self, values: Mapping[str, float] | None = None) -> PanelMesh:
         """The panels of the configuration ``values`` (joint name to position; others at 0)."""

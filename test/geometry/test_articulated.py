@@ -4,10 +4,12 @@ files are refused by name."""
 
 from __future__ import annotations
 
+import io
 import math
 
 import numpy as np
 import pytest
+import yourdfpy
 from fin_cases import FIN_URDF, newton_hinge_torque, rotation_y
 
 from adbsat_ros.geometry.articulated import ArticulatedBody
@@ -184,3 +186,65 @@ def test_fins_deflected_either_way_give_mirrored_pitch_and_yaw():
     assert abs(rp.Cm_G[1]) > 1e-3 and abs(rp.Cm_G[2]) > 1e-3  # pitch and yaw
     for name in finned.joints:
         assert lp.joint_effort[name] == pytest.approx(-ln.joint_effort[name], rel=1e-9)
+
+
+TREE_URDF = """<robot name="tree">
+  <link name="base"><visual><geometry><box size="1 1 1"/></geometry></visual></link>
+  <link name="arm"><visual><geometry><box size="0.2 0.2 1"/></geometry></visual></link>
+  <link name="slider"/>
+  <link name="tip"><visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual></link>
+  <link name="twin"><visual><geometry><box size="0.3 0.1 0.1"/></geometry></visual></link>
+  <link name="camera"/>
+  <joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="arm"/>
+    <origin xyz="0.5 0.1 -0.2" rpy="0.3 -0.2 0.9"/><axis xyz="0 1 1"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/>
+  </joint>
+  <joint name="slide" type="prismatic">
+    <parent link="arm"/><child link="slider"/>
+    <origin xyz="0 0 0.5" rpy="0 0.4 0"/><axis xyz="0.6 0 0.8"/>
+    <limit lower="-0.3" upper="0.3" effort="1" velocity="1"/>
+  </joint>
+  <joint name="wrist" type="continuous">
+    <parent link="slider"/><child link="tip"/>
+    <origin xyz="0.1 0 0" rpy="-0.5 0 0.2"/><axis xyz="1 0 0"/>
+  </joint>
+  <joint name="twin_joint" type="revolute">
+    <parent link="base"/><child link="twin"/>
+    <origin xyz="-0.5 0 0" rpy="0 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/>
+    <mimic joint="shoulder" multiplier="-0.5" offset="0.1"/>
+  </joint>
+  <joint name="mount" type="fixed">
+    <parent link="base"/><child link="camera"/>
+    <origin xyz="0 0.5 0.5" rpy="0.1 0.2 0.3"/>
+  </joint>
+</robot>"""
+
+
+def test_the_links_poses_are_yourdfpys_forward_kinematics():
+    """Revolute, prismatic and continuous joints with tilted origins and axes that are not unit
+    vectors, a chain three joints deep, a mimic joint and a fixed one: every link's pose is the
+    one yourdfpy's own forward kinematics gives."""
+    body = ArticulatedBody.from_urdf(TREE_URDF)
+    assert set(body.joints) == {"shoulder", "slide", "wrist"}
+    reference = yourdfpy.URDF.load(io.StringIO(TREE_URDF), build_scene_graph=True)
+    rng = np.random.default_rng(7)
+    for _ in range(6):
+        values = {
+            "shoulder": rng.uniform(-2, 2),
+            "slide": rng.uniform(-0.3, 0.3),
+            "wrist": rng.uniform(-7, 7),
+        }
+        reference.update_cfg(values)
+        expected = np.stack([reference.get_transform(link, "base") for link in body.links])
+        np.testing.assert_allclose(body.link_poses(values), expected, rtol=0, atol=1e-13)
+    # the mimic joint follows: at shoulder q the twin turns by -0.5 q + 0.1 about z
+    poses = body.link_poses({"shoulder": 0.8})
+    twin = poses[body.links.index("twin")]
+    angle = -0.5 * 0.8 + 0.1
+    np.testing.assert_allclose(
+        twin[:3, :3],
+        [[math.cos(angle), -math.sin(angle), 0], [math.sin(angle), math.cos(angle), 0], [0, 0, 1]],
+        atol=1e-15,
+    )
