@@ -49,7 +49,7 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     tri = np.asarray(triangles, dtype=float)
     k = tri.shape[0]
     outlines = [np.broadcast_to(o, (k, *np.shape(o)[-2:])) for o in outlines]
-    area_t, centroid_t = _area_centroid(tri, np.full(k, 3))
+    area_t, centroid_t = _triangle_area_centroid(tri)
     n = len(outlines)
     if n == 0:  # nothing covers them
         return np.ones(k), centroid_t
@@ -178,11 +178,30 @@ def _area_centroid(poly, count):
     return np.abs(0.5 * twice), centroid
 
 
+def _triangle_area_centroid(tri):
+    """:func:`_area_centroid` of triangles (K, 3, 2): the same operations in the same order,
+    on the corners' coordinates as arrays of K (its general form took 0.44 of the 2.4 ms of
+    clipping a finned body's panels, one run)."""
+    x0, y0, x1, y1, x2, y2 = (tri[:, i, j] for i in range(3) for j in range(2))
+    c0, c1, c2 = x0 * y1 - x1 * y0, x1 * y2 - x2 * y1, x2 * y0 - x0 * y2
+    twice = c0 + c1 + c2
+    cx = (x0 + x1) * c0 + (x1 + x2) * c1 + (x2 + x0) * c2
+    cy = (y0 + y1) * c0 + (y1 + y2) * c1 + (y2 + y0) * c2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        centroid = np.stack([cx, cy], axis=1) / (3.0 * twice[:, None])
+    return np.abs(0.5 * twice), centroid
+
+
 def _edges(poly, count):
     """The edges p -> q of polygons (K, capacity, 2) with ``count`` corners each: which corner
     slots are corners (K, capacity), the index of each corner's successor, and the successors
-    (K, capacity, 2)."""
-    index = np.arange(poly.shape[1])
+    (K, capacity, 2; what lies beyond a row's corners is not its successors)."""
+    k, capacity = poly.shape[:2]
+    index = np.arange(capacity)
     valid = index[None, :] < count[:, None]
     nxt = np.where(index[None, :] + 1 < count[:, None], index[None, :] + 1, 0)
-    return valid, nxt, np.take_along_axis(poly, nxt[..., None], axis=1)
+    # each corner's successor: the next slot, and the first corner after a row's last one (the
+    # slots beyond a row's corners are read by no caller)
+    q = np.roll(poly, -1, axis=1)
+    q[np.arange(k), np.maximum(count - 1, 0)] = poly[:, 0]
+    return valid, nxt, q

@@ -221,10 +221,19 @@ class ConvexParts:
         f, c2 = lit_parts(triangles, shapes)
         fraction[rows] = f
         # the lit centroid back on the panel, through its triangle coordinates
-        e = np.stack([triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]], 2)
-        ab = np.linalg.solve(e, (c2 - triangles[:, 0])[..., None])[..., 0]
+        # (a, b) with c2 = t0 + a (t1 - t0) + b (t2 - t0), by Cramer's rule (2 x 2 systems:
+        # np.linalg.solve took 0.28 ms of the 2.4 ms of clipping a finned body's panels)
+        (ux, uy), (vx, vy) = (
+            (triangles[:, 1] - triangles[:, 0]).T,
+            (triangles[:, 2] - triangles[:, 0]).T,
+        )
+        rx, ry = (c2 - triangles[:, 0]).T
+        det = ux * vy - vx * uy
+        a, b = (rx * vy - vx * ry) / det, (ux * ry - rx * uy) / det
         v = self.mesh.vertices[j]
-        centroid[rows] = v[:, 0] + ab[:, :1] * (v[:, 1] - v[:, 0]) + ab[:, 1:] * (v[:, 2] - v[:, 0])
+        centroid[rows] = (
+            v[:, 0] + a[:, None] * (v[:, 1] - v[:, 0]) + b[:, None] * (v[:, 2] - v[:, 0])
+        )
 
 
 def _distinct_rows(keys: np.ndarray) -> tuple:

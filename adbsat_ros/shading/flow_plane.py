@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from adbsat_ros.geometry import frames
+
 #: Cap on the number of (ray, triangle) or (panel, panel) pairs held in memory at once.
 MAX_PAIRS = 1 << 21
 
@@ -34,9 +36,9 @@ def perp_basis(d: np.ndarray) -> np.ndarray:
     k = int(np.argmin(np.abs(d)))
     e = np.zeros(3)
     e[k] = 1.0
-    p1 = np.cross(d, e)
+    p1 = frames.cross(d, e)  # (np.cross's numbers, without its checks)
     p1 /= np.linalg.norm(p1)
-    p2 = np.cross(d, p1)
+    p2 = frames.cross(d, p1)
     return np.stack([p1, p2, d], axis=1)
 
 
