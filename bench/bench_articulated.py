@@ -28,7 +28,9 @@ the joint configuration grid at 0.25 deg). Cases:
   direction cells only as the attitude turns, one cell crossing in 500 messages), rounds of
   ``--fin-messages``; ``fins-2deg`` the same with the configuration grid at 2 deg
   (``joint_shading_resolution_deg``), nearest point; ``fins-2deg-blend`` the same with
-  ``joint_shading_interpolation``.
+  ``joint_shading_interpolation``; ``fins-exact`` with ``joint_shading_exact`` (every message
+  shades the body posed at its positions for its flow direction; rounds of
+  ``--fin-messages``).
 
 Then, with ``--new-configurations`` N (default 12): what one new grid configuration costs the
 node's shading (``ShadingSource.lighting`` at a configuration not seen before: posing the body,
@@ -192,12 +194,18 @@ def main() -> None:
             ),
             stepping,
         ),
+        Case(
+            "fins-exact",
+            handler(WrenchSettings.from_parameters({"joint_shading_exact": True}), finned),
+            stepping,
+        ),
     ]
     for case in cases:  # warm-up: the first cells and configurations
         case.run(args.messages // 4)
         case.means.clear()
     for case in fin_cases:
-        case.run(5 if case.name == "fins" else 3 * SWEEP)  # (the others: three whole sweeps)
+        # (the grid's steady states after three whole sweeps; the exact mode keeps nothing)
+        case.run(5 if case.name in ("fins", "fins-exact") else 3 * SWEEP)
         case.means.clear()
     for _ in range(args.rounds):
         for case in cases:

@@ -185,6 +185,13 @@ PARAMETERS = (
         64,
         "articulated bodies: joint configurations whose shading is kept",
     ),
+    (
+        "joint_shading_exact",
+        False,
+        "articulated bodies: shade the body posed at each attitude's joint positions for its "
+        "own flow direction, with no configuration grid or direction cache (one shading per "
+        "attitude, no cache error: for joints that move with every message)",
+    ),
     ("f107", 150.0, "F10.7 solar flux of the previous day [sfu]"),
     ("f107a", 150.0, "81-day average F10.7 [sfu]"),
     ("ap", 4.0, "daily geomagnetic Ap index [-]"),

@@ -165,6 +165,7 @@ class WrenchSettings:
     joint_shading_resolution_m: float
     joint_shading_interpolation: bool
     joint_shading_cache_size: int
+    joint_shading_exact: bool
     f107: float
     f107a: float
     ap: float
@@ -267,6 +268,7 @@ class WrenchSettings:
             joint_shading_resolution_m=_number(v, "joint_shading_resolution_m"),
             joint_shading_interpolation=_flag(v, "joint_shading_interpolation"),
             joint_shading_cache_size=_number(v, "joint_shading_cache_size"),
+            joint_shading_exact=_flag(v, "joint_shading_exact"),
             f107=_number(v, "f107"),
             f107a=_number(v, "f107a"),
             ap=_number(v, "ap"),

@@ -10,6 +10,7 @@ from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.cache import ShadingCache
 from adbsat_ros.shading.configurations import ConfigurationShadingCache
+from adbsat_ros.shading.exact_configurations import ExactShading
 from adbsat_ros.shading.posed_scene import LinkScenes
 from adbsat_ros.shading.shader import make_shader
 
@@ -21,7 +22,9 @@ class ShadingSource:
     configuration of its grid (``joint_shading_*`` settings), which share the bound: each keeps
     ``shading_cache_size // joint_shading_cache_size`` flow directions (at least one), so the
     lightings kept number ``shading_cache_size`` at most, as for a rigid body (or
-    ``joint_shading_cache_size`` if that is larger).
+    ``joint_shading_cache_size`` if that is larger); with ``joint_shading_exact``, an
+    :class:`ExactShading` (the body posed at each message's positions, shaded for its flow
+    direction).
 
     Parameters
     ----------
@@ -32,7 +35,8 @@ class ShadingSource:
         ``shading_cache_resolution_deg``, ``shading_cache_size`` and
         ``shading_interpolation``; for an articulated body also
         ``joint_shading_resolution_deg``, ``joint_shading_resolution_m``,
-        ``joint_shading_interpolation`` and ``joint_shading_cache_size``.
+        ``joint_shading_interpolation``, ``joint_shading_cache_size`` and
+        ``joint_shading_exact``.
     body : ArticulatedBody, optional
         The articulated body whose (zero-configuration) panels ``mesh`` are.
     """
@@ -43,10 +47,7 @@ class ShadingSource:
         if settings.shading == "none":
             return
 
-        def cache_of(panels: PanelMesh, max_entries: int, **made) -> ShadingCache:
-            shader = make_shader(
-                panels, mode=settings.shading, samples=settings.shading_samples, **made
-            )
+        def cache_of(shader, max_entries: int) -> ShadingCache:
             return ShadingCache(
                 shader,
                 resolution_deg=settings.shading_cache_resolution_deg,
@@ -57,22 +58,32 @@ class ShadingSource:
         if isinstance(body, ArticulatedBody):
             # the links' ray scenes and filter topology, made once for every configuration
             scenes = LinkScenes(body) if settings.shading == "raycast" else None
+
+            def posed_shader(positions: dict):
+                panels = body.mesh(positions)
+                if scenes is None:
+                    return make_shader(
+                        panels, mode=settings.shading, samples=settings.shading_samples
+                    )
+                poses = body.link_poses(positions)
+                return make_shader(
+                    panels,
+                    mode=settings.shading,
+                    samples=settings.shading_samples,
+                    scene=scenes.scene(panels, poses),
+                    candidate_filter=scenes.candidate_filter(panels),
+                    hull_corners=scenes.hull_corners(poses),
+                )
+
+            if settings.joint_shading_exact:
+                self.cache = ExactShading(body, posed_shader)
+                return
             # the configurations share the bound on the lightings kept: each keeps at most
             # shading_cache_size // joint_shading_cache_size flow directions (at least one)
             cells = max(1, settings.shading_cache_size // settings.joint_shading_cache_size)
 
             def configuration_cache(positions: dict) -> ShadingCache:
-                panels = body.mesh(positions)
-                if scenes is None:
-                    return cache_of(panels, cells)
-                poses = body.link_poses(positions)
-                return cache_of(
-                    panels,
-                    cells,
-                    scene=scenes.scene(panels, poses),
-                    candidate_filter=scenes.candidate_filter(panels),
-                    hull_corners=scenes.hull_corners(poses),
-                )
+                return cache_of(posed_shader(positions), cells)
 
             self.cache = ConfigurationShadingCache(
                 body,
@@ -83,7 +94,8 @@ class ShadingSource:
                 interpolate=settings.joint_shading_interpolation,
             )
         else:
-            self.cache = cache_of(mesh, settings.shading_cache_size)
+            shader = make_shader(mesh, mode=settings.shading, samples=settings.shading_samples)
+            self.cache = cache_of(shader, settings.shading_cache_size)
 
     @staticmethod
     def key_of(settings: WrenchSettings) -> tuple:
@@ -98,6 +110,7 @@ class ShadingSource:
             settings.joint_shading_resolution_m,
             settings.joint_shading_interpolation,
             settings.joint_shading_cache_size,
+            settings.joint_shading_exact,
         )
 
     def vertices(self, positions: dict) -> list | None:
