@@ -21,21 +21,17 @@ import statistics
 import time
 
 from bench_articulated import (
-    FIXED_ANGLE,
-    JOINTS_EVERY,
-    PERIOD_NS,
     STATE_EVERY,
-    TRACK_RATE,
     attitude,
+    fixed_joints,
     handler,
-    stamp,
     state,
+    tracking_joints,
 )
 
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf
-from adbsat_ros.messages.cdr import JointStateFields
 
 CLASSES = ("plain", "js", "cell", "config")
 
@@ -75,18 +71,7 @@ def main() -> None:
     args = parser.parse_args()
     body = ArticulatedBody.from_urdf(example_satellite_urdf(), max_edge_fraction=0.0625)
     hinges = tuple(body.joints)
-
-    def tracking(k):
-        if k % JOINTS_EVERY:
-            return None
-        angle = FIXED_ANGLE + TRACK_RATE * k * PERIOD_NS * 1e-9
-        return JointStateFields(stamp(k), hinges, (angle, angle))
-
-    def fixed(k):
-        if k % JOINTS_EVERY:
-            return None
-        return JointStateFields(stamp(k), hinges, (FIXED_ANGLE, FIXED_ANGLE))
-
+    tracking, fixed = tracking_joints(hinges), fixed_joints(hinges)
     print(f"{body.mesh().n_panels} faces; {args.messages} messages after {args.warm_up}")
     for name, joints in (("tracking", tracking), ("fixed", fixed)):
         times = run(body, joints, args.messages, args.warm_up)

@@ -92,6 +92,31 @@ def state(k: int) -> OdometryFields:
     return OdometryFields(stamp(k), "eci", "eci", position, (0.0, 0.0, 0.0, 1.0), velocity)
 
 
+def fixed_joints(hinges):
+    """``joints(k)``: the wings' hinges at FIXED_ANGLE, a joint state every JOINTS_EVERY
+    messages (None between)."""
+
+    def joints(k):
+        if k % JOINTS_EVERY:
+            return None
+        return JointStateFields(stamp(k), hinges, (FIXED_ANGLE, FIXED_ANGLE))
+
+    return joints
+
+
+def tracking_joints(hinges):
+    """``joints(k)``: the wings' hinges turning at TRACK_RATE from FIXED_ANGLE (sun tracking),
+    a joint state every JOINTS_EVERY messages (None between)."""
+
+    def joints(k):
+        if k % JOINTS_EVERY:
+            return None
+        angle = FIXED_ANGLE + TRACK_RATE * k * PERIOD_NS * 1e-9
+        return JointStateFields(stamp(k), hinges, (angle, angle))
+
+    return joints
+
+
 class Case:
     """A handler and its message stream: ``joints(k)`` gives the joint state due at message k
     (or None)."""
@@ -154,16 +179,7 @@ def main() -> None:
     hinges = tuple(wings.joints)
     fins = tuple(finned.joints)
 
-    def fixed(k):
-        if k % JOINTS_EVERY:
-            return None
-        return JointStateFields(stamp(k), hinges, (FIXED_ANGLE, FIXED_ANGLE))
-
-    def tracking(k):
-        if k % JOINTS_EVERY:
-            return None
-        angle = FIXED_ANGLE + TRACK_RATE * k * PERIOD_NS * 1e-9
-        return JointStateFields(stamp(k), hinges, (angle, angle))
+    fixed, tracking = fixed_joints(hinges), tracking_joints(hinges)
 
     def stepping(k):
         d = math.radians(10.0) * math.sin(k * math.radians(0.4) / math.radians(10.0))
