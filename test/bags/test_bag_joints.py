@@ -88,13 +88,16 @@ def direct_samples(messages, events, joints, settings):
     return samples, est.rejections
 
 
-@pytest.mark.parametrize("workers", [1, 2])
-def test_joint_torques_and_wrenches_are_the_estimators(tmp_path, workers):
+@pytest.mark.parametrize(
+    "workers, exact", [(1, False), (2, False), (2, True)], ids=["1", "2", "2-exact"]
+)
+def test_joint_torques_and_wrenches_are_the_estimators(tmp_path, workers, exact):
+    """Also with the shading of each attitude's own positions (``joint_shading_exact``)."""
     messages = scenario.generate(
         scenario.Scenario(duration_s=8, rate_hz=5, state_rate_hz=1, attitude="tumble")
     )
     events, joints = write_bag(messages, tmp_path / "in")
-    settings = WrenchSettings.from_parameters(SETTINGS)
+    settings = WrenchSettings.from_parameters({**SETTINGS, "joint_shading_exact": exact})
     report = analyze_bag(
         tmp_path / "in",
         models=[("wings", settings)],
