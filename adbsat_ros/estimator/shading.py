@@ -47,6 +47,11 @@ class ShadingSource:
         if settings.shading == "none":
             return
 
+        def shader_of(panels: PanelMesh, **made):
+            return make_shader(
+                panels, mode=settings.shading, samples=settings.shading_samples, **made
+            )
+
         def cache_of(shader, max_entries: int) -> ShadingCache:
             return ShadingCache(
                 shader,
@@ -60,16 +65,12 @@ class ShadingSource:
             scenes = LinkScenes(body) if settings.shading == "raycast" else None
 
             def posed_shader(positions: dict):
-                panels = body.mesh(positions)
-                if scenes is None:
-                    return make_shader(
-                        panels, mode=settings.shading, samples=settings.shading_samples
-                    )
                 poses = body.link_poses(positions)
-                return make_shader(
+                panels = body.posed_mesh(poses)
+                if scenes is None:
+                    return shader_of(panels)
+                return shader_of(
                     panels,
-                    mode=settings.shading,
-                    samples=settings.shading_samples,
                     scene=scenes.scene(panels, poses),
                     candidate_filter=scenes.candidate_filter(panels),
                     hull_corners=scenes.hull_corners(poses),
@@ -94,8 +95,7 @@ class ShadingSource:
                 interpolate=settings.joint_shading_interpolation,
             )
         else:
-            shader = make_shader(mesh, mode=settings.shading, samples=settings.shading_samples)
-            self.cache = cache_of(shader, settings.shading_cache_size)
+            self.cache = cache_of(shader_of(mesh), settings.shading_cache_size)
 
     @staticmethod
     def key_of(settings: WrenchSettings) -> tuple:

@@ -163,7 +163,14 @@ class ArticulatedBody:
     ):
         self._urdf = urdf
         self.source = source
-        self.root = urdf.base_link
+        children = {j.child for j in urdf.joint_map.values()}
+        roots = [link for link in urdf.link_map if link not in children]
+        if len(roots) != 1:
+            raise MeshError(
+                f"{source}: the links must form one tree from one root link; links no joint "
+                f"carries: {', '.join(roots) or 'none'}"
+            )
+        self.root = roots[0]
         self.links = tuple(urdf.link_map)
         mimics = {name for name, j in urdf.joint_map.items() if j.mimic is not None}
         self.all_joint_names = tuple(urdf.joint_map)
@@ -180,7 +187,10 @@ class ArticulatedBody:
                 upper = math.inf if limit.upper is None else float(limit.upper)
             axis = tuple(float(x) for x in (j.axis if j.axis is not None else (1.0, 0.0, 0.0)))
             self.joints[name] = Joint(name, j.type, j.parent, j.child, axis, lower, upper)
-        self._chain = KinematicChain(urdf, self.links, self.root, self.joints)
+        try:
+            self._chain = KinematicChain(urdf, self.links, self.root, self.joints)
+        except ValueError as exc:
+            raise MeshError(f"{source}: {exc}") from None
         directory = os.path.dirname(os.path.abspath(source)) if os.path.isfile(source) else "."
 
         def resolve(filename):
@@ -264,7 +274,8 @@ class ArticulatedBody:
         source = source or path or "robot_description"
         try:
             stream = io.StringIO(text) if is_xml else path
-            model = yourdfpy.URDF.load(stream, build_scene_graph=True, load_meshes=False)
+            # (no scene graph: the links are posed by geometry.kinematics)
+            model = yourdfpy.URDF.load(stream, build_scene_graph=False, load_meshes=False)
         except (OSError, ValueError, yourdfpy.URDFError) as exc:
             raise MeshError(f"{source}: not a readable URDF: {exc}") from None
         except Exception as exc:  # (lxml's XMLSyntaxError and the like)
@@ -312,7 +323,12 @@ class ArticulatedBody:
 
     def mesh(self, values: Mapping[str, float] | None = None) -> PanelMesh:
         """The panels of the configuration ``values`` (joint name to position; others at 0)."""
-        return self._panels(self._parts, self.link_poses(values))
+        return self.posed_mesh(self.link_poses(values))
+
+    def posed_mesh(self, poses: np.ndarray) -> PanelMesh:
+        """The panels with the links at ``poses`` ((L, 4, 4), as :meth:`link_poses` gives
+        them): :meth:`mesh` for a configuration whose poses are made already."""
+        return self._panels(self._parts, poses)
 
     def link_mesh(self, link: int) -> PanelMesh:
         """The panels of link ``link`` (an index of :attr:`links`) in the link's own frame, in

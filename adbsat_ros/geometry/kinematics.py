@@ -65,6 +65,11 @@ class KinematicChain:
         The root link (its pose is the identity).
     moving : collection of str
         The joints whose positions are given (the others are fixed, or mimic one of these).
+
+    Raises
+    ------
+    ValueError
+        Naming the links that no chain of joints carries from the root.
     """
 
     def __init__(self, urdf, links, root: str, moving):
@@ -102,6 +107,12 @@ class KinematicChain:
                     )
                 )
                 frontier.append(joint.child)
+        unreached = set(links) - {root} - {links[j.child] for j in self.joints}
+        if unreached:
+            raise ValueError(
+                f"links not carried from the root {root} by a chain of joints: "
+                f"{', '.join(sorted(unreached))}"
+            )
 
     def poses(self, positions: Mapping[str, float]) -> np.ndarray:
         """4 x 4 pose of every link in the root's frame, shape (L, 4, 4), for checked

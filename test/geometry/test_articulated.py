@@ -121,6 +121,18 @@ def test_bad_joint_positions_are_refused_by_name(body, values, message):
             "</visual></link></robot>",
             "the mesh is 500 m across",
         ),
+        (
+            "<robot name='x'><link name='a'><visual><geometry><box size='1 1 1'/></geometry>"
+            "</visual></link><link name='b'/></robot>",
+            "one tree from one root link; links no joint carries: a, b",
+        ),
+        (
+            "<robot name='x'><link name='a'><visual><geometry><box size='1 1 1'/></geometry>"
+            "</visual></link><link name='b'/><link name='c'/>"
+            "<joint name='j1' type='fixed'><parent link='b'/><child link='c'/></joint>"
+            "<joint name='j2' type='fixed'><parent link='c'/><child link='b'/></joint></robot>",
+            "links not carried from the root a by a chain of joints: b, c",
+        ),
     ],
 )
 def test_bad_urdfs_are_refused_naming_the_problem(text, message):
