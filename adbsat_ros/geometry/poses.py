@@ -1,7 +1,7 @@
 """The frames of an articulated body's links and joints at a joint configuration, cached.
 
-Forward kinematics (yourdfpy's scene graph) costs a few hundred microseconds per configuration,
-and a stream of wrench messages meets the same configuration again and again (joint states come
+Forward kinematics (:mod:`~adbsat_ros.geometry.kinematics`) and the joints' axes cost about
+45 us per configuration (``timeit``, the example satellite's wings, one run), and a stream of wrench messages meets the same configuration again and again (joint states come
 at a tenth of the attitudes' rate, or not at all for fixed joints), so :class:`PoseCache` keeps
 the poses of the latest configurations.
 """
