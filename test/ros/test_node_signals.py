@@ -19,6 +19,12 @@ from ros_harness import Peer, circular_orbit_state, make_context  # noqa: E402
 #: Runs per signal (the fault this guards against showed in about half the runs).
 RUNS = 10
 
+#: Attempts per run. Rarely (once in some thousands of node processes on the CI machine) no
+#: message reached a freshly started node process within 30 s although its endpoints were
+#: matched: a delivery fault between the two DDS participants, not the node's, which is then
+#: started again in a namespace of its own. Every attempt that gets an answer is checked.
+ATTEMPTS = 3
+
 
 @pytest.fixture(scope="module")
 def sphere_file(tmp_path_factory):
@@ -30,23 +36,30 @@ def sphere_file(tmp_path_factory):
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_a_signal_under_a_stream_stops_the_node_cleanly(sphere_file, signum):
     for run in range(RUNS):
-        returncode, err = signal_mid_stream(sphere_file, signum, run)
+        failures = []
+        for attempt in range(ATTEMPTS):
+            answered, returncode, err = signal_mid_stream(sphere_file, signum, run, attempt)
+            if answered:
+                break
+            failures.append(err)
+        else:
+            pytest.fail(f"the node never answered in {ATTEMPTS} attempts (run {run}): {failures}")
         assert returncode == 0, (run, err)
         for word in ("Traceback", "FATAL", "Error", "error"):
             assert word not in err, (run, err)
 
 
-def signal_mid_stream(sphere_file, signum, run: int) -> tuple:
+def signal_mid_stream(sphere_file, signum, run: int, attempt: int) -> tuple:
     """Start a node process, stream attitudes (1 ms apart) and states to it from a peer of a
-    context of its own, send ``signum`` once it answers (later each run), and return its exit
-    status and stderr."""
+    context of its own, send ``signum`` once it answers (later each run), and return
+    ``(answered, exit status, stderr)``; a node that never answered is killed."""
     # each run in a namespace of its own: the endpoints of the run before, whose process has
     # gone, may linger in the graph for a while and must not pass for this node's
-    namespace = f"/signal_{signum.name.lower()}_{run}"
+    namespace = f"/signal_{signum.name.lower()}_{run}_{attempt}"
     cmd = [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args", "-p", f"mesh:={sphere_file}"]
     cmd += ["-p", "time_mode:=epoch", "-r", f"__ns:={namespace}"]
     ctx, executor = make_context()
-    peer = Peer(ctx, executor, name=f"signal_peer_{run}", namespace=namespace)
+    peer = Peer(ctx, executor, name=f"signal_peer_{run}_{attempt}", namespace=namespace)
     pos, vel = circular_orbit_state(300e3)
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
@@ -69,12 +82,9 @@ def signal_mid_stream(sphere_file, signum, run: int) -> tuple:
                 signalled = True
         if not signalled:
             proc.kill()
-            pytest.fail(
-                f"the node never answered (run {run}, {sent} attitudes sent): "
-                f"{proc.communicate()[1]}"
-            )
+            return False, None, f"{sent} attitudes sent; stderr: {proc.communicate()[1]}"
         _, err = proc.communicate(timeout=10)
-        return proc.returncode, err
+        return True, proc.returncode, err
     finally:
         if proc.poll() is None:
             proc.kill()
