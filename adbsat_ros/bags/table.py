@@ -108,8 +108,9 @@ def row_values(status: str, sample) -> list:
         return [status] + [math.nan] * (len(MODEL_COLUMNS) - 1)
     c = sample.conditions
     u = sample.flow_direction_body
-    wind = u * c.speed
-    if u.any():
+    speed = float(c.speed)
+    ux, uy, uz = u.tolist()
+    if ux or uy or uz:
         aoa, aos = angles_of_flow(u)
         aoa, aos = math.degrees(aoa), math.degrees(aos)
     else:
@@ -121,14 +122,17 @@ def row_values(status: str, sample) -> list:
         float(c.altitude),
         float(c.mass_density),
         float(c.temperature),
-        float(c.speed),
-        *wind.tolist(),
+        speed,
+        ux * speed,
+        uy * speed,
+        uz * speed,
         aoa,
         aos,
         float(sample.drag_coefficient),
-        *np.concatenate(
-            [sample.force_coefficients, sample.moment_coefficients, sample.force, sample.torque]
-        ).tolist(),
+        *sample.force_coefficients.tolist(),
+        *sample.moment_coefficients.tolist(),
+        *sample.force.tolist(),
+        *sample.torque.tolist(),
     ]
 
 

@@ -505,13 +505,19 @@ def compare(reference, actual, rtol: float, path: str = "", floor: float = 0.0) 
     """Differences between two nested outputs: numbers within ``rtol`` of the largest magnitude
     of their list (so components near zero are judged on the list's scale) plus ``floor``, the
     rest equal. Entering a record sets the floor to ``RECORD_FLOOR * rtol`` times its largest
-    magnitude (a record: an object of numbers and 3-vectors, as one attitude's output)."""
+    magnitude (a record: an object of numbers and 3-vectors, as one attitude's output), and so
+    does entering an object of lists (a database: its tables and axes). A row of a table whose
+    entries are all rounding noise about zero (the lift of a box in a plane of symmetry,
+    1e-17) is then judged on the database's scale: the last bits of a platform's vectorised
+    sines and cosines (AVX-512 or AVX2 kernels) move such entries by 1e-18."""
     problems = []
     if isinstance(reference, dict):
         if set(reference) != set(actual):
             return [f"{path}: keys {sorted(set(reference) ^ set(actual))} differ"]
         if all(not isinstance(v, (list, dict)) or _is_vector(v) for v in reference.values()):
             floor = RECORD_FLOOR * rtol * _magnitude(reference)  # one attitude's record
+        elif reference and all(isinstance(v, list) for v in reference.values()):
+            floor = max(floor, RECORD_FLOOR * rtol * _magnitude(reference))  # a database
         for key in reference:
             problems += compare(reference[key], actual[key], rtol, f"{path}/{key}", floor)
         return problems
