@@ -264,7 +264,13 @@ def test_a_signal_stops_the_analysis_within_a_second_keeping_partial_outputs(tmp
     proc = subprocess.Popen(
         cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
     )
-    time.sleep(3.0)
+    # the signal comes once rows are being written (the CSV in progress holds a flushed
+    # buffer), however long this machine takes to start, read the bag and fork the workers
+    deadline = time.monotonic() + 60.0
+    while proc.poll() is None and time.monotonic() < deadline:
+        if any(p.stat().st_size > 8192 for p in tmp_path.glob(".out.csv.*.partial")):
+            break
+        time.sleep(0.05)
     assert proc.poll() is None, "the analysis ended before the signal: give it a longer bag"
     sent = time.monotonic()
     os.killpg(proc.pid, signum)
