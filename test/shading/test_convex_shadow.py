@@ -191,3 +191,53 @@ def test_a_triangle_with_a_corner_on_the_polygons_corner(triangle, outline):
     fraction, centroid = lit_parts(np.array([triangle]), [np.array(outline)])
     assert fraction[0] == pytest.approx(want, rel=1e-12, abs=1e-12)
     assert np.isfinite(centroid).all()
+
+
+def _twice_area(polygon):
+    x, y = polygon[:, 0], polygon[:, 1]
+    return float(x @ np.roll(y, -1) - y @ np.roll(x, -1))
+
+
+def test_outline_is_the_convex_hull_that_qhull_finds():
+    # An independent reference: scipy's ConvexHull (Qhull) of the same points, on random
+    # clouds and on points rounded to a grid (many collinear and repeated): the same corners,
+    # counter-clockwise.
+    from scipy.spatial import ConvexHull
+
+    rng = np.random.default_rng(7)
+    clouds = [rng.normal(size=(rng.integers(3, 40), 2)) for _ in range(200)]
+    clouds += [np.round(rng.normal(size=(30, 2)), 1) for _ in range(100)]
+    for points in clouds:
+        outline = convex_outline(points)
+        want = points[ConvexHull(points).vertices]
+        assert {tuple(p) for p in outline.tolist()} == {tuple(p) for p in want.tolist()}
+        assert _twice_area(outline) == pytest.approx(_twice_area(want), rel=1e-14)
+        assert _twice_area(outline) > 0.0  # counter-clockwise
+
+
+def test_outline_drops_points_within_rounding_of_its_sides():
+    # A box's corners and points on its sides off by a few ulp (as a plane's cuts through its
+    # edges land), two corners an ulp apart in x: the four corners only.
+    x = 0.30064126278129333
+    points = np.array(
+        [
+            [-0.3, -0.15],
+            [np.nextafter(x, 1.0), -0.15],
+            [x, 0.15],
+            [-0.3, 0.15],
+            [x, -0.0227],  # on the right side, an ulp left of the corner below it
+            [0.0, 0.15 + 2e-17],  # on the top side, within rounding
+            [-0.3, 0.0],  # on the left side
+            [-0.3, -0.15],  # a corner again
+        ]
+    )
+    outline = convex_outline(points)
+    assert outline is not None and len(outline) == 4
+    assert {tuple(p) for p in outline.tolist()} == {tuple(p) for p in points[:4].tolist()}
+
+
+def test_an_edge_on_sliver_has_no_outline():
+    # A plate seen edge-on within rounding: its outline spans no area (left to the rays).
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1e-14], [0.0, 1e-14]])
+    assert convex_outline(points) is None
+    assert convex_outline(points * [1.0, 1e6]) is not None  # 1e-8 thick: an outline
