@@ -9,7 +9,10 @@ The streams are those of ``bench_articulated.py`` (attitudes at 1 kHz turning at
 states at 10 Hz, joint states at 10 Hz), as CDR bytes. Nodes (default parameters, epoch time):
 
 * ``rigid``: ``mesh`` = the example satellite with wings, both at 0.3 rad, merged into one mesh
-  (an OBJ written here; ``--max-edge-fraction`` 0.0625 refines it to 10,464 faces);
+  (an OBJ written here; ``--max-edge-fraction`` 0.0625 refines it to 10,464 faces; every OBJ
+  here is written with 17 significant digits, so the nodes read the panels exactly: rounded
+  to nine, the turned wings' panels no longer share their facets, and the rigid node would
+  evaluate 170 facets instead of 12);
 * ``fixed``: ``robot_description`` = the same body as a URDF whose links are those meshes (OBJ
   files written here), joint states unchanged (both wings at 0.3 rad);
 * ``tracking``: the same URDF, the wings turning at 0.1 deg/s (sun tracking).
@@ -92,7 +95,7 @@ def link_mesh_urdf(body: ArticulatedBody, text: str, directory: Path) -> str:
         name = body.links[link]
         mesh = body.link_mesh(link)
         path = directory / f"{name}.obj"
-        write_obj(mesh, path)
+        write_obj(mesh, path, digits=17)
         material = mesh.material_names[mesh.material_index[0]]
         visual = (
             f'<visual><geometry><mesh filename="{path}"/></geometry>'
@@ -151,7 +154,7 @@ def main() -> None:
     directory = Path(tempfile.mkdtemp())
     urdf = link_mesh_urdf(wings, text, directory)
     rigid_path = directory / "rigid.obj"
-    write_obj(wings.mesh(dict.fromkeys(hinges, FIXED_ANGLE)), rigid_path)
+    write_obj(wings.mesh(dict.fromkeys(hinges, FIXED_ANGLE)), rigid_path, digits=17)
     common = [Parameter("time_mode", value="epoch")]
 
     def node(name: str, *parameters) -> AdbsatNode:
