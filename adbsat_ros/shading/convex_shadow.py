@@ -54,8 +54,8 @@ MAX_CUT_PLANES = 32
 #: wholly behind if none is).
 FRONT_TOL_FRACTION = 1e-9
 #: An outline whose area is below this fraction of the square of its extent spans no area (a
-#: part seen edge-on): its panels are left to the rays; a point nearer than this fraction of
-#: the extent to the line through its neighbours is not one of its corners.
+#: part seen edge-on): its panels are left to the rays; nor is a corner one whose triangle with
+#: its two neighbours has an area below it (it lies on their line up to rounding).
 FLAT_OUTLINE = 1e-12
 #: Panels share a plane if their unit normals and their planes' offsets (as fractions of the
 #: bounding-box diagonal) agree to this many decimals: the rounding of a mesh's vertices
@@ -294,9 +294,9 @@ def convex_outline(points: np.ndarray) -> np.ndarray | None:
     its edges, some tens at most, for which scipy's ``ConvexHull`` spends its time setting up
     Qhull: 80 us a call against 13 to 31 us here, for the 16 outlines of 14 points on average
     that shading the finned example at its exact joint positions makes per message
-    (``timeit``, one run). A point within :data:`FLAT_OUTLINE` of the extent from the line
-    through its neighbours (the cut points of a part's edges lie on its sides up to rounding)
-    is not a corner.
+    (``timeit``, one run). A point whose triangle with its neighbours has an area below
+    :data:`FLAT_OUTLINE` of the square of the extent (the cut points of a part's edges lie on
+    its sides up to rounding) is not a corner.
 
     Parameters
     ----------
