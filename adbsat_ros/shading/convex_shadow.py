@@ -307,9 +307,12 @@ def convex_outline(points: np.ndarray) -> np.ndarray | None:
     -------
     ndarray, shape (m, 2) or None
         The hull's corners, counter-clockwise; None if the points span no area (their hull's
-        area is below :data:`FLAT_OUTLINE` of the square of their extent).
+        area is below :data:`FLAT_OUTLINE` of the square of their extent) or one is not finite.
     """
-    unique = sorted(set(map(tuple, np.asarray(points, dtype=float).reshape(-1, 2).tolist())))
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
+    if not np.isfinite(points).all():
+        return None
+    unique = sorted(set(map(tuple, points.tolist())))
     if len(unique) < 3:
         return None
     xs, ys = [x for x, _ in unique], [y for _, y in unique]

@@ -241,3 +241,9 @@ def test_an_edge_on_sliver_has_no_outline():
     points = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1e-14], [0.0, 1e-14]])
     assert convex_outline(points) is None
     assert convex_outline(points * [1.0, 1e6]) is not None  # 1e-8 thick: an outline
+
+
+def test_points_that_are_not_finite_have_no_outline():
+    square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+    for bad in (np.nan, np.inf):
+        assert convex_outline(np.array([*square, [bad, 0.5]])) is None
