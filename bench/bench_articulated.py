@@ -4,14 +4,15 @@ panels, in one run.
 Usage:
     python bench/bench_articulated.py [--rounds 5] [--messages 4000] [--first-messages 20]
         [--fin-messages 200]
-        [--max-edge-fraction 0.0625] [--fin-edge-fraction 0.075]
+        [--max-edge-fraction 0.0625] [--fin-edge-fraction 0.075] [--wrench-only]
 
 Each message goes through the node's per-message path without ROS
 (:class:`~adbsat_ros.estimator.handling.MessageHandler`: the estimator and the CDR bytes of the
-outputs), timed in CPU time of this thread. The stream is the node benchmark's: attitudes at
-1 kHz turning slowly (0.5 deg/s about a tilted axis), a state every 100 ms (a circular orbit at
-300 km), with the default parameters (sentman, ray-cast shading cached at 0.25 deg, interpolated;
-the joint configuration grid at 0.25 deg). Cases:
+outputs; with ``--wrench-only`` of the wrench alone, as the node with nobody subscribed to the
+coefficients and the joint torques), timed in CPU time of this thread. The stream is the node
+benchmark's: attitudes at 1 kHz turning slowly (0.5 deg/s about a tilted axis), a state every
+100 ms (a circular orbit at 300 km), with the default parameters (sentman, ray-cast shading
+cached at 0.25 deg, interpolated; the joint configuration grid at 0.25 deg). Cases:
 
 * ``rigid``: the example satellite with wings, read from its URDF with both wings at 0.3 rad
   and merged into one mesh (``--max-edge-fraction`` 0.0625 refines it to 10,464 faces), as a
@@ -121,6 +122,9 @@ class Case:
     """A handler and its message stream: ``joints(k)`` gives the joint state due at message k
     (or None)."""
 
+    #: What the handler serialises besides the wrench (``on_attitude``'s flags).
+    outputs = {"coefficients": True, "joint_torques": True}
+
     def __init__(self, name, handler, joints=None):
         self.name, self.handler, self.joints = name, handler, joints
         self.k = 0
@@ -137,7 +141,7 @@ class Case:
                 joint_state = self.joints(k)
                 if joint_state is not None:
                     handler.on_joint_state(joint_state)
-            outcome = handler.on_attitude(attitude(k))
+            outcome = handler.on_attitude(attitude(k), **self.outputs)
             if outcome.sample is None:
                 raise RuntimeError(f"{self.name}: message {k} refused: {outcome.rejection}")
             self.k += 1
@@ -167,6 +171,12 @@ def main() -> None:
     parser.add_argument("--max-edge-fraction", type=float, default=0.0625)
     parser.add_argument("--fin-edge-fraction", type=float, default=0.075)
     parser.add_argument("--new-configurations", type=int, default=12)
+    parser.add_argument(
+        "--wrench-only",
+        action="store_true",
+        help="serialise the wrench alone, as the node does with nobody subscribed to the "
+        "coefficients and the joint torques",
+    )
     args = parser.parse_args()
 
     wings = ArticulatedBody.from_urdf(
@@ -216,6 +226,8 @@ def main() -> None:
             stepping,
         ),
     ]
+    if args.wrench_only:
+        Case.outputs = {"coefficients": False, "joint_torques": False}
     for case in cases:  # warm-up: the first cells and configurations
         case.run(args.messages // 4)
         case.means.clear()
