@@ -65,9 +65,9 @@ def example_satellite(max_edge: float = 0.09) -> PanelMesh:
 
 def write_obj(mesh: PanelMesh, path, digits: int = 9) -> None:
     """Write a PanelMesh as a Wavefront OBJ with one ``usemtl`` group per material run, its
-    coordinates [m] to ``digits`` significant digits (17 write every float exactly: read back,
-    the panels and their facets are the same; with fewer, the panels of a flat face not
-    parallel to the axes can tilt apart by the rounding and no longer share a facet)."""
+    coordinates [m] to ``digits`` significant digits (1 to 17; 17 write every float exactly:
+    read back, the panels and their facets are the same; with fewer, the panels of a flat face
+    not parallel to the axes can tilt apart by the rounding and no longer share a facet)."""
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(f"# {mesh.source}\n# {mesh.n_panels} triangles, units: metres\n")
         for v in mesh.vertices.reshape(-1, 3):

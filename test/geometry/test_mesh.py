@@ -165,6 +165,22 @@ def test_example_satellite_is_closed_nonconvex_with_two_materials(tmp_path):
     assert resolve_mesh("example").n_panels == mesh.n_panels
 
 
+def test_an_obj_written_with_17_digits_reads_back_the_same_panels(tmp_path):
+    # A mesh turned off the axes: with 17 significant digits every coordinate, and so every
+    # normal, comes back exactly (its flat faces still share their planes); with 9, a turned
+    # face's normals scatter in their last digits.
+    mesh = example_satellite(max_edge=0.3)
+    turn = trimesh.transformations.rotation_matrix(0.3, [0.2, 1.0, 0.1])[:3, :3]
+    points = mesh.vertices.reshape(-1, 3) @ turn.T
+    turned = panels_from_arrays(points, np.arange(len(points)).reshape(-1, 3))
+    exact, rounded = tmp_path / "exact.obj", tmp_path / "rounded.obj"
+    write_obj(turned, exact, digits=17)
+    write_obj(turned, rounded)
+    assert np.array_equal(load_mesh(exact).vertices, turned.vertices)
+    assert np.array_equal(load_mesh(exact).normals, turned.normals)
+    assert not np.array_equal(load_mesh(rounded).normals, turned.normals)
+
+
 @pytest.mark.parametrize(
     "radius, unit, scale",
     [(500.0, "millimetres", 1e-3), (2e-4, "kilometres", 1e3)],
