@@ -7,6 +7,7 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from scipy.spatial import ConvexHull
 
 from adbsat_ros.shading.clipping import lit_parts
 from adbsat_ros.shading.convex_shadow import convex_outline
@@ -202,8 +203,6 @@ def test_outline_is_the_convex_hull_that_qhull_finds():
     # An independent reference: scipy's ConvexHull (Qhull) of the same points, on random
     # clouds and on points rounded to a grid (many collinear and repeated): the same corners,
     # counter-clockwise.
-    from scipy.spatial import ConvexHull
-
     rng = np.random.default_rng(7)
     clouds = [rng.normal(size=(rng.integers(3, 40), 2)) for _ in range(200)]
     clouds += [np.round(rng.normal(size=(30, 2)), 1) for _ in range(100)]
