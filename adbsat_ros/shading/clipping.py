@@ -8,6 +8,12 @@ one of a triangle's corners outside cut it, so each triangle takes only those, i
 many as the most any triangle needs. :mod:`adbsat_ros.shading.convex_shadow` uses it for the
 exact shadows of convex parts.
 
+Inside, a set of polygons is held as two arrays of coordinates, x and y, of shape
+(corners, polygons): every operation then runs along the polygons, a thousand or more, where
+the natural (polygons, corners, 2) layout runs numpy's loops along axes of two and three (400
+clippings of the finned example's panels, about 2,000 a call, took 2.45 ms a call in that
+layout against 1.47 ms in this one, the same numbers bit for bit, one run).
+
 Units: any length, the same for every point.
 """
 
@@ -48,160 +54,182 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     """
     tri = np.asarray(triangles, dtype=float)
     k = tri.shape[0]
-    outlines = [np.broadcast_to(o, (k, *np.shape(o)[-2:])) for o in outlines]
-    area_t, centroid_t = _triangle_area_centroid(tri)
+    tx, ty = np.ascontiguousarray(tri[:, :, 0].T), np.ascontiguousarray(tri[:, :, 1].T)
+    area_t, cx_t, cy_t = _triangle_area_centroid(tx, ty)
     n = len(outlines)
     if n == 0:  # nothing covers them
-        return np.ones(k), centroid_t
+        return np.ones(k), np.stack([cx_t, cy_t], axis=1)
+    polygons = [_columns(outline, k) for outline in outlines]
     # the 2^n - 1 non-empty sets of polygons (n is a few), one row each
     sets = np.array([[s >> i & 1 for i in range(n)] for s in range(1, 1 << n)], dtype=bool)
-    area, centroid = _covered(tri, area_t, centroid_t, outlines, sets)
-    area_u, moment_u = np.zeros(k), np.zeros((k, 2))
+    area, cx, cy = _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets)
+    area_u, mx, my = np.zeros(k), np.zeros(k), np.zeros(k)
     for s, chosen in enumerate(sets):
         sign = 1.0 if chosen.sum() % 2 else -1.0
         area_u += sign * area[s]
-        moment_u += sign * area[s, :, None] * centroid[s]  # (finite, also of area 0)
+        mx += sign * area[s] * cx[s]  # (finite, also of area 0)
+        my += sign * area[s] * cy[s]
     area_u = np.clip(area_u, 0.0, area_t)
     lit = area_t - area_u
     fraction = lit / area_t
+    centroid_t = np.stack([cx_t, cy_t], axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
-        centroid = (area_t[:, None] * centroid_t - moment_u) / lit[:, None]
+        centroid = np.stack([area_t * cx_t - mx, area_t * cy_t - my], axis=1) / lit[:, None]
     centroid = np.where((area_u > 0.0)[:, None], centroid, centroid_t)
     return fraction, np.where(np.isfinite(centroid), centroid, centroid_t)
 
 
-def _covered(tri, area_t, centroid_t, outlines, sets) -> tuple:
-    """Area (S, K) and centroid (S, K, 2) of each triangle's intersection with the polygons of
-    each set: ``outlines`` ((K, m, 2) each: the polygons of each triangle), ``sets`` (S, n)
-    which of them each set holds (the triangle's own area and centroid where it lies inside
-    all of a set, zero where outside one).
+def _columns(outline, k: int) -> tuple:
+    """A polygon's x and y as (m, 1) arrays (one shared by all K triangles) or (m, K) (one per
+    triangle), from its (m, 2) or (K, m, 2) corners."""
+    points = np.asarray(outline, dtype=float)
+    if points.ndim == 2:
+        return points[:, 0:1], points[:, 1:2]
+    if points.shape[0] != k:
+        raise ValueError(f"outlines: {points.shape[0]} polygons for {k} triangles")
+    return np.ascontiguousarray(points[:, :, 0].T), np.ascontiguousarray(points[:, :, 1].T)
+
+
+def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
+    """Area, x and y of the centroid (S, K) each of each triangle's intersection with the
+    polygons of each set: triangles ``tx``, ``ty`` (3, K), ``polygons`` [(x, y), ...] each
+    (m, K) or (m, 1) (:func:`_columns`), ``sets`` (S, n) which of them each set holds (the
+    triangle's own area and centroid where it lies inside all of a set, zero where outside
+    one).
 
     A triangle is clipped only by the edges of the set's polygons that have one of its
     corners outside: the part clipped so far lies in the triangle, so an edge with the whole
     triangle on its inner side cuts nothing. Every set's triangles are clipped together, the
-    edges that cut taken row by row: as many passes as the most any row needs (a panel
-    crossing one side of a part's outline: one pass, not one per side of the outline)."""
-    starts, ends, sides, owner = [], [], [], []
-    for i, outline in enumerate(outlines):  # which side of each edge each corner is on
-        a, b = outline, np.roll(outline, -1, axis=1)
-        edge = (b - a)[:, :, None]
-        sides.append(  # (K, m, 3), >= 0: inside
-            edge[..., 0] * (tri[:, None, :, 1] - a[:, :, None, 1])
-            - edge[..., 1] * (tri[:, None, :, 0] - a[:, :, None, 0])
-        )
-        starts.append(a)
-        ends.append(b)
-        owner += [i] * outline.shape[1]
-    corner_out = np.concatenate(sides, axis=1) < 0.0  # (K, E, 3): every edge of every outline
-    owner = np.array(owner)
-    # (the three corners joined elementwise: any/all over the axis of length 3 cost 0.1 ms
-    # more, 5 % of clipping 1,518 panels against one outline, in one run)
-    c0, c1, c2 = corner_out[..., 0], corner_out[..., 1], corner_out[..., 2]
-    cutting = c0 | c1 | c2  # (K, E): some corner beyond the edge
-    beyond = c0 & c1 & c2  # (K, E): every corner beyond it
-    own = owner[None, :] == np.arange(len(outlines))[:, None]  # (n, E)
-    within = ~(cutting[:, None, :] & own).any(axis=2)  # (K, n): inside the polygon
-    apart = (beyond[:, None, :] & own).any(axis=2)  # (K, n): outside it
-    inside = (within[None] | ~sets[:, None, :]).all(axis=2)  # (S, K)
-    outside = (apart[None] & sets[:, None, :]).any(axis=2)
+    edges that cut taken column by column: as many passes as the most any triangle needs (a
+    panel crossing one side of a part's outline: one pass, not one per side of the outline)."""
+    k, n = tx.shape[1], len(polygons)
+    within, apart = np.empty((n, k), dtype=bool), np.empty((n, k), dtype=bool)
+    cutting, starts, ends, owner = [], [], [], []
+    for i, (ax, ay) in enumerate(polygons):  # which side of each edge each corner is on
+        bx, by = _rolled(ax), _rolled(ay)
+        ex, ey = bx - ax, by - ay
+        # (m, K) each, >= 0: the corner inside (a corner at a time: the (m, 3, K) arrays of
+        # all three at once took 0.68 against 0.15 ms here for 2,139 panels, one run)
+        c0, c1, c2 = (ex * (ty[j] - ay) - ey * (tx[j] - ax) < 0.0 for j in range(3))
+        cut = c0 | c1 | c2  # (m, K): some corner beyond the edge
+        within[i] = ~cut.any(axis=0)  # inside the polygon
+        apart[i] = (c0 & c1 & c2).any(axis=0)  # every corner beyond one edge: outside it
+        cutting.append(cut)
+        m = ax.shape[0]
+        starts.append((np.broadcast_to(ax, (m, k)), np.broadcast_to(ay, (m, k))))
+        ends.append((np.broadcast_to(bx, (m, k)), np.broadcast_to(by, (m, k))))
+        owner += [i] * m
+    inside = (within[None] | ~sets[:, :, None]).all(axis=1)  # (S, K)
+    outside = (apart[None] & sets[:, :, None]).any(axis=1)
     area = np.where(inside & ~outside, area_t, 0.0)
-    centroid = np.repeat(centroid_t[None], len(sets), axis=0)
-    s, k = np.nonzero(~inside & ~outside)
-    if k.size:
+    cx, cy = np.repeat(cx_t[None], len(sets), axis=0), np.repeat(cy_t[None], len(sets), axis=0)
+    s, c = np.nonzero(~inside & ~outside)
+    if c.size:
         # Sutherland-Hodgman: clip the triangles by the half-planes left of the edges that cut
-        needed = cutting[k] & sets[s][:, owner]  # (C, E)
-        passes = needed.sum(axis=1)
-        order = np.argsort(~needed, axis=1, kind="stable")  # each row's cutting edges first
-        a_all = np.concatenate(starts, axis=1)[k]
-        b_all = np.concatenate(ends, axis=1)[k]
-        capacity = 3 + int(passes.max())
-        poly = np.zeros((k.size, capacity, 2))
-        poly[:, :3] = tri[k]
-        count = np.full(k.size, 3)
-        for p in range(int(passes.max())):
-            rows = np.flatnonzero(p < passes)  # (the rows with an edge left to clip by)
-            e = order[rows, p]
-            poly[rows], count[rows] = _clip(
-                poly[rows], count[rows], a_all[rows, e], b_all[rows, e], capacity
+        needed = np.concatenate(cutting)[:, c] & sets[s].T[owner]  # (E, C)
+        passes = needed.sum(axis=0)
+        order = np.argsort(~needed, axis=0, kind="stable")  # each column's cutting edges first
+        ax, ay = (np.concatenate([start[j] for start in starts])[:, c] for j in (0, 1))
+        bx, by = (np.concatenate([end[j] for end in ends])[:, c] for j in (0, 1))
+        most = int(passes.max())
+        px, py = np.zeros((3 + most, c.size)), np.zeros((3 + most, c.size))
+        px[:3], py[:3] = tx[:, c], ty[:, c]
+        count = np.full(c.size, 3)
+        for p in range(most):
+            cols = np.flatnonzero(p < passes)  # (the triangles with an edge left to clip by)
+            e = order[p, cols]
+            px[:, cols], py[:, cols], count[cols] = _clip(
+                px[:, cols],
+                py[:, cols],
+                count[cols],
+                (ax[e, cols], ay[e, cols]),
+                (bx[e, cols], by[e, cols]),
             )
-        area_cut, centroid_cut = _area_centroid(poly, count)
-        area[s, k] = area_cut
-        centroid[s, k] = np.where((area_cut > 0.0)[:, None], centroid_cut, centroid_t[k])
-    return np.clip(area, 0.0, area_t), centroid
+        area_cut, cx_cut, cy_cut = _area_centroid(px, py, count)
+        cut_lit = area_cut > 0.0
+        area[s, c] = area_cut
+        cx[s, c] = np.where(cut_lit, cx_cut, cx_t[c])
+        cy[s, c] = np.where(cut_lit, cy_cut, cy_t[c])
+    return np.clip(area, 0.0, area_t), cx, cy
 
 
-def _clip(poly, count, a, b, capacity):
-    """Polygons (K, capacity, 2) with ``count`` corners each, clipped to the half-plane left of
-    the directed line a -> b ((K, 2) each: the inside of a counter-clockwise outline)."""
-    k = poly.shape[0]
-    valid, nxt, q = _edges(poly, count)
-    p = poly
-    edge = (b - a)[:, None, :]
-    a = a[:, None, :]
-    side_p = edge[..., 0] * (p[..., 1] - a[..., 1]) - edge[..., 1] * (p[..., 0] - a[..., 0])
+def _clip(px, py, count, a, b) -> tuple:
+    """Polygons of x ``px`` and y ``py`` (capacity, R), with ``count`` corners each, clipped
+    to the half-plane left of the directed line a -> b ((x, y), each (R,): the inside of a
+    counter-clockwise outline); the clipped polygons' x, y and corner counts."""
+    capacity = px.shape[0]
+    valid, qx, qy = _edges(px, py, count)
+    (ax, ay), (bx, by) = a, b
+    ex, ey = bx - ax, by - ay
+    side_p = ex * (py - ay) - ey * (px - ax)
     # A corner within rounding of the line is on it: a corner of the panel on a corner of the
     # outline otherwise gives sides like (-, +, -1e-16, -0.0), four crossings where a convex
     # polygon has at most two, and one corner more than the buffer holds.
-    offset = np.where(valid[..., None], np.abs(p - a), 0.0).max(axis=(1, 2))
-    reach = np.abs(edge).max(axis=2) * offset[:, None]
+    offset = np.where(valid, np.maximum(np.abs(px - ax), np.abs(py - ay)), 0.0).max(axis=0)
+    reach = np.maximum(np.abs(ex), np.abs(ey)) * offset
     side_p = np.where(np.abs(side_p) <= SIDE_TOLERANCE * reach, 0.0, side_p)
-    side_q = np.take_along_axis(side_p, nxt, axis=1)
-    in_q = side_q >= 0.0
+    side_q = _successors(side_p, count)
     crossing = valid & (side_p * side_q < 0.0)  # (strictly on the two sides)
     with np.errstate(invalid="ignore", divide="ignore"):
         t = side_p / (side_p - side_q)
-        cut = p + t[..., None] * (q - p)
+        cut_x, cut_y = px + t * (qx - px), py + t * (qy - py)
     # per edge p -> q: the crossing point (if it crosses), then q (if q is inside)
-    emit_cut = crossing
-    emit_q = valid & in_q
-    n_out = emit_cut.astype(int) + emit_q.astype(int)
-    start = np.cumsum(n_out, axis=1) - n_out
-    out = np.zeros_like(poly)
-    rows = np.broadcast_to(np.arange(k)[:, None], (k, capacity))
-    out[rows[emit_cut], start[emit_cut]] = cut[emit_cut]
-    shift = start + emit_cut
-    out[rows[emit_q], shift[emit_q]] = q[emit_q]
-    return out, n_out.sum(axis=1).clip(max=capacity)
+    emit_q = valid & (side_q >= 0.0)
+    n_out = crossing.astype(int) + emit_q.astype(int)
+    start = np.cumsum(n_out, axis=0) - n_out
+    out_x, out_y = np.zeros_like(px), np.zeros_like(py)
+    slot, column = np.nonzero(crossing)
+    at = start[slot, column], column
+    out_x[at], out_y[at] = cut_x[slot, column], cut_y[slot, column]
+    slot, column = np.nonzero(emit_q)
+    at = start[slot, column] + crossing[slot, column], column
+    out_x[at], out_y[at] = qx[slot, column], qy[slot, column]
+    return out_x, out_y, n_out.sum(axis=0).clip(max=capacity)
 
 
-def _area_centroid(poly, count):
-    """Area (absolute) and centroid of polygons (K, capacity, 2) with ``count`` corners each
-    (shoelace; zero area and any centroid for fewer than three corners)."""
-    valid, _, q = _edges(poly, count)
-    p = poly
-    cross = np.where(valid, p[..., 0] * q[..., 1] - q[..., 0] * p[..., 1], 0.0)
-    twice = cross.sum(axis=1)
-    cx = ((p[..., 0] + q[..., 0]) * cross).sum(axis=1)
-    cy = ((p[..., 1] + q[..., 1]) * cross).sum(axis=1)
+def _area_centroid(px, py, count) -> tuple:
+    """Area (absolute) and centroid's x and y of polygons (capacity, K) with ``count`` corners
+    each (shoelace; zero area and any centroid for fewer than three corners)."""
+    valid, qx, qy = _edges(px, py, count)
+    cross = np.where(valid, px * qy - qx * py, 0.0)
+    twice = cross.sum(axis=0)
+    cx = ((px + qx) * cross).sum(axis=0)
+    cy = ((py + qy) * cross).sum(axis=0)
     with np.errstate(invalid="ignore", divide="ignore"):
-        centroid = np.stack([cx, cy], axis=1) / (3.0 * twice[:, None])
-    return np.abs(0.5 * twice), centroid
+        return np.abs(0.5 * twice), cx / (3.0 * twice), cy / (3.0 * twice)
 
 
-def _triangle_area_centroid(tri):
-    """:func:`_area_centroid` of triangles (K, 3, 2): the same operations in the same order,
-    on the corners' coordinates as arrays of K (its general form took 0.44 of the 2.4 ms of
-    clipping a finned body's panels, one run)."""
-    x0, y0, x1, y1, x2, y2 = (tri[:, i, j] for i in range(3) for j in range(2))
+def _triangle_area_centroid(tx, ty) -> tuple:
+    """:func:`_area_centroid` of triangles of corners ``tx``, ``ty`` (3, K): the same
+    operations in the same order, on each corner's coordinates as arrays of K."""
+    x0, x1, x2 = tx
+    y0, y1, y2 = ty
     c0, c1, c2 = x0 * y1 - x1 * y0, x1 * y2 - x2 * y1, x2 * y0 - x0 * y2
     twice = c0 + c1 + c2
     cx = (x0 + x1) * c0 + (x1 + x2) * c1 + (x2 + x0) * c2
     cy = (y0 + y1) * c0 + (y1 + y2) * c1 + (y2 + y0) * c2
     with np.errstate(invalid="ignore", divide="ignore"):
-        centroid = np.stack([cx, cy], axis=1) / (3.0 * twice[:, None])
-    return np.abs(0.5 * twice), centroid
+        return np.abs(0.5 * twice), cx / (3.0 * twice), cy / (3.0 * twice)
 
 
-def _edges(poly, count):
-    """The edges p -> q of polygons (K, capacity, 2) with ``count`` corners each: which corner
-    slots are corners (K, capacity), the index of each corner's successor, and the successors
-    (K, capacity, 2; what lies beyond a row's corners is not its successors)."""
-    k, capacity = poly.shape[:2]
-    index = np.arange(capacity)
-    valid = index[None, :] < count[:, None]
-    nxt = np.where(index[None, :] + 1 < count[:, None], index[None, :] + 1, 0)
-    # each corner's successor: the next slot, and the first corner after a row's last one (the
-    # slots beyond a row's corners are read by no caller)
-    q = np.roll(poly, -1, axis=1)
-    q[np.arange(k), np.maximum(count - 1, 0)] = poly[:, 0]
-    return valid, nxt, q
+def _edges(px, py, count) -> tuple:
+    """The edges p -> q of polygons (capacity, K) with ``count`` corners each: which corner
+    slots are corners (capacity, K), and the successors' x and y (what lies beyond a
+    polygon's corners is not its successors)."""
+    valid = np.arange(px.shape[0])[:, None] < count[None, :]
+    return valid, _successors(px, count), _successors(py, count)
+
+
+def _successors(values, count) -> np.ndarray:
+    """Each corner's value at its successor: the next slot's, and the first corner's after a
+    polygon's last one (the slots beyond a polygon's corners are read by no caller)."""
+    q = _rolled(values)
+    q[np.maximum(count - 1, 0), np.arange(values.shape[1])] = values[0]
+    return q
+
+
+def _rolled(values) -> np.ndarray:
+    """``np.roll(values, -1, axis=0)``: each slot's next, the first after the last (a new
+    array; ``np.roll`` took 8.3 us against 1.6 us here for 200 hexagons, ``timeit``, and the
+    clipping of a finned body's panels rolls about twenty arrays)."""
+    return np.concatenate((values[1:], values[:1]))
