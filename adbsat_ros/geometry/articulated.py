@@ -12,9 +12,13 @@ theirs); their positions [rad or m] place the links by forward kinematics
 :meth:`ArticulatedBody.mesh` gives the :class:`~adbsat_ros.geometry.mesh.PanelMesh` of a
 configuration: the parts are checked once (:func:`~adbsat_ros.geometry.mesh.panels_from_arrays`:
 zero-area faces dropped, closed parts turned outwards) and each configuration moves their
-vertices and recomputes normals, areas and barycentres exactly as that function does, so the
-panels of a configuration are those of its parts merged into one mesh, bit for bit, in the same
-order for every configuration (:attr:`ArticulatedBody.panel_link` names each panel's link).
+vertices, in the same order for every configuration (:attr:`ArticulatedBody.panel_link` names
+each panel's link). A link at its pose of the zero configuration keeps the normals, areas and
+barycentres of the parts there, made once as that function makes them, so the panels of the
+zero configuration are those of its parts merged into one mesh, bit for bit; a link elsewhere
+turns its parts' normals and barycentres in its own frame by its pose (its areas unchanged),
+equal to them recomputed from the moved vertices up to rounding (posing the finned example's
+12,832 panels: 0.57 ms against 1.23 ms recomputing them, ``timeit``, one run).
 
 Units: metres and radians; mesh frame G = the root link's frame.
 """
@@ -95,6 +99,13 @@ class _Part:
     vertices: np.ndarray  # (V, 3) in the link's frame [m]
     faces: np.ndarray  # (F, 3), oriented, zero-area faces dropped
     material: int
+    own: tuple = ()  # normals, areas, barycentres of its panels in the link's frame
+    at_zero: tuple = ()  # the same in the body frame at the zero configuration
+
+
+def _moved(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    """Points (n, 3) [m] of a link's frame in the frame of its 4 x 4 ``pose``."""
+    return points @ pose[:3, :3].T + pose[:3, 3]
 
 
 def _primitive(geometry, max_edge_fraction: float, resolve) -> trimesh.Trimesh:
@@ -213,6 +224,12 @@ class ArticulatedBody:
                 parts.append(_Part(index, *self._faces_of(tm, checked), names.index(material)))
         if not parts:
             raise MeshError(f"{source}: no link has geometry")
+        self._zero_poses = self._chain.poses(self.positions())
+        for part in parts:
+            part.own = triangle_geometry(part.vertices[part.faces])
+            part.at_zero = triangle_geometry(
+                _moved(part.vertices, self._zero_poses[part.link])[part.faces]
+            )
         self._parts = parts
         self.material_names = tuple(names)
         self.panel_link = np.concatenate([np.full(len(p.faces), p.link) for p in parts])
@@ -339,16 +356,22 @@ class ArticulatedBody:
         return self._panels(parts, np.broadcast_to(np.eye(4), (len(self.links), 4, 4)))
 
     def _panels(self, parts, poses) -> PanelMesh:
-        tri = np.empty((sum(len(part.faces) for part in parts), 3, 3))
+        n = sum(len(part.faces) for part in parts)
+        tri, areas = np.empty((n, 3, 3)), np.empty(n)
+        normals, barycentres = np.empty((n, 3)), np.empty((n, 3))
         materials, start = [], 0
         for part in parts:
             pose = poses[part.link]
-            vertices = part.vertices @ pose[:3, :3].T + pose[:3, 3]
             stop = start + len(part.faces)
-            np.take(vertices, part.faces, axis=0, out=tri[start:stop])
+            np.take(_moved(part.vertices, pose), part.faces, axis=0, out=tri[start:stop])
+            if np.array_equal(pose, self._zero_poses[part.link]):
+                normals[start:stop], areas[start:stop], barycentres[start:stop] = part.at_zero
+            else:
+                own_normals, areas[start:stop], own_barycentres = part.own
+                normals[start:stop] = own_normals @ pose[:3, :3].T
+                barycentres[start:stop] = _moved(own_barycentres, pose)
             materials.append(np.full(len(part.faces), part.material))
             start = stop
-        normals, areas, barycentres = triangle_geometry(tri)
         return PanelMesh(
             vertices=tri,
             normals=normals,
@@ -419,7 +442,7 @@ class ArticulatedBody:
         return [
             (
                 self.links[p.link],
-                p.vertices @ poses[p.link][:3, :3].T + poses[p.link][:3, 3],
+                _moved(p.vertices, poses[p.link]),
                 p.faces,
                 self.material_names[p.material],
             )
