@@ -80,18 +80,25 @@ class FlowBoxes(NamedTuple):
         Columns p1, p2 spanning the plane normal to the flow, and -u (upstream).
     coords : tuple of three ndarray, each (N, 3)
         The panels' corners along p1, p2 and upstream [m].
-    pmin, pmax : ndarray, shape (N, 3)
-        Each panel's bounding box in those coordinates [m].
-    cmin, cmax : ndarray, shape (C, 3)
-        Each connected component's bounding box [m].
+    pmin, pmax : tuple of three ndarray, each (N,)
+        Each panel's bounding box in those coordinates [m], a coordinate at a time.
+    cmin, cmax : tuple of three ndarray, each (C,)
+        Each connected component's bounding box [m], a coordinate at a time.
+
+    Notes
+    -----
+    The boxes are held a coordinate at a time so that their reductions and comparisons run
+    along the panels: as (N, 3) arrays, the boxes, the candidates and the occluders of the
+    forward panels took 1.82 ms for the finned example's 12,832 panels against 1.55-1.64 ms
+    (``timeit``, one run).
     """
 
     basis: np.ndarray
     coords: tuple
-    pmin: np.ndarray
-    pmax: np.ndarray
-    cmin: np.ndarray
-    cmax: np.ndarray
+    pmin: tuple
+    pmax: tuple
+    cmin: tuple
+    cmax: tuple
 
 
 class MeshTopology(NamedTuple):
@@ -242,10 +249,10 @@ class CandidateFilter:
         in the plane normal to the flow and upstream, and their bounding boxes there."""
         basis = perp_basis(-u)
         coords = coordinates(self.mesh.vertices, basis)  # s grows upstream
-        pmin = np.stack([min3(a) for a in coords], axis=1)  # (N, 3)
-        pmax = np.stack([max3(a) for a in coords], axis=1)
-        cmin = np.minimum.reduceat(pmin[self._order], self._start, axis=0)  # (C, 3)
-        cmax = np.maximum.reduceat(pmax[self._order], self._start, axis=0)
+        pmin = tuple(min3(a) for a in coords)  # (N,) each
+        pmax = tuple(max3(a) for a in coords)
+        cmin = tuple(np.minimum.reduceat(a[self._order], self._start) for a in pmin)  # (C,)
+        cmax = tuple(np.maximum.reduceat(a[self._order], self._start) for a in pmax)
         return FlowBoxes(basis, coords, pmin, pmax, cmin, cmax)
 
     def occluders(self, boxes: FlowBoxes, panels: np.ndarray) -> np.ndarray:
@@ -260,11 +267,11 @@ class CandidateFilter:
         pmin, pmax, cmin, cmax = boxes.pmin, boxes.pmax, boxes.cmin, boxes.cmax
         j = np.asarray(panels)
         overlap = (
-            (cmax[None, :, 2] > pmin[j, None, 2])
-            & (cmax[None, :, 0] >= pmin[j, None, 0])
-            & (cmin[None, :, 0] <= pmax[j, None, 0])
-            & (cmax[None, :, 1] >= pmin[j, None, 1])
-            & (cmin[None, :, 1] <= pmax[j, None, 1])
+            (cmax[2] > pmin[2][j, None])
+            & (cmax[0] >= pmin[0][j, None])
+            & (cmin[0] <= pmax[0][j, None])
+            & (cmax[1] >= pmin[1][j, None])
+            & (cmin[1] <= pmax[1][j, None])
         )
         overlap[np.arange(j.size), self.component[j]] = False
         return overlap
