@@ -59,7 +59,7 @@ def shear_per_sine(ctau, sigma) -> np.ndarray:
     return np.divide(ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
 
 
-def _sum_columns(weights, moments, normals) -> np.ndarray:
+def sum_columns(weights, moments, normals) -> np.ndarray:
     """Columns W, W n, Q, Q x n (shape (G, 10)) of weights W (G,), moments Q (G, 3), normals n."""
     return np.column_stack([weights, weights[:, None] * normals, moments, cross(moments, normals)])
 
@@ -194,7 +194,7 @@ class Facets:
         """Read-only (G, 10) facet sums of panel weights w_i [m^2] and moments
         w_i (r_i + shift_i) [m^3] (shape (N, 3))."""
         W = np.bincount(self.index, weights=weights, minlength=self.n)
-        sums = _sum_columns(W, self.vector_sums(weighted_points), self.normals)
+        sums = sum_columns(W, self.vector_sums(weighted_points), self.normals)
         sums.setflags(write=False)
         return sums
 

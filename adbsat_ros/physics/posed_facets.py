@@ -28,6 +28,7 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.lru import LruStore
+from adbsat_ros.physics.facets import sum_columns
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
 
@@ -96,6 +97,13 @@ class PosedFacets:
         self.panel_index = np.concatenate(
             [f.index + start for f, start in zip(self._facets, self.starts)]
         )
+        # every link's panels, link after link, to sum a lighting over all links in one pass
+        self._panels = np.concatenate([np.arange(a, b) for a, b in self._spans])
+        self._row_of_panel = np.full(max(b for _, b in self._spans), -1)
+        self._row_of_panel[self._panels] = np.arange(self._panels.size)
+        self._areas = np.concatenate([f.mesh.areas for f in self._facets])
+        self._weighted_barycentres = np.concatenate([f.weighted_barycentres for f in self._facets])
+        self._normals = np.concatenate([f.normals for f in self._facets])
         self.link_sums_store = LruStore(max_entries)
         self.sums_store = LruStore(max_entries)
         self.normals_store = LruStore(max_entries)
@@ -246,19 +254,26 @@ class PosedFacets:
         if lighting is None:
             return self._all_lit, None
 
-        def make():
-            own, shifts = [], []
-            fraction, index, shift = lighting.lit_fraction, lighting.shift_index, lighting.shift
-            for f, (start, stop) in zip(self._facets, self._spans):
-                lit = fraction[start:stop]
-                own.append(f.sums_of(f.mesh.areas * lit, lit[:, None] * f.weighted_barycentres))
-                inside = (index >= start) & (index < stop)
-                link_shifts = np.zeros((f.n, 3))
-                if inside.any():
-                    panels = index[inside] - start
-                    weighted = (f.mesh.areas[panels] * lit[panels])[:, None] * shift[inside]
-                    link_shifts = f.vector_sums(weighted, panels)
-                shifts.append(link_shifts)
-            return np.concatenate(own), (np.concatenate(shifts) if index.size else None)
+        def make():  # (every link at once: each facet's panels summed in their order)
+            lit = lighting.lit_fraction[self._panels]
+            index, n = self.panel_index, self.n
+            weighted = self._weighted_barycentres
+            moments = np.stack(
+                [np.bincount(index, lit * weighted[:, k], minlength=n) for k in range(3)], axis=-1
+            )
+            own = sum_columns(
+                np.bincount(index, self._areas * lit, minlength=n), moments, self._normals
+            )
+            if lighting.shift_index.size == 0:
+                return own, None
+            rows = self._row_of_panel[lighting.shift_index]
+            inside = rows >= 0
+            rows = rows[inside]
+            shift = (self._areas[rows] * lit[rows])[:, None] * lighting.shift[inside]
+            facets = index[rows]
+            shifts = np.stack(
+                [np.bincount(facets, shift[:, k], minlength=n) for k in range(3)], axis=-1
+            )
+            return own, shifts
 
         return self.link_sums_store.get(lighting.key, make)
