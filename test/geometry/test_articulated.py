@@ -9,12 +9,14 @@ import math
 
 import numpy as np
 import pytest
+import trimesh.transformations as tra
 import yourdfpy
 from fin_cases import FIN_URDF, newton_hinge_torque, rotation_y
 
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_satellite import BODY_SIZE, WING_GAP, WING_X_CENTRE
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf
+from adbsat_ros.geometry.kinematics import rotation
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.geometry.shapes import combine
 from adbsat_ros.physics.freestream import FreeStream
@@ -232,6 +234,31 @@ TREE_URDF = """<robot name="tree">
     <origin xyz="0 0.5 0.5" rpy="0.1 0.2 0.3"/>
   </joint>
 </robot>"""
+
+
+def test_a_joints_rotation_is_trimeshs_bit_for_bit_and_turns_by_its_angle():
+    """The chain's rotation about an axis (any length, either sense) is trimesh's
+    ``rotation_matrix``, the same numbers, and a rotation: orthonormal, determinant 1, the axis
+    fixed and a vector normal to it turned by the angle."""
+    rng = np.random.default_rng(11)
+    for k in range(500):
+        axis = rng.normal(size=3) * (3.7 if k % 2 else 1.0)
+        if k % 5 == 0:
+            axis = np.eye(3)[k % 3] * (-1.0) ** k
+        angle = rng.uniform(-7.0, 7.0)
+        got = rotation(angle, axis)
+        np.testing.assert_array_equal(got, tra.rotation_matrix(angle, axis))
+        r = got[:3, :3]
+        np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-15)
+        assert np.linalg.det(r) == pytest.approx(1.0, abs=1e-14)
+        unit = axis / np.linalg.norm(axis)
+        np.testing.assert_allclose(r @ unit, unit, atol=1e-15)
+        normal = np.cross(unit, [0.3, -0.5, 0.8])
+        normal /= np.linalg.norm(normal)
+        turned = r @ normal
+        assert math.atan2(np.cross(normal, turned) @ unit, normal @ turned) == pytest.approx(
+            math.remainder(angle, 2.0 * math.pi), abs=1e-12
+        )
 
 
 def test_the_links_poses_are_yourdfpys_forward_kinematics():
