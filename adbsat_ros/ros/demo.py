@@ -199,6 +199,7 @@ def run_demo(
                     Parameter("mesh", value=demo_joints.BODY),
                     Parameter("joint_state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
                     Parameter("joint_shading_resolution_deg", value=demo_joints.SHADING_GRID_DEG),
+                    Parameter("joint_shading_interpolation", value=True),
                 ]
                 if articulated
                 else []
