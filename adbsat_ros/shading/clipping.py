@@ -109,7 +109,7 @@ def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
         bx, by = _rolled(ax), _rolled(ay)
         ex, ey = bx - ax, by - ay
         # (m, K) each, >= 0: the corner inside (a corner at a time: the (m, 3, K) arrays of
-        # all three at once took 0.68 against 0.15 ms here for 2,139 panels, one run)
+        # all three at once took 0.62 against 0.10 ms here for 2,139 panels, ``timeit``)
         c0, c1, c2 = (ex * (ty[j] - ay) - ey * (tx[j] - ax) < 0.0 for j in range(3))
         cut = c0 | c1 | c2  # (m, K): some corner beyond the edge
         within[i] = ~cut.any(axis=0)  # inside the polygon
