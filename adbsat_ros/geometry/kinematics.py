@@ -70,7 +70,8 @@ class KinematicChain:
     Raises
     ------
     ValueError
-        Naming the links that no chain of joints carries from the root.
+        Naming the links that no chain of joints carries from the root, or a moving joint
+        whose axis has no direction (zero or not finite).
     """
 
     def __init__(self, urdf, links, root: str, moving):
@@ -87,6 +88,11 @@ class KinematicChain:
             for joint in children.get(parent, []):
                 origin = np.eye(4) if joint.origin is None else np.asarray(joint.origin, float)
                 axis = np.asarray(joint.axis if joint.axis is not None else (1.0, 0.0, 0.0), float)
+                if joint.type != "fixed" and not (np.isfinite(axis).all() and axis.any()):
+                    raise ValueError(
+                        f"joint {joint.name}: axis ({', '.join(f'{a:g}' for a in axis)}) has no "
+                        "direction"
+                    )
                 source, multiplier, offset = None, 1.0, 0.0
                 if joint.type != "fixed":
                     source = joint.name

@@ -135,6 +135,14 @@ def test_bad_joint_positions_are_refused_by_name(body, values, message):
             "<joint name='j2' type='fixed'><parent link='c'/><child link='b'/></joint></robot>",
             "links not carried from the root a by a chain of joints: b, c",
         ),
+        (
+            "<robot name='x'><link name='a'><visual><geometry><box size='1 1 1'/></geometry>"
+            "</visual></link><link name='b'/>"
+            "<joint name='j' type='revolute'><parent link='a'/><child link='b'/>"
+            "<axis xyz='0 0 0'/><limit lower='-1' upper='1' effort='1' velocity='1'/>"
+            "</joint></robot>",
+            r"joint j: axis \(0, 0, 0\) has no direction",
+        ),
     ],
 )
 def test_bad_urdfs_are_refused_naming_the_problem(text, message):
