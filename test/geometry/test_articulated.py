@@ -143,6 +143,13 @@ def test_bad_joint_positions_are_refused_by_name(body, values, message):
             "</joint></robot>",
             r"joint j: axis \(0, 0, 0\) has no direction",
         ),
+        (
+            "<robot name='x'><link name='a'><visual><geometry><box size='1 1 1'/></geometry>"
+            "</visual></link><link name='b'/>"
+            "<joint name='j' type='continuous'><parent link='a'/><child link='b'/>"
+            "<axis xyz='0 nan 1'/></joint></robot>",
+            r"joint j: axis \(0, nan, 1\) has no direction",
+        ),
     ],
 )
 def test_bad_urdfs_are_refused_naming_the_problem(text, message):
