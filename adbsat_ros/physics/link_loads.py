@@ -56,25 +56,26 @@ class EffortColumns:
         self.scale = np.where(self.prismatic, 1.0 / area, 1.0 / (area * length))
 
     def columns(self, sums, poses, link_of_facet) -> np.ndarray:
-        """(G, 4 J): for each joint, V (3 columns) and s, of the posed (G, 10) ``sums`` at
-        ``poses`` (facet g on evaluated link ``link_of_facet[g]``)."""
-        w, wn, q, qn = sums[:, 0], sums[:, 1:4], sums[:, 4:7], sums[:, 7:10]
+        """(..., G, 4 J): for each joint, V (3 columns) and s, of the posed (..., G, 10)
+        ``sums`` at ``poses`` (facet g on evaluated link ``link_of_facet[g]``; the same for
+        every leading index)."""
+        w, wn, q, qn = sums[..., 0], sums[..., 1:4], sums[..., 4:7], sums[..., 7:10]
         a, o = poses.joint_axes, poses.joint_origins
         a_o = frames.cross(a, o)  # (J, 3)
-        turning = frames.cross(a[:, None, :], q[None, :, :]) - w[None, :, None] * a_o[:, None]
-        sliding = w[None, :, None] * a[:, None, :]
-        v = np.where(self.prismatic[:, None, None], sliding, turning)  # (J, G, 3)
+        w_ = w[..., None, :, None]  # (..., 1, G, 1)
+        turning = frames.cross(a[:, None, :], q[..., None, :, :]) - w_ * a_o[:, None]
+        v = np.where(self.prismatic[:, None, None], w_ * a[:, None, :], turning)  # (..., J, G, 3)
         # (row by row, as einsum sums them, not through BLAS: a facet's columns are the same
         # numbers whatever other facets are posed with it)
-        wn_a = np.einsum("gk,jk->jg", wn, a)
+        wn_a = np.einsum("...gk,jk->...jg", wn, a)
         s = np.where(
             self.prismatic[:, None],
             wn_a,
-            np.einsum("gk,jk->jg", qn, a) - np.einsum("gk,jk->jg", wn, a_o),
+            np.einsum("...gk,jk->...jg", qn, a) - np.einsum("...gk,jk->...jg", wn, a_o),
         )
         weight = self.scale[:, None] * self.carries[:, link_of_facet]  # (J, G)
-        out = np.concatenate([v * weight[..., None], (s * weight)[..., None]], axis=2)
-        return out.transpose(1, 0, 2).reshape(len(w), -1)
+        out = np.concatenate([v * weight[..., None], (s * weight)[..., None]], axis=-1)
+        return np.moveaxis(out, -3, -2).reshape(*w.shape, -1)  # (..., G, J, 4) flattened
 
     @staticmethod
     def efforts(rows: np.ndarray, sums: np.ndarray, u) -> np.ndarray:

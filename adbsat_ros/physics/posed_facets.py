@@ -34,16 +34,16 @@ from adbsat_ros.shading.lighting import LightingBlend
 
 
 def _posed(sums: np.ndarray, rotations: np.ndarray, origins: np.ndarray) -> np.ndarray:
-    """Facet sums (G, 10) moved from their links' frames to G, each facet by its link's
-    rotation (G, 3, 3) and origin (G, 3)."""
+    """Facet sums (..., G, 10) moved from their links' frames to G, each facet by its link's
+    rotation (G, 3, 3) and origin (G, 3) (the same for every leading index)."""
     out = np.empty_like(sums)
-    w = sums[:, 0]
-    out[:, 0] = w
-    out[:, 1:4] = np.einsum("gij,gj->gi", rotations, sums[:, 1:4])
-    out[:, 4:7] = np.einsum("gij,gj->gi", rotations, sums[:, 4:7]) + w[:, None] * origins
-    out[:, 7:10] = np.einsum("gij,gj->gi", rotations, sums[:, 7:10]) + frames.cross(
-        origins, out[:, 1:4]
-    )
+    w = sums[..., 0]
+    out[..., 0] = w
+    # W n, Q and Q x n turned together: (..., G, 3 vectors, 3)
+    turned = np.einsum("gij,...gkj->...gki", rotations, sums[..., 1:].reshape(*w.shape, 3, 3))
+    out[..., 1:4] = turned[..., 0, :]
+    out[..., 4:7] = turned[..., 1, :] + w[..., None] * origins
+    out[..., 7:10] = turned[..., 2, :] + frames.cross(origins, out[..., 1:4])
     return out
 
 
@@ -94,6 +94,7 @@ class PosedFacets:
         self.starts = np.cumsum([0, *counts[:-1]])
         self._all_lit = np.concatenate([f.all_lit for f in self._facets])
         self._link_of_facet = np.repeat(np.arange(len(counts)), counts)  # (evaluated links)
+        self._facet_link = self._link_index[self._link_of_facet]  # (the body's links)
         self.panel_index = np.concatenate(
             [f.index + start for f, start in zip(self._facets, self.starts)]
         )
@@ -213,20 +214,17 @@ class PosedFacets:
         """The posed sums of the lighting ``parts`` at ``poses``, stacked (P, G, 10 + 4 J),
         read-only, posed in one pass (each row computed alone: a part's sums are the same
         posed with any others)."""
-        g = self.n
-        links = np.tile(self._link_index[self._link_of_facet], len(parts))  # every facet's link
+        links = self._facet_link
         own, shifts = zip(*(self._link_sums(part) for part in parts))
-        sums = _posed(np.concatenate(own), poses.rotations[links], poses.origins[links])
-        normals = self.normals(poses)[0]
-        for k, part_shifts in enumerate(shifts):
-            if part_shifts is not None:
-                rows = slice(k * g, (k + 1) * g)
-                sums[rows, 4:7] += part_shifts
-                sums[rows, 7:10] += frames.cross(part_shifts, normals)
+        sums = _posed(np.stack(own), poses.rotations[links], poses.origins[links])
+        if any(part_shifts is not None for part_shifts in shifts):
+            zero = np.zeros((self.n, 3))
+            shifts = np.stack([zero if x is None else x for x in shifts])
+            sums[..., 4:7] += shifts
+            sums[..., 7:10] += frames.cross(shifts, self.normals(poses)[0])
         if self._joints is not None:
-            link_of_facet = np.tile(self._link_of_facet, len(parts))
-            sums = np.hstack([sums, self._joints.columns(sums, poses, link_of_facet)])
-        sums = sums.reshape(len(parts), g, -1)
+            columns = self._joints.columns(sums, poses, self._link_of_facet)
+            sums = np.concatenate([sums, columns], axis=-1)
         sums.setflags(write=False)
         return sums
 
