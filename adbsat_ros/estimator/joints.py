@@ -70,6 +70,7 @@ class JointStates:
         self.body = body
         self.timeout = float(timeout)
         self._latest: dict = {}  # name -> (stamp, position)
+        self._span = self._stamp_span()
         self._configuration: JointConfiguration | None = None
         self.accepted = 0
         self.prepare = prepare or (lambda positions: JointConfiguration(positions, positions, None))
@@ -77,6 +78,7 @@ class JointStates:
     def clear(self) -> None:
         """Forget every position (the history restarts)."""
         self._latest.clear()
+        self._span = self._stamp_span()
         self._configuration = None
 
     def set_prepare(self, prepare: Callable) -> None:
@@ -127,6 +129,7 @@ class JointStates:
         latest = self._latest
         for name in given:
             latest[name] = (stamp, checked[name])
+        self._span = self._stamp_span()
         self.accepted += 1
         self._configuration = None  # (made when an attitude first needs it)
         return {name: checked[name] for name in given}
@@ -139,6 +142,31 @@ class JointStates:
         Rejection
             ``no_joint_state`` (a joint without a position yet) or ``stale_joint_state``.
         """
+        oldest, newest = self._span
+        if stamp - oldest > self.timeout or newest - stamp > self.timeout:
+            self._refuse(stamp)
+        if self._configuration is None:
+            latest = self._latest
+            self._configuration = self.prepare({name: latest[name][1] for name in self.body.joints})
+        return self._configuration
+
+    def _stamp_span(self) -> tuple:
+        """(oldest, newest) stamp [s] of the moving joints' latest positions, so that an
+        attitude at t is served when t - oldest and newest - t are both within the timeout:
+        two comparisons per attitude. (-inf, inf) while a joint has no position (every
+        attitude refused); (inf, -inf) for a body without moving joints (none refused)."""
+        latest = [self._latest.get(name) for name in self.body.joints]
+        if not latest:
+            return math.inf, -math.inf
+        if any(x is None for x in latest):
+            return -math.inf, math.inf
+        stamps = [x[0] for x in latest]
+        return min(stamps), max(stamps)
+
+    def _refuse(self, stamp: float) -> None:
+        """Raise the rejection of an attitude at ``stamp`` that the joint positions cannot
+        serve, naming the first joint (in the body's order) without a position or too far
+        from it."""
         for name in self.body.joints:
             latest = self._latest.get(name)
             if latest is None:
@@ -150,10 +178,6 @@ class JointStates:
                     f"joint {name}'s latest position is {dt:.3f} s from the attitude stamp "
                     f"(joint_state_timeout {self.timeout:g} s)",
                 )
-        if self._configuration is None:
-            latest = self._latest
-            self._configuration = self.prepare({name: latest[name][1] for name in self.body.joints})
-        return self._configuration
 
 
 def preparation(method, shading) -> Callable:

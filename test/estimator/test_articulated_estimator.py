@@ -128,6 +128,30 @@ def test_a_stale_joint_state_refuses_the_attitude():
 
 
 @pytest.mark.parametrize(
+    "left, right, stale",
+    [
+        (1.5, 1.5, None),  # both exactly the timeout behind: served
+        (2.5, 2.5, None),  # both exactly the timeout ahead: served
+        (1.4, 1.9, "wing_left_hinge"),  # the left too old
+        (1.9, 1.4, "wing_right_hinge"),  # the right too old, the left fresh
+        (2.0, 2.6, "wing_right_hinge"),  # the right too far ahead of the attitude
+        (1.4, 2.6, "wing_left_hinge"),  # both out: the first in the body's order is named
+    ],
+)
+def test_every_joint_position_must_lie_within_the_timeout_of_the_attitude(left, right, stale):
+    est = estimator(joint_state_timeout=0.5)
+    est.on_state(2.0, [R, 0.0, 1e3], [0.0, V, 10.0])
+    est.on_joint_state(left, HINGES[:1], (0.1,))
+    est.on_joint_state(right, HINGES[1:], (0.1,))
+    if stale is None:
+        assert est.on_attitude(2.0, TILTED).joints is not None
+        return
+    with pytest.raises(Rejection, match=f"joint {stale}'s latest position") as info:
+        est.on_attitude(2.0, TILTED)
+    assert info.value.reason == "stale_joint_state"
+
+
+@pytest.mark.parametrize(
     "names, positions, message",
     [
         (("antenna",), (0.0,), "joint 'antenna' is not in example-articulated"),
