@@ -21,7 +21,6 @@ import functools
 
 import numpy as np
 
-from adbsat_ros.geometry import frames
 from adbsat_ros.physics.facets import N_SUMS
 
 
@@ -58,24 +57,43 @@ class EffortColumns:
     def columns(self, sums, poses, link_of_facet) -> np.ndarray:
         """(..., G, 4 J): for each joint, V (3 columns) and s, of the posed (..., G, 10)
         ``sums`` at ``poses`` (facet g on evaluated link ``link_of_facet[g]``; the same for
-        every leading index)."""
-        w, wn, q, qn = sums[..., 0], sums[..., 1:4], sums[..., 4:7], sums[..., 7:10]
-        a, o = poses.joint_axes, poses.joint_origins
-        a_o = frames.cross(a, o)  # (J, 3)
-        w_ = w[..., None, :, None]  # (..., 1, G, 1)
-        turning = frames.cross(a[:, None, :], q[..., None, :, :]) - w_ * a_o[:, None]
-        v = np.where(self.prismatic[:, None, None], w_ * a[:, None, :], turning)  # (..., J, G, 3)
+        every leading index): V and s are linear in a facet's sums, so one product with the
+        configuration's :meth:`matrix` gives them, masked to the links each joint carries. (A
+        joint state poses the sums of a blend's three parts: their columns took 26 us this way
+        against 65 us with the cross products of every facet written out, ``timeit``, the
+        example satellite's wings, one run.)"""
         # (row by row, as einsum sums them, not through BLAS: a facet's columns are the same
         # numbers whatever other facets are posed with it)
-        wn_a = np.einsum("...gk,jk->...jg", wn, a)
-        s = np.where(
-            self.prismatic[:, None],
-            wn_a,
-            np.einsum("...gk,jk->...jg", qn, a) - np.einsum("...gk,jk->...jg", wn, a_o),
-        )
-        weight = self.scale[:, None] * self.carries[:, link_of_facet]  # (J, G)
-        out = np.concatenate([v * weight[..., None], (s * weight)[..., None]], axis=-1)
-        return np.moveaxis(out, -3, -2).reshape(*w.shape, -1)  # (..., G, J, 4) flattened
+        columns = np.einsum("...gi,ic->...gc", sums[..., :N_SUMS], self.matrix(poses))
+        return columns * np.repeat(self.carries[:, link_of_facet].T, 4, axis=1)
+
+    def matrix(self, poses) -> np.ndarray:
+        """The (10, 4 J) matrix that takes a facet's sums (W, W n, Q, Q x n) to every joint's
+        V and s at ``poses`` (the class docstring's formulas, for a link the joint carries)."""
+        rows = [[] for _ in range(N_SUMS)]  # (a loop over the joints, on Python floats)
+        for (ax, ay, az), (ox, oy, oz), slides, k in zip(
+            poses.joint_axes.tolist(),
+            poses.joint_origins.tolist(),
+            self.prismatic.tolist(),
+            self.scale.tolist(),
+        ):
+            if slides:  # V = W a, s = a . (W n)
+                x, y, z = k * ax, k * ay, k * az
+                block = [(x, y, z, 0.0), (0, 0, 0, x), (0, 0, 0, y), (0, 0, 0, z)]
+                block += [(0, 0, 0, 0)] * 6
+            else:  # V = a x Q - W (a x o), s = a . (Q x n) - (a x o) . (W n)
+                x, y, z = k * ax, k * ay, k * az
+                cx, cy, cz = (
+                    k * (ay * oz - az * oy),
+                    k * (az * ox - ax * oz),
+                    k * (ax * oy - ay * ox),
+                )
+                block = [(-cx, -cy, -cz, 0), (0, 0, 0, -cx), (0, 0, 0, -cy), (0, 0, 0, -cz)]
+                block += [(0, z, -y, 0), (-z, 0, x, 0), (y, -x, 0, 0)]  # Q_k's part of a x Q
+                block += [(0, 0, 0, x), (0, 0, 0, y), (0, 0, 0, z)]
+            for row, values in zip(rows, block):
+                row.extend(values)
+        return np.array(rows, dtype=float)
 
     @staticmethod
     def efforts(rows: np.ndarray, sums: np.ndarray, u) -> np.ndarray:
