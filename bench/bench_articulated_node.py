@@ -2,7 +2,7 @@
 in one run: ``adbsat_node`` itself (rclpy), its subscriptions' callbacks handed CDR bytes.
 
 Usage:
-    python bench/bench_articulated_node.py [--rounds 5] [--messages 3000]
+    python bench/bench_articulated_node.py [--messages 27000] [--warm-up 3000] [--block 1000]
         [--max-edge-fraction 0.0625]
 
 The streams are those of ``bench_articulated.py`` (attitudes at 1 kHz turning at 0.5 deg/s,
@@ -18,9 +18,14 @@ states at 10 Hz, joint states at 10 Hz), as CDR bytes. Nodes (default parameters
 * ``tracking``: the same URDF, the wings turning at 0.1 deg/s (sun tracking).
 
 Each node publishes its wrench (and the articulated ones the joint torques) with nobody
-subscribed, as a node with no matching reader does. Rounds are interleaved; printed per node:
-the median over rounds of the process CPU time per attitude (joint states and states
-included) [us], and its ratio to ``rigid``.
+subscribed, as a node with no matching reader does. The nodes take the stream in turn, message
+by message: a slower spell of the shared host falls on every node alike. Each node's callbacks
+for a message are timed in CPU time of this thread. Printed per node, after ``--warm-up``
+messages (the first cells and configurations): the mean CPU time per attitude over every
+message [us] (joint states and states included: what a run of the node costs; the tracking
+node's new grid configurations come in bursts, one in 2,500 attitudes, so its cost is this
+mean, not a median), its ratio to ``rigid``, and the median and range of that ratio over
+blocks of ``--block`` messages.
 """
 
 from __future__ import annotations
@@ -115,36 +120,39 @@ class NodeCase:
         subs = {sub.topic_name.split("/")[-1]: sub.callback for sub in node.subscriptions}
         self.on_attitude, self.on_state = subs["attitude"], subs["state"]
         self.on_joint_state = subs.get("joint_states")
-        self.k = 0
-        self.means = []
+        self.times = []  # CPU time of each message [ns]
 
-    def run(self, n: int) -> None:
-        messages = []  # (the bytes are made before the clock starts)
-        for k in range(self.k, self.k + n):
+    def messages(self, start: int, stop: int) -> list:
+        """(state, joint state, attitude) CDR bytes of messages [start, stop) (None where a
+        message is not due)."""
+        out = []
+        for k in range(start, stop):
             joint = None
             if self.angle is not None and k % JOINTS_EVERY == 0:
                 joint = joint_state_cdr(k, self.hinges, self.angle(k))
-            messages.append(
-                (state_cdr(k) if k % STATE_EVERY == 0 else None, joint, attitude_cdr(k))
-            )
+            out.append((state_cdr(k) if k % STATE_EVERY == 0 else None, joint, attitude_cdr(k)))
+        return out
+
+    def take(self, message, clock=time.thread_time_ns) -> None:
+        """Hand the node one message (its state and joint state first, if due); time it."""
+        state_raw, joint_raw, attitude_raw = message
         published = self.node.estimator.published
-        t0 = time.process_time()
-        for state_raw, joint_raw, attitude_raw in messages:
-            if state_raw is not None:
-                self.on_state(state_raw)
-            if joint_raw is not None:
-                self.on_joint_state(joint_raw)
-            self.on_attitude(attitude_raw)
-        self.means.append((time.process_time() - t0) / n * 1e6)
-        if self.node.estimator.published - published != n:
-            raise RuntimeError(f"{self.name}: not every attitude gave a wrench")
-        self.k += n
+        t0 = clock()
+        if state_raw is not None:
+            self.on_state(state_raw)
+        if joint_raw is not None:
+            self.on_joint_state(joint_raw)
+        self.on_attitude(attitude_raw)
+        self.times.append(clock() - t0)
+        if self.node.estimator.published != published + 1:
+            raise RuntimeError(f"{self.name}: an attitude gave no wrench")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--rounds", type=int, default=5)
-    parser.add_argument("--messages", type=int, default=3000)
+    parser.add_argument("--messages", type=int, default=27000)
+    parser.add_argument("--warm-up", type=int, default=3000)
+    parser.add_argument("--block", type=int, default=1000)
     parser.add_argument("--max-edge-fraction", type=float, default=0.0625)
     args = parser.parse_args()
 
@@ -181,17 +189,29 @@ def main() -> None:
                 lambda k: FIXED_ANGLE + TRACK_RATE * k * PERIOD_NS * 1e-9,
             ),
         ]
-        for case in cases:  # warm-up: the first cells and configurations
-            case.run(args.messages // 4)
-            case.means.clear()
-        for _ in range(args.rounds):
-            for case in cases:
-                case.run(args.messages)
-        rigid = statistics.median(cases[0].means)
-        print(f"{wings.mesh().n_panels} faces; {args.rounds} rounds of {args.messages} messages")
+        total = args.warm_up + args.messages
+        for start in range(0, total, args.block):  # (the bytes are made between blocks)
+            stop = min(start + args.block, total)
+            streams = [case.messages(start, stop) for case in cases]
+            for k in range(stop - start):
+                for case, stream in zip(cases, streams):
+                    case.take(stream[k])
+        print(
+            f"{wings.mesh().n_panels} faces; {args.messages} messages after {args.warm_up}, "
+            f"blocks of {args.block}"
+        )
+        rigid = cases[0].times[args.warm_up :]
         for case in cases:
-            mean = statistics.median(case.means)
-            print(f"{case.name:9s} {mean:8.1f} us/message  ratio to rigid {mean / rigid:6.3f}")
+            times = case.times[args.warm_up :]
+            blocks = [
+                sum(times[i : i + args.block]) / sum(rigid[i : i + args.block])
+                for i in range(0, len(times), args.block)
+            ]
+            print(
+                f"{case.name:9s} {statistics.fmean(times) / 1e3:8.1f} us/message  ratio to rigid "
+                f"{sum(times) / sum(rigid):6.3f}  (blocks: median {statistics.median(blocks):.3f}, "
+                f"{min(blocks):.3f}-{max(blocks):.3f})"
+            )
     finally:
         for case in locals().get("cases", []):
             case.node.destroy_node()
