@@ -54,22 +54,10 @@ class EffortColumns:
         self.prismatic = np.asarray(prismatic, dtype=bool)
         self.scale = np.where(self.prismatic, 1.0 / area, 1.0 / (area * length))
 
-    def columns(self, sums, poses, link_of_facet) -> np.ndarray:
-        """(..., G, 4 J): for each joint, V (3 columns) and s, of the posed (..., G, 10)
-        ``sums`` at ``poses`` (facet g on evaluated link ``link_of_facet[g]``; the same for
-        every leading index): V and s are linear in a facet's sums, so one product with the
-        configuration's :meth:`matrix` gives them, masked to the links each joint carries. (A
-        joint state poses the sums of a blend's three parts: their columns took 26 us this way
-        against 65 us with the cross products of every facet written out, ``timeit``, the
-        example satellite's wings, one run.)"""
-        # (row by row, as einsum sums them, not through BLAS: a facet's columns are the same
-        # numbers whatever other facets are posed with it)
-        columns = np.einsum("...gi,ic->...gc", sums[..., :N_SUMS], self.matrix(poses))
-        return columns * np.repeat(self.carries[:, link_of_facet].T, 4, axis=1)
-
     def matrix(self, poses) -> np.ndarray:
-        """The (10, 4 J) matrix that takes a facet's sums (W, W n, Q, Q x n) to every joint's
-        V and s at ``poses`` (the class docstring's formulas, for a link the joint carries)."""
+        """The (10, 4 J) matrix that takes a facet's posed sums (W, W n, Q, Q x n) to every
+        joint's V and s at ``poses`` (the class docstring's formulas), for a facet on a link
+        the joint carries (:attr:`carries`; zero columns for the others)."""
         rows = [[] for _ in range(N_SUMS)]  # (a loop over the joints, on Python floats)
         for (ax, ay, az), (ox, oy, oz), slides, k in zip(
             poses.joint_axes.tolist(),
