@@ -72,11 +72,22 @@ class OrbitalState:
     __hash__ = None
 
 
-@dataclass(frozen=True, eq=False)
 class JointSample:
     """The joints of an articulated body at one message.
 
-    The efforts and the links' loads are computed from ``coefficients`` when first read.
+    The efforts and the links' loads are computed from ``coefficients`` when first read. Made
+    at every message of an articulated body, so a plain object of three fields (0.2 us to make,
+    against 0.9 us as a frozen dataclass of five, ``timeit``, one run): read it, do not change
+    it.
+
+    Parameters
+    ----------
+    coefficients : ArticulatedCoefficients
+        The body's coefficients at this message.
+    dynamic_pressure : float
+        q [Pa].
+    link_names : tuple of str
+        The links, in the body's order.
 
     Attributes
     ----------
@@ -84,12 +95,6 @@ class JointSample:
         The moving joints, in the body's order.
     positions : ndarray, shape (J,)
         Their positions used [rad or m] (read-only).
-    link_names : tuple of str
-        The links, in the body's order.
-    coefficients : ArticulatedCoefficients
-        The body's coefficients at this message.
-    dynamic_pressure : float
-        q [Pa].
     efforts : ndarray, shape (J,)
         The aerodynamic effort each drive must hold [N m about a revolute joint's axis, N along
         a prismatic joint's].
@@ -98,11 +103,22 @@ class JointSample:
         sum to the wrench.
     """
 
-    names: tuple
-    positions: np.ndarray
-    link_names: tuple
-    coefficients: ArticulatedCoefficients
-    dynamic_pressure: float
+    def __init__(
+        self, coefficients: ArticulatedCoefficients, dynamic_pressure: float, link_names: tuple
+    ):
+        self.coefficients = coefficients
+        self.dynamic_pressure = dynamic_pressure
+        self.link_names = link_names
+
+    @property
+    def names(self) -> tuple:
+        """The moving joints, in the body's order."""
+        return self.coefficients.joint_names
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Their positions used [rad or m] (J,), read-only."""
+        return self.coefficients.joint_positions
 
     @functools.cached_property
     def efforts(self) -> np.ndarray:

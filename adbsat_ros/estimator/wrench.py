@@ -138,10 +138,4 @@ def joint_sample(body, articulated, q: float) -> JointSample:
     """The joints' positions and efforts and the links' loads of an
     :class:`~adbsat_ros.physics.articulated_results.ArticulatedCoefficients` at dynamic pressure
     q [Pa]."""
-    return JointSample(
-        names=articulated.joint_names,
-        positions=articulated.joint_positions,
-        link_names=body.links,
-        coefficients=articulated,
-        dynamic_pressure=q,
-    )
+    return JointSample(articulated, q, body.links)
