@@ -16,6 +16,7 @@ from adbsat_ros.messages.cdr import (
     AttitudeFields,
     JointStateFields,
     OdometryFields,
+    joint_state_fields,
     odometry_fields,
     quaternion_stamped_fields,
 )
@@ -96,14 +97,18 @@ def decode_odometry(raw, fallback: Callable) -> OdometryFields:
 
 
 def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
-    """Stamp, names and positions of the CDR bytes of a sensor_msgs/JointState, read by
-    ``deserialise(raw)`` (the full deserialiser: joint states come at a low rate).
+    """Stamp, names and positions of the CDR bytes of a sensor_msgs/JointState: the struct
+    reader's, or ``deserialise(raw)``'s (the full deserialiser) where it refuses them.
 
     Raises
     ------
     UndecodableMessage
-        If ``deserialise`` cannot read ``raw``.
+        If neither reads ``raw``.
     """
+    try:
+        return joint_state_fields(raw)
+    except ValueError:
+        pass
     try:
         return JointStateFields.of_message(deserialise(raw))
     except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)

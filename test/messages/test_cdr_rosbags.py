@@ -14,6 +14,7 @@ from adbsat_ros.messages.cdr import (
     diagnostic_array_cdr,
     header_stamp,
     joint_state_cdr,
+    joint_state_fields,
     odometry_fields,
     quaternion_stamped_fields,
     wrench_stamped_cdr,
@@ -177,3 +178,56 @@ def test_joint_state_with_velocities_equals_rosbags_byte_for_byte():
     msg = bag_io.joint_state_message(STAMPS_NS[0], "body", names, positions, velocities, efforts)
     raw = joint_state_cdr(t.sec, t.nanosec, "body", names, positions, velocities, efforts)
     assert raw == bytes(bag_io.serialize(msg))
+
+
+@pytest.mark.parametrize("little_endian", [True, False])
+@pytest.mark.parametrize(
+    "names, positions, velocities, efforts",
+    [
+        ((), (), (), ()),
+        (("hinge",), (0.25,), (), ()),
+        (("ab", "cde", "fghi", "j"), (0.1, -0.2, 1e-300, 3.0), (1.0, 2.0, 3.0, 4.0), ()),
+        (("wing_left_hinge", "wing_right_hinge"), (0.3, -0.3), (), (4.0, -0.0)),
+        (("a", "b"), (), (0.5, 0.25), (1.0, 2.0)),  # names without positions
+    ],
+)
+def test_joint_state_read_equals_rosbags(little_endian, names, positions, velocities, efforts):
+    """Names of every length mod 4, each float64 sequence empty or not, either byte order."""
+    for frame in FRAMES:
+        for stamp in STAMPS_NS:
+            t = bag_io.time_message(stamp)
+            msg = bag_io.joint_state_message(stamp, frame, names, positions, velocities, efforts)
+            raw = bytes(
+                bag_io.TYPESTORE.serialize_cdr(msg, bag_io.JOINT_STATE, little_endian=little_endian)
+            )
+            fields = joint_state_fields(raw)
+            assert fields == JointStateFields(Stamp(t.sec, t.nanosec), names, positions)
+            assert fields == JointStateFields.of_message(bag_io.deserialize_joint_state(raw))
+
+
+def test_anything_but_a_plain_cdr_joint_state_is_refused_by_the_struct_reader():
+    msg = bag_io.joint_state_message(10**9, "body", ("left", "right"), (0.1, 0.2), (), (1.0, 2.0))
+    raw = bytes(bag_io.serialize(msg))
+    xcdr2 = b"\x00\x07" + raw[2:]
+    too_many_names = bytearray(raw)
+    too_many_names[24:28] = (10**6).to_bytes(4, "little")  # the name count past the end
+    not_utf8 = bytearray(raw)
+    not_utf8[32] = 0xFF  # in the first name
+    quaternion = bytes(bag_io.serialize(bag_io.quaternion_stamped_message(10**9, "eci", Q)))
+    assert joint_state_fields(raw + b"\x00" * 12) == joint_state_fields(raw)  # (rclpy's tail)
+    for bad in (
+        raw[:-8],
+        raw + b"\x00" * 16,
+        xcdr2,
+        bytes(too_many_names),
+        bytes(not_utf8),
+        quaternion,
+        b"",
+        raw[:15],
+        raw[:26],
+    ):
+        with pytest.raises(ValueError):
+            joint_state_fields(bad)
+    # what the struct reader refuses goes to the full deserialiser, which reads or refuses it
+    with pytest.raises(UndecodableMessage, match="not a sensor_msgs/msg/JointState"):
+        decode_joint_state(xcdr2, bag_io.deserialize_joint_state)

@@ -11,12 +11,15 @@ from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Quaternion, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
+from sensor_msgs.msg import JointState
 
 from adbsat_ros.messages.cdr import (
     AttitudeFields,
+    JointStateFields,
     OdometryFields,
     Stamp,
     diagnostic_array_cdr,
+    joint_state_fields,
     odometry_fields,
     quaternion_stamped_fields,
     wrench_stamped_cdr,
@@ -133,3 +136,21 @@ def test_diagnostic_array_reads_back_in_rclpy():
                 )
                 for s in back.status
             ] == [tuple(f) for f in statuses[:count]]
+
+
+@pytest.mark.parametrize("count", [0, 1, 2, 3, 4, 6])
+def test_rclpy_joint_states_are_read_by_the_struct_reader(count):
+    """rclpy's serialiser leaves a few bytes after the last field (0, 8 or 12 here): read past."""
+    for frame in FRAMES:
+        for velocities in (False, True):
+            msg = JointState()
+            msg.header.frame_id = frame
+            msg.header.stamp.sec, msg.header.stamp.nanosec = 1_767_225_600, 7
+            msg.name = ["j" * (k + 1) for k in range(count)]
+            msg.position = [0.1 * k - 0.2 for k in range(count)]
+            msg.velocity = [1.0] * count if velocities else []
+            msg.effort = [2.0] * count
+            raw = serialize_message(msg)
+            fields = joint_state_fields(raw)
+            assert fields == JointStateFields.of_message(deserialize_message(raw, JointState))
+            assert fields.names == tuple(msg.name)
