@@ -45,7 +45,7 @@ from adbsat_ros.geometry.poses import PoseCache, Poses
 from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.articulated_results import ArticulatedCoefficients, Configuration
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
-from adbsat_ros.physics.facets import N_SUMS, facet_rows
+from adbsat_ros.physics.facets import facet_rows
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.link_loads import LINK_LOADS, EffortColumns, LinkLoads
 from adbsat_ros.physics.panel_method import OWN_SHADING, PanelMethod
@@ -322,7 +322,7 @@ class ArticulatedMethod:
         rows = facet_rows(c, cp, shear)
         sums = facets.sums(lighting, configuration.poses)
         return (
-            PanelMethod.totals_of_sums(u, rows, sums[:, :N_SUMS], self.reference),
+            PanelMethod.totals_of_sums(u, rows, sums.ten, self.reference),
             (c, cp, ctau, shear, normals),
             facets.panel_index,
             (rows, sums, facets.starts, u),

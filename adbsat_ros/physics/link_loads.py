@@ -84,10 +84,10 @@ class EffortColumns:
         return np.array(rows, dtype=float)
 
     @staticmethod
-    def efforts(rows: np.ndarray, sums: np.ndarray, u) -> np.ndarray:
-        """The effort coefficients (J,) from the (3, G) facet rows, the (G, 10 + 4 J) posed
-        sums with these columns, and the flow direction u."""
-        terms = (rows[:2] @ sums[:, N_SUMS:]).reshape(2, -1, 4)
+    def efforts(rows: np.ndarray, columns: np.ndarray, u) -> np.ndarray:
+        """The effort coefficients (J,) from the (3, G) facet rows, the (G, 4 J) posed
+        columns, and the flow direction u."""
+        terms = (rows[:2] @ columns).reshape(2, -1, 4)
         return terms[0, :, :3] @ u + terms[1, :, 3]
 
 
@@ -112,9 +112,9 @@ class LinkLoads:
     loads : ndarray, shape (7 E,), optional
         The evaluated links' loads, if known; else computed from ``facets``.
     facets : tuple, optional
-        ``(rows, sums, starts, u)``: the (3, G) facet rows, the (G, 10 + 4 J) posed facet sums
-        with the joints' effort columns (:class:`EffortColumns`), the index of each evaluated
-        link's first facet and the flow direction.
+        ``(rows, sums, starts, u)``: the (3, G) facet rows, the posed facet sums with the
+        joints' effort columns (:class:`~adbsat_ros.physics.posed_facets.PosedSums`), the
+        index of each evaluated link's first facet and the flow direction.
     """
 
     def __init__(self, load_map, forces, moments, efforts, n_links, loads=None, facets=None):
@@ -142,7 +142,7 @@ class LinkLoads:
         through the load map."""
         if self._facets is not None:
             rows, sums, _, u = self._facets
-            return EffortColumns.efforts(rows, sums, u)
+            return EffortColumns.efforts(rows, sums.columns, u)
         return self._outputs[self.efforts]
 
     @functools.cached_property
@@ -151,7 +151,7 @@ class LinkLoads:
         loads = self._loads
         if loads is None:
             rows, sums, starts, u = self._facets
-            weighted = sums[:, :N_SUMS, None] * rows.T[:, None, :]  # (G, 10, 3)
+            weighted = sums.ten[:, :, None] * rows.T[:, None, :]  # (G, 10, 3)
             per_link = np.add.reduceat(weighted, starts, axis=0).reshape(len(starts), -1)
             loads = (per_link @ sums_to_loads(u)).ravel()
         return self.load_map @ loads

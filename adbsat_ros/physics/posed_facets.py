@@ -45,14 +45,48 @@ class Posing(NamedTuple):
         The facets' unit normals in G.
     inward_T : ndarray, shape (3, G)
         -normals^T (what the panel method's incidence takes).
-    matrix : ndarray, shape (G, 13, 10 + 4 J)
+    matrix : ndarray, shape (G, 13, 10)
         For each facet, what takes its sums in its link's frame and its shift sums
-        (W, W n, Q, Q x n, S) to its posed sums in G and the joints' effort columns.
+        (W, W n, Q, Q x n, S) to its posed sums in G.
+    efforts : ndarray, shape (G, 13, 4 J) or None
+        The same to the joints' effort columns (None without joints).
     """
 
     normals: np.ndarray
     inward_T: np.ndarray
     matrix: np.ndarray
+    efforts: np.ndarray | None
+
+
+class PosedSums:
+    """A lighting's facet sums posed at a configuration.
+
+    Attributes
+    ----------
+    ten : ndarray, shape (G, 10)
+        W, W n, Q, Q x n of every facet (blended at once: every wrench needs them).
+    columns : ndarray, shape (G, 4 J) or None
+        The joints' effort columns (:class:`~adbsat_ros.physics.link_loads.EffortColumns`),
+        blended when first read (only the joints' efforts need them); None without joints.
+    """
+
+    __slots__ = ("ten", "_weights", "_stacked", "_columns")
+
+    def __init__(self, ten, weights=None, stacked_columns=None):
+        self.ten = ten
+        self._weights, self._stacked = weights, stacked_columns
+        self._columns = (
+            stacked_columns[0] if weights is None and stacked_columns is not None else None
+        )
+
+    @property
+    def columns(self) -> np.ndarray | None:
+        """The joints' effort columns (G, 4 J), or None."""
+        if self._columns is None and self._stacked is not None:
+            stacked = self._stacked
+            blended = self._weights @ stacked.reshape(len(stacked), -1)
+            self._columns = blended.reshape(stacked.shape[1:])
+        return self._columns
 
 
 #: The Levi-Civita symbol: the matrix [v]x of the cross product with v is -(EPSILON . v)
@@ -222,6 +256,7 @@ class PosedFacets:
             t_cross_T = np.einsum("jlk,gk->gjl", EPSILON, origins)  # [t]x^T
             matrix[:, 1:4, 7:10] = np.einsum("gij,gjl->gil", turned, t_cross_T)
             matrix[:, 10:13, 7:10] = -np.einsum("ijk,gk->gij", EPSILON, normals)
+            efforts = None
             if self._joints is not None:  # the effort columns of the posed sums, where carried
                 # (one product for every facet: 3.6 us against 20 us by einsum, ``timeit``;
                 # made once per configuration, the same numbers however the arrays lie)
@@ -229,53 +264,59 @@ class PosedFacets:
                     self.n, 13, -1
                 )
                 efforts *= self._carried[:, None, :]
-                matrix = np.concatenate([matrix, efforts], axis=-1)
+                efforts.setflags(write=False)
             inward_T = np.ascontiguousarray(-normals.T)
             for a in (normals, inward_T, matrix):
                 a.setflags(write=False)
-            return Posing(normals, inward_T, matrix)
+            return Posing(normals, inward_T, matrix, efforts)
 
         return self.posing_store.get(poses.key, make)
 
-    def sums(self, lighting, poses) -> np.ndarray:
+    def sums(self, lighting, poses) -> PosedSums:
         """The facet sums (W, W n, Q, Q x n) of the body's ``lighting`` (None: all lit) posed
-        at ``poses``, link after link, in the ten first columns: the layout of
+        at ``poses``, link after link: the layout of
         :meth:`~adbsat_ros.physics.facets.Facets.lit_sums`, so that the whole body's totals are
-        those of a rigid body of these facets; then, with ``joints``, the joints' effort columns
-        (:class:`~adbsat_ros.physics.link_loads.EffortColumns`). Shape (G, 10 + 4 J).
+        those of a rigid body of these facets; and, with ``joints``, the joints' effort columns
+        (:class:`~adbsat_ros.physics.link_loads.EffortColumns`).
 
         A blend's are the weighted sum of its parts' posed sums, kept stacked under the parts'
         keys and the configuration's (:attr:`sums_store`): the parts of a blend are those of the
         direction triangle around the flow, the same for hundreds of attitudes, so a message
-        reads one entry and makes one product with its weights: 4.8 us per message against
-        7.3 us with the parts stored apart, read and summed one by one (``timeit``, the example
-        satellite's wings, 18 facets and two joints, one run). A new triangle poses its three
-        parts again, together.
+        reads one entry and makes one product with its weights (the effort columns' only if the
+        efforts are read). A new triangle poses its three parts again, together.
         """
         if isinstance(lighting, LightingBlend):
             weights, parts = zip(*lighting.parts)
         else:
             weights, parts = (1.0,), (lighting,)
         key = (tuple(None if part is None else part.key for part in parts), poses.key)
-        stacked = self.sums_store.get(key, lambda: self._posed_parts(parts, poses))
+        ten, columns = self.sums_store.get(key, lambda: self._posed_parts(parts, poses))
         if len(parts) == 1:
-            return stacked[0]
-        return (np.array(weights) @ stacked.reshape(len(parts), -1)).reshape(stacked.shape[1:])
+            return PosedSums(ten[0], None, columns)
+        weights = np.array(weights)
+        return PosedSums(
+            (weights @ ten.reshape(len(parts), -1)).reshape(self.n, 10), weights, columns
+        )
 
-    def _posed_parts(self, parts, poses) -> np.ndarray:
-        """The posed sums of the lighting ``parts`` at ``poses``, stacked (P, G, 10 + 4 J),
-        read-only: one product of their (W, W n, Q, Q x n, S) with the configuration's
-        :class:`Posing` matrices (each row computed alone, as einsum sums it: a part's sums are
-        the same posed with any others)."""
+    def _posed_parts(self, parts, poses) -> tuple:
+        """The posed sums of the lighting ``parts`` at ``poses``, stacked: (P, G, 10) and the
+        effort columns (P, G, 4 J) (None without joints), read-only; each a product of their
+        (W, W n, Q, Q x n, S) with the configuration's :class:`Posing` (each row computed alone,
+        as einsum sums it: a part's sums are the same posed with any others)."""
         rows = np.zeros((len(parts), self.n, 13))
         for k, part in enumerate(parts):
             own, shifts = self._link_sums(part)
             rows[k, :, :10] = own
             if shifts is not None:
                 rows[k, :, 10:] = shifts
-        sums = np.einsum("pgi,gic->pgc", rows, self.posing(poses).matrix)
-        sums.setflags(write=False)
-        return sums
+        posing = self.posing(poses)
+        ten = np.einsum("pgi,gic->pgc", rows, posing.matrix)
+        ten.setflags(write=False)
+        if posing.efforts is None:
+            return ten, None
+        columns = np.einsum("pgi,gic->pgc", rows, posing.efforts)
+        columns.setflags(write=False)
+        return ten, columns
 
     def _link_sums(self, lighting) -> tuple:
         """The facets' sums (G, 10) of ``lighting``'s lit fractions, each in its link's own
