@@ -65,5 +65,5 @@ class PoseCache:
         rotations = np.ascontiguousarray(matrices[:, :3, :3])
         origins = np.ascontiguousarray(matrices[:, :3, 3])
         axes = np.einsum("jab,jb->ja", rotations[self._child], self._axes)
-        axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+        axes /= np.sqrt(np.einsum("ja,ja->j", axes, axes))[:, None]
         return Poses(key, rotations, origins, axes, origins[self._child])

@@ -275,11 +275,17 @@ class ArticulatedMethod:
         if it slides.
         """
         area, length = self.reference.area, self.reference.length
-        axes, origins = poses.joint_axes, poses.joint_origins
-        per_joint = np.zeros((len(self.body.joints), LINK_LOADS))
-        per_joint[:, 0:3] = np.where(self._prismatic[:, None], axes, -frames.cross(axes, origins))
-        per_joint[:, 3:6] = np.where(self._prismatic[:, None], 0.0, axes)
-        per_joint[:, 0:6] /= np.where(self._prismatic, area, area * length)[:, None]
+        per_joint = []  # (a loop over the joints, on Python floats: a few joints)
+        for (ax, ay, az), (ox, oy, oz), slides in zip(
+            poses.joint_axes.tolist(), poses.joint_origins.tolist(), self._prismatic.tolist()
+        ):
+            if slides:  # a . F / A_ref
+                per_joint.append((ax / area, ay / area, az / area, 0.0, 0.0, 0.0, 0.0))
+            else:  # (a . M - (a x o) . F) / (A_ref L_ref)
+                k = area * length
+                cx, cy, cz = ay * oz - az * oy, az * ox - ax * oz, ax * oy - ay * ox
+                per_joint.append((-cx / k, -cy / k, -cz / k, ax / k, ay / k, az / k, 0.0))
+        per_joint = np.array(per_joint).reshape(-1, LINK_LOADS)
         out = self._links_map.copy()
         # joint j's row: per_joint[j] in the columns of every link it carries
         out[self._rows[4]] = (self._carries[:, :, None] * per_joint[:, None, :]).reshape(
