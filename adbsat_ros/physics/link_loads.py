@@ -97,8 +97,7 @@ class LinkLoads:
 
     It holds the evaluation's own numbers, not the method that made them: a sample that keeps
     it keeps no cache alive, and pickles. A node publishing only the wrench reads neither (the
-    efforts cost about 2 us per message, a tenth of what an articulated body adds to a rigid
-    one's message in the node).
+    efforts cost a few microseconds per message).
 
     Parameters
     ----------
