@@ -38,11 +38,12 @@ node's shading (``ShadingSource.lighting`` at a configuration not seen before: p
 its candidate filter and hulls, and shading the direction cells around the flow at the
 stream's attitude), CPU time, median of N, every moving joint 0.3 deg further each time.
 
-Rounds are interleaved (rigid, fixed, tracking each run the next ``--messages`` of their stream
-in turn, the fin cases theirs). Printed per case: the median over rounds of the mean CPU time
-per message [us] (joint states included), its ratio to ``rigid``, the mean over every message
-measured (for the fins, whose cost comes in bursts as the direction cells are shaded) and the
-shading counters (cells and configurations shaded, hits).
+In each round rigid, fixed and tracking take the next ``--messages`` of their streams message by
+message, in turn (a slower spell of the shared host falls on each alike), then the fin cases
+theirs. Printed per case: the median over rounds of the mean CPU time per message [us] (joint
+states included), the mean over every message measured (what a run costs: the fins' and the
+tracking arrays' costs come in bursts as cells and configurations are shaded), its ratio to
+``rigid``'s, and the shading counters (cells and configurations shaded, hits).
 """
 
 from __future__ import annotations
@@ -130,22 +131,27 @@ class Case:
         self.k = 0
         self.means = []
 
-    def run(self, n: int) -> None:
-        handler, clock = self.handler, time.thread_time_ns
+    def take(self, clock=time.thread_time_ns) -> int:
+        """Hand the handler the next message (its state and joint state first, if due); its
+        CPU time [ns]."""
+        handler, k = self.handler, self.k
         t0 = clock()
-        for _ in range(n):
-            k = self.k
-            if k % STATE_EVERY == 0:
-                handler.on_state(state(k))
-            if self.joints is not None:
-                joint_state = self.joints(k)
-                if joint_state is not None:
-                    handler.on_joint_state(joint_state)
-            outcome = handler.on_attitude(attitude(k), **self.outputs)
-            if outcome.sample is None:
-                raise RuntimeError(f"{self.name}: message {k} refused: {outcome.rejection}")
-            self.k += 1
-        self.means.append((clock() - t0) / n / 1e3)
+        if k % STATE_EVERY == 0:
+            handler.on_state(state(k))
+        if self.joints is not None:
+            joint_state = self.joints(k)
+            if joint_state is not None:
+                handler.on_joint_state(joint_state)
+        outcome = handler.on_attitude(attitude(k), **self.outputs)
+        elapsed = clock() - t0
+        if outcome.sample is None:
+            raise RuntimeError(f"{self.name}: message {k} refused: {outcome.rejection}")
+        self.k += 1
+        return elapsed
+
+    def run(self, n: int) -> None:
+        """The next ``n`` messages, their mean CPU time [us] kept as a round's."""
+        self.means.append(sum(self.take() for _ in range(n)) / n / 1e3)
 
     def counters(self) -> str:
         cache = self.handler.estimator.shading_cache
@@ -236,21 +242,25 @@ def main() -> None:
         case.run(5 if case.name in ("fins", "fins-exact") else 3 * SWEEP)
         case.means.clear()
     for _ in range(args.rounds):
-        for case in cases:
-            case.run(args.messages)
+        totals = [0] * len(cases)  # (the wings' cases take their streams message by message)
+        for _ in range(args.messages):
+            for i, case in enumerate(cases):
+                totals[i] += case.take()
+        for case, total in zip(cases, totals):
+            case.means.append(total / args.messages / 1e3)
         for case in fin_cases:
             case.run(args.first_messages if case.name == "fins" else args.fin_messages)
-    rigid = statistics.median(cases[0].means)
+    rigid = statistics.fmean(cases[0].means)
     print(
         f"faces: wings {wings.mesh().n_panels}, finned {finned.mesh().n_panels}; "
         f"{args.rounds} rounds of {args.messages} messages ({args.first_messages} for the "
         f"first sweep of the fins, {args.fin_messages} for the others)"
     )
     for case in cases + fin_cases:
-        median = statistics.median(case.means)
+        median, mean = statistics.median(case.means), statistics.fmean(case.means)
         print(
-            f"{case.name:15s} {median:10.1f} us/message  ratio to rigid {median / rigid:7.3f}  "
-            f"mean {statistics.fmean(case.means):10.1f} us  ({case.counters()})"
+            f"{case.name:15s} {median:10.1f} us/message  mean {mean:10.1f} us  "
+            f"ratio of means to rigid {mean / rigid:7.3f}  ({case.counters()})"
         )
     for body in (wings, finned):
         times = new_configuration_times(body, args.new_configurations)
