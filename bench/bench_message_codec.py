@@ -13,10 +13,11 @@ geometry_msgs/WrenchStamped written (stamp, frame, force, torque), three ways:
 * stamped_cdr: the struct readers and writer the node uses (adbsat_ros.messages.cdr).
 
 and for one nav_msgs/Odometry read (stamp, frame ids, position, orientation, linear velocity)
-the same three ways.
+and one sensor_msgs/JointState read (stamp, names, positions; two joints with positions and
+efforts, as the example satellite's wings) the same three ways.
 
-Prints the median time per message pair (and per Odometry) in microseconds, each codec timed in
-alternating blocks so that the machine's slow spells fall on all three.
+Prints the median time per message pair (and per Odometry, per JointState) in microseconds,
+each codec timed in alternating blocks so that the machine's slow spells fall on all three.
 """
 
 from __future__ import annotations
@@ -31,12 +32,15 @@ import numpy as np
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
+from sensor_msgs.msg import JointState
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
 
 from adbsat_ros.bags import io as bag_io  # noqa: E402
 from adbsat_ros.messages.cdr import (  # noqa: E402
+    JointStateFields,
     OdometryFields,
+    joint_state_fields,
     odometry_fields,
     quaternion_stamped_fields,
     wrench_stamped_cdr,
@@ -107,9 +111,34 @@ def main() -> None:
     }
     assert len({fn() for fn in states.values()}) == 1  # the three read the same fields
 
+    # (rosbags' bytes: rosbags refuses rclpy's, which end with a few bytes of padding)
+    joints_raw = bytes(
+        bag_io.serialize(
+            bag_io.joint_state_message(
+                1_767_225_600 * 10**9,
+                "",
+                ("wing_left_hinge", "wing_right_hinge"),
+                (0.3, -0.3),
+                (),
+                (1e-5, -1e-5),
+            )
+        )
+    )
+    joint_states = {
+        "rclpy message objects": lambda: JointStateFields.of_message(
+            deserialize_message(joints_raw, JointState)
+        ),
+        "rosbags codec": lambda: JointStateFields.of_message(
+            bag_io.deserialize_joint_state(joints_raw)
+        ),
+        "stamped_cdr (struct)": lambda: joint_state_fields(joints_raw),
+    }
+    assert len({fn() for fn in joint_states.values()}) == 1
+
     for title, cases in (
         ("one QuaternionStamped read + one WrenchStamped written", pairs),
         ("one Odometry read", states),
+        ("one JointState read", joint_states),
     ):
         block = 500
         times = {name: [] for name in cases}
