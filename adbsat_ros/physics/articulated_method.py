@@ -275,6 +275,7 @@ class ArticulatedMethod:
         if it slides.
         """
         area, length = self.reference.area, self.reference.length
+        k = area * length
         per_joint = []  # (a loop over the joints, on Python floats: a few joints)
         for (ax, ay, az), (ox, oy, oz), slides in zip(
             poses.joint_axes.tolist(), poses.joint_origins.tolist(), self._prismatic.tolist()
@@ -282,7 +283,6 @@ class ArticulatedMethod:
             if slides:  # a . F / A_ref
                 per_joint.append((ax / area, ay / area, az / area, 0.0, 0.0, 0.0, 0.0))
             else:  # (a . M - (a x o) . F) / (A_ref L_ref)
-                k = area * length
                 cx, cy, cz = ay * oz - az * oy, az * ox - ax * oz, ax * oy - ay * ox
                 per_joint.append((-cx / k, -cy / k, -cz / k, ax / k, ay / k, az / k, 0.0))
         per_joint = np.array(per_joint).reshape(-1, LINK_LOADS)

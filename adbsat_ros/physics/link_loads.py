@@ -65,12 +65,11 @@ class EffortColumns:
             self.prismatic.tolist(),
             self.scale.tolist(),
         ):
+            x, y, z = k * ax, k * ay, k * az  # (k: the joint's 1 / A_ref or 1 / (A_ref L_ref))
             if slides:  # V = W a, s = a . (W n)
-                x, y, z = k * ax, k * ay, k * az
                 block = [(x, y, z, 0.0), (0, 0, 0, x), (0, 0, 0, y), (0, 0, 0, z)]
                 block += [(0, 0, 0, 0)] * 6
             else:  # V = a x Q - W (a x o), s = a . (Q x n) - (a x o) . (W n)
-                x, y, z = k * ax, k * ay, k * az
                 cx, cy, cz = (
                     k * (ay * oz - az * oy),
                     k * (az * ox - ax * oz),

@@ -12,13 +12,14 @@ rotation R and origin t in the body frame G,
 where S = sum f_i A_i s_i is the facet's sum of lit-centroid shifts s_i, which a lighting gives
 in G (docs/physics.md, section 8). So a lighting's sums in the links' frames without shifts, and
 its shift sums S, are made once per lighting, whatever the configuration; a configuration only
-turns and moves them: the posed sums are linear in (W, W n, Q, Q x n, S), one (10, 13) matrix
-per facet and configuration, and so are the joints' effort columns that follow them
-(:class:`~adbsat_ros.physics.link_loads.EffortColumns`): a configuration's :class:`Posing` holds
-the product of the two, and posing a lighting's sums is one product with it. The sums of a
-lighting are linear in it, so a blend's are the weighted sum of its parts'. :class:`PosedFacets`
-keeps the links' sums of the latest lightings, the posed sums of the latest blends' parts at
-their configurations and the posings of the latest configurations.
+turns and moves them. The posed sums are linear in a facet's row (W, W n, Q, Q x n, S): the row
+times one (13, 10) matrix per facet and configuration; so are the joints' effort columns that
+follow from them (:class:`~adbsat_ros.physics.link_loads.EffortColumns`), the row times one
+(13, 4 J) matrix. A configuration's :class:`Posing` holds both, and posing a lighting's sums is
+one product with each. The sums of a lighting are linear in it, so a blend's are the weighted
+sum of its parts'. :class:`PosedFacets` keeps the links' sums of the latest lightings, the posed
+sums of the latest blends' parts at their configurations and the posings of the latest
+configurations.
 
 Units: metres and square metres, body frame G.
 """
@@ -239,7 +240,7 @@ class PosedFacets:
         """The :class:`Posing` of the facets at ``poses`` (:attr:`posing_store`).
 
         A joint state of the tracking arrays makes one, then poses the three parts of the
-        attitude's blend with it: 70 + 20 us, against 11 + 147 us for the normals alone and
+        attitude's blend with it: 65 + 33 us, against 11 + 147 us for the normals alone and
         then turning, moving and crossing each group of columns of the three parts
         (``timeit``, the example satellite's wings, 18 facets and two joints, one run).
         """
