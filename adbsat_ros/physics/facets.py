@@ -59,6 +59,14 @@ def shear_per_sine(ctau, sigma) -> np.ndarray:
     return np.divide(ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
 
 
+def vector_sums(index, vectors, n: int) -> np.ndarray:
+    """The (n, 3) sums of the rows of ``vectors`` (K, 3) by facet ``index`` (K,), each facet's
+    rows summed in their order (np.bincount)."""
+    return np.stack(
+        [np.bincount(index, weights=vectors[:, k], minlength=n) for k in range(3)], axis=-1
+    )
+
+
 def sum_columns(weights, moments, normals) -> np.ndarray:
     """Columns W, W n, Q, Q x n (shape (G, 10)) of weights W (G,), moments Q (G, 3), normals n."""
     return np.column_stack([weights, weights[:, None] * normals, moments, cross(moments, normals)])
@@ -201,11 +209,7 @@ class Facets:
     def vector_sums(self, vectors, panels=None) -> np.ndarray:
         """The (G, 3) sums over each facet's members of per-panel ``vectors`` (shape (N, 3), or
         one row per panel of ``panels``, an index array: the other panels count as zero)."""
-        index = self.index if panels is None else self.index[panels]
-        return np.stack(
-            [np.bincount(index, weights=vectors[:, k], minlength=self.n) for k in range(3)],
-            axis=-1,
-        )
+        return vector_sums(self.index if panels is None else self.index[panels], vectors, self.n)
 
     def _lit_sums_of(self, lighting: PanelLighting) -> np.ndarray:
         f = lighting.lit_fraction

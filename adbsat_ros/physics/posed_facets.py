@@ -32,7 +32,7 @@ from typing import NamedTuple
 import numpy as np
 
 from adbsat_ros.lru import LruStore
-from adbsat_ros.physics.facets import sum_columns
+from adbsat_ros.physics.facets import sum_columns, vector_sums
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
 
@@ -329,10 +329,7 @@ class PosedFacets:
         def make():  # (every link at once: each facet's panels summed in their order)
             lit = lighting.lit_fraction[self._panels]
             index, n = self.panel_index, self.n
-            weighted = self._weighted_barycentres
-            moments = np.stack(
-                [np.bincount(index, lit * weighted[:, k], minlength=n) for k in range(3)], axis=-1
-            )
+            moments = vector_sums(index, lit[:, None] * self._weighted_barycentres, n)
             own = sum_columns(
                 np.bincount(index, self._areas * lit, minlength=n), moments, self._normals
             )
@@ -342,10 +339,6 @@ class PosedFacets:
             inside = rows >= 0
             rows = rows[inside]
             shift = (self._areas[rows] * lit[rows])[:, None] * lighting.shift[inside]
-            facets = index[rows]
-            shifts = np.stack(
-                [np.bincount(facets, shift[:, k], minlength=n) for k in range(3)], axis=-1
-            )
-            return own, shifts
+            return own, vector_sums(index[rows], shift, n)
 
         return self.link_sums_store.get(lighting.key, make)
