@@ -114,6 +114,10 @@ class ArticulatedMethod:
         self._prismatic = np.array([j.kind == "prismatic" for j in body.joints.values()], bool)
         #: The links' and joints' frames of the latest configurations.
         self.poses = PoseCache(body)
+        #: The joints' effort terms (:meth:`_make_load_map`, and the posed facets' columns).
+        self._effort_columns = EffortColumns(
+            self._carries, self._prismatic, self.reference.area, self.reference.length
+        )
         #: The linear map from the links' loads to every output, per configuration (key: the
         #: poses' key; bound 16, as the poses').
         self.load_maps = LruStore(16)
@@ -126,9 +130,7 @@ class ArticulatedMethod:
             methods,
             self._link_index,
             [(start, stop) for _, start, stop, _ in self._links],
-            EffortColumns(
-                self._carries, self._prismatic, self.reference.area, self.reference.length
-            ),
+            self._effort_columns,
         )
         self._evaluator = methods[0]  # (every link has the model and options)
         self._facet_surface = None
@@ -274,18 +276,9 @@ class ArticulatedMethod:
         (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns, and sum_(l in C_j) a . F_l / A_ref
         if it slides.
         """
-        area, length = self.reference.area, self.reference.length
-        k = area * length
-        per_joint = []  # (a loop over the joints, on Python floats: a few joints)
-        for (ax, ay, az), (ox, oy, oz), slides in zip(
-            poses.joint_axes.tolist(), poses.joint_origins.tolist(), self._prismatic.tolist()
-        ):
-            if slides:  # a . F / A_ref
-                per_joint.append((ax / area, ay / area, az / area, 0.0, 0.0, 0.0, 0.0))
-            else:  # (a . M - (a x o) . F) / (A_ref L_ref)
-                cx, cy, cz = ay * oz - az * oy, az * ox - ax * oz, ax * oy - ay * ox
-                per_joint.append((-cx / k, -cy / k, -cz / k, ax / k, ay / k, az / k, 0.0))
-        per_joint = np.array(per_joint).reshape(-1, LINK_LOADS)
+        per_joint = np.array(
+            [(*f, *m, 0.0) for f, m in self._effort_columns.per_joint(poses)]
+        ).reshape(-1, LINK_LOADS)
         out = self._links_map.copy()
         # joint j's row: per_joint[j] in the columns of every link it carries
         out[self._rows[4]] = (self._carries[:, :, None] * per_joint[:, None, :]).reshape(

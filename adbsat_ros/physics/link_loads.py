@@ -54,30 +54,35 @@ class EffortColumns:
         self.prismatic = np.asarray(prismatic, dtype=bool)
         self.scale = np.where(self.prismatic, 1.0 / area, 1.0 / (area * length))
 
-    def matrix(self, poses) -> np.ndarray:
-        """The (10, 4 J) matrix that takes a facet's posed sums (W, W n, Q, Q x n) to every
-        joint's V and s at ``poses`` (the class docstring's formulas), for a facet on a link
-        the joint carries (:attr:`carries`; zero columns for the others)."""
-        rows = [[] for _ in range(N_SUMS)]  # (a loop over the joints, on Python floats)
+    def per_joint(self, poses) -> list:
+        """Each joint's ``(f, m)`` at ``poses``, two 3-tuples: the effort coefficient of loads F
+        and M (about G's origin) on the links it carries is f . F + m . M, with
+        f = -(a x o) / (A_ref L_ref), m = a / (A_ref L_ref) if it turns, and f = a / A_ref,
+        m = 0 if it slides (a loop over the joints, on Python floats: a few joints)."""
+        out = []
         for (ax, ay, az), (ox, oy, oz), slides, k in zip(
             poses.joint_axes.tolist(),
             poses.joint_origins.tolist(),
             self.prismatic.tolist(),
             self.scale.tolist(),
         ):
-            x, y, z = k * ax, k * ay, k * az  # (k: the joint's 1 / A_ref or 1 / (A_ref L_ref))
-            if slides:  # V = W a, s = a . (W n)
-                block = [(x, y, z, 0.0), (0, 0, 0, x), (0, 0, 0, y), (0, 0, 0, z)]
-                block += [(0, 0, 0, 0)] * 6
-            else:  # V = a x Q - W (a x o), s = a . (Q x n) - (a x o) . (W n)
-                cx, cy, cz = (
-                    k * (ay * oz - az * oy),
-                    k * (az * ox - ax * oz),
-                    k * (ax * oy - ay * ox),
-                )
-                block = [(-cx, -cy, -cz, 0), (0, 0, 0, -cx), (0, 0, 0, -cy), (0, 0, 0, -cz)]
-                block += [(0, z, -y, 0), (-z, 0, x, 0), (y, -x, 0, 0)]  # Q_k's part of a x Q
-                block += [(0, 0, 0, x), (0, 0, 0, y), (0, 0, 0, z)]
+            if slides:
+                out.append(((k * ax, k * ay, k * az), (0.0, 0.0, 0.0)))
+            else:
+                f = (-k * (ay * oz - az * oy), -k * (az * ox - ax * oz), -k * (ax * oy - ay * ox))
+                out.append((f, (k * ax, k * ay, k * az)))
+        return out
+
+    def matrix(self, poses) -> np.ndarray:
+        """The (10, 4 J) matrix that takes a facet's posed sums (W, W n, Q, Q x n) to every
+        joint's V and s at ``poses`` (the class docstring's formulas, through
+        :meth:`per_joint`: V = W f + m x Q, s = f . (W n) + m . (Q x n)), for a facet on a
+        link the joint carries (:attr:`carries`; zero columns for the others)."""
+        rows = [[] for _ in range(N_SUMS)]
+        for (fx, fy, fz), (mx, my, mz) in self.per_joint(poses):
+            block = [(fx, fy, fz, 0.0), (0, 0, 0, fx), (0, 0, 0, fy), (0, 0, 0, fz)]
+            block += [(0, mz, -my, 0), (-mz, 0, mx, 0), (my, -mx, 0, 0)]  # Q_k's part of m x Q
+            block += [(0, 0, 0, mx), (0, 0, 0, my), (0, 0, 0, mz)]
             for row, values in zip(rows, block):
                 row.extend(values)
         return np.array(rows, dtype=float)
