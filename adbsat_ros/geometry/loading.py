@@ -1,12 +1,14 @@
 """Mesh files to a PanelMesh: any format trimesh reads, .obj materials from ``usemtl`` groups.
 
-:func:`load_mesh` reads a file (scaled to metres), :func:`resolve_mesh` also accepts the name of
-the bundled example satellite (:mod:`adbsat_ros.geometry.example_satellite`), and
+:func:`load_mesh` reads a file (scaled to metres; .obj and .off line by line, every line read
+whole or refused, other formats by trimesh: :mod:`adbsat_ros.geometry.mesh_files`),
+:func:`resolve_mesh` also accepts the name of the bundled example satellite
+(:mod:`adbsat_ros.geometry.example_satellite`), and
 :func:`panels_from_trimesh` converts a ``trimesh.Trimesh``. Every mesh is checked by
 :func:`adbsat_ros.geometry.mesh.panels_from_arrays`, and kept checked in the mesh store
 (:mod:`adbsat_ros.geometry.mesh_store`): a file loaded before is read back from there.
 
-trimesh (which reads the files) and yourdfpy (URDF bodies) are imported when a file is parsed
+trimesh (which checks the meshes) and yourdfpy (URDF bodies) are imported when a file is parsed
 or a URDF read, not with this module: importing trimesh takes about 0.6 s, more than the
 command line may take to answer (docs/benchmarks.md, command line start-up).
 """
@@ -15,10 +17,7 @@ from __future__ import annotations
 
 import math
 import os
-import re
 from typing import TYPE_CHECKING
-
-import numpy as np
 
 from adbsat_ros.geometry.concave_bodies import CONCAVE_BODIES
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME, example_satellite
@@ -29,13 +28,13 @@ from adbsat_ros.geometry.example_urdf import (
     example_satellite_urdf,
 )
 from adbsat_ros.geometry.mesh import (
-    DEFAULT_MATERIAL,
     MeshError,
     PanelMesh,
     check_size,
     log_report,
     panels_from_arrays,
 )
+from adbsat_ros.geometry.mesh_files import check_mesh_path, read_mesh_file
 from adbsat_ros.geometry.mesh_store import STORED_SUFFIXES, MeshStore
 
 if TYPE_CHECKING:
@@ -48,76 +47,6 @@ BUNDLED_URDFS = {
     EXAMPLE_URDF_NAME: example_satellite_urdf,
     EXAMPLE_FINNED_NAME: example_finned_urdf,
 }
-
-_FACE_LINE = re.compile(r"^\s*f\s+(.*)$")
-_USEMTL_LINE = re.compile(r"^\s*usemtl\s+(.*?)\s*$")
-
-
-def _obj_material_runs(path: str):
-    """Runs of consecutive faces sharing a ``usemtl`` name in an OBJ file.
-
-    Returns a list of ``(material_name, n_triangles)`` in file order; an n-gon counts as
-    n - 2 triangles (trimesh triangulates polygons as a fan).
-    """
-    runs = []
-    current = None
-    count = 0
-    with open(path, "r", errors="replace") as fh:
-        for line in fh:
-            m = _USEMTL_LINE.match(line)
-            if m:
-                if count:
-                    runs.append((current, count))
-                current, count = m.group(1) or None, 0
-                continue
-            m = _FACE_LINE.match(line)
-            if m:
-                count += max(len(m.group(1).split()) - 2, 0)
-    if count:
-        runs.append((current, count))
-    return runs
-
-
-def _load_obj(path: str):
-    """Vertices, faces and per-face material names of an OBJ file, through trimesh."""
-    import trimesh
-
-    runs = _obj_material_runs(path)
-    names = {name for name, _ in runs}
-    if names <= {None}:
-        tm = trimesh.load(path, force="mesh", process=False, skip_materials=True)
-        return tm.vertices, tm.faces, None, (DEFAULT_MATERIAL,)
-    # trimesh splits an OBJ at every usemtl into one geometry per run (group_material=False);
-    # its scene keeps the runs in reverse file order. Verify the split against our own count.
-    scene = trimesh.load(
-        path,
-        force="scene",
-        process=False,
-        group_material=False,
-        skip_materials=True,
-        maintain_order=True,
-    )
-    geoms = list(scene.geometry.values())[::-1]
-    counts = [len(g.faces) for g in geoms]
-    if counts != [n for _, n in runs]:
-        raise MeshError(
-            f"{path}: could not map usemtl groups to faces (trimesh read runs of {counts} "
-            f"faces, the file has {[n for _, n in runs]})"
-        )
-    material_names = []
-    for name, _ in runs:
-        name = name or DEFAULT_MATERIAL
-        if name not in material_names:
-            material_names.append(name)
-    verts, faces, mat = [], [], []
-    offset = 0
-    for (name, _), g in zip(runs, geoms):
-        verts.append(np.asarray(g.vertices, dtype=float))
-        faces.append(np.asarray(g.faces, dtype=np.int64) + offset)
-        mat.append(np.full(len(g.faces), material_names.index(name or DEFAULT_MATERIAL)))
-        offset += len(g.vertices)
-    return np.vstack(verts), np.vstack(faces), np.concatenate(mat), tuple(material_names)
-
 
 #: ``store`` of :func:`load_mesh` by default: the store of the environment's cache directory.
 DEFAULT_STORE = "default"
@@ -159,14 +88,15 @@ def load_mesh(
     Raises
     ------
     MeshError
-        Missing or unreadable file, no faces, NaN/Inf vertices, no usable face, or a size
-        that is no satellite's (naming the likely unit).
+        Missing or unreadable file, a directory, a line that cannot be read whole (naming
+        it), no faces, NaN/Inf vertices or a coordinate beyond ``mesh_coordinate`` of
+        :data:`adbsat_ros.bounds.BOUNDS`, no usable face, or a size that is no satellite's
+        (naming the likely unit).
     """
     path = os.fspath(path)
     if not math.isfinite(scale) or scale <= 0:
         raise MeshError(f"{path}: scale must be a finite number > 0, got {scale!r}")
-    if not os.path.isfile(path):
-        raise MeshError(f"mesh file not found: {path}")
+    check_mesh_path(path)
     store = MeshStore.resolve(store)
     if not path.lower().endswith(STORED_SUFFIXES):
         store = None
@@ -187,29 +117,14 @@ def load_mesh(
 
 
 def _parse(path: str, scale: float, fix_normals: bool) -> PanelMesh:
-    """The checked panels of the mesh file ``path``, parsed by trimesh."""
-    import trimesh
-
-    try:
-        if path.lower().endswith(".obj"):
-            vertices, faces, material_index, material_names = _load_obj(path)
-        else:
-            tm = trimesh.load(path, force="mesh", process=False)
-            vertices, faces = tm.vertices, tm.faces
-            material_index, material_names = None, (DEFAULT_MATERIAL,)
-    except MeshError:
-        raise
-    except Exception as exc:  # trimesh raises many types for unreadable files
-        raise MeshError(f"{path}: cannot read mesh ({type(exc).__name__}: {exc})") from exc
-    vertices = np.asarray(vertices, dtype=float)
-    faces = np.asarray(faces)
-    if faces.size == 0:
-        raise MeshError(f"{path}: the mesh has no faces")
+    """The checked panels of the mesh file ``path`` (:func:`~adbsat_ros.geometry.mesh_files.
+    read_mesh_file`)."""
+    arrays = read_mesh_file(path)
     return panels_from_arrays(
-        vertices * scale,
-        faces.astype(np.int64),
-        material_index,
-        material_names,
+        arrays.vertices * scale,
+        arrays.faces,
+        arrays.material_index,
+        arrays.material_names,
         source=path,
         fix_normals=fix_normals,
     )

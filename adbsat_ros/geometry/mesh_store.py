@@ -9,8 +9,9 @@ with numpy alone, as ADBSat reads a mesh once imported to a .mat file.
 Key: the SHA-256 of the file's bytes, its suffix, the scale to metres, whether normals are
 fixed, the store's format and the code that makes the entries (the source of the loading and
 checking modules, the installed trimesh: :func:`~adbsat_ros.npz_store.code_fingerprint`), so a
-changed file or a changed parser makes the entry anew. Only formats held in one file are kept
-(:data:`STORED_SUFFIXES`). Value: the
+changed file or a changed parser makes the entry anew (a byte-order mark, or other line ends,
+make another key: the file is read again, to the same panels). Only formats held in one file
+are kept (:data:`STORED_SUFFIXES`). Value: the
 :class:`~adbsat_ros.geometry.mesh.PanelMesh` arrays, material names and report. Bound: the 64
 most recently used entries. Counters: ``hits``, ``misses``, ``writes``. On disk as
 :class:`~adbsat_ros.npz_store.NpzStore` keeps them, in ``$ADBSAT_ROS_CACHE_DIR/meshes`` (by
@@ -47,7 +48,11 @@ class MeshStore(NpzStore):
     :class:`~adbsat_ros.npz_store.NpzStore`: ``directory``, ``max_entries``, counters)."""
 
     KIND = "meshes"
-    MAKERS = ("adbsat_ros.geometry.mesh", "adbsat_ros.geometry.loading")
+    MAKERS = (
+        "adbsat_ros.geometry.mesh",
+        "adbsat_ros.geometry.mesh_files",
+        "adbsat_ros.geometry.loading",
+    )
     PACKAGES = ("trimesh",)
 
     @classmethod

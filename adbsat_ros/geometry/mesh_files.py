@@ -1,0 +1,385 @@
+"""Mesh files read whole: their text decoded, every vertex and face line read or refused.
+
+trimesh reads many formats, but its .obj and .off readers pass over lines they do not expect
+without a word: a byte-order mark hides the first ``v`` line (every face index after it then
+points one vertex further), and so does a ``v`` line indented or written with a tab; a ``v``
+line of two numbers cuts every vertex to two coordinates; a comment after an OFF vertex's
+numbers makes the vertices wrong. A mesh read wrong gives wrong coefficients and no error. These
+two formats, plain text of vertex and face lines, are therefore read here, line by line
+(:func:`read_obj`, :func:`read_off`): a line is read whole or refused with a
+:class:`~adbsat_ros.geometry.mesh.MeshError` naming the file, the line and what is wrong. .stl
+and .ply (text or binary: their trimesh readers refuse what they cannot read) and the other
+formats are read by trimesh, a text file's byte-order mark handled first
+(:func:`read_mesh_file`).
+
+Text (:func:`decode_text`): a byte-order mark selects UTF-8, UTF-16 LE or UTF-16 BE and is
+dropped; without one the text is UTF-8 (a byte that is not, which can only be in a comment or a
+name, is replaced); a NUL character (UTF-16 with no mark) is refused. Lines end with LF, CRLF
+or CR; ``#`` starts a comment; blank lines and comments are skipped.
+
+Polygons become triangles as a fan from their first corner, (0, k, k + 1), in file order, so
+panel i is the i-th triangle of the file.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import os
+import re
+from typing import NamedTuple
+
+import numpy as np
+
+from adbsat_ros.geometry.mesh import DEFAULT_MATERIAL, MeshError
+
+#: Byte-order marks and the encodings they select.
+BYTE_ORDER_MARKS = (
+    (b"\xef\xbb\xbf", "utf-8"),
+    (b"\xff\xfe", "utf-16-le"),
+    (b"\xfe\xff", "utf-16-be"),
+)
+#: OBJ statements that carry no surface (normals, texture, groups, curves...): passed over.
+OBJ_PASSED_OVER = frozenset(
+    "vt vn vp o g s mg mtllib usemap maplib l p cstype deg bmat step curv curv2 surf parm trim "
+    "hole scrv sp end con bevel c_interp d_interp lod shadow_obj trace_obj ctech stech".split()
+)
+#: Numbers after the three coordinates of a vertex line: OBJ's weight w, colours r g b (a
+#: common extension); OFF's normal, colour and texture coordinates.
+_OBJ_VERTEX_VALUES = (3, 4, 6, 7)
+_OFF_VERTEX_VALUES = range(3, 13)
+#: The OFF keywords read: texture coordinates, colours, normals before ``OFF``.
+_OFF_KEYWORD = re.compile(r"(ST)?C?N?OFF")
+_LINE_END = re.compile(r"\r\n|\r|\n")
+
+
+class MeshArrays(NamedTuple):
+    """What a mesh file holds: vertices (V, 3) in the file's units, triangles (N, 3) of vertex
+    indices, each triangle's material (None: all ``default``) and the material names."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    material_index: np.ndarray | None
+    material_names: tuple
+
+
+def check_mesh_path(path: str) -> None:
+    """MeshError unless ``path`` is a file: naming a directory as one, or a missing file."""
+    if os.path.isdir(path):
+        raise MeshError(f"{path}: is a directory, not a mesh file")
+    if not os.path.isfile(path):
+        raise MeshError(f"mesh file not found: {path}")
+
+
+def decode_text(data: bytes, source: str) -> str:
+    """The text of a mesh file's bytes, its byte-order mark handled (module docstring).
+
+    Raises
+    ------
+    MeshError
+        Bytes that are not the text their byte-order mark says, or a NUL character.
+    """
+    for mark, encoding in BYTE_ORDER_MARKS:
+        if data.startswith(mark):
+            try:
+                text = data[len(mark) :].decode(encoding)
+            except UnicodeDecodeError as exc:
+                raise MeshError(
+                    f"{source}: starts with the byte-order mark of {encoding.upper()} but is "
+                    f"not {encoding.upper()} text (byte {exc.start + len(mark)})"
+                ) from None
+            break
+    else:
+        text = data.decode("utf-8", errors="replace")
+    if "\x00" in text:
+        line = text.count("\n", 0, text.index("\x00")) + 1
+        raise MeshError(
+            f"{source}, line {line}: a NUL character: not a text mesh file (UTF-16 text must "
+            "start with its byte-order mark)"
+        )
+    return text
+
+
+def _statements(text: str):
+    """``(line number, text)`` of every line that is not blank or a comment, comments cut
+    off, a line ending in a backslash joined with the next (numbered by its first line)."""
+    joined, first = "", None
+    for number, line in enumerate(_LINE_END.split(text), 1):
+        first = first or number
+        line = line.split("#", 1)[0].rstrip()
+        if line.endswith("\\"):
+            joined += line[:-1]
+            continue
+        statement = (joined + line).strip()
+        if statement:
+            yield first, statement
+        joined, first = "", None
+    if joined.strip():
+        yield first, joined.strip()
+
+
+def _error(source: str, line: int, problem: str) -> MeshError:
+    return MeshError(f"{source}, line {line}: {problem}")
+
+
+def _coordinates(values, source, line, counts, statement) -> list:
+    """The three coordinates of a vertex line's ``values`` (all numbers, the first three
+    finite, ``counts`` of them allowed)."""
+    if len(values) not in counts:
+        raise _error(
+            source,
+            line,
+            f"a vertex has three coordinates x y z ({statement}), got {' '.join(values)!r}",
+        )
+    try:
+        numbers = [float(v) for v in values]
+    except ValueError:
+        bad = next(v for v in values if not _is_number(v))
+        raise _error(source, line, f"{bad!r} is not a number (vertex {' '.join(values)})") from None
+    for value, text in zip(numbers[:3], values):
+        if not math.isfinite(value):
+            raise _error(source, line, f"vertex coordinate {text!r} is not a finite number")
+    return numbers[:3]
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _fan(corners: list) -> list:
+    """Triangles (0, k, k + 1) of a polygon's corners."""
+    return [(corners[0], corners[k], corners[k + 1]) for k in range(1, len(corners) - 1)]
+
+
+def read_obj(text: str, source: str) -> MeshArrays:
+    """The vertices, triangles and ``usemtl`` materials of a Wavefront OBJ's text.
+
+    ``v x y z [w | r g b | w r g b]`` vertices, ``f`` faces of three or more corners
+    ``i``, ``i/t``, ``i//n`` or ``i/t/n`` (i from 1, or negative: counted back from the last
+    vertex so far), ``usemtl NAME`` materials (faces before the first: ``default``); the
+    statements of :data:`OBJ_PASSED_OVER` are passed over, any other is refused.
+
+    Raises
+    ------
+    MeshError
+        A line that cannot be read whole, naming ``source`` and the line.
+    """
+    coords, triangles, lines, materials = [], [], [], []
+    names: list = []
+    current = None
+    for number, line in _statements(text):
+        _, key, rest = line.partition(line.split(None, 1)[0])
+        values = rest.split()
+        if key == "v":
+            coords.extend(_coordinates(values, source, number, _OBJ_VERTEX_VALUES, "w, r g b"))
+        elif key == "f":
+            corners = [_obj_corner(ref, len(coords) // 3, source, number) for ref in values]
+            if len(corners) < 3:
+                raise _error(source, number, f"a face needs three corners or more, got {line!r}")
+            fan = _fan(corners)
+            triangles.extend(fan)
+            lines.extend([number] * len(fan))
+            name = current or DEFAULT_MATERIAL
+            if name not in names:
+                names.append(name)
+            materials.extend([names.index(name)] * len(fan))
+        elif key == "usemtl":
+            current = rest.strip() or None
+        elif key not in OBJ_PASSED_OVER:
+            raise _error(
+                source,
+                number,
+                f"{key!r} is no OBJ statement (a line is a vertex 'v', a face 'f', 'usemtl', "
+                "or a statement of no surface: vt vn o g s mtllib l ...)",
+            )
+    n_vertices = len(coords) // 3
+    faces = np.array(triangles, dtype=np.int64).reshape(-1, 3)
+    beyond = np.flatnonzero((faces >= n_vertices).any(axis=1))
+    if beyond.size:
+        index = int(faces[beyond[0]].max()) + 1
+        raise _error(
+            source,
+            lines[beyond[0]],
+            f"face corner {index} is beyond the file's {n_vertices} vertices (1..{n_vertices})",
+        )
+    return MeshArrays(
+        np.array(coords, dtype=float).reshape(-1, 3),
+        faces,
+        np.array(materials, dtype=np.int64),
+        tuple(names) or (DEFAULT_MATERIAL,),
+    )
+
+
+def _obj_corner(ref: str, n_vertices: int, source: str, line: int) -> int:
+    """The 0-based vertex index of an OBJ face corner ``ref`` (``i[/t[/n]]``)."""
+    parts = ref.split("/")
+    try:
+        if len(parts) > 3 or any(p and int(p) == 0 for p in parts[1:]):
+            raise ValueError
+        index = int(parts[0])
+    except ValueError:
+        raise _error(
+            source, line, f"face corner {ref!r} is not i, i/t, i//n or i/t/n (indices from 1)"
+        ) from None
+    if index > 0:
+        return index - 1  # (checked once every vertex is read: a later one may be named)
+    if index == 0 or index < -n_vertices:
+        raise _error(
+            source,
+            line,
+            f"face corner {index} names no vertex: indices run from 1, or back from -1 (the "
+            f"last vertex so far) to -{n_vertices}",
+        )
+    return n_vertices + index
+
+
+def read_off(text: str, source: str) -> MeshArrays:
+    """The vertices and triangles of an Object File Format text.
+
+    ``[ST][C][N]OFF``, then the counts ``V F [E]`` (on the same line or the next), V vertex
+    lines ``x y z`` (then the normal, colour or texture coordinates the keyword names), F face
+    lines ``k i1 .. ik`` (indices from 0; a colour may follow), nothing else.
+
+    Raises
+    ------
+    MeshError
+        A line that cannot be read whole, counts the lines do not match, naming ``source`` and
+        the line.
+    """
+    statements = _statements(text)
+    number, line = next(statements, (1, ""))
+    keyword, *counts = line.split()
+    if not _OFF_KEYWORD.fullmatch(keyword or ""):
+        raise _error(
+            source, number, f"an OFF file starts with OFF (or COFF, NOFF...), got {line!r}"
+        )
+    if not counts:
+        number, line = next(statements, (number, ""))
+        counts = line.split()
+    try:
+        n_vertices, n_faces = (int(c) for c in counts[:2])
+        if len(counts) not in (2, 3) or min(n_vertices, n_faces) < 0:
+            raise ValueError
+    except ValueError:
+        raise _error(
+            source, number, f"expected the counts of vertices, faces [and edges], got {line!r}"
+        ) from None
+    coords, triangles, faces_read = [], [], 0
+    statement = "then what the keyword adds: normal, colour, texture coordinates"
+    for number, line in statements:
+        if len(coords) < 3 * n_vertices:
+            coords.extend(_coordinates(line.split(), source, number, _OFF_VERTEX_VALUES, statement))
+        elif faces_read < n_faces:
+            triangles.extend(_off_face(line.split(), n_vertices, source, number))
+            faces_read += 1
+        else:
+            raise _error(
+                source,
+                number,
+                f"a line beyond the {n_vertices} vertices and {n_faces} faces of the counts: "
+                f"{line!r}",
+            )
+    if len(coords) < 3 * n_vertices or faces_read < n_faces:
+        raise MeshError(
+            f"{source}: its counts give {n_vertices} vertices and {n_faces} faces, the file has "
+            f"{len(coords) // 3} vertices and {faces_read} faces"
+        )
+    return MeshArrays(
+        np.array(coords, dtype=float).reshape(-1, 3),
+        np.array(triangles, dtype=np.int64).reshape(-1, 3),
+        None,
+        (DEFAULT_MATERIAL,),
+    )
+
+
+def _off_face(values: list, n_vertices: int, source: str, line: int) -> list:
+    """The triangles of an OFF face line's ``values`` (``k i1 .. ik``, a colour may follow)."""
+    try:
+        k = int(values[0])
+        corners = [int(v) for v in values[1 : k + 1]]
+        extra = values[k + 1 :]
+        if k < 3 or len(corners) < k or len(extra) > 4 or not all(map(_is_number, extra)):
+            raise ValueError
+    except ValueError:
+        raise _error(
+            source,
+            line,
+            f"a face is 'k i1 .. ik' (k >= 3 corners, indices from 0; a colour may follow), "
+            f"got {' '.join(values)!r}",
+        ) from None
+    outside = [i for i in corners if not 0 <= i < n_vertices]
+    if outside:
+        raise _error(
+            source, line, f"face corner {outside[0]} is outside the vertices 0..{n_vertices - 1}"
+        )
+    return _fan(corners)
+
+
+#: Mesh formats read here from their text.
+TEXT_READERS = {".obj": read_obj, ".off": read_off}
+
+
+def read_mesh_file(path) -> MeshArrays:
+    """What the mesh file ``path`` holds: .obj and .off read here (:func:`read_obj`,
+    :func:`read_off`), other formats by trimesh (.stl and .ply with their text's byte-order
+    mark handled).
+
+    Raises
+    ------
+    MeshError
+        Not a file, unreadable, a line that cannot be read whole, or no faces; the message
+        names the file.
+    """
+    path = os.fspath(path)
+    check_mesh_path(path)
+    suffix = os.path.splitext(path)[1].lower()
+    try:
+        if suffix in TEXT_READERS or suffix in (".stl", ".ply"):
+            with open(path, "rb") as fh:
+                data = fh.read()
+            if suffix in TEXT_READERS:
+                arrays = TEXT_READERS[suffix](decode_text(data, path), path)
+            else:
+                arrays = _trimesh_arrays(_without_mark(data, suffix, path), suffix[1:])
+        else:
+            arrays = _trimesh_arrays(path, None)
+    except MeshError:
+        raise
+    except Exception as exc:  # (trimesh raises many types for unreadable files)
+        raise MeshError(f"{path}: cannot read mesh ({type(exc).__name__}: {exc})") from exc
+    if arrays.faces.size == 0:
+        raise MeshError(f"{path}: the mesh has no faces")
+    return arrays
+
+
+def _without_mark(data: bytes, suffix: str, path: str) -> bytes:
+    """An .stl's or .ply's bytes with a byte-order mark handled: a UTF-8 mark dropped (before
+    a text, or a binary PLY's text header), UTF-16 text as UTF-8; a binary STL (its size that
+    of its triangle count: its 80-byte header may start with anything) as it is."""
+    if suffix == ".stl" and len(data) >= 84:
+        if len(data) == 84 + 50 * int.from_bytes(data[80:84], "little"):
+            return data
+    if data.startswith(BYTE_ORDER_MARKS[0][0]):
+        return data[len(BYTE_ORDER_MARKS[0][0]) :]
+    if any(data.startswith(mark) for mark, _ in BYTE_ORDER_MARKS):
+        return decode_text(data, path).encode("utf-8")
+    return data
+
+
+def _trimesh_arrays(source, file_type) -> MeshArrays:
+    """The arrays of trimesh's reading of a path (``file_type`` None) or of bytes."""
+    import trimesh
+
+    if file_type is not None:
+        source = io.BytesIO(source)
+    tm = trimesh.load(source, file_type=file_type, force="mesh", process=False)
+    return MeshArrays(
+        np.asarray(tm.vertices, dtype=float),
+        np.asarray(tm.faces, dtype=np.int64).reshape(-1, 3),
+        None,
+        (DEFAULT_MATERIAL,),
+    )
