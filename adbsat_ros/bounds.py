@@ -139,6 +139,14 @@ BOUNDS = {
         "the largest side of a mesh's bounding box: a satellite is between a millimetre and "
         "200 m across (the ISS is 109 m); outside, the file's units are likely not metres",
     ),
+    "mesh_coordinate": Bound(
+        -1e6,
+        1e6,
+        "m",
+        "a coordinate of a mesh's vertex (after the scale to metres): a thousand kilometres "
+        "from the mesh origin is beyond any body in orbit, even with its size accepted, and "
+        "keeps the panels' areas, volumes and moments far within floating point",
+    ),
     "area": Bound(
         1e-6,
         1e5,

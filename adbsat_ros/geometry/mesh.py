@@ -187,7 +187,8 @@ def panels_from_arrays(
     Raises
     ------
     MeshError
-        No faces, NaN/Inf coordinates, bad indices, or nothing left after dropping degenerate faces.
+        No faces, NaN/Inf coordinates or one beyond ``mesh_coordinate`` of :data:`BOUNDS`, bad
+        indices, or nothing left after dropping degenerate faces.
     """
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces)
@@ -206,6 +207,14 @@ def panels_from_arrays(
         raise MeshError(
             f"{source}: {int(bad.sum())} vertices have NaN or Inf coordinates "
             f"(first: vertex {int(np.flatnonzero(bad)[0])})"
+        )
+    rule = BOUNDS["mesh_coordinate"]
+    far = np.flatnonzero(((vertices < rule.low) | (vertices > rule.high)).any(axis=1))
+    if far.size:
+        raise MeshError(
+            f"{source}: vertex {int(far[0])} at ({', '.join(f'{x:g}' for x in vertices[far[0]])})"
+            f" m has a coordinate outside {rule.text()} ({rule.reason})"
+            + (f"; {far.size} vertices are outside" if far.size > 1 else "")
         )
     if material_index is None:
         material_index = np.zeros(len(faces), dtype=np.int64)
