@@ -4,9 +4,10 @@ configuration.
 A URDF (Unified Robot Description Format, ROS's description of a robot: links with geometry,
 joints with axes and limits) is read with yourdfpy. Every visual of a link (box, cylinder, sphere
 or mesh file) becomes a part of the panel mesh, in the link's frame, with its URDF material name
-as its surface material (as ``usemtl`` names an .obj's). The root link's frame is the body frame
-(mesh frame G). Joints may be fixed, revolute, continuous or prismatic (mimic joints follow
-theirs); their positions [rad or m] place the links by forward kinematics
+as its surface material (as ``usemtl`` names an .obj's); a URDF with no visual, only collision
+geometry, has its collisions as parts (material ``default``). The root link's frame is the body
+frame (mesh frame G). Joints may be fixed, revolute, continuous or prismatic (mimic joints
+follow theirs); their positions [rad or m] place the links by forward kinematics
 (:mod:`~adbsat_ros.geometry.kinematics`, from yourdfpy's joints).
 
 :meth:`ArticulatedBody.mesh` gives the :class:`~adbsat_ros.geometry.mesh.PanelMesh` of a
@@ -45,6 +46,7 @@ from adbsat_ros.geometry.mesh import (
     panels_from_arrays,
     triangle_geometry,
 )
+from adbsat_ros.geometry.mesh_files import read_mesh_file
 
 #: Joint types whose position moves their child link.
 MOVING_JOINTS = ("revolute", "continuous", "prismatic")
@@ -127,16 +129,13 @@ def _primitive(geometry, max_edge_fraction: float, resolve) -> trimesh.Trimesh:
             subdivisions=SPHERE_SUBDIVISIONS, radius=float(geometry.sphere.radius)
         )
     if geometry.mesh is not None:
-        path = resolve(geometry.mesh.filename)
-        try:
-            tm = trimesh.load(path, force="mesh", process=False)
-        except (OSError, ValueError) as exc:
-            raise MeshError(f"URDF mesh {geometry.mesh.filename}: {exc}") from None
+        arrays = read_mesh_file(resolve(geometry.mesh.filename))  # (MeshError names it)
+        tm = trimesh.Trimesh(arrays.vertices, arrays.faces, process=False)
         scale = geometry.mesh.scale
         if scale is not None:
             tm.apply_scale(np.broadcast_to(np.asarray(scale, dtype=float), (3,)))
         return tm
-    raise MeshError("a URDF visual without geometry")
+    raise MeshError("a URDF visual or collision without geometry")
 
 
 class ArticulatedBody:
@@ -208,12 +207,13 @@ class ArticulatedBody:
             return yourdfpy.filename_handler_magic(filename, dir=directory)
 
         names, parts, reports = [], [], []
+        kind = "visuals" if any(k.visuals for k in urdf.link_map.values()) else "collisions"
         for index, link_name in enumerate(self.links):
-            for visual in urdf.link_map[link_name].visuals:
-                tm = _primitive(visual.geometry, max_edge_fraction, resolve)
-                if visual.origin is not None:
-                    tm.apply_transform(np.asarray(visual.origin, dtype=float))
-                material = visual.material.name if visual.material is not None else None
+            for element in getattr(urdf.link_map[link_name], kind):
+                tm = _primitive(element.geometry, max_edge_fraction, resolve)
+                if element.origin is not None:
+                    tm.apply_transform(np.asarray(element.origin, dtype=float))
+                material = getattr(getattr(element, "material", None), "name", None)
                 material = material or DEFAULT_MATERIAL
                 if material not in names:
                     names.append(material)
@@ -223,7 +223,7 @@ class ArticulatedBody:
                 reports.append(checked.report)
                 parts.append(_Part(index, *self._faces_of(tm, checked), names.index(material)))
         if not parts:
-            raise MeshError(f"{source}: no link has geometry")
+            raise MeshError(f"{source}: no link has geometry (no visual, no collision)")
         self._zero_poses = self._chain.poses(self.positions())
         for part in parts:
             part.own = triangle_geometry(part.vertices[part.faces])
@@ -281,9 +281,9 @@ class ArticulatedBody:
         Raises
         ------
         MeshError
-            The URDF cannot be read or parsed, a mesh file cannot be loaded, a joint type is not
-            supported, no link has geometry, or the body's size is no satellite's; the message
-            names the file and the element.
+            The URDF cannot be read or parsed, a mesh file cannot be read whole, a joint type
+            is not supported, no link has geometry, or the body's size is no satellite's; the
+            message names the file and the element.
         """
         text = str(urdf)
         is_xml = text.lstrip().startswith("<")
@@ -293,9 +293,7 @@ class ArticulatedBody:
             stream = io.StringIO(text) if is_xml else path
             # (no scene graph: the links are posed by geometry.kinematics)
             model = yourdfpy.URDF.load(stream, build_scene_graph=False, load_meshes=False)
-        except (OSError, ValueError, yourdfpy.URDFError) as exc:
-            raise MeshError(f"{source}: not a readable URDF: {exc}") from None
-        except Exception as exc:  # (lxml's XMLSyntaxError and the like)
+        except Exception as exc:  # (OSError, URDFError, lxml's XMLSyntaxError and the like)
             raise MeshError(f"{source}: not a readable URDF: {exc}") from None
         return cls(model, source, max_edge_fraction, accept_size)
 

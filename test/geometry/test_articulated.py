@@ -302,3 +302,25 @@ def test_the_links_poses_are_yourdfpys_forward_kinematics():
         [[math.cos(angle), -math.sin(angle), 0], [math.sin(angle), math.cos(angle), 0], [0, 0, 1]],
         atol=1e-15,
     )
+
+
+def test_a_urdf_of_collision_geometry_only_has_it_as_its_body():
+    link = "<link name='{2}'><{0}><geometry><box size='{1}'/></geometry></{0}></link>"
+    joint = "<joint name='j' type='fixed'><parent link='a'/><child link='b'/></joint>"
+    visual = ArticulatedBody.from_urdf(
+        f"<robot name='x'>{link.format('visual', '1 .5 .4', 'a')}</robot>"
+    )
+    collision = ArticulatedBody.from_urdf(
+        f"<robot name='x'>{link.format('collision', '1 .5 .4', 'a')}</robot>"
+    )
+    np.testing.assert_array_equal(collision.mesh().vertices, visual.mesh().vertices)
+    assert collision.mesh().total_area == pytest.approx(2 * (0.5 + 0.4 + 0.2))
+    assert collision.material_names == ("default",)
+    # a visual anywhere: the visuals are the body, every collision passed over
+    mixed = ArticulatedBody.from_urdf(
+        f"<robot name='x'>{link.format('visual', '1 .5 .4', 'a')}"
+        f"{link.format('collision', '3 3 3', 'b')}{joint}</robot>"
+    )
+    np.testing.assert_array_equal(mixed.mesh().vertices, visual.mesh().vertices)
+    with pytest.raises(MeshError, match="no link has geometry"):
+        ArticulatedBody.from_urdf("<robot name='x'><link name='a'/></robot>")
