@@ -315,3 +315,36 @@ def test_a_urdf_body_at_given_joint_positions(capsys, tmp_path):
         assert code == 2 and needle in err and len(err.strip().splitlines()) == 1, err
     code, _, err = run_cli(capsys, "example", *FLOW, "--joint", "a=1")
     assert code == 2 and "is no URDF" in err
+
+
+def test_a_byte_order_mark_before_a_cube_changes_no_coefficient(capsys, tmp_path):
+    import trimesh
+
+    cube = trimesh.creation.box(extents=(1.0, 1.0, 1.0))
+    lines = [f"v {x} {y} {z}" for x, y, z in cube.vertices.tolist()] + ["v 5 5 5"]
+    lines += ["f " + " ".join(str(i + 1) for i in face) for face in cube.faces]
+    text = "\n".join(lines) + "\n"
+    plain, marked = tmp_path / "cube.obj", tmp_path / "cube_marked.obj"
+    plain.write_text(text)
+    marked.write_bytes(b"\xef\xbb\xbf" + text.replace("\n", "\r\n").encode())
+    rows = []
+    for path in (plain, marked):
+        code, out, err = run_cli(capsys, str(path), "--shading", "none", "--json", *FLOW)
+        assert code == 0 and not err, err
+        rows.append(json.loads(out)[0])
+    assert rows[1]["Aref"] == rows[0]["Aref"] == pytest.approx(3.0)  # half of the 6 m^2
+    assert rows[1]["CD"] == rows[0]["CD"] and rows[1]["Cm_B"] == rows[0]["Cm_B"]
+
+
+def test_a_directory_bad_line_or_far_vertex_is_one_line_and_status_2(capsys, tmp_path):
+    far = tmp_path / "far.obj"
+    far.write_text("v 1e300 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n")
+    short = tmp_path / "short.obj"
+    short.write_text("v 0 0 0\nv 0 1\nv 0 0 1\nf 1 2 3\n")
+    for mesh, needle in [
+        (tmp_path, f"MESH: {tmp_path}: is a directory, not a mesh file"),
+        (far, "vertex 0 at (1e+300, 0, 0) m has a coordinate outside [-1e+06, 1e+06] m"),
+        (short, f"MESH: {short}, line 2: a vertex has three coordinates x y z"),
+    ]:
+        code, _, err = run_cli(capsys, str(mesh), *FLOW)
+        assert code == 2 and len(err.strip().splitlines()) == 1 and needle in err, err
