@@ -6,6 +6,8 @@ Modules:
   barycentres, materials of every panel, in metres, mesh frame G) and the checks that make one.
 - :mod:`~adbsat_ros.geometry.loading`: mesh files (any format trimesh reads; .obj materials from
   ``usemtl``) and the bundled bodies by name.
+- :mod:`~adbsat_ros.geometry.mesh_files`: mesh files read whole: text decoded by its byte-order
+  mark, .obj and .off line by line (a line that cannot be read whole refused with its number).
 - :mod:`~adbsat_ros.geometry.shapes`: closed shapes with regular face grids, parts joined.
 - :mod:`~adbsat_ros.geometry.example_satellite`: the bundled example satellite.
 - :mod:`~adbsat_ros.geometry.articulated`: a URDF's links and joints as panels for any joint
