@@ -163,11 +163,72 @@ def read_obj(text: str, source: str) -> MeshArrays:
     vertex so far), ``usemtl NAME`` materials (faces before the first: ``default``); the
     statements of :data:`OBJ_PASSED_OVER` are passed over, any other is refused.
 
+    The lines are split and checked one by one, their numbers converted all at once
+    (:func:`_obj_arrays`); a file with anything else in it (a vertex with more numbers, a line
+    continued, a line that cannot be read) is read by :func:`read_obj_by_line`, the reference,
+    which names the line.
+
     Raises
     ------
     MeshError
         A line that cannot be read whole, naming ``source`` and the line.
     """
+    arrays = None if "\\" in text else _obj_arrays(text)
+    return arrays if arrays is not None else read_obj_by_line(text, source)
+
+
+#: An OBJ face's corners, each ``i``, ``i/t``, ``i//n`` or ``i/t/n``; the vertex index of each.
+_OBJ_CORNERS = re.compile(r"(?:-?\d+(?:/(?:-?[1-9]\d*)?){0,2}(?:\s+|$))+")
+_OBJ_VERTEX_INDEX = re.compile(r"(-?\d+)\S*")
+
+
+def _obj_arrays(text: str) -> MeshArrays | None:
+    """:func:`read_obj_by_line`'s arrays of a file of plain lines, or None at the first thing
+    that is not (it then names it)."""
+    values, heads, counts, seen, materials, names, current = [], [], [], [], [], {}, None
+    for line in _LINE_END.split(text):
+        parts = (line.split("#", 1)[0] if "#" in line else line).split(None, 1)
+        key, rest = (parts + ["", ""])[:2]
+        if key == "v":
+            vertex = rest.split()
+            if len(vertex) != 3:
+                return None
+            values += vertex
+        elif key == "f":
+            if not _OBJ_CORNERS.fullmatch(rest):
+                return None
+            corners = _OBJ_VERTEX_INDEX.findall(rest)
+            heads += corners
+            counts.append(len(corners))
+            seen.append(len(values) // 3)
+            materials.append(names.setdefault(current or DEFAULT_MATERIAL, len(names)))
+        elif key == "usemtl":
+            current = rest.strip() or None
+        elif key and key not in OBJ_PASSED_OVER:
+            return None
+    try:
+        coords = np.array(values, dtype=float).reshape(-1, 3)
+    except ValueError:
+        return None
+    counts = np.array(counts, dtype=np.int64)
+    index = np.array(heads, dtype=np.int64)
+    so_far = np.repeat(np.array(seen, dtype=np.int64), counts)
+    bad = (index == 0) | (index < -so_far) | (index > len(coords)) | (counts < 3).any()
+    if bad.any() or not np.isfinite(coords).all():
+        return None
+    index = np.where(index > 0, index - 1, index + so_far)
+    # each polygon's fan (0, k, k + 1), k = 1 .. n - 2
+    triangles = counts - 2
+    polygon = np.repeat(np.arange(len(counts)), triangles)
+    first = (np.cumsum(counts) - counts)[polygon]
+    k = np.arange(triangles.sum()) - np.repeat(np.cumsum(triangles) - triangles, triangles) + 1
+    faces = np.stack([index[first], index[first + k], index[first + k + 1]], axis=1)
+    material_index = np.repeat(np.array(materials, dtype=np.int64), triangles)
+    return MeshArrays(coords, faces, material_index, tuple(names) or (DEFAULT_MATERIAL,))
+
+
+def read_obj_by_line(text: str, source: str) -> MeshArrays:
+    """:func:`read_obj`, line by line, each checked as it is read."""
     coords, triangles, lines, materials = [], [], [], []
     names: list = []
     current = None
