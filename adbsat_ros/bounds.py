@@ -10,6 +10,7 @@ docs/physics.md (section "Valid inputs").
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 
 
@@ -153,7 +154,60 @@ BOUNDS = {
         "m^2",
         "a reference area: from a square millimetre to a square of 316 m on a side",
     ),
+    "altitude": Bound(
+        0.0,
+        1_000.0,
+        "km",
+        "a height above the WGS-84 ellipsoid: NRLMSISE-00 holds from the ground to 1,000 km",
+    ),
+    "latitude": Bound(-90.0, 90.0, "deg", "a geodetic latitude"),
+    "longitude": Bound(-360.0, 360.0, "deg", "an east longitude, once around either way"),
+    "position_radius": Bound(
+        0.0,
+        1e9,
+        "m",
+        "the distance of a position from the Earth's centre: the atmosphere ends 1,000 km up, "
+        "the Moon is 3.8e8 m away",
+    ),
+    "sweep_axis_values": Bound(
+        1.0,
+        1e6,
+        "",
+        "the values along one axis of a sweep: a million is a step of 0.00036 deg around a circle",
+    ),
+    "sweep_points": Bound(
+        1.0,
+        1e9,
+        "",
+        "the points of a sweep (the product of its axes' lengths): its store keeps about 200 "
+        "bytes a point, so 1e9 points fill 200 GB, and take days of CPU",
+    ),
+    "message_rate": Bound(
+        0.0,
+        1e6,
+        "Hz",
+        "a message rate: stamps are whole nanoseconds, and no attitude sensor or orbit "
+        "estimator runs at a megahertz",
+        low_open=True,
+    ),
+    "messages": Bound(
+        1.0,
+        1e8,
+        "",
+        "the messages of a simulated stream (duration x rate + 1): 1e8 is 116 days at 10 Hz, "
+        "a bag of about 10 GB",
+    ),
 }
+
+#: How far from its body a point of it (a moment reference point, a centre of mass) may lie, in
+#: body sizes (the largest side of the mesh's bounding box): see :func:`body_point_bounds`.
+BODY_REACH = 10.0
+BODY_POINT_REASON = (
+    "a moment reference point or centre of mass lies within the body's bounding box or near "
+    f"it: at most {BODY_REACH:g} times the body's largest side beyond the box that holds the "
+    "body and the mesh origin; farther, the lever arm is no part of the body (a unit or "
+    "exponent mistyped) and the moment is that arm times the force"
+)
 
 
 def bounded(name: str, value, bound: str | Bound | None = None) -> float:
@@ -168,3 +222,62 @@ def bounded(name: str, value, bound: str | Bound | None = None) -> float:
     """
     rule = bound if isinstance(bound, Bound) else BOUNDS[bound or name]
     return rule.check(name, value)
+
+
+def body_point_bounds(lower, upper) -> tuple:
+    """The range of each coordinate (x, y, z) of a point of a body whose mesh's bounding box
+    runs from ``lower`` to ``upper`` (3 numbers each) [m]: the box that holds the bounding box
+    and the mesh origin (ADBSat's default moment reference), widened on every side by
+    :data:`BODY_REACH` times the bounding box's largest side.
+
+    Returns
+    -------
+    tuple of 3 Bound
+    """
+    size = max(float(high) - float(low) for low, high in zip(lower, upper))
+    margin = BODY_REACH * size
+    return tuple(
+        Bound(min(float(low), 0.0) - margin, max(float(high), 0.0) + margin, "m", BODY_POINT_REASON)
+        for low, high in zip(lower, upper)
+    )
+
+
+def body_point(name: str, point, lower, upper) -> tuple:
+    """``point`` (x, y, z) [m] as floats within :func:`body_point_bounds` of the bounding box
+    ``lower``, ``upper``; ValueError ``"NAME x must be in RANGE (REASON), got VALUE"``."""
+    rules = body_point_bounds(lower, upper)
+    return tuple(rule.check(f"{name} {axis}", x) for axis, x, rule in zip("xyz", point, rules))
+
+
+def available_memory() -> int | None:
+    """Bytes of memory this machine can give a job now: MemAvailable of /proc/meminfo (Linux),
+    else the free physical pages (``os.sysconf``); None where neither is known."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return int(os.sysconf("SC_AVPHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def check_memory(name: str, estimate: float, available: int | None = None) -> None:
+    """ValueError naming ``name`` if a job's estimated memory ``estimate`` [bytes] exceeds what
+    the machine has (``available``, default :func:`available_memory`); nothing if not known."""
+    available = available_memory() if available is None else available
+    if available is not None and estimate > available:
+        raise ValueError(
+            f"{name} needs about {_bytes_text(estimate)} of memory, more than the "
+            f"{_bytes_text(available)} this machine has available"
+        )
+
+
+def _bytes_text(count: float) -> str:
+    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
+        if count >= size:
+            return f"{count / size:.3g} {unit}"
+    return f"{count / 1e3:.3g} kB"

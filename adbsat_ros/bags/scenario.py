@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from adbsat_ros.bounds import BOUNDS, check_memory
 from adbsat_ros.estimator.settings import parse_utc
 from adbsat_ros.physics.constants import EARTH_MU
 
@@ -42,6 +43,10 @@ EARTH_RADIUS = 6378137.0
 ATTITUDE_MODES = ("nadir", "tumble")
 TIME_MODES = ("unix", "epoch")
 _NS = 1_000_000_000
+_UNIX_EPOCH = _dt.datetime(1970, 1, 1, tzinfo=_dt.timezone.utc)
+#: Memory :func:`generate` and the writing of a bag take per message [bytes]: its stamp, time,
+#: state or attitude, their temporaries, and its entry in the writer's time order.
+BYTES_PER_MESSAGE = 1_024
 
 
 @dataclass(frozen=True)
@@ -116,8 +121,13 @@ class Scenario:
                 "must be a finite number",
             )
         check("duration_s", self.duration_s >= 0, "must be >= 0")
-        check("rate_hz", self.rate_hz > 0, "must be > 0")
-        check("state_rate_hz", self.state_rate_hz > 0, "must be > 0")
+        for name in ("rate_hz", "state_rate_hz"):
+            BOUNDS["message_rate"].check(f"scenario {name}", getattr(self, name))
+        for name, what in (("rate_hz", "attitude"), ("state_rate_hz", "state")):
+            BOUNDS["messages"].check(
+                f"scenario duration_s x {name}: the {what} messages (duration x rate + 1)",
+                self.duration_s * getattr(self, name) + 1.0,
+            )
         check("altitude_km", 0 < self.altitude_km <= 100000, "must be in (0, 100000] km")
         check("eccentricity", 0 <= self.eccentricity < 1, "must be in [0, 1)")
         check("inclination_deg", 0 <= self.inclination_deg <= 180, "must be in [0, 180]")
@@ -134,7 +144,18 @@ class Scenario:
                 axis.shape == (3,) and np.all(np.isfinite(axis)) and np.linalg.norm(axis) > 0,
                 "must be three finite numbers, not all zero",
             )
-        parse_utc("epoch_utc", self.epoch_utc) if isinstance(self.epoch_utc, str) else None
+        epoch = self.epoch  # (parsed: a text that is no time is refused here)
+        end = (epoch - _UNIX_EPOCH).total_seconds() + self.duration_s
+        if self.time_mode == "unix" and epoch < _UNIX_EPOCH:
+            raise ValueError(
+                f"scenario epoch_utc: {self.epoch_utc} is before 1970-01-01T00:00:00Z, where "
+                "UNIX stamps would be negative (time_mode epoch stamps from 0)"
+            )
+        if end >= 2**63 / _NS:  # (stamps are int64 nanoseconds)
+            raise ValueError(
+                f"scenario duration_s: {self.duration_s!r} s after {self.epoch_utc} is beyond "
+                "2262-04-11, the last stamp of 64-bit nanoseconds"
+            )
 
     @property
     def epoch(self) -> _dt.datetime:
@@ -305,11 +326,25 @@ def attitude_quaternions(scenario: Scenario, t) -> np.ndarray:
     return np.where(q[:, 3:4] < 0, -q, q)
 
 
+def message_count(scenario: Scenario) -> int:
+    """The state and attitude messages of a scenario (:func:`sample_times` of each rate)."""
+    return sum(
+        int(math.floor(scenario.duration_s * rate + 1e-9)) + 1
+        for rate in (scenario.state_rate_hz, scenario.rate_hz)
+    )
+
+
+def memory_estimate(scenario: Scenario) -> int:
+    """Bytes of memory :func:`generate` and the bag writer take for ``scenario``:
+    :data:`BYTES_PER_MESSAGE` per message."""
+    return message_count(scenario) * BYTES_PER_MESSAGE
+
+
 def epoch_unix_ns(scenario: Scenario) -> int:
     """Stamp [ns] of t = 0: UNIX time of the epoch (time_mode unix) or 0 (epoch)."""
     if scenario.time_mode == "epoch":
         return 0
-    delta = scenario.epoch - _dt.datetime(1970, 1, 1, tzinfo=_dt.timezone.utc)
+    delta = scenario.epoch - _UNIX_EPOCH
     return (delta.days * 86400 + delta.seconds) * _NS + delta.microseconds * 1000
 
 
@@ -319,6 +354,7 @@ def generate(scenario: Scenario) -> ScenarioMessages:
     Stamps are ``epoch_unix_ns + round(t * 1e9)``; positions, velocities and attitudes are
     evaluated at exactly the time the stamp stands for.
     """
+    check_memory(f"the scenario ({message_count(scenario)} messages)", memory_estimate(scenario))
     base = epoch_unix_ns(scenario)
     out = []
     for rate in (scenario.state_rate_hz, scenario.rate_hz):

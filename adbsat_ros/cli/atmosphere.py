@@ -50,15 +50,21 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
     where = parser.add_argument_group("geodetic point (WGS-84)")
     where.add_argument(
         "--altitude",
-        type=finite_float("--altitude"),
+        type=within("--altitude", "altitude"),
         metavar="KM",
         help="height above the WGS-84 ellipsoid [km], 0..1000",
     )
     where.add_argument(
-        "--lat", type=finite_float("--lat"), metavar="DEG", help="geodetic latitude [deg], -90..90"
+        "--lat",
+        type=within("--lat", "latitude"),
+        metavar="DEG",
+        help="geodetic latitude [deg], -90..90",
     )
     where.add_argument(
-        "--lon", type=finite_float("--lon"), metavar="DEG", help="east longitude [deg]"
+        "--lon",
+        type=within("--lon", "longitude"),
+        metavar="DEG",
+        help="east longitude [deg], -360..360",
     )
     state = parser.add_argument_group("orbital state")
     state.add_argument("--position", metavar="X,Y,Z", help="position [m] in --frame")
@@ -266,6 +272,14 @@ def _compute(args, accommodation_options=None):
         )
     frame = args.frame or "eci"
     position = parse_vector3(args.position, "--position")
+    try:  # (before the geodetic conversion, which overflows far away)
+        bounded(
+            "--position: the distance from the Earth's centre",
+            math.hypot(*position.tolist()),
+            "position_radius",
+        )
+    except ValueError as exc:
+        raise CommandLineError(str(exc)) from None
     orientation = earth_orientation(time)
     position_ecef = position if frame == "ecef" else orientation.eci_to_ecef(position)[0]
     latitude, longitude, altitude = ecef_to_geodetic(position_ecef)

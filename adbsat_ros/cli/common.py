@@ -15,6 +15,7 @@ from adbsat_ros.cli.options import CommandLineError, fraction, parse_vector3, po
 from adbsat_ros.geometry.loading import articulated_body, is_urdf, resolve_mesh
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.constants import species_mass_kg
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import (
     INCIDENT_TEMPERATURE_FORMS,
@@ -22,6 +23,7 @@ from adbsat_ros.physics.gsi_models import (
     SPECIES_MODELS,
     ModelOptions,
 )
+from adbsat_ros.physics.models.cll import CLL_SPECIES
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
@@ -227,16 +229,29 @@ def freestream_from_args(args, model: str) -> FreeStream:
         raise CommandLineError(f"the free stream needs {', '.join(missing)}")
     if model in SPECIES_MODELS and args.species is None:
         raise CommandLineError(f"--gsim {model} needs the composition: give --species")
+    species = parse_species(args.species) if args.species else None
     try:
-        return FreeStream(
+        if species is not None:  # (what the composition implies, given --density or not)
+            implied = sum(n * species_mass_kg(name) for name, n in species.items())
+            bounded("--species: the mass density they imply", implied, "mass_density")
+        flow = FreeStream(
             speed=args.speed,
             temperature=args.temperature,
-            number_densities=parse_species(args.species) if args.species else None,
+            number_densities=species,
             mean_mass_amu=args.mean_mass,
             density=args.density,
         )
-    except ValueError as exc:
-        raise CommandLineError(f"--species: {exc}" if args.species else str(exc)) from None
+    except (KeyError, ValueError) as exc:
+        text = str(exc.args[0]) if isinstance(exc, KeyError) else str(exc)
+        raise CommandLineError(
+            text if text.startswith("--") or not species else f"--species: {text}"
+        ) from None
+    if model == "cll" and not any(species.get(name, 0.0) > 0.0 for name in CLL_SPECIES):
+        raise CommandLineError(
+            f"--species: the cll model needs one of the species {', '.join(CLL_SPECIES)} with "
+            f"n > 0, got {args.species}"
+        )
+    return flow
 
 
 def add_joint_arguments(parser: argparse.ArgumentParser) -> None:
@@ -311,6 +326,10 @@ def panel_method_from_args(args, mesh=None) -> PanelMethod:
         length=args.lref,
         moment_point=tuple(parse_vector3(args.moment_ref, "--moment-ref")),
     )
+    try:  # (the point near the body: docs/physics.md section 11)
+        reference = reference.resolved(mesh, "--moment-ref")
+    except ValueError as exc:
+        raise CommandLineError(str(exc)) from None
     options = ModelOptions(
         incident_temperature=args.incident_temperature, adbsat_compat=args.adbsat_compat
     )

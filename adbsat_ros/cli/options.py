@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 
 from adbsat_ros.bounds import bounded
@@ -18,8 +19,21 @@ class CommandLineError(Exception):
     """A command-line value that is not allowed; the message names the option."""
 
 
+#: A word that reads as a negative number to ``float`` (``-5``, ``-1e5``, ``-.5``, ``-inf``,
+#: ``-nan``): an option's value, not an option (argparse itself takes only ``-5`` and ``-.5``).
+NEGATIVE_NUMBER = re.compile(
+    r"^-(\d+\.?\d*(e[+-]?\d+)?|\.\d+(e[+-]?\d+)?|inf|infinity|nan)$", re.IGNORECASE
+)
+
+
 class OneLineErrorParser(argparse.ArgumentParser):
-    """An ArgumentParser whose errors are one line on stderr and exit status 2."""
+    """An ArgumentParser whose errors are one line on stderr and exit status 2, and which takes
+    every negative number (:data:`NEGATIVE_NUMBER`) as a value, so that an option's range check
+    names it (``--speed -inf``)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
 
     def error(self, message):
         """Print ``prog: error: message`` as one line on stderr and exit with status 2."""
@@ -177,6 +191,28 @@ def non_negative_float(option: str):
 def non_negative_int(option: str):
     """An argparse ``type`` accepting whole numbers >= 0 (error names ``option``)."""
     return number(option, integer=True, low=0)
+
+
+#: A ROS 2 topic name, by the rules of ROS 2's "Topic and Service name mapping" design article
+#: for names without substitutions: tokens of letters, digits and '_', not starting with a
+#: digit, separated by single '/', an optional leading '/' (absolute), no trailing '/', no '__'.
+TOPIC_NAME = re.compile(r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$")
+
+
+def topic_name(option: str):
+    """An argparse ``type`` accepting a ROS 2 topic name (:data:`TOPIC_NAME`); the error names
+    ``option`` and the rule."""
+
+    def convert(text):
+        if not TOPIC_NAME.match(text) or "__" in text:
+            raise argparse.ArgumentTypeError(
+                f"{option} must be a ROS topic name (tokens of letters, digits and '_', not "
+                f"starting with a digit, separated by '/'; no '__'), got {text!r}"
+            )
+        return text
+
+    convert.__name__ = option
+    return convert
 
 
 def is_terminal(stream=None) -> bool:

@@ -10,6 +10,8 @@ from adbsat_ros.cli.options import (
     non_negative_float,
     parse_vector3,
     positive_float,
+    topic_name,
+    within,
 )
 
 
@@ -62,13 +64,13 @@ def configure(p) -> None:
     )
     p.add_argument(
         "--rate",
-        type=positive_float("--rate"),
+        type=within("--rate", "message_rate"),
         default=10.0,
         help="attitude messages per second (default 10)",
     )
     p.add_argument(
         "--state-rate",
-        type=positive_float("--state-rate"),
+        type=within("--state-rate", "message_rate"),
         default=10.0,
         help="state messages per second (default 10; keep >= 1 for the node's state_timeout 1 s)",
     )
@@ -96,9 +98,17 @@ def configure(p) -> None:
         "--storage", choices=("mcap", "sqlite3"), default="mcap", help="bag storage (default mcap)"
     )
     p.add_argument(
-        "--attitude-topic", default="/attitude", help="attitude topic (default /attitude)"
+        "--attitude-topic",
+        type=topic_name("--attitude-topic"),
+        default="/attitude",
+        help="attitude topic (default /attitude)",
     )
-    p.add_argument("--state-topic", default="/state", help="state topic (default /state)")
+    p.add_argument(
+        "--state-topic",
+        type=topic_name("--state-topic"),
+        default="/state",
+        help="state topic (default /state; not the attitude topic)",
+    )
     p.add_argument("--overwrite", action="store_true", help="replace an existing output bag")
     p.set_defaults(func=run)
 
@@ -128,6 +138,11 @@ def scenario_from_args(args) -> scenario.Scenario:
         )
     except ValueError as exc:
         names = {
+            "duration_s x rate_hz": "--duration x --rate",
+            "duration_s x state_rate_hz": "--duration x --state-rate",
+            "duration_s": "--duration",
+            "rate_hz": "--rate",
+            "state_rate_hz": "--state-rate",
             "epoch_utc": "--epoch",
             "eccentricity": "--eccentricity",
             "inclination_deg": "--inclination",
@@ -142,8 +157,16 @@ def scenario_from_args(args) -> scenario.Scenario:
 
 def run(args) -> int:
     """Run ``adbsat-ros simulate``; returns the exit status."""
+    if args.attitude_topic.lstrip("/") == args.state_topic.lstrip("/"):
+        raise CommandLineError(
+            f"--state-topic: {args.state_topic} is also the --attitude-topic; the two streams "
+            "need two topics"
+        )
     sc = scenario_from_args(args)
-    messages = scenario.generate(sc)
+    try:
+        messages = scenario.generate(sc)
+    except ValueError as exc:  # (the memory it would take)
+        raise CommandLineError(f"--duration x --rate: {exc}") from None
     try:
         path = bag_io.write_scenario_bag(
             messages,

@@ -222,7 +222,7 @@ def method_from_metadata(metadata: dict, path=None):
         ref = metadata["reference"]
         reference = Reference(
             area=ref["area"], length=ref["length"], moment_point=tuple(ref["moment_point"])
-        )
+        ).resolved(mesh, "reference moment_point")
         method = PanelMethod(mesh, model["name"], materials, options=options, reference=reference)
         f = metadata["flow"]
         flow = FreeStream(

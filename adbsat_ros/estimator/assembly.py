@@ -69,7 +69,10 @@ def panel_method(
             f"{', '.join(map(repr, unknown))}; its materials are {', '.join(mesh.material_names)}"
         )
     options = ModelOptions(settings.incident_temperature, settings.adbsat_compat)
-    reference = Reference(moment_point=settings.center_of_mass)
+    # (the centre of mass near the body: ten body sizes, docs/physics.md section 11)
+    reference = Reference(moment_point=settings.center_of_mass).resolved(
+        mesh, "parameter center_of_mass: center_of_mass"
+    )
     if body is None:
         return PanelMethod(
             mesh, settings.gsi_model, materials, options=options, reference=reference

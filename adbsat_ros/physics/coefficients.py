@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from adbsat_ros.bounds import body_point
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.physics.freestream import FreeStream
@@ -50,8 +51,14 @@ class Reference:
             )
         object.__setattr__(self, "moment_point", tuple(float(v) for v in point))
 
-    def resolved(self, mesh: PanelMesh) -> "Reference":
-        """A copy with the defaults filled in from ``mesh``."""
+    def resolved(self, mesh: PanelMesh, name: str = "moment_point") -> "Reference":
+        """A copy with the defaults filled in from ``mesh``.
+
+        The moment point must lie near the body (:func:`adbsat_ros.bounds.body_point`, within
+        ten body sizes of the box of the mesh and its origin): ValueError naming it ``name``
+        otherwise. A resolved reference resolves to itself.
+        """
+        body_point(name, self.moment_point, *mesh.bounds.tolist())
         if self.length is None and not mesh.x_extent > 0.0:
             raise ValueError(
                 f"{mesh.source}: the mesh has no extent along x, so the default reference length "

@@ -138,6 +138,11 @@ class FreeStream:
             for n, m in zip(values, masses):  # in species order, as ADBSat's environment.m
                 total += n
                 weighted += n * m
+            if not weighted > 0.0:  # (densities so small that n m underflows to 0)
+                raise ValueError(
+                    f"number_densities: the mass density sum(n_j m_j) of {densities!r} is 0 in "
+                    "floating point: the densities are too small"
+                )
             self.number_densities = dict(zip(species, values))
             self._species = species
             self.mean_mass = weighted / total

@@ -36,8 +36,8 @@ AXES = {
         Bound(100.0, 1000.0, "km", "NRLMSISE-00 up to 1,000 km; below 100 km no free flow"),
         "km",
     ),
-    "latitude": (Bound(-90.0, 90.0, "deg", "a geodetic latitude"), "deg"),
-    "longitude": (Bound(-360.0, 360.0, "deg", "an east longitude"), "deg"),
+    "latitude": (BOUNDS["latitude"], "deg"),
+    "longitude": (BOUNDS["longitude"], "deg"),
     "f107": (BOUNDS["f107"], "sfu"),
     "f107a": (BOUNDS["f107"], "sfu"),
     "ap": (BOUNDS["ap"], ""),
@@ -76,11 +76,18 @@ def axis_values(text, name: str) -> np.ndarray:
             start, step, stop = (float(p) for p in parts)
         except ValueError:
             raise SpecError(f"axes.{name}: expected start:step:stop, got {text!r}") from None
-        if len(parts) != 3 or step <= 0 or stop < start:
+        if len(parts) != 3 or not all(map(math.isfinite, (start, step, stop))):
+            raise SpecError(f"axes.{name}: start:step:stop of finite numbers, got {text!r}")
+        if step <= 0 or stop < start:
             raise SpecError(
                 f"axes.{name}: start:step:stop needs a step > 0 and stop >= start, got {text!r}"
             )
-        count = int(math.floor((stop - start) / step + 1e-9)) + 1
+        steps = (stop - start) / step + 1e-9
+        count = math.floor(steps) + 1 if math.isfinite(steps) else math.inf
+        try:  # (counted before the values are made)
+            BOUNDS["sweep_axis_values"].check(f"axes.{name}: the values of {text!r}", count)
+        except ValueError as exc:
+            raise SpecError(str(exc)) from None
         return start + step * np.arange(count)
     values = text if isinstance(text, list) else [text]
     try:
@@ -91,6 +98,10 @@ def axis_values(text, name: str) -> np.ndarray:
         raise SpecError(f"axes.{name}: expected numbers, got {text!r}")
     if out.size == 0:
         raise SpecError(f"axes.{name}: empty; give at least one value")
+    try:
+        BOUNDS["sweep_axis_values"].check(f"axes.{name}: the values", out.size)
+    except ValueError as exc:
+        raise SpecError(str(exc)) from None
     if len(set(out.tolist())) != out.size:
         raise SpecError(f"axes.{name}: a value appears twice")
     return out

@@ -12,13 +12,22 @@ the same whatever the workers and the order.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
+from adbsat_ros.bounds import check_memory
 from adbsat_ros.sweep.evaluate import SweepJob, SweepSetup
 from adbsat_ros.sweep.spec import SweepSpec
-from adbsat_ros.sweep.store import SweepStore
+from adbsat_ros.sweep.store import SweepStore, chunk_shape
 from adbsat_ros.tasks import run_chunks
+
+#: Memory of the process that runs a sweep for each of its chunks [bytes]: the chunk's index
+#: ranges, its task in the Dask client and scheduler (each carries the spec) and its future.
+BYTES_PER_CHUNK = 16_384
+#: Memory of a worker for each point of a chunk [bytes]: the point's results (24 or 30 numbers)
+#: and the temporaries of its evaluation.
+BYTES_PER_POINT = 4_096
 
 
 @dataclass
@@ -72,6 +81,7 @@ def run_sweep(
     """
     from tqdm import tqdm
 
+    check_memory(*memory_estimate(spec))  # (before any work)
     started = time.perf_counter()
     setup = SweepSetup(spec)  # (checked here first: a bad mesh fails before any worker starts)
     store = SweepStore.open(out, spec, setup, overwrite)
@@ -97,6 +107,19 @@ def run_sweep(
     report.points = sum(_points(store.slices[i]) for i in set(todo) - set(store.missing()))
     report.seconds = time.perf_counter() - started
     return report
+
+
+def memory_estimate(spec: SweepSpec) -> tuple:
+    """``(what, bytes)``: the memory a run of ``spec`` needs, from its chunks
+    (:data:`BYTES_PER_CHUNK` each) and its chunks' points (:data:`BYTES_PER_POINT` each)."""
+    sizes = chunk_shape(spec.shape, spec.chunk_points)
+    chunks = math.prod(-(-n // s) for n, s in zip(spec.shape, sizes))
+    estimate = chunks * BYTES_PER_CHUNK + math.prod(sizes) * BYTES_PER_POINT
+    points = math.prod(spec.shape)
+    return (
+        f"the sweep of {points} points in {chunks} chunks of {spec.chunk_points} points",
+        estimate,
+    )
 
 
 def _points(slices) -> int:

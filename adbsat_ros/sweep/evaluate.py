@@ -88,7 +88,7 @@ class BodySetup:
             area=ref.get("area"),
             length=ref.get("length"),
             moment_point=tuple(ref.get("moment_point", (0.0, 0.0, 0.0))),
-        )
+        ).resolved(self.mesh, "reference.moment_point")
         kind = PanelMethod if self.body is None else ArticulatedMethod
         self.method = kind(
             self.mesh if self.body is None else self.body,

@@ -32,11 +32,13 @@ from __future__ import annotations
 import datetime as _dt
 import hashlib
 import json
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import yaml
 
+from adbsat_ros.bounds import bounded
 from adbsat_ros.environment.atmosphere import check_time
 from adbsat_ros.physics.gsi_models import MODELS, canonical_model_name
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
@@ -198,9 +200,7 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
     shading = str(data.get("shading", "raycast"))
     if shading not in SHADING_MODES:
         raise SpecError(f"shading: {shading!r} is not one of {', '.join(SHADING_MODES)}")
-    reference = data.get("reference") or {}
-    if not isinstance(reference, dict) or set(reference) - {"area", "length", "moment_point"}:
-        raise SpecError("reference: a mapping of area, length and moment_point")
+    reference = reference_checked(data.get("reference") or {})
     materials = data.get("materials") or []
     if isinstance(materials, str) or not all(isinstance(m, str) for m in materials):
         raise SpecError("materials: a list of NAME:key=value texts")
@@ -248,6 +248,7 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
         if name in fixed:
             raise SpecError(f"axes.{name}: also fixed; an input is fixed or swept, not both")
         axes[name] = checked(name, axis_values(given, name), AXES[name][0], "axes")
+    points_checked(axes)
     time = str(data.get("time", DEFAULT_TIME))
     try:
         epoch = _dt.datetime.fromisoformat(time)
@@ -302,6 +303,40 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
         solver,
         meshes,
     )
+
+
+def reference_checked(reference) -> dict:
+    """The ``reference`` field as given (its fingerprint unchanged), checked: ``area`` and
+    ``length`` within their ranges, ``moment_point`` three numbers within ``offset`` (and near
+    the body: checked with the mesh, in :class:`~adbsat_ros.sweep.evaluate.SweepSetup`)."""
+    if not isinstance(reference, dict) or set(reference) - {"area", "length", "moment_point"}:
+        raise SpecError("reference: a mapping of area, length and moment_point")
+    point = reference.get("moment_point", (0.0, 0.0, 0.0))
+    if not isinstance(point, (list, tuple)) or len(point) != 3:
+        raise SpecError(f"reference.moment_point: three numbers [x, y, z], got {point!r}")
+    try:
+        for name in ("area", "length"):
+            if name in reference:
+                bounded(f"reference.{name}", reference[name], name)
+        for axis, x in zip("xyz", point):
+            bounded(f"reference.moment_point {axis}", x, "offset")
+    except ValueError as exc:
+        raise SpecError(str(exc)) from None
+    return dict(reference)
+
+
+def points_checked(axes: dict) -> None:
+    """The points of a sweep (the product of its axes' lengths) within ``sweep_points`` of
+    :data:`adbsat_ros.bounds.BOUNDS`; SpecError naming the axes and their lengths."""
+    lengths = [len(v) for v in axes.values()]
+    try:
+        bounded(
+            f"axes: the points ({' x '.join(map(str, lengths))})",
+            math.prod(lengths),
+            "sweep_points",
+        )
+    except ValueError as exc:
+        raise SpecError(str(exc)) from None
 
 
 def load_spec(path) -> tuple:
