@@ -82,6 +82,12 @@ def foreign_entry(path, own) -> Path | None:
     return None
 
 
+def foreign_file(path, own) -> Path | None:
+    """``path`` unless it is a regular file (no link) that ``own(path)`` accepts as an output."""
+    path = Path(path)
+    return None if path.is_file() and not path.is_symlink() and own(path) else path
+
+
 def not_an_output(entry, command: str, option: str) -> str:
     """The refusal of a command to replace ``entry``, which it did not write."""
     return (
