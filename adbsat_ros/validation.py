@@ -1,8 +1,11 @@
-"""Checks of inputs that raise ValueError naming the input: numbers and 3-vectors."""
+"""Checks of inputs that raise ValueError naming the input: numbers and 3-vectors; and what an
+output path holds that a command did not write (which it never replaces)."""
 
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 
 import numpy as np
 
@@ -53,3 +56,41 @@ def vectors3(value, name: str) -> np.ndarray:
     if not all_finite(array):
         raise ValueError(f"{name} must be finite, got {value!r}")
     return array
+
+
+def foreign_entry(path, own) -> Path | None:
+    """The first entry at ``path`` that ``own`` does not accept as a command's output, or None.
+
+    ``own(parts)`` gets each file's path relative to ``path`` as a tuple of names (``()`` for
+    ``path`` itself when it is a file). A directory's entries are visited in sorted order; an
+    empty directory is accepted; a symbolic link or a special file never is.
+    """
+    path = Path(path)
+    if path.is_symlink() or not path.is_dir():
+        return None if path.is_file() and not path.is_symlink() and own(()) else path
+    for root, dirs, files in os.walk(path):
+        base = Path(root)
+        rel = base.relative_to(path).parts
+        dirs.sort()
+        for name in dirs:
+            if (base / name).is_symlink():
+                return base / name
+        for name in sorted(files):
+            entry = base / name
+            if entry.is_symlink() or not entry.is_file() or not own((*rel, name)):
+                return entry
+    return None
+
+
+def foreign_file(path, own) -> Path | None:
+    """``path`` unless it is a regular file (no link) that ``own(path)`` accepts as an output."""
+    path = Path(path)
+    return None if path.is_file() and not path.is_symlink() and own(path) else path
+
+
+def not_an_output(entry, command: str, option: str) -> str:
+    """The refusal of a command to replace ``entry``, which it did not write."""
+    return (
+        f"{entry} is not an output of adbsat-ros {command}; remove it yourself or choose another "
+        f"{option}"
+    )

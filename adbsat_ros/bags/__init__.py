@@ -9,6 +9,8 @@ Modules:
   :mod:`~adbsat_ros.bags.planning`, :mod:`~adbsat_ros.bags.worker`,
   :mod:`~adbsat_ros.bags.model_state`, :mod:`~adbsat_ros.bags.table`,
   :mod:`~adbsat_ros.bags.outputs` and :mod:`~adbsat_ros.bags.report` are its parts.
+- :mod:`~adbsat_ros.bags.replacing`: which outputs a path holds (what ``--overwrite`` may
+  replace).
 
 Imports the estimator and below, no ROS.
 """

@@ -43,6 +43,7 @@ import time
 from pathlib import Path
 
 from adbsat_ros.bags import io as bag_io
+from adbsat_ros.bags import replacing
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.bags.model_state import ModelState
 from adbsat_ros.bags.outputs import Outputs, Replay, write_outputs
@@ -87,15 +88,28 @@ __all__ = [
 
 
 def _output_path(path, overwrite: bool, what: str) -> Path | None:
+    """``path`` as a Path, or BagError if something is there: without ``overwrite``, or with it
+    when that is not an output of the kind ``what`` (named: it is never removed)."""
     if path is None:
         return None
     path = Path(path)
-    if path.exists() and not overwrite:
+    if not (path.exists() or path.is_symlink()):
+        return path
+    if not overwrite:
         raise BagError(
             f"output {what} {path}: already exists (choose another name, or overwrite it: "
             "--overwrite)"
         )
+    reason = replacing.refusal(path, what)
+    if reason is not None:
+        raise BagError(reason)
     return path
+
+
+def _holds(path: Path, bag: Path) -> bool:
+    """Whether ``path`` is the input ``bag`` or a directory it is in."""
+    path, bag = path.resolve(), bag.resolve()
+    return path == bag or path in bag.parents
 
 
 def _model_states(models) -> list:
@@ -216,6 +230,9 @@ def analyze_bag(
     out_bag = _output_path(out_bag, overwrite, "bag")
     out_csv = _output_path(out_csv, overwrite, "CSV")
     plots_dir = _output_path(plots_dir, overwrite, "plot directory")
+    for what, path in (("bag", out_bag), ("CSV", out_csv), ("plot directory", plots_dir)):
+        if path is not None and _holds(path, bag):
+            raise BagError(f"output {what} {path}: holds the input bag {bag}; choose another name")
 
     uses_attitudes = any(s.attitude_source == "attitude_topic" for _, s in models)
     reader = bag_io.open_bag(bag)

@@ -21,6 +21,7 @@ import numpy as np
 from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
+from adbsat_ros.bags import replacing
 from adbsat_ros.messages.decoding import JOINT_STATE, ODOMETRY, QUATERNION_STAMPED
 
 #: The message types of ROS 2 Jazzy (the project's distribution).
@@ -221,7 +222,8 @@ class BagWriter:
     storage : str
         'mcap' or 'sqlite3'.
     overwrite : bool
-        Replace an existing bag directory at ``path`` on commit.
+        Replace a bag at ``path`` on commit (a rosbag2 bag only: anything else there is
+        refused, :mod:`adbsat_ros.bags.replacing`).
     """
 
     def __init__(self, path, storage: str = "mcap", overwrite: bool = False):
@@ -232,8 +234,7 @@ class BagWriter:
                 f"output bag {self.path}: already exists (choose another name, or overwrite it: "
                 "--overwrite)"
             )
-        if self.path.exists() and not self.path.is_dir():
-            raise BagError(f"output bag {self.path}: exists and is not a bag directory")
+        _check_replaceable(self.path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._tmp_parent = Path(
             tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".partial", dir=self.path.parent)
@@ -278,7 +279,8 @@ class BagWriter:
         returns where it is."""
         self._writer.close()
         path = self.path if path is None else Path(path)
-        if path.exists():
+        if path.exists() or path.is_symlink():
+            _check_replaceable(path)
             shutil.rmtree(path)
         os.replace(self._tmp_parent / self.path.name, path)
         shutil.rmtree(self._tmp_parent, ignore_errors=True)
@@ -301,6 +303,14 @@ class BagWriter:
         elif self._tmp_parent.exists():
             self.commit()
         return False
+
+
+def _check_replaceable(path: Path) -> None:
+    """BagError naming what at ``path`` (if anything) is not a bag's: it is never removed."""
+    if path.exists() or path.is_symlink():
+        reason = replacing.refusal(path, "bag")
+        if reason is not None:
+            raise BagError(reason)
 
 
 def write_bag(path, records, storage: str = "mcap", overwrite: bool = False) -> Path:

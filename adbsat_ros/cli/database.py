@@ -27,7 +27,9 @@ from adbsat_ros.cli.common import (
 from adbsat_ros.cli.options import CommandLineError, number, parse_angle_list
 from adbsat_ros.cli.solvers import add_solver_arguments, test_particle_method
 from adbsat_ros.database.build import build_database
+from adbsat_ros.database.format import is_database_csv, is_database_file
 from adbsat_ros.processes import stop_on_signals, usable_cpus, worker_count
+from adbsat_ros.validation import foreign_file, not_an_output
 
 #: Default angle-of-attack and sideslip grids [deg]: the whole sphere in 5 deg steps.
 DEFAULT_AOA = "-180:5:180"
@@ -86,6 +88,14 @@ def _check_output(path: str, option: str) -> None:
         raise CommandLineError(f"{option}: directory {directory} is not writable")
 
 
+def _check_replaceable(path: str, option: str, own) -> None:
+    """A file at ``path`` is replaced only if a database build wrote it (``own``)."""
+    if os.path.lexists(path):
+        entry = foreign_file(path, own)
+        if entry is not None:
+            raise CommandLineError(not_an_output(entry, "database", option))
+
+
 def _angles(text, option, low, high):
     values = parse_angle_list(text, option)
     if values.min() < low or values.max() > high:
@@ -107,6 +117,9 @@ def run(args) -> int:
     csv_path = args.csv if args.csv is not None else out[: -len(".npz")] + ".csv"
     _check_output(out, "--out")
     _check_output(csv_path, "--csv")
+    _check_replaceable(out, "--out", is_database_file)
+    _check_replaceable(csv_path, "--csv", is_database_csv)
+    _check_replaceable(partial_path(csv_path), "--csv", is_database_csv)
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
     method, flow, conditions = method_and_flow_from_args(args)

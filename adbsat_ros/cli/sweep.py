@@ -34,7 +34,9 @@ def configure(p) -> None:
         help="worker processes of the LocalCluster (default: every usable CPU)",
     )
     p.add_argument(
-        "--overwrite", action="store_true", help="replace a store of another spec at --out"
+        "--overwrite",
+        action="store_true",
+        help="replace a sweep store (of another spec) at --out; anything else there is refused",
     )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)

@@ -35,6 +35,8 @@ from adbsat_ros.geometry import frames
 #: Version of the file layout that :meth:`AeroDatabase.save` writes and :func:`load_database`
 #: reads.
 FORMAT_VERSION = 1
+#: The first line of a database's CSV file (after "# ").
+CSV_TITLE = "adbsat_ros aerodynamic database (ADBSat coefficient names; angles in degrees)"
 
 #: Per-attitude scalar arrays, shape (na, nb).
 SCALAR_FIELDS = ("CD", "CL", "CY", "AreaProj")
@@ -193,7 +195,7 @@ class AeroDatabase:
             else "number_densities=" + json.dumps(flow.get("number_densities"))
         )
         lines = [
-            "adbsat_ros aerodynamic database (ADBSat coefficient names; angles in degrees)",
+            CSV_TITLE,
             f"format_version: {m['format_version']}",
             f"created_utc: {m['created_utc']}",
             f"adbsat_ros_version: {m['adbsat_ros_version']}",
@@ -220,6 +222,26 @@ class AeroDatabase:
         if "conditions" in m:
             lines.append("conditions: " + json.dumps(m["conditions"]))
         return lines
+
+
+def is_database_file(path) -> bool:
+    """Whether ``path`` is a file :meth:`AeroDatabase.save` wrote (an .npz of its arrays)."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            names = set(archive.namelist())
+    except (OSError, zipfile.BadZipFile):
+        return False
+    return {f"{name}.npy" for name in ("aoa_deg", "aos_deg", "metadata", "CD")} <= names
+
+
+def is_database_csv(path) -> bool:
+    """Whether ``path`` is a file :meth:`AeroDatabase.save_csv` wrote (by its first line)."""
+    start = f"# {CSV_TITLE}\n".encode()
+    try:
+        with open(path, "rb") as stream:
+            return stream.read(len(start)) == start
+    except OSError:
+        return False
 
 
 # ---------------------------------------------------------------------------------- loading

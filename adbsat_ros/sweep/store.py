@@ -7,13 +7,22 @@ before its flag, so a store that a killed run left behind holds every flagged ch
 running the same spec again computes the others only. The spec (its YAML text and fingerprint),
 the body's mesh fingerprint and panel count, the reference quantities and the package version are
 the Dataset's attributes. Zarr chunks are the sweep's chunks, so no two writes share one.
+
+A store is made whole before it appears: its spec, attributes and every array's layout are
+written under a temporary name beside ``path`` (``.NAME.*.partial``) and renamed to ``path``, so a
+run killed at any instant leaves either no store (the next run makes it) or one to take up. A
+run killed while it makes one may leave that hidden directory, which nothing reads.
+``overwrite`` replaces only a sweep store: a directory holding the Zarr files of a group with a
+sweep's attributes and nothing else; anything else at ``path`` is refused, by name.
 """
 
 from __future__ import annotations
 
 import itertools
 import json
+import os
 import shutil
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +31,10 @@ from adbsat_ros._version import __version__
 from adbsat_ros.sweep.axes import AXES, JOINT_PREFIX
 from adbsat_ros.sweep.evaluate import SCALARS, vector_results
 from adbsat_ros.sweep.spec import SweepSpec
+from adbsat_ros.validation import foreign_entry, not_an_output
+
+#: The title attribute of every sweep store starts so.
+TITLE = "adbsat-ros sweep of "
 
 
 class StoreError(ValueError):
@@ -68,39 +81,77 @@ class SweepStore:
 
     @classmethod
     def open(cls, path, spec: SweepSpec, setup, overwrite: bool = False) -> "SweepStore":
-        """The store at ``path`` for ``spec``: made if it is not there (or ``overwrite``),
-        taken up where it stopped if it holds this spec's sweep.
+        """The store at ``path`` for ``spec``: made if it is not there (or ``overwrite``, or
+        an empty directory), taken up where it stopped if it holds this spec's sweep.
 
         Raises
         ------
         StoreError
-            ``path`` holds something else (another spec's sweep, or not a sweep).
+            ``path`` holds something else (another spec's sweep without ``overwrite``; anything
+            but a sweep store, named, whatever ``overwrite``).
         """
-        import xarray as xr
-
         path = Path(path)
         sizes = chunk_shape(spec.shape, spec.chunk_points)
         slices = chunk_slices(spec.shape, sizes)
         store = cls(path, spec, sizes, slices)
-        if path.exists() and overwrite:
-            shutil.rmtree(path) if path.is_dir() else path.unlink()
-        if path.exists():
-            try:
-                attrs = xr.open_zarr(path, consolidated=False, decode_times=False).attrs
-            except Exception as exc:  # (zarr and xarray raise many kinds for a non-store)
-                raise StoreError(
-                    f"--out {path}: exists and is not a sweep store ({type(exc).__name__}); "
-                    "choose another path, or --overwrite"
-                ) from None
+        if not (path.exists() or path.is_symlink()):
+            store._create(setup, replace=False)
+            return store
+        foreign = _foreign(path)
+        if foreign is not None:
+            raise StoreError(not_an_output(foreign, "sweep", "--out"))
+        attrs = _sweep_attrs(path)  # (None: an empty directory)
+        if attrs is not None and not overwrite:
             if attrs.get("spec_fingerprint") != spec.fingerprint:
                 raise StoreError(
                     f"--out {path}: holds another spec's sweep; choose another path, or --overwrite"
                 )
-            return store
-        store._create(setup)
+            if store._complete():
+                return store
+        store._create(setup, replace=True)
         return store
 
-    def _create(self, setup) -> None:
+    def _complete(self) -> bool:
+        """Whether every array of the layout is in the store; False for an unfinished start
+        (which older versions could leave: the group's attributes written, not every array)."""
+        import zarr
+
+        group = zarr.open_group(str(self.path), mode="r")
+        names = (*vector_results(self.spec), *SCALARS, "chunk_done")
+        missing = [name for name in names if name not in group]
+        if not missing:
+            return True
+        if "chunk_done" in group and np.any(group["chunk_done"][:]):
+            raise StoreError(
+                f"--out {self.path}: holds computed chunks but no {', '.join(missing)}; "
+                "choose another path, or --overwrite"
+            )
+        return False
+
+    def _create(self, setup, replace: bool) -> None:
+        """Write the store's layout under a temporary name beside ``path``, then rename it to
+        ``path`` (``replace``: the directory there, checked as a sweep store's, is put aside
+        first and removed last)."""
+        parent = self.path.parent
+        parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".partial", dir=parent))
+        try:
+            self._write_layout(tmp, setup)
+            old = None
+            if replace:
+                old = Path(
+                    tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".old", dir=parent)
+                )
+                os.replace(self.path, old)  # (a directory: it takes the empty one's place)
+            os.replace(tmp, self.path)
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
+        if old is not None:
+            shutil.rmtree(old)
+
+    def _write_layout(self, where: Path, setup) -> None:
+        """The Dataset's coordinates, attributes and arrays (NaN, no chunk done) at ``where``."""
         import dask.array as da
         import xarray as xr
 
@@ -121,7 +172,7 @@ class SweepStore:
         data["chunk_done"] = (["chunk"], da.zeros(len(self.slices), dtype="i1", chunks=1))
         method = setup.method
         attrs = {
-            "title": f"adbsat-ros sweep of {spec.mesh}",
+            "title": f"{TITLE}{spec.mesh}",
             "spec_yaml": spec.text,
             "spec_fingerprint": spec.fingerprint,
             "adbsat_ros_version": __version__,
@@ -159,7 +210,7 @@ class SweepStore:
         # (no coordinate for the components: a string one has no Zarr 3 data type yet)
         for name in vector_results(spec):
             dataset[name].attrs["component"] = "x, y, z"
-        dataset.to_zarr(self.path, compute=False, mode="w", consolidated=False)
+        dataset.to_zarr(where, compute=False, mode="w", consolidated=False)
 
     def _arrays(self) -> dict:
         """The store's Zarr arrays by name, opened once (each opening reads its metadata)."""
@@ -183,3 +234,33 @@ class SweepStore:
         for name, values in results.items():
             arrays[name][region + ((slice(None),) if values.ndim > len(region) else ())] = values
         arrays["chunk_done"][index] = 1
+
+
+def _zarr_file(parts: tuple) -> bool:
+    """A file of the Zarr store a sweep writes: the group's and each array's ``zarr.json``, and
+    the arrays' chunks (``NAME/c/I/J/...``)."""
+    if parts == ("zarr.json",) or (len(parts) == 2 and parts[1] == "zarr.json"):
+        return True
+    return len(parts) >= 3 and parts[1] == "c" and all(p.isdigit() for p in parts[2:])
+
+
+def _sweep_attrs(path: Path) -> dict | None:
+    """The attributes of the sweep store at ``path``, or None (not a sweep store's group)."""
+    try:
+        meta = json.loads((path / "zarr.json").read_text(encoding="utf-8"))
+        attrs = meta["attributes"]
+        if meta.get("node_type") == "group" and str(attrs["title"]).startswith(TITLE):
+            return attrs
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    return None
+
+
+def _foreign(path: Path) -> Path | None:
+    """What at ``path`` a sweep did not write: a file that is no Zarr store's, or ``path``
+    itself when it is a Zarr store without a sweep's attributes; None for a sweep store or an
+    empty directory."""
+    entry = foreign_entry(path, _zarr_file)
+    if entry is None and any(path.iterdir()) and _sweep_attrs(path) is None:
+        return path
+    return entry
