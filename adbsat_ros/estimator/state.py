@@ -143,6 +143,34 @@ def checked_state(
     return OrbitalState(stamp, position, velocity)
 
 
+def check_conditions(evaluate, state: OrbitalState) -> None:
+    """Refuse a state whose flight conditions cannot be evaluated at its own stamp (above the
+    atmosphere model, a stamp outside its years), so that it does not replace the latest good
+    state (every attitude after it would be refused until the next good one).
+
+    Parameters
+    ----------
+    evaluate : callable
+        ``evaluate(state, stamp)``: the flight conditions (the estimator's
+        :class:`~adbsat_ros.estimator.conditions.PropagatedConditions`).
+    state : OrbitalState
+        The state, checked by :func:`checked_state`.
+
+    Raises
+    ------
+    Rejection
+        ``altitude_out_of_range`` (outside the atmosphere model's altitudes) or ``bad_state``
+        (any other reason the conditions cannot be evaluated), with the model's message.
+    """
+    try:
+        evaluate(state, state.stamp)
+    except (ValueError, OverflowError) as exc:
+        reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
+        raise Rejection(
+            reason, f"state at stamp {state.stamp!r} s: {exc}; the latest state is kept"
+        ) from None
+
+
 def odometry_inputs(msg, state_frame: str, body_frame_id: str, frame_ids) -> tuple:
     """What an Odometry message gives :func:`checked_state`, by the frame rules.
 
