@@ -232,7 +232,7 @@ class AeroWrenchEstimator:
                     f"a second state at stamp {stamp!r} s with other numbers: the first is kept",
                 )
             if state != self._state:  # (the model takes it at its own stamp)
-                check_conditions(self.knots.evaluate, state)
+                check_conditions(self.knots.evaluate, self.utc, state)
         except Rejection as exc:
             self.rejections[exc.reason] += 1
             raise
