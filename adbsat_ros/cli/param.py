@@ -21,7 +21,11 @@ def configure(p) -> None:
     p.add_argument("node", metavar="NODE", help="the node's name, e.g. adbsat_node (or /ns/name)")
     p.add_argument("name", metavar="NAME", nargs="?", help="parameter name (get, set)")
     p.add_argument(
-        "value", metavar="VALUE", nargs="?", help="value for set, read as YAML: 150, true, [1, 2]"
+        "value",
+        metavar="VALUE",
+        nargs="?",
+        help="value for set, read as the parameter's declared type (the node is asked): 150, "
+        "2e2, true, [0.1, 0, 0]; a string parameter takes the text as it is",
     )
     p.add_argument(
         "--timeout",
@@ -33,7 +37,8 @@ def configure(p) -> None:
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros param``; returns the exit status (1 if the node rejects or is absent)."""
+    """Run ``adbsat-ros param``; returns the exit status (1 if the node rejects or is absent;
+    CommandLineError, status 2, for a node name or a value that cannot be used)."""
     if args.action in ("get", "set") and args.name is None:
         raise CommandLineError(f"param {args.action}: NAME is needed")
     if args.action == "set" and args.value is None:
@@ -54,6 +59,8 @@ def run(args) -> int:
         else:
             value = tools.set_parameter(args.node, args.name, args.value, args.timeout)
             print(f"set {args.name} = {value!r}")
+    except tools.BadInput as exc:
+        raise CommandLineError(str(exc)) from None
     except tools.ToolError as exc:
         print(f"adbsat-ros param: error: {exc}", file=sys.stderr)
         return 1

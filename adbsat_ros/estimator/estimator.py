@@ -35,7 +35,13 @@ from adbsat_ros.estimator.joints import JointStates, preparation
 from adbsat_ros.estimator.samples import OrbitalState, Rejection, WrenchSample
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.estimator.shading import ShadingSource
-from adbsat_ros.estimator.state import checked_rotation, checked_state, jumps_back, odometry_inputs
+from adbsat_ros.estimator.state import (
+    check_conditions,
+    checked_rotation,
+    checked_state,
+    jumps_back,
+    odometry_inputs,
+)
 from adbsat_ros.estimator.sunlight import SolarPressureSource
 from adbsat_ros.estimator.timing import stamp_utc
 from adbsat_ros.estimator.wrench import Moment, database_wrench, panel_wrench
@@ -196,12 +202,17 @@ class AeroWrenchEstimator:
         orientation_xyzw : array_like, shape (4,), optional
             Body orientation (x, y, z, w), needed for a body-frame velocity.
 
+        A refused state leaves the latest one (and its stamp and knots) in place.
+
         Raises
         ------
         Rejection
-            ``non_finite``, ``bad_quaternion``, ``out_of_order`` (a stamp before the latest
-            state's, within ``time_jump_reset``: the latest state stays) or ``time_backwards``
-            (further back: the history restarts from this state).
+            ``non_finite``, ``bad_quaternion``, ``altitude_out_of_range`` (below
+            ``min_altitude`` or outside the atmosphere model at its own stamp), ``bad_state``
+            (a speed beyond any Earth orbit's, a stamp outside the years the atmosphere and
+            time scales cover), ``out_of_order`` (a stamp before the latest state's, within
+            ``time_jump_reset``: the latest state stays), ``conflicting_state`` or
+            ``time_backwards`` (further back: the history restarts from this state).
         """
         try:
             state = checked_state(
@@ -213,12 +224,15 @@ class AeroWrenchEstimator:
                 self.settings.max_quaternion_norm_error,
                 self.settings.min_altitude,
             )
-        except Rejection as exc:
-            self.rejections[exc.reason] += 1
-            raise
-        last = self._last_state_stamp
-        try:
+            last = self._last_state_stamp
             restart = jumps_back(stamp, last, self.settings.time_jump_reset, "state")
+            if stamp == last and state != self._state:  # a duplicate stamp that disagrees
+                raise Rejection(
+                    "conflicting_state",
+                    f"a second state at stamp {stamp!r} s with other numbers: the first is kept",
+                )
+            if state != self._state:  # (the model takes it at its own stamp)
+                check_conditions(self.knots.evaluate, self.utc, state)
         except Rejection as exc:
             self.rejections[exc.reason] += 1
             raise
@@ -229,12 +243,6 @@ class AeroWrenchEstimator:
             raise Rejection(
                 "time_backwards",
                 f"state time went back by {last - stamp:.3f} s: history reset, state kept",
-            )
-        if stamp == last and state != self._state:  # a duplicate stamp that disagrees
-            self.rejections["conflicting_state"] += 1
-            raise Rejection(
-                "conflicting_state",
-                f"a second state at stamp {stamp!r} s with other numbers: the first is kept",
             )
         self._last_state_stamp, self._state = stamp, state
         return state

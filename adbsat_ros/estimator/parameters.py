@@ -12,6 +12,7 @@ import difflib
 
 import yaml
 
+from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR
 from adbsat_ros.environment.flight_conditions import STATE_FRAMES
 from adbsat_ros.estimator.parameter_ranges import (
     MAX_CONDITIONS_STEP,
@@ -26,6 +27,8 @@ __all__ = [
     "COEFFICIENT_SOURCES",
     "DEFAULT_ECEF_FRAME_IDS",
     "DEFAULT_ECI_FRAME_IDS",
+    "EPOCH_UTC_RANGE",
+    "EPOCH_UTC_REASON",
     "EXECUTORS",
     "MAX_CONDITIONS_STEP",
     "PARAMETERS",
@@ -38,8 +41,11 @@ __all__ = [
     "STATE_FRAMES",
     "TIME_MODES",
     "WHOLE_NUMBER_PARAMETERS",
+    "is_ros_parameter",
     "load_parameters_file",
+    "parameter_kind",
     "parameter_range_text",
+    "typed_parameter_value",
     "unknown_parameter",
 ]
 
@@ -52,6 +58,12 @@ EXECUTORS = ("events", "single_threaded")
 DEFAULT_ECI_FRAME_IDS = ("eci", "gcrf", "gcrs", "icrf", "j2000", "eme2000")
 #: Default names of the Earth-fixed frame: ITRF/ITRS, WGS 84, and REP 105's ``earth``.
 DEFAULT_ECEF_FRAME_IDS = ("ecef", "itrf", "itrs", "wgs84", "earth")
+
+#: The valid range of ``epoch_utc``, in words (the time scales and the atmosphere model's space
+#: weather cover these years: :data:`adbsat_ros.environment.atmosphere.FIRST_YEAR`, ``LAST_YEAR``).
+EPOCH_UTC_RANGE = f"from {FIRST_YEAR}-01-01T00:00:00 to {LAST_YEAR}-12-31T23:59:59 UTC"
+#: Why ``epoch_utc`` has that range.
+EPOCH_UTC_REASON = "the years the time scales and the atmosphere model's space weather cover"
 
 #: (name, default, description) of every setting. Units in the description; SI throughout.
 PARAMETERS = (
@@ -304,6 +316,56 @@ READ_ONLY_PARAMETERS = (
 ROS_PARAMETERS = ("use_sim_time", "start_type_description_service", "qos_overrides")
 
 
+def is_ros_parameter(name: str) -> bool:
+    """Whether ``name`` is one of rclpy's own parameters (:data:`ROS_PARAMETERS`; a QoS
+    override's name, ``qos_overrides./topic.publisher.depth``, is one too)."""
+    return any(name == own or name.startswith(own + ".") for own in ROS_PARAMETERS)
+
+
+def _is_integer(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def typed_parameter_value(name: str, value):
+    """``value`` of parameter ``name`` in the type of the parameter's default, where the rule
+    allows it; any other value unchanged (the node refuses a value of another type).
+
+    The rule: an integer given to a number parameter (``f107: 150``) is that number as a float,
+    and each integer of a list given to a list of numbers likewise; a float with a whole value
+    given to a whole-number parameter (``shading_samples: 32.0``) is that integer, a float with a
+    fraction stays a float (refused).
+    """
+    default = PARAMETER_DEFAULTS.get(name)
+    if isinstance(default, float) and _is_integer(value):
+        return float(value)
+    if _is_integer(default) and isinstance(value, float):
+        return int(value) if value.is_integer() else value
+    if (
+        isinstance(default, list)
+        and default
+        and isinstance(default[0], float)
+        and isinstance(value, (list, tuple))
+        and all(_is_integer(x) or isinstance(x, float) for x in value)
+    ):
+        return [float(x) for x in value]
+    return value
+
+
+def parameter_kind(name: str) -> str:
+    """What parameter ``name`` takes, in words: ``"a number"``, ``"a whole number"``,
+    ``"true or false"``, ``"a string"``, ``"a list of numbers"`` or ``"a list of strings"``."""
+    default = PARAMETER_DEFAULTS[name]
+    if isinstance(default, bool):
+        return "true or false"
+    if isinstance(default, int):
+        return "a whole number"
+    if isinstance(default, float):
+        return "a number"
+    if isinstance(default, list):
+        return "a list of numbers" if isinstance(default[0], float) else "a list of strings"
+    return "a string"
+
+
 def unknown_parameter(name: str) -> str:
     """The error text for a parameter ``name`` that is not in :data:`PARAMETERS`, with the
     closest known name when one is close."""
@@ -348,7 +410,10 @@ def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:
 
 def parameter_range_text(name: str) -> str:
     """The valid range of a parameter in words (empty for one without a range), e.g.
-    ``"in [0, 1]: an accommodation coefficient ..."``; ``"each in ..."`` for a list of numbers."""
+    ``"in [0, 1]: an accommodation coefficient ..."``; ``"each in ..."`` for a list of numbers;
+    :data:`EPOCH_UTC_RANGE` for ``epoch_utc``."""
+    if name == "epoch_utc":
+        return f"{EPOCH_UTC_RANGE}: {EPOCH_UTC_REASON}"
     rule = PARAMETER_RANGES.get(name)
     if rule is None:
         return ""

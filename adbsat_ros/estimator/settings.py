@@ -13,9 +13,12 @@ import numpy as np
 
 from adbsat_ros.bounds import bounded
 from adbsat_ros.environment.accommodation import accommodation_model_names
+from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR
 from adbsat_ros.estimator.parameters import (
     ATTITUDE_SOURCES,
     COEFFICIENT_SOURCES,
+    EPOCH_UTC_RANGE,
+    EPOCH_UTC_REASON,
     EXECUTORS,
     PARAMETER_DEFAULTS,
     PARAMETER_RANGES,
@@ -113,14 +116,22 @@ def _flag(values, name) -> bool:
 
 
 def parse_utc(name, text) -> _dt.datetime:
-    """Parse an ISO 8601 UTC time (a trailing Z or +00:00 allowed) into an aware datetime."""
+    """Parse an ISO 8601 UTC time (a trailing Z or +00:00 allowed) into an aware datetime, within
+    the years of :data:`~adbsat_ros.estimator.parameters.EPOCH_UTC_RANGE`."""
     try:
         t = _dt.datetime.fromisoformat(str(text).replace("Z", "+00:00"))
+        if t.tzinfo is None:
+            t = t.replace(tzinfo=_dt.timezone.utc)
+        t = t.astimezone(_dt.timezone.utc)
     except ValueError:
         raise ValueError(f"parameter {name}: not an ISO 8601 time: {text!r}") from None
-    if t.tzinfo is None:
-        t = t.replace(tzinfo=_dt.timezone.utc)
-    return t.astimezone(_dt.timezone.utc)
+    except OverflowError:  # (an offset that takes it outside the years datetime has)
+        t = None
+    if t is None or not FIRST_YEAR <= t.year <= LAST_YEAR:
+        raise ValueError(
+            f"parameter {name}: {name} must be {EPOCH_UTC_RANGE} ({EPOCH_UTC_REASON}), got {text!r}"
+        )
+    return t
 
 
 @dataclass(frozen=True)

@@ -16,11 +16,16 @@ import math
 import numpy as np
 
 from adbsat_ros.bounds import BOUNDS
+from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR, MAX_ALTITUDE
 from adbsat_ros.environment.geodetic import geodetic_of_floats
 from adbsat_ros.estimator.samples import OrbitalState, Rejection
 from adbsat_ros.geometry.frames import quaternion_matrix_floats
 from adbsat_ros.messages.cdr import OdometryFields
 from adbsat_ros.messages.stamps import stamp_seconds
+
+#: Largest difference [m] between the geodetic altitudes of a position read in the state frame
+#: and in ECEF (an ECI position taken as ECEF: the pole's drift since J2000).
+FRAME_ALTITUDE_MARGIN = 1e3
 
 
 def jumps_back(stamp: float, latest: float | None, time_jump_reset: float, what: str) -> bool:
@@ -141,6 +146,60 @@ def checked_state(
         rotation = checked_rotation(orientation_xyzw, "state orientation", max_norm_error)
         velocity = np.array(rotation).reshape(3, 3) @ velocity
     return OrbitalState(stamp, position, velocity)
+
+
+def check_conditions(evaluate, utc, state: OrbitalState) -> None:
+    """Refuse a state whose flight conditions cannot be evaluated at its own stamp, so that it
+    does not replace the latest good state (every attitude after it would be refused until the
+    next good one): a stamp outside the years of the atmosphere model and the time scales, a
+    position above the model's top.
+
+    The altitude is the geodetic one of the position read in the state frame; within
+    :data:`FRAME_ALTITUDE_MARGIN` of the top, where the frame matters, the conditions are
+    evaluated.
+
+    Parameters
+    ----------
+    evaluate : callable
+        ``evaluate(state, stamp)``: the flight conditions (the estimator's
+        :class:`~adbsat_ros.estimator.conditions.PropagatedConditions`).
+    utc : callable
+        ``utc(stamp)``: the UTC of a stamp (the estimator's time mapping).
+    state : OrbitalState
+        The state, checked by :func:`checked_state`.
+
+    Raises
+    ------
+    Rejection
+        ``bad_state`` (a stamp outside the years, or that is no UTC time) or
+        ``altitude_out_of_range`` (above the atmosphere model).
+    """
+    where = f"state at stamp {state.stamp!r} s"
+    try:
+        year = utc(state.stamp).year
+    except (ValueError, OverflowError) as exc:  # e.g. a UNIX stamp beyond the year 9999
+        raise Rejection(
+            "bad_state", f"{where} is no UTC time ({exc}): the latest state is kept"
+        ) from None
+    if not FIRST_YEAR <= year <= LAST_YEAR:
+        raise Rejection(
+            "bad_state",
+            f"{where} is in the year {year}, outside {FIRST_YEAR}..{LAST_YEAR} (the years of the "
+            "atmosphere model's space weather and the time scales): the latest state is kept",
+        )
+    altitude = geodetic_of_floats(*state.position.tolist())[2]
+    if altitude > MAX_ALTITUDE + FRAME_ALTITUDE_MARGIN:
+        raise Rejection(
+            "altitude_out_of_range",
+            f"state altitude {altitude / 1e3:.1f} km is above {MAX_ALTITUDE / 1e3:g} km, the top "
+            "of the atmosphere model: the latest state is kept",
+        )
+    if altitude > MAX_ALTITUDE - FRAME_ALTITUDE_MARGIN:
+        try:
+            evaluate(state, state.stamp)
+        except ValueError as exc:
+            reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
+            raise Rejection(reason, f"{where}: {exc}; the latest state is kept") from None
 
 
 def odometry_inputs(msg, state_frame: str, body_frame_id: str, frame_ids) -> tuple:

@@ -12,12 +12,14 @@ import contextlib
 import os
 import time
 
-import yaml
 from rcl_interfaces.msg import ParameterType
+from rclpy.exceptions import NameValidationException
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
+from rclpy.validate_namespace import validate_namespace
+from rclpy.validate_node_name import validate_node_name
 
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.ros.graph import (
@@ -27,10 +29,30 @@ from adbsat_ros.ros.graph import (
     message_class,
     start_context,
 )
+from adbsat_ros.ros.parameter_values import text_value
 
 
 class ToolError(RuntimeError):
     """What went wrong, in one line (no such node, a timeout, a rejected value)."""
+
+
+class BadInput(ToolError):
+    """A command-line input that cannot be used (a node name that is no ROS name, a value that
+    is none of its parameter's type), in one line."""
+
+
+def checked_node_name(target: str) -> str:
+    """``target``, a node's name (``adbsat_node``, ``/ns/adbsat_node``), if it is a valid ROS
+    name; BadInput naming it otherwise."""
+    namespace, _, name = target.rpartition("/")
+    try:
+        validate_node_name(name)
+        if namespace:
+            validate_namespace(namespace if namespace.startswith("/") else "/" + namespace)
+    except NameValidationException as exc:
+        why = str(exc).splitlines()[0].rstrip(":").split(": ", 1)[-1]
+        raise BadInput(f"node {target!r}: not a valid node name ({why})") from None
+    return target
 
 
 class _Tool:
@@ -67,7 +89,7 @@ def _wait(tool, future, timeout: float, what: str):
 
 
 def _client(tool, target: str, timeout: float) -> AsyncParameterClient:
-    client = AsyncParameterClient(tool.node, target)
+    client = AsyncParameterClient(tool.node, checked_node_name(target))
     deadline = time.monotonic() + timeout
     while not client.services_are_ready():
         if time.monotonic() > deadline:
@@ -81,6 +103,7 @@ def _client(tool, target: str, timeout: float) -> AsyncParameterClient:
 
 def list_parameters(target: str, timeout: float = 5.0) -> dict:
     """Every parameter of node ``target`` and its value (Python values), by name."""
+    checked_node_name(target)
     with tool_node() as tool:
         client = _client(tool, target, timeout)
         names = _wait(tool, client.list_parameters(), timeout, f"node {target}").result.names
@@ -91,6 +114,7 @@ def list_parameters(target: str, timeout: float = 5.0) -> dict:
 
 def get_parameter(target: str, name: str, timeout: float = 5.0):
     """The value of parameter ``name`` of node ``target``; ToolError if it has none."""
+    checked_node_name(target)
     with tool_node() as tool:
         client = _client(tool, target, timeout)
         value = _wait(tool, client.get_parameters([name]), timeout, f"node {target}").values
@@ -100,22 +124,30 @@ def get_parameter(target: str, name: str, timeout: float = 5.0):
 
 
 def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
-    """Set parameter ``name`` of node ``target`` to ``text`` read as YAML (as ``ros2 param set``
-    does: ``150`` a number, ``true`` a flag, ``[1, 2, 3]`` a list); returns the value set.
+    """Set parameter ``name`` of node ``target`` to ``text`` read as the parameter's declared
+    type, which the node is asked first (:func:`.parameter_values.text_value`: ``2e2`` for a
+    number is 200.0, a string is the text as given, ``[0.1, 0, 0]`` for a list of numbers three
+    doubles); returns the value set.
 
     Raises
     ------
+    BadInput
+        ``target`` is no node name, or ``text`` is no value of the parameter's type.
     ToolError
-        The node rejected it (its reason), or did not answer.
+        The node has no such parameter, rejected the value (its reason), or did not answer.
     """
-    try:
-        value = yaml.safe_load(text)
-    except yaml.YAMLError:
-        value = text
-    if value is None:
-        value = text
+    checked_node_name(target)
     with tool_node() as tool:
         client = _client(tool, target, timeout)
+        described = _wait(
+            tool, client.describe_parameters([name]), timeout, f"node {target}"
+        ).descriptors
+        if not described or described[0].type == ParameterType.PARAMETER_NOT_SET:
+            raise ToolError(f"node {target} has no parameter {name!r}")
+        try:
+            value = text_value(name, text, described[0].type, described[0].dynamic_typing)
+        except ValueError as exc:
+            raise BadInput(str(exc)) from None
         result = _wait(
             tool, client.set_parameters([Parameter(name, value=value)]), timeout, f"node {target}"
         ).results[0]

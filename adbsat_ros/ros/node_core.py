@@ -27,11 +27,7 @@ from visualization_msgs.msg import Marker
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
 from adbsat_ros.estimator.health import OK, WARN, Health, StampGaps
-from adbsat_ros.estimator.parameters import (
-    PARAMETERS,
-    READ_ONLY_PARAMETERS,
-    parameter_range_text,
-)
+from adbsat_ros.estimator.parameters import PARAMETERS, READ_ONLY_PARAMETERS
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
@@ -44,6 +40,7 @@ from adbsat_ros.messages.decoding import (
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.physics.knudsen import knudsen_number
 from adbsat_ros.ros.log_throttle import LogThrottle
+from adbsat_ros.ros.parameter_values import declare_typed_parameters
 from adbsat_ros.ros.readers import Readers
 
 
@@ -67,20 +64,10 @@ class WrenchNodeCore:
     managed = False
 
     def declare_wrench_parameters(self) -> None:
-        """Declare every parameter of :data:`PARAMETERS` and the parameter-change callback."""
-        for name, default, text in PARAMETERS:
-            self.declare_parameter(
-                name,
-                default,
-                ParameterDescriptor(
-                    description=text,
-                    additional_constraints=parameter_range_text(name),
-                    read_only=name in READ_ONLY_PARAMETERS and not self.managed,
-                    # a number parameter takes an integer too (f107: 150 in a YAML file); the
-                    # settings check every value whatever its type
-                    dynamic_typing=_is_number(default),
-                ),
-            )
+        """Declare every parameter of :data:`PARAMETERS`, each keeping its type
+        (:func:`.parameter_values.declare_typed_parameters`: ValueError for a start-up value of
+        another type or an unknown name), and the parameter-change callback."""
+        declare_typed_parameters(self, self.managed)
         self.estimator = None
         self._publishers_made, self._subscriptions_made = [], []
         self._diag_timer = self._marker_timer = None
@@ -411,10 +398,3 @@ class WrenchNodeCore:
             )
         except Exception as exc:  # diagnostics must never take the node down
             self._log_throttled("error", "diagnostics_failed", f"diagnostics failed: {exc!r}")
-
-
-def _is_number(default) -> bool:
-    """Whether a parameter's default is a float or a list of floats."""
-    if isinstance(default, list):
-        return bool(default) and all(isinstance(x, float) for x in default)
-    return isinstance(default, float)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import datetime as _dt
 import math
 from collections import deque
 from types import SimpleNamespace as Time  # a builtin_interfaces/Time's two fields
@@ -348,11 +349,17 @@ def test_settings_change_keeps_the_knot_counters_and_evaluates_new_knots():
 
 
 def test_a_stamp_that_is_no_utc_time_is_a_counted_rejection():
-    """A UNIX stamp beyond the year 9999 has no UTC time: the attitude is rejected as bad_state
-    and counted, not raised as another error."""
+    """A UNIX stamp beyond the year 9999 has no UTC time: the state is rejected as bad_state and
+    counted, not raised as another error; an attitude past the model's last year (2100) after a
+    state just before it is rejected as bad_state too."""
     est = estimator(time_mode="unix")
-    est.on_state(1e12, [R, 0.0, 1e3], [0.0, V, 10.0])
     with pytest.raises(Rejection) as caught:
-        est.on_attitude(1e12 + 0.01, [0.0, 0.0, 0.0, 1.0])
-    assert caught.value.reason == "bad_state" and "1000000000000.01" in caught.value.message
-    assert est.rejections["bad_state"] == 1
+        est.on_state(1e12, [R, 0.0, 1e3], [0.0, V, 10.0])
+    assert caught.value.reason == "bad_state" and "1000000000000.0" in caught.value.message
+    assert est.rejections == {"bad_state": 1} and est.state is None
+    end = _dt.datetime(2101, 1, 1, tzinfo=_dt.timezone.utc).timestamp()
+    est.on_state(end - 0.5, [R, 0.0, 1e3], [0.0, V, 10.0])
+    with pytest.raises(Rejection) as caught:
+        est.on_attitude(end + 0.01, [0.0, 0.0, 0.0, 1.0])
+    assert caught.value.reason == "bad_state" and "2101-01-01" in caught.value.message
+    assert est.rejections == {"bad_state": 2}

@@ -38,14 +38,14 @@ def test_param_gets_sets_and_shows_a_rejection(node_process, capsys):
     assert main(["param", "get", "adbsat_node", "f107"]) == 0
     assert capsys.readouterr().out.strip() == "150.0"
     assert main(["param", "set", "adbsat_node", "f107", "200"]) == 0
-    assert capsys.readouterr().out.strip() == "set f107 = 200"
+    assert capsys.readouterr().out.strip() == "set f107 = 200.0"
     assert main(["param", "get", "adbsat_node", "f107"]) == 0
-    assert capsys.readouterr().out.strip() == "200"
+    assert capsys.readouterr().out.strip() == "200.0"
     assert main(["param", "set", "adbsat_node", "f107", "5000"]) == 1
     err = capsys.readouterr().err
     assert "rejected f107=5000" in err and "f107 must be in [50, 500] sfu" in err
     assert main(["param", "get", "adbsat_node", "f107"]) == 0
-    assert capsys.readouterr().out.strip() == "200"  # the old value kept
+    assert capsys.readouterr().out.strip() == "200.0"  # the old value kept
     assert main(["param", "list", "adbsat_node"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert "mesh: 'example'" in lines and "shading: 'none'" in lines

@@ -397,35 +397,36 @@ def test_bad_inputs_are_rejected_counted_and_the_node_stays_up(ros):
     # time going back beyond time_jump_reset (a looping bag): rejected, history reset
     expect("time_backwards", 2, lambda: peer.send_attitude(0.0, good))
     expect("no_state", 2, lambda: peer.send_attitude(1.07, good))
-    # altitude outside the atmosphere model
+    # a state outside the atmosphere model: refused, and the latest good state kept
+    peer.send_state(1.9, pos, vel)
     far = np.asarray(pos) * (6378137.0 + 2000e3) / np.linalg.norm(pos)
-    peer.send_state(2.0, far, vel)
-    peer.spin_for(0.05)
-    expect("altitude_out_of_range", 2, lambda: peer.send_attitude(2.0, good))
+    expect("altitude_out_of_range", 2, lambda: peer.send_state(2.0, far, vel))
+    peer.send_attitude(2.0, good)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 3)
     # a twist in an unknown frame, a state in a frame of no known name
-    expect("bad_state", 2, lambda: peer.send_state(2.1, pos, vel, child="camera"))
-    expect("bad_state", 2, lambda: peer.send_state(2.2, pos, vel, frame="sim_world"))
+    expect("bad_state", 3, lambda: peer.send_state(2.1, pos, vel, child="camera"))
+    expect("bad_state", 3, lambda: peer.send_state(2.2, pos, vel, frame="sim_world"))
     # zero relative velocity (at rest in the co-rotating air): a zero wrench is published
     omega = np.array([0.0, 0.0, 7.292115e-5])
     peer.send_state(3.0, pos, np.cross(omega, pos))
     peer.spin_for(0.05)
     peer.send_attitude(3.0, good)
-    assert peer.spin_until(lambda: len(peer.wrenches) == 3)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 4)
     # the near-zero residual comes from precession-nutation, far below any real drag
     assert np.linalg.norm(vec(peer.wrenches[-1].wrench.force)) < 1e-9
     # still up and computing
     peer.send_state(4.0, pos, vel)
     peer.spin_for(0.05)
     peer.send_attitude(4.0, good)
-    assert peer.spin_until(lambda: len(peer.wrenches) == 4)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 5)
     assert np.linalg.norm(vec(peer.wrenches[-1].wrench.force)) > 1e-5
     # attitudes arrive as CDR bytes: bytes that are no QuaternionStamped are counted, not used
-    expect("undecodable", 4, lambda: peer.attitude_pub.publish(b"\x00\x01\x00\x00" + b"\xff" * 12))
+    expect("undecodable", 5, lambda: peer.attitude_pub.publish(b"\x00\x01\x00\x00" + b"\xff" * 12))
     # a valid message that the fast reader refuses (trailing bytes) is decoded by the typesupport
     msg = QuaternionStamped()
     msg.header.stamp, msg.header.frame_id, msg.quaternion.w = to_stamp(4.01), "eci", 1.0
     peer.attitude_pub.publish(bytes(serialize_message(msg)) + bytes(8))
-    assert peer.spin_until(lambda: len(peer.wrenches) == 5)
+    assert peer.spin_until(lambda: len(peer.wrenches) == 6)
     assert stamp_to_float(peer.wrenches[-1].header.stamp) == pytest.approx(4.01, abs=1e-9)
     assert np.allclose(
         vec(peer.wrenches[-1].wrench.force), vec(peer.wrenches[-2].wrench.force), rtol=1e-3

@@ -1,0 +1,197 @@
+"""Parameter values of their declared type: the wrench node's parameters, and the text that
+``adbsat-ros param set`` turns into a value for any node.
+
+The node declares every parameter of :data:`~adbsat_ros.estimator.parameters.PARAMETERS` with
+the type of its default and keeps it (``dynamic_typing`` off): a number stays a double, a whole
+number an integer, a list of numbers a list of doubles. An integer given to a number parameter
+(``-p f107:=150``, a params file's ``f107: 150``, a ``set_parameters`` request) is taken as that
+double, a whole double given to an integer parameter as that integer
+(:func:`~adbsat_ros.estimator.parameters.typed_parameter_value`); any other value of another type
+is refused. Names given with ``--ros-args -p`` (or in a params file) that the node does not have
+stop it at start-up, with the closest known name.
+"""
+
+from __future__ import annotations
+
+import math
+
+import yaml
+from rcl_interfaces.msg import ParameterDescriptor, ParameterType
+from rclpy.exceptions import InvalidParameterTypeException
+from rclpy.parameter import Parameter
+
+from adbsat_ros.estimator.parameters import (
+    PARAMETER_DEFAULTS,
+    PARAMETERS,
+    READ_ONLY_PARAMETERS,
+    is_ros_parameter,
+    parameter_kind,
+    parameter_range_text,
+    typed_parameter_value,
+    unknown_parameter,
+)
+
+#: The range of a ROS integer parameter (int64).
+INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
+
+
+def declare_typed_parameters(node, managed: bool) -> None:
+    """Declare every parameter of :data:`PARAMETERS` on ``node`` with its default's type, the
+    values given at start-up (``-p``, a params file, ``parameter_overrides``) typed by the rule,
+    and make later changes typed the same way (a pre-set callback).
+
+    Raises
+    ------
+    ValueError
+        ``"parameter NAME: ..."``: a value of a type the parameter does not take, or a name the
+        node does not have (with the closest known one).
+    """
+    # rclpy keeps the start-up values by name here (no public accessor in Jazzy)
+    overrides = getattr(node, "_parameter_overrides", {})
+    for name in [n for n in overrides if n in PARAMETER_DEFAULTS]:
+        overrides[name] = Parameter(name, value=typed_parameter_value(name, overrides[name].value))
+    for name, default, text in PARAMETERS:
+        descriptor = ParameterDescriptor(
+            description=text,
+            additional_constraints=parameter_range_text(name),
+            read_only=name in READ_ONLY_PARAMETERS and not managed,
+        )
+        try:
+            node.declare_parameter(name, default, descriptor)
+        except InvalidParameterTypeException:
+            given = overrides.get(name)
+            raise ValueError(
+                f"parameter {name}: expected {parameter_kind(name)}, got "
+                f"{None if given is None else given.value!r}"
+            ) from None
+    for name in overrides:
+        if not node.has_parameter(name) and not is_ros_parameter(name):
+            raise ValueError(unknown_parameter(name))
+    node.add_pre_set_parameters_callback(typed_parameters)
+
+
+def typed_parameters(parameters) -> list:
+    """The pre-set callback: each parameter of :data:`PARAMETERS` typed by the rule (a value it
+    cannot type is left as it is, and refused by its type)."""
+    return [
+        Parameter(p.name, value=typed_parameter_value(p.name, p.value))
+        if p.name in PARAMETER_DEFAULTS and p.type_ != Parameter.Type.NOT_SET
+        else p
+        for p in parameters
+    ]
+
+
+# ------------------------------------------------------------------------------- command line
+_ELEMENT_TYPES = {
+    ParameterType.PARAMETER_BOOL_ARRAY: ParameterType.PARAMETER_BOOL,
+    ParameterType.PARAMETER_INTEGER_ARRAY: ParameterType.PARAMETER_INTEGER,
+    ParameterType.PARAMETER_DOUBLE_ARRAY: ParameterType.PARAMETER_DOUBLE,
+    ParameterType.PARAMETER_STRING_ARRAY: ParameterType.PARAMETER_STRING,
+}
+_WORDS = {
+    ParameterType.PARAMETER_BOOL: "true or false",
+    ParameterType.PARAMETER_INTEGER: "a whole number (integer)",
+    ParameterType.PARAMETER_DOUBLE: "a number (double)",
+}
+
+
+def _integer(name: str, text: str) -> int:
+    """An integer parameter's value: a whole number, also written as a float with no fraction
+    (``32.0``, ``1e3``), within int64."""
+    try:
+        value = int(text, 10)
+    except ValueError:
+        try:
+            number = float(text)
+        except ValueError:
+            number = math.nan
+        if not (math.isfinite(number) and number.is_integer()):
+            raise ValueError(
+                f"{name} takes {_WORDS[ParameterType.PARAMETER_INTEGER]}, got {text!r}"
+            )
+        value = int(number)
+    if not INT64_MIN <= value <= INT64_MAX:
+        raise ValueError(
+            f"{name}: {text} is outside the range of a ROS integer parameter "
+            f"[{INT64_MIN}, {INT64_MAX}]"
+        )
+    return value
+
+
+def _double(name: str, text: str) -> float:
+    """A double parameter's value: any number (``2e2``, ``200``, ``.inf``; the node checks its
+    range)."""
+    try:
+        return float(text)
+    except ValueError:
+        value = yaml.safe_load(text) if text.strip() else None
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            return float(value)
+        raise ValueError(f"{name} takes {_WORDS[ParameterType.PARAMETER_DOUBLE]}, got {text!r}")
+
+
+def _bool(name: str, text: str) -> bool:
+    try:
+        value = yaml.safe_load(text)
+    except yaml.YAMLError:
+        value = None
+    if not isinstance(value, bool):
+        raise ValueError(f"{name} takes {_WORDS[ParameterType.PARAMETER_BOOL]}, got {text!r}")
+    return value
+
+
+def _scalar(name: str, text: str, kind: int):
+    if kind == ParameterType.PARAMETER_STRING:
+        return text
+    if kind == ParameterType.PARAMETER_BOOL:
+        return _bool(name, text.strip())
+    if kind == ParameterType.PARAMETER_INTEGER:
+        return _integer(name, text.strip())
+    return _double(name, text.strip())
+
+
+def _inferred(name: str, text: str):
+    """A value for a parameter of no fixed type: read as YAML as ``ros2 param set`` does, but a
+    date stays the text, and an integer must fit int64."""
+    try:
+        value = yaml.safe_load(text)
+    except yaml.YAMLError:
+        return text
+    items = value if isinstance(value, list) else [value]
+    if value is None or not all(isinstance(x, (bool, int, float, str)) for x in items):
+        return text if not isinstance(value, list) else [str(x) for x in value]
+    for x in items:
+        if isinstance(x, int) and not isinstance(x, bool) and not INT64_MIN <= x <= INT64_MAX:
+            _integer(name, str(x))
+    if isinstance(value, list) and {type(x) for x in value} == {int, float}:
+        return [float(x) for x in value]
+    return value
+
+
+def text_value(name: str, text: str, kind: int, dynamic: bool = False):
+    """The value of parameter ``name`` that the command-line ``text`` gives, read as its
+    declared type ``kind`` (a ``ParameterType``): a string is the text as given (also when it
+    looks like a date or a number); a number, a whole number or a flag is read from the text; a
+    list is a YAML flow list (``[0.1, 0, 0]``) whose items are read as the element type. A
+    parameter of no fixed type (``dynamic``) is read as YAML.
+
+    Raises
+    ------
+    ValueError
+        One line naming the parameter: a text that is no value of its type, an integer beyond
+        int64.
+    """
+    if dynamic or kind == ParameterType.PARAMETER_NOT_SET:
+        return _inferred(name, text)
+    element = _ELEMENT_TYPES.get(kind)
+    if element is None:
+        if kind == ParameterType.PARAMETER_BYTE_ARRAY:
+            raise ValueError(f"{name}: a byte array cannot be set from the command line")
+        return _scalar(name, text, kind)
+    try:
+        items = yaml.load(text, Loader=yaml.BaseLoader)  # (every item as the text it is)
+    except yaml.YAMLError:
+        items = None
+    if not isinstance(items, list) or not all(isinstance(x, str) for x in items):
+        raise ValueError(f"{name} takes a list such as [1.0, 2.0], got {text!r}")
+    return [_scalar(f"{name}[{i}]", x, element) for i, x in enumerate(items)]
