@@ -364,6 +364,8 @@ class WrenchNodeCore:
         health = self.health
         values = est.diagnostic_values(health.last_sample, health.compute_ms())
         values["messages_lost"] = self.messages_lost
+        values["attitudes_lost"] = self._lost["attitude"].lost
+        values["states_lost"] = self._lost["state"].lost
         values["attitudes_missing"] = self.attitude_gaps.missing
         level, message = health.level(time.monotonic(), est.settings, sum(est.rejections.values()))
         sample = health.last_sample

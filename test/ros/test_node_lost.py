@@ -84,7 +84,8 @@ def test_attitudes_dropped_from_a_full_queue_are_counted_lost(sphere_file, execu
         assert answered + lost == BURST
         assert 1 <= answered <= 5 and lost >= BURST - 5
         values = dict(node.diagnostic_fields().values)
-        assert values["messages_lost"] == str(lost)
+        assert values["messages_lost"] == values["attitudes_lost"] == str(lost)
+        assert values["states_lost"] == "0"
         assert node.estimator.published == answered + 1
 
 
