@@ -160,3 +160,56 @@ class StampGaps:
         else:
             self.interval, self._gap = step, None
         self._latest = stamp
+
+
+class SequenceGaps:
+    """Messages lost on one topic, counted from the publisher's sequence numbers.
+
+    A publisher numbers its messages 1, 2, 3 ...; every number skipped between two messages the
+    node takes was lost on the way: in the middleware, or overwritten in the subscription's own
+    queue (KEEP_LAST ``qos_depth``) while the node was busy. The first message taken from a
+    publisher starts its count (the numbers before it may have been sent before the publisher
+    found the node). While the topic has more than one publisher their numbers interleave and
+    no message says whose it is: no gap is counted then, nor the first one after it, and a
+    number that does not advance starts a new count (another publisher, or the same one
+    restarted). Losses the middleware reports (:meth:`reported`) count where they exceed the
+    gaps counted.
+
+    Attributes
+    ----------
+    counted : int
+        Messages missing from the sequence numbers so far.
+    middleware : int
+        Messages the middleware reported lost so far.
+    """
+
+    def __init__(self):
+        self.counted = 0
+        self.middleware = 0
+        self._latest: int | None = None
+        self._shared = False  # whether the topic had several publishers at the latest check
+
+    @property
+    def lost(self) -> int:
+        """Messages lost: the larger of the two counts (both see a lost message of a single
+        publisher; only the middleware sees one while several publish)."""
+        return max(self.counted, self.middleware)
+
+    def number(self, sequence: int, single_publisher) -> None:
+        """A message numbered ``sequence`` by its publisher was taken; ``single_publisher()``
+        says whether the topic has one publisher (asked only when the number skips some)."""
+        latest, self._latest = self._latest, sequence
+        if latest is None or sequence <= latest + 1:
+            return
+        single = bool(single_publisher())
+        if single and not self._shared:
+            self.counted += sequence - latest - 1
+        self._shared = not single
+
+    def restart(self) -> None:
+        """A publisher came or went: the next message starts a new count."""
+        self._latest = None
+
+    def reported(self, count_change: int) -> None:
+        """The middleware reported ``count_change`` more messages lost."""
+        self.middleware += count_change

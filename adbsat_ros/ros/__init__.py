@@ -7,7 +7,8 @@ Modules:
   and :mod:`~adbsat_ros.ros.node_help` (its ``--help``) are its helpers;
   :mod:`~adbsat_ros.ros.node_core` holds its interfaces and callbacks, shared with the managed
   (lifecycle) node; :mod:`~adbsat_ros.ros.parameter_values` declares its parameters with their
-  types and reads ``adbsat-ros param set`` values as a parameter's type.
+  types and reads ``adbsat-ros param set`` values as a parameter's type;
+  :mod:`~adbsat_ros.ros.message_info` counts the messages its subscriptions lost.
 - :mod:`~adbsat_ros.ros.bag_play`, :mod:`~adbsat_ros.ros.bag_record`, :mod:`~adbsat_ros.ros.graph`:
   ``bag play`` and ``bag record`` without the ``ros2`` command.
 - :mod:`~adbsat_ros.ros.demo`, :mod:`~adbsat_ros.ros.demo_report`: ``adbsat-ros demo``.

@@ -18,7 +18,6 @@ from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import AccelStamped, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
-from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import JointState
@@ -40,6 +39,7 @@ from adbsat_ros.messages.decoding import (
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.physics.knudsen import knudsen_number
 from adbsat_ros.ros.log_throttle import LogThrottle
+from adbsat_ros.ros.message_info import LostMessages
 from adbsat_ros.ros.parameter_values import declare_typed_parameters
 from adbsat_ros.ros.readers import Readers
 
@@ -70,6 +70,7 @@ class WrenchNodeCore:
         declare_typed_parameters(self, self.managed)
         self.estimator = None
         self._publishers_made, self._subscriptions_made = [], []
+        self._lost: dict = {}  # LostMessages by topic, once set up
         self._diag_timer = self._marker_timer = None
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
@@ -116,23 +117,14 @@ class WrenchNodeCore:
         self._attitude_message = functools.partial(
             deserialize_message, message_type=QuaternionStamped
         )
-        # messages the middleware reports lost (where the RMW reports it), and attitudes missing
-        # from the stream by its stamps (StampGaps): both in /diagnostics
-        self.messages_lost = 0
+        # messages lost on the way, from the publishers' sequence numbers and the middleware's
+        # reports (LostMessages), and attitudes missing from the stream by its stamps
+        # (StampGaps): both in /diagnostics
+        self._lost = {"state": LostMessages(), "attitude": LostMessages()}
         self.attitude_gaps = StampGaps()
-        lost = SubscriptionEventCallbacks(message_lost=self._on_message_lost)
         subscriptions = [
-            self.create_subscription(
-                Odometry, "state", self._on_state, qos, raw=True, event_callbacks=lost
-            ),
-            self.create_subscription(
-                QuaternionStamped,
-                "attitude",
-                self._on_attitude,
-                qos,
-                raw=True,
-                event_callbacks=lost,
-            ),
+            self._counted_subscription(Odometry, "state", self._on_state, qos),
+            self._counted_subscription(QuaternionStamped, "attitude", self._on_attitude, qos),
         ]
         self.joint_torques_pub = None
         if self.estimator.body is not None:  # an articulated body: its joints in and out
@@ -284,8 +276,24 @@ class WrenchNodeCore:
             return
         self._serve(self.handler.on_joint_state(joint_state))
 
-    def _on_message_lost(self, status) -> None:
-        self.messages_lost += status.total_count_change
+    def _counted_subscription(self, msg_type, topic: str, callback, qos):
+        """A raw subscription whose lost messages are counted in ``self._lost[topic]``."""
+        lost = self._lost[topic]
+        subscription = self.create_subscription(
+            msg_type,
+            topic,
+            lost.callback(callback),
+            qos,
+            raw=True,
+            event_callbacks=lost.event_callbacks(),
+        )
+        lost.attach(subscription)
+        return subscription
+
+    @property
+    def messages_lost(self) -> int:
+        """State and attitude messages lost on the way to the node (:class:`LostMessages`)."""
+        return sum(lost.lost for lost in self._lost.values())
 
     def _serve(self, outcome: Outcome) -> None:
         """Publish what ``outcome`` holds, keep its health, log its rejection or failure."""
@@ -343,6 +351,8 @@ class WrenchNodeCore:
         health = self.health
         values = est.diagnostic_values(health.last_sample, health.compute_ms())
         values["messages_lost"] = self.messages_lost
+        values["attitudes_lost"] = self._lost["attitude"].lost
+        values["states_lost"] = self._lost["state"].lost
         values["attitudes_missing"] = self.attitude_gaps.missing
         level, message = health.level(time.monotonic(), est.settings, sum(est.rejections.values()))
         sample = health.last_sample

@@ -3,7 +3,15 @@
 import numpy as np
 import pytest
 
-from adbsat_ros.estimator.health import ERROR, OK, WARN, Health, StampGaps, health_level
+from adbsat_ros.estimator.health import (
+    ERROR,
+    OK,
+    WARN,
+    Health,
+    SequenceGaps,
+    StampGaps,
+    health_level,
+)
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.settings import WrenchSettings
 
@@ -82,3 +90,38 @@ def test_stamp_gaps_count_the_messages_missing_from_a_regular_stream():
     for t in [0.0, 0.005, 0.01, 0.015, 0.025, 0.035, 0.045, 0.055]:
         slower.stamp(t)
     assert slower.missing == 1 and slower.interval == pytest.approx(0.01)
+
+
+def test_sequence_gaps_count_the_numbers_a_single_publisher_skipped():
+    gaps = SequenceGaps()
+    for n in [41, 42, 43, 47, 48, 60]:  # the first number starts the count; 44-46, 49-59 lost
+        gaps.number(n, lambda: True)
+    assert gaps.counted == 14 and gaps.lost == 14
+    gaps.number(3, lambda: True)  # a number back: the publisher restarted, a new count
+    gaps.number(5, lambda: True)
+    assert gaps.counted == 15
+    gaps.restart()  # a publisher came or went
+    gaps.number(900, lambda: True)
+    assert gaps.counted == 15
+    gaps.reported(4)  # the middleware saw some of the same losses: the larger count
+    assert gaps.lost == 15 and gaps.middleware == 4
+    gaps.reported(20)
+    assert gaps.lost == 24
+
+
+def test_sequence_gaps_count_nothing_while_several_publishers_interleave():
+    asked = []
+
+    def two():
+        asked.append(1)
+        return False
+
+    gaps = SequenceGaps()
+    for n in [500, 10, 501, 11, 502, 12, 520, 13]:  # two publishers, each skipping
+        gaps.number(n, two)
+    assert gaps.counted == 0 and asked
+    gaps.number(14, lambda: True)  # one left: consecutive numbers ask nothing
+    gaps.number(30, lambda: True)  # the first skip after several publishers is not counted
+    assert gaps.counted == 0
+    gaps.number(35, lambda: True)
+    assert gaps.counted == 4
