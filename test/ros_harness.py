@@ -16,6 +16,7 @@ from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
+from waiting import HANG_TIMEOUT  # (a message, discovery, a process coming up; re-exported)
 
 EARTH_MU = 3.986004418e14
 EARTH_RADIUS_EQ = 6378137.0
@@ -73,7 +74,7 @@ class Peer:
         q.x, q.y, q.z, q.w = (float(x) for x in q_xyzw)
         self.attitude_pub.publish(msg)
 
-    def spin_until(self, predicate, timeout=5.0):
+    def spin_until(self, predicate, timeout=HANG_TIMEOUT):
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             self.executor.spin_once(timeout_sec=0.01)
@@ -86,7 +87,7 @@ class Peer:
         while time.monotonic() < deadline:
             self.executor.spin_once(timeout_sec=0.01)
 
-    def wait_for_subscribers(self, timeout=5.0):
+    def wait_for_subscribers(self, timeout=HANG_TIMEOUT):
         return self.spin_until(
             lambda: (
                 self.attitude_pub.get_subscription_count() > 0
