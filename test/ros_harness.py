@@ -37,9 +37,9 @@ class Peer:
     """A test node that publishes attitude and state and collects wrench, coefficients and
     diagnostics."""
 
-    def __init__(self, context, executor, name="test_peer", namespace=""):
+    def __init__(self, context, executor, name="test_peer", namespace="", depth=100):
         self.node = Node(name, context=context, namespace=namespace)
-        qos = QoSProfile(depth=100)
+        qos = QoSProfile(depth=depth)  # (messages kept while nobody spins: more are lost)
         self.attitude_pub = self.node.create_publisher(QuaternionStamped, "attitude", qos)
         self.state_pub = self.node.create_publisher(Odometry, "state", qos)
         self.wrenches, self.coefficients, self.diagnostics = [], [], []

@@ -307,8 +307,9 @@ def test_a_stream_sent_while_the_node_computes_loses_no_attitude_and_keeps_the_o
         ],
     )
     spinner.add_node(node)
-    peer = Peer(ctx, spinner)
     n = 400
+    # (the wrenches may queue up too, behind the attitudes still waiting: room for all of them)
+    peer = Peer(ctx, spinner, depth=n)
     try:
         assert peer.wait_for_subscribers()
         pos, vel = circular_orbit_state(300e3)

@@ -90,13 +90,13 @@ def test_bad_joint_states_are_refused_and_counted_and_the_node_stays_up(ros):
     peer.send_state(0.0, pos, vel)
     peer.spin_for(0.05)
     peer.send_attitude(0.01, ATTITUDE)  # no joint state yet
-    for count, msg in enumerate(
+    bad = (
         joint_state(0.02, ["antenna"], [0.0]),
         joint_state(0.02, HINGES, [math.nan, 0.0]),
         joint_state(0.02, HINGES, [7.0, 0.0]),  # beyond the hinge's +-pi
         joint_state(0.02, HINGES, [0.1]),
-        start=1,
-    ):
+    )
+    for count, msg in enumerate(bad, start=1):
         joints_pub.publish(msg)
         assert peer.spin_until(lambda: joint_states_handled(node) == count)
     peer.send_attitude(0.03, ATTITUDE)
