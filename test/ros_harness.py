@@ -16,6 +16,7 @@ from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
+from waiting import HANG_TIMEOUT  # (a message, discovery, a process coming up; re-exported)
 
 EARTH_MU = 3.986004418e14
 EARTH_RADIUS_EQ = 6378137.0
@@ -36,9 +37,9 @@ class Peer:
     """A test node that publishes attitude and state and collects wrench, coefficients and
     diagnostics."""
 
-    def __init__(self, context, executor, name="test_peer", namespace=""):
+    def __init__(self, context, executor, name="test_peer", namespace="", depth=100):
         self.node = Node(name, context=context, namespace=namespace)
-        qos = QoSProfile(depth=100)
+        qos = QoSProfile(depth=depth)  # (messages kept while nobody spins: more are lost)
         self.attitude_pub = self.node.create_publisher(QuaternionStamped, "attitude", qos)
         self.state_pub = self.node.create_publisher(Odometry, "state", qos)
         self.wrenches, self.coefficients, self.diagnostics = [], [], []
@@ -73,7 +74,7 @@ class Peer:
         q.x, q.y, q.z, q.w = (float(x) for x in q_xyzw)
         self.attitude_pub.publish(msg)
 
-    def spin_until(self, predicate, timeout=5.0):
+    def spin_until(self, predicate, timeout=HANG_TIMEOUT):
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             self.executor.spin_once(timeout_sec=0.01)
@@ -86,7 +87,7 @@ class Peer:
         while time.monotonic() < deadline:
             self.executor.spin_once(timeout_sec=0.01)
 
-    def wait_for_subscribers(self, timeout=5.0):
+    def wait_for_subscribers(self, timeout=HANG_TIMEOUT):
         return self.spin_until(
             lambda: (
                 self.attitude_pub.get_subscription_count() > 0

@@ -6,12 +6,12 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 from rosbags.rosbag2 import Reader
+from waiting import HANG_TIMEOUT, wait_for
 
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import scenario
@@ -253,11 +253,13 @@ def test_simulate_rejects_bad_orbit(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
-def test_a_signal_stops_the_analysis_within_a_second_keeping_partial_outputs(tmp_path, signum):
+def test_a_signal_stops_the_analysis_keeping_partial_outputs(tmp_path, signum):
     """Ctrl-C (SIGINT to the whole process group, workers included) or SIGTERM mid-analysis:
-    the command stops within about a second with one line and status 1; its outputs so far are
-    kept under PARTIAL names, nothing under the final ones, no temporary files, no traceback."""
+    the command stops before the end of the bag with one line and status 1; its outputs so far
+    are kept under PARTIAL names, nothing under the final ones, no temporary files, no
+    traceback."""
     messages = scenario.generate(scenario.Scenario(duration_s=1200, rate_hz=100, state_rate_hz=10))
+    in_bag = len(messages.attitudes.stamps_ns) + len(messages.states.stamps_ns)
     bag_io.write_scenario_bag(messages, tmp_path / "long")
     cmd = [sys.executable, "-m", "adbsat_ros.cli", "bag", "analyze", str(tmp_path / "long")]
     cmd += ["--out", str(tmp_path / "out"), "--no-plots", "--workers", "2"]
@@ -266,20 +268,18 @@ def test_a_signal_stops_the_analysis_within_a_second_keeping_partial_outputs(tmp
     )
     # the signal comes once rows are being written (the CSV in progress holds a flushed
     # buffer), however long this machine takes to start, read the bag and fork the workers
-    deadline = time.monotonic() + 60.0
-    while proc.poll() is None and time.monotonic() < deadline:
-        if any(p.stat().st_size > 8192 for p in tmp_path.glob(".out.csv.*.partial")):
-            break
-        time.sleep(0.05)
+    assert wait_for(
+        lambda: any(p.stat().st_size > 8192 for p in tmp_path.glob(".out.csv.*.partial")), proc
+    ), "no rows were written"
     assert proc.poll() is None, "the analysis ended before the signal: give it a longer bag"
-    sent = time.monotonic()
     os.killpg(proc.pid, signum)
-    out, err = proc.communicate(timeout=30)
-    assert time.monotonic() - sent < 2.0
+    out, err = proc.communicate(timeout=HANG_TIMEOUT)
     assert proc.returncode == 1 and "Traceback" not in err
     errors = [line for line in err.splitlines() if "error" in line]
     assert len(errors) == 1 and "stopped by a signal after" in errors[0]
     assert "PARTIAL" in errors[0]
+    read = int(errors[0].split("stopped by a signal after ")[1].split()[0])
+    assert 0 < read < in_bag  # stopped by the signal, not by the end of the bag
     assert not (tmp_path / "out").exists() and not (tmp_path / "out.csv").exists()
     with Reader(tmp_path / "out.PARTIAL") as reader:
         assert reader.message_count > 0

@@ -260,16 +260,18 @@ def test_a_signal_stops_a_test_particle_run_and_keeps_what_it_traced(signum):
     """Ctrl-C (or SIGTERM) ends a long run after its current block: the JSON of the molecules
     traced so far is written, marked stopped, with one line on stderr and status 1."""
     import signal
-    import time
+
+    from waiting import HANG_TIMEOUT, child_pids, wait_for
 
     cmd = [sys.executable, "-m", "adbsat_ros.cli", "coeff", "intake-box", *FLOW]
     cmd += ["--method", "tpmc", "--particles", "1e9", "--workers", "2", "--aoa", "0,10", "--json"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    # its first block of molecules is traced about 1.8 s after the start on an idle 2-core
-    # machine; the signal comes well after that, whatever the load (the run itself is endless)
-    time.sleep(12.0)
+    # the signal comes once the run traces (its worker processes, started while it stops on
+    # signals, exist), however long this machine takes to get there; a stop ends the run after
+    # its current block of molecules (the run itself is endless)
+    assert wait_for(lambda: child_pids(proc.pid), proc), "no worker process started"
     proc.send_signal(getattr(signal, signum))
-    out, err = proc.communicate(timeout=60)
+    out, err = proc.communicate(timeout=HANG_TIMEOUT)
     assert proc.returncode == 1, err
     rows = json.loads(out)
     assert len(rows) == 1 and rows[0]["stopped"] is True  # the second attitude was not run

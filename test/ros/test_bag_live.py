@@ -18,7 +18,7 @@ import numpy as np
 import rclpy
 from geometry_msgs.msg import WrenchStamped
 from rclpy.qos import QoSProfile, ReliabilityPolicy
-from ros_harness import make_context, spinning
+from ros_harness import HANG_TIMEOUT, make_context, spinning
 
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import scenario
@@ -26,6 +26,7 @@ from adbsat_ros.bags.analysis import analyze_bag
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.cli import main as cli_main
 from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.ros import bag_play
 from adbsat_ros.ros.bag_play import play
 from adbsat_ros.ros.bag_record import record
 from adbsat_ros.ros.graph import message_class
@@ -111,7 +112,7 @@ class Recorder:
 
     def stop(self):
         self.stop_event.set()
-        self.thread.join(timeout=10)
+        self.thread.join(timeout=HANG_TIMEOUT)
         assert not self.thread.is_alive()
         if self.error:
             raise self.error
@@ -119,11 +120,23 @@ class Recorder:
 
 
 @pytest.mark.parametrize("storage, rate", [("mcap", 1.0), ("sqlite3", 2.0)])
-def test_play_then_record_round_trip(tmp_path, storage, rate):
+def test_play_then_record_round_trip(tmp_path, storage, rate, monkeypatch):
+    """Every message comes back as it was; play() holds each until its time in the bag over the
+    rate after the first (its schedule), and none is received before that time."""
     source = small_bag(tmp_path / "source")
     out = tmp_path / "recorded"
+    schedule = []  # the time.monotonic() play() waits for before each message, in bag order
+    sleep_until = bag_play._sleep_until
+
+    def scheduled_sleep(deadline, stop):
+        schedule.append(deadline)
+        return sleep_until(deadline, stop)
+
+    monkeypatch.setattr(bag_play, "_sleep_until", scheduled_sleep)
     recorder = Recorder(out, ["/attitude", "/state:nav_msgs/msg/Odometry"], storage)
-    played = play(source, rate=rate, wait_for_subscribers=1, wait_timeout=20)
+    # the recorder stamps receive times with time.time_ns(): its offset from time.monotonic_ns()
+    wall_offset_ns = time.time_ns() - time.monotonic_ns()
+    played = play(source, rate=rate, wait_for_subscribers=1, wait_timeout=HANG_TIMEOUT)
     # play() returns once the recorder acknowledged every message; record() drains its queues
     # when stopped
     summary = recorder.stop()
@@ -135,17 +148,23 @@ def test_play_then_record_round_trip(tmp_path, storage, rate):
 
     original, copy = read_bag(source), read_bag(out)
     assert set(copy) == {"/attitude", "/state"}
-    first_original = min(t for msgs in original.values() for t, _ in msgs)
-    first_copy = min(t for msgs in copy.values() for t, _ in msgs)
+    bag_times = sorted(t for msgs in original.values() for t, _ in msgs)
+    # the schedule keeps the recorded spacing, scaled by the rate
+    np.testing.assert_allclose(
+        np.subtract(schedule, schedule[0]),
+        np.subtract(bag_times, bag_times[0]) * 1e-9 / rate,
+        rtol=0,
+        atol=1e-9,
+    )
+    due_ns = {t: round(deadline * 1e9) + wall_offset_ns for t, deadline in zip(bag_times, schedule)}
     for topic in original:
         assert [as_plain(m) for _, m in copy[topic]] == [as_plain(m) for _, m in original[topic]], (
             topic
         )
-        # receive times keep the recorded spacing, scaled by the rate (the tolerance allows for
-        # scheduling on 2 cores)
-        expected = np.array([t - first_original for t, _ in original[topic]]) / rate
-        got = np.array([t - first_copy for t, _ in copy[topic]])
-        assert np.max(np.abs(got - expected)) < 40 * MS, topic
+        # each received no earlier than its time (however much later the machine's load makes it;
+        # the clocks' offset is read to well within the 1 ms allowed here)
+        for (t, _), (received, _) in zip(original[topic], copy[topic]):
+            assert received >= due_ns[t] - MS, (topic, t)
 
 
 def test_loop_restarts_from_the_beginning(tmp_path):
@@ -171,7 +190,13 @@ def test_loop_restarts_from_the_beginning(tmp_path):
     try:
         with spinning(executor):
             summary = play(
-                source, rate=4.0, loop=True, topics=["attitude"], wait_for_subscribers=1, stop=stop
+                source,
+                rate=4.0,
+                loop=True,
+                topics=["attitude"],
+                wait_for_subscribers=1,
+                wait_timeout=HANG_TIMEOUT,
+                stop=stop,
             )
     finally:
         executor.shutdown()
@@ -197,9 +222,9 @@ def test_played_bag_through_the_node_equals_the_offline_analysis(tmp_path):
         tumble_axis=(0.3, 1.0, 0.2),
     )
     messages = scenario.generate(sim)
-    # States 50 ms before the attitudes that share their stamps: the node's two subscriptions then
-    # never hold a state and an attitude at once, so it handles them in bag order, as the
-    # analysis does.
+    # States 50 ms before the attitudes that share their stamps: each state comes before the
+    # attitude of its stamp in the bag, so the node, served in arrival order, handles them in
+    # bag order, as the analysis does.
     states = messages.states
     messages = scenario.ScenarioMessages(
         sim,
@@ -219,7 +244,9 @@ def test_played_bag_through_the_node_equals_the_offline_analysis(tmp_path):
     }
     assert report.wrenches == len(offline) == n_attitudes
 
-    ctx, executor = make_context()
+    # the events executor (the node's default) serves messages in the order they arrive, which
+    # is bag order, whether or not the node keeps up with the bag's pace
+    ctx, executor = make_context("events")
     node = AdbsatNode(
         context=ctx, parameter_overrides=[rclpy.parameter.Parameter("qos_depth", value=1000)]
     )
@@ -235,11 +262,11 @@ def test_played_bag_through_the_node_equals_the_offline_analysis(tmp_path):
     executor.add_node(listener)
     try:
         with spinning(executor):
-            deadline = time.monotonic() + 10
+            deadline = time.monotonic() + HANG_TIMEOUT
             while node.wrench_pub.get_subscription_count() < 1 and time.monotonic() < deadline:
                 time.sleep(0.02)
-            played = play(bag, rate=1.0, wait_for_subscribers=1, wait_timeout=20)
-            deadline = time.monotonic() + 10
+            played = play(bag, rate=1.0, wait_for_subscribers=1, wait_timeout=HANG_TIMEOUT)
+            deadline = time.monotonic() + HANG_TIMEOUT
             while len(live) < n_attitudes and time.monotonic() < deadline:
                 time.sleep(0.02)
         estimator = node.estimator
@@ -338,7 +365,7 @@ def test_record_for_a_duration_writes_a_readable_empty_bag_and_names_silent_topi
         )
         == 0
     )
-    assert 0.5 <= time.monotonic() - start < 5
+    assert time.monotonic() - start >= 0.5  # (however much longer it takes to stop)
     captured = capsys.readouterr()
     assert "0 messages" in captured.out
     assert "no publisher ever appeared on /nobody_publishes_this" in captured.err

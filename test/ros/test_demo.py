@@ -11,9 +11,18 @@ import csv
 import math
 
 import numpy as np
+from waiting import HANG_TIMEOUT
 
 from adbsat_ros.cli import main as cli_main
 from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.ros import demo
+
+
+@pytest.fixture(autouse=True)
+def every_wrench_awaited(monkeypatch):
+    """The demo waits for the wrenches still due after its last attitude until they are all in,
+    however long this machine takes (a user's demo gives up after DRAIN_TIMEOUT_S)."""
+    monkeypatch.setattr(demo, "DRAIN_TIMEOUT_S", HANG_TIMEOUT)
 
 
 def test_demo_runs_prints_the_table_and_writes_csv_and_plots(tmp_path, capsys):
@@ -30,9 +39,11 @@ def test_demo_runs_prints_the_table_and_writes_csv_and_plots(tmp_path, capsys):
         if not line.strip():
             break
         rows.append([float(v) for v in line.split()])
-    assert len(rows) >= 5  # a line every 0.5 s for 3 s
+    # a line every 0.5 s once wrenches come in (however many this machine's load lets in by
+    # then), and one when all are in
+    assert rows
     table = np.array(rows)
-    assert np.all(np.diff(table[:, 0]) > 0)  # simulated time advances
+    assert np.all(np.diff(table[:, 0]) >= 0)  # simulated time advances
     assert np.all((table[:, 1] > 280) & (table[:, 1] < 320))  # geodetic altitude of a 300 km orbit
 
     # "published N attitudes ...; received N wrenches" and every wrench in the CSV
@@ -42,6 +53,7 @@ def test_demo_runs_prints_the_table_and_writes_csv_and_plots(tmp_path, capsys):
     with open(out_dir / "demo_wrench.csv", newline="") as fh:
         data = list(csv.DictReader(fh))
     assert len(data) == received
+    assert table[-1, 0] == pytest.approx(float(data[-1]["time_s"]), abs=0.05)  # the last line
     # the UNIX stamps keep their fraction of a second (steps of 0.5 s of simulated time)
     stamps = np.array([float(row["stamp_unix_s"]) for row in data])
     assert np.allclose(np.diff(stamps), 0.5, atol=1e-6) and stamps[0] > 1.7e9

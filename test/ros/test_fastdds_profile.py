@@ -14,10 +14,13 @@ import subprocess
 import sys
 from pathlib import Path
 
+from ros_harness import HANG_TIMEOUT
+
 PROFILE = Path(__file__).resolve().parents[2] / "config" / "fastdds_localhost.xml"
 
-# A child process: "listen" subscribes to chatter and reports what it got and its UDP sockets;
-# "talk" publishes on chatter until killed.
+# A child process: "listen" subscribes to chatter and reports what it got (waiting at most
+# argv[2] seconds for the first message) and its UDP sockets; "talk" publishes on chatter until
+# killed.
 CHILD = r'''
 import json, os, socket, sys, time
 import rclpy
@@ -55,7 +58,7 @@ node = rclpy.create_node("profile_" + sys.argv[1])
 if sys.argv[1] == "listen":
     got = []
     node.create_subscription(String, "chatter", lambda m: got.append(m.data), 10)
-    deadline = time.monotonic() + 20.0
+    deadline = time.monotonic() + float(sys.argv[2])
     while not got and time.monotonic() < deadline:
         rclpy.spin_once(node, timeout_sec=0.1)
     print(json.dumps({"received": len(got), "udp": udp_sockets()}), flush=True)
@@ -81,11 +84,11 @@ def test_profile_discovers_over_loopback_only():
     )
     try:
         listener = subprocess.run(
-            [sys.executable, "-c", CHILD, "listen"],
+            [sys.executable, "-c", CHILD, "listen", str(HANG_TIMEOUT)],
             env=env,
             capture_output=True,
             text=True,
-            timeout=45,
+            timeout=2 * HANG_TIMEOUT,
         )
     finally:
         talker.kill()

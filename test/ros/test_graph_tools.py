@@ -8,9 +8,13 @@ pytest.importorskip("rclpy")
 
 import subprocess
 import sys
-import time
+
+from ros_harness import HANG_TIMEOUT
 
 from adbsat_ros.cli import main
+
+#: --timeout for the commands that must find the node: they end as soon as it answers
+WAIT = ["--timeout", str(HANG_TIMEOUT)]
 
 
 @pytest.fixture(scope="module")
@@ -20,36 +24,34 @@ def node_process():
     cmd += ["-p", "shading:=none", "-p", "diagnostics_period:=0.2"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:  # (whatever happens, the process goes: a stray node would answer other tests)
-        deadline = time.monotonic() + 30
-        while time.monotonic() < deadline:  # up when it answers
-            if main(["param", "get", "adbsat_node", "mesh", "--timeout", "2"]) == 0:
-                break
+        # up when it answers (however long this machine takes to start it)
+        assert main(["param", "get", "adbsat_node", "mesh", *WAIT]) == 0, "the node did not answer"
         yield proc
     finally:
         proc.terminate()
         try:
-            proc.wait(timeout=10)
+            proc.wait(timeout=HANG_TIMEOUT)
         except subprocess.TimeoutExpired:
             proc.kill()
 
 
 def test_param_gets_sets_and_shows_a_rejection(node_process, capsys):
     capsys.readouterr()
-    assert main(["param", "get", "adbsat_node", "f107"]) == 0
+    assert main(["param", "get", "adbsat_node", "f107", *WAIT]) == 0
     assert capsys.readouterr().out.strip() == "150.0"
-    assert main(["param", "set", "adbsat_node", "f107", "200"]) == 0
+    assert main(["param", "set", "adbsat_node", "f107", "200", *WAIT]) == 0
     assert capsys.readouterr().out.strip() == "set f107 = 200.0"
-    assert main(["param", "get", "adbsat_node", "f107"]) == 0
+    assert main(["param", "get", "adbsat_node", "f107", *WAIT]) == 0
     assert capsys.readouterr().out.strip() == "200.0"
-    assert main(["param", "set", "adbsat_node", "f107", "5000"]) == 1
+    assert main(["param", "set", "adbsat_node", "f107", "5000", *WAIT]) == 1
     err = capsys.readouterr().err
     assert "rejected f107=5000" in err and "f107 must be in [50, 500] sfu" in err
-    assert main(["param", "get", "adbsat_node", "f107"]) == 0
+    assert main(["param", "get", "adbsat_node", "f107", *WAIT]) == 0
     assert capsys.readouterr().out.strip() == "200.0"  # the old value kept
-    assert main(["param", "list", "adbsat_node"]) == 0
+    assert main(["param", "list", "adbsat_node", *WAIT]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert "mesh: 'example'" in lines and "shading: 'none'" in lines
-    assert main(["param", "get", "adbsat_node", "no_such"]) == 1
+    assert main(["param", "get", "adbsat_node", "no_such", *WAIT]) == 1
     assert "has no parameter 'no_such'" in capsys.readouterr().err
 
 
@@ -61,7 +63,7 @@ def test_param_names_a_missing_node(capsys):
 
 def test_echo_prints_the_diagnostics(node_process, capsys):
     capsys.readouterr()
-    assert main(["echo", "/diagnostics", "--count", "2"]) == 0
+    assert main(["echo", "/diagnostics", "--count", "2", *WAIT]) == 0
     out = capsys.readouterr().out
     assert out.count("\n---") == 2 and "status:" in out and "  name: 'adbsat_node" in out
     assert "- level: 2" in out or "- level: 1" in out or "- level: 0" in out  # (a number)

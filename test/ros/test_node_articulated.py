@@ -46,6 +46,11 @@ def joint_state(t, names, positions):
     return msg
 
 
+def joint_states_handled(node) -> int:
+    """Joint states the node has taken so far, accepted or refused."""
+    return node.estimator.joints.accepted + node.estimator.rejections["bad_joint_state"]
+
+
 def test_joint_torques_come_with_every_wrench_as_the_estimator_computes_them(ros):
     node, peer = ros
     joints_pub = peer.node.create_publisher(JointState, "joint_states", 10)
@@ -59,7 +64,7 @@ def test_joint_torques_come_with_every_wrench_as_the_estimator_computes_them(ros
     peer.spin_for(0.05)
     for k, (t, angles) in enumerate(inputs):
         joints_pub.publish(joint_state(t, HINGES, angles))
-        peer.spin_for(0.05)
+        assert peer.spin_until(lambda: node.estimator.joints.accepted == k + 1)
         peer.send_attitude(t + 0.01, ATTITUDE)
         assert peer.spin_until(lambda: len(torques) == k + 1 and len(peer.wrenches) == k + 1)
     reference = AeroWrenchEstimator(WrenchSettings.from_parameters(SETTINGS))
@@ -85,17 +90,18 @@ def test_bad_joint_states_are_refused_and_counted_and_the_node_stays_up(ros):
     peer.send_state(0.0, pos, vel)
     peer.spin_for(0.05)
     peer.send_attitude(0.01, ATTITUDE)  # no joint state yet
-    for msg in (
+    bad = (
         joint_state(0.02, ["antenna"], [0.0]),
         joint_state(0.02, HINGES, [math.nan, 0.0]),
         joint_state(0.02, HINGES, [7.0, 0.0]),  # beyond the hinge's +-pi
         joint_state(0.02, HINGES, [0.1]),
-    ):
+    )
+    for count, msg in enumerate(bad, start=1):
         joints_pub.publish(msg)
-        peer.spin_for(0.05)
+        assert peer.spin_until(lambda: joint_states_handled(node) == count)
     peer.send_attitude(0.03, ATTITUDE)
     joints_pub.publish(joint_state(0.04, HINGES, [0.1, 0.1]))
-    peer.spin_for(0.05)
+    assert peer.spin_until(lambda: node.estimator.joints.accepted == 1)
     peer.send_attitude(0.05, ATTITUDE)
     assert peer.spin_until(lambda: len(peer.wrenches) == 1)
     values = dict(node.diagnostic_fields().values)

@@ -212,7 +212,7 @@ def latest_diagnostics(peer, after_published):
                 return values
         return None
 
-    assert peer.spin_until(lambda: ready() is not None, timeout=5.0)
+    assert peer.spin_until(lambda: ready() is not None)
     return ready()
 
 

@@ -9,12 +9,11 @@ pytest.importorskip("rclpy")
 
 import subprocess
 import sys
-import time
 
 import rclpy
 from rcl_interfaces.msg import ParameterType
 from rclpy.parameter import Parameter
-from ros_harness import make_context
+from ros_harness import HANG_TIMEOUT, make_context
 
 from adbsat_ros.cli import main
 from adbsat_ros.ros.node import AdbsatNode
@@ -27,15 +26,14 @@ def node_process():
     """adbsat_node (the example, no shading) as its own process."""
     proc = subprocess.Popen(NODE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:  # (whatever happens, the process goes: a stray node would answer other tests)
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:  # up when it answers
-            if main(["param", "get", "adbsat_node", "mesh", "--timeout", "2"]) == 0:
-                break
+        # up when it answers (however long this machine takes to start it)
+        wait = ["--timeout", str(HANG_TIMEOUT)]
+        assert main(["param", "get", "adbsat_node", "mesh", *wait]) == 0, "the node did not answer"
         yield proc
     finally:
         proc.terminate()
         try:
-            proc.wait(timeout=30)
+            proc.wait(timeout=HANG_TIMEOUT)
         except subprocess.TimeoutExpired:
             proc.kill()
 
@@ -43,7 +41,7 @@ def node_process():
 def param(capsys, *args):
     """``adbsat-ros param ARGS``: (exit status, stdout, stderr)."""
     capsys.readouterr()
-    status = main(["param", *args, "--timeout", "10"])
+    status = main(["param", *args, "--timeout", str(HANG_TIMEOUT)])
     out, err = capsys.readouterr()
     return status, out.strip(), err.strip()
 

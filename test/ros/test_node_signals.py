@@ -14,13 +14,13 @@ import time  # noqa: E402
 
 import rclpy  # noqa: E402
 import trimesh  # noqa: E402
-from ros_harness import Peer, circular_orbit_state, make_context  # noqa: E402
+from ros_harness import HANG_TIMEOUT, Peer, circular_orbit_state, make_context  # noqa: E402
 
 #: Runs per signal (the fault this guards against showed in about half the runs).
 RUNS = 10
 
 #: Attempts per run. Rarely (once in some thousands of node processes on the CI machine) no
-#: message reached a freshly started node process within 30 s although its endpoints were
+#: message reached a freshly started node process within HANG_TIMEOUT although its endpoints were
 #: matched: a delivery fault between the two DDS participants, not the node's, which is then
 #: started again in a namespace of its own. Every attempt that gets an answer is checked.
 ATTEMPTS = 3
@@ -63,12 +63,10 @@ def signal_mid_stream(sphere_file, signum, run: int, attempt: int) -> tuple:
     pos, vel = circular_orbit_state(300e3)
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
-        assert peer.wait_for_subscribers(timeout=30), "node process did not come up"
-        assert peer.spin_until(
-            lambda: peer.node.count_publishers(f"{namespace}/wrench") > 0, timeout=30
-        )
+        assert peer.wait_for_subscribers(), "node process did not come up"
+        assert peer.spin_until(lambda: peer.node.count_publishers(f"{namespace}/wrench") > 0)
         t, sent, signalled = 0.0, 0, False
-        deadline = time.monotonic() + 30
+        deadline = time.monotonic() + HANG_TIMEOUT
         while proc.poll() is None and time.monotonic() < deadline:
             t += 0.001
             if sent % 100 == 0:
@@ -83,7 +81,7 @@ def signal_mid_stream(sphere_file, signum, run: int, attempt: int) -> tuple:
         if not signalled:
             proc.kill()
             return False, None, f"{sent} attitudes sent; stderr: {proc.communicate()[1]}"
-        _, err = proc.communicate(timeout=10)
+        _, err = proc.communicate(timeout=HANG_TIMEOUT)
         return True, proc.returncode, err
     finally:
         if proc.poll() is None:
