@@ -3,6 +3,8 @@
 Modules:
 
 - :mod:`~adbsat_ros.bags.io`: reading and writing .mcap and .db3 bags with rosbags.
+- :mod:`~adbsat_ros.bags.checksums`: the CRCs of the MCAP files written, and the checks of a
+  bag's files before it is analysed.
 - :mod:`~adbsat_ros.bags.scenario`: Keplerian orbits and attitude histories as messages.
 - :mod:`~adbsat_ros.bags.analysis`: :func:`analyze_bag`, a bag replayed through the node's
   per-message handler on several processes; :mod:`~adbsat_ros.bags.reading`,

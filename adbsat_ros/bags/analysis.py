@@ -53,7 +53,7 @@ from adbsat_ros.bags.planning import (
     plan_chunks,
     safe_split_points,
 )
-from adbsat_ros.bags.reading import check_topics, read_bag_messages
+from adbsat_ros.bags.reading import check_damage, check_topics, read_bag_messages
 from adbsat_ros.bags.report import (
     DIAGNOSTICS_TOPIC,
     NAMESPACE,
@@ -164,6 +164,7 @@ def analyze_bag(
     chunk_messages: int | None = None,
     stop=None,
     joint_topic: str = "/joint_states",
+    skip_damaged: bool = False,
 ) -> AnalysisReport:
     """Replay a bag through the node's logic for each model and write bag, CSV and plots.
 
@@ -201,6 +202,10 @@ def analyze_bag(
     joint_topic : str
         sensor_msgs/JointState topic of the joint positions, read when a model is an
         articulated body (as the node subscribes ``joint_states``).
+    skip_damaged : bool
+        Leave out the chunks of an MCAP input that fail their CRC (their messages are not
+        read; the report counts them, :attr:`AnalysisReport.skipped_chunks`) instead of
+        refusing the bag.
 
     Returns
     -------
@@ -209,7 +214,8 @@ def analyze_bag(
     Raises
     ------
     BagError
-        Before anything is written: the input cannot be opened, a topic is missing, has another
+        Before anything is written: the input cannot be opened, fails its checksums (naming
+        the file and the damaged chunk; see ``skip_damaged``), a topic is missing, has another
         message type or no messages, or an output exists. (A fault found while reading, or a
         stop, is reported in :attr:`AnalysisReport.error` instead; the outputs written so far
         are then kept under names that say PARTIAL, never the final ones:
@@ -247,9 +253,11 @@ def analyze_bag(
             needed.append(("--joint-states-topic", joint_topic, bag_io.JOINT_STATE))
         by_topic = check_topics(reader, bag, needed)
         _check_output_topics(bag, by_topic, states)
-        report = AnalysisReport(
-            bag, models=[s.summary for s in states], messages_total=reader.message_count
-        )
+        skipped, warnings = check_damage(reader, bag, skip_damaged)
+        report = AnalysisReport(bag, models=[s.summary for s in states], warnings=warnings)
+        report.skipped_chunks = len(skipped)
+        report.skipped_messages = sum(d.messages for d in skipped)
+        report.messages_total = reader.message_count - report.skipped_messages
         if capped:
             report.warnings.append(f"workers: {capped}")
         t0 = time.perf_counter()
@@ -259,6 +267,7 @@ def analyze_bag(
             state_topic,
             attitude_topic if uses_attitudes else None,
             joint_topic if articulated else None,
+            skipped,
         )
         report.error = read.error
     finally:

@@ -5,7 +5,8 @@ writes (Odometry, QuaternionStamped, WrenchStamped, DiagnosticArray), the deseri
 inputs the node reads (the fallback of :mod:`adbsat_ros.messages.decoding` for bytes its struct
 codec refuses), an :func:`open_bag` that turns every failure into a :class:`BagError` naming the
 file, and a :class:`BagWriter` that writes under a temporary name and only puts the bag at its
-final path on :meth:`BagWriter.commit`.
+final path on :meth:`BagWriter.commit`, its MCAP files with their CRCs
+(:mod:`adbsat_ros.bags.checksums`).
 
 Message builders take stamps as integer nanoseconds (``builtin_interfaces/Time`` sec + nanosec).
 """
@@ -18,10 +19,11 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
-from rosbags.rosbag2 import Reader, StoragePlugin, Writer
+from rosbags.rosbag2 import Reader, StoragePlugin
 from rosbags.typesys import Stores, get_typestore
 
 from adbsat_ros.bags import replacing
+from adbsat_ros.bags.checksums import CheckedWriter
 from adbsat_ros.messages.decoding import JOINT_STATE, ODOMETRY, QUATERNION_STAMPED
 
 #: The message types of ROS 2 Jazzy (the project's distribution).
@@ -239,7 +241,7 @@ class BagWriter:
         self._tmp_parent = Path(
             tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".partial", dir=self.path.parent)
         )
-        self._writer = Writer(
+        self._writer = CheckedWriter(
             self._tmp_parent / self.path.name, version=BAG_VERSION, storage_plugin=self.storage
         )
         self._writer.open()

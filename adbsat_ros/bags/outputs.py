@@ -11,7 +11,6 @@ and the report's error saying where.
 
 from __future__ import annotations
 
-import array
 import collections
 import csv
 import os
@@ -21,12 +20,12 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 from tqdm import tqdm
 
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags.report import DIAGNOSTICS_TOPIC
 from adbsat_ros.bags.table import PLOT_COLUMNS, header, model_extra_columns
+from adbsat_ros.plotting.envelope import MinMaxEnvelope
 
 _NS = 1_000_000_000
 
@@ -115,10 +114,11 @@ class _Walk:
         self.states, self.report = replay.states, replay.report
         self.writer, self.csv_file, self.seconds = writer, csv_file, seconds
         self.last_ns = None
-        # the plots' rows, when plots are asked for: stamps [ns] and the plot numbers, flat (8
-        # bytes a number: a row of lists would cost about 300 bytes a message)
-        self.keep_plot_rows = keep_plot_rows
-        self.rows_stamp, self.rows_plot = array.array("q"), array.array("d")
+        # the plots' numbers, when plots are asked for, as a min/max envelope over time bins:
+        # memory bounded by the bins, not the flight
+        self.plot_envelope = (
+            MinMaxEnvelope(len(self.states) * len(PLOT_COLUMNS)) if keep_plot_rows else None
+        )
         self.out_connections = {}
         self.topics = {cid: c.topic for cid, c in self.read.connections.items()}
         if writer is not None:
@@ -243,9 +243,8 @@ class _Walk:
                 stamp_ns = sec * _NS + nanosec
                 if first_row_ns is None:
                     first_row_ns = stamp_ns
-                if self.keep_plot_rows:
-                    self.rows_stamp.append(stamp_ns)
-                    self.rows_plot.extend(row.plot)
+                if self.plot_envelope is not None:
+                    self.plot_envelope.add((stamp_ns - first_row_ns) * 1e-9, row.plot)
                 if self.csv_file is not None:
                     stamp_s = sec + 1e-9 * nanosec
                     self.csv_file.file.write(
@@ -323,31 +322,30 @@ def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
             writer.discard()
         if csv_file is not None:
             csv_file.discard()
-    if plots_dir is not None and walk.rows_stamp:
+    if plots_dir is not None and len(walk.plot_envelope):
         t0 = time.perf_counter()
-        write_plots(plots_dir, walk.rows_stamp, walk.rows_plot, [s.label for s in states], report)
+        write_plots(plots_dir, walk.plot_envelope, [s.label for s in states], report)
         seconds["plots"] += time.perf_counter() - t0
     report.seconds.update(seconds)
 
 
-def write_plots(plots_dir, stamps_ns, rows_plot, labels, report) -> None:
+def write_plots(plots_dir, envelope, labels, report) -> None:
     """PNG plots of force, torque, density and drag coefficient of every model against time,
-    into ``plots_dir`` (replaced as a whole); their paths in ``report.outputs['plots']``."""
+    drawn from ``envelope`` (a :class:`MinMaxEnvelope` of the rows' plot numbers, PLOT_COLUMNS
+    per model, against seconds since the first row), into ``plots_dir`` (replaced as a whole);
+    their paths in ``report.outputs['plots']``."""
     # imported when plots are asked for: matplotlib takes about 0.3 s to import
-    from adbsat_ros.plotting.time_series import plot_time_series
+    from adbsat_ros.plotting.time_series import make_line_figures, save_figures
 
-    stamps_ns = np.asarray(stamps_ns, dtype=np.int64)
-    time_s = (stamps_ns - stamps_ns[0]) * 1e-9
-    data = np.frombuffer(rows_plot, dtype=float).reshape(
-        len(stamps_ns), len(labels), len(PLOT_COLUMNS)
-    )
-    runs = {}
+    n = len(PLOT_COLUMNS)
+    lines = {}
     for k, label in enumerate(labels):
-        runs[label] = {
-            "force": data[:, k, 0:3],
-            "torque": data[:, k, 3:6],
-            "density": data[:, k, 6],
-            "drag_coefficient": data[:, k, 7],
+        series = [envelope.series(k * n + j) for j in range(n)]
+        lines[label] = {
+            "force": series[0:3],
+            "torque": series[3:6],
+            "density": series[6:7],
+            "drag_coefficient": series[7:8],
         }
     plots_dir = Path(plots_dir)
     plots_dir.parent.mkdir(parents=True, exist_ok=True)
@@ -355,7 +353,7 @@ def write_plots(plots_dir, stamps_ns, rows_plot, labels, report) -> None:
         tempfile.mkdtemp(prefix=f".{plots_dir.name}.", suffix=".partial", dir=plots_dir.parent)
     )
     try:
-        written = plot_time_series(time_s, runs, tmp)
+        written = save_figures(make_line_figures(lines), tmp)
         if plots_dir.exists():
             shutil.rmtree(plots_dir)
         os.replace(tmp, plots_dir)

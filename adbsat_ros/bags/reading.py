@@ -3,7 +3,7 @@ bag: its topics checked; a first pass keeps the kinds and stamps of the state an
 ("trigger") messages, to plan the chunks; a second pass streams every message to the workers
 (the triggers) and to the merge (all of them, copied to the output bag). A fault of the reader
 part-way (a corrupt or truncated file) ends the first pass; the second stops at the same place,
-and the fault is reported.
+and the fault is reported. Before both, the bag's checksums are checked (:func:`check_damage`).
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ import collections
 import itertools
 from dataclasses import dataclass, field
 
+from adbsat_ros.bags.checksums import check_bag, drop_chunks
 from adbsat_ros.bags.io import BagError, open_bag
 from adbsat_ros.messages.cdr import header_stamp
 
@@ -37,6 +38,50 @@ def read_messages(reader, path, connections):
             ) from None
         count += 1
         yield item
+
+
+def check_damage(reader, path, skip_damaged: bool = False) -> tuple[list, list]:
+    """Check an open bag's checksums (:func:`adbsat_ros.bags.checksums.check_bag`).
+
+    Returns
+    -------
+    skipped : list of Damage
+        The damaged chunks (``skip_damaged`` only), taken out of ``reader``'s index: reading it
+        skips their messages.
+    warnings : list of str
+        Chunks that carry no CRC; with ``skip_damaged``, the chunks skipped and damage outside
+        the chunks (it touches no message).
+
+    Raises
+    ------
+    BagError
+        Naming the file and its first damaged part (a chunk: its number, byte offset, log times
+        and messages), unless ``skip_damaged`` and the damage is to chunks only (or outside
+        them); the bag's summary or an SQLite file's structure damaged, in any case.
+    """
+    check = check_bag(reader)
+    warnings = []
+    if check.unchecked_chunks:
+        warnings.append(
+            f"input bag {path}: {check.unchecked_chunks} of {check.chunks} chunks carry no CRC "
+            "(damage to them cannot be found)"
+        )
+    damaged = check.damaged
+    refused = [d for d in damaged if d.fatal or not skip_damaged]
+    if refused:
+        more = f"; {len(damaged)} damaged parts in all" if len(damaged) > 1 else ""
+        hint = (
+            " (--skip-damaged analyses the rest without its messages)"
+            if all(not d.fatal for d in damaged)
+            else ""
+        )
+        raise BagError(f"input bag {path}: {refused[0]}: the file is damaged{more}{hint}")
+    skipped = [d for d in damaged if d.skippable]
+    drop_chunks(reader, skipped)
+    for d in damaged:
+        action = f"skipped its {d.messages} messages" if d.skippable else "no message is in it"
+        warnings.append(f"input bag {path}: {d}: {action}")
+    return skipped, warnings
 
 
 def check_topics(reader, path, topics_types) -> dict:
@@ -97,6 +142,8 @@ class BagMessages:
         {trigger index: CDR bytes} of the state messages.
     error : str or None
         Why the reading stopped before the end.
+    skipped : list of Damage
+        Damaged chunks left out (:func:`check_damage`), by both passes.
     """
 
     path: object
@@ -107,6 +154,7 @@ class BagMessages:
     trigger_stamps: array.array = field(default_factory=lambda: array.array("d"))
     state_raws: dict = field(default_factory=dict)
     error: str | None = None
+    skipped: list = field(default_factory=list)
 
     def stream(self) -> "MessageStream":
         """The second pass: the same :attr:`count` messages again, in bag order."""
@@ -114,13 +162,19 @@ class BagMessages:
 
 
 def read_bag_messages(
-    reader, path, state_topic: str, attitude_topic: str | None, joint_topic: str | None = None
+    reader,
+    path,
+    state_topic: str,
+    attitude_topic: str | None,
+    joint_topic: str | None = None,
+    skipped=(),
 ) -> BagMessages:
     """The first pass over an open bag: its trigger messages (those on ``state_topic``, on
     ``attitude_topic`` unless it is None: no model uses attitudes, and on ``joint_topic`` unless
     it is None: no model is articulated), their kinds and stamps, the states' bytes. Memory
-    grows by about 9 bytes per trigger message, plus the states."""
-    read = BagMessages(path, {c.id: c for c in reader.connections})
+    grows by about 9 bytes per trigger message, plus the states. ``skipped``: the damaged
+    chunks :func:`check_damage` took out of ``reader`` (the second pass leaves them out too)."""
+    read = BagMessages(path, {c.id: c for c in reader.connections}, skipped=list(skipped))
     for c in reader.connections:
         if c.topic == state_topic:
             read.kind_of[c.id] = STATE
@@ -161,6 +215,7 @@ class MessageStream:
     def __init__(self, read: BagMessages):
         self._kind_of = read.kind_of
         self._reader = open_bag(read.path)
+        drop_chunks(self._reader, read.skipped)
         self._source = itertools.islice(
             read_messages(self._reader, read.path, self._reader.connections), read.count
         )

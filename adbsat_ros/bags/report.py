@@ -108,6 +108,8 @@ class AnalysisReport:
         Processes that computed the wrenches (1: this process).
     chunks : int
         Chunks the messages were cut into.
+    skipped_chunks, skipped_messages : int
+        Damaged chunks of the input left out (``skip_damaged``), and the messages they held.
     """
 
     input: Path
@@ -120,6 +122,8 @@ class AnalysisReport:
     seconds: dict = field(default_factory=dict)
     workers: int = 1
     chunks: int = 0
+    skipped_chunks: int = 0
+    skipped_messages: int = 0
 
     @property
     def partial(self) -> bool:

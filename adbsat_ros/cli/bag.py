@@ -91,6 +91,12 @@ def configure_analyze(a) -> None:
     )
     a.add_argument("--overwrite", action="store_true", help="replace existing outputs")
     a.add_argument(
+        "--skip-damaged",
+        action="store_true",
+        help="leave out the chunks of an MCAP input that fail their CRC, and say how many "
+        "messages they held (default: refuse a damaged bag)",
+    )
+    a.add_argument(
         "--workers",
         type=number("--workers", integer=True, low=1),
         default=None,
@@ -183,6 +189,7 @@ def run_analyze(args) -> int:
                 workers=args.workers,
                 stop=stop,
                 joint_topic=args.joint_states_topic,
+                skip_damaged=args.skip_damaged,
             )
     except BagError as exc:
         print(f"adbsat-ros bag analyze: error: {exc}", file=sys.stderr)
@@ -206,6 +213,11 @@ def run_analyze(args) -> int:
         f"{report.messages_read} messages read in {seconds:.2f} s ({report.workers} worker "
         f"process{'es' if report.workers > 1 else ''}, {report.chunks} chunk(s))"
     )
+    if report.skipped_chunks:
+        print(
+            f"skipped {report.skipped_chunks} damaged chunk(s) of the input holding "
+            f"{report.skipped_messages} messages"
+        )
     if report.error:
         print(
             f"adbsat-ros bag analyze: error: {report.error}; the outputs above are PARTIAL (so "

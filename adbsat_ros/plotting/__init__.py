@@ -11,5 +11,7 @@ small enough to commit):
 * :mod:`~adbsat_ros.plotting.panels`: the mesh coloured by panel pressure coefficient at one
   attitude, with the panels shaded from the flow marked;
 * :mod:`~adbsat_ros.plotting.time_series`: force, torque, density and drag coefficient against
-  time, one line per model (bag analysis and the demo).
+  time, one line per model (bag analysis and the demo);
+  :mod:`~adbsat_ros.plotting.envelope` the bounded min/max summary of a long flight that bag
+  analysis draws them from (no matplotlib).
 """

@@ -1,6 +1,7 @@
 """Force, torque, density and drag coefficient against time, one line per model.
 
-Used by bag analysis and the demo; forces and torques in the body frame [N, N m].
+Used by bag analysis (from a bounded summary of the flight, :mod:`adbsat_ros.plotting.envelope`,
+through :func:`make_line_figures`) and the demo; forces and torques in the body frame [N, N m].
 """
 
 from __future__ import annotations
@@ -37,14 +38,18 @@ def _check_runs(time_s, runs) -> tuple[np.ndarray, dict]:
     return t, checked
 
 
-def _time_axis(t: np.ndarray):
-    """Times in seconds, minutes or hours, whichever reads best for their span, and the label."""
-    span = float(np.nanmax(t) - np.nanmin(t)) if np.isfinite(t).any() else 0.0
+def _time_axis(lines):
+    """The factor to the unit (seconds, minutes or hours) that reads best for the lines' span of
+    times [s], and the axis label."""
+    xs = [x for run in lines.values() for series in run.values() for x, _ in series]
+    finite = [x[np.isfinite(x)] for x in xs]
+    finite = [x for x in finite if x.size]
+    span = float(max(x.max() for x in finite) - min(x.min() for x in finite)) if finite else 0.0
     if span > 3 * 3600:
-        return t / 3600.0, "time since first message [h]"
+        return 1 / 3600.0, "time since first message [h]"
     if span > 600:
-        return t / 60.0, "time since first message [min]"
-    return t, "time since first message [s]"
+        return 1 / 60.0, "time since first message [min]"
+    return 1.0, "time since first message [s]"
 
 
 def _run_style(values: np.ndarray) -> dict:
@@ -77,15 +82,38 @@ def make_time_series_figures(time_s, runs) -> dict:
         ``drag_coefficient``; one line per run in every panel.
     """
     t, runs = _check_runs(time_s, runs)
-    t_plot, t_label = _time_axis(t)
-    several = len(runs) > 1
+    lines = {}
+    for label, data in runs.items():
+        lines[label] = {
+            key: [(t, data[key][:, i]) for i in range(3)] if ndim == 2 else [(t, data[key])]
+            for key, ndim in TIME_SERIES_KEYS.items()
+        }
+    return make_line_figures(lines)
+
+
+def make_line_figures(lines) -> dict:
+    """The figures of :func:`make_time_series_figures` from lines whose times may differ by
+    series (e.g. each series' :meth:`~adbsat_ros.plotting.envelope.MinMaxEnvelope.series`).
+
+    Parameters
+    ----------
+    lines : dict of str to dict
+        Label -> ``{'force': [(t, x), (t, y), (t, z)], 'torque': [...],
+        'density': [(t, values)], 'drag_coefficient': [(t, values)]}``, ``t`` in seconds since
+        the first message; NaN where a run has no sample.
+    """
+    if not lines:
+        raise ValueError("runs is empty: give at least one run (label -> data)")
+    scale, t_label = _time_axis(lines)
+    several = len(lines) > 1
     figures = {}
     for key, quantity, unit in (("force", "force", "N"), ("torque", "torque", "N m")):
         fig = new_figure()
         axes = fig.subplots(3, 1, sharex=True)
         for i, (ax, comp) in enumerate(zip(axes, "xyz")):
-            for label, data in runs.items():
-                ax.plot(t_plot, data[key][:, i], label=label, **_run_style(data[key][:, i]))
+            for label, run in lines.items():
+                t, values = run[key][i]
+                ax.plot(t * scale, values, label=label, **_run_style(values))
             ax.set_ylabel(f"{comp} [{unit}]")
             ax.grid(True, lw=0.4, alpha=0.6)
             ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4))
@@ -106,10 +134,10 @@ def make_time_series_figures(time_s, runs) -> dict:
         fig = new_figure()
         ax = fig.add_subplot()
         positive = False
-        for label, data in runs.items():
-            values = data[key]
+        for label, run in lines.items():
+            ((t, values),) = run[key]
             positive |= bool(np.any(values > 0))
-            ax.plot(t_plot, values, label=label, **_run_style(values))
+            ax.plot(t * scale, values, label=label, **_run_style(values))
         if key == "density" and positive:
             ax.set_yscale("log")
         ax.set_xlabel(t_label)
@@ -122,14 +150,16 @@ def make_time_series_figures(time_s, runs) -> dict:
     return figures
 
 
+def save_figures(figures, out_dir, prefix: str = "") -> list[Path]:
+    """Write figures as PNGs ``{prefix}{name}.png`` in ``out_dir``; returns the paths."""
+    out_dir = Path(out_dir)
+    return [save_png(fig, out_dir / f"{prefix}{name}.png") for name, fig in figures.items()]
+
+
 def plot_time_series(time_s, runs, out_dir, prefix: str = "") -> list[Path]:
     """Write :func:`make_time_series_figures` as PNGs in ``out_dir``; returns the paths.
 
     The files are ``{prefix}force.png``, ``{prefix}torque.png``, ``{prefix}density.png`` and
     ``{prefix}drag_coefficient.png``.
     """
-    out_dir = Path(out_dir)
-    return [
-        save_png(fig, out_dir / f"{prefix}{name}.png")
-        for name, fig in make_time_series_figures(time_s, runs).items()
-    ]
+    return save_figures(make_time_series_figures(time_s, runs), out_dir, prefix)
