@@ -178,6 +178,8 @@ def interruptible():
         yield
     finally:
         signals.in_order = saved
+    if signals.event.is_set():  # (a library caught the Interrupted raised inside)
+        raise Interrupted(signals.signum or signal.SIGINT)
 
 
 @contextlib.contextmanager
