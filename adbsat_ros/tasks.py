@@ -24,10 +24,12 @@ results are then the same whatever the workers and the order.
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import logging
 import multiprocessing
 import os
+import signal
 import threading
 from dataclasses import dataclass, field
 from typing import Callable, Protocol
@@ -213,10 +215,22 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
                 report.stopped = True
                 break
     finally:
+        if cluster is not None and report.stopped:
+            _kill_workers(cluster)
         client.close()
         if cluster is not None:
             cluster.close()
     return report
+
+
+def _kill_workers(cluster) -> None:
+    """End the local workers at once (SIGKILL): closed in order, each would first finish the
+    chunk it is at, whose result is dropped anyway."""
+    for nanny in list(cluster.workers.values()):
+        pid = getattr(nanny, "pid", None)
+        if pid:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
 
 
 def local_cluster(count: int):

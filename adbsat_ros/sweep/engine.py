@@ -15,6 +15,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
+from adbsat_ros.processes import interruptible
 from adbsat_ros.sweep.evaluate import SweepJob, SweepSetup
 from adbsat_ros.sweep.spec import SweepSpec
 from adbsat_ros.sweep.store import SweepStore
@@ -73,7 +74,8 @@ def run_sweep(
     from tqdm import tqdm
 
     started = time.perf_counter()
-    setup = SweepSetup(spec)  # (checked here first: a bad mesh fails before any worker starts)
+    with interruptible():  # (nothing written yet: a signal ends it at once)
+        setup = SweepSetup(spec)  # (checked here first: a bad mesh fails before any worker starts)
     store = SweepStore.open(out, spec, setup, overwrite)
     todo = store.missing()
     report = SweepReport(chunks=len(store.slices), already_done=len(store.slices) - len(todo))
