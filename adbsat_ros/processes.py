@@ -97,14 +97,16 @@ class Interrupted(KeyboardInterrupt):
 
 
 class _Signals:
-    """The handler of :func:`handle_signals`: the first signal sets :attr:`event` and, outside
-    :func:`stop_on_signals`, raises :class:`Interrupted`; later ones only set the event (what
-    the command does after the first one is its orderly end)."""
+    """The handler of :func:`handle_signals`: the first signal sets :attr:`event` and, inside
+    :func:`raising_signals` but outside :func:`stop_on_signals`, raises :class:`Interrupted`;
+    later ones only set the event (what the command does after the first one is its orderly
+    end)."""
 
     def __init__(self):
         self.pid = os.getpid()
         self.event = threading.Event()
         self.signum = None
+        self.armed = False
         self.in_order = 0
 
     def __call__(self, signum, frame):
@@ -115,7 +117,7 @@ class _Signals:
         if first:
             self.signum = signum
         self.event.set()
-        if first and not self.in_order:
+        if first and self.armed and not self.in_order:
             raise Interrupted(signum)
 
 
@@ -145,8 +147,10 @@ def signal_name() -> str | None:
 @contextlib.contextmanager
 def handle_signals():
     """SIGINT and SIGTERM handled for a whole command: its ``main`` enters this first thing
-    (module docstring); the previous handlers come back after. Nothing happens in a thread other
-    than the main one, nor inside another such block."""
+    (module docstring), and :func:`raising_signals` inside the ``try`` that catches
+    :class:`Interrupted` (outside it a signal only sets the event, so that none comes between
+    the two); the previous handlers come back after. Nothing happens in a thread other than
+    the main one, nor inside another such block."""
     if _signals() is not None or threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -164,20 +168,34 @@ def handle_signals():
 
 
 @contextlib.contextmanager
-def interruptible():
-    """Inside :func:`stop_on_signals`, a stretch that holds nothing to keep (reading, planning):
-    a signal ends it at once (:class:`Interrupted`), as one that came before it does."""
+def raising_signals():
+    """Under :func:`handle_signals`, inside: a signal raises :class:`Interrupted` (one that came
+    before, at the start), except within :func:`stop_on_signals`."""
     signals = _signals()
-    if signals is None or not signals.in_order:
+    if signals is None:
         yield
         return
     if signals.event.is_set():
         raise Interrupted(signals.signum or signal.SIGINT)
-    saved, signals.in_order = signals.in_order, 0
+    saved = signals.armed, signals.in_order
+    signals.armed, signals.in_order = True, 0
     try:
         yield
     finally:
-        signals.in_order = saved
+        signals.armed, signals.in_order = saved
+
+
+@contextlib.contextmanager
+def interruptible():
+    """Inside :func:`stop_on_signals`, a stretch that holds nothing to keep (reading, planning):
+    a signal ends it at once (:class:`Interrupted`), as one that came before it, or one that a
+    library inside caught, does."""
+    signals = _signals()
+    if signals is None:
+        yield
+        return
+    with raising_signals():
+        yield
     if signals.event.is_set():  # (a library caught the Interrupted raised inside)
         raise Interrupted(signals.signum or signal.SIGINT)
 

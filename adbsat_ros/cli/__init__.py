@@ -26,7 +26,13 @@ import sys
 
 from adbsat_ros._version import __version__
 from adbsat_ros.cli.options import CommandLineError, OneLineErrorParser
-from adbsat_ros.processes import INTERRUPTED_STATUS, Interrupted, handle_signals, signal_name
+from adbsat_ros.processes import (
+    INTERRUPTED_STATUS,
+    Interrupted,
+    handle_signals,
+    raising_signals,
+    signal_name,
+)
 
 #: The subcommands in the order ``--help`` lists them, with their one-line help; each is
 #: configured by the module of the same name in this package.
@@ -146,10 +152,12 @@ def main(argv=None) -> int:
     SIGINT and SIGTERM are handled from here on (:func:`adbsat_ros.processes.handle_signals`):
     a subcommand's long work stops in order and says so; a signal anywhere else ends the command
     with one line, ``adbsat-ros COMMAND: stopped by SIGINT``, and no traceback."""
+    command = None
     with handle_signals():
-        command = command_name(sys.argv[1:] if argv is None else argv)
         try:
-            status = _run(argv, command)
+            with raising_signals():
+                command = command_name(sys.argv[1:] if argv is None else argv)
+                status = _run(argv, command)
         except Interrupted:
             return _stopped(command)
         if status == 0 and signal_name() is not None and command not in RUN_UNTIL_STOPPED:

@@ -10,14 +10,15 @@ from __future__ import annotations
 
 import sys
 
-from adbsat_ros.processes import Interrupted, handle_signals, signal_name
+from adbsat_ros.processes import Interrupted, handle_signals, raising_signals, signal_name
 
 
 def adbsat_node(args=None) -> int:
     """Console script ``adbsat_node`` (:func:`adbsat_ros.ros.node.main`)."""
     with handle_signals():
         try:
-            from adbsat_ros.ros.node import main
+            with raising_signals():
+                from adbsat_ros.ros.node import main
         except Interrupted:
             return _stopped("adbsat_node")
         return main(args)
@@ -27,7 +28,8 @@ def adbsat_orbit_publisher(argv=None) -> int:
     """Console script ``adbsat_orbit_publisher`` (:func:`adbsat_ros.ros.orbit_publisher.main`)."""
     with handle_signals():
         try:
-            from adbsat_ros.ros.orbit_publisher import main
+            with raising_signals():
+                from adbsat_ros.ros.orbit_publisher import main
         except Interrupted:
             return _stopped("adbsat_orbit_publisher")
         return main(argv)

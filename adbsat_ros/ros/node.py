@@ -47,7 +47,13 @@ from rclpy.signals import SignalHandlerOptions
 
 from adbsat_ros.estimator.settings import settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
-from adbsat_ros.processes import Interrupted, handle_signals, signal_name, stop_on_signals
+from adbsat_ros.processes import (
+    Interrupted,
+    handle_signals,
+    raising_signals,
+    signal_name,
+    stop_on_signals,
+)
 from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
 from adbsat_ros.ros.managed_node import AdbsatLifecycleNode
 from adbsat_ros.ros.node_core import WrenchNodeCore
@@ -97,7 +103,8 @@ def main(args=None) -> int:
     """
     with handle_signals():
         try:
-            status = _main(args)
+            with raising_signals():
+                status = _main(args)
         except Interrupted:
             status = 0
         if signal_name() is not None:

@@ -19,7 +19,13 @@ from nav_msgs.msg import Odometry
 from rclpy.signals import SignalHandlerOptions
 
 from adbsat_ros.physics.constants import EARTH_MU
-from adbsat_ros.processes import Interrupted, handle_signals, signal_name, stop_on_signals
+from adbsat_ros.processes import (
+    Interrupted,
+    handle_signals,
+    raising_signals,
+    signal_name,
+    stop_on_signals,
+)
 
 #: Equatorial radius of WGS-84 [m]: the orbit's radius is this plus the altitude.
 EARTH_RADIUS = 6378137.0
@@ -30,7 +36,8 @@ def main(argv=None) -> int:
     or SIGTERM stops it (one line on stderr says so)."""
     with handle_signals():
         try:
-            status = _main(argv)
+            with raising_signals():
+                status = _main(argv)
         except Interrupted:
             status = 0
         if signal_name() is not None:
