@@ -30,7 +30,7 @@ CLI = console_script("adbsat-ros")
 
 #: How far into its start-up each run signals a command: once it has mapped this many more
 #: files (0: as soon as it handles signals).
-START_UP_POINTS = (0, 30, 120)
+START_UP_POINTS = (0, 30, 70)
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +56,17 @@ def command(name: str, inputs, out) -> list:
     """A long run of subcommand ``name``, its outputs in ``out``."""
     return {
         "coeff": ["coeff", "example", *FLOW, "--aoa=-180:1:180", "--aos=-90:1:90", "--json"],
-        "atmosphere": ["atmosphere", "--time", "2015-01-19T00:00:00Z", "--altitude", "300"],
+        "atmosphere": [
+            "atmosphere",
+            "--time",
+            "2015-01-19T00:00:00Z",
+            "--altitude",
+            "300",
+            "--lat",
+            "0",
+            "--lon",
+            "0",
+        ],
         "database": ["database", "example", *FLOW, "--out", str(out / "db.npz"), "--workers", "2"],
         "plot": ["plot", str(inputs / "db.npz"), "--out-dir", str(out / "plots")],
         "sweep": [

@@ -15,7 +15,7 @@ from signal_probes import console_script, signal_in_start_up  # noqa: E402
 
 #: How far into its start-up each run signals: once it has mapped this many more files (0: as
 #: soon as it handles signals; rclpy, the messages and the mesh come later).
-START_UP_POINTS = (0, 20, 60, 120, 200)
+START_UP_POINTS = (0, 20, 60, 120, 180)
 
 
 def own_lines(err: str) -> list:
