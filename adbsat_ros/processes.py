@@ -167,6 +167,16 @@ def handle_signals():
         _SIGNALS.remove(signals)
 
 
+def exit_now(status: int) -> None:
+    """End the program with ``status`` at once, its output flushed: after :class:`Interrupted`
+    in its start-up, which may have stopped an extension module half-way through its import
+    (the interpreter's clean-up could then crash on it; nothing is left to keep)."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    os._exit(status)
+
+
 @contextlib.contextmanager
 def raising_signals():
     """Under :func:`handle_signals`, inside: a signal raises :class:`Interrupted` (one that came

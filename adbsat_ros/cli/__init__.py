@@ -29,6 +29,7 @@ from adbsat_ros.cli.options import CommandLineError, OneLineErrorParser
 from adbsat_ros.processes import (
     INTERRUPTED_STATUS,
     Interrupted,
+    exit_now,
     handle_signals,
     raising_signals,
     signal_name,
@@ -159,17 +160,25 @@ def main(argv=None) -> int:
                 command = command_name(sys.argv[1:] if argv is None else argv)
                 status = _run(argv, command)
         except Interrupted:
-            return _stopped(command)
+            return _stopped(command, argv is None)
+        except Exception:  # (an Interrupted that a C extension's import turned into its error)
+            if signal_name() is None:
+                raise
+            return _stopped(command, argv is None)
         if status == 0 and signal_name() is not None and command not in RUN_UNTIL_STOPPED:
             return _stopped(command)  # (a library swallowed the signal: not finished as asked)
         return status
 
 
-def _stopped(command) -> int:
-    """Say that a signal stopped ``command``; its exit status."""
+def _stopped(command, program: bool = False) -> int:
+    """Say that a signal stopped ``command``; its exit status (with ``program``, the process
+    ends here: :func:`adbsat_ros.processes.exit_now`)."""
     name = signal_name() or "a signal"
     print(f"adbsat-ros{' ' + command if command else ''}: stopped by {name}", file=sys.stderr)
-    return 0 if command in RUN_UNTIL_STOPPED else INTERRUPTED_STATUS
+    status = 0 if command in RUN_UNTIL_STOPPED else INTERRUPTED_STATUS
+    if program:
+        exit_now(status)
+    return status
 
 
 def command_name(argv) -> str | None:

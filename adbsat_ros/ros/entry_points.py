@@ -10,7 +10,13 @@ from __future__ import annotations
 
 import sys
 
-from adbsat_ros.processes import Interrupted, handle_signals, raising_signals, signal_name
+from adbsat_ros.processes import (
+    Interrupted,
+    exit_now,
+    handle_signals,
+    raising_signals,
+    signal_name,
+)
 
 
 def adbsat_node(args=None) -> int:
@@ -37,4 +43,5 @@ def adbsat_orbit_publisher(argv=None) -> int:
 
 def _stopped(name: str) -> int:
     print(f"{name}: stopped by {signal_name()}", file=sys.stderr)
+    exit_now(0)  # (an import stopped half-way: the interpreter's clean-up could crash on it)
     return 0

@@ -49,6 +49,7 @@ from adbsat_ros.estimator.settings import settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.processes import (
     Interrupted,
+    exit_now,
     handle_signals,
     raising_signals,
     signal_name,
@@ -102,13 +103,16 @@ def main(args=None) -> int:
     ends first; either way one line on stderr and exit status 0.
     """
     with handle_signals():
+        interrupted = False
         try:
             with raising_signals():
                 status = _main(args)
         except Interrupted:
-            status = 0
+            status, interrupted = 0, True
         if signal_name() is not None:
             print(f"{NODE_NAME}: stopped by {signal_name()}", file=sys.stderr)
+            if (interrupted or status) and args is None:  # (start-up cut short: it ends here)
+                exit_now(0)
             return 0
         return status
 
