@@ -92,8 +92,8 @@ setup(
     entry_points={
         "console_scripts": [
             "adbsat-ros = adbsat_ros.cli:main",
-            "adbsat_node = adbsat_ros.ros.node:main",
-            "adbsat_orbit_publisher = adbsat_ros.ros.orbit_publisher:main",
+            "adbsat_node = adbsat_ros.ros.entry_points:adbsat_node",
+            "adbsat_orbit_publisher = adbsat_ros.ros.entry_points:adbsat_orbit_publisher",
         ],
     },
 )

@@ -1,15 +1,33 @@
 """Processes of the long jobs (database builds, bag analysis, the node): how workers start and
-how many, the heap kept out of the garbage collector's passes while they run, and stopping on
-SIGINT/SIGTERM in order."""
+how many, that they die with their parent, the heap kept out of the garbage collector's passes
+while they run, and SIGINT/SIGTERM handled from a command's first instruction.
+
+Signals: a command's ``main`` enters :func:`handle_signals` first. From there a SIGINT or SIGTERM
+raises :class:`Interrupted` in the main thread (the command ends with one line), except inside
+:func:`stop_on_signals`, where the work checks the event it yields at its boundaries (a chunk,
+a message) and stops in order, keeping what it wrote as its documentation says. A process forked
+from the command (a worker) ignores SIGINT, which a Ctrl-C sends to the whole process group
+(the parent decides how the job stops), and dies of SIGTERM; :func:`die_with_parent`, in each
+worker's initializer, also makes it die with its parent.
+"""
 
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import gc
 import multiprocessing
 import os
 import signal
+import sys
 import threading
+
+#: Exit status of a command that SIGINT or SIGTERM stopped before it finished (its outputs so far
+#: kept as its documentation says); the node and the tools that run until stopped exit with 0.
+INTERRUPTED_STATUS = 1
+
+#: The signals a command handles (a stop asked for).
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 
 def usable_cpus() -> int:
@@ -69,14 +87,147 @@ def frozen_heap():
         gc.unfreeze()
 
 
+class Interrupted(KeyboardInterrupt):
+    """SIGINT or SIGTERM, raised in the main thread by :func:`handle_signals`' handler outside
+    :func:`stop_on_signals` (a KeyboardInterrupt: what handles Ctrl-C handles SIGTERM alike)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+class _Signals:
+    """The handler of :func:`handle_signals`: the first signal sets :attr:`event` and, inside
+    :func:`raising_signals` but outside :func:`stop_on_signals`, raises :class:`Interrupted`;
+    later ones only set the event (what the command does after the first one is its orderly
+    end)."""
+
+    def __init__(self):
+        self.pid = os.getpid()
+        self.event = threading.Event()
+        self.signum = None
+        self.armed = False
+        self.in_order = 0
+
+    def __call__(self, signum, frame):
+        if os.getpid() != self.pid:  # a process forked from the command: a worker
+            as_worker(signum)
+            return
+        first = self.signum is None
+        if first:
+            self.signum = signum
+        self.event.set()
+        if first and self.armed and not self.in_order:
+            raise Interrupted(signum)
+
+
+def as_worker(signum: int) -> None:
+    """What a worker does on ``signum``: ignores SIGINT, dies of SIGTERM."""
+    if signum == signal.SIGTERM:
+        signal.signal(signum, signal.SIG_DFL)
+        os.kill(os.getpid(), signum)
+
+
+_SIGNALS: list = []
+
+
+def _signals() -> _Signals | None:
+    """The handler of :func:`handle_signals` in this process, or None."""
+    return _SIGNALS[-1] if _SIGNALS and _SIGNALS[-1].pid == os.getpid() else None
+
+
+def signal_name() -> str | None:
+    """The name of the first signal :func:`handle_signals` caught (``SIGINT``), or None."""
+    signals = _signals()
+    if signals is None or signals.signum is None:
+        return None
+    return signal.Signals(signals.signum).name
+
+
+@contextlib.contextmanager
+def handle_signals():
+    """SIGINT and SIGTERM handled for a whole command: its ``main`` enters this first thing
+    (module docstring), and :func:`raising_signals` inside the ``try`` that catches
+    :class:`Interrupted` (outside it a signal only sets the event, so that none comes between
+    the two); the previous handlers come back after. Nothing happens in a thread other than
+    the main one, nor inside another such block."""
+    if _signals() is not None or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    signals = _Signals()
+    _SIGNALS.append(signals)
+    previous = {}
+    try:
+        for signum in STOP_SIGNALS:
+            previous[signum] = signal.signal(signum, signals)
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        _SIGNALS.remove(signals)
+
+
+def exit_now(status: int) -> None:
+    """End the program with ``status`` at once, its output flushed: after :class:`Interrupted`
+    in its start-up, which may have stopped an extension module half-way through its import
+    (the interpreter's clean-up could then crash on it; nothing is left to keep)."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    os._exit(status)
+
+
+@contextlib.contextmanager
+def raising_signals():
+    """Under :func:`handle_signals`, inside: a signal raises :class:`Interrupted` (one that came
+    before, at the start), except within :func:`stop_on_signals`."""
+    signals = _signals()
+    if signals is None:
+        yield
+        return
+    if signals.event.is_set():
+        raise Interrupted(signals.signum or signal.SIGINT)
+    saved = signals.armed, signals.in_order
+    signals.armed, signals.in_order = True, 0
+    try:
+        yield
+    finally:
+        signals.armed, signals.in_order = saved
+
+
+@contextlib.contextmanager
+def interruptible():
+    """Inside :func:`stop_on_signals`, a stretch that holds nothing to keep (reading, planning):
+    a signal ends it at once (:class:`Interrupted`), as one that came before it, or one that a
+    library inside caught, does."""
+    signals = _signals()
+    if signals is None:
+        yield
+        return
+    with raising_signals():
+        yield
+    if signals.event.is_set():  # (a library caught the Interrupted raised inside)
+        raise Interrupted(signals.signum or signal.SIGINT)
+
+
 @contextlib.contextmanager
 def stop_on_signals():
-    """An event set by SIGINT or SIGTERM while inside (the previous handlers come back after).
+    """An event set by SIGINT or SIGTERM while inside, where they raise nothing.
 
-    A long job checks the event and stops in order: the ROS node ends its spin loop before it
-    takes rclpy down (rclpy's own handlers shut the context down under a running callback,
-    which then fails to publish with a traceback); bag analysis keeps what it wrote as PARTIAL.
+    A long job checks the event at its boundaries and stops in order: the ROS node ends its spin
+    loop before it takes rclpy down (rclpy's own handlers shut the context down under a running
+    callback, which then fails to publish with a traceback); bag analysis keeps what it wrote as
+    PARTIAL. Under :func:`handle_signals` the event is the command's (set by a signal before the
+    block too); elsewhere handlers of its own are installed while inside.
     """
+    signals = _signals()
+    if signals is not None:
+        signals.in_order += 1
+        try:
+            yield signals.event
+        finally:
+            signals.in_order -= 1
+        return
     stop = threading.Event()
     handlers = {}
     for signum in (signal.SIGINT, signal.SIGTERM):
@@ -86,3 +237,23 @@ def stop_on_signals():
     finally:
         for signum, handler in handlers.items():
             signal.signal(signum, handler)
+
+
+#: ``prctl`` option of Linux: the signal a process gets when its parent dies.
+PR_SET_PDEATHSIG = 1
+
+
+def die_with_parent(parent: int) -> None:
+    """In a worker process (its pool's initializer, first thing): die with the process
+    ``parent`` that started it, also when that one is killed with SIGKILL (Linux's parent-death
+    signal, and an exit at once if it is gone already); SIGINT ignored and SIGTERM fatal, as
+    :func:`as_worker` says."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:
+            ctypes.CDLL(None).prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL))
+        except (OSError, AttributeError):  # (no prctl in this C library)
+            pass
+    if os.getppid() != parent:  # (it died before the parent-death signal was set)
+        os._exit(1)

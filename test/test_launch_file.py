@@ -31,7 +31,7 @@ def test_the_launch_file_names_what_exists_and_is_installed():
     package_name = re.search(r"<name>(.+?)</name>", (ROOT / "package.xml").read_text()).group(1)
     assert node["package"] == package_name == "adbsat_ros"
     setup = (ROOT / "setup.py").read_text(encoding="utf-8")
-    assert f'"{node["executable"]} = adbsat_ros.ros.node:main"' in setup
+    assert f'"{node["executable"]} = adbsat_ros.ros.entry_points:adbsat_node"' in setup
     assert node["name"] == "adbsat_node" and node["arguments"] == ["--managed"]
     assert '"launch/*.launch.py"' in setup  # installed to share/adbsat_ros/launch
     # the default parameters file it joins from the package's share directory

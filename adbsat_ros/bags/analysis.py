@@ -68,7 +68,7 @@ from adbsat_ros.bags.worker import chunk_results
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_odometry
-from adbsat_ros.processes import worker_count
+from adbsat_ros.processes import interruptible, worker_count
 
 __all__ = [
     "COMMON_COLUMNS",
@@ -241,6 +241,53 @@ def analyze_bag(
             raise BagError(f"output {what} {path}: holds the input bag {bag}; choose another name")
 
     uses_attitudes = any(s.attitude_source == "attitude_topic" for _, s in models)
+    with interruptible():  # (nothing is written before the walk: a signal ends it at once)
+        read, states, chunks, report, t0 = _read_and_plan(
+            bag,
+            models,
+            attitude_topic,
+            state_topic,
+            joint_topic,
+            uses_attitudes,
+            capped,
+            workers,
+            chunk_messages,
+        )
+    report.workers, report.chunks = min(workers, len(chunks)) or 1, len(chunks)
+    report.seconds["read"] = time.perf_counter() - t0
+    read.state_raws.clear()  # (only the planning needed them)
+    stream = read.stream()
+    try:
+        results = chunk_results(
+            [(s.settings, s.mesh) for s in states], stream.chunks(chunks), report.workers, stop
+        )
+        write_outputs(
+            Replay(read, stream, chunks, results, states, report),
+            Outputs(out_bag, out_csv, plots_dir, storage, overwrite, progress),
+            stop,
+        )
+    finally:
+        stream.close()
+    report.seconds["total"] = time.perf_counter() - t_start
+    for state in states:
+        state.finish()
+    report.add_rejection_warnings(attitude_topic, state_topic)
+    return report
+
+
+def _read_and_plan(
+    bag,
+    models,
+    attitude_topic,
+    state_topic,
+    joint_topic,
+    uses_attitudes,
+    capped,
+    workers,
+    chunk_messages,
+) -> tuple:
+    """Open and read the bag, set the models up and plan the chunks:
+    ``(read, states, chunks, report, t0)``."""
     reader = bag_io.open_bag(bag)
     try:
         needed = []
@@ -280,23 +327,4 @@ def analyze_bag(
         None if chunk_messages is None else int(chunk_messages),
         lambda k: _accepted_by_fresh_estimators(read, states, k),
     )
-    report.workers, report.chunks = min(workers, len(chunks)) or 1, len(chunks)
-    report.seconds["read"] = time.perf_counter() - t0
-    read.state_raws.clear()  # (only the planning needed them)
-    stream = read.stream()
-    try:
-        results = chunk_results(
-            [(s.settings, s.mesh) for s in states], stream.chunks(chunks), report.workers
-        )
-        write_outputs(
-            Replay(read, stream, chunks, results, states, report),
-            Outputs(out_bag, out_csv, plots_dir, storage, overwrite, progress),
-            stop,
-        )
-    finally:
-        stream.close()
-    report.seconds["total"] = time.perf_counter() - t_start
-    for state in states:
-        state.finish()
-    report.add_rejection_warnings(attitude_topic, state_topic)
-    return report
+    return read, states, chunks, report, t0

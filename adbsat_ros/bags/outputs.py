@@ -281,7 +281,8 @@ def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
 
     If the walk stops early (a message that cannot be decoded, or ``stop``), every output is
     kept under :func:`partial_path` of its name (replacing an older partial one) and the final
-    names are left as they were.
+    names are left as they were; after ``stop`` no plots are drawn (the bag and CSV hold what
+    they would show), so that the command ends at once.
     """
     states, report = replay.states, replay.report
     out_bag, out_csv, plots_dir = outputs.bag, outputs.csv, outputs.plots
@@ -322,7 +323,8 @@ def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
             writer.discard()
         if csv_file is not None:
             csv_file.discard()
-    if plots_dir is not None and len(walk.plot_envelope):
+    signalled = report.error is not None and stop is not None and stop.is_set()
+    if plots_dir is not None and len(walk.plot_envelope) and not signalled:  # (a signal: stop now)
         t0 = time.perf_counter()
         write_plots(plots_dir, walk.plot_envelope, [s.label for s in states], report)
         seconds["plots"] += time.perf_counter() - t0

@@ -11,8 +11,9 @@ in bag order writes and counts (never the panel method's results), and the CSV r
 from __future__ import annotations
 
 import collections
+import concurrent.futures
 import itertools
-import signal
+import os
 from concurrent.futures import ProcessPoolExecutor
 from typing import NamedTuple
 
@@ -28,7 +29,10 @@ from adbsat_ros.messages.decoding import (
     decode_odometry,
 )
 from adbsat_ros.messages.stamps import stamp_seconds
-from adbsat_ros.processes import frozen_heap, pool_context
+from adbsat_ros.processes import die_with_parent, frozen_heap, pool_context
+
+#: How often [s] the caller waiting for a chunk looks at its stop event.
+STOP_POLL_S = 0.1
 
 
 class SampleNumbers(NamedTuple):
@@ -198,12 +202,17 @@ class Worker:
         One per model, in order.
     """
 
-    def __init__(self, specs):
+    def __init__(self, specs, stop=None):
         self.models = [WorkerModel(settings, mesh) for settings, mesh in specs]
         self.extras = tuple(model_extra_columns(m.estimator) for m in self.models)
+        self.stop = stop
 
     def run(self, chunk) -> ChunkResult:
-        """Replay ``chunk``, (kinds, CDR bytes) of consecutive trigger messages."""
+        """Replay ``chunk``, (kinds, CDR bytes) of consecutive trigger messages.
+
+        With a :attr:`stop` (a shared flag, set when the analysis stops) that is set, the
+        replay ends after the message it is at (at least one): the caller, who stopped, reads
+        no further than the chunk's first message."""
         kinds, raws = chunk
         models = self.models
         for m in models:
@@ -238,29 +247,36 @@ class Worker:
                 row = Row(stamp.sec, stamp.nanosec, utc, cells, plot)
             records.append(tuple(m.record(o) for m, o in zip(models, outcomes)))
             rows.append(row)
+            if self.stop is not None and self.stop.value:
+                break
         return ChunkResult(records, rows)
 
 
 _WORKER: Worker | None = None
 
 
-def _init_worker(specs) -> None:
+def _init_worker(specs, parent: int, stop) -> None:
     """Process-pool initializer: load the estimators once per process (mesh, shading cache).
 
-    A worker ignores SIGINT: Ctrl-C reaches the whole process group, and the analysis, not each
-    worker, decides how to stop (it keeps its outputs as PARTIAL)."""
+    A worker dies with its parent and ignores SIGINT (:func:`die_with_parent`): Ctrl-C reaches
+    the whole process group, and the analysis, not each worker, decides how to stop (it keeps
+    its outputs as PARTIAL, and sets ``stop``, which ends the chunk a worker is at)."""
     global _WORKER
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _WORKER = Worker(specs)
+    die_with_parent(parent)
+    _WORKER = Worker(specs, stop)
 
 
 def _run_chunk(chunk) -> ChunkResult:
     return _WORKER.run(chunk)
 
 
-def chunk_results(specs, chunks, workers: int):
+def chunk_results(specs, chunks, workers: int, stop=None):
     """The ChunkResult of each chunk, in order: computed here (``workers`` 1), or by a pool of
     ``workers`` processes kept a few chunks ahead of the caller.
+
+    Once ``stop`` (a :class:`threading.Event`) is set, or the generator is closed, the workers
+    end the chunks they are at after their current message, and the one waited for comes
+    short (see :meth:`Worker.run`): a stop waits for one message, not for whole chunks.
 
     Parameters
     ----------
@@ -271,20 +287,22 @@ def chunk_results(specs, chunks, workers: int):
     workers : int
     """
     with frozen_heap():
-        yield from _chunk_results(specs, chunks, workers)
+        yield from _chunk_results(specs, chunks, workers, stop)
 
 
-def _chunk_results(specs, chunks, workers: int):
+def _chunk_results(specs, chunks, workers: int, stop):
     if workers <= 1:
-        worker = Worker(specs)
+        worker = Worker(specs, None if stop is None else _EventFlag(stop))
         for chunk in chunks:
             yield worker.run(chunk)
         return
+    context = pool_context()
+    halt = context.RawValue("b", 0)  # (shared with the workers, read at every message)
     with ProcessPoolExecutor(
         max_workers=workers,
-        mp_context=pool_context(),
+        mp_context=context,
         initializer=_init_worker,
-        initargs=(specs,),
+        initargs=(specs, os.getpid(), halt),
     ) as pool:
         todo = iter(chunks)
         pending = collections.deque(
@@ -292,11 +310,33 @@ def _chunk_results(specs, chunks, workers: int):
         )
         try:
             while pending:
-                result = pending.popleft().result()
+                result = _result(pending.popleft(), stop, halt)
                 chunk = next(todo, None)
-                if chunk is not None:
+                if chunk is not None and not halt.value:
                     pending.append(pool.submit(_run_chunk, chunk))
                 yield result
         finally:
+            halt.value = 1
             for future in pending:
                 future.cancel()
+
+
+class _EventFlag:
+    """A :class:`threading.Event` read as the workers' shared flag is (``value``)."""
+
+    def __init__(self, event):
+        self.event = event
+
+    @property
+    def value(self) -> bool:
+        return self.event.is_set()
+
+
+def _result(future, stop, halt) -> ChunkResult:
+    """``future``'s ChunkResult; ``halt`` is set as soon as ``stop`` is."""
+    while True:
+        try:
+            return future.result(timeout=None if halt.value or stop is None else STOP_POLL_S)
+        except concurrent.futures.TimeoutError:
+            if stop.is_set():
+                halt.value = 1

@@ -26,6 +26,14 @@ import sys
 
 from adbsat_ros._version import __version__
 from adbsat_ros.cli.options import CommandLineError, OneLineErrorParser
+from adbsat_ros.processes import (
+    INTERRUPTED_STATUS,
+    Interrupted,
+    exit_now,
+    handle_signals,
+    raising_signals,
+    signal_name,
+)
 
 #: The subcommands in the order ``--help`` lists them, with their one-line help; each is
 #: configured by the module of the same name in this package.
@@ -41,6 +49,10 @@ SUBCOMMANDS = {
     "param": "list, get or set a running node's parameters (as ros2 param)",
     "echo": "print a topic's messages (as ros2 topic echo)",
 }
+
+#: The subcommands that run until they are stopped: SIGINT or SIGTERM is their normal end (exit
+#: status 0); it stops any other before it finished (:data:`INTERRUPTED_STATUS`).
+RUN_UNTIL_STOPPED = ("bag play", "bag record", "echo")
 
 #: Options whose value is an angle list or range, which may begin with a minus sign.
 SIGNED_LIST_OPTIONS = ("--aoa", "--aos")
@@ -136,10 +148,54 @@ class OneLineFormatter(logging.Formatter):
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``adbsat-ros`` console script; returns the process exit status."""
-    argv = join_signed_lists(sys.argv[1:] if argv is None else argv)
+    """Entry point of the ``adbsat-ros`` console script; returns the process exit status.
+
+    SIGINT and SIGTERM are handled from here on (:func:`adbsat_ros.processes.handle_signals`):
+    a subcommand's long work stops in order and says so; a signal anywhere else ends the command
+    with one line, ``adbsat-ros COMMAND: stopped by SIGINT``, and no traceback."""
+    command = None
+    with handle_signals():
+        try:
+            with raising_signals():
+                command = command_name(sys.argv[1:] if argv is None else argv)
+                status = _run(argv, command)
+        except Interrupted:
+            return _stopped(command, argv is None)
+        except Exception:  # (an Interrupted that a C extension's import turned into its error)
+            if signal_name() is None:
+                raise
+            return _stopped(command, argv is None)
+        if status == 0 and signal_name() is not None and command not in RUN_UNTIL_STOPPED:
+            return _stopped(command)  # (a library swallowed the signal: not finished as asked)
+        return status
+
+
+def _stopped(command, program: bool = False) -> int:
+    """Say that a signal stopped ``command``; its exit status (with ``program``, the process
+    ends here: :func:`adbsat_ros.processes.exit_now`)."""
+    name = signal_name() or "a signal"
+    print(f"adbsat-ros{' ' + command if command else ''}: stopped by {name}", file=sys.stderr)
+    status = 0 if command in RUN_UNTIL_STOPPED else INTERRUPTED_STATUS
+    if program:
+        exit_now(status)
+    return status
+
+
+def command_name(argv) -> str | None:
+    """The subcommand ``argv`` names, with its own subcommand for ``bag`` (``bag play``)."""
     command = chosen_subcommand(argv)
-    parser = build_parser(() if command is None else (command,))
+    if command == "bag":
+        words = [w for w in argv if not w.startswith("-")]
+        return " ".join(words[:2])
+    return command
+
+
+def _run(argv, command) -> int:
+    """Parse ``argv`` and run the subcommand (``command``, for the line of a stop); its exit
+    status."""
+    argv = join_signed_lists(sys.argv[1:] if argv is None else argv)
+    chosen = chosen_subcommand(argv)
+    parser = build_parser(() if chosen is None else (chosen,))
     args = parser.parse_args(argv)
     handler = logging.StreamHandler()
     handler.setFormatter(OneLineFormatter(tracebacks=args.verbose))
@@ -153,8 +209,14 @@ def main(argv=None) -> int:
         sys.stderr.close()
         return 0
     except (OSError, ValueError) as exc:
+        if signal_name() is not None:  # (the signal's doing, seen through a library)
+            return _stopped(command)
         print(f"adbsat-ros {args.command}: error: {exc}", file=sys.stderr)
         return 1
+    except Exception:
+        if signal_name() is not None:
+            return _stopped(command)
+        raise
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -8,15 +8,13 @@ ROS_AUTOMATIC_DISCOVERY_RANGE says otherwise.
 
 from __future__ import annotations
 
-import contextlib
 import importlib
 import os
-import signal
 import sys
-import threading
 
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.cli.options import non_negative_int, positive_float
+from adbsat_ros.processes import stop_on_signals
 
 
 class RosNotAvailable(RuntimeError):
@@ -120,20 +118,6 @@ def ros_module(name: str):
         ) from None
 
 
-@contextlib.contextmanager
-def _stop_on_sigterm():
-    """An Event set by SIGTERM while the block runs (a terminated recording still ends cleanly)."""
-    stop = threading.Event()
-    if threading.current_thread() is not threading.main_thread():
-        yield stop
-        return
-    previous = signal.signal(signal.SIGTERM, lambda signum, frame: stop.set())
-    try:
-        yield stop
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-
-
 def _log(line: str) -> None:
     print(line, file=sys.stderr, flush=True)
 
@@ -146,7 +130,7 @@ def run_play(args) -> int:
     """Run ``bag play``; returns the exit status."""
     try:
         bag_play = ros_module("bag_play")
-        with _stop_on_sigterm() as stop:
+        with stop_on_signals() as stop:
             summary = bag_play.play(
                 args.bag,
                 rate=args.rate,
@@ -173,7 +157,7 @@ def run_record(args) -> int:
     """Run ``bag record``; returns the exit status."""
     try:
         bag_record = ros_module("bag_record")
-        with _stop_on_sigterm() as stop:
+        with stop_on_signals() as stop:
             summary = bag_record.record(
                 args.out,
                 args.topics,

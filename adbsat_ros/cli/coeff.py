@@ -22,6 +22,7 @@ from adbsat_ros.cli.common import (
 from adbsat_ros.cli.options import CommandLineError, parse_angle_list
 from adbsat_ros.cli.solvers import add_solver_arguments, run_tpmc, test_particle_method
 from adbsat_ros.geometry import frames
+from adbsat_ros.processes import INTERRUPTED_STATUS, stop_on_signals
 
 
 def configure(p) -> None:
@@ -68,12 +69,13 @@ def configure(p) -> None:
 
 #: Exit status of a run stopped by SIGINT or SIGTERM (its results so far are written), as for
 #: the other long commands (bag analyze, database): the command did not finish.
-INTERRUPTED = 1
+INTERRUPTED = INTERRUPTED_STATUS
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros coeff``; returns the exit status (:data:`INTERRUPTED` if a test-particle
-    run was stopped by a signal: the attitudes done, the stopped one included, are written)."""
+    """Run ``adbsat-ros coeff``; returns the exit status (:data:`INTERRUPTED` if a signal
+    stopped it: the attitudes done, a test-particle run's stopped one included, are written,
+    and one line on stderr says so)."""
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
     aos_deg = parse_angle_list(args.aos, "--aos")
     method, flow, _ = method_and_flow_from_args(args)
@@ -81,34 +83,26 @@ def run(args) -> int:
     solver = test_particle_method(args, method) if args.method != "panel" else None
     view = parse_view(args.view) if args.view is not None else None
     results, first, stopped = [], None, False
-    for a in aoa_deg:
-        if stopped:
-            break
-        for b in aos_deg:
-            aoa, aos = math.radians(a), math.radians(b)
-            d = {}
-            if args.method != "tpmc":
-                u = frames.flow_direction(aoa, aos)
-                lighting = shader.lighting(u) if shader is not None else None
-                r = method.coefficients(flow, aoa, aos, lighting=lighting)
-                d["panel"] = dict(r.to_dict(flow, per_panel=args.per_panel), shading=args.shading)
-                if getattr(args, "articulation", None) is not None:
-                    d["panel"].update(articulated_outputs(args.articulation, method, r, flow))
-            if solver is not None:
-                r = run_tpmc(args, solver, flow, aoa, aos)
-                d["tpmc"] = r.to_dict(flow, per_panel=args.per_panel)
-                stopped = r.stopped
-            if first is None:
-                first = (a, b, r)
-            if args.method == "both":
-                d = dict(aoa_deg=float(a), aos_deg=float(b), **d)
-                d["difference"] = difference(d["tpmc"], d["panel"])
-            else:
-                d = d[args.method]
-            d["aoa_deg"], d["aos_deg"] = float(a), float(b)  # exact as given
-            results.append(d)
-            if stopped:  # (SIGINT or SIGTERM: what is done is written, the rest is not run)
+    with stop_on_signals() as stop:
+        for a in aoa_deg:
+            if stopped:
                 break
+            for b in aos_deg:
+                if stop.is_set():  # (SIGINT or SIGTERM: what is done is written)
+                    stopped = True
+                    print(
+                        f"adbsat-ros coeff: interrupted: the results are those of the "
+                        f"{len(results)} of {len(aoa_deg) * len(aos_deg)} attitudes done",
+                        file=sys.stderr,
+                    )
+                    break
+                r, d = _attitude(args, method, flow, shader, solver, a, b)
+                stopped = args.method != "panel" and r.stopped
+                if first is None:
+                    first = (a, b, r)
+                results.append(d)
+                if stopped:  # (the test particles' run said so)
+                    break
     if args.json:
         try:  # (made whole first: a refused number must not leave half a document)
             text = json.dumps(results, indent=1, allow_nan=False)
@@ -117,13 +111,36 @@ def run(args) -> int:
         sys.stdout.write(text + "\n")
     else:
         print_table(results, method, flow, args.method)
-    if args.plot is not None:
+    if args.plot is not None and first is not None:
         from adbsat_ros.plotting.panels import plot_panel_pressure
 
         a, b, r = first
         path = plot_panel_pressure(method, flow, a, b, None, args.plot, view=view, result=r)
         print(f"wrote {path}", file=sys.stderr)
     return INTERRUPTED if stopped else 0
+
+
+def _attitude(args, method, flow, shader, solver, a, b) -> tuple:
+    """The result (the last solver's) and the output row at aoa ``a``, aos ``b`` [deg]."""
+    aoa, aos = math.radians(a), math.radians(b)
+    d = {}
+    if args.method != "tpmc":
+        u = frames.flow_direction(aoa, aos)
+        lighting = shader.lighting(u) if shader is not None else None
+        r = method.coefficients(flow, aoa, aos, lighting=lighting)
+        d["panel"] = dict(r.to_dict(flow, per_panel=args.per_panel), shading=args.shading)
+        if getattr(args, "articulation", None) is not None:
+            d["panel"].update(articulated_outputs(args.articulation, method, r, flow))
+    if solver is not None:
+        r = run_tpmc(args, solver, flow, aoa, aos)
+        d["tpmc"] = r.to_dict(flow, per_panel=args.per_panel)
+    if args.method == "both":
+        d = dict(aoa_deg=float(a), aos_deg=float(b), **d)
+        d["difference"] = difference(d["tpmc"], d["panel"])
+    else:
+        d = d[args.method]
+    d["aoa_deg"], d["aos_deg"] = float(a), float(b)  # exact as given
+    return r, d
 
 
 def parse_view(text: str) -> tuple:

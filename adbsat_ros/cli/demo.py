@@ -9,6 +9,7 @@ from __future__ import annotations
 import sys
 
 from adbsat_ros.cli.options import positive_float
+from adbsat_ros.processes import INTERRUPTED_STATUS
 
 
 def configure(p) -> None:
@@ -57,7 +58,8 @@ def configure(p) -> None:
 
 
 def run(args) -> int:
-    """Run the demo; 0 if the node answered every attitude, 1 otherwise."""
+    """Run the demo; 0 if the node answered every attitude, 1 otherwise (also when a signal
+    stopped it)."""
     try:
         from adbsat_ros.ros.demo import run_demo
 
@@ -75,8 +77,8 @@ def run(args) -> int:
             file=sys.stderr,
         )
         return 1
-    if result.interrupted:
-        return 130
+    if result.interrupted:  # (by SIGINT or SIGTERM: what was received is written)
+        return INTERRUPTED_STATUS
     if result.wrenches_received == 0 or result.mismatched or not result.files:
         print(
             "adbsat-ros demo: error: the node did not answer as expected (see above)",

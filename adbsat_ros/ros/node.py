@@ -47,7 +47,14 @@ from rclpy.signals import SignalHandlerOptions
 
 from adbsat_ros.estimator.settings import settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
-from adbsat_ros.processes import stop_on_signals
+from adbsat_ros.processes import (
+    Interrupted,
+    exit_now,
+    handle_signals,
+    raising_signals,
+    signal_name,
+    stop_on_signals,
+)
 from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
 from adbsat_ros.ros.managed_node import AdbsatLifecycleNode
 from adbsat_ros.ros.node_core import WrenchNodeCore
@@ -90,8 +97,27 @@ def main(args=None) -> int:
     ``--help`` (before ``--ros-args``) prints :func:`help_text` and exits; ``--managed`` runs the
     managed (lifecycle) node (:mod:`.managed_node`), which waits for ``configure``. Returns the
     exit status: 0 after a shutdown or the help, 1 (one line on stderr) if the node cannot be
-    set up.
+    set up. SIGINT and SIGTERM are handled from the first instruction (the console script
+    enters :func:`adbsat_ros.processes.handle_signals` before this module is imported,
+    :mod:`.entry_points`): while the node is made it stops at once, while it spins the spin loop
+    ends first; either way one line on stderr and exit status 0.
     """
+    with handle_signals():
+        interrupted = False
+        try:
+            with raising_signals():
+                status = _main(args)
+        except Interrupted:
+            status, interrupted = 0, True
+        if signal_name() is not None:
+            print(f"{NODE_NAME}: stopped by {signal_name()}", file=sys.stderr)
+            if (interrupted or status) and args is None:  # (start-up cut short: it ends here)
+                exit_now(0)
+            return 0
+        return status
+
+
+def _main(args=None) -> int:
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     argv = sys.argv if args is None else args
     own = argv[1 : argv.index("--ros-args")] if "--ros-args" in argv else argv[1:]
@@ -111,23 +137,27 @@ def main(args=None) -> int:
         except ValueError as exc:
             print(f"{NODE_NAME}: error: {exc}", file=sys.stderr)
             return 1
-    rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    with stop_on_signals() as stop:  # (a signal while the node is made stops it once made)
-        return _run(stop, managed="--managed" in own)
+    try:
+        rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+        return _run(managed="--managed" in own)
+    finally:
+        rclpy.try_shutdown()
 
 
-def _run(stop, managed: bool = False) -> int:
-    """Make the node (the managed one with ``managed``), spin it until ``stop`` or a shutdown,
+def _run(managed: bool = False) -> int:
+    """Make the node (the managed one with ``managed``), spin it until a signal or a shutdown,
     and take everything down in order; the exit status."""
     node = None
     try:
         try:
             node = AdbsatLifecycleNode() if managed else AdbsatNode()
         except (MeshError, ValueError, OSError) as exc:
-            print(f"{NODE_NAME}: error: {exc}", file=sys.stderr)
+            if signal_name() is None:  # (else a library's failure under the signal: a stop)
+                print(f"{NODE_NAME}: error: {exc}", file=sys.stderr)
             return 1
         except Exception as exc:  # e.g. a parameter of the wrong type in the params file
-            print(f"{NODE_NAME}: error: {type(exc).__name__}: {exc}", file=sys.stderr)
+            if signal_name() is None:
+                print(f"{NODE_NAME}: error: {type(exc).__name__}: {exc}", file=sys.stderr)
             return 1
         executor = make_executor(node.get_parameter("executor").value)
         executor.add_node(node)
@@ -137,7 +167,8 @@ def _run(stop, managed: bool = False) -> int:
         gc.collect()
         gc.freeze()
         try:
-            spin_until_shutdown(executor, stop=stop)
+            with stop_on_signals() as stop:  # (set already by a signal a library swallowed)
+                spin_until_shutdown(executor, stop=stop)
         except ExternalShutdownException:
             pass
         finally:

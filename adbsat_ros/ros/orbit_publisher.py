@@ -16,15 +16,41 @@ import time
 import rclpy
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
+from rclpy.signals import SignalHandlerOptions
 
 from adbsat_ros.physics.constants import EARTH_MU
+from adbsat_ros.processes import (
+    Interrupted,
+    exit_now,
+    handle_signals,
+    raising_signals,
+    signal_name,
+    stop_on_signals,
+)
 
 #: Equatorial radius of WGS-84 [m]: the orbit's radius is this plus the altitude.
 EARTH_RADIUS = 6378137.0
 
 
 def main(argv=None) -> int:
-    """Console script ``adbsat_orbit_publisher``; returns the exit status."""
+    """Console script ``adbsat_orbit_publisher``; returns the exit status: 0 also when SIGINT
+    or SIGTERM stops it (one line on stderr says so)."""
+    with handle_signals():
+        interrupted = False
+        try:
+            with raising_signals():
+                status = _main(argv)
+        except Interrupted:
+            status, interrupted = 0, True
+        if signal_name() is not None:
+            print(f"adbsat_orbit_publisher: stopped by {signal_name()}", file=sys.stderr)
+            if interrupted and argv is None:  # (the program: it ends here)
+                exit_now(0)
+            return 0
+        return status
+
+
+def _main(argv=None) -> int:
     parser = argparse.ArgumentParser(
         prog="adbsat_orbit_publisher", description=__doc__.splitlines()[0]
     )
@@ -38,8 +64,21 @@ def main(argv=None) -> int:
     if not (0 < args.altitude <= 1000 and args.rate > 0 and args.duration > 0):
         parser.error("--altitude must be in (0, 1000] km, --rate and --duration > 0")
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")  # read by rclpy.init
-    rclpy.init(args=[sys.argv[0], *ros_args])
-    node = rclpy.create_node("orbit_publisher")
+    rclpy.init(args=[sys.argv[0], *ros_args], signal_handler_options=SignalHandlerOptions.NO)
+    node = None
+    try:
+        node = rclpy.create_node("orbit_publisher")
+        with stop_on_signals() as stop:
+            _publish(node, args, stop)
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+def _publish(node, args, stop) -> None:
+    """Publish the orbit and attitude for ``args.duration`` s, or until ``stop``."""
     attitude = node.create_publisher(QuaternionStamped, "attitude", 10)
     state = node.create_publisher(Odometry, "state", 10)
 
@@ -59,41 +98,34 @@ def main(argv=None) -> int:
     start = time.monotonic()
     next_state = 0.0
     k = 0
-    try:
-        while (t := k / args.rate) <= args.duration:
-            while time.monotonic() - start < t:
-                rclpy.spin_once(node, timeout_sec=0.002)
-            stamp = node.get_clock().now().to_msg()
-            stamp.sec, stamp.nanosec = int(t), int(round((t % 1.0) * 1e9)) % 1_000_000_000
-            if t >= next_state:
-                o = Odometry()
-                o.header.stamp, o.header.frame_id, o.child_frame_id = stamp, "eci", "eci"
-                o.pose.pose.position.x, o.pose.pose.position.y = (
-                    r * math.cos(w * t),
-                    r * math.sin(w * t),
-                )
-                o.twist.twist.linear.x, o.twist.twist.linear.y = (
-                    -v * math.sin(w * t),
-                    v * math.cos(w * t),
-                )
-                state.publish(o)
-                next_state += 0.1
-            # body x along the velocity (+90 deg about z from ECI x at t = 0), plus the yaw rate
-            yaw = math.pi / 2 + w * t + math.radians(args.yaw_rate) * t
-            q = QuaternionStamped()
-            q.header.stamp, q.header.frame_id = stamp, "eci"
-            q.quaternion.z, q.quaternion.w = math.sin(yaw / 2), math.cos(yaw / 2)
-            attitude.publish(q)
-            k += 1
-        end = time.monotonic() + 0.5
-        while time.monotonic() < end:
-            rclpy.spin_once(node, timeout_sec=0.05)
-    except KeyboardInterrupt:
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    while (t := k / args.rate) <= args.duration and not stop.is_set():
+        while time.monotonic() - start < t and not stop.is_set():
+            rclpy.spin_once(node, timeout_sec=0.002)
+        stamp = node.get_clock().now().to_msg()
+        stamp.sec, stamp.nanosec = int(t), int(round((t % 1.0) * 1e9)) % 1_000_000_000
+        if t >= next_state:
+            o = Odometry()
+            o.header.stamp, o.header.frame_id, o.child_frame_id = stamp, "eci", "eci"
+            o.pose.pose.position.x, o.pose.pose.position.y = (
+                r * math.cos(w * t),
+                r * math.sin(w * t),
+            )
+            o.twist.twist.linear.x, o.twist.twist.linear.y = (
+                -v * math.sin(w * t),
+                v * math.cos(w * t),
+            )
+            state.publish(o)
+            next_state += 0.1
+        # body x along the velocity (+90 deg about z from ECI x at t = 0), plus the yaw rate
+        yaw = math.pi / 2 + w * t + math.radians(args.yaw_rate) * t
+        q = QuaternionStamped()
+        q.header.stamp, q.header.frame_id = stamp, "eci"
+        q.quaternion.z, q.quaternion.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        attitude.publish(q)
+        k += 1
+    end = time.monotonic() + 0.5
+    while time.monotonic() < end and not stop.is_set():
+        rclpy.spin_once(node, timeout_sec=0.05)
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ import time
 from dataclasses import dataclass, field
 
 from adbsat_ros.bounds import check_memory
+from adbsat_ros.processes import interruptible
 from adbsat_ros.sweep.evaluate import SweepJob, SweepSetup
 from adbsat_ros.sweep.spec import SweepSpec
 from adbsat_ros.sweep.store import SweepStore, chunk_shape
@@ -83,7 +84,8 @@ def run_sweep(
 
     check_memory(*memory_estimate(spec))  # (before any work)
     started = time.perf_counter()
-    setup = SweepSetup(spec)  # (checked here first: a bad mesh fails before any worker starts)
+    with interruptible():  # (nothing written yet: a signal ends it at once)
+        setup = SweepSetup(spec)  # (checked here first: a bad mesh fails before any worker starts)
     store = SweepStore.open(out, spec, setup, overwrite)
     todo = store.missing()
     report = SweepReport(chunks=len(store.slices), already_done=len(store.slices) - len(todo))

@@ -47,6 +47,7 @@ def test_help_imports_no_subcommand_module_and_no_heavy_package():
         "adbsat_ros.bounds",  # (the ranges of the options: the standard library only)
         "adbsat_ros.cli",
         "adbsat_ros.cli.options",
+        "adbsat_ros.processes",  # (signals handled from the start: the standard library only)
     ]
 
 

@@ -9,12 +9,12 @@ Units: SI, mesh frame G.
 
 from __future__ import annotations
 
-import signal
 from dataclasses import dataclass
 
 import numpy as np
 
 from adbsat_ros.physics.tpmc.tracing import trace
+from adbsat_ros.processes import die_with_parent
 from adbsat_ros.shading.rays import ray_scene
 
 
@@ -88,10 +88,11 @@ class Problem:
 _WORKER_PROBLEM: Problem | None = None
 
 
-def init_worker(problem: Problem) -> None:
-    """Keep the problem in a worker process (the pool's initializer). SIGINT is left to the
-    parent, which stops the run between blocks (a Ctrl-C reaches the whole process group)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+def init_worker(problem: Problem, parent: int) -> None:
+    """Keep the problem in a worker process (the pool's initializer), which dies with its
+    ``parent``. SIGINT is left to the parent, which stops the run between blocks (a Ctrl-C
+    reaches the whole process group): :func:`adbsat_ros.processes.die_with_parent`."""
+    die_with_parent(parent)
     global _WORKER_PROBLEM
     _WORKER_PROBLEM = problem
 

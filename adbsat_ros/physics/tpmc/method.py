@@ -23,6 +23,7 @@ Units: SI, mesh frame G; angles in radians.
 from __future__ import annotations
 
 import math
+import os
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
@@ -233,7 +234,7 @@ class _Pool(_Serial):
             max_workers=workers,
             mp_context=pool_context(),
             initializer=init_worker,
-            initargs=(problem,),
+            initargs=(problem, os.getpid()),
         )
 
     def __exit__(self, *exc):
