@@ -252,6 +252,7 @@ def analyze_bag(
             capped,
             workers,
             chunk_messages,
+            skip_damaged,
         )
     report.workers, report.chunks = min(workers, len(chunks)) or 1, len(chunks)
     report.seconds["read"] = time.perf_counter() - t0
@@ -285,6 +286,7 @@ def _read_and_plan(
     capped,
     workers,
     chunk_messages,
+    skip_damaged,
 ) -> tuple:
     """Open and read the bag, set the models up and plan the chunks:
     ``(read, states, chunks, report, t0)``."""
