@@ -799,6 +799,16 @@ def test_every_number_parameter_takes_its_edges_at_run_time_and_refuses_beyond(r
 
     names = [n for n in NUMBER_PARAMETERS if n not in READ_ONLY_PARAMETERS]
     described = call(client.describe_parameters(names)).descriptors
+    # the centre of mass must also lie near the body (the example's box, z in [-10.5, 10.5] m,
+    # within its parameter range): its parameter edges are refused by that rule, by name
+    names.remove("center_of_mass")
+    for x in parameter_edges("center_of_mass")[0][:2]:
+        result = call(client.set_parameters([Parameter("center_of_mass", value=[0.0, 0.0, x])]))
+        assert not result.results[0].successful
+        assert "center_of_mass z must be in [-10.5, 10.5] m" in result.results[0].reason
+    for x in (-10.5, 10.5, 0.0):
+        result = call(client.set_parameters([Parameter("center_of_mass", value=[0.0, 0.0, x])]))
+        assert result.results[0].successful, result.results[0].reason
     for name, descriptor in zip(names, described):
         assert descriptor.additional_constraints == parameter_range_text(name) != ""
     for name in names:

@@ -7,6 +7,7 @@ import pytest
 pytestmark = pytest.mark.ros
 pytest.importorskip("rclpy")
 
+import os
 import subprocess
 import sys
 
@@ -19,16 +20,23 @@ from adbsat_ros.cli import main
 from adbsat_ros.ros.node import AdbsatNode
 
 NODE = [sys.executable, "-m", "adbsat_ros.ros.node", "--ros-args", "-p", "shading:=none"]
+#: The node process's name (its own: see node_process)
+NAME = f"adbsat_node_parameters_{os.getpid()}"
 
 
 @pytest.fixture(scope="module")
-def node_process():
-    """adbsat_node (the example, no shading) as its own process."""
-    proc = subprocess.Popen(NODE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+def node_process(tmp_path_factory):
+    """adbsat_node (the example, no shading) as its own process, named :data:`NAME`."""
+    # a name of its own, so that no other node of the run can take the requests, and its output
+    # in a file (a pipe nobody reads could fill and stop it)
+    log = tmp_path_factory.mktemp("node") / "node.log"
+    with open(log, "w") as out:
+        proc = subprocess.Popen(NODE + ["-r", f"__node:={NAME}"], stdout=out, stderr=out)
     try:  # (whatever happens, the process goes: a stray node would answer other tests)
         # up when it answers (however long this machine takes to start it)
         wait = ["--timeout", str(HANG_TIMEOUT)]
-        assert main(["param", "get", "adbsat_node", "mesh", *wait]) == 0, "the node did not answer"
+        up = main(["param", "get", NAME, "mesh", *wait]) == 0
+        assert up, f"the node did not answer: {log.read_text()}"
         yield proc
     finally:
         proc.terminate()
@@ -61,10 +69,10 @@ def param(capsys, *args):
 def test_param_set_reads_the_value_as_the_declared_type(
     node_process, capsys, name, text, shown, got
 ):
-    status, out, err = param(capsys, "set", "adbsat_node", name, text)
+    status, out, err = param(capsys, "set", NAME, name, text)
     assert (status, out, err) == (0, f"set {name} = {shown}", "")
     if got is not None:
-        assert param(capsys, "get", "adbsat_node", name) == (0, got, "")
+        assert param(capsys, "get", NAME, name) == (0, got, "")
 
 
 @pytest.mark.parametrize(
@@ -82,19 +90,19 @@ def test_param_set_reads_the_value_as_the_declared_type(
 )  # fmt: skip
 def test_param_set_refuses_a_value_of_another_type_in_one_line(node_process, capsys, name, text,
                                                                needle):  # fmt: skip
-    before = param(capsys, "get", "adbsat_node", name)
-    status, out, err = param(capsys, "set", "adbsat_node", name, text)
+    before = param(capsys, "get", NAME, name)
+    status, out, err = param(capsys, "set", NAME, name, text)
     assert status == 2 and out == "" and needle in err and len(err.splitlines()) == 1, err
-    assert param(capsys, "get", "adbsat_node", name) == before
+    assert param(capsys, "get", NAME, name) == before
 
 
 @pytest.mark.parametrize("epoch", ["1900-01-01T00:00:00", "2200-01-01T00:00:00"])
 def test_param_set_refuses_an_epoch_outside_its_range(node_process, capsys, epoch):
-    before = param(capsys, "get", "adbsat_node", "epoch_utc")
-    status, out, err = param(capsys, "set", "adbsat_node", "epoch_utc", epoch)
+    before = param(capsys, "get", NAME, "epoch_utc")
+    status, out, err = param(capsys, "set", NAME, "epoch_utc", epoch)
     assert status == 1 and len(err.splitlines()) == 1
     assert "epoch_utc must be from 1958-01-01T00:00:00 to 2100-12-31T23:59:59 UTC" in err
-    assert param(capsys, "get", "adbsat_node", "epoch_utc") == before
+    assert param(capsys, "get", NAME, "epoch_utc") == before
 
 
 @pytest.mark.parametrize("action", [["list"], ["get", "f107"], ["set", "f107", "150"]])
