@@ -798,7 +798,6 @@ def test_every_number_parameter_takes_its_edges_at_run_time_and_refuses_beyond(r
         return future.result()
 
     names = [n for n in NUMBER_PARAMETERS if n not in READ_ONLY_PARAMETERS]
-    described = call(client.describe_parameters(names)).descriptors
     # the centre of mass must also lie near the body (the example's box, z in [-10.5, 10.5] m,
     # within its parameter range): its parameter edges are refused by that rule, by name
     names.remove("center_of_mass")
@@ -809,6 +808,7 @@ def test_every_number_parameter_takes_its_edges_at_run_time_and_refuses_beyond(r
     for x in (-10.5, 10.5, 0.0):
         result = call(client.set_parameters([Parameter("center_of_mass", value=[0.0, 0.0, x])]))
         assert result.results[0].successful, result.results[0].reason
+    described = call(client.describe_parameters(names)).descriptors
     for name, descriptor in zip(names, described):
         assert descriptor.additional_constraints == parameter_range_text(name) != ""
     for name in names:
