@@ -239,6 +239,26 @@ def stop_on_signals():
             signal.signal(signum, handler)
 
 
+def run_until_stopped(program: str, body, argv=None) -> int:
+    """Run ``body(argv)``, a program that runs until it is stopped (the node, the orbit
+    publisher), under :func:`handle_signals`: its exit status, or 0 with one line on stderr
+    when SIGINT or SIGTERM stopped it. A signal that cut its start-up short ends the program
+    here (:func:`exit_now`) when it runs as a console script (``argv`` None)."""
+    with handle_signals():
+        interrupted = False
+        try:
+            with raising_signals():
+                status = body(argv)
+        except Interrupted:
+            status, interrupted = 0, True
+        if signal_name() is None:
+            return status
+        print(f"{program}: stopped by {signal_name()}", file=sys.stderr)
+        if (interrupted or status) and argv is None:
+            exit_now(0)
+        return 0
+
+
 #: ``prctl`` option of Linux: the signal a process gets when its parent dies.
 PR_SET_PDEATHSIG = 1
 

@@ -48,10 +48,7 @@ from rclpy.signals import SignalHandlerOptions
 from adbsat_ros.estimator.settings import settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.processes import (
-    Interrupted,
-    exit_now,
-    handle_signals,
-    raising_signals,
+    run_until_stopped,
     signal_name,
     stop_on_signals,
 )
@@ -102,19 +99,7 @@ def main(args=None) -> int:
     :mod:`.entry_points`): while the node is made it stops at once, while it spins the spin loop
     ends first; either way one line on stderr and exit status 0.
     """
-    with handle_signals():
-        interrupted = False
-        try:
-            with raising_signals():
-                status = _main(args)
-        except Interrupted:
-            status, interrupted = 0, True
-        if signal_name() is not None:
-            print(f"{NODE_NAME}: stopped by {signal_name()}", file=sys.stderr)
-            if (interrupted or status) and args is None:  # (start-up cut short: it ends here)
-                exit_now(0)
-            return 0
-        return status
+    return run_until_stopped(NODE_NAME, _main, args)
 
 
 def _main(args=None) -> int:

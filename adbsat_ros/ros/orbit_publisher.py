@@ -20,11 +20,7 @@ from rclpy.signals import SignalHandlerOptions
 
 from adbsat_ros.physics.constants import EARTH_MU
 from adbsat_ros.processes import (
-    Interrupted,
-    exit_now,
-    handle_signals,
-    raising_signals,
-    signal_name,
+    run_until_stopped,
     stop_on_signals,
 )
 
@@ -35,19 +31,7 @@ EARTH_RADIUS = 6378137.0
 def main(argv=None) -> int:
     """Console script ``adbsat_orbit_publisher``; returns the exit status: 0 also when SIGINT
     or SIGTERM stops it (one line on stderr says so)."""
-    with handle_signals():
-        interrupted = False
-        try:
-            with raising_signals():
-                status = _main(argv)
-        except Interrupted:
-            status, interrupted = 0, True
-        if signal_name() is not None:
-            print(f"adbsat_orbit_publisher: stopped by {signal_name()}", file=sys.stderr)
-            if interrupted and argv is None:  # (the program: it ends here)
-                exit_now(0)
-            return 0
-        return status
+    return run_until_stopped("adbsat_orbit_publisher", _main, argv)
 
 
 def _main(argv=None) -> int:
