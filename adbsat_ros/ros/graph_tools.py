@@ -79,13 +79,27 @@ def tool_node():
         close(tool.node, tool.executor, tool.context)
 
 
-def _wait(tool, future, timeout: float, what: str):
+#: Seconds after which a request with no answer is sent again: a server that has not yet
+#: matched the client's reply reader drops its reply (Fast DDS: "failed to send response").
+RESEND_S = 2.0
+
+
+def _wait(tool, request, timeout: float, what: str):
+    """The answer to ``request()`` (a call that sends it and returns its future), sent again
+    every :data:`RESEND_S` until one answer comes or ``timeout`` seconds have passed (the
+    parameter services' requests may be sent twice: they read or set a value)."""
     deadline = time.monotonic() + timeout
-    while not future.done():
-        if time.monotonic() > deadline:
+    futures = [request()]
+    sent = time.monotonic()
+    while not any(f.done() for f in futures):
+        now = time.monotonic()
+        if now > deadline:
             raise ToolError(f"{what}: no answer within {timeout:g} s")
+        if now - sent > RESEND_S:
+            futures.append(request())
+            sent = now
         tool.spin_once()
-    return future.result()
+    return next(f for f in futures if f.done()).result()
 
 
 def _client(tool, target: str, timeout: float) -> AsyncParameterClient:
@@ -106,8 +120,8 @@ def list_parameters(target: str, timeout: float = 5.0) -> dict:
     checked_node_name(target)
     with tool_node() as tool:
         client = _client(tool, target, timeout)
-        names = _wait(tool, client.list_parameters(), timeout, f"node {target}").result.names
-        values = _wait(tool, client.get_parameters(names), timeout, f"node {target}").values
+        names = _wait(tool, client.list_parameters, timeout, f"node {target}").result.names
+        values = _wait(tool, lambda: client.get_parameters(names), timeout, f"node {target}").values
         found = {n: parameter_value_to_python(v) for n, v in zip(names, values)}
         return dict(sorted(found.items()))
 
@@ -117,7 +131,7 @@ def get_parameter(target: str, name: str, timeout: float = 5.0):
     checked_node_name(target)
     with tool_node() as tool:
         client = _client(tool, target, timeout)
-        value = _wait(tool, client.get_parameters([name]), timeout, f"node {target}").values
+        value = _wait(tool, lambda: client.get_parameters([name]), timeout, f"node {target}").values
         if not value or value[0].type == ParameterType.PARAMETER_NOT_SET:
             raise ToolError(f"node {target} has no parameter {name!r}")
         return parameter_value_to_python(value[0])
@@ -140,7 +154,7 @@ def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
     with tool_node() as tool:
         client = _client(tool, target, timeout)
         described = _wait(
-            tool, client.describe_parameters([name]), timeout, f"node {target}"
+            tool, lambda: client.describe_parameters([name]), timeout, f"node {target}"
         ).descriptors
         if not described or described[0].type == ParameterType.PARAMETER_NOT_SET:
             raise ToolError(f"node {target} has no parameter {name!r}")
@@ -148,8 +162,9 @@ def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
             value = text_value(name, text, described[0].type, described[0].dynamic_typing)
         except ValueError as exc:
             raise BadInput(str(exc)) from None
+        parameter = Parameter(name, value=value)
         result = _wait(
-            tool, client.set_parameters([Parameter(name, value=value)]), timeout, f"node {target}"
+            tool, lambda: client.set_parameters([parameter]), timeout, f"node {target}"
         ).results[0]
         if not result.successful:
             raise ToolError(f"node {target} rejected {name}={text}: {result.reason}")

@@ -69,3 +69,28 @@ def test_echo_prints_the_diagnostics(node_process, capsys):
     assert "- level: 2" in out or "- level: 1" in out or "- level: 0" in out  # (a number)
     assert main(["echo", "/no_such_topic", "--timeout", "1"]) == 1
     assert "not in the ROS graph within 1 s" in capsys.readouterr().err
+
+
+def test_a_request_whose_answer_is_lost_is_sent_again(monkeypatch):
+    """A server that has not matched the client's reply reader yet drops its reply: the tools
+    send the request again until one answer comes, and return that one."""
+    from rclpy.task import Future
+
+    from adbsat_ros.ros import graph_tools
+
+    monkeypatch.setattr(graph_tools, "RESEND_S", 0.0)
+    sent = []
+
+    def request():
+        future = Future()
+        sent.append(future)
+        if len(sent) == 3:  # (the first two replies lost)
+            future.set_result("answer")
+        return future
+
+    class Tool:
+        def spin_once(self):
+            pass
+
+    assert graph_tools._wait(Tool(), request, HANG_TIMEOUT, "node x") == "answer"
+    assert len(sent) == 3 and not any(f.done() for f in sent[:2])
