@@ -29,6 +29,9 @@ INTERRUPTED_STATUS = 1
 #: The signals a command handles (a stop asked for).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
+#: Seconds after which a stop that came inside the import machinery is raised again (there).
+IMPORT_RETRY_S = 0.005
+
 
 def usable_cpus() -> int:
     """The CPUs this process may run on (its affinity mask where the platform has one)."""
@@ -122,12 +125,18 @@ class _Signals:
 
     def _raise(self, frame) -> None:
         """Raise :class:`Interrupted` here, unless ``frame`` is the import machinery's: an
-        extension module importing another from C may print what is raised there, or abort on
-        it, so there the stop is left to the event, which the command checks at its next
-        boundary (:func:`interruptible`, :func:`stop_on_signals`, its ``main``)."""
+        extension module importing another from C may print what is raised there as a
+        traceback and go on, so the raise waits until that frame is left (SIGALRM, a moment
+        later)."""
         if frame is not None and frame.f_code.co_filename.startswith("<frozen importlib"):
+            signal.signal(signal.SIGALRM, self._again)
+            signal.setitimer(signal.ITIMER_REAL, IMPORT_RETRY_S)
             return
         raise Interrupted(self.signum)
+
+    def _again(self, signum, frame) -> None:
+        if self.armed and not self.in_order:
+            self._raise(frame)
 
 
 def as_worker(signum: int) -> None:
@@ -169,8 +178,10 @@ def handle_signals():
     try:
         for signum in STOP_SIGNALS:
             previous[signum] = signal.signal(signum, signals)
+        previous[signal.SIGALRM] = signal.getsignal(signal.SIGALRM) or signal.SIG_DFL  # (_raise)
         yield
     finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
         for signum, handler in previous.items():
             signal.signal(signum, handler)
         _SIGNALS.remove(signals)
