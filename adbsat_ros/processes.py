@@ -29,7 +29,7 @@ INTERRUPTED_STATUS = 1
 #: The signals a command handles (a stop asked for).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
-#: Seconds after which a stop that came inside the import machinery is raised again (there).
+#: Seconds after which a stop that came during an import is tried again.
 IMPORT_RETRY_S = 0.005
 
 
@@ -124,12 +124,13 @@ class _Signals:
             self._raise(frame)
 
     def _raise(self, frame) -> None:
-        """Raise :class:`Interrupted` here, unless ``frame`` is the import machinery's: an
-        extension module importing another from C may print what is raised there as a
-        traceback and go on, so the raise waits until that frame is left (SIGALRM, a moment
-        later)."""
-        if frame is not None and frame.f_code.co_filename.startswith("<frozen importlib"):
+        """Raise :class:`Interrupted` here, unless an import is under way in ``frame``'s stack:
+        an extension module importing from C (its initialisation, the modules it imports) may
+        print what is raised there as a traceback and go on, or abort on it, so the raise waits
+        until every import has returned (SIGALRM, tried again a moment later)."""
+        if _importing(frame):
             signal.signal(signal.SIGALRM, self._again)
+            signal.siginterrupt(signal.SIGALRM, False)  # (no system call fails on it)
             signal.setitimer(signal.ITIMER_REAL, IMPORT_RETRY_S)
             return
         raise Interrupted(self.signum)
@@ -137,6 +138,15 @@ class _Signals:
     def _again(self, signum, frame) -> None:
         if self.armed and not self.in_order:
             self._raise(frame)
+
+
+def _importing(frame) -> bool:
+    """Whether ``frame`` or one that called it is the import machinery's."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
 
 
 def as_worker(signum: int) -> None:
