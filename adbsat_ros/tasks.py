@@ -9,13 +9,12 @@ finish:
 - no scheduler and one worker: in this process, chunk after chunk (nothing to start);
 - no scheduler and more: a ``distributed.LocalCluster`` of worker processes on this machine,
   one thread each (the solvers hold the GIL), forked where the platform can fork (workers start
-  in a tenth of a second with the imports inherited, against a second spawned; measured in one
-  run with two workers);
+  faster with the imports inherited than spawned);
 - a scheduler's address: that running scheduler and its workers (``dask worker`` processes, or
   a cluster that dask-jobqueue or dask-kubernetes started).
 
 Each task carries the job (a few kB for a spec, about 1 MB for a 4,000-panel panel method that is
-not in a file, pickled in 2 ms); a worker builds a job's set-up on its first chunk and keeps it
+not in a file); a worker builds a job's set-up on its first chunk and keeps it
 (:data:`SETUPS`): scattered data would have no lineage, and its loss with a worker would cancel
 the tasks that need it. A worker that dies takes its running chunks with it; they are submitted
 again, to the workers left. Nothing in a chunk may depend on where or when it ran: a job's
@@ -92,10 +91,9 @@ def keep_freed_memory() -> None:
 
     A Dask worker runs its tasks in a thread, whose malloc arena gives freed pages back to the
     system at every turn, so the megabyte-sized arrays of each attitude come back as fresh
-    pages: measured in one run, 296 attitudes of the example satellite took 1.71 s of CPU in a
-    thread against 1.54 s in the main thread (71,000 page faults against none); with a trim
-    threshold of 512 MB and an mmap threshold of 32 MB (what the main thread's arena reaches by
-    itself) the thread did as well as the main thread, with no page faults.
+    pages (page faults the main thread does not take); with a trim threshold of 512 MB and an
+    mmap threshold of 32 MB (what the main thread's arena reaches by itself) a thread does as
+    well as the main thread, with no page faults.
     """
     if _MALLOC["set"]:
         return
@@ -244,14 +242,12 @@ def local_cluster(count: int):
         "distributed.nanny.pre-spawn-environ": worker_environment(),
         "distributed.worker.multiprocessing-method": method,
         "distributed.worker.preload": [__name__],  # (dask_setup: die with this process)
-        # no statistical profiler sampling each worker's stack every 10 ms (it feeds the
-        # dashboard): measured in three interleaved runs of the 2,701-attitude database on
-        # two workers, 13.9 s of CPU without it against 14.2 s with it
+        # no statistical profiler sampling each worker's stack (it feeds the dashboard, and
+        # takes the workers' CPU)
         "distributed.worker.profile.enabled": False,
-        # the event loops' health check once a second, not every 20 ms (it warns of a loop
-        # blocked for 3 s): measured in three interleaved pairs of runs of the 2,701-attitude
-        # database on two running workers, the scheduler's process took 0.51 s of CPU instead
-        # of 0.79 s and the build 7.5 s instead of 8.2 s (on a machine of two cores)
+        # the event loops' health check once a second, not fifty times a second (it warns of a
+        # loop blocked for 3 s): less CPU for the scheduler's process, which shares the
+        # workers' cores
         "distributed.admin.tick.interval": "1s",
     }
     _PARENT["pid"] = os.getpid() if method == "fork" else None
@@ -277,8 +273,8 @@ def dask_setup(worker) -> None:
 def worker_environment() -> dict:
     """Dask's environment for worker processes without ``MALLOC_TRIM_THRESHOLD_``: a fixed
     trim threshold (Dask sets 64 KiB) makes glibc give memory back at every turn of the panel
-    method's small arrays; measured in one run, 2,701 attitudes of the example satellite took
-    18.2 s in one process with it and 12.1 s without (the work itself takes a few hundred MB)."""
+    method's small arrays, and take them again as page faults (the work itself takes a few
+    hundred MB)."""
     import dask
     import distributed  # noqa: F401  (its configuration defaults are read on import)
 

@@ -39,7 +39,7 @@ def positive(name: str, value) -> float:
 
 def all_finite(array: np.ndarray) -> bool:
     """True if every element of ``array`` is finite (Python floats for up to 3 elements, where
-    that is several times faster than numpy)."""
+    that is faster than numpy)."""
     if array.size <= 3:
         return all(map(math.isfinite, array.ravel().tolist()))
     return bool(np.isfinite(array).all())

@@ -336,7 +336,7 @@ def write_plots(plots_dir, envelope, labels, report) -> None:
     drawn from ``envelope`` (a :class:`MinMaxEnvelope` of the rows' plot numbers, PLOT_COLUMNS
     per model, against seconds since the first row), into ``plots_dir`` (replaced as a whole);
     their paths in ``report.outputs['plots']``."""
-    # imported when plots are asked for: matplotlib takes about 0.3 s to import
+    # imported when plots are asked for: matplotlib is slow to import
     from adbsat_ros.plotting.time_series import make_line_figures, save_figures
 
     n = len(PLOT_COLUMNS)

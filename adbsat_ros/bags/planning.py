@@ -18,7 +18,7 @@ MIN_CHUNK_MESSAGES = 250
 #: Chunks per worker by default (load balance, and the merge writes while workers compute).
 CHUNKS_PER_WORKER = 8
 #: Largest default chunk with several workers: a stop waits for the chunks being computed, and
-#: 2,000 messages take about 0.2 s (bench/bench_bag_analysis.py: ~10,000 messages/s).
+#: 2,000 messages take a fraction of a second (docs/benchmarks.md, rosbag analysis).
 MAX_CHUNK_MESSAGES = 2000
 
 

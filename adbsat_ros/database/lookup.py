@@ -15,8 +15,8 @@ Why this choice:
   sampled. Higher-order schemes (bicubic, splines) overshoot at kinks and give no better bound
   there; bilinear interpolation is monotone within a cell (it never leaves the range of the
   four corner values), exact at the nodes, and first-order accurate even at kinks.
-* Speed: a lookup is one bisection per axis and four weighted rows, a few microseconds, with no
-  per-call scipy objects (``bench/bench_database.py`` measures it).
+* Speed: a lookup is one bisection per axis and four weighted rows, with no per-call scipy
+  objects (docs/benchmarks.md, aerodynamic databases).
 
 Geometry: when the aoa grid closes the circle (its span is 360 deg, or the gap left is at most its
 largest step, e.g. -180:5:175) aoa is periodic and queries wrap around; otherwise a query is first

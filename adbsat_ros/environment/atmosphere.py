@@ -7,7 +7,7 @@ metric switch on, so the outputs are already SI:
 * ``nrlmsise00`` returns number densities in cm^-3 and the mass density in g/cm^3 unless
   switch 0 of ``flags`` is 1, which makes the C code return m^-3 and kg/m^3 (we set it);
 * its convenience wrapper ``msise_model`` takes degrees and km and builds the day of year
-  through ``strftime`` (about 14 us per call against 8 us for ``gtd7`` itself).
+  through ``strftime``, which costs more than ``gtd7`` itself.
 
 Anomalous oxygen: NRLMSISE-00's ``gtd7`` total mass density is the sum over He, O, N2, O2, Ar, H
 and N; ``gtd7d`` adds the "anomalous oxygen" (hot O, significant above ~500 km) and is the

@@ -316,15 +316,15 @@ def earth_orientation(
     polar_motion : pair of float, optional
         Pole coordinates (x_p, y_p) [rad]. Default (0, 0).
     precession_nutation : {"iau2006a", "iau2000b"}, optional
-        ``"iau2006a"`` (default): IAU 2006/2000A, ``erfa.c2i06a`` (~40 us).
-        ``"iau2000b"``: IAU 2000B, ``erfa.c2i00b`` (~5 us), within 1 mas (5e-9 rad, 3 cm at
+        ``"iau2006a"`` (default): IAU 2006/2000A, ``erfa.c2i06a``.
+        ``"iau2000b"``: IAU 2000B, ``erfa.c2i00b`` (faster), within 1 mas (5e-9 rad, 3 cm at
         orbital radius) of 2000A over 1995-2050.
     precession_nutation_step : float, optional
         0 (default): precession-nutation evaluated at ``time``. A step [s] > 0 evaluates it at
         the centre of the step-long TT interval holding ``time`` and memoises it: the Earth
         rotation angle stays exact, and the celestial pole moves by less than 2e-11 rad/s
         (precession and the fastest nutation terms), so a 60 s step errs by under 1e-9 rad
-        (6 mm at orbital radius) and saves the ~40 us of IAU 2006/2000A on every call. The
+        (6 mm at orbital radius) and saves evaluating IAU 2006/2000A on every call. The
         result depends only on ``time`` (not on call order).
 
     Returns

@@ -69,9 +69,8 @@ class ConditionsOptions:
     """The options of :func:`flight_conditions`, checked once (see :func:`conditions_options`).
 
     A stream of states evaluated with the same options (the ROS node, bag analysis) checks them
-    once, not at every state: ~5 us of an exact evaluation's ~15 us (one run of
-    ``bench/bench_flight_conditions.py``), which a 100 Hz stream on the node's knots pays at
-    every message.
+    once, not at every state: a sizeable part of an exact evaluation, which a 100 Hz stream on
+    the node's knots pays at every message.
 
     Attributes
     ----------
@@ -191,7 +190,7 @@ def flight_conditions(
     accommodation_options : mapping, optional
         Options of the model, e.g. ``{"alpha": 0.9}`` for ``fixed``.
     orientation : EarthOrientation, optional
-        Precomputed Earth orientation at ``time`` (saves ~40 us when evaluating several states at
+        Precomputed Earth orientation at ``time`` (saves evaluating it again for several states at
         one instant); the three options below are then ignored.
     ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
         Earth-orientation options, see

@@ -91,7 +91,7 @@ def ecef_to_geodetic(position_ecef):
         If the position is not finite or has the wrong shape.
     """
     position = vectors3(position_ecef, "position_ecef")
-    # The raw ufunc skips pyerfa's status-to-warning wrapper (~9 us); status < 0 is only possible
+    # The raw ufunc skips pyerfa's status-to-warning wrapper; status < 0 is only possible
     # for a bad ellipsoid identifier, which WGS84 is not.
     longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position)
     if position.ndim == 1:

@@ -37,9 +37,8 @@ class KnotEnds:
     """One end of an interpolation (a knot): its conditions and, made when first asked for (a
     stream stamped on the knots never asks), the numbers the interpolation mixes.
 
-    Made lazily because bag analysis at 100 Hz meets a knot at every attitude: making the
-    numbers with each knot cost 4.5 us more CPU per attitude in one run (the estimator fed a
-    60 s, 100 Hz flight on the 9,600-face example satellite, best of 3), about 5 % of its time.
+    Made lazily because bag analysis at 100 Hz meets a knot at every attitude, and would make
+    the numbers with each knot for nothing.
 
     Parameters
     ----------
@@ -161,9 +160,8 @@ class StampConditions:
     A wrench needs the relative velocity, the speed, the accommodation coefficient and the free
     stream; the full :class:`FlightConditions` (geodetic position, the atmosphere, every vector),
     which only reports read, is made from the same knots when :attr:`conditions` is first read,
-    and is the same whenever it is made. Making it for every message would cost the node about
-    6 us of its ~40 us per attitude (``bench/bench_estimator.py``, one interleaved run), more
-    than the 5 % of its CPU per message allowed for the whole per-message path.
+    and is the same whenever it is made. Making it for every message would cost the node CPU
+    that the wrench does not need.
 
     Attributes
     ----------

@@ -1,9 +1,9 @@
 """Flight conditions on a grid of stamps, interpolated in between: the per-message cache.
 
 An attitude stream at 1 kHz asks for the flight conditions of one orbital state at every stamp;
-NRLMSISE-00, the Earth's orientation and the accommodation model cost ~30-60 us per exact
-evaluation. :class:`KnotGrid` evaluates them exactly only at the *knots*, the stamps ``j step``
-for integers j (``step`` = ``conditions_step``, 10 ms by default), and interpolates linearly in
+an exact evaluation runs NRLMSISE-00, the Earth's orientation and the accommodation model.
+:class:`KnotGrid` evaluates them exactly only at the *knots*, the stamps ``j step``
+for integers j (``step`` = ``conditions_step``, 0.01 s by default), and interpolates linearly in
 between (:mod:`adbsat_ros.environment.interpolation`). The knots are fixed stamps, not set by the
 messages, so a stamp and a state always get the same numbers whatever came before (live, or
 replayed from a bag in any order), and a stream stamped on multiples of the step lands on knots.
@@ -11,8 +11,8 @@ replayed from a bag in any order), and a stream stamped on multiples of the step
 Interpolation error: for a first-order propagated state the positions are linear in time, so the
 interpolated position is the propagated one (to rounding); the other fields are smooth along the
 orbit and err by about (h v / L)^2 / 8 for knots h v metres apart and fields varying over L
-(hundreds of km horizontally, tens of km vertically): about 2e-9 of the density at 10 ms
-(77 m at 7.7 km/s), 2e-7 at 100 ms (checked in ``test/environment/test_knots.py``). NRLMSISE-00's
+(hundreds of km horizontally, tens of km vertically): about 2e-9 of the density at 0.01 s
+(77 m at 7.7 km/s), 2e-7 at 0.1 s (checked in ``test/environment/test_knots.py``). NRLMSISE-00's
 own steps (e.g. at exactly 300 km) are spread over the interval that crosses them.
 """
 
@@ -30,8 +30,8 @@ from adbsat_ros.environment.interpolation import (
 )
 
 #: A stamp this close to a knot [s] takes the knot's conditions alone: UNIX stamps as float
-#: seconds resolve 0.24 us, so a stream stamped on multiples of the step (e.g. 100 Hz at the
-#: default 10 ms) lands on knots and needs one evaluation per message, as without knots.
+#: seconds resolve 2.4e-7 s, so a stream stamped on multiples of the step (e.g. 100 Hz at the
+#: default 0.01 s) lands on knots and needs one evaluation per message, as without knots.
 KNOT_SNAP_S = 1e-6
 #: Knots kept (the grid's bound): the two around the latest stamp, the one after them (the
 #: look-ahead of :meth:`KnotGrid.prepare`), one spare.

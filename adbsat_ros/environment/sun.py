@@ -3,7 +3,7 @@ Earth hides.
 
 - :func:`sun_position_eci`: the geocentric position of the Sun in the GCRS (the package's ECI),
   from ERFA's ``epv00`` (VSOP2000-fitted Earth ephemeris, heliocentric position of the Earth in
-  BCRS axes; the Sun is minus it). TT stands for TDB (they differ by under 2 ms); light time and
+  BCRS axes; the Sun is minus it). TT stands for TDB (they differ by under 0.002 s); light time and
   aberration (20 arcsec) are neglected: a change of the Sun's direction of 1e-4 rad.
 - :func:`solar_pressure`: the radiation pressure of sunlight absorbed by a surface normal to it,
   P = S / c (1 au / d)^2 with the total solar irradiance S at 1 au.
@@ -163,7 +163,7 @@ def lit_fraction(position_eci, sun_position_eci):
 
 def _visible_fraction(rx, ry, rz, sx, sy, sz) -> float:
     """:func:`lit_fraction` of one position, in floats (checked by the caller; the tests check
-    that both agree). One message's shadow: 3 us here against 37 us through numpy's arrays."""
+    that both agree): one message's shadow, where numpy's overhead per call would dominate."""
     radius = math.sqrt(rx * rx + ry * ry + rz * rz)
     dx, dy, dz = sx - rx, sy - ry, sz - rz
     distance = math.sqrt(dx * dx + dy * dy + dz * dz)
@@ -228,7 +228,7 @@ class SunTrack:
     the positions at the two knots around t. Bound: those two. Counters: ``hits`` (both knots
     known), ``misses`` (knots evaluated).
 
-    Why: ERFA's ephemeris costs 28 us a call; a node computing the solar pressure at 1 kHz
+    Why: ERFA's ephemeris is costly to call; a node computing the solar pressure at 1 kHz
     needs a new position each message. Linear interpolation between knots h apart errs by at
     most |p''| h^2 / 8, with |p''| = omega^2 (1 au) = 6e-3 m/s^2 (the Earth's orbital rate
     omega = 2e-7 rad/s): 2.7 m at h = 60 s, a direction error of 2e-11 rad.

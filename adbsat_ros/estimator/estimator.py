@@ -10,11 +10,11 @@ vectors into that frame, v_state = R(q) v_body; the body frame is the mesh frame
 torques [N m] are returned in the body frame, torques about the centre of mass.
 
 Flight conditions: the latest state is propagated to each attitude stamp at constant velocity
-(:mod:`adbsat_ros.estimator.conditions`). With ``conditions_step`` h > 0 (default 10 ms) they
+(:mod:`adbsat_ros.estimator.conditions`). With ``conditions_step`` h > 0 (default 0.01 s) they
 are evaluated exactly at the knots, the stamps ``j h``, and interpolated linearly in between by
 the estimator's :class:`~adbsat_ros.environment.knots.KnotGrid` (:attr:`AeroWrenchEstimator.knots`;
-density within ~2e-9 of an evaluation at the stamp itself at h = 10 ms). A stamp gets the same
-numbers whatever messages came before it; one within 1 us of a knot takes the knot's alone.
+density within ~2e-9 of an evaluation at the stamp itself at h = 0.01 s). A stamp gets the same
+numbers whatever messages came before it; one within 1e-6 s of a knot takes the knot's alone.
 """
 
 from __future__ import annotations

@@ -46,10 +46,8 @@ class JointStates:
     The first attitude after a joint state (or after :meth:`clear`, or a new ``prepare``) makes
     the positions' :class:`JointConfiguration` (``prepare``), and the attitudes until the next
     joint state use it: the positions' checks, the links' poses and the shading grid's
-    configurations are then found once per joint state, not once per attitude: with joints
-    fixed, the node took 1.005-1.034 times the rigid node's CPU per attitude against
-    1.073-1.079 (about 6 of its 115 us at 1 kHz; ``bench/bench_articulated_node.py``, three
-    interleaved pairs). A body without moving joints has one configuration, made at its first
+    configurations are then found once per joint state, not once per attitude (see
+    docs/benchmarks.md). A body without moving joints has one configuration, made at its first
     attitude.
 
     Parameters

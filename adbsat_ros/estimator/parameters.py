@@ -262,7 +262,7 @@ PARAMETERS = (
         "flight conditions (NRLMSISE-00, Earth orientation, relative wind) are evaluated "
         "exactly at the stamps that are multiples of this [s] and interpolated linearly in between "
         "(density within "
-        "about 2e-9 at 10 ms); 0 evaluates them at every stamp",
+        "about 2e-9 at 0.01 s); 0 evaluates them at every stamp",
     ),
     (
         "max_quaternion_norm_error",

@@ -18,8 +18,8 @@ each panel's link). A link at its pose of the zero configuration keeps the norma
 barycentres of the parts there, made once as that function makes them, so the panels of the
 zero configuration are those of its parts merged into one mesh, bit for bit; a link elsewhere
 turns its parts' normals and barycentres in its own frame by its pose (its areas unchanged),
-equal to them recomputed from the moved vertices up to rounding (posing the finned example's
-12,832 panels: 0.57 ms against 1.23 ms recomputing them, ``timeit``, one run).
+equal to them recomputed from the moved vertices up to rounding (and cheaper than
+recomputing them).
 
 Units: metres and radians; mesh frame G = the root link's frame.
 """

@@ -4,12 +4,9 @@ yourdfpy reads the URDF (its joints' origins, axes, types and mimic rules) and m
 joint's own transform (``origin @ R(q, axis)`` for a revolute or continuous joint,
 ``origin @ T(q axis)`` for a prismatic one, the origin alone for a fixed one, a mimic joint at
 ``multiplier q + offset`` of the joint it follows), as its forward kinematics does. This module
-only chains those transforms from the root outwards, parent before child. yourdfpy's own chain
-goes through its scene graph (``update_cfg`` and ``get_transform``): for the example
-satellite's three links, 58 us per configuration timed alone against 20 us here, and 266 us in
-a node's stream of messages (one run each); a node meets a new configuration with every joint
-state.
-The tests check both give the same poses.
+only chains those transforms from the root outwards, parent before child. yourdfpy's own chain goes
+through its scene graph (``update_cfg`` and ``get_transform``), which costs more, and a node meets a
+new configuration with every joint state. The tests check both give the same poses.
 
 Units: metres and radians.
 """

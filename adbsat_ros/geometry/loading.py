@@ -9,7 +9,7 @@ whole or refused, other formats by trimesh: :mod:`adbsat_ros.geometry.mesh_files
 (:mod:`adbsat_ros.geometry.mesh_store`): a file loaded before is read back from there.
 
 trimesh (which checks the meshes) and yourdfpy (URDF bodies) are imported when a file is parsed
-or a URDF read, not with this module: importing trimesh takes about 0.6 s, more than the
+or a URDF read, not with this module: importing trimesh takes longer than the
 command line may take to answer (docs/benchmarks.md, command line start-up).
 """
 

@@ -7,9 +7,10 @@ arrays and checks it (bad indices, NaN or Inf, degenerate faces dropped, inward-
 bodies flipped, open and convex bodies reported in a :class:`MeshReport`); a :class:`MeshError`
 names the input and the problem. Reading files is :mod:`adbsat_ros.geometry.loading`.
 
-The checks use trimesh, imported when a mesh is checked: importing it takes about 0.6 s, and a
-mesh read back from the store of checked meshes (:mod:`adbsat_ros.geometry.mesh_store`) needs
-none of it (docs/benchmarks.md, command line start-up).
+The checks use trimesh, imported when a mesh is checked: importing it is a large part of the command
+line's start-up, and a mesh read back from the store of checked meshes
+(:mod:`adbsat_ros.geometry.mesh_store`) needs none of it (docs/benchmarks.md, command line
+start-up).
 """
 
 from __future__ import annotations
@@ -121,9 +122,8 @@ class PanelMesh:
     @property
     def bounds(self) -> np.ndarray:
         """Axis-aligned bounding box, shape (2, 3): min and max corner [m]."""
-        # column by column: numpy reduces an (M, 3) array along axis 0 three numbers at a time,
-        # 0.90 ms against 0.06 ms this way for 10,000 panels (timeit, one run); an articulated
-        # body's shader reads the bounds of every new configuration
+        # column by column: numpy reduces an (M, 3) array along axis 0 three numbers at a time
+        # (slowly); an articulated body's shader reads the bounds of every new configuration
         v = self.vertices.reshape(-1, 3)
         columns = [v[:, k] for k in range(3)]
         return np.array([[c.min() for c in columns], [c.max() for c in columns]])
@@ -314,8 +314,7 @@ def triangle_geometry(tri: np.ndarray) -> tuple:
     -----
     The same numbers as ``np.cross``, ``np.linalg.norm`` and ``tri.mean(axis=1)`` give (the
     same operations in the same order, checked by the tests), worked on the corners'
-    coordinates as arrays of N: numpy's loops over an axis of three made those take 1.6 ms
-    for the 12,832 panels of the finned example against 0.6 ms here (``timeit``, one run),
+    coordinates as arrays of N: numpy's loops over an axis of three make those slower,
     and an articulated body makes them for every new joint configuration.
     """
     t = np.asarray(tri, dtype=float).transpose(1, 2, 0)  # (3, 3, N): views, no copy

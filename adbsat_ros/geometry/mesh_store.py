@@ -1,7 +1,7 @@
 """Checked meshes kept on disk by their file's content, read back instead of parsed again.
 
 Loading a mesh file parses it with trimesh and checks it (orientation, closedness, convexity
-per connected component); importing trimesh alone takes about 0.6 s, more than a one-attitude
+per connected component); importing trimesh alone takes longer than a one-attitude
 ``adbsat-ros coeff`` may take (docs/benchmarks.md, command line start-up). :class:`MeshStore`
 keeps what the checks made, so that the next load of the same file reads the panels back
 with numpy alone, as ADBSat reads a mesh once imported to a .mat file.

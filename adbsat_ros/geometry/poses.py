@@ -1,10 +1,9 @@
 """The frames of an articulated body's links and joints at a joint configuration, cached.
 
-Forward kinematics (:mod:`~adbsat_ros.geometry.kinematics`) and the joints' axes cost about
-45 us per configuration (``timeit``, the example satellite's wings, one run), and a stream of
-wrench messages meets the same configuration again and again (joint states come at a tenth of
-the attitudes' rate, or not at all for fixed joints), so :class:`PoseCache` keeps the poses of
-the latest configurations.
+Forward kinematics (:mod:`~adbsat_ros.geometry.kinematics`) and the joints' axes are computed per
+configuration, and a stream of wrench messages meets the same configuration again and again (joint
+states come at a tenth of the attitudes' rate, or not at all for fixed joints), so
+:class:`PoseCache` keeps the poses of the latest configurations.
 """
 
 from __future__ import annotations

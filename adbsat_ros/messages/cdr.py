@@ -2,11 +2,8 @@
 
 The ROS node takes its attitudes and publishes its wrenches as serialised bytes, and the bag
 analysis reads and writes the same messages from files; both go through these functions instead
-of building message objects. Building them is most of a message's cost in Python: for one
-QuaternionStamped in and one WrenchStamped out, rclpy's conversions between CDR and message
-objects take about 35 µs, rosbags' codec about 14 µs, these about 2.3 µs; for one
-nav_msgs/Odometry in, with its two 36-element covariances, rclpy takes 75–120 µs, these 6 µs
-(bench/bench_message_codec.py, docs/benchmarks.md). sensor_msgs/JointState is read so too.
+of building message objects. Building them is most of a message's cost in Python
+(docs/benchmarks.md, messages). sensor_msgs/JointState is read so too.
 
 Layout (OMG CDR, "plain" XCDR1, what rclpy, Fast DDS and rosbags write): a 4-byte encapsulation
 header (0x00 0x00 big endian, 0x00 0x01 little endian, then two option bytes), then the fields in
@@ -228,8 +225,7 @@ def diagnostic_array_cdr(sec: int, nanosec: int, frame_id: str, statuses) -> byt
     """CDR bytes (little endian) of a diagnostic_msgs/DiagnosticArray.
 
     The node's once-a-second /diagnostics message: building it as rclpy message objects and
-    serialising them took 0.3-0.5 ms on this machine (and up to 2 ms right after the process
-    had slept), a hold-up for the attitude messages behind it at 1 kHz.
+    serialising them would hold up the attitude messages behind it at 1 kHz.
 
     Parameters
     ----------
@@ -294,9 +290,8 @@ def _cdr_doubles(raw, order: str, pos: int) -> tuple[tuple, int]:
 
 def joint_state_fields(raw) -> JointStateFields:
     """Stamp, joint names and positions of a CDR-serialised sensor_msgs/JointState (its
-    velocities and efforts are read past, not kept): 5.6 us against 19 us through rclpy's message
-    object for two joints (``timeit``, one run), for a joint_states stream as fast as the
-    attitudes.
+    velocities and efforts are read past, not kept), without rclpy's message object, for a
+    joint_states stream as fast as the attitudes.
 
     Raises
     ------

@@ -1,7 +1,7 @@
 """Input messages from their CDR bytes: the struct codec, then one full deserialiser as fallback.
 
 The node and the bag analysis read their attitude and state messages the same way: the readers
-of :mod:`adbsat_ros.messages.cdr` first (a few microseconds for plain CDR, what rclpy, Fast DDS and
+of :mod:`adbsat_ros.messages.cdr` first (for plain CDR, what rclpy, Fast DDS and
 rosbags write), and for bytes those refuse (XCDR2 from another RMW, trailing bytes) a full
 deserialiser given by the caller: the node passes rclpy's ``deserialize_message`` with the
 message type, the bag analysis the deserialiser of its rosbags type store. Bytes that neither

@@ -51,7 +51,7 @@ class ArticulatedCoefficients(NamedTuple):
     The links' forces and moments and the joints' efforts are computed from the evaluation's
     sums when first read (:class:`~adbsat_ros.physics.link_loads.LinkLoads`), so a caller that
     needs only the total (a node publishing the wrench) does not pay for them. A tuple, made at
-    every message: 0.35 us against 0.91 us as a frozen dataclass (``timeit``, one run).
+    every message: cheaper to make than a frozen dataclass.
 
     Attributes
     ----------

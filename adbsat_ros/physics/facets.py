@@ -79,15 +79,12 @@ class LitSumsCache:
     gives the same sums whichever object carries it. Value: the (G, 10) facet sums.
     Bound: the ``max_entries`` most recently used. Counters: hits, misses.
 
-    Why it exists: on a shading-cache hit, the node's usual message, the lighting is that of
-    the previous message, and summing it again over the panels is most of the panel method.
-    Measured in one run (``python bench/bench_panel_method.py --cached``, 11,104-face example
-    satellite, sentman, raycast shading cached at 0.25 deg; CPU per attitude of the cache hit
-    and the panel method, medians of 6 alternating rounds): 21.8 us with this cache; 286 us
-    summing at every call (+264 us, about +50 % of the node's ~0.5 ms per message); 94 us with
-    the all-lit sums plus a sparse correction over the panels not fully lit (+72 us, +14 %),
-    whose rounding, unlike the sums here, is not that of the per-panel sums: it moved a small
-    side-force coefficient of the golden outputs by 1.5e-12 of its size.
+    Why it exists: on a shading-cache hit, the node's usual message, the lighting is that of the
+    previous message, and summing it again over the panels is most of the panel method
+    (docs/benchmarks.md). The all-lit sums plus a sparse correction over the panels not fully lit
+    would cost less than summing, but their rounding, unlike the sums here, is not that of the
+    per-panel sums: it moved a small side-force coefficient of the golden outputs by 1.5e-12 of its
+    size.
 
     Parameters
     ----------

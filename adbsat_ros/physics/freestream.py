@@ -67,9 +67,7 @@ class FreeStream:
     """Free-stream state of the gas relative to the spacecraft.
 
     A value: nothing changes it after it is made. (The dataclass is not frozen: a frozen one
-    sets each field through ``object.__setattr__``, and the ROS node makes one per message;
-    frozen, the estimator took 1.5 us more per attitude, 41.8 against 40.3 us, in one
-    interleaved run of ``bench/bench_estimator.py``.)
+    sets each field through ``object.__setattr__``, and the ROS node makes one per message.)
 
     Parameters
     ----------

@@ -101,7 +101,7 @@ class LinkLoads:
 
     It holds the evaluation's own numbers, not the method that made them: a sample that keeps
     it keeps no cache alive, and pickles. A node publishing only the wrench reads neither (the
-    efforts cost a few microseconds per message).
+    efforts are not computed for it).
 
     Parameters
     ----------

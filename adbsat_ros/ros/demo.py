@@ -15,8 +15,8 @@ What it does, in one process:
    altitude, density, drag coefficient, |F|, |T|, compute time and end-to-end latency);
 5. writes a CSV and PNG plots (force, torque, density, drag coefficient) into ``out_dir``.
 
-Why in-process rather than a child process: the node starts in about a second with no
-cross-process discovery (0.4-0.7 s on this kind of machine), nothing is left running after
+Why in-process rather than a child process: the node starts with no cross-process
+discovery to wait for, nothing is left running after
 Ctrl-C, and the demo can show, next to the published wrench, the node's own record of each
 computation (altitude, density, C_D, compute time): the demo registers a sample listener
 (:meth:`AdbsatNode.add_sample_listener`) to keep the samples behind the published wrenches, and

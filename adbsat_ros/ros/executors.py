@@ -17,8 +17,8 @@ def make_executor(kind: str = "events", context=None):
     """An rclpy executor: ``"events"`` or ``"single_threaded"``.
 
     ``events`` is rclpy.experimental.EventsExecutor (C++ event queue: callbacks in arrival order,
-    about half the per-message overhead of the SingleThreadedExecutor, which rebuilds a wait set
-    in Python for every wait; see docs/benchmarks.md). An rclpy without it gets the
+    less per-message overhead than the SingleThreadedExecutor, which rebuilds a wait set in
+    Python for every wait). An rclpy without it gets the
     SingleThreadedExecutor, and so does a process whose sys.stderr is not a file. Spin either
     with :func:`spin_until_shutdown`: the EventsExecutor's own ``spin()`` in the Jazzy 7.1
     wheels busy-waits and does not return on SIGINT/SIGTERM, its ``spin_once(timeout)`` sleeps

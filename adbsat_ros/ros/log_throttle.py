@@ -12,7 +12,7 @@ class LogThrottle:
     """At most one log line per key every ``period`` seconds, decided before the logger is called.
 
     rclpy's own ``throttle_duration_sec`` finds its caller with ``inspect`` on every call, also on
-    the calls it then suppresses: about 0.6 ms each on this machine, more than a whole wrench. A
+    the calls it then suppresses, each costing more than a whole wrench. A
     stream of bad input at 1 kHz would then take more CPU than the node has, and it would fall
     behind for good. This check costs a dictionary lookup.
 

@@ -148,7 +148,7 @@ def _run(managed: bool = False) -> int:
         executor.add_node(node)
         # everything made so far (mesh, shading structures, imported modules) lives as long as the
         # process: move it out of the collector's generations, so that no collection the message
-        # traffic triggers walks it (a full one over it takes about 35 ms)
+        # traffic triggers walks it (a full one over it would hold up the messages)
         gc.collect()
         gc.freeze()
         try:

@@ -399,8 +399,8 @@ class WrenchNodeCore:
             self._log_throttled("error", "marker_failed", f"panel marker failed: {exc!r}")
 
     def _publish_diagnostics(self) -> None:
-        # as CDR bytes: rclpy message objects for ~20 key/values cost 0.3-0.5 ms to build and
-        # serialise, up to 2 ms right after the process slept; a hold-up for the attitudes at 1 kHz
+        # as CDR bytes: building and serialising rclpy message objects for ~20 key/values would
+        # hold up the attitudes at 1 kHz
         try:
             sec, nanosec = self.get_clock().now().seconds_nanoseconds()
             self.diagnostics_pub.publish(

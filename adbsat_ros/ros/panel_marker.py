@@ -3,7 +3,7 @@ panel coloured by its pressure coefficient as ``adbsat-ros plot`` colours it
 (:func:`adbsat_ros.plotting.panels.panel_colours`: shaded panels grey, back faces pale), so RViz
 shows where the load acts.
 
-Building the message takes tens of milliseconds for 10,000 panels (rclpy message objects, one
+Building the message is slow for 10,000 panels (rclpy message objects, one
 per vertex), so the node publishes it at a low rate, and only while it has a subscriber.
 """
 

@@ -2,9 +2,9 @@
 
 Some outputs are made only while someone reads them: the coefficients, the state-frame wrench and
 the acceleration (for a propagator), an articulated body's joint torques and the panel marker.
-Asking the middleware with every message (``get_subscription_count``) costs 4-10 us, a few per
-cent of a wrench, so :class:`Readers` makes their publishers with a matched-event callback and
-keeps, per output, whether it has a reader now: one attribute read per message.
+Asking the middleware with every message (``get_subscription_count``) would cost a call into the
+middleware per output and message, so :class:`Readers` makes their publishers with a matched-event
+callback and keeps, per output, whether it has a reader now: one attribute read per message.
 """
 
 from __future__ import annotations

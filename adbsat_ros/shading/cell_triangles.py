@@ -83,8 +83,8 @@ class CellTriangulation:
     @functools.lru_cache(maxsize=8)
     def of(cls, n: int) -> "CellTriangulation":
         """The triangulation of ``n`` steps, made once per ``n`` (8 kept): it depends on
-        nothing else, and making it takes 30-40 ms at n = 360 (0.25 deg), which an articulated
-        body's shading would otherwise pay for every joint configuration."""
+        nothing else, and making it is slow at fine resolutions (n = 360, 0.25 deg), which an
+        articulated body's shading would otherwise pay for every joint configuration."""
         return cls(n)
 
     # ------------------------------------------------------------------------------ queries

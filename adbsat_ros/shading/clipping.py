@@ -10,9 +10,8 @@ exact shadows of convex parts.
 
 Inside, a set of polygons is held as two arrays of coordinates, x and y, of shape
 (corners, polygons): every operation then runs along the polygons, a thousand or more, where
-the natural (polygons, corners, 2) layout runs numpy's loops along axes of two and three (400
-clippings of the finned example's panels, about 2,000 a call, took 2.65 ms a call in that
-layout against 1.46 ms in this one, the same numbers bit for bit, one run).
+the natural (polygons, corners, 2) layout runs numpy's loops along axes of two and three (the same
+numbers bit for bit, more slowly).
 
 Units: any length, the same for every point.
 """
@@ -108,8 +107,8 @@ def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
     for i, (ax, ay) in enumerate(polygons):  # which side of each edge each corner is on
         bx, by = _rolled(ax), _rolled(ay)
         ex, ey = bx - ax, by - ay
-        # (m, K) each, >= 0: the corner inside (a corner at a time: the (m, 3, K) arrays of
-        # all three at once took 0.62 against 0.10 ms here for 2,139 panels, ``timeit``)
+        # (m, K) each, >= 0: the corner inside (a corner at a time: cheaper than the (m, 3, K)
+        # arrays of all three at once)
         c0, c1, c2 = (ex * (ty[j] - ay) - ey * (tx[j] - ax) < 0.0 for j in range(3))
         cut = c0 | c1 | c2  # (m, K): some corner beyond the edge
         within[i] = ~cut.any(axis=0)  # inside the polygon
@@ -233,6 +232,6 @@ def _successors(values, last) -> np.ndarray:
 
 def _rolled(values) -> np.ndarray:
     """``np.roll(values, -1, axis=0)``: each slot's next, the first after the last (a new
-    array; ``np.roll`` took 8.3 us against 1.6 us here for 200 hexagons, ``timeit``, and the
-    clipping of a finned body's panels rolls about twenty arrays)."""
+    array, without ``np.roll``'s general-axis overhead; the clipping of a finned body's panels
+    rolls about twenty arrays)."""
     return np.concatenate((values[1:], values[:1]))

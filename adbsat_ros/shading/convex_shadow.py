@@ -44,10 +44,9 @@ MAX_OCCLUDERS = 3
 #: on the two sides; beyond this many corners (a finely divided cylinder) the cut costs more
 #: than the rays, and its panels are left to them.
 MAX_CUT_CORNERS = 64
-#: The cut is made once per plane and costs about 0.15 ms (a 2-D hull and the clipping). Panels
-#: on more planes than this behind the same parts (the facets of a curved surface) are left to
-#: their rays, which cost less: a plate behind a 128-sided cylinder it cuts, 18-23 ms with its
-#: rays against 35-60 ms cut plane by plane (one run).
+#: The cut is made once per plane (a 2-D hull and the clipping). Panels on more planes than
+#: this behind the same parts (the facets of a curved surface, e.g. a plate behind a 128-sided
+#: cylinder it cuts) are left to their rays, which then cost less.
 MAX_CUT_PLANES = 32
 #: A convex part counts as wholly in front of a panel if each of its hull corners is at least
 #: this fraction of the mesh's bounding-box diagonal in front of the panel's plane (and as
@@ -225,8 +224,8 @@ class ConvexParts:
         f, c2 = lit_parts(triangles, shapes)
         fraction[rows] = f
         # the lit centroid back on the panel, through its triangle coordinates
-        # (a, b) with c2 = t0 + a (t1 - t0) + b (t2 - t0), by Cramer's rule (2 x 2 systems:
-        # np.linalg.solve took 0.28 ms of the 2.4 ms of clipping a finned body's panels)
+        # (a, b) with c2 = t0 + a (t1 - t0) + b (t2 - t0), by Cramer's rule (2 x 2 systems,
+        # many at once: cheaper than np.linalg.solve)
         (ux, uy), (vx, vy) = (
             (triangles[:, 1] - triangles[:, 0]).T,
             (triangles[:, 2] - triangles[:, 0]).T,
@@ -243,9 +242,8 @@ class ConvexParts:
 def _distinct_rows(keys: np.ndarray) -> tuple:
     """The distinct rows of ``keys`` (K, c) and which of them each row is ((K,) indices), as
     ``np.unique(keys, axis=0, return_inverse=True)`` gives them, by a lexicographic sort of
-    the columns (``np.unique`` sorts the rows as records: 1.3 ms for 2,000 rows of four
-    floats against 0.34 ms here, and a configuration of the finned example groups its panels
-    about fifteen times)."""
+    the columns (``np.unique`` sorts the rows as records, which is slower, and a configuration of
+    the finned example groups its panels about fifteen times)."""
     if len(keys) == 0:
         return keys[:0], np.zeros(0, dtype=np.int64)
     order = np.lexsort(keys.T[::-1])
@@ -290,13 +288,12 @@ def convex_outline(points: np.ndarray) -> np.ndarray | None:
     """The convex hull of 2-D points as a polygon.
 
     Andrew's monotone chain (A. M. Andrew, Information Processing Letters 9, 216, 1979) on the
-    points as Python floats: an outline has a part's corners and the points where a plane cuts
-    its edges, some tens at most, for which scipy's ``ConvexHull`` spends its time setting up
-    Qhull: 80 us a call against 13 to 31 us here, for the 16 outlines of 14 points on average
-    that shading the finned example at its exact joint positions makes per message
-    (``timeit``, one run). A point whose triangle with its neighbours has an area below
-    :data:`FLAT_OUTLINE` of the square of the extent (the cut points of a part's edges lie on
-    its sides up to rounding) is not a corner.
+    points as Python floats: an outline has a part's corners and the points where a plane cuts its
+    edges, some tens at most, for which scipy's ``ConvexHull`` spends most of its time setting up
+    Qhull (shading the finned example at its exact joint positions makes some 16 outlines of 14
+    points on average per message). A point whose triangle with its neighbours has an area below
+    :data:`FLAT_OUTLINE` of the square of the extent (the cut points of a part's edges lie on its
+    sides up to rounding) is not a corner.
 
     Parameters
     ----------

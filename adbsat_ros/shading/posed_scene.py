@@ -108,7 +108,7 @@ class LinkScenes:
 class DeferredScene:
     """A ray scene built when a ray is first cast through it (:class:`RayScene`'s methods).
 
-    Building an Embree scene of a posed body costs about 6 ms at 10,000 faces, and the exact
+    Building an Embree scene of a posed body costs time at each new configuration, and the exact
     shadows of convex parts often leave no ray to cast for a configuration (none for the
     bundled articulated examples at the benchmarks' attitudes), so a configuration's scene
     waits for its first ray.

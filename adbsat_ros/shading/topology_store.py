@@ -2,11 +2,11 @@
 
 A ray-cast shader of a body that can shade itself needs the panels with their vertices merged
 (for the ray scene) and the candidate filter's topology (edge neighbours, connected components,
-hull faces: :class:`~adbsat_ros.shading.candidates.MeshTopology`). Making them takes trimesh,
-whose import alone takes about 0.6 s, and for the 6,496-face example satellite the merging and
-the hulls themselves about 40 ms. :class:`TopologyStore` keeps them by the panels' content, so
-that the next shader of the same panels (the next ``adbsat-ros coeff`` on a mesh file, the node
-started again) reads them back with numpy.
+hull faces: :class:`~adbsat_ros.shading.candidates.MeshTopology`). Making them takes trimesh, whose
+import alone takes longer than a one-attitude ``adbsat-ros coeff`` with the stores
+(docs/benchmarks.md, command line start-up), and then the merging and the hulls.
+:class:`TopologyStore` keeps them by the panels' content, so that the next shader of the same panels
+(the next ``adbsat-ros coeff`` on a mesh file, the node started again) reads them back with numpy.
 
 Key: the SHA-256 of the panels' vertex coordinates (exact bytes), the bounding-box diagonal the
 hull tolerance is taken from, the store's format and the code that makes the entries (the
