@@ -1,6 +1,6 @@
 """Speed of the test-particle Monte Carlo solver.
 
-Three figures (docs/benchmarks.md, "Test-particle Monte Carlo"):
+Three figures (docs/benchmarks.md, "Databases, sweeps and test particles"):
 
 1. molecules per second per core on a sphere of 5,120 faces (one worker, CPU time of the run:
    inflow, tracing, re-emission and sums), and on the concave grooved cylinder, whose molecules

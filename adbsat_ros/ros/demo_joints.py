@@ -25,7 +25,7 @@ AMPLITUDE_DEG = 10.0
 #: The configuration grid of the shading for fins that move with every message [deg], its
 #: points blended (``joint_shading_interpolation``), so that the shading and the torques are
 #: continuous in the deflections: the sweep's configurations are shaded once, then read
-#: (docs/benchmarks.md, stepping fins). The grid's nearest point instead steps the torques a
+#: (docs/benchmarks.md, articulated bodies). The grid's nearest point instead steps the torques a
 #: cell at a time (on this 2 deg grid the roll torque changed sign where the pitch fins passed
 #: 1 deg).
 SHADING_GRID_DEG = 2.0
