@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as _dt
+import math
 
 import numpy as np
 
@@ -117,7 +118,7 @@ def mixed_conditions(
     vectors = list(mixed[:18].reshape(6, 3))  # read-only views
     if a.vectors != b.vectors or not all(a.vectors):
         vectors = [v if p and q else None for v, p, q in zip(vectors, a.vectors, b.vectors)]
-    speed = values[_SPEED] if vectors[5] is None else float(np.linalg.norm(vectors[5]))
+    speed = values[_SPEED] if vectors[5] is None else math.hypot(*values[15:18])
     latitude, longitude, altitude = geodetic_of_floats(*values[3:6])
     ends = a.conditions
     atmosphere = AtmosphereState(
