@@ -12,32 +12,37 @@ from typing import Callable
 
 
 class LruStore:
-    """At most ``max_entries`` values by key; the least recently used goes first.
+    """At most ``max_entries`` values by key (None: no bound); the least recently used goes
+    first. Values are never None.
 
     Attributes
     ----------
-    max_entries : int
+    max_entries : int or None
     hits, misses, evictions : int
         Lookups that found their key, lookups that did not, entries dropped for the bound.
     """
 
-    def __init__(self, max_entries: int):
-        if int(max_entries) < 1:
-            raise ValueError(f"max_entries must be >= 1, got {max_entries!r}")
-        self.max_entries = int(max_entries)
+    def __init__(self, max_entries: int | None):
+        if max_entries is not None and int(max_entries) < 1:
+            raise ValueError(f"max_entries must be >= 1 or None, got {max_entries!r}")
+        self.max_entries = None if max_entries is None else int(max_entries)
         self._entries: OrderedDict = OrderedDict()
         self.hits = self.misses = self.evictions = 0
 
-    def get(self, key, make: Callable[[], object]):
-        """The value of ``key``: the stored one, or ``make()`` (then stored)."""
+    def get(self, key, make: Callable[[], object], count: bool = True):
+        """The value of ``key``: the stored one, or ``make()`` (then stored).
+
+        With ``count`` False the lookup is not counted as a hit or a miss (filling ahead); an
+        entry it drops is counted in :attr:`evictions`.
+        """
         value = self._entries.get(key)
         if value is not None:
             self._entries.move_to_end(key)
-            self.hits += 1
+            self.hits += count
             return value
-        self.misses += 1
+        self.misses += count
         value = self._entries[key] = make()
-        if len(self._entries) > self.max_entries:
+        if self.max_entries is not None and len(self._entries) > self.max_entries:
             self._entries.popitem(last=False)
             self.evictions += 1
         return value

@@ -18,35 +18,14 @@ from adbsat_ros.bags.worker import MessageRecord
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.health import Health
 from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.lru import LruStore
 
 _NS = 1_000_000_000
 
 
-class SequentialCacheCount:
-    """Hits and misses of one ShadingCache fed every query in bag order (same policy: a repeat of
-    the latest cell is a hit without reordering; otherwise LRU with ``max_entries``)."""
-
-    def __init__(self, max_entries):
-        self.max_entries = max_entries
-        self.store = collections.OrderedDict()
-        self.last = None
-        self.hits = self.misses = 0
-
-    def query(self, key) -> None:
-        """Count a query of the cell ``key``."""
-        if key == self.last:
-            self.hits += 1
-            return
-        store = self.store
-        if key in store:
-            store.move_to_end(key)
-            self.hits += 1
-        else:
-            self.misses += 1
-            store[key] = None
-            if self.max_entries is not None and len(store) > self.max_entries:
-                store.popitem(last=False)
-        self.last = key
+def _cell() -> bool:
+    """What the merge keeps of a cell: that it is stored."""
+    return True
 
 
 #: Diagnostic keys of the live node that bag analysis leaves out: its knot grid's counters (the
@@ -80,7 +59,8 @@ class ModelState:
         self.summary = ModelSummary.of_label(label)
         self.rejections = collections.Counter()
         self.published = 0
-        self.cache = SequentialCacheCount(settings.shading_cache_size)
+        # the keys of one ShadingCache fed every query in bag order (its bound, its counts)
+        self.cache = LruStore(settings.shading_cache_size)
         self.health = Health(ticks_per_second=_NS)
         self.diagnostics_period_ns = max(1, int(round(settings.diagnostics_period * _NS)))
         self.next_diagnostics_ns = None
@@ -101,7 +81,7 @@ class ModelState:
             self.summary.wrenches += 1
             self.health.sample_computed(record.compute_seconds, record.numbers)
         for key in record.cache_keys:
-            self.cache.query(key)
+            self.cache.get(key, _cell)
 
     def diagnostic_status(self, now_ns: int):
         """The node's DiagnosticStatus (rosbags message) after the records applied so far."""

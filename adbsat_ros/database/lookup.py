@@ -266,7 +266,7 @@ class CoefficientLookup:
             u = np.asarray(flow_direction, dtype=float)
             if u.shape == (3,):
                 x, y, z = u.tolist()
-                norm = math.sqrt(x * x + y * y + z * z)
+                norm = math.hypot(x, y, z)
             else:
                 norm = float("nan")
             if not math.isfinite(norm) or norm == 0.0:

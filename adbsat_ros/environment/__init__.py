@@ -9,8 +9,7 @@ Modules:
   latitude, longitude, flight direction).
 - :mod:`~adbsat_ros.environment.knots`: :class:`KnotGrid`, the per-message cache of flight
   conditions (exact at fixed stamps, interpolated in between);
-  :mod:`~adbsat_ros.environment.interpolation`: the linear mix of two knots and
-  :class:`StampConditions`, the record one message needs.
+  :mod:`~adbsat_ros.environment.interpolation`: the linear mix of two knots.
 - :mod:`~adbsat_ros.environment.atmosphere`: NRLMSISE-00 and the space weather.
 - :mod:`~adbsat_ros.environment.accommodation`: energy accommodation models (fixed, Langmuir,
   Goodman, SESAM).

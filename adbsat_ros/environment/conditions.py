@@ -61,14 +61,11 @@ def speed_ratio(speed: float, temperature: float, mean_mass: float) -> float:
     return speed / math.sqrt(2.0 * BOLTZMANN * temperature / mean_mass)
 
 
-@dataclass(eq=False)
+@dataclass(frozen=True, eq=False)
 class FlightConditions:
     """Conditions a spacecraft flies in at one instant.
 
-    A value: nothing changes it after it is made, its vectors are read-only arrays and its
-    atmosphere is frozen. (The dataclass itself is not frozen: a frozen dataclass sets each of
-    these 16 fields through ``object.__setattr__``, and the estimator makes one per attitude
-    message.)
+    A value: frozen, its vectors are read-only arrays and its atmosphere is frozen.
 
     Attributes
     ----------

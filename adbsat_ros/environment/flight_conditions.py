@@ -54,6 +54,7 @@ from adbsat_ros.environment.earth_frames import (
 )
 from adbsat_ros.environment.geodetic import enu_to_ecef, geodetic_of_floats
 from adbsat_ros.environment.time_scales import seconds_of_day, utc_day
+from adbsat_ros.geometry.frames import cross
 from adbsat_ros.validation import finite as _finite
 
 #: Frames an orbital state may be given in.
@@ -268,27 +269,19 @@ def evaluate_flight_conditions(
     else:
         matrix = tuple(orientation.celestial_to_terrestrial.ravel().tolist())
         omega = tuple(orientation.rotation_vector_ecef.tolist())
-    # the frames in float arithmetic: R as 9 floats, row-major (r_ecef = R r_eci)
-    m0, m1, m2, m3, m4, m5, m6, m7, m8 = matrix
-    w0, w1, w2 = omega
+    rotation = np.reshape(matrix, (3, 3))  # r_ecef = R r_eci
+    omega = np.asarray(omega, dtype=float)
     if frame_key == "eci":
         # r_ecef = R r_eci; v_ecef = R v_eci - omega x r_ecef
-        position_eci = x, y, z = position
-        velocity_eci = vx, vy, vz = velocity
-        position_ecef = px, py, pz = _rotate(matrix, x, y, z)
-        velocity_ecef = (
-            (m0 * vx + m1 * vy + m2 * vz) - (w1 * pz - w2 * py),
-            (m3 * vx + m4 * vy + m5 * vz) - (w2 * px - w0 * pz),
-            (m6 * vx + m7 * vy + m8 * vz) - (w0 * py - w1 * px),
-        )
+        position_eci, velocity_eci = np.array(position), np.array(velocity)
+        position_ecef = rotation @ position_eci
+        velocity_ecef = rotation @ velocity_eci - cross(omega, position_ecef)
     else:
         # r_eci = R^T r_ecef; v_eci = R^T (v_ecef + omega x r_ecef)
-        position_ecef = px, py, pz = position
-        velocity_ecef = vx, vy, vz = velocity
-        position_eci = _rotate_back(matrix, px, py, pz)
-        velocity_eci = _rotate_back(
-            matrix, vx + (w1 * pz - w2 * py), vy + (w2 * px - w0 * pz), vz + (w0 * py - w1 * px)
-        )
+        position_ecef, velocity_ecef = np.array(position), np.array(velocity)
+        position_eci = position_ecef @ rotation
+        velocity_eci = (velocity_ecef + cross(omega, position_ecef)) @ rotation
+    px, py, pz = position_ecef.tolist()
     latitude, longitude, altitude = geodetic_of_floats(px, py, pz)
     try:
         check_altitude(altitude)
@@ -308,15 +301,13 @@ def evaluate_flight_conditions(
         wind = enu_to_ecef(latitude, longitude, *wind)
     if options.earth_rotation:
         # v_rel,ecef = v_ecef - wind; v_rel,eci = R^T v_rel,ecef
-        relative_ecef = velocity_ecef if wind is None else _minus(velocity_ecef, wind)
-        relative_eci = _rotate_back(matrix, *relative_ecef)
+        relative_ecef = velocity_ecef if wind is None else velocity_ecef - wind
+        relative_eci = relative_ecef @ rotation
     else:
-        relative_eci = (
-            velocity_eci if wind is None else _minus(velocity_eci, _rotate_back(matrix, *wind))
-        )
-        relative_ecef = _rotate(matrix, *relative_eci)
-    x, y, z = relative_ecef
-    speed = _finite("speed", math.sqrt(x * x + y * y + z * z))
+        relative_eci = velocity_eci if wind is None else velocity_eci - np.asarray(wind) @ rotation
+        relative_ecef = rotation @ relative_eci
+    with np.errstate(over="ignore"):  # (an infinite speed is refused by name)
+        speed = _finite("speed", float(np.linalg.norm(relative_ecef)))
     # (the options' names were checked with the options; the model checks their values)
     alpha = ACCOMMODATION_MODELS[model](atmosphere, speed, **options.accommodation_options)
     vectors = np.array(
@@ -355,26 +346,3 @@ def _three_floats(value, name: str) -> tuple:
     if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
         raise ValueError(f"{name} must be finite, got {value!r}")
     return x, y, z
-
-
-def _rotate(m, x, y, z) -> tuple:
-    """``M @ (x, y, z)`` for a 3x3 matrix M given as 9 floats, row-major."""
-    return (
-        m[0] * x + m[1] * y + m[2] * z,
-        m[3] * x + m[4] * y + m[5] * z,
-        m[6] * x + m[7] * y + m[8] * z,
-    )
-
-
-def _rotate_back(m, x, y, z) -> tuple:
-    """``M.T @ (x, y, z)`` (the inverse rotation) for M given as 9 floats, row-major."""
-    return (
-        m[0] * x + m[3] * y + m[6] * z,
-        m[1] * x + m[4] * y + m[7] * z,
-        m[2] * x + m[5] * y + m[8] * z,
-    )
-
-
-def _minus(a, b) -> tuple:
-    """a - b of two 3-tuples."""
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])

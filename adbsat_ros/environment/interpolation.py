@@ -1,11 +1,9 @@
-"""Flight conditions between two knots: linear interpolation, and the record a message needs.
+"""Flight conditions between two knots: linear interpolation.
 
 The numbers of the conditions at two nearby instants of one orbital state (the six vectors, the
 speed, alpha, the atmosphere's densities and temperatures) are mixed linearly; the geodetic
 position is that of the mixed ECEF position, the speed the norm of the mixed relative velocity.
-:class:`StampConditions` holds what a wrench needs at once and makes the full
-:class:`FlightConditions` on first read. The interpolation error is discussed in
-:mod:`adbsat_ros.environment.knots`."""
+The interpolation error is discussed in :mod:`adbsat_ros.environment.knots`."""
 
 from __future__ import annotations
 
@@ -18,7 +16,6 @@ import numpy as np
 from adbsat_ros.environment.atmosphere import AtmosphereState
 from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.geodetic import geodetic_of_floats
-from adbsat_ros.physics.freestream import FreeStream
 
 #: The vector fields of FlightConditions, in the order of the interpolation numbers.
 _VECTORS = (
@@ -120,11 +117,7 @@ def mixed_conditions(
     vectors = list(mixed[:18].reshape(6, 3))  # read-only views
     if a.vectors != b.vectors or not all(a.vectors):
         vectors = [v if p and q else None for v, p, q in zip(vectors, a.vectors, b.vectors)]
-    if vectors[5] is None:
-        speed = values[_SPEED]
-    else:
-        x, y, z = values[15:18]
-        speed = math.sqrt(x * x + y * y + z * z)
+    speed = values[_SPEED] if vectors[5] is None else math.hypot(*values[15:18])
     latitude, longitude, altitude = geodetic_of_floats(*values[3:6])
     ends = a.conditions
     atmosphere = AtmosphereState(
@@ -151,120 +144,6 @@ def mixed_conditions(
         values[_ALPHA],
         ends.earth_rotation,
         ends.space_weather,
-    )
-
-
-class StampConditions:
-    """The flight conditions at one message stamp: what a wrench needs at once, the rest on read.
-
-    A wrench needs the relative velocity, the speed, the accommodation coefficient and the free
-    stream; the full :class:`FlightConditions` (geodetic position, the atmosphere, every vector),
-    which only reports read, is made from the same knots when :attr:`conditions` is first read,
-    and is the same whenever it is made. Making it for every message would cost the node CPU
-    that the wrench does not need.
-
-    Attributes
-    ----------
-    time : datetime.datetime
-        UTC of the stamp.
-    speed : float
-        Relative speed [m/s], >= 0.
-    accommodation_coefficient : float
-        Energy accommodation coefficient alpha [-].
-    relative_velocity_eci, relative_velocity_ecef : numpy.ndarray or None
-        Velocity relative to the air in ECI and ECEF axes [m/s] (read-only).
-    free_stream : FreeStream or None
-        The free stream of the gas-surface models (None at zero relative speed).
-    """
-
-    __slots__ = (
-        "time",
-        "speed",
-        "accommodation_coefficient",
-        "relative_velocity_eci",
-        "relative_velocity_ecef",
-        "free_stream",
-        "_made",
-        "_conditions",
-    )
-
-    def __init__(self, time, speed, alpha, relative_eci, relative_ecef, free_stream, made):
-        self.time = time
-        self.speed = speed
-        self.accommodation_coefficient = alpha
-        self.relative_velocity_eci = relative_eci
-        self.relative_velocity_ecef = relative_ecef
-        self.free_stream = free_stream
-        self._made = made  # () -> FlightConditions
-        self._conditions = None
-
-    @classmethod
-    def of(cls, conditions: FlightConditions, time: _dt.datetime | None = None) -> StampConditions:
-        """The record of conditions known in full (an exact evaluation, a knot), at ``time``
-        (default theirs; a knot's conditions serve the stamps within the snap of it)."""
-        flow = conditions.free_stream() if conditions.speed > 0.0 else None
-        if time is None:
-            time = conditions.time
-
-        def made() -> FlightConditions:  # (a copy with the stamp's time, when read)
-            if time == conditions.time:
-                return conditions
-            return dataclasses.replace(conditions, time=time)
-
-        return cls(
-            time,
-            conditions.speed,
-            conditions.accommodation_coefficient,
-            conditions.relative_velocity_eci,
-            conditions.relative_velocity_ecef,
-            flow,
-            made,
-        )
-
-    @property
-    def alpha(self) -> float:
-        """Shorthand for :attr:`accommodation_coefficient`."""
-        return self.accommodation_coefficient
-
-    @property
-    def conditions(self) -> FlightConditions:
-        """The full flight conditions at the stamp (made on first read, then kept)."""
-        if self._conditions is None:
-            self._conditions = self._made()
-        return self._conditions
-
-
-def stamp_conditions_between(
-    a: KnotEnds, b: KnotEnds, weight: float, time: _dt.datetime
-) -> StampConditions:
-    """:class:`StampConditions` between two knots, with the numbers of
-    :func:`mixed_conditions`."""
-    mixed = a.numbers * (1.0 - weight)
-    mixed += b.numbers * weight
-    mixed.setflags(write=False)
-    values = mixed.tolist()
-    a_vectors, b_vectors = a.vectors, b.vectors
-    present = a_vectors[4] and b_vectors[4], a_vectors[5] and b_vectors[5]
-    if present[1]:
-        x, y, z = values[15:18]
-        speed = math.sqrt(x * x + y * y + z * z)
-    else:
-        speed = values[_SPEED]
-    flow = None
-    if speed > 0.0:
-        atmosphere = a.conditions.atmosphere
-        densities = dict(zip(atmosphere.number_densities, values[_DENSITIES:]))
-        if not atmosphere.anomalous_oxygen:
-            del densities["AnO"]
-        flow = FreeStream(speed, values[_TEMPERATURE], densities, density=values[_MASS_DENSITY])
-    return StampConditions(
-        time,
-        speed,
-        values[_ALPHA],
-        mixed[12:15] if present[0] else None,
-        mixed[15:18] if present[1] else None,
-        flow,
-        lambda: mixed_conditions(a, b, weight, time),
     )
 
 

@@ -18,16 +18,13 @@ own steps (e.g. at exactly 300 km) are spread over the interval that crosses the
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as _dt
 import math
 from typing import Callable
 
 from adbsat_ros.environment.conditions import FlightConditions
-from adbsat_ros.environment.interpolation import (
-    KnotEnds,
-    StampConditions,
-    stamp_conditions_between,
-)
+from adbsat_ros.environment.interpolation import KnotEnds, mixed_conditions
 
 #: A stamp this close to a knot [s] takes the knot's conditions alone: UNIX stamps as float
 #: seconds resolve 2.4e-7 s, so a stream stamped on multiples of the step (e.g. 100 Hz at the
@@ -155,8 +152,8 @@ class KnotGrid:
         self._knots: dict = {}  # knot index (j, or the stamp with step 0) -> KnotEnds
         self._prepared: tuple | None = None  # (key, stamp) of the latest prepare()
 
-    def at(self, key, stamp: float, time: _dt.datetime) -> StampConditions:
-        """The flight conditions of the orbital state ``key`` at ``stamp``, as a wrench needs them.
+    def conditions(self, key, stamp: float, time: _dt.datetime) -> FlightConditions:
+        """The flight conditions of the orbital state ``key`` at ``stamp``.
 
         Parameters
         ----------
@@ -170,8 +167,7 @@ class KnotGrid:
         Raises
         ------
         ValueError
-            From ``evaluate`` at the stamp itself (e.g. an altitude outside the model), or if
-            the conditions are no gas a free stream takes.
+            From ``evaluate`` at the stamp itself (e.g. an altitude outside the model).
         """
         prepared = self._prepared
         if (
@@ -182,7 +178,7 @@ class KnotGrid:
             self.prepared_used += 1
         step = self.step
         if step <= 0.0:  # every stamp its own knot
-            return StampConditions.of(self._knot(key, stamp).conditions, time)
+            return _at_time(self._knot(key, stamp).conditions, time)
         j, past = knot_position(stamp, step)
         try:
             a = self._knot(key, j)
@@ -190,15 +186,10 @@ class KnotGrid:
         except ValueError:  # a knot outside the model's range: the stamp itself, exactly
             conditions = self.evaluate(key, stamp)
             self.evaluations += 1
-            return StampConditions.of(conditions)
+            return conditions
         if past == 0.0:
-            return StampConditions.of(a.conditions, time)
-        return stamp_conditions_between(a, b, past / step, time)
-
-    def conditions(self, key, stamp: float, time: _dt.datetime) -> FlightConditions:
-        """The full flight conditions of the orbital state ``key`` at ``stamp``
-        (:meth:`at`'s :attr:`StampConditions.conditions`)."""
-        return self.at(key, stamp, time).conditions
+            return _at_time(a.conditions, time)
+        return mixed_conditions(a, b, past / step, time)
 
     def prepare(self, key, stamp: float) -> bool:
         """Evaluate ahead the knots a request at ``stamp`` will need.
@@ -206,7 +197,7 @@ class KnotGrid:
         With ``step`` > 0: the knots around the stamp and, if they were kept already, the knot
         :data:`KNOT_LOOKAHEAD` steps on, so that at most one knot is evaluated per call in a
         regular stream, one interval before any stamp needs it. With ``step`` = 0: the exact
-        conditions at the stamp. A later :meth:`at` at this stamp and key counts in
+        conditions at the stamp. A later :meth:`conditions` at this stamp and key counts in
         :attr:`prepared_used`. The numbers of any request are those it would have had without.
 
         Returns
@@ -255,3 +246,11 @@ class KnotGrid:
             del knots[next(iter(knots))]
         knots[index] = knot
         return knot
+
+
+def _at_time(conditions: FlightConditions, time: _dt.datetime) -> FlightConditions:
+    """A knot's conditions at ``time`` (themselves at their own time; a knot's conditions serve
+    the stamps within :data:`KNOT_SNAP_S` of it)."""
+    if time == conditions.time:
+        return conditions
+    return dataclasses.replace(conditions, time=time)

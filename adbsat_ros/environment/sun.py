@@ -164,9 +164,9 @@ def lit_fraction(position_eci, sun_position_eci):
 def _visible_fraction(rx, ry, rz, sx, sy, sz) -> float:
     """:func:`lit_fraction` of one position, in floats (checked by the caller; the tests check
     that both agree): one message's shadow, where numpy's overhead per call would dominate."""
-    radius = math.sqrt(rx * rx + ry * ry + rz * rz)
+    radius = math.hypot(rx, ry, rz)
     dx, dy, dz = sx - rx, sy - ry, sz - rz
-    distance = math.sqrt(dx * dx + dy * dy + dz * dz)
+    distance = math.hypot(dx, dy, dz)
     a = math.asin(min(SUN_RADIUS / distance, 1.0))
     b = math.asin(min(EARTH_SHADOW_RADIUS / radius, 1.0))
     cos_c = -(rx * dx + ry * dy + rz * dz) / (radius * distance)
@@ -206,7 +206,7 @@ def sun_state(time, position_eci, sun_position=None) -> SunState:
     sun = sun_position_eci(time) if sun_position is None else np.asarray(sun_position, float)
     r = np.asarray(position_eci, dtype=float)
     rx, ry, rz = r.tolist()
-    radius = math.sqrt(rx * rx + ry * ry + rz * rz)
+    radius = math.hypot(rx, ry, rz)
     if r.shape != (3,) or not math.isfinite(radius):
         raise ValueError("position_eci must be finite, shape (3,), in metres")
     if radius < EARTH_SHADOW_RADIUS:

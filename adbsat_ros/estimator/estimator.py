@@ -378,12 +378,12 @@ class AeroWrenchEstimator:
                 "bad_state", f"attitude stamp {stamp!r} s is no UTC time: {exc}"
             ) from None
         try:
-            conditions = self.knots.at(state, stamp, utc)
+            conditions = self.knots.conditions(state, stamp, utc)
+            flow = conditions.free_stream() if conditions.speed > 0.0 else None
         except ValueError as exc:
             reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
             raise Rejection(reason, str(exc)) from None
         reference = self.method.reference
-        flow = conditions.free_stream
         if flow is None or conditions.speed < s.min_relative_speed:  # at rest in the air
             return WrenchSample.at_rest(
                 stamp, utc, reference, conditions, time.perf_counter() - t0, m
@@ -394,14 +394,7 @@ class AeroWrenchEstimator:
             if s.state_frame == "eci"
             else conditions.relative_velocity_ecef
         )
-        vx, vy, vz = relative.tolist()
-        gas_body = np.array(
-            [
-                -(m[0] * vx + m[3] * vy + m[6] * vz),
-                -(m[1] * vx + m[4] * vy + m[7] * vz),
-                -(m[2] * vx + m[5] * vy + m[8] * vz),
-            ]
-        )
+        gas_body = -(relative @ np.reshape(m, (3, 3)))
         moment = Moment(stamp, utc, conditions, m, t0)
         if self._database is not None:
             return database_wrench(

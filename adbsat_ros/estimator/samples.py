@@ -13,7 +13,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from adbsat_ros.environment.conditions import FlightConditions
-from adbsat_ros.environment.interpolation import StampConditions
 from adbsat_ros.physics.articulated_results import ArticulatedCoefficients
 from adbsat_ros.physics.coefficients import AeroCoefficients
 
@@ -72,12 +71,11 @@ class OrbitalState:
     __hash__ = None
 
 
+@dataclass(frozen=True, eq=False)
 class JointSample:
     """The joints of an articulated body at one message.
 
-    The efforts and the links' loads are computed from ``coefficients`` when first read. Made
-    at every message of an articulated body, so a plain object of three fields (cheaper to make
-    than a frozen dataclass of five): read it, do not change it.
+    The efforts and the links' loads are computed from ``coefficients`` when first read.
 
     Parameters
     ----------
@@ -102,12 +100,9 @@ class JointSample:
         sum to the wrench.
     """
 
-    def __init__(
-        self, coefficients: ArticulatedCoefficients, dynamic_pressure: float, link_names: tuple
-    ):
-        self.coefficients = coefficients
-        self.dynamic_pressure = dynamic_pressure
-        self.link_names = link_names
+    coefficients: ArticulatedCoefficients
+    dynamic_pressure: float
+    link_names: tuple
 
     @property
     def names(self) -> tuple:
@@ -165,12 +160,9 @@ class SolarSample:
     area_lit: float
 
 
-@dataclass(eq=False)
+@dataclass(frozen=True, eq=False)
 class WrenchSample:
     """The aerodynamic wrench at one attitude message.
-
-    A value: the estimator never changes it after making it. (Not a frozen dataclass, for the
-    reason given in :class:`~adbsat_ros.environment.conditions.FlightConditions`.)
 
     Attributes
     ----------
@@ -187,9 +179,8 @@ class WrenchSample:
         A_ref [m^2] and L_ref [m].
     dynamic_pressure : float
         q = rho V^2 / 2 [Pa].
-    stamp_conditions : StampConditions
-        The flight conditions at the stamp as the wrench used them (relative wind, speed,
-        accommodation, free stream); the full ones are :attr:`conditions`.
+    conditions : FlightConditions
+        Atmosphere, geodetic position and relative wind at the stamp, as the wrench used them.
     coefficients : AeroCoefficients or None
         Full panel-method result (None when the relative speed is below the threshold, and when the
         coefficients come from a database).
@@ -217,7 +208,7 @@ class WrenchSample:
     reference_area: float
     reference_length: float
     dynamic_pressure: float
-    stamp_conditions: StampConditions
+    conditions: FlightConditions
     coefficients: AeroCoefficients | None
     flow_direction_body: np.ndarray
     shading_cache_hit: bool | None
@@ -225,11 +216,6 @@ class WrenchSample:
     rotation: tuple
     solar: SolarSample | None = None
     joints: JointSample | None = None
-
-    @property
-    def conditions(self) -> FlightConditions:
-        """Atmosphere, geodetic position and relative wind at the stamp (in full)."""
-        return self.stamp_conditions.conditions
 
     @property
     def solar_diagnostics(self) -> dict | None:
@@ -274,7 +260,7 @@ class WrenchSample:
         stamp: float,
         time: _dt.datetime,
         reference,
-        stamp_conditions: StampConditions,
+        conditions: FlightConditions,
         compute_seconds: float,
         rotation: tuple,
     ) -> WrenchSample:
@@ -282,7 +268,7 @@ class WrenchSample:
 
         Parameters
         ----------
-        stamp, time, stamp_conditions, compute_seconds, rotation
+        stamp, time, conditions, compute_seconds, rotation
             As the fields.
         reference : Reference
             Its ``area`` [m^2] and ``length`` [m] are the sample's reference area and length.
@@ -297,7 +283,7 @@ class WrenchSample:
             reference_area=reference.area,
             reference_length=reference.length,
             dynamic_pressure=0.0,
-            stamp_conditions=stamp_conditions,
+            conditions=conditions,
             coefficients=None,
             flow_direction_body=np.zeros(3),
             shading_cache_hit=None,

@@ -78,7 +78,7 @@ def checked_rotation(quaternion_xyzw, what: str, max_norm_error: float) -> tuple
         raise Rejection("non_finite", f"{what} is not four numbers") from None
     if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z) and math.isfinite(w)):
         raise Rejection("non_finite", f"{what} has NaN or Inf")
-    norm = math.sqrt(x * x + y * y + z * z + w * w)
+    norm = math.hypot(x, y, z, w)
     if abs(norm - 1.0) > max_norm_error:
         raise Rejection(
             "bad_quaternion",

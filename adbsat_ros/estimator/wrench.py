@@ -14,7 +14,7 @@ import time
 from typing import NamedTuple
 
 from adbsat_ros.database.matching import DatabaseCoefficients
-from adbsat_ros.environment.interpolation import StampConditions
+from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.estimator.joints import JointConfiguration
 from adbsat_ros.estimator.samples import JointSample, Rejection, WrenchSample
 from adbsat_ros.estimator.shading import ShadingSource
@@ -28,7 +28,7 @@ class Moment(NamedTuple):
 
     stamp: float
     time: _dt.datetime
-    conditions: StampConditions
+    conditions: FlightConditions
     rotation: tuple
     started: float
 
@@ -59,7 +59,7 @@ def database_wrench(
         reference_area=reference.area,
         reference_length=reference.length,
         dynamic_pressure=q,
-        stamp_conditions=moment.conditions,
+        conditions=moment.conditions,
         coefficients=None,
         flow_direction_body=u_body,
         shading_cache_hit=None,
@@ -124,7 +124,7 @@ def panel_wrench(
         reference_area=reference.area,
         reference_length=reference.length,
         dynamic_pressure=q,
-        stamp_conditions=moment.conditions,
+        conditions=moment.conditions,
         coefficients=coefficients,
         flow_direction_body=coefficients.flow_direction,
         shading_cache_hit=hit,

@@ -24,9 +24,9 @@ import numpy as np
 def cross(a, b) -> np.ndarray:
     """Cross product a x b over the last axis (arrays of shape (3,) or (..., 3), broadcast).
 
-    The three component formulas, as ``np.cross`` evaluates them (the same numbers), without its
-    checks and axis moves, whose cost on (3,) vectors the panel method would pay two or three
-    times per attitude.
+    The package's one cross product: the three component formulas, as ``np.cross`` evaluates
+    them (the same numbers, tested), without its checks and axis moves, which on two (3,)
+    vectors cost more than 5 % of a message each, and a message takes several.
     """
     a = np.asarray(a)
     b = np.asarray(b)
@@ -162,8 +162,9 @@ def angles_of_flow(u_G):
     """
     u = np.asarray(u_G, dtype=float)
     if u.shape == (3,):
-        n = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
-        return math.atan2(u[2] / n, -u[0] / n), math.asin(max(-1.0, min(1.0, u[1] / n)))
+        x, y, z = u.tolist()
+        n = math.hypot(x, y, z)
+        return math.atan2(z / n, -x / n), math.asin(max(-1.0, min(1.0, y / n)))
     u = u / np.linalg.norm(u, axis=-1, keepdims=True)
     # vehicle velocity in B: L_GB (-u_G)
     vx, vy, vz = -u[..., 0], u[..., 1], u[..., 2]

@@ -7,10 +7,9 @@ arrays and checks it (bad indices, NaN or Inf, degenerate faces dropped, inward-
 bodies flipped, open and convex bodies reported in a :class:`MeshReport`); a :class:`MeshError`
 names the input and the problem. Reading files is :mod:`adbsat_ros.geometry.loading`.
 
-The checks use trimesh, imported when a mesh is checked: importing it is a large part of the command
-line's start-up, and a mesh read back from the store of checked meshes
-(:mod:`adbsat_ros.geometry.mesh_store`) needs none of it (docs/benchmarks.md, command line
-start-up).
+The checks use trimesh, imported when a mesh is checked: importing it is a large part of the
+command line's start-up, and a mesh read back from the store of checked meshes
+(:mod:`adbsat_ros.geometry.mesh_store`) needs none of it (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -23,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from adbsat_ros.bounds import BOUNDS
+from adbsat_ros.geometry.frames import cross
 
 if TYPE_CHECKING:
     import trimesh
@@ -309,21 +309,12 @@ def triangle_geometry(tri: np.ndarray) -> tuple:
     normals, areas, barycentres : ndarray, shapes (N, 3), (N,), (N, 3)
         Contiguous arrays: n = e1 x e2 / |e1 x e2| with e1 = p1 - p0, e2 = p2 - p0, area
         |e1 x e2| / 2 [m^2] and (p0 + p1 + p2) / 3 [m].
-
-    Notes
-    -----
-    The same numbers as ``np.cross``, ``np.linalg.norm`` and ``tri.mean(axis=1)`` give (the
-    same operations in the same order, checked by the tests), worked on the corners'
-    coordinates as arrays of N: numpy's loops over an axis of three make those slower,
-    and an articulated body makes them for every new joint configuration.
     """
-    t = np.asarray(tri, dtype=float).transpose(1, 2, 0)  # (3, 3, N): views, no copy
-    ax, ay, az = t[1] - t[0]
-    bx, by, bz = t[2] - t[0]
-    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-    double_area = np.sqrt((cx * cx + cy * cy) + cz * cz)
-    normals = np.stack([cx / double_area, cy / double_area, cz / double_area], axis=1)
-    barycentres = np.ascontiguousarray(((t[0] + t[1] + t[2]) / 3.0).T)
+    t = np.asarray(tri, dtype=float)
+    c = cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+    double_area = np.linalg.norm(c, axis=1)
+    normals = c / double_area[:, None]
+    barycentres = (t[:, 0] + t[:, 1] + t[:, 2]) / 3.0
     return normals, 0.5 * double_area, barycentres
 
 

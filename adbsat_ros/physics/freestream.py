@@ -62,12 +62,9 @@ def _checked_number_densities(number_densities: Mapping) -> list:
     return values
 
 
-@dataclass
+@dataclass(frozen=True)
 class FreeStream:
-    """Free-stream state of the gas relative to the spacecraft.
-
-    A value: nothing changes it after it is made. (The dataclass is not frozen: a frozen one
-    sets each field through ``object.__setattr__``, and the ROS node makes one per message.)
+    """Free-stream state of the gas relative to the spacecraft (a frozen value).
 
     Parameters
     ----------
@@ -115,8 +112,9 @@ class FreeStream:
     _species: tuple = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        self.speed = _check_positive("speed", self.speed)
-        self.temperature = _check_positive("temperature", self.temperature)
+        set_field = object.__setattr__  # (the checked values of a frozen dataclass's fields)
+        set_field(self, "speed", _check_positive("speed", self.speed))
+        set_field(self, "temperature", _check_positive("temperature", self.temperature))
         densities = self.number_densities
         if (densities is None) == (self.mean_mass_amu is None):
             raise ValueError("give exactly one of number_densities and mean_mass_amu")
@@ -141,15 +139,15 @@ class FreeStream:
                     f"number_densities: the mass density sum(n_j m_j) of {densities!r} is 0 in "
                     "floating point: the densities are too small"
                 )
-            self.number_densities = dict(zip(species, values))
-            self._species = species
-            self.mean_mass = weighted / total
+            set_field(self, "number_densities", dict(zip(species, values)))
+            set_field(self, "_species", species)
+            set_field(self, "mean_mass", weighted / total)
         else:
             amu = _check_positive("mean_mass_amu", self.mean_mass_amu)
-            self._species = ()
-            self.mean_mass = amu * AMU
+            set_field(self, "_species", ())
+            set_field(self, "mean_mass", amu * AMU)
         if self.density is not None:
-            self.density = _check_positive("density", self.density)
+            set_field(self, "density", _check_positive("density", self.density))
 
     # ----------------------------------------------------------------------------- derived values
     @property

@@ -21,6 +21,7 @@ import functools
 
 import numpy as np
 
+from adbsat_ros.geometry.frames import cross
 from adbsat_ros.physics.facets import N_SUMS
 
 
@@ -58,20 +59,14 @@ class EffortColumns:
         """Each joint's ``(f, m)`` at ``poses``, two 3-tuples: the effort coefficient of loads F
         and M (about G's origin) on the links it carries is f . F + m . M, with
         f = -(a x o) / (A_ref L_ref), m = a / (A_ref L_ref) if it turns, and f = a / A_ref,
-        m = 0 if it slides (a loop over the joints, on Python floats: a few joints)."""
-        out = []
-        for (ax, ay, az), (ox, oy, oz), slides, k in zip(
-            poses.joint_axes.tolist(),
-            poses.joint_origins.tolist(),
-            self.prismatic.tolist(),
-            self.scale.tolist(),
-        ):
-            if slides:
-                out.append(((k * ax, k * ay, k * az), (0.0, 0.0, 0.0)))
-            else:
-                f = (-k * (ay * oz - az * oy), -k * (az * ox - ax * oz), -k * (ax * oy - ay * ox))
-                out.append((f, (k * ax, k * ay, k * az)))
-        return out
+        m = 0 if it slides."""
+        k = self.scale[:, None]
+        axes = np.asarray(poses.joint_axes, dtype=float).reshape(-1, 3)
+        origins = np.asarray(poses.joint_origins, dtype=float).reshape(-1, 3)
+        slides = self.prismatic[:, None]
+        f = np.where(slides, k * axes, -k * cross(axes, origins))
+        m = np.where(slides, 0.0, k * axes)
+        return [(tuple(fj), tuple(mj)) for fj, mj in zip(f.tolist(), m.tolist())]
 
     def matrix(self, poses) -> np.ndarray:
         """The (10, 4 J) matrix that takes a facet's posed sums (W, W n, Q, Q x n) to every

@@ -212,25 +212,12 @@ class PanelMethod:
         sin(delta)) and the moment q_g (Q_g x u) + k_g (Q_g x n_g); so one product of the rows
         with the facet sums (W, W n, Q, Q x n) gives every sum needed.
         """
-        (
-            (r_w, _, _, _, r_qx, r_qy, r_qz, _, _, _),
-            (_, k_nx, k_ny, k_nz, _, _, _, k_mx, k_my, k_mz),
-            (area_projected, *_),
-        ) = (rows @ sums).tolist()
-        ux, uy, uz = u.tolist()
-        fx, fy, fz = r_w * ux + k_nx, r_w * uy + k_ny, r_w * uz + k_nz
-        px, py, pz = reference.moment_point
+        r, k, projected = rows @ sums  # (r W, r W n, r Q, r Q x n) and k's; the lit area
+        force = r[0] * u + k[1:4]
         # moment = (sum r Q) x u + sum k (Q x n) - r_ref x force
-        mx = r_qy * uz - r_qz * uy + k_mx - (py * fz - pz * fy)
-        my = r_qz * ux - r_qx * uz + k_my - (pz * fx - px * fz)
-        mz = r_qx * uy - r_qy * ux + k_mz - (px * fy - py * fx)
+        moment = frames.cross(r[4:7], u) + k[7:10] - frames.cross(reference.moment_point, force)
         area = reference.area
-        area_length = area * reference.length
-        return (
-            np.array([fx / area, fy / area, fz / area]),
-            np.array([mx / area_length, my / area_length, mz / area_length]),
-            area_projected,
-        )
+        return force / area, moment / (area * reference.length), float(projected[0])
 
     # ------------------------------------------------------------------------------ integration
     def integrate_facets(self, u, c, cp, shear, lighting=None):

@@ -389,7 +389,7 @@ def run_demo(
                 mesh = body.mesh(dict(zip(sample.joints.names, sample.joints.positions)))
                 materials = materials_from_settings(settings)
                 method = PanelMethod(mesh, settings.gsi_model, materials, shading="none")
-            picture = (method, sample.stamp_conditions.free_stream, sample.coefficients)
+            picture = (method, sample.conditions.free_stream(), sample.coefficients)
         result.files = write_outputs(rows, Path(out_dir), picture, joints=articulated)
         say("wrote: " + ", ".join(str(p) for p in result.files))
     return result

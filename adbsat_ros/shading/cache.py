@@ -24,7 +24,8 @@ reuse results. :class:`ShadingCache` sits in front of a :class:`~adbsat_ros.shad
   (the inequality reduces to sec^2(alpha) <= 1 + sec(beta), true on the face), and likewise
   for beta; the path alpha -> alpha_c then beta -> beta_c has length <= h/2 + h/2.
   (Measured maximum: about 0.79 h.)
-* **Bound.** Least recently used entries beyond ``max_entries`` are evicted; hits, misses and
+* **Bound.** Least recently used entries beyond ``max_entries`` are evicted (an
+  :class:`~adbsat_ros.lru.LruStore` keeps them); hits, misses and
   evictions are counted (:meth:`ShadingCache.info`); :meth:`ShadingCache.precompute` fills
   cells of given directions or of the whole sphere. Entries are the
   :class:`~adbsat_ros.shading.lighting.PanelLighting` objects themselves, which are sparse
@@ -60,12 +61,12 @@ conservative (often 10-50x the observed E); the tests check it on a cube in fron
 from __future__ import annotations
 
 import math
-from collections import OrderedDict
 
 import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.lru import LruStore
 from adbsat_ros.shading.cell_triangles import CellTriangulation
 from adbsat_ros.shading.cube_map import cells_per_edge, direction_key, direction_keys, key_centres
 from adbsat_ros.shading.lighting import LightingBlend, PanelLighting
@@ -127,13 +128,10 @@ class ShadingCache:
         self.n = cells_per_edge(resolution_deg)
         self.step = 0.5 * math.pi / self.n
         self.max_entries = None if max_entries is None else int(max_entries)
-        self._store: OrderedDict = OrderedDict()  # key -> PanelLighting, least recent first
+        self._store = LruStore(self.max_entries)  # key -> PanelLighting
         self.interpolate = bool(interpolate)
         self.triangulation = CellTriangulation.of(self.n) if self.interpolate else None
         self.last_keys: tuple = ()
-        self.hits = 0
-        self.misses = 0
-        self.evictions = 0
         self._perimeter = None
 
     # ------------------------------------------------------------------------------ keys
@@ -166,11 +164,20 @@ class ShadingCache:
         return key_centres(np.arange(self.n_cells), self.n)
 
     # ------------------------------------------------------------------------------ storage
-    def _insert(self, key: int, lighting: PanelLighting):
-        self._store[key] = lighting
-        if self.max_entries is not None and len(self._store) > self.max_entries:
-            self._store.popitem(last=False)
-            self.evictions += 1
+    @property
+    def hits(self) -> int:
+        """Queries of a cell stored (its lighting reused)."""
+        return self._store.hits
+
+    @property
+    def misses(self) -> int:
+        """Queries that shaded their cell."""
+        return self._store.misses
+
+    @property
+    def evictions(self) -> int:
+        """Entries dropped to stay within ``max_entries``."""
+        return self._store.evictions
 
     def __len__(self) -> int:
         return len(self._store)
@@ -180,9 +187,8 @@ class ShadingCache:
 
     def clear(self):
         """Drop every entry and reset the counters."""
-        self._store.clear()
+        self._store = LruStore(self.max_entries)
         self.last_keys = ()
-        self.hits = self.misses = self.evictions = 0
 
     def info(self) -> dict:
         """Counters and sizes: hits, misses, evictions, size, max_entries, n, step_deg."""
@@ -227,15 +233,7 @@ class ShadingCache:
     def cell_lighting(self, key: int) -> PanelLighting:
         """The lighting of the centre of cell ``key``: stored (a hit), or shaded and stored (a
         miss)."""
-        lighting = self._store.get(key)
-        if lighting is not None:
-            self._store.move_to_end(key)
-            self.hits += 1
-            return lighting
-        self.misses += 1
-        lighting = self.shader.lighting(self.centre(key))
-        self._insert(key, lighting)
-        return lighting
+        return self._store.get(key, lambda: self.shader.lighting(self.centre(key)))
 
     __call__ = lighting
 
@@ -270,11 +268,8 @@ class ShadingCache:
                 keys = np.unique([key for u in d for _, key in self._cells_of(u)])
         computed = 0
         for key in keys.tolist():  # one shading per cell; the work inside is vectorised
-            if key in self._store:
-                self._store.move_to_end(key)
-                continue
-            self._insert(key, self.shader.lighting(self.centre(key)))
-            computed += 1
+            computed += key not in self._store
+            self._store.get(key, lambda: self.shader.lighting(self.centre(key)), count=False)
         return computed
 
     # ------------------------------------------------------------------------------ error

@@ -81,7 +81,7 @@ def test_the_wrench_is_the_panel_method_of_the_posed_body():
 
 
 def _flow(sample):
-    return sample.stamp_conditions.free_stream
+    return sample.conditions.free_stream()
 
 
 def test_turning_a_wing_changes_the_wrench_and_its_hinge_torque():

@@ -82,7 +82,7 @@ def test_a_late_state_is_refused_alone_and_a_state_far_back_starts_a_new_history
     with pytest.raises(Rejection) as late:
         est.on_state(4.95, *state_at(4.95))
     assert late.value.reason == "out_of_order" and est.state is newer
-    assert est.on_attitude(5.01, LEVEL).stamp_conditions is not None
+    assert est.on_attitude(5.01, LEVEL).conditions is not None
     with pytest.raises(Rejection) as back:
         est.on_state(3.5, *state_at(3.5))
     assert back.value.reason == "time_backwards" and est.state.stamp == 3.5

@@ -72,7 +72,7 @@ def tumble(resolution_deg: float, interpolation: bool, samples: int = 16) -> tup
         sample = est.on_attitude(t, quaternion_product(start, turn))
         u = sample.flow_direction_body
         coefficients = est.method.coefficients(
-            sample.stamp_conditions.free_stream, flow_direction=u, lighting=shader.lighting(u)
+            sample.conditions.free_stream(), flow_direction=u, lighting=shader.lighting(u)
         )
         cached.append(sample.torque)
         exact.append(coefficients.torque(sample.dynamic_pressure))
