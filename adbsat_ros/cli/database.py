@@ -140,7 +140,6 @@ def run(args) -> int:
             mesh_spec=args.mesh,
             mesh_joints=model.positions,
             mesh_scale=args.scale,
-            materials_texts=model.setup.overrides,
             conditions=conditions,
             solver=args.method,
             particles=args.particles,
