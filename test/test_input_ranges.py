@@ -12,11 +12,11 @@ import pytest
 from adbsat_ros import bounds
 from adbsat_ros.bounds import BOUNDS
 from adbsat_ros.cli import main
-from adbsat_ros.estimator.assembly import panel_method
-from adbsat_ros.estimator.settings import WrenchSettings
+from adbsat_ros.estimator.settings import WrenchSettings, setup_from_settings
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.model import build_model
 
 FLOW = ["--speed", "7500", "--temperature", "900", "--shading", "none"]
 GAS = [*FLOW, "--mean-mass", "16", "--density", "1e-12"]
@@ -66,10 +66,14 @@ def test_coeff_refuses_a_moment_reference_far_from_the_body(point, capsys):
 def test_the_node_refuses_a_centre_of_mass_far_from_the_body():
     mesh = resolve_mesh("example")
     near = WrenchSettings.from_parameters(center_of_mass=[0.0, 20.0, 0.0])
-    assert panel_method(mesh, near).reference.moment_point == (0.0, 20.0, 0.0)
+    assert build_model(setup_from_settings(near), mesh).method.reference.moment_point == (
+        0.0,
+        20.0,
+        0.0,
+    )
     far = WrenchSettings.from_parameters(center_of_mass=[0.0, 500.0, 0.0])
     with pytest.raises(ValueError, match=r"^parameter center_of_mass: center_of_mass y must be"):
-        panel_method(mesh, far)
+        build_model(setup_from_settings(far), mesh)
 
 
 @pytest.mark.parametrize(

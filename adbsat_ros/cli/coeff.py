@@ -16,11 +16,10 @@ from adbsat_ros.cli.common import (
     add_model_arguments,
     add_reference_arguments,
     add_shading_arguments,
-    make_shader_from_args,
     method_and_flow_from_args,
 )
 from adbsat_ros.cli.options import CommandLineError, parse_angle_list
-from adbsat_ros.cli.solvers import add_solver_arguments, run_tpmc, test_particle_method
+from adbsat_ros.cli.solvers import add_solver_arguments, run_tpmc
 from adbsat_ros.geometry import frames
 from adbsat_ros.processes import INTERRUPTED_STATUS, stop_on_signals
 
@@ -78,9 +77,8 @@ def run(args) -> int:
     and one line on stderr says so)."""
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
     aos_deg = parse_angle_list(args.aos, "--aos")
-    method, flow, _ = method_and_flow_from_args(args)
-    shader = make_shader_from_args(args, method.mesh) if args.method != "tpmc" else None
-    solver = test_particle_method(args, method) if args.method != "panel" else None
+    model, flow, _ = method_and_flow_from_args(args)
+    method = model.method
     view = parse_view(args.view) if args.view is not None else None
     results, first, stopped = [], None, False
     with stop_on_signals() as stop:
@@ -96,7 +94,7 @@ def run(args) -> int:
                         file=sys.stderr,
                     )
                     break
-                r, d = _attitude(args, method, flow, shader, solver, a, b)
+                r, d = _attitude(args, model, flow, a, b)
                 stopped = args.method != "panel" and r.stopped
                 if first is None:
                     first = (a, b, r)
@@ -120,19 +118,20 @@ def run(args) -> int:
     return INTERRUPTED if stopped else 0
 
 
-def _attitude(args, method, flow, shader, solver, a, b) -> tuple:
+def _attitude(args, model, flow, a, b) -> tuple:
     """The result (the last solver's) and the output row at aoa ``a``, aos ``b`` [deg]."""
     aoa, aos = math.radians(a), math.radians(b)
     d = {}
     if args.method != "tpmc":
         u = frames.flow_direction(aoa, aos)
-        lighting = shader.lighting(u) if shader is not None else None
-        r = method.coefficients(flow, aoa, aos, lighting=lighting)
+        lighting = model.shader.lighting(u) if model.shader is not None else None
+        r = model.method.coefficients(flow, aoa, aos, lighting=lighting)
         d["panel"] = dict(r.to_dict(flow, per_panel=args.per_panel), shading=args.shading)
-        if getattr(args, "articulation", None) is not None:
-            d["panel"].update(articulated_outputs(args.articulation, method, r, flow))
-    if solver is not None:
-        r = run_tpmc(args, solver, flow, aoa, aos)
+        if model.positions is not None:
+            articulation = (model.body, model.positions)
+            d["panel"].update(articulated_outputs(articulation, model.method, r, flow))
+    if args.method != "panel":
+        r = run_tpmc(args, model.test_particles, flow, aoa, aos)
         d["tpmc"] = r.to_dict(flow, per_panel=args.per_panel)
     if args.method == "both":
         d = dict(aoa_deg=float(a), aos_deg=float(b), **d)

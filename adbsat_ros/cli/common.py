@@ -7,12 +7,11 @@ imported at the top.
 from __future__ import annotations
 
 import argparse
-import math
 
 from adbsat_ros.bounds import bounded
 from adbsat_ros.cli.atmosphere import compute as compute_flight_conditions
 from adbsat_ros.cli.options import CommandLineError, fraction, parse_vector3, positive_float, within
-from adbsat_ros.geometry.loading import articulated_body, is_urdf, resolve_mesh
+from adbsat_ros.geometry.loading import is_urdf
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.constants import species_mass_kg
@@ -23,11 +22,11 @@ from adbsat_ros.physics.gsi_models import (
     SPECIES_MODELS,
     ModelOptions,
 )
+from adbsat_ros.physics.model import Model, build_model
 from adbsat_ros.physics.models.cll import CLL_SPECIES
-from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.physics.setup import BodySpec, Setup, ShadingPolicy, SolverSpec
+from adbsat_ros.physics.surface import SurfaceProperties
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
-from adbsat_ros.shading.shader import make_shader
 
 
 def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
@@ -199,23 +198,6 @@ def parse_species(text: str) -> dict:
     return out
 
 
-def materials_from_args(args) -> MaterialTable:
-    """The default surface and the ``--material`` overrides; CommandLineError if not valid."""
-    try:
-        default = SurfaceProperties(
-            alpha=args.alpha,
-            alpha_n=args.alpha_n,
-            sigma_n=args.sigma_n,
-            sigma_t=args.sigma_t,
-            wall_temperature=args.wall_temperature,
-        )
-        return MaterialTable.from_texts(default, args.material)
-    except ValueError as exc:
-        if isinstance(exc, CommandLineError):
-            raise
-        raise CommandLineError(f"--material: {exc}") from None
-
-
 def freestream_from_args(args, model: str) -> FreeStream:
     """The FreeStream given by --speed/--temperature/--mean-mass/--species/--density."""
     missing = [
@@ -268,95 +250,92 @@ def add_joint_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def configured_mesh(args):
-    """The panels of the URDF ``args.mesh`` at the ``--joint`` positions (kept with its body as
-    ``args.articulation``); CommandLineError naming ``--joint`` for a mesh that is no URDF or a
-    bad position."""
-    if not is_urdf(args.mesh):
-        raise CommandLineError(
-            f"--joint: MESH {args.mesh!r} is no URDF (a .urdf file, 'example-articulated' or "
-            "'example-finned')"
-        )
-    if args.scale != 1.0:
-        raise CommandLineError("--scale: a URDF is in metres; scale applies to mesh files only")
-    body = articulated_body(args.mesh, accept_size=args.accept_size)
-    positions = {}
-    for text in args.joint:
-        name, sep, value = str(text).partition("=")
-        name = name.strip()
-        if not sep or not name:
-            raise CommandLineError(f"--joint: expected NAME=VALUE, got {text!r}")
-        try:
-            number = float(value)
-        except ValueError:
-            raise CommandLineError(f"--joint: {name}: {value!r} is not a number") from None
-        joint = body.joints.get(name)
-        angular = joint is not None and joint.kind != "prismatic"
-        positions[name] = math.radians(number) if angular else number
+def _joint(text: str) -> tuple:
+    """``NAME=VALUE`` of ``--joint`` as ``(name, value)``; CommandLineError naming --joint."""
+    name, sep, value = str(text).partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise CommandLineError(f"--joint: expected NAME=VALUE, got {text!r}")
     try:
-        mesh = body.mesh(positions)
-    except ValueError as exc:  # (the limits in radians: a revolute position was converted)
-        raise CommandLineError(f"--joint {' '.join(args.joint)}: {exc}") from None
-    args.articulation = (body, body.positions(positions))  # (for per-link and joint outputs)
-    return mesh
+        return name, float(value)
+    except ValueError:
+        raise CommandLineError(f"--joint: {name}: {value!r} is not a number") from None
 
 
-def panel_method_from_args(args, mesh=None) -> PanelMethod:
-    """Mesh (loaded once), model, materials, options and references from the arguments.
-
-    A mesh that cannot be loaded is a CommandLineError that starts with ``MESH:``.
-    """
-    if mesh is None:
-        try:
-            if getattr(args, "joint", None) or (is_urdf(args.mesh) and hasattr(args, "joint")):
-                mesh = configured_mesh(args)
-            else:
-                mesh = resolve_mesh(args.mesh, scale=args.scale, accept_size=args.accept_size)
-        except MeshError as exc:
-            raise CommandLineError(f"MESH: {exc}") from None
-    materials = materials_from_args(args)
-    unknown = materials.check_names(mesh.material_names)
-    if unknown:
-        raise CommandLineError(
-            f"--material: the mesh has no material {', '.join(map(repr, unknown))}; "
-            f"its materials are {', '.join(mesh.material_names)}"
-        )
-    reference = Reference(
-        area=args.aref,
-        length=args.lref,
-        moment_point=tuple(parse_vector3(args.moment_ref, "--moment-ref")),
+def setup_from_args(args) -> Setup:
+    """The set-up the mesh, ``--joint``, model, reference, shading and solver options give (a
+    URDF MESH posed at the ``--joint`` positions, the others at 0); CommandLineError naming
+    the option that cannot be applied."""
+    joints = None
+    if args.joint or is_urdf(args.mesh):
+        if not is_urdf(args.mesh):
+            raise CommandLineError(
+                f"--joint: MESH {args.mesh!r} is no URDF (a .urdf file, 'example-articulated' or "
+                "'example-finned')"
+            )
+        if args.scale != 1.0:
+            raise CommandLineError("--scale: a URDF is in metres; scale applies to mesh files only")
+        joints = tuple(_joint(text) for text in args.joint)
+    labels = (
+        ("materials", "--material"),
+        ("moment_point", "--moment-ref"),
+        ("joints", f"--joint {' '.join(args.joint)}"),
+        ("samples", "--samples"),
+        ("solver", f"--method {args.method}"),
     )
-    try:  # (the point near the body: docs/physics.md section 11)
-        reference = reference.resolved(mesh, "--moment-ref")
+    try:
+        surface = SurfaceProperties(
+            alpha=args.alpha,
+            alpha_n=args.alpha_n,
+            sigma_n=args.sigma_n,
+            sigma_t=args.sigma_t,
+            wall_temperature=args.wall_temperature,
+        )
+    except ValueError as exc:
+        raise CommandLineError(f"--material: {exc}") from None
+    point = tuple(parse_vector3(args.moment_ref, "--moment-ref"))
+    try:
+        return Setup(
+            body=BodySpec(
+                args.mesh, args.scale, args.accept_size, joints=joints, joint_degrees=True
+            ),
+            model=args.gsim,
+            options=ModelOptions(args.incident_temperature, args.adbsat_compat),
+            surface=surface,
+            overrides=tuple(args.material),
+            reference=Reference(area=args.aref, length=args.lref, moment_point=point),
+            shading=ShadingPolicy(args.shading, args.samples),
+            solver=SolverSpec(args.method, args.particles, args.tolerance, args.seed),
+            labels=labels,
+        )
     except ValueError as exc:
         raise CommandLineError(str(exc)) from None
-    options = ModelOptions(
-        incident_temperature=args.incident_temperature, adbsat_compat=args.adbsat_compat
-    )
-    return PanelMethod(mesh, args.gsim, materials, options=options, reference=reference)
 
 
-def make_shader_from_args(args, mesh):
-    """A shader for the chosen mode, or None for 'none'."""
-    if args.shading == "none":
-        return None
-    if args.samples < 1:
-        raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
-    return make_shader(mesh, mode=args.shading, samples=args.samples)
+def model_from_setup(setup: Setup) -> Model:
+    """:func:`build_model` of ``setup``; a mesh that cannot be loaded is a CommandLineError
+    that starts with ``MESH:``, any other input the model refuses one that names it."""
+    try:
+        return build_model(setup)
+    except MeshError as exc:
+        raise CommandLineError(f"MESH: {exc}") from None
+    except ValueError as exc:
+        raise CommandLineError(str(exc)) from None
 
 
 def method_and_flow_from_args(args):
-    """The panel method and the free stream the options give: ``(method, flow, conditions)``.
+    """The model and the free stream the options give: ``(model, flow, conditions)``.
 
     The gas is given either directly (:func:`freestream_from_args`) or by ``--time`` and a place
     (NRLMSISE-00 through :func:`adbsat_ros.cli.atmosphere.compute`), not both. With an
     accommodation model, its alpha is set as alpha and alpha_n of the default surface and of every
-    material, so the materials describe the set-up exactly. ``conditions`` is a JSON-ready summary
-    of the flight conditions (None for a gas given directly).
+    material (:meth:`Setup.with_accommodation`), so the materials describe the set-up exactly.
+    ``conditions`` is a JSON-ready summary of the flight conditions (None for a gas given
+    directly).
     """
     if args.time is None:
-        method = panel_method_from_args(args)
-        return method, freestream_from_args(args, method.model), None
+        model = model_from_setup(setup_from_args(args))
+        return model, freestream_from_args(args, model.setup.model), None
     given = [
         o
         for o in ("speed", "temperature", "mean_mass", "species", "density")
@@ -374,11 +353,10 @@ def method_and_flow_from_args(args):
         if isinstance(exc, CommandLineError):
             raise
         raise CommandLineError(str(exc)) from None
+    setup = setup_from_args(args)
     if args.accommodation != "fixed":  # alpha and alpha_n on every panel
-        a = float(conditions.alpha)
-        args.alpha = args.alpha_n = a
-        args.material = [f"{text},alpha={a!r},alpha_n={a!r}" for text in args.material]
-    method = panel_method_from_args(args)
+        setup = setup.with_accommodation(conditions.alpha)
+    model = model_from_setup(setup)
     summary = {
         "time": args.time,
         "accommodation_model": args.accommodation,
@@ -393,4 +371,4 @@ def method_and_flow_from_args(args):
         "f107a": args.f107a,
         "ap": args.ap,
     }
-    return method, conditions.free_stream(), summary
+    return model, conditions.free_stream(), summary

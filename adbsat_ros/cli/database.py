@@ -25,7 +25,7 @@ from adbsat_ros.cli.common import (
     method_and_flow_from_args,
 )
 from adbsat_ros.cli.options import CommandLineError, number, parse_angle_list
-from adbsat_ros.cli.solvers import add_solver_arguments, test_particle_method
+from adbsat_ros.cli.solvers import add_solver_arguments
 from adbsat_ros.database.build import build_database
 from adbsat_ros.database.format import is_database_csv, is_database_file
 from adbsat_ros.processes import stop_on_signals, usable_cpus, worker_count
@@ -122,16 +122,14 @@ def run(args) -> int:
     _check_replaceable(partial_path(csv_path), "--csv", is_database_csv)
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
-    method, flow, conditions = method_and_flow_from_args(args)
-    if args.method == "tpmc":
-        test_particle_method(args, method)  # (a model without a kernel: one line, status 2)
+    model, flow, conditions = method_and_flow_from_args(args)
     workers, capped = worker_count(args.workers)
     if capped:
         print(f"adbsat-ros database: warning: --workers: {capped}", file=sys.stderr)
     start = time.perf_counter()
     with stop_on_signals() as stop:
         db = build_database(
-            method,
+            model.method,
             flow,
             aoa,
             aos,
@@ -140,9 +138,8 @@ def run(args) -> int:
             workers=workers,
             progress=None,
             mesh_spec=args.mesh,
-            mesh_joints=getattr(args, "articulation", (None, None))[1],
+            mesh_joints=model.positions,
             mesh_scale=args.scale,
-            materials_texts=args.material,
             conditions=conditions,
             solver=args.method,
             particles=args.particles,

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import sys
 
-from adbsat_ros.cli.options import CommandLineError, number
+from adbsat_ros.cli.options import number
 
 METHODS = ("panel", "tpmc", "both")
 
@@ -50,19 +50,6 @@ def add_solver_arguments(parser, with_both: bool = True, with_workers: bool = Tr
             default=1,
             help="tpmc: processes (default 1; at most the usable CPUs)",
         )
-
-
-def test_particle_method(args, method):
-    """The :class:`TestParticleMethod` of the panel method ``method``'s mesh, model, materials
-    and reference; CommandLineError for a model without a test-particle kernel."""
-    from adbsat_ros.physics.tpmc.method import TestParticleMethod
-
-    try:
-        return TestParticleMethod(
-            method.mesh, method.model, method.materials, reference=method.reference
-        )
-    except ValueError as exc:
-        raise CommandLineError(f"--method {args.method}: {exc}") from None
 
 
 def run_tpmc(args, solver, flow, aoa, aos):

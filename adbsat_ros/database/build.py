@@ -175,7 +175,6 @@ def build_database(
     progress=None,
     mesh_spec="example",
     mesh_scale: float = 1.0,
-    materials_texts=(),
     conditions: dict | None = None,
     solver: str = "panel",
     particles: int | None = None,
@@ -216,9 +215,6 @@ def build_database(
     mesh_joints : dict of str to float, optional
         For a URDF ``mesh_spec``: the joint positions [rad or m] the mesh is posed at
         (recorded, and used to reload it).
-    materials_texts : sequence of str
-        Override texts the materials were built from (checked against ``method.materials``;
-        the metadata always records exact texts derived from the table).
     conditions : dict, optional
         JSON-ready description of the flight conditions the flow came from, recorded as
         ``metadata["conditions"]``.
@@ -271,7 +267,6 @@ def build_database(
         mesh_spec=mesh_spec,
         mesh_scale=mesh_scale,
         mesh_joints=mesh_joints,
-        materials_texts=materials_texts,
     )
     if conditions is not None:
         metadata["conditions"] = conditions

@@ -2,8 +2,9 @@
 
 :func:`describe_setup` records what a database was computed for (mesh spec, scale and
 fingerprint, gas-surface model and options, materials as exact texts, free stream, reference
-quantities, shading); :func:`method_from_metadata` rebuilds the panel method, free stream and
-shader from that record, refusing a mesh that has changed since.
+quantities, shading); :func:`setup_from_metadata` reads that record back into a set-up, and
+:func:`method_from_metadata` builds it (panel method, free stream and shader), refusing a mesh
+that has changed since.
 """
 
 from __future__ import annotations
@@ -14,14 +15,15 @@ import os
 from adbsat_ros._version import __version__
 from adbsat_ros.database.format import FORMAT_VERSION, DatabaseError
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME
-from adbsat_ros.geometry.loading import articulated_body, resolve_mesh
+from adbsat_ros.geometry.loading import is_urdf
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import ModelOptions
+from adbsat_ros.physics.model import build_model, load_body
 from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.physics.setup import BodySpec, Setup, ShadingPolicy, SolverSpec
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, MaterialTable, SurfaceProperties
-from adbsat_ros.shading.shader import make_shader
 
 
 # ---------------------------------------------------------------------------------- metadata
@@ -56,12 +58,13 @@ def _flow_dict(flow: FreeStream) -> dict:
 
 def _reload_mesh(spec, scale: float, joints: dict | None):
     """The mesh of a spec: a file or bundled body, or a URDF posed at ``joints`` [rad or m]."""
-    if joints:
-        try:
-            return articulated_body(spec).mesh(joints)
-        except ValueError as exc:  # (a joint position the URDF refuses)
-            raise MeshError(str(exc)) from None
-    return resolve_mesh(spec, scale=scale)
+    body, mesh = load_body(BodySpec(spec, scale))
+    if body is None:
+        return mesh
+    try:
+        return body.mesh(joints)
+    except ValueError as exc:  # (a joint position the URDF refuses)
+        raise MeshError(str(exc)) from None
 
 
 def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale, joints=None) -> str | None:
@@ -91,7 +94,6 @@ def describe_setup(
     samples,
     mesh_spec,
     mesh_scale,
-    materials_texts=None,
     mesh_joints=None,
 ) -> dict:
     """Metadata of a set-up: everything but the grid results and the interpolation error.
@@ -111,8 +113,6 @@ def describe_setup(
         ``"example"`` for a mesh built some other way, and None, record None (not reloadable).
     mesh_scale : float
         Scale given when loading the mesh file.
-    materials_texts : sequence of str, optional
-        Override texts the materials were built from; checked against ``method.materials``.
     mesh_joints : dict of str to float, optional
         For a URDF ``mesh_spec``: the joint positions [rad or m] the mesh is posed at.
 
@@ -125,17 +125,9 @@ def describe_setup(
     Raises
     ------
     ValueError
-        If ``mesh_spec`` does not load the method's mesh, or ``materials_texts`` do not
-        describe its materials.
+        If ``mesh_spec`` does not load the method's mesh.
     """
     texts = material_override_texts(method.materials)
-    if materials_texts:
-        given = MaterialTable.from_texts(method.materials.default, materials_texts)
-        rebuilt = MaterialTable.from_texts(method.materials.default, texts)
-        if {k: surface_values(v) for k, v in given.materials.items()} != {
-            k: surface_values(v) for k, v in rebuilt.materials.items()
-        }:
-            raise ValueError("materials_texts do not describe the method's materials")
     mesh = method.mesh
     ref = method.reference
     return {
@@ -166,8 +158,31 @@ def describe_setup(
     }
 
 
+def setup_from_metadata(metadata: dict) -> Setup:
+    """The set-up a database's metadata records (its ``mesh``, ``model``, ``materials``,
+    ``reference``, ``shading`` and, if recorded, ``solver``); a URDF is posed at its recorded
+    joints. KeyError, TypeError or ValueError for metadata that does not describe one."""
+    mesh = metadata["mesh"]
+    spec = mesh["spec"]
+    joints = tuple((mesh.get("joints") or {}).items()) if is_urdf(spec) else None
+    model, mat, ref = metadata["model"], metadata["materials"], metadata["reference"]
+    shading = metadata["shading"]
+    solver = dict(metadata.get("solver") or {"method": "panel"})
+    return Setup(
+        body=BodySpec(spec, float(mesh["scale"]), joints=joints),
+        model=model["name"],
+        options=ModelOptions(model["incident_temperature"], bool(model["adbsat_compat"])),
+        surface=SurfaceProperties(**mat["default"]),
+        overrides=tuple(mat["overrides"]),
+        reference=Reference(ref["area"], ref["length"], tuple(ref["moment_point"])),
+        shading=ShadingPolicy(shading["mode"], int(shading["samples"])),
+        solver=SolverSpec(**solver),
+        labels=(("moment_point", "reference moment_point"),),
+    )
+
+
 def method_from_metadata(metadata: dict, path=None):
-    """Rebuild the set-up of a database.
+    """Rebuild the set-up of a database (:func:`setup_from_metadata`, :func:`build_model`).
 
     The mesh is reloaded from ``metadata["mesh"]["spec"]`` and ``scale`` and must have the
     recorded fingerprint.
@@ -203,27 +218,16 @@ def method_from_metadata(metadata: dict, path=None):
                 f"{where}: the mesh was built in code (no mesh spec recorded), so it cannot be "
                 "reloaded"
             )
+        setup = setup_from_metadata(metadata)
         try:
-            mesh = _reload_mesh(spec, float(mesh_meta["scale"]), mesh_meta.get("joints"))
+            model = build_model(setup)
         except MeshError as exc:
             raise DatabaseError(f"{where}: cannot reload the mesh {spec!r}: {exc}") from None
-        if mesh.fingerprint() != mesh_meta["fingerprint"]:
+        if model.mesh.fingerprint() != mesh_meta["fingerprint"]:
             raise DatabaseError(
                 f"{where}: the mesh {spec!r} has changed since the database was built "
-                f"(fingerprint {mesh.fingerprint()}, recorded {mesh_meta['fingerprint']})",
+                f"(fingerprint {model.mesh.fingerprint()}, recorded {mesh_meta['fingerprint']})",
             )
-        mat = metadata["materials"]
-        materials = MaterialTable.from_texts(SurfaceProperties(**mat["default"]), mat["overrides"])
-        model = metadata["model"]
-        options = ModelOptions(
-            incident_temperature=model["incident_temperature"],
-            adbsat_compat=bool(model["adbsat_compat"]),
-        )
-        ref = metadata["reference"]
-        reference = Reference(
-            area=ref["area"], length=ref["length"], moment_point=tuple(ref["moment_point"])
-        ).resolved(mesh, "reference moment_point")
-        method = PanelMethod(mesh, model["name"], materials, options=options, reference=reference)
         f = metadata["flow"]
         flow = FreeStream(
             speed=f["speed"],
@@ -232,14 +236,10 @@ def method_from_metadata(metadata: dict, path=None):
             mean_mass_amu=f.get("mean_mass_amu"),
             density=f.get("density"),
         )
-        shading = metadata["shading"]
-        shader = None
-        if shading["mode"] != "none":
-            shader = make_shader(mesh, mode=shading["mode"], samples=int(shading["samples"]))
     except DatabaseError:
         raise
     except (KeyError, TypeError, ValueError) as exc:
         raise DatabaseError(
             f"{where}: metadata does not describe a set-up: {type(exc).__name__}: {exc}"
         ) from None
-    return method, flow, shader
+    return model.method, flow, model.shader

@@ -8,13 +8,12 @@ that cannot be applied, before anything of the estimator changes.
 from __future__ import annotations
 
 from adbsat_ros.database.matching import DatabaseCoefficients
-from adbsat_ros.estimator.settings import WrenchSettings, materials_from_settings
+from adbsat_ros.estimator.settings import WrenchSettings, setup_from_settings
 from adbsat_ros.geometry.articulated import ArticulatedBody
-from adbsat_ros.geometry.loading import articulated_body, is_urdf, resolve_mesh
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.physics.articulated_method import ArticulatedMethod
-from adbsat_ros.physics.coefficients import Reference
-from adbsat_ros.physics.gsi_models import ModelOptions
+from adbsat_ros.physics.model import build_model
+from adbsat_ros.physics.model import load_body as load_panels
 from adbsat_ros.physics.panel_method import PanelMethod
 
 
@@ -29,31 +28,16 @@ def load_body(settings: WrenchSettings, mesh: PanelMesh | ArticulatedBody | None
     MeshError
         If the mesh or URDF cannot be loaded (or ``mesh_scale`` is set for a URDF).
     """
-    if isinstance(mesh, ArticulatedBody):
-        return mesh, mesh.mesh()
-    if settings.robot_description:
-        body = ArticulatedBody.from_urdf(
-            settings.robot_description,
-            accept_size=settings.mesh_accept_size,
-            source="robot_description",
-        )
-        return body, body.mesh()
-    if is_urdf(settings.mesh):
-        if settings.mesh_scale != 1.0:
-            resolve_mesh(settings.mesh, settings.mesh_scale)  # (refuses it, naming the mesh)
-        body = articulated_body(settings.mesh, settings.mesh_accept_size)
-        return body, body.mesh()
-    if mesh is None:
-        mesh = resolve_mesh(settings.mesh, settings.mesh_scale, settings.mesh_accept_size)
-    return None, mesh
+    body, panels = load_panels(setup_from_settings(settings).body, mesh)
+    return body, panels if body is None else body.mesh()
 
 
 def panel_method(
     mesh: PanelMesh, settings: WrenchSettings, body: ArticulatedBody | None = None
 ) -> PanelMethod | ArticulatedMethod:
-    """The panel method of the settings' model, materials, options and centre of mass; for an
-    articulated ``body`` (whose zero-configuration panels ``mesh`` are) its
-    :class:`ArticulatedMethod`.
+    """The panel method of the settings' set-up (:func:`setup_from_settings`) built with
+    :func:`build_model`; for an articulated ``body`` (whose zero-configuration panels ``mesh``
+    are) its :class:`ArticulatedMethod`.
 
     Raises
     ------
@@ -61,30 +45,13 @@ def panel_method(
         Naming ``material_overrides`` if it names a material the mesh does not have, or, for an
         articulated body, ``solar_pressure`` (not yet computed for moving parts).
     """
-    materials = materials_from_settings(settings)
-    unknown = materials.check_names(mesh.material_names)
-    if unknown:
-        raise ValueError(
-            "parameter material_overrides: the mesh has no material "
-            f"{', '.join(map(repr, unknown))}; its materials are {', '.join(mesh.material_names)}"
-        )
-    options = ModelOptions(settings.incident_temperature, settings.adbsat_compat)
-    # (the centre of mass near the body: ten body sizes, docs/physics.md section 11)
-    reference = Reference(moment_point=settings.center_of_mass).resolved(
-        mesh, "parameter center_of_mass: center_of_mass"
-    )
-    if body is None:
-        return PanelMethod(
-            mesh, settings.gsi_model, materials, options=options, reference=reference
-        )
-    if settings.solar_pressure:
+    method = build_model(setup_from_settings(settings), (body, mesh)).method
+    if body is not None and settings.solar_pressure:
         raise ValueError(
             "parameter solar_pressure: not available for an articulated body (the solar "
             "radiation pressure is computed for rigid bodies only); set it false"
         )
-    return ArticulatedMethod(
-        body, settings.gsi_model, materials, options=options, reference=reference, shading="none"
-    )
+    return method
 
 
 def coefficient_database(

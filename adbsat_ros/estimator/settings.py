@@ -30,8 +30,14 @@ from adbsat_ros.estimator.parameters import (
     load_parameters_file,
     unknown_parameter,
 )
-from adbsat_ros.physics.gsi_models import INCIDENT_TEMPERATURE_FORMS, canonical_model_name
-from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.gsi_models import (
+    INCIDENT_TEMPERATURE_FORMS,
+    ModelOptions,
+    canonical_model_name,
+)
+from adbsat_ros.physics.setup import BodySpec, Setup, ShadingPolicy
+from adbsat_ros.physics.surface import SurfaceProperties
 
 
 def _choice(name, value, allowed):
@@ -367,18 +373,42 @@ def settings_from_file(path, node_name: str = "adbsat_node") -> WrenchSettings:
         raise ValueError(f"{path}: {exc}") from None
 
 
-def materials_from_settings(settings: WrenchSettings) -> MaterialTable:
-    """The MaterialTable the settings describe (default properties + per-material overrides)."""
-    default = SurfaceProperties(
-        alpha=settings.alpha,
-        alpha_n=settings.alpha_n,
-        sigma_n=settings.sigma_n,
-        sigma_t=settings.sigma_t,
-        wall_temperature=settings.wall_temperature,
-        specular_reflectivity=settings.specular_reflectivity,
-        diffuse_reflectivity=settings.diffuse_reflectivity,
+def setup_from_settings(settings: WrenchSettings) -> Setup:
+    """The set-up the settings describe: the body of ``mesh`` (or ``robot_description``), the
+    default surface with ``material_overrides``, the centre of mass as moment point, the model,
+    the shading policy; ValueError naming ``material_overrides`` for an override that cannot be
+    read."""
+    s = settings
+    return Setup(
+        body=BodySpec(s.mesh, s.mesh_scale, s.mesh_accept_size, urdf=s.robot_description),
+        model=s.gsi_model,
+        options=ModelOptions(s.incident_temperature, s.adbsat_compat),
+        surface=SurfaceProperties(
+            alpha=s.alpha,
+            alpha_n=s.alpha_n,
+            sigma_n=s.sigma_n,
+            sigma_t=s.sigma_t,
+            wall_temperature=s.wall_temperature,
+            specular_reflectivity=s.specular_reflectivity,
+            diffuse_reflectivity=s.diffuse_reflectivity,
+        ),
+        overrides=s.material_overrides,
+        reference=Reference(moment_point=s.center_of_mass),
+        shading=ShadingPolicy(
+            s.shading,
+            s.shading_samples,
+            s.shading_cache_resolution_deg,
+            s.shading_cache_size,
+            s.shading_interpolation,
+            s.joint_shading_resolution_deg,
+            s.joint_shading_resolution_m,
+            s.joint_shading_interpolation,
+            s.joint_shading_cache_size,
+            s.joint_shading_exact,
+        ),
+        labels=(
+            ("materials", "parameter material_overrides"),
+            ("moment_point", "parameter center_of_mass: center_of_mass"),
+            ("samples", "parameter shading_samples: shading_samples"),
+        ),
     )
-    try:
-        return MaterialTable.from_texts(default, settings.material_overrides)
-    except ValueError as exc:
-        raise ValueError(f"parameter material_overrides: {exc}") from None

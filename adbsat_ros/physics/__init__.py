@@ -2,6 +2,9 @@
 
 Modules:
 
+- :mod:`~adbsat_ros.physics.setup`: :class:`Setup`, one configured body as a value, checked once;
+  :mod:`~adbsat_ros.physics.model`: :func:`build_model`, its panels, panel method, shader and
+  test-particle solver.
 - :mod:`~adbsat_ros.physics.panel_method`: :class:`PanelMethod`, force and moment coefficients of
   a mesh at any attitude; :mod:`~adbsat_ros.physics.coefficients` holds its result and reference
   quantities, :mod:`~adbsat_ros.physics.facets` the grouping of coplanar panels (and the one cache

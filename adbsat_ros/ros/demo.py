@@ -36,6 +36,7 @@ import os
 import sys
 import threading
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -48,8 +49,8 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
 from adbsat_ros.bags.scenario import Scenario, generate
-from adbsat_ros.estimator.settings import materials_from_settings
-from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.estimator.settings import setup_from_settings
+from adbsat_ros.physics.model import build_model
 from adbsat_ros.ros import demo_joints
 from adbsat_ros.ros.demo_report import DemoResult, SampleLog, table_rows, vector, write_outputs
 from adbsat_ros.ros.executors import make_executor
@@ -385,10 +386,10 @@ def run_demo(
             sample = latest[-1]
             method = node.estimator.method
             if sample.joints is not None:  # (the body as posed for that wrench)
-                settings, body = node.estimator.settings, node.estimator.body
-                mesh = body.mesh(dict(zip(sample.joints.names, sample.joints.positions)))
-                materials = materials_from_settings(settings)
-                method = PanelMethod(mesh, settings.gsi_model, materials, shading="none")
+                setup = setup_from_settings(node.estimator.settings)
+                joints = tuple(zip(sample.joints.names, sample.joints.positions))
+                setup = replace(setup, body=replace(setup.body, joints=joints))
+                method = build_model(setup, node.estimator.body).method
             picture = (method, sample.conditions.free_stream(), sample.coefficients)
         result.files = write_outputs(rows, Path(out_dir), picture, joints=articulated)
         say("wrote: " + ", ".join(str(p) for p in result.files))

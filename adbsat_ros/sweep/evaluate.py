@@ -12,22 +12,15 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import replace
 
 import numpy as np
 
 from adbsat_ros.database.build import attitude_seed
-from adbsat_ros.geometry.loading import articulated_body, is_urdf, resolve_mesh
 from adbsat_ros.lru import LruStore
-from adbsat_ros.physics.articulated_method import ArticulatedMethod
-from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.constants import AMU
-from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
-from adbsat_ros.physics.tpmc.method import TestParticleMethod
-from adbsat_ros.shading.shader import make_shader
+from adbsat_ros.physics.model import build_model
 from adbsat_ros.sweep.gas import point_gas, point_inputs
-from adbsat_ros.sweep.spec import SweepSpec
+from adbsat_ros.sweep.spec import SweepSpec, body_setup
 
 #: Results with x, y, z components: force and moment coefficients in the mesh (body) frame G,
 #: in wind axes, and the moment in ADBSat's body axes B.
@@ -58,11 +51,13 @@ def vector_results(spec: SweepSpec) -> tuple:
 
 
 class BodySetup:
-    """One body of a sweep (its mesh, or one of its mesh variants): panels, panel method,
-    shaders by joint configuration and test-particle solvers by configuration and surface.
+    """One body of a sweep (its mesh, or one of its mesh variants): its model
+    (:func:`~adbsat_ros.sweep.spec.body_setup` built by :func:`build_model`), with its shaders
+    by joint configuration and test-particle solvers by configuration and surface.
 
     Attributes
     ----------
+    model : Model
     method : PanelMethod or ArticulatedMethod
     body : ArticulatedBody or None
     mesh : PanelMesh
@@ -74,67 +69,21 @@ class BodySetup:
 
     def __init__(self, spec: SweepSpec, mesh: str):
         self.spec = spec
-        self.body = articulated_body(mesh) if is_urdf(mesh) else None
-        self.mesh = self.body.mesh() if self.body is not None else resolve_mesh(mesh)
-        self.materials = MaterialTable.from_texts(SurfaceProperties(), spec.materials)
-        unknown = self.materials.check_names(self.mesh.material_names)
-        if unknown:
-            raise ValueError(
-                f"materials: the mesh {mesh} has no material {', '.join(map(repr, unknown))}; "
-                f"its materials are {', '.join(self.mesh.material_names)}"
-            )
-        ref = spec.reference
-        reference = Reference(
-            area=ref.get("area"),
-            length=ref.get("length"),
-            moment_point=tuple(ref.get("moment_point", (0.0, 0.0, 0.0))),
-        ).resolved(self.mesh, "reference.moment_point")
-        kind = PanelMethod if self.body is None else ArticulatedMethod
-        self.method = kind(
-            self.mesh if self.body is None else self.body,
-            spec.model,
-            self.materials,
-            reference=reference,
-            shading="none",
-        )
-        if spec.tpmc is not None:
-            TestParticleMethod(self.mesh, spec.model, self.materials)  # (a kernel for it?)
+        self.model = build_model(body_setup(spec, mesh))
+        self.body, self.mesh, self.method = self.model.body, self.model.mesh, self.model.method
         self.shaders = LruStore(8)
         self.solvers = LruStore(8)
 
-    def posed(self, positions: dict):
-        """The panels at joint ``positions`` [rad or m]."""
-        return self.mesh if self.body is None else self.body.mesh(positions)
-
     def shader(self, positions: dict):
         """The ray caster of the body at joint ``positions``."""
+        key = tuple(sorted(positions.items()))
+        return self.shaders.get(key, lambda: self.model.shader_at(positions))
 
-        def make():
-            if self.body is None:
-                return make_shader(self.mesh, mode=self.spec.shading)
-            # (no topology store: each configuration's posed panels would be another entry)
-            posed = self.body.mesh(positions)
-            return make_shader(posed, mode=self.spec.shading, topology_store=None)
-
-        return self.shaders.get(tuple(sorted(positions.items())), make)
-
-    def solver(self, positions: dict, changes: dict) -> TestParticleMethod:
+    def solver(self, positions: dict, changes: dict):
         """The test-particle solver of the body at joint ``positions``, with the surface
         parameters ``changes`` on every panel."""
-
-        def make():
-            table = self.materials
-            if changes:
-                table = MaterialTable(
-                    replace(table.default, **changes),
-                    {k: replace(v, **changes) for k, v in table.materials.items()},
-                )
-            return TestParticleMethod(
-                self.posed(positions), self.spec.model, table, reference=self.method.reference
-            )
-
         key = (tuple(sorted(positions.items())), tuple(sorted(changes.items())))
-        return self.solvers.get(key, make)
+        return self.solvers.get(key, lambda: self.model.test_particles_at(positions, changes))
 
 
 class SweepSetup:

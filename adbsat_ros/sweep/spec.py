@@ -40,7 +40,9 @@ import yaml
 
 from adbsat_ros.bounds import bounded
 from adbsat_ros.environment.atmosphere import check_time
+from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.gsi_models import MODELS, canonical_model_name
+from adbsat_ros.physics.setup import BodySpec, Setup, ShadingPolicy, SolverSpec
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 from adbsat_ros.sweep.axes import (
     ATMOSPHERE,
@@ -305,10 +307,27 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
     )
 
 
+def body_setup(spec: SweepSpec, mesh: str) -> Setup:
+    """The set-up of one body of a sweep: ``mesh`` (the spec's, or one of its variants), its
+    model, materials over the default surface, reference, shading and solver."""
+    ref, run = spec.reference, spec.tpmc
+    return Setup(
+        body=BodySpec(mesh),
+        model=spec.model,
+        overrides=spec.materials,
+        reference=Reference(
+            ref.get("area"), ref.get("length"), tuple(ref.get("moment_point", (0.0, 0.0, 0.0)))
+        ),
+        shading=ShadingPolicy(spec.shading),
+        solver=SolverSpec() if run is None else SolverSpec(**run),
+        labels=(("materials", ""), ("moment_point", "reference.moment_point"), ("solver", "")),
+    )
+
+
 def reference_checked(reference) -> dict:
     """The ``reference`` field as given (its fingerprint unchanged), checked: ``area`` and
     ``length`` within their ranges, ``moment_point`` three numbers within ``offset`` (and near
-    the body: checked with the mesh, in :class:`~adbsat_ros.sweep.evaluate.SweepSetup`)."""
+    the body: checked with the mesh, by :func:`~adbsat_ros.physics.model.build_model`)."""
     if not isinstance(reference, dict) or set(reference) - {"area", "length", "moment_point"}:
         raise SpecError("reference: a mapping of area, length and moment_point")
     point = reference.get("moment_point", (0.0, 0.0, 0.0))

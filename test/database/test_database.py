@@ -66,7 +66,6 @@ def example_db():
         workers=1,
         progress=False,
         mesh_spec="example",
-        materials_texts=["solar_array:alpha=0.8,wall_temperature=350"],
     )
 
 

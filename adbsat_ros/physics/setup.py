@@ -1,0 +1,173 @@
+"""One configured aerodynamic body as a value: :class:`Setup`.
+
+A set-up names the body (a mesh file, a bundled body or a URDF, its scale), its materials (the
+default surface and per-material overrides), the reference quantities, the gas-surface model
+and its options, the shading policy and the solver. It is checked once, when made, and built
+into panels, a panel method, a shader and a test-particle solver by
+:func:`adbsat_ros.physics.model.build_model`. Each way of giving a set-up has one translator
+returning this value: the command line (:mod:`adbsat_ros.cli.common`), the node's parameters
+(:func:`adbsat_ros.estimator.settings.setup_from_settings`), a database's metadata
+(:func:`adbsat_ros.database.metadata.setup_from_metadata`) and a sweep's spec
+(:func:`adbsat_ros.sweep.spec.body_setup`).
+
+Error messages name an input as the dialect it came from names it (``--material``,
+``parameter material_overrides``, ...): :attr:`Setup.labels`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME
+from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.gsi_models import ModelOptions, canonical_model_name
+from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.shading.shader import DEFAULT_SAMPLES
+from adbsat_ros.shading.shader import MODES as SHADING_MODES
+
+#: Solvers of a set-up: the panel method, test particles, or each (the command line's ``both``).
+SOLVERS = ("panel", "tpmc", "both")
+
+
+@dataclass(frozen=True)
+class BodySpec:
+    """Where the body's panels come from.
+
+    Attributes
+    ----------
+    mesh : str
+        A mesh file, a bundled body (``example``, ``cylinder`` ...) or a URDF (a ``.urdf``
+        file, ``example-articulated``, ``example-finned``).
+    scale : float
+        Factor from file units to metres (mesh files only).
+    accept_size : bool
+        Take a mesh that is under 1 mm or over 200 m across.
+    urdf : str
+        A URDF's text (the node's ``robot_description``), taken instead of ``mesh``.
+    joints : tuple of (str, float) or None
+        A URDF posed once at these joint positions (the others at 0) and evaluated as a rigid
+        body; None: a URDF's joints move (an articulated body).
+    joint_degrees : bool
+        ``joints`` of revolute and continuous joints are in degrees (else radians); prismatic
+        ones in metres.
+    """
+
+    mesh: str = EXAMPLE_MESH_NAME
+    scale: float = 1.0
+    accept_size: bool = False
+    urdf: str = ""
+    joints: tuple | None = None
+    joint_degrees: bool = False
+
+
+@dataclass(frozen=True)
+class ShadingPolicy:
+    """How the panels are shaded: the mode, rays per panel, and the node's shading caches (a
+    rigid body's cache of flow directions; an articulated body's grid of joint configurations,
+    or its exact shading)."""
+
+    mode: str = "raycast"
+    samples: int = DEFAULT_SAMPLES
+    cache_resolution_deg: float = 0.25
+    cache_size: int = 20000
+    interpolation: bool = True
+    joint_resolution_deg: float = 0.25
+    joint_resolution_m: float = 0.001
+    joint_interpolation: bool = False
+    joint_cache_size: int = 64
+    joint_exact: bool = False
+
+
+@dataclass(frozen=True)
+class SolverSpec:
+    """The solver: ``panel``, ``tpmc`` (test particles: ``particles``, ``tolerance``,
+    ``seed`` of each run) or ``both``."""
+
+    method: str = "panel"
+    particles: int | None = None
+    tolerance: float | None = None
+    seed: int = 0
+
+
+@dataclass(frozen=True)
+class Setup:
+    """A configured aerodynamic body, checked when made (ValueError naming the input).
+
+    Attributes
+    ----------
+    body : BodySpec
+    model : str
+        The gas-surface model (canonical name).
+    options : ModelOptions
+        Incident temperature form and ADBSat compatibility.
+    surface : SurfaceProperties
+        The default surface of every material.
+    overrides : tuple of str
+        Per-material overrides, ``NAME:key=value[,key=value]``.
+    reference : Reference
+        Area and length (None: from the mesh) and moment point (centre of mass).
+    shading : ShadingPolicy
+    solver : SolverSpec
+    labels : tuple of (str, str)
+        How the dialect names ``materials``, ``moment_point``, ``joints``, ``samples`` and
+        ``solver`` in error messages (default those words; ``""``: no prefix).
+    """
+
+    body: BodySpec = field(default_factory=BodySpec)
+    model: str = "sentman"
+    options: ModelOptions = field(default_factory=ModelOptions)
+    surface: SurfaceProperties = field(default_factory=SurfaceProperties)
+    overrides: tuple = ()
+    reference: Reference = field(default_factory=Reference)
+    shading: ShadingPolicy = field(default_factory=ShadingPolicy)
+    solver: SolverSpec = field(default_factory=SolverSpec)
+    labels: tuple = ()
+
+    def __post_init__(self):
+        object.__setattr__(self, "model", canonical_model_name(self.model))
+        object.__setattr__(self, "overrides", tuple(self.overrides))
+        scale = self.body.scale
+        if isinstance(scale, bool) or not (math.isfinite(float(scale)) and scale > 0.0):
+            raise ValueError(f"{self.label('scale')} must be a finite number > 0, got {scale!r}")
+        if self.shading.mode not in SHADING_MODES:
+            raise ValueError(
+                f"{self.label('shading')}: {self.shading.mode!r} is not one of "
+                f"{', '.join(SHADING_MODES)}"
+            )
+        if self.shading.mode != "none" and self.shading.samples < 1:
+            raise ValueError(f"{self.label('samples')} must be >= 1, got {self.shading.samples}")
+        if self.solver.method not in SOLVERS:
+            raise ValueError(f"{self.label('solver')}: {self.solver.method!r} is not a solver")
+        if self.solver.method != "panel":
+            from adbsat_ros.physics.tpmc.method import run_settings
+
+            s = self.solver
+            self.prefixed("solver", run_settings, s.particles, s.tolerance, s.seed)
+        self.materials()
+
+    def label(self, name: str) -> str:
+        """How the set-up's dialect names the input ``name`` (:attr:`labels`)."""
+        return dict(self.labels).get(name, name)
+
+    def prefixed(self, name: str, call, *args):
+        """``call(*args)``, a ValueError from it prefixed with the label of ``name``."""
+        try:
+            return call(*args)
+        except ValueError as exc:
+            label = self.label(name)
+            raise ValueError(f"{label}: {exc}" if label else str(exc)) from None
+
+    def materials(self) -> MaterialTable:
+        """The default surface with the overrides (ValueError naming ``materials``)."""
+        return self.prefixed("materials", MaterialTable.from_texts, self.surface, self.overrides)
+
+    def with_accommodation(self, alpha: float) -> "Setup":
+        """The set-up with ``alpha`` as alpha and alpha_n of the default surface and of every
+        material (an accommodation model's value at the flight conditions)."""
+        a = float(alpha)
+        return replace(
+            self,
+            surface=replace(self.surface, alpha=a, alpha_n=a),
+            overrides=tuple(f"{text},alpha={a!r},alpha_n={a!r}" for text in self.overrides),
+        )
