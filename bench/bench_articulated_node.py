@@ -31,6 +31,7 @@ blocks of ``--block`` messages.
 from __future__ import annotations
 
 import argparse
+import inspect
 import os
 import re
 import statistics
@@ -112,12 +113,20 @@ def link_mesh_urdf(body: ArticulatedBody, text: str, directory: Path) -> str:
     return text
 
 
+def _taking(callback):
+    """``callback`` as a function of the message alone (one that rclpy passes the message info
+    too is given an empty info)."""
+    if len(inspect.signature(callback).parameters) == 2:
+        return lambda message: callback(message, {})
+    return callback
+
+
 class NodeCase:
     """A node and its message stream; ``angle(k)`` the wings' angle due at message k."""
 
     def __init__(self, name: str, node: AdbsatNode, hinges, angle=None):
         self.name, self.node, self.hinges, self.angle = name, node, hinges, angle
-        subs = {sub.topic_name.split("/")[-1]: sub.callback for sub in node.subscriptions}
+        subs = {sub.topic_name.split("/")[-1]: _taking(sub.callback) for sub in node.subscriptions}
         self.on_attitude, self.on_state = subs["attitude"], subs["state"]
         self.on_joint_state = subs.get("joint_states")
         self.times = []  # CPU time of each message [ns]

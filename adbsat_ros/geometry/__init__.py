@@ -13,6 +13,8 @@ Modules:
 - :mod:`~adbsat_ros.geometry.articulated`: a URDF's links and joints as panels for any joint
   configuration, and the loads per link and joint; :mod:`~adbsat_ros.geometry.example_urdf` the
   bundled URDFs (the example satellite with hinged wings, a body with four steerable fins).
+- :mod:`~adbsat_ros.geometry.poses`: a URDF's joint tree, checked, and its links' poses by
+  yourdfpy's forward kinematics.
 - :mod:`~adbsat_ros.geometry.concave_bodies`: bundled bodies where molecules meet the surface
   more than once (a cylinder with deep grooves in its front face, the plain cylinder, a box
   with a deep intake).

@@ -7,8 +7,8 @@ or mesh file) becomes a part of the panel mesh, in the link's frame, with its UR
 as its surface material (as ``usemtl`` names an .obj's); a URDF with no visual, only collision
 geometry, has its collisions as parts (material ``default``). The root link's frame is the body
 frame (mesh frame G). Joints may be fixed, revolute, continuous or prismatic (mimic joints
-follow theirs); their positions [rad or m] place the links by forward kinematics
-(:mod:`~adbsat_ros.geometry.kinematics`, from yourdfpy's joints).
+follow theirs); their positions [rad or m] place the links by yourdfpy's forward kinematics
+(:class:`~adbsat_ros.geometry.poses.JointTree`).
 
 :meth:`ArticulatedBody.mesh` gives the :class:`~adbsat_ros.geometry.mesh.PanelMesh` of a
 configuration: the parts are checked once (:func:`~adbsat_ros.geometry.mesh.panels_from_arrays`:
@@ -36,7 +36,6 @@ import numpy as np
 import trimesh
 import yourdfpy
 
-from adbsat_ros.geometry.kinematics import KinematicChain
 from adbsat_ros.geometry.mesh import (
     DEFAULT_MATERIAL,
     MeshError,
@@ -47,30 +46,13 @@ from adbsat_ros.geometry.mesh import (
     triangle_geometry,
 )
 from adbsat_ros.geometry.mesh_files import read_mesh_file
+from adbsat_ros.geometry.poses import JointTree
 
-#: Joint types whose position moves their child link.
-MOVING_JOINTS = ("revolute", "continuous", "prismatic")
 #: Sections around a URDF cylinder, and subdivisions of a URDF sphere's icosphere.
 CYLINDER_SECTIONS = 48
 SPHERE_SUBDIVISIONS = 3
 #: A URDF box or cylinder is refined until no edge is longer than this fraction of its size.
 EDGE_FRACTION = 1.0 / 12.0
-
-
-@dataclass(frozen=True)
-class Joint:
-    """A joint that moves: its type, axis (in its own frame), limits, and the links it joins.
-
-    ``lower`` and ``upper`` are its position limits [rad or m] (-inf, inf for a continuous one).
-    """
-
-    name: str
-    kind: str
-    parent: str
-    child: str
-    axis: tuple
-    lower: float
-    upper: float
 
 
 @dataclass(frozen=True)
@@ -171,36 +153,10 @@ class ArticulatedBody:
         max_edge_fraction=EDGE_FRACTION,
         accept_size: bool = False,
     ):
-        self._urdf = urdf
         self.source = source
-        children = {j.child for j in urdf.joint_map.values()}
-        roots = [link for link in urdf.link_map if link not in children]
-        if len(roots) != 1:
-            raise MeshError(
-                f"{source}: the links must form one tree from one root link; links no joint "
-                f"carries: {', '.join(roots) or 'none'}"
-            )
-        self.root = roots[0]
-        self.links = tuple(urdf.link_map)
-        mimics = {name for name, j in urdf.joint_map.items() if j.mimic is not None}
-        self.all_joint_names = tuple(urdf.joint_map)
-        self.joints = {}
-        for name, j in urdf.joint_map.items():
-            if j.type not in MOVING_JOINTS + ("fixed",):
-                raise MeshError(f"{source}: joint {name}: type {j.type!r} is not supported")
-            if j.type == "fixed" or name in mimics:
-                continue
-            limit = j.limit
-            lower, upper = -math.inf, math.inf
-            if j.type != "continuous" and limit is not None:
-                lower = -math.inf if limit.lower is None else float(limit.lower)
-                upper = math.inf if limit.upper is None else float(limit.upper)
-            axis = tuple(float(x) for x in (j.axis if j.axis is not None else (1.0, 0.0, 0.0)))
-            self.joints[name] = Joint(name, j.type, j.parent, j.child, axis, lower, upper)
-        try:
-            self._chain = KinematicChain(urdf, self.links, self.root, self.joints)
-        except ValueError as exc:
-            raise MeshError(f"{source}: {exc}") from None
+        self._tree = JointTree(urdf, source)
+        self.root, self.links = self._tree.root, self._tree.links
+        self.joints, self.all_joint_names = self._tree.joints, self._tree.all_joint_names
         directory = os.path.dirname(os.path.abspath(source)) if os.path.isfile(source) else "."
 
         def resolve(filename):
@@ -224,7 +180,7 @@ class ArticulatedBody:
                 parts.append(_Part(index, *self._faces_of(tm, checked), names.index(material)))
         if not parts:
             raise MeshError(f"{source}: no link has geometry (no visual, no collision)")
-        self._zero_poses = self._chain.poses(self.positions())
+        self._zero_poses = self.link_poses()
         for part in parts:
             part.own = triangle_geometry(part.vertices[part.faces])
             part.at_zero = triangle_geometry(
@@ -291,7 +247,7 @@ class ArticulatedBody:
         source = source or path or "robot_description"
         try:
             stream = io.StringIO(text) if is_xml else path
-            # (no scene graph: the links are posed by geometry.kinematics)
+            # (no scene graph: JointTree makes the one it poses the links with)
             model = yourdfpy.URDF.load(stream, build_scene_graph=False, load_meshes=False)
         except Exception as exc:  # (OSError, URDFError, lxml's XMLSyntaxError and the like)
             raise MeshError(f"{source}: not a readable URDF: {exc}") from None
@@ -333,8 +289,9 @@ class ArticulatedBody:
         return out
 
     def link_poses(self, values: Mapping[str, float] | None = None) -> np.ndarray:
-        """4 x 4 pose of every link in the body frame, shape (L, 4, 4), for joint ``values``."""
-        return self._chain.poses(self.positions(values))
+        """4 x 4 pose of every link in the body frame, shape (L, 4, 4), for joint ``values``
+        (yourdfpy's forward kinematics)."""
+        return self._tree.poses(self.positions(values))
 
     def mesh(self, values: Mapping[str, float] | None = None) -> PanelMesh:
         """The panels of the configuration ``values`` (joint name to position; others at 0)."""
@@ -383,15 +340,7 @@ class ArticulatedBody:
 
     def carried_links(self, joint: str) -> np.ndarray:
         """Indices of the links a joint carries: its child and every link beyond it."""
-        children = {}
-        for j in self._urdf.joint_map.values():
-            children.setdefault(j.parent, []).append(j.child)
-        out, stack = [], [self.joints[joint].child]
-        while stack:
-            link = stack.pop()
-            out.append(self.links.index(link))
-            stack.extend(children.get(link, []))
-        return np.array(sorted(out))
+        return np.array(sorted(map(self.links.index, self._tree.carried(self.joints[joint].child))))
 
     def loads(self, force, point, values, moment_point, length) -> BodyLoads:
         """Per-link loads and per-joint efforts of per-panel loads at a configuration.

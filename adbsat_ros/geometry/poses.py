@@ -1,19 +1,142 @@
-"""The frames of an articulated body's links and joints at a joint configuration, cached.
+"""The joint tree of a URDF and the poses of its links at a joint configuration.
 
-Forward kinematics (:mod:`~adbsat_ros.geometry.kinematics`) and the joints' axes are computed per
-configuration, and a stream of wrench messages meets the same configuration again and again (joint
-states come at a tenth of the attitudes' rate, or not at all for fixed joints), so
-:class:`PoseCache` keeps the poses of the latest configurations.
+:class:`JointTree` checks once that the links form one tree from one root and that every
+joint can move its link, then poses the links with yourdfpy's forward kinematics: its scene
+graph set to the configuration (``URDF.update_cfg``: a revolute or continuous joint turns by
+``trimesh.transformations.rotation_matrix``, a prismatic one slides along its axis, a mimic
+joint follows its joint at ``multiplier q + offset``, a fixed one keeps its origin) and read
+link by link (``URDF.get_transform``). :func:`link_frames` gives what the articulated panel
+method reads of a configuration: the links' rotations and origins, the joints' axes.
+
+Units: metres and radians; frame G = the root link's frame.
 """
 
 from __future__ import annotations
 
+import math
+import threading
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
+import yourdfpy
 
-from adbsat_ros.geometry.articulated import ArticulatedBody
-from adbsat_ros.lru import LruStore
+from adbsat_ros.geometry.mesh import MeshError
+
+#: Joint types whose position moves their child link.
+MOVING_JOINTS = ("revolute", "continuous", "prismatic")
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint that moves: its type, axis (in its own frame), limits, and the links it joins.
+
+    ``lower`` and ``upper`` are its position limits [rad or m] (-inf, inf for a continuous one).
+    """
+
+    name: str
+    kind: str
+    parent: str
+    child: str
+    axis: tuple
+    lower: float
+    upper: float
+
+
+class JointTree:
+    """The links and joints of a URDF, checked to form one tree, posed by yourdfpy.
+
+    Attributes
+    ----------
+    root : str
+        The root link, whose frame is the body frame G.
+    links : tuple of str
+        Link names, in the URDF's order (the order of :meth:`poses`).
+    joints : dict of str to Joint
+        The joints that move (revolute, continuous, prismatic; not mimic ones), by name.
+    all_joint_names : tuple of str
+        Every joint of the URDF, fixed and mimic ones included.
+
+    Raises
+    ------
+    MeshError
+        Naming ``source`` and the problem: links not in one tree from one root link, a joint
+        type that is not supported, a moving joint whose axis has no direction, or a mimic joint
+        that follows no moving joint.
+    """
+
+    def __init__(self, urdf: yourdfpy.URDF, source: str):
+        children = {j.child for j in urdf.joint_map.values()}
+        roots = [link for link in urdf.link_map if link not in children]
+        if len(roots) != 1:
+            raise MeshError(
+                f"{source}: the links must form one tree from one root link; links no joint "
+                f"carries: {', '.join(roots) or 'none'}"
+            )
+        self.root = roots[0]
+        self.links = tuple(urdf.link_map)
+        self.all_joint_names = tuple(urdf.joint_map)
+        self.joints = {}
+        self._children: dict = {}
+        carried: set = set()
+        for name, j in urdf.joint_map.items():
+            if j.type not in MOVING_JOINTS + ("fixed",):
+                raise MeshError(f"{source}: joint {name}: type {j.type!r} is not supported")
+            if j.child not in urdf.link_map or j.child in carried:
+                raise MeshError(
+                    f"{source}: joint {name}: its child {j.child!r} is not a link, or is carried "
+                    "by another joint too (the links must form one tree)"
+                )
+            carried.add(j.child)
+            self._children.setdefault(j.parent, []).append(j.child)
+            axis = tuple(float(x) for x in (j.axis if j.axis is not None else (1.0, 0.0, 0.0)))
+            if j.type != "fixed" and not (all(map(math.isfinite, axis)) and any(axis)):
+                text = ", ".join(f"{a:g}" for a in axis)
+                raise MeshError(f"{source}: joint {name}: axis ({text}) has no direction")
+            if j.type == "fixed" or j.mimic is not None:
+                continue
+            lower, upper = -math.inf, math.inf
+            if j.type != "continuous" and j.limit is not None:
+                lower = -math.inf if j.limit.lower is None else float(j.limit.lower)
+                upper = math.inf if j.limit.upper is None else float(j.limit.upper)
+            self.joints[name] = Joint(name, j.type, j.parent, j.child, axis, lower, upper)
+        for name, j in urdf.joint_map.items():
+            if j.type != "fixed" and j.mimic is not None and j.mimic.joint not in self.joints:
+                raise MeshError(
+                    f"{source}: joint {name} mimics {j.mimic.joint!r}, which is not a moving "
+                    f"joint; the moving joints are {', '.join(self.joints) or 'none'}"
+                )
+        unreached = set(self.links) - set(self.carried(self.root))
+        if unreached:
+            raise MeshError(
+                f"{source}: links not carried from the root {self.root} by a chain of joints: "
+                f"{', '.join(sorted(unreached))}"
+            )
+        self._kinematics = yourdfpy.URDF(urdf.robot, build_scene_graph=True, load_meshes=False)
+        self._unset = {name: math.nan for name in self.joints}
+        self._posed = None  # the configuration the scene graph holds
+        self._lock = threading.Lock()  # (the scene graph holds one configuration at a time)
+
+    def carried(self, link: str) -> list:
+        """``link`` and every link beyond it (names)."""
+        out, stack = [], [link]
+        while stack:
+            out.append(stack.pop())
+            stack.extend(self._children.get(out[-1], []))
+        return out
+
+    def poses(self, positions: dict) -> np.ndarray:
+        """4 x 4 pose of every link in G, shape (L, 4, 4), for checked ``positions`` (every
+        moving joint named): yourdfpy's forward kinematics."""
+        key = tuple(positions[name] for name in self.joints)
+        with self._lock:
+            if key != self._posed:
+                # (trimesh's scene graph keeps a joint's transform when the new one is within
+                # 1e-8 of it: set to NaN first, every moving joint's is replaced)
+                self._kinematics.update_cfg(self._unset)
+                self._kinematics.update_cfg(positions)
+                self._posed = key
+            return np.stack([self._kinematics.get_transform(k, self.root) for k in self.links])
 
 
 class Poses(NamedTuple):
@@ -40,29 +163,15 @@ class Poses(NamedTuple):
     joint_origins: np.ndarray
 
 
-class PoseCache:
-    """The :class:`Poses` of a body's latest joint configurations.
-
-    Key: the checked joint positions in joint order (exact floats). Value: the Poses. Bound:
-    ``max_entries`` (least recently used dropped). Counters: :attr:`store`'s ``hits`` and
-    ``misses``.
-    """
-
-    def __init__(self, body: ArticulatedBody, max_entries: int = 16):
-        self.body = body
-        self.store = LruStore(max_entries)
-        self._child = [body.links.index(j.child) for j in body.joints.values()]
-        self._axes = np.array([j.axis for j in body.joints.values()], dtype=float).reshape(-1, 3)
-
-    def poses(self, positions: dict) -> Poses:
-        """The Poses of checked ``positions`` (every moving joint named)."""
-        key = tuple(positions[name] for name in self.body.joints)
-        return self.store.get(key, lambda: self._poses(key, positions))
-
-    def _poses(self, key: tuple, positions: dict) -> Poses:
-        matrices = self.body.link_poses(positions)
-        rotations = np.ascontiguousarray(matrices[:, :3, :3])
-        origins = np.ascontiguousarray(matrices[:, :3, 3])
-        axes = np.einsum("jab,jb->ja", rotations[self._child], self._axes)
-        axes /= np.sqrt(np.einsum("ja,ja->j", axes, axes))[:, None]
-        return Poses(key, rotations, origins, axes, origins[self._child])
+def link_frames(body, positions: dict) -> Poses:
+    """The :class:`Poses` of an :class:`~adbsat_ros.geometry.articulated.ArticulatedBody` at
+    checked ``positions`` (every moving joint named)."""
+    key = tuple(positions[name] for name in body.joints)
+    matrices = body.link_poses(positions)
+    rotations = np.ascontiguousarray(matrices[:, :3, :3])
+    origins = np.ascontiguousarray(matrices[:, :3, 3])
+    child = [body.links.index(j.child) for j in body.joints.values()]
+    axes = np.array([j.axis for j in body.joints.values()], dtype=float).reshape(-1, 3)
+    axes = np.einsum("jab,jb->ja", rotations[child], axes)
+    axes /= np.sqrt(np.einsum("ja,ja->j", axes, axes))[:, None]
+    return Poses(key, rotations, origins, axes, origins[child])

@@ -41,7 +41,7 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
-from adbsat_ros.geometry.poses import PoseCache, Poses
+from adbsat_ros.geometry.poses import Poses, link_frames
 from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.articulated_results import ArticulatedCoefficients, Configuration
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
@@ -112,14 +112,12 @@ class ArticulatedMethod:
                     self._carries[j, evaluated[link]] = 1.0
         self._joint_names = tuple(body.joints)
         self._prismatic = np.array([j.kind == "prismatic" for j in body.joints.values()], bool)
-        #: The links' and joints' frames of the latest configurations.
-        self.poses = PoseCache(body)
         #: The joints' effort terms (:meth:`_make_load_map`, and the posed facets' columns).
         self._effort_columns = EffortColumns(
             self._carries, self._prismatic, self.reference.area, self.reference.length
         )
         #: The linear map from the links' loads to every output, per configuration (key: the
-        #: poses' key; bound 16, as the poses').
+        #: poses' key; bound 16).
         self.load_maps = LruStore(16)
         #: The lightings of the posed body split by link, in the links' frames.
         self.splits = LinkSplitCache([(start, stop) for _, start, stop, _ in self._links])
@@ -251,7 +249,7 @@ class ArticulatedMethod:
         """The :class:`Configuration` of joint ``positions`` (others at zero), checked as
         :meth:`ArticulatedBody.positions` checks them (ValueError naming a bad one)."""
         positions = self.body.positions(positions)
-        poses = self.poses.poses(positions)
+        poses = link_frames(self.body, positions)
         joint_positions = np.array(poses.key, dtype=float)
         joint_positions.setflags(write=False)
         normals = None if self.facets is None else self.facets.normals(poses)

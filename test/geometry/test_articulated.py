@@ -4,18 +4,15 @@ files are refused by name."""
 
 from __future__ import annotations
 
-import io
 import math
 
 import numpy as np
 import pytest
-import yourdfpy
 from fin_cases import FIN_URDF, newton_hinge_torque, rotation_y
 
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_satellite import BODY_SIZE, WING_GAP, WING_X_CENTRE
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf
-from adbsat_ros.geometry.kinematics import rotation
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.geometry.shapes import combine
 from adbsat_ros.physics.freestream import FreeStream
@@ -149,6 +146,28 @@ def test_bad_joint_positions_are_refused_by_name(body, values, message):
             "<axis xyz='0 nan 1'/></joint></robot>",
             r"joint j: axis \(0, nan, 1\) has no direction",
         ),
+        (
+            "<robot name='x'><link name='a'><visual><geometry><box size='1 1 1'/></geometry>"
+            "</visual></link><link name='b'/><link name='c'/>"
+            "<joint name='j' type='revolute'><parent link='a'/><child link='b'/></joint>"
+            "<joint name='k' type='revolute'><parent link='b'/><child link='c'/></joint>"
+            "<joint name='l' type='fixed'><parent link='c'/><child link='b'/></joint></robot>",
+            "joint l: its child 'b' is not a link, or is carried by another joint too",
+        ),
+        (
+            "<robot name='x'><link name='a'><visual><geometry><box size='1 1 1'/></geometry>"
+            "</visual></link>"
+            "<joint name='j' type='revolute'><parent link='a'/><child link='z'/></joint></robot>",
+            "joint j: its child 'z' is not a link",
+        ),
+        (
+            "<robot name='x'><link name='a'><visual><geometry><box size='1 1 1'/></geometry>"
+            "</visual></link><link name='b'/><link name='c'/>"
+            "<joint name='f' type='fixed'><parent link='a'/><child link='b'/></joint>"
+            "<joint name='m' type='continuous'><parent link='a'/><child link='c'/>"
+            "<mimic joint='f'/></joint></robot>",
+            "joint m mimics 'f', which is not a moving joint; the moving joints are none",
+        ),
     ],
 )
 def test_bad_urdfs_are_refused_naming_the_problem(text, message):
@@ -250,56 +269,82 @@ TREE_URDF = """<robot name="tree">
 </robot>"""
 
 
+def axis_angle(axis, angle) -> np.ndarray:
+    """Rodrigues' rotation matrix about ``axis`` (any length) by ``angle`` [rad]."""
+    x, y, z = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * k @ k
+
+
+def frame(xyz, rpy, rotation=np.eye(3), shift=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """4 x 4 pose of a URDF origin (``xyz``, roll-pitch-yaw ``rpy``: Rz Ry Rx) followed by
+    ``rotation`` and ``shift`` in the frame it places."""
+    r, p, y = rpy
+    rx = axis_angle((1, 0, 0), r) if r else np.eye(3)
+    ry = axis_angle((0, 1, 0), p) if p else np.eye(3)
+    rz = axis_angle((0, 0, 1), y) if y else np.eye(3)
+    out = np.eye(4)
+    out[:3, :3] = rz @ ry @ rx @ rotation
+    out[:3, 3] = np.asarray(xyz, dtype=float) + rz @ ry @ rx @ np.asarray(shift, dtype=float)
+    return out
+
+
 def test_a_joints_rotation_is_a_rotation_by_its_angle():
-    """The chain's rotation about an axis (any length, either sense) is trimesh's
-    ``rotation_matrix``, a rotation: orthonormal, determinant 1, the axis
-    fixed and a vector normal to it turned by the angle."""
+    """A continuous joint about an axis of any length and either sense turns its link by a
+    rotation: orthonormal, determinant 1, the axis fixed and a vector normal to it turned by
+    the angle (Rodrigues' formula)."""
     rng = np.random.default_rng(11)
-    for k in range(500):
-        axis = rng.normal(size=3) * (3.7 if k % 2 else 1.0)
-        if k % 5 == 0:
-            axis = np.eye(3)[k % 3] * (-1.0) ** k
-        angle = rng.uniform(-7.0, 7.0)
-        got = rotation(angle, axis)
-        r = got[:3, :3]
-        np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-15)
-        assert np.linalg.det(r) == pytest.approx(1.0, abs=1e-14)
-        unit = axis / np.linalg.norm(axis)
-        np.testing.assert_allclose(r @ unit, unit, atol=1e-15)
-        normal = np.cross(unit, [0.3, -0.5, 0.8])
-        normal /= np.linalg.norm(normal)
-        turned = r @ normal
-        assert math.atan2(np.cross(normal, turned) @ unit, normal @ turned) == pytest.approx(
-            math.remainder(angle, 2.0 * math.pi), abs=1e-12
-        )
+    axes = [rng.normal(size=3) * (3.7 if k % 2 else 1.0) for k in range(9)]
+    axes += [np.eye(3)[k % 3] * (-1.0) ** k for k in range(3)]
+    joint = (
+        "<link name='l{0}'/><joint name='j{0}' type='continuous'><parent link='base'/>"
+        "<child link='l{0}'/><axis xyz='{1} {2} {3}'/></joint>"
+    )
+    body = ArticulatedBody.from_urdf(
+        "<robot name='axes'><link name='base'><visual><geometry><box size='1 1 1'/></geometry>"
+        "</visual></link>"
+        + "".join(joint.format(k, *(repr(float(a)) for a in axis)) for k, axis in enumerate(axes))
+        + "</robot>"
+    )
+    for _ in range(20):
+        angles = rng.uniform(-7.0, 7.0, size=len(axes))
+        poses = body.link_poses({f"j{k}": a for k, a in enumerate(angles)})
+        for k, (axis, angle) in enumerate(zip(axes, angles)):
+            r = poses[body.links.index(f"l{k}")][:3, :3]
+            np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-15)
+            assert np.linalg.det(r) == pytest.approx(1.0, abs=1e-14)
+            unit = axis / np.linalg.norm(axis)
+            np.testing.assert_allclose(r @ unit, unit, atol=1e-15)
+            normal = np.cross(unit, [0.3, -0.5, 0.8])
+            normal /= np.linalg.norm(normal)
+            turned = r @ normal
+            assert math.atan2(np.cross(normal, turned) @ unit, normal @ turned) == pytest.approx(
+                math.remainder(angle, 2.0 * math.pi), abs=1e-12
+            )
+            np.testing.assert_allclose(r, axis_angle(axis, angle), rtol=0, atol=1e-14)
 
 
-def test_the_links_poses_are_yourdfpys_forward_kinematics():
+def test_the_links_poses_are_the_chains_closed_form():
     """Revolute, prismatic and continuous joints with tilted origins and axes that are not unit
     vectors, a chain three joints deep, a mimic joint and a fixed one: every link's pose is the
-    one yourdfpy's own forward kinematics gives."""
+    product of its joints' origins and motions written out (Rodrigues' formula for the turns)."""
     body = ArticulatedBody.from_urdf(TREE_URDF)
     assert set(body.joints) == {"shoulder", "slide", "wrist"}
-    reference = yourdfpy.URDF.load(io.StringIO(TREE_URDF), build_scene_graph=True)
     rng = np.random.default_rng(7)
     for _ in range(6):
-        values = {
-            "shoulder": rng.uniform(-2, 2),
-            "slide": rng.uniform(-0.3, 0.3),
-            "wrist": rng.uniform(-7, 7),
-        }
-        reference.update_cfg(values)
-        expected = np.stack([reference.get_transform(link, "base") for link in body.links])
-        np.testing.assert_allclose(body.link_poses(values), expected, rtol=0, atol=1e-13)
-    # the mimic joint follows: at shoulder q the twin turns by -0.5 q + 0.1 about z
-    poses = body.link_poses({"shoulder": 0.8})
-    twin = poses[body.links.index("twin")]
-    angle = -0.5 * 0.8 + 0.1
-    np.testing.assert_allclose(
-        twin[:3, :3],
-        [[math.cos(angle), -math.sin(angle), 0], [math.sin(angle), math.cos(angle), 0], [0, 0, 1]],
-        atol=1e-15,
-    )
+        q = {"shoulder": rng.uniform(-2, 2), "slide": rng.uniform(-0.3, 0.3)}
+        q["wrist"] = rng.uniform(-7, 7)
+        arm = frame((0.5, 0.1, -0.2), (0.3, -0.2, 0.9), axis_angle((0, 1, 1), q["shoulder"]))
+        slide_axis = np.array([0.6, 0.0, 0.8])
+        slider = arm @ frame((0, 0, 0.5), (0, 0.4, 0), shift=q["slide"] * slide_axis)
+        tip = slider @ frame((0.1, 0, 0), (-0.5, 0, 0.2), axis_angle((1, 0, 0), q["wrist"]))
+        twin = frame((-0.5, 0, 0), (0, 0, 0), axis_angle((0, 0, 1), -0.5 * q["shoulder"] + 0.1))
+        camera = frame((0, 0.5, 0.5), (0.1, 0.2, 0.3))
+        expected = {"base": np.eye(4), "arm": arm, "slider": slider, "tip": tip}
+        expected |= {"twin": twin, "camera": camera}
+        poses = body.link_poses(q)
+        for link, pose in expected.items():
+            np.testing.assert_allclose(poses[body.links.index(link)], pose, rtol=0, atol=1e-14)
 
 
 def test_a_urdf_of_collision_geometry_only_has_it_as_its_body():
