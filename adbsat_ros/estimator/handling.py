@@ -22,7 +22,7 @@ from adbsat_ros.messages.decoding import JointStateFields, OdometryFields, Undec
 from adbsat_ros.messages.stamps import next_regular_stamp, stamp_seconds
 
 
-@dataclass(frozen=True, kw_only=True)
+@dataclass(frozen=True, kw_only=True, slots=True)
 class Outcome:
     """What one input message came to: the sample, or the rejection or failure.
 

@@ -79,13 +79,10 @@ def encode_wrench(
     """
     frame = settings.body_frame_id
     sec, nanosec = stamp.sec, stamp.nanosec
-    messages = {
-        "wrench": wrench_stamped_cdr(
-            sec, nanosec, frame, sample.force.tolist(), sample.torque.tolist()
-        )
-    }
+    wrench = wrench_stamped_cdr(sec, nanosec, frame, sample.force.tolist(), sample.torque.tolist())
+    coefficients_cdr = inertial_cdr = acceleration_cdr = solar_cdr = total_cdr = joints_cdr = None
     if coefficients:
-        messages["coefficients"] = wrench_stamped_cdr(
+        coefficients_cdr = wrench_stamped_cdr(
             sec,
             nanosec,
             frame,
@@ -95,23 +92,26 @@ def encode_wrench(
     if inertial:
         force, torque, linear, angular = sample.state_frame_wrench(settings.mass, settings.inertia)
         state_frame = settings.state_frame
-        messages["inertial"] = wrench_stamped_cdr(
+        inertial_cdr = wrench_stamped_cdr(
             sec, nanosec, state_frame, force.tolist(), torque.tolist()
         )
         if linear is not None:
-            messages["acceleration"] = accel_stamped_cdr(
+            acceleration_cdr = accel_stamped_cdr(
                 sec, nanosec, state_frame, linear.tolist(), angular.tolist()
             )
-    if sample.solar is not None:
-        messages["solar"] = wrench_stamped_cdr(
-            sec, nanosec, frame, sample.solar.force.tolist(), sample.solar.torque.tolist()
+    solar = sample.solar
+    if solar is not None:
+        solar_cdr = wrench_stamped_cdr(
+            sec, nanosec, frame, solar.force.tolist(), solar.torque.tolist()
         )
-        messages["total"] = wrench_stamped_cdr(
+        total_cdr = wrench_stamped_cdr(
             sec, nanosec, frame, sample.total_force.tolist(), sample.total_torque.tolist()
         )
     joints = sample.joints
     if joint_torques and joints is not None:
-        messages["joint_torques"] = serialise_joint_state(
+        joints_cdr = serialise_joint_state(
             stamp, frame, joints.names, joints.positions, joints.efforts
         )
-    return WrenchMessages(**messages)
+    return WrenchMessages(
+        wrench, coefficients_cdr, inertial_cdr, acceleration_cdr, solar_cdr, total_cdr, joints_cdr
+    )
