@@ -29,9 +29,11 @@ from bench_articulated import (
     tracking_joints,
 )
 
+from adbsat_ros.bags.io import joint_state_cdr
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf
+from adbsat_ros.messages.encoding import encode_wrench
 
 CLASSES = ("plain", "js", "cell", "config")
 
@@ -50,7 +52,9 @@ def run(body, joints, messages: int, warm_up: int) -> dict:
             h.on_joint_state(joint_state)
         cache = h.estimator.shading_cache
         configurations, cells = cache.configuration_misses, cache.misses
-        h.on_attitude(attitude(k))
+        outcome = h.on_attitude(attitude(k))
+        if outcome.sample is not None:
+            encode_wrench(outcome.stamp, outcome.sample, h.estimator.settings, joint_state_cdr)
         elapsed = (clock() - t0) / 1e3
         if k < warm_up:
             continue

@@ -53,6 +53,7 @@ import math
 import statistics
 import time
 
+from adbsat_ros.bags import io as bag_io
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler
 from adbsat_ros.estimator.settings import WrenchSettings
@@ -60,7 +61,9 @@ from adbsat_ros.estimator.shading import ShadingSource
 from adbsat_ros.estimator.state import checked_rotation
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_urdf import example_finned_urdf, example_satellite_urdf
-from adbsat_ros.messages.cdr import AttitudeFields, JointStateFields, OdometryFields, Stamp
+from adbsat_ros.messages.cdr import AttitudeFields, Stamp
+from adbsat_ros.messages.decoding import JointStateFields, OdometryFields
+from adbsat_ros.messages.encoding import encode_wrench
 
 R_ORBIT = 6378137.0 + 300e3
 V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
@@ -123,7 +126,7 @@ class Case:
     """A handler and its message stream: ``joints(k)`` gives the joint state due at message k
     (or None)."""
 
-    #: What the handler serialises besides the wrench (``on_attitude``'s flags).
+    #: What is serialised besides the wrench (``encode_wrench``'s flags).
     outputs = {"coefficients": True, "joint_torques": True}
 
     def __init__(self, name, handler, joints=None):
@@ -142,10 +145,14 @@ class Case:
             joint_state = self.joints(k)
             if joint_state is not None:
                 handler.on_joint_state(joint_state)
-        outcome = handler.on_attitude(attitude(k), **self.outputs)
-        elapsed = clock() - t0
+        outcome = handler.on_attitude(attitude(k))
         if outcome.sample is None:
             raise RuntimeError(f"{self.name}: message {k} refused: {outcome.rejection}")
+        settings = handler.estimator.settings
+        encode_wrench(
+            outcome.stamp, outcome.sample, settings, bag_io.joint_state_cdr, **self.outputs
+        )
+        elapsed = clock() - t0
         self.k += 1
         return elapsed
 

@@ -1,5 +1,4 @@
-"""Cost of one attitude in and one wrench out, and of one state in, as message objects or as CDR
-bytes.
+"""Cost of one attitude in and one wrench out, as message objects or as CDR bytes.
 
 Usage:
     python bench/bench_message_codec.py [--repeat 20000]
@@ -10,14 +9,11 @@ geometry_msgs/WrenchStamped written (stamp, frame, force, torque), three ways:
 * rclpy: deserialize_message / serialize_message, i.e. the typesupport conversions between CDR
   and Python message objects that a typed subscription and publisher make for every message;
 * rosbags: its pure-Python CDR codec with its own message classes;
-* stamped_cdr: the struct readers and writer the node uses (adbsat_ros.messages.cdr).
+* stamped_cdr: the struct reader and writer the node uses (adbsat_ros.messages.cdr), the one
+  hand-made codec of the package.
 
-and for one nav_msgs/Odometry read (stamp, frame ids, position, orientation, linear velocity)
-and one sensor_msgs/JointState read (stamp, names, positions; two joints with positions and
-efforts, as the example satellite's wings) the same three ways.
-
-Prints the median time per message pair (and per Odometry, per JointState) in microseconds,
-each codec timed in alternating blocks so that the machine's slow spells fall on all three.
+Prints the median time per message pair in microseconds, each codec timed in alternating blocks
+so that the machine's slow spells fall on all three.
 """
 
 from __future__ import annotations
@@ -30,21 +26,12 @@ from pathlib import Path
 
 import numpy as np
 from geometry_msgs.msg import QuaternionStamped, WrenchStamped
-from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
-from sensor_msgs.msg import JointState
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
 
 from adbsat_ros.bags import io as bag_io  # noqa: E402
-from adbsat_ros.messages.cdr import (  # noqa: E402
-    JointStateFields,
-    OdometryFields,
-    joint_state_fields,
-    odometry_fields,
-    quaternion_stamped_fields,
-    wrench_stamped_cdr,
-)
+from adbsat_ros.messages.cdr import quaternion_stamped_fields, wrench_stamped_cdr  # noqa: E402
 
 FORCE, TORQUE = [1.0e-3, -2.0e-5, 3.0e-6], [4.0e-7, 5.0e-6, -6.0e-7]
 
@@ -95,51 +82,7 @@ def main() -> None:
         "stamped_cdr (struct)": with_struct,
     }
 
-    odom = Odometry()
-    odom.header.frame_id, odom.child_frame_id = "eci", "eci"
-    odom.header.stamp.sec = 1_767_225_600
-    odom.pose.pose.position.x, odom.twist.twist.linear.y = 6678137.0, 7725.8
-    odom_raw = bytes(serialize_message(odom))
-    states = {
-        "rclpy message objects": lambda: OdometryFields.of_message(
-            deserialize_message(odom_raw, Odometry)
-        ),
-        "rosbags codec": lambda: OdometryFields.of_message(
-            bag_io.deserialize(odom_raw, bag_io.ODOMETRY)
-        ),
-        "stamped_cdr (struct)": lambda: odometry_fields(odom_raw),
-    }
-    assert len({fn() for fn in states.values()}) == 1  # the three read the same fields
-
-    # (rosbags' bytes: rosbags refuses rclpy's, which end with a few bytes of padding)
-    joints_raw = bytes(
-        bag_io.serialize(
-            bag_io.joint_state_message(
-                1_767_225_600 * 10**9,
-                "",
-                ("wing_left_hinge", "wing_right_hinge"),
-                (0.3, -0.3),
-                (),
-                (1e-5, -1e-5),
-            )
-        )
-    )
-    joint_states = {
-        "rclpy message objects": lambda: JointStateFields.of_message(
-            deserialize_message(joints_raw, JointState)
-        ),
-        "rosbags codec": lambda: JointStateFields.of_message(
-            bag_io.deserialize_joint_state(joints_raw)
-        ),
-        "stamped_cdr (struct)": lambda: joint_state_fields(joints_raw),
-    }
-    assert len({fn() for fn in joint_states.values()}) == 1
-
-    for title, cases in (
-        ("one QuaternionStamped read + one WrenchStamped written", pairs),
-        ("one Odometry read", states),
-        ("one JointState read", joint_states),
-    ):
+    for title, cases in (("one QuaternionStamped read + one WrenchStamped written", pairs),):
         block = 500
         times = {name: [] for name in cases}
         for _ in range(max(args.repeat // block, 1)):

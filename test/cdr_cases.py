@@ -1,40 +1,15 @@
-"""Message contents shared by the CDR codec's tests against rosbags and against rclpy."""
+"""Message contents shared by the codec's and the decoding's tests against rosbags and rclpy."""
 
 import math
 
 import numpy as np
 
 from adbsat_ros.bags import io as bag_io
-from adbsat_ros.messages.cdr import DiagnosticFields
 
 FRAMES = ("", "b", "eci", "body", "sat_body_frame", "frame_ñ")  # every length mod 8, and UTF-8
 STAMPS_NS = (0, 1_767_225_600_123_456_789, 2**31 * 10**9 - 1)
 Q = [0.1, -0.2, 0.3, math.sqrt(1 - 0.14)]
 POSITION, VELOCITY = (6678137.0, -1.5e-3, 2.5e5), (-0.25, 7725.8, 1e-300)
-
-#: Strings of every length mod 4 (their NUL and the padding after them), UTF-8, no values,
-#: several statuses, each level.
-DIAGNOSTIC_STATUSES = [
-    DiagnosticFields(level, name, message, hardware, values)
-    for level, (name, message, hardware, values) in enumerate(
-        [
-            (
-                "adbsat_node: aerodynamic wrench",
-                "ok",
-                "satellite.obj",
-                (("gsi_model", "sentman"), ("a", "")),
-            ),
-            ("n", "", "ñ", ()),
-            (
-                "",
-                "state is stale (1.5 s old)",
-                "example",
-                (("rejected_non_finite", "12"), ("b", "é")),
-            ),
-            ("abcd", "abc", "ab", (("k", "v"), ("kk", "vv"), ("kkk", "vvv"))),
-        ]
-    )
-]
 
 
 def odometry(stamp_ns, frame, child):

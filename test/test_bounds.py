@@ -23,7 +23,8 @@ from adbsat_ros.estimator.parameters import (
 )
 from adbsat_ros.estimator.samples import Rejection
 from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
-from adbsat_ros.messages.cdr import AttitudeFields, OdometryFields, Stamp
+from adbsat_ros.messages.cdr import AttitudeFields, Stamp
+from adbsat_ros.messages.decoding import OdometryFields
 from adbsat_ros.processes import usable_cpus, worker_count
 
 
@@ -224,7 +225,7 @@ def test_the_messages_take_the_edges_and_refuse_beyond():
     ):
         outcome = handler.on_attitude(AttitudeFields(Stamp(1, 1000 * (k + 1)), [0.0, 0.0, 0.0, w]))
         assert outcome.reason == reason, (w, outcome.reason)
-        assert (outcome.wrench_cdr is None) == (reason is not None)
+        assert (outcome.sample is None) == (reason is not None)
     speed = BOUNDS["orbital_speed"].high
     for k, (radius, v, reason) in enumerate(
         [

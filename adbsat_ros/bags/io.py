@@ -1,12 +1,12 @@
 """Reading and writing rosbag2 files (.mcap and .db3) without ROS, with the ``rosbags`` library.
 
-The one place that knows the message layouts in bags: builders for the messages the project
-writes (Odometry, QuaternionStamped, WrenchStamped, DiagnosticArray), the deserialisers of the
-inputs the node reads (the fallback of :mod:`adbsat_ros.messages.decoding` for bytes its struct
-codec refuses), an :func:`open_bag` that turns every failure into a :class:`BagError` naming the
-file, and a :class:`BagWriter` that writes under a temporary name and only puts the bag at its
-final path on :meth:`BagWriter.commit`, its MCAP files with their CRCs
-(:mod:`adbsat_ros.bags.checksums`).
+The one place that knows the message layouts in bags: builders for the messages the project writes
+(Odometry, QuaternionStamped, WrenchStamped, JointState, DiagnosticArray), the deserialisers of the
+inputs the node reads (given to :mod:`adbsat_ros.messages.decoding`) and the serialiser of the joint
+torques (given to :mod:`adbsat_ros.messages.encoding`), an :func:`open_bag` that turns every failure
+into a :class:`BagError` naming the file, and a :class:`BagWriter` that writes under a temporary
+name and only puts the bag at its final path on :meth:`BagWriter.commit`, its MCAP files with their
+CRCs (:mod:`adbsat_ros.bags.checksums`).
 
 Message builders take stamps as integer nanoseconds (``builtin_interfaces/Time`` sec + nanosec).
 """
@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 from rosbags.rosbag2 import Reader, StoragePlugin
+from rosbags.serde import SerdeError
 from rosbags.typesys import Stores, get_typestore
 
 from adbsat_ros.bags import replacing
@@ -170,8 +171,29 @@ def deserialize_attitude(raw):
 
 
 def deserialize_joint_state(raw):
-    """A sensor_msgs/JointState from CDR bytes (raises for anything else)."""
-    return TYPESTORE.deserialize_cdr(raw, JOINT_STATE)
+    """A sensor_msgs/JointState from CDR bytes (raises for anything else).
+
+    Up to 15 bytes after the last field are read past: rclpy's serialiser leaves up to 12 there
+    (so a bag recorded from a live topic has them), and rosbags refuses more than 3.
+    """
+    try:
+        return TYPESTORE.deserialize_cdr(raw, JOINT_STATE)
+    except SerdeError as exc:
+        for tail in (4, 8, 12):
+            if len(raw) > tail + 4:
+                try:
+                    return TYPESTORE.deserialize_cdr(raw[:-tail], JOINT_STATE)
+                except SerdeError:
+                    pass
+        raise exc from None
+
+
+def joint_state_cdr(stamp, frame_id: str, names, positions, efforts) -> bytes:
+    """CDR bytes of a sensor_msgs/JointState without velocities (``stamp``: sec, nanosec), by
+    rosbags' serialiser: how bag analysis writes the joint torques
+    (:func:`adbsat_ros.messages.encoding.encode_wrench`)."""
+    time = _Time(sec=int(stamp.sec), nanosec=int(stamp.nanosec))
+    return bytes(serialize(joint_state_message(time, frame_id, names, positions, (), efforts)))
 
 
 def deserialize_odometry(raw):

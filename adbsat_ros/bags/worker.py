@@ -1,11 +1,12 @@
 """The bag analysis's workers: chunks of trigger messages replayed through the node's handling.
 
 A worker holds one estimator per model (the mesh and shading cache built once per process). It
-replays a contiguous chunk of the state and attitude messages from reset estimators, each
-message decoded as the node decodes it (rosbags' deserialiser as the fallback) and handled by
-the node's own per-message path (:class:`~adbsat_ros.estimator.handling.MessageHandler`), and
-returns per message and model a :class:`MessageRecord`: only numbers and bytes, what the merge
-in bag order writes and counts (never the panel method's results), and the CSV row.
+replays a contiguous chunk of the state and attitude messages from reset estimators, each message
+decoded as the node decodes it (with rosbags' deserialiser where the node has rclpy's), handled by
+the node's own per-message path (:class:`~adbsat_ros.estimator.handling.MessageHandler`) and its
+sample encoded as the node encodes it (:func:`~adbsat_ros.messages.encoding.encode_wrench`), and
+returns per message and model a :class:`MessageRecord`: only numbers and bytes, what the merge in
+bag order writes and counts (never the panel method's results), and the CSV row.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from adbsat_ros.messages.decoding import (
     decode_joint_state,
     decode_odometry,
 )
+from adbsat_ros.messages.encoding import encode_wrench
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.processes import die_with_parent, frozen_heap, pool_context
 
@@ -179,17 +181,20 @@ class WorkerModel:
                 outcome.rejection is not None,
                 cache_keys=keys,
             )
+        messages = encode_wrench(
+            outcome.stamp, sample, self.estimator.settings, bag_io.joint_state_cdr
+        )
         return MessageRecord(
             outcome.state_accepted,
             "ok",
             numbers=SampleNumbers.of_sample(sample),
             compute_seconds=sample.compute_seconds,
-            wrench_cdr=outcome.wrench_cdr,
-            coefficients_cdr=outcome.coefficients_cdr,
+            wrench_cdr=messages.wrench,
+            coefficients_cdr=messages.coefficients,
             cache_keys=keys,
-            solar_cdr=outcome.solar_cdr,
-            total_cdr=outcome.total_cdr,
-            joint_torques_cdr=outcome.joint_torques_cdr,
+            solar_cdr=messages.solar,
+            total_cdr=messages.total,
+            joint_torques_cdr=messages.joint_torques,
         )
 
 
@@ -227,7 +232,7 @@ class Worker:
                     outcomes = [
                         m.handler.on_joint_state(joint_state)
                         if m.estimator.body is not None
-                        else Outcome(stamp)  # (a rigid model has no joints to set)
+                        else Outcome(stamp=stamp)  # (a rigid model has no joints to set)
                         for m in models
                     ]
                 elif kind == STATE:

@@ -251,7 +251,7 @@ class AeroWrenchEstimator:
         """Accept a nav_msgs/Odometry state.
 
         ``msg`` is an rclpy or rosbags message, or its
-        :class:`~adbsat_ros.messages.cdr.OdometryFields` (what the node reads from the CDR
+        :class:`~adbsat_ros.messages.decoding.OdometryFields` (what the node reads from the CDR
         bytes). Frame rules: :func:`adbsat_ros.estimator.state.odometry_inputs`.
 
         Returns

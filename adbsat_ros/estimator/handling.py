@@ -5,34 +5,26 @@
 :class:`~adbsat_ros.estimator.estimator.AeroWrenchEstimator` with the node's rules (a rejected
 input is counted by its reason; any other failure is counted as ``compute_error`` and never
 stops the caller; with ``attitude_source`` odometry a state's pose is the attitude) and returns
-an :class:`Outcome`: the sample or why there is none, and the CDR bytes of the wrench and
-coefficient messages to publish. The ROS node publishes from it; the bag analysis writes it.
-Both therefore compute and serialise every message the same way, bit for bit.
+an :class:`Outcome`: the sample, or why there is none. The node and the bag analysis turn a
+sample into its messages with the same function
+(:func:`adbsat_ros.messages.encoding.encode_wrench`), so both compute and serialise every
+message alike, bit for bit.
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
-import numpy as np
+from dataclasses import dataclass
 
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.samples import Rejection, WrenchSample
-from adbsat_ros.messages.cdr import (
-    AttitudeFields,
-    JointStateFields,
-    OdometryFields,
-    Stamp,
-    accel_stamped_cdr,
-    joint_state_cdr,
-    wrench_stamped_cdr,
-)
-from adbsat_ros.messages.decoding import UndecodableMessage
+from adbsat_ros.messages.cdr import AttitudeFields, Stamp
+from adbsat_ros.messages.decoding import JointStateFields, OdometryFields, UndecodableMessage
 from adbsat_ros.messages.stamps import next_regular_stamp, stamp_seconds
 
 
-class Outcome(NamedTuple):
-    """What one input message came to.
+@dataclass(frozen=True, kw_only=True, slots=True)
+class Outcome:
+    """What one input message came to: the sample, or the rejection or failure.
 
     Attributes
     ----------
@@ -49,28 +41,6 @@ class Outcome(NamedTuple):
         Why the input was refused (reason and message; counted by the estimator).
     error : Exception or None
         An unexpected failure (counted as ``compute_error``).
-    wrench_cdr : bytes or None
-        CDR bytes of the geometry_msgs/WrenchStamped: force [N] and torque [N m] about the
-        centre of mass, body frame (``body_frame_id``), stamped like the message.
-    coefficients_cdr : bytes or None
-        CDR bytes of the coefficients' WrenchStamped (C_F in ``force``, C_M in ``torque``), when
-        asked for.
-    inertial_cdr : bytes or None
-        When asked for: CDR bytes of a WrenchStamped with the force [N] in the state frame (its
-        frame_id the state frame's, ``state_frame``) and the torque [N m] in the body frame, as
-        torques are applied.
-    acceleration_cdr : bytes or None
-        When asked for and a ``mass`` is set: CDR bytes of a geometry_msgs/AccelStamped, the
-        non-gravitational acceleration force / mass [m/s^2] in the state frame and, with an
-        ``inertia``, the angular acceleration inertia^-1 torque [rad/s^2] in the body frame.
-        (With ``solar_pressure`` on, these two carry the total of both wrenches.)
-    solar_cdr, total_cdr : bytes or None
-        With ``solar_pressure`` on: CDR bytes of the solar radiation pressure WrenchStamped and
-        of the aerodynamic plus solar one, body frame, stamped like the message.
-    joint_torques_cdr : bytes or None
-        For an articulated body: CDR bytes of a sensor_msgs/JointState, stamped like the
-        message, with every moving joint's name, the position used and, as ``effort``, the
-        aerodynamic torque about its axis [N m] (force along a prismatic one [N]).
     """
 
     stamp: Stamp | None
@@ -79,13 +49,6 @@ class Outcome(NamedTuple):
     sample: WrenchSample | None = None
     rejection: Rejection | None = None
     error: Exception | None = None
-    wrench_cdr: bytes | None = None
-    coefficients_cdr: bytes | None = None
-    inertial_cdr: bytes | None = None
-    acceleration_cdr: bytes | None = None
-    solar_cdr: bytes | None = None
-    total_cdr: bytes | None = None
-    joint_torques_cdr: bytes | None = None
 
     @property
     def reason(self) -> str | None:
@@ -103,7 +66,7 @@ class Outcome(NamedTuple):
 
 
 #: The outcome of an attitude while the attitude comes from the odometry pose.
-IGNORED = Outcome(None)
+IGNORED = Outcome(stamp=None)
 
 
 class MessageHandler:
@@ -124,70 +87,26 @@ class MessageHandler:
         """Whether attitudes come from their own messages (else from the odometry pose)."""
         return self.estimator.settings.attitude_source == "attitude_topic"
 
-    def on_state(
-        self,
-        odometry: OdometryFields,
-        coefficients: bool = True,
-        inertial: bool = False,
-        joint_torques: bool = True,
-    ) -> Outcome:
-        """A state message: accepted (and with ``attitude_source`` odometry, its wrench), or not.
-
-        Parameters
-        ----------
-        odometry : OdometryFields
-            The decoded nav_msgs/Odometry.
-        coefficients : bool
-            Whether to serialise the coefficients message too.
-        inertial : bool
-            Whether to serialise the state-frame wrench and the acceleration too.
-        joint_torques : bool
-            Whether to serialise an articulated body's joint torques too.
-        """
+    def on_state(self, odometry: OdometryFields) -> Outcome:
+        """A state message (the decoded nav_msgs/Odometry): accepted (and with
+        ``attitude_source`` odometry, its wrench), or not."""
         try:
             _, orientation = self.estimator.on_odometry(odometry)
         except Rejection as exc:
-            return Outcome(odometry.stamp, rejection=exc)
+            return Outcome(stamp=odometry.stamp, rejection=exc)
         except Exception as exc:  # never let a message take the caller down
             self.estimator.rejections["compute_error"] += 1
-            return Outcome(odometry.stamp, error=exc)
+            return Outcome(stamp=odometry.stamp, error=exc)
         if self.uses_attitude_topic:
-            return Outcome(odometry.stamp, state_accepted=True)
-        return self._wrench(
-            odometry.stamp, orientation, coefficients, True, inertial, joint_torques
-        )
+            return Outcome(stamp=odometry.stamp, state_accepted=True)
+        return self._wrench(odometry.stamp, orientation, state=True)
 
-    def on_attitude(
-        self,
-        attitude: AttitudeFields,
-        coefficients: bool = True,
-        inertial: bool = False,
-        joint_torques: bool = True,
-    ) -> Outcome:
-        """An attitude message: its wrench, or why there is none (:data:`IGNORED` while the
-        attitude comes from the odometry pose).
-
-        Parameters
-        ----------
-        attitude : AttitudeFields
-            The decoded geometry_msgs/QuaternionStamped.
-        coefficients : bool
-            Whether to serialise the coefficients message too.
-        inertial : bool
-            Whether to serialise the state-frame wrench and the acceleration too.
-        joint_torques : bool
-            Whether to serialise an articulated body's joint torques too.
-        """
+    def on_attitude(self, attitude: AttitudeFields) -> Outcome:
+        """An attitude message (the decoded geometry_msgs/QuaternionStamped): its wrench, or
+        why there is none (:data:`IGNORED` while the attitude comes from the odometry pose)."""
         if not self.uses_attitude_topic:
             return IGNORED
-        return self._wrench(
-            attitude.stamp,
-            attitude.quaternion_xyzw,
-            coefficients,
-            False,
-            inertial,
-            joint_torques,
-        )
+        return self._wrench(attitude.stamp, attitude.quaternion_xyzw, state=False)
 
     def on_joint_state(self, joint_state: JointStateFields) -> Outcome:
         """A joint_states message: its positions taken for the next wrenches, or refused
@@ -197,98 +116,29 @@ class MessageHandler:
                 stamp_seconds(joint_state.stamp), joint_state.names, joint_state.positions
             )
         except Rejection as exc:
-            return Outcome(joint_state.stamp, rejection=exc)
+            return Outcome(stamp=joint_state.stamp, rejection=exc)
         except Exception as exc:  # never let a message take the caller down
             self.estimator.rejections["compute_error"] += 1
-            return Outcome(joint_state.stamp, error=exc)
-        return Outcome(joint_state.stamp)
+            return Outcome(stamp=joint_state.stamp, error=exc)
+        return Outcome(stamp=joint_state.stamp)
 
     def undecodable(self, what: str, exc: UndecodableMessage) -> Outcome:
         """Bytes on the ``what`` input ('attitude', 'state', 'joint_states') that are no
         message: counted as ``undecodable``; the outcome's rejection says what was wrong."""
         self.estimator.rejections["undecodable"] += 1
-        return Outcome(None, rejection=Rejection("undecodable", f"{what} message {exc}"))
+        return Outcome(stamp=None, rejection=Rejection("undecodable", f"{what} message {exc}"))
 
-    def _wrench(
-        self,
-        stamp: Stamp,
-        quaternion,
-        coefficients: bool,
-        state: bool,
-        inertial: bool = False,
-        joint_torques: bool = True,
-    ) -> Outcome:
+    def _wrench(self, stamp: Stamp, quaternion, state: bool) -> Outcome:
         estimator = self.estimator
         try:
             sample = estimator.on_attitude(stamp_seconds(stamp), quaternion)
         except Rejection as exc:
-            return Outcome(stamp, True, state, rejection=exc)
+            return Outcome(stamp=stamp, triggered=True, state_accepted=state, rejection=exc)
         except Exception as exc:  # never let a message take the caller down
             estimator.rejections["compute_error"] += 1
-            return Outcome(stamp, True, state, error=exc)
-        frame = estimator.settings.body_frame_id
-        sec, nanosec = stamp.sec, stamp.nanosec
-        wrench = wrench_stamped_cdr(
-            sec, nanosec, frame, sample.force.tolist(), sample.torque.tolist()
-        )
-        coefficients_cdr = None
-        if coefficients:
-            coefficients_cdr = wrench_stamped_cdr(
-                sec,
-                nanosec,
-                frame,
-                sample.force_coefficients.tolist(),
-                sample.moment_coefficients.tolist(),
-            )
-        inertial_cdr = acceleration_cdr = solar_cdr = total_cdr = None
-        if inertial:
-            inertial_cdr, acceleration_cdr = self._inertial(stamp, sample)
-        if sample.solar is not None:
-            solar_cdr = wrench_stamped_cdr(
-                sec, nanosec, frame, sample.solar.force.tolist(), sample.solar.torque.tolist()
-            )
-            total_cdr = wrench_stamped_cdr(
-                sec, nanosec, frame, sample.total_force.tolist(), sample.total_torque.tolist()
-            )
-        joints_cdr = None
-        if joint_torques and sample.joints is not None:
-            joints = sample.joints
-            joints_cdr = joint_state_cdr(
-                sec, nanosec, frame, joints.names, joints.positions, (), joints.efforts
-            )
+            return Outcome(stamp=stamp, triggered=True, state_accepted=state, error=exc)
         self._stamps = (self._stamps[1], stamp)
-        return Outcome(
-            stamp,
-            True,
-            state,
-            sample,
-            None,
-            None,
-            wrench,
-            coefficients_cdr,
-            inertial_cdr,
-            acceleration_cdr,
-            solar_cdr,
-            total_cdr,
-            joints_cdr,
-        )
-
-    def _inertial(self, stamp: Stamp, sample: WrenchSample) -> tuple:
-        """The state-frame wrench and (with a mass) the acceleration, as CDR bytes: of the
-        aerodynamic wrench, plus the solar one with ``solar_pressure`` on."""
-        settings = self.estimator.settings
-        force = np.array(sample.rotation).reshape(3, 3) @ sample.total_force
-        frame = settings.state_frame
-        torque = sample.total_torque.tolist()
-        inertial = wrench_stamped_cdr(stamp.sec, stamp.nanosec, frame, force.tolist(), torque)
-        if settings.mass <= 0.0:
-            return inertial, None
-        angular = [0.0, 0.0, 0.0]
-        if settings.inertia is not None:
-            tensor = np.array(settings.inertia).reshape(3, 3)
-            angular = np.linalg.solve(tensor, sample.total_torque).tolist()
-        linear = (force / settings.mass).tolist()
-        return inertial, accel_stamped_cdr(stamp.sec, stamp.nanosec, frame, linear, angular)
+        return Outcome(stamp=stamp, triggered=True, state_accepted=state, sample=sample)
 
     def next_stamp(self) -> float | None:
         """The stamp [s] the next wrench most likely has: the latest plus the latest interval

@@ -248,6 +248,33 @@ class WrenchSample:
         """The force [N] in the state frame (ECI or ECEF): R force."""
         return np.array(self.rotation).reshape(3, 3) @ self.force
 
+    def state_frame_wrench(self, mass: float, inertia) -> tuple:
+        """What a propagator takes, of the aerodynamic wrench plus the solar one (if any).
+
+        Parameters
+        ----------
+        mass : float
+            The body's mass [kg]; 0 (or less) for none.
+        inertia : sequence of 9 float or None
+            Its inertia tensor about the centre of mass, body frame, row-major [kg m^2].
+
+        Returns
+        -------
+        tuple
+            ``(force, torque, linear, angular)``: the force [N] in the state frame, the torque
+            [N m] in the body frame; with a positive ``mass`` the acceleration force / mass
+            [m/s^2] in the state frame (else None) and the angular acceleration inertia^-1
+            torque [rad/s^2] in the body frame (zero without an ``inertia``).
+        """
+        force = np.array(self.rotation).reshape(3, 3) @ self.total_force
+        torque = self.total_torque
+        if mass <= 0.0:
+            return force, torque, None, np.zeros(3)
+        angular = np.zeros(3)
+        if inertia is not None:
+            angular = np.linalg.solve(np.array(inertia).reshape(3, 3), torque)
+        return force, torque, force / mass, angular
+
     @functools.cached_property
     def drag_coefficient(self) -> float:
         """C_D: force coefficient along the gas motion (0 at rest; computed once, when first

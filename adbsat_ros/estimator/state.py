@@ -20,7 +20,7 @@ from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR, MAX_ALTITUD
 from adbsat_ros.environment.geodetic import geodetic_of_floats
 from adbsat_ros.estimator.samples import OrbitalState, Rejection
 from adbsat_ros.geometry.frames import quaternion_matrix_floats
-from adbsat_ros.messages.cdr import OdometryFields
+from adbsat_ros.messages.decoding import OdometryFields
 from adbsat_ros.messages.stamps import stamp_seconds
 
 #: Largest difference [m] between the geodetic altitudes of a position read in the state frame
@@ -215,7 +215,7 @@ def odometry_inputs(msg, state_frame: str, body_frame_id: str, frame_ids) -> tup
     ----------
     msg : object
         A nav_msgs/Odometry (rclpy or rosbags) or its
-        :class:`~adbsat_ros.messages.cdr.OdometryFields`.
+        :class:`~adbsat_ros.messages.decoding.OdometryFields`.
     state_frame : {"eci", "ecef"}
         The frame states are expected in.
     body_frame_id : str

@@ -1,30 +1,71 @@
-"""Input messages from their CDR bytes: the struct codec, then one full deserialiser as fallback.
+"""Input messages from their CDR bytes, to the fields the estimator takes.
 
-The node and the bag analysis read their attitude and state messages the same way: the readers
-of :mod:`adbsat_ros.messages.cdr` first (for plain CDR, what rclpy, Fast DDS and
-rosbags write), and for bytes those refuse (XCDR2 from another RMW, trailing bytes) a full
-deserialiser given by the caller: the node passes rclpy's ``deserialize_message`` with the
-message type, the bag analysis the deserialiser of its rosbags type store. Bytes that neither
-reads raise :class:`UndecodableMessage`.
+The node and the bag analysis read their input messages the same way, with the full
+deserialiser the caller has: the node passes rclpy's ``deserialize_message`` with the message
+type, the bag analysis the deserialiser of its rosbags type store. Only the attitude, one per
+wrench, is read by the ``struct`` reader of :mod:`adbsat_ros.messages.cdr` first, and by the
+deserialiser where that refuses the bytes (XCDR2 from another RMW, trailing bytes). Bytes that
+are not the message raise :class:`UndecodableMessage`.
 """
 
 from __future__ import annotations
 
-from typing import Callable
+from typing import Callable, NamedTuple
 
-from adbsat_ros.messages.cdr import (
-    AttitudeFields,
-    JointStateFields,
-    OdometryFields,
-    joint_state_fields,
-    odometry_fields,
-    quaternion_stamped_fields,
-)
+from adbsat_ros.messages.cdr import AttitudeFields, Stamp, quaternion_stamped_fields
 
 #: The message types read here (ROS 2 names).
 QUATERNION_STAMPED = "geometry_msgs/msg/QuaternionStamped"
 ODOMETRY = "nav_msgs/msg/Odometry"
 JOINT_STATE = "sensor_msgs/msg/JointState"
+
+
+class OdometryFields(NamedTuple):
+    """What the wrench needs of a nav_msgs/Odometry (the covariances and the angular rate are
+    left out). Field names follow the message."""
+
+    stamp: Stamp
+    frame_id: str
+    """header.frame_id: the frame of the pose (ECI or ECEF for the node)."""
+    child_frame_id: str
+    """The frame of the twist (Odometry convention)."""
+    position: tuple
+    """pose.pose.position x, y, z [m] in ``frame_id``."""
+    orientation_xyzw: tuple
+    """pose.pose.orientation x, y, z, w: the child frame's orientation in ``frame_id``."""
+    linear_velocity: tuple
+    """twist.twist.linear x, y, z [m/s] in ``child_frame_id``."""
+
+    @classmethod
+    def of_message(cls, msg) -> "OdometryFields":
+        """The fields of an Odometry message object (rclpy's or rosbags')."""
+        p, o, v = msg.pose.pose.position, msg.pose.pose.orientation, msg.twist.twist.linear
+        return cls(
+            Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec),
+            msg.header.frame_id,
+            msg.child_frame_id,
+            (p.x, p.y, p.z),
+            (o.x, o.y, o.z, o.w),
+            (v.x, v.y, v.z),
+        )
+
+
+class JointStateFields(NamedTuple):
+    """Of a sensor_msgs/JointState: stamp, joint names, and their positions [rad or m]."""
+
+    stamp: Stamp
+    names: tuple
+    positions: tuple
+
+    @classmethod
+    def of_message(cls, msg) -> "JointStateFields":
+        """The fields of an rclpy or rosbags JointState message object."""
+        stamp = msg.header.stamp
+        return cls(
+            Stamp(int(stamp.sec), int(stamp.nanosec)),
+            tuple(str(n) for n in msg.name),
+            tuple(float(x) for x in msg.position),
+        )
 
 
 class UndecodableMessage(Exception):
@@ -35,7 +76,7 @@ class UndecodableMessage(Exception):
     message_type : str
         The expected type, e.g. ``geometry_msgs/msg/QuaternionStamped``.
     reason : str
-        What the full deserialiser said, as ``ExceptionName: text``.
+        What the deserialiser said, as ``ExceptionName: text``.
     """
 
     def __init__(self, message_type: str, cause: BaseException):
@@ -44,61 +85,10 @@ class UndecodableMessage(Exception):
         super().__init__(f"not a {message_type} ({self.reason})")
 
 
-def decode_attitude(raw, fallback: Callable) -> AttitudeFields:
-    """Stamp and quaternion of the CDR bytes of a geometry_msgs/QuaternionStamped.
-
-    Parameters
-    ----------
-    raw : bytes
-        The serialised message.
-    fallback : callable
-        ``fallback(raw)`` returns the message object (fields ``header.stamp``, ``quaternion``) of
-        bytes the struct reader refuses, or raises.
-
-    Raises
-    ------
-    UndecodableMessage
-        If neither the struct reader nor ``fallback`` reads ``raw``.
-    """
-    try:
-        return quaternion_stamped_fields(raw)
-    except ValueError:
-        pass
-    try:
-        return AttitudeFields.of_message(fallback(raw))
-    except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
-        raise UndecodableMessage(QUATERNION_STAMPED, exc) from None
-
-
-def decode_odometry(raw, fallback: Callable) -> OdometryFields:
-    """Stamp, frames, pose and linear velocity of the CDR bytes of a nav_msgs/Odometry.
-
-    Parameters
-    ----------
-    raw : bytes
-        The serialised message.
-    fallback : callable
-        ``fallback(raw)`` returns the Odometry message object of bytes the struct reader refuses,
-        or raises.
-
-    Raises
-    ------
-    UndecodableMessage
-        If neither the struct reader nor ``fallback`` reads ``raw``.
-    """
-    try:
-        return odometry_fields(raw)
-    except ValueError:
-        pass
-    try:
-        return OdometryFields.of_message(fallback(raw))
-    except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
-        raise UndecodableMessage(ODOMETRY, exc) from None
-
-
-def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
-    """Stamp, names and positions of the CDR bytes of a sensor_msgs/JointState: the struct
-    reader's, or ``deserialise(raw)``'s (the full deserialiser) where it refuses them.
+def decode_attitude(raw, deserialise: Callable) -> AttitudeFields:
+    """Stamp and quaternion of the CDR bytes of a geometry_msgs/QuaternionStamped: the struct
+    reader's, or ``deserialise(raw)``'s (a message object with ``header.stamp`` and
+    ``quaternion``) where it refuses them.
 
     Raises
     ------
@@ -106,9 +96,39 @@ def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
         If neither reads ``raw``.
     """
     try:
-        return joint_state_fields(raw)
+        return quaternion_stamped_fields(raw)
     except ValueError:
         pass
+    try:
+        return AttitudeFields.of_message(deserialise(raw))
+    except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
+        raise UndecodableMessage(QUATERNION_STAMPED, exc) from None
+
+
+def decode_odometry(raw, deserialise: Callable) -> OdometryFields:
+    """Stamp, frames, pose and linear velocity of the CDR bytes of a nav_msgs/Odometry, read by
+    ``deserialise(raw)`` (the Odometry message object).
+
+    Raises
+    ------
+    UndecodableMessage
+        If ``deserialise`` does not read ``raw``.
+    """
+    try:
+        return OdometryFields.of_message(deserialise(raw))
+    except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
+        raise UndecodableMessage(ODOMETRY, exc) from None
+
+
+def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
+    """Stamp, names and positions of the CDR bytes of a sensor_msgs/JointState, read by
+    ``deserialise(raw)`` (the JointState message object).
+
+    Raises
+    ------
+    UndecodableMessage
+        If ``deserialise`` does not read ``raw``.
+    """
     try:
         return JointStateFields.of_message(deserialise(raw))
     except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)

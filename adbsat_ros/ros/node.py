@@ -24,8 +24,9 @@ Topics (relative names, remappable):
 
 The node is a shell around the per-message path it shares with the bag analysis
 (:class:`adbsat_ros.estimator.handling.MessageHandler`): each callback takes one message as CDR
-bytes, decodes it (:mod:`adbsat_ros.messages.decoding`, rclpy's deserialiser for anything but
-plain CDR), hands it to the handler and publishes the wrench bytes it returns. Attitudes that
+bytes, decodes it (:mod:`adbsat_ros.messages.decoding`, with rclpy's deserialiser), hands it to
+the handler, encodes the sample it returns (:mod:`adbsat_ros.messages.encoding`) and publishes
+the bytes. Attitudes that
 queue while the node computes are served by the executor, one callback each, in order. Bytes
 that are neither message are counted as ``undecodable``; rejected inputs are logged at most once
 per reason every ``LOG_THROTTLE_S``. After each attitude the node prepares what the next regular

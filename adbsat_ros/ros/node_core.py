@@ -12,14 +12,15 @@ from __future__ import annotations
 
 import functools
 import time
+from typing import NamedTuple
 
 from builtin_interfaces.msg import Time
-from diagnostic_msgs.msg import DiagnosticArray
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import AccelStamped, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.qos import QoSProfile, ReliabilityPolicy
-from rclpy.serialization import deserialize_message
+from rclpy.serialization import deserialize_message, serialize_message
 from sensor_msgs.msg import JointState
 from visualization_msgs.msg import Marker
 
@@ -29,19 +30,43 @@ from adbsat_ros.estimator.health import OK, WARN, Health, StampGaps
 from adbsat_ros.estimator.parameters import PARAMETERS, READ_ONLY_PARAMETERS
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import MeshError
-from adbsat_ros.messages.cdr import DiagnosticFields, diagnostic_array_cdr
+from adbsat_ros.messages.cdr import Stamp
 from adbsat_ros.messages.decoding import (
     UndecodableMessage,
     decode_attitude,
     decode_joint_state,
     decode_odometry,
 )
+from adbsat_ros.messages.encoding import encode_wrench
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.physics.knudsen import knudsen_number
 from adbsat_ros.ros.log_throttle import LogThrottle
 from adbsat_ros.ros.message_info import LostMessages
 from adbsat_ros.ros.parameter_values import declare_typed_parameters
 from adbsat_ros.ros.readers import Readers
+
+
+class DiagnosticFields(NamedTuple):
+    """The fields of the node's diagnostic_msgs/DiagnosticStatus: level (OK 0, WARN 1, ERROR 2,
+    STALE 3), name, message, hardware_id, and the values as (key, value) string pairs."""
+
+    level: int
+    name: str
+    message: str
+    hardware_id: str
+    values: tuple
+
+
+def joint_state_cdr(stamp: Stamp, frame_id: str, names, positions, efforts) -> bytes:
+    """CDR bytes of a sensor_msgs/JointState (no velocities), by rclpy's serialiser: the joint
+    torques' serialiser given to :func:`~adbsat_ros.messages.encoding.encode_wrench`."""
+    msg = JointState()
+    msg.header.stamp.sec, msg.header.stamp.nanosec = stamp.sec, stamp.nanosec
+    msg.header.frame_id = frame_id
+    msg.name = list(names)
+    msg.position = [float(x) for x in positions]
+    msg.effort = [float(x) for x in efforts]
+    return serialize_message(msg)
 
 
 class WrenchNodeCore:
@@ -108,11 +133,10 @@ class WrenchNodeCore:
         self.total_pub = create_publisher(WrenchStamped, "total_wrench", qos)
         self.diagnostics_pub = create_publisher(DiagnosticArray, "/diagnostics", 10)
         self.marker_pub = readers.publisher(Marker, "panel_marker", 1)
-        # the messages come in as CDR bytes, read by the struct codec (messages.cdr): rclpy
-        # message objects would cost more than the wrench itself; rclpy's deserialiser reads the
-        # rest. State first: when a state and an attitude wait together, the single-threaded
-        # executor takes them in the order the subscriptions were made, and the attitude wants
-        # the newest state.
+        # the messages come in as CDR bytes, read by rclpy's deserialiser (messages.decoding;
+        # the attitude by the struct codec first). State first: when a state and an attitude
+        # wait together, the single-threaded executor takes them in the order the subscriptions
+        # were made, and the attitude wants the newest state.
         self._odometry_message = functools.partial(deserialize_message, message_type=Odometry)
         self._attitude_message = functools.partial(
             deserialize_message, message_type=QuaternionStamped
@@ -238,10 +262,7 @@ class WrenchNodeCore:
         except UndecodableMessage as exc:
             self._serve(self.handler.undecodable("state", exc))
             return
-        readers = self.readers
-        outcome = self.handler.on_state(
-            odometry, readers.coefficients, readers.inertial, readers.joint_torques
-        )
+        outcome = self.handler.on_state(odometry)
         self._serve(outcome)
         if outcome.triggered:
             self._prepare_next()
@@ -257,12 +278,7 @@ class WrenchNodeCore:
             self._serve(handler.undecodable("attitude", exc))
         else:
             self.attitude_gaps.stamp(stamp_seconds(attitude.stamp))
-            readers = self.readers
-            self._serve(
-                handler.on_attitude(
-                    attitude, readers.coefficients, readers.inertial, readers.joint_torques
-                )
-            )
+            self._serve(handler.on_attitude(attitude))
         self._prepare_next()
 
     def _on_joint_state(self, raw: bytes) -> None:
@@ -296,23 +312,34 @@ class WrenchNodeCore:
         return sum(lost.lost for lost in self._lost.values())
 
     def _serve(self, outcome: Outcome) -> None:
-        """Publish what ``outcome`` holds, keep its health, log its rejection or failure."""
+        """Publish the messages of ``outcome``'s sample (those with readers, among the optional
+        ones), keep its health, log its rejection or failure."""
         if outcome.state_accepted:
             self.health.state_accepted(time.monotonic())
         sample = outcome.sample
         if sample is not None:
-            self.wrench_pub.publish(outcome.wrench_cdr)
-            if outcome.coefficients_cdr is not None:
-                self.coefficients_pub.publish(outcome.coefficients_cdr)
-            if outcome.inertial_cdr is not None:
-                self.inertial_pub.publish(outcome.inertial_cdr)
-            if outcome.acceleration_cdr is not None:
-                self.acceleration_pub.publish(outcome.acceleration_cdr)
-            if outcome.solar_cdr is not None:
-                self.solar_pub.publish(outcome.solar_cdr)
-                self.total_pub.publish(outcome.total_cdr)
-            if outcome.joint_torques_cdr is not None:
-                self.joint_torques_pub.publish(outcome.joint_torques_cdr)
+            readers = self.readers
+            messages = encode_wrench(
+                outcome.stamp,
+                sample,
+                self.estimator.settings,
+                joint_state_cdr,
+                readers.coefficients,
+                readers.inertial,
+                readers.joint_torques,
+            )
+            self.wrench_pub.publish(messages.wrench)
+            if messages.coefficients is not None:
+                self.coefficients_pub.publish(messages.coefficients)
+            if messages.inertial is not None:
+                self.inertial_pub.publish(messages.inertial)
+            if messages.acceleration is not None:
+                self.acceleration_pub.publish(messages.acceleration)
+            if messages.solar is not None:
+                self.solar_pub.publish(messages.solar)
+                self.total_pub.publish(messages.total)
+            if messages.joint_torques is not None:
+                self.joint_torques_pub.publish(messages.joint_torques)
             self.health.sample_computed(sample.compute_seconds, sample)
             for listener in self._sample_listeners:
                 listener(sample)
@@ -399,12 +426,19 @@ class WrenchNodeCore:
             self._log_throttled("error", "marker_failed", f"panel marker failed: {exc!r}")
 
     def _publish_diagnostics(self) -> None:
-        # as CDR bytes: building and serialising rclpy message objects for ~20 key/values would
-        # hold up the attitudes at 1 kHz
         try:
-            sec, nanosec = self.get_clock().now().seconds_nanoseconds()
-            self.diagnostics_pub.publish(
-                diagnostic_array_cdr(sec, nanosec, "", [self.diagnostic_fields()])
-            )
+            fields = self.diagnostic_fields()
+            array = DiagnosticArray()
+            array.header.stamp = self.get_clock().now().to_msg()
+            array.status = [
+                DiagnosticStatus(
+                    level=bytes([fields.level]),
+                    name=fields.name,
+                    message=fields.message,
+                    hardware_id=fields.hardware_id,
+                    values=[KeyValue(key=k, value=v) for k, v in fields.values],
+                )
+            ]
+            self.diagnostics_pub.publish(array)
         except Exception as exc:  # diagnostics must never take the node down
             self._log_throttled("error", "diagnostics_failed", f"diagnostics failed: {exc!r}")

@@ -10,6 +10,7 @@ import pickle
 import numpy as np
 import pytest
 
+from adbsat_ros.bags import io as bag_io
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
@@ -17,6 +18,8 @@ from adbsat_ros.estimator.samples import Rejection
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf
 from adbsat_ros.messages.cdr import AttitudeFields, Stamp
+from adbsat_ros.messages.decoding import decode_joint_state
+from adbsat_ros.messages.encoding import encode_wrench
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.panel_method import PanelMethod
 
@@ -254,16 +257,23 @@ def test_interpolated_configurations_blend_the_grid_points_around_the_joints():
 
 
 def test_the_joint_torques_message_is_made_only_when_asked_for():
-    """The node asks for it while joint_torques has a subscriber; the wrench is the same."""
+    """The node asks for it while joint_torques has a subscriber; the wrench is the same. The
+    message carries the joints' names, positions and efforts, stamped like the attitude."""
     est = ready(estimator())
     handler = MessageHandler(est)
-    attitude = AttitudeFields(Stamp(1, 0), TILTED)
-    with_torques = handler.on_attitude(attitude)
-    without = handler.on_attitude(AttitudeFields(Stamp(1, 10_000_000), TILTED), joint_torques=False)
-    assert with_torques.joint_torques_cdr is not None
-    assert without.joint_torques_cdr is None
-    assert without.sample.joints is not None  # (computed all the same: bag analysis writes it)
-    assert without.wrench_cdr is not None
+    outcome = handler.on_attitude(AttitudeFields(Stamp(1, 5), TILTED))
+    serialise = bag_io.joint_state_cdr
+    with_torques = encode_wrench(outcome.stamp, outcome.sample, est.settings, serialise)
+    without = encode_wrench(
+        outcome.stamp, outcome.sample, est.settings, serialise, joint_torques=False
+    )
+    assert without.joint_torques is None and without.wrench == with_torques.wrench
+    joints = outcome.sample.joints
+    fields = decode_joint_state(with_torques.joint_torques, bag_io.deserialize_joint_state)
+    assert fields.stamp == Stamp(1, 5) and fields.names == joints.names
+    assert fields.positions == tuple(joints.positions.tolist())
+    efforts = bag_io.deserialize_joint_state(with_torques.joint_torques).effort
+    assert efforts.tolist() == joints.efforts.tolist() and np.any(efforts != 0.0)
 
 
 def test_a_joint_sample_pickles_with_its_link_loads():

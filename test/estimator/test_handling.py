@@ -1,6 +1,7 @@
 """The per-message path shared by the node and the bag analysis, without ROS: decoded fields in,
-an Outcome out (sample or why there is none, the wrench and coefficient bytes, the counters)."""
+an Outcome out (sample or why there is none, the counters), and the sample's messages as bytes."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -11,8 +12,9 @@ from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import IGNORED, MessageHandler
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.settings import WrenchSettings
-from adbsat_ros.messages.cdr import AttitudeFields, OdometryFields, Stamp
-from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude
+from adbsat_ros.messages.cdr import AttitudeFields, Stamp
+from adbsat_ros.messages.decoding import OdometryFields, UndecodableMessage, decode_attitude
+from adbsat_ros.messages.encoding import encode_wrench
 from adbsat_ros.messages.stamps import stamp_seconds
 
 R = 6378137.0 + 300e3
@@ -50,7 +52,7 @@ def test_an_attitude_gives_the_estimators_sample_and_its_message_bytes(mesh):
     reference = AeroWrenchEstimator(settings(body_frame_id="sat"), mesh)
     accepted = handler.on_state(state(Stamp(1, 0)))
     assert accepted.state_accepted and not accepted.triggered and accepted.status is None
-    assert accepted.sample is None and accepted.wrench_cdr is None
+    assert accepted.sample is None and accepted.rejection is None and accepted.error is None
     reference.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
 
     outcome = handler.on_attitude(attitude(1, 250_000_000))
@@ -58,23 +60,59 @@ def test_an_attitude_gives_the_estimators_sample_and_its_message_bytes(mesh):
     assert outcome.triggered and outcome.status == "ok" and outcome.reason is None
     assert outcome.stamp == Stamp(1, 250_000_000)
     assert outcome.sample.force.tolist() == expected.force.tolist()
-    header, force, torque = wrench_of(outcome.wrench_cdr)
+    messages = encode_wrench(outcome.stamp, outcome.sample, handler.estimator.settings)
+    header, force, torque = wrench_of(messages.wrench)
     assert (header.stamp.sec, header.stamp.nanosec, header.frame_id) == (1, 250_000_000, "sat")
     assert force == expected.force.tolist() and torque == expected.torque.tolist()
-    _, cf, cm = wrench_of(outcome.coefficients_cdr)
+    _, cf, cm = wrench_of(messages.coefficients)
     assert cf == expected.force_coefficients.tolist()
     assert cm == expected.moment_coefficients.tolist()
     assert np.linalg.norm(force) > 0.0
-    without = handler.on_attitude(attitude(1, 260_000_000), coefficients=False)
-    assert without.wrench_cdr is not None and without.coefficients_cdr is None
-    assert handler.estimator.published == 2
+    assert messages.inertial is messages.acceleration is messages.solar is None
+    without = encode_wrench(outcome.stamp, outcome.sample, handler.estimator.settings, None, False)
+    assert without.wrench == messages.wrench and without.coefficients is None
+    assert handler.estimator.published == 1
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        outcome.sample = None
+
+
+def test_the_state_frame_wrench_and_acceleration_are_encoded_when_asked_for(mesh):
+    """wrench_inertial: R force in the state frame, the torque in the body frame; acceleration:
+    force / mass and inertia^-1 torque; none without a mass."""
+    inertia = [2.0, 0.1, 0.0, 0.1, 3.0, 0.0, 0.0, 0.0, 4.0]
+    handler = MessageHandler(
+        AeroWrenchEstimator(settings(mass=50.0, inertia=inertia, state_frame="eci"), mesh)
+    )
+    handler.on_state(state(Stamp(1, 0)))
+    outcome = handler.on_attitude(attitude(1, 250_000_000))
+    sample = outcome.sample
+    messages = encode_wrench(outcome.stamp, sample, handler.estimator.settings, None, False, True)
+    rotation = np.array(sample.rotation).reshape(3, 3)
+    header, force, torque = wrench_of(messages.inertial)
+    assert header.frame_id == "eci" and (header.stamp.sec, header.stamp.nanosec) == (1, 250_000_000)
+    np.testing.assert_allclose(force, rotation @ sample.force, rtol=1e-15, atol=0.0)
+    assert torque == sample.torque.tolist()
+    accel = bag_io.deserialize(messages.acceleration, "geometry_msgs/msg/AccelStamped")
+    linear = [accel.accel.linear.x, accel.accel.linear.y, accel.accel.linear.z]
+    angular = [accel.accel.angular.x, accel.accel.angular.y, accel.accel.angular.z]
+    np.testing.assert_allclose(linear, np.array(force) / 50.0, rtol=1e-15, atol=0.0)
+    np.testing.assert_allclose(
+        np.array(inertia).reshape(3, 3) @ angular,
+        sample.torque,
+        rtol=0.0,
+        atol=1e-12 * np.linalg.norm(sample.torque),
+    )
+    assert np.linalg.norm(angular) > 0.0
+    massless = settings(state_frame="eci")
+    alone = encode_wrench(outcome.stamp, sample, massless, None, False, True)
+    assert alone.inertial == messages.inertial and alone.acceleration is None
 
 
 def test_rejections_are_counted_and_say_why(mesh):
     handler = MessageHandler(AeroWrenchEstimator(settings(), mesh))
     rejections = handler.estimator.rejections
     outcome = handler.on_attitude(attitude(1, 0))
-    assert outcome.triggered and outcome.sample is None and outcome.wrench_cdr is None
+    assert outcome.triggered and outcome.sample is None and outcome.error is None
     assert outcome.status == outcome.reason == outcome.rejection.reason == "no_state"
     assert rejections["no_state"] == 1
     handler.on_state(state(Stamp(1, 0)))

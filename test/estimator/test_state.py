@@ -16,7 +16,8 @@ from adbsat_ros.estimator.parameters import (
 from adbsat_ros.estimator.samples import OrbitalState, Rejection
 from adbsat_ros.estimator.settings import FrameIds, WrenchSettings
 from adbsat_ros.estimator.state import checked_rotation, checked_state, odometry_inputs
-from adbsat_ros.messages.cdr import OdometryFields, Stamp
+from adbsat_ros.messages.cdr import Stamp
+from adbsat_ros.messages.decoding import OdometryFields
 
 R = 6378137.0 + 300e3
 V = math.sqrt(3.986004418e14 / R)

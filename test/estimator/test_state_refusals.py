@@ -14,7 +14,8 @@ from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.samples import Rejection
 from adbsat_ros.estimator.settings import WrenchSettings
-from adbsat_ros.messages.cdr import OdometryFields, Stamp
+from adbsat_ros.messages.cdr import Stamp
+from adbsat_ros.messages.decoding import OdometryFields
 
 EARTH = 6378137.0
 R = EARTH + 300e3

@@ -1,30 +1,36 @@
-"""The struct-based CDR readers and writers against rclpy's codec (the RMW's C typesupport, what
-the node's peers actually send), and the decoding with rclpy's deserialiser as the fallback."""
+"""The struct codec of the attitude and the wrench against rclpy's codec (the RMW's C typesupport,
+what the node's peers actually send), the decoding with rclpy's deserialiser, and the joint
+torques as the node serialises them against rosbags' reading."""
 
+import numpy as np
 import pytest
 
 pytestmark = pytest.mark.ros
 pytest.importorskip("rclpy")
 
-from cdr_cases import DIAGNOSTIC_STATUSES, FRAMES, POSITION, VELOCITY, Q
-from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import Quaternion, QuaternionStamped, WrenchStamped
+from cdr_cases import FRAMES, POSITION, VELOCITY, Q
+from geometry_msgs.msg import AccelStamped, Quaternion, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.serialization import deserialize_message, serialize_message
 from sensor_msgs.msg import JointState
 
+from adbsat_ros.bags import io as bag_io
 from adbsat_ros.messages.cdr import (
     AttitudeFields,
-    JointStateFields,
-    OdometryFields,
     Stamp,
-    diagnostic_array_cdr,
-    joint_state_fields,
-    odometry_fields,
+    accel_stamped_cdr,
     quaternion_stamped_fields,
     wrench_stamped_cdr,
 )
-from adbsat_ros.messages.decoding import UndecodableMessage, decode_attitude, decode_odometry
+from adbsat_ros.messages.decoding import (
+    JointStateFields,
+    OdometryFields,
+    UndecodableMessage,
+    decode_attitude,
+    decode_joint_state,
+    decode_odometry,
+)
+from adbsat_ros.ros.node_core import joint_state_cdr
 
 
 def quaternion_stamped(frame):
@@ -64,19 +70,16 @@ def test_rclpy_bytes_are_read_and_ours_are_read_by_rclpy():
         )
         f, m = back.wrench.force, back.wrench.torque
         assert [f.x, f.y, f.z, m.x, m.y, m.z] == force + torque
+        back = deserialize_message(accel_stamped_cdr(7, 8, frame, force, torque), AccelStamped)
+        assert back.header.frame_id == frame and back.header.stamp.nanosec == 8
+        v, w = back.accel.linear, back.accel.angular
+        assert [v.x, v.y, v.z, w.x, w.y, w.z] == force + torque
 
 
-def test_odometry_from_rclpy_bytes():
-    for frame in FRAMES:
-        msg = odometry(frame)
-        fields = odometry_fields(serialize_message(msg))
-        assert fields == OdometryFields.of_message(msg)
-        assert fields.frame_id == frame and fields.child_frame_id == frame[::-1]
-
-
-def test_decoding_with_rclpy_as_the_fallback():
-    """Plain CDR is read by the struct codec alone; bytes it refuses (trailing bytes) by rclpy's
-    deserialiser, to the same fields; garbage raises UndecodableMessage naming the type."""
+def test_decoding_with_rclpys_deserialiser():
+    """A plain-CDR attitude is read by the struct codec alone, bytes it refuses (trailing bytes)
+    by rclpy's deserialiser, to the same fields; a state always by the deserialiser; garbage
+    raises UndecodableMessage naming the type."""
     calls = []
 
     def fallback(message_type):
@@ -97,10 +100,12 @@ def test_decoding_with_rclpy_as_the_fallback():
 
         msg = odometry(frame)
         raw = bytes(serialize_message(msg))
-        assert decode_odometry(raw, fallback(Odometry)) == OdometryFields.of_message(msg)
-        assert calls == []
-        assert decode_odometry(raw + bytes(8), fallback(Odometry)) == OdometryFields.of_message(msg)
-        assert calls == [Odometry]
+        fields = decode_odometry(raw, fallback(Odometry))
+        assert fields == OdometryFields(
+            Stamp(1_767_225_600, 5), frame, frame[::-1], POSITION, tuple(Q), VELOCITY
+        )
+        assert decode_odometry(raw + bytes(8), fallback(Odometry)) == fields
+        assert calls == [Odometry, Odometry]
         calls.clear()
 
     garbage = b"\x00\x01\x00\x00" + b"\xff" * 12
@@ -113,34 +118,10 @@ def test_decoding_with_rclpy_as_the_fallback():
     assert info.value.message_type == "nav_msgs/msg/Odometry"
 
 
-def test_diagnostic_array_reads_back_in_rclpy():
-    """rclpy's own serialiser leaves padding bytes uninitialised, so against rclpy the fields are
-    compared after its deserialiser has read our bytes."""
-    statuses = DIAGNOSTIC_STATUSES
-    for frame in FRAMES:
-        for count in range(len(statuses) + 1):
-            raw = diagnostic_array_cdr(1_767_225_600, 5, frame, statuses[:count])
-            back = deserialize_message(raw, DiagnosticArray)
-            assert (back.header.stamp.sec, back.header.stamp.nanosec, back.header.frame_id) == (
-                1_767_225_600,
-                5,
-                frame,
-            )
-            assert [
-                (
-                    s.level[0],
-                    s.name,
-                    s.message,
-                    s.hardware_id,
-                    tuple((kv.key, kv.value) for kv in s.values),
-                )
-                for s in back.status
-            ] == [tuple(f) for f in statuses[:count]]
-
-
 @pytest.mark.parametrize("count", [0, 1, 2, 3, 4, 6])
-def test_rclpy_joint_states_are_read_by_the_struct_reader(count):
-    """rclpy's serialiser leaves a few bytes after the last field (0, 8 or 12 here): read past."""
+def test_rclpy_joint_states_are_read_by_either_deserialiser(count):
+    """rclpy's serialiser leaves a few bytes after the last field (0, 8 or 12 here): rosbags'
+    deserialiser in bag analysis reads past them as rclpy's does in the node."""
     for frame in FRAMES:
         for velocities in (False, True):
             msg = JointState()
@@ -150,7 +131,26 @@ def test_rclpy_joint_states_are_read_by_the_struct_reader(count):
             msg.position = [0.1 * k - 0.2 for k in range(count)]
             msg.velocity = [1.0] * count if velocities else []
             msg.effort = [2.0] * count
-            raw = serialize_message(msg)
-            fields = joint_state_fields(raw)
-            assert fields == JointStateFields.of_message(deserialize_message(raw, JointState))
-            assert fields.names == tuple(msg.name)
+            raw = bytes(serialize_message(msg))
+            fields = decode_joint_state(raw, bag_io.deserialize_joint_state)
+            expected = JointStateFields(
+                Stamp(1_767_225_600, 7), tuple(msg.name), tuple(msg.position)
+            )
+            assert fields == expected
+            assert decode_joint_state(raw, lambda b: deserialize_message(b, JointState)) == expected
+
+
+def test_the_nodes_joint_torques_read_as_the_bag_analysis_writes_them():
+    """The node's serialiser (rclpy's) and the bag analysis's (rosbags') give the same message."""
+    names, positions, efforts = ("wing_left_hinge", "fin"), np.array([0.1, -0.2]), (4.0, -0.0)
+    for frame in FRAMES:
+        stamp = Stamp(1_767_225_600, 9)
+        live = joint_state_cdr(stamp, frame, names, positions, np.array(efforts))
+        offline = bag_io.joint_state_cdr(stamp, frame, names, positions, efforts)
+        for raw in (live, offline):
+            msg = deserialize_message(raw, JointState)
+            assert (msg.header.stamp.sec, msg.header.stamp.nanosec) == stamp
+            assert (msg.header.frame_id, tuple(msg.name)) == (frame, names)
+            assert (list(msg.position), list(msg.velocity)) == (positions.tolist(), [])
+            assert list(msg.effort) == list(efforts)
+        assert bag_io.deserialize_joint_state(live).effort.tolist() == list(efforts)
