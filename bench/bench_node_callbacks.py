@@ -31,6 +31,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import importlib.util
+import inspect
 import math
 import os
 import shutil
@@ -100,6 +101,14 @@ def import_tree(spec: str) -> str:
     return name
 
 
+def _taking(callback):
+    """``callback`` as a function of the message alone (one that rclpy passes the message info
+    too is given an empty info)."""
+    if len(inspect.signature(callback).parameters) == 2:
+        return lambda message: callback(message, {})
+    return callback
+
+
 class NodeUnderTest:
     """One package's node, and what its subscriptions are handed for a CDR message."""
 
@@ -113,6 +122,7 @@ class NodeUnderTest:
             ]
         )
         self.subscriptions = {sub.topic_name.lstrip("/"): sub for sub in self.node.subscriptions}
+        self.callbacks = {topic: _taking(sub.callback) for topic, sub in self.subscriptions.items()}
         self.k = 0  # attitude stamps [ms]
 
     def handed(self, topic: str, raw: bytes):
@@ -122,10 +132,7 @@ class NodeUnderTest:
 
     def accepted(self, attitudes, states, number: int) -> None:
         """The next ``number`` of the 1 kHz ``attitudes``, with ``states`` every STATE_EVERY."""
-        on_attitude, on_state = (
-            self.subscriptions["attitude"].callback,
-            self.subscriptions["state"].callback,
-        )
+        on_attitude, on_state = self.callbacks["attitude"], self.callbacks["state"]
         for _ in range(number):
             k = self.k
             if k % STATE_EVERY == 0:
@@ -134,12 +141,12 @@ class NodeUnderTest:
             self.k += 1
 
     def rejected(self, raw: bytes, number: int) -> None:
-        on_attitude = self.subscriptions["attitude"].callback
+        on_attitude = self.callbacks["attitude"]
         for _ in range(number):
             on_attitude(raw)
 
     def state(self, raw: bytes, number: int) -> None:
-        on_state = self.subscriptions["state"].callback
+        on_state = self.callbacks["state"]
         for _ in range(number):
             on_state(self.handed("state", raw))
 
