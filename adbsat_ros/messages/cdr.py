@@ -1,19 +1,13 @@
 """The one hand-made codec: CDR bytes of the attitude in and the wrench out, with ``struct``.
 
-Every attitude message gives one wrench, at the attitude rate (up to 1 kHz), so the node reads
-each geometry_msgs/QuaternionStamped and writes each geometry_msgs/WrenchStamped (and
-AccelStamped, the same layout) with ``struct`` instead of building message objects; the saving
-is in docs/benchmarks.md. Its reference paths are rosbags' and rclpy's codecs, which the tests
-compare it with (test/messages/, test/ros/test_cdr.py). Every other message goes through the
-caller's full codec (:mod:`adbsat_ros.messages.decoding`, :mod:`adbsat_ros.messages.encoding`).
+One wrench per attitude message, at up to 1 kHz, so QuaternionStamped is read and
+WrenchStamped/AccelStamped written without building message objects (docs/benchmarks.md).
+The tests compare it with rosbags' and rclpy's codecs (test/messages/, test/ros/test_cdr.py).
 
-Layout (OMG CDR, "plain" XCDR1, what rclpy, Fast DDS and rosbags write): a 4-byte encapsulation
-header (0x00 0x00 big endian, 0x00 0x01 little endian, then two option bytes), then the fields in
-order, each aligned to its own size counted from the end of the encapsulation header. A message
-that opens with a std_msgs/Header starts with the stamp (int32 sec, uint32 nanosec) and the
-frame_id string (uint32 length including the NUL, bytes, NUL). Anything else (XCDR2, another
-type) is refused with ValueError, and callers then decode it with a full codec, which either
-understands it or says what is wrong.
+Layout: plain CDR (XCDR1), a 4-byte encapsulation header, then the fields in order, each
+aligned to its size counted from the end of that header; a std_msgs/Header is the stamp (int32
+sec, uint32 nanosec) and frame_id (uint32 length including the NUL, bytes, NUL). Anything else
+(XCDR2, another type) raises ValueError, and callers decode it with a full codec.
 """
 
 from __future__ import annotations

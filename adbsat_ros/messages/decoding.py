@@ -1,11 +1,9 @@
 """Input messages from their CDR bytes, to the fields the estimator takes.
 
-The node and the bag analysis read their input messages the same way, with the full
-deserialiser the caller has: the node passes rclpy's ``deserialize_message`` with the message
-type, the bag analysis the deserialiser of its rosbags type store. Only the attitude, one per
-wrench, is read by the ``struct`` reader of :mod:`adbsat_ros.messages.cdr` first, and by the
-deserialiser where that refuses the bytes (XCDR2 from another RMW, trailing bytes). Bytes that
-are not the message raise :class:`UndecodableMessage`.
+Decoded with the caller's deserialiser (rclpy's in the node, rosbags' in bag analysis); the
+attitude first by the ``struct`` reader of :mod:`adbsat_ros.messages.cdr`, falling back to the
+deserialiser where that refuses the bytes. Bytes that are not the message raise
+:class:`UndecodableMessage`.
 """
 
 from __future__ import annotations
@@ -86,9 +84,9 @@ class UndecodableMessage(Exception):
 
 
 def decode_attitude(raw, deserialise: Callable) -> AttitudeFields:
-    """Stamp and quaternion of the CDR bytes of a geometry_msgs/QuaternionStamped: the struct
-    reader's, or ``deserialise(raw)``'s (a message object with ``header.stamp`` and
-    ``quaternion``) where it refuses them.
+    """Stamp and quaternion of a CDR geometry_msgs/QuaternionStamped.
+
+    Read by the struct reader, or by ``deserialise(raw)`` (a message object) where it refuses them.
 
     Raises
     ------
@@ -106,8 +104,7 @@ def decode_attitude(raw, deserialise: Callable) -> AttitudeFields:
 
 
 def decode_odometry(raw, deserialise: Callable) -> OdometryFields:
-    """Stamp, frames, pose and linear velocity of the CDR bytes of a nav_msgs/Odometry, read by
-    ``deserialise(raw)`` (the Odometry message object).
+    """Stamp, frames, pose and linear velocity of a CDR nav_msgs/Odometry, via ``deserialise(raw)``.
 
     Raises
     ------
@@ -121,8 +118,7 @@ def decode_odometry(raw, deserialise: Callable) -> OdometryFields:
 
 
 def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
-    """Stamp, names and positions of the CDR bytes of a sensor_msgs/JointState, read by
-    ``deserialise(raw)`` (the JointState message object).
+    """Stamp, names and positions of a CDR sensor_msgs/JointState, via ``deserialise(raw)``.
 
     Raises
     ------

@@ -1,10 +1,7 @@
-"""The output messages of one wrench as CDR bytes, for the node to publish and the bag analysis
-to write: one function, :func:`encode_wrench`, so that both write every message alike.
+"""The output messages of one wrench as CDR bytes, for the node and the bag analysis alike.
 
-The wrenches (and the acceleration) are written by the ``struct`` writer of
-:mod:`adbsat_ros.messages.cdr`; an articulated body's joint torques, a sensor_msgs/JointState,
-by the serialiser the caller gives (rclpy's in the node, rosbags' in bag analysis), as
-:mod:`adbsat_ros.messages.decoding` reads with the caller's deserialiser.
+Wrenches and acceleration by the ``struct`` writer of :mod:`adbsat_ros.messages.cdr`; an
+articulated body's joint torques (sensor_msgs/JointState) by the caller's serialiser.
 """
 
 from __future__ import annotations
@@ -20,25 +17,20 @@ class WrenchMessages(NamedTuple):
     Attributes
     ----------
     wrench : bytes
-        geometry_msgs/WrenchStamped: force [N] and torque [N m] about the centre of mass, body
-        frame (``body_frame_id``), stamped like the input message.
+        WrenchStamped: force [N] and torque [N m] about the centre of mass, body frame.
     coefficients : bytes or None
-        The coefficients' WrenchStamped (C_F in ``force``, C_M in ``torque``), when asked for.
+        WrenchStamped of the coefficients (C_F in ``force``, C_M in ``torque``).
     inertial : bytes or None
-        When asked for: a WrenchStamped with the force [N] in the state frame (its frame_id the
-        ``state_frame``) and the torque [N m] in the body frame, as torques are applied.
+        WrenchStamped: force [N] in the ``state_frame``, torque [N m] in the body frame.
     acceleration : bytes or None
-        When asked for and a ``mass`` is set: a geometry_msgs/AccelStamped, the
-        non-gravitational acceleration force / mass [m/s^2] in the state frame and, with an
-        ``inertia``, the angular acceleration inertia^-1 torque [rad/s^2] in the body frame.
-        (With ``solar_pressure`` on, these two carry the total of both wrenches.)
+        AccelStamped (needs ``mass``): force / mass [m/s^2] in the state frame and, with an
+        ``inertia``, inertia^-1 torque [rad/s^2] in the body frame. With ``solar_pressure`` on,
+        ``inertial`` and ``acceleration`` carry the total of both wrenches.
     solar, total : bytes or None
-        With ``solar_pressure`` on: the solar radiation pressure WrenchStamped and the
-        aerodynamic plus solar one, body frame.
+        With ``solar_pressure`` on: the solar pressure wrench and aero plus solar, body frame.
     joint_torques : bytes or None
-        For an articulated body, when asked for: a sensor_msgs/JointState with every moving
-        joint's name, the position used and, as ``effort``, the aerodynamic torque about its
-        axis [N m] (force along a prismatic one [N]).
+        Articulated body: JointState with each moving joint's name, position used and, as
+        ``effort``, the aerodynamic torque about its axis [N m] (force for a prismatic one [N]).
     """
 
     wrench: bytes
@@ -66,16 +58,15 @@ def encode_wrench(
     stamp : Stamp
         The input message's header stamp.
     sample : WrenchSample
-        The estimator's sample (:mod:`adbsat_ros.estimator.samples`).
+        The estimator's sample.
     settings : WrenchSettings
         Its ``body_frame_id``, ``state_frame``, ``mass`` and ``inertia`` are read.
     serialise_joint_state : callable or None
-        ``serialise_joint_state(stamp, frame_id, names, positions, efforts)`` returns the CDR
-        bytes of a sensor_msgs/JointState (no velocities); needed for an articulated body's
-        joint torques.
+        ``serialise_joint_state(stamp, frame_id, names, positions, efforts)`` -> CDR bytes of a
+        JointState; needed for an articulated body's joint torques.
     coefficients, inertial, joint_torques : bool
-        Whether to make the coefficients message, the state-frame wrench and the acceleration,
-        and an articulated body's joint torques.
+        Whether to make the coefficients message, the state-frame wrench and acceleration, and the
+        joint torques.
     """
     frame = settings.body_frame_id
     sec, nanosec = stamp.sec, stamp.nanosec

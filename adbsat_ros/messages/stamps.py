@@ -10,10 +10,9 @@ def stamp_seconds(stamp) -> float:
 
 
 def next_regular_stamp(previous, latest) -> float | None:
-    """The stamp [s] after ``latest`` at the interval from ``previous`` to ``latest`` (two
-    builtin_interfaces/Time), as :func:`stamp_seconds` of that Time would give it; None when the
-    interval is not positive. Worked in integer nanoseconds, so a fixed-rate stream's next stamp
-    comes out bit-equal to the one its message will carry."""
+    """The stamp [s] after ``latest`` at the interval from ``previous`` (two Time messages); None
+    when that is not positive. In integer nanoseconds, so bit-equal to :func:`stamp_seconds` of
+    the message the stream will carry."""
     latest_ns = latest.sec * 1_000_000_000 + latest.nanosec
     step_ns = latest_ns - (previous.sec * 1_000_000_000 + previous.nanosec)
     if step_ns <= 0:
