@@ -1,23 +1,22 @@
 """Models of a drifting Maxwellian gas with diffuse or partly accommodated re-emission.
 
-The thermal motion of the molecules is kept (speed ratio s = V / sqrt(2 k_B T_inf / m)), so back
-faces get the molecules that catch up with them. Inputs ``c = cos(delta)`` and
-``sigma = sin(delta)`` of any shape; surface parameters floats or (N,) arrays; results
-normalised by q = rho V^2 / 2. Each model is written as a *plate*, c_p and c_tau / sin(delta) as
-elementwise functions of c and a few parameters, and its parameters from the surface and the
-flow (:data:`adbsat_ros.physics.gsi_models.SPLIT_MODELS`).
+Thermal motion kept (speed ratio s = V / sqrt(2 k_B T_inf / m)), so back faces get the
+molecules that catch up with them. Inputs ``c = cos(delta)``, ``sigma = sin(delta)`` of any
+shape; surface parameters floats or (N,) arrays; results normalised by q = rho V^2 / 2. Each
+model is a *plate* (c_p and c_tau / sin(delta) elementwise in c) and its parameters from the
+surface and flow (:data:`adbsat_ros.physics.gsi_models.SPLIT_MODELS`).
 
 Sources:
 
 * sentman: L. H. Sentman, "Free molecule flow theory and its application to the determination
   of aerodynamic forces", Lockheed Missiles and Space Co., LMSC-448514 (1961): diffuse
-  re-emission at T_r = T_i + alpha (T_w - T_i); the incident temperature T_i as in
+  re-emission at T_r = T_i + alpha (T_w - T_i), T_i as in
   :class:`~adbsat_ros.physics.models.options.ModelOptions`.
 * schaaf: S. A. Schaaf and P. L. Chambre, "Flow of Rarefied Gases", Princeton University Press
   (1961): normal and tangential momentum accommodation sigma_n, sigma_t.
-* dria: diffuse reflection with incomplete accommodation, Sentman's plate per species mixed by
-  mass fraction (Walker, Mehta and Koller, "Drag coefficient model using the Cercignani-Lampis-
-  Lord gas-surface interaction model", Journal of Spacecraft and Rockets 51 (2014) 1544-1563).
+* dria: Sentman's plate per species mixed by mass fraction (Walker, Mehta and Koller, "Drag
+  coefficient model using the Cercignani-Lampis-Lord gas-surface interaction model", Journal
+  of Spacecraft and Rockets 51 (2014) 1544-1563).
 
 As in ADBSat (Sinpetru et al., Computer Physics Communications 275 (2022) 108326).
 """
@@ -36,13 +35,12 @@ SQRT_PI = math.sqrt(math.pi)
 
 
 def sentman_plate(c, s, K):
-    """Sentman's plate for one gas: c_p and c_tau / sin(delta) for speed ratio s and
-    K = sqrt(T_r / T_inf) / s (floats, or arrays like ``c``), elementwise in ``c``.
+    """Sentman's plate for one gas: c_p and c_tau / sin(delta), elementwise in ``c``.
 
-    With Phi = 1 + erf(s c) and e = exp(-s^2 c^2):
+    s the speed ratio, K = sqrt(T_r / T_inf) / s (floats, or arrays like ``c``). With
+    Phi = 1 + erf(s c) and e = exp(-s^2 c^2):
     c_tau / sin(delta) = c Phi + e / (sqrt(pi) s),
-    c_p = c (c_tau / sin(delta)) + Phi / (2 s^2) + (K sqrt(pi) / 2) c Phi + (K / (2 s)) e,
-    15 array operations for float s and K.
+    c_p = c (c_tau / sin(delta)) + Phi / (2 s^2) + (K sqrt(pi) / 2) c Phi + (K / (2 s)) e.
     """
     minus_x = c * -s
     Phi = erfc(minus_x)  # = 1 + erf(x), without cancellation for x << 0

@@ -1,11 +1,8 @@
 """Maxwell's model: a fraction alpha of the molecules re-emitted diffusely, the rest specularly.
 
-On one side of a closed surface this is Schaaf and Chambre's plate with sigma_n = sigma_t =
-alpha (specular reflection returns the incident normal momentum, diffuse re-emission none of the
-tangential). ADBSat codes the two-sided flat plate instead (both faces exposed; Bird, "Molecular
-Gas Dynamics and the Direct Simulation of Gas Flows", Oxford 1994, ch. 7), zeroed on back faces;
-``ModelOptions(adbsat_compat=True)`` gives that. Inputs and units as in
-:mod:`adbsat_ros.physics.models.diffuse`.
+Inputs and units as in :mod:`adbsat_ros.physics.models.diffuse`; ADBSat's two-sided plate
+(Bird, "Molecular Gas Dynamics and the Direct Simulation of Gas Flows", Oxford 1994, ch. 7)
+with ``ModelOptions(adbsat_compat=True)``.
 
 Sources: J. C. Maxwell, "On stresses in rarified gases arising from inequalities of
 temperature", Philosophical Transactions of the Royal Society 170 (1879) 231-256; Sinpetru et
