@@ -1,10 +1,7 @@
-"""Batches of test particles: one flow about one body as a picklable problem, the sums one batch
-of molecules gives, and the worker processes that run batches.
+"""Batches of test particles: the picklable problem, one batch's sums, the worker processes.
 
-Batch k of a run with ``seed`` draws its molecules from ``SeedSequence(seed, spawn_key=(k,))``:
-which process runs it does not change its numbers.
-
-Units: SI, mesh frame G.
+Batch k of a run with ``seed`` draws from ``SeedSequence(seed, spawn_key=(k,))``, so the process
+that runs it does not change its numbers. Units: SI, mesh frame G.
 """
 
 from __future__ import annotations
@@ -89,9 +86,9 @@ _WORKER_PROBLEM: Problem | None = None
 
 
 def init_worker(problem: Problem, parent: int) -> None:
-    """Keep the problem in a worker process (the pool's initializer), which dies with its
-    ``parent``. SIGINT is left to the parent, which stops the run between blocks (a Ctrl-C
-    reaches the whole process group): :func:`adbsat_ros.processes.die_with_parent`."""
+    """Keep the problem in a worker process (the pool's initializer), which dies with ``parent``;
+    SIGINT is left to the parent, which stops the run between blocks
+    (:func:`adbsat_ros.processes.die_with_parent`)."""
     die_with_parent(parent)
     global _WORKER_PROBLEM
     _WORKER_PROBLEM = problem

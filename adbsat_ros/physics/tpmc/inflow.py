@@ -1,22 +1,10 @@
 """Molecules entering a box around the body from a drifting Maxwellian gas, sampled exactly.
 
-The box is the body's bounding box grown by a margin on every side. Through each of its six
-faces molecules enter from the free stream: for a species of most probable thermal speed
-c = sqrt(2 k_B T / m) drifting with velocity U, and a face of inward normal n, with
-s_n = U . n / c, the number flux per unit area and unit number density is
-
-    Gamma = c / sqrt(pi) * G(inf),   G(inf) = exp(-s_n^2) / 2 + sqrt(pi) / 2 * s_n (1 + erf(s_n)),
-
-and the entering molecules' normal speeds v_n = c x have the density x exp(-(x - s_n)^2) on
-x > 0 (whose integral over x > 0 is G(inf)).
-
-A molecule's face and species are drawn in proportion to mole fraction x face area x Gamma, its
-normal speed exactly from that density by rejection (:func:`normal_speed_ratios`), its two
-tangential components from normal distributions of mean U_t and standard deviation c / sqrt(2),
-its position uniformly on the face. The momentum flux the sample must carry is
-:meth:`InflowBox.momentum_flux` (closed form; see docs/physics.md, "Test-particle Monte Carlo").
-
-Units: SI; positions in the mesh frame G [m].
+The box is the body's bounding box grown by a margin. For a face of inward normal n and a
+species of most probable thermal speed c drifting with U (s_n = U . n / c), the number flux per
+unit area and number density is c / sqrt(pi) G(s_n), and the entering normal speeds c x have
+the density x exp(-(x - s_n)^2) on x > 0. The formulas and the sampling: docs/physics.md,
+section 12 ("Inflow"). Units: SI; positions in the mesh frame G [m].
 """
 
 from __future__ import annotations
@@ -42,14 +30,14 @@ def flux_factor(s) -> np.ndarray:
 
 
 def normal_speed_ratios(s, rng: np.random.Generator) -> np.ndarray:
-    """Normal speeds over c of entering molecules, x > 0 drawn from x exp(-(x - s)^2), exactly.
+    """Normal speeds over c of entering molecules, x > 0 drawn exactly from x exp(-(x - s)^2).
 
-    By rejection, each molecule until accepted (vectorised over those still waiting). With
-    y = x - s: for s >= 0 the proposal (|y| + s) exp(-y^2) on y > -s, a mixture of
-    |y| exp(-y^2) (Rayleigh halves) and s exp(-y^2) (a normal truncated at -s), accepted with
-    (y + s) / (|y| + s); for -1 < s < 0 the proposal x exp(-x^2) (Rayleigh), accepted with
-    exp(2 s x); for s <= -1 the proposal x exp(2 s x) (gamma of shape 2 and scale -1 / (2 s)),
-    accepted with exp(-x^2). Each accepts at least about a third of its draws.
+    By rejection, vectorised over the molecules still waiting. With y = x - s: for s >= 0 the
+    proposal (|y| + s) exp(-y^2) on y > -s, a mixture of |y| exp(-y^2) (Rayleigh halves) and
+    s exp(-y^2) (a normal truncated at -s), accepted with (y + s) / (|y| + s); for -1 < s < 0 the
+    proposal x exp(-x^2), accepted with exp(2 s x); for s <= -1 the proposal x exp(2 s x) (gamma of
+    shape 2, scale -1 / (2 s)), accepted with exp(-x^2). Each accepts about a third of its draws or
+    more.
 
     Parameters
     ----------
@@ -66,8 +54,7 @@ def normal_speed_ratios(s, rng: np.random.Generator) -> np.ndarray:
 
 
 def _rejection(s, rng, draw) -> np.ndarray:
-    """Draw for every element of ``s`` until each is accepted (``draw`` gives values and their
-    acceptance for the elements still waiting)."""
+    """Draw for every element of ``s`` until each is accepted (``draw``: values and acceptance)."""
     x = np.empty_like(s)
     waiting = np.arange(s.size)
     while waiting.size:
@@ -125,8 +112,6 @@ class InflowBox:
 
     Attributes
     ----------
-    lower, upper : ndarray, shape (3,)
-        The box's corners [m].
     normals : ndarray, shape (6, 3)
         Inward unit normal of each face (-x, +x, -y, +y, -z, +z sides in that order).
     areas : ndarray, shape (6,)
@@ -134,8 +119,8 @@ class InflowBox:
     thermal_speeds : ndarray, shape (J,)
         c_j = sqrt(2 k_B T / m_j) [m/s].
     rates : ndarray, shape (6, J)
-        Number of molecules entering per second per unit number density of the gas [m^3/s],
-        by face and species: x_j A_f c_j G_fj(inf) / sqrt(pi).
+        Molecules entering per second per unit number density [m^3/s], by face and species:
+        x_j A_f c_j G_fj(inf) / sqrt(pi).
     """
 
     def __init__(self, lower, upper, drift, temperature, masses, mole_fractions, margin=0.05):
@@ -173,9 +158,8 @@ class InflowBox:
     def momentum_flux(self) -> np.ndarray:
         """Momentum entering per second per unit number density [kg m^4 / s^2 per m^3], G.
 
-        The closed form: through a face, the normal momentum flux of the molecules with
-        v_n > 0 is n m c^2 / sqrt(pi) [s_n exp(-s_n^2) / 2 + sqrt(pi) / 4 (1 + 2 s_n^2)
-        (1 + erf(s_n))], and their tangential momentum is their number flux times m U_t.
+        Closed form: through a face, n m c^2 / sqrt(pi) [s_n exp(-s_n^2) / 2 + sqrt(pi) / 4
+        (1 + 2 s_n^2) (1 + erf(s_n))] along n, and the number flux times m U_t along the face.
         """
         total = np.zeros(3)
         for f in range(6):

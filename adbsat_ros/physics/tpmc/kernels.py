@@ -1,33 +1,14 @@
 """Re-emission of a molecule from a surface: the gas-surface scattering kernels.
 
-Each kernel takes the velocities of molecules hitting panels and returns the velocities they
-leave with, into the half-space they came from. ``n`` below is the unit normal of that side
-(the panel normal, flipped for a molecule that hits the back of a thin plate), ``t1, t2`` two
-unit tangents, c_w = sqrt(2 k_B T_w / m) the most probable thermal speed at the wall
-temperature, u, u' uniform numbers in (0, 1] and g, g' standard normal ones.
+Each kernel takes the velocities of molecules hitting panels and returns those they leave with,
+into the half-space they came from: ``n`` the unit normal of that side (flipped for the back of
+a thin plate), ``t1, t2`` two unit tangents, c_w = sqrt(2 k_B T_w / m), u uniform in (0, 1],
+g standard normal. The kernels' formulas: docs/physics.md, section 12 ("Surfaces"). Surface
+parameters are floats or per-hit arrays.
 
-``diffuse`` (sentman, dria)
-    Cosine-law re-emission at a temperature T_r from energy accommodation alpha. A molecule of
-    incident kinetic energy E_i = m |v|^2 / 2 counts as a molecule of a flux at temperature
-    T_i = E_i / (2 k_B) (a Maxwellian flux carries 2 k_B T per molecule), and leaves from the
-    flux Maxwellian of T_r = T_i + alpha (T_w - T_i), so that its expected energy is
-    E_i + alpha (2 k_B T_w - E_i), the definition of alpha:
-    v' = c_r (sqrt(-ln u) n + (g t1 + g' t2) / sqrt(2)), c_r = sqrt(2 k_B T_r / m).
-    With alpha = 1 every molecule leaves at the wall temperature, Sentman's model exactly.
-``maxwell``
-    A fraction alpha diffusely at T_w (as above with alpha = 1), the rest specularly,
-    v' = v - 2 (v . n) n.
-``cll``
-    Cercignani-Lampis-Lord (Lord 1991), in units of c_w: the normal speed
-    w_n' = sqrt(r^2 + (1 - alpha_n) w_n^2 + 2 r sqrt(1 - alpha_n) w_n cos(theta)) with
-    r = sqrt(-alpha_n ln u), theta = 2 pi u'; each tangential component
-    w_t' = sqrt(1 - alpha_t) w_t + r_t (cos, sin)(theta_t) with r_t = sqrt(-alpha_t ln u''),
-    alpha_t = sigma_t (2 - sigma_t). alpha_n = sigma_t = 1 is diffuse re-emission at T_w,
-    alpha_n = sigma_t = 0 specular reflection.
-
-Surface parameters are floats or per-hit arrays. Sources: J. C. Maxwell, Phil. Trans. R. Soc.
-170 (1879) 231-256; R. G. Lord, Physics of Fluids A 3 (1991) 706-710; G. A. Bird, "Molecular Gas
-Dynamics and the Direct Simulation of Gas Flows", Oxford (1994).
+Sources: J. C. Maxwell, Phil. Trans. R. Soc. 170 (1879) 231-256; R. G. Lord, Physics of Fluids
+A 3 (1991) 706-710; G. A. Bird, "Molecular Gas Dynamics and the Direct Simulation of Gas
+Flows", Oxford (1994).
 """
 
 from __future__ import annotations
@@ -64,7 +45,11 @@ def _open_uniform(rng, count) -> np.ndarray:
 
 
 def diffuse(v, frame, mass, alpha, wall_temperature, rng) -> np.ndarray:
-    """Cosine-law re-emission with energy accommodation ``alpha`` (module docstring)."""
+    """Cosine-law re-emission with energy accommodation ``alpha`` (sentman, dria).
+
+    Each molecule of incident energy E_i leaves from the flux Maxwellian at T_r = T_i +
+    alpha (T_w - T_i), T_i = E_i / (2 k_B): v' = c_r (sqrt(-ln u) n + (g t1 + g' t2) / sqrt(2)).
+    """
     count = len(v)
     incident = mass * np.einsum("ij,ij->i", v, v) / (4.0 * BOLTZMANN)  # T_i = E_i / (2 k_B)
     emitted = incident + alpha * (wall_temperature - incident)
@@ -92,7 +77,12 @@ def maxwell(v, frame, mass, alpha, wall_temperature, rng) -> np.ndarray:
 
 
 def cll(v, frame, mass, alpha_n, sigma_t, wall_temperature, rng) -> np.ndarray:
-    """Cercignani-Lampis-Lord re-emission (module docstring)."""
+    """Cercignani-Lampis-Lord re-emission (Lord 1991), in units of c_w.
+
+    Normal speed sqrt(r^2 + (1 - alpha_n) w_n^2 + 2 r sqrt(1 - alpha_n) w_n cos(theta)),
+    r = sqrt(-alpha_n ln u); each tangential component sqrt(1 - alpha_t) w_t + r_t (cos, sin)
+    (theta_t), r_t = sqrt(-alpha_t ln u''), alpha_t = sigma_t (2 - sigma_t).
+    """
     count = len(v)
     n, t1, t2 = frame
     c = np.broadcast_to(np.sqrt(2.0 * BOLTZMANN * wall_temperature / mass), (count,))

@@ -1,23 +1,11 @@
 """The test-particle Monte Carlo solver beside the panel method.
 
 :class:`TestParticleMethod` takes what :class:`~adbsat_ros.physics.panel_method.PanelMethod`
-takes (mesh, gas-surface model, materials, reference) and returns the same coefficients, as
-:class:`~.results.TpmcCoefficients` with a standard error for every coefficient. Molecules enter
-through a box around the body (:mod:`.inflow`), are traced through the panels (:mod:`.tracing`)
-and re-emitted by the model's kernel (:mod:`.kernels`).
-
-With R molecules entering per second per unit number density (:attr:`.InflowBox.rate`) and
-rho / n = sum_j x_j m_j, the force coefficient is
-
-    C_F = R / (rho/n V^2 A_ref / 2) * mean_p(m_p dv_p),
-
-m_p dv_p the momentum molecule p gave the body (zero if it missed it): a mean of independent
-values, whose standard error is their standard deviation over sqrt(N). Moments likewise, also
-over L_ref. The run stops at a particle budget or, checked after every block of
-:data:`BLOCK_BATCHES` batches, when the standard error of C_D falls below a relative tolerance;
-blocks are whole, so a seed gives the same numbers with any number of workers.
-
-Units: SI, mesh frame G; angles in radians.
+takes and returns the same coefficients with a standard error each
+(:class:`~.results.TpmcCoefficients`). C_F = R / (rho/n V^2 A_ref / 2) mean_p(m_p dv_p); the
+run stops at a particle budget or, after whole blocks of :data:`BLOCK_BATCHES` batches, at a
+relative tolerance on C_D, so a seed gives the same numbers with any number of workers
+(docs/physics.md, section 12). Units: SI, mesh frame G; angles in radians.
 """
 
 from __future__ import annotations
@@ -193,8 +181,7 @@ class TestParticleMethod:
 
 
 def run_settings(particles, tolerance, seed) -> tuple:
-    """``(particle budget, tolerance or None)`` of a run, checked as
-    :meth:`TestParticleMethod.coefficients` takes them; ValueError naming a bad one."""
+    """``(particle budget, tolerance or None)`` of a run, checked; ValueError naming a bad one."""
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be a whole number >= 0, got {seed!r}")
     tol = None

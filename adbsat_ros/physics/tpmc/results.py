@@ -1,7 +1,4 @@
-"""The coefficients a test-particle run gives, with their standard errors.
-
-Units: coefficients are dimensionless (normalised by q A_ref, and L_ref for moments).
-"""
+"""The coefficients of a test-particle run (dimensionless) with their standard errors."""
 
 from __future__ import annotations
 
@@ -15,25 +12,17 @@ from adbsat_ros.physics.freestream import FreeStream
 class TpmcCoefficients(AeroCoefficients):
     """:class:`AeroCoefficients` from test particles, with their statistics.
 
-    Attributes (besides those of AeroCoefficients)
-    ----------------------------------------------
+    Attributes (besides those of AeroCoefficients and the ``*_error`` properties)
+    -----------------------------------------------------------------------------
     covariance : ndarray, shape (6, 6)
         Covariance of the estimates of (Cf_G, Cm_G).
-    Cf_G_error, Cm_G_error, Cf_w_error, Cf_f_error, Cm_B_error : ndarray, shape (3,)
-        Standard errors of those coefficients.
-    drag_error, lift_error, side_force_error : float
-        Standard errors of C_D, C_L, C_Y.
-    particles : int
-        Molecules traced.
-    seed : int
-        The run's seed.
-    hits : int
-        Molecule-surface collisions.
+    particles, seed, hits : int
+        Molecules traced, the run's seed, molecule-surface collisions.
     trapped : int
         Molecules stopped while still bouncing (0 unless the body holds them almost forever).
     force_balance : ndarray, shape (3,)
-        Momentum in minus momentum out through the box per second per unit dynamic pressure and
-        reference area (the closed-form inflow, the traced outflow): equals Cf_G within errors.
+        Momentum in minus out through the box per second per unit dynamic pressure and reference
+        area (closed-form inflow, traced outflow): equals Cf_G within errors.
     stopped : bool
         The run was stopped (by its ``stop`` event) before its budget or tolerance.
     """

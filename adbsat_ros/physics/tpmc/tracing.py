@@ -1,12 +1,8 @@
-"""Following test particles through the body's panels until they leave: the momentum each
-molecule gives the body, and each panel's share.
+"""Test particles followed through the body's panels until they leave, and the momentum they give.
 
-Free-molecular flow has no molecule-molecule collisions, so every molecule is traced alone: a
-straight line to the first panel it meets (the ray scene), re-emission there by the scattering
-kernel into the side it came from, and again, until its line meets no panel. Every step is done
-for the whole batch of molecules still in flight at once.
-
-Units: SI, mesh frame G.
+No molecule-molecule collisions, so each molecule is a straight line to the first panel it meets,
+re-emission into the side it came from, and again until it meets none; each step runs on the
+whole batch still in flight. Units: SI, mesh frame G.
 """
 
 from __future__ import annotations
@@ -35,15 +31,11 @@ class Tally:
     moment : ndarray, shape (P, 3)
         Its moment about the moment point, sum of (r_hit - r_ref) x m (v_in - v_out) [kg m^2/s].
     exit_velocity : ndarray, shape (P, 3)
-        Velocity each molecule leaves the body with (its entry velocity if it hit nothing).
-    panel_impulse : ndarray, shape (N, 3)
-        Momentum given to each panel [kg m/s].
-    panel_hits : ndarray of int64, shape (N,)
-        Hits on each panel.
-    hits : int
-        Molecule-surface collisions in all.
-    trapped : int
-        Molecules stopped after :data:`MAX_BOUNCES` hits.
+        Velocity [m/s] each molecule leaves with (its entry velocity if it hit nothing).
+    panel_impulse, panel_hits : ndarray, shape (N, 3) and (N,)
+        Momentum given to [kg m/s], and hits on, each panel.
+    hits, trapped : int
+        Collisions in all; molecules stopped after :data:`MAX_BOUNCES` hits.
     """
 
     impulse: np.ndarray
@@ -82,13 +74,9 @@ def trace(scene, mesh, kernel, surface, positions, velocities, masses, rng, mome
     masses : ndarray, shape (P,)
         Their masses [kg].
     rng : numpy.random.Generator
-        The batch's random numbers (re-emission).
+        The batch's random numbers.
     moment_point : array_like, shape (3,)
         Point the moments are taken about [m].
-
-    Returns
-    -------
-    Tally
     """
     count = len(positions)
     n_panels = mesh.n_panels
