@@ -1,40 +1,18 @@
 """Offline analysis of recorded flights: the node's wrench at every attitude message of a rosbag2.
 
-:func:`analyze_bag` reads a bag (.mcap or .db3) with ``rosbags`` (no ROS installation needed),
-feeds its state and attitude messages in bag order to one
-:class:`~adbsat_ros.estimator.estimator.AeroWrenchEstimator` per model through the node's own
-per-message path (:class:`~adbsat_ros.estimator.handling.MessageHandler`: the same decoding,
-rejections and wrench bytes), and writes
+:func:`analyze_bag` reads a bag with ``rosbags`` (no ROS needed), feeds its messages in bag order
+through the node's own per-message path
+(:class:`~adbsat_ros.estimator.handling.MessageHandler`), one estimator per model, and writes a
+bag (the input plus ``/adbsat/LABEL/wrench``, ``/adbsat/LABEL/coefficients`` and
+``/diagnostics``), a CSV (:mod:`adbsat_ros.bags.table`) and plots; docs/cli.md, "Recorded
+flights". Outputs appear only when complete; after a fault or a stop, what came before is kept
+as PARTIAL (:attr:`AnalysisReport.error`).
 
-* a new bag holding every input message plus, per model ``LABEL``, the topics
-  ``/adbsat/LABEL/wrench`` (force [N], torque [N m], body frame) and ``/adbsat/LABEL/coefficients``
-  (C_F in ``force``, C_M in ``torque``, body frame), both geometry_msgs/WrenchStamped stamped like
-  the attitude message and logged at its log time, and ``/diagnostics``
-  (diagnostic_msgs/DiagnosticArray, one per model every ``diagnostics_period`` of bag time and one
-  at the end of the bag, with the node's keys and levels; the state age is measured in bag time);
-* a CSV with one row per attitude message (per state message for models whose
-  ``attitude_source`` is odometry) and one column group per model (see :data:`MODEL_COLUMNS`);
-* PNG plots of force, torque, density and drag coefficient against time
-  (:func:`adbsat_ros.plotting.time_series.plot_time_series`).
-
-Outputs are written under temporary names and renamed at the end. If the input turns out to be
-corrupt or truncated part-way, everything analysed before the fault is still written and the
-report says so (:attr:`AnalysisReport.error`, :attr:`AnalysisReport.partial`).
-
-Parallel replay, same results as one estimator fed every message in order:
-
-1. *Read* every message once (:mod:`adbsat_ros.bags.reading`: raw CDR bytes, held in memory,
-   about the bag's size) and the header stamps of the state and attitude ("trigger") messages.
-2. *Plan* (:mod:`adbsat_ros.bags.planning`): cut the trigger messages into contiguous chunks,
-   each starting at a state message where an estimator with no history provably gives the
-   sequential outputs (:func:`safe_split_points`, and the state must pass a reset estimator's
-   checks); with no such place the chunks are fewer (one, at worst).
-3. *Compute* (:mod:`adbsat_ros.bags.worker`): worker processes (``workers``; the estimators and
-   shading caches built once per process) decode and replay whole chunks from reset
-   estimators, and return per message named records of numbers and bytes.
-4. *Merge* in bag order (:mod:`adbsat_ros.bags.outputs`): copy the input messages, write the
-   wrenches and CSV rows, and rebuild the node's cumulative state
-   (:mod:`adbsat_ros.bags.model_state`) to write the diagnostics.
+Parallel replay, with the results of one estimator fed every message in order: *read* the
+trigger (state and attitude) messages' stamps (:mod:`~adbsat_ros.bags.reading`), *plan* chunks
+starting where a reset estimator provably agrees (:mod:`~adbsat_ros.bags.planning`), *compute*
+them in worker processes (:mod:`~adbsat_ros.bags.worker`), *merge* in bag order, rebuilding the
+node's cumulative state (:mod:`~adbsat_ros.bags.outputs`, :mod:`~adbsat_ros.bags.model_state`).
 """
 
 from __future__ import annotations
@@ -88,8 +66,7 @@ __all__ = [
 
 
 def _output_path(path, overwrite: bool, what: str) -> Path | None:
-    """``path`` as a Path, or BagError if something is there: without ``overwrite``, or with it
-    when that is not an output of the kind ``what`` (named: it is never removed)."""
+    """``path`` as a Path; BagError if something is there that ``overwrite`` may not replace."""
     if path is None:
         return None
     path = Path(path)
@@ -125,8 +102,7 @@ def _model_states(models) -> list:
 
 
 def _check_output_topics(bag, by_topic: dict, states) -> None:
-    """The models' output topics must not be in the input, and its /diagnostics (if any) must
-    be diagnostic_msgs/DiagnosticArray."""
+    """The models' output topics must not be in the input, its /diagnostics a DiagnosticArray."""
     for state in states:
         for topic in (state.summary.wrench_topic, state.summary.coefficients_topic):
             if topic in by_topic:
@@ -176,36 +152,28 @@ def analyze_bag(
         geometry_msgs/QuaternionStamped and nav_msgs/Odometry topics (as the node subscribes).
     models : list of (label, WrenchSettings), optional
         One entry per model (default: the node's defaults, label 'default').
-    out_bag : path, optional
-        Output bag directory (None: no bag).
-    out_csv : path, optional
-        CSV file (None: no CSV).
-    plots_dir : path, optional
-        Directory for PNG plots (None: no plots).
+    out_bag, out_csv, plots_dir : path, optional
+        Output bag directory, CSV file, directory of PNG plots (None: not written).
     storage : str
         'mcap' or 'sqlite3' for the output bag.
     progress : bool
         Show a tqdm progress bar (on stderr).
     overwrite : bool
-        Replace existing outputs.
+        Replace existing outputs (only outputs of the same kind: :mod:`adbsat_ros.bags.replacing`).
     workers : int, optional
-        Processes computing wrenches (default ``os.cpu_count()``). The outputs are the same
-        for any number: the messages are cut into chunks only where a fresh estimator provably
-        gives the sequential results (:func:`safe_split_points`), and counters and diagnostics
-        are rebuilt in bag order.
+        Processes computing wrenches (default ``os.cpu_count()``); the outputs are the same for
+        any number.
     chunk_messages : int, optional
-        State + attitude messages per chunk (default: enough chunks for 8 per worker, at least
-        :data:`MIN_CHUNK_MESSAGES` and at most :data:`MAX_CHUNK_MESSAGES` each).
+        State + attitude messages per chunk (default: 8 chunks per worker, within
+        :data:`MIN_CHUNK_MESSAGES` and :data:`MAX_CHUNK_MESSAGES`).
     stop : threading.Event, optional
-        Set to stop at the next message (e.g. by :func:`adbsat_ros.processes.stop_on_signals`):
-        the report's error says so and the outputs so far are kept as PARTIAL.
+        Set to stop at the next message: the report's error says so, the outputs so far are kept
+        as PARTIAL.
     joint_topic : str
-        sensor_msgs/JointState topic of the joint positions, read when a model is an
-        articulated body (as the node subscribes ``joint_states``).
+        sensor_msgs/JointState topic, read when a model is an articulated body.
     skip_damaged : bool
-        Leave out the chunks of an MCAP input that fail their CRC (their messages are not
-        read; the report counts them, :attr:`AnalysisReport.skipped_chunks`) instead of
-        refusing the bag.
+        Leave out the chunks of an MCAP input that fail their CRC
+        (:attr:`AnalysisReport.skipped_chunks`) instead of refusing the bag.
 
     Returns
     -------
@@ -214,12 +182,10 @@ def analyze_bag(
     Raises
     ------
     BagError
-        Before anything is written: the input cannot be opened, fails its checksums (naming
-        the file and the damaged chunk; see ``skip_damaged``), a topic is missing, has another
-        message type or no messages, or an output exists. (A fault found while reading, or a
-        stop, is reported in :attr:`AnalysisReport.error` instead; the outputs written so far
-        are then kept under names that say PARTIAL, never the final ones:
-        :func:`adbsat_ros.bags.outputs.partial_path`.)
+        Before anything is written: the input cannot be opened or fails its checksums, a topic is
+        missing, of another type or empty, or an output exists. A fault found while reading, or a
+        stop, is reported in :attr:`AnalysisReport.error` instead, the outputs so far kept under
+        :func:`adbsat_ros.bags.outputs.partial_path`.
     ValueError, MeshError
         For models that cannot be set up, or ``workers`` / ``chunk_messages`` < 1.
     """
@@ -288,8 +254,7 @@ def _read_and_plan(
     chunk_messages,
     skip_damaged,
 ) -> tuple:
-    """Open and read the bag, set the models up and plan the chunks:
-    ``(read, states, chunks, report, t0)``."""
+    """Read the bag, set the models up, plan the chunks: ``(read, states, chunks, report, t0)``."""
     reader = bag_io.open_bag(bag)
     try:
         needed = []

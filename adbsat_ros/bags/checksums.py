@@ -1,19 +1,12 @@
-"""Checksums of the bags: written into every MCAP file the package writes, checked before a bag
-is analysed.
+"""Checksums of the bags: written into every MCAP file the package writes, checked before analysis.
 
-rosbags' MCAP writer leaves every CRC field of the format zero ("no CRC"). :class:`CheckedWriter`
-is rosbags' :class:`~rosbags.rosbag2.Writer` whose MCAP storage fills them in: each chunk's
-CRC-32 of its uncompressed records as the chunk is written, and on closing the data section's
-(in its DataEnd record) and the summary's (in the footer), as the MCAP specification defines
-them.
-
-:func:`check_bag` reads the files of an open bag once: an MCAP file's chunks, each against its
-entry in the summary's chunk index and against its CRC, its data section and its summary against
-theirs (a CRC field of zero, as other writers may leave it, is counted, not failed); an SQLite
-file (.db3) through SQLite's ``quick_check``, which finds damage to the file's structure (its
-pages and indexes) but not to a message's bytes: rosbag2's SQLite storage has no checksums.
-:func:`drop_chunks` takes damaged chunks out of an open bag's index, so that reading it skips
-them.
+:class:`CheckedWriter` is rosbags' Writer with the MCAP CRCs filled in (rosbags leaves them
+zero): each chunk's, the data section's (DataEnd) and the summary's (footer), as the MCAP
+specification defines them. :func:`check_bag` reads each file of an open bag once: an MCAP
+file's chunks against the summary's chunk index and their CRCs, its data section and summary
+against theirs (a zero CRC field is counted, not failed); an SQLite file through
+``quick_check``, which finds damage to its structure but not to a message's bytes (rosbag2's
+SQLite storage has no checksums). :func:`drop_chunks` takes damaged chunks out of a bag's index.
 """
 
 from __future__ import annotations
@@ -95,8 +88,7 @@ class _CheckedMcapWriter(McapWriter):
 
 
 class CheckedWriter(Writer):
-    """rosbags' rosbag2 Writer whose MCAP files carry their chunks', data section's and
-    summary's CRCs."""
+    """rosbags' rosbag2 Writer whose MCAP files carry their chunk, data and summary CRCs."""
 
     STORAGE_PLUGINS = {**Writer.STORAGE_PLUGINS, StoragePlugin.MCAP: _CheckedMcapWriter}
 
@@ -134,9 +126,8 @@ class Damage:
 
     @property
     def fatal(self) -> bool:
-        """Whether the bag cannot be read safely at all: its summary (the index of its chunks)
-        or, for SQLite, its structure is damaged. (Damage to a data section outside its chunks,
-        with every chunk sound, touches no message.)"""
+        """Whether the bag cannot be read safely: its summary (chunk index) or SQLite structure is
+        damaged. (Damage outside the chunks, with every chunk sound, touches no message.)"""
         return self.offset is None and self.what != "the data section"
 
     def __str__(self) -> str:
@@ -145,8 +136,7 @@ class Damage:
 
 @dataclass
 class BagCheck:
-    """What :func:`check_bag` found: the damaged parts, and how many chunks were checked and
-    how many carry no CRC (damage to them cannot be found)."""
+    """What :func:`check_bag` found: the damaged parts, the chunks checked, those without a CRC."""
 
     damaged: list = field(default_factory=list)
     chunks: int = 0
@@ -183,8 +173,7 @@ def _check_sqlite(path: Path, check: BagCheck) -> None:
 
 
 def _chunk_problem(record: bytes, chunk) -> str | None:
-    """Why a chunk record does not hold what its index entry says, or fails its CRC (None: it
-    is sound, or has no CRC: then ``'no CRC'``)."""
+    """Why a chunk does not match its index entry or fails its CRC; ``'no CRC'``; None if sound."""
     if len(record) < _CHUNK_CRC_AT + 4 + 4 or record[0] != _CHUNK:
         return "is not where the index says"
     length, start, end, size, crc, name_length = struct.unpack_from("<QQQQII", record, 1)
@@ -267,8 +256,7 @@ def _check_mcap(storage, check: BagCheck) -> None:
 
 
 def drop_chunks(reader, damaged) -> int:
-    """Take the chunks of ``damaged`` (Damage of chunks) out of an open bag's index, so that
-    reading it skips them; returns how many were taken out."""
+    """Take damaged chunks out of an open bag's index so reading skips them; returns how many."""
     offsets = {(d.file, d.offset) for d in damaged if d.skippable}
     dropped = 0
     for storage in storages(reader):

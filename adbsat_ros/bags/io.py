@@ -1,14 +1,11 @@
 """Reading and writing rosbag2 files (.mcap and .db3) without ROS, with the ``rosbags`` library.
 
-The one place that knows the message layouts in bags: builders for the messages the project writes
-(Odometry, QuaternionStamped, WrenchStamped, JointState, DiagnosticArray), the deserialisers of the
-inputs the node reads (given to :mod:`adbsat_ros.messages.decoding`) and the serialiser of the joint
-torques (given to :mod:`adbsat_ros.messages.encoding`), an :func:`open_bag` that turns every failure
-into a :class:`BagError` naming the file, and a :class:`BagWriter` that writes under a temporary
-name and only puts the bag at its final path on :meth:`BagWriter.commit`, its MCAP files with their
-CRCs (:mod:`adbsat_ros.bags.checksums`).
-
-Message builders take stamps as integer nanoseconds (``builtin_interfaces/Time`` sec + nanosec).
+The one place that knows message layouts in bags: builders of the messages the project writes,
+the deserialisers of the node's inputs (for :mod:`adbsat_ros.messages.decoding`) and the joint
+torques' serialiser (for :mod:`adbsat_ros.messages.encoding`), :func:`open_bag` (every failure a
+:class:`BagError` naming the file) and :class:`BagWriter` (a temporary name until
+:meth:`BagWriter.commit`; MCAP CRCs by :mod:`adbsat_ros.bags.checksums`). Stamps are integer
+nanoseconds.
 """
 
 from __future__ import annotations
@@ -127,8 +124,8 @@ def wrench_stamped_message(stamp, frame_id: str, force, torque):
 
 
 def joint_state_message(stamp, frame_id: str, names, positions, velocities=(), efforts=()):
-    """sensor_msgs/JointState: names and positions [rad or m] (velocities and efforts [N m or
-    N] each empty or one per name)."""
+    """sensor_msgs/JointState: names, positions [rad or m], velocities and efforts (each empty or
+    one per name)."""
     return _T[JOINT_STATE](
         header=_header(stamp, frame_id),
         name=[str(n) for n in names],
@@ -189,9 +186,7 @@ def deserialize_joint_state(raw):
 
 
 def joint_state_cdr(stamp, frame_id: str, names, positions, efforts) -> bytes:
-    """CDR bytes of a sensor_msgs/JointState without velocities (``stamp``: sec, nanosec), by
-    rosbags' serialiser: how bag analysis writes the joint torques
-    (:func:`adbsat_ros.messages.encoding.encode_wrench`)."""
+    """CDR bytes of a JointState without velocities (``stamp``: sec, nanosec), by rosbags."""
     time = _Time(sec=int(stamp.sec), nanosec=int(stamp.nanosec))
     return bytes(serialize(joint_state_message(time, frame_id, names, positions, (), efforts)))
 
@@ -208,7 +203,7 @@ def open_bag(path) -> Reader:
     Raises
     ------
     BagError
-        Naming the path, for a missing path, unknown storage, or a corrupt or truncated file.
+        Naming the path: missing, unknown storage, or a corrupt or truncated file.
     """
     path = Path(path)
     if not path.exists():
@@ -236,8 +231,8 @@ def storage_plugin(storage: str) -> StoragePlugin:
 class BagWriter:
     """A rosbag2 writer that builds the bag under a temporary name beside ``path``.
 
-    :meth:`commit` closes it and renames it to ``path``; :meth:`discard` (or leaving a ``with``
-    block by an exception) removes it, so a half-written bag never appears at ``path``.
+    :meth:`commit` renames it to ``path``; :meth:`discard` (or an exception in a ``with`` block)
+    removes it, so a half-written bag never appears at ``path``.
 
     Parameters
     ----------
@@ -246,8 +241,7 @@ class BagWriter:
     storage : str
         'mcap' or 'sqlite3'.
     overwrite : bool
-        Replace a bag at ``path`` on commit (a rosbag2 bag only: anything else there is
-        refused, :mod:`adbsat_ros.bags.replacing`).
+        Replace a rosbag2 bag at ``path`` on commit (anything else there is refused).
     """
 
     def __init__(self, path, storage: str = "mcap", overwrite: bool = False):
@@ -273,8 +267,7 @@ class BagWriter:
     def connection(
         self, topic: str, msgtype: str, msgdef: str | None = None, digest: str | None = None
     ):
-        """The connection of (topic, msgtype), added on first use (definitions from Jazzy unless
-        given)."""
+        """The connection of (topic, msgtype), added on first use (Jazzy definitions by default)."""
         key = (topic, msgtype)
         conn = self._connections.get(key)
         if conn is None:
@@ -299,8 +292,7 @@ class BagWriter:
         self.write_raw(self.connection(topic, msg.__msgtype__), t_ns, serialize(msg))
 
     def commit(self, path=None) -> Path:
-        """Close the bag and move it to its final path, or to ``path`` (replacing a bag there);
-        returns where it is."""
+        """Close the bag, move it to its path (or ``path``, replacing a bag); returns where."""
         self._writer.close()
         path = self.path if path is None else Path(path)
         if path.exists() or path.is_symlink():
@@ -338,8 +330,7 @@ def _check_replaceable(path: Path) -> None:
 
 
 def write_bag(path, records, storage: str = "mcap", overwrite: bool = False) -> Path:
-    """Write ``(topic, t_ns, msg)`` records (messages built here) into a new bag; returns its
-    path."""
+    """Write ``(topic, t_ns, msg)`` records into a new bag; returns its path."""
     with BagWriter(path, storage, overwrite) as writer:
         for topic, t_ns, msg in records:
             writer.write(topic, t_ns, msg)
@@ -357,9 +348,8 @@ def write_scenario_bag(
 ) -> Path:
     """Write a :class:`~adbsat_ros.bags.scenario.ScenarioMessages` as a bag.
 
-    States become nav_msgs/Odometry (``frame_id`` and ``child_frame_id`` both ``frame_id``: the
-    twist is the ECI velocity, which the node accepts as is), attitudes QuaternionStamped in
-    ``frame_id``. Log time = stamp; at equal stamps the state is written first.
+    States become Odometry (``frame_id`` and ``child_frame_id`` both ``frame_id``: the twist is the
+    ECI velocity), attitudes QuaternionStamped; log time = stamp, the state first at equal stamps.
     """
     states, attitudes = messages.states, messages.attitudes
     events = [(int(t), 0, i) for i, t in enumerate(states.stamps_ns)]

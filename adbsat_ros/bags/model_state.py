@@ -1,11 +1,8 @@
-"""One model's cumulative state rebuilt in bag order from the workers' records, and its
-diagnostics.
+"""One model's cumulative state rebuilt in bag order from the workers' records, and its diagnostics.
 
-The workers replay chunks from reset estimators; what the node would have accumulated over the
-whole bag (rejection counters, wrenches published, the latest sample and rejection, the state's
-age, the hits and misses of one shading cache fed every query in order) is rebuilt here from the
-records, message by message, and written as the node's DiagnosticStatus
-(:mod:`adbsat_ros.estimator.health`), with the state's age in bag time.
+Workers replay chunks from reset estimators; what the node would have accumulated over the whole
+bag (counters, latest sample and rejection, state age, one shading cache's hits and misses) is
+rebuilt here and written as the node's DiagnosticStatus, the state's age in bag time.
 """
 
 from __future__ import annotations

@@ -1,12 +1,8 @@
 """The bag analysis's outputs, written in bag order: the output bag, the CSV and the plots.
 
-:func:`write_outputs` walks every input message in bag order: it copies each to the output bag,
-applies the workers' records of the trigger messages to the models' cumulative state
-(:class:`~adbsat_ros.bags.model_state.ModelState`), and writes the wrenches, the coefficients,
-the diagnostics (one per model every ``diagnostics_period`` of bag time, and one at the end) and
-the CSV rows. The bag and the CSV are written under temporary names and put at their paths only
-when complete; a message that cannot be decoded ends the walk, with everything before it written
-and the report's error saying where.
+:func:`write_outputs` copies each input message to the output bag, applies the workers' records
+to the models' state (:class:`~adbsat_ros.bags.model_state.ModelState`) and writes wrenches,
+diagnostics and CSV rows. Bag and CSV are put at their paths only when complete.
 """
 
 from __future__ import annotations
@@ -65,23 +61,21 @@ class _CsvFile:
 
 @dataclass
 class Replay:
-    """What the merge walks through: the two passes over the input, the chunks and their
-    results, the models and the report.
+    """What the merge walks through: both passes over the input, chunk results, models, report.
 
     Attributes
     ----------
     read : BagMessages
-        The first pass over the input (:func:`adbsat_ros.bags.reading.read_bag_messages`).
+        The first pass over the input.
     stream : MessageStream
-        The second: every message, in bag order (:meth:`BagMessages.stream`).
+        The second: every message, in bag order.
     chunks : list of (int, int)
         The chunks of trigger messages, in order.
     results : generator of ChunkResult
-        Their results, in order (:func:`adbsat_ros.bags.worker.chunk_results`).
+        Their results, in order.
     states : list of ModelState
-        The models, in order.
     report : AnalysisReport
-        Filled in: messages read, error, outputs written, warnings, seconds by phase.
+        Filled in as the walk goes.
     """
 
     read: object
@@ -94,8 +88,8 @@ class Replay:
 
 @dataclass
 class Outputs:
-    """The outputs asked for: ``bag``, ``csv`` and ``plots`` paths (None: not written), the
-    bag's ``storage`` ('mcap' or 'sqlite3'), ``overwrite`` existing outputs, show ``progress``."""
+    """Outputs asked for: ``bag``, ``csv``, ``plots`` paths (None: not written), the bag's
+    ``storage``, ``overwrite``, ``progress``."""
 
     bag: Path | None
     csv: Path | None
@@ -261,14 +255,18 @@ class _Walk:
 
 
 def partial_path(path) -> Path:
-    """Where an output goes when the analysis stopped early: ``NAME.PARTIAL.EXT`` beside it
-    (``flight.csv`` -> ``flight.PARTIAL.csv``, a bag directory ``out`` -> ``out.PARTIAL``)."""
+    """Where an output goes when the analysis stopped early: ``flight.csv`` ->
+    ``flight.PARTIAL.csv``, a bag directory ``out`` -> ``out.PARTIAL``."""
     path = Path(path)
     return path.with_name(f"{path.stem}.PARTIAL{path.suffix}")
 
 
 def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
     """Walk the messages in bag order and write the outputs asked for.
+
+    If the walk stops early (an undecodable message, or ``stop``), every output is kept under
+    :func:`partial_path` and the final names are left as they were; after ``stop`` no plots are
+    drawn, so that the command ends at once.
 
     Parameters
     ----------
@@ -278,11 +276,6 @@ def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
         What to write, and how.
     stop : threading.Event, optional
         Stop at the next message once set.
-
-    If the walk stops early (a message that cannot be decoded, or ``stop``), every output is
-    kept under :func:`partial_path` of its name (replacing an older partial one) and the final
-    names are left as they were; after ``stop`` no plots are drawn (the bag and CSV hold what
-    they would show), so that the command ends at once.
     """
     states, report = replay.states, replay.report
     out_bag, out_csv, plots_dir = outputs.bag, outputs.csv, outputs.plots
@@ -332,10 +325,8 @@ def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
 
 
 def write_plots(plots_dir, envelope, labels, report) -> None:
-    """PNG plots of force, torque, density and drag coefficient of every model against time,
-    drawn from ``envelope`` (a :class:`MinMaxEnvelope` of the rows' plot numbers, PLOT_COLUMNS
-    per model, against seconds since the first row), into ``plots_dir`` (replaced as a whole);
-    their paths in ``report.outputs['plots']``."""
+    """PNG plots of force, torque, density and C_D of every model against time, from ``envelope``
+    (a min/max envelope of the rows' plot numbers), into ``plots_dir`` (replaced as a whole)."""
     # imported when plots are asked for: matplotlib is slow to import
     from adbsat_ros.plotting.time_series import make_line_figures, save_figures
 

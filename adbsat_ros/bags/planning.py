@@ -1,10 +1,7 @@
 """Planning the parallel replay: where a bag's trigger messages can be cut into chunks.
 
-A chunk is replayed by a worker from a freshly reset estimator; it gives the results of one
-estimator fed every message in order only if it starts where the two provably agree
-(:func:`safe_split_points`, and the state there must pass a reset estimator's checks).
-:func:`plan_chunks` cuts at such places, about ``chunk_messages`` apart; with none there are
-fewer chunks (one, at worst).
+A chunk, replayed from a reset estimator, gives the sequential results only if it starts where
+the two provably agree (:func:`safe_split_points`, and a state there a reset estimator accepts).
 """
 
 from __future__ import annotations
@@ -17,33 +14,25 @@ from adbsat_ros.bags.reading import ATTITUDE, JOINTS, STATE
 MIN_CHUNK_MESSAGES = 250
 #: Chunks per worker by default (load balance, and the merge writes while workers compute).
 CHUNKS_PER_WORKER = 8
-#: Largest default chunk with several workers: a stop waits for the chunks being computed, and
-#: 2,000 messages take a fraction of a second (docs/benchmarks.md, rosbag analysis).
+#: Largest default chunk with several workers: a stop waits for the chunks being computed.
 MAX_CHUNK_MESSAGES = 2000
 
 
 def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
     """Trigger-message indices where a freshly reset estimator gives the sequential results.
 
-    A chunk starting at index k is replayed by an estimator with no state and no last stamps.
-    The sequential estimator at k differs only in its latest state and its last state and
-    attitude stamps (the shading cache answers the lighting of the cell centre, whatever it
-    holds). Both give the same outputs from k on if the state message at k is accepted by both
-    and no later time-goes-backwards test can tell them apart:
+    The sequential estimator at k differs from a reset one only in its latest state and last state
+    and attitude stamps (the shading cache answers a cell's centre, whatever it holds). Both give
+    the same outputs from k on if:
 
-    * k is a state message whose stamp is > every earlier state stamp (so the sequential
-      estimator takes it: no time-backwards reset, no out-of-order or conflicting duplicate;
-      after it both hold the same state and last state stamp), and
-    * for every model, no stamp it treats as an attitude (attitude messages, or state messages
-      when ``attitude_source`` is odometry) at or after k is earlier than one before k (the
-      sequential last attitude stamp is one of the latter, so it never rejects where the fresh
-      estimator, with none, accepts; from the first accepted attitude on both hold the same).
+    * k is a state message stamped later than every earlier state (both accept it, then hold the
+      same state and last state stamp);
+    * for every model, no stamp it treats as an attitude at or after k is earlier than one before k
+      (so the sequential estimator never rejects where the reset one accepts);
+    * no joint state comes before k (joint positions are history a reset estimator has not got).
 
-    * no joint state comes before k: the joint positions are history a fresh estimator has
-      not got (an articulated body's bag is one chunk from its first joint state on).
-
-    That the state at k passes the message's own checks (frames, finite values, quaternion) is
-    tested separately on the decoded message (the ``accepted`` argument of :func:`plan_chunks`).
+    That the state at k passes its own checks is tested on the decoded message
+    (``accepted`` of :func:`plan_chunks`).
 
     Parameters
     ----------
@@ -110,13 +99,10 @@ def plan_chunks(
     workers : int
         Processes that will compute the chunks.
     chunk_messages : int or None
-        Messages per chunk (default: enough chunks for CHUNKS_PER_WORKER per worker, at least
-        MIN_CHUNK_MESSAGES and at most MAX_CHUNK_MESSAGES each, their number a multiple of
-        ``workers``; with one worker too, which computes a chunk before the merge writes it: a
-        stop waits for one chunk only).
+        Messages per chunk (default: CHUNKS_PER_WORKER per worker, within MIN_CHUNK_MESSAGES
+        and MAX_CHUNK_MESSAGES, their number a multiple of ``workers``).
     accepted : callable
-        ``accepted(k)``: whether every model's freshly reset estimator accepts the state
-        message k.
+        ``accepted(k)``: whether every model's reset estimator accepts the state message k.
 
     Returns
     -------

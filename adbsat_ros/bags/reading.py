@@ -1,9 +1,9 @@
-"""Reading an input bag for the analysis, in two passes, in memory that does not grow with the
-bag: its topics checked; a first pass keeps the kinds and stamps of the state and attitude
-("trigger") messages, to plan the chunks; a second pass streams every message to the workers
-(the triggers) and to the merge (all of them, copied to the output bag). A fault of the reader
-part-way (a corrupt or truncated file) ends the first pass; the second stops at the same place,
-and the fault is reported. Before both, the bag's checksums are checked (:func:`check_damage`).
+"""Reading an input bag for the analysis in two passes, in memory that does not grow with the bag.
+
+After the checksums (:func:`check_damage`) and topics: a first pass keeps the kinds and stamps
+of the trigger (state and attitude) messages to plan the chunks; a second streams them to the
+workers and every message to the merge. A reader fault part-way ends both passes at the same
+place, and is reported.
 """
 
 from __future__ import annotations
@@ -22,8 +22,7 @@ STATE, ATTITUDE, JOINTS = 0, 1, 2
 
 
 def read_messages(reader, path, connections):
-    """``reader.messages()``, with any failure of the reader turned into a BagError naming the
-    file."""
+    """``reader.messages()``, any failure of the reader a BagError naming the file."""
     iterator = reader.messages(connections=connections)
     count = 0
     while True:
@@ -46,18 +45,15 @@ def check_damage(reader, path, skip_damaged: bool = False) -> tuple[list, list]:
     Returns
     -------
     skipped : list of Damage
-        The damaged chunks (``skip_damaged`` only), taken out of ``reader``'s index: reading it
-        skips their messages.
+        The damaged chunks (``skip_damaged`` only), taken out of ``reader``'s index.
     warnings : list of str
-        Chunks that carry no CRC; with ``skip_damaged``, the chunks skipped and damage outside
-        the chunks (it touches no message).
+        Chunks without a CRC; with ``skip_damaged``, the chunks skipped and damage outside them.
 
     Raises
     ------
     BagError
-        Naming the file and its first damaged part (a chunk: its number, byte offset, log times
-        and messages), unless ``skip_damaged`` and the damage is to chunks only (or outside
-        them); the bag's summary or an SQLite file's structure damaged, in any case.
+        Naming the file and its first damaged part, unless ``skip_damaged`` and the damage is to
+        chunks only (or outside them); always for a damaged summary or SQLite structure.
     """
     check = check_bag(reader)
     warnings = []
@@ -85,8 +81,9 @@ def check_damage(reader, path, skip_damaged: bool = False) -> tuple[list, list]:
 
 
 def check_topics(reader, path, topics_types) -> dict:
-    """Every (option, topic, msgtype) required must be in the bag with that type only and have
-    messages; returns {topic: set of msgtypes} of the bag.
+    """Check the required (option, topic, msgtype): present, of that type only, with messages.
+
+    Returns {topic: set of msgtypes} of the bag.
 
     Raises
     ------
@@ -119,14 +116,10 @@ def check_topics(reader, path, topics_types) -> dict:
 
 @dataclass
 class BagMessages:
-    """What the first pass over a bag keeps: the trigger messages' kinds and stamps (a few bytes
-    each) and the states' CDR bytes (to test where chunks may start); :meth:`stream` reads the
-    messages again for the second pass.
+    """The first pass over a bag: trigger kinds and stamps, and the states' bytes.
 
     Attributes
     ----------
-    path : Path
-        The bag.
     connections : dict
         The reader's connections by id.
     count : int
@@ -134,16 +127,15 @@ class BagMessages:
     kind_of : dict
         {connection id: STATE, ATTITUDE or JOINTS} of the trigger topics.
     trigger_kinds : array of int
-        STATE, ATTITUDE or JOINTS of each trigger message, in bag order.
+        The kind of each trigger message, in bag order.
     trigger_stamps : array of float
-        Their header stamps [s] as the estimator reads them (sec + 1e-9 nanosec), up to the
-        first message whose stamp cannot be read (no chunk starts after it).
+        Their header stamps [s] (sec + 1e-9 nanosec), up to the first unreadable one.
     state_raws : dict
-        {trigger index: CDR bytes} of the state messages.
+        {trigger index: CDR bytes} of the state messages (to test where chunks may start).
     error : str or None
         Why the reading stopped before the end.
     skipped : list of Damage
-        Damaged chunks left out (:func:`check_damage`), by both passes.
+        Damaged chunks left out by both passes.
     """
 
     path: object
@@ -169,11 +161,10 @@ def read_bag_messages(
     joint_topic: str | None = None,
     skipped=(),
 ) -> BagMessages:
-    """The first pass over an open bag: its trigger messages (those on ``state_topic``, on
-    ``attitude_topic`` unless it is None: no model uses attitudes, and on ``joint_topic`` unless
-    it is None: no model is articulated), their kinds and stamps, the states' bytes. Memory
-    grows by about 9 bytes per trigger message, plus the states. ``skipped``: the damaged
-    chunks :func:`check_damage` took out of ``reader`` (the second pass leaves them out too)."""
+    """The first pass over an open bag: kinds and stamps of the trigger messages, the states' bytes.
+
+    Triggers are on ``state_topic``, ``attitude_topic`` and ``joint_topic`` (None: no model uses
+    it); ``skipped``: the damaged chunks already taken out of ``reader``."""
     read = BagMessages(path, {c.id: c for c in reader.connections}, skipped=list(skipped))
     for c in reader.connections:
         if c.topic == state_topic:
@@ -205,11 +196,11 @@ def read_bag_messages(
 
 
 class MessageStream:
-    """The second pass over a bag, read once and shared by two consumers that run at their own
-    pace: :meth:`chunks` (the trigger messages of each chunk, for the workers, requested ahead)
-    and :meth:`messages` (every message in bag order, for the merge, which writes the outputs).
-    Whichever reads a message first queues it for the other, so memory is bounded by how far
-    apart the two are (the chunks requested ahead), not by the bag.
+    """The second pass over a bag, read once for two consumers at their own pace.
+
+    :meth:`chunks` gives the workers' trigger messages, :meth:`messages` the merge's every message;
+    whichever reads a message first queues it for the other, so memory is bounded by how far apart
+    they are, not by the bag.
     """
 
     def __init__(self, read: BagMessages):
@@ -237,7 +228,7 @@ class MessageStream:
 
     def chunks(self, bounds):
         """``(kinds, CDR bytes)`` of the trigger messages of each chunk ``[start, stop)`` of
-        ``bounds`` (trigger indices, in order, covering them all)."""
+        ``bounds``."""
         queue = self._unchunked
         for start, stop in bounds:
             kinds, raws = [], []

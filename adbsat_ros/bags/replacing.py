@@ -1,9 +1,8 @@
 """Which outputs of the bag tools an output path holds: ``--overwrite`` replaces only these.
 
-An output bag is replaced only if it is a rosbag2 bag (a directory of ``metadata.yaml`` and the
-files it lists, nothing else), a plot directory only if it holds the analysis's PNGs only, a CSV
-file only if it starts with the analysis's header. Anything else is refused by name, with
-nothing deleted: :func:`refusal` says what to do.
+A rosbag2 bag (``metadata.yaml`` and the files it lists, nothing else), a directory of the
+analysis's PNGs only, a CSV starting with the analysis's header; anything else is refused by
+name, with nothing deleted (:func:`refusal`).
 """
 
 from __future__ import annotations
@@ -68,8 +67,8 @@ KINDS = {
 
 
 def refusal(path, what: str) -> str | None:
-    """Why the output ``what`` ('bag', 'plot directory' or 'CSV') at ``path`` cannot be
-    replaced, naming the first entry that is not such an output; None if it can be."""
+    """Why ``what`` ('bag', 'plot directory' or 'CSV') at ``path`` cannot be replaced, naming the
+    first entry that is not such an output; None if it can."""
     find, kind = KINDS[what]
     entry = find(path)
     if entry is None:

@@ -19,8 +19,7 @@ _LABEL_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 
 def label_from_name(name: str) -> str:
-    """A topic-safe model label from a file stem: other characters become '_', a leading digit
-    gets 'm'."""
+    """A topic-safe label from a file stem: other characters to '_', a leading digit gets 'm'."""
     label = re.sub(r"[^A-Za-z0-9_]", "_", str(name)) or "model"
     return label if label[0].isalpha() else "m" + label
 
@@ -41,15 +40,11 @@ class ModelSummary:
     Attributes
     ----------
     label : str
-    wrench_topic, coefficients_topic : str
-        Its output topics.
-    solar_topic, total_topic : str
-        Its output topics of the solar and the total wrench (written with ``solar_pressure``).
-    joint_torques_topic : str
-        Its output topic of the joints' aerodynamic torques (articulated bodies).
+    wrench_topic, coefficients_topic, solar_topic, total_topic, joint_torques_topic : str
+        Its output topics (solar and total with ``solar_pressure``, joint torques for articulated
+        bodies).
     triggers : int
-        Messages that asked it for a wrench (attitudes, or states with ``attitude_source``
-        odometry).
+        Messages that asked it for a wrench.
     wrenches : int
         Wrenches written.
     rejections : dict
@@ -93,21 +88,15 @@ class AnalysisReport:
     outputs : dict
         'bag', 'csv', 'plots' (list of PNG paths) that were written.
     models : list of ModelSummary
-    messages_read : int
-        Input messages read (and copied to the output bag).
-    messages_total : int
-        Messages the input's index announced.
+    messages_read, messages_total : int
+        Input messages read (and copied), and those the input's index announced.
     error : str or None
         Why the input could not be read to its end (the outputs then hold what came before).
     warnings : list of str
     seconds : dict
-        Wall time by phase: read (reading, and planning the chunks), estimate (computing the
-        chunks here, or waiting for the workers: decoding and estimator), write (output bag),
-        csv, plots, total.
-    workers : int
-        Processes that computed the wrenches (1: this process).
-    chunks : int
-        Chunks the messages were cut into.
+        Wall time [s] by phase: read, estimate, write, csv, plots, total.
+    workers, chunks : int
+        Processes that computed the wrenches (1: this process), chunks of the messages.
     skipped_chunks, skipped_messages : int
         Damaged chunks of the input left out (``skip_damaged``), and the messages they held.
     """

@@ -1,28 +1,19 @@
 """Built-in flight scenarios: a Keplerian orbit and an attitude history, as message records.
 
-The orbit is the two-body (Keplerian) solution around a point-mass Earth
-(mu = :data:`~adbsat_ros.physics.constants.EARTH_MU`): no J2, no drag, no third bodies. It is given
-in
-ECI (GCRF axes, treated as inertial) by classical elements; ``altitude_km`` is the perigee height
-above the equatorial radius :data:`EARTH_RADIUS` (for a circular orbit, the height), so the
-perigee radius is ``r_p = EARTH_RADIUS + altitude`` and the semi-major axis ``a = r_p / (1 - e)``.
+The orbit: two-body around a point-mass Earth (:data:`~adbsat_ros.physics.constants.EARTH_MU`;
+no J2, drag or third bodies), in ECI (GCRF axes) from classical elements; ``altitude_km`` is
+the perigee height above :data:`EARTH_RADIUS`, so a = (EARTH_RADIUS + altitude) / (1 - e).
 
-Attitude conventions (quaternions x, y, z, w rotate body vectors into ECI, v_eci = R(q) v_body):
+Attitudes (quaternions x, y, z, w, body -> ECI, v_eci = R(q) v_body):
 
-* ``nadir``: the local-vertical local-horizontal frame. Body +z points to nadir (-r/|r|), body
-  +y along the negative orbit normal (-h/|h|), body +x = y x z, the along-track direction in the
-  orbit plane (the velocity direction for a circular orbit, within the flight-path angle for an
-  elliptic one). With the example satellite (long axis and ADBSat's zero angle of attack along
-  +x, see :mod:`adbsat_ros.geometry.frames`) the flow hits the front +x face and the wings lie in
-  the
-  orbit-normal/along-track plane.
-* ``tumble``: the nadir attitude at t = 0, then a constant rotation at ``tumble_rate_deg_s``
-  about a fixed body axis (``tumble_axis``, or a random unit axis drawn from ``seed``).
+* ``nadir``: LVLH, body +z to nadir, +y along -orbit normal, +x = y x z (along-track): the
+  example satellite flies nose first (:mod:`adbsat_ros.geometry.frames`).
+* ``tumble``: the nadir attitude at t = 0, then turning at ``tumble_rate_deg_s`` about a fixed
+  body axis (``tumble_axis``, or a random one drawn from ``seed``).
 
-Stamps: with ``time_mode`` 'unix' (default) a message at time t after the start has the stamp
-``UNIX(epoch_utc) + t``, which the node's default settings (time_mode unix, state_frame eci)
-read as the right UTC; with 'epoch' the stamp is t itself (use the node's time_mode epoch with
-the same epoch_utc). Stamps are kept as integer nanoseconds so that messages carry them exactly.
+Stamps: ``time_mode`` 'unix' (default) stamps UNIX(epoch_utc) + t, as the node's defaults read
+them; 'epoch' stamps t (the node's time_mode epoch with the same epoch_utc). Integer nanoseconds,
+so that messages carry them exactly.
 """
 
 from __future__ import annotations
@@ -58,17 +49,15 @@ class Scenario:
     epoch_utc : str or datetime
         UTC of t = 0 (ISO 8601 text or an aware datetime).
     duration_s : float
-        Length of the scenario [s]; messages at 0 <= t <= duration_s.
-    rate_hz : float
-        Attitude message rate [Hz].
-    state_rate_hz : float
-        Orbital-state message rate [Hz].
+        Length [s]; messages at 0 <= t <= duration_s.
+    rate_hz, state_rate_hz : float
+        Attitude and orbital-state message rates [Hz].
     altitude_km : float
-        Perigee height above :data:`EARTH_RADIUS` [km] (the height of a circular orbit).
+        Perigee height above :data:`EARTH_RADIUS` [km].
     eccentricity : float
-        Orbit eccentricity, 0 <= e < 1.
+        0 <= e < 1.
     inclination_deg, raan_deg, arg_perigee_deg, true_anomaly_deg : float
-        Classical elements (ECI); the true anomaly is that at t = 0 (0: start at perigee).
+        Classical elements (ECI); the true anomaly at t = 0.
     attitude : str
         'nadir' or 'tumble'.
     tumble_rate_deg_s : float
@@ -78,7 +67,7 @@ class Scenario:
     seed : int
         Seed of the random tumble axis.
     time_mode : str
-        'unix' or 'epoch' (see the module docstring).
+        'unix' or 'epoch' (module docstring).
     """
 
     epoch_utc: str | _dt.datetime = "2026-01-01T00:00:00Z"
@@ -192,8 +181,8 @@ class Scenario:
 
 @dataclass(frozen=True, eq=False)
 class StateRecords:
-    """Orbital states in time order: stamps_ns (N,) int64 [ns], position_eci (N, 3) [m],
-    velocity_eci (N, 3) [m/s]."""
+    """Orbital states in time order: stamps_ns (N,) [ns], position_eci (N, 3) [m], velocity_eci
+    (N, 3) [m/s]."""
 
     stamps_ns: np.ndarray
     position_eci: np.ndarray
@@ -291,8 +280,7 @@ def kepler_states(scenario: Scenario, t) -> tuple[np.ndarray, np.ndarray]:
 
 
 def nadir_rotation(position, velocity) -> Rotation:
-    """Body -> ECI rotations of the nadir (LVLH) attitude: +z nadir, +y = -orbit normal,
-    +x = y x z."""
+    """Body -> ECI rotations of the LVLH attitude: +z nadir, +y -orbit normal, +x = y x z."""
     r = np.atleast_2d(np.asarray(position, dtype=float))
     v = np.atleast_2d(np.asarray(velocity, dtype=float))
     z = -r / np.linalg.norm(r, axis=-1, keepdims=True)
@@ -335,8 +323,7 @@ def message_count(scenario: Scenario) -> int:
 
 
 def memory_estimate(scenario: Scenario) -> int:
-    """Bytes of memory :func:`generate` and the bag writer take for ``scenario``:
-    :data:`BYTES_PER_MESSAGE` per message."""
+    """Bytes :func:`generate` and the bag writer take: :data:`BYTES_PER_MESSAGE` per message."""
     return message_count(scenario) * BYTES_PER_MESSAGE
 
 
@@ -349,11 +336,9 @@ def epoch_unix_ns(scenario: Scenario) -> int:
 
 
 def generate(scenario: Scenario) -> ScenarioMessages:
-    """States and attitudes of a scenario, each in time order.
+    """States and attitudes of a scenario in time order, each at exactly its stamp's time.
 
-    Stamps are ``epoch_unix_ns + round(t * 1e9)``; positions, velocities and attitudes are
-    evaluated at exactly the time the stamp stands for.
-    """
+    Stamps are ``epoch_unix_ns + round(t * 1e9)``."""
     check_memory(f"the scenario ({message_count(scenario)} messages)", memory_estimate(scenario))
     base = epoch_unix_ns(scenario)
     out = []

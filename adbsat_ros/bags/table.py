@@ -1,12 +1,9 @@
 """The bag analysis's table: its CSV columns, and a model's cells and plot numbers of one message.
 
-One row per message that asked some model for a wrench (attitudes; states for models whose
-``attitude_source`` is odometry): the columns :data:`COMMON_COLUMNS`, then per model ``LABEL``
-the group :data:`MODEL_COLUMNS` and its extra columns (:func:`extra_columns`: the
-:data:`SOLAR_COLUMNS` with ``solar_pressure`` on, two columns per joint of an articulated body)
-prefixed with ``LABEL.``. Numbers are written with ``repr``
-(exact round trip); a model without a wrench for the message has its status (the rejection
-reason, or empty if the message was not for it) and NaN.
+One row per message that asked some model for a wrench: :data:`COMMON_COLUMNS`, then per model
+``LABEL.`` + :data:`MODEL_COLUMNS` and its :func:`extra_columns`. Numbers are written with
+``repr`` (exact round trip); a model without a wrench has its status (the rejection reason, or
+empty) and NaN.
 """
 
 from __future__ import annotations
@@ -77,22 +74,20 @@ JOINT_COLUMNS = ("position", "effort")
 
 
 def extra_columns(solar: bool, joint_names=()) -> tuple:
-    """A model's columns after :data:`MODEL_COLUMNS`: the :data:`SOLAR_COLUMNS` if ``solar``,
-    then :data:`JOINT_COLUMNS` of every joint of ``joint_names``."""
+    """A model's columns after :data:`MODEL_COLUMNS`: :data:`SOLAR_COLUMNS` if ``solar``, then
+    :data:`JOINT_COLUMNS` of every joint."""
     joints = tuple(f"joint.{name}.{c}" for name in joint_names for c in JOINT_COLUMNS)
     return (SOLAR_COLUMNS if solar else ()) + joints
 
 
 def model_extra_columns(estimator) -> tuple:
-    """The :func:`extra_columns` of a model's AeroWrenchEstimator: solar ones with
-    ``solar_pressure``, and those of its body's joints."""
+    """The :func:`extra_columns` of a model's AeroWrenchEstimator."""
     body = estimator.body
     return extra_columns(estimator.settings.solar_pressure, () if body is None else body.joints)
 
 
 def header(labels, extras=()) -> list:
-    """The CSV header for the models ``labels`` (``extras``: per model, its
-    :func:`extra_columns`; none by default)."""
+    """The CSV header for the models ``labels`` (``extras``: each model's :func:`extra_columns`)."""
     extras = tuple(extras) or ((),) * len(labels)
     return list(COMMON_COLUMNS) + [
         f"{label}.{c}"
@@ -102,8 +97,7 @@ def header(labels, extras=()) -> list:
 
 
 def row_values(status: str, sample) -> list:
-    """A model's cells (``status``, then floats; NaN where nothing was computed) of a
-    WrenchSample, or of None."""
+    """A model's cells (``status``, then floats; NaN where not computed) of a WrenchSample."""
     if sample is None:
         return [status] + [math.nan] * (len(MODEL_COLUMNS) - 1)
     c = sample.conditions
@@ -137,8 +131,7 @@ def row_values(status: str, sample) -> list:
 
 
 def extra_values(sample, columns) -> list:
-    """The values of a WrenchSample for a model's :func:`extra_columns` (NaN for what it does
-    not have: no joints at rest, say)."""
+    """A WrenchSample's values for :func:`extra_columns` (NaN for what it lacks, e.g. no joints)."""
     out = []
     if columns[: len(SOLAR_COLUMNS)] == SOLAR_COLUMNS:
         solar = sample.solar
@@ -156,9 +149,7 @@ def extra_values(sample, columns) -> list:
 
 
 def model_cells(outcomes, extras=()) -> tuple[str, list]:
-    """The models' cells of one row as CSV text, and their plot numbers (PLOT_COLUMNS per model,
-    in order), from each model's :class:`~adbsat_ros.estimator.handling.Outcome` (``extras`` as
-    in :func:`header`)."""
+    """The models' cells of one row as CSV text, and their plot numbers, from their Outcomes."""
     cells, plot = [], []
     extras = tuple(extras) or ((),) * len(outcomes)
     for outcome, more in zip(outcomes, extras, strict=True):
@@ -177,8 +168,7 @@ def model_cells(outcomes, extras=()) -> tuple[str, list]:
 
 
 def utc_text(utc_of, stamp_s: float, sample=None) -> str:
-    """``utc_of(stamp_s)`` in ISO format, or empty if the stamp has no UTC; ``sample``: a
-    WrenchSample that ``utc_of``'s estimator made, whose time is read if it is at ``stamp_s``."""
+    """``utc_of(stamp_s)`` in ISO format, or empty; ``sample``'s time is used if at ``stamp_s``."""
     if sample is not None and sample.stamp == stamp_s:
         return sample.time.isoformat()
     try:

@@ -1,12 +1,9 @@
 """The bag analysis's workers: chunks of trigger messages replayed through the node's handling.
 
-A worker holds one estimator per model (the mesh and shading cache built once per process). It
-replays a contiguous chunk of the state and attitude messages from reset estimators, each message
-decoded as the node decodes it (with rosbags' deserialiser where the node has rclpy's), handled by
-the node's own per-message path (:class:`~adbsat_ros.estimator.handling.MessageHandler`) and its
-sample encoded as the node encodes it (:func:`~adbsat_ros.messages.encoding.encode_wrench`), and
-returns per message and model a :class:`MessageRecord`: only numbers and bytes, what the merge in
-bag order writes and counts (never the panel method's results), and the CSV row.
+A worker holds one estimator per model. It replays a chunk from reset estimators, decoding,
+handling (:class:`~adbsat_ros.estimator.handling.MessageHandler`) and encoding each message as
+the node does (rosbags' codec where the node has rclpy's), and returns per message and model a
+:class:`MessageRecord` of numbers and bytes, and the CSV row.
 """
 
 from __future__ import annotations
@@ -38,10 +35,10 @@ STOP_POLL_S = 0.1
 
 
 class SampleNumbers(NamedTuple):
-    """The numbers of a WrenchSample that the diagnostics report, under the names they have on
-    the sample's conditions (and the drag coefficient); :attr:`conditions` is the record itself,
-    so that it reads as a sample does. One flat record rather than two nested: every record
-    crosses from a worker process, pickled."""
+    """The numbers of a WrenchSample the diagnostics report, named as on the sample's conditions.
+
+    :attr:`conditions` is the record itself, so it reads as a sample does; flat because every
+    record is pickled from a worker."""
 
     mass_density: float
     temperature: float
@@ -90,14 +87,10 @@ class MessageRecord(NamedTuple):
         The sample's numbers for the diagnostics.
     compute_seconds : float or None
         Time the estimator took for the sample [s].
-    wrench_cdr, coefficients_cdr : bytes or None
-        The wrench and coefficient messages to write.
     cache_keys : tuple
         The shading-cache cells read for it (one, three when interpolating, or none).
-    solar_cdr, total_cdr : bytes or None
-        The solar and total wrench messages to write (with ``solar_pressure``).
-    joint_torques_cdr : bytes or None
-        The joint torques message to write (articulated bodies).
+    wrench_cdr, coefficients_cdr, solar_cdr, total_cdr, joint_torques_cdr : bytes or None
+        The messages to write.
     """
 
     state_accepted: bool = False
@@ -116,8 +109,7 @@ class MessageRecord(NamedTuple):
 
 
 class Row(NamedTuple):
-    """The CSV row of a message: its header stamp (seconds and nanoseconds), UTC text, the
-    models' cells as CSV text, and their plot numbers."""
+    """The CSV row of a message: stamp (sec, nanosec), UTC text, models' cells, plot numbers."""
 
     stamp_sec: int
     stamp_nanosec: int
@@ -129,9 +121,8 @@ class Row(NamedTuple):
 class ChunkResult(NamedTuple):
     """What a worker returns for one chunk of trigger messages.
 
-    ``records[i]`` holds one MessageRecord per model for message i, ``rows[i]`` its Row or None
-    (no model was asked for a wrench). If message ``len(records)`` could not be decoded,
-    ``error`` says why (the analysis stops there).
+    ``records[i]``: one MessageRecord per model for message i; ``rows[i]`` its Row or None. If
+    message ``len(records)`` could not be decoded, ``error`` says why.
     """
 
     records: list
@@ -215,9 +206,7 @@ class Worker:
     def run(self, chunk) -> ChunkResult:
         """Replay ``chunk``, (kinds, CDR bytes) of consecutive trigger messages.
 
-        With a :attr:`stop` (a shared flag, set when the analysis stops) that is set, the
-        replay ends after the message it is at (at least one): the caller, who stopped, reads
-        no further than the chunk's first message."""
+        Once :attr:`stop` is set the replay ends after the current message (at least one)."""
         kinds, raws = chunk
         models = self.models
         for m in models:
@@ -261,11 +250,8 @@ _WORKER: Worker | None = None
 
 
 def _init_worker(specs, parent: int, stop) -> None:
-    """Process-pool initializer: load the estimators once per process (mesh, shading cache).
-
-    A worker dies with its parent and ignores SIGINT (:func:`die_with_parent`): Ctrl-C reaches
-    the whole process group, and the analysis, not each worker, decides how to stop (it keeps
-    its outputs as PARTIAL, and sets ``stop``, which ends the chunk a worker is at)."""
+    """Pool initializer: the estimators, once per process. Dies with its parent and ignores SIGINT
+    (:func:`die_with_parent`): the analysis decides how to stop."""
     global _WORKER
     die_with_parent(parent)
     _WORKER = Worker(specs, stop)
@@ -276,12 +262,10 @@ def _run_chunk(chunk) -> ChunkResult:
 
 
 def chunk_results(specs, chunks, workers: int, stop=None):
-    """The ChunkResult of each chunk, in order: computed here (``workers`` 1), or by a pool of
-    ``workers`` processes kept a few chunks ahead of the caller.
+    """The ChunkResult of each chunk, in order: here (``workers`` 1), or by a pool kept ahead.
 
-    Once ``stop`` (a :class:`threading.Event`) is set, or the generator is closed, the workers
-    end the chunks they are at after their current message, and the one waited for comes
-    short (see :meth:`Worker.run`): a stop waits for one message, not for whole chunks.
+    Once ``stop`` is set or the generator closed, the workers end their chunks after the current
+    message (:meth:`Worker.run`), so a stop waits for one message, not whole chunks.
 
     Parameters
     ----------
