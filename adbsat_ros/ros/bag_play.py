@@ -1,10 +1,10 @@
 """Play a rosbag2 bag into the live ROS 2 graph, as ``ros2 bag play`` would.
 
-:func:`play` reads the raw CDR bytes of a bag (mcap or sqlite3) and publishes them unchanged,
-keeping the recorded spacing in time scaled by ``rate``. Header stamps are not touched: a node sees
-the stamps that were recorded. It runs its own rclpy Context and a SingleThreadedExecutor (the
-EventsExecutor busy-waits in the Jazzy wheels), installs no signal handlers, and can be stopped from
-another thread with a ``threading.Event``."""
+:func:`play` publishes a bag's raw CDR bytes unchanged (header stamps as recorded), keeping the
+recorded spacing in time scaled by ``rate``. Its own rclpy Context and a SingleThreadedExecutor
+(the EventsExecutor busy-waits in the Jazzy wheels), no signal handlers; stopped from another
+thread with a ``threading.Event``.
+"""
 
 from __future__ import annotations
 
@@ -31,8 +31,7 @@ ACK_TIMEOUT_S = 5.0
 
 @dataclass
 class PlaySummary:
-    """What :func:`play` published: message counts per topic, passes through the bag, wall time
-    [s]."""
+    """What :func:`play` published: counts per topic, passes through the bag, wall time [s]."""
 
     published: Counter = field(default_factory=Counter)
     passes: int = 0
@@ -83,15 +82,15 @@ def play(
     bag_path : path-like
         A rosbag2 bag (directory with metadata.yaml, mcap or sqlite3 storage) with CDR messages.
     rate : float
-        Playback speed: 2 plays twice as fast as recorded. Must be > 0.
+        Playback speed, > 0: 2 plays twice as fast as recorded.
     loop : bool
-        Start again from the beginning after the last message, until stopped. Header stamps then go
-        back in time; subscribers must cope (adbsat_node resets its history).
+        Start again after the last message, until stopped (header stamps then go back in time;
+        adbsat_node resets its history).
     topics : iterable of str, optional
         Play only these topics (default: all). Each must be in the bag.
     wait_for_subscribers : int
-        Before the first message, wait until every played topic that has messages has at least
-        this many subscribers, so they miss nothing (0: start at once).
+        Before the first message, wait until every played topic with messages has at least this
+        many subscribers (0: start at once).
     wait_timeout : float
         Give up waiting for subscribers after this many seconds (BagError).
     qos_depth : int
@@ -104,14 +103,14 @@ def play(
     Returns
     -------
     PlaySummary
-        Returned after reliable subscribers acknowledged the last messages (at most
-        :data:`ACK_TIMEOUT_S` later), so a subscriber in another process misses none of them.
+        After reliable subscribers acknowledged the last messages (at most :data:`ACK_TIMEOUT_S`
+        later), so a subscriber in another process misses none.
 
     Raises
     ------
     BagError
-        Missing or unreadable bag, a requested topic not in the bag, a message type that is not
-        installed, a non-CDR serialization, or subscribers that did not appear in time.
+        Missing or unreadable bag, a requested topic not in the bag, a message type not installed,
+        a non-CDR serialization, or subscribers that did not appear in time.
     """
     if not (isinstance(rate, (int, float)) and math.isfinite(rate) and rate > 0):
         raise BagError(f"rate must be a finite number > 0, got {rate!r}")

@@ -1,10 +1,10 @@
 """Record topics of the live ROS 2 graph into a rosbag2 bag, as ``ros2 bag record`` would.
 
-:func:`record` subscribes with ``raw=True`` to the given topics and writes the CDR bytes with
-rosbags (rosbag2 version 9), stamping each message with its receive time (UNIX ns). It runs its own
-rclpy Context and a SingleThreadedExecutor, installs no signal handlers (Ctrl-C arrives as
-KeyboardInterrupt and closes the bag properly), and can be stopped from another thread with a
-``threading.Event``."""
+:func:`record` subscribes with ``raw=True`` and writes the CDR bytes with rosbags (rosbag2
+version 9), each message stamped with its receive time (UNIX ns). Its own rclpy Context and a
+SingleThreadedExecutor, no signal handlers (Ctrl-C arrives as KeyboardInterrupt and closes the
+bag properly); stopped from another thread with a ``threading.Event``.
+"""
 
 from __future__ import annotations
 
@@ -71,19 +71,18 @@ def record(
     out_path : path-like
         The bag directory to create; it must not exist.
     topics : iterable of str
-        ``/topic`` (type discovered from the graph once a publisher appears) or
-        ``/topic:package/msg/Type`` (subscribed at once). At least one.
+        ``/topic`` (type discovered once a publisher appears) or ``/topic:package/msg/Type``
+        (subscribed at once). At least one.
     storage : {'mcap', 'sqlite3'}
         rosbag2 storage plugin.
     duration : float, optional
-        Stop after this many seconds [s] of wall time (default: until ``stop`` or Ctrl-C).
+        Stop after this much wall time [s] (default: until ``stop`` or Ctrl-C).
     qos_depth : int
-        History depth of the subscriptions. They are reliable unless a publisher on the topic
-        offers only best effort.
+        History depth of the subscriptions (reliable unless a publisher offers only best effort).
     stop : threading.Event, optional
         Set it (from another thread) to stop recording.
     ready : threading.Event, optional
-        Set once every topic is subscribed (useful to start a publisher after the recorder).
+        Set once every topic is subscribed.
     log : callable, optional
         Called with progress lines.
 
@@ -95,8 +94,8 @@ def record(
     Raises
     ------
     BagError
-        No topics, a bad topic or type, an unknown storage, an existing output path, a topic
-        with several types in the graph, or a type rosbags cannot describe.
+        No topics, a bad topic or type, an unknown storage, an existing output path, a topic with
+        several types in the graph, or a type rosbags cannot describe.
     """
     specs = [_topic_type(t) for t in (topics or [])]
     if not specs:

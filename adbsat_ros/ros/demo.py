@@ -1,32 +1,15 @@
-"""``adbsat-ros demo``: the ROS 2 node live on the bundled satellite, in one command.
+"""``adbsat-ros demo``: the ROS 2 node live on the bundled satellite, in one command (docs/cli.md).
 
-What it does, in one process:
+In one process: :class:`adbsat_ros.ros.node.AdbsatNode` with its default parameters on its own
+rclpy Context under ``/adbsat_demo``; a scenario (:mod:`adbsat_ros.bags.scenario`: 300 km,
+51.6 deg, nadir or tumbling) published live as ``state`` and ``attitude`` at ``speedup`` times
+real time (:data:`WALL_RATE_HZ` attitudes a wall second); the ``wrench`` and ``coefficients``
+received printed about every 0.5 s, and written as a CSV and PNG plots into ``out_dir``.
 
-1. starts :class:`adbsat_ros.ros.node.AdbsatNode` with its default parameters (bundled example
-   satellite, Sentman, raycast shading, NRLMSISE-00, stamps read as UNIX time, state in ECI) on
-   its own rclpy Context, spinning in a background thread, in the namespace ``/adbsat_demo``
-   (its ``/diagnostics`` remapped there too), so that it cannot mix with another graph;
-2. generates a scenario with :mod:`adbsat_ros.bags.scenario`: a 300 km circular orbit at 51.6 deg
-   inclination from a real UTC epoch, the satellite nadir-pointing or slowly tumbling;
-3. publishes it live, ``state`` (nav_msgs/Odometry) and ``attitude``
-   (geometry_msgs/QuaternionStamped) with the scenario's stamps, paced in wall time at
-   ``speedup`` times real time (attitudes always arrive at :data:`WALL_RATE_HZ` Hz);
-4. subscribes to ``wrench`` and ``coefficients`` and prints a line every ~0.5 s (simulated time,
-   altitude, density, drag coefficient, |F|, |T|, compute time and end-to-end latency);
-5. writes a CSV and PNG plots (force, torque, density, drag coefficient) into ``out_dir``.
-
-Why in-process rather than a child process: the node starts with no cross-process
-discovery to wait for, nothing is left running after
-Ctrl-C, and the demo can show, next to the published wrench, the node's own record of each
-computation (altitude, density, C_D, compute time): the demo registers a sample listener
-(:meth:`AdbsatNode.add_sample_listener`) to keep the samples behind the published wrenches, and
-checks that every published force equals the recorded sample's exactly. Topics still go through
-the ROS middleware (DDS) as they would
-between processes.
-
-The ROS 2 environment: ROS_AUTOMATIC_DISCOVERY_RANGE is set to LOCALHOST unless it is set
-already, so the demo never multicasts off the machine; ROS_DOMAIN_ID is left as the user set it
-(ROS's default, 0, otherwise): the private namespace keeps the demo's topics apart anyway.
+In-process so that nothing is left running after Ctrl-C and the node's own samples (a sample
+listener) can be shown beside the published wrenches, each force checked equal; topics still go
+through DDS. ROS_AUTOMATIC_DISCOVERY_RANGE is set to LOCALHOST unless set already;
+ROS_DOMAIN_ID is left as the user set it (the private namespace keeps the topics apart).
 """
 
 from __future__ import annotations
@@ -92,11 +75,8 @@ def demo_scenario(duration: float, speedup: float, attitude: str):
 
 
 def _events(messages, speedup: float):
-    """(wall offset [s], kind, index) in publishing order.
-
-    A state goes out half an attitude period before the attitude with the same stamp, so the
-    node has it when the attitude arrives.
-    """
+    """(wall offset [s], kind, index) in publishing order; a state goes out half an attitude period
+    before the attitude of its stamp, so the node has it when the attitude arrives."""
     t0 = int(messages.attitudes.stamps_ns[0])
     half = 0.5 / WALL_RATE_HZ
     events = [
@@ -119,12 +99,12 @@ def run_demo(
     out=None,
     articulated: bool = False,
 ) -> DemoResult:
-    """Run the demo (see the module docstring); prints to ``out`` (default stdout).
+    """Run the demo (module docstring); prints to ``out`` (default stdout).
 
     Parameters
     ----------
     duration : float
-        Wall time of the live part [s] (the node's start-up, about a second, comes on top).
+        Wall time of the live part [s] (the node's start-up comes on top).
     speedup : float
         Simulated seconds per wall second, in (0, :data:`MAX_SPEEDUP`].
     out_dir : path-like

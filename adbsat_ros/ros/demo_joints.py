@@ -1,12 +1,8 @@
 """The articulated demo (``adbsat-ros demo --articulated``): the bundled finned body steering.
 
-The node runs on ``example-finned`` (four fins at the rear on hinges through their leading
-edges) nadir-pointing, so the flow comes along the body's x axis; the demo publishes
-``joint_states`` with every attitude: the pitch fins (``fin_py``, ``fin_ny``) deflect by
-:data:`AMPLITUDE_DEG` sin(2 pi t / T) and the yaw fins (``fin_pz``, ``fin_nz``) a quarter period
-later, T the run's simulated time. The table shows the pitch deflection and the torque on the
-body and on one pitch fin's hinge, the CSV every joint's position and torque, and a plot the
-hinge torques against time.
+``example-finned`` flies nadir-pointing; ``joint_states`` go out with every attitude: the pitch
+fins deflect by :data:`AMPLITUDE_DEG` sin(2 pi t / T), the yaw fins a quarter period later, T
+the run's simulated time. Table, CSV and a plot show the hinge torques.
 """
 
 from __future__ import annotations
@@ -22,12 +18,9 @@ BODY = "example-finned"
 JOINTS = ("fin_py_hinge", "fin_ny_hinge", "fin_pz_hinge", "fin_nz_hinge")
 #: Largest fin deflection [deg] (the hinges allow 34 deg).
 AMPLITUDE_DEG = 10.0
-#: The configuration grid of the shading for fins that move with every message [deg], its
-#: points blended (``joint_shading_interpolation``), so that the shading and the torques are
-#: continuous in the deflections: the sweep's configurations are shaded once, then read
-#: (docs/benchmarks.md, articulated bodies). The grid's nearest point instead steps the torques a
-#: cell at a time (on this 2 deg grid the roll torque changed sign where the pitch fins passed
-#: 1 deg).
+#: The shading's configuration grid [deg] for fins that move with every message, its points
+#: blended (``joint_shading_interpolation``) so that the torques are continuous in the
+#: deflections (the nearest point would step them a cell at a time).
 SHADING_GRID_DEG = 2.0
 
 

@@ -72,8 +72,8 @@ CSV_COLUMNS = (
 
 
 def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult, joints=False) -> list:
-    """One row per wrench received (with its coefficients), in stamp order (with ``joints``,
-    :data:`demo_joints.CSV_COLUMNS` after :data:`CSV_COLUMNS`); fills ``result``'s figures."""
+    """One row per wrench received, in stamp order (with ``joints``, also
+    :data:`demo_joints.CSV_COLUMNS`); fills ``result``'s figures."""
     rows = []
     for key in sorted(received):
         wrench, coefficients, wall = received[key]
@@ -118,10 +118,9 @@ def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult, joints=F
 
 
 def write_outputs(rows, out_dir: Path, picture=None, joints=False) -> list:
-    """demo_wrench.csv and the time-series PNGs in out_dir and, with ``picture`` (a panel
-    method of the body as posed, the flow and the coefficients of the latest wrench),
-    demo_panel_pressure.png: the pressure picture the node's panel_marker topic shows live;
-    with ``joints``, the joint columns and demo_hinge_torques.png; returns the paths."""
+    """demo_wrench.csv and the time-series PNGs in out_dir; with ``picture`` (a posed panel method,
+    the flow and the latest coefficients) demo_panel_pressure.png; with ``joints`` the joint columns
+    and demo_hinge_torques.png. Returns the paths."""
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "demo_wrench.csv"
     with open(path, "w", newline="", encoding="utf-8") as fh:

@@ -1,9 +1,7 @@
 """The console scripts of the ROS tools (``adbsat_node``, ``adbsat_orbit_publisher``).
 
-Light to import on purpose: each handles SIGINT and SIGTERM
-(:func:`adbsat_ros.processes.handle_signals`) before it imports rclpy and the node, which takes
-a while; a signal in that time ends the tool as one while it runs does: one line on stderr and
-exit status 0.
+Light to import: each handles SIGINT and SIGTERM (:func:`adbsat_ros.processes.handle_signals`)
+before importing rclpy and the node, so a signal then ends it as one while it runs does.
 """
 
 from __future__ import annotations

@@ -16,13 +16,10 @@ except ImportError:
 def make_executor(kind: str = "events", context=None):
     """An rclpy executor: ``"events"`` or ``"single_threaded"``.
 
-    ``events`` is rclpy.experimental.EventsExecutor (C++ event queue: callbacks in arrival order,
-    less per-message overhead than the SingleThreadedExecutor, which rebuilds a wait set in
-    Python for every wait). An rclpy without it gets the
-    SingleThreadedExecutor, and so does a process whose sys.stderr is not a file. Spin either
-    with :func:`spin_until_shutdown`: the EventsExecutor's own ``spin()`` in the Jazzy 7.1
-    wheels busy-waits and does not return on SIGINT/SIGTERM, its ``spin_once(timeout)`` sleeps
-    and returns.
+    ``events`` is rclpy.experimental.EventsExecutor (a C++ event queue, callbacks in arrival order);
+    without it, or when sys.stderr is not a file, the SingleThreadedExecutor. Spin either with
+    :func:`spin_until_shutdown`: the EventsExecutor's own ``spin()`` in the Jazzy 7.1 wheels
+    busy-waits and ignores SIGINT/SIGTERM.
 
     Raises
     ------
@@ -44,8 +41,7 @@ def make_executor(kind: str = "events", context=None):
 
 
 def spin_until_shutdown(executor, context=None, stop=None) -> None:
-    """Spin ``executor`` until its context shuts down (rclpy.shutdown) or ``stop``, a
-    :class:`threading.Event` (e.g. of :func:`adbsat_ros.processes.stop_on_signals`), is set:
-    within 0.2 s of it."""
+    """Spin ``executor`` until its context shuts down or ``stop`` (a :class:`threading.Event`) is
+    set, within 0.2 s of it."""
     while rclpy.ok(context=context) and not (stop is not None and stop.is_set()):
         executor.spin_once(timeout_sec=0.2)

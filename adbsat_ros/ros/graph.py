@@ -1,10 +1,8 @@
-"""What the live bag tools share: an rclpy context of their own, message classes by type name, and
-topic names.
+"""What the live bag tools share: an rclpy context of their own, message classes, topic names.
 
-There is no ``ros2 bag`` with the PyPI ROS 2 wheels; :mod:`adbsat_ros.ros.bag_play` and
-:mod:`adbsat_ros.ros.bag_record` stand in for it with rclpy and rosbags. Each runs its own rclpy
-Context (rclpy then installs no signal handlers: Ctrl-C arrives as KeyboardInterrupt). The ROS
-domain and discovery range come from the environment (ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE).
+The PyPI ROS 2 wheels have no ``ros2 bag``; :mod:`~adbsat_ros.ros.bag_play` and
+:mod:`~adbsat_ros.ros.bag_record` stand in for it. Each runs its own rclpy Context (so rclpy
+installs no signal handlers); domain and discovery range come from the environment.
 """
 
 from __future__ import annotations
@@ -26,8 +24,7 @@ def message_class(msgtype: str, topic: str = ""):
     Raises
     ------
     BagError
-        Naming the topic and the type when the type name is malformed or its Python package is not
-        installed.
+        Naming the topic and type: a malformed type name, or its package not installed.
     """
     where = f"topic {topic}: " if topic else ""
     parts = msgtype.split("/")

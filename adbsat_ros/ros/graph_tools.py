@@ -1,10 +1,6 @@
-"""A running node's parameters and topics without the ``ros2`` command (pip-installed ROS 2 has
-none): list, get and set parameters over the standard parameter services, and print the
-messages of a topic.
-
-Each function makes its own rclpy context and node (``adbsat_ros_tool``), waits at most
-``timeout`` seconds for the other side, and takes everything down on return.
-"""
+"""A running node's parameters and topics without the ``ros2`` command: list, get and set
+parameters over the standard parameter services, print a topic's messages. Each function makes
+its own context and node, waits at most ``timeout`` s for the other side, and cleans up."""
 
 from __future__ import annotations
 
@@ -37,13 +33,11 @@ class ToolError(RuntimeError):
 
 
 class BadInput(ToolError):
-    """A command-line input that cannot be used (a node name that is no ROS name, a value that
-    is none of its parameter's type), in one line."""
+    """A command-line input that cannot be used (no ROS name, no value of its type), in one line."""
 
 
 def checked_node_name(target: str) -> str:
-    """``target``, a node's name (``adbsat_node``, ``/ns/adbsat_node``), if it is a valid ROS
-    name; BadInput naming it otherwise."""
+    """``target`` if it is a valid ROS node name (``/ns/adbsat_node``), else BadInput naming it."""
     namespace, _, name = target.rpartition("/")
     try:
         validate_node_name(name)
@@ -85,9 +79,8 @@ RESEND_S = 2.0
 
 
 def _wait(tool, request, timeout: float, what: str):
-    """The answer to ``request()`` (a call that sends it and returns its future), sent again
-    every :data:`RESEND_S` until one answer comes or ``timeout`` seconds have passed (the
-    parameter services' requests may be sent twice: they read or set a value)."""
+    """The answer to ``request()`` (returns a future), resent every :data:`RESEND_S` until it comes
+    or ``timeout`` s pass (parameter requests may be sent twice: they read or set a value)."""
     deadline = time.monotonic() + timeout
     futures = [request()]
     sent = time.monotonic()
@@ -138,10 +131,10 @@ def get_parameter(target: str, name: str, timeout: float = 5.0):
 
 
 def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
-    """Set parameter ``name`` of node ``target`` to ``text`` read as the parameter's declared
-    type, which the node is asked first (:func:`.parameter_values.text_value`: ``2e2`` for a
-    number is 200.0, a string is the text as given, ``[0.1, 0, 0]`` for a list of numbers three
-    doubles); returns the value set.
+    """Set parameter ``name`` of node ``target`` to ``text`` read as its declared type; returns it.
+
+    The node is asked the type first (:func:`.parameter_values.text_value`: ``2e2`` for a number is
+    200.0, a string the text as given, ``[0.1, 0, 0]`` three doubles).
 
     Raises
     ------
@@ -202,8 +195,9 @@ def message_text(message, indent: str = "") -> str:
 
 
 def echo(topic: str, count: int, timeout: float, write) -> int:
-    """Print ``count`` messages of ``topic`` (of the type the graph gives it) with ``write``;
-    returns how many came, none more than ``timeout`` seconds after the one before.
+    """Print ``count`` messages of ``topic`` with ``write``; returns how many came.
+
+    Gives up ``timeout`` s after the last message (or the start).
 
     Raises
     ------

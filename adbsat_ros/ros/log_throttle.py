@@ -11,16 +11,13 @@ LOG_THROTTLE_S = 5.0
 class LogThrottle:
     """At most one log line per key every ``period`` seconds, decided before the logger is called.
 
-    rclpy's own ``throttle_duration_sec`` finds its caller with ``inspect`` on every call, also on
-    the calls it then suppresses, each costing more than a whole wrench. A
-    stream of bad input at 1 kHz would then take more CPU than the node has, and it would fall
-    behind for good. This check costs a dictionary lookup.
+    rclpy's ``throttle_duration_sec`` inspects its caller on every call, suppressed ones too, so a
+    1 kHz stream of bad input would outrun the node; this check is a dictionary lookup.
 
     Parameters
     ----------
     logger : object
-        Has a method per level used (``warning``, ``error`` ...) taking the text, e.g. an rclpy
-        logger.
+        Has a method per level used (``warning``, ``error`` ...), e.g. an rclpy logger.
     period : float
         Seconds between two lines of one key.
     clock : callable
@@ -34,8 +31,7 @@ class LogThrottle:
         self._last: dict = {}
 
     def __call__(self, level: str, key: str, text: str) -> bool:
-        """Log ``text`` at ``level`` ("warning", "error", ...) unless ``key`` was logged less
-        than ``period`` seconds ago; return whether it was logged."""
+        """Log ``text`` at ``level`` unless ``key`` was within ``period`` s; whether logged."""
         now = self._clock()
         last = self._last.get(key)
         if last is not None and now - last < self._period:

@@ -1,16 +1,9 @@
 """The managed (lifecycle) wrench node: the same node, brought up by the ROS 2 lifecycle protocol.
 
-``configure`` loads the set-up the parameters give (mesh, models, shading structures) and makes
-the publishers and subscriptions; a set-up that cannot be loaded fails the transition, the
-reason logged, and the node stays unconfigured. ``activate`` starts serving: attitudes and states
-are computed and published (lifecycle publishers publish only while active). ``deactivate``
-stops serving and keeps the set-up; ``cleanup`` frees it. Parameters may be changed in any state
-and are checked at once; those that need a new set-up (``mesh``, ``mesh_scale``,
-``mesh_accept_size``, ``qos_depth``, ``body_frame_id``, ``executor``), read-only in the plain
-node, change only while unconfigured, and the next ``configure`` uses them. Run it with
-``adbsat_node --managed --ros-args ...`` and drive it with any lifecycle client
-(``launch/adbsat_managed.launch.py`` for ROS installations).
-The plain node (:mod:`.node`) stays the default.
+``configure`` loads the set-up and makes the interfaces (failing, reason logged, if it cannot),
+``activate`` serves and publishes, ``deactivate`` stops serving, ``cleanup`` frees the set-up.
+Parameters that need a new set-up change only while unconfigured. docs/node.md, "Managed
+(lifecycle) node".
 """
 
 from __future__ import annotations

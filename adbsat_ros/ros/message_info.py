@@ -1,10 +1,9 @@
 """Messages lost on the way to the node, counted from each message's info.
 
-rclpy hands a subscription callback that takes two arguments the message and its info, a dict
-whose ``publication_sequence_number`` is the publisher's number of the message (rmw_fastrtps
-fills it). :class:`LostMessages` counts, for one subscription, the numbers skipped between the
-messages taken (:class:`adbsat_ros.estimator.health.SequenceGaps`) together with what the
-middleware reports lost, and wraps the node's callback so that it keeps taking the message alone.
+rclpy passes a two-argument callback the message info, whose ``publication_sequence_number``
+(filled by rmw_fastrtps) numbers the publisher's messages. :class:`LostMessages` counts the
+numbers skipped (:class:`adbsat_ros.estimator.health.SequenceGaps`) with what the middleware
+reports lost, and wraps the node's callback, which still takes the message alone.
 """
 
 from __future__ import annotations
@@ -27,13 +26,8 @@ _WITH_INFO = inspect.Signature(
 class LostMessages:
     """The messages one subscription lost: its callback wrapper and its event callbacks.
 
-    Make the subscription with :meth:`callback` (around the node's own, which gets the message
-    alone) and :meth:`event_callbacks`, then give it to :meth:`attach`.
-
-    Attributes
-    ----------
-    gaps : SequenceGaps
-        The counts (``gaps.lost`` is the subscription's lost messages).
+    Make the subscription with :meth:`callback` and :meth:`event_callbacks`, then :meth:`attach` it.
+    ``gaps`` (:class:`SequenceGaps`) holds the counts.
     """
 
     def __init__(self):
@@ -50,8 +44,7 @@ class LostMessages:
         self._subscription = subscription
 
     def callback(self, on_message) -> _CountingCallback:
-        """A subscription callback that counts the message's number, then calls
-        ``on_message(message)``."""
+        """A callback counting the message's number, then calling ``on_message(message)``."""
         return _CountingCallback(on_message, self)
 
     def event_callbacks(self) -> SubscriptionEventCallbacks:
@@ -77,11 +70,8 @@ class LostMessages:
 
 
 class _CountingCallback:
-    """A subscription callback that rclpy passes the message and its info.
-
-    rclpy reads the signature (``__signature__``) to decide; the SingleThreadedExecutor then
-    calls it with the two, the Jazzy EventsExecutor with one tuple of them: both are taken.
-    """
+    """A callback rclpy passes the message and its info (by its ``__signature__``): the
+    SingleThreadedExecutor as two arguments, the Jazzy EventsExecutor as one tuple."""
 
     __signature__ = _WITH_INFO
 

@@ -1,38 +1,11 @@
 """ROS 2 node: attitude and orbital state in, aerodynamic WrenchStamped out.
 
-Topics (relative names, remappable):
-
-* ``attitude`` (geometry_msgs/QuaternionStamped, subscribed): orientation of the body (mesh)
-  frame in the state's frame, quaternion x, y, z, w.
-* ``state`` (nav_msgs/Odometry, subscribed): position in ``header.frame_id`` (ECI or ECEF per the
-  ``state_frame`` parameter); twist per the Odometry convention in ``child_frame_id``: a twist in
-  the body frame is rotated with the pose orientation, one whose child_frame_id names the state
-  frame (or is empty) is taken as is.
-* ``wrench`` (geometry_msgs/WrenchStamped, published): force [N] and torque about the centre of
-  mass [N m] in the body frame (``body_frame_id``), stamp copied from the attitude message.
-* ``coefficients`` (geometry_msgs/WrenchStamped, published with every wrench while it has a
-  subscriber): force coefficients in ``force`` and moment coefficients in ``torque``, body
-  frame, about the centre of mass, normalised by the read-only parameters ``reference_area`` and
-  ``reference_length``.
-* ``wrench_inertial`` (geometry_msgs/WrenchStamped, published with every wrench while it has a
-  subscriber): the force [N] in the state frame (frame_id ``eci`` or ``ecef``, the
-  ``state_frame``), the torque [N m] in the body frame, as torques are applied.
-* ``acceleration`` (geometry_msgs/AccelStamped, likewise, with a ``mass``): force / mass
-  [m/s^2] in the state frame and, with an ``inertia``, inertia^-1 torque [rad/s^2] in the body
-  frame.
-* ``/diagnostics`` (diagnostic_msgs/DiagnosticArray, every ``diagnostics_period`` s).
-
-The node is a shell around the per-message path it shares with the bag analysis
-(:class:`adbsat_ros.estimator.handling.MessageHandler`): each callback takes one message as CDR
-bytes, decodes it (:mod:`adbsat_ros.messages.decoding`, with rclpy's deserialiser), hands it to
-the handler, encodes the sample it returns (:mod:`adbsat_ros.messages.encoding`) and publishes
-the bytes. Attitudes that
-queue while the node computes are served by the executor, one callback each, in order. Bytes
-that are neither message are counted as ``undecodable``; rejected inputs are logged at most once
-per reason every ``LOG_THROTTLE_S``. After each attitude the node prepares what the next regular
-stamp will need (:meth:`MessageHandler.prepare_next`).
-
-Parameters: see :data:`adbsat_ros.estimator.settings.PARAMETERS` and ``config/adbsat.yaml``.
+Topics, frames and parameters: docs/node.md (and ``adbsat_node --help``,
+:data:`adbsat_ros.estimator.settings.PARAMETERS`, ``config/adbsat.yaml``). A shell around the
+per-message path shared with bag analysis: each callback takes CDR bytes, decodes them
+(:mod:`adbsat_ros.messages.decoding`), hands them to
+:class:`adbsat_ros.estimator.handling.MessageHandler`, encodes the sample
+(:mod:`adbsat_ros.messages.encoding`) and publishes the bytes.
 """
 
 from __future__ import annotations
@@ -66,8 +39,6 @@ class AdbsatNode(WrenchNodeCore, Node):
     ----------
     **node_kwargs
         Passed to ``rclpy.node.Node`` (e.g. ``context``, ``parameter_overrides``).
-
-    Its attributes (``estimator``, ``handler``, ``health``) are :class:`WrenchNodeCore`'s.
     """
 
     def __init__(self, **node_kwargs):
@@ -92,13 +63,10 @@ def params_files(argv) -> list:
 def main(args=None) -> int:
     """Console script ``adbsat_node``: ``adbsat_node --ros-args --params-file config/adbsat.yaml``.
 
-    ``--help`` (before ``--ros-args``) prints :func:`help_text` and exits; ``--managed`` runs the
-    managed (lifecycle) node (:mod:`.managed_node`), which waits for ``configure``. Returns the
-    exit status: 0 after a shutdown or the help, 1 (one line on stderr) if the node cannot be
-    set up. SIGINT and SIGTERM are handled from the first instruction (the console script
-    enters :func:`adbsat_ros.processes.handle_signals` before this module is imported,
-    :mod:`.entry_points`): while the node is made it stops at once, while it spins the spin loop
-    ends first; either way one line on stderr and exit status 0.
+    ``--help`` (before ``--ros-args``) prints :func:`help_text`; ``--managed`` runs the lifecycle
+    node (:mod:`.managed_node`). Returns the exit status: 0 after a shutdown, a signal or the help,
+    1 (one line on stderr) if the node cannot be set up. SIGINT and SIGTERM are handled from the
+    first instruction (:mod:`.entry_points`).
     """
     return run_until_stopped(NODE_NAME, _main, args)
 
@@ -131,8 +99,7 @@ def _main(args=None) -> int:
 
 
 def _run(managed: bool = False) -> int:
-    """Make the node (the managed one with ``managed``), spin it until a signal or a shutdown,
-    and take everything down in order; the exit status."""
+    """Make the node, spin it until a signal or a shutdown, take it down; the exit status."""
     node = None
     try:
         try:

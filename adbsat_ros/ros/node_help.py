@@ -1,5 +1,4 @@
-"""What ``adbsat_node --help`` prints: its usage, topics, and every parameter with its default,
-valid range and meaning (from the one table of :mod:`adbsat_ros.estimator.parameters`)."""
+"""What ``adbsat_node --help`` prints (from the table of :mod:`adbsat_ros.estimator.parameters`)."""
 
 from __future__ import annotations
 
@@ -34,8 +33,7 @@ TOPICS = (
 
 
 def help_text() -> str:
-    """What ``adbsat_node --help`` prints: usage, topics, and every parameter with its default,
-    valid range and meaning."""
+    """``adbsat_node --help``: usage, topics, every parameter's default, valid range and meaning."""
     lines = [
         f"usage: {NODE_NAME} [--help] [--managed] --ros-args [--params-file FILE] "
         "[-p NAME:=VALUE ...]",

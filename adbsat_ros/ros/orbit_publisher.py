@@ -29,8 +29,7 @@ EARTH_RADIUS = 6378137.0
 
 
 def main(argv=None) -> int:
-    """Console script ``adbsat_orbit_publisher``; returns the exit status: 0 also when SIGINT
-    or SIGTERM stops it (one line on stderr says so)."""
+    """Console script ``adbsat_orbit_publisher``; the exit status (0 also after SIGINT/SIGTERM)."""
     return run_until_stopped("adbsat_orbit_publisher", _main, argv)
 
 

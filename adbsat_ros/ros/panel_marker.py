@@ -1,11 +1,7 @@
 """The live picture of the load: the mesh as a visualization_msgs/Marker (a triangle list), each
-panel coloured by its pressure coefficient as ``adbsat-ros plot`` colours it
-(:func:`adbsat_ros.plotting.panels.panel_colours`: shaded panels grey, back faces pale), so RViz
-shows where the load acts.
-
-Building the message is slow for 10,000 panels (rclpy message objects, one
-per vertex), so the node publishes it at a low rate, and only while it has a subscriber.
-"""
+panel coloured by its c_p as ``adbsat-ros plot`` colours it
+(:func:`adbsat_ros.plotting.panels.panel_colours`). One rclpy object per vertex makes it slow
+for large meshes, so the node publishes it at a low rate, only while it has a subscriber."""
 
 from __future__ import annotations
 

@@ -1,10 +1,8 @@
 """Which of the node's optional outputs have subscribers, counted by the middleware's events.
 
-Some outputs are made only while someone reads them: the coefficients, the state-frame wrench and
-the acceleration (for a propagator), an articulated body's joint torques and the panel marker.
-Asking the middleware with every message (``get_subscription_count``) would cost a call into the
-middleware per output and message, so :class:`Readers` makes their publishers with a matched-event
-callback and keeps, per output, whether it has a reader now: one attribute read per message.
+Coefficients, state-frame wrench and acceleration, joint torques and the panel marker are made
+only while read. :class:`Readers` keeps, per output, whether it has a reader, from matched
+events, so a message costs an attribute read instead of a ``get_subscription_count`` call.
 """
 
 from __future__ import annotations
