@@ -13,12 +13,12 @@ The public API, by task (each name documented on the object itself):
 
 * meshes: :func:`load_mesh`, :func:`panels_from_arrays`, :func:`panels_from_trimesh`,
   :func:`example_satellite`, :class:`PanelMesh`, :class:`MeshError`; bodies with moving parts
-  from a URDF: :class:`ArticulatedBody`, :class:`ArticulatedMethod` (its wrench, per-link loads
-  and joint torques at any joint positions), and :func:`panel_loads` for the load on every panel;
+  from a URDF: :class:`ArticulatedBody`, :class:`ArticulatedMethod` (wrench, per-link loads and
+  joint torques at any joint positions), and :func:`panel_loads` for the load on every panel;
 * the panel method: :class:`PanelMethod`, :class:`AeroCoefficients`, :class:`Reference`,
   :class:`ModelOptions`, :data:`MODELS`, :class:`MaterialTable`, :class:`SurfaceProperties`;
-* multiple reflections: :class:`TestParticleMethod` (test-particle Monte Carlo, the same inputs
-  and results as the panel method, with standard errors: :class:`TpmcCoefficients`);
+* multiple reflections: :class:`TestParticleMethod` (test-particle Monte Carlo, with standard
+  errors: :class:`TpmcCoefficients`);
 * shading: :func:`make_shader`, :class:`Shader`, :class:`ShadingCache`, :class:`PanelLighting`;
 * the gas: :class:`FreeStream`, and from an orbital state :func:`flight_conditions`,
   :func:`flight_conditions_circular_orbit`, :class:`FlightConditions`, :class:`SpaceWeather`;
@@ -27,9 +27,8 @@ The public API, by task (each name documented on the object itself):
 * databases: :func:`build_database`, :func:`load_database`, :class:`AeroDatabase`,
   :class:`CoefficientLookup`.
 
-These names are loaded on first use (PEP 562 module ``__getattr__``): ``import adbsat_ros`` (and
-so ``import adbsat_ros.cli``) does not import numpy, trimesh or scipy, which keeps the command
-line's start-up short. ``from adbsat_ros import PanelMethod`` works as for any module.
+These names are loaded on first use (PEP 562 ``__getattr__``), so ``import adbsat_ros`` (and the
+command line) imports no numpy, trimesh or scipy.
 """
 
 from __future__ import annotations

@@ -1,10 +1,8 @@
 """The valid range of every physical input, in one table, each bound with its reason.
 
-The command line, the node's parameters and params files, and the node's messages are checked
-against :data:`BOUNDS` through the constructors that take these numbers (the free stream, the
-space weather, the surface, the orbital state): a value outside its range is refused with its
-name, the value and the range, never turned into a wrong number. The table is also printed in
-docs/physics.md (section "Valid inputs").
+The command line, the node's parameters and messages are checked against :data:`BOUNDS` by the
+constructors that take these numbers: a value outside its range is refused with its name, the
+value and the range. The table is printed in docs/physics.md, section 11.
 """
 
 from __future__ import annotations
@@ -211,8 +209,8 @@ BODY_POINT_REASON = (
 
 
 def bounded(name: str, value, bound: str | Bound | None = None) -> float:
-    """``value`` as a float within the range ``bound``: a :class:`Bound`, or the name of one in
-    :data:`BOUNDS` (default ``name``).
+    """``value`` as a float within ``bound``: a :class:`Bound`, or the name of one in :data:`BOUNDS`
+    (default ``name``).
 
     Raises
     ------
@@ -225,10 +223,9 @@ def bounded(name: str, value, bound: str | Bound | None = None) -> float:
 
 
 def body_point_bounds(lower, upper) -> tuple:
-    """The range of each coordinate (x, y, z) of a point of a body whose mesh's bounding box
-    runs from ``lower`` to ``upper`` (3 numbers each) [m]: the box that holds the bounding box
-    and the mesh origin (ADBSat's default moment reference), widened on every side by
-    :data:`BODY_REACH` times the bounding box's largest side.
+    """The range [m] of each coordinate of a point of a body whose bounding box runs from ``lower``
+    to ``upper``: the box holding the bounding box and the mesh origin (ADBSat's default moment
+    reference), widened on every side by :data:`BODY_REACH` times its largest side.
 
     Returns
     -------
@@ -250,8 +247,7 @@ def body_point(name: str, point, lower, upper) -> tuple:
 
 
 def available_memory() -> int | None:
-    """Bytes of memory this machine can give a job now: MemAvailable of /proc/meminfo (Linux),
-    else the free physical pages (``os.sysconf``); None where neither is known."""
+    """Bytes of memory this machine can give a job now (MemAvailable, else free pages), or None."""
     try:
         with open("/proc/meminfo", encoding="ascii") as fh:
             for line in fh:
@@ -266,8 +262,8 @@ def available_memory() -> int | None:
 
 
 def check_memory(name: str, estimate: float, available: int | None = None) -> None:
-    """ValueError naming ``name`` if a job's estimated memory ``estimate`` [bytes] exceeds what
-    the machine has (``available``, default :func:`available_memory`); nothing if not known."""
+    """ValueError naming ``name`` if ``estimate`` [bytes] exceeds ``available`` (default
+    :func:`available_memory`); nothing if that is not known."""
     available = available_memory() if available is None else available
     if available is not None and estimate > available:
         raise ValueError(

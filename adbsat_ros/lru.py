@@ -1,8 +1,7 @@
 """A bounded store of the most recently used entries, with its hit and miss counts.
 
-The package's caches are each a named object that says what its key is and why its values are
-worth keeping (the shading per flow direction, an articulated body's poses per configuration
-...); this is where such an object keeps its entries.
+Each of the package's caches is a named object saying what its key is and why its values are
+worth keeping; this is where it keeps its entries.
 """
 
 from __future__ import annotations
@@ -12,14 +11,10 @@ from typing import Callable
 
 
 class LruStore:
-    """At most ``max_entries`` values by key (None: no bound); the least recently used goes
-    first. Values are never None.
+    """At most ``max_entries`` values by key (None: no bound), least recently used dropped first.
 
-    Attributes
-    ----------
-    max_entries : int or None
-    hits, misses, evictions : int
-        Lookups that found their key, lookups that did not, entries dropped for the bound.
+    Values are never None. ``hits``, ``misses``, ``evictions`` count lookups that found their key,
+    those that did not, and entries dropped for the bound.
     """
 
     def __init__(self, max_entries: int | None):
@@ -32,8 +27,7 @@ class LruStore:
     def get(self, key, make: Callable[[], object], count: bool = True):
         """The value of ``key``: the stored one, or ``make()`` (then stored).
 
-        With ``count`` False the lookup is not counted as a hit or a miss (filling ahead); an
-        entry it drops is counted in :attr:`evictions`.
+        With ``count`` False the lookup is not counted as a hit or a miss (filling ahead).
         """
         value = self._entries.get(key)
         if value is not None:

@@ -1,12 +1,10 @@
 """Named numpy arrays kept on disk by key: what the stores of prepared data are made of.
 
-The store of checked meshes (:mod:`adbsat_ros.geometry.mesh_store`) and that of the shader's
-topology (:mod:`adbsat_ros.shading.topology_store`) keep what takes trimesh to make, so that a
-later run reads it back with numpy alone. :class:`NpzStore` holds one ``.npz`` file per key in a
-directory (no pickles), each written whole or not at all (a temporary file renamed over it), and
-keeps the ``max_entries`` most recently used (a read touches its file; the oldest beyond the
-bound are removed after a write). A directory that cannot be written, or an entry that cannot be
-read, is passed over with a debug message: what was asked for is then made again.
+The stores of checked meshes (:mod:`adbsat_ros.geometry.mesh_store`) and shader topology
+(:mod:`adbsat_ros.shading.topology_store`) keep what trimesh makes, for later runs to read with
+numpy alone. :class:`NpzStore` holds one ``.npz`` per key (no pickles), written whole or not at
+all, and keeps the ``max_entries`` most recently used. An unwritable directory or an unreadable
+entry is passed over (debug message): the data is made again.
 
 Directories: ``$ADBSAT_ROS_CACHE_DIR/<kind>``, by default ``$XDG_CACHE_HOME/adbsat_ros/<kind>``
 or ``~/.cache/adbsat_ros/<kind>``; ``ADBSAT_ROS_CACHE_DIR=off`` turns every store off.
@@ -49,7 +47,7 @@ class NpzStore:
     Attributes
     ----------
     hits, misses, writes : int
-        Reads that found their entry, reads that did not, and entries written.
+        Reads that found their entry, reads that did not, entries written.
     """
 
     #: Set by each kind of store: its directory's name under the cache directory, its
@@ -69,7 +67,7 @@ class NpzStore:
 
     @classmethod
     def finish_key(cls, digest, *parts) -> str:
-        """The key (hex SHA-256) of ``digest`` (a hashlib SHA-256 of the entry's data) with the
+        """The key (hex SHA-256) of ``digest`` (a hashlib SHA-256 of the entry's data), the
         ``parts`` that also change the entry, the store's format and the code that makes it."""
         code = code_fingerprint(cls.MAKERS, cls.PACKAGES)
         digest.update("|".join(map(repr, (*parts, cls.KIND, cls.FORMAT, code))).encode())
@@ -77,9 +75,8 @@ class NpzStore:
 
     @classmethod
     def resolve(cls, store, name: str = "store"):
-        """``store`` as given to a user of the store (its parameter ``name``): ``"default"``,
-        the environment's store of this kind (:func:`shared_store`, None if the stores are
-        off), a store or None as they are; ValueError naming it for another string."""
+        """``store`` as a user's parameter ``name`` gives it: ``"default"`` is :func:`shared_store`
+        (None if stores are off), a store or None as is; ValueError naming it for another string."""
         if isinstance(store, str):
             if store != "default":
                 raise ValueError(
@@ -135,9 +132,8 @@ class NpzStore:
         return True
 
     def _prune(self) -> None:
-        """Remove the least recently used entries beyond ``max_entries``, and the temporary
-        files of writes that never finished (a process killed while writing) after a day; a
-        file that cannot be removed (another user's) is left, with a debug message."""
+        """Remove the entries beyond ``max_entries`` and, after a day, temporary files of
+        killed writes; a file that cannot be removed (another user's) is left."""
         try:
             self._remove_old()
         except OSError as exc:
@@ -178,7 +174,7 @@ class NpzStore:
 
 def cache_directory(kind: str) -> Path | None:
     """The directory of the stores of ``kind`` (:data:`CACHE_DIR_VARIABLE` read now), or None
-    if it is ``off``."""
+    if ``off``."""
     base = os.environ.get(CACHE_DIR_VARIABLE)
     if not base or not base.strip():  # (unset or empty: the default place)
         xdg = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
@@ -190,11 +186,9 @@ def cache_directory(kind: str) -> Path | None:
 
 @functools.lru_cache(maxsize=16)
 def code_fingerprint(modules: tuple, packages: tuple = ()) -> str:
-    """A short hash of what makes a store's entries: the source of ``modules`` (dotted names
-    of this package's modules) and the installed files of ``packages`` (their top module's
-    path, size and modification time: a new release or reinstall changes them), found
-    without importing them; made once per process. Part of the stores' keys, so that entries
-    made by other code are never read back."""
+    """A short hash of the source of ``modules`` and the installed files (path, size, mtime) of
+    ``packages``, found without importing them; once per process. Part of the stores' keys, so
+    entries made by other code are never read back."""
     digest = hashlib.sha256()
     for name in modules:
         spec = importlib.util.find_spec(name)
@@ -222,8 +216,7 @@ _shared: dict = {}  # (store class, directory) -> the store (its counters the pr
 
 
 def shared_store(cls):
-    """The one ``cls`` (an :class:`NpzStore`) of the environment's directory of its ``KIND``
-    in this process, or None if the stores are off."""
+    """The process's one ``cls`` store of the environment's directory, or None if stores are off."""
     directory = cache_directory(cls.KIND)
     if directory is None:
         return None

@@ -1,14 +1,11 @@
-"""Processes of the long jobs (database builds, bag analysis, the node): how workers start and
-how many, that they die with their parent, the heap kept out of the garbage collector's passes
-while they run, and SIGINT/SIGTERM handled from a command's first instruction.
+"""Processes of the long jobs: how many workers and how they start, that they die with their
+parent, the heap kept out of the garbage collector's passes, and SIGINT/SIGTERM handling.
 
-Signals: a command's ``main`` enters :func:`handle_signals` first. From there a SIGINT or SIGTERM
-raises :class:`Interrupted` in the main thread (the command ends with one line), except inside
-:func:`stop_on_signals`, where the work checks the event it yields at its boundaries (a chunk,
-a message) and stops in order, keeping what it wrote as its documentation says. A process forked
-from the command (a worker) ignores SIGINT, which a Ctrl-C sends to the whole process group
-(the parent decides how the job stops), and dies of SIGTERM; :func:`die_with_parent`, in each
-worker's initializer, also makes it die with its parent.
+A command's ``main`` enters :func:`handle_signals` first: a signal then raises
+:class:`Interrupted` in the main thread, except inside :func:`stop_on_signals`, where the work
+checks an event at its boundaries and stops in order. A forked worker ignores SIGINT (a Ctrl-C
+reaches the whole process group; the parent decides), dies of SIGTERM, and with its parent
+(:func:`die_with_parent`).
 """
 
 from __future__ import annotations
@@ -43,8 +40,7 @@ def usable_cpus() -> int:
 
 def worker_count(requested: int | None) -> tuple:
     """``(workers, note)``: ``requested`` processes (default: every usable CPU), at most
-    :func:`usable_cpus` (more only add memory and switching: 1,000 workers took 11 GB); ``note``
-    says so when it capped the request, else it is None.
+    :func:`usable_cpus` (more only add memory and switching); ``note`` says when it capped them.
 
     Raises
     ------
@@ -62,8 +58,8 @@ def worker_count(requested: int | None) -> tuple:
 
 
 def pool_context():
-    """The multiprocessing context of a worker pool: fork where the platform has it (workers
-    start at once and inherit the imports, meshes and caches), else the default."""
+    """A worker pool's multiprocessing context: fork where there is one (workers inherit the
+    imports, meshes and caches), else the default."""
     if "fork" in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("fork")
     return multiprocessing.get_context()
@@ -73,12 +69,10 @@ def pool_context():
 def frozen_heap():
     """Keep the objects that exist now out of the garbage collector's passes while inside.
 
-    A parallel job makes many small tracked objects (bag analysis about 20 per message, and
-    keeps a chunk's worth); every full collection then walks the whole heap, some 130,000
-    objects of numpy, trimesh, rosbags and the meshes. Unpickling a bag analysis's chunk then
-    spends most of its time walking the heap, which frozen objects (:func:`gc.freeze`) skip.
-    Frozen before the workers fork, the heap also stays shared with them, as the :mod:`gc`
-    documentation advises. Nothing is frozen if the caller froze objects already.
+    A parallel job makes many small tracked objects, and every full collection would walk the whole
+    heap of numpy, trimesh, rosbags and the meshes; frozen (:func:`gc.freeze`) before the workers
+    fork, the heap also stays shared with them, as the :mod:`gc` documentation advises. Nothing is
+    frozen if the caller froze objects already.
     """
     if gc.get_freeze_count():
         yield
@@ -102,8 +96,7 @@ class Interrupted(KeyboardInterrupt):
 class _Signals:
     """The handler of :func:`handle_signals`: the first signal sets :attr:`event` and, inside
     :func:`raising_signals` but outside :func:`stop_on_signals`, raises :class:`Interrupted`;
-    later ones only set the event (what the command does after the first one is its orderly
-    end)."""
+    later ones only set the event."""
 
     def __init__(self):
         self.pid = os.getpid()
@@ -124,10 +117,9 @@ class _Signals:
             self._raise(frame)
 
     def _raise(self, frame) -> None:
-        """Raise :class:`Interrupted` here, unless an import is under way in ``frame``'s stack:
-        an extension module importing from C (its initialisation, the modules it imports) may
-        print what is raised there as a traceback and go on, or abort on it, so the raise waits
-        until every import has returned (SIGALRM, tried again a moment later)."""
+        """Raise :class:`Interrupted`, unless an import is under way in ``frame``'s stack: an
+        extension module importing from C may print it as a traceback and go on, or abort, so the
+        raise waits (SIGALRM, tried again a moment later)."""
         if _importing(frame):
             signal.signal(signal.SIGALRM, self._again)
             signal.siginterrupt(signal.SIGALRM, False)  # (no system call fails on it)
@@ -174,11 +166,12 @@ def signal_name() -> str | None:
 
 @contextlib.contextmanager
 def handle_signals():
-    """SIGINT and SIGTERM handled for a whole command: its ``main`` enters this first thing
-    (module docstring), and :func:`raising_signals` inside the ``try`` that catches
-    :class:`Interrupted` (outside it a signal only sets the event, so that none comes between
-    the two); the previous handlers come back after. Nothing happens in a thread other than
-    the main one, nor inside another such block."""
+    """SIGINT and SIGTERM handled for a whole command, whose ``main`` enters this first thing.
+
+    :func:`raising_signals` goes inside the ``try`` that catches :class:`Interrupted` (outside it a
+    signal only sets the event); the previous handlers come back after. Nothing happens outside the
+    main thread, nor inside another such block.
+    """
     if _signals() is not None or threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -198,9 +191,8 @@ def handle_signals():
 
 
 def exit_now(status: int) -> None:
-    """End the program with ``status`` at once, its output flushed: after :class:`Interrupted`
-    in its start-up, which may have stopped an extension module half-way through its import
-    (the interpreter's clean-up could then crash on it; nothing is left to keep)."""
+    """End the program with ``status`` at once, output flushed: after :class:`Interrupted` in its
+    start-up, which may have stopped an import half-way (the interpreter's clean-up could crash)."""
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):
             stream.flush()
@@ -227,9 +219,9 @@ def raising_signals():
 
 @contextlib.contextmanager
 def interruptible():
-    """Inside :func:`stop_on_signals`, a stretch that holds nothing to keep (reading, planning):
-    a signal ends it at once (:class:`Interrupted`), as one that came before it, or one that a
-    library inside caught, does."""
+    """Inside :func:`stop_on_signals`, a stretch holding nothing to keep (reading, planning): a
+    signal ends it at once (:class:`Interrupted`), as does one that came before or that a
+    library caught."""
     signals = _signals()
     if signals is None:
         yield
@@ -244,11 +236,10 @@ def interruptible():
 def stop_on_signals():
     """An event set by SIGINT or SIGTERM while inside, where they raise nothing.
 
-    A long job checks the event at its boundaries and stops in order: the ROS node ends its spin
-    loop before it takes rclpy down (rclpy's own handlers shut the context down under a running
-    callback, which then fails to publish with a traceback); bag analysis keeps what it wrote as
-    PARTIAL. Under :func:`handle_signals` the event is the command's (set by a signal before the
-    block too); elsewhere handlers of its own are installed while inside.
+    A long job checks it at its boundaries and stops in order: the node ends its spin loop before
+    taking rclpy down (rclpy's own handlers would shut the context down under a running callback);
+    bag analysis keeps what it wrote as PARTIAL. Under :func:`handle_signals` the event is the
+    command's; elsewhere handlers of its own are installed while inside.
     """
     signals = _signals()
     if signals is not None:
@@ -270,10 +261,11 @@ def stop_on_signals():
 
 
 def run_until_stopped(program: str, body, argv=None) -> int:
-    """Run ``body(argv)``, a program that runs until it is stopped (the node, the orbit
-    publisher), under :func:`handle_signals`: its exit status, or 0 with one line on stderr
-    when SIGINT or SIGTERM stopped it. A signal that cut its start-up short ends the program
-    here (:func:`exit_now`) when it runs as a console script (``argv`` None)."""
+    """Run ``body(argv)``, a program that runs until stopped, under :func:`handle_signals`.
+
+    Returns its exit status, or 0 with one line on stderr after SIGINT or SIGTERM; a signal during
+    its start-up ends a console script (``argv`` None) here (:func:`exit_now`).
+    """
     with handle_signals():
         interrupted = False
         try:
@@ -294,10 +286,8 @@ PR_SET_PDEATHSIG = 1
 
 
 def die_with_parent(parent: int) -> None:
-    """In a worker process (its pool's initializer, first thing): die with the process
-    ``parent`` that started it, also when that one is killed with SIGKILL (Linux's parent-death
-    signal, and an exit at once if it is gone already); SIGINT ignored and SIGTERM fatal, as
-    :func:`as_worker` says."""
+    """In a worker's initializer: die with ``parent``, even if it is killed with SIGKILL (Linux's
+    parent-death signal; at once if it is gone already); SIGINT ignored, SIGTERM fatal."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if sys.platform.startswith("linux"):

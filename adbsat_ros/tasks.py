@@ -1,24 +1,17 @@
 """Chunked jobs on Dask: the one engine of sweeps and databases.
 
-A job is a picklable description of some work (:class:`ChunkJob`): a ``key`` that names it and
-a ``setup()`` that builds, where the job runs, what its chunks need (a mesh, a panel method, a
-shader ...); that set-up's ``evaluate(chunk)`` gives a chunk's result. :func:`run_chunks` hands
-the chunks to Dask as tasks and gives each result to the caller as it comes, in the order they
-finish:
+A job (:class:`ChunkJob`) is picklable: a ``key`` naming it and a ``setup()`` that builds, where
+it runs, what its chunks need; the set-up's ``evaluate(chunk)`` gives a chunk's result.
+:func:`run_chunks` hands the chunks to Dask and gives each result back as it finishes:
 
-- no scheduler and one worker: in this process, chunk after chunk (nothing to start);
-- no scheduler and more: a ``distributed.LocalCluster`` of worker processes on this machine,
-  one thread each (the solvers hold the GIL), forked where the platform can fork (workers start
-  faster with the imports inherited than spawned);
-- a scheduler's address: that running scheduler and its workers (``dask worker`` processes, or
-  a cluster that dask-jobqueue or dask-kubernetes started).
+- no scheduler, one worker: in this process, chunk after chunk;
+- no scheduler, more: a ``distributed.LocalCluster`` on this machine, one thread per worker
+  process (the solvers hold the GIL), forked where possible;
+- a scheduler's address: that scheduler and its workers.
 
-Each task carries the job (a few kB for a spec, about 1 MB for a 4,000-panel panel method that is
-not in a file); a worker builds a job's set-up on its first chunk and keeps it
-(:data:`SETUPS`): scattered data would have no lineage, and its loss with a worker would cancel
-the tasks that need it. A worker that dies takes its running chunks with it; they are submitted
-again, to the workers left. Nothing in a chunk may depend on where or when it ran: a job's
-results are then the same whatever the workers and the order.
+Each task carries the job; a worker builds its set-up on the first chunk and keeps it
+(:data:`SETUPS`), since scattered data would have no lineage and be lost with a worker. Chunks
+of a dead worker are submitted again. A chunk's result may not depend on where or when it ran.
 """
 
 from __future__ import annotations
@@ -53,8 +46,8 @@ SETUPS = LruStore(2)
 
 
 class ChunkJob(Protocol):
-    """What :func:`run_chunks` runs: picklable, with a ``key`` naming it (equal keys: equal
-    set-ups) and a ``setup()`` whose ``evaluate(chunk)`` computes a chunk."""
+    """What :func:`run_chunks` runs: picklable, a ``key`` (equal keys: equal set-ups) and a
+    ``setup()`` whose ``evaluate(chunk)`` computes a chunk."""
 
     key: str
 
@@ -64,8 +57,7 @@ class ChunkJob(Protocol):
 
 @dataclass
 class TaskReport:
-    """What a run did: chunks computed now, whether it stopped early (a signal), the workers
-    it had, and warnings for the user."""
+    """What a run did: chunks computed, whether a signal stopped it, its workers, warnings."""
 
     computed: int = 0
     stopped: bool = False
@@ -86,14 +78,11 @@ TRIM_THRESHOLD, MMAP_THRESHOLD = 512 << 20, 32 << 20
 
 
 def keep_freed_memory() -> None:
-    """Make glibc keep the memory this process frees for its next allocations (once per
-    process; nothing where there is no glibc).
+    """Make glibc keep the memory this process frees for its next allocations (once; glibc only).
 
-    A Dask worker runs its tasks in a thread, whose malloc arena gives freed pages back to the
-    system at every turn, so the megabyte-sized arrays of each attitude come back as fresh
-    pages (page faults the main thread does not take); with a trim threshold of 512 MB and an
-    mmap threshold of 32 MB (what the main thread's arena reaches by itself) a thread does as
-    well as the main thread, with no page faults.
+    A Dask worker's thread arena gives freed pages back at every turn, so each attitude's large
+    arrays come back as page faults; the trim and mmap thresholds the main arena reaches by itself
+    avoid that.
     """
     if _MALLOC["set"]:
         return
@@ -123,7 +112,7 @@ def run_chunks(
     chunks : dict
         Chunk index -> the chunk (what the set-up's ``evaluate`` takes; picklable).
     on_result : callable
-        Called in this process as each chunk finishes, in the order they finish.
+        Called in this process as each chunk finishes, in that order.
     scheduler : str, optional
         Address of a running Dask scheduler (``tcp://host:8786``); None: this machine.
     workers : int, optional
@@ -222,8 +211,7 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
 
 
 def _kill_workers(cluster) -> None:
-    """End the local workers at once (SIGKILL): closed in order, each would first finish the
-    chunk it is at, whose result is dropped anyway."""
+    """End the local workers at once (SIGKILL): closed in order, each would finish its chunk."""
     for nanny in list(cluster.workers.values()):
         pid = getattr(nanny, "pid", None)
         if pid:
@@ -262,19 +250,16 @@ def local_cluster(count: int):
 
 
 def dask_setup(worker) -> None:
-    """Dask's preload hook, run in each worker process of :func:`local_cluster` as it starts:
-    a forked worker dies with the process that started the cluster, also when that one is
-    killed with SIGKILL (:func:`adbsat_ros.processes.die_with_parent`), instead of waiting for
-    its lost scheduler."""
+    """Dask's preload hook in each worker of :func:`local_cluster`: a forked worker dies with the
+    process that started the cluster, even if that is SIGKILLed
+    (:func:`adbsat_ros.processes.die_with_parent`)."""
     if _PARENT["pid"] is not None and _PARENT["pid"] != os.getpid():
         die_with_parent(_PARENT["pid"])
 
 
 def worker_environment() -> dict:
-    """Dask's environment for worker processes without ``MALLOC_TRIM_THRESHOLD_``: a fixed
-    trim threshold (Dask sets 64 KiB) makes glibc give memory back at every turn of the panel
-    method's small arrays, and take them again as page faults (the work itself takes a few
-    hundred MB)."""
+    """Dask's worker environment without ``MALLOC_TRIM_THRESHOLD_``: Dask's fixed 64 KiB threshold
+    would make glibc give memory back and take it again as page faults at every turn."""
     import dask
     import distributed  # noqa: F401  (its configuration defaults are read on import)
 
@@ -284,11 +269,8 @@ def worker_environment() -> dict:
 
 
 class _quiet_distributed:
-    """Dask's loggers at CRITICAL while inside (and in the local workers, which inherit them
-    when forked): the INFO lines of an in-process scheduler would bury a progress bar, and a
-    worker's error lines repeat what the client reports (a chunk's failure: computed again,
-    then said in one line) or, while a signal stops a build, tell of its lost scheduler with a
-    traceback."""
+    """Dask's loggers at CRITICAL while inside (inherited by forked workers): its INFO lines would
+    bury a progress bar, its workers' errors repeat what the client reports."""
 
     def __enter__(self):
         import distributed  # noqa: F401  (its loggers exist from here on)

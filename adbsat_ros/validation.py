@@ -38,8 +38,7 @@ def positive(name: str, value) -> float:
 
 
 def all_finite(array: np.ndarray) -> bool:
-    """True if every element of ``array`` is finite (Python floats for up to 3 elements, where
-    that is faster than numpy)."""
+    """True if every element of ``array`` is finite (Python floats for up to 3 elements)."""
     if array.size <= 3:
         return all(map(math.isfinite, array.ravel().tolist()))
     return bool(np.isfinite(array).all())
@@ -61,9 +60,9 @@ def vectors3(value, name: str) -> np.ndarray:
 def foreign_entry(path, own) -> Path | None:
     """The first entry at ``path`` that ``own`` does not accept as a command's output, or None.
 
-    ``own(parts)`` gets each file's path relative to ``path`` as a tuple of names (``()`` for
-    ``path`` itself when it is a file). A directory's entries are visited in sorted order; an
-    empty directory is accepted; a symbolic link or a special file never is.
+    ``own(parts)`` gets each file's path relative to ``path`` as a tuple of names (``()`` for a
+    file ``path``). Entries are visited in sorted order; an empty directory is accepted, a symbolic
+    link or a special file never is.
     """
     path = Path(path)
     if path.is_symlink() or not path.is_dir():
