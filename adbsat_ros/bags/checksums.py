@@ -98,19 +98,10 @@ class CheckedWriter(Writer):
 class Damage:
     """A part of a bag's file that fails its check.
 
-    Attributes
-    ----------
-    file : Path
-        The storage file.
-    what : str
-        The part, e.g. ``chunk 3 of 7 (at byte 2098254, log time 1767225610.100 to
-        1767225620.000 s, 11245 messages)``, ``the data section`` or ``the file``.
-    reason : str
-        How it fails, e.g. ``fails its CRC``.
-    offset : int or None
-        A chunk's byte offset in the file (None: not a chunk).
-    messages : int
-        The messages it holds (a chunk's, by the index; 0 otherwise).
+    ``what`` names the part, e.g. ``chunk 3 of 7 (at byte 2098254, log time 1767225610.100 to
+    1767225620.000 s, 11245 messages)``, ``the data section`` or ``the file``; ``reason`` how it
+    fails (``fails its CRC``); ``offset`` a chunk's byte offset (None: not a chunk); ``messages``
+    those a chunk holds by the index (0 otherwise).
     """
 
     file: Path

@@ -61,22 +61,8 @@ class _CsvFile:
 
 @dataclass
 class Replay:
-    """What the merge walks through: both passes over the input, chunk results, models, report.
-
-    Attributes
-    ----------
-    read : BagMessages
-        The first pass over the input.
-    stream : MessageStream
-        The second: every message, in bag order.
-    chunks : list of (int, int)
-        The chunks of trigger messages, in order.
-    results : generator of ChunkResult
-        Their results, in order.
-    states : list of ModelState
-    report : AnalysisReport
-        Filled in as the walk goes.
-    """
+    """What the merge walks through: the two passes over the input (``read``, ``stream``), the
+    ``chunks`` and their ``results`` in order, the models' ``states`` and the ``report``."""
 
     read: object
     stream: object

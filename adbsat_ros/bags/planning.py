@@ -86,28 +86,13 @@ def plan_chunks(
     chunk_messages: int | None,
     accepted,
 ) -> list:
-    """Cut the trigger messages into chunks [start, stop) at safe split points.
+    """Cut the trigger messages into chunks [start, stop) at safe split points; they cover all.
 
-    Parameters
-    ----------
-    kinds : sequence of int
-        STATE, ATTITUDE or JOINTS of every trigger message, in bag order.
-    stamps : sequence of float
-        Their stamps [s], possibly fewer (up to the first unreadable one: no cut after it).
-    attitude_sources : sequence of str
-        Each model's ``attitude_source``.
-    workers : int
-        Processes that will compute the chunks.
-    chunk_messages : int or None
-        Messages per chunk (default: CHUNKS_PER_WORKER per worker, within MIN_CHUNK_MESSAGES
-        and MAX_CHUNK_MESSAGES, their number a multiple of ``workers``).
-    accepted : callable
-        ``accepted(k)``: whether every model's reset estimator accepts the state message k.
-
-    Returns
-    -------
-    list of (int, int)
-        The chunks in order, covering every message.
+    ``kinds``, ``stamps`` and ``attitude_sources`` as in :func:`safe_split_points` (``stamps``
+    possibly fewer: no cut after the first unreadable one). ``chunk_messages`` defaults to
+    CHUNKS_PER_WORKER chunks per worker, within MIN_CHUNK_MESSAGES and MAX_CHUNK_MESSAGES, their
+    number a multiple of ``workers``. ``accepted(k)``: whether every model's reset estimator
+    accepts the state message k.
     """
     n = len(kinds)
     if chunk_messages is None:

@@ -118,24 +118,10 @@ def check_topics(reader, path, topics_types) -> dict:
 class BagMessages:
     """The first pass over a bag: trigger kinds and stamps, and the states' bytes.
 
-    Attributes
-    ----------
-    connections : dict
-        The reader's connections by id.
-    count : int
-        Messages read (up to a fault of the reader, if any).
-    kind_of : dict
-        {connection id: STATE, ATTITUDE or JOINTS} of the trigger topics.
-    trigger_kinds : array of int
-        The kind of each trigger message, in bag order.
-    trigger_stamps : array of float
-        Their header stamps [s] (sec + 1e-9 nanosec), up to the first unreadable one.
-    state_raws : dict
-        {trigger index: CDR bytes} of the state messages (to test where chunks may start).
-    error : str or None
-        Why the reading stopped before the end.
-    skipped : list of Damage
-        Damaged chunks left out by both passes.
+    ``trigger_stamps`` [s] (sec + 1e-9 nanosec) stop at the first unreadable one (no chunk starts
+    after it); ``state_raws`` maps trigger index to a state's CDR bytes (to test where chunks may
+    start); ``count`` is the messages read and ``error`` why reading stopped early, if it did;
+    ``skipped`` the damaged chunks both passes leave out.
     """
 
     path: object

@@ -35,23 +35,8 @@ def check_label(label: str) -> str:
 
 @dataclass
 class ModelSummary:
-    """What one model produced: triggers seen, wrenches written, rejections by reason.
-
-    Attributes
-    ----------
-    label : str
-    wrench_topic, coefficients_topic, solar_topic, total_topic, joint_torques_topic : str
-        Its output topics (solar and total with ``solar_pressure``, joint torques for articulated
-        bodies).
-    triggers : int
-        Messages that asked it for a wrench.
-    wrenches : int
-        Wrenches written.
-    rejections : dict
-        Rejected inputs by reason.
-    first_rejection : dict
-        The message of the first rejection of each reason.
-    """
+    """What one model produced: its output topics, the ``triggers`` that asked it for a wrench, the
+    ``wrenches`` written, and ``rejections`` (and the ``first_rejection`` message) by reason."""
 
     label: str
     wrench_topic: str
@@ -84,15 +69,12 @@ class AnalysisReport:
 
     Attributes
     ----------
-    input : Path
     outputs : dict
         'bag', 'csv', 'plots' (list of PNG paths) that were written.
-    models : list of ModelSummary
     messages_read, messages_total : int
         Input messages read (and copied), and those the input's index announced.
     error : str or None
         Why the input could not be read to its end (the outputs then hold what came before).
-    warnings : list of str
     seconds : dict
         Wall time [s] by phase: read, estimate, write, csv, plots, total.
     workers, chunks : int

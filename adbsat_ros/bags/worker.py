@@ -71,26 +71,13 @@ class SampleNumbers(NamedTuple):
 
 
 class MessageRecord(NamedTuple):
-    """What one message came to for one model, as the merge needs it.
+    """What one message came to for one model, as the merge needs it: only numbers and bytes.
 
-    Attributes
-    ----------
-    state_accepted : bool
-        A state the estimator accepted.
-    status : str or None
-        None if the message asked this model for no wrench, ``ok``, or the rejection reason.
-    reason, reason_text : str or None
-        A rejection's reason and message, or ``compute_error`` and the failure.
-    latest_rejection : bool
-        Whether it is a rejection (then the diagnostics' latest), not a failure.
-    numbers : SampleNumbers or None
-        The sample's numbers for the diagnostics.
-    compute_seconds : float or None
-        Time the estimator took for the sample [s].
-    cache_keys : tuple
-        The shading-cache cells read for it (one, three when interpolating, or none).
-    wrench_cdr, coefficients_cdr, solar_cdr, total_cdr, joint_torques_cdr : bytes or None
-        The messages to write.
+    ``status`` is None (no wrench asked of this model), ``ok`` or the rejection reason;
+    ``reason``/``reason_text`` a rejection's (or ``compute_error`` and the failure), which
+    ``latest_rejection`` tells apart; ``numbers`` the sample's for the diagnostics;
+    ``compute_seconds`` the estimator's time [s]; ``cache_keys`` the shading-cache cells read (one,
+    three when interpolating, or none); the ``*_cdr`` fields the messages to write.
     """
 
     state_accepted: bool = False

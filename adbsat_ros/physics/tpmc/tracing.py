@@ -33,9 +33,8 @@ class Tally:
     exit_velocity : ndarray, shape (P, 3)
         Velocity [m/s] each molecule leaves with (its entry velocity if it hit nothing).
     panel_impulse, panel_hits : ndarray, shape (N, 3) and (N,)
-        Momentum given to [kg m/s], and hits on, each panel.
-    hits, trapped : int
-        Collisions in all; molecules stopped after :data:`MAX_BOUNCES` hits.
+        Momentum given to [kg m/s], and hits on, each panel; ``hits`` all collisions, ``trapped``
+        the molecules stopped after :data:`MAX_BOUNCES` hits.
     """
 
     impulse: np.ndarray
