@@ -1,9 +1,13 @@
-"""Golden outputs: coeff, database, bag analyze and node wrenches as recorded in test/golden.
+"""Golden outputs: coeff, database, bag analyze, the estimator of an articulated body and node
+wrenches as recorded in test/golden.
 
 The reference numbers (test/golden/golden.json) were written by test/golden/make_golden.py from
-the user-facing entry points; any change of behaviour on those paths (models, shading, flight
-conditions, database, bag analysis, the node) shows here. Equal within 1e-12 of each list's
-largest magnitude.
+the user-facing entry points; any change of behaviour on those paths (models, shading and its
+interpolation, URDF bodies and their joints, test particles with a seed, flight conditions,
+solar pressure, database, bag analysis, the node) shows here. Equal within 1e-12 of each list's
+largest magnitude. To record a new case, add it to test/golden/cases.py or joint_cases.py and
+run ``python test/golden/make_golden.py --new GROUP`` from the repository root (the recorded
+cases stay as they are); ``python test/golden/make_golden.py`` records every group again.
 """
 
 import json
@@ -16,6 +20,7 @@ GOLDEN = Path(__file__).resolve().parent / "golden"
 sys.path.insert(0, str(GOLDEN))
 
 import cases  # noqa: E402
+import joint_cases  # noqa: E402
 
 RTOL = 1e-12
 
@@ -45,6 +50,10 @@ def test_database(golden, meshes, tmp_path):
 
 def test_bag_analyze(golden, meshes, tmp_path):
     check(golden["bag_analyze"], cases.bag_outputs(meshes, tmp_path))
+
+
+def test_estimator_joints(golden):
+    check(golden["estimator"], joint_cases.estimator_outputs())
 
 
 @pytest.mark.ros

@@ -1,9 +1,11 @@
 """The outputs the golden test pins: coeff, database, bag analyze and node wrenches.
 
 Everything is computed through the package's user-facing entry points (the ``adbsat-ros``
-command line and the ROS node), on the bundled example satellite and small test meshes, over
-several gas-surface models and shading modes, so that any change of behaviour anywhere on those
-paths shows as a changed number. ``make_golden.py`` writes the reference file once; the test
+command line and the ROS node), on the bundled example satellite, its URDF examples at given
+joint positions and small test meshes, over several gas-surface models, shading modes, the
+panel method and test particles with a seed, so that any change of behaviour anywhere on those
+paths shows as a changed number. (The estimator fed an articulated body's joint states is in
+``joint_cases.py``.) ``make_golden.py`` writes the reference file once; the test
 compares a fresh computation against it.
 """
 
@@ -51,7 +53,7 @@ def write_meshes(folder: Path) -> dict:
     return paths
 
 
-#: coeff cases: (name, mesh key or "example", options)
+#: coeff cases: (name, test mesh key or bundled body, options)
 COEFF_CASES = (
     (
         "example_sentman_raycast",
@@ -226,9 +228,82 @@ COEFF_CASES = (
             *ANGLES,
         ],
     ),
+    (
+        "articulated_sentman_raycast_joints",
+        "example-articulated",
+        [
+            "--joint",
+            "wing_left_hinge=20",
+            "--joint",
+            "wing_right_hinge=-35",
+            "--gsim",
+            "sentman",
+            "--shading",
+            "raycast",
+            *ANGLES,
+            *FLOW,
+        ],
+    ),
+    (
+        "finned_dria_projection_joints",
+        "example-finned",
+        [
+            "--joint",
+            "fin_py_hinge=12.5",
+            "--joint",
+            "fin_nz_hinge=-20",
+            "--gsim",
+            "dria",
+            "--alpha",
+            "0.9",
+            "--shading",
+            "projection",
+            "--moment-ref=-0.1,0.02,0.0",
+            "--aoa=-10,25",
+            "--aos=0,15",
+            *SPECIES,
+        ],
+    ),
+    (
+        "box_maxwell_tpmc_seed",
+        "box",
+        [
+            "--gsim",
+            "maxwell",
+            "--alpha",
+            "0.8",
+            "--method",
+            "tpmc",
+            "--particles",
+            "2000",
+            "--seed",
+            "7",
+            *ANGLES,
+            *FLOW,
+        ],
+    ),
+    (
+        "cube_plate_sentman_both_seed",
+        "cube_plate",
+        [
+            "--gsim",
+            "sentman",
+            "--shading",
+            "raycast",
+            "--method",
+            "both",
+            "--particles",
+            "2000",
+            "--seed",
+            "7",
+            "--aoa=-40,25",
+            "--aos=0,30",
+            *FLOW,
+        ],
+    ),
 )
 
-#: database cases: (name, mesh key or "example", options)
+#: database cases: (name, test mesh key or bundled body, options)
 DATABASE_CASES = (
     (
         "example_sentman_raycast",
@@ -239,6 +314,27 @@ DATABASE_CASES = (
         "box_cll_none",
         "box",
         ["--gsim", "cll", "--shading", "none", "--aoa=-180:30:180", "--aos=-90:30:90", *SPECIES],
+    ),
+    (
+        "box_maxwell_tpmc_seed",
+        "box",
+        [
+            "--gsim",
+            "maxwell",
+            "--alpha",
+            "0.8",
+            "--method",
+            "tpmc",
+            "--particles",
+            "2000",
+            "--seed",
+            "3",
+            "--aoa=-30:30:30",
+            "--aos=-20:20:20",
+            "--workers",
+            "1",  # (the same numbers as on 2, without starting processes)
+            *FLOW,
+        ],
     ),
 )
 
@@ -257,6 +353,17 @@ PARAMS_FILES = {
         "shading_interpolation": False,
         "accommodation_model": "langmuir",
         "conditions_step": 0.0,
+    },
+    "interpolated_solar": {  # (the node's default shading_interpolation, on a coarse cache)
+        "gsi_model": "maxwell",
+        "alpha": 0.85,
+        "shading": "raycast",
+        "shading_interpolation": True,
+        "shading_cache_resolution_deg": 2.0,
+        "solar_pressure": True,
+        "specular_reflectivity": 0.3,
+        "diffuse_reflectivity": 0.2,
+        "center_of_mass": [0.05, -0.02, 0.0],
     },
 }
 
@@ -293,7 +400,8 @@ def cli(argv) -> int:
 
 
 def mesh_argument(key: str, meshes: dict) -> str:
-    return "example" if key == "example" else str(meshes[key])
+    """A test mesh's path, or the name of a bundled body."""
+    return str(meshes[key]) if key in meshes else key
 
 
 def coeff_outputs(meshes: dict) -> dict:
@@ -311,9 +419,8 @@ def database_outputs(meshes: dict, folder: Path) -> dict:
     out = {}
     for name, key, options in DATABASE_CASES:
         path = folder / f"{name}.npz"
-        code = cli(
-            ["database", mesh_argument(key, meshes), "--workers", "2", "--out", path, *options]
-        )
+        workers = [] if "--workers" in options else ["--workers", "2"]
+        code = cli(["database", mesh_argument(key, meshes), *workers, "--out", path, *options])
         assert code == 0, name
         with np.load(path, allow_pickle=False) as data:
             out[name] = {
