@@ -129,20 +129,11 @@ def sesam_sticking_fraction(incident_energy: float) -> float:
 
 
 def sesam_oxygen_pressure(oxygen_number_density: float, speed: float, speed_ratio: float) -> float:
-    """SESAM's atomic-oxygen pressure P_O [Pa] = 1/2 rho_O V^2 f(s).
+    """SESAM's atomic-oxygen pressure P_O [Pa] = 1/2 rho_O V^2 f(s), docs/physics.md section 5.6.
 
-    f(s) = (2 s^2 + 1) e^{-s^2} / (sqrt(pi) s^3) + (4 s^4 + 4 s^2 - 1) erf(s) / (2 s^4), with s
-    the mixture's speed ratio. As s -> 0, V^2 f(s) -> 0 (f ~ 16 / (3 sqrt(pi) s)), so P_O = 0 at
-    zero speed; below s = 1e-3 the leading term is used (the two terms of f cancel there).
-
-    Parameters
-    ----------
-    oxygen_number_density : float
-        n_O [m^-3], >= 0.
-    speed : float
-        Relative speed V [m/s], >= 0.
-    speed_ratio : float
-        s = V / sqrt(2 k_B T / m) of the mixture [-], >= 0 (0 only with V = 0).
+    ``oxygen_number_density`` n_O [m^-3], ``speed`` V [m/s] and the mixture's ``speed_ratio`` s
+    [-], all >= 0 (s = 0 only with V = 0). V^2 f(s) -> 0 as s -> 0, so P_O = 0 at rest; below
+    s = 1e-3 the leading term f ~ 16 / (3 sqrt(pi) s) is used (the two terms of f cancel there).
     """
     n_o = _non_negative("oxygen_number_density", oxygen_number_density)
     speed = _non_negative("speed", speed)
@@ -171,18 +162,9 @@ def sesam_accommodation(
 ) -> float:
     """SESAM accommodation (Pilinski et al. 2013): alpha = (1 - theta) alpha_s + theta.
 
-    Parameters
-    ----------
-    oxygen_number_density : float
-        n_O [m^-3].
-    mean_mass : float
-        Mean molecular mass of the mixture [kg] (for Goodman's alpha_s).
-    speed : float
-        Relative speed V [m/s], >= 0.
-    speed_ratio : float
-        Mixture speed ratio s [-].
-    substrate_coefficient, surface_mass_amu : float, optional
-        As :func:`goodman_accommodation`.
+    ``oxygen_number_density`` n_O [m^-3], the mixture's ``mean_mass`` [kg] (for Goodman's
+    alpha_s), ``speed`` V [m/s] >= 0 and ``speed_ratio`` s [-]; the other options as
+    :func:`goodman_accommodation`.
     """
     clean = goodman_accommodation(mean_mass, substrate_coefficient, surface_mass_amu)
     pressure_pa = sesam_oxygen_pressure(oxygen_number_density, speed, speed_ratio)

@@ -42,18 +42,11 @@ _TWO_PI = 2.0 * math.pi
 # --------------------------------------------------------------------------- Earth orientation
 @dataclass(frozen=True, eq=False)
 class EarthOrientation:
-    """Orientation of the ITRF (ECEF) relative to the GCRF (ECI) at one instant.
+    """Orientation of the ITRF (ECEF) relative to the GCRF (ECI) at one (naive UTC) ``time``.
 
-    Attributes
-    ----------
-    time : datetime.datetime
-        The UTC instant (naive, UTC).
-    celestial_to_terrestrial : numpy.ndarray, shape (3, 3)
-        Rotation matrix R with ``r_ecef = R @ r_eci`` (GCRS -> ITRS), read-only.
-    earth_rotation_angle : float
-        ERA(UT1) [rad], in [0, 2 pi).
-    rotation_vector_ecef : numpy.ndarray, shape (3,)
-        Angular velocity of ECEF relative to ECI, ECEF axes [rad/s], along the CIP.
+    ``celestial_to_terrestrial``: the read-only rotation R, ``r_ecef = R @ r_eci``;
+    ``earth_rotation_angle``: ERA(UT1) [rad] in [0, 2 pi); ``rotation_vector_ecef``: the
+    angular velocity of ECEF relative to ECI, ECEF axes [rad/s], along the CIP.
     """
 
     time: _dt.datetime

@@ -50,14 +50,8 @@ DEFAULT_ACCOMMODATION_MODEL = "langmuir"
 class ConditionsOptions:
     """The options of :func:`flight_conditions`, checked once for a stream of states.
 
-    Attributes
-    ----------
-    wind : tuple of 3 floats or None
-        [m/s], in ``wind_frame``.
-    accommodation_model : str
-        A canonical model name.
-    orientation_options : tuple
-        The checked Earth-orientation options (``check_orientation_options``).
+    ``wind`` [m/s] in ``wind_frame``; ``accommodation_model`` a canonical name;
+    ``orientation_options`` as ``check_orientation_options`` returns them.
     """
 
     frame: str

@@ -36,19 +36,8 @@ EARTH_SHADOW_RADIUS = 6_378_137.0
 
 @dataclass(frozen=True)
 class SunState:
-    """The Sun seen from a satellite.
-
-    Attributes
-    ----------
-    direction_eci : ndarray, shape (3,)
-        Unit vector from the satellite towards the Sun, GCRS.
-    distance : float
-        Satellite-Sun distance [m].
-    lit_fraction : float
-        Fraction of the solar disc visible past the Earth, in [0, 1].
-    pressure : float
-        Solar radiation pressure at that distance [Pa], the shadow not applied.
-    """
+    """The Sun seen from a satellite: the unit vector towards it (GCRS), the distance [m], the
+    visible fraction of its disc [0, 1], and the pressure [Pa] there, the shadow not applied."""
 
     direction_eci: np.ndarray
     distance: float
@@ -165,18 +154,8 @@ def _visible_fraction(rx, ry, rz, sx, sy, sz) -> float:
 def sun_state(time, position_eci, sun_position=None) -> SunState:
     """The Sun seen from a satellite at ``position_eci`` [m] (GCRS) at UTC ``time``.
 
-    Parameters
-    ----------
-    time : datetime.datetime
-    position_eci : array_like, shape (3,)
-    sun_position : array_like, shape (3,), optional
-        The Sun's geocentric position [m] at ``time`` if known (e.g. from a :class:`SunTrack`);
-        :func:`sun_position_eci` otherwise.
-
-    Raises
-    ------
-    ValueError
-        As :func:`lit_fraction`.
+    ``sun_position``: the Sun's geocentric position [m] at ``time`` if known (e.g. from a
+    :class:`SunTrack`). Raises ValueError as :func:`lit_fraction`.
     """
     sun = sun_position_eci(time) if sun_position is None else np.asarray(sun_position, float)
     r = np.asarray(position_eci, dtype=float)
