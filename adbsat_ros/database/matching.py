@@ -74,28 +74,13 @@ def database_mismatches(metadata: dict, method: PanelMethod) -> list:
 
 
 class DatabaseCoefficients:
-    """Force and moment coefficients in the body frame from a database, for the estimator.
+    """Force and moment coefficients in the body frame from the database file ``path`` (.npz),
+    for the estimator; it must match ``method``, the node's set-up (:func:`database_mismatches`),
+    whose moment point is the centre of mass c the moments are carried to.
 
-    Parameters
-    ----------
-    path : str
-        Database file (.npz) made by ``adbsat-ros database``.
-    method : PanelMethod
-        The node's set-up; the database must match it (:func:`database_mismatches`), and its
-        reference moment point is the centre of mass the moments are carried to.
-
-    Attributes
-    ----------
-    error_bound : dict
-        ``force_coefficient`` and ``moment_coefficient``: the database's stated interpolation
-        error, the moment bound carried to the centre of mass c: e_M(p) + |p - c| e_F / L_ref.
-    speed_ratio : float
-        Speed ratio of the free stream the database was made for.
-
-    Raises
-    ------
-    ValueError
-        Naming ``database_path`` and saying why: unreadable file, or every mismatch.
+    ``error_bound``: the database's stated interpolation error, the moment bound carried to c
+    (e_M(p) + |p - c| e_F / L_ref); ``speed_ratio``: that of the database's free stream. Raises
+    ValueError naming ``database_path``: an unreadable file, or every mismatch.
     """
 
     def __init__(self, path: str, method: PanelMethod):

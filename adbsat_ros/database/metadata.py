@@ -89,25 +89,11 @@ def describe_setup(
 ) -> dict:
     """Metadata of a set-up: everything but the grid results and the interpolation error.
 
-    Parameters
-    ----------
-    method : PanelMethod
-        Mesh, model, options, materials and reference quantities.
-    flow : FreeStream
-    shading : str
-        Shading mode.
-    samples : int
-        Rays per panel of raycast shading.
-    mesh_spec : str, os.PathLike or None
-        How the mesh is reloaded (path or ``"example"``); it must reload to the method's mesh.
-        ``"example"`` for a mesh built some other way, and None, record None (not reloadable).
-    mesh_scale : float
-        Scale given when loading the mesh file.
-    mesh_joints : dict of str to float, optional
-        For a URDF ``mesh_spec``: the joint positions [rad or m] the mesh is posed at.
-
-    Returns a JSON-ready dict with the keys of :data:`~adbsat_ros.database.format.REQUIRED_METADATA`
-    but ``interpolation_error``; raises ValueError if ``mesh_spec`` does not load the mesh.
+    ``shading`` and ``samples``: the shading mode and rays per panel. ``mesh_spec`` (a path or
+    ``"example"``) must reload, with ``mesh_scale`` and a URDF's ``mesh_joints`` [rad or m], to
+    the method's mesh (ValueError otherwise); ``"example"`` for a mesh built some other way, and
+    None, record None (not reloadable). Returns a JSON-ready dict with the keys of
+    :data:`~adbsat_ros.database.format.REQUIRED_METADATA` but ``interpolation_error``.
     """
     texts = material_override_texts(method.materials)
     mesh = method.mesh
