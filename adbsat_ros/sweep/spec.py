@@ -66,8 +66,6 @@ class SweepSpec:
     ----------
     reference : dict
         ``area``, ``length``, ``moment_point`` given (others from the mesh).
-    materials : tuple of str
-        ``NAME:key=value`` override texts.
     axes : dict of str to ndarray
         Axis name -> its values in the spec's units (deg for angles), in sweep order.
     time : str
@@ -75,8 +73,7 @@ class SweepSpec:
     text : str
         The spec as YAML (recorded in the result).
     solver : tuple
-        ``method`` (``panel`` or ``tpmc``) and, for test particles, ``particles``,
-        ``tolerance`` and ``seed``, as (key, value) pairs.
+        (key, value) pairs: ``method`` (``panel`` or ``tpmc``) and a test-particle run's.
     meshes : tuple of str
         The mesh variants of a ``mesh`` axis (``mesh`` is the first); empty without one.
     """
