@@ -18,18 +18,8 @@ BINS = 2048
 
 
 class MinMaxEnvelope:
-    """Many samples of ``columns`` series against time, kept as a min/max envelope.
-
-    Parameters
-    ----------
-    columns : int
-        Series, each sampled at every :meth:`add`.
-    bins : int
-        The most bins kept.
-    width : float
-        The bins' first width, in the times' unit; doubled as the samples need.
-    buffer : int
-        Samples taken before they are binned (with numpy).
+    """Samples of ``columns`` series against time, kept in at most ``bins`` bins of a first
+    ``width`` (the times' unit, doubled as needed), binned ``buffer`` samples at a time.
 
     A non-finite value is left out of its bin; a bin with no finite value of a series gives it
     a gap (NaN) in :meth:`series`.

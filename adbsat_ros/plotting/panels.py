@@ -124,24 +124,12 @@ def make_panel_pressure_figure(
 ) -> Figure:
     """A 3-D picture of the mesh coloured by per-panel pressure coefficient at one attitude.
 
-    Parameters
-    ----------
-    method : PanelMethod
-    flow : FreeStream
-    aoa_deg, aos_deg : float
-        Angle of attack and sideslip [deg].
-    lighting : PanelLighting or Shader or None
-        Shading for this attitude, or a shader to compute it with; None: nothing shaded.
-    view : (elev, azim) in degrees, optional
-        Camera; default :func:`default_view`.
-    title : str, optional
-        First title line (default: mesh, model, speed ratio, attitude).
-    result : AeroCoefficients, optional
-        The coefficients to draw, computed already (e.g. by test particles, whose panels count
-        as all reached); default: ``method`` at this attitude with ``lighting``.
-
-    Returns a Figure whose first axes' first collection is the panels' Poly3DCollection (with
-    the c_p norm and colour map); the legend states the shaded and back-face panel counts.
+    ``aoa_deg``, ``aos_deg`` [deg]; ``lighting``: a PanelLighting of this attitude, a shader to
+    compute it with, or None (nothing shaded); ``view``: (elev, azim) [deg], default
+    :func:`default_view`; ``title``: the first title line; ``result``: coefficients computed
+    already (e.g. by test particles, whose panels count as all reached), default ``method`` at
+    this attitude. The first axes' first collection is the panels' Poly3DCollection (with the
+    c_p norm and colour map); the legend states the shaded and back-face panel counts.
     """
     aoa_deg, aos_deg = float(aoa_deg), float(aos_deg)
     if not (math.isfinite(aoa_deg) and math.isfinite(aos_deg)):
