@@ -1,19 +1,10 @@
 """Building an aerodynamic database: a solver swept over a grid of aoa and sideslip.
 
-:func:`build_database` evaluates the panel method (with the chosen shading), or the
-test-particle Monte Carlo solver (every reflection; :mod:`adbsat_ros.physics.tpmc`), at every
-pair (aoa_i, aos_j) of two angle lists [deg] and returns an
-:class:`~adbsat_ros.database.format.AeroDatabase` with its set-up recorded as metadata
-(:mod:`adbsat_ros.database.metadata`) and the stated interpolation error of the grid
-(:mod:`adbsat_ros.database.interpolation`).
-
-The attitudes are evaluated in chunks on the task engine of sweeps (:mod:`adbsat_ros.tasks`):
-worker processes on this machine (every core by default), or the workers of a running Dask
-scheduler. Each attitude is computed by the same code whatever the chunking, so the result does
-not depend on the number of workers (bit for bit): with test particles, attitude i draws from
-its own seed, ``SeedSequence(seed, spawn_key=(i,))``. Their standard errors are stored with the
-coefficients, and the stated error of the database adds three of the largest to the
-interpolation error.
+:func:`build_database` runs the panel method or test particles at every (aoa, aos) pair [deg],
+in chunks on the task engine (:mod:`adbsat_ros.tasks`: local workers or a Dask scheduler).
+Each attitude is computed by the same code whatever the chunking (attitude i of a test-particle
+build draws from ``SeedSequence(seed, spawn_key=(i,))``), so the result does not depend on the
+number of workers, bit for bit. docs/physics.md, section 9.
 """
 
 from __future__ import annotations
@@ -68,10 +59,11 @@ def attitude_seed(seed: int, index: int) -> int:
 
 
 class DatabaseJob:
-    """A database build as a job of :func:`adbsat_ros.tasks.run_chunks`: a chunk is
-    ``(first, attitudes)``, the grid index of its first attitude and the attitudes (K, 2) [deg];
-    its result an array (K, :data:`COLUMNS`). ``tpmc``: None for the panel method, else the
-    test-particle run's settings (a dict of ``particles``, ``tolerance`` and ``seed``)."""
+    """A database build as a job of :func:`adbsat_ros.tasks.run_chunks`.
+
+    A chunk is ``(first, attitudes)``, the grid index of its first attitude and the attitudes
+    (K, 2) [deg]; its result an array (K, :data:`COLUMNS`). ``tpmc``: None for the panel
+    method, else the test-particle run's settings (``particles``, ``tolerance``, ``seed``)."""
 
     def __init__(self, method, flow, shading: str, samples: int, tpmc=None):
         self.method, self.flow = method, flow
@@ -191,7 +183,6 @@ def build_database(
     method : PanelMethod
         Mesh, gas-surface model, materials and reference quantities.
     flow : FreeStream
-        The free stream.
     aoa_deg, aos_deg : array_like
         Angles of attack in [-360, 360] and sideslip angles in [-90, 90] [deg]; sorted here,
         duplicates rejected.

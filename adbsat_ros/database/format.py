@@ -1,24 +1,10 @@
 """The aerodynamic database: coefficient grids over (aoa, aos) with their set-up, and its files.
 
-An :class:`AeroDatabase` holds ADBSat's coefficients at every pair (aoa_i, aos_j) of two strictly
-increasing angle lists [deg], with the metadata needed to know (and rebuild) what was computed:
-mesh (spec, scale, fingerprint), gas-surface model and materials, free stream, reference
-quantities, shading, and the stated interpolation error of the grid
-(:mod:`adbsat_ros.database.interpolation`).
-
-Coefficient arrays (ADBSat's names and frames; frames in :mod:`adbsat_ros.geometry.frames`):
-
-* ``CD, CL, CY, AreaProj``: shape (na, nb); AreaProj in m^2, the others dimensionless;
-* ``Cf_w, Cf_f, Cm_B, Cf_G, Cm_G``: shape (na, nb, 3); force coefficients in wind (W), flight (F)
-  and mesh (G) axes, moment coefficients in ADBSat body axes (B) and mesh axes (G) about the
-  reference moment point.
-
-Forces are ``q A_ref Cf`` [N] and torques ``q A_ref L_ref Cm`` [N m] with q = rho V^2 / 2.
-
-Files: :meth:`AeroDatabase.save` writes a compressed ``.npz`` (one array per name plus the
-metadata as a JSON string under ``"metadata"``), :func:`load_database` reads and validates it;
-:meth:`AeroDatabase.save_csv` writes one row per attitude with ``# key: value`` header lines.
-Databases are made by :func:`adbsat_ros.database.build.build_database`.
+An :class:`AeroDatabase` holds ADBSat's coefficients (names and frames of
+:mod:`adbsat_ros.geometry.frames`) at every pair of two strictly increasing angle lists [deg],
+with the metadata to know and rebuild what was computed. Forces are ``q A_ref Cf`` [N], torques
+``q A_ref L_ref Cm`` [N m]. Files: a compressed ``.npz`` (the metadata as a JSON string) and a
+CSV with ``# key: value`` header lines. docs/physics.md, section 9.
 """
 
 from __future__ import annotations
@@ -68,10 +54,8 @@ class AeroDatabase:
 
     Attributes
     ----------
-    aoa_deg : ndarray, shape (na,)
-        Angles of attack [deg], strictly increasing.
-    aos_deg : ndarray, shape (nb,)
-        Sideslip angles [deg], strictly increasing.
+    aoa_deg, aos_deg : ndarray, shapes (na,) and (nb,)
+        Angles of attack and sideslip angles [deg], strictly increasing.
     CD, CL, CY : ndarray, shape (na, nb)
         Drag, lift and side-force coefficients (ADBSat's, from Cf_w).
     AreaProj : ndarray, shape (na, nb)
@@ -80,11 +64,9 @@ class AeroDatabase:
         Force coefficients in wind, flight and mesh axes; moment coefficients in ADBSat body
         axes and mesh axes, about ``metadata["reference"]["moment_point"]``.
     metadata : dict
-        JSON-ready description of the set-up: the keys of :data:`REQUIRED_METADATA`, written by
-        :func:`adbsat_ros.database.metadata.describe_setup` and the build, and optionally
-        ``conditions`` (the flight conditions the free stream came from).
+        JSON-ready set-up: the keys of :data:`REQUIRED_METADATA`, optionally ``conditions``.
     path : str or None
-        File the database was loaded from (for messages), else None.
+        File the database was loaded from (for messages).
     """
 
     aoa_deg: np.ndarray
@@ -130,13 +112,8 @@ class AeroDatabase:
     def save(self, path) -> str:
         """Write a compressed ``.npz`` file; returns the path written.
 
-        Raises
-        ------
-        ValueError
-            If ``path`` does not end in ``.npz`` (numpy would silently append it), or the build
-            was stopped (``metadata["partial"]``: not every attitude has its coefficients).
-        OSError
-            If the file cannot be written.
+        Raises ValueError if ``path`` does not end in ``.npz`` (numpy would silently append it)
+        or the build was stopped (``metadata["partial"]``); OSError if it cannot be written.
         """
         path = os.fspath(path)
         if not path.lower().endswith(".npz"):
@@ -159,11 +136,8 @@ class AeroDatabase:
         return columns + ["AreaProj", "Aref", "Lref"]
 
     def save_csv(self, path) -> str:
-        """Write one row per attitude (aoa varies slowest) with ``# key: value`` header lines;
-        a stopped build's database (``metadata["partial"]``) has rows for the attitudes done.
-
-        Values are written with 17 significant digits, so they read back exactly.
-        """
+        """Write one row per attitude (aoa slowest) with ``# key: value`` header lines; 17
+        significant digits, so values read back exactly. A stopped build writes the rows done."""
         path = os.fspath(path)
         na, nb = self.shape
         a, b = np.meshgrid(self.aoa_deg, self.aos_deg, indexing="ij")
@@ -250,23 +224,12 @@ def _fail(path, message):
 
 
 def load_database(path) -> AeroDatabase:
-    """Read and validate a database written by :meth:`AeroDatabase.save`.
+    """Read and validate a database file (``.npz``) written by :meth:`AeroDatabase.save`.
 
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The ``.npz`` file.
-
-    Returns
-    -------
-    AeroDatabase
-        With float arrays, the metadata as written and ``path`` set.
-
-    Raises
-    ------
-    DatabaseError
-        Naming the file and what is wrong: unreadable, not an npz, missing arrays or metadata,
-        unsupported format version, inconsistent shapes, non-increasing angles, non-finite values.
+    Returns the :class:`AeroDatabase` with float arrays and ``path`` set. Raises
+    :class:`DatabaseError` naming the file and what is wrong: unreadable, not an npz, missing
+    arrays or metadata, unsupported format version, inconsistent shapes, non-increasing angles,
+    non-finite values.
     """
     path = os.fspath(path)
     try:

@@ -1,25 +1,12 @@
 """Bilinear interpolation on an (aoa, aos) grid and the stated interpolation error of a database.
 
-:func:`bilinear` is the interpolant that :class:`adbsat_ros.database.lookup.CoefficientLookup`
-evaluates (why bilinear: see that module). :func:`estimate_interpolation_error` states how far
-that interpolant may be from the panel method between the nodes; :func:`build_database
-<adbsat_ros.database.build.build_database>` computes it once and stores it in
-``metadata["interpolation_error"]``.
-
-The estimate: the grid is coarsened by 2 along each axis (every other node, keeping the last),
-the coarse grid's bilinear interpolant is compared with the exact values at every omitted node
-(edge and cell midpoints of the coarse cells), and the largest Euclidean error of the vector is
-stated as the bound for the full grid, without scaling it down. In theory halving the step
-divides the error by 4 where the coefficients are smooth and by 2 at kinks; but near shadow edges
-that sweep fast (e.g. the body's shadow on the wings near the sideslip poles) the convergence is
-not yet asymptotic, and the first-order factor 1/2 was measured to be exceeded (true error 1.36 x
-the halved estimate on the example satellite, 5 deg grid). Unscaled, the bound held with
-true/stated <= 0.7 in every case measured (example satellite and boxes, sentman and newton,
-raycast and no shading, 5 to 30 deg grids, 150 to 1500 random attitudes each). The bound is on
-|Cf_G(interpolated) - Cf_G(exact)| (likewise Cm_G), so it bounds every component and, the
-rotation to wind axes being orthogonal, the errors of CD, CL and CY. It is an a-posteriori
-estimate, checked by the tests against exact panel-method values at random off-grid attitudes,
-not a proof.
+The estimate: the grid coarsened by 2 along each axis (keeping the last node), its bilinear
+interpolant compared with the exact values at every omitted node, and the largest Euclidean
+error of Cf_G (likewise Cm_G) stated as the bound for the full grid, not scaled down: near fast
+shadow edges the first-order factor 1/2 was exceeded (1.36 x on the example satellite, 5 deg
+grid), while unscaled the bound held with true/stated <= 0.7 in every case measured. It bounds
+every component and, by orthogonality, CD, CL and CY. An a-posteriori estimate, checked by the
+tests at random off-grid attitudes, not a proof.
 """
 
 from __future__ import annotations
@@ -49,20 +36,9 @@ def _locate(nodes: np.ndarray, x: np.ndarray):
 def bilinear(a_nodes, b_nodes, values, qa, qb) -> np.ndarray:
     """Bilinear interpolation on a rectilinear grid (no wrap-around, no range checks).
 
-    Parameters
-    ----------
-    a_nodes, b_nodes : ndarray, shape (na,), (nb,)
-        Strictly increasing node coordinates (an axis with one node is constant along it).
-    values : ndarray, shape (na, nb, k)
-        Values at the nodes.
-    qa, qb : array_like, shape (M,)
-        Query coordinates inside the grid.
-
-    Returns
-    -------
-    ndarray, shape (M, k)
-        The interpolated values; exact at the nodes, and within the range of the four corner
-        values inside a cell.
+    ``a_nodes`` (na,) and ``b_nodes`` (nb,) strictly increasing (an axis with one node is
+    constant along it), ``values`` (na, nb, k), queries ``qa, qb`` (M,) inside the grid. Returns
+    (M, k): exact at the nodes, within the range of the four corner values inside a cell.
     """
     qa, qb = np.broadcast_arrays(np.asarray(qa, float), np.asarray(qb, float))
     ia, ta = _locate(a_nodes, qa)
@@ -83,21 +59,10 @@ def _coarse_indices(n: int) -> np.ndarray:
 def estimate_interpolation_error(db: AeroDatabase) -> dict:
     """Stated bilinear interpolation error of a database's grid (method in the module docstring).
 
-    Parameters
-    ----------
-    db : AeroDatabase
-        The grid and its exact values (the interpolation error of the database itself is not
-        read).
-
-    Returns
-    -------
-    dict
-        ``force_coefficient`` and ``moment_coefficient``: bounds on the Euclidean norm of the
-        interpolation error of Cf_G and Cm_G (None if the grid has fewer than 3 nodes along
-        every axis); ``method``, ``scaling``, ``points`` (omitted nodes compared),
-        ``coarse_force_error`` and ``coarse_moment_error`` (the unscaled maxima),
-        ``max_force_coefficient`` and ``max_moment_coefficient`` (largest |Cf_G|, |Cm_G| of the
-        grid, for scale).
+    Returns a dict: ``force_coefficient`` and ``moment_coefficient``, bounds on the Euclidean
+    norm of the error of Cf_G and Cm_G (None if no axis has 3 nodes); ``method``, ``scaling``,
+    ``points`` (omitted nodes compared), ``coarse_force_error`` and ``coarse_moment_error``
+    (unscaled), ``max_force_coefficient`` and ``max_moment_coefficient`` (for scale).
     """
     na, nb = db.shape
     out = {

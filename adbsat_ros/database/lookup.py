@@ -1,31 +1,12 @@
 """Coefficients at any attitude from an aerodynamic database, by interpolation, with stated error.
 
-Method: bilinear interpolation in (angle of attack, sideslip) of the mesh-frame (G) force and
-moment coefficient vectors Cf_G and Cm_G; CD, CL and CY are then obtained from the interpolated
-Cf_G by the exact rotation to wind axes at the query angles (``Cf_w = L_WG Cf_G``).
-
-Why this choice:
-
-* Body-frame vectors are the smooth quantities. Wind-axis coefficients (Cf_w, CL, CY) turn with
-  the wind axes and are multivalued at the sideslip poles aos = +/-90 deg, where every aoa is
-  the same flow direction u_G = (0, +/-1, 0); Cf_G(u_G) is one value there, so a bilinear
-  interpolant of the grid is continuous across the pole (its aoa weights multiply equal values).
-* The coefficients are only piecewise smooth in attitude: shading and faces turning to grazing
-  put kinks in them (a lit area varies like |sin| of an angle), and ray-cast lit fractions are
-  sampled. Higher-order schemes (bicubic, splines) overshoot at kinks and give no better bound
-  there; bilinear interpolation is monotone within a cell (it never leaves the range of the
-  four corner values), exact at the nodes, and first-order accurate even at kinks.
-* Speed: a lookup is one bisection per axis and four weighted rows, with no per-call scipy
-  objects (docs/benchmarks.md, aerodynamic databases).
-
-Geometry: when the aoa grid closes the circle (its span is 360 deg, or the gap left is at most its
-largest step, e.g. -180:5:175) aoa is periodic and queries wrap around; otherwise a query is first
-reduced modulo 360 deg into the grid's range and raises ValueError if it is still outside. The
-sideslip must lie in [-90, 90] deg and inside the grid's range. At a pole (|aos| = 90 deg, in the
-grid) the aoa does not matter.
-
-The stated error of a lookup (:attr:`CoefficientLookup.error_bound`) is the one stored in the
-database when it was built (:mod:`adbsat_ros.database.interpolation`).
+Bilinear interpolation in (aoa, aos) of the mesh-frame vectors Cf_G and Cm_G, which are
+single-valued at the sideslip poles (wind-axis coefficients are not); CD, CL and CY follow by
+the exact rotation to wind axes at the query angles. Bilinear because the coefficients have
+kinks (shading, grazing faces): it stays within the corner values of a cell, is exact at the
+nodes and first-order even at kinks, where higher orders overshoot. An aoa grid that closes the
+circle (span 360 deg, or a gap of at most its largest step) wraps around; otherwise a query is
+reduced modulo 360 deg into its range, else ValueError. docs/physics.md, section 9.
 """
 
 from __future__ import annotations
@@ -53,10 +34,8 @@ class InterpolatedCoefficients:
     ----------
     aoa_deg, aos_deg : float
         The attitude asked for [deg].
-    Cf_G : ndarray, shape (3,)
-        Force coefficient in the mesh frame G.
-    Cm_G : ndarray, shape (3,)
-        Moment coefficient in G about the database's moment point.
+    Cf_G, Cm_G : ndarray, shape (3,)
+        Force and moment coefficients in the mesh frame G (moment about the database's point).
     CD, CL, CY : float
         Drag, lift and side-force coefficients (ADBSat's, from Cf_w = L_WG Cf_G).
     reference_area, reference_length : float
@@ -92,16 +71,13 @@ class CoefficientLookup:
 
     Attributes
     ----------
-    database : AeroDatabase
     periodic : bool
         True if the aoa grid closes the circle (queries wrap around).
     aoa_range, aos_range : tuple of float
         Covered angles [deg] (aoa_range spans 360 deg when periodic).
     error_bound : dict
-        The stated interpolation error: ``force_coefficient`` and ``moment_coefficient``
-        (bounds on the Euclidean norm of the error of Cf_G and Cm_G, hence of each component and
-        of CD, CL, CY), ``method`` and the other fields of
-        :func:`adbsat_ros.database.interpolation.estimate_interpolation_error`.
+        The stated interpolation error stored in the database (``force_coefficient``,
+        ``moment_coefficient``, ``method``, ...; :mod:`adbsat_ros.database.interpolation`).
     """
 
     def __init__(self, database: AeroDatabase):
@@ -133,18 +109,12 @@ class CoefficientLookup:
 
     @classmethod
     def load(cls, path, **values) -> "CoefficientLookup":
-        """A lookup of the database file ``path`` (read by :func:`load_database`), or of a
-        sweep's Zarr store at a value of each of its axes besides aoa and aos, given by name
-        (``speed=7600.0``: linear between the sweep's grid values; see
-        :func:`adbsat_ros.database.sweep_reader.sweep_database`).
+        """A lookup of the database file ``path``, or of a sweep's Zarr store at a value of each
+        of its axes besides aoa and aos, by name (``speed=7600.0``; linear between grid values).
 
-        Raises
-        ------
-        DatabaseError
-            A database file that cannot be read.
-        ValueError
-            A sweep store that is incomplete, an axis value missing, unknown or out of range;
-            axis values given for a database file.
+        Raises :class:`DatabaseError` for a database file that cannot be read; ValueError for a
+        sweep store that is incomplete, an axis value missing, unknown or out of range, or axis
+        values given for a database file.
         """
         if is_sweep_store(path):
             return cls(sweep_database(open_sweep(path), **values))
@@ -197,22 +167,10 @@ class CoefficientLookup:
 
     # ------------------------------------------------------------------------------ public
     def body_coefficients(self, aoa_deg: float, aos_deg: float):
-        """Interpolated Cf_G and Cm_G at one attitude (the fast path).
+        """Interpolated Cf_G and Cm_G, shape (3,), at one attitude [deg] (the fast path).
 
-        Parameters
-        ----------
-        aoa_deg, aos_deg : float
-            Angle of attack and sideslip [deg] (frames module conventions).
-
-        Returns
-        -------
-        Cf_G, Cm_G : ndarray, shape (3,)
-            Mesh-frame force and moment coefficients (moment about the database's moment point).
-
-        Raises
-        ------
-        ValueError
-            If an angle is outside the database's range (the message says which and the range).
+        Moments about the database's moment point. Raises ValueError if an angle is outside the
+        database's range (naming it and the range).
         """
         row = self._interpolate(float(aoa_deg), float(aos_deg))
         return np.array(row[:3]), np.array(row[3:])
@@ -228,12 +186,8 @@ class CoefficientLookup:
         return [w00 * p + w01 * q + w10 * r + w11 * z for p, q, r, z in zip(v00, v01, v10, v11)]
 
     def body_coefficients_many(self, aoa_deg, aos_deg):
-        """Vectorised :meth:`body_coefficients` for arrays of angles [deg] (broadcast together).
-
-        Returns
-        -------
-        Cf_G, Cm_G : ndarray, shape (..., 3)
-        """
+        """Vectorised :meth:`body_coefficients` for arrays of angles [deg] (broadcast together);
+        returns Cf_G, Cm_G of shape (..., 3)."""
         aoa, aos = np.broadcast_arrays(np.asarray(aoa_deg, float), np.asarray(aos_deg, float))
         flat = [
             self._reduce(a, b) for a, b in zip(aoa.reshape(-1).tolist(), aos.reshape(-1).tolist())
@@ -248,17 +202,8 @@ class CoefficientLookup:
     ) -> InterpolatedCoefficients:
         """Interpolated coefficients at an attitude given by angles [deg] or a flow direction.
 
-        Parameters
-        ----------
-        aoa_deg, aos_deg : float, optional
-            Angle of attack and sideslip [deg].
-        flow_direction : array_like, shape (3,), optional
-            Direction of the gas motion relative to the body in the mesh frame G (any length > 0),
-            instead of the angles.
-
-        Returns
-        -------
-        InterpolatedCoefficients
+        ``flow_direction``: the gas motion relative to the body in the mesh frame G (any length
+        > 0), instead of ``aoa_deg`` and ``aos_deg``.
         """
         if flow_direction is not None:
             if aoa_deg is not None or aos_deg is not None:

@@ -1,26 +1,11 @@
 """A database matched to the node's set-up, as the estimator's source of coefficients.
 
-With ``coefficients_source: database``, the node (and bag analysis, through the same estimator)
-takes the force and moment coefficients from a database made by ``adbsat-ros database`` instead
-of the live panel method:
-one bilinear lookup (:class:`adbsat_ros.database.lookup.CoefficientLookup`) instead of a
-sweep over the panels and a shading query. The newtons still use the live atmosphere:
-F = q A_ref C_F, T = q A_ref L_ref C_M with q = rho V^2 / 2 at the message's time.
-
-A database holds the coefficients of one set-up, so it is refused unless it was made for what the
-node was told (:func:`database_mismatches`): the same mesh (geometry and material names, by
-fingerprint), the same gas-surface model, incident-temperature form, ADBSat compatibility switch
-and surface properties (default and per material), and the same reference area and length.
-Two things are not mismatches:
-
-* the moment point: moments are carried exactly to the node's centre of mass c from the database's
-  point p, C_M(c) = C_M(p) + (p - c) x C_F / L_ref (since T(c) = T(p) + (p - c) x F);
-* the free stream (speed ratio, temperature): the database was made at one condition and is used
-  at all, which is the approximation a user accepts by choosing this mode. The database's speed
-  ratio is reported so that the difference from the live one can be seen in /diagnostics.
-
-The accommodation coefficient must be fixed (``accommodation_model: fixed``): a database made at
-one alpha cannot follow an accommodation model.
+With ``coefficients_source: database`` the coefficients come from one bilinear lookup; the
+newtons still use the live q. A database is refused unless made for the node's mesh
+(fingerprint), model, options, surface properties and reference area and length
+(:func:`database_mismatches`), with a fixed accommodation coefficient. The moment point is not a
+mismatch (moments are carried exactly, C_M(c) = C_M(p) + (p - c) x C_F / L_ref), nor the free
+stream: used at every condition, the approximation of this mode. docs/physics.md, section 9.
 """
 
 from __future__ import annotations
@@ -41,19 +26,9 @@ REFERENCE_RTOL = 1e-9
 
 
 def database_mismatches(metadata: dict, method: PanelMethod) -> list:
-    """How a database's set-up differs from ``method``'s (empty if it may be used).
+    """How a database's set-up (``AeroDatabase.metadata``) differs from ``method``'s.
 
-    Parameters
-    ----------
-    metadata : dict
-        ``AeroDatabase.metadata``.
-    method : PanelMethod
-        The node's mesh, model, materials, options and reference.
-
-    Returns
-    -------
-    list of str
-        One readable line per mismatch, naming the quantity and both values.
+    One readable line per mismatch, naming the quantity and both values; empty if it may be used.
     """
     out = []
     mesh = metadata.get("mesh", {})
@@ -99,29 +74,13 @@ def database_mismatches(metadata: dict, method: PanelMethod) -> list:
 
 
 class DatabaseCoefficients:
-    """Force and moment coefficients in the body frame from a database, for the estimator.
+    """Force and moment coefficients in the body frame from the database file ``path`` (.npz),
+    for the estimator; it must match ``method``, the node's set-up (:func:`database_mismatches`),
+    whose moment point is the centre of mass c the moments are carried to.
 
-    Parameters
-    ----------
-    path : str
-        Database file (.npz) made by ``adbsat-ros database``.
-    method : PanelMethod
-        The node's set-up; the database must match it (:func:`database_mismatches`), and its
-        reference moment point is the centre of mass the moments are carried to.
-
-    Attributes
-    ----------
-    error_bound : dict
-        ``force_coefficient`` and ``moment_coefficient``: the database's stated interpolation error
-        (bounds on |error of C_F| and |error of C_M|), the moment bound carried to the centre of
-        mass c: e_M(c) = e_M(p) + |p - c| e_F / L_ref.
-    speed_ratio : float
-        Speed ratio of the free stream the database was made for.
-
-    Raises
-    ------
-    ValueError
-        Naming ``database_path`` and saying why: unreadable file, or every mismatch.
+    ``error_bound``: the database's stated interpolation error, the moment bound carried to c
+    (e_M(p) + |p - c| e_F / L_ref); ``speed_ratio``: that of the database's free stream. Raises
+    ValueError naming ``database_path``: an unreadable file, or every mismatch.
     """
 
     def __init__(self, path: str, method: PanelMethod):
@@ -152,22 +111,8 @@ class DatabaseCoefficients:
         }
 
     def body_coefficients(self, u_body):
-        """C_F and C_M (about the centre of mass) in the body frame for flow direction ``u_body``.
-
-        Parameters
-        ----------
-        u_body : ndarray, shape (3,)
-            Unit direction of the gas motion relative to the body, body (mesh) frame.
-
-        Returns
-        -------
-        Cf, Cm : ndarray, shape (3,)
-
-        Raises
-        ------
-        ValueError
-            If the attitude is outside the database's angle range.
-        """
+        """C_F and C_M (about the centre of mass), body frame, for the unit flow direction
+        ``u_body`` (body frame); ValueError if the attitude is outside the database's range."""
         aoa, aos = frames.angles_of_flow(u_body)
         Cf, Cm = self.lookup.body_coefficients(math.degrees(aoa), math.degrees(aos))
         o = self._offset

@@ -1,11 +1,6 @@
-"""The set-up of a database as JSON metadata, and the set-up rebuilt from it.
-
-:func:`describe_setup` records what a database was computed for (mesh spec, scale and
-fingerprint, gas-surface model and options, materials as exact texts, free stream, reference
-quantities, shading); :func:`setup_from_metadata` reads that record back into a set-up, and
-:func:`method_from_metadata` builds it (panel method, free stream and shader), refusing a mesh
-that has changed since.
-"""
+"""The set-up of a database as JSON metadata (:func:`describe_setup`), and the set-up rebuilt
+from it (:func:`setup_from_metadata`, :func:`method_from_metadata`), refusing a mesh that has
+changed since."""
 
 from __future__ import annotations
 
@@ -33,11 +28,7 @@ def surface_values(props: SurfaceProperties) -> dict:
 
 
 def material_override_texts(materials: MaterialTable) -> list:
-    """``NAME:key=value,...`` texts that rebuild ``materials`` (with the same default).
-
-    Every parameter of every named material is written as an exact float (``repr``), so
-    :meth:`MaterialTable.from_texts` gives back the same table.
-    """
+    """``NAME:key=value,...`` texts that rebuild ``materials`` (same default) exactly (``repr``)."""
     texts = []
     for name, props in materials.materials.items():
         items = ",".join(f"{k}={v!r}" for k, v in surface_values(props).items())
@@ -98,34 +89,11 @@ def describe_setup(
 ) -> dict:
     """Metadata of a set-up: everything but the grid results and the interpolation error.
 
-    Parameters
-    ----------
-    method : PanelMethod
-        Mesh, model, options, materials and reference quantities.
-    flow : FreeStream
-        The free stream.
-    shading : str
-        Shading mode; ``samples`` is its rays per panel.
-    samples : int
-        Rays per panel of raycast shading.
-    mesh_spec : str, os.PathLike or None
-        How the mesh is reloaded (path or ``"example"``); it must reload to the method's mesh.
-        ``"example"`` for a mesh built some other way, and None, record None (not reloadable).
-    mesh_scale : float
-        Scale given when loading the mesh file.
-    mesh_joints : dict of str to float, optional
-        For a URDF ``mesh_spec``: the joint positions [rad or m] the mesh is posed at.
-
-    Returns
-    -------
-    dict
-        JSON-ready; the keys of :data:`adbsat_ros.database.format.REQUIRED_METADATA` except
-        ``interpolation_error``.
-
-    Raises
-    ------
-    ValueError
-        If ``mesh_spec`` does not load the method's mesh.
+    ``shading`` and ``samples``: the shading mode and rays per panel. ``mesh_spec`` (a path or
+    ``"example"``) must reload, with ``mesh_scale`` and a URDF's ``mesh_joints`` [rad or m], to
+    the method's mesh (ValueError otherwise); ``"example"`` for a mesh built some other way, and
+    None, record None (not reloadable). Returns a JSON-ready dict with the keys of
+    :data:`~adbsat_ros.database.format.REQUIRED_METADATA` but ``interpolation_error``.
     """
     texts = material_override_texts(method.materials)
     mesh = method.mesh
@@ -182,32 +150,11 @@ def setup_from_metadata(metadata: dict) -> Setup:
 
 
 def method_from_metadata(metadata: dict, path=None):
-    """Rebuild the set-up of a database (:func:`setup_from_metadata`, :func:`build_model`).
+    """Rebuild a database's set-up: ``(method, flow, shader)`` (shader None for ``"none"``).
 
-    The mesh is reloaded from ``metadata["mesh"]["spec"]`` and ``scale`` and must have the
-    recorded fingerprint.
-
-    Parameters
-    ----------
-    metadata : dict
-        ``AeroDatabase.metadata``.
-    path : str, optional
-        The database file, named in error messages.
-
-    Returns
-    -------
-    method : PanelMethod
-        Mesh, model, options, materials and reference as recorded.
-    flow : FreeStream
-        The recorded free stream.
-    shader : Shader or None
-        The recorded shading (None for ``"none"``).
-
-    Raises
-    ------
-    DatabaseError
-        If the mesh cannot be reloaded (no spec, missing file, changed geometry) or the
-        metadata is incomplete; names ``path`` when given.
+    The mesh is reloaded from the recorded spec and scale and must have the recorded
+    fingerprint. Raises :class:`DatabaseError` if it cannot be reloaded (no spec, missing file,
+    changed geometry) or the metadata is incomplete, naming ``path`` when given.
     """
     where = path or "database"
     try:

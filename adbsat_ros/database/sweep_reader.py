@@ -1,14 +1,10 @@
 """A sweep's Zarr store read as aerodynamic databases: its (aoa, aos) grid at any point of the
 other axes.
 
-A sweep (``adbsat-ros sweep``) stores C_F and C_M over aoa, aos and further axes (speed,
-alpha, altitude, joint positions ...). :func:`sweep_database` gives the attitude grid at a value
-of every other axis as an :class:`~adbsat_ros.database.format.AeroDatabase`: at a grid value the
-stored slice, between two the slices blended linearly (multilinear over several axes). Since
-the bilinear interpolation in attitude is linear in the grid's values, a lookup of that
-database is bilinear in attitude and linear in the other axes at once, as
-:class:`~adbsat_ros.database.lookup.CoefficientLookup` reads it. A value outside an axis's
-range is refused with the axis and its range; an axis with one value takes only that value.
+At a grid value the stored slice, between two the slices blended linearly (multilinear over
+several axes); the bilinear lookup in attitude being linear in the grid's values, the result is
+bilinear in attitude and linear in the other axes at once. A value outside an axis's range is
+refused with the axis and its range.
 """
 
 from __future__ import annotations
@@ -47,13 +43,8 @@ def is_sweep_store(path) -> bool:
 
 
 def open_sweep(path):
-    """The xarray Dataset of the complete sweep store at ``path``.
-
-    Raises
-    ------
-    ValueError
-        ``path`` is no sweep store, or the sweep is not complete (naming the path).
-    """
+    """The xarray Dataset of the complete sweep store at ``path``; ValueError naming ``path``
+    if it is no sweep store or the sweep is not complete."""
     import xarray as xr
 
     try:
@@ -100,13 +91,8 @@ def slice_database(dataset, index: dict, stated_error: bool = False) -> AeroData
 
 def sweep_database(dataset, **values) -> AeroDatabase:
     """The attitude grid at a value of every other axis (module docstring), with its stated
-    interpolation error in attitude.
-
-    Raises
-    ------
-    ValueError
-        An axis not given or unknown, or a value outside its range (named).
-    """
+    interpolation error in attitude; ValueError for an axis not given or unknown, or a value
+    outside its range (named)."""
     axes = other_axes(dataset)
     missing = sorted(set(axes) - set(values))
     unknown = sorted(set(values) - set(axes))

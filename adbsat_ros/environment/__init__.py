@@ -16,7 +16,5 @@ Modules:
 - :mod:`~adbsat_ros.environment.earth_frames`, :mod:`~adbsat_ros.environment.geodetic`,
   :mod:`~adbsat_ros.environment.time_scales`: GCRF/ITRF with pyerfa, WGS-84, UTC/TT/UT1.
 
-Imports physics (the free stream and constants), the shared input checks and the table of
-valid ranges (space weather). Formulas and
-sources: docs/physics.md, section 5.
+Formulas and sources: docs/physics.md, section 5.
 """

@@ -1,49 +1,11 @@
 """Energy accommodation coefficient alpha from the atmosphere: models selectable by name.
 
-Models (:data:`ACCOMMODATION_MODELS`)
--------------------------------------
-``fixed``
-    A given alpha in [0, 1] (option ``alpha``).
-``langmuir``
-    Langmuir isotherm of Pilinski, Argrow & Palo (2010), J. Spacecraft Rockets 47(6):
-    alpha = x / (1 + x), x = K n_O T, with n_O the atomic-oxygen number density [m^-3]
-    (NRLMSISE-00's thermal O; anomalous oxygen is not counted, here or in SESAM), T the local
-    temperature [K] and the fitted K = 7.50e-17 m^3/K (option ``langmuir_constant``).
-    x is K' P_O with the atomic-oxygen partial pressure P_O = n_O k_B T and K' = K / k_B.
-    This K reproduces the ADBSat validation paper's alpha = 0.97 and 0.81 at 300 and 400 km
-    (2015-01-19 00:00 UT, 0 N 0 E, F10.7 = 121.7, F10.7A = 138.1, Ap = 4).
-``goodman``
-    Goodman's clean-surface value alpha_s = K_s mu / (1 + mu)^2 with mu = m_gas / m_surface,
-    m_gas the number-weighted mean molecular mass of the mixture. Options
-    ``substrate_coefficient`` K_s in [2.4, 3.6] (default 2.4) and ``surface_mass_amu``
-    (default 65).
-``sesam``
-    SESAM (Pilinski, Argrow, Palo & Bowman 2013, J. Spacecraft Rockets 50(3)):
-    alpha = (1 - theta) alpha_s + theta, alpha_s the Goodman value and theta the Langmuir
-    coverage K_L P_O / (1 + K_L P_O), with P_O [Torr] the atomic-oxygen "pressure"
-    1/2 rho_O V^2 f(s), f(s) = (2 s^2 + 1) e^{-s^2} / (sqrt(pi) s^3) + (4 s^4 + 4 s^2 - 1)
-    erf(s) / (2 s^4), and K_L = s_o K_L0 + K_Lf (K_L0 = 5e6 Torr^-1, K_Lf = 3e4 Torr^-1); s_o is
-    the fraction of incident O atoms below the adsorption energy E_b = 5.7 eV:
-    s_o = int_0^sqrt(E_b) g(x) dx / int_0^inf g(x) dx with g(x) = x exp(-(x - sqrt(E_r))^2 /
-    (k_B T_ab)), E_r = m_O V^2 / 2 and T_ab = 93.31 K (closed form in
-    :func:`sesam_sticking_fraction`).
-    Same options as ``goodman``.
-
-Differences from ADBSat's code (as physics.md, section 5, describes it)
-----------------------------------------------------------------------
-* ADBSat computes s_o with a factor exp(2 sqrt(E_b E_r) / (k_B T_ab)) that overflows at orbital
-  speeds and is capped at the largest double, and a factor exp(-(E_b + E_r) / (k_B T_ab)) that
-  underflows to 0; together they drop the term
-  k_B T_ab exp(-(sqrt(E_b) - sqrt(E_r))^2 / (k_B T_ab)).
-  We evaluate the same closed form with the exponents combined (no overflow, checked against
-  numerical integration): s_o differs from ADBSat's by ~1e-3 relative at 7.8 km/s and ~5e-3 at
-  8 km/s (ADBSat's s_o is also 0 instead of 1 at rest, by underflow); alpha by less.
-* ADBSat silently replaces a K_s outside [2.4, 3.6] by 2.4; we raise ValueError.
-* ADBSat's Goodman/SESAM mean mass always includes anomalous oxygen; we use the flight
-  conditions' mixture (which includes it by default, so the defaults agree).
-* The atomic mass unit is CODATA's 1.66053906660e-27 kg instead of 1.6605e-27 (2e-5 relative).
-
-SI units throughout (m, s, kg, K, J); only SESAM's Langmuir constants are in Torr^-1 as published.
+``fixed`` (a given alpha), ``langmuir`` (Pilinski, Argrow & Palo 2010, J. Spacecraft Rockets
+47(6)), ``goodman`` (Goodman's clean-surface value) and ``sesam`` (Pilinski, Argrow, Palo &
+Bowman 2013, J. Spacecraft Rockets 50(3)): :data:`ACCOMMODATION_MODELS`. Formulas, options and
+where we differ from ADBSat's code (SESAM's s_o without its overflow, K_s outside [2.4, 3.6]
+refused, the mixture's mean mass, CODATA's amu): docs/physics.md, sections 5.6 and 5.7.
+SI units (m, s, kg, K, J); only SESAM's Langmuir constants are in Torr^-1 as published.
 """
 
 from __future__ import annotations
@@ -167,20 +129,11 @@ def sesam_sticking_fraction(incident_energy: float) -> float:
 
 
 def sesam_oxygen_pressure(oxygen_number_density: float, speed: float, speed_ratio: float) -> float:
-    """SESAM's atomic-oxygen pressure P_O [Pa] = 1/2 rho_O V^2 f(s).
+    """SESAM's atomic-oxygen pressure P_O [Pa] = 1/2 rho_O V^2 f(s), docs/physics.md section 5.6.
 
-    f(s) = (2 s^2 + 1) e^{-s^2} / (sqrt(pi) s^3) + (4 s^4 + 4 s^2 - 1) erf(s) / (2 s^4), with s
-    the mixture's speed ratio. As s -> 0, V^2 f(s) -> 0 (f ~ 16 / (3 sqrt(pi) s)), so P_O = 0 at
-    zero speed; below s = 1e-3 the leading term is used (the two terms of f cancel there).
-
-    Parameters
-    ----------
-    oxygen_number_density : float
-        n_O [m^-3], >= 0.
-    speed : float
-        Relative speed V [m/s], >= 0.
-    speed_ratio : float
-        s = V / sqrt(2 k_B T / m) of the mixture [-], >= 0 (0 only with V = 0).
+    ``oxygen_number_density`` n_O [m^-3], ``speed`` V [m/s] and the mixture's ``speed_ratio`` s
+    [-], all >= 0 (s = 0 only with V = 0). V^2 f(s) -> 0 as s -> 0, so P_O = 0 at rest; below
+    s = 1e-3 the leading term f ~ 16 / (3 sqrt(pi) s) is used (the two terms of f cancel there).
     """
     n_o = _non_negative("oxygen_number_density", oxygen_number_density)
     speed = _non_negative("speed", speed)
@@ -209,18 +162,9 @@ def sesam_accommodation(
 ) -> float:
     """SESAM accommodation (Pilinski et al. 2013): alpha = (1 - theta) alpha_s + theta.
 
-    Parameters
-    ----------
-    oxygen_number_density : float
-        n_O [m^-3].
-    mean_mass : float
-        Mean molecular mass of the mixture [kg] (for Goodman's alpha_s).
-    speed : float
-        Relative speed V [m/s], >= 0.
-    speed_ratio : float
-        Mixture speed ratio s [-].
-    substrate_coefficient, surface_mass_amu : float, optional
-        As :func:`goodman_accommodation`.
+    ``oxygen_number_density`` n_O [m^-3], the mixture's ``mean_mass`` [kg] (for Goodman's
+    alpha_s), ``speed`` V [m/s] >= 0 and ``speed_ratio`` s [-]; the other options as
+    :func:`goodman_accommodation`.
     """
     clean = goodman_accommodation(mean_mass, substrate_coefficient, surface_mass_amu)
     pressure_pa = sesam_oxygen_pressure(oxygen_number_density, speed, speed_ratio)
@@ -344,9 +288,9 @@ def accommodation(name: str, atmosphere: AtmosphereState, speed: float, **option
 
 
 def checked_options(key: str, options: Mapping) -> dict:
-    """The options of the accommodation model ``key`` (a name already normalised,
-    :func:`normalize_model_name`) as a dict, or ValueError for one the model does not take
-    (listing those it does). Their values are checked by the model when it runs."""
+    """The options of the normalised model ``key`` as a dict; ValueError for one it does not take.
+
+    The values are checked by the model when it runs."""
     allowed = ACCOMMODATION_OPTIONS[key]
     unexpected = sorted(set(options) - set(allowed))
     if unexpected:
@@ -360,13 +304,8 @@ def checked_options(key: str, options: Mapping) -> dict:
 def accommodation_of(
     key: str, atmosphere: AtmosphereState, speed: float, options: Mapping
 ) -> float:
-    """:func:`accommodation` for a model name already normalised (:func:`normalize_model_name`),
-    an :class:`AtmosphereState` and a float speed >= 0 [m/s]; the options are checked here
-    (:func:`checked_options`).
+    """:func:`accommodation` for a normalised name, an :class:`AtmosphereState`, a speed [m/s].
 
-    Raises
-    ------
-    ValueError
-        For an option the model does not take (listing those it does) or an invalid value.
+    Raises ValueError for an option the model does not take or an invalid value.
     """
     return ACCOMMODATION_MODELS[key](atmosphere, speed, **checked_options(key, options))

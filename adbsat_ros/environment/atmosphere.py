@@ -1,26 +1,10 @@
 """Thermosphere state from the NRLMSISE-00 empirical model (Picone et al. 2002).
 
-The model is evaluated through the C implementation wrapped by the ``nrlmsise00`` package
-(pynrlmsise00). Its low-level ``gtd7``/``gtd7d`` functions are called directly with the model's
-metric switch on, so the outputs are already SI:
-
-* ``nrlmsise00`` returns number densities in cm^-3 and the mass density in g/cm^3 unless
-  switch 0 of ``flags`` is 1, which makes the C code return m^-3 and kg/m^3 (we set it);
-* its convenience wrapper ``msise_model`` takes degrees and km and builds the day of year
-  through ``strftime``, which costs more than ``gtd7`` itself.
-
-Anomalous oxygen: NRLMSISE-00's ``gtd7`` total mass density is the sum over He, O, N2, O2, Ar, H
-and N; ``gtd7d`` adds the "anomalous oxygen" (hot O, significant above ~500 km) and is the
-"effective total mass density for drag". :func:`evaluate_atmosphere` uses ``gtd7d`` when
-``anomalous_oxygen=True`` (the default, as ADBSat's ``environment.m`` with its AnO flag set) and
-``gtd7`` otherwise; the anomalous-oxygen number density is reported either way.
-
-Inputs follow NRLMSISE-00's definitions: ``f107`` is the daily F10.7 of the *previous* day,
-``f107a`` the 81-day average centred on the day, ``ap`` the daily Ap; the optional 7-element Ap
-history switches the model to its storm-time Ap formulation (switch 9 = -1). The model ignores
-the year: only the day of year and the UT seconds matter.
-
-Units: m, kg, K, rad inside; number densities m^-3; mass densities kg/m^3.
+Calls the ``nrlmsise00`` package's low-level ``gtd7``/``gtd7d`` with the model's switch 0 on, so
+the outputs are SI (m^-3, kg/m^3), instead of its ``msise_model`` wrapper (degrees, km, a day of
+year built through ``strftime``). ``gtd7d`` adds anomalous oxygen to the mass density (the
+default, as ADBSat's AnO flag). Inputs as NRLMSISE-00 defines them (the year is ignored); units
+m, kg, K, rad. docs/physics.md, section 5.2.
 """
 
 from __future__ import annotations
@@ -144,9 +128,9 @@ class AtmosphereState:
 
     @property
     def mixture_number_densities(self) -> Mapping[str, float]:
-        """Number densities [m^-3] of :attr:`mixture_species` (what a FreeStream is given), a
-        read-only mapping in that order (:attr:`number_densities` itself when the mixture
-        includes anomalous oxygen, which it does by default)."""
+        """Number densities [m^-3] of :attr:`mixture_species`, read-only, in that order.
+
+        :attr:`number_densities` itself when the mixture includes anomalous oxygen."""
         densities = self.number_densities
         if self.anomalous_oxygen and tuple(densities) == SPECIES:
             return densities
@@ -161,8 +145,7 @@ class AtmosphereState:
     def mean_mass(self) -> float:
         """Number-weighted mean molecular mass of the mixture [kg] (as ADBSat's environment.m).
 
-        sum(n_j m_j) / sum(n_j), both summed in the order of :attr:`mixture_species` (as
-        :attr:`adbsat_ros.physics.freestream.FreeStream.mean_mass` sums them).
+        Summed in the order of :attr:`mixture_species`, as ``FreeStream.mean_mass`` sums them.
         """
         densities = self.number_densities
         total = 0.0
@@ -175,13 +158,7 @@ class AtmosphereState:
 
 
 def check_time(time) -> _dt.datetime:
-    """Return ``time`` as a naive UTC datetime, refusing years outside 1958..2100.
-
-    Raises
-    ------
-    ValueError
-        Naming ``time``, for a non-datetime or a year outside [1958, 2100].
-    """
+    """Return ``time`` as a naive UTC datetime; ValueError naming it outside years 1958..2100."""
     time = utc_datetime(time)
     if not FIRST_YEAR <= time.year <= LAST_YEAR:
         raise ValueError(
@@ -194,9 +171,7 @@ def check_time(time) -> _dt.datetime:
 def checked_utc(time) -> _dt.datetime:
     """``time`` as a timezone-aware UTC datetime, checked as :func:`check_time`.
 
-    An aware :class:`datetime.datetime` already in ``datetime.timezone.utc`` within the years
-    is returned as it is (the per-message case); anything else goes through :func:`check_time`
-    (and its errors).
+    An aware UTC datetime within the years is returned as it is (the per-message case).
     """
     if type(time) is _dt.datetime and time.tzinfo is _UTC and FIRST_YEAR <= time.year <= LAST_YEAR:
         return time
@@ -296,12 +271,8 @@ def run_model(
 ) -> AtmosphereState:
     """NRLMSISE-00 at one point from inputs already checked (see :func:`evaluate_atmosphere`).
 
-    Used by :func:`adbsat_ros.environment.flight_conditions.flight_conditions`, which has already
-    checked the time (``year``, ``day_of_year`` 1..366, UTC ``seconds`` of the day), the
-    ``altitude`` [m] in [0, 1000 km] (:func:`check_altitude`), and has a geodetic ``latitude`` in
-    [-pi/2, pi/2] and a finite ``longitude`` [rad] from
-    :func:`adbsat_ros.environment.geodetic.geodetic_of_floats`. Only ``space_weather`` is checked
-    here (ValueError naming it).
+    ``day_of_year`` 1..366, UTC ``seconds`` of the day, ``altitude`` [m], geodetic ``latitude``
+    and ``longitude`` [rad]; only ``space_weather`` is checked here (ValueError naming it).
     """
     if not isinstance(space_weather, SpaceWeather):
         raise ValueError(

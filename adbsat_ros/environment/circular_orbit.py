@@ -1,8 +1,7 @@
 """ADBSat's recipe for the flight conditions: a geodetic point and the circular-orbit speed.
 
-As ADBSat's ``environment.m``: the atmosphere at a time and geodetic point, and the speed
-sqrt(mu / (R_E + h)) with no direction (no co-rotation, no wind); for parity with ADBSat's
-numbers."""
+As ADBSat's ``environment.m`` (no direction, no co-rotation, no wind), for parity with its
+numbers; docs/physics.md, section 5.5."""
 
 from __future__ import annotations
 
@@ -47,8 +46,6 @@ def flight_conditions_circular_orbit(
 ) -> FlightConditions:
     """Flight conditions at a geodetic point with the circular-orbit speed (ADBSat parity).
 
-    As ADBSat's ``environment.m``: the atmosphere at (time, altitude, latitude, longitude) and the
-    speed sqrt(mu / (R_E + h)) (:func:`circular_orbit_speed`), with no co-rotation and no wind.
     No direction is known, so the velocity and relative-velocity vectors are None.
 
     Parameters

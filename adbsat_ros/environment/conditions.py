@@ -1,12 +1,8 @@
 """The conditions a spacecraft flies in at one instant: :class:`FlightConditions`, a value object.
 
-They are made by :func:`adbsat_ros.environment.flight_conditions.flight_conditions` (from an
-orbital state), :func:`adbsat_ros.environment.circular_orbit.flight_conditions_circular_orbit`
-(ADBSat's recipe) and :func:`adbsat_ros.environment.interpolation.interpolated_flight_conditions`
-(between two of them); :meth:`FlightConditions.free_stream` turns them into the
-:class:`~adbsat_ros.physics.freestream.FreeStream` of the gas-surface models.
-
-Units: m, m/s, kg, K, rad.
+Made by :mod:`~adbsat_ros.environment.flight_conditions` (from an orbital state),
+:mod:`~adbsat_ros.environment.circular_orbit` (ADBSat's recipe) and
+:mod:`~adbsat_ros.environment.interpolation` (between two). Units: m, m/s, kg, K, rad.
 """
 
 from __future__ import annotations
@@ -47,25 +43,14 @@ UNITS = {
 
 
 def speed_ratio(speed: float, temperature: float, mean_mass: float) -> float:
-    """Molecular speed ratio s = V / sqrt(2 k_B T / m) [-].
-
-    Parameters
-    ----------
-    speed : float
-        Relative speed V [m/s].
-    temperature : float
-        Gas temperature T [K].
-    mean_mass : float
-        Mean molecular mass m [kg].
-    """
+    """Molecular speed ratio s = V / sqrt(2 k_B T / m) [-] of a speed V [m/s], a temperature T
+    [K] and a mean molecular mass m [kg]."""
     return speed / math.sqrt(2.0 * BOLTZMANN * temperature / mean_mass)
 
 
 @dataclass(frozen=True, eq=False)
 class FlightConditions:
-    """Conditions a spacecraft flies in at one instant.
-
-    A value: frozen, its vectors are read-only arrays and its atmosphere is frozen.
+    """Conditions a spacecraft flies in at one instant: frozen, with read-only vectors.
 
     Attributes
     ----------
@@ -88,14 +73,10 @@ class FlightConditions:
         minus wind) in ECI and ECEF axes [m/s]; None when only a speed is known (circular orbit).
     speed : float
         |relative velocity| [m/s], >= 0.
-    accommodation_model : str
-        Name of the accommodation model used.
     accommodation_coefficient : float
-        Energy accommodation coefficient alpha [-].
+        Energy accommodation coefficient alpha [-], of the model ``accommodation_model``.
     earth_rotation : bool
         Whether the air co-rotates with the Earth.
-    space_weather : SpaceWeather or None
-        The space weather the atmosphere was evaluated with.
     """
 
     time: _dt.datetime
@@ -197,16 +178,10 @@ class FlightConditions:
         }
 
     def free_stream(self) -> FreeStream:
-        """The free stream for the gas-surface models.
+        """The free stream for the gas-surface models (docs/physics.md, section 5.3).
 
-        speed = |v_rel|, temperature = local T, number_densities = the mixture's species
-        (with "AnO" iff the atmosphere includes anomalous oxygen), density = total mass density.
-
-        Raises
-        ------
-        ValueError
-            If the relative speed is zero (a free stream needs speed > 0), or the atmosphere is
-            not a gas a free stream takes (naming what is wrong).
+        Raises ValueError if the relative speed is zero, or the atmosphere is not a gas a free
+        stream takes (naming what is wrong).
         """
         if not self.speed > 0.0:
             raise ValueError(

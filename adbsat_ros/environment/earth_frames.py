@@ -1,36 +1,11 @@
-"""Earth orientation and reference frames: GCRF (ECI) <-> ITRF (ECEF) and WGS-84 geodetic.
+"""Earth orientation and reference frames: GCRF (ECI) <-> ITRF (ECEF).
 
-Frames
-------
-* **ECI** here is the GCRS/GCRF: the IAU 2006/2000A celestial frame realised by pyerfa.
-* **ECEF** is the ITRS/ITRF (with polar motion set to zero unless you pass it, it is the TIRS,
-  which differs from the ITRF by at most ~0.6 arcsec, 3e-6 rad, ~20 m at orbital radius).
-* **Geodetic** coordinates are on the WGS-84 ellipsoid: latitude phi and east longitude lambda
-  [rad], height above the ellipsoid h [m].
-
-The rotation ECI -> ECEF is the CIO-based IAU 2006/2000A product
-``W(xp, yp) R3(ERA(UT1)) Q(TT)``: ``Q`` (GCRS -> CIRS, ``erfa.c2i06a``; IAU 2000B via
-``erfa.c2i00b`` as a faster option), the Earth rotation angle ERA (``erfa.era00``) and polar
-motion ``W`` (``erfa.pom00``).
-
-Accuracy
---------
-With no Earth-orientation data the defaults are UT1 = UTC and zero polar motion. The dominant
-error is then |UT1 - UTC| <= 0.9 s, i.e. an orientation error of at most
-0.9 s * 7.29e-5 rad/s = 6.6e-5 rad (<= ~450 m along a circle of 6 800 km radius); polar motion
-adds <= ~3e-6 rad (~20 m). Give ``ut1_minus_utc`` and ``polar_motion`` (IERS Bulletin A/B) to
-remove both: the module then reproduces Vallado et al. (2006)'s GCRF/ITRF example to ~1 cm in
-position and ~0.5 mm/s in velocity (see ``test/environment/test_earth_frames.py``). The matrix
-equals ERFA's own ``c2t06a`` (with ERFA's UTC -> TAI -> TT chain) to 1e-12. TT is computed from
-UTC through ERFA's leap-second table (``erfa.dat``); the precession-nutation matrix is
-insensitive to TT errors of seconds.
-
-Velocities include the transport term of the rotating frame, ``v_ecef = R v_eci - omega x r_ecef``
-with omega the rate of the Earth rotation angle (:data:`EARTH_ROTATION_RATE`, the IERS 2010 value
-7.292115146706979e-5 rad/s) along the CIP axis. The neglected rate of precession-nutation is
-< 1e-11 rad/s (< 0.1 mm/s at orbital radius).
-
-Units: metres, metres per second, radians inside; degrees only in names ending ``_deg``.
+ECI is the GCRS/GCRF as realised by pyerfa, ECEF the ITRS/ITRF (the TIRS with zero polar
+motion); the rotation is the CIO-based IAU 2006/2000A product ``W(xp, yp) R3(ERA(UT1)) Q(TT)``
+(``erfa.c2i06a`` or ``erfa.c2i00b``, ``erfa.era00``, ``erfa.pom00``), and velocities carry the
+transport term ``v_ecef = R v_eci - omega x r_ecef``. Defaults UT1 = UTC and zero polar motion;
+accuracy and the Vallado et al. (2006) check: docs/physics.md, section 5.4. Units: m, m/s, rad
+(degrees only in names ending ``_deg``).
 """
 
 from __future__ import annotations
@@ -67,19 +42,11 @@ _TWO_PI = 2.0 * math.pi
 # --------------------------------------------------------------------------- Earth orientation
 @dataclass(frozen=True, eq=False)
 class EarthOrientation:
-    """Orientation of the ITRF (ECEF) relative to the GCRF (ECI) at one instant.
+    """Orientation of the ITRF (ECEF) relative to the GCRF (ECI) at one (naive UTC) ``time``.
 
-    Attributes
-    ----------
-    time : datetime.datetime
-        The UTC instant (naive, UTC).
-    celestial_to_terrestrial : numpy.ndarray, shape (3, 3)
-        Rotation matrix R with ``r_ecef = R @ r_eci`` (GCRS -> ITRS), read-only.
-    earth_rotation_angle : float
-        ERA(UT1) [rad], in [0, 2 pi).
-    rotation_vector_ecef : numpy.ndarray, shape (3,)
-        Angular velocity of the ECEF frame relative to the ECI frame, in ECEF axes [rad/s]:
-        :data:`EARTH_ROTATION_RATE` along the CIP (the ECEF z axis when polar motion is zero).
+    ``celestial_to_terrestrial``: the read-only rotation R, ``r_ecef = R @ r_eci``;
+    ``earth_rotation_angle``: ERA(UT1) [rad] in [0, 2 pi); ``rotation_vector_ecef``: the
+    angular velocity of ECEF relative to ECI, ECEF axes [rad/s], along the CIP.
     """
 
     time: _dt.datetime
@@ -89,22 +56,10 @@ class EarthOrientation:
 
     # Positions are row vectors, (3,) or (N, 3): r_ecef = r_eci @ R.T.
     def eci_to_ecef(self, position_eci, velocity_eci=None):
-        """Rotate a position (and velocity) from ECI (GCRF) to ECEF (ITRF).
+        """Rotate a position [m] (and velocity [m/s]), shape (3,) or (N, 3), from ECI to ECEF.
 
-        Parameters
-        ----------
-        position_eci : array_like, shape (3,) or (N, 3)
-            Position in ECI [m].
-        velocity_eci : array_like, shape like ``position_eci``, optional
-            Inertial velocity in ECI axes [m/s].
-
-        Returns
-        -------
-        position_ecef : numpy.ndarray
-            Position in ECEF [m].
-        velocity_ecef : numpy.ndarray or None
-            Velocity relative to the rotating Earth, in ECEF axes [m/s]:
-            ``R v_eci - omega x r_ecef``; None if no velocity was given.
+        Returns ``(position_ecef, velocity_ecef)``: the velocity relative to the rotating Earth,
+        ``R v_eci - omega x r_ecef``, or None if no velocity was given.
         """
         matrix = self.celestial_to_terrestrial
         position_ecef = vectors3(position_eci, "position_eci") @ matrix.T
@@ -114,22 +69,10 @@ class EarthOrientation:
         return position_ecef, velocity - cross(self.rotation_vector_ecef, position_ecef)
 
     def ecef_to_eci(self, position_ecef, velocity_ecef=None):
-        """Rotate a position (and velocity) from ECEF (ITRF) to ECI (GCRF).
+        """Rotate a position [m] (and velocity [m/s]), shape (3,) or (N, 3), from ECEF to ECI.
 
-        Parameters
-        ----------
-        position_ecef : array_like, shape (3,) or (N, 3)
-            Position in ECEF [m].
-        velocity_ecef : array_like, shape like ``position_ecef``, optional
-            Velocity relative to the rotating Earth, in ECEF axes [m/s].
-
-        Returns
-        -------
-        position_eci : numpy.ndarray
-            Position in ECI [m].
-        velocity_eci : numpy.ndarray or None
-            Inertial velocity in ECI axes [m/s]: ``R^T (v_ecef + omega x r_ecef)``; None if no
-            velocity was given.
+        Returns ``(position_eci, velocity_eci)``: the inertial velocity,
+        ``R^T (v_ecef + omega x r_ecef)``, or None if no velocity was given.
         """
         matrix = self.celestial_to_terrestrial
         position = vectors3(position_ecef, "position_ecef")
@@ -157,12 +100,9 @@ _ROTATION_VECTOR_ECEF.setflags(write=False)
 
 @functools.lru_cache(maxsize=256)
 def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> tuple:
-    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket`` (J2000-based),
-    as 9 floats in row-major order.
+    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket``, 9 floats row-major.
 
-    The cache of the precession-nutation buckets: a pure function of its arguments (key: model,
-    bucket, step; bound: 256 buckets, over four hours at the 60 s step the estimator uses; hits
-    and misses in ``_celestial_to_intermediate_at.cache_info()``).
+    The cache of the precession-nutation buckets (``cache_info()``), 256 buckets.
     """
     return tuple(
         _CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days).ravel().tolist()
@@ -172,10 +112,8 @@ def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> 
 def earth_rotation_angle(ut1_day: float, ut1_fraction: float) -> float:
     """Earth rotation angle ERA(UT1) [rad] in [0, 2 pi) of a two-part UT1 Julian date.
 
-    IERS Conventions 2010 eq. 5.15, ERA = 2 pi (0.7790572732640 + 1.00273781191135448 Tu), with
-    Tu = JD(UT1) - 2451545.0, evaluated as ``erfa.era00`` does (the fractional days summed
-    apart from the rest of the rate term, then wrapped into [0, 2 pi)); equal to it bit for bit
-    (``test/environment/test_earth_frames.py``) at a fifth of its cost for single floats.
+    IERS Conventions 2010 eq. 5.15, evaluated as ``erfa.era00`` does (the fractional days summed
+    apart from the rest of the rate term), so equal to it bit for bit; cheaper for single floats.
     """
     if ut1_day < ut1_fraction:
         small, large = ut1_day, ut1_fraction
@@ -192,18 +130,9 @@ def check_orientation_options(
 ):
     """Checked Earth-orientation options of :func:`earth_orientation`.
 
-    Returns
-    -------
-    tuple
-        ``(ut1_minus_utc [s], x_p [rad], y_p [rad], precession_nutation, step [s])`` as floats
-        (and the model name).
-
-    Raises
-    ------
-    ValueError
-        Naming the option: non-finite or out-of-range ``ut1_minus_utc`` (|.| <= 1 s) or
-        ``polar_motion`` (|.| <= 10 arcsec), an unknown ``precession_nutation`` name or a
-        ``precession_nutation_step`` outside [0, 3600] s.
+    Returns ``(ut1_minus_utc [s], x_p [rad], y_p [rad], precession_nutation, step [s])``; raises
+    ValueError naming an option out of range (|UT1 - UTC| <= 1 s, polar motion <= 10 arcsec,
+    step in [0, 3600] s) or an unknown model name.
     """
     ut1_minus_utc = float(ut1_minus_utc)
     if not math.isfinite(ut1_minus_utc) or abs(ut1_minus_utc) > 1.0:
@@ -238,34 +167,11 @@ def check_orientation_options(
 def rotation_terms(
     jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step
 ):
-    """The GCRS -> ITRS rotation of :func:`earth_orientation` as plain floats (no arrays).
+    """The GCRS -> ITRS rotation of :func:`earth_orientation` as plain floats, inputs checked.
 
-    The per-message form used by :func:`adbsat_ros.environment.flight_conditions.flight_conditions`;
-    inputs are already checked (see :func:`check_orientation_options`).
-
-    Parameters
-    ----------
-    jd1, day_fraction : float
-        Two-part Julian date of the UTC instant: ``utc_day(...)[0]`` and UTC seconds of the
-        day / 86400.
-    tt_minus_utc : float
-        TT - UTC [day] (``utc_day(...)[1]``).
-    ut1_minus_utc : float
-        UT1 - UTC [s].
-    xp, yp : float
-        Polar motion [rad].
-    precession_nutation : {"iau2006a", "iau2000b"}
-    step : float
-        Precession-nutation step [s], 0 for none (see :func:`earth_orientation`).
-
-    Returns
-    -------
-    matrix : tuple of 9 floats
-        R (``r_ecef = R @ r_eci``) in row-major order.
-    era : float
-        Earth rotation angle [rad].
-    axis : tuple of 3 floats
-        Angular velocity of ECEF relative to ECI, ECEF axes [rad/s].
+    ``jd1`` and ``day_fraction`` are the UTC instant's two-part Julian date, ``tt_minus_utc``
+    [day], ``ut1_minus_utc`` [s], ``xp, yp`` [rad], ``step`` [s]. Returns R (``r_ecef = R @
+    r_eci``) as 9 floats row-major, ERA [rad], and the rotation vector (ECEF axes, [rad/s]).
     """
     tt2 = day_fraction + tt_minus_utc
     if step > 0.0:
@@ -312,20 +218,18 @@ def earth_orientation(
     time : datetime.datetime
         UTC instant; timezone-aware, or naive meaning UTC.
     ut1_minus_utc : float, optional
-        UT1 - UTC [s]. Default 0 (UT1 = UTC), see the module notes on accuracy.
+        UT1 - UTC [s]. Default 0 (UT1 = UTC; docs/physics.md, section 5.4).
     polar_motion : pair of float, optional
         Pole coordinates (x_p, y_p) [rad]. Default (0, 0).
     precession_nutation : {"iau2006a", "iau2000b"}, optional
         ``"iau2006a"`` (default): IAU 2006/2000A, ``erfa.c2i06a``.
-        ``"iau2000b"``: IAU 2000B, ``erfa.c2i00b`` (faster), within 1 mas (5e-9 rad, 3 cm at
-        orbital radius) of 2000A over 1995-2050.
+        ``"iau2000b"``: IAU 2000B, ``erfa.c2i00b`` (faster), within 1 mas (5e-9 rad) of 2000A
+        over 1995-2050.
     precession_nutation_step : float, optional
         0 (default): precession-nutation evaluated at ``time``. A step [s] > 0 evaluates it at
-        the centre of the step-long TT interval holding ``time`` and memoises it: the Earth
-        rotation angle stays exact, and the celestial pole moves by less than 2e-11 rad/s
-        (precession and the fastest nutation terms), so a 60 s step errs by under 1e-9 rad
-        (6 mm at orbital radius) and saves evaluating IAU 2006/2000A on every call. The
-        result depends only on ``time`` (not on call order).
+        the centre of the step-long TT interval holding ``time`` (memoised; ERA stays exact):
+        the pole moves by under 2e-11 rad/s, so a 60 s step errs by under 1e-9 rad. The result
+        depends only on ``time``.
 
     Returns
     -------
@@ -357,8 +261,7 @@ def earth_orientation(
 def eci_to_ecef(time, position_eci, velocity_eci=None, **orientation_options):
     """Rotate position [m] (and velocity [m/s]) from ECI (GCRF) to ECEF (ITRF) at ``time``.
 
-    Shorthand for ``earth_orientation(time, **orientation_options).eci_to_ecef(...)``; see
-    :meth:`EarthOrientation.eci_to_ecef`. Returns ``(position_ecef, velocity_ecef or None)``.
+    Shorthand for ``earth_orientation(time, **orientation_options).eci_to_ecef(...)``.
     """
     return earth_orientation(time, **orientation_options).eci_to_ecef(position_eci, velocity_eci)
 
@@ -366,7 +269,6 @@ def eci_to_ecef(time, position_eci, velocity_eci=None, **orientation_options):
 def ecef_to_eci(time, position_ecef, velocity_ecef=None, **orientation_options):
     """Rotate position [m] (and velocity [m/s]) from ECEF (ITRF) to ECI (GCRF) at ``time``.
 
-    Shorthand for ``earth_orientation(time, **orientation_options).ecef_to_eci(...)``; see
-    :meth:`EarthOrientation.ecef_to_eci`. Returns ``(position_eci, velocity_eci or None)``.
+    Shorthand for ``earth_orientation(time, **orientation_options).ecef_to_eci(...)``.
     """
     return earth_orientation(time, **orientation_options).ecef_to_eci(position_ecef, velocity_ecef)

@@ -1,29 +1,10 @@
 """Flight conditions: where a satellite is, what gas it meets and how fast it meets it.
 
-:func:`flight_conditions` takes a UTC time, an orbital state (position [m], velocity [m/s]) in
-ECI (GCRF) or ECEF (ITRF) and the space weather, and returns
-:class:`~adbsat_ros.environment.conditions.FlightConditions`: WGS-84 geodetic position,
-NRLMSISE-00 atmosphere, mean molecular mass, relative velocity, speed ratio and an accommodation
-coefficient, plus :meth:`FlightConditions.free_stream` for the gas-surface models.
-
-Relative velocity
------------------
-``relative_velocity_*`` is the velocity of the satellite relative to the local air,
-``v_sat - v_air``: the gas flows past the satellite along its negative. With ``earth_rotation``
-(the default) the air co-rotates with the Earth, ``v_air = omega x r + wind``, so in ECEF axes
-``v_rel = v_sat,ecef - wind``. With ``earth_rotation=False`` the air is at rest in ECI (plus the
-wind), as in ADBSat's circular-orbit speed. The ECI and ECEF vectors are the same physical vector
-in two sets of axes (no transport term: they differ by the rotation only).
-
-A satellite at rest relative to the air has zero relative speed: :class:`FlightConditions` is
-still returned (speed 0, speed ratio 0; accommodation models take the zero-speed limit), but
-:meth:`FlightConditions.free_stream` raises ValueError because a free stream needs a speed > 0;
-check :attr:`FlightConditions.speed` first if that can happen.
-
-ADBSat's ``environment.m`` recipe (a geodetic point and the circular-orbit speed) is
-:func:`adbsat_ros.environment.circular_orbit.flight_conditions_circular_orbit`.
-
-Units: m, m/s, kg, K, rad inside; degrees only in names ending ``_deg``.
+:func:`flight_conditions` of a UTC time, an orbital state in ECI (GCRF) or ECEF (ITRF) and the
+space weather. The relative velocity is ``v_sat - v_air`` (the gas flows along its negative),
+with the air co-rotating with the Earth by default; at zero relative speed the conditions are
+still returned, but ``free_stream()`` raises. docs/physics.md, section 5.4. Units: m, m/s, kg,
+K, rad (degrees only in names ending ``_deg``).
 """
 
 from __future__ import annotations
@@ -67,26 +48,10 @@ DEFAULT_ACCOMMODATION_MODEL = "langmuir"
 
 @dataclass(frozen=True)
 class ConditionsOptions:
-    """The options of :func:`flight_conditions`, checked once (see :func:`conditions_options`).
+    """The options of :func:`flight_conditions`, checked once for a stream of states.
 
-    A stream of states evaluated with the same options (the ROS node, bag analysis) checks them
-    once, not at every state: a sizeable part of an exact evaluation, which a 100 Hz stream on
-    the node's knots pays at every message.
-
-    Attributes
-    ----------
-    frame : {"eci", "ecef"}
-    earth_rotation : bool
-    wind : tuple of 3 floats or None
-        [m/s], in ``wind_frame``.
-    wind_frame : {"enu", "ecef"}
-    anomalous_oxygen : bool
-    accommodation_model : str
-        A canonical model name.
-    accommodation_options : mapping
-        Its options (read-only).
-    orientation_options : tuple
-        The checked Earth-orientation options (``check_orientation_options``).
+    ``wind`` [m/s] in ``wind_frame``; ``accommodation_model`` a canonical name;
+    ``orientation_options`` as ``check_orientation_options`` returns them.
     """
 
     frame: str
@@ -115,10 +80,7 @@ def conditions_options(
 ) -> ConditionsOptions:
     """The options of :func:`flight_conditions` (same names and meanings), checked.
 
-    Raises
-    ------
-    ValueError
-        Naming the option that is not allowed.
+    Raises ValueError naming the option that is not allowed.
     """
     frame_key = str(frame).lower()
     if frame_key not in STATE_FRAMES:
@@ -191,8 +153,8 @@ def flight_conditions(
     accommodation_options : mapping, optional
         Options of the model, e.g. ``{"alpha": 0.9}`` for ``fixed``.
     orientation : EarthOrientation, optional
-        Precomputed Earth orientation at ``time`` (saves evaluating it again for several states at
-        one instant); the three options below are then ignored.
+        Precomputed Earth orientation at ``time`` (for several states at one instant); the
+        three options below are then ignored.
     ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
         Earth-orientation options, see
         :func:`adbsat_ros.environment.earth_frames.earth_orientation`.
@@ -233,17 +195,7 @@ def evaluate_flight_conditions(
 ) -> FlightConditions:
     """:func:`flight_conditions` with its options checked already (:func:`conditions_options`).
 
-    Parameters
-    ----------
-    time, position, velocity, space_weather, orientation
-        As :func:`flight_conditions`.
-    options : ConditionsOptions
-        The other options.
-
-    Raises
-    ------
-    ValueError
-        Naming the input, as :func:`flight_conditions`.
+    Raises ValueError naming the input, as :func:`flight_conditions`.
     """
     utc = checked_utc(time)
     frame_key = options.frame

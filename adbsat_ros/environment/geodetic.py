@@ -1,8 +1,5 @@
-"""WGS-84 geodetic coordinates and local axes.
-
-Latitude, east longitude [rad] and height above the ellipsoid [m] from and to ECEF (ITRF)
-positions, and the local East-North-Up axes.
-"""
+"""WGS-84 geodetic coordinates (latitude, east longitude [rad], height [m]) from and to ECEF
+(ITRF) positions, and the local East-North-Up axes."""
 
 from __future__ import annotations
 
@@ -30,26 +27,10 @@ _POLAR_AXIS_EPS2 = _WGS84_A * _WGS84_A * 1e-32
 
 # ------------------------------------------------------------------------------------ geodetic
 def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
-    """WGS-84 geodetic coordinates to an ECEF (ITRF) position.
+    """WGS-84 geodetic latitude [rad] in [-pi/2, pi/2], east longitude [rad] and height above
+    the ellipsoid [m] (floats or arrays) to an ECEF (ITRF) position [m], shape (..., 3).
 
-    Parameters
-    ----------
-    latitude : float or array_like
-        Geodetic latitude [rad], in [-pi/2, pi/2].
-    longitude : float or array_like
-        East longitude [rad].
-    altitude : float or array_like
-        Height above the WGS-84 ellipsoid [m].
-
-    Returns
-    -------
-    numpy.ndarray, shape (..., 3)
-        ECEF position [m].
-
-    Raises
-    ------
-    ValueError
-        Naming the input, for non-finite values or a latitude outside [-pi/2, pi/2].
+    Raises ValueError naming the input, for non-finite values or a latitude out of range.
     """
     latitude = np.asarray(latitude, dtype=float)
     longitude = np.asarray(longitude, dtype=float)
@@ -69,26 +50,10 @@ def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
 
 
 def ecef_to_geodetic(position_ecef):
-    """ECEF (ITRF) position to WGS-84 geodetic coordinates.
+    """ECEF (ITRF) position [m], shape (3,) or (N, 3), to WGS-84 geodetic coordinates.
 
-    Parameters
-    ----------
-    position_ecef : array_like, shape (3,) or (N, 3)
-        ECEF position [m].
-
-    Returns
-    -------
-    latitude : float or numpy.ndarray
-        Geodetic latitude [rad].
-    longitude : float or numpy.ndarray
-        East longitude [rad], in (-pi, pi].
-    altitude : float or numpy.ndarray
-        Height above the ellipsoid [m].
-
-    Raises
-    ------
-    ValueError
-        If the position is not finite or has the wrong shape.
+    Returns latitude [rad], east longitude [rad] in (-pi, pi] and height above the ellipsoid
+    [m], floats or arrays; raises ValueError for a non-finite or mis-shaped position.
     """
     position = vectors3(position_ecef, "position_ecef")
     # The raw ufunc skips pyerfa's status-to-warning wrapper; status < 0 is only possible
@@ -104,11 +69,8 @@ def ecef_to_geodetic(position_ecef):
 
 
 def enu_to_ecef_matrix(latitude: float, longitude: float) -> np.ndarray:
-    """Matrix whose columns are the local East, North, Up unit vectors in ECEF axes.
-
-    ``v_ecef = M @ v_enu`` for a vector given in the local East-North-Up frame at the geodetic
-    ``latitude`` and ``longitude`` [rad] (Up is the ellipsoid normal).
-    """
+    """Matrix M of the local East, North, Up unit vectors (columns) in ECEF axes: ``v_ecef = M
+    @ v_enu`` at the geodetic ``latitude`` and ``longitude`` [rad] (Up the ellipsoid normal)."""
     sin_lat, cos_lat = math.sin(latitude), math.cos(latitude)
     sin_lon, cos_lon = math.sin(longitude), math.cos(longitude)
     return np.array(
@@ -121,11 +83,7 @@ def enu_to_ecef_matrix(latitude: float, longitude: float) -> np.ndarray:
 
 
 def geodetic_of(position_ecef: np.ndarray):
-    """``(latitude, longitude, altitude)`` as floats of one checked ECEF position, shape (3,).
-
-    :func:`ecef_to_geodetic` without its input checks, for a position already known to be three
-    finite floats (the per-message path of :mod:`adbsat_ros.environment.flight_conditions`).
-    """
+    """:func:`ecef_to_geodetic` of one position already checked, shape (3,), as floats."""
     longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position_ecef)
     if status != 0:  # pragma: no cover - defensive (only a bad ellipsoid identifier)
         raise ValueError(f"erfa.gc2gd failed (status {status}) for position {position_ecef!r}")
@@ -135,10 +93,8 @@ def geodetic_of(position_ecef: np.ndarray):
 def geodetic_of_floats(x: float, y: float, z: float) -> tuple:
     """``(latitude [rad], longitude [rad], altitude [m])`` of the ECEF position (x, y, z) [m].
 
-    :func:`ecef_to_geodetic` for one position given as three finite floats, in plain float
-    arithmetic: Fukushima's (2006) solution with one Halley step, the method of ERFA's
-    ``gc2gde``, with its operations in its order, so that the result equals ``erfa.gc2gd`` bit for
-    bit (checked in ``test/environment/test_earth_frames.py``) without a numpy array or ufunc call.
+    Fukushima's (2006) solution with one Halley step in plain floats, ERFA's ``gc2gde``
+    operations in its order, so equal to ``erfa.gc2gd`` bit for bit.
     """
     p2 = x * x + y * y
     longitude = math.atan2(y, x) if p2 > 0.0 else 0.0

@@ -1,9 +1,8 @@
 """Flight conditions between two knots: linear interpolation.
 
-The numbers of the conditions at two nearby instants of one orbital state (the six vectors, the
-speed, alpha, the atmosphere's densities and temperatures) are mixed linearly; the geodetic
-position is that of the mixed ECEF position, the speed the norm of the mixed relative velocity.
-The interpolation error is discussed in :mod:`adbsat_ros.environment.knots`."""
+The numbers of the conditions at two nearby instants of one orbital state are mixed linearly;
+the geodetic position is that of the mixed ECEF position, the speed the norm of the mixed
+relative velocity. The error: :mod:`adbsat_ros.environment.knots`."""
 
 from __future__ import annotations
 
@@ -31,21 +30,8 @@ _SPEED, _ALPHA, _MASS_DENSITY, _EXOSPHERIC, _TEMPERATURE, _DENSITIES = range(18,
 
 
 class KnotEnds:
-    """One end of an interpolation (a knot): its conditions and, made when first asked for (a
-    stream stamped on the knots never asks), the numbers the interpolation mixes.
-
-    Made lazily because bag analysis at 100 Hz meets a knot at every attitude, and would make
-    the numbers with each knot for nothing.
-
-    Parameters
-    ----------
-    conditions : FlightConditions
-        The exact conditions at the knot.
-
-    Attributes
-    ----------
-    conditions : FlightConditions
-        As given.
+    """One end of an interpolation (a knot): its exact ``conditions`` and the numbers the
+    interpolation mixes, made when first asked for (a stream stamped on the knots never asks).
     """
 
     __slots__ = ("conditions", "_numbers", "_vectors")
@@ -108,8 +94,7 @@ def check_ends(a: FlightConditions, b: FlightConditions) -> None:
 def mixed_conditions(
     a: KnotEnds, b: KnotEnds, weight: float, time: _dt.datetime
 ) -> FlightConditions:
-    """The conditions ``(1 - weight) a + weight b`` at ``time`` (the numbers of both ends mixed
-    as ``(1 - weight) x_a + weight x_b``; see :func:`interpolated_flight_conditions`)."""
+    """The conditions ``(1 - weight) a + weight b`` at ``time``, number by number."""
     mixed = a.numbers * (1.0 - weight)
     mixed += b.numbers * weight
     mixed.setflags(write=False)
@@ -152,29 +137,13 @@ def interpolated_flight_conditions(
 ) -> FlightConditions:
     """The flight conditions at ``time``, a fraction ``weight`` (0..1) of the way from a to b.
 
-    ``a`` and ``b`` are the flight conditions of one orbital state propagated to two nearby
-    instants (the same options and space weather; ``b`` at the later one). Every vector, the
-    atmosphere (number densities, mass density, both temperatures), the accommodation
-    coefficient and, without a relative velocity, the speed are mixed linearly as
-    ``(1 - weight) x_a + weight x_b``; the geodetic position is that of the mixed ECEF position
-    (exact, also over a pole), the speed the norm of the mixed ECEF relative velocity (so the
-    mean mass and speed ratio are those of the mixed atmosphere and speed). A weight of 0 gives
-    ``a`` at ``time``. See the module notes for the error.
+    ``a`` and ``b``: one orbital state's conditions at two nearby instants (same options and
+    space weather, ``b`` later). Every number is mixed as ``(1 - weight) x_a + weight x_b``; the
+    geodetic position is that of the mixed ECEF position (exact, also over a pole), the speed
+    the norm of the mixed relative velocity. A weight of 0 gives ``a`` at ``time`` [UTC].
 
-    Parameters
-    ----------
-    a, b : FlightConditions
-        The conditions at both ends.
-    weight : float
-        Fraction of the way from a to b [-].
-    time : datetime.datetime
-        UTC of the result.
-
-    Raises
-    ------
-    ValueError
-        If the two conditions were made with different options (accommodation model, Earth
-        rotation, space weather, anomalous oxygen).
+    Raises ValueError if ``a`` and ``b`` were made with different options (accommodation model,
+    Earth rotation, space weather, anomalous oxygen).
     """
     check_ends(a, b)
     if weight == 0.0:

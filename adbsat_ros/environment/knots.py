@@ -1,19 +1,11 @@
 """Flight conditions on a grid of stamps, interpolated in between: the per-message cache.
 
-An attitude stream at 1 kHz asks for the flight conditions of one orbital state at every stamp;
-an exact evaluation runs NRLMSISE-00, the Earth's orientation and the accommodation model.
-:class:`KnotGrid` evaluates them exactly only at the *knots*, the stamps ``j step``
-for integers j (``step`` = ``conditions_step``, 0.01 s by default), and interpolates linearly in
-between (:mod:`adbsat_ros.environment.interpolation`). The knots are fixed stamps, not set by the
-messages, so a stamp and a state always get the same numbers whatever came before (live, or
-replayed from a bag in any order), and a stream stamped on multiples of the step lands on knots.
-
-Interpolation error: for a first-order propagated state the positions are linear in time, so the
-interpolated position is the propagated one (to rounding); the other fields are smooth along the
-orbit and err by about (h v / L)^2 / 8 for knots h v metres apart and fields varying over L
-(hundreds of km horizontally, tens of km vertically): about 2e-9 of the density at 0.01 s
-(77 m at 7.7 km/s), 2e-7 at 0.1 s (checked in ``test/environment/test_knots.py``). NRLMSISE-00's
-own steps (e.g. at exactly 300 km) are spread over the interval that crosses them.
+:class:`KnotGrid` evaluates the conditions exactly only at the knots ``j step`` (``step`` =
+``conditions_step``) and interpolates linearly in between. The knots are fixed stamps, not set by
+the messages, so a stamp and a state always get the same numbers whatever came before (live, or
+replayed in any order). Interpolation error about (h v / L)^2 / 8 for knots h v metres apart and
+fields varying over L: about 2e-9 of the density at 0.01 s, 2e-7 at 0.1 s; NRLMSISE-00's own
+steps are spread over the interval that crosses them. docs/physics.md, section 5.4.
 """
 
 from __future__ import annotations
@@ -26,38 +18,19 @@ from typing import Callable
 from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.interpolation import KnotEnds, mixed_conditions
 
-#: A stamp this close to a knot [s] takes the knot's conditions alone: UNIX stamps as float
-#: seconds resolve 2.4e-7 s, so a stream stamped on multiples of the step (e.g. 100 Hz at the
-#: default 0.01 s) lands on knots and needs one evaluation per message, as without knots.
+#: A stamp this close to a knot [s] takes the knot's conditions alone (float UNIX stamps
+#: resolve 2.4e-7 s), so a stream stamped on multiples of the step lands on knots.
 KNOT_SNAP_S = 1e-6
-#: Knots kept (the grid's bound): the two around the latest stamp, the one after them (the
-#: look-ahead of :meth:`KnotGrid.prepare`), one spare.
+#: Knots kept: the two around the latest stamp, the look-ahead of :meth:`KnotGrid.prepare`, a spare.
 KNOTS_KEPT = 4
-#: :meth:`KnotGrid.prepare` also evaluates the knot this many steps after the one at or before
-#: the prepared stamp (when that stamp needed no new knot), so that the attitudes of the next
-#: interval find its far knot ready.
+#: :meth:`KnotGrid.prepare` also evaluates the knot this many steps on (when the prepared stamp
+#: needed no new knot), so the next interval finds its far knot ready.
 KNOT_LOOKAHEAD = 2
 
 
 def knot_position(stamp: float, step: float) -> tuple:
-    """The knot at or before a stamp and the time past it.
-
-    Parameters
-    ----------
-    stamp : float
-        Message stamp [s].
-    step : float
-        Knot spacing [s], > 0.
-
-    Returns
-    -------
-    j : int
-        Index of the knot ``j step`` at or before ``stamp``, or of the knot within
-        :data:`KNOT_SNAP_S` of it.
-    past : float
-        ``stamp - j step`` [s], in (KNOT_SNAP_S, step - KNOT_SNAP_S), or 0 for a stamp within
-        KNOT_SNAP_S of knot j.
-    """
+    """``(j, past)``: the knot ``j step`` at or before (or within :data:`KNOT_SNAP_S` of) a
+    ``stamp`` [s], and ``stamp - j step`` [s] (0 on a knot), for a ``step`` [s] > 0."""
     j = math.floor(stamp / step)
     past = stamp - j * step
     if past >= step - KNOT_SNAP_S:
@@ -70,17 +43,12 @@ def knot_position(stamp: float, step: float) -> tuple:
 class KnotGrid:
     """The flight conditions of one orbital state on the knots, interpolated in between.
 
-    A cache with one concern: its key is the orbital state the knots belong to (compared by
-    value, ``==``: another state forgets the knots, the same one sent again keeps them), its bound
-    ``kept`` knots (the oldest goes first), and it counts its lookups (:attr:`hits`,
-    :attr:`misses`), the exact evaluations made (:attr:`evaluations`) and the requests at the
-    stamp :meth:`prepare` made ready (:attr:`prepared_used`).
-
-    With ``step`` > 0 the knots are the stamps ``j step``; a stamp within :data:`KNOT_SNAP_S` of
-    a knot takes that knot's conditions, any other one is interpolated between the two knots
-    around it, and if one of those cannot be evaluated (e.g. it lies above the atmosphere model
-    while the stamp does not) the stamp itself is evaluated exactly. With ``step`` = 0 every
-    stamp is its own knot: evaluated exactly, and kept for another request at that stamp.
+    A cache keyed by the orbital state (compared with ``==``: another state forgets the knots),
+    bounded by ``kept`` knots (the oldest goes first), counting :attr:`hits`, :attr:`misses`,
+    :attr:`evaluations` and :attr:`prepared_used`. A stamp within :data:`KNOT_SNAP_S` of a knot
+    takes its conditions; if a knot around a stamp cannot be evaluated (e.g. above the
+    atmosphere model) the stamp is evaluated exactly. With ``step`` = 0 every stamp is its own
+    knot.
 
     Parameters
     ----------
@@ -88,10 +56,9 @@ class KnotGrid:
         Knot spacing [s], >= 0.
     evaluate : callable
         ``evaluate(key, stamp)``: the exact :class:`FlightConditions` of the orbital state
-        ``key`` at ``stamp`` [s]; raises ValueError if there are none (e.g. outside the
-        atmosphere model).
+        ``key`` at ``stamp`` [s]; raises ValueError if there are none.
     kept : int, optional
-        Largest number of knots kept, >= 3 (the two around a stamp and the look-ahead).
+        Largest number of knots kept, >= 3.
 
     Raises
     ------
@@ -115,15 +82,8 @@ class KnotGrid:
         self.configure(step, evaluate)
 
     def configure(self, step: float, evaluate: Callable[[object, float], FlightConditions]):
-        """Evaluate with ``evaluate`` on knots ``step`` apart from now on.
-
-        The knots kept go (they were another evaluation's); the counters stay.
-
-        Raises
-        ------
-        ValueError
-            For a step that is not a finite number >= 0 (nothing changed then).
-        """
+        """Evaluate with ``evaluate`` on knots ``step`` [s] apart from now on (the knots go, the
+        counters stay); ValueError for a step not finite and >= 0 (nothing changed then)."""
         step = float(step)
         if not (math.isfinite(step) and step >= 0.0):
             raise ValueError(f"step must be a finite number of seconds >= 0, got {step!r}")
@@ -153,21 +113,10 @@ class KnotGrid:
         self._prepared: tuple | None = None  # (key, stamp) of the latest prepare()
 
     def conditions(self, key, stamp: float, time: _dt.datetime) -> FlightConditions:
-        """The flight conditions of the orbital state ``key`` at ``stamp``.
+        """The flight conditions of the orbital state ``key`` at ``stamp`` [s], UTC ``time``.
 
-        Parameters
-        ----------
-        key : object
-            The orbital state (what ``evaluate`` takes; compared with ``==``).
-        stamp : float
-            Message stamp [s].
-        time : datetime.datetime
-            UTC of ``stamp`` (the time of the result).
-
-        Raises
-        ------
-        ValueError
-            From ``evaluate`` at the stamp itself (e.g. an altitude outside the model).
+        Raises ValueError from ``evaluate`` at the stamp itself (e.g. an altitude outside the
+        model).
         """
         prepared = self._prepared
         if (
@@ -192,18 +141,12 @@ class KnotGrid:
         return mixed_conditions(a, b, past / step, time)
 
     def prepare(self, key, stamp: float) -> bool:
-        """Evaluate ahead the knots a request at ``stamp`` will need.
+        """Evaluate ahead the knots a request at ``stamp`` will need; whether they are ready.
 
-        With ``step`` > 0: the knots around the stamp and, if they were kept already, the knot
-        :data:`KNOT_LOOKAHEAD` steps on, so that at most one knot is evaluated per call in a
-        regular stream, one interval before any stamp needs it. With ``step`` = 0: the exact
-        conditions at the stamp. A later :meth:`conditions` at this stamp and key counts in
-        :attr:`prepared_used`. The numbers of any request are those it would have had without.
-
-        Returns
-        -------
-        bool
-            Whether the stamp's knots are ready (False if one cannot be evaluated).
+        With ``step`` > 0 the knots around the stamp and, if those were kept already, the knot
+        :data:`KNOT_LOOKAHEAD` steps on (at most one evaluation per call in a regular stream).
+        A later :meth:`conditions` at this stamp and key counts in :attr:`prepared_used`; its
+        numbers are those it would have had without.
         """
         step = self.step
         try:
@@ -249,8 +192,7 @@ class KnotGrid:
 
 
 def _at_time(conditions: FlightConditions, time: _dt.datetime) -> FlightConditions:
-    """A knot's conditions at ``time`` (themselves at their own time; a knot's conditions serve
-    the stamps within :data:`KNOT_SNAP_S` of it)."""
+    """A knot's conditions at ``time`` (a knot serves the stamps within :data:`KNOT_SNAP_S`)."""
     if time == conditions.time:
         return conditions
     return dataclasses.replace(conditions, time=time)

@@ -1,19 +1,10 @@
 """The Sun as solar radiation pressure sees it: where it is, how hard it pushes, how much of it
 Earth hides.
 
-- :func:`sun_position_eci`: the geocentric position of the Sun in the GCRS (the package's ECI),
-  from ERFA's ``epv00`` (VSOP2000-fitted Earth ephemeris, heliocentric position of the Earth in
-  BCRS axes; the Sun is minus it). TT stands for TDB (they differ by under 0.002 s); light time and
-  aberration (20 arcsec) are neglected: a change of the Sun's direction of 1e-4 rad.
-- :func:`solar_pressure`: the radiation pressure of sunlight absorbed by a surface normal to it,
-  P = S / c (1 au / d)^2 with the total solar irradiance S at 1 au.
-- :func:`lit_fraction`: Earth's shadow as a cone, with umbra and penumbra: the fraction of the
-  solar disc seen past a spherical Earth (Montenbruck & Gill, Satellite Orbits, 2000, 3.4.2).
-- :func:`sun_state`: all of it for a satellite at a time and place (:class:`SunState`);
-  :class:`SunTrack`, the Sun's position on knots a minute apart for a stream of messages.
-
-Valid inputs: times ERFA's ephemeris covers (1900-2100 to its stated accuracy), positions
-outside the Earth ([m], GCRS). Formulas and sources: docs/physics.md, section 7.
+The Sun's geocentric position from ERFA's ``epv00`` (GCRS, the package's ECI), the pressure
+P = S / c (1 au / d)^2, and Earth's shadow as a cone with umbra and penumbra (Montenbruck &
+Gill, Satellite Orbits, 2000, 3.4.2). Valid for the times ERFA's ephemeris covers (1900-2100),
+positions [m] outside the Earth. Formulas and sources: docs/physics.md, section 7.1.
 """
 
 from __future__ import annotations
@@ -45,20 +36,8 @@ EARTH_SHADOW_RADIUS = 6_378_137.0
 
 @dataclass(frozen=True)
 class SunState:
-    """The Sun seen from a satellite.
-
-    Attributes
-    ----------
-    direction_eci : ndarray, shape (3,)
-        Unit vector from the satellite towards the Sun, GCRS.
-    distance : float
-        Satellite-Sun distance [m].
-    lit_fraction : float
-        Fraction of the solar disc visible past the Earth, in [0, 1].
-    pressure : float
-        Solar radiation pressure at that distance [Pa], the shadow not applied (multiply by
-        ``lit_fraction`` for the pressure the satellite feels).
-    """
+    """The Sun seen from a satellite: the unit vector towards it (GCRS), the distance [m], the
+    visible fraction of its disc [0, 1], and the pressure [Pa] there, the shadow not applied."""
 
     direction_eci: np.ndarray
     distance: float
@@ -77,10 +56,7 @@ def sun_position_eci(time) -> np.ndarray:
 def solar_pressure(sun_distance) -> float:
     """Solar radiation pressure [Pa] at ``sun_distance`` [m] from the Sun: P_1au (1 au / d)^2.
 
-    Raises
-    ------
-    ValueError
-        If ``sun_distance`` is not a finite positive number.
+    Raises ValueError if ``sun_distance`` is not a finite positive number.
     """
     d = float(sun_distance)
     if not (math.isfinite(d) and d > 0.0):
@@ -91,20 +67,8 @@ def solar_pressure(sun_distance) -> float:
 def lit_fraction(position_eci, sun_position_eci):
     """Fraction of the solar disc visible from ``position_eci`` past a spherical Earth.
 
-    With r the satellite's position and s the Sun's (geocentric), the Sun's apparent radius is
-    a = asin(R_sun / |s - r|), the Earth's b = asin(R_E / |r|), and the angle between their
-    centres c = acos(-r . (s - r) / (|r| |s - r|)). The discs do not overlap for c >= a + b
-    (fraction 1); the Earth covers the Sun for c <= b - a (umbra, 0); the Sun is annular around
-    the Earth for c <= a - b (1 - b^2 / a^2, never at Earth orbit heights); in between
-    (penumbra) the overlap of two discs of radii a, b at distance c, taken as flat
-    (a, b, c << 1 rad for the Sun),
-
-        A = a^2 acos(x / a) + b^2 acos((c - x) / b) - c y,
-        x = (c^2 + a^2 - b^2) / (2 c),  y = sqrt(a^2 - x^2),
-
-    and the fraction is 1 - A / (pi a^2) (Montenbruck & Gill 2000, eqs. 3.85-3.87). It falls
-    continuously from 1 to 0 through the penumbra.
-
+    Umbra, penumbra (the overlap of two flat discs) and annular cases of Montenbruck & Gill
+    (2000), eqs. 3.85-3.87; docs/physics.md, section 7.1. Continuous through the penumbra.
     Parameters
     ----------
     position_eci : array_like, shape (3,) or (N, 3)
@@ -162,8 +126,8 @@ def lit_fraction(position_eci, sun_position_eci):
 
 
 def _visible_fraction(rx, ry, rz, sx, sy, sz) -> float:
-    """:func:`lit_fraction` of one position, in floats (checked by the caller; the tests check
-    that both agree): one message's shadow, where numpy's overhead per call would dominate."""
+    """:func:`lit_fraction` of one position already checked, in floats (the tests check that
+    both agree)."""
     radius = math.hypot(rx, ry, rz)
     dx, dy, dz = sx - rx, sy - ry, sz - rz
     distance = math.hypot(dx, dy, dz)
@@ -190,18 +154,8 @@ def _visible_fraction(rx, ry, rz, sx, sy, sz) -> float:
 def sun_state(time, position_eci, sun_position=None) -> SunState:
     """The Sun seen from a satellite at ``position_eci`` [m] (GCRS) at UTC ``time``.
 
-    Parameters
-    ----------
-    time : datetime.datetime
-    position_eci : array_like, shape (3,)
-    sun_position : array_like, shape (3,), optional
-        The Sun's geocentric position [m] at ``time`` if known (e.g. from a :class:`SunTrack`);
-        :func:`sun_position_eci` otherwise.
-
-    Raises
-    ------
-    ValueError
-        As :func:`lit_fraction`.
+    ``sun_position``: the Sun's geocentric position [m] at ``time`` if known (e.g. from a
+    :class:`SunTrack`). Raises ValueError as :func:`lit_fraction`.
     """
     sun = sun_position_eci(time) if sun_position is None else np.asarray(sun_position, float)
     r = np.asarray(position_eci, dtype=float)
@@ -224,14 +178,10 @@ class SunTrack:
     """The Sun's geocentric position through time: exact on knots every ``step`` seconds,
     linear in between. The cache of the Sun's position.
 
-    Key: the knot index floor(t / step) of the UTC time t in seconds since 2000-01-01. Value:
-    the positions at the two knots around t. Bound: those two. Counters: ``hits`` (both knots
-    known), ``misses`` (knots evaluated).
-
-    Why: ERFA's ephemeris is costly to call; a node computing the solar pressure at 1 kHz
-    needs a new position each message. Linear interpolation between knots h apart errs by at
-    most |p''| h^2 / 8, with |p''| = omega^2 (1 au) = 6e-3 m/s^2 (the Earth's orbital rate
-    omega = 2e-7 rad/s): 2.7 m at h = 60 s, a direction error of 2e-11 rad.
+    Keyed by the knot index floor(t / step) (t: UTC seconds since 2000-01-01), bounded by the
+    two knots around t, counting ``hits`` and ``misses``. ERFA's ephemeris is costly per
+    message; the interpolation errs by at most |p''| h^2 / 8 = 2.7 m at h = 60 s (a direction
+    error of 2e-11 rad).
 
     Parameters
     ----------

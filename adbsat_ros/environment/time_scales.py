@@ -1,9 +1,7 @@
 """UTC instants as the Earth-orientation and atmosphere models take them.
 
-Aware datetimes, two-part Julian dates (UTC, TT, UT1) through ERFA's leap-second table, day of
-year and seconds of day. The constants of a calendar day come from :func:`utc_day`, a pure
-function of the date with its own cache (``functools.lru_cache``: key the date, bound 512 days,
-hits and misses in ``utc_day.cache_info()``), as does ERFA's TAI - UTC of a day.
+Naive UTC datetimes, two-part Julian dates (UTC, TT, UT1) through ERFA's leap-second table, day
+of year and seconds of day; a day's constants are cached by :func:`utc_day` (``lru_cache``).
 """
 
 from __future__ import annotations
@@ -28,15 +26,8 @@ _UTC = _dt.timezone.utc
 def utc_datetime(time) -> _dt.datetime:
     """Return ``time`` as a naive :class:`datetime.datetime` in UTC.
 
-    Parameters
-    ----------
-    time : datetime.datetime
-        A timezone-aware datetime (converted to UTC) or a naive one (taken to be UTC already).
-
-    Raises
-    ------
-    ValueError
-        If ``time`` is not a :class:`datetime.datetime` (a plain ``date`` is refused too).
+    An aware ``time`` is converted to UTC, a naive one is taken to be UTC; ValueError for
+    anything but a :class:`datetime.datetime` (a plain ``date`` is refused too).
     """
     if not isinstance(time, _dt.datetime):
         raise ValueError(
@@ -63,21 +54,8 @@ def _tai_minus_utc(year: int, month: int, day: int) -> float:
 
 
 def julian_dates(time, ut1_minus_utc: float = 0.0):
-    """Two-part Julian dates (UTC, TT, UT1) of a UTC datetime.
-
-    Parameters
-    ----------
-    time : datetime.datetime
-        UTC instant (see :func:`utc_datetime`).
-    ut1_minus_utc : float, optional
-        UT1 - UTC [s] (IERS DUT1); 0 by default.
-
-    Returns
-    -------
-    tuple of three (float, float) pairs
-        ``(utc, tt, ut1)``, each a two-part Julian date (integer-and-a-half day, day fraction)
-        as ERFA expects.
-    """
+    """Two-part Julian dates ``(utc, tt, ut1)`` of a UTC datetime, each (integer-and-a-half
+    day, day fraction) as ERFA expects, with ``ut1_minus_utc`` [s] (IERS DUT1)."""
     time = utc_datetime(time)
     jd1, tt_offset, _ = utc_day(time.year, time.month, time.day)
     day_fraction = seconds_of_day(time) / SECONDS_PER_DAY
@@ -90,14 +68,10 @@ def julian_dates(time, ut1_minus_utc: float = 0.0):
 
 @functools.lru_cache(maxsize=512)
 def utc_day(year: int, month: int, day: int) -> tuple:
-    """Constants of a UTC calendar day, memoised (the per-call time work is then a few floats).
+    """Constants of a UTC calendar day, memoised: ``(jd1, tt_minus_utc, day_of_year)``.
 
-    Returns
-    -------
-    tuple of (float, float, int)
-        ``(jd1, tt_minus_utc, day_of_year)``: the integer-and-a-half Julian date 2400000.5 + MJD
-        of the day's 0 h UTC (the first part of ERFA's two-part dates), TT - UTC [day] on that
-        day (TAI - UTC from ERFA's leap-second table + 32.184 s), and the day of the year (1..366).
+    ``jd1`` = 2400000.5 + MJD of the day's 0 h UTC (the first part of ERFA's two-part dates),
+    TT - UTC [day] (TAI - UTC from ERFA's leap-second table + 32.184 s), day of year 1..366.
     """
     ordinal = _dt.date(year, month, day).toordinal()
     return (

@@ -1,10 +1,7 @@
 """Figures: aerodynamic databases, per-panel pressure on the mesh, and rosbag time series.
 
-Everything here draws on :class:`matplotlib.figure.Figure` objects with the Agg canvas
-(:mod:`adbsat_ros.plotting.figures`), never through pyplot, so it works headless and leaves no
-global state behind. Each figure has a ``make_*_figure`` function that returns the Figure (for
-tests and notebooks) and a ``plot_*`` function that writes PNG files (about 8 x 5 in at 100 dpi,
-small enough to commit):
+Drawn on Agg-canvas Figures (:mod:`adbsat_ros.plotting.figures`), never through pyplot: headless,
+no global state. ``make_*_figure`` returns a Figure, ``plot_*`` writes PNG files:
 
 * :mod:`~adbsat_ros.plotting.coefficients`: a database's force and moment coefficients against
   angle of attack, one line per sideslip angle;

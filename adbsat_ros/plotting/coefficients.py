@@ -1,8 +1,7 @@
 """Figures of an aerodynamic database: coefficients against angle of attack, one line per sideslip.
 
-Conventions (see :mod:`adbsat_ros.geometry.frames`): angles in degrees; coefficients as ADBSat
-names them (``CD``, ``CL``, ``CY`` in wind axes, ``Cm_B`` in ADBSat's body frame B, x_B = x_G,
-y_B = -y_G, z_B = -z_G, about the database's reference moment point).
+Angles in degrees; ADBSat's names (``CD``, ``CL``, ``CY`` in wind axes, ``Cm_B`` in ADBSat's body
+frame B about the database's moment point; :mod:`adbsat_ros.geometry.frames`).
 """
 
 from __future__ import annotations
@@ -21,22 +20,10 @@ MAX_SIDESLIP_LINES = 7
 
 
 def select_sideslip_lines(aos_deg, max_lines: int = MAX_SIDESLIP_LINES) -> np.ndarray:
-    """Indices of the sideslip angles to draw as lines.
+    """Increasing indices of the sideslip angles ``aos_deg`` [deg] to draw as lines.
 
-    All of them if there are at most ``max_lines``; otherwise ``max_lines`` evenly spaced ones
-    from first to last, with 0 deg swapped in for its nearest pick if the grid has it.
-
-    Parameters
-    ----------
-    aos_deg : array_like, shape (nb,)
-        Sideslip angles of the database [deg], increasing.
-    max_lines : int
-        Largest number of lines wanted (>= 2).
-
-    Returns
-    -------
-    ndarray of int
-        Increasing indices into ``aos_deg``.
+    All if there are at most ``max_lines`` (>= 2); otherwise that many evenly spaced from first
+    to last, with 0 deg swapped in for its nearest pick if the grid has it.
     """
     aos = np.asarray(aos_deg, dtype=float)
     n = aos.size
@@ -87,10 +74,8 @@ def database_title(metadata: dict) -> str:
 
 
 def _sideslip_lines(ax, aoa, values, aos, picks):
-    """One line per picked sideslip, coloured by |beta|, dashed for negative beta.
-
-    +beta and -beta share a colour, so a symmetric body shows as overlapping pairs.
-    """
+    """One line per picked sideslip, coloured by |beta| (so +beta and -beta pair up), dashed
+    for negative beta."""
     cmap = colormaps["plasma"]
     span = max(float(np.max(np.abs(aos[picks]))), 1e-12)
     for j in picks:
@@ -156,13 +141,8 @@ def _database_figure(db, series, ylabels, heading, max_lines) -> Figure:
 def make_force_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> Figure:
     """C_D, C_L and C_Y against angle of attack, one line per sideslip angle.
 
-    Parameters
-    ----------
-    db : AeroDatabase
-        Anything with ``aoa_deg`` (na,), ``aos_deg`` (nb,) [deg], ``CD``, ``CL``, ``CY`` (na, nb)
-        and ``metadata`` (dict, see :mod:`adbsat_ros.database.format`).
-    max_lines : int
-        Most sideslip lines per panel (:func:`select_sideslip_lines`).
+    ``db``: anything with ``aoa_deg`` (na,), ``aos_deg`` (nb,) [deg], ``CD``, ``CL``, ``CY``
+    (na, nb) and ``metadata``; ``max_lines``: most sideslip lines per panel.
     """
     return _database_figure(
         db,
@@ -176,16 +156,8 @@ def make_force_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> Fi
 def make_moment_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> Figure:
     """The three components of Cm_B against angle of attack, one line per sideslip angle.
 
-    Cm_B is the moment coefficient in ADBSat's body frame B (x_B = x_G, y_B = -y_G, z_B = -z_G)
-    about the database's reference moment point, normalised by A_ref L_ref.
-
-    Parameters
-    ----------
-    db : AeroDatabase
-        Anything with ``aoa_deg`` (na,), ``aos_deg`` (nb,) [deg], ``Cm_B`` (na, nb, 3) and
-        ``metadata``.
-    max_lines : int
-        Most sideslip lines per panel (:func:`select_sideslip_lines`).
+    Cm_B: ADBSat's body frame B, about the database's moment point, normalised by A_ref L_ref.
+    ``db`` as :func:`make_force_coefficient_figure`, with ``Cm_B`` (na, nb, 3).
     """
     cm = np.asarray(db.Cm_B, dtype=float)
     if cm.ndim != 3 or cm.shape[-1] != 3:
@@ -204,27 +176,8 @@ def make_moment_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> F
 
 
 def plot_database(db, out_dir, prefix: str = "", max_lines: int = MAX_SIDESLIP_LINES) -> list[Path]:
-    """Write the coefficient plots of a database as PNGs.
-
-    Writes ``{prefix}database_coefficients.png`` (C_D, C_L, C_Y) and
-    ``{prefix}database_moments.png`` (Cm_B x, y, z) into ``out_dir`` (created if needed).
-
-    Parameters
-    ----------
-    db : AeroDatabase
-        The database (see :func:`make_force_coefficient_figure`).
-    out_dir : str or Path
-        Folder of the PNGs.
-    prefix : str
-        Prepended to the file names.
-    max_lines : int
-        Most sideslip lines per panel.
-
-    Returns
-    -------
-    list of Path
-        The files written.
-    """
+    """Write ``{prefix}database_coefficients.png`` (C_D, C_L, C_Y) and
+    ``{prefix}database_moments.png`` (Cm_B) into ``out_dir`` (created if needed); the paths."""
     out_dir = Path(out_dir)
     return [
         save_png(

@@ -1,12 +1,9 @@
-"""A bounded summary of long time series, for plotting them: per time bin, each series' smallest
-and largest value and when each came (a min/max envelope).
+"""A bounded min/max envelope of long time series, for plotting them.
 
-A line through every bin's minimum and maximum, in time order, draws as the whole series would
-at any resolution coarser than the bins: every extreme is kept, so a single-sample spike stays
-visible, and a bin holding one or two samples keeps them exactly. The memory does not grow with
-the series: the bins keep their origin at the first sample and are widened (doubled, neighbours
-merged) whenever the samples outrun them. Samples are taken one at a time (:meth:`add`) into a
-small buffer and binned a buffer at a time with numpy. Imports no matplotlib.
+Per time bin, each series' smallest and largest value and when each came: a line through them
+draws as the whole series would at any coarser resolution (a one-sample spike stays visible).
+The bins keep their origin at the first sample and double in width (neighbours merged) when the
+samples outrun them, so memory does not grow. Imports no matplotlib.
 """
 
 from __future__ import annotations
@@ -21,21 +18,11 @@ BINS = 2048
 
 
 class MinMaxEnvelope:
-    """Many samples of ``columns`` series against time, kept as a min/max envelope.
+    """Samples of ``columns`` series against time, kept in at most ``bins`` bins of a first
+    ``width`` (the times' unit, doubled as needed), binned ``buffer`` samples at a time.
 
-    Parameters
-    ----------
-    columns : int
-        Series, each sampled at every :meth:`add`.
-    bins : int
-        The most bins kept.
-    width : float
-        The bins' first width, in the times' unit; doubled as the samples need.
-    buffer : int
-        Samples taken before they are binned.
-
-    A non-finite value (NaN where a series has no sample) is left out of its bin; a bin where a
-    series has no finite value at all gives it a gap (NaN) in :meth:`series`.
+    A non-finite value is left out of its bin; a bin with no finite value of a series gives it
+    a gap (NaN) in :meth:`series`.
     """
 
     def __init__(self, columns: int, bins: int = BINS, width: float = 1e-3, buffer: int = 4096):

@@ -1,9 +1,5 @@
-"""The mesh coloured by panel pressure coefficient at one attitude, with the flow arrow.
-
-Panels shaded from the flow are grey (dark if fully shaded, light if partly), back faces (facing
-away from the flow) pale; the picture is drawn in the mesh frame G [m], attitudes in degrees
-(:mod:`adbsat_ros.geometry.frames`).
-"""
+"""The mesh coloured by panel pressure coefficient at one attitude, with the flow arrow; drawn
+in the mesh frame G [m], attitudes in degrees (:mod:`adbsat_ros.geometry.frames`)."""
 
 from __future__ import annotations
 
@@ -56,28 +52,12 @@ def _resolve_lighting(lighting, mesh, u) -> PanelLighting:
 
 
 def panel_colours(cp, cos_delta, lit_fraction, cmap=PRESSURE_CMAP):
-    """Face colours of the pressure picture and the colour scale.
+    """Face colours (N, 4) of the pressure picture, the c_p scale and the panel groups.
 
-    Panels fully reached by the flow (lit fraction 1) take the colour of their c_p on a scale
-    from the smallest to the largest c_p among them; those facing away from the flow
-    (cos delta < 0) are mixed with white. Panels with lit fraction < 1 are grey: dark if fully
-    shaded, light if partly.
-
-    Parameters
-    ----------
-    cp, cos_delta, lit_fraction : ndarray, shape (N,)
-        Per-panel pressure coefficient, incidence cosine and lit fraction.
-    cmap : str or Colormap
-
-    Returns
-    -------
-    colours : ndarray, shape (N, 4)
-        RGBA per panel.
-    norm : matplotlib.colors.Normalize
-        The c_p scale (vmin, vmax = min, max c_p of the lit panels).
-    groups : dict of str to ndarray of bool
-        ``lit``, ``back`` (lit and facing away), ``shaded`` (lit fraction < 1),
-        ``fully_shaded`` (lit fraction 0), ``partly_shaded``.
+    Panels with lit fraction 1 take the colour of their c_p on a scale from the smallest to the
+    largest c_p among them, mixed with white if facing away from the flow (cos delta < 0);
+    the others are grey, dark if fully shaded, light if partly. ``groups``: boolean masks
+    ``lit``, ``back``, ``shaded``, ``fully_shaded``, ``partly_shaded``.
     """
     cmap = colormaps[cmap] if isinstance(cmap, str) else cmap
     cp = np.asarray(cp, dtype=float)
@@ -106,28 +86,11 @@ def panel_colours(cp, cos_delta, lit_fraction, cmap=PRESSURE_CMAP):
 
 
 def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, float]:
-    """Camera elevation and azimuth [deg] for the pressure picture.
+    """Camera elevation and azimuth [deg] for the pressure picture, as ``view_init`` takes them.
 
-    The camera looks roughly along the flow from upstream (position -u), turned by
-    :data:`VIEW_TURN_DEG` towards the mean normal of the shaded panels if there are any (so the
-    shadows face the camera), otherwise towards +z_G and -y_G ("from upstream, the side and
-    above"), and kept within :data:`MAX_VIEW_ELEVATION_DEG` (steeper views look confusing).
-
-    Parameters
-    ----------
-    u_G : array_like, shape (3,)
-        Flow direction in the mesh frame G (any length > 0).
-    normals : ndarray, shape (N, 3), optional
-        Unit panel normals in G; with ``areas`` and ``shaded``, needed only if a panel is shaded.
-    areas : ndarray, shape (N,), optional
-        Panel areas [m^2].
-    shaded : ndarray of bool, shape (N,), optional
-        Panels shaded from the flow.
-
-    Returns
-    -------
-    elev, azim : float
-        Camera elevation and azimuth [deg], as :meth:`Axes3D.view_init` takes them.
+    From upstream of the flow ``u_G`` (mesh frame), turned by :data:`VIEW_TURN_DEG` towards the
+    area-weighted mean normal of the ``shaded`` panels if any (so the shadows face the camera),
+    else towards +z_G and -y_G, within :data:`MAX_VIEW_ELEVATION_DEG`.
     """
     u = np.asarray(u_G, dtype=float)
     u = u / np.linalg.norm(u)
@@ -161,30 +124,12 @@ def make_panel_pressure_figure(
 ) -> Figure:
     """A 3-D picture of the mesh coloured by per-panel pressure coefficient at one attitude.
 
-    Parameters
-    ----------
-    method : PanelMethod
-        Mesh, model and materials.
-    flow : FreeStream
-    aoa_deg, aos_deg : float
-        Angle of attack and sideslip [deg] (frames module).
-    lighting : PanelLighting or Shader or None
-        Shading for this attitude, or a shader to compute it with; None: nothing shaded.
-    view : (elev, azim) in degrees, optional
-        Camera; default :func:`default_view`.
-    title : str, optional
-        First title line (default: mesh, model, speed ratio, attitude).
-    result : AeroCoefficients, optional
-        The coefficients to draw, computed already (e.g. by the test-particle solver, whose
-        per-panel pressures include every reflection and whose panels count as all reached);
-        default: ``method`` at this attitude with ``lighting``.
-
-    Returns
-    -------
-    Figure
-        One 3-D axes (``fig.axes[0]``) whose first collection is the panels' Poly3DCollection;
-        that collection carries the c_p norm and colour map of the colour bar. The legend names
-        the number of panels with lit fraction < 1 and of back faces.
+    ``aoa_deg``, ``aos_deg`` [deg]; ``lighting``: a PanelLighting of this attitude, a shader to
+    compute it with, or None (nothing shaded); ``view``: (elev, azim) [deg], default
+    :func:`default_view`; ``title``: the first title line; ``result``: coefficients computed
+    already (e.g. by test particles, whose panels count as all reached), default ``method`` at
+    this attitude. The first axes' first collection is the panels' Poly3DCollection (with the
+    c_p norm and colour map); the legend states the shaded and back-face panel counts.
     """
     aoa_deg, aos_deg = float(aoa_deg), float(aos_deg)
     if not (math.isfinite(aoa_deg) and math.isfinite(aos_deg)):
@@ -278,11 +223,8 @@ def plot_panel_pressure(method, flow, aoa_deg, aos_deg, lighting, out_path, **op
 
 
 def legend_panel_counts(fig: Figure) -> dict:
-    """The panel counts a pressure picture's legend states: ``shaded`` and ``back`` panels.
-
-    Reads them back from the legend text of a figure made by :func:`make_panel_pressure_figure`
-    (for checking a picture against the shading it was drawn with).
-    """
+    """The ``shaded`` and ``back`` panel counts read back from the legend of a pressure picture
+    (to check it against the shading it was drawn with)."""
     text = "\n".join(t.get_text() for legend in fig.legends for t in legend.get_texts())
     out = {}
     for key, pattern in (

@@ -1,8 +1,5 @@
-"""Force, torque, density and drag coefficient against time, one line per model.
-
-Used by bag analysis (from a bounded summary of the flight, :mod:`adbsat_ros.plotting.envelope`,
-through :func:`make_line_figures`) and the demo; forces and torques in the body frame [N, N m].
-"""
+"""Force, torque, density and drag coefficient against time, one line per model (bag analysis,
+from a :mod:`~adbsat_ros.plotting.envelope`, and the demo); body frame [N, N m]."""
 
 from __future__ import annotations
 
@@ -39,8 +36,8 @@ def _check_runs(time_s, runs) -> tuple[np.ndarray, dict]:
 
 
 def _time_axis(lines):
-    """The factor to the unit (seconds, minutes or hours) that reads best for the lines' span of
-    times [s], and the axis label."""
+    """The factor to seconds, minutes or hours (whichever reads best for the lines' span of
+    times [s]) and the axis label."""
     xs = [x for run in lines.values() for series in run.values() for x, _ in series]
     finite = [x[np.isfinite(x)] for x in xs]
     finite = [x for x in finite if x.size]
@@ -53,10 +50,8 @@ def _time_axis(lines):
 
 
 def _run_style(values: np.ndarray) -> dict:
-    """Line style of one series: a marker only on isolated samples (NaN on both sides).
-
-    A line alone would not show a sample without neighbours.
-    """
+    """Line style of one series: a marker only on isolated samples (NaN on both sides), which a
+    line alone would not show."""
     ok = np.isfinite(values)
     before = np.concatenate([[False], ok[:-1]])
     after = np.concatenate([ok[1:], [False]])
@@ -67,19 +62,10 @@ def _run_style(values: np.ndarray) -> dict:
 def make_time_series_figures(time_s, runs) -> dict:
     """Time-series figures of one or more runs (e.g. models compared on one rosbag).
 
-    Parameters
-    ----------
-    time_s : array_like, shape (N,)
-        Seconds since the first message.
-    runs : dict of str to dict
-        Label -> ``{'force': (N, 3) [N] body frame, 'torque': (N, 3) [N m] body frame,
-        'density': (N,) [kg/m^3], 'drag_coefficient': (N,)}``; NaN where a run has no sample.
-
-    Returns
-    -------
-    dict of str to Figure
-        ``force``, ``torque`` (three stacked panels x, y, z), ``density`` (log y) and
-        ``drag_coefficient``; one line per run in every panel.
+    ``time_s`` (N,): seconds since the first message; ``runs``: label -> ``{'force': (N, 3) [N],
+    'torque': (N, 3) [N m] (body frame), 'density': (N,) [kg/m^3], 'drag_coefficient': (N,)}``,
+    NaN where a run has no sample. Returns the figures ``force``, ``torque`` (x, y, z panels),
+    ``density`` (log y) and ``drag_coefficient``, one line per run.
     """
     t, runs = _check_runs(time_s, runs)
     lines = {}
@@ -93,15 +79,8 @@ def make_time_series_figures(time_s, runs) -> dict:
 
 def make_line_figures(lines) -> dict:
     """The figures of :func:`make_time_series_figures` from lines whose times may differ by
-    series (e.g. each series' :meth:`~adbsat_ros.plotting.envelope.MinMaxEnvelope.series`).
-
-    Parameters
-    ----------
-    lines : dict of str to dict
-        Label -> ``{'force': [(t, x), (t, y), (t, z)], 'torque': [...],
-        'density': [(t, values)], 'drag_coefficient': [(t, values)]}``, ``t`` in seconds since
-        the first message; NaN where a run has no sample.
-    """
+    series: label -> ``{'force': [(t, x), (t, y), (t, z)], 'torque': [...], 'density': [(t,
+    values)], 'drag_coefficient': [(t, values)]}``, ``t`` [s] since the first message."""
     if not lines:
         raise ValueError("runs is empty: give at least one run (label -> data)")
     scale, t_label = _time_axis(lines)
@@ -157,9 +136,6 @@ def save_figures(figures, out_dir, prefix: str = "") -> list[Path]:
 
 
 def plot_time_series(time_s, runs, out_dir, prefix: str = "") -> list[Path]:
-    """Write :func:`make_time_series_figures` as PNGs in ``out_dir``; returns the paths.
-
-    The files are ``{prefix}force.png``, ``{prefix}torque.png``, ``{prefix}density.png`` and
-    ``{prefix}drag_coefficient.png``.
-    """
+    """Write :func:`make_time_series_figures` as ``{prefix}force.png``, ``{prefix}torque.png``,
+    ``{prefix}density.png`` and ``{prefix}drag_coefficient.png`` in ``out_dir``; the paths."""
     return save_figures(make_time_series_figures(time_s, runs), out_dir, prefix)

@@ -1,13 +1,10 @@
 """Running a sweep: its missing chunks on the task engine, each written to the store as it
 finishes.
 
-The chunks go to :func:`adbsat_ros.tasks.run_chunks` as one :class:`SweepJob`: without a
-scheduler address, worker processes on this machine (a ``distributed.LocalCluster``); with one,
-that running scheduler (``dask scheduler`` and ``dask worker`` processes, or a cluster that
-dask-jobqueue or dask-kubernetes started). Each task carries the spec (a few kilobytes); every
-worker builds the set-up it names (mesh, shader) once, so a mesh file must be readable at the
-same path on the workers. Nothing in a chunk depends on where or when it ran, so the store is
-the same whatever the workers and the order.
+Local worker processes (a ``distributed.LocalCluster``) or a running Dask scheduler; each worker
+builds the set-up the spec names once (a mesh file must be readable at the same path there).
+Nothing in a chunk depends on where or when it ran, so the store is the same whatever the
+workers and the order. docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -73,12 +70,8 @@ def run_sweep(
     stop : threading.Event, optional
         Set to stop after the chunk finishing now (it is written; rerun to go on).
 
-    Raises
-    ------
-    StoreError
-        ``out`` holds something else.
-    MeshError, ValueError
-        The spec's body or materials cannot be set up.
+    Raises StoreError if ``out`` holds something else; MeshError or ValueError if the spec's
+    body or materials cannot be set up.
     """
     from tqdm import tqdm
 

@@ -1,12 +1,9 @@
 """One chunk of a sweep, computed where a worker runs it.
 
-:class:`SweepJob` is a sweep as a job of the task engine (:mod:`adbsat_ros.tasks`): a chunk is
-its index ranges along every axis, and its result the chunk's :data:`VECTORS` (a trailing axis
-of 3) and :data:`SCALARS`. A worker builds a spec's :class:`SweepSetup` (mesh, panel method,
-shader) on its first chunk of that spec and keeps it for the next ones. Every point is computed
-from its own inputs alone: exact ray-cast shading of its attitude (and joint configuration), no
-cache whose contents depend on what came before, so a chunk gives the same numbers bit for bit
-on any worker, in any order."""
+A chunk is its index ranges along every axis, its result the chunk's :data:`VECTORS` and
+:data:`SCALARS`. Every point is computed from its own inputs alone (exact ray-cast shading of
+its attitude and joints, no cache whose contents depend on what came before), so a chunk gives
+the same numbers bit for bit on any worker, in any order."""
 
 from __future__ import annotations
 
@@ -51,20 +48,13 @@ def vector_results(spec: SweepSpec) -> tuple:
 
 
 class BodySetup:
-    """One body of a sweep (its mesh, or one of its mesh variants): its model
-    (:func:`~adbsat_ros.sweep.spec.body_setup` built by :func:`build_model`), with its shaders
-    by joint configuration and test-particle solvers by configuration and surface.
+    """One body of a sweep (its mesh, or one of its mesh variants): its model, with its shaders
+    by joint configuration and test-particle solvers by configuration and surface (``LruStore``).
 
     Attributes
     ----------
-    model : Model
-    method : PanelMethod or ArticulatedMethod
-    body : ArticulatedBody or None
     mesh : PanelMesh
         The body's panels (an articulated body's at zero joint positions).
-    shaders, solvers : LruStore
-        Shaders by joint configuration (one entry, ``()``, for a rigid body); test-particle
-        solvers by joint configuration and surface parameters.
     """
 
     def __init__(self, spec: SweepSpec, mesh: str):
@@ -80,22 +70,15 @@ class BodySetup:
         return self.shaders.get(key, lambda: self.model.shader_at(positions))
 
     def solver(self, positions: dict, changes: dict):
-        """The test-particle solver of the body at joint ``positions``, with the surface
-        parameters ``changes`` on every panel."""
+        """The test-particle solver of the body at joint ``positions`` with the surface
+        parameters ``changes``."""
         key = (tuple(sorted(positions.items())), tuple(sorted(changes.items())))
         return self.solvers.get(key, lambda: self.model.test_particles_at(positions, changes))
 
 
 class SweepSetup:
-    """A spec's bodies (one, or one per mesh variant), made once per worker.
-
-    Attributes
-    ----------
-    bodies : list of BodySetup
-        By mesh variant (one without a ``mesh`` axis).
-    body, mesh, method
-        Those of the first body (:class:`BodySetup`).
-    """
+    """A spec's bodies (one per mesh variant), made once per worker; ``body``, ``mesh`` and
+    ``method`` are the first body's."""
 
     def __init__(self, spec: SweepSpec):
         self.spec = spec
@@ -104,9 +87,8 @@ class SweepSetup:
         self.body, self.mesh, self.method = first.body, first.mesh, first.method
 
     def point(self, index: tuple, values: dict, lightings: dict, flows: dict):
-        """The coefficients and the gas of one point: its grid ``index`` and axis ``values``
-        in the spec's units; ``lightings`` and ``flows`` hold the lightings and gases already
-        made for this chunk."""
+        """The coefficients and the gas of one point (grid ``index``, axis ``values`` in the
+        spec's units), with the lightings and gases already made for this chunk."""
         spec = self.spec
         inputs = point_inputs(spec, values)
         flow = point_gas(spec, inputs, flows)

@@ -1,12 +1,8 @@
 """The gas of a sweep's point: given (speed, temperature, mean molecular mass), or the
-atmosphere's.
+atmosphere's (NRLMSISE-00 at a circular orbit's speed, as ADBSat's environment makes it).
 
-The atmosphere's gas is NRLMSISE-00 at a circular orbit's speed, as ADBSat's environment and
-:func:`~adbsat_ros.environment.circular_orbit.flight_conditions_circular_orbit` make it: at the
-point's altitude, latitude, longitude, solar and geomagnetic activity, and UTC (the spec's
-``time`` plus the point's ``time`` in hours). A ``scale.SPECIES`` factor multiplies that
-species' number density; the mean molecular mass follows from the mixture, and the mass density
-changes by (factor - 1) n_j m_j, so an unscaled gas is NRLMSISE-00's exactly.
+A ``scale.SPECIES`` factor multiplies that species' number density; the mass density changes by
+(factor - 1) n_j m_j, so an unscaled gas is NRLMSISE-00's exactly. docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -56,13 +52,8 @@ def point_gas(spec: SweepSpec, inputs: dict, made: dict) -> FreeStream:
 
 def scaled(flow: FreeStream, scales: dict) -> FreeStream:
     """``flow`` with the number density of each species in ``scales`` multiplied by its factor
-    (module docstring); ``flow`` itself without factors.
-
-    Raises
-    ------
-    ValueError
-        A species the gas does not hold, or a mixture left with no molecules.
-    """
+    (``flow`` itself without factors); ValueError for a species the gas does not hold, or a
+    mixture left with no molecules."""
     if not scales:
         return flow
     densities = dict(flow.number_densities)

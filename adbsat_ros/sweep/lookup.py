@@ -1,12 +1,10 @@
 """Coefficients anywhere inside a sweep, by interpolation: bilinear in attitude, linear in the
 other axes.
 
-For each grid point of the other axes (speed, alpha, altitude, joint positions ...) the sweep's
-(aoa, aos) slice is a database that :class:`~adbsat_ros.database.lookup.CoefficientLookup`
-interpolates as it does a database file (body-frame vectors, the aoa circle closed when the grid
-goes round, the poles). Along the other axes the query is bracketed by two grid values and the
-corners' results are blended linearly (multilinear over several axes). A query outside an axis's
-range is refused with the axis and its range; an axis with one value takes only that value.
+Each grid point of the other axes is an (aoa, aos) database that
+:class:`~adbsat_ros.database.lookup.CoefficientLookup` interpolates; along the other axes the
+corners' results are blended linearly (multilinear). A query outside an axis's range is refused
+with the axis and its range.
 """
 
 from __future__ import annotations
@@ -22,12 +20,8 @@ from adbsat_ros.lru import LruStore
 
 
 class SweepLookup:
-    """Interpolated coefficients of a sweep store (module docstring).
-
-    Parameters
-    ----------
-    dataset : xarray.Dataset
-        A sweep's result (:func:`~adbsat_ros.database.sweep_reader.open_sweep`), complete.
+    """Interpolated coefficients of a complete sweep store's ``dataset`` (xarray, from
+    :func:`~adbsat_ros.database.sweep_reader.open_sweep`).
 
     Attributes
     ----------
@@ -60,13 +54,8 @@ class SweepLookup:
         return self.slices.get(index, make)
 
     def body_coefficients(self, aoa_deg: float, aos_deg: float, **values):
-        """Interpolated Cf_G and Cm_G at an attitude [deg] and a value of every other axis.
-
-        Raises
-        ------
-        ValueError
-            An axis not given or unknown, or a value outside its range (named).
-        """
+        """Interpolated Cf_G and Cm_G at an attitude [deg] and a value of every other axis;
+        ValueError for an axis not given or unknown, or a value outside its range (named)."""
         missing = sorted(set(self.axes) - set(values))
         unknown = sorted(set(values) - set(self.axes))
         if missing or unknown:

@@ -1,30 +1,10 @@
 """What a sweep computes: its YAML spec, checked into a :class:`SweepSpec`.
 
-A spec names the body, the model and shading, the fixed inputs and the axes::
-
-    mesh: example-articulated      # a mesh file, a URDF, or a bundled body
-    model: sentman
-    shading: raycast               # none | projection | raycast
-    reference: {area: 1.0, length: 1.0, moment_point: [0, 0, 0]}   # optional
-    materials: ["solar_array:alpha=0.8"]                           # optional overrides
-    fixed: {speed: 7700, temperature: 900, mean_mass_amu: 16}
-    axes:
-      aoa: -180:10:180             # [deg]; a list, or start:step:stop
-      aos: [-30, 0, 30]            # [deg]
-      alpha: [0.8, 0.9, 1.0]
-      joint.wing_left_hinge: 0:15:90   # [deg] (revolute), [m] (prismatic)
-    chunk_points: 256              # points per task (optional)
-    solver: {method: tpmc, particles: 200000, seed: 1}             # optional (default panel)
-
-Axes (:data:`AXES`, ``joint.NAME`` for a URDF's moving joints, ``scale.SPECIES`` for a factor
-on one species of the atmosphere, ``mesh`` for design variants) and fixed inputs take the
-units and valid ranges of docs/physics.md section 11. ``aoa`` and ``aos`` are always axes
-(a single value if they do not vary). ``time`` is hours after the spec's ``time`` (the epoch of
-the atmosphere). ``mesh`` as an axis is a list of mesh files compared at one reference area and
-length (then given) instead of the one ``mesh``; its coordinate is the variant's index. An input
-that is neither fixed nor an axis takes its default (:data:`DEFAULTS`; ``alpha`` and
-``wall_temperature`` default to the materials'). Any bad field is a :class:`SpecError` naming
-it.
+A spec names the body, the model and shading, the fixed inputs and the axes (:data:`AXES`,
+``joint.NAME``, ``scale.SPECIES``, ``mesh`` variants), in the units and ranges of
+docs/physics.md section 11; ``aoa`` and ``aos`` are always axes, and an input neither fixed nor
+swept takes its default (:data:`DEFAULTS`). Any bad field is a :class:`SpecError` naming it.
+The fields and an example: docs/sweeps.md, "The spec".
 """
 
 from __future__ import annotations
@@ -84,23 +64,16 @@ class SweepSpec:
 
     Attributes
     ----------
-    mesh : str
-    model, shading : str
     reference : dict
         ``area``, ``length``, ``moment_point`` given (others from the mesh).
-    materials : tuple of str
-        ``NAME:key=value`` override texts.
-    fixed : dict of str to float
     axes : dict of str to ndarray
         Axis name -> its values in the spec's units (deg for angles), in sweep order.
-    chunk_points : int
     time : str
         UTC (ISO 8601) of the atmosphere.
     text : str
         The spec as YAML (recorded in the result).
-    solver : dict
-        ``method`` (``panel`` or ``tpmc``) and, for test particles, ``particles``,
-        ``tolerance`` and ``seed`` (:func:`~adbsat_ros.physics.tpmc.method.run_settings`).
+    solver : tuple
+        (key, value) pairs: ``method`` (``panel`` or ``tpmc``) and a test-particle run's.
     meshes : tuple of str
         The mesh variants of a ``mesh`` axis (``mesh`` is the first); empty without one.
     """
@@ -150,8 +123,7 @@ class SweepSpec:
 
     @property
     def tpmc(self) -> dict | None:
-        """The test-particle run (``particles``, ``tolerance``, ``seed``), or None for the
-        panel method."""
+        """The test-particle run (``particles``, ``tolerance``, ``seed``), or None (panel)."""
         solver = dict(self.solver)
         return None if solver["method"] == "panel" else solver
 
@@ -166,22 +138,11 @@ class SweepSpec:
 
 
 def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
-    """A :class:`SweepSpec` of a spec's mapping.
+    """A :class:`SweepSpec` of a spec's mapping ``data`` and its YAML ``text`` (recorded).
 
-    Parameters
-    ----------
-    data : mapping
-        The YAML's content.
-    text : str
-        The YAML text (recorded).
-    joints : mapping of str to Joint, optional
-        The body's moving joints (a URDF's), to check ``joint.NAME`` axes against; None for a
-        rigid mesh (no joint axis allowed).
-
-    Raises
-    ------
-    SpecError
-        Naming the field, its value and what it should be.
+    ``joints``: the body's moving joints (a URDF's, name -> Joint) to check ``joint.NAME`` axes
+    against; None for a rigid mesh. Raises :class:`SpecError` naming the field, its value and
+    what it should be.
     """
     if not isinstance(data, dict):
         raise SpecError("the spec must be a mapping of fields (mesh, model, axes ...)")

@@ -1,19 +1,10 @@
 """A sweep's result in a Zarr store, written chunk by chunk as the chunks finish.
 
-The store is an xarray Dataset: one dimension per axis (its coordinate in the spec's units, the
-unit in the coordinate's attributes), ``component`` (x, y, z: 0, 1, 2) for the vector results, and
-``chunk`` for ``chunk_done``, which says which chunks are written. A chunk's results are written
-before its flag, so a store that a killed run left behind holds every flagged chunk complete:
-running the same spec again computes the others only. The spec (its YAML text and fingerprint),
-the body's mesh fingerprint and panel count, the reference quantities and the package version are
-the Dataset's attributes. Zarr chunks are the sweep's chunks, so no two writes share one.
-
-A store is made whole before it appears: its spec, attributes and every array's layout are
-written under a temporary name beside ``path`` (``.NAME.*.partial``) and renamed to ``path``, so a
-run killed at any instant leaves either no store (the next run makes it) or one to take up. A
-run killed while it makes one may leave that hidden directory, which nothing reads.
-``overwrite`` replaces only a sweep store: a directory holding the Zarr files of a group with a
-sweep's attributes and nothing else; anything else at ``path`` is refused, by name.
+An xarray Dataset, one dimension per axis; a chunk's results are written before its
+``chunk_done`` flag, and the store is made whole under a hidden temporary name beside ``path``
+(``.NAME.*.partial``) before it is renamed, so a run killed at any instant leaves no store or one
+to take up. Zarr chunks are the sweep's chunks (no two writes share one). ``overwrite`` replaces
+only a sweep store; anything else at ``path`` is refused, by name. docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -84,11 +75,8 @@ class SweepStore:
         """The store at ``path`` for ``spec``: made if it is not there (or ``overwrite``, or
         an empty directory), taken up where it stopped if it holds this spec's sweep.
 
-        Raises
-        ------
-        StoreError
-            ``path`` holds something else (another spec's sweep without ``overwrite``; anything
-            but a sweep store, named, whatever ``overwrite``).
+        Raises :class:`StoreError` if ``path`` holds another spec's sweep (without
+        ``overwrite``) or anything but a sweep store (named, whatever ``overwrite``).
         """
         path = Path(path)
         sizes = chunk_shape(spec.shape, spec.chunk_points)
@@ -113,7 +101,7 @@ class SweepStore:
 
     def _complete(self) -> bool:
         """Whether every array of the layout is in the store; False for an unfinished start
-        (which older versions could leave: the group's attributes written, not every array)."""
+        (the group's attributes written, not every array)."""
         import zarr
 
         group = zarr.open_group(str(self.path), mode="r")
@@ -129,9 +117,8 @@ class SweepStore:
         return False
 
     def _create(self, setup, replace: bool) -> None:
-        """Write the store's layout under a temporary name beside ``path``, then rename it to
-        ``path`` (``replace``: the directory there, checked as a sweep store's, is put aside
-        first and removed last)."""
+        """Write the store's layout under a temporary name beside ``path``, then rename it
+        (``replace``: the sweep store there is put aside first and removed last)."""
         parent = self.path.parent
         parent.mkdir(parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".partial", dir=parent))
