@@ -46,6 +46,12 @@ def handles_sigterm(pid: int) -> bool:
     return mask is not None and bool(int(mask, 16) & (1 << (signal.SIGTERM - 1)))
 
 
+def ignores(pid: int, signum: int) -> bool:
+    """Whether the process ignores signal ``signum`` (SIG_IGN)."""
+    mask = _status(pid, "SigIgn")
+    return mask is not None and bool(int(mask, 16) & (1 << (signum - 1)))
+
+
 def mapped_files(pid: int) -> int:
     """The files the process has mapped (shared libraries, extension modules): more as its
     imports go on."""

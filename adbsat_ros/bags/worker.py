@@ -238,9 +238,9 @@ _WORKER: Worker | None = None
 
 def _init_worker(specs, parent: int, stop) -> None:
     """Pool initializer: the estimators, once per process. Dies with its parent and ignores SIGINT
-    (:func:`die_with_parent`): the analysis decides how to stop."""
+    and SIGTERM (:func:`die_with_parent`): the analysis decides how to stop."""
     global _WORKER
-    die_with_parent(parent)
+    die_with_parent(parent, stops_to_parent=True)
     _WORKER = Worker(specs, stop)
 
 

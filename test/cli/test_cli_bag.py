@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from rosbags.rosbag2 import Reader
+from signal_probes import descendants, ignores, wait_gone
 from waiting import HANG_TIMEOUT, wait_for
 
 from adbsat_ros.bags import io as bag_io
@@ -272,6 +273,10 @@ def test_a_signal_stops_the_analysis_keeping_partial_outputs(tmp_path, signum):
         lambda: any(p.stat().st_size > 8192 for p in tmp_path.glob(".out.csv.*.partial")), proc
     ), "no rows were written"
     assert proc.poll() is None, "the analysis ended before the signal: give it a longer bag"
+    # the workers leave a stop to the analysis: killed while sending a chunk's results, one would
+    # leave half a message in the pool's pipe, which the pool would wait for forever
+    workers = descendants(proc.pid)
+    assert len(workers) >= 2 and all(ignores(p, signum) for p in workers)
     os.killpg(proc.pid, signum)
     out, err = proc.communicate(timeout=HANG_TIMEOUT)
     assert proc.returncode == 1 and "Traceback" not in err
@@ -285,3 +290,4 @@ def test_a_signal_stops_the_analysis_keeping_partial_outputs(tmp_path, signum):
         assert reader.message_count > 0
     assert f"wrote csv: {tmp_path / 'out.PARTIAL.csv'}" in out
     assert leftovers(tmp_path) == []
+    assert not wait_gone(workers)

@@ -87,9 +87,9 @@ _WORKER_PROBLEM: Problem | None = None
 
 def init_worker(problem: Problem, parent: int) -> None:
     """Keep the problem in a worker process (the pool's initializer), which dies with ``parent``;
-    SIGINT is left to the parent, which stops the run between blocks
+    SIGINT and SIGTERM are left to the parent, which stops the run between blocks
     (:func:`adbsat_ros.processes.die_with_parent`)."""
-    die_with_parent(parent)
+    die_with_parent(parent, stops_to_parent=True)
     global _WORKER_PROBLEM
     _WORKER_PROBLEM = problem
 
