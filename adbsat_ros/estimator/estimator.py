@@ -55,7 +55,7 @@ class AeroWrenchEstimator:
     Parameters
     ----------
     settings : WrenchSettings
-        Everything but the ROS plumbing (see :data:`adbsat_ros.estimator.settings.PARAMETERS`).
+        Everything but the ROS plumbing (see :data:`adbsat_ros.estimator.parameters.PARAMETERS`).
     mesh : PanelMesh or ArticulatedBody, optional
         An already loaded mesh or articulated body (default: load ``settings.mesh``, or the
         URDF of ``robot_description``, once).

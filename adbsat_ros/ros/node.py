@@ -32,7 +32,7 @@ that are neither message are counted as ``undecodable``; rejected inputs are log
 per reason every ``LOG_THROTTLE_S``. After each attitude the node prepares what the next regular
 stamp will need (:meth:`MessageHandler.prepare_next`).
 
-Parameters: see :data:`adbsat_ros.estimator.settings.PARAMETERS` and ``config/adbsat.yaml``.
+Parameters: see :data:`adbsat_ros.estimator.parameters.PARAMETERS` and ``config/adbsat.yaml``.
 """
 
 from __future__ import annotations
