@@ -26,7 +26,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from adbsat_ros.bounds import BOUNDS, check_memory
-from adbsat_ros.estimator.settings import parse_utc
+from adbsat_ros.estimator.parameter_kinds import parse_utc
 from adbsat_ros.physics.constants import EARTH_MU
 
 #: Earth's equatorial radius [m] (WGS-84) from which ``altitude_km`` is measured.

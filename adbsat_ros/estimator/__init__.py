@@ -7,8 +7,10 @@ Modules:
 - :mod:`~adbsat_ros.estimator.handling`: :class:`MessageHandler`, one decoded message through the
   estimator to a named outcome with the bytes to publish: the path shared by the node and bag
   analysis.
-- :mod:`~adbsat_ros.estimator.settings`: the parameter table (names, defaults, meanings) and
-  :class:`WrenchSettings`, shared by the node, its YAML and bag analysis.
+- :mod:`~adbsat_ros.estimator.parameters`: the parameter table (name, default, kind, set-up
+  field, range, meaning); :mod:`~adbsat_ros.estimator.parameter_kinds`: the check of each kind;
+  :mod:`~adbsat_ros.estimator.settings`: :class:`WrenchSettings` made from the table, shared by
+  the node, its YAML and bag analysis, and the set-up it describes.
 - :mod:`~adbsat_ros.estimator.samples`: what one message gives (a sample or a rejection).
 - :mod:`~adbsat_ros.estimator.state`, :mod:`~adbsat_ros.estimator.timing`,
   :mod:`~adbsat_ros.estimator.conditions`, :mod:`~adbsat_ros.estimator.shading`,

@@ -32,6 +32,7 @@ from adbsat_ros.estimator.assembly import coefficient_database, load_body, panel
 from adbsat_ros.estimator.conditions import PropagatedConditions
 from adbsat_ros.estimator.diagnostics import diagnostic_values
 from adbsat_ros.estimator.joints import JointStates, preparation
+from adbsat_ros.estimator.parameters import BODY_PARAMETERS
 from adbsat_ros.estimator.samples import OrbitalState, Rejection, WrenchSample
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.estimator.shading import ShadingSource
@@ -54,7 +55,7 @@ class AeroWrenchEstimator:
     Parameters
     ----------
     settings : WrenchSettings
-        Everything but the ROS plumbing (see :data:`adbsat_ros.estimator.settings.PARAMETERS`).
+        Everything but the ROS plumbing (see :data:`adbsat_ros.estimator.parameters.PARAMETERS`).
     mesh : PanelMesh or ArticulatedBody, optional
         An already loaded mesh or articulated body (default: load ``settings.mesh``, or the
         URDF of ``robot_description``, once).
@@ -105,7 +106,7 @@ class AeroWrenchEstimator:
     def apply_settings(self, settings: WrenchSettings) -> None:
         """Switch to new settings; ValueError (and the old ones kept) if they do not apply."""
         if self.settings is not None:
-            for name in ("mesh", "mesh_scale", "mesh_accept_size", "robot_description"):
+            for name in BODY_PARAMETERS:
                 if getattr(settings, name) != getattr(self.settings, name):
                     raise ValueError(
                         f"parameter {name}: the mesh is loaded once at start-up and cannot change"

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from adbsat_ros.estimator.parameters import SHADING_PARAMETERS
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.mesh import PanelMesh
@@ -100,18 +101,7 @@ class ShadingSource:
     @staticmethod
     def key_of(settings: WrenchSettings) -> tuple:
         """The settings a shading source is made of (another value needs another source)."""
-        return (
-            settings.shading,
-            settings.shading_samples,
-            settings.shading_cache_resolution_deg,
-            settings.shading_cache_size,
-            settings.shading_interpolation,
-            settings.joint_shading_resolution_deg,
-            settings.joint_shading_resolution_m,
-            settings.joint_shading_interpolation,
-            settings.joint_shading_cache_size,
-            settings.joint_shading_exact,
-        )
+        return tuple(getattr(settings, name) for name in SHADING_PARAMETERS)
 
     def vertices(self, positions: dict) -> list | None:
         """An articulated body's grid configurations and weights for joint ``positions``

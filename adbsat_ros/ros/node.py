@@ -1,7 +1,7 @@
 """ROS 2 node: attitude and orbital state in, aerodynamic WrenchStamped out.
 
 Topics, frames and parameters: docs/node.md (and ``adbsat_node --help``,
-:data:`adbsat_ros.estimator.settings.PARAMETERS`, ``config/adbsat.yaml``). A shell around the
+:data:`adbsat_ros.estimator.parameters.PARAMETERS`, ``config/adbsat.yaml``). A shell around the
 per-message path shared with bag analysis: each callback takes CDR bytes, decodes them
 (:mod:`adbsat_ros.messages.decoding`), hands them to
 :class:`adbsat_ros.estimator.handling.MessageHandler`, encodes the sample

@@ -27,7 +27,7 @@ from visualization_msgs.msg import Marker
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler, Outcome
 from adbsat_ros.estimator.health import OK, WARN, Health, StampGaps
-from adbsat_ros.estimator.parameters import PARAMETERS, READ_ONLY_PARAMETERS
+from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS, READ_ONLY_PARAMETERS
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.messages.cdr import Stamp
@@ -215,14 +215,13 @@ class WrenchNodeCore:
 
     # ----------------------------------------------------------------------------- parameters
     def _parameter_values(self, changes=()) -> dict:
-        values = {name: self.get_parameter(name).value for name, _, _ in PARAMETERS}
+        values = {name: self.get_parameter(name).value for name in PARAMETER_DEFAULTS}
         for p in changes:
             values[p.name] = p.value
         return values
 
     def _on_set_parameters(self, params) -> SetParametersResult:
-        known = {name for name, _, _ in PARAMETERS}
-        relevant = [p for p in params if p.name in known]
+        relevant = [p for p in params if p.name in PARAMETER_DEFAULTS]
         if not relevant:
             return SetParametersResult(successful=True)
         fixed = [p.name for p in relevant if p.name in READ_ONLY_PARAMETERS]

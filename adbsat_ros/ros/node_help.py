@@ -47,11 +47,11 @@ def help_text() -> str:
     ]
     lines += [f"  {n:<16} {d:<4} {t:<32} {m}" for n, t, d, m in TOPICS]
     lines += ["", "parameters (config/adbsat.yaml documents each; read-only ones marked):"]
-    for name, default, text in PARAMETERS:
-        flags = " (read-only)" if name in READ_ONLY_PARAMETERS else ""
-        lines.append(f"  {name} = {default!r}{flags}")
-        lines.append(f"      {text}")
-        valid = parameter_range_text(name)
+    for p in PARAMETERS:
+        flags = " (read-only)" if p.name in READ_ONLY_PARAMETERS else ""
+        lines.append(f"  {p.name} = {p.default!r}{flags}")
+        lines.append(f"      {p.text}")
+        valid = parameter_range_text(p.name)
         if valid:
             lines.append(f"      valid: {valid}")
     return "\n".join(lines)

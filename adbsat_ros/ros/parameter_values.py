@@ -50,18 +50,18 @@ def declare_typed_parameters(node, managed: bool) -> None:
     overrides = getattr(node, "_parameter_overrides", {})
     for name in [n for n in overrides if n in PARAMETER_DEFAULTS]:
         overrides[name] = Parameter(name, value=typed_parameter_value(name, overrides[name].value))
-    for name, default, text in PARAMETERS:
+    for p in PARAMETERS:
         descriptor = ParameterDescriptor(
-            description=text,
-            additional_constraints=parameter_range_text(name),
-            read_only=name in READ_ONLY_PARAMETERS and not managed,
+            description=p.text,
+            additional_constraints=parameter_range_text(p.name),
+            read_only=p.name in READ_ONLY_PARAMETERS and not managed,
         )
         try:
-            node.declare_parameter(name, default, descriptor)
+            node.declare_parameter(p.name, p.default, descriptor)
         except InvalidParameterTypeException:
-            given = overrides.get(name)
+            given = overrides.get(p.name)
             raise ValueError(
-                f"parameter {name}: expected {parameter_kind(name)}, got "
+                f"parameter {p.name}: expected {parameter_kind(p.name)}, got "
                 f"{None if given is None else given.value!r}"
             ) from None
     for name in overrides:

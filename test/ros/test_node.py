@@ -836,7 +836,7 @@ def test_every_number_parameter_takes_its_edges_at_run_time_and_refuses_beyond(r
 def test_help_prints_the_topics_and_parameters_and_exits():
     """adbsat_node --help prints every topic and every parameter with its default and range,
     and exits 0 without starting a node."""
-    from adbsat_ros.estimator.parameters import PARAMETERS, parameter_range_text
+    from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS, parameter_range_text
 
     proc = subprocess.run(
         [sys.executable, "-m", "adbsat_ros.ros.node", "--help"],
@@ -847,7 +847,7 @@ def test_help_prints_the_topics_and_parameters_and_exits():
     assert proc.returncode == 0 and proc.stderr == "", proc.stderr
     for topic in ("attitude", "state", "wrench", "coefficients", "/diagnostics"):
         assert f"  {topic} " in proc.stdout
-    for name, default, _ in PARAMETERS:
+    for name, default in PARAMETER_DEFAULTS.items():
         assert f"  {name} = {default!r}" in proc.stdout
         if parameter_range_text(name):
             assert f"valid: {parameter_range_text(name)}" in proc.stdout

@@ -28,7 +28,7 @@ from adbsat_ros.database.build import build_database
 from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.environment.flight_conditions import flight_conditions
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
-from adbsat_ros.estimator.parameters import PARAMETERS
+from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.example_satellite import write_obj
 from adbsat_ros.geometry.loading import load_mesh
@@ -54,7 +54,7 @@ def box_file(tmp_path_factory):
 
 
 def node_settings(box_file, **changes) -> WrenchSettings:
-    values = {name: default for name, default, _ in PARAMETERS}
+    values = dict(PARAMETER_DEFAULTS)
     values.update(
         mesh=box_file, shading="none", time_mode="epoch", epoch_utc=EPOCH, center_of_mass=COM
     )
