@@ -2,7 +2,9 @@
 
 Each subcommand lives in its own module of this package, which exposes ``configure(parser)``:
 it gives the subcommand's parser its description and options and sets ``func`` (called with the
-parsed arguments, returns the exit status).
+parsed arguments, returns the exit status, or raises CommandLineError for a value not allowed,
+status 2, or CommandFailed for work it could not do, status 1: :func:`main` prints either as one
+line).
 
 Start-up time: the command line answers at once because it imports only what the chosen
 subcommand needs. ``adbsat-ros --help`` lists the subcommands from :data:`SUBCOMMANDS` without

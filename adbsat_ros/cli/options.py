@@ -23,6 +23,10 @@ class CommandLineError(Exception):
     """A command-line value that is not allowed; the message names the option."""
 
 
+class CommandFailed(Exception):
+    """A command that could not do its work: ``adbsat-ros COMMAND: error: message``, status 1."""
+
+
 #: A word that reads as a negative number to ``float`` (``-5``, ``-1e5``, ``-.5``, ``-inf``,
 #: ``-nan``): an option's value, not an option (argparse itself takes only ``-5`` and ``-.5``).
 NEGATIVE_NUMBER = re.compile(
@@ -268,10 +272,6 @@ def add_timeout(parser, what: str) -> None:
     """Add ``--timeout`` [s] (default 5), how long a live tool waits for ``what``."""
     help = f"seconds to wait for {what} (default 5)"
     option(parser, "--timeout", help, positive_float, default=5.0)
-
-
-class CommandFailed(Exception):
-    """A command that could not do its work: ``adbsat-ros COMMAND: error: message``, status 1."""
 
 
 class RosNotAvailable(CommandFailed):
