@@ -2,7 +2,9 @@
 
 Each subcommand lives in its own module of this package, which exposes ``configure(parser)``:
 it gives the subcommand's parser its description and options and sets ``func`` (called with the
-parsed arguments, returns the exit status).
+parsed arguments, returns the exit status, or raises CommandLineError for a value not allowed,
+status 2, or CommandFailed for work it could not do, status 1: :func:`main` prints either as one
+line).
 
 Start-up time: the command line answers at once because it imports only what the chosen
 subcommand needs. ``adbsat-ros --help`` lists the subcommands from :data:`SUBCOMMANDS` without
@@ -25,7 +27,7 @@ import re
 import sys
 
 from adbsat_ros._version import __version__
-from adbsat_ros.cli.options import CommandLineError, OneLineErrorParser
+from adbsat_ros.cli.options import CommandFailed, CommandLineError, OneLineErrorParser
 from adbsat_ros.processes import (
     INTERRUPTED_STATUS,
     Interrupted,
@@ -159,10 +161,8 @@ def main(argv=None) -> int:
             with raising_signals():
                 command = command_name(sys.argv[1:] if argv is None else argv)
                 status = _run(argv, command)
-        except Interrupted:
-            return _stopped(command, argv is None)
-        except Exception:  # (an Interrupted that a C extension's import turned into its error)
-            if signal_name() is None:
+        except (Interrupted, Exception) as exc:  # (or the error a C extension's import made of it)
+            if not isinstance(exc, Interrupted) and signal_name() is None:
                 raise
             return _stopped(command, argv is None)
         if status == 0 and signal_name() is not None and command not in RUN_UNTIL_STOPPED:
@@ -205,18 +205,19 @@ def _run(argv, command) -> int:
     except CommandLineError as exc:
         print(f"adbsat-ros {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except CommandFailed as exc:
+        print(f"adbsat-ros {command}: error: {exc}", file=sys.stderr)
+        return 1
     except BrokenPipeError:  # e.g. output piped into `head`
         sys.stderr.close()
         return 0
-    except (OSError, ValueError) as exc:
+    except Exception as exc:
         if signal_name() is not None:  # (the signal's doing, seen through a library)
             return _stopped(command)
+        if not isinstance(exc, (OSError, ValueError)):
+            raise
         print(f"adbsat-ros {args.command}: error: {exc}", file=sys.stderr)
         return 1
-    except Exception:
-        if signal_name() is not None:
-            return _stopped(command)
-        raise
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -19,12 +19,13 @@ import math
 import os
 import sys
 
-from adbsat_ros.bounds import bounded
 from adbsat_ros.cli.options import (
     CommandLineError,
+    checked,
     finite_float,
+    flag,
+    option,
     parse_vector3,
-    within,
 )
 
 #: Space weather used when not given: the NRLMSISE-00 reference test point (moderate activity).
@@ -41,103 +42,46 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
     """
     from adbsat_ros.environment.accommodation import accommodation_model_names
 
-    parser.add_argument(
-        "--time",
-        required=time_required,
-        metavar="ISO8601",
-        help="UTC time, e.g. 2015-01-19T00:00:00Z (no offset means UTC)",
-    )
+    help = "UTC time, e.g. 2015-01-19T00:00:00Z (no offset means UTC)"
+    option(parser, "--time", help, required=time_required, metavar="ISO8601")
     where = parser.add_argument_group("geodetic point (WGS-84)")
-    where.add_argument(
-        "--altitude",
-        type=within("--altitude", "altitude"),
-        metavar="KM",
-        help="height above the WGS-84 ellipsoid [km], 0..1000",
-    )
-    where.add_argument(
-        "--lat",
-        type=within("--lat", "latitude"),
-        metavar="DEG",
-        help="geodetic latitude [deg], -90..90",
-    )
-    where.add_argument(
-        "--lon",
-        type=within("--lon", "longitude"),
-        metavar="DEG",
-        help="east longitude [deg], -360..360",
-    )
+    help = "height above the WGS-84 ellipsoid [km], 0..1000"
+    option(where, "--altitude", help, bound="altitude", metavar="KM")
+    option(where, "--lat", "geodetic latitude [deg], -90..90", bound="latitude", metavar="DEG")
+    option(where, "--lon", "east longitude [deg], -360..360", bound="longitude", metavar="DEG")
     state = parser.add_argument_group("orbital state")
-    state.add_argument("--position", metavar="X,Y,Z", help="position [m] in --frame")
-    state.add_argument(
-        "--velocity",
-        metavar="X,Y,Z",
-        help="velocity [m/s] in --frame (inertial for eci, Earth-relative for ecef)",
-    )
-    state.add_argument(
-        "--frame",
-        choices=("eci", "ecef"),
-        default=None,
-        help="frame of --position/--velocity: eci = GCRF, ecef = ITRF (default eci)",
-    )
-    state.add_argument(
-        "--wind", metavar="E,N,U", help="wind [m/s] in local East-North-Up axes (needs --velocity)"
-    )
-    state.add_argument(
-        "--no-earth-rotation",
-        action="store_true",
-        help="air at rest in ECI instead of co-rotating (needs --velocity)",
+    option(state, "--position", "position [m] in --frame", metavar="X,Y,Z")
+    help = "velocity [m/s] in --frame (inertial for eci, Earth-relative for ecef)"
+    option(state, "--velocity", help, metavar="X,Y,Z")
+    help = "frame of --position/--velocity: eci = GCRF, ecef = ITRF (default eci)"
+    option(state, "--frame", help, choices=("eci", "ecef"), default=None)
+    help = "wind [m/s] in local East-North-Up axes (needs --velocity)"
+    option(state, "--wind", help, metavar="E,N,U")
+    flag(
+        state, "--no-earth-rotation", "air at rest in ECI instead of co-rotating (needs --velocity)"
     )
     weather = parser.add_argument_group("space weather")
-    weather.add_argument(
-        "--f107",
-        type=within("--f107", "f107"),
-        default=DEFAULT_F107,
-        metavar="SFU",
-        help=f"F10.7 of the previous day (default {DEFAULT_F107:g})",
-    )
-    weather.add_argument(
-        "--f107a",
-        type=within("--f107a", "f107"),
-        default=DEFAULT_F107A,
-        metavar="SFU",
-        help=f"81-day average F10.7 (default {DEFAULT_F107A:g})",
-    )
-    weather.add_argument(
-        "--ap",
-        type=within("--ap", "ap"),
-        default=DEFAULT_AP,
-        metavar="AP",
-        help=f"daily Ap (default {DEFAULT_AP:g})",
-    )
-    weather.add_argument(
-        "--ap-history",
-        metavar="A0,...,A6",
-        help="NRLMSISE-00's 7-element Ap array (storm-time formulation)",
-    )
+    help = f"F10.7 of the previous day (default {DEFAULT_F107:g})"
+    option(weather, "--f107", help, bound="f107", default=DEFAULT_F107, metavar="SFU")
+    help = f"81-day average F10.7 (default {DEFAULT_F107A:g})"
+    option(weather, "--f107a", help, bound="f107", default=DEFAULT_F107A, metavar="SFU")
+    help = f"daily Ap (default {DEFAULT_AP:g})"
+    option(weather, "--ap", help, bound="ap", default=DEFAULT_AP, metavar="AP")
+    help = "NRLMSISE-00's 7-element Ap array (storm-time formulation)"
+    option(weather, "--ap-history", help, metavar="A0,...,A6")
     gas = parser.add_argument_group("gas and surface")
-    gas.add_argument(
-        "--no-anomalous-oxygen",
-        action="store_true",
-        help="leave anomalous oxygen out of the mixture and the mass density (gtd7)",
-    )
+    help = "leave anomalous oxygen out of the mixture and the mass density (gtd7)"
+    flag(gas, "--no-anomalous-oxygen", help)
     if with_alpha:  # the flight conditions' default model
         from adbsat_ros.environment.flight_conditions import DEFAULT_ACCOMMODATION_MODEL as default
     else:
         default = "fixed"
-    gas.add_argument(
-        "--accommodation",
-        type=str.lower,
-        choices=accommodation_model_names(),
-        default=default,
-        help=f"accommodation model (default {default}; fixed uses --alpha)",
-    )
+    help = f"accommodation model (default {default}; fixed uses --alpha)"
+    names = accommodation_model_names()
+    option(gas, "--accommodation", help, type=str.lower, choices=names, default=default)
     if with_alpha:
-        gas.add_argument(
-            "--alpha",
-            type=finite_float("--alpha"),
-            metavar="ALPHA",
-            help="accommodation coefficient for --accommodation fixed, 0..1",
-        )
+        help = "accommodation coefficient for --accommodation fixed, 0..1"
+        option(gas, "--alpha", help, finite_float, metavar="ALPHA")
 
 
 def configure(parser) -> None:
@@ -148,7 +92,7 @@ def configure(parser) -> None:
         "(--position [--velocity] in --frame eci|ecef). SI units in --json."
     )
     add_flight_arguments(parser, time_required=True, with_alpha=True)
-    parser.add_argument("--json", action="store_true", help="print JSON, every field in SI units")
+    flag(parser, "--json", "print JSON, every field in SI units")
     parser.set_defaults(func=run)
 
 
@@ -238,7 +182,11 @@ def _compute(args, accommodation_options=None):
     options = (
         _accommodation_options(args) if accommodation_options is None else accommodation_options
     )
-    anomalous_oxygen = not args.no_anomalous_oxygen
+    gas = {
+        "anomalous_oxygen": not args.no_anomalous_oxygen,
+        "accommodation_model": args.accommodation,
+        "accommodation_options": options,
+    }
     geodetic = [name for name in ("altitude", "lat", "lon") if getattr(args, name) is not None]
     if args.position is not None and geodetic:
         raise CommandLineError(
@@ -260,51 +208,24 @@ def _compute(args, accommodation_options=None):
         _check_altitude_m(altitude, "--altitude")
         if not -90.0 <= args.lat <= 90.0:
             raise CommandLineError(f"--lat: must be in [-90, 90] degrees, got {args.lat:g}")
-        return flight_conditions_circular_orbit(
-            time,
-            altitude,
-            math.radians(args.lat),
-            math.radians(args.lon),
-            weather,
-            anomalous_oxygen=anomalous_oxygen,
-            accommodation_model=args.accommodation,
-            accommodation_options=options,
-        )
+        latitude, longitude = math.radians(args.lat), math.radians(args.lon)
+        return flight_conditions_circular_orbit(time, altitude, latitude, longitude, weather, **gas)
     frame = args.frame or "eci"
     position = parse_vector3(args.position, "--position")
-    try:  # (before the geodetic conversion, which overflows far away)
-        bounded(
-            "--position: the distance from the Earth's centre",
-            math.hypot(*position.tolist()),
-            "position_radius",
-        )
-    except ValueError as exc:
-        raise CommandLineError(str(exc)) from None
+    distance = math.hypot(*position.tolist())  # (before the geodetic conversion: overflows)
+    checked("--position: the distance from the Earth's centre", distance, "position_radius")
     orientation = earth_orientation(time)
     position_ecef = position if frame == "ecef" else orientation.eci_to_ecef(position)[0]
     latitude, longitude, altitude = ecef_to_geodetic(position_ecef)
     _check_altitude_m(altitude, "--position")
     if args.velocity is None:
-        for option in ("--wind",):
-            if getattr(args, option[2:]) is not None:
-                raise CommandLineError(f"{option}: only valid with --velocity")
+        if args.wind is not None:
+            raise CommandLineError("--wind: only valid with --velocity")
         if args.no_earth_rotation:
             raise CommandLineError("--no-earth-rotation: only valid with --velocity")
-        return flight_conditions_circular_orbit(
-            time,
-            altitude,
-            latitude,
-            longitude,
-            weather,
-            anomalous_oxygen=anomalous_oxygen,
-            accommodation_model=args.accommodation,
-            accommodation_options=options,
-        )
+        return flight_conditions_circular_orbit(time, altitude, latitude, longitude, weather, **gas)
     velocity = parse_vector3(args.velocity, "--velocity")
-    try:
-        bounded("--velocity: the speed", math.hypot(*velocity.tolist()), "orbital_speed")
-    except ValueError as exc:
-        raise CommandLineError(str(exc)) from None
+    checked("--velocity: the speed", math.hypot(*velocity.tolist()), "orbital_speed")
     wind = None if args.wind is None else parse_vector3(args.wind, "--wind", "wind")
     return flight_conditions(
         time,
@@ -315,10 +236,8 @@ def _compute(args, accommodation_options=None):
         earth_rotation=not args.no_earth_rotation,
         wind=wind,
         wind_frame="enu",
-        anomalous_oxygen=anomalous_oxygen,
-        accommodation_model=args.accommodation,
-        accommodation_options=options,
         orientation=orientation,
+        **gas,
     )
 
 

@@ -7,12 +7,20 @@ analysis (the estimator, the physics, the plots) is imported when ``bag analyze`
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.cli.bag_live import configure_play, configure_record
-from adbsat_ros.cli.options import CommandLineError, is_terminal, number
+from adbsat_ros.cli.options import (
+    CommandFailed,
+    CommandLineError,
+    add_storage,
+    flag,
+    is_terminal,
+    option,
+    positive_int,
+    warn,
+)
 from adbsat_ros.processes import stop_on_signals, usable_cpus
 
 
@@ -21,20 +29,8 @@ def configure(p) -> None:
     p.description = "Tools for rosbag2 files (.mcap or .db3)."
     sub = p.add_subparsers(dest="bag_command", metavar="BAG_COMMAND", parser_class=type(p))
     sub.required = True
-    configure_analyze(
-        sub.add_parser(
-            "analyze", help="compute the node's wrench at every attitude message of a bag"
-        )
-    )
-    configure_play(
-        sub.add_parser(
-            "play",
-            help="publish a bag's messages into the ROS 2 graph with their recorded timing",
-        )
-    )
-    configure_record(
-        sub.add_parser("record", help="record topics of the ROS 2 graph into a new bag")
-    )
+    for name, (summary, configure_command) in BAG_COMMANDS.items():
+        configure_command(sub.add_parser(name, help=summary))
 
 
 def configure_analyze(a) -> None:
@@ -48,68 +44,51 @@ def configure_analyze(a) -> None:
         "one run."
     )
     a.add_argument("bag", metavar="BAG", help="input bag: directory, .mcap or .db3 file")
-    a.add_argument(
-        "--attitude-topic",
-        default="/attitude",
-        help="geometry_msgs/QuaternionStamped topic (default /attitude)",
+    help = "geometry_msgs/QuaternionStamped topic (default /attitude)"
+    option(a, "--attitude-topic", help, default="/attitude")
+    option(a, "--state-topic", "nav_msgs/Odometry topic (default /state)", default="/state")
+    help = (
+        "sensor_msgs/JointState topic of an articulated body's joint positions (default "
+        "/joint_states; read only for a URDF model)"
     )
-    a.add_argument(
-        "--state-topic", default="/state", help="nav_msgs/Odometry topic (default /state)"
+    option(a, "--joint-states-topic", help, default="/joint_states")
+    help = (
+        "node parameters file (section adbsat_node or /**); repeat to compare models "
+        "(default: the node's defaults)"
     )
-    a.add_argument(
-        "--joint-states-topic",
-        default="/joint_states",
-        help="sensor_msgs/JointState topic of an articulated body's joint positions (default "
-        "/joint_states; read only for a URDF model)",
+    option(a, "--params", help, action="append", default=[], metavar="YAML")
+    help = "model label, once per --params in order (default: the file's stem)"
+    option(a, "--label", help, action="append", default=[], metavar="NAME")
+    help = "output bag directory (default: BAG_aero beside the input)"
+    option(a, "--out", help, metavar="BAG")
+    option(a, "--csv", "CSV file (default: OUT.csv)", metavar="FILE")
+    option(a, "--plots", "directory for PNG plots (default: OUT_plots)", metavar="DIR")
+    flag(a, "--no-plots", "write no plots")
+    add_storage(a, "output bag storage")
+    flag(a, "--overwrite", "replace existing outputs")
+    help = (
+        "leave out the chunks of an MCAP input that fail their CRC, and say how many "
+        "messages they held (default: refuse a damaged bag)"
     )
-    a.add_argument(
-        "--params",
-        action="append",
-        default=[],
-        metavar="YAML",
-        help="node parameters file (section adbsat_node or /**); repeat to compare models "
-        "(default: the node's defaults)",
+    flag(a, "--skip-damaged", help)
+    help = (
+        f"processes computing wrenches (default and most: the usable CPUs, {usable_cpus()} "
+        "here); the outputs are the same for any N"
     )
-    a.add_argument(
-        "--label",
-        action="append",
-        default=[],
-        metavar="NAME",
-        help="model label, once per --params in order (default: the file's stem)",
-    )
-    a.add_argument(
-        "--out", metavar="BAG", help="output bag directory (default: BAG_aero beside the input)"
-    )
-    a.add_argument("--csv", metavar="FILE", help="CSV file (default: OUT.csv)")
-    a.add_argument("--plots", metavar="DIR", help="directory for PNG plots (default: OUT_plots)")
-    a.add_argument("--no-plots", action="store_true", help="write no plots")
-    a.add_argument(
-        "--storage",
-        choices=("mcap", "sqlite3"),
-        default="mcap",
-        help="output bag storage (default mcap)",
-    )
-    a.add_argument("--overwrite", action="store_true", help="replace existing outputs")
-    a.add_argument(
-        "--skip-damaged",
-        action="store_true",
-        help="leave out the chunks of an MCAP input that fail their CRC, and say how many "
-        "messages they held (default: refuse a damaged bag)",
-    )
-    a.add_argument(
-        "--workers",
-        type=number("--workers", integer=True, low=1),
-        default=None,
-        metavar="N",
-        help="processes computing wrenches (default and most: the usable CPUs, "
-        f"{usable_cpus()} here); the outputs are the same for any N",
-    )
-    a.add_argument(
-        "--no-progress",
-        action="store_true",
-        help="no progress bar (shown only on a terminal anyway)",
-    )
+    option(a, "--workers", help, positive_int, default=None, metavar="N")
+    flag(a, "--no-progress", "no progress bar (shown only on a terminal anyway)")
     a.set_defaults(func=run_analyze)
+
+
+#: The ``bag`` group's subcommands: their one-line help and the function that configures them.
+BAG_COMMANDS = {
+    "analyze": ("compute the node's wrench at every attitude message of a bag", configure_analyze),
+    "play": (
+        "publish a bag's messages into the ROS 2 graph with their recorded timing",
+        configure_play,
+    ),
+    "record": ("record topics of the ROS 2 graph into a new bag", configure_record),
+}
 
 
 def models_from_args(args) -> list:
@@ -192,12 +171,11 @@ def run_analyze(args) -> int:
                 skip_damaged=args.skip_damaged,
             )
     except BagError as exc:
-        print(f"adbsat-ros bag analyze: error: {exc}", file=sys.stderr)
-        return 1
+        raise CommandFailed(str(exc)) from None
     except MeshError as exc:
         raise CommandLineError(f"MESH: {exc}") from None
     for text in report.warnings:
-        print(f"adbsat-ros bag analyze: warning: {text}", file=sys.stderr)
+        warn("bag analyze", text)
     for m in report.models:
         print(
             f"model {m.label}: {m.wrenches} wrenches from {m.triggers} inputs "
@@ -219,16 +197,10 @@ def run_analyze(args) -> int:
             f"{report.skipped_messages} messages"
         )
     if report.error:
-        print(
-            f"adbsat-ros bag analyze: error: {report.error}; the outputs above are PARTIAL (so "
-            f"named): they hold the {report.messages_read} messages read before it",
-            file=sys.stderr,
+        raise CommandFailed(
+            f"{report.error}; the outputs above are PARTIAL (so named): they hold the "
+            f"{report.messages_read} messages read before it"
         )
-        return 1
     if report.wrenches == 0:
-        print(
-            "adbsat-ros bag analyze: error: no wrench could be computed (see the warnings)",
-            file=sys.stderr,
-        )
-        return 1
+        raise CommandFailed("no wrench could be computed (see the warnings)")
     return 0

@@ -8,17 +8,20 @@ ROS_AUTOMATIC_DISCOVERY_RANGE says otherwise.
 
 from __future__ import annotations
 
-import importlib
-import os
 import sys
 
 from adbsat_ros.bags.io import BagError
-from adbsat_ros.cli.options import non_negative_int, positive_float
+from adbsat_ros.cli.options import (
+    CommandFailed,
+    add_qos_depth,
+    add_storage,
+    flag,
+    non_negative_int,
+    option,
+    positive_float,
+    ros_module,
+)
 from adbsat_ros.processes import stop_on_signals
-
-
-class RosNotAvailable(RuntimeError):
-    """rclpy or the message packages cannot be imported."""
 
 
 def configure_play(play) -> None:
@@ -29,41 +32,16 @@ def configure_play(play) -> None:
         "Discovery stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE is set."
     )
     play.add_argument("bag", help="rosbag2 bag directory (or its .mcap/.db3 file)")
-    play.add_argument(
-        "--rate",
-        type=positive_float("--rate"),
-        default=1.0,
-        help="playback speed factor (default 1: as recorded; 2: twice as fast)",
-    )
-    play.add_argument(
-        "--loop",
-        action="store_true",
-        help="start again from the beginning until Ctrl-C (stamps go back in time at each restart)",
-    )
-    play.add_argument(
-        "--topics", nargs="+", metavar="TOPIC", help="play only these topics (default: all)"
-    )
-    play.add_argument(
-        "--wait-for-subscribers",
-        type=non_negative_int("--wait-for-subscribers"),
-        default=0,
-        metavar="N",
-        help="wait until every played topic has N subscribers before starting",
-    )
-    play.add_argument(
-        "--wait-timeout",
-        type=positive_float("--wait-timeout"),
-        default=30.0,
-        metavar="S",
-        help="give up waiting for subscribers after S seconds (default 30)",
-    )
-    play.add_argument(
-        "--qos-depth",
-        type=int,
-        default=1000,
-        metavar="N",
-        help="history depth of the (reliable) publishers (default 1000)",
-    )
+    help = "playback speed factor (default 1: as recorded; 2: twice as fast)"
+    option(play, "--rate", help, positive_float, default=1.0)
+    help = "start again from the beginning until Ctrl-C (stamps go back in time at each restart)"
+    flag(play, "--loop", help)
+    option(play, "--topics", "play only these topics (default: all)", nargs="+", metavar="TOPIC")
+    help = "wait until every played topic has N subscribers before starting"
+    option(play, "--wait-for-subscribers", help, non_negative_int, default=0, metavar="N")
+    help = "give up waiting for subscribers after S seconds (default 30)"
+    option(play, "--wait-timeout", help, positive_float, default=30.0, metavar="S")
+    add_qos_depth(play, "(reliable) publishers")
     play.set_defaults(func=run_play, command="bag play")
 
 
@@ -76,46 +54,13 @@ def configure_record(record) -> None:
         "Ctrl-C; the bag is complete either way (also on SIGTERM). Needs rclpy."
     )
     record.add_argument("out", metavar="OUT", help="bag directory to create (must not exist)")
-    record.add_argument(
-        "--topics",
-        nargs="+",
-        required=True,
-        metavar="TOPIC",
-        help="topics to record, each /name or /name:package/msg/Type",
-    )
-    record.add_argument(
-        "--storage",
-        choices=("mcap", "sqlite3"),
-        default="mcap",
-        help="storage format (default mcap)",
-    )
-    record.add_argument(
-        "--duration",
-        type=positive_float("--duration"),
-        default=None,
-        metavar="S",
-        help="stop after S seconds (default: at Ctrl-C)",
-    )
-    record.add_argument(
-        "--qos-depth",
-        type=int,
-        default=1000,
-        metavar="N",
-        help="history depth of the subscriptions (default 1000)",
-    )
+    help = "topics to record, each /name or /name:package/msg/Type"
+    option(record, "--topics", help, nargs="+", required=True, metavar="TOPIC")
+    add_storage(record, "storage format")
+    help = "stop after S seconds (default: at Ctrl-C)"
+    option(record, "--duration", help, positive_float, default=None, metavar="S")
+    add_qos_depth(record, "subscriptions")
     record.set_defaults(func=run_record, command="bag record")
-
-
-def ros_module(name: str):
-    """``adbsat_ros.ros.<name>``, or RosNotAvailable naming what is missing."""
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    try:
-        return importlib.import_module(f"adbsat_ros.ros.{name}")
-    except ImportError as exc:
-        raise RosNotAvailable(
-            "needs the ROS 2 Python packages (rclpy and messages), which cannot be imported: "
-            f"{exc}; install them with: pip install 'adbsat_ros[ros]'"
-        ) from None
 
 
 def _log(line: str) -> None:
@@ -126,25 +71,30 @@ def _counts(counter) -> str:
     return ", ".join(f"{topic} {n}" for topic, n in sorted(counter.items())) or "none"
 
 
+def _run_live(module: str, function: str, *args, **options):
+    """``adbsat_ros.ros.<module>.<function>(*args, **options)`` until done or stopped by a
+    signal, logging on stderr; a BagError is CommandFailed."""
+    run = getattr(ros_module(module), function)
+    try:
+        with stop_on_signals() as stop:
+            return run(*args, **options, stop=stop, log=_log)
+    except BagError as exc:
+        raise CommandFailed(str(exc)) from None
+
+
 def run_play(args) -> int:
     """Run ``bag play``; returns the exit status."""
-    try:
-        bag_play = ros_module("bag_play")
-        with stop_on_signals() as stop:
-            summary = bag_play.play(
-                args.bag,
-                rate=args.rate,
-                loop=args.loop,
-                topics=args.topics,
-                wait_for_subscribers=args.wait_for_subscribers,
-                wait_timeout=args.wait_timeout,
-                qos_depth=max(1, args.qos_depth),
-                stop=stop,
-                log=_log,
-            )
-    except (RosNotAvailable, BagError) as exc:
-        print(f"adbsat-ros bag play: error: {exc}", file=sys.stderr)
-        return 1
+    summary = _run_live(
+        "bag_play",
+        "play",
+        args.bag,
+        rate=args.rate,
+        loop=args.loop,
+        topics=args.topics,
+        wait_for_subscribers=args.wait_for_subscribers,
+        wait_timeout=args.wait_timeout,
+        qos_depth=max(1, args.qos_depth),
+    )
     how = "stopped" if summary.interrupted else "done"
     print(
         f"{how}: published {summary.total} messages ({_counts(summary.published)}) "
@@ -155,21 +105,15 @@ def run_play(args) -> int:
 
 def run_record(args) -> int:
     """Run ``bag record``; returns the exit status."""
-    try:
-        bag_record = ros_module("bag_record")
-        with stop_on_signals() as stop:
-            summary = bag_record.record(
-                args.out,
-                args.topics,
-                storage=args.storage,
-                duration=args.duration,
-                qos_depth=max(1, args.qos_depth),
-                stop=stop,
-                log=_log,
-            )
-    except (RosNotAvailable, BagError) as exc:
-        print(f"adbsat-ros bag record: error: {exc}", file=sys.stderr)
-        return 1
+    summary = _run_live(
+        "bag_record",
+        "record",
+        args.out,
+        args.topics,
+        storage=args.storage,
+        duration=args.duration,
+        qos_depth=max(1, args.qos_depth),
+    )
     print(
         f"wrote {summary.path} ({summary.storage}): {summary.total} messages "
         f"({_counts(summary.recorded)}) in {summary.wall_seconds:.1f} s"

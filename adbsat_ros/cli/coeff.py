@@ -8,18 +8,9 @@ import sys
 
 import numpy as np
 
-from adbsat_ros.cli.atmosphere import add_flight_arguments
-from adbsat_ros.cli.common import (
-    add_flow_arguments,
-    add_joint_arguments,
-    add_mesh_arguments,
-    add_model_arguments,
-    add_reference_arguments,
-    add_shading_arguments,
-    method_and_flow_from_args,
-)
-from adbsat_ros.cli.options import CommandLineError, parse_angle_list
-from adbsat_ros.cli.solvers import add_solver_arguments, run_tpmc
+from adbsat_ros.cli.common import add_setup_arguments, method_and_flow_from_args
+from adbsat_ros.cli.options import CommandLineError, flag, option, parse_angle_list
+from adbsat_ros.cli.solvers import run_tpmc
 from adbsat_ros.geometry import frames
 from adbsat_ros.processes import INTERRUPTED_STATUS, stop_on_signals
 
@@ -35,34 +26,21 @@ def configure(p) -> None:
         "NRLMSISE-00 then gives density, temperature and composition, as ADBSat's environment "
         "path."
     )
-    add_mesh_arguments(p)
-    add_joint_arguments(p)
-    add_model_arguments(p)
-    add_flow_arguments(p)
-    add_flight_arguments(p, time_required=False, with_alpha=False)
-    add_reference_arguments(p)
-    add_shading_arguments(p)
-    add_solver_arguments(p)
-    p.add_argument("--aoa", default="0", help="angles of attack [deg]: list and/or start:step:stop")
-    p.add_argument("--aos", default="0", help="sideslip angles [deg]: list and/or start:step:stop")
-    p.add_argument("--json", action="store_true", help="print a JSON list, one object per attitude")
-    p.add_argument(
-        "--plot",
-        metavar="PNG",
-        help="draw the mesh coloured by per-panel pressure coefficient at the first attitude "
-        "(the test particles' with --method tpmc or both) into this PNG file",
+    add_setup_arguments(p)
+    option(p, "--aoa", "angles of attack [deg]: list and/or start:step:stop", default="0")
+    option(p, "--aos", "sideslip angles [deg]: list and/or start:step:stop", default="0")
+    flag(p, "--json", "print a JSON list, one object per attitude")
+    help = (
+        "draw the mesh coloured by per-panel pressure coefficient at the first attitude (the "
+        "test particles' with --method tpmc or both) into this PNG file"
     )
-    p.add_argument(
-        "--view",
-        metavar="ELEV,AZIM",
-        help="with --plot, the camera's elevation and azimuth [deg] (default: chosen to show "
-        "the panels the flow reaches)",
+    option(p, "--plot", help, metavar="PNG")
+    help = (
+        "with --plot, the camera's elevation and azimuth [deg] (default: chosen to show the "
+        "panels the flow reaches)"
     )
-    p.add_argument(
-        "--per-panel",
-        action="store_true",
-        help="with --json, include per-panel cp, ctau, lit fraction",
-    )
+    option(p, "--view", help, metavar="ELEV,AZIM")
+    flag(p, "--per-panel", "with --json, include per-panel cp, ctau, lit fraction")
     p.set_defaults(func=run)
 
 

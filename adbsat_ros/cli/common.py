@@ -1,4 +1,5 @@
-"""Option groups shared by the subcommands that evaluate the panel method (coeff, database).
+"""The options shared by the subcommands that evaluate the panel method (coeff, database), and
+the set-up, model and free stream they give.
 
 Imported only when one of those runs, so the mesh loading, the physics and the shaders are
 imported at the top.
@@ -7,10 +8,22 @@ imported at the top.
 from __future__ import annotations
 
 import argparse
+import math
 
 from adbsat_ros.bounds import bounded
+from adbsat_ros.cli.atmosphere import add_flight_arguments
 from adbsat_ros.cli.atmosphere import compute as compute_flight_conditions
-from adbsat_ros.cli.options import CommandLineError, fraction, parse_vector3, positive_float, within
+from adbsat_ros.cli.options import (
+    CommandLineError,
+    checked,
+    flag,
+    fraction,
+    number,
+    option,
+    parse_vector3,
+    positive_float,
+)
+from adbsat_ros.cli.solvers import add_solver_arguments
 from adbsat_ros.geometry.loading import is_urdf
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.physics.coefficients import Reference
@@ -29,152 +42,77 @@ from adbsat_ros.physics.surface import SurfaceProperties
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 
 
-def add_mesh_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add the MESH argument and ``--scale``."""
-    parser.add_argument(
-        "mesh",
-        metavar="MESH",
-        help="mesh file (.obj .stl .ply .off ...), a URDF (.urdf; joints at --joint, else 0), "
-        "or a bundled body: 'example' (the example satellite), 'example-articulated' (its "
-        "URDF, wings on hinges), 'example-finned' (four steerable fins), 'grooved-cylinder', "
-        "'cylinder', 'intake-box'",
+def add_setup_arguments(parser: argparse.ArgumentParser, **solver) -> None:
+    """Add the options of ``coeff`` and ``database``: MESH, ``--scale``, ``--joint``, the model,
+    the free stream (given directly or by flight conditions), the reference, the shading and the
+    solver (``solver``: the keywords of :func:`add_solver_arguments`)."""
+    help = (
+        "mesh file (.obj .stl .ply .off ...), a URDF (.urdf; joints at --joint, else 0), or a "
+        "bundled body: 'example' (the example satellite), 'example-articulated' (its URDF, "
+        "wings on hinges), 'example-finned' (four steerable fins), 'grooved-cylinder', "
+        "'cylinder', 'intake-box'"
     )
-    parser.add_argument(
-        "--scale",
-        type=positive_float("--scale"),
-        default=1.0,
-        help="factor from file units to metres (1e-3 for millimetres)",
+    parser.add_argument("mesh", metavar="MESH", help=help)
+    help = "factor from file units to metres (1e-3 for millimetres)"
+    option(parser, "--scale", help, positive_float, default=1.0)
+    help = (
+        "take a mesh (at --scale 1) that is under 1 mm or over 200 m across, which is "
+        "otherwise refused as probably not in metres"
     )
-    parser.add_argument(
-        "--accept-size",
-        action="store_true",
-        help="take a mesh (at --scale 1) that is under 1 mm or over 200 m across, which is "
-        "otherwise refused as probably not in metres",
+    flag(parser, "--accept-size", help)
+    help = (
+        "with a URDF MESH (a .urdf file, 'example-articulated', 'example-finned'): a joint's "
+        "position, degrees for revolute and continuous joints, metres for prismatic ones "
+        "(repeatable; others at 0)"
     )
+    option(parser, "--joint", help, action="append", default=[], metavar="NAME=VALUE")
 
-
-def add_model_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add the gas-surface model options: model, accommodation, wall, materials, switches."""
     g = parser.add_argument_group("gas-surface model")
-    g.add_argument(
-        "--gsim",
-        default="sentman",
-        type=str.lower,
-        choices=list(MODELS),
-        help="gas-surface interaction model (default sentman)",
-    )
-    g.add_argument(
-        "--alpha",
-        type=fraction("--alpha"),
-        default=1.0,
-        help="energy accommodation (sentman, cook, dria; maxwell diffuse fraction)",
-    )
-    g.add_argument(
-        "--alpha-n", type=fraction("--alpha-n"), default=1.0, help="CLL normal energy accommodation"
-    )
-    g.add_argument(
-        "--sigma-n",
-        type=positive_or_zero_below_two,
-        default=1.0,
-        help="normal momentum accommodation (schaaf, storch), in [0, 2)",
-    )
-    g.add_argument(
-        "--sigma-t",
-        type=fraction("--sigma-t"),
-        default=1.0,
-        help="tangential momentum accommodation (schaaf, storch, cll)",
-    )
-    g.add_argument(
-        "--wall-temperature",
-        type=within("--wall-temperature", "wall_temperature"),
-        default=300.0,
-        help="wall temperature [K] (default 300)",
-    )
-    g.add_argument(
-        "--material",
-        action="append",
-        default=[],
-        metavar="NAME:KEY=VALUE[,KEY=VALUE]",
-        help="per-material override, e.g. solar_array:alpha=0.9,wall_temperature=350",
-    )
-    g.add_argument(
-        "--incident-temperature",
-        choices=INCIDENT_TEMPERATURE_FORMS,
-        default="energy",
-        help="incident temperature form for sentman/dria (default energy, as ADBSat)",
-    )
-    g.add_argument(
-        "--adbsat-compat",
-        action="store_true",
-        help="reproduce ADBSat's coded quirks (maxwell two-sided plate, cll weights)",
-    )
+    help = "gas-surface interaction model (default sentman)"
+    option(g, "--gsim", help, default="sentman", type=str.lower, choices=list(MODELS))
+    help = "energy accommodation (sentman, cook, dria; maxwell diffuse fraction)"
+    option(g, "--alpha", help, fraction, default=1.0)
+    option(g, "--alpha-n", "CLL normal energy accommodation", fraction, default=1.0)
+    help = "normal momentum accommodation (schaaf, storch), in [0, 2)"
+    option(g, "--sigma-n", help, _below_two, default=1.0)
+    help = "tangential momentum accommodation (schaaf, storch, cll)"
+    option(g, "--sigma-t", help, fraction, default=1.0)
+    help = "wall temperature [K] (default 300)"
+    option(g, "--wall-temperature", help, bound="wall_temperature", default=300.0)
+    help = "per-material override, e.g. solar_array:alpha=0.9,wall_temperature=350"
+    option(g, "--material", help, action="append", default=[], metavar="NAME:KEY=VALUE[,KEY=VALUE]")
+    help = "incident temperature form for sentman/dria (default energy, as ADBSat)"
+    option(g, "--incident-temperature", help, choices=INCIDENT_TEMPERATURE_FORMS, default="energy")
+    help = "reproduce ADBSat's coded quirks (maxwell two-sided plate, cll weights)"
+    flag(g, "--adbsat-compat", help)
 
-
-def positive_or_zero_below_two(text):
-    """An argparse ``type`` for ``--sigma-n``: a number in [0, 2)."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not 0.0 <= value < 2.0:
-        raise argparse.ArgumentTypeError(f"--sigma-n must be a number in [0, 2), got {text!r}")
-    return value
-
-
-def add_flow_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add the options that give the free stream directly (speed, temperature, gas, density)."""
     g = parser.add_argument_group("free stream (given directly)")
-    g.add_argument("--speed", type=within("--speed", "speed"), help="relative wind speed [m/s]")
-    g.add_argument(
-        "--temperature", type=within("--temperature", "temperature"), help="gas temperature [K]"
-    )
+    option(g, "--speed", "relative wind speed [m/s]", bound="speed")
+    option(g, "--temperature", "gas temperature [K]", bound="temperature")
     comp = g.add_mutually_exclusive_group()
-    comp.add_argument(
-        "--mean-mass", type=within("--mean-mass", "mean_mass_amu"), help="mean molecular mass [amu]"
-    )
-    comp.add_argument(
-        "--species",
-        metavar="He=N,O=N,...",
-        help="species number densities [m^-3] (He O N2 O2 Ar H N AnO)",
-    )
-    g.add_argument(
-        "--density",
-        type=within("--density", "mass_density"),
-        help="mass density [kg/m^3] for forces in newtons (default: from --species)",
-    )
+    option(comp, "--mean-mass", "mean molecular mass [amu]", bound="mean_mass_amu")
+    help = "species number densities [m^-3] (He O N2 O2 Ar H N AnO)"
+    option(comp, "--species", help, metavar="He=N,O=N,...")
+    help = "mass density [kg/m^3] for forces in newtons (default: from --species)"
+    option(g, "--density", help, bound="mass_density")
+    add_flight_arguments(parser, time_required=False, with_alpha=False)
 
-
-def add_reference_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add the reference area, length and moment point options."""
     g = parser.add_argument_group("reference quantities")
-    g.add_argument(
-        "--aref",
-        type=within("--aref", "area"),
-        help="reference area [m^2] (default: half the total area)",
-    )
-    g.add_argument(
-        "--lref", type=within("--lref", "length"), help="reference length [m] (default: x extent)"
-    )
-    g.add_argument(
-        "--moment-ref",
-        metavar="X,Y,Z",
-        default="0,0,0",
-        help="moment reference point in the mesh frame [m] (default origin)",
-    )
-
-
-def add_shading_arguments(parser: argparse.ArgumentParser, default="raycast") -> None:
-    """Add ``--shading`` (default ``default``) and ``--samples``."""
+    option(g, "--aref", "reference area [m^2] (default: half the total area)", bound="area")
+    option(g, "--lref", "reference length [m] (default: x extent)", bound="length")
+    help = "moment reference point in the mesh frame [m] (default origin)"
+    option(g, "--moment-ref", help, metavar="X,Y,Z", default="0,0,0")
     g = parser.add_argument_group("shading")
-    g.add_argument(
-        "--shading",
-        choices=SHADING_MODES,
-        default=default,
-        help=f"shading mode (default {default})",
+    option(
+        g, "--shading", "shading mode (default raycast)", choices=SHADING_MODES, default="raycast"
     )
-    g.add_argument(
-        "--samples", type=int, default=16, help="ray samples per panel for raycast (default 16)"
-    )
+    option(g, "--samples", "ray samples per panel for raycast (default 16)", type=int, default=16)
+    add_solver_arguments(parser, **solver)
+
+
+def _below_two(option: str):
+    """An argparse ``type`` for a number in [0, 2) (``--sigma-n``)."""
+    return number(option, low=0.0, high=math.nextafter(2.0, 0.0), what="a number in [0, 2)")
 
 
 def parse_species(text: str) -> dict:
@@ -191,10 +129,7 @@ def parse_species(text: str) -> dict:
             raise CommandLineError(f"--species: expected NAME=NUMBER items, got {item!r}")
         if name in out:
             raise CommandLineError(f"--species: {name} given twice ({text})")
-        try:
-            out[name] = bounded(f"--species: {name}", number, "number_density")
-        except ValueError as exc:
-            raise CommandLineError(str(exc)) from None
+        out[name] = checked(f"--species: {name}", number, "number_density")
     return out
 
 
@@ -234,20 +169,6 @@ def freestream_from_args(args, model: str) -> FreeStream:
             f"n > 0, got {args.species}"
         )
     return flow
-
-
-def add_joint_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add ``--joint NAME=VALUE`` (repeatable): a joint position of a URDF body."""
-    parser.add_argument(
-        "--joint",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help="with a URDF MESH (a .urdf file, 'example-articulated', 'example-finned'): a "
-        "joint's position, "
-        "degrees for revolute and continuous joints, metres for prismatic ones (repeatable; "
-        "others at 0)",
-    )
 
 
 def _joint(text: str) -> tuple:

@@ -11,21 +11,17 @@ those of ``coeff``.
 from __future__ import annotations
 
 import os
-import sys
 import time
 
-from adbsat_ros.cli.atmosphere import add_flight_arguments
-from adbsat_ros.cli.common import (
-    add_flow_arguments,
-    add_joint_arguments,
-    add_mesh_arguments,
-    add_model_arguments,
-    add_reference_arguments,
-    add_shading_arguments,
-    method_and_flow_from_args,
+from adbsat_ros.cli.common import add_setup_arguments, method_and_flow_from_args
+from adbsat_ros.cli.options import (
+    CommandFailed,
+    CommandLineError,
+    option,
+    parse_angle_list,
+    positive_int,
+    warn,
 )
-from adbsat_ros.cli.options import CommandLineError, number, parse_angle_list
-from adbsat_ros.cli.solvers import add_solver_arguments
 from adbsat_ros.database.build import build_database
 from adbsat_ros.database.format import is_database_csv, is_database_file
 from adbsat_ros.processes import stop_on_signals, usable_cpus, worker_count
@@ -45,38 +41,22 @@ def configure(p) -> None:
         "with ADBSat's column names. The stated interpolation error of the grid is computed and "
         "stored. Gas, model, reference and shading options are those of `coeff`."
     )
-    add_mesh_arguments(p)
-    add_joint_arguments(p)
-    add_model_arguments(p)
-    add_flow_arguments(p)
-    add_flight_arguments(p, time_required=False, with_alpha=False)
-    add_reference_arguments(p)
-    add_shading_arguments(p)
-    add_solver_arguments(p, with_both=False, with_workers=False)
+    add_setup_arguments(p, with_both=False, with_workers=False)
     g = p.add_argument_group("grid and output")
-    g.add_argument(
-        "--aoa",
-        default=DEFAULT_AOA,
-        help="angles of attack [deg], -360..360: list and/or start:step:stop "
-        f"(default {DEFAULT_AOA})",
+    help = f"angles of attack [deg], -360..360: list and/or start:step:stop (default {DEFAULT_AOA})"
+    option(g, "--aoa", help, default=DEFAULT_AOA)
+    option(
+        g, "--aos", f"sideslip angles [deg], -90..90 (default {DEFAULT_AOS})", default=DEFAULT_AOS
     )
-    g.add_argument(
-        "--aos", default=DEFAULT_AOS, help=f"sideslip angles [deg], -90..90 (default {DEFAULT_AOS})"
+    help = f"processes to use (default and most: every usable CPU, here {usable_cpus()})"
+    option(g, "--workers", help, positive_int, default=None)
+    help = (
+        "a running Dask scheduler (tcp://HOST:8786) whose workers compute the attitudes "
+        "(default: processes on this machine)"
     )
-    g.add_argument(
-        "--workers",
-        type=number("--workers", integer=True, low=1),
-        default=None,
-        help=f"processes to use (default and most: every usable CPU, here {usable_cpus()})",
-    )
-    g.add_argument(
-        "--scheduler",
-        metavar="ADDRESS",
-        help="a running Dask scheduler (tcp://HOST:8786) whose workers compute the attitudes "
-        "(default: processes on this machine)",
-    )
-    g.add_argument("--out", required=True, metavar="FILE.npz", help="database file to write (.npz)")
-    g.add_argument("--csv", metavar="FILE.csv", help="CSV file to write (default: --out with .csv)")
+    option(g, "--scheduler", help, metavar="ADDRESS")
+    option(g, "--out", "database file to write (.npz)", required=True, metavar="FILE.npz")
+    option(g, "--csv", "CSV file to write (default: --out with .csv)", metavar="FILE.csv")
     p.set_defaults(func=run)
 
 
@@ -125,7 +105,7 @@ def run(args) -> int:
     model, flow, conditions = method_and_flow_from_args(args)
     workers, capped = worker_count(args.workers)
     if capped:
-        print(f"adbsat-ros database: warning: --workers: {capped}", file=sys.stderr)
+        warn("database", f"--workers: {capped}")
     start = time.perf_counter()
     with stop_on_signals() as stop:
         db = build_database(
@@ -153,13 +133,10 @@ def run(args) -> int:
     if partial:
         path = partial_path(csv_path)
         db.save_csv(path)
-        print(
-            f"adbsat-ros database: error: stopped by a signal after {partial['attitudes_done']} "
-            f"of {partial['attitudes']} attitudes; those are in {path} (PARTIAL), no database "
-            "was written",
-            file=sys.stderr,
+        raise CommandFailed(
+            f"stopped by a signal after {partial['attitudes_done']} of {partial['attitudes']} "
+            f"attitudes; those are in {path} (PARTIAL), no database was written"
         )
-        return 1
     db.save(out)
     db.save_csv(csv_path)
     print(summary(db, elapsed, workers, [out, csv_path]))

@@ -3,10 +3,7 @@ acceleration, /diagnostics ...), for machines without the ``ros2`` command (need
 
 from __future__ import annotations
 
-import sys
-
-from adbsat_ros.cli.bag_live import RosNotAvailable, ros_module
-from adbsat_ros.cli.options import number, positive_float
+from adbsat_ros.cli.options import CommandFailed, add_timeout, option, positive_int, ros_module
 
 
 def configure(p) -> None:
@@ -16,38 +13,20 @@ def configure(p) -> None:
         "`ros2 topic echo` does; the type is the one the graph gives the topic. Needs rclpy."
     )
     p.add_argument("topic", metavar="TOPIC", help="topic name, e.g. wrench or /diagnostics")
-    p.add_argument(
-        "--count",
-        type=number("--count", integer=True, low=1),
-        default=1,
-        help="messages to print (default 1)",
-    )
-    p.add_argument(
-        "--timeout",
-        type=positive_float("--timeout"),
-        default=5.0,
-        help="seconds to wait for the topic and for each message (default 5)",
-    )
+    option(p, "--count", "messages to print (default 1)", positive_int, default=1)
+    add_timeout(p, "the topic and for each message")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     """Run ``adbsat-ros echo``; returns the exit status (1 if fewer messages came)."""
-    try:
-        tools = ros_module("graph_tools")
-    except RosNotAvailable as exc:
-        print(f"adbsat-ros echo: error: {exc}", file=sys.stderr)
-        return 1
+    tools = ros_module("graph_tools")
     try:
         printed = tools.echo(args.topic, args.count, args.timeout, print)
     except tools.ToolError as exc:
-        print(f"adbsat-ros echo: error: {exc}", file=sys.stderr)
-        return 1
+        raise CommandFailed(str(exc)) from None
     if printed < args.count:
-        print(
-            f"adbsat-ros echo: error: {printed} of {args.count} messages came within "
-            f"{args.timeout:g} s of each other",
-            file=sys.stderr,
+        raise CommandFailed(
+            f"{printed} of {args.count} messages came within {args.timeout:g} s of each other"
         )
-        return 1
     return 0

@@ -1,4 +1,6 @@
-"""Shared command-line machinery: one-line errors and parsers for option values.
+"""Shared command-line machinery: one-line errors, parsers for option values, the helpers that
+declare options (:func:`option`, :func:`flag` and the options several commands share) and the
+import of the ROS tools (:func:`ros_module`).
 
 Imported at every start of the command line, so it imports only the standard library at the top;
 the two parsers that return arrays import numpy when called (start-up time, see
@@ -8,7 +10,9 @@ the two parsers that return arrays import numpy when called (start-up time, see
 from __future__ import annotations
 
 import argparse
+import importlib
 import math
+import os
 import re
 import sys
 
@@ -17,6 +21,10 @@ from adbsat_ros.bounds import bounded
 
 class CommandLineError(Exception):
     """A command-line value that is not allowed; the message names the option."""
+
+
+class CommandFailed(Exception):
+    """A command that could not do its work: ``adbsat-ros COMMAND: error: message``, status 1."""
 
 
 #: A word that reads as a negative number to ``float`` (``-5``, ``-1e5``, ``-.5``, ``-inf``,
@@ -103,12 +111,18 @@ def parse_vector3(text: str, option: str, bound: str | None = None):
     if vec.shape != (3,) or not np.all(np.isfinite(vec)):
         raise CommandLineError(f"{option}: expected three finite numbers X,Y,Z, got {text!r}")
     if bound is not None:
-        try:
-            for axis, x in zip("xyz", vec.tolist()):
-                bounded(f"{option} {axis}", x, bound)
-        except ValueError as exc:
-            raise CommandLineError(str(exc)) from None
+        for axis, x in zip("xyz", vec.tolist()):
+            checked(f"{option} {axis}", x, bound)
     return vec
+
+
+def checked(what: str, value, bound: str) -> float:
+    """``value`` checked by :func:`adbsat_ros.bounds.bounded` (``what`` names it); a
+    CommandLineError if it is outside."""
+    try:
+        return bounded(what, value, bound)
+    except ValueError as exc:
+        raise CommandLineError(str(exc)) from None
 
 
 def number(
@@ -213,6 +227,72 @@ def topic_name(option: str):
 
     convert.__name__ = option
     return convert
+
+
+def positive_int(option: str):
+    """An argparse ``type`` accepting whole numbers >= 1 (error names ``option``)."""
+    return number(option, integer=True, low=1)
+
+
+def option(parser, name: str, help: str, kind=None, bound: str | None = None, **settings):
+    """Add the option ``name`` with ``help`` to ``parser`` (or an argument group).
+
+    Its values are read by ``kind(name)`` (a factory of this module such as
+    :func:`positive_float`) or by ``within(name, bound)``, so that an error names the option;
+    ``settings`` are :meth:`argparse.ArgumentParser.add_argument`'s others (default, metavar...).
+    """
+    if kind is not None:
+        settings["type"] = kind(name)
+    elif bound is not None:
+        settings["type"] = within(name, bound)
+    return parser.add_argument(name, help=help, **settings)
+
+
+def flag(parser, name: str, help: str):
+    """Add ``name``, an option without a value (True when given), with ``help``."""
+    return parser.add_argument(name, action="store_true", help=help)
+
+
+#: The storage formats of a bag written by the command line.
+STORAGES = ("mcap", "sqlite3")
+
+
+def add_storage(parser, what: str) -> None:
+    """Add ``--storage mcap|sqlite3`` (default mcap) of the bag ``what`` describes."""
+    option(parser, "--storage", f"{what} (default mcap)", choices=STORAGES, default="mcap")
+
+
+def add_qos_depth(parser, what: str) -> None:
+    """Add ``--qos-depth N`` (default 1000), the history depth of the live tool's ``what``."""
+    help = f"history depth of the {what} (default 1000)"
+    option(parser, "--qos-depth", help, type=int, default=1000, metavar="N")
+
+
+def add_timeout(parser, what: str) -> None:
+    """Add ``--timeout`` [s] (default 5), how long a live tool waits for ``what``."""
+    help = f"seconds to wait for {what} (default 5)"
+    option(parser, "--timeout", help, positive_float, default=5.0)
+
+
+class RosNotAvailable(CommandFailed):
+    """rclpy or the message packages cannot be imported."""
+
+
+def ros_module(name: str):
+    """``adbsat_ros.ros.<name>``, or RosNotAvailable naming what is missing."""
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    try:
+        return importlib.import_module(f"adbsat_ros.ros.{name}")
+    except ImportError as exc:
+        raise RosNotAvailable(
+            "needs the ROS 2 Python packages (rclpy and messages), which cannot be imported: "
+            f"{exc}; install them with: pip install 'adbsat_ros[ros]'"
+        ) from None
+
+
+def warn(command: str, text: str) -> None:
+    """Print ``adbsat-ros COMMAND: warning: text`` on stderr."""
+    print(f"adbsat-ros {command}: warning: {text}", file=sys.stderr)
 
 
 def is_terminal(stream=None) -> bool:

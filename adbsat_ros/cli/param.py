@@ -3,10 +3,7 @@ standard parameter services, for machines without the ``ros2`` command (needs rc
 
 from __future__ import annotations
 
-import sys
-
-from adbsat_ros.cli.bag_live import RosNotAvailable, ros_module
-from adbsat_ros.cli.options import CommandLineError, positive_float
+from adbsat_ros.cli.options import CommandFailed, CommandLineError, add_timeout, ros_module
 
 
 def configure(p) -> None:
@@ -27,12 +24,7 @@ def configure(p) -> None:
         help="value for set, read as the parameter's declared type (the node is asked): 150, "
         "2e2, true, [0.1, 0, 0]; a string parameter takes the text as it is",
     )
-    p.add_argument(
-        "--timeout",
-        type=positive_float("--timeout"),
-        default=5.0,
-        help="seconds to wait for the node (default 5)",
-    )
+    add_timeout(p, "the node")
     p.set_defaults(func=run)
 
 
@@ -45,11 +37,7 @@ def run(args) -> int:
         raise CommandLineError("param set: VALUE is needed")
     if args.action == "list" and args.name is not None:
         raise CommandLineError("param list: takes no NAME")
-    try:
-        tools = ros_module("graph_tools")
-    except RosNotAvailable as exc:
-        print(f"adbsat-ros param: error: {exc}", file=sys.stderr)
-        return 1
+    tools = ros_module("graph_tools")
     try:
         if args.action == "list":
             for name, value in tools.list_parameters(args.node, args.timeout).items():
@@ -62,6 +50,5 @@ def run(args) -> int:
     except tools.BadInput as exc:
         raise CommandLineError(str(exc)) from None
     except tools.ToolError as exc:
-        print(f"adbsat-ros param: error: {exc}", file=sys.stderr)
-        return 1
+        raise CommandFailed(str(exc)) from None
     return 0

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from adbsat_ros.cli.options import CommandLineError, number
+from adbsat_ros.cli.options import CommandLineError, flag, number, option
 from adbsat_ros.database.format import DatabaseError, load_database
 from adbsat_ros.database.metadata import method_from_metadata
 from adbsat_ros.plotting import coefficients, panels
@@ -24,36 +24,25 @@ def configure(p) -> None:
     p.add_argument(
         "database", metavar="DATABASE", help="database file (.npz) from `adbsat-ros database`"
     )
-    p.add_argument(
-        "--out-dir",
-        metavar="DIR",
-        help="folder for the PNGs (default: DATABASE without .npz plus '_plots')",
+    help = "folder for the PNGs (default: DATABASE without .npz plus '_plots')"
+    option(p, "--out-dir", help, metavar="DIR")
+    help = (
+        "angle of attack of the pressure picture [deg] (default 0 if the database covers it, "
+        "else its first)"
     )
-    p.add_argument(
-        "--aoa",
-        type=number("--aoa", what="a finite angle in degrees"),
-        default=None,
-        help="angle of attack of the pressure picture [deg] (default 0 if the database "
-        "covers it, else its first)",
-    )
-    p.add_argument(
-        "--aos",
-        type=number("--aos", what="a finite angle in degrees"),
-        default=None,
-        help="sideslip of the pressure picture [deg] (default 0 if covered, else the first)",
-    )
-    p.add_argument(
-        "--no-mesh",
-        action="store_true",
-        help="coefficient plots only: do not reload the mesh or draw the pressure picture",
-    )
-    p.add_argument(
-        "--max-lines",
-        type=int,
-        default=7,
-        help="most sideslip lines per plot, evenly spaced if the database has more (default 7)",
-    )
+    option(p, "--aoa", help, angle, default=None)
+    help = "sideslip of the pressure picture [deg] (default 0 if covered, else the first)"
+    option(p, "--aos", help, angle, default=None)
+    help = "coefficient plots only: do not reload the mesh or draw the pressure picture"
+    flag(p, "--no-mesh", help)
+    help = "most sideslip lines per plot, evenly spaced if the database has more (default 7)"
+    option(p, "--max-lines", help, type=int, default=7)
     p.set_defaults(func=run)
+
+
+def angle(option: str):
+    """An argparse ``type`` for a finite angle [deg] (error names ``option``)."""
+    return number(option, what="a finite angle in degrees")
 
 
 def default_angle(grid) -> float:

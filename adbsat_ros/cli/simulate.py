@@ -7,11 +7,13 @@ from adbsat_ros.bags import scenario
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.cli.options import (
     CommandLineError,
+    add_storage,
+    flag,
     non_negative_float,
+    option,
     parse_vector3,
     positive_float,
     topic_name,
-    within,
 )
 
 
@@ -26,90 +28,38 @@ def configure(p) -> None:
         "attitude at t = 0 turning about a fixed body axis. Stamps are UNIX time of --epoch + t, "
         "as adbsat_node reads them by default."
     )
-    p.add_argument(
-        "--out", required=True, metavar="BAG", help="output bag directory (must not exist)"
-    )
-    p.add_argument(
-        "--duration",
-        type=non_negative_float("--duration"),
-        default=600.0,
-        help="length [s] (default 600)",
-    )
-    p.add_argument(
-        "--altitude",
-        type=positive_float("--altitude"),
-        default=400.0,
-        help="perigee height above the equatorial radius 6378.137 km [km] (default 400)",
-    )
-    p.add_argument(
-        "--eccentricity", type=float, default=0.0, help="orbit eccentricity in [0, 1) (default 0)"
-    )
-    p.add_argument(
-        "--inclination", type=float, default=51.6, help="inclination [deg] (default 51.6)"
-    )
-    p.add_argument(
-        "--raan", type=float, default=0.0, help="right ascension of the ascending node [deg]"
-    )
-    p.add_argument("--arg-perigee", type=float, default=0.0, help="argument of perigee [deg]")
-    p.add_argument(
-        "--true-anomaly",
-        type=float,
-        default=0.0,
-        help="true anomaly at the epoch [deg] (0: perigee)",
-    )
-    p.add_argument(
-        "--epoch",
-        default="2026-01-01T00:00:00Z",
-        help="UTC of t = 0, ISO 8601 (default 2026-01-01T00:00:00Z)",
-    )
-    p.add_argument(
-        "--rate",
-        type=within("--rate", "message_rate"),
-        default=10.0,
-        help="attitude messages per second (default 10)",
-    )
-    p.add_argument(
-        "--state-rate",
-        type=within("--state-rate", "message_rate"),
-        default=10.0,
-        help="state messages per second (default 10; keep >= 1 for the node's state_timeout 1 s)",
-    )
-    p.add_argument(
-        "--attitude",
-        choices=scenario.ATTITUDE_MODES,
-        default="nadir",
-        help="attitude law (default nadir)",
-    )
-    p.add_argument("--tumble-rate", type=float, default=1.0, help="tumble rate [deg/s] (default 1)")
-    p.add_argument(
-        "--tumble-axis",
-        default=None,
-        metavar="X,Y,Z",
-        help="body axis of the tumble (default: random from --seed)",
-    )
-    p.add_argument("--seed", type=int, default=0, help="seed of the random tumble axis")
-    p.add_argument(
-        "--time-mode",
-        choices=scenario.TIME_MODES,
-        default="unix",
-        help="stamps as UNIX time (default) or seconds since --epoch (node time_mode epoch)",
-    )
-    p.add_argument(
-        "--storage", choices=("mcap", "sqlite3"), default="mcap", help="bag storage (default mcap)"
-    )
-    p.add_argument(
-        "--attitude-topic",
-        type=topic_name("--attitude-topic"),
-        default="/attitude",
-        help="attitude topic (default /attitude)",
-    )
-    p.add_argument(
-        "--state-topic",
-        type=topic_name("--state-topic"),
-        default="/state",
-        help="state topic (default /state; not the attitude topic)",
-    )
-    p.add_argument("--overwrite", action="store_true", help="replace an existing output bag")
+    option(p, "--out", "output bag directory (must not exist)", required=True, metavar="BAG")
+    option(p, "--duration", "length [s] (default 600)", non_negative_float, default=600.0)
+    help = "perigee height above the equatorial radius 6378.137 km [km] (default 400)"
+    option(p, "--altitude", help, positive_float, default=400.0)
+    help = "orbit eccentricity in [0, 1) (default 0)"
+    option(p, "--eccentricity", help, type=float, default=0.0)
+    option(p, "--inclination", "inclination [deg] (default 51.6)", type=float, default=51.6)
+    help = "right ascension of the ascending node [deg]"
+    option(p, "--raan", help, type=float, default=0.0)
+    option(p, "--arg-perigee", "argument of perigee [deg]", type=float, default=0.0)
+    help = "true anomaly at the epoch [deg] (0: perigee)"
+    option(p, "--true-anomaly", help, type=float, default=0.0)
+    help = "UTC of t = 0, ISO 8601 (default 2026-01-01T00:00:00Z)"
+    option(p, "--epoch", help, default="2026-01-01T00:00:00Z")
+    help = "attitude messages per second (default 10)"
+    option(p, "--rate", help, bound="message_rate", default=10.0)
+    help = "state messages per second (default 10; keep >= 1 for the node's state_timeout 1 s)"
+    option(p, "--state-rate", help, bound="message_rate", default=10.0)
+    help = "attitude law (default nadir)"
+    option(p, "--attitude", help, choices=scenario.ATTITUDE_MODES, default="nadir")
+    option(p, "--tumble-rate", "tumble rate [deg/s] (default 1)", type=float, default=1.0)
+    help = "body axis of the tumble (default: random from --seed)"
+    option(p, "--tumble-axis", help, default=None, metavar="X,Y,Z")
+    option(p, "--seed", "seed of the random tumble axis", type=int, default=0)
+    help = "stamps as UNIX time (default) or seconds since --epoch (node time_mode epoch)"
+    option(p, "--time-mode", help, choices=scenario.TIME_MODES, default="unix")
+    add_storage(p, "bag storage")
+    help = "attitude topic (default /attitude)"
+    option(p, "--attitude-topic", help, topic_name, default="/attitude")
+    help = "state topic (default /state; not the attitude topic)"
+    option(p, "--state-topic", help, topic_name, default="/state")
+    flag(p, "--overwrite", "replace an existing output bag")
     p.set_defaults(func=run)
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import sys
 
-from adbsat_ros.cli.options import number
+from adbsat_ros.cli.options import non_negative_int, number, option, positive_int
 
 METHODS = ("panel", "tpmc", "both")
 
@@ -15,41 +15,27 @@ def add_solver_arguments(parser, with_both: bool = True, with_workers: bool = Tr
     """Add ``--method`` and the test-particle options (particles, tolerance, seed and, unless
     the command has its own, workers)."""
     g = parser.add_argument_group("solver")
-    g.add_argument(
-        "--method",
-        default="panel",
-        choices=METHODS if with_both else METHODS[:2],
-        help="panel: the panel method (one reflection); tpmc: test-particle Monte Carlo "
-        "(every reflection, with standard errors)"
+    help = (
+        "panel: the panel method (one reflection); tpmc: test-particle Monte Carlo (every "
+        "reflection, with standard errors)"
         + ("; both: each, and their difference" if with_both else "")
-        + " (default panel)",
+        + " (default panel)"
     )
-    g.add_argument(
-        "--particles",
-        type=number("--particles", integer=True, low=1),
-        help="tpmc: most molecules per attitude (default 1e6, or 1e8 with --tolerance)",
-    )
-    g.add_argument(
-        "--tolerance",
-        type=number(
-            "--tolerance",
-            low=0.0,
-            high=math.nextafter(1.0, 0.0),
-            low_open=True,
-            what="a number in (0, 1)",
-        ),
-        help="tpmc: stop once the standard error of C_D is at most this fraction of C_D",
-    )
-    g.add_argument(
-        "--seed", type=number("--seed", integer=True, low=0), default=0, help="tpmc: random seed"
-    )
+    option(g, "--method", help, default="panel", choices=METHODS if with_both else METHODS[:2])
+    help = "tpmc: most molecules per attitude (default 1e6, or 1e8 with --tolerance)"
+    option(g, "--particles", help, positive_int)
+    help = "tpmc: stop once the standard error of C_D is at most this fraction of C_D"
+    option(g, "--tolerance", help, _below_one)
+    option(g, "--seed", "tpmc: random seed", non_negative_int, default=0)
     if with_workers:
-        g.add_argument(
-            "--workers",
-            type=number("--workers", integer=True, low=1),
-            default=1,
-            help="tpmc: processes (default 1; at most the usable CPUs)",
-        )
+        help = "tpmc: processes (default 1; at most the usable CPUs)"
+        option(g, "--workers", help, positive_int, default=1)
+
+
+def _below_one(option: str):
+    """An argparse ``type`` for a number in (0, 1) (``--tolerance``)."""
+    high = math.nextafter(1.0, 0.0)
+    return number(option, low=0.0, high=high, low_open=True, what="a number in (0, 1)")
 
 
 def run_tpmc(args, solver, flow, aoa, aos):

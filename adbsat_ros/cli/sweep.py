@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import sys
 
-from adbsat_ros.cli.options import CommandLineError
+from adbsat_ros.cli.options import CommandLineError, flag, option
 
 
 def configure(p) -> None:
@@ -21,24 +21,14 @@ def configure(p) -> None:
         "(docs/sweeps.md)."
     )
     p.add_argument("spec", metavar="SPEC.yaml", help="the sweep's spec (docs/sweeps.md)")
-    p.add_argument("--out", required=True, metavar="RESULT.zarr", help="the Zarr store")
-    p.add_argument(
-        "--scheduler",
-        metavar="ADDRESS",
-        help="a running Dask scheduler, e.g. tcp://10.0.0.5:8786 (default: a LocalCluster)",
-    )
-    p.add_argument(
-        "--workers",
-        type=int,
-        metavar="N",
-        help="worker processes of the LocalCluster (default: every usable CPU)",
-    )
-    p.add_argument(
-        "--overwrite",
-        action="store_true",
-        help="replace a sweep store (of another spec) at --out; anything else there is refused",
-    )
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    option(p, "--out", "the Zarr store", required=True, metavar="RESULT.zarr")
+    help = "a running Dask scheduler, e.g. tcp://10.0.0.5:8786 (default: a LocalCluster)"
+    option(p, "--scheduler", help, metavar="ADDRESS")
+    help = "worker processes of the LocalCluster (default: every usable CPU)"
+    option(p, "--workers", help, type=int, metavar="N")
+    help = "replace a sweep store (of another spec) at --out; anything else there is refused"
+    flag(p, "--overwrite", help)
+    flag(p, "--no-progress", "no progress bar")
     p.set_defaults(func=run)
 
 
