@@ -300,26 +300,11 @@ class PanelMethod:
     def coefficients_of_sums(
         self, flow: FreeStream, u, angles, sums, lighting, surface=None
     ) -> AeroCoefficients:
-        """Coefficients at the unit flow direction ``u`` (G) from the facet sums of its lighting.
-
-        Parameters
-        ----------
-        flow : FreeStream
-        u : ndarray, shape (3,)
-            Unit direction of the gas motion relative to the body in G.
-        angles : tuple of float or None
-            (aoa, aos) [rad] that gave ``u``, kept for the wind axes (None: from ``u``).
-        sums : ndarray, shape (G, 10), or None
-            The facet sums of ``lighting`` (:meth:`Facets.lit_sums_of`, or a blend's
-            :func:`~adbsat_ros.physics.facets.blend_sums`); None for a method without
-            :attr:`facets`.
-        lighting : PanelLighting, LightingBlend or None
-            The lighting the sums are of: kept in the result for per-panel outputs, and summed
-            panel by panel when the facets cannot be used (no facets, or a ``surface`` that varies
-            within a facet).
-        surface : PanelSurface, optional
-            Surface parameters overriding the materials' (see :meth:`surface_with`).
-        """
+        """:meth:`coefficients` at the unit flow direction ``u`` (G; ``angles``: (aoa, aos) [rad]
+        that gave it, or None) from ``sums``, the (G, 10) facet sums of ``lighting``
+        (:meth:`Facets.lit_sums_of`, :func:`~adbsat_ros.physics.facets.blend_sums`; None without
+        :attr:`facets`). ``lighting`` is kept in the result and summed panel by panel when the
+        facets cannot be used (none, or a ``surface`` that varies within a facet)."""
         facets = self.facets
         facet_surface = None if sums is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:
