@@ -7,9 +7,9 @@ meshed into 10k triangles has a few hundred facets; a sphere has one per panel a
 panel by panel.
 
 Shading changes the sums: W_g and Q_g are made from the lit fractions and shifts of a lighting
-in one pass over the panels (np.bincount, in panel order). On a shading-cache hit, the node's
-usual message, the lighting is that of the previous message, so :class:`LitSumsCache` keeps the
-sums of the latest lightings under their content fingerprint.
+in one pass over the panels (np.bincount, in panel order; :meth:`Facets.lit_sums_of`, a pure
+function of the lighting), and a blend's are the weighted sum of its parts' (:func:`blend_sums`).
+:class:`LitSumsCache` keeps the sums of the latest lightings under their content fingerprint.
 
 Units: metres and square metres, mesh frame G.
 """
@@ -70,6 +70,17 @@ def vector_sums(index, vectors, n: int) -> np.ndarray:
 def sum_columns(weights, moments, normals) -> np.ndarray:
     """Columns W, W n, Q, Q x n (shape (G, 10)) of weights W (G,), moments Q (G, 3), normals n."""
     return np.column_stack([weights, weights[:, None] * normals, moments, cross(moments, normals)])
+
+
+def blend_sums(parts) -> np.ndarray:
+    """The weighted sum of the (G, 10) sums of a blend's parts, ``parts`` [(w, sums), ...] in
+    part order: s = w_0 s_0, then s += w_k s_k (the sums are linear in the lit fractions and
+    shifts)."""
+    (w, first), *rest = parts
+    sums = w * first
+    for w, part in rest:
+        sums += w * part
+    return sums
 
 
 class LitSumsCache:
@@ -208,7 +219,13 @@ class Facets:
         one row per panel of ``panels``, an index array: the other panels count as zero)."""
         return vector_sums(self.index if panels is None else self.index[panels], vectors, self.n)
 
-    def _lit_sums_of(self, lighting: PanelLighting) -> np.ndarray:
+    def lit_sums_of(self, lighting: PanelLighting | None) -> np.ndarray:
+        """The read-only (G, 10) facet sums with the lit fractions and shifts of ``lighting``
+        (:attr:`all_lit` for None), summed anew: columns W_g = sum f_i A_i [m^2], W_g n_g,
+        Q_g = sum f_i A_i (r_i + shift_i) [m^3] and Q_g x n_g over the members i of each facet g.
+        """
+        if lighting is None:
+            return self.all_lit
         f = lighting.lit_fraction
         w = self._areas * f
         wr = f[:, None] * self.weighted_barycentres
@@ -217,23 +234,14 @@ class Facets:
             wr[i] += w[i, None] * lighting.shift
         return self.sums_of(w, wr)
 
-    def lit_sums(self, lighting: PanelLighting | None) -> np.ndarray:
-        """The (G, 10) facet sums with the lit fractions and shifts of ``lighting``.
-
-        Columns W_g = sum f_i A_i [m^2], W_g n_g, Q_g = sum f_i A_i (r_i + shift_i) [m^3] and
-        Q_g x n_g, summed over the members i of each facet g (:attr:`all_lit` for None; the
-        latest lightings' from :attr:`lit_sums_cache`; a :class:`LightingBlend`'s as the
-        weighted sum of its parts').
-        """
+    def lit_sums(self, lighting) -> np.ndarray:
+        """:meth:`lit_sums_of` ``lighting`` (a PanelLighting, a :class:`LightingBlend` or None),
+        the latest lightings' from :attr:`lit_sums_cache`, a blend's by :func:`blend_sums`."""
         if lighting is None:
             return self.all_lit
-        if isinstance(lighting, LightingBlend):  # linear in the lit fractions and shifts
-            (w, first), *rest = lighting.parts
-            sums = w * self.lit_sums(first)
-            for w, part in rest:
-                sums += w * self.lit_sums(part)
-            return sums
-        return self.lit_sums_cache.get(lighting, self._lit_sums_of)
+        if isinstance(lighting, LightingBlend):
+            return blend_sums([(w, self.lit_sums(part)) for w, part in lighting.parts])
+        return self.lit_sums_cache.get(lighting, self.lit_sums_of)
 
     def surface_of(self, surface) -> PanelSurface | None:
         """Facet values of a per-panel surface, or None if some parameter varies within a facet."""

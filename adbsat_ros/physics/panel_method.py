@@ -177,9 +177,6 @@ class PanelMethod:
         cp, ctau = self._model_fn(c, sigma, surface, flow, self.options)
         return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
 
-    def _facet_coefficients(self, u, facet_surface, flow):
-        return self.facet_coefficients(u, self.facets.inward_normals_T, facet_surface, flow)
-
     def facet_coefficients(self, u, inward_normals_T, facet_surface, flow):
         """c = cos(delta), c_p and c_tau / sin(delta) of every facet (shape (G,)) for one unit
         direction ``u``, and c_tau when the model gave it (else None), for facets of normals n
@@ -199,14 +196,11 @@ class PanelMethod:
         cp, shear = split[1](c, *parameters)  # (float arrays like c: the plates are elementwise)
         return c, cp, shear, None
 
-    def _facet_totals(self, u, rows, lighting):
-        return self.totals_of_sums(u, rows, self.facets.lit_sums(lighting), self.reference)
-
     @staticmethod
     def totals_of_sums(u, rows, sums, reference):
         """Cf_G, Cm_G and the lit projected area from the (3, G) rows (q, k, max(c, 0)) of
         :func:`facet_rows`, q = c_tau / sin(delta) and k = q c - c_p per facet, and the (G, 10)
-        facet sums (W, W n, Q, Q x n) of :meth:`Facets.lit_sums`, for ``reference``.
+        facet sums (W, W n, Q, Q x n) of :meth:`Facets.lit_sums_of`, for ``reference``.
 
         Facet g carries the force W_g (q_g u + k_g n_g) (the shear along t = (u + c n) /
         sin(delta)) and the moment q_g (Q_g x u) + k_g (Q_g x n_g); so one product of the rows
@@ -218,26 +212,6 @@ class PanelMethod:
         moment = frames.cross(r[4:7], u) + k[7:10] - frames.cross(reference.moment_point, force)
         area = reference.area
         return force / area, moment / (area * reference.length), float(projected[0])
-
-    # ------------------------------------------------------------------------------ integration
-    def integrate_facets(self, u, c, cp, shear, lighting=None):
-        """Sum facet loads into force and moment coefficients in G (meshes with :attr:`facets`).
-
-        Parameters
-        ----------
-        u : ndarray, shape (3,)
-            Unit direction of the incoming gas or light (G).
-        c, cp, shear : ndarray, shape (G,)
-            cos(delta) = -u . n, c_p and c_tau / sin(delta) of every facet.
-        lighting : PanelLighting or LightingBlend, optional
-
-        Returns
-        -------
-        Cf_G, Cm_G : ndarray, shape (3,)
-        area_projected : float
-            Lit projected area [m^2].
-        """
-        return self._facet_totals(u, facet_rows(c, cp, shear), lighting)
 
     # ------------------------------------------------------------------------------ integration
     def integrate(self, u_G, c, sigma, cp, ctau, lighting: PanelLighting | None = None):
@@ -320,11 +294,25 @@ class PanelMethod:
             raise ValueError(
                 f"lighting has {lighting.n_panels} panels, the mesh has {self.mesh.n_panels}"
             )
+        sums = None if self.facets is None else self.facets.lit_sums(lighting)
+        return self.coefficients_of_sums(flow, u, angles, sums, lighting, surface)
+
+    def coefficients_of_sums(
+        self, flow: FreeStream, u, angles, sums, lighting, surface=None
+    ) -> AeroCoefficients:
+        """:meth:`coefficients` at the unit flow direction ``u`` (G; ``angles``: (aoa, aos) [rad]
+        that gave it, or None) from ``sums``, the (G, 10) facet sums of ``lighting``
+        (:meth:`Facets.lit_sums_of`, :func:`~adbsat_ros.physics.facets.blend_sums`; None without
+        :attr:`facets`). ``lighting`` is kept in the result and summed panel by panel when the
+        facets cannot be used (none, or a ``surface`` that varies within a facet)."""
         facets = self.facets
-        facet_surface = None if facets is None else facets.surface_of(surface or self.surface)
+        facet_surface = None if sums is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:
-            c, cp, shear, ctau = self._facet_coefficients(u, facet_surface, flow)
-            Cf_G, Cm_G, area_proj = self._facet_totals(u, facet_rows(c, cp, shear), lighting)
+            c, cp, shear, ctau = self.facet_coefficients(
+                u, facets.inward_normals_T, facet_surface, flow
+            )
+            rows = facet_rows(c, cp, shear)
+            Cf_G, Cm_G, area_proj = self.totals_of_sums(u, rows, sums, self.reference)
             index, normals = facets.index, facets.normals
         else:
             c, sigma, cp, ctau = self.panel_coefficients(u, flow, surface)

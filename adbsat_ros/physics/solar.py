@@ -13,7 +13,8 @@ which is ADBSat's c_n = 2 (c_D c / 3 + c_R c^2), c_s = (1 - c_R) c with c_R = rh
 Differences from ADBSat: the sun direction is given on its own (ADBSat takes the flow direction),
 and faces turned away from the sun (c <= 0) get no force (ADBSat leaves c_n unclipped there).
 Shading by other parts of the satellite comes from a
-:class:`~adbsat_ros.shading.lighting.PanelLighting` computed for the sun direction.
+:class:`~adbsat_ros.shading.lighting.PanelLighting` computed for the sun direction, or from the
+facet sums of one (:meth:`~adbsat_ros.physics.facets.Facets.lit_sums_of`), as for the flow.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from adbsat_ros.geometry import frames
+from adbsat_ros.physics.facets import facet_rows
 from adbsat_ros.physics.incidence import sine_of_incidence
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.shading.lighting import PanelLighting
@@ -67,6 +69,7 @@ def solar_coefficients(
     aoa: float = 0.0,
     aos: float = 0.0,
     lighting: PanelLighting | None = None,
+    sums=None,
 ) -> SolarCoefficients:
     """Solar radiation pressure coefficients of a mesh with its materials' reflectivities.
 
@@ -78,8 +81,11 @@ def solar_coefficients(
         Direction from the satellite to the sun in the mesh frame G (need not be unit length).
     aoa, aos : float
         Flow angles [rad] defining the wind axes in which ``Cf_s`` is expressed (as ADBSat).
-    lighting : PanelLighting, optional
+    lighting : PanelLighting or LightingBlend, optional
         Sunlit fractions from a shading analysis along the sun direction.
+    sums : ndarray, shape (G, 10), optional
+        The facet sums of ``lighting`` (:meth:`~adbsat_ros.physics.facets.Facets.lit_sums_of`)
+        when the caller holds them; by default summed from ``lighting``.
 
     Returns
     -------
@@ -94,11 +100,14 @@ def solar_coefficients(
     facets = method.facets
     surface = None if facets is None else facets.surface_of(method.surface)
     if surface is not None:  # one plate per facet of coplanar panels of one material
+        if sums is None:
+            sums = facets.lit_sums(lighting)
         c = u @ facets.inward_normals_T
         np.clip(c, -1.0, 1.0, out=c)
         cs, cp = _luthcke(c, surface.specular_reflectivity, surface.diffuse_reflectivity)
         # c_tau / sin(theta) = c_s: the shear along (u + c n) / sin(theta)
-        Cf_G, Cm_G, area_lit = method.integrate_facets(u, c, cp, cs, lighting)
+        rows = facet_rows(c, cp, cs)
+        Cf_G, Cm_G, area_lit = method.totals_of_sums(u, rows, sums, method.reference)
     else:
         c = -(method.mesh.normals @ u)
         np.clip(c, -1.0, 1.0, out=c)

@@ -16,11 +16,12 @@ from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.example_satellite import example_satellite
 from adbsat_ros.geometry.loading import panels_from_trimesh
 from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.facets import blend_sums
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import ModelOptions
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, PanelSurface, SurfaceProperties
-from adbsat_ros.shading.lighting import PanelLighting
+from adbsat_ros.shading.lighting import LightingBlend, PanelLighting
 from adbsat_ros.shading.shader import make_shader
 
 SPECIES = {"He": 5e12, "O": 3e15, "N2": 1.5e15, "O2": 8e13, "Ar": 1e11, "H": 2e11, "N": 2e13}
@@ -246,3 +247,94 @@ def test_facets_equal_panels_for_each_flow_lighting_and_surface(satellite, shade
         grouped.coefficients(
             flows[0], flow_direction=directions[0], lighting=PanelLighting.all_lit(5)
         )
+
+
+def assert_identical(a, b):
+    """Two results equal bit for bit (totals, per-panel values, flow, angles, lighting)."""
+    for name in ("Cf_G", "Cm_G", "Cf_w", "Cm_w", "flow_direction", "cos_delta", "cp", "ctau"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    assert (a.area_projected, a.aoa, a.aos) == (b.area_projected, b.aoa, b.aos)
+    assert a.lighting is b.lighting
+
+
+@pytest.mark.parametrize("model", ["sentman", "cll", "maxwell"])
+def test_coefficients_of_sums_are_coefficients_bit_for_bit(satellite, shader, model):
+    """The entry from facet sums (lit_sums_of, a pure function of the lighting) gives what
+    coefficients(lighting=...) gives, bit for bit, for angles and for directions, with and
+    without a lighting and a surface override, and again once the sums are cached; a method
+    without facets (group_facets=False) the same from its lighting alone."""
+    grouped, panel_by_panel = pair(satellite, model)
+    facets = grouped.facets
+    for k, (aoa, aos) in enumerate(((0.0, 0.0), (-20.0, 30.0), (75.0, -40.0), (180.0, 0.0))):
+        angles = (math.radians(aoa), math.radians(aos))
+        u, _ = frames.attitude_flow(*angles)
+        lighting = shader.lighting(u) if k else None
+        surface = grouped.surface_with(alpha=0.7) if k % 2 else None
+        sums = facets.lit_sums_of(lighting)
+        assert not sums.flags.writeable
+        np.testing.assert_array_equal(sums, facets.lit_sums_of(lighting))  # pure
+        got = grouped.coefficients_of_sums(FLOW, u, angles, sums, lighting, surface)
+        for _ in range(2):  # the second time through the facets' sums cache
+            assert_identical(
+                got, grouped.coefficients(FLOW, *angles, lighting=lighting, surface=surface)
+            )
+        d = 2.5 * u
+        by_direction = grouped.coefficients(
+            FLOW, flow_direction=d, lighting=lighting, surface=surface
+        )
+        u_d, _ = frames.attitude_flow(direction=d)
+        assert_identical(
+            by_direction, grouped.coefficients_of_sums(FLOW, u_d, None, sums, lighting, surface)
+        )
+        assert_identical(
+            panel_by_panel.coefficients(FLOW, *angles, lighting=lighting, surface=surface),
+            panel_by_panel.coefficients_of_sums(FLOW, u, angles, None, lighting, surface),
+        )
+        assert_same(
+            got, panel_by_panel.coefficients(FLOW, *angles, lighting=lighting, surface=surface)
+        )
+
+
+def test_coefficients_of_sums_of_a_body_without_facets_use_the_lighting():
+    """A sphere has no facets: its sums are None and the lighting is summed panel by panel."""
+    sphere = panels_from_trimesh(trimesh.creation.icosphere(subdivisions=2, radius=0.5))
+    method = PanelMethod(sphere, "sentman")
+    assert method.facets is None
+    d = [-1.0, 0.3, 0.2]
+    u, _ = frames.attitude_flow(direction=d)
+    f = np.linspace(0.0, 1.0, sphere.n_panels)
+    lighting = PanelLighting(f, np.arange(1, 4), np.full((3, 3), 0.01))
+    got = method.coefficients_of_sums(FLOW, u, None, None, lighting)
+    assert_identical(got, method.coefficients(FLOW, flow_direction=d, lighting=lighting))
+    unshaded = method.coefficients_of_sums(FLOW, u, None, None, None)
+    assert unshaded.area_projected > got.area_projected
+
+
+@pytest.mark.parametrize("weights", [(1.0,), (0.5, 0.3, 0.2)])
+def test_a_blends_sums_are_its_parts_sums_in_part_order(satellite, shader, weights):
+    """blend_sums of 1 and 3 parts: w_0 s_0 + w_1 s_1 + ... in part order, bit for bit; what the
+    facets' lit_sums give for the blend; the sums of the blend's combined lighting to rounding
+    (the sums are linear in the lit fractions and shifts); and through coefficients_of_sums what
+    coefficients(lighting=blend) gives, bit for bit."""
+    grouped, panel_by_panel = pair(satellite, "sentman")
+    facets = grouped.facets
+    directions = [(-0.35, 0.5), (-0.3, 0.55), (-0.4, 0.45)][: len(weights)]
+    parts = [(w, shader.lighting(frames.flow_direction(*d))) for w, d in zip(weights, directions)]
+    blend = LightingBlend(parts)
+    part_sums = [(w, facets.lit_sums_of(p)) for w, p in parts]
+    sums = blend_sums(part_sums)
+    expected = part_sums[0][0] * part_sums[0][1]
+    for w, s in part_sums[1:]:
+        expected = expected + w * s
+    np.testing.assert_array_equal(sums, expected)
+    np.testing.assert_array_equal(sums, facets.lit_sums(blend))
+    if len(parts) == 1:
+        np.testing.assert_array_equal(sums, facets.lit_sums_of(parts[0][1]))
+    else:
+        combined = facets.lit_sums_of(blend.combined)
+        np.testing.assert_allclose(sums, combined, rtol=0, atol=1e-13 * np.abs(combined).max())
+        assert not np.array_equal(part_sums[0][1], part_sums[1][1])  # the parts did differ
+    u, angles = frames.attitude_flow(-0.35, 0.5)
+    got = grouped.coefficients_of_sums(FLOW, u, angles, sums, blend)
+    assert_identical(got, grouped.coefficients(FLOW, -0.35, 0.5, lighting=blend))
+    assert_same(got, panel_by_panel.coefficients(FLOW, -0.35, 0.5, lighting=blend))

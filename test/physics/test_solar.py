@@ -14,7 +14,9 @@ from adbsat_ros import (
     example_satellite,
     panels_from_arrays,
 )
+from adbsat_ros.physics.facets import blend_sums
 from adbsat_ros.physics.solar import solar_coefficients
+from adbsat_ros.shading.lighting import LightingBlend
 from adbsat_ros.shading.shader import make_shader
 
 # One square plate (two triangles) of area 1 m^2 in the y-z plane with normal +x.
@@ -91,3 +93,40 @@ def test_facets_and_panels_give_the_same_solar_force():
     np.testing.assert_allclose(facet.Cf_G, panel.Cf_G, rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(facet.Cm_G, panel.Cm_G, rtol=1e-12, atol=1e-15)
     assert facet.area_lit == pytest.approx(panel.area_lit, rel=1e-12)
+
+
+def test_solar_pressure_from_facet_sums_is_that_of_their_lighting_bit_for_bit():
+    """Given the facet sums of a lighting (one, or a blend of three by blend_sums), the solar
+    coefficients are those given the lighting, bit for bit; the sums are what counts (those of
+    no shadow give the unshaded result), and the result agrees with the panel-by-panel sums."""
+    mesh = example_satellite()
+    materials = MaterialTable(
+        SurfaceProperties(specular_reflectivity=0.1, diffuse_reflectivity=0.2),
+        {"solar_array": {"specular_reflectivity": 0.05, "diffuse_reflectivity": 0.02}},
+    )
+    method = PanelMethod(mesh, "newton", materials)
+    panel_by_panel = PanelMethod(mesh, "newton", materials, group_facets=False)
+    facets = method.facets
+    shader = make_shader(mesh)
+    sun = np.array([0.3, -0.9, 0.4])
+    suns = [sun, sun + [0.02, 0.0, 0.01], sun - [0.0, 0.03, 0.02]]
+    parts = [(w, shader.lighting(-s / np.linalg.norm(s))) for w, s in zip((0.5, 0.3, 0.2), suns)]
+    blend = LightingBlend(parts)
+    for lighting, sums in (
+        (parts[0][1], facets.lit_sums_of(parts[0][1])),
+        (blend, blend_sums([(w, facets.lit_sums_of(p)) for w, p in parts])),
+    ):
+        by_lighting = solar_coefficients(method, sun, aoa=0.1, lighting=lighting)
+        for got in (
+            solar_coefficients(method, sun, aoa=0.1, sums=sums),
+            solar_coefficients(method, sun, aoa=0.1, lighting=lighting, sums=sums),
+        ):
+            for name in ("Cf_G", "Cm_G", "Cf_s", "Cm_S"):
+                np.testing.assert_array_equal(getattr(got, name), getattr(by_lighting, name))
+            assert got.area_lit == by_lighting.area_lit
+        panel = solar_coefficients(panel_by_panel, sun, aoa=0.1, lighting=lighting)
+        np.testing.assert_allclose(by_lighting.Cf_G, panel.Cf_G, rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(by_lighting.Cm_G, panel.Cm_G, rtol=1e-12, atol=1e-15)
+    unshaded = solar_coefficients(method, sun, lighting=parts[0][1], sums=facets.all_lit)
+    np.testing.assert_array_equal(unshaded.Cf_G, solar_coefficients(method, sun).Cf_G)
+    assert unshaded.area_lit > by_lighting.area_lit
