@@ -289,10 +289,11 @@ def die_with_parent(parent: int, stops_to_parent: bool = False) -> None:
     """In a worker's initializer: die with ``parent``, even if it is killed with SIGKILL (Linux's
     parent-death signal; at once if it is gone already); SIGINT ignored, SIGTERM fatal.
 
-    With ``stops_to_parent``, SIGTERM is ignored too: the worker of a pool that sends its
-    results through a pipe (:class:`concurrent.futures.ProcessPoolExecutor`), where one killed
-    while it writes a result leaves half a message that the pool then waits for forever. A stop
-    sent to the whole process group reaches the parent, which ends the job in order."""
+    With ``stops_to_parent``, SIGTERM is ignored too, and a stop sent to the whole process group
+    is left to the parent, which ends the job in order: a worker of a pool that sends its results
+    through a pipe (:class:`concurrent.futures.ProcessPoolExecutor`), where one killed while it
+    writes a result leaves half a message that the pool then waits for forever, or a Dask worker,
+    which its nanny would start again."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN if stops_to_parent else signal.SIG_DFL)
     if sys.platform.startswith("linux"):

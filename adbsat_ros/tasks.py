@@ -251,10 +251,13 @@ def local_cluster(count: int):
 
 def dask_setup(worker) -> None:
     """Dask's preload hook in each worker of :func:`local_cluster`: a forked worker dies with the
-    process that started the cluster, even if that is SIGKILLed
-    (:func:`adbsat_ros.processes.die_with_parent`)."""
+    process that started the cluster, even if that is SIGKILLed, and leaves SIGINT and SIGTERM
+    to it (:func:`adbsat_ros.processes.die_with_parent`): its nanny would start again a worker
+    that a stop sent to the whole process group killed, and that one, left running as the
+    cluster closes, logs the scheduler's absence as a traceback. The process stops its job in
+    order and ends the workers itself (:func:`_kill_workers`)."""
     if _PARENT["pid"] is not None and _PARENT["pid"] != os.getpid():
-        die_with_parent(_PARENT["pid"])
+        die_with_parent(_PARENT["pid"], stops_to_parent=True)
 
 
 def worker_environment() -> dict:

@@ -250,6 +250,7 @@ def test_a_signal_stops_the_build_keeping_the_attitudes_done(tmp_path, signum, m
     import signal
     import time
 
+    from signal_probes import ignores
     from waiting import HANG_TIMEOUT, child_pids, wait_for
 
     # The signal comes once the workers run (they are the command's child processes), and some
@@ -266,6 +267,11 @@ def test_a_signal_stops_the_build_keeping_the_attitudes_done(tmp_path, signum, m
             cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
         )
         assert wait_for(lambda: child_pids(proc.pid), proc), "no worker process started"
+        # the workers leave a stop to the command (set up as they start): a Dask worker killed by
+        # a stop to the group would be started again by its nanny, and log the closing scheduler
+        assert wait_for(
+            lambda: all(ignores(p, signal.SIGTERM) for p in child_pids(proc.pid)), proc
+        ), "a worker dies of SIGTERM"
         time.sleep(later)
         assert proc.poll() is None, "the build ended before the signal"
         os.killpg(proc.pid, getattr(signal, signum))
