@@ -16,7 +16,8 @@ Modules:
   geometry of the plane normal to the flow.
 - :mod:`~adbsat_ros.shading.projection`: ADBSat's ``shadowAnaly``.
 - :mod:`~adbsat_ros.shading.cache` and :mod:`~adbsat_ros.shading.cube_map`: the shading cache,
-  keyed by cube-map cells of the flow direction, with a stated error bound;
+  keyed by joint configuration and cube-map cell of the flow direction, with a stated error
+  bound; :mod:`~adbsat_ros.shading.joint_grid`: the grid of joint configurations;
   :mod:`~adbsat_ros.shading.cell_triangles`: the triangles over the cell centres through which
   it interpolates (:class:`~adbsat_ros.shading.lighting.LightingBlend`).
 

@@ -1,66 +1,23 @@
-"""The cache of shading: lightings keyed by the quantised flow direction, bounded, counted.
+"""The one cache of shading: lightings, and what a method sums of them, by configuration and
+flow-direction cell; bounded and counted.
 
-Shading depends only on the flow direction u in the mesh frame G, and changes little when u
-moves a little, so a simulation that calls the panel method at slowly varying attitudes can
-reuse results. :class:`ShadingCache` sits in front of a :class:`~adbsat_ros.shading.shader.Shader`:
-
-* **Key.** u is mapped to a cell of an *equi-angular cube map*: the face of the cube that u
-  points through (largest |component|), and the two angles alpha = atan(u_a / |u_k|),
-  beta = atan(u_b / |u_k|) in [-45, 45] deg, each cut into n equal steps of
-  h = 90 deg / n <= resolution_deg, n the smallest odd number >= 90 / resolution_deg (odd, so
-  that the axis directions are cell centres, see :func:`cells_per_edge`). The cube map has no
-  pole: every cell has the same shape class and size within a factor ~1.4 on the whole sphere.
-* **Value.** The lighting of the cell *centre* u_c (computed once, whatever direction first
-  hit the cell), so answers do not depend on the order of the queries.
-* **Interpolation** (``interpolate=True``). The answer for u is then the blend of the lightings
-  of the three cell centres around u, weighted by u's barycentric coordinates in their triangle
-  (:mod:`~adbsat_ros.shading.cell_triangles`; a
-  :class:`~adbsat_ros.shading.lighting.LightingBlend`): continuous in u, so coefficients have
-  no steps at cell borders, and exact where the lighting varies linearly with u. The three
-  centres lie within 2 h of u (measured at most 1.58 h).
-* **Quantisation bound.** angle(u, u_c) <= h <= resolution_deg for every u, poles and cube
-  edges included. Proof: on a face the unit vector (tan alpha, tan beta, 1)/|.| moves at an
-  angular rate sec^2(alpha) sec(beta) / (sec^2(alpha) + tan^2(beta)) <= 1 when alpha varies
-  (the inequality reduces to sec^2(alpha) <= 1 + sec(beta), true on the face), and likewise
-  for beta; the path alpha -> alpha_c then beta -> beta_c has length <= h/2 + h/2.
-  (Measured maximum: about 0.79 h.)
-* **Bound.** Least recently used entries beyond ``max_entries`` are evicted (an
-  :class:`~adbsat_ros.lru.LruStore` keeps them); hits, misses and
-  evictions are counted (:meth:`ShadingCache.info`); :meth:`ShadingCache.precompute` fills
-  cells of given directions or of the whole sphere. Entries are the
-  :class:`~adbsat_ros.shading.lighting.PanelLighting` objects themselves, which are sparse
-  (panels with lit fraction < 1 only) and read-only: memory grows with the shaded area, not
-  with the mesh size, and a hit hands out the stored object as it is.
-
-Error bound of a cached answer
-------------------------------
-Let L_c be the cached lighting (exact shading at u_c) and L the exact shading at u, both used
-with the panel incidences at u (as ``PanelMethod`` does). The lit projected area moved,
-
-    E(u) = sum_i |f_i(L_c) - f_i(L)| A_i max(cos delta_i(u), 0)     [m^2],
-
-bounds the error of the lit projected area (AreaProj) and of every panel-force sum weighted by
-it. :meth:`ShadingCache.area_error_bound` returns
-
-    E_max = theta (D P + A_g) + 2 delta_s A_p
-
-where theta <= h is the quantisation angle, D the bounding-box diagonal (the longest distance a
-shadow can be thrown), P a bound on the length of the shadow-casting silhouette edges (for a
-convex component pi x its bounding-box diagonal: its projection is a planar convex set of no
-larger diameter, whose perimeter is at most pi x diameter; for any other component the total
-length of its non-flat and open edges, which contain every silhouette edge), A_g the area of the
-panels within theta of grazing at u (they may change from backward to forward) and A_p the
-projected area of the panels partly lit in the cached answer; delta_s = 0.05 is the per-panel
-sampling error allowance of the ray-cast estimate (measured 1-sigma 0.014 with 256 refinement
-rays). The geometric part holds because turning the flow by theta moves the image of a
-silhouette point thrown a distance d by at most theta d in the plane normal to the flow, so each
-silhouette edge of projected length l sweeps at most l d theta of projected area. The bound is
-conservative (often 10-50x the observed E); the tests check it on a cube in front of a plate.
+Key: ``(configuration key, cell key)``. The configuration key is ``()`` for a rigid body, the
+grid indices of a joint configuration (:mod:`~adbsat_ros.shading.joint_grid`), or in exact mode
+the joint positions themselves. The cell key is the equi-angular cube-map cell of the flow
+direction (:mod:`~adbsat_ros.shading.cube_map`), or in exact mode the direction's components.
+Value: a :class:`Cell`, the lighting of the cell centre (exact mode: of the direction itself),
+so answers do not depend on the order of the queries, and the sums a method makes of it (made
+once, through the ``summarise`` hook the caller hands in). With ``interpolate`` an answer
+blends the three cell centres around the direction (:mod:`~adbsat_ros.shading.cell_triangles`).
+The posed shaders of an articulated body are kept by configuration key in the same object.
+The quantisation bound angle(u, u_c) <= h <= resolution_deg and the error bound of a cached
+answer (:meth:`ShadingCache.area_error_bound`) are proven in docs/shading.md ("Cache").
 """
 
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -69,70 +26,112 @@ from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.lru import LruStore
 from adbsat_ros.shading.cell_triangles import CellTriangulation
 from adbsat_ros.shading.cube_map import cells_per_edge, direction_key, direction_keys, key_centres
+from adbsat_ros.shading.joint_grid import grid_configuration, grid_steps, grid_vertices
 from adbsat_ros.shading.lighting import LightingBlend, PanelLighting
 from adbsat_ros.shading.shader import Shader
 
-#: Per-panel sampling error allowance of the ray-cast lit fraction (see module docstring).
+if TYPE_CHECKING:
+    from adbsat_ros.geometry.articulated import ArticulatedBody
+
+#: Per-panel sampling error allowance of the ray-cast lit fraction (docs/shading.md).
 SAMPLING_ERROR = 0.05
+
+_UNMADE = object()
+
+
+class Cell:
+    """One entry: the lighting of a cell and what a method sums of it.
+
+    ``lighting`` is read-only and shared. ``sums`` is made on first use by the cache's
+    ``summarise`` hook (None without one). ``posed`` is a slot for the caller's memo of the sums
+    posed at one configuration.
+    """
+
+    __slots__ = ("lighting", "posed", "_summarise", "_sums")
+
+    def __init__(self, lighting: PanelLighting, summarise: Callable | None = None):
+        self.lighting = lighting
+        self.posed = None
+        self._summarise = summarise
+        self._sums = _UNMADE
+
+    @property
+    def sums(self):
+        """``summarise(lighting)``, made once (None without a hook)."""
+        if self._sums is _UNMADE:
+            self._sums = None if self._summarise is None else self._summarise(self.lighting)
+        return self._sums
 
 
 class ShadingCache:
-    """The cache of shading: lightings by cube-map cell of the flow direction, LRU-bounded.
+    """The cache of shading: :class:`Cell` values by (configuration, flow-direction cell).
 
-    Parameters
-    ----------
-    shader : Shader
-        The shading of one mesh (any mode).
-    resolution_deg : float
-        Largest angle [deg] between a query direction and the direction its answer was
-        computed for (the cube-map step h = 90 / n <= resolution_deg, :func:`cells_per_edge`).
-    max_entries : int or None
-        Largest number of stored cells (least recently used evicted first); None for no
-        limit.
-    interpolate : bool
-        Answer with the blend of the three cell centres around the query (continuous in the
-        direction) instead of the lighting of the query's own cell.
+    A rigid body's cache takes its ``shader``; an articulated body's takes the ``body`` and
+    ``posed_shader(positions)`` (every moving joint named), with the grid's ``angle_step`` [rad]
+    and ``length_step`` [m] and ``joint_interpolate`` (the simplex around the positions, else
+    the nearest grid point), keeping ``max_configurations`` posed shaders. ``resolution_deg``
+    bounds the angle from a query to its cell centre (cube-map step h = 90 / n), ``max_entries``
+    the cells kept (least recently used dropped; None: no bound), and ``interpolate`` blends
+    the three cell centres around the query. ``summarise(lighting)`` makes :attr:`Cell.sums`.
+    :meth:`exact_mode` keys exact directions and positions instead.
 
-    Attributes
-    ----------
-    hits, misses, evictions : int
-        Counters since construction (or :meth:`clear`): queries answered from the store,
-        queries that shaded their cell, entries dropped to stay within ``max_entries``.
-    n : int
-        Cube-map steps per face edge (6 n^2 cells in all).
-    step : float
-        Cell size h [rad]; also the proven bound on the quantisation angle.
-    last_keys : tuple of int
-        Cell keys read by the latest :meth:`lighting` query (one, or three when interpolating;
-        empty before the first).
-
-    Notes
-    -----
-    Key: :meth:`key` (the cube-map cell). Value: the lighting of the cell centre. Bound:
-    ``max_entries``. Error bound of a cached answer: see the module docstring and
-    :meth:`area_error_bound`.
+    Counters: ``hits``, ``misses``, ``evictions`` (cells read counted); ``configuration_hits``
+    and ``configuration_misses`` (shaders, per vertex per read in grid mode, per cell made in
+    exact mode); ``last_keys``, the keys of the latest counted read (cell keys for a rigid
+    body, else (configuration key, cell key)); ``last_uncounted``, those of the latest
+    uncounted read since then.
     """
 
     def __init__(
         self,
-        shader: Shader,
+        shader: Shader | None = None,
         resolution_deg: float = 1.0,
         max_entries: int | None = 4096,
         interpolate: bool = False,
+        *,
+        summarise: Callable | None = None,
+        exact: bool = False,
+        body: ArticulatedBody | None = None,
+        posed_shader: Callable[[dict], Shader] | None = None,
+        angle_step: float | None = None,
+        length_step: float | None = None,
+        joint_interpolate: bool = False,
+        max_configurations: int = 1,
     ):
         if max_entries is not None and int(max_entries) < 1:
             raise ValueError(f"max_entries must be >= 1 or None, got {max_entries!r}")
-        self.shader = shader
-        self.mesh = shader.mesh
+        if int(max_configurations) < 1:
+            raise ValueError(f"max_configurations must be >= 1, got {max_configurations!r}")
+        if (body is None) != (posed_shader is None) or (body is None) == (shader is None):
+            raise ValueError("give a rigid body's shader, or an articulated body and posed_shader")
+        if exact and interpolate:
+            raise ValueError("exact mode has no cells to interpolate between")
+        self.shader, self.body, self.exact = shader, body, bool(exact)
+        self.mesh = None if shader is None else shader.mesh
         self.resolution_deg = float(resolution_deg)
         self.n = cells_per_edge(resolution_deg)
         self.step = 0.5 * math.pi / self.n
         self.max_entries = None if max_entries is None else int(max_entries)
-        self._store = LruStore(self.max_entries)  # key -> PanelLighting
         self.interpolate = bool(interpolate)
         self.triangulation = CellTriangulation.of(self.n) if self.interpolate else None
-        self.last_keys: tuple = ()
+        self.joint_interpolate = bool(joint_interpolate)
+        self.steps = None
+        if body is not None and not self.exact:
+            if angle_step is None or length_step is None:
+                raise ValueError("an articulated body's grid needs angle_step and length_step")
+            self.steps = grid_steps(body.joints, angle_step, length_step)
+        self.max_configurations = 1 if body is None else int(max_configurations)
+        self._summarise = summarise
+        self._posed_shader = posed_shader
         self._perimeter = None
+        self.clear()
+
+    @classmethod
+    def exact_mode(cls, shader=None, *, max_entries=1, **articulated) -> "ShadingCache":
+        """A cache in exact mode: the lighting of the flow direction itself (and of the body
+        posed at the joint positions themselves: ``body``, ``posed_shader``, ``summarise``);
+        by default it keeps the latest cell and shader only."""
+        return cls(shader, max_entries=max_entries, exact=True, **articulated)
 
     # ------------------------------------------------------------------------------ keys
     @property
@@ -146,7 +145,7 @@ class ShadingCache:
         return 6 * self.n * self.n
 
     def key(self, u_G) -> int:
-        """Cell key of flow direction ``u_G`` (G frame); same as :func:`direction_keys`.
+        """Cube-map cell key of flow direction ``u_G`` (G frame), as :func:`direction_keys`.
 
         Raises
         ------
@@ -163,35 +162,70 @@ class ShadingCache:
         """Centres of all 6 n^2 cells, shape (6 n^2, 3)."""
         return key_centres(np.arange(self.n_cells), self.n)
 
+    def vertices(self, positions=None) -> list:
+        """``[(weight, configuration key), ...]`` for joint ``positions`` (every moving joint
+        named): ``[(1.0, ())]`` for a rigid body, the exact positions in exact mode, else the
+        grid's nearest configuration or simplex (:func:`~.joint_grid.grid_vertices`)."""
+        if self.body is None:
+            return [(1.0, ())]
+        if self.exact:
+            return [(1.0, tuple(float(positions[name]) for name in self.body.joints))]
+        return grid_vertices(self.body.joints, self.steps, positions, self.joint_interpolate)
+
+    def configuration(self, key: tuple) -> dict:
+        """The joint positions of a configuration key (grid points clipped to the limits)."""
+        if self.body is None:
+            return {}
+        if self.exact:
+            return dict(zip(self.body.joints, key))
+        return grid_configuration(self.body.joints, self.steps, key)
+
     # ------------------------------------------------------------------------------ storage
     @property
     def hits(self) -> int:
-        """Queries of a cell stored (its lighting reused)."""
+        """Counted cell reads found stored."""
         return self._store.hits
 
     @property
     def misses(self) -> int:
-        """Queries that shaded their cell."""
+        """Counted cell reads that shaded their cell."""
         return self._store.misses
 
     @property
     def evictions(self) -> int:
-        """Entries dropped to stay within ``max_entries``."""
+        """Cells dropped to stay within ``max_entries``."""
         return self._store.evictions
+
+    @property
+    def configuration_hits(self) -> int:
+        """Counted shader reads found stored (0 for a rigid body)."""
+        return self._shaders.hits
+
+    @property
+    def configuration_misses(self) -> int:
+        """Counted shader reads that posed the body and made its shader."""
+        return self._shaders.misses
 
     def __len__(self) -> int:
         return len(self._store)
 
     def __contains__(self, key) -> bool:
-        return int(key) in self._store
+        """Whether a cell is stored: its cell key for a rigid body, else (configuration, cell)."""
+        if self.body is None:
+            key = ((), tuple(key) if self.exact else int(key))
+        return key in self._store
 
     def clear(self):
-        """Drop every entry and reset the counters."""
-        self._store = LruStore(self.max_entries)
-        self.last_keys = ()
+        """Drop every cell and posed shader and reset the counters."""
+        self._store = LruStore(self.max_entries)  # (configuration, cell) -> Cell
+        self._shaders = LruStore(self.max_configurations)  # configuration -> Shader
+        if self.shader is not None:
+            self._shaders.get((), lambda: self.shader, count=False)
+        self.last_keys: tuple = ()
+        self.last_uncounted: tuple = ()
 
     def info(self) -> dict:
-        """Counters and sizes: hits, misses, evictions, size, max_entries, n, step_deg."""
+        """Counters and sizes, of the cells and of the shaders."""
         return {
             "hits": self.hits,
             "misses": self.misses,
@@ -200,40 +234,79 @@ class ShadingCache:
             "max_entries": self.max_entries,
             "n": self.n,
             "step_deg": math.degrees(self.step),
+            "configurations": len(self._shaders),
+            "max_configurations": self.max_configurations,
+            "configuration_hits": self.configuration_hits,
+            "configuration_misses": self.configuration_misses,
         }
 
     # ------------------------------------------------------------------------------ queries
-    def lighting(self, u_G) -> PanelLighting | LightingBlend:
-        """Shading for flow direction ``u_G`` (G), from the cache or computed at cell centres.
-
-        Returns
-        -------
-        PanelLighting or LightingBlend
-            Without interpolation, the exact shading of the cell centre u_c,
-            angle(u_G, u_c) <= :attr:`max_angle`: the stored object itself (read-only), the
-            same for every query in one cell. With it, the blend of the three centres around
-            ``u_G`` (a stored lighting where one weight is 1).
-        """
-        x, y, z = frames.direction_components(u_G)
-        if self.triangulation is None:
-            key = direction_key(x, y, z, self.n)
-            self.last_keys = (key,)
-            return self.cell_lighting(key)
-        parts = [(w, key) for key, w in zip(*self.triangulation.locate(x, y, z)) if w > 0.0]
-        self.last_keys = tuple(key for _, key in parts)
-        return LightingBlend.of([(w, self.cell_lighting(key)) for w, key in parts])
+    def shader_at(self, configuration: tuple = (), count: bool = True) -> Shader:
+        """The shader of the body posed at a configuration key (posed and made if not kept)."""
+        if self.body is None:
+            return self.shader
+        return self._shaders.get(
+            configuration, lambda: self._posed_shader(self.configuration(configuration)), count
+        )
 
     def _cells_of(self, u_G) -> list:
-        """(weight, key) of the cells an answer for ``u_G`` is made of (no counting)."""
+        """(weight, cell key) of the cells an answer for ``u_G`` is made of (no counting)."""
         x, y, z = frames.direction_components(u_G)
+        if self.exact:
+            return [(1.0, (x, y, z))]
         if self.triangulation is None:
             return [(1.0, direction_key(x, y, z, self.n))]
         return [(w, key) for key, w in zip(*self.triangulation.locate(x, y, z)) if w > 0.0]
 
+    def _made(self, configuration: tuple, cell, shader: Shader | None, count: bool) -> Cell:
+        if shader is None:
+            shader = self.shader_at(configuration, count)
+        direction = cell if self.exact else self.centre(cell)
+        return Cell(shader.lighting(direction), self._summarise)
+
+    def read(self, u_G, vertices=None, count: bool = True) -> list:
+        """``[(weight, Cell), ...]`` for flow direction ``u_G`` (G) and the configuration
+        ``vertices`` (:meth:`vertices`; default: a rigid body's): configuration major, then
+        the direction triangle's order, parts of weight 0 dropped, weights multiplied.
+
+        With ``count`` False the read is not counted (and its keys go to last_uncounted).
+        """
+        if vertices is None:
+            if self.body is not None:
+                raise ValueError("an articulated body's read needs vertices(positions)")
+            vertices = ((1.0, ()),)
+        cells = self._cells_of(u_G)
+        grid = self.body is not None and not self.exact
+        out, keys = [], []
+        for weight, configuration in vertices:
+            shader = self.shader_at(configuration, count) if grid else None
+            for w, cell in cells:
+                key = (configuration, cell)
+                value = self._store.get(
+                    key, lambda: self._made(configuration, cell, shader, count), count
+                )
+                out.append((weight * w, value))
+                keys.append(cell if self.body is None else key)
+        if count:
+            self.last_keys, self.last_uncounted = tuple(keys), ()
+        else:
+            self.last_uncounted = tuple(keys)
+        return out
+
+    def lighting(self, u_G, vertices=None) -> PanelLighting | LightingBlend:
+        """Shading for flow direction ``u_G`` (G) (and configuration ``vertices``), counted.
+
+        Returns
+        -------
+        PanelLighting or LightingBlend
+            The lighting of the one cell read (the stored object itself, read-only), or the
+            blend of the cells read (:meth:`read`).
+        """
+        return LightingBlend.of([(w, cell.lighting) for w, cell in self.read(u_G, vertices)])
+
     def cell_lighting(self, key: int) -> PanelLighting:
-        """The lighting of the centre of cell ``key``: stored (a hit), or shaded and stored (a
-        miss)."""
-        return self._store.get(key, lambda: self.shader.lighting(self.centre(key)))
+        """A rigid body's lighting of cell ``key``: stored (a hit), or shaded and stored."""
+        return self._store.get(((), key), lambda: self._made((), key, None, True)).lighting
 
     __call__ = lighting
 
@@ -242,19 +315,13 @@ class ShadingCache:
         return self.lighting(frames.flow_direction(aoa, aos))
 
     def precompute(self, directions=None) -> int:
-        """Fill the cache for the cells of ``directions`` (default: every cell of the sphere).
+        """Fill a rigid body's cells of ``directions`` (M, 3) in G (default: every cell).
 
-        Parameters
-        ----------
-        directions : array_like, shape (M, 3), optional
-            Flow directions in G (e.g. ``frames.flow_direction`` of an (aoa, aos) grid).
-
-        Returns
-        -------
-        int
-            Number of cells computed (cells already stored are skipped; counters unchanged).
-            With more cells than ``max_entries`` only the last ``max_entries`` stay.
+        Returns the number of cells shaded (counters unchanged; with more cells than
+        ``max_entries`` only the last ``max_entries`` stay). Sums are made on first use.
         """
+        if self.body is not None or self.exact:
+            raise ValueError("precompute fills a rigid body's cube-map cells only")
         if directions is None:
             keys = np.arange(self.n_cells)
         else:
@@ -268,47 +335,31 @@ class ShadingCache:
                 keys = np.unique([key for u in d for _, key in self._cells_of(u)])
         computed = 0
         for key in keys.tolist():  # one shading per cell; the work inside is vectorised
-            computed += key not in self._store
-            self._store.get(key, lambda: self.shader.lighting(self.centre(key)), count=False)
+            computed += ((), key) not in self._store
+            self._store.get(((), key), lambda: self._made((), key, None, False), count=False)
         return computed
 
     # ------------------------------------------------------------------------------ error
     def shadow_perimeter(self) -> float:
-        """P [m]: bound on the total length of shadow-casting silhouette edges (see module)."""
+        """P [m]: bound on the total length of shadow-casting silhouette edges."""
         if self._perimeter is None:
             self._perimeter = _silhouette_length_bound(self.mesh)
         return self._perimeter
 
     def area_error_bound(self, u_G, lighting: PanelLighting | None = None) -> float:
-        """Bound E_max [m^2] on the lit projected area moved by using the cached answer at u_G.
-
-        Parameters
-        ----------
-        u_G : array_like, shape (3,)
-            Query flow direction (G).
-        lighting : PanelLighting or LightingBlend, optional
-            The cached answer for ``u_G`` (looked up, without touching the counters, if not
-            given; computed if absent).
-
-        Returns
-        -------
-        float
-            theta (D P + A_g) + 2 delta_s A_p (module docstring), theta = angle(u_G, u_c); for
-            a blend (which moves each panel's lit fraction by at most the weighted mean of its
-            parts' errors) the largest angle to the centres blended.
-        """
+        """Bound E_max [m^2] on the lit projected area moved by using a rigid body's cached
+        answer at ``u_G`` (``lighting``; else read uncounted): theta (D P + A_g) + 2 delta_s A_p
+        (docs/shading.md), theta the largest angle from ``u_G`` to the centres read."""
+        if self.body is not None or self.exact:
+            raise ValueError("area_error_bound is the bound of a rigid body's cube-map cells")
         u = frames.unit_vector(u_G)
         cells = self._cells_of(u)
         centres = key_centres(np.array([key for _, key in cells]), self.n)
         theta = float(np.arccos(np.clip(centres @ u, -1.0, 1.0)).max())
         if lighting is None:
-            parts = []
-            for w, key in cells:
-                stored = self._store.get(key)
-                parts.append(
-                    (w, stored if stored is not None else self.shader.lighting(self.centre(key)))
-                )
-            lighting = LightingBlend.of(parts)
+            lighting = LightingBlend.of(
+                [(w, cell.lighting) for w, cell in self.read(u, None, False)]
+            )
         mesh = self.mesh
         lo, hi = mesh.bounds
         diag = float(np.linalg.norm(hi - lo))
@@ -323,7 +374,7 @@ class ShadingCache:
 
 
 def moved_lit_area(mesh: PanelMesh, u_G, cached: PanelLighting, exact: PanelLighting) -> float:
-    """E(u) [m^2]: sum_i |f_i(cached) - f_i(exact)| A_i max(cos delta_i(u), 0) (module doc)."""
+    """E(u) [m^2]: sum_i |f_i(cached) - f_i(exact)| A_i max(cos delta_i(u), 0) (docs/shading.md)."""
     u = frames.unit_vector(u_G)
     c = np.maximum(-(mesh.normals @ u), 0.0)
     return float((np.abs(cached.lit_fraction - exact.lit_fraction) * mesh.areas * c).sum())

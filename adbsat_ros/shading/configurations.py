@@ -36,18 +36,18 @@ effort blended, against 6e-4, 6e-3 and 1e-2 snapped (and 1e-4, 1e-3 and 1.5e-3 s
 
 from __future__ import annotations
 
-import math
 from typing import Callable, Mapping
 
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.lru import LruStore
 from adbsat_ros.shading.cache import ShadingCache
+from adbsat_ros.shading.joint_grid import (
+    grid_configuration,
+    grid_key,
+    grid_steps,
+    grid_vertices,
+)
 from adbsat_ros.shading.lighting import LightingBlend
-
-#: Distance to a grid point, in grid steps, within which a joint is taken to be on it (a
-#: position given as a multiple of the step, up to rounding, blends no second configuration);
-#: also the smallest weight a grid configuration is blended with.
-ON_GRID = 1e-9
 
 
 class ConfigurationShadingCache:
@@ -89,20 +89,13 @@ class ConfigurationShadingCache:
         max_configurations: int,
         interpolate: bool = False,
     ):
-        if not (angle_step > 0.0 and length_step > 0.0):
-            raise ValueError(
-                f"the configuration grid's steps must be positive, got {angle_step!r} rad and "
-                f"{length_step!r} m"
-            )
+        steps = grid_steps(body.joints, angle_step, length_step)
         if int(max_configurations) < 1:
             raise ValueError(f"max_configurations must be >= 1, got {max_configurations!r}")
         self.body = body
         self.interpolate = bool(interpolate)
         self._make_cache = make_cache
-        self._steps = tuple(
-            length_step if joint.kind == "prismatic" else angle_step
-            for joint in body.joints.values()
-        )
+        self._steps = steps
         self.max_configurations = int(max_configurations)
         self._store = LruStore(self.max_configurations)  # grid key -> ShadingCache
         self.hits = self.misses = 0
@@ -121,49 +114,17 @@ class ConfigurationShadingCache:
     def key(self, positions: Mapping[str, float]) -> tuple:
         """Grid indices of the grid configuration nearest checked joint ``positions`` (every
         moving joint named)."""
-        return tuple(
-            math.floor(positions[name] / step + 0.5)
-            for name, step in zip(self.body.joints, self._steps)
-        )
+        return grid_key(self.body.joints, self._steps, positions)
 
     def vertices(self, positions: Mapping[str, float]) -> list:
         """``[(weight, key), ...]``: the grid configurations blended for ``positions`` and
         their weights (positive, summing to 1): the Kuhn simplex around them (module
         docstring), or the nearest configuration alone without interpolation."""
-        if not self.interpolate:
-            return [(1.0, self.key(positions))]
-        base, fractions = [], []
-        for (name, joint), step in zip(self.body.joints.items(), self._steps):
-            q = positions[name]
-            x = q / step
-            nearest = round(x)
-            if abs(x - nearest) <= ON_GRID:
-                x = nearest
-            index = math.floor(x)
-            base.append(index)
-            # the fraction between the cell's two grid positions as clipped to the limits, so
-            # that the blend reproduces q in a cell a limit cuts (and is exact at the limit)
-            low, high = _clipped(joint, index * step), _clipped(joint, (index + 1) * step)
-            fraction = 0.0 if high <= low else min(max((q - low) / (high - low), 0.0), 1.0)
-            fractions.append(fraction if fraction > ON_GRID else 0.0)
-        order = sorted(range(len(base)), key=fractions.__getitem__, reverse=True)
-        out, vertex, previous = [], list(base), 1.0
-        for j in order:
-            if previous - fractions[j] > ON_GRID:  # (a weight of rounding size: no vertex)
-                out.append((previous - fractions[j], tuple(vertex)))
-            vertex[j] += 1
-            previous = fractions[j]
-        if previous > ON_GRID:
-            out.append((previous, tuple(vertex)))
-        total = sum(w for w, _ in out)
-        return [(w / total, key) for w, key in out]
+        return grid_vertices(self.body.joints, self._steps, positions, self.interpolate)
 
     def configuration(self, key: tuple) -> dict:
         """The joint positions of a grid key, clipped to the joints' limits."""
-        return {
-            name: _clipped(joint, index * step)
-            for (name, joint), index, step in zip(self.body.joints.items(), key, self._steps)
-        }
+        return grid_configuration(self.body.joints, self._steps, key)
 
     def cache_at(self, key: tuple) -> ShadingCache:
         """The ShadingCache of the grid configuration ``key`` (posed and made if not kept)."""
@@ -217,8 +178,3 @@ class ConfigurationShadingCache:
             "hits": self.hits,
             "misses": self.misses,
         }
-
-
-def _clipped(joint, position: float) -> float:
-    """``position`` clipped to ``joint``'s limits."""
-    return min(max(position, joint.lower), joint.upper)

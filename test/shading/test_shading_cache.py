@@ -1,5 +1,7 @@
 """Shading cache: quantisation bound on the whole sphere, LRU behaviour, counters, precompute,
-and the stated error bound of a cached answer on the cube-before-plate scene."""
+the stated error bound of a cached answer on the cube-before-plate scene; cells and their sums,
+uncounted reads, exact mode, and an articulated body's configurations (bit-equal to the
+configuration grid's and the exact shading's lightings)."""
 
 from __future__ import annotations
 
@@ -9,11 +11,17 @@ import numpy as np
 import pytest
 
 from adbsat_ros.geometry import frames
+from adbsat_ros.geometry.articulated import ArticulatedBody
+from adbsat_ros.geometry.example_urdf import example_satellite_urdf
 from adbsat_ros.geometry.mesh import panels_from_arrays
+from adbsat_ros.geometry.poses import Joint
 from adbsat_ros.geometry.shapes import grid_box
-from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
+from adbsat_ros.shading import joint_grid
+from adbsat_ros.shading.cache import Cell, ShadingCache, moved_lit_area
+from adbsat_ros.shading.configurations import ConfigurationShadingCache
 from adbsat_ros.shading.cube_map import cells_per_edge, direction_keys, key_centres
-from adbsat_ros.shading.lighting import lit_projected_area
+from adbsat_ros.shading.exact_configurations import ExactShading
+from adbsat_ros.shading.lighting import LightingBlend, PanelLighting, lit_projected_area
 from adbsat_ros.shading.shader import make_shader
 
 
@@ -209,6 +217,10 @@ def test_counters_and_the_bound(shader):
         "max_entries": 4,
         "n": cache.n,
         "step_deg": pytest.approx(90.0 / cache.n),
+        "configurations": 1,
+        "max_configurations": 1,
+        "configuration_hits": 0,
+        "configuration_misses": 0,
     }
     assert cache.hits >= 30 and cache.misses > 4
     assert all(key in cache for key in keys[-1:])  # the latest cell is stored
@@ -278,3 +290,254 @@ def test_cached_answers_stay_within_stated_bound(shader, scene, resolution_deg):
     # ... and the error shrinks with the resolution: mean moved area < 1 % of the lit area
     # (~9 m^2) per degree of resolution (measured ~0.2 % per degree)
     assert np.mean(moved) < 0.01 * 9.0 * resolution_deg
+
+
+# ---------------------------------------------------------------- the one cache: cells, hooks
+def _same(a, b):
+    """Bit-equality of two lightings or blends (weights, parts, arrays)."""
+    if isinstance(a, LightingBlend):
+        assert isinstance(b, LightingBlend) and len(a.parts) == len(b.parts)
+        for (wa, la), (wb, lb) in zip(a.parts, b.parts):
+            assert wa == wb
+            _same(la, lb)
+        return
+    assert isinstance(b, PanelLighting) and not isinstance(a, LightingBlend)
+    for name in ("lit_fraction", "shift_index", "shift"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
+
+
+@pytest.mark.parametrize("interpolate", [False, True])
+def test_reads_are_the_cell_centres_shading_in_the_triangles_order(shader, interpolate):
+    """read() gives (weight, Cell) of the cells around u (the triangulation's order, weight 0
+    dropped); each cell's lighting is the shader's at its centre, bit for bit; lighting() is
+    their blend, or the one stored lighting itself."""
+    cache = ShadingCache(shader, resolution_deg=2.0, interpolate=interpolate)
+    rng = np.random.default_rng(4)
+    for _ in range(6):
+        u = np.array([-1.0, 0.0, 0.0]) + 0.4 * rng.normal(size=3)
+        x, y, z = u.tolist()
+        if interpolate:
+            expected = [(w, k) for k, w in zip(*cache.triangulation.locate(x, y, z)) if w > 0.0]
+        else:
+            expected = [(1.0, cache.key(u))]
+        parts = cache.read(u)
+        assert [w for w, _ in parts] == [w for w, _ in expected]
+        assert cache.last_keys == tuple(k for _, k in expected)
+        for (_, cell), (_, k) in zip(parts, expected):
+            assert isinstance(cell, Cell) and cell.sums is None and cell.posed is None
+            _same(cell.lighting, shader.lighting(cache.centre(k)))
+        reference = LightingBlend.of([(w, shader.lighting(cache.centre(k))) for w, k in expected])
+        _same(cache.lighting(u), reference)
+        if len(parts) == 1:
+            assert cache.lighting(u) is parts[0][1].lighting
+
+
+def test_the_summarise_hook_runs_once_per_cell(shader):
+    """Sums are made on first use, once per stored cell, from that cell's lighting; a cell
+    evicted and read again is made again (and summarised again)."""
+    calls = []
+
+    def summarise(lighting):
+        calls.append(lighting)
+        return float(lighting.lit_fraction.sum())
+
+    cache = ShadingCache(shader, resolution_deg=5.0, max_entries=2, summarise=summarise)
+    ua, ub, uc = (frames.flow_direction(math.radians(a), 0.0) for a in (0.0, 20.0, 40.0))
+    (_, cell), *rest = cache.read(ua)
+    assert rest == [] and calls == []  # lazy: not made with the lighting
+    assert cell.sums == float(cell.lighting.lit_fraction.sum())
+    for _ in range(3):
+        assert cache.read(ua)[0][1] is cell and cell.sums == calls[0].lit_fraction.sum()
+    assert len(calls) == 1 and calls[0] is cell.lighting
+    cache.read(ub)[0][1].sums
+    cache.read(uc)  # evicts ua's cell
+    assert cache.key(ua) not in cache and len(calls) == 2
+    again = cache.read(ua)[0][1]
+    assert again is not cell and again.sums == cell.sums and len(calls) == 3
+    precomputed = ShadingCache(shader, resolution_deg=30.0, summarise=summarise)
+    precomputed.precompute()
+    assert len(calls) == 3  # (sums are not precomputed)
+
+
+def test_uncounted_reads_share_the_cells_and_leave_their_keys_apart(shader):
+    """count=False (the sun's reads) leaves hits and misses alone, stores its cells in the
+    same bound, and gives its keys in last_uncounted until the next counted read."""
+    cache = ShadingCache(shader, resolution_deg=5.0, max_entries=2)
+    ua, ub = frames.flow_direction(0.1, 0.0), frames.flow_direction(0.5, 0.3)
+    cache.read(ua)
+    cache.read(ub, count=False)
+    assert (cache.hits, cache.misses, len(cache)) == (0, 1, 2)
+    assert cache.last_keys == (cache.key(ua),) and cache.last_uncounted == (cache.key(ub),)
+    cache.read(ub)  # stored by the uncounted read: a hit
+    assert (cache.hits, cache.misses) == (1, 1) and cache.last_uncounted == ()
+    cache.read(-ua, count=False)  # a third cell evicts the least recently used (ua's)
+    assert cache.evictions == 1 and cache.key(ua) not in cache
+    # the error bound reads uncounted (its answer, when not given, is the cached one)
+    u = frames.flow_direction(math.radians(8.4), math.radians(-3.3))
+    bound = cache.area_error_bound(u)
+    assert bound == cache.area_error_bound(u, cache.lighting(u)) > 0.0
+
+
+def test_exact_mode_of_a_rigid_body(shader):
+    """Exact mode: the lighting of the direction itself (the shader's, bit for bit), keyed by
+    its components; bounds 1 cell and 1 shader; no interpolation, no cube-map filling."""
+    cache = ShadingCache.exact_mode(shader)
+    assert cache.exact and cache.max_entries == 1 and cache.info()["max_configurations"] == 1
+    u = frames.flow_direction(math.radians(8.4), math.radians(-3.3))
+    v = frames.flow_direction(math.radians(-5.0), math.radians(2.0))
+    _same(cache.lighting(u), shader.lighting(u))
+    assert cache.last_keys == (tuple(u.tolist()),) and tuple(u.tolist()) in cache
+    cache.lighting(u)
+    cache.lighting(v)
+    _same(cache.lighting(v), shader.lighting(v))
+    assert (cache.hits, cache.misses, cache.evictions, len(cache)) == (2, 2, 1, 1)
+    assert (cache.configuration_hits, cache.configuration_misses) == (0, 0)
+    with pytest.raises(ValueError, match="exact mode has no cells to interpolate"):
+        ShadingCache(shader, interpolate=True, exact=True)
+    with pytest.raises(ValueError, match="rigid body's cube-map cells"):
+        cache.precompute()
+    with pytest.raises(ValueError, match="rigid body's shader, or an articulated body"):
+        ShadingCache()
+
+
+# ---------------------------------------------------------------- articulated bodies
+@pytest.fixture(scope="module")
+def wings():
+    return ArticulatedBody.from_urdf(example_satellite_urdf())
+
+
+def _posed(body, mode="raycast"):
+    def posed_shader(positions):
+        return make_shader(body.mesh(positions), mode=mode)
+
+    return posed_shader
+
+
+def _grid_pair(body, joint_interpolate, interpolate, mode="raycast", **bounds):
+    """The one cache and today's ConfigurationShadingCache over the same posed shaders."""
+    step = math.radians(2.0)
+    posed_shader = _posed(body, mode)
+
+    def make(positions):
+        return ShadingCache(posed_shader(positions), 2.0, interpolate=interpolate)
+
+    old = ConfigurationShadingCache(body, make, step, 1e-3, 8, interpolate=joint_interpolate)
+    new = ShadingCache(
+        None,
+        2.0,
+        bounds.get("max_entries", 4096),
+        interpolate,
+        body=body,
+        posed_shader=posed_shader,
+        angle_step=step,
+        length_step=1e-3,
+        joint_interpolate=joint_interpolate,
+        max_configurations=bounds.get("max_configurations", 8),
+    )
+    return old, new
+
+
+def _joint_cases(body, n, seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        positions = {
+            name: float(rng.uniform(max(joint.lower, -1.0), min(joint.upper, 1.0)))
+            for name, joint in body.joints.items()
+        }
+        u = frames.flow_direction(
+            math.radians(rng.uniform(-30.0, 30.0)), math.radians(rng.uniform(120.0, 180.0))
+        )
+        yield positions, u
+
+
+@pytest.mark.parametrize(
+    "joint_interpolate, interpolate", [(False, False), (True, False), (True, True)]
+)
+def test_grid_lightings_equal_the_configuration_cache_bit_for_bit(
+    wings, joint_interpolate, interpolate
+):
+    """For the same joint positions and directions: the same grid keys and vertices, the same
+    flattened blend (configuration major, direction triangle's order, weights multiplied) of
+    bit-equal lightings, and the same counters of cells and configurations."""
+    old, new = _grid_pair(wings, joint_interpolate, interpolate)
+    for positions, u in _joint_cases(wings, 4, seed=2):
+        vertices = new.vertices(positions)
+        assert vertices == old.vertices(positions)
+        for _, key in vertices:
+            assert new.configuration(key) == old.configuration(key)
+        _same(new.lighting(u, vertices), old.lighting(u, positions))
+        assert new.last_keys == old.last_keys
+        _same(new.lighting(u, vertices), old.lighting(u, positions))  # (hits now)
+    assert (new.hits, new.misses) == (old.hits, old.misses) and new.hits > 0
+    assert (new.configuration_hits, new.configuration_misses) == (
+        old.configuration_hits,
+        old.configuration_misses,
+    )
+    with pytest.raises(ValueError, match="needs vertices"):
+        new.read(u)
+
+
+def test_the_grid_shares_one_bound_of_cells_and_keeps_its_shaders_apart(wings):
+    """Cells of every configuration share max_entries; shaders are kept by configuration key
+    up to max_configurations; eviction changes the counters, never the lightings."""
+    old, new = _grid_pair(
+        wings, False, False, mode="projection", max_entries=3, max_configurations=2
+    )
+    names = list(wings.joints)
+    u = frames.flow_direction(0.0, math.radians(150.0))
+    sequence = [{names[0]: math.radians(2.0 * k), names[1]: 0.0} for k in (0, 1, 2, 0, 3, 0)]
+    for positions in sequence:
+        _same(new.lighting(u, new.vertices(positions)), old.lighting(u, positions))
+    assert len(new) == 3 and new.evictions == 1  # 4 configurations' cells, 3 kept
+    assert new.info()["configurations"] == 2
+    assert new.configuration_misses == 5 and new.configuration_hits == 1  # (shaders: 2 kept)
+    assert (new.hits, new.misses) == (2, 4)
+    assert ((0, 0), new.key(u)) in new and ((1, 0), new.key(u)) not in new
+
+
+def test_exact_mode_of_an_articulated_body_equals_exact_shading(wings):
+    """Exact positions and direction: the lightings and counters of today's ExactShading."""
+    posed_shader = _posed(wings)
+    old = ExactShading(wings, posed_shader)
+    new = ShadingCache.exact_mode(body=wings, posed_shader=posed_shader)
+    cases = list(_joint_cases(wings, 3, seed=5))
+    (p0, u0), (p1, u1), (_, u2) = cases
+    for positions, u in [(p0, u0), (p0, u0), (p0, u1), (p1, u1), (p1, u2), (p0, u0)]:
+        vertices = new.vertices(positions)
+        assert vertices == [(1.0, tuple(positions[name] for name in wings.joints))]
+        _same(new.lighting(u, vertices), old.lighting(u, positions))
+        assert new.last_keys == old.last_keys
+    assert (
+        (new.hits, new.misses, new.configuration_hits, new.configuration_misses)
+        == (
+            old.hits,
+            old.misses,
+            old.configuration_hits,
+            old.configuration_misses,
+        )
+        == (1, 5, 2, 3)
+    )
+    assert len(new) == 1 and new.info()["configurations"] == 1
+
+
+def test_joint_grid_steps_keys_and_clipping(wings):
+    """Prismatic joints take the length step, others the angle step; keys round to the nearest
+    grid point; grid positions are clipped to the limits; steps must be positive."""
+    joints = {
+        "slide": Joint("slide", "prismatic", "a", "b", (1.0, 0.0, 0.0), 0.0, 0.0105),
+        "hinge": Joint("hinge", "revolute", "a", "c", (0.0, 0.0, 1.0), -0.5, 0.5),
+    }
+    steps = joint_grid.grid_steps(joints, 0.1, 0.002)
+    assert steps == (0.002, 0.1)
+    assert joint_grid.grid_key(joints, steps, {"slide": 0.0049, "hinge": -0.26}) == (2, -3)
+    assert joint_grid.grid_configuration(joints, steps, (6, -6)) == {"slide": 0.0105, "hinge": -0.5}
+    vertices = joint_grid.grid_vertices(joints, steps, {"slide": 0.0103, "hinge": 0.25}, True)
+    weights = np.array([w for w, _ in vertices])
+    points = np.array(
+        [list(joint_grid.grid_configuration(joints, steps, k).values()) for _, k in vertices]
+    )
+    np.testing.assert_allclose(weights @ points, [0.0103, 0.25], atol=1e-12)
+    with pytest.raises(ValueError, match="steps must be positive"):
+        joint_grid.grid_steps(joints, 0.0, 0.002)
+    with pytest.raises(ValueError, match="needs angle_step and length_step"):
+        ShadingCache(body=wings, posed_shader=_posed(wings))
