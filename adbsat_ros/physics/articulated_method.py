@@ -20,9 +20,10 @@ sums carry (:class:`~adbsat_ros.physics.link_loads.EffortColumns`), in one produ
 with them. The links' forces and moments are read, when asked for, from the same facet sums
 taken link by link
 (:class:`~adbsat_ros.physics.link_loads.LinkLoads`): each link's force and moment (about G's
-origin) and lit projected area give them through one linear map per configuration (its
-``load_maps``). Otherwise each link is evaluated in its own frame as above, with the lighting
-split by link, and the map gives every output.
+origin) and lit projected area give them through one linear map per configuration
+(:attr:`~adbsat_ros.physics.articulated_results.Configuration.load_map`). Otherwise each link
+is evaluated in its own frame as above, with the lighting split by link
+(:func:`~adbsat_ros.shading.lighting.panel_range`), and the map gives every output.
 
 The same numbers, to rounding, as a :class:`PanelMethod` of
 :meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh` at those positions (tested).
@@ -41,16 +42,19 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
-from adbsat_ros.geometry.poses import Poses, link_frames
-from adbsat_ros.lru import LruStore
-from adbsat_ros.physics.articulated_results import ArticulatedCoefficients, Configuration
+from adbsat_ros.geometry.poses import link_frames
+from adbsat_ros.physics.articulated_results import (
+    ArticulatedCoefficients,
+    Configuration,
+    LoadMaps,
+)
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
 from adbsat_ros.physics.facets import facet_rows
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.link_loads import LINK_LOADS, EffortColumns, LinkLoads
 from adbsat_ros.physics.panel_method import OWN_SHADING, PanelMethod
-from adbsat_ros.physics.posed_facets import PosedFacets
-from adbsat_ros.shading.link_split import LinkSplitCache
+from adbsat_ros.physics.posed_facets import PosedFacets, PosedSums
+from adbsat_ros.shading.lighting import panel_range
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 from adbsat_ros.shading.shader import make_shader
 
@@ -112,15 +116,10 @@ class ArticulatedMethod:
                     self._carries[j, evaluated[link]] = 1.0
         self._joint_names = tuple(body.joints)
         self._prismatic = np.array([j.kind == "prismatic" for j in body.joints.values()], bool)
-        #: The joints' effort terms (:meth:`_make_load_map`, and the posed facets' columns).
+        #: The joints' effort terms (the load maps', and the posed facets' columns).
         self._effort_columns = EffortColumns(
             self._carries, self._prismatic, self.reference.area, self.reference.length
         )
-        #: The linear map from the links' loads to every output, per configuration (key: the
-        #: poses' key; bound 16).
-        self.load_maps = LruStore(16)
-        #: The lightings of the posed body split by link, in the links' frames.
-        self.splits = LinkSplitCache([(start, stop) for _, start, stop, _ in self._links])
         methods = [method for *_, method in self._links]
         #: The links' facets posed in the body frame (None if a link is evaluated panel by
         #: panel; then every link is evaluated in its own frame).
@@ -142,7 +141,7 @@ class ArticulatedMethod:
         # efforts, lit projected area
         ends = np.cumsum([0, 3, 3, 3 * n_links, 3 * n_links, n_joints, 1]).tolist()
         self._rows = tuple(slice(a, b) for a, b in zip(ends[:-1], ends[1:]))
-        self._links_map = self._make_links_map()
+        self._load_maps = LoadMaps(self._make_links_map(), self._rows[4], self._effort_columns)
 
     @property
     def needs_species(self) -> bool:
@@ -200,27 +199,62 @@ class ArticulatedMethod:
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         if not isinstance(positions, Configuration):
             positions = self.configuration(positions)
-        elif positions.method is not self:
+        elif positions.maps is not self._load_maps:
             raise ValueError("positions: a Configuration made by another ArticulatedMethod")
-        configuration, poses = positions, positions.poses
+        configuration = positions
         if lighting is OWN_SHADING:
             lighting = self.lighting_of(u, configuration.positions)
         if lighting is not None and lighting.n_panels != self.n_panels:
             raise ValueError(
                 f"lighting has {lighting.n_panels} panels, the body has {self.n_panels}"
             )
+        sums = None if self.facets is None else self.facets.sums(lighting, configuration)
+        return self.coefficients_of_rows(flow, u, angles, configuration, sums, lighting, surface)
+
+    def coefficients_of_rows(
+        self,
+        flow: FreeStream,
+        u,
+        angles,
+        configuration: Configuration,
+        sums: PosedSums | None,
+        lighting=None,
+        surface=None,
+    ) -> ArticulatedCoefficients:
+        """:meth:`coefficients` from the lighting's rows posed at the configuration.
+
+        Parameters
+        ----------
+        flow : FreeStream
+        u : ndarray, shape (3,)
+            Unit flow direction (G).
+        angles : tuple or None
+            ``(aoa, aos)`` [rad] for the wind axes, as :func:`frames.attitude_flow` gives them.
+        configuration : Configuration
+            Made by this method's :meth:`configuration`.
+        sums : PosedSums or None
+            The lighting's parts' rows (:meth:`PosedFacets.link_rows`) posed at
+            ``configuration.posing`` and blended (:meth:`PosedFacets.pose`); None without
+            :attr:`facets`.
+        lighting : PanelLighting, LightingBlend or None
+            The posed body's lighting the rows are of (None: all lit): kept on the result, and
+            split by link when the links are evaluated one by one.
+        surface : tuple of PanelSurface, optional
+            From :meth:`surface_with`.
+        """
         posed = None
         if self.facets is not None:
-            posed = self._posed_evaluation(flow, u, lighting, surface, configuration)
+            posed = self._posed_evaluation(flow, u, sums, surface, configuration)
         cf, cm, forces, moments, effort, area = self._rows
         n_links = len(self.body.links)
-        load_map = configuration.load_map
         if posed is not None:
             (Cf_G, Cm_G, area_projected), panel_values, panel_index, facet_terms = posed
-            link_loads = LinkLoads(load_map, forces, moments, effort, n_links, facets=facet_terms)
+            link_loads = LinkLoads(
+                configuration, forces, moments, effort, n_links, facets=facet_terms
+            )
         else:  # (a link without facets, or a surface varying within a facet)
-            loads, panel_values = self._link_loads(flow, u, lighting, surface, poses)
-            link_loads = LinkLoads(load_map, forces, moments, effort, n_links, loads=loads)
+            loads, panel_values = self._link_loads(flow, u, lighting, surface, configuration.poses)
+            link_loads = LinkLoads(configuration, forces, moments, effort, n_links, loads=loads)
             out = link_loads._outputs
             Cf_G, Cm_G, area_projected = out[cf], out[cm], float(out[area][0])
             panel_index = None
@@ -247,47 +281,18 @@ class ArticulatedMethod:
 
     def configuration(self, positions: Mapping[str, float] | None = None) -> Configuration:
         """The :class:`Configuration` of joint ``positions`` (others at zero), checked as
-        :meth:`ArticulatedBody.positions` checks them (ValueError naming a bad one)."""
+        :meth:`ArticulatedBody.positions` checks them (ValueError naming a bad one): made once
+        per joint state, with the posed facets' :class:`Posing`."""
         positions = self.body.positions(positions)
         poses = link_frames(self.body, positions)
         joint_positions = np.array(poses.key, dtype=float)
         joint_positions.setflags(write=False)
-        normals = None if self.facets is None else self.facets.normals(poses)
-        return Configuration(positions, poses, joint_positions, normals, self.load_map(poses), self)
-
-    def load_map(self, poses: Poses) -> np.ndarray:
-        """The map from the evaluated links' loads to every output at ``poses``' configuration
-        (:attr:`load_maps`; made by :meth:`_make_load_map`)."""
-        return self.load_maps.get(poses.key, lambda: self._make_load_map(poses))
-
-    def _make_load_map(self, poses: Poses) -> np.ndarray:
-        """The matrix that takes the evaluated links' loads to every output at the configuration
-        of ``poses``.
-
-        Its input is, link after link, (F, M, S): the link's force W (q u + k n) summed over its
-        facets [m^2], their moment about G's origin [m^3] (body frame) and its lit projected
-        area [m^2]. Its output: Cf_G, Cm_G (about the reference point r), each link's force and
-        moment coefficients (all links, zero without geometry), each joint's effort coefficient
-        and the body's lit projected area. A link's coefficients are f = F / A_ref and, about r,
-        (M - r x F) / (A_ref L_ref); joint j (axis a through o) carrying the links C_j has the
-        effort coefficient sum_(l in C_j) a . (M_l - o x F_l) / (A_ref L_ref) =
-        (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns, and sum_(l in C_j) a . F_l / A_ref
-        if it slides.
-        """
-        per_joint = np.array(
-            [(*f, *m, 0.0) for f, m in self._effort_columns.per_joint(poses)]
-        ).reshape(-1, LINK_LOADS)
-        out = self._links_map.copy()
-        # joint j's row: per_joint[j] in the columns of every link it carries
-        out[self._rows[4]] = (self._carries[:, :, None] * per_joint[:, None, :]).reshape(
-            len(per_joint), out.shape[1]
-        )
-        out.setflags(write=False)
-        return out
+        posing = None if self.facets is None else self.facets.posing(poses)
+        return Configuration(positions, poses, joint_positions, posing, self._load_maps)
 
     def _make_links_map(self) -> np.ndarray:
-        """The rows of :meth:`_make_load_map` that no joint's pose changes: Cf_G, Cm_G, the
-        links' loads and the lit projected area (the joints' efforts' rows zero)."""
+        """The rows of the load map (:class:`LoadMaps`) that no joint's pose changes: Cf_G,
+        Cm_G, the links' loads and the lit projected area (the joints' efforts' rows zero)."""
         area, length = self.reference.area, self.reference.length
         force = np.eye(3, LINK_LOADS) / area  # (F, M, S) -> f
         about_point = np.zeros((3, LINK_LOADS))  # (F, M, S) -> m - r x f / L_ref
@@ -305,7 +310,7 @@ class ArticulatedMethod:
             out[area_row.start, LINK_LOADS * k + 6] = 1.0  # the lit projected area
         return out
 
-    def _posed_evaluation(self, flow, u, lighting, surface, configuration):
+    def _posed_evaluation(self, flow, u, sums, surface, configuration):
         """The posed facets in one evaluation, as a rigid body of them (None if the surface
         varies within a facet): the totals (Cf_G, Cm_G, lit projected area), the per-facet
         values, the facet of every panel, and what :class:`LinkLoads` takes to compute the
@@ -314,10 +319,11 @@ class ArticulatedMethod:
         facet_surface = self._facet_surface if surface is None else facets.surface(surface)
         if facet_surface is None:
             return None
-        normals, inward_T = configuration.normals
-        c, cp, shear, ctau = self._evaluator.facet_coefficients(u, inward_T, facet_surface, flow)
+        normals = configuration.posing.normals
+        c, cp, shear, ctau = self._evaluator.facet_coefficients(
+            u, configuration.posing.inward_T, facet_surface, flow
+        )
         rows = facet_rows(c, cp, shear)
-        sums = facets.sums(lighting, configuration.poses)
         return (
             PanelMethod.totals_of_sums(u, rows, sums.ten, self.reference),
             (c, cp, ctau, shear, normals),
@@ -326,11 +332,14 @@ class ArticulatedMethod:
         )
 
     def _link_loads(self, flow, u, lighting, surface, poses):
-        """Every evaluated link's loads (F, M, S of :meth:`_make_load_map`) side by side, link
-        by link in the links' frames, and the per-panel values."""
+        """Every evaluated link's loads (F, M, S of :class:`LoadMaps`) side by side, link by
+        link in the links' frames, and the per-panel values."""
         rotations = poses.rotations[self._link_index]
         origins = poses.origins[self._link_index]
-        own = self.splits.split(lighting, rotations, poses.key)
+        own = [  # (the lighting of each link's panels, shifts in its frame)
+            panel_range(lighting, start, stop, rotation.T)
+            for (_, start, stop, _), rotation in zip(self._links, rotations)
+        ]
         u_links = rotations.transpose(0, 2, 1) @ u  # the flow seen by each link
         loads = np.empty((len(self._links), LINK_LOADS))
         results = []

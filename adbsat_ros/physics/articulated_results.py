@@ -7,19 +7,65 @@ Units: metres, radians; frame G = the root link's frame.
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 from typing import NamedTuple
 
 import numpy as np
 
 from adbsat_ros.geometry.poses import Poses
 from adbsat_ros.physics.coefficients import AeroCoefficients
-from adbsat_ros.physics.link_loads import LinkLoads
+from adbsat_ros.physics.link_loads import LINK_LOADS, EffortColumns, LinkLoads
+from adbsat_ros.physics.posed_facets import Posing
 
 
-class Configuration(NamedTuple):
+class LoadMaps:
+    """What makes a configuration's load map: the matrix that takes the evaluated links' loads
+    to every output (:attr:`Configuration.load_map`).
+
+    Its input is, link after link, (F, M, S): the link's force W (q u + k n) summed over its
+    facets [m^2], their moment about G's origin [m^3] (body frame) and its lit projected area
+    [m^2]. Its output: Cf_G, Cm_G (about the reference point r), each link's force and moment
+    coefficients (all links, zero without geometry), each joint's effort coefficient and the
+    body's lit projected area. A link's coefficients are f = F / A_ref and, about r,
+    (M - r x F) / (A_ref L_ref); joint j (axis a through o) carrying the links C_j has the
+    effort coefficient sum_(l in C_j) a . (M_l - o x F_l) / (A_ref L_ref) =
+    (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns, and sum_(l in C_j) a . F_l / A_ref
+    if it slides.
+
+    Parameters
+    ----------
+    links : ndarray
+        The map's rows that no joint's pose changes (the joints' efforts' rows zero).
+    efforts : slice
+        The joints' efforts' rows.
+    columns : EffortColumns
+        The joints' effort terms (``carries``: 1 where joint j carries evaluated link l).
+    """
+
+    def __init__(self, links: np.ndarray, efforts: slice, columns: EffortColumns):
+        self.links, self.efforts, self.columns = links, efforts, columns
+        links.setflags(write=False)
+
+    def at(self, poses: Poses) -> np.ndarray:
+        """The load map at ``poses``' configuration (read-only)."""
+        per_joint = np.array([(*f, *m, 0.0) for f, m in self.columns.per_joint(poses)]).reshape(
+            -1, LINK_LOADS
+        )
+        out = self.links.copy()
+        # joint j's row: per_joint[j] in the columns of every link it carries
+        out[self.efforts] = (self.columns.carries[:, :, None] * per_joint[:, None, :]).reshape(
+            len(per_joint), out.shape[1]
+        )
+        out.setflags(write=False)
+        return out
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Configuration:
     """Joint positions checked and posed, with what an evaluation there reads: made by
-    :meth:`ArticulatedMethod.configuration` once, given to :meth:`ArticulatedMethod.coefficients`
-    for every attitude at those positions (a node between two joint states).
+    :meth:`ArticulatedMethod.configuration` once per joint state, given to
+    :meth:`ArticulatedMethod.coefficients` for every attitude at those positions.
 
     Attributes
     ----------
@@ -29,20 +75,23 @@ class Configuration(NamedTuple):
         The links' and joints' frames.
     joint_positions : ndarray, shape (J,)
         The positions in the body's joint order (read-only).
-    normals : tuple or None
-        The posed facets' ``(normals, -normals^T)``; None without posed facets.
-    load_map : ndarray
-        The map from the links' loads to every output (:meth:`ArticulatedMethod.load_map`).
-    method : ArticulatedMethod
-        The method it was made by, and for (its facets and reference).
+    posing : Posing or None
+        The posed facets' normals and posing matrices; None without posed facets.
+    maps : LoadMaps
+        What makes :attr:`load_map`: the method's own (it tells which method made it).
     """
 
     positions: dict
     poses: Poses
     joint_positions: np.ndarray
-    normals: tuple | None
-    load_map: np.ndarray
-    method: object
+    posing: Posing | None
+    maps: LoadMaps
+
+    @functools.cached_property
+    def load_map(self) -> np.ndarray:
+        """The map from the links' loads to every output (:class:`LoadMaps`), made when the
+        links' loads, or every output of a body evaluated link by link, are first read."""
+        return self.maps.at(self.poses)
 
 
 class ArticulatedCoefficients(NamedTuple):

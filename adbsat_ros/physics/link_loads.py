@@ -100,9 +100,9 @@ class LinkLoads:
 
     Parameters
     ----------
-    load_map : ndarray, shape (R, 7 E)
-        The configuration's map from the E evaluated links' loads (F, M, S) to every output
-        (:meth:`~adbsat_ros.physics.articulated_method.ArticulatedMethod.load_map`).
+    configuration : Configuration
+        The evaluation's (:class:`~adbsat_ros.physics.articulated_results.Configuration`):
+        its ``load_map`` (R, 7 E) takes the E evaluated links' loads (F, M, S) to every output.
     forces, moments, efforts : slice
         Its rows of the links' force and moment coefficients and of the joints' efforts.
     n_links : int
@@ -115,10 +115,10 @@ class LinkLoads:
         index of each evaluated link's first facet and the flow direction.
     """
 
-    def __init__(self, load_map, forces, moments, efforts, n_links, loads=None, facets=None):
+    def __init__(self, configuration, forces, moments, efforts, n_links, loads=None, facets=None):
         if (loads is None) == (facets is None):
             raise ValueError("give exactly one of loads and facets")
-        self.load_map = load_map
+        self.configuration = configuration
         self.forces, self.moments, self.efforts = forces, moments, efforts
         self.n_links = int(n_links)
         self._loads = loads
@@ -152,7 +152,7 @@ class LinkLoads:
             weighted = sums.ten[:, :, None] * rows.T[:, None, :]  # (G, 10, 3)
             per_link = np.add.reduceat(weighted, starts, axis=0).reshape(len(starts), -1)
             loads = (per_link @ sums_to_loads(u)).ravel()
-        return self.load_map @ loads
+        return self.configuration.load_map @ loads
 
 
 #: Loads of a link: force (3), moment about G's origin (3), lit projected area.

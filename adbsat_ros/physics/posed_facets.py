@@ -17,9 +17,7 @@ times one (13, 10) matrix per facet and configuration; so are the joints' effort
 follow from them (:class:`~adbsat_ros.physics.link_loads.EffortColumns`), the row times one
 (13, 4 J) matrix. A configuration's :class:`Posing` holds both, and posing a lighting's sums is
 one product with each. The sums of a lighting are linear in it, so a blend's are the weighted
-sum of its parts'. :class:`PosedFacets` keeps the links' sums of the latest lightings, the posed
-sums of the latest blends' parts at their configurations and the posings of the latest
-configurations.
+sum of its parts' (:meth:`PosedFacets.pose`).
 
 Units: metres and square metres, body frame G.
 """
@@ -80,6 +78,15 @@ class PosedSums:
             stacked_columns[0] if weights is None and stacked_columns is not None else None
         )
 
+    @classmethod
+    def of(cls, weights, ten, columns=None) -> "PosedSums":
+        """The blend with ``weights`` (P,) of the parts' posed sums ``ten`` (P, G, 10) and
+        effort columns ``columns`` (P, G, 4 J) or None; one part is taken as it is."""
+        if len(ten) == 1:
+            return cls(ten[0], None, columns)
+        weights = np.array(weights)
+        return cls((weights @ ten.reshape(len(ten), -1)).reshape(ten.shape[1:]), weights, columns)
+
     @property
     def columns(self) -> np.ndarray | None:
         """The joints' effort columns (G, 4 J), or None."""
@@ -100,11 +107,11 @@ EPSILON[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0
 class PosedFacets:
     """The facets of every link of an articulated body, posed per configuration.
 
-    Build with :meth:`of`. Three stores (key -> value; bound ``max_entries`` each; counters in
-    each): :attr:`link_sums_store`, a lighting part's content key -> its sums in the links'
-    frames and its shift sums; :attr:`sums_store`, (the content keys of a lighting's parts,
-    None for all lit; configuration key) -> their posed sums, stacked (:meth:`sums`);
-    :attr:`posing_store`, configuration key -> its :class:`Posing`.
+    Build with :meth:`of`. Pure: :meth:`posing` (one per configuration), :meth:`link_rows`
+    (one per lighting), :meth:`pose_part` and :meth:`pose`. Two stores (key -> value; bound
+    ``max_entries`` each; counters in each) serve :meth:`sums`: :attr:`link_sums_store`, a
+    lighting part's content key -> its rows; :attr:`sums_store`, (the content keys of a
+    lighting's parts, None for all lit; the joint positions) -> their posed sums, stacked.
 
     Parameters
     ----------
@@ -163,7 +170,6 @@ class PosedFacets:
         self._normals = np.concatenate([f.normals for f in self._facets])
         self.link_sums_store = LruStore(max_entries)
         self.sums_store = LruStore(max_entries)
-        self.posing_store = LruStore(max_entries)
         self._own = None  # (the links' own values by parameter, the facets' surface of them)
         if link_surfaces is not None:
             own = self._surface_of_links(link_surfaces)
@@ -230,113 +236,107 @@ class PosedFacets:
                 )
         return PanelSurface(**values)
 
-    def normals(self, poses) -> tuple:
-        """``(normals (G, 3), -normals^T (3, G))`` of the facets posed at ``poses``."""
-        posing = self.posing(poses)
-        return posing.normals, posing.inward_T
-
     def posing(self, poses) -> Posing:
-        """The :class:`Posing` of the facets at ``poses`` (:attr:`posing_store`).
+        """The :class:`Posing` of the facets at ``poses`` (made once per configuration: see
+        :meth:`~adbsat_ros.physics.articulated_method.ArticulatedMethod.configuration`), from
+        the module docstring's formulas for a row of sums times the matrix."""
+        turned = poses.rotations[self._facet_link].transpose(0, 2, 1)  # (R v)^T = v^T R^T
+        origins = poses.origins[self._facet_link]
+        normals = np.einsum("gji,gj->gi", turned, self._normals)
+        matrix = self._posing_constants.copy()  # W' = W, Q' = ... + S
+        matrix[:, 1:4, 1:4] = turned  # (W n)' = R (W n)
+        matrix[:, 4:7, 4:7] = turned  # Q' = R Q + W t + S
+        matrix[:, 0, 4:7] = origins
+        matrix[:, 7:10, 7:10] = turned  # (Q x n)' = R (Q x n) + t x R (W n) + S x n'
+        t_cross_T = np.einsum("jlk,gk->gjl", EPSILON, origins)  # [t]x^T
+        matrix[:, 1:4, 7:10] = np.einsum("gij,gjl->gil", turned, t_cross_T)
+        matrix[:, 10:13, 7:10] = -np.einsum("ijk,gk->gij", EPSILON, normals)
+        efforts = None
+        if self._joints is not None:  # the effort columns of the posed sums, where carried
+            efforts = (matrix.reshape(-1, 10) @ self._joints.matrix(poses)).reshape(self.n, 13, -1)
+            efforts *= self._carried[:, None, :]
+            efforts.setflags(write=False)
+        inward_T = np.ascontiguousarray(-normals.T)
+        for a in (normals, inward_T, matrix):
+            a.setflags(write=False)
+        return Posing(normals, inward_T, matrix, efforts)
 
-        A joint state of the tracking arrays makes one, then poses the three parts of the
-        attitude's blend with it: cheaper in all than posing the normals alone and then turning,
-        moving and crossing each group of columns of the three parts.
-        """
+    def link_rows(self, lighting) -> np.ndarray:
+        """The rows (G, 13) of ``lighting`` (None: all lit): each facet's sums (W, W n, Q,
+        Q x n) of its panels' lit fractions in its link's own frame, and its shift sums S in G
+        (zero if no panel of it has a shift). Read-only; they depend on the lighting alone."""
+        rows = np.zeros((self.n, 13))
+        if lighting is None:
+            rows[:, :10] = self._all_lit
+        else:  # (every link at once: each facet's panels summed in their order)
+            lit = lighting.lit_fraction[self._panels]
+            index, n = self.panel_index, self.n
+            moments = vector_sums(index, lit[:, None] * self._weighted_barycentres, n)
+            rows[:, :10] = sum_columns(
+                np.bincount(index, self._areas * lit, minlength=n), moments, self._normals
+            )
+            if lighting.shift_index.size:
+                panels = self._row_of_panel[lighting.shift_index]
+                inside = panels >= 0
+                panels = panels[inside]
+                shift = (self._areas[panels] * lit[panels])[:, None] * lighting.shift[inside]
+                rows[:, 10:] = vector_sums(index[panels], shift, n)
+        rows.setflags(write=False)
+        return rows
 
-        def make():  # (the module docstring's formulas, for a row of sums times the matrix)
-            turned = poses.rotations[self._facet_link].transpose(0, 2, 1)  # (R v)^T = v^T R^T
-            origins = poses.origins[self._facet_link]
-            normals = np.einsum("gji,gj->gi", turned, self._normals)
-            matrix = self._posing_constants.copy()  # W' = W, Q' = ... + S
-            matrix[:, 1:4, 1:4] = turned  # (W n)' = R (W n)
-            matrix[:, 4:7, 4:7] = turned  # Q' = R Q + W t + S
-            matrix[:, 0, 4:7] = origins
-            matrix[:, 7:10, 7:10] = turned  # (Q x n)' = R (Q x n) + t x R (W n) + S x n'
-            t_cross_T = np.einsum("jlk,gk->gjl", EPSILON, origins)  # [t]x^T
-            matrix[:, 1:4, 7:10] = np.einsum("gij,gjl->gil", turned, t_cross_T)
-            matrix[:, 10:13, 7:10] = -np.einsum("ijk,gk->gij", EPSILON, normals)
-            efforts = None
-            if self._joints is not None:  # the effort columns of the posed sums, where carried
-                # (one product for every facet, cheaper than einsum;
-                # made once per configuration, the same numbers however the arrays lie)
-                efforts = (matrix.reshape(-1, 10) @ self._joints.matrix(poses)).reshape(
-                    self.n, 13, -1
-                )
-                efforts *= self._carried[:, None, :]
-                efforts.setflags(write=False)
-            inward_T = np.ascontiguousarray(-normals.T)
-            for a in (normals, inward_T, matrix):
-                a.setflags(write=False)
-            return Posing(normals, inward_T, matrix, efforts)
+    def pose_part(self, rows, posing: Posing) -> tuple:
+        """One lighting's ``rows`` (:meth:`link_rows`) posed with ``posing``: the ten sums
+        (G, 10) and the joints' effort columns (G, 4 J) (None without joints), read-only. A
+        part's posed sums are the same bits whether posed alone or stacked with others (einsum
+        sums each row on its own)."""
+        ten = np.einsum("gi,gic->gc", rows, posing.matrix)
+        ten.setflags(write=False)
+        if posing.efforts is None:
+            return ten, None
+        columns = np.einsum("gi,gic->gc", rows, posing.efforts)
+        columns.setflags(write=False)
+        return ten, columns
 
-        return self.posing_store.get(poses.key, make)
+    def pose(self, rows, weights, posing: Posing) -> PosedSums:
+        """The parts' ``rows`` (a sequence of :meth:`link_rows`) posed with ``posing`` and
+        blended with ``weights``: the facet sums (W, W n, Q, Q x n) link after link, the layout
+        of :meth:`~adbsat_ros.physics.facets.Facets.lit_sums`, so that the whole body's totals
+        are those of a rigid body of these facets; with joints, their effort columns."""
+        return PosedSums.of(weights, *_stacked([self.pose_part(r, posing) for r in rows]))
 
-    def sums(self, lighting, poses) -> PosedSums:
-        """The facet sums (W, W n, Q, Q x n) of the body's ``lighting`` (None: all lit) posed
-        at ``poses``, link after link: the layout of
-        :meth:`~adbsat_ros.physics.facets.Facets.lit_sums`, so that the whole body's totals are
-        those of a rigid body of these facets; and, with ``joints``, the joints' effort columns
-        (:class:`~adbsat_ros.physics.link_loads.EffortColumns`).
-
-        A blend's are the weighted sum of its parts' posed sums, kept stacked under the parts'
-        keys and the configuration's (:attr:`sums_store`): the parts of a blend are those of the
-        direction triangle around the flow, the same for hundreds of attitudes, so a message
-        reads one entry and makes one product with its weights (the effort columns' only if the
-        efforts are read). A new triangle poses its three parts again, together.
-        """
+    def sums(self, lighting, configuration) -> PosedSums:
+        """:meth:`pose` of the body's ``lighting`` (a lighting, a blend, or None: all lit) at
+        ``configuration`` (its ``posing`` and ``poses.key``), through the stores: the rows of
+        each part by its content key (:attr:`link_sums_store`), and the parts' posed sums,
+        stacked, by the parts' keys and the joint positions (:attr:`sums_store`). The parts of
+        a blend are those of the direction triangle around the flow, the same for many
+        attitudes, so a message reads one entry and blends it with its weights."""
         if isinstance(lighting, LightingBlend):
             weights, parts = zip(*lighting.parts)
         else:
             weights, parts = (1.0,), (lighting,)
-        key = (tuple(None if part is None else part.key for part in parts), poses.key)
-        ten, columns = self.sums_store.get(key, lambda: self._posed_parts(parts, poses))
-        if len(parts) == 1:
-            return PosedSums(ten[0], None, columns)
-        weights = np.array(weights)
-        return PosedSums(
-            (weights @ ten.reshape(len(parts), -1)).reshape(self.n, 10), weights, columns
-        )
+        key = (tuple(None if part is None else part.key for part in parts), configuration.poses.key)
 
-    def _posed_parts(self, parts, poses) -> tuple:
-        """The posed sums of the lighting ``parts`` at ``poses``, stacked: (P, G, 10) and the
-        effort columns (P, G, 4 J) (None without joints), read-only; each a product of their
-        (W, W n, Q, Q x n, S) with the configuration's :class:`Posing` (each row computed alone,
-        as einsum sums it: a part's sums are the same posed with any others)."""
-        rows = np.zeros((len(parts), self.n, 13))
-        for k, part in enumerate(parts):
-            own, shifts = self._link_sums(part)
-            rows[k, :, :10] = own
-            if shifts is not None:
-                rows[k, :, 10:] = shifts
-        posing = self.posing(poses)
-        ten = np.einsum("pgi,gic->pgc", rows, posing.matrix)
-        ten.setflags(write=False)
-        if posing.efforts is None:
-            return ten, None
-        columns = np.einsum("pgi,gic->pgc", rows, posing.efforts)
-        columns.setflags(write=False)
-        return ten, columns
+        def make():
+            rows = [self._rows_of(part) for part in parts]
+            return _stacked([self.pose_part(r, configuration.posing) for r in rows])
 
-    def _link_sums(self, lighting) -> tuple:
-        """The facets' sums (G, 10) of ``lighting``'s lit fractions, each in its link's own
-        frame and without the shifts, and their shift sums S (G, 3) in G (None if no panel has
-        a shift)."""
+        return PosedSums.of(weights, *self.sums_store.get(key, make))
+
+    def _rows_of(self, lighting) -> np.ndarray:
+        """:meth:`link_rows` of ``lighting`` through :attr:`link_sums_store`."""
         if lighting is None:
-            return self._all_lit, None
+            return self.link_rows(None)
+        return self.link_sums_store.get(lighting.key, lambda: self.link_rows(lighting))
 
-        def make():  # (every link at once: each facet's panels summed in their order)
-            lit = lighting.lit_fraction[self._panels]
-            index, n = self.panel_index, self.n
-            moments = vector_sums(index, lit[:, None] * self._weighted_barycentres, n)
-            own = sum_columns(
-                np.bincount(index, self._areas * lit, minlength=n), moments, self._normals
-            )
-            if lighting.shift_index.size == 0:
-                return own, None
-            rows = self._row_of_panel[lighting.shift_index]
-            inside = rows >= 0
-            rows = rows[inside]
-            shift = (self._areas[rows] * lit[rows])[:, None] * lighting.shift[inside]
-            return own, vector_sums(index[rows], shift, n)
 
-        return self.link_sums_store.get(lighting.key, make)
+def _stacked(posed) -> tuple:
+    """Posed parts ``[(ten, columns), ...]`` stacked: (P, G, 10) and (P, G, 4 J) or None,
+    read-only."""
+    ten = np.stack([t for t, _ in posed])
+    ten.setflags(write=False)
+    if posed[0][1] is None:
+        return ten, None
+    columns = np.stack([c for _, c in posed])
+    columns.setflags(write=False)
+    return ten, columns

@@ -301,3 +301,90 @@ def test_a_blend_gives_the_same_numbers_whichever_of_its_parts_were_seen_before(
     np.testing.assert_allclose(a.total.Cf_G, mean, rtol=1e-12, atol=1e-15)
     efforts = sum(w * c.effort_coefficients for w, c in zip((0.5, 0.3, 0.2), alone))
     np.testing.assert_allclose(a.effort_coefficients, efforts, rtol=1e-10, atol=1e-14)
+
+
+def test_the_rows_posed_and_blended_give_the_lightings_coefficients_bit_for_bit(body):
+    """The pure entries (a lighting's link rows, posed at the configuration's posing and
+    blended; the coefficients of them) give what ``coefficients(lighting=...)`` gives, bit for
+    bit, for a blend, one lighting and none; and posing the parts one by one equals posing
+    them stacked in one product."""
+    values = configurations(body)[2]
+    us = directions()
+    shader = make_shader(body.mesh(values))
+    parts = [shader.lighting(u) for u in us]
+    weights = (0.5, 0.3, 0.2)
+    blend = LightingBlend(list(zip(weights, parts)))
+    method = ArticulatedMethod(body, "sentman", reference=REFERENCE)
+    pure = ArticulatedMethod(body, "sentman", reference=REFERENCE)
+    configuration = pure.configuration(values)
+    posing, facets = configuration.posing, pure.facets
+    u, angles = frames.attitude_flow(None, None, us[1])
+    for lighting, lit_parts, part_weights in (
+        (blend, parts, weights),
+        (parts[1], parts[1:2], (1.0,)),
+        (None, [None], (1.0,)),
+    ):
+        rows = [facets.link_rows(part) for part in lit_parts]
+        sums = facets.pose(rows, part_weights, posing)
+        got = pure.coefficients_of_rows(FLOW, u, angles, configuration, sums, lighting)
+        want = method.coefficients(FLOW, values, flow_direction=us[1], lighting=lighting)
+        for name in ("Cf_G", "Cm_G", "cp", "ctau", "lit_fraction"):
+            np.testing.assert_array_equal(getattr(got.total, name), getattr(want.total, name))
+        assert got.total.area_projected == want.total.area_projected
+        np.testing.assert_array_equal(got.effort_coefficients, want.effort_coefficients)
+        np.testing.assert_array_equal(got.link_force, want.link_force)
+        np.testing.assert_array_equal(got.link_moment, want.link_moment)
+        stacked = np.stack(rows)
+        for matrix, posed in ((posing.matrix, sums.ten), (posing.efforts, sums.columns)):
+            together = np.einsum("pgi,gic->pgc", stacked, matrix)
+            if len(rows) > 1:
+                together = (np.array(part_weights) @ together.reshape(len(rows), -1)).reshape(
+                    posed.shape
+                )
+            else:
+                together = together[0]
+            np.testing.assert_array_equal(posed, together)
+    assert np.abs(want.link_force).max() > 0.0
+    # the rows are the lighting's alone: the same bits on a method that saw other lightings
+    np.testing.assert_array_equal(facets.link_rows(parts[0]), method.facets.link_rows(parts[0]))
+
+
+def test_a_link_without_facets_splits_a_blend_by_link_with_the_same_result():
+    """Evaluated link by link, a blend's parts are split into the links' panels per message
+    (a link with no panel shaded in any part all lit): the numbers of the posed mesh's panel
+    method with the same blend, and of the pure entry."""
+    body = ArticulatedBody.from_urdf(SPHERE_ARM_URDF)
+    method = ArticulatedMethod(body, "sentman", reference=REFERENCE)
+    values = {"swing": 0.4}
+    mesh = body.mesh(values)
+    us = directions()
+    shader = make_shader(mesh)
+    blend = LightingBlend([(0.6, shader.lighting(us[1])), (0.4, shader.lighting(us[2]))])
+    got = method.coefficients(FLOW, values, flow_direction=us[1], lighting=blend)
+    want = PanelMethod(mesh, "sentman", reference=method.reference).coefficients(
+        FLOW, flow_direction=us[1], lighting=blend
+    )
+    np.testing.assert_allclose(got.total.Cf_G, want.Cf_G, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(got.total.Cm_G, want.Cm_G, rtol=0, atol=1e-13)
+    assert got.total.area_projected == pytest.approx(want.area_projected, rel=1e-13)
+    configuration = method.configuration(values)
+    u, angles = frames.attitude_flow(None, None, us[1])
+    pure = method.coefficients_of_rows(FLOW, u, angles, configuration, None, blend)
+    np.testing.assert_array_equal(pure.total.Cf_G, got.total.Cf_G)
+    np.testing.assert_array_equal(pure.effort_coefficients, got.effort_coefficients)
+
+
+def test_a_configuration_makes_its_load_map_once_when_the_links_loads_are_read(body):
+    """The load map is the configuration's own: the links' loads of two evaluations there read
+    one map, and a configuration at other positions gives other efforts."""
+    method = ArticulatedMethod(body, "sentman", reference=REFERENCE, shading="none")
+    first, second = (method.configuration(v) for v in configurations(body)[1:])
+    a = method.coefficients(FLOW, first, 0.2, 0.1)
+    b = method.coefficients(FLOW, first, -0.3, 0.4)
+    assert "load_map" not in vars(first)  # (only the totals read so far)
+    np.testing.assert_allclose(a.link_force.sum(axis=0), a.total.Cf_G, rtol=0, atol=1e-15)
+    b.link_moment
+    assert first.load_map is vars(first)["load_map"]
+    c = method.coefficients(FLOW, second, 0.2, 0.1)
+    assert np.any(c.effort_coefficients != a.effort_coefficients)
+    np.testing.assert_allclose(c.link_moment.sum(axis=0), c.total.Cm_G, rtol=0, atol=1e-15)
