@@ -2,9 +2,9 @@
 
 Runs ``adbsat_ros.ros.node.main`` with these parts wrapped in ``time.perf_counter`` calls (a few
 microseconds of their own per message): the attitude callback (``AdbsatNode._on_attitude``), the
-decoding of its bytes (``decode_attitude`` as the node module calls it), the per-message handler
-(``MessageHandler.on_attitude``: the estimator and the CDR packing), the estimator alone
-(``AeroWrenchEstimator.on_attitude``), the publishing and bookkeeping (``AdbsatNode._serve``) and
+decoding of its bytes (``decode_attitude`` as the node's core module calls it), the per-message
+handler (``MessageHandler.on_attitude``), the estimator alone (``AeroWrenchEstimator.on_attitude``),
+the CDR encoding (``encode_wrench``), the publishing and bookkeeping (``AdbsatNode._serve``) and
 the preparing of the next stamp (``AeroWrenchEstimator.prepare``); and every garbage collection
 (``gc.callbacks``) by generation. ``TRACED_PARTS`` in the environment (comma-separated
 ``module:Class.method`` or ``module:function``, e.g.
@@ -26,7 +26,7 @@ import time
 
 from adbsat_ros.estimator import estimator as estimator_module
 from adbsat_ros.estimator import handling
-from adbsat_ros.ros import node
+from adbsat_ros.ros import node, node_core
 
 WARM_UP_CALLS = 500
 #: Parts timed on every call, whose first WARM_UP_CALLS calls are left out at the end; the others
@@ -36,6 +36,7 @@ _PARTS = (
     "decode_attitude",
     "handler.on_attitude",
     "estimator.on_attitude",
+    "encode_wrench",
     "node._serve",
     "estimator.prepare",
 )
@@ -93,7 +94,8 @@ def _traced(function, part):
 
 
 node.AdbsatNode._on_attitude = _traced(node.AdbsatNode._on_attitude, "attitude callback")
-node.decode_attitude = _traced(node.decode_attitude, "decode_attitude")
+node_core.decode_attitude = _traced(node_core.decode_attitude, "decode_attitude")
+node_core.encode_wrench = _traced(node_core.encode_wrench, "encode_wrench")
 handling.MessageHandler.on_attitude = _traced(
     handling.MessageHandler.on_attitude, "handler.on_attitude"
 )
