@@ -1,10 +1,9 @@
 """Cells of the sphere of flow directions: an equi-angular cube map (the shading cache's keys).
 
-A direction u is mapped to the face of the cube it points through (largest |component|) and two
-angles atan(u_a / |u_k|), atan(u_b / |u_k|) in [-45, 45] deg, each cut into n equal steps. Every
-cell has the same shape class and size within a factor ~1.4 on the whole sphere (no pole), and
-every direction lies within one step of its cell centre (proof in adbsat_ros.shading.cache).
-Directions are in the mesh frame G and need not be unit vectors.
+A direction u (mesh frame G, any length) maps to the cube face it points through and two angles
+atan(u_a / |u_k|), atan(u_b / |u_k|) in [-45, 45] deg, each cut into n steps: cells of similar
+size (within ~1.4) with no pole, every direction within one step of its cell centre (proof in
+adbsat_ros.shading.cache).
 """
 
 from __future__ import annotations
@@ -17,12 +16,10 @@ _QUARTER = 0.25 * math.pi
 
 
 def cells_per_edge(resolution_deg: float) -> int:
-    """Number n of angular steps along a cube-map face edge for a resolution in degrees.
+    """The smallest odd n >= 90 / resolution_deg of angular steps along a face edge.
 
-    The smallest odd n >= 90 / resolution_deg: with n odd the six axis directions (face centres)
-    are cell centres. A body flying along one of its axes, the most common attitude, then stays
-    inside one cell and is shaded exactly at that axis, instead of sitting on the corner of four
-    cells and switching between them with every rounding change of the flow direction.
+    With n odd the six axis directions are cell centres: a body flying along an axis stays in one
+    cell instead of switching between four with every rounding of the flow direction.
     """
     resolution_deg = float(resolution_deg)
     if not (math.isfinite(resolution_deg) and 0.0 < resolution_deg <= 90.0):
@@ -64,12 +61,7 @@ def direction_keys(u, n: int) -> np.ndarray:
 
 
 def direction_key(x: float, y: float, z: float, n: int) -> int:
-    """:func:`direction_keys` of one direction given as three floats (no numpy per query).
-
-    The key depends on the direction only (ratios of components), so (x, y, z) need not be unit.
-    It exists because the node keys one direction per message, where numpy's overhead per
-    call on one vector would outweigh the work. The tests check that both give the same keys.
-    """
+    """:func:`direction_keys` of one direction given as three floats (no numpy; tested equal)."""
     ax, ay, az = abs(x), abs(y), abs(z)
     # first axis of largest |u_k|, as np.argmax; then the two others in cyclic order
     if ax >= ay and ax >= az:

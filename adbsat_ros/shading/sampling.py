@@ -69,9 +69,8 @@ def sample_coordinates(panel_index, start: int, count: int):
 def sample_barycentric(panel_index, start: int, count: int) -> np.ndarray:
     """Sample points k = start .. start+count-1 of each panel, as triangle coordinates.
 
-    The k-th point of panel i is frac(s_i + k alpha) with alpha the R2 generator and s_i the
-    panel's fixed shift (:func:`panel_shifts`), folded into the triangle (a + b > 1 maps to
-    (1 - a, 1 - b)), so points are uniform over the triangle and evenly spread.
+    Point k of panel i is frac(s_i + k alpha) (R2 generator alpha, shift s_i of
+    :func:`panel_shifts`), folded into the triangle ((a, b) -> (1 - a, 1 - b) if a + b > 1).
 
     Returns
     -------
