@@ -40,21 +40,7 @@ TIE_W2 = _unit(_W2 - (_W2 @ TIE_W1) * TIE_W1)
 
 
 def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -> np.ndarray:
-    """Forward-facing panels under the grazing rule (module docstring).
-
-    Parameters
-    ----------
-    cos_delta : ndarray, shape (N,)
-        c_i = -u . n_i.
-    normals : ndarray, shape (N, 3)
-        Unit outward normals in G.
-    graze_tol : float
-        |c| at or below which a panel is grazing.
-
-    Returns
-    -------
-    ndarray of bool, shape (N,)
-    """
+    """Forward panels (N,) by the grazing rule, of c_i = -u . n_i and normals (N, 3) in G."""
     forward = cos_delta > graze_tol
     grazing = np.abs(cos_delta) <= graze_tol
     if grazing.any():
@@ -258,21 +244,9 @@ class CandidateFilter:
     def candidates(
         self, u: np.ndarray, forward: np.ndarray, boxes: FlowBoxes | None = None
     ) -> np.ndarray:
-        """Indices of the forward panels that could be shaded for unit flow direction ``u``.
+        """Ascending indices (K,) of the ``forward`` panels that could be shaded for unit ``u`` (G).
 
-        Parameters
-        ----------
-        u : ndarray, shape (3,)
-            Unit flow direction (G).
-        forward : ndarray of bool, shape (N,)
-            Forward panels (:func:`forward_mask`).
-        boxes : FlowBoxes, optional
-            :meth:`flow_boxes` of ``u``, if made already.
-
-        Returns
-        -------
-        ndarray of int, shape (K,)
-            Ascending panel indices.
+        ``boxes``: :meth:`flow_boxes` of ``u``, if made already.
         """
         need = forward & ~self.on_hull
         if self.n_components <= 1:

@@ -29,19 +29,9 @@ def cells_per_edge(resolution_deg: float) -> int:
 
 
 def direction_keys(u, n: int) -> np.ndarray:
-    """Cube-map cell keys of flow directions.
+    """Cube-map cell keys (int64, () or (M,)) of non-zero directions ``u`` (G), ``n`` steps.
 
-    Parameters
-    ----------
-    u : array_like, shape (3,) or (M, 3)
-        Directions in G (need not be unit length, must be non-zero).
-    n : int
-        Angular steps per face edge.
-
-    Returns
-    -------
-    ndarray of int64, shape () or (M,)
-        key = face * n^2 + i * n + j, face = 2 k + (u_k < 0) with k the axis of largest |u_k|.
+    key = face * n^2 + i * n + j, face = 2 k + (u_k < 0) with k the axis of largest |u_k|.
     """
     u = np.asarray(u, dtype=float)
     single = u.ndim == 1
@@ -77,18 +67,7 @@ def direction_key(x: float, y: float, z: float, n: int) -> int:
 
 
 def key_centres(keys, n: int) -> np.ndarray:
-    """Unit direction at the centre of cube-map cells.
-
-    Parameters
-    ----------
-    keys : array_like of int, shape () or (M,)
-    n : int
-        Angular steps per face edge.
-
-    Returns
-    -------
-    ndarray, shape (3,) or (M, 3)
-    """
+    """Unit directions (3,) or (M, 3) at the centres of cube-map cells ``keys`` (``n`` steps)."""
     keys = np.asarray(keys, dtype=np.int64)
     single = keys.ndim == 0
     keys = np.atleast_1d(keys)

@@ -16,18 +16,7 @@ MAX_PAIRS = 1 << 21
 
 
 def perp_basis(d: np.ndarray) -> np.ndarray:
-    """A right-handed orthonormal basis (p1, p2, d) as the columns of a 3x3 matrix.
-
-    Parameters
-    ----------
-    d : ndarray, shape (3,)
-        Unit direction (any frame); it is the third column.
-
-    Returns
-    -------
-    ndarray, shape (3, 3)
-        Columns p1, p2, d; p1 and p2 span the plane normal to d.
-    """
+    """Right-handed orthonormal columns (p1, p2, d); p1, p2 span the plane normal to unit ``d``."""
     k = int(np.argmin(np.abs(d)))
     e = np.zeros(3)
     e[k] = 1.0
@@ -38,20 +27,7 @@ def perp_basis(d: np.ndarray) -> np.ndarray:
 
 
 def coordinates(points: np.ndarray, basis: np.ndarray) -> tuple:
-    """Coordinates of points along the three columns of ``basis``.
-
-    Parameters
-    ----------
-    points : ndarray, shape (..., 3)
-        Points [m], in the frame of ``basis``.
-    basis : ndarray, shape (3, 3)
-        Orthonormal columns (e.g. :func:`perp_basis`).
-
-    Returns
-    -------
-    tuple of three ndarray, each of shape ``points.shape[:-1]``
-        Coordinates [m] along the first, second and third column.
-    """
+    """Coordinates [m] of ``points`` (..., 3) along the columns of ``basis``: three arrays."""
     flat = points.reshape(-1, 3)
     shape = points.shape[:-1]
     return tuple((flat @ basis[:, k]).reshape(shape) for k in range(3))

@@ -60,20 +60,7 @@ class EmbreeScene:
         return self.scene.run(o, dirs, query=query)
 
     def first_hit(self, origins, directions) -> tuple:
-        """The first panel each ray origins[r] + t directions[r], t > 0, meets.
-
-        Parameters
-        ----------
-        origins, directions : ndarray, shape (R, 3)
-            Ray origins [m] and directions (G; any non-zero length, e.g. velocities).
-
-        Returns
-        -------
-        face : ndarray of int64, shape (R,)
-            Index of the panel met, -1 for none.
-        t : ndarray, shape (R,)
-            The hit is at origins + t directions (inf for none), to float32 rounding.
-        """
+        """``RayScene.first_hit``, t to float32 rounding of the scene."""
         origins = np.asarray(origins, dtype=float)
         if origins.shape[0] == 0:
             return np.zeros(0, dtype=np.int64), np.zeros(0)
@@ -86,21 +73,10 @@ class EmbreeScene:
         return face, distance
 
     def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
-        """Whether each ray origins[r] + t direction, t > 0, meets an occluding panel.
+        """:meth:`~adbsat_ros.shading.rays.RayScene.any_hit`.
 
-        Parameters
-        ----------
-        origins : ndarray, shape (R, 3)
-            Ray origins [m], G.
-        direction : ndarray, shape (3,)
-            Common unit ray direction (G).
-        occluder : ndarray of bool, shape (N,), optional
-            Panels that can block a ray (default all); a ray first hitting another panel is cast
-            again in float64 against the occluders alone.
-
-        Returns
-        -------
-        ndarray of bool, shape (R,)
+        The scene holds every panel: a ray first hitting a panel outside ``occluder`` is cast again
+        in float64 against the occluders alone.
         """
         origins = np.asarray(origins, dtype=float)
         if origins.shape[0] == 0:

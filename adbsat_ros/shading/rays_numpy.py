@@ -120,23 +120,10 @@ def _hits_along(origins, d, tri_vertices, max_pairs):
 
 
 def first_hit(origins, directions, tri_vertices, max_pairs=MAX_PAIRS // 4) -> tuple:
-    """The first triangle each ray origins[r] + t directions[r], t > 0, meets (float64, all pairs).
+    """The first triangle ``(face, t)`` each ray origins[r] + t directions[r], t > 0, meets.
 
-    Parameters
-    ----------
-    origins, directions : ndarray, shape (R, 3)
-        Ray origins [m] and directions (G; any non-zero length, e.g. velocities).
-    tri_vertices : ndarray, shape (T, 3, 3)
-        Triangles [m], G.
-    max_pairs : int
-        Largest number of (ray, triangle) pairs tested at once (memory bound).
-
-    Returns
-    -------
-    face : ndarray of int64, shape (R,)
-        Index of the first triangle met, -1 for none.
-    t : ndarray, shape (R,)
-        The hit is at origins + t directions (inf for none).
+    Every (ray, triangle) pair, ``max_pairs`` at a time: the reference for small scenes. Origins
+    and ``tri_vertices`` [m], G; ``face`` -1 and ``t`` inf for none.
     """
     origins = np.asarray(origins, dtype=float)
     directions = np.asarray(directions, dtype=float)
