@@ -1,21 +1,10 @@
 """The ``adbsat-ros`` command line.
 
-Each subcommand lives in its own module of this package, which exposes ``configure(parser)``:
-it gives the subcommand's parser its description and options and sets ``func`` (called with the
-parsed arguments, returns the exit status, or raises CommandLineError for a value not allowed,
-status 2, or CommandFailed for work it could not do, status 1: :func:`main` prints either as one
-line).
-
-Start-up time: the command line answers at once because it imports only what the chosen
-subcommand needs. ``adbsat-ros --help`` lists the subcommands from :data:`SUBCOMMANDS` without
-importing their modules (nor numpy, which the top-level package does not import either, see
-:mod:`adbsat_ros`); :func:`main` imports and configures only the subcommand named on the command
-line. A subcommand module imports at its top what its subcommand always needs; what only some
-runs need is imported inside the function that needs it: the environment (NRLMSISE-00, Earth
-orientation) for ``--time``, the shader for a shading mode, bag analysis for ``bag analyze``,
-rclpy for the live tools, numpy for the option parsers that return arrays. Those
-function-local imports are there for start-up time only, not to dodge import cycles (the
-package has none).
+Each subcommand's module exposes ``configure(parser)``, which sets ``func`` (called with the
+parsed arguments; returns the exit status, or raises CommandLineError, status 2, or
+CommandFailed, status 1, printed by :func:`main` as one line). Only the chosen subcommand's
+module is imported, and what only some runs need is imported where needed: for start-up time,
+not to dodge import cycles (the package has none).
 """
 
 from __future__ import annotations
@@ -75,11 +64,7 @@ def join_signed_lists(argv):
 
 
 def chosen_subcommand(argv) -> str | None:
-    """The subcommand named in ``argv`` (its first word that is not an option), or None.
-
-    The top-level options (``-v``, ``-h``) take no value, so the first other word is the
-    subcommand; None if there is none or it is not one of :data:`SUBCOMMANDS`.
-    """
+    """The subcommand named in ``argv`` (its first word that is not an option), or None."""
     for token in argv:
         if not token.startswith("-"):
             return token if token in SUBCOMMANDS else None
@@ -92,9 +77,8 @@ def build_parser(configured=None) -> argparse.ArgumentParser:
     Parameters
     ----------
     configured : iterable of str, optional
-        The subcommands whose modules are imported and whose options are registered; the
-        others are listed by name and one-line help only (enough for ``--help`` and for
-        rejecting an unknown name). None configures every subcommand.
+        The subcommands whose options are registered; the others are listed by name and help
+        only. None configures every subcommand.
 
     Returns
     -------
@@ -128,17 +112,14 @@ def build_parser(configured=None) -> argparse.ArgumentParser:
 
 
 class OneLineFormatter(logging.Formatter):
-    """Log records as ``adbsat-ros: LEVEL: message``, one line each: without a traceback
-    unless ``tracebacks`` (``--verbose``), so that a library's exception (a Dask worker that
-    loses its scheduler while a signal stops a build, say) reaches the user as its message."""
+    """Log records as ``adbsat-ros: LEVEL: message``, one line (tracebacks: ``--verbose``)."""
 
     def __init__(self, tracebacks: bool = False):
         super().__init__("adbsat-ros: %(levelname)s: %(message)s")
         self.tracebacks = bool(tracebacks)
 
     def format(self, record: logging.LogRecord) -> str:
-        """The record's line (and, with ``tracebacks``, its traceback); the record is left as
-        it was."""
+        """The record's line (and, with ``tracebacks``, its traceback); the record unchanged."""
         if self.tracebacks:
             return super().format(record)
         saved = record.exc_info, record.exc_text, record.stack_info
@@ -152,9 +133,9 @@ class OneLineFormatter(logging.Formatter):
 def main(argv=None) -> int:
     """Entry point of the ``adbsat-ros`` console script; returns the process exit status.
 
-    SIGINT and SIGTERM are handled from here on (:func:`adbsat_ros.processes.handle_signals`):
-    a subcommand's long work stops in order and says so; a signal anywhere else ends the command
-    with one line, ``adbsat-ros COMMAND: stopped by SIGINT``, and no traceback."""
+    SIGINT and SIGTERM stop a subcommand's long work in order; elsewhere they end the command with
+    one line, ``adbsat-ros COMMAND: stopped by SIGINT``, and no traceback.
+    """
     command = None
     with handle_signals():
         try:
@@ -171,8 +152,7 @@ def main(argv=None) -> int:
 
 
 def _stopped(command, program: bool = False) -> int:
-    """Say that a signal stopped ``command``; its exit status (with ``program``, the process
-    ends here: :func:`adbsat_ros.processes.exit_now`)."""
+    """Say that a signal stopped ``command``; its exit status (``program``: the process ends)."""
     name = signal_name() or "a signal"
     print(f"adbsat-ros{' ' + command if command else ''}: stopped by {name}", file=sys.stderr)
     status = 0 if command in RUN_UNTIL_STOPPED else INTERRUPTED_STATUS
@@ -191,8 +171,7 @@ def command_name(argv) -> str | None:
 
 
 def _run(argv, command) -> int:
-    """Parse ``argv`` and run the subcommand (``command``, for the line of a stop); its exit
-    status."""
+    """Parse ``argv`` and run the subcommand (``command``: for a stop's line); its exit status."""
     argv = join_signed_lists(sys.argv[1:] if argv is None else argv)
     chosen = chosen_subcommand(argv)
     parser = build_parser(() if chosen is None else (chosen,))

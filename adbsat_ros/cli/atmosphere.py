@@ -1,14 +1,9 @@
 """``adbsat-ros atmosphere``: flight conditions (NRLMSISE-00 atmosphere, speed, accommodation).
 
-Where: either a geodetic point ``--altitude KM --lat DEG --lon DEG`` (speed = circular-orbit
-speed, as ADBSat's environment.m), or a position ``--position X,Y,Z`` [m] in ``--frame eci|ecef``
-with an optional ``--velocity X,Y,Z`` [m/s] in the same frame (without it, the circular-orbit
-speed at that point is used). ``--json`` prints every field in SI units; otherwise a table.
-
-``coeff`` and ``database`` share the flight options (:func:`add_flight_arguments`) and compute
-their free stream from them with :func:`compute` only when ``--time`` is given, so the
-environment modules (NRLMSISE-00, the Earth-orientation library) are imported in the functions
-that need them (start-up time, see :mod:`adbsat_ros.cli`).
+Where: a geodetic point ``--altitude KM --lat DEG --lon DEG`` (circular-orbit speed, as ADBSat's
+environment.m), or ``--position X,Y,Z`` [m] in ``--frame eci|ecef`` with an optional
+``--velocity X,Y,Z`` [m/s]. ``--json`` prints every field in SI units. ``coeff`` and
+``database`` share the flight options (:func:`add_flight_arguments`, :func:`compute`).
 """
 
 from __future__ import annotations
@@ -37,8 +32,7 @@ DEFAULT_AP = 4.0
 def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> None:
     """Options that give the flight conditions: time, place or state, space weather, gas.
 
-    Shared by ``atmosphere`` and ``coeff``; ``coeff`` has its own ``--alpha`` (the model's) and
-    makes ``--time`` optional (its alternative is ``--speed/--temperature/...``).
+    ``coeff`` has its own ``--alpha`` and makes ``--time`` optional.
     """
     from adbsat_ros.environment.accommodation import accommodation_model_names
 
@@ -154,9 +148,7 @@ def _accommodation_options(args) -> dict:
 
 
 def compute(args, accommodation_options=None):
-    """The flight conditions the options give (:func:`_compute`), with what the NRLMSISE-00 C
-    library prints (its "dnet log error" lines) sent to stderr instead of the command's output,
-    which may be JSON."""
+    """The flight conditions the options give, the NRLMSISE-00 library's prints sent to stderr."""
     sys.stdout.flush()
     saved = os.dup(1)
     try:
@@ -168,9 +160,9 @@ def compute(args, accommodation_options=None):
 
 
 def _compute(args, accommodation_options=None):
-    """Flight conditions for parsed arguments; raises CommandLineError naming the bad option.
+    """Flight conditions for parsed arguments; CommandLineError naming the bad option.
 
-    ``accommodation_options`` replaces the options taken from ``--accommodation/--alpha``.
+    ``accommodation_options`` replaces the options of ``--accommodation/--alpha``.
     """
     from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
     from adbsat_ros.environment.earth_frames import earth_orientation

@@ -1,8 +1,7 @@
 """``adbsat-ros bag``: tools for rosbag2 files; ``bag analyze`` replays a bag through the node.
 
-``play`` and ``record`` (live ROS tools) are configured by :mod:`adbsat_ros.cli.bag_live`. Bag
-analysis (the estimator, the physics, the plots) is imported when ``bag analyze`` runs, not for
-``play`` and ``record`` (start-up time, see :mod:`adbsat_ros.cli`).
+``play`` and ``record`` are configured by :mod:`adbsat_ros.cli.bag_live`; bag analysis is
+imported only when ``bag analyze`` runs.
 """
 
 from __future__ import annotations

@@ -1,9 +1,7 @@
 """``adbsat-ros bag play`` and ``adbsat-ros bag record``: live rosbag tools (need rclpy).
 
-Configured into the ``bag`` command group by :mod:`adbsat_ros.cli.bag`; rclpy and the ROS tools
-are imported only when one of these runs, so the rest of the command line works without ROS
-installed (and starts without paying for it). Discovery stays on this machine unless
-ROS_AUTOMATIC_DISCOVERY_RANGE says otherwise.
+rclpy is imported only when one of these runs, so the rest of the command line works without
+ROS. Discovery stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE says otherwise.
 """
 
 from __future__ import annotations
@@ -72,8 +70,7 @@ def _counts(counter) -> str:
 
 
 def _run_live(module: str, function: str, *args, **options):
-    """``adbsat_ros.ros.<module>.<function>(*args, **options)`` until done or stopped by a
-    signal, logging on stderr; a BagError is CommandFailed."""
+    """Run ``adbsat_ros.ros.<module>.<function>(*args, **options)``; a BagError is CommandFailed."""
     run = getattr(ros_module(module), function)
     try:
         with stop_on_signals() as stop:

@@ -50,9 +50,11 @@ INTERRUPTED = INTERRUPTED_STATUS
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros coeff``; returns the exit status (:data:`INTERRUPTED` if a signal
-    stopped it: the attitudes done, a test-particle run's stopped one included, are written,
-    and one line on stderr says so)."""
+    """Run ``adbsat-ros coeff``; returns the exit status.
+
+    On a signal (:data:`INTERRUPTED`) the attitudes done, a stopped test-particle run included,
+    are written and one line on stderr says so.
+    """
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
     aos_deg = parse_angle_list(args.aos, "--aos")
     model, flow, _ = method_and_flow_from_args(args)
@@ -132,8 +134,10 @@ def parse_view(text: str) -> tuple:
 
 
 def articulated_outputs(articulation, method, result, flow) -> dict:
-    """A URDF body's per-link loads and per-joint efforts (coefficients; with a density also
-    N and N m): ``links`` and ``joints`` of the JSON."""
+    """A URDF body's per-link loads and per-joint efforts (``links`` and ``joints`` of the JSON).
+
+    Coefficients; with a density also N and N m.
+    """
     from adbsat_ros.physics.panel_loads import panel_loads
 
     body, positions = articulation
@@ -159,8 +163,7 @@ def articulated_outputs(articulation, method, result, flow) -> dict:
 
 
 def difference(tpmc: dict, panel: dict) -> dict:
-    """TPMC less panel method for C_D, C_L, C_Y and Cm_B, with the standard errors (those of
-    the test-particle values: the panel method has none)."""
+    """TPMC less panel method for C_D, C_L, C_Y and Cm_B, with the test-particle standard errors."""
     out = {}
     for name in ("CD", "CL", "CY"):
         out[name] = tpmc[name] - panel[name]

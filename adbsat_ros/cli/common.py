@@ -1,8 +1,6 @@
-"""The options shared by the subcommands that evaluate the panel method (coeff, database), and
-the set-up, model and free stream they give.
+"""The options shared by ``coeff`` and ``database``, and the set-up, model and gas they give.
 
-Imported only when one of those runs, so the mesh loading, the physics and the shaders are
-imported at the top.
+Imported only when one of those runs, so the physics and the shaders are imported at the top.
 """
 
 from __future__ import annotations
@@ -43,9 +41,10 @@ from adbsat_ros.shading.shader import MODES as SHADING_MODES
 
 
 def add_setup_arguments(parser: argparse.ArgumentParser, **solver) -> None:
-    """Add the options of ``coeff`` and ``database``: MESH, ``--scale``, ``--joint``, the model,
-    the free stream (given directly or by flight conditions), the reference, the shading and the
-    solver (``solver``: the keywords of :func:`add_solver_arguments`)."""
+    """Add the options of ``coeff`` and ``database``: MESH, model, gas, reference, shading...
+
+    ``solver``: the keywords of :func:`add_solver_arguments`.
+    """
     help = (
         "mesh file (.obj .stl .ply .off ...), a URDF (.urdf; joints at --joint, else 0), or a "
         "bundled body: 'example' (the example satellite), 'example-articulated' (its URDF, "
@@ -184,9 +183,7 @@ def _joint(text: str) -> tuple:
 
 
 def setup_from_args(args) -> Setup:
-    """The set-up the mesh, ``--joint``, model, reference, shading and solver options give (a
-    URDF MESH posed at the ``--joint`` positions, the others at 0); CommandLineError naming
-    the option that cannot be applied."""
+    """The set-up the options give (a URDF posed at ``--joint``); errors name the option."""
     joints = None
     if args.joint or is_urdf(args.mesh):
         if not is_urdf(args.mesh):
@@ -234,8 +231,7 @@ def setup_from_args(args) -> Setup:
 
 
 def model_from_setup(setup: Setup) -> Model:
-    """:func:`build_model` of ``setup``; a mesh that cannot be loaded is a CommandLineError
-    that starts with ``MESH:``, any other input the model refuses one that names it."""
+    """:func:`build_model` of ``setup``; a mesh error is a CommandLineError starting ``MESH:``."""
     try:
         return build_model(setup)
     except MeshError as exc:
@@ -247,12 +243,10 @@ def model_from_setup(setup: Setup) -> Model:
 def method_and_flow_from_args(args):
     """The model and the free stream the options give: ``(model, flow, conditions)``.
 
-    The gas is given either directly (:func:`freestream_from_args`) or by ``--time`` and a place
-    (NRLMSISE-00 through :func:`adbsat_ros.cli.atmosphere.compute`), not both. With an
-    accommodation model, its alpha is set as alpha and alpha_n of the default surface and of every
-    material (:meth:`Setup.with_accommodation`), so the materials describe the set-up exactly.
-    ``conditions`` is a JSON-ready summary of the flight conditions (None for a gas given
-    directly).
+    The gas is given directly (:func:`freestream_from_args`) or by ``--time`` and a place
+    (:func:`adbsat_ros.cli.atmosphere.compute`), not both. An accommodation model's alpha is set
+    as alpha and alpha_n of every material (:meth:`Setup.with_accommodation`). ``conditions``: a
+    JSON-ready summary of the flight conditions (None for a gas given directly).
     """
     if args.time is None:
         model = model_from_setup(setup_from_args(args))

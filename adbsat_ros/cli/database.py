@@ -1,11 +1,8 @@
 """``adbsat-ros database MESH``: an aerodynamic database over angle of attack and sideslip.
 
-Evaluates the panel method at every pair of ``--aoa`` x ``--aos`` (default the whole sphere of
-flow directions in 5 deg steps) on every core, and writes the database as ``--out FILE.npz``
-(read by :func:`adbsat_ros.database.format.load_database` and
-:class:`adbsat_ros.database.lookup.CoefficientLookup`) and as a CSV file next to it (same
-stem, or ``--csv``). Model, free stream, flight conditions, reference and shading options are
-those of ``coeff``.
+Evaluates every ``--aoa`` x ``--aos`` pair (default the whole sphere in 5 deg steps) on every
+core; writes ``--out FILE.npz`` (:func:`adbsat_ros.database.format.load_database`) and a CSV
+beside it (or ``--csv``). Other options are those of ``coeff``.
 """
 
 from __future__ import annotations

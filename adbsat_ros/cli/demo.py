@@ -1,8 +1,4 @@
-"""``adbsat-ros demo``: run the ROS 2 node live on the bundled satellite and show what it computes.
-
-The node and rclpy are imported when the demo runs (:func:`adbsat_ros.cli.options.ros_module`:
-start-up time, and a clear message when ROS is not installed).
-"""
+"""``adbsat-ros demo``: run the ROS 2 node live on the bundled satellite, show its output."""
 
 from __future__ import annotations
 

@@ -1,10 +1,6 @@
-"""Shared command-line machinery: one-line errors, parsers for option values, the helpers that
-declare options (:func:`option`, :func:`flag` and the options several commands share) and the
-import of the ROS tools (:func:`ros_module`).
+"""Shared command-line machinery: one-line errors, option value parsers, option helpers, ROS import.
 
-Imported at every start of the command line, so it imports only the standard library at the top;
-the two parsers that return arrays import numpy when called (start-up time, see
-:mod:`adbsat_ros.cli`).
+Imported at every start, so only the standard library at the top (numpy where called).
 """
 
 from __future__ import annotations
@@ -35,9 +31,10 @@ NEGATIVE_NUMBER = re.compile(
 
 
 class OneLineErrorParser(argparse.ArgumentParser):
-    """An ArgumentParser whose errors are one line on stderr and exit status 2, and which takes
-    every negative number (:data:`NEGATIVE_NUMBER`) as a value, so that an option's range check
-    names it (``--speed -inf``)."""
+    """An ArgumentParser with one-line errors (status 2) that takes negative numbers as values.
+
+    So an option's range check names them (``--speed -inf``).
+    """
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
@@ -100,8 +97,7 @@ def parse_angle_list(text: str, option: str):
 
 
 def parse_vector3(text: str, option: str, bound: str | None = None):
-    """Parse ``X,Y,Z`` into a finite 3-vector (ndarray), each component within
-    :data:`adbsat_ros.bounds.BOUNDS` ``[bound]`` if given; CommandLineError naming ``option``."""
+    """Parse ``X,Y,Z`` into a finite 3-vector, within ``BOUNDS[bound]`` if given."""
     import numpy as np
 
     try:
@@ -117,8 +113,7 @@ def parse_vector3(text: str, option: str, bound: str | None = None):
 
 
 def checked(what: str, value, bound: str) -> float:
-    """``value`` checked by :func:`adbsat_ros.bounds.bounded` (``what`` names it); a
-    CommandLineError if it is outside."""
+    """``value`` checked by :func:`adbsat_ros.bounds.bounded`; CommandLineError if outside."""
     try:
         return bounded(what, value, bound)
     except ValueError as exc:
@@ -174,8 +169,7 @@ def positive_float(option: str):
 
 
 def within(option: str, bound: str):
-    """An argparse ``type`` accepting the range :data:`adbsat_ros.bounds.BOUNDS` gives
-    ``bound``; the error names ``option``, the range and its reason."""
+    """An argparse ``type`` for the range ``BOUNDS[bound]``; errors name option and reason."""
 
     def convert(text):
         try:
@@ -214,8 +208,7 @@ TOPIC_NAME = re.compile(r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$")
 
 
 def topic_name(option: str):
-    """An argparse ``type`` accepting a ROS 2 topic name (:data:`TOPIC_NAME`); the error names
-    ``option`` and the rule."""
+    """An argparse ``type`` accepting a ROS 2 topic name (:data:`TOPIC_NAME`)."""
 
     def convert(text):
         if not TOPIC_NAME.match(text) or "__" in text:
@@ -237,9 +230,8 @@ def positive_int(option: str):
 def option(parser, name: str, help: str, kind=None, bound: str | None = None, **settings):
     """Add the option ``name`` with ``help`` to ``parser`` (or an argument group).
 
-    Its values are read by ``kind(name)`` (a factory of this module such as
-    :func:`positive_float`) or by ``within(name, bound)``, so that an error names the option;
-    ``settings`` are :meth:`argparse.ArgumentParser.add_argument`'s others (default, metavar...).
+    Its values are read by ``kind(name)`` (e.g. :func:`positive_float`) or ``within(name,
+    bound)``, so an error names the option; ``settings`` go to ``add_argument``.
     """
     if kind is not None:
         settings["type"] = kind(name)

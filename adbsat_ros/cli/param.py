@@ -29,8 +29,7 @@ def configure(p) -> None:
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros param``; returns the exit status (1 if the node rejects or is absent;
-    CommandLineError, status 2, for a node name or a value that cannot be used)."""
+    """Run ``adbsat-ros param``; returns the exit status (1: node rejects or is absent)."""
     if args.action in ("get", "set") and args.name is None:
         raise CommandLineError(f"param {args.action}: NAME is needed")
     if args.action == "set" and args.value is None:

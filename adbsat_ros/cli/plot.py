@@ -51,8 +51,7 @@ def default_angle(grid) -> float:
 
 
 def test_particle_result(metadata, method, flow, aoa_deg, aos_deg):
-    """For a database made by test particles, a run of its settings at the picture's attitude
-    (its per-panel pressures include every reflection); None for a panel-method database."""
+    """A test-particle run at the picture's attitude for a TPMC database, None for a panel one."""
     run = metadata.get("solver", {})
     if run.get("method") != "tpmc":
         return None

@@ -12,8 +12,7 @@ METHODS = ("panel", "tpmc", "both")
 
 
 def add_solver_arguments(parser, with_both: bool = True, with_workers: bool = True) -> None:
-    """Add ``--method`` and the test-particle options (particles, tolerance, seed and, unless
-    the command has its own, workers)."""
+    """Add ``--method`` and the test-particle options (``workers`` unless the command has one)."""
     g = parser.add_argument_group("solver")
     help = (
         "panel: the panel method (one reflection); tpmc: test-particle Monte Carlo (every "
@@ -41,8 +40,8 @@ def _below_one(option: str):
 def run_tpmc(args, solver, flow, aoa, aos):
     """The test-particle coefficients at one attitude [rad], a bar on stderr if it is a terminal.
 
-    SIGINT or SIGTERM stops the run after its current block of batches: the result of the
-    molecules traced so far is kept, and said to be partial."""
+    A signal stops the run after its current block: the result so far is kept, marked partial.
+    """
     from tqdm import tqdm
 
     from adbsat_ros.processes import stop_on_signals, worker_count

@@ -1,25 +1,10 @@
-"""Articulated satellites: rigid links joined by joints, from a URDF, as panels for any joint
-configuration.
+"""Articulated satellites: a URDF's rigid links and joints, as panels for any joint configuration.
 
-A URDF (Unified Robot Description Format, ROS's description of a robot: links with geometry,
-joints with axes and limits) is read with yourdfpy. Every visual of a link (box, cylinder, sphere
-or mesh file) becomes a part of the panel mesh, in the link's frame, with its URDF material name
-as its surface material (as ``usemtl`` names an .obj's); a URDF with no visual, only collision
-geometry, has its collisions as parts (material ``default``). The root link's frame is the body
-frame (mesh frame G). Joints may be fixed, revolute, continuous or prismatic (mimic joints
-follow theirs); their positions [rad or m] place the links by yourdfpy's forward kinematics
-(:class:`~adbsat_ros.geometry.poses.JointTree`).
-
-:meth:`ArticulatedBody.mesh` gives the :class:`~adbsat_ros.geometry.mesh.PanelMesh` of a
-configuration: the parts are checked once (:func:`~adbsat_ros.geometry.mesh.panels_from_arrays`:
-zero-area faces dropped, closed parts turned outwards) and each configuration moves their
-vertices, in the same order for every configuration (:attr:`ArticulatedBody.panel_link` names
-each panel's link). A link at its pose of the zero configuration keeps the normals, areas and
-barycentres of the parts there, made once as that function makes them, so the panels of the
-zero configuration are those of its parts merged into one mesh, bit for bit; a link elsewhere
-turns its parts' normals and barycentres in its own frame by its pose (its areas unchanged),
-equal to them recomputed from the moved vertices up to rounding (and cheaper than
-recomputing them).
+Every visual of a link (or, with none, every collision) becomes a part in the link's frame, its
+URDF material name its surface material. The root link's frame is the body frame (mesh frame G).
+Joints: fixed, revolute, continuous, prismatic, mimic; positions [rad or m] place the links by
+yourdfpy's forward kinematics. The zero configuration's panels equal those of its parts merged
+into one mesh, bit for bit; a moved link turns its normals and barycentres by its pose.
 
 Units: metres and radians; mesh frame G = the root link's frame.
 """
@@ -62,14 +47,13 @@ class BodyLoads:
     Attributes
     ----------
     link_force : ndarray, shape (L, 3)
-        Force coefficient on each link (its panels summed), body frame; sums to Cf_G.
+        Force coefficient on each link, body frame; sums to Cf_G.
     link_moment : ndarray, shape (L, 3)
         Its moment coefficient about the moment point; sums to Cm_G.
     joint_effort : dict of str to float
-        For each moving joint, what its drive must hold: the moment coefficient of the loads on
-        the links it carries (its child and everything beyond) about its axis through it, for a
-        revolute or continuous joint (times q A_ref L_ref: N m); for a prismatic joint their
-        force coefficient along its axis (times q A_ref: N).
+        Per moving joint: the moment coefficient about its axis of the loads on the links it
+        carries (revolute/continuous; times q A_ref L_ref: N m), or their force coefficient along
+        its axis (prismatic; times q A_ref: N).
     """
 
     link_force: np.ndarray
@@ -127,23 +111,16 @@ class ArticulatedBody:
 
     Attributes
     ----------
-    links : tuple of str
-        Link names; :attr:`panel_link` indexes it.
     joints : dict of str to Joint
         The joints that move (revolute, continuous, prismatic; not mimic ones), by name.
     all_joint_names : tuple of str
         Every joint of the URDF, fixed and mimic ones included.
     root : str
         The root link, whose frame is the body frame.
-    material_names : tuple of str
-        Surface materials, in order of first appearance.
     panel_link : ndarray of int, shape (N,)
         Link of each panel of :meth:`mesh` (the same for every configuration).
     link_spans : dict of int to (int, int)
-        ``{link index: (start, stop)}``: the panels of :meth:`mesh` of every link with
-        geometry (each link's panels are consecutive).
-    source : str
-        Where the URDF came from.
+        ``{link index: (start, stop)}`` of each link's (consecutive) panels in :meth:`mesh`.
     """
 
     def __init__(
@@ -206,8 +183,7 @@ class ArticulatedBody:
 
     @staticmethod
     def _faces_of(tm, checked) -> tuple:
-        """A part's vertices and its faces as ``checked`` keeps them (oriented, none of zero
-        area): each checked panel is found among the original faces by its vertices."""
+        """A part's vertices and faces as ``checked`` keeps them (oriented, none of zero area)."""
         vertices = np.asarray(tm.vertices, dtype=float)
         faces = np.asarray(tm.faces)
         tri = vertices[faces]
@@ -229,17 +205,15 @@ class ArticulatedBody:
         """Read a URDF: a file path, or its XML text (as the ``robot_description`` parameter).
 
         Mesh files are found relative to the URDF file (or the working directory for text), and
-        ``package://`` names as yourdfpy finds them. Primitives are refined until no edge is
-        longer than ``max_edge_fraction`` of their size. The body at zero joint positions must
-        be 1 mm to 200 m across, unless ``accept_size``. ``source`` names it in messages
-        (default: the file, or ``robot_description`` for text).
+        ``package://`` names as yourdfpy finds them. Primitives are refined until no edge is longer
+        than ``max_edge_fraction`` of their size. The body at zero joint positions must be 1 mm to
+        200 m across, unless ``accept_size``. ``source`` names it in messages.
 
         Raises
         ------
         MeshError
-            The URDF cannot be read or parsed, a mesh file cannot be read whole, a joint type
-            is not supported, no link has geometry, or the body's size is no satellite's; the
-            message names the file and the element.
+            The URDF cannot be read, a joint type is not supported, no link has geometry, or the
+            body's size is no satellite's; the message names the file and the element.
         """
         text = str(urdf)
         is_xml = text.lstrip().startswith("<")
@@ -254,14 +228,12 @@ class ArticulatedBody:
         return cls(model, source, max_edge_fraction, accept_size)
 
     def positions(self, values: Mapping[str, float] | None = None) -> dict:
-        """Joint positions checked and completed with zeros: ``{name: value}`` of every moving
-        joint.
+        """``{name: value}`` of every moving joint, checked and completed with zeros.
 
         Raises
         ------
         ValueError
-            A name that is not a moving joint (the known ones listed), a value that is not a
-            finite number, or one outside the joint's limits (the range named).
+            An unknown joint name, a non-finite value, or one outside the joint's limits (named).
         """
         out = {name: 0.0 for name in self.joints}
         for name, value in (values or {}).items():
@@ -289,8 +261,7 @@ class ArticulatedBody:
         return out
 
     def link_poses(self, values: Mapping[str, float] | None = None) -> np.ndarray:
-        """4 x 4 pose of every link in the body frame, shape (L, 4, 4), for joint ``values``
-        (yourdfpy's forward kinematics)."""
+        """4 x 4 pose of every link in the body frame, shape (L, 4, 4), for joint ``values``."""
         return self._tree.poses(self.positions(values))
 
     def mesh(self, values: Mapping[str, float] | None = None) -> PanelMesh:
@@ -298,13 +269,11 @@ class ArticulatedBody:
         return self.posed_mesh(self.link_poses(values))
 
     def posed_mesh(self, poses: np.ndarray) -> PanelMesh:
-        """The panels with the links at ``poses`` ((L, 4, 4), as :meth:`link_poses` gives
-        them): :meth:`mesh` for a configuration whose poses are made already."""
+        """The panels with the links at ``poses`` ((L, 4, 4), as :meth:`link_poses` gives them)."""
         return self._panels(self._parts, poses)
 
     def link_mesh(self, link: int) -> PanelMesh:
-        """The panels of link ``link`` (an index of :attr:`links`) in the link's own frame, in
-        the order they have in :meth:`mesh`."""
+        """The panels of link index ``link`` in its own frame, in the order of :meth:`mesh`."""
         parts = [p for p in self._parts if p.link == link]
         if not parts:
             raise ValueError(f"link {self.links[link]} has no geometry")
@@ -382,9 +351,7 @@ class ArticulatedBody:
         return BodyLoads(link_force, link_moment, effort)
 
     def parts(self, values: Mapping[str, float] | None = None) -> list:
-        """``(link name, vertices, faces, material name)`` of every part in the body frame for
-        ``values``: what :func:`~adbsat_ros.geometry.shapes.combine` merges into the same
-        panels."""
+        """``(link name, vertices, faces, material name)`` of every part, body frame."""
         poses = self.link_poses(values)
         return [
             (

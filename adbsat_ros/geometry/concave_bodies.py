@@ -1,17 +1,10 @@
-"""Bundled bodies where molecules meet the surface more than once: where the panel method (one
-collision per molecule) is wrong and the test-particle solver is needed.
+"""Bundled bodies where molecules meet the surface more than once (test-particle solver cases).
 
-``grooved-cylinder``
-    A cylinder (radius 0.5 m, length 1 m, axis x) whose front face (+x) has four annular grooves
-    0.05 m wide and 0.4 m deep, the case of ADBSat's validation (Sinpetru et al., Computer
-    Physics Communications 275 (2022) 108327) where its panel method overestimates the drag;
-``cylinder``
-    The same cylinder without grooves;
-``intake-box``
-    A box (2 m along x, 1 m x 1 m) with a blind square intake 0.6 m x 0.6 m and 1.5 m deep in
-    its front face (+x), as an air-breathing electric thruster's.
-
-Each is closed, in metres, mesh frame G, the gas arriving from +x at zero angles.
+``grooved-cylinder``: a cylinder (radius 0.5 m, length 1 m, axis x) with four annular grooves
+0.05 m wide and 0.4 m deep in its front face (+x), ADBSat's validation case (Sinpetru et al.,
+Computer Physics Communications 275 (2022) 108327); ``cylinder``: the same without grooves;
+``intake-box``: a box (2 m x 1 m x 1 m) with a blind 0.6 m x 0.6 m intake 1.5 m deep in its
+front face. Each is closed, in metres, mesh frame G, the gas arriving from +x at zero angles.
 """
 
 from __future__ import annotations
@@ -30,8 +23,7 @@ SECTIONS = 96
 
 
 def _revolved(profile, source: str) -> PanelMesh:
-    """The closed body of revolution of a (radius, height) profile from the axis back to it,
-    turned so that its axis (height) is x and centred on the origin."""
+    """The closed body of revolution of a (radius, height) profile, its axis along x, centred."""
     import trimesh  # (when a body is built: not at start-up, docs/benchmarks.md)
 
     tm = trimesh.creation.revolve(np.asarray(profile, dtype=float), sections=SECTIONS)
@@ -62,8 +54,7 @@ def plain_cylinder() -> PanelMesh:
 
 
 def _grid(corner, e1, e2, n1, n2, normal):
-    """Vertices and faces of the rectangle corner + [0, 1] e1 + [0, 1] e2 as n1 x n2 cells, each
-    two triangles wound so that their normal is along ``normal``."""
+    """Rectangle corner + [0, 1] e1 + [0, 1] e2 as n1 x n2 cells of triangles facing ``normal``."""
     corner, e1, e2 = (np.asarray(v, dtype=float) for v in (corner, e1, e2))
     if np.dot(np.cross(e1, e2), normal) < 0.0:
         e1, e2, n1, n2 = e2, e1, n2, n1

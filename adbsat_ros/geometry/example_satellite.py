@@ -1,12 +1,8 @@
-"""The bundled example satellite: a box body with two solar wings, built by code.
+"""The bundled example satellite (mesh name ``example``): a box body with two solar wings.
 
-It is the default mesh of the command line and the ROS node (mesh name ``example``). The body is
-1.2 m long along x_G (the flight direction at zero angle of attack), 0.5 m x 0.5 m in cross
-section, centred on the origin; two solar wings 1.0 m x 0.5 m x 0.03 m stand off the +y and -y
-sides at the rear, in the x-y plane, so at zero angle of attack their large faces lie parallel to
-the flow (the case that breaks barycentre shading) and at other attitudes the body shades them.
-The three parts are separate closed bodies with outward normals. Materials: ``body`` and
-``solar_array``. :func:`write_obj` writes any PanelMesh as a Wavefront OBJ with its materials.
+Body 1.2 m along x_G, 0.5 m x 0.5 m, centred on the origin; wings 1.0 m x 0.5 m x 0.03 m off
+the +y and -y sides at the rear, in the x-y plane (edge-on to the flow at zero angles: the case
+that breaks barycentre shading). Three closed parts; materials ``body`` and ``solar_array``.
 """
 
 from __future__ import annotations
@@ -45,7 +41,7 @@ def example_satellite(max_edge: float = 0.09) -> PanelMesh:
     Returns
     -------
     PanelMesh
-        Panels in metres, mesh frame = body frame (x forward, z completing a right-handed set).
+        Panels in metres, mesh frame = body frame (x forward, right-handed).
     """
     parts = [
         ("body", _refined_box(BODY_SIZE, (0.0, 0.0, 0.0), max_edge)),
@@ -64,10 +60,11 @@ def example_satellite(max_edge: float = 0.09) -> PanelMesh:
 
 
 def write_obj(mesh: PanelMesh, path, digits: int = 9) -> None:
-    """Write a PanelMesh as a Wavefront OBJ with one ``usemtl`` group per material run, its
-    coordinates [m] to ``digits`` significant digits (1 to 17; 17 write every float exactly:
-    read back, the panels and their facets are the same; with fewer, the panels of a flat face
-    not parallel to the axes can tilt apart by the rounding and no longer share a facet)."""
+    """Write a PanelMesh as a Wavefront OBJ, one ``usemtl`` group per material run.
+
+    Coordinates [m] to ``digits`` significant digits (1 to 17); 17 reads back the same panels and
+    facets, fewer can tilt a flat face's panels apart so they no longer share a facet.
+    """
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(f"# {mesh.source}\n# {mesh.n_panels} triangles, units: metres\n")
         for v in mesh.vertices.reshape(-1, 3):

@@ -1,12 +1,9 @@
-"""The bundled articulated example: the example satellite with its two solar wings on hinges.
+"""The bundled articulated example (``example-articulated``): example satellite, hinged wings.
 
-The body and wings are those of :mod:`adbsat_ros.geometry.example_satellite` (body 1.2 m x 0.5 m
-x 0.5 m; wings 0.5 m x 1.0 m x 0.03 m, 5 cm off the body's +y and -y sides, centred 0.3 m aft),
-as a URDF: link ``body`` (the body frame) and links ``wing_left`` (+y) and ``wing_right`` (-y),
-each on a revolute joint (``wing_left_hinge``, ``wing_right_hinge``) along its long axis (y)
-through its root, limits +-pi: at zero, as in the rigid example, the wings lie in the x-y plane;
-turning a hinge by theta tilts its wing's normal towards x (a sun-tracking array's motion).
-Materials ``body`` and ``solar_array``. Bundled by the name ``example-articulated``.
+Links ``body`` (the body frame), ``wing_left`` (+y) and ``wing_right`` (-y), each wing on a
+revolute joint (``wing_left_hinge``, ``wing_right_hinge``) along y through its root, limits
++-pi; at zero the wings lie in the x-y plane, a hinge angle tilts the wing's normal towards x.
+Materials ``body`` and ``solar_array``.
 """
 
 from __future__ import annotations
@@ -62,14 +59,11 @@ FIN_HINGE_X = -0.15
 
 
 def example_finned_urdf() -> str:
-    """The URDF text of a small finned body: four steerable fins at the rear, as VLEO
-    aerodynamic attitude control test beds carry them.
+    """The URDF text of a small finned body (0.6 m x 0.3 m x 0.3 m) with four steerable rear fins.
 
-    The body (link ``body``, 0.6 m x 0.3 m x 0.3 m) carries fins ``fin_py``, ``fin_ny`` (on its
-    +y and -y sides, spans along y: deflecting them turns their chords towards z, a pitch
-    control) and ``fin_pz``, ``fin_nz`` (on +z and -z, spans along z: yaw). Each turns on a
-    revolute joint ``<fin>_hinge`` along its span through its leading edge (x = -0.15 m), limits
-    +-0.6 rad; at zero the fins lie edge-on to a flow along x. Materials ``body`` and ``fin``.
+    Fins ``fin_py``, ``fin_ny`` (spans along y, pitch) and ``fin_pz``, ``fin_nz`` (spans along z,
+    yaw), each on a revolute joint ``<fin>_hinge`` along its span through its leading edge
+    (x = -0.15 m), limits +-0.6 rad; edge-on to a flow along x at zero. Materials ``body``, ``fin``.
     """
     chord, span, thick = FIN_SIZE
     half = FINNED_BODY_SIZE[1] / 2

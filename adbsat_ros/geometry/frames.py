@@ -1,17 +1,9 @@
-"""ADBSat's aerodynamic frames and angles.
+"""ADBSat's aerodynamic frames and angles (docs/physics.md, section 2).
 
-Frames (all right-handed):
-
-* G, the mesh ("geometric") frame: the coordinates of the mesh file. Forces and torques in
-  newtons are given in G; the ROS node's body frame is G.
-* B, ADBSat's body frame: x_B = x_G, y_B = -y_G, z_B = -z_G (``L_GB = diag(1, -1, -1)``).
-* W, the wind frame: x_W along the vehicle velocity relative to the gas, from the standard
-  body-to-wind rotation of angle of attack alpha and sideslip beta.
-* F, ADBSat's "flight" frame: ``diag(-1, 1, -1)`` applied to B vectors.
-
-Angle of attack and sideslip are those of the vehicle velocity in B:
-V_B ∝ (cos a cos b, sin b, sin a cos b). The gas moves relative to the body along
-u_G = (-cos a cos b, sin b, sin a cos b): at a = b = 0 the +x_G faces are windward.
+G: the mesh frame (forces and torques in newtons, the node's body frame); B: ADBSat's body
+frame, ``L_GB = diag(1, -1, -1)``; W: the wind frame (body-to-wind rotation by alpha, beta);
+F: ADBSat's flight frame, ``diag(-1, 1, -1)`` of B. The vehicle velocity in B is
+∝ (cos a cos b, sin b, sin a cos b); the gas moves along u_G = (-cos a cos b, sin b, sin a cos b).
 """
 
 from __future__ import annotations
@@ -22,12 +14,7 @@ import numpy as np
 
 
 def cross(a, b) -> np.ndarray:
-    """Cross product a x b over the last axis (arrays of shape (3,) or (..., 3), broadcast).
-
-    The package's one cross product: the three component formulas, as ``np.cross`` evaluates
-    them (the same numbers, tested), without its checks and axis moves, which on two (3,)
-    vectors cost more than 5 % of a message each, and a message takes several.
-    """
+    """Cross product a x b over the last axis, as ``np.cross`` evaluates it without its checks."""
     a = np.asarray(a)
     b = np.asarray(b)
     if a.ndim == 1 and b.ndim == 1:
@@ -113,23 +100,21 @@ def flow_direction(aoa, aos):
 
 
 def attitude_flow(aoa=None, aos=None, direction=None) -> tuple:
-    """The flow of an attitude given either by angles or by the flow direction, as the solvers'
-    ``coefficients`` take it: ``(u, angles)``.
+    """The flow ``(u, angles)`` of an attitude given by angles or by the flow direction.
 
     Parameters
     ----------
     aoa, aos : float, optional
         Angle of attack and sideslip [rad], finite (each 0 if not given).
     direction : array_like, shape (3,), optional
-        Direction of the gas motion relative to the body in G, instead of the angles (the
-        solvers' ``flow_direction``).
+        Direction of the gas motion relative to the body in G, instead of the angles.
 
     Returns
     -------
     u : ndarray, shape (3,)
         Unit flow direction in G.
     angles : tuple of 2 floats or None
-        (aoa, aos) as given, or None for a flow direction (found from u when asked for).
+        (aoa, aos) as given, or None for a flow direction.
 
     Raises
     ------
@@ -207,10 +192,8 @@ def mesh_to_wind(aoa, aos):
 def quaternion_matrix(x: float, y: float, z: float, w: float) -> np.ndarray:
     """Rotation matrix of a unit quaternion (x, y, z, w), ROS/Hamilton convention.
 
-    ``R @ v_body`` gives a body-frame vector in the frame the quaternion is expressed in
-    (``R.T`` goes back). Equal to ``scipy.spatial.transform.Rotation.from_quat([x, y, z, w])
-    .as_matrix()`` for unit quaternions; written out because it is on the node's per-message
-    path, where building a scipy Rotation costs more than the rest of the attitude handling.
+    ``R @ v_body`` gives the vector in the quaternion's frame; equals scipy's
+    ``Rotation.from_quat([x, y, z, w]).as_matrix()``, written out for the per-message path.
     The caller normalises.
     """
     return np.array(quaternion_matrix_floats(x, y, z, w)).reshape(3, 3)

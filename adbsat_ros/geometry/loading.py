@@ -1,16 +1,9 @@
 """Mesh files to a PanelMesh: any format trimesh reads, .obj materials from ``usemtl`` groups.
 
-:func:`load_mesh` reads a file (scaled to metres; .obj and .off line by line, every line read
-whole or refused, other formats by trimesh: :mod:`adbsat_ros.geometry.mesh_files`),
-:func:`resolve_mesh` also accepts the name of the bundled example satellite
-(:mod:`adbsat_ros.geometry.example_satellite`), and
-:func:`panels_from_trimesh` converts a ``trimesh.Trimesh``. Every mesh is checked by
-:func:`adbsat_ros.geometry.mesh.panels_from_arrays`, and kept checked in the mesh store
-(:mod:`adbsat_ros.geometry.mesh_store`): a file loaded before is read back from there.
-
-trimesh (which checks the meshes) and yourdfpy (URDF bodies) are imported when a file is parsed
-or a URDF read, not with this module: importing trimesh takes longer than the
-command line may take to answer (docs/benchmarks.md, command line start-up).
+:func:`load_mesh` reads a file (via :mod:`adbsat_ros.geometry.mesh_files`), :func:`resolve_mesh`
+also accepts bundled bodies by name, :func:`panels_from_trimesh` converts a ``trimesh.Trimesh``.
+Checked meshes are kept in :mod:`adbsat_ros.geometry.mesh_store`. trimesh and yourdfpy are
+imported only when a file is parsed (command line start-up, docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -72,13 +65,10 @@ def load_mesh(
         Flip closed bodies whose faces point inwards (negative signed volume), with a warning.
     accept_size : bool
         Take a mesh of scale 1 whose size is no satellite's (``mesh_extent`` of
-        :data:`adbsat_ros.bounds.BOUNDS`: 1 mm to 200 m across), which is otherwise refused
-        as probably not in metres.
+        :data:`adbsat_ros.bounds.BOUNDS`: 1 mm to 200 m across), otherwise refused.
     store : MeshStore, "default" or None
-        Where the checked mesh is kept and, for a file of the same content loaded before, read
-        back from (the same panels, report and warnings); by default the store of the
-        environment's cache directory (``MeshStore.resolve``);
-        None for none.
+        Where the checked mesh is kept and read back from for a file of the same content; by
+        default the environment's cache directory (``MeshStore.resolve``); None for none.
 
     Returns
     -------
@@ -88,8 +78,8 @@ def load_mesh(
     Raises
     ------
     MeshError
-        Missing or unreadable file, a directory, a line that cannot be read whole (naming
-        it), no faces, NaN/Inf vertices or a coordinate beyond ``mesh_coordinate`` of
+        Missing or unreadable file, a directory, a line that cannot be read whole (naming it), no
+        faces, NaN/Inf vertices or a coordinate beyond ``mesh_coordinate`` of
         :data:`adbsat_ros.bounds.BOUNDS`, no usable face, or a size that is no satellite's
         (naming the likely unit).
     """
@@ -117,8 +107,7 @@ def load_mesh(
 
 
 def _parse(path: str, scale: float, fix_normals: bool) -> PanelMesh:
-    """The checked panels of the mesh file ``path`` (:func:`~adbsat_ros.geometry.mesh_files.
-    read_mesh_file`)."""
+    """The checked panels of the mesh file ``path``."""
     arrays = read_mesh_file(path)
     return panels_from_arrays(
         arrays.vertices * scale,
@@ -173,17 +162,15 @@ def articulated_body(spec, accept_size: bool = False) -> ArticulatedBody:
 
 
 def resolve_mesh(spec, scale: float = 1.0, accept_size: bool = False) -> PanelMesh:
-    """A PanelMesh from a file path, or a bundled body by name: ``"example"`` (the example
-    satellite) or one of :data:`~adbsat_ros.geometry.concave_bodies.CONCAVE_BODIES`
-    (``grooved-cylinder``, ``cylinder``, ``intake-box``); a URDF (a ``.urdf`` file, or
-    ``example-articulated``, ``example-finned``) at zero joint positions
-    (:func:`articulated_body` for others).
+    """A PanelMesh from a file path or a bundled body's name.
+
+    Bundled: ``"example"``, :data:`~adbsat_ros.geometry.concave_bodies.CONCAVE_BODIES`, and URDFs
+    (a ``.urdf`` file, ``example-articulated``, ``example-finned``) at zero joint positions.
 
     Raises
     ------
     MeshError
-        As :func:`load_mesh`, or a ``scale`` other than 1 with a bundled body or a URDF (they
-        are in metres).
+        As :func:`load_mesh`, or a ``scale`` other than 1 with a bundled body or a URDF.
     """
     name = str(spec)
     if name == EXAMPLE_MESH_NAME or name in CONCAVE_BODIES or is_urdf(name):

@@ -1,15 +1,9 @@
 """Triangulated satellite surface: the panels, their checks and per-panel geometry.
 
-A :class:`PanelMesh` holds what the panel method needs for every triangle (panel): vertices,
-outward unit normal, area, barycentre and material, as contiguous float64 arrays in the mesh
-(geometric, "G") frame, in metres. :func:`panels_from_arrays` builds one from vertex and face
-arrays and checks it (bad indices, NaN or Inf, degenerate faces dropped, inward-facing closed
-bodies flipped, open and convex bodies reported in a :class:`MeshReport`); a :class:`MeshError`
-names the input and the problem. Reading files is :mod:`adbsat_ros.geometry.loading`.
-
-The checks use trimesh, imported when a mesh is checked: importing it is a large part of the
-command line's start-up, and a mesh read back from the store of checked meshes
-(:mod:`adbsat_ros.geometry.mesh_store`) needs none of it (docs/benchmarks.md).
+A :class:`PanelMesh` holds every panel's vertices, outward unit normal, area, barycentre and
+material as contiguous float64 arrays, mesh frame G, metres. :func:`panels_from_arrays` builds
+and checks one; a :class:`MeshError` names the input and the problem. trimesh is imported only
+when a mesh is checked (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -47,19 +41,15 @@ class MeshReport:
     Attributes
     ----------
     dropped_zero_area : int
-        Faces removed because their area was zero (degenerate triangles).
+        Faces removed because their area was zero.
     flipped_components : int
-        Closed connected components whose faces pointed inwards (negative signed volume) and
-        were flipped to point outwards.
+        Closed components whose faces pointed inwards, flipped outwards.
     open_components : int
-        Connected components that are not closed (watertight); their inside/outside cannot be
-        checked and they occlude from both sides when shading.
+        Components not closed: they occlude from both sides when shading.
     watertight : bool
         True if every component is closed and consistently wound.
     convex : bool
         True if the mesh is one closed convex body (it then never shades itself).
-    components : int
-        Connected components (separate bodies) of the mesh.
     """
 
     dropped_zero_area: int = 0
@@ -122,8 +112,7 @@ class PanelMesh:
     @property
     def bounds(self) -> np.ndarray:
         """Axis-aligned bounding box, shape (2, 3): min and max corner [m]."""
-        # column by column: numpy reduces an (M, 3) array along axis 0 three numbers at a time
-        # (slowly); an articulated body's shader reads the bounds of every new configuration
+        # column by column: numpy's axis-0 reduction of an (M, 3) array is slow
         v = self.vertices.reshape(-1, 3)
         columns = [v[:, k] for k in range(3)]
         return np.array([[c.min() for c in columns], [c.max() for c in columns]])
@@ -150,10 +139,7 @@ class PanelMesh:
 
 
 def signed_volume(triangles: np.ndarray) -> float:
-    """Volume enclosed by closed triangles (K, 3, 3) [m^3]: positive when they face outwards.
-
-    The divergence theorem: the sum over the triangles of det(P1, P2, P3) / 6.
-    """
+    """Volume of closed triangles (K, 3, 3) [m^3], outwards > 0: sum det(P1, P2, P3) / 6."""
     p1, p2, p3 = triangles[:, 0], triangles[:, 1], triangles[:, 2]
     return float(np.einsum("ij,ij->", p1, np.cross(p2, p3)) / 6.0)
 
@@ -297,18 +283,9 @@ def panels_from_arrays(
 
 
 def triangle_geometry(tri: np.ndarray) -> tuple:
-    """Unit normals, areas and barycentres of triangles.
+    """Unit normals, areas [m^2] and barycentres [m] of triangles ``tri`` (N, 3, 3) [m].
 
-    Parameters
-    ----------
-    tri : ndarray, shape (N, 3, 3)
-        Corners [m], counter-clockwise seen from the side the normal points to; no zero area.
-
-    Returns
-    -------
-    normals, areas, barycentres : ndarray, shapes (N, 3), (N,), (N, 3)
-        Contiguous arrays: n = e1 x e2 / |e1 x e2| with e1 = p1 - p0, e2 = p2 - p0, area
-        |e1 x e2| / 2 [m^2] and (p0 + p1 + p2) / 3 [m].
+    Normals n = e1 x e2 / |e1 x e2| (e1 = p1 - p0, e2 = p2 - p0), counter-clockwise winding.
     """
     t = np.asarray(tri, dtype=float)
     c = cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
@@ -319,8 +296,7 @@ def triangle_geometry(tri: np.ndarray) -> tuple:
 
 
 def log_report(source: str, report: MeshReport) -> None:
-    """Warn of what the checks of the mesh ``source`` found and changed (``report``): faces
-    dropped, components left open, components flipped."""
+    """Warn of what the checks of the mesh ``source`` found and changed."""
     if report.dropped_zero_area:
         log.warning("%s: dropped %d zero-area faces", source, report.dropped_zero_area)
     if report.open_components:
@@ -345,8 +321,7 @@ _UNITS = ((1e-3, "millimetres"), (1e-2, "centimetres"), (0.0254, "inches"), (1e3
 
 
 def check_size(path, mesh: PanelMesh) -> None:
-    """MeshError if the mesh (in metres) is no satellite's size (:data:`BOUNDS`
-    ``mesh_extent``), naming ``path`` and the likely unit."""
+    """MeshError if the mesh is no satellite's size (``mesh_extent``), naming the unit."""
     corners = mesh.vertices.reshape(-1, 3)
     extent = float(np.max(corners.max(axis=0) - corners.min(axis=0)))
     rule = BOUNDS["mesh_extent"]

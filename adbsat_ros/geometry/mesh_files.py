@@ -1,24 +1,10 @@
 """Mesh files read whole: their text decoded, every vertex and face line read or refused.
 
-trimesh reads many formats, but its .obj and .off readers pass over lines they do not expect
-without a word: a byte-order mark hides the first ``v`` line (every face index after it then
-points one vertex further), and so does a ``v`` line indented or written with a tab; a ``v``
-line of two numbers cuts every vertex to two coordinates; a comment after an OFF vertex's
-numbers makes the vertices wrong. A mesh read wrong gives wrong coefficients and no error. These
-two formats, plain text of vertex and face lines, are therefore read here, line by line
-(:func:`read_obj`, :func:`read_off`): a line is read whole or refused with a
-:class:`~adbsat_ros.geometry.mesh.MeshError` naming the file, the line and what is wrong. .stl
-and .ply (text or binary: their trimesh readers refuse what they cannot read) and the other
-formats are read by trimesh, a text file's byte-order mark handled first
-(:func:`read_mesh_file`).
-
-Text (:func:`decode_text`): a byte-order mark selects UTF-8, UTF-16 LE or UTF-16 BE and is
-dropped; without one the text is UTF-8 (a byte that is not, which can only be in a comment or a
-name, is replaced); a NUL character (UTF-16 with no mark) is refused. Lines end with LF, CRLF
-or CR; ``#`` starts a comment; blank lines and comments are skipped.
-
-Polygons become triangles as a fan from their first corner, (0, k, k + 1), in file order, so
-panel i is the i-th triangle of the file.
+trimesh's .obj and .off readers silently skip lines they do not expect (a byte-order mark, an
+indented ``v``, a two-number vertex), giving wrong coefficients and no error; these two formats
+are read here line by line, refusing a line with a :class:`~adbsat_ros.geometry.mesh.MeshError`
+that names it. Other formats are read by trimesh. Text: a byte-order mark selects UTF-8 or
+UTF-16, else UTF-8; ``#`` starts a comment. Polygons become fans (0, k, k + 1), in file order.
 """
 
 from __future__ import annotations
@@ -54,8 +40,7 @@ _LINE_END = re.compile(r"\r\n|\r|\n")
 
 
 class MeshArrays(NamedTuple):
-    """What a mesh file holds: vertices (V, 3) in the file's units, triangles (N, 3) of vertex
-    indices, each triangle's material (None: all ``default``) and the material names."""
+    """A mesh file's vertices (V, 3) in its units, triangles (N, 3) and materials."""
 
     vertices: np.ndarray
     faces: np.ndarray
@@ -72,7 +57,7 @@ def check_mesh_path(path: str) -> None:
 
 
 def decode_text(data: bytes, source: str) -> str:
-    """The text of a mesh file's bytes, its byte-order mark handled (module docstring).
+    """The text of a mesh file's bytes, its byte-order mark handled.
 
     Raises
     ------
@@ -101,8 +86,7 @@ def decode_text(data: bytes, source: str) -> str:
 
 
 def _statements(text: str):
-    """``(line number, text)`` of every line that is not blank or a comment, comments cut
-    off, a line ending in a backslash joined with the next (numbered by its first line)."""
+    """``(line number, text)`` of every non-blank line, comments cut, continuations joined."""
     joined, first = "", None
     for number, line in enumerate(_LINE_END.split(text), 1):
         first = first or number
@@ -123,8 +107,7 @@ def _error(source: str, line: int, problem: str) -> MeshError:
 
 
 def _coordinates(values, source, line, counts, statement) -> list:
-    """The three coordinates of a vertex line's ``values`` (all numbers, the first three
-    finite, ``counts`` of them allowed)."""
+    """The three coordinates of a vertex line's ``values`` (``counts`` of numbers allowed)."""
     if len(values) not in counts:
         raise _error(
             source,
@@ -158,15 +141,10 @@ def _fan(corners: list) -> list:
 def read_obj(text: str, source: str) -> MeshArrays:
     """The vertices, triangles and ``usemtl`` materials of a Wavefront OBJ's text.
 
-    ``v x y z [w | r g b | w r g b]`` vertices, ``f`` faces of three or more corners
-    ``i``, ``i/t``, ``i//n`` or ``i/t/n`` (i from 1, or negative: counted back from the last
-    vertex so far), ``usemtl NAME`` materials (faces before the first: ``default``); the
-    statements of :data:`OBJ_PASSED_OVER` are passed over, any other is refused.
-
-    The lines are split and checked one by one, their numbers converted all at once
-    (:func:`_obj_arrays`); a file with anything else in it (a vertex with more numbers, a line
-    continued, a line that cannot be read) is read by :func:`read_obj_by_line`, the reference,
-    which names the line. What the fast path saves: docs/benchmarks.md, reading an .obj.
+    ``v`` vertices, ``f`` faces of ``i``, ``i/t``, ``i//n`` or ``i/t/n`` corners (from 1, or
+    negative), ``usemtl NAME`` (faces before the first: ``default``); :data:`OBJ_PASSED_OVER`
+    passed over, anything else refused. Plain files are converted all at once; any other is read by
+    :func:`read_obj_by_line`, the reference, which names the line.
 
     Raises
     ------
@@ -183,8 +161,7 @@ _OBJ_VERTEX_INDEX = re.compile(r"(-?\d+)\S*")
 
 
 def _obj_arrays(text: str) -> MeshArrays | None:
-    """:func:`read_obj_by_line`'s arrays of a file of plain lines, or None at the first thing
-    that is not (it then names it)."""
+    """:func:`read_obj_by_line`'s arrays of a file of plain lines, or None."""
     values, heads, counts, seen, materials, names, current = [], [], [], [], [], {}, None
     for line in _LINE_END.split(text):
         parts = (line.split("#", 1)[0] if "#" in line else line).split(None, 1)
@@ -301,15 +278,12 @@ def _obj_corner(ref: str, n_vertices: int, source: str, line: int) -> int:
 def read_off(text: str, source: str) -> MeshArrays:
     """The vertices and triangles of an Object File Format text.
 
-    ``[ST][C][N]OFF``, then the counts ``V F [E]`` (on the same line or the next), V vertex
-    lines ``x y z`` (then the normal, colour or texture coordinates the keyword names), F face
-    lines ``k i1 .. ik`` (indices from 0; a colour may follow), nothing else.
+    ``[ST][C][N]OFF``, counts ``V F [E]``, V vertex lines, F face lines ``k i1 .. ik`` (from 0).
 
     Raises
     ------
     MeshError
-        A line that cannot be read whole, counts the lines do not match, naming ``source`` and
-        the line.
+        A line that cannot be read whole, or counts the lines do not match, naming the line.
     """
     statements = _statements(text)
     number, line = next(statements, (1, ""))
@@ -385,15 +359,12 @@ TEXT_READERS = {".obj": read_obj, ".off": read_off}
 
 
 def read_mesh_file(path) -> MeshArrays:
-    """What the mesh file ``path`` holds: .obj and .off read here (:func:`read_obj`,
-    :func:`read_off`), other formats by trimesh (.stl and .ply with their text's byte-order
-    mark handled).
+    """What the mesh file ``path`` holds: .obj and .off read here, other formats by trimesh.
 
     Raises
     ------
     MeshError
-        Not a file, unreadable, a line that cannot be read whole, or no faces; the message
-        names the file.
+        Not a file, unreadable, a line that cannot be read whole, or no faces, naming the file.
     """
     path = os.fspath(path)
     check_mesh_path(path)
@@ -418,9 +389,7 @@ def read_mesh_file(path) -> MeshArrays:
 
 
 def _without_mark(data: bytes, suffix: str, path: str) -> bytes:
-    """An .stl's or .ply's bytes with a byte-order mark handled: a UTF-8 mark dropped (before
-    a text, or a binary PLY's text header), UTF-16 text as UTF-8; a binary STL (its size that
-    of its triangle count: its 80-byte header may start with anything) as it is."""
+    """An .stl's or .ply's bytes with a text byte-order mark handled (a binary STL as it is)."""
     if suffix == ".stl" and len(data) >= 84:
         if len(data) == 84 + 50 * int.from_bytes(data[80:84], "little"):
             return data
@@ -432,7 +401,7 @@ def _without_mark(data: bytes, suffix: str, path: str) -> bytes:
 
 
 def _trimesh_arrays(source, file_type) -> MeshArrays:
-    """The arrays of trimesh's reading of a path (``file_type`` None) or of bytes."""
+    """The arrays of trimesh's reading of a path or of bytes."""
     import trimesh
 
     if file_type is not None:

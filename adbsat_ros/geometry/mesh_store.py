@@ -1,23 +1,10 @@
 """Checked meshes kept on disk by their file's content, read back instead of parsed again.
 
-Loading a mesh file parses it with trimesh and checks it (orientation, closedness, convexity
-per connected component); importing trimesh alone takes longer than a one-attitude
-``adbsat-ros coeff`` may take (docs/benchmarks.md, command line start-up). :class:`MeshStore`
-keeps what the checks made, so that the next load of the same file reads the panels back
-with numpy alone, as ADBSat reads a mesh once imported to a .mat file.
-
-Key: the SHA-256 of the file's bytes, its suffix, the scale to metres, whether normals are
-fixed, the store's format and the code that makes the entries (the source of the loading and
-checking modules, the installed trimesh: :func:`~adbsat_ros.npz_store.code_fingerprint`), so a
-changed file or a changed parser makes the entry anew (a byte-order mark, or other line ends,
-make another key: the file is read again, to the same panels). Only formats held in one file
-are kept (:data:`STORED_SUFFIXES`). Value: the
-:class:`~adbsat_ros.geometry.mesh.PanelMesh` arrays, material names and report. Bound: the 64
-most recently used entries. Counters: ``hits``, ``misses``, ``writes``. On disk as
-:class:`~adbsat_ros.npz_store.NpzStore` keeps them, in ``$ADBSAT_ROS_CACHE_DIR/meshes`` (by
-default ``~/.cache/adbsat_ros/meshes``; ``ADBSAT_ROS_CACHE_DIR=off``: none). A store that cannot
-be written (a read-only home, a full disk) or an entry that cannot be read is passed over:
-loading then works as without the store.
+Key: SHA-256 of the file's bytes, suffix, scale, ``fix_normals``, format and code fingerprint
+(:func:`~adbsat_ros.npz_store.code_fingerprint`). Value: the PanelMesh arrays, names, report.
+Bound: 64 most recently used entries; counters ``hits``, ``misses``, ``writes``. In
+``$ADBSAT_ROS_CACHE_DIR/meshes`` (default ``~/.cache/adbsat_ros/meshes``; ``off``: none); a store
+that cannot be written or read is passed over (docs/architecture.md).
 """
 
 from __future__ import annotations
@@ -44,8 +31,7 @@ _ARRAYS = ("vertices", "normals", "areas", "barycentres", "material_index")
 
 
 class MeshStore(NpzStore):
-    """Checked meshes on disk, by the content of the file they were loaded from (an
-    :class:`~adbsat_ros.npz_store.NpzStore`: ``directory``, ``max_entries``, counters)."""
+    """Checked meshes on disk by their file's content (an ``NpzStore``)."""
 
     KIND = "meshes"
     MAKERS = (
@@ -57,8 +43,7 @@ class MeshStore(NpzStore):
 
     @classmethod
     def key(cls, path, scale: float, fix_normals: bool) -> str:
-        """The key of the file ``path`` loaded at ``scale`` with or without ``fix_normals``
-        (hex SHA-256). Raises OSError if the file cannot be read."""
+        """Hex SHA-256 key of ``path`` at ``scale``, ``fix_normals``; OSError if unreadable."""
         suffix = Path(path).suffix.lower()
         return cls.finish_key(file_digest(path), suffix, float(scale), bool(fix_normals))
 
@@ -94,6 +79,5 @@ class MeshStore(NpzStore):
 
 
 def default_store() -> MeshStore | None:
-    """The store of the environment's cache directory (``$ADBSAT_ROS_CACHE_DIR/meshes``, read
-    now; one per directory in a process), or None if the stores are off."""
+    """The store of ``$ADBSAT_ROS_CACHE_DIR/meshes``, or None if stores are off."""
     return shared_store(MeshStore)

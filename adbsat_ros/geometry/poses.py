@@ -1,14 +1,8 @@
 """The joint tree of a URDF and the poses of its links at a joint configuration.
 
-:class:`JointTree` checks once that the links form one tree from one root and that every
-joint can move its link, then poses the links with yourdfpy's forward kinematics: its scene
-graph set to the configuration (``URDF.update_cfg``: a revolute or continuous joint turns by
-``trimesh.transformations.rotation_matrix``, a prismatic one slides along its axis, a mimic
-joint follows its joint at ``multiplier q + offset``, a fixed one keeps its origin) and read
-link by link (``URDF.get_transform``). :func:`link_frames` gives what the articulated panel
-method reads of a configuration: the links' rotations and origins, the joints' axes.
-
-Units: metres and radians; frame G = the root link's frame.
+:class:`JointTree` checks once that the links form one tree, then poses them with yourdfpy's
+forward kinematics (``URDF.update_cfg``, ``URDF.get_transform``); :func:`link_frames` gives the
+links' rotations and origins and the joints' axes. Units: metres, radians; G = root link frame.
 """
 
 from __future__ import annotations
@@ -29,10 +23,7 @@ MOVING_JOINTS = ("revolute", "continuous", "prismatic")
 
 @dataclass(frozen=True)
 class Joint:
-    """A joint that moves: its type, axis (in its own frame), limits, and the links it joins.
-
-    ``lower`` and ``upper`` are its position limits [rad or m] (-inf, inf for a continuous one).
-    """
+    """A joint that moves: type, axis (own frame), limits ``lower``, ``upper`` [rad or m], links."""
 
     name: str
     kind: str
@@ -60,9 +51,8 @@ class JointTree:
     Raises
     ------
     MeshError
-        Naming ``source`` and the problem: links not in one tree from one root link, a joint
-        type that is not supported, a moving joint whose axis has no direction, or a mimic joint
-        that follows no moving joint.
+        Naming ``source``: links not one tree, an unsupported joint type, a moving joint's axis of
+        no direction, or a mimic joint that follows no moving joint.
     """
 
     def __init__(self, urdf: yourdfpy.URDF, source: str):
@@ -126,8 +116,7 @@ class JointTree:
         return out
 
     def poses(self, positions: dict) -> np.ndarray:
-        """4 x 4 pose of every link in G, shape (L, 4, 4), for checked ``positions`` (every
-        moving joint named): yourdfpy's forward kinematics."""
+        """4 x 4 pose of every link in G, shape (L, 4, 4), for checked ``positions``."""
         key = tuple(positions[name] for name in self.joints)
         with self._lock:
             if key != self._posed:
@@ -164,8 +153,7 @@ class Poses(NamedTuple):
 
 
 def link_frames(body, positions: dict) -> Poses:
-    """The :class:`Poses` of an :class:`~adbsat_ros.geometry.articulated.ArticulatedBody` at
-    checked ``positions`` (every moving joint named)."""
+    """The :class:`Poses` of an articulated body at checked ``positions``."""
     key = tuple(positions[name] for name in body.joints)
     matrices = body.link_poses(positions)
     rotations = np.ascontiguousarray(matrices[:, :3, :3])

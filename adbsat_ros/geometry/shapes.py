@@ -1,9 +1,7 @@
-"""Closed shapes with regular face grids, and parts joined into one checked mesh.
+"""Closed shapes with regular face grids, and parts joined into one checked mesh [m, frame G].
 
-:func:`grid_box` makes a box whose faces are regular grids, :func:`combine` joins parts (separate
-bodies, each with its material) into one :class:`~adbsat_ros.geometry.mesh.PanelMesh`. The example
-satellite is built with them, and so are the validation scenes of the shading tests and
-benchmarks (a cube before a plate, fins, pits). Units: metres, mesh frame G.
+:func:`grid_box` makes a box of regular face grids, :func:`combine` joins parts, each with its
+material, into one :class:`~adbsat_ros.geometry.mesh.PanelMesh`.
 """
 
 from __future__ import annotations
@@ -14,7 +12,7 @@ from adbsat_ros.geometry.mesh import PanelMesh, panels_from_arrays
 
 
 def grid_box(center, size, divisions):
-    """Vertices and faces of a closed box whose faces are regular grids (outward winding).
+    """Vertices (V, 3) [m] and faces (F, 3) of a closed box of regular face grids, wound outwards.
 
     Parameters
     ----------
@@ -24,11 +22,6 @@ def grid_box(center, size, divisions):
         Edge lengths along x, y, z [m].
     divisions : sequence of 3 int
         Grid cells along x, y, z; each cell is two triangles.
-
-    Returns
-    -------
-    vertices : ndarray, shape (V, 3)
-    faces : ndarray of int, shape (F, 3)
     """
     center = np.asarray(center, float)
     size = np.asarray(size, float)
@@ -60,7 +53,7 @@ def grid_box(center, size, divisions):
 
 
 def combine(parts, source: str = "scene", part_materials=None, material_names=None) -> PanelMesh:
-    """One checked PanelMesh from several (vertices, faces) parts, e.g. separate closed bodies.
+    """One checked PanelMesh from several (vertices, faces) parts.
 
     Parameters
     ----------

@@ -74,9 +74,8 @@ class Reference:
 class AeroCoefficients:
     """Aerodynamic coefficients of one attitude.
 
-    The mesh-frame sums are computed at once; the rest (angles, other axes, per-panel values) on
-    first access, so a caller that needs only ``Cf_G`` and ``Cm_G`` (the ROS node) pays for nothing
-    else.
+    The mesh-frame sums are computed at once, the rest (angles, other axes, per-panel values) on
+    first access.
 
     Attributes
     ----------
@@ -168,12 +167,11 @@ class AeroCoefficients:
 
     @functools.cached_property
     def _body_to_wind(self) -> np.ndarray:
-        """L_WB of the angles, its first row (the wind axis x: the vehicle's motion through
-        the gas, in B) taken from the flow direction itself. At a sideslip of +-90 deg the
-        angles lose that axis's small x and z components (cos(aos) rounds to 0 there), and the
-        drag would be off by about the force times 1e-9; the other rows are those of the
-        angles (the split of the cross-flow force between lift and side force is not defined
-        there)."""
+        """L_WB of the angles, its first row taken from the flow direction itself.
+
+        At a sideslip of +-90 deg cos(aos) rounds to 0 and the angles lose that row's x and z
+        components (drag off by about 1e-9 of the force); lift and side force are undefined there.
+        """
         matrix = frames.body_to_wind(self.aoa, self.aos)
         matrix[0] = frames.L_GB @ -np.asarray(self.flow_direction, dtype=float)
         return matrix
@@ -185,8 +183,7 @@ class AeroCoefficients:
 
     @functools.cached_property
     def Cm_w(self) -> np.ndarray:
-        """Moment coefficient in wind axes about the moment point, shape (3,) (the rotation of
-        :attr:`Cf_w`: roll about the flow, then the wind axes' y and z)."""
+        """Moment coefficient in wind axes about the moment point, shape (3,)."""
         return self._body_to_wind @ (frames.L_GB @ self.Cm_G)
 
     @functools.cached_property

@@ -1,8 +1,7 @@
 """The undisturbed gas a satellite flies through: speed, temperature and composition.
 
-A :class:`FreeStream` is what every gas-surface interaction model needs besides the panel
-geometry. It can be built by hand (the ``coeff`` command's ``--speed/--temperature/--species``)
-or from an atmosphere model and an orbital state (:mod:`adbsat_ros.environment.flight_conditions`).
+A :class:`FreeStream` is built by hand (``coeff --speed/--temperature/--species``) or from an
+atmosphere model and an orbital state (:mod:`adbsat_ros.environment.flight_conditions`).
 """
 
 from __future__ import annotations
@@ -29,20 +28,14 @@ _SPECIES_MASS_KG = {name: species_mass_kg(name) for name in MOLAR_MASS_G}
 
 @functools.lru_cache(maxsize=64)
 def _species_masses(species: tuple) -> tuple | None:
-    """Particle masses [kg] of ``species`` (a tuple of names), or None if one is unknown.
-
-    A pure function of its argument, cached (key: the names; bound: 64 species tuples, a run
-    meets one or two; hits and misses in ``_species_masses.cache_info()``).
-    """
+    """Particle masses [kg] of ``species`` names, or None if one is unknown (cached, 64 tuples)."""
     if not all(name in _SPECIES_MASS_KG for name in species):
         return None
     return tuple(_SPECIES_MASS_KG[name] for name in species)
 
 
 def _checked_number_densities(number_densities: Mapping) -> list:
-    """The number densities as floats, in order; ValueError naming the first species or density
-    that is not allowed (an unknown species, a density that is not a finite number >= 0, or all
-    of them 0)."""
+    """The number densities as floats; ValueError naming the first one not allowed."""
     values = []
     for name, value in number_densities.items():
         if name not in MOLAR_MASS_G:
@@ -74,9 +67,9 @@ class FreeStream:
         Local (translational) gas temperature T_inf [K], > 0.
     number_densities : mapping of str to float, optional
         Species number densities [m^-3], keys from :data:`adbsat_ros.physics.constants.SPECIES`
-        (``He O N2 O2 Ar H N AnO``), >= 0 and not all 0 (kept as a dict of floats, in the order
-        given). Needed by the per-species models (``cll``, ``dria``); the mean molecular mass
-        and, unless ``density`` is given, the mass density follow from it.
+        (``He O N2 O2 Ar H N AnO``), >= 0 and not all 0, kept in the order given. Needed by the
+        per-species models (``cll``, ``dria``); gives the mean molecular mass and, unless
+        ``density`` is given, the mass density.
     mean_mass_amu : float, optional
         Mean molecular mass [amu] when no composition is given. Exactly one of
         ``number_densities`` and ``mean_mass_amu`` must be given.
@@ -87,10 +80,8 @@ class FreeStream:
     Attributes
     ----------
     mean_mass : float
-        Number-weighted mean molecular mass [kg]: sum(n_j m_j) / sum(n_j), both summed in the
-        order of :attr:`species` in float arithmetic (as
-        :attr:`adbsat_ros.environment.atmosphere.AtmosphereState.mean_mass`, which it equals for
-        the same mixture), or ``mean_mass_amu`` in kg.
+        Number-weighted mean molecular mass [kg], sum(n_j m_j) / sum(n_j) summed in species order
+        (equal to ``AtmosphereState.mean_mass`` of the same mixture), or ``mean_mass_amu`` in kg.
 
     Raises
     ------
@@ -99,8 +90,8 @@ class FreeStream:
 
     Notes
     -----
-    The mean molecular mass is number-weighted, m = sum(n_j m_j) / sum(n_j), as in ADBSat's
-    ``environment.m``; the speed ratio is s = V / sqrt(2 k_B T_inf / m).
+    The mean molecular mass is number-weighted as in ADBSat's ``environment.m``; the speed ratio is
+    s = V / sqrt(2 k_B T_inf / m).
     """
 
     speed: float

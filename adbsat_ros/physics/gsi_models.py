@@ -1,27 +1,13 @@
 """The registry of gas-surface interaction models: names, parameters, options.
 
-Every model maps the panel incidence to a pressure coefficient c_p (positive = compressive, along
--n) and a shear coefficient c_tau (along the tangential part of the flow), both normalised by the
-free-stream dynamic pressure q = 0.5 rho V^2. The force on panel i is q A_i (c_tau t - c_p n).
-
-A model is a function ``model(c, sigma, surface, flow, options) -> (c_p, c_tau)`` of
-``c = cos(delta)`` and ``sigma = sin(delta)``, where delta is the angle between the inward normal
--n and the flow direction (delta = 0: facing the flow; delta > 90 deg: facing away). They may
-have any shape (e.g. (N,) panels or (M, N) attitudes x panels); surface parameters
-(:class:`~adbsat_ros.physics.surface.PanelSurface`) are floats or (N,) arrays and broadcast
-against them; ``flow`` is a :class:`~adbsat_ros.physics.freestream.FreeStream`, ``options`` a
-:class:`ModelOptions`.
-
-The formulas, with their sources, are in the family modules of :mod:`adbsat_ros.physics.models`:
-
-* hyperthermal: newton, cook (Cook 1965), storch (Storch 2002);
-* diffuse: sentman (Sentman 1961), schaaf (Schaaf & Chambre 1961), dria (Sentman per species);
-* maxwell: the specular/diffuse mixture (diffuse fraction alpha);
-* cll: Cercignani-Lampis-Lord per species with the Walker et al. (2014) fits.
-
-The temperature of the incident molecules T_i in sentman and dria (Sentman's energy
-accommodation) is Koppenwallner's energy-flux form m V^2 / (4 k_B) by default (ADBSat's choice),
-or Moe's kinetic form m V^2 / (3 k_B) with ``ModelOptions(incident_temperature="kinetic")``.
+A model ``model(c, sigma, surface, flow, options) -> (c_p, c_tau)`` maps c = cos(delta) and
+sigma = sin(delta) (delta: angle between -n and the flow) to pressure and shear coefficients
+normalised by q = 0.5 rho V^2; the force on panel i is q A_i (c_tau t - c_p n). Inputs broadcast
+((N,) panels or (M, N)). Formulas, sources and the incident temperature T_i of sentman and dria
+(energy-flux m V^2 / (4 k_B) by default, kinetic m V^2 / (3 k_B) as an option): the family
+modules of :mod:`adbsat_ros.physics.models` and docs/physics.md, section 3. Families:
+hyperthermal newton, cook (Cook 1965), storch (Storch 2002); diffuse sentman (Sentman 1961),
+schaaf (Schaaf & Chambre 1961), dria; maxwell; cll (Walker et al. 2014 fits).
 """
 
 from __future__ import annotations
@@ -72,13 +58,10 @@ MODELS = {
     "maxwell": maxwell,
 }
 
-#: Models whose (c_p, c_tau) are an elementwise function of c = cos(delta) and a few parameters of
-#: the surface and the flow, with c_tau proportional to sin(delta):
-#: name -> (parameters(surface, flow, options), plate(c, *parameters) -> (c_p, c_tau / sin(delta))).
-#: The model itself is ``c_p, q = plate(c, *parameters(...)); c_tau = q sin(delta)``, so a caller
-#: that needs only c_tau / sin(delta) (the facet force along u + c n, PanelMethod) need not form
-#: sin(delta) at all. A ``parameters`` that returns None means the split does not apply to these
-#: options.
+#: Models with c_tau proportional to sin(delta), split as
+#: name -> (parameters(surface, flow, options), plate(c, *parameters) -> (c_p, c_tau / sin(delta))):
+#: the model is ``c_p, q = plate(c, *parameters(...)); c_tau = q sin(delta)``, so the facet force
+#: needs no sin(delta). ``parameters`` returning None: the split does not apply to these options.
 SPLIT_MODELS = {
     "sentman": (sentman_parameters, sentman_plate),
     "schaaf": (schaaf_parameters, schaaf_plate),

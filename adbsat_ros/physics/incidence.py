@@ -1,7 +1,4 @@
-"""Incidence of the flow on panels: sin(delta) without cancellation near normal incidence.
-
-Also the cross product over the last axis used by the panel sums (vectors in the mesh frame G).
-"""
+"""Incidence of the flow on panels: sin(delta) without cancellation near normal incidence."""
 
 from __future__ import annotations
 
@@ -17,9 +14,8 @@ NEAR_NORMAL_SINE = 1e-3
 def sine_of_incidence(u, normals, c) -> np.ndarray:
     """sin(delta) of every panel, given c = cos(delta) = -u . n.
 
-    sqrt(1 - c^2), except within NEAR_NORMAL_SINE of normal incidence, where 1 - c^2 cancels (c
-    rounds to +-1 below delta ~ 1.5e-8 rad, and a panel's shear, along (u + c n) / sin(delta),
-    would be lost with its sine) and |u x n| is taken instead, which has no cancellation.
+    sqrt(1 - c^2), except within NEAR_NORMAL_SINE of normal incidence, where 1 - c^2 cancels and
+    |u x n| is taken instead (the shear's direction divides by sin(delta)).
 
     Parameters
     ----------

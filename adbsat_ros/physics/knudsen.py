@@ -1,16 +1,9 @@
 """How rarefied the flow is: the mean free path of the gas and the Knudsen number of the body.
 
-The panel method assumes free-molecular flow: molecules that hit the body have not met the ones
-it re-emits, Kn = lambda / L >> 1 (in practice Kn > 10). The mean free path is that of the U.S.
-Standard Atmosphere 1976 (NOAA-S/T 76-1562, section 1.3.15), a hard-sphere gas of one effective
-collision diameter sigma = 3.65e-10 m:
-
-    lambda = 1 / (sqrt(2) pi sigma^2 n)
-
-with n the total number density. For NRLMSISE-00's composition it agrees within 20 % with
-Bird's mixture formula (Molecular Gas Dynamics, 1994, eq. 4.76) from 100 to 200 km; the regime
-boundaries it serves are orders of magnitude apart. For a body 1 m long, Kn is about 0.1 at
-100 km, 3 at 120 km, 10 at 130 km and 35 at 150 km (moderate solar activity). Formulas:
+The panel method assumes free-molecular flow, Kn = lambda / L >> 1 (in practice Kn > 10). The
+mean free path is the U.S. Standard Atmosphere 1976's (NOAA-S/T 76-1562, section 1.3.15), hard
+spheres of diameter sigma = 3.65e-10 m: lambda = 1 / (sqrt(2) pi sigma^2 n), n the total number
+density; within 20 % of Bird's mixture formula (1994, eq. 4.76) at 100-200 km. Formulas:
 docs/physics.md, section 11.
 """
 

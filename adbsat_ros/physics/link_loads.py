@@ -1,16 +1,9 @@
 """The loads of an articulated body's links and the efforts on its joints, from the facet sums.
 
-An articulated body's facets are posed in the body frame and evaluated as one rigid body
-(:mod:`adbsat_ros.physics.posed_facets`); with the model's per-facet weights (the rows q, k,
-max(c, 0) of :func:`~adbsat_ros.physics.facets.facet_rows`) the facet sums give:
-
-* every joint's effort, through columns that the posed sums carry after their ten sums
-  (:class:`EffortColumns`): the product of the rows with those columns gives the efforts, as
-  their product with the ten sums gives the totals;
-* every link's force and moment, from the same sums taken link by link.
-
-:class:`LinkLoads` computes the efforts and the links' loads when first read: a node publishing
-only the wrench needs neither, one publishing the joint torques only the efforts.
+With the model's per-facet rows (q, k, max(c, 0) of :func:`~.facets.facet_rows`),
+the posed facet sums (:mod:`adbsat_ros.physics.posed_facets`) give each link's force and moment
+(summed link by link) and each joint's effort (through extra columns, :class:`EffortColumns`).
+:class:`LinkLoads` computes them when first read.
 
 Units: metres, body frame G; coefficients per A_ref (forces) and A_ref L_ref (moments).
 """
@@ -28,18 +21,15 @@ from adbsat_ros.physics.facets import N_SUMS
 class EffortColumns:
     """The joints' effort terms as columns of the posed facet sums.
 
-    The effort coefficient of a joint j (unit axis a through o, carrying the links C_j) is
-    sum over the facets g of C_j of q_g u . V_g + k_g s_g, where q_g, k_g are the facet's
-    model weights (rows 0 and 1 of :func:`~adbsat_ros.physics.facets.facet_rows`) and
+    The effort coefficient of joint j (unit axis a through o, carrying links C_j) is the sum over
+    the facets g of C_j of q_g u . V_g + k_g s_g, with
 
         revolute:  V_g = (a x Q_g - W_g (a x o)) / (A_ref L_ref),
                    s_g = (a . (Q x n)_g - (a x o) . (W n)_g) / (A_ref L_ref);
         prismatic: V_g = W_g a / A_ref,   s_g = a . (W n)_g / A_ref
 
-    (a . (M - o x F) with F = q W u + k W n and M = q Q x u + k Q x n summed over the facets;
-    a . F for a prismatic joint). V and s depend on the configuration and the lighting only, so
-    they are posed with the sums, and the product of the rows with these columns gives every
-    effort.
+    (a . (M - o x F), or a . F, with F = q W u + k W n, M = q Q x u + k Q x n). V and s depend on
+    the configuration and lighting only, so they are posed with the sums.
 
     Parameters
     ----------
@@ -56,10 +46,11 @@ class EffortColumns:
         self.scale = np.where(self.prismatic, 1.0 / area, 1.0 / (area * length))
 
     def per_joint(self, poses) -> list:
-        """Each joint's ``(f, m)`` at ``poses``, two 3-tuples: the effort coefficient of loads F
-        and M (about G's origin) on the links it carries is f . F + m . M, with
-        f = -(a x o) / (A_ref L_ref), m = a / (A_ref L_ref) if it turns, and f = a / A_ref,
-        m = 0 if it slides."""
+        """Each joint's ``(f, m)``: its effort of loads F, M (about G's origin) is f . F + m . M.
+
+        f = -(a x o) / (A_ref L_ref), m = a / (A_ref L_ref) if it turns; f = a / A_ref, m = 0 if it
+        slides.
+        """
         k = self.scale[:, None]
         axes = np.asarray(poses.joint_axes, dtype=float).reshape(-1, 3)
         origins = np.asarray(poses.joint_origins, dtype=float).reshape(-1, 3)
@@ -69,10 +60,11 @@ class EffortColumns:
         return [(tuple(fj), tuple(mj)) for fj, mj in zip(f.tolist(), m.tolist())]
 
     def matrix(self, poses) -> np.ndarray:
-        """The (10, 4 J) matrix that takes a facet's posed sums (W, W n, Q, Q x n) to every
-        joint's V and s at ``poses`` (the class docstring's formulas, through
-        :meth:`per_joint`: V = W f + m x Q, s = f . (W n) + m . (Q x n)), for a facet on a
-        link the joint carries (:attr:`carries`; zero columns for the others)."""
+        """The (10, 4 J) matrix from a facet's posed sums (W, W n, Q, Q x n) to the joints' V, s.
+
+        V = W f + m x Q, s = f . (W n) + m . (Q x n) (:meth:`per_joint`);
+        zero for links not carried.
+        """
         rows = [[] for _ in range(N_SUMS)]
         for (fx, fy, fz), (mx, my, mz) in self.per_joint(poses):
             block = [(fx, fy, fz, 0.0), (0, 0, 0, fx), (0, 0, 0, fy), (0, 0, 0, fz)]
@@ -84,25 +76,21 @@ class EffortColumns:
 
     @staticmethod
     def efforts(rows: np.ndarray, columns: np.ndarray, u) -> np.ndarray:
-        """The effort coefficients (J,) from the (3, G) facet rows, the (G, 4 J) posed
-        columns, and the flow direction u."""
+        """Effort coefficients (J,) of (3, G) facet rows, (G, 4 J) posed columns, flow direction."""
         terms = (rows[:2] @ columns).reshape(2, -1, 4)
         return terms[0, :, :3] @ u + terms[1, :, 3]
 
 
 class LinkLoads:
-    """Every link's force and moment coefficients and every joint's effort coefficient of one
-    evaluation, computed when first read.
+    """Every link's force and moment and every joint's effort coefficient, computed when first read.
 
-    It holds the evaluation's own numbers, not the method that made them: a sample that keeps
-    it keeps no cache alive, and pickles. A node publishing only the wrench reads neither (the
-    efforts are not computed for it).
+    It holds the evaluation's numbers only (no cache kept alive; it pickles).
 
     Parameters
     ----------
     configuration : Configuration
-        The evaluation's (:class:`~adbsat_ros.physics.articulated_results.Configuration`):
-        its ``load_map`` (R, 7 E) takes the E evaluated links' loads (F, M, S) to every output.
+        The evaluation's; its ``load_map`` (R, 7 E) takes the E evaluated links' loads (F, M, S) to
+        every output.
     forces, moments, efforts : slice
         Its rows of the links' force and moment coefficients and of the joints' efforts.
     n_links : int
@@ -110,9 +98,8 @@ class LinkLoads:
     loads : ndarray, shape (7 E,), optional
         The evaluated links' loads, if known; else computed from ``facets``.
     facets : tuple, optional
-        ``(rows, sums, starts, u)``: the (3, G) facet rows, the posed facet sums with the
-        joints' effort columns (:class:`~adbsat_ros.physics.posed_facets.PosedSums`), the
-        index of each evaluated link's first facet and the flow direction.
+        ``(rows, sums, starts, u)``: (3, G) facet rows, posed sums with effort columns
+        (``PosedSums``), each link's first facet, flow direction.
     """
 
     def __init__(self, configuration, forces, moments, efforts, n_links, loads=None, facets=None):
@@ -126,8 +113,7 @@ class LinkLoads:
 
     @functools.cached_property
     def values(self) -> tuple:
-        """``(link_force, link_moment)``, each (L, 3): body frame, moments about the reference
-        moment point."""
+        """``(link_force, link_moment)``, (L, 3) each, body frame, about the moment point."""
         out = self._outputs
         return (
             out[self.forces].reshape(self.n_links, 3),
@@ -136,8 +122,7 @@ class LinkLoads:
 
     @functools.cached_property
     def effort_coefficients(self) -> np.ndarray:
-        """The joints' effort coefficients (J,): from the facet sums' effort columns, or
-        through the load map."""
+        """The joints' effort coefficients (J,)."""
         if self._facets is not None:
             rows, sums, _, u = self._facets
             return EffortColumns.efforts(rows, sums.columns, u)
@@ -160,9 +145,10 @@ LINK_LOADS = 7
 
 
 def sums_to_loads(u) -> np.ndarray:
-    """The (30, 7) matrix that takes a link's facet sums (W, W n, Q, Q x n), each summed with
-    the weights q, k and max(c, 0) (row 3 c + r for sum column c and weight r), to its loads
-    (F, M, S): F = (q W) u + (k W n), M = (q Q) x u + (k Q x n), S = max(c, 0) W."""
+    """The (30, 7) matrix from a link's weighted facet sums (row 3 c + r) to its loads (F, M, S).
+
+    F = (q W) u + (k W n), M = (q Q) x u + (k Q x n), S = max(c, 0) W.
+    """
     ux, uy, uz = u.tolist()
     out = _SUMS_TO_LOADS.copy()
     # q W -> F: u; q Q -> M: (a x u) = a @ [[0, -uz, uy], [uz, 0, -ux], [-uy, ux, 0]]

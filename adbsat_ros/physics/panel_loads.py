@@ -1,16 +1,9 @@
 """Each panel's share of the load: its force and the point it acts at, summing to the totals.
 
-For a result of :class:`~adbsat_ros.physics.panel_method.PanelMethod` (section 2 of
-docs/physics.md, "Panel load and totals"): panel i carries, per unit dynamic pressure and
-reference area,
-
-    F_i = A_i f_i (-c_p,i n_i + c_tau,i t_i) / A_ref,   t_i = (u + c_i n_i) / sin(delta_i),
-
-acting at its barycentre, or at the centroid of its lit part when it is partly shaded (the
-lighting's shift). Summed: F = Cf_G; summed moments (r_i - r_ref) x F_i / L_ref = Cm_G, to
-rounding. What moves with a part of the body (a link, a fin) is the sum over its panels.
-
-Units: force coefficients (newtons over q A_ref), points in metres, mesh frame G.
+Per unit dynamic pressure and reference area (docs/physics.md, section 2, "Panel load and
+totals"): F_i = A_i f_i (-c_p,i n_i + c_tau,i t_i) / A_ref, t_i = (u + c_i n_i) / sin(delta_i),
+acting at the barycentre or the lit part's centroid. Sums: F = Cf_G and
+(r_i - r_ref) x F_i / L_ref = Cm_G, to rounding. Units: q A_ref, metres, mesh frame G.
 """
 
 from __future__ import annotations

@@ -1,20 +1,12 @@
 """Solar radiation pressure coefficients of the panel mesh (Luthcke et al. 1997 flat plate).
 
-For a panel lit by the sun at incidence theta (cos theta = c = -u_s . n, u_s the direction the
-photons travel, i.e. from the sun to the satellite), with specular and diffuse reflectivities
-rho_s and rho_d, the force per unit solar radiation pressure P is (Luthcke 1997; Montenbruck &
-Gill 2000, eq. 3.75)
+For a panel lit at cos theta = c = -u_s . n (u_s: photons' direction, sun to satellite), with
+reflectivities rho_s, rho_d, the force per unit pressure P is (Montenbruck & Gill 2000, eq. 3.75)
 
     F / (P A) = c [(1 - rho_s) u_s - 2 (rho_s c + rho_d / 3) n]
-              = (1 - rho_s) c sin(theta) t - [2 (rho_d c / 3 + rho_s c^2) + (1 - rho_s) c^2] n
 
-which is ADBSat's c_n = 2 (c_D c / 3 + c_R c^2), c_s = (1 - c_R) c with c_R = rho_s, c_D = rho_d.
-
-Differences from ADBSat: the sun direction is given on its own (ADBSat takes the flow direction),
-and faces turned away from the sun (c <= 0) get no force (ADBSat leaves c_n unclipped there).
-Shading by other parts of the satellite comes from a
-:class:`~adbsat_ros.shading.lighting.PanelLighting` computed for the sun direction, or from the
-facet sums of one (:meth:`~adbsat_ros.physics.facets.Facets.lit_sums_of`), as for the flow.
+ADBSat's c_n = 2 (c_D c / 3 + c_R c^2), c_s = (1 - c_R) c. Unlike ADBSat the sun direction is
+its own input and faces with c <= 0 get no force. Shading: a PanelLighting for the sun direction.
 """
 
 from __future__ import annotations
@@ -84,8 +76,7 @@ def solar_coefficients(
     lighting : PanelLighting or LightingBlend, optional
         Sunlit fractions from a shading analysis along the sun direction.
     sums : ndarray, shape (G, 10), optional
-        The facet sums of ``lighting`` (:meth:`~adbsat_ros.physics.facets.Facets.lit_sums_of`)
-        when the caller holds them; by default summed from ``lighting``.
+        The facet sums of ``lighting`` if the caller holds them.
 
     Returns
     -------

@@ -1,8 +1,7 @@
 """Surface (material) properties that the gas-surface and radiation models read.
 
-A :class:`SurfaceProperties` holds one material's accommodation coefficients, wall temperature
-and optical properties; a :class:`MaterialTable` maps a mesh's material names to them and expands
-them to per-panel arrays once, so the per-attitude hot path only does arithmetic.
+:class:`SurfaceProperties` is one material's accommodation, wall temperature and optical
+properties; :class:`MaterialTable` maps material names to them, expanded per panel once.
 """
 
 from __future__ import annotations
@@ -157,8 +156,7 @@ class MaterialTable:
         Raises
         ------
         ValueError
-            If the table names a material the mesh does not have (a typo would otherwise leave
-            that material at the default properties without a word).
+            If the table names a material the mesh does not have (a typo).
         """
         unknown = self.check_names(material_names)
         if unknown:

@@ -1,14 +1,9 @@
-"""Which panels the ray-cast shader tests: the grazing rule and the filters.
+"""Which panels the ray-cast shader tests: the grazing rule and the filters (docs/shading.md).
 
-Grazing rule. With c_i = cos(delta_i) = -u . n_i and a tolerance ``graze_tol``, forward panels
-are those with c_i > graze_tol, plus the grazing ones (|c_i| <= graze_tol) that face the fixed,
-generic tie-break direction -w (-w . n_i > 0, then a second generic vector if that is zero
-too): the classification the flow u + epsilon w would give (:func:`forward_mask`).
-
-Filters (:class:`CandidateFilter`). A forward panel can be shaded only if it is not on the
-convex hull of its own connected component (a hull face's upstream ray leaves the hull at once)
-or if another component lies upstream of it with overlapping bounding boxes in the plane
-normal to the flow.
+Grazing rule: forward panels have c_i = -u . n_i > ``graze_tol``, plus the grazing ones
+(|c_i| <= graze_tol) facing a fixed generic tie-break direction -w, as the flow u + epsilon w
+would classify them. Filters: a forward panel can be shaded only if it is off its component's
+convex hull or another component lies upstream with an overlapping box normal to the flow.
 
 Units: metres, mesh frame G; directions unitless.
 """
@@ -45,21 +40,7 @@ TIE_W2 = _unit(_W2 - (_W2 @ TIE_W1) * TIE_W1)
 
 
 def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -> np.ndarray:
-    """Forward-facing panels under the grazing rule (module docstring).
-
-    Parameters
-    ----------
-    cos_delta : ndarray, shape (N,)
-        c_i = -u . n_i.
-    normals : ndarray, shape (N, 3)
-        Unit outward normals in G.
-    graze_tol : float
-        |c| at or below which a panel is grazing.
-
-    Returns
-    -------
-    ndarray of bool, shape (N,)
-    """
+    """Forward panels (N,) by the grazing rule, of c_i = -u . n_i and normals (N, 3) in G."""
     forward = cos_delta > graze_tol
     grazing = np.abs(cos_delta) <= graze_tol
     if grazing.any():
@@ -74,6 +55,8 @@ def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -
 class FlowBoxes(NamedTuple):
     """A mesh seen along one flow direction (:meth:`CandidateFilter.flow_boxes`).
 
+    Boxes are held a coordinate at a time so numpy's loops run along the panels.
+
     Attributes
     ----------
     basis : ndarray, shape (3, 3)
@@ -81,16 +64,9 @@ class FlowBoxes(NamedTuple):
     coords : tuple of three ndarray, each (N, 3)
         The panels' corners along p1, p2 and upstream [m].
     pmin, pmax : tuple of three ndarray, each (N,)
-        Each panel's bounding box in those coordinates [m], a coordinate at a time.
+        Each panel's bounding box in those coordinates [m].
     cmin, cmax : tuple of three ndarray, each (C,)
-        Each connected component's bounding box [m], a coordinate at a time.
-
-    Notes
-    -----
-    The boxes are held a coordinate at a time so that their reductions and the occluders'
-    comparisons (:meth:`CandidateFilter.occluders`, components by panels) run along the panels:
-    with (N, 3) boxes and comparisons of (panels, components), numpy's loops would run along
-    the short axes instead.
+        Each connected component's bounding box [m].
     """
 
     basis: np.ndarray
@@ -102,8 +78,7 @@ class FlowBoxes(NamedTuple):
 
 
 class MeshTopology(NamedTuple):
-    """What the candidate filter knows of a mesh apart from its pose: edge neighbours,
-    connected components and hull faces (all unchanged by moving the mesh rigidly).
+    """Edge neighbours, connected components and hull faces of a mesh (unchanged by rigid motion).
 
     Attributes
     ----------
@@ -121,9 +96,10 @@ class MeshTopology(NamedTuple):
 
     @classmethod
     def of(cls, mesh: PanelMesh, diagonal: float, indexed: tuple | None = None) -> "MeshTopology":
-        """The topology of ``mesh``, hull faces within ``HULL_TOL_FRACTION`` of ``diagonal``
-        [m]; ``indexed``: the panels as vertices (V, 3) and faces (N, 3) with the vertices
-        merged, if made before (by default ``mesh.to_trimesh()`` merges them)."""
+        """The topology of ``mesh``, hull tolerance relative to ``diagonal`` [m].
+
+        ``indexed``: merged vertices and faces, if made before.
+        """
         import trimesh  # (with the first shader that needs it: not at start-up)
 
         if indexed is None:
@@ -139,8 +115,7 @@ class MeshTopology(NamedTuple):
 
     @classmethod
     def joined(cls, parts) -> "MeshTopology":
-        """The topology of meshes put one after the other (panels and components renumbered;
-        no edge joins two of them)."""
+        """The topology of meshes put one after the other (renumbered; no edge joins two)."""
         adjacency, component, on_hull = [], [], []
         panels = components = 0
         for part in parts:
@@ -155,13 +130,9 @@ class MeshTopology(NamedTuple):
 def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
     """Faces on the convex hull of their own component, normal pointing out of the hull.
 
-    A face counts if its centroid lies within ``HULL_TOL_FRACTION`` of ``diagonal`` of the
-    surface of its component's hull and its normal points out of the hull facet nearest the
-    centroid. The centroid's distance to the hull does not depend on the face's own normal,
-    which rounding of the vertices tilts by up to (rounding / narrowest altitude): a sliver's
-    normal, used as a support direction, would reach a far hull point beyond the tolerance.
-    A component that spans no volume (a single plate) is tested by the support of its points
-    along the face's normal instead.
+    The centroid must lie within ``HULL_TOL_FRACTION`` of ``diagonal`` of the hull's surface (not
+    the face's normal: rounding tilts a sliver's), and the normal point out of the nearest hull
+    facet. A flat component is tested by the support of its points along the face's normal.
     """
     from scipy.spatial import ConvexHull, QhullError  # (not at start-up)
 
@@ -207,19 +178,15 @@ class CandidateFilter:
         Bounding-box diagonal of the mesh [m] (scale of the hull tolerance); needed unless
         ``topology`` is given.
     topology : MeshTopology, optional
-        The mesh's topology, made before (e.g. of rigid parts that the mesh has posed:
-        :class:`~adbsat_ros.shading.posed_scene.LinkScenes`).
+        The mesh's topology, made before (e.g. of posed rigid parts).
 
     Attributes
     ----------
-    adjacency, component, on_hull : ndarray
-        The mesh's :class:`MeshTopology`.
     n_components : int
         Number of connected components.
     convex : ndarray of bool, shape (n_components,)
-        Components that are closed convex surfaces: every edge shared by two of its panels
-        (3/2 edge pairs per panel) and every panel on its convex hull. Such a component casts
-        a convex shadow (:class:`~adbsat_ros.shading.shader.Shader`).
+        Closed convex components (every edge shared by two of its panels, every panel on its
+        hull): they cast a convex shadow.
     """
 
     def __init__(
@@ -245,8 +212,7 @@ class CandidateFilter:
         self.convex = (2 * pairs == 3 * counts) & (off_hull == 0) & (counts > 0)
 
     def flow_boxes(self, u: np.ndarray) -> FlowBoxes:
-        """The panels and components as seen along unit flow direction ``u`` (G): coordinates
-        in the plane normal to the flow and upstream, and their bounding boxes there."""
+        """The panels and components seen along unit flow direction ``u`` (G)."""
         basis = perp_basis(-u)
         coords = coordinates(self.mesh.vertices, basis)  # s grows upstream
         pmin = tuple(min3(a) for a in coords)  # (N,) each
@@ -256,9 +222,7 @@ class CandidateFilter:
         return FlowBoxes(basis, coords, pmin, pmax, cmin, cmax)
 
     def occluders(self, boxes: FlowBoxes, panels: np.ndarray) -> np.ndarray:
-        """Which other components could shade each of ``panels``: those whose bounding box in
-        the plane normal to the flow overlaps the panel's and that reach upstream of its
-        lowest point.
+        """Which components could shade each of ``panels`` (overlapping boxes, upstream).
 
         Returns
         -------
@@ -266,7 +230,7 @@ class CandidateFilter:
         """
         pmin, pmax, cmin, cmax = boxes.pmin, boxes.pmax, boxes.cmin, boxes.cmax
         j = np.asarray(panels)
-        # (C, K), along the panels: as (K, C), numpy's loops ran along the few components
+        # (C, K): numpy's loops run along the panels
         overlap = (
             (cmax[2][:, None] > pmin[2][j])
             & (cmax[0][:, None] >= pmin[0][j])
@@ -280,21 +244,9 @@ class CandidateFilter:
     def candidates(
         self, u: np.ndarray, forward: np.ndarray, boxes: FlowBoxes | None = None
     ) -> np.ndarray:
-        """Indices of the forward panels that could be shaded for unit flow direction ``u``.
+        """Ascending indices (K,) of the ``forward`` panels that could be shaded for unit ``u`` (G).
 
-        Parameters
-        ----------
-        u : ndarray, shape (3,)
-            Unit flow direction (G).
-        forward : ndarray of bool, shape (N,)
-            Forward panels (:func:`forward_mask`).
-        boxes : FlowBoxes, optional
-            :meth:`flow_boxes` of ``u``, if made already.
-
-        Returns
-        -------
-        ndarray of int, shape (K,)
-            Ascending panel indices.
+        ``boxes``: :meth:`flow_boxes` of ``u``, if made already.
         """
         need = forward & ~self.on_hull
         if self.n_components <= 1:

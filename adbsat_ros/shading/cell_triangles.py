@@ -1,35 +1,11 @@
 """Triangles over the centres of the cube-map cells: where a direction lies between three centres.
 
-The shading cache computes the lighting of cube-map cell centres (:mod:`.cube_map`). Handing out
-the nearest centre's lighting makes every result a step function of the flow direction; weighing
-the lightings of the three centres around the direction makes it continuous. This module gives
-those three centres and their weights.
-
-**The triangles.** The 6 n^2 cell centres are the vertices of a triangulation of the sphere:
-
-* inside a face, every quad of four neighbouring centres (i, j), (i+1, j), (i+1, j+1), (i, j+1)
-  is cut along its (i, j)-(i+1, j+1) diagonal: 2 (n-1)^2 triangles per face;
-* along each of the 12 cube edges, the n edge centres of one face and their mirror images across
-  the edge (the edge centres of the other face: the cube map is symmetric under that reflection)
-  make n-1 quads, 2 triangles each;
-* at each of the 8 cube corners, the corner centres of the three faces make one triangle.
-
-That is 12 n^2 - 4 triangles, 2 V - 4 for V = 6 n^2 vertices as for any triangulation of the
-sphere (a test checks it, and that every direction lies in one of them).
-
-**The weights.** A direction u in the triangle of unit centres v_1, v_2, v_3 is
-u / s = lambda_1 v_1 + lambda_2 v_2 + lambda_3 v_3 with lambda_k >= 0 summing to 1 (s > 0): the
-barycentric coordinates of the point where u meets the triangle's plane. On an edge shared by two
-triangles both give the same two weights and 0 to the third vertex, so the weights are continuous
-functions of u on the whole sphere, and a linear function of u is reproduced exactly.
-
-**Point location.** Inside a face the gnomonic coordinates X = u_a / |u_k|, Y = u_b / |u_k| (the
-axes of :func:`.cube_map.direction_keys`) map great circles to straight lines, the centres to a
-rectangular grid (tan of the centre angles) and the triangles to halves of its rectangles: two
-bisections find the triangle, and its weights follow from the planar ones, mu_k, as
-lambda_k = mu_k |v_k'| / sum (v_k' = v_k / |v_k,k|, the gnomonic image of a centre). Directions
-outside the grid of their face (within half a cell of a cube edge) are tested against the edge
-and corner triangles around their cell.
+The shading cache weighs the lightings of the three cell centres around a flow direction, so
+its results are continuous in the direction. The 6 n^2 centres triangulate the sphere (quads
+inside faces, across the 12 cube edges, a triangle at each of the 8 corners: 12 n^2 - 4
+triangles); the weights are the barycentric coordinates of u on the triangle's plane, continuous
+on the sphere and exact for linear functions of u. Point location uses gnomonic face coordinates,
+where the triangles are halves of grid rectangles (docs/shading.md).
 """
 
 from __future__ import annotations
@@ -48,6 +24,8 @@ _QUARTER = 0.25 * math.pi
 class CellTriangulation:
     """The triangles over the cube-map cell centres of ``n`` steps per face edge.
 
+    Only the edge and corner triangles are stored (O(n)); those inside faces follow from the grid.
+
     Parameters
     ----------
     n : int
@@ -55,14 +33,8 @@ class CellTriangulation:
 
     Attributes
     ----------
-    n : int
     border_triangles : ndarray of int64, shape (12 (n - 1) 2 + 8, 3)
         Vertex keys of the triangles across cube edges and at cube corners.
-
-    Notes
-    -----
-    Only the edge and corner triangles are stored (O(n) memory); the triangles inside the faces
-    follow from the grid. :meth:`triangles` lists all of them (O(n^2), for tests and plots).
     """
 
     def __init__(self, n: int):
@@ -82,9 +54,7 @@ class CellTriangulation:
     @classmethod
     @functools.lru_cache(maxsize=8)
     def of(cls, n: int) -> "CellTriangulation":
-        """The triangulation of ``n`` steps, made once per ``n`` (8 kept): it depends on
-        nothing else, and making it is slow at fine resolutions (n = 360, 0.25 deg), which an
-        articulated body's shading would otherwise pay for every joint configuration."""
+        """The triangulation of ``n`` steps, made once per ``n`` (8 kept)."""
         return cls(n)
 
     # ------------------------------------------------------------------------------ queries
@@ -136,8 +106,7 @@ class CellTriangulation:
         return keys, (scaled[0] / total, scaled[1] / total, scaled[2] / total)
 
     def _across_edges(self, x: float, y: float, z: float) -> tuple:
-        """Weights in the edge and corner triangles near the cell of (x, y, z): the one whose
-        smallest weight is largest (>= 0 up to rounding: the test suite checks it)."""
+        """Weights in the border triangle near (x, y, z) whose smallest weight is largest."""
         key = direction_key(x, y, z, self.n)
         near = set(self._border_of_key.get(key, ()))
         for t in list(near):  # and one ring further
@@ -167,9 +136,7 @@ class CellTriangulation:
 
 
 def _barycentric(vertices: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Weights (M, 3) of direction u in M triangles of vertices (M, 3, 3), each row summing to 1
-    (lambda_k proportional to det of u with the two other vertices, over det(v_1, v_2, v_3));
-    -inf in the rows of triangles that face away from u."""
+    """Weights (M, 3) of u in M triangles (M, 3, 3), rows summing to 1; -inf where facing away."""
     v1, v2, v3 = vertices[:, 0], vertices[:, 1], vertices[:, 2]
     volume = np.einsum("ij,ij->i", v1, np.cross(v2, v3))
     w = np.stack(

@@ -1,19 +1,9 @@
 """Triangles clipped by convex polygons in the plane: the part of each triangle outside them.
 
-The covered part of a triangle is the union of its intersections with the polygons; its area
-and first moment are summed by inclusion-exclusion over the intersections with every non-empty
-set of polygons, each intersection convex: the triangle clipped (Sutherland-Hodgman) by the
-half-planes inside the polygons' sides, vectorised over the triangles. Only the sides that have
-one of a triangle's corners outside cut it, so each triangle takes only those, in passes as
-many as the most any triangle needs. :mod:`adbsat_ros.shading.convex_shadow` uses it for the
-exact shadows of convex parts.
-
-Inside, a set of polygons is held as two arrays of coordinates, x and y, of shape
-(corners, polygons): every operation then runs along the polygons, a thousand or more, where
-the natural (polygons, corners, 2) layout runs numpy's loops along axes of two and three (the same
-numbers bit for bit, more slowly).
-
-Units: any length, the same for every point.
+The covered part's area and first moment are summed by inclusion-exclusion over each non-empty
+set of polygons, the triangle clipped (Sutherland-Hodgman) by only the sides that cut it,
+vectorised over triangles. Polygons are held as x, y arrays of shape (corners, polygons) so
+numpy's loops run along the polygons. Units: any length, the same for every point.
 """
 
 from __future__ import annotations
@@ -29,19 +19,13 @@ SIDE_TOLERANCE = 16.0 * np.finfo(float).eps
 def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     """The part of each triangle outside some convex polygons: its area fraction and centroid.
 
-    The covered part is the union of the triangle's intersections with the polygons, its area
-    and first moment summed by inclusion-exclusion over the intersections of the triangle with
-    every non-empty set of polygons (each one convex: the triangle clipped by each polygon of
-    the set in turn).
-
     Parameters
     ----------
     triangles : ndarray, shape (K, 3, 2)
         Triangles [m] (either orientation, non-degenerate).
     outlines : sequence of ndarray, each of shape (m, 2) or (K, m, 2)
-        Convex polygons [m], counter-clockwise
-        (:func:`~adbsat_ros.shading.convex_shadow.convex_outline`): one for every
-        triangle: (m, 2) shared by all, or (K, m, 2) one per triangle.
+        Convex polygons [m], counter-clockwise: (m, 2) shared by all triangles, or (K, m, 2) one
+        per triangle.
 
     Returns
     -------
@@ -79,8 +63,7 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
 
 
 def _columns(outline, k: int) -> tuple:
-    """A polygon's x and y as (m, 1) arrays (one shared by all K triangles) or (m, K) (one per
-    triangle), from its (m, 2) or (K, m, 2) corners."""
+    """A polygon's x and y as (m, 1) or (m, K) arrays, from its (m, 2) or (K, m, 2) corners."""
     points = np.asarray(outline, dtype=float)
     if points.ndim == 2:
         return points[:, 0:1], points[:, 1:2]
@@ -90,25 +73,19 @@ def _columns(outline, k: int) -> tuple:
 
 
 def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
-    """Area, x and y of the centroid (S, K) each of each triangle's intersection with the
-    polygons of each set: triangles ``tx``, ``ty`` (3, K), ``polygons`` [(x, y), ...] each
-    (m, K) or (m, 1) (:func:`_columns`), ``sets`` (S, n) which of them each set holds (the
-    triangle's own area and centroid where it lies inside all of a set, zero where outside
-    one).
+    """Area and centroid x, y (S, K) of each triangle's intersection with each set of polygons.
 
-    A triangle is clipped only by the edges of the set's polygons that have one of its
-    corners outside: the part clipped so far lies in the triangle, so an edge with the whole
-    triangle on its inner side cuts nothing. Every set's triangles are clipped together, the
-    edges that cut taken column by column: as many passes as the most any triangle needs (a
-    panel crossing one side of a part's outline: one pass, not one per side of the outline)."""
+    Triangles ``tx``, ``ty`` (3, K); ``polygons`` [(x, y), ...] from :func:`_columns`; ``sets``
+    (S, n) which polygons each set holds. Only edges with a corner of the triangle outside clip it,
+    in as many passes as the most any triangle needs.
+    """
     k, n = tx.shape[1], len(polygons)
     within, apart = np.empty((n, k), dtype=bool), np.empty((n, k), dtype=bool)
     cutting, starts, ends, owner = [], [], [], []
     for i, (ax, ay) in enumerate(polygons):  # which side of each edge each corner is on
         bx, by = _rolled(ax), _rolled(ay)
         ex, ey = bx - ax, by - ay
-        # (m, K) each, >= 0: the corner inside (a corner at a time: cheaper than the (m, 3, K)
-        # arrays of all three at once)
+        # (m, K) each, >= 0: the corner inside
         c0, c1, c2 = (ex * (ty[j] - ay) - ey * (tx[j] - ax) < 0.0 for j in range(3))
         cut = c0 | c1 | c2  # (m, K): some corner beyond the edge
         within[i] = ~cut.any(axis=0)  # inside the polygon
@@ -153,9 +130,7 @@ def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
 
 
 def _clip(px, py, count, a, b) -> tuple:
-    """Polygons of x ``px`` and y ``py`` (capacity, R), with ``count`` corners each, clipped
-    to the half-plane left of the directed line a -> b ((x, y), each (R,): the inside of a
-    counter-clockwise outline); the clipped polygons' x, y and corner counts."""
+    """Polygons ``px``, ``py`` (capacity, R) clipped left of the lines a -> b."""
     capacity, r = px.shape
     valid, qx, qy, last = _edges(px, py, count)
     (ax, ay), (bx, by) = a, b
@@ -186,8 +161,7 @@ def _clip(px, py, count, a, b) -> tuple:
 
 
 def _area_centroid(px, py, count) -> tuple:
-    """Area (absolute) and centroid's x and y of polygons (capacity, K) with ``count`` corners
-    each (shoelace; zero area and any centroid for fewer than three corners)."""
+    """Area (absolute) and centroid x, y of polygons (capacity, K) (shoelace)."""
     valid, qx, qy, _ = _edges(px, py, count)
     cross = np.where(valid, px * qy - qx * py, 0.0)
     twice = cross.sum(axis=0)
@@ -198,8 +172,7 @@ def _area_centroid(px, py, count) -> tuple:
 
 
 def _triangle_area_centroid(tx, ty) -> tuple:
-    """:func:`_area_centroid` of triangles of corners ``tx``, ``ty`` (3, K): the same
-    operations in the same order, on each corner's coordinates as arrays of K."""
+    """:func:`_area_centroid` of triangles ``tx``, ``ty`` (3, K), operation for operation."""
     x0, x1, x2 = tx
     y0, y1, y2 = ty
     c0, c1, c2 = x0 * y1 - x1 * y0, x1 * y2 - x2 * y1, x2 * y0 - x0 * y2
@@ -211,10 +184,7 @@ def _triangle_area_centroid(tx, ty) -> tuple:
 
 
 def _edges(px, py, count) -> tuple:
-    """The edges p -> q of polygons (capacity, K) with ``count`` corners each: which corner
-    slots are corners (capacity, K), the successors' x and y (what lies beyond a polygon's
-    corners is not its successors), and the slots of the polygons' last corners (for
-    :func:`_successors`)."""
+    """Edges p -> q of polygons (capacity, K): corner slots, successors, last slots."""
     capacity, k = px.shape
     valid = np.arange(capacity)[:, None] < count
     last = np.maximum(count - 1, 0), np.arange(k)
@@ -222,16 +192,12 @@ def _edges(px, py, count) -> tuple:
 
 
 def _successors(values, last) -> np.ndarray:
-    """Each corner's value at its successor: the next slot's, and the first corner's after a
-    polygon's ``last`` one (its slot, column by column; the slots beyond a polygon's corners
-    are read by no caller)."""
+    """Each corner's value at its successor (the first after the polygon's ``last``)."""
     q = _rolled(values)
     q[last] = values[0]
     return q
 
 
 def _rolled(values) -> np.ndarray:
-    """``np.roll(values, -1, axis=0)``: each slot's next, the first after the last (a new
-    array, without ``np.roll``'s general-axis overhead; the clipping of a finned body's panels
-    rolls about twenty arrays)."""
+    """``np.roll(values, -1, axis=0)`` without its general-axis overhead."""
     return np.concatenate((values[1:], values[:1]))

@@ -1,33 +1,11 @@
 """The exact shadows of closed convex parts: what of each panel behind them stays lit.
 
-A closed convex part C casts a convex shadow: the points p of a plane whose ray p - t u,
-t > 0, meets C's solid form a convex set (if p - t u and p' - t' u lie in C, the convex
-combination of p and p' has its ray through the same combination of those points, at a
-positive distance). So a panel whose three corners are in C's shadow is wholly in it (the
-shader's corner rule), and the shadow of C on a plane is C's projection along the flow.
-
-A panel that only closed convex components can shade (the panel on its own component's convex
-hull; one to three others overlapping it in the plane normal to the flow) is in their shadow
-exactly where the panel's projection along the flow falls inside the union of the projections
-of their parts in front of the panel's plane: the ray upstream from a panel that faces the flow
-never leaves the half-space in front of it. A convex part C cut by that plane leaves the convex
-solid C ∩ {n . x >= n . p}, the convex hull of C's corners in front and of the points where the
-plane cuts the segments between corners on its two sides (a fin whose root meets the body:
-only the body's part in front of the fin shades it). Projected on the plane normal to the flow
-u, each such solid is a convex polygon H (the 2-D convex hull of its corners) and the panel a
-triangle T; the parallel projection from the panel's plane to that plane is affine, so the lit
-fraction is 1 - area(T ∩ (H_1 ∪ ...)) / area(T) and the lit centroid, mapped back through the
-triangle's own corners, is exact. The panels of one flat face share the plane, so the cut is
-made once per face.
-
-:func:`convex_outline` makes the polygon H of a part,
-:func:`~adbsat_ros.shading.clipping.lit_parts` the lit fraction and lit centroid of many
-triangles against the polygons (Sutherland-Hodgman clipping of each
-triangle by the polygons' edges that cut it, vectorised over the triangles, the union by
-inclusion-exclusion; the only loops are over the clipping passes and the sets of polygons).
-
-Units: metres; 2-D points in the plane normal to the flow
-(:func:`~adbsat_ros.shading.flow_plane.perp_basis`).
+A closed convex part's shadow on a plane is its projection along the flow, a convex set. A
+panel that only closed convex components can shade is lit outside the union of the projections
+of their parts in front of its plane (a part the plane cuts keeps its convex part in front).
+Projected normal to the flow, each part is a convex polygon (:func:`convex_outline`) and the
+panel a triangle, so :func:`~adbsat_ros.shading.clipping.lit_parts` gives the exact lit fraction
+and centroid (docs/shading.md). Units: metres; 2-D points in the plane normal to the flow.
 """
 
 from __future__ import annotations
@@ -41,12 +19,11 @@ from adbsat_ros.shading.clipping import lit_parts
 #: inclusion-exclusion over 2^n - 1 intersections).
 MAX_OCCLUDERS = 3
 #: A part the panel's plane cuts is cut through the segments between each pair of its corners
-#: on the two sides; beyond this many corners (a finely divided cylinder) the cut costs more
-#: than the rays, and its panels are left to them.
+#: on the two sides; beyond this many corners (a finely divided cylinder) its panels are left
+#: to the rays.
 MAX_CUT_CORNERS = 64
-#: The cut is made once per plane (a 2-D hull and the clipping). Panels on more planes than
-#: this behind the same parts (the facets of a curved surface, e.g. a plate behind a 128-sided
-#: cylinder it cuts) are left to their rays, which then cost less.
+#: The cut is made once per plane. Panels on more planes than this behind the same parts (the
+#: facets of a curved surface) are left to their rays.
 MAX_CUT_PLANES = 32
 #: A convex part counts as wholly in front of a panel if each of its hull corners is at least
 #: this fraction of the mesh's bounding-box diagonal in front of the panel's plane (and as
@@ -73,15 +50,11 @@ class ConvexParts:
     candidate_filter : CandidateFilter
         The mesh's filter (its components and which are convex).
     diagonal : float
-        The mesh's bounding-box diagonal [m] (scale of the front tolerance and of the
-        planes' offsets when panels are grouped by plane).
+        The mesh's bounding-box diagonal [m] (scale of the tolerances).
     graze_tol : float
-        The shader's grazing tolerance: a panel lit exactly has cos delta above it (a panel
-        nearer grazing projects to a sliver).
+        The shader's grazing tolerance: a panel lit exactly has cos delta above it.
     corners : dict, optional
-        The hull corners (h, 3) [m], G, of some components, made before (an articulated body's
-        links' hulls posed: :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.hull_corners`);
-        the others' are made from the panels when first needed.
+        Hull corners (h, 3) [m], G, of some components, made before; the others' when needed.
     """
 
     def __init__(
@@ -95,7 +68,7 @@ class ConvexParts:
         self._corners = dict(corners or {})  # component -> its hull corners (h, 3)
 
     def corners(self, component: int) -> np.ndarray:
-        """The corners of a component's convex hull [m], G (made once, when first asked)."""
+        """The corners of a component's convex hull [m], G (made when first asked)."""
         corners = self._corners.get(component)
         if corners is None:
             corners = hull_corners(self.mesh.vertices[self.filter.component == component])
@@ -105,11 +78,9 @@ class ConvexParts:
     def lighting(self, boxes, panels: np.ndarray) -> tuple:
         """The panels among ``panels`` that convex parts alone can shade, lit exactly.
 
-        A panel qualifies if it faces the flow (cos delta > ``graze_tol``), it is on its
-        own component's hull (its own component cannot shade it), the other components that
-        could shade it (``filter.occluders``) are one to :data:`MAX_OCCLUDERS`, all closed and
-        convex. Its shadow is then the union of the projections of their parts in front of
-        the panel's plane (the rays from a panel facing the flow stay in front of it).
+        A panel qualifies if it faces the flow (cos delta > ``graze_tol``), is on its own
+        component's hull, and one to :data:`MAX_OCCLUDERS` other components could shade it, all
+        closed and convex.
 
         Parameters
         ----------
@@ -186,13 +157,12 @@ class ConvexParts:
         return done, fraction[done], centroid[done]
 
     def _shadows(self, members, normal, level: float, boxes, outlines: dict) -> list | None:
-        """The outlines (in the plane normal to the flow) of the parts ``members`` in front of
-        the plane n . x = level: a part wholly in front, its whole outline (``outlines``, the
-        direction's, by part); a part the plane cuts, the outline of its corners in front and
-        of the points where the plane cuts the segments between corners on its two sides (a
-        convex part meets the plane in the convex hull of those); a part wholly behind, none.
-        None if an outline spans no area or a cut part has more than
-        :data:`MAX_CUT_CORNERS` corners (the panels are left to the rays)."""
+        """Outlines normal to the flow of the parts ``members`` in front of the plane n . x = level.
+
+        A part wholly in front: its whole outline; cut: the outline of its corners in front and the
+        plane's cuts of its edges; behind: none. None if an outline spans no area or a cut part has
+        more than :data:`MAX_CUT_CORNERS` corners (left to the rays).
+        """
         shapes = []
         for part in members:
             corners = self.corners(part)
@@ -217,15 +187,13 @@ class ConvexParts:
         return shapes
 
     def _clip_panels(self, boxes, j, rows, shapes, fraction, centroid) -> None:
-        """Set ``fraction[rows]`` and ``centroid[rows]`` of panels ``j`` from the polygons
-        ``shapes`` (as :func:`lit_parts` takes them)."""
+        """Set ``fraction[rows]``, ``centroid[rows]`` of panels ``j`` from polygons ``shapes``."""
         x, y, _ = boxes.coords
         triangles = np.stack([x[j], y[j]], axis=-1)  # (R, 3, 2)
         f, c2 = lit_parts(triangles, shapes)
         fraction[rows] = f
         # the lit centroid back on the panel, through its triangle coordinates
-        # (a, b) with c2 = t0 + a (t1 - t0) + b (t2 - t0), by Cramer's rule (2 x 2 systems,
-        # many at once: cheaper than np.linalg.solve)
+        # (a, b) with c2 = t0 + a (t1 - t0) + b (t2 - t0), by Cramer's rule
         (ux, uy), (vx, vy) = (
             (triangles[:, 1] - triangles[:, 0]).T,
             (triangles[:, 2] - triangles[:, 0]).T,
@@ -240,10 +208,7 @@ class ConvexParts:
 
 
 def _distinct_rows(keys: np.ndarray) -> tuple:
-    """The distinct rows of ``keys`` (K, c) and which of them each row is ((K,) indices), as
-    ``np.unique(keys, axis=0, return_inverse=True)`` gives them, by a lexicographic sort of
-    the columns (``np.unique`` sorts the rows as records, which is slower, and a configuration of
-    the finned example groups its panels about fifteen times)."""
+    """``np.unique(keys, axis=0, return_inverse=True)`` by a lexicographic sort of the columns."""
     if len(keys) == 0:
         return keys[:0], np.zeros(0, dtype=np.int64)
     order = np.lexsort(keys.T[::-1])
@@ -256,15 +221,12 @@ def _distinct_rows(keys: np.ndarray) -> tuple:
 
 
 def _sizes(shapes) -> tuple:
-    """The corner counts of a panel group's polygons: groups with the same counts are clipped
-    together, each panel with its own polygons, as they are (stacked, no padding)."""
+    """The corner counts of a panel group's polygons (equal counts clipped together)."""
     return tuple(len(shape) for shape in shapes)
 
 
 def _per_panel_outlines(groups) -> list:
-    """Groups of panels that share their shadows, ``[(count, outlines), ...]`` (outlines of the
-    same sizes in every group), as one (K, m, 2) array per outline slot: each group's polygon
-    repeated for its panels."""
+    """Groups of panels sharing shadows, ``[(count, outlines), ...]``, (K, m, 2) per slot."""
     counts = [count for count, _ in groups]
     return [
         np.repeat(np.stack([outlines[slot] for _, outlines in groups]), counts, axis=0)
@@ -273,8 +235,7 @@ def _per_panel_outlines(groups) -> list:
 
 
 def hull_corners(points: np.ndarray) -> np.ndarray:
-    """The corners of the convex hull of 3-D points [m] (all the points if they span no
-    volume)."""
+    """The corners of the convex hull of 3-D points [m] (all the points if they span no volume)."""
     from scipy.spatial import ConvexHull, QhullError  # (not at start-up)
 
     points = np.asarray(points, dtype=float).reshape(-1, 3)
@@ -287,13 +248,9 @@ def hull_corners(points: np.ndarray) -> np.ndarray:
 def convex_outline(points: np.ndarray) -> np.ndarray | None:
     """The convex hull of 2-D points as a polygon.
 
-    Andrew's monotone chain (A. M. Andrew, Information Processing Letters 9, 216, 1979) on the
-    points as Python floats: an outline has a part's corners and the points where a plane cuts its
-    edges, some tens at most, for which scipy's ``ConvexHull`` spends most of its time setting up
-    Qhull (shading the finned example at its exact joint positions makes some 16 outlines of 14
-    points on average per message). A point whose triangle with its neighbours has an area below
-    :data:`FLAT_OUTLINE` of the square of the extent (the cut points of a part's edges lie on its
-    sides up to rounding) is not a corner.
+    Andrew's monotone chain (A. M. Andrew, Information Processing Letters 9, 216, 1979) on Python
+    floats (outlines have tens of points, where Qhull's set-up dominates). A point whose triangle
+    with its neighbours has an area below :data:`FLAT_OUTLINE` of the extent squared is no corner.
 
     Parameters
     ----------
@@ -303,8 +260,8 @@ def convex_outline(points: np.ndarray) -> np.ndarray | None:
     Returns
     -------
     ndarray, shape (m, 2) or None
-        The hull's corners, counter-clockwise; None if the points span no area (their hull's
-        area is below :data:`FLAT_OUTLINE` of the square of their extent) or one is not finite.
+        The hull's corners, counter-clockwise; None if the points span no area (below
+        :data:`FLAT_OUTLINE` of the extent squared) or one is not finite.
     """
     points = np.asarray(points, dtype=float).reshape(-1, 2)
     if not np.isfinite(points).all():

@@ -1,10 +1,9 @@
 """Cells of the sphere of flow directions: an equi-angular cube map (the shading cache's keys).
 
-A direction u is mapped to the face of the cube it points through (largest |component|) and two
-angles atan(u_a / |u_k|), atan(u_b / |u_k|) in [-45, 45] deg, each cut into n equal steps. Every
-cell has the same shape class and size within a factor ~1.4 on the whole sphere (no pole), and
-every direction lies within one step of its cell centre (proof in adbsat_ros.shading.cache).
-Directions are in the mesh frame G and need not be unit vectors.
+A direction u (mesh frame G, any length) maps to the cube face it points through and two angles
+atan(u_a / |u_k|), atan(u_b / |u_k|) in [-45, 45] deg, each cut into n steps: cells of similar
+size (within ~1.4) with no pole, every direction within one step of its cell centre (proof in
+adbsat_ros.shading.cache).
 """
 
 from __future__ import annotations
@@ -17,12 +16,10 @@ _QUARTER = 0.25 * math.pi
 
 
 def cells_per_edge(resolution_deg: float) -> int:
-    """Number n of angular steps along a cube-map face edge for a resolution in degrees.
+    """The smallest odd n >= 90 / resolution_deg of angular steps along a face edge.
 
-    The smallest odd n >= 90 / resolution_deg: with n odd the six axis directions (face centres)
-    are cell centres. A body flying along one of its axes, the most common attitude, then stays
-    inside one cell and is shaded exactly at that axis, instead of sitting on the corner of four
-    cells and switching between them with every rounding change of the flow direction.
+    With n odd the six axis directions are cell centres: a body flying along an axis stays in one
+    cell instead of switching between four with every rounding of the flow direction.
     """
     resolution_deg = float(resolution_deg)
     if not (math.isfinite(resolution_deg) and 0.0 < resolution_deg <= 90.0):
@@ -32,19 +29,9 @@ def cells_per_edge(resolution_deg: float) -> int:
 
 
 def direction_keys(u, n: int) -> np.ndarray:
-    """Cube-map cell keys of flow directions.
+    """Cube-map cell keys (int64, () or (M,)) of non-zero directions ``u`` (G), ``n`` steps.
 
-    Parameters
-    ----------
-    u : array_like, shape (3,) or (M, 3)
-        Directions in G (need not be unit length, must be non-zero).
-    n : int
-        Angular steps per face edge.
-
-    Returns
-    -------
-    ndarray of int64, shape () or (M,)
-        key = face * n^2 + i * n + j, face = 2 k + (u_k < 0) with k the axis of largest |u_k|.
+    key = face * n^2 + i * n + j, face = 2 k + (u_k < 0) with k the axis of largest |u_k|.
     """
     u = np.asarray(u, dtype=float)
     single = u.ndim == 1
@@ -64,12 +51,7 @@ def direction_keys(u, n: int) -> np.ndarray:
 
 
 def direction_key(x: float, y: float, z: float, n: int) -> int:
-    """:func:`direction_keys` of one direction given as three floats (no numpy per query).
-
-    The key depends on the direction only (ratios of components), so (x, y, z) need not be unit.
-    It exists because the node keys one direction per message, where numpy's overhead per
-    call on one vector would outweigh the work. The tests check that both give the same keys.
-    """
+    """:func:`direction_keys` of one direction given as three floats (no numpy; tested equal)."""
     ax, ay, az = abs(x), abs(y), abs(z)
     # first axis of largest |u_k|, as np.argmax; then the two others in cyclic order
     if ax >= ay and ax >= az:
@@ -85,18 +67,7 @@ def direction_key(x: float, y: float, z: float, n: int) -> int:
 
 
 def key_centres(keys, n: int) -> np.ndarray:
-    """Unit direction at the centre of cube-map cells.
-
-    Parameters
-    ----------
-    keys : array_like of int, shape () or (M,)
-    n : int
-        Angular steps per face edge.
-
-    Returns
-    -------
-    ndarray, shape (3,) or (M, 3)
-    """
+    """Unit directions (3,) or (M, 3) at the centres of cube-map cells ``keys`` (``n`` steps)."""
     keys = np.asarray(keys, dtype=np.int64)
     single = keys.ndim == 0
     keys = np.atleast_1d(keys)

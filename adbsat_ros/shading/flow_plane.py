@@ -1,13 +1,8 @@
 """Coordinates in the plane normal to the flow, and a 2-D grid that pairs points with boxes.
 
-Shading works in the plane normal to a direction d (the rays' direction): a point's image in
-that plane decides which triangles it can see along d. :func:`perp_basis` gives a right-handed
-orthonormal basis (p1, p2, d), :func:`coordinates` the coordinates of points along it, and
-:func:`grid_pairs` the (point, box) pairs whose images can overlap, from a uniform grid of the
-plane, in chunks of bounded memory. Used by the numpy ray backend, ADBSat's projection method
-and the shader's candidate filter.
-
-Units: metres for points and boxes, directions unitless.
+:func:`perp_basis` gives a right-handed orthonormal basis (p1, p2, d), :func:`coordinates` the
+coordinates of points along it, :func:`grid_pairs` the (point, box) pairs whose images in the
+plane can overlap, in chunks of bounded memory. Units: metres, directions unitless.
 """
 
 from __future__ import annotations
@@ -21,18 +16,7 @@ MAX_PAIRS = 1 << 21
 
 
 def perp_basis(d: np.ndarray) -> np.ndarray:
-    """A right-handed orthonormal basis (p1, p2, d) as the columns of a 3x3 matrix.
-
-    Parameters
-    ----------
-    d : ndarray, shape (3,)
-        Unit direction (any frame); it is the third column.
-
-    Returns
-    -------
-    ndarray, shape (3, 3)
-        Columns p1, p2, d; p1 and p2 span the plane normal to d.
-    """
+    """Right-handed orthonormal columns (p1, p2, d); p1, p2 span the plane normal to unit ``d``."""
     k = int(np.argmin(np.abs(d)))
     e = np.zeros(3)
     e[k] = 1.0
@@ -43,20 +27,7 @@ def perp_basis(d: np.ndarray) -> np.ndarray:
 
 
 def coordinates(points: np.ndarray, basis: np.ndarray) -> tuple:
-    """Coordinates of points along the three columns of ``basis``.
-
-    Parameters
-    ----------
-    points : ndarray, shape (..., 3)
-        Points [m], in the frame of ``basis``.
-    basis : ndarray, shape (3, 3)
-        Orthonormal columns (e.g. :func:`perp_basis`).
-
-    Returns
-    -------
-    tuple of three ndarray, each of shape ``points.shape[:-1]``
-        Coordinates [m] along the first, second and third column.
-    """
+    """Coordinates [m] of ``points`` (..., 3) along the columns of ``basis``: three arrays."""
     flat = points.reshape(-1, 3)
     shape = points.shape[:-1]
     return tuple((flat @ basis[:, k]).reshape(shape) for k in range(3))
@@ -75,27 +46,23 @@ def max3(a: np.ndarray) -> np.ndarray:
 def grid_pairs(px, py, bmin, bmax, max_pairs=MAX_PAIRS):
     """Chunks of (point, box) index pairs whose grid cells match, for 2-D point-in-box work.
 
+    The grid's square cells are 0.4 times the median box size (coarser if boxes would cover too
+    many); each box is entered in every cell it touches, each point looks up its own.
+
     Parameters
     ----------
     px, py : ndarray, shape (R,)
         Point coordinates in a plane [m].
     bmin, bmax : ndarray, shape (T, 2)
-        Lower and upper corners of the boxes [m] (e.g. projected triangle bounding boxes).
+        Lower and upper corners of the boxes [m].
     max_pairs : int
-        Largest number of pairs per chunk (memory bound; a point with more boxes in its cell
-        than this is still yielded whole).
+        Largest number of pairs per chunk (a point with more boxes in its cell is yielded whole).
 
     Yields
     ------
     point_index, box_index : ndarray of int, shape (P,)
-        Every pair (r, t) with point r inside box t is yielded exactly once (plus pairs that
-        share a cell without overlapping, which the caller filters).
-
-    Notes
-    -----
-    A uniform grid covers the points' bounding box with square cells of 0.4 times the median
-    box size (coarsened if boxes would cover too many cells); each box is entered in every cell
-    its extent touches (clamped to the grid), each point looks up its own cell.
+        Every pair (r, t) with point r inside box t exactly once (plus pairs that share a cell
+        without overlapping, which the caller filters).
     """
     n_pts, n_box = len(px), len(bmin)
     if n_pts == 0 or n_box == 0:

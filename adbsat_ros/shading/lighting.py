@@ -1,13 +1,8 @@
 """Which part of each panel the flow (or sunlight) reaches: the output of shading.
 
-A :class:`PanelLighting` is what the panel method needs from a shading analysis: the lit fraction
-of every panel (its effective area is A_i times the fraction), and for partly lit panels the shift
-of the centre of pressure from the barycentre to the centroid of the lit part.
-
-It is stored sparsely: only the panels that are not fully lit (``shaded_index``, their
-``shaded_fraction``) and the shifts, so its size grows with the shaded area, not with the mesh.
-The shading cache keeps lightings as they are; the panel method sums a lighting's facet weights
-once and keeps them under its content fingerprint (:attr:`PanelLighting.key`).
+A :class:`PanelLighting` holds the lit fraction of every panel (effective area A_i f_i) and, for
+partly lit panels, the shift of the centre of pressure to the lit part's centroid, stored
+sparsely (only panels not fully lit), with a content fingerprint :attr:`PanelLighting.key`.
 """
 
 from __future__ import annotations
@@ -26,7 +21,7 @@ def _read_only(array: np.ndarray) -> np.ndarray:
 
 
 class PanelLighting:
-    """Lit fraction and lit-centroid shift of every panel, for one flow direction.
+    """Lit fraction and lit-centroid shift of every panel, for one flow direction (read-only).
 
     Parameters
     ----------
@@ -45,28 +40,17 @@ class PanelLighting:
         Panels not fully lit (lit fraction < 1), ascending.
     shaded_fraction : ndarray, shape (S,)
         Their lit fractions, in [0, 1).
-    shift_index : ndarray of int64, shape (K,)
-        As given.
-    shift : ndarray, shape (K, 3)
-        As given [m], G.
     shift_fraction : ndarray, shape (K,)
         Lit fraction of the panels of ``shift_index``.
     key : bytes
-        Fingerprint of the content (BLAKE2b, 128 bits, of the panel count and the sparse
-        arrays): two lightings with the same key are the same lighting, so results derived
-        from one (the panel method's facet sums) can be kept under it.
+        Fingerprint of the content (BLAKE2b, 128 bits): equal keys mean equal lightings, so
+        results derived from one can be kept under it.
 
     Raises
     ------
     ValueError
         If ``lit_fraction`` is not a 1-D array of numbers in [0, 1], or the shifts do not match
         (shape, panel indices out of range).
-
-    Notes
-    -----
-    Every array is read-only, so a lighting can be shared (the shading cache hands out the
-    same object for every query in one cell). ``shaded_index`` is stored as int32 (half the
-    memory of a cached entry); numpy indexes with it as with int64.
     """
 
     __slots__ = (
@@ -142,25 +126,14 @@ class PanelLighting:
 class LightingBlend:
     """A weighted mean of lightings: what the interpolating shading cache hands out.
 
-    The lit fraction of panel i is f_i = sum_k w_k f_k,i, and its lit-centroid shift
-    d_i = sum_k w_k f_k,i d_k,i / f_i: the panel method is linear in f_i and in f_i d_i, so its
-    result with the blend is the weighted mean of its results with the parts (the facet sums
-    of a blend are summed so, from the parts' stored sums).
+    f_i = sum_k w_k f_k,i and d_i = sum_k w_k f_k,i d_k,i / f_i: the panel method is linear in f_i
+    and f_i d_i, so its result with the blend is the weighted mean of its results with the parts.
+    The per-panel view (as :class:`PanelLighting`) is made on first use from :attr:`combined`.
 
     Parameters
     ----------
     parts : sequence of (float, PanelLighting)
         Weights (positive, summing to 1 within 1e-9) and lightings of one mesh.
-
-    Attributes
-    ----------
-    parts : tuple of (float, PanelLighting)
-    n_panels : int
-
-    Notes
-    -----
-    The per-panel view (:attr:`lit_fraction`, :attr:`shift_index`, ... as in
-    :class:`PanelLighting`) is made on first use, from :attr:`combined`.
     """
 
     def __init__(self, parts):
@@ -257,15 +230,13 @@ class LightingBlend:
 def panel_range(lighting, start: int, stop: int, rotation=None):
     """The lighting of panels ``start`` to ``stop - 1`` alone, or None if they are all lit.
 
-    For the panels of one part of a body evaluated in the part's own frame: ``rotation`` (3 x 3,
-    optional) takes the shifts from the lighting's frame to that frame (d' = rotation d).
-
     Parameters
     ----------
     lighting : PanelLighting, LightingBlend or None
     start, stop : int
         The panel range, 0 <= start < stop <= N.
     rotation : array_like, shape (3, 3), optional
+        Takes the shifts into the part's own frame (d' = rotation d).
     """
     if lighting is None:
         return None

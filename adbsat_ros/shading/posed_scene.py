@@ -1,19 +1,10 @@
 """What ray-cast shading needs of an articulated body, made once for every configuration.
 
-Shading a configuration needs a ray scene of the posed body's panels and the candidate filter's
-topology (edge neighbours, connected components, hull faces). Both come from the links, which
-are rigid: :class:`LinkScenes` merges each link's vertices and finds its topology once, in the
-link's own frame. For a configuration it poses the merged vertices (a rotation and a shift per
-link) and builds the ray scene from them, with no vertex merging, and joins the links'
-topologies, which moving a link does not change. The panels, their order and every rule of the
-ray cast are those of :func:`~adbsat_ros.shading.rays.ray_scene` on
-:meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh`; the scene is built when the
-first ray is cast (:class:`DeferredScene`).
-
-Two links are never one component here, so the panels of two links that touch are not edge
-neighbours (the shader's probe of a partly lit panel's neighbours stays within its link).
-
-Units: metres, body frame G.
+:class:`LinkScenes` merges each rigid link's vertices and finds its topology once, in the
+link's frame; per configuration it poses them, builds the ray scene (deferred to the first ray,
+:class:`DeferredScene`) and joins the topologies. The result equals
+:func:`~adbsat_ros.shading.rays.ray_scene` on the body's mesh; panels of two touching links are
+never edge neighbours. Units: metres, body frame G.
 """
 
 from __future__ import annotations
@@ -28,8 +19,7 @@ from adbsat_ros.shading.rays import RayScene, ray_scene, resolve_backend
 
 
 class LinkScenes:
-    """Every link's merged vertices and filter topology, made once; the scene and the
-    candidate filter of the body at any configuration.
+    """Every link's merged vertices and topology, made once; the body's scene and filter per pose.
 
     Parameters
     ----------
@@ -39,8 +29,6 @@ class LinkScenes:
 
     Attributes
     ----------
-    backend : str
-        ``"embree"`` or ``"numpy"``.
     topology : MeshTopology
         The candidate filter's topology of the body's panels (in the order of ``body.mesh``).
     """
@@ -73,9 +61,7 @@ class LinkScenes:
         self.topology = MeshTopology.joined(topologies)
 
     def scene(self, mesh: PanelMesh, link_poses: np.ndarray) -> "DeferredScene":
-        """The ray scene of the body's panels ``mesh`` at the configuration where its links
-        have ``link_poses`` ((L, 4, 4) link-to-G poses of every link, as
-        :meth:`ArticulatedBody.link_poses` gives them), built when a ray is first cast."""
+        """The ray scene of ``mesh`` with links at ``link_poses`` ((L, 4, 4), link to G)."""
         poses = np.array(link_poses, dtype=float)
 
         def build() -> RayScene:
@@ -90,9 +76,7 @@ class LinkScenes:
         return DeferredScene(self.backend, build)
 
     def hull_corners(self, link_poses: np.ndarray) -> dict:
-        """The corners of every component's convex hull [m] at the configuration where the
-        links have ``link_poses`` (as :meth:`scene`): component of the body's panels -> (h, 3),
-        G (the links' hulls made once, posed here)."""
+        """Component -> its hull corners (h, 3) [m], G, at ``link_poses`` (links' hulls posed)."""
         poses = np.asarray(link_poses, dtype=float)
         out = {}
         for k, component, corners in self._hulls:
@@ -108,10 +92,7 @@ class LinkScenes:
 class DeferredScene:
     """A ray scene built when a ray is first cast through it (:class:`RayScene`'s methods).
 
-    Building an Embree scene of a posed body costs time at each new configuration, and the exact
-    shadows of convex parts often leave no ray to cast for a configuration (none for the
-    bundled articulated examples at the benchmarks' attitudes), so a configuration's scene
-    waits for its first ray.
+    Exact convex shadows often leave no ray to cast for a configuration.
 
     Parameters
     ----------
@@ -119,7 +100,6 @@ class DeferredScene:
         ``"embree"`` or ``"numpy"``.
     build : callable
         ``build()`` makes the scene.
-
     """
 
     def __init__(self, backend: str, build):

@@ -22,6 +22,9 @@ ADBSAT_DOWNSTREAM_TOL = 1e-5
 def adbsat_shadowed(mesh: PanelMesh, u_G, max_pairs: int = MAX_PAIRS) -> np.ndarray:
     """Panels ADBSat's ``shadowAnaly`` marks as shadowed (barycentre-projection method).
 
+    ADBSat's tests and thresholds, on (forward barycentre, backward triangle) pairs from a grid in
+    the (y_W, z_W) plane instead of its all-pairs loop: the same result.
+
     Parameters
     ----------
     mesh : PanelMesh
@@ -36,17 +39,7 @@ def adbsat_shadowed(mesh: PanelMesh, u_G, max_pairs: int = MAX_PAIRS) -> np.ndar
     ndarray of bool, shape (N,)
         True for forward panels (delta <= 90.0001 deg) whose barycentre, projected along the
         flow, lies inside the projection of a backward panel and downstream of its plane by
-        more than 1e-5 m (physics.md section 6). Convex meshes return all False (ADBSat's test
-        can never fire on them).
-
-    Notes
-    -----
-    Same tests and thresholds as ADBSat, vectorised: instead of a loop over forward panels,
-    (forward barycentre, backward triangle) pairs come in chunks from a 2-D grid in the
-    (y_W, z_W) plane; ADBSat's sign prefilter (the translated triangle's y, and z, are not all
-    strictly of one sign, i.e. the barycentre lies in the triangle's bounding box) and the
-    barycentric test are then applied to exactly those pairs, so the result is the same as the
-    all-pairs loop.
+        more than 1e-5 m (physics.md section 6). All False for convex meshes.
     """
     u = frames.unit_vector(u_G)
     n = mesh.n_panels

@@ -1,22 +1,12 @@
 """Ray casting against a mesh: one interface, two backends.
 
-A *ray scene* holds the panels of one mesh and answers three questions: for a batch of rays with
-a common direction (shading), does the ray from each origin meet an occluding panel at a
-distance t > 0, and which occluding panel does it meet first; and for rays of their own
-directions (test particles), which panel does each meet first, and how far away. Two backends
-implement them with the same rules (shared edges count as inside both triangles):
-
-``"embree"``
-    Embree through embreex (:mod:`adbsat_ros.shading.rays_embree`), float32, very fast.
-``"numpy"``
-    Vectorised Moeller-Trumbore in float64 (:mod:`adbsat_ros.shading.rays_numpy`), the
-    reference, and the fallback when embreex is not installed.
-
-Both give the same answer except for rays within float32 rounding (~1e-7 of the mesh size) of
-an edge. ``has_embree`` says whether embreex could be imported (once, here); ``"auto"`` picks
-Embree when it is available.
-
-Units: metres, mesh frame G; directions unitless.
+A *ray scene* answers, for rays of one direction (shading), whether each meets an occluding
+panel at t > 0 and which first, and for rays of their own directions (test particles), which
+panel each meets first and how far. ``"embree"``: Embree through embreex, float32
+(:mod:`adbsat_ros.shading.rays_embree`); ``"numpy"``: Moeller-Trumbore in float64, the reference
+and fallback (:mod:`adbsat_ros.shading.rays_numpy`). Shared edges count as inside both triangles;
+the two agree except within float32 rounding (~1e-7 of the mesh size) of an edge.
+``has_embree`` says whether embreex imports; ``"auto"`` picks Embree then. Units: metres, G.
 """
 
 from __future__ import annotations
@@ -80,8 +70,7 @@ class RayScene(Protocol):
         Returns
         -------
         ndarray of int64, shape (R,)
-            Panel index, -1 where the ray meets none: a ray meets a panel exactly where
-            :meth:`any_hit` says it is blocked.
+            Panel index, -1 exactly where :meth:`any_hit` says the ray is not blocked.
         """
         ...
 
@@ -141,8 +130,7 @@ def ray_scene(mesh: PanelMesh, backend: str = "auto", indexed: tuple | None = No
     backend : {"auto", "embree", "numpy"}
         See :func:`resolve_backend`.
     indexed : (ndarray, ndarray), optional
-        The panels as vertices (V, 3) and faces (N, 3), made before (Embree; see
-        :class:`~adbsat_ros.shading.rays_embree.EmbreeScene`).
+        The panels as merged vertices (V, 3) and faces (N, 3), made before.
 
     Returns
     -------

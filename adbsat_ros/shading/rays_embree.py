@@ -1,12 +1,8 @@
 """Ray casting with Embree (through embreex, the engine behind trimesh's RayMeshIntersector).
 
-Float32 and very fast. Importing this module imports embreex: :mod:`adbsat_ros.shading.rays`
-does so once and sets ``has_embree``. :class:`EmbreeScene` is this backend behind the interface
-of :mod:`adbsat_ros.shading.rays`; it returns what :class:`~adbsat_ros.shading.rays_numpy.\
-NumpyScene` returns for the same rays, except for rays within float32 rounding (~1e-7 of the
-mesh size) of an edge.
-
-Units: metres, mesh frame G; directions unitless.
+Float32; :class:`EmbreeScene` implements :mod:`adbsat_ros.shading.rays`' interface and agrees
+with the numpy backend except within float32 rounding (~1e-7 of the mesh size) of an edge.
+Importing this module imports embreex. Units: metres, mesh frame G; directions unitless.
 """
 
 from __future__ import annotations
@@ -31,14 +27,8 @@ class EmbreeScene:
     mesh : PanelMesh
         Panels [m], mesh frame G; face i of the scene is panel i.
     indexed : (ndarray, ndarray), optional
-        The panels as vertices (V, 3) [m] and faces (N, 3) of vertex indices, made before (an
-        articulated body's links posed, :mod:`adbsat_ros.shading.posed_scene`); by default
-        the mesh with its vertices merged (``mesh.to_trimesh()``).
-
-    Attributes
-    ----------
-    backend : str
-        ``"embree"``.
+        The panels as vertices (V, 3) [m] and faces (N, 3), made before; by default the mesh with
+        its vertices merged (``mesh.to_trimesh()``).
     """
 
     backend = "embree"
@@ -70,21 +60,7 @@ class EmbreeScene:
         return self.scene.run(o, dirs, query=query)
 
     def first_hit(self, origins, directions) -> tuple:
-        """The first panel each ray origins[r] + t directions[r], t > 0, meets.
-
-        Parameters
-        ----------
-        origins, directions : ndarray, shape (R, 3)
-            Ray origins [m] and directions (G; any non-zero length, e.g. velocities).
-
-        Returns
-        -------
-        face : ndarray of int64, shape (R,)
-            Index of the panel met, -1 for none.
-        t : ndarray, shape (R,)
-            The hit is at origins + t directions (inf for none), to float32 rounding of the
-            scene.
-        """
+        """``RayScene.first_hit``, t to float32 rounding of the scene."""
         origins = np.asarray(origins, dtype=float)
         if origins.shape[0] == 0:
             return np.zeros(0, dtype=np.int64), np.zeros(0)
@@ -97,22 +73,10 @@ class EmbreeScene:
         return face, distance
 
     def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
-        """Whether each ray origins[r] + t direction, t > 0, meets an occluding panel.
+        """:meth:`~adbsat_ros.shading.rays.RayScene.any_hit`.
 
-        Parameters
-        ----------
-        origins : ndarray, shape (R, 3)
-            Ray origins [m], G.
-        direction : ndarray, shape (3,)
-            Common unit ray direction (G).
-        occluder : ndarray of bool, shape (N,), optional
-            Panels that can block a ray (default all). The scene holds every panel: a ray
-            whose first hit is a panel outside ``occluder`` is cast again in float64 against
-            the occluders alone (:func:`~adbsat_ros.shading.rays_numpy.any_hit`).
-
-        Returns
-        -------
-        ndarray of bool, shape (R,)
+        The scene holds every panel: a ray first hitting a panel outside ``occluder`` is cast again
+        in float64 against the occluders alone.
         """
         origins = np.asarray(origins, dtype=float)
         if origins.shape[0] == 0:
@@ -128,19 +92,7 @@ class EmbreeScene:
         return blocked
 
     def first_face(self, origins, direction, occluder=None) -> np.ndarray:
-        """The first occluding panel each ray origins[r] + t direction, t > 0, meets.
-
-        Parameters
-        ----------
-        origins, direction, occluder
-            As :meth:`any_hit`; a ray whose first hit is a panel outside ``occluder`` is cast
-            again in float64 against the occluders alone.
-
-        Returns
-        -------
-        ndarray of int64, shape (R,)
-            Panel index, -1 where the ray meets none (exactly where :meth:`any_hit` is False).
-        """
+        """The first occluding panel each ray meets, -1 for none (as :meth:`any_hit`)."""
         origins = np.asarray(origins, dtype=float)
         if origins.shape[0] == 0:
             return np.zeros(0, dtype=np.int64)

@@ -1,13 +1,9 @@
-"""Ray casting in numpy (float64): do rays along one direction meet any of a set of triangles,
-and where does each ray of its own direction first meet one.
+"""Ray casting in numpy (float64): the reference backend, and the fallback without Embree.
 
-The reference ray backend, and the fallback when Embree is not installed: Moeller-Trumbore with
-the direction fixed, candidate (ray, triangle) pairs from a uniform 2-D grid in the plane normal
-to the rays (:func:`adbsat_ros.shading.flow_plane.grid_pairs`), in chunks of bounded memory; for
-rays of many directions (test particles), every (ray, triangle) pair in chunks.
-:class:`NumpyScene` is this backend behind the interface of :mod:`adbsat_ros.shading.rays`.
-
-Units: metres, mesh frame G; directions unitless.
+Moeller-Trumbore with the direction fixed, candidate (ray, triangle) pairs from a uniform 2-D
+grid normal to the rays (:func:`adbsat_ros.shading.flow_plane.grid_pairs`), in chunks of
+bounded memory; for rays of their own directions, every pair. :class:`NumpyScene` implements
+:mod:`adbsat_ros.shading.rays`' interface. Units: metres, mesh frame G; directions unitless.
 """
 
 from __future__ import annotations
@@ -24,6 +20,8 @@ EDGE_TOLERANCE = 1e-12
 def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
     """Whether each ray origins[r] + t d, t > 0, meets any of the triangles (float64).
 
+    Edges are inclusive (u, v >= -1e-12, u + v <= 1 + 1e-12).
+
     Parameters
     ----------
     origins : ndarray, shape (R, 3)
@@ -38,13 +36,6 @@ def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
     Returns
     -------
     ndarray of bool, shape (R,)
-
-    Notes
-    -----
-    Moeller-Trumbore with the direction fixed, so every per-triangle term is precomputed and a
-    pair costs three dot products. Pairs come from a uniform grid in the plane normal to d: a
-    ray is tested only against the triangles whose projected bounding box touches its cell.
-    Edges are inclusive (u, v >= -1e-12, u + v <= 1 + 1e-12).
     """
     origins = np.asarray(origins, dtype=float)
     hit = np.zeros(len(origins), dtype=bool)
@@ -54,14 +45,12 @@ def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
 
 
 def first_along(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
-    """The first triangle each ray origins[r] + t d, t > 0, meets (float64): the parameters and
-    the test of :func:`any_hit`.
+    """The first triangle each ray origins[r] + t d, t > 0, meets (as :func:`any_hit`).
 
     Returns
     -------
     ndarray of int64, shape (R,)
-        Index of the nearest triangle met (the lower index where two are met at the same t),
-        -1 for none.
+        Index of the nearest triangle met (the lower one at equal t), -1 for none.
     """
     origins = np.asarray(origins, dtype=float)
     n_rays = len(origins)
@@ -80,9 +69,7 @@ def first_along(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
 
 
 def _hits_along(origins, d, tri_vertices, max_pairs):
-    """Chunks ``(ray, triangle, t)`` of the (ray, triangle) pairs that meet at t > 0 (index
-    arrays into ``origins`` and ``tri_vertices``, and the distance along d), for
-    :func:`any_hit` and :func:`first_along`."""
+    """Chunks ``(ray, triangle, t)`` of the pairs that meet at t > 0."""
     if len(origins) == 0 or len(tri_vertices) == 0:
         return
     basis = perp_basis(d)
@@ -133,28 +120,10 @@ def _hits_along(origins, d, tri_vertices, max_pairs):
 
 
 def first_hit(origins, directions, tri_vertices, max_pairs=MAX_PAIRS // 4) -> tuple:
-    """The first triangle each ray origins[r] + t directions[r], t > 0, meets (float64).
+    """The first triangle ``(face, t)`` each ray origins[r] + t directions[r], t > 0, meets.
 
-    Parameters
-    ----------
-    origins, directions : ndarray, shape (R, 3)
-        Ray origins [m] and directions (G; any non-zero length, e.g. velocities).
-    tri_vertices : ndarray, shape (T, 3, 3)
-        Triangles [m], G.
-    max_pairs : int
-        Largest number of (ray, triangle) pairs tested at once (memory bound).
-
-    Returns
-    -------
-    face : ndarray of int64, shape (R,)
-        Index of the first triangle met, -1 for none.
-    t : ndarray, shape (R,)
-        The hit is at origins + t directions (inf for none).
-
-    Notes
-    -----
-    Moeller-Trumbore on every pair, edges inclusive as in :func:`any_hit`; the cost is R x T
-    pairs, so this is the reference for small scenes, not a fast path.
+    Every (ray, triangle) pair, ``max_pairs`` at a time: the reference for small scenes. Origins
+    and ``tri_vertices`` [m], G; ``face`` -1 and ``t`` inf for none.
     """
     origins = np.asarray(origins, dtype=float)
     directions = np.asarray(directions, dtype=float)
@@ -197,11 +166,6 @@ class NumpyScene:
     ----------
     mesh : PanelMesh
         Panels [m], mesh frame G; face i of the scene is panel i.
-
-    Attributes
-    ----------
-    backend : str
-        ``"numpy"``.
     """
 
     backend = "numpy"
@@ -214,28 +178,12 @@ class NumpyScene:
         return first_hit(origins, directions, self.triangles)
 
     def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
-        """Whether each ray origins[r] + t direction, t > 0, meets an occluding panel.
-
-        Parameters
-        ----------
-        origins : ndarray, shape (R, 3)
-            Ray origins [m], G.
-        direction : ndarray, shape (3,)
-            Common unit ray direction (G).
-        occluder : ndarray of bool, shape (N,), optional
-            Panels that can block a ray (default all); panels parallel to ``direction`` must
-            be left out.
-
-        Returns
-        -------
-        ndarray of bool, shape (R,)
-        """
+        """Whether each ray meets an occluding panel (``RayScene.any_hit``)."""
         triangles = self.triangles if occluder is None else self.triangles[occluder]
         return any_hit(np.asarray(origins, dtype=float), direction, triangles)
 
     def first_face(self, origins, direction, occluder=None) -> np.ndarray:
-        """The first occluding panel each ray meets, -1 for none
-        (:meth:`~adbsat_ros.shading.rays.RayScene.first_face`)."""
+        """The first occluding panel each ray meets, -1 for none."""
         if occluder is None:
             return first_along(origins, direction, self.triangles)
         index = np.flatnonzero(occluder)

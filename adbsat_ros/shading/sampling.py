@@ -27,16 +27,7 @@ def _splitmix64(x: np.ndarray) -> np.ndarray:
 
 
 def panel_shifts(panel_index) -> np.ndarray:
-    """Fixed pseudo-random shift in [0, 1)^2 of each panel's sample pattern.
-
-    Parameters
-    ----------
-    panel_index : array_like of int, shape (K,)
-
-    Returns
-    -------
-    ndarray, shape (K, 2)
-    """
+    """Fixed pseudo-random shift in [0, 1)^2 of each panel's sample pattern, shape (K, 2)."""
     i = np.asarray(panel_index, dtype=np.uint64)
     h1 = _splitmix64(2 * i)
     h2 = _splitmix64(2 * i + np.uint64(1))
@@ -69,9 +60,8 @@ def sample_coordinates(panel_index, start: int, count: int):
 def sample_barycentric(panel_index, start: int, count: int) -> np.ndarray:
     """Sample points k = start .. start+count-1 of each panel, as triangle coordinates.
 
-    The k-th point of panel i is frac(s_i + k alpha) with alpha the R2 generator and s_i the
-    panel's fixed shift (:func:`panel_shifts`), folded into the triangle (a + b > 1 maps to
-    (1 - a, 1 - b)), so points are uniform over the triangle and evenly spread.
+    Point k of panel i is frac(s_i + k alpha) (R2 generator alpha, shift s_i of
+    :func:`panel_shifts`), folded into the triangle ((a, b) -> (1 - a, 1 - b) if a + b > 1).
 
     Returns
     -------
@@ -83,21 +73,9 @@ def sample_barycentric(panel_index, start: int, count: int) -> np.ndarray:
 
 
 def sample_points(vertices: np.ndarray, a: np.ndarray, b: np.ndarray, lift=None) -> np.ndarray:
-    """Points P1 + a (P2 - P1) + b (P3 - P1) (+ lift) on triangles.
+    """Points P1 + a (P2 - P1) + b (P3 - P1) + lift on triangles, shape (K, S, 3) [m].
 
-    Parameters
-    ----------
-    vertices : ndarray, shape (K, 3, 3)
-        Corners P1, P2, P3 of each triangle [m].
-    a, b : ndarray, shape (K, S)
-        Triangle coordinates of S points per triangle.
-    lift : ndarray, shape (K, 3), optional
-        Offset [m] added to every point of a triangle (e.g. along its normal).
-
-    Returns
-    -------
-    ndarray, shape (K, S, 3)
-        The points [m], in the frame of ``vertices``.
+    ``vertices`` (K, 3, 3) [m]; ``a``, ``b`` (K, S); ``lift`` (K, 3) [m], optional.
     """
     v0 = vertices[:, 0, :]
     e1 = vertices[:, 1, :] - v0

@@ -1,47 +1,14 @@
 """Shading: which part of each panel the free-molecular flow reaches.
 
-In hyperthermal free-molecular flow the gas molecules travel in straight lines along the flow
-direction u (unit vector of the gas motion relative to the body, mesh frame G). A point of the
-surface is *shaded* if the straight line from it upstream (direction -u) meets the satellite.
-A :class:`Shader` is built once per mesh and returns, for any flow direction, a
-:class:`~adbsat_ros.shading.lighting.PanelLighting` (lit fraction of every panel and, for partly lit
-panels, the shift of the centre of pressure to the centroid of the lit part) that
-:meth:`adbsat_ros.physics.panel_method.PanelMethod.coefficients` consumes (``lighting=``).
-
-Three modes, one interface (:func:`make_shader`):
-
-``"none"``
-    Nothing is occluded: every panel is lit (back faces are left to the gas-surface model).
-    Right for one closed convex body.
-``"projection"``
-    ADBSat's ``shadowAnaly``: a forward panel (incidence delta <= 90.0001 deg) is entirely in
-    shadow if its barycentre, projected along the flow, falls inside the projection of a
-    backward panel that lies upstream of it (n_B . (b_F - a_B) > 1e-5 m). All-or-nothing per
-    panel, only back faces occlude. Vectorised over (forward, backward) candidate pairs, in
-    chunks. Use it to reproduce ADBSat's numbers.
-``"raycast"`` (default)
-    A forward panel that only closed convex components (one to three) can shade is lit
-    exactly, by clipping its projection with those of their parts in front of its plane
-    (:mod:`adbsat_ros.shading.convex_shadow`). Every other forward panel that could be shaded
-    (:class:`~adbsat_ros.shading.candidates.CandidateFilter`) casts rays upstream from
-    ``samples`` points spread over the triangle (R2 low-discrepancy, shifted per panel) and 3
-    points just inside its corners; a panel whose corner rays first meet one closed convex
-    component is wholly in its shadow and casts no more. Panels whose rays disagree are
-    refined with ``refine_samples`` fresh rays and their edge neighbours probed with
-    ``refine_samples // 8``; a panel's lit fraction is the lit share of its last set of rays,
-    its shift the centroid of those lit points minus the barycentre.
-
-Grazing rule (raycast), with c_i = cos(delta_i) = -u . n_i: a face with |c_i| <= ``graze_tol``
-(default 1e-6) occludes nothing; forward faces are those with c_i > graze_tol plus the grazing
-faces that face a fixed generic tie-break direction
-(:func:`~adbsat_ros.shading.candidates.forward_mask`); sample points are lifted off their
-panel by ``offset`` (1e-5 of the bounding-box diagonal) along its normal; a ray is blocked by a
-hit at t > 0, shared edges counting as inside both triangles. A mesh with ``report.convex``
-does no work in any mode. Rays are cast through :func:`~adbsat_ros.shading.rays.ray_scene`
-(``"embree"``, ``"numpy"`` or ``"auto"``); both backends cast the same rays and agree to
-rounding. The method, its proofs and its measured accuracy: docs/shading.md.
-
-Units: metres, frame G, flow direction unitless; angles in radians.
+A point is *shaded* if the line from it upstream (-u, u the gas motion relative to the body in
+G) meets the satellite. A :class:`Shader`, built once per mesh, gives for any flow direction a
+:class:`~adbsat_ros.shading.lighting.PanelLighting` for
+:meth:`~adbsat_ros.physics.panel_method.PanelMethod.coefficients` (``lighting=``). Modes
+(:func:`make_shader`): ``"none"`` (every panel lit: one convex body), ``"projection"`` (ADBSat's
+``shadowAnaly``, all-or-nothing per panel) and ``"raycast"`` (default: exact convex shadows,
+else rays from R2-sampled points, refined where partly lit). Grazing faces (|c_i| <=
+``graze_tol``) occlude nothing (:func:`~adbsat_ros.shading.candidates.forward_mask`). The method,
+its proofs and accuracy: docs/shading.md. Units: metres, frame G, angles in radians.
 """
 
 from __future__ import annotations
@@ -95,36 +62,30 @@ class Shader:
     refine_samples : int
         Extra rays for each panel found partly lit by the first ``samples`` (raycast).
     graze_tol : float
-        |cos delta| at or below which a face is grazing (module docstring).
+        |cos delta| at or below which a face is grazing.
     offset : float, optional
         Distance [m] by which ray origins are moved off their panel along its normal; default
         1e-5 of the bounding-box diagonal.
     prefilter : bool
-        Test only the forward panels that could be shaded (hull and inter-component filters).
-        False tests every forward panel (same answers, slower; for checks).
+        Test only the forward panels that could be shaded; False tests all (same answers).
     dilate : bool
         Also probe the edge neighbours of partly lit panels with ``refine_samples // 8`` rays
-        and refine them if partly lit (catches shadow corners that slip between a panel's
-        first samples).
+        (shadow corners that slip between a panel's first samples).
     convex_shadows : bool
-        Light exactly, without rays, the panels that only closed convex components can shade
-        (:class:`~adbsat_ros.shading.convex_shadow.ConvexParts`), and take a panel whose
-        three corner rays first meet one closed convex component (another than its own) as
-        wholly shaded, without its interior samples (:meth:`_corner_rays`). False casts every
-        panel's rays (for checks of the rays).
+        Light exactly the panels that only closed convex components can shade, and take a panel
+        whose three corner rays meet one such component as wholly shaded. False casts every
+        panel's rays (for checks).
     scene : RayScene, optional
-        The ray scene of ``mesh``'s panels (raycast), made before: for a body posed from
-        rigid parts, :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.scene` (then
-        ``backend`` is the scene's).
+        The ray scene of ``mesh``'s panels (raycast), made before (e.g.
+        :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.scene`; ``backend`` is then the scene's).
     candidate_filter : CandidateFilter, optional
         The candidate filter of ``mesh`` (raycast), made before (likewise).
     hull_corners : dict, optional
-        Its components' convex hull corners, made before (likewise, ``LinkScenes.hull_corners``).
+        Its components' convex hull corners, made before (likewise).
     topology_store : TopologyStore, "default" or None
-        Where the merged vertices and the filter's topology of ``mesh`` are read back from, or
-        kept once made (raycast, when neither ``scene`` nor ``candidate_filter`` is given):
-        by default the store of the environment's cache directory
-        (:mod:`~adbsat_ros.shading.topology_store`); None for none.
+        Where the merged vertices and topology of ``mesh`` are read back from or kept (raycast,
+        without ``scene`` and ``candidate_filter``); by default the environment's cache
+        directory (:mod:`~adbsat_ros.shading.topology_store`); None for none.
 
     Attributes
     ----------
@@ -233,10 +194,10 @@ class Shader:
     __call__ = lighting
 
     def candidates(self, u: np.ndarray, forward: np.ndarray, boxes=None) -> np.ndarray:
-        """Indices of forward panels that could be shaded for unit flow direction ``u`` (G)
-        (``boxes``: the filter's ``flow_boxes(u)``, if made already).
+        """Indices of forward panels that could be shaded for unit flow direction ``u`` (G).
 
-        All of ``forward`` without the prefilter (or for a trivial shader, none).
+        All of ``forward`` without the prefilter (none for a trivial shader); ``boxes``: the
+        filter's ``flow_boxes(u)``, if made already.
         """
         if self.filter is None:
             return np.zeros(0, dtype=np.int64)
@@ -265,11 +226,10 @@ class Shader:
         return out
 
     def _corner_rays(self, corners, d, occluder, cand) -> tuple:
-        """The corner rays of the candidates ``cand`` (points (K, 3, 3)): which are lit (K, 3),
-        and which panels lie wholly in the shadow of one closed convex component (K,): those
-        whose three corner rays first meet it, another component than their own (its shadow
-        is convex, :mod:`~adbsat_ros.shading.convex_shadow`; only a shadow edge within the
-        1e-3 corner inset escapes). No panel without ``convex_shadows``.
+        """Which corner rays of ``cand`` are lit (K, 3), and which panels are wholly shaded (K,).
+
+        Wholly shaded: the three corner rays first meet one closed convex component other than the
+        panel's own (its shadow is convex). None without ``convex_shadows``.
         """
         n = cand.size
         if not self.convex_shadows or not self.filter.convex.any():
@@ -347,12 +307,10 @@ class Shader:
         lit_sum[rest] = np.einsum("ks,ksj->kj", lit[rest], origins) - n_lit[rest, None] * lift[rest]
         total = np.full(cand.size, S)
 
-        # Refine the panels found partly lit with R rays. Their edge neighbours that looked
-        # fully lit or shaded are probed with R/8 rays (a shadow corner can slip between a
-        # panel's first samples and corners; the edges leading to it cross the neighbours) and
-        # get the full R if the probe finds them partly lit. Refined panels are estimated from
-        # their refinement rays alone: the earlier rays decided the selection, and counting
-        # them would bias the estimate.
+        # Refine the panels found partly lit with R rays; probe their edge neighbours with R/8
+        # (a shadow corner can slip between a panel's first samples) and refine those found
+        # partly lit. Refined panels are estimated from their refinement rays alone: the
+        # earlier rays decided the selection, and counting them would bias the estimate.
         R = self.refine_samples
         if partial.any() and R > 0:
             refine = np.flatnonzero(partial)
@@ -399,8 +357,7 @@ class Shader:
 
     @staticmethod
     def _lighting(lit_fraction, shifts) -> PanelLighting:
-        """The PanelLighting of ``lit_fraction`` and the shifts ``[(index, shift), ...]`` of its
-        partly lit panels (lit exactly, ray-cast), in panel order."""
+        """The PanelLighting of ``lit_fraction`` and shifts ``[(index, shift), ...]``."""
         index = np.concatenate([i for i, _ in shifts]).astype(np.int64)
         order = np.argsort(index, kind="stable")
         shift = np.concatenate([v for _, v in shifts])
