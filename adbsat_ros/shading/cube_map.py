@@ -3,7 +3,7 @@
 A direction u (mesh frame G, any length) maps to the cube face it points through and two angles
 atan(u_a / |u_k|), atan(u_b / |u_k|) in [-45, 45] deg, each cut into n steps: cells of similar
 size (within ~1.4) with no pole, every direction within one step of its cell centre (proof in
-adbsat_ros.shading.cache).
+docs/shading.md, "Cache").
 """
 
 from __future__ import annotations
