@@ -14,6 +14,7 @@ import trimesh
 
 from adbsat_ros import panels_from_trimesh
 from adbsat_ros.geometry import frames
+from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.model import build_model
 from adbsat_ros.physics.setup import BodySpec, Setup, ShadingPolicy, SolverSpec
@@ -208,6 +209,36 @@ def test_articulated_exact_mode_equals_the_posed_shader(tmp_path):
     for positions in joint_states(plain.body):
         reference = plain.method.coefficients(FLOW, positions, flow_direction=u, lighting=None)
         same_articulated(plain.evaluate(FLOW, u, positions), reference)
+
+
+SPHERE_ARM_URDF = """<robot name="arm">
+  <link name="base"><visual><geometry><box size="0.4 0.4 0.4"/></geometry></visual></link>
+  <link name="ball"><visual><origin xyz="0.5 0 0"/>
+    <geometry><sphere radius="0.1"/></geometry></visual></link>
+  <joint name="swing" type="revolute"><parent link="base"/><child link="ball"/>
+    <origin xyz="0.2 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+</robot>"""
+
+
+def test_an_articulated_body_with_a_facet_less_link():
+    """A sphere's panels face their own ways: the links are evaluated one by one, with the
+    lighting split by link, as the kernel does with the same lighting."""
+    body = ArticulatedBody.from_urdf(SPHERE_ARM_URDF)
+    policy = ShadingPolicy(cache_resolution_deg=3.0, joint_resolution_deg=2.0)
+    model = build_model(Setup(body=BodySpec("arm.urdf"), shading=policy), body)
+    assert model.method.facets is None
+    twin = posed_twin(
+        model, resolution_deg=3.0, interpolate=True, angle_step=math.radians(2.0), length_step=1e-3
+    )
+    for positions in ({"swing": 0.7}, {"swing": -1.234}):
+        configuration = model.method.configuration(positions)
+        for u in directions()[:3]:
+            lighting = twin.lighting(u, twin.vertices(configuration.positions))
+            reference = model.method.coefficients(
+                FLOW, configuration, flow_direction=u, lighting=lighting
+            )
+            same_articulated(model.evaluate(FLOW, u, positions), reference)
 
 
 def test_articulated_surface_changes_and_refusals():
