@@ -1,6 +1,7 @@
 """The one builder of a configured body: :func:`build_model` turns a
-:class:`~adbsat_ros.physics.setup.Setup` into a :class:`Model` (panels, panel method, shader and
-test-particle solver).
+:class:`~adbsat_ros.physics.setup.Setup` into a :class:`Model` (panels, panel method, its one
+shading cache and test-particle solver), which evaluates the body at any flow and joint
+positions (:meth:`Model.evaluate`; how: :mod:`~adbsat_ros.physics.model_evaluate`).
 
 The command line, the estimator, database metadata, sweeps and the demo all build their body
 here.
@@ -12,10 +13,15 @@ import math
 from dataclasses import replace
 from functools import cached_property
 
+import numpy as np
+
+from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.loading import articulated_body, is_urdf, resolve_mesh
 from adbsat_ros.geometry.mesh import PanelMesh
+from adbsat_ros.physics import model_evaluate as evaluation
 from adbsat_ros.physics.articulated_method import ArticulatedMethod
+from adbsat_ros.physics.model_evaluate import Joints
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.setup import BodySpec, Setup
 from adbsat_ros.physics.surface import MaterialTable
@@ -52,7 +58,7 @@ def load_body(spec: BodySpec, given=None) -> tuple:
 
 
 class Model:
-    """A set-up built: its panels, panel method, shader and test-particle solver.
+    """A set-up built: its panels, panel method, one shading cache and test-particle solver.
 
     Attributes
     ----------
@@ -66,10 +72,13 @@ class Model:
         The panels (posed; an articulated body's at zero joint positions).
     materials : MaterialTable
     method : PanelMethod or ArticulatedMethod
+    lookup : callable or None
+        A coefficient database's ``lookup(u) -> (Cf_G, Cm_G)`` (:meth:`with_lookup`).
     """
 
     def __init__(self, setup: Setup, body, mesh: PanelMesh, positions: dict | None):
         self.setup, self.body, self.mesh, self.positions = setup, body, mesh, positions
+        self.lookup = None
         self.materials = setup.materials()
         unknown = self.materials.check_names(mesh.material_names)
         if unknown:
@@ -101,6 +110,16 @@ class Model:
         """Whether the joints move (an ArticulatedMethod)."""
         return self.body is not None and self.positions is None
 
+    @property
+    def backend(self) -> str:
+        """What :meth:`evaluate` uses: ``database`` (a lookup), ``tpmc`` (the set-up's
+        solver), ``articulated`` or ``panel``."""
+        if self.lookup is not None:
+            return "database"
+        if self.setup.solver.method == "tpmc":
+            return "tpmc"
+        return "articulated" if self.articulated else "panel"
+
     @cached_property
     def shader(self):
         """The shader of the panels by the set-up's policy (None for ``none``), made once."""
@@ -108,6 +127,18 @@ class Model:
         if policy.mode == "none":
             return None
         return make_shader(self.mesh, mode=policy.mode, samples=policy.samples)
+
+    @cached_property
+    def cache(self):
+        """The one :class:`~adbsat_ros.shading.cache.ShadingCache` of the panel method, made
+        at the first read by the set-up's shading policy
+        (:func:`~adbsat_ros.physics.model_evaluate.make_cache`); None without shading, and
+        with a database lookup."""
+        return None if self.lookup is not None else evaluation.make_cache(self)
+
+    @cached_property
+    def _all_lit(self):
+        return evaluation.all_lit_cell(self.method, self.articulated)
 
     def shader_at(self, positions: dict):
         """The shader of the body at joint ``positions`` [rad or m] (of a rigid body: its own)."""
@@ -140,6 +171,153 @@ class Model:
         return self.setup.prefixed(
             "solver", lambda: TestParticleMethod(mesh, self.setup.model, table, reference=reference)
         )
+
+    # ------------------------------------------------------------------------------ evaluation
+    def prepare_joints(self, positions=None) -> Joints:
+        """An articulated body's joint ``positions`` [rad or m] (others at zero) made ready for
+        :meth:`evaluate`, once per joint state: checked (ValueError naming a bad one), posed,
+        and placed on the shading cache's configurations."""
+        configuration = self.method.configuration(positions)
+        cache = self.cache
+        vertices = None if cache is None else cache.vertices(configuration.positions)
+        return Joints(configuration.positions, configuration, vertices)
+
+    def evaluate(
+        self,
+        free_stream,
+        flow_direction=None,
+        joints=None,
+        *,
+        angles=None,
+        changes=None,
+        seed=None,
+        solver=None,
+        **run,
+    ):
+        """The coefficients of the body in ``free_stream`` (a FreeStream).
+
+        Parameters
+        ----------
+        flow_direction : array_like, shape (3,), optional
+            Direction of the gas motion relative to the body (body frame), or ``angles``.
+        joints : Joints or mapping, optional
+            An articulated body's joint positions: :meth:`prepare_joints`' (made by this
+            model), or the positions [rad or m] themselves (others at zero).
+        angles : (float, float), optional
+            Angle of attack and sideslip [rad] instead of ``flow_direction``; the result's wind
+            axes are theirs.
+        changes : dict, optional
+            Surface parameters set on every panel (``alpha``, ``alpha_n``, ``wall_temperature``
+            ...: :meth:`PanelMethod.surface_with`).
+        seed : int, optional
+            The test particles' seed (default the set-up's).
+        solver : {"panel", "tpmc"}, optional
+            The solver of a set-up with both (default :attr:`backend`).
+        **run
+            The test particles' ``workers``, ``progress`` and ``stop``.
+
+        Returns
+        -------
+        AeroCoefficients, ArticulatedCoefficients (articulated panel method) or
+        TpmcCoefficients.
+
+        Raises
+        ------
+        ValueError
+            A bad direction, angle, joint position or surface change, or a direction the
+            database does not cover.
+        """
+        aoa, aos = (None, None) if angles is None else angles
+        u, given = frames.attitude_flow(aoa, aos, flow_direction)
+        backend = self.backend
+        if solver == "tpmc" or (solver is None and backend == "tpmc"):
+            return self._test_particles(
+                free_stream, flow_direction, angles, joints, changes, seed, run
+            )
+        if solver not in (None, "panel"):
+            raise ValueError(f"solver must be panel or tpmc, got {solver!r}")
+        if backend == "database":
+            return evaluation.looked_up_coefficients(self.lookup, self.method, u, given)
+        surface = self.method.surface_with(**changes) if changes else None
+        direction = u if flow_direction is None else flow_direction  # (as the caller gave it)
+        if not self.articulated:
+            parts = self._read(direction)
+            return evaluation.rigid_coefficients(self.method, free_stream, u, given, parts, surface)
+        if not isinstance(joints, Joints):
+            joints = self.prepare_joints(joints)
+        parts = self._read(direction, joints.vertices)
+        return evaluation.articulated_coefficients(
+            self.method, free_stream, u, given, joints.configuration, parts, surface
+        )
+
+    def _read(self, direction, vertices=None, count: bool = True) -> list:
+        """``[(weight, Cell), ...]`` of a flow ``direction``: the cache's cells, or without a
+        cache the all-lit cell."""
+        cache = self.cache
+        if cache is None:
+            return [(1.0, self._all_lit)]
+        return cache.read(direction, vertices, count)
+
+    def _test_particles(self, flow, flow_direction, angles, joints, changes, seed, run):
+        """The test particles' coefficients (the set-up's particles and tolerance)."""
+        positions = {}
+        if self.articulated:
+            positions = joints.positions if isinstance(joints, Joints) else dict(joints or {})
+        if positions or changes:
+            solver = self.test_particles_at(positions, changes or {})
+        else:
+            solver = self.test_particles
+        spec = self.setup.solver
+        aoa, aos = (None, None) if angles is None else angles
+        return solver.coefficients(
+            flow,
+            aoa,
+            aos,
+            flow_direction=flow_direction,
+            particles=spec.particles,
+            tolerance=spec.tolerance,
+            seed=spec.seed if seed is None else seed,
+            **run,
+        )
+
+    def solar(self, sun_direction_body):
+        """The solar radiation pressure coefficients (SolarCoefficients) for the direction to
+        the Sun in the body frame, shaded by reads of the model's cache along minus it that
+        are not counted; ValueError for an articulated body."""
+        if self.articulated:
+            raise ValueError(
+                "solar radiation pressure is computed for rigid bodies only, not for an "
+                "articulated body"
+            )
+        # (photons travel away from the Sun)
+        parts = self._read(-np.asarray(sun_direction_body, dtype=float), count=False)
+        return evaluation.solar_of_cells(self.method, sun_direction_body, parts)
+
+    # ------------------------------------------------------------------------------ variants
+    def with_setup(self, setup: Setup) -> "Model":
+        """The model of ``setup``: its body and panels reused when ``setup.body`` is this
+        set-up's, and its shader and shading cache (counters included) too when
+        ``setup.shading`` is also this set-up's (the sums depend on the geometry and the
+        lightings alone); else built anew."""
+        if setup.body != self.setup.body:
+            return build_model(setup)
+        model = Model(setup, self.body, self.mesh, self.positions)
+        if setup.shading == self.setup.shading:
+            for name in ("shader", "cache"):
+                if name in self.__dict__:
+                    model.__dict__[name] = self.__dict__[name]
+        return model
+
+    def with_lookup(self, lookup) -> "Model":
+        """This model evaluated by a coefficient database: ``lookup(u)`` gives ``(Cf_G,
+        Cm_G)`` at the unit flow direction u (body frame), or raises ValueError outside it.
+        No shading cache."""
+        model = Model.__new__(Model)
+        model.__dict__.update(
+            {k: v for k, v in self.__dict__.items() if k not in ("cache", "_all_lit")}
+        )
+        model.lookup = lookup
+        return model
 
 
 def build_model(setup: Setup, given=None) -> Model:

@@ -63,9 +63,11 @@ class BodySpec:
 
 @dataclass(frozen=True)
 class ShadingPolicy:
-    """How the panels are shaded: the mode, rays per panel, and the node's shading caches (a
-    rigid body's cache of flow directions; an articulated body's grid of joint configurations,
-    or its exact shading)."""
+    """How the panels are shaded: the mode, rays per panel, and the node's shading cache (a
+    rigid body's flow-direction cells; an articulated body's grid of joint configurations, or
+    its exact shading). ``exact_offline`` > 0: an offline job's cache instead, in exact mode
+    (the flow directions and joint positions themselves, no cells), keeping that many
+    lightings (:attr:`~adbsat_ros.physics.model.Model.cache`)."""
 
     mode: str = "raycast"
     samples: int = DEFAULT_SAMPLES
@@ -77,6 +79,7 @@ class ShadingPolicy:
     joint_interpolation: bool = False
     joint_cache_size: int = 64
     joint_exact: bool = False
+    exact_offline: int = 0
 
 
 @dataclass(frozen=True)
@@ -137,6 +140,9 @@ class Setup:
             )
         if self.shading.mode != "none" and self.shading.samples < 1:
             raise ValueError(f"{self.label('samples')} must be >= 1, got {self.shading.samples}")
+        offline = self.shading.exact_offline
+        if isinstance(offline, bool) or not isinstance(offline, int) or offline < 0:
+            raise ValueError(f"exact_offline must be a whole number >= 0, got {offline!r}")
         if self.solver.method not in SOLVERS:
             raise ValueError(f"{self.label('solver')}: {self.solver.method!r} is not a solver")
         if self.solver.method != "panel":
