@@ -3,7 +3,9 @@
 Modules:
 
 - :mod:`~adbsat_ros.physics.setup`: :class:`Setup`, one configured body as a checked value;
-  :mod:`~adbsat_ros.physics.model`: :func:`build_model`, its panel method, shader and solver.
+  :mod:`~adbsat_ros.physics.model`: :func:`build_model` and the :class:`Model` that owns the
+  body, its one shading cache and ``evaluate`` (every backend's sums in
+  :mod:`~adbsat_ros.physics.model_evaluate`).
 - :mod:`~adbsat_ros.physics.panel_method`: :class:`PanelMethod`, coefficients at any attitude;
   :mod:`~adbsat_ros.physics.coefficients` its result and reference quantities,
   :mod:`~adbsat_ros.physics.facets` coplanar panels grouped (one cache of facet sums),
