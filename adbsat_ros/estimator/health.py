@@ -25,19 +25,9 @@ def health_level(
 ) -> tuple[int, str]:
     """Level (OK, WARN, ERROR) and message of the diagnostic status.
 
-    ERROR without a state, with one older than the larger of the two periods, or after a
-    ``stale_state`` rejection; WARN when inputs were rejected.
-
-    Parameters
-    ----------
-    state_age : float or None
-        Seconds since the latest accepted orbital state (None: none yet).
-    last_rejection_reason : str or None
-        Reason of the latest rejected input (one of ``REJECTION_REASONS``), if any.
-    rejected : int
-        Inputs rejected so far, all reasons.
-    state_timeout, diagnostics_period : float
-        The settings of those names [s]: a state older than the larger of the two is stale.
+    ERROR without a state (``state_age`` [s] None), with one older than the larger of
+    ``state_timeout`` and ``diagnostics_period`` [s], or after a ``stale_state`` rejection;
+    WARN when inputs were ``rejected`` (a count).
     """
     if state_age is None:
         return ERROR, "no orbital state"

@@ -45,21 +45,8 @@ def jumps_back(stamp: float, latest: float | None, time_jump_reset: float, what:
 
 
 def checked_rotation(quaternion_xyzw, what: str, max_norm_error: float) -> tuple:
-    """The rotation matrix (body -> state frame) of a quaternion, checked.
-
-    Parameters
-    ----------
-    quaternion_xyzw : sequence of 4 numbers
-        (x, y, z, w); normalised here.
-    what : str
-        What the quaternion is, for the messages ("attitude quaternion", ...).
-    max_norm_error : float
-        Largest accepted | |q| - 1 |.
-
-    Returns
-    -------
-    tuple of 9 floats
-        R(q / |q|), row-major.
+    """R(q / |q|), body -> state frame, row-major (9 floats), of a quaternion (x, y, z, w)
+    whose | |q| - 1 | is at most ``max_norm_error``; ``what`` names it in messages.
 
     Raises
     ------
@@ -170,35 +157,13 @@ def check_conditions(evaluate, utc, state: OrbitalState) -> None:
 
 
 def odometry_inputs(msg, state_frame: str, body_frame_id: str, frame_ids) -> tuple:
-    """What an Odometry message gives :func:`checked_state`, by the frame rules.
+    """``(stamp [s], position, linear velocity, velocity_in_body_frame, orientation_xyzw)``,
+    vectors as lists, of a nav_msgs/Odometry (rclpy, rosbags, or ``OdometryFields``).
 
-    ``header.frame_id`` must be a name of ``state_frame`` in ``frame_ids`` (any case, a leading
-    "/" ignored). The twist is in the body frame if ``child_frame_id`` is ``body_frame_id``, in
-    the state frame if it is empty, the header's frame_id or another name of the state frame.
-
-    Parameters
-    ----------
-    msg : object
-        A nav_msgs/Odometry (rclpy or rosbags) or its
-        :class:`~adbsat_ros.messages.decoding.OdometryFields`.
-    state_frame : {"eci", "ecef"}
-        The frame states are expected in.
-    body_frame_id : str
-        The body (mesh) frame's name.
-    frame_ids : FrameIds
-        The names of each frame, lower case.
-
-    Returns
-    -------
-    tuple
-        ``(stamp [s], position, linear velocity, velocity_in_body_frame, orientation_xyzw)``,
-        vectors as lists of floats.
-
-    Raises
-    ------
-    Rejection
-        ``bad_state`` for a frame_id of the other frame or of neither, or a child_frame_id that
-        is neither the body nor the state frame.
+    ``header.frame_id`` must be a name of ``state_frame`` ("eci", "ecef") in ``frame_ids`` (any
+    case, a leading "/" ignored). The twist is in the body frame if ``child_frame_id`` is
+    ``body_frame_id``, in the state frame if it is empty, the header's frame_id or another name
+    of the state frame; else Rejection ``bad_state``, as for a frame_id of the other frame.
     """
     odom = msg if isinstance(msg, OdometryFields) else OdometryFields.of_message(msg)
     header_frame = odom.frame_id.lstrip("/")
