@@ -37,7 +37,7 @@ class JointStates:
     """The latest position [rad or m] and stamp [s] of every moving joint of ``body``.
 
     The first attitude after a joint state makes its :class:`JointConfiguration` (``prepare``);
-    the attitudes until the next joint state reuse it.
+    the attitudes until the next joint state reuse it (docs/benchmarks.md).
 
     Parameters
     ----------

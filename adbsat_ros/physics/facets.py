@@ -68,7 +68,8 @@ class LitSumsCache:
     fingerprint (:attr:`PanelLighting.key`), LRU of ``max_entries`` (>= 1); counters hits, misses.
 
     On a shading-cache hit the lighting is the previous message's, and summing it again is most
-    of the panel method. (All-lit sums plus a sparse correction would round differently.)
+    of the panel method (docs/benchmarks.md). (All-lit sums plus a sparse correction would round
+    differently.)
     """
 
     def __init__(self, max_entries: int = 8):
