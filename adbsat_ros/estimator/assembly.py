@@ -1,8 +1,7 @@
-"""What the estimator is made of for its settings: the body, the panel method and the coefficient
-database.
+"""What the estimator is made of: the body, the panel method and the coefficient database.
 
-Each builder checks its settings against the mesh and raises ValueError naming the parameter
-that cannot be applied, before anything of the estimator changes.
+Each builder raises ValueError naming the parameter that cannot be applied, before anything of
+the estimator changes.
 """
 
 from __future__ import annotations
@@ -18,10 +17,8 @@ from adbsat_ros.physics.panel_method import PanelMethod
 
 
 def load_body(settings: WrenchSettings, mesh: PanelMesh | ArticulatedBody | None = None) -> tuple:
-    """``(body, mesh)``: the articulated body of ``robot_description`` (or of a URDF as
-    ``mesh``) and its panels at zero joint positions, or None and the rigid mesh (``mesh`` if
-    given, else loaded from the settings). An ArticulatedBody given as ``mesh`` is taken as it
-    is (e.g. one read with a finer ``max_edge_fraction``).
+    """``(body, panels at zero joint positions)`` of ``robot_description``/a URDF, else
+    ``(None, rigid mesh)``; a ``mesh`` given (PanelMesh or ArticulatedBody) is taken as it is.
 
     Raises
     ------
@@ -35,9 +32,7 @@ def load_body(settings: WrenchSettings, mesh: PanelMesh | ArticulatedBody | None
 def panel_method(
     mesh: PanelMesh, settings: WrenchSettings, body: ArticulatedBody | None = None
 ) -> PanelMethod | ArticulatedMethod:
-    """The panel method of the settings' set-up (:func:`setup_from_settings`) built with
-    :func:`build_model`; for an articulated ``body`` (whose zero-configuration panels ``mesh``
-    are) its :class:`ArticulatedMethod`.
+    """The panel method of the settings' set-up (an :class:`ArticulatedMethod` for ``body``).
 
     Raises
     ------

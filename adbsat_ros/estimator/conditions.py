@@ -1,11 +1,8 @@
 """The exact flight conditions of an accepted orbital state at a message stamp, per the settings.
 
-The latest state is propagated to the stamp at constant velocity (first order: a state comes
-every ~0.1 s and is 0.1 s old at most, where the neglected gravity term is 5 cm) and evaluated
-by :func:`adbsat_ros.environment.flight_conditions.evaluate_flight_conditions` with the settings'
-space weather and options (frame, wind, Earth rotation, anomalous oxygen, accommodation model),
-checked once (:func:`~adbsat_ros.environment.flight_conditions.conditions_options`). This is what
-the estimator's :class:`~adbsat_ros.environment.knots.KnotGrid` evaluates at its knots.
+The state is propagated to the stamp at constant velocity (a state is at most ~0.1 s old, where
+the neglected gravity term is 5 cm). The estimator's
+:class:`~adbsat_ros.environment.knots.KnotGrid` evaluates this at its knots.
 """
 
 from __future__ import annotations
@@ -27,9 +24,8 @@ class PropagatedConditions:
     Parameters
     ----------
     settings : WrenchSettings
-        The space weather (f107, f107a, ap, ap_history), ``state_frame``, ``earth_rotation``,
-        ``wind_ecef``, ``anomalous_oxygen``, ``accommodation_model`` and ``alpha``, and the time
-        mapping (``time_mode``, ``epoch_utc``).
+        Space weather, state frame, wind, Earth rotation, anomalous oxygen, accommodation and
+        time mapping.
 
     Raises
     ------
@@ -59,8 +55,7 @@ class PropagatedConditions:
         Raises
         ------
         ValueError
-            From :func:`evaluate_flight_conditions` (e.g. an altitude outside the atmosphere
-            model).
+            From :func:`evaluate_flight_conditions` (e.g. an altitude outside the model).
         """
         s = self.settings
         position = state.position + state.velocity * (stamp - state.stamp)

@@ -8,20 +8,9 @@ import numpy as np
 
 
 def nearest_rank_percentiles(values) -> tuple | None:
-    """The 50th and 99th percentiles (nearest rank) and the largest of some numbers.
+    """``(p50, p99, max)`` of ``values`` (not modified), or None if empty.
 
-    The p-th percentile is the ceil(p n)-th smallest value; one partial sort gives all three
-    (cheaper than numpy's interpolating percentile).
-
-    Parameters
-    ----------
-    values : sequence or ndarray of float
-        The numbers (not modified).
-
-    Returns
-    -------
-    tuple of 3 floats or None
-        ``(p50, p99, max)``, or None for no numbers.
+    The p-th percentile is the ceil(p n)-th smallest value (nearest rank), by one partial sort.
     """
     array = values if isinstance(values, np.ndarray) else np.fromiter(values, dtype=float)
     n = array.size
@@ -46,17 +35,9 @@ def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
     Returns
     -------
     dict
-        Settings (gsi_model, coefficients_source, shading), counters (published, shading cache
-        hits and misses, the flight-conditions knots: ``conditions_prepared_used``,
-        ``conditions_knot_hits``, ``conditions_knot_misses``, ``conditions_evaluations``), the
-        reference area [m^2] and length [m], the database's path, speed ratio and error bounds,
-        ``compute_ms_p50``/``p99``/``max``, the latest conditions (``density_kg_m3``,
-        ``temperature_K``, ``altitude_m``, ``relative_speed_m_s``, ``speed_ratio``, ``alpha``,
-        ``drag_coefficient``), with ``solar_pressure`` the latest solar wrench
-        (``solar_lit_fraction``, ``solar_pressure_Pa``, ``solar_force_N``, ``solar_torque_N_m``
-        and ``aero_force_N`` beside it), for an articulated body ``joint_states_accepted`` and
-        the configuration grid's ``joint_configurations_shaded`` and
-        ``joint_configuration_hits``, and ``rejected_<reason>`` for each rejection counted.
+        Settings, counters, reference, database, compute-time percentiles, the latest
+        conditions and solar wrench, joint counters and ``rejected_<reason>`` counts; the keys
+        are those of docs/node.md (``/diagnostics``).
     """
     s = estimator.settings
     knots = estimator.knots

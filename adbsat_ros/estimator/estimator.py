@@ -1,20 +1,10 @@
 """From attitude and orbital state messages to the aerodynamic wrench: the node's logic, no ROS.
 
-:class:`AeroWrenchEstimator` holds the mesh (loaded once), the panel method, the shading cache
-and the latest orbital state. The ROS node feeds it decoded messages; bag analysis feeds it the
-same messages from a file, so both compute exactly the same numbers.
-
-Frames: the state (position, and velocity unless it is given in the body frame) is in ECI (GCRF)
-or ECEF (ITRF) as the settings say; the attitude quaternion (x, y, z, w) rotates body-frame
-vectors into that frame, v_state = R(q) v_body; the body frame is the mesh frame. Forces [N] and
-torques [N m] are returned in the body frame, torques about the centre of mass.
-
-Flight conditions: the latest state is propagated to each attitude stamp at constant velocity
-(:mod:`adbsat_ros.estimator.conditions`). With ``conditions_step`` h > 0 (default 0.01 s) they
-are evaluated exactly at the knots, the stamps ``j h``, and interpolated linearly in between by
-the estimator's :class:`~adbsat_ros.environment.knots.KnotGrid` (:attr:`AeroWrenchEstimator.knots`;
-density within ~2e-9 of an evaluation at the stamp itself at h = 0.01 s). A stamp gets the same
-numbers whatever messages came before it; one within 1e-6 s of a knot takes the knot's alone.
+The node and bag analysis feed it the same decoded messages, so both compute the same numbers.
+Frames: the state is in ECI (GCRF) or ECEF (ITRF) per the settings; the attitude quaternion
+(x, y, z, w) rotates body (mesh) vectors into it, v_state = R(q) v_body. Forces [N] and torques
+[N m] are in the body frame, torques about the centre of mass. Flight conditions on the knots of
+``conditions_step``: docs/node.md ("Time, state and flight conditions").
 """
 
 from __future__ import annotations
@@ -63,16 +53,14 @@ class AeroWrenchEstimator:
     Attributes
     ----------
     rejections : collections.Counter
-        Inputs that produced nothing, by reason (see ``REJECTION_REASONS`` in
+        Inputs that produced nothing, by reason (``REJECTION_REASONS`` of
         :mod:`adbsat_ros.estimator.samples`).
     published : int
         Wrench samples returned.
     knots : KnotGrid
-        The flight conditions of the latest state on the knots (its counters: knot hits and
-        misses, exact evaluations, prepared stamps used).
+        The flight conditions of the latest state on the knots, with their counters.
     body : ArticulatedBody or None
-        The articulated body (its joint positions from :meth:`on_joint_state`), or None for a
-        rigid mesh.
+        The articulated body, or None for a rigid mesh.
     joints : JointStates or None
         The latest joint positions of an articulated body.
     mesh : PanelMesh
@@ -189,7 +177,7 @@ class AeroWrenchEstimator:
         velocity_in_body_frame: bool = False,
         orientation_xyzw=None,
     ) -> OrbitalState:
-        """Accept an orbital state.
+        """Accept an orbital state; a refused one leaves the latest state and its knots in place.
 
         Parameters
         ----------
@@ -202,8 +190,6 @@ class AeroWrenchEstimator:
             (then ``orientation_xyzw``, the body's orientation in the state frame, rotates it).
         orientation_xyzw : array_like, shape (4,), optional
             Body orientation (x, y, z, w), needed for a body-frame velocity.
-
-        A refused state leaves the latest one (and its stamp and knots) in place.
 
         Raises
         ------
@@ -249,11 +235,9 @@ class AeroWrenchEstimator:
         return state
 
     def on_odometry(self, msg) -> tuple:
-        """Accept a nav_msgs/Odometry state.
+        """Accept a nav_msgs/Odometry state (rclpy or rosbags message, or its ``OdometryFields``).
 
-        ``msg`` is an rclpy or rosbags message, or its
-        :class:`~adbsat_ros.messages.decoding.OdometryFields` (what the node reads from the CDR
-        bytes). Frame rules: :func:`adbsat_ros.estimator.state.odometry_inputs`.
+        Frame rules: :func:`adbsat_ros.estimator.state.odometry_inputs`.
 
         Returns
         -------
@@ -405,14 +389,11 @@ class AeroWrenchEstimator:
         return panel_wrench(self.method, self._shading, gas_body, flow, alpha, joints, moment)
 
     def prepare(self, stamp: float) -> bool:
-        """Compute ahead what an attitude expected at ``stamp`` [s] would wait for.
+        """Compute ahead the knots an attitude expected at ``stamp`` [s] would wait for.
 
-        A GNC loop stamps its attitudes at a fixed interval, so the ROS node calls this right
-        after publishing a wrench, with the stamp the next message most likely has (the latest
-        plus the latest interval, :func:`adbsat_ros.messages.stamps.next_regular_stamp`): the
-        knots that stamp needs, or one knot further on (:meth:`KnotGrid.prepare`). The
-        message's numbers are the ones it would have had without this. Nothing is counted or
-        raised here; the attitude that comes at the stamp counts in :attr:`prepared_used`.
+        The node calls it after each wrench with the next regular stamp
+        (:func:`adbsat_ros.messages.stamps.next_regular_stamp`). It changes no message's numbers
+        and counts or raises nothing; the attitude at the stamp counts in :attr:`prepared_used`.
 
         Returns
         -------
@@ -430,13 +411,13 @@ class AeroWrenchEstimator:
     def diagnostic_values(self, last_sample: WrenchSample | None, compute_ms) -> dict:
         """Key/values of the node's DiagnosticStatus (bag analysis writes the same ones).
 
-        See :func:`adbsat_ros.estimator.diagnostics.diagnostic_values`.
-
         Parameters
         ----------
         last_sample : WrenchSample or None
             The latest wrench computed.
         compute_ms : sequence or ndarray of float
             Recent compute times [ms]; their p50, p99 (nearest rank) and largest are reported.
+
+        See :func:`adbsat_ros.estimator.diagnostics.diagnostic_values`.
         """
         return diagnostic_values(self, last_sample, compute_ms)

@@ -1,14 +1,9 @@
-"""One input message through the estimator: the per-message path of the node and the bag analysis.
+"""One input message through the estimator: the per-message path of the node and bag analysis.
 
-:class:`MessageHandler` takes the decoded fields of an attitude or state message
-(:mod:`adbsat_ros.messages.decoding`), feeds them to an
-:class:`~adbsat_ros.estimator.estimator.AeroWrenchEstimator` with the node's rules (a rejected
-input is counted by its reason; any other failure is counted as ``compute_error`` and never
-stops the caller; with ``attitude_source`` odometry a state's pose is the attitude) and returns
-an :class:`Outcome`: the sample, or why there is none. The node and the bag analysis turn a
-sample into its messages with the same function
-(:func:`adbsat_ros.messages.encoding.encode_wrench`), so both compute and serialise every
-message alike, bit for bit.
+A rejected input is counted by its reason, any other failure as ``compute_error`` (it never
+stops the caller); with ``attitude_source`` odometry a state's pose is the attitude. Both
+callers encode a sample with :func:`adbsat_ros.messages.encoding.encode_wrench`, so their
+messages are equal bit for bit.
 """
 
 from __future__ import annotations
@@ -33,12 +28,6 @@ class Outcome:
     triggered : bool
         Whether the message asked for a wrench: an attitude, or a state accepted while the
         attitude comes from the odometry pose.
-    state_accepted : bool
-        Whether the message was a state the estimator accepted.
-    sample : WrenchSample or None
-        The wrench computed.
-    rejection : Rejection or None
-        Why the input was refused (reason and message; counted by the estimator).
     error : Exception or None
         An unexpected failure (counted as ``compute_error``).
     """
@@ -88,8 +77,7 @@ class MessageHandler:
         return self.estimator.settings.attitude_source == "attitude_topic"
 
     def on_state(self, odometry: OdometryFields) -> Outcome:
-        """A state message (the decoded nav_msgs/Odometry): accepted (and with
-        ``attitude_source`` odometry, its wrench), or not."""
+        """A decoded nav_msgs/Odometry: accepted (and its wrench if it gives attitudes), or not."""
         try:
             _, orientation = self.estimator.on_odometry(odometry)
         except Rejection as exc:
@@ -102,15 +90,13 @@ class MessageHandler:
         return self._wrench(odometry.stamp, orientation, state=True)
 
     def on_attitude(self, attitude: AttitudeFields) -> Outcome:
-        """An attitude message (the decoded geometry_msgs/QuaternionStamped): its wrench, or
-        why there is none (:data:`IGNORED` while the attitude comes from the odometry pose)."""
+        """A decoded attitude: its wrench, or why none (:data:`IGNORED` if odometry gives them)."""
         if not self.uses_attitude_topic:
             return IGNORED
         return self._wrench(attitude.stamp, attitude.quaternion_xyzw, state=False)
 
     def on_joint_state(self, joint_state: JointStateFields) -> Outcome:
-        """A joint_states message: its positions taken for the next wrenches, or refused
-        (``bad_joint_state``, counted); it asks for no wrench."""
+        """A joint_states message: positions taken for the next wrenches, or ``bad_joint_state``."""
         try:
             self.estimator.on_joint_state(
                 stamp_seconds(joint_state.stamp), joint_state.names, joint_state.positions
@@ -123,8 +109,7 @@ class MessageHandler:
         return Outcome(stamp=joint_state.stamp)
 
     def undecodable(self, what: str, exc: UndecodableMessage) -> Outcome:
-        """Bytes on the ``what`` input ('attitude', 'state', 'joint_states') that are no
-        message: counted as ``undecodable``; the outcome's rejection says what was wrong."""
+        """Bytes on input ``what`` that are no message: counted as ``undecodable``."""
         self.estimator.rejections["undecodable"] += 1
         return Outcome(stamp=None, rejection=Rejection("undecodable", f"{what} message {exc}"))
 
@@ -141,13 +126,11 @@ class MessageHandler:
         return Outcome(stamp=stamp, triggered=True, state_accepted=state, sample=sample)
 
     def next_stamp(self) -> float | None:
-        """The stamp [s] the next wrench most likely has: the latest plus the latest interval
-        between wrenches (:func:`next_regular_stamp`); None before two wrenches."""
+        """The next wrench's likely stamp [s] (:func:`next_regular_stamp`), None before two."""
         previous, latest = self._stamps
         return None if previous is None else next_regular_stamp(previous, latest)
 
     def prepare_next(self) -> bool:
-        """Compute ahead what the next regular attitude would wait for
-        (:meth:`AeroWrenchEstimator.prepare` of :meth:`next_stamp`); whether it did."""
+        """:meth:`AeroWrenchEstimator.prepare` of :meth:`next_stamp`; whether it prepared."""
         expected = self.next_stamp()
         return expected is not None and self.estimator.prepare(expected)

@@ -1,11 +1,7 @@
-"""The health of the wrench computation: the level and message of its diagnostic status.
+"""The health of the wrench computation: its diagnostic level and message, and message losses.
 
-Written once for the node's /diagnostics and the bag analysis's (which measures the state's age
-in bag time): ERROR when there is no orbital state or the latest is older than the state time-out
-(or the diagnostics period, if longer), or when the latest rejection was a state too far from the
-attitude stamps; WARN when inputs were rejected; OK otherwise. :class:`Health` keeps what those
-and the status's values are made of: when the latest state was accepted, the latest rejection,
-the latest sample and the recent compute times.
+Shared by the node's /diagnostics and bag analysis (which measures the state's age in bag
+time). Rules: docs/node.md (the ``/diagnostics`` row and "Lost messages").
 """
 
 from __future__ import annotations
@@ -29,16 +25,9 @@ def health_level(
 ) -> tuple[int, str]:
     """Level (OK, WARN, ERROR) and message of the diagnostic status.
 
-    Parameters
-    ----------
-    state_age : float or None
-        Seconds since the latest accepted orbital state (None: none yet).
-    last_rejection_reason : str or None
-        Reason of the latest rejected input (one of ``REJECTION_REASONS``), if any.
-    rejected : int
-        Inputs rejected so far, all reasons.
-    state_timeout, diagnostics_period : float
-        The settings of those names [s]: a state older than the larger of the two is stale.
+    ERROR without a state (``state_age`` [s] None), with one older than the larger of
+    ``state_timeout`` and ``diagnostics_period`` [s], or after a ``stale_state`` rejection;
+    WARN when inputs were ``rejected`` (a count).
     """
     if state_age is None:
         return ERROR, "no orbital state"
@@ -57,21 +46,10 @@ class Health:
     Parameters
     ----------
     ticks_per_second : float
-        Units of the times given to :meth:`state_accepted` and :meth:`level` per second (1 for
-        seconds of a monotonic clock, 1e9 for integer nanoseconds of bag time, which are then
-        subtracted exactly).
+        Time units per second of ``now`` arguments (1 for a monotonic clock in seconds, 1e9 for
+        integer nanoseconds of bag time, subtracted exactly).
     window : int
         Compute times kept (the latest ones).
-
-    Attributes
-    ----------
-    last_sample : object or None
-        The latest sample computed (a WrenchSample, or anything with its ``conditions`` and
-        ``drag_coefficient``), for the status's values.
-    last_rejection_reason : str or None
-        Reason of the latest rejected input.
-    computed : int
-        Samples computed so far.
     """
 
     def __init__(self, ticks_per_second: float = 1.0, window: int = COMPUTE_WINDOW):
@@ -120,11 +98,9 @@ class Health:
 class StampGaps:
     """Messages missing from a regular stream, estimated from its stamps.
 
-    A GNC loop stamps its attitudes at a fixed interval. A step between consecutive stamps of
-    more than 1.5 intervals is counted as round(step / interval) - 1 missing messages (lost by
-    the middleware, or never sent: a paused simulator counts too); any other step is the new
-    interval. Two such steps in a row of one size (within 10 %) are a slower stream: the second
-    becomes the interval (the first stays counted). Stamps that do not advance are left out.
+    A step of more than 1.5 intervals counts round(step / interval) - 1 missing; any other step
+    is the new interval. Two gaps in a row of one size (within 10 %) are a slower stream: the
+    second becomes the interval. Stamps that do not advance are left out.
 
     Attributes
     ----------
@@ -163,17 +139,8 @@ class StampGaps:
 
 
 class SequenceGaps:
-    """Messages lost on one topic, counted from the publisher's sequence numbers.
-
-    A publisher numbers its messages 1, 2, 3 ...; every number skipped between two messages the
-    node takes was lost on the way: in the middleware, or overwritten in the subscription's own
-    queue (KEEP_LAST ``qos_depth``) while the node was busy. The first message taken from a
-    publisher starts its count (the numbers before it may have been sent before the publisher
-    found the node). While the topic has more than one publisher their numbers interleave and
-    no message says whose it is: no gap is counted then, nor the first one after it, and a
-    number that does not advance starts a new count (another publisher, or the same one
-    restarted). Losses the middleware reports (:meth:`reported`) count where they exceed the
-    gaps counted.
+    """Messages lost on one topic, from the publishers' sequence numbers (docs/node.md,
+    "Lost messages"): no gap is counted while several publishers interleave their numbers.
 
     Attributes
     ----------
@@ -191,13 +158,12 @@ class SequenceGaps:
 
     @property
     def lost(self) -> int:
-        """Messages lost: the larger of the two counts (both see a lost message of a single
-        publisher; only the middleware sees one while several publish)."""
+        """Messages lost: the larger of the two counts (only the middleware sees losses while
+        several publish)."""
         return max(self.counted, self.middleware)
 
     def number(self, sequence: int, single_publisher) -> None:
-        """A message numbered ``sequence`` by its publisher was taken; ``single_publisher()``
-        says whether the topic has one publisher (asked only when the number skips some)."""
+        """A message numbered ``sequence`` was taken; ``single_publisher()`` is asked on a skip."""
         latest, self._latest = self._latest, sequence
         if latest is None or sequence <= latest + 1:
             return

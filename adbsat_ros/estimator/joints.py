@@ -1,13 +1,8 @@
 """The joint positions of an articulated body, from sensor_msgs/JointState messages.
 
-State-like, as the orbital state: the latest position of every moving joint is kept with its
-stamp, and an attitude uses the positions as they are at its stamp. A message is taken whole or
-not at all: a name that is no joint of the body, a position that is not a finite number or
-lies beyond its joint's limits, or names and positions that do not pair up refuse it
-(``bad_joint_state``). Names of the body's fixed or mimic joints are ignored (a
-robot_state_publisher-style source may list them). An attitude is refused with
-``no_joint_state`` until every moving joint has had a position, and with ``stale_joint_state``
-while a joint's latest position is more than ``timeout`` from the attitude stamp.
+State-like, as the orbital state: each moving joint keeps its latest position and stamp; a
+message is taken whole or refused (``bad_joint_state``); names of fixed or mimic joints are
+ignored. Rules and rejections: docs/node.md.
 """
 
 from __future__ import annotations
@@ -27,12 +22,10 @@ class JointConfiguration(NamedTuple):
     positions : dict of str to float
         Every moving joint's position [rad or m], checked.
     posed : object
-        What the panel method takes for them
-        (:meth:`~adbsat_ros.physics.articulated_method.ArticulatedMethod.configuration`), or
-        the positions.
+        :meth:`ArticulatedMethod.configuration` of them, or the positions.
     vertices : list or None
         The shading grid's configurations and weights for them
-        (:meth:`~adbsat_ros.shading.configurations.ConfigurationShadingCache.vertices`), or None.
+        (:meth:`ConfigurationShadingCache.vertices`), or None.
     """
 
     positions: dict
@@ -43,12 +36,8 @@ class JointConfiguration(NamedTuple):
 class JointStates:
     """The latest position [rad or m] and stamp [s] of every moving joint of ``body``.
 
-    The first attitude after a joint state (or after :meth:`clear`, or a new ``prepare``) makes
-    the positions' :class:`JointConfiguration` (``prepare``), and the attitudes until the next
-    joint state use it: the positions' checks, the links' poses and the shading grid's
-    configurations are then found once per joint state, not once per attitude (see
-    docs/benchmarks.md). A body without moving joints has one configuration, made at its first
-    attitude.
+    The first attitude after a joint state makes its :class:`JointConfiguration` (``prepare``);
+    the attitudes until the next joint state reuse it (docs/benchmarks.md).
 
     Parameters
     ----------
@@ -80,8 +69,7 @@ class JointStates:
         self._configuration = None
 
     def set_prepare(self, prepare: Callable) -> None:
-        """Make the configurations with ``prepare`` from now on (the estimator's method or
-        shading changed): the latest positions' too, when an attitude next needs it."""
+        """Make the configurations with ``prepare`` from now on (the latest one again too)."""
         self.prepare = prepare
         self._configuration = None
 
@@ -149,10 +137,9 @@ class JointStates:
         return self._configuration
 
     def _stamp_span(self) -> tuple:
-        """(oldest, newest) stamp [s] of the moving joints' latest positions, so that an
-        attitude at t is served when t - oldest and newest - t are both within the timeout:
-        two comparisons per attitude. (-inf, inf) while a joint has no position (every
-        attitude refused); (inf, -inf) for a body without moving joints (none refused)."""
+        """(oldest, newest) stamp [s] of the latest positions: an attitude at t is served when
+        t - oldest and newest - t are within the timeout. (-inf, inf) while a joint has no
+        position (all refused); (inf, -inf) without moving joints (none refused)."""
         latest = [self._latest.get(name) for name in self.body.joints]
         if not latest:
             return math.inf, -math.inf
@@ -162,9 +149,7 @@ class JointStates:
         return min(stamps), max(stamps)
 
     def _refuse(self, stamp: float) -> None:
-        """Raise the rejection of an attitude at ``stamp`` that the joint positions cannot
-        serve, naming the first joint (in the body's order) without a position or too far
-        from it."""
+        """Raise the rejection of an attitude at ``stamp``, naming the first joint at fault."""
         for name in self.body.joints:
             latest = self._latest.get(name)
             if latest is None:
@@ -179,8 +164,7 @@ class JointStates:
 
 
 def preparation(method, shading) -> Callable:
-    """The ``prepare`` of :class:`JointStates` for an articulated body's panel method
-    (``method.configuration``) and shading source (``shading.vertices``; None without)."""
+    """The ``prepare`` of :class:`JointStates` for a panel method and shading source (or None)."""
 
     def prepare(positions: dict) -> JointConfiguration:
         vertices = None if shading is None else shading.vertices(positions)

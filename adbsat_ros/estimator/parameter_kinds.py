@@ -1,7 +1,5 @@
-"""The kinds of the node's parameters: for each, the function that checks a parameter's value and
-converts it into its setting, ``kind(name, value, bound) -> setting`` (``bound``: the parameter's
-valid range, or None), raising ValueError ``"parameter NAME: ..."``. The table
-:data:`~adbsat_ros.estimator.parameters.PARAMETERS` gives each parameter its kind.
+"""The kinds of the node's parameters: ``kind(name, value, bound) -> setting`` checks a value
+against its range (or None) and converts it, else ValueError ``"parameter NAME: ..."``.
 """
 
 from __future__ import annotations
@@ -14,8 +12,7 @@ from adbsat_ros.bounds import Bound, bounded
 from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR
 from adbsat_ros.physics.gsi_models import canonical_model_name
 
-#: The valid range of ``epoch_utc``, in words (the time scales and the atmosphere model's space
-#: weather cover these years: :data:`adbsat_ros.environment.atmosphere.FIRST_YEAR`, ``LAST_YEAR``).
+#: The valid range of ``epoch_utc``, in words.
 EPOCH_UTC_RANGE = f"from {FIRST_YEAR}-01-01T00:00:00 to {LAST_YEAR}-12-31T23:59:59 UTC"
 #: Why ``epoch_utc`` has that range.
 EPOCH_UTC_REASON = "the years the time scales and the atmosphere model's space weather cover"
@@ -30,8 +27,7 @@ def _within(name: str, value, bound: Bound) -> float:
 
 
 def _numbers(name: str, value, bound: Bound, count: int | None, labels, expected: str) -> tuple:
-    """A list of numbers (``count`` of them, any number if None), each within ``bound`` and
-    named ``name[label]`` in errors."""
+    """``count`` numbers (any if None), each within ``bound``, named ``name[label]`` in errors."""
     if isinstance(value, str) or not hasattr(value, "__len__"):
         raise ValueError(f"parameter {name}: expected {expected}, got {value!r}")
     if count is not None and len(value) != count:
@@ -144,8 +140,7 @@ def model(name: str, value, bound=None) -> str:
 
 
 def choice(allowed: tuple, lower: bool = False):
-    """The kind of a parameter that is one of ``allowed`` (compared in lower case if
-    ``lower``)."""
+    """The kind of a parameter that is one of ``allowed`` (in lower case if ``lower``)."""
 
     def check(name: str, value, bound=None) -> str:
         value = str(value).lower() if lower else str(value)

@@ -1,11 +1,8 @@
 """The node's parameters: one table, :data:`PARAMETERS`, and the ROS 2 parameters files that give
 them values.
 
-Each row holds a parameter's name, default (whose type is the ROS parameter's), kind (the
-function of :mod:`.parameter_kinds` that checks a value and converts it into the setting), what
-of the set-up it gives, valid range and meaning. From it the node declares its ROS parameters
-(:mod:`adbsat_ros.ros.parameter_values`), :class:`~adbsat_ros.estimator.settings.WrenchSettings`
-takes its fields and checks, ``adbsat_node --help`` and ``config/adbsat.yaml`` show it.
+The node's ROS parameters, :class:`~adbsat_ros.estimator.settings.WrenchSettings`,
+``adbsat_node --help`` and ``config/adbsat.yaml`` are all made from the table.
 """
 
 from __future__ import annotations
@@ -68,12 +65,10 @@ _DAY = Bound(
 
 
 class Parameter(NamedTuple):
-    """A row of :data:`PARAMETERS`.
-
-    ``use`` is the field of the set-up the parameter gives (``"body.mesh"``, ``"model"``,
-    ``"shading.samples"`` ...: :func:`~adbsat_ros.estimator.settings.setup_from_settings`),
-    ``"fixed"`` for another one taken at start-up only, or ``""``. ``bound`` is the valid range
-    of a number (of each number of a list), or None. ``text`` gives the unit in brackets.
+    """A row of :data:`PARAMETERS`: the default's type is the ROS parameter's; ``kind`` checks
+    and converts a value (:mod:`.parameter_kinds`); ``use`` is the set-up field it gives
+    (``"body.mesh"``, ``"model"`` ...), ``"fixed"`` (start-up only) or ``""``; ``bound`` the range
+    of a number (each of a list) or None; ``text`` the meaning, unit in brackets.
     """
 
     name: str
@@ -285,8 +280,7 @@ ROS_PARAMETERS = ("use_sim_time", "start_type_description_service", "qos_overrid
 
 
 def is_ros_parameter(name: str) -> bool:
-    """Whether ``name`` is one of rclpy's own parameters (:data:`ROS_PARAMETERS`; a QoS
-    override's name, ``qos_overrides./topic.publisher.depth``, is one too)."""
+    """Whether ``name`` is one of rclpy's own parameters (a QoS override's name included)."""
     return any(name == own or name.startswith(own + ".") for own in ROS_PARAMETERS)
 
 
@@ -295,13 +289,10 @@ def _is_integer(value) -> bool:
 
 
 def typed_parameter_value(name: str, value):
-    """``value`` of parameter ``name`` in the type of the parameter's default, where the rule
-    allows it; any other value unchanged (the node refuses a value of another type).
+    """``value`` of parameter ``name`` in its default's type where allowed, else unchanged.
 
-    The rule: an integer given to a number parameter (``f107: 150``) is that number as a float,
-    and each integer of a list given to a list of numbers likewise; a float with a whole value
-    given to a whole-number parameter (``shading_samples: 32.0``) is that integer, a float with a
-    fraction stays a float (refused).
+    Integers become floats for number parameters (and lists of numbers); a whole float becomes
+    an integer for a whole-number parameter; anything else is left for the node to refuse.
     """
     default = PARAMETER_DEFAULTS.get(name)
     if isinstance(default, float) and _is_integer(value):
@@ -320,8 +311,7 @@ def typed_parameter_value(name: str, value):
 
 
 def parameter_kind(name: str) -> str:
-    """What parameter ``name`` takes, in words: ``"a number"``, ``"a whole number"``,
-    ``"true or false"``, ``"a string"``, ``"a list of numbers"`` or ``"a list of strings"``."""
+    """What parameter ``name`` takes, in words (``"a number"``, ``"a list of strings"`` ...)."""
     default = PARAMETER_DEFAULTS[name]
     if isinstance(default, bool):
         return "true or false"
@@ -335,8 +325,7 @@ def parameter_kind(name: str) -> str:
 
 
 def unknown_parameter(name: str) -> str:
-    """The error text for a parameter ``name`` that is not in :data:`PARAMETERS`, with the
-    closest known name when one is close."""
+    """The error text for an unknown parameter ``name``, with the closest known name if any."""
     close = difflib.get_close_matches(str(name), list(PARAMETER_DEFAULTS), n=1)
     if close:
         return f"parameter {name}: unknown (did you mean {close[0]}?)"
@@ -377,9 +366,7 @@ def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:
 
 
 def parameter_range_text(name: str) -> str:
-    """The valid range of a parameter in words (empty for one without a range), e.g.
-    ``"in [0, 1]: an accommodation coefficient ..."``; ``"each in ..."`` for a list of numbers;
-    :data:`EPOCH_UTC_RANGE` for ``epoch_utc``."""
+    """The valid range of a parameter in words (``"in [0, 1]: ..."``, ``"each in ..."``), or ""."""
     if name == "epoch_utc":
         return f"{EPOCH_UTC_RANGE}: {EPOCH_UTC_REASON}"
     rule = PARAMETER_RANGES.get(name)

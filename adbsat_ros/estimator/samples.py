@@ -73,9 +73,7 @@ class OrbitalState:
 
 @dataclass(frozen=True, eq=False)
 class JointSample:
-    """The joints of an articulated body at one message.
-
-    The efforts and the links' loads are computed from ``coefficients`` when first read.
+    """The joints of an articulated body at one message; efforts and link loads made when read.
 
     Parameters
     ----------
@@ -85,19 +83,6 @@ class JointSample:
         q [Pa].
     link_names : tuple of str
         The links, in the body's order.
-
-    Attributes
-    ----------
-    names : tuple of str
-        The moving joints, in the body's order.
-    positions : ndarray, shape (J,)
-        Their positions used [rad or m] (read-only).
-    efforts : ndarray, shape (J,)
-        The aerodynamic effort each drive must hold [N m about a revolute joint's axis, N along
-        a prismatic joint's].
-    link_forces, link_torques : ndarray, shape (L, 3)
-        Force [N] on every link and its torque [N m] about the centre of mass, body frame; they
-        sum to the wrench.
     """
 
     coefficients: ArticulatedCoefficients
@@ -116,7 +101,7 @@ class JointSample:
 
     @functools.cached_property
     def efforts(self) -> np.ndarray:
-        """Joint efforts [N m or N] (J,)."""
+        """Effort each drive holds (J,): [N m] about a revolute axis, [N] along a prismatic one."""
         return self.coefficients.efforts(self.dynamic_pressure)
 
     @functools.cached_property
@@ -127,7 +112,8 @@ class JointSample:
 
     @functools.cached_property
     def link_torques(self) -> np.ndarray:
-        """Every link's torque [N m] (L, 3) about the centre of mass, body frame."""
+        """Every link's torque [N m] (L, 3) about the centre of mass, body frame (they sum to the
+        wrench's)."""
         reference = self.coefficients.total.reference
         scale = self.dynamic_pressure * reference.area * reference.length
         return scale * self.coefficients.link_moment
@@ -219,9 +205,7 @@ class WrenchSample:
 
     @property
     def solar_diagnostics(self) -> dict | None:
-        """The solar wrench's diagnostic values (None without one): ``solar_lit_fraction``,
-        ``solar_pressure_Pa``, the magnitudes ``solar_force_N``, ``solar_torque_N_m`` and, to
-        compare, ``aero_force_N``."""
+        """The solar wrench's diagnostic key/values (magnitudes of the forces), None without."""
         solar = self.solar
         if solar is None:
             return None
@@ -277,8 +261,7 @@ class WrenchSample:
 
     @functools.cached_property
     def drag_coefficient(self) -> float:
-        """C_D: force coefficient along the gas motion (0 at rest; computed once, when first
-        read: the diagnostics and a bag's rows both read it)."""
+        """C_D: force coefficient along the gas motion (0 at rest)."""
         return float(self.force_coefficients @ self.flow_direction_body)
 
     @classmethod
@@ -291,15 +274,7 @@ class WrenchSample:
         compute_seconds: float,
         rotation: tuple,
     ) -> WrenchSample:
-        """The sample of a body at rest in the air: zero force, torque and flow direction.
-
-        Parameters
-        ----------
-        stamp, time, conditions, compute_seconds, rotation
-            As the fields.
-        reference : Reference
-            Its ``area`` [m^2] and ``length`` [m] are the sample's reference area and length.
-        """
+        """The sample of a body at rest in the air (zero wrench), other arguments as the fields."""
         return cls(
             stamp=stamp,
             time=time,

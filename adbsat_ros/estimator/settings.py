@@ -1,6 +1,6 @@
-"""Settings of the live aerodynamic wrench computation, shared by the ROS node and bag analysis:
-the parameters of :data:`adbsat_ros.estimator.parameters.PARAMETERS` checked into one value,
-:class:`WrenchSettings`, and the set-up they describe.
+"""Settings of the wrench computation, shared by the ROS node and bag analysis: the parameters
+of :data:`~adbsat_ros.estimator.parameters.PARAMETERS` checked into one :class:`WrenchSettings`,
+and the set-up they describe.
 """
 
 from __future__ import annotations
@@ -98,8 +98,8 @@ class WrenchSettings(_Fields):
 
 
 def settings_from_file(path, node_name: str = "adbsat_node") -> WrenchSettings:
-    """The settings a ROS 2 ``--params-file`` gives ``node_name``, checked (parameters it does
-    not set take their defaults; rclpy's own, :data:`ROS_PARAMETERS`, are allowed and ignored).
+    """The settings a ROS 2 ``--params-file`` gives ``node_name`` (defaults for the rest;
+    rclpy's own parameters ignored).
 
     Raises
     ------
@@ -131,10 +131,8 @@ _LABELS = (
 
 
 def setup_from_settings(settings: WrenchSettings) -> Setup:
-    """The set-up the settings describe, each parameter in the field of the set-up its ``use``
-    names (the body of ``mesh`` or ``robot_description``, the default surface with
-    ``material_overrides``, the centre of mass as moment point, the model, the shading
-    policy); ValueError naming ``material_overrides`` for an override that cannot be read."""
+    """The set-up the settings describe, each parameter in the field its ``use`` names;
+    ValueError naming ``material_overrides`` for an override that cannot be read."""
     parts, fields = {part: {} for part in _PARTS}, {}
     for p in PARAMETERS:
         part, _, field = p.use.partition(".")

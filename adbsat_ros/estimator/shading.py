@@ -19,25 +19,16 @@ from adbsat_ros.shading.shader import make_shader
 class ShadingSource:
     """The estimator's shading: a :class:`ShadingCache` of the settings' shader, or nothing.
 
-    For an articulated body, a :class:`ConfigurationShadingCache` of such caches, one per
-    configuration of its grid (``joint_shading_*`` settings), which share the bound: each keeps
-    ``shading_cache_size // joint_shading_cache_size`` flow directions (at least one), so the
-    lightings kept number ``shading_cache_size`` at most, as for a rigid body (or
-    ``joint_shading_cache_size`` if that is larger); with ``joint_shading_exact``, an
-    :class:`ExactShading` (the body posed at each message's positions, shaded for its flow
-    direction).
+    For an articulated body, a :class:`ConfigurationShadingCache` of such caches, one per grid
+    configuration, sharing the ``shading_cache_size`` bound; with ``joint_shading_exact`` an
+    :class:`ExactShading` of the body posed at each message's positions.
 
     Parameters
     ----------
     mesh : PanelMesh
         The body's panels (mesh frame = body frame).
     settings : WrenchSettings
-        ``shading`` (none, projection, raycast), ``shading_samples``,
-        ``shading_cache_resolution_deg``, ``shading_cache_size`` and
-        ``shading_interpolation``; for an articulated body also
-        ``joint_shading_resolution_deg``, ``joint_shading_resolution_m``,
-        ``joint_shading_interpolation``, ``joint_shading_cache_size`` and
-        ``joint_shading_exact``.
+        The ``shading*`` and ``joint_shading*`` settings.
     body : ArticulatedBody, optional
         The articulated body whose (zero-configuration) panels ``mesh`` are.
     """
@@ -104,13 +95,11 @@ class ShadingSource:
         return tuple(getattr(settings, name) for name in SHADING_PARAMETERS)
 
     def vertices(self, positions: dict) -> list | None:
-        """An articulated body's grid configurations and weights for joint ``positions``
-        (:meth:`ConfigurationShadingCache.vertices`), or None without shading."""
+        """The grid configurations and weights for joint ``positions``, None without shading."""
         return None if self.cache is None else self.cache.vertices(positions)
 
     def lighting(self, flow_direction, positions=None, vertices=None) -> tuple:
-        """``(lighting, hit)`` for a unit flow direction in the body frame (and, for an
-        articulated body, the joint ``positions``, with their grid ``vertices`` if known).
+        """``(lighting, hit)`` for a unit flow direction (body frame) and joint ``positions``.
 
         Returns
         -------

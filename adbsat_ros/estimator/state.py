@@ -1,12 +1,8 @@
 """Accepting inputs: the checks of a quaternion and an orbital state, and the Odometry frame rules.
 
-Each function checks one message's contents and raises
-:class:`~adbsat_ros.estimator.samples.Rejection` with the reason when it cannot be used; the
-estimator counts the rejection and keeps the ordering rules (time going back, stale states).
-
-Frames: the state (position, and velocity unless it is given in the body frame) is in ECI (GCRF)
-or ECEF (ITRF) as the settings say; a quaternion (x, y, z, w) rotates body-frame vectors into
-that frame, v_state = R(q) v_body.
+Each raises :class:`~adbsat_ros.estimator.samples.Rejection` with the reason. Frames: the state
+is in ECI (GCRF) or ECEF (ITRF); a quaternion (x, y, z, w) rotates body vectors into it,
+v_state = R(q) v_body.
 """
 
 from __future__ import annotations
@@ -29,14 +25,13 @@ FRAME_ALTITUDE_MARGIN = 1e3
 
 
 def jumps_back(stamp: float, latest: float | None, time_jump_reset: float, what: str) -> bool:
-    """Whether ``stamp`` [s] lies more than ``time_jump_reset`` before ``latest``, the latest
-    stamp of its kind (a bag played again: the history restarts); False if it is not before it.
+    """Whether ``stamp`` [s] lies more than ``time_jump_reset`` before ``latest`` (a bag played
+    again: the history restarts).
 
     Raises
     ------
     Rejection
-        ``out_of_order`` for a stamp less far back: that message alone is refused (one late
-        message must not cost the state and the messages after it).
+        ``out_of_order`` for a stamp less far back: that message alone is refused.
     """
     if latest is None or stamp >= latest:
         return False
@@ -50,21 +45,8 @@ def jumps_back(stamp: float, latest: float | None, time_jump_reset: float, what:
 
 
 def checked_rotation(quaternion_xyzw, what: str, max_norm_error: float) -> tuple:
-    """The rotation matrix (body -> state frame) of a quaternion, checked.
-
-    Parameters
-    ----------
-    quaternion_xyzw : sequence of 4 numbers
-        (x, y, z, w); normalised here.
-    what : str
-        What the quaternion is, for the messages ("attitude quaternion", ...).
-    max_norm_error : float
-        Largest accepted | |q| - 1 |.
-
-    Returns
-    -------
-    tuple of 9 floats
-        R(q / |q|), row-major.
+    """R(q / |q|), body -> state frame, row-major (9 floats), of a quaternion (x, y, z, w)
+    whose | |q| - 1 | is at most ``max_norm_error``; ``what`` names it in messages.
 
     Raises
     ------
@@ -98,23 +80,8 @@ def checked_state(
 ) -> OrbitalState:
     """An orbital state from a message's numbers, its velocity in the state frame.
 
-    Parameters
-    ----------
-    stamp : float
-        Message time [s].
-    position : array_like, shape (3,)
-        Position in the state frame [m].
-    velocity : array_like, shape (3,)
-        Velocity [m/s]: in the state frame, or in the body frame if ``velocity_in_body_frame``
-        (then ``orientation_xyzw``, the body's orientation in the state frame, rotates it).
-    velocity_in_body_frame : bool
-        Where ``velocity`` is given.
-    orientation_xyzw : sequence of 4 numbers or None
-        Body orientation (x, y, z, w), needed for a body-frame velocity.
-    max_norm_error : float
-        Largest accepted | |q| - 1 | of the orientation.
-    min_altitude : float
-        Lowest geodetic altitude [m] of a state taken.
+    Arguments as :meth:`AeroWrenchEstimator.on_state`; ``max_norm_error`` the largest
+    | |q| - 1 | of the orientation, ``min_altitude`` [m] the lowest geodetic altitude taken.
 
     Raises
     ------
@@ -150,23 +117,10 @@ def checked_state(
 
 def check_conditions(evaluate, utc, state: OrbitalState) -> None:
     """Refuse a state whose flight conditions cannot be evaluated at its own stamp, so that it
-    does not replace the latest good state (every attitude after it would be refused until the
-    next good one): a stamp outside the years of the atmosphere model and the time scales, a
-    position above the model's top.
+    does not replace the latest good one.
 
-    The altitude is the geodetic one of the position read in the state frame; within
-    :data:`FRAME_ALTITUDE_MARGIN` of the top, where the frame matters, the conditions are
-    evaluated.
-
-    Parameters
-    ----------
-    evaluate : callable
-        ``evaluate(state, stamp)``: the flight conditions (the estimator's
-        :class:`~adbsat_ros.estimator.conditions.PropagatedConditions`).
-    utc : callable
-        ``utc(stamp)``: the UTC of a stamp (the estimator's time mapping).
-    state : OrbitalState
-        The state, checked by :func:`checked_state`.
+    Within :data:`FRAME_ALTITUDE_MARGIN` of the atmosphere's top, where the frame matters, the
+    conditions are evaluated (``evaluate(state, stamp)``); ``utc(stamp)`` maps a stamp to UTC.
 
     Raises
     ------
@@ -203,38 +157,13 @@ def check_conditions(evaluate, utc, state: OrbitalState) -> None:
 
 
 def odometry_inputs(msg, state_frame: str, body_frame_id: str, frame_ids) -> tuple:
-    """What an Odometry message gives :func:`checked_state`, by the frame rules.
+    """``(stamp [s], position, linear velocity, velocity_in_body_frame, orientation_xyzw)``,
+    vectors as lists, of a nav_msgs/Odometry (rclpy, rosbags, or ``OdometryFields``).
 
-    ``header.frame_id`` names the frame of the state: one of the names of ECI or ECEF in
-    ``frame_ids`` (any case, a leading "/" ignored), and that frame must be ``state_frame``. The
-    twist is in the body frame if ``child_frame_id`` is ``body_frame_id`` (it is then rotated with
-    the pose orientation), in the state frame if ``child_frame_id`` is empty, the header's
-    frame_id or another name of the state frame.
-
-    Parameters
-    ----------
-    msg : object
-        A nav_msgs/Odometry (rclpy or rosbags) or its
-        :class:`~adbsat_ros.messages.decoding.OdometryFields`.
-    state_frame : {"eci", "ecef"}
-        The frame states are expected in.
-    body_frame_id : str
-        The body (mesh) frame's name.
-    frame_ids : FrameIds
-        The names of each frame, lower case (:attr:`WrenchSettings.frame_ids
-        <adbsat_ros.estimator.settings.WrenchSettings.frame_ids>`).
-
-    Returns
-    -------
-    tuple
-        ``(stamp [s], position, linear velocity, velocity_in_body_frame, orientation_xyzw)``,
-        vectors as lists of floats.
-
-    Raises
-    ------
-    Rejection
-        ``bad_state`` for a frame_id of the other frame or of neither, or a child_frame_id that
-        is neither the body nor the state frame.
+    ``header.frame_id`` must be a name of ``state_frame`` ("eci", "ecef") in ``frame_ids`` (any
+    case, a leading "/" ignored). The twist is in the body frame if ``child_frame_id`` is
+    ``body_frame_id``, in the state frame if it is empty, the header's frame_id or another name
+    of the state frame; else Rejection ``bad_state``, as for a frame_id of the other frame.
     """
     odom = msg if isinstance(msg, OdometryFields) else OdometryFields.of_message(msg)
     header_frame = odom.frame_id.lstrip("/")

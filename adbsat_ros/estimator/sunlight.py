@@ -1,15 +1,8 @@
 """Solar radiation pressure at one message: the Sun, the Earth's shadow, the sunlit panels.
 
-For the satellite's position at the stamp, :func:`~adbsat_ros.environment.sun.sun_state` gives
-the direction to the Sun (GCRS; the Sun's position from a
-:class:`~adbsat_ros.environment.sun.SunTrack`, exact knots a minute apart), the solar pressure
-at the Sun's distance and the fraction of the solar disc Earth leaves visible (umbra 0, penumbra
-in between, 1 in sunlight). The direction is turned into the body frame with the attitude
-(through the ITRS for an ECEF state); the panels the body itself hides from the Sun come from a
-shading cache of their own (photons travel along minus the Sun's direction; the same shader,
-resolution and interpolation as the flow's); the materials' reflectivities give the force
-(Luthcke's flat plate, :func:`~adbsat_ros.physics.solar.solar_coefficients`). Formulas:
-docs/physics.md, section 7.
+The Sun's direction (GCRS, through the ITRS for an ECEF state) is turned into the body frame
+with the attitude; the body's self-shadowing comes from a shading cache of its own, made like
+the flow's; the force is Luthcke's flat plate. Formulas: docs/physics.md, section 7.
 """
 
 from __future__ import annotations
@@ -40,8 +33,7 @@ class SolarPressureSource:
         Mesh, materials (``specular_reflectivity``, ``diffuse_reflectivity``) and reference
         (A_ref, L_ref, the centre of mass as moment point).
     settings : WrenchSettings
-        ``state_frame`` and the shading settings (the Sun's shading cache is made like the
-        flow's: ``shading``, ``shading_samples``, ``shading_cache_*``, ``shading_interpolation``).
+        ``state_frame`` and the shading settings (the Sun's cache is made like the flow's).
     orientation_options : tuple
         The checked Earth-orientation options of the flight conditions (for an ECEF state).
     shading : ShadingSource, optional
@@ -96,8 +88,7 @@ class SolarPressureSource:
         )
 
     def with_sunlight(self, sample: WrenchSample, t0: float) -> WrenchSample:
-        """``sample`` with its solar wrench, its compute time counted from ``t0``
-        (``time.perf_counter``).
+        """``sample`` with its solar wrench, compute time counted from ``t0`` (perf_counter).
 
         Raises
         ------

@@ -1,10 +1,6 @@
 """The wrench at one attitude once the flight conditions are known: from the coefficient
-database, or from the panel method with the shading cache (and, for an articulated body, the
-joint positions).
-
-Both take the gas motion relative to the body in body axes and return the estimator's
-:class:`~adbsat_ros.estimator.samples.WrenchSample`, refusing with a
-:class:`~adbsat_ros.estimator.samples.Rejection` (``outside_database``, ``compute_error``).
+database, or from the panel method with the shading cache. Both take the gas motion relative to
+the body in body axes.
 """
 
 from __future__ import annotations
@@ -22,9 +18,8 @@ from adbsat_ros.geometry.frames import unit_vector
 
 
 class Moment(NamedTuple):
-    """What a sample records of its message: stamp [s], UTC, the conditions at the stamp, the
-    attitude (body to state frame, row-major) and when its computation began
-    (``time.perf_counter``)."""
+    """What a sample records of its message: stamp [s], UTC, conditions, attitude (body to state
+    frame, row-major) and when its computation began (``time.perf_counter``)."""
 
     stamp: float
     time: _dt.datetime
@@ -77,15 +72,8 @@ def panel_wrench(
     joints: JointConfiguration | None,
     moment: Moment,
 ) -> WrenchSample:
-    """The wrench of the panel method (a PanelMethod, or an ArticulatedMethod at the joint
-    configuration ``joints``) at the flow direction ``gas_body`` (body axes).
-
-    Parameters
-    ----------
-    alpha : float or None
-        The accommodation coefficient from an accommodation model (None: the materials').
-    joints : JointConfiguration or None
-        An articulated body's joint positions, made ready (:mod:`adbsat_ros.estimator.joints`).
+    """The wrench of the panel method (articulated: at ``joints``) at the flow direction
+    ``gas_body`` (body axes); ``alpha`` from an accommodation model, or None for the materials'.
 
     Raises
     ------
@@ -135,7 +123,5 @@ def panel_wrench(
 
 
 def joint_sample(body, articulated, q: float) -> JointSample:
-    """The joints' positions and efforts and the links' loads of an
-    :class:`~adbsat_ros.physics.articulated_results.ArticulatedCoefficients` at dynamic pressure
-    q [Pa]."""
+    """The joints and links of ``articulated`` coefficients at dynamic pressure q [Pa]."""
     return JointSample(articulated, q, body.links)

@@ -7,30 +7,12 @@ its panels at u_l = R_l^T u, and in the body frame (section 8 of docs/physics.md
 
     F_l = R_l Cf_l,    M_l = R_l Cm_l + (t_l - r_ref) x F_l / L_ref,
 
-summed over the links to the body's Cf_G and Cm_G. Nothing is rebuilt when a joint moves: the
-geometry is exact at any joint positions. The effort on a joint is the moment of the loads of
-the links it carries about its axis through the joint (revolute, continuous) or their force
-along it (prismatic).
-
-When every link's panels group into facets (boxes, plates, most meshes), the links' facets are
-posed in G and evaluated as one rigid body of them
-(:class:`~adbsat_ros.physics.posed_facets.PosedFacets`): the totals come as a
-:class:`PanelMethod`'s do, and the joints' efforts, when asked for, from columns the posed
-sums carry (:class:`~adbsat_ros.physics.link_loads.EffortColumns`), in one product of the rows
-with them. The links' forces and moments are read, when asked for, from the same facet sums
-taken link by link
-(:class:`~adbsat_ros.physics.link_loads.LinkLoads`): each link's force and moment (about G's
-origin) and lit projected area give them through one linear map per configuration
-(:attr:`~adbsat_ros.physics.articulated_results.Configuration.load_map`). Otherwise each link
-is evaluated in its own frame as above, with the lighting split by link
-(:func:`~adbsat_ros.shading.lighting.panel_range`), and the map gives every output.
-
-The same numbers, to rounding, as a :class:`PanelMethod` of
-:meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh` at those positions (tested).
-Shading is the only thing that depends on the configuration as a whole (one part shades
-another): it is a lighting of the posed body, panels in the order of
-:meth:`~adbsat_ros.geometry.articulated.ArticulatedBody.mesh`.
-
+summed over the links to the body's Cf_G and Cm_G. A joint's effort is the moment of its
+carried links' loads about its axis (revolute, continuous) or their force along it (prismatic).
+When every link has facets they are posed in G and evaluated as one rigid body
+(:class:`~adbsat_ros.physics.posed_facets.PosedFacets`); else each link in its own frame.
+The same numbers, to rounding, as a :class:`PanelMethod` of the posed mesh (tested). Shading is
+a lighting of the posed body, panels in the order of ``ArticulatedBody.mesh``.
 Units: metres, radians; frame G = the root link's frame.
 """
 
@@ -149,14 +131,12 @@ class ArticulatedMethod:
         return self._links[0][3].needs_species
 
     def surface_with(self, **changes) -> tuple:
-        """Per-link surface parameters with some set to one value (see
-        :meth:`PanelMethod.surface_with`); pass as ``surface=`` to :meth:`coefficients`."""
+        """Per-link :meth:`PanelMethod.surface_with`, for ``surface=`` of :meth:`coefficients`."""
         return tuple(method.surface_with(**changes) for *_, method in self._links)
 
     def lighting_of(self, u_G, positions=None):
-        """The method's own ``shading`` of the body posed at ``positions``, for flow direction
-        ``u_G``: a lighting of the posed mesh's panels, or None for shading none (a shader is
-        made for every call: for many calls use a cache)."""
+        """The method's own ``shading`` of the body posed at ``positions`` for flow direction
+        ``u_G`` (G), None for none; a shader is made per call (use a cache for many)."""
         if self.shading == "none":
             return None
         # (no topology store: each configuration's posed panels would be another entry)
@@ -221,27 +201,9 @@ class ArticulatedMethod:
         lighting=None,
         surface=None,
     ) -> ArticulatedCoefficients:
-        """:meth:`coefficients` from the lighting's rows posed at the configuration.
-
-        Parameters
-        ----------
-        flow : FreeStream
-        u : ndarray, shape (3,)
-            Unit flow direction (G).
-        angles : tuple or None
-            ``(aoa, aos)`` [rad] for the wind axes, as :func:`frames.attitude_flow` gives them.
-        configuration : Configuration
-            Made by this method's :meth:`configuration`.
-        sums : PosedSums or None
-            The lighting's parts' rows (:meth:`PosedFacets.link_rows`) posed at
-            ``configuration.posing`` and blended (:meth:`PosedFacets.pose`); None without
-            :attr:`facets`.
-        lighting : PanelLighting, LightingBlend or None
-            The posed body's lighting the rows are of (None: all lit): kept on the result, and
-            split by link when the links are evaluated one by one.
-        surface : tuple of PanelSurface, optional
-            From :meth:`surface_with`.
-        """
+        """:meth:`coefficients` at unit flow direction ``u`` (G; ``angles`` (aoa, aos) [rad] or
+        None) from ``sums``, ``lighting``'s :class:`PosedSums` at ``configuration`` (None without
+        :attr:`facets`; then ``lighting`` is split by link)."""
         posed = None
         if self.facets is not None:
             posed = self._posed_evaluation(flow, u, sums, surface, configuration)
@@ -280,9 +242,8 @@ class ArticulatedMethod:
         )
 
     def configuration(self, positions: Mapping[str, float] | None = None) -> Configuration:
-        """The :class:`Configuration` of joint ``positions`` (others at zero), checked as
-        :meth:`ArticulatedBody.positions` checks them (ValueError naming a bad one): made once
-        per joint state, with the posed facets' :class:`Posing`."""
+        """The :class:`Configuration` of joint ``positions`` [rad or m] (others at zero), made
+        once per joint state; ValueError naming a bad position."""
         positions = self.body.positions(positions)
         poses = link_frames(self.body, positions)
         joint_positions = np.array(poses.key, dtype=float)
@@ -291,8 +252,7 @@ class ArticulatedMethod:
         return Configuration(positions, poses, joint_positions, posing, self._load_maps)
 
     def _make_links_map(self) -> np.ndarray:
-        """The rows of the load map (:class:`LoadMaps`) that no joint's pose changes: Cf_G,
-        Cm_G, the links' loads and the lit projected area (the joints' efforts' rows zero)."""
+        """The load map's rows no joint's pose changes (the joints' efforts' rows zero)."""
         area, length = self.reference.area, self.reference.length
         force = np.eye(3, LINK_LOADS) / area  # (F, M, S) -> f
         about_point = np.zeros((3, LINK_LOADS))  # (F, M, S) -> m - r x f / L_ref
@@ -311,10 +271,8 @@ class ArticulatedMethod:
         return out
 
     def _posed_evaluation(self, flow, u, sums, surface, configuration):
-        """The posed facets in one evaluation, as a rigid body of them (None if the surface
-        varies within a facet): the totals (Cf_G, Cm_G, lit projected area), the per-facet
-        values, the facet of every panel, and what :class:`LinkLoads` takes to compute the
-        links' loads and the joints' efforts (from the sums' :class:`EffortColumns`)."""
+        """The posed facets evaluated as one rigid body (None if the surface varies within a
+        facet): totals, per-facet values, facet of every panel, and :class:`LinkLoads`' input."""
         facets = self.facets
         facet_surface = self._facet_surface if surface is None else facets.surface(surface)
         if facet_surface is None:
@@ -332,8 +290,7 @@ class ArticulatedMethod:
         )
 
     def _link_loads(self, flow, u, lighting, surface, poses):
-        """Every evaluated link's loads (F, M, S of :class:`LoadMaps`) side by side, link by
-        link in the links' frames, and the per-panel values."""
+        """Every evaluated link's loads (F, M, S), each in its own frame, and per-panel values."""
         rotations = poses.rotations[self._link_index]
         origins = poses.origins[self._link_index]
         own = [  # (the lighting of each link's panels, shifts in its frame)

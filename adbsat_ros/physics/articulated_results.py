@@ -1,7 +1,5 @@
-"""What an articulated body's panel method takes and gives besides the joint positions: a
-:class:`Configuration` (positions checked and posed, made once for many evaluations) and the
-:class:`ArticulatedCoefficients` of one evaluation.
-
+"""What an articulated body's panel method takes and gives: a :class:`Configuration` (positions
+checked and posed, made once for many evaluations) and the :class:`ArticulatedCoefficients`.
 Units: metres, radians; frame G = the root link's frame.
 """
 
@@ -20,14 +18,12 @@ from adbsat_ros.physics.posed_facets import Posing
 
 
 class LoadMaps:
-    """What makes a configuration's load map: the matrix that takes the evaluated links' loads
-    to every output (:attr:`Configuration.load_map`).
+    """What makes a configuration's load map (:attr:`Configuration.load_map`).
 
-    Its input is, link after link, (F, M, S): the link's force W (q u + k n) summed over its
-    facets [m^2], their moment about G's origin [m^3] (body frame) and its lit projected area
-    [m^2]. Its output: Cf_G, Cm_G (about the reference point r), each link's force and moment
-    coefficients (all links, zero without geometry), each joint's effort coefficient and the
-    body's lit projected area. A link's coefficients are f = F / A_ref and, about r,
+    Input, link after link, (F, M, S): the link's force [m^2], its moment about G's origin
+    [m^3] (body frame) and its lit projected area [m^2]. Output: Cf_G, Cm_G (about the
+    reference point r), each link's force and moment coefficients, each joint's effort
+    coefficient and the lit projected area. A link's coefficients are f = F / A_ref and, about r,
     (M - r x F) / (A_ref L_ref); joint j (axis a through o) carrying the links C_j has the
     effort coefficient sum_(l in C_j) a . (M_l - o x F_l) / (A_ref L_ref) =
     (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns, and sum_(l in C_j) a . F_l / A_ref
@@ -40,7 +36,7 @@ class LoadMaps:
     efforts : slice
         The joints' efforts' rows.
     columns : EffortColumns
-        The joints' effort terms (``carries``: 1 where joint j carries evaluated link l).
+        The joints' effort terms.
     """
 
     def __init__(self, links: np.ndarray, efforts: slice, columns: EffortColumns):
@@ -63,22 +59,19 @@ class LoadMaps:
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class Configuration:
-    """Joint positions checked and posed, with what an evaluation there reads: made by
-    :meth:`ArticulatedMethod.configuration` once per joint state, given to
-    :meth:`ArticulatedMethod.coefficients` for every attitude at those positions.
+    """Joint positions checked and posed (:meth:`ArticulatedMethod.configuration`), for
+    :meth:`ArticulatedMethod.coefficients` at every attitude at those positions.
 
     Attributes
     ----------
     positions : dict of str to float
         Every moving joint's position [rad or m], checked.
-    poses : Poses
-        The links' and joints' frames.
     joint_positions : ndarray, shape (J,)
         The positions in the body's joint order (read-only).
     posing : Posing or None
         The posed facets' normals and posing matrices; None without posed facets.
     maps : LoadMaps
-        What makes :attr:`load_map`: the method's own (it tells which method made it).
+        The method's own (it tells which method made it).
     """
 
     positions: dict
@@ -89,38 +82,26 @@ class Configuration:
 
     @functools.cached_property
     def load_map(self) -> np.ndarray:
-        """The map from the links' loads to every output (:class:`LoadMaps`), made when the
-        links' loads, or every output of a body evaluated link by link, are first read."""
+        """The map from the links' loads to every output (:class:`LoadMaps`), made when read."""
         return self.maps.at(self.poses)
 
 
 class ArticulatedCoefficients(NamedTuple):
-    """The coefficients of an articulated body at one configuration and flow direction.
-
-    The links' forces and moments and the joints' efforts are computed from the evaluation's
-    sums when first read (:class:`~adbsat_ros.physics.link_loads.LinkLoads`), so a caller that
-    needs only the total (a node publishing the wrench) does not pay for them. A tuple, made at
-    every message: cheaper to make than a frozen dataclass.
+    """The coefficients of an articulated body at one configuration and flow direction; the
+    links' loads and the joints' efforts are computed when first read.
 
     Attributes
     ----------
     total : AeroCoefficients
-        The whole body's (as :meth:`PanelMethod.coefficients` of the posed mesh: Cf_G, Cm_G,
-        area_projected, wind axes, and per-panel values in the posed mesh's order).
-    link_force, link_moment : ndarray, shape (L, 3)
-        Force and moment coefficient of every link of the body (zero for links without
-        geometry), body frame, moments about the reference moment point; they sum to the total.
+        The whole body's, as :meth:`PanelMethod.coefficients` of the posed mesh (per-panel
+        values in the posed mesh's order).
     joint_names : tuple of str
         The moving joints, in the body's order.
-    effort_coefficients : ndarray, shape (J,)
-        For each moving joint, the moment coefficient of the loads on the links it carries
-        about its axis through it (revolute, continuous), or their force coefficient along its
-        axis (prismatic).
     joint_positions : ndarray, shape (J,)
-        The joint positions [rad or m] (read-only: the configuration's own array).
+        The joint positions [rad or m] (read-only).
     effort_scales : ndarray, shape (J,)
-        What turns an effort coefficient into newton metres or newtons once multiplied by the
-        dynamic pressure: A_ref L_ref [m^3] (revolute, continuous) or A_ref [m^2] (prismatic).
+        q times these turns effort coefficients into efforts: A_ref L_ref [m^3] (revolute,
+        continuous) or A_ref [m^2] (prismatic).
     link_loads : LinkLoads
         What gives ``link_force``, ``link_moment`` and ``effort_coefficients``.
     """
@@ -133,12 +114,15 @@ class ArticulatedCoefficients(NamedTuple):
 
     @property
     def effort_coefficients(self) -> np.ndarray:
-        """Each moving joint's effort coefficient (J,), in the order of :attr:`joint_names`."""
+        """Each moving joint's effort coefficient (J,): the moment coefficient of its carried
+        links' loads about its axis (revolute, continuous), or their force coefficient along it
+        (prismatic)."""
         return self.link_loads.effort_coefficients
 
     @property
     def link_force(self) -> np.ndarray:
-        """Every link's force coefficient (L, 3), body frame."""
+        """Every link's force coefficient (L, 3), body frame (zero without geometry); they sum
+        to the total."""
         return self.link_loads.values[0]
 
     @property
@@ -157,8 +141,7 @@ class ArticulatedCoefficients(NamedTuple):
         return dict(zip(self.joint_names, self.joint_positions.tolist()))
 
     def efforts(self, dynamic_pressure: float) -> np.ndarray:
-        """Joint efforts [N m, or N for a prismatic joint] at dynamic pressure q [Pa], in the
-        order of :attr:`joint_names`."""
+        """Joint efforts (J,) [N m, or N for a prismatic joint] at dynamic pressure q [Pa]."""
         return (dynamic_pressure * self.effort_scales) * self.effort_coefficients
 
     def joint_efforts(self, dynamic_pressure: float) -> dict:

@@ -52,11 +52,10 @@ class Reference:
         object.__setattr__(self, "moment_point", tuple(float(v) for v in point))
 
     def resolved(self, mesh: PanelMesh, name: str = "moment_point") -> "Reference":
-        """A copy with the defaults filled in from ``mesh``.
+        """A copy with the defaults filled in from ``mesh`` (a resolved one resolves to itself).
 
-        The moment point must lie near the body (:func:`adbsat_ros.bounds.body_point`, within
-        ten body sizes of the box of the mesh and its origin): ValueError naming it ``name``
-        otherwise. A resolved reference resolves to itself.
+        ValueError naming the moment point ``name`` unless it lies within ten body sizes of the
+        box of the mesh and its origin (:func:`adbsat_ros.bounds.body_point`).
         """
         body_point(name, self.moment_point, *mesh.bounds.tolist())
         if self.length is None and not mesh.x_extent > 0.0:
@@ -72,10 +71,9 @@ class Reference:
 
 
 class AeroCoefficients:
-    """Aerodynamic coefficients of one attitude.
-
-    The mesh-frame sums are computed at once, the rest (angles, other axes, per-panel values) on
-    first access.
+    """Aerodynamic coefficients of one attitude; the angles, other axes (``Cf_w``, ``Cm_w``,
+    ``Cf_f``, ``Cm_B``) and per-panel values (``cos_delta``, ``cp``, ``ctau``, ``lit_fraction``)
+    are properties computed on first access.
 
     Attributes
     ----------
@@ -92,18 +90,6 @@ class AeroCoefficients:
         (ADBSat ``AreaProj``).
     model : str
         Gas-surface model name.
-    aoa, aos : float
-        Angle of attack and sideslip [rad] of the flow (frames module).
-    Cf_w : ndarray, shape (3,)
-        Force coefficient in wind axes (ADBSat ``Cf_w``); drag = -Cf_w[0].
-    Cf_f : ndarray, shape (3,)
-        Force coefficient in ADBSat's flight axes (``Cf_f``; x aft, z up).
-    Cm_B : ndarray, shape (3,)
-        Moment coefficient in ADBSat's body axes B (``Cm_B``), about the moment point.
-    cos_delta, cp, ctau : ndarray, shape (N,)
-        Per-panel incidence cosine and local pressure and shear coefficients (before shading).
-    lit_fraction : ndarray, shape (N,)
-        Per-panel lit fraction used (all ones without shading).
     """
 
     def __init__(
@@ -167,11 +153,8 @@ class AeroCoefficients:
 
     @functools.cached_property
     def _body_to_wind(self) -> np.ndarray:
-        """L_WB of the angles, its first row taken from the flow direction itself.
-
-        At a sideslip of +-90 deg cos(aos) rounds to 0 and the angles lose that row's x and z
-        components (drag off by about 1e-9 of the force); lift and side force are undefined there.
-        """
+        """L_WB of the angles, its first row taken from the flow direction itself: at a sideslip
+        of +-90 deg cos(aos) rounds to 0 and the angles would lose that row's x and z."""
         matrix = frames.body_to_wind(self.aoa, self.aos)
         matrix[0] = frames.L_GB @ -np.asarray(self.flow_direction, dtype=float)
         return matrix

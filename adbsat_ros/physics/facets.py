@@ -1,17 +1,9 @@
 """Coplanar panels of one material grouped into facets: the gas-surface model runs once per facet.
 
-Coplanar panels share everything the models see (the incidence, and the surface when they share a
-material): sum_i f_i A_i phi_i = W_g phi_g with W_g = sum f_i A_i, and sum_i f_i A_i r_i x phi_g =
-Q_g x phi_g with Q_g = sum f_i A_i r_i (lit centroids included). A CAD satellite of flat faces
-meshed into 10k triangles has a few hundred facets; a sphere has one per panel and is evaluated
-panel by panel.
-
-Shading changes the sums: W_g and Q_g are made from the lit fractions and shifts of a lighting
-in one pass over the panels (np.bincount, in panel order; :meth:`Facets.lit_sums_of`, a pure
-function of the lighting), and a blend's are the weighted sum of its parts' (:func:`blend_sums`).
-:class:`LitSumsCache` keeps the sums of the latest lightings under their content fingerprint.
-
-Units: metres and square metres, mesh frame G.
+The sums regroup exactly: sum_i f_i A_i phi_i = W_g phi_g with W_g = sum f_i A_i, and likewise
+the moments with Q_g = sum f_i A_i r_i (lit centroids included); docs/physics.md, section 1.
+The sums are a pure function of the lighting (np.bincount, in panel order). Units: m, m^2, mesh
+frame G.
 """
 
 from __future__ import annotations
@@ -30,18 +22,9 @@ N_SUMS = 10
 
 
 def facet_rows(c, cp, shear) -> np.ndarray:
-    """The (3, G) rows (q, k, max(c, 0)) that weight the facet sums.
-
-    Parameters
-    ----------
-    c, cp, shear : ndarray, shape (G,)
-        cos(delta), c_p and q = c_tau / sin(delta) of every facet.
-
-    Returns
-    -------
-    ndarray, shape (3, G)
-        q, k = q c - c_p, and max(c, 0): facet g carries the force W_g (q_g u + k_g n_g), the
-        moment q_g (Q_g x u) + k_g (Q_g x n_g) and the projected area max(c_g, 0) W_g.
+    """The (3, G) rows q, k = q c - c_p and max(c, 0) of facets' cos(delta) ``c``, ``cp`` and
+    q = c_tau / sin(delta) ``shear``: facet g carries the force W_g (q_g u + k_g n_g), the moment
+    q_g (Q_g x u) + k_g (Q_g x n_g) and the projected area max(c_g, 0) W_g.
     """
     rows = np.empty((3, c.size))
     rows[0] = shear
@@ -60,8 +43,7 @@ def shear_per_sine(ctau, sigma) -> np.ndarray:
 
 
 def vector_sums(index, vectors, n: int) -> np.ndarray:
-    """The (n, 3) sums of the rows of ``vectors`` (K, 3) by facet ``index`` (K,), each facet's
-    rows summed in their order (np.bincount)."""
+    """The (n, 3) sums of the rows of ``vectors`` (K, 3) by facet ``index`` (K,), in order."""
     return np.stack(
         [np.bincount(index, weights=vectors[:, k], minlength=n) for k in range(3)], axis=-1
     )
@@ -73,9 +55,7 @@ def sum_columns(weights, moments, normals) -> np.ndarray:
 
 
 def blend_sums(parts) -> np.ndarray:
-    """The weighted sum of the (G, 10) sums of a blend's parts, ``parts`` [(w, sums), ...] in
-    part order: s = w_0 s_0, then s += w_k s_k (the sums are linear in the lit fractions and
-    shifts)."""
+    """The weighted sum of a blend's (G, 10) sums, ``parts`` [(w, sums), ...], in part order."""
     (w, first), *rest = parts
     sums = w * first
     for w, part in rest:
@@ -84,28 +64,12 @@ def blend_sums(parts) -> np.ndarray:
 
 
 class LitSumsCache:
-    """The facet sums of the latest lightings: the panel method's one cache.
+    """The (G, 10) facet sums of the latest lightings, keyed by the lighting's content
+    fingerprint (:attr:`PanelLighting.key`), LRU of ``max_entries`` (>= 1); counters hits, misses.
 
-    Key: the lighting's content fingerprint (:attr:`PanelLighting.key`), so the same shading
-    gives the same sums whichever object carries it. Value: the (G, 10) facet sums.
-    Bound: the ``max_entries`` most recently used. Counters: hits, misses.
-
-    Why it exists: on a shading-cache hit, the node's usual message, the lighting is that of the
-    previous message, and summing it again over the panels is most of the panel method
-    (docs/benchmarks.md). The all-lit sums plus a sparse correction over the panels not fully lit
-    would cost less than summing, but their rounding, unlike the sums here, is not that of the
-    per-panel sums: it moved a small side-force coefficient of the golden outputs by 1.5e-12 of its
-    size.
-
-    Parameters
-    ----------
-    max_entries : int
-        Number of lightings whose sums are kept (>= 1).
-
-    Attributes
-    ----------
-    hits, misses : int
-        Lookups answered from the cache, and lookups that summed the lighting.
+    On a shading-cache hit the lighting is the previous message's, and summing it again is most
+    of the panel method (docs/benchmarks.md). (All-lit sums plus a sparse correction would round
+    differently.)
     """
 
     def __init__(self, max_entries: int = 8):
@@ -144,7 +108,7 @@ class LitSumsCache:
 
 
 class Facets:
-    """Coplanar panels of one material grouped into facets (see the module docstring).
+    """Coplanar panels of one material grouped into facets (module docstring).
 
     Parameters
     ----------
@@ -153,26 +117,18 @@ class Facets:
     index : ndarray of int, shape (N,)
         Facet of every panel.
     first : ndarray of int, shape (G,)
-        One member panel of every facet.
+        One member panel of every facet (its normal and surface are the facet's).
     surface : PanelSurface
         The materials' per-panel surface (its facet values are made once).
 
     Attributes
     ----------
-    index : ndarray of int, shape (N,)
-        Facet of every panel.
-    first : ndarray of int, shape (G,)
-        One member panel of every facet (its normal and surface are the facet's).
-    n : int
-        Number of facets G.
     normals : ndarray, shape (G, 3)
-        Outward unit normal of every facet (of its first member; members agree to 1e-12).
+        Outward unit normal of every facet (members agree to 1e-12).
     inward_normals_T : ndarray, shape (3, G)
-        ``-normals.T``, so that ``u @ inward_normals_T`` is every facet's cos(delta).
+        ``-normals.T``: ``u @ inward_normals_T`` is every facet's cos(delta).
     all_lit : ndarray, shape (G, 10)
         Facet sums with every panel lit: columns W_g [m^2], W_g n_g, Q_g [m^3], Q_g x n_g.
-    lit_sums_cache : LitSumsCache
-        The sums of the latest lightings.
     """
 
     #: Normals equal to this many decimals (of a unit vector) make panels coplanar-facing.
@@ -207,23 +163,19 @@ class Facets:
         return cls(mesh, index.reshape(-1), first, surface)
 
     def sums_of(self, weights, weighted_points) -> np.ndarray:
-        """Read-only (G, 10) facet sums of panel weights w_i [m^2] and moments
-        w_i (r_i + shift_i) [m^3] (shape (N, 3))."""
+        """Read-only (G, 10) facet sums of panel weights w_i [m^2] and moments (N, 3) [m^3]."""
         W = np.bincount(self.index, weights=weights, minlength=self.n)
         sums = sum_columns(W, self.vector_sums(weighted_points), self.normals)
         sums.setflags(write=False)
         return sums
 
     def vector_sums(self, vectors, panels=None) -> np.ndarray:
-        """The (G, 3) sums over each facet's members of per-panel ``vectors`` (shape (N, 3), or
-        one row per panel of ``panels``, an index array: the other panels count as zero)."""
+        """The (G, 3) facet sums of per-panel ``vectors`` (N, 3), or of rows for ``panels`` only."""
         return vector_sums(self.index if panels is None else self.index[panels], vectors, self.n)
 
     def lit_sums_of(self, lighting: PanelLighting | None) -> np.ndarray:
-        """The read-only (G, 10) facet sums with the lit fractions and shifts of ``lighting``
-        (:attr:`all_lit` for None), summed anew: columns W_g = sum f_i A_i [m^2], W_g n_g,
-        Q_g = sum f_i A_i (r_i + shift_i) [m^3] and Q_g x n_g over the members i of each facet g.
-        """
+        """Read-only (G, 10) facet sums of ``lighting`` (:attr:`all_lit` for None), summed anew:
+        W_g = sum f_i A_i [m^2], W_g n_g, Q_g = sum f_i A_i (r_i + shift_i) [m^3], Q_g x n_g."""
         if lighting is None:
             return self.all_lit
         f = lighting.lit_fraction
@@ -235,8 +187,7 @@ class Facets:
         return self.sums_of(w, wr)
 
     def lit_sums(self, lighting) -> np.ndarray:
-        """:meth:`lit_sums_of` ``lighting`` (a PanelLighting, a :class:`LightingBlend` or None),
-        the latest lightings' from :attr:`lit_sums_cache`, a blend's by :func:`blend_sums`."""
+        """:meth:`lit_sums_of` ``lighting`` (or a :class:`LightingBlend`), through the cache."""
         if lighting is None:
             return self.all_lit
         if isinstance(lighting, LightingBlend):

@@ -1,9 +1,5 @@
-"""The loads of an articulated body's links and the efforts on its joints, from the facet sums.
-
-With the model's per-facet rows (q, k, max(c, 0) of :func:`~.facets.facet_rows`),
-the posed facet sums (:mod:`adbsat_ros.physics.posed_facets`) give each link's force and moment
-(summed link by link) and each joint's effort (through extra columns, :class:`EffortColumns`).
-:class:`LinkLoads` computes them when first read.
+"""The loads of an articulated body's links and the efforts on its joints, from the facet rows
+(:func:`~.facets.facet_rows`) and the posed facet sums, computed when first read.
 
 Units: metres, body frame G; coefficients per A_ref (forces) and A_ref L_ref (moments).
 """
@@ -82,17 +78,16 @@ class EffortColumns:
 
 
 class LinkLoads:
-    """Every link's force and moment and every joint's effort coefficient, computed when first read.
-
-    It holds the evaluation's numbers only (no cache kept alive; it pickles).
+    """Every link's force and moment and every joint's effort coefficient, computed when first read
+    (it holds the evaluation's numbers only, and pickles).
 
     Parameters
     ----------
     configuration : Configuration
-        The evaluation's; its ``load_map`` (R, 7 E) takes the E evaluated links' loads (F, M, S) to
-        every output.
+        The evaluation's; its ``load_map`` (R, 7 E) takes the E evaluated links' loads to every
+        output.
     forces, moments, efforts : slice
-        Its rows of the links' force and moment coefficients and of the joints' efforts.
+        The load map's rows of the links' forces and moments and the joints' efforts.
     n_links : int
         Links of the body (L).
     loads : ndarray, shape (7 E,), optional

@@ -10,17 +10,8 @@ tangential part of u, t_i = (u + cos(delta_i) n_i) / sin(delta_i). Then (ADBSat'
 
 where f_i is the lit fraction from shading (1 without it) and r_i moves to the lit centroid for
 partly lit panels. Forces in newtons are q A_ref C_F and torques q A_ref L_ref C_M with
-q = rho V^2 / 2.
-
-Coplanar panels share everything the models see (the incidence, and the surface when they share a
-material), so :meth:`PanelMethod.coefficients` evaluates the model once per *facet* (panels with
-the same outward normal, to 1e-12, and the same material) and sums exactly:
-sum_i f_i A_i phi_i = W_g phi_g with W_g = sum f_i A_i, and sum_i f_i A_i r_i x phi_g =
-Q_g x phi_g with Q_g = sum f_i A_i r_i (lit centroids included). A CAD satellite of flat faces
-meshed into 10k triangles has a few hundred facets; a sphere has one per panel, and is evaluated
-panel by panel. The per-panel outputs (cp, ctau, cos_delta) are the facet values. Shading enters
-through W_g and Q_g, summed from the lighting's fractions and shifts
-(:mod:`adbsat_ros.physics.facets`).
+q = rho V^2 / 2. The model runs once per facet of coplanar panels of one material
+(:mod:`adbsat_ros.physics.facets`); the per-panel outputs are then the facet values.
 """
 
 from __future__ import annotations
@@ -57,9 +48,6 @@ OWN_SHADING = object()
 class PanelMethod:
     """A mesh with a gas-surface model and materials, ready to evaluate at any attitude.
 
-    Construction does the per-mesh work once (per-panel parameter arrays, r x n products); each
-    evaluation is a handful of vectorised numpy operations over the panels.
-
     Parameters
     ----------
     mesh : PanelMesh
@@ -73,18 +61,14 @@ class PanelMethod:
     reference : Reference, optional
         Reference area, length and moment point (default ADBSat's).
     group_facets : bool
-        Evaluate the model once per facet of coplanar panels of one material (module docstring;
-        the same result to rounding). False evaluates every panel, e.g. as a reference in tests.
+        Evaluate the model once per facet of coplanar panels of one material (the same result
+        to rounding); False evaluates every panel (a reference in tests).
     shading : {"raycast", "projection", "none"}
-        How :meth:`coefficients` shades the panels when it is given no ``lighting``: exact ray
-        casting (the default, as the command line and the node), ADBSat's projection, or no
-        occlusion. A shader for it is made on first use
-        (:func:`~adbsat_ros.shading.shader.make_shader`).
+        How :meth:`coefficients` shades the panels when given no ``lighting``: ray casting (the
+        default, as the command line and the node), ADBSat's projection, or no occlusion.
 
     Attributes
     ----------
-    mesh : PanelMesh
-        The satellite surface.
     model : str
         Registry name of the gas-surface model.
     reference : Reference
@@ -137,11 +121,8 @@ class PanelMethod:
 
     # ------------------------------------------------------------------------------ per panel
     def surface_with(self, **changes):
-        """Per-panel surface parameters with some set to one value on every panel.
-
-        E.g. ``surface_with(alpha=0.9)`` when an accommodation model gives alpha from the
-        atmosphere. Pass the result as ``surface=`` to :meth:`coefficients`.
-        """
+        """Per-panel surface parameters with some set to one value on every panel, for
+        ``surface=`` of :meth:`coefficients` (e.g. ``surface_with(alpha=0.9)``)."""
         values = {name: getattr(self.surface, name) for name in SURFACE_PARAMETERS}
         for name, value in changes.items():
             if name not in values:
@@ -167,8 +148,7 @@ class PanelMethod:
         return self._local_coefficients(u_G, self._inward_normals_T, surface or self.surface, flow)
 
     def _local_coefficients(self, u_G, inward_normals_T, surface, flow):
-        """c = cos(delta) = -u . n, sigma = sin(delta) and the model's cp, ctau for normals given as
-        the (3, N) array -n^T."""
+        """c = -u . n, sigma = sin(delta) and the model's cp, ctau, for normals as (3, N) -n^T."""
         u = np.asarray(u_G, dtype=float)
         c = u @ inward_normals_T
         np.minimum(c, 1.0, out=c)  # |c| <= 1 despite rounding
@@ -178,14 +158,12 @@ class PanelMethod:
         return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
 
     def facet_coefficients(self, u, inward_normals_T, facet_surface, flow):
-        """c = cos(delta), c_p and c_tau / sin(delta) of every facet (shape (G,)) for one unit
-        direction ``u``, and c_tau when the model gave it (else None), for facets of normals n
-        given as the (3, G) array -n^T (this method's :attr:`facets`, or another body's of the
-        same model: an articulated body's posed facets).
+        """c = cos(delta), c_p, c_tau / sin(delta) (G,) and c_tau (or None) of facets of normals
+        given as (3, G) -n^T (this method's, or posed ones) for one unit direction ``u``.
 
         A model of :data:`gsi_models.SPLIT_MODELS` is its plate, which gives c_tau / sin(delta)
         itself: no sin(delta), and no clipping of c (within rounding of [-1, 1], where the plates
-        are smooth). Other models are evaluated as over panels (:meth:`_local_coefficients`).
+        are smooth).
         """
         split = self._split
         parameters = None if split is None else split[0](facet_surface, flow, self.options)
@@ -198,14 +176,8 @@ class PanelMethod:
 
     @staticmethod
     def totals_of_sums(u, rows, sums, reference):
-        """Cf_G, Cm_G and the lit projected area from the (3, G) rows (q, k, max(c, 0)) of
-        :func:`facet_rows`, q = c_tau / sin(delta) and k = q c - c_p per facet, and the (G, 10)
-        facet sums (W, W n, Q, Q x n) of :meth:`Facets.lit_sums_of`, for ``reference``.
-
-        Facet g carries the force W_g (q_g u + k_g n_g) (the shear along t = (u + c n) /
-        sin(delta)) and the moment q_g (Q_g x u) + k_g (Q_g x n_g); so one product of the rows
-        with the facet sums (W, W n, Q, Q x n) gives every sum needed.
-        """
+        """Cf_G, Cm_G and the lit projected area [m^2] from the (3, G) :func:`facet_rows` and the
+        (G, 10) facet sums (W, W n, Q, Q x n): one product gives every sum needed."""
         r, k, projected = rows @ sums  # (r W, r W n, r Q, r Q x n) and k's; the lit area
         force = r[0] * u + k[1:4]
         # moment = (sum r Q) x u + sum k (Q x n) - r_ref x force
@@ -253,8 +225,7 @@ class PanelMethod:
 
     # ------------------------------------------------------------------------------ public API
     def lighting_of(self, u_G) -> PanelLighting | None:
-        """The method's own ``shading`` of flow direction ``u_G`` (G): a lighting, or None for
-        ``shading`` none."""
+        """The method's own ``shading`` of flow direction ``u_G`` (G), None for none."""
         if self.shading == "none":
             return None
         if self._shader is None:
@@ -300,11 +271,10 @@ class PanelMethod:
     def coefficients_of_sums(
         self, flow: FreeStream, u, angles, sums, lighting, surface=None
     ) -> AeroCoefficients:
-        """:meth:`coefficients` at the unit flow direction ``u`` (G; ``angles``: (aoa, aos) [rad]
-        that gave it, or None) from ``sums``, the (G, 10) facet sums of ``lighting``
-        (:meth:`Facets.lit_sums_of`, :func:`~adbsat_ros.physics.facets.blend_sums`; None without
-        :attr:`facets`). ``lighting`` is kept in the result and summed panel by panel when the
-        facets cannot be used (none, or a ``surface`` that varies within a facet)."""
+        """:meth:`coefficients` at unit flow direction ``u`` (G) from ``sums``, the (G, 10) facet
+        sums of ``lighting`` (None without :attr:`facets`); ``angles``: (aoa, aos) [rad] or None.
+        ``lighting`` is summed panel by panel when the facets cannot be used (a ``surface`` that
+        varies within a facet)."""
         facets = self.facets
         facet_surface = None if sums is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:

@@ -1,25 +1,14 @@
 """An articulated body's facets posed in the body frame: one panel-method evaluation for the
 whole body at any joint positions.
 
-Each link's panels are grouped into facets once, in the link's frame
-(:class:`~adbsat_ros.physics.facets.Facets`: coplanar panels of one material; the model runs
-once per facet). A facet's sums W, W n, Q, Q x n (area, area-weighted normal, first moment and
-its cross product with the normal, lit fractions included) move with its link: for a link at
-rotation R and origin t in the body frame G,
+Each link's facets are made once in its frame; their sums move with the link (rotation R,
+origin t in G; S the lit-centroid shift sums a lighting gives in G; docs/physics.md, section 8):
 
-    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n',
+    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n'.
 
-where S = sum f_i A_i s_i is the facet's sum of lit-centroid shifts s_i, which a lighting gives
-in G (docs/physics.md, section 8). So a lighting's sums in the links' frames without shifts, and
-its shift sums S, are made once per lighting, whatever the configuration; a configuration only
-turns and moves them. The posed sums are linear in a facet's row (W, W n, Q, Q x n, S): the row
-times one (13, 10) matrix per facet and configuration; so are the joints' effort columns that
-follow from them (:class:`~adbsat_ros.physics.link_loads.EffortColumns`), the row times one
-(13, 4 J) matrix. A configuration's :class:`Posing` holds both, and posing a lighting's sums is
-one product with each. The sums of a lighting are linear in it, so a blend's are the weighted
-sum of its parts' (:meth:`PosedFacets.pose`).
-
-Units: metres and square metres, body frame G.
+A facet's row (W, W n, Q, Q x n, S) is made once per lighting; a configuration's
+:class:`Posing` holds the (13, 10) matrix per facet (and (13, 4 J) for the joints' effort
+columns) that poses it. Units: m, m^2, body frame G.
 """
 
 from __future__ import annotations
@@ -43,10 +32,9 @@ class Posing(NamedTuple):
     normals : ndarray, shape (G, 3)
         The facets' unit normals in G.
     inward_T : ndarray, shape (3, G)
-        -normals^T (what the panel method's incidence takes).
+        -normals^T.
     matrix : ndarray, shape (G, 13, 10)
-        For each facet, what takes its sums in its link's frame and its shift sums
-        (W, W n, Q, Q x n, S) to its posed sums in G.
+        Per facet, its row (W, W n, Q, Q x n, S) to its posed sums in G.
     efforts : ndarray, shape (G, 13, 4 J) or None
         The same to the joints' effort columns (None without joints).
     """
@@ -58,16 +46,8 @@ class Posing(NamedTuple):
 
 
 class PosedSums:
-    """A lighting's facet sums posed at a configuration.
-
-    Attributes
-    ----------
-    ten : ndarray, shape (G, 10)
-        W, W n, Q, Q x n of every facet (blended at once: every wrench needs them).
-    columns : ndarray, shape (G, 4 J) or None
-        The joints' effort columns (:class:`~adbsat_ros.physics.link_loads.EffortColumns`),
-        blended when first read (only the joints' efforts need them); None without joints.
-    """
+    """A lighting's facet sums posed at a configuration: ``ten`` (G, 10), W, W n, Q, Q x n of
+    every facet, and :attr:`columns`, blended when first read."""
 
     __slots__ = ("ten", "_weights", "_stacked", "_columns")
 
@@ -80,8 +60,8 @@ class PosedSums:
 
     @classmethod
     def of(cls, weights, ten, columns=None) -> "PosedSums":
-        """The blend with ``weights`` (P,) of the parts' posed sums ``ten`` (P, G, 10) and
-        effort columns ``columns`` (P, G, 4 J) or None; one part is taken as it is."""
+        """The blend with ``weights`` (P,) of parts' ``ten`` (P, G, 10) and ``columns``
+        (P, G, 4 J) or None; one part is taken as it is."""
         if len(ten) == 1:
             return cls(ten[0], None, columns)
         weights = np.array(weights)
@@ -89,7 +69,7 @@ class PosedSums:
 
     @property
     def columns(self) -> np.ndarray | None:
-        """The joints' effort columns (G, 4 J), or None."""
+        """The joints' effort columns (G, 4 J) (:class:`~.link_loads.EffortColumns`), or None."""
         if self._columns is None and self._stacked is not None:
             stacked = self._stacked
             blended = self._weights @ stacked.reshape(len(stacked), -1)
@@ -107,11 +87,9 @@ EPSILON[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0
 class PosedFacets:
     """The facets of every link of an articulated body, posed per configuration.
 
-    Build with :meth:`of`. Pure: :meth:`posing` (one per configuration), :meth:`link_rows`
-    (one per lighting), :meth:`pose_part` and :meth:`pose`. Two stores (key -> value; bound
-    ``max_entries`` each; counters in each) serve :meth:`sums`: :attr:`link_sums_store`, a
-    lighting part's content key -> its rows; :attr:`sums_store`, (the content keys of a
-    lighting's parts, None for all lit; the joint positions) -> their posed sums, stacked.
+    Build with :meth:`of`. Two stores (LRU of ``max_entries``) serve :meth:`sums`:
+    :attr:`link_sums_store`, a lighting part's content key -> its rows; :attr:`sums_store`,
+    (the parts' keys, the joint positions) -> their posed sums, stacked.
 
     Parameters
     ----------
@@ -122,8 +100,7 @@ class PosedFacets:
     spans : sequence of (int, int)
         Their panels, [start, stop) of the posed body's.
     joints : EffortColumns, optional
-        The joints' effort columns (:mod:`adbsat_ros.physics.link_loads`), posed after the ten
-        sums (:meth:`sums`); none without.
+        The joints' effort columns (:mod:`adbsat_ros.physics.link_loads`).
     max_entries : int
         Bound of each store.
 
@@ -179,9 +156,8 @@ class PosedFacets:
 
     @classmethod
     def of(cls, link_methods, link_index, spans, joints=None) -> "PosedFacets | None":
-        """The posed facets of the links' panel methods (the links ``link_index`` of the body,
-        in the poses' order; their panels ``spans``, [start, stop) of the posed body's), or
-        None if a link has no facets (its panels are evaluated one by one: a sphere, say)."""
+        """The posed facets of the links' panel methods (arguments as the class's), or None if
+        a link has no facets (a sphere, say)."""
         if any(m.facets is None for m in link_methods):
             return None
         return cls(
@@ -196,11 +172,9 @@ class PosedFacets:
         """The facets' surface from each link's per-panel surface, or None if a parameter
         varies within a facet.
 
-        A parameter that every link has as its own materials' (the value object of the
-        surfaces the facets were made with: what ``surface_with`` leaves as it is) is the one
-        made from them once; a number that every link has alike is that number. An
-        accommodation model sets alpha at every message, so this is on the node's path, where
-        making the whole surface link by link would cost more.
+        A parameter every link has as its own materials' (the same object) takes the values
+        made once; a number every link has alike is that number (alpha of an accommodation
+        model, set at every message).
         """
         if self._own is not None:
             own_values, own = self._own
@@ -237,9 +211,7 @@ class PosedFacets:
         return PanelSurface(**values)
 
     def posing(self, poses) -> Posing:
-        """The :class:`Posing` of the facets at ``poses`` (made once per configuration: see
-        :meth:`~adbsat_ros.physics.articulated_method.ArticulatedMethod.configuration`), from
-        the module docstring's formulas for a row of sums times the matrix."""
+        """The :class:`Posing` of the facets at ``poses`` (module docstring's formulas)."""
         turned = poses.rotations[self._facet_link].transpose(0, 2, 1)  # (R v)^T = v^T R^T
         origins = poses.origins[self._facet_link]
         normals = np.einsum("gji,gj->gi", turned, self._normals)
@@ -262,9 +234,8 @@ class PosedFacets:
         return Posing(normals, inward_T, matrix, efforts)
 
     def link_rows(self, lighting) -> np.ndarray:
-        """The rows (G, 13) of ``lighting`` (None: all lit): each facet's sums (W, W n, Q,
-        Q x n) of its panels' lit fractions in its link's own frame, and its shift sums S in G
-        (zero if no panel of it has a shift). Read-only; they depend on the lighting alone."""
+        """Read-only rows (G, 13) of ``lighting`` (None: all lit): each facet's sums in its
+        link's frame, and its shift sums S in G."""
         rows = np.zeros((self.n, 13))
         if lighting is None:
             rows[:, :10] = self._all_lit
@@ -285,10 +256,8 @@ class PosedFacets:
         return rows
 
     def pose_part(self, rows, posing: Posing) -> tuple:
-        """One lighting's ``rows`` (:meth:`link_rows`) posed with ``posing``: the ten sums
-        (G, 10) and the joints' effort columns (G, 4 J) (None without joints), read-only. A
-        part's posed sums are the same bits whether posed alone or stacked with others (einsum
-        sums each row on its own)."""
+        """One lighting's ``rows`` posed: read-only ten sums (G, 10) and effort columns
+        (G, 4 J) or None. The same bits alone or stacked (einsum sums each row on its own)."""
         ten = np.einsum("gi,gic->gc", rows, posing.matrix)
         ten.setflags(write=False)
         if posing.efforts is None:
@@ -298,19 +267,13 @@ class PosedFacets:
         return ten, columns
 
     def pose(self, rows, weights, posing: Posing) -> PosedSums:
-        """The parts' ``rows`` (a sequence of :meth:`link_rows`) posed with ``posing`` and
-        blended with ``weights``: the facet sums (W, W n, Q, Q x n) link after link, the layout
-        of :meth:`~adbsat_ros.physics.facets.Facets.lit_sums`, so that the whole body's totals
-        are those of a rigid body of these facets; with joints, their effort columns."""
+        """The parts' ``rows`` posed and blended with ``weights``, link after link in the layout
+        of :meth:`Facets.lit_sums` (the body's totals are a rigid body's of these facets)."""
         return PosedSums.of(weights, *_stacked([self.pose_part(r, posing) for r in rows]))
 
     def sums(self, lighting, configuration) -> PosedSums:
-        """:meth:`pose` of the body's ``lighting`` (a lighting, a blend, or None: all lit) at
-        ``configuration`` (its ``posing`` and ``poses.key``), through the stores: the rows of
-        each part by its content key (:attr:`link_sums_store`), and the parts' posed sums,
-        stacked, by the parts' keys and the joint positions (:attr:`sums_store`). The parts of
-        a blend are those of the direction triangle around the flow, the same for many
-        attitudes, so a message reads one entry and blends it with its weights."""
+        """:meth:`pose` of ``lighting`` (a blend, or None: all lit) at ``configuration``,
+        through the stores; a blend's parts recur over many attitudes, only weights change."""
         if isinstance(lighting, LightingBlend):
             weights, parts = zip(*lighting.parts)
         else:
@@ -331,8 +294,7 @@ class PosedFacets:
 
 
 def _stacked(posed) -> tuple:
-    """Posed parts ``[(ten, columns), ...]`` stacked: (P, G, 10) and (P, G, 4 J) or None,
-    read-only."""
+    """Posed parts ``[(ten, columns), ...]`` stacked, read-only."""
     ten = np.stack([t for t, _ in posed])
     ten.setflags(write=False)
     if posed[0][1] is None:

@@ -1,11 +1,9 @@
-"""The wrench node's interfaces and callbacks, shared by the plain node (:mod:`.node`) and the
-managed one (:mod:`.managed_node`): its parameters, the publishers and subscriptions, the
-per-message callbacks around the estimator's handler, parameter changes and /diagnostics.
+"""The wrench node's parameters, interfaces and callbacks, shared by the plain node (:mod:`.node`)
+and the managed one (:mod:`.managed_node`).
 
-A class mixes :class:`WrenchNodeCore` into an rclpy ``Node`` (or ``LifecycleNode``) and calls
-:meth:`~WrenchNodeCore.declare_wrench_parameters`, then :meth:`~WrenchNodeCore.set_up` to load the
-set-up and make the interfaces (with the publisher factory it wants: lifecycle publishers publish
-only while active), and :meth:`~WrenchNodeCore.tear_down` to free them.
+A node class mixes :class:`WrenchNodeCore` into an rclpy ``Node`` (or ``LifecycleNode``) and
+calls ``declare_wrench_parameters``, then ``set_up`` with its publisher factory, and
+``tear_down``.
 """
 
 from __future__ import annotations
@@ -47,8 +45,7 @@ from adbsat_ros.ros.readers import Readers
 
 
 class DiagnosticFields(NamedTuple):
-    """The fields of the node's diagnostic_msgs/DiagnosticStatus: level (OK 0, WARN 1, ERROR 2,
-    STALE 3), name, message, hardware_id, and the values as (key, value) string pairs."""
+    """The fields of the node's DiagnosticStatus; ``values`` as (key, value) string pairs."""
 
     level: int
     name: str
@@ -58,8 +55,7 @@ class DiagnosticFields(NamedTuple):
 
 
 def joint_state_cdr(stamp: Stamp, frame_id: str, names, positions, efforts) -> bytes:
-    """CDR bytes of a sensor_msgs/JointState (no velocities), by rclpy's serialiser: the joint
-    torques' serialiser given to :func:`~adbsat_ros.messages.encoding.encode_wrench`."""
+    """CDR bytes of a sensor_msgs/JointState (no velocities): the joint torques' serialiser."""
     msg = JointState()
     msg.header.stamp.sec, msg.header.stamp.nanosec = stamp.sec, stamp.nanosec
     msg.header.frame_id = frame_id
@@ -70,27 +66,16 @@ def joint_state_cdr(stamp: Stamp, frame_id: str, names, positions, efforts) -> b
 
 
 class WrenchNodeCore:
-    """The wrench node's parameters, interfaces and callbacks (module docstring).
-
-    Attributes (once set up)
-    ------------------------
-    estimator : AeroWrenchEstimator
-        The node's logic without ROS.
-    handler : MessageHandler
-        The per-message path around it.
-    health : Health
-        What /diagnostics reports (latest state, rejection and sample; compute times).
-    """
+    """The wrench node's parameters, interfaces and callbacks (module docstring); once set up,
+    its ``estimator``, ``handler`` (the per-message path) and ``health`` (of /diagnostics)."""
 
     #: Whether messages are served (a managed node serves them only while active).
     serving = True
-    #: A managed node takes changes of its set-up parameters (mesh, qos_depth ...) while
-    #: unconfigured; the plain node declares them read-only.
+    #: Whether set-up parameters change while unconfigured (else they are read-only).
     managed = False
 
     def declare_wrench_parameters(self) -> None:
-        """Declare every parameter of :data:`PARAMETERS`, each keeping its type
-        (:func:`.parameter_values.declare_typed_parameters`: ValueError for a start-up value of
+        """Declare every parameter, each keeping its type (ValueError for a start-up value of
         another type or an unknown name), and the parameter-change callback."""
         declare_typed_parameters(self, self.managed)
         self.estimator = None
@@ -100,9 +85,8 @@ class WrenchNodeCore:
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
     def set_up(self, create_publisher) -> None:
-        """Load the set-up the parameters give (mesh, models, shading: MeshError or ValueError
-        if it cannot be) and make the publishers (with ``create_publisher``, the node's own or
-        its lifecycle one), subscriptions and the diagnostics timer."""
+        """Load the parameters' set-up (MeshError or ValueError if it cannot be) and make the
+        publishers with ``create_publisher``, the subscriptions and the timers."""
         settings = WrenchSettings.from_parameters(self._parameter_values())
         self.estimator = AeroWrenchEstimator(settings)
         self.handler = MessageHandler(self.estimator)
@@ -133,17 +117,15 @@ class WrenchNodeCore:
         self.total_pub = create_publisher(WrenchStamped, "total_wrench", qos)
         self.diagnostics_pub = create_publisher(DiagnosticArray, "/diagnostics", 10)
         self.marker_pub = readers.publisher(Marker, "panel_marker", 1)
-        # the messages come in as CDR bytes, read by rclpy's deserialiser (messages.decoding;
-        # the attitude by the struct codec first). State first: when a state and an attitude
-        # wait together, the single-threaded executor takes them in the order the subscriptions
-        # were made, and the attitude wants the newest state.
+        # messages come in as CDR bytes (messages.decoding). State first: the single-threaded
+        # executor takes waiting messages in subscription order, and an attitude wants the
+        # newest state.
         self._odometry_message = functools.partial(deserialize_message, message_type=Odometry)
         self._attitude_message = functools.partial(
             deserialize_message, message_type=QuaternionStamped
         )
-        # messages lost on the way, from the publishers' sequence numbers and the middleware's
-        # reports (LostMessages), and attitudes missing from the stream by its stamps
-        # (StampGaps): both in /diagnostics
+        # messages lost on the way (LostMessages) and attitudes missing by their stamps
+        # (StampGaps), for /diagnostics
         self._lost = {"state": LostMessages(), "attitude": LostMessages()}
         self.attitude_gaps = StampGaps()
         subscriptions = [
@@ -188,8 +170,8 @@ class WrenchNodeCore:
         )
 
     def tear_down(self, destroy_publisher) -> None:
-        """Destroy the publishers (with ``destroy_publisher``, the counterpart of the factory
-        given to :meth:`set_up`), subscriptions and timer, and drop the set-up."""
+        """Destroy the publishers (with ``destroy_publisher``), subscriptions and timers, and
+        drop the set-up."""
         for publisher in self._publishers_made:
             destroy_publisher(publisher)
         for subscription in self._subscriptions_made:
@@ -203,14 +185,12 @@ class WrenchNodeCore:
 
     @property
     def coefficient_readers(self) -> int:
-        """Subscribers of the coefficients topic, as the middleware's matched events count them
-        (the topic is published only while there is one)."""
+        """Subscribers of the coefficients topic (published only while there is one)."""
         return self.readers.counts.get("coefficients", 0)
 
     @property
     def joint_torque_readers(self) -> int:
-        """Subscribers of the joint_torques topic (an articulated body's; published only while
-        there is one), counted as :attr:`coefficient_readers`."""
+        """Subscribers of the joint_torques topic (published only while there is one)."""
         return self.readers.counts.get("joint_torques", 0)
 
     # ----------------------------------------------------------------------------- parameters
@@ -311,8 +291,8 @@ class WrenchNodeCore:
         return sum(lost.lost for lost in self._lost.values())
 
     def _serve(self, outcome: Outcome) -> None:
-        """Publish the messages of ``outcome``'s sample (those with readers, among the optional
-        ones), keep its health, log its rejection or failure."""
+        """Publish ``outcome``'s messages (optional ones with readers), keep its health, log a
+        rejection or failure."""
         if outcome.state_accepted:
             self.health.state_accepted(time.monotonic())
         sample = outcome.sample
@@ -365,9 +345,7 @@ class WrenchNodeCore:
             )
 
     def add_sample_listener(self, callback) -> None:
-        """Call ``callback(sample)`` with every :class:`WrenchSample` published (in-process
-        users: the full flight conditions and coefficients behind each wrench, e.g. for a live
-        table)."""
+        """Call ``callback(sample)`` with every :class:`WrenchSample` published (in-process use)."""
         self._sample_listeners.append(callback)
 
     # ----------------------------------------------------------------------------- diagnostics

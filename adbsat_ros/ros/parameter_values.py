@@ -1,14 +1,10 @@
 """Parameter values of their declared type: the wrench node's parameters, and the text that
 ``adbsat-ros param set`` turns into a value for any node.
 
-The node declares every parameter of :data:`~adbsat_ros.estimator.parameters.PARAMETERS` with
-the type of its default and keeps it (``dynamic_typing`` off): a number stays a double, a whole
-number an integer, a list of numbers a list of doubles. An integer given to a number parameter
-(``-p f107:=150``, a params file's ``f107: 150``, a ``set_parameters`` request) is taken as that
-double, a whole double given to an integer parameter as that integer
-(:func:`~adbsat_ros.estimator.parameters.typed_parameter_value`); any other value of another type
-is refused. Names given with ``--ros-args -p`` (or in a params file) that the node does not have
-stop it at start-up, with the closest known name.
+The node's parameters keep their default's type (``dynamic_typing`` off); an integer given to a
+number parameter, or a whole double to an integer one, is converted
+(:func:`~adbsat_ros.estimator.parameters.typed_parameter_value`), other types are refused, and
+an unknown name stops the node at start-up.
 """
 
 from __future__ import annotations
@@ -36,9 +32,8 @@ INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 
 
 def declare_typed_parameters(node, managed: bool) -> None:
-    """Declare every parameter of :data:`PARAMETERS` on ``node`` with its default's type, the
-    values given at start-up (``-p``, a params file, ``parameter_overrides``) typed by the rule,
-    and make later changes typed the same way (a pre-set callback).
+    """Declare every parameter of :data:`PARAMETERS` on ``node``, start-up values and later
+    changes (a pre-set callback) typed by the rule.
 
     Raises
     ------
@@ -71,8 +66,7 @@ def declare_typed_parameters(node, managed: bool) -> None:
 
 
 def typed_parameters(parameters) -> list:
-    """The pre-set callback: each parameter of :data:`PARAMETERS` typed by the rule (a value it
-    cannot type is left as it is, and refused by its type)."""
+    """The pre-set callback: each of our parameters typed by the rule (else left, to be refused)."""
     return [
         Parameter(p.name, value=typed_parameter_value(p.name, p.value))
         if p.name in PARAMETER_DEFAULTS and p.type_ != Parameter.Type.NOT_SET
@@ -96,8 +90,7 @@ _WORDS = {
 
 
 def _integer(name: str, text: str) -> int:
-    """An integer parameter's value: a whole number, also written as a float with no fraction
-    (``32.0``, ``1e3``), within int64."""
+    """An integer parameter's value, within int64 (``32.0`` and ``1e3`` are whole numbers too)."""
     try:
         value = int(text, 10)
     except ValueError:
@@ -119,8 +112,7 @@ def _integer(name: str, text: str) -> int:
 
 
 def _double(name: str, text: str) -> float:
-    """A double parameter's value: any number (``2e2``, ``200``, ``.inf``; the node checks its
-    range)."""
+    """A double parameter's value (``2e2``, ``200``, ``.inf``; the node checks its range)."""
     try:
         return float(text)
     except ValueError:
@@ -151,8 +143,8 @@ def _scalar(name: str, text: str, kind: int):
 
 
 def _inferred(name: str, text: str):
-    """A value for a parameter of no fixed type: read as YAML as ``ros2 param set`` does, but a
-    date stays the text, and an integer must fit int64."""
+    """A parameter of no fixed type read as YAML (as ``ros2 param set``; a date stays text, an
+    integer must fit int64)."""
     try:
         value = yaml.safe_load(text)
     except yaml.YAMLError:
@@ -169,11 +161,9 @@ def _inferred(name: str, text: str):
 
 
 def text_value(name: str, text: str, kind: int, dynamic: bool = False):
-    """The value of parameter ``name`` that the command-line ``text`` gives, read as its
-    declared type ``kind`` (a ``ParameterType``): a string is the text as given (also when it
-    looks like a date or a number); a number, a whole number or a flag is read from the text; a
-    list is a YAML flow list (``[0.1, 0, 0]``) whose items are read as the element type. A
-    parameter of no fixed type (``dynamic``) is read as YAML.
+    """The value of parameter ``name`` that the command-line ``text`` gives, as its declared type
+    ``kind`` (a ``ParameterType``): a string as given, a list as a YAML flow list
+    (``[0.1, 0, 0]``) of the element type; a ``dynamic`` parameter read as YAML.
 
     Raises
     ------

@@ -1,17 +1,11 @@
 """The one cache of shading: lightings, and what a method sums of them, by configuration and
 flow-direction cell; bounded and counted.
 
-Key: ``(configuration key, cell key)``. The configuration key is ``()`` for a rigid body, the
-grid indices of a joint configuration (:mod:`~adbsat_ros.shading.joint_grid`), or in exact mode
-the joint positions themselves. The cell key is the equi-angular cube-map cell of the flow
-direction (:mod:`~adbsat_ros.shading.cube_map`), or in exact mode the direction's components.
-Value: a :class:`Cell`, the lighting of the cell centre (exact mode: of the direction itself),
-so answers do not depend on the order of the queries, and the sums a method makes of it (made
-once, through the ``summarise`` hook the caller hands in). With ``interpolate`` an answer
-blends the three cell centres around the direction (:mod:`~adbsat_ros.shading.cell_triangles`).
-The posed shaders of an articulated body are kept by configuration key in the same object.
-The quantisation bound angle(u, u_c) <= h <= resolution_deg and the error bound of a cached
-answer (:meth:`ShadingCache.area_error_bound`) are proven in docs/shading.md ("Cache").
+Key ``(configuration key, cell key)``: ``()``, joint-grid indices or (exact mode) the joint
+positions; the cube-map cell of the flow direction or (exact mode) its components. A cell holds
+the lighting of its centre, so answers do not depend on the order of the queries. The bounds
+angle(u, u_c) <= h <= resolution_deg and :meth:`ShadingCache.area_error_bound` are proven in
+docs/shading.md ("Cache").
 """
 
 from __future__ import annotations
@@ -40,12 +34,8 @@ _UNMADE = object()
 
 
 class Cell:
-    """One entry: the lighting of a cell and what a method sums of it.
-
-    ``lighting`` is read-only and shared. ``sums`` is made on first use by the cache's
-    ``summarise`` hook (None without one). ``posed`` is a slot for the caller's memo of the sums
-    posed at one configuration.
-    """
+    """One entry: the read-only, shared ``lighting`` of a cell, its :attr:`sums`, and ``posed``,
+    a slot for the caller's memo of the sums posed at one configuration."""
 
     __slots__ = ("lighting", "posed", "_summarise", "_sums")
 
@@ -66,20 +56,32 @@ class Cell:
 class ShadingCache:
     """The cache of shading: :class:`Cell` values by (configuration, flow-direction cell).
 
-    A rigid body's cache takes its ``shader``; an articulated body's takes the ``body`` and
-    ``posed_shader(positions)`` (every moving joint named), with the grid's ``angle_step`` [rad]
-    and ``length_step`` [m] and ``joint_interpolate`` (the simplex around the positions, else
-    the nearest grid point), keeping ``max_configurations`` posed shaders. ``resolution_deg``
-    bounds the angle from a query to its cell centre (cube-map step h = 90 / n), ``max_entries``
-    the cells kept (least recently used dropped; None: no bound), and ``interpolate`` blends
-    the three cell centres around the query. ``summarise(lighting)`` makes :attr:`Cell.sums`.
-    :meth:`exact_mode` keys exact directions and positions instead.
+    Parameters
+    ----------
+    shader : Shader
+        A rigid body's shader (else give ``body`` and ``posed_shader``).
+    resolution_deg : float
+        Bound [deg] on the angle from a query to its cell centre (cube-map step h = 90 / n).
+    max_entries : int or None
+        Cells kept, least recently used dropped (None: no bound).
+    interpolate : bool
+        Blend the three cell centres around the query.
+    summarise : callable, optional
+        ``summarise(lighting)`` makes :attr:`Cell.sums`.
+    exact : bool
+        Key exact directions and positions instead (:meth:`exact_mode`).
+    body, posed_shader : ArticulatedBody, callable
+        An articulated body and ``posed_shader(positions)`` (every moving joint named).
+    angle_step, length_step : float
+        The joint grid's steps [rad], [m].
+    joint_interpolate : bool
+        Blend the grid simplex around the positions, else take the nearest grid point.
+    max_configurations : int
+        Posed shaders kept.
 
-    Counters: ``hits``, ``misses``, ``evictions`` (cells read counted); ``configuration_hits``
-    and ``configuration_misses`` (shaders, per vertex per read in grid mode, per cell made in
-    exact mode); ``last_keys``, the keys of the latest counted read (cell keys for a rigid
-    body, else (configuration key, cell key)); ``last_uncounted``, those of the latest
-    uncounted read since then.
+    Counters ``hits``, ``misses``, ``evictions`` (cells, counted reads) and
+    ``configuration_hits``/``misses`` (shaders); ``last_keys`` and ``last_uncounted`` hold the
+    keys of the latest counted and uncounted reads.
     """
 
     def __init__(
@@ -128,9 +130,8 @@ class ShadingCache:
 
     @classmethod
     def exact_mode(cls, shader=None, *, max_entries=1, **articulated) -> "ShadingCache":
-        """A cache in exact mode: the lighting of the flow direction itself (and of the body
-        posed at the joint positions themselves: ``body``, ``posed_shader``, ``summarise``);
-        by default it keeps the latest cell and shader only."""
+        """A cache of the lighting of the flow direction (and joint positions) itself; by
+        default it keeps the latest cell only."""
         return cls(shader, max_entries=max_entries, exact=True, **articulated)
 
     # ------------------------------------------------------------------------------ keys
@@ -163,9 +164,8 @@ class ShadingCache:
         return key_centres(np.arange(self.n_cells), self.n)
 
     def vertices(self, positions=None) -> list:
-        """``[(weight, configuration key), ...]`` for joint ``positions`` (every moving joint
-        named): ``[(1.0, ())]`` for a rigid body, the exact positions in exact mode, else the
-        grid's nearest configuration or simplex (:func:`~.joint_grid.grid_vertices`)."""
+        """``[(weight, configuration key), ...]`` for joint ``positions`` (``[(1.0, ())]`` for a
+        rigid body; else the exact positions, or the grid's nearest point or simplex)."""
         if self.body is None:
             return [(1.0, ())]
         if self.exact:
@@ -265,12 +265,9 @@ class ShadingCache:
         return Cell(shader.lighting(direction), self._summarise)
 
     def read(self, u_G, vertices=None, count: bool = True) -> list:
-        """``[(weight, Cell), ...]`` for flow direction ``u_G`` (G) and the configuration
-        ``vertices`` (:meth:`vertices`; default: a rigid body's): configuration major, then
-        the direction triangle's order, parts of weight 0 dropped, weights multiplied.
-
-        With ``count`` False the read is not counted (and its keys go to last_uncounted).
-        """
+        """``[(weight, Cell), ...]`` for flow direction ``u_G`` (G) and configuration
+        ``vertices`` (default: a rigid body's), configuration major, parts of weight 0 dropped;
+        uncounted with ``count`` False."""
         if vertices is None:
             if self.body is not None:
                 raise ValueError("an articulated body's read needs vertices(positions)")
@@ -299,8 +296,7 @@ class ShadingCache:
         Returns
         -------
         PanelLighting or LightingBlend
-            The lighting of the one cell read (the stored object itself, read-only), or the
-            blend of the cells read (:meth:`read`).
+            The one cell's lighting (the stored object, read-only), or the blend of the cells.
         """
         return LightingBlend.of([(w, cell.lighting) for w, cell in self.read(u_G, vertices)])
 
@@ -315,11 +311,8 @@ class ShadingCache:
         return self.lighting(frames.flow_direction(aoa, aos))
 
     def precompute(self, directions=None) -> int:
-        """Fill a rigid body's cells of ``directions`` (M, 3) in G (default: every cell).
-
-        Returns the number of cells shaded (counters unchanged; with more cells than
-        ``max_entries`` only the last ``max_entries`` stay). Sums are made on first use.
-        """
+        """Fill a rigid body's cells of ``directions`` (M, 3) in G (default: every cell); the
+        number of cells shaded (counters unchanged; only the last ``max_entries`` stay)."""
         if self.body is not None or self.exact:
             raise ValueError("precompute fills a rigid body's cube-map cells only")
         if directions is None:
