@@ -211,12 +211,20 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
 
 
 def _kill_workers(cluster) -> None:
-    """End the local workers at once (SIGKILL): closed in order, each would finish its chunk."""
+    """End the local workers at once (SIGKILL): closed in order, each would finish its chunk.
+    Their nannies are told first that the cluster closes, or they would start others."""
+    cluster.sync(_closing, cluster)
     for nanny in list(cluster.workers.values()):
         pid = getattr(nanny, "pid", None)
         if pid:
             with contextlib.suppress(OSError):
                 os.kill(pid, signal.SIGKILL)
+
+
+async def _closing(cluster) -> None:
+    """In the cluster's event loop: no nanny starts a worker again."""
+    for nanny in cluster.workers.values():
+        nanny.close_gracefully(reason="the job stopped")
 
 
 def local_cluster(count: int):
