@@ -27,11 +27,8 @@ _POLAR_AXIS_EPS2 = _WGS84_A * _WGS84_A * 1e-32
 
 # ------------------------------------------------------------------------------------ geodetic
 def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
-    """WGS-84 geodetic latitude [rad] in [-pi/2, pi/2], east longitude [rad] and height above
-    the ellipsoid [m] (floats or arrays) to an ECEF (ITRF) position [m], shape (..., 3).
-
-    Raises ValueError naming the input, for non-finite values or a latitude out of range.
-    """
+    """ECEF (ITRF) position [m], shape (..., 3), of WGS-84 latitude [rad] in [-pi/2, pi/2],
+    east longitude [rad] and height [m]; ValueError naming a non-finite or out-of-range input."""
     latitude = np.asarray(latitude, dtype=float)
     longitude = np.asarray(longitude, dtype=float)
     altitude = np.asarray(altitude, dtype=float)
@@ -50,11 +47,8 @@ def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
 
 
 def ecef_to_geodetic(position_ecef):
-    """ECEF (ITRF) position [m], shape (3,) or (N, 3), to WGS-84 geodetic coordinates.
-
-    Returns latitude [rad], east longitude [rad] in (-pi, pi] and height above the ellipsoid
-    [m], floats or arrays; raises ValueError for a non-finite or mis-shaped position.
-    """
+    """WGS-84 latitude, east longitude in (-pi, pi] [rad] and height [m] of ECEF positions [m],
+    (3,) or (N, 3); ValueError for a non-finite or mis-shaped position."""
     position = vectors3(position_ecef, "position_ecef")
     # The raw ufunc skips pyerfa's status-to-warning wrapper; status < 0 is only possible
     # for a bad ellipsoid identifier, which WGS84 is not.
@@ -69,8 +63,7 @@ def ecef_to_geodetic(position_ecef):
 
 
 def enu_to_ecef_matrix(latitude: float, longitude: float) -> np.ndarray:
-    """Matrix M of the local East, North, Up unit vectors (columns) in ECEF axes: ``v_ecef = M
-    @ v_enu`` at the geodetic ``latitude`` and ``longitude`` [rad] (Up the ellipsoid normal)."""
+    """M with ``v_ecef = M @ v_enu`` at geodetic ``latitude``, ``longitude`` [rad]."""
     sin_lat, cos_lat = math.sin(latitude), math.cos(latitude)
     sin_lon, cos_lon = math.sin(longitude), math.cos(longitude)
     return np.array(
@@ -91,10 +84,10 @@ def geodetic_of(position_ecef: np.ndarray):
 
 
 def geodetic_of_floats(x: float, y: float, z: float) -> tuple:
-    """``(latitude [rad], longitude [rad], altitude [m])`` of the ECEF position (x, y, z) [m].
+    """``(latitude [rad], longitude [rad], altitude [m])`` of ECEF (x, y, z) [m].
 
-    Fukushima's (2006) solution with one Halley step in plain floats, ERFA's ``gc2gde``
-    operations in its order, so equal to ``erfa.gc2gd`` bit for bit.
+    Fukushima (2006) with one Halley step, ERFA's ``gc2gde`` operations in its order, so equal
+    to ``erfa.gc2gd`` bit for bit.
     """
     p2 = x * x + y * y
     longitude = math.atan2(y, x) if p2 > 0.0 else 0.0
