@@ -34,7 +34,6 @@ EARTH_ROTATION_RATE = 2.0 * math.pi * 1.00273781191135448 / 86400.0
 PRECESSION_NUTATION_MODELS = ("iau2006a", "iau2000b")
 
 _ARCSEC = math.pi / (180.0 * 3600.0)
-_TWO_PI = 2.0 * math.pi
 
 
 # --------------------------------------------------------------------------- Earth orientation
@@ -82,32 +81,15 @@ class EarthOrientation:
 
 _CELESTIAL_TO_INTERMEDIATE = {"iau2006a": erfa.c2i06a, "iau2000b": erfa.c2i00b}
 #: Angular velocity of the ECEF frame in ECEF axes with zero polar motion [rad/s].
-_ROTATION_AXIS = (0.0, 0.0, EARTH_ROTATION_RATE)
-_ROTATION_VECTOR_ECEF = np.array(_ROTATION_AXIS)
+_ROTATION_VECTOR_ECEF = np.array((0.0, 0.0, EARTH_ROTATION_RATE))
 _ROTATION_VECTOR_ECEF.setflags(write=False)
+_IDENTITY = np.eye(3)
 
 
 @functools.lru_cache(maxsize=256)
-def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> tuple:
-    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket``, 9 floats."""
-    return tuple(
-        _CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days).ravel().tolist()
-    )
-
-
-def earth_rotation_angle(ut1_day: float, ut1_fraction: float) -> float:
-    """ERA(UT1) [rad] in [0, 2 pi) of a two-part UT1 Julian date (IERS 2010 eq. 5.15).
-
-    The operations of ``erfa.era00`` in its order, so equal to it bit for bit.
-    """
-    if ut1_day < ut1_fraction:
-        small, large = ut1_day, ut1_fraction
-    else:
-        small, large = ut1_fraction, ut1_day
-    days = small + (large - 2451545.0)
-    fraction = math.fmod(small, 1.0) + math.fmod(large, 1.0)
-    angle = math.fmod(_TWO_PI * (fraction + 0.7790572732640 + 0.00273781191135448 * days), _TWO_PI)
-    return angle + _TWO_PI if angle < 0.0 else angle
+def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> np.ndarray:
+    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket``."""
+    return _CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days)
 
 
 def check_orientation_options(
@@ -148,7 +130,7 @@ def check_orientation_options(
 def rotation_terms(
     jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step
 ):
-    """R (9 floats row-major), ERA [rad] and omega (ECEF, [rad/s]) of :func:`earth_orientation`.
+    """R (3, 3), ERA [rad] and omega (ECEF, [rad/s]) of :func:`earth_orientation`.
 
     ``jd1`` + ``day_fraction``: the UTC two-part Julian date; ``tt_minus_utc`` [day]; the rest
     as :func:`check_orientation_options` returns them.
@@ -159,28 +141,12 @@ def rotation_terms(
         bucket = math.floor(((jd1 - 2451545.0) + tt2) / step_days)
         q = _celestial_to_intermediate_at(precession_nutation, bucket, step_days)
     else:
-        q = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2).ravel().tolist()
-    era = earth_rotation_angle(jd1, day_fraction + ut1_minus_utc / SECONDS_PER_DAY)
-    c, s = math.cos(era), math.sin(era)
-    q00, q01, q02, q10, q11, q12, q20, q21, q22 = q
-    # R3(ERA) @ Q with R3 = [[c, s, 0], [-s, c, 0], [0, 0, 1]]
-    matrix = (
-        c * q00 + s * q10,
-        c * q01 + s * q11,
-        c * q02 + s * q12,
-        c * q10 - s * q00,
-        c * q11 - s * q01,
-        c * q12 - s * q02,
-        q20,
-        q21,
-        q22,
-    )
-    axis = _ROTATION_AXIS
-    if xp != 0.0 or yp != 0.0:
-        polar = erfa.pom00(xp, yp, erfa.sp00(jd1, tt2))
-        matrix = tuple((polar @ np.array(matrix).reshape(3, 3)).ravel().tolist())
-        axis = tuple((polar @ np.array(axis)).tolist())
-    return matrix, era, axis
+        q = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2)
+    era = float(erfa.era00(jd1, day_fraction + ut1_minus_utc / SECONDS_PER_DAY))
+    if xp == 0.0 and yp == 0.0:
+        return erfa.c2tcio(q, era, _IDENTITY), era, _ROTATION_VECTOR_ECEF
+    polar = erfa.pom00(xp, yp, erfa.sp00(jd1, tt2))
+    return erfa.c2tcio(q, era, polar), era, polar @ _ROTATION_VECTOR_ECEF
 
 
 def earth_orientation(
@@ -226,13 +192,8 @@ def earth_orientation(
     jd1, tt_minus_utc, _ = utc_day(time.year, time.month, time.day)
     day_fraction = seconds_of_day(time) / SECONDS_PER_DAY
     matrix, era, axis = rotation_terms(jd1, day_fraction, tt_minus_utc, *options)
-    matrix = np.array(matrix).reshape(3, 3)
     matrix.setflags(write=False)
-    if axis is _ROTATION_AXIS:
-        axis = _ROTATION_VECTOR_ECEF
-    else:
-        axis = np.array(axis)
-        axis.setflags(write=False)
+    axis.setflags(write=False)
     return EarthOrientation(time, matrix, era, axis)
 
 

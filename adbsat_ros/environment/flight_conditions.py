@@ -30,7 +30,7 @@ from adbsat_ros.environment.earth_frames import (
     check_orientation_options,
     rotation_terms,
 )
-from adbsat_ros.environment.geodetic import enu_to_ecef, geodetic_of_floats
+from adbsat_ros.environment.geodetic import enu_to_ecef_matrix, geodetic_of
 from adbsat_ros.environment.time_scales import seconds_of_day, utc_day
 from adbsat_ros.geometry.frames import cross
 from adbsat_ros.validation import finite as _finite
@@ -191,7 +191,7 @@ def evaluate_flight_conditions(
     jd1, tt_minus_utc, day_of_year = utc_day(utc.year, utc.month, utc.day)
     seconds = seconds_of_day(utc)
     if orientation is None:
-        matrix, _, omega = rotation_terms(
+        rotation, _, omega = rotation_terms(
             jd1, seconds / 86400.0, tt_minus_utc, *options.orientation_options
         )
     elif not isinstance(orientation, EarthOrientation):
@@ -204,10 +204,8 @@ def evaluate_flight_conditions(
             f"not for time {utc.replace(tzinfo=None).isoformat()}"
         )
     else:
-        matrix = tuple(orientation.celestial_to_terrestrial.ravel().tolist())
-        omega = tuple(orientation.rotation_vector_ecef.tolist())
-    rotation = np.reshape(matrix, (3, 3))  # r_ecef = R r_eci
-    omega = np.asarray(omega, dtype=float)
+        rotation = orientation.celestial_to_terrestrial  # r_ecef = R r_eci
+        omega = orientation.rotation_vector_ecef
     if frame_key == "eci":
         # r_ecef = R r_eci; v_ecef = R v_eci - omega x r_ecef
         position_eci, velocity_eci = np.array(position), np.array(velocity)
@@ -218,8 +216,7 @@ def evaluate_flight_conditions(
         position_ecef, velocity_ecef = np.array(position), np.array(velocity)
         position_eci = position_ecef @ rotation
         velocity_eci = (velocity_ecef + cross(omega, position_ecef)) @ rotation
-    px, py, pz = position_ecef.tolist()
-    latitude, longitude, altitude = geodetic_of_floats(px, py, pz)
+    latitude, longitude, altitude = geodetic_of(position_ecef)
     try:
         check_altitude(altitude)
     except ValueError as exc:
@@ -235,7 +232,7 @@ def evaluate_flight_conditions(
         options.anomalous_oxygen,
     )
     if wind is not None and options.wind_frame == "enu":
-        wind = enu_to_ecef(latitude, longitude, *wind)
+        wind = enu_to_ecef_matrix(latitude, longitude) @ wind
     if options.earth_rotation:
         # v_rel,ecef = v_ecef - wind; v_rel,eci = R^T v_rel,ecef
         relative_ecef = velocity_ecef if wind is None else velocity_ecef - wind
