@@ -219,11 +219,6 @@ def evaluate_atmosphere(
     if abs(latitude) > math.pi / 2:
         raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
     longitude = _finite("longitude", longitude)
-    if not isinstance(space_weather, SpaceWeather):
-        raise ValueError(
-            f"space_weather must be a SpaceWeather(f107, f107a, ap), "
-            f"got {type(space_weather).__name__}"
-        )
     seconds = seconds_of_day(time)
     if local_solar_time_h is not None:
         local_solar_time_h = _finite("local_solar_time_h", local_solar_time_h)
