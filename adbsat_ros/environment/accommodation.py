@@ -1,11 +1,9 @@
-"""Energy accommodation coefficient alpha from the atmosphere: models selectable by name.
+"""Energy accommodation coefficient alpha, by model name (:data:`ACCOMMODATION_MODELS`).
 
-``fixed`` (a given alpha), ``langmuir`` (Pilinski, Argrow & Palo 2010, J. Spacecraft Rockets
-47(6)), ``goodman`` (Goodman's clean-surface value) and ``sesam`` (Pilinski, Argrow, Palo &
-Bowman 2013, J. Spacecraft Rockets 50(3)): :data:`ACCOMMODATION_MODELS`. Formulas, options and
-where we differ from ADBSat's code (SESAM's s_o without its overflow, K_s outside [2.4, 3.6]
-refused, the mixture's mean mass, CODATA's amu): docs/physics.md, sections 5.6 and 5.7.
-SI units (m, s, kg, K, J); only SESAM's Langmuir constants are in Torr^-1 as published.
+``fixed``, ``langmuir`` (Pilinski, Argrow & Palo 2010, J. Spacecraft Rockets 47(6)), ``goodman``
+and ``sesam`` (Pilinski, Argrow, Palo & Bowman 2013, J. Spacecraft Rockets 50(3)). Formulas and
+where we differ from ADBSat: docs/physics.md, sections 5.6 and 5.7. SI units; only SESAM's
+Langmuir constants are in Torr^-1 as published.
 """
 
 from __future__ import annotations
@@ -50,21 +48,10 @@ def _substrate(value) -> float:
 def langmuir_accommodation(
     oxygen_number_density: float, temperature: float, langmuir_constant: float = LANGMUIR_CONSTANT
 ) -> float:
-    """Langmuir-isotherm accommodation (Pilinski et al. 2010): alpha = K n_O T / (1 + K n_O T).
+    """Langmuir-isotherm alpha = K n_O T / (1 + K n_O T) in [0, 1) (Pilinski et al. 2010).
 
-    Parameters
-    ----------
-    oxygen_number_density : float
-        Atomic-oxygen number density n_O [m^-3], >= 0.
-    temperature : float
-        Local gas temperature T [K], > 0.
-    langmuir_constant : float, optional
-        K [m^3/K], > 0 (default 7.50e-17).
-
-    Returns
-    -------
-    float
-        alpha in [0, 1).
+    ``oxygen_number_density`` n_O [m^-3] >= 0, ``temperature`` T [K] > 0, ``langmuir_constant``
+    K [m^3/K] > 0.
     """
     n_o = _non_negative("oxygen_number_density", oxygen_number_density)
     temperature = _positive("temperature", temperature)
@@ -78,16 +65,10 @@ def goodman_accommodation(
     substrate_coefficient: float = SUBSTRATE_COEFFICIENT,
     surface_mass_amu: float = SURFACE_MASS_AMU,
 ) -> float:
-    """Goodman's accommodation alpha_s = K_s mu / (1 + mu)^2, mu = m_gas / m_surface.
+    """Goodman's alpha_s = K_s mu / (1 + mu)^2, mu = m_gas / m_surface.
 
-    Parameters
-    ----------
-    mean_mass : float
-        Mean molecular mass of the gas [kg], > 0.
-    substrate_coefficient : float, optional
-        K_s in [2.4, 3.6] (default 2.4).
-    surface_mass_amu : float, optional
-        Mass of a surface atom [amu], > 0 (default 65).
+    ``mean_mass`` of the gas [kg] > 0, ``substrate_coefficient`` K_s in [2.4, 3.6],
+    ``surface_mass_amu`` [amu] > 0.
     """
     mean_mass = _positive("mean_mass", mean_mass)
     k_s = _substrate(substrate_coefficient)
@@ -96,24 +77,11 @@ def goodman_accommodation(
 
 
 def sesam_sticking_fraction(incident_energy: float) -> float:
-    """SESAM's s_o: fraction of incident O atoms with energy below the adsorption energy.
+    """SESAM's s_o in [0, 1] at ``incident_energy`` E_r = m_O V^2 / 2 [J] >= 0.
 
-    s_o = int_0^a g(x) dx / int_0^inf g(x) dx, g(x) = x exp(-(x - r)^2 / w^2), with
-    a = sqrt(E_b), r = sqrt(E_r), w^2 = k_B T_ab (x is the square root of an energy). With
-    ``erf`` this is
-
-        [r w sqrt(pi) (erf((a - r)/w) + erf(r/w)) + w^2 (exp(-r^2/w^2) - exp(-(a - r)^2/w^2))]
-        / [r w sqrt(pi) (1 + erf(r/w)) + w^2 exp(-r^2/w^2)].
-
-    Parameters
-    ----------
-    incident_energy : float
-        E_r = m_O V^2 / 2 [J], >= 0.
-
-    Returns
-    -------
-    float
-        s_o in [0, 1].
+    The fraction of incident O atoms below the adsorption energy, s_o = int_0^a g / int_0^inf g,
+    g(x) = x exp(-(x - r)^2 / w^2), a = sqrt(E_b), r = sqrt(E_r), w^2 = k_B T_ab, in closed
+    form with ``erf`` (docs/physics.md, section 5.6).
     """
     energy = _non_negative("incident_energy", incident_energy)
     w2 = BOLTZMANN * SESAM_TRANSITION_TEMPERATURE
@@ -131,9 +99,8 @@ def sesam_sticking_fraction(incident_energy: float) -> float:
 def sesam_oxygen_pressure(oxygen_number_density: float, speed: float, speed_ratio: float) -> float:
     """SESAM's atomic-oxygen pressure P_O [Pa] = 1/2 rho_O V^2 f(s), docs/physics.md section 5.6.
 
-    ``oxygen_number_density`` n_O [m^-3], ``speed`` V [m/s] and the mixture's ``speed_ratio`` s
-    [-], all >= 0 (s = 0 only with V = 0). V^2 f(s) -> 0 as s -> 0, so P_O = 0 at rest; below
-    s = 1e-3 the leading term f ~ 16 / (3 sqrt(pi) s) is used (the two terms of f cancel there).
+    n_O [m^-3], V [m/s], speed ratio s [-], all >= 0 (s = 0 only with V = 0). Below s = 1e-3 the
+    leading term f ~ 16 / (3 sqrt(pi) s) is used (the two terms of f cancel there).
     """
     n_o = _non_negative("oxygen_number_density", oxygen_number_density)
     speed = _non_negative("speed", speed)
@@ -160,11 +127,10 @@ def sesam_accommodation(
     substrate_coefficient: float = SUBSTRATE_COEFFICIENT,
     surface_mass_amu: float = SURFACE_MASS_AMU,
 ) -> float:
-    """SESAM accommodation (Pilinski et al. 2013): alpha = (1 - theta) alpha_s + theta.
+    """SESAM alpha = (1 - theta) alpha_s + theta (Pilinski et al. 2013).
 
-    ``oxygen_number_density`` n_O [m^-3], the mixture's ``mean_mass`` [kg] (for Goodman's
-    alpha_s), ``speed`` V [m/s] >= 0 and ``speed_ratio`` s [-]; the other options as
-    :func:`goodman_accommodation`.
+    n_O [m^-3], the mixture's ``mean_mass`` [kg], ``speed`` V [m/s] >= 0, ``speed_ratio`` s [-];
+    the rest as :func:`goodman_accommodation`.
     """
     clean = goodman_accommodation(mean_mass, substrate_coefficient, surface_mass_amu)
     pressure_pa = sesam_oxygen_pressure(oxygen_number_density, speed, speed_ratio)
@@ -253,33 +219,24 @@ def normalize_model_name(name) -> str:
 
 
 def accommodation(name: str, atmosphere: AtmosphereState, speed: float, **options) -> float:
-    """Energy accommodation coefficient alpha of the model ``name``.
+    """Energy accommodation coefficient alpha in [0, 1] of the model ``name``.
 
     Parameters
     ----------
     name : str
-        One of :data:`ACCOMMODATION_MODELS` (``fixed``, ``langmuir``, ``goodman``, ``sesam``),
-        case-insensitive.
+        One of :data:`ACCOMMODATION_MODELS`, case-insensitive.
     atmosphere : AtmosphereState
-        Local atmosphere (composition, temperature), e.g. from
-        :func:`adbsat_ros.environment.atmosphere.evaluate_atmosphere`.
+        Local atmosphere (composition, temperature).
     speed : float
-        Speed of the spacecraft relative to the atmosphere [m/s], >= 0 (only SESAM uses it).
+        Speed relative to the atmosphere [m/s], >= 0 (only SESAM uses it).
     **options
-        Model options (see :data:`ACCOMMODATION_OPTIONS`): ``alpha`` (fixed),
-        ``langmuir_constant`` [m^3/K] (langmuir), ``substrate_coefficient`` and
-        ``surface_mass_amu`` (goodman, sesam).
-
-    Returns
-    -------
-    float
-        alpha in [0, 1].
+        :data:`ACCOMMODATION_OPTIONS`: ``alpha`` (fixed), ``langmuir_constant`` [m^3/K],
+        ``substrate_coefficient`` and ``surface_mass_amu`` (goodman, sesam).
 
     Raises
     ------
     ValueError
-        For an unknown model (the message lists the allowed names), an option the model does not
-        take (listing those it does), or an invalid value (naming it).
+        An unknown model or option (listing the allowed ones), or an invalid value (naming it).
     """
     key = normalize_model_name(name)
     if not isinstance(atmosphere, AtmosphereState):
@@ -288,9 +245,7 @@ def accommodation(name: str, atmosphere: AtmosphereState, speed: float, **option
 
 
 def checked_options(key: str, options: Mapping) -> dict:
-    """The options of the normalised model ``key`` as a dict; ValueError for one it does not take.
-
-    The values are checked by the model when it runs."""
+    """The options of model ``key`` as a dict; ValueError for one it does not take."""
     allowed = ACCOMMODATION_OPTIONS[key]
     unexpected = sorted(set(options) - set(allowed))
     if unexpected:
@@ -304,8 +259,5 @@ def checked_options(key: str, options: Mapping) -> dict:
 def accommodation_of(
     key: str, atmosphere: AtmosphereState, speed: float, options: Mapping
 ) -> float:
-    """:func:`accommodation` for a normalised name, an :class:`AtmosphereState`, a speed [m/s].
-
-    Raises ValueError for an option the model does not take or an invalid value.
-    """
+    """:func:`accommodation` for a normalised name, inputs checked."""
     return ACCOMMODATION_MODELS[key](atmosphere, speed, **checked_options(key, options))

@@ -1,10 +1,8 @@
 """Thermosphere state from the NRLMSISE-00 empirical model (Picone et al. 2002).
 
-Calls the ``nrlmsise00`` package's low-level ``gtd7``/``gtd7d`` with the model's switch 0 on, so
-the outputs are SI (m^-3, kg/m^3), instead of its ``msise_model`` wrapper (degrees, km, a day of
-year built through ``strftime``). ``gtd7d`` adds anomalous oxygen to the mass density (the
-default, as ADBSat's AnO flag). Inputs as NRLMSISE-00 defines them (the year is ignored); units
-m, kg, K, rad. docs/physics.md, section 5.2.
+Calls ``nrlmsise00``'s low-level ``gtd7``/``gtd7d`` with switch 0 on (SI outputs); ``gtd7d``
+adds anomalous oxygen to the mass density (the default, as ADBSat's AnO flag). Units m, kg, K,
+rad. docs/physics.md, section 5.2.
 """
 
 from __future__ import annotations
@@ -46,20 +44,19 @@ class SpaceWeather:
     Parameters
     ----------
     f107 : float
-        Daily 10.7 cm solar radio flux of the previous day [sfu = 1e-22 W m^-2 Hz^-1], >= 0.
+        10.7 cm solar radio flux of the previous day [sfu = 1e-22 W m^-2 Hz^-1], >= 0.
     f107a : float
         81-day average of F10.7 centred on the day [sfu], >= 0.
     ap : float
         Daily geomagnetic Ap index [-], >= 0.
     ap_history : sequence of 7 floats, optional
-        NRLMSISE-00's Ap array: daily Ap; 3-h ap now, 3, 6 and 9 h before; mean of the eight
-        3-h ap from 12 to 33 h before; mean from 36 to 57 h before. When given, the model's
-        storm-time formulation uses it (and its first element, not ``ap``).
+        NRLMSISE-00's Ap array (daily Ap; 3-h ap now, 3, 6, 9 h before; means over 12-33 h and
+        36-57 h before); when given, the storm-time formulation uses it instead of ``ap``.
 
     Raises
     ------
     ValueError
-        Naming the index, for negative, NaN or infinite values or a history that is not 7 long.
+        Naming the index: negative or non-finite, or a history not 7 long.
     """
 
     f107: float
@@ -89,18 +86,14 @@ class AtmosphereState:
     Attributes
     ----------
     number_densities : mapping of str to float
-        Number densities [m^-3] of He, O, N2, O2, Ar, H, N and anomalous oxygen "AnO" (keys as
-        :data:`adbsat_ros.physics.constants.SPECIES`), a read-only copy of the mapping given.
-        O, H and N are 0 below 72.5 km.
+        Read-only number densities [m^-3] by :data:`~adbsat_ros.physics.constants.SPECIES`
+        (with "AnO"); O, H and N are 0 below 72.5 km.
     mass_density : float
         Total mass density [kg/m^3]; includes anomalous oxygen iff ``anomalous_oxygen``.
-    exospheric_temperature : float
-        Exospheric temperature T_exo [K] (global average below 120 km, as the model defines).
-    temperature : float
-        Local temperature T [K] at the altitude.
+    exospheric_temperature, temperature : float
+        T_exo and the local T [K].
     anomalous_oxygen : bool
-        Whether anomalous oxygen belongs to the gas mixture (``mass_density``,
-        :attr:`mixture_number_densities`, :attr:`mean_mass`).
+        Whether anomalous oxygen belongs to the gas mixture.
     """
 
     number_densities: Mapping[str, float]
@@ -128,9 +121,7 @@ class AtmosphereState:
 
     @property
     def mixture_number_densities(self) -> Mapping[str, float]:
-        """Number densities [m^-3] of :attr:`mixture_species`, read-only, in that order.
-
-        :attr:`number_densities` itself when the mixture includes anomalous oxygen."""
+        """Number densities [m^-3] of :attr:`mixture_species`, read-only, in that order."""
         densities = self.number_densities
         if self.anomalous_oxygen and tuple(densities) == SPECIES:
             return densities
@@ -145,7 +136,7 @@ class AtmosphereState:
     def mean_mass(self) -> float:
         """Number-weighted mean molecular mass of the mixture [kg] (as ADBSat's environment.m).
 
-        Summed in the order of :attr:`mixture_species`, as ``FreeStream.mean_mass`` sums them.
+        Summed in the order of ``FreeStream.mean_mass``, so the two agree bit for bit.
         """
         densities = self.number_densities
         total = 0.0
@@ -169,17 +160,14 @@ def check_time(time) -> _dt.datetime:
 
 
 def checked_utc(time) -> _dt.datetime:
-    """``time`` as a timezone-aware UTC datetime, checked as :func:`check_time`.
-
-    An aware UTC datetime within the years is returned as it is (the per-message case).
-    """
+    """``time`` as a timezone-aware UTC datetime, checked as :func:`check_time`."""
     if type(time) is _dt.datetime and time.tzinfo is _UTC and FIRST_YEAR <= time.year <= LAST_YEAR:
         return time
     return check_time(time).replace(tzinfo=_UTC)
 
 
 def check_altitude(altitude) -> float:
-    """Return ``altitude`` [m] as a float, or raise ValueError naming it if outside [0, 1000 km]."""
+    """``altitude`` [m] as a float; ValueError naming it outside [0, 1000 km]."""
     altitude = _finite("altitude", altitude)
     if not 0.0 <= altitude <= MAX_ALTITUDE:
         raise ValueError(
@@ -204,22 +192,17 @@ def evaluate_atmosphere(
     Parameters
     ----------
     time : datetime.datetime
-        UTC instant (timezone-aware, or naive meaning UTC), years 1958 to 2100.
+        UTC instant (aware, or naive meaning UTC), years 1958 to 2100.
     altitude : float
-        Geodetic altitude above the WGS-84 ellipsoid [m], 0 to 1000 km.
-    latitude : float
-        Geodetic latitude [rad], in [-pi/2, pi/2].
-    longitude : float
-        East longitude [rad] (any finite value; wrapped).
+        Height above the WGS-84 ellipsoid [m], 0 to 1000 km.
+    latitude, longitude : float
+        Geodetic latitude [rad] in [-pi/2, pi/2], east longitude [rad] (wrapped).
     space_weather : SpaceWeather
-        F10.7, F10.7 81-day average, Ap (and optional Ap history).
     anomalous_oxygen : bool, optional
-        Include anomalous oxygen in the mixture and the total mass density (``gtd7d``;
-        default) or not (``gtd7``).
+        Anomalous oxygen in the mixture and mass density (``gtd7d``, default) or not (``gtd7``).
     local_solar_time_h : float, optional
-        Local apparent solar time [h] given to the model. By default it is the one NRLMSISE-00
-        documents and ADBSat uses, UT [h] + longitude [deg] / 15. Override it only to reproduce
-        published test cases (the model's reference test point uses 16 h at 29000 s UT, 70 W).
+        Local solar time [h]; default UT [h] + longitude [deg] / 15 (as NRLMSISE-00 documents
+        and ADBSat uses). Override only to reproduce published test cases.
 
     Returns
     -------
@@ -228,8 +211,7 @@ def evaluate_atmosphere(
     Raises
     ------
     ValueError
-        Naming the input: altitude outside [0, 1000] km, latitude outside [-90, 90] deg,
-        NaN/Inf anywhere, time outside 1958..2100, negative F10.7 or Ap, bad types.
+        Naming the input: out of range, non-finite, or of the wrong type.
     """
     time = check_time(time)
     altitude = check_altitude(altitude)
@@ -237,11 +219,6 @@ def evaluate_atmosphere(
     if abs(latitude) > math.pi / 2:
         raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
     longitude = _finite("longitude", longitude)
-    if not isinstance(space_weather, SpaceWeather):
-        raise ValueError(
-            f"space_weather must be a SpaceWeather(f107, f107a, ap), "
-            f"got {type(space_weather).__name__}"
-        )
     seconds = seconds_of_day(time)
     if local_solar_time_h is not None:
         local_solar_time_h = _finite("local_solar_time_h", local_solar_time_h)
@@ -269,10 +246,9 @@ def run_model(
     anomalous_oxygen: bool = True,
     local_solar_time_h: float | None = None,
 ) -> AtmosphereState:
-    """NRLMSISE-00 at one point from inputs already checked (see :func:`evaluate_atmosphere`).
+    """NRLMSISE-00 at one point, inputs checked but ``space_weather`` (ValueError naming it).
 
-    ``day_of_year`` 1..366, UTC ``seconds`` of the day, ``altitude`` [m], geodetic ``latitude``
-    and ``longitude`` [rad]; only ``space_weather`` is checked here (ValueError naming it).
+    ``day_of_year`` 1..366, UTC ``seconds`` of the day, ``altitude`` [m], latitude, longitude [rad].
     """
     if not isinstance(space_weather, SpaceWeather):
         raise ValueError(

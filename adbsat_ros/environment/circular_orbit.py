@@ -1,7 +1,6 @@
-"""ADBSat's recipe for the flight conditions: a geodetic point and the circular-orbit speed.
+"""ADBSat's flight conditions (``environment.m``): a geodetic point, the circular-orbit speed.
 
-As ADBSat's ``environment.m`` (no direction, no co-rotation, no wind), for parity with its
-numbers; docs/physics.md, section 5.5."""
+No direction, co-rotation or wind, for parity with ADBSat; docs/physics.md, section 5.5."""
 
 from __future__ import annotations
 
@@ -44,9 +43,8 @@ def flight_conditions_circular_orbit(
     speed: float | None = None,
     precession_nutation: str = "iau2006a",
 ) -> FlightConditions:
-    """Flight conditions at a geodetic point with the circular-orbit speed (ADBSat parity).
-
-    No direction is known, so the velocity and relative-velocity vectors are None.
+    """Flight conditions at a geodetic point with the circular-orbit speed; vectors but the
+    positions are None.
 
     Parameters
     ----------
@@ -60,13 +58,18 @@ def flight_conditions_circular_orbit(
     anomalous_oxygen, accommodation_model, accommodation_options
         As :func:`flight_conditions`.
     speed : float, optional
-        Relative speed [m/s] to use instead of the circular-orbit speed (>= 0).
+        Relative speed [m/s] >= 0 instead of the circular-orbit speed.
     precession_nutation : str, optional
         Only used to express the position in ECI.
 
     Returns
     -------
     FlightConditions
+
+    Raises
+    ------
+    ValueError
+        Naming the input, as :func:`flight_conditions`.
     """
     time = check_time(time)
     model = normalize_model_name(accommodation_model)
@@ -106,7 +109,7 @@ def flight_conditions_circular_orbit(
 
 
 def _read_only(vector) -> np.ndarray:
-    """A new read-only float array of a 3-vector (never the caller's array)."""
+    """A read-only float copy of a 3-vector."""
     array = np.array(vector, dtype=float)
     array.setflags(write=False)
     return array

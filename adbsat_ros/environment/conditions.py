@@ -1,8 +1,6 @@
-"""The conditions a spacecraft flies in at one instant: :class:`FlightConditions`, a value object.
+"""The conditions a spacecraft flies in at one instant: :class:`FlightConditions`.
 
-Made by :mod:`~adbsat_ros.environment.flight_conditions` (from an orbital state),
-:mod:`~adbsat_ros.environment.circular_orbit` (ADBSat's recipe) and
-:mod:`~adbsat_ros.environment.interpolation` (between two). Units: m, m/s, kg, K, rad.
+Units: m, m/s, kg, K, rad.
 """
 
 from __future__ import annotations
@@ -43,8 +41,7 @@ UNITS = {
 
 
 def speed_ratio(speed: float, temperature: float, mean_mass: float) -> float:
-    """Molecular speed ratio s = V / sqrt(2 k_B T / m) [-] of a speed V [m/s], a temperature T
-    [K] and a mean molecular mass m [kg]."""
+    """Speed ratio s = V / sqrt(2 k_B T / m) [-]; V [m/s], T [K], m [kg]."""
     return speed / math.sqrt(2.0 * BOLTZMANN * temperature / mean_mass)
 
 
@@ -55,28 +52,20 @@ class FlightConditions:
     Attributes
     ----------
     time : datetime.datetime
-        UTC instant (timezone-aware, UTC).
+        UTC instant (timezone-aware).
     position_eci, position_ecef : numpy.ndarray, shape (3,)
-        Position in ECI (GCRF) and ECEF (ITRF) [m], read-only.
-    velocity_eci : numpy.ndarray or None
-        Inertial velocity in ECI axes [m/s]; None for the circular-orbit convenience.
-    velocity_ecef : numpy.ndarray or None
-        Velocity relative to the rotating Earth, ECEF axes [m/s]; None as above.
-    latitude, longitude : float
-        WGS-84 geodetic latitude and east longitude [rad].
-    altitude : float
-        Height above the WGS-84 ellipsoid [m].
-    atmosphere : AtmosphereState
-        NRLMSISE-00 state (densities [m^-3], mass density [kg/m^3], temperatures [K]).
+        Position in ECI (GCRF) and ECEF (ITRF) [m].
+    velocity_eci, velocity_ecef : numpy.ndarray or None
+        Inertial velocity in ECI axes, velocity relative to the rotating Earth in ECEF axes
+        [m/s]; None for the circular orbit.
+    latitude, longitude, altitude : float
+        WGS-84 geodetic latitude, east longitude [rad], height above the ellipsoid [m].
     relative_velocity_eci, relative_velocity_ecef : numpy.ndarray or None
-        Velocity of the satellite relative to the air (satellite minus co-rotating atmosphere
-        minus wind) in ECI and ECEF axes [m/s]; None when only a speed is known (circular orbit).
+        Satellite minus co-rotating air minus wind [m/s]; None for the circular orbit.
     speed : float
-        |relative velocity| [m/s], >= 0.
+        |relative velocity| [m/s].
     accommodation_coefficient : float
-        Energy accommodation coefficient alpha [-], of the model ``accommodation_model``.
-    earth_rotation : bool
-        Whether the air co-rotates with the Earth.
+        alpha [-] of the model ``accommodation_model``.
     """
 
     time: _dt.datetime
@@ -103,7 +92,7 @@ class FlightConditions:
 
     @property
     def mean_molecular_mass(self) -> float:
-        """Number-weighted mean molecular mass of the mixture [kg] (as ADBSat)."""
+        """Mean molecular mass of the mixture [kg]."""
         return self.atmosphere.mean_mass
 
     @property
@@ -124,20 +113,13 @@ class FlightConditions:
 
     @property
     def flow_direction_ecef(self) -> np.ndarray | None:
-        """Unit vector along which the gas moves past the satellite, ECEF axes: -v_rel / |v_rel|.
-
-        None if the speed is zero or only a speed is known.
-        """
+        """-v_rel / |v_rel|, ECEF axes; None at zero speed or with only a speed known."""
         if self.relative_velocity_ecef is None or self.speed == 0.0:
             return None
         return -self.relative_velocity_ecef / self.speed
 
     def as_dict(self) -> dict:
-        """Every field as JSON-ready Python values, in SI units (rad, m, m/s, kg, K, m^-3).
-
-        Vectors become lists (or None), the time an ISO 8601 string; ``units`` maps each
-        numeric field to its unit.
-        """
+        """Every field as JSON-ready values (SI; time ISO 8601); ``units`` names each unit."""
 
         def vector(value):
             return None if value is None else [float(x) for x in value]
@@ -178,10 +160,9 @@ class FlightConditions:
         }
 
     def free_stream(self) -> FreeStream:
-        """The free stream for the gas-surface models (docs/physics.md, section 5.3).
+        """The free stream of these conditions (docs/physics.md, section 5.3).
 
-        Raises ValueError if the relative speed is zero, or the atmosphere is not a gas a free
-        stream takes (naming what is wrong).
+        Raises ValueError at zero relative speed or for a gas a free stream does not take.
         """
         if not self.speed > 0.0:
             raise ValueError(

@@ -1,11 +1,9 @@
-"""Earth orientation and reference frames: GCRF (ECI) <-> ITRF (ECEF).
+"""Earth orientation: GCRF (ECI) <-> ITRF (ECEF) with pyerfa.
 
-ECI is the GCRS/GCRF as realised by pyerfa, ECEF the ITRS/ITRF (the TIRS with zero polar
-motion); the rotation is the CIO-based IAU 2006/2000A product ``W(xp, yp) R3(ERA(UT1)) Q(TT)``
-(``erfa.c2i06a`` or ``erfa.c2i00b``, ``erfa.era00``, ``erfa.pom00``), and velocities carry the
-transport term ``v_ecef = R v_eci - omega x r_ecef``. Defaults UT1 = UTC and zero polar motion;
-accuracy and the Vallado et al. (2006) check: docs/physics.md, section 5.4. Units: m, m/s, rad
-(degrees only in names ending ``_deg``).
+The CIO-based rotation ``W(xp, yp) R3(ERA(UT1)) Q(TT)`` (``erfa.c2i06a`` or ``erfa.c2i00b``,
+``erfa.era00``, ``erfa.pom00``); velocities carry ``v_ecef = R v_eci - omega x r_ecef``.
+Defaults UT1 = UTC, zero polar motion; accuracy and the Vallado et al. (2006) check:
+docs/physics.md, section 5.4. Units: m, m/s, rad.
 """
 
 from __future__ import annotations
@@ -36,7 +34,6 @@ EARTH_ROTATION_RATE = 2.0 * math.pi * 1.00273781191135448 / 86400.0
 PRECESSION_NUTATION_MODELS = ("iau2006a", "iau2000b")
 
 _ARCSEC = math.pi / (180.0 * 3600.0)
-_TWO_PI = 2.0 * math.pi
 
 
 # --------------------------------------------------------------------------- Earth orientation
@@ -44,9 +41,8 @@ _TWO_PI = 2.0 * math.pi
 class EarthOrientation:
     """Orientation of the ITRF (ECEF) relative to the GCRF (ECI) at one (naive UTC) ``time``.
 
-    ``celestial_to_terrestrial``: the read-only rotation R, ``r_ecef = R @ r_eci``;
-    ``earth_rotation_angle``: ERA(UT1) [rad] in [0, 2 pi); ``rotation_vector_ecef``: the
-    angular velocity of ECEF relative to ECI, ECEF axes [rad/s], along the CIP.
+    ``celestial_to_terrestrial``: R, ``r_ecef = R @ r_eci``; ``earth_rotation_angle``: ERA(UT1)
+    [rad]; ``rotation_vector_ecef``: angular velocity of ECEF relative to ECI, ECEF axes [rad/s].
     """
 
     time: _dt.datetime
@@ -56,11 +52,7 @@ class EarthOrientation:
 
     # Positions are row vectors, (3,) or (N, 3): r_ecef = r_eci @ R.T.
     def eci_to_ecef(self, position_eci, velocity_eci=None):
-        """Rotate a position [m] (and velocity [m/s]), shape (3,) or (N, 3), from ECI to ECEF.
-
-        Returns ``(position_ecef, velocity_ecef)``: the velocity relative to the rotating Earth,
-        ``R v_eci - omega x r_ecef``, or None if no velocity was given.
-        """
+        """``(position_ecef [m], velocity_ecef [m/s] or None)`` of ECI ones, (3,) or (N, 3)."""
         matrix = self.celestial_to_terrestrial
         position_ecef = vectors3(position_eci, "position_eci") @ matrix.T
         if velocity_eci is None:
@@ -69,11 +61,7 @@ class EarthOrientation:
         return position_ecef, velocity - cross(self.rotation_vector_ecef, position_ecef)
 
     def ecef_to_eci(self, position_ecef, velocity_ecef=None):
-        """Rotate a position [m] (and velocity [m/s]), shape (3,) or (N, 3), from ECEF to ECI.
-
-        Returns ``(position_eci, velocity_eci)``: the inertial velocity,
-        ``R^T (v_ecef + omega x r_ecef)``, or None if no velocity was given.
-        """
+        """``(position_eci [m], velocity_eci [m/s] or None)`` of ECEF ones, (3,) or (N, 3)."""
         matrix = self.celestial_to_terrestrial
         position = vectors3(position_ecef, "position_ecef")
         position_eci = position @ matrix
@@ -93,47 +81,22 @@ class EarthOrientation:
 
 _CELESTIAL_TO_INTERMEDIATE = {"iau2006a": erfa.c2i06a, "iau2000b": erfa.c2i00b}
 #: Angular velocity of the ECEF frame in ECEF axes with zero polar motion [rad/s].
-_ROTATION_AXIS = (0.0, 0.0, EARTH_ROTATION_RATE)
-_ROTATION_VECTOR_ECEF = np.array(_ROTATION_AXIS)
+_ROTATION_VECTOR_ECEF = np.array((0.0, 0.0, EARTH_ROTATION_RATE))
 _ROTATION_VECTOR_ECEF.setflags(write=False)
+_IDENTITY = np.eye(3)
 
 
 @functools.lru_cache(maxsize=256)
-def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> tuple:
-    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket``, 9 floats row-major.
-
-    The cache of the precession-nutation buckets (``cache_info()``), 256 buckets.
-    """
-    return tuple(
-        _CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days).ravel().tolist()
-    )
-
-
-def earth_rotation_angle(ut1_day: float, ut1_fraction: float) -> float:
-    """Earth rotation angle ERA(UT1) [rad] in [0, 2 pi) of a two-part UT1 Julian date.
-
-    IERS Conventions 2010 eq. 5.15, evaluated as ``erfa.era00`` does (the fractional days summed
-    apart from the rest of the rate term), so equal to it bit for bit; cheaper for single floats.
-    """
-    if ut1_day < ut1_fraction:
-        small, large = ut1_day, ut1_fraction
-    else:
-        small, large = ut1_fraction, ut1_day
-    days = small + (large - 2451545.0)
-    fraction = math.fmod(small, 1.0) + math.fmod(large, 1.0)
-    angle = math.fmod(_TWO_PI * (fraction + 0.7790572732640 + 0.00273781191135448 * days), _TWO_PI)
-    return angle + _TWO_PI if angle < 0.0 else angle
+def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> np.ndarray:
+    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket``."""
+    return _CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days)
 
 
 def check_orientation_options(
     ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
 ):
-    """Checked Earth-orientation options of :func:`earth_orientation`.
-
-    Returns ``(ut1_minus_utc [s], x_p [rad], y_p [rad], precession_nutation, step [s])``; raises
-    ValueError naming an option out of range (|UT1 - UTC| <= 1 s, polar motion <= 10 arcsec,
-    step in [0, 3600] s) or an unknown model name.
-    """
+    """``(ut1_minus_utc [s], x_p [rad], y_p [rad], model, step [s])`` checked; ValueError
+    naming an option out of range or an unknown model."""
     ut1_minus_utc = float(ut1_minus_utc)
     if not math.isfinite(ut1_minus_utc) or abs(ut1_minus_utc) > 1.0:
         raise ValueError(
@@ -167,11 +130,10 @@ def check_orientation_options(
 def rotation_terms(
     jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step
 ):
-    """The GCRS -> ITRS rotation of :func:`earth_orientation` as plain floats, inputs checked.
+    """R (3, 3), ERA [rad] and omega (ECEF, [rad/s]) of :func:`earth_orientation`.
 
-    ``jd1`` and ``day_fraction`` are the UTC instant's two-part Julian date, ``tt_minus_utc``
-    [day], ``ut1_minus_utc`` [s], ``xp, yp`` [rad], ``step`` [s]. Returns R (``r_ecef = R @
-    r_eci``) as 9 floats row-major, ERA [rad], and the rotation vector (ECEF axes, [rad/s]).
+    ``jd1`` + ``day_fraction``: the UTC two-part Julian date; ``tt_minus_utc`` [day]; the rest
+    as :func:`check_orientation_options` returns them.
     """
     tt2 = day_fraction + tt_minus_utc
     if step > 0.0:
@@ -179,28 +141,12 @@ def rotation_terms(
         bucket = math.floor(((jd1 - 2451545.0) + tt2) / step_days)
         q = _celestial_to_intermediate_at(precession_nutation, bucket, step_days)
     else:
-        q = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2).ravel().tolist()
-    era = earth_rotation_angle(jd1, day_fraction + ut1_minus_utc / SECONDS_PER_DAY)
-    c, s = math.cos(era), math.sin(era)
-    q00, q01, q02, q10, q11, q12, q20, q21, q22 = q
-    # R3(ERA) @ Q with R3 = [[c, s, 0], [-s, c, 0], [0, 0, 1]]
-    matrix = (
-        c * q00 + s * q10,
-        c * q01 + s * q11,
-        c * q02 + s * q12,
-        c * q10 - s * q00,
-        c * q11 - s * q01,
-        c * q12 - s * q02,
-        q20,
-        q21,
-        q22,
-    )
-    axis = _ROTATION_AXIS
-    if xp != 0.0 or yp != 0.0:
-        polar = erfa.pom00(xp, yp, erfa.sp00(jd1, tt2))
-        matrix = tuple((polar @ np.array(matrix).reshape(3, 3)).ravel().tolist())
-        axis = tuple((polar @ np.array(axis)).tolist())
-    return matrix, era, axis
+        q = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2)
+    era = float(erfa.era00(jd1, day_fraction + ut1_minus_utc / SECONDS_PER_DAY))
+    if xp == 0.0 and yp == 0.0:
+        return erfa.c2tcio(q, era, _IDENTITY), era, _ROTATION_VECTOR_ECEF
+    polar = erfa.pom00(xp, yp, erfa.sp00(jd1, tt2))
+    return erfa.c2tcio(q, era, polar), era, polar @ _ROTATION_VECTOR_ECEF
 
 
 def earth_orientation(
@@ -218,18 +164,16 @@ def earth_orientation(
     time : datetime.datetime
         UTC instant; timezone-aware, or naive meaning UTC.
     ut1_minus_utc : float, optional
-        UT1 - UTC [s]. Default 0 (UT1 = UTC; docs/physics.md, section 5.4).
+        UT1 - UTC [s], |.| <= 1 (default 0, docs/physics.md, section 5.4).
     polar_motion : pair of float, optional
-        Pole coordinates (x_p, y_p) [rad]. Default (0, 0).
+        Pole coordinates (x_p, y_p) [rad], within 10 arcsec. Default (0, 0).
     precession_nutation : {"iau2006a", "iau2000b"}, optional
-        ``"iau2006a"`` (default): IAU 2006/2000A, ``erfa.c2i06a``.
-        ``"iau2000b"``: IAU 2000B, ``erfa.c2i00b`` (faster), within 1 mas (5e-9 rad) of 2000A
-        over 1995-2050.
+        IAU 2006/2000A (``erfa.c2i06a``, default) or IAU 2000B (``erfa.c2i00b``, within 1 mas
+        of 2000A over 1995-2050).
     precession_nutation_step : float, optional
-        0 (default): precession-nutation evaluated at ``time``. A step [s] > 0 evaluates it at
-        the centre of the step-long TT interval holding ``time`` (memoised; ERA stays exact):
-        the pole moves by under 2e-11 rad/s, so a 60 s step errs by under 1e-9 rad. The result
-        depends only on ``time``.
+        0 (default): precession-nutation at ``time``; a step [s] in (0, 3600]: at the centre
+        of the step-long TT interval holding ``time`` (memoised; ERA stays exact; a 60 s step
+        errs by under 1e-9 rad).
 
     Returns
     -------
@@ -238,8 +182,8 @@ def earth_orientation(
     Raises
     ------
     ValueError
-        For a ``time`` that is not a datetime, non-finite ``ut1_minus_utc`` or
-        ``polar_motion``, or an unknown ``precession_nutation`` name.
+        Naming the input: a ``time`` that is no datetime, an option out of range, an unknown
+        model.
     """
     time = utc_datetime(time)
     options = check_orientation_options(
@@ -248,27 +192,16 @@ def earth_orientation(
     jd1, tt_minus_utc, _ = utc_day(time.year, time.month, time.day)
     day_fraction = seconds_of_day(time) / SECONDS_PER_DAY
     matrix, era, axis = rotation_terms(jd1, day_fraction, tt_minus_utc, *options)
-    matrix = np.array(matrix).reshape(3, 3)
     matrix.setflags(write=False)
-    if axis is _ROTATION_AXIS:
-        axis = _ROTATION_VECTOR_ECEF
-    else:
-        axis = np.array(axis)
-        axis.setflags(write=False)
+    axis.setflags(write=False)
     return EarthOrientation(time, matrix, era, axis)
 
 
 def eci_to_ecef(time, position_eci, velocity_eci=None, **orientation_options):
-    """Rotate position [m] (and velocity [m/s]) from ECI (GCRF) to ECEF (ITRF) at ``time``.
-
-    Shorthand for ``earth_orientation(time, **orientation_options).eci_to_ecef(...)``.
-    """
+    """``earth_orientation(time, **orientation_options).eci_to_ecef(...)``."""
     return earth_orientation(time, **orientation_options).eci_to_ecef(position_eci, velocity_eci)
 
 
 def ecef_to_eci(time, position_ecef, velocity_ecef=None, **orientation_options):
-    """Rotate position [m] (and velocity [m/s]) from ECEF (ITRF) to ECI (GCRF) at ``time``.
-
-    Shorthand for ``earth_orientation(time, **orientation_options).ecef_to_eci(...)``.
-    """
+    """``earth_orientation(time, **orientation_options).ecef_to_eci(...)``."""
     return earth_orientation(time, **orientation_options).ecef_to_eci(position_ecef, velocity_ecef)

@@ -1,10 +1,7 @@
-"""Flight conditions: where a satellite is, what gas it meets and how fast it meets it.
+"""Flight conditions of an orbital state in ECI (GCRF) or ECEF (ITRF) at a UTC time.
 
-:func:`flight_conditions` of a UTC time, an orbital state in ECI (GCRF) or ECEF (ITRF) and the
-space weather. The relative velocity is ``v_sat - v_air`` (the gas flows along its negative),
-with the air co-rotating with the Earth by default; at zero relative speed the conditions are
-still returned, but ``free_stream()`` raises. docs/physics.md, section 5.4. Units: m, m/s, kg,
-K, rad (degrees only in names ending ``_deg``).
+The relative velocity is ``v_sat - v_air`` (the gas flows along its negative), the air
+co-rotating with the Earth by default. docs/physics.md, section 5.4. Units: m, m/s, kg, K, rad.
 """
 
 from __future__ import annotations
@@ -33,7 +30,7 @@ from adbsat_ros.environment.earth_frames import (
     check_orientation_options,
     rotation_terms,
 )
-from adbsat_ros.environment.geodetic import enu_to_ecef, geodetic_of_floats
+from adbsat_ros.environment.geodetic import enu_to_ecef_matrix, geodetic_of
 from adbsat_ros.environment.time_scales import seconds_of_day, utc_day
 from adbsat_ros.geometry.frames import cross
 from adbsat_ros.validation import finite as _finite
@@ -48,11 +45,7 @@ DEFAULT_ACCOMMODATION_MODEL = "langmuir"
 
 @dataclass(frozen=True)
 class ConditionsOptions:
-    """The options of :func:`flight_conditions`, checked once for a stream of states.
-
-    ``wind`` [m/s] in ``wind_frame``; ``accommodation_model`` a canonical name;
-    ``orientation_options`` as ``check_orientation_options`` returns them.
-    """
+    """The options of :func:`flight_conditions`, checked once for a stream of states."""
 
     frame: str
     earth_rotation: bool
@@ -78,10 +71,7 @@ def conditions_options(
     precession_nutation: str = "iau2006a",
     precession_nutation_step: float = 0.0,
 ) -> ConditionsOptions:
-    """The options of :func:`flight_conditions` (same names and meanings), checked.
-
-    Raises ValueError naming the option that is not allowed.
-    """
+    """The options of :func:`flight_conditions`, checked; ValueError naming a bad one."""
     frame_key = str(frame).lower()
     if frame_key not in STATE_FRAMES:
         raise ValueError(f"frame must be one of {', '.join(STATE_FRAMES)}, got {frame!r}")
@@ -133,10 +123,9 @@ def flight_conditions(
     position : array_like, shape (3,)
         Position [m] in ``frame``.
     velocity : array_like, shape (3,)
-        Velocity [m/s] in ``frame``: inertial velocity in ECI axes for ``"eci"``, velocity
-        relative to the rotating Earth in ECEF axes for ``"ecef"``.
+        Velocity [m/s]: inertial in ECI axes (``"eci"``), or relative to the rotating Earth in
+        ECEF axes (``"ecef"``).
     space_weather : SpaceWeather
-        F10.7 (previous day), F10.7 81-day average, Ap (+ optional Ap history).
     frame : {"eci", "ecef"}, optional
         Frame of ``position`` and ``velocity``: ECI = GCRF, ECEF = ITRF.
     earth_rotation : bool, optional
@@ -144,20 +133,19 @@ def flight_conditions(
     wind : array_like, shape (3,), optional
         Wind velocity relative to the co-rotating Earth [m/s], in ``wind_frame``.
     wind_frame : {"enu", "ecef"}, optional
-        Local East-North-Up at the satellite's geodetic position (default) or ECEF axes.
+        Local East-North-Up at the geodetic position (default) or ECEF axes.
     anomalous_oxygen : bool, optional
-        Include NRLMSISE-00's anomalous oxygen in the mixture and mass density (default True).
+        NRLMSISE-00's anomalous oxygen in the mixture and mass density (default True).
     accommodation_model : str, optional
         ``fixed``, ``langmuir`` (default), ``goodman`` or ``sesam``
-        (see :mod:`adbsat_ros.environment.accommodation`).
+        (:mod:`adbsat_ros.environment.accommodation`).
     accommodation_options : mapping, optional
         Options of the model, e.g. ``{"alpha": 0.9}`` for ``fixed``.
     orientation : EarthOrientation, optional
-        Precomputed Earth orientation at ``time`` (for several states at one instant); the
-        three options below are then ignored.
+        Earth orientation at ``time``, made once for several states; the options below are
+        then ignored.
     ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
-        Earth-orientation options, see
-        :func:`adbsat_ros.environment.earth_frames.earth_orientation`.
+        As :func:`adbsat_ros.environment.earth_frames.earth_orientation`.
 
     Returns
     -------
@@ -166,8 +154,8 @@ def flight_conditions(
     Raises
     ------
     ValueError
-        Naming the input: bad frame names, non-finite or mis-shaped vectors, an altitude outside
-        0..1000 km, a time outside 1958..2100, invalid space weather or accommodation options.
+        Naming the input: a bad frame name, vector, altitude (0..1000 km), time (1958..2100),
+        space weather or accommodation option.
     """
     options = conditions_options(
         frame=frame,
@@ -193,10 +181,7 @@ def evaluate_flight_conditions(
     options: ConditionsOptions,
     orientation: EarthOrientation | None = None,
 ) -> FlightConditions:
-    """:func:`flight_conditions` with its options checked already (:func:`conditions_options`).
-
-    Raises ValueError naming the input, as :func:`flight_conditions`.
-    """
+    """:func:`flight_conditions` with options from :func:`conditions_options`."""
     utc = checked_utc(time)
     frame_key = options.frame
     model = options.accommodation_model
@@ -206,7 +191,7 @@ def evaluate_flight_conditions(
     jd1, tt_minus_utc, day_of_year = utc_day(utc.year, utc.month, utc.day)
     seconds = seconds_of_day(utc)
     if orientation is None:
-        matrix, _, omega = rotation_terms(
+        rotation, _, omega = rotation_terms(
             jd1, seconds / 86400.0, tt_minus_utc, *options.orientation_options
         )
     elif not isinstance(orientation, EarthOrientation):
@@ -219,10 +204,8 @@ def evaluate_flight_conditions(
             f"not for time {utc.replace(tzinfo=None).isoformat()}"
         )
     else:
-        matrix = tuple(orientation.celestial_to_terrestrial.ravel().tolist())
-        omega = tuple(orientation.rotation_vector_ecef.tolist())
-    rotation = np.reshape(matrix, (3, 3))  # r_ecef = R r_eci
-    omega = np.asarray(omega, dtype=float)
+        rotation = orientation.celestial_to_terrestrial  # r_ecef = R r_eci
+        omega = orientation.rotation_vector_ecef
     if frame_key == "eci":
         # r_ecef = R r_eci; v_ecef = R v_eci - omega x r_ecef
         position_eci, velocity_eci = np.array(position), np.array(velocity)
@@ -233,8 +216,7 @@ def evaluate_flight_conditions(
         position_ecef, velocity_ecef = np.array(position), np.array(velocity)
         position_eci = position_ecef @ rotation
         velocity_eci = (velocity_ecef + cross(omega, position_ecef)) @ rotation
-    px, py, pz = position_ecef.tolist()
-    latitude, longitude, altitude = geodetic_of_floats(px, py, pz)
+    latitude, longitude, altitude = geodetic_of(position_ecef)
     try:
         check_altitude(altitude)
     except ValueError as exc:
@@ -250,7 +232,7 @@ def evaluate_flight_conditions(
         options.anomalous_oxygen,
     )
     if wind is not None and options.wind_frame == "enu":
-        wind = enu_to_ecef(latitude, longitude, *wind)
+        wind = enu_to_ecef_matrix(latitude, longitude) @ wind
     if options.earth_rotation:
         # v_rel,ecef = v_ecef - wind; v_rel,eci = R^T v_rel,ecef
         relative_ecef = velocity_ecef if wind is None else velocity_ecef - wind

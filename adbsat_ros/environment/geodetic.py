@@ -14,24 +14,10 @@ from adbsat_ros.validation import all_finite, vectors3
 WGS84 = 1
 
 
-# WGS-84 ellipsoid (as erfa.eform(WGS84)) and the constants of Fukushima's geodetic solution.
-_WGS84_A = 6378137.0
-_WGS84_F = 1.0 / 298.257223563
-_E2 = (2.0 - _WGS84_F) * _WGS84_F
-_E4T = _E2 * _E2 * 1.5
-_EC2 = 1.0 - _E2
-_EC = math.sqrt(_EC2)
-_POLAR_RADIUS = _WGS84_A * _EC
-_POLAR_AXIS_EPS2 = _WGS84_A * _WGS84_A * 1e-32
-
-
 # ------------------------------------------------------------------------------------ geodetic
 def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
-    """WGS-84 geodetic latitude [rad] in [-pi/2, pi/2], east longitude [rad] and height above
-    the ellipsoid [m] (floats or arrays) to an ECEF (ITRF) position [m], shape (..., 3).
-
-    Raises ValueError naming the input, for non-finite values or a latitude out of range.
-    """
+    """ECEF (ITRF) position [m], shape (..., 3), of WGS-84 latitude [rad] in [-pi/2, pi/2],
+    east longitude [rad] and height [m]; ValueError naming a non-finite or out-of-range input."""
     latitude = np.asarray(latitude, dtype=float)
     longitude = np.asarray(longitude, dtype=float)
     altitude = np.asarray(altitude, dtype=float)
@@ -50,11 +36,8 @@ def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
 
 
 def ecef_to_geodetic(position_ecef):
-    """ECEF (ITRF) position [m], shape (3,) or (N, 3), to WGS-84 geodetic coordinates.
-
-    Returns latitude [rad], east longitude [rad] in (-pi, pi] and height above the ellipsoid
-    [m], floats or arrays; raises ValueError for a non-finite or mis-shaped position.
-    """
+    """WGS-84 latitude, east longitude in (-pi, pi] [rad] and height [m] of ECEF positions [m],
+    (3,) or (N, 3); ValueError for a non-finite or mis-shaped position."""
     position = vectors3(position_ecef, "position_ecef")
     # The raw ufunc skips pyerfa's status-to-warning wrapper; status < 0 is only possible
     # for a bad ellipsoid identifier, which WGS84 is not.
@@ -69,8 +52,7 @@ def ecef_to_geodetic(position_ecef):
 
 
 def enu_to_ecef_matrix(latitude: float, longitude: float) -> np.ndarray:
-    """Matrix M of the local East, North, Up unit vectors (columns) in ECEF axes: ``v_ecef = M
-    @ v_enu`` at the geodetic ``latitude`` and ``longitude`` [rad] (Up the ellipsoid normal)."""
+    """M with ``v_ecef = M @ v_enu`` at geodetic ``latitude``, ``longitude`` [rad]."""
     sin_lat, cos_lat = math.sin(latitude), math.cos(latitude)
     sin_lon, cos_lon = math.sin(longitude), math.cos(longitude)
     return np.array(
@@ -88,55 +70,3 @@ def geodetic_of(position_ecef: np.ndarray):
     if status != 0:  # pragma: no cover - defensive (only a bad ellipsoid identifier)
         raise ValueError(f"erfa.gc2gd failed (status {status}) for position {position_ecef!r}")
     return float(latitude), float(longitude), float(altitude)
-
-
-def geodetic_of_floats(x: float, y: float, z: float) -> tuple:
-    """``(latitude [rad], longitude [rad], altitude [m])`` of the ECEF position (x, y, z) [m].
-
-    Fukushima's (2006) solution with one Halley step in plain floats, ERFA's ``gc2gde``
-    operations in its order, so equal to ``erfa.gc2gd`` bit for bit.
-    """
-    p2 = x * x + y * y
-    longitude = math.atan2(y, x) if p2 > 0.0 else 0.0
-    absz = abs(z)
-    if p2 > _POLAR_AXIS_EPS2:
-        p = math.sqrt(p2)
-        s0 = absz / _WGS84_A
-        pn = p / _WGS84_A
-        zc = _EC * s0
-        c0 = _EC * pn
-        c02 = c0 * c0
-        c03 = c02 * c0
-        s02 = s0 * s0
-        s03 = s02 * s0
-        a02 = c02 + s02
-        a0 = math.sqrt(a02)
-        a03 = a02 * a0
-        d0 = zc * a03 + _E2 * s03
-        f0 = pn * a03 - _E2 * c03
-        b0 = _E4T * s02 * c02 * pn * (a0 - _EC)  # Halley correction
-        s1 = d0 * f0 - b0 * s0
-        cc = _EC * (f0 * f0 - b0 * c0)
-        latitude = math.atan(s1 / cc)
-        s12 = s1 * s1
-        cc2 = cc * cc
-        altitude = (p * cc + absz * s1 - _WGS84_A * math.sqrt(_EC2 * s12 + cc2)) / math.sqrt(
-            s12 + cc2
-        )
-    else:  # on the polar axis
-        latitude = math.pi / 2.0
-        altitude = absz - _POLAR_RADIUS
-    if z < 0:
-        latitude = -latitude
-    return latitude, longitude, altitude
-
-
-def enu_to_ecef(latitude: float, longitude: float, east: float, north: float, up: float) -> tuple:
-    """``enu_to_ecef_matrix(latitude, longitude) @ (east, north, up)`` as three floats."""
-    sin_lat, cos_lat = math.sin(latitude), math.cos(latitude)
-    sin_lon, cos_lon = math.sin(longitude), math.cos(longitude)
-    return (
-        -sin_lon * east + -sin_lat * cos_lon * north + cos_lat * cos_lon * up,
-        cos_lon * east + -sin_lat * sin_lon * north + cos_lat * sin_lon * up,
-        cos_lat * north + sin_lat * up,
-    )

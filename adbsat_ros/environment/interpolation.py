@@ -1,8 +1,5 @@
-"""Flight conditions between two knots: linear interpolation.
-
-The numbers of the conditions at two nearby instants of one orbital state are mixed linearly;
-the geodetic position is that of the mixed ECEF position, the speed the norm of the mixed
-relative velocity. The error: :mod:`adbsat_ros.environment.knots`."""
+"""Flight conditions between two knots, mixed linearly number by number (error:
+:mod:`adbsat_ros.environment.knots`)."""
 
 from __future__ import annotations
 
@@ -14,7 +11,7 @@ import numpy as np
 
 from adbsat_ros.environment.atmosphere import AtmosphereState
 from adbsat_ros.environment.conditions import FlightConditions
-from adbsat_ros.environment.geodetic import geodetic_of_floats
+from adbsat_ros.environment.geodetic import geodetic_of
 
 #: The vector fields of FlightConditions, in the order of the interpolation numbers.
 _VECTORS = (
@@ -30,9 +27,7 @@ _SPEED, _ALPHA, _MASS_DENSITY, _EXOSPHERIC, _TEMPERATURE, _DENSITIES = range(18,
 
 
 class KnotEnds:
-    """One end of an interpolation (a knot): its exact ``conditions`` and the numbers the
-    interpolation mixes, made when first asked for (a stream stamped on the knots never asks).
-    """
+    """A knot: its exact ``conditions`` and the numbers mixed, made when first asked for."""
 
     __slots__ = ("conditions", "_numbers", "_vectors")
 
@@ -43,16 +38,15 @@ class KnotEnds:
 
     @property
     def numbers(self) -> np.ndarray:
-        """A read-only float array: the six vectors (zeros for a vector that is None), then the
-        speed, alpha, the mass density, both temperatures and the number densities in the
-        atmosphere's key order."""
+        """Read-only: the six vectors (zeros for None), speed, alpha, mass density, both
+        temperatures, the number densities."""
         if self._numbers is None:
             self._numbers, self._vectors = _numbers_of(self.conditions)
         return self._numbers
 
     @property
     def vectors(self) -> tuple:
-        """Which of the six vectors the conditions have (bools, in the order of the numbers)."""
+        """Which of the six vectors are not None."""
         self.numbers  # (made with the numbers)
         return self._vectors
 
@@ -103,7 +97,7 @@ def mixed_conditions(
     if a.vectors != b.vectors or not all(a.vectors):
         vectors = [v if p and q else None for v, p, q in zip(vectors, a.vectors, b.vectors)]
     speed = values[_SPEED] if vectors[5] is None else math.hypot(*values[15:18])
-    latitude, longitude, altitude = geodetic_of_floats(*values[3:6])
+    latitude, longitude, altitude = geodetic_of(mixed[3:6])
     ends = a.conditions
     atmosphere = AtmosphereState(
         dict(zip(ends.atmosphere.number_densities, values[_DENSITIES:])),
@@ -135,15 +129,11 @@ def mixed_conditions(
 def interpolated_flight_conditions(
     a: FlightConditions, b: FlightConditions, weight: float, time: _dt.datetime
 ) -> FlightConditions:
-    """The flight conditions at ``time``, a fraction ``weight`` (0..1) of the way from a to b.
+    """The conditions at UTC ``time``, a fraction ``weight`` (0..1) of the way from a to b.
 
-    ``a`` and ``b``: one orbital state's conditions at two nearby instants (same options and
-    space weather, ``b`` later). Every number is mixed as ``(1 - weight) x_a + weight x_b``; the
-    geodetic position is that of the mixed ECEF position (exact, also over a pole), the speed
-    the norm of the mixed relative velocity. A weight of 0 gives ``a`` at ``time`` [UTC].
-
-    Raises ValueError if ``a`` and ``b`` were made with different options (accommodation model,
-    Earth rotation, space weather, anomalous oxygen).
+    Every number is mixed as ``(1 - weight) x_a + weight x_b``; the geodetic position is that
+    of the mixed ECEF position, the speed the norm of the mixed relative velocity. Raises
+    ValueError if ``a`` and ``b`` were made with different options.
     """
     check_ends(a, b)
     if weight == 0.0:

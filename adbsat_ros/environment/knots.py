@@ -1,11 +1,8 @@
-"""Flight conditions on a grid of stamps, interpolated in between: the per-message cache.
+"""Flight conditions exact on fixed knots ``j step``, interpolated in between: the per-message
+cache (:class:`KnotGrid`).
 
-:class:`KnotGrid` evaluates the conditions exactly only at the knots ``j step`` (``step`` =
-``conditions_step``) and interpolates linearly in between. The knots are fixed stamps, not set by
-the messages, so a stamp and a state always get the same numbers whatever came before (live, or
-replayed in any order). Interpolation error about (h v / L)^2 / 8 for knots h v metres apart and
-fields varying over L: about 2e-9 of the density at 0.01 s, 2e-7 at 0.1 s; NRLMSISE-00's own
-steps are spread over the interval that crosses them. docs/physics.md, section 5.4.
+Fixed knots give a stamp the same numbers whatever came before (live, or replayed in any
+order). Error about (h v / L)^2 / 8: 2e-9 of the density at 0.01 s. docs/physics.md, section 5.4.
 """
 
 from __future__ import annotations
@@ -29,8 +26,7 @@ KNOT_LOOKAHEAD = 2
 
 
 def knot_position(stamp: float, step: float) -> tuple:
-    """``(j, past)``: the knot ``j step`` at or before (or within :data:`KNOT_SNAP_S` of) a
-    ``stamp`` [s], and ``stamp - j step`` [s] (0 on a knot), for a ``step`` [s] > 0."""
+    """``(j, stamp - j step)`` of the knot at or before ``stamp`` [s] (snapped: 0 on a knot)."""
     j = math.floor(stamp / step)
     past = stamp - j * step
     if past >= step - KNOT_SNAP_S:
@@ -43,27 +39,24 @@ def knot_position(stamp: float, step: float) -> tuple:
 class KnotGrid:
     """The flight conditions of one orbital state on the knots, interpolated in between.
 
-    A cache keyed by the orbital state (compared with ``==``: another state forgets the knots),
-    bounded by ``kept`` knots (the oldest goes first), counting :attr:`hits`, :attr:`misses`,
-    :attr:`evaluations` and :attr:`prepared_used`. A stamp within :data:`KNOT_SNAP_S` of a knot
-    takes its conditions; if a knot around a stamp cannot be evaluated (e.g. above the
-    atmosphere model) the stamp is evaluated exactly. With ``step`` = 0 every stamp is its own
-    knot.
+    A cache keyed by the orbital state (``==``; another state forgets the knots), bounded by
+    ``kept`` knots (oldest first out), counting :attr:`hits`, :attr:`misses`,
+    :attr:`evaluations` and :attr:`prepared_used`. A stamp whose knots cannot be evaluated
+    (e.g. above the atmosphere model) is evaluated exactly; ``step`` = 0: every stamp a knot.
 
     Parameters
     ----------
     step : float
         Knot spacing [s], >= 0.
     evaluate : callable
-        ``evaluate(key, stamp)``: the exact :class:`FlightConditions` of the orbital state
-        ``key`` at ``stamp`` [s]; raises ValueError if there are none.
+        ``evaluate(key, stamp)``: the exact :class:`FlightConditions`; ValueError if none.
     kept : int, optional
         Largest number of knots kept, >= 3.
 
     Raises
     ------
     ValueError
-        For a step that is not a finite number >= 0 or fewer than 3 knots kept.
+        For a step not finite and >= 0, or fewer than 3 knots kept.
     """
 
     def __init__(
@@ -82,8 +75,8 @@ class KnotGrid:
         self.configure(step, evaluate)
 
     def configure(self, step: float, evaluate: Callable[[object, float], FlightConditions]):
-        """Evaluate with ``evaluate`` on knots ``step`` [s] apart from now on (the knots go, the
-        counters stay); ValueError for a step not finite and >= 0 (nothing changed then)."""
+        """New ``step`` [s] and ``evaluate``: the knots go, the counters stay (ValueError as
+        the constructor, nothing changed)."""
         step = float(step)
         if not (math.isfinite(step) and step >= 0.0):
             raise ValueError(f"step must be a finite number of seconds >= 0, got {step!r}")
@@ -113,11 +106,7 @@ class KnotGrid:
         self._prepared: tuple | None = None  # (key, stamp) of the latest prepare()
 
     def conditions(self, key, stamp: float, time: _dt.datetime) -> FlightConditions:
-        """The flight conditions of the orbital state ``key`` at ``stamp`` [s], UTC ``time``.
-
-        Raises ValueError from ``evaluate`` at the stamp itself (e.g. an altitude outside the
-        model).
-        """
+        """The conditions of ``key`` at ``stamp`` [s], UTC ``time``; ValueError of ``evaluate``."""
         prepared = self._prepared
         if (
             prepared is not None
@@ -141,13 +130,8 @@ class KnotGrid:
         return mixed_conditions(a, b, past / step, time)
 
     def prepare(self, key, stamp: float) -> bool:
-        """Evaluate ahead the knots a request at ``stamp`` will need; whether they are ready.
-
-        With ``step`` > 0 the knots around the stamp and, if those were kept already, the knot
-        :data:`KNOT_LOOKAHEAD` steps on (at most one evaluation per call in a regular stream).
-        A later :meth:`conditions` at this stamp and key counts in :attr:`prepared_used`; its
-        numbers are those it would have had without.
-        """
+        """Evaluate ahead the knots ``stamp`` needs (else the one :data:`KNOT_LOOKAHEAD` on);
+        whether they are ready. Changes no number :meth:`conditions` gives."""
         step = self.step
         try:
             if step > 0.0:
@@ -169,7 +153,7 @@ class KnotGrid:
         return True
 
     def _knot(self, key, index) -> KnotEnds:
-        """Knot ``index`` of ``key``, kept or evaluated (and kept, the oldest going first)."""
+        """Knot ``index`` of ``key``, kept or evaluated and kept."""
         if key is not self._key and key != self._key:  # (as containers compare)
             self._key = key
             self._knots = {}
@@ -192,7 +176,7 @@ class KnotGrid:
 
 
 def _at_time(conditions: FlightConditions, time: _dt.datetime) -> FlightConditions:
-    """A knot's conditions at ``time`` (a knot serves the stamps within :data:`KNOT_SNAP_S`)."""
+    """A knot's conditions at ``time``."""
     if time == conditions.time:
         return conditions
     return dataclasses.replace(conditions, time=time)

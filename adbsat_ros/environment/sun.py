@@ -1,10 +1,8 @@
-"""The Sun as solar radiation pressure sees it: where it is, how hard it pushes, how much of it
-Earth hides.
+"""The Sun for solar radiation pressure: its position, its pressure, Earth's shadow.
 
-The Sun's geocentric position from ERFA's ``epv00`` (GCRS, the package's ECI), the pressure
-P = S / c (1 au / d)^2, and Earth's shadow as a cone with umbra and penumbra (Montenbruck &
-Gill, Satellite Orbits, 2000, 3.4.2). Valid for the times ERFA's ephemeris covers (1900-2100),
-positions [m] outside the Earth. Formulas and sources: docs/physics.md, section 7.1.
+Position from ERFA's ``epv00`` (GCRS = ECI, 1900-2100), P = S / c (1 au / d)^2, and a conical
+shadow with umbra and penumbra (Montenbruck & Gill, Satellite Orbits, 2000, 3.4.2). Units m,
+Pa. docs/physics.md, section 7.1.
 """
 
 from __future__ import annotations
@@ -36,8 +34,8 @@ EARTH_SHADOW_RADIUS = 6_378_137.0
 
 @dataclass(frozen=True)
 class SunState:
-    """The Sun seen from a satellite: the unit vector towards it (GCRS), the distance [m], the
-    visible fraction of its disc [0, 1], and the pressure [Pa] there, the shadow not applied."""
+    """The Sun seen from a satellite: unit vector to it (GCRS), distance [m], visible fraction
+    of its disc, pressure [Pa] (the shadow not applied)."""
 
     direction_eci: np.ndarray
     distance: float
@@ -46,18 +44,14 @@ class SunState:
 
 
 def sun_position_eci(time) -> np.ndarray:
-    """Geocentric position of the Sun [m], GCRS axes, at a UTC ``time`` (datetime, naive UTC or
-    aware)."""
+    """Geocentric position of the Sun [m], GCRS, at a UTC datetime ``time``."""
     _, (tt1, tt2), _ = julian_dates(time)
     heliocentric, _ = erfa.epv00(tt1, tt2)
     return -np.asarray(heliocentric["p"], dtype=float) * ASTRONOMICAL_UNIT
 
 
 def solar_pressure(sun_distance) -> float:
-    """Solar radiation pressure [Pa] at ``sun_distance`` [m] from the Sun: P_1au (1 au / d)^2.
-
-    Raises ValueError if ``sun_distance`` is not a finite positive number.
-    """
+    """P_1au (1 au / d)^2 [Pa] at ``sun_distance`` d [m]; ValueError unless finite and > 0."""
     d = float(sun_distance)
     if not (math.isfinite(d) and d > 0.0):
         raise ValueError(f"sun_distance must be a finite positive number of metres, got {d!r}")
@@ -67,14 +61,14 @@ def solar_pressure(sun_distance) -> float:
 def lit_fraction(position_eci, sun_position_eci):
     """Fraction of the solar disc visible from ``position_eci`` past a spherical Earth.
 
-    Umbra, penumbra (the overlap of two flat discs) and annular cases of Montenbruck & Gill
-    (2000), eqs. 3.85-3.87; docs/physics.md, section 7.1. Continuous through the penumbra.
+    Montenbruck & Gill (2000), eqs. 3.85-3.87 (umbra, penumbra, annular).
+
     Parameters
     ----------
     position_eci : array_like, shape (3,) or (N, 3)
         Satellite position(s) [m], GCRS, outside the Earth (|r| >= 6,378,137 m).
     sun_position_eci : array_like, shape (3,)
-        The Sun's geocentric position [m] (:func:`sun_position_eci`).
+        The Sun's geocentric position [m].
 
     Returns
     -------
@@ -84,7 +78,7 @@ def lit_fraction(position_eci, sun_position_eci):
     Raises
     ------
     ValueError
-        For non-finite positions or a position inside the Earth, naming the input.
+        Naming the input: non-finite, or a position inside the Earth.
     """
     r = np.asarray(position_eci, dtype=float)
     s = np.asarray(sun_position_eci, dtype=float)
@@ -126,8 +120,7 @@ def lit_fraction(position_eci, sun_position_eci):
 
 
 def _visible_fraction(rx, ry, rz, sx, sy, sz) -> float:
-    """:func:`lit_fraction` of one position already checked, in floats (the tests check that
-    both agree)."""
+    """:func:`lit_fraction` of one checked position, in floats."""
     radius = math.hypot(rx, ry, rz)
     dx, dy, dz = sx - rx, sy - ry, sz - rz
     distance = math.hypot(dx, dy, dz)
@@ -152,9 +145,9 @@ def _visible_fraction(rx, ry, rz, sx, sy, sz) -> float:
 
 
 def sun_state(time, position_eci, sun_position=None) -> SunState:
-    """The Sun seen from a satellite at ``position_eci`` [m] (GCRS) at UTC ``time``.
+    """The Sun seen from ``position_eci`` [m] (GCRS) at UTC ``time``.
 
-    ``sun_position``: the Sun's geocentric position [m] at ``time`` if known (e.g. from a
+    ``sun_position``: the Sun's position [m] at ``time`` if known (e.g. from a
     :class:`SunTrack`). Raises ValueError as :func:`lit_fraction`.
     """
     sun = sun_position_eci(time) if sun_position is None else np.asarray(sun_position, float)
@@ -175,18 +168,11 @@ def sun_state(time, position_eci, sun_position=None) -> SunState:
 
 
 class SunTrack:
-    """The Sun's geocentric position through time: exact on knots every ``step`` seconds,
-    linear in between. The cache of the Sun's position.
+    """The cache of the Sun's position: exact on knots every ``step`` s in (0, 3600], linear in
+    between (|p''| h^2 / 8 = 2.7 m at h = 60 s).
 
     Keyed by the knot index floor(t / step) (t: UTC seconds since 2000-01-01), bounded by the
-    two knots around t, counting ``hits`` and ``misses``. ERFA's ephemeris is costly per
-    message; the interpolation errs by at most |p''| h^2 / 8 = 2.7 m at h = 60 s (a direction
-    error of 2e-11 rad).
-
-    Parameters
-    ----------
-    step : float
-        Seconds between knots, in (0, 3600].
+    two knots around t, counting ``hits`` and ``misses``.
     """
 
     _ORIGIN = dt.datetime(2000, 1, 1)

@@ -1,8 +1,5 @@
-"""UTC instants as the Earth-orientation and atmosphere models take them.
-
-Naive UTC datetimes, two-part Julian dates (UTC, TT, UT1) through ERFA's leap-second table, day
-of year and seconds of day; a day's constants are cached by :func:`utc_day` (``lru_cache``).
-"""
+"""UTC instants as ERFA and NRLMSISE-00 take them: naive UTC datetimes, two-part Julian dates
+(UTC, TT, UT1) through ERFA's leap-second table, day of year, seconds of day."""
 
 from __future__ import annotations
 
@@ -24,11 +21,8 @@ _UTC = _dt.timezone.utc
 
 # ------------------------------------------------------------------------------------------ time
 def utc_datetime(time) -> _dt.datetime:
-    """Return ``time`` as a naive :class:`datetime.datetime` in UTC.
-
-    An aware ``time`` is converted to UTC, a naive one is taken to be UTC; ValueError for
-    anything but a :class:`datetime.datetime` (a plain ``date`` is refused too).
-    """
+    """``time`` (aware, or naive meaning UTC) as a naive UTC datetime; ValueError if no
+    :class:`datetime.datetime`."""
     if not isinstance(time, _dt.datetime):
         raise ValueError(
             f"time must be a datetime.datetime (timezone-aware, or naive meaning UTC), "
@@ -54,8 +48,7 @@ def _tai_minus_utc(year: int, month: int, day: int) -> float:
 
 
 def julian_dates(time, ut1_minus_utc: float = 0.0):
-    """Two-part Julian dates ``(utc, tt, ut1)`` of a UTC datetime, each (integer-and-a-half
-    day, day fraction) as ERFA expects, with ``ut1_minus_utc`` [s] (IERS DUT1)."""
+    """Two-part Julian dates ``(utc, tt, ut1)`` of a UTC datetime; ``ut1_minus_utc`` [s]."""
     time = utc_datetime(time)
     jd1, tt_offset, _ = utc_day(time.year, time.month, time.day)
     day_fraction = seconds_of_day(time) / SECONDS_PER_DAY
@@ -68,11 +61,7 @@ def julian_dates(time, ut1_minus_utc: float = 0.0):
 
 @functools.lru_cache(maxsize=512)
 def utc_day(year: int, month: int, day: int) -> tuple:
-    """Constants of a UTC calendar day, memoised: ``(jd1, tt_minus_utc, day_of_year)``.
-
-    ``jd1`` = 2400000.5 + MJD of the day's 0 h UTC (the first part of ERFA's two-part dates),
-    TT - UTC [day] (TAI - UTC from ERFA's leap-second table + 32.184 s), day of year 1..366.
-    """
+    """``(jd1, tt_minus_utc [day], day_of_year)`` of a UTC day, memoised; jd1 at 0 h UTC."""
     ordinal = _dt.date(year, month, day).toordinal()
     return (
         _MJD_TO_JD + (ordinal - _MJD_ZERO_ORDINAL),
@@ -82,5 +71,5 @@ def utc_day(year: int, month: int, day: int) -> tuple:
 
 
 def seconds_of_day(time: _dt.datetime) -> float:
-    """Seconds since 0 h of ``time``'s day [s] (of a UTC datetime: UTC seconds of the day)."""
+    """Seconds since 0 h of ``time``'s day [s]."""
     return time.hour * 3600.0 + time.minute * 60.0 + time.second + time.microsecond * 1e-6

@@ -13,7 +13,7 @@ import numpy as np
 
 from adbsat_ros.bounds import BOUNDS
 from adbsat_ros.environment.atmosphere import FIRST_YEAR, LAST_YEAR, MAX_ALTITUDE
-from adbsat_ros.environment.geodetic import geodetic_of_floats
+from adbsat_ros.environment.geodetic import geodetic_of
 from adbsat_ros.estimator.samples import OrbitalState, Rejection
 from adbsat_ros.geometry.frames import quaternion_matrix_floats
 from adbsat_ros.messages.decoding import OdometryFields
@@ -96,7 +96,7 @@ def checked_state(
         math.isfinite(stamp) and np.all(np.isfinite(position)) and np.all(np.isfinite(velocity))
     ):
         raise Rejection("non_finite", "state has NaN or Inf in its stamp, position or velocity")
-    altitude = geodetic_of_floats(*position.tolist())[2]
+    altitude = geodetic_of(position)[2]
     if altitude < min_altitude:  # (an ECI position taken as ECEF: the pole's drift, < 1 km)
         raise Rejection(
             "altitude_out_of_range",
@@ -141,7 +141,7 @@ def check_conditions(evaluate, utc, state: OrbitalState) -> None:
             f"{where} is in the year {year}, outside {FIRST_YEAR}..{LAST_YEAR} (the years of the "
             "atmosphere model's space weather and the time scales): the latest state is kept",
         )
-    altitude = geodetic_of_floats(*state.position.tolist())[2]
+    altitude = geodetic_of(state.position)[2]
     if altitude > MAX_ALTITUDE + FRAME_ALTITUDE_MARGIN:
         raise Rejection(
             "altitude_out_of_range",

@@ -10,8 +10,7 @@ Modules:
 - :mod:`~adbsat_ros.geometry.articulated`: a URDF's links and joints as panels for any joint
   configuration; :mod:`~adbsat_ros.geometry.example_urdf` the bundled URDFs.
 - :mod:`~adbsat_ros.geometry.poses`: a URDF's joint tree and its links' poses (yourdfpy).
-- :mod:`~adbsat_ros.geometry.concave_bodies`: bundled bodies where molecules meet the surface
-  more than once.
+- :mod:`~adbsat_ros.geometry.concave_bodies`: bundled concave bodies.
 - :mod:`~adbsat_ros.geometry.frames`: the mesh, body, wind and flight frames, aoa/aos,
   quaternions (docs/physics.md, section 2).
 

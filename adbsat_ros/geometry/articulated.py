@@ -1,12 +1,9 @@
-"""Articulated satellites: a URDF's rigid links and joints, as panels for any joint configuration.
+"""Articulated satellites: a URDF's links and joints as panels for any joint configuration.
 
-Every visual of a link (or, with none, every collision) becomes a part in the link's frame, its
-URDF material name its surface material. The root link's frame is the body frame (mesh frame G).
-Joints: fixed, revolute, continuous, prismatic, mimic; positions [rad or m] place the links by
-yourdfpy's forward kinematics. The zero configuration's panels equal those of its parts merged
-into one mesh, bit for bit; a moved link turns its normals and barycentres by its pose.
-
-Units: metres and radians; mesh frame G = the root link's frame.
+Each link's visuals (else its collisions) become parts in its frame, the URDF material name
+their surface material; joints fixed, revolute, continuous, prismatic, mimic. The zero
+configuration's panels equal its parts merged into one mesh, bit for bit. Units m, rad; mesh
+frame G = the root link's frame.
 """
 
 from __future__ import annotations
@@ -42,19 +39,9 @@ EDGE_FRACTION = 1.0 / 12.0
 
 @dataclass(frozen=True)
 class BodyLoads:
-    """The load on every link and the effort on every moving joint, as coefficients.
-
-    Attributes
-    ----------
-    link_force : ndarray, shape (L, 3)
-        Force coefficient on each link, body frame; sums to Cf_G.
-    link_moment : ndarray, shape (L, 3)
-        Its moment coefficient about the moment point; sums to Cm_G.
-    joint_effort : dict of str to float
-        Per moving joint: the moment coefficient about its axis of the loads on the links it
-        carries (revolute/continuous; times q A_ref L_ref: N m), or their force coefficient along
-        its axis (prismatic; times q A_ref: N).
-    """
+    """Per-link force and moment coefficients (body frame; sum to Cf_G, Cm_G) and per moving
+    joint the coefficient of the load it carries: moment about its axis (revolute; times
+    q A_ref L_ref: N m) or force along it (prismatic; times q A_ref: N)."""
 
     link_force: np.ndarray
     link_moment: np.ndarray
@@ -105,22 +92,19 @@ def _primitive(geometry, max_edge_fraction: float, resolve) -> trimesh.Trimesh:
 
 
 class ArticulatedBody:
-    """A satellite of links and joints from a URDF, as panels for any joint configuration.
-
-    Build with :meth:`from_urdf`.
+    """A satellite of links and joints from a URDF (:meth:`from_urdf`), as panels for any joint
+    configuration.
 
     Attributes
     ----------
     joints : dict of str to Joint
-        The joints that move (revolute, continuous, prismatic; not mimic ones), by name.
-    all_joint_names : tuple of str
-        Every joint of the URDF, fixed and mimic ones included.
+        The moving joints (not fixed or mimic), by name; ``all_joint_names`` lists every joint.
     root : str
         The root link, whose frame is the body frame.
     panel_link : ndarray of int, shape (N,)
-        Link of each panel of :meth:`mesh` (the same for every configuration).
+        Link of each panel of :meth:`mesh`.
     link_spans : dict of int to (int, int)
-        ``{link index: (start, stop)}`` of each link's (consecutive) panels in :meth:`mesh`.
+        ``{link index: (start, stop)}`` of each link's consecutive panels in :meth:`mesh`.
     """
 
     def __init__(
@@ -204,16 +188,15 @@ class ArticulatedBody:
     ) -> "ArticulatedBody":
         """Read a URDF: a file path, or its XML text (as the ``robot_description`` parameter).
 
-        Mesh files are found relative to the URDF file (or the working directory for text), and
-        ``package://`` names as yourdfpy finds them. Primitives are refined until no edge is longer
-        than ``max_edge_fraction`` of their size. The body at zero joint positions must be 1 mm to
-        200 m across, unless ``accept_size``. ``source`` names it in messages.
+        Mesh files are found relative to the URDF file (or the working directory), ``package://``
+        as yourdfpy finds them. Primitives are refined to edges <= ``max_edge_fraction`` of their
+        size. The body must be 1 mm to 200 m across unless ``accept_size``. ``source`` names it.
 
         Raises
         ------
         MeshError
-            The URDF cannot be read, a joint type is not supported, no link has geometry, or the
-            body's size is no satellite's; the message names the file and the element.
+            Naming the file and element: unreadable, an unsupported joint, no geometry, or a
+            size that is no satellite's.
         """
         text = str(urdf)
         is_xml = text.lstrip().startswith("<")
@@ -228,13 +211,8 @@ class ArticulatedBody:
         return cls(model, source, max_edge_fraction, accept_size)
 
     def positions(self, values: Mapping[str, float] | None = None) -> dict:
-        """``{name: value}`` of every moving joint, checked and completed with zeros.
-
-        Raises
-        ------
-        ValueError
-            An unknown joint name, a non-finite value, or one outside the joint's limits (named).
-        """
+        """``{name: value}`` of every moving joint, checked, completed with zeros; ValueError
+        naming an unknown joint or a value non-finite or outside its limits."""
         out = {name: 0.0 for name in self.joints}
         for name, value in (values or {}).items():
             joint = self.joints.get(name)
@@ -269,7 +247,7 @@ class ArticulatedBody:
         return self.posed_mesh(self.link_poses(values))
 
     def posed_mesh(self, poses: np.ndarray) -> PanelMesh:
-        """The panels with the links at ``poses`` ((L, 4, 4), as :meth:`link_poses` gives them)."""
+        """The panels with the links at ``poses`` (L, 4, 4)."""
         return self._panels(self._parts, poses)
 
     def link_mesh(self, link: int) -> PanelMesh:
@@ -312,19 +290,10 @@ class ArticulatedBody:
         return np.array(sorted(map(self.links.index, self._tree.carried(self.joints[joint].child))))
 
     def loads(self, force, point, values, moment_point, length) -> BodyLoads:
-        """Per-link loads and per-joint efforts of per-panel loads at a configuration.
+        """:class:`BodyLoads` of per-panel loads at joint positions ``values``.
 
-        Parameters
-        ----------
-        force, point : ndarray, shape (N, 3)
-            Force coefficient of every panel of :meth:`mesh` ``(values)`` and where it acts [m]
-            (:func:`adbsat_ros.physics.panel_loads.panel_loads`).
-        values : mapping of str to float
-            The joint positions the panels were computed at.
-        moment_point : array_like, shape (3,)
-            Point of the link moments [m].
-        length : float
-            Reference length L_ref [m].
+        ``force``, ``point`` (N, 3): force coefficient of every panel of :meth:`mesh` and where
+        it acts [m]; ``moment_point`` [m]; ``length`` L_ref [m].
         """
         force = np.asarray(force, dtype=float)
         point = np.asarray(point, dtype=float)

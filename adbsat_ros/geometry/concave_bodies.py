@@ -1,10 +1,9 @@
-"""Bundled bodies where molecules meet the surface more than once (test-particle solver cases).
+"""Bundled concave bodies (test-particle cases): closed, metres, frame G, gas from +x at zero.
 
-``grooved-cylinder``: a cylinder (radius 0.5 m, length 1 m, axis x) with four annular grooves
-0.05 m wide and 0.4 m deep in its front face (+x), ADBSat's validation case (Sinpetru et al.,
-Computer Physics Communications 275 (2022) 108327); ``cylinder``: the same without grooves;
-``intake-box``: a box (2 m x 1 m x 1 m) with a blind 0.6 m x 0.6 m intake 1.5 m deep in its
-front face. Each is closed, in metres, mesh frame G, the gas arriving from +x at zero angles.
+``grooved-cylinder``: radius 0.5 m, length 1 m, axis x, four annular grooves 0.05 m wide and
+0.4 m deep in its front face, ADBSat's validation case (Sinpetru et al., Computer Physics
+Communications 275 (2022) 108327); ``cylinder`` without grooves; ``intake-box``: 2 m x 1 m x
+1 m with a blind 0.6 m x 0.6 m intake 1.5 m deep in its front face.
 """
 
 from __future__ import annotations
@@ -23,7 +22,7 @@ SECTIONS = 96
 
 
 def _revolved(profile, source: str) -> PanelMesh:
-    """The closed body of revolution of a (radius, height) profile, its axis along x, centred."""
+    """The closed body of revolution of a (radius, height) profile, axis x, centred."""
     import trimesh  # (when a body is built: not at start-up, docs/benchmarks.md)
 
     tm = trimesh.creation.revolve(np.asarray(profile, dtype=float), sections=SECTIONS)

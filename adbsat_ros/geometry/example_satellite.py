@@ -1,9 +1,6 @@
-"""The bundled example satellite (mesh name ``example``): a box body with two solar wings.
-
-Body 1.2 m along x_G, 0.5 m x 0.5 m, centred on the origin; wings 1.0 m x 0.5 m x 0.03 m off
-the +y and -y sides at the rear, in the x-y plane (edge-on to the flow at zero angles: the case
-that breaks barycentre shading). Three closed parts; materials ``body`` and ``solar_array``.
-"""
+"""The bundled example satellite ``example``: a 1.2 m x 0.5 m x 0.5 m box centred on the origin,
+two 1.0 m x 0.5 m x 0.03 m wings off +-y at the rear in the x-y plane (edge-on at zero angles:
+the case that breaks barycentre shading); materials ``body`` and ``solar_array``."""
 
 from __future__ import annotations
 
@@ -31,7 +28,7 @@ def _refined_box(extents, centre, max_edge):
 
 
 def example_satellite(max_edge: float = 0.09) -> PanelMesh:
-    """Build the example satellite mesh.
+    """The example satellite, metres, mesh frame = body frame.
 
     Parameters
     ----------
@@ -41,7 +38,6 @@ def example_satellite(max_edge: float = 0.09) -> PanelMesh:
     Returns
     -------
     PanelMesh
-        Panels in metres, mesh frame = body frame (x forward, right-handed).
     """
     parts = [
         ("body", _refined_box(BODY_SIZE, (0.0, 0.0, 0.0), max_edge)),
@@ -60,10 +56,9 @@ def example_satellite(max_edge: float = 0.09) -> PanelMesh:
 
 
 def write_obj(mesh: PanelMesh, path, digits: int = 9) -> None:
-    """Write a PanelMesh as a Wavefront OBJ, one ``usemtl`` group per material run.
+    """Write a PanelMesh as OBJ with ``usemtl`` groups, ``digits`` (1 to 17) significant digits.
 
-    Coordinates [m] to ``digits`` significant digits (1 to 17); 17 reads back the same panels and
-    facets, fewer can tilt a flat face's panels apart so they no longer share a facet.
+    17 reads back the same panels; fewer can tilt a flat face's panels out of one facet.
     """
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(f"# {mesh.source}\n# {mesh.n_panels} triangles, units: metres\n")

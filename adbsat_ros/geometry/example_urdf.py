@@ -1,9 +1,7 @@
-"""The bundled articulated example (``example-articulated``): example satellite, hinged wings.
+"""Bundled URDFs: ``example-articulated`` (the example satellite, hinged wings), ``example-finned``.
 
-Links ``body`` (the body frame), ``wing_left`` (+y) and ``wing_right`` (-y), each wing on a
-revolute joint (``wing_left_hinge``, ``wing_right_hinge``) along y through its root, limits
-+-pi; at zero the wings lie in the x-y plane, a hinge angle tilts the wing's normal towards x.
-Materials ``body`` and ``solar_array``.
+``example-articulated``: links ``body``, ``wing_left`` (+y), ``wing_right`` (-y); revolute
+``wing_left_hinge``, ``wing_right_hinge`` along y through the wing roots, limits +-pi.
 """
 
 from __future__ import annotations
@@ -59,12 +57,8 @@ FIN_HINGE_X = -0.15
 
 
 def example_finned_urdf() -> str:
-    """The URDF text of a small finned body (0.6 m x 0.3 m x 0.3 m) with four steerable rear fins.
-
-    Fins ``fin_py``, ``fin_ny`` (spans along y, pitch) and ``fin_pz``, ``fin_nz`` (spans along z,
-    yaw), each on a revolute joint ``<fin>_hinge`` along its span through its leading edge
-    (x = -0.15 m), limits +-0.6 rad; edge-on to a flow along x at zero. Materials ``body``, ``fin``.
-    """
+    """URDF of a 0.6 m x 0.3 m x 0.3 m body with rear fins ``fin_py``, ``fin_ny``, ``fin_pz``,
+    ``fin_nz``, each on a revolute ``<fin>_hinge`` along its span at x = -0.15 m, +-0.6 rad."""
     chord, span, thick = FIN_SIZE
     half = FINNED_BODY_SIZE[1] / 2
     lines = [

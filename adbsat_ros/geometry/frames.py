@@ -1,9 +1,8 @@
 """ADBSat's aerodynamic frames and angles (docs/physics.md, section 2).
 
-G: the mesh frame (forces and torques in newtons, the node's body frame); B: ADBSat's body
-frame, ``L_GB = diag(1, -1, -1)``; W: the wind frame (body-to-wind rotation by alpha, beta);
-F: ADBSat's flight frame, ``diag(-1, 1, -1)`` of B. The vehicle velocity in B is
-∝ (cos a cos b, sin b, sin a cos b); the gas moves along u_G = (-cos a cos b, sin b, sin a cos b).
+G: the mesh frame (the node's body frame); B: ADBSat's body frame, ``L_GB = diag(1, -1, -1)``;
+W: the wind frame; F: ADBSat's flight frame, ``diag(-1, 1, -1)`` of B. The gas moves along
+u_G = (-cos a cos b, sin b, sin a cos b).
 """
 
 from __future__ import annotations
@@ -47,13 +46,8 @@ def _floats(value, name: str) -> np.ndarray:
 
 
 def direction_components(value, name: str = "flow direction") -> tuple:
-    """The components (x, y, z) of a direction as three floats, not normalised.
-
-    Raises
-    ------
-    ValueError
-        Naming ``name``, if ``value`` is not a finite non-zero 3-vector.
-    """
+    """(x, y, z) of a direction, not normalised; ValueError naming ``name`` unless a finite
+    non-zero 3-vector."""
     u = _floats(value, name)
     if u.shape == (3,):
         x, y, z = u.tolist()
@@ -63,13 +57,7 @@ def direction_components(value, name: str = "flow direction") -> tuple:
 
 
 def unit_vector(value, name: str = "flow direction") -> np.ndarray:
-    """``value`` as a unit 3-vector (float array).
-
-    Raises
-    ------
-    ValueError
-        Naming ``name``, if ``value`` is not a finite non-zero 3-vector.
-    """
+    """``value`` as a unit 3-vector; ValueError naming ``name`` as :func:`direction_components`."""
     u = _floats(value, name)
     norm = math.sqrt(u.dot(u)) if u.shape == (3,) else math.nan  # np.linalg.norm(u), exactly
     if u.shape != (3,) or not math.isfinite(norm) or norm == 0.0:
@@ -78,18 +66,7 @@ def unit_vector(value, name: str = "flow direction") -> np.ndarray:
 
 
 def flow_direction(aoa, aos):
-    """Unit vector of the gas motion relative to the body, in G.
-
-    Parameters
-    ----------
-    aoa, aos : float or array_like
-        Angle of attack and sideslip [rad] (broadcast together).
-
-    Returns
-    -------
-    ndarray, shape (..., 3)
-        u_G = (-cos a cos b, sin b, sin a cos b).
-    """
+    """u_G = (-cos a cos b, sin b, sin a cos b), shape (..., 3), of aoa, aos [rad] broadcast."""
     if np.ndim(aoa) == 0 and np.ndim(aos) == 0:
         ca, sa, cb, sb = math.cos(aoa), math.sin(aoa), math.cos(aos), math.sin(aos)
         return np.array([-ca * cb, sb, sa * cb])
@@ -100,27 +77,8 @@ def flow_direction(aoa, aos):
 
 
 def attitude_flow(aoa=None, aos=None, direction=None) -> tuple:
-    """The flow ``(u, angles)`` of an attitude given by angles or by the flow direction.
-
-    Parameters
-    ----------
-    aoa, aos : float, optional
-        Angle of attack and sideslip [rad], finite (each 0 if not given).
-    direction : array_like, shape (3,), optional
-        Direction of the gas motion relative to the body in G, instead of the angles.
-
-    Returns
-    -------
-    u : ndarray, shape (3,)
-        Unit flow direction in G.
-    angles : tuple of 2 floats or None
-        (aoa, aos) as given, or None for a flow direction.
-
-    Raises
-    ------
-    ValueError
-        Both angles and a direction, a non-finite angle, or a direction that is no vector.
-    """
+    """``(u_G, (aoa, aos) or None)`` of angles [rad] (each 0 if not given) or a ``direction``
+    of the gas in G; ValueError for both, a non-finite angle, or no vector."""
     if direction is not None:
         if aoa is not None or aos is not None:
             raise ValueError("give either aoa/aos or flow_direction, not both")
@@ -133,17 +91,9 @@ def attitude_flow(aoa=None, aos=None, direction=None) -> tuple:
 
 
 def angles_of_flow(u_G):
-    """Angle of attack and sideslip [rad] of a gas-flow direction given in G.
+    """aoa in (-pi, pi] and aos in [-pi/2, pi/2] [rad] of gas directions ``u_G`` (..., 3).
 
-    Parameters
-    ----------
-    u_G : array_like, shape (..., 3)
-        Direction of the gas motion relative to the body (need not be unit length).
-
-    Returns
-    -------
-    aoa, aos : ndarray
-        aoa in (-pi, pi], aos in [-pi/2, pi/2]; at aos = +/-90 deg aoa is 0.
+    At aos = +/-90 deg aoa is 0.
     """
     u = np.asarray(u_G, dtype=float)
     if u.shape == (3,):
@@ -159,13 +109,7 @@ def angles_of_flow(u_G):
 
 
 def body_to_wind(aoa, aos):
-    """DCM L_WB that maps B vectors to W (standard aerospace body-to-wind rotation).
-
-    Returns
-    -------
-    ndarray, shape (..., 3, 3)
-        [[ca cb, sb, sa cb], [-ca sb, cb, -sa sb], [-sa, 0, ca]].
-    """
+    """L_WB, B to W: [[ca cb, sb, sa cb], [-ca sb, cb, -sa sb], [-sa, 0, ca]], (..., 3, 3)."""
     if np.ndim(aoa) == 0 and np.ndim(aos) == 0:  # one attitude: skip the array machinery
         ca, sa, cb, sb = math.cos(aoa), math.sin(aoa), math.cos(aos), math.sin(aos)
         return np.array([[ca * cb, sb, sa * cb], [-ca * sb, cb, -sa * sb], [-sa, 0.0, ca]])
@@ -190,17 +134,15 @@ def mesh_to_wind(aoa, aos):
 
 
 def quaternion_matrix(x: float, y: float, z: float, w: float) -> np.ndarray:
-    """Rotation matrix of a unit quaternion (x, y, z, w), ROS/Hamilton convention.
+    """R of a unit quaternion (x, y, z, w), ROS/Hamilton: ``R @ v_body`` in its frame.
 
-    ``R @ v_body`` gives the vector in the quaternion's frame; equals scipy's
-    ``Rotation.from_quat([x, y, z, w]).as_matrix()``, written out for the per-message path.
-    The caller normalises.
+    As scipy's ``Rotation.from_quat([x, y, z, w]).as_matrix()``; the caller normalises.
     """
     return np.array(quaternion_matrix_floats(x, y, z, w)).reshape(3, 3)
 
 
 def quaternion_matrix_floats(x: float, y: float, z: float, w: float) -> tuple:
-    """:func:`quaternion_matrix` as nine Python floats, row-major (for per-message float code)."""
+    """:func:`quaternion_matrix` as nine floats, row-major."""
     xx, yy, zz = x * x, y * y, z * z
     xy, xz, yz = x * y, x * z, y * z
     wx, wy, wz = w * x, w * y, w * z

@@ -1,9 +1,6 @@
-"""Mesh files to a PanelMesh: any format trimesh reads, .obj materials from ``usemtl`` groups.
+"""Mesh files, bundled bodies by name and trimesh meshes to a checked PanelMesh.
 
-:func:`load_mesh` reads a file (via :mod:`adbsat_ros.geometry.mesh_files`), :func:`resolve_mesh`
-also accepts bundled bodies by name, :func:`panels_from_trimesh` converts a ``trimesh.Trimesh``.
-Checked meshes are kept in :mod:`adbsat_ros.geometry.mesh_store`. trimesh and yourdfpy are
-imported only when a file is parsed (command line start-up, docs/benchmarks.md).
+trimesh and yourdfpy are imported only when a file is parsed (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -58,30 +55,28 @@ def load_mesh(
     Parameters
     ----------
     path : str or os.PathLike
-        Mesh file in any format trimesh reads (.obj, .stl, .ply, .off, .glb, ...).
+        Mesh file in any format trimesh reads (.obj with ``usemtl`` materials, .stl, .ply, ...).
     scale : float
-        Factor applied to all coordinates to get metres (e.g. 1e-3 for CAD in millimetres).
+        Factor to metres (e.g. 1e-3 for CAD in millimetres).
     fix_normals : bool
-        Flip closed bodies whose faces point inwards (negative signed volume), with a warning.
+        Flip closed bodies whose faces point inwards, with a warning.
     accept_size : bool
-        Take a mesh of scale 1 whose size is no satellite's (``mesh_extent`` of
-        :data:`adbsat_ros.bounds.BOUNDS`: 1 mm to 200 m across), otherwise refused.
+        Take a mesh of scale 1 outside ``mesh_extent`` of :data:`adbsat_ros.bounds.BOUNDS`
+        (1 mm to 200 m across), otherwise refused.
     store : MeshStore, "default" or None
-        Where the checked mesh is kept and read back from for a file of the same content; by
-        default the environment's cache directory (``MeshStore.resolve``); None for none.
+        Where checked meshes are kept by file content (default: ``MeshStore.resolve``).
 
     Returns
     -------
     PanelMesh
-        Panels in the file's coordinate frame, scaled to metres.
+        Panels in the file's frame, in metres.
 
     Raises
     ------
     MeshError
-        Missing or unreadable file, a directory, a line that cannot be read whole (naming it), no
-        faces, NaN/Inf vertices or a coordinate beyond ``mesh_coordinate`` of
-        :data:`adbsat_ros.bounds.BOUNDS`, no usable face, or a size that is no satellite's
-        (naming the likely unit).
+        A missing, unreadable or bad file (naming the line), no usable face, a coordinate beyond
+        ``mesh_coordinate`` of :data:`adbsat_ros.bounds.BOUNDS`, or a size that is no
+        satellite's (naming the likely unit).
     """
     path = os.fspath(path)
     if not math.isfinite(scale) or scale <= 0:
@@ -120,25 +115,10 @@ def _parse(path: str, scale: float, fix_normals: bool) -> PanelMesh:
 
 
 def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) -> PanelMesh:
-    """A checked :class:`PanelMesh` of a trimesh.Trimesh (one material, ``"default"``).
+    """A checked :class:`PanelMesh` of a trimesh.Trimesh [m] (one material, ``"default"``).
 
-    Parameters
-    ----------
-    mesh : trimesh.Trimesh
-        Triangles in metres; the winding sets the outward normal (right-hand rule).
-    source : str
-        Name used in messages.
-    **kwargs
-        ``fix_normals`` etc., as :func:`adbsat_ros.geometry.mesh.panels_from_arrays`.
-
-    Returns
-    -------
-    PanelMesh
-
-    Raises
-    ------
-    MeshError
-        As :func:`adbsat_ros.geometry.mesh.panels_from_arrays`.
+    ``source`` names it in messages; ``**kwargs`` and MeshError as
+    :func:`adbsat_ros.geometry.mesh.panels_from_arrays`.
     """
     return panels_from_arrays(mesh.vertices, mesh.faces, source=source, **kwargs)
 
@@ -162,15 +142,10 @@ def articulated_body(spec, accept_size: bool = False) -> ArticulatedBody:
 
 
 def resolve_mesh(spec, scale: float = 1.0, accept_size: bool = False) -> PanelMesh:
-    """A PanelMesh from a file path or a bundled body's name.
+    """A PanelMesh of a file path or a bundled body's name (URDFs at zero joint positions).
 
-    Bundled: ``"example"``, :data:`~adbsat_ros.geometry.concave_bodies.CONCAVE_BODIES`, and URDFs
-    (a ``.urdf`` file, ``example-articulated``, ``example-finned``) at zero joint positions.
-
-    Raises
-    ------
-    MeshError
-        As :func:`load_mesh`, or a ``scale`` other than 1 with a bundled body or a URDF.
+    Raises MeshError as :func:`load_mesh`, or for a ``scale`` other than 1 with a bundled body
+    or a URDF.
     """
     name = str(spec)
     if name == EXAMPLE_MESH_NAME or name in CONCAVE_BODIES or is_urdf(name):

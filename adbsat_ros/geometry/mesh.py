@@ -1,9 +1,6 @@
-"""Triangulated satellite surface: the panels, their checks and per-panel geometry.
+"""Triangulated satellite surface: :class:`PanelMesh` (mesh frame G, metres) and its checks.
 
-A :class:`PanelMesh` holds every panel's vertices, outward unit normal, area, barycentre and
-material as contiguous float64 arrays, mesh frame G, metres. :func:`panels_from_arrays` builds
-and checks one; a :class:`MeshError` names the input and the problem. trimesh is imported only
-when a mesh is checked (docs/benchmarks.md).
+trimesh is imported only when a mesh is checked (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -36,21 +33,9 @@ class MeshError(ValueError):
 
 @dataclass(frozen=True)
 class MeshReport:
-    """What the loader found and changed.
-
-    Attributes
-    ----------
-    dropped_zero_area : int
-        Faces removed because their area was zero.
-    flipped_components : int
-        Closed components whose faces pointed inwards, flipped outwards.
-    open_components : int
-        Components not closed: they occlude from both sides when shading.
-    watertight : bool
-        True if every component is closed and consistently wound.
-    convex : bool
-        True if the mesh is one closed convex body (it then never shades itself).
-    """
+    """What the loader found and changed: faces of zero area dropped, inward closed components
+    flipped, open components (they occlude from both sides), whether every component is closed
+    and consistently wound, whether it is one closed convex body (never shading itself)."""
 
     dropped_zero_area: int = 0
     flipped_components: int = 0
@@ -67,7 +52,7 @@ class PanelMesh:
     Attributes
     ----------
     vertices : ndarray, shape (N, 3, 3)
-        Corner coordinates of each panel [m]; ``vertices[i, k]`` is corner k of panel i.
+        Corners [m]; ``vertices[i, k]`` is corner k of panel i.
     normals : ndarray, shape (N, 3)
         Outward unit normals, n = (P2 - P1) x (P3 - P1) / |...|.
     areas : ndarray, shape (N,)
@@ -75,13 +60,9 @@ class PanelMesh:
     barycentres : ndarray, shape (N, 3)
         Panel centroids [m].
     material_index : ndarray of int, shape (N,)
-        Index into ``material_names`` for each panel.
-    material_names : tuple of str
-        Names of the materials, in order of first appearance.
-    report : MeshReport
-        What loading found and changed.
+        Index into ``material_names`` (in order of first appearance).
     source : str
-        Where the mesh came from (a path, or a description).
+        A path, or a description, for messages.
     """
 
     vertices: np.ndarray
@@ -105,7 +86,7 @@ class PanelMesh:
 
     @property
     def x_extent(self) -> float:
-        """max x - min x over all vertices [m] (ADBSat's reference length)."""
+        """max x - min x of the vertices [m] (ADBSat's reference length)."""
         x = self.vertices[:, :, 0]
         return float(x.max() - x.min())
 
@@ -153,7 +134,7 @@ def panels_from_arrays(
     source="<array>",
     fix_normals=True,
 ) -> PanelMesh:
-    """Build a checked :class:`PanelMesh` from vertex and face arrays.
+    """A checked :class:`PanelMesh` of vertex and face arrays.
 
     Parameters
     ----------
@@ -162,13 +143,16 @@ def panels_from_arrays(
     faces : array_like of int, shape (N, 3)
         Vertex indices of each triangle; the winding sets the normal (right-hand rule).
     material_index : array_like of int, shape (N,), optional
-        Material of each face (index into ``material_names``); default all 0.
+        Index into ``material_names`` of each face; default all 0.
     material_names : sequence of str
-        Material names.
     source : str
         Name used in messages.
     fix_normals : bool
-        Flip closed components with negative signed volume so normals point outwards.
+        Flip closed components of negative signed volume outwards.
+
+    Returns
+    -------
+    PanelMesh
 
     Raises
     ------
@@ -283,10 +267,7 @@ def panels_from_arrays(
 
 
 def triangle_geometry(tri: np.ndarray) -> tuple:
-    """Unit normals, areas [m^2] and barycentres [m] of triangles ``tri`` (N, 3, 3) [m].
-
-    Normals n = e1 x e2 / |e1 x e2| (e1 = p1 - p0, e2 = p2 - p0), counter-clockwise winding.
-    """
+    """Unit normals (right-hand rule), areas [m^2] and barycentres [m] of triangles (N, 3, 3)."""
     t = np.asarray(tri, dtype=float)
     c = cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
     double_area = np.linalg.norm(c, axis=1)

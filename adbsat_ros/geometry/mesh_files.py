@@ -1,10 +1,8 @@
-"""Mesh files read whole: their text decoded, every vertex and face line read or refused.
+"""Mesh files read whole: .obj and .off here, every line read or refused; others by trimesh.
 
 trimesh's .obj and .off readers silently skip lines they do not expect (a byte-order mark, an
-indented ``v``, a two-number vertex), giving wrong coefficients and no error; these two formats
-are read here line by line, refusing a line with a :class:`~adbsat_ros.geometry.mesh.MeshError`
-that names it. Other formats are read by trimesh. Text: a byte-order mark selects UTF-8 or
-UTF-16, else UTF-8; ``#`` starts a comment. Polygons become fans (0, k, k + 1), in file order.
+indented ``v``), giving wrong numbers and no error. A byte-order mark selects UTF-8 or UTF-16,
+else UTF-8; polygons become fans (0, k, k + 1).
 """
 
 from __future__ import annotations
@@ -57,13 +55,8 @@ def check_mesh_path(path: str) -> None:
 
 
 def decode_text(data: bytes, source: str) -> str:
-    """The text of a mesh file's bytes, its byte-order mark handled.
-
-    Raises
-    ------
-    MeshError
-        Bytes that are not the text their byte-order mark says, or a NUL character.
-    """
+    """The text of a mesh file's bytes; MeshError for bytes not of their byte-order mark's
+    encoding, or a NUL character."""
     for mark, encoding in BYTE_ORDER_MARKS:
         if data.startswith(mark):
             try:
@@ -141,15 +134,8 @@ def _fan(corners: list) -> list:
 def read_obj(text: str, source: str) -> MeshArrays:
     """The vertices, triangles and ``usemtl`` materials of a Wavefront OBJ's text.
 
-    ``v`` vertices, ``f`` faces of ``i``, ``i/t``, ``i//n`` or ``i/t/n`` corners (from 1, or
-    negative), ``usemtl NAME`` (faces before the first: ``default``); :data:`OBJ_PASSED_OVER`
-    passed over, anything else refused. Plain files are converted all at once; any other is read by
-    :func:`read_obj_by_line`, the reference, which names the line.
-
-    Raises
-    ------
-    MeshError
-        A line that cannot be read whole, naming ``source`` and the line.
+    Plain files are converted all at once, others by :func:`read_obj_by_line`, the reference,
+    which names a line it cannot read whole (MeshError).
     """
     arrays = None if "\\" in text else _obj_arrays(text)
     return arrays if arrays is not None else read_obj_by_line(text, source)
@@ -276,15 +262,8 @@ def _obj_corner(ref: str, n_vertices: int, source: str, line: int) -> int:
 
 
 def read_off(text: str, source: str) -> MeshArrays:
-    """The vertices and triangles of an Object File Format text.
-
-    ``[ST][C][N]OFF``, counts ``V F [E]``, V vertex lines, F face lines ``k i1 .. ik`` (from 0).
-
-    Raises
-    ------
-    MeshError
-        A line that cannot be read whole, or counts the lines do not match, naming the line.
-    """
+    """The vertices and triangles of an OFF text; MeshError naming a line it cannot read whole
+    or counts the lines do not match."""
     statements = _statements(text)
     number, line = next(statements, (1, ""))
     keyword, *counts = line.split()
@@ -359,13 +338,7 @@ TEXT_READERS = {".obj": read_obj, ".off": read_off}
 
 
 def read_mesh_file(path) -> MeshArrays:
-    """What the mesh file ``path`` holds: .obj and .off read here, other formats by trimesh.
-
-    Raises
-    ------
-    MeshError
-        Not a file, unreadable, a line that cannot be read whole, or no faces, naming the file.
-    """
+    """The arrays of the mesh file ``path``; MeshError naming it if unreadable or faceless."""
     path = os.fspath(path)
     check_mesh_path(path)
     suffix = os.path.splitext(path)[1].lower()

@@ -1,10 +1,7 @@
 """Checked meshes kept on disk by their file's content, read back instead of parsed again.
 
-Key: SHA-256 of the file's bytes, suffix, scale, ``fix_normals``, format and code fingerprint
-(:func:`~adbsat_ros.npz_store.code_fingerprint`). Value: the PanelMesh arrays, names, report.
-Bound: 64 most recently used entries; counters ``hits``, ``misses``, ``writes``. In
-``$ADBSAT_ROS_CACHE_DIR/meshes`` (default ``~/.cache/adbsat_ros/meshes``; ``off``: none); a store
-that cannot be written or read is passed over (docs/architecture.md).
+Key: SHA-256 of the file's bytes, suffix, scale, ``fix_normals`` and code fingerprint; bound:
+64 entries; in ``$ADBSAT_ROS_CACHE_DIR/meshes`` (docs/architecture.md).
 """
 
 from __future__ import annotations

@@ -1,8 +1,6 @@
-"""The joint tree of a URDF and the poses of its links at a joint configuration.
+"""A URDF's joint tree and its links' poses by yourdfpy's forward kinematics.
 
-:class:`JointTree` checks once that the links form one tree, then poses them with yourdfpy's
-forward kinematics (``URDF.update_cfg``, ``URDF.get_transform``); :func:`link_frames` gives the
-links' rotations and origins and the joints' axes. Units: metres, radians; G = root link frame.
+Units: metres, radians; G = root link frame.
 """
 
 from __future__ import annotations
@@ -35,24 +33,10 @@ class Joint:
 
 
 class JointTree:
-    """The links and joints of a URDF, checked to form one tree, posed by yourdfpy.
+    """The links (URDF order) and moving joints of a URDF, checked to form one tree.
 
-    Attributes
-    ----------
-    root : str
-        The root link, whose frame is the body frame G.
-    links : tuple of str
-        Link names, in the URDF's order (the order of :meth:`poses`).
-    joints : dict of str to Joint
-        The joints that move (revolute, continuous, prismatic; not mimic ones), by name.
-    all_joint_names : tuple of str
-        Every joint of the URDF, fixed and mimic ones included.
-
-    Raises
-    ------
-    MeshError
-        Naming ``source``: links not one tree, an unsupported joint type, a moving joint's axis of
-        no direction, or a mimic joint that follows no moving joint.
+    Raises MeshError naming ``source``: not one tree, an unsupported joint type, an axis of no
+    direction, or a mimic joint that follows no moving joint.
     """
 
     def __init__(self, urdf: yourdfpy.URDF, source: str):
@@ -129,21 +113,8 @@ class JointTree:
 
 
 class Poses(NamedTuple):
-    """Link and joint frames in the body frame G at one configuration.
-
-    Attributes
-    ----------
-    key : tuple of float
-        The joint positions, in the body's joint order.
-    rotations : ndarray, shape (L, 3, 3)
-        Rotation of every link's frame into G.
-    origins : ndarray, shape (L, 3)
-        Every link's origin in G [m].
-    joint_axes : ndarray, shape (J, 3)
-        Unit axis of every moving joint in G.
-    joint_origins : ndarray, shape (J, 3)
-        Where each joint's axis passes (its child link's origin) [m].
-    """
+    """Link and joint frames in G at joint positions ``key``: link rotations (L, 3, 3) and
+    origins [m], unit joint axes (J, 3) and the points they pass (child link origins) [m]."""
 
     key: tuple
     rotations: np.ndarray

@@ -1,8 +1,4 @@
-"""Closed shapes with regular face grids, and parts joined into one checked mesh [m, frame G].
-
-:func:`grid_box` makes a box of regular face grids, :func:`combine` joins parts, each with its
-material, into one :class:`~adbsat_ros.geometry.mesh.PanelMesh`.
-"""
+"""Boxes of regular face grids, and parts joined into one checked mesh [m, frame G]."""
 
 from __future__ import annotations
 
@@ -12,17 +8,8 @@ from adbsat_ros.geometry.mesh import PanelMesh, panels_from_arrays
 
 
 def grid_box(center, size, divisions):
-    """Vertices (V, 3) [m] and faces (F, 3) of a closed box of regular face grids, wound outwards.
-
-    Parameters
-    ----------
-    center : array_like, shape (3,)
-        Box centre [m].
-    size : array_like, shape (3,)
-        Edge lengths along x, y, z [m].
-    divisions : sequence of 3 int
-        Grid cells along x, y, z; each cell is two triangles.
-    """
+    """Vertices (V, 3) [m] and outward faces (F, 3) of a closed box at ``center`` [m] of
+    ``size`` [m] with ``divisions`` cells (two triangles each) along x, y, z."""
     center = np.asarray(center, float)
     size = np.asarray(size, float)
     verts, faces, off = [], [], 0
@@ -53,18 +40,10 @@ def grid_box(center, size, divisions):
 
 
 def combine(parts, source: str = "scene", part_materials=None, material_names=None) -> PanelMesh:
-    """One checked PanelMesh from several (vertices, faces) parts.
+    """One checked PanelMesh of (vertices [m], faces) ``parts``, face indices local to each.
 
-    Parameters
-    ----------
-    parts : sequence of (vertices (V, 3), faces (F, 3))
-        The parts [m]; face indices are local to each part.
-    source : str
-        Name used in messages.
-    part_materials : sequence of str, optional
-        Material name of each part (default: every part ``"default"``).
-    material_names : sequence of str, optional
-        Order of the material names (default: order of first appearance).
+    ``part_materials``: each part's material (default ``"default"``); ``material_names``: their
+    order (default: of first appearance).
     """
     parts = list(parts)
     if part_materials is None:

@@ -9,7 +9,7 @@ import pytest
 from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
 from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
 from adbsat_ros.environment.flight_conditions import flight_conditions
-from adbsat_ros.environment.geodetic import geodetic_of_floats, geodetic_to_ecef
+from adbsat_ros.environment.geodetic import ecef_to_geodetic, geodetic_to_ecef
 from adbsat_ros.environment.interpolation import interpolated_flight_conditions
 from adbsat_ros.environment.knots import (
     KNOT_LOOKAHEAD,
@@ -155,8 +155,8 @@ def test_interpolated_conditions_agree_with_themselves_to_the_last_bit():
             assert (
                 atmosphere.number_densities[name] == mixed + f * b.atmosphere.number_densities[name]
             )
-        assert (first.latitude, first.longitude, first.altitude) == geodetic_of_floats(
-            *first.position_ecef.tolist()
+        assert (first.latitude, first.longitude, first.altitude) == ecef_to_geodetic(
+            first.position_ecef
         )
         for name in VECTORS:
             vector = getattr(first, name)
