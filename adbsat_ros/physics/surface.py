@@ -1,8 +1,4 @@
-"""Surface (material) properties that the gas-surface and radiation models read.
-
-:class:`SurfaceProperties` is one material's accommodation, wall temperature and optical
-properties; :class:`MaterialTable` maps material names to them, expanded per panel once.
-"""
+"""Surface (material) properties that the gas-surface and radiation models read, by material."""
 
 from __future__ import annotations
 
@@ -91,11 +87,7 @@ class SurfaceProperties:
 
 
 class PanelSurface:
-    """Per-panel surface parameters: each attribute is a float (uniform) or an (N,) array.
-
-    Built by :meth:`MaterialTable.expand`; the models read ``alpha``, ``alpha_n``, ``sigma_n``,
-    ``sigma_t``, ``wall_temperature``, ``specular_reflectivity``, ``diffuse_reflectivity``.
-    """
+    """Per-panel :class:`SurfaceProperties` fields: each a float (uniform) or an (N,) array."""
 
     __slots__ = SURFACE_PARAMETERS
 
@@ -133,13 +125,8 @@ class MaterialTable:
 
     @classmethod
     def from_texts(cls, default: SurfaceProperties, override_texts) -> "MaterialTable":
-        """A table from default properties and ``NAME:key=value[,key=value]`` override texts.
-
-        Raises
-        ------
-        ValueError
-            Naming the material and the bad item.
-        """
+        """A table from default properties and ``NAME:key=value[,key=value]`` override texts;
+        ValueError naming the material and the bad item."""
         return cls(default, dict(parse_material_override(text) for text in override_texts))
 
     def properties(self, name: str) -> SurfaceProperties:
@@ -151,13 +138,8 @@ class MaterialTable:
         return sorted(set(self.materials) - set(mesh_material_names))
 
     def expand(self, material_names, material_index) -> PanelSurface:
-        """Per-panel parameters for a mesh: scalars where uniform over the panels, else arrays.
-
-        Raises
-        ------
-        ValueError
-            If the table names a material the mesh does not have (a typo).
-        """
+        """Per-panel parameters for a mesh (scalars where uniform); ValueError if the table names a
+        material the mesh does not have."""
         unknown = self.check_names(material_names)
         if unknown:
             raise ValueError(

@@ -1,9 +1,7 @@
 """Cells of the sphere of flow directions: an equi-angular cube map (the shading cache's keys).
 
-A direction u (mesh frame G, any length) maps to the cube face it points through and two angles
-atan(u_a / |u_k|), atan(u_b / |u_k|) in [-45, 45] deg, each cut into n steps: cells of similar
-size (within ~1.4) with no pole, every direction within one step of its cell centre (proof in
-docs/shading.md, "Cache").
+A direction (mesh frame G, any length) maps to its cube face and two angles in [-45, 45] deg, each
+cut into n steps (docs/shading.md, "Cache").
 """
 
 from __future__ import annotations
@@ -16,11 +14,8 @@ _QUARTER = 0.25 * math.pi
 
 
 def cells_per_edge(resolution_deg: float) -> int:
-    """The smallest odd n >= 90 / resolution_deg of angular steps along a face edge.
-
-    With n odd the six axis directions are cell centres: a body flying along an axis stays in one
-    cell instead of switching between four with every rounding of the flow direction.
-    """
+    """The smallest odd n >= 90 / resolution_deg of angular steps along a face edge (odd: the six
+    axis directions are cell centres, so flight along an axis stays in one cell)."""
     resolution_deg = float(resolution_deg)
     if not (math.isfinite(resolution_deg) and 0.0 < resolution_deg <= 90.0):
         raise ValueError(f"resolution_deg must be in (0, 90], got {resolution_deg!r}")

@@ -1,11 +1,7 @@
-"""The test-particle Monte Carlo solver beside the panel method.
-
-:class:`TestParticleMethod` takes what :class:`~adbsat_ros.physics.panel_method.PanelMethod`
-takes and returns the same coefficients with a standard error each
-(:class:`~.results.TpmcCoefficients`). C_F = R / (rho/n V^2 A_ref / 2) mean_p(m_p dv_p); the
-run stops at a particle budget or, after whole blocks of :data:`BLOCK_BATCHES` batches, at a
-relative tolerance on C_D, so a seed gives the same numbers with any number of workers
-(docs/physics.md, section 12). Units: SI, mesh frame G; angles in radians.
+"""The test-particle Monte Carlo solver beside the panel method: the same inputs, the same
+coefficients with a standard error each. A run stops at a particle budget or, after whole blocks
+of :data:`BLOCK_BATCHES` batches, at a tolerance on C_D, so a seed gives the same numbers with any
+number of workers (docs/physics.md, section 12). Units: SI, mesh frame G; angles in radians.
 """
 
 from __future__ import annotations
@@ -45,15 +41,13 @@ class TestParticleMethod:
     Parameters
     ----------
     mesh : PanelMesh
-        The satellite surface (closed bodies and thin open plates alike; a molecule is
-        re-emitted into the side it came from).
+        Closed bodies and thin open plates alike.
     model : str
-        Gas-surface model: sentman or dria (diffuse re-emission with energy accommodation),
-        maxwell or cll (:data:`~.kernels.KERNEL_OF_MODEL`).
+        sentman, dria, maxwell or cll (:data:`~.kernels.KERNEL_OF_MODEL`).
     materials : MaterialTable or SurfaceProperties, optional
-        Surface properties by material (default: full accommodation, T_w = 300 K).
+        Default: full accommodation, T_w = 300 K.
     reference : Reference, optional
-        Reference area, length and moment point (default as the panel method's).
+        Default as the panel method's.
     backend : {"auto", "embree", "numpy"}
         Ray casting (:func:`adbsat_ros.shading.rays.ray_scene`).
     margin : float
@@ -131,12 +125,9 @@ class TestParticleMethod:
 
         Parameters
         ----------
-        flow : FreeStream
-            Free-stream gas; with a composition each species enters by its own flux.
-        aoa, aos : float, optional
-            Angle of attack and sideslip [rad] (frames module conventions).
-        flow_direction : array_like, shape (3,), optional
-            Direction of the gas motion relative to the body in G, instead of the angles.
+        flow, aoa, aos, flow_direction
+            As :meth:`PanelMethod.coefficients` (angles [rad], direction in G); with a
+            composition each species enters by its own flux.
         particles : int, optional
             Most molecules to trace, >= 1 (default :data:`DEFAULT_PARTICLES`, or 100 times that
             with a tolerance); rounded up to whole batches.
@@ -149,9 +140,8 @@ class TestParticleMethod:
         progress : callable, optional
             Called with the molecules traced so far after every block.
         stop : threading.Event, optional
-            Checked after every block: once set, the run ends there and its result, from the
-            molecules traced so far, says so (``stopped``); the same seed and block count give
-            the same numbers as an uninterrupted run of that length.
+            Checked after every block: once set, the run ends there (``stopped``) with the
+            numbers of an uninterrupted run of that length.
         """
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         budget, tol = run_settings(particles, tolerance, seed)
