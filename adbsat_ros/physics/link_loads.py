@@ -19,15 +19,8 @@ class EffortColumns:
 
     The effort of joint j (unit axis a through o) is the sum over the facets g it carries of
     q_g u . V_g + k_g s_g: a . (M - o x F) if it turns, a . F if it slides. V and s depend on the
-    configuration and lighting only, so they are posed with the sums.
-
-    Parameters
-    ----------
-    carries : ndarray, shape (J, L)
-        1 where joint j carries evaluated link l.
-    prismatic : ndarray of bool, shape (J,)
-    area, length : float
-        A_ref [m^2] and L_ref [m].
+    configuration and lighting only, so they are posed with the sums. ``carries`` (J, L): 1 where
+    joint j carries evaluated link l; ``area`` A_ref [m^2], ``length`` L_ref [m].
     """
 
     def __init__(self, carries, prismatic, area: float, length: float):
@@ -66,19 +59,9 @@ class EffortColumns:
 
 class LinkLoads:
     """Every link's force and moment and every joint's effort coefficient, computed when first read
-    (it pickles).
-
-    Parameters
-    ----------
-    configuration : Configuration
-        Its ``load_map`` (R, 7 E) takes the E evaluated links' loads to every output.
-    forces, moments, efforts : slice
-        The load map's rows of each.
-    n_links : int
-    loads : ndarray, shape (7 E,), optional
-        The evaluated links' loads; else computed from ``facets``.
-    facets : tuple, optional
-        ``(rows, sums, starts, u)``: facet rows, ``PosedSums``, each link's first facet, flow.
+    (it pickles). ``configuration.load_map`` (R, 7 E) takes the E evaluated links' ``loads``
+    (else computed from ``facets``, ``(rows, PosedSums, starts, u)``) to every output; ``forces``,
+    ``moments``, ``efforts`` are its rows of each.
     """
 
     def __init__(self, configuration, forces, moments, efforts, n_links, loads=None, facets=None):

@@ -140,22 +140,9 @@ def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
 
 
 class CandidateFilter:
-    """Connected components, hull faces and the filter of panels that could be shaded.
-
-    Parameters
-    ----------
-    mesh : PanelMesh
-        Panels [m], mesh frame G.
-    diagonal : float, optional
-        Bounding-box diagonal [m] (scale of the hull tolerance); needed without ``topology``.
-    topology : MeshTopology, optional
-        The mesh's topology, made before.
-
-    Attributes
-    ----------
-    convex : ndarray of bool, shape (n_components,)
-        Closed convex components: they cast a convex shadow.
-    """
+    """Connected components, hull faces and the filter of panels that could be shaded; ``diagonal``
+    [m] (the hull tolerance's scale) is needed without ``topology``; ``convex`` (n_components,)
+    marks the closed convex components (they cast a convex shadow)."""
 
     def __init__(
         self, mesh: PanelMesh, diagonal: float | None = None, topology: MeshTopology | None = None

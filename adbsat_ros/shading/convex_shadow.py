@@ -38,19 +38,8 @@ PLANE_DIGITS = 6
 
 
 class ConvexParts:
-    """The closed convex components of a mesh, for exact shadows.
-
-    Parameters
-    ----------
-    mesh : PanelMesh
-    candidate_filter : CandidateFilter
-    diagonal : float
-        The mesh's bounding-box diagonal [m] (scale of the tolerances).
-    graze_tol : float
-        The shader's grazing tolerance.
-    corners : dict, optional
-        Hull corners (h, 3) [m], G, of some components, made before.
-    """
+    """The closed convex components of a mesh, for exact shadows; ``diagonal`` [m] scales the
+    tolerances; ``corners``: hull corners (h, 3) [m], G, of some components, made before."""
 
     def __init__(
         self, mesh: PanelMesh, candidate_filter, diagonal: float, graze_tol: float, corners=None

@@ -17,13 +17,7 @@ from adbsat_ros.shading.rays import RayScene, ray_scene, resolve_backend
 
 
 class LinkScenes:
-    """Every link's merged vertices and topology, made once; the body's scene and filter per pose.
-
-    Parameters
-    ----------
-    body : ArticulatedBody
-    backend : {"auto", "embree", "numpy"}
-    """
+    """Every link's merged vertices and topology, made once; the scene and filter per pose."""
 
     def __init__(self, body: ArticulatedBody, backend: str = "auto"):
         self.backend = resolve_backend(backend)

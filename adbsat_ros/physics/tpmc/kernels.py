@@ -89,20 +89,11 @@ def cll(v, frame, mass, alpha_n, sigma_t, wall_temperature, rng) -> np.ndarray:
 
 
 def reemit(kernel: str, v, frame, mass, surface, rng) -> np.ndarray:
-    """Velocities [m/s] of the molecules leaving the panels they hit.
+    """Velocities (H, 3) [m/s] of the molecules leaving the panels they hit with ``v`` [m/s].
 
-    Parameters
-    ----------
-    kernel : {"diffuse", "maxwell", "cll"}
-    v : ndarray, shape (H, 3)
-        Incident velocities [m/s].
-    frame : tuple of 3 ndarrays, shape (H, 3) each
-        (n, t1, t2): unit normal of the side hit, into the gas, and two unit tangents.
-    mass : ndarray, shape (H,)
-        Molecular masses [kg].
-    surface : mapping of str to float or ndarray of shape (H,)
-        ``alpha``, ``alpha_n``, ``sigma_t`` and ``wall_temperature`` [K] at each hit.
-    rng : numpy.random.Generator
+    ``frame`` (n, t1, t2), (H, 3) each: the unit normal of the side hit, into the gas, and two unit
+    tangents; ``mass`` (H,) [kg]; ``surface``: ``alpha``, ``alpha_n``, ``sigma_t``,
+    ``wall_temperature`` [K], floats or (H,).
     """
     t_w = surface["wall_temperature"]
     if kernel == "diffuse":
