@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields, replace
 from typing import Mapping
 
 import numpy as np
+
+from adbsat_ros.validation import finite
 
 #: Names of the per-material parameters, in the order of :class:`SurfaceProperties`.
 SURFACE_PARAMETERS = (
@@ -53,14 +54,7 @@ class SurfaceProperties:
 
     def __post_init__(self):
         for f in fields(self):
-            value = getattr(self, f.name)
-            try:
-                value = float(value)
-            except (TypeError, ValueError):
-                raise ValueError(f"{f.name} must be a number, got {value!r}") from None
-            if not math.isfinite(value):
-                raise ValueError(f"{f.name} must be finite, got {value!r}")
-            object.__setattr__(self, f.name, value)
+            object.__setattr__(self, f.name, finite(f.name, getattr(self, f.name)))
         for name in (
             "alpha",
             "alpha_n",
@@ -122,6 +116,15 @@ class MaterialTable:
             elif not isinstance(props, SurfaceProperties):
                 raise TypeError(f"material {name!r}: expected SurfaceProperties or a dict")
             self.materials[str(name)] = props
+
+    @classmethod
+    def of(cls, materials) -> "MaterialTable":
+        """``materials`` as a table: None for the default, SurfaceProperties for every panel."""
+        if materials is None:
+            return cls()
+        if isinstance(materials, SurfaceProperties):
+            return cls(materials)
+        return materials
 
     @classmethod
     def from_texts(cls, default: SurfaceProperties, override_texts) -> "MaterialTable":

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from adbsat_ros.shading.cube_map import direction_key, direction_keys, key_centres
+from adbsat_ros.shading.cube_map import direction_key, direction_keys, face_axes, key_centres
 
 _QUARTER = 0.25 * math.pi
 
@@ -44,14 +44,7 @@ class CellTriangulation:
     def locate(self, x: float, y: float, z: float) -> tuple:
         """``(keys, weights)``: the three cell keys around the finite non-zero direction (x, y, z)
         and the weights (non-negative, sum 1) of their centres."""
-        ax, ay, az = abs(x), abs(y), abs(z)
-        # the face of direction_key: first axis of largest |u_k|, then the others cyclically
-        if ax >= ay and ax >= az:
-            face, ak, a1, a2 = (x < 0.0), ax, y, z
-        elif ay >= az:
-            face, ak, a1, a2 = 2 + (y < 0.0), ay, z, x
-        else:
-            face, ak, a1, a2 = 4 + (z < 0.0), az, x, y
+        face, ak, a1, a2 = face_axes(x, y, z)
         gx, gy = a1 / ak, a2 / ak
         tan, n = self._tan, self.n
         if n > 1 and tan[0] <= gx <= tan[-1] and tan[0] <= gy <= tan[-1]:

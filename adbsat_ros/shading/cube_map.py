@@ -45,16 +45,20 @@ def direction_keys(u, n: int) -> np.ndarray:
     return key[0] if single else key
 
 
+def face_axes(x: float, y: float, z: float) -> tuple:
+    """``(face, |u_k|, u_a, u_b)`` of one direction: k the first axis of largest |u_k| (as
+    np.argmax), a and b the two others in cyclic order."""
+    ax, ay, az = abs(x), abs(y), abs(z)
+    if ax >= ay and ax >= az:
+        return (x < 0.0), ax, y, z
+    if ay >= az:
+        return 2 + (y < 0.0), ay, z, x
+    return 4 + (z < 0.0), az, x, y
+
+
 def direction_key(x: float, y: float, z: float, n: int) -> int:
     """:func:`direction_keys` of one direction given as three floats (no numpy; tested equal)."""
-    ax, ay, az = abs(x), abs(y), abs(z)
-    # first axis of largest |u_k|, as np.argmax; then the two others in cyclic order
-    if ax >= ay and ax >= az:
-        face, ak, a1, a2 = (x < 0.0), ax, y, z
-    elif ay >= az:
-        face, ak, a1, a2 = 2 + (y < 0.0), ay, z, x
-    else:
-        face, ak, a1, a2 = 4 + (z < 0.0), az, x, y
+    face, ak, a1, a2 = face_axes(x, y, z)
     h = 0.5 * math.pi / n
     i = min(max(math.floor((math.atan2(a1, ak) + _QUARTER) / h), 0), n - 1)
     j = min(max(math.floor((math.atan2(a2, ak) + _QUARTER) / h), 0), n - 1)

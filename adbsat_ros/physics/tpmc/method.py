@@ -17,7 +17,7 @@ from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import canonical_model_name
-from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.physics.surface import MaterialTable
 from adbsat_ros.physics.tpmc.batches import BatchSums, Problem, init_worker, run_batch
 from adbsat_ros.physics.tpmc.inflow import InflowBox
 from adbsat_ros.physics.tpmc.kernels import KERNEL_OF_MODEL
@@ -73,11 +73,7 @@ class TestParticleMethod:
                 f"{', '.join(KERNEL_OF_MODEL)}"
             )
         self.kernel = KERNEL_OF_MODEL[self.model]
-        if materials is None:
-            materials = MaterialTable()
-        elif isinstance(materials, SurfaceProperties):
-            materials = MaterialTable(materials)
-        self.materials = materials
+        self.materials = materials = MaterialTable.of(materials)
         self.surface = materials.expand(mesh.material_names, mesh.material_index)
         self.reference = (reference or Reference()).resolved(mesh)
         self.backend = resolve_backend(backend)
@@ -149,11 +145,7 @@ class TestParticleMethod:
         problem = self.problem(flow, u)
         size = min(BATCH_SIZE, budget)
         total = _Totals(self.mesh.n_panels)
-        if workers == 1:
-            runner = _Serial(problem)
-        else:
-            runner = _Pool(problem, workers)
-        with runner:
+        with _Serial(problem) if workers == 1 else _Pool(problem, workers) as runner:
             k = 0
             while total.count < budget:
                 block = range(k, k + min(BLOCK_BATCHES, -(-(budget - total.count) // size)))
@@ -247,11 +239,16 @@ class _Totals:
         self.exit_momentum += b.exit_momentum
 
     @staticmethod
-    def scale(problem: Problem, flow: FreeStream, method) -> float:
-        """R / (rho/n V^2 A_ref / 2): from mean momentum per molecule to a force coefficient."""
+    def per_unit_q(problem: Problem, flow: FreeStream, area: float) -> float:
+        """rho/n V^2 A_ref / 2: a momentum flux per unit number density over this is a force
+        coefficient."""
         inflow = problem.inflow
         rho_over_n = float(inflow.mole_fractions @ inflow.masses)
-        return inflow.rate / (rho_over_n * 0.5 * flow.speed**2 * method.reference.area)
+        return rho_over_n * 0.5 * flow.speed**2 * area
+
+    def scale(self, problem: Problem, flow: FreeStream, method) -> float:
+        """R / (rho/n V^2 A_ref / 2): from mean momentum per molecule to a force coefficient."""
+        return problem.inflow.rate / self.per_unit_q(problem, flow, method.reference.area)
 
     def covariance(self, k: float, length: float) -> np.ndarray:
         n = self.count
@@ -289,9 +286,8 @@ class _Totals:
             )
         ctau = shear * ref.area / mesh.areas
         inflow = problem.inflow
-        rho_over_n = float(inflow.mole_fractions @ inflow.masses)
-        balance = (inflow.momentum_flux() - inflow.rate * self.exit_momentum / n) / (
-            rho_over_n * 0.5 * flow.speed**2 * ref.area
+        balance = (inflow.momentum_flux() - inflow.rate * self.exit_momentum / n) / self.per_unit_q(
+            problem, flow, ref.area
         )
         area = lit_projected_area(mesh, u, shade(mesh, u, "raycast", topology_store=None))
         return TpmcCoefficients(
