@@ -1,8 +1,5 @@
-"""Reference quantities and the result of the panel method: force and moment coefficients.
-
-:class:`Reference` holds A_ref [m^2], L_ref [m] and the moment point [m, mesh frame G];
-:class:`AeroCoefficients` the coefficients of one attitude in the mesh frame G, and on demand in
-ADBSat's wind, flight and body frames (:mod:`adbsat_ros.geometry.frames`).
+"""Reference quantities and the panel method's result: force and moment coefficients in the mesh
+frame G, and on demand in ADBSat's wind, flight and body frames (:mod:`adbsat_ros.geometry.frames`).
 """
 
 from __future__ import annotations
@@ -52,10 +49,8 @@ class Reference:
         object.__setattr__(self, "moment_point", tuple(float(v) for v in point))
 
     def resolved(self, mesh: PanelMesh, name: str = "moment_point") -> "Reference":
-        """A copy with the defaults filled in from ``mesh`` (a resolved one resolves to itself).
-
-        ValueError naming the moment point ``name`` unless it lies within ten body sizes of the
-        box of the mesh and its origin (:func:`adbsat_ros.bounds.body_point`).
+        """A copy with the defaults filled in from ``mesh``; ValueError naming ``name`` unless the
+        moment point lies within ten body sizes of the mesh (:func:`adbsat_ros.bounds.body_point`).
         """
         body_point(name, self.moment_point, *mesh.bounds.tolist())
         if self.length is None and not mesh.x_extent > 0.0:
@@ -71,25 +66,19 @@ class Reference:
 
 
 class AeroCoefficients:
-    """Aerodynamic coefficients of one attitude; the angles, other axes (``Cf_w``, ``Cm_w``,
-    ``Cf_f``, ``Cm_B``) and per-panel values (``cos_delta``, ``cp``, ``ctau``, ``lit_fraction``)
-    are properties computed on first access.
+    """Aerodynamic coefficients of one attitude; angles, other axes and per-panel values are
+    properties computed on first access.
 
     Attributes
     ----------
     flow_direction : ndarray, shape (3,)
         Unit vector of the gas motion relative to the body, mesh frame G.
-    Cf_G : ndarray, shape (3,)
-        Force coefficient in the mesh frame G.
-    Cm_G : ndarray, shape (3,)
-        Moment coefficient in G about ``reference.moment_point``.
+    Cf_G, Cm_G : ndarray, shape (3,)
+        Force and moment (about ``reference.moment_point``) coefficients in G.
     reference : Reference
-        A_ref [m^2], L_ref [m] and moment point [m] used.
     area_projected : float
-        Lit projected area normal to the flow, sum of f_i A_i cos(delta_i) over front faces [m^2]
-        (ADBSat ``AreaProj``).
+        Lit projected area normal to the flow [m^2] (ADBSat ``AreaProj``).
     model : str
-        Gas-surface model name.
     """
 
     def __init__(
@@ -241,11 +230,8 @@ class AeroCoefficients:
         return dynamic_pressure * self.reference.area * self.reference.length * self.Cm_G
 
     def to_dict(self, flow: FreeStream | None = None, per_panel: bool = False) -> dict:
-        """A JSON-ready dict with ADBSat's names (angles in degrees, vectors as lists).
-
-        With ``flow`` carrying a density, ``force_N`` and ``torque_Nm`` (mesh frame, about the
-        moment point) and ``dynamic_pressure_Pa`` are added.
-        """
+        """A JSON-ready dict with ADBSat's names (angles in degrees); with a ``flow`` density, also
+        ``force_N``, ``torque_Nm`` (G, about the moment point) and ``dynamic_pressure_Pa``."""
         out = {
             "aoa_deg": math.degrees(self.aoa),
             "aos_deg": math.degrees(self.aos),

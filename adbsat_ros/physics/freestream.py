@@ -57,7 +57,8 @@ def _checked_number_densities(number_densities: Mapping) -> list:
 
 @dataclass(frozen=True)
 class FreeStream:
-    """Free-stream state of the gas relative to the spacecraft (a frozen value).
+    """Free-stream state of the gas relative to the spacecraft (a frozen value); speed ratio
+    s = V / sqrt(2 k_B T_inf / m), number-weighted mean mass as ADBSat's ``environment.m``.
 
     Parameters
     ----------
@@ -66,32 +67,22 @@ class FreeStream:
     temperature : float
         Local (translational) gas temperature T_inf [K], > 0.
     number_densities : mapping of str to float, optional
-        Species number densities [m^-3], keys from :data:`adbsat_ros.physics.constants.SPECIES`
-        (``He O N2 O2 Ar H N AnO``), >= 0 and not all 0, kept in the order given. Needed by the
-        per-species models (``cll``, ``dria``); gives the mean molecular mass and, unless
-        ``density`` is given, the mass density.
+        Species number densities [m^-3] by :data:`~.constants.SPECIES` name, >= 0, not all 0;
+        needed by cll and dria.
     mean_mass_amu : float, optional
-        Mean molecular mass [amu] when no composition is given. Exactly one of
-        ``number_densities`` and ``mean_mass_amu`` must be given.
+        Mean molecular mass [amu]; exactly one of this and ``number_densities``.
     density : float, optional
-        Total mass density rho [kg/m^3], used only to turn coefficients into newtons. If omitted
-        and ``number_densities`` is given, it is the sum of n_j m_j.
+        Total mass density rho [kg/m^3] (default sum of n_j m_j), only for newtons.
 
     Attributes
     ----------
     mean_mass : float
-        Number-weighted mean molecular mass [kg], sum(n_j m_j) / sum(n_j) summed in species order
-        (equal to ``AtmosphereState.mean_mass`` of the same mixture), or ``mean_mass_amu`` in kg.
+        Number-weighted mean molecular mass [kg] (equal to ``AtmosphereState.mean_mass``).
 
     Raises
     ------
     ValueError
         Naming the input that is not allowed.
-
-    Notes
-    -----
-    The mean molecular mass is number-weighted as in ADBSat's ``environment.m``; the speed ratio is
-    s = V / sqrt(2 k_B T_inf / m).
     """
 
     speed: float

@@ -1,13 +1,9 @@
 """The registry of gas-surface interaction models: names, parameters, options.
 
-A model ``model(c, sigma, surface, flow, options) -> (c_p, c_tau)`` maps c = cos(delta) and
-sigma = sin(delta) (delta: angle between -n and the flow) to pressure and shear coefficients
-normalised by q = 0.5 rho V^2; the force on panel i is q A_i (c_tau t - c_p n). Inputs broadcast
-((N,) panels or (M, N)). Formulas, sources and the incident temperature T_i of sentman and dria
-(energy-flux m V^2 / (4 k_B) by default, kinetic m V^2 / (3 k_B) as an option): the family
-modules of :mod:`adbsat_ros.physics.models` and docs/physics.md, section 3. Families:
-hyperthermal newton, cook (Cook 1965), storch (Storch 2002); diffuse sentman (Sentman 1961),
-schaaf (Schaaf & Chambre 1961), dria; maxwell; cll (Walker et al. 2014 fits).
+A model ``model(c, sigma, surface, flow, options) -> (c_p, c_tau)`` maps c = cos(delta),
+sigma = sin(delta) to coefficients normalised by q = 0.5 rho V^2; the force on panel i is
+q A_i (c_tau t - c_p n). Formulas and sources: :mod:`adbsat_ros.physics.models` and
+docs/physics.md, section 3.
 """
 
 from __future__ import annotations
@@ -85,13 +81,8 @@ SPECIES_MODELS = ("cll", "dria")
 
 
 def get_model(name: str):
-    """The model function called ``name`` (case-insensitive; ``storchHyp`` = ``storch``).
-
-    Raises
-    ------
-    ValueError
-        For an unknown name, listing the known ones.
-    """
+    """The model function called ``name`` (case-insensitive; ``storchHyp`` = ``storch``); ValueError
+    listing the known ones for an unknown name."""
     key = str(name).lower()
     if key == "storchhyp":
         key = "storch"

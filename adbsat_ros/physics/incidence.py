@@ -12,23 +12,10 @@ NEAR_NORMAL_SINE = 1e-3
 
 
 def sine_of_incidence(u, normals, c) -> np.ndarray:
-    """sin(delta) of every panel, given c = cos(delta) = -u . n.
+    """sin(delta), shape of ``c`` (N,) or (M, N), of unit directions ``u`` and unit ``normals``.
 
-    sqrt(1 - c^2), except within NEAR_NORMAL_SINE of normal incidence, where 1 - c^2 cancels and
-    |u x n| is taken instead (the shear's direction divides by sin(delta)).
-
-    Parameters
-    ----------
-    u : ndarray, shape (3,) or (M, 3)
-        Unit flow direction(s).
-    normals : ndarray, shape (N, 3)
-        Unit panel normals (either orientation).
-    c : ndarray, shape (N,) or (M, N)
-        cos(delta) of every panel for every direction, within [-1, 1].
-
-    Returns
-    -------
-    ndarray, shape of ``c``
+    sqrt(1 - c^2), but |u x n| within NEAR_NORMAL_SINE of normal incidence, where 1 - c^2 cancels
+    (the shear's direction divides by sin(delta)).
     """
     sigma = np.sqrt(1.0 - c * c)
     near = sigma < NEAR_NORMAL_SINE

@@ -1,10 +1,8 @@
 """How rarefied the flow is: the mean free path of the gas and the Knudsen number of the body.
 
-The panel method assumes free-molecular flow, Kn = lambda / L >> 1 (in practice Kn > 10). The
-mean free path is the U.S. Standard Atmosphere 1976's (NOAA-S/T 76-1562, section 1.3.15), hard
-spheres of diameter sigma = 3.65e-10 m: lambda = 1 / (sqrt(2) pi sigma^2 n), n the total number
-density; within 20 % of Bird's mixture formula (1994, eq. 4.76) at 100-200 km. Formulas:
-docs/physics.md, section 11.
+The panel method assumes Kn = lambda / L >> 1. Mean free path of the U.S. Standard Atmosphere
+1976 (NOAA-S/T 76-1562, section 1.3.15); within 20 % of Bird (1994, eq. 4.76) at 100-200 km.
+Formulas: docs/physics.md, section 11.
 """
 
 from __future__ import annotations

@@ -17,23 +17,10 @@ from adbsat_ros.physics.facets import N_SUMS
 class EffortColumns:
     """The joints' effort terms as columns of the posed facet sums.
 
-    The effort coefficient of joint j (unit axis a through o, carrying links C_j) is the sum over
-    the facets g of C_j of q_g u . V_g + k_g s_g, with
-
-        revolute:  V_g = (a x Q_g - W_g (a x o)) / (A_ref L_ref),
-                   s_g = (a . (Q x n)_g - (a x o) . (W n)_g) / (A_ref L_ref);
-        prismatic: V_g = W_g a / A_ref,   s_g = a . (W n)_g / A_ref
-
-    (a . (M - o x F), or a . F, with F = q W u + k W n, M = q Q x u + k Q x n). V and s depend on
-    the configuration and lighting only, so they are posed with the sums.
-
-    Parameters
-    ----------
-    carries : ndarray, shape (J, L)
-        1 where joint j carries evaluated link l.
-    prismatic : ndarray of bool, shape (J,)
-    area, length : float
-        A_ref [m^2] and L_ref [m].
+    The effort of joint j (unit axis a through o) is the sum over the facets g it carries of
+    q_g u . V_g + k_g s_g: a . (M - o x F) if it turns, a . F if it slides. V and s depend on the
+    configuration and lighting only, so they are posed with the sums. ``carries`` (J, L): 1 where
+    joint j carries evaluated link l; ``area`` A_ref [m^2], ``length`` L_ref [m].
     """
 
     def __init__(self, carries, prismatic, area: float, length: float):
@@ -42,11 +29,7 @@ class EffortColumns:
         self.scale = np.where(self.prismatic, 1.0 / area, 1.0 / (area * length))
 
     def per_joint(self, poses) -> list:
-        """Each joint's ``(f, m)``: its effort of loads F, M (about G's origin) is f . F + m . M.
-
-        f = -(a x o) / (A_ref L_ref), m = a / (A_ref L_ref) if it turns; f = a / A_ref, m = 0 if it
-        slides.
-        """
+        """Each joint's ``(f, m)``: its effort of loads F, M (about G's origin) is f . F + m . M."""
         k = self.scale[:, None]
         axes = np.asarray(poses.joint_axes, dtype=float).reshape(-1, 3)
         origins = np.asarray(poses.joint_origins, dtype=float).reshape(-1, 3)
@@ -56,11 +39,8 @@ class EffortColumns:
         return [(tuple(fj), tuple(mj)) for fj, mj in zip(f.tolist(), m.tolist())]
 
     def matrix(self, poses) -> np.ndarray:
-        """The (10, 4 J) matrix from a facet's posed sums (W, W n, Q, Q x n) to the joints' V, s.
-
-        V = W f + m x Q, s = f . (W n) + m . (Q x n) (:meth:`per_joint`);
-        zero for links not carried.
-        """
+        """The (10, 4 J) matrix from a facet's posed sums (W, W n, Q, Q x n) to the joints' V, s:
+        V = W f + m x Q, s = f . (W n) + m . (Q x n)."""
         rows = [[] for _ in range(N_SUMS)]
         for (fx, fy, fz), (mx, my, mz) in self.per_joint(poses):
             block = [(fx, fy, fz, 0.0), (0, 0, 0, fx), (0, 0, 0, fy), (0, 0, 0, fz)]
@@ -79,22 +59,9 @@ class EffortColumns:
 
 class LinkLoads:
     """Every link's force and moment and every joint's effort coefficient, computed when first read
-    (it holds the evaluation's numbers only, and pickles).
-
-    Parameters
-    ----------
-    configuration : Configuration
-        The evaluation's; its ``load_map`` (R, 7 E) takes the E evaluated links' loads to every
-        output.
-    forces, moments, efforts : slice
-        The load map's rows of the links' forces and moments and the joints' efforts.
-    n_links : int
-        Links of the body (L).
-    loads : ndarray, shape (7 E,), optional
-        The evaluated links' loads, if known; else computed from ``facets``.
-    facets : tuple, optional
-        ``(rows, sums, starts, u)``: (3, G) facet rows, posed sums with effort columns
-        (``PosedSums``), each link's first facet, flow direction.
+    (it pickles). ``configuration.load_map`` (R, 7 E) takes the E evaluated links' ``loads``
+    (else computed from ``facets``, ``(rows, PosedSums, starts, u)``) to every output; ``forces``,
+    ``moments``, ``efforts`` are its rows of each.
     """
 
     def __init__(self, configuration, forces, moments, efforts, n_links, loads=None, facets=None):

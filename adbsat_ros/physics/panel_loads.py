@@ -1,9 +1,7 @@
 """Each panel's share of the load: its force and the point it acts at, summing to the totals.
 
-Per unit dynamic pressure and reference area (docs/physics.md, section 2, "Panel load and
-totals"): F_i = A_i f_i (-c_p,i n_i + c_tau,i t_i) / A_ref, t_i = (u + c_i n_i) / sin(delta_i),
-acting at the barycentre or the lit part's centroid. Sums: F = Cf_G and
-(r_i - r_ref) x F_i / L_ref = Cm_G, to rounding. Units: q A_ref, metres, mesh frame G.
+Formulas: docs/physics.md, section 2, "Panel load and totals". Units: q A_ref, metres, mesh
+frame G.
 """
 
 from __future__ import annotations
@@ -18,19 +16,8 @@ from adbsat_ros.physics.incidence import sine_of_incidence
 
 @dataclass(frozen=True)
 class PanelLoads:
-    """Force coefficient of every panel and where it acts.
-
-    Attributes
-    ----------
-    force : ndarray, shape (N, 3)
-        F_i / (q A_ref), mesh frame G.
-    point : ndarray, shape (N, 3)
-        Where it acts [m]: the barycentre, or the lit part's centroid.
-    reference_length : float
-        L_ref [m], for moment coefficients.
-    moment_point : ndarray, shape (3,)
-        The result's moment point [m].
-    """
+    """Force coefficient of every panel, F_i / (q A_ref) (N, 3) in G, and the ``point`` (N, 3) [m]
+    where it acts (barycentre or lit centroid); ``reference_length`` [m], ``moment_point`` [m]."""
 
     force: np.ndarray
     point: np.ndarray

@@ -35,7 +35,6 @@ from adbsat_ros.physics.surface import (
     SURFACE_PARAMETERS,
     MaterialTable,
     PanelSurface,
-    SurfaceProperties,
 )
 from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
@@ -94,11 +93,7 @@ class PanelMethod:
         self.model = canonical_model_name(model)
         self._model_fn = get_model(self.model)
         self._split = SPLIT_MODELS.get(self.model)  # (parameters, plate), or None
-        if materials is None:
-            materials = MaterialTable()
-        elif isinstance(materials, SurfaceProperties):
-            materials = MaterialTable(materials)
-        self.materials = materials
+        self.materials = materials = MaterialTable.of(materials)
         self.options = options or ModelOptions()
         self.reference = (reference or Reference()).resolved(mesh)
         self.surface = materials.expand(mesh.material_names, mesh.material_index)

@@ -1,12 +1,8 @@
 """Solar radiation pressure coefficients of the panel mesh (Luthcke et al. 1997 flat plate).
 
-For a panel lit at cos theta = c = -u_s . n (u_s: photons' direction, sun to satellite), with
-reflectivities rho_s, rho_d, the force per unit pressure P is (Montenbruck & Gill 2000, eq. 3.75)
-
-    F / (P A) = c [(1 - rho_s) u_s - 2 (rho_s c + rho_d / 3) n]
-
-ADBSat's c_n = 2 (c_D c / 3 + c_R c^2), c_s = (1 - c_R) c. Unlike ADBSat the sun direction is
-its own input and faces with c <= 0 get no force. Shading: a PanelLighting for the sun direction.
+F / (P A) = c [(1 - rho_s) u_s - 2 (rho_s c + rho_d / 3) n] (Montenbruck & Gill 2000, eq. 3.75);
+unlike ADBSat the sun direction is its own input and faces with c <= 0 get no force
+(docs/physics.md, section 7).
 """
 
 from __future__ import annotations
@@ -24,22 +20,11 @@ from adbsat_ros.shading.lighting import PanelLighting
 
 @dataclass(frozen=True, eq=False)
 class SolarCoefficients:
-    """Solar radiation pressure coefficients for one sun direction.
+    """Solar radiation pressure coefficients for one sun direction (unit, satellite to sun, G).
 
-    Attributes
-    ----------
-    sun_direction : ndarray, shape (3,)
-        Unit vector from the satellite towards the sun, mesh frame G.
-    Cf_G : ndarray, shape (3,)
-        Force per unit solar pressure, divided by A_ref, in G (ADBSat's ``Cf_s`` in G).
-    Cm_G : ndarray, shape (3,)
-        Moment per unit solar pressure / (A_ref L_ref), in G, about the moment point.
-    Cf_s : ndarray, shape (3,)
-        Force coefficient in the wind axes of the given flow angles (ADBSat ``Cf_s``).
-    Cm_S : ndarray, shape (3,)
-        Moment coefficient in ADBSat's body axes B (ADBSat ``Cm_S``).
-    area_lit : float
-        Sunlit area projected normal to the sun direction [m^2].
+    ``Cf_G``, ``Cm_G``: force / (P A_ref) and moment / (P A_ref L_ref) in G; ``Cf_s`` the force in
+    the wind axes of the flow angles, ``Cm_S`` the moment in body axes B (ADBSat's names);
+    ``area_lit`` the sunlit area projected normal to the sun [m^2].
     """
 
     sun_direction: np.ndarray
@@ -68,15 +53,15 @@ def solar_coefficients(
     Parameters
     ----------
     method : PanelMethod
-        Mesh, materials (``specular_reflectivity``, ``diffuse_reflectivity``) and references.
+        Mesh, materials (their reflectivities) and references.
     sun_direction : array_like, shape (3,)
-        Direction from the satellite to the sun in the mesh frame G (need not be unit length).
+        Satellite to sun, mesh frame G, any length.
     aoa, aos : float
-        Flow angles [rad] defining the wind axes in which ``Cf_s`` is expressed (as ADBSat).
+        Flow angles [rad] of the wind axes of ``Cf_s``.
     lighting : PanelLighting or LightingBlend, optional
-        Sunlit fractions from a shading analysis along the sun direction.
+        Sunlit fractions along the sun direction.
     sums : ndarray, shape (G, 10), optional
-        The facet sums of ``lighting`` if the caller holds them.
+        The facet sums of ``lighting``, if held.
 
     Returns
     -------

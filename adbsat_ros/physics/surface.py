@@ -1,16 +1,13 @@
-"""Surface (material) properties that the gas-surface and radiation models read.
-
-:class:`SurfaceProperties` is one material's accommodation, wall temperature and optical
-properties; :class:`MaterialTable` maps material names to them, expanded per panel once.
-"""
+"""Surface (material) properties that the gas-surface and radiation models read, by material."""
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields, replace
 from typing import Mapping
 
 import numpy as np
+
+from adbsat_ros.validation import finite
 
 #: Names of the per-material parameters, in the order of :class:`SurfaceProperties`.
 SURFACE_PARAMETERS = (
@@ -57,14 +54,7 @@ class SurfaceProperties:
 
     def __post_init__(self):
         for f in fields(self):
-            value = getattr(self, f.name)
-            try:
-                value = float(value)
-            except (TypeError, ValueError):
-                raise ValueError(f"{f.name} must be a number, got {value!r}") from None
-            if not math.isfinite(value):
-                raise ValueError(f"{f.name} must be finite, got {value!r}")
-            object.__setattr__(self, f.name, value)
+            object.__setattr__(self, f.name, finite(f.name, getattr(self, f.name)))
         for name in (
             "alpha",
             "alpha_n",
@@ -91,11 +81,7 @@ class SurfaceProperties:
 
 
 class PanelSurface:
-    """Per-panel surface parameters: each attribute is a float (uniform) or an (N,) array.
-
-    Built by :meth:`MaterialTable.expand`; the models read ``alpha``, ``alpha_n``, ``sigma_n``,
-    ``sigma_t``, ``wall_temperature``, ``specular_reflectivity``, ``diffuse_reflectivity``.
-    """
+    """Per-panel :class:`SurfaceProperties` fields: each a float (uniform) or an (N,) array."""
 
     __slots__ = SURFACE_PARAMETERS
 
@@ -132,14 +118,18 @@ class MaterialTable:
             self.materials[str(name)] = props
 
     @classmethod
-    def from_texts(cls, default: SurfaceProperties, override_texts) -> "MaterialTable":
-        """A table from default properties and ``NAME:key=value[,key=value]`` override texts.
+    def of(cls, materials) -> "MaterialTable":
+        """``materials`` as a table: None for the default, SurfaceProperties for every panel."""
+        if materials is None:
+            return cls()
+        if isinstance(materials, SurfaceProperties):
+            return cls(materials)
+        return materials
 
-        Raises
-        ------
-        ValueError
-            Naming the material and the bad item.
-        """
+    @classmethod
+    def from_texts(cls, default: SurfaceProperties, override_texts) -> "MaterialTable":
+        """A table from default properties and ``NAME:key=value[,key=value]`` override texts;
+        ValueError naming the material and the bad item."""
         return cls(default, dict(parse_material_override(text) for text in override_texts))
 
     def properties(self, name: str) -> SurfaceProperties:
@@ -151,13 +141,8 @@ class MaterialTable:
         return sorted(set(self.materials) - set(mesh_material_names))
 
     def expand(self, material_names, material_index) -> PanelSurface:
-        """Per-panel parameters for a mesh: scalars where uniform over the panels, else arrays.
-
-        Raises
-        ------
-        ValueError
-            If the table names a material the mesh does not have (a typo).
-        """
+        """Per-panel parameters for a mesh (scalars where uniform); ValueError if the table names a
+        material the mesh does not have."""
         unknown = self.check_names(material_names)
         if unknown:
             raise ValueError(

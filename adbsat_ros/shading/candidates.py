@@ -1,11 +1,7 @@
 """Which panels the ray-cast shader tests: the grazing rule and the filters (docs/shading.md).
 
-Grazing rule: forward panels have c_i = -u . n_i > ``graze_tol``, plus the grazing ones
-(|c_i| <= graze_tol) facing a fixed generic tie-break direction -w, as the flow u + epsilon w
-would classify them. Filters: a forward panel can be shaded only if it is off its component's
-convex hull or another component lies upstream with an overlapping box normal to the flow.
-
-Units: metres, mesh frame G; directions unitless.
+A forward panel can be shaded only if it is off its component's convex hull or another component
+lies upstream with an overlapping box normal to the flow. Units: metres, mesh frame G.
 """
 
 from __future__ import annotations
@@ -53,21 +49,10 @@ def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -
 
 
 class FlowBoxes(NamedTuple):
-    """A mesh seen along one flow direction (:meth:`CandidateFilter.flow_boxes`).
-
-    Boxes are held a coordinate at a time so numpy's loops run along the panels.
-
-    Attributes
-    ----------
-    basis : ndarray, shape (3, 3)
-        Columns p1, p2 spanning the plane normal to the flow, and -u (upstream).
-    coords : tuple of three ndarray, each (N, 3)
-        The panels' corners along p1, p2 and upstream [m].
-    pmin, pmax : tuple of three ndarray, each (N,)
-        Each panel's bounding box in those coordinates [m].
-    cmin, cmax : tuple of three ndarray, each (C,)
-        Each connected component's bounding box [m].
-    """
+    """A mesh seen along one flow direction (:meth:`CandidateFilter.flow_boxes`): ``basis``
+    columns p1, p2 (normal to the flow) and -u; the panels' corner ``coords`` along them and the
+    boxes of panels (``pmin``, ``pmax``) and components (``cmin``, ``cmax``) [m], a coordinate
+    at a time."""
 
     basis: np.ndarray
     coords: tuple
@@ -78,17 +63,8 @@ class FlowBoxes(NamedTuple):
 
 
 class MeshTopology(NamedTuple):
-    """Edge neighbours, connected components and hull faces of a mesh (unchanged by rigid motion).
-
-    Attributes
-    ----------
-    adjacency : ndarray of int, shape (E, 2)
-        Pairs of panels that share an edge.
-    component : ndarray of int, shape (N,)
-        Connected component of every panel.
-    on_hull : ndarray of bool, shape (N,)
-        Panels on the convex hull of their own component, normal pointing out of it.
-    """
+    """Edge neighbours (E, 2), connected component (N,) and hull faces (N,) of a mesh (unchanged by
+    rigid motion); ``on_hull``: on their own component's hull, normal pointing out."""
 
     adjacency: np.ndarray
     component: np.ndarray
@@ -96,10 +72,7 @@ class MeshTopology(NamedTuple):
 
     @classmethod
     def of(cls, mesh: PanelMesh, diagonal: float, indexed: tuple | None = None) -> "MeshTopology":
-        """The topology of ``mesh``, hull tolerance relative to ``diagonal`` [m].
-
-        ``indexed``: merged vertices and faces, if made before.
-        """
+        """The topology of ``mesh``, hull tolerance relative to ``diagonal`` [m]."""
         import trimesh  # (with the first shader that needs it: not at start-up)
 
         if indexed is None:
@@ -130,9 +103,8 @@ class MeshTopology(NamedTuple):
 def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
     """Faces on the convex hull of their own component, normal pointing out of the hull.
 
-    The centroid must lie within ``HULL_TOL_FRACTION`` of ``diagonal`` of the hull's surface (not
-    the face's normal: rounding tilts a sliver's), and the normal point out of the nearest hull
-    facet. A flat component is tested by the support of its points along the face's normal.
+    Tested by the centroid's distance to the hull (not the face's normal: rounding tilts a
+    sliver's); a flat component by the support of its points along the face's normal.
     """
     from scipy.spatial import ConvexHull, QhullError  # (not at start-up)
 
@@ -168,26 +140,9 @@ def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
 
 
 class CandidateFilter:
-    """Connected components, hull faces and the filter of panels that could be shaded.
-
-    Parameters
-    ----------
-    mesh : PanelMesh
-        Panels [m], mesh frame G.
-    diagonal : float, optional
-        Bounding-box diagonal of the mesh [m] (scale of the hull tolerance); needed unless
-        ``topology`` is given.
-    topology : MeshTopology, optional
-        The mesh's topology, made before (e.g. of posed rigid parts).
-
-    Attributes
-    ----------
-    n_components : int
-        Number of connected components.
-    convex : ndarray of bool, shape (n_components,)
-        Closed convex components (every edge shared by two of its panels, every panel on its
-        hull): they cast a convex shadow.
-    """
+    """Connected components, hull faces and the filter of panels that could be shaded; ``diagonal``
+    [m] (the hull tolerance's scale) is needed without ``topology``; ``convex`` (n_components,)
+    marks the closed convex components (they cast a convex shadow)."""
 
     def __init__(
         self, mesh: PanelMesh, diagonal: float | None = None, topology: MeshTopology | None = None
@@ -222,12 +177,7 @@ class CandidateFilter:
         return FlowBoxes(basis, coords, pmin, pmax, cmin, cmax)
 
     def occluders(self, boxes: FlowBoxes, panels: np.ndarray) -> np.ndarray:
-        """Which components could shade each of ``panels`` (overlapping boxes, upstream).
-
-        Returns
-        -------
-        ndarray of bool, shape (K, n_components)
-        """
+        """Which components could shade each of ``panels``, (K, n_components) bool."""
         pmin, pmax, cmin, cmax = boxes.pmin, boxes.pmax, boxes.cmin, boxes.cmax
         j = np.asarray(panels)
         # (C, K): numpy's loops run along the panels
@@ -244,10 +194,7 @@ class CandidateFilter:
     def candidates(
         self, u: np.ndarray, forward: np.ndarray, boxes: FlowBoxes | None = None
     ) -> np.ndarray:
-        """Ascending indices (K,) of the ``forward`` panels that could be shaded for unit ``u`` (G).
-
-        ``boxes``: :meth:`flow_boxes` of ``u``, if made already.
-        """
+        """Ascending indices (K,) of the ``forward`` panels that could be shaded for unit ``u``."""
         need = forward & ~self.on_hull
         if self.n_components <= 1:
             return np.flatnonzero(need)

@@ -1,11 +1,6 @@
-"""Triangles over the centres of the cube-map cells: where a direction lies between three centres.
-
-The shading cache weighs the lightings of the three cell centres around a flow direction, so
-its results are continuous in the direction. The 6 n^2 centres triangulate the sphere (quads
-inside faces, across the 12 cube edges, a triangle at each of the 8 corners: 12 n^2 - 4
-triangles); the weights are the barycentric coordinates of u on the triangle's plane, continuous
-on the sphere and exact for linear functions of u. Point location uses gnomonic face coordinates,
-where the triangles are halves of grid rectangles (docs/shading.md).
+"""Triangles over the centres of the cube-map cells (12 n^2 - 4 of them): the three centres
+around a flow direction and their barycentric weights, for the shading cache's interpolation
+(docs/shading.md).
 """
 
 from __future__ import annotations
@@ -16,26 +11,14 @@ import math
 
 import numpy as np
 
-from adbsat_ros.shading.cube_map import direction_key, direction_keys, key_centres
+from adbsat_ros.shading.cube_map import direction_key, direction_keys, face_axes, key_centres
 
 _QUARTER = 0.25 * math.pi
 
 
 class CellTriangulation:
-    """The triangles over the cube-map cell centres of ``n`` steps per face edge.
-
-    Only the edge and corner triangles are stored (O(n)); those inside faces follow from the grid.
-
-    Parameters
-    ----------
-    n : int
-        Cube-map steps per face edge (:func:`.cube_map.cells_per_edge`), >= 1.
-
-    Attributes
-    ----------
-    border_triangles : ndarray of int64, shape (12 (n - 1) 2 + 8, 3)
-        Vertex keys of the triangles across cube edges and at cube corners.
-    """
+    """The triangles over the cube-map cell centres of ``n`` >= 1 steps per face edge; only those
+    across cube edges and at corners are stored (``border_triangles``), the rest follow the grid."""
 
     def __init__(self, n: int):
         n = int(n)
@@ -59,27 +42,9 @@ class CellTriangulation:
 
     # ------------------------------------------------------------------------------ queries
     def locate(self, x: float, y: float, z: float) -> tuple:
-        """The three cell keys around direction (x, y, z) and the weights of their centres.
-
-        Parameters
-        ----------
-        x, y, z : float
-            A finite non-zero direction (need not be unit length), same frame as the keys.
-
-        Returns
-        -------
-        keys : tuple of 3 int
-        weights : tuple of 3 float
-            Non-negative, summing to 1 (within rounding): u / s = sum weights_k centre_k.
-        """
-        ax, ay, az = abs(x), abs(y), abs(z)
-        # the face of direction_key: first axis of largest |u_k|, then the others cyclically
-        if ax >= ay and ax >= az:
-            face, ak, a1, a2 = (x < 0.0), ax, y, z
-        elif ay >= az:
-            face, ak, a1, a2 = 2 + (y < 0.0), ay, z, x
-        else:
-            face, ak, a1, a2 = 4 + (z < 0.0), az, x, y
+        """``(keys, weights)``: the three cell keys around the finite non-zero direction (x, y, z)
+        and the weights (non-negative, sum 1) of their centres."""
+        face, ak, a1, a2 = face_axes(x, y, z)
         gx, gy = a1 / ak, a2 / ak
         tan, n = self._tan, self.n
         if n > 1 and tan[0] <= gx <= tan[-1] and tan[0] <= gy <= tan[-1]:

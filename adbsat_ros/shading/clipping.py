@@ -1,9 +1,7 @@
 """Triangles clipped by convex polygons in the plane: the part of each triangle outside them.
 
-The covered part's area and first moment are summed by inclusion-exclusion over each non-empty
-set of polygons, the triangle clipped (Sutherland-Hodgman) by only the sides that cut it,
-vectorised over triangles. Polygons are held as x, y arrays of shape (corners, polygons) so
-numpy's loops run along the polygons. Units: any length, the same for every point.
+Inclusion-exclusion over the sets of polygons, each clipped Sutherland-Hodgman, vectorised over
+triangles. Units: any length, the same for every point.
 """
 
 from __future__ import annotations
@@ -22,18 +20,16 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     Parameters
     ----------
     triangles : ndarray, shape (K, 3, 2)
-        Triangles [m] (either orientation, non-degenerate).
+        Non-degenerate triangles [m], either orientation.
     outlines : sequence of ndarray, each of shape (m, 2) or (K, m, 2)
-        Convex polygons [m], counter-clockwise: (m, 2) shared by all triangles, or (K, m, 2) one
-        per triangle.
+        Convex polygons [m], counter-clockwise, shared or one per triangle.
 
     Returns
     -------
     fraction : ndarray, shape (K,)
-        Area of the triangle outside the polygons over the triangle's area, in [0, 1].
+        Area fraction outside the polygons, in [0, 1].
     centroid : ndarray, shape (K, 2)
-        Centroid of that part [m] (the triangle's centroid where none of it is covered; any
-        value where all of it is).
+        Centroid of that part [m] (any value where the fraction is 0).
     """
     tri = np.asarray(triangles, dtype=float)
     k = tri.shape[0]
@@ -73,12 +69,8 @@ def _columns(outline, k: int) -> tuple:
 
 
 def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
-    """Area and centroid x, y (S, K) of each triangle's intersection with each set of polygons.
-
-    Triangles ``tx``, ``ty`` (3, K); ``polygons`` [(x, y), ...] from :func:`_columns`; ``sets``
-    (S, n) which polygons each set holds. Only edges with a corner of the triangle outside clip it,
-    in as many passes as the most any triangle needs.
-    """
+    """Area and centroid x, y (S, K) of each triangle's intersection with each set of polygons
+    (``sets`` (S, n) bool); only edges with a corner of the triangle outside clip it."""
     k, n = tx.shape[1], len(polygons)
     within, apart = np.empty((n, k), dtype=bool), np.empty((n, k), dtype=bool)
     cutting, starts, ends, owner = [], [], [], []

@@ -1,11 +1,8 @@
 """The exact shadows of closed convex parts: what of each panel behind them stays lit.
 
-A closed convex part's shadow on a plane is its projection along the flow, a convex set. A
-panel that only closed convex components can shade is lit outside the union of the projections
-of their parts in front of its plane (a part the plane cuts keeps its convex part in front).
-Projected normal to the flow, each part is a convex polygon (:func:`convex_outline`) and the
-panel a triangle, so :func:`~adbsat_ros.shading.clipping.lit_parts` gives the exact lit fraction
-and centroid (docs/shading.md). Units: metres; 2-D points in the plane normal to the flow.
+Projected normal to the flow, each part in front of a panel's plane is a convex polygon and the
+panel a triangle, clipped exactly (:func:`~.clipping.lit_parts`; docs/shading.md). Units:
+metres; 2-D points in the plane normal to the flow.
 """
 
 from __future__ import annotations
@@ -41,21 +38,8 @@ PLANE_DIGITS = 6
 
 
 class ConvexParts:
-    """The closed convex components of a mesh, for exact shadows.
-
-    Parameters
-    ----------
-    mesh : PanelMesh
-        Panels [m], G.
-    candidate_filter : CandidateFilter
-        The mesh's filter (its components and which are convex).
-    diagonal : float
-        The mesh's bounding-box diagonal [m] (scale of the tolerances).
-    graze_tol : float
-        The shader's grazing tolerance: a panel lit exactly has cos delta above it.
-    corners : dict, optional
-        Hull corners (h, 3) [m], G, of some components, made before; the others' when needed.
-    """
+    """The closed convex components of a mesh, for exact shadows; ``diagonal`` [m] scales the
+    tolerances; ``corners``: hull corners (h, 3) [m], G, of some components, made before."""
 
     def __init__(
         self, mesh: PanelMesh, candidate_filter, diagonal: float, graze_tol: float, corners=None
@@ -76,27 +60,17 @@ class ConvexParts:
         return corners
 
     def lighting(self, boxes, panels: np.ndarray) -> tuple:
-        """The panels among ``panels`` that convex parts alone can shade, lit exactly.
+        """The panels among ``panels`` (K,) that convex parts alone can shade, lit exactly.
 
-        A panel qualifies if it faces the flow (cos delta > ``graze_tol``), is on its own
-        component's hull, and one to :data:`MAX_OCCLUDERS` other components could shade it, all
-        closed and convex.
-
-        Parameters
-        ----------
-        boxes : FlowBoxes
-            The mesh seen along the flow (``filter.flow_boxes(u)``).
-        panels : ndarray of int, shape (K,)
-            Forward panels that could be shaded.
+        A panel qualifies if it faces the flow, is on its own component's hull, and one to
+        :data:`MAX_OCCLUDERS` other components, all closed and convex, could shade it.
 
         Returns
         -------
         done : ndarray of bool, shape (K,)
-            The panels lit here.
-        fraction : ndarray, shape (D,)
-            Their lit fractions (D = done.sum()), in the order of ``panels``.
-        centroid : ndarray, shape (D, 3)
-            The centroids of their lit parts [m], G (the barycentre where all is lit).
+        fraction : ndarray, shape (done.sum(),)
+        centroid : ndarray, shape (done.sum(), 3)
+            Centroids of their lit parts [m], G (the barycentre where all is lit).
         """
         flt, mesh = self.filter, self.mesh
         occluders = flt.occluders(boxes, panels)
@@ -157,12 +131,8 @@ class ConvexParts:
         return done, fraction[done], centroid[done]
 
     def _shadows(self, members, normal, level: float, boxes, outlines: dict) -> list | None:
-        """Outlines normal to the flow of the parts ``members`` in front of the plane n . x = level.
-
-        A part wholly in front: its whole outline; cut: the outline of its corners in front and the
-        plane's cuts of its edges; behind: none. None if an outline spans no area or a cut part has
-        more than :data:`MAX_CUT_CORNERS` corners (left to the rays).
-        """
+        """Outlines normal to the flow of the parts ``members`` in front of the plane n . x = level;
+        None if one spans no area or a cut part has over :data:`MAX_CUT_CORNERS` corners."""
         shapes = []
         for part in members:
             corners = self.corners(part)
@@ -246,22 +216,10 @@ def hull_corners(points: np.ndarray) -> np.ndarray:
 
 
 def convex_outline(points: np.ndarray) -> np.ndarray | None:
-    """The convex hull of 2-D points as a polygon.
+    """Corners (m, 2) [m], counter-clockwise, of the convex hull of points (P, 2); None if they
+    span no area (below :data:`FLAT_OUTLINE` of the extent squared) or one is not finite.
 
-    Andrew's monotone chain (A. M. Andrew, Information Processing Letters 9, 216, 1979) on Python
-    floats (outlines have tens of points, where Qhull's set-up dominates). A point whose triangle
-    with its neighbours has an area below :data:`FLAT_OUTLINE` of the extent squared is no corner.
-
-    Parameters
-    ----------
-    points : ndarray, shape (P, 2)
-        Points [m].
-
-    Returns
-    -------
-    ndarray, shape (m, 2) or None
-        The hull's corners, counter-clockwise; None if the points span no area (below
-        :data:`FLAT_OUTLINE` of the extent squared) or one is not finite.
+    Andrew's monotone chain (A. M. Andrew, Information Processing Letters 9, 216, 1979).
     """
     points = np.asarray(points, dtype=float).reshape(-1, 2)
     if not np.isfinite(points).all():

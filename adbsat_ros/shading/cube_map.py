@@ -1,9 +1,7 @@
 """Cells of the sphere of flow directions: an equi-angular cube map (the shading cache's keys).
 
-A direction u (mesh frame G, any length) maps to the cube face it points through and two angles
-atan(u_a / |u_k|), atan(u_b / |u_k|) in [-45, 45] deg, each cut into n steps: cells of similar
-size (within ~1.4) with no pole, every direction within one step of its cell centre (proof in
-docs/shading.md, "Cache").
+A direction (mesh frame G, any length) maps to its cube face and two angles in [-45, 45] deg, each
+cut into n steps (docs/shading.md, "Cache").
 """
 
 from __future__ import annotations
@@ -16,11 +14,8 @@ _QUARTER = 0.25 * math.pi
 
 
 def cells_per_edge(resolution_deg: float) -> int:
-    """The smallest odd n >= 90 / resolution_deg of angular steps along a face edge.
-
-    With n odd the six axis directions are cell centres: a body flying along an axis stays in one
-    cell instead of switching between four with every rounding of the flow direction.
-    """
+    """The smallest odd n >= 90 / resolution_deg of angular steps along a face edge (odd: the six
+    axis directions are cell centres, so flight along an axis stays in one cell)."""
     resolution_deg = float(resolution_deg)
     if not (math.isfinite(resolution_deg) and 0.0 < resolution_deg <= 90.0):
         raise ValueError(f"resolution_deg must be in (0, 90], got {resolution_deg!r}")
@@ -50,16 +45,20 @@ def direction_keys(u, n: int) -> np.ndarray:
     return key[0] if single else key
 
 
+def face_axes(x: float, y: float, z: float) -> tuple:
+    """``(face, |u_k|, u_a, u_b)`` of one direction: k the first axis of largest |u_k| (as
+    np.argmax), a and b the two others in cyclic order."""
+    ax, ay, az = abs(x), abs(y), abs(z)
+    if ax >= ay and ax >= az:
+        return (x < 0.0), ax, y, z
+    if ay >= az:
+        return 2 + (y < 0.0), ay, z, x
+    return 4 + (z < 0.0), az, x, y
+
+
 def direction_key(x: float, y: float, z: float, n: int) -> int:
     """:func:`direction_keys` of one direction given as three floats (no numpy; tested equal)."""
-    ax, ay, az = abs(x), abs(y), abs(z)
-    # first axis of largest |u_k|, as np.argmax; then the two others in cyclic order
-    if ax >= ay and ax >= az:
-        face, ak, a1, a2 = (x < 0.0), ax, y, z
-    elif ay >= az:
-        face, ak, a1, a2 = 2 + (y < 0.0), ay, z, x
-    else:
-        face, ak, a1, a2 = 4 + (z < 0.0), az, x, y
+    face, ak, a1, a2 = face_axes(x, y, z)
     h = 0.5 * math.pi / n
     i = min(max(math.floor((math.atan2(a1, ak) + _QUARTER) / h), 0), n - 1)
     j = min(max(math.floor((math.atan2(a2, ak) + _QUARTER) / h), 0), n - 1)

@@ -1,8 +1,6 @@
 """Coordinates in the plane normal to the flow, and a 2-D grid that pairs points with boxes.
 
-:func:`perp_basis` gives a right-handed orthonormal basis (p1, p2, d), :func:`coordinates` the
-coordinates of points along it, :func:`grid_pairs` the (point, box) pairs whose images in the
-plane can overlap, in chunks of bounded memory. Units: metres, directions unitless.
+Units: metres, directions unitless.
 """
 
 from __future__ import annotations
@@ -44,25 +42,11 @@ def max3(a: np.ndarray) -> np.ndarray:
 
 
 def grid_pairs(px, py, bmin, bmax, max_pairs=MAX_PAIRS):
-    """Chunks of (point, box) index pairs whose grid cells match, for 2-D point-in-box work.
+    """Chunks ``(point_index, box_index)`` of the pairs whose grid cells match: every point r inside
+    box t exactly once, plus some that only share a cell (the caller filters).
 
-    The grid's square cells are 0.4 times the median box size (coarser if boxes would cover too
-    many); each box is entered in every cell it touches, each point looks up its own.
-
-    Parameters
-    ----------
-    px, py : ndarray, shape (R,)
-        Point coordinates in a plane [m].
-    bmin, bmax : ndarray, shape (T, 2)
-        Lower and upper corners of the boxes [m].
-    max_pairs : int
-        Largest number of pairs per chunk (a point with more boxes in its cell is yielded whole).
-
-    Yields
-    ------
-    point_index, box_index : ndarray of int, shape (P,)
-        Every pair (r, t) with point r inside box t exactly once (plus pairs that share a cell
-        without overlapping, which the caller filters).
+    Points ``px``, ``py`` (R,) and boxes ``bmin``, ``bmax`` (T, 2) [m]; at most ``max_pairs`` per
+    chunk (a point with more boxes in its cell is yielded whole).
     """
     n_pts, n_box = len(px), len(bmin)
     if n_pts == 0 or n_box == 0:

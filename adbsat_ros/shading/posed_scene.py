@@ -1,10 +1,8 @@
-"""What ray-cast shading needs of an articulated body, made once for every configuration.
+"""What ray-cast shading needs of an articulated body, made once per link for every configuration.
 
-:class:`LinkScenes` merges each rigid link's vertices and finds its topology once, in the
-link's frame; per configuration it poses them, builds the ray scene (deferred to the first ray,
-:class:`DeferredScene`) and joins the topologies. The result equals
-:func:`~adbsat_ros.shading.rays.ray_scene` on the body's mesh; panels of two touching links are
-never edge neighbours. Units: metres, body frame G.
+Per configuration the links are posed, the ray scene built on the first ray and the topologies
+joined: equal to :func:`~adbsat_ros.shading.rays.ray_scene` on the body's mesh. Units: metres,
+body frame G.
 """
 
 from __future__ import annotations
@@ -19,19 +17,7 @@ from adbsat_ros.shading.rays import RayScene, ray_scene, resolve_backend
 
 
 class LinkScenes:
-    """Every link's merged vertices and topology, made once; the body's scene and filter per pose.
-
-    Parameters
-    ----------
-    body : ArticulatedBody
-    backend : {"auto", "embree", "numpy"}
-        Ray engine (:func:`~adbsat_ros.shading.rays.resolve_backend`).
-
-    Attributes
-    ----------
-    topology : MeshTopology
-        The candidate filter's topology of the body's panels (in the order of ``body.mesh``).
-    """
+    """Every link's merged vertices and topology, made once; the scene and filter per pose."""
 
     def __init__(self, body: ArticulatedBody, backend: str = "auto"):
         self.backend = resolve_backend(backend)
@@ -90,17 +76,8 @@ class LinkScenes:
 
 
 class DeferredScene:
-    """A ray scene built when a ray is first cast through it (:class:`RayScene`'s methods).
-
-    Exact convex shadows often leave no ray to cast for a configuration.
-
-    Parameters
-    ----------
-    backend : str
-        ``"embree"`` or ``"numpy"``.
-    build : callable
-        ``build()`` makes the scene.
-    """
+    """A ray scene (``backend``) that ``build()`` makes when a ray is first cast through it: exact
+    convex shadows often leave no ray to cast."""
 
     def __init__(self, backend: str, build):
         self.backend = backend

@@ -20,10 +20,7 @@ ADBSAT_DOWNSTREAM_TOL = 1e-5
 
 # ---------------------------------------------------------------------------------- ADBSat
 def adbsat_shadowed(mesh: PanelMesh, u_G, max_pairs: int = MAX_PAIRS) -> np.ndarray:
-    """Panels ADBSat's ``shadowAnaly`` marks as shadowed (barycentre-projection method).
-
-    ADBSat's tests and thresholds, on (forward barycentre, backward triangle) pairs from a grid in
-    the (y_W, z_W) plane instead of its all-pairs loop: the same result.
+    """Panels ADBSat's ``shadowAnaly`` marks as shadowed (pairs from a grid, same result).
 
     Parameters
     ----------
@@ -37,9 +34,8 @@ def adbsat_shadowed(mesh: PanelMesh, u_G, max_pairs: int = MAX_PAIRS) -> np.ndar
     Returns
     -------
     ndarray of bool, shape (N,)
-        True for forward panels (delta <= 90.0001 deg) whose barycentre, projected along the
-        flow, lies inside the projection of a backward panel and downstream of its plane by
-        more than 1e-5 m (physics.md section 6). All False for convex meshes.
+        True for forward panels (delta <= 90.0001 deg) whose barycentre projects into a backward
+        panel downstream of its plane by more than 1e-5 m (physics.md section 6).
     """
     u = frames.unit_vector(u_G)
     n = mesh.n_panels

@@ -1,12 +1,8 @@
-"""Ray casting against a mesh: one interface, two backends.
+"""Ray casting against a mesh: one interface (:class:`RayScene`), two backends.
 
-A *ray scene* answers, for rays of one direction (shading), whether each meets an occluding
-panel at t > 0 and which first, and for rays of their own directions (test particles), which
-panel each meets first and how far. ``"embree"``: Embree through embreex, float32
-(:mod:`adbsat_ros.shading.rays_embree`); ``"numpy"``: Moeller-Trumbore in float64, the reference
-and fallback (:mod:`adbsat_ros.shading.rays_numpy`). Shared edges count as inside both triangles;
-the two agree except within float32 rounding (~1e-7 of the mesh size) of an edge.
-``has_embree`` says whether embreex imports; ``"auto"`` picks Embree then. Units: metres, G.
+``"embree"`` (float32, :mod:`~.rays_embree`) and ``"numpy"`` (float64 Moeller-Trumbore, the
+reference, :mod:`~.rays_numpy`) agree except within float32 rounding (~1e-7 of the mesh size) of
+an edge; shared edges count as inside both triangles. Units: metres, mesh frame G.
 """
 
 from __future__ import annotations
@@ -41,72 +37,29 @@ class RayScene(Protocol):
     backend: str
 
     def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
-        """Whether each ray origins[r] + t direction, t > 0, meets an occluding panel.
+        """Whether each ray origins[r] + t direction, t > 0, meets an occluding panel, (R,) bool.
 
-        Parameters
-        ----------
-        origins : ndarray, shape (R, 3)
-            Ray origins [m], mesh frame G.
-        direction : ndarray, shape (3,)
-            Common unit ray direction (G).
-        occluder : ndarray of bool, shape (N,), optional
-            Panels that can block a ray (default all); panels parallel to ``direction`` must
-            be left out.
-
-        Returns
-        -------
-        ndarray of bool, shape (R,)
+        ``origins`` (R, 3) [m] and the unit ``direction`` (3,) in G; ``occluder`` (N,) bool, the
+        panels that can block (default all; panels parallel to ``direction`` must be left out).
         """
         ...
 
     def first_face(self, origins, direction, occluder=None) -> np.ndarray:
-        """The first occluding panel each ray origins[r] + t direction, t > 0, meets.
-
-        Parameters
-        ----------
-        origins, direction, occluder
-            As :meth:`any_hit`.
-
-        Returns
-        -------
-        ndarray of int64, shape (R,)
-            Panel index, -1 exactly where :meth:`any_hit` says the ray is not blocked.
-        """
+        """The first occluding panel (R,) int64 each ray meets (as :meth:`any_hit`), -1 for
+        none exactly where :meth:`any_hit` is False."""
         ...
 
     def first_hit(self, origins, directions) -> tuple:
-        """The first panel each ray origins[r] + t directions[r], t > 0, meets.
-
-        Parameters
-        ----------
-        origins, directions : ndarray, shape (R, 3)
-            Ray origins [m] and directions (G; any non-zero length, e.g. velocities).
-
-        Returns
-        -------
-        face : ndarray of int64, shape (R,)
-            Panel index, -1 where the ray meets none.
-        t : ndarray, shape (R,)
-            The hit is at origins + t directions (t the distance [m] for unit directions; inf
-            where none).
-        """
+        """``(face, t)``, (R,) each: the first panel each ray origins[r] + t directions[r], t > 0,
+        meets (-1 and inf for none); directions (R, 3) of any non-zero length, G."""
         ...
 
 
 def resolve_backend(backend: str) -> str:
-    """The backend that ``backend`` names: ``"embree"`` or ``"numpy"``.
+    """The backend ``"embree"`` or ``"numpy"`` that ``backend`` names (``"auto"``: Embree if
+    :data:`has_embree`).
 
-    Parameters
-    ----------
-    backend : {"auto", "embree", "numpy"}
-        ``"auto"`` is ``"embree"`` if :data:`has_embree`, else ``"numpy"``.
-
-    Raises
-    ------
-    ValueError
-        For an unknown name, listing :data:`BACKENDS`.
-    RuntimeError
-        For ``"embree"`` when embreex is not available, saying why.
+    Raises ValueError for an unknown name, RuntimeError for ``"embree"`` without embreex.
     """
     name = str(backend).lower()
     if name not in BACKENDS:
@@ -121,22 +74,8 @@ def resolve_backend(backend: str) -> str:
 
 
 def ray_scene(mesh: PanelMesh, backend: str = "auto", indexed: tuple | None = None) -> RayScene:
-    """A ray scene of the panels of ``mesh`` with the given backend.
-
-    Parameters
-    ----------
-    mesh : PanelMesh
-        Panels [m], mesh frame G; face i of the scene is panel i.
-    backend : {"auto", "embree", "numpy"}
-        See :func:`resolve_backend`.
-    indexed : (ndarray, ndarray), optional
-        The panels as merged vertices (V, 3) and faces (N, 3), made before.
-
-    Returns
-    -------
-    RayScene
-        An :class:`EmbreeScene` or a :class:`NumpyScene`.
-    """
+    """A ray scene of the panels of ``mesh`` (face i is panel i) with ``backend``; ``indexed``:
+    its merged vertices (V, 3) and faces (N, 3), if made before."""
     if resolve_backend(backend) == "embree":
         return EmbreeScene(mesh, indexed)
     return NumpyScene(mesh)

@@ -1,8 +1,6 @@
-"""Ray casting with Embree (through embreex, the engine behind trimesh's RayMeshIntersector).
+"""Ray casting with Embree through embreex (float32; :mod:`adbsat_ros.shading.rays`' interface).
 
-Float32; :class:`EmbreeScene` implements :mod:`adbsat_ros.shading.rays`' interface and agrees
-with the numpy backend except within float32 rounding (~1e-7 of the mesh size) of an edge.
-Importing this module imports embreex. Units: metres, mesh frame G; directions unitless.
+Importing this module imports embreex. Units: metres, mesh frame G.
 """
 
 from __future__ import annotations
@@ -20,16 +18,8 @@ SCENE_EXTENT = 100.0
 
 
 class EmbreeScene:
-    """The panels of a mesh as an Embree scene (float32, vertices merged, rescaled).
-
-    Parameters
-    ----------
-    mesh : PanelMesh
-        Panels [m], mesh frame G; face i of the scene is panel i.
-    indexed : (ndarray, ndarray), optional
-        The panels as vertices (V, 3) [m] and faces (N, 3), made before; by default the mesh with
-        its vertices merged (``mesh.to_trimesh()``).
-    """
+    """The panels of a mesh (face i is panel i) as an Embree scene, float32, rescaled; ``indexed``:
+    vertices (V, 3) [m] and faces (N, 3), by default ``mesh.to_trimesh()``'s."""
 
     backend = "embree"
 
@@ -73,11 +63,7 @@ class EmbreeScene:
         return face, distance
 
     def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
-        """:meth:`~adbsat_ros.shading.rays.RayScene.any_hit`.
-
-        The scene holds every panel: a ray first hitting a panel outside ``occluder`` is cast again
-        in float64 against the occluders alone.
-        """
+        """``RayScene.any_hit``; a ray first hitting a non-occluder is cast again in float64."""
         origins = np.asarray(origins, dtype=float)
         if origins.shape[0] == 0:
             return np.zeros(0, dtype=bool)

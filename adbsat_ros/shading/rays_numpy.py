@@ -1,9 +1,7 @@
 """Ray casting in numpy (float64): the reference backend, and the fallback without Embree.
 
-Moeller-Trumbore with the direction fixed, candidate (ray, triangle) pairs from a uniform 2-D
-grid normal to the rays (:func:`adbsat_ros.shading.flow_plane.grid_pairs`), in chunks of
-bounded memory; for rays of their own directions, every pair. :class:`NumpyScene` implements
-:mod:`adbsat_ros.shading.rays`' interface. Units: metres, mesh frame G; directions unitless.
+Moeller-Trumbore, pairs from a grid normal to the rays (:func:`~.flow_plane.grid_pairs`) in
+chunks of bounded memory. Units: metres, mesh frame G.
 """
 
 from __future__ import annotations
@@ -18,24 +16,10 @@ EDGE_TOLERANCE = 1e-12
 
 
 def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
-    """Whether each ray origins[r] + t d, t > 0, meets any of the triangles (float64).
+    """Whether each ray origins[r] + t d, t > 0, meets any of the triangles, (R,) bool.
 
-    Edges are inclusive (u, v >= -1e-12, u + v <= 1 + 1e-12).
-
-    Parameters
-    ----------
-    origins : ndarray, shape (R, 3)
-        Ray origins [m], G.
-    d : ndarray, shape (3,)
-        Common unit ray direction (G).
-    tri_vertices : ndarray, shape (T, 3, 3)
-        Candidate occluders [m], G; none may be parallel to d.
-    max_pairs : int
-        Largest number of (ray, triangle) pairs tested at once (memory bound).
-
-    Returns
-    -------
-    ndarray of bool, shape (R,)
+    ``origins`` (R, 3) [m], unit ``d`` (3,), ``tri_vertices`` (T, 3, 3) [m] none parallel to d,
+    all in G; edges inclusive; ``max_pairs`` (ray, triangle) pairs at once.
     """
     origins = np.asarray(origins, dtype=float)
     hit = np.zeros(len(origins), dtype=bool)
@@ -45,13 +29,8 @@ def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
 
 
 def first_along(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
-    """The first triangle each ray origins[r] + t d, t > 0, meets (as :func:`any_hit`).
-
-    Returns
-    -------
-    ndarray of int64, shape (R,)
-        Index of the nearest triangle met (the lower one at equal t), -1 for none.
-    """
+    """The nearest triangle (R,) int64 each ray meets (as :func:`any_hit`; lower index at equal
+    t; -1 for none)."""
     origins = np.asarray(origins, dtype=float)
     n_rays = len(origins)
     face = np.full(n_rays, -1, dtype=np.int64)
@@ -120,11 +99,8 @@ def _hits_along(origins, d, tri_vertices, max_pairs):
 
 
 def first_hit(origins, directions, tri_vertices, max_pairs=MAX_PAIRS // 4) -> tuple:
-    """The first triangle ``(face, t)`` each ray origins[r] + t directions[r], t > 0, meets.
-
-    Every (ray, triangle) pair, ``max_pairs`` at a time: the reference for small scenes. Origins
-    and ``tri_vertices`` [m], G; ``face`` -1 and ``t`` inf for none.
-    """
+    """``(face, t)`` of the first triangle each ray origins[r] + t directions[r], t > 0, meets
+    (-1, inf for none), testing every pair."""
     origins = np.asarray(origins, dtype=float)
     directions = np.asarray(directions, dtype=float)
     n_rays = len(origins)
@@ -160,13 +136,7 @@ def first_hit(origins, directions, tri_vertices, max_pairs=MAX_PAIRS // 4) -> tu
 
 
 class NumpyScene:
-    """The panels of a mesh as a numpy ray-casting scene (float64, exact coordinates).
-
-    Parameters
-    ----------
-    mesh : PanelMesh
-        Panels [m], mesh frame G; face i of the scene is panel i.
-    """
+    """The panels of a mesh (face i is panel i) as a numpy ray-casting scene (float64)."""
 
     backend = "numpy"
 

@@ -1,9 +1,6 @@
-"""Where rays start on a panel: a low-discrepancy (R2) pattern, shifted per panel.
-
-Roberts' R2 sequence spreads the points of one panel evenly; a fixed pseudo-random shift per panel
-(SplitMix64 of the panel index) keeps the sampling errors of neighbouring panels along a shadow
-edge from adding up. Triangle coordinates (a, b) give the point P1 + a (P2 - P1) + b (P3 - P1)
-of a triangle with corners P1, P2, P3 (metres, mesh frame G).
+"""Where rays start on a panel: Roberts' R2 sequence, shifted per panel (SplitMix64 of the index)
+so neighbours' sampling errors along a shadow edge do not add up. Triangle coordinates (a, b):
+the point P1 + a (P2 - P1) + b (P3 - P1) (metres, mesh frame G).
 """
 
 from __future__ import annotations
@@ -39,13 +36,7 @@ def panel_shifts(panel_index) -> np.ndarray:
 
 
 def sample_coordinates(panel_index, start: int, count: int):
-    """Triangle coordinates of :func:`sample_barycentric` as two arrays.
-
-    Returns
-    -------
-    a, b : ndarray, shape (K, count)
-        The point is P1 + a (P2 - P1) + b (P3 - P1).
-    """
+    """Triangle coordinates ``a, b`` (K, count) of :func:`sample_barycentric`."""
     shifts = panel_shifts(panel_index)
     k = np.arange(start, start + count, dtype=float)
     base = k[:, None] * _R2_ALPHA[None, :]
@@ -58,16 +49,8 @@ def sample_coordinates(panel_index, start: int, count: int):
 
 
 def sample_barycentric(panel_index, start: int, count: int) -> np.ndarray:
-    """Sample points k = start .. start+count-1 of each panel, as triangle coordinates.
-
-    Point k of panel i is frac(s_i + k alpha) (R2 generator alpha, shift s_i of
-    :func:`panel_shifts`), folded into the triangle ((a, b) -> (1 - a, 1 - b) if a + b > 1).
-
-    Returns
-    -------
-    ndarray, shape (K, count, 2)
-        (a, b) such that the point is P1 + a (P2 - P1) + b (P3 - P1).
-    """
+    """Triangle coordinates (K, count, 2) of points k = start .. start+count-1 of each panel:
+    frac(s_i + k alpha), folded into the triangle ((a, b) -> (1 - a, 1 - b) if a + b > 1)."""
     a, b = sample_coordinates(panel_index, start, count)
     return np.stack([a, b], axis=-1)
 

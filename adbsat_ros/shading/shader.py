@@ -1,14 +1,9 @@
-"""Shading: which part of each panel the free-molecular flow reaches.
+"""Shading: which part of each panel the flow reaches (a point is shaded if the line upstream,
+-u, meets the satellite).
 
-A point is *shaded* if the line from it upstream (-u, u the gas motion relative to the body in
-G) meets the satellite. A :class:`Shader`, built once per mesh, gives for any flow direction a
-:class:`~adbsat_ros.shading.lighting.PanelLighting` for
-:meth:`~adbsat_ros.physics.panel_method.PanelMethod.coefficients` (``lighting=``). Modes
-(:func:`make_shader`): ``"none"`` (every panel lit: one convex body), ``"projection"`` (ADBSat's
-``shadowAnaly``, all-or-nothing per panel) and ``"raycast"`` (default: exact convex shadows,
-else rays from R2-sampled points, refined where partly lit). Grazing faces (|c_i| <=
-``graze_tol``) occlude nothing (:func:`~adbsat_ros.shading.candidates.forward_mask`). The method,
-its proofs and accuracy: docs/shading.md. Units: metres, frame G, angles in radians.
+Modes (:func:`make_shader`): ``"none"``, ``"projection"`` (ADBSat's ``shadowAnaly``) and
+``"raycast"`` (default: exact convex shadows, else sampled rays, refined where partly lit).
+Method and accuracy: docs/shading.md. Units: metres, frame G, angles in radians.
 """
 
 from __future__ import annotations
@@ -53,48 +48,36 @@ class Shader:
     mesh : PanelMesh
         The satellite surface (frame G, metres).
     mode : {"raycast", "projection", "none"}
-        Shading method (module docstring).
     samples : int
         Rays per forward panel that could be shaded (raycast).
     backend : {"auto", "embree", "numpy"}
-        Ray engine (raycast, :mod:`adbsat_ros.shading.rays`). ``"embree"`` raises if embreex
-        is not available.
+        Ray engine (raycast, :mod:`adbsat_ros.shading.rays`).
     refine_samples : int
         Extra rays for each panel found partly lit by the first ``samples`` (raycast).
     graze_tol : float
-        |cos delta| at or below which a face is grazing.
+        |cos delta| at or below which a face is grazing (it occludes nothing).
     offset : float, optional
         Distance [m] by which ray origins are moved off their panel along its normal; default
         1e-5 of the bounding-box diagonal.
     prefilter : bool
         Test only the forward panels that could be shaded; False tests all (same answers).
     dilate : bool
-        Also probe the edge neighbours of partly lit panels with ``refine_samples // 8`` rays
-        (shadow corners that slip between a panel's first samples).
+        Also probe the edge neighbours of partly lit panels with ``refine_samples // 8`` rays.
     convex_shadows : bool
-        Light exactly the panels that only closed convex components can shade, and take a panel
-        whose three corner rays meet one such component as wholly shaded. False casts every
+        Light exactly the panels only closed convex components can shade; False casts every
         panel's rays (for checks).
-    scene : RayScene, optional
-        The ray scene of ``mesh``'s panels (raycast), made before (e.g.
+    scene, candidate_filter, hull_corners : optional
+        The ray scene, candidate filter and hull corners of ``mesh``, made before (e.g.
         :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.scene`; ``backend`` is then the scene's).
-    candidate_filter : CandidateFilter, optional
-        The candidate filter of ``mesh`` (raycast), made before (likewise).
-    hull_corners : dict, optional
-        Its components' convex hull corners, made before (likewise).
     topology_store : TopologyStore, "default" or None
-        Where the merged vertices and topology of ``mesh`` are read back from or kept (raycast,
-        without ``scene`` and ``candidate_filter``); by default the environment's cache
-        directory (:mod:`~adbsat_ros.shading.topology_store`); None for none.
+        Where the merged vertices and topology are kept (:mod:`~.topology_store`); None for none.
 
     Attributes
     ----------
-    backend : str
-        The ray engine used, ``"embree"`` or ``"numpy"`` (``"auto"`` resolved).
     trivial : bool
         True for mode ``"none"`` or a convex mesh: every panel lit, no work.
     last_stats : dict
-        Counts from the latest call: forward panels, tested panels, rays cast, partly lit.
+        Counts from the latest call (:data:`STATS`).
     """
 
     def __init__(
@@ -194,11 +177,7 @@ class Shader:
     __call__ = lighting
 
     def candidates(self, u: np.ndarray, forward: np.ndarray, boxes=None) -> np.ndarray:
-        """Indices of forward panels that could be shaded for unit flow direction ``u`` (G).
-
-        All of ``forward`` without the prefilter (none for a trivial shader); ``boxes``: the
-        filter's ``flow_boxes(u)``, if made already.
-        """
+        """Indices of forward panels that could be shaded for unit flow direction ``u`` (G)."""
         if self.filter is None:
             return np.zeros(0, dtype=np.int64)
         if not self.prefilter:
@@ -207,10 +186,7 @@ class Shader:
 
     # -------------------------------------------------------------------------- raycast
     def _cast_sets(self, sets, tri, lift, cand, d, occluder, stats):
-        """Cast the sample sets [(rows of cand, first sample, count), ...] in one batch.
-
-        Returns [(lit (k, count) bool, origins (k, count, 3)), ...] in the order given.
-        """
+        """[(lit (k, count), origins (k, count, 3)), ...] of sample sets [(rows, start, count)]."""
         parts = []
         for idx, start, count in sets:
             a, b = sample_coordinates(cand[idx], start, count)
@@ -226,11 +202,8 @@ class Shader:
         return out
 
     def _corner_rays(self, corners, d, occluder, cand) -> tuple:
-        """Which corner rays of ``cand`` are lit (K, 3), and which panels are wholly shaded (K,).
-
-        Wholly shaded: the three corner rays first meet one closed convex component other than the
-        panel's own (its shadow is convex). None without ``convex_shadows``.
-        """
+        """Corner rays lit (K, 3), and panels wholly shaded (K,): all three corner rays first meet
+        one closed convex component other than the panel's own (its shadow is convex)."""
         n = cand.size
         if not self.convex_shadows or not self.filter.convex.any():
             lit = ~self.scene.any_hit(corners.reshape(-1, 3), d, occluder).reshape(n, 3)
@@ -378,18 +351,16 @@ def make_shader(
     mesh : PanelMesh
         The surface to shade (metres, mesh frame G).
     mode : {"raycast", "projection", "none"}
-        Exact ray-cast shading (default), ADBSat's barycentre projection, or no occlusion.
     samples : int
         Rays per panel that could be shaded (raycast), >= 1.
     backend : {"auto", "embree", "numpy"}
-        Ray engine (raycast): Embree if installed, else numpy; both give the same answers.
+        Ray engine (raycast): Embree if installed, else numpy.
     **options
-        Further :class:`Shader` parameters (refinement rays, grazing tolerance, offset).
+        Further :class:`Shader` parameters.
 
     Returns
     -------
     Shader
-        Its :meth:`Shader.lighting` gives the :class:`PanelLighting` of a flow direction.
 
     Raises
     ------

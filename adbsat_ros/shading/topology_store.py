@@ -1,9 +1,7 @@
 """The ray-cast shader's topology of a mesh kept on disk, read back instead of made again.
 
-Kept: merged vertices and faces, and the :class:`~adbsat_ros.shading.candidates.MeshTopology`
-(made with trimesh). Key: SHA-256 of the panels' vertices, the diagonal, format and code
-fingerprint (:func:`~adbsat_ros.npz_store.code_fingerprint`). Bound: 64 most recently used
-entries; counters ``hits``, ``misses``, ``writes``; in ``$ADBSAT_ROS_CACHE_DIR/topology``.
+Key: SHA-256 of the panels' vertices, the diagonal, format and code fingerprint; 64 most recently
+used entries in ``$ADBSAT_ROS_CACHE_DIR/topology``.
 """
 
 from __future__ import annotations

@@ -1,14 +1,8 @@
-"""Cercignani-Lampis-Lord model per species, with the fits of Walker et al. (2014).
+"""Cercignani-Lampis-Lord model per species (docs/physics.md, section 3.7); results per q.
 
-Inputs ``c = cos(delta)`` and ``sigma = sin(delta)`` of any shape; surface parameters floats or
-(N,) arrays; results normalised by q = rho V^2 / 2; species mixed by mass fraction
-(:mod:`adbsat_ros.physics.models.mixture`).
-
-Sources: R. G. Lord, "Some extensions to the Cercignani-Lampis gas-surface scattering kernel",
-Physics of Fluids A 3 (1991) 706-710; A. Walker, P. Mehta and J. Koller, "Drag coefficient
-model using the Cercignani-Lampis-Lord gas-surface interaction model", Journal of Spacecraft
-and Rockets 51 (2014) 1544-1563 (the fits of the re-emitted normal momentum); as in ADBSat
-(Sinpetru et al., Computer Physics Communications 275 (2022) 108326).
+Sources: R. G. Lord, Physics of Fluids A 3 (1991) 706-710; A. Walker, P. Mehta and J. Koller,
+J. Spacecraft and Rockets 51 (2014) 1544-1563 (the fits); as in ADBSat (Sinpetru et al.,
+Computer Physics Communications 275 (2022) 108326).
 """
 
 from __future__ import annotations
@@ -59,16 +53,9 @@ def _cll_fit(name, alpha_n):
 def cll(c, sigma, surface, flow, options):
     """Cercignani-Lampis-Lord per species (He, O, N2, O2, H, N) with Walker et al. (2014) fits.
 
-    For panels with alpha_n < 1, per species j (s_j its speed ratio, x = s_j c):
-    c_p,j = (1/s_j^2) [(1 + sqrt(1 - alpha_n)) G1 + 1/2 exp(-beta_j (1 - alpha_n)^gamma_j)
-            (T_w/T_inf)^delta_j (zeta_j / s_j) sqrt(T_w/T_inf) sqrt(pi) G2],
-    c_tau,j = sigma_t sin(delta) G2 / s_j,
-    G1 = [x e^{-x^2} + (sqrt(pi)/2)(1 + 2x^2)(1 + erf x)] / sqrt(pi),
-    G2 = [e^{-x^2} + sqrt(pi) x (1 + erf x)] / sqrt(pi);
-    panels with alpha_n = 1 use Schaaf & Chambre with sigma_n = 1. With ``adbsat_compat`` the fit
+    Panels with alpha_n = 1 use Schaaf & Chambre with sigma_n = 1; with ``adbsat_compat`` the fit
     applies only if every panel has alpha_n < 1, else every panel is Schaaf & Chambre with
-    sigma_n = its alpha_n (ADBSat's branch). Species are mixed by mass fraction (the force is
-    sum_j q_j C_j with q_j = rho_j V^2 / 2). Back faces are kept.
+    sigma_n = its alpha_n (ADBSat's branch). Back faces are kept.
     """
     if not flow.has_species:
         raise ValueError("the cll model needs the gas composition (number_densities / --species)")

@@ -1,24 +1,12 @@
 """Models of a drifting Maxwellian gas with diffuse or partly accommodated re-emission.
 
-Thermal motion kept (speed ratio s = V / sqrt(2 k_B T_inf / m)), so back faces get the
-molecules that catch up with them. Inputs ``c = cos(delta)``, ``sigma = sin(delta)`` of any
-shape; surface parameters floats or (N,) arrays; results normalised by q = rho V^2 / 2. Each
-model is a *plate* (c_p and c_tau / sin(delta) elementwise in c) and its parameters from the
-surface and flow (:data:`adbsat_ros.physics.gsi_models.SPLIT_MODELS`).
+Back faces get the molecules that catch up with them. Each model is a *plate* (c_p and
+c_tau / sin(delta) elementwise in c) and its parameters (:data:`~.gsi_models.SPLIT_MODELS`).
+Formulas: docs/physics.md, sections 3.2, 3.3 and 3.8; results per q = rho V^2 / 2.
 
-Sources:
-
-* sentman: L. H. Sentman, "Free molecule flow theory and its application to the determination
-  of aerodynamic forces", Lockheed Missiles and Space Co., LMSC-448514 (1961): diffuse
-  re-emission at T_r = T_i + alpha (T_w - T_i), T_i as in
-  :class:`~adbsat_ros.physics.models.options.ModelOptions`.
-* schaaf: S. A. Schaaf and P. L. Chambre, "Flow of Rarefied Gases", Princeton University Press
-  (1961): normal and tangential momentum accommodation sigma_n, sigma_t.
-* dria: Sentman's plate per species mixed by mass fraction (Walker, Mehta and Koller, "Drag
-  coefficient model using the Cercignani-Lampis-Lord gas-surface interaction model", Journal
-  of Spacecraft and Rockets 51 (2014) 1544-1563).
-
-As in ADBSat (Sinpetru et al., Computer Physics Communications 275 (2022) 108326).
+Sources: L. H. Sentman, Lockheed LMSC-448514 (1961); S. A. Schaaf and P. L. Chambre, "Flow of
+Rarefied Gases", Princeton (1961); dria: Walker, Mehta and Koller, J. Spacecraft and Rockets 51
+(2014) 1544-1563; as in ADBSat (Sinpetru et al., Comput. Phys. Commun. 275 (2022) 108326).
 """
 
 from __future__ import annotations
@@ -35,13 +23,8 @@ SQRT_PI = math.sqrt(math.pi)
 
 
 def sentman_plate(c, s, K):
-    """Sentman's plate for one gas: c_p and c_tau / sin(delta), elementwise in ``c``.
-
-    s the speed ratio, K = sqrt(T_r / T_inf) / s (floats, or arrays like ``c``). With
-    Phi = 1 + erf(s c) and e = exp(-s^2 c^2):
-    c_tau / sin(delta) = c Phi + e / (sqrt(pi) s),
-    c_p = c (c_tau / sin(delta)) + Phi / (2 s^2) + (K sqrt(pi) / 2) c Phi + (K / (2 s)) e.
-    """
+    """Sentman's plate for one gas: c_p and c_tau / sin(delta), elementwise in ``c``, of speed
+    ratio ``s`` and K = sqrt(T_r / T_inf) / s."""
     minus_x = c * -s
     Phi = erfc(minus_x)  # = 1 + erf(x), without cancellation for x << 0
     e = np.exp(-(minus_x * minus_x))
@@ -65,12 +48,7 @@ def sentman_coefficients(c, sigma, s, K):
 
 
 def re_emission_k(alpha, wall_temperature, incident_temperature, particle_mass, speed):
-    """K = sqrt(T_r / T_inf) / s = sqrt(2 k_B T_r / (m V^2)), T_r = T_i + alpha (T_w - T_i).
-
-    Diffusely re-emitted molecules at T_r carry the normal momentum flux N m sqrt(pi k_B T_r/(2m))
-    (Schaaf & Chambre 1961), which is (K/2)(sqrt(pi) c Phi + E/s) in units of q. With the
-    energy-flux T_i = m V^2/(4 k_B) this is ADBSat's sqrt(0.5 [1 + alpha (T_w/T_i - 1)]).
-    """
+    """K = sqrt(2 k_B T_r / (m V^2)), T_r = T_i + alpha (T_w - T_i) (docs/physics.md, 3.10)."""
     t_r = incident_temperature + alpha * (wall_temperature - incident_temperature)
     k_squared = 2.0 * BOLTZMANN * t_r / (particle_mass * speed * speed)
     # one value for all panels: math.sqrt (the same correctly rounded root) keeps K a Python float,
@@ -83,14 +61,7 @@ def re_emission_k(alpha, wall_temperature, incident_temperature, particle_mass, 
 
 
 def sentman(c, sigma, surface, flow, options):
-    """Sentman (1961) diffuse model with energy accommodation ``alpha``; back faces kept.
-
-    c_p = (c^2 + 1/(2 s^2)) (1 + erf(s c)) + c e^{-s^2 c^2} / (sqrt(pi) s)
-          + (K/2) (sqrt(pi) c (1 + erf(s c)) + e^{-s^2 c^2} / s),
-    c_tau = sin(delta) (c (1 + erf(s c)) + e^{-s^2 c^2} / (sqrt(pi) s)),
-    K = sqrt(T_r / T_inf) / s with T_r = T_i + alpha (T_w - T_i) (for the energy-flux T_i this is
-    ADBSat's sqrt(0.5 [1 + alpha (T_w / T_i - 1)])).
-    """
+    """Sentman (1961) diffuse model with energy accommodation ``alpha``; back faces kept."""
     return sentman_coefficients(c, sigma, *sentman_parameters(surface, flow, options))
 
 
@@ -122,13 +93,7 @@ def schaaf_coefficients(c, sigma, s, sigma_n, sigma_t, r):
 
 
 def schaaf(c, sigma, surface, flow, options):
-    """Schaaf & Chambre (1961) with momentum accommodation sigma_n, sigma_t; back faces kept.
-
-    c_p = (1/s^2) {[(2 - sigma_n) s c / sqrt(pi) + (sigma_n/2) r] e^{-s^2 c^2}
-          + [(2 - sigma_n)(1/2 + s^2 c^2) + (sigma_n/2) r sqrt(pi) s c] (1 + erf(s c))},
-    c_tau = sigma_t sin(delta) / (s sqrt(pi)) (e^{-s^2 c^2} + sqrt(pi) s c (1 + erf(s c))),
-    r = sqrt(T_w / T_inf).
-    """
+    """Schaaf & Chambre (1961) with momentum accommodation sigma_n, sigma_t; back faces kept."""
     return schaaf_coefficients(c, sigma, *schaaf_parameters(surface, flow, options))
 
 
@@ -139,14 +104,8 @@ def schaaf_parameters(surface, flow, options):
 
 
 def dria(c, sigma, surface, flow, options):
-    """Diffuse reflection with incomplete accommodation: Sentman's plate per species, mixed.
-
-    Per species j: c_d,j = P/sqrt(pi) + c Q Z + (c/2) K_j (c sqrt(pi) Z + P),
-    c_l,j = sin(delta) G Z + (sin(delta)/2) K_j (c sqrt(pi) Z + P), with P = e^{-c^2 s_j^2}/s_j,
-    G = 1/(2 s_j^2), Q = 1 + G, Z = 1 + erf(c s_j), K_j = sqrt(2 k_B T_r,j / (m_j V^2));
-    c_p = c_d c + c_l sin(delta), c_tau = c_d sin(delta) - c_l c, which is Sentman's plate for
-    species j. Species are mixed by mass fraction. Back faces are kept.
-    """
+    """Diffuse reflection with incomplete accommodation: Sentman's plate per species, mixed by
+    mass fraction; back faces kept."""
     if not flow.has_species:
         raise ValueError("the dria model needs the gas composition (number_densities / --species)")
     names = [n for n in flow.species if flow.number_densities[n] > 0]

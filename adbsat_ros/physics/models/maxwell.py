@@ -1,12 +1,9 @@
 """Maxwell's model: a fraction alpha of the molecules re-emitted diffusely, the rest specularly.
 
-Inputs and units as in :mod:`adbsat_ros.physics.models.diffuse`; ADBSat's two-sided plate
-(Bird, "Molecular Gas Dynamics and the Direct Simulation of Gas Flows", Oxford 1994, ch. 7)
-with ``ModelOptions(adbsat_compat=True)``.
-
-Sources: J. C. Maxwell, "On stresses in rarified gases arising from inequalities of
-temperature", Philosophical Transactions of the Royal Society 170 (1879) 231-256; Sinpetru et
-al., Computer Physics Communications 275 (2022) 108326 (ADBSat).
+Docs/physics.md, section 3.4; ADBSat's two-sided plate (Bird, "Molecular Gas Dynamics and the
+Direct Simulation of Gas Flows", Oxford 1994, ch. 7) with ``ModelOptions(adbsat_compat=True)``.
+Sources: J. C. Maxwell, Phil. Trans. R. Soc. 170 (1879) 231-256; Sinpetru et al., Comput. Phys.
+Commun. 275 (2022) 108326 (ADBSat).
 """
 
 from __future__ import annotations
@@ -21,11 +18,8 @@ from adbsat_ros.physics.models.hyperthermal import zero_backward
 def maxwell(c, sigma, surface, flow, options):
     """Maxwell model: a fraction alpha of molecules re-emitted diffusely at T_w, the rest specular.
 
-    By default each panel is one side of a closed surface, which is exactly Schaaf & Chambre with
-    sigma_n = sigma_t = alpha (specular reflection returns the incident normal momentum, diffuse
-    re-emission none of the tangential), back faces kept. With ``adbsat_compat`` ADBSat's formula
-    is used instead: the two-sided flat plate (both faces exposed), zeroed for back faces, which
-    doubles the grazing shear (c_tau = 2 alpha / (sqrt(pi) s) at delta = 90 deg).
+    By default exactly Schaaf & Chambre with sigma_n = sigma_t = alpha, back faces kept; with
+    ``adbsat_compat`` ADBSat's two-sided flat plate, zeroed for back faces.
     """
     if not options.adbsat_compat:
         return schaaf_coefficients(c, sigma, *maxwell_parameters(surface, flow, options))

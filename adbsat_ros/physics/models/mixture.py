@@ -1,9 +1,7 @@
 """How the per-species models (cll, dria) weight the species of the gas.
 
-The force of a mixture is sum_j q_j C_j with q_j = rho_j V^2 / 2, so each species' coefficients
-are weighted by its mass fraction rho_j / rho. ADBSat's code weights cll by M_j n_j^2 and divides
-dria by the given total density; :class:`~adbsat_ros.physics.models.options.ModelOptions`
-``adbsat_compat`` reproduces that.
+By mass fraction rho_j / rho (the force is sum_j q_j C_j); ``ModelOptions(adbsat_compat=True)``
+reproduces ADBSat's rules (docs/physics.md, section 3.9).
 """
 
 from __future__ import annotations
@@ -17,24 +15,8 @@ from adbsat_ros.physics.freestream import FreeStream
 
 
 def species_weights(flow: FreeStream, names, options, adbsat_rule: str) -> np.ndarray:
-    """Weights of the species ``names`` of ``flow``.
-
-    Parameters
-    ----------
-    flow : FreeStream
-        With a composition.
-    names : sequence of str
-        The species mixed (a subset of ``flow.species``).
-    options : ModelOptions
-        ``adbsat_compat`` selects ADBSat's rule.
-    adbsat_rule : {"cll", "dria"}
-        Which of ADBSat's rules applies with ``adbsat_compat``.
-
-    Returns
-    -------
-    ndarray, shape (len(names),)
-        Mass fractions renormalised over ``names`` [-], or ADBSat's weights in compat.
-    """
+    """Weights (len(names),) of the species ``names`` of ``flow``: mass fractions renormalised over
+    ``names``, or ADBSat's ``adbsat_rule`` ("cll", "dria") with ``options.adbsat_compat``."""
     idx = [flow.species.index(n) for n in names]
     n = flow.species_number_densities[idx]
     m = flow.species_masses[idx]

@@ -31,14 +31,8 @@ class BatchSums:
 
 
 class Problem:
-    """One flow about one body, ready to run batches anywhere (it pickles without its scene).
-
-    Parameters
-    ----------
-    mesh, kernel, surface, inflow, moment_point, backend
-        The body, the scattering kernel name, its per-panel surface, the inflow box, the point
-        of the moments [m] and the ray backend.
-    """
+    """One flow about one body, ready to run batches anywhere (it pickles without its scene);
+    ``moment_point`` [m], G."""
 
     def __init__(self, mesh, kernel, surface, inflow, moment_point, backend):
         self.mesh, self.kernel, self.surface = mesh, kernel, surface
@@ -86,9 +80,8 @@ _WORKER_PROBLEM: Problem | None = None
 
 
 def init_worker(problem: Problem, parent: int) -> None:
-    """Keep the problem in a worker process (the pool's initializer), which dies with ``parent``;
-    SIGINT and SIGTERM are left to the parent, which stops the run between blocks
-    (:func:`adbsat_ros.processes.die_with_parent`)."""
+    """Keep the problem in a worker process, which dies with ``parent`` (SIGINT and SIGTERM are
+    left to the parent, which stops the run between blocks)."""
     die_with_parent(parent, stops_to_parent=True)
     global _WORKER_PROBLEM
     _WORKER_PROBLEM = problem

@@ -1,10 +1,7 @@
 """Molecules entering a box around the body from a drifting Maxwellian gas, sampled exactly.
 
-The box is the body's bounding box grown by a margin. For a face of inward normal n and a
-species of most probable thermal speed c drifting with U (s_n = U . n / c), the number flux per
-unit area and number density is c / sqrt(pi) G(s_n), and the entering normal speeds c x have
-the density x exp(-(x - s_n)^2) on x > 0. The formulas and the sampling: docs/physics.md,
-section 12 ("Inflow"). Units: SI; positions in the mesh frame G [m].
+Formulas and sampling: docs/physics.md, section 12 ("Inflow"). Units: SI; positions in the mesh
+frame G [m].
 """
 
 from __future__ import annotations
@@ -30,21 +27,8 @@ def flux_factor(s) -> np.ndarray:
 
 
 def normal_speed_ratios(s, rng: np.random.Generator) -> np.ndarray:
-    """Normal speeds over c of entering molecules, x > 0 drawn exactly from x exp(-(x - s)^2).
-
-    By rejection, vectorised over the molecules still waiting. With y = x - s: for s >= 0 the
-    proposal (|y| + s) exp(-y^2) on y > -s, a mixture of |y| exp(-y^2) (Rayleigh halves) and
-    s exp(-y^2) (a normal truncated at -s), accepted with (y + s) / (|y| + s); for -1 < s < 0 the
-    proposal x exp(-x^2), accepted with exp(2 s x); for s <= -1 the proposal x exp(2 s x) (gamma of
-    shape 2, scale -1 / (2 s)), accepted with exp(-x^2). Each accepts about a third of its draws or
-    more.
-
-    Parameters
-    ----------
-    s : ndarray, shape (P,)
-        Normal speed ratio U . n / c of each molecule's face and species.
-    rng : numpy.random.Generator
-    """
+    """Normal speeds over c (P,) of entering molecules, x > 0 drawn exactly from
+    x exp(-(x - s)^2) by rejection (docs/physics.md, section 12), s = U . n / c (P,)."""
     s = np.asarray(s, dtype=float)
     x = np.empty_like(s)
     up = s >= 0.0
@@ -103,10 +87,8 @@ class InflowBox:
         Velocity of the gas relative to the body, U = V u [m/s], G.
     temperature : float
         Gas temperature T [K].
-    masses : array_like, shape (J,)
-        Molecular mass of each species [kg].
-    mole_fractions : array_like, shape (J,)
-        Number fraction of each species (sums to 1).
+    masses, mole_fractions : array_like, shape (J,)
+        Molecular mass [kg] and number fraction of each species.
     margin : float
         The box is the bounding box grown by this fraction of its largest side on every side.
 
@@ -114,13 +96,8 @@ class InflowBox:
     ----------
     normals : ndarray, shape (6, 3)
         Inward unit normal of each face (-x, +x, -y, +y, -z, +z sides in that order).
-    areas : ndarray, shape (6,)
-        Face areas [m^2].
-    thermal_speeds : ndarray, shape (J,)
-        c_j = sqrt(2 k_B T / m_j) [m/s].
     rates : ndarray, shape (6, J)
-        Molecules entering per second per unit number density [m^3/s], by face and species:
-        x_j A_f c_j G_fj(inf) / sqrt(pi).
+        Molecules entering per second per unit number density [m^3/s], by face and species.
     """
 
     def __init__(self, lower, upper, drift, temperature, masses, mole_fractions, margin=0.05):
@@ -156,11 +133,8 @@ class InflowBox:
         return float(self.rates.sum())
 
     def momentum_flux(self) -> np.ndarray:
-        """Momentum entering per second per unit number density [kg m^4 / s^2 per m^3], G.
-
-        Closed form: through a face, n m c^2 / sqrt(pi) [s_n exp(-s_n^2) / 2 + sqrt(pi) / 4
-        (1 + 2 s_n^2) (1 + erf(s_n))] along n, and the number flux times m U_t along the face.
-        """
+        """Momentum entering per second per unit number density [kg m^4 / s^2 per m^3], G, in
+        closed form (docs/physics.md, section 12)."""
         total = np.zeros(3)
         for f in range(6):
             n = self.normals[f]

@@ -1,14 +1,9 @@
 """Re-emission of a molecule from a surface: the gas-surface scattering kernels.
 
-Each kernel takes the velocities of molecules hitting panels and returns those they leave with,
-into the half-space they came from: ``n`` the unit normal of that side (flipped for the back of
-a thin plate), ``t1, t2`` two unit tangents, c_w = sqrt(2 k_B T_w / m), u uniform in (0, 1],
-g standard normal. The kernels' formulas: docs/physics.md, section 12 ("Surfaces"). Surface
-parameters are floats or per-hit arrays.
-
-Sources: J. C. Maxwell, Phil. Trans. R. Soc. 170 (1879) 231-256; R. G. Lord, Physics of Fluids
-A 3 (1991) 706-710; G. A. Bird, "Molecular Gas Dynamics and the Direct Simulation of Gas
-Flows", Oxford (1994).
+Molecules leave into the half-space they came from (``n`` that side's unit normal). Formulas:
+docs/physics.md, section 12 ("Surfaces"). Sources: J. C. Maxwell, Phil. Trans. R. Soc. 170
+(1879) 231-256; R. G. Lord, Physics of Fluids A 3 (1991) 706-710; G. A. Bird, "Molecular Gas
+Dynamics and the Direct Simulation of Gas Flows", Oxford (1994).
 """
 
 from __future__ import annotations
@@ -45,11 +40,7 @@ def _open_uniform(rng, count) -> np.ndarray:
 
 
 def diffuse(v, frame, mass, alpha, wall_temperature, rng) -> np.ndarray:
-    """Cosine-law re-emission with energy accommodation ``alpha`` (sentman, dria).
-
-    Each molecule of incident energy E_i leaves from the flux Maxwellian at T_r = T_i +
-    alpha (T_w - T_i), T_i = E_i / (2 k_B): v' = c_r (sqrt(-ln u) n + (g t1 + g' t2) / sqrt(2)).
-    """
+    """Cosine-law re-emission with energy accommodation ``alpha`` (sentman, dria)."""
     count = len(v)
     incident = mass * np.einsum("ij,ij->i", v, v) / (4.0 * BOLTZMANN)  # T_i = E_i / (2 k_B)
     emitted = incident + alpha * (wall_temperature - incident)
@@ -77,12 +68,7 @@ def maxwell(v, frame, mass, alpha, wall_temperature, rng) -> np.ndarray:
 
 
 def cll(v, frame, mass, alpha_n, sigma_t, wall_temperature, rng) -> np.ndarray:
-    """Cercignani-Lampis-Lord re-emission (Lord 1991), in units of c_w.
-
-    Normal speed sqrt(r^2 + (1 - alpha_n) w_n^2 + 2 r sqrt(1 - alpha_n) w_n cos(theta)),
-    r = sqrt(-alpha_n ln u); each tangential component sqrt(1 - alpha_t) w_t + r_t (cos, sin)
-    (theta_t), r_t = sqrt(-alpha_t ln u''), alpha_t = sigma_t (2 - sigma_t).
-    """
+    """Cercignani-Lampis-Lord re-emission (Lord 1991), in units of c_w = sqrt(2 k_B T_w / m)."""
     count = len(v)
     n, t1, t2 = frame
     c = np.broadcast_to(np.sqrt(2.0 * BOLTZMANN * wall_temperature / mass), (count,))
@@ -103,22 +89,11 @@ def cll(v, frame, mass, alpha_n, sigma_t, wall_temperature, rng) -> np.ndarray:
 
 
 def reemit(kernel: str, v, frame, mass, surface, rng) -> np.ndarray:
-    """Velocities [m/s] of the molecules leaving the panels they hit.
+    """Velocities (H, 3) [m/s] of the molecules leaving the panels they hit with ``v`` [m/s].
 
-    Parameters
-    ----------
-    kernel : {"diffuse", "maxwell", "cll"}
-        The scattering kernel (:data:`KERNEL_OF_MODEL`).
-    v : ndarray, shape (H, 3)
-        Incident velocities [m/s].
-    frame : tuple of 3 ndarrays, shape (H, 3) each
-        (n, t1, t2): unit normal of the side hit, pointing into the gas the molecules came from,
-        and two unit tangents, mutually orthogonal.
-    mass : ndarray, shape (H,)
-        Molecular masses [kg].
-    surface : mapping of str to float or ndarray of shape (H,)
-        ``alpha``, ``alpha_n``, ``sigma_t`` and ``wall_temperature`` [K] at each hit.
-    rng : numpy.random.Generator
+    ``frame`` (n, t1, t2), (H, 3) each: the unit normal of the side hit, into the gas, and two unit
+    tangents; ``mass`` (H,) [kg]; ``surface``: ``alpha``, ``alpha_n``, ``sigma_t``,
+    ``wall_temperature`` [K], floats or (H,).
     """
     t_w = surface["wall_temperature"]
     if kernel == "diffuse":

@@ -1,11 +1,7 @@
-"""The test-particle Monte Carlo solver beside the panel method.
-
-:class:`TestParticleMethod` takes what :class:`~adbsat_ros.physics.panel_method.PanelMethod`
-takes and returns the same coefficients with a standard error each
-(:class:`~.results.TpmcCoefficients`). C_F = R / (rho/n V^2 A_ref / 2) mean_p(m_p dv_p); the
-run stops at a particle budget or, after whole blocks of :data:`BLOCK_BATCHES` batches, at a
-relative tolerance on C_D, so a seed gives the same numbers with any number of workers
-(docs/physics.md, section 12). Units: SI, mesh frame G; angles in radians.
+"""The test-particle Monte Carlo solver beside the panel method: the same inputs, the same
+coefficients with a standard error each. A run stops at a particle budget or, after whole blocks
+of :data:`BLOCK_BATCHES` batches, at a tolerance on C_D, so a seed gives the same numbers with any
+number of workers (docs/physics.md, section 12). Units: SI, mesh frame G; angles in radians.
 """
 
 from __future__ import annotations
@@ -21,7 +17,7 @@ from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.gsi_models import canonical_model_name
-from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
+from adbsat_ros.physics.surface import MaterialTable
 from adbsat_ros.physics.tpmc.batches import BatchSums, Problem, init_worker, run_batch
 from adbsat_ros.physics.tpmc.inflow import InflowBox
 from adbsat_ros.physics.tpmc.kernels import KERNEL_OF_MODEL
@@ -45,15 +41,13 @@ class TestParticleMethod:
     Parameters
     ----------
     mesh : PanelMesh
-        The satellite surface (closed bodies and thin open plates alike; a molecule is
-        re-emitted into the side it came from).
+        Closed bodies and thin open plates alike.
     model : str
-        Gas-surface model: sentman or dria (diffuse re-emission with energy accommodation),
-        maxwell or cll (:data:`~.kernels.KERNEL_OF_MODEL`).
+        sentman, dria, maxwell or cll (:data:`~.kernels.KERNEL_OF_MODEL`).
     materials : MaterialTable or SurfaceProperties, optional
-        Surface properties by material (default: full accommodation, T_w = 300 K).
+        Default: full accommodation, T_w = 300 K.
     reference : Reference, optional
-        Reference area, length and moment point (default as the panel method's).
+        Default as the panel method's.
     backend : {"auto", "embree", "numpy"}
         Ray casting (:func:`adbsat_ros.shading.rays.ray_scene`).
     margin : float
@@ -79,11 +73,7 @@ class TestParticleMethod:
                 f"{', '.join(KERNEL_OF_MODEL)}"
             )
         self.kernel = KERNEL_OF_MODEL[self.model]
-        if materials is None:
-            materials = MaterialTable()
-        elif isinstance(materials, SurfaceProperties):
-            materials = MaterialTable(materials)
-        self.materials = materials
+        self.materials = materials = MaterialTable.of(materials)
         self.surface = materials.expand(mesh.material_names, mesh.material_index)
         self.reference = (reference or Reference()).resolved(mesh)
         self.backend = resolve_backend(backend)
@@ -131,12 +121,9 @@ class TestParticleMethod:
 
         Parameters
         ----------
-        flow : FreeStream
-            Free-stream gas; with a composition each species enters by its own flux.
-        aoa, aos : float, optional
-            Angle of attack and sideslip [rad] (frames module conventions).
-        flow_direction : array_like, shape (3,), optional
-            Direction of the gas motion relative to the body in G, instead of the angles.
+        flow, aoa, aos, flow_direction
+            As :meth:`PanelMethod.coefficients` (angles [rad], direction in G); with a
+            composition each species enters by its own flux.
         particles : int, optional
             Most molecules to trace, >= 1 (default :data:`DEFAULT_PARTICLES`, or 100 times that
             with a tolerance); rounded up to whole batches.
@@ -149,9 +136,8 @@ class TestParticleMethod:
         progress : callable, optional
             Called with the molecules traced so far after every block.
         stop : threading.Event, optional
-            Checked after every block: once set, the run ends there and its result, from the
-            molecules traced so far, says so (``stopped``); the same seed and block count give
-            the same numbers as an uninterrupted run of that length.
+            Checked after every block: once set, the run ends there (``stopped``) with the
+            numbers of an uninterrupted run of that length.
         """
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         budget, tol = run_settings(particles, tolerance, seed)
@@ -159,11 +145,7 @@ class TestParticleMethod:
         problem = self.problem(flow, u)
         size = min(BATCH_SIZE, budget)
         total = _Totals(self.mesh.n_panels)
-        if workers == 1:
-            runner = _Serial(problem)
-        else:
-            runner = _Pool(problem, workers)
-        with runner:
+        with _Serial(problem) if workers == 1 else _Pool(problem, workers) as runner:
             k = 0
             while total.count < budget:
                 block = range(k, k + min(BLOCK_BATCHES, -(-(budget - total.count) // size)))
@@ -257,11 +239,16 @@ class _Totals:
         self.exit_momentum += b.exit_momentum
 
     @staticmethod
-    def scale(problem: Problem, flow: FreeStream, method) -> float:
-        """R / (rho/n V^2 A_ref / 2): from mean momentum per molecule to a force coefficient."""
+    def per_unit_q(problem: Problem, flow: FreeStream, area: float) -> float:
+        """rho/n V^2 A_ref / 2: a momentum flux per unit number density over this is a force
+        coefficient."""
         inflow = problem.inflow
         rho_over_n = float(inflow.mole_fractions @ inflow.masses)
-        return inflow.rate / (rho_over_n * 0.5 * flow.speed**2 * method.reference.area)
+        return rho_over_n * 0.5 * flow.speed**2 * area
+
+    def scale(self, problem: Problem, flow: FreeStream, method) -> float:
+        """R / (rho/n V^2 A_ref / 2): from mean momentum per molecule to a force coefficient."""
+        return problem.inflow.rate / self.per_unit_q(problem, flow, method.reference.area)
 
     def covariance(self, k: float, length: float) -> np.ndarray:
         n = self.count
@@ -299,9 +286,8 @@ class _Totals:
             )
         ctau = shear * ref.area / mesh.areas
         inflow = problem.inflow
-        rho_over_n = float(inflow.mole_fractions @ inflow.masses)
-        balance = (inflow.momentum_flux() - inflow.rate * self.exit_momentum / n) / (
-            rho_over_n * 0.5 * flow.speed**2 * ref.area
+        balance = (inflow.momentum_flux() - inflow.rate * self.exit_momentum / n) / self.per_unit_q(
+            problem, flow, ref.area
         )
         area = lit_projected_area(mesh, u, shade(mesh, u, "raycast", topology_store=None))
         return TpmcCoefficients(

@@ -19,12 +19,11 @@ class TpmcCoefficients(AeroCoefficients):
     particles, seed, hits : int
         Molecules traced, the run's seed, molecule-surface collisions.
     trapped : int
-        Molecules stopped while still bouncing (0 unless the body holds them almost forever).
+        Molecules stopped while still bouncing.
     force_balance : ndarray, shape (3,)
-        Momentum in minus out through the box per second per unit dynamic pressure and reference
-        area (closed-form inflow, traced outflow): equals Cf_G within errors.
+        Momentum in minus out through the box per unit q A_ref: equals Cf_G within errors.
     stopped : bool
-        The run was stopped (by its ``stop`` event) before its budget or tolerance.
+        The run was stopped by its ``stop`` event.
     """
 
     def __init__(

@@ -1,8 +1,7 @@
 """Test particles followed through the body's panels until they leave, and the momentum they give.
 
-No molecule-molecule collisions, so each molecule is a straight line to the first panel it meets,
-re-emission into the side it came from, and again until it meets none; each step runs on the
-whole batch still in flight. Units: SI, mesh frame G.
+No molecule-molecule collisions: straight lines from panel to panel, each step on the whole batch
+still in flight (docs/physics.md, section 12, "Tracing"). Units: SI, mesh frame G.
 """
 
 from __future__ import annotations
@@ -22,20 +21,9 @@ MAX_BOUNCES = 100_000
 
 @dataclass
 class Tally:
-    """What a batch of molecules did.
-
-    Attributes
-    ----------
-    impulse : ndarray, shape (P, 3)
-        Momentum each molecule gave the body, sum of m (v_in - v_out) over its hits [kg m/s].
-    moment : ndarray, shape (P, 3)
-        Its moment about the moment point, sum of (r_hit - r_ref) x m (v_in - v_out) [kg m^2/s].
-    exit_velocity : ndarray, shape (P, 3)
-        Velocity [m/s] each molecule leaves with (its entry velocity if it hit nothing).
-    panel_impulse, panel_hits : ndarray, shape (N, 3) and (N,)
-        Momentum given to [kg m/s], and hits on, each panel; ``hits`` all collisions, ``trapped``
-        the molecules stopped after :data:`MAX_BOUNCES` hits.
-    """
+    """What a batch of molecules did: per molecule the ``impulse`` [kg m/s] and ``moment``
+    [kg m^2/s] given to the body and the ``exit_velocity`` [m/s] (P, 3); per panel the
+    ``panel_impulse`` [kg m/s] and ``panel_hits``; ``trapped`` after :data:`MAX_BOUNCES` hits."""
 
     impulse: np.ndarray
     moment: np.ndarray
@@ -58,24 +46,9 @@ def surface_at(surface, faces) -> dict:
 def trace(scene, mesh, kernel, surface, positions, velocities, masses, rng, moment_point):
     """Follow molecules from their entry until they leave the body.
 
-    Parameters
-    ----------
-    scene : RayScene
-        The panels of ``mesh`` (:func:`adbsat_ros.shading.rays.ray_scene`).
-    mesh : PanelMesh
-        The body (normals for the re-emission side).
-    kernel : str
-        Scattering kernel (:mod:`adbsat_ros.physics.tpmc.kernels`).
-    surface : PanelSurface
-        Per-panel surface parameters.
-    positions, velocities : ndarray, shape (P, 3)
-        Where the molecules start [m] and their velocities [m/s].
-    masses : ndarray, shape (P,)
-        Their masses [kg].
-    rng : numpy.random.Generator
-        The batch's random numbers.
-    moment_point : array_like, shape (3,)
-        Point the moments are taken about [m].
+    ``scene`` the ray scene of ``mesh``; ``kernel`` and per-panel ``surface`` the re-emission;
+    ``positions`` [m], ``velocities`` [m/s] (P, 3) and ``masses`` [kg] (P,) the molecules at
+    entry; ``moment_point`` [m], G.
     """
     count = len(positions)
     n_panels = mesh.n_panels
