@@ -1,18 +1,10 @@
 """Offline analysis of recorded flights: the node's wrench at every attitude message of a rosbag2.
 
-:func:`analyze_bag` reads a bag with ``rosbags`` (no ROS needed), feeds its messages in bag order
-through the node's own per-message path
-(:class:`~adbsat_ros.estimator.handling.MessageHandler`), one estimator per model, and writes a
-bag (the input plus ``/adbsat/LABEL/wrench``, ``/adbsat/LABEL/coefficients`` and
-``/diagnostics``), a CSV (:mod:`adbsat_ros.bags.table`) and plots; docs/cli.md, "Recorded
-flights". Outputs appear only when complete; after a fault or a stop, what came before is kept
-as PARTIAL (:attr:`AnalysisReport.error`).
-
-Parallel replay, with the results of one estimator fed every message in order: *read* the
-trigger (state and attitude) messages' stamps (:mod:`~adbsat_ros.bags.reading`), *plan* chunks
-starting where a reset estimator provably agrees (:mod:`~adbsat_ros.bags.planning`), *compute*
-them in worker processes (:mod:`~adbsat_ros.bags.worker`), *merge* in bag order, rebuilding the
-node's cumulative state (:mod:`~adbsat_ros.bags.outputs`, :mod:`~adbsat_ros.bags.model_state`).
+:func:`analyze_bag` feeds a bag's messages, in bag order, through the node's per-message path
+(:class:`~adbsat_ros.estimator.handling.MessageHandler`), one estimator per model, in parallel
+chunks (read, plan, compute in workers, merge in bag order), and writes a bag, a CSV
+(:mod:`adbsat_ros.bags.table`) and plots; docs/cli.md, "Recorded flights". After a fault or a
+stop, the outputs so far are kept as PARTIAL (:attr:`AnalysisReport.error`).
 """
 
 from __future__ import annotations
@@ -66,7 +58,7 @@ __all__ = [
 
 
 def _output_path(path, overwrite: bool, what: str) -> Path | None:
-    """``path`` as a Path; BagError if something is there that ``overwrite`` may not replace."""
+    """``path`` as a Path; BagError if ``overwrite`` may not replace what is there."""
     if path is None:
         return None
     path = Path(path)

@@ -1,11 +1,8 @@
 """Reading and writing rosbag2 files (.mcap and .db3) without ROS, with the ``rosbags`` library.
 
-The one place that knows message layouts in bags: builders of the messages the project writes,
-the deserialisers of the node's inputs (for :mod:`adbsat_ros.messages.decoding`) and the joint
-torques' serialiser (for :mod:`adbsat_ros.messages.encoding`), :func:`open_bag` (every failure a
-:class:`BagError` naming the file) and :class:`BagWriter` (a temporary name until
-:meth:`BagWriter.commit`; MCAP CRCs by :mod:`adbsat_ros.bags.checksums`). Stamps are integer
-nanoseconds.
+The one place that knows message layouts in bags: the messages the project writes, the
+deserialisers of the node's inputs and :func:`open_bag` / :class:`BagWriter` (MCAP CRCs by
+:mod:`adbsat_ros.bags.checksums`). Stamps are integer nanoseconds.
 """
 
 from __future__ import annotations
@@ -229,10 +226,10 @@ def storage_plugin(storage: str) -> StoragePlugin:
 
 # --------------------------------------------------------------------------------- writing
 class BagWriter:
-    """A rosbag2 writer that builds the bag under a temporary name beside ``path``.
+    """A rosbag2 writer building the bag under a temporary name beside ``path``.
 
     :meth:`commit` renames it to ``path``; :meth:`discard` (or an exception in a ``with`` block)
-    removes it, so a half-written bag never appears at ``path``.
+    removes it.
 
     Parameters
     ----------

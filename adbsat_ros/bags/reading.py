@@ -1,9 +1,8 @@
 """Reading an input bag for the analysis in two passes, in memory that does not grow with the bag.
 
-After the checksums (:func:`check_damage`) and topics: a first pass keeps the kinds and stamps
-of the trigger (state and attitude) messages to plan the chunks; a second streams them to the
-workers and every message to the merge. A reader fault part-way ends both passes at the same
-place, and is reported.
+A first pass keeps the trigger (state and attitude) messages' kinds and stamps to plan the
+chunks; a second streams them to the workers and every message to the merge. A reader fault
+ends both passes at the same place, and is reported.
 """
 
 from __future__ import annotations
@@ -118,10 +117,8 @@ def check_topics(reader, path, topics_types) -> dict:
 class BagMessages:
     """The first pass over a bag: trigger kinds and stamps, and the states' bytes.
 
-    ``trigger_stamps`` [s] (sec + 1e-9 nanosec) stop at the first unreadable one (no chunk starts
-    after it); ``state_raws`` maps trigger index to a state's CDR bytes (to test where chunks may
-    start); ``count`` is the messages read and ``error`` why reading stopped early, if it did;
-    ``skipped`` the damaged chunks both passes leave out.
+    ``trigger_stamps`` [s] stop at the first unreadable message; ``state_raws`` maps trigger
+    index to a state's CDR bytes; ``error`` says why reading stopped early, if it did.
     """
 
     path: object
@@ -182,12 +179,8 @@ def read_bag_messages(
 
 
 class MessageStream:
-    """The second pass over a bag, read once for two consumers at their own pace.
-
-    :meth:`chunks` gives the workers' trigger messages, :meth:`messages` the merge's every message;
-    whichever reads a message first queues it for the other, so memory is bounded by how far apart
-    they are, not by the bag.
-    """
+    """The second pass over a bag, read once for the workers (:meth:`chunks`) and the merge
+    (:meth:`messages`); whichever reads first queues for the other, so memory stays bounded."""
 
     def __init__(self, read: BagMessages):
         self._kind_of = read.kind_of

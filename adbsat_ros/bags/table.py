@@ -74,8 +74,7 @@ JOINT_COLUMNS = ("position", "effort")
 
 
 def extra_columns(solar: bool, joint_names=()) -> tuple:
-    """A model's columns after :data:`MODEL_COLUMNS`: :data:`SOLAR_COLUMNS` if ``solar``, then
-    :data:`JOINT_COLUMNS` of every joint."""
+    """A model's columns after :data:`MODEL_COLUMNS`: solar ones, then every joint's."""
     joints = tuple(f"joint.{name}.{c}" for name in joint_names for c in JOINT_COLUMNS)
     return (SOLAR_COLUMNS if solar else ()) + joints
 
@@ -109,8 +108,7 @@ def row_values(status: str, sample) -> list:
         aoa, aos = math.degrees(aoa), math.degrees(aos)
     else:
         aoa = aos = math.nan
-    # plain Python floats: the csv module writes them (repr, exact round trip) far faster than
-    # numpy's
+    # plain Python floats: the csv module writes them faster than numpy's
     return [
         status,
         float(c.altitude),

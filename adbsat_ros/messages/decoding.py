@@ -1,8 +1,7 @@
 """Input messages from their CDR bytes, to the fields the estimator takes.
 
-Decoded with the caller's deserialiser (rclpy's in the node, rosbags' in bag analysis); the
-attitude first by the ``struct`` reader of :mod:`adbsat_ros.messages.cdr`, falling back to the
-deserialiser where that refuses the bytes. Bytes that are not the message raise
+With the caller's deserialiser (rclpy's in the node, rosbags' in bag analysis); the attitude
+first by :mod:`adbsat_ros.messages.cdr`. Bytes that are not the message raise
 :class:`UndecodableMessage`.
 """
 
@@ -67,15 +66,8 @@ class JointStateFields(NamedTuple):
 
 
 class UndecodableMessage(Exception):
-    """Bytes that are not the message they should be.
-
-    Attributes
-    ----------
-    message_type : str
-        The expected type, e.g. ``geometry_msgs/msg/QuaternionStamped``.
-    reason : str
-        What the deserialiser said, as ``ExceptionName: text``.
-    """
+    """Bytes that are not the ``message_type`` they should be; ``reason`` is what the
+    deserialiser said, as ``ExceptionName: text``."""
 
     def __init__(self, message_type: str, cause: BaseException):
         self.message_type = message_type
@@ -84,9 +76,7 @@ class UndecodableMessage(Exception):
 
 
 def decode_attitude(raw, deserialise: Callable) -> AttitudeFields:
-    """Stamp and quaternion of a CDR geometry_msgs/QuaternionStamped.
-
-    Read by the struct reader, or by ``deserialise(raw)`` (a message object) where it refuses them.
+    """Stamp and quaternion of a CDR geometry_msgs/QuaternionStamped (struct, else ``deserialise``).
 
     Raises
     ------

@@ -20,11 +20,8 @@ MAX_SIDESLIP_LINES = 7
 
 
 def select_sideslip_lines(aos_deg, max_lines: int = MAX_SIDESLIP_LINES) -> np.ndarray:
-    """Increasing indices of the sideslip angles ``aos_deg`` [deg] to draw as lines.
-
-    All if there are at most ``max_lines`` (>= 2); otherwise that many evenly spaced from first
-    to last, with 0 deg swapped in for its nearest pick if the grid has it.
-    """
+    """Increasing indices of the sideslip angles ``aos_deg`` [deg] to draw: at most ``max_lines``
+    (>= 2) evenly spaced from first to last, 0 deg swapped in for its nearest pick if present."""
     aos = np.asarray(aos_deg, dtype=float)
     n = aos.size
     if max_lines < 2:

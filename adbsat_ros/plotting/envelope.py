@@ -1,9 +1,7 @@
-"""A bounded min/max envelope of long time series, for plotting them.
+"""A bounded min/max envelope of long time series, for plotting them (no matplotlib).
 
-Per time bin, each series' smallest and largest value and when each came: a line through them
-draws as the whole series would at any coarser resolution (a one-sample spike stays visible).
-The bins keep their origin at the first sample and double in width (neighbours merged) when the
-samples outrun them, so memory does not grow. Imports no matplotlib.
+Per time bin, each series' smallest and largest value and when each came, so a one-sample spike
+stays visible; the bins double in width (neighbours merged) when the samples outrun them.
 """
 
 from __future__ import annotations

@@ -1,9 +1,8 @@
 """Play a rosbag2 bag into the live ROS 2 graph, as ``ros2 bag play`` would.
 
-:func:`play` publishes a bag's raw CDR bytes unchanged (header stamps as recorded), keeping the
-recorded spacing in time scaled by ``rate``. Its own rclpy Context and a SingleThreadedExecutor
-(the EventsExecutor busy-waits in the Jazzy wheels), no signal handlers; stopped from another
-thread with a ``threading.Event``.
+Raw CDR bytes are published unchanged, with the recorded spacing scaled by ``rate``. Own rclpy
+Context and a SingleThreadedExecutor (the EventsExecutor busy-waits in the Jazzy wheels), no
+signal handlers; stopped from another thread with a ``threading.Event``.
 """
 
 from __future__ import annotations
@@ -80,19 +79,17 @@ def play(
     Parameters
     ----------
     bag_path : path-like
-        A rosbag2 bag (directory with metadata.yaml, mcap or sqlite3 storage) with CDR messages.
+        A rosbag2 bag (mcap or sqlite3) with CDR messages.
     rate : float
         Playback speed, > 0: 2 plays twice as fast as recorded.
     loop : bool
-        Start again after the last message, until stopped (header stamps then go back in time;
-        adbsat_node resets its history).
+        Start again after the last message, until stopped (stamps then go back in time).
     topics : iterable of str, optional
-        Play only these topics (default: all). Each must be in the bag.
+        Play only these topics, each in the bag (default: all).
     wait_for_subscribers : int
-        Before the first message, wait until every played topic with messages has at least this
-        many subscribers (0: start at once).
+        Before the first message, wait until every played topic has this many subscribers.
     wait_timeout : float
-        Give up waiting for subscribers after this many seconds (BagError).
+        Give up waiting for subscribers after this many seconds [s] (BagError).
     qos_depth : int
         History depth of the publishers (reliable; transient-local if recorded so).
     stop : threading.Event, optional
@@ -103,8 +100,7 @@ def play(
     Returns
     -------
     PlaySummary
-        After reliable subscribers acknowledged the last messages (at most :data:`ACK_TIMEOUT_S`
-        later), so a subscriber in another process misses none.
+        Once reliable subscribers acknowledged the last messages (at most :data:`ACK_TIMEOUT_S`).
 
     Raises
     ------

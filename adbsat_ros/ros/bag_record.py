@@ -1,9 +1,8 @@
 """Record topics of the live ROS 2 graph into a rosbag2 bag, as ``ros2 bag record`` would.
 
-:func:`record` subscribes with ``raw=True`` and writes the CDR bytes with rosbags (rosbag2
-version 9), each message stamped with its receive time (UNIX ns). Its own rclpy Context and a
-SingleThreadedExecutor, no signal handlers (Ctrl-C arrives as KeyboardInterrupt and closes the
-bag properly); stopped from another thread with a ``threading.Event``.
+Raw CDR bytes written with rosbags (rosbag2 version 9), stamped with their receive time (UNIX
+ns). Own rclpy Context and a SingleThreadedExecutor, no signal handlers (Ctrl-C arrives as
+KeyboardInterrupt and closes the bag); stopped from another thread with a ``threading.Event``.
 """
 
 from __future__ import annotations
@@ -79,17 +78,15 @@ def record(
         Stop after this much wall time [s] (default: until ``stop`` or Ctrl-C).
     qos_depth : int
         History depth of the subscriptions (reliable unless a publisher offers only best effort).
-    stop : threading.Event, optional
-        Set it (from another thread) to stop recording.
-    ready : threading.Event, optional
-        Set once every topic is subscribed.
+    stop, ready : threading.Event, optional
+        Set ``stop`` to stop recording; ``ready`` is set once every topic is subscribed.
     log : callable, optional
         Called with progress lines.
 
     Returns
     -------
     RecordSummary
-        The bag is closed and readable whatever stopped the recording (including Ctrl-C).
+        With the bag closed and readable, whatever stopped the recording.
 
     Raises
     ------

@@ -1,8 +1,7 @@
 """What the live bag tools share: an rclpy context of their own, message classes, topic names.
 
 The PyPI ROS 2 wheels have no ``ros2 bag``; :mod:`~adbsat_ros.ros.bag_play` and
-:mod:`~adbsat_ros.ros.bag_record` stand in for it. Each runs its own rclpy Context (so rclpy
-installs no signal handlers); domain and discovery range come from the environment.
+:mod:`~adbsat_ros.ros.bag_record` stand in for it, each in its own rclpy Context.
 """
 
 from __future__ import annotations

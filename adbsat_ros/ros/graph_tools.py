@@ -131,10 +131,8 @@ def get_parameter(target: str, name: str, timeout: float = 5.0):
 
 
 def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
-    """Set parameter ``name`` of node ``target`` to ``text`` read as its declared type; returns it.
-
-    The node is asked the type first (:func:`.parameter_values.text_value`: ``2e2`` for a number is
-    200.0, a string the text as given, ``[0.1, 0, 0]`` three doubles).
+    """Set parameter ``name`` of node ``target`` to ``text`` read as its declared type
+    (:func:`.parameter_values.text_value`); returns the value.
 
     Raises
     ------
@@ -195,9 +193,8 @@ def message_text(message, indent: str = "") -> str:
 
 
 def echo(topic: str, count: int, timeout: float, write) -> int:
-    """Print ``count`` messages of ``topic`` with ``write``; returns how many came.
-
-    Gives up ``timeout`` s after the last message (or the start).
+    """Print ``count`` messages of ``topic`` with ``write``; give up ``timeout`` s after the last
+    (or the start); return how many came.
 
     Raises
     ------

@@ -9,10 +9,8 @@ LOG_THROTTLE_S = 5.0
 
 
 class LogThrottle:
-    """At most one log line per key every ``period`` seconds, decided before the logger is called.
-
-    rclpy's ``throttle_duration_sec`` inspects its caller on every call, suppressed ones too, so a
-    1 kHz stream of bad input would outrun the node; this check is a dictionary lookup.
+    """At most one log line per key every ``period`` seconds, decided before the logger is called
+    (rclpy's ``throttle_duration_sec`` inspects its caller on every call, suppressed ones too).
 
     Parameters
     ----------

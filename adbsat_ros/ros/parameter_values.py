@@ -1,10 +1,9 @@
 """Parameter values of their declared type: the wrench node's parameters, and the text that
 ``adbsat-ros param set`` turns into a value for any node.
 
-The node's parameters keep their default's type (``dynamic_typing`` off); an integer given to a
-number parameter, or a whole double to an integer one, is converted
-(:func:`~adbsat_ros.estimator.parameters.typed_parameter_value`), other types are refused, and
-an unknown name stops the node at start-up.
+The node's parameters keep their default's type (``dynamic_typing`` off), with int/whole-double
+conversions (:func:`~adbsat_ros.estimator.parameters.typed_parameter_value`); an unknown name
+stops the node at start-up.
 """
 
 from __future__ import annotations
@@ -32,8 +31,7 @@ INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 
 
 def declare_typed_parameters(node, managed: bool) -> None:
-    """Declare every parameter of :data:`PARAMETERS` on ``node``, start-up values and later
-    changes (a pre-set callback) typed by the rule.
+    """Declare every parameter of :data:`PARAMETERS` on ``node``, typed at start-up and on change.
 
     Raises
     ------
@@ -161,9 +159,8 @@ def _inferred(name: str, text: str):
 
 
 def text_value(name: str, text: str, kind: int, dynamic: bool = False):
-    """The value of parameter ``name`` that the command-line ``text`` gives, as its declared type
-    ``kind`` (a ``ParameterType``): a string as given, a list as a YAML flow list
-    (``[0.1, 0, 0]``) of the element type; a ``dynamic`` parameter read as YAML.
+    """The value of parameter ``name`` from command-line ``text``, as ``ParameterType`` ``kind``:
+    a string as given, a list as a YAML flow list (``[0.1, 0, 0]``), ``dynamic`` as YAML.
 
     Raises
     ------

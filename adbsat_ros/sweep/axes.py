@@ -1,8 +1,5 @@
-"""The inputs a sweep varies or fixes: their names, units, valid ranges and defaults, and the
-checks of the values a spec gives them (:mod:`adbsat_ros.sweep.spec` reads a spec with them).
-
-Units and ranges are those of docs/physics.md section 11; a value outside is a
-:class:`SpecError` naming the field, the value and the range.
+"""The inputs a sweep varies or fixes: names, units, valid ranges (docs/physics.md section 11),
+defaults, and the checks of a spec's values (a :class:`SpecError` naming field, value and range).
 """
 
 from __future__ import annotations

@@ -1,10 +1,6 @@
-"""Coefficients anywhere inside a sweep, by interpolation: bilinear in attitude, linear in the
-other axes.
-
-Each grid point of the other axes is an (aoa, aos) database that
-:class:`~adbsat_ros.database.lookup.CoefficientLookup` interpolates; along the other axes the
-corners' results are blended linearly (multilinear). A query outside an axis's range is refused
-with the axis and its range.
+"""Coefficients anywhere inside a sweep: bilinear in attitude
+(:class:`~adbsat_ros.database.lookup.CoefficientLookup` per grid point of the other axes), linear
+along the other axes. A query outside an axis's range is refused with the axis and its range.
 """
 
 from __future__ import annotations
@@ -27,8 +23,6 @@ class SweepLookup:
     ----------
     axes : dict of str to ndarray
         The axes other than aoa and aos, and their values.
-    slices : LruStore
-        The attitude lookups of the other axes' grid points made so far.
     """
 
     def __init__(self, dataset):
