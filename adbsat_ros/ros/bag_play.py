@@ -15,14 +15,12 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import rclpy
 from rclpy.duration import Duration
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosbags.interfaces import QosDurability
 
 from adbsat_ros.bags.io import BagError, open_bag
-from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, close, message_class, start_context
+from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, message_class, own_node
 
 #: Longest wait [s] at the end of play() for reliable subscribers to acknowledge the last messages.
 ACK_TIMEOUT_S = 5.0
@@ -123,40 +121,38 @@ def play(
         # topics with messages: the ones worth waiting for subscribers on
         played = {c.topic for c in connections if c.msgcount > 0}
     summary = PlaySummary()
-    context = start_context()
-    node = executor = None
     start = time.monotonic()
     try:
-        node = rclpy.create_node(node_name, context=context)
-        executor = SingleThreadedExecutor(context=context)
-        executor.add_node(node)
-        publishers = {
-            topic: node.create_publisher(cls, topic, qos[topic]) for topic, cls in classes.items()
-        }
-        if wait_for_subscribers:
-            waited = {t: p for t, p in publishers.items() if t in played}
-            _wait_for_subscribers(waited, wait_for_subscribers, wait_timeout, executor, stop, log)
-        log(
-            f"playing {count} messages on {len(publishers)} topics of {path} at rate {rate:g}"
-            + (" (looping)" if loop else "")
-        )
-        start = time.monotonic()
-        while not stop.is_set():
-            summary.passes += 1
-            if not _play_once(path, connections, publishers, rate, stop, summary):
-                break
-            if not loop:
-                break
-        summary.wall_seconds = time.monotonic() - start
-        # Let reliable subscribers acknowledge the last messages before the publishers go away
-        # (acknowledgements follow Fast DDS heartbeats: up to a few seconds between processes).
-        for publisher in publishers.values():
-            publisher.wait_for_all_acked(Duration(seconds=ACK_TIMEOUT_S))
+        with own_node(node_name) as (node, executor):
+            publishers = {
+                topic: node.create_publisher(cls, topic, qos[topic])
+                for topic, cls in classes.items()
+            }
+            if wait_for_subscribers:
+                waited = {t: p for t, p in publishers.items() if t in played}
+                _wait_for_subscribers(
+                    waited, wait_for_subscribers, wait_timeout, executor, stop, log
+                )
+            log(
+                f"playing {count} messages on {len(publishers)} topics of {path} at rate {rate:g}"
+                + (" (looping)" if loop else "")
+            )
+            start = time.monotonic()
+            while not stop.is_set():
+                summary.passes += 1
+                if not _play_once(path, connections, publishers, rate, stop, summary):
+                    break
+                if not loop:
+                    break
+            summary.wall_seconds = time.monotonic() - start
+            # Let reliable subscribers acknowledge the last messages before the publishers go
+            # (acknowledgements follow Fast DDS heartbeats: up to a few seconds between processes).
+            for publisher in publishers.values():
+                publisher.wait_for_all_acked(Duration(seconds=ACK_TIMEOUT_S))
     except KeyboardInterrupt:
         summary.interrupted = True
     finally:
         summary.wall_seconds = summary.wall_seconds or time.monotonic() - start
-        close(node, executor, context)
     if stop.is_set():
         summary.interrupted = True
     return summary

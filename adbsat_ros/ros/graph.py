@@ -6,10 +6,12 @@ The PyPI ROS 2 wheels have no ``ros2 bag``; :mod:`~adbsat_ros.ros.bag_play` and
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 
 import rclpy
 from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
 
 from adbsat_ros.bags.io import BagError
 
@@ -44,20 +46,24 @@ def message_class(msgtype: str, topic: str = ""):
     return cls
 
 
-def start_context() -> Context:
-    """A new rclpy Context of its own, initialised (so rclpy installs no signal handlers)."""
+@contextlib.contextmanager
+def own_node(node_name: str):
+    """``(node, executor)``: a node in an rclpy Context of its own, added to a
+    SingleThreadedExecutor; the executor, node and context shut down on exit."""
     context = Context()
-    rclpy.init(context=context)
-    return context
-
-
-def close(node, executor, context) -> None:
-    """Shut the executor down, destroy the node and shut the context down (None skips a part)."""
-    if executor is not None:
-        executor.shutdown(timeout_sec=1.0)
-    if node is not None:
-        node.destroy_node()
-    rclpy.try_shutdown(context=context)
+    rclpy.init(context=context)  # (a Context of its own: rclpy installs no signal handlers)
+    node = executor = None
+    try:
+        node = rclpy.create_node(node_name, context=context)
+        executor = SingleThreadedExecutor(context=context)
+        executor.add_node(node)
+        yield node, executor
+    finally:
+        if executor is not None:
+            executor.shutdown(timeout_sec=1.0)
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown(context=context)
 
 
 def absolute_topic(topic: str) -> str:

@@ -7,24 +7,17 @@ from __future__ import annotations
 import contextlib
 import os
 import time
+from typing import NamedTuple
 
 from rcl_interfaces.msg import ParameterType
 from rclpy.exceptions import NameValidationException
-from rclpy.executors import SingleThreadedExecutor
-from rclpy.node import Node
 from rclpy.parameter import Parameter, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.validate_namespace import validate_namespace
 from rclpy.validate_node_name import validate_node_name
 
 from adbsat_ros.bags.io import BagError
-from adbsat_ros.ros.graph import (
-    GRAPH_POLL_S,
-    absolute_topic,
-    close,
-    message_class,
-    start_context,
-)
+from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, message_class, own_node
 from adbsat_ros.ros.parameter_values import text_value
 
 
@@ -49,14 +42,11 @@ def checked_node_name(target: str) -> str:
     return target
 
 
-class _Tool:
+class _Tool(NamedTuple):
     """A node in a context of its own, and an executor of that context to spin it."""
 
-    def __init__(self):
-        self.context = start_context()
-        self.node = Node("adbsat_ros_tool", context=self.context)
-        self.executor = SingleThreadedExecutor(context=self.context)
-        self.executor.add_node(self.node)
+    node: object
+    executor: object
 
     def spin_once(self) -> None:
         self.executor.spin_once(timeout_sec=GRAPH_POLL_S)
@@ -66,11 +56,8 @@ class _Tool:
 def tool_node():
     """A :class:`_Tool`, taken down on exit."""
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    tool = _Tool()
-    try:
-        yield tool
-    finally:
-        close(tool.node, tool.executor, tool.context)
+    with own_node("adbsat_ros_tool") as (node, executor):
+        yield _Tool(node, executor)
 
 
 #: Seconds after which a request with no answer is sent again: a server that has not yet
