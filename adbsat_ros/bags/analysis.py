@@ -198,20 +198,13 @@ def analyze_bag(
         if path is not None and _holds(path, bag):
             raise BagError(f"output {what} {path}: holds the input bag {bag}; choose another name")
 
-    uses_attitudes = any(s.attitude_source == "attitude_topic" for _, s in models)
+    topics = attitude_topic, state_topic, joint_topic
     with interruptible():  # (nothing is written before the walk: a signal ends it at once)
         read, states, chunks, report, t0 = _read_and_plan(
-            bag,
-            models,
-            attitude_topic,
-            state_topic,
-            joint_topic,
-            uses_attitudes,
-            capped,
-            workers,
-            chunk_messages,
-            skip_damaged,
+            bag, models, topics, workers, chunk_messages, skip_damaged
         )
+    if capped:
+        report.warnings.append(f"workers: {capped}")
     report.workers, report.chunks = min(workers, len(chunks)) or 1, len(chunks)
     report.seconds["read"] = time.perf_counter() - t0
     read.state_raws.clear()  # (only the planning needed them)
@@ -234,19 +227,10 @@ def analyze_bag(
     return report
 
 
-def _read_and_plan(
-    bag,
-    models,
-    attitude_topic,
-    state_topic,
-    joint_topic,
-    uses_attitudes,
-    capped,
-    workers,
-    chunk_messages,
-    skip_damaged,
-) -> tuple:
+def _read_and_plan(bag, models, topics, workers, chunk_messages, skip_damaged) -> tuple:
     """Read the bag, set the models up, plan the chunks: ``(read, states, chunks, report, t0)``."""
+    attitude_topic, state_topic, joint_topic = topics
+    uses_attitudes = any(s.attitude_source == "attitude_topic" for _, s in models)
     reader = bag_io.open_bag(bag)
     try:
         needed = []
@@ -264,8 +248,6 @@ def _read_and_plan(
         report.skipped_chunks = len(skipped)
         report.skipped_messages = sum(d.messages for d in skipped)
         report.messages_total = reader.message_count - report.skipped_messages
-        if capped:
-            report.warnings.append(f"workers: {capped}")
         t0 = time.perf_counter()
         read = read_bag_messages(
             reader,

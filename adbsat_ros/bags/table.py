@@ -16,6 +16,15 @@ from adbsat_ros.geometry.frames import angles_of_flow
 
 #: Columns shared by all models.
 COMMON_COLUMNS = ("stamp_s", "utc", "time_s", "topic")
+#: Force [N] and torque [N m] columns, body frame.
+WRENCH_COLUMNS = (
+    "force_x_N",
+    "force_y_N",
+    "force_z_N",
+    "torque_x_Nm",
+    "torque_y_Nm",
+    "torque_z_Nm",
+)
 #: Columns of each model's group, prefixed with "LABEL." in the CSV. wind_body is the velocity of
 #: the gas relative to the body in body axes; aoa/aos are ADBSat's angles of that flow (frames.py).
 MODEL_COLUMNS = (
@@ -36,12 +45,7 @@ MODEL_COLUMNS = (
     "CM_x",
     "CM_y",
     "CM_z",
-    "force_x_N",
-    "force_y_N",
-    "force_z_N",
-    "torque_x_Nm",
-    "torque_y_Nm",
-    "torque_z_Nm",
+    *WRENCH_COLUMNS,
 )
 #: Columns appended to the group of a model with ``solar_pressure`` on: the fraction of the solar
 #: disc visible past the Earth, and the solar radiation force and torque (body frame).
@@ -55,16 +59,7 @@ SOLAR_COLUMNS = (
     "solar_torque_z_Nm",
 )
 #: The columns of MODEL_COLUMNS plotted (force, torque, density, drag coefficient), in order.
-PLOT_COLUMNS = (
-    "force_x_N",
-    "force_y_N",
-    "force_z_N",
-    "torque_x_Nm",
-    "torque_y_Nm",
-    "torque_z_Nm",
-    "density_kg_m3",
-    "drag_coefficient",
-)
+PLOT_COLUMNS = (*WRENCH_COLUMNS, "density_kg_m3", "drag_coefficient")
 _PLOT_INDEX = [MODEL_COLUMNS.index(c) for c in PLOT_COLUMNS]
 _NAN_CELLS = ",nan" * (len(MODEL_COLUMNS) - 1)
 _NAN_PLOT = [math.nan] * len(PLOT_COLUMNS)
