@@ -87,10 +87,7 @@ def decode_attitude(raw, deserialise: Callable) -> AttitudeFields:
         return quaternion_stamped_fields(raw)
     except ValueError:
         pass
-    try:
-        return AttitudeFields.of_message(deserialise(raw))
-    except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
-        raise UndecodableMessage(QUATERNION_STAMPED, exc) from None
+    return _decode(AttitudeFields, QUATERNION_STAMPED, raw, deserialise)
 
 
 def decode_odometry(raw, deserialise: Callable) -> OdometryFields:
@@ -101,10 +98,7 @@ def decode_odometry(raw, deserialise: Callable) -> OdometryFields:
     UndecodableMessage
         If ``deserialise`` does not read ``raw``.
     """
-    try:
-        return OdometryFields.of_message(deserialise(raw))
-    except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
-        raise UndecodableMessage(ODOMETRY, exc) from None
+    return _decode(OdometryFields, ODOMETRY, raw, deserialise)
 
 
 def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
@@ -115,7 +109,12 @@ def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
     UndecodableMessage
         If ``deserialise`` does not read ``raw``.
     """
+    return _decode(JointStateFields, JOINT_STATE, raw, deserialise)
+
+
+def _decode(fields, message_type: str, raw, deserialise: Callable):
+    """``fields.of_message(deserialise(raw))``, any failure an UndecodableMessage."""
     try:
-        return JointStateFields.of_message(deserialise(raw))
+        return fields.of_message(deserialise(raw))
     except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
-        raise UndecodableMessage(JOINT_STATE, exc) from None
+        raise UndecodableMessage(message_type, exc) from None
