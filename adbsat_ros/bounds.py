@@ -13,10 +13,8 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class Bound:
-    """The closed range [low, high] of one input, its unit and why.
-
-    ``low_open`` (``high_open``) makes that end open: a value must be above (below) it.
-    """
+    """The range [low, high] of one input, its unit and why; ``low_open`` / ``high_open`` open
+    that end."""
 
     low: float
     high: float

@@ -85,10 +85,8 @@ def odometry_message(
     orientation_xyzw=(0.0, 0.0, 0.0, 1.0),
     angular_velocity=(0.0, 0.0, 0.0),
 ):
-    """nav_msgs/Odometry: pose in ``frame_id`` [m], twist in ``child_frame_id`` [m/s, rad/s].
-
-    ``stamp`` is integer nanoseconds or a builtin_interfaces/Time; covariances are zero.
-    """
+    """nav_msgs/Odometry: pose in ``frame_id`` [m], twist in ``child_frame_id`` [m/s, rad/s];
+    ``stamp`` in ns or a builtin_interfaces/Time; zero covariances."""
     x, y, z, w = (float(v) for v in orientation_xyzw)
     pose = _T["geometry_msgs/msg/Pose"](
         position=_vector(_Point, position), orientation=_Quaternion(x=x, y=y, z=z, w=w)
@@ -165,11 +163,8 @@ def deserialize_attitude(raw):
 
 
 def deserialize_joint_state(raw):
-    """A sensor_msgs/JointState from CDR bytes (raises for anything else).
-
-    Up to 15 bytes after the last field are read past: rclpy's serialiser leaves up to 12 there
-    (so a bag recorded from a live topic has them), and rosbags refuses more than 3.
-    """
+    """A sensor_msgs/JointState from CDR bytes (raises for anything else); up to 15 bytes after
+    the last field are read past (rclpy leaves up to 12 there, rosbags refuses more than 3)."""
     try:
         return TYPESTORE.deserialize_cdr(raw, JOINT_STATE)
     except SerdeError as exc:
@@ -195,13 +190,8 @@ def deserialize_odometry(raw):
 
 # --------------------------------------------------------------------------------- reading
 def open_bag(path) -> Reader:
-    """Open a rosbag2 (directory with metadata.yaml, or a single .mcap/.db3 file) for reading.
-
-    Raises
-    ------
-    BagError
-        Naming the path: missing, unknown storage, or a corrupt or truncated file.
-    """
+    """Open a rosbag2 (directory with metadata.yaml, or one .mcap/.db3 file) for reading;
+    BagError naming the path if missing, of unknown storage, corrupt or truncated."""
     path = Path(path)
     if not path.exists():
         raise BagError(f"input bag {path}: no such file or directory")

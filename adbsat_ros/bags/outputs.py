@@ -248,17 +248,9 @@ def partial_path(path) -> Path:
 def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
     """Walk the messages in bag order and write the outputs asked for.
 
-    If the walk stops early (an undecodable message, or ``stop``), every output is kept under
-    :func:`partial_path`; after ``stop`` no plots are drawn.
-
-    Parameters
-    ----------
-    replay : Replay
-        The input, the chunks' results (closed here), the models and the report.
-    outputs : Outputs
-        What to write, and how.
-    stop : threading.Event, optional
-        Stop at the next message once set.
+    If the walk stops early (an undecodable message, or ``stop`` set), every output is kept
+    under :func:`partial_path`; after ``stop`` no plots are drawn. ``replay``'s results are
+    closed here.
     """
     states, report = replay.states, replay.report
     out_bag, out_csv, plots_dir = outputs.bag, outputs.csv, outputs.plots

@@ -26,19 +26,9 @@ def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
     earlier than one before k, and no joint state comes before k (whether the state at k passes
     its own checks is ``accepted`` of :func:`plan_chunks`).
 
-    Parameters
-    ----------
-    kinds : array_like of int, shape (N,)
-        STATE, ATTITUDE or JOINTS of each message, in bag order.
-    stamps : array_like of float, shape (N,)
-        Header stamps [s] as the estimator reads them (sec + 1e-9 nanosec).
-    attitude_sources : sequence of str
-        Each model's ``attitude_source`` ('attitude_topic' or 'odometry').
-
-    Returns
-    -------
-    ndarray of int
-        Increasing indices k >= 1 (index 0 always starts the first chunk).
+    ``kinds`` (STATE, ATTITUDE or JOINTS) and header ``stamps`` [s] of the messages in bag
+    order, ``attitude_sources`` each model's; returns increasing indices k >= 1 (0 always starts
+    the first chunk).
     """
     kinds = np.asarray(kinds)
     stamps = np.asarray(stamps, dtype=float)

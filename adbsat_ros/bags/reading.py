@@ -39,20 +39,11 @@ def read_messages(reader, path, connections):
 
 
 def check_damage(reader, path, skip_damaged: bool = False) -> tuple[list, list]:
-    """Check an open bag's checksums (:func:`adbsat_ros.bags.checksums.check_bag`).
+    """Check an open bag's checksums: ``(skipped, warnings)``, the damaged chunks taken out of
+    ``reader``'s index (``skip_damaged`` only) and lines on chunks without a CRC or skipped.
 
-    Returns
-    -------
-    skipped : list of Damage
-        The damaged chunks (``skip_damaged`` only), taken out of ``reader``'s index.
-    warnings : list of str
-        Chunks without a CRC; with ``skip_damaged``, the chunks skipped and damage outside them.
-
-    Raises
-    ------
-    BagError
-        Naming the file and its first damaged part, unless ``skip_damaged`` and the damage is to
-        chunks only (or outside them); always for a damaged summary or SQLite structure.
+    BagError naming the file and its first damaged part, unless ``skip_damaged`` and the damage
+    is to chunks only (or outside them); always for a damaged summary or SQLite structure.
     """
     check = check_bag(reader)
     warnings = []
@@ -80,15 +71,8 @@ def check_damage(reader, path, skip_damaged: bool = False) -> tuple[list, list]:
 
 
 def check_topics(reader, path, topics_types) -> dict:
-    """Check the required (option, topic, msgtype): present, of that type only, with messages.
-
-    Returns {topic: set of msgtypes} of the bag.
-
-    Raises
-    ------
-    BagError
-        Naming the topic and the option that gave it.
-    """
+    """Check the required (option, topic, msgtype): present, of that type only, with messages
+    (else BagError naming the topic and option); returns {topic: set of msgtypes} of the bag."""
     by_topic = collections.defaultdict(set)
     counts = collections.Counter()
     for conn in reader.connections:

@@ -25,13 +25,8 @@ class Stamp(NamedTuple):
 
 
 def header_stamp(raw) -> Stamp:
-    """The header stamp of a CDR-serialised message whose first field is a std_msgs/Header.
-
-    Raises
-    ------
-    ValueError
-        If ``raw`` is too short or not plain CDR.
-    """
+    """The header stamp of a CDR message whose first field is a std_msgs/Header; ValueError if
+    ``raw`` is too short or not plain CDR."""
     if len(raw) < 12 or raw[0] != 0 or raw[1] not in (0, 1):
         raise ValueError("not a plain-CDR stamped message")
     return Stamp._make(struct.unpack_from("<iI" if raw[1] == 1 else ">iI", raw, 4))
@@ -53,18 +48,8 @@ class AttitudeFields(NamedTuple):
 
 
 def quaternion_stamped_fields(raw) -> AttitudeFields:
-    """Header stamp and quaternion of a CDR-serialised geometry_msgs/QuaternionStamped.
-
-    Returns
-    -------
-    AttitudeFields
-        The stamp, and the four float64 values of the quaternion as sent, order x, y, z, w.
-
-    Raises
-    ------
-    ValueError
-        If ``raw`` is not exactly a plain-CDR QuaternionStamped.
-    """
+    """Header stamp and quaternion (x, y, z, w as sent) of a CDR geometry_msgs/QuaternionStamped;
+    ValueError if ``raw`` is not exactly a plain-CDR QuaternionStamped."""
     if len(raw) < 16 or raw[0] != 0 or raw[1] not in (0, 1):
         raise ValueError("not a plain-CDR stamped message")
     order = "<" if raw[1] == 1 else ">"

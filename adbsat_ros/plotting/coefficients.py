@@ -49,8 +49,7 @@ def _metadata_value(metadata: dict, *keys, default=None):
 
 
 def database_title(metadata: dict) -> str:
-    """One line naming the mesh, model, speed ratio and shading mode (or test particles) of a
-    database."""
+    """The mesh, model, speed ratio and shading (or test particles) of a database, in one line."""
     mesh = _metadata_value(metadata, "mesh", "spec", default=None) or _metadata_value(
         metadata, "mesh", "source", default="?"
     )
@@ -71,8 +70,7 @@ def database_title(metadata: dict) -> str:
 
 
 def _sideslip_lines(ax, aoa, values, aos, picks):
-    """One line per picked sideslip, coloured by |beta| (so +beta and -beta pair up), dashed
-    for negative beta."""
+    """One line per picked sideslip, coloured by |beta|, dashed for negative beta."""
     cmap = colormaps["plasma"]
     span = max(float(np.max(np.abs(aos[picks]))), 1e-12)
     for j in picks:

@@ -18,12 +18,8 @@ def make_executor(kind: str = "events", context=None):
 
     ``events`` is rclpy.experimental.EventsExecutor (else, or when sys.stderr is not a file, the
     SingleThreadedExecutor). Spin with :func:`spin_until_shutdown`: the EventsExecutor's own
-    ``spin()`` in the Jazzy 7.1 wheels busy-waits and ignores SIGINT/SIGTERM.
-
-    Raises
-    ------
-    ValueError
-        For another ``kind``.
+    ``spin()`` in the Jazzy 7.1 wheels busy-waits and ignores SIGINT/SIGTERM. ValueError for
+    another ``kind``.
     """
     if kind == "events":
         if EventsExecutor is None:

@@ -20,13 +20,8 @@ GRAPH_POLL_S = 0.05
 
 
 def message_class(msgtype: str, topic: str = ""):
-    """The rclpy message class of a ROS type name, e.g. ``geometry_msgs/msg/WrenchStamped``.
-
-    Raises
-    ------
-    BagError
-        Naming the topic and type: a malformed type name, or its package not installed.
-    """
+    """The rclpy message class of a ROS type name, e.g. ``geometry_msgs/msg/WrenchStamped``;
+    BagError naming the topic and type if it is malformed or its package not installed."""
     where = f"topic {topic}: " if topic else ""
     parts = msgtype.split("/")
     if len(parts) == 2:  # 'pkg/Type' (ROS 1 style) -> pkg/msg/Type

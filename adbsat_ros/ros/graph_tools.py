@@ -119,14 +119,9 @@ def get_parameter(target: str, name: str, timeout: float = 5.0):
 
 def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
     """Set parameter ``name`` of node ``target`` to ``text`` read as its declared type
-    (:func:`.parameter_values.text_value`); returns the value.
-
-    Raises
-    ------
-    BadInput
-        ``target`` is no node name, or ``text`` is no value of the parameter's type.
-    ToolError
-        The node has no such parameter, rejected the value (its reason), or did not answer.
+    (:func:`.parameter_values.text_value`); returns the value. BadInput for a ``target`` that
+    is no node name or a ``text`` of another type; ToolError if the node has no such parameter,
+    rejects the value (its reason) or does not answer.
     """
     checked_node_name(target)
     with tool_node() as tool:
@@ -181,12 +176,8 @@ def message_text(message, indent: str = "") -> str:
 
 def echo(topic: str, count: int, timeout: float, write) -> int:
     """Print ``count`` messages of ``topic`` with ``write``; give up ``timeout`` s after the last
-    (or the start); return how many came.
-
-    Raises
-    ------
-    ToolError
-        The topic is not in the graph within ``timeout``, or its type is not installed.
+    (or the start); return how many came. ToolError if the topic is not in the graph within
+    ``timeout``, or its type is not installed.
     """
     topic = absolute_topic(topic)
     with tool_node() as tool:

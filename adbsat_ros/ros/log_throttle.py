@@ -11,15 +11,7 @@ LOG_THROTTLE_S = 5.0
 class LogThrottle:
     """At most one log line per key every ``period`` seconds, decided before the logger is called
     (rclpy's ``throttle_duration_sec`` inspects its caller on every call, suppressed ones too).
-
-    Parameters
-    ----------
-    logger : object
-        Has a method per level used (``warning``, ``error`` ...), e.g. an rclpy logger.
-    period : float
-        Seconds between two lines of one key.
-    clock : callable
-        Returns the time [s] (default ``time.monotonic``).
+    ``logger`` has a method per level used (an rclpy logger); ``clock()`` gives the time [s].
     """
 
     def __init__(self, logger, period: float = LOG_THROTTLE_S, clock=time.monotonic):

@@ -33,11 +33,8 @@ INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 def declare_typed_parameters(node, managed: bool) -> None:
     """Declare every parameter of :data:`PARAMETERS` on ``node``, typed at start-up and on change.
 
-    Raises
-    ------
-    ValueError
-        ``"parameter NAME: ..."``: a value of a type the parameter does not take, or a name the
-        node does not have (with the closest known one).
+    ValueError ``"parameter NAME: ..."`` for a value of another type, or a name the node does not
+    have (with the closest known one).
     """
     # rclpy keeps the start-up values by name here (no public accessor in Jazzy)
     overrides = getattr(node, "_parameter_overrides", {})
@@ -161,12 +158,8 @@ def _inferred(name: str, text: str):
 def text_value(name: str, text: str, kind: int, dynamic: bool = False):
     """The value of parameter ``name`` from command-line ``text``, as ``ParameterType`` ``kind``:
     a string as given, a list as a YAML flow list (``[0.1, 0, 0]``), ``dynamic`` as YAML.
-
-    Raises
-    ------
-    ValueError
-        One line naming the parameter: a text that is no value of its type, an integer beyond
-        int64.
+    ValueError (one line naming the parameter) for no value of its type or an integer beyond
+    int64.
     """
     if dynamic or kind == ParameterType.PARAMETER_NOT_SET:
         return _inferred(name, text)

@@ -20,18 +20,9 @@ OUTPUTS = {
 
 
 class Readers:
-    """Subscriber counts of the optional outputs' topics, and whether each output is wanted.
-
-    Parameters
-    ----------
-    create_publisher : callable
-        The node's publisher factory (its own, or a lifecycle node's).
-
-    Attributes
-    ----------
-    coefficients, inertial, joint_torques, marker : bool
-        Whether the output has a reader now (the inertial one: either of its two topics).
-    """
+    """Subscriber counts of the optional outputs' topics, made with the node's
+    ``create_publisher``; ``coefficients``, ``inertial`` (either of its two topics),
+    ``joint_torques`` and ``marker`` say whether that output has a reader now."""
 
     def __init__(self, create_publisher):
         self._create_publisher = create_publisher

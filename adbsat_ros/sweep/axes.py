@@ -65,8 +65,7 @@ JOINT_PREFIX = "joint."
 
 
 def axis_values(text, name: str) -> np.ndarray:
-    """The values of an axis: a number, a list of numbers, or ``start:step:stop`` (inclusive of
-    stop when the steps reach it)."""
+    """An axis's values: a number, a list, or ``start:step:stop`` (stop included if reached)."""
     if isinstance(text, str) and ":" in text:
         parts = text.split(":")
         try:
@@ -180,8 +179,7 @@ def number(value, name: str) -> float:
 
 
 def joint_values_checked(name: str, values: np.ndarray, joint) -> None:
-    """Joint axis values (deg for revolute and continuous joints, m for prismatic) within the
-    joint's limits."""
+    """Joint axis values (deg, or m for a prismatic joint) within the joint's limits."""
     positions = values if joint.kind == "prismatic" else np.radians(values)
     unit = "m" if joint.kind == "prismatic" else "deg"
     for value, position in zip(values.tolist(), positions.tolist()):

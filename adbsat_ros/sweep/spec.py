@@ -61,18 +61,10 @@ FIELDS = (
 class SweepSpec:
     """A checked sweep spec (module docstring).
 
-    Attributes
-    ----------
-    reference : dict
-        ``area``, ``length``, ``moment_point`` given (others from the mesh).
-    axes : dict of str to ndarray
-        Axis name -> its values in the spec's units (deg for angles), in sweep order.
-    time : str
-        UTC (ISO 8601) of the atmosphere.
-    solver : tuple
-        (key, value) pairs: ``method`` (``panel`` or ``tpmc``) and a test-particle run's.
-    meshes : tuple of str
-        The mesh variants of a ``mesh`` axis (``mesh`` first); empty without one.
+    ``reference`` holds what the spec gives (the rest from the mesh); ``axes`` maps axis name to
+    values in the spec's units (deg for angles), in sweep order; ``time`` is the atmosphere's UTC
+    (ISO 8601); ``solver`` (key, value) pairs, ``method`` ``panel`` or ``tpmc``; ``meshes`` the
+    variants of a ``mesh`` axis (``mesh`` first), empty without one.
     """
 
     mesh: str

@@ -71,12 +71,9 @@ class SweepStore:
 
     @classmethod
     def open(cls, path, spec: SweepSpec, setup, overwrite: bool = False) -> "SweepStore":
-        """The store at ``path`` for ``spec``: made if it is not there (or ``overwrite``, or
-        an empty directory), taken up where it stopped if it holds this spec's sweep.
-
-        Raises :class:`StoreError` if ``path`` holds another spec's sweep (without
-        ``overwrite``) or anything but a sweep store (named, whatever ``overwrite``).
-        """
+        """The store at ``path`` for ``spec``: made (nothing there, an empty directory, or
+        ``overwrite``), or taken up where it stopped. :class:`StoreError` if ``path`` holds
+        another spec's sweep (without ``overwrite``) or anything but a sweep store."""
         path = Path(path)
         sizes = chunk_shape(spec.shape, spec.chunk_points)
         slices = chunk_slices(spec.shape, sizes)
