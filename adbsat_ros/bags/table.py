@@ -60,7 +60,7 @@ SOLAR_COLUMNS = (
 )
 #: The columns of MODEL_COLUMNS plotted (force, torque, density, drag coefficient), in order.
 PLOT_COLUMNS = (*WRENCH_COLUMNS, "density_kg_m3", "drag_coefficient")
-_PLOT_INDEX = [MODEL_COLUMNS.index(c) for c in PLOT_COLUMNS]
+_PLOT_INDEX = [MODEL_COLUMNS.index(c) - 1 for c in PLOT_COLUMNS]  # (in row_values: no status)
 _NAN_CELLS = ",nan" * (len(MODEL_COLUMNS) - 1)
 _NAN_PLOT = [math.nan] * len(PLOT_COLUMNS)
 #: The columns of each moving joint ``NAME`` of an articulated body, as ``joint.NAME.<suffix>``:
@@ -90,10 +90,8 @@ def header(labels, extras=()) -> list:
     ]
 
 
-def row_values(status: str, sample) -> list:
-    """A model's cells (``status``, then floats; NaN where not computed) of a WrenchSample."""
-    if sample is None:
-        return [status] + [math.nan] * (len(MODEL_COLUMNS) - 1)
+def row_values(sample) -> list:
+    """A model's numbers (the cells after its status) of a WrenchSample; NaN where undefined."""
     c = sample.conditions
     u = sample.flow_direction_body
     speed = float(c.speed)
@@ -105,7 +103,6 @@ def row_values(status: str, sample) -> list:
         aoa = aos = math.nan
     # plain Python floats: the csv module writes them faster than numpy's
     return [
-        status,
         float(c.altitude),
         float(c.mass_density),
         float(c.temperature),
@@ -152,10 +149,10 @@ def model_cells(outcomes, extras=()) -> tuple[str, list]:
             cells.append(("" if status is None else status) + _NAN_CELLS + ",nan" * len(more))
             plot.extend(_NAN_PLOT)
         else:
-            values = row_values("ok", sample)
+            values = row_values(sample)
             if more:
                 values += extra_values(sample, more)
-            cells.append(",".join(["ok", *map(repr, values[1:])]))
+            cells.append(",".join(["ok", *map(repr, values)]))
             plot.extend(values[i] for i in _PLOT_INDEX)
     return ",".join(cells), plot
 
