@@ -9,7 +9,7 @@ The physics core (mesh, models, shading, atmosphere, databases) imports no rclpy
     result = PanelMethod(mesh, "sentman").coefficients(flow)
     print(result.drag, result.Cf_w, result.Cm_B)
 
-The public API, by task (each name documented on the object itself):
+The public API, by task:
 
 * meshes: :func:`load_mesh`, :func:`panels_from_arrays`, :func:`panels_from_trimesh`,
   :func:`example_satellite`, :class:`PanelMesh`, :class:`MeshError`; bodies with moving parts

@@ -1,8 +1,7 @@
 """The valid range of every physical input, in one table, each bound with its reason.
 
-The command line, the node's parameters and messages are checked against :data:`BOUNDS` by the
-constructors that take these numbers: a value outside its range is refused with its name, the
-value and the range. The table is printed in docs/physics.md, section 11.
+Command-line values, node parameters and messages are checked against :data:`BOUNDS`; a value
+outside is refused with its name, the value and the range. Printed in docs/physics.md, section 11.
 """
 
 from __future__ import annotations
@@ -14,10 +13,8 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class Bound:
-    """The closed range [low, high] of one input, its unit and why.
-
-    ``low_open`` (``high_open``) makes that end open: a value must be above (below) it.
-    """
+    """The range [low, high] of one input, its unit and why; ``low_open`` / ``high_open`` open
+    that end."""
 
     low: float
     high: float
@@ -223,14 +220,9 @@ def bounded(name: str, value, bound: str | Bound | None = None) -> float:
 
 
 def body_point_bounds(lower, upper) -> tuple:
-    """The range [m] of each coordinate of a point of a body whose bounding box runs from ``lower``
-    to ``upper``: the box holding the bounding box and the mesh origin (ADBSat's default moment
-    reference), widened on every side by :data:`BODY_REACH` times its largest side.
-
-    Returns
-    -------
-    tuple of 3 Bound
-    """
+    """The range [m] of each coordinate of a body point, as 3 Bounds: the box holding the bounding
+    box (``lower``, ``upper``) and the mesh origin (ADBSat's default moment reference), widened
+    on every side by :data:`BODY_REACH` times its largest side."""
     size = max(float(high) - float(low) for low, high in zip(lower, upper))
     margin = BODY_REACH * size
     return tuple(

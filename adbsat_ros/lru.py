@@ -1,7 +1,5 @@
-"""A bounded store of the most recently used entries, with its hit and miss counts.
-
-Each of the package's caches is a named object saying what its key is and why its values are
-worth keeping; this is where it keeps its entries.
+"""A bounded store of the most recently used entries, with its hit and miss counts; each of the
+package's named caches keeps its entries in one.
 """
 
 from __future__ import annotations

@@ -1,11 +1,7 @@
-"""Named numpy arrays kept on disk by key: what the stores of prepared data are made of.
+"""Named numpy arrays kept on disk by key: the stores of checked meshes and shader topology.
 
-The stores of checked meshes (:mod:`adbsat_ros.geometry.mesh_store`) and shader topology
-(:mod:`adbsat_ros.shading.topology_store`) keep what trimesh makes, for later runs to read with
-numpy alone. :class:`NpzStore` holds one ``.npz`` per key (no pickles), written whole or not at
-all, and keeps the ``max_entries`` most recently used. An unwritable directory or an unreadable
-entry is passed over (debug message): the data is made again.
-
+One ``.npz`` per key (no pickles), written whole or not at all, the ``max_entries`` most recently
+used kept. An unwritable directory or unreadable entry is passed over: the data is made again.
 Directories: ``$ADBSAT_ROS_CACHE_DIR/<kind>``, by default ``$XDG_CACHE_HOME/adbsat_ros/<kind>``
 or ``~/.cache/adbsat_ros/<kind>``; ``ADBSAT_ROS_CACHE_DIR=off`` turns every store off.
 """
@@ -35,20 +31,8 @@ STALE_PART_S = 86400.0
 
 
 class NpzStore:
-    """Named arrays on disk by key.
-
-    Parameters
-    ----------
-    directory : path-like
-        Where the entries are kept (made when first written).
-    max_entries : int
-        Entries kept, >= 1.
-
-    Attributes
-    ----------
-    hits, misses, writes : int
-        Reads that found their entry, reads that did not, entries written.
-    """
+    """Named arrays on disk by key, in ``directory`` (made when first written), at most
+    ``max_entries`` (>= 1); ``hits``, ``misses`` and ``writes`` count reads and writes."""
 
     #: Set by each kind of store: its directory's name under the cache directory, its
     #: entries' layout version, and the modules and packages whose code makes its entries

@@ -60,9 +60,8 @@ def vectors3(value, name: str) -> np.ndarray:
 def foreign_entry(path, own) -> Path | None:
     """The first entry at ``path`` that ``own`` does not accept as a command's output, or None.
 
-    ``own(parts)`` gets each file's path relative to ``path`` as a tuple of names (``()`` for a
-    file ``path``). Entries are visited in sorted order; an empty directory is accepted, a symbolic
-    link or a special file never is.
+    ``own(parts)`` gets each file's path relative to ``path`` as a tuple of names. An empty
+    directory is accepted, a symbolic link or special file never is.
     """
     path = Path(path)
     if path.is_symlink() or not path.is_dir():

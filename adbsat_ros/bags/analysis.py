@@ -1,18 +1,10 @@
 """Offline analysis of recorded flights: the node's wrench at every attitude message of a rosbag2.
 
-:func:`analyze_bag` reads a bag with ``rosbags`` (no ROS needed), feeds its messages in bag order
-through the node's own per-message path
-(:class:`~adbsat_ros.estimator.handling.MessageHandler`), one estimator per model, and writes a
-bag (the input plus ``/adbsat/LABEL/wrench``, ``/adbsat/LABEL/coefficients`` and
-``/diagnostics``), a CSV (:mod:`adbsat_ros.bags.table`) and plots; docs/cli.md, "Recorded
-flights". Outputs appear only when complete; after a fault or a stop, what came before is kept
-as PARTIAL (:attr:`AnalysisReport.error`).
-
-Parallel replay, with the results of one estimator fed every message in order: *read* the
-trigger (state and attitude) messages' stamps (:mod:`~adbsat_ros.bags.reading`), *plan* chunks
-starting where a reset estimator provably agrees (:mod:`~adbsat_ros.bags.planning`), *compute*
-them in worker processes (:mod:`~adbsat_ros.bags.worker`), *merge* in bag order, rebuilding the
-node's cumulative state (:mod:`~adbsat_ros.bags.outputs`, :mod:`~adbsat_ros.bags.model_state`).
+:func:`analyze_bag` feeds a bag's messages, in bag order, through the node's per-message path
+(:class:`~adbsat_ros.estimator.handling.MessageHandler`), one estimator per model, in parallel
+chunks (read, plan, compute in workers, merge in bag order), and writes a bag, a CSV
+(:mod:`adbsat_ros.bags.table`) and plots; docs/cli.md, "Recorded flights". After a fault or a
+stop, the outputs so far are kept as PARTIAL (:attr:`AnalysisReport.error`).
 """
 
 from __future__ import annotations
@@ -66,7 +58,7 @@ __all__ = [
 
 
 def _output_path(path, overwrite: bool, what: str) -> Path | None:
-    """``path`` as a Path; BagError if something is there that ``overwrite`` may not replace."""
+    """``path`` as a Path; BagError if ``overwrite`` may not replace what is there."""
     if path is None:
         return None
     path = Path(path)
@@ -206,20 +198,13 @@ def analyze_bag(
         if path is not None and _holds(path, bag):
             raise BagError(f"output {what} {path}: holds the input bag {bag}; choose another name")
 
-    uses_attitudes = any(s.attitude_source == "attitude_topic" for _, s in models)
+    topics = attitude_topic, state_topic, joint_topic
     with interruptible():  # (nothing is written before the walk: a signal ends it at once)
         read, states, chunks, report, t0 = _read_and_plan(
-            bag,
-            models,
-            attitude_topic,
-            state_topic,
-            joint_topic,
-            uses_attitudes,
-            capped,
-            workers,
-            chunk_messages,
-            skip_damaged,
+            bag, models, topics, workers, chunk_messages, skip_damaged
         )
+    if capped:
+        report.warnings.append(f"workers: {capped}")
     report.workers, report.chunks = min(workers, len(chunks)) or 1, len(chunks)
     report.seconds["read"] = time.perf_counter() - t0
     read.state_raws.clear()  # (only the planning needed them)
@@ -242,19 +227,10 @@ def analyze_bag(
     return report
 
 
-def _read_and_plan(
-    bag,
-    models,
-    attitude_topic,
-    state_topic,
-    joint_topic,
-    uses_attitudes,
-    capped,
-    workers,
-    chunk_messages,
-    skip_damaged,
-) -> tuple:
+def _read_and_plan(bag, models, topics, workers, chunk_messages, skip_damaged) -> tuple:
     """Read the bag, set the models up, plan the chunks: ``(read, states, chunks, report, t0)``."""
+    attitude_topic, state_topic, joint_topic = topics
+    uses_attitudes = any(s.attitude_source == "attitude_topic" for _, s in models)
     reader = bag_io.open_bag(bag)
     try:
         needed = []
@@ -272,8 +248,6 @@ def _read_and_plan(
         report.skipped_chunks = len(skipped)
         report.skipped_messages = sum(d.messages for d in skipped)
         report.messages_total = reader.message_count - report.skipped_messages
-        if capped:
-            report.warnings.append(f"workers: {capped}")
         t0 = time.perf_counter()
         read = read_bag_messages(
             reader,

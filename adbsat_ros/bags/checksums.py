@@ -1,12 +1,10 @@
 """Checksums of the bags: written into every MCAP file the package writes, checked before analysis.
 
 :class:`CheckedWriter` is rosbags' Writer with the MCAP CRCs filled in (rosbags leaves them
-zero): each chunk's, the data section's (DataEnd) and the summary's (footer), as the MCAP
-specification defines them. :func:`check_bag` reads each file of an open bag once: an MCAP
-file's chunks against the summary's chunk index and their CRCs, its data section and summary
-against theirs (a zero CRC field is counted, not failed); an SQLite file through
-``quick_check``, which finds damage to its structure but not to a message's bytes (rosbag2's
-SQLite storage has no checksums). :func:`drop_chunks` takes damaged chunks out of a bag's index.
+zero). :func:`check_bag` checks an MCAP file's chunks, data section and summary against their
+CRCs (a zero CRC is counted, not failed) and an SQLite file through ``quick_check`` (structure
+only: rosbag2's SQLite storage has no checksums). :func:`drop_chunks` takes damaged chunks out
+of a bag's index.
 """
 
 from __future__ import annotations
@@ -96,13 +94,8 @@ class CheckedWriter(Writer):
 # --------------------------------------------------------------------------------- checking
 @dataclass(frozen=True)
 class Damage:
-    """A part of a bag's file that fails its check.
-
-    ``what`` names the part, e.g. ``chunk 3 of 7 (at byte 2098254, log time 1767225610.100 to
-    1767225620.000 s, 11245 messages)``, ``the data section`` or ``the file``; ``reason`` how it
-    fails (``fails its CRC``); ``offset`` a chunk's byte offset (None: not a chunk); ``messages``
-    those a chunk holds by the index (0 otherwise).
-    """
+    """A part of a bag's file that fails its check: ``what`` (e.g. ``chunk 3 of 7 (...)``),
+    ``reason`` (``fails its CRC``), a chunk's byte ``offset`` (else None) and its ``messages``."""
 
     file: Path
     what: str

@@ -1,11 +1,8 @@
 """Reading and writing rosbag2 files (.mcap and .db3) without ROS, with the ``rosbags`` library.
 
-The one place that knows message layouts in bags: builders of the messages the project writes,
-the deserialisers of the node's inputs (for :mod:`adbsat_ros.messages.decoding`) and the joint
-torques' serialiser (for :mod:`adbsat_ros.messages.encoding`), :func:`open_bag` (every failure a
-:class:`BagError` naming the file) and :class:`BagWriter` (a temporary name until
-:meth:`BagWriter.commit`; MCAP CRCs by :mod:`adbsat_ros.bags.checksums`). Stamps are integer
-nanoseconds.
+The one place that knows message layouts in bags: the messages the project writes, the
+deserialisers of the node's inputs and :func:`open_bag` / :class:`BagWriter` (MCAP CRCs by
+:mod:`adbsat_ros.bags.checksums`). Stamps are integer nanoseconds.
 """
 
 from __future__ import annotations
@@ -88,10 +85,8 @@ def odometry_message(
     orientation_xyzw=(0.0, 0.0, 0.0, 1.0),
     angular_velocity=(0.0, 0.0, 0.0),
 ):
-    """nav_msgs/Odometry: pose in ``frame_id`` [m], twist in ``child_frame_id`` [m/s, rad/s].
-
-    ``stamp`` is integer nanoseconds or a builtin_interfaces/Time; covariances are zero.
-    """
+    """nav_msgs/Odometry: pose in ``frame_id`` [m], twist in ``child_frame_id`` [m/s, rad/s];
+    ``stamp`` in ns or a builtin_interfaces/Time; zero covariances."""
     x, y, z, w = (float(v) for v in orientation_xyzw)
     pose = _T["geometry_msgs/msg/Pose"](
         position=_vector(_Point, position), orientation=_Quaternion(x=x, y=y, z=z, w=w)
@@ -168,11 +163,8 @@ def deserialize_attitude(raw):
 
 
 def deserialize_joint_state(raw):
-    """A sensor_msgs/JointState from CDR bytes (raises for anything else).
-
-    Up to 15 bytes after the last field are read past: rclpy's serialiser leaves up to 12 there
-    (so a bag recorded from a live topic has them), and rosbags refuses more than 3.
-    """
+    """A sensor_msgs/JointState from CDR bytes (raises for anything else); up to 15 bytes after
+    the last field are read past (rclpy leaves up to 12 there, rosbags refuses more than 3)."""
     try:
         return TYPESTORE.deserialize_cdr(raw, JOINT_STATE)
     except SerdeError as exc:
@@ -198,13 +190,8 @@ def deserialize_odometry(raw):
 
 # --------------------------------------------------------------------------------- reading
 def open_bag(path) -> Reader:
-    """Open a rosbag2 (directory with metadata.yaml, or a single .mcap/.db3 file) for reading.
-
-    Raises
-    ------
-    BagError
-        Naming the path: missing, unknown storage, or a corrupt or truncated file.
-    """
+    """Open a rosbag2 (directory with metadata.yaml, or one .mcap/.db3 file) for reading;
+    BagError naming the path if missing, of unknown storage, corrupt or truncated."""
     path = Path(path)
     if not path.exists():
         raise BagError(f"input bag {path}: no such file or directory")
@@ -229,10 +216,10 @@ def storage_plugin(storage: str) -> StoragePlugin:
 
 # --------------------------------------------------------------------------------- writing
 class BagWriter:
-    """A rosbag2 writer that builds the bag under a temporary name beside ``path``.
+    """A rosbag2 writer building the bag under a temporary name beside ``path``.
 
     :meth:`commit` renames it to ``path``; :meth:`discard` (or an exception in a ``with`` block)
-    removes it, so a half-written bag never appears at ``path``.
+    removes it.
 
     Parameters
     ----------

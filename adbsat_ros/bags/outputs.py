@@ -1,8 +1,6 @@
 """The bag analysis's outputs, written in bag order: the output bag, the CSV and the plots.
 
-:func:`write_outputs` copies each input message to the output bag, applies the workers' records
-to the models' state (:class:`~adbsat_ros.bags.model_state.ModelState`) and writes wrenches,
-diagnostics and CSV rows. Bag and CSV are put at their paths only when complete.
+Bag and CSV are put at their paths only when complete.
 """
 
 from __future__ import annotations
@@ -250,18 +248,9 @@ def partial_path(path) -> Path:
 def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
     """Walk the messages in bag order and write the outputs asked for.
 
-    If the walk stops early (an undecodable message, or ``stop``), every output is kept under
-    :func:`partial_path` and the final names are left as they were; after ``stop`` no plots are
-    drawn, so that the command ends at once.
-
-    Parameters
-    ----------
-    replay : Replay
-        The input, the chunks' results (closed here), the models and the report.
-    outputs : Outputs
-        What to write, and how.
-    stop : threading.Event, optional
-        Stop at the next message once set.
+    If the walk stops early (an undecodable message, or ``stop`` set), every output is kept
+    under :func:`partial_path`; after ``stop`` no plots are drawn. ``replay``'s results are
+    closed here.
     """
     states, report = replay.states, replay.report
     out_bag, out_csv, plots_dir = outputs.bag, outputs.csv, outputs.plots

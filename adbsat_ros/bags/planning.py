@@ -21,32 +21,14 @@ MAX_CHUNK_MESSAGES = 2000
 def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
     """Trigger-message indices where a freshly reset estimator gives the sequential results.
 
-    The sequential estimator at k differs from a reset one only in its latest state and last state
-    and attitude stamps (the shading cache answers a cell's centre, whatever it holds). Both give
-    the same outputs from k on if:
+    The two differ only in the latest state and the last stamps, so they agree from k on if k is
+    a state stamped later than every earlier state, no model's attitude stamp at or after k is
+    earlier than one before k, and no joint state comes before k (whether the state at k passes
+    its own checks is ``accepted`` of :func:`plan_chunks`).
 
-    * k is a state message stamped later than every earlier state (both accept it, then hold the
-      same state and last state stamp);
-    * for every model, no stamp it treats as an attitude at or after k is earlier than one before k
-      (so the sequential estimator never rejects where the reset one accepts);
-    * no joint state comes before k (joint positions are history a reset estimator has not got).
-
-    That the state at k passes its own checks is tested on the decoded message
-    (``accepted`` of :func:`plan_chunks`).
-
-    Parameters
-    ----------
-    kinds : array_like of int, shape (N,)
-        STATE, ATTITUDE or JOINTS of each message, in bag order.
-    stamps : array_like of float, shape (N,)
-        Header stamps [s] as the estimator reads them (sec + 1e-9 nanosec).
-    attitude_sources : sequence of str
-        Each model's ``attitude_source`` ('attitude_topic' or 'odometry').
-
-    Returns
-    -------
-    ndarray of int
-        Increasing indices k >= 1 (index 0 always starts the first chunk).
+    ``kinds`` (STATE, ATTITUDE or JOINTS) and header ``stamps`` [s] of the messages in bag
+    order, ``attitude_sources`` each model's; returns increasing indices k >= 1 (0 always starts
+    the first chunk).
     """
     kinds = np.asarray(kinds)
     stamps = np.asarray(stamps, dtype=float)
@@ -88,11 +70,8 @@ def plan_chunks(
 ) -> list:
     """Cut the trigger messages into chunks [start, stop) at safe split points; they cover all.
 
-    ``kinds``, ``stamps`` and ``attitude_sources`` as in :func:`safe_split_points` (``stamps``
-    possibly fewer: no cut after the first unreadable one). ``chunk_messages`` defaults to
-    CHUNKS_PER_WORKER chunks per worker, within MIN_CHUNK_MESSAGES and MAX_CHUNK_MESSAGES, their
-    number a multiple of ``workers``. ``accepted(k)``: whether every model's reset estimator
-    accepts the state message k.
+    Arguments as in :func:`safe_split_points` (``stamps`` may stop early: no cut after that);
+    ``accepted(k)``: whether every model's reset estimator accepts state message k.
     """
     n = len(kinds)
     if chunk_messages is None:

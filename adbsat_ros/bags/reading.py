@@ -1,9 +1,8 @@
 """Reading an input bag for the analysis in two passes, in memory that does not grow with the bag.
 
-After the checksums (:func:`check_damage`) and topics: a first pass keeps the kinds and stamps
-of the trigger (state and attitude) messages to plan the chunks; a second streams them to the
-workers and every message to the merge. A reader fault part-way ends both passes at the same
-place, and is reported.
+A first pass keeps the trigger (state and attitude) messages' kinds and stamps to plan the
+chunks; a second streams them to the workers and every message to the merge. A reader fault
+ends both passes at the same place, and is reported.
 """
 
 from __future__ import annotations
@@ -40,20 +39,11 @@ def read_messages(reader, path, connections):
 
 
 def check_damage(reader, path, skip_damaged: bool = False) -> tuple[list, list]:
-    """Check an open bag's checksums (:func:`adbsat_ros.bags.checksums.check_bag`).
+    """Check an open bag's checksums: ``(skipped, warnings)``, the damaged chunks taken out of
+    ``reader``'s index (``skip_damaged`` only) and lines on chunks without a CRC or skipped.
 
-    Returns
-    -------
-    skipped : list of Damage
-        The damaged chunks (``skip_damaged`` only), taken out of ``reader``'s index.
-    warnings : list of str
-        Chunks without a CRC; with ``skip_damaged``, the chunks skipped and damage outside them.
-
-    Raises
-    ------
-    BagError
-        Naming the file and its first damaged part, unless ``skip_damaged`` and the damage is to
-        chunks only (or outside them); always for a damaged summary or SQLite structure.
+    BagError naming the file and its first damaged part, unless ``skip_damaged`` and the damage
+    is to chunks only (or outside them); always for a damaged summary or SQLite structure.
     """
     check = check_bag(reader)
     warnings = []
@@ -81,15 +71,8 @@ def check_damage(reader, path, skip_damaged: bool = False) -> tuple[list, list]:
 
 
 def check_topics(reader, path, topics_types) -> dict:
-    """Check the required (option, topic, msgtype): present, of that type only, with messages.
-
-    Returns {topic: set of msgtypes} of the bag.
-
-    Raises
-    ------
-    BagError
-        Naming the topic and the option that gave it.
-    """
+    """Check the required (option, topic, msgtype): present, of that type only, with messages
+    (else BagError naming the topic and option); returns {topic: set of msgtypes} of the bag."""
     by_topic = collections.defaultdict(set)
     counts = collections.Counter()
     for conn in reader.connections:
@@ -118,10 +101,8 @@ def check_topics(reader, path, topics_types) -> dict:
 class BagMessages:
     """The first pass over a bag: trigger kinds and stamps, and the states' bytes.
 
-    ``trigger_stamps`` [s] (sec + 1e-9 nanosec) stop at the first unreadable one (no chunk starts
-    after it); ``state_raws`` maps trigger index to a state's CDR bytes (to test where chunks may
-    start); ``count`` is the messages read and ``error`` why reading stopped early, if it did;
-    ``skipped`` the damaged chunks both passes leave out.
+    ``trigger_stamps`` [s] stop at the first unreadable message; ``state_raws`` maps trigger
+    index to a state's CDR bytes; ``error`` says why reading stopped early, if it did.
     """
 
     path: object
@@ -182,12 +163,8 @@ def read_bag_messages(
 
 
 class MessageStream:
-    """The second pass over a bag, read once for two consumers at their own pace.
-
-    :meth:`chunks` gives the workers' trigger messages, :meth:`messages` the merge's every message;
-    whichever reads a message first queues it for the other, so memory is bounded by how far apart
-    they are, not by the bag.
-    """
+    """The second pass over a bag, read once for the workers (:meth:`chunks`) and the merge
+    (:meth:`messages`); whichever reads first queues for the other, so memory stays bounded."""
 
     def __init__(self, read: BagMessages):
         self._kind_of = read.kind_of

@@ -1,8 +1,7 @@
 """Which outputs of the bag tools an output path holds: ``--overwrite`` replaces only these.
 
-A rosbag2 bag (``metadata.yaml`` and the files it lists, nothing else), a directory of the
-analysis's PNGs only, a CSV starting with the analysis's header; anything else is refused by
-name, with nothing deleted (:func:`refusal`).
+A rosbag2 bag, a directory of the analysis's PNGs only, or a CSV starting with the analysis's
+header; anything else is refused by name, nothing deleted (:func:`refusal`).
 """
 
 from __future__ import annotations

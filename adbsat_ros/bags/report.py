@@ -71,16 +71,10 @@ class AnalysisReport:
     ----------
     outputs : dict
         'bag', 'csv', 'plots' (list of PNG paths) that were written.
-    messages_read, messages_total : int
-        Input messages read (and copied), and those the input's index announced.
     error : str or None
         Why the input could not be read to its end (the outputs then hold what came before).
     seconds : dict
         Wall time [s] by phase: read, estimate, write, csv, plots, total.
-    workers, chunks : int
-        Processes that computed the wrenches (1: this process), chunks of the messages.
-    skipped_chunks, skipped_messages : int
-        Damaged chunks of the input left out (``skip_damaged``), and the messages they held.
     """
 
     input: Path

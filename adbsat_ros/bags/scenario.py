@@ -1,19 +1,11 @@
 """Built-in flight scenarios: a Keplerian orbit and an attitude history, as message records.
 
-The orbit: two-body around a point-mass Earth (:data:`~adbsat_ros.physics.constants.EARTH_MU`;
-no J2, drag or third bodies), in ECI (GCRF axes) from classical elements; ``altitude_km`` is
-the perigee height above :data:`EARTH_RADIUS`, so a = (EARTH_RADIUS + altitude) / (1 - e).
-
-Attitudes (quaternions x, y, z, w, body -> ECI, v_eci = R(q) v_body):
-
-* ``nadir``: LVLH, body +z to nadir, +y along -orbit normal, +x = y x z (along-track): the
-  example satellite flies nose first (:mod:`adbsat_ros.geometry.frames`).
-* ``tumble``: the nadir attitude at t = 0, then turning at ``tumble_rate_deg_s`` about a fixed
-  body axis (``tumble_axis``, or a random one drawn from ``seed``).
-
-Stamps: ``time_mode`` 'unix' (default) stamps UNIX(epoch_utc) + t, as the node's defaults read
-them; 'epoch' stamps t (the node's time_mode epoch with the same epoch_utc). Integer nanoseconds,
-so that messages carry them exactly.
+Orbit: two-body (:data:`~adbsat_ros.physics.constants.EARTH_MU`, no J2, drag or third bodies) in
+ECI (GCRF axes); ``altitude_km`` is the perigee height above :data:`EARTH_RADIUS`. Attitudes are
+body -> ECI quaternions (x, y, z, w): ``nadir`` is LVLH (+z nadir, +y -orbit normal, +x along
+track: the example satellite flies nose first), ``tumble`` turns from it about a fixed body axis.
+Stamps are integer nanoseconds: UNIX(epoch_utc) + t (``time_mode`` 'unix', the node's default)
+or t ('epoch').
 """
 
 from __future__ import annotations
@@ -42,32 +34,12 @@ BYTES_PER_MESSAGE = 1_024
 
 @dataclass(frozen=True)
 class Scenario:
-    """What to simulate; all angles in degrees, times in seconds, rates in hertz.
+    """What to simulate; angles in degrees, times in seconds, rates in hertz (the field names).
 
-    Attributes
-    ----------
-    epoch_utc : str or datetime
-        UTC of t = 0 (ISO 8601 text or an aware datetime).
-    duration_s : float
-        Length [s]; messages at 0 <= t <= duration_s.
-    rate_hz, state_rate_hz : float
-        Attitude and orbital-state message rates [Hz].
-    altitude_km : float
-        Perigee height above :data:`EARTH_RADIUS` [km].
-    eccentricity : float
-        0 <= e < 1.
-    inclination_deg, raan_deg, arg_perigee_deg, true_anomaly_deg : float
-        Classical elements (ECI); the true anomaly at t = 0.
-    attitude : str
-        'nadir' or 'tumble'.
-    tumble_rate_deg_s : float
-        Rotation rate of the tumble [deg/s].
-    tumble_axis : tuple of 3 floats or None
-        Body axis of the tumble (normalised); None draws one from ``seed``.
-    seed : int
-        Seed of the random tumble axis.
-    time_mode : str
-        'unix' or 'epoch' (module docstring).
+    ``epoch_utc`` is the UTC of t = 0 (ISO 8601 or an aware datetime); messages at
+    0 <= t <= ``duration_s``; ``rate_hz`` and ``state_rate_hz`` are the attitude and state rates;
+    the classical elements are in ECI (true anomaly at t = 0); ``tumble_axis`` (body axis) None
+    draws one from ``seed``; ``time_mode`` as in the module docstring.
     """
 
     epoch_utc: str | _dt.datetime = "2026-01-01T00:00:00Z"
@@ -181,8 +153,7 @@ class Scenario:
 
 @dataclass(frozen=True, eq=False)
 class StateRecords:
-    """Orbital states in time order: stamps_ns (N,) [ns], position_eci (N, 3) [m], velocity_eci
-    (N, 3) [m/s]."""
+    """Orbital states in time order: stamps [ns], ECI position [m] and velocity [m/s]."""
 
     stamps_ns: np.ndarray
     position_eci: np.ndarray
@@ -196,7 +167,7 @@ class StateRecords:
 
 @dataclass(frozen=True, eq=False)
 class AttitudeRecords:
-    """Attitudes in time order: stamps_ns (M,) int64 [ns], quaternion_xyzw (M, 4), body -> ECI."""
+    """Attitudes in time order: stamps [ns], quaternions body -> ECI."""
 
     stamps_ns: np.ndarray
     quaternion_xyzw: np.ndarray
@@ -253,12 +224,7 @@ def perifocal_to_eci(scenario: Scenario) -> np.ndarray:
 
 
 def kepler_states(scenario: Scenario, t) -> tuple[np.ndarray, np.ndarray]:
-    """Two-body position [m] and velocity [m/s] in ECI at times t [s] after the epoch.
-
-    Returns
-    -------
-    position, velocity : ndarray, shape (N, 3)
-    """
+    """Two-body position [m] and velocity [m/s] in ECI, shape (N, 3), at times t [s]."""
     t = np.atleast_1d(np.asarray(t, dtype=float))
     e = scenario.eccentricity
     a = scenario.semi_major_axis
@@ -336,9 +302,7 @@ def epoch_unix_ns(scenario: Scenario) -> int:
 
 
 def generate(scenario: Scenario) -> ScenarioMessages:
-    """States and attitudes of a scenario in time order, each at exactly its stamp's time.
-
-    Stamps are ``epoch_unix_ns + round(t * 1e9)``."""
+    """States and attitudes in time order, stamped ``epoch_unix_ns + round(t * 1e9)``."""
     check_memory(f"the scenario ({message_count(scenario)} messages)", memory_estimate(scenario))
     base = epoch_unix_ns(scenario)
     out = []

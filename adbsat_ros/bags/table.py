@@ -16,6 +16,15 @@ from adbsat_ros.geometry.frames import angles_of_flow
 
 #: Columns shared by all models.
 COMMON_COLUMNS = ("stamp_s", "utc", "time_s", "topic")
+#: Force [N] and torque [N m] columns, body frame.
+WRENCH_COLUMNS = (
+    "force_x_N",
+    "force_y_N",
+    "force_z_N",
+    "torque_x_Nm",
+    "torque_y_Nm",
+    "torque_z_Nm",
+)
 #: Columns of each model's group, prefixed with "LABEL." in the CSV. wind_body is the velocity of
 #: the gas relative to the body in body axes; aoa/aos are ADBSat's angles of that flow (frames.py).
 MODEL_COLUMNS = (
@@ -36,12 +45,7 @@ MODEL_COLUMNS = (
     "CM_x",
     "CM_y",
     "CM_z",
-    "force_x_N",
-    "force_y_N",
-    "force_z_N",
-    "torque_x_Nm",
-    "torque_y_Nm",
-    "torque_z_Nm",
+    *WRENCH_COLUMNS,
 )
 #: Columns appended to the group of a model with ``solar_pressure`` on: the fraction of the solar
 #: disc visible past the Earth, and the solar radiation force and torque (body frame).
@@ -55,17 +59,8 @@ SOLAR_COLUMNS = (
     "solar_torque_z_Nm",
 )
 #: The columns of MODEL_COLUMNS plotted (force, torque, density, drag coefficient), in order.
-PLOT_COLUMNS = (
-    "force_x_N",
-    "force_y_N",
-    "force_z_N",
-    "torque_x_Nm",
-    "torque_y_Nm",
-    "torque_z_Nm",
-    "density_kg_m3",
-    "drag_coefficient",
-)
-_PLOT_INDEX = [MODEL_COLUMNS.index(c) for c in PLOT_COLUMNS]
+PLOT_COLUMNS = (*WRENCH_COLUMNS, "density_kg_m3", "drag_coefficient")
+_PLOT_INDEX = [MODEL_COLUMNS.index(c) - 1 for c in PLOT_COLUMNS]  # (in row_values: no status)
 _NAN_CELLS = ",nan" * (len(MODEL_COLUMNS) - 1)
 _NAN_PLOT = [math.nan] * len(PLOT_COLUMNS)
 #: The columns of each moving joint ``NAME`` of an articulated body, as ``joint.NAME.<suffix>``:
@@ -74,8 +69,7 @@ JOINT_COLUMNS = ("position", "effort")
 
 
 def extra_columns(solar: bool, joint_names=()) -> tuple:
-    """A model's columns after :data:`MODEL_COLUMNS`: :data:`SOLAR_COLUMNS` if ``solar``, then
-    :data:`JOINT_COLUMNS` of every joint."""
+    """A model's columns after :data:`MODEL_COLUMNS`: solar ones, then every joint's."""
     joints = tuple(f"joint.{name}.{c}" for name in joint_names for c in JOINT_COLUMNS)
     return (SOLAR_COLUMNS if solar else ()) + joints
 
@@ -96,10 +90,8 @@ def header(labels, extras=()) -> list:
     ]
 
 
-def row_values(status: str, sample) -> list:
-    """A model's cells (``status``, then floats; NaN where not computed) of a WrenchSample."""
-    if sample is None:
-        return [status] + [math.nan] * (len(MODEL_COLUMNS) - 1)
+def row_values(sample) -> list:
+    """A model's numbers (the cells after its status) of a WrenchSample; NaN where undefined."""
     c = sample.conditions
     u = sample.flow_direction_body
     speed = float(c.speed)
@@ -109,10 +101,8 @@ def row_values(status: str, sample) -> list:
         aoa, aos = math.degrees(aoa), math.degrees(aos)
     else:
         aoa = aos = math.nan
-    # plain Python floats: the csv module writes them (repr, exact round trip) far faster than
-    # numpy's
+    # plain Python floats: the csv module writes them faster than numpy's
     return [
-        status,
         float(c.altitude),
         float(c.mass_density),
         float(c.temperature),
@@ -159,10 +149,10 @@ def model_cells(outcomes, extras=()) -> tuple[str, list]:
             cells.append(("" if status is None else status) + _NAN_CELLS + ",nan" * len(more))
             plot.extend(_NAN_PLOT)
         else:
-            values = row_values("ok", sample)
+            values = row_values(sample)
             if more:
                 values += extra_values(sample, more)
-            cells.append(",".join(["ok", *map(repr, values[1:])]))
+            cells.append(",".join(["ok", *map(repr, values)]))
             plot.extend(values[i] for i in _PLOT_INDEX)
     return ",".join(cells), plot
 

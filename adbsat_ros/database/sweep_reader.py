@@ -81,6 +81,26 @@ def bracket(nodes: np.ndarray, name: str, value: float) -> list:
     return [(k, 1.0 - t), (k + 1, t)]
 
 
+def corners(axes: dict, values: dict) -> list:
+    """``[(index, weight), ...]`` of the grid points of ``axes`` (name -> values) around
+    ``values`` with weight > 0; ValueError for an axis not given or unknown, or a value outside
+    its range (named)."""
+    missing = sorted(set(axes) - set(values))
+    unknown = sorted(set(values) - set(axes))
+    if missing or unknown:
+        raise ValueError(
+            f"give a value of every axis of the sweep besides aoa and aos "
+            f"({', '.join(axes) or 'none'}); missing {missing}, unknown {unknown}"
+        )
+    brackets = [bracket(axes[name], name, float(values[name])) for name in axes]
+    out = []
+    for corner in itertools.product(*brackets):
+        weight = float(np.prod([w for _, w in corner]))
+        if weight != 0.0:
+            out.append((tuple(i for i, _ in corner), weight))
+    return out
+
+
 def slice_database(dataset, index: dict, stated_error: bool = False) -> AeroDatabase:
     """The attitude grid at grid point ``index`` (axis name -> position) of the other axes."""
     arrays = {
@@ -94,20 +114,9 @@ def sweep_database(dataset, **values) -> AeroDatabase:
     interpolation error in attitude; ValueError for an axis not given or unknown, or a value
     outside its range (named)."""
     axes = other_axes(dataset)
-    missing = sorted(set(axes) - set(values))
-    unknown = sorted(set(values) - set(axes))
-    if missing or unknown:
-        raise ValueError(
-            f"give a value of every axis of the sweep besides aoa and aos "
-            f"({', '.join(axes) or 'none'}); missing {missing}, unknown {unknown}"
-        )
-    brackets = [bracket(axes[name], name, float(values[name])) for name in axes]
     arrays = None
-    for corner in itertools.product(*brackets):
-        weight = float(np.prod([w for _, w in corner]))
-        if weight == 0.0:
-            continue
-        index = {name: i for name, (i, _) in zip(axes, corner)}
+    for corner, weight in corners(axes, values):
+        index = dict(zip(axes, corner))
         part = {
             name: weight * np.asarray(dataset[source].isel(index).values, dtype=float)
             for name, source in FIELDS

@@ -1,13 +1,10 @@
 """The one hand-made codec: CDR bytes of the attitude in and the wrench out, with ``struct``.
 
-One wrench per attitude message, at up to 1 kHz, so QuaternionStamped is read and
-WrenchStamped/AccelStamped written without building message objects (docs/benchmarks.md).
-The tests compare it with rosbags' and rclpy's codecs (test/messages/, test/ros/test_cdr.py).
-
-Layout: plain CDR (XCDR1), a 4-byte encapsulation header, then the fields in order, each
-aligned to its size counted from the end of that header; a std_msgs/Header is the stamp (int32
-sec, uint32 nanosec) and frame_id (uint32 length including the NUL, bytes, NUL). Anything else
-(XCDR2, another type) raises ValueError, and callers decode it with a full codec.
+It reads QuaternionStamped and writes WrenchStamped/AccelStamped without building message
+objects (docs/benchmarks.md); tests compare it with rosbags' and rclpy's codecs. Layout: plain
+CDR (XCDR1), a 4-byte encapsulation header, then the fields, each aligned to its size from the
+end of that header; a std_msgs/Header is int32 sec, uint32 nanosec, frame_id (uint32 length
+including the NUL, bytes, NUL). Anything else raises ValueError (callers use a full codec).
 """
 
 from __future__ import annotations
@@ -28,16 +25,8 @@ class Stamp(NamedTuple):
 
 
 def header_stamp(raw) -> Stamp:
-    """The header stamp of a CDR-serialised stamped message.
-
-    Reads 12 bytes instead of decoding the message: valid for every message whose first field is
-    a std_msgs/Header (Odometry, QuaternionStamped, WrenchStamped ...).
-
-    Raises
-    ------
-    ValueError
-        If ``raw`` is too short or not plain CDR.
-    """
+    """The header stamp of a CDR message whose first field is a std_msgs/Header; ValueError if
+    ``raw`` is too short or not plain CDR."""
     if len(raw) < 12 or raw[0] != 0 or raw[1] not in (0, 1):
         raise ValueError("not a plain-CDR stamped message")
     return Stamp._make(struct.unpack_from("<iI" if raw[1] == 1 else ">iI", raw, 4))
@@ -59,18 +48,8 @@ class AttitudeFields(NamedTuple):
 
 
 def quaternion_stamped_fields(raw) -> AttitudeFields:
-    """Header stamp and quaternion of a CDR-serialised geometry_msgs/QuaternionStamped.
-
-    Returns
-    -------
-    AttitudeFields
-        The stamp, and the four float64 values of the quaternion as sent, order x, y, z, w.
-
-    Raises
-    ------
-    ValueError
-        If ``raw`` is not exactly a plain-CDR QuaternionStamped.
-    """
+    """Header stamp and quaternion (x, y, z, w as sent) of a CDR geometry_msgs/QuaternionStamped;
+    ValueError if ``raw`` is not exactly a plain-CDR QuaternionStamped."""
     if len(raw) < 16 or raw[0] != 0 or raw[1] not in (0, 1):
         raise ValueError("not a plain-CDR stamped message")
     order = "<" if raw[1] == 1 else ">"
@@ -94,8 +73,8 @@ def _wrench_stamped_layout(frame_id: str):
 def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> bytes:
     """CDR bytes (little endian) of a geometry_msgs/WrenchStamped.
 
-    Byte for byte what rosbags serialises for the same message; rclpy's serialiser differs only
-    in the padding bytes before the float64s, which it leaves uninitialised.
+    Byte for byte what rosbags writes (rclpy's leaves the padding before the float64s
+    uninitialised).
 
     Parameters
     ----------

@@ -1,8 +1,7 @@
 """Input messages from their CDR bytes, to the fields the estimator takes.
 
-Decoded with the caller's deserialiser (rclpy's in the node, rosbags' in bag analysis); the
-attitude first by the ``struct`` reader of :mod:`adbsat_ros.messages.cdr`, falling back to the
-deserialiser where that refuses the bytes. Bytes that are not the message raise
+With the caller's deserialiser (rclpy's in the node, rosbags' in bag analysis); the attitude
+first by :mod:`adbsat_ros.messages.cdr`. Bytes that are not the message raise
 :class:`UndecodableMessage`.
 """
 
@@ -67,15 +66,8 @@ class JointStateFields(NamedTuple):
 
 
 class UndecodableMessage(Exception):
-    """Bytes that are not the message they should be.
-
-    Attributes
-    ----------
-    message_type : str
-        The expected type, e.g. ``geometry_msgs/msg/QuaternionStamped``.
-    reason : str
-        What the deserialiser said, as ``ExceptionName: text``.
-    """
+    """Bytes that are not the ``message_type`` they should be; ``reason`` is what the
+    deserialiser said, as ``ExceptionName: text``."""
 
     def __init__(self, message_type: str, cause: BaseException):
         self.message_type = message_type
@@ -84,9 +76,7 @@ class UndecodableMessage(Exception):
 
 
 def decode_attitude(raw, deserialise: Callable) -> AttitudeFields:
-    """Stamp and quaternion of a CDR geometry_msgs/QuaternionStamped.
-
-    Read by the struct reader, or by ``deserialise(raw)`` (a message object) where it refuses them.
+    """Stamp and quaternion of a CDR geometry_msgs/QuaternionStamped (struct, else ``deserialise``).
 
     Raises
     ------
@@ -97,10 +87,7 @@ def decode_attitude(raw, deserialise: Callable) -> AttitudeFields:
         return quaternion_stamped_fields(raw)
     except ValueError:
         pass
-    try:
-        return AttitudeFields.of_message(deserialise(raw))
-    except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
-        raise UndecodableMessage(QUATERNION_STAMPED, exc) from None
+    return _decode(AttitudeFields, QUATERNION_STAMPED, raw, deserialise)
 
 
 def decode_odometry(raw, deserialise: Callable) -> OdometryFields:
@@ -111,10 +98,7 @@ def decode_odometry(raw, deserialise: Callable) -> OdometryFields:
     UndecodableMessage
         If ``deserialise`` does not read ``raw``.
     """
-    try:
-        return OdometryFields.of_message(deserialise(raw))
-    except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
-        raise UndecodableMessage(ODOMETRY, exc) from None
+    return _decode(OdometryFields, ODOMETRY, raw, deserialise)
 
 
 def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
@@ -125,7 +109,12 @@ def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
     UndecodableMessage
         If ``deserialise`` does not read ``raw``.
     """
+    return _decode(JointStateFields, JOINT_STATE, raw, deserialise)
+
+
+def _decode(fields, message_type: str, raw, deserialise: Callable):
+    """``fields.of_message(deserialise(raw))``, any failure an UndecodableMessage."""
     try:
-        return JointStateFields.of_message(deserialise(raw))
+        return fields.of_message(deserialise(raw))
     except Exception as exc:  # the deserialisers raise many kinds (RuntimeError, struct ...)
-        raise UndecodableMessage(JOINT_STATE, exc) from None
+        raise UndecodableMessage(message_type, exc) from None

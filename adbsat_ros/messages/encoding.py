@@ -1,7 +1,7 @@
 """The output messages of one wrench as CDR bytes, for the node and the bag analysis alike.
 
-Wrenches and acceleration by the ``struct`` writer of :mod:`adbsat_ros.messages.cdr`; an
-articulated body's joint torques (sensor_msgs/JointState) by the caller's serialiser.
+Joint torques (sensor_msgs/JointState) by the caller's serialiser, the rest by
+:mod:`adbsat_ros.messages.cdr`.
 """
 
 from __future__ import annotations

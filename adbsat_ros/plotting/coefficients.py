@@ -20,11 +20,8 @@ MAX_SIDESLIP_LINES = 7
 
 
 def select_sideslip_lines(aos_deg, max_lines: int = MAX_SIDESLIP_LINES) -> np.ndarray:
-    """Increasing indices of the sideslip angles ``aos_deg`` [deg] to draw as lines.
-
-    All if there are at most ``max_lines`` (>= 2); otherwise that many evenly spaced from first
-    to last, with 0 deg swapped in for its nearest pick if the grid has it.
-    """
+    """Increasing indices of the sideslip angles ``aos_deg`` [deg] to draw: at most ``max_lines``
+    (>= 2) evenly spaced from first to last, 0 deg swapped in for its nearest pick if present."""
     aos = np.asarray(aos_deg, dtype=float)
     n = aos.size
     if max_lines < 2:
@@ -52,8 +49,7 @@ def _metadata_value(metadata: dict, *keys, default=None):
 
 
 def database_title(metadata: dict) -> str:
-    """One line naming the mesh, model, speed ratio and shading mode (or test particles) of a
-    database."""
+    """The mesh, model, speed ratio and shading (or test particles) of a database, in one line."""
     mesh = _metadata_value(metadata, "mesh", "spec", default=None) or _metadata_value(
         metadata, "mesh", "source", default="?"
     )
@@ -74,8 +70,7 @@ def database_title(metadata: dict) -> str:
 
 
 def _sideslip_lines(ax, aoa, values, aos, picks):
-    """One line per picked sideslip, coloured by |beta| (so +beta and -beta pair up), dashed
-    for negative beta."""
+    """One line per picked sideslip, coloured by |beta|, dashed for negative beta."""
     cmap = colormaps["plasma"]
     span = max(float(np.max(np.abs(aos[picks]))), 1e-12)
     for j in picks:

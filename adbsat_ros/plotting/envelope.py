@@ -1,9 +1,7 @@
-"""A bounded min/max envelope of long time series, for plotting them.
+"""A bounded min/max envelope of long time series, for plotting them (no matplotlib).
 
-Per time bin, each series' smallest and largest value and when each came: a line through them
-draws as the whole series would at any coarser resolution (a one-sample spike stays visible).
-The bins keep their origin at the first sample and double in width (neighbours merged) when the
-samples outrun them, so memory does not grow. Imports no matplotlib.
+Per time bin, each series' smallest and largest value and when each came, so a one-sample spike
+stays visible; the bins double in width (neighbours merged) when the samples outrun them.
 """
 
 from __future__ import annotations
@@ -18,12 +16,9 @@ BINS = 2048
 
 
 class MinMaxEnvelope:
-    """Samples of ``columns`` series against time, kept in at most ``bins`` bins of a first
-    ``width`` (the times' unit, doubled as needed), binned ``buffer`` samples at a time.
-
-    A non-finite value is left out of its bin; a bin with no finite value of a series gives it
-    a gap (NaN) in :meth:`series`.
-    """
+    """Samples of ``columns`` series against time, in at most ``bins`` bins of a first ``width``
+    (the times' unit, doubled as needed), binned ``buffer`` samples at a time; non-finite values
+    are left out (a bin without a finite value is a NaN gap in :meth:`series`)."""
 
     def __init__(self, columns: int, bins: int = BINS, width: float = 1e-3, buffer: int = 4096):
         if columns < 1 or bins < 2 or not width > 0 or buffer < 1:

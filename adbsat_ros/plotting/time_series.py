@@ -36,8 +36,7 @@ def _check_runs(time_s, runs) -> tuple[np.ndarray, dict]:
 
 
 def _time_axis(lines):
-    """The factor to seconds, minutes or hours (whichever reads best for the lines' span of
-    times [s]) and the axis label."""
+    """The factor from seconds to s, min or h (whichever suits the lines' span) and the label."""
     xs = [x for run in lines.values() for series in run.values() for x, _ in series]
     finite = [x[np.isfinite(x)] for x in xs]
     finite = [x for x in finite if x.size]
@@ -50,8 +49,7 @@ def _time_axis(lines):
 
 
 def _run_style(values: np.ndarray) -> dict:
-    """Line style of one series: a marker only on isolated samples (NaN on both sides), which a
-    line alone would not show."""
+    """Line style of one series: a marker only on isolated samples (NaN on both sides)."""
     ok = np.isfinite(values)
     before = np.concatenate([[False], ok[:-1]])
     after = np.concatenate([ok[1:], [False]])

@@ -1,9 +1,8 @@
 """Play a rosbag2 bag into the live ROS 2 graph, as ``ros2 bag play`` would.
 
-:func:`play` publishes a bag's raw CDR bytes unchanged (header stamps as recorded), keeping the
-recorded spacing in time scaled by ``rate``. Its own rclpy Context and a SingleThreadedExecutor
-(the EventsExecutor busy-waits in the Jazzy wheels), no signal handlers; stopped from another
-thread with a ``threading.Event``.
+Raw CDR bytes are published unchanged, with the recorded spacing scaled by ``rate``. Own rclpy
+Context and a SingleThreadedExecutor (the EventsExecutor busy-waits in the Jazzy wheels), no
+signal handlers; stopped from another thread with a ``threading.Event``.
 """
 
 from __future__ import annotations
@@ -16,14 +15,12 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import rclpy
 from rclpy.duration import Duration
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosbags.interfaces import QosDurability
 
 from adbsat_ros.bags.io import BagError, open_bag
-from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, close, message_class, start_context
+from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, message_class, own_node
 
 #: Longest wait [s] at the end of play() for reliable subscribers to acknowledge the last messages.
 ACK_TIMEOUT_S = 5.0
@@ -80,19 +77,17 @@ def play(
     Parameters
     ----------
     bag_path : path-like
-        A rosbag2 bag (directory with metadata.yaml, mcap or sqlite3 storage) with CDR messages.
+        A rosbag2 bag (mcap or sqlite3) with CDR messages.
     rate : float
         Playback speed, > 0: 2 plays twice as fast as recorded.
     loop : bool
-        Start again after the last message, until stopped (header stamps then go back in time;
-        adbsat_node resets its history).
+        Start again after the last message, until stopped (stamps then go back in time).
     topics : iterable of str, optional
-        Play only these topics (default: all). Each must be in the bag.
+        Play only these topics, each in the bag (default: all).
     wait_for_subscribers : int
-        Before the first message, wait until every played topic with messages has at least this
-        many subscribers (0: start at once).
+        Before the first message, wait until every played topic has this many subscribers.
     wait_timeout : float
-        Give up waiting for subscribers after this many seconds (BagError).
+        Give up waiting for subscribers after this many seconds [s] (BagError).
     qos_depth : int
         History depth of the publishers (reliable; transient-local if recorded so).
     stop : threading.Event, optional
@@ -103,8 +98,7 @@ def play(
     Returns
     -------
     PlaySummary
-        After reliable subscribers acknowledged the last messages (at most :data:`ACK_TIMEOUT_S`
-        later), so a subscriber in another process misses none.
+        Once reliable subscribers acknowledged the last messages (at most :data:`ACK_TIMEOUT_S`).
 
     Raises
     ------
@@ -127,40 +121,38 @@ def play(
         # topics with messages: the ones worth waiting for subscribers on
         played = {c.topic for c in connections if c.msgcount > 0}
     summary = PlaySummary()
-    context = start_context()
-    node = executor = None
     start = time.monotonic()
     try:
-        node = rclpy.create_node(node_name, context=context)
-        executor = SingleThreadedExecutor(context=context)
-        executor.add_node(node)
-        publishers = {
-            topic: node.create_publisher(cls, topic, qos[topic]) for topic, cls in classes.items()
-        }
-        if wait_for_subscribers:
-            waited = {t: p for t, p in publishers.items() if t in played}
-            _wait_for_subscribers(waited, wait_for_subscribers, wait_timeout, executor, stop, log)
-        log(
-            f"playing {count} messages on {len(publishers)} topics of {path} at rate {rate:g}"
-            + (" (looping)" if loop else "")
-        )
-        start = time.monotonic()
-        while not stop.is_set():
-            summary.passes += 1
-            if not _play_once(path, connections, publishers, rate, stop, summary):
-                break
-            if not loop:
-                break
-        summary.wall_seconds = time.monotonic() - start
-        # Let reliable subscribers acknowledge the last messages before the publishers go away
-        # (acknowledgements follow Fast DDS heartbeats: up to a few seconds between processes).
-        for publisher in publishers.values():
-            publisher.wait_for_all_acked(Duration(seconds=ACK_TIMEOUT_S))
+        with own_node(node_name) as (node, executor):
+            publishers = {
+                topic: node.create_publisher(cls, topic, qos[topic])
+                for topic, cls in classes.items()
+            }
+            if wait_for_subscribers:
+                waited = {t: p for t, p in publishers.items() if t in played}
+                _wait_for_subscribers(
+                    waited, wait_for_subscribers, wait_timeout, executor, stop, log
+                )
+            log(
+                f"playing {count} messages on {len(publishers)} topics of {path} at rate {rate:g}"
+                + (" (looping)" if loop else "")
+            )
+            start = time.monotonic()
+            while not stop.is_set():
+                summary.passes += 1
+                if not _play_once(path, connections, publishers, rate, stop, summary):
+                    break
+                if not loop:
+                    break
+            summary.wall_seconds = time.monotonic() - start
+            # Let reliable subscribers acknowledge the last messages before the publishers go
+            # (acknowledgements follow Fast DDS heartbeats: up to a few seconds between processes).
+            for publisher in publishers.values():
+                publisher.wait_for_all_acked(Duration(seconds=ACK_TIMEOUT_S))
     except KeyboardInterrupt:
         summary.interrupted = True
     finally:
         summary.wall_seconds = summary.wall_seconds or time.monotonic() - start
-        close(node, executor, context)
     if stop.is_set():
         summary.interrupted = True
     return summary

@@ -1,9 +1,8 @@
 """Record topics of the live ROS 2 graph into a rosbag2 bag, as ``ros2 bag record`` would.
 
-:func:`record` subscribes with ``raw=True`` and writes the CDR bytes with rosbags (rosbag2
-version 9), each message stamped with its receive time (UNIX ns). Its own rclpy Context and a
-SingleThreadedExecutor, no signal handlers (Ctrl-C arrives as KeyboardInterrupt and closes the
-bag properly); stopped from another thread with a ``threading.Event``.
+Raw CDR bytes written with rosbags (rosbag2 version 9), stamped with their receive time (UNIX
+ns). Own rclpy Context and a SingleThreadedExecutor, no signal handlers (Ctrl-C arrives as
+KeyboardInterrupt and closes the bag); stopped from another thread with a ``threading.Event``.
 """
 
 from __future__ import annotations
@@ -15,12 +14,10 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import rclpy
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from adbsat_ros.bags.io import TYPESTORE, BagError, BagWriter
-from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, close, message_class, start_context
+from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, message_class, own_node
 
 #: rosbag2 storage plugins :func:`record` can write.
 STORAGES = ("mcap", "sqlite3")
@@ -79,17 +76,15 @@ def record(
         Stop after this much wall time [s] (default: until ``stop`` or Ctrl-C).
     qos_depth : int
         History depth of the subscriptions (reliable unless a publisher offers only best effort).
-    stop : threading.Event, optional
-        Set it (from another thread) to stop recording.
-    ready : threading.Event, optional
-        Set once every topic is subscribed.
+    stop, ready : threading.Event, optional
+        Set ``stop`` to stop recording; ``ready`` is set once every topic is subscribed.
     log : callable, optional
         Called with progress lines.
 
     Returns
     -------
     RecordSummary
-        The bag is closed and readable whatever stopped the recording (including Ctrl-C).
+        With the bag closed and readable, whatever stopped the recording.
 
     Raises
     ------
@@ -117,40 +112,32 @@ def record(
         writer = BagWriter(out, storage)  # written beside `out`, moved there on commit
     except OSError as exc:
         raise BagError(f"output bag {out}: cannot be created: {exc}") from None
-    context = start_context()
-    node = executor = None
     start = time.monotonic()
+    deadline = None if duration is None else start + duration
     try:
-        node = rclpy.create_node(node_name, context=context)
-        executor = SingleThreadedExecutor(context=context)
-        executor.add_node(node)
-        deadline = None if duration is None else start + duration
-        log(
-            f"recording {', '.join(pending)} into {out} ({storage})"
-            + (f" for {duration:g} s" if duration else " until Ctrl-C")
-        )
-        while not stop.is_set() and (deadline is None or time.monotonic() < deadline):
-            if pending:
-                _subscribe_ready_topics(node, writer, pending, summary, qos_depth, log)
-                if not pending and ready is not None:
-                    ready.set()
-            timeout = (
-                GRAPH_POLL_S
-                if deadline is None
-                else max(0.0, min(GRAPH_POLL_S, deadline - time.monotonic()))
+        with own_node(node_name) as (node, executor):
+            log(
+                f"recording {', '.join(pending)} into {out} ({storage})"
+                + (f" for {duration:g} s" if duration else " until Ctrl-C")
             )
-            executor.spin_once(timeout_sec=timeout)
-        # take what is already in the subscriptions' queues
-        for _ in range(10000):
-            before = summary.total
-            executor.spin_once(timeout_sec=0.0)
-            if summary.total == before:
-                break
+            while not stop.is_set() and (deadline is None or time.monotonic() < deadline):
+                if pending:
+                    _subscribe_ready_topics(node, writer, pending, summary, qos_depth, log)
+                    if not pending and ready is not None:
+                        ready.set()
+                timeout = GRAPH_POLL_S if deadline is None else deadline - time.monotonic()
+                executor.spin_once(timeout_sec=max(0.0, min(GRAPH_POLL_S, timeout)))
+            # take what is already in the subscriptions' queues
+            for _ in range(10000):
+                before = summary.total
+                executor.spin_once(timeout_sec=0.0)
+                if summary.total == before:
+                    break
+            summary.wall_seconds = time.monotonic() - start
     except KeyboardInterrupt:
         summary.interrupted = True
     finally:
-        summary.wall_seconds = time.monotonic() - start
-        close(node, executor, context)
+        summary.wall_seconds = summary.wall_seconds or time.monotonic() - start
         writer.commit()  # whatever stopped us, what was recorded is a complete bag
     summary.missing = sorted(pending)
     if stop.is_set():

@@ -1,8 +1,7 @@
 """The articulated demo (``adbsat-ros demo --articulated``): the bundled finned body steering.
 
-``example-finned`` flies nadir-pointing; ``joint_states`` go out with every attitude: the pitch
-fins deflect by :data:`AMPLITUDE_DEG` sin(2 pi t / T), the yaw fins a quarter period later, T
-the run's simulated time. Table, CSV and a plot show the hinge torques.
+Nadir-pointing ``example-finned``; the pitch fins deflect by :data:`AMPLITUDE_DEG`
+sin(2 pi t / T) (T the run's simulated time), the yaw fins a quarter period later.
 """
 
 from __future__ import annotations

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from adbsat_ros.bags.table import WRENCH_COLUMNS
 from adbsat_ros.plotting.panels import plot_panel_pressure
 from adbsat_ros.plotting.time_series import plot_time_series
 from adbsat_ros.ros import demo_joints
@@ -54,12 +55,7 @@ CSV_COLUMNS = (
     "density_kg_m3",
     "relative_speed_m_s",
     "drag_coefficient",
-    "force_x_N",
-    "force_y_N",
-    "force_z_N",
-    "torque_x_Nm",
-    "torque_y_Nm",
-    "torque_z_Nm",
+    *WRENCH_COLUMNS,
     "cf_x",
     "cf_y",
     "cf_z",

@@ -1,7 +1,7 @@
 """The console scripts of the ROS tools (``adbsat_node``, ``adbsat_orbit_publisher``).
 
-Light to import: each handles SIGINT and SIGTERM (:func:`adbsat_ros.processes.handle_signals`)
-before importing rclpy and the node, so a signal then ends it as one while it runs does.
+Each handles SIGINT and SIGTERM (:func:`adbsat_ros.processes.handle_signals`) before importing
+rclpy, so a signal during start-up ends it as one later does.
 """
 
 from __future__ import annotations

@@ -16,15 +16,10 @@ except ImportError:
 def make_executor(kind: str = "events", context=None):
     """An rclpy executor: ``"events"`` or ``"single_threaded"``.
 
-    ``events`` is rclpy.experimental.EventsExecutor (a C++ event queue, callbacks in arrival order);
-    without it, or when sys.stderr is not a file, the SingleThreadedExecutor. Spin either with
-    :func:`spin_until_shutdown`: the EventsExecutor's own ``spin()`` in the Jazzy 7.1 wheels
-    busy-waits and ignores SIGINT/SIGTERM.
-
-    Raises
-    ------
-    ValueError
-        For another ``kind``.
+    ``events`` is rclpy.experimental.EventsExecutor (else, or when sys.stderr is not a file, the
+    SingleThreadedExecutor). Spin with :func:`spin_until_shutdown`: the EventsExecutor's own
+    ``spin()`` in the Jazzy 7.1 wheels busy-waits and ignores SIGINT/SIGTERM. ValueError for
+    another ``kind``.
     """
     if kind == "events":
         if EventsExecutor is None:

@@ -1,16 +1,17 @@
 """What the live bag tools share: an rclpy context of their own, message classes, topic names.
 
 The PyPI ROS 2 wheels have no ``ros2 bag``; :mod:`~adbsat_ros.ros.bag_play` and
-:mod:`~adbsat_ros.ros.bag_record` stand in for it. Each runs its own rclpy Context (so rclpy
-installs no signal handlers); domain and discovery range come from the environment.
+:mod:`~adbsat_ros.ros.bag_record` stand in for it, each in its own rclpy Context.
 """
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 
 import rclpy
 from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
 
 from adbsat_ros.bags.io import BagError
 
@@ -19,13 +20,8 @@ GRAPH_POLL_S = 0.05
 
 
 def message_class(msgtype: str, topic: str = ""):
-    """The rclpy message class of a ROS type name, e.g. ``geometry_msgs/msg/WrenchStamped``.
-
-    Raises
-    ------
-    BagError
-        Naming the topic and type: a malformed type name, or its package not installed.
-    """
+    """The rclpy message class of a ROS type name, e.g. ``geometry_msgs/msg/WrenchStamped``;
+    BagError naming the topic and type if it is malformed or its package not installed."""
     where = f"topic {topic}: " if topic else ""
     parts = msgtype.split("/")
     if len(parts) == 2:  # 'pkg/Type' (ROS 1 style) -> pkg/msg/Type
@@ -45,20 +41,24 @@ def message_class(msgtype: str, topic: str = ""):
     return cls
 
 
-def start_context() -> Context:
-    """A new rclpy Context of its own, initialised (so rclpy installs no signal handlers)."""
+@contextlib.contextmanager
+def own_node(node_name: str):
+    """``(node, executor)``: a node in an rclpy Context of its own, added to a
+    SingleThreadedExecutor; the executor, node and context shut down on exit."""
     context = Context()
-    rclpy.init(context=context)
-    return context
-
-
-def close(node, executor, context) -> None:
-    """Shut the executor down, destroy the node and shut the context down (None skips a part)."""
-    if executor is not None:
-        executor.shutdown(timeout_sec=1.0)
-    if node is not None:
-        node.destroy_node()
-    rclpy.try_shutdown(context=context)
+    rclpy.init(context=context)  # (a Context of its own: rclpy installs no signal handlers)
+    node = executor = None
+    try:
+        node = rclpy.create_node(node_name, context=context)
+        executor = SingleThreadedExecutor(context=context)
+        executor.add_node(node)
+        yield node, executor
+    finally:
+        if executor is not None:
+            executor.shutdown(timeout_sec=1.0)
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown(context=context)
 
 
 def absolute_topic(topic: str) -> str:

@@ -7,24 +7,17 @@ from __future__ import annotations
 import contextlib
 import os
 import time
+from typing import NamedTuple
 
 from rcl_interfaces.msg import ParameterType
 from rclpy.exceptions import NameValidationException
-from rclpy.executors import SingleThreadedExecutor
-from rclpy.node import Node
 from rclpy.parameter import Parameter, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.validate_namespace import validate_namespace
 from rclpy.validate_node_name import validate_node_name
 
 from adbsat_ros.bags.io import BagError
-from adbsat_ros.ros.graph import (
-    GRAPH_POLL_S,
-    absolute_topic,
-    close,
-    message_class,
-    start_context,
-)
+from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, message_class, own_node
 from adbsat_ros.ros.parameter_values import text_value
 
 
@@ -49,14 +42,11 @@ def checked_node_name(target: str) -> str:
     return target
 
 
-class _Tool:
+class _Tool(NamedTuple):
     """A node in a context of its own, and an executor of that context to spin it."""
 
-    def __init__(self):
-        self.context = start_context()
-        self.node = Node("adbsat_ros_tool", context=self.context)
-        self.executor = SingleThreadedExecutor(context=self.context)
-        self.executor.add_node(self.node)
+    node: object
+    executor: object
 
     def spin_once(self) -> None:
         self.executor.spin_once(timeout_sec=GRAPH_POLL_S)
@@ -66,11 +56,8 @@ class _Tool:
 def tool_node():
     """A :class:`_Tool`, taken down on exit."""
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    tool = _Tool()
-    try:
-        yield tool
-    finally:
-        close(tool.node, tool.executor, tool.context)
+    with own_node("adbsat_ros_tool") as (node, executor):
+        yield _Tool(node, executor)
 
 
 #: Seconds after which a request with no answer is sent again: a server that has not yet
@@ -131,17 +118,10 @@ def get_parameter(target: str, name: str, timeout: float = 5.0):
 
 
 def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
-    """Set parameter ``name`` of node ``target`` to ``text`` read as its declared type; returns it.
-
-    The node is asked the type first (:func:`.parameter_values.text_value`: ``2e2`` for a number is
-    200.0, a string the text as given, ``[0.1, 0, 0]`` three doubles).
-
-    Raises
-    ------
-    BadInput
-        ``target`` is no node name, or ``text`` is no value of the parameter's type.
-    ToolError
-        The node has no such parameter, rejected the value (its reason), or did not answer.
+    """Set parameter ``name`` of node ``target`` to ``text`` read as its declared type
+    (:func:`.parameter_values.text_value`); returns the value. BadInput for a ``target`` that
+    is no node name or a ``text`` of another type; ToolError if the node has no such parameter,
+    rejects the value (its reason) or does not answer.
     """
     checked_node_name(target)
     with tool_node() as tool:
@@ -195,14 +175,9 @@ def message_text(message, indent: str = "") -> str:
 
 
 def echo(topic: str, count: int, timeout: float, write) -> int:
-    """Print ``count`` messages of ``topic`` with ``write``; returns how many came.
-
-    Gives up ``timeout`` s after the last message (or the start).
-
-    Raises
-    ------
-    ToolError
-        The topic is not in the graph within ``timeout``, or its type is not installed.
+    """Print ``count`` messages of ``topic`` with ``write``; give up ``timeout`` s after the last
+    (or the start); return how many came. ToolError if the topic is not in the graph within
+    ``timeout``, or its type is not installed.
     """
     topic = absolute_topic(topic)
     with tool_node() as tool:

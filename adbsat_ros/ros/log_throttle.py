@@ -9,19 +9,9 @@ LOG_THROTTLE_S = 5.0
 
 
 class LogThrottle:
-    """At most one log line per key every ``period`` seconds, decided before the logger is called.
-
-    rclpy's ``throttle_duration_sec`` inspects its caller on every call, suppressed ones too, so a
-    1 kHz stream of bad input would outrun the node; this check is a dictionary lookup.
-
-    Parameters
-    ----------
-    logger : object
-        Has a method per level used (``warning``, ``error`` ...), e.g. an rclpy logger.
-    period : float
-        Seconds between two lines of one key.
-    clock : callable
-        Returns the time [s] (default ``time.monotonic``).
+    """At most one log line per key every ``period`` seconds, decided before the logger is called
+    (rclpy's ``throttle_duration_sec`` inspects its caller on every call, suppressed ones too).
+    ``logger`` has a method per level used (an rclpy logger); ``clock()`` gives the time [s].
     """
 
     def __init__(self, logger, period: float = LOG_THROTTLE_S, clock=time.monotonic):

@@ -1,8 +1,6 @@
 """The managed (lifecycle) wrench node: the same node, brought up by the ROS 2 lifecycle protocol.
 
-``configure`` loads the set-up and makes the interfaces (failing, reason logged, if it cannot),
-``activate`` serves and publishes, ``deactivate`` stops serving, ``cleanup`` frees the set-up.
-Parameters that need a new set-up change only while unconfigured. docs/node.md, "Managed
+Parameters that need a new set-up change only while unconfigured; docs/node.md, "Managed
 (lifecycle) node".
 """
 

@@ -1,9 +1,8 @@
 """Messages lost on the way to the node, counted from each message's info.
 
-rclpy passes a two-argument callback the message info, whose ``publication_sequence_number``
-(filled by rmw_fastrtps) numbers the publisher's messages. :class:`LostMessages` counts the
-numbers skipped (:class:`adbsat_ros.estimator.health.SequenceGaps`) with what the middleware
-reports lost, and wraps the node's callback, which still takes the message alone.
+:class:`LostMessages` counts the skipped ``publication_sequence_number`` values (filled by
+rmw_fastrtps; :class:`adbsat_ros.estimator.health.SequenceGaps`) with what the middleware reports
+lost, and wraps the node's callback, which still takes the message alone.
 """
 
 from __future__ import annotations

@@ -1,11 +1,8 @@
 """ROS 2 node: attitude and orbital state in, aerodynamic WrenchStamped out.
 
-Topics, frames and parameters: docs/node.md (and ``adbsat_node --help``,
-:data:`adbsat_ros.estimator.parameters.PARAMETERS`, ``config/adbsat.yaml``). A shell around the
-per-message path shared with bag analysis: each callback takes CDR bytes, decodes them
-(:mod:`adbsat_ros.messages.decoding`), hands them to
-:class:`adbsat_ros.estimator.handling.MessageHandler`, encodes the sample
-(:mod:`adbsat_ros.messages.encoding`) and publishes the bytes.
+Topics, frames and parameters: docs/node.md. A shell around the per-message path shared with
+bag analysis: CDR bytes in, decoded (:mod:`adbsat_ros.messages.decoding`), handled by
+:class:`adbsat_ros.estimator.handling.MessageHandler`, encoded and published as bytes.
 """
 
 from __future__ import annotations
@@ -63,10 +60,8 @@ def params_files(argv) -> list:
 def main(args=None) -> int:
     """Console script ``adbsat_node``: ``adbsat_node --ros-args --params-file config/adbsat.yaml``.
 
-    ``--help`` (before ``--ros-args``) prints :func:`help_text`; ``--managed`` runs the lifecycle
-    node (:mod:`.managed_node`). Returns the exit status: 0 after a shutdown, a signal or the help,
-    1 (one line on stderr) if the node cannot be set up. SIGINT and SIGTERM are handled from the
-    first instruction (:mod:`.entry_points`).
+    ``--help`` prints :func:`help_text`; ``--managed`` runs the lifecycle node. Returns 0 after a
+    shutdown, a signal or the help, 1 (one line on stderr) if the node cannot be set up.
     """
     return run_until_stopped(NODE_NAME, _main, args)
 

@@ -1,9 +1,5 @@
 """The wrench node's parameters, interfaces and callbacks, shared by the plain node (:mod:`.node`)
-and the managed one (:mod:`.managed_node`).
-
-A node class mixes :class:`WrenchNodeCore` into an rclpy ``Node`` (or ``LifecycleNode``) and
-calls ``declare_wrench_parameters``, then ``set_up`` with its publisher factory, and
-``tear_down``.
+and the managed one (:mod:`.managed_node`): mixed into an rclpy ``Node`` or ``LifecycleNode``.
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
 """A tiny publisher to try adbsat_node: a circular orbit in ECI and a fixed or turning attitude.
 
-Console script ``adbsat_orbit_publisher``. Publishes ``state`` (nav_msgs/Odometry, ECI, 10 Hz)
-and ``attitude`` (geometry_msgs/QuaternionStamped, ``--rate`` Hz) with stamps in seconds since
-the start (run the node with ``time_mode:=epoch``), and prints the ``wrench`` the node answers.
+Console script ``adbsat_orbit_publisher``: ``state`` (nav_msgs/Odometry, ECI, 10 Hz) and
+``attitude`` (geometry_msgs/QuaternionStamped, ``--rate`` Hz), stamped in seconds since the start
+(run the node with ``time_mode:=epoch``); prints the ``wrench`` the node answers.
 """
 
 from __future__ import annotations

@@ -1,7 +1,6 @@
 """The live picture of the load: the mesh as a visualization_msgs/Marker (a triangle list), each
-panel coloured by its c_p as ``adbsat-ros plot`` colours it
-(:func:`adbsat_ros.plotting.panels.panel_colours`). One rclpy object per vertex makes it slow
-for large meshes, so the node publishes it at a low rate, only while it has a subscriber."""
+panel coloured by its c_p (:func:`adbsat_ros.plotting.panels.panel_colours`). Slow for large
+meshes, so the node publishes it at a low rate, only while it has a subscriber."""
 
 from __future__ import annotations
 
@@ -20,11 +19,9 @@ def panel_marker(mesh, coefficients, frame_id: str, stamp) -> Marker:
     mesh : PanelMesh
         The panels [m], body frame.
     coefficients : AeroCoefficients
-        The result whose ``cp``, ``cos_delta`` and ``lit_fraction`` colour the panels.
+        Its ``cp``, ``cos_delta`` and ``lit_fraction`` colour the panels.
     frame_id : str
-        The body frame's name.
     stamp : builtin_interfaces/Time
-        The header stamp (the wrench's).
     """
     colours, _, _ = panel_colours(
         coefficients.cp, coefficients.cos_delta, coefficients.lit_fraction

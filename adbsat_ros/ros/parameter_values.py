@@ -1,10 +1,9 @@
 """Parameter values of their declared type: the wrench node's parameters, and the text that
 ``adbsat-ros param set`` turns into a value for any node.
 
-The node's parameters keep their default's type (``dynamic_typing`` off); an integer given to a
-number parameter, or a whole double to an integer one, is converted
-(:func:`~adbsat_ros.estimator.parameters.typed_parameter_value`), other types are refused, and
-an unknown name stops the node at start-up.
+The node's parameters keep their default's type (``dynamic_typing`` off), with int/whole-double
+conversions (:func:`~adbsat_ros.estimator.parameters.typed_parameter_value`); an unknown name
+stops the node at start-up.
 """
 
 from __future__ import annotations
@@ -32,14 +31,10 @@ INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 
 
 def declare_typed_parameters(node, managed: bool) -> None:
-    """Declare every parameter of :data:`PARAMETERS` on ``node``, start-up values and later
-    changes (a pre-set callback) typed by the rule.
+    """Declare every parameter of :data:`PARAMETERS` on ``node``, typed at start-up and on change.
 
-    Raises
-    ------
-    ValueError
-        ``"parameter NAME: ..."``: a value of a type the parameter does not take, or a name the
-        node does not have (with the closest known one).
+    ValueError ``"parameter NAME: ..."`` for a value of another type, or a name the node does not
+    have (with the closest known one).
     """
     # rclpy keeps the start-up values by name here (no public accessor in Jazzy)
     overrides = getattr(node, "_parameter_overrides", {})
@@ -161,15 +156,10 @@ def _inferred(name: str, text: str):
 
 
 def text_value(name: str, text: str, kind: int, dynamic: bool = False):
-    """The value of parameter ``name`` that the command-line ``text`` gives, as its declared type
-    ``kind`` (a ``ParameterType``): a string as given, a list as a YAML flow list
-    (``[0.1, 0, 0]``) of the element type; a ``dynamic`` parameter read as YAML.
-
-    Raises
-    ------
-    ValueError
-        One line naming the parameter: a text that is no value of its type, an integer beyond
-        int64.
+    """The value of parameter ``name`` from command-line ``text``, as ``ParameterType`` ``kind``:
+    a string as given, a list as a YAML flow list (``[0.1, 0, 0]``), ``dynamic`` as YAML.
+    ValueError (one line naming the parameter) for no value of its type or an integer beyond
+    int64.
     """
     if dynamic or kind == ParameterType.PARAMETER_NOT_SET:
         return _inferred(name, text)

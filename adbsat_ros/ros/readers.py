@@ -1,8 +1,7 @@
 """Which of the node's optional outputs have subscribers, counted by the middleware's events.
 
 Coefficients, state-frame wrench and acceleration, joint torques and the panel marker are made
-only while read. :class:`Readers` keeps, per output, whether it has a reader, from matched
-events, so a message costs an attribute read instead of a ``get_subscription_count`` call.
+only while read; matched events keep the counts, so a message costs an attribute read.
 """
 
 from __future__ import annotations
@@ -21,20 +20,9 @@ OUTPUTS = {
 
 
 class Readers:
-    """Subscriber counts of the optional outputs' topics, and whether each output is wanted.
-
-    Parameters
-    ----------
-    create_publisher : callable
-        The node's publisher factory (its own, or a lifecycle node's).
-
-    Attributes
-    ----------
-    coefficients, inertial, joint_torques, marker : bool
-        Whether the output has a reader now (the inertial one: either of its two topics).
-    counts : dict of str to int
-        Subscribers of each topic made through :meth:`publisher`.
-    """
+    """Subscriber counts of the optional outputs' topics, made with the node's
+    ``create_publisher``; ``coefficients``, ``inertial`` (either of its two topics),
+    ``joint_torques`` and ``marker`` say whether that output has a reader now."""
 
     def __init__(self, create_publisher):
         self._create_publisher = create_publisher

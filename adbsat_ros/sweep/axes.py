@@ -1,8 +1,5 @@
-"""The inputs a sweep varies or fixes: their names, units, valid ranges and defaults, and the
-checks of the values a spec gives them (:mod:`adbsat_ros.sweep.spec` reads a spec with them).
-
-Units and ranges are those of docs/physics.md section 11; a value outside is a
-:class:`SpecError` naming the field, the value and the range.
+"""The inputs a sweep varies or fixes: names, units, valid ranges (docs/physics.md section 11),
+defaults, and the checks of a spec's values (a :class:`SpecError` naming field, value and range).
 """
 
 from __future__ import annotations
@@ -68,8 +65,7 @@ JOINT_PREFIX = "joint."
 
 
 def axis_values(text, name: str) -> np.ndarray:
-    """The values of an axis: a number, a list of numbers, or ``start:step:stop`` (inclusive of
-    stop when the steps reach it)."""
+    """An axis's values: a number, a list, or ``start:step:stop`` (stop included if reached)."""
     if isinstance(text, str) and ":" in text:
         parts = text.split(":")
         try:
@@ -183,8 +179,7 @@ def number(value, name: str) -> float:
 
 
 def joint_values_checked(name: str, values: np.ndarray, joint) -> None:
-    """Joint axis values (deg for revolute and continuous joints, m for prismatic) within the
-    joint's limits."""
+    """Joint axis values (deg, or m for a prismatic joint) within the joint's limits."""
     positions = values if joint.kind == "prismatic" else np.radians(values)
     unit = "m" if joint.kind == "prismatic" else "deg"
     for value, position in zip(values.tolist(), positions.tolist()):

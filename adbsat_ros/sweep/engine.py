@@ -1,10 +1,7 @@
-"""Running a sweep: its missing chunks on the task engine, each written to the store as it
-finishes.
+"""Running a sweep: its missing chunks on Dask, each written to the store as it finishes.
 
-Local worker processes (a ``distributed.LocalCluster``) or a running Dask scheduler; each worker
-builds the set-up the spec names once (a mesh file must be readable at the same path there).
-Nothing in a chunk depends on where or when it ran, so the store is the same whatever the
-workers and the order. docs/sweeps.md.
+Local worker processes or a running scheduler; a mesh file must be readable at the same path on
+every worker. A chunk's numbers do not depend on where or when it ran. docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -70,8 +67,12 @@ def run_sweep(
     stop : threading.Event, optional
         Set to stop after the chunk finishing now (it is written; rerun to go on).
 
-    Raises StoreError if ``out`` holds something else; MeshError or ValueError if the spec's
-    body or materials cannot be set up.
+    Raises
+    ------
+    StoreError
+        If ``out`` holds something else.
+    MeshError, ValueError
+        If the spec's body or materials cannot be set up.
     """
     from tqdm import tqdm
 

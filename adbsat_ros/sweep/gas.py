@@ -1,8 +1,6 @@
-"""The gas of a sweep's point: given (speed, temperature, mean molecular mass), or the
-atmosphere's (NRLMSISE-00 at a circular orbit's speed, as ADBSat's environment makes it).
-
-A ``scale.SPECIES`` factor multiplies that species' number density; the mass density changes by
-(factor - 1) n_j m_j, so an unscaled gas is NRLMSISE-00's exactly. docs/sweeps.md.
+"""The gas of a sweep's point: given (speed, temperature, mean molecular mass), or NRLMSISE-00's
+at a circular orbit's speed, with optional ``scale.SPECIES`` number-density factors (an unscaled
+gas is NRLMSISE-00's exactly). docs/sweeps.md.
 """
 
 from __future__ import annotations

@@ -1,20 +1,14 @@
-"""Coefficients anywhere inside a sweep, by interpolation: bilinear in attitude, linear in the
-other axes.
-
-Each grid point of the other axes is an (aoa, aos) database that
-:class:`~adbsat_ros.database.lookup.CoefficientLookup` interpolates; along the other axes the
-corners' results are blended linearly (multilinear). A query outside an axis's range is refused
-with the axis and its range.
+"""Coefficients anywhere inside a sweep: bilinear in attitude
+(:class:`~adbsat_ros.database.lookup.CoefficientLookup` per grid point of the other axes), linear
+along the other axes. A query outside an axis's range is refused with the axis and its range.
 """
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 
 from adbsat_ros.database.lookup import CoefficientLookup, InterpolatedCoefficients
-from adbsat_ros.database.sweep_reader import bracket, open_sweep, other_axes, slice_database
+from adbsat_ros.database.sweep_reader import corners, open_sweep, other_axes, slice_database
 from adbsat_ros.geometry import frames
 from adbsat_ros.lru import LruStore
 
@@ -27,8 +21,6 @@ class SweepLookup:
     ----------
     axes : dict of str to ndarray
         The axes other than aoa and aos, and their values.
-    slices : LruStore
-        The attitude lookups of the other axes' grid points made so far.
     """
 
     def __init__(self, dataset):
@@ -56,20 +48,9 @@ class SweepLookup:
     def body_coefficients(self, aoa_deg: float, aos_deg: float, **values):
         """Interpolated Cf_G and Cm_G at an attitude [deg] and a value of every other axis;
         ValueError for an axis not given or unknown, or a value outside its range (named)."""
-        missing = sorted(set(self.axes) - set(values))
-        unknown = sorted(set(values) - set(self.axes))
-        if missing or unknown:
-            raise ValueError(
-                f"give a value of every axis of the sweep ({', '.join(self.axes) or 'none'}); "
-                f"missing {missing}, unknown {unknown}"
-            )
-        brackets = [bracket(self.axes[name], name, float(values[name])) for name in self.axes]
         cf, cm = np.zeros(3), np.zeros(3)
-        for corner in itertools.product(*brackets):
-            weight = float(np.prod([w for _, w in corner]))
-            if weight == 0.0:
-                continue
-            f, m = self._slice(tuple(i for i, _ in corner)).body_coefficients(aoa_deg, aos_deg)
+        for corner, weight in corners(self.axes, values):
+            f, m = self._slice(corner).body_coefficients(aoa_deg, aos_deg)
             cf += weight * f
             cm += weight * m
         return cf, cm

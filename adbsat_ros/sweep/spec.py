@@ -1,10 +1,9 @@
 """What a sweep computes: its YAML spec, checked into a :class:`SweepSpec`.
 
-A spec names the body, the model and shading, the fixed inputs and the axes (:data:`AXES`,
-``joint.NAME``, ``scale.SPECIES``, ``mesh`` variants), in the units and ranges of
-docs/physics.md section 11; ``aoa`` and ``aos`` are always axes, and an input neither fixed nor
-swept takes its default (:data:`DEFAULTS`). Any bad field is a :class:`SpecError` naming it.
-The fields and an example: docs/sweeps.md, "The spec".
+Body, model and shading, fixed inputs and axes (:data:`AXES`, ``joint.NAME``, ``scale.SPECIES``,
+``mesh`` variants) in the units and ranges of docs/physics.md section 11; ``aoa`` and ``aos``
+are always axes; unset inputs take :data:`DEFAULTS`. A bad field is a :class:`SpecError` naming
+it. docs/sweeps.md, "The spec".
 """
 
 from __future__ import annotations
@@ -62,20 +61,10 @@ FIELDS = (
 class SweepSpec:
     """A checked sweep spec (module docstring).
 
-    Attributes
-    ----------
-    reference : dict
-        ``area``, ``length``, ``moment_point`` given (others from the mesh).
-    axes : dict of str to ndarray
-        Axis name -> its values in the spec's units (deg for angles), in sweep order.
-    time : str
-        UTC (ISO 8601) of the atmosphere.
-    text : str
-        The spec as YAML (recorded in the result).
-    solver : tuple
-        (key, value) pairs: ``method`` (``panel`` or ``tpmc``) and a test-particle run's.
-    meshes : tuple of str
-        The mesh variants of a ``mesh`` axis (``mesh`` is the first); empty without one.
+    ``reference`` holds what the spec gives (the rest from the mesh); ``axes`` maps axis name to
+    values in the spec's units (deg for angles), in sweep order; ``time`` is the atmosphere's UTC
+    (ISO 8601); ``solver`` (key, value) pairs, ``method`` ``panel`` or ``tpmc``; ``meshes`` the
+    variants of a ``mesh`` axis (``mesh`` first), empty without one.
     """
 
     mesh: str
@@ -140,9 +129,8 @@ class SweepSpec:
 def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
     """A :class:`SweepSpec` of a spec's mapping ``data`` and its YAML ``text`` (recorded).
 
-    ``joints``: the body's moving joints (a URDF's, name -> Joint) to check ``joint.NAME`` axes
-    against; None for a rigid mesh. Raises :class:`SpecError` naming the field, its value and
-    what it should be.
+    ``joints`` (name -> Joint, None for a rigid mesh) checks ``joint.NAME`` axes. Raises
+    :class:`SpecError` naming the field, its value and what it should be.
     """
     if not isinstance(data, dict):
         raise SpecError("the spec must be a mapping of fields (mesh, model, axes ...)")

@@ -1,10 +1,9 @@
 """A sweep's result in a Zarr store, written chunk by chunk as the chunks finish.
 
-An xarray Dataset, one dimension per axis; a chunk's results are written before its
-``chunk_done`` flag, and the store is made whole under a hidden temporary name beside ``path``
-(``.NAME.*.partial``) before it is renamed, so a run killed at any instant leaves no store or one
-to take up. Zarr chunks are the sweep's chunks (no two writes share one). ``overwrite`` replaces
-only a sweep store; anything else at ``path`` is refused, by name. docs/sweeps.md.
+An xarray Dataset, one dimension per axis, Zarr chunks the sweep's chunks; each chunk's results
+are written before its ``chunk_done`` flag, and the store is made under a hidden temporary name
+(``.NAME.*.partial``) before it is renamed, so a killed run leaves no store or one to take up.
+``overwrite`` replaces only a sweep store. docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -72,12 +71,9 @@ class SweepStore:
 
     @classmethod
     def open(cls, path, spec: SweepSpec, setup, overwrite: bool = False) -> "SweepStore":
-        """The store at ``path`` for ``spec``: made if it is not there (or ``overwrite``, or
-        an empty directory), taken up where it stopped if it holds this spec's sweep.
-
-        Raises :class:`StoreError` if ``path`` holds another spec's sweep (without
-        ``overwrite``) or anything but a sweep store (named, whatever ``overwrite``).
-        """
+        """The store at ``path`` for ``spec``: made (nothing there, an empty directory, or
+        ``overwrite``), or taken up where it stopped. :class:`StoreError` if ``path`` holds
+        another spec's sweep (without ``overwrite``) or anything but a sweep store."""
         path = Path(path)
         sizes = chunk_shape(spec.shape, spec.chunk_points)
         slices = chunk_slices(spec.shape, sizes)
