@@ -63,8 +63,8 @@ class DatabaseJob:
     """A database build as a job of :func:`adbsat_ros.tasks.run_chunks`.
 
     A chunk is ``(first, attitudes)``, the grid index of its first attitude and the attitudes
-    (K, 2) [deg]; its result an array (K, :data:`COLUMNS`). ``setup``: the build's set-up (its
-    solver and shading), ``mesh``: its panels."""
+    (K, 2) [deg]; its result an array (K, :data:`COLUMNS`). ``model_setup``: the build's
+    set-up (its solver and shading), ``mesh``: its panels."""
 
     def __init__(self, setup: Setup, mesh, flow):
         self.model_setup, self.mesh, self.flow = setup, mesh, flow
@@ -89,13 +89,10 @@ class DatabaseSetup:
         out = np.zeros((len(attitudes_deg), COLUMNS))
         for k, (a_deg, b_deg) in enumerate(attitudes_deg):
             angles = (math.radians(a_deg), math.radians(b_deg))
-            if self.seed is not None:
-                seed = attitude_seed(self.seed, first + k)
-                r = self.model.evaluate(self.flow, angles=angles, seed=seed)
-                out[k, 19] = float(np.linalg.norm(r.Cf_G_error))
-                out[k, 20] = float(np.linalg.norm(r.Cm_G_error))
-            else:
-                r = self.model.evaluate(self.flow, angles=angles)
+            seed = None if self.seed is None else attitude_seed(self.seed, first + k)
+            r = self.model.evaluate(self.flow, angles=angles, seed=seed)
+            if seed is not None:
+                out[k, 19:21] = np.linalg.norm(r.Cf_G_error), np.linalg.norm(r.Cm_G_error)
             out[k, 0:3], out[k, 3:6], out[k, 6:9] = r.Cf_G, r.Cm_G, r.Cf_w
             out[k, 9:12], out[k, 12:15] = r.Cf_f, r.Cm_B
             out[k, 15:19] = (r.area_projected, r.drag, r.lift, r.side_force)
@@ -186,7 +183,7 @@ def build_database(
         Angles of attack in [-360, 360] and sideslip angles in [-90, 90] [deg]; sorted here,
         duplicates rejected.
     shading : {"raycast", "projection", "none"}
-        Shading mode (:mod:`adbsat_ros.shading.shader`); each worker builds its shader once.
+        Shading mode (:mod:`adbsat_ros.shading.shader`); each worker builds its model once.
     samples : int
         Rays per panel for raycast shading.
     workers : int, optional
