@@ -86,13 +86,11 @@ class SweepSetup:
             kind = model.body.joints[joint].kind
             positions[joint] = inputs[axis] if kind == "prismatic" else math.radians(inputs[axis])
         changes = {k: inputs[k] for k in SURFACE_AXES if k in inputs}
+        seed = None
         if spec.tpmc is not None:
             seed = attitude_seed(spec.tpmc["seed"], int(np.ravel_multi_index(index, spec.shape)))
-            return model.evaluate(
-                flow, None, positions, angles=angles, changes=changes, seed=seed
-            ), flow
-        result = model.evaluate(flow, None, positions, angles=angles, changes=changes)
-        return (result if model.body is None else result.total), flow
+        result = model.evaluate(flow, None, positions, angles=angles, changes=changes, seed=seed)
+        return (result.total if model.backend == "articulated" else result), flow
 
     def evaluate(self, slices) -> dict:
         """The results of the block ``slices`` ((start, stop) per axis) of the grid."""
