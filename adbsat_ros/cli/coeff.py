@@ -11,7 +11,6 @@ import numpy as np
 from adbsat_ros.cli.common import add_setup_arguments, method_and_flow_from_args
 from adbsat_ros.cli.options import CommandLineError, flag, option, parse_angle_list
 from adbsat_ros.cli.solvers import run_tpmc
-from adbsat_ros.geometry import frames
 from adbsat_ros.processes import INTERRUPTED_STATUS, stop_on_signals
 
 
@@ -93,7 +92,7 @@ def run(args) -> int:
         from adbsat_ros.plotting.panels import plot_panel_pressure
 
         a, b, r = first
-        path = plot_panel_pressure(method, flow, a, b, None, args.plot, view=view, result=r)
+        path = plot_panel_pressure(model, flow, a, b, args.plot, view=view, result=r)
         print(f"wrote {path}", file=sys.stderr)
     return INTERRUPTED if stopped else 0
 
@@ -103,15 +102,13 @@ def _attitude(args, model, flow, a, b) -> tuple:
     aoa, aos = math.radians(a), math.radians(b)
     d = {}
     if args.method != "tpmc":
-        u = frames.flow_direction(aoa, aos)
-        lighting = model.shader.lighting(u) if model.shader is not None else None
-        r = model.method.coefficients(flow, aoa, aos, lighting=lighting)
+        r = model.evaluate(flow, angles=(aoa, aos), solver="panel")
         d["panel"] = dict(r.to_dict(flow, per_panel=args.per_panel), shading=args.shading)
         if model.positions is not None:
             articulation = (model.body, model.positions)
             d["panel"].update(articulated_outputs(articulation, model.method, r, flow))
     if args.method != "panel":
-        r = run_tpmc(args, model.test_particles, flow, aoa, aos)
+        r = run_tpmc(args, model, flow, aoa, aos)
         d["tpmc"] = r.to_dict(flow, per_panel=args.per_panel)
     if args.method == "both":
         d = dict(aoa_deg=float(a), aos_deg=float(b), **d)

@@ -222,7 +222,7 @@ def setup_from_args(args) -> Setup:
             surface=surface,
             overrides=tuple(args.material),
             reference=Reference(area=args.aref, length=args.lref, moment_point=point),
-            shading=ShadingPolicy(args.shading, args.samples),
+            shading=ShadingPolicy(args.shading, args.samples, exact_offline=1),
             solver=SolverSpec(args.method, args.particles, args.tolerance, args.seed),
             labels=labels,
         )

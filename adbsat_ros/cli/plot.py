@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from adbsat_ros.cli.options import CommandLineError, flag, number, option
 from adbsat_ros.database.format import DatabaseError, load_database
-from adbsat_ros.database.metadata import method_from_metadata
+from adbsat_ros.database.metadata import model_from_metadata
 from adbsat_ros.plotting import coefficients, panels
 
 
@@ -50,26 +49,6 @@ def default_angle(grid) -> float:
     return 0.0 if grid[0] <= 0.0 <= grid[-1] else float(grid[0])
 
 
-def test_particle_result(metadata, method, flow, aoa_deg, aos_deg):
-    """A test-particle run at the picture's attitude for a TPMC database, None for a panel one."""
-    run = metadata.get("solver", {})
-    if run.get("method") != "tpmc":
-        return None
-    from adbsat_ros.physics.tpmc.method import TestParticleMethod
-
-    solver = TestParticleMethod(
-        method.mesh, method.model, method.materials, reference=method.reference
-    )
-    return solver.coefficients(
-        flow,
-        math.radians(aoa_deg),
-        math.radians(aos_deg),
-        particles=run.get("particles"),
-        tolerance=run.get("tolerance"),
-        seed=int(run.get("seed", 0)),
-    )
-
-
 def run(args) -> int:
     """Run ``adbsat-ros plot``; returns the exit status."""
     path = Path(args.database)
@@ -92,7 +71,7 @@ def run(args) -> int:
     written = coefficients.plot_database(db, out_dir, max_lines=args.max_lines)
     if not args.no_mesh:
         try:
-            method, flow, shader = method_from_metadata(db.metadata, path=str(path))
+            model, flow = model_from_metadata(db.metadata, path=str(path))
         except DatabaseError as exc:
             raise CommandLineError(
                 f"DATABASE: {exc} (use --no-mesh to draw the coefficient plots only)"
@@ -101,14 +80,12 @@ def run(args) -> int:
         aos = args.aos if args.aos is not None else default_angle(db.aos_deg)
         written.append(
             panels.plot_panel_pressure(
-                method,
+                model,
                 flow,
                 aoa,
                 aos,
-                shader,
                 out_dir / "panel_pressure.png",
                 title=coefficients.database_title(db.metadata),
-                result=test_particle_result(db.metadata, method, flow, aoa, aos),
             )
         )
     for p in written:

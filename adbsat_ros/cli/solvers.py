@@ -37,8 +37,9 @@ def _below_one(option: str):
     return number(option, low=0.0, high=high, low_open=True, what="a number in (0, 1)")
 
 
-def run_tpmc(args, solver, flow, aoa, aos):
-    """The test-particle coefficients at one attitude [rad], a bar on stderr if it is a terminal.
+def run_tpmc(args, model, flow, aoa, aos):
+    """The test-particle coefficients of ``model`` (its set-up's particles, tolerance and seed)
+    at one attitude [rad], a bar on stderr if it is a terminal.
 
     A signal stops the run after its current block: the result so far is kept, marked partial.
     """
@@ -59,13 +60,10 @@ def run_tpmc(args, solver, flow, aoa, aos):
 
     try:
         with stop_on_signals() as stop:
-            result = solver.coefficients(
+            result = model.evaluate(
                 flow,
-                aoa,
-                aos,
-                particles=args.particles,
-                tolerance=args.tolerance,
-                seed=args.seed,
+                angles=(aoa, aos),
+                solver="tpmc",
                 workers=workers,
                 progress=progress,
                 stop=stop,

@@ -18,13 +18,14 @@ from tqdm import tqdm
 
 from adbsat_ros.database.format import AeroDatabase
 from adbsat_ros.database.interpolation import estimate_interpolation_error
-from adbsat_ros.database.metadata import describe_setup
-from adbsat_ros.geometry import frames
+from adbsat_ros.database.metadata import describe_setup, material_override_texts
+from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.model import build_model
 from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.physics.tpmc.method import TestParticleMethod, run_settings
+from adbsat_ros.physics.setup import Setup, ShadingPolicy, SolverSpec
 from adbsat_ros.processes import worker_count
-from adbsat_ros.shading.shader import MODES, make_shader
+from adbsat_ros.shading.shader import MODES
 from adbsat_ros.tasks import run_chunks
 
 #: Largest attitude count of a chunk handed to one worker.
@@ -62,61 +63,56 @@ class DatabaseJob:
     """A database build as a job of :func:`adbsat_ros.tasks.run_chunks`.
 
     A chunk is ``(first, attitudes)``, the grid index of its first attitude and the attitudes
-    (K, 2) [deg]; its result an array (K, :data:`COLUMNS`). ``tpmc``: None for the panel
-    method, else the test-particle run's settings (``particles``, ``tolerance``, ``seed``)."""
+    (K, 2) [deg]; its result an array (K, :data:`COLUMNS`). ``model_setup``: the build's
+    set-up (its solver and shading), ``mesh``: its panels."""
 
-    def __init__(self, method, flow, shading: str, samples: int, tpmc=None):
-        self.method, self.flow = method, flow
-        self.shading, self.samples, self.tpmc = shading, samples, tpmc
+    def __init__(self, setup: Setup, mesh, flow):
+        self.model_setup, self.mesh, self.flow = setup, mesh, flow
         self.key = "database " + uuid.uuid4().hex  # (one build, one set-up per worker)
 
     def setup(self) -> "DatabaseSetup":
-        """The solver and shader of this build."""
-        return DatabaseSetup(self)
+        """The model of this build, made where its chunks run."""
+        return DatabaseSetup(build_model(self.model_setup, self.mesh), self.flow)
 
 
 class DatabaseSetup:
-    """A build's solver (the panel method and its shader, or test particles), made once where
-    its chunks run; a convex body gets no shader (nothing is occluded)."""
+    """A build's model (offline: exact shading, or test particles), made once where its chunks
+    run."""
 
-    def __init__(self, job: DatabaseJob):
-        self.method, self.flow, self.tpmc = job.method, job.flow, job.tpmc
-        self.shader = self.solver = None
-        if job.tpmc is not None:
-            method = job.method
-            self.solver = TestParticleMethod(
-                method.mesh, method.model, method.materials, reference=method.reference
-            )
-        elif job.shading != "none":
-            shader = make_shader(job.method.mesh, mode=job.shading, samples=job.samples)
-            self.shader = None if shader.trivial else shader
+    def __init__(self, model, flow):
+        self.model, self.flow = model, flow
+        self.seed = model.setup.solver.seed if model.backend == "tpmc" else None
 
     def evaluate(self, chunk) -> np.ndarray:
         """The coefficients of a chunk ``(first, attitudes)`` (:class:`DatabaseJob`)."""
         first, attitudes_deg = chunk
         out = np.zeros((len(attitudes_deg), COLUMNS))
         for k, (a_deg, b_deg) in enumerate(attitudes_deg):
-            a, b = math.radians(a_deg), math.radians(b_deg)
-            if self.solver is not None:
-                run = self.tpmc
-                r = self.solver.coefficients(
-                    self.flow,
-                    a,
-                    b,
-                    particles=run["particles"],
-                    tolerance=run["tolerance"],
-                    seed=attitude_seed(run["seed"], first + k),
-                )
-                out[k, 19] = float(np.linalg.norm(r.Cf_G_error))
-                out[k, 20] = float(np.linalg.norm(r.Cm_G_error))
-            else:
-                shader = self.shader
-                lighting = shader.lighting(frames.flow_direction(a, b)) if shader else None
-                r = self.method.coefficients(self.flow, a, b, lighting=lighting)
+            angles = (math.radians(a_deg), math.radians(b_deg))
+            seed = None if self.seed is None else attitude_seed(self.seed, first + k)
+            r = self.model.evaluate(self.flow, angles=angles, seed=seed)
+            if seed is not None:
+                out[k, 19:21] = np.linalg.norm(r.Cf_G_error), np.linalg.norm(r.Cm_G_error)
             out[k, 0:3], out[k, 3:6], out[k, 6:9] = r.Cf_G, r.Cm_G, r.Cf_w
             out[k, 9:12], out[k, 12:15] = r.Cf_f, r.Cm_B
             out[k, 15:19] = (r.area_projected, r.drag, r.lift, r.side_force)
         return out
+
+
+def build_setup(method: PanelMethod, shading: str, samples: int, solver: SolverSpec) -> Setup:
+    """The set-up of a build of ``method`` (its model, materials, reference; its panels are
+    given to :func:`build_model` as they are), shaded offline or solved by ``solver``."""
+    ref = method.reference
+    return Setup(
+        model=method.model,
+        options=method.options,
+        surface=method.materials.default,
+        overrides=tuple(material_override_texts(method.materials)),
+        reference=Reference(ref.area, ref.length, tuple(ref.moment_point)),
+        shading=ShadingPolicy(shading, samples, exact_offline=1),
+        solver=solver,
+        labels=(("solver", ""),),
+    )
 
 
 class _Progress:
@@ -187,7 +183,7 @@ def build_database(
         Angles of attack in [-360, 360] and sideslip angles in [-90, 90] [deg]; sorted here,
         duplicates rejected.
     shading : {"raycast", "projection", "none"}
-        Shading mode (:mod:`adbsat_ros.shading.shader`); each worker builds its shader once.
+        Shading mode (:mod:`adbsat_ros.shading.shader`); each worker builds its model once.
     samples : int
         Rays per panel for raycast shading.
     workers : int, optional
@@ -245,8 +241,9 @@ def build_database(
     tpmc = None
     if solver == "tpmc":
         tpmc = {"particles": particles, "tolerance": tolerance, "seed": seed}
-        TestParticleMethod(method.mesh, method.model, method.materials)  # (a kernel for it?)
-        run_settings(particles, tolerance, seed)
+    spec = SolverSpec(solver, particles, tolerance, seed) if tpmc else SolverSpec()
+    # (checked here, a model without a test-particle kernel refused, before any worker starts)
+    model = build_model(build_setup(method, shading, samples, spec), method.mesh)
     workers, _ = worker_count(workers)  # (at most the usable CPUs)
     aoa = _check_angles(aoa_deg, "aoa_deg", -360.0, 360.0)
     aos = _check_angles(aos_deg, "aos_deg", -90.0, 90.0)
@@ -279,7 +276,7 @@ def build_database(
 
     try:
         run_chunks(
-            DatabaseJob(method, flow, shading, samples, tpmc),
+            DatabaseJob(model.setup, model.mesh, flow),
             chunks,
             take,
             scheduler=scheduler,

@@ -1,5 +1,5 @@
 """The set-up of a database as JSON metadata (:func:`describe_setup`), and the set-up rebuilt
-from it (:func:`setup_from_metadata`, :func:`method_from_metadata`), refusing a mesh that has
+from it (:func:`setup_from_metadata`, :func:`model_from_metadata`), refusing a mesh that has
 changed since."""
 
 from __future__ import annotations
@@ -128,8 +128,8 @@ def describe_setup(
 
 def setup_from_metadata(metadata: dict) -> Setup:
     """The set-up a database's metadata records (its ``mesh``, ``model``, ``materials``,
-    ``reference``, ``shading`` and, if recorded, ``solver``); a URDF is posed at its recorded
-    joints. KeyError, TypeError or ValueError for metadata that does not describe one."""
+    ``reference``, ``shading``, offline, and, if recorded, ``solver``); a URDF is posed at its
+    recorded joints. KeyError, TypeError or ValueError for metadata that does not describe one."""
     mesh = metadata["mesh"]
     spec = mesh["spec"]
     joints = tuple((mesh.get("joints") or {}).items()) if is_urdf(spec) else None
@@ -143,14 +143,15 @@ def setup_from_metadata(metadata: dict) -> Setup:
         surface=SurfaceProperties(**mat["default"]),
         overrides=tuple(mat["overrides"]),
         reference=Reference(ref["area"], ref["length"], tuple(ref["moment_point"])),
-        shading=ShadingPolicy(shading["mode"], int(shading["samples"])),
+        shading=ShadingPolicy(shading["mode"], int(shading["samples"]), exact_offline=1),
         solver=SolverSpec(**solver),
         labels=(("moment_point", "reference moment_point"),),
     )
 
 
-def method_from_metadata(metadata: dict, path=None):
-    """Rebuild a database's set-up: ``(method, flow, shader)`` (shader None for ``"none"``).
+def model_from_metadata(metadata: dict, path=None):
+    """Rebuild a database's set-up: ``(model, flow)``, the model evaluating as the build did
+    (its shading, or its test-particle run).
 
     The mesh is reloaded from the recorded spec and scale and must have the recorded
     fingerprint. Raises :class:`DatabaseError` if it cannot be reloaded (no spec, missing file,
@@ -189,4 +190,4 @@ def method_from_metadata(metadata: dict, path=None):
         raise DatabaseError(
             f"{where}: metadata does not describe a set-up: {type(exc).__name__}: {exc}"
         ) from None
-    return model.method, flow, model.shader
+    return model, flow

@@ -78,7 +78,7 @@ class Model:
 
     def __init__(self, setup: Setup, body, mesh: PanelMesh, positions: dict | None):
         self.setup, self.body, self.mesh, self.positions = setup, body, mesh, positions
-        self.lookup = None
+        self.lookup = self._solver = None
         self.materials = setup.materials()
         unknown = self.materials.check_names(mesh.material_names)
         if unknown:
@@ -103,7 +103,7 @@ class Model:
                 mesh, setup.model, self.materials, options=setup.options, reference=reference
             )
         if setup.solver.method != "panel":
-            self.test_particles  # (a model without a kernel is refused here)
+            self.test_particles({}, {})  # (a model without a kernel is refused here)
 
     @property
     def articulated(self) -> bool:
@@ -140,26 +140,16 @@ class Model:
     def _all_lit(self):
         return evaluation.all_lit_cell(self.method, self.articulated)
 
-    def shader_at(self, positions: dict):
-        """The shader of the body at joint ``positions`` [rad or m] (of a rigid body: its own)."""
-        if not self.articulated:
-            return self.shader
-        # (no topology store: each configuration's posed panels would be another entry)
-        posed = self.body.mesh(positions)
-        policy = self.setup.shading
-        return make_shader(posed, mode=policy.mode, samples=policy.samples, topology_store=None)
-
-    @cached_property
-    def test_particles(self):
-        """The :class:`TestParticleMethod` of the panels (ValueError naming ``solver`` for a
-        model without a test-particle kernel)."""
-        return self.test_particles_at({}, {})
-
-    def test_particles_at(self, positions: dict, changes: dict):
-        """The test-particle solver of the body at joint ``positions``, with the surface
-        parameters ``changes`` on every panel."""
+    def test_particles(self, positions: dict, changes: dict):
+        """The test-particle solver of the body at joint ``positions`` [rad or m], with the
+        surface parameters ``changes`` on every panel; the latest one is kept. ValueError naming
+        ``solver`` for a model without a test-particle kernel."""
         from adbsat_ros.physics.tpmc.method import TestParticleMethod
 
+        key = (tuple(sorted(positions.items())), tuple(sorted(changes.items())))
+        kept = self._solver
+        if kept is not None and kept[0] == key:
+            return kept[1]
         table = self.materials
         if changes:
             table = MaterialTable(
@@ -168,9 +158,11 @@ class Model:
             )
         mesh = self.body.mesh(positions) if self.articulated else self.mesh
         reference = self.method.reference
-        return self.setup.prefixed(
+        solver = self.setup.prefixed(
             "solver", lambda: TestParticleMethod(mesh, self.setup.model, table, reference=reference)
         )
+        self._solver = (key, solver)
+        return solver
 
     # ------------------------------------------------------------------------------ evaluation
     def prepare_joints(self, positions=None) -> Joints:
@@ -263,10 +255,7 @@ class Model:
         positions = {}
         if self.articulated:
             positions = joints.positions if isinstance(joints, Joints) else dict(joints or {})
-        if positions or changes:
-            solver = self.test_particles_at(positions, changes or {})
-        else:
-            solver = self.test_particles
+        solver = self.test_particles(positions, changes or {})
         spec = self.setup.solver
         aoa, aos = (None, None) if angles is None else angles
         return solver.coefficients(

@@ -17,7 +17,6 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.plotting.figures import new_figure, save_png
-from adbsat_ros.shading.lighting import PanelLighting
 
 #: Colour map of the pressure coefficient.
 PRESSURE_CMAP = "viridis"
@@ -30,25 +29,6 @@ BACK_FACE_WHITE = 0.55
 VIEW_TURN_DEG = 35.0
 #: and kept within this elevation [deg] above or below the x_G-y_G plane.
 MAX_VIEW_ELEVATION_DEG = 55.0
-
-
-def _resolve_lighting(lighting, mesh, u) -> PanelLighting:
-    """The PanelLighting for flow direction ``u`` from a PanelLighting, a Shader or None."""
-    if lighting is None:
-        return PanelLighting.all_lit(mesh.n_panels)
-    if isinstance(lighting, PanelLighting):
-        result = lighting
-    elif hasattr(lighting, "lighting"):  # a Shader
-        result = lighting.lighting(u)
-    else:
-        raise TypeError(
-            f"lighting must be a PanelLighting, a Shader or None, got {type(lighting).__name__}"
-        )
-    if np.shape(result.lit_fraction) != (mesh.n_panels,):
-        raise ValueError(
-            f"lighting has {np.size(result.lit_fraction)} panels, the mesh has {mesh.n_panels}"
-        )
-    return result
 
 
 def panel_colours(cp, cos_delta, lit_fraction, cmap=PRESSURE_CMAP):
@@ -112,34 +92,28 @@ def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, flo
 
 
 def make_panel_pressure_figure(
-    method,
-    flow,
-    aoa_deg: float,
-    aos_deg: float,
-    lighting=None,
-    *,
-    view=None,
-    title=None,
-    result=None,
+    model, flow, aoa_deg: float, aos_deg: float, *, view=None, title=None, result=None
 ) -> Figure:
-    """A 3-D picture of the mesh coloured by per-panel pressure coefficient at one attitude.
+    """A 3-D picture of the mesh of ``model`` (a :class:`~adbsat_ros.physics.model.Model`)
+    coloured by per-panel pressure coefficient at one attitude.
 
-    ``aoa_deg``, ``aos_deg`` [deg]; ``lighting``: a PanelLighting of this attitude, a shader to
-    compute it with, or None (nothing shaded); ``view``: (elev, azim) [deg], default
+    ``aoa_deg``, ``aos_deg`` [deg]; ``view``: (elev, azim) [deg], default
     :func:`default_view`; ``title``: the first title line; ``result``: coefficients computed
-    already (e.g. by test particles, whose panels count as all reached), default ``method`` at
-    this attitude. The first axes' first collection is the panels' Poly3DCollection (with the
-    c_p norm and colour map); the legend states the shaded and back-face panel counts.
+    already (e.g. by test particles, whose panels count as all reached), default
+    ``model.evaluate`` at this attitude (shaded by the model's set-up). The first axes' first
+    collection is the panels' Poly3DCollection (with the c_p norm and colour map); the legend
+    states the shaded and back-face panel counts.
     """
     aoa_deg, aos_deg = float(aoa_deg), float(aos_deg)
     if not (math.isfinite(aoa_deg) and math.isfinite(aos_deg)):
         raise ValueError(f"aoa_deg and aos_deg must be finite, got {aoa_deg!r}, {aos_deg!r}")
-    mesh = method.mesh
+    mesh = model.mesh
     aoa, aos = math.radians(aoa_deg), math.radians(aos_deg)
     u = frames.flow_direction(aoa, aos)
+    shading = None
     if result is None:
-        light = _resolve_lighting(lighting, mesh, u)
-        result = method.coefficients(flow, aoa, aos, lighting=light)
+        result = model.evaluate(flow, angles=(aoa, aos))
+        shading = model.setup.shading.mode
     colours, norm, groups = panel_colours(result.cp, result.cos_delta, result.lit_fraction)
 
     fig = new_figure((8.0, 6.0))
@@ -198,12 +172,13 @@ def make_panel_pressure_figure(
     cbar.set_label("pressure coefficient $c_p$ (panels reached by the flow)")
     if title is None:
         title = (
-            f"{Path(str(mesh.source)).name}, {method.model}, speed ratio s = {flow.speed_ratio:.2f}"
+            f"{Path(str(mesh.source)).name}, {model.method.model}, speed ratio s = "
+            f"{flow.speed_ratio:.2f}"
         )
         if hasattr(result, "particles"):
             title += f", test particles: {result.particles:,}"
-        elif lighting is not None:
-            title += f", shading: {getattr(lighting, 'mode', 'given')}"
+        elif shading not in (None, "none"):
+            title += f", shading: {shading}"
     fig.suptitle(
         f"{title}\nα = {aoa_deg:g}°, β = {aos_deg:g}°: "
         f"C_D = {result.drag:.3f}, projected area {result.area_projected:.3f} m²",
@@ -212,14 +187,12 @@ def make_panel_pressure_figure(
     return fig
 
 
-def plot_panel_pressure(method, flow, aoa_deg, aos_deg, lighting, out_path, **options) -> Path:
+def plot_panel_pressure(model, flow, aoa_deg, aos_deg, out_path, **options) -> Path:
     """Write :func:`make_panel_pressure_figure` to ``out_path`` (PNG); returns the path.
 
     ``options`` (``view``, ``title``, ``result``) go to :func:`make_panel_pressure_figure`.
     """
-    return save_png(
-        make_panel_pressure_figure(method, flow, aoa_deg, aos_deg, lighting, **options), out_path
-    )
+    return save_png(make_panel_pressure_figure(model, flow, aoa_deg, aos_deg, **options), out_path)
 
 
 def legend_panel_counts(fig: Figure) -> dict:

@@ -364,13 +364,14 @@ def run_demo(
         picture = None
         if latest and node is not None:
             sample = latest[-1]
-            method = node.estimator.method
+            estimator = node.estimator
+            setup = setup_from_settings(estimator.settings)
             if sample.joints is not None:  # (the body as posed for that wrench)
-                setup = setup_from_settings(node.estimator.settings)
                 joints = tuple(zip(sample.joints.names, sample.joints.positions))
                 setup = replace(setup, body=replace(setup.body, joints=joints))
-                method = build_model(setup, node.estimator.body).method
-            picture = (method, sample.conditions.free_stream(), sample.coefficients)
+            given = estimator.mesh if estimator.body is None else estimator.body
+            model = build_model(setup, given)
+            picture = (model, sample.conditions.free_stream(), sample.coefficients)
         result.files = write_outputs(rows, Path(out_dir), picture, joints=articulated)
         say("wrote: " + ", ".join(str(p) for p in result.files))
     return result

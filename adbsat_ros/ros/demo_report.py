@@ -114,9 +114,9 @@ def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult, joints=F
 
 
 def write_outputs(rows, out_dir: Path, picture=None, joints=False) -> list:
-    """demo_wrench.csv and the time-series PNGs in out_dir; with ``picture`` (a posed panel method,
-    the flow and the latest coefficients) demo_panel_pressure.png; with ``joints`` the joint columns
-    and demo_hinge_torques.png. Returns the paths."""
+    """demo_wrench.csv and the time-series PNGs in out_dir; with ``picture`` (the model of the
+    posed body, the flow and the latest coefficients) demo_panel_pressure.png; with ``joints``
+    the joint columns and demo_hinge_torques.png. Returns the paths."""
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "demo_wrench.csv"
     with open(path, "w", newline="", encoding="utf-8") as fh:
@@ -144,14 +144,13 @@ def write_outputs(rows, out_dir: Path, picture=None, joints=False) -> list:
             )
         )
     if picture is not None:
-        method, flow, coefficients = picture
+        model, flow, coefficients = picture
         plots.append(
             plot_panel_pressure(
-                method,
+                model,
                 flow,
                 math.degrees(coefficients.aoa),
                 math.degrees(coefficients.aos),
-                None,
                 out_dir / "demo_panel_pressure.png",
                 result=coefficients,
             )

@@ -1,19 +1,19 @@
 """One chunk of a sweep, computed where a worker runs it.
 
 A chunk is its index ranges along every axis, its result the chunk's :data:`VECTORS` and
-:data:`SCALARS`. Every point is computed from its own inputs alone (exact ray-cast shading of
-its attitude and joints, no cache whose contents depend on what came before), so a chunk gives
-the same numbers bit for bit on any worker, in any order."""
+:data:`SCALARS`. Every point is computed from its own inputs alone (exact shading of its
+attitude and joints, by its model's cache in exact mode: a value depends on its key alone), so
+a chunk gives the same numbers bit for bit on any worker, in any order."""
 
 from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import replace
 
 import numpy as np
 
 from adbsat_ros.database.build import attitude_seed
-from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.constants import AMU
 from adbsat_ros.physics.model import build_model
 from adbsat_ros.sweep.gas import point_gas, point_inputs
@@ -47,84 +47,50 @@ def vector_results(spec: SweepSpec) -> tuple:
     return VECTORS + ERRORS if spec.tpmc is not None else VECTORS
 
 
-class BodySetup:
-    """One body of a sweep (its mesh, or one of its mesh variants): its model, with its shaders
-    by joint configuration and test-particle solvers by configuration and surface (``LruStore``).
+def attitudes_per_chunk(spec: SweepSpec) -> int:
+    """At most the distinct attitudes and joint positions of a chunk of ``spec`` (a chunk has
+    at most ``chunk_points`` points)."""
+    shaded = ("aoa", "aos", *spec.joint_axes().values())
+    count = math.prod(len(values) for axis, values in spec.axes.items() if axis in shaded)
+    return max(1, min(spec.chunk_points, count))
 
-    Attributes
-    ----------
-    mesh : PanelMesh
-        The body's panels (an articulated body's at zero joint positions).
-    """
 
-    def __init__(self, spec: SweepSpec, mesh: str):
-        self.spec = spec
-        self.model = build_model(body_setup(spec, mesh))
-        self.body, self.mesh, self.method = self.model.body, self.model.mesh, self.model.method
-        self.shaders = LruStore(8)
-        self.solvers = LruStore(8)
-
-    def shader(self, positions: dict):
-        """The ray caster of the body at joint ``positions``."""
-        key = tuple(sorted(positions.items()))
-        return self.shaders.get(key, lambda: self.model.shader_at(positions))
-
-    def solver(self, positions: dict, changes: dict):
-        """The test-particle solver of the body at joint ``positions`` with the surface
-        parameters ``changes``."""
-        key = (tuple(sorted(positions.items())), tuple(sorted(changes.items())))
-        return self.solvers.get(key, lambda: self.model.test_particles_at(positions, changes))
+def body_model(spec: SweepSpec, mesh: str):
+    """The model of one body of a sweep (its mesh, or one of its mesh variants), keeping the
+    lightings of a chunk's attitudes and joint positions (each is shaded once per chunk)."""
+    setup = body_setup(spec, mesh)
+    shading = replace(setup.shading, exact_offline=attitudes_per_chunk(spec))
+    return build_model(replace(setup, shading=shading))
 
 
 class SweepSetup:
-    """A spec's bodies (one per mesh variant), made once per worker; ``body``, ``mesh`` and
-    ``method`` are the first body's."""
+    """A spec's bodies, a model per mesh variant, made once per worker; ``body``, ``mesh`` and
+    ``method`` are the first one's."""
 
     def __init__(self, spec: SweepSpec):
         self.spec = spec
-        self.bodies = [BodySetup(spec, mesh) for mesh in spec.meshes or (spec.mesh,)]
+        self.bodies = [body_model(spec, mesh) for mesh in spec.meshes or (spec.mesh,)]
         first = self.bodies[0]
         self.body, self.mesh, self.method = first.body, first.mesh, first.method
 
-    def point(self, index: tuple, values: dict, lightings: dict, flows: dict):
+    def point(self, index: tuple, values: dict, flows: dict):
         """The coefficients and the gas of one point (grid ``index``, axis ``values`` in the
-        spec's units), with the lightings and gases already made for this chunk."""
+        spec's units), with the gases already made for this chunk."""
         spec = self.spec
         inputs = point_inputs(spec, values)
         flow = point_gas(spec, inputs, flows)
-        variant = int(inputs.get("mesh", 0))
-        body = self.bodies[variant]
-        aoa, aos = math.radians(inputs["aoa"]), math.radians(inputs["aos"])
+        model = self.bodies[int(inputs.get("mesh", 0))]
+        angles = (math.radians(inputs["aoa"]), math.radians(inputs["aos"]))
         positions = {}
         for joint, axis in spec.joint_axes().items():
-            kind = body.body.joints[joint].kind
+            kind = model.body.joints[joint].kind
             positions[joint] = inputs[axis] if kind == "prismatic" else math.radians(inputs[axis])
         changes = {k: inputs[k] for k in SURFACE_AXES if k in inputs}
-        run = spec.tpmc
-        if run is not None:
-            seed = attitude_seed(run["seed"], int(np.ravel_multi_index(index, spec.shape)))
-            return body.solver(positions, changes).coefficients(
-                flow,
-                aoa,
-                aos,
-                particles=run["particles"],
-                tolerance=run["tolerance"],
-                seed=seed,
-            ), flow
-        surface = body.method.surface_with(**changes) if changes else None
-        lighting = None
-        if spec.shading != "none":  # (the same body, attitude and joints: the same rays)
-            key = (variant, aoa, aos, tuple(positions.values()))
-            if key not in lightings:
-                lightings[key] = body.shader(positions).lighting_angles(aoa, aos)
-            lighting = lightings[key]
-        if body.body is None:
-            result = body.method.coefficients(flow, aoa, aos, lighting=lighting, surface=surface)
-        else:
-            result = body.method.coefficients(
-                flow, positions, aoa, aos, lighting=lighting, surface=surface
-            ).total
-        return result, flow
+        seed = None
+        if spec.tpmc is not None:
+            seed = attitude_seed(spec.tpmc["seed"], int(np.ravel_multi_index(index, spec.shape)))
+        result = model.evaluate(flow, None, positions, angles=angles, changes=changes, seed=seed)
+        return (result.total if model.backend == "articulated" else result), flow
 
     def evaluate(self, slices) -> dict:
         """The results of the block ``slices`` ((start, stop) per axis) of the grid."""
@@ -134,11 +100,11 @@ class SweepSetup:
         vectors = vector_results(self.spec)
         out = {name: np.empty((*shape, 3)) for name in vectors}
         out.update({name: np.empty(shape) for name in SCALARS})
-        lightings, flows = {}, {}
+        flows = {}
         for local in itertools.product(*(range(n) for n in shape)):
             index = tuple(r[i] for r, i in zip(ranges, local))
             values = {n: float(self.spec.axes[n][i]) for n, i in zip(names, index)}
-            r, flow = self.point(index, values, lightings, flows)
+            r, flow = self.point(index, values, flows)
             for name in vectors:
                 out[name][local] = getattr(r, name)
             out["CD"][local] = r.drag

@@ -11,7 +11,7 @@ import pytest
 from adbsat_ros.cli import main
 from adbsat_ros.database.format import load_database
 from adbsat_ros.database.lookup import CoefficientLookup
-from adbsat_ros.database.metadata import method_from_metadata
+from adbsat_ros.database.metadata import model_from_metadata
 from adbsat_ros.processes import usable_cpus
 
 FLOW = ["--speed", "7700", "--temperature", "900", "--mean-mass", "16"]
@@ -303,8 +303,8 @@ def test_a_urdf_database_at_joint_positions_agrees_with_coeff(capsys, tmp_path):
     assert code == 0
     db = load_database(out)
     assert db.metadata["mesh"]["joints"]["wing_left_hinge"] == pytest.approx(np.radians(40.0))
-    method, _, _ = method_from_metadata(db.metadata, out)  # the posed body reloads
-    assert method.mesh.fingerprint() == db.metadata["mesh"]["fingerprint"]
+    model, _ = model_from_metadata(db.metadata, out)  # the posed body reloads
+    assert model.mesh.fingerprint() == db.metadata["mesh"]["fingerprint"]
     assert main(["coeff", *argv[:-4], "--aoa", "30", "--aos", "20", "--json"]) == 0
     row = json.loads(capsys.readouterr().out)[0]
     np.testing.assert_allclose(db.Cf_G[1, 1], row["Cf_G"], rtol=1e-12, atol=1e-15)

@@ -28,8 +28,9 @@ from adbsat_ros.database.format import (
     DatabaseError,
     load_database,
 )
-from adbsat_ros.database.metadata import method_from_metadata
+from adbsat_ros.database.metadata import model_from_metadata
 from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.shading.shader import make_shader
 
 FLOW = FreeStream(7500.0, 900.0, mean_mass_amu=16.0)
 SLOW = FreeStream(1500.0, 1200.0, mean_mass_amu=28.0)
@@ -142,7 +143,8 @@ def test_frames_are_consistent(example_db):
 # ------------------------------------------------------------------------------ workers, progress
 def test_worker_count_does_not_change_results(example_db):
     """Two worker processes, odd chunking, give the same numbers bit for bit as one process."""
-    method, flow, _ = method_from_metadata(example_db.metadata)
+    model, flow = model_from_metadata(example_db.metadata)
+    method = model.method
     calls = []
     db2 = build_database(
         method,
@@ -171,7 +173,8 @@ def test_a_running_scheduler_gives_the_same_database(example_db, tmp_path):
     from adbsat_ros.database.format import load_database
     from adbsat_ros.tasks import local_cluster
 
-    method, flow, _ = method_from_metadata(example_db.metadata)
+    model, flow = model_from_metadata(example_db.metadata)
+    method = model.method
     with local_cluster(2) as cluster, Client(cluster) as client:
         client.wait_for_workers(2)
         db2 = build_database(
@@ -332,19 +335,25 @@ def test_bad_files_raise_database_error_naming_the_file(example_db, tmp_path, ca
 
 # ------------------------------------------------------------------------------ metadata
 def test_metadata_rebuilds_the_exact_setup(example_db):
-    """method_from_metadata reloads the mesh, materials (with the override), model and flow:
-    a fresh evaluation at a grid attitude reproduces the stored numbers exactly."""
+    """model_from_metadata reloads the mesh, materials (with the override), model, shading and
+    flow: a fresh evaluation at a grid attitude reproduces the stored numbers exactly, and so
+    does the kernel shaded by ray casting at that direction."""
     meta = example_db.metadata
     assert meta["mesh"]["spec"] == "example" and meta["mesh"]["n_panels"] == 4192
     assert meta["materials"]["default"]["alpha"] == 0.9
-    method, flow, shader = method_from_metadata(meta)
+    model, flow = model_from_metadata(meta)
+    method = model.method
     assert method.materials.properties("solar_array").wall_temperature == 350.0
     assert method.materials.properties("solar_array").alpha == 0.8
-    assert shader is not None and shader.mode == "raycast"
+    assert model.setup.shading.mode == "raycast"
     i, j = 3, 1
     a, b = math.radians(example_db.aoa_deg[i]), math.radians(example_db.aos_deg[j])
     from adbsat_ros.geometry import frames
 
+    r = model.evaluate(flow, angles=(a, b))
+    np.testing.assert_array_equal(r.Cf_G, example_db.Cf_G[i, j])
+    np.testing.assert_array_equal(r.Cm_G, example_db.Cm_G[i, j])
+    shader = make_shader(method.mesh, mode="raycast")
     r = method.coefficients(flow, a, b, lighting=shader.lighting(frames.flow_direction(a, b)))
     np.testing.assert_array_equal(r.Cf_G, example_db.Cf_G[i, j])
     np.testing.assert_array_equal(r.Cm_G, example_db.Cm_G[i, j])
@@ -360,13 +369,13 @@ def test_metadata_refuses_changed_or_unknown_meshes(example_db, tmp_path):
     db = build_database(
         method, FLOW, [0, 90], [0], shading="none", workers=1, progress=False, mesh_spec=str(path)
     )
-    assert method_from_metadata(db.metadata)[0].mesh.fingerprint() == method.mesh.fingerprint()
+    assert model_from_metadata(db.metadata)[0].mesh.fingerprint() == method.mesh.fingerprint()
     box.apply_scale(1.1)
     box.export(path)
     with pytest.raises(DatabaseError, match="has changed"):
-        method_from_metadata(db.metadata, path="db.npz")
+        model_from_metadata(db.metadata, path="db.npz")
     with pytest.raises(DatabaseError, match="built in code"):
-        method_from_metadata(dict(db.metadata, mesh=dict(db.metadata["mesh"], spec=None)))
+        model_from_metadata(dict(db.metadata, mesh=dict(db.metadata["mesh"], spec=None)))
     with pytest.raises(ValueError, match="does not load the method's mesh"):
         build_database(
             plate_method(),

@@ -27,6 +27,8 @@ from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.example_satellite import write_obj
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.geometry.shapes import combine, grid_box
+from adbsat_ros.physics.model import build_model
+from adbsat_ros.physics.setup import Setup, ShadingPolicy
 from adbsat_ros.plotting import coefficients, figures, panels, time_series
 from adbsat_ros.shading.shader import make_shader
 
@@ -135,19 +137,26 @@ def test_plot_database_writes_pngs(database_file, tmp_path):
 # ------------------------------------------------------------------------------ pressure picture
 @pytest.fixture(scope="module")
 def scene():
+    """The cube on a plate, its models shaded by ray casting and not shaded, and a shader."""
     mesh = cube_plate()
-    return mesh, PanelMethod(mesh, "sentman"), make_shader(mesh)
+    shaded, plain = (
+        build_model(Setup(shading=ShadingPolicy(mode, exact_offline=1)), mesh)
+        for mode in ("raycast", "none")
+    )
+    return mesh, shaded, plain, make_shader(mesh)
 
 
 @pytest.mark.parametrize("aoa_deg, aos_deg", [(10.0, 0.0), (0.0, 20.0)])
 def test_pressure_picture_marks_shadows_and_scales_cp(scene, aoa_deg, aos_deg, tmp_path):
-    mesh, method, shader = scene
+    mesh, model, plain, shader = scene
     u = frames.flow_direction(math.radians(aoa_deg), math.radians(aos_deg))
     lit_fraction = shader.lighting(u).lit_fraction
-    result = method.coefficients(FLOW, math.radians(aoa_deg), math.radians(aos_deg))  # unshaded cp
+    angles = (math.radians(aoa_deg), math.radians(aos_deg))
+    result = plain.evaluate(FLOW, angles=angles)  # unshaded cp
     shaded = lit_fraction < 1.0
     assert 0 < shaded.sum() < mesh.n_panels  # the cube shades part of the plate
-    fig = panels.make_panel_pressure_figure(method, FLOW, aoa_deg, aos_deg, shader)
+    fig = panels.make_panel_pressure_figure(model, FLOW, aoa_deg, aos_deg)
+    assert "shading: raycast" in fig._suptitle.get_text()
     counts = panels.legend_panel_counts(fig)
     assert counts["shaded"] == int(shaded.sum())
     assert counts["back"] == int(((result.cos_delta < 0) & ~shaded).sum())
@@ -158,12 +167,13 @@ def test_pressure_picture_marks_shadows_and_scales_cp(scene, aoa_deg, aos_deg, t
     assert len(collection.get_paths()) == mesh.n_panels
     assert collection.norm.vmin == pytest.approx(result.cp[~shaded].min(), rel=1e-12)
     assert collection.norm.vmax == pytest.approx(result.cp[~shaded].max(), rel=1e-12)
-    unshaded = panels.make_panel_pressure_figure(method, FLOW, aoa_deg, aos_deg, None)
+    unshaded = panels.make_panel_pressure_figure(plain, FLOW, aoa_deg, aos_deg)
     assert panels.legend_panel_counts(unshaded)["shaded"] == 0
+    assert "shading" not in unshaded._suptitle.get_text()
     norm = unshaded.axes[0].collections[0].norm
     assert (norm.vmin, norm.vmax) == (result.cp.min(), result.cp.max())
     assert_png(
-        panels.plot_panel_pressure(method, FLOW, aoa_deg, aos_deg, shader, tmp_path / "p.png"),
+        panels.plot_panel_pressure(model, FLOW, aoa_deg, aos_deg, tmp_path / "p.png"),
         (8.0, 6.0),
     )
 
@@ -184,7 +194,7 @@ def test_panel_colours():
 
 
 def test_default_view_looks_from_upstream_at_the_shadows(scene):
-    mesh, _, shader = scene
+    mesh, _, _, shader = scene
     for aoa, aos in ((10.0, 0.0), (0.0, 20.0), (-60.0, 45.0), (180.0, 0.0), (90.0, 0.0)):
         u = frames.flow_direction(math.radians(aoa), math.radians(aos))
         shaded = shader.lighting(u).lit_fraction < 1
@@ -197,14 +207,10 @@ def test_default_view_looks_from_upstream_at_the_shadows(scene):
             assert (mesh.normals[shaded] * mesh.areas[shaded, None]).sum(axis=0) @ camera > 0
 
 
-def test_pressure_picture_rejects_mismatched_lighting(scene):
-    _, method, _ = scene
-    from adbsat_ros import PanelLighting
-
-    with pytest.raises(ValueError, match="lighting has 5 panels"):
-        panels.make_panel_pressure_figure(method, FLOW, 0.0, 0.0, PanelLighting(np.ones(5)))
+def test_pressure_picture_rejects_non_finite_angles(scene):
+    _, model, _, _ = scene
     with pytest.raises(ValueError, match="finite"):
-        panels.make_panel_pressure_figure(method, FLOW, float("nan"), 0.0)
+        panels.make_panel_pressure_figure(model, FLOW, float("nan"), 0.0)
 
 
 # ------------------------------------------------------------------------------ time series
@@ -361,8 +367,7 @@ def test_cli_refuses_a_changed_mesh(tmp_path, capsys):
 def test_a_test_particle_database_draws_the_test_particles_pressures(tmp_path, capsys):
     """`plot` of a database made by test particles draws their per-panel pressures (every
     reflection) at the picture's attitude, from a run of the database's own settings."""
-    from adbsat_ros.cli.plot import test_particle_result
-    from adbsat_ros.database.metadata import method_from_metadata
+    from adbsat_ros.database.metadata import model_from_metadata
 
     mesh = resolve_mesh("intake-box")
     method = PanelMethod(mesh, "sentman")
@@ -379,15 +384,14 @@ def test_a_test_particle_database_draws_the_test_particles_pressures(tmp_path, c
         progress=False,
     )
     path = db.save(tmp_path / "tp.npz")
-    rebuilt, flow, _ = method_from_metadata(load_database(path).metadata)
-    result = test_particle_result(db.metadata, rebuilt, flow, 0.0, 0.0)
+    rebuilt, flow = model_from_metadata(load_database(path).metadata)
+    result = rebuilt.evaluate(flow, angles=(0.0, 0.0))
     assert result.particles == 20_000 and result.seed == 3
-    fig = panels.make_panel_pressure_figure(rebuilt, flow, 0.0, 0.0, None, result=result)
+    fig = panels.make_panel_pressure_figure(rebuilt, flow, 0.0, 0.0)
     norm = fig.axes[0].collections[0].norm
     assert (norm.vmin, norm.vmax) == (result.cp.min(), result.cp.max())
-    panel_cp = rebuilt.coefficients(flow, 0.0, 0.0).cp
+    panel_cp = rebuilt.evaluate(flow, angles=(0.0, 0.0), solver="panel").cp
     assert not np.allclose(result.cp, panel_cp, atol=0.05)  # the intake's walls differ
     assert "test particles" in fig._suptitle.get_text()
-    assert test_particle_result({"solver": {"method": "panel"}}, rebuilt, flow, 0, 0) is None
     assert main(["plot", str(path), "--out-dir", str(tmp_path / "plots")]) == 0
     assert "panel_pressure.png" in capsys.readouterr().out
