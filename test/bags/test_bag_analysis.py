@@ -494,6 +494,17 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path):
             ),
         ),
         ("odo", WrenchSettings.from_parameters(dict(FAST, attitude_source="odometry"))),
+        (  # (the Sun's reads share the small cache, uncounted: the merge replays them too)
+            "sun",
+            WrenchSettings.from_parameters(
+                {
+                    "shading": "projection",
+                    "shading_cache_resolution_deg": 1.0,
+                    "shading_cache_size": 3,
+                    "solar_pressure": True,
+                }
+            ),
+        ),
     ]
     runs = {}
     for name, workers, chunk in (("one", 1, None), ("chunks", 1, 1), ("pool", 2, 7)):
