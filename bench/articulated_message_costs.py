@@ -50,7 +50,7 @@ def run(body, joints, messages: int, warm_up: int) -> dict:
         joint_state = joints(k)
         if joint_state is not None:
             h.on_joint_state(joint_state)
-        cache = h.estimator.shading_cache
+        cache = h.estimator.model.cache
         configurations, cells = cache.configuration_misses, cache.misses
         outcome = h.on_attitude(attitude(k))
         if outcome.sample is not None:

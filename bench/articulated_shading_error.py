@@ -9,7 +9,7 @@ For the bundled finned body (four fins within +-10 deg) and the example satellit
 (angle of attack within +-40 deg, any sideslip) and joint positions. The reference is
 :class:`~adbsat_ros.physics.articulated_method.ArticulatedMethod` with the lighting of a ray
 cast at the exact configuration and direction; each grid setting gives the node's lighting
-(:class:`~adbsat_ros.estimator.shading.ShadingSource` with those parameters) to the same method.
+(the shading cache of the model those parameters build) to the same method.
 Printed per body and setting: the largest error over the cases relative to the exact force's
 magnitude, the exact moment's, and the largest exact joint effort (each case's own).
 """
@@ -21,13 +21,14 @@ import math
 
 import numpy as np
 
-from adbsat_ros.estimator.settings import WrenchSettings
-from adbsat_ros.estimator.shading import ShadingSource
+from adbsat_ros.estimator.settings import WrenchSettings, setup_from_settings
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_urdf import example_finned_urdf, example_satellite_urdf
 from adbsat_ros.physics.articulated_method import ArticulatedMethod
 from adbsat_ros.physics.freestream import FreeStream
+from adbsat_ros.physics.model import build_model
+from adbsat_ros.physics.model_evaluate import blended_lighting
 from adbsat_ros.shading.shader import make_shader
 
 #: Grid settings compared (node parameters), by name.
@@ -80,10 +81,11 @@ def main() -> None:
             cases.append((u, q, exact))
         print(f"{name}: {body.mesh().n_panels} faces, {args.cases} cases")
         for label, parameters in SETTINGS.items():
-            source = ShadingSource(body.mesh(), WrenchSettings.from_parameters(parameters), body)
+            settings = WrenchSettings.from_parameters(parameters)
+            cache = build_model(setup_from_settings(settings), body).cache
             worst = np.zeros(3)
             for u, q, exact in cases:
-                lighting, _ = source.lighting(u, q)
+                lighting = blended_lighting(cache.read(u, cache.vertices(q)))
                 got = method.coefficients(flow, q, flow_direction=u, lighting=lighting)
                 errors = (
                     np.linalg.norm(got.total.Cf_G - exact.total.Cf_G)

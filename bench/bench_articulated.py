@@ -34,9 +34,9 @@ cached at 0.25 deg, interpolated; the joint configuration grid at 0.25 deg). Cas
   ``--fin-messages``).
 
 Then, with ``--new-configurations`` N (default 12): what one new grid configuration costs the
-node's shading (``ShadingSource.lighting`` at a configuration not seen before: posing the body,
-its candidate filter and hulls, and shading the direction cells around the flow at the
-stream's attitude), CPU time, median of N, every moving joint 0.3 deg further each time.
+node's shading (a read of the model's shading cache at a configuration not seen before: posing
+the body, its candidate filter and hulls, and shading the direction cells around the flow at
+the stream's attitude), CPU time, median of N, every moving joint 0.3 deg further each time.
 
 In each round rigid, fixed and tracking take the next ``--messages`` of their streams message by
 message, in turn (a slower spell of the shared host falls on each alike), then the fin cases
@@ -56,14 +56,14 @@ import time
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler
-from adbsat_ros.estimator.settings import WrenchSettings
-from adbsat_ros.estimator.shading import ShadingSource
+from adbsat_ros.estimator.settings import WrenchSettings, setup_from_settings
 from adbsat_ros.estimator.state import checked_rotation
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_urdf import example_finned_urdf, example_satellite_urdf
 from adbsat_ros.messages.cdr import AttitudeFields, Stamp
 from adbsat_ros.messages.decoding import JointStateFields, OdometryFields
 from adbsat_ros.messages.encoding import encode_wrench
+from adbsat_ros.physics.model import build_model
 
 R_ORBIT = 6378137.0 + 300e3
 V_ORBIT = math.sqrt(3.986004418e14 / R_ORBIT)
@@ -161,9 +161,9 @@ class Case:
         self.means.append(sum(self.take() for _ in range(n)) / n / 1e3)
 
     def counters(self) -> str:
-        cache = self.handler.estimator.shading_cache
+        cache = self.handler.estimator.model.cache
         text = f"cells shaded {cache.misses}, hits {cache.hits}"
-        if hasattr(cache, "configuration_misses"):
+        if cache.body is not None:
             text += (
                 f"; configurations shaded {cache.configuration_misses}, "
                 f"hits {cache.configuration_hits}"
@@ -279,7 +279,7 @@ def main() -> None:
 
 def new_configuration_times(body, n: int) -> list:
     """CPU times [ms] of the node's shading at ``n`` configurations never seen before."""
-    source = ShadingSource(body.mesh(), WrenchSettings.from_parameters({}), body)
+    cache = build_model(setup_from_settings(WrenchSettings.from_parameters({})), body).cache
     m = checked_rotation(attitude(1000).quaternion_xyzw, "attitude", 1e-6)
     # the gas moves along -y (the orbit's velocity is +y there): in the body, R^T (0, -1, 0)
     flow_body = [-m[1], -m[4], -m[7]]
@@ -287,11 +287,11 @@ def new_configuration_times(body, n: int) -> list:
     def positions(k):
         return {name: math.radians(0.3 * k) for name in body.joints}
 
-    source.lighting(flow_body, positions(0))
+    cache.read(flow_body, cache.vertices(positions(0)))
     out = []
     for k in range(1, n + 1):
         t0 = time.process_time()
-        source.lighting(flow_body, positions(k))
+        cache.read(flow_body, cache.vertices(positions(k)))
         out.append((time.process_time() - t0) * 1e3)
     return out
 

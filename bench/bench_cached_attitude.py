@@ -133,7 +133,7 @@ def main() -> None:
         print(f"{name:<52} {p50:8.3f} {p99:8.3f}")
     print(
         f"cache: {cache.hits} hits, {cache.misses} misses; estimator cache: "
-        f"{est.shading_cache_hits} hits, {est.shading_cache_misses} misses"
+        f"{est.model.cache.hits} hits, {est.model.cache.misses} misses"
     )
 
 

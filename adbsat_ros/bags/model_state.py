@@ -79,6 +79,8 @@ class ModelState:
             self.health.sample_computed(record.compute_seconds, record.numbers)
         for key in record.cache_keys:
             self.cache.get(key, _cell)
+        for key in record.uncounted_keys:  # (after the flow's, as the estimator reads them)
+            self.cache.get(key, _cell, count=False)
 
     def diagnostic_status(self, now_ns: int):
         """The node's DiagnosticStatus (rosbags message) after the records applied so far."""

@@ -77,7 +77,8 @@ class MessageRecord(NamedTuple):
     ``reason``/``reason_text`` a rejection's (or ``compute_error`` and the failure), which
     ``latest_rejection`` tells apart; ``numbers`` the sample's for the diagnostics;
     ``compute_seconds`` the estimator's time [s]; ``cache_keys`` the shading-cache cells read (one,
-    three when interpolating, or none); the ``*_cdr`` fields the messages to write.
+    three when interpolating, or none), ``uncounted_keys`` those read without counting (the
+    Sun's); the ``*_cdr`` fields the messages to write.
     """
 
     state_accepted: bool = False
@@ -93,6 +94,7 @@ class MessageRecord(NamedTuple):
     solar_cdr: bytes | None = None
     total_cdr: bytes | None = None
     joint_torques_cdr: bytes | None = None
+    uncounted_keys: tuple = ()
 
 
 class Row(NamedTuple):
@@ -131,7 +133,7 @@ class WorkerModel:
         self._queries = self._query_count()
 
     def _query_count(self) -> int:
-        cache = self.estimator.shading_cache
+        cache = self.estimator.model.cache
         return 0 if cache is None else cache.hits + cache.misses
 
     def record(self, outcome: Outcome) -> MessageRecord:
@@ -139,10 +141,13 @@ class WorkerModel:
         # the cell of the shading-cache query made for it, if any, so that the merge can count
         # hits and misses as one sequential cache would (a worker's cache saw its chunks only)
         count = self._query_count()
-        keys = ()
+        keys = uncounted = ()
+        cache = self.estimator.model.cache
         if count != self._queries:
             self._queries = count
-            keys = self.estimator.shading_cache.last_keys
+            keys = cache.last_keys
+        if cache is not None and cache.last_uncounted:  # (taken: the next message's are new)
+            uncounted, cache.last_uncounted = cache.last_uncounted, ()
         reason = reason_text = None
         if outcome.rejection is not None:
             reason, reason_text = outcome.rejection.reason, outcome.rejection.message
@@ -158,6 +163,7 @@ class WorkerModel:
                 reason_text,
                 outcome.rejection is not None,
                 cache_keys=keys,
+                uncounted_keys=uncounted,
             )
         messages = encode_wrench(
             outcome.stamp, sample, self.estimator.settings, bag_io.joint_state_cdr
@@ -173,6 +179,7 @@ class WorkerModel:
             solar_cdr=messages.solar,
             total_cdr=messages.total,
             joint_torques_cdr=messages.joint_torques,
+            uncounted_keys=uncounted,
         )
 
 

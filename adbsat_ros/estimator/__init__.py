@@ -3,7 +3,9 @@
 Modules:
 
 - :mod:`~adbsat_ros.estimator.estimator`: :class:`AeroWrenchEstimator`, the per-attitude
-  computation (flight conditions, flow direction in the body, shading, panel method or database).
+  computation (flight conditions, flow direction in the body, the model's coefficients);
+  :mod:`~adbsat_ros.estimator.wrench`, :mod:`~adbsat_ros.estimator.sunlight`,
+  :mod:`~adbsat_ros.estimator.joints`: the sample, solar pressure and joint positions.
 - :mod:`~adbsat_ros.estimator.handling`: :class:`MessageHandler`, one decoded message through the
   estimator to a named outcome with the bytes to publish: the path shared by the node and bag
   analysis.
@@ -13,9 +15,8 @@ Modules:
   the node, its YAML and bag analysis, and the set-up it describes.
 - :mod:`~adbsat_ros.estimator.samples`: what one message gives (a sample or a rejection).
 - :mod:`~adbsat_ros.estimator.state`, :mod:`~adbsat_ros.estimator.timing`,
-  :mod:`~adbsat_ros.estimator.conditions`, :mod:`~adbsat_ros.estimator.shading`,
-  :mod:`~adbsat_ros.estimator.assembly`: accepting inputs, stamps to UTC, the exact flight
-  conditions of a state, the lighting source, and what the estimator is assembled from.
+  :mod:`~adbsat_ros.estimator.conditions`: accepting inputs, stamps to UTC, the exact flight
+  conditions of a state.
 - :mod:`~adbsat_ros.estimator.diagnostics` and :mod:`~adbsat_ros.estimator.health`: the
   diagnostic key/values and their level, written once for the node and bag analysis.
 

@@ -26,7 +26,7 @@ def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
     Parameters
     ----------
     estimator : AeroWrenchEstimator
-        Its settings, counters, reference, database and knot grid.
+        Its settings, counters, model (reference, shading cache), database and knot grid.
     last_sample : WrenchSample or None
         The latest wrench computed (its conditions and drag coefficient are reported).
     compute_ms : sequence or ndarray of float
@@ -42,13 +42,14 @@ def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
     s = estimator.settings
     knots = estimator.knots
     reference = estimator.method.reference
+    cache = estimator.model.cache  # (None without shading or with a database)
     values = {
         "gsi_model": s.gsi_model,
         "coefficients_source": s.coefficients_source,
         "shading": s.shading,
         "published": estimator.published,
-        "shading_cache_hits": estimator.shading_cache_hits,
-        "shading_cache_misses": estimator.shading_cache_misses,
+        "shading_cache_hits": 0 if cache is None else cache.hits,
+        "shading_cache_misses": 0 if cache is None else cache.misses,
         "conditions_prepared_used": knots.prepared_used,
         "conditions_knot_hits": knots.hits,
         "conditions_knot_misses": knots.misses,
@@ -80,7 +81,6 @@ def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
         values.update(last_sample.solar_diagnostics or {})
     if estimator.joints is not None:  # an articulated body
         values["joint_states_accepted"] = estimator.joints.accepted
-        cache = estimator.shading_cache
         if cache is not None:
             values["joint_configurations_shaded"] = cache.configuration_misses
             values["joint_configuration_hits"] = cache.configuration_hits

@@ -18,14 +18,12 @@ import numpy as np
 
 from adbsat_ros.database.matching import DatabaseCoefficients
 from adbsat_ros.environment.knots import KnotGrid
-from adbsat_ros.estimator.assembly import coefficient_database, load_body, panel_method
 from adbsat_ros.estimator.conditions import PropagatedConditions
 from adbsat_ros.estimator.diagnostics import diagnostic_values
-from adbsat_ros.estimator.joints import JointStates, preparation
+from adbsat_ros.estimator.joints import JointStates
 from adbsat_ros.estimator.parameters import BODY_PARAMETERS
 from adbsat_ros.estimator.samples import OrbitalState, Rejection, WrenchSample
-from adbsat_ros.estimator.settings import WrenchSettings
-from adbsat_ros.estimator.shading import ShadingSource
+from adbsat_ros.estimator.settings import WrenchSettings, setup_from_settings
 from adbsat_ros.estimator.state import (
     check_conditions,
     checked_rotation,
@@ -35,8 +33,8 @@ from adbsat_ros.estimator.state import (
 )
 from adbsat_ros.estimator.sunlight import SolarPressureSource
 from adbsat_ros.estimator.timing import stamp_utc
-from adbsat_ros.estimator.wrench import Moment, database_wrench, panel_wrench
-from adbsat_ros.shading.cache import ShadingCache
+from adbsat_ros.estimator.wrench import Moment, wrench_sample
+from adbsat_ros.physics.model import Model, build_model
 
 
 class AeroWrenchEstimator:
@@ -59,6 +57,12 @@ class AeroWrenchEstimator:
         Wrench samples returned.
     knots : KnotGrid
         The flight conditions of the latest state on the knots, with their counters.
+    model : Model
+        The body as the settings configure it (:func:`~adbsat_ros.physics.model.build_model`):
+        its panel method, its shading cache (None without shading or with a database), or the
+        database's lookup.
+    database : DatabaseCoefficients or None
+        The database in use when ``coefficients_source`` is database.
     body : ArticulatedBody or None
         The articulated body, or None for a rigid mesh.
     joints : JointStates or None
@@ -75,41 +79,47 @@ class AeroWrenchEstimator:
     """
 
     def __init__(self, settings: WrenchSettings, mesh=None):
-        self.body, self.mesh = load_body(settings, mesh)
+        self._panels = build_model(setup_from_settings(settings), mesh)  # (no database lookup)
+        self.body = self._panels.body
+        self.mesh = self._panels.mesh
         self.joints = None
         self.rejections: Counter = Counter()
         self.published = 0
         self._state: OrbitalState | None = None
         self._last_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
-        self._shading: ShadingSource | None = None
         self._solar: SolarPressureSource | None = None
-        self._database: DatabaseCoefficients | None = None
         self.settings = None
-        self.method = None
         self.knots = None
         self.apply_settings(settings)
 
     # ----------------------------------------------------------------------------- settings
     def apply_settings(self, settings: WrenchSettings) -> None:
-        """Switch to new settings; ValueError (and the old ones kept) if they do not apply."""
+        """Switch to new settings; ValueError (and the old ones kept) if they do not apply.
+        The shading cache and its counters stay while the shading settings do."""
         if self.settings is not None:
             for name in BODY_PARAMETERS:
                 if getattr(settings, name) != getattr(self.settings, name):
                     raise ValueError(
                         f"parameter {name}: the mesh is loaded once at start-up and cannot change"
                     )
-        method = panel_method(self.mesh, settings, self.body)
-        database = coefficient_database(settings, method)
+        setup = setup_from_settings(settings)
+        panels = self._panels
+        panels = panels if setup == panels.setup else panels.with_setup(setup)
+        if panels.articulated and settings.solar_pressure:
+            raise ValueError(
+                "parameter solar_pressure: not available for an articulated body (the solar "
+                "radiation pressure is computed for rigid bodies only); set it false"
+            )
+        model, database = panels, None
+        if settings.coefficients_source == "database":
+            database = _database(settings, panels)
+            model = panels.with_lookup(database.body_coefficients)
         conditions = PropagatedConditions(settings)
-        shading = self._shading
-        if database is None and (shading is None or shading.key != ShadingSource.key_of(settings)):
-            shading = ShadingSource(self.mesh, settings, self.body)
         solar = None
-        if settings.solar_pressure:
-            old = None if self._solar is None else self._solar.shading
+        if settings.solar_pressure:  # (shaded through the panels' cache, uncounted)
             solar = SolarPressureSource(
-                method, settings, conditions.options.orientation_options, old
+                panels, settings.state_frame, conditions.options.orientation_options
             )
         if self.knots is None:
             self.knots = KnotGrid(settings.conditions_step, conditions)
@@ -119,31 +129,12 @@ class AeroWrenchEstimator:
             if self.joints is None:
                 self.joints = JointStates(self.body, settings.joint_state_timeout)
             self.joints.timeout = settings.joint_state_timeout
-            self.joints.set_prepare(preparation(method, shading if database is None else None))
-        self.method, self._shading, self._database = method, shading, database
+            self.joints.set_prepare(model.prepare_joints)
+        self._panels, self.model, self.database = panels, model, database
+        self.method = model.method
         self._solar = solar
         self.weather = conditions.weather
         self.settings = settings
-
-    @property
-    def shading_cache(self) -> ShadingCache | None:
-        """The ShadingCache in use (None without shading or with coefficients from a database)."""
-        return None if self._shading is None or self._database is not None else self._shading.cache
-
-    @property
-    def shading_cache_hits(self) -> int:
-        """Hits of the shading cache so far."""
-        return 0 if self._shading is None else self._shading.hits
-
-    @property
-    def shading_cache_misses(self) -> int:
-        """Misses of the shading cache so far."""
-        return 0 if self._shading is None else self._shading.misses
-
-    @property
-    def database(self) -> DatabaseCoefficients | None:
-        """The database in use when ``coefficients_source`` is database, else None."""
-        return self._database
 
     @property
     def state(self) -> OrbitalState | None:
@@ -381,12 +372,10 @@ class AeroWrenchEstimator:
         )
         gas_body = -(relative @ np.reshape(m, (3, 3)))
         moment = Moment(stamp, utc, conditions, m, t0)
-        if self._database is not None:
-            return database_wrench(
-                self._database, reference, gas_body, flow.dynamic_pressure(), moment
-            )
-        alpha = None if s.accommodation_model == "fixed" else conditions.alpha
-        return panel_wrench(self.method, self._shading, gas_body, flow, alpha, joints, moment)
+        changes = None  # (the materials' accommodation, or the model's at the conditions)
+        if s.accommodation_model != "fixed":
+            changes = {"alpha": conditions.alpha, "alpha_n": conditions.alpha}
+        return wrench_sample(self.model, gas_body, flow, changes, joints, moment)
 
     def prepare(self, stamp: float) -> bool:
         """Compute ahead the knots an attitude expected at ``stamp`` [s] would wait for.
@@ -421,3 +410,27 @@ class AeroWrenchEstimator:
         See :func:`adbsat_ros.estimator.diagnostics.diagnostic_values`.
         """
         return diagnostic_values(self, last_sample, compute_ms)
+
+
+def _database(settings: WrenchSettings, panels: Model) -> DatabaseCoefficients:
+    """The database of ``database_path`` for the panels' method.
+
+    Raises
+    ------
+    ValueError
+        Naming ``coefficients_source`` for an articulated body, ``accommodation_model`` unless
+        it is fixed (a database is made at one alpha), or from :class:`DatabaseCoefficients` if
+        the file does not fit the method.
+    """
+    if panels.articulated:
+        raise ValueError(
+            "parameter coefficients_source: a database is made for one rigid mesh; an "
+            "articulated body needs coefficients_source panel"
+        )
+    if settings.accommodation_model != "fixed":
+        raise ValueError(
+            "parameter accommodation_model: coefficients_source database needs a fixed "
+            "accommodation (the database was made at one alpha), got "
+            f"{settings.accommodation_model}"
+        )
+    return DatabaseCoefficients(settings.database_path, panels.method)

@@ -8,36 +8,18 @@ ignored. Rules and rejections: docs/node.md.
 from __future__ import annotations
 
 import math
-from typing import Callable, NamedTuple
+from typing import Callable
 
 from adbsat_ros.estimator.samples import Rejection
 from adbsat_ros.geometry.articulated import ArticulatedBody
 
 
-class JointConfiguration(NamedTuple):
-    """The latest joint positions, made ready once for the wrenches that use them.
-
-    Attributes
-    ----------
-    positions : dict of str to float
-        Every moving joint's position [rad or m], checked.
-    posed : object
-        :meth:`ArticulatedMethod.configuration` of them, or the positions.
-    vertices : list or None
-        The shading grid's configurations and weights for them
-        (:meth:`ConfigurationShadingCache.vertices`), or None.
-    """
-
-    positions: dict
-    posed: object
-    vertices: list | None
-
-
 class JointStates:
     """The latest position [rad or m] and stamp [s] of every moving joint of ``body``.
 
-    The first attitude after a joint state makes its :class:`JointConfiguration` (``prepare``);
-    the attitudes until the next joint state reuse it (docs/benchmarks.md).
+    The first attitude after a joint state makes its positions ready (``prepare``, e.g.
+    :meth:`Model.prepare_joints`); the attitudes until the next joint state reuse them
+    (docs/benchmarks.md).
 
     Parameters
     ----------
@@ -45,7 +27,7 @@ class JointStates:
     timeout : float
         Largest distance [s] between a joint position's stamp and an attitude stamp.
     prepare : callable, optional
-        Positions (dict) -> JointConfiguration; by default the positions alone.
+        Positions (dict) -> what an attitude uses; by default the positions alone.
 
     Attributes
     ----------
@@ -58,9 +40,9 @@ class JointStates:
         self.timeout = float(timeout)
         self._latest: dict = {}  # name -> (stamp, position)
         self._span = self._stamp_span()
-        self._configuration: JointConfiguration | None = None
+        self._configuration = None
         self.accepted = 0
-        self.prepare = prepare or (lambda positions: JointConfiguration(positions, positions, None))
+        self.prepare = prepare or (lambda positions: positions)
 
     def clear(self) -> None:
         """Forget every position (the history restarts)."""
@@ -69,7 +51,7 @@ class JointStates:
         self._configuration = None
 
     def set_prepare(self, prepare: Callable) -> None:
-        """Make the configurations with ``prepare`` from now on (the latest one again too)."""
+        """Make the positions ready with ``prepare`` from now on (the latest ones again too)."""
         self.prepare = prepare
         self._configuration = None
 
@@ -120,8 +102,8 @@ class JointStates:
         self._configuration = None  # (made when an attitude first needs it)
         return {name: checked[name] for name in given}
 
-    def configuration_at(self, stamp: float) -> JointConfiguration:
-        """The joint positions for an attitude at ``stamp`` [s], made ready.
+    def configuration_at(self, stamp: float):
+        """The joint positions for an attitude at ``stamp`` [s], made ready (``prepare``).
 
         Raises
         ------
@@ -161,13 +143,3 @@ class JointStates:
                     f"joint {name}'s latest position is {dt:.3f} s from the attitude stamp "
                     f"(joint_state_timeout {self.timeout:g} s)",
                 )
-
-
-def preparation(method, shading) -> Callable:
-    """The ``prepare`` of :class:`JointStates` for a panel method and shading source (or None)."""
-
-    def prepare(positions: dict) -> JointConfiguration:
-        vertices = None if shading is None else shading.vertices(positions)
-        return JointConfiguration(positions, method.configuration(positions), vertices)
-
-    return prepare

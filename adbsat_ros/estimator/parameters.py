@@ -159,7 +159,7 @@ PARAMETERS = (
     _P("shading_cache_size", 20000, whole, "shading.cache_size",
       Bound(1.0, 1e6, "", "flow directions kept: 660,000 cells of 0.25 deg cover the whole sphere"),
       "maximum number of flow directions kept in the shading cache (articulated bodies: in all "
-      "configurations together, each keeping shading_cache_size // joint_shading_cache_size)"),
+      "configurations together)"),
     _P("shading_interpolation", True, flag, "shading.interpolation", None,
       "blend the cached shading of the three cell centres around the flow direction "
       "(continuous in attitude) instead of the nearest cell's"),
@@ -180,8 +180,8 @@ PARAMETERS = (
       "accurate on a 2 deg grid as the nearest point of a 0.25 deg one) instead of the nearest "
       "one's; costs that many configurations' shading"),
     _P("joint_shading_cache_size", 64, whole, "shading.joint_cache_size",
-      Bound(1.0, 1e5, "", "configurations kept, each with its own cache of flow directions"),
-      "articulated bodies: joint configurations whose shading is kept"),
+      Bound(1.0, 1e5, "", "posed bodies kept; their flow directions share shading_cache_size"),
+      "articulated bodies: joint configurations whose posed body and shader are kept"),
     _P("joint_shading_exact", False, flag, "shading.joint_exact", None,
       "articulated bodies: shade the body posed at each attitude's joint positions for its own "
       "flow direction, with no configuration grid or direction cache (one shading per "

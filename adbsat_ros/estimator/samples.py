@@ -172,8 +172,6 @@ class WrenchSample:
         coefficients come from a database).
     flow_direction_body : ndarray, shape (3,)
         Unit direction of the gas motion relative to the body (zero if at rest).
-    shading_cache_hit : bool or None
-        Whether the shading came from the cache (None without shading).
     compute_seconds : float
         Wall time spent computing this sample [s] (for an articulated body, not the links'
         loads, which are computed when first read).
@@ -197,7 +195,6 @@ class WrenchSample:
     conditions: FlightConditions
     coefficients: AeroCoefficients | None
     flow_direction_body: np.ndarray
-    shading_cache_hit: bool | None
     compute_seconds: float
     rotation: tuple
     solar: SolarSample | None = None
@@ -288,7 +285,6 @@ class WrenchSample:
             conditions=conditions,
             coefficients=None,
             flow_direction_body=np.zeros(3),
-            shading_cache_hit=None,
             compute_seconds=compute_seconds,
             rotation=rotation,
         )

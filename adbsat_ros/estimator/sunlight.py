@@ -1,8 +1,8 @@
 """Solar radiation pressure at one message: the Sun, the Earth's shadow, the sunlit panels.
 
 The Sun's direction (GCRS, through the ITRS for an ECEF state) is turned into the body frame
-with the attitude; the body's self-shadowing comes from a shading cache of its own, made like
-the flow's; the force is Luthcke's flat plate. Formulas: docs/physics.md, section 7.
+with the attitude; the body's self-shadowing comes from the model's shading cache, read along
+minus the Sun's direction; the force is Luthcke's flat plate. Formulas: docs/physics.md, section 7.
 """
 
 from __future__ import annotations
@@ -18,10 +18,7 @@ from adbsat_ros.environment.earth_frames import rotation_terms
 from adbsat_ros.environment.sun import SunTrack, sun_state
 from adbsat_ros.environment.time_scales import seconds_of_day, utc_day
 from adbsat_ros.estimator.samples import Rejection, SolarSample, WrenchSample
-from adbsat_ros.estimator.settings import WrenchSettings
-from adbsat_ros.estimator.shading import ShadingSource
-from adbsat_ros.physics.panel_method import PanelMethod
-from adbsat_ros.physics.solar import solar_coefficients
+from adbsat_ros.physics.model import Model
 
 
 class SolarPressureSource:
@@ -29,30 +26,19 @@ class SolarPressureSource:
 
     Parameters
     ----------
-    method : PanelMethod
-        Mesh, materials (``specular_reflectivity``, ``diffuse_reflectivity``) and reference
-        (A_ref, L_ref, the centre of mass as moment point).
-    settings : WrenchSettings
-        ``state_frame`` and the shading settings (the Sun's cache is made like the flow's).
+    model : Model
+        A rigid body's panel method (materials' ``specular_reflectivity`` and
+        ``diffuse_reflectivity``, reference: A_ref, L_ref, the centre of mass as moment point)
+        and its shading cache (:meth:`Model.solar`).
+    state_frame : {"eci", "ecef"}
     orientation_options : tuple
         The checked Earth-orientation options of the flight conditions (for an ECEF state).
-    shading : ShadingSource, optional
-        The Sun's shading source of earlier settings, kept if its settings are the same.
     """
 
-    def __init__(
-        self,
-        method: PanelMethod,
-        settings: WrenchSettings,
-        orientation_options,
-        shading: ShadingSource | None = None,
-    ):
-        self.method = method
-        self.state_frame = settings.state_frame
+    def __init__(self, model: Model, state_frame: str, orientation_options):
+        self.model = model
+        self.state_frame = state_frame
         self.orientation_options = orientation_options
-        if shading is None or shading.key != ShadingSource.key_of(settings):
-            shading = ShadingSource(method.mesh, settings)
-        self.shading = shading
         self.sun_track = SunTrack()
 
     def sample(self, conditions: FlightConditions, rotation) -> SolarSample:
@@ -74,9 +60,8 @@ class SolarPressureSource:
         if sun.lit_fraction <= 0.0:
             zero = np.zeros(3)
             return SolarSample(zero, zero.copy(), sun_body, 0.0, sun.pressure, 0.0)
-        lighting, _ = self.shading.lighting(-sun_body)  # photons travel away from the Sun
-        coefficients = solar_coefficients(self.method, sun_body, lighting=lighting)
-        reference = self.method.reference
+        coefficients = self.model.solar(sun_body)
+        reference = self.model.method.reference
         scale = sun.pressure * sun.lit_fraction * reference.area
         return SolarSample(
             force=scale * coefficients.Cf_G,

@@ -1,5 +1,5 @@
-"""The wrench at one attitude once the flight conditions are known: from the coefficient
-database, or from the panel method with the shading cache. Both take the gas motion relative to
+"""The wrench at one attitude once the flight conditions are known: the model's coefficients
+(panel method with its shading cache, or a coefficient database) at the gas motion relative to
 the body in body axes.
 """
 
@@ -9,12 +9,10 @@ import datetime as _dt
 import time
 from typing import NamedTuple
 
-from adbsat_ros.database.matching import DatabaseCoefficients
 from adbsat_ros.environment.conditions import FlightConditions
-from adbsat_ros.estimator.joints import JointConfiguration
 from adbsat_ros.estimator.samples import JointSample, Rejection, WrenchSample
-from adbsat_ros.estimator.shading import ShadingSource
-from adbsat_ros.geometry.frames import unit_vector
+from adbsat_ros.physics.model import Model
+from adbsat_ros.physics.model_evaluate import Joints
 
 
 class Moment(NamedTuple):
@@ -28,79 +26,29 @@ class Moment(NamedTuple):
     started: float
 
 
-def database_wrench(
-    database: DatabaseCoefficients, reference, gas_body, q: float, moment: Moment
+def wrench_sample(
+    model: Model, gas_body, flow, changes: dict | None, joints: Joints | None, moment: Moment
 ) -> WrenchSample:
-    """The wrench of the database's coefficients at the flow direction ``gas_body`` (body axes)
-    and dynamic pressure q [Pa].
+    """The wrench of ``model`` (articulated: at ``joints``) at the flow direction ``gas_body``
+    (body axes); ``changes`` the surface's ``alpha`` and ``alpha_n`` from an accommodation
+    model, or None for the materials'.
 
     Raises
     ------
     Rejection
-        ``outside_database``.
+        ``outside_database`` for a direction the database does not cover, ``compute_error``
+        for what the panel method refuses.
     """
-    u_body = unit_vector(gas_body)
-    try:
-        cf, cm = database.body_coefficients(u_body)
-    except ValueError as exc:
-        raise Rejection("outside_database", str(exc)) from None
-    return WrenchSample(
-        stamp=moment.stamp,
-        time=moment.time,
-        force=q * reference.area * cf,
-        torque=(q * reference.area * reference.length) * cm,
-        force_coefficients=cf,
-        moment_coefficients=cm,
-        reference_area=reference.area,
-        reference_length=reference.length,
-        dynamic_pressure=q,
-        conditions=moment.conditions,
-        coefficients=None,
-        flow_direction_body=u_body,
-        shading_cache_hit=None,
-        compute_seconds=time.perf_counter() - moment.started,
-        rotation=moment.rotation,
-    )
-
-
-def panel_wrench(
-    method,
-    shading: ShadingSource,
-    gas_body,
-    flow,
-    alpha: float | None,
-    joints: JointConfiguration | None,
-    moment: Moment,
-) -> WrenchSample:
-    """The wrench of the panel method (articulated: at ``joints``) at the flow direction
-    ``gas_body`` (body axes); ``alpha`` from an accommodation model, or None for the materials'.
-
-    Raises
-    ------
-    Rejection
-        ``compute_error`` for what the panel method refuses.
-    """
-    # (the caches key on the direction)
-    if joints is None:
-        lighting, hit = shading.lighting(gas_body)
-    else:
-        lighting, hit = shading.lighting(gas_body, joints.positions, joints.vertices)
-    surface = None if alpha is None else method.surface_with(alpha=alpha, alpha_n=alpha)
     q = flow.dynamic_pressure()
-    sample = None
-    try:  # (the panel method makes the direction a unit vector)
-        if joints is None:
-            coefficients = method.coefficients(
-                flow, flow_direction=gas_body, lighting=lighting, surface=surface
-            )
-        else:
-            articulated = method.coefficients(
-                flow, joints.posed, flow_direction=gas_body, lighting=lighting, surface=surface
-            )
-            coefficients = articulated.total
-            sample = joint_sample(method.body, articulated, q)
+    try:
+        coefficients = model.evaluate(flow, gas_body, joints, changes=changes)
     except ValueError as exc:
-        raise Rejection("compute_error", str(exc)) from None
+        reason = "outside_database" if model.lookup is not None else "compute_error"
+        raise Rejection(reason, str(exc)) from None
+    sample = None
+    if joints is not None:
+        sample = JointSample(coefficients, q, model.body.links)
+        coefficients = coefficients.total
     reference = coefficients.reference
     return WrenchSample(
         stamp=moment.stamp,
@@ -113,15 +61,9 @@ def panel_wrench(
         reference_length=reference.length,
         dynamic_pressure=q,
         conditions=moment.conditions,
-        coefficients=coefficients,
+        coefficients=None if model.lookup is not None else coefficients,
         flow_direction_body=coefficients.flow_direction,
-        shading_cache_hit=hit,
         compute_seconds=time.perf_counter() - moment.started,
         rotation=moment.rotation,
         joints=sample,
     )
-
-
-def joint_sample(body, articulated, q: float) -> JointSample:
-    """The joints and links of ``articulated`` coefficients at dynamic pressure q [Pa]."""
-    return JointSample(articulated, q, body.links)

@@ -60,15 +60,15 @@ def test_the_wrench_is_the_panel_method_of_the_posed_body():
     sample = est.on_attitude(1.0, TILTED)
     positions = dict(zip(HINGES, angles))
     mesh = est.body.mesh(positions)
-    cache = est.shading_cache
-    grid_key, _ = cache.cache_of(positions)
+    cache = est.model.cache
+    [(_, grid_key)] = vertices = cache.vertices(positions)
     np.testing.assert_allclose(
         list(cache.configuration(grid_key).values()), angles, rtol=0, atol=1e-15
     )
     method = PanelMethod(mesh, "sentman", reference=est.method.reference)
     u = sample.flow_direction_body
-    _, inner = cache.cache_of(positions)
-    lighting = inner.cell_lighting(inner.key(u))
+    [(_, cell)] = cache.read(u, vertices, count=False)  # (the cell's centre, shaded)
+    lighting = cell.lighting
     want = method.coefficients(_flow(sample), flow_direction=u, lighting=lighting)
     q = sample.dynamic_pressure
     np.testing.assert_allclose(sample.force, want.force(q), rtol=1e-12, atol=1e-18)
@@ -186,12 +186,15 @@ def test_robot_description_text_is_the_body():
     assert est.on_attitude(1.0, TILTED).joints.names == HINGES
 
 
+def diagnostics(est) -> dict:
+    return est.diagnostic_values(None, [])
+
+
 def test_a_slowly_turning_array_poses_the_body_once_per_grid_step():
     """Sun tracking: 0.1 deg/s for 20 s at 20 Hz (400 messages, 2 deg) with the default grid
     of 0.25 deg: about 2 / 0.25 + 1 configurations shaded, every other message a hit."""
     est = estimator(shading_interpolation=False)
     est.on_state(0.0, [R, 0.0, 1e3], [0.0, V, 10.0])
-    cache = est.shading_cache
     for k in range(400):
         t = 0.05 * k
         if k % 20 == 0:
@@ -199,25 +202,31 @@ def test_a_slowly_turning_array_poses_the_body_once_per_grid_step():
         angle = math.radians(10.0 + 0.1 * t)
         est.on_joint_state(t, HINGES, (angle, angle))  # (both wings track the Sun)
         est.on_attitude(t, TILTED)
-    assert 8 <= cache.configuration_misses <= 10
-    assert cache.configuration_hits == 400 - cache.configuration_misses
+    values = diagnostics(est)
+    assert 8 <= values["joint_configurations_shaded"] <= 10
+    assert values["joint_configuration_hits"] == 400 - values["joint_configurations_shaded"]
 
 
 def test_the_configurations_share_the_bound_on_the_lightings_kept():
-    """shading_cache_size bounds the lightings kept in all: with 6 of them over 2
-    configurations, each configuration keeps 3 flow directions, the least recently used
-    dropped."""
+    """shading_cache_size bounds the lightings kept over all configurations: of eight flow
+    cells with a bound of 6 the two least recently used are dropped (shaded again when read
+    again), the latest kept."""
     est = estimator(shading_interpolation=False, shading_cache_size=6, joint_shading_cache_size=2)
     ready(est)
-    cache = est.shading_cache
-    for k in range(8):  # eight attitudes 2 deg apart about x: eight direction cells
-        turn = math.radians(2.0 * k)
-        est.on_attitude(1.0 + 0.01 * k, (math.sin(turn / 2), 0.0, 0.0, math.cos(turn / 2)))
-    assert cache.misses == 8 and cache.configuration_misses == 1
-    (key,) = {configuration for configuration, _ in cache.last_keys}
-    kept = cache.cache_at(key)
-    assert kept.max_entries == 3
-    assert len(kept) == 3 and kept.evictions == 5
+
+    def attitude(k, stamp):
+        turn = math.radians(2.0 * k)  # eight attitudes 2 deg apart about x: eight cells
+        return est.on_attitude(stamp, (math.sin(turn / 2), 0.0, 0.0, math.cos(turn / 2)))
+
+    for k in range(8):
+        attitude(k, 1.0 + 0.01 * k)
+    counts = diagnostics(est)
+    assert (counts["shading_cache_misses"], counts["shading_cache_hits"]) == (8, 0)
+    assert counts["joint_configurations_shaded"] == 1
+    attitude(7, 1.1)  # kept
+    assert diagnostics(est)["shading_cache_hits"] == 1
+    attitude(0, 1.11)  # dropped: shaded again
+    assert diagnostics(est)["shading_cache_misses"] == 9
 
 
 def test_articulated_bodies_refuse_a_database_and_solar_pressure():
@@ -247,13 +256,12 @@ def test_interpolated_configurations_blend_the_grid_points_around_the_joints():
     est = estimator(joint_shading_interpolation=True, joint_shading_resolution_deg=2.0)
     angle = math.radians(2.0 * 5.3)
     ready(est, (angle, angle))
-    cache = est.shading_cache
     for k in range(10):
         est.on_attitude(1.0 + 0.01 * k, TILTED)
-    assert cache.interpolate
-    assert cache.configuration_misses == 2
-    assert cache.configuration_hits == 2 * 10 - 2
-    assert {key for key, _ in cache.last_keys} == {(5, 5), (6, 6)}
+    values = diagnostics(est)
+    assert values["joint_configurations_shaded"] == 2
+    assert values["joint_configuration_hits"] == 2 * 10 - 2
+    assert {key for key, _ in est.model.cache.last_keys} == {(5, 5), (6, 6)}
 
 
 def test_the_joint_torques_message_is_made_only_when_asked_for():

@@ -271,7 +271,8 @@ def test_played_bag_through_the_node_equals_the_offline_analysis(tmp_path):
                 time.sleep(0.02)
         estimator = node.estimator
         rejections = {k: v for k, v in estimator.rejections.items() if v}
-        hits, misses = estimator.shading_cache_hits, estimator.shading_cache_misses
+        counts = estimator.diagnostic_values(None, [])
+        hits, misses = counts["shading_cache_hits"], counts["shading_cache_misses"]
     finally:
         executor.shutdown()
         listener.destroy_node()
