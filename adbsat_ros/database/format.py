@@ -28,6 +28,8 @@ CSV_TITLE = "adbsat_ros aerodynamic database (ADBSat coefficient names; angles i
 SCALAR_FIELDS = ("CD", "CL", "CY", "AreaProj")
 #: Per-attitude vector arrays, shape (na, nb, 3).
 VECTOR_FIELDS = ("Cf_w", "Cf_f", "Cm_B", "Cf_G", "Cm_G")
+#: Every array of a database file but its metadata.
+ARRAYS = ("aoa_deg", "aos_deg", *SCALAR_FIELDS, *VECTOR_FIELDS)
 #: Metadata keys every database carries.
 REQUIRED_METADATA = (
     "format_version",
@@ -120,9 +122,7 @@ class AeroDatabase:
             raise ValueError(f"{path}: a database file must end in .npz")
         if self.metadata.get("partial"):
             raise ValueError(f"{path}: the build was stopped; a partial grid is not a database")
-        arrays = {"aoa_deg": self.aoa_deg, "aos_deg": self.aos_deg}
-        for name in SCALAR_FIELDS + VECTOR_FIELDS:
-            arrays[name] = getattr(self, name)
+        arrays = {name: getattr(self, name) for name in ARRAYS}
         arrays["metadata"] = np.array(json.dumps(self.metadata, allow_nan=False))
         with open(path, "wb") as stream:
             np.savez_compressed(stream, **arrays)
@@ -239,11 +239,7 @@ def load_database(path) -> AeroDatabase:
         _fail(path, "no such file")
     except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
         _fail(path, f"not a readable database (.npz) file: {exc}")
-    missing = [
-        k
-        for k in ("aoa_deg", "aos_deg", "metadata", *SCALAR_FIELDS, *VECTOR_FIELDS)
-        if k not in contents
-    ]
+    missing = [k for k in ("aoa_deg", "aos_deg", "metadata", *ARRAYS[2:]) if k not in contents]
     if missing:
         _fail(path, f"missing arrays {', '.join(missing)}")
     raw = contents["metadata"]
@@ -268,7 +264,7 @@ def load_database(path) -> AeroDatabase:
         if key not in metadata["reference"]:
             _fail(path, f"metadata reference lacks {key}")
     arrays = {}
-    for name in ("aoa_deg", "aos_deg", *SCALAR_FIELDS, *VECTOR_FIELDS):
+    for name in ARRAYS:
         value = contents[name]
         if value.dtype.kind not in "fi":
             _fail(path, f"{name} is not numeric (dtype {value.dtype})")
@@ -285,10 +281,8 @@ def load_database(path) -> AeroDatabase:
     if arrays["aos_deg"][0] < -90.0 or arrays["aos_deg"][-1] > 90.0:
         _fail(path, "aos_deg outside [-90, 90]")
     grid = (arrays["aoa_deg"].size, arrays["aos_deg"].size)
-    for name in SCALAR_FIELDS:
-        if arrays[name].shape != grid:
-            _fail(path, f"{name} has shape {arrays[name].shape}, expected {grid}")
-    for name in VECTOR_FIELDS:
-        if arrays[name].shape != grid + (3,):
-            _fail(path, f"{name} has shape {arrays[name].shape}, expected {grid + (3,)}")
+    for name in ARRAYS[2:]:
+        expected = grid + ((3,) if name in VECTOR_FIELDS else ())
+        if arrays[name].shape != expected:
+            _fail(path, f"{name} has shape {arrays[name].shape}, expected {expected}")
     return AeroDatabase(**arrays, metadata=metadata, path=path)

@@ -11,6 +11,8 @@ tests at random off-grid attitudes, not a proof.
 
 from __future__ import annotations
 
+import bisect
+
 import numpy as np
 
 from adbsat_ros.database.format import AeroDatabase
@@ -31,6 +33,26 @@ def _locate(nodes: np.ndarray, x: np.ndarray):
     i = np.clip(np.searchsorted(nodes, x, side="right") - 1, 0, nodes.size - 2)
     t = (x - nodes[i]) / (nodes[i + 1] - nodes[i])
     return i, t
+
+
+def cell(nodes: list, x: float) -> tuple:
+    """``(i, i + 1, t)``: the cell of ``x`` in the increasing ``nodes`` (a list of floats) and
+    its fraction, as :func:`_locate` on one value (an axis of one node: ``(0, 0, 0.0)``)."""
+    n = len(nodes)
+    if n == 1:
+        return 0, 0, 0.0
+    i = min(max(bisect.bisect_right(nodes, x) - 1, 0), n - 2)
+    return i, i + 1, (x - nodes[i]) / (nodes[i + 1] - nodes[i])
+
+
+def bilinear_one(a_nodes: list, b_nodes: list, rows: list, qa: float, qb: float) -> list:
+    """:func:`bilinear` at one point on Python floats (``rows``: ``values.tolist()``), the
+    estimator's path; exact at the nodes."""
+    i, i1, t = cell(a_nodes, qa)
+    j, j1, s = cell(b_nodes, qb)
+    v00, v01, v10, v11 = rows[i][j], rows[i][j1], rows[i1][j], rows[i1][j1]
+    w00, w01, w10, w11 = (1.0 - t) * (1.0 - s), (1.0 - t) * s, t * (1.0 - s), t * s
+    return [w00 * p + w01 * q + w10 * r + w11 * z for p, q, r, z in zip(v00, v01, v10, v11)]
 
 
 def bilinear(a_nodes, b_nodes, values, qa, qb) -> np.ndarray:

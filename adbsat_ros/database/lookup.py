@@ -11,15 +11,15 @@ reduced modulo 360 deg into its range, else ValueError. docs/physics.md, section
 
 from __future__ import annotations
 
-import bisect
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from adbsat_ros.database.format import AeroDatabase, load_database
-from adbsat_ros.database.interpolation import bilinear
+from adbsat_ros.database.interpolation import bilinear, bilinear_one
 from adbsat_ros.database.sweep_reader import is_sweep_store, open_sweep, sweep_database
+from adbsat_ros.geometry import frames
 
 #: Angles within this many degrees of the grid's ends count as inside (rounding).
 ANGLE_TOLERANCE_DEG = 1e-9
@@ -157,14 +157,6 @@ class CoefficientLookup:
                 )
         return min(max(aoa_deg, a0), a1), aos_deg
 
-    @staticmethod
-    def _cell(nodes: list, x: float):
-        n = len(nodes)
-        if n == 1:
-            return 0, 0, 0.0
-        i = min(max(bisect.bisect_right(nodes, x) - 1, 0), n - 2)
-        return i, i + 1, (x - nodes[i]) / (nodes[i + 1] - nodes[i])
-
     # ------------------------------------------------------------------------------ public
     def body_coefficients(self, aoa_deg: float, aos_deg: float):
         """Interpolated Cf_G and Cm_G, shape (3,), at one attitude [deg] (the fast path).
@@ -178,12 +170,7 @@ class CoefficientLookup:
     def _interpolate(self, aoa_deg: float, aos_deg: float) -> list:
         """The six interpolated values (Cf_G, Cm_G) as Python floats (exact at the nodes)."""
         a, b = self._reduce(aoa_deg, aos_deg)
-        i, i1, t = self._cell(self._aoa_list, a)
-        j, j1, s = self._cell(self._aos_list, b)
-        rows = self._rows
-        v00, v01, v10, v11 = rows[i][j], rows[i][j1], rows[i1][j], rows[i1][j1]
-        w00, w01, w10, w11 = (1.0 - t) * (1.0 - s), (1.0 - t) * s, t * (1.0 - s), t * s
-        return [w00 * p + w01 * q + w10 * r + w11 * z for p, q, r, z in zip(v00, v01, v10, v11)]
+        return bilinear_one(self._aoa_list, self._aos_list, self._rows, a, b)
 
     def body_coefficients_many(self, aoa_deg, aos_deg):
         """Vectorised :meth:`body_coefficients` for arrays of angles [deg] (broadcast together);
@@ -208,35 +195,22 @@ class CoefficientLookup:
         if flow_direction is not None:
             if aoa_deg is not None or aos_deg is not None:
                 raise ValueError("give either aoa_deg/aos_deg or flow_direction, not both")
-            u = np.asarray(flow_direction, dtype=float)
-            if u.shape == (3,):
-                x, y, z = u.tolist()
-                norm = math.hypot(x, y, z)
-            else:
-                norm = float("nan")
-            if not math.isfinite(norm) or norm == 0.0:
-                raise ValueError(
-                    f"flow_direction must be a finite non-zero 3-vector, got {flow_direction!r}"
-                )
-            a_rad = math.atan2(z / norm, -x / norm)  # frames.angles_of_flow, on floats
-            b_rad = math.asin(max(-1.0, min(1.0, y / norm)))
-            aoa_deg, aos_deg = math.degrees(a_rad), math.degrees(b_rad)
+            u = frames.direction_components(flow_direction, "flow_direction")
+            aoa_deg, aos_deg = (math.degrees(x) for x in frames.angles_of_flow(u))
         elif aoa_deg is None or aos_deg is None:
             raise ValueError("give aoa_deg and aos_deg, or flow_direction")
         aoa_deg, aos_deg = float(aoa_deg), float(aos_deg)
         row = self._interpolate(aoa_deg, aos_deg)
-        fx, fy, fz = row[0], row[1], row[2]
-        # Cf_w = L_WB L_GB Cf_G, written out (frames.body_to_wind; L_GB = diag(1, -1, -1))
-        a, b = math.radians(aoa_deg), math.radians(aos_deg)
-        ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
+        Cf_G = np.array(row[:3])
+        Cf_w = frames.mesh_to_wind(math.radians(aoa_deg), math.radians(aos_deg)) @ Cf_G
         return InterpolatedCoefficients(
             aoa_deg=aoa_deg,
             aos_deg=aos_deg,
-            Cf_G=np.array(row[:3]),
+            Cf_G=Cf_G,
             Cm_G=np.array(row[3:]),
-            CD=-(ca * cb * fx - sb * fy - sa * cb * fz),
-            CL=sa * fx + ca * fz,
-            CY=-ca * sb * fx - cb * fy + sa * sb * fz,
+            CD=-float(Cf_w[0]),
+            CL=-float(Cf_w[2]),
+            CY=float(Cf_w[1]),
             reference_area=self._area,
             reference_length=self._length,
         )

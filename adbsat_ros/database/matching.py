@@ -16,7 +16,7 @@ import numpy as np
 
 from adbsat_ros.database.format import DatabaseError
 from adbsat_ros.database.lookup import CoefficientLookup
-from adbsat_ros.database.metadata import surface_values
+from adbsat_ros.database.metadata import model_values, surface_values
 from adbsat_ros.geometry import frames
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
@@ -40,11 +40,7 @@ def database_mismatches(metadata: dict, method: PanelMethod) -> list:
             f"({method.mesh.n_panels} panels, fingerprint {method.mesh.fingerprint()})"
         )
     model = metadata.get("model", {})
-    for key, ours in (
-        ("name", method.model),
-        ("incident_temperature", method.options.incident_temperature),
-        ("adbsat_compat", bool(method.options.adbsat_compat)),
-    ):
+    for key, ours in model_values(method).items():
         if model.get(key) != ours:
             label = "gsi_model" if key == "name" else key
             out.append(f"{label}: database {model.get(key)!r}, node {ours!r}")
@@ -115,8 +111,4 @@ class DatabaseCoefficients:
         ``u_body`` (body frame); ValueError if the attitude is outside the database's range."""
         aoa, aos = frames.angles_of_flow(u_body)
         Cf, Cm = self.lookup.body_coefficients(math.degrees(aoa), math.degrees(aos))
-        o = self._offset
-        carry = np.array(
-            [o[1] * Cf[2] - o[2] * Cf[1], o[2] * Cf[0] - o[0] * Cf[2], o[0] * Cf[1] - o[1] * Cf[0]]
-        )
-        return Cf, Cm + carry / self.reference_length
+        return Cf, Cm + frames.cross(self._offset, Cf) / self.reference_length

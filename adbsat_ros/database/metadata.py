@@ -27,6 +27,15 @@ def surface_values(props: SurfaceProperties) -> dict:
     return {name: float(getattr(props, name)) for name in SURFACE_PARAMETERS}
 
 
+def model_values(method: PanelMethod) -> dict:
+    """The gas-surface model of ``method`` as the metadata records it (and matching compares)."""
+    return {
+        "name": method.model,
+        "incident_temperature": method.options.incident_temperature,
+        "adbsat_compat": bool(method.options.adbsat_compat),
+    }
+
+
 def material_override_texts(materials: MaterialTable) -> list:
     """``NAME:key=value,...`` texts that rebuild ``materials`` (same default) exactly (``repr``)."""
     texts = []
@@ -110,11 +119,7 @@ def describe_setup(
             "n_panels": int(mesh.n_panels),
             "fingerprint": mesh.fingerprint(),
         },
-        "model": {
-            "name": method.model,
-            "incident_temperature": method.options.incident_temperature,
-            "adbsat_compat": bool(method.options.adbsat_compat),
-        },
+        "model": model_values(method),
         "materials": {"default": surface_values(method.materials.default), "overrides": texts},
         "flow": _flow_dict(flow),
         "reference": {

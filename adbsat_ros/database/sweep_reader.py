@@ -9,28 +9,22 @@ refused with the axis and its range.
 
 from __future__ import annotations
 
-import bisect
 import itertools
 import os
 
 import numpy as np
 
-from adbsat_ros.database.format import AeroDatabase
-from adbsat_ros.database.interpolation import estimate_interpolation_error
+from adbsat_ros.database.format import SCALAR_FIELDS, VECTOR_FIELDS, AeroDatabase
+from adbsat_ros.database.interpolation import cell, estimate_interpolation_error
 from adbsat_ros.geometry import frames
 
 #: Values within this much of an axis's ends count as inside (rounding).
 TOLERANCE = 1e-9
-#: The database's arrays and the sweep's variables they are read from.
-FIELDS = (
-    ("CD", "CD"),
-    ("CL", "CL"),
-    ("CY", "CY"),
-    ("AreaProj", "area_projected"),
-    ("Cf_w", "Cf_w"),
-    ("Cm_B", "Cm_B"),
-    ("Cf_G", "Cf_G"),
-    ("Cm_G", "Cm_G"),
+#: The database's arrays and the sweep's variables they are read from (Cf_f is made from Cf_G).
+FIELDS = tuple(
+    (name, "area_projected" if name == "AreaProj" else name)
+    for name in SCALAR_FIELDS + VECTOR_FIELDS
+    if name != "Cf_f"
 )
 
 
@@ -75,10 +69,9 @@ def bracket(nodes: np.ndarray, name: str, value: float) -> list:
         raise ValueError(f"{name} {value!r} is outside the sweep's range [{low:g}, {high:g}]")
     if nodes.size == 1:
         return [(0, 1.0)]
-    k = min(max(bisect.bisect_right(nodes.tolist(), value) - 1, 0), nodes.size - 2)
-    t = (value - nodes[k]) / (nodes[k + 1] - nodes[k])
+    k, k1, t = cell(nodes.tolist(), value)
     t = min(max(t, 0.0), 1.0)
-    return [(k, 1.0 - t), (k + 1, t)]
+    return [(k, 1.0 - t), (k1, t)]
 
 
 def corners(axes: dict, values: dict) -> list:
@@ -103,10 +96,7 @@ def corners(axes: dict, values: dict) -> list:
 
 def slice_database(dataset, index: dict, stated_error: bool = False) -> AeroDatabase:
     """The attitude grid at grid point ``index`` (axis name -> position) of the other axes."""
-    arrays = {
-        name: np.asarray(dataset[source].isel(index).values, dtype=float) for name, source in FIELDS
-    }
-    return _database(dataset, arrays, {}, stated_error)
+    return _database(dataset, _arrays(dataset, index), {}, stated_error)
 
 
 def sweep_database(dataset, **values) -> AeroDatabase:
@@ -116,14 +106,17 @@ def sweep_database(dataset, **values) -> AeroDatabase:
     axes = other_axes(dataset)
     arrays = None
     for corner, weight in corners(axes, values):
-        index = dict(zip(axes, corner))
-        part = {
-            name: weight * np.asarray(dataset[source].isel(index).values, dtype=float)
-            for name, source in FIELDS
-        }
+        part = _arrays(dataset, dict(zip(axes, corner)), weight)
         arrays = part if arrays is None else {k: arrays[k] + part[k] for k in arrays}
     at = {name: float(values[name]) for name in axes}
     return _database(dataset, arrays, at, stated_error=True)
+
+
+def _arrays(dataset, index: dict, weight: float = 1.0) -> dict:
+    return {
+        name: weight * np.asarray(dataset[source].isel(index).values, dtype=float)
+        for name, source in FIELDS
+    }
 
 
 def _database(dataset, arrays: dict, at: dict, stated_error: bool) -> AeroDatabase:
