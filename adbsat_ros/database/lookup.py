@@ -1,12 +1,7 @@
-"""Coefficients at any attitude from an aerodynamic database, by interpolation, with stated error.
-
-Bilinear interpolation in (aoa, aos) of the mesh-frame vectors Cf_G and Cm_G, which are
-single-valued at the sideslip poles (wind-axis coefficients are not); CD, CL and CY follow by
-the exact rotation to wind axes at the query angles. Bilinear because the coefficients have
-kinks (shading, grazing faces): it stays within the corner values of a cell, is exact at the
-nodes and first-order even at kinks, where higher orders overshoot. An aoa grid that closes the
-circle (span 360 deg, or a gap of at most its largest step) wraps around; otherwise a query is
-reduced modulo 360 deg into its range, else ValueError. docs/physics.md, section 9.
+"""Coefficients at any attitude from an aerodynamic database: bilinear in (aoa, aos) of the
+mesh-frame Cf_G and Cm_G (single-valued at the poles; no overshoot at shading's kinks), CD, CL, CY
+by the exact rotation to wind axes. An aoa grid closing the circle wraps around; otherwise a
+query is reduced modulo 360 deg into its range, else ValueError. docs/physics.md, section 9.
 """
 
 from __future__ import annotations
@@ -28,18 +23,10 @@ ANGLE_TOLERANCE_DEG = 1e-9
 # ---------------------------------------------------------------------------------- results
 @dataclass(frozen=True, eq=False)
 class InterpolatedCoefficients:
-    """Coefficients at one attitude from :class:`CoefficientLookup`.
+    """Coefficients at one attitude [deg] from :class:`CoefficientLookup`.
 
-    Attributes
-    ----------
-    aoa_deg, aos_deg : float
-        The attitude asked for [deg].
-    Cf_G, Cm_G : ndarray, shape (3,)
-        Force and moment coefficients in the mesh frame G (moment about the database's point).
-    CD, CL, CY : float
-        Drag, lift and side-force coefficients (ADBSat's, from Cf_w = L_WG Cf_G).
-    reference_area, reference_length : float
-        A_ref [m^2] and L_ref [m] of the database.
+    Cf_G, Cm_G (3,) are in the mesh frame G, moments about the database's point; CD, CL, CY are
+    ADBSat's, from Cf_w = L_WG Cf_G; reference_area [m^2], reference_length [m].
     """
 
     aoa_deg: float
@@ -63,21 +50,10 @@ class InterpolatedCoefficients:
 
 # ---------------------------------------------------------------------------------- lookup
 class CoefficientLookup:
-    """Interpolating lookup of a database's Cf_G, Cm_G (and CD, CL, CY) at any attitude.
+    """Interpolating lookup of an :class:`AeroDatabase`'s coefficients at any attitude.
 
-    Parameters
-    ----------
-    database : AeroDatabase
-
-    Attributes
-    ----------
-    periodic : bool
-        True if the aoa grid closes the circle (queries wrap around).
-    aoa_range, aos_range : tuple of float
-        Covered angles [deg] (aoa_range spans 360 deg when periodic).
-    error_bound : dict
-        The stated interpolation error stored in the database (``force_coefficient``,
-        ``moment_coefficient``, ``method``, ...; :mod:`adbsat_ros.database.interpolation`).
+    ``periodic``: the aoa grid closes the circle; ``aoa_range``, ``aos_range``: the angles
+    covered [deg]; ``error_bound``: the database's stated error (:mod:`.interpolation`).
     """
 
     def __init__(self, database: AeroDatabase):
@@ -110,12 +86,9 @@ class CoefficientLookup:
     @classmethod
     def load(cls, path, **values) -> "CoefficientLookup":
         """A lookup of the database file ``path``, or of a sweep's Zarr store at a value of each
-        of its axes besides aoa and aos, by name (``speed=7600.0``; linear between grid values).
-
-        Raises :class:`DatabaseError` for a database file that cannot be read; ValueError for a
-        sweep store that is incomplete, an axis value missing, unknown or out of range, or axis
-        values given for a database file.
-        """
+        other axis (``speed=7600.0``). :class:`DatabaseError` for an unreadable file; ValueError
+        for an incomplete store, an axis value missing, unknown or out of range, or given for a
+        file."""
         if is_sweep_store(path):
             return cls(sweep_database(open_sweep(path), **values))
         if values:
@@ -126,7 +99,6 @@ class CoefficientLookup:
 
     # ------------------------------------------------------------------------------ angles
     def _reduce(self, aoa_deg: float, aos_deg: float):
-        """Query angles as grid coordinates; ValueError naming the angle and the range."""
         if not (math.isfinite(aoa_deg) and math.isfinite(aos_deg)):
             raise ValueError(f"angles must be finite, got aoa {aoa_deg!r}, aos {aos_deg!r} deg")
         tol = ANGLE_TOLERANCE_DEG
@@ -159,22 +131,17 @@ class CoefficientLookup:
 
     # ------------------------------------------------------------------------------ public
     def body_coefficients(self, aoa_deg: float, aos_deg: float):
-        """Interpolated Cf_G and Cm_G, shape (3,), at one attitude [deg] (the fast path).
-
-        Moments about the database's moment point. Raises ValueError if an angle is outside the
-        database's range (naming it and the range).
-        """
+        """Interpolated Cf_G and Cm_G, shape (3,), at one attitude [deg], moments about the
+        database's point; ValueError naming an angle outside the database's range."""
         row = self._interpolate(float(aoa_deg), float(aos_deg))
         return np.array(row[:3]), np.array(row[3:])
 
     def _interpolate(self, aoa_deg: float, aos_deg: float) -> list:
-        """The six interpolated values (Cf_G, Cm_G) as Python floats (exact at the nodes)."""
         a, b = self._reduce(aoa_deg, aos_deg)
         return bilinear_one(self._aoa_list, self._aos_list, self._rows, a, b)
 
     def body_coefficients_many(self, aoa_deg, aos_deg):
-        """Vectorised :meth:`body_coefficients` for arrays of angles [deg] (broadcast together);
-        returns Cf_G, Cm_G of shape (..., 3)."""
+        """:meth:`body_coefficients` for arrays of angles [deg] (broadcast): Cf_G, Cm_G (..., 3)."""
         aoa, aos = np.broadcast_arrays(np.asarray(aoa_deg, float), np.asarray(aos_deg, float))
         flat = [
             self._reduce(a, b) for a, b in zip(aoa.reshape(-1).tolist(), aos.reshape(-1).tolist())

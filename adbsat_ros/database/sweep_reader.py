@@ -1,10 +1,6 @@
 """A sweep's Zarr store read as aerodynamic databases: its (aoa, aos) grid at any point of the
-other axes.
-
-At a grid value the stored slice, between two the slices blended linearly (multilinear over
-several axes); the bilinear lookup in attitude being linear in the grid's values, the result is
-bilinear in attitude and linear in the other axes at once. A value outside an axis's range is
-refused with the axis and its range.
+other axes, the slices around it blended multilinearly (so a lookup is bilinear in attitude and
+linear in the other axes at once). docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -29,7 +25,7 @@ FIELDS = tuple(
 
 
 def is_sweep_store(path) -> bool:
-    """Whether ``path`` is a directory holding a Zarr group (a sweep's store, say)."""
+    """Whether ``path`` is a directory holding a Zarr group."""
     path = os.fspath(path)
     return os.path.isdir(path) and any(
         os.path.exists(os.path.join(path, name)) for name in ("zarr.json", ".zgroup")
@@ -37,8 +33,7 @@ def is_sweep_store(path) -> bool:
 
 
 def open_sweep(path):
-    """The xarray Dataset of the complete sweep store at ``path``; ValueError naming ``path``
-    if it is no sweep store or the sweep is not complete."""
+    """The xarray Dataset of the complete sweep store ``path``, else ValueError naming it."""
     import xarray as xr
 
     try:
@@ -76,8 +71,7 @@ def bracket(nodes: np.ndarray, name: str, value: float) -> list:
 
 def corners(axes: dict, values: dict) -> list:
     """``[(index, weight), ...]`` of the grid points of ``axes`` (name -> values) around
-    ``values`` with weight > 0; ValueError for an axis not given or unknown, or a value outside
-    its range (named)."""
+    ``values``, weights > 0; ValueError naming an axis missing, unknown or out of range."""
     missing = sorted(set(axes) - set(values))
     unknown = sorted(set(values) - set(axes))
     if missing or unknown:
@@ -100,9 +94,8 @@ def slice_database(dataset, index: dict, stated_error: bool = False) -> AeroData
 
 
 def sweep_database(dataset, **values) -> AeroDatabase:
-    """The attitude grid at a value of every other axis (module docstring), with its stated
-    interpolation error in attitude; ValueError for an axis not given or unknown, or a value
-    outside its range (named)."""
+    """The attitude grid at a value of every other axis, with its stated interpolation error;
+    ValueError as :func:`corners`."""
     axes = other_axes(dataset)
     arrays = None
     for corner, weight in corners(axes, values):
