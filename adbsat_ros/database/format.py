@@ -1,10 +1,7 @@
-"""The aerodynamic database: coefficient grids over (aoa, aos) with their set-up, and its files.
-
-An :class:`AeroDatabase` holds ADBSat's coefficients (names and frames of
-:mod:`adbsat_ros.geometry.frames`) at every pair of two strictly increasing angle lists [deg],
-with the metadata to know and rebuild what was computed. Forces are ``q A_ref Cf`` [N], torques
-``q A_ref L_ref Cm`` [N m]. Files: a compressed ``.npz`` (the metadata as a JSON string) and a
-CSV with ``# key: value`` header lines. docs/physics.md, section 9.
+"""The aerodynamic database: coefficient grids over (aoa, aos) [deg] with their set-up, and its
+files (a compressed ``.npz`` with the metadata as a JSON string; a CSV with ``# key: value``
+header lines). Names and frames of :mod:`adbsat_ros.geometry.frames`; forces ``q A_ref Cf`` [N],
+torques ``q A_ref L_ref Cm`` [N m]. docs/physics.md, section 9.
 """
 
 from __future__ import annotations
@@ -18,8 +15,7 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 
-#: Version of the file layout that :meth:`AeroDatabase.save` writes and :func:`load_database`
-#: reads.
+#: Version of the file layout written and read.
 FORMAT_VERSION = 1
 #: The first line of a database's CSV file (after "# ").
 CSV_TITLE = "adbsat_ros aerodynamic database (ADBSat coefficient names; angles in degrees)"
@@ -28,6 +24,8 @@ CSV_TITLE = "adbsat_ros aerodynamic database (ADBSat coefficient names; angles i
 SCALAR_FIELDS = ("CD", "CL", "CY", "AreaProj")
 #: Per-attitude vector arrays, shape (na, nb, 3).
 VECTOR_FIELDS = ("Cf_w", "Cf_f", "Cm_B", "Cf_G", "Cm_G")
+#: Every array of a database file but its metadata.
+ARRAYS = ("aoa_deg", "aos_deg", *SCALAR_FIELDS, *VECTOR_FIELDS)
 #: Metadata keys every database carries.
 REQUIRED_METADATA = (
     "format_version",
@@ -52,21 +50,11 @@ class DatabaseError(ValueError):
 class AeroDatabase:
     """Coefficients of one satellite set-up over an (aoa, aos) grid.
 
-    Attributes
-    ----------
-    aoa_deg, aos_deg : ndarray, shapes (na,) and (nb,)
-        Angles of attack and sideslip angles [deg], strictly increasing.
-    CD, CL, CY : ndarray, shape (na, nb)
-        Drag, lift and side-force coefficients (ADBSat's, from Cf_w).
-    AreaProj : ndarray, shape (na, nb)
-        Lit projected area normal to the flow [m^2].
-    Cf_w, Cf_f, Cm_B, Cf_G, Cm_G : ndarray, shape (na, nb, 3)
-        Force coefficients in wind, flight and mesh axes; moment coefficients in ADBSat body
-        axes and mesh axes, about ``metadata["reference"]["moment_point"]``.
-    metadata : dict
-        JSON-ready set-up: the keys of :data:`REQUIRED_METADATA`, optionally ``conditions``.
-    path : str or None
-        File the database was loaded from (for messages).
+    ``aoa_deg`` (na,) and ``aos_deg`` (nb,) [deg] strictly increase; (na, nb): ``CD``, ``CL``,
+    ``CY`` and ``AreaProj`` (lit projected area [m^2]); (na, nb, 3): force coefficients in wind,
+    flight and mesh axes (``Cf_w``, ``Cf_f``, ``Cf_G``), moment coefficients in ADBSat body and
+    mesh axes (``Cm_B``, ``Cm_G``) about ``metadata["reference"]["moment_point"]``;
+    ``metadata``: the keys of :data:`REQUIRED_METADATA`, optionally ``conditions``.
     """
 
     aoa_deg: np.ndarray
@@ -85,12 +73,12 @@ class AeroDatabase:
 
     @property
     def shape(self) -> tuple:
-        """Grid shape (na, nb)."""
+        """(na, nb)."""
         return (self.aoa_deg.size, self.aos_deg.size)
 
     @property
     def n_attitudes(self) -> int:
-        """Number of attitudes na * nb."""
+        """na * nb."""
         return self.aoa_deg.size * self.aos_deg.size
 
     @property
@@ -104,40 +92,35 @@ class AeroDatabase:
         return float(self.metadata["reference"]["length"])
 
     def flow_directions(self) -> np.ndarray:
-        """Unit gas-flow directions u_G of the grid, shape (na, nb, 3) (frames module)."""
+        """Unit gas-flow directions u_G of the grid, shape (na, nb, 3)."""
         a, b = np.meshgrid(np.radians(self.aoa_deg), np.radians(self.aos_deg), indexing="ij")
         return frames.flow_direction(a, b)
 
     # ------------------------------------------------------------------------------ files
     def save(self, path) -> str:
-        """Write a compressed ``.npz`` file; returns the path written.
-
-        Raises ValueError if ``path`` does not end in ``.npz`` (numpy would silently append it)
-        or the build was stopped (``metadata["partial"]``); OSError if it cannot be written.
-        """
+        """Write a compressed ``.npz`` file, returning its path; ValueError unless ``path`` ends in
+        ``.npz`` (numpy would append it) or for a stopped build, OSError if it cannot write."""
         path = os.fspath(path)
         if not path.lower().endswith(".npz"):
             raise ValueError(f"{path}: a database file must end in .npz")
         if self.metadata.get("partial"):
             raise ValueError(f"{path}: the build was stopped; a partial grid is not a database")
-        arrays = {"aoa_deg": self.aoa_deg, "aos_deg": self.aos_deg}
-        for name in SCALAR_FIELDS + VECTOR_FIELDS:
-            arrays[name] = getattr(self, name)
+        arrays = {name: getattr(self, name) for name in ARRAYS}
         arrays["metadata"] = np.array(json.dumps(self.metadata, allow_nan=False))
         with open(path, "wb") as stream:
             np.savez_compressed(stream, **arrays)
         return path
 
     def csv_columns(self) -> list:
-        """Column names of :meth:`save_csv`, in order."""
+        """Column names of :meth:`save_csv`."""
         columns = ["aoa_deg", "aos_deg", "CD", "CL", "CY"]
         for name in VECTOR_FIELDS:
             columns += [f"{name}_{axis}" for axis in "xyz"]
         return columns + ["AreaProj", "Aref", "Lref"]
 
     def save_csv(self, path) -> str:
-        """Write one row per attitude (aoa slowest) with ``# key: value`` header lines; 17
-        significant digits, so values read back exactly. A stopped build writes the rows done."""
+        """Write one row per attitude (aoa slowest), 17 significant digits (read back exactly),
+        under :meth:`header_lines`; a stopped build writes the rows done."""
         path = os.fspath(path)
         na, nb = self.shape
         a, b = np.meshgrid(self.aoa_deg, self.aos_deg, indexing="ij")
@@ -150,7 +133,7 @@ class AeroDatabase:
         columns.append(np.full(na * nb, self.reference_area))
         columns.append(np.full(na * nb, self.reference_length))
         table = np.column_stack(columns)
-        table = table[np.isfinite(table[:, 2])]  # (a stopped build: the attitudes done only)
+        table = table[np.isfinite(table[:, 2])]
         with open(path, "w", encoding="utf-8", newline="\n") as stream:
             for line in self.header_lines():
                 stream.write(f"# {line}\n")
@@ -159,7 +142,7 @@ class AeroDatabase:
         return path
 
     def header_lines(self) -> list:
-        """The ``key: value`` lines that head the CSV file (metadata essentials)."""
+        """The ``key: value`` lines that head the CSV file."""
         m = self.metadata
         mesh, flow, ref, shading = m["mesh"], m["flow"], m["reference"], m["shading"]
         model = m["model"]
@@ -224,13 +207,9 @@ def _fail(path, message):
 
 
 def load_database(path) -> AeroDatabase:
-    """Read and validate a database file (``.npz``) written by :meth:`AeroDatabase.save`.
-
-    Returns the :class:`AeroDatabase` with float arrays and ``path`` set. Raises
-    :class:`DatabaseError` naming the file and what is wrong: unreadable, not an npz, missing
-    arrays or metadata, unsupported format version, inconsistent shapes, non-increasing angles,
-    non-finite values.
-    """
+    """The :class:`AeroDatabase` of a file :meth:`AeroDatabase.save` wrote; :class:`DatabaseError`
+    naming the file and what is wrong (unreadable, missing arrays or metadata, another format
+    version, inconsistent shapes, non-increasing angles, non-finite values)."""
     path = os.fspath(path)
     try:
         with np.load(path, allow_pickle=False) as npz:
@@ -239,11 +218,7 @@ def load_database(path) -> AeroDatabase:
         _fail(path, "no such file")
     except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
         _fail(path, f"not a readable database (.npz) file: {exc}")
-    missing = [
-        k
-        for k in ("aoa_deg", "aos_deg", "metadata", *SCALAR_FIELDS, *VECTOR_FIELDS)
-        if k not in contents
-    ]
+    missing = [k for k in ("aoa_deg", "aos_deg", "metadata", *ARRAYS[2:]) if k not in contents]
     if missing:
         _fail(path, f"missing arrays {', '.join(missing)}")
     raw = contents["metadata"]
@@ -268,7 +243,7 @@ def load_database(path) -> AeroDatabase:
         if key not in metadata["reference"]:
             _fail(path, f"metadata reference lacks {key}")
     arrays = {}
-    for name in ("aoa_deg", "aos_deg", *SCALAR_FIELDS, *VECTOR_FIELDS):
+    for name in ARRAYS:
         value = contents[name]
         if value.dtype.kind not in "fi":
             _fail(path, f"{name} is not numeric (dtype {value.dtype})")
@@ -285,10 +260,8 @@ def load_database(path) -> AeroDatabase:
     if arrays["aos_deg"][0] < -90.0 or arrays["aos_deg"][-1] > 90.0:
         _fail(path, "aos_deg outside [-90, 90]")
     grid = (arrays["aoa_deg"].size, arrays["aos_deg"].size)
-    for name in SCALAR_FIELDS:
-        if arrays[name].shape != grid:
-            _fail(path, f"{name} has shape {arrays[name].shape}, expected {grid}")
-    for name in VECTOR_FIELDS:
-        if arrays[name].shape != grid + (3,):
-            _fail(path, f"{name} has shape {arrays[name].shape}, expected {grid + (3,)}")
+    for name in ARRAYS[2:]:
+        expected = grid + ((3,) if name in VECTOR_FIELDS else ())
+        if arrays[name].shape != expected:
+            _fail(path, f"{name} has shape {arrays[name].shape}, expected {expected}")
     return AeroDatabase(**arrays, metadata=metadata, path=path)

@@ -1,21 +1,18 @@
-"""Bilinear interpolation on an (aoa, aos) grid and the stated interpolation error of a database.
-
-The estimate: the grid coarsened by 2 along each axis (keeping the last node), its bilinear
-interpolant compared with the exact values at every omitted node, and the largest Euclidean
-error of Cf_G (likewise Cm_G) stated as the bound for the full grid, not scaled down: near fast
-shadow edges the first-order factor 1/2 was exceeded (1.36 x on the example satellite, 5 deg
-grid), while unscaled the bound held with true/stated <= 0.7 in every case measured. It bounds
-every component and, by orthogonality, CD, CL and CY. An a-posteriori estimate, checked by the
-tests at random off-grid attitudes, not a proof.
+"""Bilinear interpolation on an (aoa, aos) grid, and a database's stated interpolation error: the
+grid coarsened by 2 (keeping the last node) interpolated at the nodes it omits, the largest error
+of |Cf_G| (and |Cm_G|) unscaled (near shadow edges the first-order 1/2 does not hold). An
+a-posteriori estimate the tests check (docs/databases.md).
 """
 
 from __future__ import annotations
+
+import bisect
 
 import numpy as np
 
 from adbsat_ros.database.format import AeroDatabase
 
-#: Factor from the coarse-grid error to the stated error of the full grid (module docstring).
+#: Factor from the coarse-grid error to the stated error of the full grid.
 ERROR_SCALING = 1.0
 #: How the error was estimated, as recorded in ``metadata["interpolation_error"]["method"]``.
 ERROR_METHOD = (
@@ -33,12 +30,29 @@ def _locate(nodes: np.ndarray, x: np.ndarray):
     return i, t
 
 
-def bilinear(a_nodes, b_nodes, values, qa, qb) -> np.ndarray:
-    """Bilinear interpolation on a rectilinear grid (no wrap-around, no range checks).
+def cell(nodes: list, x: float) -> tuple:
+    """``(i, i + 1, t)``: :func:`_locate` of one ``x`` in ``nodes``, a list of floats."""
+    n = len(nodes)
+    if n == 1:
+        return 0, 0, 0.0
+    i = min(max(bisect.bisect_right(nodes, x) - 1, 0), n - 2)
+    return i, i + 1, (x - nodes[i]) / (nodes[i + 1] - nodes[i])
 
-    ``a_nodes`` (na,) and ``b_nodes`` (nb,) strictly increasing (an axis with one node is
-    constant along it), ``values`` (na, nb, k), queries ``qa, qb`` (M,) inside the grid. Returns
-    (M, k): exact at the nodes, within the range of the four corner values inside a cell.
+
+def bilinear_one(a_nodes: list, b_nodes: list, rows: list, qa: float, qb: float) -> list:
+    """:func:`bilinear` at one point on Python floats (``rows``: ``values.tolist()``)."""
+    i, i1, t = cell(a_nodes, qa)
+    j, j1, s = cell(b_nodes, qb)
+    v00, v01, v10, v11 = rows[i][j], rows[i][j1], rows[i1][j], rows[i1][j1]
+    w00, w01, w10, w11 = (1.0 - t) * (1.0 - s), (1.0 - t) * s, t * (1.0 - s), t * s
+    return [w00 * p + w01 * q + w10 * r + w11 * z for p, q, r, z in zip(v00, v01, v10, v11)]
+
+
+def bilinear(a_nodes, b_nodes, values, qa, qb) -> np.ndarray:
+    """Bilinear interpolation (M, k) on a rectilinear grid, no wrap-around or range checks.
+
+    ``a_nodes`` (na,) and ``b_nodes`` (nb,) strictly increasing (constant along an axis of one
+    node), ``values`` (na, nb, k), queries ``qa, qb`` (M,) inside the grid; exact at the nodes.
     """
     qa, qb = np.broadcast_arrays(np.asarray(qa, float), np.asarray(qb, float))
     ia, ta = _locate(a_nodes, qa)
@@ -52,18 +66,13 @@ def bilinear(a_nodes, b_nodes, values, qa, qb) -> np.ndarray:
 
 
 def _coarse_indices(n: int) -> np.ndarray:
-    """Every other index of an axis of n nodes, always keeping the last."""
     return np.unique(np.append(np.arange(0, n, 2), n - 1))
 
 
 def estimate_interpolation_error(db: AeroDatabase) -> dict:
-    """Stated bilinear interpolation error of a database's grid (method in the module docstring).
-
-    Returns a dict: ``force_coefficient`` and ``moment_coefficient``, bounds on the Euclidean
-    norm of the error of Cf_G and Cm_G (None if no axis has 3 nodes); ``method``, ``scaling``,
-    ``points`` (omitted nodes compared), ``coarse_force_error`` and ``coarse_moment_error``
-    (unscaled), ``max_force_coefficient`` and ``max_moment_coefficient`` (for scale).
-    """
+    """The stated error of a database's grid: ``force_coefficient``, ``moment_coefficient``
+    (bounds on |dCf_G|, |dCm_G|; None without an axis of 3 nodes), ``method``, ``scaling``,
+    ``points`` (nodes compared), ``coarse_*_error`` and ``max_*_coefficient``."""
     na, nb = db.shape
     out = {
         "method": ERROR_METHOD,

@@ -1,25 +1,20 @@
-"""Coefficients at any attitude from an aerodynamic database, by interpolation, with stated error.
-
-Bilinear interpolation in (aoa, aos) of the mesh-frame vectors Cf_G and Cm_G, which are
-single-valued at the sideslip poles (wind-axis coefficients are not); CD, CL and CY follow by
-the exact rotation to wind axes at the query angles. Bilinear because the coefficients have
-kinks (shading, grazing faces): it stays within the corner values of a cell, is exact at the
-nodes and first-order even at kinks, where higher orders overshoot. An aoa grid that closes the
-circle (span 360 deg, or a gap of at most its largest step) wraps around; otherwise a query is
-reduced modulo 360 deg into its range, else ValueError. docs/physics.md, section 9.
+"""Coefficients at any attitude from an aerodynamic database: bilinear in (aoa, aos) of the
+mesh-frame Cf_G and Cm_G (single-valued at the poles; no overshoot at shading's kinks), CD, CL, CY
+by the exact rotation to wind axes. An aoa grid closing the circle wraps around; otherwise a
+query is reduced modulo 360 deg into its range, else ValueError. docs/physics.md, section 9.
 """
 
 from __future__ import annotations
 
-import bisect
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from adbsat_ros.database.format import AeroDatabase, load_database
-from adbsat_ros.database.interpolation import bilinear
+from adbsat_ros.database.interpolation import bilinear, bilinear_one
 from adbsat_ros.database.sweep_reader import is_sweep_store, open_sweep, sweep_database
+from adbsat_ros.geometry import frames
 
 #: Angles within this many degrees of the grid's ends count as inside (rounding).
 ANGLE_TOLERANCE_DEG = 1e-9
@@ -28,18 +23,10 @@ ANGLE_TOLERANCE_DEG = 1e-9
 # ---------------------------------------------------------------------------------- results
 @dataclass(frozen=True, eq=False)
 class InterpolatedCoefficients:
-    """Coefficients at one attitude from :class:`CoefficientLookup`.
+    """Coefficients at one attitude [deg] from :class:`CoefficientLookup`.
 
-    Attributes
-    ----------
-    aoa_deg, aos_deg : float
-        The attitude asked for [deg].
-    Cf_G, Cm_G : ndarray, shape (3,)
-        Force and moment coefficients in the mesh frame G (moment about the database's point).
-    CD, CL, CY : float
-        Drag, lift and side-force coefficients (ADBSat's, from Cf_w = L_WG Cf_G).
-    reference_area, reference_length : float
-        A_ref [m^2] and L_ref [m] of the database.
+    Cf_G, Cm_G (3,) are in the mesh frame G, moments about the database's point; CD, CL, CY are
+    ADBSat's, from Cf_w = L_WG Cf_G; reference_area [m^2], reference_length [m].
     """
 
     aoa_deg: float
@@ -63,21 +50,10 @@ class InterpolatedCoefficients:
 
 # ---------------------------------------------------------------------------------- lookup
 class CoefficientLookup:
-    """Interpolating lookup of a database's Cf_G, Cm_G (and CD, CL, CY) at any attitude.
+    """Interpolating lookup of an :class:`AeroDatabase`'s coefficients at any attitude.
 
-    Parameters
-    ----------
-    database : AeroDatabase
-
-    Attributes
-    ----------
-    periodic : bool
-        True if the aoa grid closes the circle (queries wrap around).
-    aoa_range, aos_range : tuple of float
-        Covered angles [deg] (aoa_range spans 360 deg when periodic).
-    error_bound : dict
-        The stated interpolation error stored in the database (``force_coefficient``,
-        ``moment_coefficient``, ``method``, ...; :mod:`adbsat_ros.database.interpolation`).
+    ``periodic``: the aoa grid closes the circle; ``aoa_range``, ``aos_range``: the angles
+    covered [deg]; ``error_bound``: the database's stated error (:mod:`.interpolation`).
     """
 
     def __init__(self, database: AeroDatabase):
@@ -110,12 +86,9 @@ class CoefficientLookup:
     @classmethod
     def load(cls, path, **values) -> "CoefficientLookup":
         """A lookup of the database file ``path``, or of a sweep's Zarr store at a value of each
-        of its axes besides aoa and aos, by name (``speed=7600.0``; linear between grid values).
-
-        Raises :class:`DatabaseError` for a database file that cannot be read; ValueError for a
-        sweep store that is incomplete, an axis value missing, unknown or out of range, or axis
-        values given for a database file.
-        """
+        other axis (``speed=7600.0``). :class:`DatabaseError` for an unreadable file; ValueError
+        for an incomplete store, an axis value missing, unknown or out of range, or given for a
+        file."""
         if is_sweep_store(path):
             return cls(sweep_database(open_sweep(path), **values))
         if values:
@@ -126,7 +99,6 @@ class CoefficientLookup:
 
     # ------------------------------------------------------------------------------ angles
     def _reduce(self, aoa_deg: float, aos_deg: float):
-        """Query angles as grid coordinates; ValueError naming the angle and the range."""
         if not (math.isfinite(aoa_deg) and math.isfinite(aos_deg)):
             raise ValueError(f"angles must be finite, got aoa {aoa_deg!r}, aos {aos_deg!r} deg")
         tol = ANGLE_TOLERANCE_DEG
@@ -157,37 +129,19 @@ class CoefficientLookup:
                 )
         return min(max(aoa_deg, a0), a1), aos_deg
 
-    @staticmethod
-    def _cell(nodes: list, x: float):
-        n = len(nodes)
-        if n == 1:
-            return 0, 0, 0.0
-        i = min(max(bisect.bisect_right(nodes, x) - 1, 0), n - 2)
-        return i, i + 1, (x - nodes[i]) / (nodes[i + 1] - nodes[i])
-
     # ------------------------------------------------------------------------------ public
     def body_coefficients(self, aoa_deg: float, aos_deg: float):
-        """Interpolated Cf_G and Cm_G, shape (3,), at one attitude [deg] (the fast path).
-
-        Moments about the database's moment point. Raises ValueError if an angle is outside the
-        database's range (naming it and the range).
-        """
+        """Interpolated Cf_G and Cm_G, shape (3,), at one attitude [deg], moments about the
+        database's point; ValueError naming an angle outside the database's range."""
         row = self._interpolate(float(aoa_deg), float(aos_deg))
         return np.array(row[:3]), np.array(row[3:])
 
     def _interpolate(self, aoa_deg: float, aos_deg: float) -> list:
-        """The six interpolated values (Cf_G, Cm_G) as Python floats (exact at the nodes)."""
         a, b = self._reduce(aoa_deg, aos_deg)
-        i, i1, t = self._cell(self._aoa_list, a)
-        j, j1, s = self._cell(self._aos_list, b)
-        rows = self._rows
-        v00, v01, v10, v11 = rows[i][j], rows[i][j1], rows[i1][j], rows[i1][j1]
-        w00, w01, w10, w11 = (1.0 - t) * (1.0 - s), (1.0 - t) * s, t * (1.0 - s), t * s
-        return [w00 * p + w01 * q + w10 * r + w11 * z for p, q, r, z in zip(v00, v01, v10, v11)]
+        return bilinear_one(self._aoa_list, self._aos_list, self._rows, a, b)
 
     def body_coefficients_many(self, aoa_deg, aos_deg):
-        """Vectorised :meth:`body_coefficients` for arrays of angles [deg] (broadcast together);
-        returns Cf_G, Cm_G of shape (..., 3)."""
+        """:meth:`body_coefficients` for arrays of angles [deg] (broadcast): Cf_G, Cm_G (..., 3)."""
         aoa, aos = np.broadcast_arrays(np.asarray(aoa_deg, float), np.asarray(aos_deg, float))
         flat = [
             self._reduce(a, b) for a, b in zip(aoa.reshape(-1).tolist(), aos.reshape(-1).tolist())
@@ -208,35 +162,22 @@ class CoefficientLookup:
         if flow_direction is not None:
             if aoa_deg is not None or aos_deg is not None:
                 raise ValueError("give either aoa_deg/aos_deg or flow_direction, not both")
-            u = np.asarray(flow_direction, dtype=float)
-            if u.shape == (3,):
-                x, y, z = u.tolist()
-                norm = math.hypot(x, y, z)
-            else:
-                norm = float("nan")
-            if not math.isfinite(norm) or norm == 0.0:
-                raise ValueError(
-                    f"flow_direction must be a finite non-zero 3-vector, got {flow_direction!r}"
-                )
-            a_rad = math.atan2(z / norm, -x / norm)  # frames.angles_of_flow, on floats
-            b_rad = math.asin(max(-1.0, min(1.0, y / norm)))
-            aoa_deg, aos_deg = math.degrees(a_rad), math.degrees(b_rad)
+            u = frames.direction_components(flow_direction, "flow_direction")
+            aoa_deg, aos_deg = (math.degrees(x) for x in frames.angles_of_flow(u))
         elif aoa_deg is None or aos_deg is None:
             raise ValueError("give aoa_deg and aos_deg, or flow_direction")
         aoa_deg, aos_deg = float(aoa_deg), float(aos_deg)
         row = self._interpolate(aoa_deg, aos_deg)
-        fx, fy, fz = row[0], row[1], row[2]
-        # Cf_w = L_WB L_GB Cf_G, written out (frames.body_to_wind; L_GB = diag(1, -1, -1))
-        a, b = math.radians(aoa_deg), math.radians(aos_deg)
-        ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
+        Cf_G = np.array(row[:3])
+        Cf_w = frames.mesh_to_wind(math.radians(aoa_deg), math.radians(aos_deg)) @ Cf_G
         return InterpolatedCoefficients(
             aoa_deg=aoa_deg,
             aos_deg=aos_deg,
-            Cf_G=np.array(row[:3]),
+            Cf_G=Cf_G,
             Cm_G=np.array(row[3:]),
-            CD=-(ca * cb * fx - sb * fy - sa * cb * fz),
-            CL=sa * fx + ca * fz,
-            CY=-ca * sb * fx - cb * fy + sa * sb * fz,
+            CD=-float(Cf_w[0]),
+            CL=-float(Cf_w[2]),
+            CY=float(Cf_w[1]),
             reference_area=self._area,
             reference_length=self._length,
         )

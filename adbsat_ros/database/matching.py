@@ -1,11 +1,7 @@
-"""A database matched to the node's set-up, as the estimator's source of coefficients.
-
-With ``coefficients_source: database`` the coefficients come from one bilinear lookup; the
-newtons still use the live q. A database is refused unless made for the node's mesh
-(fingerprint), model, options, surface properties and reference area and length
-(:func:`database_mismatches`), with a fixed accommodation coefficient. The moment point is not a
-mismatch (moments are carried exactly, C_M(c) = C_M(p) + (p - c) x C_F / L_ref), nor the free
-stream: used at every condition, the approximation of this mode. docs/physics.md, section 9.
+"""A database matched to the node's set-up (mesh, model, options, surfaces, reference area and
+length), as the estimator's source of coefficients. Moments are carried to the node's point,
+C_M(c) = C_M(p) + (p - c) x C_F / L_ref; the database's free stream is used at every condition
+(this mode's approximation). docs/physics.md, section 9.
 """
 
 from __future__ import annotations
@@ -16,7 +12,7 @@ import numpy as np
 
 from adbsat_ros.database.format import DatabaseError
 from adbsat_ros.database.lookup import CoefficientLookup
-from adbsat_ros.database.metadata import surface_values
+from adbsat_ros.database.metadata import model_values, surface_values
 from adbsat_ros.geometry import frames
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
@@ -26,10 +22,8 @@ REFERENCE_RTOL = 1e-9
 
 
 def database_mismatches(metadata: dict, method: PanelMethod) -> list:
-    """How a database's set-up (``AeroDatabase.metadata``) differs from ``method``'s.
-
-    One readable line per mismatch, naming the quantity and both values; empty if it may be used.
-    """
+    """How a database's set-up (``AeroDatabase.metadata``) differs from ``method``'s: one line
+    per mismatch naming the quantity and both values; empty if it may be used."""
     out = []
     mesh = metadata.get("mesh", {})
     if mesh.get("fingerprint") != method.mesh.fingerprint():
@@ -40,11 +34,7 @@ def database_mismatches(metadata: dict, method: PanelMethod) -> list:
             f"({method.mesh.n_panels} panels, fingerprint {method.mesh.fingerprint()})"
         )
     model = metadata.get("model", {})
-    for key, ours in (
-        ("name", method.model),
-        ("incident_temperature", method.options.incident_temperature),
-        ("adbsat_compat", bool(method.options.adbsat_compat)),
-    ):
+    for key, ours in model_values(method).items():
         if model.get(key) != ours:
             label = "gsi_model" if key == "name" else key
             out.append(f"{label}: database {model.get(key)!r}, node {ours!r}")
@@ -74,13 +64,9 @@ def database_mismatches(metadata: dict, method: PanelMethod) -> list:
 
 
 class DatabaseCoefficients:
-    """Force and moment coefficients in the body frame from the database file ``path`` (.npz),
-    for the estimator; it must match ``method``, the node's set-up (:func:`database_mismatches`),
-    whose moment point is the centre of mass c the moments are carried to.
-
-    ``error_bound``: the database's stated interpolation error, the moment bound carried to c
-    (e_M(p) + |p - c| e_F / L_ref); ``speed_ratio``: that of the database's free stream. Raises
-    ValueError naming ``database_path``: an unreadable file, or every mismatch.
+    """Body-frame coefficients from the database file ``path`` matching ``method`` (moments
+    carried to its moment point c); ``error_bound``: the stated error, the moment's carried to c
+    (e_M + |p - c| e_F / L_ref). ValueError naming ``database_path``: unreadable, or mismatches.
     """
 
     def __init__(self, path: str, method: PanelMethod):
@@ -103,7 +89,6 @@ class DatabaseCoefficients:
         stated = self.lookup.error_bound
         force_error = float(stated.get("force_coefficient", float("nan")))
         moment_error = float(stated.get("moment_coefficient", float("nan")))
-        # carrying the moment to c adds (p - c) x (error of C_F) / L_ref
         self.error_bound = {
             "force_coefficient": force_error,
             "moment_coefficient": moment_error
@@ -111,12 +96,8 @@ class DatabaseCoefficients:
         }
 
     def body_coefficients(self, u_body):
-        """C_F and C_M (about the centre of mass), body frame, for the unit flow direction
-        ``u_body`` (body frame); ValueError if the attitude is outside the database's range."""
+        """C_F and C_M (about c) for the unit flow direction ``u_body``, body frame; ValueError
+        outside the database's range."""
         aoa, aos = frames.angles_of_flow(u_body)
         Cf, Cm = self.lookup.body_coefficients(math.degrees(aoa), math.degrees(aos))
-        o = self._offset
-        carry = np.array(
-            [o[1] * Cf[2] - o[2] * Cf[1], o[2] * Cf[0] - o[0] * Cf[2], o[0] * Cf[1] - o[1] * Cf[0]]
-        )
-        return Cf, Cm + carry / self.reference_length
+        return Cf, Cm + frames.cross(self._offset, Cf) / self.reference_length

@@ -1,6 +1,4 @@
-"""The set-up of a database as JSON metadata (:func:`describe_setup`), and the set-up rebuilt
-from it (:func:`setup_from_metadata`, :func:`model_from_metadata`), refusing a mesh that has
-changed since."""
+"""A database's set-up as JSON metadata, and the set-up rebuilt from it."""
 
 from __future__ import annotations
 
@@ -23,8 +21,17 @@ from adbsat_ros.physics.surface import SURFACE_PARAMETERS, MaterialTable, Surfac
 
 # ---------------------------------------------------------------------------------- metadata
 def surface_values(props: SurfaceProperties) -> dict:
-    """Every surface parameter of ``props`` as a float, by name (how the metadata records them)."""
+    """Every surface parameter of ``props`` as a float, by name."""
     return {name: float(getattr(props, name)) for name in SURFACE_PARAMETERS}
+
+
+def model_values(method: PanelMethod) -> dict:
+    """The gas-surface model of ``method`` as the metadata records it."""
+    return {
+        "name": method.model,
+        "incident_temperature": method.options.incident_temperature,
+        "adbsat_compat": bool(method.options.adbsat_compat),
+    }
 
 
 def material_override_texts(materials: MaterialTable) -> list:
@@ -48,7 +55,6 @@ def _flow_dict(flow: FreeStream) -> dict:
 
 
 def _reload_mesh(spec, scale: float, joints: dict | None):
-    """The mesh of a spec: a file or bundled body, or a URDF posed at ``joints`` [rad or m]."""
     body, mesh = load_body(BodySpec(spec, scale))
     if body is None:
         return mesh
@@ -59,7 +65,6 @@ def _reload_mesh(spec, scale: float, joints: dict | None):
 
 
 def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale, joints=None) -> str | None:
-    """The spec to record: given specs must reload to the method's mesh (same fingerprint)."""
     if mesh_spec is None:
         return None
     mesh_spec = os.fspath(mesh_spec)
@@ -87,13 +92,10 @@ def describe_setup(
     mesh_scale,
     mesh_joints=None,
 ) -> dict:
-    """Metadata of a set-up: everything but the grid results and the interpolation error.
-
-    ``shading`` and ``samples``: the shading mode and rays per panel. ``mesh_spec`` (a path or
-    ``"example"``) must reload, with ``mesh_scale`` and a URDF's ``mesh_joints`` [rad or m], to
-    the method's mesh (ValueError otherwise); ``"example"`` for a mesh built some other way, and
-    None, record None (not reloadable). Returns a JSON-ready dict with the keys of
-    :data:`~adbsat_ros.database.format.REQUIRED_METADATA` but ``interpolation_error``.
+    """Metadata of a set-up: :data:`~adbsat_ros.database.format.REQUIRED_METADATA` but
+    ``interpolation_error``. ``shading``, ``samples``: the mode and rays per panel; ``mesh_spec``
+    must reload (with ``mesh_scale`` and a URDF's ``mesh_joints`` [rad or m]) to the method's
+    mesh, else ValueError; ``"example"`` for a mesh built otherwise, and None, record None.
     """
     texts = material_override_texts(method.materials)
     mesh = method.mesh
@@ -110,11 +112,7 @@ def describe_setup(
             "n_panels": int(mesh.n_panels),
             "fingerprint": mesh.fingerprint(),
         },
-        "model": {
-            "name": method.model,
-            "incident_temperature": method.options.incident_temperature,
-            "adbsat_compat": bool(method.options.adbsat_compat),
-        },
+        "model": model_values(method),
         "materials": {"default": surface_values(method.materials.default), "overrides": texts},
         "flow": _flow_dict(flow),
         "reference": {
@@ -150,13 +148,9 @@ def setup_from_metadata(metadata: dict) -> Setup:
 
 
 def model_from_metadata(metadata: dict, path=None):
-    """Rebuild a database's set-up: ``(model, flow)``, the model evaluating as the build did
-    (its shading, or its test-particle run).
-
-    The mesh is reloaded from the recorded spec and scale and must have the recorded
-    fingerprint. Raises :class:`DatabaseError` if it cannot be reloaded (no spec, missing file,
-    changed geometry) or the metadata is incomplete, naming ``path`` when given.
-    """
+    """``(model, flow)`` of a database's metadata, the model evaluating as the build did;
+    :class:`DatabaseError` naming ``path`` for a mesh not reloaded with its recorded
+    fingerprint, or incomplete metadata."""
     where = path or "database"
     try:
         mesh_meta = metadata["mesh"]

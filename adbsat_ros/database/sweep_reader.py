@@ -1,41 +1,31 @@
 """A sweep's Zarr store read as aerodynamic databases: its (aoa, aos) grid at any point of the
-other axes.
-
-At a grid value the stored slice, between two the slices blended linearly (multilinear over
-several axes); the bilinear lookup in attitude being linear in the grid's values, the result is
-bilinear in attitude and linear in the other axes at once. A value outside an axis's range is
-refused with the axis and its range.
+other axes, the slices around it blended multilinearly (so a lookup is bilinear in attitude and
+linear in the other axes at once). docs/sweeps.md.
 """
 
 from __future__ import annotations
 
-import bisect
 import itertools
 import os
 
 import numpy as np
 
-from adbsat_ros.database.format import AeroDatabase
-from adbsat_ros.database.interpolation import estimate_interpolation_error
+from adbsat_ros.database.format import SCALAR_FIELDS, VECTOR_FIELDS, AeroDatabase
+from adbsat_ros.database.interpolation import cell, estimate_interpolation_error
 from adbsat_ros.geometry import frames
 
 #: Values within this much of an axis's ends count as inside (rounding).
 TOLERANCE = 1e-9
-#: The database's arrays and the sweep's variables they are read from.
-FIELDS = (
-    ("CD", "CD"),
-    ("CL", "CL"),
-    ("CY", "CY"),
-    ("AreaProj", "area_projected"),
-    ("Cf_w", "Cf_w"),
-    ("Cm_B", "Cm_B"),
-    ("Cf_G", "Cf_G"),
-    ("Cm_G", "Cm_G"),
+#: The database's arrays and the sweep's variables they are read from (Cf_f is made from Cf_G).
+FIELDS = tuple(
+    (name, "area_projected" if name == "AreaProj" else name)
+    for name in SCALAR_FIELDS + VECTOR_FIELDS
+    if name != "Cf_f"
 )
 
 
 def is_sweep_store(path) -> bool:
-    """Whether ``path`` is a directory holding a Zarr group (a sweep's store, say)."""
+    """Whether ``path`` is a directory holding a Zarr group."""
     path = os.fspath(path)
     return os.path.isdir(path) and any(
         os.path.exists(os.path.join(path, name)) for name in ("zarr.json", ".zgroup")
@@ -43,8 +33,7 @@ def is_sweep_store(path) -> bool:
 
 
 def open_sweep(path):
-    """The xarray Dataset of the complete sweep store at ``path``; ValueError naming ``path``
-    if it is no sweep store or the sweep is not complete."""
+    """The xarray Dataset of the complete sweep store ``path``, else ValueError naming it."""
     import xarray as xr
 
     try:
@@ -75,16 +64,14 @@ def bracket(nodes: np.ndarray, name: str, value: float) -> list:
         raise ValueError(f"{name} {value!r} is outside the sweep's range [{low:g}, {high:g}]")
     if nodes.size == 1:
         return [(0, 1.0)]
-    k = min(max(bisect.bisect_right(nodes.tolist(), value) - 1, 0), nodes.size - 2)
-    t = (value - nodes[k]) / (nodes[k + 1] - nodes[k])
+    k, k1, t = cell(nodes.tolist(), value)
     t = min(max(t, 0.0), 1.0)
-    return [(k, 1.0 - t), (k + 1, t)]
+    return [(k, 1.0 - t), (k1, t)]
 
 
 def corners(axes: dict, values: dict) -> list:
     """``[(index, weight), ...]`` of the grid points of ``axes`` (name -> values) around
-    ``values`` with weight > 0; ValueError for an axis not given or unknown, or a value outside
-    its range (named)."""
+    ``values``, weights > 0; ValueError naming an axis missing, unknown or out of range."""
     missing = sorted(set(axes) - set(values))
     unknown = sorted(set(values) - set(axes))
     if missing or unknown:
@@ -103,27 +90,26 @@ def corners(axes: dict, values: dict) -> list:
 
 def slice_database(dataset, index: dict, stated_error: bool = False) -> AeroDatabase:
     """The attitude grid at grid point ``index`` (axis name -> position) of the other axes."""
-    arrays = {
-        name: np.asarray(dataset[source].isel(index).values, dtype=float) for name, source in FIELDS
-    }
-    return _database(dataset, arrays, {}, stated_error)
+    return _database(dataset, _arrays(dataset, index), {}, stated_error)
 
 
 def sweep_database(dataset, **values) -> AeroDatabase:
-    """The attitude grid at a value of every other axis (module docstring), with its stated
-    interpolation error in attitude; ValueError for an axis not given or unknown, or a value
-    outside its range (named)."""
+    """The attitude grid at a value of every other axis, with its stated interpolation error;
+    ValueError as :func:`corners`."""
     axes = other_axes(dataset)
     arrays = None
     for corner, weight in corners(axes, values):
-        index = dict(zip(axes, corner))
-        part = {
-            name: weight * np.asarray(dataset[source].isel(index).values, dtype=float)
-            for name, source in FIELDS
-        }
+        part = _arrays(dataset, dict(zip(axes, corner)), weight)
         arrays = part if arrays is None else {k: arrays[k] + part[k] for k in arrays}
     at = {name: float(values[name]) for name in axes}
     return _database(dataset, arrays, at, stated_error=True)
+
+
+def _arrays(dataset, index: dict, weight: float = 1.0) -> dict:
+    return {
+        name: weight * np.asarray(dataset[source].isel(index).values, dtype=float)
+        for name, source in FIELDS
+    }
 
 
 def _database(dataset, arrays: dict, at: dict, stated_error: bool) -> AeroDatabase:
