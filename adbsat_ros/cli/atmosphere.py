@@ -108,15 +108,6 @@ def _parse_time(text: str) -> _dt.datetime:
     return time
 
 
-def _check_altitude_m(altitude_m: float, option: str) -> None:
-    from adbsat_ros.environment.atmosphere import MAX_ALTITUDE
-
-    if not 0.0 <= altitude_m <= MAX_ALTITUDE:
-        raise CommandLineError(
-            f"{option}: altitude {altitude_m / 1e3:.6g} km is outside 0..{MAX_ALTITUDE / 1e3:g} km"
-        )
-
-
 def _space_weather(args):
     from adbsat_ros.environment.atmosphere import SpaceWeather
 
@@ -164,6 +155,7 @@ def _compute(args, accommodation_options=None):
 
     ``accommodation_options`` replaces the options of ``--accommodation/--alpha``.
     """
+    from adbsat_ros.environment.atmosphere import MAX_ALTITUDE
     from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
     from adbsat_ros.environment.earth_frames import earth_orientation
     from adbsat_ros.environment.flight_conditions import flight_conditions
@@ -196,11 +188,8 @@ def _compute(args, accommodation_options=None):
             raise CommandLineError(
                 f"{missing[0]}: required (give --altitude, --lat and --lon, or --position)"
             )
-        altitude = args.altitude * 1e3
-        _check_altitude_m(altitude, "--altitude")
-        if not -90.0 <= args.lat <= 90.0:
-            raise CommandLineError(f"--lat: must be in [-90, 90] degrees, got {args.lat:g}")
         latitude, longitude = math.radians(args.lat), math.radians(args.lon)
+        altitude = args.altitude * 1e3  # (--altitude and --lat are in range: their types check)
         return flight_conditions_circular_orbit(time, altitude, latitude, longitude, weather, **gas)
     frame = args.frame or "eci"
     position = parse_vector3(args.position, "--position")
@@ -209,7 +198,10 @@ def _compute(args, accommodation_options=None):
     orientation = earth_orientation(time)
     position_ecef = position if frame == "ecef" else orientation.eci_to_ecef(position)[0]
     latitude, longitude, altitude = ecef_to_geodetic(position_ecef)
-    _check_altitude_m(altitude, "--position")
+    if not 0.0 <= altitude <= MAX_ALTITUDE:
+        raise CommandLineError(
+            f"--position: altitude {altitude / 1e3:.6g} km is outside 0..{MAX_ALTITUDE / 1e3:g} km"
+        )
     if args.velocity is None:
         if args.wind is not None:
             raise CommandLineError("--wind: only valid with --velocity")

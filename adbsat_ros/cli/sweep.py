@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import sys
 
-from adbsat_ros.cli.options import CommandLineError, flag, option
+from adbsat_ros.cli.options import CommandLineError, flag, is_terminal, option, warn
 
 
 def configure(p) -> None:
@@ -56,13 +56,13 @@ def run(args) -> int:
                 scheduler=args.scheduler,
                 workers=args.workers,
                 overwrite=args.overwrite,
-                progress=not args.no_progress and sys.stderr.isatty(),
+                progress=not args.no_progress and is_terminal(),
                 stop=stop,
             )
     except (SpecError, StoreError, MeshError, ValueError) as exc:
         raise CommandLineError(str(exc)) from None
     for note in report.notes:
-        print(f"adbsat-ros sweep: warning: {note}", file=sys.stderr)
+        warn("sweep", note)
     shape = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
     print(
         f"sweep {shape}: {report.chunks} chunks, {report.already_done} already in {args.out}, "
