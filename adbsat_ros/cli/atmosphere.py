@@ -1,9 +1,7 @@
 """``adbsat-ros atmosphere``: flight conditions (NRLMSISE-00 atmosphere, speed, accommodation).
 
-Where: a geodetic point ``--altitude KM --lat DEG --lon DEG`` (circular-orbit speed, as ADBSat's
-environment.m), or ``--position X,Y,Z`` [m] in ``--frame eci|ecef`` with an optional
-``--velocity X,Y,Z`` [m/s]. ``--json`` prints every field in SI units. ``coeff`` and
-``database`` share the flight options (:func:`add_flight_arguments`, :func:`compute`).
+At a geodetic point (circular-orbit speed, as ADBSat's environment.m) or an orbital state.
+``coeff`` and ``database`` share the flight options (:func:`add_flight_arguments`, :func:`compute`).
 """
 
 from __future__ import annotations
@@ -30,10 +28,8 @@ DEFAULT_AP = 4.0
 
 
 def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> None:
-    """Options that give the flight conditions: time, place or state, space weather, gas.
-
-    ``coeff`` has its own ``--alpha`` and makes ``--time`` optional.
-    """
+    """Add the flight-condition options (time, place or state, space weather, gas); ``coeff``
+    has its own ``--alpha`` and an optional ``--time``."""
     from adbsat_ros.environment.accommodation import accommodation_model_names
 
     help = "UTC time, e.g. 2015-01-19T00:00:00Z (no offset means UTC)"
@@ -79,7 +75,7 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
 
 
 def configure(parser) -> None:
-    """Give the ``atmosphere`` subcommand's parser its description and options."""
+    """Configure ``adbsat-ros atmosphere``."""
     parser.description = (
         "Evaluate NRLMSISE-00 and the flight conditions at a geodetic point "
         "(--altitude/--lat/--lon, circular-orbit speed as ADBSat) or at an orbital state "
@@ -151,10 +147,7 @@ def compute(args, accommodation_options=None):
 
 
 def _compute(args, accommodation_options=None):
-    """Flight conditions for parsed arguments; CommandLineError naming the bad option.
-
-    ``accommodation_options`` replaces the options of ``--accommodation/--alpha``.
-    """
+    """CommandLineError naming a bad option; ``accommodation_options`` replaces ``--alpha``'s."""
     from adbsat_ros.environment.atmosphere import MAX_ALTITUDE
     from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
     from adbsat_ros.environment.earth_frames import earth_orientation
@@ -232,7 +225,7 @@ def _vector_text(vector, scale=1.0, digits=6) -> str:
 
 
 def format_table(conditions) -> str:
-    """Readable multi-line summary (degrees and km shown next to the SI values)."""
+    """The conditions as a table (degrees and km beside the SI values)."""
     atmosphere = conditions.atmosphere
     rows = [
         ("time (UTC)", conditions.time.isoformat()),
@@ -271,7 +264,7 @@ def format_table(conditions) -> str:
 
 
 def run(args) -> int:
-    """Entry point of ``adbsat-ros atmosphere``; returns the exit status."""
+    """Run ``adbsat-ros atmosphere``; the exit status."""
     try:
         conditions = compute(args)
     except ValueError as exc:  # a library check the CLI did not anticipate: still a bad value

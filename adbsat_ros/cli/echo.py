@@ -1,5 +1,4 @@
-"""``adbsat-ros echo TOPIC``: print a topic's messages (the node's wrench, coefficients,
-acceleration, /diagnostics ...), for machines without the ``ros2`` command (needs rclpy)."""
+"""``adbsat-ros echo TOPIC``: print a topic's messages, as ``ros2 topic echo`` (needs rclpy)."""
 
 from __future__ import annotations
 
@@ -7,7 +6,7 @@ from adbsat_ros.cli.options import CommandFailed, add_timeout, option, positive_
 
 
 def configure(p) -> None:
-    """Give the ``echo`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros echo``."""
     p.description = (
         "Print the messages of a ROS 2 topic as `field: value` lines, each followed by ---, as "
         "`ros2 topic echo` does; the type is the one the graph gives the topic. Needs rclpy."
@@ -19,7 +18,7 @@ def configure(p) -> None:
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros echo``; returns the exit status (1 if fewer messages came)."""
+    """Run ``adbsat-ros echo``; the exit status (1 if fewer messages came)."""
     tools = ros_module("graph_tools")
     try:
         printed = tools.echo(args.topic, args.count, args.timeout, print)

@@ -12,7 +12,7 @@ from adbsat_ros.plotting import coefficients, panels
 
 
 def configure(p) -> None:
-    """Give the ``plot`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros plot``."""
     p.description = (
         "Draw the coefficients of a database written by `adbsat-ros database` against angle of "
         "attack, one line per sideslip angle (database_coefficients.png: CD, CL, CY; "
@@ -71,7 +71,7 @@ def test_particle_result(metadata, method, flow, aoa_deg, aos_deg):
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros plot``; returns the exit status."""
+    """Run ``adbsat-ros plot``; the exit status."""
     path = Path(args.database)
     if not path.exists():
         raise CommandLineError(f"DATABASE: no such file {str(path)!r}")

@@ -18,7 +18,7 @@ from adbsat_ros.cli.options import (
 
 
 def configure(p) -> None:
-    """Give the ``simulate`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros simulate``."""
     p.description = (
         "Write a rosbag2 holding a two-body (Keplerian) orbit in ECI as nav_msgs/Odometry "
         "(frame_id and child_frame_id 'eci', twist = ECI velocity) and the attitude as "
@@ -106,7 +106,7 @@ def scenario_from_args(args) -> scenario.Scenario:
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros simulate``; returns the exit status."""
+    """Run ``adbsat-ros simulate``; the exit status."""
     if args.attitude_topic.lstrip("/") == args.state_topic.lstrip("/"):
         raise CommandLineError(
             f"--state-topic: {args.state_topic} is also the --attitude-topic; the two streams "

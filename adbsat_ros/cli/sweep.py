@@ -1,7 +1,5 @@
-"""``adbsat-ros sweep SPEC.yaml --out RESULT.zarr``: an N-dimensional sweep on Dask.
-
-Dask, xarray and Zarr are imported when the sweep runs (start-up time of the command line).
-"""
+"""``adbsat-ros sweep SPEC.yaml --out RESULT.zarr``: an N-dimensional sweep on Dask (imported
+with xarray and Zarr when it runs)."""
 
 from __future__ import annotations
 
@@ -11,7 +9,7 @@ from adbsat_ros.cli.options import CommandLineError, flag, is_terminal, option, 
 
 
 def configure(p) -> None:
-    """Give the ``sweep`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros sweep``."""
     p.description = (
         "Compute the coefficients over every point of the axes a YAML spec names (aoa, aos, "
         "speed, temperature, mean_mass_amu, alpha, wall_temperature, joint.NAME) on Dask: a "
