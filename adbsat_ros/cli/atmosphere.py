@@ -15,6 +15,7 @@ import sys
 from adbsat_ros.cli.options import (
     CommandLineError,
     checked,
+    errors_as,
     finite_float,
     flag,
     option,
@@ -265,10 +266,8 @@ def format_table(conditions) -> str:
 
 def run(args) -> int:
     """Run ``adbsat-ros atmosphere``; the exit status."""
-    try:
+    with errors_as(CommandLineError, ValueError):  # a library's check: still a bad value
         conditions = compute(args)
-    except ValueError as exc:  # a library check the CLI did not anticipate: still a bad value
-        raise CommandLineError(str(exc)) from None
     if args.json:
         try:  # (made whole first: a refused number must not leave half a document)
             text = json.dumps(conditions.as_dict(), indent=2, allow_nan=False)

@@ -11,6 +11,7 @@ from adbsat_ros.cli.options import (
     CommandFailed,
     CommandLineError,
     add_storage,
+    errors_as,
     flag,
     is_terminal,
     option,
@@ -148,28 +149,27 @@ def run_analyze(args) -> int:
         else (Path(args.plots) if args.plots else out.parent / f"{out.name}_plots")
     )
     progress = not args.no_progress and is_terminal()
-    try:
-        with stop_on_signals() as stop:
-            report = bag_analysis.analyze_bag(
-                args.bag,
-                args.attitude_topic,
-                args.state_topic,
-                models,
-                out_bag=out,
-                out_csv=out_csv,
-                plots_dir=plots,
-                storage=args.storage,
-                progress=progress,
-                overwrite=args.overwrite,
-                workers=args.workers,
-                stop=stop,
-                joint_topic=args.joint_states_topic,
-                skip_damaged=args.skip_damaged,
-            )
-    except BagError as exc:
-        raise CommandFailed(str(exc)) from None
-    except MeshError as exc:
-        raise CommandLineError(f"MESH: {exc}") from None
+    with (
+        errors_as(CommandFailed, BagError),
+        errors_as(CommandLineError, MeshError, "MESH: "),
+        stop_on_signals() as stop,
+    ):
+        report = bag_analysis.analyze_bag(
+            args.bag,
+            args.attitude_topic,
+            args.state_topic,
+            models,
+            out_bag=out,
+            out_csv=out_csv,
+            plots_dir=plots,
+            storage=args.storage,
+            progress=progress,
+            overwrite=args.overwrite,
+            workers=args.workers,
+            stop=stop,
+            joint_topic=args.joint_states_topic,
+            skip_damaged=args.skip_damaged,
+        )
     for text in report.warnings:
         warn("bag analyze", text)
     for m in report.models:

@@ -9,6 +9,7 @@ from adbsat_ros.cli.options import (
     CommandFailed,
     add_qos_depth,
     add_storage,
+    errors_as,
     flag,
     non_negative_int,
     option,
@@ -68,11 +69,8 @@ def _counts(counter) -> str:
 def _run_live(module: str, function: str, *args, **options):
     """Run ``adbsat_ros.ros.<module>.<function>(*args, **options)``; a BagError is CommandFailed."""
     run = getattr(ros_module(module), function)
-    try:
-        with stop_on_signals() as stop:
-            return run(*args, **options, stop=stop, log=_log)
-    except BagError as exc:
-        raise CommandFailed(str(exc)) from None
+    with errors_as(CommandFailed, BagError), stop_on_signals() as stop:
+        return run(*args, **options, stop=stop, log=_log)
 
 
 def run_play(args) -> int:

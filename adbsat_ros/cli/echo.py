@@ -2,7 +2,14 @@
 
 from __future__ import annotations
 
-from adbsat_ros.cli.options import CommandFailed, add_timeout, option, positive_int, ros_module
+from adbsat_ros.cli.options import (
+    CommandFailed,
+    add_timeout,
+    errors_as,
+    option,
+    positive_int,
+    ros_module,
+)
 
 
 def configure(p) -> None:
@@ -20,10 +27,8 @@ def configure(p) -> None:
 def run(args) -> int:
     """Run ``adbsat-ros echo``; the exit status (1 if fewer messages came)."""
     tools = ros_module("graph_tools")
-    try:
+    with errors_as(CommandFailed, tools.ToolError):
         printed = tools.echo(args.topic, args.count, args.timeout, print)
-    except tools.ToolError as exc:
-        raise CommandFailed(str(exc)) from None
     if printed < args.count:
         raise CommandFailed(
             f"{printed} of {args.count} messages came within {args.timeout:g} s of each other"

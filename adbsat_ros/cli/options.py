@@ -6,6 +6,7 @@ Imported at every start: only the standard library at the top (numpy where calle
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import math
 import os
@@ -235,6 +236,15 @@ def add_timeout(parser, what: str) -> None:
     """Add ``--timeout`` [s] (default 5), how long a live tool waits for ``what``."""
     help = f"seconds to wait for {what} (default 5)"
     option(parser, "--timeout", help, positive_float, default=5.0)
+
+
+@contextlib.contextmanager
+def errors_as(kind, errors, prefix: str = ""):
+    """Raise ``kind(prefix + text)`` for an exception of the type(s) ``errors`` raised inside."""
+    try:
+        yield
+    except errors as exc:
+        raise kind(f"{prefix}{exc}") from None
 
 
 class RosNotAvailable(CommandFailed):

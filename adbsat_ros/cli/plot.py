@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from adbsat_ros.cli.options import CommandLineError, flag, number, option
+from adbsat_ros.cli.options import CommandLineError, errors_as, flag, number, option
 from adbsat_ros.database.format import DatabaseError, load_database
 from adbsat_ros.database.metadata import method_from_metadata
 from adbsat_ros.plotting import coefficients, panels
@@ -81,10 +81,8 @@ def run(args) -> int:
         raise CommandLineError(f"--max-lines must be >= 2, got {args.max_lines}")
     if args.aos is not None and not -90.0 <= args.aos <= 90.0:
         raise CommandLineError(f"--aos must be in [-90, 90] degrees, got {args.aos:g}")
-    try:
+    with errors_as(CommandLineError, DatabaseError, "DATABASE: "):
         db = load_database(path)
-    except DatabaseError as exc:
-        raise CommandLineError(f"DATABASE: {exc}") from None
     out_dir = Path(args.out_dir) if args.out_dir else path.with_name(path.stem + "_plots")
     if out_dir.exists() and not out_dir.is_dir():
         raise CommandLineError(f"--out-dir: {str(out_dir)!r} exists and is not a folder")

@@ -8,6 +8,7 @@ from adbsat_ros.bags.io import BagError
 from adbsat_ros.cli.options import (
     CommandLineError,
     add_storage,
+    errors_as,
     flag,
     non_negative_float,
     option,
@@ -113,11 +114,9 @@ def run(args) -> int:
             "need two topics"
         )
     sc = scenario_from_args(args)
-    try:
+    with errors_as(CommandLineError, ValueError, "--duration x --rate: "):  # (memory it takes)
         messages = scenario.generate(sc)
-    except ValueError as exc:  # (the memory it would take)
-        raise CommandLineError(f"--duration x --rate: {exc}") from None
-    try:
+    with errors_as(CommandLineError, BagError, "--out: "):
         path = bag_io.write_scenario_bag(
             messages,
             args.out,
@@ -126,8 +125,6 @@ def run(args) -> int:
             storage=args.storage,
             overwrite=args.overwrite,
         )
-    except BagError as exc:
-        raise CommandLineError(f"--out: {exc}") from None
     print(
         f"wrote {path} ({args.storage}): {len(messages.states.stamps_ns)} Odometry on "
         f"{args.state_topic}, {len(messages.attitudes.stamps_ns)} QuaternionStamped on "

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sys
 
-from adbsat_ros.cli.options import CommandLineError, flag, is_terminal, option, warn
+from adbsat_ros.cli.options import CommandLineError, errors_as, flag, is_terminal, option, warn
 
 
 def configure(p) -> None:
@@ -41,7 +41,7 @@ def run(args) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise CommandLineError(f"--workers must be >= 1, got {args.workers}")
-    try:
+    with errors_as(CommandLineError, (SpecError, StoreError, MeshError, ValueError)):
         text, data = load_spec(args.spec)
         joints = None
         if isinstance(data, dict) and is_urdf(str(data.get("mesh", ""))):
@@ -57,8 +57,6 @@ def run(args) -> int:
                 progress=not args.no_progress and is_terminal(),
                 stop=stop,
             )
-    except (SpecError, StoreError, MeshError, ValueError) as exc:
-        raise CommandLineError(str(exc)) from None
     for note in report.notes:
         warn("sweep", note)
     shape = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
