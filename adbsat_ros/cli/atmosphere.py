@@ -16,8 +16,8 @@ from adbsat_ros.cli.options import (
     CommandLineError,
     checked,
     errors_as,
-    finite_float,
     flag,
+    number,
     option,
     parse_vector3,
 )
@@ -72,7 +72,7 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
     option(gas, "--accommodation", help, type=str.lower, choices=names, default=default)
     if with_alpha:
         help = "accommodation coefficient for --accommodation fixed, 0..1"
-        option(gas, "--alpha", help, finite_float, metavar="ALPHA")
+        option(gas, "--alpha", help, number, metavar="ALPHA")
 
 
 def configure(parser) -> None:

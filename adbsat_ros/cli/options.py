@@ -161,11 +161,6 @@ def fraction(option: str):
     return number(option, low=0.0, high=1.0, what="a number in [0, 1]")
 
 
-def finite_float(option: str):
-    """An argparse ``type`` accepting finite numbers (error names ``option``)."""
-    return number(option)
-
-
 def non_negative_float(option: str):
     """An argparse ``type`` accepting finite numbers >= 0 (error names ``option``)."""
     return number(option, low=0.0)
