@@ -1,10 +1,8 @@
-"""The ``adbsat-ros`` command line.
+"""The ``adbsat-ros`` command line: one module per subcommand.
 
-Each subcommand's module exposes ``configure(parser)``, which sets ``func`` (called with the
-parsed arguments; returns the exit status, or raises CommandLineError, status 2, or
-CommandFailed, status 1, printed by :func:`main` as one line). Only the chosen subcommand's
-module is imported, and what only some runs need is imported where needed: for start-up time,
-not to dodge import cycles (the package has none).
+Each module's ``configure(parser)`` sets ``func``, which returns the exit status or raises
+CommandLineError (status 2) or CommandFailed (status 1), printed by :func:`main` as one line.
+Only the chosen subcommand's module is imported (start-up time).
 """
 
 from __future__ import annotations
@@ -26,8 +24,7 @@ from adbsat_ros.processes import (
     signal_name,
 )
 
-#: The subcommands in the order ``--help`` lists them, with their one-line help; each is
-#: configured by the module of the same name in this package.
+#: The subcommands in ``--help`` order, with their help; each is the module of that name.
 SUBCOMMANDS = {
     "coeff": "force and moment coefficients at given attitudes",
     "atmosphere": "flight conditions: NRLMSISE-00 atmosphere, relative wind, accommodation",
@@ -72,18 +69,8 @@ def chosen_subcommand(argv) -> str | None:
 
 
 def build_parser(configured=None) -> argparse.ArgumentParser:
-    """The top-level parser, with every subcommand listed.
-
-    Parameters
-    ----------
-    configured : iterable of str, optional
-        The subcommands whose options are registered; the others are listed by name and help
-        only. None configures every subcommand.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-    """
+    """The top-level parser listing every subcommand, with the options of those ``configured``
+    (default all; the others by name and help only)."""
     configured = set(SUBCOMMANDS if configured is None else configured)
     unknown = configured - set(SUBCOMMANDS)
     if unknown:
@@ -119,7 +106,7 @@ class OneLineFormatter(logging.Formatter):
         self.tracebacks = bool(tracebacks)
 
     def format(self, record: logging.LogRecord) -> str:
-        """The record's line (and, with ``tracebacks``, its traceback); the record unchanged."""
+        """The record's line (with ``tracebacks``, its traceback too)."""
         if self.tracebacks:
             return super().format(record)
         saved = record.exc_info, record.exc_text, record.stack_info
@@ -134,7 +121,7 @@ def main(argv=None) -> int:
     """Entry point of the ``adbsat-ros`` console script; returns the process exit status.
 
     SIGINT and SIGTERM stop a subcommand's long work in order; elsewhere they end the command with
-    one line, ``adbsat-ros COMMAND: stopped by SIGINT``, and no traceback.
+    one line, ``adbsat-ros COMMAND: stopped by SIGINT``.
     """
     command = None
     with handle_signals():

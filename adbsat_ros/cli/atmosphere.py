@@ -1,9 +1,7 @@
 """``adbsat-ros atmosphere``: flight conditions (NRLMSISE-00 atmosphere, speed, accommodation).
 
-Where: a geodetic point ``--altitude KM --lat DEG --lon DEG`` (circular-orbit speed, as ADBSat's
-environment.m), or ``--position X,Y,Z`` [m] in ``--frame eci|ecef`` with an optional
-``--velocity X,Y,Z`` [m/s]. ``--json`` prints every field in SI units. ``coeff`` and
-``database`` share the flight options (:func:`add_flight_arguments`, :func:`compute`).
+At a geodetic point (circular-orbit speed, as ADBSat's environment.m) or an orbital state.
+``coeff`` and ``database`` share the flight options (:func:`add_flight_arguments`, :func:`compute`).
 """
 
 from __future__ import annotations
@@ -17,8 +15,9 @@ import sys
 from adbsat_ros.cli.options import (
     CommandLineError,
     checked,
-    finite_float,
+    errors_as,
     flag,
+    number,
     option,
     parse_vector3,
 )
@@ -30,10 +29,8 @@ DEFAULT_AP = 4.0
 
 
 def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> None:
-    """Options that give the flight conditions: time, place or state, space weather, gas.
-
-    ``coeff`` has its own ``--alpha`` and makes ``--time`` optional.
-    """
+    """Add the flight-condition options (time, place or state, space weather, gas); ``coeff``
+    has its own ``--alpha`` and an optional ``--time``."""
     from adbsat_ros.environment.accommodation import accommodation_model_names
 
     help = "UTC time, e.g. 2015-01-19T00:00:00Z (no offset means UTC)"
@@ -75,11 +72,11 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
     option(gas, "--accommodation", help, type=str.lower, choices=names, default=default)
     if with_alpha:
         help = "accommodation coefficient for --accommodation fixed, 0..1"
-        option(gas, "--alpha", help, finite_float, metavar="ALPHA")
+        option(gas, "--alpha", help, number, metavar="ALPHA")
 
 
 def configure(parser) -> None:
-    """Give the ``atmosphere`` subcommand's parser its description and options."""
+    """Configure ``adbsat-ros atmosphere``."""
     parser.description = (
         "Evaluate NRLMSISE-00 and the flight conditions at a geodetic point "
         "(--altitude/--lat/--lon, circular-orbit speed as ADBSat) or at an orbital state "
@@ -106,15 +103,6 @@ def _parse_time(text: str) -> _dt.datetime:
             f"--time: must be between {FIRST_YEAR} and {LAST_YEAR}, got {text!r}"
         )
     return time
-
-
-def _check_altitude_m(altitude_m: float, option: str) -> None:
-    from adbsat_ros.environment.atmosphere import MAX_ALTITUDE
-
-    if not 0.0 <= altitude_m <= MAX_ALTITUDE:
-        raise CommandLineError(
-            f"{option}: altitude {altitude_m / 1e3:.6g} km is outside 0..{MAX_ALTITUDE / 1e3:g} km"
-        )
 
 
 def _space_weather(args):
@@ -160,10 +148,8 @@ def compute(args, accommodation_options=None):
 
 
 def _compute(args, accommodation_options=None):
-    """Flight conditions for parsed arguments; CommandLineError naming the bad option.
-
-    ``accommodation_options`` replaces the options of ``--accommodation/--alpha``.
-    """
+    """CommandLineError naming a bad option; ``accommodation_options`` replaces ``--alpha``'s."""
+    from adbsat_ros.environment.atmosphere import MAX_ALTITUDE
     from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
     from adbsat_ros.environment.earth_frames import earth_orientation
     from adbsat_ros.environment.flight_conditions import flight_conditions
@@ -196,11 +182,8 @@ def _compute(args, accommodation_options=None):
             raise CommandLineError(
                 f"{missing[0]}: required (give --altitude, --lat and --lon, or --position)"
             )
-        altitude = args.altitude * 1e3
-        _check_altitude_m(altitude, "--altitude")
-        if not -90.0 <= args.lat <= 90.0:
-            raise CommandLineError(f"--lat: must be in [-90, 90] degrees, got {args.lat:g}")
         latitude, longitude = math.radians(args.lat), math.radians(args.lon)
+        altitude = args.altitude * 1e3  # (--altitude and --lat are in range: their types check)
         return flight_conditions_circular_orbit(time, altitude, latitude, longitude, weather, **gas)
     frame = args.frame or "eci"
     position = parse_vector3(args.position, "--position")
@@ -209,7 +192,10 @@ def _compute(args, accommodation_options=None):
     orientation = earth_orientation(time)
     position_ecef = position if frame == "ecef" else orientation.eci_to_ecef(position)[0]
     latitude, longitude, altitude = ecef_to_geodetic(position_ecef)
-    _check_altitude_m(altitude, "--position")
+    if not 0.0 <= altitude <= MAX_ALTITUDE:
+        raise CommandLineError(
+            f"--position: altitude {altitude / 1e3:.6g} km is outside 0..{MAX_ALTITUDE / 1e3:g} km"
+        )
     if args.velocity is None:
         if args.wind is not None:
             raise CommandLineError("--wind: only valid with --velocity")
@@ -240,7 +226,7 @@ def _vector_text(vector, scale=1.0, digits=6) -> str:
 
 
 def format_table(conditions) -> str:
-    """Readable multi-line summary (degrees and km shown next to the SI values)."""
+    """The conditions as a table (degrees and km beside the SI values)."""
     atmosphere = conditions.atmosphere
     rows = [
         ("time (UTC)", conditions.time.isoformat()),
@@ -279,11 +265,9 @@ def format_table(conditions) -> str:
 
 
 def run(args) -> int:
-    """Entry point of ``adbsat-ros atmosphere``; returns the exit status."""
-    try:
+    """Run ``adbsat-ros atmosphere``; the exit status."""
+    with errors_as(CommandLineError, ValueError):  # a library's check: still a bad value
         conditions = compute(args)
-    except ValueError as exc:  # a library check the CLI did not anticipate: still a bad value
-        raise CommandLineError(str(exc)) from None
     if args.json:
         try:  # (made whole first: a refused number must not leave half a document)
             text = json.dumps(conditions.as_dict(), indent=2, allow_nan=False)

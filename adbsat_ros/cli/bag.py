@@ -1,8 +1,5 @@
-"""``adbsat-ros bag``: tools for rosbag2 files; ``bag analyze`` replays a bag through the node.
-
-``play`` and ``record`` are configured by :mod:`adbsat_ros.cli.bag_live`; bag analysis is
-imported only when ``bag analyze`` runs.
-"""
+"""``adbsat-ros bag``: rosbag2 tools; ``bag analyze`` replays a bag through the node's logic
+(``play`` and ``record``: :mod:`adbsat_ros.cli.bag_live`)."""
 
 from __future__ import annotations
 
@@ -14,6 +11,7 @@ from adbsat_ros.cli.options import (
     CommandFailed,
     CommandLineError,
     add_storage,
+    errors_as,
     flag,
     is_terminal,
     option,
@@ -24,7 +22,7 @@ from adbsat_ros.processes import stop_on_signals, usable_cpus
 
 
 def configure(p) -> None:
-    """Give the ``bag`` command group's parser ``p`` its description and subcommands."""
+    """Configure the ``bag`` command group."""
     p.description = "Tools for rosbag2 files (.mcap or .db3)."
     sub = p.add_subparsers(dest="bag_command", metavar="BAG_COMMAND", parser_class=type(p))
     sub.required = True
@@ -33,7 +31,7 @@ def configure(p) -> None:
 
 
 def configure_analyze(a) -> None:
-    """Give the ``bag analyze`` parser ``a`` its description and options."""
+    """Configure ``bag analyze``."""
     a.description = (
         "Replay a rosbag2 through adbsat_node's logic (no ROS needed) and write a new bag with "
         "the input messages plus, per model LABEL, /adbsat/LABEL/wrench and "
@@ -79,7 +77,7 @@ def configure_analyze(a) -> None:
     a.set_defaults(func=run_analyze)
 
 
-#: The ``bag`` group's subcommands: their one-line help and the function that configures them.
+#: The ``bag`` group's subcommands: their help and configuring function.
 BAG_COMMANDS = {
     "analyze": ("compute the node's wrench at every attitude message of a bag", configure_analyze),
     "play": (
@@ -138,7 +136,7 @@ def default_output(bag) -> Path:
 
 
 def run_analyze(args) -> int:
-    """Run ``adbsat-ros bag analyze``; returns the exit status."""
+    """Run ``bag analyze``; the exit status."""
     from adbsat_ros.bags import analysis as bag_analysis
     from adbsat_ros.geometry.mesh import MeshError
 
@@ -151,28 +149,27 @@ def run_analyze(args) -> int:
         else (Path(args.plots) if args.plots else out.parent / f"{out.name}_plots")
     )
     progress = not args.no_progress and is_terminal()
-    try:
-        with stop_on_signals() as stop:
-            report = bag_analysis.analyze_bag(
-                args.bag,
-                args.attitude_topic,
-                args.state_topic,
-                models,
-                out_bag=out,
-                out_csv=out_csv,
-                plots_dir=plots,
-                storage=args.storage,
-                progress=progress,
-                overwrite=args.overwrite,
-                workers=args.workers,
-                stop=stop,
-                joint_topic=args.joint_states_topic,
-                skip_damaged=args.skip_damaged,
-            )
-    except BagError as exc:
-        raise CommandFailed(str(exc)) from None
-    except MeshError as exc:
-        raise CommandLineError(f"MESH: {exc}") from None
+    with (
+        errors_as(CommandFailed, BagError),
+        errors_as(CommandLineError, MeshError, "MESH: "),
+        stop_on_signals() as stop,
+    ):
+        report = bag_analysis.analyze_bag(
+            args.bag,
+            args.attitude_topic,
+            args.state_topic,
+            models,
+            out_bag=out,
+            out_csv=out_csv,
+            plots_dir=plots,
+            storage=args.storage,
+            progress=progress,
+            overwrite=args.overwrite,
+            workers=args.workers,
+            stop=stop,
+            joint_topic=args.joint_states_topic,
+            skip_damaged=args.skip_damaged,
+        )
     for text in report.warnings:
         warn("bag analyze", text)
     for m in report.models:

@@ -1,8 +1,4 @@
-"""``adbsat-ros bag play`` and ``adbsat-ros bag record``: live rosbag tools (need rclpy).
-
-rclpy is imported only when one of these runs, so the rest of the command line works without
-ROS. Discovery stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE says otherwise.
-"""
+"""``adbsat-ros bag play`` and ``bag record``: live rosbag tools (rclpy imported when they run)."""
 
 from __future__ import annotations
 
@@ -13,6 +9,7 @@ from adbsat_ros.cli.options import (
     CommandFailed,
     add_qos_depth,
     add_storage,
+    errors_as,
     flag,
     non_negative_int,
     option,
@@ -23,7 +20,7 @@ from adbsat_ros.processes import stop_on_signals
 
 
 def configure_play(play) -> None:
-    """Give the ``bag play`` parser its description and options."""
+    """Configure ``bag play``."""
     play.description = (
         "Publish the messages of a rosbag2 bag (.mcap or .db3) on their topics, unchanged "
         "(header stamps as recorded), spaced as recorded and scaled by --rate. Needs rclpy. "
@@ -44,7 +41,7 @@ def configure_play(play) -> None:
 
 
 def configure_record(record) -> None:
-    """Give the ``bag record`` parser its description and options."""
+    """Configure ``bag record``."""
     record.description = (
         "Subscribe to the given topics and write their messages (serialized, as received) into "
         "a new rosbag2 bag, stamped with the receive time. A topic's type is taken from the "
@@ -72,15 +69,12 @@ def _counts(counter) -> str:
 def _run_live(module: str, function: str, *args, **options):
     """Run ``adbsat_ros.ros.<module>.<function>(*args, **options)``; a BagError is CommandFailed."""
     run = getattr(ros_module(module), function)
-    try:
-        with stop_on_signals() as stop:
-            return run(*args, **options, stop=stop, log=_log)
-    except BagError as exc:
-        raise CommandFailed(str(exc)) from None
+    with errors_as(CommandFailed, BagError), stop_on_signals() as stop:
+        return run(*args, **options, stop=stop, log=_log)
 
 
 def run_play(args) -> int:
-    """Run ``bag play``; returns the exit status."""
+    """Run ``bag play``; the exit status."""
     summary = _run_live(
         "bag_play",
         "play",
@@ -101,7 +95,7 @@ def run_play(args) -> int:
 
 
 def run_record(args) -> int:
-    """Run ``bag record``; returns the exit status."""
+    """Run ``bag record``; the exit status."""
     summary = _run_live(
         "bag_record",
         "record",

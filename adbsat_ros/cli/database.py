@@ -1,9 +1,5 @@
-"""``adbsat-ros database MESH``: an aerodynamic database over angle of attack and sideslip.
-
-Evaluates every ``--aoa`` x ``--aos`` pair (default the whole sphere in 5 deg steps) on every
-core; writes ``--out FILE.npz`` (:func:`adbsat_ros.database.format.load_database`) and a CSV
-beside it (or ``--csv``). Other options are those of ``coeff``.
-"""
+"""``adbsat-ros database MESH``: an aerodynamic database over angle of attack and sideslip, as
+``--out FILE.npz`` (:func:`adbsat_ros.database.format.load_database`) and a CSV."""
 
 from __future__ import annotations
 
@@ -30,7 +26,7 @@ DEFAULT_AOS = "-90:5:90"
 
 
 def configure(p) -> None:
-    """Give the ``database`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros database``."""
     p.description = (
         "Sweep the panel method over every pair of --aoa x --aos [deg] (ranges as "
         "start:step:stop; default the whole sphere in 5 deg steps) on --workers processes and "
@@ -85,7 +81,7 @@ def _angles(text, option, low, high):
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros database``; returns the exit status."""
+    """Run ``adbsat-ros database``; the exit status."""
     aoa = _angles(args.aoa, "--aoa", -360.0, 360.0)
     aos = _angles(args.aos, "--aos", -90.0, 90.0)
     out = args.out
@@ -147,7 +143,7 @@ def partial_path(csv_path: str) -> str:
 
 
 def summary(db, elapsed: float, workers: int, files) -> str:
-    """Readable multi-line summary of a database build."""
+    """The lines printed after a database build."""
     m = db.metadata
     na, nb = db.shape
     err = m["interpolation_error"]

@@ -7,7 +7,7 @@ from adbsat_ros.processes import INTERRUPTED_STATUS
 
 
 def configure(p) -> None:
-    """Give the ``demo`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros demo``."""
     p.description = (
         "Start adbsat_node (bundled satellite, default parameters) in this process, publish a "
         "300 km circular orbit with a tumbling (or nadir-pointing) attitude to it live, print a "
@@ -33,8 +33,7 @@ def configure(p) -> None:
 
 
 def run(args) -> int:
-    """Run the demo; 0 if the node answered every attitude, 1 otherwise (also when a signal
-    stopped it)."""
+    """Run the demo; 0 if the node answered every attitude (a signal: INTERRUPTED_STATUS)."""
     demo = ros_module("demo")
     result = demo.run_demo(
         args.duration, args.speedup, args.out_dir, args.attitude, articulated=args.articulated

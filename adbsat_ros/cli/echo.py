@@ -1,13 +1,19 @@
-"""``adbsat-ros echo TOPIC``: print a topic's messages (the node's wrench, coefficients,
-acceleration, /diagnostics ...), for machines without the ``ros2`` command (needs rclpy)."""
+"""``adbsat-ros echo TOPIC``: print a topic's messages, as ``ros2 topic echo`` (needs rclpy)."""
 
 from __future__ import annotations
 
-from adbsat_ros.cli.options import CommandFailed, add_timeout, option, positive_int, ros_module
+from adbsat_ros.cli.options import (
+    CommandFailed,
+    add_timeout,
+    errors_as,
+    option,
+    positive_int,
+    ros_module,
+)
 
 
 def configure(p) -> None:
-    """Give the ``echo`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros echo``."""
     p.description = (
         "Print the messages of a ROS 2 topic as `field: value` lines, each followed by ---, as "
         "`ros2 topic echo` does; the type is the one the graph gives the topic. Needs rclpy."
@@ -19,12 +25,10 @@ def configure(p) -> None:
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros echo``; returns the exit status (1 if fewer messages came)."""
+    """Run ``adbsat-ros echo``; the exit status (1 if fewer messages came)."""
     tools = ros_module("graph_tools")
-    try:
+    with errors_as(CommandFailed, tools.ToolError):
         printed = tools.echo(args.topic, args.count, args.timeout, print)
-    except tools.ToolError as exc:
-        raise CommandFailed(str(exc)) from None
     if printed < args.count:
         raise CommandFailed(
             f"{printed} of {args.count} messages came within {args.timeout:g} s of each other"

@@ -1,11 +1,12 @@
-"""Shared command-line machinery: one-line errors, option value parsers, option helpers, ROS import.
+"""Shared command-line machinery: one-line errors, value parsers, option helpers, ROS import.
 
-Imported at every start, so only the standard library at the top (numpy where called).
+Imported at every start: only the standard library at the top (numpy where called).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import math
 import os
@@ -31,36 +32,21 @@ NEGATIVE_NUMBER = re.compile(
 
 
 class OneLineErrorParser(argparse.ArgumentParser):
-    """An ArgumentParser with one-line errors (status 2) that takes negative numbers as values.
-
-    So an option's range check names them (``--speed -inf``).
-    """
+    """An ArgumentParser with one-line errors (status 2) that takes ``-inf``, ``-1e5``... as
+    values, so an option's range check names them."""
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = NEGATIVE_NUMBER
 
     def error(self, message):
-        """Print ``prog: error: message`` as one line on stderr and exit with status 2."""
+        """Print ``prog: error: message`` on stderr; exit with status 2."""
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
 def parse_angle_list(text: str, option: str):
-    """Parse a list of angles in degrees.
-
-    Accepts comma-separated items, each a number or an inclusive range ``start:step:stop``
-    (e.g. ``-180:5:180``), e.g. ``"0,10,20:5:30"``.
-
-    Returns
-    -------
-    ndarray, shape (n,)
-        The angles [deg] in the order given.
-
-    Raises
-    ------
-    CommandLineError
-        Naming ``option`` and the accepted forms, for anything else.
-    """
+    """The angles [deg] of ``"0,10,20:5:30"``: numbers and inclusive ``start:step:stop`` ranges,
+    in the order given; CommandLineError naming ``option`` for anything else."""
     import numpy as np
 
     values = []
@@ -123,19 +109,8 @@ def checked(what: str, value, bound: str) -> float:
 def number(
     option: str, *, integer: bool = False, low=None, high=None, low_open: bool = False, what=None
 ):
-    """An argparse ``type`` for a finite number within bounds; the error names ``option``.
-
-    Parameters
-    ----------
-    option : str
-        The option's name, for the error message.
-    integer : bool
-        Accept whole numbers only (returns int).
-    low, high : float, optional
-        Inclusive bounds (``low`` exclusive if ``low_open``).
-    what : str, optional
-        How the message describes a valid value (default from the bounds).
-    """
+    """An argparse ``type`` for a finite number (an int if ``integer``) in [``low``, ``high``]
+    (``low`` open if ``low_open``); the error names ``option`` and says ``what`` is valid."""
     if what is None:
         kind = "a whole number" if integer else "a finite number"
         if low is not None and high is not None:
@@ -186,11 +161,6 @@ def fraction(option: str):
     return number(option, low=0.0, high=1.0, what="a number in [0, 1]")
 
 
-def finite_float(option: str):
-    """An argparse ``type`` accepting finite numbers (error names ``option``)."""
-    return number(option)
-
-
 def non_negative_float(option: str):
     """An argparse ``type`` accepting finite numbers >= 0 (error names ``option``)."""
     return number(option, low=0.0)
@@ -228,11 +198,8 @@ def positive_int(option: str):
 
 
 def option(parser, name: str, help: str, kind=None, bound: str | None = None, **settings):
-    """Add the option ``name`` with ``help`` to ``parser`` (or an argument group).
-
-    Its values are read by ``kind(name)`` (e.g. :func:`positive_float`) or ``within(name,
-    bound)``, so an error names the option; ``settings`` go to ``add_argument``.
-    """
+    """Add the option ``name`` to ``parser`` (or a group), read by ``kind(name)`` or
+    ``within(name, bound)`` so that an error names it; ``settings`` go to ``add_argument``."""
     if kind is not None:
         settings["type"] = kind(name)
     elif bound is not None:
@@ -264,6 +231,15 @@ def add_timeout(parser, what: str) -> None:
     """Add ``--timeout`` [s] (default 5), how long a live tool waits for ``what``."""
     help = f"seconds to wait for {what} (default 5)"
     option(parser, "--timeout", help, positive_float, default=5.0)
+
+
+@contextlib.contextmanager
+def errors_as(kind, errors, prefix: str = ""):
+    """Raise ``kind(prefix + text)`` for an exception of the type(s) ``errors`` raised inside."""
+    try:
+        yield
+    except errors as exc:
+        raise kind(f"{prefix}{exc}") from None
 
 
 class RosNotAvailable(CommandFailed):

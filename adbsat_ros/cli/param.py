@@ -1,5 +1,4 @@
-"""``adbsat-ros param list|get|set NODE [NAME [VALUE]]``: a running node's parameters over the
-standard parameter services, for machines without the ``ros2`` command (needs rclpy)."""
+"""``adbsat-ros param list|get|set NODE [NAME [VALUE]]``: as ``ros2 param`` (needs rclpy)."""
 
 from __future__ import annotations
 
@@ -7,7 +6,7 @@ from adbsat_ros.cli.options import CommandFailed, CommandLineError, add_timeout,
 
 
 def configure(p) -> None:
-    """Give the ``param`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros param``."""
     p.description = (
         "List, get or set the parameters of a running ROS 2 node (e.g. adbsat_node) over its "
         "parameter services, as `ros2 param` does; a rejected value prints the node's reason. "
@@ -29,7 +28,7 @@ def configure(p) -> None:
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros param``; returns the exit status (1: node rejects or is absent)."""
+    """Run ``adbsat-ros param``; the exit status (1: the node refuses or is absent)."""
     if args.action in ("get", "set") and args.name is None:
         raise CommandLineError(f"param {args.action}: NAME is needed")
     if args.action == "set" and args.value is None:

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from adbsat_ros.cli.options import CommandLineError, flag, number, option
+from adbsat_ros.cli.options import CommandLineError, errors_as, flag, number, option
 from adbsat_ros.database.format import DatabaseError, load_database
 from adbsat_ros.database.metadata import model_from_metadata
 from adbsat_ros.plotting import coefficients, panels
 
 
 def configure(p) -> None:
-    """Give the ``plot`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros plot``."""
     p.description = (
         "Draw the coefficients of a database written by `adbsat-ros database` against angle of "
         "attack, one line per sideslip angle (database_coefficients.png: CD, CL, CY; "
@@ -50,7 +50,7 @@ def default_angle(grid) -> float:
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros plot``; returns the exit status."""
+    """Run ``adbsat-ros plot``; the exit status."""
     path = Path(args.database)
     if not path.exists():
         raise CommandLineError(f"DATABASE: no such file {str(path)!r}")
@@ -60,10 +60,8 @@ def run(args) -> int:
         raise CommandLineError(f"--max-lines must be >= 2, got {args.max_lines}")
     if args.aos is not None and not -90.0 <= args.aos <= 90.0:
         raise CommandLineError(f"--aos must be in [-90, 90] degrees, got {args.aos:g}")
-    try:
+    with errors_as(CommandLineError, DatabaseError, "DATABASE: "):
         db = load_database(path)
-    except DatabaseError as exc:
-        raise CommandLineError(f"DATABASE: {exc}") from None
     out_dir = Path(args.out_dir) if args.out_dir else path.with_name(path.stem + "_plots")
     if out_dir.exists() and not out_dir.is_dir():
         raise CommandLineError(f"--out-dir: {str(out_dir)!r} exists and is not a folder")

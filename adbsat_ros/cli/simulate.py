@@ -8,6 +8,7 @@ from adbsat_ros.bags.io import BagError
 from adbsat_ros.cli.options import (
     CommandLineError,
     add_storage,
+    errors_as,
     flag,
     non_negative_float,
     option,
@@ -18,7 +19,7 @@ from adbsat_ros.cli.options import (
 
 
 def configure(p) -> None:
-    """Give the ``simulate`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros simulate``."""
     p.description = (
         "Write a rosbag2 holding a two-body (Keplerian) orbit in ECI as nav_msgs/Odometry "
         "(frame_id and child_frame_id 'eci', twist = ECI velocity) and the attitude as "
@@ -106,18 +107,16 @@ def scenario_from_args(args) -> scenario.Scenario:
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros simulate``; returns the exit status."""
+    """Run ``adbsat-ros simulate``; the exit status."""
     if args.attitude_topic.lstrip("/") == args.state_topic.lstrip("/"):
         raise CommandLineError(
             f"--state-topic: {args.state_topic} is also the --attitude-topic; the two streams "
             "need two topics"
         )
     sc = scenario_from_args(args)
-    try:
+    with errors_as(CommandLineError, ValueError, "--duration x --rate: "):  # (memory it takes)
         messages = scenario.generate(sc)
-    except ValueError as exc:  # (the memory it would take)
-        raise CommandLineError(f"--duration x --rate: {exc}") from None
-    try:
+    with errors_as(CommandLineError, BagError, "--out: "):
         path = bag_io.write_scenario_bag(
             messages,
             args.out,
@@ -126,8 +125,6 @@ def run(args) -> int:
             storage=args.storage,
             overwrite=args.overwrite,
         )
-    except BagError as exc:
-        raise CommandLineError(f"--out: {exc}") from None
     print(
         f"wrote {path} ({args.storage}): {len(messages.states.stamps_ns)} Odometry on "
         f"{args.state_topic}, {len(messages.attitudes.stamps_ns)} QuaternionStamped on "

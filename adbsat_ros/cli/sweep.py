@@ -1,17 +1,15 @@
-"""``adbsat-ros sweep SPEC.yaml --out RESULT.zarr``: an N-dimensional sweep on Dask.
-
-Dask, xarray and Zarr are imported when the sweep runs (start-up time of the command line).
-"""
+"""``adbsat-ros sweep SPEC.yaml --out RESULT.zarr``: an N-dimensional sweep on Dask (imported
+with xarray and Zarr when it runs)."""
 
 from __future__ import annotations
 
 import sys
 
-from adbsat_ros.cli.options import CommandLineError, flag, option
+from adbsat_ros.cli.options import CommandLineError, errors_as, flag, is_terminal, option, warn
 
 
 def configure(p) -> None:
-    """Give the ``sweep`` subcommand's parser ``p`` its description and options."""
+    """Configure ``adbsat-ros sweep``."""
     p.description = (
         "Compute the coefficients over every point of the axes a YAML spec names (aoa, aos, "
         "speed, temperature, mean_mass_amu, alpha, wall_temperature, joint.NAME) on Dask: a "
@@ -43,7 +41,7 @@ def run(args) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise CommandLineError(f"--workers must be >= 1, got {args.workers}")
-    try:
+    with errors_as(CommandLineError, (SpecError, StoreError, MeshError, ValueError)):
         text, data = load_spec(args.spec)
         joints = None
         if isinstance(data, dict) and is_urdf(str(data.get("mesh", ""))):
@@ -56,13 +54,11 @@ def run(args) -> int:
                 scheduler=args.scheduler,
                 workers=args.workers,
                 overwrite=args.overwrite,
-                progress=not args.no_progress and sys.stderr.isatty(),
+                progress=not args.no_progress and is_terminal(),
                 stop=stop,
             )
-    except (SpecError, StoreError, MeshError, ValueError) as exc:
-        raise CommandLineError(str(exc)) from None
     for note in report.notes:
-        print(f"adbsat-ros sweep: warning: {note}", file=sys.stderr)
+        warn("sweep", note)
     shape = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
     print(
         f"sweep {shape}: {report.chunks} chunks, {report.already_done} already in {args.out}, "
