@@ -18,7 +18,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.facets import sum_columns, vector_sums
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
@@ -87,9 +86,7 @@ EPSILON[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0
 class PosedFacets:
     """The facets of every link of an articulated body, posed per configuration.
 
-    Build with :meth:`of`. Two stores (LRU of ``max_entries``) serve :meth:`sums`:
-    :attr:`link_sums_store`, a lighting part's content key -> its rows; :attr:`sums_store`,
-    (the parts' keys, the joint positions) -> their posed sums, stacked.
+    Build with :meth:`of`.
 
     Parameters
     ----------
@@ -101,8 +98,6 @@ class PosedFacets:
         Their panels, [start, stop) of the posed body's.
     joints : EffortColumns, optional
         The joints' effort columns (:mod:`adbsat_ros.physics.link_loads`).
-    max_entries : int
-        Bound of each store.
 
     Attributes
     ----------
@@ -114,9 +109,7 @@ class PosedFacets:
         The facet of every panel of the posed body, in panel order.
     """
 
-    def __init__(
-        self, link_facets, link_index, spans, joints=None, max_entries: int = 64, link_surfaces=None
-    ):
+    def __init__(self, link_facets, link_index, spans, joints=None, link_surfaces=None):
         self._facets = list(link_facets)
         self._joints = joints
         self._link_index = np.asarray(link_index)
@@ -145,8 +138,6 @@ class PosedFacets:
         self._areas = np.concatenate([f.mesh.areas for f in self._facets])
         self._weighted_barycentres = np.concatenate([f.weighted_barycentres for f in self._facets])
         self._normals = np.concatenate([f.normals for f in self._facets])
-        self.link_sums_store = LruStore(max_entries)
-        self.sums_store = LruStore(max_entries)
         self._own = None  # (the links' own values by parameter, the facets' surface of them)
         if link_surfaces is not None:
             own = self._surface_of_links(link_surfaces)
@@ -272,25 +263,12 @@ class PosedFacets:
         return PosedSums.of(weights, *_stacked([self.pose_part(r, posing) for r in rows]))
 
     def sums(self, lighting, configuration) -> PosedSums:
-        """:meth:`pose` of ``lighting`` (a blend, or None: all lit) at ``configuration``,
-        through the stores; a blend's parts recur over many attitudes, only weights change."""
+        """:meth:`pose` of ``lighting`` (a blend, or None: all lit) at ``configuration``."""
         if isinstance(lighting, LightingBlend):
             weights, parts = zip(*lighting.parts)
         else:
             weights, parts = (1.0,), (lighting,)
-        key = (tuple(None if part is None else part.key for part in parts), configuration.poses.key)
-
-        def make():
-            rows = [self._rows_of(part) for part in parts]
-            return _stacked([self.pose_part(r, configuration.posing) for r in rows])
-
-        return PosedSums.of(weights, *self.sums_store.get(key, make))
-
-    def _rows_of(self, lighting) -> np.ndarray:
-        """:meth:`link_rows` of ``lighting`` through :attr:`link_sums_store`."""
-        if lighting is None:
-            return self.link_rows(None)
-        return self.link_sums_store.get(lighting.key, lambda: self.link_rows(lighting))
+        return self.pose([self.link_rows(part) for part in parts], weights, configuration.posing)
 
 
 def _stacked(posed) -> tuple:

@@ -2,12 +2,10 @@
 
 A :class:`PanelLighting` holds the lit fraction of every panel (effective area A_i f_i) and, for
 partly lit panels, the shift of the centre of pressure to the lit part's centroid, stored
-sparsely (only panels not fully lit), with a content fingerprint :attr:`PanelLighting.key`.
+sparsely (only panels not fully lit).
 """
 
 from __future__ import annotations
-
-import hashlib
 
 import numpy as np
 
@@ -42,9 +40,6 @@ class PanelLighting:
         Their lit fractions, in [0, 1).
     shift_fraction : ndarray, shape (K,)
         Lit fraction of the panels of ``shift_index``.
-    key : bytes
-        Fingerprint of the content (BLAKE2b, 128 bits): equal keys mean equal lightings, so
-        results derived from one can be kept under it.
 
     Raises
     ------
@@ -60,7 +55,6 @@ class PanelLighting:
         "shift_index",
         "shift",
         "shift_fraction",
-        "key",
     )
 
     def __init__(self, lit_fraction, shift_index=None, shift=None):
@@ -84,11 +78,6 @@ class PanelLighting:
         self.shift_index = _read_only(index.copy())
         self.shift = _read_only(shift.copy())
         self.shift_fraction = _read_only(f[index])
-        digest = hashlib.blake2b(digest_size=16)
-        digest.update(self.n_panels.to_bytes(8, "little"))
-        for array in (self.shaded_index, self.shaded_fraction, self.shift_index, self.shift):
-            digest.update(array.tobytes())
-        self.key = digest.digest()
 
     @classmethod
     def all_lit(cls, n_panels: int) -> "PanelLighting":
@@ -180,11 +169,6 @@ class LightingBlend:
             shift = np.divide(summed, lit, out=np.zeros_like(summed), where=lit > 0.0)
             self._combined = PanelLighting(np.clip(f, 0.0, 1.0), index, shift)
         return self._combined
-
-    @property
-    def key(self) -> bytes:
-        """Fingerprint of the content (that of :attr:`combined`)."""
-        return self.combined.key
 
     @property
     def lit_fraction(self) -> np.ndarray:
