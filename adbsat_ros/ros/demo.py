@@ -19,7 +19,6 @@ import os
 import sys
 import threading
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -32,8 +31,6 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
 from adbsat_ros.bags.scenario import Scenario, generate
-from adbsat_ros.estimator.settings import setup_from_settings
-from adbsat_ros.physics.model import build_model
 from adbsat_ros.ros import demo_joints
 from adbsat_ros.ros.demo_report import DemoResult, SampleLog, table_rows, vector, write_outputs
 from adbsat_ros.ros.executors import make_executor
@@ -364,14 +361,11 @@ def run_demo(
         picture = None
         if latest and node is not None:
             sample = latest[-1]
-            estimator = node.estimator
-            setup = setup_from_settings(estimator.settings)
-            if sample.joints is not None:  # (the body as posed for that wrench)
-                joints = tuple(zip(sample.joints.names, sample.joints.positions))
-                setup = replace(setup, body=replace(setup.body, joints=joints))
-            given = estimator.mesh if estimator.body is None else estimator.body
-            model = build_model(setup, given)
-            picture = (model, sample.conditions.free_stream(), sample.coefficients)
+            model = node.estimator.model
+            mesh = model.mesh
+            if sample.joints is not None and model.articulated:  # (posed for that wrench)
+                mesh = model.body.mesh(dict(zip(sample.joints.names, sample.joints.positions)))
+            picture = (model, mesh, sample.conditions.free_stream(), sample.coefficients)
         result.files = write_outputs(rows, Path(out_dir), picture, joints=articulated)
         say("wrote: " + ", ".join(str(p) for p in result.files))
     return result
