@@ -1,14 +1,10 @@
-"""An articulated body's facets posed in the body frame: one panel-method evaluation for the
-whole body at any joint positions.
+"""An articulated body's facets posed in the body frame, for one panel-method evaluation of the
+whole body: each link's facet rows (W, W n, Q, Q x n, S) move with the link (rotation R, origin
+t; docs/physics.md, section 8),
 
-Each link's facets are made once in its frame; their sums move with the link (rotation R,
-origin t in G; S the lit-centroid shift sums a lighting gives in G; docs/physics.md, section 8):
+    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n',
 
-    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n'.
-
-A facet's row (W, W n, Q, Q x n, S) is made once per lighting; a configuration's
-:class:`Posing` holds the (13, 10) matrix per facet (and (13, 4 J) for the joints' effort
-columns) that poses it. Units: m, m^2, body frame G.
+one (13, 10) matrix per facet per configuration (:class:`Posing`). Units: m, m^2, body frame G.
 """
 
 from __future__ import annotations
@@ -24,19 +20,10 @@ from adbsat_ros.shading.lighting import LightingBlend
 
 
 class Posing(NamedTuple):
-    """What posing the facets at one configuration takes.
-
-    Attributes
-    ----------
-    normals : ndarray, shape (G, 3)
-        The facets' unit normals in G.
-    inward_T : ndarray, shape (3, G)
-        -normals^T.
-    matrix : ndarray, shape (G, 13, 10)
-        Per facet, its row (W, W n, Q, Q x n, S) to its posed sums in G.
-    efforts : ndarray, shape (G, 13, 4 J) or None
-        The same to the joints' effort columns (None without joints).
-    """
+    """What posing the facets at one configuration takes: the facets' unit ``normals`` (G, 3)
+    in G, ``inward_T`` = -normals^T, per facet the ``matrix`` (G, 13, 10) taking its row
+    (W, W n, Q, Q x n, S) to its posed sums, and ``efforts`` (G, 13, 4 J) the same to the
+    joints' effort columns (None without joints)."""
 
     normals: np.ndarray
     inward_T: np.ndarray
@@ -84,30 +71,11 @@ EPSILON[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0
 
 
 class PosedFacets:
-    """The facets of every link of an articulated body, posed per configuration.
-
-    Build with :meth:`of`.
-
-    Parameters
-    ----------
-    link_facets : sequence of Facets
-        Every evaluated link's facets, in its own frame.
-    link_index : array_like of int
-        Each of them, as an index of the body's links (the poses' order).
-    spans : sequence of (int, int)
-        Their panels, [start, stop) of the posed body's.
-    joints : EffortColumns, optional
-        The joints' effort columns (:mod:`adbsat_ros.physics.link_loads`).
-
-    Attributes
-    ----------
-    n : int
-        Facets G over all links, link after link.
-    starts : ndarray of int
-        Index of each link's first facet.
-    panel_index : ndarray of int, shape (N,)
-        The facet of every panel of the posed body, in panel order.
-    """
+    """The facets of every link of an articulated body, posed per configuration (build with
+    :meth:`of`): every evaluated link's ``link_facets`` in its own frame, its index among the
+    body's links (``link_index``), its panels' ``spans`` [start, stop) in the posed body, and the
+    joints' :class:`~adbsat_ros.physics.link_loads.EffortColumns`. ``n`` facets G, link after
+    link, each link's first at ``starts``; ``panel_index`` (N,) the facet of every panel."""
 
     def __init__(self, link_facets, link_index, spans, joints=None, link_surfaces=None):
         self._facets = list(link_facets)

@@ -1,15 +1,9 @@
 """``adbsat-ros demo``: the ROS 2 node live on the bundled satellite, in one command (docs/cli.md).
 
-In one process: :class:`adbsat_ros.ros.node.AdbsatNode` with its default parameters on its own
-rclpy Context under ``/adbsat_demo``; a scenario (:mod:`adbsat_ros.bags.scenario`: 300 km,
-51.6 deg, nadir or tumbling) published live as ``state`` and ``attitude`` at ``speedup`` times
-real time (:data:`WALL_RATE_HZ` attitudes a wall second); the ``wrench`` and ``coefficients``
-received printed about every 0.5 s, and written as a CSV and PNG plots into ``out_dir``.
-
-In-process so that nothing is left running after Ctrl-C and the node's own samples (a sample
-listener) can be shown beside the published wrenches, each force checked equal; topics still go
-through DDS. ROS_AUTOMATIC_DISCOVERY_RANGE is set to LOCALHOST unless set already;
-ROS_DOMAIN_ID is left as the user set it (the private namespace keeps the topics apart).
+In one process (so nothing is left running after Ctrl-C, and the node's own samples can be
+checked against the published wrenches): :class:`~adbsat_ros.ros.node.AdbsatNode` on its own
+rclpy Context under ``/adbsat_demo``, fed a scenario (:mod:`adbsat_ros.bags.scenario`) live at
+``speedup`` times real time; the wrenches received printed and written as a CSV and PNG plots.
 """
 
 from __future__ import annotations

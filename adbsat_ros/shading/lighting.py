@@ -30,16 +30,9 @@ class PanelLighting:
     shift : array_like, shape (K, 3), optional
         Lit centroid minus barycentre of those panels [m], in the mesh frame G.
 
-    Attributes
-    ----------
-    n_panels : int
-        Number of panels N.
-    shaded_index : ndarray of int32, shape (S,)
-        Panels not fully lit (lit fraction < 1), ascending.
-    shaded_fraction : ndarray, shape (S,)
-        Their lit fractions, in [0, 1).
-    shift_fraction : ndarray, shape (K,)
-        Lit fraction of the panels of ``shift_index``.
+    Stored: ``n_panels`` N, ``shaded_index`` (S,) the panels not fully lit (ascending) and
+    ``shaded_fraction`` their lit fractions in [0, 1), ``shift_fraction`` (K,) the lit fractions
+    of the panels of ``shift_index``.
 
     Raises
     ------
@@ -212,16 +205,9 @@ class LightingBlend:
 
 
 def panel_range(lighting, start: int, stop: int, rotation=None):
-    """The lighting of panels ``start`` to ``stop - 1`` alone, or None if they are all lit.
-
-    Parameters
-    ----------
-    lighting : PanelLighting, LightingBlend or None
-    start, stop : int
-        The panel range, 0 <= start < stop <= N.
-    rotation : array_like, shape (3, 3), optional
-        Takes the shifts into the part's own frame (d' = rotation d).
-    """
+    """The lighting (PanelLighting, LightingBlend or None) of panels ``start`` to ``stop - 1``
+    alone, or None if they are all lit; ``rotation`` (3, 3) takes the shifts into the part's
+    own frame (d' = rotation d)."""
     if lighting is None:
         return None
     if isinstance(lighting, LightingBlend):
