@@ -163,45 +163,28 @@ class LightingBlend:
             self._combined = PanelLighting(np.clip(f, 0.0, 1.0), index, shift)
         return self._combined
 
-    @property
-    def lit_fraction(self) -> np.ndarray:
-        """Lit fraction of every panel, shape (N,), in [0, 1]."""
-        return self.combined.lit_fraction
+    def __getattr__(self, name):
+        """The per-panel views of :attr:`combined` (``lit_fraction``, ``shaded_index``,
+        ``shaded_fraction``, ``shift_index``, ``shift`` [m], ``shift_fraction``, ``shaded``,
+        ``partly_lit``), as :class:`PanelLighting` gives them."""
+        if name in _COMBINED_VIEWS:
+            return getattr(self.combined, name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
-    @property
-    def shaded_index(self) -> np.ndarray:
-        """Panels not fully lit, ascending."""
-        return self.combined.shaded_index
 
-    @property
-    def shaded_fraction(self) -> np.ndarray:
-        """Their lit fractions."""
-        return self.combined.shaded_fraction
-
-    @property
-    def shift_index(self) -> np.ndarray:
-        """Panels with a lit-centroid shift."""
-        return self.combined.shift_index
-
-    @property
-    def shift(self) -> np.ndarray:
-        """Their shifts [m], G."""
-        return self.combined.shift
-
-    @property
-    def shift_fraction(self) -> np.ndarray:
-        """Lit fractions of the panels of :attr:`shift_index`."""
-        return self.combined.shift_fraction
-
-    @property
-    def shaded(self) -> np.ndarray:
-        """Boolean (N,): panels entirely in shadow."""
-        return self.combined.shaded
-
-    @property
-    def partly_lit(self) -> np.ndarray:
-        """Boolean (N,): panels partly in shadow."""
-        return self.combined.partly_lit
+#: What a :class:`LightingBlend` reads from its combined lighting.
+_COMBINED_VIEWS = frozenset(
+    (
+        "lit_fraction",
+        "shaded_index",
+        "shaded_fraction",
+        "shift_index",
+        "shift",
+        "shift_fraction",
+        "shaded",
+        "partly_lit",
+    )
+)
 
 
 def panel_range(lighting, start: int, stop: int, rotation=None):
