@@ -300,8 +300,6 @@ class ShadingCache:
         """
         return LightingBlend.of([(w, cell.lighting) for w, cell in self.read(u_G, vertices)])
 
-    __call__ = lighting
-
     def lighting_angles(self, aoa: float, aos: float) -> PanelLighting:
         """:meth:`lighting` for angle of attack and sideslip [rad] (frames module)."""
         return self.lighting(frames.flow_direction(aoa, aos))
