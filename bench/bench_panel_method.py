@@ -15,17 +15,15 @@ panel method, as the ROS node does per message, on the 11,104-face example satel
 
 * ``same cell``: consecutive unit flow directions inside one cache cell;
 * ``4 cells``, ``64 cells``: every query in another cell, the cells all stored, cycling
-  through 4 (within both trees' per-lighting memos) or 64 of them;
+  through 4 or 64 of them;
 * ``cache hit only``: the shading-cache lookup alone, same cell.
 
-This tree and the tree at ``--baseline`` (the flat layout before the subpackages, e.g.
-../baseline) each run in a worker process of their own, alternately (ABAB...) for
-``--rounds`` rounds; the table gives the median over the rounds in microseconds. The baseline is
-measured through its public ``coefficients`` and through ``_unit_coefficients`` (the node's
-entry point there). For this tree, two ways without the lit-sums cache are measured beside the
-default: the sums made again at each call, and the all-lit sums plus a sparse correction over
-the panels not fully lit (its rounding differs from the per-panel sums, see
-adbsat_ros.physics.facets.LitSumsCache).
+Two variants: ``Model.evaluate`` (the node's path: the cell's facet sums are made once, with
+its lighting) and ``coefficients(lighting=)`` (the kernel given the cell's lighting, summed at
+every call). This tree and the tree at ``--baseline`` (a checkout of another commit, e.g.
+../baseline) each run in a worker process of their own, alternately (ABAB...) for ``--rounds``
+rounds; the table gives the median over the rounds in microseconds. A tree without
+``Model.evaluate`` is measured through the kernel alone.
 """
 
 from __future__ import annotations
@@ -102,60 +100,16 @@ def spheres(model: str, repeat: int) -> None:
 
 
 # ---------------------------------------------------------------------------------- cached
-class SumsEachCall:
-    """Stand-in for the lit-sums cache that makes the sums at every call."""
-
-    def get(self, lighting, compute):
-        return compute(lighting)
-
-
-class SparseCorrection:
-    """Stand-in for the lit-sums cache: the all-lit sums plus a correction over the panels that
-    the lighting lists (weight (f - 1) A at the barycentre, f A at the shift)."""
-
-    def __init__(self, facets, mesh):
-        self.facets = facets
-        self.areas = mesh.areas
-        self.weighted = mesh.areas[:, None] * mesh.barycentres
-
-    def get(self, lighting, compute):
-        f = self.facets
-        i = lighting.shaded_index
-        df = lighting.shaded_fraction - 1.0
-        g, w, q = f.index[i], df * self.areas[i], df[:, None] * self.weighted[i]
-        s = lighting.shift_index
-        if s.size:
-            g = np.concatenate([g, f.index[s]])
-            w = np.concatenate([w, np.zeros(s.size)])
-            lit = lighting.shift_fraction * self.areas[s]
-            q = np.concatenate([q, lit[:, None] * lighting.shift])
-        W = np.bincount(g, w, minlength=f.n)
-        Q = np.stack([np.bincount(g, q[:, k], minlength=f.n) for k in range(3)], axis=-1)
-        delta = np.column_stack([W, W[:, None] * f.normals, Q, np.cross(Q, f.normals)])
-        return f.all_lit + delta
-
-
 def worker(calls: int, blocks: int) -> dict:
     """CPU microseconds per attitude of each case and variant in the tree on sys.path."""
-    # imported here: the tree is the one on PYTHONPATH, in the subpackage or the flat layout
-    try:
-        from adbsat_ros.geometry import frames
-        from adbsat_ros.geometry.example_satellite import example_satellite
-        from adbsat_ros.physics.freestream import FreeStream
-        from adbsat_ros.physics.panel_method import PanelMethod
-        from adbsat_ros.shading.cache import ShadingCache
-        from adbsat_ros.shading.shader import make_shader
+    # imported here: the tree is the one on PYTHONPATH
+    from adbsat_ros.geometry import frames
+    from adbsat_ros.geometry.example_satellite import example_satellite
+    from adbsat_ros.physics.freestream import FreeStream
+    from adbsat_ros.physics.panel_method import PanelMethod
+    from adbsat_ros.shading.cache import ShadingCache
+    from adbsat_ros.shading.shader import make_shader
 
-        new = True
-    except ImportError:  # the flat layout
-        from adbsat_ros import frames
-        from adbsat_ros.example_satellite import example_satellite
-        from adbsat_ros.freestream import FreeStream
-        from adbsat_ros.panel_method import PanelMethod
-        from adbsat_ros.shading import make_shader
-        from adbsat_ros.shading_cache import ShadingCache
-
-        new = False
     mesh = example_satellite(max_edge=0.0625)
     flow = FreeStream(speed=7726.0, temperature=934.0, mean_mass_amu=17.9, density=2.4e-11)
     cache = ShadingCache(make_shader(mesh, mode="raycast"), resolution_deg=0.25)
@@ -167,44 +121,37 @@ def worker(calls: int, blocks: int) -> dict:
     cells = np.array(
         [frames.flow_direction(math.radians(10.0 + 0.5 * k), math.radians(5.0)) for k in range(64)]
     )
-    cache.precompute(np.vstack([cells, centre]))
+    directions = np.vstack([cells, centre])
+    cache.precompute(directions)
     streams = {
         "same cell": list(same),
         "4 cells": [cells[k % 4] for k in range(calls)],
         "64 cells": [cells[k % 64] for k in range(calls)],
     }
 
-    variants = {}
-    if new:
-        variants["coefficients"] = PanelMethod(mesh, "sentman")
-        each = variants["coefficients, sums each call"] = PanelMethod(mesh, "sentman")
-        each.facets.lit_sums_cache = SumsEachCall()
-        sparse = variants["coefficients, sparse correction"] = PanelMethod(mesh, "sentman")
-        sparse.facets.lit_sums_cache = SparseCorrection(sparse.facets, mesh)
-    else:
-        variants["coefficients"] = PanelMethod(mesh, "sentman")
-        variants["_unit_coefficients"] = PanelMethod(mesh, "sentman")
+    method = PanelMethod(mesh, "sentman")
 
-    def run(name, method, directions):
-        lighting = cache.lighting
-        if name == "_unit_coefficients":
-            unit = method._unit_coefficients
-            t0 = time.thread_time()
-            for u in directions:
-                unit(flow, u, lighting(u))
-            return time.thread_time() - t0
-        coefficients = method.coefficients
+    def kernel(u):
+        method.coefficients(flow, flow_direction=u, lighting=cache.lighting(u))
+
+    variants = {"coefficients(lighting=)": kernel}
+    model = _model(mesh)
+    if model is not None:
+        model.cache.precompute(directions)
+        variants["Model.evaluate"] = lambda u: model.evaluate(flow, u)
+
+    def run(call, directions):
         t0 = time.thread_time()
         for u in directions:
-            coefficients(flow, flow_direction=u, lighting=lighting(u))
+            call(u)
         return time.thread_time() - t0
 
     results = {}
     for _ in range(blocks):  # variants and cases interleaved, block after block
         for case, directions in streams.items():
-            for name, method in variants.items():
-                run(name, method, directions[:50])  # warm
-                seconds = run(name, method, directions)
+            for name, call in variants.items():
+                run(call, directions[:50])  # warm
+                seconds = run(call, directions)
                 results.setdefault(f"{case} | {name}", []).append(1e6 * seconds / calls)
         t0 = time.thread_time()
         for u in streams["same cell"]:
@@ -213,6 +160,20 @@ def worker(calls: int, blocks: int) -> dict:
             1e6 * (time.thread_time() - t0) / calls
         )
     return {key: statistics.median(values) for key, values in results.items()}
+
+
+def _model(mesh):
+    """The node's model of ``mesh`` (raycast cached at 0.25 deg, cells not interpolated), or
+    None in a tree without :meth:`Model.evaluate`."""
+    try:
+        from adbsat_ros.physics.model import Model, build_model
+        from adbsat_ros.physics.setup import Setup, ShadingPolicy
+    except ImportError:
+        return None
+    if not hasattr(Model, "evaluate"):
+        return None
+    policy = ShadingPolicy(cache_resolution_deg=0.25, interpolation=False)
+    return build_model(Setup(shading=policy), mesh)
 
 
 def cached(baseline: str, rounds: int, calls: int, blocks: int) -> None:

@@ -11,9 +11,10 @@ echo that costs as much CPU per message as a node of known cost, for bench_node_
 
 With ECHO_PANEL_MESH=PATH it is instead the panel method alone, for bench_node_latency's
 --echo-panel: the attitudes taken and the wrenches published as CDR bytes (as adbsat_node does),
-and for each one the panel method (PanelMethod.coefficients, the node's default model and cached
-raycast shading) at a fixed free stream, the satellite flying along +y of the state frame: the
-node's own arithmetic per message, without its flight conditions, checks, samples or bookkeeping.
+and for each one the node's model with its default parameters (Model.evaluate: the panel method
+and its cached raycast shading) at a fixed free stream, the satellite flying along +y of the
+state frame: the node's own arithmetic per message, without its flight conditions, checks,
+samples or bookkeeping.
 """
 
 import os
@@ -30,21 +31,14 @@ from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
 
 def panel_callback(publisher, mesh_path: str):
     """The --echo-panel callback: CDR bytes of an attitude in, of its wrench out."""
-    from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS as D
+    from adbsat_ros.estimator.settings import WrenchSettings, setup_from_settings
     from adbsat_ros.geometry.frames import quaternion_matrix_floats
-    from adbsat_ros.geometry.loading import resolve_mesh
     from adbsat_ros.messages.cdr import quaternion_stamped_fields, wrench_stamped_cdr
     from adbsat_ros.physics.freestream import FreeStream
-    from adbsat_ros.physics.panel_method import PanelMethod
-    from adbsat_ros.shading.cache import ShadingCache
-    from adbsat_ros.shading.shader import make_shader
+    from adbsat_ros.physics.model import build_model
 
-    mesh = resolve_mesh(mesh_path, 1.0)
-    method = PanelMethod(mesh, D["gsi_model"])
-    cache = ShadingCache(
-        make_shader(mesh, mode="raycast", samples=D["shading_samples"]),
-        resolution_deg=D["shading_cache_resolution_deg"],
-    )
+    # the node's model of the mesh with its default parameters (its one shading cache)
+    model = build_model(setup_from_settings(WrenchSettings.from_parameters({"mesh": mesh_path})))
     # about 300 km: O and N2 [m^-3], 900 K, 7.7 km/s
     flow = FreeStream(speed=7700.0, temperature=900.0, number_densities={"O": 6e14, "N2": 2e14})
     q = flow.dynamic_pressure()
@@ -55,7 +49,7 @@ def panel_callback(publisher, mesh_path: str):
         u = np.array(
             [-m[3], -m[4], -m[5]]
         )  # -R^T v / |v| for v along +y: the gas along -y, body axes
-        coefficients = method.coefficients(flow, flow_direction=u, lighting=cache.lighting(u))
+        coefficients = model.evaluate(flow, u)
         publisher.publish(
             wrench_stamped_cdr(
                 stamp.sec,

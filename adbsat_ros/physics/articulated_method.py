@@ -1,19 +1,10 @@
-"""The panel method of an articulated body, exact at every joint configuration.
-
-Each link's panels are rigid in the link's own frame, so the link is evaluated there, with a
-:class:`~adbsat_ros.physics.panel_method.PanelMethod` made once: for link l at pose (R_l, t_l) in
-the body frame G and the flow direction u (G), its coefficients about its own origin are those of
-its panels at u_l = R_l^T u, and in the body frame (section 8 of docs/physics.md)
-
-    F_l = R_l Cf_l,    M_l = R_l Cm_l + (t_l - r_ref) x F_l / L_ref,
-
-summed over the links to the body's Cf_G and Cm_G. A joint's effort is the moment of its
-carried links' loads about its axis (revolute, continuous) or their force along it (prismatic).
-When every link has facets they are posed in G and evaluated as one rigid body
-(:class:`~adbsat_ros.physics.posed_facets.PosedFacets`); else each link in its own frame.
-The same numbers, to rounding, as a :class:`PanelMethod` of the posed mesh (tested). Shading is
-a lighting of the posed body, panels in the order of ``ArticulatedBody.mesh``.
-Units: metres, radians; frame G = the root link's frame.
+"""The panel method of an articulated body, exact at every joint configuration
+(docs/physics.md, section 8): the links' facets posed in the body frame and evaluated as one
+rigid body (:class:`~adbsat_ros.physics.posed_facets.PosedFacets`), or, when a link has no
+facets, each link in its own frame (F_l = R_l Cf_l, M_l = R_l Cm_l + (t_l - r_ref) x F_l / L_ref).
+A joint's effort is its carried links' moment about its axis or force along it. Shading is a
+lighting of the posed body (panels in the order of ``ArticulatedBody.mesh``). Units: m, rad;
+frame G = the root link's.
 """
 
 from __future__ import annotations
@@ -252,7 +243,7 @@ class ArticulatedMethod:
         return Configuration(positions, poses, joint_positions, posing, self._load_maps)
 
     def _make_links_map(self) -> np.ndarray:
-        """The load map's rows no joint's pose changes (the joints' efforts' rows zero)."""
+        """The load map's rows that no pose changes (efforts' rows zero)."""
         area, length = self.reference.area, self.reference.length
         force = np.eye(3, LINK_LOADS) / area  # (F, M, S) -> f
         about_point = np.zeros((3, LINK_LOADS))  # (F, M, S) -> m - r x f / L_ref
@@ -271,8 +262,7 @@ class ArticulatedMethod:
         return out
 
     def _posed_evaluation(self, flow, u, sums, surface, configuration):
-        """The posed facets evaluated as one rigid body (None if the surface varies within a
-        facet): totals, per-facet values, facet of every panel, and :class:`LinkLoads`' input."""
+        """The posed facets evaluated as one rigid body (None: the surface varies in a facet)."""
         facets = self.facets
         facet_surface = self._facet_surface if surface is None else facets.surface(surface)
         if facet_surface is None:
@@ -290,7 +280,7 @@ class ArticulatedMethod:
         )
 
     def _link_loads(self, flow, u, lighting, surface, poses):
-        """Every evaluated link's loads (F, M, S), each in its own frame, and per-panel values."""
+        """Every evaluated link's loads (F, M, S) from its own frame, and per-panel values."""
         rotations = poses.rotations[self._link_index]
         origins = poses.origins[self._link_index]
         own = [  # (the lighting of each link's panels, shifts in its frame)
@@ -318,7 +308,7 @@ class ArticulatedMethod:
 
 
 def _joined_panel_values(results) -> tuple:
-    """(cos_delta, cp, ctau, None, None) of every panel of the posed body from its links'."""
+    """(cos_delta, cp, ctau, None, None) of the posed body's panels, joined."""
     return (
         np.concatenate([r.cos_delta for r in results]),
         np.concatenate([r.cp for r in results]),

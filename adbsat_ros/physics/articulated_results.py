@@ -29,14 +29,8 @@ class LoadMaps:
     (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns, and sum_(l in C_j) a . F_l / A_ref
     if it slides.
 
-    Parameters
-    ----------
-    links : ndarray
-        The map's rows that no joint's pose changes (the joints' efforts' rows zero).
-    efforts : slice
-        The joints' efforts' rows.
-    columns : EffortColumns
-        The joints' effort terms.
+    ``links``: the rows no pose changes (efforts' rows zero); ``efforts``: the efforts' rows
+    (a slice); ``columns``: the joints' :class:`EffortColumns`.
     """
 
     def __init__(self, links: np.ndarray, efforts: slice, columns: EffortColumns):
@@ -60,19 +54,9 @@ class LoadMaps:
 @dataclasses.dataclass(frozen=True, eq=False)
 class Configuration:
     """Joint positions checked and posed (:meth:`ArticulatedMethod.configuration`), for
-    :meth:`ArticulatedMethod.coefficients` at every attitude at those positions.
-
-    Attributes
-    ----------
-    positions : dict of str to float
-        Every moving joint's position [rad or m], checked.
-    joint_positions : ndarray, shape (J,)
-        The positions in the body's joint order (read-only).
-    posing : Posing or None
-        The posed facets' normals and posing matrices; None without posed facets.
-    maps : LoadMaps
-        The method's own (it tells which method made it).
-    """
+    :meth:`ArticulatedMethod.coefficients` at every attitude at those positions: ``positions``
+    [rad or m] by name, ``joint_positions`` (J,) in the body's order, the facets' ``posing``
+    (None without posed facets) and the method's own ``maps`` (which tell the method)."""
 
     positions: dict
     poses: Poses
@@ -90,20 +74,10 @@ class ArticulatedCoefficients(NamedTuple):
     """The coefficients of an articulated body at one configuration and flow direction; the
     links' loads and the joints' efforts are computed when first read.
 
-    Attributes
-    ----------
-    total : AeroCoefficients
-        The whole body's, as :meth:`PanelMethod.coefficients` of the posed mesh (per-panel
-        values in the posed mesh's order).
-    joint_names : tuple of str
-        The moving joints, in the body's order.
-    joint_positions : ndarray, shape (J,)
-        The joint positions [rad or m] (read-only).
-    effort_scales : ndarray, shape (J,)
-        q times these turns effort coefficients into efforts: A_ref L_ref [m^3] (revolute,
-        continuous) or A_ref [m^2] (prismatic).
-    link_loads : LinkLoads
-        What gives ``link_force``, ``link_moment`` and ``effort_coefficients``.
+    ``total``: the whole body's, as :meth:`PanelMethod.coefficients` of the posed mesh;
+    ``joint_names`` and ``joint_positions`` [rad or m] in the body's order; ``effort_scales``
+    (J,): q times these turns effort coefficients into efforts, A_ref L_ref [m^3] (revolute,
+    continuous) or A_ref [m^2] (prismatic); ``link_loads`` gives the links' and joints' values.
     """
 
     total: AeroCoefficients

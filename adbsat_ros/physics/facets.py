@@ -8,8 +8,6 @@ frame G.
 
 from __future__ import annotations
 
-from collections import OrderedDict
-
 import numpy as np
 
 from adbsat_ros.geometry.frames import cross
@@ -63,50 +61,6 @@ def blend_sums(parts) -> np.ndarray:
     return sums
 
 
-class LitSumsCache:
-    """The (G, 10) facet sums of the latest lightings, keyed by the lighting's content
-    fingerprint (:attr:`PanelLighting.key`), LRU of ``max_entries`` (>= 1); counters hits, misses.
-
-    On a shading-cache hit the lighting is the previous message's, and summing it again is most
-    of the panel method (docs/benchmarks.md). (All-lit sums plus a sparse correction would round
-    differently.)
-    """
-
-    def __init__(self, max_entries: int = 8):
-        if int(max_entries) < 1:
-            raise ValueError(f"max_entries must be >= 1, got {max_entries!r}")
-        self.max_entries = int(max_entries)
-        self._store: OrderedDict = OrderedDict()
-        self.hits = 0
-        self.misses = 0
-
-    def get(self, lighting: PanelLighting, compute) -> np.ndarray:
-        """The sums of ``lighting``: stored ones, or ``compute(lighting)`` (then stored)."""
-        key = lighting.key
-        sums = self._store.get(key)
-        if sums is not None:
-            self._store.move_to_end(key)
-            self.hits += 1
-            return sums
-        self.misses += 1
-        sums = self._store[key] = compute(lighting)
-        if len(self._store) > self.max_entries:
-            self._store.popitem(last=False)
-        return sums
-
-    def __len__(self) -> int:
-        return len(self._store)
-
-    def info(self) -> dict:
-        """Counters and sizes: hits, misses, size, max_entries."""
-        return {
-            "hits": self.hits,
-            "misses": self.misses,
-            "size": len(self._store),
-            "max_entries": self.max_entries,
-        }
-
-
 class Facets:
     """Coplanar panels of one material grouped into facets (module docstring).
 
@@ -147,7 +101,6 @@ class Facets:
         #: A_i r_i of every panel [m^3].
         self.weighted_barycentres = mesh.areas[:, None] * mesh.barycentres
         self.all_lit = self.sums_of(mesh.areas, self.weighted_barycentres)
-        self.lit_sums_cache = LitSumsCache()
         self._surface = surface
         self._facet_surface = self._facet_values(surface)
 
@@ -187,12 +140,10 @@ class Facets:
         return self.sums_of(w, wr)
 
     def lit_sums(self, lighting) -> np.ndarray:
-        """:meth:`lit_sums_of` ``lighting`` (or a :class:`LightingBlend`), through the cache."""
-        if lighting is None:
-            return self.all_lit
+        """:meth:`lit_sums_of` ``lighting``, or a :class:`LightingBlend`'s parts' sums blended."""
         if isinstance(lighting, LightingBlend):
-            return blend_sums([(w, self.lit_sums(part)) for w, part in lighting.parts])
-        return self.lit_sums_cache.get(lighting, self.lit_sums_of)
+            return blend_sums([(w, self.lit_sums_of(part)) for w, part in lighting.parts])
+        return self.lit_sums_of(lighting)
 
     def surface_of(self, surface) -> PanelSurface | None:
         """Facet values of a per-panel surface, or None if some parameter varies within a facet."""

@@ -2,9 +2,6 @@
 :class:`~adbsat_ros.physics.setup.Setup` into a :class:`Model` (panels, panel method, its one
 shading cache and test-particle solver), which evaluates the body at any flow and joint
 positions (:meth:`Model.evaluate`; how: :mod:`~adbsat_ros.physics.model_evaluate`).
-
-The command line, the estimator, database metadata, sweeps and the demo all build their body
-here.
 """
 
 from __future__ import annotations
@@ -60,20 +57,10 @@ def load_body(spec: BodySpec, given=None) -> tuple:
 class Model:
     """A set-up built: its panels, panel method, one shading cache and test-particle solver.
 
-    Attributes
-    ----------
-    setup : Setup
-    body : ArticulatedBody or None
-        The URDF body (posed once at ``positions``, or moving: ``method`` is then an
-        :class:`ArticulatedMethod`), None for a mesh.
-    positions : dict or None
-        Every joint's position [rad or m] of a URDF posed once; None otherwise.
-    mesh : PanelMesh
-        The panels (posed; an articulated body's at zero joint positions).
-    materials : MaterialTable
-    method : PanelMethod or ArticulatedMethod
-    lookup : callable or None
-        A coefficient database's ``lookup(u) -> (Cf_G, Cm_G)`` (:meth:`with_lookup`).
+    ``body``: the URDF body, posed once at ``positions`` [rad or m] or moving (``method`` then
+    an :class:`ArticulatedMethod`), None for a mesh; ``mesh``: the panels (posed; a moving
+    body's at zero joint positions); ``lookup``: a database's ``lookup(u) -> (Cf_G, Cm_G)``
+    (:meth:`with_lookup`) or None.
     """
 
     def __init__(self, setup: Setup, body, mesh: PanelMesh, positions: dict | None):
@@ -243,8 +230,7 @@ class Model:
         )
 
     def _read(self, direction, vertices=None, count: bool = True) -> list:
-        """``[(weight, Cell), ...]`` of a flow ``direction``: the cache's cells, or without a
-        cache the all-lit cell."""
+        """``[(weight, Cell), ...]`` of a flow ``direction`` (the all-lit cell without a cache)."""
         cache = self.cache
         if cache is None:
             return [(1.0, self._all_lit)]

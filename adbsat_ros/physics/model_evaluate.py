@@ -33,17 +33,9 @@ OFFLINE_SHADERS = 8
 
 class Joints(NamedTuple):
     """An articulated body's joint positions made ready once per joint state
-    (:meth:`~adbsat_ros.physics.model.Model.prepare_joints`).
-
-    Attributes
-    ----------
-    positions : dict of str to float
-        Every moving joint's position [rad or m], checked.
-    configuration : Configuration
-        The panel method's configuration of them (poses, posing, load map).
-    vertices : list or None
-        The shading cache's configurations and weights for them (None without a cache).
-    """
+    (:meth:`~adbsat_ros.physics.model.Model.prepare_joints`): the checked ``positions``
+    [rad or m], the panel method's ``configuration`` of them, and the shading cache's
+    ``vertices`` (weighted configurations; None without a cache)."""
 
     positions: dict
     configuration: Configuration

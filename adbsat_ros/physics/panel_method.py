@@ -1,17 +1,8 @@
-"""The panel method: sum of flat-plate forces over the mesh, as force and moment coefficients.
-
-For a flow direction u (unit vector of the gas motion relative to the body, mesh frame G), every
-panel i with outward normal n_i, area A_i and barycentre r_i sees the incidence
-cos(delta_i) = -u . n_i; a gas-surface model gives c_p,i and c_tau,i; the shear acts along the
-tangential part of u, t_i = (u + cos(delta_i) n_i) / sin(delta_i). Then (ADBSat's definitions)
-
-    C_F,G = (1/A_ref) sum_i f_i A_i (c_tau,i t_i - c_p,i n_i)
-    C_M,G = (1/(A_ref L_ref)) sum_i f_i A_i (r_i - r_ref) x (c_tau,i t_i - c_p,i n_i)
-
-where f_i is the lit fraction from shading (1 without it) and r_i moves to the lit centroid for
-partly lit panels. Forces in newtons are q A_ref C_F and torques q A_ref L_ref C_M with
-q = rho V^2 / 2. The model runs once per facet of coplanar panels of one material
-(:mod:`adbsat_ros.physics.facets`); the per-panel outputs are then the facet values.
+"""The panel method: flat-plate forces summed over the mesh as force and moment coefficients,
+C_F,G = (1/A_ref) sum_i f_i A_i (c_tau,i t_i - c_p,i n_i) and C_M,G about r_ref (ADBSat's
+definitions; f_i the lit fraction, r_i moved to the lit centroid; docs/physics.md, sections 1
+and 2). The model runs once per facet of coplanar panels of one material
+(:mod:`adbsat_ros.physics.facets`). Units: m, mesh frame G.
 """
 
 from __future__ import annotations
@@ -66,17 +57,8 @@ class PanelMethod:
         How :meth:`coefficients` shades the panels when given no ``lighting``: ray casting (the
         default, as the command line and the node), ADBSat's projection, or no occlusion.
 
-    Attributes
-    ----------
-    model : str
-        Registry name of the gas-surface model.
-    reference : Reference
-        Reference area, length and moment point, defaults resolved for ``mesh``.
-    surface : PanelSurface
-        Per-panel surface parameters of the materials.
-    facets : Facets or None
-        The panels grouped into facets (None when grouping would not save work, or with
-        ``group_facets=False``).
+    Attributes: ``model`` (registry name), ``reference`` (resolved for ``mesh``), ``surface``
+    (per-panel), ``facets`` (None when grouping would not save work, or ungrouped).
     """
 
     def __init__(
@@ -143,7 +125,7 @@ class PanelMethod:
         return self._local_coefficients(u_G, self._inward_normals_T, surface or self.surface, flow)
 
     def _local_coefficients(self, u_G, inward_normals_T, surface, flow):
-        """c = -u . n, sigma = sin(delta) and the model's cp, ctau, for normals as (3, N) -n^T."""
+        """c, sin(delta), cp and ctau for normals given as (3, N) -n^T."""
         u = np.asarray(u_G, dtype=float)
         c = u @ inward_normals_T
         np.minimum(c, 1.0, out=c)  # |c| <= 1 despite rounding
@@ -156,9 +138,8 @@ class PanelMethod:
         """c = cos(delta), c_p, c_tau / sin(delta) (G,) and c_tau (or None) of facets of normals
         given as (3, G) -n^T (this method's, or posed ones) for one unit direction ``u``.
 
-        A model of :data:`gsi_models.SPLIT_MODELS` is its plate, which gives c_tau / sin(delta)
-        itself: no sin(delta), and no clipping of c (within rounding of [-1, 1], where the plates
-        are smooth).
+        A model of :data:`gsi_models.SPLIT_MODELS` gives c_tau / sin(delta) itself (its plate):
+        no sin(delta), and c not clipped (the plates are smooth within rounding of [-1, 1]).
         """
         split = self._split
         parameters = None if split is None else split[0](facet_surface, flow, self.options)

@@ -1,14 +1,10 @@
-"""An articulated body's facets posed in the body frame: one panel-method evaluation for the
-whole body at any joint positions.
+"""An articulated body's facets posed in the body frame, for one panel-method evaluation of the
+whole body: each link's facet rows (W, W n, Q, Q x n, S) move with the link (rotation R, origin
+t; docs/physics.md, section 8),
 
-Each link's facets are made once in its frame; their sums move with the link (rotation R,
-origin t in G; S the lit-centroid shift sums a lighting gives in G; docs/physics.md, section 8):
+    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n',
 
-    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n'.
-
-A facet's row (W, W n, Q, Q x n, S) is made once per lighting; a configuration's
-:class:`Posing` holds the (13, 10) matrix per facet (and (13, 4 J) for the joints' effort
-columns) that poses it. Units: m, m^2, body frame G.
+one (13, 10) matrix per facet per configuration (:class:`Posing`). Units: m, m^2, body frame G.
 """
 
 from __future__ import annotations
@@ -18,26 +14,16 @@ from typing import NamedTuple
 
 import numpy as np
 
-from adbsat_ros.lru import LruStore
 from adbsat_ros.physics.facets import sum_columns, vector_sums
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
 
 
 class Posing(NamedTuple):
-    """What posing the facets at one configuration takes.
-
-    Attributes
-    ----------
-    normals : ndarray, shape (G, 3)
-        The facets' unit normals in G.
-    inward_T : ndarray, shape (3, G)
-        -normals^T.
-    matrix : ndarray, shape (G, 13, 10)
-        Per facet, its row (W, W n, Q, Q x n, S) to its posed sums in G.
-    efforts : ndarray, shape (G, 13, 4 J) or None
-        The same to the joints' effort columns (None without joints).
-    """
+    """What posing the facets at one configuration takes: the facets' unit ``normals`` (G, 3)
+    in G, ``inward_T`` = -normals^T, per facet the ``matrix`` (G, 13, 10) taking its row
+    (W, W n, Q, Q x n, S) to its posed sums, and ``efforts`` (G, 13, 4 J) the same to the
+    joints' effort columns (None without joints)."""
 
     normals: np.ndarray
     inward_T: np.ndarray
@@ -85,38 +71,13 @@ EPSILON[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0
 
 
 class PosedFacets:
-    """The facets of every link of an articulated body, posed per configuration.
+    """The facets of every link of an articulated body, posed per configuration (build with
+    :meth:`of`): every evaluated link's ``link_facets`` in its own frame, its index among the
+    body's links (``link_index``), its panels' ``spans`` [start, stop) in the posed body, and the
+    joints' :class:`~adbsat_ros.physics.link_loads.EffortColumns`. ``n`` facets G, link after
+    link, each link's first at ``starts``; ``panel_index`` (N,) the facet of every panel."""
 
-    Build with :meth:`of`. Two stores (LRU of ``max_entries``) serve :meth:`sums`:
-    :attr:`link_sums_store`, a lighting part's content key -> its rows; :attr:`sums_store`,
-    (the parts' keys, the joint positions) -> their posed sums, stacked.
-
-    Parameters
-    ----------
-    link_facets : sequence of Facets
-        Every evaluated link's facets, in its own frame.
-    link_index : array_like of int
-        Each of them, as an index of the body's links (the poses' order).
-    spans : sequence of (int, int)
-        Their panels, [start, stop) of the posed body's.
-    joints : EffortColumns, optional
-        The joints' effort columns (:mod:`adbsat_ros.physics.link_loads`).
-    max_entries : int
-        Bound of each store.
-
-    Attributes
-    ----------
-    n : int
-        Facets G over all links, link after link.
-    starts : ndarray of int
-        Index of each link's first facet.
-    panel_index : ndarray of int, shape (N,)
-        The facet of every panel of the posed body, in panel order.
-    """
-
-    def __init__(
-        self, link_facets, link_index, spans, joints=None, max_entries: int = 64, link_surfaces=None
-    ):
+    def __init__(self, link_facets, link_index, spans, joints=None, link_surfaces=None):
         self._facets = list(link_facets)
         self._joints = joints
         self._link_index = np.asarray(link_index)
@@ -145,8 +106,6 @@ class PosedFacets:
         self._areas = np.concatenate([f.mesh.areas for f in self._facets])
         self._weighted_barycentres = np.concatenate([f.weighted_barycentres for f in self._facets])
         self._normals = np.concatenate([f.normals for f in self._facets])
-        self.link_sums_store = LruStore(max_entries)
-        self.sums_store = LruStore(max_entries)
         self._own = None  # (the links' own values by parameter, the facets' surface of them)
         if link_surfaces is not None:
             own = self._surface_of_links(link_surfaces)
@@ -272,25 +231,12 @@ class PosedFacets:
         return PosedSums.of(weights, *_stacked([self.pose_part(r, posing) for r in rows]))
 
     def sums(self, lighting, configuration) -> PosedSums:
-        """:meth:`pose` of ``lighting`` (a blend, or None: all lit) at ``configuration``,
-        through the stores; a blend's parts recur over many attitudes, only weights change."""
+        """:meth:`pose` of ``lighting`` (a blend, or None: all lit) at ``configuration``."""
         if isinstance(lighting, LightingBlend):
             weights, parts = zip(*lighting.parts)
         else:
             weights, parts = (1.0,), (lighting,)
-        key = (tuple(None if part is None else part.key for part in parts), configuration.poses.key)
-
-        def make():
-            rows = [self._rows_of(part) for part in parts]
-            return _stacked([self.pose_part(r, configuration.posing) for r in rows])
-
-        return PosedSums.of(weights, *self.sums_store.get(key, make))
-
-    def _rows_of(self, lighting) -> np.ndarray:
-        """:meth:`link_rows` of ``lighting`` through :attr:`link_sums_store`."""
-        if lighting is None:
-            return self.link_rows(None)
-        return self.link_sums_store.get(lighting.key, lambda: self.link_rows(lighting))
+        return self.pose([self.link_rows(part) for part in parts], weights, configuration.posing)
 
 
 def _stacked(posed) -> tuple:

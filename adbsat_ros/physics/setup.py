@@ -1,17 +1,8 @@
-"""One configured aerodynamic body as a value: :class:`Setup`.
-
-A set-up names the body (a mesh file, a bundled body or a URDF, its scale), its materials (the
-default surface and per-material overrides), the reference quantities, the gas-surface model
-and its options, the shading policy and the solver. It is checked once, when made, and built
-into panels, a panel method, a shader and a test-particle solver by
-:func:`adbsat_ros.physics.model.build_model`. Each way of giving a set-up has one translator
-returning this value: the command line (:mod:`adbsat_ros.cli.common`), the node's parameters
-(:func:`adbsat_ros.estimator.settings.setup_from_settings`), a database's metadata
-(:func:`adbsat_ros.database.metadata.setup_from_metadata`) and a sweep's spec
-(:func:`adbsat_ros.sweep.spec.body_setup`).
-
-Error messages name an input as the dialect it came from names it (``--material``,
-``parameter material_overrides``, ...): :attr:`Setup.labels`.
+"""One configured aerodynamic body as a value, :class:`Setup` (body, materials, reference,
+model, shading policy, solver), checked once and built by
+:func:`adbsat_ros.physics.model.build_model`. Each dialect has one translator to it (command
+line, node parameters, database metadata, sweep spec; docs/architecture.md), and errors name
+an input as that dialect does (:attr:`Setup.labels`).
 """
 
 from __future__ import annotations
@@ -97,24 +88,11 @@ class SolverSpec:
 class Setup:
     """A configured aerodynamic body, checked when made (ValueError naming the input).
 
-    Attributes
-    ----------
-    body : BodySpec
-    model : str
-        The gas-surface model (canonical name).
-    options : ModelOptions
-        Incident temperature form and ADBSat compatibility.
-    surface : SurfaceProperties
-        The default surface of every material.
-    overrides : tuple of str
-        Per-material overrides, ``NAME:key=value[,key=value]``.
-    reference : Reference
-        Area and length (None: from the mesh) and moment point (centre of mass).
-    shading : ShadingPolicy
-    solver : SolverSpec
-    labels : tuple of (str, str)
-        How the dialect names ``materials``, ``moment_point``, ``joints``, ``samples`` and
-        ``solver`` in error messages (default those words; ``""``: no prefix).
+    ``model`` is the canonical name; ``surface`` the default of every material and
+    ``overrides`` per-material ``NAME:key=value[,key=value]``; ``reference`` area and length
+    (None: from the mesh) and moment point (centre of mass); ``labels`` (str, str) pairs: how
+    the dialect names ``materials``, ``moment_point``, ``joints``, ``samples`` and ``solver``
+    in error messages (default those words; ``""``: no prefix).
     """
 
     body: BodySpec = field(default_factory=BodySpec)

@@ -92,7 +92,15 @@ def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, flo
 
 
 def make_panel_pressure_figure(
-    model, flow, aoa_deg: float, aos_deg: float, *, view=None, title=None, result=None
+    model,
+    flow,
+    aoa_deg: float,
+    aos_deg: float,
+    *,
+    view=None,
+    title=None,
+    result=None,
+    mesh=None,
 ) -> Figure:
     """A 3-D picture of the mesh of ``model`` (a :class:`~adbsat_ros.physics.model.Model`)
     coloured by per-panel pressure coefficient at one attitude.
@@ -100,14 +108,15 @@ def make_panel_pressure_figure(
     ``aoa_deg``, ``aos_deg`` [deg]; ``view``: (elev, azim) [deg], default
     :func:`default_view`; ``title``: the first title line; ``result``: coefficients computed
     already (e.g. by test particles, whose panels count as all reached), default
-    ``model.evaluate`` at this attitude (shaded by the model's set-up). The first axes' first
-    collection is the panels' Poly3DCollection (with the c_p norm and colour map); the legend
-    states the shaded and back-face panel counts.
+    ``model.evaluate`` at this attitude (shaded by the model's set-up); ``mesh``: the panels
+    drawn, default ``model.mesh`` (an articulated body's as posed for ``result``). The first
+    axes' first collection is the panels' Poly3DCollection (with the c_p norm and colour map);
+    the legend states the shaded and back-face panel counts.
     """
     aoa_deg, aos_deg = float(aoa_deg), float(aos_deg)
     if not (math.isfinite(aoa_deg) and math.isfinite(aos_deg)):
         raise ValueError(f"aoa_deg and aos_deg must be finite, got {aoa_deg!r}, {aos_deg!r}")
-    mesh = model.mesh
+    mesh = model.mesh if mesh is None else mesh
     aoa, aos = math.radians(aoa_deg), math.radians(aos_deg)
     u = frames.flow_direction(aoa, aos)
     shading = None
@@ -190,7 +199,8 @@ def make_panel_pressure_figure(
 def plot_panel_pressure(model, flow, aoa_deg, aos_deg, out_path, **options) -> Path:
     """Write :func:`make_panel_pressure_figure` to ``out_path`` (PNG); returns the path.
 
-    ``options`` (``view``, ``title``, ``result``) go to :func:`make_panel_pressure_figure`.
+    ``options`` (``view``, ``title``, ``result``, ``mesh``) go to
+    :func:`make_panel_pressure_figure`.
     """
     return save_png(make_panel_pressure_figure(model, flow, aoa_deg, aos_deg, **options), out_path)
 

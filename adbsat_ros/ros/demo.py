@@ -1,15 +1,9 @@
 """``adbsat-ros demo``: the ROS 2 node live on the bundled satellite, in one command (docs/cli.md).
 
-In one process: :class:`adbsat_ros.ros.node.AdbsatNode` with its default parameters on its own
-rclpy Context under ``/adbsat_demo``; a scenario (:mod:`adbsat_ros.bags.scenario`: 300 km,
-51.6 deg, nadir or tumbling) published live as ``state`` and ``attitude`` at ``speedup`` times
-real time (:data:`WALL_RATE_HZ` attitudes a wall second); the ``wrench`` and ``coefficients``
-received printed about every 0.5 s, and written as a CSV and PNG plots into ``out_dir``.
-
-In-process so that nothing is left running after Ctrl-C and the node's own samples (a sample
-listener) can be shown beside the published wrenches, each force checked equal; topics still go
-through DDS. ROS_AUTOMATIC_DISCOVERY_RANGE is set to LOCALHOST unless set already;
-ROS_DOMAIN_ID is left as the user set it (the private namespace keeps the topics apart).
+In one process (so nothing is left running after Ctrl-C, and the node's own samples can be
+checked against the published wrenches): :class:`~adbsat_ros.ros.node.AdbsatNode` on its own
+rclpy Context under ``/adbsat_demo``, fed a scenario (:mod:`adbsat_ros.bags.scenario`) live at
+``speedup`` times real time; the wrenches received printed and written as a CSV and PNG plots.
 """
 
 from __future__ import annotations
@@ -19,7 +13,6 @@ import os
 import sys
 import threading
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -32,8 +25,6 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
 from adbsat_ros.bags.scenario import Scenario, generate
-from adbsat_ros.estimator.settings import setup_from_settings
-from adbsat_ros.physics.model import build_model
 from adbsat_ros.ros import demo_joints
 from adbsat_ros.ros.demo_report import DemoResult, SampleLog, table_rows, vector, write_outputs
 from adbsat_ros.ros.executors import make_executor
@@ -364,14 +355,11 @@ def run_demo(
         picture = None
         if latest and node is not None:
             sample = latest[-1]
-            estimator = node.estimator
-            setup = setup_from_settings(estimator.settings)
-            if sample.joints is not None:  # (the body as posed for that wrench)
-                joints = tuple(zip(sample.joints.names, sample.joints.positions))
-                setup = replace(setup, body=replace(setup.body, joints=joints))
-            given = estimator.mesh if estimator.body is None else estimator.body
-            model = build_model(setup, given)
-            picture = (model, sample.conditions.free_stream(), sample.coefficients)
+            model = node.estimator.model
+            mesh = model.mesh
+            if sample.joints is not None and model.articulated:  # (posed for that wrench)
+                mesh = model.body.mesh(dict(zip(sample.joints.names, sample.joints.positions)))
+            picture = (model, mesh, sample.conditions.free_stream(), sample.coefficients)
         result.files = write_outputs(rows, Path(out_dir), picture, joints=articulated)
         say("wrote: " + ", ".join(str(p) for p in result.files))
     return result

@@ -114,8 +114,8 @@ def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult, joints=F
 
 
 def write_outputs(rows, out_dir: Path, picture=None, joints=False) -> list:
-    """demo_wrench.csv and the time-series PNGs in out_dir; with ``picture`` (the model of the
-    posed body, the flow and the latest coefficients) demo_panel_pressure.png; with ``joints``
+    """demo_wrench.csv and the time-series PNGs in out_dir; with ``picture`` (the model, its
+    panels as posed, the flow and the latest coefficients) demo_panel_pressure.png; with ``joints``
     the joint columns and demo_hinge_torques.png. Returns the paths."""
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "demo_wrench.csv"
@@ -144,7 +144,7 @@ def write_outputs(rows, out_dir: Path, picture=None, joints=False) -> list:
             )
         )
     if picture is not None:
-        model, flow, coefficients = picture
+        model, mesh, flow, coefficients = picture
         plots.append(
             plot_panel_pressure(
                 model,
@@ -153,6 +153,7 @@ def write_outputs(rows, out_dir: Path, picture=None, joints=False) -> list:
                 math.degrees(coefficients.aos),
                 out_dir / "demo_panel_pressure.png",
                 result=coefficients,
+                mesh=mesh,
             )
         )
     return [path, *plots]

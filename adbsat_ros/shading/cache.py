@@ -300,12 +300,6 @@ class ShadingCache:
         """
         return LightingBlend.of([(w, cell.lighting) for w, cell in self.read(u_G, vertices)])
 
-    def cell_lighting(self, key: int) -> PanelLighting:
-        """A rigid body's lighting of cell ``key``: stored (a hit), or shaded and stored."""
-        return self._store.get(((), key), lambda: self._made((), key, None, True)).lighting
-
-    __call__ = lighting
-
     def lighting_angles(self, aoa: float, aos: float) -> PanelLighting:
         """:meth:`lighting` for angle of attack and sideslip [rad] (frames module)."""
         return self.lighting(frames.flow_direction(aoa, aos))

@@ -2,12 +2,10 @@
 
 A :class:`PanelLighting` holds the lit fraction of every panel (effective area A_i f_i) and, for
 partly lit panels, the shift of the centre of pressure to the lit part's centroid, stored
-sparsely (only panels not fully lit), with a content fingerprint :attr:`PanelLighting.key`.
+sparsely (only panels not fully lit).
 """
 
 from __future__ import annotations
-
-import hashlib
 
 import numpy as np
 
@@ -32,19 +30,9 @@ class PanelLighting:
     shift : array_like, shape (K, 3), optional
         Lit centroid minus barycentre of those panels [m], in the mesh frame G.
 
-    Attributes
-    ----------
-    n_panels : int
-        Number of panels N.
-    shaded_index : ndarray of int32, shape (S,)
-        Panels not fully lit (lit fraction < 1), ascending.
-    shaded_fraction : ndarray, shape (S,)
-        Their lit fractions, in [0, 1).
-    shift_fraction : ndarray, shape (K,)
-        Lit fraction of the panels of ``shift_index``.
-    key : bytes
-        Fingerprint of the content (BLAKE2b, 128 bits): equal keys mean equal lightings, so
-        results derived from one can be kept under it.
+    Stored: ``n_panels`` N, ``shaded_index`` (S,) the panels not fully lit (ascending) and
+    ``shaded_fraction`` their lit fractions in [0, 1), ``shift_fraction`` (K,) the lit fractions
+    of the panels of ``shift_index``.
 
     Raises
     ------
@@ -60,7 +48,6 @@ class PanelLighting:
         "shift_index",
         "shift",
         "shift_fraction",
-        "key",
     )
 
     def __init__(self, lit_fraction, shift_index=None, shift=None):
@@ -84,11 +71,6 @@ class PanelLighting:
         self.shift_index = _read_only(index.copy())
         self.shift = _read_only(shift.copy())
         self.shift_fraction = _read_only(f[index])
-        digest = hashlib.blake2b(digest_size=16)
-        digest.update(self.n_panels.to_bytes(8, "little"))
-        for array in (self.shaded_index, self.shaded_fraction, self.shift_index, self.shift):
-            digest.update(array.tobytes())
-        self.key = digest.digest()
 
     @classmethod
     def all_lit(cls, n_panels: int) -> "PanelLighting":
@@ -181,63 +163,34 @@ class LightingBlend:
             self._combined = PanelLighting(np.clip(f, 0.0, 1.0), index, shift)
         return self._combined
 
-    @property
-    def key(self) -> bytes:
-        """Fingerprint of the content (that of :attr:`combined`)."""
-        return self.combined.key
+    def __getattr__(self, name):
+        """The per-panel views of :attr:`combined` (``lit_fraction``, ``shaded_index``,
+        ``shaded_fraction``, ``shift_index``, ``shift`` [m], ``shift_fraction``, ``shaded``,
+        ``partly_lit``), as :class:`PanelLighting` gives them."""
+        if name in _COMBINED_VIEWS:
+            return getattr(self.combined, name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
-    @property
-    def lit_fraction(self) -> np.ndarray:
-        """Lit fraction of every panel, shape (N,), in [0, 1]."""
-        return self.combined.lit_fraction
 
-    @property
-    def shaded_index(self) -> np.ndarray:
-        """Panels not fully lit, ascending."""
-        return self.combined.shaded_index
-
-    @property
-    def shaded_fraction(self) -> np.ndarray:
-        """Their lit fractions."""
-        return self.combined.shaded_fraction
-
-    @property
-    def shift_index(self) -> np.ndarray:
-        """Panels with a lit-centroid shift."""
-        return self.combined.shift_index
-
-    @property
-    def shift(self) -> np.ndarray:
-        """Their shifts [m], G."""
-        return self.combined.shift
-
-    @property
-    def shift_fraction(self) -> np.ndarray:
-        """Lit fractions of the panels of :attr:`shift_index`."""
-        return self.combined.shift_fraction
-
-    @property
-    def shaded(self) -> np.ndarray:
-        """Boolean (N,): panels entirely in shadow."""
-        return self.combined.shaded
-
-    @property
-    def partly_lit(self) -> np.ndarray:
-        """Boolean (N,): panels partly in shadow."""
-        return self.combined.partly_lit
+#: What a :class:`LightingBlend` reads from its combined lighting.
+_COMBINED_VIEWS = frozenset(
+    (
+        "lit_fraction",
+        "shaded_index",
+        "shaded_fraction",
+        "shift_index",
+        "shift",
+        "shift_fraction",
+        "shaded",
+        "partly_lit",
+    )
+)
 
 
 def panel_range(lighting, start: int, stop: int, rotation=None):
-    """The lighting of panels ``start`` to ``stop - 1`` alone, or None if they are all lit.
-
-    Parameters
-    ----------
-    lighting : PanelLighting, LightingBlend or None
-    start, stop : int
-        The panel range, 0 <= start < stop <= N.
-    rotation : array_like, shape (3, 3), optional
-        Takes the shifts into the part's own frame (d' = rotation d).
-    """
+    """The lighting (PanelLighting, LightingBlend or None) of panels ``start`` to ``stop - 1``
+    alone, or None if they are all lit; ``rotation`` (3, 3) takes the shifts into the part's
+    own frame (d' = rotation d)."""
     if lighting is None:
         return None
     if isinstance(lighting, LightingBlend):

@@ -101,5 +101,6 @@ def test_the_articulated_demo_steers_the_fins_and_reports_their_hinge_torques(tm
     deflected = np.abs(pitch) > 3.0
     assert np.all(np.sign(torque[deflected]) == -np.sign(pitch[deflected]))
     assert abs(torque[np.argmax(pitch)]) > 2.0 * abs(torque[np.argmin(np.abs(pitch))])
-    png = out_dir / "demo_hinge_torques.png"
-    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000
+    for name in ("hinge_torques", "panel_pressure"):  # (the body as posed for the last wrench)
+        png = out_dir / f"demo_{name}.png"
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000

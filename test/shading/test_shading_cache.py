@@ -1,7 +1,7 @@
 """Shading cache: quantisation bound on the whole sphere, LRU behaviour, counters, precompute,
 the stated error bound of a cached answer on the cube-before-plate scene; cells and their sums,
-uncounted reads, exact mode, and an articulated body's configurations (bit-equal to the
-configuration grid's and the exact shading's lightings)."""
+uncounted reads, exact mode, and an articulated body's configurations (the shading of the body
+posed at grid points, or at the positions themselves)."""
 
 from __future__ import annotations
 
@@ -18,9 +18,7 @@ from adbsat_ros.geometry.poses import Joint
 from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.shading import joint_grid
 from adbsat_ros.shading.cache import Cell, ShadingCache, moved_lit_area
-from adbsat_ros.shading.configurations import ConfigurationShadingCache
 from adbsat_ros.shading.cube_map import cells_per_edge, direction_keys, key_centres
-from adbsat_ros.shading.exact_configurations import ExactShading
 from adbsat_ros.shading.lighting import LightingBlend, PanelLighting, lit_projected_area
 from adbsat_ros.shading.shader import make_shader
 
@@ -413,28 +411,20 @@ def _posed(body, mode="raycast"):
     return posed_shader
 
 
-def _grid_pair(body, joint_interpolate, interpolate, mode="raycast", **bounds):
-    """The one cache and today's ConfigurationShadingCache over the same posed shaders."""
-    step = math.radians(2.0)
-    posed_shader = _posed(body, mode)
-
-    def make(positions):
-        return ShadingCache(posed_shader(positions), 2.0, interpolate=interpolate)
-
-    old = ConfigurationShadingCache(body, make, step, 1e-3, 8, interpolate=joint_interpolate)
-    new = ShadingCache(
+def _grid(body, joint_interpolate, interpolate, mode="raycast", **bounds):
+    """The one cache over an articulated body's joint grid (2 deg) and cells (2 deg)."""
+    return ShadingCache(
         None,
         2.0,
         bounds.get("max_entries", 4096),
         interpolate,
         body=body,
-        posed_shader=posed_shader,
-        angle_step=step,
+        posed_shader=_posed(body, mode),
+        angle_step=math.radians(2.0),
         length_step=1e-3,
         joint_interpolate=joint_interpolate,
         max_configurations=bounds.get("max_configurations", 8),
     )
-    return old, new
 
 
 def _joint_cases(body, n, seed):
@@ -450,74 +440,87 @@ def _joint_cases(body, n, seed):
         yield positions, u
 
 
+def _direction_weights(cache, u):
+    """{cell key: weight} of the cells an answer at ``u`` blends (weight 0 dropped)."""
+    if cache.triangulation is None:
+        return {cache.key(u): 1.0}
+    keys, weights = cache.triangulation.locate(*frames.direction_components(u))
+    return {int(k): w for k, w in zip(keys, weights) if w > 0.0}
+
+
 @pytest.mark.parametrize(
     "joint_interpolate, interpolate", [(False, False), (True, False), (True, True)]
 )
-def test_grid_lightings_equal_the_configuration_cache_bit_for_bit(
+def test_grid_parts_are_the_posed_shading_at_grid_points_and_cell_centres(
     wings, joint_interpolate, interpolate
 ):
-    """For the same joint positions and directions: the same grid keys and vertices, the same
-    flattened blend (configuration major, direction triangle's order, weights multiplied) of
-    bit-equal lightings, and the same counters of cells and configurations."""
-    old, new = _grid_pair(wings, joint_interpolate, interpolate)
+    """Each part is the shading of the body posed at a grid configuration for a cell centre,
+    bit for bit; parts come configuration major with weight w_configuration * w_direction; a
+    repeated read is all hits, counted per part and per configuration read."""
+    cache = _grid(wings, joint_interpolate, interpolate)
+    posed_shader = _posed(wings)
     for positions, u in _joint_cases(wings, 4, seed=2):
-        vertices = new.vertices(positions)
-        assert vertices == old.vertices(positions)
-        for _, key in vertices:
-            assert new.configuration(key) == old.configuration(key)
-        _same(new.lighting(u, vertices), old.lighting(u, positions))
-        assert new.last_keys == old.last_keys
-        _same(new.lighting(u, vertices), old.lighting(u, positions))  # (hits now)
-    assert (new.hits, new.misses) == (old.hits, old.misses) and new.hits > 0
-    assert (new.configuration_hits, new.configuration_misses) == (
-        old.configuration_hits,
-        old.configuration_misses,
-    )
+        vertices = cache.vertices(positions)
+        parts = cache.read(u, vertices)
+        keys = cache.last_keys
+        directions = _direction_weights(cache, u)
+        expected = [(c, cell) for _, c in vertices for cell in directions]
+        assert list(keys) == expected and len(parts) == len(keys)
+        weight_of = {c: w for w, c in vertices}
+        for (w, cell), (configuration, key) in zip(parts, keys):
+            assert w == weight_of[configuration] * directions[key]
+            at = posed_shader(cache.configuration(configuration)).lighting(cache.centre(key))
+            _same(cell.lighting, at)
+        counts = (cache.hits, cache.misses, cache.configuration_hits, cache.configuration_misses)
+        again = cache.read(u, vertices)
+        assert [c for _, c in again] == [c for _, c in parts]  # (the same stored cells)
+        assert (
+            cache.hits,
+            cache.misses,
+            cache.configuration_hits,
+            cache.configuration_misses,
+        ) == (counts[0] + len(parts), counts[1], counts[2] + len(vertices), counts[3])
+        _same(cache.lighting(u, vertices), LightingBlend.of([(w, c.lighting) for w, c in parts]))
     with pytest.raises(ValueError, match="needs vertices"):
-        new.read(u)
+        cache.read(u)
 
 
 def test_the_grid_shares_one_bound_of_cells_and_keeps_its_shaders_apart(wings):
     """Cells of every configuration share max_entries; shaders are kept by configuration key
     up to max_configurations; eviction changes the counters, never the lightings."""
-    old, new = _grid_pair(
-        wings, False, False, mode="projection", max_entries=3, max_configurations=2
-    )
+    cache = _grid(wings, False, False, mode="projection", max_entries=3, max_configurations=2)
     names = list(wings.joints)
     u = frames.flow_direction(0.0, math.radians(150.0))
     sequence = [{names[0]: math.radians(2.0 * k), names[1]: 0.0} for k in (0, 1, 2, 0, 3, 0)]
     for positions in sequence:
-        _same(new.lighting(u, new.vertices(positions)), old.lighting(u, positions))
-    assert len(new) == 3 and new.evictions == 1  # 4 configurations' cells, 3 kept
-    assert new.info()["configurations"] == 2
-    assert new.configuration_misses == 5 and new.configuration_hits == 1  # (shaders: 2 kept)
-    assert (new.hits, new.misses) == (2, 4)
-    assert ((0, 0), new.key(u)) in new and ((1, 0), new.key(u)) not in new
+        at = make_shader(wings.mesh(positions), mode="projection").lighting(
+            cache.centre(cache.key(u))
+        )
+        _same(cache.lighting(u, cache.vertices(positions)), at)
+    assert len(cache) == 3 and cache.evictions == 1  # 4 configurations' cells, 3 kept
+    assert cache.info()["configurations"] == 2
+    assert cache.configuration_misses == 5 and cache.configuration_hits == 1  # (shaders: 2 kept)
+    assert (cache.hits, cache.misses) == (2, 4)
+    assert ((0, 0), cache.key(u)) in cache and ((1, 0), cache.key(u)) not in cache
 
 
-def test_exact_mode_of_an_articulated_body_equals_exact_shading(wings):
-    """Exact positions and direction: the lightings and counters of today's ExactShading."""
+def test_exact_mode_of_an_articulated_body(wings):
+    """Exact positions and direction: the shading of the body posed at the positions for the
+    direction itself, bit for bit; 1 cell and 1 shader kept; a repeated message is a hit, a new
+    direction at the same positions reuses the posed shader."""
     posed_shader = _posed(wings)
-    old = ExactShading(wings, posed_shader)
-    new = ShadingCache.exact_mode(body=wings, posed_shader=posed_shader)
+    cache = ShadingCache.exact_mode(body=wings, posed_shader=posed_shader)
     cases = list(_joint_cases(wings, 3, seed=5))
     (p0, u0), (p1, u1), (_, u2) = cases
     for positions, u in [(p0, u0), (p0, u0), (p0, u1), (p1, u1), (p1, u2), (p0, u0)]:
-        vertices = new.vertices(positions)
-        assert vertices == [(1.0, tuple(positions[name] for name in wings.joints))]
-        _same(new.lighting(u, vertices), old.lighting(u, positions))
-        assert new.last_keys == old.last_keys
-    assert (
-        (new.hits, new.misses, new.configuration_hits, new.configuration_misses)
-        == (
-            old.hits,
-            old.misses,
-            old.configuration_hits,
-            old.configuration_misses,
-        )
-        == (1, 5, 2, 3)
-    )
-    assert len(new) == 1 and new.info()["configurations"] == 1
+        vertices = cache.vertices(positions)
+        key = tuple(positions[name] for name in wings.joints)
+        assert vertices == [(1.0, key)]
+        _same(cache.lighting(u, vertices), posed_shader(positions).lighting(u))
+        assert cache.last_keys == ((key, tuple(u.tolist())),)
+    counters = (cache.hits, cache.misses, cache.configuration_hits, cache.configuration_misses)
+    assert counters == (1, 5, 2, 3)
+    assert len(cache) == 1 and cache.info()["configurations"] == 1
 
 
 def test_joint_grid_steps_keys_and_clipping(wings):
