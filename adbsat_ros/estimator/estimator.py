@@ -28,6 +28,7 @@ from adbsat_ros.estimator.state import (
     check_conditions,
     checked_rotation,
     checked_state,
+    conditions_rejection,
     jumps_back,
     odometry_inputs,
 )
@@ -127,24 +128,17 @@ class AeroWrenchEstimator:
             self.knots.configure(settings.conditions_step, conditions)
         if self.body is not None:
             if self.joints is None:
-                self.joints = JointStates(self.body, settings.joint_state_timeout)
-            self.joints.timeout = settings.joint_state_timeout
-            self.joints.set_prepare(model.prepare_joints)
+                self.joints = JointStates(self.body)
+            self.joints.configure(settings.joint_state_timeout, model.prepare_joints)
         self._panels, self.model, self.database = panels, model, database
         self.method = model.method
         self._solar = solar
-        self.weather = conditions.weather
         self.settings = settings
 
     @property
     def state(self) -> OrbitalState | None:
         """The latest accepted orbital state (None before the first or after a reset)."""
         return self._state
-
-    @property
-    def prepared_used(self) -> int:
-        """Attitudes at a stamp :meth:`prepare` had made ready (``knots.prepared_used``)."""
-        return self.knots.prepared_used
 
     def utc(self, stamp: float) -> _dt.datetime:
         """UTC of a message stamp [s] per ``time_mode`` (:func:`~.timing.stamp_utc`)."""
@@ -326,11 +320,7 @@ class AeroWrenchEstimator:
             raise Rejection("non_finite", "attitude stamp is not finite")
         m = checked_rotation(quaternion_xyzw, "attitude quaternion", s.max_quaternion_norm_error)
         last = self._last_attitude_stamp
-        if (
-            last is not None
-            and stamp < last
-            and jumps_back(stamp, last, s.time_jump_reset, "attitude")
-        ):
+        if jumps_back(stamp, last, s.time_jump_reset, "attitude"):
             self.reset()
             raise Rejection(
                 "time_backwards", f"attitude time went back by {last - stamp:.3f} s: history reset"
@@ -357,13 +347,13 @@ class AeroWrenchEstimator:
             conditions = self.knots.conditions(state, stamp, utc)
             flow = conditions.free_stream() if conditions.speed > 0.0 else None
         except ValueError as exc:
-            reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
-            raise Rejection(reason, str(exc)) from None
-        reference = self.method.reference
+            raise conditions_rejection(exc, str(exc)) from None
         if flow is None or conditions.speed < s.min_relative_speed:  # at rest in the air
-            return WrenchSample.at_rest(
-                stamp, utc, reference, conditions, time.perf_counter() - t0, m
-            )
+            reference, zero = self.method.reference, np.zeros(3)
+            return WrenchSample(
+                stamp, utc, zero, zero.copy(), zero.copy(), zero.copy(), reference.area,
+                reference.length, 0.0, conditions, None, zero.copy(), time.perf_counter() - t0, m
+            )  # fmt: skip
         # gas motion relative to the body, body axes: -R^T v_rel (its direction is the flow's)
         relative = (
             conditions.relative_velocity_eci
@@ -382,7 +372,7 @@ class AeroWrenchEstimator:
 
         The node calls it after each wrench with the next regular stamp
         (:func:`adbsat_ros.messages.stamps.next_regular_stamp`). It changes no message's numbers
-        and counts or raises nothing; the attitude at the stamp counts in :attr:`prepared_used`.
+        and counts or raises nothing; the attitude at the stamp counts in ``knots.prepared_used``.
 
         Returns
         -------

@@ -80,11 +80,8 @@ class MessageHandler:
         """A decoded nav_msgs/Odometry: accepted (and its wrench if it gives attitudes), or not."""
         try:
             _, orientation = self.estimator.on_odometry(odometry)
-        except Rejection as exc:
-            return Outcome(stamp=odometry.stamp, rejection=exc)
         except Exception as exc:  # never let a message take the caller down
-            self.estimator.rejections["compute_error"] += 1
-            return Outcome(stamp=odometry.stamp, error=exc)
+            return self._failed(odometry.stamp, exc)
         if self.uses_attitude_topic:
             return Outcome(stamp=odometry.stamp, state_accepted=True)
         return self._wrench(odometry.stamp, orientation, state=True)
@@ -101,11 +98,8 @@ class MessageHandler:
             self.estimator.on_joint_state(
                 stamp_seconds(joint_state.stamp), joint_state.names, joint_state.positions
             )
-        except Rejection as exc:
-            return Outcome(stamp=joint_state.stamp, rejection=exc)
         except Exception as exc:  # never let a message take the caller down
-            self.estimator.rejections["compute_error"] += 1
-            return Outcome(stamp=joint_state.stamp, error=exc)
+            return self._failed(joint_state.stamp, exc)
         return Outcome(stamp=joint_state.stamp)
 
     def undecodable(self, what: str, exc: UndecodableMessage) -> Outcome:
@@ -113,15 +107,19 @@ class MessageHandler:
         self.estimator.rejections["undecodable"] += 1
         return Outcome(stamp=None, rejection=Rejection("undecodable", f"{what} message {exc}"))
 
+    def _failed(self, stamp: Stamp, exc: Exception, **fields) -> Outcome:
+        """The outcome of a message whose handling raised ``exc``: its rejection, or a failure
+        (counted as ``compute_error``)."""
+        if isinstance(exc, Rejection):
+            return Outcome(stamp=stamp, rejection=exc, **fields)
+        self.estimator.rejections["compute_error"] += 1
+        return Outcome(stamp=stamp, error=exc, **fields)
+
     def _wrench(self, stamp: Stamp, quaternion, state: bool) -> Outcome:
-        estimator = self.estimator
         try:
-            sample = estimator.on_attitude(stamp_seconds(stamp), quaternion)
-        except Rejection as exc:
-            return Outcome(stamp=stamp, triggered=True, state_accepted=state, rejection=exc)
+            sample = self.estimator.on_attitude(stamp_seconds(stamp), quaternion)
         except Exception as exc:  # never let a message take the caller down
-            estimator.rejections["compute_error"] += 1
-            return Outcome(stamp=stamp, triggered=True, state_accepted=state, error=exc)
+            return self._failed(stamp, exc, triggered=True, state_accepted=state)
         self._stamps = (self._stamps[1], stamp)
         return Outcome(stamp=stamp, triggered=True, state_accepted=state, sample=sample)
 

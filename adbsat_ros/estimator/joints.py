@@ -24,10 +24,6 @@ class JointStates:
     Parameters
     ----------
     body : ArticulatedBody
-    timeout : float
-        Largest distance [s] between a joint position's stamp and an attitude stamp.
-    prepare : callable, optional
-        Positions (dict) -> what an attitude uses; by default the positions alone.
 
     Attributes
     ----------
@@ -35,14 +31,14 @@ class JointStates:
         Joint-state messages taken.
     """
 
-    def __init__(self, body: ArticulatedBody, timeout: float, prepare: Callable | None = None):
+    def __init__(self, body: ArticulatedBody):
         self.body = body
-        self.timeout = float(timeout)
+        self.timeout = math.inf
+        self.prepare: Callable = dict
         self._latest: dict = {}  # name -> (stamp, position)
         self._span = self._stamp_span()
         self._configuration = None
         self.accepted = 0
-        self.prepare = prepare or (lambda positions: positions)
 
     def clear(self) -> None:
         """Forget every position (the history restarts)."""
@@ -50,8 +46,11 @@ class JointStates:
         self._span = self._stamp_span()
         self._configuration = None
 
-    def set_prepare(self, prepare: Callable) -> None:
-        """Make the positions ready with ``prepare`` from now on (the latest ones again too)."""
+    def configure(self, timeout: float, prepare: Callable) -> None:
+        """Set ``timeout``, the largest distance [s] between a joint position's stamp and an
+        attitude stamp, and ``prepare``, positions (dict) -> what an attitude uses (the latest
+        positions are made ready again)."""
+        self.timeout = float(timeout)
         self.prepare = prepare
         self._configuration = None
 

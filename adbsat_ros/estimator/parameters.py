@@ -269,8 +269,6 @@ PARAMETER_RANGES = {p.name: p.bound for p in PARAMETERS if p.bound is not None}
 WHOLE_NUMBER_PARAMETERS = tuple(p.name for p in PARAMETERS if p.kind is whole)
 #: The parameters the body is loaded from, once.
 BODY_PARAMETERS = tuple(p.name for p in PARAMETERS if p.use.startswith("body."))
-#: The parameters of the shading (another value needs another shading source).
-SHADING_PARAMETERS = tuple(p.name for p in PARAMETERS if p.use.startswith("shading."))
 #: Settings taken at start-up only (the body, the topics, the executor): the plain node keeps
 #: them read-only.
 READ_ONLY_PARAMETERS = BODY_PARAMETERS + tuple(p.name for p in PARAMETERS if p.use == "fixed")

@@ -224,11 +224,6 @@ class WrenchSample:
         """Aerodynamic plus solar radiation torque [N m] about the centre of mass, body frame."""
         return self.torque if self.solar is None else self.torque + self.solar.torque
 
-    @property
-    def force_state_frame(self) -> np.ndarray:
-        """The force [N] in the state frame (ECI or ECEF): R force."""
-        return np.array(self.rotation).reshape(3, 3) @ self.force
-
     def state_frame_wrench(self, mass: float, inertia) -> tuple:
         """What a propagator takes, of the aerodynamic wrench plus the solar one (if any).
 
@@ -260,31 +255,3 @@ class WrenchSample:
     def drag_coefficient(self) -> float:
         """C_D: force coefficient along the gas motion (0 at rest)."""
         return float(self.force_coefficients @ self.flow_direction_body)
-
-    @classmethod
-    def at_rest(
-        cls,
-        stamp: float,
-        time: _dt.datetime,
-        reference,
-        conditions: FlightConditions,
-        compute_seconds: float,
-        rotation: tuple,
-    ) -> WrenchSample:
-        """The sample of a body at rest in the air (zero wrench), other arguments as the fields."""
-        return cls(
-            stamp=stamp,
-            time=time,
-            force=np.zeros(3),
-            torque=np.zeros(3),
-            force_coefficients=np.zeros(3),
-            moment_coefficients=np.zeros(3),
-            reference_area=reference.area,
-            reference_length=reference.length,
-            dynamic_pressure=0.0,
-            conditions=conditions,
-            coefficients=None,
-            flow_direction_body=np.zeros(3),
-            compute_seconds=compute_seconds,
-            rotation=rotation,
-        )

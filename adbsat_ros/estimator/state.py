@@ -152,8 +152,13 @@ def check_conditions(evaluate, utc, state: OrbitalState) -> None:
         try:
             evaluate(state, state.stamp)
         except ValueError as exc:
-            reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
-            raise Rejection(reason, f"{where}: {exc}; the latest state is kept") from None
+            raise conditions_rejection(exc, f"{where}: {exc}; the latest state is kept") from None
+
+
+def conditions_rejection(exc: ValueError, message: str) -> Rejection:
+    """The rejection of flight conditions that cannot be evaluated: ``altitude_out_of_range``
+    if ``exc`` is about the altitude, else ``bad_state``."""
+    return Rejection("altitude_out_of_range" if "altitude" in str(exc) else "bad_state", message)
 
 
 def odometry_inputs(msg, state_frame: str, body_frame_id: str, frame_ids) -> tuple:
