@@ -19,7 +19,6 @@ EPOCH_UTC_REASON = "the years the time scales and the atmosphere model's space w
 
 
 def _within(name: str, value, bound: Bound) -> float:
-    """``value`` within ``bound``, else ValueError ``"parameter NAME: ..."`` with the range."""
     try:
         return bounded(name, value, bound)
     except ValueError as exc:
@@ -101,8 +100,8 @@ def vector3(name: str, value, bound: Bound) -> tuple:
 
 
 def inertia(name: str, value, bound: Bound) -> tuple | None:
-    """An inertia tensor, 9 numbers row-major, each in the range, symmetric and positive
-    definite; None when all are 0 (no angular acceleration)."""
+    """An inertia tensor, 9 numbers row-major, symmetric and positive definite; None when all are
+    0."""
     tensor = _numbers(name, value, bound, 9, range(9), "9 numbers (3 x 3, row-major)")
     if not any(tensor):
         return None
@@ -152,8 +151,8 @@ def choice(allowed: tuple, lower: bool = False):
 
 
 def parse_utc(name: str, value, bound=None) -> _dt.datetime:
-    """An ISO 8601 UTC time (a trailing Z or +00:00 allowed) as an aware datetime, within the
-    years of :data:`EPOCH_UTC_RANGE`."""
+    """An ISO 8601 UTC time (a trailing Z or +00:00 allowed) as an aware datetime, within
+    :data:`EPOCH_UTC_RANGE`."""
     try:
         t = _dt.datetime.fromisoformat(str(value).replace("Z", "+00:00"))
         if t.tzinfo is None:
