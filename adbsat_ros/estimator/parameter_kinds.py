@@ -18,7 +18,8 @@ EPOCH_UTC_RANGE = f"from {FIRST_YEAR}-01-01T00:00:00 to {LAST_YEAR}-12-31T23:59:
 EPOCH_UTC_REASON = "the years the time scales and the atmosphere model's space weather cover"
 
 
-def _within(name: str, value, bound: Bound) -> float:
+def number(name: str, value, bound: Bound) -> float:
+    """A number within its range (an element of a list named ``name[label]``)."""
     try:
         return bounded(name, value, bound)
     except ValueError as exc:
@@ -31,17 +32,12 @@ def _numbers(name: str, value, bound: Bound, count: int | None, labels, expected
         raise ValueError(f"parameter {name}: expected {expected}, got {value!r}")
     if count is not None and len(value) != count:
         raise ValueError(f"parameter {name}: expected {expected}, got {value!r}")
-    return tuple(_within(f"{name}[{label}]", x, bound) for label, x in zip(labels, value))
-
-
-def number(name: str, value, bound: Bound) -> float:
-    """A number within its range."""
-    return _within(name, value, bound)
+    return tuple(number(f"{name}[{label}]", x, bound) for label, x in zip(labels, value))
 
 
 def whole(name: str, value, bound: Bound) -> int:
     """A whole number within its range."""
-    result = _within(name, value, bound)
+    result = number(name, value, bound)
     if not result.is_integer():
         raise ValueError(f"parameter {name}: {name} must be a whole number, got {value!r}")
     return int(result)
