@@ -1,9 +1,8 @@
 """The bag analysis's workers: chunks of trigger messages replayed through the node's handling.
 
-A worker holds one estimator per model. It replays a chunk from reset estimators, decoding,
-handling (:class:`~adbsat_ros.estimator.handling.MessageHandler`) and encoding each message as
-the node does (rosbags' codec where the node has rclpy's), and returns per message and model a
-:class:`MessageRecord` of numbers and bytes, and the CSV row.
+A worker holds one estimator per model; it replays a chunk from reset estimators, decoding,
+handling and encoding each message as the node does (rosbags' codec where the node has
+rclpy's), and returns per message and model a :class:`MessageRecord` and the CSV row.
 """
 
 from __future__ import annotations
@@ -35,10 +34,8 @@ STOP_POLL_S = 0.1
 
 
 class SampleNumbers(NamedTuple):
-    """The numbers of a WrenchSample the diagnostics report, named as on the sample's conditions.
-
-    :attr:`conditions` is the record itself, so it reads as a sample does; flat because every
-    record is pickled from a worker."""
+    """The numbers of a WrenchSample the diagnostics report, flat because every record is pickled;
+    :attr:`conditions` is the record itself, so it reads as a sample does."""
 
     mass_density: float
     temperature: float
@@ -51,7 +48,7 @@ class SampleNumbers(NamedTuple):
 
     @property
     def conditions(self) -> "SampleNumbers":
-        """The record itself (its condition fields), as ``WrenchSample.conditions`` reads."""
+        """The record itself, as ``WrenchSample.conditions`` reads."""
         return self
 
     @classmethod
@@ -73,12 +70,10 @@ class SampleNumbers(NamedTuple):
 class MessageRecord(NamedTuple):
     """What one message came to for one model, as the merge needs it: only numbers and bytes.
 
-    ``status`` is None (no wrench asked of this model), ``ok`` or the rejection reason;
-    ``reason``/``reason_text`` a rejection's (or ``compute_error`` and the failure), which
-    ``latest_rejection`` tells apart; ``numbers`` the sample's for the diagnostics;
-    ``compute_seconds`` the estimator's time [s]; ``cache_keys`` the shading-cache cells read (one,
-    three when interpolating, or none), ``uncounted_keys`` those read without counting (the
-    Sun's); the ``*_cdr`` fields the messages to write.
+    ``status`` is None (no wrench asked), ``ok`` or the reason; ``latest_rejection`` tells a
+    rejection from a failure; ``compute_seconds`` [s]; ``cache_keys`` the shading-cache cells
+    read (one, three when interpolating, or none), ``uncounted_keys`` those read without counting
+    (the Sun's); the ``*_cdr`` fields the messages to write.
     """
 
     state_accepted: bool = False
@@ -108,11 +103,8 @@ class Row(NamedTuple):
 
 
 class ChunkResult(NamedTuple):
-    """What a worker returns for one chunk of trigger messages.
-
-    ``records[i]``: one MessageRecord per model for message i; ``rows[i]`` its Row or None. If
-    message ``len(records)`` could not be decoded, ``error`` says why.
-    """
+    """One chunk's results: ``records[i]`` one MessageRecord per model for message i, ``rows[i]``
+    its Row or None; ``error`` says why message ``len(records)`` could not be decoded."""
 
     records: list
     rows: list
@@ -128,7 +120,7 @@ class WorkerModel:
         self._queries = self._query_count()
 
     def start_chunk(self) -> None:
-        """Reset for a chunk: it starts at a state message a fresh estimator accepts alike."""
+        """Reset for a chunk (it starts at a state a fresh estimator accepts alike)."""
         self.estimator.reset()
         self._queries = self._query_count()
 
@@ -184,13 +176,8 @@ class WorkerModel:
 
 
 class Worker:
-    """The models of one process; :meth:`run` replays a chunk from reset estimators.
-
-    Parameters
-    ----------
-    specs : sequence of (WrenchSettings, PanelMesh)
-        One per model, in order.
-    """
+    """The models of one process, from ``specs`` (WrenchSettings, PanelMesh), one per model;
+    :meth:`run` replays a chunk from reset estimators."""
 
     def __init__(self, specs, stop=None):
         self.models = [WorkerModel(settings, mesh) for settings, mesh in specs]
@@ -198,9 +185,8 @@ class Worker:
         self.stop = stop
 
     def run(self, chunk) -> ChunkResult:
-        """Replay ``chunk``, (kinds, CDR bytes) of consecutive trigger messages.
-
-        Once :attr:`stop` is set the replay ends after the current message (at least one)."""
+        """Replay ``chunk``, (kinds, CDR bytes) of consecutive trigger messages; once :attr:`stop`
+        is set, the replay ends after the current message."""
         kinds, raws = chunk
         models = self.models
         for m in models:
@@ -244,8 +230,8 @@ _WORKER: Worker | None = None
 
 
 def _init_worker(specs, parent: int, stop) -> None:
-    """Pool initializer: the estimators, once per process. Dies with its parent and ignores SIGINT
-    and SIGTERM (:func:`die_with_parent`): the analysis decides how to stop."""
+    """Pool initializer: the estimators, once per process; dies with its parent and ignores SIGINT
+    and SIGTERM (the analysis decides how to stop)."""
     global _WORKER
     die_with_parent(parent, stops_to_parent=True)
     _WORKER = Worker(specs, stop)
@@ -258,16 +244,9 @@ def _run_chunk(chunk) -> ChunkResult:
 def chunk_results(specs, chunks, workers: int, stop=None):
     """The ChunkResult of each chunk, in order: here (``workers`` 1), or by a pool kept ahead.
 
+    ``specs`` as :class:`Worker` takes them; ``chunks`` (kinds, CDR bytes) are taken as needed.
     Once ``stop`` is set or the generator closed, the workers end their chunks after the current
-    message (:meth:`Worker.run`), so a stop waits for one message, not whole chunks.
-
-    Parameters
-    ----------
-    specs : sequence of (WrenchSettings, PanelMesh)
-        The models.
-    chunks : iterable of (kinds, CDR bytes)
-        The chunks, taken as they are needed.
-    workers : int
+    message.
     """
     with frozen_heap():
         yield from _chunk_results(specs, chunks, workers, stop)

@@ -1,8 +1,7 @@
 """The exact flight conditions of an accepted orbital state at a message stamp, per the settings.
 
-The state is propagated to the stamp at constant velocity (a state is at most ~0.1 s old, where
-the neglected gravity term is 5 cm). The estimator's
-:class:`~adbsat_ros.environment.knots.KnotGrid` evaluates this at its knots.
+The state is propagated to the stamp at constant velocity (a state is at most ~0.1 s old,
+where the neglected gravity term is 5 cm); the estimator's knots evaluate this.
 """
 
 from __future__ import annotations
@@ -19,19 +18,8 @@ PRECESSION_NUTATION_STEP_S = 60.0
 
 
 class PropagatedConditions:
-    """``conditions(state, stamp)``: the flight conditions of a state propagated to a stamp.
-
-    Parameters
-    ----------
-    settings : WrenchSettings
-        Space weather, state frame, wind, Earth rotation, anomalous oxygen, accommodation and
-        time mapping.
-
-    Raises
-    ------
-    ValueError
-        For space weather indices that are not allowed (naming them).
-    """
+    """``conditions(state, stamp)``: the flight conditions of a state propagated to a stamp [s];
+    ValueError naming space weather indices that are not allowed."""
 
     def __init__(self, settings: WrenchSettings):
         self.settings = settings
@@ -50,13 +38,8 @@ class PropagatedConditions:
         )
 
     def __call__(self, state: OrbitalState, stamp: float) -> FlightConditions:
-        """The flight conditions of ``state`` propagated to ``stamp`` [s].
-
-        Raises
-        ------
-        ValueError
-            From :func:`evaluate_flight_conditions` (e.g. an altitude outside the model).
-        """
+        """The flight conditions of ``state`` propagated to ``stamp`` [s]; ValueError from
+        :func:`evaluate_flight_conditions` (e.g. an altitude outside the model)."""
         s = self.settings
         position = state.position + state.velocity * (stamp - state.stamp)
         return evaluate_flight_conditions(

@@ -8,10 +8,8 @@ import numpy as np
 
 
 def nearest_rank_percentiles(values) -> tuple | None:
-    """``(p50, p99, max)`` of ``values`` (not modified), or None if empty.
-
-    The p-th percentile is the ceil(p n)-th smallest value (nearest rank), by one partial sort.
-    """
+    """``(p50, p99, max)`` of ``values`` (not modified) by nearest rank (the ceil(p n)-th smallest),
+    or None if empty."""
     array = values if isinstance(values, np.ndarray) else np.fromiter(values, dtype=float)
     n = array.size
     if not n:
@@ -21,24 +19,9 @@ def nearest_rank_percentiles(values) -> tuple | None:
 
 
 def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
-    """Key/values of an estimator's diagnostics.
-
-    Parameters
-    ----------
-    estimator : AeroWrenchEstimator
-        Its settings, counters, model (reference, shading cache), database and knot grid.
-    last_sample : WrenchSample or None
-        The latest wrench computed (its conditions and drag coefficient are reported).
-    compute_ms : sequence or ndarray of float
-        Recent compute times [ms]; their p50, p99 (nearest rank) and largest are reported.
-
-    Returns
-    -------
-    dict
-        Settings, counters, reference, database, compute-time percentiles, the latest
-        conditions and solar wrench, joint counters and ``rejected_<reason>`` counts; the keys
-        are those of docs/node.md (``/diagnostics``).
-    """
+    """Key/values of an estimator's diagnostics (the keys of docs/node.md, ``/diagnostics``): its
+    settings, counters, reference, database, the ``compute_ms`` [ms] p50, p99 and max, the
+    ``last_sample``'s conditions and solar wrench, joint counters and ``rejected_<reason>``."""
     s = estimator.settings
     knots = estimator.knots
     reference = estimator.method.reference

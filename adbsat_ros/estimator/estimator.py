@@ -1,10 +1,8 @@
-"""From attitude and orbital state messages to the aerodynamic wrench: the node's logic, no ROS.
+"""From attitude and orbital-state messages to the aerodynamic wrench: the node's logic, no ROS.
 
-The node and bag analysis feed it the same decoded messages, so both compute the same numbers.
-Frames: the state is in ECI (GCRF) or ECEF (ITRF) per the settings; the attitude quaternion
-(x, y, z, w) rotates body (mesh) vectors into it, v_state = R(q) v_body. Forces [N] and torques
-[N m] are in the body frame, torques about the centre of mass. Flight conditions on the knots of
-``conditions_step``: docs/node.md ("Time, state and flight conditions").
+Frames: the state is in ECI (GCRF) or ECEF (ITRF); the attitude quaternion (x, y, z, w) rotates
+body (mesh) vectors into it, v_state = R(q) v_body. Forces [N] and torques [N m] are in the body
+frame, torques about the centre of mass. Time and flight conditions: docs/node.md.
 """
 
 from __future__ import annotations
@@ -28,6 +26,7 @@ from adbsat_ros.estimator.state import (
     check_conditions,
     checked_rotation,
     checked_state,
+    conditions_rejection,
     jumps_back,
     odometry_inputs,
 )
@@ -40,35 +39,18 @@ from adbsat_ros.physics.model import Model, build_model
 class AeroWrenchEstimator:
     """Aerodynamic wrench from attitude and orbital-state inputs (the ROS node's core).
 
+    Its ``rejections`` (a Counter by reason, :data:`~.samples.REJECTION_REASONS`) and
+    ``published`` count the inputs; ``knots`` holds the latest state's flight conditions;
+    ``model`` is the body as configured (panel method and shading cache, or a database, then
+    also in ``database``); ``body`` the articulated body (None for a rigid mesh), its latest
+    positions in ``joints``; ``mesh`` the panels (an articulated body's at zero positions).
+
     Parameters
     ----------
     settings : WrenchSettings
-        Everything but the ROS plumbing (see :data:`adbsat_ros.estimator.parameters.PARAMETERS`).
+        Everything but the ROS plumbing (:data:`adbsat_ros.estimator.parameters.PARAMETERS`).
     mesh : PanelMesh or ArticulatedBody, optional
-        An already loaded mesh or articulated body (default: load ``settings.mesh``, or the
-        URDF of ``robot_description``, once).
-
-    Attributes
-    ----------
-    rejections : collections.Counter
-        Inputs that produced nothing, by reason (``REJECTION_REASONS`` of
-        :mod:`adbsat_ros.estimator.samples`).
-    published : int
-        Wrench samples returned.
-    knots : KnotGrid
-        The flight conditions of the latest state on the knots, with their counters.
-    model : Model
-        The body as the settings configure it (:func:`~adbsat_ros.physics.model.build_model`):
-        its panel method, its shading cache (None without shading or with a database), or the
-        database's lookup.
-    database : DatabaseCoefficients or None
-        The database in use when ``coefficients_source`` is database.
-    body : ArticulatedBody or None
-        The articulated body, or None for a rigid mesh.
-    joints : JointStates or None
-        The latest joint positions of an articulated body.
-    mesh : PanelMesh
-        The body's panels (an articulated body's at zero joint positions).
+        An already loaded body (default: load ``settings.mesh``, or ``robot_description``'s URDF).
 
     Raises
     ------
@@ -127,13 +109,11 @@ class AeroWrenchEstimator:
             self.knots.configure(settings.conditions_step, conditions)
         if self.body is not None:
             if self.joints is None:
-                self.joints = JointStates(self.body, settings.joint_state_timeout)
-            self.joints.timeout = settings.joint_state_timeout
-            self.joints.set_prepare(model.prepare_joints)
+                self.joints = JointStates(self.body)
+            self.joints.configure(settings.joint_state_timeout, model.prepare_joints)
         self._panels, self.model, self.database = panels, model, database
         self.method = model.method
         self._solar = solar
-        self.weather = conditions.weather
         self.settings = settings
 
     @property
@@ -141,13 +121,8 @@ class AeroWrenchEstimator:
         """The latest accepted orbital state (None before the first or after a reset)."""
         return self._state
 
-    @property
-    def prepared_used(self) -> int:
-        """Attitudes at a stamp :meth:`prepare` had made ready (``knots.prepared_used``)."""
-        return self.knots.prepared_used
-
     def utc(self, stamp: float) -> _dt.datetime:
-        """UTC of a message stamp [s] per ``time_mode`` (:func:`~.timing.stamp_utc`)."""
+        """UTC of a message stamp [s] per ``time_mode``."""
         return stamp_utc(stamp, self.settings.time_mode, self.settings.epoch_utc)
 
     def reset(self) -> None:
@@ -177,20 +152,18 @@ class AeroWrenchEstimator:
         position : array_like, shape (3,)
             Position in the state frame [m].
         velocity : array_like, shape (3,)
-            Velocity [m/s]: in the state frame, or in the body frame if ``velocity_in_body_frame``
-            (then ``orientation_xyzw``, the body's orientation in the state frame, rotates it).
+            Velocity [m/s] in the state frame, or in the body frame if ``velocity_in_body_frame``.
         orientation_xyzw : array_like, shape (4,), optional
-            Body orientation (x, y, z, w), needed for a body-frame velocity.
+            Body orientation (x, y, z, w) in the state frame, needed for a body-frame velocity.
 
         Raises
         ------
         Rejection
-            ``non_finite``, ``bad_quaternion``, ``altitude_out_of_range`` (below
-            ``min_altitude`` or outside the atmosphere model at its own stamp), ``bad_state``
-            (a speed beyond any Earth orbit's, a stamp outside the years the atmosphere and
-            time scales cover), ``out_of_order`` (a stamp before the latest state's, within
-            ``time_jump_reset``: the latest state stays), ``conflicting_state`` or
-            ``time_backwards`` (further back: the history restarts from this state).
+            ``non_finite``, ``bad_quaternion``, ``altitude_out_of_range`` (below ``min_altitude`` or
+            above the atmosphere model), ``bad_state`` (a speed beyond any orbit's, a stamp outside
+            the years covered), ``out_of_order`` (a stamp before the latest state's, within
+            ``time_jump_reset``), ``conflicting_state`` or ``time_backwards`` (further back: the
+            history restarts from this state).
         """
         try:
             state = checked_state(
@@ -226,22 +199,17 @@ class AeroWrenchEstimator:
         return state
 
     def on_odometry(self, msg) -> tuple:
-        """Accept a nav_msgs/Odometry state (rclpy or rosbags message, or its ``OdometryFields``).
+        """Accept a nav_msgs/Odometry state (rclpy or rosbags message, or ``OdometryFields``).
 
-        Frame rules: :func:`adbsat_ros.estimator.state.odometry_inputs`.
-
-        Returns
-        -------
-        state : OrbitalState
-            The accepted state (velocity in the state frame).
-        orientation_xyzw : list of float
-            The pose orientation (the attitude when ``attitude_source`` is odometry).
+        Returns ``(state, orientation_xyzw)``: the accepted state (velocity in the state frame) and
+        the pose orientation (the attitude when ``attitude_source`` is odometry). Frame rules:
+        :func:`~.state.odometry_inputs`.
 
         Raises
         ------
         Rejection
-            ``bad_state`` for a frame mismatch or a child_frame_id that is neither frame, and the
-            reasons of :meth:`on_state`.
+            ``bad_state`` for a frame mismatch or an unknown child_frame_id, and those of
+            :meth:`on_state`.
         """
         s = self.settings
         try:
@@ -273,9 +241,8 @@ class AeroWrenchEstimator:
         Raises
         ------
         Rejection
-            ``bad_joint_state`` (for a rigid mesh too, which has no joints): an unknown joint,
-            a position not finite or beyond its joint's limits, names and positions that do
-            not pair up; nothing of the message is taken.
+            ``bad_joint_state`` (also for a rigid mesh): an unknown joint, a position not finite or
+            beyond its limits, names and positions that do not pair up; nothing is taken.
         """
         try:
             if self.joints is None:
@@ -300,11 +267,10 @@ class AeroWrenchEstimator:
         Raises
         ------
         Rejection
-            With the reason (counted in :attr:`rejections`); nothing is published for it:
-            ``non_finite``, ``bad_quaternion``, ``out_of_order`` (before the latest attitude,
-            within ``time_jump_reset``), ``time_backwards`` (further back: the history is reset),
-            ``no_state``, ``stale_state``, ``altitude_out_of_range``, ``bad_state``,
-            ``outside_database`` or ``compute_error``.
+            With the reason (counted in :attr:`rejections`): ``non_finite``, ``bad_quaternion``,
+            ``out_of_order``, ``time_backwards`` (the history is reset), ``no_state``,
+            ``stale_state``, ``altitude_out_of_range``, ``bad_state``, ``outside_database``, the
+            joint rejections or ``compute_error``.
         """
         t0 = time.perf_counter()
         try:
@@ -326,11 +292,7 @@ class AeroWrenchEstimator:
             raise Rejection("non_finite", "attitude stamp is not finite")
         m = checked_rotation(quaternion_xyzw, "attitude quaternion", s.max_quaternion_norm_error)
         last = self._last_attitude_stamp
-        if (
-            last is not None
-            and stamp < last
-            and jumps_back(stamp, last, s.time_jump_reset, "attitude")
-        ):
+        if jumps_back(stamp, last, s.time_jump_reset, "attitude"):
             self.reset()
             raise Rejection(
                 "time_backwards", f"attitude time went back by {last - stamp:.3f} s: history reset"
@@ -357,13 +319,13 @@ class AeroWrenchEstimator:
             conditions = self.knots.conditions(state, stamp, utc)
             flow = conditions.free_stream() if conditions.speed > 0.0 else None
         except ValueError as exc:
-            reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
-            raise Rejection(reason, str(exc)) from None
-        reference = self.method.reference
+            raise conditions_rejection(exc, str(exc)) from None
         if flow is None or conditions.speed < s.min_relative_speed:  # at rest in the air
-            return WrenchSample.at_rest(
-                stamp, utc, reference, conditions, time.perf_counter() - t0, m
-            )
+            reference, zero = self.method.reference, np.zeros(3)
+            return WrenchSample(
+                stamp, utc, zero, zero.copy(), zero.copy(), zero.copy(), reference.area,
+                reference.length, 0.0, conditions, None, zero.copy(), time.perf_counter() - t0, m
+            )  # fmt: skip
         # gas motion relative to the body, body axes: -R^T v_rel (its direction is the flow's)
         relative = (
             conditions.relative_velocity_eci
@@ -380,15 +342,10 @@ class AeroWrenchEstimator:
     def prepare(self, stamp: float) -> bool:
         """Compute ahead the knots an attitude expected at ``stamp`` [s] would wait for.
 
-        The node calls it after each wrench with the next regular stamp
-        (:func:`adbsat_ros.messages.stamps.next_regular_stamp`). It changes no message's numbers
-        and counts or raises nothing; the attitude at the stamp counts in :attr:`prepared_used`.
-
-        Returns
-        -------
-        bool
-            Whether it was prepared (False without a state, for a stamp not after the latest
-            attitude or that the state time-out would reject, or outside the atmosphere).
+        The node calls it after each wrench with the next regular stamp; it changes no message's
+        numbers (``knots.prepared_used`` counts the attitudes it served). Returns whether it
+        prepared (False without a state, for a stamp not after the latest attitude or too far from
+        the state, or outside the atmosphere).
         """
         state, last = self._state, self._last_attitude_stamp
         if state is None or not math.isfinite(stamp) or (last is not None and stamp <= last):
@@ -398,7 +355,7 @@ class AeroWrenchEstimator:
         return self.knots.prepare(state, stamp)
 
     def diagnostic_values(self, last_sample: WrenchSample | None, compute_ms) -> dict:
-        """Key/values of the node's DiagnosticStatus (bag analysis writes the same ones).
+        """Key/values of the node's DiagnosticStatus (:func:`~.diagnostics.diagnostic_values`).
 
         Parameters
         ----------
@@ -406,22 +363,14 @@ class AeroWrenchEstimator:
             The latest wrench computed.
         compute_ms : sequence or ndarray of float
             Recent compute times [ms]; their p50, p99 (nearest rank) and largest are reported.
-
-        See :func:`adbsat_ros.estimator.diagnostics.diagnostic_values`.
         """
         return diagnostic_values(self, last_sample, compute_ms)
 
 
 def _database(settings: WrenchSettings, panels: Model) -> DatabaseCoefficients:
-    """The database of ``database_path`` for the panels' method.
-
-    Raises
-    ------
-    ValueError
-        Naming ``coefficients_source`` for an articulated body, ``accommodation_model`` unless
-        it is fixed (a database is made at one alpha), or from :class:`DatabaseCoefficients` if
-        the file does not fit the method.
-    """
+    """The database of ``database_path`` for the panels' method; ValueError naming
+    ``coefficients_source`` (articulated body), ``accommodation_model`` (not fixed: a database is
+    made at one alpha) or from :class:`DatabaseCoefficients` (a file that does not fit)."""
     if panels.articulated:
         raise ValueError(
             "parameter coefficients_source: a database is made for one rigid mesh; an "

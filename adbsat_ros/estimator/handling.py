@@ -1,9 +1,8 @@
 """One input message through the estimator: the per-message path of the node and bag analysis.
 
-A rejected input is counted by its reason, any other failure as ``compute_error`` (it never
-stops the caller); with ``attitude_source`` odometry a state's pose is the attitude. Both
-callers encode a sample with :func:`adbsat_ros.messages.encoding.encode_wrench`, so their
-messages are equal bit for bit.
+A rejection is counted by its reason, any other failure as ``compute_error`` (it never stops
+the caller); with ``attitude_source`` odometry a state's pose is the attitude. Both callers
+encode a sample with :func:`adbsat_ros.messages.encoding.encode_wrench`: equal bit for bit.
 """
 
 from __future__ import annotations
@@ -19,18 +18,9 @@ from adbsat_ros.messages.stamps import next_regular_stamp, stamp_seconds
 
 @dataclass(frozen=True, kw_only=True, slots=True)
 class Outcome:
-    """What one input message came to: the sample, or the rejection or failure.
-
-    Attributes
-    ----------
-    stamp : Stamp or None
-        The message's header stamp (the wrench's), None for bytes that could not be decoded.
-    triggered : bool
-        Whether the message asked for a wrench: an attitude, or a state accepted while the
-        attitude comes from the odometry pose.
-    error : Exception or None
-        An unexpected failure (counted as ``compute_error``).
-    """
+    """What one input message came to: the sample, or the rejection or failure (``error``,
+    counted as ``compute_error``). ``stamp`` is None for bytes that could not be decoded;
+    ``triggered``: whether the message asked for a wrench."""
 
     stamp: Stamp | None
     triggered: bool = False
@@ -59,13 +49,7 @@ IGNORED = Outcome(stamp=None)
 
 
 class MessageHandler:
-    """The node's handling of input messages around one estimator, without ROS.
-
-    Parameters
-    ----------
-    estimator : AeroWrenchEstimator
-        The estimator fed (its counters count the rejections and failures).
-    """
+    """The node's handling of input messages around one estimator, without ROS."""
 
     def __init__(self, estimator: AeroWrenchEstimator):
         self.estimator = estimator
@@ -80,11 +64,8 @@ class MessageHandler:
         """A decoded nav_msgs/Odometry: accepted (and its wrench if it gives attitudes), or not."""
         try:
             _, orientation = self.estimator.on_odometry(odometry)
-        except Rejection as exc:
-            return Outcome(stamp=odometry.stamp, rejection=exc)
         except Exception as exc:  # never let a message take the caller down
-            self.estimator.rejections["compute_error"] += 1
-            return Outcome(stamp=odometry.stamp, error=exc)
+            return self._failed(odometry.stamp, exc)
         if self.uses_attitude_topic:
             return Outcome(stamp=odometry.stamp, state_accepted=True)
         return self._wrench(odometry.stamp, orientation, state=True)
@@ -101,11 +82,8 @@ class MessageHandler:
             self.estimator.on_joint_state(
                 stamp_seconds(joint_state.stamp), joint_state.names, joint_state.positions
             )
-        except Rejection as exc:
-            return Outcome(stamp=joint_state.stamp, rejection=exc)
         except Exception as exc:  # never let a message take the caller down
-            self.estimator.rejections["compute_error"] += 1
-            return Outcome(stamp=joint_state.stamp, error=exc)
+            return self._failed(joint_state.stamp, exc)
         return Outcome(stamp=joint_state.stamp)
 
     def undecodable(self, what: str, exc: UndecodableMessage) -> Outcome:
@@ -113,20 +91,23 @@ class MessageHandler:
         self.estimator.rejections["undecodable"] += 1
         return Outcome(stamp=None, rejection=Rejection("undecodable", f"{what} message {exc}"))
 
+    def _failed(self, stamp: Stamp, exc: Exception, **fields) -> Outcome:
+        """The outcome of a message whose handling raised ``exc``."""
+        if isinstance(exc, Rejection):
+            return Outcome(stamp=stamp, rejection=exc, **fields)
+        self.estimator.rejections["compute_error"] += 1
+        return Outcome(stamp=stamp, error=exc, **fields)
+
     def _wrench(self, stamp: Stamp, quaternion, state: bool) -> Outcome:
-        estimator = self.estimator
         try:
-            sample = estimator.on_attitude(stamp_seconds(stamp), quaternion)
-        except Rejection as exc:
-            return Outcome(stamp=stamp, triggered=True, state_accepted=state, rejection=exc)
+            sample = self.estimator.on_attitude(stamp_seconds(stamp), quaternion)
         except Exception as exc:  # never let a message take the caller down
-            estimator.rejections["compute_error"] += 1
-            return Outcome(stamp=stamp, triggered=True, state_accepted=state, error=exc)
+            return self._failed(stamp, exc, triggered=True, state_accepted=state)
         self._stamps = (self._stamps[1], stamp)
         return Outcome(stamp=stamp, triggered=True, state_accepted=state, sample=sample)
 
     def next_stamp(self) -> float | None:
-        """The next wrench's likely stamp [s] (:func:`next_regular_stamp`), None before two."""
+        """The next wrench's likely stamp [s], None before two."""
         previous, latest = self._stamps
         return None if previous is None else next_regular_stamp(previous, latest)
 

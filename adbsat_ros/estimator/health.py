@@ -1,7 +1,7 @@
 """The health of the wrench computation: its diagnostic level and message, and message losses.
 
-Shared by the node's /diagnostics and bag analysis (which measures the state's age in bag
-time). Rules: docs/node.md (the ``/diagnostics`` row and "Lost messages").
+Shared by the node and bag analysis (state age in bag time). Rules: docs/node.md
+(``/diagnostics``, "Lost messages").
 """
 
 from __future__ import annotations
@@ -26,8 +26,8 @@ def health_level(
     """Level (OK, WARN, ERROR) and message of the diagnostic status.
 
     ERROR without a state (``state_age`` [s] None), with one older than the larger of
-    ``state_timeout`` and ``diagnostics_period`` [s], or after a ``stale_state`` rejection;
-    WARN when inputs were ``rejected`` (a count).
+    ``state_timeout`` and ``diagnostics_period`` [s], or after a ``stale_state`` rejection; WARN
+    when inputs were ``rejected`` (a count).
     """
     if state_age is None:
         return ERROR, "no orbital state"
@@ -46,8 +46,7 @@ class Health:
     Parameters
     ----------
     ticks_per_second : float
-        Time units per second of ``now`` arguments (1 for a monotonic clock in seconds, 1e9 for
-        integer nanoseconds of bag time, subtracted exactly).
+        Time units per second of ``now`` arguments (1e9 for integer nanoseconds of bag time).
     window : int
         Compute times kept (the latest ones).
     """
@@ -85,7 +84,7 @@ class Health:
         return (now - self._last_state_time) / self.ticks_per_second
 
     def level(self, now, settings, rejected: int) -> tuple[int, str]:
-        """:func:`health_level` at time ``now`` (in ticks) under ``settings`` (WrenchSettings)."""
+        """:func:`health_level` at time ``now`` (in ticks) under ``settings``."""
         return health_level(
             self.state_age(now),
             self.last_rejection_reason,
@@ -98,16 +97,9 @@ class Health:
 class StampGaps:
     """Messages missing from a regular stream, estimated from its stamps.
 
-    A step of more than 1.5 intervals counts round(step / interval) - 1 missing; any other step
-    is the new interval. Two gaps in a row of one size (within 10 %) are a slower stream: the
-    second becomes the interval. Stamps that do not advance are left out.
-
-    Attributes
-    ----------
-    missing : int
-        Messages estimated missing so far.
-    interval : float or None
-        The latest regular interval [s].
+    A step of more than 1.5 intervals counts round(step / interval) - 1 missing (``missing``);
+    any other step is the new ``interval`` [s]. Two gaps in a row of one size (within 10 %) are a
+    slower stream: the second becomes the interval. Stamps that do not advance are left out.
     """
 
     def __init__(self):
@@ -139,16 +131,8 @@ class StampGaps:
 
 
 class SequenceGaps:
-    """Messages lost on one topic, from the publishers' sequence numbers (docs/node.md,
-    "Lost messages"): no gap is counted while several publishers interleave their numbers.
-
-    Attributes
-    ----------
-    counted : int
-        Messages missing from the sequence numbers so far.
-    middleware : int
-        Messages the middleware reported lost so far.
-    """
+    """Messages lost on one topic: ``counted`` from the publishers' sequence numbers (no gap while
+    several publishers interleave them), ``middleware`` as the middleware reported."""
 
     def __init__(self):
         self.counted = 0
@@ -158,8 +142,7 @@ class SequenceGaps:
 
     @property
     def lost(self) -> int:
-        """Messages lost: the larger of the two counts (only the middleware sees losses while
-        several publish)."""
+        """Messages lost: the larger of the two counts."""
         return max(self.counted, self.middleware)
 
     def number(self, sequence: int, single_publisher) -> None:

@@ -1,8 +1,7 @@
 """The joint positions of an articulated body, from sensor_msgs/JointState messages.
 
-State-like, as the orbital state: each moving joint keeps its latest position and stamp; a
-message is taken whole or refused (``bad_joint_state``); names of fixed or mimic joints are
-ignored. Rules and rejections: docs/node.md.
+Each moving joint keeps its latest position and stamp; a message is taken whole or refused
+(``bad_joint_state``); fixed and mimic joints are ignored. Rules: docs/node.md.
 """
 
 from __future__ import annotations
@@ -17,32 +16,19 @@ from adbsat_ros.geometry.articulated import ArticulatedBody
 class JointStates:
     """The latest position [rad or m] and stamp [s] of every moving joint of ``body``.
 
-    The first attitude after a joint state makes its positions ready (``prepare``, e.g.
-    :meth:`Model.prepare_joints`); the attitudes until the next joint state reuse them
-    (docs/benchmarks.md).
-
-    Parameters
-    ----------
-    body : ArticulatedBody
-    timeout : float
-        Largest distance [s] between a joint position's stamp and an attitude stamp.
-    prepare : callable, optional
-        Positions (dict) -> what an attitude uses; by default the positions alone.
-
-    Attributes
-    ----------
-    accepted : int
-        Joint-state messages taken.
+    The first attitude after a joint state makes its positions ready (``prepare``); the
+    attitudes until the next joint state reuse them (docs/benchmarks.md). ``accepted`` counts
+    the messages taken.
     """
 
-    def __init__(self, body: ArticulatedBody, timeout: float, prepare: Callable | None = None):
+    def __init__(self, body: ArticulatedBody):
         self.body = body
-        self.timeout = float(timeout)
+        self.timeout = math.inf
+        self.prepare: Callable = dict
         self._latest: dict = {}  # name -> (stamp, position)
         self._span = self._stamp_span()
         self._configuration = None
         self.accepted = 0
-        self.prepare = prepare or (lambda positions: positions)
 
     def clear(self) -> None:
         """Forget every position (the history restarts)."""
@@ -50,18 +36,15 @@ class JointStates:
         self._span = self._stamp_span()
         self._configuration = None
 
-    def set_prepare(self, prepare: Callable) -> None:
-        """Make the positions ready with ``prepare`` from now on (the latest ones again too)."""
+    def configure(self, timeout: float, prepare: Callable) -> None:
+        """Set ``timeout``, the largest distance [s] between a joint position's stamp and an
+        attitude stamp, and ``prepare``, positions (dict) -> what an attitude uses."""
+        self.timeout = float(timeout)
         self.prepare = prepare
         self._configuration = None
 
     def on_joint_state(self, stamp: float, names, positions) -> dict:
-        """Take a JointState's positions.
-
-        Returns
-        -------
-        dict of str to float
-            The positions it gave (moving joints only).
+        """Take a JointState's positions; return those of moving joints (dict).
 
         Raises
         ------
@@ -103,13 +86,8 @@ class JointStates:
         return {name: checked[name] for name in given}
 
     def configuration_at(self, stamp: float):
-        """The joint positions for an attitude at ``stamp`` [s], made ready (``prepare``).
-
-        Raises
-        ------
-        Rejection
-            ``no_joint_state`` (a joint without a position yet) or ``stale_joint_state``.
-        """
+        """The joint positions for an attitude at ``stamp`` [s], made ready; Rejection
+        ``no_joint_state`` or ``stale_joint_state``."""
         oldest, newest = self._span
         if stamp - oldest > self.timeout or newest - stamp > self.timeout:
             self._refuse(stamp)
@@ -119,9 +97,8 @@ class JointStates:
         return self._configuration
 
     def _stamp_span(self) -> tuple:
-        """(oldest, newest) stamp [s] of the latest positions: an attitude at t is served when
-        t - oldest and newest - t are within the timeout. (-inf, inf) while a joint has no
-        position (all refused); (inf, -inf) without moving joints (none refused)."""
+        """(oldest, newest) stamp [s] of the latest positions: (-inf, inf) while a joint has none
+        (all refused), (inf, -inf) without moving joints (none refused)."""
         latest = [self._latest.get(name) for name in self.body.joints]
         if not latest:
             return math.inf, -math.inf

@@ -18,8 +18,8 @@ EPOCH_UTC_RANGE = f"from {FIRST_YEAR}-01-01T00:00:00 to {LAST_YEAR}-12-31T23:59:
 EPOCH_UTC_REASON = "the years the time scales and the atmosphere model's space weather cover"
 
 
-def _within(name: str, value, bound: Bound) -> float:
-    """``value`` within ``bound``, else ValueError ``"parameter NAME: ..."`` with the range."""
+def number(name: str, value, bound: Bound) -> float:
+    """A number within its range (an element of a list named ``name[label]``)."""
     try:
         return bounded(name, value, bound)
     except ValueError as exc:
@@ -32,17 +32,12 @@ def _numbers(name: str, value, bound: Bound, count: int | None, labels, expected
         raise ValueError(f"parameter {name}: expected {expected}, got {value!r}")
     if count is not None and len(value) != count:
         raise ValueError(f"parameter {name}: expected {expected}, got {value!r}")
-    return tuple(_within(f"{name}[{label}]", x, bound) for label, x in zip(labels, value))
-
-
-def number(name: str, value, bound: Bound) -> float:
-    """A number within its range."""
-    return _within(name, value, bound)
+    return tuple(number(f"{name}[{label}]", x, bound) for label, x in zip(labels, value))
 
 
 def whole(name: str, value, bound: Bound) -> int:
     """A whole number within its range."""
-    result = _within(name, value, bound)
+    result = number(name, value, bound)
     if not result.is_integer():
         raise ValueError(f"parameter {name}: {name} must be a whole number, got {value!r}")
     return int(result)
@@ -101,8 +96,8 @@ def vector3(name: str, value, bound: Bound) -> tuple:
 
 
 def inertia(name: str, value, bound: Bound) -> tuple | None:
-    """An inertia tensor, 9 numbers row-major, each in the range, symmetric and positive
-    definite; None when all are 0 (no angular acceleration)."""
+    """An inertia tensor, 9 numbers row-major, symmetric and positive definite; None when all are
+    0."""
     tensor = _numbers(name, value, bound, 9, range(9), "9 numbers (3 x 3, row-major)")
     if not any(tensor):
         return None
@@ -152,8 +147,8 @@ def choice(allowed: tuple, lower: bool = False):
 
 
 def parse_utc(name: str, value, bound=None) -> _dt.datetime:
-    """An ISO 8601 UTC time (a trailing Z or +00:00 allowed) as an aware datetime, within the
-    years of :data:`EPOCH_UTC_RANGE`."""
+    """An ISO 8601 UTC time (a trailing Z or +00:00 allowed) as an aware datetime, within
+    :data:`EPOCH_UTC_RANGE`."""
     try:
         t = _dt.datetime.fromisoformat(str(value).replace("Z", "+00:00"))
         if t.tzinfo is None:

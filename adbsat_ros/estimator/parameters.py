@@ -1,9 +1,6 @@
 """The node's parameters: one table, :data:`PARAMETERS`, and the ROS 2 parameters files that give
-them values.
-
-The node's ROS parameters, :class:`~adbsat_ros.estimator.settings.WrenchSettings`,
-``adbsat_node --help`` and ``config/adbsat.yaml`` are all made from the table.
-"""
+them values. The ROS parameters, :class:`~.settings.WrenchSettings`, ``adbsat_node --help`` and
+``config/adbsat.yaml`` are all made from the table."""
 
 from __future__ import annotations
 
@@ -65,11 +62,10 @@ _DAY = Bound(
 
 
 class Parameter(NamedTuple):
-    """A row of :data:`PARAMETERS`: the default's type is the ROS parameter's; ``kind`` checks
-    and converts a value (:mod:`.parameter_kinds`); ``use`` is the set-up field it gives
-    (``"body.mesh"``, ``"model"`` ...), ``"fixed"`` (start-up only) or ``""``; ``bound`` the range
-    of a number (each of a list) or None; ``text`` the meaning, unit in brackets.
-    """
+    """A row of :data:`PARAMETERS`: the default's type is the ROS parameter's; ``kind`` checks and
+    converts a value (:mod:`.parameter_kinds`); ``use`` the set-up field it gives (``"body.mesh"``,
+    ``"model"`` ...), ``"fixed"`` (start-up only) or ``""``; ``bound`` the range of a number (each
+    of a list) or None; ``text`` the meaning, unit in brackets."""
 
     name: str
     default: object
@@ -269,8 +265,6 @@ PARAMETER_RANGES = {p.name: p.bound for p in PARAMETERS if p.bound is not None}
 WHOLE_NUMBER_PARAMETERS = tuple(p.name for p in PARAMETERS if p.kind is whole)
 #: The parameters the body is loaded from, once.
 BODY_PARAMETERS = tuple(p.name for p in PARAMETERS if p.use.startswith("body."))
-#: The parameters of the shading (another value needs another shading source).
-SHADING_PARAMETERS = tuple(p.name for p in PARAMETERS if p.use.startswith("shading."))
 #: Settings taken at start-up only (the body, the topics, the executor): the plain node keeps
 #: them read-only.
 READ_ONLY_PARAMETERS = BODY_PARAMETERS + tuple(p.name for p in PARAMETERS if p.use == "fixed")
@@ -289,11 +283,9 @@ def _is_integer(value) -> bool:
 
 
 def typed_parameter_value(name: str, value):
-    """``value`` of parameter ``name`` in its default's type where allowed, else unchanged.
-
-    Integers become floats for number parameters (and lists of numbers); a whole float becomes
-    an integer for a whole-number parameter; anything else is left for the node to refuse.
-    """
+    """``value`` of parameter ``name`` in its default's type where allowed, else unchanged (for the
+    node to refuse): integers become floats for number parameters (and lists of numbers), a
+    whole float an integer for a whole-number parameter."""
     default = PARAMETER_DEFAULTS.get(name)
     if isinstance(default, float) and _is_integer(value):
         return float(value)
@@ -333,14 +325,8 @@ def unknown_parameter(name: str) -> str:
 
 
 def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:
-    """Read a ROS 2 ``--params-file`` YAML and return the parameters for ``node_name``.
-
-    Keys under ``/**`` apply to every node, keys under the node's name override them.
-
-    Raises
-    ------
-    ValueError
-        Naming the file: it cannot be read, is no YAML, or holds no parameters for the node.
+    """The parameters a ROS 2 ``--params-file`` YAML gives ``node_name`` (``/**`` keys, overridden
+    by the node's own); ValueError naming the file if it cannot be read, is no YAML or holds none.
     """
     try:
         with open(path, encoding="utf-8") as fh:

@@ -1,8 +1,5 @@
-"""What the estimator returns for one message, and the orbital state it keeps.
-
-A message gives a :class:`WrenchSample`, or a :class:`Rejection` that says why there is none
-(one of :data:`REJECTION_REASONS`).
-"""
+"""What the estimator returns for one message (a :class:`WrenchSample` or a :class:`Rejection`),
+and the orbital state it keeps."""
 
 from __future__ import annotations
 
@@ -49,8 +46,7 @@ class Rejection(Exception):
 class OrbitalState:
     """The latest accepted orbital state, in the state frame (ECI or ECEF) [m, m/s].
 
-    Equal to another with the same stamp, position and velocity (the key of the estimator's
-    flight-conditions knots); not hashable.
+    Equal to another with the same stamp, position and velocity (the knots' key); not hashable.
     """
 
     stamp: float
@@ -121,22 +117,11 @@ class JointSample:
 
 @dataclass(frozen=True, eq=False)
 class SolarSample:
-    """The solar radiation pressure wrench at one message.
-
-    Attributes
-    ----------
-    force, torque : ndarray, shape (3,)
-        Force [N] and torque about the centre of mass [N m], body frame.
-    sun_direction_body : ndarray, shape (3,)
-        Unit vector from the satellite towards the Sun, body frame.
-    lit_fraction : float
-        Fraction of the solar disc visible past the Earth, in [0, 1] (0 in umbra).
-    pressure : float
-        Solar radiation pressure at the Sun's distance, before the shadow [Pa].
-    area_lit : float
-        Sunlit area of the body projected normal to the Sun's direction, before the shadow
-        [m^2] (0 in umbra, where it is not computed).
-    """
+    """The solar radiation pressure wrench at one message: ``force`` [N] and ``torque`` [N m] about
+    the centre of mass, body frame; ``sun_direction_body``, the unit vector towards the Sun (body
+    frame); ``lit_fraction`` of the solar disc visible past the Earth, in [0, 1]; ``pressure`` at
+    the Sun's distance before the shadow [Pa]; ``area_lit``, the sunlit area projected normal to
+    the Sun before the shadow [m^2] (0 in umbra)."""
 
     force: np.ndarray
     torque: np.ndarray
@@ -153,34 +138,28 @@ class WrenchSample:
     Attributes
     ----------
     stamp : float
-        Message time [s] (the attitude's header stamp).
-    time : datetime.datetime
-        UTC of the stamp.
+        Message time [s] (the attitude's header stamp); ``time`` its UTC.
     force, torque : ndarray, shape (3,)
         Force [N] and torque about the centre of mass [N m], body (mesh) frame.
     force_coefficients, moment_coefficients : ndarray, shape (3,)
-        C_F and C_M in the body frame (moment about the centre of mass), normalised by
-        ``reference_area`` and ``reference_length``; zero when the relative speed is zero.
-    reference_area, reference_length : float
-        A_ref [m^2] and L_ref [m].
+        C_F and C_M, body frame, by ``reference_area`` [m^2] and ``reference_length`` [m];
+        zero at rest.
     dynamic_pressure : float
         q = rho V^2 / 2 [Pa].
     conditions : FlightConditions
-        Atmosphere, geodetic position and relative wind at the stamp, as the wrench used them.
+        Atmosphere, geodetic position and relative wind at the stamp.
     coefficients : AeroCoefficients or None
-        Full panel-method result (None when the relative speed is below the threshold, and when the
-        coefficients come from a database).
+        The panel method's result (None at rest and with a database).
     flow_direction_body : ndarray, shape (3,)
-        Unit direction of the gas motion relative to the body (zero if at rest).
+        Unit direction of the gas motion relative to the body (zero at rest).
     compute_seconds : float
-        Wall time spent computing this sample [s] (for an articulated body, not the links'
-        loads, which are computed when first read).
+        Wall time spent computing this sample [s] (not an articulated body's link loads).
     rotation : tuple of 9 float
-        The attitude: rotation from the body frame to the state frame, row-major.
+        The attitude: body frame to state frame, row-major.
     solar : SolarSample or None
-        The solar radiation pressure wrench (with ``solar_pressure`` on; None otherwise).
+        The solar radiation pressure wrench (``solar_pressure`` on).
     joints : JointSample or None
-        The joints' positions and efforts and the links' loads (articulated bodies only).
+        Joint positions and efforts and link loads (articulated bodies).
     """
 
     stamp: float
@@ -202,7 +181,7 @@ class WrenchSample:
 
     @property
     def solar_diagnostics(self) -> dict | None:
-        """The solar wrench's diagnostic key/values (magnitudes of the forces), None without."""
+        """The solar wrench's diagnostic key/values, None without."""
         solar = self.solar
         if solar is None:
             return None
@@ -224,28 +203,22 @@ class WrenchSample:
         """Aerodynamic plus solar radiation torque [N m] about the centre of mass, body frame."""
         return self.torque if self.solar is None else self.torque + self.solar.torque
 
-    @property
-    def force_state_frame(self) -> np.ndarray:
-        """The force [N] in the state frame (ECI or ECEF): R force."""
-        return np.array(self.rotation).reshape(3, 3) @ self.force
-
     def state_frame_wrench(self, mass: float, inertia) -> tuple:
-        """What a propagator takes, of the aerodynamic wrench plus the solar one (if any).
+        """What a propagator takes, of the aerodynamic wrench plus the solar one.
 
         Parameters
         ----------
         mass : float
             The body's mass [kg]; 0 (or less) for none.
         inertia : sequence of 9 float or None
-            Its inertia tensor about the centre of mass, body frame, row-major [kg m^2].
+            Inertia tensor about the centre of mass, body frame, row-major [kg m^2].
 
         Returns
         -------
         tuple
-            ``(force, torque, linear, angular)``: the force [N] in the state frame, the torque
-            [N m] in the body frame; with a positive ``mass`` the acceleration force / mass
-            [m/s^2] in the state frame (else None) and the angular acceleration inertia^-1
-            torque [rad/s^2] in the body frame (zero without an ``inertia``).
+            ``(force, torque, linear, angular)``: force [N] in the state frame, torque [N m] in the
+            body frame; with a positive ``mass``, force / mass [m/s^2] in the state frame (else
+            None) and inertia^-1 torque [rad/s^2] in the body frame (zero without ``inertia``).
         """
         force = np.array(self.rotation).reshape(3, 3) @ self.total_force
         torque = self.total_torque
@@ -260,31 +233,3 @@ class WrenchSample:
     def drag_coefficient(self) -> float:
         """C_D: force coefficient along the gas motion (0 at rest)."""
         return float(self.force_coefficients @ self.flow_direction_body)
-
-    @classmethod
-    def at_rest(
-        cls,
-        stamp: float,
-        time: _dt.datetime,
-        reference,
-        conditions: FlightConditions,
-        compute_seconds: float,
-        rotation: tuple,
-    ) -> WrenchSample:
-        """The sample of a body at rest in the air (zero wrench), other arguments as the fields."""
-        return cls(
-            stamp=stamp,
-            time=time,
-            force=np.zeros(3),
-            torque=np.zeros(3),
-            force_coefficients=np.zeros(3),
-            moment_coefficients=np.zeros(3),
-            reference_area=reference.area,
-            reference_length=reference.length,
-            dynamic_pressure=0.0,
-            conditions=conditions,
-            coefficients=None,
-            flow_direction_body=np.zeros(3),
-            compute_seconds=compute_seconds,
-            rotation=rotation,
-        )

@@ -1,7 +1,6 @@
-"""Settings of the wrench computation, shared by the ROS node and bag analysis: the parameters
-of :data:`~adbsat_ros.estimator.parameters.PARAMETERS` checked into one :class:`WrenchSettings`,
-and the set-up they describe.
-"""
+"""Settings of the wrench computation, shared by the node and bag analysis: the parameters of
+:data:`~.parameters.PARAMETERS` checked into one :class:`WrenchSettings`, and the set-up they
+describe."""
 
 from __future__ import annotations
 
@@ -38,16 +37,14 @@ _Fields = make_dataclass(
 
 
 class WrenchSettings(_Fields):
-    """Validated settings of the wrench computation: the node's parameters as values, one
-    field per parameter of :data:`PARAMETERS`, in SI units, as its kind converts it
-    (``epoch_utc`` an aware UTC datetime, lists as tuples, an unused ``inertia`` or
-    ``ap_history`` None). Frozen; made by :meth:`from_parameters`.
-    """
+    """Validated settings of the wrench computation: one field per parameter of :data:`PARAMETERS`,
+    in SI units, as its kind converts it (``epoch_utc`` an aware UTC datetime, lists as tuples,
+    an unused ``inertia`` or ``ap_history`` None). Frozen; made by :meth:`from_parameters`."""
 
     @classmethod
     def from_parameters(cls, values=None, **overrides) -> "WrenchSettings":
-        """Validate a mapping of parameter names to values (the node's parameter values, a
-        params YAML's), and keyword overrides; missing names take their defaults.
+        """Validate a mapping of parameter names to values and keyword overrides; missing names take
+        their defaults.
 
         Raises
         ------
@@ -79,7 +76,7 @@ class WrenchSettings(_Fields):
 
     @property
     def frame_ids(self) -> FrameIds:
-        """The state frame names, lower case, as :func:`~.state.odometry_inputs` takes them."""
+        """The state frame names, lower case."""
         return FrameIds(self.eci_frame_ids, self.ecef_frame_ids)
 
     def as_parameters(self) -> dict:
@@ -98,14 +95,13 @@ class WrenchSettings(_Fields):
 
 
 def settings_from_file(path, node_name: str = "adbsat_node") -> WrenchSettings:
-    """The settings a ROS 2 ``--params-file`` gives ``node_name`` (defaults for the rest;
-    rclpy's own parameters ignored).
+    """The settings a ROS 2 ``--params-file`` gives ``node_name`` (defaults for the rest; rclpy's
+    own parameters ignored).
 
     Raises
     ------
     ValueError
-        ``"PATH: ..."``: the file cannot be read, or ``"PATH: parameter NAME: reason"`` for an
-        unknown name (with the closest known one) or a value out of its range.
+        ``"PATH: ..."``: the file cannot be read, an unknown name or a value out of its range.
     """
     values = load_parameters_file(path, node_name)
     own = {key: value for key, value in values.items() if key not in ROS_PARAMETERS}
@@ -131,8 +127,8 @@ _LABELS = (
 
 
 def setup_from_settings(settings: WrenchSettings) -> Setup:
-    """The set-up the settings describe, each parameter in the field its ``use`` names;
-    ValueError naming ``material_overrides`` for an override that cannot be read."""
+    """The set-up the settings describe, each parameter in the field its ``use`` names; ValueError
+    naming ``material_overrides`` for an override that cannot be read."""
     parts, fields = {part: {} for part in _PARTS}, {}
     for p in PARAMETERS:
         part, _, field = p.use.partition(".")

@@ -1,8 +1,7 @@
 """Accepting inputs: the checks of a quaternion and an orbital state, and the Odometry frame rules.
 
-Each raises :class:`~adbsat_ros.estimator.samples.Rejection` with the reason. Frames: the state
-is in ECI (GCRF) or ECEF (ITRF); a quaternion (x, y, z, w) rotates body vectors into it,
-v_state = R(q) v_body.
+Each raises :class:`~adbsat_ros.estimator.samples.Rejection` with the reason. A quaternion
+(x, y, z, w) rotates body vectors into the state frame (ECI or ECEF), v_state = R(q) v_body.
 """
 
 from __future__ import annotations
@@ -26,13 +25,7 @@ FRAME_ALTITUDE_MARGIN = 1e3
 
 def jumps_back(stamp: float, latest: float | None, time_jump_reset: float, what: str) -> bool:
     """Whether ``stamp`` [s] lies more than ``time_jump_reset`` before ``latest`` (a bag played
-    again: the history restarts).
-
-    Raises
-    ------
-    Rejection
-        ``out_of_order`` for a stamp less far back: that message alone is refused.
-    """
+    again: the history restarts); Rejection ``out_of_order`` for one less far back."""
     if latest is None or stamp >= latest:
         return False
     back = latest - stamp
@@ -45,14 +38,9 @@ def jumps_back(stamp: float, latest: float | None, time_jump_reset: float, what:
 
 
 def checked_rotation(quaternion_xyzw, what: str, max_norm_error: float) -> tuple:
-    """R(q / |q|), body -> state frame, row-major (9 floats), of a quaternion (x, y, z, w)
-    whose | |q| - 1 | is at most ``max_norm_error``; ``what`` names it in messages.
-
-    Raises
-    ------
-    Rejection
-        ``non_finite`` (not four finite numbers) or ``bad_quaternion`` (norm too far from 1).
-    """
+    """R(q / |q|), body -> state frame, row-major (9 floats), of a quaternion (x, y, z, w) with
+    | |q| - 1 | at most ``max_norm_error``; Rejection ``non_finite`` or ``bad_quaternion``,
+    naming it ``what``."""
     try:
         x, y, z, w = quaternion_xyzw
         x, y, z, w = float(x), float(y), float(z), float(w)
@@ -80,15 +68,9 @@ def checked_state(
 ) -> OrbitalState:
     """An orbital state from a message's numbers, its velocity in the state frame.
 
-    Arguments as :meth:`AeroWrenchEstimator.on_state`; ``max_norm_error`` the largest
-    | |q| - 1 | of the orientation, ``min_altitude`` [m] the lowest geodetic altitude taken.
-
-    Raises
-    ------
-    Rejection
-        ``non_finite`` (NaN or Inf in the stamp or a vector), ``bad_quaternion``,
-        ``altitude_out_of_range`` (below ``min_altitude``) or ``bad_state`` (a speed beyond any
-        Earth orbit's).
+    Arguments as :meth:`AeroWrenchEstimator.on_state`; ``min_altitude`` [m]. Rejection
+    ``non_finite``, ``bad_quaternion``, ``altitude_out_of_range`` (below ``min_altitude``) or
+    ``bad_state`` (a speed beyond any Earth orbit's).
     """
     position = np.asarray(position, dtype=float)
     velocity = np.asarray(velocity, dtype=float)
@@ -119,14 +101,9 @@ def check_conditions(evaluate, utc, state: OrbitalState) -> None:
     """Refuse a state whose flight conditions cannot be evaluated at its own stamp, so that it
     does not replace the latest good one.
 
-    Within :data:`FRAME_ALTITUDE_MARGIN` of the atmosphere's top, where the frame matters, the
-    conditions are evaluated (``evaluate(state, stamp)``); ``utc(stamp)`` maps a stamp to UTC.
-
-    Raises
-    ------
-    Rejection
-        ``bad_state`` (a stamp outside the years, or that is no UTC time) or
-        ``altitude_out_of_range`` (above the atmosphere model).
+    Near the atmosphere's top (within :data:`FRAME_ALTITUDE_MARGIN`, where the frame matters) it
+    calls ``evaluate(state, stamp)``; ``utc(stamp)`` maps a stamp to UTC. Rejection ``bad_state``
+    (no UTC time, or outside the years) or ``altitude_out_of_range``.
     """
     where = f"state at stamp {state.stamp!r} s"
     try:
@@ -152,18 +129,21 @@ def check_conditions(evaluate, utc, state: OrbitalState) -> None:
         try:
             evaluate(state, state.stamp)
         except ValueError as exc:
-            reason = "altitude_out_of_range" if "altitude" in str(exc) else "bad_state"
-            raise Rejection(reason, f"{where}: {exc}; the latest state is kept") from None
+            raise conditions_rejection(exc, f"{where}: {exc}; the latest state is kept") from None
+
+
+def conditions_rejection(exc: ValueError, message: str) -> Rejection:
+    """``altitude_out_of_range`` if ``exc`` is about the altitude, else ``bad_state``."""
+    return Rejection("altitude_out_of_range" if "altitude" in str(exc) else "bad_state", message)
 
 
 def odometry_inputs(msg, state_frame: str, body_frame_id: str, frame_ids) -> tuple:
-    """``(stamp [s], position, linear velocity, velocity_in_body_frame, orientation_xyzw)``,
-    vectors as lists, of a nav_msgs/Odometry (rclpy, rosbags, or ``OdometryFields``).
+    """``(stamp [s], position, linear velocity, velocity_in_body_frame, orientation_xyzw)`` of a
+    nav_msgs/Odometry (rclpy, rosbags, or ``OdometryFields``), vectors as lists.
 
-    ``header.frame_id`` must be a name of ``state_frame`` ("eci", "ecef") in ``frame_ids`` (any
-    case, a leading "/" ignored). The twist is in the body frame if ``child_frame_id`` is
-    ``body_frame_id``, in the state frame if it is empty, the header's frame_id or another name
-    of the state frame; else Rejection ``bad_state``, as for a frame_id of the other frame.
+    ``header.frame_id`` must be a name of ``state_frame`` in ``frame_ids`` (any case, a leading
+    "/" ignored). The twist is in the body frame if ``child_frame_id`` is ``body_frame_id``, in
+    the state frame if it is empty or names the state frame; else Rejection ``bad_state``.
     """
     odom = msg if isinstance(msg, OdometryFields) else OdometryFields.of_message(msg)
     header_frame = odom.frame_id.lstrip("/")

@@ -1,8 +1,8 @@
 """Solar radiation pressure at one message: the Sun, the Earth's shadow, the sunlit panels.
 
-The Sun's direction (GCRS, through the ITRS for an ECEF state) is turned into the body frame
-with the attitude; the body's self-shadowing comes from the model's shading cache, read along
-minus the Sun's direction; the force is Luthcke's flat plate. Formulas: docs/physics.md, section 7.
+The Sun's direction (GCRS, through the ITRS for an ECEF state) is turned into the body frame;
+the self-shadowing comes from the model's shading cache read along minus it; the force is
+Luthcke's flat plate. Formulas: docs/physics.md, section 7.
 """
 
 from __future__ import annotations
@@ -22,18 +22,9 @@ from adbsat_ros.physics.model import Model
 
 
 class SolarPressureSource:
-    """Solar radiation pressure of the settings' body, per message.
-
-    Parameters
-    ----------
-    model : Model
-        A rigid body's panel method (materials' ``specular_reflectivity`` and
-        ``diffuse_reflectivity``, reference: A_ref, L_ref, the centre of mass as moment point)
-        and its shading cache (:meth:`Model.solar`).
-    state_frame : {"eci", "ecef"}
-    orientation_options : tuple
-        The checked Earth-orientation options of the flight conditions (for an ECEF state).
-    """
+    """Solar radiation pressure of a rigid ``model`` (its materials' reflectivities, reference and
+    shading cache) per message; ``orientation_options`` are the flight conditions' checked
+    Earth-orientation options (for an ECEF ``state_frame``)."""
 
     def __init__(self, model: Model, state_frame: str, orientation_options):
         self.model = model
@@ -73,13 +64,8 @@ class SolarPressureSource:
         )
 
     def with_sunlight(self, sample: WrenchSample, t0: float) -> WrenchSample:
-        """``sample`` with its solar wrench, compute time counted from ``t0`` (perf_counter).
-
-        Raises
-        ------
-        Rejection
-            ``compute_error`` if the solar wrench cannot be made or is not finite.
-        """
+        """``sample`` with its solar wrench, compute time counted from ``t0`` (perf_counter);
+        Rejection ``compute_error`` if the solar wrench cannot be made or is not finite."""
         try:
             solar = self.sample(sample.conditions, sample.rotation)
         except ValueError as exc:

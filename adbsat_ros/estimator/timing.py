@@ -1,6 +1,5 @@
-"""Message stamps to UTC: ``time_mode`` ``unix`` reads a stamp as UNIX time [s] (leap seconds
-not counted, as ROS clocks), ``epoch`` as seconds since ``epoch_utc`` (a simulation clock).
-"""
+"""Message stamps to UTC: ``time_mode`` ``unix`` reads a stamp as UNIX time [s] (leap seconds not
+counted, as ROS clocks), ``epoch`` as seconds since ``epoch_utc`` (a simulation clock)."""
 
 from __future__ import annotations
 
@@ -8,10 +7,8 @@ import datetime as _dt
 
 
 def stamp_utc(stamp: float, time_mode: str, epoch_utc: _dt.datetime) -> _dt.datetime:
-    """The aware UTC instant (microsecond resolution) of a finite stamp [s].
-
-    ``epoch_utc`` is stamp 0 for ``epoch`` (unused for ``unix``); ValueError for another mode.
-    """
+    """The aware UTC instant (microsecond resolution) of a finite stamp [s]; ValueError for another
+    ``time_mode``."""
     if time_mode == "unix":
         return _dt.datetime.fromtimestamp(stamp, tz=_dt.timezone.utc)
     if time_mode == "epoch":

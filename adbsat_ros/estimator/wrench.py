@@ -1,7 +1,5 @@
-"""The wrench at one attitude once the flight conditions are known: the model's coefficients
-(panel method with its shading cache, or a coefficient database) at the gas motion relative to
-the body in body axes.
-"""
+"""The wrench at one attitude once the flight conditions are known: the model's coefficients at
+the gas motion relative to the body, body axes."""
 
 from __future__ import annotations
 
@@ -29,16 +27,9 @@ class Moment(NamedTuple):
 def wrench_sample(
     model: Model, gas_body, flow, changes: dict | None, joints: Joints | None, moment: Moment
 ) -> WrenchSample:
-    """The wrench of ``model`` (articulated: at ``joints``) at the flow direction ``gas_body``
-    (body axes); ``changes`` the surface's ``alpha`` and ``alpha_n`` from an accommodation
-    model, or None for the materials'.
-
-    Raises
-    ------
-    Rejection
-        ``outside_database`` for a direction the database does not cover, ``compute_error``
-        for what the panel method refuses.
-    """
+    """The wrench of ``model`` (articulated: at ``joints``) at the flow direction ``gas_body`` (body
+    axes); ``changes`` the surface's ``alpha`` and ``alpha_n`` from an accommodation model, or
+    None. Rejection ``outside_database`` or ``compute_error`` (what the panel method refuses)."""
     q = flow.dynamic_pressure()
     try:
         coefficients = model.evaluate(flow, gas_body, joints, changes=changes)
