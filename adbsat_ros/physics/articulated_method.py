@@ -1,8 +1,7 @@
 """The panel method of an articulated body, exact at every joint configuration (docs/physics.md,
 section 8): the links' facets posed in the body frame and evaluated as one rigid body, or each
 link in its own frame (F_l = R_l Cf_l, M_l = R_l Cm_l + (t_l - r_ref) x F_l / L_ref). A joint's
-effort is its carried links' moment about its axis or force along it. Units: m, rad; frame G.
-"""
+effort is its carried links' moment about its axis or force along it. Units: m, rad; frame G."""
 
 from __future__ import annotations
 
@@ -116,8 +115,7 @@ class ArticulatedMethod:
 
     def lighting_of(self, u_G, positions=None):
         """The method's own shading of the body at ``positions`` for flow direction ``u_G`` (G), or
-        None.
-        """
+        None."""
         if self.shading == "none":
             return None
         # (no topology store: each configuration's posed panels would be another entry)
@@ -209,8 +207,7 @@ class ArticulatedMethod:
 
     def configuration(self, positions: Mapping[str, float] | None = None) -> Configuration:
         """The :class:`Configuration` of joint ``positions`` [rad or m]; ValueError naming a bad
-        one.
-        """
+        one."""
         positions = self.body.positions(positions)
         poses = link_frames(self.body, positions)
         joint_positions = np.array(poses.key, dtype=float)

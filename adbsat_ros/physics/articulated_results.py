@@ -1,7 +1,6 @@
 """What an articulated body's panel method takes and gives: a :class:`Configuration` (positions
 checked and posed, made once for many evaluations) and the :class:`ArticulatedCoefficients`.
-Units: metres, radians; frame G = the root link's frame.
-"""
+Units: metres, radians; frame G = the root link's frame."""
 
 from __future__ import annotations
 

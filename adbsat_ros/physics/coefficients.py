@@ -45,8 +45,7 @@ class Reference:
 
     def resolved(self, mesh: PanelMesh, name: str = "moment_point") -> "Reference":
         """A copy with defaults from ``mesh``; ValueError unless the moment point is within ten body
-        sizes.
-        """
+        sizes."""
         body_point(name, self.moment_point, *mesh.bounds.tolist())
         if self.length is None and not mesh.x_extent > 0.0:
             raise ValueError(
@@ -216,8 +215,7 @@ class AeroCoefficients:
 
     def to_dict(self, flow: FreeStream | None = None, per_panel: bool = False) -> dict:
         """A JSON-ready dict with ADBSat's names (angles in degrees); with ``flow``, force and
-        torque too.
-        """
+        torque too."""
         out = {
             "aoa_deg": math.degrees(self.aoa),
             "aos_deg": math.degrees(self.aos),

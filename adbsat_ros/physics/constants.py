@@ -1,6 +1,5 @@
 """Physical constants and species data, SI. The set follows ADBSat's ``environment.m`` so that
-numbers compare; where CODATA 2018 differs (k_B), by under 1e-6 relative.
-"""
+numbers compare; where CODATA 2018 differs (k_B), by under 1e-6 relative."""
 
 from __future__ import annotations
 

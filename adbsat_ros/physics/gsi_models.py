@@ -80,8 +80,7 @@ SPECIES_MODELS = ("cll", "dria")
 
 def get_model(name: str):
     """The model called ``name`` (case-insensitive; ``storchHyp`` = ``storch``); ValueError if
-    unknown.
-    """
+    unknown."""
     key = str(name).lower()
     if key == "storchhyp":
         key = "storch"

@@ -1,7 +1,6 @@
 """How rarefied the flow is: the mean free path and the body's Knudsen number (the panel method
 assumes Kn >> 1). Mean free path of the U.S. Standard Atmosphere 1976 (NOAA-S/T 76-1562,
-1.3.15); docs/physics.md, section 11.
-"""
+1.3.15); docs/physics.md, section 11."""
 
 from __future__ import annotations
 

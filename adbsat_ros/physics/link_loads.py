@@ -1,7 +1,6 @@
 """The loads of an articulated body's links and the efforts on its joints, from the facet rows and
 the posed facet sums, computed when first read. Units: metres, body frame G; coefficients per
-A_ref (forces) and A_ref L_ref (moments).
-"""
+A_ref (forces) and A_ref L_ref (moments)."""
 
 from __future__ import annotations
 
@@ -37,8 +36,7 @@ class EffortColumns:
 
     def matrix(self, poses) -> np.ndarray:
         """The (10, 4 J) matrix from a facet's posed sums to V = W f + m x Q, s = f . (W n) + m . (Q
-        x n).
-        """
+        x n)."""
         rows = [[] for _ in range(N_SUMS)]
         for (fx, fy, fz), (mx, my, mz) in self.per_joint(poses):
             block = [(fx, fy, fz, 0.0), (0, 0, 0, fx), (0, 0, 0, fy), (0, 0, 0, fz)]
@@ -105,8 +103,7 @@ LINK_LOADS = 7
 
 def sums_to_loads(u) -> np.ndarray:
     """The (30, 7) matrix from a link's weighted facet sums to F = (q W) u + (k W n),
-    M = (q Q) x u + (k Q x n), S = max(c, 0) W.
-    """
+    M = (q Q) x u + (k Q x n), S = max(c, 0) W."""
     ux, uy, uz = u.tolist()
     out = _SUMS_TO_LOADS.copy()
     # q W -> F: u; q Q -> M: (a x u) = a @ [[0, -uz, uy], [uz, 0, -ux], [-uy, ux, 0]]

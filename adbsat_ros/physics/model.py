@@ -1,7 +1,6 @@
 """The one builder of a configured body: :func:`build_model` turns a
 :class:`~adbsat_ros.physics.setup.Setup` into a :class:`Model` (panels, panel method, one
-shading cache, test-particle solver) that evaluates the body at any flow and joint positions.
-"""
+shading cache, test-particle solver) that evaluates the body at any flow and joint positions."""
 
 from __future__ import annotations
 
@@ -108,8 +107,7 @@ class Model:
     @cached_property
     def cache(self):
         """The one ShadingCache of the panel method, made at first read; None without shading or
-        lookup.
-        """
+        lookup."""
         return None if self.lookup is not None else evaluation.make_cache(self)
 
     @cached_property
@@ -118,8 +116,7 @@ class Model:
 
     def test_particles(self, positions: dict, changes: dict):
         """The test-particle solver at joint ``positions`` [rad or m] with surface ``changes``; the
-        latest kept.
-        """
+        latest kept."""
         from adbsat_ros.physics.tpmc.method import TestParticleMethod
 
         key = (tuple(sorted(positions.items())), tuple(sorted(changes.items())))
@@ -223,8 +220,7 @@ class Model:
 
     def solar(self, sun_direction_body):
         """Solar radiation pressure coefficients for the Sun direction (body frame); not
-        articulated.
-        """
+        articulated."""
         if self.articulated:
             raise ValueError(
                 "solar radiation pressure is computed for rigid bodies only, not for an "
@@ -237,8 +233,7 @@ class Model:
     # ------------------------------------------------------------------------------ variants
     def with_setup(self, setup: Setup) -> "Model":
         """The model of ``setup``, reusing this one's body, panels and shading cache where they
-        match.
-        """
+        match."""
         if setup.body != self.setup.body:
             return build_model(setup)
         model = Model(setup, self.body, self.mesh, self.positions)

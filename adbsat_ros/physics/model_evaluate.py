@@ -1,8 +1,7 @@
 """How a :class:`~adbsat_ros.physics.model.Model` evaluates: its one shading cache and each
 backend's coefficients from the cache's cells. A cell holds a lighting and what the panel
 method sums of it (facet sums, or an articulated body's link rows); a message's sums are its
-cells' sums blended in the kernels' own operations, so the numbers equal the kernels'.
-"""
+cells' sums blended in the kernels' own operations, so the numbers equal the kernels'."""
 
 from __future__ import annotations
 
@@ -28,8 +27,7 @@ OFFLINE_SHADERS = 8
 class Joints(NamedTuple):
     """An articulated body's joint positions made ready once per joint state: ``positions`` [rad or
     m],
-    their ``configuration`` and the cache's ``vertices`` (None without a cache).
-    """
+    their ``configuration`` and the cache's ``vertices`` (None without a cache)."""
 
     positions: dict
     configuration: Configuration
@@ -38,8 +36,7 @@ class Joints(NamedTuple):
 
 def make_cache(model) -> ShadingCache | None:
     """The one shading cache of ``model`` by its set-up's policy (None when nothing can be
-    occluded).
-    """
+    occluded)."""
     policy, method = model.setup.shading, model.method
     if policy.mode == "none":
         return None
@@ -82,8 +79,7 @@ def make_cache(model) -> ShadingCache | None:
 
 def posed_shader(body, policy):
     """``posed_shader(positions)``: the shader of ``body`` posed at joint ``positions``, by
-    ``policy``.
-    """
+    ``policy``."""
     scenes = []
 
     def shader_at(positions: dict):

@@ -16,8 +16,7 @@ from adbsat_ros.physics.incidence import sine_of_incidence
 @dataclass(frozen=True)
 class PanelLoads:
     """Force coefficient of every panel, F_i / (q A_ref) (N, 3) in G, and the ``point`` (N, 3) [m]
-    where it acts; ``reference_length`` [m], ``moment_point`` [m].
-    """
+    where it acts; ``reference_length`` [m], ``moment_point`` [m]."""
 
     force: np.ndarray
     point: np.ndarray
@@ -26,8 +25,7 @@ class PanelLoads:
 
     def moments(self, about=None) -> np.ndarray:
         """Moment coefficients (r_i - about) x F_i / L_ref, (N, 3); ``about`` defaults to the moment
-        point.
-        """
+        point."""
         origin = self.moment_point if about is None else np.asarray(about, dtype=float)
         return np.cross(self.point - origin, self.force) / self.reference_length
 

@@ -1,8 +1,7 @@
 """The panel method: flat-plate forces summed over the mesh as force and moment coefficients,
 C_F,G = (1/A_ref) sum_i f_i A_i (c_tau,i t_i - c_p,i n_i) and C_M,G about r_ref (ADBSat's
 definitions; f_i the lit fraction; docs/physics.md, sections 1 and 2). The model runs once per
-facet of coplanar panels of one material. Units: m, mesh frame G.
-"""
+facet of coplanar panels of one material. Units: m, mesh frame G."""
 
 from __future__ import annotations
 
@@ -81,8 +80,7 @@ class PanelMethod:
     # ------------------------------------------------------------------------------ per panel
     def surface_with(self, **changes):
         """Per-panel surface parameters with some set on every panel (e.g.
-        ``surface_with(alpha=0.9)``).
-        """
+        ``surface_with(alpha=0.9)``)."""
         values = {name: getattr(self.surface, name) for name in SURFACE_PARAMETERS}
         for name, value in changes.items():
             if name not in values:
@@ -110,8 +108,7 @@ class PanelMethod:
 
     def facet_coefficients(self, u, inward_normals_T, facet_surface, flow):
         """c, c_p, c_tau / sin(delta) and c_tau (or None) of facets of normals (3, G) for unit
-        ``u``.
-        """
+        ``u``."""
         split = self._split
         parameters = None if split is None else split[0](facet_surface, flow, self.options)
         if parameters is None:
@@ -196,8 +193,7 @@ class PanelMethod:
         self, flow: FreeStream, u, angles, sums, lighting, surface=None
     ) -> AeroCoefficients:
         """:meth:`coefficients` at unit direction ``u`` (G) from (G, 10) facet sums; angles [rad] or
-        None.
-        """
+        None."""
         facets = self.facets
         facet_surface = None if sums is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:

@@ -19,8 +19,7 @@ from adbsat_ros.shading.lighting import LightingBlend
 
 class Posing(NamedTuple):
     """Posing at one configuration: ``normals`` (G, 3) in G, ``matrix`` (G, 13, 10) per facet, and
-    ``efforts`` (G, 13, 4 J) to the joints' effort columns (None without joints).
-    """
+    ``efforts`` (G, 13, 4 J) to the joints' effort columns (None without joints)."""
 
     normals: np.ndarray
     inward_T: np.ndarray
@@ -124,8 +123,7 @@ class PosedFacets:
 
     def surface(self, link_surfaces) -> PanelSurface | None:
         """The facets' surface from each link's per-panel surface, or None if one varies within a
-        facet.
-        """
+        facet."""
         if self._own is not None:
             own_values, own = self._own
             values = {}
@@ -185,8 +183,7 @@ class PosedFacets:
 
     def link_rows(self, lighting) -> np.ndarray:
         """Read-only rows (G, 13) of ``lighting`` (None: all lit): link-frame sums and shift sums S
-        in G.
-        """
+        in G."""
         rows = np.zeros((self.n, 13))
         if lighting is None:
             rows[:, :10] = self._all_lit
@@ -218,8 +215,7 @@ class PosedFacets:
 
     def pose(self, rows, weights, posing: Posing) -> PosedSums:
         """The parts' ``rows`` posed and blended with ``weights``, in the layout of
-        :meth:`Facets.lit_sums`.
-        """
+        :meth:`Facets.lit_sums`."""
         return PosedSums.of(weights, *_stacked([self.pose_part(r, posing) for r in rows]))
 
     def sums(self, lighting, configuration) -> PosedSums:

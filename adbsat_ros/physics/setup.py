@@ -1,7 +1,6 @@
 """One configured aerodynamic body as a value, :class:`Setup`, checked once and built by
 :func:`adbsat_ros.physics.model.build_model`. Each dialect (command line, node parameters,
-database metadata, sweep spec; docs/architecture.md) has one translator to it.
-"""
+database metadata, sweep spec; docs/architecture.md) has one translator to it."""
 
 from __future__ import annotations
 

@@ -113,8 +113,7 @@ class MaterialTable:
     @classmethod
     def from_texts(cls, default: SurfaceProperties, override_texts) -> "MaterialTable":
         """A table from defaults and ``NAME:key=value[,key=value]`` texts; ValueError naming the bad
-        item.
-        """
+        item."""
         return cls(default, dict(parse_material_override(text) for text in override_texts))
 
     def properties(self, name: str) -> SurfaceProperties:

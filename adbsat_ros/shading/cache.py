@@ -1,8 +1,7 @@
 """The one cache of shading: lightings, and what a method sums of them, by configuration and
 flow-direction cell; bounded and counted. A cell holds the lighting of its centre, so answers do
 not depend on the order of the queries. The bounds angle(u, u_c) <= h <= resolution_deg and
-:meth:`ShadingCache.area_error_bound` are proven in docs/shading.md ("Cache").
-"""
+:meth:`ShadingCache.area_error_bound` are proven in docs/shading.md ("Cache")."""
 
 from __future__ import annotations
 
@@ -31,8 +30,7 @@ _UNMADE = object()
 
 class Cell:
     """One entry: the read-only, shared ``lighting`` of a cell, its :attr:`sums`, and the caller's
-    ``posed`` memo.
-    """
+    ``posed`` memo."""
 
     __slots__ = ("lighting", "posed", "_summarise", "_sums")
 
@@ -105,8 +103,7 @@ class ShadingCache:
     @classmethod
     def exact_mode(cls, shader=None, *, max_entries=1, **articulated) -> "ShadingCache":
         """A cache of the lighting of the flow direction (and joint positions) itself; keeps the
-        latest.
-        """
+        latest."""
         return cls(shader, max_entries=max_entries, exact=True, **articulated)
 
     # ------------------------------------------------------------------------------ keys
@@ -134,8 +131,7 @@ class ShadingCache:
 
     def vertices(self, positions=None) -> list:
         """``[(weight, configuration key), ...]`` for joint ``positions`` (``[(1.0, ())]`` if
-        rigid).
-        """
+        rigid)."""
         if self.body is None:
             return [(1.0, ())]
         if self.exact:
@@ -296,8 +292,7 @@ class ShadingCache:
 
     def area_error_bound(self, u_G, lighting: PanelLighting | None = None) -> float:
         """Bound E_max [m^2] on the lit projected area moved by a cached answer at ``u_G``:
-        theta (D P + A_g) + 2 delta_s A_p (docs/shading.md).
-        """
+        theta (D P + A_g) + 2 delta_s A_p (docs/shading.md)."""
         if self.body is not None or self.exact:
             raise ValueError("area_error_bound is the bound of a rigid body's cube-map cells")
         u = frames.unit_vector(u_G)

@@ -1,7 +1,6 @@
 """Which panels the ray-cast shader tests: the grazing rule and the filters (docs/shading.md). A
 forward panel can be shaded only if it is off its component's convex hull or another component
-lies upstream with an overlapping box normal to the flow. Units: metres, mesh frame G.
-"""
+lies upstream with an overlapping box normal to the flow. Units: metres, mesh frame G."""
 
 from __future__ import annotations
 
@@ -49,8 +48,7 @@ def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -
 
 class FlowBoxes(NamedTuple):
     """A mesh seen along one flow direction: ``basis`` columns p1, p2 (normal to the flow) and -u,
-    and the boxes of panels and components along them [m].
-    """
+    and the boxes of panels and components along them [m]."""
 
     basis: np.ndarray
     coords: tuple
@@ -62,8 +60,7 @@ class FlowBoxes(NamedTuple):
 
 class MeshTopology(NamedTuple):
     """Edge neighbours (E, 2), component (N,) and hull faces (N,) of a mesh (unchanged by rigid
-    motion).
-    """
+    motion)."""
 
     adjacency: np.ndarray
     component: np.ndarray
@@ -101,8 +98,7 @@ class MeshTopology(NamedTuple):
 
 def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
     """Faces on their own component's hull, normal out, by centroid distance (rounding tilts
-    normals).
-    """
+    normals)."""
     from scipy.spatial import ConvexHull, QhullError  # (not at start-up)
 
     on_hull = np.zeros(mesh.n_panels, dtype=bool)
@@ -138,8 +134,7 @@ def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
 
 class CandidateFilter:
     """Components, hull faces and the filter of panels that could be shaded; ``diagonal`` [m] scales
-    the hull tolerance; ``convex`` (n_components,) marks closed convex components.
-    """
+    the hull tolerance; ``convex`` (n_components,) marks closed convex components."""
 
     def __init__(
         self, mesh: PanelMesh, diagonal: float | None = None, topology: MeshTopology | None = None

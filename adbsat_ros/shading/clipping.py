@@ -1,7 +1,6 @@
 """Triangles clipped by convex polygons in the plane: the part of each triangle outside them, by
 inclusion-exclusion over sets of polygons, each clipped Sutherland-Hodgman, vectorised over
-triangles. Units: any length, the same for every point.
-"""
+triangles. Units: any length, the same for every point."""
 
 from __future__ import annotations
 

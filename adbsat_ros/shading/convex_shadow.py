@@ -1,7 +1,6 @@
 """The exact shadows of closed convex parts: what of each panel behind them stays lit. Projected
 normal to the flow, each part is a convex polygon and the panel a triangle, clipped exactly
-(docs/shading.md). Units: metres; 2-D points in the plane normal to the flow.
-"""
+(docs/shading.md). Units: metres; 2-D points in the plane normal to the flow."""
 
 from __future__ import annotations
 
@@ -38,8 +37,7 @@ PLANE_DIGITS = 6
 class ConvexParts:
     """The closed convex components of a mesh, for exact shadows; ``diagonal`` [m] scales
     tolerances;
-    ``corners``: hull corners (h, 3) [m], G.
-    """
+    ``corners``: hull corners (h, 3) [m], G."""
 
     def __init__(
         self, mesh: PanelMesh, candidate_filter, diagonal: float, graze_tol: float, corners=None
@@ -124,8 +122,7 @@ class ConvexParts:
 
     def _shadows(self, members, normal, level: float, boxes, outlines: dict) -> list | None:
         """Outlines of the parts ``members`` in front of the plane n . x = level (None if
-        degenerate).
-        """
+        degenerate)."""
         shapes = []
         for part in members:
             corners = self.corners(part)

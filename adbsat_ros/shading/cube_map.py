@@ -1,7 +1,6 @@
 """Cells of the sphere of flow directions: an equi-angular cube map (the shading cache's keys).
 A direction (G, any length) maps to its face and two angles in [-45, 45] deg, each cut into n
-steps (docs/shading.md, "Cache").
-"""
+steps (docs/shading.md, "Cache")."""
 
 from __future__ import annotations
 

@@ -1,7 +1,6 @@
 """The grid of an articulated body's joint configurations: keys, simplex vertices, positions. Steps
 h_r (revolute, continuous) and h_p (prismatic); grid points clipped to the joints' limits; a
-query blends the Kuhn simplex around it (docs/shading.md, "Articulated bodies").
-"""
+query blends the Kuhn simplex around it (docs/shading.md, "Articulated bodies")."""
 
 from __future__ import annotations
 

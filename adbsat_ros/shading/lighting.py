@@ -1,7 +1,6 @@
 """Which part of each panel the flow (or sunlight) reaches: the output of shading. The lit fraction
 of every panel (effective area A_i f_i) and, for partly lit panels, the shift of the centre of
-pressure to the lit part's centroid, stored sparsely.
-"""
+pressure to the lit part's centroid, stored sparsely."""
 
 from __future__ import annotations
 

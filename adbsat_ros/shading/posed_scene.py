@@ -1,6 +1,5 @@
 """What ray-cast shading needs of an articulated body, made once per link for every configuration;
-equal to :func:`~adbsat_ros.shading.rays.ray_scene` on the posed body's mesh. Units: m, frame G.
-"""
+equal to :func:`~adbsat_ros.shading.rays.ray_scene` on the posed body's mesh. Units: m, frame G."""
 
 from __future__ import annotations
 

@@ -1,7 +1,6 @@
 """ADBSat's shading (``shadowAnaly``), vectorised: a forward panel is in shadow, all or nothing, if
 its barycentre, projected along the flow, falls inside an upstream back face (docs/physics.md,
-section 6). Units: metres, mesh frame G.
-"""
+section 6). Units: metres, mesh frame G."""
 
 from __future__ import annotations
 

@@ -1,7 +1,6 @@
 """Ray casting against a mesh: one interface (:class:`RayScene`), two backends: ``"embree"``
 (float32) and ``"numpy"`` (float64, the reference), equal except within float32 rounding of an
-edge; shared edges count as inside both triangles. Units: metres, mesh frame G.
-"""
+edge; shared edges count as inside both triangles. Units: metres, mesh frame G."""
 
 from __future__ import annotations
 

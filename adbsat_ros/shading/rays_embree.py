@@ -1,6 +1,5 @@
 """Ray casting with Embree through embreex (float32), :mod:`adbsat_ros.shading.rays`' interface.
-Units: metres, mesh frame G.
-"""
+Units: metres, mesh frame G."""
 
 from __future__ import annotations
 

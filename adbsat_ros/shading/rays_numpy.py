@@ -1,6 +1,5 @@
 """Ray casting in numpy (float64): the reference backend, and the fallback without Embree.
-Moeller-Trumbore on pairs from a grid normal to the rays, in chunks. Units: metres, mesh frame G.
-"""
+Moeller-Trumbore on pairs from a grid normal to the rays, in chunks. Units: metres, mesh frame G."""
 
 from __future__ import annotations
 

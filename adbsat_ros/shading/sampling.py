@@ -1,6 +1,5 @@
 """Where rays start on a panel: Roberts' R2 sequence, shifted per panel (SplitMix64 of the index).
-Triangle coordinates (a, b): the point P1 + a (P2 - P1) + b (P3 - P1) (metres, mesh frame G).
-"""
+Triangle coordinates (a, b): the point P1 + a (P2 - P1) + b (P3 - P1) (metres, mesh frame G)."""
 
 from __future__ import annotations
 

@@ -1,8 +1,7 @@
 """Shading: which part of each panel the flow reaches (a point is shaded if the line upstream, -u,
 meets the satellite). Modes (:func:`make_shader`): ``"none"``, ``"projection"`` (ADBSat's
 ``shadowAnaly``) and ``"raycast"`` (default: exact convex shadows, else sampled rays, refined
-where partly lit). Method and accuracy: docs/shading.md. Units: metres, frame G, radians.
-"""
+where partly lit). Method and accuracy: docs/shading.md. Units: metres, frame G, radians."""
 
 from __future__ import annotations
 

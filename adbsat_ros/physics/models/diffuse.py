@@ -1,8 +1,7 @@
 """Models of a drifting Maxwellian gas with diffuse or partly accommodated re-emission: each a
 *plate* (c_p and c_tau / sin(delta) in c); docs/physics.md, 3.2, 3.3, 3.8; results per q.
 Sources: Sentman, LMSC-448514 (1961); Schaaf and Chambre, "Flow of Rarefied Gases" (1961); dria:
-Walker, Mehta and Koller, JSR 51 (2014) 1544-1563; as in ADBSat (Sinpetru et al., CPC 275, 2022).
-"""
+Walker, Mehta and Koller, JSR 51 (2014) 1544-1563; as in ADBSat (Sinpetru et al., CPC 275, 2022)."""
 
 from __future__ import annotations
 
@@ -99,8 +98,7 @@ def schaaf_parameters(surface, flow, options):
 
 def dria(c, sigma, surface, flow, options):
     """Diffuse reflection with incomplete accommodation: Sentman per species, mixed by mass
-    fraction.
-    """
+    fraction."""
     if not flow.has_species:
         raise ValueError("the dria model needs the gas composition (number_densities / --species)")
     names = [n for n in flow.species if flow.number_densities[n] > 0]

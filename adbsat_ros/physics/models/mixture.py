@@ -1,6 +1,5 @@
 """How the per-species models (cll, dria) weight the species of the gas: by mass fraction
-(docs/physics.md, section 3.9; ``adbsat_compat``: ADBSat's rules).
-"""
+(docs/physics.md, section 3.9; ``adbsat_compat``: ADBSat's rules)."""
 
 from __future__ import annotations
 

@@ -80,8 +80,7 @@ _WORKER_PROBLEM: Problem | None = None
 
 def init_worker(problem: Problem, parent: int) -> None:
     """Keep the problem in a worker process that dies with ``parent`` (signals are left to the
-    parent).
-    """
+    parent)."""
     die_with_parent(parent, stops_to_parent=True)
     global _WORKER_PROBLEM
     _WORKER_PROBLEM = problem

@@ -17,8 +17,7 @@ SQRT_PI = math.sqrt(math.pi)
 
 def flux_factor(s) -> np.ndarray:
     """G(inf) = exp(-s^2) / 2 + sqrt(pi) / 2 s (1 + erf(s)), with erfcx where s < 0 (keeps its
-    digits).
-    """
+    digits)."""
     s = np.asarray(s, dtype=float)
     with np.errstate(over="ignore", invalid="ignore"):
         up = 0.5 * np.exp(-s * s) + 0.5 * SQRT_PI * s * (1.0 + erf(s))
@@ -117,8 +116,7 @@ class InflowBox:
 
     def momentum_flux(self) -> np.ndarray:
         """Momentum entering per second per unit number density [kg m^4 / s^2 per m^3], G, closed
-        form.
-        """
+        form."""
         total = np.zeros(3)
         for f in range(6):
             n = self.normals[f]

@@ -1,8 +1,7 @@
 """The test-particle Monte Carlo solver: the panel method's inputs, its coefficients with a standard
 error each. A run stops at a particle budget or, after whole blocks of :data:`BLOCK_BATCHES`
 batches, at a tolerance on C_D: a seed gives the same numbers with any number of workers
-(docs/physics.md, section 12). Units: SI, mesh frame G; angles in radians.
-"""
+(docs/physics.md, section 12). Units: SI, mesh frame G; angles in radians."""
 
 from __future__ import annotations
 
@@ -216,8 +215,7 @@ class _Totals:
     @staticmethod
     def per_unit_q(problem: Problem, flow: FreeStream, area: float) -> float:
         """rho/n V^2 A_ref / 2: a momentum flux per unit number density over this is a force
-        coefficient.
-        """
+        coefficient."""
         inflow = problem.inflow
         rho_over_n = float(inflow.mole_fractions @ inflow.masses)
         return rho_over_n * 0.5 * flow.speed**2 * area

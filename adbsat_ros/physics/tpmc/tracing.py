@@ -1,6 +1,5 @@
 """Test particles followed through the body's panels until they leave, and the momentum they give
-(no molecule-molecule collisions; docs/physics.md, section 12, "Tracing"). Units: SI, frame G.
-"""
+(no molecule-molecule collisions; docs/physics.md, section 12, "Tracing"). Units: SI, frame G."""
 
 from __future__ import annotations
 
@@ -20,8 +19,7 @@ MAX_BOUNCES = 100_000
 @dataclass
 class Tally:
     """What a batch did: per molecule ``impulse`` [kg m/s], ``moment`` [kg m^2/s], ``exit_velocity``
-    [m/s]; per panel ``panel_impulse`` [kg m/s]; ``trapped`` after :data:`MAX_BOUNCES` hits.
-    """
+    [m/s]; per panel ``panel_impulse`` [kg m/s]; ``trapped`` after :data:`MAX_BOUNCES` hits."""
 
     impulse: np.ndarray
     moment: np.ndarray
@@ -43,8 +41,7 @@ def surface_at(surface, faces) -> dict:
 
 def trace(scene, mesh, kernel, surface, positions, velocities, masses, rng, moment_point):
     """Follow molecules from entry until they leave: positions [m], velocities [m/s], masses [kg],
-    G.
-    """
+    G."""
     count = len(positions)
     n_panels = mesh.n_panels
     size = float(np.max(mesh.bounds[1] - mesh.bounds[0]))
