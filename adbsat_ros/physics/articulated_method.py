@@ -1,11 +1,7 @@
-"""The panel method of an articulated body, exact at every joint configuration
-(docs/physics.md, section 8): the links' facets posed in the body frame and evaluated as one
-rigid body (:class:`~adbsat_ros.physics.posed_facets.PosedFacets`), or, when a link has no
-facets, each link in its own frame (F_l = R_l Cf_l, M_l = R_l Cm_l + (t_l - r_ref) x F_l / L_ref).
-A joint's effort is its carried links' moment about its axis or force along it. Shading is a
-lighting of the posed body (panels in the order of ``ArticulatedBody.mesh``). Units: m, rad;
-frame G = the root link's.
-"""
+"""The panel method of an articulated body, exact at every joint configuration (docs/physics.md,
+section 8): the links' facets posed in the body frame and evaluated as one rigid body, or each
+link in its own frame (F_l = R_l Cf_l, M_l = R_l Cm_l + (t_l - r_ref) x F_l / L_ref). A joint's
+effort is its carried links' moment about its axis or force along it. Units: m, rad; frame G."""
 
 from __future__ import annotations
 
@@ -35,16 +31,8 @@ from adbsat_ros.shading.shader import make_shader
 class ArticulatedMethod:
     """The panel method of an :class:`ArticulatedBody` at any joint positions.
 
-    Parameters
-    ----------
-    body : ArticulatedBody
-    model, materials, options, group_facets
-        As for :class:`PanelMethod` (the materials by the URDF's material names).
-    reference : Reference, optional
-        A_ref, L_ref and moment point (body frame); unset values as :class:`PanelMethod` sets
-        them for the body at zero joint positions.
-    shading : {"raycast", "projection", "none"}
-        How :meth:`coefficients` shades the posed body when given no ``lighting``.
+    Parameters as for :class:`PanelMethod` (materials by the URDF's material names); ``reference``:
+    A_ref, L_ref and moment point (body frame), unset ones from the body at zero joint positions.
     """
 
     def __init__(
@@ -122,12 +110,12 @@ class ArticulatedMethod:
         return self._links[0][3].needs_species
 
     def surface_with(self, **changes) -> tuple:
-        """Per-link :meth:`PanelMethod.surface_with`, for ``surface=`` of :meth:`coefficients`."""
+        """Per-link :meth:`PanelMethod.surface_with`."""
         return tuple(method.surface_with(**changes) for *_, method in self._links)
 
     def lighting_of(self, u_G, positions=None):
-        """The method's own ``shading`` of the body posed at ``positions`` for flow direction
-        ``u_G`` (G), None for none; a shader is made per call (use a cache for many)."""
+        """The method's own shading of the body at ``positions`` for flow direction ``u_G`` (G), or
+        None."""
         if self.shading == "none":
             return None
         # (no topology store: each configuration's posed panels would be another entry)
@@ -147,25 +135,12 @@ class ArticulatedMethod:
     ) -> ArticulatedCoefficients:
         """Coefficients at joint ``positions`` and one attitude.
 
-        Parameters
-        ----------
-        flow : FreeStream
-        positions : mapping of str to float or Configuration, optional
-            Joint positions [rad or m] (others at zero), checked as
-            :meth:`ArticulatedBody.positions` checks them; or their :meth:`configuration`,
-            made once for many calls.
-        aoa, aos : float, optional
-            Angle of attack and sideslip [rad], or ``flow_direction`` (G) instead.
-        lighting : PanelLighting, LightingBlend or None, optional
-            The posed body's lighting (panels in the order of ``body.mesh(positions)``); None
-            for nothing occluded; by default the method's own ``shading``.
-        surface : tuple of PanelSurface, optional
-            From :meth:`surface_with`.
-
-        Raises
-        ------
-        ValueError
-            A bad joint position (named, with its limits), or a lighting of another panel count.
+        positions: joint positions [rad or m] (others at zero), or their :meth:`configuration`.
+        aoa, aos: angle of attack and sideslip [rad], or ``flow_direction`` (G) instead.
+        lighting: the posed body's (panels in ``body.mesh(positions)`` order); None for no
+        occlusion.
+        ValueError: a bad joint position (named, with its limits), or a lighting of another panel
+        count.
         """
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         if not isinstance(positions, Configuration):
@@ -192,9 +167,7 @@ class ArticulatedMethod:
         lighting=None,
         surface=None,
     ) -> ArticulatedCoefficients:
-        """:meth:`coefficients` at unit flow direction ``u`` (G; ``angles`` (aoa, aos) [rad] or
-        None) from ``sums``, ``lighting``'s :class:`PosedSums` at ``configuration`` (None without
-        :attr:`facets`; then ``lighting`` is split by link)."""
+        """:meth:`coefficients` at unit direction ``u`` (G) from :class:`PosedSums`."""
         posed = None
         if self.facets is not None:
             posed = self._posed_evaluation(flow, u, sums, surface, configuration)
@@ -233,8 +206,8 @@ class ArticulatedMethod:
         )
 
     def configuration(self, positions: Mapping[str, float] | None = None) -> Configuration:
-        """The :class:`Configuration` of joint ``positions`` [rad or m] (others at zero), made
-        once per joint state; ValueError naming a bad position."""
+        """The :class:`Configuration` of joint ``positions`` [rad or m]; ValueError naming a bad
+        one."""
         positions = self.body.positions(positions)
         poses = link_frames(self.body, positions)
         joint_positions = np.array(poses.key, dtype=float)

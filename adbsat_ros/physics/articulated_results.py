@@ -1,7 +1,6 @@
 """What an articulated body's panel method takes and gives: a :class:`Configuration` (positions
 checked and posed, made once for many evaluations) and the :class:`ArticulatedCoefficients`.
-Units: metres, radians; frame G = the root link's frame.
-"""
+Units: metres, radians; frame G = the root link's frame."""
 
 from __future__ import annotations
 
@@ -18,19 +17,11 @@ from adbsat_ros.physics.posed_facets import Posing
 
 
 class LoadMaps:
-    """What makes a configuration's load map (:attr:`Configuration.load_map`).
+    """What makes a configuration's load map from the links' (F, M, S) to every output.
 
-    Input, link after link, (F, M, S): the link's force [m^2], its moment about G's origin
-    [m^3] (body frame) and its lit projected area [m^2]. Output: Cf_G, Cm_G (about the
-    reference point r), each link's force and moment coefficients, each joint's effort
-    coefficient and the lit projected area. A link's coefficients are f = F / A_ref and, about r,
-    (M - r x F) / (A_ref L_ref); joint j (axis a through o) carrying the links C_j has the
-    effort coefficient sum_(l in C_j) a . (M_l - o x F_l) / (A_ref L_ref) =
-    (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns, and sum_(l in C_j) a . F_l / A_ref
-    if it slides.
-
-    ``links``: the rows no pose changes (efforts' rows zero); ``efforts``: the efforts' rows
-    (a slice); ``columns``: the joints' :class:`EffortColumns`.
+    A link's coefficients are F / A_ref and (M - r x F) / (A_ref L_ref); joint j (axis a through o)
+    has effort coefficient sum_(l in C_j) (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns,
+    sum_(l in C_j) a . F_l / A_ref if it slides (docs/physics.md, section 8).
     """
 
     def __init__(self, links: np.ndarray, efforts: slice, columns: EffortColumns):
@@ -53,10 +44,10 @@ class LoadMaps:
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class Configuration:
-    """Joint positions checked and posed (:meth:`ArticulatedMethod.configuration`), for
-    :meth:`ArticulatedMethod.coefficients` at every attitude at those positions: ``positions``
-    [rad or m] by name, ``joint_positions`` (J,) in the body's order, the facets' ``posing``
-    (None without posed facets) and the method's own ``maps`` (which tell the method)."""
+    """Joint positions checked and posed, for every attitude at those positions.
+
+    ``positions`` [rad or m] by name; ``joint_positions`` (J,) in the body's order.
+    """
 
     positions: dict
     poses: Poses
@@ -71,13 +62,10 @@ class Configuration:
 
 
 class ArticulatedCoefficients(NamedTuple):
-    """The coefficients of an articulated body at one configuration and flow direction; the
-    links' loads and the joints' efforts are computed when first read.
+    """The coefficients of an articulated body at one configuration and flow direction.
 
-    ``total``: the whole body's, as :meth:`PanelMethod.coefficients` of the posed mesh;
-    ``joint_names`` and ``joint_positions`` [rad or m] in the body's order; ``effort_scales``
-    (J,): q times these turns effort coefficients into efforts, A_ref L_ref [m^3] (revolute,
-    continuous) or A_ref [m^2] (prismatic); ``link_loads`` gives the links' and joints' values.
+    ``total``: the whole body's; ``joint_positions`` [rad or m]; ``effort_scales`` (J,): q times
+    these turns effort coefficients into efforts, A_ref L_ref [m^3] or A_ref [m^2] (prismatic).
     """
 
     total: AeroCoefficients
@@ -88,15 +76,12 @@ class ArticulatedCoefficients(NamedTuple):
 
     @property
     def effort_coefficients(self) -> np.ndarray:
-        """Each moving joint's effort coefficient (J,): the moment coefficient of its carried
-        links' loads about its axis (revolute, continuous), or their force coefficient along it
-        (prismatic)."""
+        """Each moving joint's effort coefficient (J,): moment about its axis, or force along it."""
         return self.link_loads.effort_coefficients
 
     @property
     def link_force(self) -> np.ndarray:
-        """Every link's force coefficient (L, 3), body frame (zero without geometry); they sum
-        to the total."""
+        """Every link's force coefficient (L, 3), body frame; they sum to the total."""
         return self.link_loads.values[0]
 
     @property

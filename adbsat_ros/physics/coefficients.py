@@ -22,14 +22,9 @@ from adbsat_ros.shading.lighting import PanelLighting
 class Reference:
     """Reference quantities of the coefficients; None means ADBSat's default.
 
-    Parameters
-    ----------
-    area : float, optional
-        A_ref [m^2]; default half the total wetted area (ADBSat's choice, not the projected area).
-    length : float, optional
-        L_ref [m]; default the x-extent of the mesh, max x - min x.
-    moment_point : array_like, shape (3,)
-        Point about which moments are taken, in the mesh frame [m]; default the mesh origin.
+    area: A_ref [m^2]; default half the total wetted area (ADBSat's choice, not the projected area).
+    length: L_ref [m]; default the x-extent of the mesh.
+    moment_point: point for moments, mesh frame [m], (3,); default the mesh origin.
     """
 
     area: float | None = None
@@ -49,9 +44,8 @@ class Reference:
         object.__setattr__(self, "moment_point", tuple(float(v) for v in point))
 
     def resolved(self, mesh: PanelMesh, name: str = "moment_point") -> "Reference":
-        """A copy with the defaults filled in from ``mesh``; ValueError naming ``name`` unless the
-        moment point lies within ten body sizes of the mesh (:func:`adbsat_ros.bounds.body_point`).
-        """
+        """A copy with defaults from ``mesh``; ValueError unless the moment point is within ten body
+        sizes."""
         body_point(name, self.moment_point, *mesh.bounds.tolist())
         if self.length is None and not mesh.x_extent > 0.0:
             raise ValueError(
@@ -66,19 +60,10 @@ class Reference:
 
 
 class AeroCoefficients:
-    """Aerodynamic coefficients of one attitude; angles, other axes and per-panel values are
-    properties computed on first access.
+    """Aerodynamic coefficients of one attitude; other axes and per-panel values computed on access.
 
-    Attributes
-    ----------
-    flow_direction : ndarray, shape (3,)
-        Unit vector of the gas motion relative to the body, mesh frame G.
-    Cf_G, Cm_G : ndarray, shape (3,)
-        Force and moment (about ``reference.moment_point``) coefficients in G.
-    reference : Reference
-    area_projected : float
-        Lit projected area normal to the flow [m^2] (ADBSat ``AreaProj``).
-    model : str
+    flow_direction: unit gas motion relative to the body, G; Cf_G, Cm_G: in G, moments about
+    ``reference.moment_point``; area_projected: lit area normal to the flow [m^2] (``AreaProj``).
     """
 
     def __init__(
@@ -142,30 +127,29 @@ class AeroCoefficients:
 
     @functools.cached_property
     def _body_to_wind(self) -> np.ndarray:
-        """L_WB of the angles, its first row taken from the flow direction itself: at a sideslip
-        of +-90 deg cos(aos) rounds to 0 and the angles would lose that row's x and z."""
+        """L_WB, first row from the flow direction itself (cos(aos) rounds to 0 at +-90 deg)."""
         matrix = frames.body_to_wind(self.aoa, self.aos)
         matrix[0] = frames.L_GB @ -np.asarray(self.flow_direction, dtype=float)
         return matrix
 
     @functools.cached_property
     def Cf_w(self) -> np.ndarray:
-        """Force coefficient in wind axes, shape (3,) (ADBSat ``Cf_w``; drag = -Cf_w[0])."""
+        """Force coefficient in wind axes (ADBSat ``Cf_w``; drag = -Cf_w[0])."""
         return self._body_to_wind @ self._Cf_B
 
     @functools.cached_property
     def Cm_w(self) -> np.ndarray:
-        """Moment coefficient in wind axes about the moment point, shape (3,)."""
+        """Moment coefficient in wind axes about the moment point."""
         return self._body_to_wind @ (frames.L_GB @ self.Cm_G)
 
     @functools.cached_property
     def Cf_f(self) -> np.ndarray:
-        """Force coefficient in ADBSat's flight axes, shape (3,) (``Cf_f``; x aft, z up)."""
+        """Force coefficient in ADBSat's flight axes (``Cf_f``; x aft, z up)."""
         return frames.L_FB @ self._Cf_B
 
     @functools.cached_property
     def Cm_B(self) -> np.ndarray:
-        """Moment coefficient in ADBSat's body axes B about the moment point, shape (3,)."""
+        """Moment coefficient in ADBSat's body axes B about the moment point."""
         return frames.L_GB @ self.Cm_G
 
     def _per_panel(self, values) -> np.ndarray:
@@ -178,17 +162,17 @@ class AeroCoefficients:
 
     @functools.cached_property
     def cos_delta(self) -> np.ndarray:
-        """Incidence cosine -u . n of every panel, shape (N,), in [-1, 1]."""
+        """Incidence cosine -u . n of every panel, in [-1, 1]."""
         return self._per_panel(self._cos_delta)
 
     @functools.cached_property
     def cp(self) -> np.ndarray:
-        """Local pressure coefficient of every panel, shape (N,) (before shading)."""
+        """Local pressure coefficient of every panel (before shading)."""
         return self._per_panel(self._panel_values[1])
 
     @functools.cached_property
     def ctau(self) -> np.ndarray:
-        """Local shear coefficient of every panel, shape (N,) (before shading)."""
+        """Local shear coefficient of every panel (before shading)."""
         _, _, ctau, shear, normals = self._panel_values
         if ctau is None:
             ctau = shear * sine_of_incidence(self.flow_direction, normals, self._cos_delta)
@@ -196,12 +180,12 @@ class AeroCoefficients:
 
     @property
     def lighting(self) -> PanelLighting | None:
-        """The shading used (lit fractions and lit-centroid shifts), or None for none."""
+        """The shading used, or None for none."""
         return self._lighting
 
     @functools.cached_property
     def lit_fraction(self) -> np.ndarray:
-        """Lit fraction of every panel used, shape (N,) (all ones without shading)."""
+        """Lit fraction of every panel (all ones without shading)."""
         if self._lighting is not None:
             return self._lighting.lit_fraction
         return np.ones(self.cos_delta.shape)
@@ -230,8 +214,8 @@ class AeroCoefficients:
         return dynamic_pressure * self.reference.area * self.reference.length * self.Cm_G
 
     def to_dict(self, flow: FreeStream | None = None, per_panel: bool = False) -> dict:
-        """A JSON-ready dict with ADBSat's names (angles in degrees); with a ``flow`` density, also
-        ``force_N``, ``torque_Nm`` (G, about the moment point) and ``dynamic_pressure_Pa``."""
+        """A JSON-ready dict with ADBSat's names (angles in degrees); with ``flow``, force and
+        torque too."""
         out = {
             "aoa_deg": math.degrees(self.aoa),
             "aos_deg": math.degrees(self.aos),

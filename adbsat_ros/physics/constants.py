@@ -1,8 +1,5 @@
-"""Physical constants and species data used throughout adbsat_ros.
-
-All values are SI. The set of constants follows ADBSat's ``environment.m`` so that numbers can be
-compared with it; where CODATA 2018 differs (k_B), the difference is below 1e-6 relative.
-"""
+"""Physical constants and species data, SI. The set follows ADBSat's ``environment.m`` so that
+numbers compare; where CODATA 2018 differs (k_B), by under 1e-6 relative."""
 
 from __future__ import annotations
 
@@ -36,13 +33,7 @@ MOLAR_MASS_G = {
 
 
 def species_mass_kg(name: str) -> float:
-    """Mass of one particle of species ``name`` [kg].
-
-    Raises
-    ------
-    KeyError
-        If ``name`` is not one of :data:`SPECIES`, with the allowed names in the message.
-    """
+    """Mass of one particle of species ``name`` [kg]; KeyError naming the allowed species."""
     try:
         molar = MOLAR_MASS_G[name]
     except KeyError:

@@ -1,9 +1,7 @@
 """Coplanar panels of one material grouped into facets: the gas-surface model runs once per facet.
 
-The sums regroup exactly: sum_i f_i A_i phi_i = W_g phi_g with W_g = sum f_i A_i, and likewise
-the moments with Q_g = sum f_i A_i r_i (lit centroids included); docs/physics.md, section 1.
-The sums are a pure function of the lighting (np.bincount, in panel order). Units: m, m^2, mesh
-frame G.
+The sums regroup exactly: sum_i f_i A_i phi_i = W_g phi_g with W_g = sum f_i A_i, and the moments
+with Q_g = sum f_i A_i r_i; docs/physics.md, section 1. Units: m, m^2, mesh frame G.
 """
 
 from __future__ import annotations
@@ -20,10 +18,7 @@ N_SUMS = 10
 
 
 def facet_rows(c, cp, shear) -> np.ndarray:
-    """The (3, G) rows q, k = q c - c_p and max(c, 0) of facets' cos(delta) ``c``, ``cp`` and
-    q = c_tau / sin(delta) ``shear``: facet g carries the force W_g (q_g u + k_g n_g), the moment
-    q_g (Q_g x u) + k_g (Q_g x n_g) and the projected area max(c_g, 0) W_g.
-    """
+    """The (3, G) rows q = c_tau / sin(delta), k = q c - c_p and max(c, 0) of facets."""
     rows = np.empty((3, c.size))
     rows[0] = shear
     np.multiply(shear, c, out=rows[1])
@@ -33,10 +28,7 @@ def facet_rows(c, cp, shear) -> np.ndarray:
 
 
 def shear_per_sine(ctau, sigma) -> np.ndarray:
-    """c_tau / sin(delta), 0 where sin(delta) = 0.
-
-    The shear direction is undefined there, and every model's c_tau is 0.
-    """
+    """c_tau / sin(delta), 0 where sin(delta) = 0 (there every model's c_tau is 0)."""
     return np.divide(ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
 
 
@@ -62,27 +54,10 @@ def blend_sums(parts) -> np.ndarray:
 
 
 class Facets:
-    """Coplanar panels of one material grouped into facets (module docstring).
+    """Coplanar panels of one material grouped into facets.
 
-    Parameters
-    ----------
-    mesh : PanelMesh
-        The panels.
-    index : ndarray of int, shape (N,)
-        Facet of every panel.
-    first : ndarray of int, shape (G,)
-        One member panel of every facet (its normal and surface are the facet's).
-    surface : PanelSurface
-        The materials' per-panel surface (its facet values are made once).
-
-    Attributes
-    ----------
-    normals : ndarray, shape (G, 3)
-        Outward unit normal of every facet (members agree to 1e-12).
-    inward_normals_T : ndarray, shape (3, G)
-        ``-normals.T``: ``u @ inward_normals_T`` is every facet's cos(delta).
-    all_lit : ndarray, shape (G, 10)
-        Facet sums with every panel lit: columns W_g [m^2], W_g n_g, Q_g [m^3], Q_g x n_g.
+    index: facet of every panel, (N,); first: one member panel of every facet, (G,).
+    all_lit: facet sums with every panel lit, (G, 10): W_g [m^2], W_g n_g, Q_g [m^3], Q_g x n_g.
     """
 
     #: Normals equal to this many decimals (of a unit vector) make panels coplanar-facing.
@@ -127,8 +102,7 @@ class Facets:
         return vector_sums(self.index if panels is None else self.index[panels], vectors, self.n)
 
     def lit_sums_of(self, lighting: PanelLighting | None) -> np.ndarray:
-        """Read-only (G, 10) facet sums of ``lighting`` (:attr:`all_lit` for None), summed anew:
-        W_g = sum f_i A_i [m^2], W_g n_g, Q_g = sum f_i A_i (r_i + shift_i) [m^3], Q_g x n_g."""
+        """Read-only (G, 10) facet sums of ``lighting`` (:attr:`all_lit` for None)."""
         if lighting is None:
             return self.all_lit
         f = lighting.lit_fraction

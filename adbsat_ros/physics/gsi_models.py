@@ -1,9 +1,7 @@
 """The registry of gas-surface interaction models: names, parameters, options.
 
-A model ``model(c, sigma, surface, flow, options) -> (c_p, c_tau)`` maps c = cos(delta),
-sigma = sin(delta) to coefficients normalised by q = 0.5 rho V^2; the force on panel i is
-q A_i (c_tau t - c_p n). Formulas and sources: :mod:`adbsat_ros.physics.models` and
-docs/physics.md, section 3.
+``model(c, sigma, surface, flow, options) -> (c_p, c_tau)``, c = cos(delta), sigma = sin(delta),
+per q = 0.5 rho V^2; panel i's force is q A_i (c_tau t - c_p n). Formulas: docs/physics.md, sec. 3.
 """
 
 from __future__ import annotations
@@ -81,8 +79,8 @@ SPECIES_MODELS = ("cll", "dria")
 
 
 def get_model(name: str):
-    """The model function called ``name`` (case-insensitive; ``storchHyp`` = ``storch``); ValueError
-    listing the known ones for an unknown name."""
+    """The model called ``name`` (case-insensitive; ``storchHyp`` = ``storch``); ValueError if
+    unknown."""
     key = str(name).lower()
     if key == "storchhyp":
         key = "storch"

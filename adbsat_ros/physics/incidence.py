@@ -12,11 +12,7 @@ NEAR_NORMAL_SINE = 1e-3
 
 
 def sine_of_incidence(u, normals, c) -> np.ndarray:
-    """sin(delta), shape of ``c`` (N,) or (M, N), of unit directions ``u`` and unit ``normals``.
-
-    sqrt(1 - c^2), but |u x n| within NEAR_NORMAL_SINE of normal incidence, where 1 - c^2 cancels
-    (the shear's direction divides by sin(delta)).
-    """
+    """sin(delta) of unit directions ``u`` and unit ``normals``: |u x n| near normal incidence."""
     sigma = np.sqrt(1.0 - c * c)
     near = sigma < NEAR_NORMAL_SINE
     if near.any():

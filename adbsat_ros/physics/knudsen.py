@@ -1,9 +1,6 @@
-"""How rarefied the flow is: the mean free path of the gas and the Knudsen number of the body.
-
-The panel method assumes Kn = lambda / L >> 1. Mean free path of the U.S. Standard Atmosphere
-1976 (NOAA-S/T 76-1562, section 1.3.15); within 20 % of Bird (1994, eq. 4.76) at 100-200 km.
-Formulas: docs/physics.md, section 11.
-"""
+"""How rarefied the flow is: the mean free path and the body's Knudsen number (the panel method
+assumes Kn >> 1). Mean free path of the U.S. Standard Atmosphere 1976 (NOAA-S/T 76-1562,
+1.3.15); docs/physics.md, section 11."""
 
 from __future__ import annotations
 

@@ -1,8 +1,6 @@
-"""The loads of an articulated body's links and the efforts on its joints, from the facet rows
-(:func:`~.facets.facet_rows`) and the posed facet sums, computed when first read.
-
-Units: metres, body frame G; coefficients per A_ref (forces) and A_ref L_ref (moments).
-"""
+"""The loads of an articulated body's links and the efforts on its joints, from the facet rows and
+the posed facet sums, computed when first read. Units: metres, body frame G; coefficients per
+A_ref (forces) and A_ref L_ref (moments)."""
 
 from __future__ import annotations
 
@@ -17,10 +15,8 @@ from adbsat_ros.physics.facets import N_SUMS
 class EffortColumns:
     """The joints' effort terms as columns of the posed facet sums.
 
-    The effort of joint j (unit axis a through o) is the sum over the facets g it carries of
-    q_g u . V_g + k_g s_g: a . (M - o x F) if it turns, a . F if it slides. V and s depend on the
-    configuration and lighting only, so they are posed with the sums. ``carries`` (J, L): 1 where
-    joint j carries evaluated link l; ``area`` A_ref [m^2], ``length`` L_ref [m].
+    Joint j (unit axis a through o): a . (M - o x F) if it turns, a . F if it slides; ``carries``
+    (J, L): 1 where joint j carries evaluated link l; ``area`` A_ref [m^2], ``length`` L_ref [m].
     """
 
     def __init__(self, carries, prismatic, area: float, length: float):
@@ -39,8 +35,8 @@ class EffortColumns:
         return [(tuple(fj), tuple(mj)) for fj, mj in zip(f.tolist(), m.tolist())]
 
     def matrix(self, poses) -> np.ndarray:
-        """The (10, 4 J) matrix from a facet's posed sums (W, W n, Q, Q x n) to the joints' V, s:
-        V = W f + m x Q, s = f . (W n) + m . (Q x n)."""
+        """The (10, 4 J) matrix from a facet's posed sums to V = W f + m x Q, s = f . (W n) + m . (Q
+        x n)."""
         rows = [[] for _ in range(N_SUMS)]
         for (fx, fy, fz), (mx, my, mz) in self.per_joint(poses):
             block = [(fx, fy, fz, 0.0), (0, 0, 0, fx), (0, 0, 0, fy), (0, 0, 0, fz)]
@@ -58,10 +54,9 @@ class EffortColumns:
 
 
 class LinkLoads:
-    """Every link's force and moment and every joint's effort coefficient, computed when first read
-    (it pickles). ``configuration.load_map`` (R, 7 E) takes the E evaluated links' ``loads``
-    (else computed from ``facets``, ``(rows, PosedSums, starts, u)``) to every output; ``forces``,
-    ``moments``, ``efforts`` are its rows of each.
+    """Every link's force and moment and every joint's effort coefficient, computed when first read.
+
+    ``configuration.load_map`` (R, 7 E) takes the E evaluated links' ``loads`` to every output.
     """
 
     def __init__(self, configuration, forces, moments, efforts, n_links, loads=None, facets=None):
@@ -107,10 +102,8 @@ LINK_LOADS = 7
 
 
 def sums_to_loads(u) -> np.ndarray:
-    """The (30, 7) matrix from a link's weighted facet sums (row 3 c + r) to its loads (F, M, S).
-
-    F = (q W) u + (k W n), M = (q Q) x u + (k Q x n), S = max(c, 0) W.
-    """
+    """The (30, 7) matrix from a link's weighted facet sums to F = (q W) u + (k W n),
+    M = (q Q) x u + (k Q x n), S = max(c, 0) W."""
     ux, uy, uz = u.tolist()
     out = _SUMS_TO_LOADS.copy()
     # q W -> F: u; q Q -> M: (a x u) = a @ [[0, -uz, uy], [uz, 0, -ux], [-uy, ux, 0]]

@@ -1,8 +1,6 @@
 """The one builder of a configured body: :func:`build_model` turns a
-:class:`~adbsat_ros.physics.setup.Setup` into a :class:`Model` (panels, panel method, its one
-shading cache and test-particle solver), which evaluates the body at any flow and joint
-positions (:meth:`Model.evaluate`; how: :mod:`~adbsat_ros.physics.model_evaluate`).
-"""
+:class:`~adbsat_ros.physics.setup.Setup` into a :class:`Model` (panels, panel method, one
+shading cache, test-particle solver) that evaluates the body at any flow and joint positions."""
 
 from __future__ import annotations
 
@@ -26,15 +24,9 @@ from adbsat_ros.shading.shader import make_shader
 
 
 def load_body(spec: BodySpec, given=None) -> tuple:
-    """``(body, mesh)``: the ArticulatedBody of a URDF (``spec.urdf``, or a URDF ``spec.mesh``)
-    and None, or None and the rigid panels. An ArticulatedBody ``given`` is taken as it is; a
-    PanelMesh ``given`` stands for the panels of a mesh file or bundled body (not a URDF); a
-    pair ``given`` is ``(body, mesh)`` loaded already.
+    """``(body, mesh)``: a URDF's ArticulatedBody and None, or None and the rigid panels.
 
-    Raises
-    ------
-    MeshError
-        If the mesh or URDF cannot be loaded (or ``scale`` is set for a URDF).
+    Raises MeshError if the mesh or URDF cannot be loaded (or ``scale`` is set for a URDF).
     """
     if isinstance(given, tuple):
         return given
@@ -57,10 +49,8 @@ def load_body(spec: BodySpec, given=None) -> tuple:
 class Model:
     """A set-up built: its panels, panel method, one shading cache and test-particle solver.
 
-    ``body``: the URDF body, posed once at ``positions`` [rad or m] or moving (``method`` then
-    an :class:`ArticulatedMethod`), None for a mesh; ``mesh``: the panels (posed; a moving
-    body's at zero joint positions); ``lookup``: a database's ``lookup(u) -> (Cf_G, Cm_G)``
-    (:meth:`with_lookup`) or None.
+    ``body``: the URDF body (posed at ``positions`` [rad or m], or moving), None for a mesh;
+    ``lookup``: a database's ``lookup(u) -> (Cf_G, Cm_G)`` or None.
     """
 
     def __init__(self, setup: Setup, body, mesh: PanelMesh, positions: dict | None):
@@ -99,8 +89,7 @@ class Model:
 
     @property
     def backend(self) -> str:
-        """What :meth:`evaluate` uses: ``database`` (a lookup), ``tpmc`` (the set-up's
-        solver), ``articulated`` or ``panel``."""
+        """What :meth:`evaluate` uses: ``database``, ``tpmc``, ``articulated`` or ``panel``."""
         if self.lookup is not None:
             return "database"
         if self.setup.solver.method == "tpmc":
@@ -117,10 +106,8 @@ class Model:
 
     @cached_property
     def cache(self):
-        """The one :class:`~adbsat_ros.shading.cache.ShadingCache` of the panel method, made
-        at the first read by the set-up's shading policy
-        (:func:`~adbsat_ros.physics.model_evaluate.make_cache`); None without shading, and
-        with a database lookup."""
+        """The one ShadingCache of the panel method, made at first read; None without shading or
+        lookup."""
         return None if self.lookup is not None else evaluation.make_cache(self)
 
     @cached_property
@@ -128,9 +115,8 @@ class Model:
         return evaluation.all_lit_cell(self.method, self.articulated)
 
     def test_particles(self, positions: dict, changes: dict):
-        """The test-particle solver of the body at joint ``positions`` [rad or m], with the
-        surface parameters ``changes`` on every panel; the latest one is kept. ValueError naming
-        ``solver`` for a model without a test-particle kernel."""
+        """The test-particle solver at joint ``positions`` [rad or m] with surface ``changes``; the
+        latest kept."""
         from adbsat_ros.physics.tpmc.method import TestParticleMethod
 
         key = (tuple(sorted(positions.items())), tuple(sorted(changes.items())))
@@ -153,9 +139,7 @@ class Model:
 
     # ------------------------------------------------------------------------------ evaluation
     def prepare_joints(self, positions=None) -> Joints:
-        """An articulated body's joint ``positions`` [rad or m] (others at zero) made ready for
-        :meth:`evaluate`, once per joint state: checked (ValueError naming a bad one), posed,
-        and placed on the shading cache's configurations."""
+        """Joint ``positions`` [rad or m] checked, posed and placed on the cache's grid."""
         configuration = self.method.configuration(positions)
         cache = self.cache
         vertices = None if cache is None else cache.vertices(configuration.positions)
@@ -175,36 +159,15 @@ class Model:
     ):
         """The coefficients of the body in ``free_stream`` (a FreeStream).
 
-        Parameters
-        ----------
-        flow_direction : array_like, shape (3,), optional
-            Direction of the gas motion relative to the body (body frame), or ``angles``.
-        joints : Joints or mapping, optional
-            An articulated body's joint positions: :meth:`prepare_joints`' (made by this
-            model), or the positions [rad or m] themselves (others at zero).
-        angles : (float, float), optional
-            Angle of attack and sideslip [rad] instead of ``flow_direction``; the result's wind
-            axes are theirs.
-        changes : dict, optional
-            Surface parameters set on every panel (``alpha``, ``alpha_n``, ``wall_temperature``
-            ...: :meth:`PanelMethod.surface_with`).
-        seed : int, optional
-            The test particles' seed (default the set-up's).
-        solver : {"panel", "tpmc"}, optional
-            The solver of a set-up with both (default :attr:`backend`).
-        **run
-            The test particles' ``workers``, ``progress`` and ``stop``.
-
-        Returns
-        -------
-        AeroCoefficients, ArticulatedCoefficients (articulated panel method) or
-        TpmcCoefficients.
-
-        Raises
-        ------
-        ValueError
-            A bad direction, angle, joint position or surface change, or a direction the
-            database does not cover.
+        flow_direction: gas motion relative to the body (body frame), (3,), or ``angles``.
+        joints: :meth:`prepare_joints`' result, or positions [rad or m] (others at zero).
+        angles: angle of attack and sideslip [rad] instead of ``flow_direction``.
+        changes: surface parameters set on every panel (:meth:`PanelMethod.surface_with`).
+        solver: ``"panel"`` or ``"tpmc"`` for a set-up with both (default :attr:`backend`).
+        **run: the test particles' ``workers``, ``progress`` and ``stop``.
+        Returns AeroCoefficients, ArticulatedCoefficients or TpmcCoefficients.
+        ValueError: a bad direction, angle, joint position or surface change, or outside the
+        database.
         """
         aoa, aos = (None, None) if angles is None else angles
         u, given = frames.attitude_flow(aoa, aos, flow_direction)
@@ -230,7 +193,7 @@ class Model:
         )
 
     def _read(self, direction, vertices=None, count: bool = True) -> list:
-        """``[(weight, Cell), ...]`` of a flow ``direction`` (the all-lit cell without a cache)."""
+        """``[(weight, Cell), ...]`` of a flow ``direction``."""
         cache = self.cache
         if cache is None:
             return [(1.0, self._all_lit)]
@@ -256,9 +219,8 @@ class Model:
         )
 
     def solar(self, sun_direction_body):
-        """The solar radiation pressure coefficients (SolarCoefficients) for the direction to
-        the Sun in the body frame, shaded by reads of the model's cache along minus it that
-        are not counted; ValueError for an articulated body."""
+        """Solar radiation pressure coefficients for the Sun direction (body frame); not
+        articulated."""
         if self.articulated:
             raise ValueError(
                 "solar radiation pressure is computed for rigid bodies only, not for an "
@@ -270,10 +232,8 @@ class Model:
 
     # ------------------------------------------------------------------------------ variants
     def with_setup(self, setup: Setup) -> "Model":
-        """The model of ``setup``: its body and panels reused when ``setup.body`` is this
-        set-up's, and its shader and shading cache (counters included) too when
-        ``setup.shading`` is also this set-up's (the sums depend on the geometry and the
-        lightings alone); else built anew."""
+        """The model of ``setup``, reusing this one's body, panels and shading cache where they
+        match."""
         if setup.body != self.setup.body:
             return build_model(setup)
         model = Model(setup, self.body, self.mesh, self.positions)
@@ -284,9 +244,7 @@ class Model:
         return model
 
     def with_lookup(self, lookup) -> "Model":
-        """This model evaluated by a coefficient database: ``lookup(u)`` gives ``(Cf_G,
-        Cm_G)`` at the unit flow direction u (body frame), or raises ValueError outside it.
-        No shading cache."""
+        """This model evaluated by a database ``lookup(u) -> (Cf_G, Cm_G)`` (body frame)."""
         model = Model.__new__(Model)
         model.__dict__.update(
             {k: v for k, v in self.__dict__.items() if k not in ("cache", "_all_lit")}
@@ -296,17 +254,12 @@ class Model:
 
 
 def build_model(setup: Setup, given=None) -> Model:
-    """The :class:`Model` of ``setup``: the mesh or URDF loaded (``given``: already loaded,
-    as :func:`load_body` takes it), a URDF posed at ``setup.body.joints`` unless they move.
+    """The :class:`Model` of ``setup`` (``given``: body already loaded, as :func:`load_body` takes
+    it).
 
-    Raises
-    ------
-    MeshError
-        If the mesh or URDF cannot be loaded.
-    ValueError
-        Naming (:attr:`Setup.labels`) joint positions the URDF refuses, a material the mesh
-        does not have, a moment point far from the body or a model without a test-particle
-        kernel.
+    MeshError: the mesh or URDF cannot be loaded.
+    ValueError: bad joint positions, a material the mesh lacks, a far moment point, or no TPMC
+    kernel.
     """
     body, mesh = load_body(setup.body, given)
     positions = None

@@ -1,14 +1,7 @@
-"""How a :class:`~adbsat_ros.physics.model.Model` evaluates: its one shading cache, made from
-the set-up's shading policy, and each backend's coefficients from the cache's cells.
-
-A cell (:class:`~adbsat_ros.shading.cache.Cell`) holds a lighting and, made once through the
-hook handed to the cache, what the panel method sums of it: a rigid body's facet sums
-(:meth:`~adbsat_ros.physics.facets.Facets.lit_sums_of`), an articulated body's link rows
-(:meth:`~adbsat_ros.physics.posed_facets.PosedFacets.link_rows`), these posed at the latest
-configuration kept in the cell's ``posed`` slot. A message's sums are its cells' sums blended
-with their weights, in the operations of the kernels' own blends, so the numbers are those of
-the kernels given the same lightings.
-"""
+"""How a :class:`~adbsat_ros.physics.model.Model` evaluates: its one shading cache and each
+backend's coefficients from the cache's cells. A cell holds a lighting and what the panel
+method sums of it (facet sums, or an articulated body's link rows); a message's sums are its
+cells' sums blended in the kernels' own operations, so the numbers equal the kernels'."""
 
 from __future__ import annotations
 
@@ -32,10 +25,9 @@ OFFLINE_SHADERS = 8
 
 
 class Joints(NamedTuple):
-    """An articulated body's joint positions made ready once per joint state
-    (:meth:`~adbsat_ros.physics.model.Model.prepare_joints`): the checked ``positions``
-    [rad or m], the panel method's ``configuration`` of them, and the shading cache's
-    ``vertices`` (weighted configurations; None without a cache)."""
+    """An articulated body's joint positions made ready once per joint state: ``positions`` [rad or
+    m],
+    their ``configuration`` and the cache's ``vertices`` (None without a cache)."""
 
     positions: dict
     configuration: Configuration
@@ -43,9 +35,8 @@ class Joints(NamedTuple):
 
 
 def make_cache(model) -> ShadingCache | None:
-    """The one shading cache of ``model`` by its set-up's policy: None for shading none (or an
-    offline job's convex body: nothing is occluded); exact mode for an offline job
-    (``exact_offline``) and for ``joint_exact``; else the node's cells and configuration grid."""
+    """The one shading cache of ``model`` by its set-up's policy (None when nothing can be
+    occluded)."""
     policy, method = model.setup.shading, model.method
     if policy.mode == "none":
         return None
@@ -87,9 +78,8 @@ def make_cache(model) -> ShadingCache | None:
 
 
 def posed_shader(body, policy):
-    """``posed_shader(positions)``: the shader of ``body`` posed at joint ``positions`` (every
-    moving joint named), by ``policy``; ray casting reuses the links' scenes
-    (:class:`~adbsat_ros.shading.posed_scene.LinkScenes`, made at the first call)."""
+    """``posed_shader(positions)``: the shader of ``body`` posed at joint ``positions``, by
+    ``policy``."""
     scenes = []
 
     def shader_at(positions: dict):
@@ -126,8 +116,7 @@ def blended_lighting(parts):
 
 
 def facet_sums(method, parts):
-    """A rigid body's facet sums of the cells ``parts`` (None without facets): one cell's as
-    they are, several cells' blended as :meth:`Facets.lit_sums` blends them."""
+    """A rigid body's facet sums of the cells ``parts`` (None without facets), blended."""
     if method.facets is None:
         return None
     if len(parts) == 1:
@@ -142,9 +131,7 @@ def rigid_coefficients(method, flow, u, angles, parts, surface) -> AeroCoefficie
 
 
 def articulated_coefficients(method, flow, u, angles, configuration, parts, surface):
-    """The articulated panel method's coefficients at ``configuration`` from the cells
-    ``parts``: each cell's rows posed alone (kept in the cell for the next message at the same
-    configuration), then blended as :meth:`PosedFacets.pose` blends."""
+    """The articulated panel method's coefficients at ``configuration`` from the cells ``parts``."""
     sums = None
     facets = method.facets
     if facets is not None:
@@ -167,8 +154,7 @@ def articulated_coefficients(method, flow, u, angles, configuration, parts, surf
 
 
 def looked_up_coefficients(lookup, method, u, angles) -> AeroCoefficients:
-    """The coefficients ``lookup(u)`` gives, ``(Cf_G, Cm_G)``, with the method's reference
-    (no lit projected area, no per-panel values)."""
+    """The coefficients ``lookup(u)`` gives, with the method's reference."""
     cf, cm = lookup(u)
     return AeroCoefficients(
         u, cf, cm, method.reference, math.nan, method.model, _no_panel_values, angles=angles
@@ -180,7 +166,6 @@ def _no_panel_values():
 
 
 def solar_of_cells(method, sun_direction, parts):
-    """:func:`~adbsat_ros.physics.solar.solar_coefficients` with the cells ``parts`` read along
-    minus the Sun's direction."""
+    """:func:`~adbsat_ros.physics.solar.solar_coefficients` with cells read along minus the Sun."""
     sums = facet_sums(method, parts)
     return solar_coefficients(method, sun_direction, lighting=blended_lighting(parts), sums=sums)

@@ -1,7 +1,6 @@
 """Each panel's share of the load: its force and the point it acts at, summing to the totals.
 
-Formulas: docs/physics.md, section 2, "Panel load and totals". Units: q A_ref, metres, mesh
-frame G.
+Formulas: docs/physics.md, section 2, "Panel load and totals". Units: q A_ref, m, frame G.
 """
 
 from __future__ import annotations
@@ -17,7 +16,7 @@ from adbsat_ros.physics.incidence import sine_of_incidence
 @dataclass(frozen=True)
 class PanelLoads:
     """Force coefficient of every panel, F_i / (q A_ref) (N, 3) in G, and the ``point`` (N, 3) [m]
-    where it acts (barycentre or lit centroid); ``reference_length`` [m], ``moment_point`` [m]."""
+    where it acts; ``reference_length`` [m], ``moment_point`` [m]."""
 
     force: np.ndarray
     point: np.ndarray
@@ -25,8 +24,8 @@ class PanelLoads:
     moment_point: np.ndarray
 
     def moments(self, about=None) -> np.ndarray:
-        """Moment coefficient of every panel about ``about`` (default the moment point),
-        (r_i - about) x F_i / L_ref, shape (N, 3)."""
+        """Moment coefficients (r_i - about) x F_i / L_ref, (N, 3); ``about`` defaults to the moment
+        point."""
         origin = self.moment_point if about is None else np.asarray(about, dtype=float)
         return np.cross(self.point - origin, self.force) / self.reference_length
 
@@ -34,10 +33,7 @@ class PanelLoads:
 def panel_loads(mesh, result: AeroCoefficients) -> PanelLoads:
     """The per-panel loads of a panel-method ``result`` for the mesh it was computed on.
 
-    Raises
-    ------
-    ValueError
-        If the result is not of this mesh (another panel count).
+    ValueError: the result is not of this mesh (another panel count).
     """
     if result.cp.shape != (mesh.n_panels,):
         raise ValueError(

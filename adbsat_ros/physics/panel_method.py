@@ -1,9 +1,7 @@
 """The panel method: flat-plate forces summed over the mesh as force and moment coefficients,
 C_F,G = (1/A_ref) sum_i f_i A_i (c_tau,i t_i - c_p,i n_i) and C_M,G about r_ref (ADBSat's
-definitions; f_i the lit fraction, r_i moved to the lit centroid; docs/physics.md, sections 1
-and 2). The model runs once per facet of coplanar panels of one material
-(:mod:`adbsat_ros.physics.facets`). Units: m, mesh frame G.
-"""
+definitions; f_i the lit fraction; docs/physics.md, sections 1 and 2). The model runs once per
+facet of coplanar panels of one material. Units: m, mesh frame G."""
 
 from __future__ import annotations
 
@@ -38,27 +36,10 @@ OWN_SHADING = object()
 class PanelMethod:
     """A mesh with a gas-surface model and materials, ready to evaluate at any attitude.
 
-    Parameters
-    ----------
-    mesh : PanelMesh
-        The satellite surface.
-    model : str
-        Gas-surface model name (see :data:`adbsat_ros.physics.gsi_models.MODELS`).
-    materials : MaterialTable or SurfaceProperties, optional
-        Surface properties by material name (default: alpha = sigma = 1, T_w = 300 K).
-    options : ModelOptions, optional
-        Incident-temperature form and ADBSat compatibility switches.
-    reference : Reference, optional
-        Reference area, length and moment point (default ADBSat's).
-    group_facets : bool
-        Evaluate the model once per facet of coplanar panels of one material (the same result
-        to rounding); False evaluates every panel (a reference in tests).
-    shading : {"raycast", "projection", "none"}
-        How :meth:`coefficients` shades the panels when given no ``lighting``: ray casting (the
-        default, as the command line and the node), ADBSat's projection, or no occlusion.
-
-    Attributes: ``model`` (registry name), ``reference`` (resolved for ``mesh``), ``surface``
-    (per-panel), ``facets`` (None when grouping would not save work, or ungrouped).
+    ``model``: a name of :data:`~adbsat_ros.physics.gsi_models.MODELS`; ``materials``: default
+    alpha = sigma = 1, T_w = 300 K; ``group_facets``: False evaluates every panel (a test
+    reference);
+    ``shading``: ``"raycast"`` (default), ``"projection"`` (ADBSat's) or ``"none"``.
     """
 
     def __init__(
@@ -98,8 +79,8 @@ class PanelMethod:
 
     # ------------------------------------------------------------------------------ per panel
     def surface_with(self, **changes):
-        """Per-panel surface parameters with some set to one value on every panel, for
-        ``surface=`` of :meth:`coefficients` (e.g. ``surface_with(alpha=0.9)``)."""
+        """Per-panel surface parameters with some set on every panel (e.g.
+        ``surface_with(alpha=0.9)``)."""
         values = {name: getattr(self.surface, name) for name in SURFACE_PARAMETERS}
         for name, value in changes.items():
             if name not in values:
@@ -108,19 +89,10 @@ class PanelMethod:
         return PanelSurface(**values)
 
     def panel_coefficients(self, u_G, flow: FreeStream, surface=None):
-        """Incidence and local coefficients of every panel.
+        """Incidence and local coefficients of every panel: cos_delta, sin_delta, cp, ctau, (N,) or
+        (M, N).
 
-        Parameters
-        ----------
-        u_G : array_like, shape (3,) or (M, 3)
-            Unit flow direction(s) in G.
-        flow : FreeStream
-        surface : PanelSurface, optional
-            Surface parameters to use instead of the materials' (see :meth:`surface_with`).
-
-        Returns
-        -------
-        cos_delta, sin_delta, cp, ctau : ndarray, shape (N,) or (M, N)
+        u_G: unit flow direction(s) in G, (3,) or (M, 3).
         """
         return self._local_coefficients(u_G, self._inward_normals_T, surface or self.surface, flow)
 
@@ -135,12 +107,8 @@ class PanelMethod:
         return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
 
     def facet_coefficients(self, u, inward_normals_T, facet_surface, flow):
-        """c = cos(delta), c_p, c_tau / sin(delta) (G,) and c_tau (or None) of facets of normals
-        given as (3, G) -n^T (this method's, or posed ones) for one unit direction ``u``.
-
-        A model of :data:`gsi_models.SPLIT_MODELS` gives c_tau / sin(delta) itself (its plate):
-        no sin(delta), and c not clipped (the plates are smooth within rounding of [-1, 1]).
-        """
+        """c, c_p, c_tau / sin(delta) and c_tau (or None) of facets of normals (3, G) for unit
+        ``u``."""
         split = self._split
         parameters = None if split is None else split[0](facet_surface, flow, self.options)
         if parameters is None:
@@ -152,8 +120,7 @@ class PanelMethod:
 
     @staticmethod
     def totals_of_sums(u, rows, sums, reference):
-        """Cf_G, Cm_G and the lit projected area [m^2] from the (3, G) :func:`facet_rows` and the
-        (G, 10) facet sums (W, W n, Q, Q x n): one product gives every sum needed."""
+        """Cf_G, Cm_G and the lit projected area [m^2] from facet rows and (G, 10) facet sums."""
         r, k, projected = rows @ sums  # (r W, r W n, r Q, r Q x n) and k's; the lit area
         force = r[0] * u + k[1:4]
         # moment = (sum r Q) x u + sum k (Q x n) - r_ref x force
@@ -163,23 +130,10 @@ class PanelMethod:
 
     # ------------------------------------------------------------------------------ integration
     def integrate(self, u_G, c, sigma, cp, ctau, lighting: PanelLighting | None = None):
-        """Sum panel loads into force and moment coefficients in G.
+        """Sum panel loads into Cf_G, Cm_G (about the moment point) and the lit projected area
+        [m^2].
 
-        Parameters
-        ----------
-        u_G : ndarray, shape (3,) or (M, 3)
-            Flow direction(s) used for ``c`` (unit vectors, G).
-        c, sigma, cp, ctau : ndarray, shape (N,) or (M, N)
-            As returned by :meth:`panel_coefficients`.
-        lighting : PanelLighting or LightingBlend, optional
-            Lit fractions and lit-centroid shifts (single direction only).
-
-        Returns
-        -------
-        Cf_G, Cm_G : ndarray, shape (3,) or (M, 3)
-            Coefficients in G, moments about the reference moment point.
-        area_projected : float or ndarray, shape (M,)
-            Lit projected area [m^2].
+        u_G: unit flow direction(s) in G, (3,) or (M, 3); lighting: single direction only.
         """
         area = self._areas if lighting is None else self._areas * lighting.lit_fraction
         # Shear along t = (u + c n) / sin(delta): weight w_t multiplies (u + c n).
@@ -220,19 +174,10 @@ class PanelMethod:
     ) -> AeroCoefficients:
         """Coefficients at one attitude, given by angles or by the flow direction.
 
-        Parameters
-        ----------
-        flow : FreeStream
-            Free-stream gas (speed, temperature, composition).
-        aoa, aos : float, optional
-            Angle of attack and sideslip [rad] (frames module conventions).
-        flow_direction : array_like, shape (3,), optional
-            Direction of the gas motion relative to the body in G, instead of the angles.
-        lighting : PanelLighting, LightingBlend or None, optional
-            Shading result for this flow direction; None for nothing occluded. By default the
-            method's own ``shading`` of the direction (:meth:`lighting_of`).
-        surface : PanelSurface, optional
-            Surface parameters overriding the materials' (see :meth:`surface_with`).
+        aoa, aos: angle of attack and sideslip [rad] (frames module conventions).
+        flow_direction: gas motion relative to the body in G, (3,), instead of the angles.
+        lighting: None for nothing occluded; default the method's own ``shading``
+        (:meth:`lighting_of`).
         """
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         if lighting is OWN_SHADING:
@@ -247,10 +192,8 @@ class PanelMethod:
     def coefficients_of_sums(
         self, flow: FreeStream, u, angles, sums, lighting, surface=None
     ) -> AeroCoefficients:
-        """:meth:`coefficients` at unit flow direction ``u`` (G) from ``sums``, the (G, 10) facet
-        sums of ``lighting`` (None without :attr:`facets`); ``angles``: (aoa, aos) [rad] or None.
-        ``lighting`` is summed panel by panel when the facets cannot be used (a ``surface`` that
-        varies within a facet)."""
+        """:meth:`coefficients` at unit direction ``u`` (G) from (G, 10) facet sums; angles [rad] or
+        None."""
         facets = self.facets
         facet_surface = None if sums is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:

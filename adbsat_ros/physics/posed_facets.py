@@ -1,10 +1,8 @@
-"""An articulated body's facets posed in the body frame, for one panel-method evaluation of the
-whole body: each link's facet rows (W, W n, Q, Q x n, S) move with the link (rotation R, origin
-t; docs/physics.md, section 8),
+"""An articulated body's facets posed in the body frame: each link's facet rows (W, W n, Q, Q x n,
+S)
+move with the link (rotation R, origin t; docs/physics.md, section 8),
 
-    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n',
-
-one (13, 10) matrix per facet per configuration (:class:`Posing`). Units: m, m^2, body frame G.
+    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n'.
 """
 
 from __future__ import annotations
@@ -20,10 +18,8 @@ from adbsat_ros.shading.lighting import LightingBlend
 
 
 class Posing(NamedTuple):
-    """What posing the facets at one configuration takes: the facets' unit ``normals`` (G, 3)
-    in G, ``inward_T`` = -normals^T, per facet the ``matrix`` (G, 13, 10) taking its row
-    (W, W n, Q, Q x n, S) to its posed sums, and ``efforts`` (G, 13, 4 J) the same to the
-    joints' effort columns (None without joints)."""
+    """Posing at one configuration: ``normals`` (G, 3) in G, ``matrix`` (G, 13, 10) per facet, and
+    ``efforts`` (G, 13, 4 J) to the joints' effort columns (None without joints)."""
 
     normals: np.ndarray
     inward_T: np.ndarray
@@ -32,8 +28,7 @@ class Posing(NamedTuple):
 
 
 class PosedSums:
-    """A lighting's facet sums posed at a configuration: ``ten`` (G, 10), W, W n, Q, Q x n of
-    every facet, and :attr:`columns`, blended when first read."""
+    """A lighting's facet sums posed at a configuration: ``ten`` (G, 10) and :attr:`columns`."""
 
     __slots__ = ("ten", "_weights", "_stacked", "_columns")
 
@@ -46,8 +41,7 @@ class PosedSums:
 
     @classmethod
     def of(cls, weights, ten, columns=None) -> "PosedSums":
-        """The blend with ``weights`` (P,) of parts' ``ten`` (P, G, 10) and ``columns``
-        (P, G, 4 J) or None; one part is taken as it is."""
+        """The blend with ``weights`` (P,) of parts' ``ten`` (P, G, 10) and ``columns``."""
         if len(ten) == 1:
             return cls(ten[0], None, columns)
         weights = np.array(weights)
@@ -72,10 +66,11 @@ EPSILON[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0
 
 class PosedFacets:
     """The facets of every link of an articulated body, posed per configuration (build with
-    :meth:`of`): every evaluated link's ``link_facets`` in its own frame, its index among the
-    body's links (``link_index``), its panels' ``spans`` [start, stop) in the posed body, and the
-    joints' :class:`~adbsat_ros.physics.link_loads.EffortColumns`. ``n`` facets G, link after
-    link, each link's first at ``starts``; ``panel_index`` (N,) the facet of every panel."""
+    :meth:`of`).
+
+    ``spans``: each link's panels [start, stop) in the posed body; ``panel_index`` (N,): facet of
+    every panel.
+    """
 
     def __init__(self, link_facets, link_index, spans, joints=None, link_surfaces=None):
         self._facets = list(link_facets)
@@ -115,8 +110,7 @@ class PosedFacets:
 
     @classmethod
     def of(cls, link_methods, link_index, spans, joints=None) -> "PosedFacets | None":
-        """The posed facets of the links' panel methods (arguments as the class's), or None if
-        a link has no facets (a sphere, say)."""
+        """The posed facets of the links' panel methods, or None if a link has no facets."""
         if any(m.facets is None for m in link_methods):
             return None
         return cls(
@@ -128,13 +122,8 @@ class PosedFacets:
         )
 
     def surface(self, link_surfaces) -> PanelSurface | None:
-        """The facets' surface from each link's per-panel surface, or None if a parameter
-        varies within a facet.
-
-        A parameter every link has as its own materials' (the same object) takes the values
-        made once; a number every link has alike is that number (alpha of an accommodation
-        model, set at every message).
-        """
+        """The facets' surface from each link's per-panel surface, or None if one varies within a
+        facet."""
         if self._own is not None:
             own_values, own = self._own
             values = {}
@@ -154,7 +143,7 @@ class PosedFacets:
         return self._surface_of_links(link_surfaces)
 
     def _surface_of_links(self, link_surfaces) -> PanelSurface | None:
-        """:meth:`surface` made link by link (each link's facet values, joined)."""
+        """:meth:`surface` made link by link."""
         parts = [f.surface_of(s) for f, s in zip(self._facets, link_surfaces)]
         if any(p is None for p in parts):
             return None
@@ -193,8 +182,8 @@ class PosedFacets:
         return Posing(normals, inward_T, matrix, efforts)
 
     def link_rows(self, lighting) -> np.ndarray:
-        """Read-only rows (G, 13) of ``lighting`` (None: all lit): each facet's sums in its
-        link's frame, and its shift sums S in G."""
+        """Read-only rows (G, 13) of ``lighting`` (None: all lit): link-frame sums and shift sums S
+        in G."""
         rows = np.zeros((self.n, 13))
         if lighting is None:
             rows[:, :10] = self._all_lit
@@ -215,8 +204,7 @@ class PosedFacets:
         return rows
 
     def pose_part(self, rows, posing: Posing) -> tuple:
-        """One lighting's ``rows`` posed: read-only ten sums (G, 10) and effort columns
-        (G, 4 J) or None. The same bits alone or stacked (einsum sums each row on its own)."""
+        """One lighting's ``rows`` posed: ten sums (G, 10) and effort columns (G, 4 J) or None."""
         ten = np.einsum("gi,gic->gc", rows, posing.matrix)
         ten.setflags(write=False)
         if posing.efforts is None:
@@ -226,8 +214,8 @@ class PosedFacets:
         return ten, columns
 
     def pose(self, rows, weights, posing: Posing) -> PosedSums:
-        """The parts' ``rows`` posed and blended with ``weights``, link after link in the layout
-        of :meth:`Facets.lit_sums` (the body's totals are a rigid body's of these facets)."""
+        """The parts' ``rows`` posed and blended with ``weights``, in the layout of
+        :meth:`Facets.lit_sums`."""
         return PosedSums.of(weights, *_stacked([self.pose_part(r, posing) for r in rows]))
 
     def sums(self, lighting, configuration) -> PosedSums:

@@ -1,9 +1,6 @@
-"""One configured aerodynamic body as a value, :class:`Setup` (body, materials, reference,
-model, shading policy, solver), checked once and built by
-:func:`adbsat_ros.physics.model.build_model`. Each dialect has one translator to it (command
-line, node parameters, database metadata, sweep spec; docs/architecture.md), and errors name
-an input as that dialect does (:attr:`Setup.labels`).
-"""
+"""One configured aerodynamic body as a value, :class:`Setup`, checked once and built by
+:func:`adbsat_ros.physics.model.build_model`. Each dialect (command line, node parameters,
+database metadata, sweep spec; docs/architecture.md) has one translator to it."""
 
 from __future__ import annotations
 
@@ -25,23 +22,9 @@ SOLVERS = ("panel", "tpmc", "both")
 class BodySpec:
     """Where the body's panels come from.
 
-    Attributes
-    ----------
-    mesh : str
-        A mesh file, a bundled body (``example``, ``cylinder`` ...) or a URDF (a ``.urdf``
-        file, ``example-articulated``, ``example-finned``).
-    scale : float
-        Factor from file units to metres (mesh files only).
-    accept_size : bool
-        Take a mesh that is under 1 mm or over 200 m across.
-    urdf : str
-        A URDF's text (the node's ``robot_description``), taken instead of ``mesh``.
-    joints : tuple of (str, float) or None
-        A URDF posed once at these joint positions (the others at 0) and evaluated as a rigid
-        body; None: a URDF's joints move (an articulated body).
-    joint_degrees : bool
-        ``joints`` of revolute and continuous joints are in degrees (else radians); prismatic
-        ones in metres.
+    mesh: a mesh file, a bundled body or a URDF; scale: file units to metres (mesh files only);
+    urdf: a URDF's text instead of ``mesh``; joints: a URDF posed once there (None: joints move);
+    joint_degrees: revolute joints in degrees (else radians; prismatic in metres).
     """
 
     mesh: str = EXAMPLE_MESH_NAME
@@ -54,11 +37,10 @@ class BodySpec:
 
 @dataclass(frozen=True)
 class ShadingPolicy:
-    """How the panels are shaded: the mode, rays per panel, and the node's shading cache (a
-    rigid body's flow-direction cells; an articulated body's grid of joint configurations, or
-    its exact shading). ``exact_offline`` > 0: an offline job's cache instead, in exact mode
-    (the flow directions and joint positions themselves, no cells), keeping that many
-    lightings (:attr:`~adbsat_ros.physics.model.Model.cache`)."""
+    """How the panels are shaded: mode, rays per panel and the node's shading cache.
+
+    ``exact_offline`` > 0: an offline job's exact-mode cache keeping that many lightings.
+    """
 
     mode: str = "raycast"
     samples: int = DEFAULT_SAMPLES
@@ -75,8 +57,7 @@ class ShadingPolicy:
 
 @dataclass(frozen=True)
 class SolverSpec:
-    """The solver: ``panel``, ``tpmc`` (test particles: ``particles``, ``tolerance``,
-    ``seed`` of each run) or ``both``."""
+    """The solver: ``panel``, ``tpmc`` (``particles``, ``tolerance``, ``seed``) or ``both``."""
 
     method: str = "panel"
     particles: int | None = None
@@ -88,11 +69,8 @@ class SolverSpec:
 class Setup:
     """A configured aerodynamic body, checked when made (ValueError naming the input).
 
-    ``model`` is the canonical name; ``surface`` the default of every material and
-    ``overrides`` per-material ``NAME:key=value[,key=value]``; ``reference`` area and length
-    (None: from the mesh) and moment point (centre of mass); ``labels`` (str, str) pairs: how
-    the dialect names ``materials``, ``moment_point``, ``joints``, ``samples`` and ``solver``
-    in error messages (default those words; ``""``: no prefix).
+    ``overrides``: per-material ``NAME:key=value`` texts; ``reference``: area, length (None: from
+    the mesh), moment point; ``labels``: how the dialect names inputs in errors.
     """
 
     body: BodySpec = field(default_factory=BodySpec)
@@ -147,8 +125,7 @@ class Setup:
         return self.prefixed("materials", MaterialTable.from_texts, self.surface, self.overrides)
 
     def with_accommodation(self, alpha: float) -> "Setup":
-        """The set-up with ``alpha`` as alpha and alpha_n of the default surface and of every
-        material (an accommodation model's value at the flight conditions)."""
+        """The set-up with ``alpha`` as alpha and alpha_n of every material."""
         a = float(alpha)
         return replace(
             self,

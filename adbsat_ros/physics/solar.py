@@ -1,8 +1,7 @@
 """Solar radiation pressure coefficients of the panel mesh (Luthcke et al. 1997 flat plate).
 
 F / (P A) = c [(1 - rho_s) u_s - 2 (rho_s c + rho_d / 3) n] (Montenbruck & Gill 2000, eq. 3.75);
-unlike ADBSat the sun direction is its own input and faces with c <= 0 get no force
-(docs/physics.md, section 7).
+the sun direction is its own input and faces with c <= 0 get no force (docs/physics.md, sec. 7).
 """
 
 from __future__ import annotations
@@ -22,9 +21,8 @@ from adbsat_ros.shading.lighting import PanelLighting
 class SolarCoefficients:
     """Solar radiation pressure coefficients for one sun direction (unit, satellite to sun, G).
 
-    ``Cf_G``, ``Cm_G``: force / (P A_ref) and moment / (P A_ref L_ref) in G; ``Cf_s`` the force in
-    the wind axes of the flow angles, ``Cm_S`` the moment in body axes B (ADBSat's names);
-    ``area_lit`` the sunlit area projected normal to the sun [m^2].
+    ``Cf_G``, ``Cm_G``: force / (P A_ref) and moment / (P A_ref L_ref) in G; ``Cf_s`` in wind axes,
+    ``Cm_S`` in body axes B; ``area_lit``: sunlit area projected normal to the sun [m^2].
     """
 
     sun_direction: np.ndarray
@@ -50,22 +48,9 @@ def solar_coefficients(
 ) -> SolarCoefficients:
     """Solar radiation pressure coefficients of a mesh with its materials' reflectivities.
 
-    Parameters
-    ----------
-    method : PanelMethod
-        Mesh, materials (their reflectivities) and references.
-    sun_direction : array_like, shape (3,)
-        Satellite to sun, mesh frame G, any length.
-    aoa, aos : float
-        Flow angles [rad] of the wind axes of ``Cf_s``.
-    lighting : PanelLighting or LightingBlend, optional
-        Sunlit fractions along the sun direction.
-    sums : ndarray, shape (G, 10), optional
-        The facet sums of ``lighting``, if held.
-
-    Returns
-    -------
-    SolarCoefficients
+    sun_direction: satellite to sun, mesh frame G, any length, (3,).
+    aoa, aos: flow angles [rad] of the wind axes of ``Cf_s``.
+    sums: the (G, 10) facet sums of ``lighting``, if held.
     """
     s = np.asarray(sun_direction, dtype=float)
     norm = np.linalg.norm(s)

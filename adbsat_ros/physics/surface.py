@@ -25,23 +25,12 @@ SURFACE_PARAMETERS = (
 class SurfaceProperties:
     """Gas-surface and optical properties of one material.
 
-    Parameters
-    ----------
-    alpha : float
-        Energy accommodation coefficient [-], in [0, 1] (sentman, cook, dria; for maxwell the
-        diffuse fraction).
-    alpha_n : float
-        Normal energy accommodation of the CLL model [-], in [0, 1].
-    sigma_n : float
-        Normal momentum accommodation [-] (schaaf, storch), in [0, 2).
-    sigma_t : float
-        Tangential momentum accommodation [-] (schaaf, storch, cll), in [0, 1].
-    wall_temperature : float
-        Surface temperature T_w [K], > 0.
-    specular_reflectivity : float
-        Fraction of incident photons reflected specularly [-] (solar radiation pressure).
-    diffuse_reflectivity : float
-        Fraction reflected diffusely [-]; specular + diffuse <= 1, the rest is absorbed.
+    alpha: energy accommodation [-] in [0, 1] (sentman, cook, dria; maxwell's diffuse fraction).
+    alpha_n: normal energy accommodation of CLL [-] in [0, 1].
+    sigma_n: normal momentum accommodation [-] (schaaf, storch) in [0, 2).
+    sigma_t: tangential momentum accommodation [-] (schaaf, storch, cll) in [0, 1].
+    wall_temperature: T_w [K] > 0.
+    specular_reflectivity, diffuse_reflectivity: photon fractions [-], sum <= 1 (solar pressure).
     """
 
     alpha: float = 1.0
@@ -93,12 +82,7 @@ class PanelSurface:
 class MaterialTable:
     """Surface properties by material name, with a default for unnamed materials.
 
-    Parameters
-    ----------
-    default : SurfaceProperties, optional
-        Properties of every material not named in ``materials``.
-    materials : mapping of str to SurfaceProperties or dict, optional
-        Per-material overrides; a dict is applied on top of ``default``.
+    materials: per-material overrides; a dict is applied on top of ``default``.
     """
 
     def __init__(self, default: SurfaceProperties | None = None, materials: Mapping | None = None):
@@ -128,8 +112,8 @@ class MaterialTable:
 
     @classmethod
     def from_texts(cls, default: SurfaceProperties, override_texts) -> "MaterialTable":
-        """A table from default properties and ``NAME:key=value[,key=value]`` override texts;
-        ValueError naming the material and the bad item."""
+        """A table from defaults and ``NAME:key=value[,key=value]`` texts; ValueError naming the bad
+        item."""
         return cls(default, dict(parse_material_override(text) for text in override_texts))
 
     def properties(self, name: str) -> SurfaceProperties:
@@ -141,8 +125,7 @@ class MaterialTable:
         return sorted(set(self.materials) - set(mesh_material_names))
 
     def expand(self, material_names, material_index) -> PanelSurface:
-        """Per-panel parameters for a mesh (scalars where uniform); ValueError if the table names a
-        material the mesh does not have."""
+        """Per-panel parameters for a mesh; ValueError naming a material it lacks."""
         unknown = self.check_names(material_names)
         if unknown:
             raise ValueError(
@@ -164,10 +147,7 @@ class MaterialTable:
 def parse_material_override(text: str):
     """Parse ``NAME:key=value[,key=value]`` into ``(name, {key: value})``.
 
-    Raises
-    ------
-    ValueError
-        Naming the material and the bad item; keys must be in :data:`SURFACE_PARAMETERS`.
+    ValueError: a bad item or a key not in :data:`SURFACE_PARAMETERS` (names the material).
     """
     name, sep, rest = str(text).partition(":")
     name = name.strip()

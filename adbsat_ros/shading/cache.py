@@ -1,12 +1,7 @@
 """The one cache of shading: lightings, and what a method sums of them, by configuration and
-flow-direction cell; bounded and counted.
-
-Key ``(configuration key, cell key)``: ``()``, joint-grid indices or (exact mode) the joint
-positions; the cube-map cell of the flow direction or (exact mode) its components. A cell holds
-the lighting of its centre, so answers do not depend on the order of the queries. The bounds
-angle(u, u_c) <= h <= resolution_deg and :meth:`ShadingCache.area_error_bound` are proven in
-docs/shading.md ("Cache").
-"""
+flow-direction cell; bounded and counted. A cell holds the lighting of its centre, so answers do
+not depend on the order of the queries. The bounds angle(u, u_c) <= h <= resolution_deg and
+:meth:`ShadingCache.area_error_bound` are proven in docs/shading.md ("Cache")."""
 
 from __future__ import annotations
 
@@ -34,8 +29,8 @@ _UNMADE = object()
 
 
 class Cell:
-    """One entry: the read-only, shared ``lighting`` of a cell, its :attr:`sums`, and ``posed``,
-    a slot for the caller's memo of the sums posed at one configuration."""
+    """One entry: the read-only, shared ``lighting`` of a cell, its :attr:`sums`, and the caller's
+    ``posed`` memo."""
 
     __slots__ = ("lighting", "posed", "_summarise", "_sums")
 
@@ -56,32 +51,9 @@ class Cell:
 class ShadingCache:
     """The cache of shading: :class:`Cell` values by (configuration, flow-direction cell).
 
-    Parameters
-    ----------
-    shader : Shader
-        A rigid body's shader (else give ``body`` and ``posed_shader``).
-    resolution_deg : float
-        Bound [deg] on the angle from a query to its cell centre (cube-map step h = 90 / n).
-    max_entries : int or None
-        Cells kept, least recently used dropped (None: no bound).
-    interpolate : bool
-        Blend the three cell centres around the query.
-    summarise : callable, optional
-        ``summarise(lighting)`` makes :attr:`Cell.sums`.
-    exact : bool
-        Key exact directions and positions instead (:meth:`exact_mode`).
-    body, posed_shader : ArticulatedBody, callable
-        An articulated body and ``posed_shader(positions)`` (every moving joint named).
-    angle_step, length_step : float
-        The joint grid's steps [rad], [m].
-    joint_interpolate : bool
-        Blend the grid simplex around the positions, else take the nearest grid point.
-    max_configurations : int
-        Posed shaders kept.
-
-    Counters ``hits``, ``misses``, ``evictions`` (cells, counted reads) and
-    ``configuration_hits``/``misses`` (shaders); ``last_keys`` and ``last_uncounted`` hold the
-    keys of the latest counted and uncounted reads.
+    resolution_deg: bound [deg] from a query to its cell centre (cube-map step h = 90 / n).
+    angle_step, length_step: the joint grid's steps [rad], [m]. Counters ``hits``, ``misses``,
+    ``evictions`` (cells) and ``configuration_hits``/``misses`` (shaders).
     """
 
     def __init__(
@@ -130,8 +102,8 @@ class ShadingCache:
 
     @classmethod
     def exact_mode(cls, shader=None, *, max_entries=1, **articulated) -> "ShadingCache":
-        """A cache of the lighting of the flow direction (and joint positions) itself; by
-        default it keeps the latest cell only."""
+        """A cache of the lighting of the flow direction (and joint positions) itself; keeps the
+        latest."""
         return cls(shader, max_entries=max_entries, exact=True, **articulated)
 
     # ------------------------------------------------------------------------------ keys
@@ -146,13 +118,7 @@ class ShadingCache:
         return 6 * self.n * self.n
 
     def key(self, u_G) -> int:
-        """Cube-map cell key of flow direction ``u_G`` (G frame), as :func:`direction_keys`.
-
-        Raises
-        ------
-        ValueError
-            If ``u_G`` is not a finite non-zero 3-vector.
-        """
+        """Cube-map cell key of flow direction ``u_G`` (G); ValueError unless finite, non-zero."""
         return direction_key(*frames.direction_components(u_G), self.n)
 
     def centre(self, key: int) -> np.ndarray:
@@ -164,8 +130,8 @@ class ShadingCache:
         return key_centres(np.arange(self.n_cells), self.n)
 
     def vertices(self, positions=None) -> list:
-        """``[(weight, configuration key), ...]`` for joint ``positions`` (``[(1.0, ())]`` for a
-        rigid body; else the exact positions, or the grid's nearest point or simplex)."""
+        """``[(weight, configuration key), ...]`` for joint ``positions`` (``[(1.0, ())]`` if
+        rigid)."""
         if self.body is None:
             return [(1.0, ())]
         if self.exact:
@@ -265,9 +231,7 @@ class ShadingCache:
         return Cell(shader.lighting(direction), self._summarise)
 
     def read(self, u_G, vertices=None, count: bool = True) -> list:
-        """``[(weight, Cell), ...]`` for flow direction ``u_G`` (G) and configuration
-        ``vertices`` (default: a rigid body's), configuration major, parts of weight 0 dropped;
-        uncounted with ``count`` False."""
+        """``[(weight, Cell), ...]`` for direction ``u_G`` (G) and configuration ``vertices``."""
         if vertices is None:
             if self.body is not None:
                 raise ValueError("an articulated body's read needs vertices(positions)")
@@ -291,13 +255,7 @@ class ShadingCache:
         return out
 
     def lighting(self, u_G, vertices=None) -> PanelLighting | LightingBlend:
-        """Shading for flow direction ``u_G`` (G) (and configuration ``vertices``), counted.
-
-        Returns
-        -------
-        PanelLighting or LightingBlend
-            The one cell's lighting (the stored object, read-only), or the blend of the cells.
-        """
+        """Shading for flow direction ``u_G`` (G) (and ``vertices``), counted; read-only, shared."""
         return LightingBlend.of([(w, cell.lighting) for w, cell in self.read(u_G, vertices)])
 
     def lighting_angles(self, aoa: float, aos: float) -> PanelLighting:
@@ -305,8 +263,7 @@ class ShadingCache:
         return self.lighting(frames.flow_direction(aoa, aos))
 
     def precompute(self, directions=None) -> int:
-        """Fill a rigid body's cells of ``directions`` (M, 3) in G (default: every cell); the
-        number of cells shaded (counters unchanged; only the last ``max_entries`` stay)."""
+        """Fill a rigid body's cells of ``directions`` (M, 3) in G (default all); count shaded."""
         if self.body is not None or self.exact:
             raise ValueError("precompute fills a rigid body's cube-map cells only")
         if directions is None:
@@ -334,9 +291,8 @@ class ShadingCache:
         return self._perimeter
 
     def area_error_bound(self, u_G, lighting: PanelLighting | None = None) -> float:
-        """Bound E_max [m^2] on the lit projected area moved by using a rigid body's cached
-        answer at ``u_G`` (``lighting``; else read uncounted): theta (D P + A_g) + 2 delta_s A_p
-        (docs/shading.md), theta the largest angle from ``u_G`` to the centres read."""
+        """Bound E_max [m^2] on the lit projected area moved by a cached answer at ``u_G``:
+        theta (D P + A_g) + 2 delta_s A_p (docs/shading.md)."""
         if self.body is not None or self.exact:
             raise ValueError("area_error_bound is the bound of a rigid body's cube-map cells")
         u = frames.unit_vector(u_G)

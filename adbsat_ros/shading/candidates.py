@@ -1,8 +1,6 @@
-"""Which panels the ray-cast shader tests: the grazing rule and the filters (docs/shading.md).
-
-A forward panel can be shaded only if it is off its component's convex hull or another component
-lies upstream with an overlapping box normal to the flow. Units: metres, mesh frame G.
-"""
+"""Which panels the ray-cast shader tests: the grazing rule and the filters (docs/shading.md). A
+forward panel can be shaded only if it is off its component's convex hull or another component
+lies upstream with an overlapping box normal to the flow. Units: metres, mesh frame G."""
 
 from __future__ import annotations
 
@@ -49,10 +47,8 @@ def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -
 
 
 class FlowBoxes(NamedTuple):
-    """A mesh seen along one flow direction (:meth:`CandidateFilter.flow_boxes`): ``basis``
-    columns p1, p2 (normal to the flow) and -u; the panels' corner ``coords`` along them and the
-    boxes of panels (``pmin``, ``pmax``) and components (``cmin``, ``cmax``) [m], a coordinate
-    at a time."""
+    """A mesh seen along one flow direction: ``basis`` columns p1, p2 (normal to the flow) and -u,
+    and the boxes of panels and components along them [m]."""
 
     basis: np.ndarray
     coords: tuple
@@ -63,8 +59,8 @@ class FlowBoxes(NamedTuple):
 
 
 class MeshTopology(NamedTuple):
-    """Edge neighbours (E, 2), connected component (N,) and hull faces (N,) of a mesh (unchanged by
-    rigid motion); ``on_hull``: on their own component's hull, normal pointing out."""
+    """Edge neighbours (E, 2), component (N,) and hull faces (N,) of a mesh (unchanged by rigid
+    motion)."""
 
     adjacency: np.ndarray
     component: np.ndarray
@@ -101,11 +97,8 @@ class MeshTopology(NamedTuple):
 
 
 def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
-    """Faces on the convex hull of their own component, normal pointing out of the hull.
-
-    Tested by the centroid's distance to the hull (not the face's normal: rounding tilts a
-    sliver's); a flat component by the support of its points along the face's normal.
-    """
+    """Faces on their own component's hull, normal out, by centroid distance (rounding tilts
+    normals)."""
     from scipy.spatial import ConvexHull, QhullError  # (not at start-up)
 
     on_hull = np.zeros(mesh.n_panels, dtype=bool)
@@ -140,9 +133,8 @@ def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
 
 
 class CandidateFilter:
-    """Connected components, hull faces and the filter of panels that could be shaded; ``diagonal``
-    [m] (the hull tolerance's scale) is needed without ``topology``; ``convex`` (n_components,)
-    marks the closed convex components (they cast a convex shadow)."""
+    """Components, hull faces and the filter of panels that could be shaded; ``diagonal`` [m] scales
+    the hull tolerance; ``convex`` (n_components,) marks closed convex components."""
 
     def __init__(
         self, mesh: PanelMesh, diagonal: float | None = None, topology: MeshTopology | None = None

@@ -1,8 +1,6 @@
-"""Triangles clipped by convex polygons in the plane: the part of each triangle outside them.
-
-Inclusion-exclusion over the sets of polygons, each clipped Sutherland-Hodgman, vectorised over
-triangles. Units: any length, the same for every point.
-"""
+"""Triangles clipped by convex polygons in the plane: the part of each triangle outside them, by
+inclusion-exclusion over sets of polygons, each clipped Sutherland-Hodgman, vectorised over
+triangles. Units: any length, the same for every point."""
 
 from __future__ import annotations
 
@@ -17,19 +15,8 @@ SIDE_TOLERANCE = 16.0 * np.finfo(float).eps
 def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     """The part of each triangle outside some convex polygons: its area fraction and centroid.
 
-    Parameters
-    ----------
-    triangles : ndarray, shape (K, 3, 2)
-        Non-degenerate triangles [m], either orientation.
-    outlines : sequence of ndarray, each of shape (m, 2) or (K, m, 2)
-        Convex polygons [m], counter-clockwise, shared or one per triangle.
-
-    Returns
-    -------
-    fraction : ndarray, shape (K,)
-        Area fraction outside the polygons, in [0, 1].
-    centroid : ndarray, shape (K, 2)
-        Centroid of that part [m] (any value where the fraction is 0).
+    triangles: (K, 3, 2), either orientation; outlines: (m, 2) or (K, m, 2), counter-clockwise.
+    Returns fraction (K,) in [0, 1] and centroid (K, 2) (any value where the fraction is 0).
     """
     tri = np.asarray(triangles, dtype=float)
     k = tri.shape[0]
@@ -69,8 +56,7 @@ def _columns(outline, k: int) -> tuple:
 
 
 def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
-    """Area and centroid x, y (S, K) of each triangle's intersection with each set of polygons
-    (``sets`` (S, n) bool); only edges with a corner of the triangle outside clip it."""
+    """Area and centroid x, y (S, K) of each triangle's intersection with each set of polygons."""
     k, n = tx.shape[1], len(polygons)
     within, apart = np.empty((n, k), dtype=bool), np.empty((n, k), dtype=bool)
     cutting, starts, ends, owner = [], [], [], []

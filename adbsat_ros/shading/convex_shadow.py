@@ -1,9 +1,6 @@
-"""The exact shadows of closed convex parts: what of each panel behind them stays lit.
-
-Projected normal to the flow, each part in front of a panel's plane is a convex polygon and the
-panel a triangle, clipped exactly (:func:`~.clipping.lit_parts`; docs/shading.md). Units:
-metres; 2-D points in the plane normal to the flow.
-"""
+"""The exact shadows of closed convex parts: what of each panel behind them stays lit. Projected
+normal to the flow, each part is a convex polygon and the panel a triangle, clipped exactly
+(docs/shading.md). Units: metres; 2-D points in the plane normal to the flow."""
 
 from __future__ import annotations
 
@@ -38,8 +35,9 @@ PLANE_DIGITS = 6
 
 
 class ConvexParts:
-    """The closed convex components of a mesh, for exact shadows; ``diagonal`` [m] scales the
-    tolerances; ``corners``: hull corners (h, 3) [m], G, of some components, made before."""
+    """The closed convex components of a mesh, for exact shadows; ``diagonal`` [m] scales
+    tolerances;
+    ``corners``: hull corners (h, 3) [m], G."""
 
     def __init__(
         self, mesh: PanelMesh, candidate_filter, diagonal: float, graze_tol: float, corners=None
@@ -62,15 +60,7 @@ class ConvexParts:
     def lighting(self, boxes, panels: np.ndarray) -> tuple:
         """The panels among ``panels`` (K,) that convex parts alone can shade, lit exactly.
 
-        A panel qualifies if it faces the flow, is on its own component's hull, and one to
-        :data:`MAX_OCCLUDERS` other components, all closed and convex, could shade it.
-
-        Returns
-        -------
-        done : ndarray of bool, shape (K,)
-        fraction : ndarray, shape (done.sum(),)
-        centroid : ndarray, shape (done.sum(), 3)
-            Centroids of their lit parts [m], G (the barycentre where all is lit).
+        Returns done (K,) bool, fraction and centroid [m, G] of the done panels.
         """
         flt, mesh = self.filter, self.mesh
         occluders = flt.occluders(boxes, panels)
@@ -131,8 +121,8 @@ class ConvexParts:
         return done, fraction[done], centroid[done]
 
     def _shadows(self, members, normal, level: float, boxes, outlines: dict) -> list | None:
-        """Outlines normal to the flow of the parts ``members`` in front of the plane n . x = level;
-        None if one spans no area or a cut part has over :data:`MAX_CUT_CORNERS` corners."""
+        """Outlines of the parts ``members`` in front of the plane n . x = level (None if
+        degenerate)."""
         shapes = []
         for part in members:
             corners = self.corners(part)
@@ -216,8 +206,7 @@ def hull_corners(points: np.ndarray) -> np.ndarray:
 
 
 def convex_outline(points: np.ndarray) -> np.ndarray | None:
-    """Corners (m, 2) [m], counter-clockwise, of the convex hull of points (P, 2); None if they
-    span no area (below :data:`FLAT_OUTLINE` of the extent squared) or one is not finite.
+    """Corners (m, 2), counter-clockwise, of the convex hull of points (P, 2), or None if flat.
 
     Andrew's monotone chain (A. M. Andrew, Information Processing Letters 9, 216, 1979).
     """

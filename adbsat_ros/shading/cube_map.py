@@ -1,8 +1,6 @@
 """Cells of the sphere of flow directions: an equi-angular cube map (the shading cache's keys).
-
-A direction (mesh frame G, any length) maps to its cube face and two angles in [-45, 45] deg, each
-cut into n steps (docs/shading.md, "Cache").
-"""
+A direction (G, any length) maps to its face and two angles in [-45, 45] deg, each cut into n
+steps (docs/shading.md, "Cache")."""
 
 from __future__ import annotations
 
@@ -14,8 +12,7 @@ _QUARTER = 0.25 * math.pi
 
 
 def cells_per_edge(resolution_deg: float) -> int:
-    """The smallest odd n >= 90 / resolution_deg of angular steps along a face edge (odd: the six
-    axis directions are cell centres, so flight along an axis stays in one cell)."""
+    """The smallest odd n >= 90 / resolution_deg (odd: the six axis directions are cell centres)."""
     resolution_deg = float(resolution_deg)
     if not (math.isfinite(resolution_deg) and 0.0 < resolution_deg <= 90.0):
         raise ValueError(f"resolution_deg must be in (0, 90], got {resolution_deg!r}")
@@ -24,10 +21,7 @@ def cells_per_edge(resolution_deg: float) -> int:
 
 
 def direction_keys(u, n: int) -> np.ndarray:
-    """Cube-map cell keys (int64, () or (M,)) of non-zero directions ``u`` (G), ``n`` steps.
-
-    key = face * n^2 + i * n + j, face = 2 k + (u_k < 0) with k the axis of largest |u_k|.
-    """
+    """Cube-map cell keys (int64) of non-zero directions ``u`` (G): face * n^2 + i * n + j."""
     u = np.asarray(u, dtype=float)
     single = u.ndim == 1
     u = np.atleast_2d(u)
@@ -46,8 +40,7 @@ def direction_keys(u, n: int) -> np.ndarray:
 
 
 def face_axes(x: float, y: float, z: float) -> tuple:
-    """``(face, |u_k|, u_a, u_b)`` of one direction: k the first axis of largest |u_k| (as
-    np.argmax), a and b the two others in cyclic order."""
+    """``(face, |u_k|, u_a, u_b)`` of one direction: k the first axis of largest |u_k|."""
     ax, ay, az = abs(x), abs(y), abs(z)
     if ax >= ay and ax >= az:
         return (x < 0.0), ax, y, z

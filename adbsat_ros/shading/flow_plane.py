@@ -1,7 +1,4 @@
-"""Coordinates in the plane normal to the flow, and a 2-D grid that pairs points with boxes.
-
-Units: metres, directions unitless.
-"""
+"""Coordinates in the plane normal to the flow, and a 2-D grid that pairs points with boxes [m]."""
 
 from __future__ import annotations
 
@@ -42,11 +39,10 @@ def max3(a: np.ndarray) -> np.ndarray:
 
 
 def grid_pairs(px, py, bmin, bmax, max_pairs=MAX_PAIRS):
-    """Chunks ``(point_index, box_index)`` of the pairs whose grid cells match: every point r inside
-    box t exactly once, plus some that only share a cell (the caller filters).
+    """Chunks ``(point_index, box_index)`` of the pairs whose grid cells match (a superset of the
+    hits).
 
-    Points ``px``, ``py`` (R,) and boxes ``bmin``, ``bmax`` (T, 2) [m]; at most ``max_pairs`` per
-    chunk (a point with more boxes in its cell is yielded whole).
+    px, py (R,) and bmin, bmax (T, 2) [m]; at most ``max_pairs`` per chunk.
     """
     n_pts, n_box = len(px), len(bmin)
     if n_pts == 0 or n_box == 0:

@@ -1,11 +1,6 @@
-"""The grid of an articulated body's joint configurations: keys, simplex vertices, positions.
-
-A step h_j (h_r for revolute and continuous joints, h_p for prismatic ones); grid points are
-clipped to the joints' limits. In grid units x = q / h, with b = floor(x), f = x - b and the
-joints ordered by decreasing f, the Kuhn simplex around q has the vertices v_0 = b,
-v_k = v_(k-1) + e_(k) and the weights 1 - f_(1), f_(1) - f_(2), ..., f_(J) (f measured between
-the clipped grid positions in a cell a limit cuts). Accuracy: docs/shading.md.
-"""
+"""The grid of an articulated body's joint configurations: keys, simplex vertices, positions. Steps
+h_r (revolute, continuous) and h_p (prismatic); grid points clipped to the joints' limits; a
+query blends the Kuhn simplex around it (docs/shading.md, "Articulated bodies")."""
 
 from __future__ import annotations
 
@@ -19,13 +14,9 @@ ON_GRID = 1e-9
 
 
 def grid_steps(joints: Mapping, angle_step: float, length_step: float) -> tuple:
-    """The grid step of each joint of ``joints`` (name to Joint, in order): ``length_step``
-    [m] for a prismatic joint, ``angle_step`` [rad] otherwise.
+    """The grid step of each joint: ``length_step`` [m] if prismatic, else ``angle_step`` [rad].
 
-    Raises
-    ------
-    ValueError
-        If a step is not positive.
+    ValueError: a step is not positive.
     """
     if not (angle_step > 0.0 and length_step > 0.0):
         raise ValueError(
@@ -38,17 +29,14 @@ def grid_steps(joints: Mapping, angle_step: float, length_step: float) -> tuple:
 
 
 def grid_key(joints: Mapping, steps: tuple, positions: Mapping[str, float]) -> tuple:
-    """Grid indices of the grid configuration nearest checked joint ``positions`` (every
-    moving joint named)."""
+    """Grid indices of the grid configuration nearest checked joint ``positions``."""
     return tuple(math.floor(positions[name] / step + 0.5) for name, step in zip(joints, steps))
 
 
 def grid_vertices(
     joints: Mapping, steps: tuple, positions: Mapping[str, float], interpolate: bool
 ) -> list:
-    """``[(weight, key), ...]``: the grid configurations blended for ``positions`` and their
-    weights (positive, summing to 1): the Kuhn simplex around them, or the nearest
-    configuration alone without ``interpolate``."""
+    """``[(weight, key), ...]``: the Kuhn simplex around ``positions`` (or the nearest point)."""
     if not interpolate:
         return [(1.0, grid_key(joints, steps, positions))]
     base, fractions = [], []

@@ -1,9 +1,6 @@
-"""Which part of each panel the flow (or sunlight) reaches: the output of shading.
-
-A :class:`PanelLighting` holds the lit fraction of every panel (effective area A_i f_i) and, for
-partly lit panels, the shift of the centre of pressure to the lit part's centroid, stored
-sparsely (only panels not fully lit).
-"""
+"""Which part of each panel the flow (or sunlight) reaches: the output of shading. The lit fraction
+of every panel (effective area A_i f_i) and, for partly lit panels, the shift of the centre of
+pressure to the lit part's centroid, stored sparsely."""
 
 from __future__ import annotations
 
@@ -21,24 +18,9 @@ def _read_only(array: np.ndarray) -> np.ndarray:
 class PanelLighting:
     """Lit fraction and lit-centroid shift of every panel, for one flow direction (read-only).
 
-    Parameters
-    ----------
-    lit_fraction : array_like, shape (N,)
-        Fraction of each panel's area reached by the flow, in [0, 1].
-    shift_index : array_like of int, shape (K,), optional
-        Panels whose lit part has its centroid away from the barycentre (partly lit panels).
-    shift : array_like, shape (K, 3), optional
-        Lit centroid minus barycentre of those panels [m], in the mesh frame G.
-
-    Stored: ``n_panels`` N, ``shaded_index`` (S,) the panels not fully lit (ascending) and
-    ``shaded_fraction`` their lit fractions in [0, 1), ``shift_fraction`` (K,) the lit fractions
-    of the panels of ``shift_index``.
-
-    Raises
-    ------
-    ValueError
-        If ``lit_fraction`` is not a 1-D array of numbers in [0, 1], or the shifts do not match
-        (shape, panel indices out of range).
+    lit_fraction: (N,) in [0, 1]; shift_index (K,): panels with a shifted lit centroid;
+    shift: lit centroid minus barycentre (K, 3) [m], G.
+    ValueError: ``lit_fraction`` not 1-D in [0, 1], or shifts that do not match.
     """
 
     __slots__ = (
@@ -106,16 +88,10 @@ class PanelLighting:
 
 
 class LightingBlend:
-    """A weighted mean of lightings: what the interpolating shading cache hands out.
+    """A weighted mean of lightings (the interpolating cache's answer): f_i = sum_k w_k f_k,i and
+    d_i = sum_k w_k f_k,i d_k,i / f_i, so the panel method's result is the mean of the parts'.
 
-    f_i = sum_k w_k f_k,i and d_i = sum_k w_k f_k,i d_k,i / f_i: the panel method is linear in f_i
-    and f_i d_i, so its result with the blend is the weighted mean of its results with the parts.
-    The per-panel view (as :class:`PanelLighting`) is made on first use from :attr:`combined`.
-
-    Parameters
-    ----------
-    parts : sequence of (float, PanelLighting)
-        Weights (positive, summing to 1 within 1e-9) and lightings of one mesh.
+    parts: (weight, PanelLighting) pairs of one mesh, weights positive, summing to 1 within 1e-9.
     """
 
     def __init__(self, parts):
@@ -164,9 +140,7 @@ class LightingBlend:
         return self._combined
 
     def __getattr__(self, name):
-        """The per-panel views of :attr:`combined` (``lit_fraction``, ``shaded_index``,
-        ``shaded_fraction``, ``shift_index``, ``shift`` [m], ``shift_fraction``, ``shaded``,
-        ``partly_lit``), as :class:`PanelLighting` gives them."""
+        """The per-panel views of :attr:`combined`, as :class:`PanelLighting` gives them."""
         if name in _COMBINED_VIEWS:
             return getattr(self.combined, name)
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
@@ -188,9 +162,7 @@ _COMBINED_VIEWS = frozenset(
 
 
 def panel_range(lighting, start: int, stop: int, rotation=None):
-    """The lighting (PanelLighting, LightingBlend or None) of panels ``start`` to ``stop - 1``
-    alone, or None if they are all lit; ``rotation`` (3, 3) takes the shifts into the part's
-    own frame (d' = rotation d)."""
+    """The lighting of panels ``start`` to ``stop - 1`` alone (None if all lit), shifts rotated."""
     if lighting is None:
         return None
     if isinstance(lighting, LightingBlend):

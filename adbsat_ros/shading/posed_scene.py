@@ -1,9 +1,5 @@
-"""What ray-cast shading needs of an articulated body, made once per link for every configuration.
-
-Per configuration the links are posed, the ray scene built on the first ray and the topologies
-joined: equal to :func:`~adbsat_ros.shading.rays.ray_scene` on the body's mesh. Units: metres,
-body frame G.
-"""
+"""What ray-cast shading needs of an articulated body, made once per link for every configuration;
+equal to :func:`~adbsat_ros.shading.rays.ray_scene` on the posed body's mesh. Units: m, frame G."""
 
 from __future__ import annotations
 
@@ -76,8 +72,7 @@ class LinkScenes:
 
 
 class DeferredScene:
-    """A ray scene (``backend``) that ``build()`` makes when a ray is first cast through it: exact
-    convex shadows often leave no ray to cast."""
+    """A ray scene that ``build()`` makes when a ray is first cast through it."""
 
     def __init__(self, backend: str, build):
         self.backend = backend

@@ -1,8 +1,6 @@
-"""ADBSat's shading (``shadowAnaly``), vectorised.
-
-A forward panel is in shadow, all or nothing, if its barycentre, projected along the flow, falls
-inside an upstream back face (docs/physics.md, section 6). Units: metres, mesh frame G.
-"""
+"""ADBSat's shading (``shadowAnaly``), vectorised: a forward panel is in shadow, all or nothing, if
+its barycentre, projected along the flow, falls inside an upstream back face (docs/physics.md,
+section 6). Units: metres, mesh frame G."""
 
 from __future__ import annotations
 
@@ -20,22 +18,10 @@ ADBSAT_DOWNSTREAM_TOL = 1e-5
 
 # ---------------------------------------------------------------------------------- ADBSat
 def adbsat_shadowed(mesh: PanelMesh, u_G, max_pairs: int = MAX_PAIRS) -> np.ndarray:
-    """Panels ADBSat's ``shadowAnaly`` marks as shadowed (pairs from a grid, same result).
+    """Panels ADBSat's ``shadowAnaly`` marks as shadowed, (N,) bool, for gas-flow direction ``u_G``
+    (G).
 
-    Parameters
-    ----------
-    mesh : PanelMesh
-        Panels in G [m].
-    u_G : array_like, shape (3,)
-        Gas-flow direction in G.
-    max_pairs : int
-        Largest number of (forward, backward) candidate pairs held at once.
-
-    Returns
-    -------
-    ndarray of bool, shape (N,)
-        True for forward panels (delta <= 90.0001 deg) whose barycentre projects into a backward
-        panel downstream of its plane by more than 1e-5 m (physics.md section 6).
+    max_pairs: most (forward, backward) candidate pairs held at once.
     """
     u = frames.unit_vector(u_G)
     n = mesh.n_panels

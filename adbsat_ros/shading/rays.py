@@ -1,9 +1,6 @@
-"""Ray casting against a mesh: one interface (:class:`RayScene`), two backends.
-
-``"embree"`` (float32, :mod:`~.rays_embree`) and ``"numpy"`` (float64 Moeller-Trumbore, the
-reference, :mod:`~.rays_numpy`) agree except within float32 rounding (~1e-7 of the mesh size) of
-an edge; shared edges count as inside both triangles. Units: metres, mesh frame G.
-"""
+"""Ray casting against a mesh: one interface (:class:`RayScene`), two backends: ``"embree"``
+(float32) and ``"numpy"`` (float64, the reference), equal except within float32 rounding of an
+edge; shared edges count as inside both triangles. Units: metres, mesh frame G."""
 
 from __future__ import annotations
 
@@ -39,27 +36,24 @@ class RayScene(Protocol):
     def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
         """Whether each ray origins[r] + t direction, t > 0, meets an occluding panel, (R,) bool.
 
-        ``origins`` (R, 3) [m] and the unit ``direction`` (3,) in G; ``occluder`` (N,) bool, the
-        panels that can block (default all; panels parallel to ``direction`` must be left out).
+        origins (R, 3) [m], unit direction (3,), G; occluder (N,) bool, none parallel to the
+        direction.
         """
         ...
 
     def first_face(self, origins, direction, occluder=None) -> np.ndarray:
-        """The first occluding panel (R,) int64 each ray meets (as :meth:`any_hit`), -1 for
-        none exactly where :meth:`any_hit` is False."""
+        """The first occluding panel (R,) each ray meets (as :meth:`any_hit`), -1 for none."""
         ...
 
     def first_hit(self, origins, directions) -> tuple:
-        """``(face, t)``, (R,) each: the first panel each ray origins[r] + t directions[r], t > 0,
-        meets (-1 and inf for none); directions (R, 3) of any non-zero length, G."""
+        """``(face, t)`` of the first panel each ray meets (-1, inf: none); directions (R, 3), G."""
         ...
 
 
 def resolve_backend(backend: str) -> str:
-    """The backend ``"embree"`` or ``"numpy"`` that ``backend`` names (``"auto"``: Embree if
-    :data:`has_embree`).
+    """``"embree"`` or ``"numpy"`` for ``backend`` (``"auto"``: Embree if :data:`has_embree`).
 
-    Raises ValueError for an unknown name, RuntimeError for ``"embree"`` without embreex.
+    ValueError for an unknown name, RuntimeError for ``"embree"`` without embreex.
     """
     name = str(backend).lower()
     if name not in BACKENDS:
@@ -74,8 +68,7 @@ def resolve_backend(backend: str) -> str:
 
 
 def ray_scene(mesh: PanelMesh, backend: str = "auto", indexed: tuple | None = None) -> RayScene:
-    """A ray scene of the panels of ``mesh`` (face i is panel i) with ``backend``; ``indexed``:
-    its merged vertices (V, 3) and faces (N, 3), if made before."""
+    """A ray scene of the panels of ``mesh`` (face i is panel i) with ``backend``."""
     if resolve_backend(backend) == "embree":
         return EmbreeScene(mesh, indexed)
     return NumpyScene(mesh)

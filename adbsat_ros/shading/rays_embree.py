@@ -1,7 +1,5 @@
-"""Ray casting with Embree through embreex (float32; :mod:`adbsat_ros.shading.rays`' interface).
-
-Importing this module imports embreex. Units: metres, mesh frame G.
-"""
+"""Ray casting with Embree through embreex (float32), :mod:`adbsat_ros.shading.rays`' interface.
+Units: metres, mesh frame G."""
 
 from __future__ import annotations
 
@@ -18,8 +16,7 @@ SCENE_EXTENT = 100.0
 
 
 class EmbreeScene:
-    """The panels of a mesh (face i is panel i) as an Embree scene, float32, rescaled; ``indexed``:
-    vertices (V, 3) [m] and faces (N, 3), by default ``mesh.to_trimesh()``'s."""
+    """The panels of a mesh (face i is panel i) as an Embree scene, float32, rescaled."""
 
     backend = "embree"
 

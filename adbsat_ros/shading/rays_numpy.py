@@ -1,8 +1,5 @@
 """Ray casting in numpy (float64): the reference backend, and the fallback without Embree.
-
-Moeller-Trumbore, pairs from a grid normal to the rays (:func:`~.flow_plane.grid_pairs`) in
-chunks of bounded memory. Units: metres, mesh frame G.
-"""
+Moeller-Trumbore on pairs from a grid normal to the rays, in chunks. Units: metres, mesh frame G."""
 
 from __future__ import annotations
 
@@ -18,8 +15,7 @@ EDGE_TOLERANCE = 1e-12
 def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
     """Whether each ray origins[r] + t d, t > 0, meets any of the triangles, (R,) bool.
 
-    ``origins`` (R, 3) [m], unit ``d`` (3,), ``tri_vertices`` (T, 3, 3) [m] none parallel to d,
-    all in G; edges inclusive; ``max_pairs`` (ray, triangle) pairs at once.
+    origins (R, 3) [m], unit d (3,), tri_vertices (T, 3, 3) [m] none parallel to d, G; edges count.
     """
     origins = np.asarray(origins, dtype=float)
     hit = np.zeros(len(origins), dtype=bool)
@@ -29,8 +25,7 @@ def any_hit(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
 
 
 def first_along(origins, d, tri_vertices, max_pairs=MAX_PAIRS) -> np.ndarray:
-    """The nearest triangle (R,) int64 each ray meets (as :func:`any_hit`; lower index at equal
-    t; -1 for none)."""
+    """The nearest triangle (R,) each ray meets (lower index at equal t; -1 for none)."""
     origins = np.asarray(origins, dtype=float)
     n_rays = len(origins)
     face = np.full(n_rays, -1, dtype=np.int64)
@@ -99,8 +94,7 @@ def _hits_along(origins, d, tri_vertices, max_pairs):
 
 
 def first_hit(origins, directions, tri_vertices, max_pairs=MAX_PAIRS // 4) -> tuple:
-    """``(face, t)`` of the first triangle each ray origins[r] + t directions[r], t > 0, meets
-    (-1, inf for none), testing every pair."""
+    """``(face, t)`` of the first triangle each ray meets (-1, inf for none), every pair tested."""
     origins = np.asarray(origins, dtype=float)
     directions = np.asarray(directions, dtype=float)
     n_rays = len(origins)

@@ -1,7 +1,5 @@
-"""Where rays start on a panel: Roberts' R2 sequence, shifted per panel (SplitMix64 of the index)
-so neighbours' sampling errors along a shadow edge do not add up. Triangle coordinates (a, b):
-the point P1 + a (P2 - P1) + b (P3 - P1) (metres, mesh frame G).
-"""
+"""Where rays start on a panel: Roberts' R2 sequence, shifted per panel (SplitMix64 of the index).
+Triangle coordinates (a, b): the point P1 + a (P2 - P1) + b (P3 - P1) (metres, mesh frame G)."""
 
 from __future__ import annotations
 
@@ -49,17 +47,13 @@ def sample_coordinates(panel_index, start: int, count: int):
 
 
 def sample_barycentric(panel_index, start: int, count: int) -> np.ndarray:
-    """Triangle coordinates (K, count, 2) of points k = start .. start+count-1 of each panel:
-    frac(s_i + k alpha), folded into the triangle ((a, b) -> (1 - a, 1 - b) if a + b > 1)."""
+    """Triangle coordinates (K, count, 2) of points start .. start+count-1 of each panel."""
     a, b = sample_coordinates(panel_index, start, count)
     return np.stack([a, b], axis=-1)
 
 
 def sample_points(vertices: np.ndarray, a: np.ndarray, b: np.ndarray, lift=None) -> np.ndarray:
-    """Points P1 + a (P2 - P1) + b (P3 - P1) + lift on triangles, shape (K, S, 3) [m].
-
-    ``vertices`` (K, 3, 3) [m]; ``a``, ``b`` (K, S); ``lift`` (K, 3) [m], optional.
-    """
+    """Points P1 + a (P2 - P1) + b (P3 - P1) + lift on triangles, (K, S, 3) [m]."""
     v0 = vertices[:, 0, :]
     e1 = vertices[:, 1, :] - v0
     e2 = vertices[:, 2, :] - v0

@@ -1,10 +1,7 @@
-"""Shading: which part of each panel the flow reaches (a point is shaded if the line upstream,
--u, meets the satellite).
-
-Modes (:func:`make_shader`): ``"none"``, ``"projection"`` (ADBSat's ``shadowAnaly``) and
-``"raycast"`` (default: exact convex shadows, else sampled rays, refined where partly lit).
-Method and accuracy: docs/shading.md. Units: metres, frame G, angles in radians.
-"""
+"""Shading: which part of each panel the flow reaches (a point is shaded if the line upstream, -u,
+meets the satellite). Modes (:func:`make_shader`): ``"none"``, ``"projection"`` (ADBSat's
+``shadowAnaly``) and ``"raycast"`` (default: exact convex shadows, else sampled rays, refined
+where partly lit). Method and accuracy: docs/shading.md. Units: metres, frame G, radians."""
 
 from __future__ import annotations
 
@@ -41,43 +38,12 @@ STATS = ("forward", "tested", "rays", "exact", "corner_shaded", "partly_lit", "r
 
 
 class Shader:
-    """Shading of one mesh for any flow direction; build once, call :meth:`lighting` often.
+    """Shading of one mesh (frame G, metres) for any flow direction; build once, call
+    :meth:`lighting`.
 
-    Parameters
-    ----------
-    mesh : PanelMesh
-        The satellite surface (frame G, metres).
-    mode : {"raycast", "projection", "none"}
-    samples : int
-        Rays per forward panel that could be shaded (raycast).
-    backend : {"auto", "embree", "numpy"}
-        Ray engine (raycast, :mod:`adbsat_ros.shading.rays`).
-    refine_samples : int
-        Extra rays for each panel found partly lit by the first ``samples`` (raycast).
-    graze_tol : float
-        |cos delta| at or below which a face is grazing (it occludes nothing).
-    offset : float, optional
-        Distance [m] by which ray origins are moved off their panel along its normal; default
-        1e-5 of the bounding-box diagonal.
-    prefilter : bool
-        Test only the forward panels that could be shaded; False tests all (same answers).
-    dilate : bool
-        Also probe the edge neighbours of partly lit panels with ``refine_samples // 8`` rays.
-    convex_shadows : bool
-        Light exactly the panels only closed convex components can shade; False casts every
-        panel's rays (for checks).
-    scene, candidate_filter, hull_corners : optional
-        The ray scene, candidate filter and hull corners of ``mesh``, made before (e.g.
-        :meth:`~adbsat_ros.shading.posed_scene.LinkScenes.scene`; ``backend`` is then the scene's).
-    topology_store : TopologyStore, "default" or None
-        Where the merged vertices and topology are kept (:mod:`~.topology_store`); None for none.
-
-    Attributes
-    ----------
-    trivial : bool
-        True for mode ``"none"`` or a convex mesh: every panel lit, no work.
-    last_stats : dict
-        Counts from the latest call (:data:`STATS`).
+    samples, refine_samples: rays per forward panel that could be shaded, and per partly lit panel.
+    graze_tol: |cos delta| at or below which a face is grazing; offset: ray-origin offset [m]
+    (default 1e-5 of the bounding-box diagonal). ``last_stats``: counts of the latest call (STATS).
     """
 
     def __init__(
@@ -148,17 +114,9 @@ class Shader:
                 )
 
     def lighting(self, u_G) -> PanelLighting:
-        """Lit fraction and lit-centroid shift of every panel for one flow direction.
+        """Lit fraction and lit-centroid shift [m, G] of every panel for one flow direction.
 
-        Parameters
-        ----------
-        u_G : array_like, shape (3,)
-            Direction of the gas motion relative to the body, mesh frame G (normalised here).
-
-        Returns
-        -------
-        PanelLighting
-            lit_fraction (N,) in [0, 1]; shift (K, 3) [m] in G for the partly lit panels.
+        u_G: gas motion relative to the body, mesh frame G, (3,) (normalised here).
         """
         u = frames.unit_vector(u_G)
         if self.trivial:
@@ -202,8 +160,7 @@ class Shader:
         return out
 
     def _corner_rays(self, corners, d, occluder, cand) -> tuple:
-        """Corner rays lit (K, 3), and panels wholly shaded (K,): all three corner rays first meet
-        one closed convex component other than the panel's own (its shadow is convex)."""
+        """Corner rays lit (K, 3), and panels wholly shaded (K,) by one closed convex component."""
         n = cand.size
         if not self.convex_shadows or not self.filter.convex.any():
             lit = ~self.scene.any_hit(corners.reshape(-1, 3), d, occluder).reshape(n, 3)
@@ -344,28 +301,11 @@ def make_shader(
     backend: str = "auto",
     **options,
 ) -> Shader:
-    """Build a :class:`Shader` for ``mesh``.
+    """Build a :class:`Shader` for ``mesh`` (metres, mesh frame G).
 
-    Parameters
-    ----------
-    mesh : PanelMesh
-        The surface to shade (metres, mesh frame G).
-    mode : {"raycast", "projection", "none"}
-    samples : int
-        Rays per panel that could be shaded (raycast), >= 1.
-    backend : {"auto", "embree", "numpy"}
-        Ray engine (raycast): Embree if installed, else numpy.
-    **options
-        Further :class:`Shader` parameters.
-
-    Returns
-    -------
-    Shader
-
-    Raises
-    ------
-    ValueError
-        Naming a mode, backend or option outside its allowed values.
+    mode: ``"raycast"``, ``"projection"`` or ``"none"``; samples: rays per panel (raycast), >= 1.
+    backend: ``"auto"`` (Embree if installed, else numpy), ``"embree"`` or ``"numpy"``.
+    ValueError: a mode, backend or option outside its allowed values (named).
     """
     return Shader(mesh, mode=mode, samples=samples, backend=backend, **options)
 

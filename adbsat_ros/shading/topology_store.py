@@ -1,8 +1,5 @@
-"""The ray-cast shader's topology of a mesh kept on disk, read back instead of made again.
-
-Key: SHA-256 of the panels' vertices, the diagonal, format and code fingerprint; 64 most recently
-used entries in ``$ADBSAT_ROS_CACHE_DIR/topology``.
-"""
+"""The ray-cast shader's topology of a mesh kept on disk (``$ADBSAT_ROS_CACHE_DIR/topology``, 64
+entries), keyed by the SHA-256 of the panels' vertices, the diagonal, format and code."""
 
 from __future__ import annotations
 

@@ -1,8 +1,7 @@
 """Cercignani-Lampis-Lord model per species (docs/physics.md, section 3.7); results per q.
 
 Sources: R. G. Lord, Physics of Fluids A 3 (1991) 706-710; A. Walker, P. Mehta and J. Koller,
-J. Spacecraft and Rockets 51 (2014) 1544-1563 (the fits); as in ADBSat (Sinpetru et al.,
-Computer Physics Communications 275 (2022) 108326).
+J. Spacecraft and Rockets 51 (2014) 1544-1563 (the fits); as in ADBSat (Sinpetru et al., 2022).
 """
 
 from __future__ import annotations
@@ -53,9 +52,7 @@ def _cll_fit(name, alpha_n):
 def cll(c, sigma, surface, flow, options):
     """Cercignani-Lampis-Lord per species (He, O, N2, O2, H, N) with Walker et al. (2014) fits.
 
-    Panels with alpha_n = 1 use Schaaf & Chambre with sigma_n = 1; with ``adbsat_compat`` the fit
-    applies only if every panel has alpha_n < 1, else every panel is Schaaf & Chambre with
-    sigma_n = its alpha_n (ADBSat's branch). Back faces are kept.
+    Panels with alpha_n = 1 use Schaaf & Chambre with sigma_n = 1 (``adbsat_compat``: section 3.7).
     """
     if not flow.has_species:
         raise ValueError("the cll model needs the gas composition (number_densities / --species)")

@@ -1,13 +1,7 @@
-"""Models of a drifting Maxwellian gas with diffuse or partly accommodated re-emission.
-
-Back faces get the molecules that catch up with them. Each model is a *plate* (c_p and
-c_tau / sin(delta) elementwise in c) and its parameters (:data:`~.gsi_models.SPLIT_MODELS`).
-Formulas: docs/physics.md, sections 3.2, 3.3 and 3.8; results per q = rho V^2 / 2.
-
-Sources: L. H. Sentman, Lockheed LMSC-448514 (1961); S. A. Schaaf and P. L. Chambre, "Flow of
-Rarefied Gases", Princeton (1961); dria: Walker, Mehta and Koller, J. Spacecraft and Rockets 51
-(2014) 1544-1563; as in ADBSat (Sinpetru et al., Comput. Phys. Commun. 275 (2022) 108326).
-"""
+"""Models of a drifting Maxwellian gas with diffuse or partly accommodated re-emission: each a
+*plate* (c_p and c_tau / sin(delta) in c); docs/physics.md, 3.2, 3.3, 3.8; results per q.
+Sources: Sentman, LMSC-448514 (1961); Schaaf and Chambre, "Flow of Rarefied Gases" (1961); dria:
+Walker, Mehta and Koller, JSR 51 (2014) 1544-1563; as in ADBSat (Sinpetru et al., CPC 275, 2022)."""
 
 from __future__ import annotations
 
@@ -23,8 +17,7 @@ SQRT_PI = math.sqrt(math.pi)
 
 
 def sentman_plate(c, s, K):
-    """Sentman's plate for one gas: c_p and c_tau / sin(delta), elementwise in ``c``, of speed
-    ratio ``s`` and K = sqrt(T_r / T_inf) / s."""
+    """Sentman's plate: c_p, c_tau / sin(delta) of speed ratio ``s``; K = sqrt(T_r / T_inf) / s."""
     minus_x = c * -s
     Phi = erfc(minus_x)  # = 1 + erf(x), without cancellation for x << 0
     e = np.exp(-(minus_x * minus_x))
@@ -104,8 +97,8 @@ def schaaf_parameters(surface, flow, options):
 
 
 def dria(c, sigma, surface, flow, options):
-    """Diffuse reflection with incomplete accommodation: Sentman's plate per species, mixed by
-    mass fraction; back faces kept."""
+    """Diffuse reflection with incomplete accommodation: Sentman per species, mixed by mass
+    fraction."""
     if not flow.has_species:
         raise ValueError("the dria model needs the gas composition (number_densities / --species)")
     names = [n for n in flow.species if flow.number_densities[n] > 0]

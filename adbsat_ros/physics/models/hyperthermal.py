@@ -1,11 +1,7 @@
-"""Hyperthermal models: the molecules' thermal speed neglected against the flow speed.
-
-Back faces (delta > 90 deg) get no force; results per q = rho V^2 / 2 (docs/physics.md,
-sections 3.1, 3.5, 3.6). Sources: newton (Anderson, "Hypersonic and High-Temperature Gas
-Dynamics", 2006, ch. 3); G. E. Cook, Planetary and Space Science 13 (1965) 929-946; J. A. Storch,
-The Aerospace Corporation (2002); as in ADBSat (Sinpetru et al., Comput. Phys. Commun. 275
-(2022) 108326).
-"""
+"""Hyperthermal models (thermal speed neglected); back faces get no force; results per q
+(docs/physics.md, 3.1, 3.5, 3.6). Sources: Anderson, "Hypersonic and High-Temperature Gas
+Dynamics" (2006), ch. 3; G. E. Cook, Planet. Space Sci. 13 (1965) 929-946; J. A. Storch, The
+Aerospace Corporation (2002); as in ADBSat (Sinpetru et al., CPC 275 (2022) 108326)."""
 
 from __future__ import annotations
 

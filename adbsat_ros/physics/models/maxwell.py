@@ -1,9 +1,7 @@
 """Maxwell's model: a fraction alpha of the molecules re-emitted diffusely, the rest specularly.
 
-Docs/physics.md, section 3.4; ADBSat's two-sided plate (Bird, "Molecular Gas Dynamics and the
-Direct Simulation of Gas Flows", Oxford 1994, ch. 7) with ``ModelOptions(adbsat_compat=True)``.
-Sources: J. C. Maxwell, Phil. Trans. R. Soc. 170 (1879) 231-256; Sinpetru et al., Comput. Phys.
-Commun. 275 (2022) 108326 (ADBSat).
+Docs/physics.md, section 3.4 (ADBSat's two-sided plate, Bird 1994 ch. 7, with ``adbsat_compat``).
+Sources: J. C. Maxwell, Phil. Trans. R. Soc. 170 (1879) 231-256; Sinpetru et al., CPC 275 (2022).
 """
 
 from __future__ import annotations
@@ -16,11 +14,7 @@ from adbsat_ros.physics.models.hyperthermal import zero_backward
 
 
 def maxwell(c, sigma, surface, flow, options):
-    """Maxwell model: a fraction alpha of molecules re-emitted diffusely at T_w, the rest specular.
-
-    By default exactly Schaaf & Chambre with sigma_n = sigma_t = alpha, back faces kept; with
-    ``adbsat_compat`` ADBSat's two-sided flat plate, zeroed for back faces.
-    """
+    """Maxwell: Schaaf & Chambre with sigma_n = sigma_t = alpha (``adbsat_compat``: ADBSat's)."""
     if not options.adbsat_compat:
         return schaaf_coefficients(c, sigma, *maxwell_parameters(surface, flow, options))
     alpha = surface.alpha
@@ -47,10 +41,7 @@ def maxwell(c, sigma, surface, flow, options):
 
 
 def maxwell_parameters(surface, flow, options):
-    """:func:`~adbsat_ros.physics.models.diffuse.schaaf_parameters` with sigma_n = sigma_t = alpha.
-
-    None with ``adbsat_compat`` (ADBSat's two-sided plate is not of that form).
-    """
+    """Schaaf & Chambre's parameters with sigma_n = sigma_t = alpha (or None: ``adbsat_compat``)."""
     if options.adbsat_compat:
         return None
     r = np.sqrt(surface.wall_temperature / flow.temperature)

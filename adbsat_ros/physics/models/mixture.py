@@ -1,8 +1,5 @@
-"""How the per-species models (cll, dria) weight the species of the gas.
-
-By mass fraction rho_j / rho (the force is sum_j q_j C_j); ``ModelOptions(adbsat_compat=True)``
-reproduces ADBSat's rules (docs/physics.md, section 3.9).
-"""
+"""How the per-species models (cll, dria) weight the species of the gas: by mass fraction
+(docs/physics.md, section 3.9; ``adbsat_compat``: ADBSat's rules)."""
 
 from __future__ import annotations
 
@@ -15,8 +12,7 @@ from adbsat_ros.physics.freestream import FreeStream
 
 
 def species_weights(flow: FreeStream, names, options, adbsat_rule: str) -> np.ndarray:
-    """Weights (len(names),) of the species ``names`` of ``flow``: mass fractions renormalised over
-    ``names``, or ADBSat's ``adbsat_rule`` ("cll", "dria") with ``options.adbsat_compat``."""
+    """Weights of the species ``names`` of ``flow``: mass fractions, or ADBSat's rule."""
     idx = [flow.species.index(n) for n in names]
     n = flow.species_number_densities[idx]
     m = flow.species_masses[idx]

@@ -14,23 +14,9 @@ INCIDENT_TEMPERATURE_FORMS = ("energy", "kinetic")
 class ModelOptions:
     """Choices that change how models are evaluated (not per-material properties).
 
-    Parameters
-    ----------
-    incident_temperature : {"energy", "kinetic"}
-        Incident temperature used by sentman and dria for the re-emission temperature:
-        "energy" is T_i = m V^2 / (4 k_B) (Koppenwallner, ADBSat's code), "kinetic" is
-        T_i = m V^2 / (3 k_B) (Moe). They agree when alpha = 1.
-    adbsat_compat : bool
-        Reproduce ADBSat's coded behaviour where it differs from the physics: maxwell uses the
-        two-sided flat-plate formula (zeroed for back faces) instead of a one-sided surface; cll
-        weights species by M_j n_j^2 instead of mass fraction and uses its fit only if every
-        panel has alpha_n < 1; dria divides by the given total density instead of normalising
-        the mass fractions.
-
-    Raises
-    ------
-    ValueError
-        For an ``incident_temperature`` not in :data:`INCIDENT_TEMPERATURE_FORMS`.
+    incident_temperature: ``"energy"`` T_i = m V^2 / (4 k_B) (Koppenwallner, ADBSat's code) or
+    ``"kinetic"`` T_i = m V^2 / (3 k_B) (Moe), for sentman and dria; they agree when alpha = 1.
+    adbsat_compat: reproduce ADBSat's coded behaviour (docs/physics.md, the differences table).
     """
 
     incident_temperature: str = "energy"

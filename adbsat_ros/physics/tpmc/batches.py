@@ -1,7 +1,7 @@
 """Batches of test particles: the picklable problem, one batch's sums, the worker processes.
 
-Batch k of a run with ``seed`` draws from ``SeedSequence(seed, spawn_key=(k,))``, so the process
-that runs it does not change its numbers. Units: SI, mesh frame G.
+Batch k draws from ``SeedSequence(seed, spawn_key=(k,))``: the process that runs it does not
+change its numbers. Units: SI, mesh frame G.
 """
 
 from __future__ import annotations
@@ -31,8 +31,7 @@ class BatchSums:
 
 
 class Problem:
-    """One flow about one body, ready to run batches anywhere (it pickles without its scene);
-    ``moment_point`` [m], G."""
+    """One flow about one body, ready to run batches anywhere; ``moment_point`` [m], G."""
 
     def __init__(self, mesh, kernel, surface, inflow, moment_point, backend):
         self.mesh, self.kernel, self.surface = mesh, kernel, surface
@@ -80,8 +79,8 @@ _WORKER_PROBLEM: Problem | None = None
 
 
 def init_worker(problem: Problem, parent: int) -> None:
-    """Keep the problem in a worker process, which dies with ``parent`` (SIGINT and SIGTERM are
-    left to the parent, which stops the run between blocks)."""
+    """Keep the problem in a worker process that dies with ``parent`` (signals are left to the
+    parent)."""
     die_with_parent(parent, stops_to_parent=True)
     global _WORKER_PROBLEM
     _WORKER_PROBLEM = problem

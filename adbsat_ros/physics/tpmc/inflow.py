@@ -1,7 +1,6 @@
 """Molecules entering a box around the body from a drifting Maxwellian gas, sampled exactly.
 
-Formulas and sampling: docs/physics.md, section 12 ("Inflow"). Units: SI; positions in the mesh
-frame G [m].
+Formulas: docs/physics.md, section 12 ("Inflow"). Units: SI; positions in the mesh frame G [m].
 """
 
 from __future__ import annotations
@@ -17,8 +16,8 @@ SQRT_PI = math.sqrt(math.pi)
 
 
 def flux_factor(s) -> np.ndarray:
-    """G(inf) = exp(-s^2) / 2 + sqrt(pi) / 2 s (1 + erf(s)) (number flux n c G(inf) / sqrt(pi)),
-    written with erfcx where s < 0 so that it keeps its digits however far downstream."""
+    """G(inf) = exp(-s^2) / 2 + sqrt(pi) / 2 s (1 + erf(s)), with erfcx where s < 0 (keeps its
+    digits)."""
     s = np.asarray(s, dtype=float)
     with np.errstate(over="ignore", invalid="ignore"):
         up = 0.5 * np.exp(-s * s) + 0.5 * SQRT_PI * s * (1.0 + erf(s))
@@ -27,8 +26,7 @@ def flux_factor(s) -> np.ndarray:
 
 
 def normal_speed_ratios(s, rng: np.random.Generator) -> np.ndarray:
-    """Normal speeds over c (P,) of entering molecules, x > 0 drawn exactly from
-    x exp(-(x - s)^2) by rejection (docs/physics.md, section 12), s = U . n / c (P,)."""
+    """Normal speeds over c (P,) of entering molecules, exact by rejection, s = U . n / c."""
     s = np.asarray(s, dtype=float)
     x = np.empty_like(s)
     up = s >= 0.0
@@ -38,7 +36,7 @@ def normal_speed_ratios(s, rng: np.random.Generator) -> np.ndarray:
 
 
 def _rejection(s, rng, draw) -> np.ndarray:
-    """Draw for every element of ``s`` until each is accepted (``draw``: values and acceptance)."""
+    """Draw for every element of ``s`` until each is accepted."""
     x = np.empty_like(s)
     waiting = np.arange(s.size)
     while waiting.size:
@@ -49,7 +47,7 @@ def _rejection(s, rng, draw) -> np.ndarray:
 
 
 def _upstream(s, rng) -> tuple:
-    """One draw of the s >= 0 proposal and its acceptance (:func:`normal_speed_ratios`)."""
+    """One draw of the s >= 0 proposal and its acceptance."""
     count = s.size
     u = 1.0 - rng.random((count, 4))  # (0, 1]
     e = np.exp(-s * s)
@@ -65,7 +63,7 @@ def _upstream(s, rng) -> tuple:
 
 
 def _downstream(s, rng) -> tuple:
-    """One draw of the s < 0 proposals and their acceptance (:func:`normal_speed_ratios`)."""
+    """One draw of the s < 0 proposals and their acceptance."""
     count = s.size
     u = 1.0 - rng.random((count, 2))
     near = s > -1.0
@@ -79,25 +77,9 @@ def _downstream(s, rng) -> tuple:
 class InflowBox:
     """The box the molecules enter through, and the free stream's flux through its faces.
 
-    Parameters
-    ----------
-    lower, upper : array_like, shape (3,)
-        Corners of the body's bounding box [m], G.
-    drift : array_like, shape (3,)
-        Velocity of the gas relative to the body, U = V u [m/s], G.
-    temperature : float
-        Gas temperature T [K].
-    masses, mole_fractions : array_like, shape (J,)
-        Molecular mass [kg] and number fraction of each species.
-    margin : float
-        The box is the bounding box grown by this fraction of its largest side on every side.
-
-    Attributes
-    ----------
-    normals : ndarray, shape (6, 3)
-        Inward unit normal of each face (-x, +x, -y, +y, -z, +z sides in that order).
-    rates : ndarray, shape (6, J)
-        Molecules entering per second per unit number density [m^3/s], by face and species.
+    lower, upper: bounding-box corners [m], G; drift: U = V u [m/s], G; temperature: T [K];
+    masses [kg], mole_fractions (J,); margin: growth as a fraction of the largest side.
+    normals (6, 3): inward face normals (-x, +x, -y, +y, -z, +z); rates (6, J) [m^3/s].
     """
 
     def __init__(self, lower, upper, drift, temperature, masses, mole_fractions, margin=0.05):
@@ -133,8 +115,8 @@ class InflowBox:
         return float(self.rates.sum())
 
     def momentum_flux(self) -> np.ndarray:
-        """Momentum entering per second per unit number density [kg m^4 / s^2 per m^3], G, in
-        closed form (docs/physics.md, section 12)."""
+        """Momentum entering per second per unit number density [kg m^4 / s^2 per m^3], G, closed
+        form."""
         total = np.zeros(3)
         for f in range(6):
             n = self.normals[f]
@@ -156,8 +138,7 @@ class InflowBox:
         return total
 
     def sample(self, count: int, rng: np.random.Generator) -> tuple:
-        """``count`` entering molecules: positions [m] (count, 3), velocities [m/s] (count, 3)
-        and species indices (count,), drawn from ``rng``."""
+        """``count`` molecules: positions [m], velocities [m/s] (count, 3) and species indices."""
         cumulative = np.cumsum(self.rates.ravel())
         pick = np.searchsorted(cumulative, rng.random(count) * cumulative[-1], side="right")
         pick = np.minimum(pick, cumulative.size - 1)

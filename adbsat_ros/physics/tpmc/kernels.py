@@ -1,9 +1,8 @@
 """Re-emission of a molecule from a surface: the gas-surface scattering kernels.
 
-Molecules leave into the half-space they came from (``n`` that side's unit normal). Formulas:
-docs/physics.md, section 12 ("Surfaces"). Sources: J. C. Maxwell, Phil. Trans. R. Soc. 170
-(1879) 231-256; R. G. Lord, Physics of Fluids A 3 (1991) 706-710; G. A. Bird, "Molecular Gas
-Dynamics and the Direct Simulation of Gas Flows", Oxford (1994).
+Molecules leave into the half-space they came from. Formulas: docs/physics.md, section 12
+("Surfaces"). Sources: Maxwell, Phil. Trans. R. Soc. 170 (1879); Lord, Phys. Fluids A 3 (1991)
+706-710; Bird, "Molecular Gas Dynamics and the Direct Simulation of Gas Flows" (1994).
 """
 
 from __future__ import annotations
@@ -89,11 +88,9 @@ def cll(v, frame, mass, alpha_n, sigma_t, wall_temperature, rng) -> np.ndarray:
 
 
 def reemit(kernel: str, v, frame, mass, surface, rng) -> np.ndarray:
-    """Velocities (H, 3) [m/s] of the molecules leaving the panels they hit with ``v`` [m/s].
+    """Velocities (H, 3) [m/s] of molecules leaving the panels they hit with ``v`` [m/s].
 
-    ``frame`` (n, t1, t2), (H, 3) each: the unit normal of the side hit, into the gas, and two unit
-    tangents; ``mass`` (H,) [kg]; ``surface``: ``alpha``, ``alpha_n``, ``sigma_t``,
-    ``wall_temperature`` [K], floats or (H,).
+    frame: (n, t1, t2), the side hit's normal into the gas and two tangents; mass (H,) [kg].
     """
     t_w = surface["wall_temperature"]
     if kernel == "diffuse":

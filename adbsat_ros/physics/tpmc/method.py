@@ -1,8 +1,7 @@
-"""The test-particle Monte Carlo solver beside the panel method: the same inputs, the same
-coefficients with a standard error each. A run stops at a particle budget or, after whole blocks
-of :data:`BLOCK_BATCHES` batches, at a tolerance on C_D, so a seed gives the same numbers with any
-number of workers (docs/physics.md, section 12). Units: SI, mesh frame G; angles in radians.
-"""
+"""The test-particle Monte Carlo solver: the panel method's inputs, its coefficients with a standard
+error each. A run stops at a particle budget or, after whole blocks of :data:`BLOCK_BATCHES`
+batches, at a tolerance on C_D: a seed gives the same numbers with any number of workers
+(docs/physics.md, section 12). Units: SI, mesh frame G; angles in radians."""
 
 from __future__ import annotations
 
@@ -38,20 +37,9 @@ DEFAULT_PARTICLES = 1_000_000
 class TestParticleMethod:
     """A mesh with a gas-surface model and materials, solved by test-particle Monte Carlo.
 
-    Parameters
-    ----------
-    mesh : PanelMesh
-        Closed bodies and thin open plates alike.
-    model : str
-        sentman, dria, maxwell or cll (:data:`~.kernels.KERNEL_OF_MODEL`).
-    materials : MaterialTable or SurfaceProperties, optional
-        Default: full accommodation, T_w = 300 K.
-    reference : Reference, optional
-        Default as the panel method's.
-    backend : {"auto", "embree", "numpy"}
-        Ray casting (:func:`adbsat_ros.shading.rays.ray_scene`).
-    margin : float
-        The inflow box is the bounding box grown by this fraction of its largest side.
+    model: sentman, dria, maxwell or cll (:data:`~.kernels.KERNEL_OF_MODEL`).
+    backend: ``"auto"``, ``"embree"`` or ``"numpy"`` ray casting.
+    margin: the inflow box is the bounding box grown by this fraction of its largest side.
     """
 
     __test__ = False  # (not a pytest class, despite its name)
@@ -117,27 +105,13 @@ class TestParticleMethod:
         progress=None,
         stop=None,
     ) -> TpmcCoefficients:
-        """Coefficients at one attitude, by angles or by the flow direction.
+        """Coefficients at one attitude, by angles [rad] or by the flow direction (G).
 
-        Parameters
-        ----------
-        flow, aoa, aos, flow_direction
-            As :meth:`PanelMethod.coefficients` (angles [rad], direction in G); with a
-            composition each species enters by its own flux.
-        particles : int, optional
-            Most molecules to trace, >= 1 (default :data:`DEFAULT_PARTICLES`, or 100 times that
-            with a tolerance); rounded up to whole batches.
-        tolerance : float, optional
-            Stop once the standard error of C_D is at most this fraction of C_D, in (0, 1).
-        seed : int
-            Seed of the random numbers, >= 0: the same seed, the same numbers.
-        workers : int
-            Processes (at most the usable CPUs).
-        progress : callable, optional
-            Called with the molecules traced so far after every block.
-        stop : threading.Event, optional
-            Checked after every block: once set, the run ends there (``stopped``) with the
-            numbers of an uninterrupted run of that length.
+        particles: most molecules to trace, >= 1, rounded up to whole batches.
+        tolerance: stop once the standard error of C_D is at most this fraction of C_D, in (0, 1).
+        seed: >= 0, the same seed gives the same numbers; workers: processes (at most usable CPUs).
+        progress: called with the molecules traced after every block.
+        stop: threading.Event checked after every block (the run ends there, ``stopped``).
         """
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         budget, tol = run_settings(particles, tolerance, seed)
@@ -163,7 +137,7 @@ class TestParticleMethod:
 
 
 def run_settings(particles, tolerance, seed) -> tuple:
-    """``(particle budget, tolerance or None)`` of a run, checked; ValueError naming a bad one."""
+    """``(particle budget, tolerance or None)`` of a run; ValueError naming a bad one."""
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be a whole number >= 0, got {seed!r}")
     tol = None

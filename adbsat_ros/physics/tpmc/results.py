@@ -10,20 +10,12 @@ from adbsat_ros.physics.freestream import FreeStream
 
 
 class TpmcCoefficients(AeroCoefficients):
-    """:class:`AeroCoefficients` from test particles, with their statistics.
+    """:class:`AeroCoefficients` from test particles, with standard errors (the ``*_error``
+    properties).
 
-    Attributes (besides those of AeroCoefficients and the ``*_error`` properties)
-    -----------------------------------------------------------------------------
-    covariance : ndarray, shape (6, 6)
-        Covariance of the estimates of (Cf_G, Cm_G).
-    particles, seed, hits : int
-        Molecules traced, the run's seed, molecule-surface collisions.
-    trapped : int
-        Molecules stopped while still bouncing.
-    force_balance : ndarray, shape (3,)
-        Momentum in minus out through the box per unit q A_ref: equals Cf_G within errors.
-    stopped : bool
-        The run was stopped by its ``stop`` event.
+    covariance (6, 6): of the estimates of (Cf_G, Cm_G); hits: molecule-surface collisions;
+    trapped: molecules stopped while still bouncing; force_balance: momentum in minus out through
+    the box per unit q A_ref (equals Cf_G within errors); stopped: by the ``stop`` event.
     """
 
     def __init__(

@@ -1,8 +1,5 @@
-"""Test particles followed through the body's panels until they leave, and the momentum they give.
-
-No molecule-molecule collisions: straight lines from panel to panel, each step on the whole batch
-still in flight (docs/physics.md, section 12, "Tracing"). Units: SI, mesh frame G.
-"""
+"""Test particles followed through the body's panels until they leave, and the momentum they give
+(no molecule-molecule collisions; docs/physics.md, section 12, "Tracing"). Units: SI, frame G."""
 
 from __future__ import annotations
 
@@ -21,9 +18,8 @@ MAX_BOUNCES = 100_000
 
 @dataclass
 class Tally:
-    """What a batch of molecules did: per molecule the ``impulse`` [kg m/s] and ``moment``
-    [kg m^2/s] given to the body and the ``exit_velocity`` [m/s] (P, 3); per panel the
-    ``panel_impulse`` [kg m/s] and ``panel_hits``; ``trapped`` after :data:`MAX_BOUNCES` hits."""
+    """What a batch did: per molecule ``impulse`` [kg m/s], ``moment`` [kg m^2/s], ``exit_velocity``
+    [m/s]; per panel ``panel_impulse`` [kg m/s]; ``trapped`` after :data:`MAX_BOUNCES` hits."""
 
     impulse: np.ndarray
     moment: np.ndarray
@@ -44,12 +40,8 @@ def surface_at(surface, faces) -> dict:
 
 
 def trace(scene, mesh, kernel, surface, positions, velocities, masses, rng, moment_point):
-    """Follow molecules from their entry until they leave the body.
-
-    ``scene`` the ray scene of ``mesh``; ``kernel`` and per-panel ``surface`` the re-emission;
-    ``positions`` [m], ``velocities`` [m/s] (P, 3) and ``masses`` [kg] (P,) the molecules at
-    entry; ``moment_point`` [m], G.
-    """
+    """Follow molecules from entry until they leave: positions [m], velocities [m/s], masses [kg],
+    G."""
     count = len(positions)
     n_panels = mesh.n_panels
     size = float(np.max(mesh.bounds[1] - mesh.bounds[0]))
