@@ -1,11 +1,8 @@
-"""Processes of the long jobs: how many workers and how they start, that they die with their
-parent, the heap kept out of the garbage collector's passes, and SIGINT/SIGTERM handling.
+"""Processes of the long jobs: worker count and start method, death with the parent, a frozen heap.
 
-A command's ``main`` enters :func:`handle_signals` first: a signal then raises
+SIGINT/SIGTERM: a command's ``main`` enters :func:`handle_signals`; a signal then raises
 :class:`Interrupted` in the main thread, except inside :func:`stop_on_signals`, where the work
-checks an event at its boundaries and stops in order. A forked worker ignores SIGINT (a Ctrl-C
-reaches the whole process group; the parent decides), dies of SIGTERM, and with its parent
-(:func:`die_with_parent`).
+checks an event and stops in order. A forked worker ignores SIGINT and dies of SIGTERM.
 """
 
 from __future__ import annotations
@@ -39,13 +36,9 @@ def usable_cpus() -> int:
 
 
 def worker_count(requested: int | None) -> tuple:
-    """``(workers, note)``: ``requested`` processes (default: every usable CPU), at most
-    :func:`usable_cpus` (more only add memory and switching); ``note`` says when it capped them.
+    """``(workers, note)``: ``requested`` (default: all usable CPUs), at most :func:`usable_cpus`.
 
-    Raises
-    ------
-    ValueError
-        For a count that is not a whole number >= 1.
+    ValueError: a count that is not a whole number >= 1.
     """
     cpus = usable_cpus()
     if requested is None:
@@ -58,8 +51,7 @@ def worker_count(requested: int | None) -> tuple:
 
 
 def pool_context():
-    """A worker pool's multiprocessing context: fork where there is one (workers inherit the
-    imports, meshes and caches), else the default."""
+    """A worker pool's multiprocessing context: fork where there is one (workers inherit caches)."""
     if "fork" in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("fork")
     return multiprocessing.get_context()
@@ -67,12 +59,10 @@ def pool_context():
 
 @contextlib.contextmanager
 def frozen_heap():
-    """Keep the objects that exist now out of the garbage collector's passes while inside.
+    """Keep the objects that exist now out of the garbage collector's passes (:func:`gc.freeze`).
 
-    A parallel job makes many small tracked objects, and every full collection would walk the whole
-    heap of numpy, trimesh, rosbags and the meshes; frozen (:func:`gc.freeze`) before the workers
-    fork, the heap also stays shared with them, as the :mod:`gc` documentation advises. Nothing is
-    frozen if the caller froze objects already.
+    Frozen before the workers fork, the heap also stays shared with them, as the :mod:`gc`
+    documentation advises. Nothing is frozen if the caller froze objects already.
     """
     if gc.get_freeze_count():
         yield
@@ -85,8 +75,7 @@ def frozen_heap():
 
 
 class Interrupted(KeyboardInterrupt):
-    """SIGINT or SIGTERM, raised in the main thread by :func:`handle_signals`' handler outside
-    :func:`stop_on_signals` (a KeyboardInterrupt: what handles Ctrl-C handles SIGTERM alike)."""
+    """SIGINT or SIGTERM in the main thread (a KeyboardInterrupt: Ctrl-C handling covers both)."""
 
     def __init__(self, signum: int):
         super().__init__(signal.Signals(signum).name)
@@ -94,9 +83,7 @@ class Interrupted(KeyboardInterrupt):
 
 
 class _Signals:
-    """The handler of :func:`handle_signals`: the first signal sets :attr:`event` and, inside
-    :func:`raising_signals` but outside :func:`stop_on_signals`, raises :class:`Interrupted`;
-    later ones only set the event."""
+    """The handler of :func:`handle_signals`: the first signal sets :attr:`event` and may raise."""
 
     def __init__(self):
         self.pid = os.getpid()
@@ -117,10 +104,8 @@ class _Signals:
             self._raise(frame)
 
     def _raise(self, frame) -> None:
-        """Raise :class:`Interrupted`, unless an import is under way in ``frame``'s stack: an
-        extension module importing from C may print it as a traceback and go on, or abort, so the
-        raise waits (SIGALRM, tried again a moment later)."""
-        if _importing(frame):
+        """Raise :class:`Interrupted`, or retry by SIGALRM while ``frame``'s stack imports."""
+        if _importing(frame):  # an extension importing from C may print or abort on a raise
             signal.signal(signal.SIGALRM, self._again)
             signal.siginterrupt(signal.SIGALRM, False)  # (no system call fails on it)
             signal.setitimer(signal.ITIMER_REAL, IMPORT_RETRY_S)
@@ -142,7 +127,7 @@ def _importing(frame) -> bool:
 
 
 def as_worker(signum: int) -> None:
-    """What a worker does on ``signum``: ignores SIGINT, dies of SIGTERM."""
+    """A worker ignores SIGINT (sent to the process group; the parent decides), dies of SIGTERM."""
     if signum == signal.SIGTERM:
         signal.signal(signum, signal.SIG_DFL)
         os.kill(os.getpid(), signum)
@@ -169,8 +154,7 @@ def handle_signals():
     """SIGINT and SIGTERM handled for a whole command, whose ``main`` enters this first thing.
 
     :func:`raising_signals` goes inside the ``try`` that catches :class:`Interrupted` (outside it a
-    signal only sets the event); the previous handlers come back after. Nothing happens outside the
-    main thread, nor inside another such block.
+    signal only sets the event). Nothing happens outside the main thread, nor nested.
     """
     if _signals() is not None or threading.current_thread() is not threading.main_thread():
         yield
@@ -191,8 +175,7 @@ def handle_signals():
 
 
 def exit_now(status: int) -> None:
-    """End the program with ``status`` at once, output flushed: after :class:`Interrupted` in its
-    start-up, which may have stopped an import half-way (the interpreter's clean-up could crash)."""
+    """End the program with ``status`` at once, output flushed (after an interrupted start-up)."""
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):
             stream.flush()
@@ -201,8 +184,7 @@ def exit_now(status: int) -> None:
 
 @contextlib.contextmanager
 def raising_signals():
-    """Under :func:`handle_signals`, inside: a signal raises :class:`Interrupted` (one that came
-    before, at the start), except within :func:`stop_on_signals`."""
+    """Under :func:`handle_signals`: a signal raises Interrupted (not inside stop_on_signals)."""
     signals = _signals()
     if signals is None:
         yield
@@ -219,9 +201,7 @@ def raising_signals():
 
 @contextlib.contextmanager
 def interruptible():
-    """Inside :func:`stop_on_signals`, a stretch holding nothing to keep (reading, planning): a
-    signal ends it at once (:class:`Interrupted`), as does one that came before or that a
-    library caught."""
+    """In :func:`stop_on_signals`, a stretch holding nothing to keep: a signal ends it at once."""
     signals = _signals()
     if signals is None:
         yield
@@ -237,9 +217,7 @@ def stop_on_signals():
     """An event set by SIGINT or SIGTERM while inside, where they raise nothing.
 
     A long job checks it at its boundaries and stops in order: the node ends its spin loop before
-    taking rclpy down (rclpy's own handlers would shut the context down under a running callback);
-    bag analysis keeps what it wrote as PARTIAL. Under :func:`handle_signals` the event is the
-    command's; elsewhere handlers of its own are installed while inside.
+    taking rclpy down (rclpy's own handlers would shut the context down under a running callback).
     """
     signals = _signals()
     if signals is not None:
@@ -261,11 +239,7 @@ def stop_on_signals():
 
 
 def run_until_stopped(program: str, body, argv=None) -> int:
-    """Run ``body(argv)``, a program that runs until stopped, under :func:`handle_signals`.
-
-    Returns its exit status, or 0 with one line on stderr after SIGINT or SIGTERM; a signal during
-    its start-up ends a console script (``argv`` None) here (:func:`exit_now`).
-    """
+    """Run ``body(argv)`` until stopped; its exit status, or 0 (a line on stderr) after a signal."""
     with handle_signals():
         interrupted = False
         try:
@@ -286,15 +260,10 @@ PR_SET_PDEATHSIG = 1
 
 
 def die_with_parent(parent: int, stops_to_parent: bool = False) -> None:
-    """In a worker's initializer: die with ``parent``, even if it is killed with SIGKILL (Linux's
-    parent-death signal; at once if it is gone already); SIGINT ignored, SIGTERM fatal.
-
-    With ``stops_to_parent``, SIGTERM is ignored too, and a stop sent to the whole process group
-    is left to the parent, which ends the job in order: a worker of a pool that sends its results
-    through a pipe (:class:`concurrent.futures.ProcessPoolExecutor`), where one killed while it
-    writes a result leaves half a message that the pool then waits for forever, or a Dask worker,
-    which its nanny would start again."""
+    """In a worker's initializer: die with ``parent`` even if it is SIGKILLed; SIGINT ignored."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # stops_to_parent: the parent ends the job in order; a pool worker killed while it writes a
+    # result to its pipe leaves half a message the pool waits for forever (a Dask nanny restarts)
     signal.signal(signal.SIGTERM, signal.SIG_IGN if stops_to_parent else signal.SIG_DFL)
     if sys.platform.startswith("linux"):
         try:

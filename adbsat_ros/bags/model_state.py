@@ -1,8 +1,7 @@
 """One model's cumulative state rebuilt in bag order from the workers' records, and its diagnostics.
 
-What the node would have accumulated over the whole bag (counters, latest sample and
-rejection, state age in bag time, one shading cache's hits and misses) is rebuilt here and
-written as the node's DiagnosticStatus.
+What the node would have accumulated over the bag (counters, latest sample and rejection, state
+age in bag time, one shading cache's counts), written as the node's DiagnosticStatus.
 """
 
 from __future__ import annotations
@@ -36,8 +35,7 @@ LIVE_ONLY_KEYS = (
 
 
 class ModelState:
-    """One model on the merge side: the node's cumulative state after the records applied so far
-    (``mesh`` loaded once per mesh for all models)."""
+    """One model on the merge side: the node's cumulative state after the records applied so far."""
 
     def __init__(self, label: str, settings: WrenchSettings, mesh):
         self.label = label

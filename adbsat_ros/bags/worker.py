@@ -1,8 +1,7 @@
 """The bag analysis's workers: chunks of trigger messages replayed through the node's handling.
 
-A worker holds one estimator per model; it replays a chunk from reset estimators, decoding,
-handling and encoding each message as the node does (rosbags' codec where the node has
-rclpy's), and returns per message and model a :class:`MessageRecord` and the CSV row.
+A worker replays a chunk from reset estimators (one per model), decoding, handling and encoding
+each message as the node does, and returns per message and model a :class:`MessageRecord`.
 """
 
 from __future__ import annotations
@@ -34,8 +33,7 @@ STOP_POLL_S = 0.1
 
 
 class SampleNumbers(NamedTuple):
-    """The numbers of a WrenchSample the diagnostics report, flat because every record is pickled;
-    :attr:`conditions` is the record itself, so it reads as a sample does."""
+    """A WrenchSample's diagnostic numbers, flat to pickle; :attr:`conditions` is the record."""
 
     mass_density: float
     temperature: float
@@ -70,10 +68,9 @@ class SampleNumbers(NamedTuple):
 class MessageRecord(NamedTuple):
     """What one message came to for one model, as the merge needs it: only numbers and bytes.
 
-    ``status`` is None (no wrench asked), ``ok`` or the reason; ``latest_rejection`` tells a
-    rejection from a failure; ``compute_seconds`` [s]; ``cache_keys`` the shading-cache cells
-    read (one, three when interpolating, or none), ``uncounted_keys`` those read without counting
-    (the Sun's); the ``*_cdr`` fields the messages to write.
+    ``status``: None (no wrench asked), ``ok`` or the reason; ``cache_keys``: the shading-cache
+    cells read, ``uncounted_keys`` those read without counting (the Sun's); ``*_cdr``: messages to
+    write.
     """
 
     state_accepted: bool = False
@@ -103,8 +100,8 @@ class Row(NamedTuple):
 
 
 class ChunkResult(NamedTuple):
-    """One chunk's results: ``records[i]`` one MessageRecord per model for message i, ``rows[i]``
-    its Row or None; ``error`` says why message ``len(records)`` could not be decoded."""
+    """A chunk's records and rows per message; ``error``: why message ``len(records)`` is
+    unreadable."""
 
     records: list
     rows: list
@@ -130,8 +127,7 @@ class WorkerModel:
 
     def record(self, outcome: Outcome) -> MessageRecord:
         """The record of ``outcome``, the message just handled."""
-        # the cell of the shading-cache query made for it, if any, so that the merge can count
-        # hits and misses as one sequential cache would (a worker's cache saw its chunks only)
+        # its shading-cache cell: the merge counts hits and misses as one sequential cache would
         count = self._query_count()
         keys = uncounted = ()
         cache = self.estimator.model.cache
@@ -176,8 +172,7 @@ class WorkerModel:
 
 
 class Worker:
-    """The models of one process, from ``specs`` (WrenchSettings, PanelMesh), one per model;
-    :meth:`run` replays a chunk from reset estimators."""
+    """The models of one process, from ``specs`` (WrenchSettings, PanelMesh), one per model."""
 
     def __init__(self, specs, stop=None):
         self.models = [WorkerModel(settings, mesh) for settings, mesh in specs]
@@ -185,8 +180,7 @@ class Worker:
         self.stop = stop
 
     def run(self, chunk) -> ChunkResult:
-        """Replay ``chunk``, (kinds, CDR bytes) of consecutive trigger messages; once :attr:`stop`
-        is set, the replay ends after the current message."""
+        """Replay ``chunk`` (kinds, CDR bytes); once :attr:`stop` is set, end after this message."""
         kinds, raws = chunk
         models = self.models
         for m in models:
@@ -230,8 +224,7 @@ _WORKER: Worker | None = None
 
 
 def _init_worker(specs, parent: int, stop) -> None:
-    """Pool initializer: the estimators, once per process; dies with its parent and ignores SIGINT
-    and SIGTERM (the analysis decides how to stop)."""
+    """Pool initializer: the estimators, once per process; stops are left to the parent."""
     global _WORKER
     die_with_parent(parent, stops_to_parent=True)
     _WORKER = Worker(specs, stop)
@@ -242,12 +235,7 @@ def _run_chunk(chunk) -> ChunkResult:
 
 
 def chunk_results(specs, chunks, workers: int, stop=None):
-    """The ChunkResult of each chunk, in order: here (``workers`` 1), or by a pool kept ahead.
-
-    ``specs`` as :class:`Worker` takes them; ``chunks`` (kinds, CDR bytes) are taken as needed.
-    Once ``stop`` is set or the generator closed, the workers end their chunks after the current
-    message.
-    """
+    """The ChunkResult of each chunk, in order: here (``workers`` 1), or by a pool kept ahead."""
     with frozen_heap():
         yield from _chunk_results(specs, chunks, workers, stop)
 

@@ -1,7 +1,7 @@
 """The exact flight conditions of an accepted orbital state at a message stamp, per the settings.
 
-The state is propagated to the stamp at constant velocity (a state is at most ~0.1 s old,
-where the neglected gravity term is 5 cm); the estimator's knots evaluate this.
+The state is propagated to the stamp at constant velocity (a state is at most ~0.1 s old, where
+the neglected gravity term is 5 cm); the estimator's knots evaluate this.
 """
 
 from __future__ import annotations
@@ -38,8 +38,7 @@ class PropagatedConditions:
         )
 
     def __call__(self, state: OrbitalState, stamp: float) -> FlightConditions:
-        """The flight conditions of ``state`` propagated to ``stamp`` [s]; ValueError from
-        :func:`evaluate_flight_conditions` (e.g. an altitude outside the model)."""
+        """The flight conditions of ``state`` at ``stamp`` [s] (ValueError: e.g. altitude)."""
         s = self.settings
         position = state.position + state.velocity * (stamp - state.stamp)
         return evaluate_flight_conditions(

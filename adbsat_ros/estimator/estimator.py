@@ -1,8 +1,8 @@
 """From attitude and orbital-state messages to the aerodynamic wrench: the node's logic, no ROS.
 
-Frames: the state is in ECI (GCRF) or ECEF (ITRF); the attitude quaternion (x, y, z, w) rotates
-body (mesh) vectors into it, v_state = R(q) v_body. Forces [N] and torques [N m] are in the body
-frame, torques about the centre of mass. Time and flight conditions: docs/node.md.
+Frames: the state is in ECI (GCRF) or ECEF (ITRF); the quaternion (x, y, z, w) rotates body vectors
+into it, v_state = R(q) v_body. Forces [N] and torques [N m] (about the centre of mass) are in the
+body frame. Time and flight conditions: docs/node.md.
 """
 
 from __future__ import annotations
@@ -39,25 +39,9 @@ from adbsat_ros.physics.model import Model, build_model
 class AeroWrenchEstimator:
     """Aerodynamic wrench from attitude and orbital-state inputs (the ROS node's core).
 
-    Its ``rejections`` (a Counter by reason, :data:`~.samples.REJECTION_REASONS`) and
-    ``published`` count the inputs; ``knots`` holds the latest state's flight conditions;
-    ``model`` is the body as configured (panel method and shading cache, or a database, then
-    also in ``database``); ``body`` the articulated body (None for a rigid mesh), its latest
-    positions in ``joints``; ``mesh`` the panels (an articulated body's at zero positions).
-
-    Parameters
-    ----------
-    settings : WrenchSettings
-        Everything but the ROS plumbing (:data:`adbsat_ros.estimator.parameters.PARAMETERS`).
-    mesh : PanelMesh or ArticulatedBody, optional
-        An already loaded body (default: load ``settings.mesh``, or ``robot_description``'s URDF).
-
-    Raises
-    ------
-    MeshError
-        If the mesh cannot be loaded.
-    ValueError
-        For settings that cannot be applied (e.g. an unknown material name).
+    settings: everything but the ROS plumbing (:data:`adbsat_ros.estimator.parameters.PARAMETERS`).
+    mesh: an already loaded PanelMesh or ArticulatedBody (default: load ``settings.mesh``).
+    ValueError: settings that cannot be applied; MeshError: a mesh that cannot be loaded.
     """
 
     def __init__(self, settings: WrenchSettings, mesh=None):
@@ -77,8 +61,7 @@ class AeroWrenchEstimator:
 
     # ----------------------------------------------------------------------------- settings
     def apply_settings(self, settings: WrenchSettings) -> None:
-        """Switch to new settings; ValueError (and the old ones kept) if they do not apply.
-        The shading cache and its counters stay while the shading settings do."""
+        """Switch to new settings; ValueError (and the old ones kept) if they do not apply."""
         if self.settings is not None:
             for name in BODY_PARAMETERS:
                 if getattr(settings, name) != getattr(self.settings, name):
@@ -145,25 +128,10 @@ class AeroWrenchEstimator:
     ) -> OrbitalState:
         """Accept an orbital state; a refused one leaves the latest state and its knots in place.
 
-        Parameters
-        ----------
-        stamp : float
-            Message time [s].
-        position : array_like, shape (3,)
-            Position in the state frame [m].
-        velocity : array_like, shape (3,)
-            Velocity [m/s] in the state frame, or in the body frame if ``velocity_in_body_frame``.
-        orientation_xyzw : array_like, shape (4,), optional
-            Body orientation (x, y, z, w) in the state frame, needed for a body-frame velocity.
-
-        Raises
-        ------
-        Rejection
-            ``non_finite``, ``bad_quaternion``, ``altitude_out_of_range`` (below ``min_altitude`` or
-            above the atmosphere model), ``bad_state`` (a speed beyond any orbit's, a stamp outside
-            the years covered), ``out_of_order`` (a stamp before the latest state's, within
-            ``time_jump_reset``), ``conflicting_state`` or ``time_backwards`` (further back: the
-            history restarts from this state).
+        stamp: message time [s]; position [m], velocity [m/s]: in the state frame (the velocity in
+        the body frame if ``velocity_in_body_frame``, then with ``orientation_xyzw`` (x, y, z, w)).
+        Rejection: ``non_finite``, ``bad_quaternion``, ``altitude_out_of_range``, ``bad_state``,
+        ``out_of_order``, ``conflicting_state`` or ``time_backwards`` (history restarts here).
         """
         try:
             state = checked_state(
@@ -199,17 +167,10 @@ class AeroWrenchEstimator:
         return state
 
     def on_odometry(self, msg) -> tuple:
-        """Accept a nav_msgs/Odometry state (rclpy or rosbags message, or ``OdometryFields``).
+        """Accept a nav_msgs/Odometry state; returns ``(state, orientation_xyzw)`` of the pose.
 
-        Returns ``(state, orientation_xyzw)``: the accepted state (velocity in the state frame) and
-        the pose orientation (the attitude when ``attitude_source`` is odometry). Frame rules:
-        :func:`~.state.odometry_inputs`.
-
-        Raises
-        ------
-        Rejection
-            ``bad_state`` for a frame mismatch or an unknown child_frame_id, and those of
-            :meth:`on_state`.
+        Frame rules: :func:`~.state.odometry_inputs`. Rejection: ``bad_state`` for a frame mismatch
+        or an unknown child_frame_id, and those of :meth:`on_state`.
         """
         s = self.settings
         try:
@@ -222,27 +183,9 @@ class AeroWrenchEstimator:
         return self.on_state(stamp, position, velocity, in_body, orientation), orientation
 
     def on_joint_state(self, stamp: float, names, positions) -> dict:
-        """Accept a sensor_msgs/JointState's positions (articulated bodies).
+        """Accept a JointState (stamp [s], positions [rad or m]); returns the positions taken.
 
-        Parameters
-        ----------
-        stamp : float
-            Message stamp [s].
-        names : sequence of str
-            Joint names; those of fixed or mimic joints are ignored.
-        positions : sequence of float
-            Their positions [rad or m].
-
-        Returns
-        -------
-        dict of str to float
-            The moving joints' positions taken.
-
-        Raises
-        ------
-        Rejection
-            ``bad_joint_state`` (also for a rigid mesh): an unknown joint, a position not finite or
-            beyond its limits, names and positions that do not pair up; nothing is taken.
+        Rejection: ``bad_joint_state`` (also for a rigid mesh); nothing is taken.
         """
         try:
             if self.joints is None:
@@ -255,22 +198,9 @@ class AeroWrenchEstimator:
             raise
 
     def on_attitude(self, stamp: float, quaternion_xyzw) -> WrenchSample:
-        """The wrench at an attitude message, with the latest state brought to its stamp.
+        """The wrench at an attitude (stamp [s], quaternion (x, y, z, w) in the state frame).
 
-        Parameters
-        ----------
-        stamp : float
-            Message stamp [s].
-        quaternion_xyzw : sequence of 4 numbers
-            Body orientation in the state frame (x, y, z, w).
-
-        Raises
-        ------
-        Rejection
-            With the reason (counted in :attr:`rejections`): ``non_finite``, ``bad_quaternion``,
-            ``out_of_order``, ``time_backwards`` (the history is reset), ``no_state``,
-            ``stale_state``, ``altitude_out_of_range``, ``bad_state``, ``outside_database``, the
-            joint rejections or ``compute_error``.
+        Rejection: with its reason, counted in :attr:`rejections` (``time_backwards``: reset).
         """
         t0 = time.perf_counter()
         try:
@@ -340,13 +270,7 @@ class AeroWrenchEstimator:
         return wrench_sample(self.model, gas_body, flow, changes, joints, moment)
 
     def prepare(self, stamp: float) -> bool:
-        """Compute ahead the knots an attitude expected at ``stamp`` [s] would wait for.
-
-        The node calls it after each wrench with the next regular stamp; it changes no message's
-        numbers (``knots.prepared_used`` counts the attitudes it served). Returns whether it
-        prepared (False without a state, for a stamp not after the latest attitude or too far from
-        the state, or outside the atmosphere).
-        """
+        """Compute the knots an attitude expected at ``stamp`` [s] would wait for; True if done."""
         state, last = self._state, self._last_attitude_stamp
         if state is None or not math.isfinite(stamp) or (last is not None and stamp <= last):
             return False
@@ -355,22 +279,12 @@ class AeroWrenchEstimator:
         return self.knots.prepare(state, stamp)
 
     def diagnostic_values(self, last_sample: WrenchSample | None, compute_ms) -> dict:
-        """Key/values of the node's DiagnosticStatus (:func:`~.diagnostics.diagnostic_values`).
-
-        Parameters
-        ----------
-        last_sample : WrenchSample or None
-            The latest wrench computed.
-        compute_ms : sequence or ndarray of float
-            Recent compute times [ms]; their p50, p99 (nearest rank) and largest are reported.
-        """
+        """Key/values of the node's DiagnosticStatus; ``compute_ms``: recent compute times [ms]."""
         return diagnostic_values(self, last_sample, compute_ms)
 
 
 def _database(settings: WrenchSettings, panels: Model) -> DatabaseCoefficients:
-    """The database of ``database_path`` for the panels' method; ValueError naming
-    ``coefficients_source`` (articulated body), ``accommodation_model`` (not fixed: a database is
-    made at one alpha) or from :class:`DatabaseCoefficients` (a file that does not fit)."""
+    """The database of ``database_path`` for the panels' method; ValueError if it does not apply."""
     if panels.articulated:
         raise ValueError(
             "parameter coefficients_source: a database is made for one rigid mesh; an "

@@ -1,7 +1,6 @@
 """The health of the wrench computation: its diagnostic level and message, and message losses.
 
-Shared by the node and bag analysis (state age in bag time). Rules: docs/node.md
-(``/diagnostics``, "Lost messages").
+Shared by the node and bag analysis; rules: docs/node.md (``/diagnostics``, "Lost messages").
 """
 
 from __future__ import annotations
@@ -23,12 +22,7 @@ def health_level(
     state_timeout: float,
     diagnostics_period: float,
 ) -> tuple[int, str]:
-    """Level (OK, WARN, ERROR) and message of the diagnostic status.
-
-    ERROR without a state (``state_age`` [s] None), with one older than the larger of
-    ``state_timeout`` and ``diagnostics_period`` [s], or after a ``stale_state`` rejection; WARN
-    when inputs were ``rejected`` (a count).
-    """
+    """Level (OK, WARN, ERROR) and message of the diagnostic status; ages and periods [s]."""
     if state_age is None:
         return ERROR, "no orbital state"
     if state_age > max(state_timeout, diagnostics_period):
@@ -43,12 +37,8 @@ def health_level(
 class Health:
     """What the diagnostic status of one estimator is made of, updated message by message.
 
-    Parameters
-    ----------
-    ticks_per_second : float
-        Time units per second of ``now`` arguments (1e9 for integer nanoseconds of bag time).
-    window : int
-        Compute times kept (the latest ones).
+    ticks_per_second: time units per second of ``now`` arguments (1e9 for bag nanoseconds).
+    window: compute times kept (the latest ones).
     """
 
     def __init__(self, ticks_per_second: float = 1.0, window: int = COMPUTE_WINDOW):
@@ -74,7 +64,7 @@ class Health:
         self.last_sample = sample
 
     def compute_ms(self) -> np.ndarray:
-        """The latest compute times [ms] (at most ``window``; in no particular order)."""
+        """The latest compute times [ms], at most ``window``, in no particular order."""
         return self._compute_ms[: min(self.computed, self._compute_ms.size)]
 
     def state_age(self, now) -> float | None:
@@ -95,11 +85,10 @@ class Health:
 
 
 class StampGaps:
-    """Messages missing from a regular stream, estimated from its stamps.
+    """Messages missing from a regular stream, estimated from its stamps [s].
 
-    A step of more than 1.5 intervals counts round(step / interval) - 1 missing (``missing``);
-    any other step is the new ``interval`` [s]. Two gaps in a row of one size (within 10 %) are a
-    slower stream: the second becomes the interval. Stamps that do not advance are left out.
+    A step over 1.5 intervals counts round(step / interval) - 1 ``missing``; any other step is the
+    new ``interval``; two equal gaps in a row (within 10 %) are a slower stream.
     """
 
     def __init__(self):

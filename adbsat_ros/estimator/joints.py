@@ -1,7 +1,7 @@
 """The joint positions of an articulated body, from sensor_msgs/JointState messages.
 
-Each moving joint keeps its latest position and stamp; a message is taken whole or refused
-(``bad_joint_state``); fixed and mimic joints are ignored. Rules: docs/node.md.
+A message is taken whole or refused (``bad_joint_state``); fixed and mimic joints are ignored.
+Rules: docs/node.md.
 """
 
 from __future__ import annotations
@@ -16,9 +16,8 @@ from adbsat_ros.geometry.articulated import ArticulatedBody
 class JointStates:
     """The latest position [rad or m] and stamp [s] of every moving joint of ``body``.
 
-    The first attitude after a joint state makes its positions ready (``prepare``); the
-    attitudes until the next joint state reuse them (docs/benchmarks.md). ``accepted`` counts
-    the messages taken.
+    The first attitude after a joint state makes its positions ready (``prepare``); the next
+    attitudes reuse them (docs/benchmarks.md). ``accepted`` counts the messages taken.
     """
 
     def __init__(self, body: ArticulatedBody):
@@ -37,20 +36,13 @@ class JointStates:
         self._configuration = None
 
     def configure(self, timeout: float, prepare: Callable) -> None:
-        """Set ``timeout``, the largest distance [s] between a joint position's stamp and an
-        attitude stamp, and ``prepare``, positions (dict) -> what an attitude uses."""
+        """``timeout``: largest joint-to-attitude stamp gap [s]; ``prepare``: positions -> use."""
         self.timeout = float(timeout)
         self.prepare = prepare
         self._configuration = None
 
     def on_joint_state(self, stamp: float, names, positions) -> dict:
-        """Take a JointState's positions; return those of moving joints (dict).
-
-        Raises
-        ------
-        Rejection
-            ``bad_joint_state``, naming the joint and the problem; nothing is taken.
-        """
+        """Take a JointState's positions, return the moving joints'; Rejection bad_joint_state."""
         if not math.isfinite(stamp):
             raise Rejection("bad_joint_state", "joint_state stamp is not finite")
         names = [str(n) for n in names]
@@ -86,8 +78,7 @@ class JointStates:
         return {name: checked[name] for name in given}
 
     def configuration_at(self, stamp: float):
-        """The joint positions for an attitude at ``stamp`` [s], made ready; Rejection
-        ``no_joint_state`` or ``stale_joint_state``."""
+        """The joint positions for an attitude at ``stamp`` [s], made ready (or Rejection)."""
         oldest, newest = self._span
         if stamp - oldest > self.timeout or newest - stamp > self.timeout:
             self._refuse(stamp)
@@ -97,8 +88,7 @@ class JointStates:
         return self._configuration
 
     def _stamp_span(self) -> tuple:
-        """(oldest, newest) stamp [s] of the latest positions: (-inf, inf) while a joint has none
-        (all refused), (inf, -inf) without moving joints (none refused)."""
+        """(oldest, newest) stamp [s]; (-inf, inf) if a joint has none, (inf, -inf) if no joints."""
         latest = [self._latest.get(name) for name in self.body.joints]
         if not latest:
             return math.inf, -math.inf

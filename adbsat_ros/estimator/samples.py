@@ -69,17 +69,8 @@ class OrbitalState:
 
 @dataclass(frozen=True, eq=False)
 class JointSample:
-    """The joints of an articulated body at one message; efforts and link loads made when read.
-
-    Parameters
-    ----------
-    coefficients : ArticulatedCoefficients
-        The body's coefficients at this message.
-    dynamic_pressure : float
-        q [Pa].
-    link_names : tuple of str
-        The links, in the body's order.
-    """
+    """The joints of an articulated body at one message (``dynamic_pressure`` q [Pa]); efforts
+    and link loads made when read."""
 
     coefficients: ArticulatedCoefficients
     dynamic_pressure: float
@@ -108,7 +99,7 @@ class JointSample:
 
     @functools.cached_property
     def link_torques(self) -> np.ndarray:
-        """Every link's torque [N m] (L, 3) about the centre of mass, body frame (they sum to the
+        """Every link's torque [N m] (L, 3) about the centre of mass, body frame (summing to the
         wrench's)."""
         reference = self.coefficients.total.reference
         scale = self.dynamic_pressure * reference.area * reference.length
@@ -117,11 +108,9 @@ class JointSample:
 
 @dataclass(frozen=True, eq=False)
 class SolarSample:
-    """The solar radiation pressure wrench at one message: ``force`` [N] and ``torque`` [N m] about
-    the centre of mass, body frame; ``sun_direction_body``, the unit vector towards the Sun (body
-    frame); ``lit_fraction`` of the solar disc visible past the Earth, in [0, 1]; ``pressure`` at
-    the Sun's distance before the shadow [Pa]; ``area_lit``, the sunlit area projected normal to
-    the Sun before the shadow [m^2] (0 in umbra)."""
+    """The solar radiation pressure wrench at one message, body frame: ``force`` [N], ``torque``
+    [N m] about the centre of mass; ``lit_fraction`` of the Sun's disc past the Earth [0, 1];
+    ``pressure`` [Pa] and ``area_lit`` (projected normal to the Sun) [m^2] before the shadow."""
 
     force: np.ndarray
     torque: np.ndarray
@@ -133,33 +122,11 @@ class SolarSample:
 
 @dataclass(frozen=True, eq=False)
 class WrenchSample:
-    """The aerodynamic wrench at one attitude message.
+    """The aerodynamic wrench at one attitude message, body (mesh) frame, about the centre of mass.
 
-    Attributes
-    ----------
-    stamp : float
-        Message time [s] (the attitude's header stamp); ``time`` its UTC.
-    force, torque : ndarray, shape (3,)
-        Force [N] and torque about the centre of mass [N m], body (mesh) frame.
-    force_coefficients, moment_coefficients : ndarray, shape (3,)
-        C_F and C_M, body frame, by ``reference_area`` [m^2] and ``reference_length`` [m];
-        zero at rest.
-    dynamic_pressure : float
-        q = rho V^2 / 2 [Pa].
-    conditions : FlightConditions
-        Atmosphere, geodetic position and relative wind at the stamp.
-    coefficients : AeroCoefficients or None
-        The panel method's result (None at rest and with a database).
-    flow_direction_body : ndarray, shape (3,)
-        Unit direction of the gas motion relative to the body (zero at rest).
-    compute_seconds : float
-        Wall time spent computing this sample [s] (not an articulated body's link loads).
-    rotation : tuple of 9 float
-        The attitude: body frame to state frame, row-major.
-    solar : SolarSample or None
-        The solar radiation pressure wrench (``solar_pressure`` on).
-    joints : JointSample or None
-        Joint positions and efforts and link loads (articulated bodies).
+    ``stamp`` [s], UTC ``time``; ``force`` [N], ``torque`` [N m]; C_F, C_M by ``reference_area``
+    [m^2] and ``reference_length`` [m]; ``dynamic_pressure`` [Pa]; ``flow_direction_body``: unit gas
+    motion (zero at rest); ``compute_seconds`` [s]; ``rotation``: body to state frame, row-major.
     """
 
     stamp: float
@@ -206,19 +173,9 @@ class WrenchSample:
     def state_frame_wrench(self, mass: float, inertia) -> tuple:
         """What a propagator takes, of the aerodynamic wrench plus the solar one.
 
-        Parameters
-        ----------
-        mass : float
-            The body's mass [kg]; 0 (or less) for none.
-        inertia : sequence of 9 float or None
-            Inertia tensor about the centre of mass, body frame, row-major [kg m^2].
-
-        Returns
-        -------
-        tuple
-            ``(force, torque, linear, angular)``: force [N] in the state frame, torque [N m] in the
-            body frame; with a positive ``mass``, force / mass [m/s^2] in the state frame (else
-            None) and inertia^-1 torque [rad/s^2] in the body frame (zero without ``inertia``).
+        mass [kg] (0 or less: none); inertia [kg m^2]: 9 floats, row-major, body frame, about CoM.
+        Returns (force [N] state frame, torque [N m] body frame, force / mass [m/s^2] state frame or
+        None, inertia^-1 torque [rad/s^2] body frame, zero without ``inertia``).
         """
         force = np.array(self.rotation).reshape(3, 3) @ self.total_force
         torque = self.total_torque

@@ -1,6 +1,5 @@
 """Settings of the wrench computation, shared by the node and bag analysis: the parameters of
-:data:`~.parameters.PARAMETERS` checked into one :class:`WrenchSettings`, and the set-up they
-describe."""
+:data:`~.parameters.PARAMETERS` checked into one :class:`WrenchSettings`, and their set-up."""
 
 from __future__ import annotations
 
@@ -43,13 +42,9 @@ class WrenchSettings(_Fields):
 
     @classmethod
     def from_parameters(cls, values=None, **overrides) -> "WrenchSettings":
-        """Validate a mapping of parameter names to values and keyword overrides; missing names take
-        their defaults.
+        """Validate parameter values and overrides by name (defaults for the rest).
 
-        Raises
-        ------
-        ValueError
-            ``"parameter NAME: reason"`` for the first bad value or an unknown name.
+        ValueError: ``"parameter NAME: reason"`` for the first bad value or an unknown name.
         """
         merged = dict(PARAMETER_DEFAULTS)
         for source in (values or {}), overrides:
@@ -95,13 +90,9 @@ class WrenchSettings(_Fields):
 
 
 def settings_from_file(path, node_name: str = "adbsat_node") -> WrenchSettings:
-    """The settings a ROS 2 ``--params-file`` gives ``node_name`` (defaults for the rest; rclpy's
-    own parameters ignored).
+    """The settings a ROS 2 ``--params-file`` gives ``node_name`` (defaults for the rest).
 
-    Raises
-    ------
-    ValueError
-        ``"PATH: ..."``: the file cannot be read, an unknown name or a value out of its range.
+    ValueError: ``"PATH: ..."``: the file cannot be read, an unknown name or a value out of range.
     """
     values = load_parameters_file(path, node_name)
     own = {key: value for key, value in values.items() if key not in ROS_PARAMETERS}
@@ -127,8 +118,7 @@ _LABELS = (
 
 
 def setup_from_settings(settings: WrenchSettings) -> Setup:
-    """The set-up the settings describe, each parameter in the field its ``use`` names; ValueError
-    naming ``material_overrides`` for an override that cannot be read."""
+    """The set-up the settings describe; ValueError naming ``material_overrides`` if unreadable."""
     parts, fields = {part: {} for part in _PARTS}, {}
     for p in PARAMETERS:
         part, _, field = p.use.partition(".")

@@ -24,8 +24,7 @@ FRAME_ALTITUDE_MARGIN = 1e3
 
 
 def jumps_back(stamp: float, latest: float | None, time_jump_reset: float, what: str) -> bool:
-    """Whether ``stamp`` [s] lies more than ``time_jump_reset`` before ``latest`` (a bag played
-    again: the history restarts); Rejection ``out_of_order`` for one less far back."""
+    """Whether ``stamp`` [s] is ``time_jump_reset`` before ``latest``; less: ``out_of_order``."""
     if latest is None or stamp >= latest:
         return False
     back = latest - stamp
@@ -38,9 +37,7 @@ def jumps_back(stamp: float, latest: float | None, time_jump_reset: float, what:
 
 
 def checked_rotation(quaternion_xyzw, what: str, max_norm_error: float) -> tuple:
-    """R(q / |q|), body -> state frame, row-major (9 floats), of a quaternion (x, y, z, w) with
-    | |q| - 1 | at most ``max_norm_error``; Rejection ``non_finite`` or ``bad_quaternion``,
-    naming it ``what``."""
+    """R(q / |q|), body to state frame, row-major; Rejection non_finite or bad_quaternion."""
     try:
         x, y, z, w = quaternion_xyzw
         x, y, z, w = float(x), float(y), float(z), float(w)
@@ -66,12 +63,7 @@ def checked_state(
     max_norm_error: float,
     min_altitude: float = 0.0,
 ) -> OrbitalState:
-    """An orbital state from a message's numbers, its velocity in the state frame.
-
-    Arguments as :meth:`AeroWrenchEstimator.on_state`; ``min_altitude`` [m]. Rejection
-    ``non_finite``, ``bad_quaternion``, ``altitude_out_of_range`` (below ``min_altitude``) or
-    ``bad_state`` (a speed beyond any Earth orbit's).
-    """
+    """An orbital state, velocity in the state frame (arguments as ``on_state``'s)."""
     position = np.asarray(position, dtype=float)
     velocity = np.asarray(velocity, dtype=float)
     if not (
@@ -98,13 +90,7 @@ def checked_state(
 
 
 def check_conditions(evaluate, utc, state: OrbitalState) -> None:
-    """Refuse a state whose flight conditions cannot be evaluated at its own stamp, so that it
-    does not replace the latest good one.
-
-    Near the atmosphere's top (within :data:`FRAME_ALTITUDE_MARGIN`, where the frame matters) it
-    calls ``evaluate(state, stamp)``; ``utc(stamp)`` maps a stamp to UTC. Rejection ``bad_state``
-    (no UTC time, or outside the years) or ``altitude_out_of_range``.
-    """
+    """Refuse a state whose flight conditions cannot be evaluated at its stamp (Rejection)."""
     where = f"state at stamp {state.stamp!r} s"
     try:
         year = utc(state.stamp).year
@@ -138,12 +124,11 @@ def conditions_rejection(exc: ValueError, message: str) -> Rejection:
 
 
 def odometry_inputs(msg, state_frame: str, body_frame_id: str, frame_ids) -> tuple:
-    """``(stamp [s], position, linear velocity, velocity_in_body_frame, orientation_xyzw)`` of a
-    nav_msgs/Odometry (rclpy, rosbags, or ``OdometryFields``), vectors as lists.
+    """``(stamp [s], position, velocity, velocity_in_body_frame, orientation_xyzw)`` of an Odometry.
 
-    ``header.frame_id`` must be a name of ``state_frame`` in ``frame_ids`` (any case, a leading
-    "/" ignored). The twist is in the body frame if ``child_frame_id`` is ``body_frame_id``, in
-    the state frame if it is empty or names the state frame; else Rejection ``bad_state``.
+    ``header.frame_id`` must name ``state_frame`` in ``frame_ids`` (any case, a leading "/"
+    ignored). The twist is in the body frame if ``child_frame_id`` is ``body_frame_id``, in the
+    state frame if it is empty or names the state frame; else Rejection ``bad_state``.
     """
     odom = msg if isinstance(msg, OdometryFields) else OdometryFields.of_message(msg)
     header_frame = odom.frame_id.lstrip("/")

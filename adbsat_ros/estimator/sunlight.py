@@ -1,8 +1,7 @@
 """Solar radiation pressure at one message: the Sun, the Earth's shadow, the sunlit panels.
 
-The Sun's direction (GCRS, through the ITRS for an ECEF state) is turned into the body frame;
-the self-shadowing comes from the model's shading cache read along minus it; the force is
-Luthcke's flat plate. Formulas: docs/physics.md, section 7.
+The Sun's direction (GCRS, through the ITRS for an ECEF state) turned into the body frame, the
+self-shadowing from the model's shading cache, Luthcke's flat plate: docs/physics.md, section 7.
 """
 
 from __future__ import annotations
@@ -22,9 +21,8 @@ from adbsat_ros.physics.model import Model
 
 
 class SolarPressureSource:
-    """Solar radiation pressure of a rigid ``model`` (its materials' reflectivities, reference and
-    shading cache) per message; ``orientation_options`` are the flight conditions' checked
-    Earth-orientation options (for an ECEF ``state_frame``)."""
+    """Solar radiation pressure of a rigid ``model`` per message (``orientation_options``: the
+    flight conditions' checked Earth-orientation options, for an ECEF ``state_frame``)."""
 
     def __init__(self, model: Model, state_frame: str, orientation_options):
         self.model = model
@@ -33,8 +31,7 @@ class SolarPressureSource:
         self.sun_track = SunTrack()
 
     def sample(self, conditions: FlightConditions, rotation) -> SolarSample:
-        """The wrench of sunlight at ``conditions`` (time and ECI position) for the attitude
-        ``rotation`` (body to state frame, 9 floats row-major)."""
+        """Sunlight's wrench at ``conditions``; ``rotation``: body to state frame, row-major."""
         sun = sun_state(
             conditions.time, conditions.position_eci, self.sun_track.position(conditions.time)
         )
@@ -64,8 +61,7 @@ class SolarPressureSource:
         )
 
     def with_sunlight(self, sample: WrenchSample, t0: float) -> WrenchSample:
-        """``sample`` with its solar wrench, compute time counted from ``t0`` (perf_counter);
-        Rejection ``compute_error`` if the solar wrench cannot be made or is not finite."""
+        """``sample`` with its solar wrench (time from ``t0``); Rejection compute_error."""
         try:
             solar = self.sample(sample.conditions, sample.rotation)
         except ValueError as exc:

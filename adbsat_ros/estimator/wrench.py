@@ -27,9 +27,11 @@ class Moment(NamedTuple):
 def wrench_sample(
     model: Model, gas_body, flow, changes: dict | None, joints: Joints | None, moment: Moment
 ) -> WrenchSample:
-    """The wrench of ``model`` (articulated: at ``joints``) at the flow direction ``gas_body`` (body
-    axes); ``changes`` the surface's ``alpha`` and ``alpha_n`` from an accommodation model, or
-    None. Rejection ``outside_database`` or ``compute_error`` (what the panel method refuses)."""
+    """The wrench of ``model`` (at ``joints``) for the gas motion ``gas_body`` (body axes).
+
+    ``changes``: the surface's ``alpha`` and ``alpha_n``, or None. Rejection ``outside_database`` or
+    ``compute_error``.
+    """
     q = flow.dynamic_pressure()
     try:
         coefficients = model.evaluate(flow, gas_body, joints, changes=changes)
