@@ -1,11 +1,6 @@
-"""Processes of the long jobs: how many workers and how they start, that they die with their
-parent, the heap kept out of the garbage collector's passes, and SIGINT/SIGTERM handling.
-
-A command's ``main`` enters :func:`handle_signals` first: a signal then raises
-:class:`Interrupted` in the main thread, except inside :func:`stop_on_signals`, where the work
-checks an event at its boundaries and stops in order. A forked worker ignores SIGINT (a Ctrl-C
-reaches the whole process group; the parent decides), dies of SIGTERM, and with its parent
-(:func:`die_with_parent`).
+"""Processes of the long jobs: worker counts and start method, workers dying with their parent,
+the heap frozen for the garbage collector, and SIGINT/SIGTERM handling (docs/architecture.md,
+"Signals and worker processes").
 """
 
 from __future__ import annotations
@@ -39,13 +34,9 @@ def usable_cpus() -> int:
 
 
 def worker_count(requested: int | None) -> tuple:
-    """``(workers, note)``: ``requested`` processes (default: every usable CPU), at most
-    :func:`usable_cpus` (more only add memory and switching); ``note`` says when it capped them.
+    """``(workers, note)``: ``requested`` (default every usable CPU), at most :func:`usable_cpus`.
 
-    Raises
-    ------
-    ValueError
-        For a count that is not a whole number >= 1.
+    ValueError: a count not a whole number >= 1.
     """
     cpus = usable_cpus()
     if requested is None:
@@ -58,8 +49,7 @@ def worker_count(requested: int | None) -> tuple:
 
 
 def pool_context():
-    """A worker pool's multiprocessing context: fork where there is one (workers inherit the
-    imports, meshes and caches), else the default."""
+    """A worker pool's multiprocessing context: fork where there is one, else the default."""
     if "fork" in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("fork")
     return multiprocessing.get_context()
@@ -67,13 +57,7 @@ def pool_context():
 
 @contextlib.contextmanager
 def frozen_heap():
-    """Keep the objects that exist now out of the garbage collector's passes while inside.
-
-    A parallel job makes many small tracked objects, and every full collection would walk the whole
-    heap of numpy, trimesh, rosbags and the meshes; frozen (:func:`gc.freeze`) before the workers
-    fork, the heap also stays shared with them, as the :mod:`gc` documentation advises. Nothing is
-    frozen if the caller froze objects already.
-    """
+    """Keep the objects that exist now out of the garbage collector's passes while inside."""
     if gc.get_freeze_count():
         yield
         return
@@ -85,8 +69,7 @@ def frozen_heap():
 
 
 class Interrupted(KeyboardInterrupt):
-    """SIGINT or SIGTERM, raised in the main thread by :func:`handle_signals`' handler outside
-    :func:`stop_on_signals` (a KeyboardInterrupt: what handles Ctrl-C handles SIGTERM alike)."""
+    """SIGINT or SIGTERM raised in the main thread by :func:`handle_signals`."""
 
     def __init__(self, signum: int):
         super().__init__(signal.Signals(signum).name)
@@ -94,9 +77,7 @@ class Interrupted(KeyboardInterrupt):
 
 
 class _Signals:
-    """The handler of :func:`handle_signals`: the first signal sets :attr:`event` and, inside
-    :func:`raising_signals` but outside :func:`stop_on_signals`, raises :class:`Interrupted`;
-    later ones only set the event."""
+    """The handler of :func:`handle_signals`: sets :attr:`event`, raises where allowed."""
 
     def __init__(self):
         self.pid = os.getpid()
@@ -117,9 +98,7 @@ class _Signals:
             self._raise(frame)
 
     def _raise(self, frame) -> None:
-        """Raise :class:`Interrupted`, unless an import is under way in ``frame``'s stack: an
-        extension module importing from C may print it as a traceback and go on, or abort, so the
-        raise waits (SIGALRM, tried again a moment later)."""
+        """Raise :class:`Interrupted`, unless an import is under way (then retried later)."""
         if _importing(frame):
             signal.signal(signal.SIGALRM, self._again)
             signal.siginterrupt(signal.SIGALRM, False)  # (no system call fails on it)
@@ -168,9 +147,7 @@ def signal_name() -> str | None:
 def handle_signals():
     """SIGINT and SIGTERM handled for a whole command, whose ``main`` enters this first thing.
 
-    :func:`raising_signals` goes inside the ``try`` that catches :class:`Interrupted` (outside it a
-    signal only sets the event); the previous handlers come back after. Nothing happens outside the
-    main thread, nor inside another such block.
+    Signals raise only inside :func:`raising_signals`; the previous handlers come back after.
     """
     if _signals() is not None or threading.current_thread() is not threading.main_thread():
         yield
@@ -191,8 +168,7 @@ def handle_signals():
 
 
 def exit_now(status: int) -> None:
-    """End the program with ``status`` at once, output flushed: after :class:`Interrupted` in its
-    start-up, which may have stopped an import half-way (the interpreter's clean-up could crash)."""
+    """End the program with ``status`` at once, output flushed (an import may be half-done)."""
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):
             stream.flush()
@@ -201,8 +177,7 @@ def exit_now(status: int) -> None:
 
 @contextlib.contextmanager
 def raising_signals():
-    """Under :func:`handle_signals`, inside: a signal raises :class:`Interrupted` (one that came
-    before, at the start), except within :func:`stop_on_signals`."""
+    """Under :func:`handle_signals`: a signal raises :class:`Interrupted` while inside."""
     signals = _signals()
     if signals is None:
         yield
@@ -219,9 +194,7 @@ def raising_signals():
 
 @contextlib.contextmanager
 def interruptible():
-    """Inside :func:`stop_on_signals`, a stretch holding nothing to keep (reading, planning): a
-    signal ends it at once (:class:`Interrupted`), as does one that came before or that a
-    library caught."""
+    """Inside :func:`stop_on_signals`, a stretch with nothing to keep: a signal ends it."""
     signals = _signals()
     if signals is None:
         yield
@@ -236,10 +209,8 @@ def interruptible():
 def stop_on_signals():
     """An event set by SIGINT or SIGTERM while inside, where they raise nothing.
 
-    A long job checks it at its boundaries and stops in order: the node ends its spin loop before
-    taking rclpy down (rclpy's own handlers would shut the context down under a running callback);
-    bag analysis keeps what it wrote as PARTIAL. Under :func:`handle_signals` the event is the
-    command's; elsewhere handlers of its own are installed while inside.
+    A long job checks it at its boundaries and stops in order (the node ends its spin loop before
+    taking rclpy down; bag analysis keeps what it wrote as PARTIAL).
     """
     signals = _signals()
     if signals is not None:
@@ -261,11 +232,7 @@ def stop_on_signals():
 
 
 def run_until_stopped(program: str, body, argv=None) -> int:
-    """Run ``body(argv)``, a program that runs until stopped, under :func:`handle_signals`.
-
-    Returns its exit status, or 0 with one line on stderr after SIGINT or SIGTERM; a signal during
-    its start-up ends a console script (``argv`` None) here (:func:`exit_now`).
-    """
+    """Run ``body(argv)`` under :func:`handle_signals`; its exit status (0 after a signal)."""
     with handle_signals():
         interrupted = False
         try:
@@ -286,14 +253,10 @@ PR_SET_PDEATHSIG = 1
 
 
 def die_with_parent(parent: int, stops_to_parent: bool = False) -> None:
-    """In a worker's initializer: die with ``parent``, even if it is killed with SIGKILL (Linux's
-    parent-death signal; at once if it is gone already); SIGINT ignored, SIGTERM fatal.
+    """Worker initializer: die with ``parent``, even SIGKILLed; SIGINT ignored, SIGTERM fatal.
 
-    With ``stops_to_parent``, SIGTERM is ignored too, and a stop sent to the whole process group
-    is left to the parent, which ends the job in order: a worker of a pool that sends its results
-    through a pipe (:class:`concurrent.futures.ProcessPoolExecutor`), where one killed while it
-    writes a result leaves half a message that the pool then waits for forever, or a Dask worker,
-    which its nanny would start again."""
+    ``stops_to_parent``: SIGTERM ignored too, a group-wide stop left to the parent.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN if stops_to_parent else signal.SIG_DFL)
     if sys.platform.startswith("linux"):

@@ -1,17 +1,8 @@
-"""Chunked jobs on Dask: the one engine of sweeps and databases.
+"""Chunked jobs on Dask, the one engine of sweeps and databases: in this process (one worker), a
+local cluster (one thread per forked worker process) or a running scheduler.
 
-A job (:class:`ChunkJob`) is picklable: a ``key`` naming it and a ``setup()`` that builds, where
-it runs, what its chunks need; the set-up's ``evaluate(chunk)`` gives a chunk's result.
-:func:`run_chunks` hands the chunks to Dask and gives each result back as it finishes:
-
-- no scheduler, one worker: in this process, chunk after chunk;
-- no scheduler, more: a ``distributed.LocalCluster`` on this machine, one thread per worker
-  process (the solvers hold the GIL), forked where possible;
-- a scheduler's address: that scheduler and its workers.
-
-Each task carries the job; a worker builds its set-up on the first chunk and keeps it
-(:data:`SETUPS`), since scattered data would have no lineage and be lost with a worker. Chunks
-of a dead worker are submitted again. A chunk's result may not depend on where or when it ran.
+A worker builds a job's set-up on its first chunk and keeps it (:data:`SETUPS`; scattered data
+would be lost with a worker). A chunk's result may not depend on where or when it ran.
 """
 
 from __future__ import annotations
@@ -46,8 +37,7 @@ SETUPS = LruStore(2)
 
 
 class ChunkJob(Protocol):
-    """What :func:`run_chunks` runs: picklable, a ``key`` (equal keys: equal set-ups) and a
-    ``setup()`` whose ``evaluate(chunk)`` computes a chunk."""
+    """A picklable job: a ``key`` (equal keys: equal set-ups), ``setup().evaluate(chunk)``."""
 
     key: str
 
@@ -78,12 +68,7 @@ TRIM_THRESHOLD, MMAP_THRESHOLD = 512 << 20, 32 << 20
 
 
 def keep_freed_memory() -> None:
-    """Make glibc keep the memory this process frees for its next allocations (once; glibc only).
-
-    A Dask worker's thread arena gives freed pages back at every turn, so each attitude's large
-    arrays come back as page faults; the trim and mmap thresholds the main arena reaches by itself
-    avoid that.
-    """
+    """Make glibc keep the memory this process frees for its next allocations."""
     if _MALLOC["set"]:
         return
     _MALLOC["set"] = True
@@ -104,29 +89,16 @@ def run_chunks(
     workers: int | None = None,
     stop=None,
 ) -> TaskReport:
-    """Compute every chunk of ``job`` and give each result to ``on_result(index, result)``.
+    """Compute every chunk of ``job`` and call ``on_result(index, result)`` here as each finishes.
 
     Parameters
     ----------
-    job : ChunkJob
-    chunks : dict
-        Chunk index -> the chunk (what the set-up's ``evaluate`` takes; picklable).
-    on_result : callable
-        Called in this process as each chunk finishes, in that order.
-    scheduler : str, optional
-        Address of a running Dask scheduler (``tcp://host:8786``); None: this machine.
-    workers : int, optional
-        Processes on this machine without ``scheduler`` (default: every usable CPU; 1: this
-        process).
-    stop : threading.Event, optional
-        Set to stop after the chunk finishing now (the others are dropped; rerun to go on).
+    chunks : chunk index -> the chunk (picklable)
+    scheduler : a running Dask scheduler's address (``tcp://host:8786``); None: this machine
+    workers : local processes (default: every usable CPU; 1: this process)
+    stop : a threading.Event; stops after the chunk finishing now (rerun to go on)
 
-    Raises
-    ------
-    RuntimeError
-        A chunk whose workers died :data:`MAX_RETRIES` + 1 times.
-    Exception
-        What a chunk's evaluation raised (its set-up's errors: a bad mesh, say).
+    RuntimeError: a chunk whose workers died :data:`MAX_RETRIES` + 1 times; else what it raised.
     """
     report = TaskReport()
     if not chunks:
@@ -211,8 +183,7 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
 
 
 def _kill_workers(cluster) -> None:
-    """End the local workers at once (SIGKILL): closed in order, each would finish its chunk.
-    Their nannies are told first that the cluster closes, or they would start others."""
+    """End the local workers at once (SIGKILL), their nannies told first."""
     cluster.sync(_closing, cluster)
     for nanny in list(cluster.workers.values()):
         pid = getattr(nanny, "pid", None)
@@ -228,8 +199,7 @@ async def _closing(cluster) -> None:
 
 
 def local_cluster(count: int):
-    """A ``distributed.LocalCluster`` of ``count`` worker processes of one thread each
-    (module docstring), with :func:`worker_environment`."""
+    """A ``distributed.LocalCluster`` of ``count`` single-thread worker processes."""
     import dask
     from distributed import LocalCluster
 
@@ -258,19 +228,13 @@ def local_cluster(count: int):
 
 
 def dask_setup(worker) -> None:
-    """Dask's preload hook in each worker of :func:`local_cluster`: a forked worker dies with the
-    process that started the cluster, even if that is SIGKILLed, and leaves SIGINT and SIGTERM
-    to it (:func:`adbsat_ros.processes.die_with_parent`): its nanny would start again a worker
-    that a stop sent to the whole process group killed, and that one, left running as the
-    cluster closes, logs the scheduler's absence as a traceback. The process stops its job in
-    order and ends the workers itself (:func:`_kill_workers`)."""
+    """Dask's preload hook in each local worker: :func:`adbsat_ros.processes.die_with_parent`."""
     if _PARENT["pid"] is not None and _PARENT["pid"] != os.getpid():
         die_with_parent(_PARENT["pid"], stops_to_parent=True)
 
 
 def worker_environment() -> dict:
-    """Dask's worker environment without ``MALLOC_TRIM_THRESHOLD_``: Dask's fixed 64 KiB threshold
-    would make glibc give memory back and take it again as page faults at every turn."""
+    """Dask's worker environment without ``MALLOC_TRIM_THRESHOLD_`` (docs/sweeps.md)."""
     import dask
     import distributed  # noqa: F401  (its configuration defaults are read on import)
 
@@ -280,8 +244,7 @@ def worker_environment() -> dict:
 
 
 class _quiet_distributed:
-    """Dask's loggers at CRITICAL while inside (inherited by forked workers): its INFO lines would
-    bury a progress bar, its workers' errors repeat what the client reports."""
+    """Dask's loggers at CRITICAL while inside (its INFO lines would bury a progress bar)."""
 
     def __enter__(self):
         import distributed  # noqa: F401  (its loggers exist from here on)
