@@ -208,12 +208,9 @@ def local_cluster(count: int):
         "distributed.nanny.pre-spawn-environ": worker_environment(),
         "distributed.worker.multiprocessing-method": method,
         "distributed.worker.preload": [__name__],  # (dask_setup: die with this process)
-        # no statistical profiler sampling each worker's stack (it feeds the dashboard, and
-        # takes the workers' CPU)
+        # the profiler feeds only the dashboard
         "distributed.worker.profile.enabled": False,
-        # the event loops' health check once a second, not fifty times a second (it warns of a
-        # loop blocked for 3 s): less CPU for the scheduler's process, which shares the
-        # workers' cores
+        # the scheduler's process shares the workers' cores
         "distributed.admin.tick.interval": "1s",
     }
     _PARENT["pid"] = os.getpid() if method == "fork" else None

@@ -71,8 +71,7 @@ def plan_chunks(
         step = min(MAX_CHUNK_MESSAGES, max(MIN_CHUNK_MESSAGES, per_worker))
         count = -(-n // step)
         if workers > 1 and count > workers:
-            # as many chunks for each worker: with one more, its last would run alone while the
-            # others wait (300 s at 100 Hz, two workers: 18 chunks of about 1,830, not 17)
+            # as many chunks for each worker: with one more, its last would run alone
             count = -(-count // workers) * workers
             step = n / count
     else:

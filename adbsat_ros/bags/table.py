@@ -98,7 +98,7 @@ def row_values(sample) -> list:
         aoa, aos = math.degrees(aoa), math.degrees(aos)
     else:
         aoa = aos = math.nan
-    # plain Python floats: the csv module writes them faster than numpy's
+    # plain Python floats for the csv module
     return [
         float(c.altitude),
         float(c.mass_density),
