@@ -1,7 +1,8 @@
 """Bundled concave bodies (test-particle cases): closed, metres, frame G, gas from +x at zero.
 
-``grooved-cylinder``: ADBSat's validation case (Sinpetru et al., Computer Physics
-Communications 275 (2022) 108327); ``cylinder`` without grooves; ``intake-box``.
+``grooved-cylinder``: r 0.5 m, length 1 m, axis x, four grooves 0.05 m wide, 0.4 m deep in its
+front, ADBSat's validation case (Sinpetru et al., Computer Physics Communications 275 (2022)
+108327); ``cylinder`` without; ``intake-box``: 2 x 1 x 1 m, a 0.6 x 0.6 m intake 1.5 m deep.
 """
 
 from __future__ import annotations
