@@ -1,6 +1,6 @@
 """adbsat_ros: ADBSat's free-molecular panel method, fast, as a library, CLI and ROS 2 node.
 
-The physics core (mesh, models, shading, atmosphere, databases) imports no rclpy. Start with::
+The physics core imports no rclpy. Start with::
 
     from adbsat_ros import FreeStream, PanelMethod, load_mesh
 
@@ -9,26 +9,20 @@ The physics core (mesh, models, shading, atmosphere, databases) imports no rclpy
     result = PanelMethod(mesh, "sentman").coefficients(flow)
     print(result.drag, result.Cf_w, result.Cm_B)
 
-The public API, by task:
-
 * meshes: :func:`load_mesh`, :func:`panels_from_arrays`, :func:`panels_from_trimesh`,
-  :func:`example_satellite`, :class:`PanelMesh`, :class:`MeshError`; bodies with moving parts
-  from a URDF: :class:`ArticulatedBody`, :class:`ArticulatedMethod` (wrench, per-link loads and
-  joint torques at any joint positions), and :func:`panel_loads` for the load on every panel;
+  :func:`example_satellite`, :class:`PanelMesh`, :class:`MeshError`; URDF bodies:
+  :class:`ArticulatedBody`, :class:`ArticulatedMethod`; :func:`panel_loads`;
 * the panel method: :class:`PanelMethod`, :class:`AeroCoefficients`, :class:`Reference`,
   :class:`ModelOptions`, :data:`MODELS`, :class:`MaterialTable`, :class:`SurfaceProperties`;
-* multiple reflections: :class:`TestParticleMethod` (test-particle Monte Carlo, with standard
-  errors: :class:`TpmcCoefficients`);
+  test particles: :class:`TestParticleMethod`, :class:`TpmcCoefficients`;
 * shading: :func:`make_shader`, :class:`Shader`, :class:`ShadingCache`, :class:`PanelLighting`;
-* the gas: :class:`FreeStream`, and from an orbital state :func:`flight_conditions`,
+* the gas: :class:`FreeStream`, :func:`flight_conditions`,
   :func:`flight_conditions_circular_orbit`, :class:`FlightConditions`, :class:`SpaceWeather`;
-* the wrench estimator (the ROS node's logic without ROS): :class:`AeroWrenchEstimator`,
-  :class:`WrenchSettings`;
+* the node's logic without ROS: :class:`AeroWrenchEstimator`, :class:`WrenchSettings`;
 * databases: :func:`build_database`, :func:`load_database`, :class:`AeroDatabase`,
   :class:`CoefficientLookup`.
 
-These names are loaded on first use (PEP 562 ``__getattr__``), so ``import adbsat_ros`` (and the
-command line) imports no numpy, trimesh or scipy.
+Loaded on first use (PEP 562), so ``import adbsat_ros`` imports no numpy, trimesh or scipy.
 """
 
 from __future__ import annotations

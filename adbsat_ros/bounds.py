@@ -1,7 +1,5 @@
-"""The valid range of every physical input, in one table, each bound with its reason.
-
-Command-line values, node parameters and messages are checked against :data:`BOUNDS`; a value
-outside is refused with its name, the value and the range. Printed in docs/physics.md, section 11.
+"""The valid range of every physical input, in one table (:data:`BOUNDS`), each with its reason;
+a value outside is refused with its name, the value and the range. docs/physics.md, section 11.
 """
 
 from __future__ import annotations
@@ -13,8 +11,7 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class Bound:
-    """The range [low, high] of one input, its unit and why; ``low_open`` / ``high_open`` open
-    that end."""
+    """The range [low, high] of one input, its unit and why; ``*_open`` opens an end."""
 
     low: float
     high: float
@@ -206,23 +203,19 @@ BODY_POINT_REASON = (
 
 
 def bounded(name: str, value, bound: str | Bound | None = None) -> float:
-    """``value`` as a float within ``bound``: a :class:`Bound`, or the name of one in :data:`BOUNDS`
-    (default ``name``).
+    """``value`` as a float within ``bound`` (a :class:`Bound` or a name in :data:`BOUNDS`).
 
-    Raises
-    ------
-    ValueError
-        ``"NAME must be in RANGE (REASON), got VALUE"`` for a number outside the range, NaN or
-        infinity included, and ``"NAME must be a number, got VALUE"`` for anything else.
+    ValueError: ``"NAME must be in RANGE (REASON), got VALUE"`` (NaN, inf included), or
+    ``"NAME must be a number, got VALUE"``.
     """
     rule = bound if isinstance(bound, Bound) else BOUNDS[bound or name]
     return rule.check(name, value)
 
 
 def body_point_bounds(lower, upper) -> tuple:
-    """The range [m] of each coordinate of a body point, as 3 Bounds: the box holding the bounding
-    box (``lower``, ``upper``) and the mesh origin (ADBSat's default moment reference), widened
-    on every side by :data:`BODY_REACH` times its largest side."""
+    """The range [m] of each coordinate of a body point: the bounding box and the origin, widened by
+    :data:`BODY_REACH` times its largest side.
+    """
     size = max(float(high) - float(low) for low, high in zip(lower, upper))
     margin = BODY_REACH * size
     return tuple(
@@ -232,8 +225,7 @@ def body_point_bounds(lower, upper) -> tuple:
 
 
 def body_point(name: str, point, lower, upper) -> tuple:
-    """``point`` (x, y, z) [m] as floats within :func:`body_point_bounds` of the bounding box
-    ``lower``, ``upper``; ValueError ``"NAME x must be in RANGE (REASON), got VALUE"``."""
+    """``point`` [m] as floats within :func:`body_point_bounds`, else ValueError."""
     rules = body_point_bounds(lower, upper)
     return tuple(rule.check(f"{name} {axis}", x) for axis, x, rule in zip("xyz", point, rules))
 
@@ -254,8 +246,7 @@ def available_memory() -> int | None:
 
 
 def check_memory(name: str, estimate: float, available: int | None = None) -> None:
-    """ValueError naming ``name`` if ``estimate`` [bytes] exceeds ``available`` (default
-    :func:`available_memory`); nothing if that is not known."""
+    """ValueError naming ``name`` if ``estimate`` [bytes] exceeds the available memory."""
     available = available_memory() if available is None else available
     if available is not None and estimate > available:
         raise ValueError(

@@ -1,6 +1,4 @@
-"""A bounded store of the most recently used entries, with its hit and miss counts; each of the
-package's named caches keeps its entries in one.
-"""
+"""The bounded store of most recently used entries, with hit and miss counts, of every cache."""
 
 from __future__ import annotations
 
@@ -9,11 +7,7 @@ from typing import Callable
 
 
 class LruStore:
-    """At most ``max_entries`` values by key (None: no bound), least recently used dropped first.
-
-    Values are never None. ``hits``, ``misses``, ``evictions`` count lookups that found their key,
-    those that did not, and entries dropped for the bound.
-    """
+    """At most ``max_entries`` values (never None) by key, least recently used dropped first."""
 
     def __init__(self, max_entries: int | None):
         if max_entries is not None and int(max_entries) < 1:
@@ -23,10 +17,7 @@ class LruStore:
         self.hits = self.misses = self.evictions = 0
 
     def get(self, key, make: Callable[[], object], count: bool = True):
-        """The value of ``key``: the stored one, or ``make()`` (then stored).
-
-        With ``count`` False the lookup is not counted as a hit or a miss (filling ahead).
-        """
+        """The value of ``key``, stored or ``make()`` (then stored); ``count`` False: uncounted."""
         value = self._entries.get(key)
         if value is not None:
             self._entries.move_to_end(key)

@@ -1,8 +1,6 @@
-"""Processes of the long jobs: worker count and start method, death with the parent, a frozen heap.
-
-SIGINT/SIGTERM: a command's ``main`` enters :func:`handle_signals`; a signal then raises
-:class:`Interrupted` in the main thread, except inside :func:`stop_on_signals`, where the work
-checks an event and stops in order. A forked worker ignores SIGINT and dies of SIGTERM.
+"""Processes of the long jobs: worker counts and start method, workers dying with their parent,
+the heap frozen for the garbage collector, and SIGINT/SIGTERM handling (docs/architecture.md,
+"Signals and worker processes").
 """
 
 from __future__ import annotations
@@ -36,9 +34,9 @@ def usable_cpus() -> int:
 
 
 def worker_count(requested: int | None) -> tuple:
-    """``(workers, note)``: ``requested`` (default: all usable CPUs), at most :func:`usable_cpus`.
+    """``(workers, note)``: ``requested`` (default every usable CPU), at most :func:`usable_cpus`.
 
-    ValueError: a count that is not a whole number >= 1.
+    ValueError: a count not a whole number >= 1.
     """
     cpus = usable_cpus()
     if requested is None:
@@ -51,7 +49,7 @@ def worker_count(requested: int | None) -> tuple:
 
 
 def pool_context():
-    """A worker pool's multiprocessing context: fork where there is one (workers inherit caches)."""
+    """A worker pool's multiprocessing context: fork where there is one, else the default."""
     if "fork" in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("fork")
     return multiprocessing.get_context()
@@ -59,11 +57,7 @@ def pool_context():
 
 @contextlib.contextmanager
 def frozen_heap():
-    """Keep the objects that exist now out of the garbage collector's passes (:func:`gc.freeze`).
-
-    Frozen before the workers fork, the heap also stays shared with them, as the :mod:`gc`
-    documentation advises. Nothing is frozen if the caller froze objects already.
-    """
+    """Keep the objects that exist now out of the garbage collector's passes while inside."""
     if gc.get_freeze_count():
         yield
         return
@@ -75,7 +69,7 @@ def frozen_heap():
 
 
 class Interrupted(KeyboardInterrupt):
-    """SIGINT or SIGTERM in the main thread (a KeyboardInterrupt: Ctrl-C handling covers both)."""
+    """SIGINT or SIGTERM raised in the main thread by :func:`handle_signals`."""
 
     def __init__(self, signum: int):
         super().__init__(signal.Signals(signum).name)
@@ -83,7 +77,7 @@ class Interrupted(KeyboardInterrupt):
 
 
 class _Signals:
-    """The handler of :func:`handle_signals`: the first signal sets :attr:`event` and may raise."""
+    """The handler of :func:`handle_signals`: sets :attr:`event`, raises where allowed."""
 
     def __init__(self):
         self.pid = os.getpid()
@@ -153,8 +147,7 @@ def signal_name() -> str | None:
 def handle_signals():
     """SIGINT and SIGTERM handled for a whole command, whose ``main`` enters this first thing.
 
-    :func:`raising_signals` goes inside the ``try`` that catches :class:`Interrupted` (outside it a
-    signal only sets the event). Nothing happens outside the main thread, nor nested.
+    Signals raise only inside :func:`raising_signals`; the previous handlers come back after.
     """
     if _signals() is not None or threading.current_thread() is not threading.main_thread():
         yield
@@ -175,7 +168,7 @@ def handle_signals():
 
 
 def exit_now(status: int) -> None:
-    """End the program with ``status`` at once, output flushed (after an interrupted start-up)."""
+    """End the program with ``status`` at once, output flushed (an import may be half-done)."""
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):
             stream.flush()
@@ -184,7 +177,7 @@ def exit_now(status: int) -> None:
 
 @contextlib.contextmanager
 def raising_signals():
-    """Under :func:`handle_signals`: a signal raises Interrupted (not inside stop_on_signals)."""
+    """Under :func:`handle_signals`: a signal raises :class:`Interrupted` while inside."""
     signals = _signals()
     if signals is None:
         yield
@@ -201,7 +194,7 @@ def raising_signals():
 
 @contextlib.contextmanager
 def interruptible():
-    """In :func:`stop_on_signals`, a stretch holding nothing to keep: a signal ends it at once."""
+    """Inside :func:`stop_on_signals`, a stretch with nothing to keep: a signal ends it."""
     signals = _signals()
     if signals is None:
         yield
@@ -216,8 +209,8 @@ def interruptible():
 def stop_on_signals():
     """An event set by SIGINT or SIGTERM while inside, where they raise nothing.
 
-    A long job checks it at its boundaries and stops in order: the node ends its spin loop before
-    taking rclpy down (rclpy's own handlers would shut the context down under a running callback).
+    A long job checks it at its boundaries and stops in order (the node ends its spin loop before
+    taking rclpy down; bag analysis keeps what it wrote as PARTIAL).
     """
     signals = _signals()
     if signals is not None:
@@ -239,7 +232,7 @@ def stop_on_signals():
 
 
 def run_until_stopped(program: str, body, argv=None) -> int:
-    """Run ``body(argv)`` until stopped; its exit status, or 0 (a line on stderr) after a signal."""
+    """Run ``body(argv)`` under :func:`handle_signals`; its exit status (0 after a signal)."""
     with handle_signals():
         interrupted = False
         try:

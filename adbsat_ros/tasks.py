@@ -1,8 +1,8 @@
-"""Chunked jobs on Dask: the one engine of sweeps and databases (docs/sweeps.md).
+"""Chunked jobs on Dask, the one engine of sweeps and databases: in this process (one worker), a
+local cluster (one thread per forked worker process) or a running scheduler.
 
-:func:`run_chunks` runs a picklable :class:`ChunkJob` in this process (one worker), on a forked
-``distributed.LocalCluster`` (one thread per worker: the solvers hold the GIL), or on a running
-scheduler. A worker keeps its set-up (:data:`SETUPS`; scattered data would have no lineage).
+A worker builds a job's set-up on its first chunk and keeps it (:data:`SETUPS`; scattered data
+would be lost with a worker). A chunk's result may not depend on where or when it ran.
 """
 
 from __future__ import annotations
@@ -36,8 +36,7 @@ SETUPS = LruStore(2)
 
 
 class ChunkJob(Protocol):
-    """What :func:`run_chunks` runs: picklable, a ``key`` (equal keys: equal set-ups) and a
-    ``setup()`` whose ``evaluate(chunk)`` computes a chunk."""
+    """A picklable job: a ``key`` (equal keys: equal set-ups), ``setup().evaluate(chunk)``."""
 
     key: str
 
@@ -68,7 +67,7 @@ TRIM_THRESHOLD, MMAP_THRESHOLD = 512 << 20, 32 << 20
 
 
 def keep_freed_memory() -> None:
-    """Make glibc keep the memory this process frees for its next allocations (docs/sweeps.md)."""
+    """Make glibc keep the memory this process frees for its next allocations."""
     if _MALLOC["set"]:
         return
     _MALLOC["set"] = True
@@ -89,7 +88,7 @@ def run_chunks(
     workers: int | None = None,
     stop=None,
 ) -> TaskReport:
-    """Compute every chunk of ``job`` and give each result to ``on_result(index, result)``.
+    """Compute every chunk of ``job`` and call ``on_result(index, result)`` here as each finishes.
 
     chunks: index -> chunk (picklable); ``on_result`` is called in this process as each finishes.
     scheduler: a running Dask scheduler's address (``tcp://host:8786``); None: this machine.
@@ -180,7 +179,7 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
 
 
 def _kill_workers(cluster) -> None:
-    """SIGKILL the local workers (closed in order, each would end its chunk), nannies told first."""
+    """End the local workers at once (SIGKILL), their nannies told first."""
     cluster.sync(_closing, cluster)
     for nanny in list(cluster.workers.values()):
         pid = getattr(nanny, "pid", None)
@@ -196,7 +195,7 @@ async def _closing(cluster) -> None:
 
 
 def local_cluster(count: int):
-    """A ``distributed.LocalCluster`` of ``count`` one-thread worker processes."""
+    """A ``distributed.LocalCluster`` of ``count`` single-thread worker processes."""
     import dask
     from distributed import LocalCluster
 
@@ -205,9 +204,9 @@ def local_cluster(count: int):
         "distributed.nanny.pre-spawn-environ": worker_environment(),
         "distributed.worker.multiprocessing-method": method,
         "distributed.worker.preload": [__name__],  # (dask_setup: die with this process)
-        # no stack-sampling profiler (the dashboard's), and the event loops' health check once
-        # a second: the scheduler's process shares the workers' cores
+        # the profiler feeds only the dashboard
         "distributed.worker.profile.enabled": False,
+        # the scheduler's process shares the workers' cores
         "distributed.admin.tick.interval": "1s",
     }
     _PARENT["pid"] = os.getpid() if method == "fork" else None
@@ -222,11 +221,7 @@ def local_cluster(count: int):
 
 
 def dask_setup(worker) -> None:
-    """Dask's preload hook: a forked local worker dies with the cluster's process, which stops it.
-
-    Otherwise its nanny would restart a worker a group-wide stop killed, and a worker left running
-    as the cluster closes logs the scheduler's absence as a traceback.
-    """
+    """Dask's preload hook in each local worker: :func:`adbsat_ros.processes.die_with_parent`."""
     if _PARENT["pid"] is not None and _PARENT["pid"] != os.getpid():
         die_with_parent(_PARENT["pid"], stops_to_parent=True)
 

@@ -1,5 +1,4 @@
-"""Checks of inputs that raise ValueError naming the input: numbers and 3-vectors; and what an
-output path holds that a command did not write (which it never replaces)."""
+"""Input checks raising ValueError naming the input, and what an output path holds."""
 
 from __future__ import annotations
 
@@ -58,10 +57,9 @@ def vectors3(value, name: str) -> np.ndarray:
 
 
 def foreign_entry(path, own) -> Path | None:
-    """The first entry at ``path`` that ``own`` does not accept as a command's output, or None.
+    """The first entry at ``path`` that ``own(parts)`` does not accept as an output, or None.
 
-    ``own(parts)`` gets each file's path relative to ``path`` as a tuple of names. An empty
-    directory is accepted, a symbolic link or special file never is.
+    An empty directory is accepted, a symbolic link or special file never.
     """
     path = Path(path)
     if path.is_symlink() or not path.is_dir():

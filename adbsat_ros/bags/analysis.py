@@ -1,10 +1,7 @@
 """Offline analysis of recorded flights: the node's wrench at every attitude message of a rosbag2.
 
-:func:`analyze_bag` feeds a bag's messages, in bag order, through the node's per-message path
-(:class:`~adbsat_ros.estimator.handling.MessageHandler`), one estimator per model, in parallel
-chunks (read, plan, compute in workers, merge in bag order), and writes a bag, a CSV
-(:mod:`adbsat_ros.bags.table`) and plots; docs/cli.md, "Recorded flights". After a fault or a
-stop, the outputs so far are kept as PARTIAL (:attr:`AnalysisReport.error`).
+The bag's messages go through the node's per-message path, one estimator per model, in parallel
+chunks merged in bag order; docs/cli.md, "Recorded flights".
 """
 
 from __future__ import annotations
@@ -138,48 +135,22 @@ def analyze_bag(
 
     Parameters
     ----------
-    bag : str or Path
-        Input rosbag2 (directory, .mcap or .db3 file).
-    attitude_topic, state_topic : str
-        geometry_msgs/QuaternionStamped and nav_msgs/Odometry topics (as the node subscribes).
-    models : list of (label, WrenchSettings), optional
-        One entry per model (default: the node's defaults, label 'default').
-    out_bag, out_csv, plots_dir : path, optional
-        Output bag directory, CSV file, directory of PNG plots (None: not written).
-    storage : str
-        'mcap' or 'sqlite3' for the output bag.
-    progress : bool
-        Show a tqdm progress bar (on stderr).
-    overwrite : bool
-        Replace existing outputs (only outputs of the same kind: :mod:`adbsat_ros.bags.replacing`).
-    workers : int, optional
-        Processes computing wrenches (default ``os.cpu_count()``); the outputs are the same for
-        any number.
-    chunk_messages : int, optional
-        State + attitude messages per chunk (default: 8 chunks per worker, within
-        :data:`MIN_CHUNK_MESSAGES` and :data:`MAX_CHUNK_MESSAGES`).
-    stop : threading.Event, optional
-        Set to stop at the next message: the report's error says so, the outputs so far are kept
-        as PARTIAL.
-    joint_topic : str
-        sensor_msgs/JointState topic, read when a model is an articulated body.
-    skip_damaged : bool
-        Leave out the chunks of an MCAP input that fail their CRC
-        (:attr:`AnalysisReport.skipped_chunks`) instead of refusing the bag.
+    bag : input rosbag2 (directory, .mcap or .db3 file)
+    attitude_topic, state_topic : QuaternionStamped and Odometry topics (as the node subscribes)
+    models : list of (label, WrenchSettings) (default: the node's defaults, label 'default')
+    out_bag, out_csv, plots_dir : outputs (None: not written)
+    storage : ``'mcap'`` or ``'sqlite3'`` for the output bag
+    overwrite : replace outputs of the same kind only (:mod:`adbsat_ros.bags.replacing`)
+    workers : processes (default ``os.cpu_count()``); the outputs are the same for any number
+    chunk_messages : messages per chunk, in [:data:`MIN_CHUNK_MESSAGES`, :data:`MAX_CHUNK_MESSAGES`]
+    stop : a threading.Event; stops at the next message, the outputs so far kept as PARTIAL
+    joint_topic : sensor_msgs/JointState topic, read for an articulated model
+    skip_damaged : leave out MCAP chunks failing their CRC instead of refusing the bag
 
-    Returns
-    -------
-    AnalysisReport
-
-    Raises
-    ------
-    BagError
-        Before anything is written: the input cannot be opened or fails its checksums, a topic is
-        missing, of another type or empty, or an output exists. A fault found while reading, or a
-        stop, is reported in :attr:`AnalysisReport.error` instead, the outputs so far kept under
-        :func:`adbsat_ros.bags.outputs.partial_path`.
-    ValueError, MeshError
-        For models that cannot be set up, or ``workers`` / ``chunk_messages`` < 1.
+    Returns an AnalysisReport; a fault while reading, or a stop, is in its ``error``, the outputs
+    so far under :func:`adbsat_ros.bags.outputs.partial_path`.
+    BagError: before anything is written, a bad input (checksums, topics) or an existing output.
+    ValueError: a model that cannot be set up (or MeshError), ``workers`` or ``chunk_messages`` < 1.
     """
     t_start = time.perf_counter()
     bag = Path(bag)

@@ -1,10 +1,7 @@
 """Checksums of the bags: written into every MCAP file the package writes, checked before analysis.
 
-:class:`CheckedWriter` is rosbags' Writer with the MCAP CRCs filled in (rosbags leaves them
-zero). :func:`check_bag` checks an MCAP file's chunks, data section and summary against their
-CRCs (a zero CRC is counted, not failed) and an SQLite file through ``quick_check`` (structure
-only: rosbag2's SQLite storage has no checksums). :func:`drop_chunks` takes damaged chunks out
-of a bag's index.
+:class:`CheckedWriter` fills in the MCAP CRCs rosbags leaves zero; :func:`check_bag` checks
+MCAP CRCs (a zero CRC counted, not failed) or SQLite's ``quick_check`` (it has no checksums).
 """
 
 from __future__ import annotations
@@ -94,8 +91,7 @@ class CheckedWriter(Writer):
 # --------------------------------------------------------------------------------- checking
 @dataclass(frozen=True)
 class Damage:
-    """A part of a bag's file that fails its check: ``what`` (e.g. ``chunk 3 of 7 (...)``),
-    ``reason`` (``fails its CRC``), a chunk's byte ``offset`` (else None) and its ``messages``."""
+    """A part of a bag that fails its check; ``offset`` [bytes] of a chunk, else None."""
 
     file: Path
     what: str
@@ -110,8 +106,7 @@ class Damage:
 
     @property
     def fatal(self) -> bool:
-        """Whether the bag cannot be read safely: its summary (chunk index) or SQLite structure is
-        damaged. (Damage outside the chunks, with every chunk sound, touches no message.)"""
+        """Whether its summary (chunk index) or SQLite structure is damaged."""
         return self.offset is None and self.what != "the data section"
 
     def __str__(self) -> str:

@@ -1,8 +1,6 @@
-"""Reading and writing rosbag2 files (.mcap and .db3) without ROS, with the ``rosbags`` library.
+"""Reading and writing rosbag2 files (.mcap and .db3) without ROS, with ``rosbags``.
 
-The one place that knows message layouts in bags: the messages the project writes, the
-deserialisers of the node's inputs and :func:`open_bag` / :class:`BagWriter` (MCAP CRCs by
-:mod:`adbsat_ros.bags.checksums`). Stamps are integer nanoseconds.
+The one place that knows message layouts in bags. Stamps are integer nanoseconds.
 """
 
 from __future__ import annotations
@@ -85,8 +83,7 @@ def odometry_message(
     orientation_xyzw=(0.0, 0.0, 0.0, 1.0),
     angular_velocity=(0.0, 0.0, 0.0),
 ):
-    """nav_msgs/Odometry: pose in ``frame_id`` [m], twist in ``child_frame_id`` [m/s, rad/s];
-    ``stamp`` in ns or a builtin_interfaces/Time; zero covariances."""
+    """nav_msgs/Odometry: pose in ``frame_id`` [m], twist in ``child_frame_id`` [m/s, rad/s]."""
     x, y, z, w = (float(v) for v in orientation_xyzw)
     pose = _T["geometry_msgs/msg/Pose"](
         position=_vector(_Point, position), orientation=_Quaternion(x=x, y=y, z=z, w=w)
@@ -119,8 +116,7 @@ def wrench_stamped_message(stamp, frame_id: str, force, torque):
 
 
 def joint_state_message(stamp, frame_id: str, names, positions, velocities=(), efforts=()):
-    """sensor_msgs/JointState: names, positions [rad or m], velocities and efforts (each empty or
-    one per name)."""
+    """sensor_msgs/JointState: positions [rad or m], velocities, efforts."""
     return _T[JOINT_STATE](
         header=_header(stamp, frame_id),
         name=[str(n) for n in names],
@@ -163,8 +159,9 @@ def deserialize_attitude(raw):
 
 
 def deserialize_joint_state(raw):
-    """A sensor_msgs/JointState from CDR bytes (raises for anything else); up to 15 bytes after
-    the last field are read past (rclpy leaves up to 12 there, rosbags refuses more than 3)."""
+    """A sensor_msgs/JointState from CDR bytes; up to 15 bytes after the last field are read past
+    (rclpy leaves up to 12 there, rosbags refuses more than 3).
+    """
     try:
         return TYPESTORE.deserialize_cdr(raw, JOINT_STATE)
     except SerdeError as exc:
@@ -190,8 +187,7 @@ def deserialize_odometry(raw):
 
 # --------------------------------------------------------------------------------- reading
 def open_bag(path) -> Reader:
-    """Open a rosbag2 (directory with metadata.yaml, or one .mcap/.db3 file) for reading;
-    BagError naming the path if missing, of unknown storage, corrupt or truncated."""
+    """Open a rosbag2 (directory or .mcap/.db3) for reading; BagError naming a bad path."""
     path = Path(path)
     if not path.exists():
         raise BagError(f"input bag {path}: no such file or directory")
@@ -216,19 +212,9 @@ def storage_plugin(storage: str) -> StoragePlugin:
 
 # --------------------------------------------------------------------------------- writing
 class BagWriter:
-    """A rosbag2 writer building the bag under a temporary name beside ``path``.
+    """A rosbag2 writer building the bag beside ``path`` (:meth:`commit`, :meth:`discard`).
 
-    :meth:`commit` renames it to ``path``; :meth:`discard` (or an exception in a ``with`` block)
-    removes it.
-
-    Parameters
-    ----------
-    path : str or Path
-        Final bag directory (must not exist unless ``overwrite``).
-    storage : str
-        'mcap' or 'sqlite3'.
-    overwrite : bool
-        Replace a rosbag2 bag at ``path`` on commit (anything else there is refused).
+    ``storage``: ``'mcap'`` or ``'sqlite3'``; ``overwrite`` replaces a rosbag2 bag only, on commit.
     """
 
     def __init__(self, path, storage: str = "mcap", overwrite: bool = False):
@@ -333,10 +319,9 @@ def write_scenario_bag(
     frame_id: str = "eci",
     overwrite: bool = False,
 ) -> Path:
-    """Write a :class:`~adbsat_ros.bags.scenario.ScenarioMessages` as a bag.
+    """Write ScenarioMessages as a bag: Odometry (twist the ECI velocity), QuaternionStamped.
 
-    States become Odometry (``frame_id`` and ``child_frame_id`` both ``frame_id``: the twist is the
-    ECI velocity), attitudes QuaternionStamped; log time = stamp, the state first at equal stamps.
+    Log time = stamp, the state first at equal stamps.
     """
     states, attitudes = messages.states, messages.attitudes
     events = [(int(t), 0, i) for i, t in enumerate(states.stamps_ns)]

@@ -1,7 +1,4 @@
-"""The bag analysis's outputs, written in bag order: the output bag, the CSV and the plots.
-
-Bag and CSV are put at their paths only when complete.
-"""
+"""The bag analysis's outputs, written in bag order; bag and CSV moved in only when complete."""
 
 from __future__ import annotations
 
@@ -59,8 +56,7 @@ class _CsvFile:
 
 @dataclass
 class Replay:
-    """What the merge walks through: the two passes over the input (``read``, ``stream``), the
-    ``chunks`` and their ``results`` in order, the models' ``states`` and the ``report``."""
+    """What the merge walks through: both passes over the input, chunks and results, report."""
 
     read: object
     stream: object
@@ -72,8 +68,7 @@ class Replay:
 
 @dataclass
 class Outputs:
-    """Outputs asked for: ``bag``, ``csv``, ``plots`` paths (None: not written), the bag's
-    ``storage``, ``overwrite``, ``progress``."""
+    """Outputs asked for: ``bag``, ``csv``, ``plots`` paths (None: not written) and options."""
 
     bag: Path | None
     csv: Path | None
@@ -239,19 +234,13 @@ class _Walk:
 
 
 def partial_path(path) -> Path:
-    """Where an output goes when the analysis stopped early: ``flight.csv`` ->
-    ``flight.PARTIAL.csv``, a bag directory ``out`` -> ``out.PARTIAL``."""
+    """Where an output goes after an early stop: ``flight.PARTIAL.csv``, ``out.PARTIAL``."""
     path = Path(path)
     return path.with_name(f"{path.stem}.PARTIAL{path.suffix}")
 
 
 def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
-    """Walk the messages in bag order and write the outputs asked for.
-
-    If the walk stops early (an undecodable message, or ``stop`` set), every output is kept
-    under :func:`partial_path`; after ``stop`` no plots are drawn. ``replay``'s results are
-    closed here.
-    """
+    """Walk the messages in bag order and write the outputs."""
     states, report = replay.states, replay.report
     out_bag, out_csv, plots_dir = outputs.bag, outputs.csv, outputs.plots
     seconds = collections.Counter()
@@ -300,8 +289,7 @@ def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
 
 
 def write_plots(plots_dir, envelope, labels, report) -> None:
-    """PNG plots of force, torque, density and C_D of every model against time, from ``envelope``
-    (a min/max envelope of the rows' plot numbers), into ``plots_dir`` (replaced as a whole)."""
+    """PNGs of force, torque, density and C_D of every model against time into ``plots_dir``."""
     # imported when plots are asked for: matplotlib is slow to import
     from adbsat_ros.plotting.time_series import make_line_figures, save_figures
 

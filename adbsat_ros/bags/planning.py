@@ -1,7 +1,5 @@
-"""Planning the parallel replay: where a bag's trigger messages can be cut into chunks.
-
-A chunk, replayed from a reset estimator, gives the sequential results only if it starts where
-the two provably agree (:func:`safe_split_points`, and a state there a reset estimator accepts).
+"""Where a bag's trigger messages can be cut into chunks that replay from a reset estimator
+with the sequential results (:func:`safe_split_points`).
 """
 
 from __future__ import annotations
@@ -19,16 +17,11 @@ MAX_CHUNK_MESSAGES = 2000
 
 
 def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
-    """Trigger-message indices where a freshly reset estimator gives the sequential results.
+    """Trigger-message indices k >= 1 where a freshly reset estimator gives the sequential results.
 
-    The two differ only in the latest state and the last stamps, so they agree from k on if k is
-    a state stamped later than every earlier state, no model's attitude stamp at or after k is
-    earlier than one before k, and no joint state comes before k (whether the state at k passes
-    its own checks is ``accepted`` of :func:`plan_chunks`).
-
-    ``kinds`` (STATE, ATTITUDE or JOINTS) and header ``stamps`` [s] of the messages in bag
-    order, ``attitude_sources`` each model's; returns increasing indices k >= 1 (0 always starts
-    the first chunk).
+    They differ only in the latest state and last stamps: agree from k on if k is a state stamped
+    later than every earlier state, no attitude stamp from k on is earlier than one before k, and no
+    joint state comes before k. ``stamps``: header stamps [s] in bag order.
     """
     kinds = np.asarray(kinds)
     stamps = np.asarray(stamps, dtype=float)
@@ -70,7 +63,6 @@ def plan_chunks(
 ) -> list:
     """Cut the trigger messages into chunks [start, stop) at safe split points; they cover all.
 
-    Arguments as in :func:`safe_split_points` (``stamps`` may stop early: no cut after that);
     ``accepted(k)``: whether every model's reset estimator accepts state message k.
     """
     n = len(kinds)
@@ -79,8 +71,7 @@ def plan_chunks(
         step = min(MAX_CHUNK_MESSAGES, max(MIN_CHUNK_MESSAGES, per_worker))
         count = -(-n // step)
         if workers > 1 and count > workers:
-            # as many chunks for each worker: with one more, its last would run alone while the
-            # others wait (300 s at 100 Hz, two workers: 18 chunks of about 1,830, not 17)
+            # as many chunks for each worker: with one more, its last would run alone
             count = -(-count // workers) * workers
             step = n / count
     else:

@@ -1,8 +1,5 @@
-"""Reading an input bag for the analysis in two passes, in memory that does not grow with the bag.
-
-A first pass keeps the trigger (state and attitude) messages' kinds and stamps to plan the
-chunks; a second streams them to the workers and every message to the merge. A reader fault
-ends both passes at the same place, and is reported.
+"""Reading an input bag in two passes in bounded memory: trigger kinds and stamps to plan the
+chunks, then a stream to the workers and the merge. A reader fault ends both at the same place.
 """
 
 from __future__ import annotations
@@ -39,11 +36,9 @@ def read_messages(reader, path, connections):
 
 
 def check_damage(reader, path, skip_damaged: bool = False) -> tuple[list, list]:
-    """Check an open bag's checksums: ``(skipped, warnings)``, the damaged chunks taken out of
-    ``reader``'s index (``skip_damaged`` only) and lines on chunks without a CRC or skipped.
+    """Check an open bag's checksums: ``(skipped chunks, warning lines)``.
 
-    BagError naming the file and its first damaged part, unless ``skip_damaged`` and the damage
-    is to chunks only (or outside them); always for a damaged summary or SQLite structure.
+    BagError: damage, unless ``skip_damaged`` and only chunks; always for a damaged summary.
     """
     check = check_bag(reader)
     warnings = []
@@ -71,8 +66,7 @@ def check_damage(reader, path, skip_damaged: bool = False) -> tuple[list, list]:
 
 
 def check_topics(reader, path, topics_types) -> dict:
-    """Check the required (option, topic, msgtype): present, of that type only, with messages
-    (else BagError naming the topic and option); returns {topic: set of msgtypes} of the bag."""
+    """Check the required topics (present, one type, messages); {topic: msgtypes}."""
     by_topic = collections.defaultdict(set)
     counts = collections.Counter()
     for conn in reader.connections:
@@ -99,11 +93,7 @@ def check_topics(reader, path, topics_types) -> dict:
 
 @dataclass
 class BagMessages:
-    """The first pass over a bag: trigger kinds and stamps, and the states' bytes.
-
-    ``trigger_stamps`` [s] stop at the first unreadable message; ``state_raws`` maps trigger
-    index to a state's CDR bytes; ``error`` says why reading stopped early, if it did.
-    """
+    """The first pass: trigger kinds and stamps [s], states' CDR bytes, why it stopped."""
 
     path: object
     connections: dict
@@ -128,10 +118,7 @@ def read_bag_messages(
     joint_topic: str | None = None,
     skipped=(),
 ) -> BagMessages:
-    """The first pass over an open bag: kinds and stamps of the trigger messages, the states' bytes.
-
-    Triggers are on ``state_topic``, ``attitude_topic`` and ``joint_topic`` (None: no model uses
-    it); ``skipped``: the damaged chunks already taken out of ``reader``."""
+    """The first pass over an open bag (:class:`BagMessages`)."""
     read = BagMessages(path, {c.id: c for c in reader.connections}, skipped=list(skipped))
     for c in reader.connections:
         if c.topic == state_topic:
@@ -163,8 +150,7 @@ def read_bag_messages(
 
 
 class MessageStream:
-    """The second pass over a bag, read once for the workers (:meth:`chunks`) and the merge
-    (:meth:`messages`); whichever reads first queues for the other, so memory stays bounded."""
+    """The second pass, read once for the workers and the merge, queued between them."""
 
     def __init__(self, read: BagMessages):
         self._kind_of = read.kind_of
@@ -190,8 +176,7 @@ class MessageStream:
         return True
 
     def chunks(self, bounds):
-        """``(kinds, CDR bytes)`` of the trigger messages of each chunk ``[start, stop)`` of
-        ``bounds``."""
+        """``(kinds, CDR bytes)`` of the trigger messages of each chunk of ``bounds``."""
         queue = self._unchunked
         for start, stop in bounds:
             kinds, raws = [], []

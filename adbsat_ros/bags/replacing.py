@@ -1,7 +1,5 @@
-"""Which outputs of the bag tools an output path holds: ``--overwrite`` replaces only these.
-
-A rosbag2 bag, a directory of the analysis's PNGs only, or a CSV starting with the analysis's
-header; anything else is refused by name, nothing deleted (:func:`refusal`).
+"""Which outputs of the bag tools an output path holds: ``--overwrite`` replaces only these
+(a rosbag2 bag, a directory of the analysis's PNGs, a CSV with its header).
 """
 
 from __future__ import annotations
@@ -66,8 +64,7 @@ KINDS = {
 
 
 def refusal(path, what: str) -> str | None:
-    """Why ``what`` ('bag', 'plot directory' or 'CSV') at ``path`` cannot be replaced, naming the
-    first entry that is not such an output; None if it can."""
+    """Why ``what`` at ``path`` cannot be replaced, naming the entry; None if it can."""
     find, kind = KINDS[what]
     entry = find(path)
     if entry is None:

@@ -1,7 +1,6 @@
 """What a bag analysis reports: the models' labels and topics, their summaries, the outcome.
 
-The per-model output topics are ``NAMESPACE/LABEL/wrench`` and ``NAMESPACE/LABEL/coefficients``;
-a label is a ROS topic-name token (:func:`check_label`).
+Per-model topics ``NAMESPACE/LABEL/wrench`` and ``.../coefficients`` (label: :func:`check_label`).
 """
 
 from __future__ import annotations
@@ -35,8 +34,7 @@ def check_label(label: str) -> str:
 
 @dataclass
 class ModelSummary:
-    """What one model produced: its output topics, the ``triggers`` that asked it for a wrench, the
-    ``wrenches`` written, and ``rejections`` (and the ``first_rejection`` message) by reason."""
+    """What one model produced: topics, triggers, wrenches and rejections by reason."""
 
     label: str
     wrench_topic: str
@@ -67,14 +65,7 @@ class ModelSummary:
 class AnalysisReport:
     """Outcome of :func:`adbsat_ros.bags.analysis.analyze_bag`.
 
-    Attributes
-    ----------
-    outputs : dict
-        'bag', 'csv', 'plots' (list of PNG paths) that were written.
-    error : str or None
-        Why the input could not be read to its end (the outputs then hold what came before).
-    seconds : dict
-        Wall time [s] by phase: read, estimate, write, csv, plots, total.
+    ``error``: why the input could not be read to its end; ``seconds``: wall time [s] by phase.
     """
 
     input: Path

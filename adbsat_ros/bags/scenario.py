@@ -1,11 +1,7 @@
-"""Built-in flight scenarios: a Keplerian orbit and an attitude history, as message records.
+"""Built-in flight scenarios: a two-body Keplerian orbit in ECI (GCRF) and an attitude history.
 
-Orbit: two-body (:data:`~adbsat_ros.physics.constants.EARTH_MU`, no J2, drag or third bodies) in
-ECI (GCRF axes); ``altitude_km`` is the perigee height above :data:`EARTH_RADIUS`. Attitudes are
-body -> ECI quaternions (x, y, z, w): ``nadir`` is LVLH (+z nadir, +y -orbit normal, +x along
-track: the example satellite flies nose first), ``tumble`` turns from it about a fixed body axis.
-Stamps are integer nanoseconds: UNIX(epoch_utc) + t (``time_mode`` 'unix', the node's default)
-or t ('epoch').
+Attitudes body -> ECI (x, y, z, w): ``nadir`` is LVLH (+z nadir, +x along track), ``tumble`` turns
+about a fixed body axis. Stamps [ns]: UNIX(epoch_utc) + t (``time_mode`` 'unix') or t ('epoch').
 """
 
 from __future__ import annotations
@@ -34,12 +30,10 @@ BYTES_PER_MESSAGE = 1_024
 
 @dataclass(frozen=True)
 class Scenario:
-    """What to simulate; angles in degrees, times in seconds, rates in hertz (the field names).
+    """What to simulate; angles [deg], times [s], rates [Hz]; ``epoch_utc`` is t = 0 (ISO 8601 UTC).
 
-    ``epoch_utc`` is the UTC of t = 0 (ISO 8601 or an aware datetime); messages at
-    0 <= t <= ``duration_s``; ``rate_hz`` and ``state_rate_hz`` are the attitude and state rates;
-    the classical elements are in ECI (true anomaly at t = 0); ``tumble_axis`` (body axis) None
-    draws one from ``seed``; ``time_mode`` as in the module docstring.
+    ``altitude_km``: perigee above :data:`EARTH_RADIUS`; elements in ECI; ``tumble_axis`` None draws
+    one from ``seed``.
     """
 
     epoch_utc: str | _dt.datetime = "2026-01-01T00:00:00Z"

@@ -1,9 +1,6 @@
-"""The bag analysis's table: its CSV columns, and a model's cells and plot numbers of one message.
+"""CSV columns: :data:`COMMON_COLUMNS`, then per model ``LABEL.`` + :data:`MODEL_COLUMNS`.
 
-One row per message that asked some model for a wrench: :data:`COMMON_COLUMNS`, then per model
-``LABEL.`` + :data:`MODEL_COLUMNS` and its :func:`extra_columns`. Numbers are written with
-``repr`` (exact round trip); a model without a wrench has its status (the rejection reason, or
-empty) and NaN.
+Numbers written with ``repr`` (exact round trip); a model without a wrench: its status and NaN.
 """
 
 from __future__ import annotations
@@ -101,7 +98,7 @@ def row_values(sample) -> list:
         aoa, aos = math.degrees(aoa), math.degrees(aos)
     else:
         aoa = aos = math.nan
-    # plain Python floats: the csv module writes them faster than numpy's
+    # plain Python floats for the csv module
     return [
         float(c.altitude),
         float(c.mass_density),

@@ -1,8 +1,7 @@
-"""The ``adbsat-ros`` command line: one module per subcommand.
+"""The ``adbsat-ros`` command line: one module per subcommand, imported only when chosen.
 
 Each module's ``configure(parser)`` sets ``func``, which returns the exit status or raises
 CommandLineError (status 2) or CommandFailed (status 1), printed by :func:`main` as one line.
-Only the chosen subcommand's module is imported (start-up time).
 """
 
 from __future__ import annotations
@@ -69,8 +68,7 @@ def chosen_subcommand(argv) -> str | None:
 
 
 def build_parser(configured=None) -> argparse.ArgumentParser:
-    """The top-level parser listing every subcommand, with the options of those ``configured``
-    (default all; the others by name and help only)."""
+    """The top-level parser, with the options of the ``configured`` subcommands (default all)."""
     configured = set(SUBCOMMANDS if configured is None else configured)
     unknown = configured - set(SUBCOMMANDS)
     if unknown:
@@ -118,10 +116,9 @@ class OneLineFormatter(logging.Formatter):
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``adbsat-ros`` console script; returns the process exit status.
+    """Entry point of the ``adbsat-ros`` console script; the exit status.
 
-    SIGINT and SIGTERM stop a subcommand's long work in order; elsewhere they end the command with
-    one line, ``adbsat-ros COMMAND: stopped by SIGINT``.
+    Outside long work a signal ends it with ``adbsat-ros COMMAND: stopped by SIGINT``.
     """
     command = None
     with handle_signals():

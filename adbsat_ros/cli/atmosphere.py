@@ -1,7 +1,5 @@
-"""``adbsat-ros atmosphere``: flight conditions (NRLMSISE-00 atmosphere, speed, accommodation).
-
-At a geodetic point (circular-orbit speed, as ADBSat's environment.m) or an orbital state.
-``coeff`` and ``database`` share the flight options (:func:`add_flight_arguments`, :func:`compute`).
+"""``adbsat-ros atmosphere``: flight conditions (NRLMSISE-00 atmosphere, speed, accommodation)
+at a geodetic point (circular-orbit speed, as ADBSat's environment.m) or an orbital state.
 """
 
 from __future__ import annotations
@@ -29,8 +27,7 @@ DEFAULT_AP = 4.0
 
 
 def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> None:
-    """Add the flight-condition options (time, place or state, space weather, gas); ``coeff``
-    has its own ``--alpha`` and an optional ``--time``."""
+    """Add the flight-condition options (time, place or state, space weather, gas)."""
     from adbsat_ros.environment.accommodation import accommodation_model_names
 
     help = "UTC time, e.g. 2015-01-19T00:00:00Z (no offset means UTC)"

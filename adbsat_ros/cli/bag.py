@@ -1,5 +1,4 @@
-"""``adbsat-ros bag``: rosbag2 tools; ``bag analyze`` replays a bag through the node's logic
-(``play`` and ``record``: :mod:`adbsat_ros.cli.bag_live`)."""
+"""``adbsat-ros bag``: rosbag2 tools; ``bag analyze`` replays a bag through the node's logic."""
 
 from __future__ import annotations
 

@@ -49,11 +49,7 @@ INTERRUPTED = INTERRUPTED_STATUS
 
 
 def run(args) -> int:
-    """Run ``adbsat-ros coeff``; returns the exit status.
-
-    On a signal (:data:`INTERRUPTED`) the attitudes done, a stopped test-particle run included,
-    are written and one line on stderr says so.
-    """
+    """Run ``adbsat-ros coeff``; on a signal, the attitudes done are written; the exit status."""
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
     aos_deg = parse_angle_list(args.aos, "--aos")
     model, flow, _ = method_and_flow_from_args(args)
@@ -131,10 +127,7 @@ def parse_view(text: str) -> tuple:
 
 
 def articulated_outputs(articulation, method, result, flow) -> dict:
-    """A URDF body's per-link loads and per-joint efforts (``links`` and ``joints`` of the JSON).
-
-    Coefficients; with a density also N and N m.
-    """
+    """A URDF body's per-link loads and per-joint efforts (coefficients; with a density N, N m)."""
     from adbsat_ros.physics.panel_loads import panel_loads
 
     body, positions = articulation

@@ -1,7 +1,4 @@
-"""The options shared by ``coeff`` and ``database``, and the set-up, model and gas they give.
-
-Imported only when one of those runs, so the physics and the shaders are imported at the top.
-"""
+"""The options shared by ``coeff`` and ``database``, and the set-up, model and gas they give."""
 
 from __future__ import annotations
 
@@ -41,10 +38,7 @@ from adbsat_ros.shading.shader import MODES as SHADING_MODES
 
 
 def add_setup_arguments(parser: argparse.ArgumentParser, **solver) -> None:
-    """Add the options of ``coeff`` and ``database``: MESH, model, gas, reference, shading...
-
-    ``solver``: the keywords of :func:`add_solver_arguments`.
-    """
+    """Add the options of ``coeff`` and ``database``: MESH, model, gas, reference, shading..."""
     help = (
         "mesh file (.obj .stl .ply .off ...), a URDF (.urdf; joints at --joint, else 0), or a "
         "bundled body: 'example' (the example satellite), 'example-articulated' (its URDF, "
@@ -241,12 +235,9 @@ def model_from_setup(setup: Setup) -> Model:
 
 
 def method_and_flow_from_args(args):
-    """The model and the free stream the options give: ``(model, flow, conditions)``.
+    """``(model, flow, conditions)`` of the options: a gas given, or by ``--time`` and place.
 
-    The gas is given directly (:func:`freestream_from_args`) or by ``--time`` and a place
-    (:func:`adbsat_ros.cli.atmosphere.compute`), not both. An accommodation model's alpha is set
-    as alpha and alpha_n of every material (:meth:`Setup.with_accommodation`). ``conditions``: a
-    JSON-ready summary of the flight conditions (None for a gas given directly).
+    An accommodation model's alpha is set as alpha and alpha_n of every material.
     """
     if args.time is None:
         model = model_from_setup(setup_from_args(args))

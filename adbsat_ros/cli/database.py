@@ -1,5 +1,4 @@
-"""``adbsat-ros database MESH``: an aerodynamic database over angle of attack and sideslip, as
-``--out FILE.npz`` (:func:`adbsat_ros.database.format.load_database`) and a CSV."""
+"""``adbsat-ros database MESH``: an aerodynamic database over aoa and sideslip (``.npz``, CSV)."""
 
 from __future__ import annotations
 

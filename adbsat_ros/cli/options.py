@@ -1,6 +1,6 @@
 """Shared command-line machinery: one-line errors, value parsers, option helpers, ROS import.
 
-Imported at every start: only the standard library at the top (numpy where called).
+Imported at every start: only the standard library at the top.
 """
 
 from __future__ import annotations
@@ -32,8 +32,7 @@ NEGATIVE_NUMBER = re.compile(
 
 
 class OneLineErrorParser(argparse.ArgumentParser):
-    """An ArgumentParser with one-line errors (status 2) that takes ``-inf``, ``-1e5``... as
-    values, so an option's range check names them."""
+    """An ArgumentParser with one-line errors (status 2) taking ``-inf``, ``-1e5`` as values."""
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
@@ -45,8 +44,7 @@ class OneLineErrorParser(argparse.ArgumentParser):
 
 
 def parse_angle_list(text: str, option: str):
-    """The angles [deg] of ``"0,10,20:5:30"``: numbers and inclusive ``start:step:stop`` ranges,
-    in the order given; CommandLineError naming ``option`` for anything else."""
+    """The angles [deg] of ``"0,10,20:5:30"`` (inclusive ranges); CommandLineError else."""
     import numpy as np
 
     values = []
@@ -109,8 +107,7 @@ def checked(what: str, value, bound: str) -> float:
 def number(
     option: str, *, integer: bool = False, low=None, high=None, low_open: bool = False, what=None
 ):
-    """An argparse ``type`` for a finite number (an int if ``integer``) in [``low``, ``high``]
-    (``low`` open if ``low_open``); the error names ``option`` and says ``what`` is valid."""
+    """An argparse ``type`` for a finite number in [``low``, ``high``], errors naming ``option``."""
     if what is None:
         kind = "a whole number" if integer else "a finite number"
         if low is not None and high is not None:
@@ -198,8 +195,7 @@ def positive_int(option: str):
 
 
 def option(parser, name: str, help: str, kind=None, bound: str | None = None, **settings):
-    """Add the option ``name`` to ``parser`` (or a group), read by ``kind(name)`` or
-    ``within(name, bound)`` so that an error names it; ``settings`` go to ``add_argument``."""
+    """Add the option ``name`` to ``parser``, read so that an error names it."""
     if kind is not None:
         settings["type"] = kind(name)
     elif bound is not None:

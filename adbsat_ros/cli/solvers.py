@@ -1,5 +1,4 @@
-"""``--method panel|tpmc|both`` and the test-particle options, and running the test-particle
-solver from the command line (with a progress bar on a terminal)."""
+"""``--method panel|tpmc|both``, the test-particle options, and running that solver."""
 
 from __future__ import annotations
 
@@ -38,8 +37,7 @@ def _below_one(option: str):
 
 
 def run_tpmc(args, model, flow, aoa, aos):
-    """The test-particle coefficients of ``model`` (its set-up's particles, tolerance and seed)
-    at one attitude [rad], a bar on stderr if it is a terminal.
+    """Test-particle coefficients of ``model`` at one attitude [rad], with a bar on a terminal.
 
     A signal stops the run after its current block: the result so far is kept, marked partial.
     """

@@ -1,5 +1,4 @@
-"""``adbsat-ros sweep SPEC.yaml --out RESULT.zarr``: an N-dimensional sweep on Dask (imported
-with xarray and Zarr when it runs)."""
+"""``adbsat-ros sweep SPEC.yaml --out RESULT.zarr``: an N-dimensional sweep on Dask."""
 
 from __future__ import annotations
 

@@ -1,10 +1,7 @@
-"""Building an aerodynamic database: a solver swept over a grid of aoa and sideslip.
+"""Building an aerodynamic database: a solver swept over a grid of aoa and sideslip [deg].
 
-:func:`build_database` runs the panel method or test particles at every (aoa, aos) pair [deg],
-in chunks on the task engine (:mod:`adbsat_ros.tasks`: local workers or a Dask scheduler).
-Each attitude is computed by the same code whatever the chunking (attitude i of a test-particle
-build draws from ``SeedSequence(seed, spawn_key=(i,))``), so the result does not depend on the
-number of workers, bit for bit. docs/physics.md, section 9.
+Chunks on :mod:`adbsat_ros.tasks`; the result does not depend on the workers, bit for bit
+(test particles: attitude i draws from ``SeedSequence(seed, spawn_key=(i,))``). docs/physics.md 9.
 """
 
 from __future__ import annotations
@@ -62,9 +59,8 @@ def attitude_seed(seed: int, index: int) -> int:
 class DatabaseJob:
     """A database build as a job of :func:`adbsat_ros.tasks.run_chunks`.
 
-    A chunk is ``(first, attitudes)``, the grid index of its first attitude and the attitudes
-    (K, 2) [deg]; its result an array (K, :data:`COLUMNS`). ``model_setup``: the build's
-    set-up (its solver and shading), ``mesh``: its panels."""
+    A chunk is ``(first, attitudes (K, 2) [deg])``, its result (K, :data:`COLUMNS`).
+    """
 
     def __init__(self, setup: Setup, mesh, flow):
         self.model_setup, self.mesh, self.flow = setup, mesh, flow
@@ -76,8 +72,7 @@ class DatabaseJob:
 
 
 class DatabaseSetup:
-    """A build's model (offline: exact shading, or test particles), made once where its chunks
-    run."""
+    """A build's model (exact shading, or test particles), made where its chunks run."""
 
     def __init__(self, model, flow):
         self.model, self.flow = model, flow
@@ -100,8 +95,7 @@ class DatabaseSetup:
 
 
 def build_setup(method: PanelMethod, shading: str, samples: int, solver: SolverSpec) -> Setup:
-    """The set-up of a build of ``method`` (its model, materials, reference; its panels are
-    given to :func:`build_model` as they are), shaded offline or solved by ``solver``."""
+    """The set-up of a build of ``method``, shaded offline or solved by ``solver``."""
     ref = method.reference
     return Setup(
         model=method.model,
@@ -176,59 +170,19 @@ def build_database(
 
     Parameters
     ----------
-    method : PanelMethod
-        Mesh, gas-surface model, materials and reference quantities.
-    flow : FreeStream
-    aoa_deg, aos_deg : array_like
-        Angles of attack in [-360, 360] and sideslip angles in [-90, 90] [deg]; sorted here,
-        duplicates rejected.
-    shading : {"raycast", "projection", "none"}
-        Shading mode (:mod:`adbsat_ros.shading.shader`); each worker builds its model once.
-    samples : int
-        Rays per panel for raycast shading.
-    workers : int, optional
-        Worker processes on this machine (default: every usable CPU); 1 computes in this
-        process. The result does not depend on it.
-    progress : None, bool, callable or tqdm, optional
-        None: a tqdm bar on stderr if stderr is a terminal, else nothing; True/False: bar or
-        not; a callable is called as ``progress(done, total)``; an object with ``update(n)``
-        (a tqdm instance) is updated.
-    mesh_spec : str or None
-        How the mesh is reloaded (path or ``"example"``), recorded in the metadata and checked
-        against the method's mesh; the default ``"example"`` is recorded only if the method's
-        mesh is the example (else None: not reloadable).
-    mesh_scale : float
-        Scale given when loading the mesh file.
-    mesh_joints : dict of str to float, optional
-        For a URDF ``mesh_spec``: the joint positions [rad or m] the mesh is posed at
-        (recorded, and used to reload it).
-    conditions : dict, optional
-        JSON-ready description of the flight conditions the flow came from, recorded as
-        ``metadata["conditions"]``.
-    solver : {"panel", "tpmc"}
-        The panel method, or test-particle Monte Carlo (then ``shading`` is not used: the
-        molecules find the body themselves).
-    particles, tolerance, seed
-        The test-particle run at each attitude (see
-        :meth:`~adbsat_ros.physics.tpmc.method.TestParticleMethod.coefficients`).
-    stop : threading.Event, optional
-        Checked after every chunk (one attitude with test particles): once set, the build ends
-        with the chunk that finished (those still running are dropped); the database then holds
-        NaN at the attitudes not done,
-        ``metadata["partial"]`` says how many are done, and it cannot be saved as .npz (its CSV
-        holds the attitudes done).
-    scheduler : str, optional
-        Address of a running Dask scheduler (``tcp://host:8786``) whose workers compute the
-        attitudes (the mesh and solver travel with each chunk); None: this machine.
+    aoa_deg, aos_deg : angles of attack in [-360, 360], sideslip in [-90, 90] [deg]; no duplicates
+    shading : ``"raycast"``, ``"projection"`` or ``"none"``; ``samples``: rays per panel
+    workers : local processes (default: every usable CPU; 1: this process); the result is the same
+    progress : None (a bar on a terminal), bool, ``progress(done, total)``, or a tqdm
+    mesh_spec : how the mesh reloads (path or ``"example"``), recorded and checked
+    mesh_joints : a URDF's joint positions [rad or m], recorded
+    solver : ``"panel"`` or ``"tpmc"`` (then ``particles``, ``tolerance``, ``seed``; no shading)
+    stop : a threading.Event; the build ends with the chunk that finished, NaN at the rest
+      (``metadata["partial"]``; not savable as .npz)
+    scheduler : a running Dask scheduler's address (``tcp://host:8786``); None: this machine
 
-    Returns
-    -------
-    AeroDatabase
-        With ``metadata["interpolation_error"]`` set (see
-        :func:`adbsat_ros.database.interpolation.estimate_interpolation_error`); with test
-        particles, ``metadata["solver"]`` records the run and the stated error includes three
-        of the largest standard errors (``statistical_force_coefficient`` and
-        ``statistical_moment_coefficient``).
+    Returns an AeroDatabase with ``metadata["interpolation_error"]`` (test particles: ``solver``
+    recorded and three of the largest standard errors in the stated error).
     """
     shading = str(shading).lower()
     if shading not in MODES:

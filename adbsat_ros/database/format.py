@@ -1,7 +1,6 @@
-"""The aerodynamic database: coefficient grids over (aoa, aos) [deg] with their set-up, and its
-files (a compressed ``.npz`` with the metadata as a JSON string; a CSV with ``# key: value``
-header lines). Names and frames of :mod:`adbsat_ros.geometry.frames`; forces ``q A_ref Cf`` [N],
-torques ``q A_ref L_ref Cm`` [N m]. docs/physics.md, section 9.
+"""The aerodynamic database: coefficient grids over (aoa, aos) [deg] with their set-up, as ``.npz``
+(metadata as JSON) or CSV (``# key: value`` header); frames of :mod:`adbsat_ros.geometry.frames`.
+Forces ``q A_ref Cf`` [N], torques ``q A_ref L_ref Cm`` [N m]. docs/physics.md, section 9.
 """
 
 from __future__ import annotations
@@ -48,13 +47,10 @@ class DatabaseError(ValueError):
 # ---------------------------------------------------------------------------------- the data
 @dataclass(eq=False)
 class AeroDatabase:
-    """Coefficients of one satellite set-up over an (aoa, aos) grid.
+    """Coefficients of one satellite set-up over an (aoa, aos) grid; angles [deg] strictly increase.
 
-    ``aoa_deg`` (na,) and ``aos_deg`` (nb,) [deg] strictly increase; (na, nb): ``CD``, ``CL``,
-    ``CY`` and ``AreaProj`` (lit projected area [m^2]); (na, nb, 3): force coefficients in wind,
-    flight and mesh axes (``Cf_w``, ``Cf_f``, ``Cf_G``), moment coefficients in ADBSat body and
-    mesh axes (``Cm_B``, ``Cm_G``) about ``metadata["reference"]["moment_point"]``;
-    ``metadata``: the keys of :data:`REQUIRED_METADATA`, optionally ``conditions``.
+    (na, nb): ``CD``, ``CL``, ``CY``, ``AreaProj`` [m^2]; (na, nb, 3): ``Cf_w``, ``Cf_f``, ``Cf_G``
+    (wind, flight, mesh axes), ``Cm_B``, ``Cm_G`` about ``metadata["reference"]["moment_point"]``.
     """
 
     aoa_deg: np.ndarray
@@ -98,8 +94,10 @@ class AeroDatabase:
 
     # ------------------------------------------------------------------------------ files
     def save(self, path) -> str:
-        """Write a compressed ``.npz`` file, returning its path; ValueError unless ``path`` ends in
-        ``.npz`` (numpy would append it) or for a stopped build, OSError if it cannot write."""
+        """Write a compressed ``.npz``; the path.
+
+        ValueError: ``path`` not ending in ``.npz``, or a stopped build.
+        """
         path = os.fspath(path)
         if not path.lower().endswith(".npz"):
             raise ValueError(f"{path}: a database file must end in .npz")
@@ -119,8 +117,7 @@ class AeroDatabase:
         return columns + ["AreaProj", "Aref", "Lref"]
 
     def save_csv(self, path) -> str:
-        """Write one row per attitude (aoa slowest), 17 significant digits (read back exactly),
-        under :meth:`header_lines`; a stopped build writes the rows done."""
+        """Write one row per attitude (aoa slowest), 17 significant digits."""
         path = os.fspath(path)
         na, nb = self.shape
         a, b = np.meshgrid(self.aoa_deg, self.aos_deg, indexing="ij")
@@ -207,9 +204,7 @@ def _fail(path, message):
 
 
 def load_database(path) -> AeroDatabase:
-    """The :class:`AeroDatabase` of a file :meth:`AeroDatabase.save` wrote; :class:`DatabaseError`
-    naming the file and what is wrong (unreadable, missing arrays or metadata, another format
-    version, inconsistent shapes, non-increasing angles, non-finite values)."""
+    """The :class:`AeroDatabase` of a ``.npz``; DatabaseError naming the file and fault."""
     path = os.fspath(path)
     try:
         with np.load(path, allow_pickle=False) as npz:

@@ -1,7 +1,6 @@
 """Bilinear interpolation on an (aoa, aos) grid, and a database's stated interpolation error: the
-grid coarsened by 2 (keeping the last node) interpolated at the nodes it omits, the largest error
-of |Cf_G| (and |Cm_G|) unscaled (near shadow edges the first-order 1/2 does not hold). An
-a-posteriori estimate the tests check (docs/databases.md).
+grid coarsened by 2 interpolated at the nodes it omits, the largest error unscaled (near shadow
+edges the first-order 1/2 does not hold). docs/databases.md.
 """
 
 from __future__ import annotations
@@ -49,11 +48,7 @@ def bilinear_one(a_nodes: list, b_nodes: list, rows: list, qa: float, qb: float)
 
 
 def bilinear(a_nodes, b_nodes, values, qa, qb) -> np.ndarray:
-    """Bilinear interpolation (M, k) on a rectilinear grid, no wrap-around or range checks.
-
-    ``a_nodes`` (na,) and ``b_nodes`` (nb,) strictly increasing (constant along an axis of one
-    node), ``values`` (na, nb, k), queries ``qa, qb`` (M,) inside the grid; exact at the nodes.
-    """
+    """Bilinear interpolation (M, k) of ``values`` (na, nb, k) inside the grid; no range checks."""
     qa, qb = np.broadcast_arrays(np.asarray(qa, float), np.asarray(qb, float))
     ia, ta = _locate(a_nodes, qa)
     ib, tb = _locate(b_nodes, qb)
@@ -70,9 +65,7 @@ def _coarse_indices(n: int) -> np.ndarray:
 
 
 def estimate_interpolation_error(db: AeroDatabase) -> dict:
-    """The stated error of a database's grid: ``force_coefficient``, ``moment_coefficient``
-    (bounds on |dCf_G|, |dCm_G|; None without an axis of 3 nodes), ``method``, ``scaling``,
-    ``points`` (nodes compared), ``coarse_*_error`` and ``max_*_coefficient``."""
+    """The stated error of a database's grid (bounds on |dCf_G|, |dCm_G|)."""
     na, nb = db.shape
     out = {
         "method": ERROR_METHOD,

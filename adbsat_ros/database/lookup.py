@@ -1,7 +1,6 @@
-"""Coefficients at any attitude from an aerodynamic database: bilinear in (aoa, aos) of the
-mesh-frame Cf_G and Cm_G (single-valued at the poles; no overshoot at shading's kinks), CD, CL, CY
-by the exact rotation to wind axes. An aoa grid closing the circle wraps around; otherwise a
-query is reduced modulo 360 deg into its range, else ValueError. docs/physics.md, section 9.
+"""Coefficients at any attitude from a database: bilinear in (aoa, aos) of Cf_G and Cm_G, CD, CL,
+CY by the exact rotation to wind axes. A closed aoa grid wraps around; otherwise a query is
+reduced modulo 360 deg into range, else ValueError. docs/physics.md, section 9.
 """
 
 from __future__ import annotations
@@ -23,10 +22,8 @@ ANGLE_TOLERANCE_DEG = 1e-9
 # ---------------------------------------------------------------------------------- results
 @dataclass(frozen=True, eq=False)
 class InterpolatedCoefficients:
-    """Coefficients at one attitude [deg] from :class:`CoefficientLookup`.
-
-    Cf_G, Cm_G (3,) are in the mesh frame G, moments about the database's point; CD, CL, CY are
-    ADBSat's, from Cf_w = L_WG Cf_G; reference_area [m^2], reference_length [m].
+    """Coefficients at one attitude [deg]: Cf_G, Cm_G (mesh frame G, about the database's point),
+    ADBSat's CD, CL, CY; reference_area [m^2], reference_length [m].
     """
 
     aoa_deg: float
@@ -52,8 +49,7 @@ class InterpolatedCoefficients:
 class CoefficientLookup:
     """Interpolating lookup of an :class:`AeroDatabase`'s coefficients at any attitude.
 
-    ``periodic``: the aoa grid closes the circle; ``aoa_range``, ``aos_range``: the angles
-    covered [deg]; ``error_bound``: the database's stated error (:mod:`.interpolation`).
+    ``aoa_range``, ``aos_range`` [deg]; ``error_bound``: the stated error (:mod:`.interpolation`).
     """
 
     def __init__(self, database: AeroDatabase):
@@ -85,10 +81,10 @@ class CoefficientLookup:
 
     @classmethod
     def load(cls, path, **values) -> "CoefficientLookup":
-        """A lookup of the database file ``path``, or of a sweep's Zarr store at a value of each
-        other axis (``speed=7600.0``). :class:`DatabaseError` for an unreadable file; ValueError
-        for an incomplete store, an axis value missing, unknown or out of range, or given for a
-        file."""
+        """Lookup of the file ``path`` or a sweep store at other axes' values (``speed=7600.0``).
+
+        DatabaseError: an unreadable file. ValueError: an incomplete store or a bad axis value.
+        """
         if is_sweep_store(path):
             return cls(sweep_database(open_sweep(path), **values))
         if values:
@@ -131,8 +127,7 @@ class CoefficientLookup:
 
     # ------------------------------------------------------------------------------ public
     def body_coefficients(self, aoa_deg: float, aos_deg: float):
-        """Interpolated Cf_G and Cm_G, shape (3,), at one attitude [deg], moments about the
-        database's point; ValueError naming an angle outside the database's range."""
+        """Cf_G and Cm_G (3,) at one attitude [deg]; ValueError naming an angle out of range."""
         row = self._interpolate(float(aoa_deg), float(aos_deg))
         return np.array(row[:3]), np.array(row[3:])
 
@@ -154,11 +149,7 @@ class CoefficientLookup:
     def coefficients(
         self, aoa_deg=None, aos_deg=None, *, flow_direction=None
     ) -> InterpolatedCoefficients:
-        """Interpolated coefficients at an attitude given by angles [deg] or a flow direction.
-
-        ``flow_direction``: the gas motion relative to the body in the mesh frame G (any length
-        > 0), instead of ``aoa_deg`` and ``aos_deg``.
-        """
+        """Coefficients at angles [deg] or a ``flow_direction`` (gas vs body, frame G)."""
         if flow_direction is not None:
             if aoa_deg is not None or aos_deg is not None:
                 raise ValueError("give either aoa_deg/aos_deg or flow_direction, not both")

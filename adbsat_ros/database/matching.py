@@ -1,7 +1,5 @@
-"""A database matched to the node's set-up (mesh, model, options, surfaces, reference area and
-length), as the estimator's source of coefficients. Moments are carried to the node's point,
-C_M(c) = C_M(p) + (p - c) x C_F / L_ref; the database's free stream is used at every condition
-(this mode's approximation). docs/physics.md, section 9.
+"""A database matched to the node's set-up, as the estimator's source of coefficients; moments
+carried to the node's point, C_M(c) = C_M(p) + (p - c) x C_F / L_ref. docs/physics.md, section 9.
 """
 
 from __future__ import annotations
@@ -22,8 +20,7 @@ REFERENCE_RTOL = 1e-9
 
 
 def database_mismatches(metadata: dict, method: PanelMethod) -> list:
-    """How a database's set-up (``AeroDatabase.metadata``) differs from ``method``'s: one line
-    per mismatch naming the quantity and both values; empty if it may be used."""
+    """How a database's set-up differs from ``method``'s: one line per mismatch."""
     out = []
     mesh = metadata.get("mesh", {})
     if mesh.get("fingerprint") != method.mesh.fingerprint():
@@ -64,9 +61,9 @@ def database_mismatches(metadata: dict, method: PanelMethod) -> list:
 
 
 class DatabaseCoefficients:
-    """Body-frame coefficients from the database file ``path`` matching ``method`` (moments
-    carried to its moment point c); ``error_bound``: the stated error, the moment's carried to c
-    (e_M + |p - c| e_F / L_ref). ValueError naming ``database_path``: unreadable, or mismatches.
+    """Body-frame coefficients from the database ``path`` matching ``method``, about its point c.
+
+    ``error_bound``: e_M + |p - c| e_F / L_ref. ValueError: unreadable, or mismatches.
     """
 
     def __init__(self, path: str, method: PanelMethod):
@@ -96,8 +93,7 @@ class DatabaseCoefficients:
         }
 
     def body_coefficients(self, u_body):
-        """C_F and C_M (about c) for the unit flow direction ``u_body``, body frame; ValueError
-        outside the database's range."""
+        """C_F and C_M (about c) for the unit flow ``u_body`` (body frame)."""
         aoa, aos = frames.angles_of_flow(u_body)
         Cf, Cm = self.lookup.body_coefficients(math.degrees(aoa), math.degrees(aos))
         return Cf, Cm + frames.cross(self._offset, Cf) / self.reference_length

@@ -92,10 +92,9 @@ def describe_setup(
     mesh_scale,
     mesh_joints=None,
 ) -> dict:
-    """Metadata of a set-up: :data:`~adbsat_ros.database.format.REQUIRED_METADATA` but
-    ``interpolation_error``. ``shading``, ``samples``: the mode and rays per panel; ``mesh_spec``
-    must reload (with ``mesh_scale`` and a URDF's ``mesh_joints`` [rad or m]) to the method's
-    mesh, else ValueError; ``"example"`` for a mesh built otherwise, and None, record None.
+    """Metadata of a set-up (:data:`~adbsat_ros.database.format.REQUIRED_METADATA`).
+
+    ``mesh_joints``: [rad or m]. ValueError: ``mesh_spec`` does not reload to the method's mesh.
     """
     texts = material_override_texts(method.materials)
     mesh = method.mesh
@@ -125,9 +124,7 @@ def describe_setup(
 
 
 def setup_from_metadata(metadata: dict) -> Setup:
-    """The set-up a database's metadata records (its ``mesh``, ``model``, ``materials``,
-    ``reference``, ``shading``, offline, and, if recorded, ``solver``); a URDF is posed at its
-    recorded joints. KeyError, TypeError or ValueError for metadata that does not describe one."""
+    """The set-up a database's metadata records; KeyError/TypeError/ValueError if none."""
     mesh = metadata["mesh"]
     spec = mesh["spec"]
     joints = tuple((mesh.get("joints") or {}).items()) if is_urdf(spec) else None
@@ -148,9 +145,7 @@ def setup_from_metadata(metadata: dict) -> Setup:
 
 
 def model_from_metadata(metadata: dict, path=None):
-    """``(model, flow)`` of a database's metadata, the model evaluating as the build did;
-    :class:`DatabaseError` naming ``path`` for a mesh not reloaded with its recorded
-    fingerprint, or incomplete metadata."""
+    """``(model, flow)`` of a database's metadata; DatabaseError naming ``path``."""
     where = path or "database"
     try:
         mesh_meta = metadata["mesh"]

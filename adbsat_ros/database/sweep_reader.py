@@ -1,6 +1,5 @@
-"""A sweep's Zarr store read as aerodynamic databases: its (aoa, aos) grid at any point of the
-other axes, the slices around it blended multilinearly (so a lookup is bilinear in attitude and
-linear in the other axes at once). docs/sweeps.md.
+"""A sweep's Zarr store read as databases: its (aoa, aos) grid at any point of the other axes,
+the slices around it blended multilinearly. docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -70,8 +69,7 @@ def bracket(nodes: np.ndarray, name: str, value: float) -> list:
 
 
 def corners(axes: dict, values: dict) -> list:
-    """``[(index, weight), ...]`` of the grid points of ``axes`` (name -> values) around
-    ``values``, weights > 0; ValueError naming an axis missing, unknown or out of range."""
+    """``[(index, weight), ...]`` around ``values``; ValueError naming a bad axis."""
     missing = sorted(set(axes) - set(values))
     unknown = sorted(set(values) - set(axes))
     if missing or unknown:
@@ -94,8 +92,7 @@ def slice_database(dataset, index: dict, stated_error: bool = False) -> AeroData
 
 
 def sweep_database(dataset, **values) -> AeroDatabase:
-    """The attitude grid at a value of every other axis, with its stated interpolation error;
-    ValueError as :func:`corners`."""
+    """The attitude grid at a value of every other axis; ValueError as :func:`corners`."""
     axes = other_axes(dataset)
     arrays = None
     for corner, weight in corners(axes, values):

@@ -1,9 +1,8 @@
-"""Energy accommodation coefficient alpha, by model name (:data:`ACCOMMODATION_MODELS`).
+"""Energy accommodation coefficient alpha by model (:data:`ACCOMMODATION_MODELS`), SI units.
 
-``fixed``, ``langmuir`` (Pilinski, Argrow & Palo 2010, J. Spacecraft Rockets 47(6)), ``goodman``
-and ``sesam`` (Pilinski, Argrow, Palo & Bowman 2013, J. Spacecraft Rockets 50(3)). Formulas and
-where we differ from ADBSat: docs/physics.md, sections 5.6 and 5.7. SI units; only SESAM's
-Langmuir constants are in Torr^-1 as published.
+``langmuir`` (Pilinski, Argrow & Palo 2010, J. Spacecraft Rockets 47(6)), ``goodman``, ``sesam``
+(Pilinski, Argrow, Palo & Bowman 2013, 50(3)); SESAM's Langmuir constants in Torr^-1 as
+published. docs/physics.md, sections 5.6 and 5.7.
 """
 
 from __future__ import annotations
@@ -50,8 +49,7 @@ def langmuir_accommodation(
 ) -> float:
     """Langmuir-isotherm alpha = K n_O T / (1 + K n_O T) in [0, 1) (Pilinski et al. 2010).
 
-    ``oxygen_number_density`` n_O [m^-3] >= 0, ``temperature`` T [K] > 0, ``langmuir_constant``
-    K [m^3/K] > 0.
+    n_O [m^-3] >= 0, T [K] > 0, K [m^3/K] > 0.
     """
     n_o = _non_negative("oxygen_number_density", oxygen_number_density)
     temperature = _positive("temperature", temperature)
@@ -67,8 +65,7 @@ def goodman_accommodation(
 ) -> float:
     """Goodman's alpha_s = K_s mu / (1 + mu)^2, mu = m_gas / m_surface.
 
-    ``mean_mass`` of the gas [kg] > 0, ``substrate_coefficient`` K_s in [2.4, 3.6],
-    ``surface_mass_amu`` [amu] > 0.
+    ``mean_mass`` [kg] > 0, K_s in [2.4, 3.6], ``surface_mass_amu`` [amu] > 0.
     """
     mean_mass = _positive("mean_mass", mean_mass)
     k_s = _substrate(substrate_coefficient)
@@ -77,11 +74,8 @@ def goodman_accommodation(
 
 
 def sesam_sticking_fraction(incident_energy: float) -> float:
-    """SESAM's s_o in [0, 1] at ``incident_energy`` E_r = m_O V^2 / 2 [J] >= 0.
-
-    The fraction of incident O atoms below the adsorption energy, s_o = int_0^a g / int_0^inf g,
-    g(x) = x exp(-(x - r)^2 / w^2), a = sqrt(E_b), r = sqrt(E_r), w^2 = k_B T_ab, in closed
-    form with ``erf`` (docs/physics.md, section 5.6).
+    """SESAM's s_o in [0, 1] at ``incident_energy`` E_r [J] >= 0, in closed form with ``erf``
+    (docs/physics.md, section 5.6).
     """
     energy = _non_negative("incident_energy", incident_energy)
     w2 = BOLTZMANN * SESAM_TRANSITION_TEMPERATURE
@@ -99,8 +93,7 @@ def sesam_sticking_fraction(incident_energy: float) -> float:
 def sesam_oxygen_pressure(oxygen_number_density: float, speed: float, speed_ratio: float) -> float:
     """SESAM's atomic-oxygen pressure P_O [Pa] = 1/2 rho_O V^2 f(s), docs/physics.md section 5.6.
 
-    n_O [m^-3], V [m/s], speed ratio s [-], all >= 0 (s = 0 only with V = 0). Below s = 1e-3 the
-    leading term f ~ 16 / (3 sqrt(pi) s) is used (the two terms of f cancel there).
+    n_O [m^-3], V [m/s], s [-] >= 0; below s = 1e-3 the leading term of f (its two terms cancel).
     """
     n_o = _non_negative("oxygen_number_density", oxygen_number_density)
     speed = _non_negative("speed", speed)
@@ -129,8 +122,7 @@ def sesam_accommodation(
 ) -> float:
     """SESAM alpha = (1 - theta) alpha_s + theta (Pilinski et al. 2013).
 
-    n_O [m^-3], the mixture's ``mean_mass`` [kg], ``speed`` V [m/s] >= 0, ``speed_ratio`` s [-];
-    the rest as :func:`goodman_accommodation`.
+    n_O [m^-3], ``mean_mass`` [kg], ``speed`` V [m/s] >= 0, ``speed_ratio`` s [-].
     """
     clean = goodman_accommodation(mean_mass, substrate_coefficient, surface_mass_amu)
     pressure_pa = sesam_oxygen_pressure(oxygen_number_density, speed, speed_ratio)
@@ -219,24 +211,14 @@ def normalize_model_name(name) -> str:
 
 
 def accommodation(name: str, atmosphere: AtmosphereState, speed: float, **options) -> float:
-    """Energy accommodation coefficient alpha in [0, 1] of the model ``name``.
+    """Energy accommodation coefficient alpha in [0, 1] of the model ``name`` (case-insensitive).
 
     Parameters
     ----------
-    name : str
-        One of :data:`ACCOMMODATION_MODELS`, case-insensitive.
-    atmosphere : AtmosphereState
-        Local atmosphere (composition, temperature).
-    speed : float
-        Speed relative to the atmosphere [m/s], >= 0 (only SESAM uses it).
-    **options
-        :data:`ACCOMMODATION_OPTIONS`: ``alpha`` (fixed), ``langmuir_constant`` [m^3/K],
-        ``substrate_coefficient`` and ``surface_mass_amu`` (goodman, sesam).
+    speed : relative to the atmosphere [m/s], >= 0 (SESAM only)
+    options : :data:`ACCOMMODATION_OPTIONS` (``langmuir_constant`` [m^3/K])
 
-    Raises
-    ------
-    ValueError
-        An unknown model or option (listing the allowed ones), or an invalid value (naming it).
+    ValueError: an unknown model or option (listing the allowed), or an invalid value.
     """
     key = normalize_model_name(name)
     if not isinstance(atmosphere, AtmosphereState):

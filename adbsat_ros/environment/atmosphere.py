@@ -1,8 +1,7 @@
-"""Thermosphere state from the NRLMSISE-00 empirical model (Picone et al. 2002).
+"""Thermosphere state from NRLMSISE-00 (Picone et al. 2002), ``gtd7``/``gtd7d`` with SI outputs.
 
-Calls ``nrlmsise00``'s low-level ``gtd7``/``gtd7d`` with switch 0 on (SI outputs); ``gtd7d``
-adds anomalous oxygen to the mass density (the default, as ADBSat's AnO flag). Units m, kg, K,
-rad. docs/physics.md, section 5.2.
+``gtd7d`` (the default, as ADBSat's AnO flag) adds anomalous oxygen to the mass density.
+Units m, kg, K, rad. docs/physics.md, section 5.2.
 """
 
 from __future__ import annotations
@@ -39,24 +38,11 @@ _UTC = _dt.timezone.utc
 
 @dataclass(frozen=True)
 class SpaceWeather:
-    """Solar and geomagnetic activity indices, as NRLMSISE-00 defines them.
+    """Solar and geomagnetic activity indices as NRLMSISE-00 defines them, each >= 0.
 
-    Parameters
-    ----------
-    f107 : float
-        10.7 cm solar radio flux of the previous day [sfu = 1e-22 W m^-2 Hz^-1], >= 0.
-    f107a : float
-        81-day average of F10.7 centred on the day [sfu], >= 0.
-    ap : float
-        Daily geomagnetic Ap index [-], >= 0.
-    ap_history : sequence of 7 floats, optional
-        NRLMSISE-00's Ap array (daily Ap; 3-h ap now, 3, 6, 9 h before; means over 12-33 h and
-        36-57 h before); when given, the storm-time formulation uses it instead of ``ap``.
-
-    Raises
-    ------
-    ValueError
-        Naming the index: negative or non-finite, or a history not 7 long.
+    ``f107``: previous day's F10.7 [sfu]; ``f107a``: its 81-day centred mean; ``ap``: daily Ap;
+    ``ap_history``: NRLMSISE-00's 7-value Ap array, used by the storm-time formulation if given.
+    ValueError: an index negative or non-finite, or a history not 7 long.
     """
 
     f107: float
@@ -83,17 +69,8 @@ class SpaceWeather:
 class AtmosphereState:
     """Neutral atmosphere at one place and time (NRLMSISE-00 output in SI units).
 
-    Attributes
-    ----------
-    number_densities : mapping of str to float
-        Read-only number densities [m^-3] by :data:`~adbsat_ros.physics.constants.SPECIES`
-        (with "AnO"); O, H and N are 0 below 72.5 km.
-    mass_density : float
-        Total mass density [kg/m^3]; includes anomalous oxygen iff ``anomalous_oxygen``.
-    exospheric_temperature, temperature : float
-        T_exo and the local T [K].
-    anomalous_oxygen : bool
-        Whether anomalous oxygen belongs to the gas mixture.
+    ``number_densities`` [m^-3] by species (with "AnO"; O, H, N 0 below 72.5 km); ``mass_density``
+    [kg/m^3], with anomalous oxygen iff ``anomalous_oxygen``; temperatures [K].
     """
 
     number_densities: Mapping[str, float]
@@ -134,10 +111,7 @@ class AtmosphereState:
 
     @functools.cached_property
     def mean_mass(self) -> float:
-        """Number-weighted mean molecular mass of the mixture [kg] (as ADBSat's environment.m).
-
-        Summed in the order of ``FreeStream.mean_mass``, so the two agree bit for bit.
-        """
+        """Mean molecular mass [kg] summed as ``FreeStream.mean_mass`` (bit-equal)."""
         densities = self.number_densities
         total = 0.0
         weighted = 0.0
@@ -187,31 +161,17 @@ def evaluate_atmosphere(
     anomalous_oxygen: bool = True,
     local_solar_time_h: float | None = None,
 ) -> AtmosphereState:
-    """Evaluate NRLMSISE-00 at one point.
+    """Evaluate NRLMSISE-00 at one point; an AtmosphereState.
 
     Parameters
     ----------
-    time : datetime.datetime
-        UTC instant (aware, or naive meaning UTC), years 1958 to 2100.
-    altitude : float
-        Height above the WGS-84 ellipsoid [m], 0 to 1000 km.
-    latitude, longitude : float
-        Geodetic latitude [rad] in [-pi/2, pi/2], east longitude [rad] (wrapped).
-    space_weather : SpaceWeather
-    anomalous_oxygen : bool, optional
-        Anomalous oxygen in the mixture and mass density (``gtd7d``, default) or not (``gtd7``).
-    local_solar_time_h : float, optional
-        Local solar time [h]; default UT [h] + longitude [deg] / 15 (as NRLMSISE-00 documents
-        and ADBSat uses). Override only to reproduce published test cases.
+    time : UTC (aware, or naive meaning UTC), years 1958 to 2100
+    altitude : above the WGS-84 ellipsoid [m], 0 to 1000 km
+    latitude, longitude : geodetic latitude [rad] in [-pi/2, pi/2], east longitude [rad]
+    anomalous_oxygen : in the mixture and mass density (``gtd7d``, default) or not (``gtd7``)
+    local_solar_time_h : [h]; default UT + longitude [deg] / 15 (override for published cases)
 
-    Returns
-    -------
-    AtmosphereState
-
-    Raises
-    ------
-    ValueError
-        Naming the input: out of range, non-finite, or of the wrong type.
+    ValueError: an input out of range, non-finite or of the wrong type (named).
     """
     time = check_time(time)
     altitude = check_altitude(altitude)
@@ -246,10 +206,7 @@ def run_model(
     anomalous_oxygen: bool = True,
     local_solar_time_h: float | None = None,
 ) -> AtmosphereState:
-    """NRLMSISE-00 at one point, inputs checked but ``space_weather`` (ValueError naming it).
-
-    ``day_of_year`` 1..366, UTC ``seconds`` of the day, ``altitude`` [m], latitude, longitude [rad].
-    """
+    """NRLMSISE-00 at one point (``altitude`` [m], angles [rad], UTC ``seconds`` of the day)."""
     if not isinstance(space_weather, SpaceWeather):
         raise ValueError(
             f"space_weather must be a SpaceWeather(f107, f107a, ap), "

@@ -1,6 +1,7 @@
 """ADBSat's flight conditions (``environment.m``): a geodetic point, the circular-orbit speed.
 
-No direction, co-rotation or wind, for parity with ADBSat; docs/physics.md, section 5.5."""
+No direction, co-rotation or wind, for parity with ADBSat; docs/physics.md, section 5.5.
+"""
 
 from __future__ import annotations
 
@@ -43,33 +44,16 @@ def flight_conditions_circular_orbit(
     speed: float | None = None,
     precession_nutation: str = "iau2006a",
 ) -> FlightConditions:
-    """Flight conditions at a geodetic point with the circular-orbit speed; vectors but the
-    positions are None.
+    """Flight conditions at a geodetic point at circular-orbit speed; no vectors but positions.
 
     Parameters
     ----------
-    time : datetime.datetime
-        UTC instant (aware, or naive meaning UTC), years 1958..2100.
-    altitude : float
-        Height above the WGS-84 ellipsoid [m], 0..1000 km.
-    latitude, longitude : float
-        Geodetic latitude and east longitude [rad].
-    space_weather : SpaceWeather
-    anomalous_oxygen, accommodation_model, accommodation_options
-        As :func:`flight_conditions`.
-    speed : float, optional
-        Relative speed [m/s] >= 0 instead of the circular-orbit speed.
-    precession_nutation : str, optional
-        Only used to express the position in ECI.
+    time : UTC (aware, or naive meaning UTC), years 1958..2100
+    altitude : above the WGS-84 ellipsoid [m], 0..1000 km
+    latitude, longitude : geodetic [rad]
+    speed : relative speed [m/s] >= 0 instead of the circular-orbit speed
 
-    Returns
-    -------
-    FlightConditions
-
-    Raises
-    ------
-    ValueError
-        Naming the input, as :func:`flight_conditions`.
+    Other options and ValueError as :func:`flight_conditions`.
     """
     time = check_time(time)
     model = normalize_model_name(accommodation_model)

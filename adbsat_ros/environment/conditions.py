@@ -1,7 +1,4 @@
-"""The conditions a spacecraft flies in at one instant: :class:`FlightConditions`.
-
-Units: m, m/s, kg, K, rad.
-"""
+"""The conditions a spacecraft flies in at one instant (m, m/s, kg, K, rad)."""
 
 from __future__ import annotations
 
@@ -49,23 +46,9 @@ def speed_ratio(speed: float, temperature: float, mean_mass: float) -> float:
 class FlightConditions:
     """Conditions a spacecraft flies in at one instant: frozen, with read-only vectors.
 
-    Attributes
-    ----------
-    time : datetime.datetime
-        UTC instant (timezone-aware).
-    position_eci, position_ecef : numpy.ndarray, shape (3,)
-        Position in ECI (GCRF) and ECEF (ITRF) [m].
-    velocity_eci, velocity_ecef : numpy.ndarray or None
-        Inertial velocity in ECI axes, velocity relative to the rotating Earth in ECEF axes
-        [m/s]; None for the circular orbit.
-    latitude, longitude, altitude : float
-        WGS-84 geodetic latitude, east longitude [rad], height above the ellipsoid [m].
-    relative_velocity_eci, relative_velocity_ecef : numpy.ndarray or None
-        Satellite minus co-rotating air minus wind [m/s]; None for the circular orbit.
-    speed : float
-        |relative velocity| [m/s].
-    accommodation_coefficient : float
-        alpha [-] of the model ``accommodation_model``.
+    Positions [m] in ECI (GCRF) and ECEF (ITRF); ``velocity_eci`` inertial, ``velocity_ecef`` and
+    ``relative_velocity_*`` (minus co-rotating air and wind) [m/s], None for the circular orbit;
+    WGS-84 geodetic latitude, longitude [rad], altitude [m].
     """
 
     time: _dt.datetime
@@ -162,7 +145,7 @@ class FlightConditions:
     def free_stream(self) -> FreeStream:
         """The free stream of these conditions (docs/physics.md, section 5.3).
 
-        Raises ValueError at zero relative speed or for a gas a free stream does not take.
+        ValueError: zero relative speed, or a gas a free stream does not take.
         """
         if not self.speed > 0.0:
             raise ValueError(

@@ -1,7 +1,7 @@
 """Flight conditions of an orbital state in ECI (GCRF) or ECEF (ITRF) at a UTC time.
 
-The relative velocity is ``v_sat - v_air`` (the gas flows along its negative), the air
-co-rotating with the Earth by default. docs/physics.md, section 5.4. Units: m, m/s, kg, K, rad.
+Relative velocity ``v_sat - v_air``, the air co-rotating by default. docs/physics.md, section
+5.4. Units: m, m/s, kg, K, rad.
 """
 
 from __future__ import annotations
@@ -118,44 +118,16 @@ def flight_conditions(
 
     Parameters
     ----------
-    time : datetime.datetime
-        UTC instant, timezone-aware or naive meaning UTC, years 1958..2100.
-    position : array_like, shape (3,)
-        Position [m] in ``frame``.
-    velocity : array_like, shape (3,)
-        Velocity [m/s]: inertial in ECI axes (``"eci"``), or relative to the rotating Earth in
-        ECEF axes (``"ecef"``).
-    space_weather : SpaceWeather
-    frame : {"eci", "ecef"}, optional
-        Frame of ``position`` and ``velocity``: ECI = GCRF, ECEF = ITRF.
-    earth_rotation : bool, optional
-        Air co-rotating with the Earth (default True) or at rest in ECI.
-    wind : array_like, shape (3,), optional
-        Wind velocity relative to the co-rotating Earth [m/s], in ``wind_frame``.
-    wind_frame : {"enu", "ecef"}, optional
-        Local East-North-Up at the geodetic position (default) or ECEF axes.
-    anomalous_oxygen : bool, optional
-        NRLMSISE-00's anomalous oxygen in the mixture and mass density (default True).
-    accommodation_model : str, optional
-        ``fixed``, ``langmuir`` (default), ``goodman`` or ``sesam``
-        (:mod:`adbsat_ros.environment.accommodation`).
-    accommodation_options : mapping, optional
-        Options of the model, e.g. ``{"alpha": 0.9}`` for ``fixed``.
-    orientation : EarthOrientation, optional
-        Earth orientation at ``time``, made once for several states; the options below are
-        then ignored.
-    ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
-        As :func:`adbsat_ros.environment.earth_frames.earth_orientation`.
+    time : UTC (aware, or naive meaning UTC), years 1958..2100
+    position : (3,) [m] in ``frame``
+    velocity : (3,) [m/s], inertial in ECI axes, or relative to the rotating Earth in ECEF axes
+    frame : ``"eci"`` (GCRF) or ``"ecef"`` (ITRF)
+    earth_rotation : air co-rotating with the Earth (default) or at rest in ECI
+    wind : (3,) relative to the co-rotating Earth [m/s], in ``wind_frame`` (``"enu"`` or ``"ecef"``)
+    accommodation_model : ``fixed``, ``langmuir`` (default), ``goodman`` or ``sesam``
+    orientation : an EarthOrientation at ``time`` (then the Earth orientation options are ignored)
 
-    Returns
-    -------
-    FlightConditions
-
-    Raises
-    ------
-    ValueError
-        Naming the input: a bad frame name, vector, altitude (0..1000 km), time (1958..2100),
-        space weather or accommodation option.
+    ValueError: a bad frame, vector, altitude (0..1000 km), time, space weather or option (named).
     """
     options = conditions_options(
         frame=frame,

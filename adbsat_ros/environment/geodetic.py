@@ -1,5 +1,4 @@
-"""WGS-84 geodetic coordinates (latitude, east longitude [rad], height [m]) from and to ECEF
-(ITRF) positions, and the local East-North-Up axes."""
+"""WGS-84 geodetic coordinates [rad, m] from and to ECEF (ITRF), and local East-North-Up axes."""
 
 from __future__ import annotations
 
@@ -16,8 +15,10 @@ WGS84 = 1
 
 # ------------------------------------------------------------------------------------ geodetic
 def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
-    """ECEF (ITRF) position [m], shape (..., 3), of WGS-84 latitude [rad] in [-pi/2, pi/2],
-    east longitude [rad] and height [m]; ValueError naming a non-finite or out-of-range input."""
+    """ECEF (ITRF) position [m] (..., 3) of WGS-84 latitude, east longitude [rad] and height [m].
+
+    ValueError: a non-finite or out-of-range input (named).
+    """
     latitude = np.asarray(latitude, dtype=float)
     longitude = np.asarray(longitude, dtype=float)
     altitude = np.asarray(altitude, dtype=float)
@@ -36,8 +37,7 @@ def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
 
 
 def ecef_to_geodetic(position_ecef):
-    """WGS-84 latitude, east longitude in (-pi, pi] [rad] and height [m] of ECEF positions [m],
-    (3,) or (N, 3); ValueError for a non-finite or mis-shaped position."""
+    """WGS-84 latitude, east longitude in (-pi, pi] [rad], height [m] of ECEF positions [m]."""
     position = vectors3(position_ecef, "position_ecef")
     # The raw ufunc skips pyerfa's status-to-warning wrapper; status < 0 is only possible
     # for a bad ellipsoid identifier, which WGS84 is not.

@@ -1,5 +1,4 @@
-"""Flight conditions between two knots, mixed linearly number by number (error:
-:mod:`adbsat_ros.environment.knots`)."""
+"""Flight conditions between two knots, mixed linearly number by number."""
 
 from __future__ import annotations
 
@@ -38,8 +37,7 @@ class KnotEnds:
 
     @property
     def numbers(self) -> np.ndarray:
-        """Read-only: the six vectors (zeros for None), speed, alpha, mass density, both
-        temperatures, the number densities."""
+        """Read-only: every number of a knot, in mixing order."""
         if self._numbers is None:
             self._numbers, self._vectors = _numbers_of(self.conditions)
         return self._numbers
@@ -129,11 +127,9 @@ def mixed_conditions(
 def interpolated_flight_conditions(
     a: FlightConditions, b: FlightConditions, weight: float, time: _dt.datetime
 ) -> FlightConditions:
-    """The conditions at UTC ``time``, a fraction ``weight`` (0..1) of the way from a to b.
+    """The conditions at UTC ``time``, ``weight`` (0..1) of the way from a to b, mixed linearly.
 
-    Every number is mixed as ``(1 - weight) x_a + weight x_b``; the geodetic position is that
-    of the mixed ECEF position, the speed the norm of the mixed relative velocity. Raises
-    ValueError if ``a`` and ``b`` were made with different options.
+    ValueError: ``a`` and ``b`` made with different options.
     """
     check_ends(a, b)
     if weight == 0.0:

@@ -1,8 +1,6 @@
-"""Flight conditions exact on fixed knots ``j step``, interpolated in between: the per-message
-cache (:class:`KnotGrid`).
+"""Flight conditions exact on fixed knots ``j step``, interpolated in between (:class:`KnotGrid`).
 
-Fixed knots give a stamp the same numbers whatever came before (live, or replayed in any
-order). Error about (h v / L)^2 / 8: 2e-9 of the density at 0.01 s. docs/physics.md, section 5.4.
+Fixed knots give a stamp the same numbers whatever came before. docs/physics.md, section 5.4.
 """
 
 from __future__ import annotations
@@ -37,26 +35,11 @@ def knot_position(stamp: float, step: float) -> tuple:
 
 
 class KnotGrid:
-    """The flight conditions of one orbital state on the knots, interpolated in between.
+    """The per-message cache of one orbital state's conditions, on knots ``step`` [s] >= 0 apart.
 
-    A cache keyed by the orbital state (``==``; another state forgets the knots), bounded by
-    ``kept`` knots (oldest first out), counting :attr:`hits`, :attr:`misses`,
-    :attr:`evaluations` and :attr:`prepared_used`. A stamp whose knots cannot be evaluated
-    (e.g. above the atmosphere model) is evaluated exactly; ``step`` = 0: every stamp a knot.
-
-    Parameters
-    ----------
-    step : float
-        Knot spacing [s], >= 0.
-    evaluate : callable
-        ``evaluate(key, stamp)``: the exact :class:`FlightConditions`; ValueError if none.
-    kept : int, optional
-        Largest number of knots kept, >= 3.
-
-    Raises
-    ------
-    ValueError
-        For a step not finite and >= 0, or fewer than 3 knots kept.
+    ``evaluate(key, stamp)``: the exact FlightConditions (ValueError if none; then the stamp is
+    evaluated exactly); at most ``kept`` >= 3 knots; ``step`` 0: every stamp a knot.
+    ValueError: a step not finite and >= 0, or fewer than 3 knots kept.
     """
 
     def __init__(
@@ -75,8 +58,7 @@ class KnotGrid:
         self.configure(step, evaluate)
 
     def configure(self, step: float, evaluate: Callable[[object, float], FlightConditions]):
-        """New ``step`` [s] and ``evaluate``: the knots go, the counters stay (ValueError as
-        the constructor, nothing changed)."""
+        """New ``step`` [s] and ``evaluate``: the knots go, the counters stay."""
         step = float(step)
         if not (math.isfinite(step) and step >= 0.0):
             raise ValueError(f"step must be a finite number of seconds >= 0, got {step!r}")
@@ -130,8 +112,7 @@ class KnotGrid:
         return mixed_conditions(a, b, past / step, time)
 
     def prepare(self, key, stamp: float) -> bool:
-        """Evaluate ahead the knots ``stamp`` needs (else the one :data:`KNOT_LOOKAHEAD` on);
-        whether they are ready. Changes no number :meth:`conditions` gives."""
+        """Evaluate ahead the knots ``stamp`` needs; whether ready. Changes no number."""
         step = self.step
         try:
             if step > 0.0:

@@ -1,8 +1,6 @@
-"""The Sun for solar radiation pressure: its position, its pressure, Earth's shadow.
-
-Position from ERFA's ``epv00`` (GCRS = ECI, 1900-2100), P = S / c (1 au / d)^2, and a conical
-shadow with umbra and penumbra (Montenbruck & Gill, Satellite Orbits, 2000, 3.4.2). Units m,
-Pa. docs/physics.md, section 7.1.
+"""The Sun for solar radiation pressure: position (ERFA ``epv00``, GCRS = ECI, 1900-2100),
+pressure P = S / c (1 au / d)^2 [Pa], and Earth's conical shadow (Montenbruck & Gill 2000,
+3.4.2). docs/physics.md, section 7.1.
 """
 
 from __future__ import annotations
@@ -34,8 +32,7 @@ EARTH_SHADOW_RADIUS = 6_378_137.0
 
 @dataclass(frozen=True)
 class SunState:
-    """The Sun seen from a satellite: unit vector to it (GCRS), distance [m], visible fraction
-    of its disc, pressure [Pa] (the shadow not applied)."""
+    """The Sun from a satellite: unit vector (GCRS), distance [m], disc visible, pressure [Pa]."""
 
     direction_eci: np.ndarray
     distance: float
@@ -59,26 +56,10 @@ def solar_pressure(sun_distance) -> float:
 
 
 def lit_fraction(position_eci, sun_position_eci):
-    """Fraction of the solar disc visible from ``position_eci`` past a spherical Earth.
+    """Fraction in [0, 1] of the solar disc visible from ``position_eci`` past a spherical Earth.
 
-    Montenbruck & Gill (2000), eqs. 3.85-3.87 (umbra, penumbra, annular).
-
-    Parameters
-    ----------
-    position_eci : array_like, shape (3,) or (N, 3)
-        Satellite position(s) [m], GCRS, outside the Earth (|r| >= 6,378,137 m).
-    sun_position_eci : array_like, shape (3,)
-        The Sun's geocentric position [m].
-
-    Returns
-    -------
-    float or ndarray, shape (N,)
-        In [0, 1].
-
-    Raises
-    ------
-    ValueError
-        Naming the input: non-finite, or a position inside the Earth.
+    Montenbruck & Gill (2000), eqs. 3.85-3.87. Positions [m], GCRS, (3,) or (N, 3).
+    ValueError: non-finite, or a position inside the Earth.
     """
     r = np.asarray(position_eci, dtype=float)
     s = np.asarray(sun_position_eci, dtype=float)
@@ -145,11 +126,7 @@ def _visible_fraction(rx, ry, rz, sx, sy, sz) -> float:
 
 
 def sun_state(time, position_eci, sun_position=None) -> SunState:
-    """The Sun seen from ``position_eci`` [m] (GCRS) at UTC ``time``.
-
-    ``sun_position``: the Sun's position [m] at ``time`` if known (e.g. from a
-    :class:`SunTrack`). Raises ValueError as :func:`lit_fraction`.
-    """
+    """The Sun from ``position_eci`` [m] (GCRS) at UTC ``time``; ValueError as lit_fraction."""
     sun = sun_position_eci(time) if sun_position is None else np.asarray(sun_position, float)
     r = np.asarray(position_eci, dtype=float)
     rx, ry, rz = r.tolist()
@@ -168,11 +145,8 @@ def sun_state(time, position_eci, sun_position=None) -> SunState:
 
 
 class SunTrack:
-    """The cache of the Sun's position: exact on knots every ``step`` s in (0, 3600], linear in
-    between (|p''| h^2 / 8 = 2.7 m at h = 60 s).
-
-    Keyed by the knot index floor(t / step) (t: UTC seconds since 2000-01-01), bounded by the
-    two knots around t, counting ``hits`` and ``misses``.
+    """The cache of the Sun's position: exact on knots every ``step`` s in (0, 3600], linear between
+    (error |p''| h^2 / 8); keyed by the knot index, counting ``hits`` and ``misses``.
     """
 
     _ORIGIN = dt.datetime(2000, 1, 1)

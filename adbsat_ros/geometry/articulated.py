@@ -1,9 +1,7 @@
 """Articulated satellites: a URDF's links and joints as panels for any joint configuration.
 
-Each link's visuals (else its collisions) become parts in its frame, the URDF material name
-their surface material; joints fixed, revolute, continuous, prismatic, mimic. The zero
-configuration's panels equal its parts merged into one mesh, bit for bit. Units m, rad; mesh
-frame G = the root link's frame.
+Joints fixed, revolute, continuous, prismatic, mimic; at zero the panels equal the parts merged
+into one mesh, bit for bit. Units m, rad; mesh frame G = the root link's frame.
 """
 
 from __future__ import annotations
@@ -39,9 +37,10 @@ EDGE_FRACTION = 1.0 / 12.0
 
 @dataclass(frozen=True)
 class BodyLoads:
-    """Per-link force and moment coefficients (body frame; sum to Cf_G, Cm_G) and per moving
-    joint the coefficient of the load it carries: moment about its axis (revolute; times
-    q A_ref L_ref: N m) or force along it (prismatic; times q A_ref: N)."""
+    """Per-link Cf and Cm (body frame; summing to Cf_G, Cm_G), and per moving joint the
+    coefficient of its axis moment (revolute; times q A_ref L_ref: N m) or axial force
+    (prismatic; times q A_ref: N).
+    """
 
     link_force: np.ndarray
     link_moment: np.ndarray
@@ -92,19 +91,10 @@ def _primitive(geometry, max_edge_fraction: float, resolve) -> trimesh.Trimesh:
 
 
 class ArticulatedBody:
-    """A satellite of links and joints from a URDF (:meth:`from_urdf`), as panels for any joint
-    configuration.
+    """A satellite of links and joints from a URDF (:meth:`from_urdf`), as panels in any pose.
 
-    Attributes
-    ----------
-    joints : dict of str to Joint
-        The moving joints (not fixed or mimic), by name; ``all_joint_names`` lists every joint.
-    root : str
-        The root link, whose frame is the body frame.
-    panel_link : ndarray of int, shape (N,)
-        Link of each panel of :meth:`mesh`.
-    link_spans : dict of int to (int, int)
-        ``{link index: (start, stop)}`` of each link's consecutive panels in :meth:`mesh`.
+    ``joints``: the moving joints by name; ``root``: the link whose frame is the body frame;
+    ``panel_link``: each panel's link; ``link_spans``: each link's (start, stop) of panels.
     """
 
     def __init__(
@@ -188,15 +178,8 @@ class ArticulatedBody:
     ) -> "ArticulatedBody":
         """Read a URDF: a file path, or its XML text (as the ``robot_description`` parameter).
 
-        Mesh files are found relative to the URDF file (or the working directory), ``package://``
-        as yourdfpy finds them. Primitives are refined to edges <= ``max_edge_fraction`` of their
-        size. The body must be 1 mm to 200 m across unless ``accept_size``. ``source`` names it.
-
-        Raises
-        ------
-        MeshError
-            Naming the file and element: unreadable, an unsupported joint, no geometry, or a
-            size that is no satellite's.
+        Meshes found relative to the URDF (``package://`` by yourdfpy); 1 mm to 200 m across unless
+        ``accept_size``. MeshError: naming the file and element (unreadable, unsupported...).
         """
         text = str(urdf)
         is_xml = text.lstrip().startswith("<")
@@ -211,8 +194,10 @@ class ArticulatedBody:
         return cls(model, source, max_edge_fraction, accept_size)
 
     def positions(self, values: Mapping[str, float] | None = None) -> dict:
-        """``{name: value}`` of every moving joint, checked, completed with zeros; ValueError
-        naming an unknown joint or a value non-finite or outside its limits."""
+        """``{name: value}`` [rad or m] of every moving joint, completed with zeros.
+
+        ValueError: an unknown joint, or a value non-finite or outside its limits.
+        """
         out = {name: 0.0 for name in self.joints}
         for name, value in (values or {}).items():
             joint = self.joints.get(name)
@@ -290,11 +275,7 @@ class ArticulatedBody:
         return np.array(sorted(map(self.links.index, self._tree.carried(self.joints[joint].child))))
 
     def loads(self, force, point, values, moment_point, length) -> BodyLoads:
-        """:class:`BodyLoads` of per-panel loads at joint positions ``values``.
-
-        ``force``, ``point`` (N, 3): force coefficient of every panel of :meth:`mesh` and where
-        it acts [m]; ``moment_point`` [m]; ``length`` L_ref [m].
-        """
+        """:class:`BodyLoads` of per-panel force coefficients ``force`` acting at ``point`` [m]."""
         force = np.asarray(force, dtype=float)
         point = np.asarray(point, dtype=float)
         moments = np.cross(point - np.asarray(moment_point, dtype=float), force) / length

@@ -1,9 +1,8 @@
 """Bundled concave bodies (test-particle cases): closed, metres, frame G, gas from +x at zero.
 
-``grooved-cylinder``: radius 0.5 m, length 1 m, axis x, four annular grooves 0.05 m wide and
-0.4 m deep in its front face, ADBSat's validation case (Sinpetru et al., Computer Physics
-Communications 275 (2022) 108327); ``cylinder`` without grooves; ``intake-box``: 2 m x 1 m x
-1 m with a blind 0.6 m x 0.6 m intake 1.5 m deep in its front face.
+``grooved-cylinder``: r 0.5 m, length 1 m, axis x, four grooves 0.05 m wide, 0.4 m deep in its
+front, ADBSat's validation case (Sinpetru et al., Computer Physics Communications 275 (2022)
+108327); ``cylinder`` without; ``intake-box``: 2 x 1 x 1 m, a 0.6 x 0.6 m intake 1.5 m deep.
 """
 
 from __future__ import annotations

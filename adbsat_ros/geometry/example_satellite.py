@@ -1,6 +1,6 @@
-"""The bundled example satellite ``example``: a 1.2 m x 0.5 m x 0.5 m box centred on the origin,
-two 1.0 m x 0.5 m x 0.03 m wings off +-y at the rear in the x-y plane (edge-on at zero angles:
-the case that breaks barycentre shading); materials ``body`` and ``solar_array``."""
+"""The bundled example satellite ``example``: a 1.2 m x 0.5 m x 0.5 m box, two 1.0 m x 0.5 m x
+0.03 m wings off +-y at the rear (edge-on at zero angles); materials ``body``, ``solar_array``.
+"""
 
 from __future__ import annotations
 
@@ -30,14 +30,7 @@ def _refined_box(extents, centre, max_edge):
 def example_satellite(max_edge: float = 0.09) -> PanelMesh:
     """The example satellite, metres, mesh frame = body frame.
 
-    Parameters
-    ----------
-    max_edge : float
-        Longest triangle edge [m]; 0.09 m gives about 5,000 panels.
-
-    Returns
-    -------
-    PanelMesh
+    ``max_edge``: longest triangle edge [m]; 0.09 m gives about 5,000 panels.
     """
     parts = [
         ("body", _refined_box(BODY_SIZE, (0.0, 0.0, 0.0), max_edge)),
@@ -56,7 +49,7 @@ def example_satellite(max_edge: float = 0.09) -> PanelMesh:
 
 
 def write_obj(mesh: PanelMesh, path, digits: int = 9) -> None:
-    """Write a PanelMesh as OBJ with ``usemtl`` groups, ``digits`` (1 to 17) significant digits.
+    """Write a PanelMesh as OBJ with ``usemtl`` groups and ``digits`` (1 to 17) significant digits.
 
     17 reads back the same panels; fewer can tilt a flat face's panels out of one facet.
     """

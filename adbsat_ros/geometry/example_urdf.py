@@ -1,7 +1,6 @@
 """Bundled URDFs: ``example-articulated`` (the example satellite, hinged wings), ``example-finned``.
 
-``example-articulated``: links ``body``, ``wing_left`` (+y), ``wing_right`` (-y); revolute
-``wing_left_hinge``, ``wing_right_hinge`` along y through the wing roots, limits +-pi.
+``example-articulated``: revolute ``wing_left_hinge``, ``wing_right_hinge`` along y, +-pi.
 """
 
 from __future__ import annotations
@@ -57,8 +56,7 @@ FIN_HINGE_X = -0.15
 
 
 def example_finned_urdf() -> str:
-    """URDF of a 0.6 m x 0.3 m x 0.3 m body with rear fins ``fin_py``, ``fin_ny``, ``fin_pz``,
-    ``fin_nz``, each on a revolute ``<fin>_hinge`` along its span at x = -0.15 m, +-0.6 rad."""
+    """URDF of a 0.6 m body with four rear fins ``fin_*`` on revolute hinges, +-0.6 rad."""
     chord, span, thick = FIN_SIZE
     half = FINNED_BODY_SIZE[1] / 2
     lines = [

@@ -1,8 +1,7 @@
 """ADBSat's aerodynamic frames and angles (docs/physics.md, section 2).
 
 G: the mesh frame (the node's body frame); B: ADBSat's body frame, ``L_GB = diag(1, -1, -1)``;
-W: the wind frame; F: ADBSat's flight frame, ``diag(-1, 1, -1)`` of B. The gas moves along
-u_G = (-cos a cos b, sin b, sin a cos b).
+W: wind; F: flight, ``diag(-1, 1, -1)`` of B. Gas along u_G = (-cos a cos b, sin b, sin a cos b).
 """
 
 from __future__ import annotations
@@ -46,8 +45,7 @@ def _floats(value, name: str) -> np.ndarray:
 
 
 def direction_components(value, name: str = "flow direction") -> tuple:
-    """(x, y, z) of a direction, not normalised; ValueError naming ``name`` unless a finite
-    non-zero 3-vector."""
+    """(x, y, z) of a direction; ValueError naming ``name`` unless a finite non-zero 3-vector."""
     u = _floats(value, name)
     if u.shape == (3,):
         x, y, z = u.tolist()
@@ -77,8 +75,7 @@ def flow_direction(aoa, aos):
 
 
 def attitude_flow(aoa=None, aos=None, direction=None) -> tuple:
-    """``(u_G, (aoa, aos) or None)`` of angles [rad] (each 0 if not given) or a ``direction``
-    of the gas in G; ValueError for both, a non-finite angle, or no vector."""
+    """``(u_G, (aoa, aos) or None)`` of angles [rad] or a gas ``direction`` in G."""
     if direction is not None:
         if aoa is not None or aos is not None:
             raise ValueError("give either aoa/aos or flow_direction, not both")
@@ -91,10 +88,7 @@ def attitude_flow(aoa=None, aos=None, direction=None) -> tuple:
 
 
 def angles_of_flow(u_G):
-    """aoa in (-pi, pi] and aos in [-pi/2, pi/2] [rad] of gas directions ``u_G`` (..., 3).
-
-    At aos = +/-90 deg aoa is 0.
-    """
+    """aoa in (-pi, pi], aos in [-pi/2, pi/2] [rad] of gas directions ``u_G`` (aoa 0 at poles)."""
     u = np.asarray(u_G, dtype=float)
     if u.shape == (3,):
         x, y, z = u.tolist()

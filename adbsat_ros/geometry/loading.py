@@ -50,33 +50,17 @@ def load_mesh(
     accept_size: bool = False,
     store: MeshStore | str | None = DEFAULT_STORE,
 ) -> PanelMesh:
-    """Load a triangulated surface mesh from a file.
+    """Load a triangulated surface mesh file (any trimesh format; .obj ``usemtl`` materials) [m].
 
     Parameters
     ----------
-    path : str or os.PathLike
-        Mesh file in any format trimesh reads (.obj with ``usemtl`` materials, .stl, .ply, ...).
-    scale : float
-        Factor to metres (e.g. 1e-3 for CAD in millimetres).
-    fix_normals : bool
-        Flip closed bodies whose faces point inwards, with a warning.
-    accept_size : bool
-        Take a mesh of scale 1 outside ``mesh_extent`` of :data:`adbsat_ros.bounds.BOUNDS`
-        (1 mm to 200 m across), otherwise refused.
-    store : MeshStore, "default" or None
-        Where checked meshes are kept by file content (default: ``MeshStore.resolve``).
+    scale : factor to metres (e.g. 1e-3 for CAD in millimetres)
+    fix_normals : flip closed bodies whose faces point inwards, with a warning
+    accept_size : take a mesh outside ``mesh_extent`` (1 mm to 200 m across)
+    store : a MeshStore, "default" or None, keeping checked meshes by file content
 
-    Returns
-    -------
-    PanelMesh
-        Panels in the file's frame, in metres.
-
-    Raises
-    ------
-    MeshError
-        A missing, unreadable or bad file (naming the line), no usable face, a coordinate beyond
-        ``mesh_coordinate`` of :data:`adbsat_ros.bounds.BOUNDS`, or a size that is no
-        satellite's (naming the likely unit).
+    MeshError: a missing, unreadable or bad file (the line), no usable face, a coordinate beyond
+    ``mesh_coordinate``, or a size that is no satellite's (naming the likely unit).
     """
     path = os.fspath(path)
     if not math.isfinite(scale) or scale <= 0:
@@ -115,11 +99,7 @@ def _parse(path: str, scale: float, fix_normals: bool) -> PanelMesh:
 
 
 def panels_from_trimesh(mesh: trimesh.Trimesh, *, source="<trimesh>", **kwargs) -> PanelMesh:
-    """A checked :class:`PanelMesh` of a trimesh.Trimesh [m] (one material, ``"default"``).
-
-    ``source`` names it in messages; ``**kwargs`` and MeshError as
-    :func:`adbsat_ros.geometry.mesh.panels_from_arrays`.
-    """
+    """A checked PanelMesh of a trimesh.Trimesh [m]; as :func:`.mesh.panels_from_arrays`."""
     return panels_from_arrays(mesh.vertices, mesh.faces, source=source, **kwargs)
 
 
@@ -144,8 +124,7 @@ def articulated_body(spec, accept_size: bool = False) -> ArticulatedBody:
 def resolve_mesh(spec, scale: float = 1.0, accept_size: bool = False) -> PanelMesh:
     """A PanelMesh of a file path or a bundled body's name (URDFs at zero joint positions).
 
-    Raises MeshError as :func:`load_mesh`, or for a ``scale`` other than 1 with a bundled body
-    or a URDF.
+    MeshError: as :func:`load_mesh`, or a ``scale`` other than 1 with a bundled body or URDF.
     """
     name = str(spec)
     if name == EXAMPLE_MESH_NAME or name in CONCAVE_BODIES or is_urdf(name):

@@ -33,9 +33,9 @@ class MeshError(ValueError):
 
 @dataclass(frozen=True)
 class MeshReport:
-    """What the loader found and changed: faces of zero area dropped, inward closed components
-    flipped, open components (they occlude from both sides), whether every component is closed
-    and consistently wound, whether it is one closed convex body (never shading itself)."""
+    """What the loader found and changed: degenerate faces dropped, inward components flipped, open
+    components (occluding from both sides), closed and wound, one convex body (no self-shading).
+    """
 
     dropped_zero_area: int = 0
     flipped_components: int = 0
@@ -49,20 +49,8 @@ class MeshReport:
 class PanelMesh:
     """Triangle panels of a satellite surface in the mesh frame G [m].
 
-    Attributes
-    ----------
-    vertices : ndarray, shape (N, 3, 3)
-        Corners [m]; ``vertices[i, k]`` is corner k of panel i.
-    normals : ndarray, shape (N, 3)
-        Outward unit normals, n = (P2 - P1) x (P3 - P1) / |...|.
-    areas : ndarray, shape (N,)
-        Panel areas [m^2].
-    barycentres : ndarray, shape (N, 3)
-        Panel centroids [m].
-    material_index : ndarray of int, shape (N,)
-        Index into ``material_names`` (in order of first appearance).
-    source : str
-        A path, or a description, for messages.
+    ``vertices`` (N, 3, 3) [m]; ``normals`` outward, (P2 - P1) x (P3 - P1) normalised; ``areas``
+    [m^2]; ``barycentres`` [m]; ``material_index`` into ``material_names`` (first appearance order).
     """
 
     vertices: np.ndarray
@@ -134,31 +122,11 @@ def panels_from_arrays(
     source="<array>",
     fix_normals=True,
 ) -> PanelMesh:
-    """A checked :class:`PanelMesh` of vertex and face arrays.
+    """A checked :class:`PanelMesh` of ``vertices`` (V, 3) [m] and ``faces`` (N, 3).
 
-    Parameters
-    ----------
-    vertices : array_like, shape (V, 3)
-        Vertex coordinates [m].
-    faces : array_like of int, shape (N, 3)
-        Vertex indices of each triangle; the winding sets the normal (right-hand rule).
-    material_index : array_like of int, shape (N,), optional
-        Index into ``material_names`` of each face; default all 0.
-    material_names : sequence of str
-    source : str
-        Name used in messages.
-    fix_normals : bool
-        Flip closed components of negative signed volume outwards.
-
-    Returns
-    -------
-    PanelMesh
-
-    Raises
-    ------
-    MeshError
-        No faces, NaN/Inf coordinates or one beyond ``mesh_coordinate`` of :data:`BOUNDS`, bad
-        indices, or nothing left after dropping degenerate faces.
+    The winding sets the normal (right-hand rule); ``fix_normals`` flips closed components of
+    negative volume. MeshError: no faces, NaN/Inf or beyond ``mesh_coordinate``, bad indices, or
+    nothing left after dropping degenerate faces.
     """
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces)

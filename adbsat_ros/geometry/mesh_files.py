@@ -1,8 +1,7 @@
 """Mesh files read whole: .obj and .off here, every line read or refused; others by trimesh.
 
 trimesh's .obj and .off readers silently skip lines they do not expect (a byte-order mark, an
-indented ``v``), giving wrong numbers and no error. A byte-order mark selects UTF-8 or UTF-16,
-else UTF-8; polygons become fans (0, k, k + 1).
+indented ``v``). A byte-order mark selects UTF-8 or UTF-16; polygons become fans.
 """
 
 from __future__ import annotations
@@ -55,8 +54,7 @@ def check_mesh_path(path: str) -> None:
 
 
 def decode_text(data: bytes, source: str) -> str:
-    """The text of a mesh file's bytes; MeshError for bytes not of their byte-order mark's
-    encoding, or a NUL character."""
+    """The text of a mesh file's bytes; MeshError for a wrong encoding or a NUL."""
     for mark, encoding in BYTE_ORDER_MARKS:
         if data.startswith(mark):
             try:
@@ -132,11 +130,7 @@ def _fan(corners: list) -> list:
 
 
 def read_obj(text: str, source: str) -> MeshArrays:
-    """The vertices, triangles and ``usemtl`` materials of a Wavefront OBJ's text.
-
-    Plain files are converted all at once, others by :func:`read_obj_by_line`, the reference,
-    which names a line it cannot read whole (MeshError).
-    """
+    """The vertices, triangles and ``usemtl`` materials of an OBJ text; MeshError: a bad line."""
     arrays = None if "\\" in text else _obj_arrays(text)
     return arrays if arrays is not None else read_obj_by_line(text, source)
 
@@ -262,8 +256,7 @@ def _obj_corner(ref: str, n_vertices: int, source: str, line: int) -> int:
 
 
 def read_off(text: str, source: str) -> MeshArrays:
-    """The vertices and triangles of an OFF text; MeshError naming a line it cannot read whole
-    or counts the lines do not match."""
+    """The vertices and triangles of an OFF text; MeshError naming a bad line or count."""
     statements = _statements(text)
     number, line = next(statements, (1, ""))
     keyword, *counts = line.split()

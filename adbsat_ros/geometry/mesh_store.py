@@ -1,7 +1,5 @@
-"""Checked meshes kept on disk by their file's content, read back instead of parsed again.
-
-Key: SHA-256 of the file's bytes, suffix, scale, ``fix_normals`` and code fingerprint; bound:
-64 entries; in ``$ADBSAT_ROS_CACHE_DIR/meshes`` (docs/architecture.md).
+"""Checked meshes kept on disk by their file's content (SHA-256, suffix, scale, options, code),
+at most 64, in ``$ADBSAT_ROS_CACHE_DIR/meshes`` (docs/architecture.md).
 """
 
 from __future__ import annotations

@@ -1,7 +1,4 @@
-"""A URDF's joint tree and its links' poses by yourdfpy's forward kinematics.
-
-Units: metres, radians; G = root link frame.
-"""
+"""A URDF's joint tree and its links' poses by yourdfpy's forward kinematics (m, rad, G = root)."""
 
 from __future__ import annotations
 
@@ -33,10 +30,9 @@ class Joint:
 
 
 class JointTree:
-    """The links (URDF order) and moving joints of a URDF, checked to form one tree.
+    """The links and moving joints of a URDF, checked to form one tree.
 
-    Raises MeshError naming ``source``: not one tree, an unsupported joint type, an axis of no
-    direction, or a mimic joint that follows no moving joint.
+    MeshError naming ``source``: not one tree, an unsupported joint, no axis, a bad mimic.
     """
 
     def __init__(self, urdf: yourdfpy.URDF, source: str):
@@ -113,8 +109,7 @@ class JointTree:
 
 
 class Poses(NamedTuple):
-    """Link and joint frames in G at joint positions ``key``: link rotations (L, 3, 3) and
-    origins [m], unit joint axes (J, 3) and the points they pass (child link origins) [m]."""
+    """Link rotations (L, 3, 3), origins [m], unit joint axes (J, 3) and their points [m] in G."""
 
     key: tuple
     rotations: np.ndarray

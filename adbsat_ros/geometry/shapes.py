@@ -8,8 +8,7 @@ from adbsat_ros.geometry.mesh import PanelMesh, panels_from_arrays
 
 
 def grid_box(center, size, divisions):
-    """Vertices (V, 3) [m] and outward faces (F, 3) of a closed box at ``center`` [m] of
-    ``size`` [m] with ``divisions`` cells (two triangles each) along x, y, z."""
+    """Vertices [m] and outward faces of a closed box of ``size`` [m] at ``center``, gridded."""
     center = np.asarray(center, float)
     size = np.asarray(size, float)
     verts, faces, off = [], [], 0
@@ -40,11 +39,7 @@ def grid_box(center, size, divisions):
 
 
 def combine(parts, source: str = "scene", part_materials=None, material_names=None) -> PanelMesh:
-    """One checked PanelMesh of (vertices [m], faces) ``parts``, face indices local to each.
-
-    ``part_materials``: each part's material (default ``"default"``); ``material_names``: their
-    order (default: of first appearance).
-    """
+    """One checked PanelMesh of (vertices [m], faces) ``parts``, with their materials."""
     parts = list(parts)
     if part_materials is None:
         part_materials = ["default"] * len(parts)

@@ -1,8 +1,5 @@
-"""Input messages from their CDR bytes, to the fields the estimator takes.
-
-With the caller's deserialiser (rclpy's in the node, rosbags' in bag analysis); the attitude
-first by :mod:`adbsat_ros.messages.cdr`. Bytes that are not the message raise
-:class:`UndecodableMessage`.
+"""Input messages from their CDR bytes to the estimator's fields, with the caller's deserialiser
+(rclpy's or rosbags'); bytes that are not the message raise :class:`UndecodableMessage`.
 """
 
 from __future__ import annotations
@@ -18,8 +15,7 @@ JOINT_STATE = "sensor_msgs/msg/JointState"
 
 
 class OdometryFields(NamedTuple):
-    """What the wrench needs of a nav_msgs/Odometry (the covariances and the angular rate are
-    left out). Field names follow the message."""
+    """What the wrench needs of a nav_msgs/Odometry, named as in the message."""
 
     stamp: Stamp
     frame_id: str
@@ -66,8 +62,7 @@ class JointStateFields(NamedTuple):
 
 
 class UndecodableMessage(Exception):
-    """Bytes that are not the ``message_type`` they should be; ``reason`` is what the
-    deserialiser said, as ``ExceptionName: text``."""
+    """Bytes that are not ``message_type``; ``reason``: ``ExceptionName: text``."""
 
     def __init__(self, message_type: str, cause: BaseException):
         self.message_type = message_type
@@ -76,13 +71,7 @@ class UndecodableMessage(Exception):
 
 
 def decode_attitude(raw, deserialise: Callable) -> AttitudeFields:
-    """Stamp and quaternion of a CDR geometry_msgs/QuaternionStamped (struct, else ``deserialise``).
-
-    Raises
-    ------
-    UndecodableMessage
-        If neither reads ``raw``.
-    """
+    """Stamp and quaternion of a CDR QuaternionStamped (struct, else ``deserialise``)."""
     try:
         return quaternion_stamped_fields(raw)
     except ValueError:
@@ -91,24 +80,12 @@ def decode_attitude(raw, deserialise: Callable) -> AttitudeFields:
 
 
 def decode_odometry(raw, deserialise: Callable) -> OdometryFields:
-    """Stamp, frames, pose and linear velocity of a CDR nav_msgs/Odometry, via ``deserialise(raw)``.
-
-    Raises
-    ------
-    UndecodableMessage
-        If ``deserialise`` does not read ``raw``.
-    """
+    """Stamp, frames, pose and linear velocity of a CDR nav_msgs/Odometry."""
     return _decode(OdometryFields, ODOMETRY, raw, deserialise)
 
 
 def decode_joint_state(raw, deserialise: Callable) -> JointStateFields:
-    """Stamp, names and positions of a CDR sensor_msgs/JointState, via ``deserialise(raw)``.
-
-    Raises
-    ------
-    UndecodableMessage
-        If ``deserialise`` does not read ``raw``.
-    """
+    """Stamp, names and positions of a CDR sensor_msgs/JointState."""
     return _decode(JointStateFields, JOINT_STATE, raw, deserialise)
 
 

@@ -1,8 +1,4 @@
-"""The output messages of one wrench as CDR bytes, for the node and the bag analysis alike.
-
-Joint torques (sensor_msgs/JointState) by the caller's serialiser, the rest by
-:mod:`adbsat_ros.messages.cdr`.
-"""
+"""The output messages of one wrench as CDR bytes, for the node and the bag analysis."""
 
 from __future__ import annotations
 
@@ -12,25 +8,11 @@ from adbsat_ros.messages.cdr import Stamp, accel_stamped_cdr, wrench_stamped_cdr
 
 
 class WrenchMessages(NamedTuple):
-    """The CDR bytes of the messages of one wrench; None for a message not made.
+    """The CDR bytes of one wrench's messages (fields, units: docs/node.md); None: not made.
 
-    Attributes
-    ----------
-    wrench : bytes
-        WrenchStamped: force [N] and torque [N m] about the centre of mass, body frame.
-    coefficients : bytes or None
-        WrenchStamped of the coefficients (C_F in ``force``, C_M in ``torque``).
-    inertial : bytes or None
-        WrenchStamped: force [N] in the ``state_frame``, torque [N m] in the body frame.
-    acceleration : bytes or None
-        AccelStamped (needs ``mass``): force / mass [m/s^2] in the state frame and, with an
-        ``inertia``, inertia^-1 torque [rad/s^2] in the body frame. With ``solar_pressure`` on,
-        ``inertial`` and ``acceleration`` carry the total of both wrenches.
-    solar, total : bytes or None
-        With ``solar_pressure`` on: the solar pressure wrench and aero plus solar, body frame.
-    joint_torques : bytes or None
-        Articulated body: JointState with each moving joint's name, position used and, as
-        ``effort``, the aerodynamic torque about its axis [N m] (force for a prismatic one [N]).
+    ``wrench``: force [N], torque [N m] about the centre of mass, body frame; ``inertial``:
+    force in the ``state_frame``; ``acceleration`` [m/s^2, rad/s^2]; ``joint_torques``:
+    ``effort`` [N m or N].
     """
 
     wrench: bytes
@@ -51,22 +33,10 @@ def encode_wrench(
     inertial: bool = False,
     joint_torques: bool = True,
 ) -> WrenchMessages:
-    """The messages of one wrench sample, stamped ``stamp``.
+    """The messages of one wrench sample, stamped ``stamp`` (the input's header stamp).
 
-    Parameters
-    ----------
-    stamp : Stamp
-        The input message's header stamp.
-    sample : WrenchSample
-        The estimator's sample.
-    settings : WrenchSettings
-        Its ``body_frame_id``, ``state_frame``, ``mass`` and ``inertia`` are read.
-    serialise_joint_state : callable or None
-        ``serialise_joint_state(stamp, frame_id, names, positions, efforts)`` -> CDR bytes of a
-        JointState; needed for an articulated body's joint torques.
-    coefficients, inertial, joint_torques : bool
-        Whether to make the coefficients message, the state-frame wrench and acceleration, and the
-        joint torques.
+    ``serialise_joint_state(stamp, frame_id, names, positions, efforts)`` -> CDR bytes, needed for
+    an articulated body's joint torques; the flags say which optional messages to make.
     """
     frame = settings.body_frame_id
     sec, nanosec = stamp.sec, stamp.nanosec

@@ -1,5 +1,4 @@
-"""Message stamps (builtin_interfaces/Time: sec, nanosec) as float seconds, and the next stamp of
-a fixed-rate stream."""
+"""Message stamps (builtin_interfaces/Time) as float seconds; the next stamp of a stream."""
 
 from __future__ import annotations
 
@@ -10,9 +9,10 @@ def stamp_seconds(stamp) -> float:
 
 
 def next_regular_stamp(previous, latest) -> float | None:
-    """The stamp [s] after ``latest`` at the interval from ``previous`` (two Time messages); None
-    when that is not positive. In integer nanoseconds, so bit-equal to :func:`stamp_seconds` of
-    the message the stream will carry."""
+    """The stamp [s] after ``latest`` at the interval from ``previous``; None if not positive.
+
+    In integer nanoseconds, so bit-equal to :func:`stamp_seconds` of the message to come.
+    """
     latest_ns = latest.sec * 1_000_000_000 + latest.nanosec
     step_ns = latest_ns - (previous.sec * 1_000_000_000 + previous.nanosec)
     if step_ns <= 0:

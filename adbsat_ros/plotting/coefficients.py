@@ -1,7 +1,6 @@
-"""Figures of an aerodynamic database: coefficients against angle of attack, one line per sideslip.
+"""Figures of an aerodynamic database against angle of attack [deg], one line per sideslip.
 
-Angles in degrees; ADBSat's names (``CD``, ``CL``, ``CY`` in wind axes, ``Cm_B`` in ADBSat's body
-frame B about the database's moment point; :mod:`adbsat_ros.geometry.frames`).
+ADBSat's names: ``CD``, ``CL``, ``CY`` (wind axes), ``Cm_B`` (body frame B about the moment point).
 """
 
 from __future__ import annotations
@@ -20,8 +19,7 @@ MAX_SIDESLIP_LINES = 7
 
 
 def select_sideslip_lines(aos_deg, max_lines: int = MAX_SIDESLIP_LINES) -> np.ndarray:
-    """Increasing indices of the sideslip angles ``aos_deg`` [deg] to draw: at most ``max_lines``
-    (>= 2) evenly spaced from first to last, 0 deg swapped in for its nearest pick if present."""
+    """Indices of at most ``max_lines`` (>= 2) evenly spaced sideslips, 0 deg kept."""
     aos = np.asarray(aos_deg, dtype=float)
     n = aos.size
     if max_lines < 2:
@@ -136,8 +134,7 @@ def _database_figure(db, series, ylabels, heading, max_lines) -> Figure:
 def make_force_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> Figure:
     """C_D, C_L and C_Y against angle of attack, one line per sideslip angle.
 
-    ``db``: anything with ``aoa_deg`` (na,), ``aos_deg`` (nb,) [deg], ``CD``, ``CL``, ``CY``
-    (na, nb) and ``metadata``; ``max_lines``: most sideslip lines per panel.
+    ``db``: ``aoa_deg`` (na,), ``aos_deg`` (nb,) [deg], ``CD``, ``CL``, ``CY`` (na, nb).
     """
     return _database_figure(
         db,
@@ -149,11 +146,7 @@ def make_force_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> Fi
 
 
 def make_moment_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> Figure:
-    """The three components of Cm_B against angle of attack, one line per sideslip angle.
-
-    Cm_B: ADBSat's body frame B, about the database's moment point, normalised by A_ref L_ref.
-    ``db`` as :func:`make_force_coefficient_figure`, with ``Cm_B`` (na, nb, 3).
-    """
+    """The three components of Cm_B (na, nb, 3) against angle of attack."""
     cm = np.asarray(db.Cm_B, dtype=float)
     if cm.ndim != 3 or cm.shape[-1] != 3:
         raise ValueError(f"Cm_B: expected shape (na, nb, 3), got {cm.shape}")
@@ -171,8 +164,7 @@ def make_moment_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> F
 
 
 def plot_database(db, out_dir, prefix: str = "", max_lines: int = MAX_SIDESLIP_LINES) -> list[Path]:
-    """Write ``{prefix}database_coefficients.png`` (C_D, C_L, C_Y) and
-    ``{prefix}database_moments.png`` (Cm_B) into ``out_dir`` (created if needed); the paths."""
+    """Write ``{prefix}database_coefficients.png`` and ``..._moments.png``; the paths."""
     out_dir = Path(out_dir)
     return [
         save_png(

@@ -1,7 +1,5 @@
-"""A bounded min/max envelope of long time series, for plotting them (no matplotlib).
-
-Per time bin, each series' smallest and largest value and when each came, so a one-sample spike
-stays visible; the bins double in width (neighbours merged) when the samples outrun them.
+"""A bounded min/max envelope of long time series for plotting: per time bin, each series' extremes
+and their times (a one-sample spike stays visible); bins double in width when outrun.
 """
 
 from __future__ import annotations
@@ -16,9 +14,7 @@ BINS = 2048
 
 
 class MinMaxEnvelope:
-    """Samples of ``columns`` series against time, in at most ``bins`` bins of a first ``width``
-    (the times' unit, doubled as needed), binned ``buffer`` samples at a time; non-finite values
-    are left out (a bin without a finite value is a NaN gap in :meth:`series`)."""
+    """Samples of ``columns`` series in at most ``bins`` bins; non-finite values left out."""
 
     def __init__(self, columns: int, bins: int = BINS, width: float = 1e-3, buffer: int = 4096):
         if columns < 1 or bins < 2 or not width > 0 or buffer < 1:
@@ -89,8 +85,7 @@ class MinMaxEnvelope:
         self._merge(index[keep], *(a[keep] for a in old))
 
     def _merge(self, index, rows, low, t_low, high, t_high) -> None:
-        """Take candidates into the bins ``index``: their row counts, and per series a low value
-        and its time, a high value and its time (NaN or infinite: no value)."""
+        """Take candidates into the bins ``index``."""
         order = np.argsort(index, kind="stable")
         index = index[order]
         starts = np.flatnonzero(np.r_[True, index[1:] != index[:-1]])
@@ -114,9 +109,7 @@ class MinMaxEnvelope:
             best_t[bins[rows_], cols] = found_t[rows_, cols]
 
     def summary(self):
-        """Per bin in use (with at least one sample), in time order: its start time, and per
-        series (arrays of shape (bins, columns)) the minimum and its time, the maximum and its
-        time (inf and NaN where a series has no finite value in the bin)."""
+        """Per bin in use: start time, each series' min and max with times (bins, columns)."""
         self.flush()
         if not self._binned:
             none = np.empty((0, self.columns))
@@ -126,9 +119,7 @@ class MinMaxEnvelope:
         return start, self._min[used], self._t_min[used], self._max[used], self._t_max[used]
 
     def series(self, column: int) -> tuple[np.ndarray, np.ndarray]:
-        """The line of series ``column``: times and values, each bin's minimum and maximum in
-        the order they came (one point where they are one sample), NaN at the middle of a bin
-        where it has no finite value."""
+        """Times and values of series ``column`` (bin minima and maxima), NaN in gaps."""
         start, *bins = self.summary()
         low, t_low, high, t_high = (a[:, column] for a in bins)
         finite = np.isfinite(low)

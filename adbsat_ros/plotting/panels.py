@@ -1,5 +1,6 @@
-"""The mesh coloured by panel pressure coefficient at one attitude, with the flow arrow; drawn
-in the mesh frame G [m], attitudes in degrees (:mod:`adbsat_ros.geometry.frames`)."""
+"""The mesh coloured by panel pressure coefficient at one attitude [deg], with the flow arrow;
+drawn in the mesh frame G [m] (:mod:`adbsat_ros.geometry.frames`).
+"""
 
 from __future__ import annotations
 
@@ -32,12 +33,9 @@ MAX_VIEW_ELEVATION_DEG = 55.0
 
 
 def panel_colours(cp, cos_delta, lit_fraction, cmap=PRESSURE_CMAP):
-    """Face colours (N, 4) of the pressure picture, the c_p scale and the panel groups.
+    """Face colours (N, 4), the c_p scale and the panel groups (boolean masks) of the picture.
 
-    Panels with lit fraction 1 take the colour of their c_p on a scale from the smallest to the
-    largest c_p among them, mixed with white if facing away from the flow (cos delta < 0);
-    the others are grey, dark if fully shaded, light if partly. ``groups``: boolean masks
-    ``lit``, ``back``, ``shaded``, ``fully_shaded``, ``partly_shaded``.
+    Fully lit panels coloured by c_p (mixed with white if cos delta < 0), shaded ones grey.
     """
     cmap = colormaps[cmap] if isinstance(cmap, str) else cmap
     cp = np.asarray(cp, dtype=float)
@@ -66,11 +64,8 @@ def panel_colours(cp, cos_delta, lit_fraction, cmap=PRESSURE_CMAP):
 
 
 def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, float]:
-    """Camera elevation and azimuth [deg] for the pressure picture, as ``view_init`` takes them.
-
-    From upstream of the flow ``u_G`` (mesh frame), turned by :data:`VIEW_TURN_DEG` towards the
-    area-weighted mean normal of the ``shaded`` panels if any (so the shadows face the camera),
-    else towards +z_G and -y_G, within :data:`MAX_VIEW_ELEVATION_DEG`.
+    """Camera (elevation, azimuth) [deg]: upstream of ``u_G``, turned by :data:`VIEW_TURN_DEG`
+    towards the shaded panels (else +z_G, -y_G), within :data:`MAX_VIEW_ELEVATION_DEG`.
     """
     u = np.asarray(u_G, dtype=float)
     u = u / np.linalg.norm(u)
@@ -102,16 +97,11 @@ def make_panel_pressure_figure(
     result=None,
     mesh=None,
 ) -> Figure:
-    """A 3-D picture of the mesh of ``model`` (a :class:`~adbsat_ros.physics.model.Model`)
-    coloured by per-panel pressure coefficient at one attitude.
+    """A 3-D picture of ``model``'s mesh coloured by panel pressure coefficient at one attitude.
 
-    ``aoa_deg``, ``aos_deg`` [deg]; ``view``: (elev, azim) [deg], default
-    :func:`default_view`; ``title``: the first title line; ``result``: coefficients computed
-    already (e.g. by test particles, whose panels count as all reached), default
-    ``model.evaluate`` at this attitude (shaded by the model's set-up); ``mesh``: the panels
-    drawn, default ``model.mesh`` (an articulated body's as posed for ``result``). The first
-    axes' first collection is the panels' Poly3DCollection (with the c_p norm and colour map);
-    the legend states the shaded and back-face panel counts.
+    ``aoa_deg``, ``aos_deg`` [deg]; ``view``: (elev, azim) [deg]; ``result``: coefficients already
+    computed (default ``model.evaluate``); ``mesh``: the panels drawn (default ``model.mesh``).
+    The legend states the shaded and back-face panel counts.
     """
     aoa_deg, aos_deg = float(aoa_deg), float(aos_deg)
     if not (math.isfinite(aoa_deg) and math.isfinite(aos_deg)):
@@ -197,17 +187,12 @@ def make_panel_pressure_figure(
 
 
 def plot_panel_pressure(model, flow, aoa_deg, aos_deg, out_path, **options) -> Path:
-    """Write :func:`make_panel_pressure_figure` to ``out_path`` (PNG); returns the path.
-
-    ``options`` (``view``, ``title``, ``result``, ``mesh``) go to
-    :func:`make_panel_pressure_figure`.
-    """
+    """Write :func:`make_panel_pressure_figure` to ``out_path`` (PNG); the path."""
     return save_png(make_panel_pressure_figure(model, flow, aoa_deg, aos_deg, **options), out_path)
 
 
 def legend_panel_counts(fig: Figure) -> dict:
-    """The ``shaded`` and ``back`` panel counts read back from the legend of a pressure picture
-    (to check it against the shading it was drawn with)."""
+    """The ``shaded`` and ``back`` panel counts read back from a picture's legend."""
     text = "\n".join(t.get_text() for legend in fig.legends for t in legend.get_texts())
     out = {}
     for key, pattern in (

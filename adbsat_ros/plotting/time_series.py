@@ -1,5 +1,4 @@
-"""Force, torque, density and drag coefficient against time, one line per model (bag analysis,
-from a :mod:`~adbsat_ros.plotting.envelope`, and the demo); body frame [N, N m]."""
+"""Force, torque [N, N m, body frame], density and C_D against time, one line per model."""
 
 from __future__ import annotations
 
@@ -58,12 +57,10 @@ def _run_style(values: np.ndarray) -> dict:
 
 
 def make_time_series_figures(time_s, runs) -> dict:
-    """Time-series figures of one or more runs (e.g. models compared on one rosbag).
+    """Figures ``force``, ``torque``, ``density`` and ``drag_coefficient`` of one or more runs.
 
-    ``time_s`` (N,): seconds since the first message; ``runs``: label -> ``{'force': (N, 3) [N],
-    'torque': (N, 3) [N m] (body frame), 'density': (N,) [kg/m^3], 'drag_coefficient': (N,)}``,
-    NaN where a run has no sample. Returns the figures ``force``, ``torque`` (x, y, z panels),
-    ``density`` (log y) and ``drag_coefficient``, one line per run.
+    ``time_s`` (N,) [s] since the first message; ``runs``: label -> {'force': (N, 3) [N], 'torque':
+    (N, 3) [N m], 'density': (N,) [kg/m^3], 'drag_coefficient': (N,)}, NaN where no sample.
     """
     t, runs = _check_runs(time_s, runs)
     lines = {}
@@ -76,9 +73,7 @@ def make_time_series_figures(time_s, runs) -> dict:
 
 
 def make_line_figures(lines) -> dict:
-    """The figures of :func:`make_time_series_figures` from lines whose times may differ by
-    series: label -> ``{'force': [(t, x), (t, y), (t, z)], 'torque': [...], 'density': [(t,
-    values)], 'drag_coefficient': [(t, values)]}``, ``t`` [s] since the first message."""
+    """The figures of :func:`make_time_series_figures` from (t, values) lines per series."""
     if not lines:
         raise ValueError("runs is empty: give at least one run (label -> data)")
     scale, t_label = _time_axis(lines)
@@ -134,6 +129,5 @@ def save_figures(figures, out_dir, prefix: str = "") -> list[Path]:
 
 
 def plot_time_series(time_s, runs, out_dir, prefix: str = "") -> list[Path]:
-    """Write :func:`make_time_series_figures` as ``{prefix}force.png``, ``{prefix}torque.png``,
-    ``{prefix}density.png`` and ``{prefix}drag_coefficient.png`` in ``out_dir``; the paths."""
+    """Write :func:`make_time_series_figures` as ``{prefix}force.png`` etc.; the paths."""
     return save_figures(make_time_series_figures(time_s, runs), out_dir, prefix)

@@ -1,8 +1,6 @@
-"""Play a rosbag2 bag into the live ROS 2 graph, as ``ros2 bag play`` would.
+"""Play a rosbag2 bag into the live ROS 2 graph, as ``ros2 bag play`` would (raw CDR, own Context).
 
-Raw CDR bytes are published unchanged, with the recorded spacing scaled by ``rate``. Own rclpy
-Context and a SingleThreadedExecutor (the EventsExecutor busy-waits in the Jazzy wheels), no
-signal handlers; stopped from another thread with a ``threading.Event``.
+A SingleThreadedExecutor: the EventsExecutor busy-waits in the Jazzy wheels.
 """
 
 from __future__ import annotations
@@ -76,35 +74,15 @@ def play(
 
     Parameters
     ----------
-    bag_path : path-like
-        A rosbag2 bag (mcap or sqlite3) with CDR messages.
-    rate : float
-        Playback speed, > 0: 2 plays twice as fast as recorded.
-    loop : bool
-        Start again after the last message, until stopped (stamps then go back in time).
-    topics : iterable of str, optional
-        Play only these topics, each in the bag (default: all).
-    wait_for_subscribers : int
-        Before the first message, wait until every played topic has this many subscribers.
-    wait_timeout : float
-        Give up waiting for subscribers after this many seconds [s] (BagError).
-    qos_depth : int
-        History depth of the publishers (reliable; transient-local if recorded so).
-    stop : threading.Event, optional
-        Set it (from another thread) to stop playing.
-    log : callable, optional
-        Called with progress lines (e.g. ``print``).
+    rate : playback speed, > 0 (2 plays twice as fast as recorded)
+    topics : play only these topics, each in the bag (default: all)
+    wait_for_subscribers : before the first message, wait for this many subscribers per topic
+    wait_timeout : give up waiting for subscribers after this long [s]
+    qos_depth : history depth of the publishers (reliable; transient-local if recorded so)
+    stop : a threading.Event to stop playing from another thread
 
-    Returns
-    -------
-    PlaySummary
-        Once reliable subscribers acknowledged the last messages (at most :data:`ACK_TIMEOUT_S`).
-
-    Raises
-    ------
-    BagError
-        Missing or unreadable bag, a requested topic not in the bag, a message type not installed,
-        a non-CDR serialization, or subscribers that did not appear in time.
+    Returns when reliable readers acked the last messages (:data:`ACK_TIMEOUT_S` at most).
+    BagError: a missing bag, topic or type, non-CDR messages, or subscribers not there in time.
     """
     if not (isinstance(rate, (int, float)) and math.isfinite(rate) and rate > 0):
         raise BagError(f"rate must be a finite number > 0, got {rate!r}")

@@ -1,8 +1,7 @@
 """Record topics of the live ROS 2 graph into a rosbag2 bag, as ``ros2 bag record`` would.
 
-Raw CDR bytes written with rosbags (rosbag2 version 9), stamped with their receive time (UNIX
-ns). Own rclpy Context and a SingleThreadedExecutor, no signal handlers (Ctrl-C arrives as
-KeyboardInterrupt and closes the bag); stopped from another thread with a ``threading.Event``.
+Raw CDR stamped with the receive time (UNIX ns), rosbag2 version 9; own rclpy Context, no signal
+handlers (Ctrl-C closes the bag); stopped from another thread with a ``threading.Event``.
 """
 
 from __future__ import annotations
@@ -65,32 +64,14 @@ def record(
 
     Parameters
     ----------
-    out_path : path-like
-        The bag directory to create; it must not exist.
-    topics : iterable of str
-        ``/topic`` (type discovered once a publisher appears) or ``/topic:package/msg/Type``
-        (subscribed at once). At least one.
-    storage : {'mcap', 'sqlite3'}
-        rosbag2 storage plugin.
-    duration : float, optional
-        Stop after this much wall time [s] (default: until ``stop`` or Ctrl-C).
-    qos_depth : int
-        History depth of the subscriptions (reliable unless a publisher offers only best effort).
-    stop, ready : threading.Event, optional
-        Set ``stop`` to stop recording; ``ready`` is set once every topic is subscribed.
-    log : callable, optional
-        Called with progress lines.
+    topics : ``/topic`` (type found once a publisher appears) or ``/topic:package/msg/Type``
+    storage : ``'mcap'`` or ``'sqlite3'``
+    duration : stop after this much wall time [s] (default: until ``stop`` or Ctrl-C)
+    qos_depth : history depth (reliable unless a publisher offers only best effort)
+    stop, ready : threading.Events: set ``stop`` to stop; ``ready`` is set once all are subscribed
 
-    Returns
-    -------
-    RecordSummary
-        With the bag closed and readable, whatever stopped the recording.
-
-    Raises
-    ------
-    BagError
-        No topics, a bad topic or type, an unknown storage, an existing output path, a topic with
-        several types in the graph, or a type rosbags cannot describe.
+    Returns a RecordSummary with the bag closed and readable, whatever stopped the recording.
+    BagError: no or bad topics or types, an existing output path, a type rosbags cannot describe.
     """
     specs = [_topic_type(t) for t in (topics or [])]
     if not specs:

@@ -1,9 +1,7 @@
 """``adbsat-ros demo``: the ROS 2 node live on the bundled satellite, in one command (docs/cli.md).
 
-In one process (so nothing is left running after Ctrl-C, and the node's own samples can be
-checked against the published wrenches): :class:`~adbsat_ros.ros.node.AdbsatNode` on its own
-rclpy Context under ``/adbsat_demo``, fed a scenario (:mod:`adbsat_ros.bags.scenario`) live at
-``speedup`` times real time; the wrenches received printed and written as a CSV and PNG plots.
+One process: the node on its own rclpy Context under ``/adbsat_demo``, fed a scenario live at
+``speedup`` times real time; the wrenches printed and written as a CSV and PNG plots.
 """
 
 from __future__ import annotations
@@ -66,8 +64,7 @@ def demo_scenario(duration: float, speedup: float, attitude: str):
 
 
 def _events(messages, speedup: float):
-    """(wall offset [s], kind, index) in publishing order; a state goes out half an attitude period
-    before the attitude of its stamp, so the node has it when the attitude arrives."""
+    """(wall offset [s], kind, index) in order; a state goes half an attitude period early."""
     t0 = int(messages.attitudes.stamps_ns[0])
     half = 0.5 / WALL_RATE_HZ
     events = [
@@ -94,22 +91,12 @@ def run_demo(
 
     Parameters
     ----------
-    duration : float
-        Wall time of the live part [s] (the node's start-up comes on top).
-    speedup : float
-        Simulated seconds per wall second, in (0, :data:`MAX_SPEEDUP`].
-    out_dir : path-like
-        Directory for ``demo_wrench.csv`` and the PNG plots (created if needed).
-    attitude : {'tumble', 'nadir'}, optional
-        Default tumble, or nadir with ``articulated``.
-    articulated : bool
-        The finned body steering its fins instead of the example satellite
-        (:mod:`adbsat_ros.ros.demo_joints`).
+    duration : wall time of the live part [s] (the node's start-up comes on top)
+    speedup : simulated seconds per wall second, in (0, :data:`MAX_SPEEDUP`]
+    attitude : ``'tumble'`` (default) or ``'nadir'`` (with ``articulated``)
+    articulated : the finned body steering its fins (:mod:`adbsat_ros.ros.demo_joints`)
 
-    Raises
-    ------
-    ValueError
-        For a bad duration, speedup or attitude (the message names it).
+    ValueError: a bad duration, speedup or attitude.
     """
     out = out or sys.stdout
     if not (math.isfinite(duration) and 0 < duration <= 3600):

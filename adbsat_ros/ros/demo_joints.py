@@ -1,7 +1,6 @@
-"""The articulated demo (``adbsat-ros demo --articulated``): the bundled finned body steering.
+"""The articulated demo (``adbsat-ros demo --articulated``): nadir-pointing ``example-finned``.
 
-Nadir-pointing ``example-finned``; the pitch fins deflect by :data:`AMPLITUDE_DEG`
-sin(2 pi t / T) (T the run's simulated time), the yaw fins a quarter period later.
+The pitch fins deflect by :data:`AMPLITUDE_DEG` sin(2 pi t / T); yaw fins lag a quarter period.
 """
 
 from __future__ import annotations

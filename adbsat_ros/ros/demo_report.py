@@ -1,5 +1,4 @@
-"""What the demo keeps and writes: its result record, the node's samples by stamp, and the CSV
-and plots of the wrenches received."""
+"""The demo's result record, the node's samples by stamp, and the CSV and plots it writes."""
 
 from __future__ import annotations
 
@@ -68,8 +67,7 @@ CSV_COLUMNS = (
 
 
 def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult, joints=False) -> list:
-    """One row per wrench received, in stamp order (with ``joints``, also
-    :data:`demo_joints.CSV_COLUMNS`); fills ``result``'s figures."""
+    """One row per wrench received, in stamp order; fills ``result``'s figures."""
     rows = []
     for key in sorted(received):
         wrench, coefficients, wall = received[key]
@@ -114,9 +112,7 @@ def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult, joints=F
 
 
 def write_outputs(rows, out_dir: Path, picture=None, joints=False) -> list:
-    """demo_wrench.csv and the time-series PNGs in out_dir; with ``picture`` (the model, its
-    panels as posed, the flow and the latest coefficients) demo_panel_pressure.png; with ``joints``
-    the joint columns and demo_hinge_torques.png. Returns the paths."""
+    """Write demo_wrench.csv and the PNGs in ``out_dir`` (more with picture, joints); the paths."""
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "demo_wrench.csv"
     with open(path, "w", newline="", encoding="utf-8") as fh:

@@ -1,7 +1,6 @@
-"""The console scripts of the ROS tools (``adbsat_node``, ``adbsat_orbit_publisher``).
+"""The console scripts ``adbsat_node`` and ``adbsat_orbit_publisher``.
 
-Each handles SIGINT and SIGTERM (:func:`adbsat_ros.processes.handle_signals`) before importing
-rclpy, so a signal during start-up ends it as one later does.
+Each handles SIGINT and SIGTERM before importing rclpy, so a signal during start-up ends it too.
 """
 
 from __future__ import annotations

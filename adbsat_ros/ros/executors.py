@@ -14,12 +14,10 @@ except ImportError:
 
 
 def make_executor(kind: str = "events", context=None):
-    """An rclpy executor: ``"events"`` or ``"single_threaded"``.
+    """An rclpy executor: ``"events"`` (EventsExecutor) or ``"single_threaded"`` (else ValueError).
 
-    ``events`` is rclpy.experimental.EventsExecutor (else, or when sys.stderr is not a file, the
-    SingleThreadedExecutor). Spin with :func:`spin_until_shutdown`: the EventsExecutor's own
-    ``spin()`` in the Jazzy 7.1 wheels busy-waits and ignores SIGINT/SIGTERM. ValueError for
-    another ``kind``.
+    Spin it with :func:`spin_until_shutdown`: the EventsExecutor's own ``spin()`` in the Jazzy
+    wheels busy-waits and ignores SIGINT/SIGTERM.
     """
     if kind == "events":
         if EventsExecutor is None:
@@ -36,7 +34,6 @@ def make_executor(kind: str = "events", context=None):
 
 
 def spin_until_shutdown(executor, context=None, stop=None) -> None:
-    """Spin ``executor`` until its context shuts down or ``stop`` (a :class:`threading.Event`) is
-    set, within 0.2 s of it."""
+    """Spin ``executor`` until its context shuts down or ``stop`` is set."""
     while rclpy.ok(context=context) and not (stop is not None and stop.is_set()):
         executor.spin_once(timeout_sec=0.2)

@@ -1,8 +1,4 @@
-"""What the live bag tools share: an rclpy context of their own, message classes, topic names.
-
-The PyPI ROS 2 wheels have no ``ros2 bag``; :mod:`~adbsat_ros.ros.bag_play` and
-:mod:`~adbsat_ros.ros.bag_record` stand in for it, each in its own rclpy Context.
-"""
+"""The live bag tools' own rclpy context, message classes and topic names."""
 
 from __future__ import annotations
 
@@ -20,8 +16,7 @@ GRAPH_POLL_S = 0.05
 
 
 def message_class(msgtype: str, topic: str = ""):
-    """The rclpy message class of a ROS type name, e.g. ``geometry_msgs/msg/WrenchStamped``;
-    BagError naming the topic and type if it is malformed or its package not installed."""
+    """The rclpy message class of a ROS type name; BagError if malformed or not installed."""
     where = f"topic {topic}: " if topic else ""
     parts = msgtype.split("/")
     if len(parts) == 2:  # 'pkg/Type' (ROS 1 style) -> pkg/msg/Type
@@ -43,8 +38,7 @@ def message_class(msgtype: str, topic: str = ""):
 
 @contextlib.contextmanager
 def own_node(node_name: str):
-    """``(node, executor)``: a node in an rclpy Context of its own, added to a
-    SingleThreadedExecutor; the executor, node and context shut down on exit."""
+    """``(node, executor)`` in an rclpy Context of their own; all shut down on exit."""
     context = Context()
     rclpy.init(context=context)  # (a Context of its own: rclpy installs no signal handlers)
     node = executor = None

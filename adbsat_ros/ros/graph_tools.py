@@ -1,6 +1,7 @@
-"""A running node's parameters and topics without the ``ros2`` command: list, get and set
-parameters over the standard parameter services, print a topic's messages. Each function makes
-its own context and node, waits at most ``timeout`` s for the other side, and cleans up."""
+"""List, get and set a running node's parameters and print a topic's messages, without ``ros2``.
+
+Each function makes its own context and node and waits at most ``timeout`` s for the other side.
+"""
 
 from __future__ import annotations
 
@@ -66,8 +67,7 @@ RESEND_S = 2.0
 
 
 def _wait(tool, request, timeout: float, what: str):
-    """The answer to ``request()`` (returns a future), resent every :data:`RESEND_S` until it comes
-    or ``timeout`` s pass (parameter requests may be sent twice: they read or set a value)."""
+    """The answer to ``request()``, resent every :data:`RESEND_S` until ``timeout`` s pass."""
     deadline = time.monotonic() + timeout
     futures = [request()]
     sent = time.monotonic()
@@ -118,10 +118,9 @@ def get_parameter(target: str, name: str, timeout: float = 5.0):
 
 
 def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
-    """Set parameter ``name`` of node ``target`` to ``text`` read as its declared type
-    (:func:`.parameter_values.text_value`); returns the value. BadInput for a ``target`` that
-    is no node name or a ``text`` of another type; ToolError if the node has no such parameter,
-    rejects the value (its reason) or does not answer.
+    """Set parameter ``name`` of node ``target`` to ``text`` read as its declared type; the value.
+
+    BadInput: no node name, or ``text`` of another type. ToolError: rejected, unknown or no answer.
     """
     checked_node_name(target)
     with tool_node() as tool:
@@ -175,9 +174,9 @@ def message_text(message, indent: str = "") -> str:
 
 
 def echo(topic: str, count: int, timeout: float, write) -> int:
-    """Print ``count`` messages of ``topic`` with ``write``; give up ``timeout`` s after the last
-    (or the start); return how many came. ToolError if the topic is not in the graph within
-    ``timeout``, or its type is not installed.
+    """Print ``count`` messages of ``topic``; the number that came.
+
+    ToolError: the topic is not in the graph within ``timeout`` s, or its type is not installed.
     """
     topic = absolute_topic(topic)
     with tool_node() as tool:

@@ -9,9 +9,9 @@ LOG_THROTTLE_S = 5.0
 
 
 class LogThrottle:
-    """At most one log line per key every ``period`` seconds, decided before the logger is called
-    (rclpy's ``throttle_duration_sec`` inspects its caller on every call, suppressed ones too).
-    ``logger`` has a method per level used (an rclpy logger); ``clock()`` gives the time [s].
+    """At most one log line per key every ``period`` s; ``clock()`` gives the time [s].
+
+    rclpy's ``throttle_duration_sec`` inspects its caller on every call, suppressed ones too.
     """
 
     def __init__(self, logger, period: float = LOG_THROTTLE_S, clock=time.monotonic):

@@ -1,8 +1,4 @@
-"""The managed (lifecycle) wrench node: the same node, brought up by the ROS 2 lifecycle protocol.
-
-Parameters that need a new set-up change only while unconfigured; docs/node.md, "Managed
-(lifecycle) node".
-"""
+"""The managed (lifecycle) wrench node; docs/node.md, "Managed (lifecycle) node"."""
 
 from __future__ import annotations
 
@@ -14,13 +10,7 @@ from adbsat_ros.ros.node_help import NODE_NAME
 
 
 class AdbsatLifecycleNode(WrenchNodeCore, LifecycleNode):
-    """The wrench node as a managed node (module docstring).
-
-    Parameters
-    ----------
-    **node_kwargs
-        Passed to ``rclpy.lifecycle.LifecycleNode`` (e.g. ``context``, ``parameter_overrides``).
-    """
+    """The wrench node as a managed node; ``node_kwargs`` go to ``LifecycleNode``."""
 
     serving = False
     managed = True

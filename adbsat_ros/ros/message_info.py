@@ -1,8 +1,5 @@
-"""Messages lost on the way to the node, counted from each message's info.
-
-:class:`LostMessages` counts the skipped ``publication_sequence_number`` values (filled by
-rmw_fastrtps; :class:`adbsat_ros.estimator.health.SequenceGaps`) with what the middleware reports
-lost, and wraps the node's callback, which still takes the message alone.
+"""Messages lost on the way to the node, from each message's ``publication_sequence_number``
+(filled by rmw_fastrtps) and the middleware's lost-message events.
 """
 
 from __future__ import annotations
@@ -23,10 +20,8 @@ _WITH_INFO = inspect.Signature(
 
 
 class LostMessages:
-    """The messages one subscription lost: its callback wrapper and its event callbacks.
-
-    Make the subscription with :meth:`callback` and :meth:`event_callbacks`, then :meth:`attach` it.
-    ``gaps`` (:class:`SequenceGaps`) holds the counts.
+    """The messages one subscription lost; subscribe with :meth:`callback` and
+    :meth:`event_callbacks`, then :meth:`attach` it; ``gaps`` (SequenceGaps) counts them.
     """
 
     def __init__(self):
@@ -69,8 +64,9 @@ class LostMessages:
 
 
 class _CountingCallback:
-    """A callback rclpy passes the message and its info (by its ``__signature__``): the
-    SingleThreadedExecutor as two arguments, the Jazzy EventsExecutor as one tuple."""
+    """A callback taking the message and its info (by ``__signature__``): the SingleThreadedExecutor
+    passes two arguments, the Jazzy EventsExecutor one tuple.
+    """
 
     __signature__ = _WITH_INFO
 

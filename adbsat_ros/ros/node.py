@@ -1,8 +1,6 @@
-"""ROS 2 node: attitude and orbital state in, aerodynamic WrenchStamped out.
+"""ROS 2 node: attitude and orbital state in, aerodynamic WrenchStamped out (docs/node.md).
 
-Topics, frames and parameters: docs/node.md. A shell around the per-message path shared with
-bag analysis: CDR bytes in, decoded (:mod:`adbsat_ros.messages.decoding`), handled by
-:class:`adbsat_ros.estimator.handling.MessageHandler`, encoded and published as bytes.
+A shell around the per-message path shared with bag analysis (CDR bytes in and out).
 """
 
 from __future__ import annotations
@@ -30,13 +28,7 @@ from adbsat_ros.ros.node_help import NODE_NAME, help_text
 
 
 class AdbsatNode(WrenchNodeCore, Node):
-    """The aerodynamic wrench node; raises MeshError/ValueError at construction on bad set-up.
-
-    Parameters
-    ----------
-    **node_kwargs
-        Passed to ``rclpy.node.Node`` (e.g. ``context``, ``parameter_overrides``).
-    """
+    """The aerodynamic wrench node; MeshError/ValueError at construction on a bad set-up."""
 
     def __init__(self, **node_kwargs):
         super().__init__(NODE_NAME, **node_kwargs)
@@ -58,10 +50,9 @@ def params_files(argv) -> list:
 
 
 def main(args=None) -> int:
-    """Console script ``adbsat_node``: ``adbsat_node --ros-args --params-file config/adbsat.yaml``.
+    """Console script ``adbsat_node --ros-args --params-file config/adbsat.yaml``; the exit status.
 
-    ``--help`` prints :func:`help_text`; ``--managed`` runs the lifecycle node. Returns 0 after a
-    shutdown, a signal or the help, 1 (one line on stderr) if the node cannot be set up.
+    ``--help`` prints :func:`help_text`; ``--managed`` runs the lifecycle node; 1 if no set-up.
     """
     return run_until_stopped(NODE_NAME, _main, args)
 

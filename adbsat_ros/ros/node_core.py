@@ -1,6 +1,4 @@
-"""The wrench node's parameters, interfaces and callbacks, shared by the plain node (:mod:`.node`)
-and the managed one (:mod:`.managed_node`): mixed into an rclpy ``Node`` or ``LifecycleNode``.
-"""
+"""The wrench node's parameters, interfaces and callbacks, mixed into a Node or LifecycleNode."""
 
 from __future__ import annotations
 
@@ -62,8 +60,7 @@ def joint_state_cdr(stamp: Stamp, frame_id: str, names, positions, efforts) -> b
 
 
 class WrenchNodeCore:
-    """The wrench node's parameters, interfaces and callbacks (module docstring); once set up,
-    its ``estimator``, ``handler`` (the per-message path) and ``health`` (of /diagnostics)."""
+    """The wrench node's core; once set up, its ``estimator``, ``handler`` and ``health``."""
 
     #: Whether messages are served (a managed node serves them only while active).
     serving = True
@@ -71,8 +68,7 @@ class WrenchNodeCore:
     managed = False
 
     def declare_wrench_parameters(self) -> None:
-        """Declare every parameter, each keeping its type (ValueError for a start-up value of
-        another type or an unknown name), and the parameter-change callback."""
+        """Declare every parameter, typed (ValueError otherwise), and the change callback."""
         declare_typed_parameters(self, self.managed)
         self.estimator = None
         self._publishers_made, self._subscriptions_made = [], []
@@ -81,8 +77,7 @@ class WrenchNodeCore:
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
     def set_up(self, create_publisher) -> None:
-        """Load the parameters' set-up (MeshError or ValueError if it cannot be) and make the
-        publishers with ``create_publisher``, the subscriptions and the timers."""
+        """Load the set-up (MeshError, ValueError) and make the interfaces and timers."""
         settings = WrenchSettings.from_parameters(self._parameter_values())
         self.estimator = AeroWrenchEstimator(settings)
         self.handler = MessageHandler(self.estimator)
@@ -166,8 +161,7 @@ class WrenchNodeCore:
         )
 
     def tear_down(self, destroy_publisher) -> None:
-        """Destroy the publishers (with ``destroy_publisher``), subscriptions and timers, and
-        drop the set-up."""
+        """Destroy the publishers, subscriptions and timers, and drop the set-up."""
         for publisher in self._publishers_made:
             destroy_publisher(publisher)
         for subscription in self._subscriptions_made:
@@ -287,8 +281,7 @@ class WrenchNodeCore:
         return sum(lost.lost for lost in self._lost.values())
 
     def _serve(self, outcome: Outcome) -> None:
-        """Publish ``outcome``'s messages (optional ones with readers), keep its health, log a
-        rejection or failure."""
+        """Publish ``outcome``'s messages, keep its health, log a rejection or failure."""
         if outcome.state_accepted:
             self.health.state_accepted(time.monotonic())
         sample = outcome.sample

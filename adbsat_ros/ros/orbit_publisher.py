@@ -1,8 +1,7 @@
 """A tiny publisher to try adbsat_node: a circular orbit in ECI and a fixed or turning attitude.
 
-Console script ``adbsat_orbit_publisher``: ``state`` (nav_msgs/Odometry, ECI, 10 Hz) and
-``attitude`` (geometry_msgs/QuaternionStamped, ``--rate`` Hz), stamped in seconds since the start
-(run the node with ``time_mode:=epoch``); prints the ``wrench`` the node answers.
+``state`` (nav_msgs/Odometry, ECI, 10 Hz) and ``attitude`` (QuaternionStamped, ``--rate`` Hz),
+stamped in seconds since the start (node ``time_mode:=epoch``); prints the ``wrench`` answered.
 """
 
 from __future__ import annotations

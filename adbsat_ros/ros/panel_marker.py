@@ -1,6 +1,7 @@
-"""The live picture of the load: the mesh as a visualization_msgs/Marker (a triangle list), each
-panel coloured by its c_p (:func:`adbsat_ros.plotting.panels.panel_colours`). Slow for large
-meshes, so the node publishes it at a low rate, only while it has a subscriber."""
+"""The mesh as a visualization_msgs/Marker (triangle list), each panel coloured by its c_p.
+
+Slow for large meshes: the node publishes it at a low rate, only while it has a subscriber.
+"""
 
 from __future__ import annotations
 
@@ -12,17 +13,7 @@ from adbsat_ros.plotting.panels import panel_colours
 
 
 def panel_marker(mesh, coefficients, frame_id: str, stamp) -> Marker:
-    """A TRIANGLE_LIST Marker of ``mesh`` coloured by the panels' c_p of ``coefficients``.
-
-    Parameters
-    ----------
-    mesh : PanelMesh
-        The panels [m], body frame.
-    coefficients : AeroCoefficients
-        Its ``cp``, ``cos_delta`` and ``lit_fraction`` colour the panels.
-    frame_id : str
-    stamp : builtin_interfaces/Time
-    """
+    """A TRIANGLE_LIST Marker of ``mesh`` [m, body frame] coloured by ``coefficients``' c_p."""
     colours, _, _ = panel_colours(
         coefficients.cp, coefficients.cos_delta, coefficients.lit_fraction
     )

@@ -1,9 +1,5 @@
-"""Parameter values of their declared type: the wrench node's parameters, and the text that
-``adbsat-ros param set`` turns into a value for any node.
-
-The node's parameters keep their default's type (``dynamic_typing`` off), with int/whole-double
-conversions (:func:`~adbsat_ros.estimator.parameters.typed_parameter_value`); an unknown name
-stops the node at start-up.
+"""Parameter values of their declared type: the node's parameters (no dynamic typing; an unknown
+name stops the node at start-up) and the text ``adbsat-ros param set`` turns into a value.
 """
 
 from __future__ import annotations
@@ -33,8 +29,7 @@ INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 def declare_typed_parameters(node, managed: bool) -> None:
     """Declare every parameter of :data:`PARAMETERS` on ``node``, typed at start-up and on change.
 
-    ValueError ``"parameter NAME: ..."`` for a value of another type, or a name the node does not
-    have (with the closest known one).
+    ValueError: ``"parameter NAME: ..."`` for another type or an unknown name.
     """
     # rclpy keeps the start-up values by name here (no public accessor in Jazzy)
     overrides = getattr(node, "_parameter_overrides", {})
@@ -138,8 +133,7 @@ def _scalar(name: str, text: str, kind: int):
 
 
 def _inferred(name: str, text: str):
-    """A parameter of no fixed type read as YAML (as ``ros2 param set``; a date stays text, an
-    integer must fit int64)."""
+    """A parameter of no fixed type read as YAML, as ``ros2 param set`` does."""
     try:
         value = yaml.safe_load(text)
     except yaml.YAMLError:
@@ -156,10 +150,10 @@ def _inferred(name: str, text: str):
 
 
 def text_value(name: str, text: str, kind: int, dynamic: bool = False):
-    """The value of parameter ``name`` from command-line ``text``, as ``ParameterType`` ``kind``:
-    a string as given, a list as a YAML flow list (``[0.1, 0, 0]``), ``dynamic`` as YAML.
-    ValueError (one line naming the parameter) for no value of its type or an integer beyond
-    int64.
+    """The value of parameter ``name`` from command-line ``text`` as ``ParameterType`` ``kind``.
+
+    A list as a YAML flow list (``[0.1, 0, 0]``), ``dynamic`` as YAML.
+    ValueError: no value of its type, or an integer beyond int64.
     """
     if dynamic or kind == ParameterType.PARAMETER_NOT_SET:
         return _inferred(name, text)

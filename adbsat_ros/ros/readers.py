@@ -1,8 +1,4 @@
-"""Which of the node's optional outputs have subscribers, counted by the middleware's events.
-
-Coefficients, state-frame wrench and acceleration, joint torques and the panel marker are made
-only while read; matched events keep the counts, so a message costs an attribute read.
-"""
+"""Which of the node's optional outputs have subscribers, counted from matched events."""
 
 from __future__ import annotations
 
@@ -20,9 +16,7 @@ OUTPUTS = {
 
 
 class Readers:
-    """Subscriber counts of the optional outputs' topics, made with the node's
-    ``create_publisher``; ``coefficients``, ``inertial`` (either of its two topics),
-    ``joint_torques`` and ``marker`` say whether that output has a reader now."""
+    """Subscriber counts of the optional outputs' topics (``coefficients``, ``inertial``, ...)."""
 
     def __init__(self, create_publisher):
         self._create_publisher = create_publisher

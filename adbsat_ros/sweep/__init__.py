@@ -1,6 +1,6 @@
-"""Design-space sweeps on Dask: N-dimensional aerodynamic databases in Zarr.
+"""Design-space sweeps on Dask: N-dimensional aerodynamic databases in Zarr (docs/sweeps.md).
 
-:mod:`~adbsat_ros.sweep.spec` reads the YAML spec, :mod:`~adbsat_ros.sweep.evaluate` computes a
-chunk on a worker, :mod:`~adbsat_ros.sweep.store` keeps the result (xarray in Zarr) and
-:mod:`~adbsat_ros.sweep.engine` runs the chunks on Dask. ``adbsat-ros sweep`` is the command line.
+- :mod:`.spec`: the YAML spec; :mod:`.axes`: its inputs and ranges; :mod:`.gas`: a point's gas.
+- :mod:`.evaluate`: a chunk on a worker; :mod:`.engine`: the chunks on Dask.
+- :mod:`.store`: the result (xarray in Zarr); :mod:`.lookup`: coefficients inside it.
 """

@@ -1,5 +1,5 @@
-"""The inputs a sweep varies or fixes: names, units, valid ranges (docs/physics.md section 11),
-defaults, and the checks of a spec's values (a :class:`SpecError` naming field, value and range).
+"""The inputs a sweep varies or fixes: names, units, ranges (docs/physics.md section 11), defaults,
+and the checks of a spec's values (a :class:`SpecError` naming field, value and range).
 """
 
 from __future__ import annotations

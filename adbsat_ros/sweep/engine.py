@@ -1,7 +1,6 @@
-"""Running a sweep: its missing chunks on Dask, each written to the store as it finishes.
+"""Running a sweep: its missing chunks on Dask (local or a scheduler), each written as it finishes.
 
-Local worker processes or a running scheduler; a mesh file must be readable at the same path on
-every worker. A chunk's numbers do not depend on where or when it ran. docs/sweeps.md.
+A mesh file must be readable at the same path on every worker. docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -27,8 +26,7 @@ BYTES_PER_POINT = 4_096
 
 @dataclass
 class SweepReport:
-    """What a run did: chunks in all, found written, computed now; points; wall time [s];
-    whether it stopped early (a signal), and the workers it had."""
+    """What a run did: chunks in all, found, computed; points; wall time [s]; stopped."""
 
     chunks: int = 0
     already_done: int = 0
@@ -49,30 +47,16 @@ def run_sweep(
     progress: bool = False,
     stop=None,
 ) -> SweepReport:
-    """Compute the chunks of ``spec`` not in the store at ``out`` yet.
+    """Compute the chunks of ``spec`` not in the Zarr store at ``out`` yet.
 
     Parameters
     ----------
-    spec : SweepSpec
-    out : path
-        The Zarr store (made, or taken up where it stopped).
-    scheduler : str, optional
-        Address of a running Dask scheduler (``tcp://host:8786``); None: this machine.
-    workers : int, optional
-        Worker processes on this machine (default: every usable CPU; 1: this process).
-    overwrite : bool
-        Replace a store of another spec at ``out``.
-    progress : bool
-        A progress bar (tqdm, on stderr).
-    stop : threading.Event, optional
-        Set to stop after the chunk finishing now (it is written; rerun to go on).
+    scheduler : a running Dask scheduler's address (``tcp://host:8786``); None: this machine
+    workers : local processes (default: every usable CPU; 1: this process)
+    overwrite : replace a store of another spec at ``out``
+    stop : a threading.Event; stops after the chunk finishing now (written; rerun to go on)
 
-    Raises
-    ------
-    StoreError
-        If ``out`` holds something else.
-    MeshError, ValueError
-        If the spec's body or materials cannot be set up.
+    StoreError: ``out`` holds something else. ValueError: the body cannot be set up (or MeshError).
     """
     from tqdm import tqdm
 
@@ -106,8 +90,7 @@ def run_sweep(
 
 
 def memory_estimate(spec: SweepSpec) -> tuple:
-    """``(what, bytes)``: the memory a run of ``spec`` needs, from its chunks
-    (:data:`BYTES_PER_CHUNK` each) and its chunks' points (:data:`BYTES_PER_POINT` each)."""
+    """``(what, bytes)``: the memory a run of ``spec`` needs."""
     sizes = chunk_shape(spec.shape, spec.chunk_points)
     chunks = math.prod(-(-n // s) for n, s in zip(spec.shape, sizes))
     estimate = chunks * BYTES_PER_CHUNK + math.prod(sizes) * BYTES_PER_POINT

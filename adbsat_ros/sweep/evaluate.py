@@ -1,9 +1,8 @@
-"""One chunk of a sweep, computed where a worker runs it.
+"""One chunk of a sweep (index ranges along every axis), computed where a worker runs it.
 
-A chunk is its index ranges along every axis, its result the chunk's :data:`VECTORS` and
-:data:`SCALARS`. Every point is computed from its own inputs alone (exact shading of its
-attitude and joints, by its model's cache in exact mode: a value depends on its key alone), so
-a chunk gives the same numbers bit for bit on any worker, in any order."""
+Every point from its own inputs alone (exact shading, the model's cache in exact mode), so a
+chunk gives the same numbers bit for bit on any worker, in any order.
+"""
 
 from __future__ import annotations
 
@@ -48,24 +47,21 @@ def vector_results(spec: SweepSpec) -> tuple:
 
 
 def attitudes_per_chunk(spec: SweepSpec) -> int:
-    """At most the distinct attitudes and joint positions of a chunk of ``spec`` (a chunk has
-    at most ``chunk_points`` points)."""
+    """At most the distinct attitudes and joint positions of a chunk of ``spec``."""
     shaded = ("aoa", "aos", *spec.joint_axes().values())
     count = math.prod(len(values) for axis, values in spec.axes.items() if axis in shaded)
     return max(1, min(spec.chunk_points, count))
 
 
 def body_model(spec: SweepSpec, mesh: str):
-    """The model of one body of a sweep (its mesh, or one of its mesh variants), keeping the
-    lightings of a chunk's attitudes and joint positions (each is shaded once per chunk)."""
+    """The model of one body (or mesh variant) of a sweep, keeping a chunk's lightings."""
     setup = body_setup(spec, mesh)
     shading = replace(setup.shading, exact_offline=attitudes_per_chunk(spec))
     return build_model(replace(setup, shading=shading))
 
 
 class SweepSetup:
-    """A spec's bodies, a model per mesh variant, made once per worker; ``body``, ``mesh`` and
-    ``method`` are the first one's."""
+    """A spec's bodies, a model per mesh variant, made once per worker."""
 
     def __init__(self, spec: SweepSpec):
         self.spec = spec
@@ -74,8 +70,7 @@ class SweepSetup:
         self.body, self.mesh, self.method = first.body, first.mesh, first.method
 
     def point(self, index: tuple, values: dict, flows: dict):
-        """The coefficients and the gas of one point (grid ``index``, axis ``values`` in the
-        spec's units), with the gases already made for this chunk."""
+        """The coefficients and gas of one point (axis ``values`` in the spec's units)."""
         spec = self.spec
         inputs = point_inputs(spec, values)
         flow = point_gas(spec, inputs, flows)
@@ -121,8 +116,7 @@ class SweepSetup:
 
 
 class SweepJob:
-    """A sweep as a job of :func:`adbsat_ros.tasks.run_chunks`: its chunks are index ranges
-    ((start, stop) per axis); a worker builds the spec's :class:`SweepSetup` once."""
+    """A sweep as a job of :func:`adbsat_ros.tasks.run_chunks`."""
 
     def __init__(self, spec: SweepSpec):
         self.spec = spec

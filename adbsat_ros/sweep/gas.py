@@ -1,6 +1,5 @@
 """The gas of a sweep's point: given (speed, temperature, mean molecular mass), or NRLMSISE-00's
-at a circular orbit's speed, with optional ``scale.SPECIES`` number-density factors (an unscaled
-gas is NRLMSISE-00's exactly). docs/sweeps.md.
+at a circular orbit's speed, with optional ``scale.SPECIES`` factors. docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -17,15 +16,13 @@ from adbsat_ros.sweep.spec import SweepSpec
 
 
 def point_inputs(spec: SweepSpec, values: dict) -> dict:
-    """Every input of a point: its axis values, the fixed ones, and the defaults of the rest
-    (the given gas's when the gas is not the atmosphere's)."""
+    """Every input of a point: its axis values, the fixed ones, the defaults of the rest."""
     inputs = {**spec.fixed, **values}
     return inputs if spec.atmosphere else {**DEFAULTS, **inputs}
 
 
 def point_gas(spec: SweepSpec, inputs: dict, made: dict) -> FreeStream:
-    """The free stream of a point with ``inputs`` (:func:`point_inputs`); ``made`` holds the
-    ones already made (by their inputs), so that a chunk asks NRLMSISE-00 once per gas."""
+    """The free stream of a point; ``made`` caches them per chunk by inputs."""
     if not spec.atmosphere:
         return FreeStream(
             inputs["speed"], inputs["temperature"], mean_mass_amu=inputs["mean_mass_amu"]
@@ -49,9 +46,10 @@ def point_gas(spec: SweepSpec, inputs: dict, made: dict) -> FreeStream:
 
 
 def scaled(flow: FreeStream, scales: dict) -> FreeStream:
-    """``flow`` with the number density of each species in ``scales`` multiplied by its factor
-    (``flow`` itself without factors); ValueError for a species the gas does not hold, or a
-    mixture left with no molecules."""
+    """``flow`` with each species' number density in ``scales`` multiplied by its factor.
+
+    ValueError: a species the gas does not hold, or no molecules left.
+    """
     if not scales:
         return flow
     densities = dict(flow.number_densities)

@@ -1,6 +1,5 @@
-"""Coefficients anywhere inside a sweep: bilinear in attitude
-(:class:`~adbsat_ros.database.lookup.CoefficientLookup` per grid point of the other axes), linear
-along the other axes. A query outside an axis's range is refused with the axis and its range.
+"""Coefficients anywhere inside a sweep: bilinear in attitude, linear along the other axes;
+a query outside an axis's range is refused with the axis and its range.
 """
 
 from __future__ import annotations
@@ -14,14 +13,7 @@ from adbsat_ros.lru import LruStore
 
 
 class SweepLookup:
-    """Interpolated coefficients of a complete sweep store's ``dataset`` (xarray, from
-    :func:`~adbsat_ros.database.sweep_reader.open_sweep`).
-
-    Attributes
-    ----------
-    axes : dict of str to ndarray
-        The axes other than aoa and aos, and their values.
-    """
+    """Interpolated coefficients of a complete sweep store's ``dataset``; ``axes``: the others."""
 
     def __init__(self, dataset):
         if "chunk_done" in dataset and not bool(dataset["chunk_done"].values.all()):
@@ -46,8 +38,10 @@ class SweepLookup:
         return self.slices.get(index, make)
 
     def body_coefficients(self, aoa_deg: float, aos_deg: float, **values):
-        """Interpolated Cf_G and Cm_G at an attitude [deg] and a value of every other axis;
-        ValueError for an axis not given or unknown, or a value outside its range (named)."""
+        """Cf_G and Cm_G at an attitude [deg] and a value of every other axis.
+
+        ValueError: an axis not given or unknown, or a value outside its range.
+        """
         cf, cm = np.zeros(3), np.zeros(3)
         for corner, weight in corners(self.axes, values):
             f, m = self._slice(corner).body_coefficients(aoa_deg, aos_deg)
@@ -56,8 +50,7 @@ class SweepLookup:
         return cf, cm
 
     def coefficients(self, aoa_deg: float, aos_deg: float, **values) -> InterpolatedCoefficients:
-        """As :meth:`body_coefficients`, with CD, CL and CY from Cf_G by the exact rotation to
-        wind axes at the query angles."""
+        """As :meth:`body_coefficients`, with CD, CL, CY by the rotation to wind axes."""
         cf, cm = self.body_coefficients(aoa_deg, aos_deg, **values)
         a, b = np.radians(aoa_deg), np.radians(aos_deg)
         cf_w = frames.body_to_wind(a, b) @ (frames.L_GB @ cf)

@@ -1,9 +1,7 @@
-"""What a sweep computes: its YAML spec, checked into a :class:`SweepSpec`.
+"""What a sweep computes: its YAML spec, checked into a :class:`SweepSpec` (docs/sweeps.md).
 
-Body, model and shading, fixed inputs and axes (:data:`AXES`, ``joint.NAME``, ``scale.SPECIES``,
-``mesh`` variants) in the units and ranges of docs/physics.md section 11; ``aoa`` and ``aos``
-are always axes; unset inputs take :data:`DEFAULTS`. A bad field is a :class:`SpecError` naming
-it. docs/sweeps.md, "The spec".
+Units and ranges of docs/physics.md section 11; ``aoa`` and ``aos`` are always axes; unset
+inputs take :data:`DEFAULTS`. A bad field is a :class:`SpecError` naming it.
 """
 
 from __future__ import annotations
@@ -59,12 +57,9 @@ FIELDS = (
 
 @dataclass(frozen=True)
 class SweepSpec:
-    """A checked sweep spec (module docstring).
+    """A checked sweep spec; ``axes``: name -> values in the spec's units (deg for angles).
 
-    ``reference`` holds what the spec gives (the rest from the mesh); ``axes`` maps axis name to
-    values in the spec's units (deg for angles), in sweep order; ``time`` is the atmosphere's UTC
-    (ISO 8601); ``solver`` (key, value) pairs, ``method`` ``panel`` or ``tpmc``; ``meshes`` the
-    variants of a ``mesh`` axis (``mesh`` first), empty without one.
+    ``time``: the atmosphere's UTC (ISO 8601); ``meshes``: a ``mesh`` axis's variants, else empty.
     """
 
     mesh: str
@@ -127,10 +122,9 @@ class SweepSpec:
 
 
 def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
-    """A :class:`SweepSpec` of a spec's mapping ``data`` and its YAML ``text`` (recorded).
+    """A :class:`SweepSpec` of a spec's mapping ``data`` and its YAML ``text``.
 
-    ``joints`` (name -> Joint, None for a rigid mesh) checks ``joint.NAME`` axes. Raises
-    :class:`SpecError` naming the field, its value and what it should be.
+    SpecError: a field, its value and what it should be.
     """
     if not isinstance(data, dict):
         raise SpecError("the spec must be a mapping of fields (mesh, model, axes ...)")
@@ -257,8 +251,7 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
 
 
 def body_setup(spec: SweepSpec, mesh: str) -> Setup:
-    """The set-up of one body of a sweep: ``mesh`` (the spec's, or one of its variants), its
-    model, materials over the default surface, reference, shading and solver."""
+    """The set-up of one body (mesh variant) of a sweep."""
     ref, run = spec.reference, spec.tpmc
     return Setup(
         body=BodySpec(mesh),
@@ -274,9 +267,7 @@ def body_setup(spec: SweepSpec, mesh: str) -> Setup:
 
 
 def reference_checked(reference) -> dict:
-    """The ``reference`` field as given (its fingerprint unchanged), checked: ``area`` and
-    ``length`` within their ranges, ``moment_point`` three numbers within ``offset`` (and near
-    the body: checked with the mesh, by :func:`~adbsat_ros.physics.model.build_model`)."""
+    """The ``reference`` field, checked: ``area``, ``length``, ``moment_point`` in range."""
     if not isinstance(reference, dict) or set(reference) - {"area", "length", "moment_point"}:
         raise SpecError("reference: a mapping of area, length and moment_point")
     point = reference.get("moment_point", (0.0, 0.0, 0.0))
@@ -294,8 +285,7 @@ def reference_checked(reference) -> dict:
 
 
 def points_checked(axes: dict) -> None:
-    """The points of a sweep (the product of its axes' lengths) within ``sweep_points`` of
-    :data:`adbsat_ros.bounds.BOUNDS`; SpecError naming the axes and their lengths."""
+    """The sweep's points within ``sweep_points``; SpecError naming the axes' lengths."""
     lengths = [len(v) for v in axes.values()]
     try:
         bounded(

@@ -1,9 +1,7 @@
-"""A sweep's result in a Zarr store, written chunk by chunk as the chunks finish.
+"""A sweep's result in a Zarr store (xarray, one dimension per axis), written chunk by chunk.
 
-An xarray Dataset, one dimension per axis, Zarr chunks the sweep's chunks; each chunk's results
-are written before its ``chunk_done`` flag, and the store is made under a hidden temporary name
-(``.NAME.*.partial``) before it is renamed, so a killed run leaves no store or one to take up.
-``overwrite`` replaces only a sweep store. docs/sweeps.md.
+Each chunk's results precede its ``chunk_done`` flag and the store is made under a hidden
+temporary name, so a killed run leaves no store or one to take up. docs/sweeps.md.
 """
 
 from __future__ import annotations
@@ -71,9 +69,10 @@ class SweepStore:
 
     @classmethod
     def open(cls, path, spec: SweepSpec, setup, overwrite: bool = False) -> "SweepStore":
-        """The store at ``path`` for ``spec``: made (nothing there, an empty directory, or
-        ``overwrite``), or taken up where it stopped. :class:`StoreError` if ``path`` holds
-        another spec's sweep (without ``overwrite``) or anything but a sweep store."""
+        """The store at ``path`` for ``spec``: made, or taken up where it stopped.
+
+        StoreError: another spec's sweep (without ``overwrite``) or anything but a sweep store.
+        """
         path = Path(path)
         sizes = chunk_shape(spec.shape, spec.chunk_points)
         slices = chunk_slices(spec.shape, sizes)
@@ -96,8 +95,7 @@ class SweepStore:
         return store
 
     def _complete(self) -> bool:
-        """Whether every array of the layout is in the store; False for an unfinished start
-        (the group's attributes written, not every array)."""
+        """Whether every array of the layout is in the store."""
         import zarr
 
         group = zarr.open_group(str(self.path), mode="r")
@@ -113,8 +111,7 @@ class SweepStore:
         return False
 
     def _create(self, setup, replace: bool) -> None:
-        """Write the store's layout under a temporary name beside ``path``, then rename it
-        (``replace``: the sweep store there is put aside first and removed last)."""
+        """Write the layout under a temporary name, then rename it into place."""
         parent = self.path.parent
         parent.mkdir(parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".partial", dir=parent))
@@ -220,8 +217,7 @@ class SweepStore:
 
 
 def _zarr_file(parts: tuple) -> bool:
-    """A file of the Zarr store a sweep writes: the group's and each array's ``zarr.json``, and
-    the arrays' chunks (``NAME/c/I/J/...``)."""
+    """Whether a file is one a sweep's Zarr store holds."""
     if parts == ("zarr.json",) or (len(parts) == 2 and parts[1] == "zarr.json"):
         return True
     return len(parts) >= 3 and parts[1] == "c" and all(p.isdigit() for p in parts[2:])
@@ -240,9 +236,7 @@ def _sweep_attrs(path: Path) -> dict | None:
 
 
 def _foreign(path: Path) -> Path | None:
-    """What at ``path`` a sweep did not write: a file that is no Zarr store's, or ``path``
-    itself when it is a Zarr store without a sweep's attributes; None for a sweep store or an
-    empty directory."""
+    """What at ``path`` a sweep did not write; None for a sweep store or empty directory."""
     entry = foreign_entry(path, _zarr_file)
     if entry is None and any(path.iterdir()) and _sweep_attrs(path) is None:
         return path
