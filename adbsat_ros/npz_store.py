@@ -8,7 +8,6 @@ or ``~/.cache/adbsat_ros/<kind>``; ``ADBSAT_ROS_CACHE_DIR=off`` turns every stor
 
 from __future__ import annotations
 
-import functools
 import hashlib
 import importlib.util
 import logging
@@ -168,10 +167,9 @@ def cache_directory(kind: str) -> Path | None:
     return Path(base) / kind
 
 
-@functools.lru_cache(maxsize=16)
 def code_fingerprint(modules: tuple, packages: tuple = ()) -> str:
     """A short hash of the source of ``modules`` and the installed files (path, size, mtime) of
-    ``packages``, found without importing them; once per process. Part of the stores' keys, so
+    ``packages``, found without importing them. Part of the stores' keys, so
     entries made by other code are never read back."""
     digest = hashlib.sha256()
     for name in modules:

@@ -88,7 +88,8 @@ _IDENTITY = np.eye(3)
 
 @functools.lru_cache(maxsize=256)
 def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> np.ndarray:
-    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket``."""
+    """Celestial-to-intermediate matrix at the centre of TT interval ``bucket``; memoised, the
+    package's one memo (docs/benchmarks.md, the estimator's options)."""
     return _CELESTIAL_TO_INTERMEDIATE[model](2451545.0, (bucket + 0.5) * step_days)
 
 

@@ -4,8 +4,6 @@
 from __future__ import annotations
 
 import datetime as _dt
-import functools
-import warnings
 
 import erfa
 
@@ -37,16 +35,6 @@ def utc_datetime(time) -> _dt.datetime:
     return time
 
 
-@functools.lru_cache(maxsize=512)
-def _tai_minus_utc(year: int, month: int, day: int) -> float:
-    """TAI - UTC [s] on the given UTC day, from ERFA's table (0 before 1960, as ERFA)."""
-    with warnings.catch_warnings():
-        # ERFA flags years before 1960 or well past its table as "dubious"; the value it returns
-        # (the last known offset) is what we want, and only TT depends on it.
-        warnings.simplefilter("ignore", erfa.ErfaWarning)
-        return float(erfa.dat(year, month, day, 0.5))
-
-
 def julian_dates(time, ut1_minus_utc: float = 0.0):
     """Two-part Julian dates ``(utc, tt, ut1)`` of a UTC datetime; ``ut1_minus_utc`` [s]."""
     time = utc_datetime(time)
@@ -59,13 +47,15 @@ def julian_dates(time, ut1_minus_utc: float = 0.0):
     )
 
 
-@functools.lru_cache(maxsize=512)
 def utc_day(year: int, month: int, day: int) -> tuple:
-    """``(jd1, tt_minus_utc [day], day_of_year)`` of a UTC day, memoised; jd1 at 0 h UTC."""
+    """``(jd1, tt_minus_utc [day], day_of_year)`` of a UTC day; jd1 at 0 h UTC."""
     ordinal = _dt.date(year, month, day).toordinal()
+    # TAI - UTC [s] from ERFA's table (0 before 1960, as ERFA); its status, "dubious" before
+    # 1960 or well past the table, is not read: the value (the last known offset) is what we want
+    tai_minus_utc = float(erfa.ufunc.dat(year, month, day, 0.5)[0])
     return (
         _MJD_TO_JD + (ordinal - _MJD_ZERO_ORDINAL),
-        (_tai_minus_utc(year, month, day) + _TT_MINUS_TAI) / SECONDS_PER_DAY,
+        (tai_minus_utc + _TT_MINUS_TAI) / SECONDS_PER_DAY,
         ordinal - _dt.date(year, 1, 1).toordinal() + 1,
     )
 

@@ -9,7 +9,6 @@ including the NUL, bytes, NUL). Anything else raises ValueError (callers use a f
 
 from __future__ import annotations
 
-import functools
 import struct
 from typing import NamedTuple
 
@@ -61,15 +60,6 @@ def quaternion_stamped_fields(raw) -> AttitudeFields:
     return AttitudeFields(Stamp(sec, nanosec), list(struct.unpack_from(order + "4d", raw, start)))
 
 
-@functools.lru_cache(maxsize=64)
-def _wrench_stamped_layout(frame_id: str):
-    name = frame_id.encode("utf-8") + b"\x00"
-    # encapsulation (4) + sec, nanosec (8) + string length (4) + name; the six float64 start on a
-    # multiple of 8 counted from the end of the encapsulation header
-    pad = -(12 + len(name)) % 8
-    return struct.Struct(f"<4siII{len(name)}s{pad}x6d"), name
-
-
 def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> bytes:
     """CDR bytes (little endian) of a geometry_msgs/WrenchStamped.
 
@@ -84,8 +74,12 @@ def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> 
     force, torque : sequence of 3 float
         Force [N] and torque [N m] (or coefficients), written as float64.
     """
-    layout, name = _wrench_stamped_layout(frame_id)
-    return layout.pack(CDR_LE_HEADER, sec, nanosec, len(name), name, *force, *torque)
+    name = frame_id.encode("utf-8") + b"\x00"
+    # encapsulation (4) + sec, nanosec (8) + string length (4) + name; the six float64 start on a
+    # multiple of 8 counted from the end of the encapsulation header
+    pad = -(12 + len(name)) % 8
+    layout = f"<4siII{len(name)}s{pad}x6d"
+    return struct.pack(layout, CDR_LE_HEADER, sec, nanosec, len(name), name, *force, *torque)
 
 
 def accel_stamped_cdr(sec: int, nanosec: int, frame_id: str, linear, angular) -> bytes:

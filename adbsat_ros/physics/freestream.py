@@ -26,12 +26,12 @@ def _check_positive(name: str, value: float) -> float:
 _SPECIES_MASS_KG = {name: species_mass_kg(name) for name in MOLAR_MASS_G}
 
 
-@functools.lru_cache(maxsize=64)
-def _species_masses(species: tuple) -> tuple | None:
-    """Particle masses [kg] of ``species`` names, or None if one is unknown (cached, 64 tuples)."""
-    if not all(name in _SPECIES_MASS_KG for name in species):
+def _species_masses(species: tuple) -> list | None:
+    """Particle masses [kg] of ``species`` names, or None if one is unknown."""
+    try:
+        return [_SPECIES_MASS_KG[name] for name in species]
+    except KeyError:
         return None
-    return tuple(_SPECIES_MASS_KG[name] for name in species)
 
 
 def _checked_number_densities(number_densities: Mapping) -> list:

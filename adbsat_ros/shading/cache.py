@@ -87,7 +87,7 @@ class ShadingCache:
         self.step = 0.5 * math.pi / self.n
         self.max_entries = None if max_entries is None else int(max_entries)
         self.interpolate = bool(interpolate)
-        self.triangulation = CellTriangulation.of(self.n) if self.interpolate else None
+        self.triangulation = CellTriangulation(self.n) if self.interpolate else None
         self.joint_interpolate = bool(joint_interpolate)
         self.steps = None
         if body is not None and not self.exact:

@@ -6,7 +6,6 @@ around a flow direction and their barycentric weights, for the shading cache's i
 from __future__ import annotations
 
 import bisect
-import functools
 import math
 
 import numpy as np
@@ -33,12 +32,6 @@ class CellTriangulation:
         for t, keys in enumerate(self.border_triangles.tolist()):
             for key in keys:
                 self._border_of_key.setdefault(key, []).append(t)
-
-    @classmethod
-    @functools.lru_cache(maxsize=8)
-    def of(cls, n: int) -> "CellTriangulation":
-        """The triangulation of ``n`` steps, made once per ``n`` (8 kept)."""
-        return cls(n)
 
     # ------------------------------------------------------------------------------ queries
     def locate(self, x: float, y: float, z: float) -> tuple:
