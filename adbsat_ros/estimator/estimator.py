@@ -262,7 +262,7 @@ class AeroWrenchEstimator:
             if s.state_frame == "eci"
             else conditions.relative_velocity_ecef
         )
-        gas_body = -(relative @ np.reshape(m, (3, 3)))
+        gas_body = -(relative @ np.array(m).reshape(3, 3))
         moment = Moment(stamp, utc, conditions, m, t0)
         changes = None  # (the materials' accommodation, or the model's at the conditions)
         if s.accommodation_model != "fixed":

@@ -146,8 +146,8 @@ def articulated_coefficients(method, flow, u, angles, configuration, parts, surf
             ten, columns = posed[0]
             sums = PosedSums(ten, None, None if columns is None else columns[None])
         else:
-            ten = np.stack([t for t, _ in posed])
-            columns = None if posed[0][1] is None else np.stack([c for _, c in posed])
+            ten = np.array([t for t, _ in posed])
+            columns = None if posed[0][1] is None else [c for _, c in posed]
             sums = PosedSums.of([w for w, _ in parts], ten, columns)
     lighting = blended_lighting(parts)
     return method.coefficients_of_rows(flow, u, angles, configuration, sums, lighting, surface)

@@ -121,12 +121,23 @@ class PanelMethod:
     @staticmethod
     def totals_of_sums(u, rows, sums, reference):
         """Cf_G, Cm_G and the lit projected area [m^2] from facet rows and (G, 10) facet sums."""
-        r, k, projected = rows @ sums  # (r W, r W n, r Q, r Q x n) and k's; the lit area
-        force = r[0] * u + k[1:4]
+        # (r W, r W n, r Q, r Q x n) and k's; the lit area (three components each, as floats)
+        (
+            (r_w, _, _, _, r_qx, r_qy, r_qz, _, _, _),
+            (_, k_nx, k_ny, k_nz, _, _, _, k_mx, k_my, k_mz),
+            (projected, *_),
+        ) = (rows @ sums).tolist()
+        ux, uy, uz = u.tolist()
+        fx, fy, fz = r_w * ux + k_nx, r_w * uy + k_ny, r_w * uz + k_nz
+        px, py, pz = reference.moment_point
         # moment = (sum r Q) x u + sum k (Q x n) - r_ref x force
-        moment = frames.cross(r[4:7], u) + k[7:10] - frames.cross(reference.moment_point, force)
+        mx = r_qy * uz - r_qz * uy + k_mx - (py * fz - pz * fy)
+        my = r_qz * ux - r_qx * uz + k_my - (pz * fx - px * fz)
+        mz = r_qx * uy - r_qy * ux + k_mz - (px * fy - py * fx)
         area = reference.area
-        return force / area, moment / (area * reference.length), float(projected[0])
+        area_length = area * reference.length
+        force = np.array([fx / area, fy / area, fz / area])
+        return force, np.array([mx / area_length, my / area_length, mz / area_length]), projected
 
     # ------------------------------------------------------------------------------ integration
     def integrate(self, u_G, c, sigma, cp, ctau, lighting: PanelLighting | None = None):

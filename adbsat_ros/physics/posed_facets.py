@@ -41,7 +41,8 @@ class PosedSums:
 
     @classmethod
     def of(cls, weights, ten, columns=None) -> "PosedSums":
-        """The blend with ``weights`` (P,) of parts' ``ten`` (P, G, 10) and ``columns``."""
+        """The blend with ``weights`` (P,) of parts' ``ten`` (P, G, 10) and ``columns`` (P, G, 4 J),
+        stacked or a sequence of the parts'."""
         if len(ten) == 1:
             return cls(ten[0], None, columns)
         weights = np.array(weights)
@@ -51,7 +52,7 @@ class PosedSums:
     def columns(self) -> np.ndarray | None:
         """The joints' effort columns (G, 4 J) (:class:`~.link_loads.EffortColumns`), or None."""
         if self._columns is None and self._stacked is not None:
-            stacked = self._stacked
+            stacked = np.asarray(self._stacked)  # (the parts' columns, stacked when first read)
             blended = self._weights @ stacked.reshape(len(stacked), -1)
             self._columns = blended.reshape(stacked.shape[1:])
         return self._columns
