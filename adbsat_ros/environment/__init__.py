@@ -4,5 +4,5 @@
   :mod:`.circular_orbit`: ADBSat's recipe; :mod:`.knots`, :mod:`.interpolation`: the cache.
 - :mod:`.atmosphere`: NRLMSISE-00, space weather; :mod:`.accommodation`: energy accommodation.
 - :mod:`.earth_frames`: GCRF/ITRF; :mod:`.geodetic`: WGS-84; :mod:`.time_scales`: UTC/TT/UT1;
-  :mod:`.sun`: the Sun and Earth's shadow.
+  :mod:`.sun`: the Sun and Earth's shadow; :mod:`.kinematics`: a knot's frames in floats.
 """

@@ -25,14 +25,9 @@ from adbsat_ros.environment.atmosphere import (
     run_model,
 )
 from adbsat_ros.environment.conditions import FlightConditions
-from adbsat_ros.environment.earth_frames import (
-    EarthOrientation,
-    check_orientation_options,
-    rotation_terms,
-)
-from adbsat_ros.environment.geodetic import enu_to_ecef_matrix, geodetic_of
+from adbsat_ros.environment.earth_frames import EarthOrientation, check_orientation_options
+from adbsat_ros.environment.kinematics import rotation_floats, state_kinematics
 from adbsat_ros.environment.time_scales import seconds_of_day, utc_day
-from adbsat_ros.geometry.frames import cross
 from adbsat_ros.validation import finite as _finite
 
 #: Frames an orbital state may be given in.
@@ -159,11 +154,10 @@ def evaluate_flight_conditions(
     model = options.accommodation_model
     position = _three_floats(position, "position")
     velocity = _three_floats(velocity, "velocity")
-    wind = options.wind
     jd1, tt_minus_utc, day_of_year = utc_day(utc.year, utc.month, utc.day)
     seconds = seconds_of_day(utc)
     if orientation is None:
-        rotation, _, omega = rotation_terms(
+        matrix, _, omega = rotation_floats(
             jd1, seconds / 86400.0, tt_minus_utc, *options.orientation_options
         )
     elif not isinstance(orientation, EarthOrientation):
@@ -176,19 +170,18 @@ def evaluate_flight_conditions(
             f"not for time {utc.replace(tzinfo=None).isoformat()}"
         )
     else:
-        rotation = orientation.celestial_to_terrestrial  # r_ecef = R r_eci
-        omega = orientation.rotation_vector_ecef
-    if frame_key == "eci":
-        # r_ecef = R r_eci; v_ecef = R v_eci - omega x r_ecef
-        position_eci, velocity_eci = np.array(position), np.array(velocity)
-        position_ecef = rotation @ position_eci
-        velocity_ecef = rotation @ velocity_eci - cross(omega, position_ecef)
-    else:
-        # r_eci = R^T r_ecef; v_eci = R^T (v_ecef + omega x r_ecef)
-        position_ecef, velocity_ecef = np.array(position), np.array(velocity)
-        position_eci = position_ecef @ rotation
-        velocity_eci = (velocity_ecef + cross(omega, position_ecef)) @ rotation
-    latitude, longitude, altitude = geodetic_of(position_ecef)
+        matrix = tuple(orientation.celestial_to_terrestrial.ravel().tolist())  # r_ecef = R r_eci
+        omega = tuple(orientation.rotation_vector_ecef.tolist())
+    vectors, latitude, longitude, altitude, speed = state_kinematics(
+        matrix,
+        omega,
+        frame_key,
+        position,
+        velocity,
+        options.wind,
+        options.wind_frame,
+        options.earth_rotation,
+    )
     try:
         check_altitude(altitude)
     except ValueError as exc:
@@ -203,22 +196,10 @@ def evaluate_flight_conditions(
         space_weather,
         options.anomalous_oxygen,
     )
-    if wind is not None and options.wind_frame == "enu":
-        wind = enu_to_ecef_matrix(latitude, longitude) @ wind
-    if options.earth_rotation:
-        # v_rel,ecef = v_ecef - wind; v_rel,eci = R^T v_rel,ecef
-        relative_ecef = velocity_ecef if wind is None else velocity_ecef - wind
-        relative_eci = relative_ecef @ rotation
-    else:
-        relative_eci = velocity_eci if wind is None else velocity_eci - np.asarray(wind) @ rotation
-        relative_ecef = rotation @ relative_eci
-    with np.errstate(over="ignore"):  # (an infinite speed is refused by name)
-        speed = _finite("speed", float(np.linalg.norm(relative_ecef)))
+    speed = _finite("speed", speed)  # (an infinite speed is refused by name)
     # (the options' names were checked with the options; the model checks their values)
     alpha = ACCOMMODATION_MODELS[model](atmosphere, speed, **options.accommodation_options)
-    vectors = np.array(
-        (position_eci, position_ecef, velocity_eci, velocity_ecef, relative_eci, relative_ecef)
-    )
+    vectors = np.array(vectors)
     vectors.setflags(write=False)  # one read-only (6, 3) array, the fields its rows
     return FlightConditions(
         time=utc,
