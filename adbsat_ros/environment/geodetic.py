@@ -65,8 +65,12 @@ def enu_to_ecef_matrix(latitude: float, longitude: float) -> np.ndarray:
 
 
 def geodetic_of(position_ecef: np.ndarray):
-    """:func:`ecef_to_geodetic` of one position already checked, shape (3,), as floats."""
-    longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position_ecef)
+    """:func:`ecef_to_geodetic` of one finite position, shape (3,), as floats; beyond about
+    1e150 m, where ERFA's squares overflow, the height is |r| (far above any range)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position_ecef)
     if status != 0:  # pragma: no cover - defensive (only a bad ellipsoid identifier)
         raise ValueError(f"erfa.gc2gd failed (status {status}) for position {position_ecef!r}")
+    if not math.isfinite(altitude):
+        return float(latitude), float(longitude), math.hypot(*position_ecef.tolist())
     return float(latitude), float(longitude), float(altitude)

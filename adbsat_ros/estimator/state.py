@@ -106,9 +106,10 @@ def check_conditions(evaluate, utc, state: OrbitalState) -> None:
         )
     altitude = geodetic_of(state.position)[2]
     if altitude > MAX_ALTITUDE + FRAME_ALTITUDE_MARGIN:
+        km = f"{altitude / 1e3:.1f}" if altitude < 1e12 else f"{altitude / 1e3:.3e}"
         raise Rejection(
             "altitude_out_of_range",
-            f"state altitude {altitude / 1e3:.1f} km is above {MAX_ALTITUDE / 1e3:g} km, the top "
+            f"state altitude {km} km is above {MAX_ALTITUDE / 1e3:g} km, the top "
             "of the atmosphere model: the latest state is kept",
         )
     if altitude > MAX_ALTITUDE - FRAME_ALTITUDE_MARGIN:

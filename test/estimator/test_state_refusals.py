@@ -33,6 +33,8 @@ BAD_STATES = [
     ("500 m above the model's top", 1.02, [EARTH + 1000.5e3, 0.0, 0.0], [0.0, 7000.0, 0.0],
      "altitude_out_of_range"),
     ("|r| = 1e10 m", 1.02, [1e10, 0.0, 0.0], [0.0, V, 0.0], "altitude_out_of_range"),
+    ("|r| = 1e300 m", 1.02, [1e300, 0.0, 0.0], [0.0, V, 0.0], "altitude_out_of_range"),
+    ("|r| = 1.4e200 m", 1.02, [1e200, 1e200, 0.0], [0.0, V, 0.0], "altitude_out_of_range"),
     ("faster than any orbit", 1.02, [R, 0.0, 0.0], [0.0, 25e3, 0.0], "bad_state"),
     ("a huge velocity", 1.02, [R, 0.0, 0.0], [1e300, 1e300, 0.0], "bad_state"),
     ("NaN in the position", 1.02, [math.nan, 0.0, 0.0], [0.0, V, 0.0], "non_finite"),
