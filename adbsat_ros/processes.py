@@ -1,7 +1,6 @@
 """Processes of the long jobs: worker counts and start method, workers dying with their parent,
 the heap frozen for the garbage collector, and SIGINT/SIGTERM handling (docs/architecture.md,
-"Signals and worker processes").
-"""
+"Signals and worker processes")."""
 
 from __future__ import annotations
 
@@ -35,9 +34,7 @@ def usable_cpus() -> int:
 
 def worker_count(requested: int | None) -> tuple:
     """``(workers, note)``: ``requested`` (default every usable CPU), at most :func:`usable_cpus`.
-
-    ValueError: a count not a whole number >= 1.
-    """
+    ValueError: a count not a whole number >= 1."""
     cpus = usable_cpus()
     if requested is None:
         return cpus, None
@@ -146,9 +143,7 @@ def signal_name() -> str | None:
 @contextlib.contextmanager
 def handle_signals():
     """SIGINT and SIGTERM handled for a whole command, whose ``main`` enters this first thing.
-
-    Signals raise only inside :func:`raising_signals`; the previous handlers come back after.
-    """
+    Signals raise only inside :func:`raising_signals`; the previous handlers come back after."""
     if _signals() is not None or threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -207,11 +202,8 @@ def interruptible():
 
 @contextlib.contextmanager
 def stop_on_signals():
-    """An event set by SIGINT or SIGTERM while inside, where they raise nothing.
-
-    A long job checks it at its boundaries and stops in order (the node ends its spin loop before
-    taking rclpy down; bag analysis keeps what it wrote as PARTIAL).
-    """
+    """An event set by SIGINT/SIGTERM while inside (they raise nothing); a long job checks it at its
+    boundaries and stops in order (docs/architecture.md, "Signals and worker processes")."""
     signals = _signals()
     if signals is not None:
         signals.in_order += 1

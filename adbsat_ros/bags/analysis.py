@@ -1,8 +1,6 @@
-"""Offline analysis of recorded flights: the node's wrench at every attitude message of a rosbag2.
-
-The bag's messages go through the node's per-message path, one estimator per model, in parallel
-chunks merged in bag order; docs/cli.md, "Recorded flights".
-"""
+"""Offline analysis of recorded flights: the node's wrench at every attitude message of a
+rosbag2. The bag's messages go through the node's per-message path, one estimator per model, in
+parallel chunks merged in bag order; docs/cli.md, "Recorded flights"."""
 
 from __future__ import annotations
 
@@ -132,26 +130,18 @@ def analyze_bag(
     skip_damaged: bool = False,
 ) -> AnalysisReport:
     """Replay a bag through the node's logic for each model and write bag, CSV and plots.
-
-    Parameters
-    ----------
-    bag : input rosbag2 (directory, .mcap or .db3 file)
-    attitude_topic, state_topic : QuaternionStamped and Odometry topics (as the node subscribes)
-    models : list of (label, WrenchSettings) (default: the node's defaults, label 'default')
-    out_bag, out_csv, plots_dir : outputs (None: not written)
-    storage : ``'mcap'`` or ``'sqlite3'`` for the output bag
-    overwrite : replace outputs of the same kind only (:mod:`adbsat_ros.bags.replacing`)
-    workers : processes (default ``os.cpu_count()``); the outputs are the same for any number
-    chunk_messages : messages per chunk, in [:data:`MIN_CHUNK_MESSAGES`, :data:`MAX_CHUNK_MESSAGES`]
-    stop : a threading.Event; stops at the next message, the outputs so far kept as PARTIAL
-    joint_topic : sensor_msgs/JointState topic, read for an articulated model
-    skip_damaged : leave out MCAP chunks failing their CRC instead of refusing the bag
-
+    bag: input rosbag2 (directory, .mcap or .db3 file).
+    attitude_topic, state_topic: QuaternionStamped and Odometry topics (as the node subscribes).
+    models: list of (label, WrenchSettings) (default: the node's defaults, label 'default').
+    overwrite: replace outputs of the same kind only (:mod:`adbsat_ros.bags.replacing`).
+    workers: processes (default ``os.cpu_count()``); the outputs are the same for any number.
+    chunk_messages: in [:data:`MIN_CHUNK_MESSAGES`, :data:`MAX_CHUNK_MESSAGES`].
+    stop: a threading.Event; stops at the next message, the outputs so far kept as PARTIAL.
+    skip_damaged: leave out MCAP chunks failing their CRC instead of refusing the bag.
     Returns an AnalysisReport; a fault while reading, or a stop, is in its ``error``, the outputs
     so far under :func:`adbsat_ros.bags.outputs.partial_path`.
     BagError: before anything is written, a bad input (checksums, topics) or an existing output.
-    ValueError: a model that cannot be set up (or MeshError), ``workers`` or ``chunk_messages`` < 1.
-    """
+    ValueError: a model that cannot be set up (or MeshError), ``workers``/``chunk_messages`` < 1."""
     t_start = time.perf_counter()
     bag = Path(bag)
     models = list(models) if models else [("default", WrenchSettings.from_parameters({}))]

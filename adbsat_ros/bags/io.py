@@ -1,7 +1,5 @@
-"""Reading and writing rosbag2 files (.mcap and .db3) without ROS, with ``rosbags``.
-
-The one place that knows message layouts in bags. Stamps are integer nanoseconds.
-"""
+"""Reading and writing rosbag2 files (.mcap and .db3) without ROS, with ``rosbags``. The one
+place that knows message layouts in bags. Stamps are integer nanoseconds."""
 
 from __future__ import annotations
 
@@ -160,8 +158,7 @@ def deserialize_attitude(raw):
 
 def deserialize_joint_state(raw):
     """A sensor_msgs/JointState from CDR bytes; up to 15 bytes after the last field are read past
-    (rclpy leaves up to 12 there, rosbags refuses more than 3).
-    """
+    (rclpy leaves up to 12 there, rosbags refuses more than 3)."""
     try:
         return TYPESTORE.deserialize_cdr(raw, JOINT_STATE)
     except SerdeError as exc:
@@ -213,9 +210,7 @@ def storage_plugin(storage: str) -> StoragePlugin:
 # --------------------------------------------------------------------------------- writing
 class BagWriter:
     """A rosbag2 writer building the bag beside ``path`` (:meth:`commit`, :meth:`discard`).
-
-    ``storage``: ``'mcap'`` or ``'sqlite3'``; ``overwrite`` replaces a rosbag2 bag only, on commit.
-    """
+    ``storage``: ``'mcap'``/``'sqlite3'``; ``overwrite`` replaces a rosbag2 bag only, on commit."""
 
     def __init__(self, path, storage: str = "mcap", overwrite: bool = False):
         self.path = Path(path)
@@ -319,10 +314,8 @@ def write_scenario_bag(
     frame_id: str = "eci",
     overwrite: bool = False,
 ) -> Path:
-    """Write ScenarioMessages as a bag: Odometry (twist the ECI velocity), QuaternionStamped.
-
-    Log time = stamp, the state first at equal stamps.
-    """
+    """Write ScenarioMessages as a bag: Odometry (twist the ECI velocity), QuaternionStamped. Log
+    time = stamp, the state first at equal stamps."""
     states, attitudes = messages.states, messages.attitudes
     events = [(int(t), 0, i) for i, t in enumerate(states.stamps_ns)]
     events += [(int(t), 1, i) for i, t in enumerate(attitudes.stamps_ns)]

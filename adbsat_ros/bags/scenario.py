@@ -1,8 +1,6 @@
 """Built-in flight scenarios: a two-body Keplerian orbit in ECI (GCRF) and an attitude history.
-
 Attitudes body -> ECI (x, y, z, w): ``nadir`` is LVLH (+z nadir, +x along track), ``tumble`` turns
-about a fixed body axis. Stamps [ns]: UNIX(epoch_utc) + t (``time_mode`` 'unix') or t ('epoch').
-"""
+about a fixed body axis. Stamps [ns]: UNIX(epoch_utc) + t (``time_mode`` 'unix') or t ('epoch')."""
 
 from __future__ import annotations
 
@@ -30,11 +28,9 @@ BYTES_PER_MESSAGE = 1_024
 
 @dataclass(frozen=True)
 class Scenario:
-    """What to simulate; angles [deg], times [s], rates [Hz]; ``epoch_utc`` is t = 0 (ISO 8601 UTC).
-
-    ``altitude_km``: perigee above :data:`EARTH_RADIUS`; elements in ECI; ``tumble_axis`` None draws
-    one from ``seed``.
-    """
+    """What to simulate; angles [deg], times [s], rates [Hz]; ``epoch_utc`` is t = 0 (ISO 8601
+    UTC). ``altitude_km``: perigee above :data:`EARTH_RADIUS`; elements in ECI; ``tumble_axis``
+    None draws one from ``seed``."""
 
     epoch_utc: str | _dt.datetime = "2026-01-01T00:00:00Z"
     duration_s: float = 600.0

@@ -1,7 +1,5 @@
 """Shared command-line machinery: one-line errors, value parsers, option helpers, ROS import.
-
-Imported at every start: only the standard library at the top.
-"""
+Imported at every start: only the standard library at the top."""
 
 from __future__ import annotations
 

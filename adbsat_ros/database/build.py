@@ -1,8 +1,6 @@
-"""Building an aerodynamic database: a solver swept over a grid of aoa and sideslip [deg].
-
-Chunks on :mod:`adbsat_ros.tasks`; the result does not depend on the workers, bit for bit
-(test particles: attitude i draws from ``SeedSequence(seed, spawn_key=(i,))``). docs/physics.md 9.
-"""
+"""Building an aerodynamic database: a solver swept over a grid of aoa and sideslip [deg]. Chunks
+on :mod:`adbsat_ros.tasks`; the result does not depend on the workers, bit for bit (test
+particles: attitude i draws from ``SeedSequence(seed, spawn_key=(i,))``). docs/physics.md 9."""
 
 from __future__ import annotations
 
@@ -57,10 +55,8 @@ def attitude_seed(seed: int, index: int) -> int:
 
 
 class DatabaseJob:
-    """A database build as a job of :func:`adbsat_ros.tasks.run_chunks`.
-
-    A chunk is ``(first, attitudes (K, 2) [deg])``, its result (K, :data:`COLUMNS`).
-    """
+    """A database build as a job of :func:`adbsat_ros.tasks.run_chunks`: a chunk is
+    ``(first, attitudes (K, 2) [deg])``, its result (K, :data:`COLUMNS`)."""
 
     def __init__(self, setup: Setup, mesh, flow):
         self.model_setup, self.mesh, self.flow = setup, mesh, flow
@@ -167,23 +163,16 @@ def build_database(
     scheduler: str | None = None,
 ) -> AeroDatabase:
     """Evaluate the panel method, or test particles, at every (aoa, aos) pair of two angle lists.
-
-    Parameters
-    ----------
-    aoa_deg, aos_deg : angles of attack in [-360, 360], sideslip in [-90, 90] [deg]; no duplicates
-    shading : ``"raycast"``, ``"projection"`` or ``"none"``; ``samples``: rays per panel
-    workers : local processes (default: every usable CPU; 1: this process); the result is the same
-    progress : None (a bar on a terminal), bool, ``progress(done, total)``, or a tqdm
-    mesh_spec : how the mesh reloads (path or ``"example"``), recorded and checked
-    mesh_joints : a URDF's joint positions [rad or m], recorded
-    solver : ``"panel"`` or ``"tpmc"`` (then ``particles``, ``tolerance``, ``seed``; no shading)
-    stop : a threading.Event; the build ends with the chunk that finished, NaN at the rest
-      (``metadata["partial"]``; not savable as .npz)
-    scheduler : a running Dask scheduler's address (``tcp://host:8786``); None: this machine
-
-    Returns an AeroDatabase with ``metadata["interpolation_error"]`` (test particles: ``solver``
-    recorded and three of the largest standard errors in the stated error).
-    """
+    aoa_deg, aos_deg: angles of attack in [-360, 360], sideslip in [-90, 90] [deg]; no duplicates.
+    shading: ``"raycast"``, ``"projection"`` or ``"none"``; ``samples``: rays per panel.
+    workers: local processes (default: every usable CPU; 1: this process); the result is the same.
+    progress: None (a bar on a terminal), bool, ``progress(done, total)``, or a tqdm.
+    mesh_spec, mesh_joints: how the mesh reloads (path or ``"example"``; joints [rad or m]).
+    solver: ``"panel"`` or ``"tpmc"`` (then ``particles``, ``tolerance``, ``seed``; no shading).
+    stop: a threading.Event; ends with the chunk that finished, NaN at the rest (partial, no .npz).
+    scheduler: a running Dask scheduler's address (``tcp://host:8786``); None: this machine.
+    Returns an AeroDatabase; ``metadata["interpolation_error"]`` (tpmc: plus three of the largest
+    standard errors; ``solver`` recorded)."""
     shading = str(shading).lower()
     if shading not in MODES:
         raise ValueError(f"unknown shading mode {shading!r}; choose one of {', '.join(MODES)}")

@@ -1,9 +1,7 @@
 """Energy accommodation coefficient alpha by model (:data:`ACCOMMODATION_MODELS`), SI units.
-
 ``langmuir`` (Pilinski, Argrow & Palo 2010, J. Spacecraft Rockets 47(6)), ``goodman``, ``sesam``
 (Pilinski, Argrow, Palo & Bowman 2013, 50(3)); SESAM's Langmuir constants in Torr^-1 as
-published. docs/physics.md, sections 5.6 and 5.7.
-"""
+published. docs/physics.md, sections 5.6 and 5.7."""
 
 from __future__ import annotations
 
@@ -47,10 +45,8 @@ def _substrate(value) -> float:
 def langmuir_accommodation(
     oxygen_number_density: float, temperature: float, langmuir_constant: float = LANGMUIR_CONSTANT
 ) -> float:
-    """Langmuir-isotherm alpha = K n_O T / (1 + K n_O T) in [0, 1) (Pilinski et al. 2010).
-
-    n_O [m^-3] >= 0, T [K] > 0, K [m^3/K] > 0.
-    """
+    """Langmuir-isotherm alpha = K n_O T / (1 + K n_O T) in [0, 1) (Pilinski et al. 2010). n_O
+    [m^-3] >= 0, T [K] > 0, K [m^3/K] > 0."""
     n_o = _non_negative("oxygen_number_density", oxygen_number_density)
     temperature = _positive("temperature", temperature)
     constant = _positive("langmuir_constant", langmuir_constant)
@@ -63,10 +59,8 @@ def goodman_accommodation(
     substrate_coefficient: float = SUBSTRATE_COEFFICIENT,
     surface_mass_amu: float = SURFACE_MASS_AMU,
 ) -> float:
-    """Goodman's alpha_s = K_s mu / (1 + mu)^2, mu = m_gas / m_surface.
-
-    ``mean_mass`` [kg] > 0, K_s in [2.4, 3.6], ``surface_mass_amu`` [amu] > 0.
-    """
+    """Goodman's alpha_s = K_s mu / (1 + mu)^2, mu = m_gas / m_surface. ``mean_mass`` [kg] > 0,
+    K_s in [2.4, 3.6], ``surface_mass_amu`` [amu] > 0."""
     mean_mass = _positive("mean_mass", mean_mass)
     k_s = _substrate(substrate_coefficient)
     mu = mean_mass / (_positive("surface_mass_amu", surface_mass_amu) * AMU)
@@ -75,8 +69,7 @@ def goodman_accommodation(
 
 def sesam_sticking_fraction(incident_energy: float) -> float:
     """SESAM's s_o in [0, 1] at ``incident_energy`` E_r [J] >= 0, in closed form with ``erf``
-    (docs/physics.md, section 5.6).
-    """
+    (docs/physics.md, section 5.6)."""
     energy = _non_negative("incident_energy", incident_energy)
     w2 = BOLTZMANN * SESAM_TRANSITION_TEMPERATURE
     w = math.sqrt(w2)
@@ -92,9 +85,7 @@ def sesam_sticking_fraction(incident_energy: float) -> float:
 
 def sesam_oxygen_pressure(oxygen_number_density: float, speed: float, speed_ratio: float) -> float:
     """SESAM's atomic-oxygen pressure P_O [Pa] = 1/2 rho_O V^2 f(s), docs/physics.md section 5.6.
-
-    n_O [m^-3], V [m/s], s [-] >= 0; below s = 1e-3 the leading term of f (its two terms cancel).
-    """
+    n_O [m^-3], V [m/s], s [-] >= 0; below s = 1e-3 the leading term of f (its two terms cancel)."""
     n_o = _non_negative("oxygen_number_density", oxygen_number_density)
     speed = _non_negative("speed", speed)
     s = _non_negative("speed_ratio", speed_ratio)
@@ -120,10 +111,8 @@ def sesam_accommodation(
     substrate_coefficient: float = SUBSTRATE_COEFFICIENT,
     surface_mass_amu: float = SURFACE_MASS_AMU,
 ) -> float:
-    """SESAM alpha = (1 - theta) alpha_s + theta (Pilinski et al. 2013).
-
-    n_O [m^-3], ``mean_mass`` [kg], ``speed`` V [m/s] >= 0, ``speed_ratio`` s [-].
-    """
+    """SESAM alpha = (1 - theta) alpha_s + theta (Pilinski et al. 2013). n_O [m^-3],
+    ``mean_mass`` [kg], ``speed`` V [m/s] >= 0, ``speed_ratio`` s [-]."""
     clean = goodman_accommodation(mean_mass, substrate_coefficient, surface_mass_amu)
     pressure_pa = sesam_oxygen_pressure(oxygen_number_density, speed, speed_ratio)
     pressure_torr = pressure_pa / PASCAL_PER_TORR
@@ -212,14 +201,9 @@ def normalize_model_name(name) -> str:
 
 def accommodation(name: str, atmosphere: AtmosphereState, speed: float, **options) -> float:
     """Energy accommodation coefficient alpha in [0, 1] of the model ``name`` (case-insensitive).
-
-    Parameters
-    ----------
-    speed : relative to the atmosphere [m/s], >= 0 (SESAM only)
-    options : :data:`ACCOMMODATION_OPTIONS` (``langmuir_constant`` [m^3/K])
-
-    ValueError: an unknown model or option (listing the allowed), or an invalid value.
-    """
+    speed: relative to the atmosphere [m/s], >= 0 (SESAM only).
+    options: :data:`ACCOMMODATION_OPTIONS` (``langmuir_constant`` [m^3/K]).
+    ValueError: an unknown model or option (listing the allowed), or an invalid value."""
     key = normalize_model_name(name)
     if not isinstance(atmosphere, AtmosphereState):
         raise ValueError(f"atmosphere must be an AtmosphereState, got {type(atmosphere).__name__}")

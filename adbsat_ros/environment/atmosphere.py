@@ -1,8 +1,6 @@
 """Thermosphere state from NRLMSISE-00 (Picone et al. 2002), ``gtd7``/``gtd7d`` with SI outputs.
-
-``gtd7d`` (the default, as ADBSat's AnO flag) adds anomalous oxygen to the mass density.
-Units m, kg, K, rad. docs/physics.md, section 5.2.
-"""
+``gtd7d`` (the default, as ADBSat's AnO flag) adds anomalous oxygen to the mass density. Units m,
+kg, K, rad. docs/physics.md, section 5.2."""
 
 from __future__ import annotations
 
@@ -38,12 +36,10 @@ _UTC = _dt.timezone.utc
 
 @dataclass(frozen=True)
 class SpaceWeather:
-    """Solar and geomagnetic activity indices as NRLMSISE-00 defines them, each >= 0.
-
-    ``f107``: previous day's F10.7 [sfu]; ``f107a``: its 81-day centred mean; ``ap``: daily Ap;
+    """Solar and geomagnetic activity indices as NRLMSISE-00 defines them, each >= 0. ``f107``:
+    previous day's F10.7 [sfu]; ``f107a``: its 81-day centred mean; ``ap``: daily Ap;
     ``ap_history``: NRLMSISE-00's 7-value Ap array, used by the storm-time formulation if given.
-    ValueError: an index negative or non-finite, or a history not 7 long.
-    """
+    ValueError: an index negative or non-finite, or a history not 7 long."""
 
     f107: float
     f107a: float
@@ -68,10 +64,8 @@ class SpaceWeather:
 @dataclass(frozen=True)
 class AtmosphereState:
     """Neutral atmosphere at one place and time (NRLMSISE-00 output in SI units).
-
-    ``number_densities`` [m^-3] by species (with "AnO"; O, H, N 0 below 72.5 km); ``mass_density``
-    [kg/m^3], with anomalous oxygen iff ``anomalous_oxygen``; temperatures [K].
-    """
+    ``number_densities`` [m^-3] by species (with "AnO"; O, H, N 0 below 72.5 km);
+    ``mass_density`` [kg/m^3], with anomalous oxygen iff ``anomalous_oxygen``; temperatures [K]."""
 
     number_densities: Mapping[str, float]
     mass_density: float
@@ -162,17 +156,12 @@ def evaluate_atmosphere(
     local_solar_time_h: float | None = None,
 ) -> AtmosphereState:
     """Evaluate NRLMSISE-00 at one point; an AtmosphereState.
-
-    Parameters
-    ----------
-    time : UTC (aware, or naive meaning UTC), years 1958 to 2100
-    altitude : above the WGS-84 ellipsoid [m], 0 to 1000 km
-    latitude, longitude : geodetic latitude [rad] in [-pi/2, pi/2], east longitude [rad]
-    anomalous_oxygen : in the mixture and mass density (``gtd7d``, default) or not (``gtd7``)
-    local_solar_time_h : [h]; default UT + longitude [deg] / 15 (override for published cases)
-
-    ValueError: an input out of range, non-finite or of the wrong type (named).
-    """
+    time: UTC (aware, or naive meaning UTC), years 1958 to 2100.
+    altitude: above the WGS-84 ellipsoid [m], 0 to 1000 km.
+    latitude, longitude: geodetic latitude [rad] in [-pi/2, pi/2], east longitude [rad].
+    anomalous_oxygen: in the mixture and mass density (``gtd7d``, default) or not (``gtd7``).
+    local_solar_time_h: [h]; default UT + longitude [deg] / 15 (override for published cases).
+    ValueError: an input out of range, non-finite or of the wrong type (named)."""
     time = check_time(time)
     altitude = check_altitude(altitude)
     latitude = _finite("latitude", latitude)

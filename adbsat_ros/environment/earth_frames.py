@@ -1,10 +1,7 @@
-"""Earth orientation: GCRF (ECI) <-> ITRF (ECEF) with pyerfa.
-
-The CIO-based rotation ``W(xp, yp) R3(ERA(UT1)) Q(TT)`` (``erfa.c2i06a`` or ``erfa.c2i00b``,
-``erfa.era00``, ``erfa.pom00``); velocities carry ``v_ecef = R v_eci - omega x r_ecef``.
-Defaults UT1 = UTC, zero polar motion; accuracy and the Vallado et al. (2006) check:
-docs/physics.md, section 5.4. Units: m, m/s, rad.
-"""
+"""Earth orientation: GCRF (ECI) <-> ITRF (ECEF) with pyerfa; units m, m/s, rad. The CIO-based
+rotation ``W(xp, yp) R3(ERA(UT1)) Q(TT)`` (``erfa.c2i06a`` or ``erfa.c2i00b``, ``erfa.era00``,
+``erfa.pom00``); velocities: ``v_ecef = R v_eci - omega x r_ecef``. Defaults UT1 = UTC, no polar
+motion; accuracy, Vallado et al. (2006) check: docs/physics.md, section 5.4."""
 
 from __future__ import annotations
 
@@ -40,10 +37,8 @@ _ARCSEC = math.pi / (180.0 * 3600.0)
 @dataclass(frozen=True, eq=False)
 class EarthOrientation:
     """Orientation of the ITRF (ECEF) relative to the GCRF (ECI) at one (naive UTC) ``time``.
-
     ``celestial_to_terrestrial``: R, ``r_ecef = R @ r_eci``; ``earth_rotation_angle``: ERA(UT1)
-    [rad]; ``rotation_vector_ecef``: angular velocity of ECEF relative to ECI, ECEF axes [rad/s].
-    """
+    [rad]; ``rotation_vector_ecef``: angular velocity of ECEF relative to ECI, ECEF axes [rad/s]."""
 
     time: _dt.datetime
     celestial_to_terrestrial: np.ndarray
@@ -96,8 +91,7 @@ def _celestial_to_intermediate_at(model: str, bucket: int, step_days: float) -> 
 def check_orientation_options(
     ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
 ):
-    """``(ut1_minus_utc [s], x_p [rad], y_p [rad], model, step [s])`` checked; ValueError
-    naming an option out of range or an unknown model."""
+    """``(ut1_minus_utc [s], x_p, y_p [rad], model, step [s])``; ValueError naming a bad one."""
     ut1_minus_utc = float(ut1_minus_utc)
     if not math.isfinite(ut1_minus_utc) or abs(ut1_minus_utc) > 1.0:
         raise ValueError(
@@ -131,11 +125,8 @@ def check_orientation_options(
 def rotation_terms(
     jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step
 ):
-    """R (3, 3), ERA [rad] and omega (ECEF, [rad/s]) of :func:`earth_orientation`.
-
-    ``jd1`` + ``day_fraction``: the UTC two-part Julian date; ``tt_minus_utc`` [day]; the rest
-    as :func:`check_orientation_options` returns them.
-    """
+    """R (3, 3), ERA [rad], omega (ECEF, [rad/s]) at UTC two-part JD ``jd1`` + ``day_fraction``;
+    ``tt_minus_utc`` [day]; the rest as :func:`check_orientation_options` returns them."""
     tt2 = day_fraction + tt_minus_utc
     if step > 0.0:
         step_days = step / SECONDS_PER_DAY
@@ -158,34 +149,13 @@ def earth_orientation(
     precession_nutation: str = "iau2006a",
     precession_nutation_step: float = 0.0,
 ) -> EarthOrientation:
-    """Earth orientation (GCRF -> ITRF rotation) at a UTC instant.
-
-    Parameters
-    ----------
-    time : datetime.datetime
-        UTC instant; timezone-aware, or naive meaning UTC.
-    ut1_minus_utc : float, optional
-        UT1 - UTC [s], |.| <= 1 (default 0, docs/physics.md, section 5.4).
-    polar_motion : pair of float, optional
-        Pole coordinates (x_p, y_p) [rad], within 10 arcsec. Default (0, 0).
-    precession_nutation : {"iau2006a", "iau2000b"}, optional
-        IAU 2006/2000A (``erfa.c2i06a``, default) or IAU 2000B (``erfa.c2i00b``, within 1 mas
-        of 2000A over 1995-2050).
-    precession_nutation_step : float, optional
-        0 (default): precession-nutation at ``time``; a step [s] in (0, 3600]: at the centre
-        of the step-long TT interval holding ``time`` (memoised; ERA stays exact; a 60 s step
-        errs by under 1e-9 rad).
-
-    Returns
-    -------
-    EarthOrientation
-
-    Raises
-    ------
-    ValueError
-        Naming the input: a ``time`` that is no datetime, an option out of range, an unknown
-        model.
-    """
+    """Earth orientation (GCRF -> ITRF rotation) at a UTC instant, an :class:`EarthOrientation`.
+    time: UTC datetime, timezone-aware or naive meaning UTC.
+    ut1_minus_utc: UT1 - UTC [s], |.| <= 1 (default 0, docs/physics.md, section 5.4).
+    polar_motion: pole coordinates (x_p, y_p) [rad], within 10 arcsec.
+    precession_nutation: ``"iau2006a"`` (``erfa.c2i06a``) or ``"iau2000b"`` (within 1 mas of 2000A).
+    precession_nutation_step: 0, or [s] in (0, 3600]: Q at its TT interval's centre, memoised.
+    ValueError: a ``time`` that is no datetime, an option out of range, an unknown model (named)."""
     time = utc_datetime(time)
     options = check_orientation_options(
         ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step

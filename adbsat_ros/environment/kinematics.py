@@ -1,12 +1,7 @@
-"""An orbital state's frames, geodetic coordinates and relative velocity at one instant.
-
-:func:`state_kinematics` is the fast path of a knot's evaluation (every message of a flight at
-the knots' rate): the Earth rotation, both frames, WGS-84 coordinates and the relative
-velocity in plain float arithmetic, ERFA's operations in their order.
-:func:`state_kinematics_reference` computes the same with erfa (``era00``, ``c2tcio``,
-``gc2gd``) and numpy; ``test/environment/test_kinematics.py`` asserts they agree
-(docs/architecture.md, fast paths). Units: m, m/s, rad.
-"""
+"""An orbital state's frames, geodetic coordinates, relative velocity at one instant; m, m/s, rad.
+:func:`state_kinematics` (a knot's fast path) does it in plain floats, ERFA's operations in their
+order; :func:`state_kinematics_reference` with erfa (``era00``, ``c2tcio``, ``gc2gd``) and numpy;
+``test/environment/test_kinematics.py`` asserts they agree (docs/architecture.md, fast paths)."""
 
 from __future__ import annotations
 
@@ -53,8 +48,7 @@ def earth_rotation_angle(ut1_day: float, ut1_fraction: float) -> float:
 def rotation_floats(
     jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step
 ) -> tuple:
-    """:func:`~.earth_frames.rotation_terms` as ``(R, ERA, omega)``: R 9 floats row-major, omega
-    3 floats."""
+    """:func:`~.earth_frames.rotation_terms` as ``(R, ERA, omega)``: R 9 floats, row-major."""
     if xp != 0.0 or yp != 0.0:  # (polar motion: erfa's)
         matrix, era, axis = rotation_terms(
             jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step
@@ -125,13 +119,10 @@ def geodetic_of_floats(x: float, y: float, z: float) -> tuple:
 
 def state_kinematics(matrix, omega, frame, position, velocity, wind, wind_frame, earth_rotation):
     """``(vectors, latitude, longitude, altitude, |v_rel|)`` of one state, in floats.
-
-    matrix: R (``r_ecef = R r_eci``), 9 floats row-major; omega: the ECEF frame's angular
-    velocity, 3 floats [rad/s]; frame ``"eci"`` or ``"ecef"`` of ``position`` and ``velocity``
-    (3 floats each); wind: 3 floats or None, in ``wind_frame`` (``"enu"`` or ``"ecef"``);
-    earth_rotation: the air co-rotating. ``vectors``: the 3-tuples of the position (ECI, ECEF),
-    velocity (ECI, ECEF) and relative velocity (ECI, ECEF), in that order.
-    """
+    matrix: R (``r_ecef = R r_eci``), 9 floats row-major; omega: ECEF's angular velocity [rad/s];
+    frame ``"eci"``/``"ecef"`` of ``position``, ``velocity``; wind: None or in ``wind_frame``
+    (``"enu"``/``"ecef"``); earth_rotation: the air co-rotating. ``vectors``: 3-tuples position,
+    velocity, relative velocity, each ECI then ECEF."""
     m0, m1, m2, m3, m4, m5, m6, m7, m8 = matrix
     w0, w1, w2 = omega
     if frame == "eci":
@@ -180,8 +171,7 @@ def state_kinematics(matrix, omega, frame, position, velocity, wind, wind_frame,
 def state_kinematics_reference(
     rotation, omega, frame, position, velocity, wind, wind_frame, earth_rotation
 ):
-    """:func:`state_kinematics` with erfa and numpy: R (3, 3) and omega (3,) arrays, ``vectors``
-    a (6, 3) array."""
+    """:func:`state_kinematics` with erfa and numpy: R (3, 3), omega (3,), ``vectors`` (6, 3)."""
     position, velocity = np.array(position, dtype=float), np.array(velocity, dtype=float)
     if frame == "eci":
         position_eci, velocity_eci = position, velocity
@@ -227,5 +217,4 @@ def _rotate_back(m, x, y, z) -> tuple:
 
 
 def _minus(a, b) -> tuple:
-    """a - b of two 3-tuples."""
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])

@@ -1,7 +1,5 @@
 """The health of the wrench computation: its diagnostic level and message, and message losses.
-
-Shared by the node and bag analysis; rules: docs/node.md (``/diagnostics``, "Lost messages").
-"""
+Shared by the node and bag analysis; rules: docs/node.md (``/diagnostics``, "Lost messages")."""
 
 from __future__ import annotations
 
@@ -36,10 +34,8 @@ def health_level(
 
 class Health:
     """What the diagnostic status of one estimator is made of, updated message by message.
-
     ticks_per_second: time units per second of ``now`` arguments (1e9 for bag nanoseconds).
-    window: compute times kept (the latest ones).
-    """
+    window: compute times kept (the latest ones)."""
 
     def __init__(self, ticks_per_second: float = 1.0, window: int = COMPUTE_WINDOW):
         self.ticks_per_second = ticks_per_second
@@ -85,11 +81,9 @@ class Health:
 
 
 class StampGaps:
-    """Messages missing from a regular stream, estimated from its stamps [s].
-
-    A step over 1.5 intervals counts round(step / interval) - 1 ``missing``; any other step is the
-    new ``interval``; two equal gaps in a row (within 10 %) are a slower stream.
-    """
+    """Messages missing from a regular stream, estimated from its stamps [s]. A step over 1.5
+    intervals counts round(step / interval) - 1 ``missing``; any other step is the new
+    ``interval``; two equal gaps in a row (within 10 %) are a slower stream."""
 
     def __init__(self):
         self.missing = 0

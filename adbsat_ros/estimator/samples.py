@@ -1,5 +1,4 @@
-"""What the estimator returns for one message (a :class:`WrenchSample` or a :class:`Rejection`),
-and the orbital state it keeps."""
+"""What the estimator returns per message (:class:`WrenchSample`, :class:`Rejection`) and keeps."""
 
 from __future__ import annotations
 
@@ -44,10 +43,8 @@ class Rejection(Exception):
 
 @dataclass(frozen=True, eq=False)
 class OrbitalState:
-    """The latest accepted orbital state, in the state frame (ECI or ECEF) [m, m/s].
-
-    Equal to another with the same stamp, position and velocity (the knots' key); not hashable.
-    """
+    """The latest accepted orbital state, in the state frame (ECI or ECEF) [m, m/s]. Equal to
+    another with the same stamp, position and velocity (the knots' key); not hashable."""
 
     stamp: float
     position: np.ndarray
@@ -69,8 +66,7 @@ class OrbitalState:
 
 @dataclass(frozen=True, eq=False)
 class JointSample:
-    """The joints of an articulated body at one message (``dynamic_pressure`` q [Pa]); efforts
-    and link loads made when read."""
+    """An articulated body's joints at one message (``dynamic_pressure`` q [Pa]); loads on read."""
 
     coefficients: ArticulatedCoefficients
     dynamic_pressure: float
@@ -99,8 +95,7 @@ class JointSample:
 
     @functools.cached_property
     def link_torques(self) -> np.ndarray:
-        """Every link's torque [N m] (L, 3) about the centre of mass, body frame (summing to the
-        wrench's)."""
+        """Each link's torque [N m] (L, 3) about the CoM, body frame (summing to the wrench's)."""
         reference = self.coefficients.total.reference
         scale = self.dynamic_pressure * reference.area * reference.length
         return scale * self.coefficients.link_moment
@@ -123,11 +118,9 @@ class SolarSample:
 @dataclass(frozen=True, eq=False)
 class WrenchSample:
     """The aerodynamic wrench at one attitude message, body (mesh) frame, about the centre of mass.
-
     ``stamp`` [s], UTC ``time``; ``force`` [N], ``torque`` [N m]; C_F, C_M by ``reference_area``
     [m^2] and ``reference_length`` [m]; ``dynamic_pressure`` [Pa]; ``flow_direction_body``: unit gas
-    motion (zero at rest); ``compute_seconds`` [s]; ``rotation``: body to state frame, row-major.
-    """
+    motion (zero at rest); ``compute_seconds`` [s]; ``rotation``: body to state frame, row-major."""
 
     stamp: float
     time: _dt.datetime
@@ -172,11 +165,9 @@ class WrenchSample:
 
     def state_frame_wrench(self, mass: float, inertia) -> tuple:
         """What a propagator takes, of the aerodynamic wrench plus the solar one.
-
         mass [kg] (0 or less: none); inertia [kg m^2]: 9 floats, row-major, body frame, about CoM.
         Returns (force [N] state frame, torque [N m] body frame, force / mass [m/s^2] state frame or
-        None, inertia^-1 torque [rad/s^2] body frame, zero without ``inertia``).
-        """
+        None, inertia^-1 torque [rad/s^2] body frame, zero without ``inertia``)."""
         force = np.array(self.rotation).reshape(3, 3) @ self.total_force
         torque = self.total_torque
         if mass <= 0.0:

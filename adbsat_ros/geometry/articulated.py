@@ -1,8 +1,6 @@
 """Articulated satellites: a URDF's links and joints as panels for any joint configuration.
-
 Joints fixed, revolute, continuous, prismatic, mimic; at zero the panels equal the parts merged
-into one mesh, bit for bit. Units m, rad; mesh frame G = the root link's frame.
-"""
+into one mesh, bit for bit. Units m, rad; mesh frame G = the root link's frame."""
 
 from __future__ import annotations
 
@@ -39,8 +37,7 @@ EDGE_FRACTION = 1.0 / 12.0
 class BodyLoads:
     """Per-link Cf and Cm (body frame; summing to Cf_G, Cm_G), and per moving joint the
     coefficient of its axis moment (revolute; times q A_ref L_ref: N m) or axial force
-    (prismatic; times q A_ref: N).
-    """
+    (prismatic; times q A_ref: N)."""
 
     link_force: np.ndarray
     link_moment: np.ndarray
@@ -92,10 +89,8 @@ def _primitive(geometry, max_edge_fraction: float, resolve) -> trimesh.Trimesh:
 
 class ArticulatedBody:
     """A satellite of links and joints from a URDF (:meth:`from_urdf`), as panels in any pose.
-
     ``joints``: the moving joints by name; ``root``: the link whose frame is the body frame;
-    ``panel_link``: each panel's link; ``link_spans``: each link's (start, stop) of panels.
-    """
+    ``panel_link``: each panel's link; ``link_spans``: each link's (start, stop) of panels."""
 
     def __init__(
         self,
@@ -177,10 +172,8 @@ class ArticulatedBody:
         source: str | None = None,
     ) -> "ArticulatedBody":
         """Read a URDF: a file path, or its XML text (as the ``robot_description`` parameter).
-
         Meshes found relative to the URDF (``package://`` by yourdfpy); 1 mm to 200 m across unless
-        ``accept_size``. MeshError: naming the file and element (unreadable, unsupported...).
-        """
+        ``accept_size``. MeshError: naming the file and element (unreadable, unsupported...)."""
         text = str(urdf)
         is_xml = text.lstrip().startswith("<")
         path = None if is_xml else os.fspath(urdf)
@@ -195,9 +188,7 @@ class ArticulatedBody:
 
     def positions(self, values: Mapping[str, float] | None = None) -> dict:
         """``{name: value}`` [rad or m] of every moving joint, completed with zeros.
-
-        ValueError: an unknown joint, or a value non-finite or outside its limits.
-        """
+        ValueError: an unknown joint, or a value non-finite or outside its limits."""
         out = {name: 0.0 for name in self.joints}
         for name, value in (values or {}).items():
             joint = self.joints.get(name)

@@ -1,7 +1,5 @@
 """Triangulated satellite surface: :class:`PanelMesh` (mesh frame G, metres) and its checks.
-
-trimesh is imported only when a mesh is checked (docs/benchmarks.md).
-"""
+trimesh is imported only when a mesh is checked (docs/benchmarks.md)."""
 
 from __future__ import annotations
 
@@ -34,8 +32,7 @@ class MeshError(ValueError):
 @dataclass(frozen=True)
 class MeshReport:
     """What the loader found and changed: degenerate faces dropped, inward components flipped, open
-    components (occluding from both sides), closed and wound, one convex body (no self-shading).
-    """
+    components (occluding from both sides), closed and wound, one convex body (no self-shading)."""
 
     dropped_zero_area: int = 0
     flipped_components: int = 0
@@ -47,11 +44,9 @@ class MeshReport:
 
 @dataclass(frozen=True, eq=False)
 class PanelMesh:
-    """Triangle panels of a satellite surface in the mesh frame G [m].
-
-    ``vertices`` (N, 3, 3) [m]; ``normals`` outward, (P2 - P1) x (P3 - P1) normalised; ``areas``
-    [m^2]; ``barycentres`` [m]; ``material_index`` into ``material_names`` (first appearance order).
-    """
+    """Triangle panels of a satellite surface in the mesh frame G [m]. ``vertices`` (N, 3, 3)
+    [m]; ``normals`` outward, (P2 - P1) x (P3 - P1) normalised; ``areas`` [m^2]; ``barycentres``
+    [m]; ``material_index`` into ``material_names`` (by first use)."""
 
     vertices: np.ndarray
     normals: np.ndarray
@@ -123,11 +118,8 @@ def panels_from_arrays(
     fix_normals=True,
 ) -> PanelMesh:
     """A checked :class:`PanelMesh` of ``vertices`` (V, 3) [m] and ``faces`` (N, 3).
-
-    The winding sets the normal (right-hand rule); ``fix_normals`` flips closed components of
-    negative volume. MeshError: no faces, NaN/Inf or beyond ``mesh_coordinate``, bad indices, or
-    nothing left after dropping degenerate faces.
-    """
+    The winding sets the normal (right-hand rule); ``fix_normals`` flips inward closed components.
+    MeshError: no faces, NaN/Inf or beyond ``mesh_coordinate``, bad indices, all degenerate."""
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces)
     if vertices.ndim != 2 or vertices.shape[1] != 3:

@@ -1,11 +1,7 @@
-"""The one hand-made codec: CDR bytes of the attitude in and the wrench out, with ``struct``.
-
-It reads QuaternionStamped and writes WrenchStamped/AccelStamped without building message
-objects (docs/benchmarks.md); tests compare it with rosbags' and rclpy's codecs. Layout: plain
-CDR (XCDR1), a 4-byte encapsulation header, then the fields, each aligned to its size from the
-end of that header; a std_msgs/Header is int32 sec, uint32 nanosec, frame_id (uint32 length
-including the NUL, bytes, NUL). Anything else raises ValueError (callers use a full codec).
-"""
+"""The one hand-made codec, with ``struct``: CDR bytes of QuaternionStamped in, WrenchStamped and
+AccelStamped out, without message objects (docs/benchmarks.md). Plain CDR (XCDR1): a 4-byte
+encapsulation header, fields aligned to their size from its end; a std_msgs/Header is int32 sec,
+uint32 nanosec, frame_id (uint32 length with the NUL, bytes, NUL). Else ValueError (full codec)."""
 
 from __future__ import annotations
 
@@ -24,8 +20,7 @@ class Stamp(NamedTuple):
 
 
 def header_stamp(raw) -> Stamp:
-    """The header stamp of a CDR message whose first field is a std_msgs/Header; ValueError if
-    ``raw`` is too short or not plain CDR."""
+    """The header stamp of a CDR message starting with a std_msgs/Header; ValueError if not one."""
     if len(raw) < 12 or raw[0] != 0 or raw[1] not in (0, 1):
         raise ValueError("not a plain-CDR stamped message")
     return Stamp._make(struct.unpack_from("<iI" if raw[1] == 1 else ">iI", raw, 4))
@@ -47,8 +42,7 @@ class AttitudeFields(NamedTuple):
 
 
 def quaternion_stamped_fields(raw) -> AttitudeFields:
-    """Header stamp and quaternion (x, y, z, w as sent) of a CDR geometry_msgs/QuaternionStamped;
-    ValueError if ``raw`` is not exactly a plain-CDR QuaternionStamped."""
+    """Stamp, quaternion (x, y, z, w as sent) of a plain-CDR QuaternionStamped; else ValueError."""
     if len(raw) < 16 or raw[0] != 0 or raw[1] not in (0, 1):
         raise ValueError("not a plain-CDR stamped message")
     order = "<" if raw[1] == 1 else ">"
@@ -61,19 +55,8 @@ def quaternion_stamped_fields(raw) -> AttitudeFields:
 
 
 def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> bytes:
-    """CDR bytes (little endian) of a geometry_msgs/WrenchStamped.
-
-    Byte for byte what rosbags writes (rclpy's leaves the padding before the float64s
-    uninitialised).
-
-    Parameters
-    ----------
-    sec, nanosec : int
-        Header stamp (builtin_interfaces/Time).
-    frame_id : str
-    force, torque : sequence of 3 float
-        Force [N] and torque [N m] (or coefficients), written as float64.
-    """
+    """CDR bytes (little endian) of a geometry_msgs/WrenchStamped, byte for byte as rosbags's.
+    sec, nanosec: header stamp; force [N], torque [N m] (or coefficients): 3 floats each."""
     name = frame_id.encode("utf-8") + b"\x00"
     # encapsulation (4) + sec, nanosec (8) + string length (4) + name; the six float64 start on a
     # multiple of 8 counted from the end of the encapsulation header
@@ -83,6 +66,5 @@ def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> 
 
 
 def accel_stamped_cdr(sec: int, nanosec: int, frame_id: str, linear, angular) -> bytes:
-    """CDR bytes of a geometry_msgs/AccelStamped: a header and two Vector3 (linear [m/s^2],
-    angular [rad/s^2]), the layout of a WrenchStamped, so the same bytes."""
+    """CDR bytes of a geometry_msgs/AccelStamped (linear [m/s^2], angular [rad/s^2]): a Wrench's."""
     return wrench_stamped_cdr(sec, nanosec, frame_id, linear, angular)

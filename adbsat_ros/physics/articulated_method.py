@@ -29,11 +29,9 @@ from adbsat_ros.shading.shader import make_shader
 
 
 class ArticulatedMethod:
-    """The panel method of an :class:`ArticulatedBody` at any joint positions.
-
-    Parameters as for :class:`PanelMethod` (materials by the URDF's material names); ``reference``:
-    A_ref, L_ref and moment point (body frame), unset ones from the body at zero joint positions.
-    """
+    """The panel method of an :class:`ArticulatedBody` at any joint positions. Parameters as for
+    :class:`PanelMethod` (materials by the URDF's material names); ``reference``: A_ref, L_ref
+    and moment point (body frame), unset ones from the body at zero joint positions."""
 
     def __init__(
         self,
@@ -114,8 +112,7 @@ class ArticulatedMethod:
         return tuple(method.surface_with(**changes) for *_, method in self._links)
 
     def lighting_of(self, u_G, positions=None):
-        """The method's own shading of the body at ``positions`` for flow direction ``u_G`` (G), or
-        None."""
+        """The method's shading of the body at ``positions`` for flow ``u_G`` (G), or None."""
         if self.shading == "none":
             return None
         # (no topology store: each configuration's posed panels would be another entry)
@@ -134,14 +131,10 @@ class ArticulatedMethod:
         surface=None,
     ) -> ArticulatedCoefficients:
         """Coefficients at joint ``positions`` and one attitude.
-
         positions: joint positions [rad or m] (others at zero), or their :meth:`configuration`.
         aoa, aos: angle of attack and sideslip [rad], or ``flow_direction`` (G) instead.
-        lighting: the posed body's (panels in ``body.mesh(positions)`` order); None for no
-        occlusion.
-        ValueError: a bad joint position (named, with its limits), or a lighting of another panel
-        count.
-        """
+        lighting: the posed body's (panels in ``body.mesh(positions)`` order); None: no occlusion.
+        ValueError: a bad joint position (named, with its limits), or a lighting of another size."""
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         if not isinstance(positions, Configuration):
             positions = self.configuration(positions)
@@ -206,8 +199,7 @@ class ArticulatedMethod:
         )
 
     def configuration(self, positions: Mapping[str, float] | None = None) -> Configuration:
-        """The :class:`Configuration` of joint ``positions`` [rad or m]; ValueError naming a bad
-        one."""
+        """The :class:`Configuration` of ``positions`` [rad or m]; ValueError naming bad ones."""
         positions = self.body.positions(positions)
         poses = link_frames(self.body, positions)
         joint_positions = np.array(poses.key, dtype=float)

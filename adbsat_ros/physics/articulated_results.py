@@ -17,12 +17,10 @@ from adbsat_ros.physics.posed_facets import Posing
 
 
 class LoadMaps:
-    """What makes a configuration's load map from the links' (F, M, S) to every output.
-
-    A link's coefficients are F / A_ref and (M - r x F) / (A_ref L_ref); joint j (axis a through o)
-    has effort coefficient sum_(l in C_j) (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns,
-    sum_(l in C_j) a . F_l / A_ref if it slides (docs/physics.md, section 8).
-    """
+    """What makes a configuration's load map from the links' (F, M, S) to every output. A link's
+    coefficients are F / A_ref and (M - r x F) / (A_ref L_ref); joint j (axis a through o) has
+    effort coefficient sum_(l in C_j) (a . M_l - (a x o) . F_l) / (A_ref L_ref) if it turns,
+    sum_(l in C_j) a . F_l / A_ref if it slides (docs/physics.md, section 8)."""
 
     def __init__(self, links: np.ndarray, efforts: slice, columns: EffortColumns):
         self.links, self.efforts, self.columns = links, efforts, columns
@@ -44,10 +42,7 @@ class LoadMaps:
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class Configuration:
-    """Joint positions checked and posed, for every attitude at those positions.
-
-    ``positions`` [rad or m] by name; ``joint_positions`` (J,) in the body's order.
-    """
+    """Checked, posed joints: ``positions`` [rad or m] by name; ``joint_positions`` (J,)."""
 
     positions: dict
     poses: Poses
@@ -63,10 +58,8 @@ class Configuration:
 
 class ArticulatedCoefficients(NamedTuple):
     """The coefficients of an articulated body at one configuration and flow direction.
-
     ``total``: the whole body's; ``joint_positions`` [rad or m]; ``effort_scales`` (J,): q times
-    these turns effort coefficients into efforts, A_ref L_ref [m^3] or A_ref [m^2] (prismatic).
-    """
+    these turns effort coefficients into efforts, A_ref L_ref [m^3] or A_ref [m^2] (prismatic)."""
 
     total: AeroCoefficients
     joint_names: tuple

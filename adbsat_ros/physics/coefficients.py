@@ -1,6 +1,5 @@
 """Reference quantities and the panel method's result: force and moment coefficients in the mesh
-frame G, and on demand in ADBSat's wind, flight and body frames (:mod:`adbsat_ros.geometry.frames`).
-"""
+frame G, and on demand in ADBSat's wind, flight, body frames (:mod:`adbsat_ros.geometry.frames`)."""
 
 from __future__ import annotations
 
@@ -20,12 +19,9 @@ from adbsat_ros.shading.lighting import PanelLighting
 
 @dataclass(frozen=True)
 class Reference:
-    """Reference quantities of the coefficients; None means ADBSat's default.
-
-    area: A_ref [m^2]; default half the total wetted area (ADBSat's choice, not the projected area).
-    length: L_ref [m]; default the x-extent of the mesh.
-    moment_point: point for moments, mesh frame [m], (3,); default the mesh origin.
-    """
+    """Reference quantities of the coefficients; None means ADBSat's default. area: A_ref [m^2],
+    default half the total wetted area (ADBSat's, not the projected area); length: L_ref [m],
+    default the mesh's x-extent; moment_point: mesh frame [m], (3,), default the mesh origin."""
 
     area: float | None = None
     length: float | None = None
@@ -44,8 +40,7 @@ class Reference:
         object.__setattr__(self, "moment_point", tuple(float(v) for v in point))
 
     def resolved(self, mesh: PanelMesh, name: str = "moment_point") -> "Reference":
-        """A copy with defaults from ``mesh``; ValueError unless the moment point is within ten body
-        sizes."""
+        """A copy with ``mesh``'s defaults; ValueError if the moment point is ten body sizes off."""
         body_point(name, self.moment_point, *mesh.bounds.tolist())
         if self.length is None and not mesh.x_extent > 0.0:
             raise ValueError(
@@ -61,10 +56,8 @@ class Reference:
 
 class AeroCoefficients:
     """Aerodynamic coefficients of one attitude; other axes and per-panel values computed on access.
-
     flow_direction: unit gas motion relative to the body, G; Cf_G, Cm_G: in G, moments about
-    ``reference.moment_point``; area_projected: lit area normal to the flow [m^2] (``AreaProj``).
-    """
+    ``reference.moment_point``; area_projected: lit area normal to the flow [m^2] (``AreaProj``)."""
 
     def __init__(
         self,
@@ -85,10 +78,9 @@ class AeroCoefficients:
         self.reference = reference
         self.area_projected = area_projected
         self.model = model
-        # (cos_delta, cp, ctau, ctau / sin(delta), normals) per panel, or per facet with panel_index
-        # mapping panels to facets; ctau may be None (then made from ctau / sin(delta) and the
-        # (G, 3) facet normals when asked for), ctau / sin(delta) and normals are None when ctau is
-        # given; or a function without arguments that returns that tuple when it is first needed
+        # (cos_delta, cp, ctau, ctau / sin(delta), normals) per panel, or per facet by panel_index;
+        # ctau None: made from ctau / sin(delta) and the (G, 3) facet normals when asked for (else
+        # those two are None); or a no-argument function returning that tuple when first needed
         self._panel_source = panel_values
         self._panel_index = panel_index
         self._lighting = lighting
@@ -214,8 +206,7 @@ class AeroCoefficients:
         return dynamic_pressure * self.reference.area * self.reference.length * self.Cm_G
 
     def to_dict(self, flow: FreeStream | None = None, per_panel: bool = False) -> dict:
-        """A JSON-ready dict with ADBSat's names (angles in degrees); with ``flow``, force and
-        torque too."""
+        """A JSON-ready dict, ADBSat's names (angles [deg]); with ``flow``, force and torque too."""
         out = {
             "aoa_deg": math.degrees(self.aoa),
             "aos_deg": math.degrees(self.aos),

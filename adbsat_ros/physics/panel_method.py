@@ -35,12 +35,9 @@ OWN_SHADING = object()
 
 class PanelMethod:
     """A mesh with a gas-surface model and materials, ready to evaluate at any attitude.
-
     ``model``: a name of :data:`~adbsat_ros.physics.gsi_models.MODELS`; ``materials``: default
     alpha = sigma = 1, T_w = 300 K; ``group_facets``: False evaluates every panel (a test
-    reference);
-    ``shading``: ``"raycast"`` (default), ``"projection"`` (ADBSat's) or ``"none"``.
-    """
+    reference); ``shading``: ``"raycast"`` (default), ``"projection"`` (ADBSat's) or ``"none"``."""
 
     def __init__(
         self,
@@ -79,8 +76,7 @@ class PanelMethod:
 
     # ------------------------------------------------------------------------------ per panel
     def surface_with(self, **changes):
-        """Per-panel surface parameters with some set on every panel (e.g.
-        ``surface_with(alpha=0.9)``)."""
+        """Per-panel surface parameters, some set on every panel (``surface_with(alpha=0.9)``)."""
         values = {name: getattr(self.surface, name) for name in SURFACE_PARAMETERS}
         for name, value in changes.items():
             if name not in values:
@@ -89,11 +85,8 @@ class PanelMethod:
         return PanelSurface(**values)
 
     def panel_coefficients(self, u_G, flow: FreeStream, surface=None):
-        """Incidence and local coefficients of every panel: cos_delta, sin_delta, cp, ctau, (N,) or
-        (M, N).
-
-        u_G: unit flow direction(s) in G, (3,) or (M, 3).
-        """
+        """cos_delta, sin_delta, cp, ctau of every panel, (N,) or (M, N), at the unit flow
+        direction(s) u_G, G, (3,) or (M, 3)."""
         return self._local_coefficients(u_G, self._inward_normals_T, surface or self.surface, flow)
 
     def _local_coefficients(self, u_G, inward_normals_T, surface, flow):
@@ -107,8 +100,7 @@ class PanelMethod:
         return c, sigma, np.asarray(cp, dtype=float), np.asarray(ctau, dtype=float)
 
     def facet_coefficients(self, u, inward_normals_T, facet_surface, flow):
-        """c, c_p, c_tau / sin(delta) and c_tau (or None) of facets of normals (3, G) for unit
-        ``u``."""
+        """c, c_p, c_tau / sin(delta), c_tau (or None) of facets of normals (3, G) at unit ``u``."""
         split = self._split
         parameters = None if split is None else split[0](facet_surface, flow, self.options)
         if parameters is None:
@@ -141,11 +133,8 @@ class PanelMethod:
 
     # ------------------------------------------------------------------------------ integration
     def integrate(self, u_G, c, sigma, cp, ctau, lighting: PanelLighting | None = None):
-        """Sum panel loads into Cf_G, Cm_G (about the moment point) and the lit projected area
-        [m^2].
-
-        u_G: unit flow direction(s) in G, (3,) or (M, 3); lighting: single direction only.
-        """
+        """Cf_G, Cm_G (about the moment point), lit projected area [m^2] at u_G (G, (3,) or (M, 3));
+        lighting: single direction only."""
         area = self._areas if lighting is None else self._areas * lighting.lit_fraction
         # Shear along t = (u + c n) / sin(delta): weight w_t multiplies (u + c n).
         w_t = np.divide(area * ctau, sigma, out=np.zeros_like(ctau), where=sigma > 0.0)
@@ -184,12 +173,9 @@ class PanelMethod:
         surface=None,
     ) -> AeroCoefficients:
         """Coefficients at one attitude, given by angles or by the flow direction.
-
         aoa, aos: angle of attack and sideslip [rad] (frames module conventions).
         flow_direction: gas motion relative to the body in G, (3,), instead of the angles.
-        lighting: None for nothing occluded; default the method's own ``shading``
-        (:meth:`lighting_of`).
-        """
+        lighting: None: nothing occluded; default the method's ``shading`` (:meth:`lighting_of`)."""
         u, angles = frames.attitude_flow(aoa, aos, flow_direction)
         if lighting is OWN_SHADING:
             lighting = self.lighting_of(u)
@@ -203,8 +189,7 @@ class PanelMethod:
     def coefficients_of_sums(
         self, flow: FreeStream, u, angles, sums, lighting, surface=None
     ) -> AeroCoefficients:
-        """:meth:`coefficients` at unit direction ``u`` (G) from (G, 10) facet sums; angles [rad] or
-        None."""
+        """:meth:`coefficients` at unit ``u`` (G) from (G, 10) facet sums; angles [rad] or None."""
         facets = self.facets
         facet_surface = None if sums is None else facets.surface_of(surface or self.surface)
         if facet_surface is not None:

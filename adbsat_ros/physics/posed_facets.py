@@ -1,9 +1,7 @@
 """An articulated body's facets posed in the body frame: each link's facet rows (W, W n, Q, Q x n,
-S)
-move with the link (rotation R, origin t; docs/physics.md, section 8),
+S) move with the link (rotation R, origin t; docs/physics.md, section 8),
 
-    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n'.
-"""
+    W' = W,  (W n)' = R (W n),  Q' = R Q + W t + S,  (Q x n)' = R (Q x n) + t x (W n)' + S x n'."""
 
 from __future__ import annotations
 
@@ -66,12 +64,8 @@ EPSILON[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0
 
 
 class PosedFacets:
-    """The facets of every link of an articulated body, posed per configuration (build with
-    :meth:`of`).
-
-    ``spans``: each link's panels [start, stop) in the posed body; ``panel_index`` (N,): facet of
-    every panel.
-    """
+    """The facets of every link of an articulated body, posed per configuration (:meth:`of`).
+    ``spans``: each link's panels [start, stop) in the posed body; ``panel_index`` (N,): facets."""
 
     def __init__(self, link_facets, link_index, spans, joints=None, link_surfaces=None):
         self._facets = list(link_facets)
@@ -123,8 +117,7 @@ class PosedFacets:
         )
 
     def surface(self, link_surfaces) -> PanelSurface | None:
-        """The facets' surface from each link's per-panel surface, or None if one varies within a
-        facet."""
+        """The facets' surface of the links' per-panel surfaces; None if one varies in a facet."""
         if self._own is not None:
             own_values, own = self._own
             values = {}
@@ -144,7 +137,6 @@ class PosedFacets:
         return self._surface_of_links(link_surfaces)
 
     def _surface_of_links(self, link_surfaces) -> PanelSurface | None:
-        """:meth:`surface` made link by link."""
         parts = [f.surface_of(s) for f, s in zip(self._facets, link_surfaces)]
         if any(p is None for p in parts):
             return None
@@ -183,8 +175,7 @@ class PosedFacets:
         return Posing(normals, inward_T, matrix, efforts)
 
     def link_rows(self, lighting) -> np.ndarray:
-        """Read-only rows (G, 13) of ``lighting`` (None: all lit): link-frame sums and shift sums S
-        in G."""
+        """Read-only rows (G, 13) of ``lighting`` (None: lit): link-frame and shift sums S (G)."""
         rows = np.zeros((self.n, 13))
         if lighting is None:
             rows[:, :10] = self._all_lit
@@ -215,8 +206,7 @@ class PosedFacets:
         return ten, columns
 
     def pose(self, rows, weights, posing: Posing) -> PosedSums:
-        """The parts' ``rows`` posed and blended with ``weights``, in the layout of
-        :meth:`Facets.lit_sums`."""
+        """The parts' ``rows`` posed and blended by ``weights`` (:meth:`Facets.lit_sums` layout)."""
         return PosedSums.of(weights, *_stacked([self.pose_part(r, posing) for r in rows]))
 
     def sums(self, lighting, configuration) -> PosedSums:

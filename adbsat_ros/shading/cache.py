@@ -29,8 +29,7 @@ _UNMADE = object()
 
 
 class Cell:
-    """One entry: the read-only, shared ``lighting`` of a cell, its :attr:`sums`, and the caller's
-    ``posed`` memo."""
+    """A cell's entry: its read-only shared ``lighting``, :attr:`sums`, the caller's ``posed``."""
 
     __slots__ = ("lighting", "posed", "_summarise", "_sums")
 
@@ -50,11 +49,9 @@ class Cell:
 
 class ShadingCache:
     """The cache of shading: :class:`Cell` values by (configuration, flow-direction cell).
-
     resolution_deg: bound [deg] from a query to its cell centre (cube-map step h = 90 / n).
     angle_step, length_step: the joint grid's steps [rad], [m]. Counters ``hits``, ``misses``,
-    ``evictions`` (cells) and ``configuration_hits``/``misses`` (shaders).
-    """
+    ``evictions`` (cells) and ``configuration_hits``/``misses`` (shaders)."""
 
     def __init__(
         self,
@@ -102,8 +99,7 @@ class ShadingCache:
 
     @classmethod
     def exact_mode(cls, shader=None, *, max_entries=1, **articulated) -> "ShadingCache":
-        """A cache of the lighting of the flow direction (and joint positions) itself; keeps the
-        latest."""
+        """A cache of the exact flow direction's (and positions') lighting; keeps the latest."""
         return cls(shader, max_entries=max_entries, exact=True, **articulated)
 
     # ------------------------------------------------------------------------------ keys
@@ -130,8 +126,7 @@ class ShadingCache:
         return key_centres(np.arange(self.n_cells), self.n)
 
     def vertices(self, positions=None) -> list:
-        """``[(weight, configuration key), ...]`` for joint ``positions`` (``[(1.0, ())]`` if
-        rigid)."""
+        """``[(weight, configuration key), ...]`` of ``positions`` (``[(1.0, ())]``: rigid)."""
         if self.body is None:
             return [(1.0, ())]
         if self.exact:

@@ -38,13 +38,10 @@ STATS = ("forward", "tested", "rays", "exact", "corner_shaded", "partly_lit", "r
 
 
 class Shader:
-    """Shading of one mesh (frame G, metres) for any flow direction; build once, call
-    :meth:`lighting`.
-
+    """Shading of one mesh (G, m) for any flow direction; build once, call :meth:`lighting`.
     samples, refine_samples: rays per forward panel that could be shaded, and per partly lit panel.
     graze_tol: |cos delta| at or below which a face is grazing; offset: ray-origin offset [m]
-    (default 1e-5 of the bounding-box diagonal). ``last_stats``: counts of the latest call (STATS).
-    """
+    (default 1e-5 of the bounding-box diagonal). ``last_stats``: latest call's counts (STATS)."""
 
     def __init__(
         self,
@@ -114,10 +111,7 @@ class Shader:
                 )
 
     def lighting(self, u_G) -> PanelLighting:
-        """Lit fraction and lit-centroid shift [m, G] of every panel for one flow direction.
-
-        u_G: gas motion relative to the body, mesh frame G, (3,) (normalised here).
-        """
+        """Lit fraction and lit-centroid shift [m, G] of each panel at flow ``u_G`` (G, (3,))."""
         u = frames.unit_vector(u_G)
         if self.trivial:
             self.last_stats = dict.fromkeys(STATS, 0)
@@ -302,11 +296,9 @@ def make_shader(
     **options,
 ) -> Shader:
     """Build a :class:`Shader` for ``mesh`` (metres, mesh frame G).
-
     mode: ``"raycast"``, ``"projection"`` or ``"none"``; samples: rays per panel (raycast), >= 1.
     backend: ``"auto"`` (Embree if installed, else numpy), ``"embree"`` or ``"numpy"``.
-    ValueError: a mode, backend or option outside its allowed values (named).
-    """
+    ValueError: a mode, backend or option outside its allowed values (named)."""
     return Shader(mesh, mode=mode, samples=samples, backend=backend, **options)
 
 
