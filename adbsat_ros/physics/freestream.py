@@ -55,6 +55,16 @@ def _checked_number_densities(number_densities: Mapping) -> list:
     return values
 
 
+def _sums(values: list, masses: list) -> tuple:
+    """``(sum n_j, sum n_j m_j)`` in species order, as ADBSat's ``environment.m``."""
+    total = 0.0
+    weighted = 0.0
+    for n, m in zip(values, masses):
+        total += n
+        weighted += n * m
+    return total, weighted
+
+
 @dataclass(frozen=True)
 class FreeStream:
     """Free-stream state of the gas relative to the spacecraft (a frozen value); speed ratio
@@ -104,18 +114,17 @@ class FreeStream:
             species = tuple(densities)
             masses = _species_masses(species)
             try:
-                values = [float(value) for value in densities.values()]
+                values = list(map(float, densities.values()))
             except (TypeError, ValueError):
                 values = None
+            total = weighted = math.nan
+            if masses and values and min(values) >= 0.0:
+                total, weighted = _sums(values, masses)
             # one test of the usual case (known species, densities >= 0 with a finite positive
             # total); anything else is checked density by density, for the error naming it
-            if not (masses and values and min(values) >= 0.0 and 0.0 < sum(values) < math.inf):
+            if not 0.0 < total < math.inf:
                 values = _checked_number_densities(densities)  # (or a total that overflows)
-            total = 0.0
-            weighted = 0.0
-            for n, m in zip(values, masses):  # in species order, as ADBSat's environment.m
-                total += n
-                weighted += n * m
+                total, weighted = _sums(values, masses)
             if not weighted > 0.0:  # (densities so small that n m underflows to 0)
                 raise ValueError(
                     f"number_densities: the mass density sum(n_j m_j) of {densities!r} is 0 in "
