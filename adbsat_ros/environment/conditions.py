@@ -42,7 +42,7 @@ def speed_ratio(speed: float, temperature: float, mean_mass: float) -> float:
     return speed / math.sqrt(2.0 * BOLTZMANN * temperature / mean_mass)
 
 
-@dataclass(frozen=True, eq=False, init=False)
+@dataclass(frozen=True, eq=False)
 class FlightConditions:
     """Conditions a spacecraft flies in at one instant: frozen, with read-only vectors.
 
@@ -67,46 +67,6 @@ class FlightConditions:
     accommodation_coefficient: float
     earth_rotation: bool = True
     space_weather: SpaceWeather | None = field(default=None, repr=False)
-
-    def __init__(
-        self,
-        time: _dt.datetime,
-        position_eci: np.ndarray,
-        position_ecef: np.ndarray,
-        velocity_eci: np.ndarray | None,
-        velocity_ecef: np.ndarray | None,
-        latitude: float,
-        longitude: float,
-        altitude: float,
-        atmosphere: AtmosphereState,
-        relative_velocity_eci: np.ndarray | None,
-        relative_velocity_ecef: np.ndarray | None,
-        speed: float,
-        accommodation_model: str,
-        accommodation_coefficient: float,
-        earth_rotation: bool = True,
-        space_weather: SpaceWeather | None = None,
-    ):
-        # (the fields written at once into the instance's dict: a frozen dataclass's own
-        # __init__ sets each through object.__setattr__, and mixed knots make one per message)
-        self.__dict__.update(
-            time=time,
-            position_eci=position_eci,
-            position_ecef=position_ecef,
-            velocity_eci=velocity_eci,
-            velocity_ecef=velocity_ecef,
-            latitude=latitude,
-            longitude=longitude,
-            altitude=altitude,
-            atmosphere=atmosphere,
-            relative_velocity_eci=relative_velocity_eci,
-            relative_velocity_ecef=relative_velocity_ecef,
-            speed=speed,
-            accommodation_model=accommodation_model,
-            accommodation_coefficient=accommodation_coefficient,
-            earth_rotation=earth_rotation,
-            space_weather=space_weather,
-        )
 
     @property
     def alpha(self) -> float:
