@@ -33,6 +33,7 @@ def encode_wrench(
     stamp: Stamp,
     sample,
     settings,
+    *,
     coefficients: bool = True,
     inertial: bool = False,
     joint_torques: bool = True,

@@ -279,9 +279,9 @@ class WrenchNodeCore:
                 outcome.stamp,
                 sample,
                 self.estimator.settings,
-                readers.coefficients,
-                readers.inertial,
-                readers.joint_torques,
+                coefficients=readers.coefficients,
+                inertial=readers.inertial,
+                joint_torques=readers.joint_torques,
             )
             self.wrench_pub.publish(messages.wrench)
             if messages.coefficients is not None:
