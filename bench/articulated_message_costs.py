@@ -29,7 +29,6 @@ from bench_articulated import (
     tracking_joints,
 )
 
-from adbsat_ros.bags.io import joint_state_cdr
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf
@@ -54,7 +53,7 @@ def run(body, joints, messages: int, warm_up: int) -> dict:
         configurations, cells = cache.configuration_misses, cache.misses
         outcome = h.on_attitude(attitude(k))
         if outcome.sample is not None:
-            encode_wrench(outcome.stamp, outcome.sample, h.estimator.settings, joint_state_cdr)
+            encode_wrench(outcome.stamp, outcome.sample, h.estimator.settings)
         elapsed = (clock() - t0) / 1e3
         if k < warm_up:
             continue

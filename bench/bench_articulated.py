@@ -53,7 +53,6 @@ import math
 import statistics
 import time
 
-from adbsat_ros.bags import io as bag_io
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.handling import MessageHandler
 from adbsat_ros.estimator.settings import WrenchSettings, setup_from_settings
@@ -149,9 +148,7 @@ class Case:
         if outcome.sample is None:
             raise RuntimeError(f"{self.name}: message {k} refused: {outcome.rejection}")
         settings = handler.estimator.settings
-        encode_wrench(
-            outcome.stamp, outcome.sample, settings, bag_io.joint_state_cdr, **self.outputs
-        )
+        encode_wrench(outcome.stamp, outcome.sample, settings, **self.outputs)
         elapsed = clock() - t0
         self.k += 1
         return elapsed

@@ -153,9 +153,7 @@ class WorkerModel:
                 cache_keys=keys,
                 uncounted_keys=uncounted,
             )
-        messages = encode_wrench(
-            outcome.stamp, sample, self.estimator.settings, bag_io.joint_state_cdr
-        )
+        messages = encode_wrench(outcome.stamp, sample, self.estimator.settings)
         return MessageRecord(
             outcome.state_accepted,
             "ok",

@@ -10,7 +10,7 @@ import numpy as np
 
 from adbsat_ros.environment.atmosphere import AtmosphereState
 from adbsat_ros.environment.conditions import FlightConditions
-from adbsat_ros.environment.geodetic import geodetic_of
+from adbsat_ros.environment.kinematics import geodetic_of_floats
 
 #: The vector fields of FlightConditions, in the order of the interpolation numbers.
 _VECTORS = (
@@ -95,7 +95,8 @@ def mixed_conditions(
     if a.vectors != b.vectors or not all(a.vectors):
         vectors = [v if p and q else None for v, p, q in zip(vectors, a.vectors, b.vectors)]
     speed = values[_SPEED] if vectors[5] is None else math.hypot(*values[15:18])
-    latitude, longitude, altitude = geodetic_of(mixed[3:6])
+    # (ERFA's gc2gd in floats, bit for bit: test/environment/test_kinematics.py)
+    latitude, longitude, altitude = geodetic_of_floats(*values[3:6])
     ends = a.conditions
     atmosphere = AtmosphereState(
         dict(zip(ends.atmosphere.number_densities, values[_DENSITIES:])),

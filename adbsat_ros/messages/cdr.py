@@ -68,3 +68,32 @@ def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> 
 def accel_stamped_cdr(sec: int, nanosec: int, frame_id: str, linear, angular) -> bytes:
     """CDR bytes of a geometry_msgs/AccelStamped (linear [m/s^2], angular [rad/s^2]): a Wrench's."""
     return wrench_stamped_cdr(sec, nanosec, frame_id, linear, angular)
+
+
+def joint_state_cdr(stamp: Stamp, frame_id: str, names, positions, efforts) -> bytes:
+    """CDR bytes (little endian) of a sensor_msgs/JointState without velocities, byte for byte
+    as rosbags's: the joint torques. ``stamp``: header stamp; ``names`` (J,) str; ``positions``
+    [rad or m] and ``efforts`` [N m or N]: J floats each (or none)."""
+    layout, values, offset = ["<4siI"], [CDR_LE_HEADER, stamp.sec, stamp.nanosec], 8
+    for k, text in enumerate((frame_id, *names)):
+        if k == 1:  # the names' count follows the frame_id
+            offset = _field(layout, values, offset, 4, "I", 4, len(names))
+        data = text.encode("utf-8") + b"\x00"
+        offset = _field(layout, values, offset, 4, f"I{len(data)}s", 4 + len(data), len(data), data)
+    if not names:
+        offset = _field(layout, values, offset, 4, "I", 4, 0)
+    for floats in (positions, (), efforts):
+        floats = [float(x) for x in floats]
+        offset = _field(layout, values, offset, 4, "I", 4, len(floats))
+        if floats:
+            offset = _field(layout, values, offset, 8, f"{len(floats)}d", 8 * len(floats), *floats)
+    return struct.pack("".join(layout), *values)
+
+
+def _field(layout: list, values: list, offset: int, alignment: int, code, size, *items) -> int:
+    """Add a field aligned to ``alignment`` (from the encapsulation's end) at ``offset``; the
+    offset after it."""
+    pad = -offset % alignment
+    layout.append(f"{pad}x{code}")
+    values.extend(items)
+    return offset + pad + size

@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Callable, NamedTuple
+from typing import NamedTuple
 
-from adbsat_ros.messages.cdr import Stamp, accel_stamped_cdr, wrench_stamped_cdr
+from adbsat_ros.messages.cdr import (
+    Stamp,
+    accel_stamped_cdr,
+    joint_state_cdr,
+    wrench_stamped_cdr,
+)
 
 
 class WrenchMessages(NamedTuple):
@@ -28,16 +33,13 @@ def encode_wrench(
     stamp: Stamp,
     sample,
     settings,
-    serialise_joint_state: Callable | None = None,
+    *,
     coefficients: bool = True,
     inertial: bool = False,
     joint_torques: bool = True,
 ) -> WrenchMessages:
-    """The messages of one wrench sample, stamped ``stamp`` (the input's header stamp).
-
-    ``serialise_joint_state(stamp, frame_id, names, positions, efforts)`` -> CDR bytes, needed for
-    an articulated body's joint torques; the flags say which optional messages to make.
-    """
+    """The messages of one wrench sample, stamped ``stamp`` (the input's header stamp); the
+    flags say which optional messages to make."""
     frame = settings.body_frame_id
     sec, nanosec = stamp.sec, stamp.nanosec
     wrench = wrench_stamped_cdr(sec, nanosec, frame, sample.force.tolist(), sample.torque.tolist())
@@ -70,9 +72,7 @@ def encode_wrench(
         )
     joints = sample.joints
     if joint_torques and joints is not None:
-        joints_cdr = serialise_joint_state(
-            stamp, frame, joints.names, joints.positions, joints.efforts
-        )
+        joints_cdr = joint_state_cdr(stamp, frame, joints.names, joints.positions, joints.efforts)
     return WrenchMessages(
         wrench, coefficients_cdr, inertial_cdr, acceleration_cdr, solar_cdr, total_cdr, joints_cdr
     )

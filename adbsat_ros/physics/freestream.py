@@ -55,7 +55,17 @@ def _checked_number_densities(number_densities: Mapping) -> list:
     return values
 
 
-@dataclass(frozen=True)
+def _sums(values: list, masses: list) -> tuple:
+    """``(sum n_j, sum n_j m_j)`` in species order, as ADBSat's ``environment.m``."""
+    total = 0.0
+    weighted = 0.0
+    for n, m in zip(values, masses):
+        total += n
+        weighted += n * m
+    return total, weighted
+
+
+@dataclass(frozen=True, init=False)
 class FreeStream:
     """Free-stream state of the gas relative to the spacecraft (a frozen value); speed ratio
     s = V / sqrt(2 k_B T_inf / m), number-weighted mean mass as ADBSat's ``environment.m``.
@@ -93,43 +103,56 @@ class FreeStream:
     mean_mass: float = field(init=False, repr=False, compare=False)
     _species: tuple = field(init=False, repr=False, compare=False)
 
-    def __post_init__(self):
-        set_field = object.__setattr__  # (the checked values of a frozen dataclass's fields)
-        set_field(self, "speed", _check_positive("speed", self.speed))
-        set_field(self, "temperature", _check_positive("temperature", self.temperature))
-        densities = self.number_densities
-        if (densities is None) == (self.mean_mass_amu is None):
+    def __init__(
+        self,
+        speed: float,
+        temperature: float,
+        number_densities: Mapping[str, float] | None = None,
+        mean_mass_amu: float | None = None,
+        density: float | None = None,
+    ):
+        # (the checked fields written once into the instance's dict: a frozen dataclass's own
+        # __init__ would set each through object.__setattr__, and the node makes one per message)
+        speed = _check_positive("speed", speed)
+        temperature = _check_positive("temperature", temperature)
+        if (number_densities is None) == (mean_mass_amu is None):
             raise ValueError("give exactly one of number_densities and mean_mass_amu")
-        if densities is not None:
-            species = tuple(densities)
+        if number_densities is not None:
+            species = tuple(number_densities)
             masses = _species_masses(species)
             try:
-                values = [float(value) for value in densities.values()]
+                values = list(map(float, number_densities.values()))
             except (TypeError, ValueError):
                 values = None
+            total = weighted = math.nan
+            if masses and values and min(values) >= 0.0:
+                total, weighted = _sums(values, masses)
             # one test of the usual case (known species, densities >= 0 with a finite positive
             # total); anything else is checked density by density, for the error naming it
-            if not (masses and values and min(values) >= 0.0 and 0.0 < sum(values) < math.inf):
-                values = _checked_number_densities(densities)  # (or a total that overflows)
-            total = 0.0
-            weighted = 0.0
-            for n, m in zip(values, masses):  # in species order, as ADBSat's environment.m
-                total += n
-                weighted += n * m
+            if not 0.0 < total < math.inf:
+                values = _checked_number_densities(number_densities)  # (or a total overflowing)
+                total, weighted = _sums(values, masses)
             if not weighted > 0.0:  # (densities so small that n m underflows to 0)
                 raise ValueError(
-                    f"number_densities: the mass density sum(n_j m_j) of {densities!r} is 0 in "
-                    "floating point: the densities are too small"
+                    f"number_densities: the mass density sum(n_j m_j) of {number_densities!r} is "
+                    "0 in floating point: the densities are too small"
                 )
-            set_field(self, "number_densities", dict(zip(species, values)))
-            set_field(self, "_species", species)
-            set_field(self, "mean_mass", weighted / total)
+            number_densities = dict(zip(species, values))
+            mean_mass = weighted / total
         else:
-            amu = _check_positive("mean_mass_amu", self.mean_mass_amu)
-            set_field(self, "_species", ())
-            set_field(self, "mean_mass", amu * AMU)
-        if self.density is not None:
-            set_field(self, "density", _check_positive("density", self.density))
+            species = ()
+            mean_mass = _check_positive("mean_mass_amu", mean_mass_amu) * AMU
+        if density is not None:
+            density = _check_positive("density", density)
+        self.__dict__.update(
+            speed=speed,
+            temperature=temperature,
+            number_densities=number_densities,
+            mean_mass_amu=mean_mass_amu,
+            density=density,
+            mean_mass=mean_mass,
+            _species=species,
+        )
 
     # ----------------------------------------------------------------------------- derived values
     @property

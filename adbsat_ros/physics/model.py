@@ -169,27 +169,34 @@ class Model:
         ValueError: a bad direction, angle, joint position or surface change, or outside the
         database.
         """
-        aoa, aos = (None, None) if angles is None else angles
-        u, given = frames.attitude_flow(aoa, aos, flow_direction)
-        backend = self.backend
-        if solver == "tpmc" or (solver is None and backend == "tpmc"):
+        u, given = None, None
+        if angles is None and type(flow_direction) is np.ndarray:  # (a message's gas motion)
+            u = evaluation.unit_of_array(flow_direction)
+        if u is None:  # (anything else, checked and named as frames.attitude_flow does)
+            aoa, aos = (None, None) if angles is None else angles
+            u, given = frames.attitude_flow(aoa, aos, flow_direction)
+        if solver is None:
+            if self.setup.solver.method == "tpmc" and self.lookup is None:
+                solver = "tpmc"
+        elif solver not in ("panel", "tpmc"):
+            raise ValueError(f"solver must be panel or tpmc, got {solver!r}")
+        if solver == "tpmc":
             return self._test_particles(
                 free_stream, flow_direction, angles, joints, changes, seed, run
             )
-        if solver not in (None, "panel"):
-            raise ValueError(f"solver must be panel or tpmc, got {solver!r}")
-        if backend == "database":
-            return evaluation.looked_up_coefficients(self.lookup, self.method, u, given)
-        surface = self.method.surface_with(**changes) if changes else None
+        method = self.method
+        if self.lookup is not None:
+            return evaluation.looked_up_coefficients(self.lookup, method, u, given)
+        surface = method.surface_with(**changes) if changes else None
         direction = u if flow_direction is None else flow_direction  # (as the caller gave it)
-        if not self.articulated:
+        if self.body is None or self.positions is not None:  # (not articulated)
             parts = self._read(direction)
-            return evaluation.rigid_coefficients(self.method, free_stream, u, given, parts, surface)
+            return evaluation.rigid_coefficients(method, free_stream, u, given, parts, surface)
         if not isinstance(joints, Joints):
             joints = self.prepare_joints(joints)
         parts = self._read(direction, joints.vertices)
         return evaluation.articulated_coefficients(
-            self.method, free_stream, u, given, joints.configuration, parts, surface
+            method, free_stream, u, given, joints.configuration, parts, surface
         )
 
     def _read(self, direction, vertices=None, count: bool = True) -> list:

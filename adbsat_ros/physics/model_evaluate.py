@@ -34,6 +34,17 @@ class Joints(NamedTuple):
     vertices: list | None
 
 
+def unit_of_array(direction: np.ndarray) -> np.ndarray | None:
+    """``direction`` / |direction| of a finite non-zero float (3,) array, as
+    :func:`~adbsat_ros.geometry.frames.unit_vector` makes it; None for any other value."""
+    if direction.shape != (3,) or direction.dtype != np.float64:
+        return None
+    norm = math.sqrt(direction.dot(direction))
+    if not (math.isfinite(norm) and norm > 0.0):
+        return None
+    return direction / norm
+
+
 def make_cache(model) -> ShadingCache | None:
     """The one shading cache of ``model`` by its set-up's policy (None when nothing can be
     occluded)."""

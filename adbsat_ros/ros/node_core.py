@@ -12,7 +12,7 @@ from geometry_msgs.msg import AccelStamped, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.qos import QoSProfile, ReliabilityPolicy
-from rclpy.serialization import deserialize_message, serialize_message
+from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import JointState
 from visualization_msgs.msg import Marker
 
@@ -22,7 +22,6 @@ from adbsat_ros.estimator.health import OK, WARN, Health, StampGaps
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS, READ_ONLY_PARAMETERS
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import MeshError
-from adbsat_ros.messages.cdr import Stamp
 from adbsat_ros.messages.decoding import (
     UndecodableMessage,
     decode_attitude,
@@ -46,17 +45,6 @@ class DiagnosticFields(NamedTuple):
     message: str
     hardware_id: str
     values: tuple
-
-
-def joint_state_cdr(stamp: Stamp, frame_id: str, names, positions, efforts) -> bytes:
-    """CDR bytes of a sensor_msgs/JointState (no velocities): the joint torques' serialiser."""
-    msg = JointState()
-    msg.header.stamp.sec, msg.header.stamp.nanosec = stamp.sec, stamp.nanosec
-    msg.header.frame_id = frame_id
-    msg.name = list(names)
-    msg.position = [float(x) for x in positions]
-    msg.effort = [float(x) for x in efforts]
-    return serialize_message(msg)
 
 
 class WrenchNodeCore:
@@ -291,10 +279,9 @@ class WrenchNodeCore:
                 outcome.stamp,
                 sample,
                 self.estimator.settings,
-                joint_state_cdr,
-                readers.coefficients,
-                readers.inertial,
-                readers.joint_torques,
+                coefficients=readers.coefficients,
+                inertial=readers.inertial,
+                joint_torques=readers.joint_torques,
             )
             self.wrench_pub.publish(messages.wrench)
             if messages.coefficients is not None:

@@ -6,6 +6,7 @@ around a flow direction and their barycentric weights, for the shading cache's i
 from __future__ import annotations
 
 import bisect
+import functools
 import math
 
 import numpy as np
@@ -26,12 +27,26 @@ class CellTriangulation:
         self.n = n
         angles = -_QUARTER + (np.arange(n) + 0.5) * (0.5 * math.pi / n)
         self._tan = np.tan(angles).tolist()  # gnomonic coordinate of the centre rows, ascending
-        self.border_triangles = _border_triangles(n)
-        self._border_vertices = key_centres(self.border_triangles.reshape(-1), n).reshape(-1, 3, 3)
-        self._border_of_key: dict = {}
+
+    @functools.cached_property
+    def border_triangles(self) -> np.ndarray:
+        """Vertex keys (B, 3) of the triangles across cube edges and at corners (made when a
+        direction first falls between faces, or when listed)."""
+        return _border_triangles(self.n)
+
+    @functools.cached_property
+    def _border_vertices(self) -> np.ndarray:
+        """The unit cell centres (B, 3, 3) of :attr:`border_triangles`."""
+        return key_centres(self.border_triangles.reshape(-1), self.n).reshape(-1, 3, 3)
+
+    @functools.cached_property
+    def _border_of_key(self) -> dict:
+        """The border triangles each cell key is a vertex of."""
+        border_of_key: dict = {}
         for t, keys in enumerate(self.border_triangles.tolist()):
             for key in keys:
-                self._border_of_key.setdefault(key, []).append(t)
+                border_of_key.setdefault(key, []).append(t)
+        return border_of_key
 
     # ------------------------------------------------------------------------------ queries
     def locate(self, x: float, y: float, z: float) -> tuple:

@@ -270,11 +270,8 @@ def test_the_joint_torques_message_is_made_only_when_asked_for():
     est = ready(estimator())
     handler = MessageHandler(est)
     outcome = handler.on_attitude(AttitudeFields(Stamp(1, 5), TILTED))
-    serialise = bag_io.joint_state_cdr
-    with_torques = encode_wrench(outcome.stamp, outcome.sample, est.settings, serialise)
-    without = encode_wrench(
-        outcome.stamp, outcome.sample, est.settings, serialise, joint_torques=False
-    )
+    with_torques = encode_wrench(outcome.stamp, outcome.sample, est.settings)
+    without = encode_wrench(outcome.stamp, outcome.sample, est.settings, joint_torques=False)
     assert without.joint_torques is None and without.wrench == with_torques.wrench
     joints = outcome.sample.joints
     fields = decode_joint_state(with_torques.joint_torques, bag_io.deserialize_joint_state)

@@ -69,7 +69,9 @@ def test_an_attitude_gives_the_estimators_sample_and_its_message_bytes(mesh):
     assert cm == expected.moment_coefficients.tolist()
     assert np.linalg.norm(force) > 0.0
     assert messages.inertial is messages.acceleration is messages.solar is None
-    without = encode_wrench(outcome.stamp, outcome.sample, handler.estimator.settings, None, False)
+    without = encode_wrench(
+        outcome.stamp, outcome.sample, handler.estimator.settings, coefficients=False
+    )
     assert without.wrench == messages.wrench and without.coefficients is None
     assert handler.estimator.published == 1
     with pytest.raises(dataclasses.FrozenInstanceError):
@@ -86,7 +88,9 @@ def test_the_state_frame_wrench_and_acceleration_are_encoded_when_asked_for(mesh
     handler.on_state(state(Stamp(1, 0)))
     outcome = handler.on_attitude(attitude(1, 250_000_000))
     sample = outcome.sample
-    messages = encode_wrench(outcome.stamp, sample, handler.estimator.settings, None, False, True)
+    messages = encode_wrench(
+        outcome.stamp, sample, handler.estimator.settings, coefficients=False, inertial=True
+    )
     rotation = np.array(sample.rotation).reshape(3, 3)
     header, force, torque = wrench_of(messages.inertial)
     assert header.frame_id == "eci" and (header.stamp.sec, header.stamp.nanosec) == (1, 250_000_000)
@@ -104,7 +108,7 @@ def test_the_state_frame_wrench_and_acceleration_are_encoded_when_asked_for(mesh
     )
     assert np.linalg.norm(angular) > 0.0
     massless = settings(state_frame="eci")
-    alone = encode_wrench(outcome.stamp, sample, massless, None, False, True)
+    alone = encode_wrench(outcome.stamp, sample, massless, coefficients=False, inertial=True)
     assert alone.inertial == messages.inertial and alone.acceleration is None
 
 

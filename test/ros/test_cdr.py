@@ -19,6 +19,7 @@ from adbsat_ros.messages.cdr import (
     AttitudeFields,
     Stamp,
     accel_stamped_cdr,
+    joint_state_cdr,
     quaternion_stamped_fields,
     wrench_stamped_cdr,
 )
@@ -30,7 +31,6 @@ from adbsat_ros.messages.decoding import (
     decode_joint_state,
     decode_odometry,
 )
-from adbsat_ros.ros.node_core import joint_state_cdr
 
 
 def quaternion_stamped(frame):
@@ -140,17 +140,21 @@ def test_rclpy_joint_states_are_read_by_either_deserialiser(count):
             assert decode_joint_state(raw, lambda b: deserialize_message(b, JointState)) == expected
 
 
-def test_the_nodes_joint_torques_read_as_the_bag_analysis_writes_them():
-    """The node's serialiser (rclpy's) and the bag analysis's (rosbags') give the same message."""
-    names, positions, efforts = ("wing_left_hinge", "fin"), np.array([0.1, -0.2]), (4.0, -0.0)
+def test_the_joint_torques_writer_equals_rosbags_byte_for_byte_and_rclpy_reads_it():
+    """The joint torques' writer (``messages.cdr``) against rosbags' serialiser and rclpy's
+    deserialiser: frames of every length modulo 8, none to three joints, with and without values."""
+    joints = [(), ("fin",), ("wing_left_hinge", "fin"), ("a", "bc", "def")]
     for frame in FRAMES:
-        stamp = Stamp(1_767_225_600, 9)
-        live = joint_state_cdr(stamp, frame, names, positions, np.array(efforts))
-        offline = bag_io.joint_state_cdr(stamp, frame, names, positions, efforts)
-        for raw in (live, offline):
-            msg = deserialize_message(raw, JointState)
-            assert (msg.header.stamp.sec, msg.header.stamp.nanosec) == stamp
-            assert (msg.header.frame_id, tuple(msg.name)) == (frame, names)
-            assert (list(msg.position), list(msg.velocity)) == (positions.tolist(), [])
-            assert list(msg.effort) == list(efforts)
-        assert bag_io.deserialize_joint_state(live).effort.tolist() == list(efforts)
+        for names in joints:
+            for stamp in (Stamp(1_767_225_600, 9), Stamp(-3, 999_999_999)):
+                positions = np.linspace(-0.2, 0.3, len(names))
+                efforts = [4.0, -0.0, 1e-300][: len(names)]
+                raw = joint_state_cdr(stamp, frame, names, positions, efforts)
+                assert raw == bag_io.joint_state_cdr(stamp, frame, names, positions, efforts)
+                msg = deserialize_message(raw, JointState)
+                assert (msg.header.stamp.sec, msg.header.stamp.nanosec) == stamp
+                assert (msg.header.frame_id, tuple(msg.name)) == (frame, names)
+                assert (list(msg.position), list(msg.velocity)) == (positions.tolist(), [])
+                assert list(msg.effort) == efforts
+                empty = joint_state_cdr(stamp, frame, names, (), ())
+                assert empty == bag_io.joint_state_cdr(stamp, frame, names, (), ())
