@@ -55,6 +55,8 @@ SOLAR_COLUMNS = (
     "solar_torque_y_Nm",
     "solar_torque_z_Nm",
 )
+#: Columns first in the group of a model with ``space_weather`` historical: the indices in force.
+WEATHER_COLUMNS = ("f107", "f107a", "ap")
 #: The columns of MODEL_COLUMNS plotted (force, torque, density, drag coefficient), in order.
 PLOT_COLUMNS = (*WRENCH_COLUMNS, "density_kg_m3", "drag_coefficient")
 _PLOT_INDEX = [MODEL_COLUMNS.index(c) - 1 for c in PLOT_COLUMNS]  # (in row_values: no status)
@@ -65,16 +67,18 @@ _NAN_PLOT = [math.nan] * len(PLOT_COLUMNS)
 JOINT_COLUMNS = ("position", "effort")
 
 
-def extra_columns(solar: bool, joint_names=()) -> tuple:
-    """A model's columns after :data:`MODEL_COLUMNS`: solar ones, then every joint's."""
+def extra_columns(solar: bool, joint_names=(), weather: bool = False) -> tuple:
+    """A model's columns after :data:`MODEL_COLUMNS`: space weather, solar ones, every joint's."""
     joints = tuple(f"joint.{name}.{c}" for name in joint_names for c in JOINT_COLUMNS)
-    return (SOLAR_COLUMNS if solar else ()) + joints
+    return (WEATHER_COLUMNS if weather else ()) + (SOLAR_COLUMNS if solar else ()) + joints
 
 
 def model_extra_columns(estimator) -> tuple:
     """The :func:`extra_columns` of a model's AeroWrenchEstimator."""
     body = estimator.body
-    return extra_columns(estimator.settings.solar_pressure, () if body is None else body.joints)
+    s = estimator.settings
+    joints = () if body is None else body.joints
+    return extra_columns(s.solar_pressure, joints, s.space_weather != "fixed")
 
 
 def header(labels, extras=()) -> list:
@@ -120,13 +124,18 @@ def row_values(sample) -> list:
 def extra_values(sample, columns) -> list:
     """A WrenchSample's values for :func:`extra_columns` (NaN for what it lacks, e.g. no joints)."""
     out = []
+    if columns[: len(WEATHER_COLUMNS)] == WEATHER_COLUMNS:
+        w = sample.conditions.space_weather
+        out += [math.nan] * 3 if w is None else [float(w.f107), float(w.f107a), float(w.ap)]
+        columns = columns[len(WEATHER_COLUMNS) :]
     if columns[: len(SOLAR_COLUMNS)] == SOLAR_COLUMNS:
         solar = sample.solar
+        columns = columns[len(SOLAR_COLUMNS) :]
         if solar is None:
             out += [math.nan] * len(SOLAR_COLUMNS)
         else:
             out += [float(solar.lit_fraction), *solar.force.tolist(), *solar.torque.tolist()]
-    n_joints = (len(columns) - len(out)) // len(JOINT_COLUMNS)
+    n_joints = len(columns) // len(JOINT_COLUMNS)
     joints = sample.joints
     if joints is None:
         out += [math.nan] * (n_joints * len(JOINT_COLUMNS))
