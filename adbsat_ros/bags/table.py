@@ -59,9 +59,13 @@ SOLAR_COLUMNS = (
 WEATHER_COLUMNS = ("f107", "f107a", "ap")
 #: The columns of MODEL_COLUMNS plotted (force, torque, density, drag coefficient), in order.
 PLOT_COLUMNS = (*WRENCH_COLUMNS, "density_kg_m3", "drag_coefficient")
+#: Plotted after them: the drag (the force along the flow) [N], and F10.7 and Ap in force.
+WEATHER_PLOT = ("drag_N", "f107", "ap")
+#: The plotted numbers of each model, in order.
+PLOT_SERIES = len(PLOT_COLUMNS) + len(WEATHER_PLOT)
 _PLOT_INDEX = [MODEL_COLUMNS.index(c) - 1 for c in PLOT_COLUMNS]  # (in row_values: no status)
 _NAN_CELLS = ",nan" * (len(MODEL_COLUMNS) - 1)
-_NAN_PLOT = [math.nan] * len(PLOT_COLUMNS)
+_NAN_PLOT = [math.nan] * PLOT_SERIES
 #: The columns of each moving joint ``NAME`` of an articulated body, as ``joint.NAME.<suffix>``:
 #: its position [rad or m] and the aerodynamic effort on it [N m, or N for a prismatic joint].
 JOINT_COLUMNS = ("position", "effort")
@@ -160,6 +164,12 @@ def model_cells(outcomes, extras=()) -> tuple[str, list]:
                 values += extra_values(sample, more)
             cells.append(",".join(["ok", *map(repr, values)]))
             plot.extend(values[i] for i in _PLOT_INDEX)
+            wind, force = values[4:7], values[16:19]  # (the gas's velocity, the force: body)
+            speed = values[3]
+            drag = sum(f * w for f, w in zip(force, wind)) / speed if speed else math.nan
+            weather = sample.conditions.space_weather
+            f107, ap = (math.nan, math.nan) if weather is None else (weather.f107, weather.ap)
+            plot += (drag, f107, ap)
     return ",".join(cells), plot
 
 

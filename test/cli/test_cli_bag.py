@@ -297,13 +297,13 @@ def test_a_flight_across_midnight_gets_each_days_indices_with_historical_space_w
     tmp_path, capsys
 ):
     """``--space-weather historical``: the CSV's f107, f107a, ap are the record's at each stamp,
-    and change with the UTC day, as the density does."""
+    and change with the UTC day, as the density does; a plot shows them with the density."""
     import datetime as dt
 
     from adbsat_ros.environment.space_weather import HistoricalWeather
 
     simulate(capsys, tmp_path / "sim", "--epoch", "2015-01-18T23:59:55Z")
-    options = ["--space-weather", "historical", "--atmosphere-model", "msis2.0", "--no-plots"]
+    options = ["--space-weather", "historical", "--atmosphere-model", "msis2.0"]
     code, _, err = run(capsys, "bag", "analyze", tmp_path / "sim", *options, "--workers", 1)
     assert code == 0, err
     with open(tmp_path / "sim_aero.csv", newline="") as fh:
@@ -317,3 +317,5 @@ def test_a_flight_across_midnight_gets_each_days_indices_with_historical_space_w
     assert first["utc"].startswith("2015-01-18") and last["utc"].startswith("2015-01-19")
     assert first["default.f107"] != last["default.f107"]
     assert first["default.density_kg_m3"] != last["default.density_kg_m3"]
+    # the replay's picture: density and drag with F10.7 and Ap
+    assert (tmp_path / "sim_aero_plots" / "space_weather.png").stat().st_size > 1000
