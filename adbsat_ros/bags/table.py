@@ -55,26 +55,34 @@ SOLAR_COLUMNS = (
     "solar_torque_y_Nm",
     "solar_torque_z_Nm",
 )
+#: Columns first in the group of a model with ``space_weather`` historical: the indices in force.
+WEATHER_COLUMNS = ("f107", "f107a", "ap")
 #: The columns of MODEL_COLUMNS plotted (force, torque, density, drag coefficient), in order.
 PLOT_COLUMNS = (*WRENCH_COLUMNS, "density_kg_m3", "drag_coefficient")
+#: Plotted after them: the drag (the force along the flow) [N], and F10.7 and Ap in force.
+WEATHER_PLOT = ("drag_N", "f107", "ap")
+#: The plotted numbers of each model, in order.
+PLOT_SERIES = len(PLOT_COLUMNS) + len(WEATHER_PLOT)
 _PLOT_INDEX = [MODEL_COLUMNS.index(c) - 1 for c in PLOT_COLUMNS]  # (in row_values: no status)
 _NAN_CELLS = ",nan" * (len(MODEL_COLUMNS) - 1)
-_NAN_PLOT = [math.nan] * len(PLOT_COLUMNS)
+_NAN_PLOT = [math.nan] * PLOT_SERIES
 #: The columns of each moving joint ``NAME`` of an articulated body, as ``joint.NAME.<suffix>``:
 #: its position [rad or m] and the aerodynamic effort on it [N m, or N for a prismatic joint].
 JOINT_COLUMNS = ("position", "effort")
 
 
-def extra_columns(solar: bool, joint_names=()) -> tuple:
-    """A model's columns after :data:`MODEL_COLUMNS`: solar ones, then every joint's."""
+def extra_columns(solar: bool, joint_names=(), weather: bool = False) -> tuple:
+    """A model's columns after :data:`MODEL_COLUMNS`: space weather, solar ones, every joint's."""
     joints = tuple(f"joint.{name}.{c}" for name in joint_names for c in JOINT_COLUMNS)
-    return (SOLAR_COLUMNS if solar else ()) + joints
+    return (WEATHER_COLUMNS if weather else ()) + (SOLAR_COLUMNS if solar else ()) + joints
 
 
 def model_extra_columns(estimator) -> tuple:
     """The :func:`extra_columns` of a model's AeroWrenchEstimator."""
     body = estimator.body
-    return extra_columns(estimator.settings.solar_pressure, () if body is None else body.joints)
+    s = estimator.settings
+    joints = () if body is None else body.joints
+    return extra_columns(s.solar_pressure, joints, s.space_weather != "fixed")
 
 
 def header(labels, extras=()) -> list:
@@ -120,13 +128,18 @@ def row_values(sample) -> list:
 def extra_values(sample, columns) -> list:
     """A WrenchSample's values for :func:`extra_columns` (NaN for what it lacks, e.g. no joints)."""
     out = []
+    if columns[: len(WEATHER_COLUMNS)] == WEATHER_COLUMNS:
+        w = sample.conditions.space_weather
+        out += [math.nan] * 3 if w is None else [float(w.f107), float(w.f107a), float(w.ap)]
+        columns = columns[len(WEATHER_COLUMNS) :]
     if columns[: len(SOLAR_COLUMNS)] == SOLAR_COLUMNS:
         solar = sample.solar
+        columns = columns[len(SOLAR_COLUMNS) :]
         if solar is None:
             out += [math.nan] * len(SOLAR_COLUMNS)
         else:
             out += [float(solar.lit_fraction), *solar.force.tolist(), *solar.torque.tolist()]
-    n_joints = (len(columns) - len(out)) // len(JOINT_COLUMNS)
+    n_joints = len(columns) // len(JOINT_COLUMNS)
     joints = sample.joints
     if joints is None:
         out += [math.nan] * (n_joints * len(JOINT_COLUMNS))
@@ -151,6 +164,12 @@ def model_cells(outcomes, extras=()) -> tuple[str, list]:
                 values += extra_values(sample, more)
             cells.append(",".join(["ok", *map(repr, values)]))
             plot.extend(values[i] for i in _PLOT_INDEX)
+            wind, force = values[4:7], values[16:19]  # (the gas's velocity, the force: body)
+            speed = values[3]
+            drag = sum(f * w for f, w in zip(force, wind)) / speed if speed else math.nan
+            weather = sample.conditions.space_weather
+            f107, ap = (math.nan, math.nan) if weather is None else (weather.f107, weather.ap)
+            plot += (drag, f107, ap)
     return ",".join(cells), plot
 
 

@@ -43,6 +43,7 @@ class SampleNumbers(NamedTuple):
     alpha: float
     drag_coefficient: float
     solar_diagnostics: dict | None = None
+    space_weather: object = None
 
     @property
     def conditions(self) -> "SampleNumbers":
@@ -62,6 +63,7 @@ class SampleNumbers(NamedTuple):
             float(c.alpha),
             float(sample.drag_coefficient),
             sample.solar_diagnostics,
+            c.space_weather,
         )
 
 

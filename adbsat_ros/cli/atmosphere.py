@@ -57,6 +57,17 @@ def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> No
     option(weather, "--ap", help, bound="ap", default=DEFAULT_AP, metavar="AP")
     help = "NRLMSISE-00's 7-element Ap array (storm-time formulation)"
     option(weather, "--ap-history", help, metavar="A0,...,A6")
+    help = (
+        "fixed (--f107, --f107a, --ap, default) or historical (the indices of --time from "
+        "CelesTrak's record, with the 3-hourly ap history)"
+    )
+    choices = ("fixed", "historical")
+    option(weather, "--space-weather", help, choices=choices, default="fixed")
+    help = "historical: a CelesTrak SW file (SW-All.txt format) instead of the shipped record"
+    option(weather, "--space-weather-file", help, metavar="PATH")
+    help = "nrlmsise00 (default), msis2.0 or msis2.1 (NRLMSIS 2.x through pymsis)"
+    choices = ("nrlmsise00", "msis2.0", "msis2.1")
+    option(weather, "--atmosphere-model", help, choices=choices, default="nrlmsise00")
     gas = parser.add_argument_group("gas and surface")
     help = "leave anomalous oxygen out of the mixture and the mass density (gtd7)"
     flag(gas, "--no-anomalous-oxygen", help)
@@ -102,8 +113,13 @@ def _parse_time(text: str) -> _dt.datetime:
     return time
 
 
-def _space_weather(args):
+def _space_weather(args, time):
+    """The indices in force at ``time`` (--space-weather)."""
     from adbsat_ros.environment.atmosphere import SpaceWeather
+    from adbsat_ros.environment.space_weather import weather_source
+
+    if args.space_weather_file and args.space_weather != "historical":
+        raise CommandLineError("--space-weather-file: only valid with --space-weather historical")
 
     history = None
     if args.ap_history is not None:
@@ -115,7 +131,8 @@ def _space_weather(args):
             raise CommandLineError(
                 f"--ap-history: expected 7 finite numbers >= 0, got {args.ap_history!r}"
             )
-    return SpaceWeather(f107=args.f107, f107a=args.f107a, ap=args.ap, ap_history=history)
+    fixed = SpaceWeather(f107=args.f107, f107a=args.f107a, ap=args.ap, ap_history=history)
+    return weather_source(args.space_weather, fixed, args.space_weather_file or "").at(time)
 
 
 def _accommodation_options(args) -> dict:
@@ -153,7 +170,7 @@ def _compute(args, accommodation_options=None):
     from adbsat_ros.environment.geodetic import ecef_to_geodetic
 
     time = _parse_time(args.time)
-    weather = _space_weather(args)
+    weather = _space_weather(args, time)
     options = (
         _accommodation_options(args) if accommodation_options is None else accommodation_options
     )
@@ -161,6 +178,7 @@ def _compute(args, accommodation_options=None):
         "anomalous_oxygen": not args.no_anomalous_oxygen,
         "accommodation_model": args.accommodation,
         "accommodation_options": options,
+        "atmosphere_model": args.atmosphere_model,
     }
     geodetic = [name for name in ("altitude", "lat", "lon") if getattr(args, name) is not None]
     if args.position is not None and geodetic:
@@ -225,8 +243,11 @@ def _vector_text(vector, scale=1.0, digits=6) -> str:
 def format_table(conditions) -> str:
     """The conditions as a table (degrees and km beside the SI values)."""
     atmosphere = conditions.atmosphere
+    weather = conditions.space_weather
     rows = [
         ("time (UTC)", conditions.time.isoformat()),
+        ("F10.7, 81-day F10.7, Ap", f"{weather.f107:g} sfu, {weather.f107a:g} sfu, {weather.ap:g}"),
+        ("ap history", "-" if weather.ap_history is None else _vector_text(weather.ap_history)),
         ("latitude", f"{math.degrees(conditions.latitude):.6f} deg"),
         ("longitude", f"{math.degrees(conditions.longitude):.6f} deg"),
         ("altitude", f"{conditions.altitude / 1e3:.6f} km"),

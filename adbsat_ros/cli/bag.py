@@ -55,6 +55,13 @@ def configure_analyze(a) -> None:
     option(a, "--params", help, action="append", default=[], metavar="YAML")
     help = "model label, once per --params in order (default: the file's stem)"
     option(a, "--label", help, action="append", default=[], metavar="NAME")
+    help = (
+        "every model's space_weather: fixed or historical (each stamp's indices from CelesTrak's "
+        "record; default: as its --params)"
+    )
+    option(a, "--space-weather", help, choices=("fixed", "historical"), default=None)
+    help = "every model's atmosphere_model (default: as its --params)"
+    option(a, "--atmosphere-model", help, choices=("nrlmsise00", "msis2.0", "msis2.1"))
     help = "output bag directory (default: BAG_aero beside the input)"
     option(a, "--out", help, metavar="BAG")
     option(a, "--csv", "CSV file (default: OUT.csv)", metavar="FILE")
@@ -96,13 +103,17 @@ def models_from_args(args) -> list:
         raise CommandLineError(
             f"--label: given {len(args.label)} times for {len(args.params)} --params files"
         )
+    given = {"space_weather": args.space_weather, "atmosphere_model": args.atmosphere_model}
+    overrides = {key: value for key, value in given.items() if value is not None}
     if not args.params:
         label = args.label[0] if args.label else "default"
-        return [(_label(label, "--label"), WrenchSettings.from_parameters({}))]
+        return [(_label(label, "--label"), WrenchSettings.from_parameters({}, **overrides))]
     models = []
     for i, path in enumerate(args.params):
         try:
             settings = settings_from_file(path, bag_analysis.NODE_NAME)
+            if overrides:
+                settings = WrenchSettings.from_parameters(settings.as_parameters(), **overrides)
         except ValueError as exc:  # (its text starts with the file's name)
             raise CommandLineError(f"--params {exc}") from None
         if args.label:

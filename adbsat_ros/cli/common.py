@@ -273,8 +273,10 @@ def method_and_flow_from_args(args):
         "position": args.position,
         "velocity": args.velocity,
         "frame": args.frame,
-        "f107": args.f107,
-        "f107a": args.f107a,
-        "ap": args.ap,
+        "f107": conditions.space_weather.f107,  # (the indices in force)
+        "f107a": conditions.space_weather.f107a,
+        "ap": conditions.space_weather.ap,
+        "space_weather": args.space_weather,
+        "atmosphere_model": args.atmosphere_model,
     }
     return model, conditions.free_stream(), summary

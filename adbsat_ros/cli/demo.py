@@ -27,6 +27,11 @@ def configure(p) -> None:
         "torques, and demo_hinge_torques.png plots them"
     )
     flag(p, "--articulated", help)
+    help = (
+        "the node's space_weather: fixed (default) or historical (the indices of the demo's "
+        "date from CelesTrak's record, shown in /diagnostics)"
+    )
+    option(p, "--space-weather", help, choices=("fixed", "historical"), default="fixed")
     help = "directory for demo_wrench.csv and the plots (default ./adbsat_demo)"
     option(p, "--out-dir", help, default="adbsat_demo", metavar="DIR")
     p.set_defaults(func=run)
@@ -36,7 +41,12 @@ def run(args) -> int:
     """Run the demo; 0 if the node answered every attitude (a signal: INTERRUPTED_STATUS)."""
     demo = ros_module("demo")
     result = demo.run_demo(
-        args.duration, args.speedup, args.out_dir, args.attitude, articulated=args.articulated
+        args.duration,
+        args.speedup,
+        args.out_dir,
+        args.attitude,
+        articulated=args.articulated,
+        space_weather=args.space_weather,
     )
     if result.interrupted:  # (by SIGINT or SIGTERM: what was received is written)
         return INTERRUPTED_STATUS

@@ -11,6 +11,7 @@ import types
 from dataclasses import dataclass
 from typing import Mapping
 
+import numpy as np
 from nrlmsise00 import _nrlmsise00
 
 from adbsat_ros.bounds import bounded
@@ -18,6 +19,8 @@ from adbsat_ros.environment.time_scales import seconds_of_day, utc_datetime, utc
 from adbsat_ros.physics.constants import AVOGADRO, MOLAR_MASS_G, SPECIES
 from adbsat_ros.validation import finite as _finite
 
+#: The atmosphere models: NRLMSISE-00 (the nrlmsise00 package), NRLMSIS 2.0 and 2.1 (pymsis).
+ATMOSPHERE_MODELS = ("nrlmsise00", "msis2.0", "msis2.1")
 #: Largest altitude NRLMSISE-00 is evaluated at [m].
 MAX_ALTITUDE = 1000e3
 #: Range of UTC years accepted (the space-weather record starts in the late 1950s).
@@ -59,6 +62,10 @@ class SpaceWeather:
                 raise ValueError(f"ap_history must have 7 elements, got {len(history)}")
             history = tuple(bounded(f"ap_history[{i}]", v, "ap") for i, v in enumerate(history))
             object.__setattr__(self, "ap_history", history)
+
+    def at(self, time) -> "SpaceWeather":
+        """The indices at ``time``: these, whatever the time (the ``fixed`` source)."""
+        return self
 
 
 @dataclass(frozen=True)
@@ -154,12 +161,14 @@ def evaluate_atmosphere(
     *,
     anomalous_oxygen: bool = True,
     local_solar_time_h: float | None = None,
+    model: str = "nrlmsise00",
 ) -> AtmosphereState:
-    """Evaluate NRLMSISE-00 at one point; an AtmosphereState.
+    """Evaluate the atmosphere ``model`` (:data:`ATMOSPHERE_MODELS`) at one point.
     time: UTC (aware, or naive meaning UTC), years 1958 to 2100.
     altitude: above the WGS-84 ellipsoid [m], 0 to 1000 km.
     latitude, longitude: geodetic latitude [rad] in [-pi/2, pi/2], east longitude [rad].
     anomalous_oxygen: in the mixture and mass density (``gtd7d``, default) or not (``gtd7``).
+    space_weather: a SpaceWeather, or a source of them (``at(time)``, space_weather.py).
     local_solar_time_h: [h]; default UT + longitude [deg] / 15 (override for published cases).
     ValueError: an input out of range, non-finite or of the wrong type (named)."""
     time = check_time(time)
@@ -171,6 +180,8 @@ def evaluate_atmosphere(
     seconds = seconds_of_day(time)
     if local_solar_time_h is not None:
         local_solar_time_h = _finite("local_solar_time_h", local_solar_time_h)
+    if not isinstance(space_weather, SpaceWeather) and hasattr(space_weather, "at"):
+        space_weather = space_weather.at(time)
     return run_model(
         time.year,
         utc_day(time.year, time.month, time.day)[2],
@@ -181,6 +192,7 @@ def evaluate_atmosphere(
         space_weather,
         anomalous_oxygen,
         local_solar_time_h,
+        model,
     )
 
 
@@ -194,14 +206,21 @@ def run_model(
     space_weather: SpaceWeather,
     anomalous_oxygen: bool = True,
     local_solar_time_h: float | None = None,
+    model: str = "nrlmsise00",
 ) -> AtmosphereState:
-    """NRLMSISE-00 at one point (``altitude`` [m], angles [rad], UTC ``seconds`` of the day)."""
+    """The atmosphere ``model`` at one point (``altitude`` [m], angles [rad], UTC ``seconds`` of
+    the day); ``local_solar_time_h`` is NRLMSISE-00's only."""
     if not isinstance(space_weather, SpaceWeather):
         raise ValueError(
             f"space_weather must be a SpaceWeather(f107, f107a, ap), "
             f"got {type(space_weather).__name__}"
         )
     longitude_deg = (math.degrees(longitude) + 180.0) % 360.0 - 180.0
+    if model != "nrlmsise00":
+        return _run_pymsis(
+            model, year, day_of_year, seconds, altitude, latitude, longitude_deg, space_weather,
+            anomalous_oxygen,
+        )  # fmt: skip
     if local_solar_time_h is None:
         local_solar_time_h = (seconds / 3600.0 + longitude_deg / 15.0) % 24.0
     model = _nrlmsise00.gtd7d if anomalous_oxygen else _nrlmsise00.gtd7
@@ -229,5 +248,44 @@ def run_model(
         rho,
         temperatures[0],
         temperatures[1],
+        anomalous_oxygen,
+    )
+
+
+def _run_pymsis(
+    model, year, day_of_year, seconds, altitude, latitude, longitude_deg, weather, anomalous_oxygen
+) -> AtmosphereState:
+    """NRLMSIS 2.0 or 2.1 through pymsis, the indices passed (never looked up); the exospheric
+    temperature is the model's at 1000 km (the asymptote of its Bates profile)."""
+    import pymsis
+
+    if model not in ATMOSPHERE_MODELS:
+        raise ValueError(
+            f"atmosphere_model must be one of {', '.join(ATMOSPHERE_MODELS)}, got {model!r}"
+        )
+    date = np.datetime64(f"{year:04d}-01-01") + np.timedelta64(
+        round((day_of_year - 1) * 86400e6 + seconds * 1e6), "us"
+    )
+    history = weather.ap_history
+    aps = [weather.ap] * 7 if history is None else list(history)
+    out = pymsis.calculate(
+        [date, date],
+        [longitude_deg] * 2,
+        [math.degrees(latitude)] * 2,
+        [altitude * 1e-3, MAX_ALTITUDE * 1e-3],
+        [weather.f107] * 2,
+        [weather.f107a] * 2,
+        [aps, aps],
+        version=model[4:],
+        geomagnetic_activity=1 if history is None else -1,
+    ).astype(float)
+    rho, n2, o2, o, he, h, ar, n, ano, _, temperature = np.nan_to_num(out[0]).tolist()
+    if anomalous_oxygen:  # (NRLMSIS 2.x leaves it out of its mass density; gtd7d adds it)
+        rho += ano * _SPECIES_MASS_KG["AnO"]
+    return AtmosphereState(
+        {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano},
+        rho,
+        float(out[1, 10]),
+        temperature,
         anomalous_oxygen,
     )

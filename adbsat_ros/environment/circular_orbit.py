@@ -43,6 +43,7 @@ def flight_conditions_circular_orbit(
     accommodation_options=None,
     speed: float | None = None,
     precession_nutation: str = "iau2006a",
+    atmosphere_model: str = "nrlmsise00",
 ) -> FlightConditions:
     """Flight conditions at a geodetic point at circular-orbit speed; no vectors but positions.
 
@@ -52,6 +53,7 @@ def flight_conditions_circular_orbit(
     altitude : above the WGS-84 ellipsoid [m], 0..1000 km
     latitude, longitude : geodetic [rad]
     speed : relative speed [m/s] >= 0 instead of the circular-orbit speed
+    space_weather, atmosphere_model : as :func:`flight_conditions`
 
     Other options and ValueError as :func:`flight_conditions`.
     """
@@ -59,8 +61,15 @@ def flight_conditions_circular_orbit(
     model = normalize_model_name(accommodation_model)
     altitude = check_altitude(altitude)
     position_ecef = geodetic_to_ecef(latitude, longitude, altitude)
+    space_weather = space_weather.at(time) if hasattr(space_weather, "at") else space_weather
     atmosphere = evaluate_atmosphere(
-        time, altitude, latitude, longitude, space_weather, anomalous_oxygen=anomalous_oxygen
+        time,
+        altitude,
+        latitude,
+        longitude,
+        space_weather,
+        anomalous_oxygen=anomalous_oxygen,
+        model=atmosphere_model,
     )
     if speed is None:
         speed = circular_orbit_speed(altitude)

@@ -19,6 +19,7 @@ from adbsat_ros.environment.accommodation import (
     normalize_model_name,
 )
 from adbsat_ros.environment.atmosphere import (
+    ATMOSPHERE_MODELS,
     SpaceWeather,
     check_altitude,
     checked_utc,
@@ -50,6 +51,7 @@ class ConditionsOptions:
     accommodation_model: str
     accommodation_options: Mapping
     orientation_options: tuple
+    atmosphere_model: str = "nrlmsise00"
 
 
 def conditions_options(
@@ -65,6 +67,7 @@ def conditions_options(
     polar_motion=(0.0, 0.0),
     precession_nutation: str = "iau2006a",
     precession_nutation_step: float = 0.0,
+    atmosphere_model: str = "nrlmsise00",
 ) -> ConditionsOptions:
     """The options of :func:`flight_conditions`, checked; ValueError naming a bad one."""
     frame_key = str(frame).lower()
@@ -74,6 +77,11 @@ def conditions_options(
     if wind_frame_key not in WIND_FRAMES:
         raise ValueError(f"wind_frame must be one of {', '.join(WIND_FRAMES)}, got {wind_frame!r}")
     model = normalize_model_name(accommodation_model)
+    if atmosphere_model not in ATMOSPHERE_MODELS:
+        raise ValueError(
+            f"atmosphere_model must be one of {', '.join(ATMOSPHERE_MODELS)}, "
+            f"got {atmosphere_model!r}"
+        )
     return ConditionsOptions(
         frame=frame_key,
         earth_rotation=bool(earth_rotation),
@@ -87,6 +95,7 @@ def conditions_options(
         orientation_options=check_orientation_options(
             ut1_minus_utc, polar_motion, precession_nutation, precession_nutation_step
         ),
+        atmosphere_model=atmosphere_model,
     )
 
 
@@ -108,12 +117,14 @@ def flight_conditions(
     polar_motion=(0.0, 0.0),
     precession_nutation: str = "iau2006a",
     precession_nutation_step: float = 0.0,
+    atmosphere_model: str = "nrlmsise00",
 ) -> FlightConditions:
     """Flight conditions of a satellite from its orbital state.
 
     Parameters
     ----------
     time : UTC (aware, or naive meaning UTC), years 1958..2100
+    space_weather : a source of indices (a SpaceWeather, or a HistoricalWeather of the record)
     position : (3,) [m] in ``frame``
     velocity : (3,) [m/s], inertial in ECI axes, or relative to the rotating Earth in ECEF axes
     frame : ``"eci"`` (GCRF) or ``"ecef"`` (ITRF)
@@ -121,6 +132,7 @@ def flight_conditions(
     wind : (3,) relative to the co-rotating Earth [m/s], in ``wind_frame`` (``"enu"`` or ``"ecef"``)
     accommodation_model : ``fixed``, ``langmuir`` (default), ``goodman`` or ``sesam``
     orientation : an EarthOrientation at ``time`` (then the Earth orientation options are ignored)
+    atmosphere_model : ``nrlmsise00`` (default), ``msis2.0`` or ``msis2.1``
 
     ValueError: a bad frame, vector, altitude (0..1000 km), time, space weather or option (named).
     """
@@ -136,6 +148,7 @@ def flight_conditions(
         polar_motion=polar_motion,
         precession_nutation=precession_nutation,
         precession_nutation_step=precession_nutation_step,
+        atmosphere_model=atmosphere_model,
     )
     return evaluate_flight_conditions(time, position, velocity, space_weather, options, orientation)
 
@@ -186,6 +199,8 @@ def evaluate_flight_conditions(
         check_altitude(altitude)
     except ValueError as exc:
         raise ValueError(f"position: {exc}") from None
+    if not isinstance(space_weather, SpaceWeather) and hasattr(space_weather, "at"):
+        space_weather = space_weather.at(utc)  # (the indices of this time)
     atmosphere = run_model(
         utc.year,
         day_of_year,
@@ -195,6 +210,7 @@ def evaluate_flight_conditions(
         longitude,
         space_weather,
         options.anomalous_oxygen,
+        model=options.atmosphere_model,
     )
     speed = _finite("speed", speed)  # (an infinite speed is refused by name)
     # (the options' names were checked with the options; the model checks their values)

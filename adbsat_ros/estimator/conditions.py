@@ -9,6 +9,7 @@ from __future__ import annotations
 from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.flight_conditions import conditions_options, evaluate_flight_conditions
+from adbsat_ros.environment.space_weather import weather_source
 from adbsat_ros.estimator.samples import OrbitalState
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.estimator.timing import stamp_utc
@@ -23,7 +24,13 @@ class PropagatedConditions:
 
     def __init__(self, settings: WrenchSettings):
         self.settings = settings
-        self.weather = SpaceWeather(settings.f107, settings.f107a, settings.ap, settings.ap_history)
+        fixed = SpaceWeather(settings.f107, settings.f107a, settings.ap, settings.ap_history)
+        try:
+            self.weather = weather_source(
+                settings.space_weather, fixed, settings.space_weather_file
+            )
+        except ValueError as exc:
+            raise ValueError(f"parameter {exc}") from None
         self.options = conditions_options(
             frame=settings.state_frame,
             earth_rotation=settings.earth_rotation,
@@ -35,6 +42,7 @@ class PropagatedConditions:
                 {"alpha": settings.alpha} if settings.accommodation_model == "fixed" else None
             ),
             precession_nutation_step=PRECESSION_NUTATION_STEP_S,
+            atmosphere_model=settings.atmosphere_model,
         )
 
     def __call__(self, state: OrbitalState, stamp: float) -> FlightConditions:

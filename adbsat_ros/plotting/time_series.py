@@ -1,4 +1,5 @@
-"""Force, torque [N, N m, body frame], density and C_D against time, one line per model."""
+"""Force, torque [N, N m, body frame], density and C_D against time, one line per model; density
+and drag with the space weather in force."""
 
 from __future__ import annotations
 
@@ -120,6 +121,28 @@ def make_line_figures(lines) -> dict:
             ax.legend(fontsize=8, title="run")
         figures[key] = fig
     return figures
+
+
+def make_space_weather_figure(lines):
+    """The replay of a flight: density, drag [N], F10.7 and Ap against time, one line per model;
+    ``lines``: label -> {'density', 'drag', 'f107', 'ap'}: [(t, values)]."""
+    scale, t_label = _time_axis(lines)
+    fig = new_figure()
+    axes = fig.subplots(4, 1, sharex=True)
+    rows = (("density", "density [kg/m³]"), ("drag", "drag [N]"), ("f107", "F10.7 [sfu]"),
+            ("ap", "Ap"))  # fmt: skip
+    for ax, (key, ylabel) in zip(axes, rows):
+        for label, run in lines.items():
+            ((t, values),) = run[key]
+            ax.plot(t * scale, values, label=label, **_run_style(values))
+        ax.set_ylabel(ylabel, fontsize=8)
+        ax.grid(True, lw=0.4, alpha=0.6)
+    axes[0].set_yscale("log")
+    axes[-1].set_xlabel(t_label)
+    fig.suptitle("Density and drag with the space weather in force", fontsize=10)
+    if len(lines) > 1:
+        fig.legend(*axes[0].get_legend_handles_labels(), loc="outside right center", fontsize=8)
+    return fig
 
 
 def save_figures(figures, out_dir, prefix: str = "") -> list[Path]:

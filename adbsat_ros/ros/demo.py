@@ -23,6 +23,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
 from adbsat_ros.bags.scenario import Scenario, generate
+from adbsat_ros.environment.space_weather import HistoricalWeather
 from adbsat_ros.ros import demo_joints
 from adbsat_ros.ros.demo_report import DemoResult, SampleLog, table_rows, vector, write_outputs
 from adbsat_ros.ros.executors import make_executor
@@ -86,6 +87,7 @@ def run_demo(
     attitude: str | None = None,
     out=None,
     articulated: bool = False,
+    space_weather: str = "fixed",
 ) -> DemoResult:
     """Run the demo (module docstring); prints to ``out`` (default stdout).
 
@@ -95,6 +97,7 @@ def run_demo(
     speedup : simulated seconds per wall second, in (0, :data:`MAX_SPEEDUP`]
     attitude : ``'tumble'`` (default) or ``'nadir'`` (with ``articulated``)
     articulated : the finned body steering its fins (:mod:`adbsat_ros.ros.demo_joints`)
+    space_weather : the node's ``space_weather`` parameter, ``'fixed'`` or ``'historical'``
 
     ValueError: a bad duration, speedup or attitude.
     """
@@ -152,6 +155,7 @@ def run_demo(
             parameter_overrides=[
                 Parameter("qos_depth", value=100),
                 Parameter("state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
+                Parameter("space_weather", value=space_weather),
             ]
             + (
                 [
@@ -173,6 +177,12 @@ def run_demo(
             f"{Path(str(mesh.source)).name}, "
             f"{mesh.n_panels} panels, model {s.gsi_model}, shading {s.shading}"
         )
+        if space_weather != "fixed":
+            w = HistoricalWeather().at(scenario.epoch)
+            say(
+                f"space weather {space_weather} at {scenario.epoch.date().isoformat()}: "
+                f"F10.7 {w.f107:g} sfu, 81-day F10.7 {w.f107a:g} sfu, Ap {w.ap:g}"
+            )
 
         client = rclpy.create_node("demo_client", namespace=NAMESPACE, context=context)
         qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)

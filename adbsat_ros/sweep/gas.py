@@ -9,6 +9,7 @@ import math
 
 from adbsat_ros.environment.atmosphere import SpaceWeather
 from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
+from adbsat_ros.environment.space_weather import weather_source
 from adbsat_ros.physics.constants import species_mass_kg
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.sweep.axes import ATMOSPHERE, ATMOSPHERE_DEFAULTS, DEFAULTS
@@ -31,7 +32,8 @@ def point_gas(spec: SweepSpec, inputs: dict, made: dict) -> FreeStream:
     scales = {species: values[name] for species, name in spec.scales().items()}
     key = tuple(values[k] for k in ATMOSPHERE) + (inputs.get("speed"), *scales.values())
     if key not in made:
-        weather = SpaceWeather(values["f107"], values["f107a"], values["ap"])
+        fixed = SpaceWeather(values["f107"], values["f107a"], values["ap"])
+        weather = weather_source(spec.space_weather, fixed)
         epoch = _dt.datetime.fromisoformat(spec.time)
         conditions = flight_conditions_circular_orbit(
             epoch + _dt.timedelta(hours=values["time"]),
@@ -40,6 +42,7 @@ def point_gas(spec: SweepSpec, inputs: dict, made: dict) -> FreeStream:
             math.radians(values["longitude"]),
             weather,
             speed=inputs.get("speed"),
+            atmosphere_model=spec.atmosphere_model,
         )
         made[key] = scaled(conditions.free_stream(), scales)
     return made[key]

@@ -16,7 +16,8 @@ import numpy as np
 import yaml
 
 from adbsat_ros.bounds import bounded
-from adbsat_ros.environment.atmosphere import check_time
+from adbsat_ros.environment.atmosphere import ATMOSPHERE_MODELS, check_time
+from adbsat_ros.environment.space_weather import SPACE_WEATHER_SOURCES, HistoricalWeather
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.gsi_models import MODELS, canonical_model_name
 from adbsat_ros.physics.setup import BodySpec, Setup, ShadingPolicy, SolverSpec
@@ -52,6 +53,8 @@ FIELDS = (
     "axes",
     "chunk_points",
     "solver",
+    "atmosphere_model",
+    "space_weather",
 )
 
 
@@ -74,6 +77,8 @@ class SweepSpec:
     time: str = DEFAULT_TIME
     solver: tuple = (("method", "panel"),)
     meshes: tuple = ()
+    atmosphere_model: str = "nrlmsise00"
+    space_weather: str = "fixed"
 
     @property
     def atmosphere(self) -> bool:
@@ -103,6 +108,9 @@ class SweepSpec:
             canonical["solver"] = dict(self.solver)
         if self.meshes:
             canonical["meshes"] = list(self.meshes)
+        for name, default in (("atmosphere_model", "nrlmsise00"), ("space_weather", "fixed")):
+            if getattr(self, name) != default:  # (the other specs keep their fingerprints)
+                canonical[name] = getattr(self, name)
         return hashlib.sha256(json.dumps(canonical, sort_keys=True).encode()).hexdigest()
 
     @property
@@ -231,6 +239,7 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
             "axes and fixed: the gas is the atmosphere's (altitude ...) or given (temperature, "
             "mean_mass_amu), not both"
         )
+    atmosphere = _atmosphere_checked(data, epoch, fixed, axes)
     chunk = data.get("chunk_points", CHUNK_POINTS)
     if isinstance(chunk, bool) or not isinstance(chunk, int) or not 1 <= chunk <= 1_000_000:
         raise SpecError(f"chunk_points: a whole number in [1, 1000000], got {chunk!r}")
@@ -247,7 +256,32 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
         time,
         solver,
         meshes,
+        *atmosphere,
     )
+
+
+def _atmosphere_checked(data, epoch, fixed: dict, axes: dict) -> tuple:
+    """``(atmosphere_model, space_weather)`` of a spec; ``historical`` takes the indices of each
+    time from the record, which must hold them (SpecError naming the field otherwise)."""
+    model = str(data.get("atmosphere_model", "nrlmsise00"))
+    if model not in ATMOSPHERE_MODELS:
+        raise SpecError(f"atmosphere_model: {model!r} is not one of {', '.join(ATMOSPHERE_MODELS)}")
+    source = str(data.get("space_weather", "fixed"))
+    if source not in SPACE_WEATHER_SOURCES:
+        raise SpecError(
+            f"space_weather: {source!r} is not one of {', '.join(SPACE_WEATHER_SOURCES)}"
+        )
+    if source == "historical":
+        given = sorted({"f107", "f107a", "ap"} & (set(fixed) | set(axes)))
+        if given:
+            raise SpecError(f"space_weather: historical takes {given[0]} from the record")
+        record = HistoricalWeather()
+        for hours in np.atleast_1d(axes.get("time", fixed.get("time", 0.0))).tolist():
+            try:
+                record.at(epoch + _dt.timedelta(hours=hours))
+            except ValueError as exc:
+                raise SpecError(f"space_weather: {exc}") from None
+    return model, source
 
 
 def body_setup(spec: SweepSpec, mesh: str) -> Setup:

@@ -183,3 +183,26 @@ def test_what_nrlmsise00_prints_goes_to_stderr_not_into_the_json(monkeypatch, ca
         assert json.loads(out)["space_weather"]["f107"] == 20000.0
     else:
         assert out == "" and "Traceback" not in err
+
+
+def test_historical_space_weather_and_msis21_show_the_indices_in_force(capsys):
+    import datetime as dt
+
+    from adbsat_ros.environment.space_weather import HistoricalWeather
+
+    when = ["--time", "2015-01-19T00:00:00Z", "--space-weather", "historical"]
+    status, out, err = run([*when, *POINT, "--atmosphere-model", "msis2.1", "--json"], capsys)
+    assert status == 0, err
+    expected = HistoricalWeather().at(dt.datetime(2015, 1, 19))
+    weather = json.loads(out)["space_weather"]
+    assert (weather["f107"], weather["f107a"], weather["ap"]) == (
+        expected.f107,
+        expected.f107a,
+        expected.ap,
+    )
+    assert weather["ap_history"] == list(expected.ap_history)
+    status, out, err = run([*when, *POINT], capsys)
+    assert status == 0 and f"{expected.f107:g} sfu, {expected.f107a:g} sfu" in out
+    status, out, err = run(["--time", "2090-01-01T00:00:00Z", *when[2:], *POINT], capsys)
+    assert status == 2 and "2090-01-01T00:00:00 is outside the space-weather record" in err
+    assert len(err.strip().splitlines()) == 1

@@ -291,3 +291,31 @@ def test_a_signal_stops_the_analysis_keeping_partial_outputs(tmp_path, signum):
     assert f"wrote csv: {tmp_path / 'out.PARTIAL.csv'}" in out
     assert leftovers(tmp_path) == []
     assert not wait_gone(workers)
+
+
+def test_a_flight_across_midnight_gets_each_days_indices_with_historical_space_weather(
+    tmp_path, capsys
+):
+    """``--space-weather historical``: the CSV's f107, f107a, ap are the record's at each stamp,
+    and change with the UTC day, as the density does; a plot shows them with the density."""
+    import datetime as dt
+
+    from adbsat_ros.environment.space_weather import HistoricalWeather
+
+    simulate(capsys, tmp_path / "sim", "--epoch", "2015-01-18T23:59:55Z")
+    options = ["--space-weather", "historical", "--atmosphere-model", "msis2.0"]
+    code, _, err = run(capsys, "bag", "analyze", tmp_path / "sim", *options, "--workers", 1)
+    assert code == 0, err
+    with open(tmp_path / "sim_aero.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    record = HistoricalWeather()
+    for row in rows:
+        indices = record.at(dt.datetime.fromisoformat(row["utc"]))
+        got = [float(row[f"default.{k}"]) for k in ("f107", "f107a", "ap")]
+        assert got == [indices.f107, indices.f107a, indices.ap]
+    first, last = rows[0], rows[-1]
+    assert first["utc"].startswith("2015-01-18") and last["utc"].startswith("2015-01-19")
+    assert first["default.f107"] != last["default.f107"]
+    assert first["default.density_kg_m3"] != last["default.density_kg_m3"]
+    # the replay's picture: density and drag with F10.7 and Ap
+    assert (tmp_path / "sim_aero_plots" / "space_weather.png").stat().st_size > 1000

@@ -181,3 +181,35 @@ def test_each_point_records_its_gas_and_its_moment_in_wind_axes(tmp_path):
             np.testing.assert_allclose(ds["Cf_w"][point].values, turn @ cf_g, atol=1e-15)
             cm_w = ds["Cm_w"][point].values
             assert np.linalg.norm(cm_w) == pytest.approx(np.linalg.norm(cm_g), rel=1e-13)
+
+
+def test_historical_space_weather_and_msis2_give_each_time_its_own_indices(tmp_path):
+    from adbsat_ros.environment.space_weather import HistoricalWeather
+    from adbsat_ros.sweep.axes import SpecError
+
+    epoch = dt.datetime(2015, 3, 16, 12)
+    data = {
+        "mesh": "example",
+        "shading": "none",
+        "time": epoch.isoformat(),
+        "space_weather": "historical",
+        "atmosphere_model": "msis2.0",
+        "fixed": {"altitude": 400},
+        "axes": {"time": "0:12:24"},
+    }
+    spec, ds = swept(tmp_path, data)
+    record = HistoricalWeather()
+    for k, hours in enumerate(spec.axes["time"]):
+        when = epoch + dt.timedelta(hours=hours)
+        flow = flight_conditions_circular_orbit(
+            when, 400e3, 0.0, 0.0, record, atmosphere_model="msis2.0"
+        ).free_stream()
+        assert ds["density"][{"aoa": 0, "aos": 0, "time": k}].item() == flow.mass_density
+    assert len(set(ds["density"].values.ravel().tolist())) == 3
+    for change, text in (
+        ({"fixed": {"altitude": 400, "f107": 120}}, "historical takes f107 from the record"),
+        ({"time": "2090-01-01T00:00:00"}, "2090-01-01T00:00:00 is outside the space-weather"),
+        ({"atmosphere_model": "msis3"}, "atmosphere_model: 'msis3' is not one of"),
+    ):
+        with pytest.raises(SpecError, match=text):
+            parse_spec({**data, **change}, "")
