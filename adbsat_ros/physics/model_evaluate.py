@@ -127,7 +127,8 @@ def blended_lighting(parts):
 
 
 def facet_sums(method, parts):
-    """A rigid body's facet sums of the cells ``parts`` (None without facets), blended."""
+    """The cells' ``parts`` facet sums (a rigid body's) or link rows (an articulated body's),
+    blended; None without facets."""
     if method.facets is None:
         return None
     if len(parts) == 1:
@@ -143,23 +144,8 @@ def rigid_coefficients(method, flow, u, angles, parts, surface) -> AeroCoefficie
 
 def articulated_coefficients(method, flow, u, angles, configuration, parts, surface):
     """The articulated panel method's coefficients at ``configuration`` from the cells ``parts``."""
-    sums = None
-    facets = method.facets
-    if facets is not None:
-        key = configuration.poses.key
-        posed = []
-        for _, cell in parts:
-            memo = cell.posed
-            if memo is None or memo[0] != key:
-                memo = cell.posed = (key, *facets.pose_part(cell.sums, configuration.posing))
-            posed.append(memo[1:])
-        if len(posed) == 1:
-            ten, columns = posed[0]
-            sums = PosedSums(ten, None, None if columns is None else columns[None])
-        else:
-            ten = np.array([t for t, _ in posed])
-            columns = None if posed[0][1] is None else [c for _, c in posed]
-            sums = PosedSums.of([w for w, _ in parts], ten, columns)
+    rows = facet_sums(method, parts)  # (the cells' link rows, blended)
+    sums = None if rows is None else PosedSums(rows, configuration.posing)
     lighting = blended_lighting(parts)
     return method.coefficients_of_rows(flow, u, angles, configuration, sums, lighting, surface)
 

@@ -10,7 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from adbsat_ros.physics.facets import sum_columns, vector_sums
+from adbsat_ros.physics.facets import blend_sums, sum_columns, vector_sums
 from adbsat_ros.physics.surface import SURFACE_PARAMETERS, PanelSurface
 from adbsat_ros.shading.lighting import LightingBlend
 
@@ -26,34 +26,29 @@ class Posing(NamedTuple):
 
 
 class PosedSums:
-    """A lighting's facet sums posed at a configuration: ``ten`` (G, 10) and :attr:`columns`."""
+    """A lighting's link rows (G, 13) posed at a configuration: ``ten`` (G, 10) and the joints'
+    effort :attr:`columns` (G, 4 J), made when first read (posing is linear: a blend's rows
+    posed are the blend of its parts' posed rows)."""
 
-    __slots__ = ("ten", "_weights", "_stacked", "_columns")
+    __slots__ = ("ten", "_rows", "_efforts", "_columns")
 
-    def __init__(self, ten, weights=None, stacked_columns=None):
-        self.ten = ten
-        self._weights, self._stacked = weights, stacked_columns
-        self._columns = (
-            stacked_columns[0] if weights is None and stacked_columns is not None else None
-        )
-
-    @classmethod
-    def of(cls, weights, ten, columns=None) -> "PosedSums":
-        """The blend with ``weights`` (P,) of parts' ``ten`` (P, G, 10) and ``columns`` (P, G, 4 J),
-        stacked or a sequence of the parts'."""
-        if len(ten) == 1:
-            return cls(ten[0], None, columns)
-        weights = np.array(weights)
-        return cls((weights @ ten.reshape(len(ten), -1)).reshape(ten.shape[1:]), weights, columns)
+    def __init__(self, rows: np.ndarray, posing: Posing):
+        self.ten = _posed(rows, posing.matrix)
+        self._rows, self._efforts, self._columns = rows, posing.efforts, None
 
     @property
     def columns(self) -> np.ndarray | None:
         """The joints' effort columns (G, 4 J) (:class:`~.link_loads.EffortColumns`), or None."""
-        if self._columns is None and self._stacked is not None:
-            stacked = np.asarray(self._stacked)  # (the parts' columns, stacked when first read)
-            blended = self._weights @ stacked.reshape(len(stacked), -1)
-            self._columns = blended.reshape(stacked.shape[1:])
+        if self._columns is None and self._efforts is not None:
+            self._columns = _posed(self._rows, self._efforts)
         return self._columns
+
+
+def _posed(rows: np.ndarray, matrices: np.ndarray) -> np.ndarray:
+    """Each facet's rows (G, 13) through its matrix (G, 13, K): (G, K), read-only."""
+    out = np.matmul(rows[:, None, :], matrices)[:, 0, :]
+    out.setflags(write=False)
+    return out
 
 
 #: The Levi-Civita symbol: the matrix [v]x of the cross product with v is -(EPSILON . v)
@@ -195,35 +190,11 @@ class PosedFacets:
         rows.setflags(write=False)
         return rows
 
-    def pose_part(self, rows, posing: Posing) -> tuple:
-        """One lighting's ``rows`` posed: ten sums (G, 10) and effort columns (G, 4 J) or None."""
-        ten = np.einsum("gi,gic->gc", rows, posing.matrix)
-        ten.setflags(write=False)
-        if posing.efforts is None:
-            return ten, None
-        columns = np.einsum("gi,gic->gc", rows, posing.efforts)
-        columns.setflags(write=False)
-        return ten, columns
-
-    def pose(self, rows, weights, posing: Posing) -> PosedSums:
-        """The parts' ``rows`` posed and blended by ``weights`` (:meth:`Facets.lit_sums` layout)."""
-        return PosedSums.of(weights, *_stacked([self.pose_part(r, posing) for r in rows]))
-
     def sums(self, lighting, configuration) -> PosedSums:
-        """:meth:`pose` of ``lighting`` (a blend, or None: all lit) at ``configuration``."""
+        """The link rows of ``lighting`` (a blend, or None: all lit), blended, posed at
+        ``configuration``."""
         if isinstance(lighting, LightingBlend):
-            weights, parts = zip(*lighting.parts)
+            rows = blend_sums([(w, self.link_rows(part)) for w, part in lighting.parts])
         else:
-            weights, parts = (1.0,), (lighting,)
-        return self.pose([self.link_rows(part) for part in parts], weights, configuration.posing)
-
-
-def _stacked(posed) -> tuple:
-    """Posed parts ``[(ten, columns), ...]`` stacked, read-only."""
-    ten = np.stack([t for t, _ in posed])
-    ten.setflags(write=False)
-    if posed[0][1] is None:
-        return ten, None
-    columns = np.stack([c for _, c in posed])
-    columns.setflags(write=False)
-    return ten, columns
+            rows = self.link_rows(lighting)
+        return PosedSums(rows, configuration.posing)

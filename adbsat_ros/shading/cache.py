@@ -29,13 +29,12 @@ _UNMADE = object()
 
 
 class Cell:
-    """A cell's entry: its read-only shared ``lighting``, :attr:`sums`, the caller's ``posed``."""
+    """A cell's entry: its read-only shared ``lighting`` and :attr:`sums`."""
 
-    __slots__ = ("lighting", "posed", "_summarise", "_sums")
+    __slots__ = ("lighting", "_summarise", "_sums")
 
     def __init__(self, lighting: PanelLighting, summarise: Callable | None = None):
         self.lighting = lighting
-        self.posed = None
         self._summarise = summarise
         self._sums = _UNMADE
 

@@ -16,9 +16,11 @@ from adbsat_ros.geometry.example_satellite import BODY_SIZE, WING_GAP, WING_SIZE
 from adbsat_ros.geometry.example_urdf import example_finned_urdf, example_satellite_urdf
 from adbsat_ros.physics.articulated_method import ArticulatedMethod
 from adbsat_ros.physics.coefficients import Reference
+from adbsat_ros.physics.facets import blend_sums
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_loads import panel_loads
 from adbsat_ros.physics.panel_method import PanelMethod
+from adbsat_ros.physics.posed_facets import PosedSums
 from adbsat_ros.physics.surface import MaterialTable, SurfaceProperties
 from adbsat_ros.shading.lighting import LightingBlend
 from adbsat_ros.shading.shader import make_shader
@@ -304,10 +306,10 @@ def test_a_blend_gives_the_same_numbers_whichever_of_its_parts_were_seen_before(
 
 
 def test_the_rows_posed_and_blended_give_the_lightings_coefficients_bit_for_bit(body):
-    """The pure entries (a lighting's link rows, posed at the configuration's posing and
-    blended; the coefficients of them) give what ``coefficients(lighting=...)`` gives, bit for
-    bit, for a blend, one lighting and none; and posing the parts one by one equals posing
-    them stacked in one product."""
+    """The pure entries (a lighting's link rows, blended and posed at the configuration's
+    posing; the coefficients of them) give what ``coefficients(lighting=...)`` gives, bit for
+    bit, for a blend, one lighting and none; and posing the blend equals blending the posed
+    parts (posing is linear)."""
     values = configurations(body)[2]
     us = directions()
     shader = make_shader(body.mesh(values))
@@ -325,7 +327,7 @@ def test_the_rows_posed_and_blended_give_the_lightings_coefficients_bit_for_bit(
         (None, [None], (1.0,)),
     ):
         rows = [facets.link_rows(part) for part in lit_parts]
-        sums = facets.pose(rows, part_weights, posing)
+        sums = PosedSums(blend_sums(list(zip(part_weights, rows))), posing)
         got = pure.coefficients_of_rows(FLOW, u, angles, configuration, sums, lighting)
         want = method.coefficients(FLOW, values, flow_direction=us[1], lighting=lighting)
         for name in ("Cf_G", "Cm_G", "cp", "ctau", "lit_fraction"):
@@ -334,16 +336,10 @@ def test_the_rows_posed_and_blended_give_the_lightings_coefficients_bit_for_bit(
         np.testing.assert_array_equal(got.effort_coefficients, want.effort_coefficients)
         np.testing.assert_array_equal(got.link_force, want.link_force)
         np.testing.assert_array_equal(got.link_moment, want.link_moment)
-        stacked = np.stack(rows)
         for matrix, posed in ((posing.matrix, sums.ten), (posing.efforts, sums.columns)):
-            together = np.einsum("pgi,gic->pgc", stacked, matrix)
-            if len(rows) > 1:
-                together = (np.array(part_weights) @ together.reshape(len(rows), -1)).reshape(
-                    posed.shape
-                )
-            else:
-                together = together[0]
-            np.testing.assert_array_equal(posed, together)
+            parts_posed = [np.einsum("gi,gic->gc", r, matrix) for r in rows]
+            blended = sum(w * p for w, p in zip(part_weights, parts_posed))
+            np.testing.assert_allclose(posed, blended, rtol=1e-12, atol=1e-12 * abs(blended).max())
     assert np.abs(want.link_force).max() > 0.0
     # the rows are the lighting's alone: the same bits on a method that saw other lightings
     np.testing.assert_array_equal(facets.link_rows(parts[0]), method.facets.link_rows(parts[0]))
