@@ -293,6 +293,7 @@ class WrenchNodeCore:
             qos,
             raw=True,
             event_callbacks=lost.event_callbacks(),
+            qos_overriding_options=OVERRIDES,
         )
         lost.attach(subscription)
         return subscription
@@ -362,7 +363,7 @@ class WrenchNodeCore:
     # ----------------------------------------------------------------------------- diagnostics
     def diagnostic_fields(self) -> DiagnosticFields:
         """The node's health and latest values: level, name, message, hardware id, key/values;
-        a managed node's lifecycle state too (WARN unless active; only that while unconfigured)."""
+        a managed node's lifecycle state too (WARN while not active; only it while unconfigured)."""
         est, label = self.estimator, self.lifecycle_state
         name = f"{self.get_name()}: aerodynamic wrench"
         if est is None:
@@ -390,7 +391,7 @@ class WrenchNodeCore:
         if label is not None:
             values["lifecycle_state"] = label
             if label != "active":
-                level, message = max(level, WARN), f"lifecycle state {label}: not serving"
+                level, message = WARN, f"lifecycle state {label}: not serving"
         return DiagnosticFields(
             level=level,
             name=name,
