@@ -67,6 +67,19 @@ def test_a_best_effort_publisher_gets_wrenches():
             sender.destroy_node()
 
 
+def test_a_state_in_a_wrong_frame_shows_as_such_in_the_diagnostics():
+    """Not as a missing or stale state: the refusal leads the message and is counted by name."""
+    with node_and_peer([Parameter("shading", value="none")]) as (node, peer):
+        pos, vel = circular_orbit_state(300e3)
+        peer.send_state(1.0, pos, vel, frame="ecef")  # (state_frame eci)
+        assert peer.spin_until(lambda: node.estimator.rejections["bad_state_frame"] == 1)
+        peer.send_attitude(1.0, (0.0, 0.0, 0.0, 1.0))
+        assert peer.spin_until(lambda: node.estimator.rejections["no_state"] == 1)
+        fields = node.diagnostic_fields()
+        assert fields.message == "bad_state_frame: no orbital state"
+        assert ("rejected_bad_state_frame", "1") in fields.values
+
+
 def endpoint_qos(peer, topic: str):
     """The QoS of adbsat_node's subscription of ``topic`` as the graph reports it."""
     found = []
