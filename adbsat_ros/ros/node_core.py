@@ -34,7 +34,7 @@ from adbsat_ros.physics.knudsen import knudsen_number
 from adbsat_ros.ros.log_throttle import LogThrottle
 from adbsat_ros.ros.message_info import LostMessages
 from adbsat_ros.ros.parameter_values import declare_typed_parameters
-from adbsat_ros.ros.qos import OVERRIDES, check_qos_overrides, input_qos
+from adbsat_ros.ros.qos import OVERRIDES, check_qos_overrides, check_qos_values, input_qos
 from adbsat_ros.ros.readers import Readers
 
 
@@ -77,6 +77,7 @@ class WrenchNodeCore:
         self._lost: dict = {}  # LostMessages by topic, once set up
         self._diag_timer = self._marker_timer = None
         self.add_on_set_parameters_callback(self._on_set_parameters)
+        check_qos_values(self)
         # /diagnostics from the start, also while a managed node is not configured or not active
         self.diagnostics_pub = self.create_publisher(
             DiagnosticArray, "/diagnostics", 10, qos_overriding_options=OVERRIDES

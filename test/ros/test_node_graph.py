@@ -114,15 +114,25 @@ def test_qos_overrides_set_a_subscriptions_reliability_and_depth():
         )
 
 
-def test_a_misspelt_qos_override_stops_the_node_with_the_closest_name():
+@pytest.mark.parametrize(
+    "name, value, message",
+    [
+        ("qos_overrides./attitude.subscription.relability", "reliable",
+         r"relability: unknown \(did you mean qos_overrides\./attitude\.subscription\.reliability"),
+        (ATTITUDE_RELIABILITY, "sometimes",
+         "reliability: one of reliable, best_effort, system_default, got 'sometimes'"),
+        ("qos_overrides./diagnostics.publisher.depth", -2, "depth: a whole number >= 0, got -2"),
+    ],
+)  # fmt: skip
+def test_a_bad_qos_override_stops_the_node_naming_it(name, value, message):
     ctx, executor = make_context()
     try:
-        with pytest.raises(ValueError, match=r"did you mean qos_overrides\./attitude\.subscr"):
+        with pytest.raises(ValueError, match=f"^parameter {name[:20]}.*{message}"):
             AdbsatNode(
                 context=ctx,
                 parameter_overrides=[
                     Parameter("shading", value="none"),
-                    Parameter("qos_overrides./attitude.subscription.relability", value="reliable"),
+                    Parameter(name, value=value),
                 ],
             )
     finally:
