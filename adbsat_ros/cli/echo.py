@@ -13,7 +13,7 @@ from adbsat_ros.cli.options import (
     positive_int,
     ros_module,
 )
-from adbsat_ros.processes import stop_on_signals
+from adbsat_ros.processes import signal_name, stop_on_signals
 
 
 def configure(p) -> None:
@@ -45,7 +45,8 @@ def run(args) -> int:
     write = functools.partial(print, flush=True)  # (each message as it comes, also into a pipe)
     with stop_on_signals() as stop, errors_as(CommandFailed, tools.ToolError):
         times = tools.echo(args.topic, args.count, args.timeout, write, stop)
-    print(f"adbsat-ros echo: {rate_summary(times)}", file=sys.stderr)
+    stopped = f"stopped by {signal_name()}; " if stop.is_set() else ""
+    print(f"adbsat-ros echo: {stopped}{rate_summary(times)}", file=sys.stderr)
     if args.count is not None and len(times) < args.count and not stop.is_set():
         raise CommandFailed(
             f"{len(times)} of {args.count} messages came within {args.timeout:g} s of each other"

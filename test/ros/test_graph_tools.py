@@ -6,6 +6,7 @@ import pytest
 pytestmark = pytest.mark.ros
 pytest.importorskip("rclpy")
 
+import re
 import signal
 import subprocess
 import sys
@@ -90,10 +91,11 @@ def test_echo_streams_until_sigint_and_says_the_rate(node_process):
             proc.kill()
             proc.communicate()
     assert proc.returncode == 0, err
-    count = int(err.split("adbsat-ros echo: ")[1].split(" messages")[0])
-    assert count == 3 + rest.count("\n---") and "mean rate" in err and " Hz over " in err
-    rate = float(err.split("mean rate ")[1].split(" Hz")[0])
-    span = float(err.split(" Hz over ")[1].split(" s")[0])
+    summary = re.search(r"^adbsat-ros echo: stopped by SIGINT; (\d+) messages, mean rate (\S+) "
+                        r"Hz over (\S+) s$", err, re.MULTILINE)  # fmt: skip
+    assert summary, err
+    count, rate, span = int(summary[1]), float(summary[2]), float(summary[3])
+    assert count == 3 + rest.count("\n---")
     assert rate * span == pytest.approx(count - 1, rel=5e-3)  # (the mean interval, as printed)
 
 
