@@ -24,6 +24,7 @@ from adbsat_ros.estimator.samples import OrbitalState, Rejection, WrenchSample
 from adbsat_ros.estimator.settings import WrenchSettings, setup_from_settings
 from adbsat_ros.estimator.state import (
     check_conditions,
+    check_frame,
     checked_rotation,
     checked_state,
     conditions_rejection,
@@ -55,6 +56,7 @@ class AeroWrenchEstimator:
         self._last_attitude_stamp: float | None = None
         self._last_state_stamp: float | None = None
         self._solar: SolarPressureSource | None = None
+        self._attitude_frame = ""
         self.settings = None
         self.knots = None
         self.apply_settings(settings)
@@ -95,6 +97,7 @@ class AeroWrenchEstimator:
                 self.joints = JointStates(self.body)
             self.joints.configure(settings.joint_state_timeout, model.prepare_joints)
         self._panels, self.model, self.database = panels, model, database
+        self._attitude_frame = ""  # (the frame names may have changed)
         self.method = model.method
         self._solar = solar
         self.settings = settings
@@ -197,13 +200,18 @@ class AeroWrenchEstimator:
             self.rejections[exc.reason] += 1
             raise
 
-    def on_attitude(self, stamp: float, quaternion_xyzw) -> WrenchSample:
-        """The wrench at an attitude (stamp [s], quaternion (x, y, z, w) in the state frame).
+    def on_attitude(self, stamp: float, quaternion_xyzw, frame_id: str = "") -> WrenchSample:
+        """The wrench at an attitude (stamp [s], quaternion (x, y, z, w) in the state frame, which
+        a non-empty ``frame_id`` must name: else ``bad_attitude_frame``, see ``check_frame``).
 
         Rejection: with its reason, counted in :attr:`rejections` (``time_backwards``: reset).
         """
         t0 = time.perf_counter()
         try:
+            if frame_id and frame_id != self._attitude_frame:
+                s = self.settings
+                check_frame(frame_id, "attitude", s.state_frame, s.frame_ids, s.body_frame_id)
+                self._attitude_frame = frame_id  # (the latest name taken: checked once)
             sample = self._sample(stamp, quaternion_xyzw, t0)
             if self._solar is not None:
                 sample = self._solar.with_sunlight(sample, t0)

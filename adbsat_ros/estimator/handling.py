@@ -74,7 +74,9 @@ class MessageHandler:
         """A decoded attitude: its wrench, or why none (:data:`IGNORED` if odometry gives them)."""
         if not self.uses_attitude_topic:
             return IGNORED
-        return self._wrench(attitude.stamp, attitude.quaternion_xyzw, state=False)
+        return self._wrench(
+            attitude.stamp, attitude.quaternion_xyzw, state=False, frame_id=attitude.frame_id
+        )
 
     def on_joint_state(self, joint_state: JointStateFields) -> Outcome:
         """A joint_states message: positions taken for the next wrenches, or ``bad_joint_state``."""
@@ -98,9 +100,9 @@ class MessageHandler:
         self.estimator.rejections["compute_error"] += 1
         return Outcome(stamp=stamp, error=exc, **fields)
 
-    def _wrench(self, stamp: Stamp, quaternion, state: bool) -> Outcome:
+    def _wrench(self, stamp: Stamp, quaternion, state: bool, frame_id: str = "") -> Outcome:
         try:
-            sample = self.estimator.on_attitude(stamp_seconds(stamp), quaternion)
+            sample = self.estimator.on_attitude(stamp_seconds(stamp), quaternion, frame_id)
         except Exception as exc:  # never let a message take the caller down
             return self._failed(stamp, exc, triggered=True, state_accepted=state)
         self._stamps = (self._stamps[1], stamp)

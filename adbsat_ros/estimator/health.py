@@ -13,22 +13,31 @@ OK, WARN, ERROR = 0, 1, 2
 COMPUTE_WINDOW = 2000
 
 
+#: Rejections that follow from a missing state (not why it is missing).
+FOR_WANT_OF_STATE = ("no_state", "stale_state")
+
+
 def health_level(
     state_age: float | None,
     last_rejection_reason: str | None,
     rejected: int,
     state_timeout: float,
     diagnostics_period: float,
+    cause: str | None = None,
 ) -> tuple[int, str]:
-    """Level (OK, WARN, ERROR) and message of the diagnostic status; ages and periods [s]."""
+    """Level (OK, WARN, ERROR) and message of the diagnostic status; ages and periods [s].
+    ``cause``: the latest rejection since the latest state other than FOR_WANT_OF_STATE, which
+    leads the message when there is no usable state (``bad_state_frame: no orbital state``)."""
+    prefix = f"{cause}: " if cause else ""
     if state_age is None:
-        return ERROR, "no orbital state"
+        return ERROR, prefix + "no orbital state"
     if state_age > max(state_timeout, diagnostics_period):
-        return ERROR, f"state is stale ({state_age:.1f} s old)"
+        return ERROR, prefix + f"state is stale ({state_age:.1f} s old)"
     if last_rejection_reason == "stale_state":
         return ERROR, "state is stale relative to the attitude stamps"
     if rejected:
-        return WARN, f"{rejected} inputs rejected so far"
+        latest = f" (latest: {last_rejection_reason})" if last_rejection_reason else ""
+        return WARN, f"{rejected} inputs rejected so far{latest}"
     return OK, "ok"
 
 
@@ -41,6 +50,7 @@ class Health:
         self.ticks_per_second = ticks_per_second
         self.last_sample = None
         self.last_rejection_reason: str | None = None
+        self.cause: str | None = None  # (health_level's)
         self.computed = 0
         self._last_state_time = None
         self._compute_ms = np.zeros(window)  # a ring, written in place
@@ -48,10 +58,13 @@ class Health:
     def state_accepted(self, now) -> None:
         """An orbital state was accepted at time ``now`` (in ticks)."""
         self._last_state_time = now
+        self.cause = None
 
     def rejected(self, reason: str) -> None:
         """An input was rejected for ``reason``."""
         self.last_rejection_reason = reason
+        if reason not in FOR_WANT_OF_STATE:
+            self.cause = reason
 
     def sample_computed(self, compute_seconds: float, sample) -> None:
         """A sample was computed in ``compute_seconds`` [s]."""
@@ -77,6 +90,7 @@ class Health:
             rejected,
             settings.state_timeout,
             settings.diagnostics_period,
+            self.cause,
         )
 
 

@@ -69,8 +69,8 @@ def mesh_name(name: str, value, bound=None) -> str:
 
 
 def frame_id(name: str, value, bound=None) -> str:
-    """A frame name without a leading "/" (``body`` if empty)."""
-    return str(value).lstrip("/") or "body"
+    """A frame name without a leading "/" (``base_link`` if empty)."""
+    return str(value).lstrip("/") or "base_link"
 
 
 def texts(name: str, value, bound=None) -> tuple:

@@ -96,8 +96,8 @@ PARAMETERS = (
       "URDF text of an articulated body (links with geometry, joints), as "
       "robot_state_publisher takes it; when set it is the body instead of mesh, and the joint "
       "positions come from the joint_states topic; read once at start-up"),
-    _P("body_frame_id", "body", frame_id, "fixed", None,
-      "frame_id of published wrenches: the mesh frame, fixed to the body"),
+    _P("body_frame_id", "base_link", frame_id, "fixed", None,
+      "frame_id of published wrenches: the mesh frame, fixed to the body (REP-105)"),
     _P("center_of_mass", [0.0, 0.0, 0.0], vector3, "reference.moment_point", BOUNDS["offset"],
       "centre of mass in the mesh frame [m]; torques are about it"),
     _P("mass", 0.0, number, "",
@@ -326,12 +326,12 @@ def parameter_kind(name: str) -> str:
     return "a string"
 
 
-def unknown_parameter(name: str) -> str:
-    """The error text for an unknown parameter ``name``, with the closest known name if any."""
-    close = difflib.get_close_matches(str(name), list(PARAMETER_DEFAULTS), n=1)
+def unknown_parameter(name: str, known=PARAMETER_DEFAULTS) -> str:
+    """The error text for an unknown parameter ``name``, with the closest ``known`` name if any."""
+    close = difflib.get_close_matches(str(name), list(known), n=1)
     if close:
         return f"parameter {name}: unknown (did you mean {close[0]}?)"
-    return f"parameter {name}: unknown; known parameters are {', '.join(PARAMETER_DEFAULTS)}"
+    return f"parameter {name}: unknown; known parameters are {', '.join(known)}"
 
 
 def load_parameters_file(path, node_name: str = "adbsat_node") -> dict:

@@ -24,6 +24,8 @@ REJECTION_REASONS = (
     "time_backwards",
     "altitude_out_of_range",
     "bad_state",
+    "bad_state_frame",
+    "bad_attitude_frame",
     "outside_database",
     "no_joint_state",
     "stale_joint_state",

@@ -124,40 +124,54 @@ def conditions_rejection(exc: ValueError, message: str) -> Rejection:
     return Rejection("altitude_out_of_range" if "altitude" in str(exc) else "bad_state", message)
 
 
+#: Names always taken as the body frame besides ``body_frame_id``: REP-105's and the old default.
+BODY_FRAME_NAMES = ("base_link", "body")
+
+
+def check_frame(name: str, what: str, state_frame: str, frame_ids, body_frame_id: str) -> None:
+    """Rejection ``bad_<what>_frame`` unless frame ``name`` (any case, a leading "/" ignored)
+    is one of the names of ``state_frame`` in ``frame_ids``; the message says what it names."""
+    frame = name.lstrip("/").lower()
+    own, other, other_name = (
+        (frame_ids.eci, frame_ids.ecef, "ECEF")
+        if state_frame == "eci"
+        else (frame_ids.ecef, frame_ids.eci, "ECI")
+    )
+    if frame in own:
+        return
+    if frame in other:
+        text = f"{what} frame_id '{frame}' is {other_name} but parameter state_frame is "
+        text += state_frame
+    elif frame in (body_frame_id.lower(), *BODY_FRAME_NAMES):
+        text = f"{what} frame_id '{frame}' is the body frame, not the state frame ({state_frame})"
+    else:
+        text = (
+            f"unknown frame_id '{frame}' of {'an' if what[0] in 'aeiou' else 'a'} {what}: not "
+            f"among the names of eci_frame_ids ({', '.join(frame_ids.eci)}) or ecef_frame_ids "
+            f"({', '.join(frame_ids.ecef)})"
+        )
+    raise Rejection(f"bad_{what}_frame", text)
+
+
 def odometry_inputs(msg, state_frame: str, body_frame_id: str, frame_ids) -> tuple:
     """``(stamp [s], position, velocity, velocity_in_body_frame, orientation_xyzw)`` of an Odometry.
 
-    ``header.frame_id`` must name ``state_frame`` in ``frame_ids`` (any case, a leading "/"
-    ignored). The twist is in the body frame if ``child_frame_id`` is ``body_frame_id``, in the
-    state frame if it is empty or names the state frame; else Rejection ``bad_state``.
+    ``header.frame_id`` must name ``state_frame`` (:func:`check_frame`). The twist is in the body
+    frame if ``child_frame_id`` is ``body_frame_id`` (or one of :data:`BODY_FRAME_NAMES`), in the
+    state frame if it is empty or names the state frame; else Rejection ``bad_state_frame``.
     """
     odom = msg if isinstance(msg, OdometryFields) else OdometryFields.of_message(msg)
     header_frame = odom.frame_id.lstrip("/")
-    frame = header_frame.lower()
+    check_frame(header_frame, "state", state_frame, frame_ids, body_frame_id)
     own = frame_ids.eci if state_frame == "eci" else frame_ids.ecef
-    if frame not in own:
-        other, other_name = (
-            (frame_ids.ecef, "ECEF") if state_frame == "eci" else (frame_ids.eci, "ECI")
-        )
-        if frame in other:
-            raise Rejection(
-                "bad_state",
-                f"state frame_id '{frame}' is {other_name} but parameter state_frame is "
-                f"{state_frame}",
-            )
-        raise Rejection(
-            "bad_state",
-            f"unknown frame_id '{frame}' of a state: not among the names of eci_frame_ids "
-            f"({', '.join(frame_ids.eci)}) or ecef_frame_ids ({', '.join(frame_ids.ecef)})",
-        )
     child = odom.child_frame_id.lstrip("/")
-    if child == body_frame_id:
+    if child == body_frame_id or child in BODY_FRAME_NAMES:
         in_body = True
     elif child == "" or child == header_frame or child.lower() in own:
         in_body = False
     else:
         raise Rejection(
-            "bad_state",
+            "bad_state_frame",
             f"twist child_frame_id '{child}' is neither the body frame '{body_frame_id}' "
             "nor the state frame",
         )

@@ -33,12 +33,15 @@ class AttitudeFields(NamedTuple):
     """header.stamp."""
     quaternion_xyzw: list
     """quaternion x, y, z, w as sent (float64): the body's orientation in the state frame."""
+    frame_id: str = ""
+    """header.frame_id: the frame the orientation is given in (the state frame)."""
 
     @classmethod
     def of_message(cls, msg) -> "AttitudeFields":
         """The fields of a QuaternionStamped message object (rclpy's or rosbags')."""
-        q = msg.quaternion
-        return cls(Stamp(msg.header.stamp.sec, msg.header.stamp.nanosec), [q.x, q.y, q.z, q.w])
+        q, header = msg.quaternion, msg.header
+        stamp = Stamp(header.stamp.sec, header.stamp.nanosec)
+        return cls(stamp, [q.x, q.y, q.z, q.w], header.frame_id)
 
 
 def quaternion_stamped_fields(raw) -> AttitudeFields:
@@ -51,7 +54,9 @@ def quaternion_stamped_fields(raw) -> AttitudeFields:
     start = end + (-(end - 4) % 8)  # the float64s align to 8 from the end of the encapsulation
     if length < 1 or len(raw) != start + 32 or raw[end - 1] != 0:
         raise ValueError("not a QuaternionStamped")
-    return AttitudeFields(Stamp(sec, nanosec), list(struct.unpack_from(order + "4d", raw, start)))
+    frame = bytes(raw[16 : end - 1]).decode("utf-8", "replace")
+    quaternion = list(struct.unpack_from(order + "4d", raw, start))
+    return AttitudeFields(Stamp(sec, nanosec), quaternion, frame)
 
 
 def wrench_stamped_cdr(sec: int, nanosec: int, frame_id: str, force, torque) -> bytes:

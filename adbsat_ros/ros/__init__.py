@@ -2,7 +2,7 @@
 
 - :mod:`.node`, :mod:`.managed_node`, :mod:`.node_core`: the wrench node and its lifecycle form;
   helpers :mod:`.executors`, :mod:`.log_throttle`, :mod:`.node_help`, :mod:`.parameter_values`,
-  :mod:`.message_info`, :mod:`.readers`, :mod:`.panel_marker`.
+  :mod:`.message_info`, :mod:`.readers`, :mod:`.panel_marker`, :mod:`.qos`.
 - :mod:`.bag_play`, :mod:`.bag_record`, :mod:`.graph`, :mod:`.graph_tools`: ``bag play``,
   ``bag record``, ``param``, ``topic echo``.
 - :mod:`.demo`, :mod:`.demo_report`, :mod:`.demo_joints`: ``adbsat-ros demo``.

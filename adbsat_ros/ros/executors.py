@@ -33,7 +33,9 @@ def make_executor(kind: str = "events", context=None):
     raise ValueError(f"executor must be events or single_threaded, got {kind!r}")
 
 
-def spin_until_shutdown(executor, context=None, stop=None) -> None:
-    """Spin ``executor`` until its context shuts down or ``stop`` is set."""
+def spin_until_shutdown(executor, context=None, stop=None, done=None) -> None:
+    """Spin ``executor`` until its context shuts down, ``stop`` is set or ``done()`` is true."""
     while rclpy.ok(context=context) and not (stop is not None and stop.is_set()):
+        if done is not None and done():
+            return
         executor.spin_once(timeout_sec=0.2)

@@ -14,12 +14,15 @@ from rcl_interfaces.msg import ParameterType
 from rclpy.exceptions import NameValidationException
 from rclpy.parameter import Parameter, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
+from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.validate_namespace import validate_namespace
 from rclpy.validate_node_name import validate_node_name
 
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, message_class, own_node
 from adbsat_ros.ros.parameter_values import text_value
+
+RELIABLE, BEST_EFFORT = ReliabilityPolicy.RELIABLE, ReliabilityPolicy.BEST_EFFORT
 
 
 class ToolError(RuntimeError):
@@ -173,16 +176,21 @@ def message_text(message, indent: str = "") -> str:
     return "\n".join(lines)
 
 
-def echo(topic: str, count: int, timeout: float, write) -> int:
-    """Print ``count`` messages of ``topic``; the number that came.
+def echo(topic: str, count: int | None, timeout: float, write, stop=None) -> list:
+    """Print the messages of ``topic`` until ``count`` came (None: until ``stop`` is set); the
+    times [s, monotonic] they came at. With a ``count``, ends too when none comes for ``timeout`` s.
 
     ToolError: the topic is not in the graph within ``timeout`` s, or its type is not installed.
     """
     topic = absolute_topic(topic)
+
+    def stopped() -> bool:
+        return stop is not None and stop.is_set()
+
     with tool_node() as tool:
         deadline = time.monotonic() + timeout
         kind = None
-        while kind is None:
+        while kind is None and not stopped():
             kinds = dict(tool.node.get_topic_names_and_types()).get(topic)
             if kinds:
                 kind = kinds[0]
@@ -190,18 +198,29 @@ def echo(topic: str, count: int, timeout: float, write) -> int:
                 raise ToolError(f"topic {topic}: not in the ROS graph within {timeout:g} s")
             else:
                 tool.spin_once()
+        if kind is None:
+            return []
         try:
             message_type = message_class(kind, topic)
         except BagError as exc:
             raise ToolError(str(exc)) from None
+        # as ros2 topic echo: reliable if every publisher is, else best effort (which takes both)
+        publishers = tool.node.get_publishers_info_by_topic(topic)
+        reliable = all(p.qos_profile.reliability == RELIABLE for p in publishers)
+        qos = QoSProfile(depth=10, reliability=RELIABLE if reliable else BEST_EFFORT)
         received = []
-        tool.node.create_subscription(message_type, topic, received.append, 10)
-        printed = 0
+        tool.node.create_subscription(
+            message_type, topic, lambda m: received.append((time.monotonic(), m)), qos
+        )
+        times = []
         deadline = time.monotonic() + timeout
-        while printed < count and time.monotonic() < deadline:
+        while (count is None or len(times) < count) and not stopped():
+            if count is not None and time.monotonic() > deadline:
+                break
             tool.spin_once()
-            while received and printed < count:
-                write(message_text(received.pop(0)) + "\n---")
-                printed += 1
+            while received and (count is None or len(times) < count):
+                came, message = received.pop(0)
+                write(message_text(message) + "\n---")
+                times.append(came)
                 deadline = time.monotonic() + timeout
-        return printed
+        return times

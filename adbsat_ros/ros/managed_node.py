@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from rclpy.exceptions import InvalidParameterTypeException
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 
 from adbsat_ros.geometry.mesh import MeshError
@@ -14,16 +15,23 @@ class AdbsatLifecycleNode(WrenchNodeCore, LifecycleNode):
 
     serving = False
     managed = True
+    #: Whether the node went through ``shutdown`` (finalized): its process ends.
+    finalized = False
 
     def __init__(self, **node_kwargs):
         super().__init__(NODE_NAME, **node_kwargs)
         self.declare_wrench_parameters()
 
+    @property
+    def lifecycle_state(self) -> str:
+        """The label of the current lifecycle state (``unconfigured``, ``inactive``, ...)."""
+        return self._state_machine.current_state[1]  # (as rclpy's own trigger_shutdown reads it)
+
     def on_configure(self, state) -> TransitionCallbackReturn:
         """Load the set-up and make the interfaces; FAILURE (reason logged) if it cannot be."""
         try:
             self.set_up(self.create_lifecycle_publisher)
-        except (MeshError, ValueError, OSError) as exc:
+        except (MeshError, ValueError, OSError, RuntimeError, InvalidParameterTypeException) as exc:
             self.get_logger().error(f"configure failed: {exc}")
             self.tear_down(self.destroy_lifecycle_publisher)
             return TransitionCallbackReturn.FAILURE
@@ -46,7 +54,8 @@ class AdbsatLifecycleNode(WrenchNodeCore, LifecycleNode):
         return TransitionCallbackReturn.SUCCESS
 
     def on_shutdown(self, state) -> TransitionCallbackReturn:
-        """Free everything before the node goes."""
+        """Free everything before the node goes; its process then ends (status 0)."""
         self.serving = False
         self.tear_down(self.destroy_lifecycle_publisher)
+        self.finalized = True
         return TransitionCallbackReturn.SUCCESS

@@ -85,7 +85,8 @@ def _main(args=None) -> int:
 
 
 def _run(managed: bool = False) -> int:
-    """Make the node, spin it until a signal or a shutdown, take it down; the exit status."""
+    """Make the node, spin it until a signal, a shutdown or (managed) the lifecycle ``shutdown``
+    transition, take it down; the exit status."""
     node = None
     try:
         try:
@@ -107,7 +108,8 @@ def _run(managed: bool = False) -> int:
         gc.freeze()
         try:
             with stop_on_signals() as stop:  # (set already by a signal a library swallowed)
-                spin_until_shutdown(executor, stop=stop)
+                finalized = (lambda: node.finalized) if managed else None
+                spin_until_shutdown(executor, stop=stop, done=finalized)
         except ExternalShutdownException:
             pass
         finally:

@@ -11,7 +11,6 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import AccelStamped, QuaternionStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
-from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import JointState
 from visualization_msgs.msg import Marker
@@ -34,6 +33,7 @@ from adbsat_ros.physics.knudsen import knudsen_number
 from adbsat_ros.ros.log_throttle import LogThrottle
 from adbsat_ros.ros.message_info import LostMessages
 from adbsat_ros.ros.parameter_values import declare_typed_parameters
+from adbsat_ros.ros.qos import OVERRIDES, check_qos_overrides, check_qos_values, input_qos
 from adbsat_ros.ros.readers import Readers
 
 
@@ -54,6 +54,8 @@ class WrenchNodeCore:
     serving = True
     #: Whether set-up parameters change while unconfigured (else they are read-only).
     managed = False
+    #: The lifecycle state's label (a managed node's), or None.
+    lifecycle_state = None
 
     def declare_wrench_parameters(self) -> None:
         """Declare every parameter, typed (ValueError otherwise), and the change callback."""
@@ -63,6 +65,14 @@ class WrenchNodeCore:
         self._lost: dict = {}  # LostMessages by topic, once set up
         self._diag_timer = self._marker_timer = None
         self.add_on_set_parameters_callback(self._on_set_parameters)
+        check_qos_values(self)
+        # /diagnostics from the start, also while a managed node is not configured or not active
+        self.diagnostics_pub = self.create_publisher(
+            DiagnosticArray, "/diagnostics", 10, qos_overriding_options=OVERRIDES
+        )
+        period = self.get_parameter("diagnostics_period").value
+        valid = isinstance(period, float) and 0.0 < period < 1e6
+        self._retime_diagnostics(period if valid else PARAMETER_DEFAULTS["diagnostics_period"])
 
     def set_up(self, create_publisher) -> None:
         """Load the set-up (MeshError, ValueError) and make the interfaces and timers."""
@@ -83,7 +93,8 @@ class WrenchNodeCore:
                 self.declare_parameter(
                     name, value, ParameterDescriptor(description=text, read_only=True)
                 )
-        qos = QoSProfile(depth=settings.qos_depth, reliability=ReliabilityPolicy.RELIABLE)
+        qos = settings.qos_depth  # (outputs: RELIABLE, which BEST_EFFORT readers take too)
+        create_publisher = functools.partial(create_publisher, qos_overriding_options=OVERRIDES)
         self.wrench_pub = create_publisher(WrenchStamped, "wrench", qos)
         # the optional outputs' readers, counted by matched events (ros/readers.py)
         self.readers = readers = Readers(create_publisher)
@@ -94,7 +105,6 @@ class WrenchNodeCore:
         # with solar_pressure on: the solar radiation wrench, and the sum of both
         self.solar_pub = create_publisher(WrenchStamped, "solar_wrench", qos)
         self.total_pub = create_publisher(WrenchStamped, "total_wrench", qos)
-        self.diagnostics_pub = create_publisher(DiagnosticArray, "/diagnostics", 10)
         self.marker_pub = readers.publisher(Marker, "panel_marker", 1)
         # messages come in as CDR bytes (messages.decoding). State first: the single-threaded
         # executor takes waiting messages in subscription order, and an attitude wants the
@@ -108,8 +118,10 @@ class WrenchNodeCore:
         self._lost = {"state": LostMessages(), "attitude": LostMessages()}
         self.attitude_gaps = StampGaps()
         subscriptions = [
-            self._counted_subscription(Odometry, "state", self._on_state, qos),
-            self._counted_subscription(QuaternionStamped, "attitude", self._on_attitude, qos),
+            self._counted_subscription(Odometry, "state", self._on_state, input_qos(qos)),
+            self._counted_subscription(
+                QuaternionStamped, "attitude", self._on_attitude, input_qos(qos)
+            ),
         ]
         self.joint_torques_pub = None
         if self.estimator.body is not None:  # an articulated body: its joints in and out
@@ -118,13 +130,18 @@ class WrenchNodeCore:
             )
             subscriptions.append(
                 self.create_subscription(
-                    JointState, "joint_states", self._on_joint_state, qos, raw=True
+                    JointState,
+                    "joint_states",
+                    self._on_joint_state,
+                    input_qos(qos),
+                    raw=True,
+                    qos_overriding_options=OVERRIDES,
                 )
             )
             self.joint_torques_pub = readers.publisher(JointState, "joint_torques", qos)
         self._sample_listeners: list = []
         self._log_throttled = LogThrottle(self.get_logger())
-        self._diag_timer = self.create_timer(settings.diagnostics_period, self._publish_diagnostics)
+        self._retime_diagnostics(settings.diagnostics_period)
         self._marker_timer = self.create_timer(settings.marker_period, self._publish_marker)
         self._publishers_made = [
             self.wrench_pub,
@@ -133,10 +150,10 @@ class WrenchNodeCore:
             self.acceleration_pub,
             self.solar_pub,
             self.total_pub,
-            self.diagnostics_pub,
             self.marker_pub,
         ] + ([self.joint_torques_pub] if self.joint_torques_pub is not None else [])
         self._subscriptions_made = subscriptions
+        check_qos_overrides(self)
         mesh = self.estimator.mesh
         source = (
             f"coefficients from database {settings.database_path}"
@@ -155,10 +172,9 @@ class WrenchNodeCore:
         for subscription in self._subscriptions_made:
             self.destroy_subscription(subscription)
         self._publishers_made, self._subscriptions_made = [], []
-        for timer in (self._diag_timer, self._marker_timer):
-            if timer is not None:
-                self.destroy_timer(timer)
-        self._diag_timer = self._marker_timer = None
+        if self._marker_timer is not None:
+            self.destroy_timer(self._marker_timer)
+        self._marker_timer = None
         self.estimator = None
 
     @property
@@ -188,18 +204,15 @@ class WrenchNodeCore:
             return SetParametersResult(successful=False, reason=reason)
         try:
             settings = WrenchSettings.from_parameters(self._parameter_values(relevant))
-            if self.estimator is None:  # (not set up yet: checked, used at set-up)
-                return SetParametersResult(successful=True)
-            self.estimator.apply_settings(settings)
+            if self.estimator is not None:  # (else not set up yet: checked, used at set-up)
+                self.estimator.apply_settings(settings)
         except (ValueError, MeshError) as exc:
             self.get_logger().warning(f"parameter change rejected: {exc}")
             return SetParametersResult(successful=False, reason=str(exc))
-        if settings.diagnostics_period != self._diag_timer.timer_period_ns * 1e-9:
-            self._diag_timer.cancel()
-            self.destroy_timer(self._diag_timer)
-            self._diag_timer = self.create_timer(
-                settings.diagnostics_period, self._publish_diagnostics
-            )
+        if self._diag_timer is not None:  # (None while the parameters are declared)
+            self._retime_diagnostics(settings.diagnostics_period)
+        if self.estimator is None:
+            return SetParametersResult(successful=True)
         if settings.marker_period != self._marker_timer.timer_period_ns * 1e-9:
             self._marker_timer.cancel()
             self.destroy_timer(self._marker_timer)
@@ -208,6 +221,16 @@ class WrenchNodeCore:
             "parameters changed: " + ", ".join(f"{p.name}={p.value}" for p in relevant)
         )
         return SetParametersResult(successful=True)
+
+    def _retime_diagnostics(self, period: float) -> None:
+        """Publish /diagnostics every ``period`` s."""
+        timer = self._diag_timer
+        if timer is not None and timer.timer_period_ns == round(period * 1e9):
+            return
+        if timer is not None:
+            timer.cancel()
+            self.destroy_timer(timer)
+        self._diag_timer = self.create_timer(period, self._publish_diagnostics)
 
     # ----------------------------------------------------------------------------- messages
     def _on_state(self, raw: bytes) -> None:
@@ -259,6 +282,7 @@ class WrenchNodeCore:
             qos,
             raw=True,
             event_callbacks=lost.event_callbacks(),
+            qos_overriding_options=OVERRIDES,
         )
         lost.attach(subscription)
         return subscription
@@ -326,8 +350,13 @@ class WrenchNodeCore:
 
     # ----------------------------------------------------------------------------- diagnostics
     def diagnostic_fields(self) -> DiagnosticFields:
-        """The node's health and latest values: level, name, message, hardware id, key/values."""
-        est = self.estimator
+        """The node's health and latest values: level, name, message, hardware id, key/values;
+        a managed node's lifecycle state too (WARN while not active; only it while unconfigured)."""
+        est, label = self.estimator, self.lifecycle_state
+        name = f"{self.get_name()}: aerodynamic wrench"
+        if est is None:
+            message = f"lifecycle state {label}: not configured"
+            return DiagnosticFields(WARN, name, message, "", (("lifecycle_state", label),))
         health = self.health
         values = est.diagnostic_values(health.last_sample, health.compute_ms())
         values["messages_lost"] = self.messages_lost
@@ -347,9 +376,13 @@ class WrenchNodeCore:
                     f"flow not free-molecular: Kn {kn:.3g} < knudsen_warning "
                     f"{est.settings.knudsen_warning:g}"
                 )
+        if label is not None:
+            values["lifecycle_state"] = label
+            if label != "active":
+                level, message = WARN, f"lifecycle state {label}: not serving"
         return DiagnosticFields(
             level=level,
-            name=f"{self.get_name()}: aerodynamic wrench",
+            name=name,
             message=message,
             hardware_id=est.mesh.source,
             values=tuple((k, str(v)) for k, v in values.items()),

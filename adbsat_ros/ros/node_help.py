@@ -38,7 +38,8 @@ def help_text() -> str:
         f"usage: {NODE_NAME} [--help] [--managed] --ros-args [--params-file FILE] "
         "[-p NAME:=VALUE ...]",
         "",
-        "--managed: the managed (lifecycle) node: configure, activate, deactivate, cleanup.",
+        "--managed: the managed (lifecycle) node: configure, activate, deactivate, cleanup, "
+        "shutdown (ends the process).",
         "",
         "Aerodynamic force and torque of a satellite in free-molecular flow, for every attitude "
         "message.",
@@ -46,6 +47,10 @@ def help_text() -> str:
         "topics:",
     ]
     lines += [f"  {n:<16} {d:<4} {t:<32} {m}" for n, t, d, m in TOPICS]
+    lines += [
+        "  (inputs BEST_EFFORT, which takes RELIABLE publishers too; outputs RELIABLE; set with",
+        "  -p qos_overrides./TOPIC.<publisher|subscription>.<reliability|depth|history>:=VALUE)",
+    ]
     lines += ["", "parameters (config/adbsat.yaml documents each; read-only ones marked):"]
     for p in PARAMETERS:
         flags = " (read-only)" if p.name in READ_ONLY_PARAMETERS else ""

@@ -122,7 +122,7 @@ def test_wrench_per_attitude_and_bag_reads_back(flight):
                 a.header.stamp.sec,
                 a.header.stamp.nanosec,
             )
-            assert w.header.frame_id == "body"
+            assert w.header.frame_id == "base_link"
         # one DiagnosticArray per second of bag time, plus one at the end with the final counts
         diags = topics["/diagnostics"]
         assert len(diags) == 600 + 1
@@ -578,7 +578,7 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path):
         "no_state",
         "time_backwards",
         "stale_state",
-        "bad_state",
+        "bad_state_frame",
         "non_finite",
         "bad_quaternion",
     }

@@ -72,6 +72,14 @@ def test_the_shared_options_keep_their_defaults():
     assert (play.qos_depth, play.rate, play.wait_timeout) == (1000, 1.0, 30.0)
     assert (record.qos_depth, record.storage, record.duration) == (1000, "mcap", None)
     assert parser.parse_args(["echo", "/w"]).timeout == 5.0
+    assert parser.parse_args(["echo", "/w"]).count is None  # (until Ctrl-C)
     assert parser.parse_args(["param", "list", "n"]).timeout == 5.0
     simulate = parser.parse_args(["simulate", "--out", "x"])
     assert (simulate.storage, simulate.overwrite, simulate.state_topic) == ("mcap", False, "/state")
+
+
+def test_the_echo_rate_summary():
+    from adbsat_ros.cli.echo import rate_summary
+
+    assert rate_summary([]) == "0 messages" and rate_summary([3.0]) == "1 message"
+    assert rate_summary([1.0, 1.5, 2.0, 3.0]) == "4 messages, mean rate 1.5 Hz over 2.000 s"

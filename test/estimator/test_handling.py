@@ -125,8 +125,8 @@ def test_rejections_are_counted_and_say_why(mesh):
     bad = handler.on_state(
         state(Stamp(2, 0), orientation=(0.0, 0.0, 0.0, 1.0))._replace(frame_id="ecef")
     )
-    assert bad.status is None and bad.reason == "bad_state" and not bad.state_accepted
-    assert rejections["bad_state"] == 1
+    assert bad.status is None and bad.reason == "bad_state_frame" and not bad.state_accepted
+    assert rejections["bad_state_frame"] == 1
 
 
 def test_a_failure_is_counted_as_compute_error_and_never_raised(mesh):

@@ -28,7 +28,19 @@ def test_levels_and_messages():
         ERROR,
         "state is stale relative to the attitude stamps",
     )
-    assert health_level(0.1, "no_state", 3, 1.0, 1.0) == (WARN, "3 inputs rejected so far")
+    assert health_level(0.1, "no_state", 3, 1.0, 1.0) == (
+        WARN,
+        "3 inputs rejected so far (latest: no_state)",
+    )
+    # the refusal that left no usable state leads the message
+    assert health_level(None, "no_state", 3, 1.0, 1.0, "bad_state_frame") == (
+        ERROR,
+        "bad_state_frame: no orbital state",
+    )
+    assert health_level(3.0, "no_state", 3, 1.0, 1.0, "bad_state_frame") == (
+        ERROR,
+        "bad_state_frame: state is stale (3.0 s old)",
+    )
     assert health_level(0.1, None, 0, 1.0, 1.0) == (OK, "ok")
     assert (OK, WARN, ERROR) == (0, 1, 2)  # diagnostic_msgs/DiagnosticStatus levels
 
@@ -45,9 +57,16 @@ def test_health_follows_states_rejections_and_samples():
     assert health.level(11.5, settings, 0) == (ERROR, "state is stale (1.5 s old)")
     health.rejected("bad_quaternion")
     assert health.last_rejection_reason == "bad_quaternion"
-    assert health.level(10.5, settings, 1) == (WARN, "1 inputs rejected so far")
+    latest = "1 inputs rejected so far (latest: bad_quaternion)"
+    assert health.level(10.5, settings, 1) == (WARN, latest)
     health.rejected("stale_state")
     assert health.level(10.5, settings, 2)[0] == ERROR
+    # a state refused for its frame, then attitudes refused for want of a state: the frame leads
+    health.rejected("bad_state_frame")
+    health.rejected("no_state")
+    assert health.level(12.0, settings, 4) == (ERROR, "bad_state_frame: state is stale (2.0 s old)")
+    health.state_accepted(12.0)  # a state taken: the cause goes
+    assert health.level(14.0, settings, 4) == (ERROR, "state is stale (2.0 s old)")
     sample = object()
     health.sample_computed(0.002, sample)
     assert health.last_sample is sample and health.computed == 1

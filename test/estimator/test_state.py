@@ -85,11 +85,12 @@ def test_the_frame_of_a_state_is_read_from_its_names(state_frame):
     for name in other:
         with pytest.raises(Rejection, match=f"frame_id '{name}' is {other_name}") as rejected:
             odometry_inputs(odometry(frame=name), state_frame, "body", FRAME_IDS)
-        assert rejected.value.reason == "bad_state"
+        assert rejected.value.reason == "bad_state_frame"
     for name in ("", "sim_world", "map", "odom", "teme"):
         with pytest.raises(Rejection, match=f"unknown frame_id '{name}'") as rejected:
             odometry_inputs(odometry(frame=name), state_frame, "body", FRAME_IDS)
-        assert rejected.value.reason == "bad_state" and "eci_frame_ids" in rejected.value.message
+        assert rejected.value.reason == "bad_state_frame"
+        assert "eci_frame_ids" in rejected.value.message
 
 
 def test_frame_names_are_settings_and_the_twist_frame_rules():
@@ -129,7 +130,7 @@ def test_the_estimator_counts_odometry_rejections_and_rotates_a_body_twist():
     for message in (odometry(frame="ecef"), odometry(child="camera")):
         with pytest.raises(Rejection):
             est.on_odometry(message)
-    assert est.rejections == {"bad_state": 2} and est.state is state
+    assert est.rejections == {"bad_state_frame": 2} and est.state is state
 
 
 def test_orbital_states_are_equal_by_value():
@@ -142,3 +143,29 @@ def test_orbital_states_are_equal_by_value():
     assert a != OrbitalState(1.25, a.position, a.velocity) and a != None  # noqa: E711
     with pytest.raises(TypeError):
         hash(a)
+
+
+def test_an_attitude_frame_must_name_the_state_frame():
+    """A QuaternionStamped's frame_id is the frame its orientation is given in: a name of the state
+    frame (any case, a leading slash) or an empty one is taken; the other state frame, the body
+    frame or an unknown name is refused as bad_attitude_frame, named and counted."""
+    est = AeroWrenchEstimator(
+        WrenchSettings.from_parameters(
+            dict(PARAMETER_DEFAULTS, mesh="example", shading="none", time_mode="epoch")
+        )
+    )
+    est.on_odometry(odometry())
+    stamp = 12.5
+    for frame in ("eci", "/GCRF", "j2000", ""):
+        stamp += 0.01
+        assert est.on_attitude(stamp, QUARTER_TURN_Z, frame).stamp == stamp
+    for frame, text in (
+        ("ecef", "attitude frame_id 'ecef' is ECEF but parameter state_frame is eci"),
+        ("base_link", "attitude frame_id 'base_link' is the body frame, not the state frame"),
+        ("body", "attitude frame_id 'body' is the body frame"),
+        ("map", "unknown frame_id 'map' of an attitude: not among the names of eci_frame_ids"),
+    ):
+        with pytest.raises(Rejection, match=text) as refused:
+            est.on_attitude(stamp + 0.01, QUARTER_TURN_Z, frame)
+        assert refused.value.reason == "bad_attitude_frame"
+    assert est.rejections == {"bad_attitude_frame": 4} and est.published == 4

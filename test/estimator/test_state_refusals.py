@@ -83,8 +83,8 @@ def test_a_refused_odometry_keeps_the_last_good_state():
     est = estimator()
     good = est.on_state(1.0, [R, 0.0, 0.0], [0.0, V, 0.0])
     for frame, child, orientation, reason in (
-        ("ecef", "", LEVEL, "bad_state"),
-        ("camera", "", LEVEL, "bad_state"),
+        ("ecef", "", LEVEL, "bad_state_frame"),
+        ("camera", "", LEVEL, "bad_state_frame"),
         ("eci", "body", (0.0, 0.0, 0.0, 3.0), "bad_quaternion"),
     ):
         odometry = OdometryFields(
@@ -93,7 +93,7 @@ def test_a_refused_odometry_keeps_the_last_good_state():
         with pytest.raises(Rejection) as refused:
             est.on_odometry(odometry)
         assert refused.value.reason == reason and est.state == good
-    assert est.rejections == {"bad_state": 2, "bad_quaternion": 1}
+    assert est.rejections == {"bad_state_frame": 2, "bad_quaternion": 1}
     assert est.on_attitude(1.03, LEVEL).stamp == 1.03
 
 

@@ -32,8 +32,8 @@ def test_quaternion_stamped_read_equals_rosbags(little_endian):
             back = bag_io.deserialize(raw, bag_io.QUATERNION_STAMPED)
             q = back.quaternion
             fields = quaternion_stamped_fields(raw)
-            assert fields == (Stamp(t.sec, t.nanosec), [q.x, q.y, q.z, q.w])
-            assert (fields.stamp, fields.quaternion_xyzw) == tuple(fields)
+            assert fields == (Stamp(t.sec, t.nanosec), [q.x, q.y, q.z, q.w], back.header.frame_id)
+            assert (fields.stamp, fields.quaternion_xyzw, fields.frame_id) == tuple(fields)
 
 
 def vector(xyz):

@@ -39,7 +39,7 @@ def test_plain_cdr_attitudes_are_read_without_the_deserialiser(little_endian):
                 msg, bag_io.QUATERNION_STAMPED, little_endian=little_endian
             )
         )
-        assert decode_attitude(raw, attitudes) == AttitudeFields(Stamp(1_767_225_600, 5), Q)
+        assert decode_attitude(raw, attitudes) == AttitudeFields(Stamp(1_767_225_600, 5), Q, frame)
     assert attitudes.calls == 0
 
 
@@ -50,7 +50,7 @@ def test_attitude_bytes_the_codec_refuses_go_to_the_deserialiser_with_the_same_f
     for frame in FRAMES:
         raw = bytes(bag_io.serialize(bag_io.quaternion_stamped_message(10**9 + 7, frame, Q)))
         fields = decode_attitude(raw + bytes(3), attitudes)
-        assert fields == (Stamp(1, 7), Q) and isinstance(fields, AttitudeFields)
+        assert fields == (Stamp(1, 7), Q, frame) and isinstance(fields, AttitudeFields)
     assert attitudes.calls == len(FRAMES)
 
 

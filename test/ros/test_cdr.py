@@ -59,6 +59,7 @@ def test_rclpy_bytes_are_read_and_ours_are_read_by_rclpy():
         assert quaternion_stamped_fields(serialize_message(msg)) == (
             Stamp(1_767_225_600, 999_999_999),
             Q,
+            frame,
         )
 
         force, torque = [1.0, -2.5, 1e-12], [0.0, 7.25, -3.0]
@@ -91,7 +92,7 @@ def test_decoding_with_rclpys_deserialiser():
 
     for frame in FRAMES:
         raw = bytes(serialize_message(quaternion_stamped(frame)))
-        expected = AttitudeFields(Stamp(1_767_225_600, 999_999_999), Q)
+        expected = AttitudeFields(Stamp(1_767_225_600, 999_999_999), Q, frame)
         assert decode_attitude(raw, fallback(QuaternionStamped)) == expected
         assert calls == []
         assert decode_attitude(raw + bytes(8), fallback(QuaternionStamped)) == expected

@@ -6,6 +6,8 @@ import pytest
 pytestmark = pytest.mark.ros
 pytest.importorskip("rclpy")
 
+import re
+import signal
 import subprocess
 import sys
 
@@ -69,6 +71,32 @@ def test_echo_prints_the_diagnostics(node_process, capsys):
     assert "- level: 2" in out or "- level: 1" in out or "- level: 0" in out  # (a number)
     assert main(["echo", "/no_such_topic", "--timeout", "1"]) == 1
     assert "not in the ROS graph within 1 s" in capsys.readouterr().err
+
+
+def test_echo_streams_until_sigint_and_says_the_rate(node_process):
+    """Without --count it prints every message as it comes; SIGINT ends it with status 0 and
+    the count and mean rate on stderr."""
+    cmd = [sys.executable, "-m", "adbsat_ros.cli", "echo", "/diagnostics", *WAIT]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        ends = 0
+        while ends < 3:  # (each line as it is printed: the stream is flushed message by message)
+            line = proc.stdout.readline()
+            assert line, f"echo ended: {proc.stderr.read()}"
+            ends += line.strip() == "---"
+        proc.send_signal(signal.SIGINT)
+        rest, err = proc.communicate(timeout=HANG_TIMEOUT)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    assert proc.returncode == 0, err
+    summary = re.search(r"^adbsat-ros echo: stopped by SIGINT; (\d+) messages, mean rate (\S+) "
+                        r"Hz over (\S+) s$", err, re.MULTILINE)  # fmt: skip
+    assert summary, err
+    count, rate, span = int(summary[1]), float(summary[2]), float(summary[3])
+    assert count == 3 + rest.count("\n---")
+    assert rate * span == pytest.approx(count - 1, rel=5e-3)  # (the mean interval, as printed)
 
 
 def test_a_request_whose_answer_is_lost_is_sent_again(monkeypatch):

@@ -72,7 +72,7 @@ def test_joint_torques_come_with_every_wrench_as_the_estimator_computes_them(ros
     for (t, angles), msg, wrench in zip(inputs, torques, peer.wrenches):
         reference.on_joint_state(t, HINGES, angles)
         sample = reference.on_attitude(t + 0.01, ATTITUDE)
-        assert msg.header == wrench.header and msg.header.frame_id == "body"
+        assert msg.header == wrench.header and msg.header.frame_id == "base_link"
         assert list(msg.name) == HINGES
         assert list(msg.position) == list(angles)
         assert list(msg.effort) == sample.joints.efforts.tolist()

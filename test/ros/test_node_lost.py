@@ -60,7 +60,7 @@ def started(node, peer):
 
 
 def _state_known(node):
-    return node.diagnostic_fields().message != "no orbital state"
+    return not node.diagnostic_fields().message.endswith("no orbital state")
 
 
 def burst(node, peer, n=BURST):

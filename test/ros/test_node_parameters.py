@@ -116,6 +116,7 @@ def test_param_names_an_invalid_node_name_in_one_line(capsys, action):
     "option, needle",
     [
         ("alpah:=0.5", "adbsat_node: error: parameter alpah: unknown (did you mean alpha?)"),
+        ("f10:=120.0", "adbsat_node: error: parameter f10: unknown (did you mean f107?)"),
         ("epoch_utc:=2200-01-01T00:00:00", "parameter epoch_utc: epoch_utc must be from "
          "1958-01-01T00:00:00 to 2100-12-31T23:59:59 UTC"),
         ("epoch_utc:=1900-01-01T00:00:00", "got '1900-01-01T00:00:00'"),
