@@ -16,7 +16,6 @@ from pathlib import Path
 import numpy as np
 
 from adbsat_ros._version import __version__
-from adbsat_ros.processes import umask
 from adbsat_ros.sweep.axes import AXES, JOINT_PREFIX
 from adbsat_ros.sweep.evaluate import SCALARS, vector_results
 from adbsat_ros.sweep.spec import SweepSpec
@@ -116,7 +115,6 @@ class SweepStore:
         parent = self.path.parent
         parent.mkdir(parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".partial", dir=parent))
-        os.chmod(tmp, 0o777 & ~umask())  # (mkdtemp makes it 0700: the store follows the umask)
         try:
             self._write_layout(tmp, setup)
             old = None
