@@ -71,17 +71,21 @@ def _peak(series) -> float:
 
 
 def _share_small_components(axes, peaks) -> None:
-    """Draw each component below :data:`SMALL_FRACTION` of the largest on the largest's scale."""
+    """Draw each component below :data:`SMALL_FRACTION` of the largest at the largest's scale:
+    its panel spans as much as the largest's (if its own values span less), about its values."""
     largest = max(peaks)
     if not largest > 0.0:
         return
-    limits = axes[int(np.argmax(peaks))].get_ylim()
+    low, high = axes[int(np.argmax(peaks))].get_ylim()
     for ax, peak in zip(axes, peaks):
         if peak < SMALL_FRACTION * largest:
-            ax.set_ylim(limits)
-            note = "zero to rounding" if peak < 1e-9 * largest else f"{peak:.2g} at most"
+            own = ax.get_ylim()
+            if own[1] - own[0] < high - low:
+                mid = 0.5 * (own[0] + own[1])
+                ax.set_ylim(mid - 0.5 * (high - low), mid + 0.5 * (high - low))
+            note = "zero to rounding" if peak < 1e-9 * largest else f"at most {peak:.2g}"
             ax.text(0.01, 0.95, f"{note}: below {SMALL_FRACTION:.0%} of the largest component, "
-                    "drawn on its scale", transform=ax.transAxes, fontsize=7, va="top")  # fmt: skip
+                    "drawn at its scale", transform=ax.transAxes, fontsize=7, va="top")  # fmt: skip
 
 
 def _log_if_wide(ax, lines) -> None:

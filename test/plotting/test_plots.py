@@ -250,9 +250,15 @@ def test_time_series_figures(tmp_path):
             np.testing.assert_array_equal(lines[0].get_ydata(), runs["sentman"][key][:, i])
         assert "[min]" in axes[-1].get_xlabel()
         np.testing.assert_allclose(data_lines(axes[0])[0].get_xdata(), t / 60.0)
-    # the y and z forces (at most 3 % of x) are drawn on the x force's scale, and said so
+    # the y and z forces (at most 3 % of x) are drawn at the x force's scale, about their values,
+    # and said so
     force_axes = made["force"].axes
-    assert force_axes[1].get_ylim() == force_axes[2].get_ylim() == force_axes[0].get_ylim()
+    spans = [np.ptp(ax.get_ylim()) for ax in force_axes]
+    assert spans[1] == pytest.approx(spans[0], rel=1e-12) and spans[2] == pytest.approx(spans[0])
+    for i in (1, 2):
+        low, high = force_axes[i].get_ylim()
+        values = runs["cll"]["force"][:, i]
+        assert low < np.nanmin(values) and np.nanmax(values) < high
     assert [len(ax.texts) for ax in force_axes] == [0, 1, 1]
     assert "below 5% of the largest component" in force_axes[1].texts[0].get_text()
     assert [len(ax.texts) for ax in made["torque"].axes] == [1, 1, 0]
