@@ -24,6 +24,13 @@ STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 IMPORT_RETRY_S = 0.005
 
 
+def umask() -> int:
+    """The process's umask (read by setting it and setting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 def usable_cpus() -> int:
     """The CPUs this process may run on (its affinity mask where the platform has one)."""
     try:

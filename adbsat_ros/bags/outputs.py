@@ -17,15 +17,9 @@ from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags.report import DIAGNOSTICS_TOPIC
 from adbsat_ros.bags.table import PLOT_SERIES, header, model_extra_columns
 from adbsat_ros.plotting.envelope import MinMaxEnvelope
+from adbsat_ros.processes import umask
 
 _NS = 1_000_000_000
-
-
-def _umask() -> int:
-    """The process's umask (read by setting it and setting it back)."""
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask
 
 
 class _CsvFile:
@@ -36,7 +30,7 @@ class _CsvFile:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, self.tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial", dir=path.parent)
         # mkstemp makes it 0600; the file the user gets follows their umask, as open's would
-        os.chmod(fd, 0o666 & ~_umask())
+        os.chmod(fd, 0o666 & ~umask())
         self.file = os.fdopen(fd, "w", newline="", encoding="utf-8")
         csv.writer(self.file).writerow(header(labels, extras))
 
@@ -319,6 +313,7 @@ def write_plots(plots_dir, envelope, labels, report, historical=()) -> None:
     tmp = Path(
         tempfile.mkdtemp(prefix=f".{plots_dir.name}.", suffix=".partial", dir=plots_dir.parent)
     )
+    os.chmod(tmp, 0o777 & ~umask())  # (mkdtemp makes it 0700: the directory follows the umask)
     try:
         figures = make_line_figures(lines)
         if weather:

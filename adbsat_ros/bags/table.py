@@ -36,12 +36,12 @@ MODEL_COLUMNS = (
     "aoa_deg",
     "aos_deg",
     "drag_coefficient",
-    "CF_x",
-    "CF_y",
-    "CF_z",
-    "CM_x",
-    "CM_y",
-    "CM_z",
+    "cf_x",
+    "cf_y",
+    "cf_z",
+    "cm_x",
+    "cm_y",
+    "cm_z",
     *WRENCH_COLUMNS,
 )
 #: Columns appended to the group of a model with ``solar_pressure`` on: the fraction of the solar
@@ -56,7 +56,7 @@ SOLAR_COLUMNS = (
     "solar_torque_z_Nm",
 )
 #: Columns first in the group of a model with ``space_weather`` historical: the indices in force.
-WEATHER_COLUMNS = ("f107", "f107a", "ap")
+WEATHER_COLUMNS = ("f107_sfu", "f107a_sfu", "ap")
 #: The columns of MODEL_COLUMNS plotted (force, torque, density, drag coefficient), in order.
 PLOT_COLUMNS = (*WRENCH_COLUMNS, "density_kg_m3", "drag_coefficient")
 #: Plotted after them: the drag (the force along the flow) [N], and F10.7 and Ap in force.
@@ -67,13 +67,18 @@ _PLOT_INDEX = [MODEL_COLUMNS.index(c) - 1 for c in PLOT_COLUMNS]  # (in row_valu
 _NAN_CELLS = ",nan" * (len(MODEL_COLUMNS) - 1)
 _NAN_PLOT = [math.nan] * PLOT_SERIES
 #: The columns of each moving joint ``NAME`` of an articulated body, as ``joint.NAME.<suffix>``:
-#: its position [rad or m] and the aerodynamic effort on it [N m, or N for a prismatic joint].
-JOINT_COLUMNS = ("position", "effort")
+#: its position and the aerodynamic effort on it, a revolute joint's, then a prismatic one's.
+JOINT_COLUMNS = {"revolute": ("position_rad", "effort_Nm"), "prismatic": ("position_m", "effort_N")}
 
 
-def extra_columns(solar: bool, joint_names=(), weather: bool = False) -> tuple:
-    """A model's columns after :data:`MODEL_COLUMNS`: space weather, solar ones, every joint's."""
-    joints = tuple(f"joint.{name}.{c}" for name in joint_names for c in JOINT_COLUMNS)
+def extra_columns(solar: bool, joints=None, weather: bool = False) -> tuple:
+    """A model's columns after :data:`MODEL_COLUMNS`: space weather, solar ones, every joint's
+    (``joints``: name to joint, with its ``kind``)."""
+    joints = tuple(
+        f"joint.{name}.{c}"
+        for name, joint in (joints or {}).items()
+        for c in JOINT_COLUMNS["prismatic" if joint.kind == "prismatic" else "revolute"]
+    )
     return (WEATHER_COLUMNS if weather else ()) + (SOLAR_COLUMNS if solar else ()) + joints
 
 
@@ -81,7 +86,7 @@ def model_extra_columns(estimator) -> tuple:
     """The :func:`extra_columns` of a model's AeroWrenchEstimator."""
     body = estimator.body
     s = estimator.settings
-    joints = () if body is None else body.joints
+    joints = None if body is None else body.joints
     return extra_columns(s.solar_pressure, joints, s.space_weather != "fixed")
 
 
@@ -139,10 +144,9 @@ def extra_values(sample, columns) -> list:
             out += [math.nan] * len(SOLAR_COLUMNS)
         else:
             out += [float(solar.lit_fraction), *solar.force.tolist(), *solar.torque.tolist()]
-    n_joints = len(columns) // len(JOINT_COLUMNS)
     joints = sample.joints
     if joints is None:
-        out += [math.nan] * (n_joints * len(JOINT_COLUMNS))
+        out += [math.nan] * len(columns)
     else:
         out += np.column_stack([joints.positions, joints.efforts]).ravel().tolist()
     return out

@@ -24,6 +24,26 @@ from adbsat_ros.cli.options import (
 DEFAULT_F107 = 150.0
 DEFAULT_F107A = 150.0
 DEFAULT_AP = 4.0
+#: The ``--json`` keys of FlightConditions.as_dict's fields, named with their units as the CSV
+#: columns are (docs/outputs.md); angles in degrees, as the table shows them and the options take.
+JSON_KEYS = {
+    "latitude": "latitude_deg",
+    "longitude": "longitude_deg",
+    "altitude": "altitude_m",
+    "f107": "f107_sfu",
+    "f107a": "f107a_sfu",
+    "number_densities": "number_densities_per_m3",
+    "mass_density": "density_kg_m3",
+    "exospheric_temperature": "exospheric_temperature_K",
+    "temperature": "temperature_K",
+    "mean_molecular_mass": "mean_molecular_mass_kg",
+    "speed": "relative_speed_m_s",
+}
+for _name in ("position", "velocity", "relative_velocity"):
+    for _frame in ("eci", "ecef"):
+        JSON_KEYS[f"{_name}_{_frame}"] = f"{_name}_{_frame}_" + (
+            "m" if _name == "position" else "m_s"
+        )
 
 
 def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> None:
@@ -88,10 +108,10 @@ def configure(parser) -> None:
     parser.description = (
         "Evaluate NRLMSISE-00 and the flight conditions at a geodetic point "
         "(--altitude/--lat/--lon, circular-orbit speed as ADBSat) or at an orbital state "
-        "(--position [--velocity] in --frame eci|ecef). SI units in --json."
+        "(--position [--velocity] in --frame eci|ecef). --json keys name their units."
     )
     add_flight_arguments(parser, time_required=True, with_alpha=True)
-    flag(parser, "--json", "print JSON, every field in SI units")
+    flag(parser, "--json", "print JSON, every key named with its unit (angles in degrees, else SI)")
     parser.set_defaults(func=run)
 
 
@@ -282,13 +302,23 @@ def format_table(conditions) -> str:
     return "\n".join(f"{label:<{width}}  {value}" for label, value in rows)
 
 
+def json_document(conditions) -> dict:
+    """``conditions.as_dict()`` under :data:`JSON_KEYS`, angles in degrees, no ``units`` table."""
+    data = conditions.as_dict()
+    del data["units"]
+    data["latitude"], data["longitude"] = map(math.degrees, (data["latitude"], data["longitude"]))
+    if data["space_weather"] is not None:
+        data["space_weather"] = {JSON_KEYS.get(k, k): v for k, v in data["space_weather"].items()}
+    return {JSON_KEYS.get(k, k): v for k, v in data.items()}
+
+
 def run(args) -> int:
     """Run ``adbsat-ros atmosphere``; the exit status."""
     with errors_as(CommandLineError, ValueError):  # a library's check: still a bad value
         conditions = compute(args)
     if args.json:
         try:  # (made whole first: a refused number must not leave half a document)
-            text = json.dumps(conditions.as_dict(), indent=2, allow_nan=False)
+            text = json.dumps(json_document(conditions), indent=2, allow_nan=False)
         except ValueError:
             raise CommandLineError(
                 "the atmosphere model gave a number that is not finite for these inputs"

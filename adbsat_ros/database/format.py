@@ -17,7 +17,7 @@ from adbsat_ros.geometry import frames
 #: Version of the file layout written and read.
 FORMAT_VERSION = 1
 #: The first line of a database's CSV file (after "# ").
-CSV_TITLE = "adbsat_ros aerodynamic database (ADBSat coefficient names; angles in degrees)"
+CSV_TITLE = "adbsat_ros aerodynamic database (columns: docs/outputs.md; angles in degrees)"
 
 #: Per-attitude scalar arrays, shape (na, nb).
 SCALAR_FIELDS = ("CD", "CL", "CY", "AreaProj")
@@ -110,11 +110,13 @@ class AeroDatabase:
         return path
 
     def csv_columns(self) -> list:
-        """Column names of :meth:`save_csv`."""
-        columns = ["aoa_deg", "aos_deg", "CD", "CL", "CY"]
+        """Column names of :meth:`save_csv` (docs/outputs.md): Cf_G, Cm_G as ``cf_x``, ``cm_x``."""
+        columns = ["aoa_deg", "aos_deg", "drag_coefficient", "lift_coefficient"]
+        columns.append("side_force_coefficient")
         for name in VECTOR_FIELDS:
-            columns += [f"{name}_{axis}" for axis in "xyz"]
-        return columns + ["AreaProj", "Aref", "Lref"]
+            frame = "" if name.endswith("_G") else name[3:].lower() + "_"
+            columns += [f"{name[:2].lower()}_{frame}{axis}" for axis in "xyz"]
+        return columns + ["projected_area_m2", "reference_area_m2", "reference_length_m"]
 
     def save_csv(self, path) -> str:
         """Write one row per attitude (aoa slowest), 17 significant digits."""
@@ -190,7 +192,7 @@ def is_database_file(path) -> bool:
 
 def is_database_csv(path) -> bool:
     """Whether ``path`` is a file :meth:`AeroDatabase.save_csv` wrote (by its first line)."""
-    start = f"# {CSV_TITLE}\n".encode()
+    start = f"# {CSV_TITLE[: CSV_TITLE.index('(') + 1]}".encode()  # (any version's title)
     try:
         with open(path, "rb") as stream:
             return stream.read(len(start)) == start

@@ -14,6 +14,7 @@ from matplotlib.colors import Normalize, to_rgba
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
+from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 from adbsat_ros.geometry import frames
@@ -28,8 +29,15 @@ PARTLY_SHADED_COLOUR = (0.72, 0.72, 0.72, 1.0)
 BACK_FACE_WHITE = 0.55
 #: The pressure picture's camera is turned this far [deg] from looking straight down the flow,
 VIEW_TURN_DEG = 35.0
-#: and kept within this elevation [deg] above or below the x_G-y_G plane.
+#: and kept within this elevation [deg] above or below the x_G-y_G plane,
 MAX_VIEW_ELEVATION_DEG = 55.0
+#: and at least this far [deg] from it, and this far in azimuth from every axis, so that the box is
+#: not seen edge-on nor an axis end-on (its ticks stacked).
+MIN_VIEW_ELEVATION_DEG = 20.0
+MIN_VIEW_AZIMUTH_DEG = 25.0
+#: Each side of the drawn box is at least this fraction of its longest (a flat body is not drawn
+#: in a flat box); the axes keep the data's aspect.
+MIN_BOX_FRACTION = 0.4
 
 
 def panel_colours(cp, cos_delta, lit_fraction, cmap=PRESSURE_CMAP):
@@ -81,8 +89,10 @@ def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, flo
     camera = -u + math.tan(math.radians(VIEW_TURN_DEG)) * turn
     camera /= np.linalg.norm(camera)
     elev = math.degrees(math.asin(max(-1.0, min(1.0, camera[2]))))
-    elev = max(-MAX_VIEW_ELEVATION_DEG, min(MAX_VIEW_ELEVATION_DEG, elev))
+    elev = math.copysign(min(max(abs(elev), MIN_VIEW_ELEVATION_DEG), MAX_VIEW_ELEVATION_DEG), elev)
     azim = math.degrees(math.atan2(camera[1], camera[0]))
+    off = azim - 90.0 * round(azim / 90.0)
+    azim += math.copysign(max(abs(off), MIN_VIEW_AZIMUTH_DEG), off) - off
     return elev, azim
 
 
@@ -124,28 +134,26 @@ def make_panel_pressure_figure(
     panels.set_norm(norm)
     ax.add_collection3d(panels)
 
-    # The flow arrow ends just upstream of the mesh's bounding sphere, pointing at its centre.
+    # The flow arrow ends at the mesh's box, pointing at its centre, from outside it.
     lo, hi = mesh.bounds
     centre = 0.5 * (lo + hi)
-    radius = 0.5 * float(np.linalg.norm(hi - lo)) or 1.0
-    arrow_len = 0.6 * radius
-    tip = centre - u * 0.75 * radius
-    start = tip - u * arrow_len
-    ax.quiver(*start, *(u * arrow_len), color="crimson", lw=2.5, arrow_length_ratio=0.3)
+    half = 0.5 * (hi - lo)
+    radius = float(np.linalg.norm(half)) or 1.0
+    tip = centre - u * (float(np.abs(u) @ half) + 0.05 * radius)
+    start = tip - u * 0.45 * radius
+    ax.quiver(*start, *(tip - start), color="crimson", lw=2.5, arrow_length_ratio=0.3)
     ax.text(*(start - 0.08 * radius * u), "flow", color="crimson", fontsize=9, ha="center")
-    # Equal scaling: a box around the mesh and the arrow, with the aspect of the data.
+    # Equal scaling: a box around the mesh and the arrow, no side shorter than MIN_BOX_FRACTION
+    # of the longest, with the aspect of the data.
     pts = np.vstack([lo, hi, start, tip])
-    pmin, pmax = pts.min(axis=0), pts.max(axis=0)
-    pad = 0.04 * float(np.max(pmax - pmin))
-    pmin, pmax = pmin - pad, pmax + pad
-    ax.set_xlim(pmin[0], pmax[0])
-    ax.set_ylim(pmin[1], pmax[1])
-    ax.set_zlim(pmin[2], pmax[2])
-    ax.set_box_aspect(tuple(pmax - pmin), zoom=1.1)
-    ax.set_xlabel("$x_G$ [m]")
-    ax.set_ylabel("$y_G$ [m]")
-    ax.set_zlabel("$z_G$ [m]")
-    ax.tick_params(labelsize=7)
+    mid, size = 0.5 * (pts.min(axis=0) + pts.max(axis=0)), np.ptp(pts, axis=0)
+    size = np.maximum(size, MIN_BOX_FRACTION * size.max()) * 1.06
+    for axis, low, high in zip("xyz", mid - size / 2, mid + size / 2):
+        getattr(ax, f"set_{axis}lim")(low, high)
+        getattr(ax, f"set_{axis}label")(f"${axis}_G$ [m]", fontsize=8, labelpad=-2)
+        getattr(ax, f"{axis}axis").set_major_locator(MaxNLocator(4))
+    ax.set_box_aspect(tuple(size), zoom=0.95)
+    ax.tick_params(labelsize=7, pad=0)
     elev, azim = (
         view if view is not None else default_view(u, mesh.normals, mesh.areas, groups["shaded"])
     )
@@ -179,7 +187,7 @@ def make_panel_pressure_figure(
         elif shading not in (None, "none"):
             title += f", shading: {shading}"
     fig.suptitle(
-        f"{title}\nα = {aoa_deg:g}°, β = {aos_deg:g}°: "
+        f"{title}\nα = {round(aoa_deg, 1) + 0.0:g}°, β = {round(aos_deg, 1) + 0.0:g}°: "
         f"C_D = {result.drag:.3f}, projected area {result.area_projected:.3f} m²",
         fontsize=10,
     )

@@ -57,6 +57,46 @@ def _run_style(values: np.ndarray) -> dict:
     return {"lw": 1.1, "marker": ".", "ms": 5, "markevery": isolated if isolated.any() else []}
 
 
+#: A component whose largest magnitude is below this fraction of the largest component's is drawn
+#: on that component's scale (and said so), not magnified to look like a signal.
+SMALL_FRACTION = 0.05
+#: A density axis is logarithmic only where the values span at least this ratio.
+LOG_RATIO = 10.0
+
+
+def _peak(series) -> float:
+    """The largest finite magnitude of (t, values) lines (0 if none)."""
+    finite = [np.abs(v[np.isfinite(v)]) for _, v in series]
+    return max((float(v.max()) for v in finite if v.size), default=0.0)
+
+
+def _share_small_components(axes, peaks) -> None:
+    """Draw each component below :data:`SMALL_FRACTION` of the largest at the largest's scale:
+    its panel spans as much as the largest's (if its own values span less), about its values."""
+    largest = max(peaks)
+    if not largest > 0.0:
+        return
+    low, high = axes[int(np.argmax(peaks))].get_ylim()
+    for ax, peak in zip(axes, peaks):
+        if peak < SMALL_FRACTION * largest:
+            own = ax.get_ylim()
+            if own[1] - own[0] < high - low:
+                mid = 0.5 * (own[0] + own[1])
+                ax.set_ylim(mid - 0.5 * (high - low), mid + 0.5 * (high - low))
+            note = "zero to rounding" if peak < 1e-9 * largest else f"at most {peak:.2g}"
+            ax.text(0.01, 0.95, f"{note}: below {SMALL_FRACTION:.0%} of the largest component, "
+                    "drawn at its scale", transform=ax.transAxes, fontsize=7, va="top")  # fmt: skip
+
+
+def _log_if_wide(ax, lines) -> None:
+    """A log axis where the positive values span :data:`LOG_RATIO`, else linear with an offset."""
+    values = np.concatenate([v[np.isfinite(v) & (v > 0)] for _, v in lines])
+    if values.size and values.max() >= LOG_RATIO * values.min():
+        ax.set_yscale("log")
+    else:
+        ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4), useOffset=True)
+
+
 def make_time_series_figures(time_s, runs) -> dict:
     """Figures ``force``, ``torque``, ``density`` and ``drag_coefficient`` of one or more runs.
 
@@ -90,6 +130,7 @@ def make_line_figures(lines) -> dict:
             ax.set_ylabel(f"{comp} [{unit}]")
             ax.grid(True, lw=0.4, alpha=0.6)
             ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4))
+        _share_small_components(axes, [_peak(r[key][i] for r in lines.values()) for i in range(3)])
         axes[-1].set_xlabel(t_label)
         fig.suptitle(f"Aerodynamic {quantity}, body frame", fontsize=10)
         if several:
@@ -106,13 +147,11 @@ def make_line_figures(lines) -> dict:
     ):
         fig = new_figure()
         ax = fig.add_subplot()
-        positive = False
         for label, run in lines.items():
             ((t, values),) = run[key]
-            positive |= bool(np.any(values > 0))
             ax.plot(t * scale, values, label=label, **_run_style(values))
-        if key == "density" and positive:
-            ax.set_yscale("log")
+        if key == "density":
+            _log_if_wide(ax, [r[key][0] for r in lines.values()])
         ax.set_xlabel(t_label)
         ax.set_ylabel(ylabel)
         ax.grid(True, which="both", lw=0.4, alpha=0.6)
@@ -137,7 +176,7 @@ def make_space_weather_figure(lines):
             ax.plot(t * scale, values, label=label, **_run_style(values))
         ax.set_ylabel(ylabel, fontsize=8)
         ax.grid(True, lw=0.4, alpha=0.6)
-    axes[0].set_yscale("log")
+    _log_if_wide(axes[0], [r["density"][0] for r in lines.values()])
     axes[-1].set_xlabel(t_label)
     fig.suptitle("Density and drag with the space weather in force", fontsize=10)
     if len(lines) > 1:

@@ -8,6 +8,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
+
 from adbsat_ros.plotting.figures import new_figure, save_png
 
 #: The bundled body of the articulated demo.
@@ -51,8 +53,8 @@ def table_cells(sample) -> str:
     return f"{math.degrees(joints.positions[0]):9.2f} {joints.efforts[0]:10.3e}"
 
 
-#: CSV columns added per joint NAME.
-CSV_COLUMNS = tuple(f"{name}_{c}" for name in JOINTS for c in ("deg", "torque_Nm"))
+#: CSV columns added per joint NAME, as bag analysis names them (docs/outputs.md).
+CSV_COLUMNS = tuple(f"joint.{name}.{c}" for name in JOINTS for c in ("position_rad", "effort_Nm"))
 
 
 def csv_values(sample) -> tuple:
@@ -60,25 +62,32 @@ def csv_values(sample) -> tuple:
     joints = sample.joints
     if joints is None:
         return (math.nan,) * len(CSV_COLUMNS)
-    out = []
-    for position, effort in zip(joints.positions, joints.efforts):
-        out += [math.degrees(position), effort]
-    return tuple(out)
+    return tuple(np.column_stack([joints.positions, joints.efforts]).ravel().tolist())
 
 
-def plot_hinge_torques(time_s, table, out_path: Path) -> Path:
-    """Every fin's hinge torque and the pitch fins' deflection against time, as a PNG."""
+#: Each fin's line style and marker: the fins of a pair take the same torques, so the second line
+#: of a pair is drawn over the first with a different dash and marker.
+FIN_STYLES = (("-", "o"), ("--", "x"), ("-", "s"), ("--", "+"))
+
+
+def plot_hinge_torques(table, out_path: Path) -> Path:
+    """Every fin's hinge torque against its deflection [deg], as a PNG (``table``: the rows'
+    :data:`CSV_COLUMNS`)."""
     fig = new_figure()
     ax = fig.add_subplot()
-    for k, name in enumerate(JOINTS):
-        ax.plot(time_s, table[:, 2 * k + 1], label=name.replace("_hinge", ""))
-    ax.set_xlabel("simulated time [s]")
+    for k, (name, (line, marker)) in enumerate(zip(JOINTS, FIN_STYLES)):
+        ax.plot(
+            np.degrees(table[:, 2 * k]),
+            table[:, 2 * k + 1],
+            ls=line,
+            marker=marker,
+            markevery=max(1, len(table) // 12),
+            mfc="none",
+            label=name.replace("_hinge", ""),
+        )
+    ax.set_xlabel("fin deflection [deg]")
     ax.set_ylabel("aerodynamic hinge torque [N m]")
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper left", fontsize="small")
-    twin = ax.twinx()
-    twin.plot(time_s, table[:, 0], "k:", label="pitch fins' deflection")
-    twin.set_ylabel("pitch fins' deflection [deg]")
-    twin.legend(loc="upper right", fontsize="small")
-    ax.set_title("Fin hinge torques while the fins steer (adbsat_node, live)")
+    ax.legend(title="fin (py, ny: pitch; pz, nz: yaw)", fontsize="small")
+    ax.set_title("Fin hinge torques against deflection (adbsat_node, live)")
     return save_png(fig, out_path)

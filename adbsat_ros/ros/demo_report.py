@@ -49,8 +49,8 @@ def vector(v):
 
 CSV_COLUMNS = (
     "time_s",
-    "stamp_unix_s",
-    "altitude_km",
+    "stamp_s",
+    "altitude_m",
     "density_kg_m3",
     "relative_speed_m_s",
     "drag_coefficient",
@@ -88,7 +88,7 @@ def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult, joints=F
             (
                 (key - t0_ns) * 1e-9,
                 key * 1e-9,
-                c.altitude * 1e-3,
+                c.altitude,
                 c.mass_density,
                 c.speed,
                 sample.drag_coefficient,
@@ -134,7 +134,6 @@ def write_outputs(rows, out_dir: Path, picture=None, joints=False) -> list:
     if joints:
         plots.append(
             demo_joints.plot_hinge_torques(
-                table[:, col["time_s"]],
                 table[:, len(CSV_COLUMNS) :],
                 out_dir / "demo_hinge_torques.png",
             )

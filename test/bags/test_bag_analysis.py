@@ -160,10 +160,10 @@ def test_csv_matches_bag_and_closed_forms(flight):
             data(f"fast.torque_{axis}_Nm"), [vec(m.wrench.torque)[i] for _, m in wrenches]
         )
         np.testing.assert_array_equal(
-            data(f"fast.CF_{axis}"), [vec(m.wrench.force)[i] for _, m in coefficients]
+            data(f"fast.cf_{axis}"), [vec(m.wrench.force)[i] for _, m in coefficients]
         )
         np.testing.assert_array_equal(
-            data(f"fast.CM_{axis}"), [vec(m.wrench.torque)[i] for _, m in coefficients]
+            data(f"fast.cm_{axis}"), [vec(m.wrench.torque)[i] for _, m in coefficients]
         )
     np.testing.assert_array_equal(data("stamp_s"), messages.attitudes.stamps)
     np.testing.assert_allclose(data("time_s"), np.arange(601.0), atol=1e-9)
@@ -172,7 +172,7 @@ def test_csv_matches_bag_and_closed_forms(flight):
     diag = {kv.key: kv.value for kv in topics["/diagnostics"][-1][1].status[0].values}
     a_ref = float(diag["reference_area_m2"])
     q = 0.5 * data("fast.density_kg_m3") * data("fast.relative_speed_m_s") ** 2
-    np.testing.assert_allclose(data("fast.force_x_N"), q * a_ref * data("fast.CF_x"), rtol=1e-12)
+    np.testing.assert_allclose(data("fast.force_x_N"), q * a_ref * data("fast.cf_x"), rtol=1e-12)
     # the relative wind has the relative speed as norm; altitude of the circular orbit above the
     # ellipsoid
     wind = np.stack([data(f"fast.wind_body_{a}_m_s") for a in "xyz"], axis=1)
@@ -196,7 +196,7 @@ def test_nadir_flight_meets_the_example_satellite_nose_first(flight):
     assert np.max(np.abs(data("fast.aoa_deg"))) < 0.5
     assert np.max(np.abs(data("fast.aos_deg"))) < 4.0  # co-rotating air: <= omega r cos(lat) / v
     assert np.all(data("fast.force_x_N") < 0)
-    cf = np.stack([data(f"fast.CF_{a}") for a in "xyz"], axis=1)
+    cf = np.stack([data(f"fast.cf_{a}") for a in "xyz"], axis=1)
     wind = np.stack([data(f"fast.wind_body_{a}_m_s") for a in "xyz"], axis=1)
     cd = np.sum(cf * wind, axis=1) / data(
         "fast.relative_speed_m_s"
@@ -664,9 +664,9 @@ def test_a_stop_keeps_the_outputs_so_far_as_partial(tmp_path, workers, monkeypat
     assert not list(tmp_path.glob(".*partial"))
 
 
-def test_the_csv_follows_the_umask(tmp_path):
-    """The CSV is written under a temporary name (made 0600) and renamed: its mode must still be
-    what the user's umask gives any new file."""
+def test_the_outputs_follow_the_umask(tmp_path):
+    """The CSV and plot directory are made under temporary names (mkstemp's 0600, mkdtemp's 0700)
+    and renamed: their modes, the bag's and the PNGs' must still be what the user's umask gives."""
     import os
     import stat
 
@@ -678,7 +678,16 @@ def test_the_csv_follows_the_umask(tmp_path):
             tmp_path / "in",
             models=[("m", WrenchSettings.from_parameters(FAST))],
             out_csv=tmp_path / "out.csv",
+            out_bag=tmp_path / "out",
+            plots_dir=tmp_path / "plots",
         )
     finally:
         os.umask(old)
-    assert stat.S_IMODE((tmp_path / "out.csv").stat().st_mode) == 0o640
+
+    def mode(path):
+        return stat.S_IMODE(path.stat().st_mode)
+
+    assert mode(tmp_path / "out.csv") == 0o640
+    assert mode(tmp_path / "plots") == mode(tmp_path / "out") == 0o750
+    pngs = list((tmp_path / "plots").glob("*.png"))
+    assert pngs and {mode(p) for p in pngs} == {0o640}

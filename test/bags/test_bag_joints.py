@@ -130,8 +130,8 @@ def test_joint_torques_and_wrenches_are_the_estimators(tmp_path, workers, exact)
     assert len(ok) == len(computed)
     for row, sample in zip(ok, computed):
         for k, name in enumerate(HINGES):
-            assert float(row[f"wings.joint.{name}.position"]) == sample.joints.positions[k]
-            assert float(row[f"wings.joint.{name}.effort"]) == sample.joints.efforts[k]
+            assert float(row[f"wings.joint.{name}.position_rad"]) == sample.joints.positions[k]
+            assert float(row[f"wings.joint.{name}.effort_Nm"]) == sample.joints.efforts[k]
     assert np.ptp([s.joints.positions[0] for s in computed]) > math.radians(5.0)
 
 

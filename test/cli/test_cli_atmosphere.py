@@ -27,45 +27,52 @@ def run(argv, capsys):
     return status, out, err
 
 
-def test_json_has_every_field_in_si_units(capsys):
-    status, out, err = run([*PAPER, *POINT, "--json"], capsys)
+def test_json_keys_name_their_units_and_agree_with_the_table(capsys):
+    status, out, err = run(
+        [*PAPER, "--altitude", "400", "--lat", "10", "--lon", "20", "--json"], capsys
+    )
     assert status == 0, err
     data = json.loads(out)
-    for key in (
+    assert set(data) == {
         "time",
-        "latitude",
-        "longitude",
-        "altitude",
-        "position_eci",
-        "position_ecef",
-        "number_densities",
-        "mass_density",
-        "exospheric_temperature",
-        "temperature",
-        "mean_molecular_mass",
-        "speed",
+        "latitude_deg",
+        "longitude_deg",
+        "altitude_m",
+        "position_eci_m",
+        "position_ecef_m",
+        "velocity_eci_m_s",
+        "velocity_ecef_m_s",
+        "space_weather",
+        "anomalous_oxygen",
+        "number_densities_per_m3",
+        "density_kg_m3",
+        "exospheric_temperature_K",
+        "temperature_K",
+        "mean_molecular_mass_kg",
+        "earth_rotation",
+        "relative_velocity_eci_m_s",
+        "relative_velocity_ecef_m_s",
+        "relative_speed_m_s",
         "speed_ratio",
-        "relative_velocity_eci",
-        "relative_velocity_ecef",
         "accommodation_model",
         "accommodation_coefficient",
-        "anomalous_oxygen",
-        "space_weather",
-        "units",
-    ):
-        assert key in data, key
-    assert data["altitude"] == pytest.approx(400e3)  # m, not km
-    assert data["latitude"] == 0.0 and data["longitude"] == 0.0  # rad
-    assert set(data["number_densities"]) == {"He", "O", "N2", "O2", "Ar", "H", "N", "AnO"}
-    assert 1e13 < data["number_densities"]["O"] < 1e15  # m^-3 at 400 km (cm^-3 would be 1e6 less)
-    assert 1e-13 < data["mass_density"] < 1e-11  # kg/m^3
-    # circular-orbit speed sqrt(mu / (R_E + h)) = 7668.558 m/s and the paper's alpha 0.81
-    assert data["speed"] == pytest.approx(7668.558, abs=1e-3)
-    assert data["relative_velocity_eci"] is None
+    }
+    assert data["altitude_m"] == pytest.approx(400e3)  # m, not km
+    assert data["latitude_deg"] == pytest.approx(10.0) and data["longitude_deg"] == 20.0  # deg
+    assert math.dist(data["position_ecef_m"], (0, 0, 0)) == pytest.approx(6.77e6, rel=2e-3)
+    densities = data["number_densities_per_m3"]
+    assert set(densities) == {"He", "O", "N2", "O2", "Ar", "H", "N", "AnO"}
+    assert 1e13 < densities["O"] < 1e15  # m^-3 at 400 km (cm^-3 would be 1e6 less)
+    assert 1e-13 < data["density_kg_m3"] < 1e-11
+    # circular-orbit speed sqrt(mu / (R_E + h)) at 400 km above the ellipsoid at 10 deg
+    assert 7660 < data["relative_speed_m_s"] < 7680
+    assert data["relative_velocity_eci_m_s"] is None
     assert data["accommodation_model"] == "langmuir"
-    assert data["accommodation_coefficient"] == pytest.approx(0.81, abs=0.02)
     assert data["anomalous_oxygen"] is True
-    assert data["space_weather"]["f107"] == 121.7
+    assert data["space_weather"]["f107_sfu"] == 121.7
+    status, table, err = run([*PAPER, "--altitude", "400", "--lat", "10", "--lon", "20"], capsys)
+    assert status == 0, err
+    assert f"{data['density_kg_m3']:.6e} kg/m^3" in table
 
 
 def test_state_in_ecef_at_rest_gives_zero_speed(capsys):
@@ -73,8 +80,12 @@ def test_state_in_ecef_at_rest_gives_zero_speed(capsys):
     status, out, err = run(argv, capsys)
     assert status == 0, err
     data = json.loads(out)
-    assert data["speed"] == 0.0 and data["relative_velocity_ecef"] == [0.0, 0.0, 0.0]
-    assert data["altitude"] == pytest.approx(400e3, abs=1e-6)
+    assert data["relative_speed_m_s"] == 0.0 and data["relative_velocity_ecef_m_s"] == [
+        0.0,
+        0.0,
+        0.0,
+    ]
+    assert data["altitude_m"] == pytest.approx(400e3, abs=1e-6)
 
 
 def test_state_in_eci_and_options(capsys):
@@ -98,9 +109,11 @@ def test_state_in_eci_and_options(capsys):
     data = json.loads(out)
     assert data["accommodation_coefficient"] == 0.9
     assert data["anomalous_oxygen"] is False
-    speed = math.sqrt(sum(v * v for v in data["relative_velocity_eci"]))
-    assert data["speed"] == pytest.approx(speed, rel=1e-12)
-    assert 7000 < data["speed"] < 7300  # co-rotating air takes ~480 m/s off a prograde orbit
+    speed = math.sqrt(sum(v * v for v in data["relative_velocity_eci_m_s"]))
+    assert data["relative_speed_m_s"] == pytest.approx(speed, rel=1e-12)
+    assert (
+        7000 < data["relative_speed_m_s"] < 7300
+    )  # co-rotating air takes ~480 m/s off a prograde orbit
 
 
 def test_table_output(capsys):
@@ -160,7 +173,7 @@ def test_console_entry_point_runs():
         timeout=60,
     )
     assert result.returncode == 0, result.stderr
-    assert json.loads(result.stdout)["altitude"] == pytest.approx(400e3)
+    assert json.loads(result.stdout)["altitude_m"] == pytest.approx(400e3)
 
 
 def test_what_nrlmsise00_prints_goes_to_stderr_not_into_the_json(monkeypatch, capfd):
@@ -180,7 +193,7 @@ def test_what_nrlmsise00_prints_goes_to_stderr_not_into_the_json(monkeypatch, ca
     out, err = capfd.readouterr()
     assert "dnet" in err and "dnet" not in out
     if code == 0:
-        assert json.loads(out)["space_weather"]["f107"] == 20000.0
+        assert json.loads(out)["space_weather"]["f107_sfu"] == 20000.0
     else:
         assert out == "" and "Traceback" not in err
 
@@ -195,7 +208,7 @@ def test_historical_space_weather_and_msis21_show_the_indices_in_force(capsys):
     assert status == 0, err
     expected = HistoricalWeather().at(dt.datetime(2015, 1, 19))
     weather = json.loads(out)["space_weather"]
-    assert (weather["f107"], weather["f107a"], weather["ap"]) == (
+    assert (weather["f107_sfu"], weather["f107a_sfu"], weather["ap"]) == (
         expected.f107,
         expected.f107a,
         expected.ap,

@@ -311,11 +311,11 @@ def test_a_flight_across_midnight_gets_each_days_indices_with_historical_space_w
     record = HistoricalWeather()
     for row in rows:
         indices = record.at(dt.datetime.fromisoformat(row["utc"]))
-        got = [float(row[f"default.{k}"]) for k in ("f107", "f107a", "ap")]
+        got = [float(row[f"default.{k}"]) for k in ("f107_sfu", "f107a_sfu", "ap")]
         assert got == [indices.f107, indices.f107a, indices.ap]
     first, last = rows[0], rows[-1]
     assert first["utc"].startswith("2015-01-18") and last["utc"].startswith("2015-01-19")
-    assert first["default.f107"] != last["default.f107"]
+    assert first["default.f107_sfu"] != last["default.f107_sfu"]
     assert first["default.density_kg_m3"] != last["default.density_kg_m3"]
     # the replay's picture: density and drag with F10.7 and Ap
     assert (tmp_path / "sim_aero_plots" / "space_weather.png").stat().st_size > 1000

@@ -252,13 +252,18 @@ def test_csv_agrees_with_npz(example_db, tmp_path):
     for k, row in enumerate(rows):
         i, j = divmod(k, nb)
         assert float(row["aoa_deg"]) == back.aoa_deg[i] and float(row["aos_deg"]) == back.aos_deg[j]
-        for name in ("CD", "CL", "CY", "AreaProj"):
-            assert float(row[name]) == getattr(back, name)[i, j]
-        for name in VECTOR_FIELDS:
-            assert [float(row[f"{name}_{x}"]) for x in "xyz"] == getattr(back, name)[i, j].tolist()
+        for name, column in (
+            ("CD", "drag_coefficient"),
+            ("CL", "lift_coefficient"),
+            ("CY", "side_force_coefficient"),
+            ("AreaProj", "projected_area_m2"),
+        ):
+            assert float(row[column]) == getattr(back, name)[i, j]
+        for name, prefix in zip(VECTOR_FIELDS, ("cf_w_", "cf_f_", "cm_b_", "cf_", "cm_")):
+            assert [float(row[prefix + x]) for x in "xyz"] == getattr(back, name)[i, j].tolist()
         assert (
-            float(row["Aref"]) == back.reference_area
-            and float(row["Lref"]) == back.reference_length
+            float(row["reference_area_m2"]) == back.reference_area
+            and float(row["reference_length_m"]) == back.reference_length
         )
 
 

@@ -201,7 +201,8 @@ def test_default_view_looks_from_upstream_at_the_shadows(scene):
         elev, azim = panels.default_view(u, mesh.normals, mesh.areas, shaded)
         e, a = math.radians(elev), math.radians(azim)
         camera = np.array([math.cos(e) * math.cos(a), math.cos(e) * math.sin(a), math.sin(e)])
-        assert abs(elev) <= panels.MAX_VIEW_ELEVATION_DEG + 1e-9
+        assert panels.MIN_VIEW_ELEVATION_DEG <= abs(elev) <= panels.MAX_VIEW_ELEVATION_DEG + 1e-9
+        assert abs(azim - 90 * round(azim / 90)) >= panels.MIN_VIEW_AZIMUTH_DEG - 1e-9  # no axis
         assert camera @ -u > 0.5  # upstream, within ~60 deg of the flow axis
         if shaded.any():  # the shaded panels face the camera on average
             assert (mesh.normals[shaded] * mesh.areas[shaded, None]).sum(axis=0) @ camera > 0
@@ -249,8 +250,23 @@ def test_time_series_figures(tmp_path):
             np.testing.assert_array_equal(lines[0].get_ydata(), runs["sentman"][key][:, i])
         assert "[min]" in axes[-1].get_xlabel()
         np.testing.assert_allclose(data_lines(axes[0])[0].get_xdata(), t / 60.0)
+    # the y and z forces (at most 3 % of x) are drawn at the x force's scale, about their values,
+    # and said so
+    force_axes = made["force"].axes
+    spans = [np.ptp(ax.get_ylim()) for ax in force_axes]
+    assert spans[1] == pytest.approx(spans[0], rel=1e-12) and spans[2] == pytest.approx(spans[0])
+    for i in (1, 2):
+        low, high = force_axes[i].get_ylim()
+        values = runs["cll"]["force"][:, i]
+        assert low < np.nanmin(values) and np.nanmax(values) < high
+    assert [len(ax.texts) for ax in force_axes] == [0, 1, 1]
+    assert "below 5% of the largest component" in force_axes[1].texts[0].get_text()
+    assert [len(ax.texts) for ax in made["torque"].axes] == [1, 1, 0]
+    # a density within a factor e^1.6 on a linear axis; spanning more than 10, a log one
     ax = made["density"].axes[0]
-    assert ax.get_yscale() == "log" and len(data_lines(ax)) == len(runs)
+    assert ax.get_yscale() == "linear" and len(data_lines(ax)) == len(runs)
+    wide = {k: dict(v, density=v["density"] ** 2 / 3e-12) for k, v in runs.items()}
+    assert time_series.make_time_series_figures(t, wide)["density"].axes[0].get_yscale() == "log"
     gap_line = data_lines(ax)[2]
     assert np.isnan(gap_line.get_ydata()[110])  # the gap is kept, not filled
     assert np.flatnonzero(gap_line.get_markevery()).tolist() == [120]  # the lone sample is marked
@@ -395,3 +411,16 @@ def test_a_test_particle_database_draws_the_test_particles_pressures(tmp_path, c
     assert "test particles" in fig._suptitle.get_text()
     assert main(["plot", str(path), "--out-dir", str(tmp_path / "plots")]) == 0
     assert "panel_pressure.png" in capsys.readouterr().out
+
+
+def test_pressure_picture_rounds_its_angles_and_fits_its_box(scene):
+    _, model, _, _ = scene
+    fig = panels.make_panel_pressure_figure(model, FLOW, 4.38739e-15, -2.93956)
+    assert "α = 0°, β = -2.9°" in fig.get_suptitle()
+    ax = fig.axes[0]
+    spans = [np.ptp(limits) for limits in (ax.get_xlim(), ax.get_ylim(), ax.get_zlim())]
+    assert min(spans) >= panels.MIN_BOX_FRACTION * max(spans) * (1 - 1e-9)
+    lo, hi = model.mesh.bounds
+    for (low, high), a, b in zip((ax.get_xlim(), ax.get_ylim(), ax.get_zlim()), lo, hi):
+        assert low < a and b < high  # the whole mesh inside the box
+    assert abs(ax.elev) >= panels.MIN_VIEW_ELEVATION_DEG

@@ -55,7 +55,7 @@ def test_demo_runs_prints_the_table_and_writes_csv_and_plots(tmp_path, capsys):
     assert len(data) == received
     assert table[-1, 0] == pytest.approx(float(data[-1]["time_s"]), abs=0.05)  # the last line
     # the UNIX stamps keep their fraction of a second (steps of 0.5 s of simulated time)
-    stamps = np.array([float(row["stamp_unix_s"]) for row in data])
+    stamps = np.array([float(row["stamp_s"]) for row in data])
     assert np.allclose(np.diff(stamps), 0.5, atol=1e-6) and stamps[0] > 1.7e9
     assert np.any(stamps % 1.0 != 0.0)
 
@@ -95,8 +95,8 @@ def test_the_articulated_demo_steers_the_fins_and_reports_their_hinge_torques(tm
     with open(out_dir / "demo_wrench.csv", newline="") as fh:
         data = list(csv.DictReader(fh))
     assert len(data) >= 55 and set(CSV_COLUMNS) <= set(data[0])
-    pitch = np.array([float(row["fin_py_hinge_deg"]) for row in data])
-    torque = np.array([float(row["fin_py_hinge_torque_Nm"]) for row in data])
+    pitch = np.degrees([float(row["joint.fin_py_hinge.position_rad"]) for row in data])
+    torque = np.array([float(row["joint.fin_py_hinge.effort_Nm"]) for row in data])
     assert pitch.max() > 0.9 * AMPLITUDE_DEG and pitch.min() < -0.9 * AMPLITUDE_DEG
     deflected = np.abs(pitch) > 3.0
     assert np.all(np.sign(torque[deflected]) == -np.sign(pitch[deflected]))

@@ -173,3 +173,18 @@ def test_a_file_or_a_foreign_zarr_store_is_refused(tmp_path):
     with pytest.raises(StoreError, match="foreign.zarr is not an output of adbsat-ros sweep"):
         run_sweep(spec, foreign, workers=1, overwrite=True)
     assert (foreign / "zarr.json").is_file()
+
+
+def test_a_new_store_follows_the_umask(tmp_path):
+    """The store is made under a temporary name (mkdtemp's 0700, zarr's writer makes it again) and
+    renamed: its mode is what the user's umask gives a new directory."""
+    import os
+    import stat
+
+    spec = spec_of(SMALL)
+    old = os.umask(0o027)
+    try:
+        SweepStore.open(tmp_path / "r.zarr", spec, SweepSetup(spec))
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "r.zarr").stat().st_mode) == 0o750
