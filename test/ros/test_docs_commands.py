@@ -33,6 +33,8 @@ NOT_RUN = {
     "suite runs in the venv it makes; test_demo.py runs the demo",
     r"^(rosdep|colcon|pip|mkdir|source|\. |install/)": "a ROS 2 workspace built with rosdep and "
     "colcon (docs/ros-workspace.md), not the README's install",
+    r"adbsat_node --ros-args -p qos_overrides\.": "a node with QoS overrides runs until stopped "
+    "(test/ros/test_node_graph.py starts one with overrides and checks the endpoints)",
     r"^export ": "only sets the environment of the commands after it (a block that starts its own "
     "node runs whole, its exports too)",
 }
