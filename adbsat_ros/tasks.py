@@ -37,6 +37,10 @@ CLUSTER_START_S = 2.0
 #: worker of a running scheduler): a forked local worker dies with it (:func:`dask_setup`).
 _PARENT: dict = {"pid": None}
 
+#: The job of this process's LocalCluster by its key, while it runs: forked workers have it
+#: from the fork, so their tasks carry the key alone (:class:`ForkedJob`).
+_FORKED: dict = {}
+
 #: Set-ups of the latest jobs on this process, by the job's key: a worker builds a job's
 #: set-up on its first chunk and keeps it for the rest.
 SETUPS = LruStore(2)
@@ -67,6 +71,17 @@ def run_chunk(job: ChunkJob, chunk):
     """The task: ``chunk``'s result, with this process's set-up of ``job``."""
     keep_freed_memory()
     return SETUPS.get(job.key, job.setup).evaluate(chunk)
+
+
+@dataclass(frozen=True)
+class ForkedJob:
+    """A job a forked local worker has from the fork: its key alone travels with a task."""
+
+    key: str
+
+    def setup(self):
+        """The set-up of the job of this key (:data:`_FORKED`)."""
+        return _FORKED[self.key].setup()
 
 
 _MALLOC = {"set": False}
@@ -168,12 +183,18 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
     from distributed.comm.core import CommClosedError
     from distributed.scheduler import KilledWorker
 
-    cluster = local_cluster(count) if scheduler is None else None
+    cluster = None
+    if scheduler is None:
+        _FORKED[job.key] = job  # (before the workers fork: they keep it)
+        cluster = local_cluster(count)
+        if _PARENT["pid"] is not None:
+            job = ForkedJob(job.key)
     try:
         client = Client(cluster if cluster is not None else scheduler)
     except (OSError, TimeoutError) as exc:
         if cluster is not None:
             cluster.close()
+            _FORKED.pop(job.key, None)
         raise OSError(f"scheduler {scheduler}: no Dask scheduler answers there ({exc})") from None
     try:
         report.workers = len(client.scheduler_info()["workers"])
@@ -218,6 +239,7 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
         client.close()
         if cluster is not None:
             cluster.close()
+        _FORKED.pop(job.key, None)
     return report
 
 
