@@ -13,7 +13,7 @@ Jobs (the example satellite, 4,192 faces, sentman, ray-cast shading unless said)
   ``simulate``).
 
 Each variant is a fresh process (its working directory the tree measured, so that tree's package
-is imported); rounds interleave the variants (default, 1, 2, default, 1, 2, ...) so that a
+is imported); rounds interleave the variants (default, 1, 2; then 1, 2, default; ...) so that a
 change in the machine's load touches all alike. Printed per job and variant: the median of
 ``--rounds`` wall times [s] and of the CPU times (user + system of the process and its workers),
 the fastest and slowest wall, and the ratio of the median wall to that of ``--workers 1``. Run::
@@ -116,11 +116,13 @@ def main() -> int:
             f"{args.rounds} rounds"
         )
         times = {(name, v): [] for name in names for v in VARIANTS}
+        order = list(VARIANTS)
         for _ in range(args.rounds):
             for name in names:
                 argv, output = table[name]
-                for variant, extra in VARIANTS.items():
-                    times[name, variant].append(run_once(tree, argv + extra, output))
+                for variant in order:
+                    times[name, variant].append(run_once(tree, argv + VARIANTS[variant], output))
+            order = order[1:] + order[:1]  # (each variant first in turn)
         print(
             f"{'job':<12} {'--workers':<10} {'wall s':>8} {'cpu s':>8} {'min':>7} {'max':>7}"
             f" {'wall / 1':>9}"
