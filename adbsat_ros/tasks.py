@@ -1,5 +1,7 @@
 """Chunked jobs on Dask, the one engine of sweeps and databases: in this process (one worker), a
-local cluster (one thread per forked worker process) or a running scheduler.
+local cluster (one thread per forked worker process) or a running scheduler. With the default
+worker count a job starts in this process and starts workers only for a rest that would take
+longer on one than they cost to start (:func:`run_chunks`).
 
 A worker builds a job's set-up on its first chunk and keeps it (:data:`SETUPS`; scattered data
 would be lost with a worker). A chunk's result may not depend on where or when it ran.
@@ -14,6 +16,7 @@ import multiprocessing
 import os
 import signal
 import threading
+import time
 from dataclasses import dataclass, field
 from typing import Callable, Protocol
 
@@ -26,9 +29,17 @@ MAX_RETRIES = 3
 #: How often [s] a run on Dask with no result to take looks at its stop event.
 STOP_POLL_S = 0.1
 
+#: What a local worker costs before its first chunk [s], besides the job's set-up: importing
+#: distributed, starting the cluster and its processes (docs/cli.md, "Workers").
+CLUSTER_START_S = 2.0
+
 #: The process that started this process's LocalCluster (None in that process, and in a
 #: worker of a running scheduler): a forked local worker dies with it (:func:`dask_setup`).
 _PARENT: dict = {"pid": None}
+
+#: The job of this process's LocalCluster by its key, while it runs: forked workers have it
+#: from the fork, so their tasks carry the key alone (:class:`ForkedJob`).
+_FORKED: dict = {}
 
 #: Set-ups of the latest jobs on this process, by the job's key: a worker builds a job's
 #: set-up on its first chunk and keeps it for the rest.
@@ -46,18 +57,31 @@ class ChunkJob(Protocol):
 
 @dataclass
 class TaskReport:
-    """What a run did: chunks computed, whether a signal stopped it, its workers, warnings."""
+    """What a run did: chunks computed (``here``: in this process), whether a signal stopped it,
+    its workers (1: this process alone), warnings."""
 
     computed: int = 0
     stopped: bool = False
     workers: int = 0
     notes: list = field(default_factory=list)
+    here: int = 0
 
 
 def run_chunk(job: ChunkJob, chunk):
     """The task: ``chunk``'s result, with this process's set-up of ``job``."""
     keep_freed_memory()
     return SETUPS.get(job.key, job.setup).evaluate(chunk)
+
+
+@dataclass(frozen=True)
+class ForkedJob:
+    """A job a forked local worker has from the fork: its key alone travels with a task."""
+
+    key: str
+
+    def setup(self):
+        """The set-up of the job of this key (:data:`_FORKED`)."""
+        return _FORKED[self.key].setup()
 
 
 _MALLOC = {"set": False}
@@ -87,16 +111,19 @@ def run_chunks(
     scheduler: str | None = None,
     workers: int | None = None,
     stop=None,
+    report: TaskReport | None = None,
 ) -> TaskReport:
     """Compute every chunk of ``job`` and call ``on_result(index, result)`` here as each finishes.
 
     chunks: index -> chunk (picklable); ``on_result`` is called in this process as each finishes.
     scheduler: a running Dask scheduler's address (``tcp://host:8786``); None: this machine.
-    workers: processes without ``scheduler`` (default: every usable CPU; 1: this process).
+    workers: processes without ``scheduler`` (1: this process). None: every usable CPU, started
+      only once the chunks left, timed here one by one, are worth them (:func:`worth_workers`).
     stop: an event; set, the run stops after the chunk finishing now (rerun to go on).
+    report: the TaskReport to fill and return (default a new one).
     RuntimeError: a chunk whose workers died :data:`MAX_RETRIES` + 1 times.
     """
-    report = TaskReport()
+    report = TaskReport() if report is None else report
     if not chunks:
         return report
     count = 1
@@ -105,18 +132,49 @@ def run_chunks(
         if note:
             report.notes.append(f"--workers: {note}")
         count = min(count, len(chunks))
-    if scheduler is None and count == 1:
-        report.workers = 1
-        setup = job.setup()
-        for index, chunk in chunks.items():
-            on_result(index, setup.evaluate(chunk))
-            report.computed += 1
-            if stop is not None and stop.is_set():
-                report.stopped = True
-                break
-        return report
+        if count == 1 or workers is None:
+            chunks = _run_here(job, chunks, on_result, count, stop, report)
+            if not chunks or report.stopped:
+                return report
     with _quiet_distributed():
         return _run_on_dask(job, chunks, on_result, scheduler, count, stop, report)
+
+
+def worth_workers(left_s: float, start_s: float, count: int) -> bool:
+    """Whether ``count`` workers that take ``start_s`` [s] to start (and set the job up) finish
+    a rest of ``left_s`` [s] on one process sooner than this process: ``left_s / count +
+    start_s < left_s``."""
+    return count > 1 and left_s / count + start_s < left_s
+
+
+def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
+    """Compute chunks in this process, until :func:`worth_workers` says that ``count`` workers
+    finish the rest sooner (timed by the fastest chunk so far, from the second on; a worker's
+    start also redoes the set-up and what the first chunk took more); the chunks left."""
+    report.workers = 1
+    started = time.perf_counter()
+    setup = job.setup()
+    setup_s = time.perf_counter() - started
+    left = dict(chunks)
+    first = fastest = None
+    for index, chunk in chunks.items():
+        started = time.perf_counter()
+        result = setup.evaluate(chunk)
+        took = time.perf_counter() - started
+        first = took if first is None else first
+        fastest = took if fastest is None else min(fastest, took)
+        del left[index]
+        on_result(index, result)
+        report.computed += 1
+        report.here += 1
+        if stop is not None and stop.is_set():
+            report.stopped = True
+            break
+        start_s = CLUSTER_START_S + setup_s + first - fastest
+        workers = min(count, len(left)) if report.here > 1 else 1  # (the first: one-time costs)
+        if worth_workers(fastest * len(left), start_s, workers):
+            break
+    return left
 
 
 def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> TaskReport:
@@ -125,12 +183,18 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
     from distributed.comm.core import CommClosedError
     from distributed.scheduler import KilledWorker
 
-    cluster = local_cluster(count) if scheduler is None else None
+    cluster = None
+    if scheduler is None:
+        _FORKED[job.key] = job  # (before the workers fork: they keep it)
+        cluster = local_cluster(count)
+        if _PARENT["pid"] is not None:
+            job = ForkedJob(job.key)
     try:
         client = Client(cluster if cluster is not None else scheduler)
     except (OSError, TimeoutError) as exc:
         if cluster is not None:
             cluster.close()
+            _FORKED.pop(job.key, None)
         raise OSError(f"scheduler {scheduler}: no Dask scheduler answers there ({exc})") from None
     try:
         report.workers = len(client.scheduler_info()["workers"])
@@ -175,6 +239,7 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
         client.close()
         if cluster is not None:
             cluster.close()
+        _FORKED.pop(job.key, None)
     return report
 
 

@@ -18,7 +18,9 @@ by ``python -c`` (``script``):
   store`` the same on the example satellite refined to 6,496 faces (an OBJ with two materials,
   three bodies that shade each other: the shader's topology and its ray scene are made).
 
-Every tree given with ``--tree`` (default: the tree holding this script) is measured in the same
+The compiled modules (.pyc) go to a directory of this run (``PYTHONPYCACHEPREFIX``), written by
+the first runs, so that every tree is measured as installed, and none is written to. Every tree
+given with ``--tree`` (default: the tree holding this script) is measured in the same
 run, the cases interleaved (A B A B ...) so that a change in the machine's load touches all
 alike. Printed: the median of ``--repeat`` runs (default 10) of the wall time and of the CPU
 time (user + system) of the process, with the fastest and slowest wall times.
@@ -36,6 +38,9 @@ by top-level package. Run::
 
     python bench/bench_cli.py --tree ../baseline --tree .
     python bench/bench_cli.py --importtime --mesh satellite.stl
+    python bench/bench_cli.py --tree ../baseline --tree . --case "coeff (script)" --case "coeff, no"
+
+``--case TEXT`` (repeatable) keeps only the cases whose name starts with one of them.
 """
 
 from __future__ import annotations
@@ -158,6 +163,9 @@ def main() -> int:
         action="store_true",
         help="also time python -c 'import X' for the third-party packages coeff imports",
     )
+    parser.add_argument(
+        "--case", action="append", metavar="TEXT", help="only the cases starting so (repeat)"
+    )
     args = parser.parse_args()
     trees = [tree.resolve() for tree in (args.tree or [THIS_TREE])]
     for tree in trees:
@@ -168,8 +176,11 @@ def main() -> int:
         mesh = args.mesh.resolve() if args.mesh else write_sphere(Path(folder))
         concave = write_satellite(Path(folder))
         # as started from a shell: without the guard this process may have inherited
-        shell = {k: v for k, v in os.environ.items() if k != BOOTSTRAP_GUARD}
+        unset = (BOOTSTRAP_GUARD, "PYTHONDONTWRITEBYTECODE")
+        shell = {k: v for k, v in os.environ.items() if k not in unset}
         shell[CACHE_DIR_VARIABLE] = str(Path(folder) / "cache")  # (this run's mesh store)
+        # compiled modules kept by this run (written by the first runs), none in the trees
+        shell["PYTHONPYCACHEPREFIX"] = str(Path(folder) / "pycache")
         no_store = dict(shell, **{CACHE_DIR_VARIABLE: "off"})
         no_reexec = dict(shell, **{BOOTSTRAP_GUARD: "1"})
         cases = [
@@ -192,9 +203,10 @@ def main() -> int:
                 if name != "coeff":
                     cases.append((f"{name} (script)", tree, coeff, shell))
                 cases.append((f"{name}, no store (script)", tree, coeff, no_store))
-        for _, tree, argv, env in cases:  # the mesh store filled: every timed run reads back
-            if tree is not None and env is shell:
-                run_once(argv, tree, env)
+        if args.case:
+            cases = [case for case in cases if case[0].startswith(tuple(args.case))]
+        for _, tree, argv, env in cases:  # modules compiled; the mesh store filled: read back
+            run_once(argv, tree or THIS_TREE, env)
         times = {index: [] for index in range(len(cases))}
         for _ in range(args.repeat):
             for index, (_, tree, argv, env) in enumerate(cases):

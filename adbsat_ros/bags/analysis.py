@@ -134,7 +134,9 @@ def analyze_bag(
     attitude_topic, state_topic: QuaternionStamped and Odometry topics (as the node subscribes).
     models: list of (label, WrenchSettings) (default: the node's defaults, label 'default').
     overwrite: replace outputs of the same kind only (:mod:`adbsat_ros.bags.replacing`).
-    workers: processes (default ``os.cpu_count()``); the outputs are the same for any number.
+    workers: processes (default: this one, and every usable CPU for what is left once the chunks,
+      timed here, are worth them: :func:`adbsat_ros.bags.worker.chunk_results`); the outputs are
+      the same for any number.
     chunk_messages: in [:data:`MIN_CHUNK_MESSAGES`, :data:`MAX_CHUNK_MESSAGES`].
     stop: a threading.Event; stops at the next message, the outputs so far kept as PARTIAL.
     skip_damaged: leave out MCAP chunks failing their CRC instead of refusing the bag.
@@ -148,6 +150,7 @@ def analyze_bag(
     labels = [check_label(label) for label, _ in models]
     if len(set(labels)) != len(labels):
         raise ValueError(f"model labels must differ, got {', '.join(labels)}")
+    chosen = workers is not None
     workers, capped = worker_count(workers)
     if chunk_messages is not None and int(chunk_messages) < 1:
         raise ValueError(f"chunk_messages must be >= 1, got {chunk_messages}")
@@ -166,14 +169,15 @@ def analyze_bag(
         )
     if capped:
         report.warnings.append(f"workers: {capped}")
-    report.workers, report.chunks = min(workers, len(chunks)) or 1, len(chunks)
+    count, report.chunks = min(workers, len(chunks)) or 1, len(chunks)
+    report.workers = count if chosen else 1  # (by default, more once the pool starts)
     report.seconds["read"] = time.perf_counter() - t0
     read.state_raws.clear()  # (only the planning needed them)
     stream = read.stream()
     try:
-        results = chunk_results(
-            [(s.settings, s.mesh) for s in states], stream.chunks(chunks), report.workers, stop
-        )
+        specs = [(s.settings, s.mesh) for s in states]
+        planned = None if chosen else len(chunks)
+        results = chunk_results(specs, stream.chunks(chunks), count, stop, planned, report)
         write_outputs(
             Replay(read, stream, chunks, results, states, report),
             Outputs(out_bag, out_csv, plots_dir, storage, overwrite, progress),

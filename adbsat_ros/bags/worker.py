@@ -10,6 +10,7 @@ import collections
 import concurrent.futures
 import itertools
 import os
+import time
 from concurrent.futures import ProcessPoolExecutor
 from typing import NamedTuple
 
@@ -27,9 +28,13 @@ from adbsat_ros.messages.decoding import (
 from adbsat_ros.messages.encoding import encode_wrench
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.processes import die_with_parent, frozen_heap, pool_context
+from adbsat_ros.tasks import worth_workers
 
 #: How often [s] the caller waiting for a chunk looks at its stop event.
 STOP_POLL_S = 0.1
+
+#: What starting the pool costs [s] besides the workers' set-up (forking them; docs/cli.md).
+POOL_START_S = 0.5
 
 
 class SampleNumbers(NamedTuple):
@@ -234,18 +239,44 @@ def _run_chunk(chunk) -> ChunkResult:
     return _WORKER.run(chunk)
 
 
-def chunk_results(specs, chunks, workers: int, stop=None):
-    """The ChunkResult of each chunk, in order: here (``workers`` 1), or by a pool kept ahead."""
+def chunk_results(specs, chunks, workers: int, stop=None, planned: int | None = None, report=None):
+    """The ChunkResult of each chunk, in order: here (``workers`` 1), or by a pool kept ahead.
+
+    planned: the number of chunks, given when ``workers`` is the default: they start here, and
+    the pool only once the chunks left, timed here, are worth it
+    (:func:`adbsat_ros.tasks.worth_workers`); ``report.workers`` is then set to the count used.
+    """
     with frozen_heap():
-        yield from _chunk_results(specs, chunks, workers, stop)
+        yield from _chunk_results(specs, iter(chunks), workers, stop, planned, report)
 
 
-def _chunk_results(specs, chunks, workers: int, stop):
-    if workers <= 1:
+def _chunk_results(specs, chunks, workers: int, stop, planned, report):
+    if workers <= 1 or planned is not None:
+        started = time.perf_counter()
         worker = Worker(specs, None if stop is None else _EventFlag(stop))
-        for chunk in chunks:
-            yield worker.run(chunk)
-        return
+        setup_s = time.perf_counter() - started
+        left = planned or 0
+        first = fastest = None
+        for timed, chunk in enumerate(chunks, 1):
+            started = time.perf_counter()
+            result = worker.run(chunk)
+            took = time.perf_counter() - started
+            first = took if first is None else first
+            fastest = took if fastest is None else min(fastest, took)
+            left -= 1
+            yield result
+            if stop is not None and stop.is_set():
+                return
+            start_s = POOL_START_S + setup_s + first - fastest
+            count = min(workers, left) if timed > 1 else 1  # (the first chunk: one-time costs)
+            if worth_workers(fastest * left, start_s, count):
+                break
+        else:
+            return
+        del worker
+        workers = min(workers, left)
+        if report is not None:
+            report.workers = workers
     context = pool_context()
     halt = context.RawValue("b", 0)  # (shared with the workers, read at every message)
     with ProcessPoolExecutor(
@@ -254,7 +285,7 @@ def _chunk_results(specs, chunks, workers: int, stop):
         initializer=_init_worker,
         initargs=(specs, os.getpid(), halt),
     ) as pool:
-        todo = iter(chunks)
+        todo = chunks
         pending = collections.deque(
             pool.submit(_run_chunk, c) for c in itertools.islice(todo, 2 * workers)
         )

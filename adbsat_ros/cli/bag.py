@@ -75,8 +75,9 @@ def configure_analyze(a) -> None:
     )
     flag(a, "--skip-damaged", help)
     help = (
-        f"processes computing wrenches (default and most: the usable CPUs, {usable_cpus()} "
-        "here); the outputs are the same for any N"
+        f"processes computing wrenches (at most the usable CPUs, {usable_cpus()} here; default: "
+        "this process, and every CPU for what is left once the chunks, timed here, are worth "
+        "them); the outputs are the same for any N"
     )
     option(a, "--workers", help, positive_int, default=None, metavar="N")
     flag(a, "--no-progress", "no progress bar (shown only on a terminal anyway)")

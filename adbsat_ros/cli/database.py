@@ -17,6 +17,7 @@ from adbsat_ros.cli.options import (
 from adbsat_ros.database.build import build_database
 from adbsat_ros.database.format import is_database_csv, is_database_file
 from adbsat_ros.processes import stop_on_signals, usable_cpus, worker_count
+from adbsat_ros.tasks import TaskReport
 from adbsat_ros.validation import foreign_file, not_an_output
 
 #: Default angle-of-attack and sideslip grids [deg]: the whole sphere in 5 deg steps.
@@ -40,7 +41,10 @@ def configure(p) -> None:
     option(
         g, "--aos", f"sideslip angles [deg], -90..90 (default {DEFAULT_AOS})", default=DEFAULT_AOS
     )
-    help = f"processes to use (default and most: every usable CPU, here {usable_cpus()})"
+    help = (
+        f"processes to use (at most every usable CPU, here {usable_cpus()}; default: this "
+        "process, and every CPU for what is left once a build is timed long enough to gain)"
+    )
     option(g, "--workers", help, positive_int, default=None)
     help = (
         "a running Dask scheduler (tcp://HOST:8786) whose workers compute the attitudes "
@@ -95,9 +99,10 @@ def run(args) -> int:
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
     model, flow, conditions = method_and_flow_from_args(args)
-    workers, capped = worker_count(args.workers)
+    _, capped = worker_count(args.workers)
     if capped:
         warn("database", f"--workers: {capped}")
+    report = TaskReport()
     start = time.perf_counter()
     with stop_on_signals() as stop:
         db = build_database(
@@ -107,7 +112,7 @@ def run(args) -> int:
             aos,
             shading=args.shading,
             samples=args.samples,
-            workers=workers,
+            workers=args.workers,
             progress=None,
             mesh_spec=args.mesh,
             mesh_joints=model.positions,
@@ -119,6 +124,7 @@ def run(args) -> int:
             seed=args.seed,
             stop=stop,
             scheduler=args.scheduler,
+            report=report,
         )
     elapsed = time.perf_counter() - start
     partial = db.metadata.get("partial")
@@ -131,7 +137,7 @@ def run(args) -> int:
         )
     db.save(out)
     db.save_csv(csv_path)
-    print(summary(db, elapsed, workers, [out, csv_path]))
+    print(summary(db, elapsed, report.workers, [out, csv_path]))
     return 0
 
 
@@ -142,7 +148,7 @@ def partial_path(csv_path: str) -> str:
 
 
 def summary(db, elapsed: float, workers: int, files) -> str:
-    """The lines printed after a database build."""
+    """The lines printed after a database build on ``workers`` (1: this process)."""
     m = db.metadata
     na, nb = db.shape
     err = m["interpolation_error"]
@@ -157,8 +163,9 @@ def summary(db, elapsed: float, workers: int, files) -> str:
         f"Aref = {m['reference']['area']:.4g} m^2, Lref = {m['reference']['length']:.4g} m",
         f"attitudes: {na} aoa ({db.aoa_deg[0]:g}..{db.aoa_deg[-1]:g} deg) x {nb} aos "
         f"({db.aos_deg[0]:g}..{db.aos_deg[-1]:g} deg) = {db.n_attitudes}",
-        f"time: {elapsed:.2f} s on {min(workers, db.n_attitudes)} worker(s) "
-        f"({1e3 * elapsed / db.n_attitudes:.2f} ms per attitude)",
+        f"time: {elapsed:.2f} s "
+        + ("in this process " if workers <= 1 else f"on {workers} workers ")
+        + f"({1e3 * elapsed / db.n_attitudes:.2f} ms per attitude)",
     ]
     if err.get("force_coefficient") is not None:
         f, mo = err["force_coefficient"], err["moment_coefficient"]

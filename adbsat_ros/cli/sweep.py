@@ -21,7 +21,10 @@ def configure(p) -> None:
     option(p, "--out", "the Zarr store", required=True, metavar="RESULT.zarr")
     help = "a running Dask scheduler, e.g. tcp://10.0.0.5:8786 (default: a LocalCluster)"
     option(p, "--scheduler", help, metavar="ADDRESS")
-    help = "worker processes of the LocalCluster (default: every usable CPU)"
+    help = (
+        "worker processes of the LocalCluster (default: this process, and every usable CPU for "
+        "what is left once the chunks, timed here, are worth them)"
+    )
     option(p, "--workers", help, type=int, metavar="N")
     help = "replace a sweep store (of another spec) at --out; anything else there is refused"
     flag(p, "--overwrite", help)
@@ -61,8 +64,9 @@ def run(args) -> int:
     shape = " x ".join(f"{len(v)} {k}" for k, v in spec.axes.items())
     print(
         f"sweep {shape}: {report.chunks} chunks, {report.already_done} already in {args.out}, "
-        f"{report.computed} computed ({report.points} points) on {report.workers} workers in "
-        f"{report.seconds:.1f} s"
+        f"{report.computed} computed ({report.points} points) "
+        + ("in this process" if report.workers <= 1 else f"on {report.workers} workers")
+        + f" in {report.seconds:.1f} s"
     )
     if report.stopped:
         print("stopped: run the same command again to compute the rest", file=sys.stderr)

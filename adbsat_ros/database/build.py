@@ -161,16 +161,19 @@ def build_database(
     stop=None,
     mesh_joints: dict | None = None,
     scheduler: str | None = None,
+    report=None,
 ) -> AeroDatabase:
     """Evaluate the panel method, or test particles, at every (aoa, aos) pair of two angle lists.
     aoa_deg, aos_deg: angles of attack in [-360, 360], sideslip in [-90, 90] [deg]; no duplicates.
     shading: ``"raycast"``, ``"projection"`` or ``"none"``; ``samples``: rays per panel.
-    workers: local processes (default: every usable CPU; 1: this process); the result is the same.
+    workers: local processes (default: every usable CPU, once the attitudes left are worth them,
+      :func:`adbsat_ros.tasks.run_chunks`; 1: this process); the result is the same.
     progress: None (a bar on a terminal), bool, ``progress(done, total)``, or a tqdm.
     mesh_spec, mesh_joints: how the mesh reloads (path or ``"example"``; joints [rad or m]).
     solver: ``"panel"`` or ``"tpmc"`` (then ``particles``, ``tolerance``, ``seed``; no shading).
     stop: a threading.Event; ends with the chunk that finished, NaN at the rest (partial, no .npz).
     scheduler: a running Dask scheduler's address (``tcp://host:8786``); None: this machine.
+    report: a :class:`adbsat_ros.tasks.TaskReport` to fill (where the chunks ran).
     Returns an AeroDatabase; ``metadata["interpolation_error"]`` (tpmc: plus three of the largest
     standard errors; ``solver`` recorded)."""
     shading = str(shading).lower()
@@ -187,7 +190,7 @@ def build_database(
     spec = SolverSpec(solver, particles, tolerance, seed) if tpmc else SolverSpec()
     # (checked here, a model without a test-particle kernel refused, before any worker starts)
     model = build_model(build_setup(method, shading, samples, spec), method.mesh)
-    workers, _ = worker_count(workers)  # (at most the usable CPUs)
+    count, _ = worker_count(workers)  # (at most the usable CPUs)
     aoa = _check_angles(aoa_deg, "aoa_deg", -360.0, 360.0)
     aos = _check_angles(aos_deg, "aos_deg", -90.0, 90.0)
     metadata = describe_setup(
@@ -206,7 +209,7 @@ def build_database(
     attitudes = np.column_stack([grid_a.reshape(-1), grid_b.reshape(-1)])
     total = len(attitudes)
     # chunks: about eight per worker (the last ones then finish together), at most MAX_CHUNK
-    chunk = max(1, min(MAX_CHUNK, math.ceil(total / (8 * min(workers, total)))))
+    chunk = max(1, min(MAX_CHUNK, math.ceil(total / (8 * min(count, total)))))
     if tpmc is not None:
         chunk = 1  # (an attitude is a long run already: a stop waits for one at most)
     chunks = {s: (s, attitudes[s : s + chunk]) for s in range(0, total, chunk)}
@@ -225,6 +228,7 @@ def build_database(
             scheduler=scheduler,
             workers=workers,
             stop=stop,
+            report=report,
         )
     finally:
         bar.close()

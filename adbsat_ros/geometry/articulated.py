@@ -8,11 +8,9 @@ import io
 import math
 import os
 from dataclasses import dataclass
-from typing import Mapping
+from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
-import trimesh
-import yourdfpy
 
 from adbsat_ros.geometry.mesh import (
     DEFAULT_MATERIAL,
@@ -25,6 +23,10 @@ from adbsat_ros.geometry.mesh import (
 )
 from adbsat_ros.geometry.mesh_files import read_mesh_file
 from adbsat_ros.geometry.poses import JointTree
+
+if TYPE_CHECKING:
+    import trimesh
+    import yourdfpy
 
 #: Sections around a URDF cylinder, and subdivisions of a URDF sphere's icosphere.
 CYLINDER_SECTIONS = 48
@@ -61,6 +63,8 @@ def _moved(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
 
 def _primitive(geometry, max_edge_fraction: float, resolve) -> trimesh.Trimesh:
     """The triangles of a URDF geometry in its visual frame [m]."""
+    import trimesh  # (when a body is built: not at start-up)
+
     if geometry.box is not None:
         size = np.asarray(geometry.box.size, dtype=float)
         box = trimesh.creation.box(extents=size)
@@ -106,6 +110,8 @@ class ArticulatedBody:
         directory = os.path.dirname(os.path.abspath(source)) if os.path.isfile(source) else "."
 
         def resolve(filename):
+            import yourdfpy
+
             return yourdfpy.filename_handler_magic(filename, dir=directory)
 
         names, parts, reports = [], [], []
@@ -178,6 +184,8 @@ class ArticulatedBody:
         is_xml = text.lstrip().startswith("<")
         path = None if is_xml else os.fspath(urdf)
         source = source or path or "robot_description"
+        import yourdfpy  # (when a URDF is read: not at start-up)
+
         try:
             stream = io.StringIO(text) if is_xml else path
             # (no scene graph: JointTree makes the one it poses the links with)

@@ -5,12 +5,14 @@ from __future__ import annotations
 import math
 import threading
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
-import yourdfpy
 
 from adbsat_ros.geometry.mesh import MeshError
+
+if TYPE_CHECKING:
+    import yourdfpy
 
 #: Joint types whose position moves their child link.
 MOVING_JOINTS = ("revolute", "continuous", "prismatic")
@@ -82,6 +84,8 @@ class JointTree:
                 f"{source}: links not carried from the root {self.root} by a chain of joints: "
                 f"{', '.join(sorted(unreached))}"
             )
+        import yourdfpy  # (imported by whoever read ``urdf``: not at start-up)
+
         self._kinematics = yourdfpy.URDF(urdf.robot, build_scene_graph=True, load_meshes=False)
         self._unset = {name: math.nan for name in self.joints}
         self._posed = None  # the configuration the scene graph holds

@@ -12,6 +12,7 @@ from rosbags.rosbag2 import Reader
 
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import scenario
+from adbsat_ros.bags import worker as bag_worker
 from adbsat_ros.bags.analysis import MODEL_COLUMNS, analyze_bag, safe_split_points
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
@@ -20,6 +21,7 @@ from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.messages.stamps import stamp_seconds
+from adbsat_ros.processes import usable_cpus
 
 FAST = {"shading": "none"}
 
@@ -480,7 +482,9 @@ def sequential(records, settings):
     return np.array(forces), dict(est.rejections), est
 
 
-def test_workers_and_chunks_give_identical_outputs(tmp_path):
+def test_workers_and_chunks_give_identical_outputs(tmp_path, monkeypatch):
+    """One process, small chunks, a pool of two, and the default: chunks here, the pool for the
+    rest once it pays (here never; always): the same outputs."""
     records = messy_flight(tmp_path / "in")
     models = [
         (
@@ -507,7 +511,21 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path):
         ),
     ]
     runs = {}
-    for name, workers, chunk in (("one", 1, None), ("chunks", 1, 1), ("pool", 2, 7)):
+    cases = (
+        ("one", 1, None),
+        ("chunks", 1, 1),
+        ("pool", 2, 7),
+        ("here", None, 7),
+        ("auto", None, 7),
+    )
+    pool_class = bag_worker.ProcessPoolExecutor
+    for name, workers, chunk in cases:
+        if name == "here":  # a pool that would never pay: none is made
+            monkeypatch.setattr(bag_worker, "POOL_START_S", math.inf)
+            monkeypatch.setattr(bag_worker, "ProcessPoolExecutor", None)
+        if name == "auto":
+            monkeypatch.setattr(bag_worker, "ProcessPoolExecutor", pool_class)
+            monkeypatch.setattr(bag_worker, "worth_workers", lambda left, start, count: True)
         report = analyze_bag(
             tmp_path / "in",
             models=models,
@@ -525,7 +543,9 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path):
     # the 17 s before)
     assert runs["chunks"][0].chunks == 1 + 38 - 6
     assert 3 < pool.chunks and pool.workers == 2
-    for name in ("chunks", "pool"):
+    assert runs["here"][0].workers == 1 and runs["here"][0].chunks == pool.chunks
+    assert runs["auto"][0].workers == (2 if usable_cpus() > 1 else 1)
+    for name in ("chunks", "pool", "here", "auto"):
         assert runs[name][1] == runs["one"][1]  # CSV byte for byte
         assert [
             (m.triggers, m.wrenches, m.rejections, m.first_rejection) for m in runs[name][0].models
@@ -558,6 +578,7 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path):
                 topics.setdefault(conn.topic, []).append((t, item))
         contents[name] = topics
     assert contents["chunks"] == contents["one"] and contents["pool"] == contents["one"]
+    assert contents["here"] == contents["one"] and contents["auto"] == contents["one"]
     # and the sequential node logic gives those wrenches, rejections and cache counts
     diags = contents["one"]["/diagnostics"]
     for k, (label, settings) in enumerate(models):

@@ -10,7 +10,17 @@ import sys
 import pytest
 
 #: Heavy packages the command line must not import before a subcommand needs them.
-HEAVY = ("numpy", "matplotlib", "rosbags", "trimesh", "scipy", "embreex", "nrlmsise00", "rclpy")
+HEAVY = (
+    "numpy",
+    "matplotlib",
+    "rosbags",
+    "trimesh",
+    "yourdfpy",
+    "scipy",
+    "embreex",
+    "nrlmsise00",
+    "rclpy",
+)
 
 
 def imported_after(code: str) -> dict:
@@ -164,3 +174,23 @@ def test_the_bundled_params_files_are_valid():
         settings["fixed_alpha"].accommodation_model == "fixed"
         and settings["fixed_alpha"].alpha == 1.0
     )
+
+
+def test_coeff_on_a_stored_mesh_imports_no_trimesh(tmp_path):
+    """A mesh file loaded before: ``coeff`` of one attitude (its body, model and shader set up)
+    reads it back from the store and imports neither trimesh nor yourdfpy."""
+    import trimesh
+
+    path = tmp_path / "sphere.stl"
+    trimesh.creation.icosphere(subdivisions=2).export(path)
+    code = (
+        "import os\n"
+        f"os.environ['ADBSAT_ROS_CACHE_DIR'] = {str(tmp_path / 'cache')!r}\n"
+        "from adbsat_ros.cli import main\n"
+        f"main(['coeff', {str(path)!r}, '--speed', '7700', '--temperature', '900',"
+        " '--mean-mass', '16'])\n"
+    )
+    first, again = imported_after(code), imported_after(code)
+    assert "trimesh" in first["heavy"] and "adbsat_ros.cli.coeff" in again["ours"]
+    assert {"numpy", "scipy"} <= set(again["heavy"])
+    assert not {"trimesh", "yourdfpy"} & set(again["heavy"])

@@ -30,6 +30,7 @@ from adbsat_ros.database.format import (
 )
 from adbsat_ros.database.metadata import model_from_metadata
 from adbsat_ros.geometry.loading import resolve_mesh
+from adbsat_ros.processes import usable_cpus
 from adbsat_ros.shading.shader import make_shader
 
 FLOW = FreeStream(7500.0, 900.0, mean_mass_amu=16.0)
@@ -161,6 +162,31 @@ def test_worker_count_does_not_change_results(example_db):
     assert calls[-1] == (example_db.n_attitudes, example_db.n_attitudes)
     assert [d for d, _ in calls] == sorted(d for d, _ in calls)
     assert db2.metadata["interpolation_error"] == example_db.metadata["interpolation_error"]
+
+
+def test_the_default_workers_give_the_same_database_here_or_split(example_db, monkeypatch):
+    """By default the chunks run here (a small build), or here until workers pay and on them
+    after (forced): the same numbers bit for bit."""
+    from adbsat_ros import tasks
+
+    model, flow = model_from_metadata(example_db.metadata)
+    for split in (False, True):
+        monkeypatch.setattr(tasks, "worth_workers", lambda left, start, count: split)
+        report = tasks.TaskReport()
+        db = build_database(
+            model.method,
+            flow,
+            example_db.aoa_deg,
+            example_db.aos_deg,
+            shading="raycast",
+            progress=False,
+            mesh_spec="example",
+            report=report,
+        )
+        for name in SCALAR_FIELDS + VECTOR_FIELDS:
+            np.testing.assert_array_equal(getattr(db, name), getattr(example_db, name))
+        assert report.here == (1 if split else report.computed)
+        assert report.workers == (min(2, usable_cpus()) if split else 1)
 
 
 def test_a_running_scheduler_gives_the_same_database(example_db, tmp_path):
