@@ -1,6 +1,7 @@
 """Triangles clipped by convex polygons in the plane: the part of each triangle outside them, by
-inclusion-exclusion over sets of polygons, each clipped Sutherland-Hodgman, vectorised over
-triangles. Units: any length, the same for every point."""
+inclusion-exclusion over sets of polygons, each set's intersection clipped Sutherland-Hodgman by
+the half-planes left of the polygons' edges, vectorised over triangles. Units: any length, the
+same for every point."""
 
 from __future__ import annotations
 
@@ -20,25 +21,45 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     """
     tri = np.asarray(triangles, dtype=float)
     k = tri.shape[0]
+    slots = []
+    for outline in outlines:
+        ax, ay = (np.broadcast_to(a, (a.shape[0], k)) for a in _columns(outline, k))
+        slots.append((ax, ay, _rolled(ax), _rolled(ay)))
+    return lit_parts_of_edges(tri, slots, np.ones((k, len(slots)), dtype=bool))
+
+
+def lit_parts_of_edges(triangles: np.ndarray, slots: list, present: np.ndarray) -> tuple:
+    """:func:`lit_parts` of polygons given as half-planes: each slot's ``(ax, ay, bx, by)``
+    (E, K), the polygon left of every edge a -> b (an edge with a = b bounds nothing), where
+    ``present`` (K, n) says the slot holds a polygon for that triangle."""
+    tri = np.asarray(triangles, dtype=float)
+    k = tri.shape[0]
     tx, ty = np.ascontiguousarray(tri[:, :, 0].T), np.ascontiguousarray(tri[:, :, 1].T)
     area_t, cx_t, cy_t = _triangle_area_centroid(tx, ty)
-    n = len(outlines)
+    n = len(slots)
+    centroid_t = np.stack([cx_t, cy_t], axis=1)
     if n == 0:  # nothing covers them
-        return np.ones(k), np.stack([cx_t, cy_t], axis=1)
-    polygons = [_columns(outline, k) for outline in outlines]
-    # the 2^n - 1 non-empty sets of polygons (n is a few), one row each
+        return np.ones(k), centroid_t
+    # the 2^n - 1 non-empty sets of polygons (n is a few), one row each, and their pieces: a
+    # triangle and a set of polygons it has, clipped by the set's edges (the others' a = b)
     sets = np.array([[s >> i & 1 for i in range(n)] for s in range(1, 1 << n)], dtype=bool)
-    area, cx, cy = _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets)
-    area_u, mx, my = np.zeros(k), np.zeros(k), np.zeros(k)
-    for s, chosen in enumerate(sets):
-        sign = 1.0 if chosen.sum() % 2 else -1.0
-        area_u += sign * area[s]
-        mx += sign * area[s] * cx[s]  # (finite, also of area 0)
-        my += sign * area[s] * cy[s]
+    s, c = np.nonzero((present[None, :, :] | ~sets[:, None, :]).all(axis=2))
+    if n == 1 and c.size == k:  # (one polygon each: its edges as they are)
+        ax, ay, bx, by = slots[0]
+    else:
+        edges = []
+        for i, (ax, ay, bx, by) in enumerate(slots):
+            chosen = sets[s, i]
+            ax, ay = ax[:, c], ay[:, c]
+            edges.append((ax, ay, np.where(chosen, bx[:, c], ax), np.where(chosen, by[:, c], ay)))
+        ax, ay, bx, by = (np.concatenate([e[q] for e in edges]) for q in range(4))
+    area, cx, cy = _covered(tx[:, c], ty[:, c], area_t[c], cx_t[c], cy_t[c], (ax, ay, bx, by))
+    sign = np.where(sets.sum(axis=1) % 2, 1.0, -1.0)[s] * area
+    area_u = np.bincount(c, sign, minlength=k)
+    mx, my = np.bincount(c, sign * cx, minlength=k), np.bincount(c, sign * cy, minlength=k)
     area_u = np.clip(area_u, 0.0, area_t)
     lit = area_t - area_u
     fraction = lit / area_t
-    centroid_t = np.stack([cx_t, cy_t], axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
         centroid = np.stack([area_t * cx_t - mx, area_t * cy_t - my], axis=1) / lit[:, None]
     centroid = np.where((area_u > 0.0)[:, None], centroid, centroid_t)
@@ -55,36 +76,24 @@ def _columns(outline, k: int) -> tuple:
     return np.ascontiguousarray(points[:, :, 0].T), np.ascontiguousarray(points[:, :, 1].T)
 
 
-def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
-    """Area and centroid x, y (S, K) of each triangle's intersection with each set of polygons."""
-    k, n = tx.shape[1], len(polygons)
-    within, apart = np.empty((n, k), dtype=bool), np.empty((n, k), dtype=bool)
-    cutting, starts, ends, owner = [], [], [], []
-    for i, (ax, ay) in enumerate(polygons):  # which side of each edge each corner is on
-        bx, by = _rolled(ax), _rolled(ay)
-        ex, ey = bx - ax, by - ay
-        # (m, K) each, >= 0: the corner inside
-        c0, c1, c2 = (ex * (ty[j] - ay) - ey * (tx[j] - ax) < 0.0 for j in range(3))
-        cut = c0 | c1 | c2  # (m, K): some corner beyond the edge
-        within[i] = ~cut.any(axis=0)  # inside the polygon
-        apart[i] = (c0 & c1 & c2).any(axis=0)  # every corner beyond one edge: outside it
-        cutting.append(cut)
-        m = ax.shape[0]
-        starts.append((np.broadcast_to(ax, (m, k)), np.broadcast_to(ay, (m, k))))
-        ends.append((np.broadcast_to(bx, (m, k)), np.broadcast_to(by, (m, k))))
-        owner += [i] * m
-    inside = (within[None] | ~sets[:, :, None]).all(axis=1)  # (S, K)
-    outside = (apart[None] & sets[:, :, None]).any(axis=1)
+def _covered(tx, ty, area_t, cx_t, cy_t, edges) -> tuple:
+    """Area and centroid x, y (P,) of each triangle's part left of its edges (E, P) each."""
+    ax, ay, bx, by = edges
+    ex, ey = bx - ax, by - ay
+    # (E, P) each: the corner beyond the edge
+    c0, c1, c2 = (ex * (ty[j] - ay) - ey * (tx[j] - ax) < 0.0 for j in range(3))
+    cut = c0 | c1 | c2  # some corner beyond the edge
+    inside = ~cut.any(axis=0)
+    outside = (c0 & c1 & c2).any(axis=0)  # every corner beyond one edge
     area = np.where(inside & ~outside, area_t, 0.0)
-    cx, cy = np.repeat(cx_t[None], len(sets), axis=0), np.repeat(cy_t[None], len(sets), axis=0)
-    s, c = np.nonzero(~inside & ~outside)
+    cx, cy = cx_t.copy(), cy_t.copy()
+    c = np.flatnonzero(~inside & ~outside)
     if c.size:
         # Sutherland-Hodgman: clip the triangles by the half-planes left of the edges that cut
-        needed = np.concatenate(cutting)[:, c] & sets[s].T[owner]  # (E, C)
+        needed = cut[:, c]  # (E, C)
         passes = needed.sum(axis=0)
         order = np.argsort(~needed, axis=0, kind="stable")  # each column's cutting edges first
-        ax, ay = (np.concatenate([start[j] for start in starts])[:, c] for j in (0, 1))
-        bx, by = (np.concatenate([end[j] for end in ends])[:, c] for j in (0, 1))
+        ax, ay, bx, by = ax[:, c], ay[:, c], bx[:, c], by[:, c]
         most = int(passes.max())
         px, py = np.zeros((3 + most, c.size)), np.zeros((3 + most, c.size))
         px[:3], py[:3] = tx[:, c], ty[:, c]
@@ -101,9 +110,9 @@ def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
             )
         area_cut, cx_cut, cy_cut = _area_centroid(px, py, count)
         cut_lit = area_cut > 0.0
-        area[s, c] = area_cut
-        cx[s, c] = np.where(cut_lit, cx_cut, cx_t[c])
-        cy[s, c] = np.where(cut_lit, cy_cut, cy_t[c])
+        area[c] = area_cut
+        cx[c] = np.where(cut_lit, cx_cut, cx_t[c])
+        cy[c] = np.where(cut_lit, cy_cut, cy_t[c])
     return np.clip(area, 0.0, area_t), cx, cy
 
 
