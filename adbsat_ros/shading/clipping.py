@@ -20,39 +20,38 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     Returns fraction (K,) in [0, 1] and centroid (K, 2) (any value where the fraction is 0).
     """
     tri = np.asarray(triangles, dtype=float)
-    k = tri.shape[0]
-    slots = []
-    for outline in outlines:
-        ax, ay = (np.broadcast_to(a, (a.shape[0], k)) for a in _columns(outline, k))
-        slots.append((ax, ay, _rolled(ax), _rolled(ay)))
-    return lit_parts_of_edges(tri, slots, np.ones((k, len(slots)), dtype=bool))
+    k, n = tri.shape[0], len(outlines)
+    corners = [[np.broadcast_to(a, (a.shape[0], k)) for a in _columns(o, k)] for o in outlines]
+    most = max([len(x) for x, _ in corners], default=1)
+    table = np.zeros((4, most, n * k + 1))  # (the edges a -> b past a polygon's own: a = b)
+    for i, (x, y) in enumerate(corners):
+        columns = slice(i * k, (i + 1) * k)
+        table[:, :, columns] = np.stack([x[-1], y[-1]] * 2)[:, None]
+        table[:, : len(x), columns] = np.stack([x, y, _rolled(x), _rolled(y)])
+    index = np.arange(n * k).reshape(n, k).T
+    return lit_parts_of_edges(tri[:, :, 0].T, tri[:, :, 1].T, table, index)
 
 
-def lit_parts_of_edges(triangles: np.ndarray, slots: list, present: np.ndarray) -> tuple:
-    """:func:`lit_parts` of polygons given as half-planes: each slot's ``(ax, ay, bx, by)``
-    (E, K), the polygon left of every edge a -> b (an edge with a = b bounds nothing), where
-    ``present`` (K, n) says the slot holds a polygon for that triangle."""
-    tri = np.asarray(triangles, dtype=float)
-    k = tri.shape[0]
-    tx, ty = np.ascontiguousarray(tri[:, :, 0].T), np.ascontiguousarray(tri[:, :, 1].T)
+def lit_parts_of_edges(tx, ty, table: np.ndarray, index: np.ndarray) -> tuple:
+    """:func:`lit_parts` of triangles ``tx``, ``ty`` (3, K) and polygons given as half-planes:
+    ``table`` (4, E, R + 1) holds the edges a -> b, ``(ax, ay, bx, by)``, of R polygons, each
+    left of its edges (an edge with a = b bounds nothing; the last column none), and ``index``
+    (K, n) says which polygons each triangle has (R: none in that slot)."""
+    tx, ty = np.ascontiguousarray(tx, dtype=float), np.ascontiguousarray(ty, dtype=float)
+    k, n = tx.shape[1], index.shape[1]
     area_t, cx_t, cy_t = _triangle_area_centroid(tx, ty)
-    n = len(slots)
     centroid_t = np.stack([cx_t, cy_t], axis=1)
-    if n == 0:  # nothing covers them
+    if n == 0 or k == 0:  # nothing covers them
         return np.ones(k), centroid_t
     # the 2^n - 1 non-empty sets of polygons (n is a few), one row each, and their pieces: a
-    # triangle and a set of polygons it has, clipped by the set's edges (the others' a = b)
+    # triangle and a set of polygons it has, clipped by the set's edges (the others' none)
+    none = table.shape[2] - 1
     sets = np.array([[s >> i & 1 for i in range(n)] for s in range(1, 1 << n)], dtype=bool)
-    s, c = np.nonzero((present[None, :, :] | ~sets[:, None, :]).all(axis=2))
-    if n == 1 and c.size == k:  # (one polygon each: its edges as they are)
-        ax, ay, bx, by = slots[0]
-    else:
-        edges = []
-        for i, (ax, ay, bx, by) in enumerate(slots):
-            chosen = sets[s, i]
-            ax, ay = ax[:, c], ay[:, c]
-            edges.append((ax, ay, np.where(chosen, bx[:, c], ax), np.where(chosen, by[:, c], ay)))
-        ax, ay, bx, by = (np.concatenate([e[q] for e in edges]) for q in range(4))
+    s, c = np.nonzero(((index[None, :, :] < none) | ~sets[:, None, :]).all(axis=2))
+    if c.size == 0:
+        return np.ones(k), centroid_t
+    rows = np.where(sets[s], index[c], none).T  # (n, P)
+    ax, ay, bx, by = table[:, :, rows].reshape(4, -1, c.size)  # (4, E n, P)
     area, cx, cy = _covered(tx[:, c], ty[:, c], area_t[c], cx_t[c], cy_t[c], (ax, ay, bx, by))
     sign = np.where(sets.sum(axis=1) % 2, 1.0, -1.0)[s] * area
     area_u = np.bincount(c, sign, minlength=k)

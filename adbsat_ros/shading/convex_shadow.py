@@ -9,7 +9,7 @@ import numpy as np
 from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.candidates import TIE_W1, TIE_W2
 from adbsat_ros.shading.clipping import lit_parts_of_edges
-from adbsat_ros.shading.flow_plane import MAX_PAIRS, perp_basis
+from adbsat_ros.shading.flow_plane import MAX_PAIRS, perp_bases
 
 #: Most convex parts whose shadows on one panel are joined exactly (their union is summed by
 #: inclusion-exclusion over 2^n - 1 intersections).
@@ -87,7 +87,7 @@ class ConvexParts:
     def _block(self, u: np.ndarray) -> list:
         flt, mesh, tol = self.filter, self.mesh, self.graze_tol
         n_dir, n = len(u), mesh.n_panels
-        bases = np.stack([perp_basis(-v) for v in u])  # (D, 3, 3): p1, p2, -u
+        bases = perp_bases(-u)  # (D, 3, 3): p1, p2, -u
         axes = np.ascontiguousarray(bases.transpose(0, 2, 1))  # (D, 3, 3): p1, p2, -u rows
         coords = (axes @ self._vertices).reshape(n_dir, 3, 3, n)  # [d, axis, corner, panel]
         lo = np.minimum(np.minimum(coords[:, :, 0], coords[:, :, 1]), coords[:, :, 2])
@@ -129,14 +129,12 @@ class ConvexParts:
         body[~np.take_along_axis(members, slots, axis=1)] = BEHIND
         body = np.take_along_axis(body, np.argsort(body < 0, axis=1, kind="stable"), axis=1)
         body = body[:, : max(int((body >= 0).sum(axis=1).max(initial=0)), 1)]
-        edges, index, flat = self._outlines(bases, d, body)
-        keep = ~flat
-        d, j, body, index = d[keep], j[keep], body[keep], index[keep]
-        at = ((d[:, None, None] * 3 + [0, 1]) * 3 + np.arange(3)[:, None]) * n + j[:, None, None]
-        triangles = coords.reshape(-1)[at]  # (J, 3, 2)
-        slots = [tuple(e[:, index[:, t]] for e in edges) for t in range(body.shape[1])]
-        fraction, c2 = lit_parts_of_edges(triangles, slots, body >= 0)
-        centroid = _on_panel(mesh.vertices[j], triangles, c2)
+        table, index, flat = self._outlines(bases, d, body)
+        d, j, index = d[~flat], j[~flat], index[~flat]
+        at = (d * 9 + np.arange(3)[:, None]) * n + j  # (3, J): the corners' x, then y
+        tx, ty = coords.reshape(-1)[at], coords.reshape(-1)[at + 3 * n]
+        fraction, c2 = lit_parts_of_edges(tx, ty, table, index)
+        centroid = _on_panel(mesh.vertices[j], tx, ty, c2)
         starts = np.searchsorted(d, np.arange(n_dir + 1))
         return [
             (
@@ -160,7 +158,7 @@ class ConvexParts:
             np.minimum.at(first, plane, np.arange(mesh.n_panels))
             shape = (mesh.n_panels, self.filter.n_components)
             self._table = (np.full(shape, UNKNOWN), np.zeros(shape, dtype=bool), level, plane)
-            self._first, self._made, self._points = first, {}, []
+            self._first, self._made, self._points, self._padded = first, {}, [], ()
         body_of, whole, level, plane = self._table
         need = members & (body_of[j] == UNKNOWN)
         normals = self.mesh.normals
@@ -206,30 +204,31 @@ class ConvexParts:
 
     def _outlines(self, bases: np.ndarray, d: np.ndarray, body: np.ndarray) -> tuple:
         """The outlines of shadow bodies ``body`` (J, n) (< 0: none) seen along directions
-        ``bases[d]``, as half-planes: ``(ax, ay, bx, by)`` (S, M + 1) of M outlines (the last
-        none), each job's outlines (J, n), and (J,) whether one spans no area (seen edge-on)."""
+        ``bases[d]``, as half-planes: ``(ax, ay, bx, by)`` (4, S, M + 1) of M outlines (the
+        last none), each job's outlines (J, n) (M: none), and (J,) whether one spans no area
+        (a part seen edge-on)."""
         used = body >= 0
-        index = np.zeros(body.shape, dtype=np.int64)
         if not used.any():
-            return (np.zeros((1, 1)),) * 4, index, np.zeros(len(body), dtype=bool)
+            return np.zeros((4, 1, 1)), np.zeros(body.shape, dtype=np.int64), ~used[:, 0]
         n_bodies = len(self._points)
-        most = max(len(p) for p in self._points)
-        points = np.stack(
-            [np.concatenate([p, p[:1].repeat(most - len(p), 0)]) for p in self._points]
-        )
+        if len(self._padded) != n_bodies:  # (the bodies' points, padded to one count)
+            most = max(len(p) for p in self._points)
+            self._padded = np.stack(
+                [np.concatenate([p, p[:1].repeat(most - len(p), 0)]) for p in self._points]
+            )
         pair, which = np.unique((d[:, None] * n_bodies + body)[used], return_inverse=True)
-        seen = points[pair % n_bodies] @ bases[pair // n_bodies][:, :, :2]  # (M, q, 2)
-        edges, flat = _hull_edges(seen)
-        index[:] = len(pair)  # (no body: the row of no edges after the last)
+        seen = self._padded[pair % n_bodies] @ bases[pair // n_bodies][:, :, :2]  # (M, q, 2)
+        table, flat = _hull_edges(seen)
+        index = np.full(body.shape, len(pair))
         index[used] = which
         flat = np.append(flat, False)[index].any(axis=1)
-        return tuple(np.column_stack([e, e[:, :1] * 0.0]) for e in edges), index, flat
+        return np.concatenate([table, np.zeros((4, table.shape[1], 1))], axis=2), index, flat
 
 
 def _hull_edges(points: np.ndarray) -> tuple:
     """The edges of the convex hulls of point sets (M, q, 2), counter-clockwise: each pair of
     points with every point left of (or within :data:`FLAT_OUTLINE` of the extent of) the line
-    from one to the other. Returns ``(ax, ay, bx, by)`` (S, M) (padded with a = b) and (M,)
+    from one to the other. Returns ``(ax, ay, bx, by)`` (4, S, M) (padded with a = b) and (M,)
     whether a hull spans no area."""
     m, q = points.shape[:2]
     step = max(1, MAX_PAIRS // q**3)
@@ -241,9 +240,8 @@ def _hull_edges(points: np.ndarray) -> tuple:
     rows = np.arange(m)[:, None]
     a, b = points[rows, order // q], points[rows, order % q]  # (M, S, 2)
     b = np.where(real[..., None], b, a)
-    return tuple(
-        np.ascontiguousarray(e.T) for e in (a[..., 0], a[..., 1], b[..., 0], b[..., 1])
-    ), flat
+    table = np.stack([a[..., 0], a[..., 1], b[..., 0], b[..., 1]])  # (4, M, S)
+    return np.ascontiguousarray(table.transpose(0, 2, 1)), flat
 
 
 def _hull_edge_mask(points: np.ndarray) -> tuple:
@@ -273,15 +271,12 @@ def _hull_edge_mask(points: np.ndarray) -> tuple:
     return accept, flat
 
 
-def _on_panel(vertices: np.ndarray, triangles: np.ndarray, c2: np.ndarray) -> np.ndarray:
-    """Points ``c2`` (K, 2) in triangles (K, 3, 2) put on the panels (K, 3, 3) they show [m]:
-    through the triangle coordinates (a, b), c2 = t0 + a (t1 - t0) + b (t2 - t0), by Cramer's
-    rule."""
-    (ux, uy), (vx, vy) = (
-        (triangles[:, 1] - triangles[:, 0]).T,
-        (triangles[:, 2] - triangles[:, 0]).T,
-    )
-    rx, ry = (c2 - triangles[:, 0]).T
+def _on_panel(vertices: np.ndarray, tx: np.ndarray, ty: np.ndarray, c2: np.ndarray) -> np.ndarray:
+    """Points ``c2`` (K, 2) in triangles ``tx``, ``ty`` (3, K) put on the panels (K, 3, 3) they
+    show [m]: through the triangle coordinates (a, b), c2 = t0 + a (t1 - t0) + b (t2 - t0), by
+    Cramer's rule."""
+    ux, uy, vx, vy = tx[1] - tx[0], ty[1] - ty[0], tx[2] - tx[0], ty[2] - ty[0]
+    rx, ry = c2[:, 0] - tx[0], c2[:, 1] - ty[0]
     det = ux * vy - vx * uy
     a, b = (rx * vy - vx * ry) / det, (ux * ry - rx * uy) / det
     v = vertices
