@@ -176,9 +176,9 @@ class ConvexParts:
 
     def _body(self, key, points: np.ndarray) -> int:
         """The index of a shadow body (a convex set of 3-D points [m]), added if new."""
-        if key not in self._made:
+        if key not in self._made:  # (its points sorted: the same outlines whatever their order)
             self._made[key] = len(self._points)
-            self._points.append(points)
+            self._points.append(points[np.lexsort(points.T[::-1])])
         return self._made[key]
 
     def _cut(self, plane: int, part: int) -> int:
