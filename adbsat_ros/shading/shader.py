@@ -190,30 +190,36 @@ class Shader:
         n = mesh.n_panels
         c = -(mesh.normals @ u)
         forward = forward_mask(c, mesh.normals, self.graze_tol)
-        occluder = np.abs(c) > self.graze_tol
-        if occluder.all():
-            occluder = None  # no grazing face: every face occludes
         if convex is None or not self.prefilter:
             cand = self.candidates(u, forward)
         else:
             cand = convex[0]
-        d = -u
         lit_fraction = np.ones(n)
         stats = dict.fromkeys(STATS, 0) | {"forward": int(forward.sum()), "tested": int(cand.size)}
         shifts = [(np.zeros(0, dtype=np.int64), np.zeros((0, 3)))]
         if convex is not None and cand.size:
             # the panels that only convex parts can shade: lit exactly, no rays
-            exact, fraction, centroid = convex[1:]
+            exact, fraction, centroid = convex[1:]  # (exact ascending)
+            lit_fraction[exact] = fraction
+            partly = (fraction > 0.0) & (fraction < 1.0)
+            stats["exact"] = int(exact.size)
+            if exact.size == cand.size:  # (every candidate lit exactly: no rays)
+                self.last_stats = stats
+                index = exact[partly]
+                return PanelLighting(
+                    lit_fraction, index, centroid[partly] - mesh.barycentres[index]
+                )
             done = np.zeros(n, dtype=bool)
             done[exact] = True
             cand = cand[~done[cand]]
-            lit_fraction[exact] = fraction
-            partly = (fraction > 0.0) & (fraction < 1.0)
             shifts.append((exact[partly], centroid[partly] - mesh.barycentres[exact[partly]]))
-            stats["exact"] = int(exact.size)
         if cand.size == 0:
             self.last_stats = stats
             return self._lighting(lit_fraction, shifts)
+        d = -u
+        occluder = np.abs(c) > self.graze_tol
+        if occluder.all():
+            occluder = None  # no grazing face: every face occludes
 
         # First pass: 3 rays near the corners plus S interior samples. A shadow edge that
         # crosses a panel separates its corners, so the corner rays catch the partly lit panels
