@@ -218,14 +218,14 @@ class ConvexParts:
             )
         pair, which = np.unique((d[:, None] * n_bodies + body)[used], return_inverse=True)
         seen = self._padded[pair % n_bodies] @ bases[pair // n_bodies][:, :, :2]  # (M, q, 2)
-        table, flat = _hull_edges(seen)
+        table, flat = hull_edges(seen)
         index = np.full(body.shape, len(pair))
         index[used] = which
         flat = np.append(flat, False)[index].any(axis=1)
         return np.concatenate([table, np.zeros((4, table.shape[1], 1))], axis=2), index, flat
 
 
-def _hull_edges(points: np.ndarray) -> tuple:
+def hull_edges(points: np.ndarray) -> tuple:
     """The edges of the convex hulls of point sets (M, q, 2), counter-clockwise: each pair of
     points with every point left of (or within :data:`FLAT_OUTLINE` of the extent of) the line
     from one to the other. Returns ``(ax, ay, bx, by)`` (4, S, M) (padded with a = b) and (M,)
@@ -245,9 +245,10 @@ def _hull_edges(points: np.ndarray) -> tuple:
 
 
 def _hull_edge_mask(points: np.ndarray) -> tuple:
-    """:func:`_hull_edges`' pairs (M, q, q) (i -> k) and flatness (M,) of point sets (M, q, 2)."""
+    """:func:`hull_edges`' pairs (M, q, q) (i -> k) and flatness (M,) of point sets (M, q, 2)."""
     x, y = points[..., 0], points[..., 1]
-    ex, ey = x[:, None, :] - x[:, :, None], y[:, None, :] - y[:, :, None]  # [m, i, k]: k - i
+    with np.errstate(invalid="ignore"):  # (points not finite: flat)
+        ex, ey = x[:, None, :] - x[:, :, None], y[:, None, :] - y[:, :, None]  # [m, i, k]: k - i
     length = np.hypot(ex, ey)
     span = np.maximum(np.ptp(x, axis=1), np.ptp(y, axis=1))
     scale = np.maximum(span, np.abs(points).max(axis=(1, 2)))
@@ -305,51 +306,3 @@ def hull_corners(points: np.ndarray) -> np.ndarray:
         return points[ConvexHull(points).vertices]
     except (QhullError, ValueError):
         return points
-
-
-def convex_outline(points: np.ndarray) -> np.ndarray | None:
-    """Corners (m, 2), counter-clockwise, of the convex hull of points (P, 2), or None if flat.
-
-    Andrew's monotone chain (A. M. Andrew, Information Processing Letters 9, 216, 1979).
-    """
-    points = np.asarray(points, dtype=float).reshape(-1, 2)
-    if not np.isfinite(points).all():
-        return None
-    unique = sorted(set(map(tuple, points.tolist())))
-    if len(unique) < 3:
-        return None
-    xs, ys = [x for x, _ in unique], [y for _, y in unique]
-    extent = max(xs[-1] - xs[0], max(ys) - min(ys))  # (sorted by x)
-    tolerance = 2.0 * FLAT_OUTLINE * extent * extent  # (twice a triangle's area)
-    corners = _chain(unique)[:-1] + _chain(unique[::-1])[:-1]
-    # corners within the tolerance of the line through their neighbours are dropped (after the
-    # hull is made exactly: dropped while making it, a corner could go for a point that is
-    # within rounding of it on the other side, the order of near-equal abscissae reversed)
-    dropped = True
-    while dropped and len(corners) >= 3:
-        dropped = False
-        for k in range(len(corners)):
-            (ox, oy), (ax, ay), (bx, by) = corners[k - 2], corners[k - 1], corners[k]
-            if (ax - ox) * (by - oy) - (ay - oy) * (bx - ox) <= tolerance:
-                del corners[k - 1]
-                dropped = True
-                break
-    if len(corners) < 3:
-        return None
-    twice_area = sum(
-        x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(corners, corners[1:] + corners[:1])
-    )
-    return np.array(corners) if twice_area > tolerance else None
-
-
-def _chain(points: list) -> list:
-    """One half of the monotone chain: the corners of sorted ``points`` where it turns left."""
-    chain: list = []
-    for x, y in points:
-        while len(chain) >= 2:
-            (ox, oy), (ax, ay) = chain[-2], chain[-1]
-            if (ax - ox) * (y - oy) - (ay - oy) * (x - ox) > 0.0:
-                break
-            chain.pop()
-        chain.append((x, y))
-    return chain
