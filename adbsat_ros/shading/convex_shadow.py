@@ -232,7 +232,8 @@ def hull_edges(points: np.ndarray) -> tuple:
     whether a hull spans no area."""
     m, q = points.shape[:2]
     step = max(1, MAX_PAIRS // q**3)
-    parts = [_hull_edge_mask(points[s : s + step]) for s in range(0, m, step)]
+    with np.errstate(invalid="ignore", divide="ignore"):  # (points not finite: flat)
+        parts = [_hull_edge_mask(points[s : s + step]) for s in range(0, m, step)]
     accept = np.concatenate([a for a, _ in parts]).reshape(m, q * q)
     flat = np.concatenate([f for _, f in parts])
     order = np.argsort(~accept, axis=1, kind="stable")[:, : max(int(accept.sum(axis=1).max()), 1)]
@@ -247,19 +248,14 @@ def hull_edges(points: np.ndarray) -> tuple:
 def _hull_edge_mask(points: np.ndarray) -> tuple:
     """:func:`hull_edges`' pairs (M, q, q) (i -> k) and flatness (M,) of point sets (M, q, 2)."""
     x, y = points[..., 0], points[..., 1]
-    with np.errstate(invalid="ignore"):  # (points not finite: flat)
-        ex, ey = x[:, None, :] - x[:, :, None], y[:, None, :] - y[:, :, None]  # [m, i, k]: k - i
+    ex, ey = x[:, None, :] - x[:, :, None], y[:, None, :] - y[:, :, None]  # [m, i, k]: k - i
     length = np.hypot(ex, ey)
     span = np.maximum(np.ptp(x, axis=1), np.ptp(y, axis=1))
     scale = np.maximum(span, np.abs(points).max(axis=(1, 2)))
-    # [m, i, k, l]: how far left of the line i -> k point l lies
-    with np.errstate(invalid="ignore", divide="ignore"):
-        left = (
-            ex[..., None] * (y[:, None, None, :] - y[:, :, None, None])
-            - ey[..., None] * (x[:, None, None, :] - x[:, :, None, None])
-        ) / length[..., None]
+    # [m, i, k, l]: how far left of the line i -> k point l lies, times the length
+    cross = ex[..., None] * ey[:, :, None, :] - ey[..., None] * ex[:, :, None, :]
     tolerance = FLAT_OUTLINE * scale[:, None, None]
-    accept = (length > 0.0) & (left.min(axis=3) >= -tolerance)
+    accept = (length > 0.0) & (cross.min(axis=3) >= -tolerance * length)
     # one edge from each corner, to the farthest (a side through more corners is one edge),
     # and none from or to a point that repeats one before it
     q = x.shape[1]
@@ -267,7 +263,7 @@ def _hull_edge_mask(points: np.ndarray) -> tuple:
     accept &= ~repeat[:, :, None] & ~repeat[:, None, :]
     farthest = np.where(accept, length, -1.0).argmax(axis=2)
     accept &= np.arange(q) == farthest[..., None]
-    width = np.where(accept, left.max(axis=3), np.inf).min(axis=(1, 2))
+    width = np.where(accept, cross.max(axis=3) / length, np.inf).min(axis=(1, 2))
     flat = ~(width > 2.0 * FLAT_OUTLINE * span) | ~np.isfinite(points).all(axis=(1, 2))
     return accept, flat
 
