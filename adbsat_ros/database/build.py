@@ -78,8 +78,10 @@ class DatabaseSetup:
         """The coefficients of a chunk ``(first, attitudes)`` (:class:`DatabaseJob`)."""
         first, attitudes_deg = chunk
         out = np.zeros((len(attitudes_deg), COLUMNS))
-        for k, (a_deg, b_deg) in enumerate(attitudes_deg):
-            angles = (math.radians(a_deg), math.radians(b_deg))
+        chunk_angles = [(math.radians(a), math.radians(b)) for a, b in attitudes_deg]
+        if self.seed is None:
+            self.model.prepare(chunk_angles)  # (the chunk's shading in one call)
+        for k, angles in enumerate(chunk_angles):
             seed = None if self.seed is None else attitude_seed(self.seed, first + k)
             r = self.model.evaluate(self.flow, angles=angles, seed=seed)
             if seed is not None:

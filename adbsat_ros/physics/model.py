@@ -199,6 +199,12 @@ class Model:
             method, free_stream, u, given, joints.configuration, parts, surface
         )
 
+    def prepare(self, angles) -> None:
+        """Shade the attitudes ``angles`` [(aoa, aos) rad, ...] about to be evaluated in one
+        call (a rigid body's; the same numbers as one at a time)."""
+        if self.cache is not None and self.lookup is None:
+            self.cache.prepare([frames.attitude_flow(a, b)[0] for a, b in angles])
+
     def _read(self, direction, vertices=None, count: bool = True) -> list:
         """``[(weight, Cell), ...]`` of a flow ``direction``."""
         cache = self.cache

@@ -22,6 +22,8 @@ from adbsat_ros.shading.shader import Shader
 if TYPE_CHECKING:
     from adbsat_ros.geometry.articulated import ArticulatedBody
 
+#: Most directions shaded in one call when cells are filled ahead.
+PREPARED = 256
 #: Per-panel sampling error allowance of the ray-cast lit fraction (docs/shading.md).
 SAMPLING_ERROR = 0.05
 
@@ -179,6 +181,7 @@ class ShadingCache:
         """Drop every cell and posed shader and reset the counters."""
         self._store = LruStore(self.max_entries)  # (configuration, cell) -> Cell
         self._shaders = LruStore(self.max_configurations)  # configuration -> Shader
+        self._ahead: dict = {}  # exact mode: direction -> its lighting, shaded ahead (prepare)
         if self.shader is not None:
             self._shaders.get((), lambda: self.shader, count=False)
         self.last_keys: tuple = ()
@@ -221,8 +224,10 @@ class ShadingCache:
     def _made(self, configuration: tuple, cell, shader: Shader | None, count: bool) -> Cell:
         if shader is None:
             shader = self.shader_at(configuration, count)
-        direction = cell if self.exact else self.centre(cell)
-        return Cell(shader.lighting(direction), self._summarise)
+        lighting = self._ahead.pop(cell, None) if self.exact else None
+        if lighting is None:
+            lighting = shader.lighting(cell if self.exact else self.centre(cell))
+        return Cell(lighting, self._summarise)
 
     def read(self, u_G, vertices=None, count: bool = True) -> list:
         """``[(weight, Cell), ...]`` for direction ``u_G`` (G) and configuration ``vertices``."""
@@ -256,6 +261,18 @@ class ShadingCache:
         """:meth:`lighting` for angle of attack and sideslip [rad] (frames module)."""
         return self.lighting(frames.flow_direction(aoa, aos))
 
+    def prepare(self, directions) -> None:
+        """Shade a rigid body's directions (M, 3) in G in one call, for the reads to come
+        (exact mode: kept until read, the same numbers; else their cells filled)."""
+        if self.body is not None:
+            return
+        if not self.exact:
+            self.precompute(directions)
+            return
+        keys = {frames.direction_components(u) for u in directions}
+        keys = [key for key in keys if ((), key) not in self._store]
+        self._ahead = dict(zip(keys, self.shader.lighting_many(keys)))
+
     def precompute(self, directions=None) -> int:
         """Fill a rigid body's cells of ``directions`` (M, 3) in G (default all); count shaded."""
         if self.body is not None or self.exact:
@@ -271,11 +288,13 @@ class ShadingCache:
             keys = np.unique(direction_keys(d, self.n))
             if self.triangulation is not None:  # and the cells each answer is blended from
                 keys = np.unique([key for u in d for _, key in self._cells_of(u)])
-        computed = 0
-        for key in keys.tolist():  # one shading per cell; the work inside is vectorised
-            computed += ((), key) not in self._store
-            self._store.get(((), key), lambda: self._made((), key, None, False), count=False)
-        return computed
+        keys = [key for key in keys.tolist() if ((), key) not in self._store]
+        for s in range(0, len(keys), PREPARED):  # (blocks of directions shaded at once)
+            block = keys[s : s + PREPARED]
+            lightings = self.shader.lighting_many([self.centre(key) for key in block])
+            for key, lighting in zip(block, lightings):
+                self._store.get(((), key), lambda: Cell(lighting, self._summarise), count=False)
+        return len(keys)
 
     # ------------------------------------------------------------------------------ error
     def shadow_perimeter(self) -> float:

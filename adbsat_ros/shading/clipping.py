@@ -1,6 +1,7 @@
 """Triangles clipped by convex polygons in the plane: the part of each triangle outside them, by
-inclusion-exclusion over sets of polygons, each clipped Sutherland-Hodgman, vectorised over
-triangles. Units: any length, the same for every point."""
+inclusion-exclusion over sets of polygons, each set's intersection clipped Sutherland-Hodgman by
+the half-planes left of the polygons' edges, vectorised over triangles. Units: any length, the
+same for every point."""
 
 from __future__ import annotations
 
@@ -19,26 +20,45 @@ def lit_parts(triangles: np.ndarray, outlines) -> tuple:
     Returns fraction (K,) in [0, 1] and centroid (K, 2) (any value where the fraction is 0).
     """
     tri = np.asarray(triangles, dtype=float)
-    k = tri.shape[0]
-    tx, ty = np.ascontiguousarray(tri[:, :, 0].T), np.ascontiguousarray(tri[:, :, 1].T)
+    k, n = tri.shape[0], len(outlines)
+    corners = [[np.broadcast_to(a, (a.shape[0], k)) for a in _columns(o, k)] for o in outlines]
+    most = max([len(x) for x, _ in corners], default=1)
+    table = np.zeros((4, most, n * k + 1))  # (the edges a -> b past a polygon's own: a = b)
+    for i, (x, y) in enumerate(corners):
+        columns = slice(i * k, (i + 1) * k)
+        table[:, :, columns] = np.stack([x[-1], y[-1]] * 2)[:, None]
+        table[:, : len(x), columns] = np.stack([x, y, _rolled(x), _rolled(y)])
+    index = np.arange(n * k).reshape(n, k).T
+    return lit_parts_of_edges(tri[:, :, 0].T, tri[:, :, 1].T, table, index)
+
+
+def lit_parts_of_edges(tx, ty, table: np.ndarray, index: np.ndarray) -> tuple:
+    """:func:`lit_parts` of triangles ``tx``, ``ty`` (3, K) and polygons given as half-planes:
+    ``table`` (4, E, R + 1) holds the edges a -> b, ``(ax, ay, bx, by)``, of R polygons, each
+    left of its edges (an edge with a = b bounds nothing; the last column none), and ``index``
+    (K, n) says which polygons each triangle has (R: none in that slot)."""
+    tx, ty = np.ascontiguousarray(tx, dtype=float), np.ascontiguousarray(ty, dtype=float)
+    k, n = tx.shape[1], index.shape[1]
     area_t, cx_t, cy_t = _triangle_area_centroid(tx, ty)
-    n = len(outlines)
-    if n == 0:  # nothing covers them
-        return np.ones(k), np.stack([cx_t, cy_t], axis=1)
-    polygons = [_columns(outline, k) for outline in outlines]
-    # the 2^n - 1 non-empty sets of polygons (n is a few), one row each
+    centroid_t = np.stack([cx_t, cy_t], axis=1)
+    if n == 0 or k == 0:  # nothing covers them
+        return np.ones(k), centroid_t
+    # the 2^n - 1 non-empty sets of polygons (n is a few), one row each, and their pieces: a
+    # triangle and a set of polygons it has, clipped by the set's edges (the others' none)
+    none = table.shape[2] - 1
     sets = np.array([[s >> i & 1 for i in range(n)] for s in range(1, 1 << n)], dtype=bool)
-    area, cx, cy = _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets)
-    area_u, mx, my = np.zeros(k), np.zeros(k), np.zeros(k)
-    for s, chosen in enumerate(sets):
-        sign = 1.0 if chosen.sum() % 2 else -1.0
-        area_u += sign * area[s]
-        mx += sign * area[s] * cx[s]  # (finite, also of area 0)
-        my += sign * area[s] * cy[s]
+    s, c = np.nonzero(((index[None, :, :] < none) | ~sets[:, None, :]).all(axis=2))
+    if c.size == 0:
+        return np.ones(k), centroid_t
+    rows = np.where(sets[s], index[c], none).T  # (n, P)
+    ax, ay, bx, by = table[:, :, rows].reshape(4, -1, c.size)  # (4, E n, P)
+    area, cx, cy = _covered(tx[:, c], ty[:, c], area_t[c], cx_t[c], cy_t[c], (ax, ay, bx, by))
+    sign = np.where(sets.sum(axis=1) % 2, 1.0, -1.0)[s] * area
+    area_u = np.bincount(c, sign, minlength=k)
+    mx, my = np.bincount(c, sign * cx, minlength=k), np.bincount(c, sign * cy, minlength=k)
     area_u = np.clip(area_u, 0.0, area_t)
     lit = area_t - area_u
     fraction = lit / area_t
-    centroid_t = np.stack([cx_t, cy_t], axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
         centroid = np.stack([area_t * cx_t - mx, area_t * cy_t - my], axis=1) / lit[:, None]
     centroid = np.where((area_u > 0.0)[:, None], centroid, centroid_t)
@@ -55,36 +75,24 @@ def _columns(outline, k: int) -> tuple:
     return np.ascontiguousarray(points[:, :, 0].T), np.ascontiguousarray(points[:, :, 1].T)
 
 
-def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
-    """Area and centroid x, y (S, K) of each triangle's intersection with each set of polygons."""
-    k, n = tx.shape[1], len(polygons)
-    within, apart = np.empty((n, k), dtype=bool), np.empty((n, k), dtype=bool)
-    cutting, starts, ends, owner = [], [], [], []
-    for i, (ax, ay) in enumerate(polygons):  # which side of each edge each corner is on
-        bx, by = _rolled(ax), _rolled(ay)
-        ex, ey = bx - ax, by - ay
-        # (m, K) each, >= 0: the corner inside
-        c0, c1, c2 = (ex * (ty[j] - ay) - ey * (tx[j] - ax) < 0.0 for j in range(3))
-        cut = c0 | c1 | c2  # (m, K): some corner beyond the edge
-        within[i] = ~cut.any(axis=0)  # inside the polygon
-        apart[i] = (c0 & c1 & c2).any(axis=0)  # every corner beyond one edge: outside it
-        cutting.append(cut)
-        m = ax.shape[0]
-        starts.append((np.broadcast_to(ax, (m, k)), np.broadcast_to(ay, (m, k))))
-        ends.append((np.broadcast_to(bx, (m, k)), np.broadcast_to(by, (m, k))))
-        owner += [i] * m
-    inside = (within[None] | ~sets[:, :, None]).all(axis=1)  # (S, K)
-    outside = (apart[None] & sets[:, :, None]).any(axis=1)
+def _covered(tx, ty, area_t, cx_t, cy_t, edges) -> tuple:
+    """Area and centroid x, y (P,) of each triangle's part left of its edges (E, P) each."""
+    ax, ay, bx, by = edges
+    ex, ey = bx - ax, by - ay
+    # (E, P) each: the corner beyond the edge
+    c0, c1, c2 = (ex * (ty[j] - ay) - ey * (tx[j] - ax) < 0.0 for j in range(3))
+    cut = c0 | c1 | c2  # some corner beyond the edge
+    inside = ~cut.any(axis=0)
+    outside = (c0 & c1 & c2).any(axis=0)  # every corner beyond one edge
     area = np.where(inside & ~outside, area_t, 0.0)
-    cx, cy = np.repeat(cx_t[None], len(sets), axis=0), np.repeat(cy_t[None], len(sets), axis=0)
-    s, c = np.nonzero(~inside & ~outside)
+    cx, cy = cx_t.copy(), cy_t.copy()
+    c = np.flatnonzero(~inside & ~outside)
     if c.size:
         # Sutherland-Hodgman: clip the triangles by the half-planes left of the edges that cut
-        needed = np.concatenate(cutting)[:, c] & sets[s].T[owner]  # (E, C)
+        needed = cut[:, c]  # (E, C)
         passes = needed.sum(axis=0)
         order = np.argsort(~needed, axis=0, kind="stable")  # each column's cutting edges first
-        ax, ay = (np.concatenate([start[j] for start in starts])[:, c] for j in (0, 1))
-        bx, by = (np.concatenate([end[j] for end in ends])[:, c] for j in (0, 1))
+        ax, ay, bx, by = ax[:, c], ay[:, c], bx[:, c], by[:, c]
         most = int(passes.max())
         px, py = np.zeros((3 + most, c.size)), np.zeros((3 + most, c.size))
         px[:3], py[:3] = tx[:, c], ty[:, c]
@@ -101,9 +109,9 @@ def _covered(tx, ty, area_t, cx_t, cy_t, polygons, sets) -> tuple:
             )
         area_cut, cx_cut, cy_cut = _area_centroid(px, py, count)
         cut_lit = area_cut > 0.0
-        area[s, c] = area_cut
-        cx[s, c] = np.where(cut_lit, cx_cut, cx_t[c])
-        cy[s, c] = np.where(cut_lit, cy_cut, cy_t[c])
+        area[c] = area_cut
+        cx[c] = np.where(cut_lit, cx_cut, cx_t[c])
+        cy[c] = np.where(cut_lit, cy_cut, cy_t[c])
     return np.clip(area, 0.0, area_t), cx, cy
 
 

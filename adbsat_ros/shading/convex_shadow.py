@@ -7,7 +7,9 @@ from __future__ import annotations
 import numpy as np
 
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.shading.clipping import lit_parts
+from adbsat_ros.shading.candidates import TIE_W1, TIE_W2
+from adbsat_ros.shading.clipping import lit_parts_of_edges
+from adbsat_ros.shading.flow_plane import MAX_PAIRS, perp_bases
 
 #: Most convex parts whose shadows on one panel are joined exactly (their union is summed by
 #: inclusion-exclusion over 2^n - 1 intersections).
@@ -32,6 +34,9 @@ FLAT_OUTLINE = 1e-12
 #: (float32 in a binary STL, nine digits in an OBJ) tilts the panels of one flat face by up to
 #: about 1e-7, and a plane a millionth of the body's size off moves a shadow by as much.
 PLANE_DIGITS = 6
+#: A part's shadow body for a panel: behind the panel's plane (no shadow), left to the rays,
+#: not yet made.
+BEHIND, REFUSED, UNKNOWN = -1, -2, -3
 
 
 class ConvexParts:
@@ -48,6 +53,16 @@ class ConvexParts:
         self.tolerance = FRONT_TOL_FRACTION * diagonal
         self.graze_tol = graze_tol
         self._corners = dict(corners or {})  # component -> its hull corners (h, 3)
+        self._table = None  # what does not depend on the flow (:meth:`_panels_and_parts`)
+        normals = mesh.normals
+        t1, t2 = -(normals @ TIE_W1), -(normals @ TIE_W2)  # (the grazing rule's tie-break)
+        self._tie = np.where(np.abs(t1) > 1e-12, t1 > 0.0, t2 > 0.0)
+        # [coordinate, corner x panel] (3, 3N), normals (3, N)
+        self._vertices = np.ascontiguousarray(mesh.vertices.transpose(2, 1, 0).reshape(3, -1))
+        self._normals = np.ascontiguousarray(normals.T)
+        hulls = [self.corners(c) for c in range(candidate_filter.n_components)]
+        self._hulls = np.ascontiguousarray(np.concatenate(hulls).T)  # (3, H)
+        self._hull_start = np.cumsum([0] + [len(h) for h in hulls[:-1]])
 
     def corners(self, component: int) -> np.ndarray:
         """The corners of a component's convex hull [m], G (made when first asked)."""
@@ -57,114 +72,212 @@ class ConvexParts:
             self._corners[component] = corners
         return corners
 
-    def lighting(self, boxes, panels: np.ndarray) -> tuple:
-        """The panels among ``panels`` (K,) that convex parts alone can shade, lit exactly.
-
-        Returns done (K,) bool, fraction and centroid [m, G] of the done panels.
+    def lighting_many(self, directions: np.ndarray) -> list:
+        """Per unit flow direction (D, 3) in G: the forward panels that could be shaded (the
+        shader's candidates), those of them lit exactly (shaded by convex parts alone), and
+        their lit fraction and lit centroid [m, G]: ``[(candidates, exact, fraction, centroid)]``.
         """
-        flt, mesh = self.filter, self.mesh
-        occluders = flt.occluders(boxes, panels)
-        count = occluders.sum(axis=1)
-        facing = mesh.normals[panels] @ boxes.basis[:, 2] > self.graze_tol
-        convex = ~(occluders & ~flt.convex[None, :]).any(axis=1)
-        done = facing & flt.on_hull[panels] & convex & (count >= 1) & (count <= MAX_OCCLUDERS)
-        fraction = np.ones(panels.size)
-        centroid = mesh.barycentres[panels].copy()
-        outlines: dict = {}  # component -> its projected outline, for this direction
-        groups: dict = {}  # the outlines' sizes -> [(panels, rows, their outlines), ...]
-        sets, which = _distinct_rows(occluders[done])
-        rows_done = np.flatnonzero(done)
-        for s, parts in enumerate(sets):  # (a loop over the sets of parts in front, few)
-            rows = rows_done[which == s]
-            j = panels[rows]
-            normals = mesh.normals[j]
-            level = np.einsum("kj,kj->k", normals, mesh.vertices[j, 0])
-            members = np.flatnonzero(parts).tolist()
-            in_front = np.ones(rows.size, dtype=bool)
-            for part in members:
-                in_front &= (normals @ self.corners(part).T).min(axis=1) - level > self.tolerance
-            # the panels with every part wholly in front of them: the parts' whole outlines
-            for part in members:
-                if part not in outlines:
-                    outlines[part] = convex_outline(self.corners(part) @ boxes.basis[:, :2])
-            shapes = [outlines[part] for part in members]
-            if any(shape is None for shape in shapes):
-                done[rows] = False
-                continue
-            if in_front.any():
-                groups.setdefault(_sizes(shapes), []).append((j[in_front], rows[in_front], shapes))
-            # the others, one plane (a flat face) at a time: the parts' outlines in front of it
-            cut = np.flatnonzero(~in_front)
-            if cut.size == 0:
-                continue
-            planes, plane_of = _distinct_rows(
-                np.round(np.column_stack([normals[cut], level[cut] / self.diagonal]), PLANE_DIGITS)
+        step = max(1, MAX_PAIRS // (self.filter.n_components * self.mesh.n_panels))
+        return [
+            out
+            for s in range(0, len(directions), step)
+            for out in self._block(np.asarray(directions[s : s + step], dtype=float))
+        ]
+
+    def _block(self, u: np.ndarray) -> list:
+        flt, mesh, tol = self.filter, self.mesh, self.graze_tol
+        n_dir, n = len(u), mesh.n_panels
+        bases = perp_bases(-u)  # (D, 3, 3): p1, p2, -u
+        axes = np.ascontiguousarray(bases.transpose(0, 2, 1))  # (D, 3, 3): p1, p2, -u rows
+        coords = (axes @ self._vertices).reshape(n_dir, 3, 3, n)  # [d, axis, corner, panel]
+        lo = np.minimum(np.minimum(coords[:, :, 0], coords[:, :, 1]), coords[:, :, 2])
+        hi = np.maximum(np.maximum(coords[:, :, 0], coords[:, :, 1]), coords[:, :, 2])
+        # the components' boxes, from their hulls' corners
+        seen = axes @ self._hulls  # (D, 3, H)
+        clo = np.minimum.reduceat(seen, self._hull_start, axis=2)[..., None]  # (D, 3, C, 1)
+        chi = np.maximum.reduceat(seen, self._hull_start, axis=2)[..., None]
+        lo, hi = lo[:, :, None], hi[:, :, None]  # (D, 3, 1, N)
+        c = -(u @ self._normals)  # (D, N)
+        forward = (c > tol) | ((np.abs(c) <= tol) & self._tie)
+        overlap = (  # (D, C, N): which components could shade each panel
+            (chi[:, 2] > lo[:, 2])
+            & (chi[:, 0] >= lo[:, 0])
+            & (clo[:, 0] <= hi[:, 0])
+            & (chi[:, 1] >= lo[:, 1])
+            & (clo[:, 1] <= hi[:, 1])
+        )
+        overlap[:, flt.component, np.arange(n)] = False
+        candidate = forward & (~flt.on_hull | overlap.any(axis=1))
+        count = overlap.sum(axis=1)
+        done = candidate & (c > tol) & flt.on_hull & (count >= 1) & (count <= MAX_OCCLUDERS)
+        done &= ~(overlap & ~flt.convex[None, :, None]).any(axis=1)
+        d, j = np.nonzero(done)
+        members = overlap[d, :, j]  # (J, C)
+        body, whole, plane = self._bodies(j, members)
+        keep = ~(members & (body == REFUSED)).any(axis=1)
+        # a set of parts cut by the planes of more than MAX_CUT_PLANES panels (the facets of a
+        # curved surface) leaves those panels to the rays
+        cut = np.flatnonzero(keep & (members & ~whole).any(axis=1))
+        if cut.size:
+            key = np.column_stack([d[cut], np.packbits(members[cut], axis=1), plane[j[cut]]])
+            triples, which = _distinct_rows(key)
+            _, of_triple = _distinct_rows(triples[:, :-1])
+            keep[cut[np.bincount(of_triple)[of_triple[which]] > MAX_CUT_PLANES]] = False
+        d, j, members, body = d[keep], j[keep], members[keep], body[keep]
+        slots = np.argsort(~members, axis=1, kind="stable")[:, :MAX_OCCLUDERS]
+        body = np.take_along_axis(body, slots, axis=1)  # (J, 3): the bodies in front, or < 0
+        body[~np.take_along_axis(members, slots, axis=1)] = BEHIND
+        body = np.take_along_axis(body, np.argsort(body < 0, axis=1, kind="stable"), axis=1)
+        body = body[:, : max(int((body >= 0).sum(axis=1).max(initial=0)), 1)]
+        table, index, flat = self._outlines(bases, d, body)
+        d, j, index = d[~flat], j[~flat], index[~flat]
+        at = (d * 9 + np.arange(3)[:, None]) * n + j  # (3, J): the corners' x, then y
+        tx, ty = coords.reshape(-1)[at], coords.reshape(-1)[at + 3 * n]
+        fraction, c2 = lit_parts_of_edges(tx, ty, table, index)
+        centroid = _on_panel(mesh.vertices[j], tx, ty, c2)
+        starts = np.searchsorted(d, np.arange(n_dir + 1))
+        return [
+            (
+                np.flatnonzero(candidate[k]),
+                j[starts[k] : starts[k + 1]],
+                fraction[starts[k] : starts[k + 1]],
+                centroid[starts[k] : starts[k + 1]],
             )
-            if len(planes) > MAX_CUT_PLANES:  # (a curved surface: its rays cost less)
-                done[rows[cut]] = False
-                continue
-            for k in range(len(planes)):
-                on_plane = cut[plane_of == k]
-                first = on_plane[0]
-                shapes = self._shadows(members, normals[first], level[first], boxes, outlines)
-                if shapes is None:  # (a part projects to no area: left to the rays)
-                    done[rows[on_plane]] = False
-                elif shapes:  # (no shapes: every part behind the plane, all lit)
-                    groups.setdefault(_sizes(shapes), []).append(
-                        (j[on_plane], rows[on_plane], shapes)
-                    )
-        for same in groups.values():  # (one clipping per set of polygon sizes)
-            j = np.concatenate([g[0] for g in same])
-            rows = np.concatenate([g[1] for g in same])
-            polygons = _per_panel_outlines([(g[0].size, g[2]) for g in same])
-            self._clip_panels(boxes, j, rows, polygons, fraction, centroid)
-        return done, fraction[done], centroid[done]
+            for k in range(n_dir)
+        ]
 
-    def _shadows(self, members, normal, level: float, boxes, outlines: dict) -> list | None:
-        """Outlines of the parts ``members`` in front of the plane n . x = level (None if
-        degenerate)."""
-        shapes = []
-        for part in members:
+    def _bodies(self, j: np.ndarray, members: np.ndarray) -> tuple:
+        """The shadow body of each part in ``members`` (J, C) for panels ``j``, (J, C) (or
+        BEHIND, REFUSED), whether it is the whole part (J, C), and each panel's plane (N,)."""
+        if self._table is None:
+            mesh = self.mesh
+            level = np.einsum("kj,kj->k", mesh.normals, mesh.vertices[:, 0])
+            key = np.round(np.column_stack([mesh.normals, level / self.diagonal]), PLANE_DIGITS)
+            _, plane = _distinct_rows(key)
+            first = np.full(plane.max() + 1 if plane.size else 0, mesh.n_panels)
+            np.minimum.at(first, plane, np.arange(mesh.n_panels))
+            shape = (mesh.n_panels, self.filter.n_components)
+            self._table = (np.full(shape, UNKNOWN), np.zeros(shape, dtype=bool), level, plane)
+            self._first, self._made, self._points, self._padded = first, {}, [], ()
+        body_of, whole, level, plane = self._table
+        need = members & (body_of[j] == UNKNOWN)
+        normals = self.mesh.normals
+        for part in np.flatnonzero(need.any(axis=0)).tolist():  # (a loop over parts, few)
+            panels = np.unique(j[need[:, part]])
             corners = self.corners(part)
-            height = corners @ normal - level
-            if height.min() > self.tolerance:  # wholly in front
-                outline = outlines[part]
-            elif height.max() <= self.tolerance:  # wholly behind: no shadow on this plane
-                continue
-            elif len(corners) > MAX_CUT_CORNERS:
-                return None
-            else:
-                front, back = height > 0.0, height < 0.0
-                a, b = corners[front], corners[back]
-                ha, hb = height[front], height[back]
-                t = (ha[:, None] / (ha[:, None] - hb[None, :]))[..., None]
-                cut = a[:, None, :] + t * (b[None, :, :] - a[:, None, :])
-                points = np.concatenate([corners[~back], cut.reshape(-1, 3)])
-                outline = convex_outline(points @ boxes.basis[:, :2])
-            if outline is None:
-                return None
-            shapes.append(outline)
-        return shapes
+            height = normals[panels] @ corners.T - level[panels, None]
+            front = height.min(axis=1) > self.tolerance
+            body_of[panels[front], part] = self._body(("whole", part), corners)
+            whole[panels[front], part] = True
+            body_of[panels[height.max(axis=1) <= self.tolerance], part] = BEHIND
+            for panel in panels[~front & (height.max(axis=1) > self.tolerance)].tolist():
+                body_of[panel, part] = self._cut(plane[panel], part)  # (made once per plane)
+        return body_of[j], whole[j], plane
 
-    def _clip_panels(self, boxes, j, rows, shapes, fraction, centroid) -> None:
-        """Set ``fraction[rows]``, ``centroid[rows]`` of panels ``j`` from polygons ``shapes``."""
-        x, y, _ = boxes.coords
-        triangles = np.stack([x[j], y[j]], axis=-1)  # (R, 3, 2)
-        f, c2 = lit_parts(triangles, shapes)
-        fraction[rows] = f
-        # the lit centroid back on the panel, through its triangle coordinates
-        # (a, b) with c2 = t0 + a (t1 - t0) + b (t2 - t0), by Cramer's rule
-        (ux, uy), (vx, vy) = (
-            (triangles[:, 1] - triangles[:, 0]).T,
-            (triangles[:, 2] - triangles[:, 0]).T,
-        )
-        rx, ry = (c2 - triangles[:, 0]).T
-        det = ux * vy - vx * uy
-        a, b = (rx * vy - vx * ry) / det, (ux * ry - rx * uy) / det
-        v = self.mesh.vertices[j]
-        centroid[rows] = (
-            v[:, 0] + a[:, None] * (v[:, 1] - v[:, 0]) + b[:, None] * (v[:, 2] - v[:, 0])
-        )
+    def _body(self, key, points: np.ndarray) -> int:
+        """The index of a shadow body (a convex set of 3-D points [m]), added if new."""
+        if key not in self._made:  # (its points sorted: the same outlines whatever their order)
+            self._made[key] = len(self._points)
+            self._points.append(points[np.lexsort(points.T[::-1])])
+        return self._made[key]
+
+    def _cut(self, plane: int, part: int) -> int:
+        """The part of a convex part in front of a plane (that of its first panel): its body."""
+        if ("cut", plane, part) in self._made:
+            return self._made["cut", plane, part]
+        first = self._first[plane]
+        corners = self.corners(part)
+        height = corners @ self.mesh.normals[first] - self._table[2][first]
+        if height.min() > self.tolerance:
+            return self._body(("whole", part), corners)
+        if height.max() <= self.tolerance:
+            return BEHIND
+        if len(corners) > MAX_CUT_CORNERS:
+            return REFUSED
+        front, back = height > 0.0, height < 0.0
+        a, b = corners[front], corners[back]
+        ha, hb = height[front], height[back]
+        t = (ha[:, None] / (ha[:, None] - hb[None, :]))[..., None]
+        cut = a[:, None, :] + t * (b[None, :, :] - a[:, None, :])
+        points = hull_corners(np.concatenate([corners[~back], cut.reshape(-1, 3)]))
+        return self._body(("cut", plane, part), points)
+
+    def _outlines(self, bases: np.ndarray, d: np.ndarray, body: np.ndarray) -> tuple:
+        """The outlines of shadow bodies ``body`` (J, n) (< 0: none) seen along directions
+        ``bases[d]``, as half-planes: ``(ax, ay, bx, by)`` (4, S, M + 1) of M outlines (the
+        last none), each job's outlines (J, n) (M: none), and (J,) whether one spans no area
+        (a part seen edge-on)."""
+        used = body >= 0
+        if not used.any():
+            return np.zeros((4, 1, 1)), np.zeros(body.shape, dtype=np.int64), ~used[:, 0]
+        n_bodies = len(self._points)
+        if len(self._padded) != n_bodies:  # (the bodies' points, padded to one count)
+            most = max(len(p) for p in self._points)
+            self._padded = np.stack(
+                [np.concatenate([p, p[:1].repeat(most - len(p), 0)]) for p in self._points]
+            )
+        pair, which = np.unique((d[:, None] * n_bodies + body)[used], return_inverse=True)
+        seen = self._padded[pair % n_bodies] @ bases[pair // n_bodies][:, :, :2]  # (M, q, 2)
+        table, flat = hull_edges(seen)
+        index = np.full(body.shape, len(pair))
+        index[used] = which
+        flat = np.append(flat, False)[index].any(axis=1)
+        return np.concatenate([table, np.zeros((4, table.shape[1], 1))], axis=2), index, flat
+
+
+def hull_edges(points: np.ndarray) -> tuple:
+    """The edges of the convex hulls of point sets (M, q, 2), counter-clockwise: each pair of
+    points with every point left of (or within :data:`FLAT_OUTLINE` of the extent of) the line
+    from one to the other. Returns ``(ax, ay, bx, by)`` (4, S, M) (padded with a = b) and (M,)
+    whether a hull spans no area."""
+    m, q = points.shape[:2]
+    step = max(1, MAX_PAIRS // q**3)
+    with np.errstate(invalid="ignore", divide="ignore"):  # (points not finite: flat)
+        parts = [_hull_edge_mask(points[s : s + step]) for s in range(0, m, step)]
+    accept = np.concatenate([a for a, _ in parts]).reshape(m, q * q)
+    flat = np.concatenate([f for _, f in parts])
+    order = np.argsort(~accept, axis=1, kind="stable")[:, : max(int(accept.sum(axis=1).max()), 1)]
+    real = np.take_along_axis(accept, order, axis=1)
+    rows = np.arange(m)[:, None]
+    a, b = points[rows, order // q], points[rows, order % q]  # (M, S, 2)
+    b = np.where(real[..., None], b, a)
+    table = np.stack([a[..., 0], a[..., 1], b[..., 0], b[..., 1]])  # (4, M, S)
+    return np.ascontiguousarray(table.transpose(0, 2, 1)), flat
+
+
+def _hull_edge_mask(points: np.ndarray) -> tuple:
+    """:func:`hull_edges`' pairs (M, q, q) (i -> k) and flatness (M,) of point sets (M, q, 2)."""
+    x, y = points[..., 0], points[..., 1]
+    ex, ey = x[:, None, :] - x[:, :, None], y[:, None, :] - y[:, :, None]  # [m, i, k]: k - i
+    length = np.hypot(ex, ey)
+    span = np.maximum(np.ptp(x, axis=1), np.ptp(y, axis=1))
+    scale = np.maximum(span, np.abs(points).max(axis=(1, 2)))
+    # [m, i, k, l]: how far left of the line i -> k point l lies, times the length
+    cross = ex[..., None] * ey[:, :, None, :] - ey[..., None] * ex[:, :, None, :]
+    tolerance = FLAT_OUTLINE * scale[:, None, None]
+    accept = (length > 0.0) & (cross.min(axis=3) >= -tolerance * length)
+    # one edge from each corner, to the farthest (a side through more corners is one edge),
+    # and none from or to a point that repeats one before it
+    q = x.shape[1]
+    repeat = (np.tril(length <= tolerance, -1)).any(axis=2)  # [m, i]: within reach of k < i
+    accept &= ~repeat[:, :, None] & ~repeat[:, None, :]
+    farthest = np.where(accept, length, -1.0).argmax(axis=2)
+    accept &= np.arange(q) == farthest[..., None]
+    width = np.where(accept, cross.max(axis=3) / length, np.inf).min(axis=(1, 2))
+    flat = ~(width > 2.0 * FLAT_OUTLINE * span) | ~np.isfinite(points).all(axis=(1, 2))
+    return accept, flat
+
+
+def _on_panel(vertices: np.ndarray, tx: np.ndarray, ty: np.ndarray, c2: np.ndarray) -> np.ndarray:
+    """Points ``c2`` (K, 2) in triangles ``tx``, ``ty`` (3, K) put on the panels (K, 3, 3) they
+    show [m]: through the triangle coordinates (a, b), c2 = t0 + a (t1 - t0) + b (t2 - t0), by
+    Cramer's rule."""
+    ux, uy, vx, vy = tx[1] - tx[0], ty[1] - ty[0], tx[2] - tx[0], ty[2] - ty[0]
+    rx, ry = c2[:, 0] - tx[0], c2[:, 1] - ty[0]
+    det = ux * vy - vx * uy
+    a, b = (rx * vy - vx * ry) / det, (ux * ry - rx * uy) / det
+    v = vertices
+    return v[:, 0] + a[:, None] * (v[:, 1] - v[:, 0]) + b[:, None] * (v[:, 2] - v[:, 0])
 
 
 def _distinct_rows(keys: np.ndarray) -> tuple:
@@ -180,20 +293,6 @@ def _distinct_rows(keys: np.ndarray) -> tuple:
     return ordered[first], which
 
 
-def _sizes(shapes) -> tuple:
-    """The corner counts of a panel group's polygons (equal counts clipped together)."""
-    return tuple(len(shape) for shape in shapes)
-
-
-def _per_panel_outlines(groups) -> list:
-    """Groups of panels sharing shadows, ``[(count, outlines), ...]``, (K, m, 2) per slot."""
-    counts = [count for count, _ in groups]
-    return [
-        np.repeat(np.stack([outlines[slot] for _, outlines in groups]), counts, axis=0)
-        for slot in range(len(groups[0][1]))
-    ]
-
-
 def hull_corners(points: np.ndarray) -> np.ndarray:
     """The corners of the convex hull of 3-D points [m] (all the points if they span no volume)."""
     from scipy.spatial import ConvexHull, QhullError  # (not at start-up)
@@ -203,51 +302,3 @@ def hull_corners(points: np.ndarray) -> np.ndarray:
         return points[ConvexHull(points).vertices]
     except (QhullError, ValueError):
         return points
-
-
-def convex_outline(points: np.ndarray) -> np.ndarray | None:
-    """Corners (m, 2), counter-clockwise, of the convex hull of points (P, 2), or None if flat.
-
-    Andrew's monotone chain (A. M. Andrew, Information Processing Letters 9, 216, 1979).
-    """
-    points = np.asarray(points, dtype=float).reshape(-1, 2)
-    if not np.isfinite(points).all():
-        return None
-    unique = sorted(set(map(tuple, points.tolist())))
-    if len(unique) < 3:
-        return None
-    xs, ys = [x for x, _ in unique], [y for _, y in unique]
-    extent = max(xs[-1] - xs[0], max(ys) - min(ys))  # (sorted by x)
-    tolerance = 2.0 * FLAT_OUTLINE * extent * extent  # (twice a triangle's area)
-    corners = _chain(unique)[:-1] + _chain(unique[::-1])[:-1]
-    # corners within the tolerance of the line through their neighbours are dropped (after the
-    # hull is made exactly: dropped while making it, a corner could go for a point that is
-    # within rounding of it on the other side, the order of near-equal abscissae reversed)
-    dropped = True
-    while dropped and len(corners) >= 3:
-        dropped = False
-        for k in range(len(corners)):
-            (ox, oy), (ax, ay), (bx, by) = corners[k - 2], corners[k - 1], corners[k]
-            if (ax - ox) * (by - oy) - (ay - oy) * (bx - ox) <= tolerance:
-                del corners[k - 1]
-                dropped = True
-                break
-    if len(corners) < 3:
-        return None
-    twice_area = sum(
-        x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(corners, corners[1:] + corners[:1])
-    )
-    return np.array(corners) if twice_area > tolerance else None
-
-
-def _chain(points: list) -> list:
-    """One half of the monotone chain: the corners of sorted ``points`` where it turns left."""
-    chain: list = []
-    for x, y in points:
-        while len(chain) >= 2:
-            (ox, oy), (ax, ay) = chain[-2], chain[-1]
-            if (ax - ox) * (y - oy) - (ay - oy) * (x - ox) > 0.0:
-                break
-            chain.pop()
-        chain.append((x, y))
-    return chain

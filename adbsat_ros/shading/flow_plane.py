@@ -21,6 +21,16 @@ def perp_basis(d: np.ndarray) -> np.ndarray:
     return np.stack([p1, p2, d], axis=1)
 
 
+def perp_bases(d: np.ndarray) -> np.ndarray:
+    """:func:`perp_basis` of each unit direction (D, 3): (D, 3, 3)."""
+    rows = np.arange(len(d))
+    e = np.zeros_like(d)
+    e[rows, np.argmin(np.abs(d), axis=1)] = 1.0
+    p1 = np.cross(d, e)
+    p1 /= np.sqrt(np.einsum("ij,ij->i", p1, p1))[:, None]
+    return np.stack([p1, np.cross(d, p1), d], axis=2)
+
+
 def coordinates(points: np.ndarray, basis: np.ndarray) -> tuple:
     """Coordinates [m] of ``points`` (..., 3) along the columns of ``basis``: three arrays."""
     flat = points.reshape(-1, 3)

@@ -120,7 +120,18 @@ class Shader:
             shadowed = adbsat_shadowed(self.mesh, u)
             self.last_stats = {"rays": 0, "partly_lit": 0, "shaded": int(shadowed.sum())}
             return PanelLighting(np.where(shadowed, 0.0, 1.0))
-        return self._raycast(u)
+        if self.parts is None:
+            return self._raycast(u)
+        return self._raycast(u, self.parts.lighting_many(u[None])[0])
+
+    def lighting_many(self, directions) -> list:
+        """:meth:`lighting` of each flow direction (M, 3) in G, the convex parts' shadows of all
+        made at once (the same numbers); ``last_stats``: the last direction's."""
+        us = [frames.unit_vector(u) for u in directions]
+        if self.trivial or self.mode != "raycast" or self.parts is None:
+            return [self.lighting(u) for u in us]
+        exact = self.parts.lighting_many(np.array(us))
+        return [self._raycast(u, e) for u, e in zip(us, exact)]
 
     def lighting_angles(self, aoa: float, aos: float) -> PanelLighting:
         """:meth:`lighting` for angle of attack and sideslip [rad] (frames module)."""
@@ -172,33 +183,43 @@ class Shader:
         )
         return face < 0, whole
 
-    def _raycast(self, u: np.ndarray) -> PanelLighting:
+    def _raycast(self, u: np.ndarray, convex=None) -> PanelLighting:
+        """The lighting at unit ``u``; ``convex``: the convex parts' shadows at ``u``
+        (:meth:`ConvexParts.lighting_many`)."""
         mesh = self.mesh
         n = mesh.n_panels
         c = -(mesh.normals @ u)
         forward = forward_mask(c, mesh.normals, self.graze_tol)
-        occluder = np.abs(c) > self.graze_tol
-        if occluder.all():
-            occluder = None  # no grazing face: every face occludes
-        boxes = None
-        if self.parts is not None:
-            boxes = self.filter.flow_boxes(u)
-        cand = self.candidates(u, forward, boxes)
-        d = -u
+        if convex is None or not self.prefilter:
+            cand = self.candidates(u, forward)
+        else:
+            cand = convex[0]
         lit_fraction = np.ones(n)
         stats = dict.fromkeys(STATS, 0) | {"forward": int(forward.sum()), "tested": int(cand.size)}
         shifts = [(np.zeros(0, dtype=np.int64), np.zeros((0, 3)))]
-        if boxes is not None and cand.size:
+        if convex is not None and cand.size:
             # the panels that only convex parts can shade: lit exactly, no rays
-            done, fraction, centroid = self.parts.lighting(boxes, cand)
-            exact, cand = cand[done], cand[~done]
+            exact, fraction, centroid = convex[1:]  # (exact ascending)
             lit_fraction[exact] = fraction
             partly = (fraction > 0.0) & (fraction < 1.0)
-            shifts.append((exact[partly], centroid[partly] - mesh.barycentres[exact[partly]]))
             stats["exact"] = int(exact.size)
+            if exact.size == cand.size:  # (every candidate lit exactly: no rays)
+                self.last_stats = stats
+                index = exact[partly]
+                return PanelLighting(
+                    lit_fraction, index, centroid[partly] - mesh.barycentres[index]
+                )
+            done = np.zeros(n, dtype=bool)
+            done[exact] = True
+            cand = cand[~done[cand]]
+            shifts.append((exact[partly], centroid[partly] - mesh.barycentres[exact[partly]]))
         if cand.size == 0:
             self.last_stats = stats
             return self._lighting(lit_fraction, shifts)
+        d = -u
+        occluder = np.abs(c) > self.graze_tol
+        if occluder.all():
+            occluder = None  # no grazing face: every face occludes
 
         # First pass: 3 rays near the corners plus S interior samples. A shadow edge that
         # crosses a panel separates its corners, so the corner rays catch the partly lit panels

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy.spatial import ConvexHull
 
-from adbsat_ros.shading.clipping import lit_parts
-from adbsat_ros.shading.convex_shadow import convex_outline
+from adbsat_ros.shading.clipping import lit_parts, lit_parts_of_edges
+from adbsat_ros.shading.convex_shadow import hull_edges
 
 #: A right triangle with legs 4 along x and y: area 8, centroid (4/3, 4/3).
 TRIANGLE = np.array([[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]])
@@ -18,10 +18,7 @@ TRIANGLE = np.array([[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]])
 
 def square(x0, y0, side):
     """A counter-clockwise square with lower-left corner (x0, y0)."""
-    corners = np.array([[x0, y0], [x0 + side, y0], [x0 + side, y0 + side], [x0, y0 + side]])
-    outline = convex_outline(corners)
-    assert outline is not None
-    return outline
+    return np.array([[x0, y0], [x0 + side, y0], [x0 + side, y0 + side], [x0, y0 + side]])
 
 
 def lit_centroid(parts):
@@ -63,8 +60,13 @@ def test_a_triangle_wholly_covered_or_wholly_clear():
     assert np.isfinite(centroid).all()
 
 
+def flat(points) -> bool:
+    """Whether points (P, 2) span no area, by :func:`hull_edges`."""
+    return bool(hull_edges(np.asarray(points, dtype=float)[None])[1][0])
+
+
 def test_points_without_area_have_no_outline():
-    assert convex_outline(np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]])) is None
+    assert flat([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]])
 
 
 def test_each_triangle_with_its_own_polygons():
@@ -91,9 +93,7 @@ def test_triangles_crossing_different_numbers_of_a_polygons_edges_at_once():
     # from the apex, half-width w there), one triangle clear of it and one holding it whole.
     # A poking triangle's covered part is the tip cut off by the side: area w h^2 / H, its
     # centroid on the axis 2h/3 from the apex; the holding triangle's is the hexagon.
-    hexagon = convex_outline(
-        np.array([[np.cos(t), np.sin(t)] for t in np.radians(np.arange(0, 360, 60))])
-    )
+    hexagon = np.array([[np.cos(t), np.sin(t)] for t in np.radians(np.arange(0, 360, 60))])
     a, h, H, w = np.sqrt(3) / 2, 0.2, 0.7, 0.25
     triangles, want = [], []
     for k in range(6):
@@ -194,29 +194,39 @@ def test_a_triangle_with_a_corner_on_the_polygons_corner(triangle, outline):
     assert np.isfinite(centroid).all()
 
 
-def _twice_area(polygon):
-    x, y = polygon[:, 0], polygon[:, 1]
-    return float(x @ np.roll(y, -1) - y @ np.roll(x, -1))
+def covered(points) -> float:
+    """The area of the polygon left of :func:`hull_edges`' edges of points (P, 2), within a
+    right triangle around them."""
+    table, _ = hull_edges(np.asarray(points, dtype=float)[None])
+    table = np.concatenate([table, np.zeros((4, table.shape[1], 1))], axis=2)
+    (x0, y0), (x1, y1) = points.min(axis=0) - 1.0, points.max(axis=0) + 1.0
+    w, h = 2.0 * (x1 - x0), 2.0 * (y1 - y0)  # (its hypotenuse through (x1, y1))
+    tx, ty = np.array([[x0], [x0 + w], [x0]]), np.array([[y0], [y0], [y0 + h]])
+    fraction, _ = lit_parts_of_edges(tx, ty, table, np.zeros((1, 1), dtype=int))
+    return (1.0 - fraction[0]) * w * h / 2.0
 
 
 def test_outline_is_the_convex_hull_that_qhull_finds():
     # An independent reference: scipy's ConvexHull (Qhull) of the same points, on random
-    # clouds and on points rounded to a grid (many collinear and repeated): the same corners,
-    # counter-clockwise.
+    # clouds and on points rounded to a grid (many collinear and repeated): the edges start at
+    # its corners (and, on the grid, at points on its sides) and bound its area.
     rng = np.random.default_rng(7)
-    clouds = [rng.normal(size=(rng.integers(3, 40), 2)) for _ in range(200)]
-    clouds += [np.round(rng.normal(size=(30, 2)), 1) for _ in range(100)]
-    for points in clouds:
-        outline = convex_outline(points)
-        want = points[ConvexHull(points).vertices]
-        assert {tuple(p) for p in outline.tolist()} == {tuple(p) for p in want.tolist()}
-        assert _twice_area(outline) == pytest.approx(_twice_area(want), rel=1e-14)
-        assert _twice_area(outline) > 0.0  # counter-clockwise
+    clouds = [rng.normal(size=(rng.integers(3, 40), 2)) for _ in range(100)]
+    grid = [np.round(rng.normal(size=(30, 2)), 1) for _ in range(50)]
+    for points in clouds + grid:
+        hull = ConvexHull(points)
+        (ax, ay, _, _), _ = hull_edges(points[None])
+        starts = set(zip(ax[:, 0].tolist(), ay[:, 0].tolist()))
+        corners = {tuple(p) for p in points[hull.vertices].tolist()}
+        assert corners <= starts
+        if any(points is cloud for cloud in clouds):  # (no three on a line: the corners alone)
+            assert starts == corners
+        assert covered(points) == pytest.approx(hull.volume, rel=1e-12)
 
 
-def test_outline_drops_points_within_rounding_of_its_sides():
+def test_outline_ignores_points_within_rounding_of_its_sides():
     # A box's corners and points on its sides off by a few ulp (as a plane's cuts through its
-    # edges land), two corners an ulp apart in x: the four corners only.
+    # edges land), two corners an ulp apart in x: the box's area.
     x = 0.30064126278129333
     points = np.array(
         [
@@ -230,19 +240,18 @@ def test_outline_drops_points_within_rounding_of_its_sides():
             [-0.3, -0.15],  # a corner again
         ]
     )
-    outline = convex_outline(points)
-    assert outline is not None and len(outline) == 4
-    assert {tuple(p) for p in outline.tolist()} == {tuple(p) for p in points[:4].tolist()}
+    assert not flat(points)
+    assert covered(points) == pytest.approx((x + 0.3) * 0.3, rel=1e-12)
 
 
 def test_an_edge_on_sliver_has_no_outline():
     # A plate seen edge-on within rounding: its outline spans no area (left to the rays).
     points = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1e-14], [0.0, 1e-14]])
-    assert convex_outline(points) is None
-    assert convex_outline(points * [1.0, 1e6]) is not None  # 1e-8 thick: an outline
+    assert flat(points)
+    assert not flat(points * [1.0, 1e6])  # 1e-8 thick: an outline
 
 
 def test_points_that_are_not_finite_have_no_outline():
     square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
     for bad in (np.nan, np.inf):
-        assert convex_outline(np.array([*square, [bad, 0.5]])) is None
+        assert flat([*square, [bad, 0.5]])

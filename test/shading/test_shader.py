@@ -346,6 +346,34 @@ def test_a_part_across_the_panel_plane_shades_with_its_part_in_front(aoa_deg, ao
     assert rays == pytest.approx(lit, rel=2e-3)
 
 
+def test_many_directions_at_once_equal_one_at_a_time():
+    # A T of two boxes through each other (each shades the other, parts cut by panel planes)
+    # and two cubes before a plate (shadows joined): shaded for many directions in one call,
+    # among them along the axes (faces grazing, left to the rays) and in the planes of faces,
+    # the lightings equal those of one direction at a time.
+    t_shape = combine(
+        grid_box((0.0, 0.0, 0.125), (1.0, 1.0, 2.25), (3, 3, 6)),
+        grid_box((0.0, 0.0, 1.5), (1.0, 3.0, 1.0), (3, 9, 3)),
+    )
+    cubes = combine(
+        grid_box((2.0, 0.0, 0.0), (1.0, 1.0, 1.0), (4, 4, 4)),
+        grid_box((3.5, 0.5, 0.3), (0.6, 0.6, 0.6), (3, 3, 3)),
+        grid_box((0.0, 0.0, 0.0), (0.1, 3.0, 3.0), (1, 25, 25)),
+    )
+    angles = [(a, b) for a in range(-180, 181, 30) for b in (-90, -45, 0, 20, 90)]
+    directions = [frames.flow_direction(math.radians(a), math.radians(b)) for a, b in angles]
+    for mesh in (t_shape, cubes):
+        many, one = make_shader(mesh), make_shader(mesh)
+        exact = 0
+        for u, lighting in zip(directions, many.lighting_many(directions)):
+            single = one.lighting(u)
+            exact += one.last_stats["exact"]
+            np.testing.assert_allclose(lighting.lit_fraction, single.lit_fraction, atol=1e-12)
+            np.testing.assert_array_equal(lighting.shift_index, single.shift_index)
+            np.testing.assert_allclose(lighting.shift, single.shift, atol=1e-12)
+        assert exact > 20 * len(directions)  # (the convex parts do shade panels)
+
+
 def test_corners_under_different_occluders_are_not_taken_as_shaded(backend):
     # One large square panel pair at x = 0 and three 0.4 m cubes upstream (x = 1), one over
     # each of three corners of the square: every corner ray of the lower-left triangle is

@@ -291,6 +291,20 @@ def test_cached_answers_stay_within_stated_bound(shader, scene, resolution_deg):
 
 
 # ---------------------------------------------------------------- the one cache: cells, hooks
+def test_directions_prepared_in_one_call_are_read_as_shaded_one_at_a_time(shader):
+    aoa, aos = np.meshgrid(np.radians([-170.0, -20.0, 0.0, 35.0]), np.radians([-60.0, 0.0, 5.0]))
+    dirs = frames.flow_direction(aoa.ravel(), aos.ravel())
+    one, ahead = ShadingCache.exact_mode(shader), ShadingCache.exact_mode(shader)
+    ahead.prepare(dirs)
+    for u in dirs:
+        a, b = ahead.lighting(u), one.lighting(u)
+        for name in ("lit_fraction", "shift"):
+            np.testing.assert_allclose(getattr(a, name), getattr(b, name), atol=1e-12)
+        np.testing.assert_array_equal(a.shift_index, b.shift_index)
+    assert (ahead.hits, ahead.misses) == (one.hits, one.misses) == (0, len(dirs))
+    assert not ahead._ahead  # (each read took its prepared lighting)
+
+
 def _same(a, b):
     """Bit-equality of two lightings or blends (weights, parts, arrays)."""
     if isinstance(a, LightingBlend):
@@ -322,7 +336,7 @@ def test_reads_are_the_cell_centres_shading_in_the_triangles_order(shader, inter
         assert [w for w, _ in parts] == [w for w, _ in expected]
         assert cache.last_keys == tuple(k for _, k in expected)
         for (_, cell), (_, k) in zip(parts, expected):
-            assert isinstance(cell, Cell) and cell.sums is None and cell.posed is None
+            assert isinstance(cell, Cell) and cell.sums is None
             _same(cell.lighting, shader.lighting(cache.centre(k)))
         reference = LightingBlend.of([(w, shader.lighting(cache.centre(k))) for w, k in expected])
         _same(cache.lighting(u), reference)
