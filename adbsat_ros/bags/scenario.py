@@ -102,10 +102,13 @@ class Scenario:
                 f"scenario epoch_utc: {self.epoch_utc} is before 1970-01-01T00:00:00Z, where "
                 "UNIX stamps would be negative (time_mode epoch stamps from 0)"
             )
-        if end >= 2**63 / _NS:  # (stamps are int64 nanoseconds)
+        last = end if self.time_mode == "unix" else self.duration_s
+        if last >= 2**31:  # (a ROS stamp, builtin_interfaces/Time, has int32 seconds)
+            field = "duration_s" if last - self.duration_s < 2**31 else "epoch_utc"
             raise ValueError(
-                f"scenario duration_s: {self.duration_s!r} s after {self.epoch_utc} is beyond "
-                "2262-04-11, the last stamp of 64-bit nanoseconds"
+                f"scenario {field}: {self.duration_s!r} s after {self.epoch_utc} is beyond "
+                "2038-01-19T03:14:07Z, the last second of a ROS stamp (int32 seconds; with "
+                "time_mode epoch the stamps count from 0)"
             )
 
     @property

@@ -58,6 +58,16 @@ def test_the_two_streams_need_two_topics(tmp_path, capsys):
     assert "--state-topic: x is also the --attitude-topic" in err
 
 
+def test_stamps_beyond_a_ros_stamps_int32_seconds_are_a_usage_error(tmp_path, capsys):
+    err = refused(tmp_path, capsys, "--duration", "10", "--epoch", "2040-01-01T00:00:00Z")
+    assert "--epoch: 10.0 s after 2040-01-01T00:00:00Z is beyond 2038-01-19T03:14:07Z" in err
+    err = refused(tmp_path, capsys, "--duration", "1e9", "--rate", "0.01", "--state-rate", "0.01")
+    assert "--duration: 1000000000.0 s after 2026-01-01T00:00:00Z is beyond 2038" in err
+    out = tmp_path / "epoch_mode"
+    argv = ["simulate", "--out", str(out), "--duration", "1", "--epoch", "2040-01-01T00:00:00Z"]
+    assert main([*argv, "--time-mode", "epoch"]) == 0 and out.exists()
+
+
 def test_an_epoch_before_1970_is_a_usage_error(tmp_path, capsys):
     err = refused(tmp_path, capsys, "--duration", "1", "--epoch", "1969-12-31T23:59:59Z")
     assert "--epoch: 1969-12-31T23:59:59Z is before 1970-01-01T00:00:00Z" in err
