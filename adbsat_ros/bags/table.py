@@ -22,6 +22,8 @@ WRENCH_COLUMNS = (
     "torque_y_Nm",
     "torque_z_Nm",
 )
+#: The force and moment coefficients, body frame.
+COEFFICIENT_COLUMNS = ("cf_x", "cf_y", "cf_z", "cm_x", "cm_y", "cm_z")
 #: Columns of each model's group, prefixed with "LABEL." in the CSV. wind_body is the velocity of
 #: the gas relative to the body in body axes; aoa/aos are ADBSat's angles of that flow (frames.py).
 MODEL_COLUMNS = (
@@ -36,12 +38,7 @@ MODEL_COLUMNS = (
     "aoa_deg",
     "aos_deg",
     "drag_coefficient",
-    "cf_x",
-    "cf_y",
-    "cf_z",
-    "cm_x",
-    "cm_y",
-    "cm_z",
+    *COEFFICIENT_COLUMNS,
     *WRENCH_COLUMNS,
 )
 #: Columns appended to the group of a model with ``solar_pressure`` on: the fraction of the solar

@@ -122,18 +122,23 @@ def check_orientation_options(
     return ut1_minus_utc, xp, yp, precession_nutation, step
 
 
+def celestial_to_intermediate(jd1, tt2, precession_nutation, step):
+    """The GCRS-to-CIRS matrix (3, 3) at TT ``jd1`` + ``tt2`` [day], kept per ``step`` [s] of TT
+    (0: exactly at the time)."""
+    if step > 0.0:
+        step_days = step / SECONDS_PER_DAY
+        bucket = math.floor(((jd1 - 2451545.0) + tt2) / step_days)
+        return _celestial_to_intermediate_at(precession_nutation, bucket, step_days)
+    return _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2)
+
+
 def rotation_terms(
     jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step
 ):
     """R (3, 3), ERA [rad], omega (ECEF, [rad/s]) at UTC two-part JD ``jd1`` + ``day_fraction``;
     ``tt_minus_utc`` [day]; the rest as :func:`check_orientation_options` returns them."""
     tt2 = day_fraction + tt_minus_utc
-    if step > 0.0:
-        step_days = step / SECONDS_PER_DAY
-        bucket = math.floor(((jd1 - 2451545.0) + tt2) / step_days)
-        q = _celestial_to_intermediate_at(precession_nutation, bucket, step_days)
-    else:
-        q = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2)
+    q = celestial_to_intermediate(jd1, tt2, precession_nutation, step)
     era = float(erfa.era00(jd1, day_fraction + ut1_minus_utc / SECONDS_PER_DAY))
     if xp == 0.0 and yp == 0.0:
         return erfa.c2tcio(q, era, _IDENTITY), era, _ROTATION_VECTOR_ECEF

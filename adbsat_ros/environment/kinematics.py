@@ -10,9 +10,8 @@ import math
 import numpy as np
 
 from adbsat_ros.environment.earth_frames import (
-    _CELESTIAL_TO_INTERMEDIATE,
     SECONDS_PER_DAY,
-    _celestial_to_intermediate_at,
+    celestial_to_intermediate,
     rotation_terms,
 )
 from adbsat_ros.environment.geodetic import enu_to_ecef_matrix, geodetic_of
@@ -54,13 +53,7 @@ def rotation_floats(
             jd1, day_fraction, tt_minus_utc, ut1_minus_utc, xp, yp, precession_nutation, step
         )
         return tuple(matrix.ravel().tolist()), era, tuple(axis.tolist())
-    tt2 = day_fraction + tt_minus_utc
-    if step > 0.0:
-        step_days = step / SECONDS_PER_DAY
-        bucket = math.floor(((jd1 - 2451545.0) + tt2) / step_days)
-        q = _celestial_to_intermediate_at(precession_nutation, bucket, step_days)
-    else:
-        q = _CELESTIAL_TO_INTERMEDIATE[precession_nutation](jd1, tt2)
+    q = celestial_to_intermediate(jd1, day_fraction + tt_minus_utc, precession_nutation, step)
     era = earth_rotation_angle(jd1, day_fraction + ut1_minus_utc / SECONDS_PER_DAY)
     c, s = math.cos(era), math.sin(era)
     (q00, q01, q02), (q10, q11, q12), (q20, q21, q22) = q.tolist()

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from adbsat_ros.bags.table import WRENCH_COLUMNS
+from adbsat_ros.bags.table import COEFFICIENT_COLUMNS, WRENCH_COLUMNS
 from adbsat_ros.plotting.panels import plot_panel_pressure
 from adbsat_ros.plotting.time_series import plot_time_series
 from adbsat_ros.ros import demo_joints
@@ -55,12 +55,7 @@ CSV_COLUMNS = (
     "relative_speed_m_s",
     "drag_coefficient",
     *WRENCH_COLUMNS,
-    "cf_x",
-    "cf_y",
-    "cf_z",
-    "cm_x",
-    "cm_y",
-    "cm_z",
+    *COEFFICIENT_COLUMNS,
     "compute_ms",
     "latency_ms",
 )
