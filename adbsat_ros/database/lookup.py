@@ -44,6 +44,13 @@ class InterpolatedCoefficients:
         """Torque [N m] in G about the moment point for dynamic pressure q [Pa]."""
         return dynamic_pressure * self.reference_area * self.reference_length * self.Cm_G
 
+    @classmethod
+    def of(cls, aoa_deg: float, aos_deg: float, Cf_G, Cm_G, area: float, length: float):
+        """The coefficients of body-frame ``Cf_G``, ``Cm_G``; CD, CL, CY by the exact rotation."""
+        Cf_w = frames.mesh_to_wind(math.radians(aoa_deg), math.radians(aos_deg)) @ Cf_G
+        CD, CY, CL = -float(Cf_w[0]), float(Cf_w[1]), -float(Cf_w[2])
+        return cls(aoa_deg, aos_deg, Cf_G, Cm_G, CD, CL, CY, area, length)
+
 
 # ---------------------------------------------------------------------------------- lookup
 class CoefficientLookup:
@@ -159,18 +166,7 @@ class CoefficientLookup:
             raise ValueError("give aoa_deg and aos_deg, or flow_direction")
         aoa_deg, aos_deg = float(aoa_deg), float(aos_deg)
         row = self._interpolate(aoa_deg, aos_deg)
-        Cf_G = np.array(row[:3])
-        Cf_w = frames.mesh_to_wind(math.radians(aoa_deg), math.radians(aos_deg)) @ Cf_G
-        return InterpolatedCoefficients(
-            aoa_deg=aoa_deg,
-            aos_deg=aos_deg,
-            Cf_G=Cf_G,
-            Cm_G=np.array(row[3:]),
-            CD=-float(Cf_w[0]),
-            CL=-float(Cf_w[2]),
-            CY=float(Cf_w[1]),
-            reference_area=self._area,
-            reference_length=self._length,
-        )
+        cf, cm = np.array(row[:3]), np.array(row[3:])
+        return InterpolatedCoefficients.of(aoa_deg, aos_deg, cf, cm, self._area, self._length)
 
     __call__ = coefficients

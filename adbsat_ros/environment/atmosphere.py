@@ -26,8 +26,6 @@ MAX_ALTITUDE = 1000e3
 #: Range of UTC years accepted (the space-weather record starts in the late 1950s).
 FIRST_YEAR, LAST_YEAR = 1958, 2100
 
-#: Order of the densities NRLMSISE-00 returns (index 5 is the total mass density).
-_MSIS_SPECIES_INDEX = {"He": 0, "O": 1, "N2": 2, "O2": 3, "Ar": 4, "H": 6, "N": 7, "AnO": 8}
 #: Switches: 0 = SI output (m^-3, kg/m^3), 1..23 = all variations on (the model's standard set).
 _SWITCHES_DAILY_AP = [1] * 24
 #: As above with switch 9 = -1: use the 7-element Ap history.
@@ -217,32 +215,32 @@ def run_model(
         )
     longitude_deg = (math.degrees(longitude) + 180.0) % 360.0 - 180.0
     if model != "nrlmsise00":
-        return _run_pymsis(
+        densities, temperatures = _run_pymsis(
             model, year, day_of_year, seconds, altitude, latitude, longitude_deg, space_weather,
             anomalous_oxygen,
         )  # fmt: skip
-    if local_solar_time_h is None:
-        local_solar_time_h = (seconds / 3600.0 + longitude_deg / 15.0) % 24.0
-    model = _nrlmsise00.gtd7d if anomalous_oxygen else _nrlmsise00.gtd7
-    if space_weather.ap_history is None:
-        history = {"flags": _SWITCHES_DAILY_AP}
     else:
-        history = {"ap_a": list(space_weather.ap_history), "flags": _SWITCHES_AP_HISTORY}
-    # altitude in km and latitude in degrees, as the model takes them
-    densities, temperatures = model(
-        year,
-        day_of_year,
-        seconds,
-        altitude * 1e-3,
-        math.degrees(latitude),
-        longitude_deg,
-        local_solar_time_h,
-        space_weather.f107a,
-        space_weather.f107,
-        space_weather.ap,
-        **history,
-    )
-    he, o, n2, o2, ar, rho, h, n, ano = densities  # the model's order (_MSIS_SPECIES_INDEX)
+        if local_solar_time_h is None:
+            local_solar_time_h = (seconds / 3600.0 + longitude_deg / 15.0) % 24.0
+        history = {"flags": _SWITCHES_DAILY_AP}
+        if space_weather.ap_history is not None:
+            history = {"ap_a": list(space_weather.ap_history), "flags": _SWITCHES_AP_HISTORY}
+        gtd7 = _nrlmsise00.gtd7d if anomalous_oxygen else _nrlmsise00.gtd7
+        # altitude in km and latitude in degrees, as the model takes them
+        densities, temperatures = gtd7(
+            year,
+            day_of_year,
+            seconds,
+            altitude * 1e-3,
+            math.degrees(latitude),
+            longitude_deg,
+            local_solar_time_h,
+            space_weather.f107a,
+            space_weather.f107,
+            space_weather.ap,
+            **history,
+        )
+    he, o, n2, o2, ar, rho, h, n, ano = densities  # NRLMSISE-00's order
     return AtmosphereState(
         {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano},
         rho,
@@ -254,9 +252,10 @@ def run_model(
 
 def _run_pymsis(
     model, year, day_of_year, seconds, altitude, latitude, longitude_deg, weather, anomalous_oxygen
-) -> AtmosphereState:
-    """NRLMSIS 2.0 or 2.1 through pymsis, the indices passed (never looked up); the exospheric
-    temperature is the model's at 1000 km (the asymptote of its Bates profile)."""
+) -> tuple:
+    """NRLMSIS 2.0 or 2.1 through pymsis, the indices passed (never looked up), as NRLMSISE-00's
+    ``(densities, (exospheric temperature, temperature))``; the exospheric temperature is the
+    model's at 1000 km (the asymptote of its Bates profile)."""
     import pymsis
 
     if model not in ATMOSPHERE_MODELS:
@@ -282,10 +281,4 @@ def _run_pymsis(
     rho, n2, o2, o, he, h, ar, n, ano, _, temperature = np.nan_to_num(out[0]).tolist()
     if anomalous_oxygen:  # (NRLMSIS 2.x leaves it out of its mass density; gtd7d adds it)
         rho += ano * _SPECIES_MASS_KG["AnO"]
-    return AtmosphereState(
-        {"He": he, "O": o, "N2": n2, "O2": o2, "Ar": ar, "H": h, "N": n, "AnO": ano},
-        rho,
-        float(out[1, 10]),
-        temperature,
-        anomalous_oxygen,
-    )
+    return (he, o, n2, o2, ar, rho, h, n, ano), (float(out[1, 10]), temperature)

@@ -1,7 +1,5 @@
-"""ADBSat's flight conditions (``environment.m``): a geodetic point, the circular-orbit speed.
-
-No direction, co-rotation or wind, for parity with ADBSat; docs/physics.md, section 5.5.
-"""
+"""ADBSat's flight conditions (``environment.m``): a geodetic point, the circular-orbit speed; no
+direction, co-rotation or wind, for parity with ADBSat. docs/physics.md, section 5.5."""
 
 from __future__ import annotations
 
@@ -18,9 +16,7 @@ from adbsat_ros.environment.atmosphere import (
     evaluate_atmosphere,
 )
 from adbsat_ros.environment.conditions import FlightConditions
-from adbsat_ros.environment.earth_frames import (
-    earth_orientation,
-)
+from adbsat_ros.environment.earth_frames import earth_orientation
 from adbsat_ros.environment.flight_conditions import DEFAULT_ACCOMMODATION_MODEL
 from adbsat_ros.environment.geodetic import geodetic_to_ecef
 from adbsat_ros.physics.constants import EARTH_MU, EARTH_RADIUS_ADBSAT
@@ -46,17 +42,10 @@ def flight_conditions_circular_orbit(
     atmosphere_model: str = "nrlmsise00",
 ) -> FlightConditions:
     """Flight conditions at a geodetic point at circular-orbit speed; no vectors but positions.
-
-    Parameters
-    ----------
-    time : UTC (aware, or naive meaning UTC), years 1958..2100
-    altitude : above the WGS-84 ellipsoid [m], 0..1000 km
-    latitude, longitude : geodetic [rad]
-    speed : relative speed [m/s] >= 0 instead of the circular-orbit speed
-    space_weather, atmosphere_model : as :func:`flight_conditions`
-
-    Other options and ValueError as :func:`flight_conditions`.
-    """
+    time: UTC (aware, or naive meaning UTC), years 1958..2100; altitude: above the WGS-84
+    ellipsoid [m], 0..1000 km; latitude, longitude: geodetic [rad]; speed: relative speed [m/s]
+    >= 0 instead of the circular-orbit speed. Other options and ValueError as
+    :func:`flight_conditions`."""
     time = check_time(time)
     model = normalize_model_name(accommodation_model)
     altitude = check_altitude(altitude)

@@ -25,13 +25,9 @@ def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
     for name, value in (("latitude", latitude), ("longitude", longitude), ("altitude", altitude)):
         if not all_finite(value):
             raise ValueError(f"{name} must be finite, got {value!r}")
-    if latitude.ndim == 0:
-        if abs(float(latitude)) > math.pi / 2:
-            raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
-    elif np.any(np.abs(latitude) > math.pi / 2):
+    if np.any(np.abs(latitude) > math.pi / 2):
         raise ValueError(f"latitude must be in [-pi/2, pi/2] rad, got {latitude!r}")
-    # Raw ufunc (skips pyerfa's status-to-warning wrapper); status is non-zero only for a bad
-    # ellipsoid identifier or |latitude| > pi/2, both excluded above.
+    # (the raw ufunc: its status is non-zero only for inputs excluded above)
     position, _status = erfa.ufunc.gd2gc(WGS84, longitude, latitude, altitude)
     return position
 
@@ -39,8 +35,6 @@ def geodetic_to_ecef(latitude, longitude, altitude) -> np.ndarray:
 def ecef_to_geodetic(position_ecef):
     """WGS-84 latitude, east longitude in (-pi, pi] [rad], height [m] of ECEF positions [m]."""
     position = vectors3(position_ecef, "position_ecef")
-    # The raw ufunc skips pyerfa's status-to-warning wrapper; status < 0 is only possible
-    # for a bad ellipsoid identifier, which WGS84 is not.
     longitude, latitude, altitude, status = erfa.ufunc.gc2gd(WGS84, position)
     if position.ndim == 1:
         if status != 0:  # pragma: no cover - defensive

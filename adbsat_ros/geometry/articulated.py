@@ -145,13 +145,11 @@ class ArticulatedBody:
         for link in np.unique(self.panel_link):  # (parts are made link by link)
             where = np.flatnonzero(self.panel_link == link)
             self.link_spans[int(link)] = (int(where[0]), int(where[-1]) + 1)
+        counts = ("dropped_zero_area", "flipped_components", "open_components", "components")
         self._report = MeshReport(
-            dropped_zero_area=sum(r.dropped_zero_area for r in reports),
-            flipped_components=sum(r.flipped_components for r in reports),
-            open_components=sum(r.open_components for r in reports),
+            **{name: sum(getattr(r, name) for r in reports) for name in counts},
             watertight=all(r.watertight for r in reports),
             convex=False,
-            components=sum(r.components for r in reports),
         )
         if not accept_size:
             check_size(source, self.mesh())

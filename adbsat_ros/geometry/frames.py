@@ -127,16 +127,10 @@ def mesh_to_wind(aoa, aos):
     return body_to_wind(aoa, aos) @ L_GB
 
 
-def quaternion_matrix(x: float, y: float, z: float, w: float) -> np.ndarray:
-    """R of a unit quaternion (x, y, z, w), ROS/Hamilton: ``R @ v_body`` in its frame.
-
-    As scipy's ``Rotation.from_quat([x, y, z, w]).as_matrix()``; the caller normalises.
-    """
-    return np.array(quaternion_matrix_floats(x, y, z, w)).reshape(3, 3)
-
-
 def quaternion_matrix_floats(x: float, y: float, z: float, w: float) -> tuple:
-    """:func:`quaternion_matrix` as nine floats, row-major."""
+    """R of a unit quaternion (x, y, z, w), ROS/Hamilton (``R @ v_body`` in its frame), as nine
+    floats, row-major: scipy's ``Rotation.from_quat([x, y, z, w]).as_matrix()``; the caller
+    normalises."""
     xx, yy, zz = x * x, y * y, z * z
     xy, xz, yz = x * y, x * z, y * z
     wx, wy, wz = w * x, w * y, w * z

@@ -1,7 +1,5 @@
-"""Mesh files, bundled bodies by name and trimesh meshes to a checked PanelMesh.
-
-trimesh and yourdfpy are imported only when a file is parsed (docs/benchmarks.md).
-"""
+"""Mesh files, bundled bodies by name and trimesh meshes to a checked PanelMesh (trimesh and
+yourdfpy imported only when a file is parsed)."""
 
 from __future__ import annotations
 
@@ -51,17 +49,11 @@ def load_mesh(
     store: MeshStore | str | None = DEFAULT_STORE,
 ) -> PanelMesh:
     """Load a triangulated surface mesh file (any trimesh format; .obj ``usemtl`` materials) [m].
-
-    Parameters
-    ----------
-    scale : factor to metres (e.g. 1e-3 for CAD in millimetres)
-    fix_normals : flip closed bodies whose faces point inwards, with a warning
-    accept_size : take a mesh outside ``mesh_extent`` (1 mm to 200 m across)
-    store : a MeshStore, "default" or None, keeping checked meshes by file content
-
+    scale: factor to metres (1e-3 for CAD in millimetres); fix_normals: flip closed bodies whose
+    faces point inwards, with a warning; accept_size: take a mesh outside ``mesh_extent`` (1 mm to
+    200 m across); store: a MeshStore, "default" or None, keeping checked meshes by file content.
     MeshError: a missing, unreadable or bad file (the line), no usable face, a coordinate beyond
-    ``mesh_coordinate``, or a size that is no satellite's (naming the likely unit).
-    """
+    ``mesh_coordinate``, or a size that is no satellite's (naming the likely unit)."""
     path = os.fspath(path)
     if not math.isfinite(scale) or scale <= 0:
         raise MeshError(f"{path}: scale must be a finite number > 0, got {scale!r}")

@@ -76,10 +76,8 @@ class PanelMesh:
     @property
     def bounds(self) -> np.ndarray:
         """Axis-aligned bounding box, shape (2, 3): min and max corner [m]."""
-        # column by column: numpy's axis-0 reduction of an (M, 3) array is slow
         v = self.vertices.reshape(-1, 3)
-        columns = [v[:, k] for k in range(3)]
-        return np.array([[c.min() for c in columns], [c.max() for c in columns]])
+        return np.array([v.min(axis=0), v.max(axis=0)])
 
     def to_trimesh(self) -> trimesh.Trimesh:
         """A trimesh.Trimesh of the panels, face i being panel i (vertices merged)."""

@@ -4,24 +4,18 @@ at most 64, in ``$ADBSAT_ROS_CACHE_DIR/meshes`` (docs/architecture.md).
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
 
 from adbsat_ros.geometry.mesh import MeshReport, PanelMesh
-from adbsat_ros.npz_store import NpzStore, file_digest, shared_store
+from adbsat_ros.npz_store import NpzStore, file_digest
 
 #: Mesh formats kept: those held whole in one file (a .gltf's buffers may be other files).
 STORED_SUFFIXES = (".obj", ".stl", ".ply", ".off")
 #: The report's fields, in the order they are stored.
-_REPORT_FIELDS = (
-    "dropped_zero_area",
-    "flipped_components",
-    "open_components",
-    "watertight",
-    "convex",
-    "components",
-)
+_REPORT_FIELDS = tuple(f.name for f in dataclasses.fields(MeshReport))
 _ARRAYS = ("vertices", "normals", "areas", "barycentres", "material_index")
 
 
@@ -71,8 +65,3 @@ class MeshStore(NpzStore):
                 "report": np.array([int(getattr(mesh.report, name)) for name in _REPORT_FIELDS]),
             },
         )
-
-
-def default_store() -> MeshStore | None:
-    """The store of ``$ADBSAT_ROS_CACHE_DIR/meshes``, or None if stores are off."""
-    return shared_store(MeshStore)

@@ -7,8 +7,6 @@ from __future__ import annotations
 BOLTZMANN = 1.3806503e-23
 #: Avogadro constant [1/mol].
 AVOGADRO = 6.02214076e23
-#: Molar gas constant [J/(mol K)].
-GAS_CONSTANT = 8.31446261815324
 #: Atomic mass unit [kg] (CODATA 2018).
 AMU = 1.66053906660e-27
 #: Earth's gravitational parameter [m^3/s^2] (WGS-84 / EGM, as ADBSat).

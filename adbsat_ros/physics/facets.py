@@ -93,13 +93,9 @@ class Facets:
     def sums_of(self, weights, weighted_points) -> np.ndarray:
         """Read-only (G, 10) facet sums of panel weights w_i [m^2] and moments (N, 3) [m^3]."""
         W = np.bincount(self.index, weights=weights, minlength=self.n)
-        sums = sum_columns(W, self.vector_sums(weighted_points), self.normals)
+        sums = sum_columns(W, vector_sums(self.index, weighted_points, self.n), self.normals)
         sums.setflags(write=False)
         return sums
-
-    def vector_sums(self, vectors, panels=None) -> np.ndarray:
-        """The (G, 3) facet sums of per-panel ``vectors`` (N, 3), or of rows for ``panels`` only."""
-        return vector_sums(self.index if panels is None else self.index[panels], vectors, self.n)
 
     def lit_sums_of(self, lighting: PanelLighting | None) -> np.ndarray:
         """Read-only (G, 10) facet sums of ``lighting`` (:attr:`all_lit` for None)."""

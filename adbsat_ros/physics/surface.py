@@ -64,10 +64,6 @@ class SurfaceProperties:
                 f"{self.specular_reflectivity} + {self.diffuse_reflectivity}"
             )
 
-    def updated(self, **changes) -> "SurfaceProperties":
-        """A copy with some parameters changed (validated)."""
-        return replace(self, **changes)
-
 
 class PanelSurface:
     """Per-panel :class:`SurfaceProperties` fields: each a float (uniform) or an (N,) array."""
@@ -96,7 +92,7 @@ class MaterialTable:
                         f"material {name!r}: unknown parameters {sorted(unknown)}; "
                         f"allowed: {', '.join(SURFACE_PARAMETERS)}"
                     )
-                props = self.default.updated(**props)
+                props = replace(self.default, **props)  # (validated)
             elif not isinstance(props, SurfaceProperties):
                 raise TypeError(f"material {name!r}: expected SurfaceProperties or a dict")
             self.materials[str(name)] = props

@@ -1,7 +1,5 @@
-"""Running a sweep: its missing chunks on Dask (local or a scheduler), each written as it finishes.
-
-A mesh file must be readable at the same path on every worker. docs/sweeps.md.
-"""
+"""Running a sweep: its missing chunks on Dask (local or a scheduler), each written as it finishes;
+a mesh file must be readable at the same path on every worker. docs/sweeps.md."""
 
 from __future__ import annotations
 
@@ -47,15 +45,10 @@ def run_sweep(
     progress: bool = False,
     stop=None,
 ) -> SweepReport:
-    """Compute the chunks of ``spec`` not in the Zarr store at ``out`` yet.
-
-    Parameters
-    ----------
-    scheduler : a running Dask scheduler's address (``tcp://host:8786``); None: this machine
-    workers : local processes (default: every usable CPU; 1: this process)
-    overwrite : replace a store of another spec at ``out``
-    stop : a threading.Event; stops after the chunk finishing now (written; rerun to go on)
-
+    """Compute the chunks of ``spec`` not in the Zarr store at ``out`` yet. scheduler: a running
+    Dask scheduler's address (``tcp://host:8786``), None: this machine; workers: local processes
+    (default every usable CPU; 1: this process); overwrite: replace another spec's store at
+    ``out``; stop: a threading.Event, stopping after the chunk finishing now (rerun to go on).
     StoreError: ``out`` holds something else. ValueError: the body cannot be set up (or MeshError).
     """
     from tqdm import tqdm
@@ -84,7 +77,8 @@ def run_sweep(
         )
     report.computed, report.stopped = done.computed, done.stopped
     report.workers, report.notes = done.workers, done.notes
-    report.points = sum(_points(store.slices[i]) for i in set(todo) - set(store.missing()))
+    done_chunks = set(todo) - set(store.missing())
+    report.points = sum(math.prod(b - a for a, b in store.slices[i]) for i in done_chunks)
     report.seconds = time.perf_counter() - started
     return report
 
@@ -99,10 +93,3 @@ def memory_estimate(spec: SweepSpec) -> tuple:
         f"the sweep of {points} points in {chunks} chunks of {spec.chunk_points} points",
         estimate,
     )
-
-
-def _points(slices) -> int:
-    count = 1
-    for a, b in slices:
-        count *= b - a
-    return count

@@ -8,7 +8,6 @@ import numpy as np
 
 from adbsat_ros.database.lookup import CoefficientLookup, InterpolatedCoefficients
 from adbsat_ros.database.sweep_reader import corners, open_sweep, other_axes, slice_database
-from adbsat_ros.geometry import frames
 from adbsat_ros.lru import LruStore
 
 
@@ -52,16 +51,5 @@ class SweepLookup:
     def coefficients(self, aoa_deg: float, aos_deg: float, **values) -> InterpolatedCoefficients:
         """As :meth:`body_coefficients`, with CD, CL, CY by the rotation to wind axes."""
         cf, cm = self.body_coefficients(aoa_deg, aos_deg, **values)
-        a, b = np.radians(aoa_deg), np.radians(aos_deg)
-        cf_w = frames.body_to_wind(a, b) @ (frames.L_GB @ cf)
-        return InterpolatedCoefficients(
-            float(aoa_deg),
-            float(aos_deg),
-            cf,
-            cm,
-            float(-cf_w[0]),
-            float(-cf_w[2]),
-            float(cf_w[1]),
-            self._reference["area"],
-            self._reference["length"],
-        )
+        area, length = self._reference["area"], self._reference["length"]
+        return InterpolatedCoefficients.of(float(aoa_deg), float(aos_deg), cf, cm, area, length)

@@ -173,14 +173,8 @@ class SweepStore:
             "Cm_B: ADBSat's body axes B (docs/physics.md section 2)",
         }
         dataset = xr.Dataset(data, coords=coords, attrs=attrs)
-        dataset["area_projected"].attrs["units"] = "m^2"
-        units = (
-            ("density", "kg/m^3"),
-            ("gas_temperature", "K"),
-            ("gas_speed", "m/s"),
-            ("gas_mean_mass", "amu"),
-        )
-        for name, unit in units:
+        units = {"area_projected": "m^2", "density": "kg/m^3", "gas_temperature": "K"}
+        for name, unit in {**units, "gas_speed": "m/s", "gas_mean_mass": "amu"}.items():
             dataset[name].attrs["units"] = unit
         if spec.meshes:
             attrs = dataset.attrs

@@ -6,7 +6,17 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from adbsat_ros.geometry.frames import cross, direction_components, quaternion_matrix, unit_vector
+from adbsat_ros.geometry.frames import (
+    cross,
+    direction_components,
+    quaternion_matrix_floats,
+    unit_vector,
+)
+
+
+def quaternion_matrix(x, y, z, w):
+    return np.array(quaternion_matrix_floats(x, y, z, w)).reshape(3, 3)
+
 
 components = st.floats(-1.0, 1.0, allow_nan=False)
 

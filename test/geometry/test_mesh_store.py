@@ -13,7 +13,7 @@ import trimesh
 from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
 from adbsat_ros.geometry.loading import load_mesh
 from adbsat_ros.geometry.mesh import MeshError
-from adbsat_ros.geometry.mesh_store import MeshStore, default_store
+from adbsat_ros.geometry.mesh_store import MeshStore
 from adbsat_ros.npz_store import CACHE_DIR_VARIABLE
 
 ARRAYS = ("vertices", "normals", "areas", "barycentres", "material_index")
@@ -147,14 +147,16 @@ def test_a_missing_or_unreadable_file_is_still_a_mesh_error(tmp_path):
 
 def test_the_default_store_follows_the_environment(tmp_path, monkeypatch):
     monkeypatch.setenv(CACHE_DIR_VARIABLE, str(tmp_path / "here"))
-    store = default_store()
+    store = MeshStore.resolve("default")
     assert store.directory == tmp_path / "here" / "meshes"
-    assert default_store() is store  # one per directory: its counters are the process's
+    assert (
+        MeshStore.resolve("default") is store
+    )  # one per directory: its counters are the process's
     monkeypatch.setenv(CACHE_DIR_VARIABLE, "off")
-    assert default_store() is None
+    assert MeshStore.resolve("default") is None
     monkeypatch.delenv(CACHE_DIR_VARIABLE)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
-    assert default_store().directory == tmp_path / "xdg" / "adbsat_ros" / "meshes"
+    assert MeshStore.resolve("default").directory == tmp_path / "xdg" / "adbsat_ros" / "meshes"
 
 
 def test_a_mesh_read_back_needs_no_trimesh(tmp_path):
@@ -221,7 +223,7 @@ def test_every_warning_of_the_checks_is_told_again(tmp_path, caplog):
 def test_an_empty_cache_variable_means_the_default_place(tmp_path, monkeypatch):
     monkeypatch.setenv(CACHE_DIR_VARIABLE, "")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
-    assert default_store().directory == tmp_path / "xdg" / "adbsat_ros" / "meshes"
+    assert MeshStore.resolve("default").directory == tmp_path / "xdg" / "adbsat_ros" / "meshes"
 
 
 def test_entries_are_readable_by_others(tmp_path, satellite_obj):

@@ -26,7 +26,6 @@ class BatchSums:
     panel_hits: np.ndarray  # (N,)
     hits: int
     trapped: int
-    entry_momentum: np.ndarray  # (3,): sum of m v at entry
     exit_momentum: np.ndarray  # (3,): sum of m v on leaving
 
 
@@ -70,7 +69,6 @@ class Problem:
             panel_hits=tally.panel_hits,
             hits=tally.hits,
             trapped=tally.trapped,
-            entry_momentum=mass @ vel,
             exit_momentum=mass @ tally.exit_velocity,
         )
 

@@ -123,16 +123,9 @@ class InflowBox:
             tangential = self.drift - (self.drift @ n) * n
             for j, (m, c) in enumerate(zip(self.masses, self.thermal_speeds)):
                 s = self.speed_ratios[f, j]
-                normal = (
-                    m
-                    * c
-                    * c
-                    / SQRT_PI
-                    * (
-                        0.5 * s * math.exp(-s * s)
-                        + 0.25 * SQRT_PI * (1.0 + 2.0 * s * s) * (1.0 + math.erf(s))
-                    )
-                )
+                flux = 0.5 * s * math.exp(-s * s)
+                flux += 0.25 * SQRT_PI * (1.0 + 2.0 * s * s) * (1.0 + math.erf(s))
+                normal = m * c * c / SQRT_PI * flux
                 x_area = self.mole_fractions[j] * self.areas[f]
                 total += x_area * normal * n + self.rates[f, j] * m * tangential
         return total
