@@ -90,7 +90,7 @@ class Shader:
         self.last_stats: dict = {}
         # A single closed convex body never shades itself: nothing to build.
         self.trivial = mode == "none" or bool(mesh.report.convex)
-        self.filter = self.scene = self.parts = None
+        self.filter = self.scene = self.parts = self._points = None
         if not self.trivial and mode == "raycast":
             indexed = topology = None
             if candidate_filter is None or scene is None:  # (made once for both, or read back)
@@ -164,6 +164,24 @@ class Shader:
             pos += k
         return out
 
+    def _first_points(self, cand) -> np.ndarray:
+        """The first pass's ray origins (K, 3 + S, 3) of panels ``cand``: 3 near the corners, S
+        samples (made once per panel: they do not depend on the flow)."""
+        if self._points is None:
+            self._points = np.zeros((self.mesh.n_panels, 3 + self.samples, 3))
+            self._made = np.zeros(self.mesh.n_panels, dtype=bool)
+        new = cand[~self._made[cand]]
+        if new.size:
+            a, b = sample_coordinates(new, 0, self.samples)
+            a, b = (
+                np.column_stack([np.broadcast_to(x, (new.size, 3)), y])
+                for x, y in zip(CORNERS.T, (a, b))
+            )
+            lift = self.offset * self.mesh.normals[new]
+            self._points[new] = sample_points(self.mesh.vertices[new], a, b, lift)
+            self._made[new] = True
+        return self._points[cand]
+
     def _corner_rays(self, corners, d, occluder, cand) -> tuple:
         """Corner rays lit (K, 3), and panels wholly shaded (K,) by one closed convex component."""
         n = cand.size
@@ -227,18 +245,12 @@ class Shader:
         S = self.samples
         tri = mesh.vertices[cand]
         lift = self.offset * mesh.normals[cand]
-        corners = sample_points(
-            tri,
-            np.broadcast_to(CORNERS[:, 0], (cand.size, 3)),
-            np.broadcast_to(CORNERS[:, 1], (cand.size, 3)),
-            lift,
-        )
-        corner_lit, whole = self._corner_rays(corners, d, occluder, cand)
+        points = self._first_points(cand)
+        corner_lit, whole = self._corner_rays(points[:, :3], d, occluder, cand)
         # The panels wholly in one convex component's shadow are shaded: their interior rays
         # would all be blocked too. The others cast their interior samples.
         rest = np.flatnonzero(~whole)
-        a, b = sample_coordinates(cand[rest], 0, S)
-        origins = sample_points(tri[rest], a, b, lift[rest])  # (K', S, 3)
+        origins = points[rest, 3:]  # (K', S, 3)
         blocked = self.scene.any_hit(origins.reshape(-1, 3), d, occluder).reshape(-1, S)
         stats["rays"] = int(corner_lit.size + blocked.size)
         stats["corner_shaded"] = int(cand.size - rest.size)

@@ -95,10 +95,21 @@ class SweepSetup:
         vectors = vector_results(self.spec)
         out = {name: np.empty((*shape, 3)) for name in vectors}
         out.update({name: np.empty(shape) for name in SCALARS})
-        flows = {}
+        flows, points = {}, []
         for local in itertools.product(*(range(n) for n in shape)):
             index = tuple(r[i] for r, i in zip(ranges, local))
-            values = {n: float(self.spec.axes[n][i]) for n, i in zip(names, index)}
+            points.append(
+                (local, index, {n: float(self.spec.axes[n][i]) for n, i in zip(names, index)})
+            )
+        if self.spec.tpmc is None:  # (each body's attitudes of the chunk shaded in one call)
+            angles = {}
+            for _, _, values in points:
+                inputs = point_inputs(self.spec, values)
+                attitude = (math.radians(inputs["aoa"]), math.radians(inputs["aos"]))
+                angles.setdefault(int(inputs.get("mesh", 0)), {})[attitude] = None
+            for body, chunk_angles in angles.items():
+                self.bodies[body].prepare(list(chunk_angles))
+        for local, index, values in points:
             r, flow = self.point(index, values, flows)
             for name in vectors:
                 out[name][local] = getattr(r, name)
