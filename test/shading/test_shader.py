@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 import trimesh
+from meshes import grid_box
 from scipy.spatial.transform import Rotation
 from shading_scenes import (
     FLOW,
@@ -29,7 +30,6 @@ from adbsat_ros import PanelMethod
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.loading import panels_from_trimesh
 from adbsat_ros.geometry.mesh import panels_from_arrays
-from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.shading.candidates import CandidateFilter, forward_mask
 from adbsat_ros.shading.lighting import PanelLighting, lit_projected_area
 from adbsat_ros.shading.projection import adbsat_shadowed
