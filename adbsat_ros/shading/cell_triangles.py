@@ -31,7 +31,7 @@ class CellTriangulation:
     @functools.cached_property
     def border_triangles(self) -> np.ndarray:
         """Vertex keys (B, 3) of the triangles across cube edges and at corners (made when a
-        direction first falls between faces, or when listed)."""
+        direction first falls between faces)."""
         return _border_triangles(self.n)
 
     @functools.cached_property
@@ -93,19 +93,6 @@ class CellTriangulation:
         w = np.clip(weights[best], 0.0, None)
         w /= w.sum()
         return tuple(self.border_triangles[candidates[best]].tolist()), tuple(w.tolist())
-
-    # ------------------------------------------------------------------------------ listing
-    def triangles(self) -> np.ndarray:
-        """Vertex keys of every triangle, shape (12 n^2 - 4, 3)."""
-        n = self.n
-        i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
-        k00 = (i * n + j).reshape(-1)
-        k11 = k00 + n + 1
-        per_face = np.concatenate(
-            [np.stack([k00, k00 + n, k11], axis=1), np.stack([k00, k11, k00 + 1], axis=1)]
-        )
-        faces = [per_face + f * n * n for f in range(6)]
-        return np.concatenate([*faces, self.border_triangles])
 
 
 def _barycentric(vertices: np.ndarray, u: np.ndarray) -> np.ndarray:

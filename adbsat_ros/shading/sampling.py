@@ -34,7 +34,7 @@ def panel_shifts(panel_index) -> np.ndarray:
 
 
 def sample_coordinates(panel_index, start: int, count: int):
-    """Triangle coordinates ``a, b`` (K, count) of :func:`sample_barycentric`."""
+    """Triangle coordinates ``a, b`` (K, count) of points start .. start+count-1 of each panel."""
     shifts = panel_shifts(panel_index)
     k = np.arange(start, start + count, dtype=float)
     base = k[:, None] * _R2_ALPHA[None, :]
@@ -44,12 +44,6 @@ def sample_coordinates(panel_index, start: int, count: int):
     a, b = x[..., 0], x[..., 1]
     fold = (a + b) > 1.0
     return np.where(fold, 1.0 - a, a), np.where(fold, 1.0 - b, b)
-
-
-def sample_barycentric(panel_index, start: int, count: int) -> np.ndarray:
-    """Triangle coordinates (K, count, 2) of points start .. start+count-1 of each panel."""
-    a, b = sample_coordinates(panel_index, start, count)
-    return np.stack([a, b], axis=-1)
 
 
 def sample_points(vertices: np.ndarray, a: np.ndarray, b: np.ndarray, lift=None) -> np.ndarray:

@@ -8,7 +8,7 @@ import hashlib
 import numpy as np
 
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.npz_store import NpzStore, shared_store
+from adbsat_ros.npz_store import NpzStore
 from adbsat_ros.shading.candidates import MeshTopology
 
 _ARRAYS = ("vertices", "faces", "adjacency", "component", "on_hull")
@@ -48,11 +48,6 @@ class TopologyStore(NpzStore):
                 "on_hull": topology.on_hull,
             },
         )
-
-
-def default_store() -> TopologyStore | None:
-    """The store of ``$ADBSAT_ROS_CACHE_DIR/topology``, or None if the stores are off."""
-    return shared_store(TopologyStore)
 
 
 def indexed_topology(mesh: PanelMesh, diagonal: float, store: TopologyStore | None) -> tuple:
