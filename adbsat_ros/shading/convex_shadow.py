@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.shading.candidates import TIE_W1, TIE_W2
+from adbsat_ros.shading.candidates import grazing_forward
 from adbsat_ros.shading.clipping import lit_parts_of_edges
 from adbsat_ros.shading.flow_plane import MAX_PAIRS, perp_bases
 
@@ -54,12 +54,10 @@ class ConvexParts:
         self.graze_tol = graze_tol
         self._corners = dict(corners or {})  # component -> its hull corners (h, 3)
         self._table = None  # what does not depend on the flow (:meth:`_panels_and_parts`)
-        normals = mesh.normals
-        t1, t2 = -(normals @ TIE_W1), -(normals @ TIE_W2)  # (the grazing rule's tie-break)
-        self._tie = np.where(np.abs(t1) > 1e-12, t1 > 0.0, t2 > 0.0)
+        self._tie = grazing_forward(mesh.normals)
         # [coordinate, corner x panel] (3, 3N), normals (3, N)
         self._vertices = np.ascontiguousarray(mesh.vertices.transpose(2, 1, 0).reshape(3, -1))
-        self._normals = np.ascontiguousarray(normals.T)
+        self._normals = np.ascontiguousarray(mesh.normals.T)
         hulls = [self.corners(c) for c in range(candidate_filter.n_components)]
         self._hulls = np.ascontiguousarray(np.concatenate(hulls).T)  # (3, H)
         self._hull_start = np.cumsum([0] + [len(h) for h in hulls[:-1]])

@@ -84,19 +84,10 @@ class DeferredScene:
         """Whether the scene has been built."""
         return self._scene is not None
 
-    def _ready(self) -> RayScene:
+    def __getattr__(self, name):
+        """The scene's ``any_hit``, ``first_face`` and ``first_hit`` (:class:`RayScene`)."""
+        if name.startswith("_"):
+            raise AttributeError(name)
         if self._scene is None:
             self._scene = self._build()
-        return self._scene
-
-    def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
-        """:meth:`RayScene.any_hit`."""
-        return self._ready().any_hit(origins, direction, occluder)
-
-    def first_face(self, origins, direction, occluder=None) -> np.ndarray:
-        """:meth:`RayScene.first_face`."""
-        return self._ready().first_face(origins, direction, occluder)
-
-    def first_hit(self, origins, directions) -> tuple:
-        """:meth:`RayScene.first_hit`."""
-        return self._ready().first_hit(origins, directions)
+        return getattr(self._scene, name)
