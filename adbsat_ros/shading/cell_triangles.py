@@ -48,7 +48,6 @@ class CellTriangulation:
                 border_of_key.setdefault(key, []).append(t)
         return border_of_key
 
-    # ------------------------------------------------------------------------------ queries
     def locate(self, x: float, y: float, z: float) -> tuple:
         """``(keys, weights)``: the three cell keys around the finite non-zero direction (x, y, z)
         and the weights (non-negative, sum 1) of their centres."""
@@ -98,16 +97,8 @@ class CellTriangulation:
 def _barycentric(vertices: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Weights (M, 3) of u in M triangles (M, 3, 3), rows summing to 1; -inf where facing away."""
     v1, v2, v3 = vertices[:, 0], vertices[:, 1], vertices[:, 2]
-    volume = np.einsum("ij,ij->i", v1, np.cross(v2, v3))
-    w = np.stack(
-        [
-            np.cross(v2, v3) @ u,
-            np.cross(v3, v1) @ u,
-            np.cross(v1, v2) @ u,
-        ],
-        axis=1,
-    )
-    w /= volume[:, None]
+    c23, c31, c12 = np.cross(v2, v3), np.cross(v3, v1), np.cross(v1, v2)
+    w = np.stack([c23 @ u, c31 @ u, c12 @ u], axis=1) / np.einsum("ij,ij->i", v1, c23)[:, None]
     total = w.sum(axis=1, keepdims=True)
     # a triangle on the far side of the sphere (total <= 0) holds no weights for u
     return np.divide(w, total, out=np.full_like(w, -np.inf), where=total > 0.0)

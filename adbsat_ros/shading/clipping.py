@@ -20,7 +20,7 @@ def lit_parts_of_edges(tx, ty, table: np.ndarray, index: np.ndarray) -> tuple:
     (K, n) says which polygons each triangle has (R: none in that slot)."""
     tx, ty = np.ascontiguousarray(tx, dtype=float), np.ascontiguousarray(ty, dtype=float)
     k, n = tx.shape[1], index.shape[1]
-    area_t, cx_t, cy_t = _triangle_area_centroid(tx, ty)
+    area_t, cx_t, cy_t = _area_centroid(tx, ty, 3)
     centroid_t = np.stack([cx_t, cy_t], axis=1)
     if n == 0 or k == 0:  # nothing covers them
         return np.ones(k), centroid_t
@@ -128,18 +128,6 @@ def _area_centroid(px, py, count) -> tuple:
         return np.abs(0.5 * twice), cx / (3.0 * twice), cy / (3.0 * twice)
 
 
-def _triangle_area_centroid(tx, ty) -> tuple:
-    """:func:`_area_centroid` of triangles ``tx``, ``ty`` (3, K), operation for operation."""
-    x0, x1, x2 = tx
-    y0, y1, y2 = ty
-    c0, c1, c2 = x0 * y1 - x1 * y0, x1 * y2 - x2 * y1, x2 * y0 - x0 * y2
-    twice = c0 + c1 + c2
-    cx = (x0 + x1) * c0 + (x1 + x2) * c1 + (x2 + x0) * c2
-    cy = (y0 + y1) * c0 + (y1 + y2) * c1 + (y2 + y0) * c2
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.abs(0.5 * twice), cx / (3.0 * twice), cy / (3.0 * twice)
-
-
 def _edges(px, py, count) -> tuple:
     """Edges p -> q of polygons (capacity, K): corner slots, successors, last slots."""
     capacity, k = px.shape
@@ -150,11 +138,6 @@ def _edges(px, py, count) -> tuple:
 
 def _successors(values, last) -> np.ndarray:
     """Each corner's value at its successor (the first after the polygon's ``last``)."""
-    q = _rolled(values)
+    q = np.roll(values, -1, axis=0)
     q[last] = values[0]
     return q
-
-
-def _rolled(values) -> np.ndarray:
-    """``np.roll(values, -1, axis=0)`` without its general-axis overhead."""
-    return np.concatenate((values[1:], values[:1]))
