@@ -79,11 +79,6 @@ class DeferredScene:
         self._build = build
         self._scene: RayScene | None = None
 
-    @property
-    def built(self) -> bool:
-        """Whether the scene has been built."""
-        return self._scene is not None
-
     def __getattr__(self, name):
         """The scene's ``any_hit``, ``first_face`` and ``first_hit`` (:class:`RayScene`)."""
         if name.startswith("_"):
