@@ -56,14 +56,12 @@ class MeshTopology(NamedTuple):
     on_hull: np.ndarray
 
     @classmethod
-    def of(cls, mesh: PanelMesh, diagonal: float, indexed: tuple | None = None) -> "MeshTopology":
-        """The topology of ``mesh``, hull tolerance relative to ``diagonal`` [m]."""
+    def of(cls, mesh: PanelMesh, diagonal: float, indexed: tuple) -> "MeshTopology":
+        """The topology of ``mesh`` of merged vertices and faces ``indexed``, hull tolerance
+        relative to ``diagonal`` [m]."""
         import trimesh  # (with the first shader that needs it: not at start-up)
 
-        if indexed is None:
-            tm = mesh.to_trimesh()
-        else:
-            tm = trimesh.Trimesh(vertices=indexed[0], faces=indexed[1], process=False)
+        tm = trimesh.Trimesh(vertices=indexed[0], faces=indexed[1], process=False)
         faces = np.asarray(tm.faces, dtype=np.int64)
         adjacency = np.asarray(tm.face_adjacency, dtype=np.int64).reshape(-1, 2)
         labels = trimesh.graph.connected_component_labels(adjacency, node_count=len(faces))
@@ -122,16 +120,10 @@ def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
 
 
 class CandidateFilter:
-    """Components, hull faces and the filter of panels that could be shaded; ``diagonal`` [m] scales
-    the hull tolerance; ``convex`` (n_components,) marks closed convex components."""
+    """Components, hull faces and the filter of panels that could be shaded, from ``mesh``'s
+    ``topology``; ``convex`` (n_components,) marks closed convex components."""
 
-    def __init__(
-        self, mesh: PanelMesh, diagonal: float | None = None, topology: MeshTopology | None = None
-    ):
-        if topology is None:
-            if diagonal is None:
-                raise ValueError("CandidateFilter needs the mesh's diagonal or its topology")
-            topology = MeshTopology.of(mesh, diagonal)
+    def __init__(self, mesh: PanelMesh, topology: MeshTopology):
         if topology.component.size != mesh.n_panels:
             raise ValueError(
                 f"topology of {topology.component.size} panels for a mesh of {mesh.n_panels}"

@@ -13,10 +13,11 @@ from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_urdf import example_finned_urdf, example_satellite_urdf
 from adbsat_ros.shading import posed_scene
-from adbsat_ros.shading.candidates import CandidateFilter, MeshTopology
+from adbsat_ros.shading.candidates import CandidateFilter
 from adbsat_ros.shading.posed_scene import LinkScenes
 from adbsat_ros.shading.rays import ray_scene
 from adbsat_ros.shading.shader import make_shader
+from adbsat_ros.shading.topology_store import indexed_topology
 
 DIRECTIONS = [(5.0, 3.0), (20.0, 10.0), (-30.0, 100.0), (60.0, -20.0), (170.0, 5.0)]
 
@@ -68,7 +69,9 @@ def test_the_topology_of_the_links_is_that_of_the_posed_mesh(body):
     for values in configurations(body):
         mesh = body.mesh(values)
         lo, hi = mesh.bounds
-        want = CandidateFilter(mesh, float(np.linalg.norm(hi - lo)))
+        want = CandidateFilter(
+            mesh, indexed_topology(mesh, float(np.linalg.norm(hi - lo)), None)[1]
+        )
         got = scenes.candidate_filter(mesh)
         np.testing.assert_array_equal(got.on_hull, want.on_hull)
         assert got.n_components == want.n_components == len(body.link_spans)
@@ -139,8 +142,6 @@ def test_an_embree_scene_of_other_faces_is_refused(body):
 
 def test_a_topology_of_another_mesh_is_refused(body):
     mesh = body.mesh()
-    other = MeshTopology.of(body.link_mesh(next(iter(body.link_spans))), 1.0)
+    _, other = indexed_topology(body.link_mesh(next(iter(body.link_spans))), 1.0, None)
     with pytest.raises(ValueError, match=f"topology of {other.component.size} panels for a mesh"):
         CandidateFilter(mesh, topology=other)
-    with pytest.raises(ValueError, match="needs the mesh's diagonal or its topology"):
-        CandidateFilter(mesh)

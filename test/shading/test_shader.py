@@ -35,6 +35,7 @@ from adbsat_ros.shading.lighting import PanelLighting, lit_projected_area
 from adbsat_ros.shading.projection import adbsat_shadowed
 from adbsat_ros.shading.sampling import sample_coordinates
 from adbsat_ros.shading.shader import make_shader, shade
+from adbsat_ros.shading.topology_store import indexed_topology
 
 
 # ------------------------------------------------------------------------------ cube + plate
@@ -406,7 +407,7 @@ def test_only_closed_convex_components_count_as_convex():
         (dented, False),
     ]:
         lo, hi = mesh.bounds
-        flt = CandidateFilter(mesh, diagonal=float(np.linalg.norm(hi - lo)))
+        flt = CandidateFilter(mesh, indexed_topology(mesh, float(np.linalg.norm(hi - lo)), None)[1])
         assert flt.convex.tolist() == [convex], mesh.source
 
 
@@ -424,7 +425,7 @@ def test_a_convex_part_rounded_to_float32_is_still_convex():
     for vertices, convex in ((rounded, True), (turn.apply(dented), False)):
         mesh = panels_from_arrays(vertices, f, source="slab")
         lo, hi = mesh.bounds
-        flt = CandidateFilter(mesh, diagonal=float(np.linalg.norm(hi - lo)))
+        flt = CandidateFilter(mesh, indexed_topology(mesh, float(np.linalg.norm(hi - lo)), None)[1])
         assert flt.convex.tolist() == [convex]
         assert flt.on_hull.all() == convex
 
