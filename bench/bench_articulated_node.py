@@ -55,13 +55,13 @@ from bench_articulated import (  # noqa: E402
     state,
 )
 from geometry_msgs.msg import QuaternionStamped  # noqa: E402
+from meshes import write_obj  # noqa: E402
 from nav_msgs.msg import Odometry  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 from rclpy.serialization import serialize_message  # noqa: E402
 from sensor_msgs.msg import JointState  # noqa: E402
 
 from adbsat_ros.geometry.articulated import ArticulatedBody  # noqa: E402
-from adbsat_ros.geometry.example_satellite import write_obj  # noqa: E402
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf  # noqa: E402
 from adbsat_ros.ros.node import AdbsatNode  # noqa: E402
 

@@ -30,12 +30,14 @@ import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
 
+from meshes import write_obj  # noqa: E402
+
 from adbsat_ros.bags import io as bag_io  # noqa: E402
 from adbsat_ros.bags import scenario  # noqa: E402
 from adbsat_ros.bags.analysis import analyze_bag  # noqa: E402
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator  # noqa: E402
 from adbsat_ros.estimator.settings import WrenchSettings  # noqa: E402
-from adbsat_ros.geometry.example_satellite import example_satellite, write_obj  # noqa: E402
+from adbsat_ros.geometry.example_satellite import example_satellite  # noqa: E402
 
 
 def main(argv=None) -> int:

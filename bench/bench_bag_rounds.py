@@ -23,11 +23,13 @@ HERE = Path(__file__).resolve().parents[1]
 
 def serve(duration: float) -> None:
     """One tree's side: make the flight, analyse it once, then once per line on stdin."""
+    from meshes import write_obj
+
     from adbsat_ros.bags import io as bag_io
     from adbsat_ros.bags import scenario
     from adbsat_ros.bags.analysis import analyze_bag
     from adbsat_ros.estimator.settings import WrenchSettings
-    from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+    from adbsat_ros.geometry.example_satellite import example_satellite
 
     tmp = Path(tempfile.mkdtemp())
     write_obj(example_satellite(max_edge=0.064), tmp / "sat.obj")

@@ -82,7 +82,9 @@ BOOTSTRAP_GUARD = "_ROS_WHEELS_BOOTSTRAP_COMPLETE"
 
 def write_satellite(folder: Path) -> Path:
     """The example satellite refined to 6,496 faces, as an OBJ file in ``folder``."""
-    from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+    from meshes import write_obj
+
+    from adbsat_ros.geometry.example_satellite import example_satellite
 
     path = folder / "satellite_6496.obj"
     write_obj(example_satellite(max_edge=0.08), path)

@@ -175,7 +175,9 @@ def main() -> None:
         name, _, value = item.partition("=")
         parameters.append(Parameter(name, value=yaml.safe_load(value)))
 
-    from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+    from meshes import write_obj
+
+    from adbsat_ros.geometry.example_satellite import example_satellite
 
     mesh = example_satellite(max_edge=args.max_edge)
     mesh_path = Path(tempfile.mkdtemp()) / "satellite.obj"

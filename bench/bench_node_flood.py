@@ -196,7 +196,9 @@ def main() -> None:
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     if args.role == "publisher":
         return publisher(args.attitudes, args.rate, args.duration, args.ready, args.out)
-    from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+    from meshes import write_obj
+
+    from adbsat_ros.geometry.example_satellite import example_satellite
 
     mesh = example_satellite(max_edge=args.max_edge)
     mesh_path = Path(tempfile.mkdtemp()) / "satellite.obj"

@@ -691,7 +691,9 @@ def main() -> None:
     if args.role == "receiver":
         return receiver(args.duration, args.out)
 
-    from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+    from meshes import write_obj
+
+    from adbsat_ros.geometry.example_satellite import example_satellite
 
     mesh = example_satellite(max_edge=args.max_edge)
     mesh_path = Path(tempfile.mkdtemp()) / "satellite.obj"

@@ -36,8 +36,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this tree's adbsat_ros first
 
+from meshes import grid_box
+
 from adbsat_ros.geometry import frames
-from adbsat_ros.geometry.shapes import combine, grid_box
+from adbsat_ros.geometry.example_satellite import combine
 from adbsat_ros.shading.cache import ShadingCache, moved_lit_area
 from adbsat_ros.shading.lighting import lit_projected_area
 from adbsat_ros.shading.rays import has_embree

@@ -6,8 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.geometry.shapes import combine
+from adbsat_ros.geometry.mesh import PanelMesh, panels_from_arrays
 
 #: Name that stands for this mesh wherever a mesh file is expected.
 EXAMPLE_MESH_NAME = "example"
@@ -48,18 +47,21 @@ def example_satellite(max_edge: float = 0.09) -> PanelMesh:
     )
 
 
-def write_obj(mesh: PanelMesh, path, digits: int = 9) -> None:
-    """Write a PanelMesh as OBJ with ``usemtl`` groups and ``digits`` (1 to 17) significant digits.
-
-    17 reads back the same panels; fewer can tilt a flat face's panels out of one facet.
-    """
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(f"# {mesh.source}\n# {mesh.n_panels} triangles, units: metres\n")
-        for v in mesh.vertices.reshape(-1, 3):
-            fh.write(f"v {v[0]:.{digits}g} {v[1]:.{digits}g} {v[2]:.{digits}g}\n")
-        current = None
-        for i, m in enumerate(mesh.material_index):
-            if m != current:
-                fh.write(f"usemtl {mesh.material_names[m]}\n")
-                current = m
-            fh.write(f"f {3 * i + 1} {3 * i + 2} {3 * i + 3}\n")
+def combine(parts, source: str = "scene", part_materials=None, material_names=None) -> PanelMesh:
+    """One checked PanelMesh of (vertices [m], faces) ``parts``, with their materials."""
+    parts = list(parts)
+    if part_materials is None:
+        part_materials = ["default"] * len(parts)
+    names = (
+        list(material_names) if material_names is not None else list(dict.fromkeys(part_materials))
+    )
+    vertices, faces, material = [], [], []
+    offset = 0
+    for (v, f), name in zip(parts, part_materials):
+        vertices.append(np.asarray(v, dtype=float))
+        faces.append(np.asarray(f) + offset)
+        material.append(np.full(len(f), names.index(name)))
+        offset += len(v)
+    return panels_from_arrays(
+        np.vstack(vertices), np.vstack(faces), np.concatenate(material), names, source=source
+    )

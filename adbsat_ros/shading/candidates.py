@@ -36,26 +36,15 @@ TIE_W2 = _unit(_W2 - (_W2 @ TIE_W1) * TIE_W1)
 def forward_mask(cos_delta: np.ndarray, normals: np.ndarray, graze_tol: float) -> np.ndarray:
     """Forward panels (N,) by the grazing rule, of c_i = -u . n_i and normals (N, 3) in G."""
     forward = cos_delta > graze_tol
-    grazing = np.abs(cos_delta) <= graze_tol
-    if grazing.any():
-        idx = np.flatnonzero(grazing)
-        t1 = -(normals[idx] @ TIE_W1)
-        t2 = -(normals[idx] @ TIE_W2)
-        tie = np.where(np.abs(t1) > 1e-12, t1 > 0.0, t2 > 0.0)
-        forward[idx] = tie
+    grazing = np.flatnonzero(np.abs(cos_delta) <= graze_tol)
+    forward[grazing] = grazing_forward(normals[grazing])
     return forward
 
 
-class FlowBoxes(NamedTuple):
-    """A mesh seen along one flow direction: ``basis`` columns p1, p2 (normal to the flow) and -u,
-    and the boxes of panels and components along them [m]."""
-
-    basis: np.ndarray
-    coords: tuple
-    pmin: tuple
-    pmax: tuple
-    cmin: tuple
-    cmax: tuple
+def grazing_forward(normals: np.ndarray) -> np.ndarray:
+    """Whether panels of normals (N, 3) count as forward when grazing (the tie-break)."""
+    t1, t2 = -(normals @ TIE_W1), -(normals @ TIE_W2)
+    return np.where(np.abs(t1) > 1e-12, t1 > 0.0, t2 > 0.0)
 
 
 class MeshTopology(NamedTuple):
@@ -67,14 +56,12 @@ class MeshTopology(NamedTuple):
     on_hull: np.ndarray
 
     @classmethod
-    def of(cls, mesh: PanelMesh, diagonal: float, indexed: tuple | None = None) -> "MeshTopology":
-        """The topology of ``mesh``, hull tolerance relative to ``diagonal`` [m]."""
+    def of(cls, mesh: PanelMesh, diagonal: float, indexed: tuple) -> "MeshTopology":
+        """The topology of ``mesh`` of merged vertices and faces ``indexed``, hull tolerance
+        relative to ``diagonal`` [m]."""
         import trimesh  # (with the first shader that needs it: not at start-up)
 
-        if indexed is None:
-            tm = mesh.to_trimesh()
-        else:
-            tm = trimesh.Trimesh(vertices=indexed[0], faces=indexed[1], process=False)
+        tm = trimesh.Trimesh(vertices=indexed[0], faces=indexed[1], process=False)
         faces = np.asarray(tm.faces, dtype=np.int64)
         adjacency = np.asarray(tm.face_adjacency, dtype=np.int64).reshape(-1, 2)
         labels = trimesh.graph.connected_component_labels(adjacency, node_count=len(faces))
@@ -133,16 +120,10 @@ def _hull_faces(mesh, component, vertices, faces, diagonal) -> np.ndarray:
 
 
 class CandidateFilter:
-    """Components, hull faces and the filter of panels that could be shaded; ``diagonal`` [m] scales
-    the hull tolerance; ``convex`` (n_components,) marks closed convex components."""
+    """Components, hull faces and the filter of panels that could be shaded, from ``mesh``'s
+    ``topology``; ``convex`` (n_components,) marks closed convex components."""
 
-    def __init__(
-        self, mesh: PanelMesh, diagonal: float | None = None, topology: MeshTopology | None = None
-    ):
-        if topology is None:
-            if diagonal is None:
-                raise ValueError("CandidateFilter needs the mesh's diagonal or its topology")
-            topology = MeshTopology.of(mesh, diagonal)
+    def __init__(self, mesh: PanelMesh, topology: MeshTopology):
         if topology.component.size != mesh.n_panels:
             raise ValueError(
                 f"topology of {topology.component.size} panels for a mesh of {mesh.n_panels}"
@@ -158,35 +139,9 @@ class CandidateFilter:
         off_hull = np.bincount(self.component[~self.on_hull], minlength=self.n_components)
         self.convex = (2 * pairs == 3 * counts) & (off_hull == 0) & (counts > 0)
 
-    def flow_boxes(self, u: np.ndarray) -> FlowBoxes:
-        """The panels and components seen along unit flow direction ``u`` (G)."""
-        basis = perp_basis(-u)
-        coords = coordinates(self.mesh.vertices, basis)  # s grows upstream
-        pmin = tuple(min3(a) for a in coords)  # (N,) each
-        pmax = tuple(max3(a) for a in coords)
-        cmin = tuple(np.minimum.reduceat(a[self._order], self._start) for a in pmin)  # (C,)
-        cmax = tuple(np.maximum.reduceat(a[self._order], self._start) for a in pmax)
-        return FlowBoxes(basis, coords, pmin, pmax, cmin, cmax)
-
-    def occluders(self, boxes: FlowBoxes, panels: np.ndarray) -> np.ndarray:
-        """Which components could shade each of ``panels``, (K, n_components) bool."""
-        pmin, pmax, cmin, cmax = boxes.pmin, boxes.pmax, boxes.cmin, boxes.cmax
-        j = np.asarray(panels)
-        # (C, K): numpy's loops run along the panels
-        overlap = (
-            (cmax[2][:, None] > pmin[2][j])
-            & (cmax[0][:, None] >= pmin[0][j])
-            & (cmin[0][:, None] <= pmax[0][j])
-            & (cmax[1][:, None] >= pmin[1][j])
-            & (cmin[1][:, None] <= pmax[1][j])
-        )
-        overlap[self.component[j], np.arange(j.size)] = False
-        return overlap.T
-
-    def candidates(
-        self, u: np.ndarray, forward: np.ndarray, boxes: FlowBoxes | None = None
-    ) -> np.ndarray:
-        """Ascending indices (K,) of the ``forward`` panels that could be shaded for unit ``u``."""
+    def candidates(self, u: np.ndarray, forward: np.ndarray, _boxes=None) -> np.ndarray:
+        """Ascending indices (K,) of the ``forward`` panels that could be shaded for unit ``u``:
+        those off their hull, and those a component's box normal to the flow overlaps."""
         need = forward & ~self.on_hull
         if self.n_components <= 1:
             return np.flatnonzero(need)
@@ -194,9 +149,20 @@ class CandidateFilter:
             return np.flatnonzero(forward)
         idx = np.flatnonzero(forward & ~need)
         if idx.size:
-            boxes = self.flow_boxes(u) if boxes is None else boxes
+            coords = coordinates(self.mesh.vertices, perp_basis(-u))  # s grows upstream
+            lo, hi = [min3(a) for a in coords], [max3(a) for a in coords]  # (N,) each
+            clo = [np.minimum.reduceat(a[self._order], self._start)[:, None] for a in lo]
+            chi = [np.maximum.reduceat(a[self._order], self._start)[:, None] for a in hi]
             step = max(1, MAX_PAIRS // self.n_components)
             for s in range(0, idx.size, step):
                 j = idx[s : s + step]
-                need[j] = self.occluders(boxes, j).any(axis=1)
+                overlap = (  # (C, K): which components could shade each panel
+                    (chi[2] > lo[2][j])
+                    & (chi[0] >= lo[0][j])
+                    & (clo[0] <= hi[0][j])
+                    & (chi[1] >= lo[1][j])
+                    & (clo[1] <= hi[1][j])
+                )
+                overlap[self.component[j], np.arange(j.size)] = False
+                need[j] = overlap.any(axis=0)
         return np.flatnonzero(need)

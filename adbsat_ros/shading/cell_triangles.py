@@ -31,7 +31,7 @@ class CellTriangulation:
     @functools.cached_property
     def border_triangles(self) -> np.ndarray:
         """Vertex keys (B, 3) of the triangles across cube edges and at corners (made when a
-        direction first falls between faces, or when listed)."""
+        direction first falls between faces)."""
         return _border_triangles(self.n)
 
     @functools.cached_property
@@ -48,7 +48,6 @@ class CellTriangulation:
                 border_of_key.setdefault(key, []).append(t)
         return border_of_key
 
-    # ------------------------------------------------------------------------------ queries
     def locate(self, x: float, y: float, z: float) -> tuple:
         """``(keys, weights)``: the three cell keys around the finite non-zero direction (x, y, z)
         and the weights (non-negative, sum 1) of their centres."""
@@ -94,33 +93,12 @@ class CellTriangulation:
         w /= w.sum()
         return tuple(self.border_triangles[candidates[best]].tolist()), tuple(w.tolist())
 
-    # ------------------------------------------------------------------------------ listing
-    def triangles(self) -> np.ndarray:
-        """Vertex keys of every triangle, shape (12 n^2 - 4, 3)."""
-        n = self.n
-        i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
-        k00 = (i * n + j).reshape(-1)
-        k11 = k00 + n + 1
-        per_face = np.concatenate(
-            [np.stack([k00, k00 + n, k11], axis=1), np.stack([k00, k11, k00 + 1], axis=1)]
-        )
-        faces = [per_face + f * n * n for f in range(6)]
-        return np.concatenate([*faces, self.border_triangles])
-
 
 def _barycentric(vertices: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Weights (M, 3) of u in M triangles (M, 3, 3), rows summing to 1; -inf where facing away."""
     v1, v2, v3 = vertices[:, 0], vertices[:, 1], vertices[:, 2]
-    volume = np.einsum("ij,ij->i", v1, np.cross(v2, v3))
-    w = np.stack(
-        [
-            np.cross(v2, v3) @ u,
-            np.cross(v3, v1) @ u,
-            np.cross(v1, v2) @ u,
-        ],
-        axis=1,
-    )
-    w /= volume[:, None]
+    c23, c31, c12 = np.cross(v2, v3), np.cross(v3, v1), np.cross(v1, v2)
+    w = np.stack([c23 @ u, c31 @ u, c12 @ u], axis=1) / np.einsum("ij,ij->i", v1, c23)[:, None]
     total = w.sum(axis=1, keepdims=True)
     # a triangle on the far side of the sphere (total <= 0) holds no weights for u
     return np.divide(w, total, out=np.full_like(w, -np.inf), where=total > 0.0)

@@ -13,33 +13,14 @@ import numpy as np
 SIDE_TOLERANCE = 16.0 * np.finfo(float).eps
 
 
-def lit_parts(triangles: np.ndarray, outlines) -> tuple:
-    """The part of each triangle outside some convex polygons: its area fraction and centroid.
-
-    triangles: (K, 3, 2), either orientation; outlines: (m, 2) or (K, m, 2), counter-clockwise.
-    Returns fraction (K,) in [0, 1] and centroid (K, 2) (any value where the fraction is 0).
-    """
-    tri = np.asarray(triangles, dtype=float)
-    k, n = tri.shape[0], len(outlines)
-    corners = [[np.broadcast_to(a, (a.shape[0], k)) for a in _columns(o, k)] for o in outlines]
-    most = max([len(x) for x, _ in corners], default=1)
-    table = np.zeros((4, most, n * k + 1))  # (the edges a -> b past a polygon's own: a = b)
-    for i, (x, y) in enumerate(corners):
-        columns = slice(i * k, (i + 1) * k)
-        table[:, :, columns] = np.stack([x[-1], y[-1]] * 2)[:, None]
-        table[:, : len(x), columns] = np.stack([x, y, _rolled(x), _rolled(y)])
-    index = np.arange(n * k).reshape(n, k).T
-    return lit_parts_of_edges(tri[:, :, 0].T, tri[:, :, 1].T, table, index)
-
-
 def lit_parts_of_edges(tx, ty, table: np.ndarray, index: np.ndarray) -> tuple:
-    """:func:`lit_parts` of triangles ``tx``, ``ty`` (3, K) and polygons given as half-planes:
+    """The part of triangles ``tx``, ``ty`` (3, K) outside convex polygons given as half-planes:
     ``table`` (4, E, R + 1) holds the edges a -> b, ``(ax, ay, bx, by)``, of R polygons, each
     left of its edges (an edge with a = b bounds nothing; the last column none), and ``index``
     (K, n) says which polygons each triangle has (R: none in that slot)."""
     tx, ty = np.ascontiguousarray(tx, dtype=float), np.ascontiguousarray(ty, dtype=float)
     k, n = tx.shape[1], index.shape[1]
-    area_t, cx_t, cy_t = _triangle_area_centroid(tx, ty)
+    area_t, cx_t, cy_t = _area_centroid(tx, ty, 3)
     centroid_t = np.stack([cx_t, cy_t], axis=1)
     if n == 0 or k == 0:  # nothing covers them
         return np.ones(k), centroid_t
@@ -63,16 +44,6 @@ def lit_parts_of_edges(tx, ty, table: np.ndarray, index: np.ndarray) -> tuple:
         centroid = np.stack([area_t * cx_t - mx, area_t * cy_t - my], axis=1) / lit[:, None]
     centroid = np.where((area_u > 0.0)[:, None], centroid, centroid_t)
     return fraction, np.where(np.isfinite(centroid), centroid, centroid_t)
-
-
-def _columns(outline, k: int) -> tuple:
-    """A polygon's x and y as (m, 1) or (m, K) arrays, from its (m, 2) or (K, m, 2) corners."""
-    points = np.asarray(outline, dtype=float)
-    if points.ndim == 2:
-        return points[:, 0:1], points[:, 1:2]
-    if points.shape[0] != k:
-        raise ValueError(f"outlines: {points.shape[0]} polygons for {k} triangles")
-    return np.ascontiguousarray(points[:, :, 0].T), np.ascontiguousarray(points[:, :, 1].T)
 
 
 def _covered(tx, ty, area_t, cx_t, cy_t, edges) -> tuple:
@@ -157,18 +128,6 @@ def _area_centroid(px, py, count) -> tuple:
         return np.abs(0.5 * twice), cx / (3.0 * twice), cy / (3.0 * twice)
 
 
-def _triangle_area_centroid(tx, ty) -> tuple:
-    """:func:`_area_centroid` of triangles ``tx``, ``ty`` (3, K), operation for operation."""
-    x0, x1, x2 = tx
-    y0, y1, y2 = ty
-    c0, c1, c2 = x0 * y1 - x1 * y0, x1 * y2 - x2 * y1, x2 * y0 - x0 * y2
-    twice = c0 + c1 + c2
-    cx = (x0 + x1) * c0 + (x1 + x2) * c1 + (x2 + x0) * c2
-    cy = (y0 + y1) * c0 + (y1 + y2) * c1 + (y2 + y0) * c2
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.abs(0.5 * twice), cx / (3.0 * twice), cy / (3.0 * twice)
-
-
 def _edges(px, py, count) -> tuple:
     """Edges p -> q of polygons (capacity, K): corner slots, successors, last slots."""
     capacity, k = px.shape
@@ -179,11 +138,6 @@ def _edges(px, py, count) -> tuple:
 
 def _successors(values, last) -> np.ndarray:
     """Each corner's value at its successor (the first after the polygon's ``last``)."""
-    q = _rolled(values)
+    q = np.roll(values, -1, axis=0)
     q[last] = values[0]
     return q
-
-
-def _rolled(values) -> np.ndarray:
-    """``np.roll(values, -1, axis=0)`` without its general-axis overhead."""
-    return np.concatenate((values[1:], values[:1]))

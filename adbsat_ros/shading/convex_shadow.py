@@ -7,32 +7,24 @@ from __future__ import annotations
 import numpy as np
 
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.shading.candidates import TIE_W1, TIE_W2
+from adbsat_ros.shading.candidates import grazing_forward
 from adbsat_ros.shading.clipping import lit_parts_of_edges
 from adbsat_ros.shading.flow_plane import MAX_PAIRS, perp_bases
 
-#: Most convex parts whose shadows on one panel are joined exactly (their union is summed by
-#: inclusion-exclusion over 2^n - 1 intersections).
+#: Most convex parts whose shadows on one panel are joined exactly (by inclusion-exclusion).
 MAX_OCCLUDERS = 3
-#: A part the panel's plane cuts is cut through the segments between each pair of its corners
-#: on the two sides; beyond this many corners (a finely divided cylinder) its panels are left
-#: to the rays.
+#: A part the panel's plane cuts, of more corners than this (a finely divided cylinder), and
+#: panels on more planes than ``MAX_CUT_PLANES`` behind the same parts, are left to the rays.
 MAX_CUT_CORNERS = 64
-#: The cut is made once per plane. Panels on more planes than this behind the same parts (the
-#: facets of a curved surface) are left to their rays.
 MAX_CUT_PLANES = 32
-#: A convex part counts as wholly in front of a panel if each of its hull corners is at least
-#: this fraction of the mesh's bounding-box diagonal in front of the panel's plane (and as
-#: wholly behind if none is).
+#: A part is wholly in front of a panel's plane if each hull corner is at least this fraction
+#: of the bounding-box diagonal in front of it (wholly behind if none is).
 FRONT_TOL_FRACTION = 1e-9
-#: An outline whose area is below this fraction of the square of its extent spans no area (a
-#: part seen edge-on): its panels are left to the rays; nor is a corner one whose triangle with
-#: its two neighbours has an area below it (it lies on their line up to rounding).
+#: An outline of an area below this fraction of its extent squared spans none (a part seen
+#: edge-on: its panels are left to the rays).
 FLAT_OUTLINE = 1e-12
-#: Panels share a plane if their unit normals and their planes' offsets (as fractions of the
-#: bounding-box diagonal) agree to this many decimals: the rounding of a mesh's vertices
-#: (float32 in a binary STL, nine digits in an OBJ) tilts the panels of one flat face by up to
-#: about 1e-7, and a plane a millionth of the body's size off moves a shadow by as much.
+#: Panels share a plane if their unit normals and offsets (fractions of the diagonal) agree to
+#: this many decimals: a mesh's rounding (float32 STL, 9-digit OBJ) tilts a flat face's panels.
 PLANE_DIGITS = 6
 #: A part's shadow body for a panel: behind the panel's plane (no shadow), left to the rays,
 #: not yet made.
@@ -54,12 +46,10 @@ class ConvexParts:
         self.graze_tol = graze_tol
         self._corners = dict(corners or {})  # component -> its hull corners (h, 3)
         self._table = None  # what does not depend on the flow (:meth:`_panels_and_parts`)
-        normals = mesh.normals
-        t1, t2 = -(normals @ TIE_W1), -(normals @ TIE_W2)  # (the grazing rule's tie-break)
-        self._tie = np.where(np.abs(t1) > 1e-12, t1 > 0.0, t2 > 0.0)
+        self._tie = grazing_forward(mesh.normals)
         # [coordinate, corner x panel] (3, 3N), normals (3, N)
         self._vertices = np.ascontiguousarray(mesh.vertices.transpose(2, 1, 0).reshape(3, -1))
-        self._normals = np.ascontiguousarray(normals.T)
+        self._normals = np.ascontiguousarray(mesh.normals.T)
         hulls = [self.corners(c) for c in range(candidate_filter.n_components)]
         self._hulls = np.ascontiguousarray(np.concatenate(hulls).T)  # (3, H)
         self._hull_start = np.cumsum([0] + [len(h) for h in hulls[:-1]])

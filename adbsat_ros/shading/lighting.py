@@ -141,24 +141,9 @@ class LightingBlend:
 
     def __getattr__(self, name):
         """The per-panel views of :attr:`combined`, as :class:`PanelLighting` gives them."""
-        if name in _COMBINED_VIEWS:
-            return getattr(self.combined, name)
-        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-
-
-#: What a :class:`LightingBlend` reads from its combined lighting.
-_COMBINED_VIEWS = frozenset(
-    (
-        "lit_fraction",
-        "shaded_index",
-        "shaded_fraction",
-        "shift_index",
-        "shift",
-        "shift_fraction",
-        "shaded",
-        "partly_lit",
-    )
-)
+        if name.startswith("_") or not hasattr(PanelLighting, name):
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        return getattr(self.combined, name)
 
 
 def panel_range(lighting, start: int, stop: int, rotation=None):

@@ -10,6 +10,7 @@ from adbsat_ros.geometry.mesh import PanelMesh
 from adbsat_ros.shading.candidates import CandidateFilter, MeshTopology
 from adbsat_ros.shading.convex_shadow import hull_corners
 from adbsat_ros.shading.rays import RayScene, ray_scene, resolve_backend
+from adbsat_ros.shading.topology_store import indexed_topology
 
 
 class LinkScenes:
@@ -25,18 +26,14 @@ class LinkScenes:
         self._hulls = []  # (link, component of the body, its hull corners in the link's frame)
         first = components = 0
         for k, link in enumerate(self._links):
-            mesh = body.link_mesh(link)
-            tm = mesh.to_trimesh()
-            vertices = np.asarray(tm.vertices, dtype=float)
-            link_faces = np.asarray(tm.faces, dtype=np.int64)
+            (vertices, indices), topology = indexed_topology(body.link_mesh(link), diagonal, None)
             self._vertices.append(vertices)
-            faces.append(link_faces + first)
+            faces.append(indices + first)
             first += len(vertices)
-            topology = MeshTopology.of(mesh, diagonal, (tm.vertices, tm.faces))
             topologies.append(topology)
             n_components = int(topology.component.max()) + 1 if topology.component.size else 0
             for c in range(n_components):
-                own = np.unique(link_faces[topology.component == c])
+                own = np.unique(indices[topology.component == c])
                 self._hulls.append((k, components + c, hull_corners(vertices[own])))
             components += n_components
         self._faces = np.concatenate(faces)
@@ -79,24 +76,10 @@ class DeferredScene:
         self._build = build
         self._scene: RayScene | None = None
 
-    @property
-    def built(self) -> bool:
-        """Whether the scene has been built."""
-        return self._scene is not None
-
-    def _ready(self) -> RayScene:
+    def __getattr__(self, name):
+        """The scene's ``any_hit``, ``first_face`` and ``first_hit`` (:class:`RayScene`)."""
+        if name.startswith("_"):
+            raise AttributeError(name)
         if self._scene is None:
             self._scene = self._build()
-        return self._scene
-
-    def any_hit(self, origins, direction, occluder=None) -> np.ndarray:
-        """:meth:`RayScene.any_hit`."""
-        return self._ready().any_hit(origins, direction, occluder)
-
-    def first_face(self, origins, direction, occluder=None) -> np.ndarray:
-        """:meth:`RayScene.first_face`."""
-        return self._ready().first_face(origins, direction, occluder)
-
-    def first_hit(self, origins, directions) -> tuple:
-        """:meth:`RayScene.first_hit`."""
-        return self._ready().first_hit(origins, directions)
+        return getattr(self._scene, name)

@@ -16,7 +16,6 @@ ADBSAT_AXIAL_TOL = 1e-4
 ADBSAT_DOWNSTREAM_TOL = 1e-5
 
 
-# ---------------------------------------------------------------------------------- ADBSat
 def adbsat_shadowed(mesh: PanelMesh, u_G, max_pairs: int = MAX_PAIRS) -> np.ndarray:
     """Panels ADBSat's ``shadowAnaly`` marks as shadowed, (N,) bool, for gas-flow direction ``u_G``
     (G).

@@ -26,15 +26,11 @@ def panel_shifts(panel_index) -> np.ndarray:
     i = np.asarray(panel_index, dtype=np.uint64)
     h1 = _splitmix64(2 * i)
     h2 = _splitmix64(2 * i + np.uint64(1))
-    scale = 1.0 / float(1 << 53)
-    return np.stack(
-        [(h1 >> np.uint64(11)).astype(float) * scale, (h2 >> np.uint64(11)).astype(float) * scale],
-        axis=-1,
-    )
+    return (np.stack([h1, h2], axis=-1) >> np.uint64(11)).astype(float) * (1.0 / float(1 << 53))
 
 
 def sample_coordinates(panel_index, start: int, count: int):
-    """Triangle coordinates ``a, b`` (K, count) of :func:`sample_barycentric`."""
+    """Triangle coordinates ``a, b`` (K, count) of points start .. start+count-1 of each panel."""
     shifts = panel_shifts(panel_index)
     k = np.arange(start, start + count, dtype=float)
     base = k[:, None] * _R2_ALPHA[None, :]
@@ -46,12 +42,6 @@ def sample_coordinates(panel_index, start: int, count: int):
     return np.where(fold, 1.0 - a, a), np.where(fold, 1.0 - b, b)
 
 
-def sample_barycentric(panel_index, start: int, count: int) -> np.ndarray:
-    """Triangle coordinates (K, count, 2) of points start .. start+count-1 of each panel."""
-    a, b = sample_coordinates(panel_index, start, count)
-    return np.stack([a, b], axis=-1)
-
-
 def sample_points(vertices: np.ndarray, a: np.ndarray, b: np.ndarray, lift=None) -> np.ndarray:
     """Points P1 + a (P2 - P1) + b (P3 - P1) + lift on triangles, (K, S, 3) [m]."""
     v0 = vertices[:, 0, :]
@@ -59,7 +49,4 @@ def sample_points(vertices: np.ndarray, a: np.ndarray, b: np.ndarray, lift=None)
     e2 = vertices[:, 2, :] - v0
     if lift is not None:
         v0 = v0 + lift
-    out = np.empty(a.shape + (3,))
-    for j in range(3):  # three coordinates
-        out[..., j] = v0[:, j, None] + a * e1[:, j, None] + b * e2[:, j, None]
-    return out
+    return v0[:, None] + a[..., None] * e1[:, None] + b[..., None] * e2[:, None]

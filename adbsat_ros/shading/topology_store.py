@@ -8,10 +8,10 @@ import hashlib
 import numpy as np
 
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.npz_store import NpzStore, shared_store
+from adbsat_ros.npz_store import NpzStore
 from adbsat_ros.shading.candidates import MeshTopology
 
-_ARRAYS = ("vertices", "faces", "adjacency", "component", "on_hull")
+_ARRAYS = ("vertices", "faces", *MeshTopology._fields)
 
 
 class TopologyStore(NpzStore):
@@ -32,27 +32,12 @@ class TopologyStore(NpzStore):
         data = self.read(key, _ARRAYS)
         if data is None:
             return None
-        indexed = (data["vertices"], data["faces"])
-        return indexed, MeshTopology(data["adjacency"], data["component"], data["on_hull"])
+        return (data["vertices"], data["faces"]), MeshTopology(*(data[a] for a in _ARRAYS[2:]))
 
     def put(self, key: str, indexed: tuple, topology: MeshTopology) -> None:
         """Keep the merged vertices and faces ``indexed`` and the ``topology`` for ``key``."""
-        vertices, faces = indexed
-        self.write(
-            key,
-            {
-                "vertices": np.asarray(vertices, dtype=float),
-                "faces": np.asarray(faces, dtype=np.int64),
-                "adjacency": topology.adjacency,
-                "component": topology.component,
-                "on_hull": topology.on_hull,
-            },
-        )
-
-
-def default_store() -> TopologyStore | None:
-    """The store of ``$ADBSAT_ROS_CACHE_DIR/topology``, or None if the stores are off."""
-    return shared_store(TopologyStore)
+        vertices, faces = np.asarray(indexed[0], dtype=float), np.asarray(indexed[1], np.int64)
+        self.write(key, dict(zip(_ARRAYS, (vertices, faces, *topology))))
 
 
 def indexed_topology(mesh: PanelMesh, diagonal: float, store: TopologyStore | None) -> tuple:

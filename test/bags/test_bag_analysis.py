@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from meshes import grid_box
 from rosbags.rosbag2 import Reader
 
 from adbsat_ros.bags import io as bag_io
@@ -19,7 +20,6 @@ from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.samples import Rejection
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import panels_from_arrays
-from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.processes import usable_cpus
 

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 import pytest
+from meshes import grid_box
 
 from adbsat_ros.environment.earth_frames import earth_orientation
 from adbsat_ros.environment.sun import sun_position_eci, sun_state
@@ -17,7 +18,6 @@ from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.mesh import panels_from_arrays
-from adbsat_ros.geometry.shapes import grid_box
 
 EPOCH = dt.datetime(2026, 3, 20, 12, 0, 0)
 R = 6378137.0 + 500e3

@@ -11,10 +11,9 @@ import pytest
 from fin_cases import FIN_URDF, newton_hinge_torque, rotation_y
 
 from adbsat_ros.geometry.articulated import ArticulatedBody
-from adbsat_ros.geometry.example_satellite import BODY_SIZE, WING_GAP, WING_X_CENTRE
+from adbsat_ros.geometry.example_satellite import BODY_SIZE, WING_GAP, WING_X_CENTRE, combine
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf
 from adbsat_ros.geometry.mesh import MeshError
-from adbsat_ros.geometry.shapes import combine
 from adbsat_ros.physics.freestream import FreeStream
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.shading.shader import make_shader

@@ -6,8 +6,9 @@ import math
 import numpy as np
 import pytest
 import trimesh
+from meshes import write_obj
 
-from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+from adbsat_ros.geometry.example_satellite import example_satellite
 from adbsat_ros.geometry.loading import load_mesh, resolve_mesh
 from adbsat_ros.geometry.mesh import MeshError, panels_from_arrays, triangle_geometry
 

@@ -9,8 +9,9 @@ import sys
 import numpy as np
 import pytest
 import trimesh
+from meshes import write_obj
 
-from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+from adbsat_ros.geometry.example_satellite import example_satellite
 from adbsat_ros.geometry.loading import load_mesh
 from adbsat_ros.geometry.mesh import MeshError
 from adbsat_ros.geometry.mesh_store import MeshStore

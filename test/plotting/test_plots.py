@@ -17,6 +17,7 @@ import re
 import numpy as np
 import pytest
 from matplotlib.image import imread
+from meshes import grid_box, write_obj
 
 from adbsat_ros import FreeStream, PanelMethod
 from adbsat_ros.cli import main
@@ -24,9 +25,8 @@ from adbsat_ros.cli.plot import default_angle
 from adbsat_ros.database.build import build_database
 from adbsat_ros.database.format import load_database
 from adbsat_ros.geometry import frames
-from adbsat_ros.geometry.example_satellite import write_obj
+from adbsat_ros.geometry.example_satellite import combine
 from adbsat_ros.geometry.loading import resolve_mesh
-from adbsat_ros.geometry.shapes import combine, grid_box
 from adbsat_ros.physics.model import build_model
 from adbsat_ros.physics.setup import Setup, ShadingPolicy
 from adbsat_ros.plotting import coefficients, figures, panels, time_series

@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 import rclpy
+from meshes import grid_box, write_obj
 from rclpy.parameter import Parameter
 from ros_harness import Peer, circular_orbit_state, make_context, stamp_to_float
 
@@ -30,10 +31,8 @@ from adbsat_ros.environment.flight_conditions import flight_conditions
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.settings import WrenchSettings
-from adbsat_ros.geometry.example_satellite import write_obj
 from adbsat_ros.geometry.loading import load_mesh
 from adbsat_ros.geometry.mesh import panels_from_arrays
-from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.physics.coefficients import Reference
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.ros.node import AdbsatNode

@@ -10,11 +10,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from meshes import grid_box
 
 from adbsat_ros import FreeStream
+from adbsat_ros.geometry.example_satellite import combine as join_parts
 from adbsat_ros.geometry.mesh import panels_from_arrays
-from adbsat_ros.geometry.shapes import combine as join_parts
-from adbsat_ros.geometry.shapes import grid_box
 
 
 def combine(*parts, source="scene"):

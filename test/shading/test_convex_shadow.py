@@ -9,11 +9,27 @@ import numpy as np
 import pytest
 from scipy.spatial import ConvexHull
 
-from adbsat_ros.shading.clipping import lit_parts, lit_parts_of_edges
+from adbsat_ros.shading.clipping import lit_parts_of_edges
 from adbsat_ros.shading.convex_shadow import hull_edges
 
 #: A right triangle with legs 4 along x and y: area 8, centroid (4/3, 4/3).
 TRIANGLE = np.array([[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]])
+
+
+def lit_parts(triangles, outlines):
+    """The lit fraction and centroid of triangles (K, 3, 2) outside convex polygons, each (m, 2)
+    or one per triangle (K, m, 2), counter-clockwise: their edges made the half-plane table."""
+    tri = np.asarray(triangles, dtype=float)
+    k, n = len(tri), len(outlines)
+    shaped = [np.broadcast_to(np.asarray(o, float), (k, np.shape(o)[-2], 2)) for o in outlines]
+    table = np.zeros((4, max([p.shape[1] for p in shaped], default=1), n * k + 1))
+    for i, p in enumerate(shaped):
+        x, y = p[:, :, 0].T, p[:, :, 1].T
+        columns = slice(i * k, (i + 1) * k)
+        table[:, :, columns] = np.stack([x[-1], y[-1]] * 2)[:, None]  # (past its edges: a = b)
+        table[:, : len(x), columns] = np.stack([x, y, np.roll(x, -1, 0), np.roll(y, -1, 0)])
+    index = np.arange(n * k).reshape(n, k).T
+    return lit_parts_of_edges(tri[:, :, 0].T, tri[:, :, 1].T, table, index)
 
 
 def square(x0, y0, side):

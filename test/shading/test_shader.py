@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 import trimesh
+from meshes import grid_box
 from scipy.spatial.transform import Rotation
 from shading_scenes import (
     FLOW,
@@ -29,12 +30,12 @@ from adbsat_ros import PanelMethod
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.loading import panels_from_trimesh
 from adbsat_ros.geometry.mesh import panels_from_arrays
-from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.shading.candidates import CandidateFilter, forward_mask
 from adbsat_ros.shading.lighting import PanelLighting, lit_projected_area
 from adbsat_ros.shading.projection import adbsat_shadowed
-from adbsat_ros.shading.sampling import sample_barycentric
+from adbsat_ros.shading.sampling import sample_coordinates
 from adbsat_ros.shading.shader import make_shader, shade
+from adbsat_ros.shading.topology_store import indexed_topology
 
 
 # ------------------------------------------------------------------------------ cube + plate
@@ -406,7 +407,7 @@ def test_only_closed_convex_components_count_as_convex():
         (dented, False),
     ]:
         lo, hi = mesh.bounds
-        flt = CandidateFilter(mesh, diagonal=float(np.linalg.norm(hi - lo)))
+        flt = CandidateFilter(mesh, indexed_topology(mesh, float(np.linalg.norm(hi - lo)), None)[1])
         assert flt.convex.tolist() == [convex], mesh.source
 
 
@@ -424,7 +425,7 @@ def test_a_convex_part_rounded_to_float32_is_still_convex():
     for vertices, convex in ((rounded, True), (turn.apply(dented), False)):
         mesh = panels_from_arrays(vertices, f, source="slab")
         lo, hi = mesh.bounds
-        flt = CandidateFilter(mesh, diagonal=float(np.linalg.norm(hi - lo)))
+        flt = CandidateFilter(mesh, indexed_topology(mesh, float(np.linalg.norm(hi - lo)), None)[1])
         assert flt.convex.tolist() == [convex]
         assert flt.on_hull.all() == convex
 
@@ -450,11 +451,11 @@ def test_dented_box_pit_is_shaded():
 
 
 def test_sample_pattern_is_uniform_and_deterministic():
-    ab = sample_barycentric(np.arange(2000), 0, 64)
+    ab = np.stack(sample_coordinates(np.arange(2000), 0, 64), axis=-1)
     assert np.all(ab >= 0) and np.all(ab.sum(-1) <= 1)
     # uniform on the triangle: mean of barycentric coordinates 1/3 each
     assert np.allclose(ab.reshape(-1, 2).mean(axis=0), 1 / 3, atol=2e-3)
-    np.testing.assert_array_equal(ab, sample_barycentric(np.arange(2000), 0, 64))
+    np.testing.assert_array_equal(ab[..., 0], sample_coordinates(np.arange(2000), 0, 64)[0])
     # per-panel shifts differ
     assert not np.allclose(ab[0], ab[1])
 

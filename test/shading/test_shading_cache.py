@@ -9,13 +9,13 @@ import math
 
 import numpy as np
 import pytest
+from meshes import grid_box
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.example_urdf import example_satellite_urdf
 from adbsat_ros.geometry.mesh import panels_from_arrays
 from adbsat_ros.geometry.poses import Joint
-from adbsat_ros.geometry.shapes import grid_box
 from adbsat_ros.shading import joint_grid
 from adbsat_ros.shading.cache import Cell, ShadingCache, moved_lit_area
 from adbsat_ros.shading.cube_map import cells_per_edge, direction_keys, key_centres

@@ -6,9 +6,10 @@ import sys
 
 import numpy as np
 import pytest
+from meshes import write_obj
 
 from adbsat_ros.geometry import frames
-from adbsat_ros.geometry.example_satellite import example_satellite, write_obj
+from adbsat_ros.geometry.example_satellite import example_satellite
 from adbsat_ros.npz_store import CACHE_DIR_VARIABLE
 from adbsat_ros.shading.shader import make_shader
 from adbsat_ros.shading.topology_store import TopologyStore
