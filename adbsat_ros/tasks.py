@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import functools
 import logging
 import multiprocessing
 import os
@@ -84,17 +85,14 @@ class ForkedJob:
         return _FORKED[self.key].setup()
 
 
-_MALLOC = {"set": False}
 #: glibc's ``mallopt`` parameters (malloc.h) and the values a worker sets.
 M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3
 TRIM_THRESHOLD, MMAP_THRESHOLD = 512 << 20, 32 << 20
 
 
+@functools.cache
 def keep_freed_memory() -> None:
-    """Make glibc keep the memory this process frees for its next allocations."""
-    if _MALLOC["set"]:
-        return
-    _MALLOC["set"] = True
+    """Make glibc keep the memory this process frees for its next allocations (once)."""
     try:
         libc = ctypes.CDLL(None)
         libc.mallopt(M_TRIM_THRESHOLD, TRIM_THRESHOLD)
@@ -301,23 +299,17 @@ def worker_environment() -> dict:
     return environment
 
 
-class _quiet_distributed:
+@contextlib.contextmanager
+def _quiet_distributed():
     """Dask's loggers at CRITICAL while inside (its INFO lines would bury a progress bar)."""
+    import distributed  # noqa: F401  (its loggers exist from here on)
 
-    def __enter__(self):
-        import distributed  # noqa: F401  (its loggers exist from here on)
-
-        self._saved = [
-            (logger, logger.level)
-            for name in list(logging.root.manager.loggerDict)
-            if name.split(".")[0] == "distributed"
-            for logger in [logging.getLogger(name)]
-        ]
-        for logger, _ in self._saved:
-            logger.setLevel(logging.CRITICAL)
-        return self
-
-    def __exit__(self, *exc):
-        for logger, level in self._saved:
+    names = [n for n in list(logging.root.manager.loggerDict) if n.split(".")[0] == "distributed"]
+    saved = [(logger, logger.level) for logger in map(logging.getLogger, names)]
+    for logger, _ in saved:
+        logger.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        for logger, level in saved:
             logger.setLevel(level)
-        return False

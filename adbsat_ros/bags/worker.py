@@ -179,13 +179,13 @@ class WorkerModel:
 class Worker:
     """The models of one process, from ``specs`` (WrenchSettings, PanelMesh), one per model."""
 
-    def __init__(self, specs, stop=None):
+    def __init__(self, specs, stopped=None):
         self.models = [WorkerModel(settings, mesh) for settings, mesh in specs]
         self.extras = tuple(model_extra_columns(m.estimator) for m in self.models)
-        self.stop = stop
+        self.stopped = stopped
 
     def run(self, chunk) -> ChunkResult:
-        """Replay ``chunk`` (kinds, CDR bytes); once :attr:`stop` is set, end after this message."""
+        """Replay ``chunk`` (kinds, CDR bytes); once ``stopped()``, end after this message."""
         kinds, raws = chunk
         models = self.models
         for m in models:
@@ -220,7 +220,7 @@ class Worker:
                 row = Row(stamp.sec, stamp.nanosec, utc, cells, plot)
             records.append(tuple(m.record(o) for m, o in zip(models, outcomes)))
             rows.append(row)
-            if self.stop is not None and self.stop.value:
+            if self.stopped is not None and self.stopped():
                 break
         return ChunkResult(records, rows)
 
@@ -232,7 +232,7 @@ def _init_worker(specs, parent: int, stop) -> None:
     """Pool initializer: the estimators, once per process; stops are left to the parent."""
     global _WORKER
     die_with_parent(parent, stops_to_parent=True)
-    _WORKER = Worker(specs, stop)
+    _WORKER = Worker(specs, lambda: stop.value)
 
 
 def _run_chunk(chunk) -> ChunkResult:
@@ -253,7 +253,7 @@ def chunk_results(specs, chunks, workers: int, stop=None, planned: int | None = 
 def _chunk_results(specs, chunks, workers: int, stop, planned, report):
     if workers <= 1 or planned is not None:
         started = time.perf_counter()
-        worker = Worker(specs, None if stop is None else _EventFlag(stop))
+        worker = Worker(specs, None if stop is None else stop.is_set)
         setup_s = time.perf_counter() - started
         left = planned or 0
         first = fastest = None
@@ -300,17 +300,6 @@ def _chunk_results(specs, chunks, workers: int, stop, planned, report):
             halt.value = 1
             for future in pending:
                 future.cancel()
-
-
-class _EventFlag:
-    """A :class:`threading.Event` read as the workers' shared flag is (``value``)."""
-
-    def __init__(self, event):
-        self.event = event
-
-    @property
-    def value(self) -> bool:
-        return self.event.is_set()
 
 
 def _result(future, stop, halt) -> ChunkResult:

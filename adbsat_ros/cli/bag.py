@@ -97,7 +97,7 @@ BAG_COMMANDS = {
 
 def models_from_args(args) -> list:
     """[(label, WrenchSettings)] from --params/--label; errors name the file or option."""
-    from adbsat_ros.bags import analysis as bag_analysis
+    from adbsat_ros.bags.report import NODE_NAME, label_from_name
     from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
 
     if args.label and len(args.label) != max(len(args.params), 1):
@@ -112,7 +112,7 @@ def models_from_args(args) -> list:
     models = []
     for i, path in enumerate(args.params):
         try:
-            settings = settings_from_file(path, bag_analysis.NODE_NAME)
+            settings = settings_from_file(path, NODE_NAME)
             if overrides:
                 settings = WrenchSettings.from_parameters(settings.as_parameters(), **overrides)
         except ValueError as exc:  # (its text starts with the file's name)
@@ -120,7 +120,7 @@ def models_from_args(args) -> list:
         if args.label:
             label = _label(args.label[i], "--label")
         else:
-            label = bag_analysis.label_from_name(Path(path).stem)
+            label = label_from_name(Path(path).stem)
         models.append((label, settings))
     labels = [label for label, _ in models]
     if len(set(labels)) != len(labels):
@@ -131,7 +131,7 @@ def models_from_args(args) -> list:
 
 
 def _label(text, option):
-    from adbsat_ros.bags.analysis import check_label
+    from adbsat_ros.bags.report import check_label
 
     try:
         return check_label(text)

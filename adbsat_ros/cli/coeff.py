@@ -43,11 +43,6 @@ def configure(p) -> None:
     p.set_defaults(func=run)
 
 
-#: Exit status of a run stopped by SIGINT or SIGTERM (its results so far are written), as for
-#: the other long commands (bag analyze, database): the command did not finish.
-INTERRUPTED = INTERRUPTED_STATUS
-
-
 def run(args) -> int:
     """Run ``adbsat-ros coeff``; on a signal, the attitudes done are written; the exit status."""
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
@@ -90,7 +85,7 @@ def run(args) -> int:
         a, b, r = first
         path = plot_panel_pressure(model, flow, a, b, args.plot, view=view, result=r)
         print(f"wrote {path}", file=sys.stderr)
-    return INTERRUPTED if stopped else 0
+    return INTERRUPTED_STATUS if stopped else 0
 
 
 def _attitude(args, model, flow, a, b) -> tuple:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 
 from adbsat_ros.bounds import bounded
@@ -67,7 +68,10 @@ def add_setup_arguments(parser: argparse.ArgumentParser, **solver) -> None:
     option(g, "--alpha", help, fraction, default=1.0)
     option(g, "--alpha-n", "CLL normal energy accommodation", fraction, default=1.0)
     help = "normal momentum accommodation (schaaf, storch), in [0, 2)"
-    option(g, "--sigma-n", help, _below_two, default=1.0)
+    below_two = functools.partial(
+        number, low=0.0, high=math.nextafter(2.0, 0.0), what="a number in [0, 2)"
+    )
+    option(g, "--sigma-n", help, below_two, default=1.0)
     help = "tangential momentum accommodation (schaaf, storch, cll)"
     option(g, "--sigma-t", help, fraction, default=1.0)
     help = "wall temperature [K] (default 300)"
@@ -101,11 +105,6 @@ def add_setup_arguments(parser: argparse.ArgumentParser, **solver) -> None:
     )
     option(g, "--samples", "ray samples per panel for raycast (default 16)", type=int, default=16)
     add_solver_arguments(parser, **solver)
-
-
-def _below_two(option: str):
-    """An argparse ``type`` for a number in [0, 2) (``--sigma-n``)."""
-    return number(option, low=0.0, high=math.nextafter(2.0, 0.0), what="a number in [0, 2)")
 
 
 def parse_species(text: str) -> dict:

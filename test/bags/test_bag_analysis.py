@@ -13,7 +13,9 @@ from rosbags.rosbag2 import Reader
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import scenario
 from adbsat_ros.bags import worker as bag_worker
-from adbsat_ros.bags.analysis import MODEL_COLUMNS, analyze_bag, safe_split_points
+from adbsat_ros.bags.analysis import analyze_bag
+from adbsat_ros.bags.planning import safe_split_points
+from adbsat_ros.bags.table import MODEL_COLUMNS
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.samples import Rejection
