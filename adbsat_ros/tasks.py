@@ -113,7 +113,7 @@ def run_chunks(
 ) -> TaskReport:
     """Compute every chunk of ``job`` and call ``on_result(index, result)`` here as each finishes.
 
-    chunks: index -> chunk (picklable); ``on_result`` is called in this process as each finishes.
+    chunks: index -> chunk (picklable).
     scheduler: a running Dask scheduler's address (``tcp://host:8786``); None: this machine.
     workers: processes without ``scheduler`` (1: this process). None: every usable CPU, started
       only once the chunks left, timed here one by one, are worth them (:func:`worth_workers`).

@@ -324,24 +324,13 @@ def write_scenario_bag(
     def records():
         for t_ns, kind, i in events:
             if kind == 0:
-                yield (
-                    state_topic,
-                    t_ns,
-                    odometry_message(
-                        t_ns,
-                        frame_id,
-                        frame_id,
-                        states.position_eci[i],
-                        states.velocity_eci[i],
-                        orientation_xyzw=_orientation_at(attitudes, t_ns),
-                    ),
-                )
+                position, velocity = states.position_eci[i], states.velocity_eci[i]
+                pose = _orientation_at(attitudes, t_ns)
+                msg = odometry_message(t_ns, frame_id, frame_id, position, velocity, pose)
+                yield state_topic, t_ns, msg
             else:
-                yield (
-                    attitude_topic,
-                    t_ns,
-                    quaternion_stamped_message(t_ns, frame_id, attitudes.quaternion_xyzw[i]),
-                )
+                quaternion = attitudes.quaternion_xyzw[i]
+                yield attitude_topic, t_ns, quaternion_stamped_message(t_ns, frame_id, quaternion)
 
     return write_bag(out_path, records(), storage, overwrite)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import sys
@@ -52,25 +53,21 @@ def run(args) -> int:
     view = parse_view(args.view) if args.view is not None else None
     results, first, stopped = [], None, False
     with stop_on_signals() as stop:
-        for a in aoa_deg:
-            if stopped:
+        for a, b in itertools.product(aoa_deg, aos_deg):
+            if stop.is_set():  # (SIGINT or SIGTERM: what is done is written)
+                stopped = True
+                print(
+                    f"adbsat-ros coeff: interrupted: the results are those of the "
+                    f"{len(results)} of {len(aoa_deg) * len(aos_deg)} attitudes done",
+                    file=sys.stderr,
+                )
                 break
-            for b in aos_deg:
-                if stop.is_set():  # (SIGINT or SIGTERM: what is done is written)
-                    stopped = True
-                    print(
-                        f"adbsat-ros coeff: interrupted: the results are those of the "
-                        f"{len(results)} of {len(aoa_deg) * len(aos_deg)} attitudes done",
-                        file=sys.stderr,
-                    )
-                    break
-                r, d = _attitude(args, model, flow, a, b)
-                stopped = args.method != "panel" and r.stopped
-                if first is None:
-                    first = (a, b, r)
-                results.append(d)
-                if stopped:  # (the test particles' run said so)
-                    break
+            r, d = _attitude(args, model, flow, a, b)
+            first = (a, b, r) if first is None else first
+            results.append(d)
+            stopped = args.method != "panel" and r.stopped
+            if stopped:  # (the test particles' run said so)
+                break
     if args.json:
         try:  # (made whole first: a refused number must not leave half a document)
             text = json.dumps(results, indent=1, allow_nan=False)

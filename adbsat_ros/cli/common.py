@@ -127,11 +127,7 @@ def parse_species(text: str) -> dict:
 
 def freestream_from_args(args, model: str) -> FreeStream:
     """The FreeStream given by --speed/--temperature/--mean-mass/--species/--density."""
-    missing = [
-        opt
-        for opt, value in (("--speed", args.speed), ("--temperature", args.temperature))
-        if value is None
-    ]
+    missing = [f"--{name}" for name in ("speed", "temperature") if getattr(args, name) is None]
     if args.mean_mass is None and args.species is None:
         missing.append("--mean-mass or --species")
     if missing:

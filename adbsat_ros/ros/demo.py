@@ -22,6 +22,12 @@ from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
+from adbsat_ros.bags.io import (
+    joint_state_message,
+    odometry_message,
+    quaternion_stamped_message,
+    serialize,
+)
 from adbsat_ros.bags.scenario import Scenario, generate
 from adbsat_ros.environment.space_weather import HistoricalWeather
 from adbsat_ros.ros import demo_joints
@@ -91,14 +97,11 @@ def run_demo(
 ) -> DemoResult:
     """Run the demo (module docstring); prints to ``out`` (default stdout).
 
-    Parameters
-    ----------
-    duration : wall time of the live part [s] (the node's start-up comes on top)
-    speedup : simulated seconds per wall second, in (0, :data:`MAX_SPEEDUP`]
-    attitude : ``'tumble'`` (default) or ``'nadir'`` (with ``articulated``)
-    articulated : the finned body steering its fins (:mod:`adbsat_ros.ros.demo_joints`)
-    space_weather : the node's ``space_weather`` parameter, ``'fixed'`` or ``'historical'``
-
+    duration: wall time of the live part [s] (the node's start-up comes on top).
+    speedup: simulated seconds per wall second, in (0, :data:`MAX_SPEEDUP`].
+    attitude: ``'tumble'`` (default) or ``'nadir'`` (with ``articulated``).
+    articulated: the finned body steering its fins (:mod:`adbsat_ros.ros.demo_joints`).
+    space_weather: the node's ``space_weather`` parameter, ``'fixed'`` or ``'historical'``.
     ValueError: a bad duration, speedup or attitude.
     """
     out = out or sys.stdout
@@ -272,32 +275,19 @@ def run_demo(
                 if now >= target:
                     break
                 time.sleep(min(target, next_line) - now)
-            if kind == 0:
-                state_pub.publish(
-                    _odometry(
-                        Odometry,
-                        int(states.stamps_ns[i]),
-                        states.position_eci[i],
-                        states.velocity_eci[i],
-                    )
-                )
+            if kind == 0:  # (the twist is the ECI velocity)
+                position, velocity = states.position_eci[i], states.velocity_eci[i]
+                stamp_ns = int(states.stamps_ns[i])
+                _send(state_pub, odometry_message(stamp_ns, "eci", "eci", position, velocity))
                 result.states_sent += 1
             else:
                 stamp_ns = int(attitudes.stamps_ns[i])
                 if articulated:  # the fins' positions at this stamp, just before the attitude
-                    fraction = i / max(1, len(attitudes.stamps_ns) - 1)
-                    joints_pub.publish(
-                        demo_joints.joint_state(
-                            JointState, stamp_ns, demo_joints.fin_positions(fraction)
-                        )
-                    )
-                msg = QuaternionStamped()
-                msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
-                msg.header.frame_id = "eci"
-                q = msg.quaternion
-                q.x, q.y, q.z, q.w = (float(v) for v in attitudes.quaternion_xyzw[i])
+                    fins = demo_joints.fin_positions(i / max(1, len(attitudes.stamps_ns) - 1))
+                    _send(joints_pub, joint_state_message(stamp_ns, "", demo_joints.JOINTS, fins))
+                quaternion = attitudes.quaternion_xyzw[i]
                 sent_wall[stamp_ns] = time.monotonic()
-                attitude_pub.publish(msg)
+                _send(attitude_pub, quaternion_stamped_message(stamp_ns, "eci", quaternion))
                 result.attitudes_sent += 1
         deadline = time.monotonic() + DRAIN_TIMEOUT_S
         while time.monotonic() < deadline:
@@ -362,12 +352,6 @@ def run_demo(
     return result
 
 
-def _odometry(cls, stamp_ns: int, position, velocity):
-    msg = cls()
-    msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
-    msg.header.frame_id = "eci"
-    msg.child_frame_id = "eci"  # the twist is the ECI velocity
-    p, v = msg.pose.pose.position, msg.twist.twist.linear
-    p.x, p.y, p.z = (float(x) for x in position)
-    v.x, v.y, v.z = (float(x) for x in velocity)
-    return msg
+def _send(publisher, msg) -> None:
+    """Publish ``msg`` (built by :mod:`adbsat_ros.bags.io`) as its CDR bytes."""
+    publisher.publish(bytes(serialize(msg)))
