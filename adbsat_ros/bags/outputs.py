@@ -273,11 +273,8 @@ def write_plots(plots_dir, envelope, labels, report, historical=()) -> None:
     """PNGs of force, torque, density and C_D of every model against time into ``plots_dir``;
     with models of ``historical`` labels, their density and drag with F10.7 and Ap."""
     # imported when plots are asked for: matplotlib is slow to import
-    from adbsat_ros.plotting.time_series import (
-        make_line_figures,
-        make_space_weather_figure,
-        save_figures,
-    )
+    from adbsat_ros.plotting.figures import save_figures
+    from adbsat_ros.plotting.time_series import make_line_figures, make_space_weather_figure
 
     n = PLOT_SERIES
     lines, weather = {}, {}

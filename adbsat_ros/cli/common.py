@@ -12,6 +12,7 @@ from adbsat_ros.cli.atmosphere import compute as compute_flight_conditions
 from adbsat_ros.cli.options import (
     CommandLineError,
     checked,
+    errors_as,
     flag,
     fraction,
     number,
@@ -190,7 +191,7 @@ def setup_from_args(args) -> Setup:
         ("samples", "--samples"),
         ("solver", f"--method {args.method}"),
     )
-    try:
+    with errors_as(CommandLineError, ValueError, "--material: "):
         surface = SurfaceProperties(
             alpha=args.alpha,
             alpha_n=args.alpha_n,
@@ -198,10 +199,8 @@ def setup_from_args(args) -> Setup:
             sigma_t=args.sigma_t,
             wall_temperature=args.wall_temperature,
         )
-    except ValueError as exc:
-        raise CommandLineError(f"--material: {exc}") from None
     point = tuple(parse_vector3(args.moment_ref, "--moment-ref"))
-    try:
+    with errors_as(CommandLineError, ValueError):
         return Setup(
             body=BodySpec(
                 args.mesh, args.scale, args.accept_size, joints=joints, joint_degrees=True
@@ -215,18 +214,12 @@ def setup_from_args(args) -> Setup:
             solver=SolverSpec(args.method, args.particles, args.tolerance, args.seed),
             labels=labels,
         )
-    except ValueError as exc:
-        raise CommandLineError(str(exc)) from None
 
 
 def model_from_setup(setup: Setup) -> Model:
     """:func:`build_model` of ``setup``; a mesh error is a CommandLineError starting ``MESH:``."""
-    try:
+    with errors_as(CommandLineError, ValueError), errors_as(CommandLineError, MeshError, "MESH: "):
         return build_model(setup)
-    except MeshError as exc:
-        raise CommandLineError(f"MESH: {exc}") from None
-    except ValueError as exc:
-        raise CommandLineError(str(exc)) from None
 
 
 def method_and_flow_from_args(args):
@@ -248,12 +241,8 @@ def method_and_flow_from_args(args):
             "place, not both"
         )
     options = {"alpha": args.alpha} if args.accommodation == "fixed" else {}
-    try:
+    with errors_as(CommandLineError, ValueError):
         conditions = compute_flight_conditions(args, accommodation_options=options)
-    except ValueError as exc:
-        if isinstance(exc, CommandLineError):
-            raise
-        raise CommandLineError(str(exc)) from None
     setup = setup_from_args(args)
     if args.accommodation != "fixed":  # alpha and alpha_n on every panel
         setup = setup.with_accommodation(conditions.alpha)

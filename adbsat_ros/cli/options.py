@@ -97,10 +97,8 @@ def parse_vector3(text: str, option: str, bound: str | None = None):
 
 def checked(what: str, value, bound: str) -> float:
     """``value`` checked by :func:`adbsat_ros.bounds.bounded`; CommandLineError if outside."""
-    try:
+    with errors_as(CommandLineError, ValueError):
         return bounded(what, value, bound)
-    except ValueError as exc:
-        raise CommandLineError(str(exc)) from None
 
 
 def number(
