@@ -3,6 +3,7 @@ place that knows message layouts in bags. Stamps are integer nanoseconds."""
 
 from __future__ import annotations
 
+import functools
 import os
 import shutil
 import tempfile
@@ -151,9 +152,9 @@ def deserialize(raw, msgtype: str):
     return TYPESTORE.deserialize_cdr(raw, msgtype)
 
 
-def deserialize_attitude(raw):
-    """A geometry_msgs/QuaternionStamped from CDR bytes (raises for anything else)."""
-    return TYPESTORE.deserialize_cdr(raw, QUATERNION_STAMPED)
+#: A geometry_msgs/QuaternionStamped or a nav_msgs/Odometry from CDR bytes (raises for others).
+deserialize_attitude = functools.partial(TYPESTORE.deserialize_cdr, typename=QUATERNION_STAMPED)
+deserialize_odometry = functools.partial(TYPESTORE.deserialize_cdr, typename=ODOMETRY)
 
 
 def deserialize_joint_state(raw):
@@ -175,11 +176,6 @@ def joint_state_cdr(stamp, frame_id: str, names, positions, efforts) -> bytes:
     """CDR bytes of a JointState without velocities (``stamp``: sec, nanosec), by rosbags."""
     time = _Time(sec=int(stamp.sec), nanosec=int(stamp.nanosec))
     return bytes(serialize(joint_state_message(time, frame_id, names, positions, (), efforts)))
-
-
-def deserialize_odometry(raw):
-    """A nav_msgs/Odometry from CDR bytes (raises for anything else)."""
-    return TYPESTORE.deserialize_cdr(raw, ODOMETRY)
 
 
 # --------------------------------------------------------------------------------- reading

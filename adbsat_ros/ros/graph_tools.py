@@ -140,14 +140,6 @@ def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
         return value
 
 
-def _is_message_list(value) -> bool:
-    return (
-        isinstance(value, (list, tuple))
-        and bool(value)
-        and hasattr(value[0], "get_fields_and_field_types")
-    )
-
-
 def message_text(message, indent: str = "") -> str:
     """A message as indented ``field: value`` lines (as ``ros2 topic echo`` prints)."""
     lines = []
@@ -156,7 +148,11 @@ def message_text(message, indent: str = "") -> str:
         if hasattr(value, "get_fields_and_field_types"):
             lines.append(f"{indent}{field}:")
             lines.append(message_text(value, indent + "  "))
-        elif _is_message_list(value):
+        elif (
+            isinstance(value, (list, tuple))
+            and value
+            and hasattr(value[0], "get_fields_and_field_types")
+        ):
             lines.append(f"{indent}{field}:")
             for item in value:
                 body = message_text(item, indent + "  ").lstrip()
