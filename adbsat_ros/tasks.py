@@ -145,32 +145,40 @@ def worth_workers(left_s: float, start_s: float, count: int) -> bool:
     return count > 1 and left_s / count + start_s < left_s
 
 
-def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
-    """Compute chunks in this process, until :func:`worth_workers` says that ``count`` workers
-    finish the rest sooner (timed by the fastest chunk so far, from the second on; a worker's
-    start also redoes the set-up and what the first chunk took more); the chunks left."""
-    report.workers = 1
-    started = time.perf_counter()
-    setup = job.setup()
-    setup_s = time.perf_counter() - started
-    left = dict(chunks)
+def run_while_alone(evaluate, chunks, count: int, left: int, start_s: float):
+    """Yield ``evaluate(chunk)`` of each chunk, in this process, until :func:`worth_workers` says
+    that ``count`` workers finish the ``left`` chunks sooner; timed by the fastest chunk so far,
+    from the second on: a worker takes ``start_s`` [s] to start, and what the first chunk took
+    more."""
     first = fastest = None
-    for index, chunk in chunks.items():
+    for done, chunk in enumerate(chunks, 1):
         started = time.perf_counter()
-        result = setup.evaluate(chunk)
+        result = evaluate(chunk)
         took = time.perf_counter() - started
         first = took if first is None else first
         fastest = took if fastest is None else min(fastest, took)
+        left -= 1
+        yield result
+        workers = min(count, left) if done > 1 else 1  # (the first chunk: one-time costs)
+        if worth_workers(fastest * left, start_s + first - fastest, workers):
+            return
+
+
+def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
+    """Compute chunks in this process while :func:`run_while_alone` does; the chunks left."""
+    report.workers = 1
+    started = time.perf_counter()
+    setup = job.setup()
+    start_s = CLUSTER_START_S + time.perf_counter() - started  # (a worker sets the job up too)
+    left = dict(chunks)
+    results = run_while_alone(setup.evaluate, chunks.values(), count, len(chunks), start_s)
+    for index, result in zip(chunks, results):
         del left[index]
         on_result(index, result)
         report.computed += 1
         report.here += 1
         if stop is not None and stop.is_set():
             report.stopped = True
-            break
-        start_s = CLUSTER_START_S + setup_s + first - fastest
-        workers = min(count, len(left)) if report.here > 1 else 1  # (the first: one-time costs)
-        if worth_workers(fastest * len(left), start_s, workers):
             break
     return left
 

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from rosbags.rosbag2 import Reader
 
+from adbsat_ros import tasks
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import scenario
 from adbsat_ros.bags import worker as bag_worker
@@ -527,7 +528,7 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path, monkeypatch):
             monkeypatch.setattr(bag_worker, "ProcessPoolExecutor", None)
         if name == "auto":
             monkeypatch.setattr(bag_worker, "ProcessPoolExecutor", pool_class)
-            monkeypatch.setattr(bag_worker, "worth_workers", lambda left, start, count: True)
+            monkeypatch.setattr(tasks, "worth_workers", lambda left, start, count: True)
         report = analyze_bag(
             tmp_path / "in",
             models=models,
