@@ -50,6 +50,11 @@ def _publisher_qos(connection, depth: int) -> QoSProfile:
     return qos
 
 
+def _sleep_until(deadline: float, stop: threading.Event) -> bool:
+    """Sleep until ``deadline`` (time.monotonic) or ``stop``; True if stopped."""
+    return stop.wait(max(0.0, deadline - time.monotonic()))
+
+
 def play(
     bag_path,
     rate: float = 1.0,
@@ -171,8 +176,7 @@ def _play_once(path, connections, publishers, rate, stop, summary) -> bool:
         for connection, t_ns, raw in reader.messages(connections=wanted):
             if first_ns is None:
                 first_ns = t_ns
-            due = start + (t_ns - first_ns) * 1e-9 / rate
-            if stop.wait(max(0.0, due - time.monotonic())):  # (until due, or stopped)
+            if _sleep_until(start + (t_ns - first_ns) * 1e-9 / rate, stop):
                 return False
             publishers[connection.topic].publish(bytes(raw))
             summary.published[connection.topic] += 1

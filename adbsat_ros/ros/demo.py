@@ -123,16 +123,12 @@ def run_demo(
     motion = (
         f"tumbling at {TUMBLE_RATE_DEG_S:g} deg/s" if attitude == "tumble" else "nadir-pointing"
     )
+    fins = f"; {demo_joints.BODY} steering its fins +-{demo_joints.AMPLITUDE_DEG:g} deg"
     say(
         f"adbsat-ros demo: {ALTITUDE_KM:g} km circular orbit, {INCLINATION_DEG:g} deg inclination, "
-        "from "
-        f"{scenario.epoch.isoformat().replace('+00:00', 'Z')}, satellite {motion}; "
+        f"from {scenario.epoch.isoformat().replace('+00:00', 'Z')}, satellite {motion}; "
         f"{scenario.duration_s:g} s simulated in {duration:g} s ({speedup:g}x real time)"
-        + (
-            f"; {demo_joints.BODY} steering its fins +-{demo_joints.AMPLITUDE_DEG:g} deg"
-            if articulated
-            else ""
-        )
+        + (fins if articulated else "")
     )
     say(
         f"ROS 2: ROS_AUTOMATIC_DISCOVERY_RANGE={os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE']}, "
@@ -149,6 +145,16 @@ def run_demo(
     latest = [None]  # stamp_ns of the newest wrench received
     sent_wall = {}
     log = None
+    timeout = max(1.0, 1.5 / scenario.rate_hz)
+    parameters = {"qos_depth": 100, "state_timeout": timeout, "space_weather": space_weather}
+    if articulated:
+        parameters.update(
+            mesh=demo_joints.BODY,
+            joint_state_timeout=timeout,
+            joint_shading_resolution_deg=demo_joints.SHADING_GRID_DEG,
+            joint_shading_interpolation=True,
+        )
+    t0_ns = int(messages.attitudes.stamps_ns[0])
     try:
         started = time.monotonic()
         node = AdbsatNode(
@@ -156,20 +162,8 @@ def run_demo(
             namespace=NAMESPACE,
             cli_args=["--ros-args", "-r", f"/diagnostics:={NAMESPACE}/diagnostics"],
             parameter_overrides=[
-                Parameter("qos_depth", value=100),
-                Parameter("state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
-                Parameter("space_weather", value=space_weather),
-            ]
-            + (
-                [
-                    Parameter("mesh", value=demo_joints.BODY),
-                    Parameter("joint_state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
-                    Parameter("joint_shading_resolution_deg", value=demo_joints.SHADING_GRID_DEG),
-                    Parameter("joint_shading_interpolation", value=True),
-                ]
-                if articulated
-                else []
-            ),
+                Parameter(name, value=value) for name, value in parameters.items()
+            ],
         )
         log = SampleLog()
         node.add_sample_listener(log)
@@ -240,7 +234,6 @@ def run_demo(
             f"{'[s]':>9} {'[km]':>9} {'[kg/m^3]':>10} {'[-]':>6} {'[N]':>10} {'[N m]':>10} "
             f"{'[ms]':>8} {'[ms]':>8}" + (f" {demo_joints.TABLE_HEADER[1]}" if articulated else "")
         )
-        t0_ns = int(messages.attitudes.stamps_ns[0])
 
         def table_line():
             with lock:
@@ -312,25 +305,18 @@ def run_demo(
         rclpy.try_shutdown(context=context)
 
     samples = log.samples if log is not None else {}
-    t0_ns = int(messages.attitudes.stamps_ns[0])
     rows = table_rows(received, samples, sent_wall, t0_ns, result, joints=articulated)
     result.rejected = {
         k: v for k, v in (node.estimator.rejections.items() if node is not None else ()) if v
     }
     say()
+    rejected = ", ".join(f"{k} {v}" for k, v in result.rejected.items())
+    mismatched = f"; {result.mismatched} wrenches differ from the node's samples"
     say(
         f"published {result.attitudes_sent} attitudes and {result.states_sent} states; received "
         f"{result.wrenches_received} wrenches"
-        + (
-            f"; rejected: {', '.join(f'{k} {v}' for k, v in result.rejected.items())}"
-            if result.rejected
-            else ""
-        )
-        + (
-            f"; {result.mismatched} wrenches differ from the node's samples"
-            if result.mismatched
-            else ""
-        )
+        + (f"; rejected: {rejected}" if result.rejected else "")
+        + (mismatched if result.mismatched else "")
     )
     if rows:
         say(
