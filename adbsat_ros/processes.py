@@ -220,9 +220,7 @@ def stop_on_signals():
             signals.in_order -= 1
         return
     stop = threading.Event()
-    handlers = {}
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        handlers[signum] = signal.signal(signum, lambda *_: stop.set())
+    handlers = {signum: signal.signal(signum, lambda *_: stop.set()) for signum in STOP_SIGNALS}
     try:
         yield stop
     finally:

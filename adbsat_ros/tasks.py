@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import functools
 import logging
 import multiprocessing
 import os
@@ -84,17 +85,14 @@ class ForkedJob:
         return _FORKED[self.key].setup()
 
 
-_MALLOC = {"set": False}
 #: glibc's ``mallopt`` parameters (malloc.h) and the values a worker sets.
 M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3
 TRIM_THRESHOLD, MMAP_THRESHOLD = 512 << 20, 32 << 20
 
 
+@functools.cache
 def keep_freed_memory() -> None:
-    """Make glibc keep the memory this process frees for its next allocations."""
-    if _MALLOC["set"]:
-        return
-    _MALLOC["set"] = True
+    """Make glibc keep the memory this process frees for its next allocations (once)."""
     try:
         libc = ctypes.CDLL(None)
         libc.mallopt(M_TRIM_THRESHOLD, TRIM_THRESHOLD)
@@ -115,7 +113,7 @@ def run_chunks(
 ) -> TaskReport:
     """Compute every chunk of ``job`` and call ``on_result(index, result)`` here as each finishes.
 
-    chunks: index -> chunk (picklable); ``on_result`` is called in this process as each finishes.
+    chunks: index -> chunk (picklable).
     scheduler: a running Dask scheduler's address (``tcp://host:8786``); None: this machine.
     workers: processes without ``scheduler`` (1: this process). None: every usable CPU, started
       only once the chunks left, timed here one by one, are worth them (:func:`worth_workers`).
@@ -147,32 +145,40 @@ def worth_workers(left_s: float, start_s: float, count: int) -> bool:
     return count > 1 and left_s / count + start_s < left_s
 
 
-def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
-    """Compute chunks in this process, until :func:`worth_workers` says that ``count`` workers
-    finish the rest sooner (timed by the fastest chunk so far, from the second on; a worker's
-    start also redoes the set-up and what the first chunk took more); the chunks left."""
-    report.workers = 1
-    started = time.perf_counter()
-    setup = job.setup()
-    setup_s = time.perf_counter() - started
-    left = dict(chunks)
+def run_while_alone(evaluate, chunks, count: int, left: int, start_s: float):
+    """Yield ``evaluate(chunk)`` of each chunk, in this process, until :func:`worth_workers` says
+    that ``count`` workers finish the ``left`` chunks sooner; timed by the fastest chunk so far,
+    from the second on: a worker takes ``start_s`` [s] to start, and what the first chunk took
+    more."""
     first = fastest = None
-    for index, chunk in chunks.items():
+    for done, chunk in enumerate(chunks, 1):
         started = time.perf_counter()
-        result = setup.evaluate(chunk)
+        result = evaluate(chunk)
         took = time.perf_counter() - started
         first = took if first is None else first
         fastest = took if fastest is None else min(fastest, took)
+        left -= 1
+        yield result
+        workers = min(count, left) if done > 1 else 1  # (the first chunk: one-time costs)
+        if worth_workers(fastest * left, start_s + first - fastest, workers):
+            return
+
+
+def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
+    """Compute chunks in this process while :func:`run_while_alone` does; the chunks left."""
+    report.workers = 1
+    started = time.perf_counter()
+    setup = job.setup()
+    start_s = CLUSTER_START_S + time.perf_counter() - started  # (a worker sets the job up too)
+    left = dict(chunks)
+    results = run_while_alone(setup.evaluate, chunks.values(), count, len(chunks), start_s)
+    for index, result in zip(chunks, results):
         del left[index]
         on_result(index, result)
         report.computed += 1
         report.here += 1
         if stop is not None and stop.is_set():
             report.stopped = True
-            break
-        start_s = CLUSTER_START_S + setup_s + first - fastest
-        workers = min(count, len(left)) if report.here > 1 else 1  # (the first: one-time costs)
-        if worth_workers(fastest * len(left), start_s, workers):
             break
     return left
 
@@ -301,23 +307,17 @@ def worker_environment() -> dict:
     return environment
 
 
-class _quiet_distributed:
+@contextlib.contextmanager
+def _quiet_distributed():
     """Dask's loggers at CRITICAL while inside (its INFO lines would bury a progress bar)."""
+    import distributed  # noqa: F401  (its loggers exist from here on)
 
-    def __enter__(self):
-        import distributed  # noqa: F401  (its loggers exist from here on)
-
-        self._saved = [
-            (logger, logger.level)
-            for name in list(logging.root.manager.loggerDict)
-            if name.split(".")[0] == "distributed"
-            for logger in [logging.getLogger(name)]
-        ]
-        for logger, _ in self._saved:
-            logger.setLevel(logging.CRITICAL)
-        return self
-
-    def __exit__(self, *exc):
-        for logger, level in self._saved:
+    names = [n for n in list(logging.root.manager.loggerDict) if n.split(".")[0] == "distributed"]
+    saved = [(logger, logger.level) for logger in map(logging.getLogger, names)]
+    for logger, _ in saved:
+        logger.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        for logger, level in saved:
             logger.setLevel(level)
-        return False

@@ -12,44 +12,14 @@ from adbsat_ros.bags import replacing
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.bags.model_state import ModelState
 from adbsat_ros.bags.outputs import Outputs, Replay, write_outputs
-from adbsat_ros.bags.planning import (
-    MAX_CHUNK_MESSAGES,
-    MIN_CHUNK_MESSAGES,
-    plan_chunks,
-    safe_split_points,
-)
+from adbsat_ros.bags.planning import plan_chunks
 from adbsat_ros.bags.reading import check_damage, check_topics, read_bag_messages
-from adbsat_ros.bags.report import (
-    DIAGNOSTICS_TOPIC,
-    NAMESPACE,
-    NODE_NAME,
-    AnalysisReport,
-    ModelSummary,
-    check_label,
-    label_from_name,
-)
-from adbsat_ros.bags.table import COMMON_COLUMNS, MODEL_COLUMNS
+from adbsat_ros.bags.report import DIAGNOSTICS_TOPIC, AnalysisReport, check_label
 from adbsat_ros.bags.worker import chunk_results
 from adbsat_ros.estimator.settings import WrenchSettings
 from adbsat_ros.geometry.loading import resolve_mesh
 from adbsat_ros.messages.decoding import UndecodableMessage, decode_odometry
 from adbsat_ros.processes import interruptible, worker_count
-
-__all__ = [
-    "COMMON_COLUMNS",
-    "DIAGNOSTICS_TOPIC",
-    "MAX_CHUNK_MESSAGES",
-    "MIN_CHUNK_MESSAGES",
-    "MODEL_COLUMNS",
-    "NAMESPACE",
-    "NODE_NAME",
-    "AnalysisReport",
-    "ModelSummary",
-    "analyze_bag",
-    "check_label",
-    "label_from_name",
-    "safe_split_points",
-]
 
 
 def _output_path(path, overwrite: bool, what: str) -> Path | None:
@@ -137,7 +107,7 @@ def analyze_bag(
     workers: processes (default: this one, and every usable CPU for what is left once the chunks,
       timed here, are worth them: :func:`adbsat_ros.bags.worker.chunk_results`); the outputs are
       the same for any number.
-    chunk_messages: in [:data:`MIN_CHUNK_MESSAGES`, :data:`MAX_CHUNK_MESSAGES`].
+    chunk_messages: trigger messages per chunk, >= 1 (default: planned, :mod:`.planning`).
     stop: a threading.Event; stops at the next message, the outputs so far kept as PARTIAL.
     skip_damaged: leave out MCAP chunks failing their CRC instead of refusing the bag.
     Returns an AnalysisReport; a fault while reading, or a stop, is in its ``error``, the outputs

@@ -3,6 +3,7 @@ place that knows message layouts in bags. Stamps are integer nanoseconds."""
 
 from __future__ import annotations
 
+import functools
 import os
 import shutil
 import tempfile
@@ -151,9 +152,9 @@ def deserialize(raw, msgtype: str):
     return TYPESTORE.deserialize_cdr(raw, msgtype)
 
 
-def deserialize_attitude(raw):
-    """A geometry_msgs/QuaternionStamped from CDR bytes (raises for anything else)."""
-    return TYPESTORE.deserialize_cdr(raw, QUATERNION_STAMPED)
+#: A geometry_msgs/QuaternionStamped or a nav_msgs/Odometry from CDR bytes (raises for others).
+deserialize_attitude = functools.partial(TYPESTORE.deserialize_cdr, typename=QUATERNION_STAMPED)
+deserialize_odometry = functools.partial(TYPESTORE.deserialize_cdr, typename=ODOMETRY)
 
 
 def deserialize_joint_state(raw):
@@ -175,11 +176,6 @@ def joint_state_cdr(stamp, frame_id: str, names, positions, efforts) -> bytes:
     """CDR bytes of a JointState without velocities (``stamp``: sec, nanosec), by rosbags."""
     time = _Time(sec=int(stamp.sec), nanosec=int(stamp.nanosec))
     return bytes(serialize(joint_state_message(time, frame_id, names, positions, (), efforts)))
-
-
-def deserialize_odometry(raw):
-    """A nav_msgs/Odometry from CDR bytes (raises for anything else)."""
-    return TYPESTORE.deserialize_cdr(raw, ODOMETRY)
 
 
 # --------------------------------------------------------------------------------- reading
@@ -324,24 +320,13 @@ def write_scenario_bag(
     def records():
         for t_ns, kind, i in events:
             if kind == 0:
-                yield (
-                    state_topic,
-                    t_ns,
-                    odometry_message(
-                        t_ns,
-                        frame_id,
-                        frame_id,
-                        states.position_eci[i],
-                        states.velocity_eci[i],
-                        orientation_xyzw=_orientation_at(attitudes, t_ns),
-                    ),
-                )
+                position, velocity = states.position_eci[i], states.velocity_eci[i]
+                pose = _orientation_at(attitudes, t_ns)
+                msg = odometry_message(t_ns, frame_id, frame_id, position, velocity, pose)
+                yield state_topic, t_ns, msg
             else:
-                yield (
-                    attitude_topic,
-                    t_ns,
-                    quaternion_stamped_message(t_ns, frame_id, attitudes.quaternion_xyzw[i]),
-                )
+                quaternion = attitudes.quaternion_xyzw[i]
+                yield attitude_topic, t_ns, quaternion_stamped_message(t_ns, frame_id, quaternion)
 
     return write_bag(out_path, records(), storage, overwrite)
 

@@ -89,29 +89,7 @@ class _Walk:
         self.out_connections = {}
         self.topics = {cid: c.topic for cid, c in self.read.connections.items()}
         if writer is not None:
-            self.wrench_connections = [
-                writer.connection(s.summary.wrench_topic, bag_io.WRENCH_STAMPED)
-                for s in self.states
-            ]
-            self.coefficient_connections = [
-                writer.connection(s.summary.coefficients_topic, bag_io.WRENCH_STAMPED)
-                for s in self.states
-            ]
-            self.solar_connections = [
-                (
-                    writer.connection(s.summary.solar_topic, bag_io.WRENCH_STAMPED),
-                    writer.connection(s.summary.total_topic, bag_io.WRENCH_STAMPED),
-                )
-                if s.settings.solar_pressure
-                else None
-                for s in self.states
-            ]
-            self.joint_connections = [
-                writer.connection(s.summary.joint_torques_topic, bag_io.JOINT_STATE)
-                if s.estimator.body is not None
-                else None
-                for s in self.states
-            ]
+            self.model_connections = [_model_connections(writer, s) for s in self.states]
 
     def diagnostics(self, state, t_ns: int) -> None:
         self.writer.write(
@@ -191,19 +169,11 @@ class _Walk:
                 if row is None:
                     continue
                 if writer is not None:
-                    for k, record in enumerate(records):
-                        if record.wrench_cdr is not None:
-                            writer.write_raw(self.wrench_connections[k], t_ns, record.wrench_cdr)
-                            writer.write_raw(
-                                self.coefficient_connections[k], t_ns, record.coefficients_cdr
-                            )
-                        if record.solar_cdr is not None:
-                            solar, total = self.solar_connections[k]
-                            writer.write_raw(solar, t_ns, record.solar_cdr)
-                            writer.write_raw(total, t_ns, record.total_cdr)
-                        if record.joint_torques_cdr is not None:
-                            joints = self.joint_connections[k]
-                            writer.write_raw(joints, t_ns, record.joint_torques_cdr)
+                    for record, connections in zip(records, self.model_connections):
+                        for field, connection in connections:
+                            raw = getattr(record, field)
+                            if raw is not None:
+                                writer.write_raw(connection, t_ns, raw)
                 t1 = pc()
                 seconds["write"] += t1 - t0
                 sec, nanosec = row.stamp_sec, row.stamp_nanosec  # (as decoded, either way)
@@ -225,6 +195,19 @@ class _Walk:
             bar.update(done)
             bar.close()
             self.results.close()
+
+
+def _model_connections(writer, state) -> list:
+    """``(record field, connection)`` of each message a model writes, in the order written."""
+    s, wrench = state.summary, bag_io.WRENCH_STAMPED
+    topics = [("wrench_cdr", s.wrench_topic), ("coefficients_cdr", s.coefficients_topic)]
+    if state.settings.solar_pressure:
+        topics += [("solar_cdr", s.solar_topic), ("total_cdr", s.total_topic)]
+    connections = [(field, writer.connection(topic, wrench)) for field, topic in topics]
+    if state.estimator.body is not None:
+        joints = writer.connection(s.joint_torques_topic, bag_io.JOINT_STATE)
+        connections.append(("joint_torques_cdr", joints))
+    return connections
 
 
 def partial_path(path) -> Path:
@@ -290,11 +273,8 @@ def write_plots(plots_dir, envelope, labels, report, historical=()) -> None:
     """PNGs of force, torque, density and C_D of every model against time into ``plots_dir``;
     with models of ``historical`` labels, their density and drag with F10.7 and Ap."""
     # imported when plots are asked for: matplotlib is slow to import
-    from adbsat_ros.plotting.time_series import (
-        make_line_figures,
-        make_space_weather_figure,
-        save_figures,
-    )
+    from adbsat_ros.plotting.figures import save_figures
+    from adbsat_ros.plotting.time_series import make_line_figures, make_space_weather_figure
 
     n = PLOT_SERIES
     lines, weather = {}, {}

@@ -19,20 +19,16 @@ STATE, ATTITUDE, JOINTS = 0, 1, 2
 
 def read_messages(reader, path, connections):
     """``reader.messages()``, any failure of the reader a BagError naming the file."""
-    iterator = reader.messages(connections=connections)
     count = 0
-    while True:
-        try:
-            item = next(iterator)
-        except StopIteration:
-            return
-        except Exception as exc:  # rosbags raises many kinds (ReaderError, struct, zstd, apsw ...)
-            raise BagError(
-                f"input bag {path}: corrupt or truncated after {count} messages "
-                f"({type(exc).__name__}: {exc})"
-            ) from None
-        count += 1
-        yield item
+    try:
+        for item in reader.messages(connections=connections):
+            yield item
+            count += 1
+    except Exception as exc:  # rosbags raises many kinds (ReaderError, struct, zstd, apsw ...)
+        raise BagError(
+            f"input bag {path}: corrupt or truncated after {count} messages "
+            f"({type(exc).__name__}: {exc})"
+        ) from None
 
 
 def check_damage(reader, path, skip_damaged: bool = False) -> tuple[list, list]:

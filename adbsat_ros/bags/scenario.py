@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -53,24 +53,10 @@ class Scenario:
             if not ok:
                 raise ValueError(f"scenario {name}: {what}, got {getattr(self, name)!r}")
 
-        for name in (
-            "duration_s",
-            "rate_hz",
-            "state_rate_hz",
-            "altitude_km",
-            "eccentricity",
-            "inclination_deg",
-            "raan_deg",
-            "arg_perigee_deg",
-            "true_anomaly_deg",
-            "tumble_rate_deg_s",
-        ):
-            check(
-                name,
-                isinstance(getattr(self, name), (int, float))
-                and math.isfinite(getattr(self, name)),
-                "must be a finite number",
-            )
+        for name in (f.name for f in fields(self) if f.type == "float"):
+            value = getattr(self, name)
+            ok = isinstance(value, (int, float)) and math.isfinite(value)
+            check(name, ok, "must be a finite number")
         check("duration_s", self.duration_s >= 0, "must be >= 0")
         for name in ("rate_hz", "state_rate_hz"):
             BOUNDS["message_rate"].check(f"scenario {name}", getattr(self, name))

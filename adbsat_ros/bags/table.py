@@ -13,14 +13,9 @@ from adbsat_ros.geometry.frames import angles_of_flow
 
 #: Columns shared by all models.
 COMMON_COLUMNS = ("stamp_s", "utc", "time_s", "topic")
-#: Force [N] and torque [N m] columns, body frame.
-WRENCH_COLUMNS = (
-    "force_x_N",
-    "force_y_N",
-    "force_z_N",
-    "torque_x_Nm",
-    "torque_y_Nm",
-    "torque_z_Nm",
+#: Force [N] and torque [N m] columns, body frame: ``force_x_N`` ... ``torque_z_Nm``.
+WRENCH_COLUMNS = tuple(
+    f"{q}_{a}_{unit}" for q, unit in (("force", "N"), ("torque", "Nm")) for a in "xyz"
 )
 #: The force and moment coefficients, body frame.
 COEFFICIENT_COLUMNS = ("cf_x", "cf_y", "cf_z", "cm_x", "cm_y", "cm_z")
@@ -32,9 +27,7 @@ MODEL_COLUMNS = (
     "density_kg_m3",
     "temperature_K",
     "relative_speed_m_s",
-    "wind_body_x_m_s",
-    "wind_body_y_m_s",
-    "wind_body_z_m_s",
+    *(f"wind_body_{a}_m_s" for a in "xyz"),
     "aoa_deg",
     "aos_deg",
     "drag_coefficient",
@@ -43,15 +36,7 @@ MODEL_COLUMNS = (
 )
 #: Columns appended to the group of a model with ``solar_pressure`` on: the fraction of the solar
 #: disc visible past the Earth, and the solar radiation force and torque (body frame).
-SOLAR_COLUMNS = (
-    "sun_lit_fraction",
-    "solar_force_x_N",
-    "solar_force_y_N",
-    "solar_force_z_N",
-    "solar_torque_x_Nm",
-    "solar_torque_y_Nm",
-    "solar_torque_z_Nm",
-)
+SOLAR_COLUMNS = ("sun_lit_fraction", *(f"solar_{c}" for c in WRENCH_COLUMNS))
 #: Columns first in the group of a model with ``space_weather`` historical: the indices in force.
 WEATHER_COLUMNS = ("f107_sfu", "f107a_sfu", "ap")
 #: The columns of MODEL_COLUMNS plotted (force, torque, density, drag coefficient), in order.

@@ -28,7 +28,7 @@ from adbsat_ros.messages.decoding import (
 from adbsat_ros.messages.encoding import encode_wrench
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.processes import die_with_parent, frozen_heap, pool_context
-from adbsat_ros.tasks import worth_workers
+from adbsat_ros.tasks import run_while_alone
 
 #: How often [s] the caller waiting for a chunk looks at its stop event.
 STOP_POLL_S = 0.1
@@ -179,13 +179,13 @@ class WorkerModel:
 class Worker:
     """The models of one process, from ``specs`` (WrenchSettings, PanelMesh), one per model."""
 
-    def __init__(self, specs, stop=None):
+    def __init__(self, specs, stopped=None):
         self.models = [WorkerModel(settings, mesh) for settings, mesh in specs]
         self.extras = tuple(model_extra_columns(m.estimator) for m in self.models)
-        self.stop = stop
+        self.stopped = stopped
 
     def run(self, chunk) -> ChunkResult:
-        """Replay ``chunk`` (kinds, CDR bytes); once :attr:`stop` is set, end after this message."""
+        """Replay ``chunk`` (kinds, CDR bytes); once ``stopped()``, end after this message."""
         kinds, raws = chunk
         models = self.models
         for m in models:
@@ -220,7 +220,7 @@ class Worker:
                 row = Row(stamp.sec, stamp.nanosec, utc, cells, plot)
             records.append(tuple(m.record(o) for m, o in zip(models, outcomes)))
             rows.append(row)
-            if self.stop is not None and self.stop.value:
+            if self.stopped is not None and self.stopped():
                 break
         return ChunkResult(records, rows)
 
@@ -232,7 +232,7 @@ def _init_worker(specs, parent: int, stop) -> None:
     """Pool initializer: the estimators, once per process; stops are left to the parent."""
     global _WORKER
     die_with_parent(parent, stops_to_parent=True)
-    _WORKER = Worker(specs, stop)
+    _WORKER = Worker(specs, lambda: stop.value)
 
 
 def _run_chunk(chunk) -> ChunkResult:
@@ -244,7 +244,7 @@ def chunk_results(specs, chunks, workers: int, stop=None, planned: int | None = 
 
     planned: the number of chunks, given when ``workers`` is the default: they start here, and
     the pool only once the chunks left, timed here, are worth it
-    (:func:`adbsat_ros.tasks.worth_workers`); ``report.workers`` is then set to the count used.
+    (:func:`adbsat_ros.tasks.run_while_alone`); ``report.workers`` is then set to the count used.
     """
     with frozen_heap():
         yield from _chunk_results(specs, iter(chunks), workers, stop, planned, report)
@@ -253,25 +253,15 @@ def chunk_results(specs, chunks, workers: int, stop=None, planned: int | None = 
 def _chunk_results(specs, chunks, workers: int, stop, planned, report):
     if workers <= 1 or planned is not None:
         started = time.perf_counter()
-        worker = Worker(specs, None if stop is None else _EventFlag(stop))
-        setup_s = time.perf_counter() - started
+        worker = Worker(specs, None if stop is None else stop.is_set)
+        start_s = POOL_START_S + time.perf_counter() - started  # (each worker sets it up too)
         left = planned or 0
-        first = fastest = None
-        for timed, chunk in enumerate(chunks, 1):
-            started = time.perf_counter()
-            result = worker.run(chunk)
-            took = time.perf_counter() - started
-            first = took if first is None else first
-            fastest = took if fastest is None else min(fastest, took)
+        for result in run_while_alone(worker.run, chunks, workers, left, start_s):
             left -= 1
             yield result
             if stop is not None and stop.is_set():
                 return
-            start_s = POOL_START_S + setup_s + first - fastest
-            count = min(workers, left) if timed > 1 else 1  # (the first chunk: one-time costs)
-            if worth_workers(fastest * left, start_s, count):
-                break
-        else:
+        if left <= 0:  # (every chunk done here)
             return
         del worker
         workers = min(workers, left)
@@ -300,17 +290,6 @@ def _chunk_results(specs, chunks, workers: int, stop, planned, report):
             halt.value = 1
             for future in pending:
                 future.cancel()
-
-
-class _EventFlag:
-    """A :class:`threading.Event` read as the workers' shared flag is (``value``)."""
-
-    def __init__(self, event):
-        self.event = event
-
-    @property
-    def value(self) -> bool:
-        return self.event.is_set()
 
 
 def _result(future, stop, halt) -> ChunkResult:

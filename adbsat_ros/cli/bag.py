@@ -1,20 +1,25 @@
-"""``adbsat-ros bag``: rosbag2 tools; ``bag analyze`` replays a bag through the node's logic."""
+"""``adbsat-ros bag``: rosbag2 tools; ``bag analyze`` replays a bag through the node's logic,
+``bag play`` and ``bag record`` are live (rclpy imported when they run)."""
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 from adbsat_ros.bags.io import BagError
-from adbsat_ros.cli.bag_live import configure_play, configure_record
 from adbsat_ros.cli.options import (
     CommandFailed,
     CommandLineError,
+    add_qos_depth,
     add_storage,
     errors_as,
     flag,
     is_terminal,
+    non_negative_int,
     option,
+    positive_float,
     positive_int,
+    ros_module,
     warn,
 )
 from adbsat_ros.processes import stop_on_signals, usable_cpus
@@ -84,6 +89,105 @@ def configure_analyze(a) -> None:
     a.set_defaults(func=run_analyze)
 
 
+def configure_play(play) -> None:
+    """Configure ``bag play``."""
+    play.description = (
+        "Publish the messages of a rosbag2 bag (.mcap or .db3) on their topics, unchanged "
+        "(header stamps as recorded), spaced as recorded and scaled by --rate. Needs rclpy. "
+        "Discovery stays on this machine unless ROS_AUTOMATIC_DISCOVERY_RANGE is set."
+    )
+    play.add_argument("bag", help="rosbag2 bag directory (or its .mcap/.db3 file)")
+    help = "playback speed factor (default 1: as recorded; 2: twice as fast)"
+    option(play, "--rate", help, positive_float, default=1.0)
+    help = "start again from the beginning until Ctrl-C (stamps go back in time at each restart)"
+    flag(play, "--loop", help)
+    option(play, "--topics", "play only these topics (default: all)", nargs="+", metavar="TOPIC")
+    help = "wait until every played topic has N subscribers before starting"
+    option(play, "--wait-for-subscribers", help, non_negative_int, default=0, metavar="N")
+    help = "give up waiting for subscribers after S seconds (default 30)"
+    option(play, "--wait-timeout", help, positive_float, default=30.0, metavar="S")
+    add_qos_depth(play, "(reliable) publishers")
+    play.set_defaults(func=run_play, command="bag play")
+
+
+def configure_record(record) -> None:
+    """Configure ``bag record``."""
+    record.description = (
+        "Subscribe to the given topics and write their messages (serialized, as received) into "
+        "a new rosbag2 bag, stamped with the receive time. A topic's type is taken from the "
+        "graph once a publisher appears, or given as TOPIC:TYPE. Stops after --duration or on "
+        "Ctrl-C; the bag is complete either way (also on SIGTERM). Needs rclpy."
+    )
+    record.add_argument("out", metavar="OUT", help="bag directory to create (must not exist)")
+    help = "topics to record, each /name or /name:package/msg/Type"
+    option(record, "--topics", help, nargs="+", required=True, metavar="TOPIC")
+    add_storage(record, "storage format")
+    help = "stop after S seconds (default: at Ctrl-C)"
+    option(record, "--duration", help, positive_float, default=None, metavar="S")
+    add_qos_depth(record, "subscriptions")
+    record.set_defaults(func=run_record, command="bag record")
+
+
+def _log(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
+
+
+def _counts(counter) -> str:
+    return ", ".join(f"{topic} {n}" for topic, n in sorted(counter.items())) or "none"
+
+
+def _run_live(module: str, function: str, *args, **options):
+    """Run ``adbsat_ros.ros.<module>.<function>(*args, **options)``; a BagError is CommandFailed."""
+    run = getattr(ros_module(module), function)
+    with errors_as(CommandFailed, BagError), stop_on_signals() as stop:
+        return run(*args, **options, stop=stop, log=_log)
+
+
+def run_play(args) -> int:
+    """Run ``bag play``; the exit status."""
+    summary = _run_live(
+        "bag_play",
+        "play",
+        args.bag,
+        rate=args.rate,
+        loop=args.loop,
+        topics=args.topics,
+        wait_for_subscribers=args.wait_for_subscribers,
+        wait_timeout=args.wait_timeout,
+        qos_depth=max(1, args.qos_depth),
+    )
+    how = "stopped" if summary.interrupted else "done"
+    print(
+        f"{how}: published {summary.total} messages ({_counts(summary.published)}) "
+        f"in {summary.wall_seconds:.1f} s, {summary.passes} pass(es) through the bag"
+    )
+    return 0
+
+
+def run_record(args) -> int:
+    """Run ``bag record``; the exit status."""
+    summary = _run_live(
+        "bag_record",
+        "record",
+        args.out,
+        args.topics,
+        storage=args.storage,
+        duration=args.duration,
+        qos_depth=max(1, args.qos_depth),
+    )
+    print(
+        f"wrote {summary.path} ({summary.storage}): {summary.total} messages "
+        f"({_counts(summary.recorded)}) in {summary.wall_seconds:.1f} s"
+    )
+    if summary.missing:
+        print(
+            f"warning: no publisher ever appeared on {', '.join(summary.missing)}; nothing "
+            "recorded from it",
+            file=sys.stderr,
+        )
+    return 0
+
+
 #: The ``bag`` group's subcommands: their help and configuring function.
 BAG_COMMANDS = {
     "analyze": ("compute the node's wrench at every attitude message of a bag", configure_analyze),
@@ -97,7 +201,7 @@ BAG_COMMANDS = {
 
 def models_from_args(args) -> list:
     """[(label, WrenchSettings)] from --params/--label; errors name the file or option."""
-    from adbsat_ros.bags import analysis as bag_analysis
+    from adbsat_ros.bags.report import NODE_NAME, label_from_name
     from adbsat_ros.estimator.settings import WrenchSettings, settings_from_file
 
     if args.label and len(args.label) != max(len(args.params), 1):
@@ -111,16 +215,14 @@ def models_from_args(args) -> list:
         return [(_label(label, "--label"), WrenchSettings.from_parameters({}, **overrides))]
     models = []
     for i, path in enumerate(args.params):
-        try:
-            settings = settings_from_file(path, bag_analysis.NODE_NAME)
+        with errors_as(CommandLineError, ValueError, "--params "):  # (the text names the file)
+            settings = settings_from_file(path, NODE_NAME)
             if overrides:
                 settings = WrenchSettings.from_parameters(settings.as_parameters(), **overrides)
-        except ValueError as exc:  # (its text starts with the file's name)
-            raise CommandLineError(f"--params {exc}") from None
         if args.label:
             label = _label(args.label[i], "--label")
         else:
-            label = bag_analysis.label_from_name(Path(path).stem)
+            label = label_from_name(Path(path).stem)
         models.append((label, settings))
     labels = [label for label, _ in models]
     if len(set(labels)) != len(labels):
@@ -131,12 +233,10 @@ def models_from_args(args) -> list:
 
 
 def _label(text, option):
-    from adbsat_ros.bags.analysis import check_label
+    from adbsat_ros.bags.report import check_label
 
-    try:
+    with errors_as(CommandLineError, ValueError, f"{option}: "):
         return check_label(text)
-    except ValueError as exc:
-        raise CommandLineError(f"{option}: {exc}") from None
 
 
 def default_output(bag) -> Path:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import sys
@@ -43,11 +44,6 @@ def configure(p) -> None:
     p.set_defaults(func=run)
 
 
-#: Exit status of a run stopped by SIGINT or SIGTERM (its results so far are written), as for
-#: the other long commands (bag analyze, database): the command did not finish.
-INTERRUPTED = INTERRUPTED_STATUS
-
-
 def run(args) -> int:
     """Run ``adbsat-ros coeff``; on a signal, the attitudes done are written; the exit status."""
     aoa_deg = parse_angle_list(args.aoa, "--aoa")
@@ -57,25 +53,21 @@ def run(args) -> int:
     view = parse_view(args.view) if args.view is not None else None
     results, first, stopped = [], None, False
     with stop_on_signals() as stop:
-        for a in aoa_deg:
-            if stopped:
+        for a, b in itertools.product(aoa_deg, aos_deg):
+            if stop.is_set():  # (SIGINT or SIGTERM: what is done is written)
+                stopped = True
+                print(
+                    f"adbsat-ros coeff: interrupted: the results are those of the "
+                    f"{len(results)} of {len(aoa_deg) * len(aos_deg)} attitudes done",
+                    file=sys.stderr,
+                )
                 break
-            for b in aos_deg:
-                if stop.is_set():  # (SIGINT or SIGTERM: what is done is written)
-                    stopped = True
-                    print(
-                        f"adbsat-ros coeff: interrupted: the results are those of the "
-                        f"{len(results)} of {len(aoa_deg) * len(aos_deg)} attitudes done",
-                        file=sys.stderr,
-                    )
-                    break
-                r, d = _attitude(args, model, flow, a, b)
-                stopped = args.method != "panel" and r.stopped
-                if first is None:
-                    first = (a, b, r)
-                results.append(d)
-                if stopped:  # (the test particles' run said so)
-                    break
+            r, d = _attitude(args, model, flow, a, b)
+            first = (a, b, r) if first is None else first
+            results.append(d)
+            stopped = args.method != "panel" and r.stopped
+            if stopped:  # (the test particles' run said so)
+                break
     if args.json:
         try:  # (made whole first: a refused number must not leave half a document)
             text = json.dumps(results, indent=1, allow_nan=False)
@@ -90,7 +82,7 @@ def run(args) -> int:
         a, b, r = first
         path = plot_panel_pressure(model, flow, a, b, args.plot, view=view, result=r)
         print(f"wrote {path}", file=sys.stderr)
-    return INTERRUPTED if stopped else 0
+    return INTERRUPTED_STATUS if stopped else 0
 
 
 def _attitude(args, model, flow, a, b) -> tuple:

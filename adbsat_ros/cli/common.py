@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 
 from adbsat_ros.bounds import bounded
@@ -11,6 +12,7 @@ from adbsat_ros.cli.atmosphere import compute as compute_flight_conditions
 from adbsat_ros.cli.options import (
     CommandLineError,
     checked,
+    errors_as,
     flag,
     fraction,
     number,
@@ -67,7 +69,10 @@ def add_setup_arguments(parser: argparse.ArgumentParser, **solver) -> None:
     option(g, "--alpha", help, fraction, default=1.0)
     option(g, "--alpha-n", "CLL normal energy accommodation", fraction, default=1.0)
     help = "normal momentum accommodation (schaaf, storch), in [0, 2)"
-    option(g, "--sigma-n", help, _below_two, default=1.0)
+    below_two = functools.partial(
+        number, low=0.0, high=math.nextafter(2.0, 0.0), what="a number in [0, 2)"
+    )
+    option(g, "--sigma-n", help, below_two, default=1.0)
     help = "tangential momentum accommodation (schaaf, storch, cll)"
     option(g, "--sigma-t", help, fraction, default=1.0)
     help = "wall temperature [K] (default 300)"
@@ -103,11 +108,6 @@ def add_setup_arguments(parser: argparse.ArgumentParser, **solver) -> None:
     add_solver_arguments(parser, **solver)
 
 
-def _below_two(option: str):
-    """An argparse ``type`` for a number in [0, 2) (``--sigma-n``)."""
-    return number(option, low=0.0, high=math.nextafter(2.0, 0.0), what="a number in [0, 2)")
-
-
 def parse_species(text: str) -> dict:
     """Parse ``He=1e12,O=3e15`` into a dict, or raise CommandLineError naming --species."""
     out = {}
@@ -128,11 +128,7 @@ def parse_species(text: str) -> dict:
 
 def freestream_from_args(args, model: str) -> FreeStream:
     """The FreeStream given by --speed/--temperature/--mean-mass/--species/--density."""
-    missing = [
-        opt
-        for opt, value in (("--speed", args.speed), ("--temperature", args.temperature))
-        if value is None
-    ]
+    missing = [f"--{name}" for name in ("speed", "temperature") if getattr(args, name) is None]
     if args.mean_mass is None and args.species is None:
         missing.append("--mean-mass or --species")
     if missing:
@@ -195,7 +191,7 @@ def setup_from_args(args) -> Setup:
         ("samples", "--samples"),
         ("solver", f"--method {args.method}"),
     )
-    try:
+    with errors_as(CommandLineError, ValueError, "--material: "):
         surface = SurfaceProperties(
             alpha=args.alpha,
             alpha_n=args.alpha_n,
@@ -203,10 +199,8 @@ def setup_from_args(args) -> Setup:
             sigma_t=args.sigma_t,
             wall_temperature=args.wall_temperature,
         )
-    except ValueError as exc:
-        raise CommandLineError(f"--material: {exc}") from None
     point = tuple(parse_vector3(args.moment_ref, "--moment-ref"))
-    try:
+    with errors_as(CommandLineError, ValueError):
         return Setup(
             body=BodySpec(
                 args.mesh, args.scale, args.accept_size, joints=joints, joint_degrees=True
@@ -220,18 +214,12 @@ def setup_from_args(args) -> Setup:
             solver=SolverSpec(args.method, args.particles, args.tolerance, args.seed),
             labels=labels,
         )
-    except ValueError as exc:
-        raise CommandLineError(str(exc)) from None
 
 
 def model_from_setup(setup: Setup) -> Model:
     """:func:`build_model` of ``setup``; a mesh error is a CommandLineError starting ``MESH:``."""
-    try:
+    with errors_as(CommandLineError, ValueError), errors_as(CommandLineError, MeshError, "MESH: "):
         return build_model(setup)
-    except MeshError as exc:
-        raise CommandLineError(f"MESH: {exc}") from None
-    except ValueError as exc:
-        raise CommandLineError(str(exc)) from None
 
 
 def method_and_flow_from_args(args):
@@ -253,12 +241,8 @@ def method_and_flow_from_args(args):
             "place, not both"
         )
     options = {"alpha": args.alpha} if args.accommodation == "fixed" else {}
-    try:
+    with errors_as(CommandLineError, ValueError):
         conditions = compute_flight_conditions(args, accommodation_options=options)
-    except ValueError as exc:
-        if isinstance(exc, CommandLineError):
-            raise
-        raise CommandLineError(str(exc)) from None
     setup = setup_from_args(args)
     if args.accommodation != "fixed":  # alpha and alpha_n on every panel
         setup = setup.with_accommodation(conditions.alpha)

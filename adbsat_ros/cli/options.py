@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import importlib
 import math
 import os
@@ -96,10 +97,8 @@ def parse_vector3(text: str, option: str, bound: str | None = None):
 
 def checked(what: str, value, bound: str) -> float:
     """``value`` checked by :func:`adbsat_ros.bounds.bounded`; CommandLineError if outside."""
-    try:
+    with errors_as(CommandLineError, ValueError):
         return bounded(what, value, bound)
-    except ValueError as exc:
-        raise CommandLineError(str(exc)) from None
 
 
 def number(
@@ -133,9 +132,12 @@ def number(
     return convert
 
 
-def positive_float(option: str):
-    """An argparse ``type`` accepting finite numbers > 0 (error names ``option``)."""
-    return number(option, low=0.0, low_open=True)
+#: argparse ``type`` makers of :func:`number`'s common ranges (called with the option's name).
+positive_float = functools.partial(number, low=0.0, low_open=True)
+non_negative_float = functools.partial(number, low=0.0)
+fraction = functools.partial(number, low=0.0, high=1.0, what="a number in [0, 1]")
+positive_int = functools.partial(number, integer=True, low=1)
+non_negative_int = functools.partial(number, integer=True, low=0)
 
 
 def within(option: str, bound: str):
@@ -149,21 +151,6 @@ def within(option: str, bound: str):
 
     convert.__name__ = option
     return convert
-
-
-def fraction(option: str):
-    """An argparse ``type`` accepting numbers in [0, 1] (error names ``option``)."""
-    return number(option, low=0.0, high=1.0, what="a number in [0, 1]")
-
-
-def non_negative_float(option: str):
-    """An argparse ``type`` accepting finite numbers >= 0 (error names ``option``)."""
-    return number(option, low=0.0)
-
-
-def non_negative_int(option: str):
-    """An argparse ``type`` accepting whole numbers >= 0 (error names ``option``)."""
-    return number(option, integer=True, low=0)
 
 
 #: A ROS 2 topic name, by the rules of ROS 2's "Topic and Service name mapping" design article
@@ -185,11 +172,6 @@ def topic_name(option: str):
 
     convert.__name__ = option
     return convert
-
-
-def positive_int(option: str):
-    """An argparse ``type`` accepting whole numbers >= 1 (error names ``option``)."""
-    return number(option, integer=True, low=1)
 
 
 def option(parser, name: str, help: str, kind=None, bound: str | None = None, **settings):

@@ -2,7 +2,13 @@
 
 from __future__ import annotations
 
-from adbsat_ros.cli.options import CommandFailed, CommandLineError, add_timeout, ros_module
+from adbsat_ros.cli.options import (
+    CommandFailed,
+    CommandLineError,
+    add_timeout,
+    errors_as,
+    ros_module,
+)
 
 
 def configure(p) -> None:
@@ -36,7 +42,7 @@ def run(args) -> int:
     if args.action == "list" and args.name is not None:
         raise CommandLineError("param list: takes no NAME")
     tools = ros_module("graph_tools")
-    try:
+    with errors_as(CommandFailed, tools.ToolError), errors_as(CommandLineError, tools.BadInput):
         if args.action == "list":
             for name, value in tools.list_parameters(args.node, args.timeout).items():
                 print(f"{name}: {value!r}")
@@ -45,8 +51,4 @@ def run(args) -> int:
         else:
             value = tools.set_parameter(args.node, args.name, args.value, args.timeout)
             print(f"set {args.name} = {value!r}")
-    except tools.BadInput as exc:
-        raise CommandLineError(str(exc)) from None
-    except tools.ToolError as exc:
-        raise CommandFailed(str(exc)) from None
     return 0

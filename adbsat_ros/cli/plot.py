@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 from adbsat_ros.cli.options import CommandLineError, errors_as, flag, number, option
@@ -25,6 +26,7 @@ def configure(p) -> None:
     )
     help = "folder for the PNGs (default: DATABASE without .npz plus '_plots')"
     option(p, "--out-dir", help, metavar="DIR")
+    angle = functools.partial(number, what="a finite angle in degrees")
     help = (
         "angle of attack of the pressure picture [deg] (default 0 if the database covers it, "
         "else its first)"
@@ -37,11 +39,6 @@ def configure(p) -> None:
     help = "most sideslip lines per plot, evenly spaced if the database has more (default 7)"
     option(p, "--max-lines", help, type=int, default=7)
     p.set_defaults(func=run)
-
-
-def angle(option: str):
-    """An argparse ``type`` for a finite angle [deg] (error names ``option``)."""
-    return number(option, what="a finite angle in degrees")
 
 
 def default_angle(grid) -> float:

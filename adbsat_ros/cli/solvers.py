@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import sys
 
@@ -23,17 +24,14 @@ def add_solver_arguments(parser, with_both: bool = True, with_workers: bool = Tr
     help = "tpmc: most molecules per attitude (default 1e6, or 1e8 with --tolerance)"
     option(g, "--particles", help, positive_int)
     help = "tpmc: stop once the standard error of C_D is at most this fraction of C_D"
-    option(g, "--tolerance", help, _below_one)
+    below_one = functools.partial(
+        number, low=0.0, high=math.nextafter(1.0, 0.0), low_open=True, what="a number in (0, 1)"
+    )
+    option(g, "--tolerance", help, below_one)
     option(g, "--seed", "tpmc: random seed", non_negative_int, default=0)
     if with_workers:
         help = "tpmc: processes (default 1; at most the usable CPUs)"
         option(g, "--workers", help, positive_int, default=1)
-
-
-def _below_one(option: str):
-    """An argparse ``type`` for a number in (0, 1) (``--tolerance``)."""
-    high = math.nextafter(1.0, 0.0)
-    return number(option, low=0.0, high=high, low_open=True, what="a number in (0, 1)")
 
 
 def run_tpmc(args, model, flow, aoa, aos):

@@ -12,7 +12,7 @@ import numpy as np
 from matplotlib import colormaps
 from matplotlib.figure import Figure
 
-from adbsat_ros.plotting.figures import new_figure, save_png
+from adbsat_ros.plotting.figures import new_figure, save_figures
 
 #: At most this many sideslip lines per database panel (evenly spaced if there are more).
 MAX_SIDESLIP_LINES = 7
@@ -165,13 +165,8 @@ def make_moment_coefficient_figure(db, max_lines: int = MAX_SIDESLIP_LINES) -> F
 
 def plot_database(db, out_dir, prefix: str = "", max_lines: int = MAX_SIDESLIP_LINES) -> list[Path]:
     """Write ``{prefix}database_coefficients.png`` and ``..._moments.png``; the paths."""
-    out_dir = Path(out_dir)
-    return [
-        save_png(
-            make_force_coefficient_figure(db, max_lines),
-            out_dir / f"{prefix}database_coefficients.png",
-        ),
-        save_png(
-            make_moment_coefficient_figure(db, max_lines), out_dir / f"{prefix}database_moments.png"
-        ),
-    ]
+    figures = {
+        "database_coefficients": make_force_coefficient_figure(db, max_lines),
+        "database_moments": make_moment_coefficient_figure(db, max_lines),
+    }
+    return save_figures(figures, out_dir, prefix)

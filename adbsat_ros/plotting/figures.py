@@ -20,6 +20,11 @@ def new_figure(figsize=FIGSIZE) -> Figure:
     return fig
 
 
+def save_figures(figures, out_dir, prefix: str = "") -> list[Path]:
+    """Write figures (name to Figure) as PNGs ``{prefix}{name}.png`` in ``out_dir``; the paths."""
+    return [save_png(fig, Path(out_dir, f"{prefix}{name}.png")) for name, fig in figures.items()]
+
+
 def save_png(fig: Figure, path) -> Path:
     """Write ``fig`` as a PNG at :data:`DPI` to ``path`` (folders created); returns the path."""
     path = Path(path)

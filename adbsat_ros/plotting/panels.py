@@ -5,7 +5,6 @@ drawn in the mesh frame G [m] (:mod:`adbsat_ros.geometry.frames`).
 from __future__ import annotations
 
 import math
-import re
 from pathlib import Path
 
 import numpy as np
@@ -197,17 +196,3 @@ def make_panel_pressure_figure(
 def plot_panel_pressure(model, flow, aoa_deg, aos_deg, out_path, **options) -> Path:
     """Write :func:`make_panel_pressure_figure` to ``out_path`` (PNG); the path."""
     return save_png(make_panel_pressure_figure(model, flow, aoa_deg, aos_deg, **options), out_path)
-
-
-def legend_panel_counts(fig: Figure) -> dict:
-    """The ``shaded`` and ``back`` panel counts read back from a picture's legend."""
-    text = "\n".join(t.get_text() for legend in fig.legends for t in legend.get_texts())
-    out = {}
-    for key, pattern in (
-        ("shaded", r"lit fraction < 1\): (\d+) panels"),
-        ("back", r"back faces.*?: (\d+) panels"),
-    ):
-        match = re.search(pattern, text)
-        if match:
-            out[key] = int(match.group(1))
-    return out

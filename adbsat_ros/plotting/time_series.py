@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from adbsat_ros.plotting.figures import new_figure, save_png
+from adbsat_ros.plotting.figures import new_figure, save_figures
 
 #: The series every run holds, with their number of dimensions: (N, 3) or (N,).
 TIME_SERIES_KEYS = {"force": 2, "torque": 2, "density": 1, "drag_coefficient": 1}
@@ -182,12 +182,6 @@ def make_space_weather_figure(lines):
     if len(lines) > 1:
         fig.legend(*axes[0].get_legend_handles_labels(), loc="outside right center", fontsize=8)
     return fig
-
-
-def save_figures(figures, out_dir, prefix: str = "") -> list[Path]:
-    """Write figures as PNGs ``{prefix}{name}.png`` in ``out_dir``; returns the paths."""
-    out_dir = Path(out_dir)
-    return [save_png(fig, out_dir / f"{prefix}{name}.png") for name, fig in figures.items()]
 
 
 def plot_time_series(time_s, runs, out_dir, prefix: str = "") -> list[Path]:

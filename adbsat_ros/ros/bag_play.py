@@ -52,10 +52,7 @@ def _publisher_qos(connection, depth: int) -> QoSProfile:
 
 def _sleep_until(deadline: float, stop: threading.Event) -> bool:
     """Sleep until ``deadline`` (time.monotonic) or ``stop``; True if stopped."""
-    remaining = deadline - time.monotonic()
-    if remaining > 0:
-        return stop.wait(remaining)
-    return stop.is_set()
+    return stop.wait(max(0.0, deadline - time.monotonic()))
 
 
 def play(
@@ -72,15 +69,12 @@ def play(
 ) -> PlaySummary:
     """Publish a bag's messages into the ROS graph with their recorded timing.
 
-    Parameters
-    ----------
-    rate : playback speed, > 0 (2 plays twice as fast as recorded)
-    topics : play only these topics, each in the bag (default: all)
-    wait_for_subscribers : before the first message, wait for this many subscribers per topic
-    wait_timeout : give up waiting for subscribers after this long [s]
-    qos_depth : history depth of the publishers (reliable; transient-local if recorded so)
-    stop : a threading.Event to stop playing from another thread
-
+    rate: playback speed, > 0 (2 plays twice as fast as recorded).
+    topics: play only these topics, each in the bag (default: all).
+    wait_for_subscribers: before the first message, wait for this many subscribers per topic,
+      for at most ``wait_timeout`` [s].
+    qos_depth: history depth of the publishers (reliable; transient-local if recorded so).
+    stop: a threading.Event to stop playing from another thread.
     Returns when reliable readers acked the last messages (:data:`ACK_TIMEOUT_S` at most).
     BagError: a missing bag, topic or type, non-CDR messages, or subscribers not there in time.
     """

@@ -62,14 +62,11 @@ def record(
 ) -> RecordSummary:
     """Record topics of the ROS graph into a new rosbag2 bag (version 9).
 
-    Parameters
-    ----------
-    topics : ``/topic`` (type found once a publisher appears) or ``/topic:package/msg/Type``
-    storage : ``'mcap'`` or ``'sqlite3'``
-    duration : stop after this much wall time [s] (default: until ``stop`` or Ctrl-C)
-    qos_depth : history depth (reliable unless a publisher offers only best effort)
-    stop, ready : threading.Events: set ``stop`` to stop; ``ready`` is set once all are subscribed
-
+    topics: ``/topic`` (type found once a publisher appears) or ``/topic:package/msg/Type``.
+    storage: ``'mcap'`` or ``'sqlite3'``.
+    duration: stop after this much wall time [s] (default: until ``stop`` or Ctrl-C).
+    qos_depth: history depth (reliable unless a publisher offers only best effort).
+    stop, ready: threading.Events: set ``stop`` to stop; ``ready`` is set once all are subscribed.
     Returns a RecordSummary with the bag closed and readable, whatever stopped the recording.
     BagError: no or bad topics or types, an existing output path, a type rosbags cannot describe.
     """

@@ -22,6 +22,12 @@ from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
+from adbsat_ros.bags.io import (
+    joint_state_message,
+    odometry_message,
+    quaternion_stamped_message,
+    serialize,
+)
 from adbsat_ros.bags.scenario import Scenario, generate
 from adbsat_ros.environment.space_weather import HistoricalWeather
 from adbsat_ros.ros import demo_joints
@@ -91,14 +97,11 @@ def run_demo(
 ) -> DemoResult:
     """Run the demo (module docstring); prints to ``out`` (default stdout).
 
-    Parameters
-    ----------
-    duration : wall time of the live part [s] (the node's start-up comes on top)
-    speedup : simulated seconds per wall second, in (0, :data:`MAX_SPEEDUP`]
-    attitude : ``'tumble'`` (default) or ``'nadir'`` (with ``articulated``)
-    articulated : the finned body steering its fins (:mod:`adbsat_ros.ros.demo_joints`)
-    space_weather : the node's ``space_weather`` parameter, ``'fixed'`` or ``'historical'``
-
+    duration: wall time of the live part [s] (the node's start-up comes on top).
+    speedup: simulated seconds per wall second, in (0, :data:`MAX_SPEEDUP`].
+    attitude: ``'tumble'`` (default) or ``'nadir'`` (with ``articulated``).
+    articulated: the finned body steering its fins (:mod:`adbsat_ros.ros.demo_joints`).
+    space_weather: the node's ``space_weather`` parameter, ``'fixed'`` or ``'historical'``.
     ValueError: a bad duration, speedup or attitude.
     """
     out = out or sys.stdout
@@ -120,16 +123,12 @@ def run_demo(
     motion = (
         f"tumbling at {TUMBLE_RATE_DEG_S:g} deg/s" if attitude == "tumble" else "nadir-pointing"
     )
+    fins = f"; {demo_joints.BODY} steering its fins +-{demo_joints.AMPLITUDE_DEG:g} deg"
     say(
         f"adbsat-ros demo: {ALTITUDE_KM:g} km circular orbit, {INCLINATION_DEG:g} deg inclination, "
-        "from "
-        f"{scenario.epoch.isoformat().replace('+00:00', 'Z')}, satellite {motion}; "
+        f"from {scenario.epoch.isoformat().replace('+00:00', 'Z')}, satellite {motion}; "
         f"{scenario.duration_s:g} s simulated in {duration:g} s ({speedup:g}x real time)"
-        + (
-            f"; {demo_joints.BODY} steering its fins +-{demo_joints.AMPLITUDE_DEG:g} deg"
-            if articulated
-            else ""
-        )
+        + (fins if articulated else "")
     )
     say(
         f"ROS 2: ROS_AUTOMATIC_DISCOVERY_RANGE={os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE']}, "
@@ -146,6 +145,16 @@ def run_demo(
     latest = [None]  # stamp_ns of the newest wrench received
     sent_wall = {}
     log = None
+    timeout = max(1.0, 1.5 / scenario.rate_hz)
+    parameters = {"qos_depth": 100, "state_timeout": timeout, "space_weather": space_weather}
+    if articulated:
+        parameters.update(
+            mesh=demo_joints.BODY,
+            joint_state_timeout=timeout,
+            joint_shading_resolution_deg=demo_joints.SHADING_GRID_DEG,
+            joint_shading_interpolation=True,
+        )
+    t0_ns = int(messages.attitudes.stamps_ns[0])
     try:
         started = time.monotonic()
         node = AdbsatNode(
@@ -153,20 +162,8 @@ def run_demo(
             namespace=NAMESPACE,
             cli_args=["--ros-args", "-r", f"/diagnostics:={NAMESPACE}/diagnostics"],
             parameter_overrides=[
-                Parameter("qos_depth", value=100),
-                Parameter("state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
-                Parameter("space_weather", value=space_weather),
-            ]
-            + (
-                [
-                    Parameter("mesh", value=demo_joints.BODY),
-                    Parameter("joint_state_timeout", value=max(1.0, 1.5 / scenario.rate_hz)),
-                    Parameter("joint_shading_resolution_deg", value=demo_joints.SHADING_GRID_DEG),
-                    Parameter("joint_shading_interpolation", value=True),
-                ]
-                if articulated
-                else []
-            ),
+                Parameter(name, value=value) for name, value in parameters.items()
+            ],
         )
         log = SampleLog()
         node.add_sample_listener(log)
@@ -237,7 +234,6 @@ def run_demo(
             f"{'[s]':>9} {'[km]':>9} {'[kg/m^3]':>10} {'[-]':>6} {'[N]':>10} {'[N m]':>10} "
             f"{'[ms]':>8} {'[ms]':>8}" + (f" {demo_joints.TABLE_HEADER[1]}" if articulated else "")
         )
-        t0_ns = int(messages.attitudes.stamps_ns[0])
 
         def table_line():
             with lock:
@@ -272,32 +268,19 @@ def run_demo(
                 if now >= target:
                     break
                 time.sleep(min(target, next_line) - now)
-            if kind == 0:
-                state_pub.publish(
-                    _odometry(
-                        Odometry,
-                        int(states.stamps_ns[i]),
-                        states.position_eci[i],
-                        states.velocity_eci[i],
-                    )
-                )
+            if kind == 0:  # (the twist is the ECI velocity)
+                position, velocity = states.position_eci[i], states.velocity_eci[i]
+                stamp_ns = int(states.stamps_ns[i])
+                _send(state_pub, odometry_message(stamp_ns, "eci", "eci", position, velocity))
                 result.states_sent += 1
             else:
                 stamp_ns = int(attitudes.stamps_ns[i])
                 if articulated:  # the fins' positions at this stamp, just before the attitude
-                    fraction = i / max(1, len(attitudes.stamps_ns) - 1)
-                    joints_pub.publish(
-                        demo_joints.joint_state(
-                            JointState, stamp_ns, demo_joints.fin_positions(fraction)
-                        )
-                    )
-                msg = QuaternionStamped()
-                msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
-                msg.header.frame_id = "eci"
-                q = msg.quaternion
-                q.x, q.y, q.z, q.w = (float(v) for v in attitudes.quaternion_xyzw[i])
+                    fins = demo_joints.fin_positions(i / max(1, len(attitudes.stamps_ns) - 1))
+                    _send(joints_pub, joint_state_message(stamp_ns, "", demo_joints.JOINTS, fins))
+                quaternion = attitudes.quaternion_xyzw[i]
                 sent_wall[stamp_ns] = time.monotonic()
-                attitude_pub.publish(msg)
+                _send(attitude_pub, quaternion_stamped_message(stamp_ns, "eci", quaternion))
                 result.attitudes_sent += 1
         deadline = time.monotonic() + DRAIN_TIMEOUT_S
         while time.monotonic() < deadline:
@@ -322,25 +305,18 @@ def run_demo(
         rclpy.try_shutdown(context=context)
 
     samples = log.samples if log is not None else {}
-    t0_ns = int(messages.attitudes.stamps_ns[0])
     rows = table_rows(received, samples, sent_wall, t0_ns, result, joints=articulated)
     result.rejected = {
         k: v for k, v in (node.estimator.rejections.items() if node is not None else ()) if v
     }
     say()
+    rejected = ", ".join(f"{k} {v}" for k, v in result.rejected.items())
+    mismatched = f"; {result.mismatched} wrenches differ from the node's samples"
     say(
         f"published {result.attitudes_sent} attitudes and {result.states_sent} states; received "
         f"{result.wrenches_received} wrenches"
-        + (
-            f"; rejected: {', '.join(f'{k} {v}' for k, v in result.rejected.items())}"
-            if result.rejected
-            else ""
-        )
-        + (
-            f"; {result.mismatched} wrenches differ from the node's samples"
-            if result.mismatched
-            else ""
-        )
+        + (f"; rejected: {rejected}" if result.rejected else "")
+        + (mismatched if result.mismatched else "")
     )
     if rows:
         say(
@@ -362,12 +338,6 @@ def run_demo(
     return result
 
 
-def _odometry(cls, stamp_ns: int, position, velocity):
-    msg = cls()
-    msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
-    msg.header.frame_id = "eci"
-    msg.child_frame_id = "eci"  # the twist is the ECI velocity
-    p, v = msg.pose.pose.position, msg.twist.twist.linear
-    p.x, p.y, p.z = (float(x) for x in position)
-    v.x, v.y, v.z = (float(x) for x in velocity)
-    return msg
+def _send(publisher, msg) -> None:
+    """Publish ``msg`` (built by :mod:`adbsat_ros.bags.io`) as its CDR bytes."""
+    publisher.publish(bytes(serialize(msg)))

@@ -32,15 +32,6 @@ def fin_positions(fraction: float) -> tuple:
     return (pitch, pitch, yaw, yaw)
 
 
-def joint_state(cls, stamp_ns: int, positions):
-    """A sensor_msgs/JointState (class ``cls``) of :data:`JOINTS` at ``positions``."""
-    msg = cls()
-    msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(int(stamp_ns), 1_000_000_000)
-    msg.name = list(JOINTS)
-    msg.position = [float(p) for p in positions]
-    return msg
-
-
 #: The table's extra columns: heading, unit row.
 TABLE_HEADER = (f"{'pitch fin':>9} {'hinge T':>10}", f"{'[deg]':>9} {'[N m]':>10}")
 

@@ -69,10 +69,7 @@ def table_rows(received, samples, sent_wall, t0_ns, result: DemoResult, joints=F
         if wrench is None or coefficients is None:
             continue
         sample = samples.get(key)
-        force, torque = (
-            np.array(vector(wrench.wrench.force)),
-            np.array(vector(wrench.wrench.torque)),
-        )
+        force, torque = (np.array(vector(v)) for v in (wrench.wrench.force, wrench.wrench.torque))
         if sample is None or not (
             np.array_equal(force, sample.force) and np.array_equal(torque, sample.torque)
         ):

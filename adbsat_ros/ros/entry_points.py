@@ -5,6 +5,7 @@ Each handles SIGINT and SIGTERM before importing rclpy, so a signal during start
 
 from __future__ import annotations
 
+import importlib
 import sys
 
 from adbsat_ros.processes import (
@@ -18,27 +19,24 @@ from adbsat_ros.processes import (
 
 def adbsat_node(args=None) -> int:
     """Console script ``adbsat_node`` (:func:`adbsat_ros.ros.node.main`)."""
-    with handle_signals():
-        try:
-            with raising_signals():
-                from adbsat_ros.ros.node import main
-        except Interrupted:
-            return _stopped("adbsat_node")
-        return main(args)
+    return _script("adbsat_node", "node", args)
 
 
 def adbsat_orbit_publisher(argv=None) -> int:
     """Console script ``adbsat_orbit_publisher`` (:func:`adbsat_ros.ros.orbit_publisher.main`)."""
+    return _script("adbsat_orbit_publisher", "orbit_publisher", argv)
+
+
+def _script(name: str, module: str, argv) -> int:
+    """``adbsat_ros.ros.<module>.main(argv)``, imported under the signal handlers."""
     with handle_signals():
         try:
             with raising_signals():
-                from adbsat_ros.ros.orbit_publisher import main
+                main = importlib.import_module(f"adbsat_ros.ros.{module}").main
         except Interrupted:
-            return _stopped("adbsat_orbit_publisher")
+            print(f"{name}: stopped by {signal_name()}", file=sys.stderr)
+            exit_now(
+                0
+            )  # (an import stopped half-way: the interpreter's clean-up could crash on it)
+            return 0
         return main(argv)
-
-
-def _stopped(name: str) -> int:
-    print(f"{name}: stopped by {signal_name()}", file=sys.stderr)
-    exit_now(0)  # (an import stopped half-way: the interpreter's clean-up could crash on it)
-    return 0

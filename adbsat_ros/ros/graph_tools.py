@@ -85,36 +85,36 @@ def _wait(tool, request, timeout: float, what: str):
     return next(f for f in futures if f.done()).result()
 
 
-def _client(tool, target: str, timeout: float) -> AsyncParameterClient:
-    client = AsyncParameterClient(tool.node, checked_node_name(target))
-    deadline = time.monotonic() + timeout
-    while not client.services_are_ready():
-        if time.monotonic() > deadline:
-            raise ToolError(
-                f"node {target}: its parameter services did not appear within {timeout:g} s "
-                "(is it running, on this ROS_DOMAIN_ID?)"
-            )
-        tool.spin_once()
-    return client
+@contextlib.contextmanager
+def _parameters(target: str, timeout: float):
+    """``(client, ask)`` of node ``target``'s parameter services; ``ask(request)``: the answer."""
+    checked_node_name(target)
+    with tool_node() as tool:
+        client = AsyncParameterClient(tool.node, target)
+        deadline = time.monotonic() + timeout
+        while not client.services_are_ready():
+            if time.monotonic() > deadline:
+                raise ToolError(
+                    f"node {target}: its parameter services did not appear within {timeout:g} s "
+                    "(is it running, on this ROS_DOMAIN_ID?)"
+                )
+            tool.spin_once()
+        yield client, lambda request: _wait(tool, request, timeout, f"node {target}")
 
 
 def list_parameters(target: str, timeout: float = 5.0) -> dict:
     """Every parameter of node ``target`` and its value (Python values), by name."""
-    checked_node_name(target)
-    with tool_node() as tool:
-        client = _client(tool, target, timeout)
-        names = _wait(tool, client.list_parameters, timeout, f"node {target}").result.names
-        values = _wait(tool, lambda: client.get_parameters(names), timeout, f"node {target}").values
+    with _parameters(target, timeout) as (client, ask):
+        names = ask(client.list_parameters).result.names
+        values = ask(lambda: client.get_parameters(names)).values
         found = {n: parameter_value_to_python(v) for n, v in zip(names, values)}
         return dict(sorted(found.items()))
 
 
 def get_parameter(target: str, name: str, timeout: float = 5.0):
     """The value of parameter ``name`` of node ``target``; ToolError if it has none."""
-    checked_node_name(target)
-    with tool_node() as tool:
-        client = _client(tool, target, timeout)
-        value = _wait(tool, lambda: client.get_parameters([name]), timeout, f"node {target}").values
+    with _parameters(target, timeout) as (client, ask):
+        value = ask(lambda: client.get_parameters([name])).values
         if not value or value[0].type == ParameterType.PARAMETER_NOT_SET:
             raise ToolError(f"node {target} has no parameter {name!r}")
         return parameter_value_to_python(value[0])
@@ -125,12 +125,8 @@ def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
 
     BadInput: no node name, or ``text`` of another type. ToolError: rejected, unknown or no answer.
     """
-    checked_node_name(target)
-    with tool_node() as tool:
-        client = _client(tool, target, timeout)
-        described = _wait(
-            tool, lambda: client.describe_parameters([name]), timeout, f"node {target}"
-        ).descriptors
+    with _parameters(target, timeout) as (client, ask):
+        described = ask(lambda: client.describe_parameters([name])).descriptors
         if not described or described[0].type == ParameterType.PARAMETER_NOT_SET:
             raise ToolError(f"node {target} has no parameter {name!r}")
         try:
@@ -138,20 +134,10 @@ def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
         except ValueError as exc:
             raise BadInput(str(exc)) from None
         parameter = Parameter(name, value=value)
-        result = _wait(
-            tool, lambda: client.set_parameters([parameter]), timeout, f"node {target}"
-        ).results[0]
+        result = ask(lambda: client.set_parameters([parameter])).results[0]
         if not result.successful:
             raise ToolError(f"node {target} rejected {name}={text}: {result.reason}")
         return value
-
-
-def _is_message_list(value) -> bool:
-    return (
-        isinstance(value, (list, tuple))
-        and bool(value)
-        and hasattr(value[0], "get_fields_and_field_types")
-    )
 
 
 def message_text(message, indent: str = "") -> str:
@@ -162,7 +148,11 @@ def message_text(message, indent: str = "") -> str:
         if hasattr(value, "get_fields_and_field_types"):
             lines.append(f"{indent}{field}:")
             lines.append(message_text(value, indent + "  "))
-        elif _is_message_list(value):
+        elif (
+            isinstance(value, (list, tuple))
+            and value
+            and hasattr(value[0], "get_fields_and_field_types")
+        ):
             lines.append(f"{indent}{field}:")
             for item in value:
                 body = message_text(item, indent + "  ").lstrip()

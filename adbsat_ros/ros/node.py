@@ -16,11 +16,7 @@ from rclpy.signals import SignalHandlerOptions
 
 from adbsat_ros.estimator.settings import settings_from_file
 from adbsat_ros.geometry.mesh import MeshError
-from adbsat_ros.processes import (
-    run_until_stopped,
-    signal_name,
-    stop_on_signals,
-)
+from adbsat_ros.processes import run_until_stopped, signal_name, stop_on_signals
 from adbsat_ros.ros.executors import make_executor, spin_until_shutdown
 from adbsat_ros.ros.managed_node import AdbsatLifecycleNode
 from adbsat_ros.ros.node_core import WrenchNodeCore

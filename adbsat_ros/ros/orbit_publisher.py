@@ -18,10 +18,7 @@ from nav_msgs.msg import Odometry
 from rclpy.signals import SignalHandlerOptions
 
 from adbsat_ros.physics.constants import EARTH_MU
-from adbsat_ros.processes import (
-    run_until_stopped,
-    stop_on_signals,
-)
+from adbsat_ros.processes import run_until_stopped, stop_on_signals
 
 #: Equatorial radius of WGS-84 [m]: the orbit's radius is this plus the altitude.
 EARTH_RADIUS = 6378137.0
@@ -88,14 +85,9 @@ def _publish(node, args, stop) -> None:
         if t >= next_state:
             o = Odometry()
             o.header.stamp, o.header.frame_id, o.child_frame_id = stamp, "eci", "eci"
-            o.pose.pose.position.x, o.pose.pose.position.y = (
-                r * math.cos(w * t),
-                r * math.sin(w * t),
-            )
-            o.twist.twist.linear.x, o.twist.twist.linear.y = (
-                -v * math.sin(w * t),
-                v * math.cos(w * t),
-            )
+            cos, sin = math.cos(w * t), math.sin(w * t)
+            o.pose.pose.position.x, o.pose.pose.position.y = r * cos, r * sin
+            o.twist.twist.linear.x, o.twist.twist.linear.y = -v * sin, v * cos
             state.publish(o)
             next_state += 0.1
         # body x along the velocity (+90 deg about z from ECI x at t = 0), plus the yaw rate

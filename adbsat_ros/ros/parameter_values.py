@@ -72,11 +72,6 @@ _ELEMENT_TYPES = {
     ParameterType.PARAMETER_DOUBLE_ARRAY: ParameterType.PARAMETER_DOUBLE,
     ParameterType.PARAMETER_STRING_ARRAY: ParameterType.PARAMETER_STRING,
 }
-_WORDS = {
-    ParameterType.PARAMETER_BOOL: "true or false",
-    ParameterType.PARAMETER_INTEGER: "a whole number (integer)",
-    ParameterType.PARAMETER_DOUBLE: "a number (double)",
-}
 
 
 def _integer(name: str, text: str) -> int:
@@ -89,9 +84,7 @@ def _integer(name: str, text: str) -> int:
         except ValueError:
             number = math.nan
         if not (math.isfinite(number) and number.is_integer()):
-            raise ValueError(
-                f"{name} takes {_WORDS[ParameterType.PARAMETER_INTEGER]}, got {text!r}"
-            )
+            raise ValueError(f"{name} takes a whole number (integer), got {text!r}")
         value = int(number)
     if not INT64_MIN <= value <= INT64_MAX:
         raise ValueError(
@@ -109,7 +102,7 @@ def _double(name: str, text: str) -> float:
         value = yaml.safe_load(text) if text.strip() else None
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             return float(value)
-        raise ValueError(f"{name} takes {_WORDS[ParameterType.PARAMETER_DOUBLE]}, got {text!r}")
+        raise ValueError(f"{name} takes a number (double), got {text!r}")
 
 
 def _bool(name: str, text: str) -> bool:
@@ -118,7 +111,7 @@ def _bool(name: str, text: str) -> bool:
     except yaml.YAMLError:
         value = None
     if not isinstance(value, bool):
-        raise ValueError(f"{name} takes {_WORDS[ParameterType.PARAMETER_BOOL]}, got {text!r}")
+        raise ValueError(f"{name} takes true or false, got {text!r}")
     return value
 
 

@@ -11,10 +11,13 @@ import pytest
 from meshes import grid_box
 from rosbags.rosbag2 import Reader
 
+from adbsat_ros import tasks
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import scenario
 from adbsat_ros.bags import worker as bag_worker
-from adbsat_ros.bags.analysis import MODEL_COLUMNS, analyze_bag, safe_split_points
+from adbsat_ros.bags.analysis import analyze_bag
+from adbsat_ros.bags.planning import safe_split_points
+from adbsat_ros.bags.table import MODEL_COLUMNS
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.parameters import PARAMETER_DEFAULTS
 from adbsat_ros.estimator.samples import Rejection
@@ -525,7 +528,7 @@ def test_workers_and_chunks_give_identical_outputs(tmp_path, monkeypatch):
             monkeypatch.setattr(bag_worker, "ProcessPoolExecutor", None)
         if name == "auto":
             monkeypatch.setattr(bag_worker, "ProcessPoolExecutor", pool_class)
-            monkeypatch.setattr(bag_worker, "worth_workers", lambda left, start, count: True)
+            monkeypatch.setattr(tasks, "worth_workers", lambda left, start, count: True)
         report = analyze_bag(
             tmp_path / "in",
             models=models,

@@ -10,8 +10,8 @@ from rosbags.rosbag2 import Reader
 
 from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import scenario
-from adbsat_ros.bags.analysis import MODEL_COLUMNS, analyze_bag
-from adbsat_ros.bags.table import SOLAR_COLUMNS
+from adbsat_ros.bags.analysis import analyze_bag
+from adbsat_ros.bags.table import MODEL_COLUMNS, SOLAR_COLUMNS
 from adbsat_ros.estimator.estimator import AeroWrenchEstimator
 from adbsat_ros.estimator.settings import WrenchSettings
 

@@ -4,6 +4,7 @@ holding every bin's exact extremes (spikes kept), exact where bins hold one or t
 import numpy as np
 import pytest
 
+from adbsat_ros.plotting import figures as figures_module
 from adbsat_ros.plotting import time_series
 from adbsat_ros.plotting.envelope import BINS, MinMaxEnvelope
 
@@ -134,7 +135,7 @@ def test_line_figures_from_an_envelope_are_bounded(tmp_path):
             for line in ax.get_lines():
                 assert len(line.get_xdata()) <= 2 * BINS
     assert "[h]" in figures["force"].axes[-1].get_xlabel()
-    paths = time_series.save_figures(figures, tmp_path)
+    paths = figures_module.save_figures(figures, tmp_path)
     assert [p.name for p in paths] == [
         "force.png",
         "torque.png",

@@ -35,6 +35,20 @@ from adbsat_ros.shading.shader import make_shader
 FLOW = FreeStream(7726.0, 934.0, mean_mass_amu=17.9)
 
 
+def legend_panel_counts(fig) -> dict:
+    """The ``shaded`` and ``back`` panel counts read back from a picture's legend."""
+    text = "\n".join(t.get_text() for legend in fig.legends for t in legend.get_texts())
+    out = {}
+    for key, pattern in (
+        ("shaded", r"lit fraction < 1\): (\d+) panels"),
+        ("back", r"back faces.*?: (\d+) panels"),
+    ):
+        match = re.search(pattern, text)
+        if match:
+            out[key] = int(match.group(1))
+    return out
+
+
 def cube_plate():
     return combine(
         [
@@ -157,7 +171,7 @@ def test_pressure_picture_marks_shadows_and_scales_cp(scene, aoa_deg, aos_deg, t
     assert 0 < shaded.sum() < mesh.n_panels  # the cube shades part of the plate
     fig = panels.make_panel_pressure_figure(model, FLOW, aoa_deg, aos_deg)
     assert "shading: raycast" in fig._suptitle.get_text()
-    counts = panels.legend_panel_counts(fig)
+    counts = legend_panel_counts(fig)
     assert counts["shaded"] == int(shaded.sum())
     assert counts["back"] == int(((result.cos_delta < 0) & ~shaded).sum())
     legend = "\n".join(t.get_text() for t in fig.legends[0].get_texts())
@@ -168,7 +182,7 @@ def test_pressure_picture_marks_shadows_and_scales_cp(scene, aoa_deg, aos_deg, t
     assert collection.norm.vmin == pytest.approx(result.cp[~shaded].min(), rel=1e-12)
     assert collection.norm.vmax == pytest.approx(result.cp[~shaded].max(), rel=1e-12)
     unshaded = panels.make_panel_pressure_figure(plain, FLOW, aoa_deg, aos_deg)
-    assert panels.legend_panel_counts(unshaded)["shaded"] == 0
+    assert legend_panel_counts(unshaded)["shaded"] == 0
     assert "shading" not in unshaded._suptitle.get_text()
     norm = unshaded.axes[0].collections[0].norm
     assert (norm.vmin, norm.vmax) == (result.cp.min(), result.cp.max())
