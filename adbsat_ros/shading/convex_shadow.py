@@ -75,7 +75,8 @@ class ConvexParts:
     def lighting_many(self, directions: np.ndarray) -> list:
         """Per unit flow direction (D, 3) in G: the forward panels that could be shaded (the
         shader's candidates), those of them lit exactly (shaded by convex parts alone), and
-        their lit fraction and lit centroid [m, G]: ``[(candidates, exact, fraction, centroid)]``.
+        their lit fraction and lit centroid [m, G], and the count of forward panels:
+        ``[(candidates, exact, fraction, centroid, n_forward)]``.
         """
         step = max(1, MAX_PAIRS // (self.filter.n_components * self.mesh.n_panels))
         return [
@@ -91,7 +92,7 @@ class ConvexParts:
         axes = np.ascontiguousarray(bases.transpose(0, 2, 1))  # (D, 3, 3): p1, p2, -u rows
         coords = (axes @ self._vertices).reshape(n_dir, 3, 3, n)  # [d, axis, corner, panel]
         lo = np.minimum(np.minimum(coords[:, :, 0], coords[:, :, 1]), coords[:, :, 2])
-        hi = np.maximum(np.maximum(coords[:, :, 0], coords[:, :, 1]), coords[:, :, 2])
+        hi = np.maximum(np.maximum(coords[:, :2, 0], coords[:, :2, 1]), coords[:, :2, 2])
         # the components' boxes, from their hulls' corners
         seen = axes @ self._hulls  # (D, 3, H)
         clo = np.minimum.reduceat(seen, self._hull_start, axis=2)[..., None]  # (D, 3, C, 1)
@@ -124,9 +125,7 @@ class ConvexParts:
             _, of_triple = _distinct_rows(triples[:, :-1])
             keep[cut[np.bincount(of_triple)[of_triple[which]] > MAX_CUT_PLANES]] = False
         d, j, members, body = d[keep], j[keep], members[keep], body[keep]
-        slots = np.argsort(~members, axis=1, kind="stable")[:, :MAX_OCCLUDERS]
-        body = np.take_along_axis(body, slots, axis=1)  # (J, 3): the bodies in front, or < 0
-        body[~np.take_along_axis(members, slots, axis=1)] = BEHIND
+        body = np.where(members, body, BEHIND)  # (J, C): the bodies in front (<= 3), or < 0
         body = np.take_along_axis(body, np.argsort(body < 0, axis=1, kind="stable"), axis=1)
         body = body[:, : max(int((body >= 0).sum(axis=1).max(initial=0)), 1)]
         table, index, flat = self._outlines(bases, d, body)
@@ -135,15 +134,10 @@ class ConvexParts:
         tx, ty = coords.reshape(-1)[at], coords.reshape(-1)[at + 3 * n]
         fraction, c2 = lit_parts_of_edges(tx, ty, table, index)
         centroid = _on_panel(mesh.vertices[j], tx, ty, c2)
-        starts = np.searchsorted(d, np.arange(n_dir + 1))
+        starts = np.searchsorted(d, np.arange(n_dir + 1)).tolist()
         return [
-            (
-                np.flatnonzero(candidate[k]),
-                j[starts[k] : starts[k + 1]],
-                fraction[starts[k] : starts[k + 1]],
-                centroid[starts[k] : starts[k + 1]],
-            )
-            for k in range(n_dir)
+            (np.flatnonzero(candidate[k]), j[a:b], fraction[a:b], centroid[a:b], n_forward)
+            for k, (a, b, n_forward) in enumerate(zip(starts, starts[1:], forward.sum(1).tolist()))
         ]
 
     def _bodies(self, j: np.ndarray, members: np.ndarray) -> tuple:

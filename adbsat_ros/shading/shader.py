@@ -206,27 +206,30 @@ class Shader:
         (:meth:`ConvexParts.lighting_many`)."""
         mesh = self.mesh
         n = mesh.n_panels
+        lit_fraction = np.ones(n)
+        if convex is not None and self.prefilter and convex[1].size == convex[0].size:
+            cand, exact, fraction, centroid, n_forward = convex  # (every candidate lit exactly)
+            lit_fraction[exact] = fraction
+            partly = (fraction > 0.0) & (fraction < 1.0)
+            self.last_stats = dict.fromkeys(STATS, 0) | dict(
+                forward=n_forward, tested=cand.size, exact=exact.size
+            )
+            index = exact[partly]
+            return PanelLighting(lit_fraction, index, centroid[partly] - mesh.barycentres[index])
         c = -(mesh.normals @ u)
         forward = forward_mask(c, mesh.normals, self.graze_tol)
         if convex is None or not self.prefilter:
             cand = self.candidates(u, forward)
         else:
             cand = convex[0]
-        lit_fraction = np.ones(n)
         stats = dict.fromkeys(STATS, 0) | {"forward": int(forward.sum()), "tested": int(cand.size)}
         shifts = [(np.zeros(0, dtype=np.int64), np.zeros((0, 3)))]
         if convex is not None and cand.size:
             # the panels that only convex parts can shade: lit exactly, no rays
-            exact, fraction, centroid = convex[1:]  # (exact ascending)
+            exact, fraction, centroid = convex[1:4]  # (exact ascending)
             lit_fraction[exact] = fraction
             partly = (fraction > 0.0) & (fraction < 1.0)
             stats["exact"] = int(exact.size)
-            if exact.size == cand.size:  # (every candidate lit exactly: no rays)
-                self.last_stats = stats
-                index = exact[partly]
-                return PanelLighting(
-                    lit_fraction, index, centroid[partly] - mesh.barycentres[index]
-                )
             done = np.zeros(n, dtype=bool)
             done[exact] = True
             cand = cand[~done[cand]]
