@@ -120,9 +120,8 @@ class Shader:
             shadowed = adbsat_shadowed(self.mesh, u)
             self.last_stats = {"rays": 0, "partly_lit": 0, "shaded": int(shadowed.sum())}
             return PanelLighting(np.where(shadowed, 0.0, 1.0))
-        if self.parts is None:
-            return self._raycast(u)
-        return self._raycast(u, self.parts.lighting_many(u[None])[0])
+        convex = None if self.parts is None else self.parts.lighting_many(u[None])[0]
+        return self._raycast([u], [convex])[0]
 
     def lighting_many(self, directions) -> list:
         """:meth:`lighting` of each flow direction (M, 3) in G, the convex parts' shadows of all
@@ -130,8 +129,7 @@ class Shader:
         us = [frames.unit_vector(u) for u in directions]
         if self.trivial or self.mode != "raycast" or self.parts is None:
             return [self.lighting(u) for u in us]
-        exact = self.parts.lighting_many(np.array(us))
-        return [self._raycast(u, e) for u, e in zip(us, exact)]
+        return self._raycast(us, self.parts.lighting_many(np.array(us)))
 
     def lighting_angles(self, aoa: float, aos: float) -> PanelLighting:
         """:meth:`lighting` for angle of attack and sideslip [rad] (frames module)."""
@@ -148,20 +146,27 @@ class Shader:
         return self.filter.candidates(u, forward, boxes)
 
     # -------------------------------------------------------------------------- raycast
-    def _cast_sets(self, sets, tri, lift, cand, d, occluder, stats):
-        """[(lit (k, count), origins (k, count, 3)), ...] of sample sets [(rows, start, count)]."""
-        parts = []
+    def _cast(self, origins, rows, jobs, first_face=False) -> np.ndarray:
+        """Whether rays ``origins`` (R, 3) of the jobs ``rows`` (R,) (ascending) meet an occluder
+        along their job's flow (or the first occluder they meet, -1 for none)."""
+        out = np.zeros(len(rows), dtype=np.int64 if first_face else bool)
+        cast = self.scene.first_face if first_face else self.scene.any_hit
+        ends = np.searchsorted(rows, np.arange(len(jobs) + 1)).tolist()
+        for (_, d, occluder, _), a, b in zip(jobs, ends, ends[1:]):  # (a loop over directions)
+            if b > a:
+                out[a:b] = cast(origins[a:b], d, occluder)
+        return out
+
+    def _cast_sets(self, sets, tri, lift, cand, job, jobs, counts):
+        """[(lit (k, count), origins (k, count, 3)), ...] of sample sets [(rows, start, count)],
+        each job's rays added to ``counts``."""
+        out = []
         for idx, start, count in sets:
             a, b = sample_coordinates(cand[idx], start, count)
-            parts.append(sample_points(tri[idx], a, b, lift[idx]))
-        flat = np.concatenate([p.reshape(-1, 3) for p in parts]) if parts else np.zeros((0, 3))
-        blocked = self.scene.any_hit(flat, d, occluder)
-        stats["rays"] += int(blocked.size)
-        out, pos = [], 0
-        for p in parts:
-            k = p.shape[0] * p.shape[1]
-            out.append((~blocked[pos : pos + k].reshape(p.shape[:2]), p))
-            pos += k
+            p = sample_points(tri[idx], a, b, lift[idx])
+            blocked = self._cast(p.reshape(-1, 3), np.repeat(job[idx], count), jobs)
+            out.append((~blocked.reshape(p.shape[:2]), p))
+            counts += np.bincount(job[idx], minlength=len(jobs)) * count
         return out
 
     def _first_points(self, cand) -> np.ndarray:
@@ -170,7 +175,7 @@ class Shader:
         if self._points is None:
             self._points = np.zeros((self.mesh.n_panels, 3 + self.samples, 3))
             self._made = np.zeros(self.mesh.n_panels, dtype=bool)
-        new = cand[~self._made[cand]]
+        new = np.unique(cand[~self._made[cand]])
         if new.size:
             a, b = sample_coordinates(new, 0, self.samples)
             a, b = (
@@ -182,13 +187,13 @@ class Shader:
             self._made[new] = True
         return self._points[cand]
 
-    def _corner_rays(self, corners, d, occluder, cand) -> tuple:
+    def _corner_rays(self, corners, cand, job, jobs) -> tuple:
         """Corner rays lit (K, 3), and panels wholly shaded (K,) by one closed convex component."""
-        n = cand.size
+        n, rows = cand.size, np.repeat(job, 3)
         if not self.convex_shadows or not self.filter.convex.any():
-            lit = ~self.scene.any_hit(corners.reshape(-1, 3), d, occluder).reshape(n, 3)
+            lit = ~self._cast(corners.reshape(-1, 3), rows, jobs).reshape(n, 3)
             return lit, np.zeros(n, dtype=bool)
-        face = self.scene.first_face(corners.reshape(-1, 3), d, occluder).reshape(n, 3)
+        face = self._cast(corners.reshape(-1, 3), rows, jobs, first_face=True).reshape(n, 3)
         component = self.filter.component
         by = np.where(face >= 0, component[np.maximum(face, 0)], -1)
         first = by[:, 0]
@@ -201,47 +206,58 @@ class Shader:
         )
         return face < 0, whole
 
-    def _raycast(self, u: np.ndarray, convex=None) -> PanelLighting:
-        """The lighting at unit ``u``; ``convex``: the convex parts' shadows at ``u``
-        (:meth:`ConvexParts.lighting_many`)."""
+    def _raycast(self, us, convexes) -> list:
+        """The lighting at each unit flow direction ``us``; ``convexes``: the convex parts'
+        shadows at each (:meth:`ConvexParts.lighting_many`), or None. The panels left to the
+        rays of all directions are cast together, each a row (its direction's job)."""
         mesh = self.mesh
         n = mesh.n_panels
-        lit_fraction = np.ones(n)
-        if convex is not None and self.prefilter and convex[1].size == convex[0].size:
-            cand, exact, fraction, centroid, n_forward = convex  # (every candidate lit exactly)
-            lit_fraction[exact] = fraction
-            partly = (fraction > 0.0) & (fraction < 1.0)
-            self.last_stats = dict.fromkeys(STATS, 0) | dict(
-                forward=n_forward, tested=cand.size, exact=exact.size
-            )
-            index = exact[partly]
-            return PanelLighting(lit_fraction, index, centroid[partly] - mesh.barycentres[index])
-        c = -(mesh.normals @ u)
-        forward = forward_mask(c, mesh.normals, self.graze_tol)
-        if convex is None or not self.prefilter:
-            cand = self.candidates(u, forward)
-        else:
-            cand = convex[0]
-        stats = dict.fromkeys(STATS, 0) | {"forward": int(forward.sum()), "tested": int(cand.size)}
-        shifts = [(np.zeros(0, dtype=np.int64), np.zeros((0, 3)))]
-        if convex is not None and cand.size:
-            # the panels that only convex parts can shade: lit exactly, no rays
-            exact, fraction, centroid = convex[1:4]  # (exact ascending)
-            lit_fraction[exact] = fraction
-            partly = (fraction > 0.0) & (fraction < 1.0)
-            stats["exact"] = int(exact.size)
-            done = np.zeros(n, dtype=bool)
-            done[exact] = True
-            cand = cand[~done[cand]]
-            shifts.append((exact[partly], centroid[partly] - mesh.barycentres[exact[partly]]))
-        if cand.size == 0:
-            self.last_stats = stats
-            return self._lighting(lit_fraction, shifts)
-        d = -u
-        occluder = np.abs(c) > self.graze_tol
-        if occluder.all():
-            occluder = None  # no grazing face: every face occludes
+        out, jobs = [], []  # (lit fraction, shifts, stats) of each direction; the rays' jobs
+        for u, convex in zip(us, convexes):  # (a loop over directions)
+            lit_fraction = np.ones(n)
+            if convex is not None and self.prefilter and convex[1].size == convex[0].size:
+                cand, exact, fraction, centroid, n_forward = convex  # (every one lit exactly)
+                lit_fraction[exact] = fraction
+                partly = (fraction > 0.0) & (fraction < 1.0)
+                index = exact[partly]
+                stats = dict(forward=n_forward, tested=cand.size, exact=exact.size)
+                shifts = [(index, centroid[partly] - mesh.barycentres[index])]
+                out.append((lit_fraction, shifts, dict.fromkeys(STATS, 0) | stats))
+                continue
+            c = -(mesh.normals @ u)
+            forward = forward_mask(c, mesh.normals, self.graze_tol)
+            if convex is None or not self.prefilter:
+                cand = self.candidates(u, forward)
+            else:
+                cand = convex[0]
+            stats = dict.fromkeys(STATS, 0) | dict(forward=int(forward.sum()), tested=cand.size)
+            shifts = [(np.zeros(0, dtype=np.int64), np.zeros((0, 3)))]
+            if convex is not None and cand.size:
+                # the panels that only convex parts can shade: lit exactly, no rays
+                exact, fraction, centroid = convex[1:4]  # (exact ascending)
+                lit_fraction[exact] = fraction
+                partly = (fraction > 0.0) & (fraction < 1.0)
+                stats["exact"] = int(exact.size)
+                done = np.zeros(n, dtype=bool)
+                done[exact] = True
+                cand = cand[~done[cand]]
+                shifts.append((exact[partly], centroid[partly] - mesh.barycentres[exact[partly]]))
+            out.append((lit_fraction, shifts, stats))
+            if cand.size:
+                occluder = np.abs(c) > self.graze_tol
+                jobs.append((cand, -u, None if occluder.all() else occluder, len(out) - 1))
+        if jobs:
+            self._cast_jobs(jobs, out)
+        self.last_stats = out[-1][2]
+        return [self._lighting(lit_fraction, shifts) for lit_fraction, shifts, _ in out]
 
+    def _cast_jobs(self, jobs, out) -> None:
+        """The rays of ``jobs`` [(panels, -u, occluders or None, direction)], their lit fractions
+        and shifts added to ``out``'s (rows: a panel of a job)."""
+        mesh, n = self.mesh, self.mesh.n_panels
+        job = np.repeat(np.arange(len(jobs)), [len(j[0]) for j in jobs])
+        cand = np.concatenate([j[0] for j in jobs])
+        counts = {k: np.zeros(len(jobs), dtype=np.int64) for k in ("rays", "refined", "probed")}
         # First pass: 3 rays near the corners plus S interior samples. A shadow edge that
         # crosses a panel separates its corners, so the corner rays catch the partly lit panels
         # whose interior samples all fall on one side; they serve detection only.
@@ -249,14 +265,14 @@ class Shader:
         tri = mesh.vertices[cand]
         lift = self.offset * mesh.normals[cand]
         points = self._first_points(cand)
-        corner_lit, whole = self._corner_rays(points[:, :3], d, occluder, cand)
+        corner_lit, whole = self._corner_rays(points[:, :3], cand, job, jobs)
         # The panels wholly in one convex component's shadow are shaded: their interior rays
         # would all be blocked too. The others cast their interior samples.
         rest = np.flatnonzero(~whole)
         origins = points[rest, 3:]  # (K', S, 3)
-        blocked = self.scene.any_hit(origins.reshape(-1, 3), d, occluder).reshape(-1, S)
-        stats["rays"] = int(corner_lit.size + blocked.size)
-        stats["corner_shaded"] = int(cand.size - rest.size)
+        blocked = self._cast(origins.reshape(-1, 3), np.repeat(job[rest], S), jobs).reshape(-1, S)
+        counts["rays"] += np.bincount(job, minlength=len(jobs)) * 3
+        counts["rays"] += np.bincount(job[rest], minlength=len(jobs)) * S
         lit = np.zeros((cand.size, S), dtype=bool)
         lit[rest] = ~blocked
         partial = (lit.any(axis=1) | corner_lit.any(axis=1)) & ~(
@@ -278,46 +294,51 @@ class Shader:
             n_probe = max(1, R // 8)
             adjacency = self.filter.adjacency
             if self.dilate and adjacency.size:
-                mark = np.zeros(n, dtype=bool)
-                mark[cand[partial]] = True
-                e0, e1 = adjacency[:, 0], adjacency[:, 1]
-                grow = np.zeros(n, dtype=bool)
-                grow[e1[mark[e0]]] = True
-                grow[e0[mark[e1]]] = True
-                probe = np.flatnonzero(grow[cand] & ~partial)
+                mark = np.zeros((len(jobs), n), dtype=bool)
+                mark[job[partial], cand[partial]] = True
+                grow = np.zeros((len(jobs), n), dtype=bool)
+                for e0, e1 in (adjacency.T, adjacency.T[::-1]):
+                    k, e = np.nonzero(mark[:, e0])
+                    grow[k, e1[e]] = True
+                probe = np.flatnonzero(grow[job, cand] & ~partial)
             sets = [(refine, S, R), (probe, S, n_probe)]
-            lit_sets = self._cast_sets(sets, tri, lift, cand, d, occluder, stats)
+            lit_sets = self._cast_sets(sets, tri, lift, cand, job, jobs, counts["rays"])
             lit_p = lit_sets[1][0]
             again = probe[lit_p.any(axis=1) & ~lit_p.all(axis=1)]
             final = [(refine, lit_sets[0])]
             if again.size:
                 more = self._cast_sets(
-                    [(again, S + n_probe, R)], tri, lift, cand, d, occluder, stats
+                    [(again, S + n_probe, R)], tri, lift, cand, job, jobs, counts["rays"]
                 )
                 final.append((again, more[0]))
             for idx, (lit_r, origins_r) in final:
-                if idx.size == 0:
-                    continue
                 n_lit[idx] = lit_r.sum(axis=1)
                 lit_sum[idx] = (
                     np.einsum("ks,ksj->kj", lit_r, origins_r) - n_lit[idx, None] * lift[idx]
                 )
                 total[idx] = R
-            stats["refined"] = int(refine.size + again.size)
-            stats["probed"] = int(probe.size)
+            counts["refined"] = np.bincount(job[np.concatenate([refine, again])], None, len(jobs))
+            counts["probed"] = np.bincount(job[probe], minlength=len(jobs))
 
         frac = n_lit / total
-        lit_fraction[cand] = frac
         part = (n_lit > 0) & (n_lit < total)
-        stats["partly_lit"] = int(part.sum())
-        shift_index = cand[part]
-        shift = lit_sum[part] / n_lit[part][:, None] - mesh.barycentres[shift_index]
-        self.last_stats = stats
-        return self._lighting(lit_fraction, [*shifts, (shift_index, shift)])
+        shift = lit_sum[part] / n_lit[part][:, None] - mesh.barycentres[cand[part]]
+        counts["corner_shaded"] = np.bincount(job[whole], minlength=len(jobs))
+        counts["partly_lit"] = np.bincount(job[part], minlength=len(jobs))
+        ends = np.searchsorted(job, np.arange(len(jobs) + 1)).tolist()
+        shifted, index = np.searchsorted(job[part], np.arange(len(jobs) + 1)).tolist(), cand[part]
+        for k, (_, _, _, at) in enumerate(jobs):  # (a loop over directions)
+            lit_fraction, shifts, stats = out[at]
+            lit_fraction[cand[ends[k] : ends[k + 1]]] = frac[ends[k] : ends[k + 1]]
+            rows = slice(shifted[k], shifted[k + 1])
+            shifts.append((index[rows], shift[rows]))
+            stats |= {name: int(v[k]) for name, v in counts.items()}
 
     @staticmethod
     def _lighting(lit_fraction, shifts) -> PanelLighting:
         """The PanelLighting of ``lit_fraction`` and shifts ``[(index, shift), ...]``."""
+        if len(shifts) == 1:  # (its index ascending)
+            return PanelLighting(lit_fraction, *shifts[0])
         index = np.concatenate([i for i, _ in shifts]).astype(np.int64)
         order = np.argsort(index, kind="stable")
         shift = np.concatenate([v for _, v in shifts])
