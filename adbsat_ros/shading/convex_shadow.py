@@ -72,18 +72,18 @@ class ConvexParts:
             self._corners[component] = corners
         return corners
 
-    def lighting_many(self, directions: np.ndarray) -> list:
-        """Per unit flow direction (D, 3) in G: the forward panels that could be shaded (the
-        shader's candidates), those of them lit exactly (shaded by convex parts alone), and
-        their lit fraction and lit centroid [m, G], and the count of forward panels:
-        ``[(candidates, exact, fraction, centroid, n_forward)]``.
+    def lighting_many(self, directions: np.ndarray) -> tuple:
+        """Of unit flow directions (D, 3) in G: the forward panels that could be shaded (the
+        shader's candidates) (D, N), the count of forward panels (D,), and those candidates lit
+        exactly (shaded by convex parts alone) as rows (direction, panel), ascending, with their
+        lit fraction and lit centroid [m, G]: ``(candidate, n_forward, d, j, fraction, centroid)``.
         """
         step = max(1, MAX_PAIRS // (self.filter.n_components * self.mesh.n_panels))
-        return [
-            out
-            for s in range(0, len(directions), step)
-            for out in self._block(np.asarray(directions[s : s + step], dtype=float))
-        ]
+        blocks = []
+        for s in range(0, len(directions), step):
+            blocks.append(self._block(np.asarray(directions[s : s + step], dtype=float)))
+            blocks[-1][2] += s
+        return tuple(np.concatenate(x) for x in zip(*blocks))
 
     def _block(self, u: np.ndarray) -> list:
         flt, mesh, tol = self.filter, self.mesh, self.graze_tol
@@ -134,11 +134,7 @@ class ConvexParts:
         tx, ty = coords.reshape(-1)[at], coords.reshape(-1)[at + 3 * n]
         fraction, c2 = lit_parts_of_edges(tx, ty, table, index)
         centroid = _on_panel(mesh.vertices[j], tx, ty, c2)
-        starts = np.searchsorted(d, np.arange(n_dir + 1)).tolist()
-        return [
-            (np.flatnonzero(candidate[k]), j[a:b], fraction[a:b], centroid[a:b], n_forward)
-            for k, (a, b, n_forward) in enumerate(zip(starts, starts[1:], forward.sum(1).tolist()))
-        ]
+        return [candidate, forward.sum(axis=1), d, j, fraction, centroid]
 
     def _bodies(self, j: np.ndarray, members: np.ndarray) -> tuple:
         """The shadow body of each part in ``members`` (J, C) for panels ``j``, (J, C) (or

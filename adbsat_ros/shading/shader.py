@@ -120,14 +120,14 @@ class Shader:
             shadowed = adbsat_shadowed(self.mesh, u)
             self.last_stats = {"rays": 0, "partly_lit": 0, "shaded": int(shadowed.sum())}
             return PanelLighting(np.where(shadowed, 0.0, 1.0))
-        convex = None if self.parts is None else self.parts.lighting_many(u[None])[0]
-        return self._raycast([u], [convex])[0]
+        convex = None if self.parts is None else self.parts.lighting_many(u[None])
+        return self._raycast([u], convex)[0]
 
     def lighting_many(self, directions) -> list:
         """:meth:`lighting` of each flow direction (M, 3) in G, the convex parts' shadows of all
         made at once (the same numbers); ``last_stats``: the last direction's."""
         us = [frames.unit_vector(u) for u in directions]
-        if self.trivial or self.mode != "raycast" or self.parts is None:
+        if self.trivial or self.mode != "raycast" or self.parts is None or not us:
             return [self.lighting(u) for u in us]
         return self._raycast(us, self.parts.lighting_many(np.array(us)))
 
@@ -157,16 +157,16 @@ class Shader:
                 out[a:b] = cast(origins[a:b], d, occluder)
         return out
 
-    def _cast_sets(self, sets, tri, lift, cand, job, jobs, counts):
+    def _cast_sets(self, sets, tri, lift, cand, job, jobs, rays):
         """[(lit (k, count), origins (k, count, 3)), ...] of sample sets [(rows, start, count)],
-        each job's rays added to ``counts``."""
+        each row's rays added to ``rays``."""
         out = []
         for idx, start, count in sets:
             a, b = sample_coordinates(cand[idx], start, count)
             p = sample_points(tri[idx], a, b, lift[idx])
             blocked = self._cast(p.reshape(-1, 3), np.repeat(job[idx], count), jobs)
             out.append((~blocked.reshape(p.shape[:2]), p))
-            counts += np.bincount(job[idx], minlength=len(jobs)) * count
+            rays[idx] += count
         return out
 
     def _first_points(self, cand) -> np.ndarray:
@@ -206,58 +206,54 @@ class Shader:
         )
         return face < 0, whole
 
-    def _raycast(self, us, convexes) -> list:
-        """The lighting at each unit flow direction ``us``; ``convexes``: the convex parts'
-        shadows at each (:meth:`ConvexParts.lighting_many`), or None. The panels left to the
-        rays of all directions are cast together, each a row (its direction's job)."""
-        mesh = self.mesh
-        n = mesh.n_panels
-        out, jobs = [], []  # (lit fraction, shifts, stats) of each direction; the rays' jobs
-        for u, convex in zip(us, convexes):  # (a loop over directions)
-            lit_fraction = np.ones(n)
-            if convex is not None and self.prefilter and convex[1].size == convex[0].size:
-                cand, exact, fraction, centroid, n_forward = convex  # (every one lit exactly)
-                lit_fraction[exact] = fraction
-                partly = (fraction > 0.0) & (fraction < 1.0)
-                index = exact[partly]
-                stats = dict(forward=n_forward, tested=cand.size, exact=exact.size)
-                shifts = [(index, centroid[partly] - mesh.barycentres[index])]
-                out.append((lit_fraction, shifts, dict.fromkeys(STATS, 0) | stats))
-                continue
-            c = -(mesh.normals @ u)
-            forward = forward_mask(c, mesh.normals, self.graze_tol)
-            if convex is None or not self.prefilter:
-                cand = self.candidates(u, forward)
+    def _raycast(self, us, convex=None) -> list:
+        """The lighting at each unit flow direction ``us``; ``convex``: the convex parts'
+        shadows (:meth:`ConvexParts.lighting_many`), or None. The panels left to the rays of
+        all the directions are cast together, each a row (its direction's job)."""
+        mesh, n, m = self.mesh, self.mesh.n_panels, len(us)
+        lit, done = np.ones((m, n)), np.zeros((m, n), dtype=bool)
+        shifts = [(np.zeros(0, dtype=np.int64),) * 2 + (np.zeros((0, 3)),)]  # (row, panel, shift)
+        stats = dict.fromkeys(STATS, 0)  # (the last direction's)
+        prefiltered = convex is not None and self.prefilter
+        if convex is not None:
+            # the panels that only convex parts can shade: lit exactly, no rays
+            candidate, n_forward, d, j, fraction, centroid = convex
+            lit[d, j], done[d, j] = fraction, True
+            partly = (fraction > 0.0) & (fraction < 1.0)
+            shifts.append((d[partly], j[partly], centroid[partly] - mesh.barycentres[j[partly]]))
+            stats |= dict(forward=int(n_forward[-1]), tested=int(candidate[-1].sum()))
+            stats["exact"], rest = int(done[-1].sum()), candidate & ~done
+        jobs = []
+        todo = np.flatnonzero(rest.any(axis=1)).tolist() if prefiltered else range(m)
+        for k in todo:  # (a loop over directions)
+            c = -(mesh.normals @ us[k])
+            if prefiltered:
+                cand = np.flatnonzero(rest[k])
             else:
-                cand = convex[0]
-            stats = dict.fromkeys(STATS, 0) | dict(forward=int(forward.sum()), tested=cand.size)
-            shifts = [(np.zeros(0, dtype=np.int64), np.zeros((0, 3)))]
-            if convex is not None and cand.size:
-                # the panels that only convex parts can shade: lit exactly, no rays
-                exact, fraction, centroid = convex[1:4]  # (exact ascending)
-                lit_fraction[exact] = fraction
-                partly = (fraction > 0.0) & (fraction < 1.0)
-                stats["exact"] = int(exact.size)
-                done = np.zeros(n, dtype=bool)
-                done[exact] = True
-                cand = cand[~done[cand]]
-                shifts.append((exact[partly], centroid[partly] - mesh.barycentres[exact[partly]]))
-            out.append((lit_fraction, shifts, stats))
+                forward = forward_mask(c, mesh.normals, self.graze_tol)
+                cand = self.candidates(us[k], forward)
+                if k == m - 1:
+                    stats |= dict(forward=int(forward.sum()), tested=cand.size)
+                cand = cand[~done[k, cand]]
             if cand.size:
                 occluder = np.abs(c) > self.graze_tol
-                jobs.append((cand, -u, None if occluder.all() else occluder, len(out) - 1))
+                jobs.append((cand, -us[k], None if occluder.all() else occluder, k))
         if jobs:
-            self._cast_jobs(jobs, out)
-        self.last_stats = out[-1][2]
-        return [self._lighting(lit_fraction, shifts) for lit_fraction, shifts, _ in out]
+            shifts.append(self._cast_jobs(jobs, lit, stats if jobs[-1][3] == m - 1 else {}))
+        self.last_stats = stats
+        rows, index, shift = (np.concatenate(x) for x in zip(*shifts))
+        order = np.lexsort((index, rows))
+        return PanelLighting.many(lit, rows[order], index[order], shift[order])
 
-    def _cast_jobs(self, jobs, out) -> None:
-        """The rays of ``jobs`` [(panels, -u, occluders or None, direction)], their lit fractions
-        and shifts added to ``out``'s (rows: a panel of a job)."""
+    def _cast_jobs(self, jobs, fractions, stats) -> tuple:
+        """The rays of ``jobs`` [(panels, -u, occluders or None, direction)] (rows: a panel of a
+        job): their lit fractions put in ``fractions`` (directions, panels), the last job's
+        counts in ``stats``; returns the partly lit ones' (direction, panel, shift [m])."""
         mesh, n = self.mesh, self.mesh.n_panels
         job = np.repeat(np.arange(len(jobs)), [len(j[0]) for j in jobs])
         cand = np.concatenate([j[0] for j in jobs])
-        counts = {k: np.zeros(len(jobs), dtype=np.int64) for k in ("rays", "refined", "probed")}
+        rays, refined = np.full(cand.size, 3), np.zeros(cand.size, dtype=bool)
+        probed = np.zeros(0, dtype=np.int64)
         # First pass: 3 rays near the corners plus S interior samples. A shadow edge that
         # crosses a panel separates its corners, so the corner rays catch the partly lit panels
         # whose interior samples all fall on one side; they serve detection only.
@@ -271,8 +267,7 @@ class Shader:
         rest = np.flatnonzero(~whole)
         origins = points[rest, 3:]  # (K', S, 3)
         blocked = self._cast(origins.reshape(-1, 3), np.repeat(job[rest], S), jobs).reshape(-1, S)
-        counts["rays"] += np.bincount(job, minlength=len(jobs)) * 3
-        counts["rays"] += np.bincount(job[rest], minlength=len(jobs)) * S
+        rays[rest] += S
         lit = np.zeros((cand.size, S), dtype=bool)
         lit[rest] = ~blocked
         partial = (lit.any(axis=1) | corner_lit.any(axis=1)) & ~(
@@ -302,14 +297,12 @@ class Shader:
                     grow[k, e1[e]] = True
                 probe = np.flatnonzero(grow[job, cand] & ~partial)
             sets = [(refine, S, R), (probe, S, n_probe)]
-            lit_sets = self._cast_sets(sets, tri, lift, cand, job, jobs, counts["rays"])
+            lit_sets = self._cast_sets(sets, tri, lift, cand, job, jobs, rays)
             lit_p = lit_sets[1][0]
             again = probe[lit_p.any(axis=1) & ~lit_p.all(axis=1)]
             final = [(refine, lit_sets[0])]
             if again.size:
-                more = self._cast_sets(
-                    [(again, S + n_probe, R)], tri, lift, cand, job, jobs, counts["rays"]
-                )
+                more = self._cast_sets([(again, S + n_probe, R)], tri, lift, cand, job, jobs, rays)
                 final.append((again, more[0]))
             for idx, (lit_r, origins_r) in final:
                 n_lit[idx] = lit_r.sum(axis=1)
@@ -317,32 +310,18 @@ class Shader:
                     np.einsum("ks,ksj->kj", lit_r, origins_r) - n_lit[idx, None] * lift[idx]
                 )
                 total[idx] = R
-            counts["refined"] = np.bincount(job[np.concatenate([refine, again])], None, len(jobs))
-            counts["probed"] = np.bincount(job[probe], minlength=len(jobs))
+            refined[refine], refined[again], probed = True, True, probe
 
         frac = n_lit / total
         part = (n_lit > 0) & (n_lit < total)
         shift = lit_sum[part] / n_lit[part][:, None] - mesh.barycentres[cand[part]]
-        counts["corner_shaded"] = np.bincount(job[whole], minlength=len(jobs))
-        counts["partly_lit"] = np.bincount(job[part], minlength=len(jobs))
-        ends = np.searchsorted(job, np.arange(len(jobs) + 1)).tolist()
-        shifted, index = np.searchsorted(job[part], np.arange(len(jobs) + 1)).tolist(), cand[part]
-        for k, (_, _, _, at) in enumerate(jobs):  # (a loop over directions)
-            lit_fraction, shifts, stats = out[at]
-            lit_fraction[cand[ends[k] : ends[k + 1]]] = frac[ends[k] : ends[k + 1]]
-            rows = slice(shifted[k], shifted[k + 1])
-            shifts.append((index[rows], shift[rows]))
-            stats |= {name: int(v[k]) for name, v in counts.items()}
-
-    @staticmethod
-    def _lighting(lit_fraction, shifts) -> PanelLighting:
-        """The PanelLighting of ``lit_fraction`` and shifts ``[(index, shift), ...]``."""
-        if len(shifts) == 1:  # (its index ascending)
-            return PanelLighting(lit_fraction, *shifts[0])
-        index = np.concatenate([i for i, _ in shifts]).astype(np.int64)
-        order = np.argsort(index, kind="stable")
-        shift = np.concatenate([v for _, v in shifts])
-        return PanelLighting(lit_fraction, index[order], shift[order])
+        last = job == len(jobs) - 1
+        counted = dict(rays=rays, corner_shaded=whole, partly_lit=part, refined=refined)
+        stats |= {name: int(v[last].sum()) for name, v in counted.items()}
+        stats["probed"] = int(last[probed].sum())
+        direction = np.array([k for *_, k in jobs])[job]
+        fractions[direction, cand] = frac
+        return direction[part], cand[part], shift
 
 
 def make_shader(
