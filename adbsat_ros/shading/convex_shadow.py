@@ -242,10 +242,10 @@ def _hull_edge_mask(points: np.ndarray) -> tuple:
     length = np.hypot(ex, ey)
     span = np.maximum(np.ptp(x, axis=1), np.ptp(y, axis=1))
     scale = np.maximum(span, np.abs(points).max(axis=(1, 2)))
-    # [m, i, k, l]: how far left of the line i -> k point l lies, times the length
-    cross = ex[..., None] * ey[:, :, None, :] - ey[..., None] * ex[:, :, None, :]
+    # [m, i, l, k]: how far left of the line i -> k point l lies, times the length
+    cross = ex[:, :, None, :] * ey[..., None] - ey[:, :, None, :] * ex[..., None]
     tolerance = FLAT_OUTLINE * scale[:, None, None]
-    accept = (length > 0.0) & (cross.min(axis=3) >= -tolerance * length)
+    accept = (length > 0.0) & (cross.min(axis=2) >= -tolerance * length)
     # one edge from each corner, to the farthest (a side through more corners is one edge),
     # and none from or to a point that repeats one before it
     q = x.shape[1]
@@ -253,7 +253,7 @@ def _hull_edge_mask(points: np.ndarray) -> tuple:
     accept &= ~repeat[:, :, None] & ~repeat[:, None, :]
     farthest = np.where(accept, length, -1.0).argmax(axis=2)
     accept &= np.arange(q) == farthest[..., None]
-    width = np.where(accept, cross.max(axis=3) / length, np.inf).min(axis=(1, 2))
+    width = np.where(accept, cross.max(axis=2) / length, np.inf).min(axis=(1, 2))
     flat = ~(width > 2.0 * FLAT_OUTLINE * span) | ~np.isfinite(points).all(axis=(1, 2))
     return accept, flat
 
