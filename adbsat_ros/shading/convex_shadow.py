@@ -91,8 +91,7 @@ class ConvexParts:
         bases = perp_bases(-u)  # (D, 3, 3): p1, p2, -u
         axes = np.ascontiguousarray(bases.transpose(0, 2, 1))  # (D, 3, 3): p1, p2, -u rows
         coords = (axes @ self._vertices).reshape(n_dir, 3, 3, n)  # [d, axis, corner, panel]
-        lo = np.minimum(np.minimum(coords[:, :, 0], coords[:, :, 1]), coords[:, :, 2])
-        hi = np.maximum(np.maximum(coords[:, :2, 0], coords[:, :2, 1]), coords[:, :2, 2])
+        lo, hi = coords.min(axis=2), coords[:, :2].max(axis=2)  # (D, 3 and 2, N)
         # the components' boxes, from their hulls' corners
         seen = axes @ self._hulls  # (D, 3, H)
         clo = np.minimum.reduceat(seen, self._hull_start, axis=2)[..., None]  # (D, 3, C, 1)
