@@ -5,7 +5,7 @@ The 73 x 37 grid (aoa -180:5:180, aos -90:5:90, 2701 attitudes), Sentman, ray-ca
 across its top, each a closed box of 6 x 6-cell faces (two convex parts, each shading the
 other); (b) the example satellite. Each build runs in a fresh process of each tree in turn,
 round by round (interleaved); the figures are its wall clock and CPU time (the build only, not
-the start-up). Run::
+the start-up). Run (``--baseline`` may be given more than once)::
 
     python bench/bench_concave_database.py --baseline ../base1696 --rounds 5
 """
@@ -83,12 +83,14 @@ def write_t_shape(path: Path) -> Path:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--baseline", help="another tree (a checkout), measured alternately")
+    parser.add_argument(
+        "--baseline", action="append", default=[], help="another tree, measured alternately"
+    )
     parser.add_argument("--rounds", type=int, default=5)
     args = parser.parse_args(argv)
-    trees = [("this tree", HERE)] + (
-        [("baseline", Path(args.baseline).resolve())] if args.baseline else []
-    )
+    trees = [("this tree", HERE)] + [
+        (f"baseline{k or ''}", Path(tree).resolve()) for k, tree in enumerate(args.baseline)
+    ]
     for name, tree in trees:
         commit = subprocess.run(
             ["git", "-C", str(tree), "rev-parse", "--short", "HEAD"], capture_output=True, text=True
@@ -124,6 +126,12 @@ def main(argv=None) -> int:
             for what, v in (("wall", wall), ("CPU", cpu))
         )
         print(f"{body:<20} {name:<10} {span}")
+    print("this tree's CPU over each baseline's, round by round: median (range)")
+    for (body, name), runs in times.items():
+        if name != trees[0][0]:
+            ratio = np.array(times[body, trees[0][0]])[:, 1] / np.array(runs)[:, 1]
+            spread = f"({ratio.min():.2f}-{ratio.max():.2f})"
+            print(f"{body:<20} {name:<10} {np.median(ratio):.2f} {spread}")
     return 0
 
 

@@ -32,8 +32,9 @@ def lit_parts_of_edges(tx, ty, table: np.ndarray, index: np.ndarray) -> tuple:
     if c.size == 0:
         return np.ones(k), centroid_t
     rows = np.where(sets[s], index[c], none).T  # (n, P)
-    ax, ay, bx, by = table[:, :, rows].reshape(4, -1, c.size)  # (4, E n, P)
-    area, cx, cy = _covered(tx[:, c], ty[:, c], area_t[c], cx_t[c], cy_t[c], (ax, ay, bx, by))
+    edges = np.concatenate([table[:2], table[2:] - table[:2]])  # (ax, ay, ex, ey): e = b - a
+    edges = edges[:, :, rows].reshape(4, -1, c.size)  # (4, E n, P)
+    area, cx, cy = _covered(tx[:, c], ty[:, c], area_t[c], cx_t[c], cy_t[c], edges)
     sign = np.where(sets.sum(axis=1) % 2, 1.0, -1.0)[s] * area
     area_u = np.bincount(c, sign, minlength=k)
     mx, my = np.bincount(c, sign * cx, minlength=k), np.bincount(c, sign * cy, minlength=k)
@@ -47,9 +48,9 @@ def lit_parts_of_edges(tx, ty, table: np.ndarray, index: np.ndarray) -> tuple:
 
 
 def _covered(tx, ty, area_t, cx_t, cy_t, edges) -> tuple:
-    """Area and centroid x, y (P,) of each triangle's part left of its edges (E, P) each."""
-    ax, ay, bx, by = edges
-    ex, ey = bx - ax, by - ay
+    """Area and centroid x, y (P,) of each triangle's part left of its edges a -> a + e,
+    ``(ax, ay, ex, ey)`` (E, P) each."""
+    ax, ay, ex, ey = edges
     # (E, P) each: the corner beyond the edge
     c0, c1, c2 = (ex * (ty[j] - ay) - ey * (tx[j] - ax) < 0.0 for j in range(3))
     cut = c0 | c1 | c2  # some corner beyond the edge
@@ -63,7 +64,7 @@ def _covered(tx, ty, area_t, cx_t, cy_t, edges) -> tuple:
         needed = cut[:, c]  # (E, C)
         passes = needed.sum(axis=0)
         order = np.argsort(~needed, axis=0, kind="stable")  # each column's cutting edges first
-        ax, ay, bx, by = ax[:, c], ay[:, c], bx[:, c], by[:, c]
+        ax, ay, ex, ey = ax[:, c], ay[:, c], ex[:, c], ey[:, c]
         most = int(passes.max())
         px, py = np.zeros((3 + most, c.size)), np.zeros((3 + most, c.size))
         px[:3], py[:3] = tx[:, c], ty[:, c]
@@ -76,7 +77,7 @@ def _covered(tx, ty, area_t, cx_t, cy_t, edges) -> tuple:
                 py[:, cols],
                 count[cols],
                 (ax[e, cols], ay[e, cols]),
-                (bx[e, cols], by[e, cols]),
+                (ex[e, cols], ey[e, cols]),
             )
         area_cut, cx_cut, cy_cut = _area_centroid(px, py, count)
         cut_lit = area_cut > 0.0
@@ -86,12 +87,11 @@ def _covered(tx, ty, area_t, cx_t, cy_t, edges) -> tuple:
     return np.clip(area, 0.0, area_t), cx, cy
 
 
-def _clip(px, py, count, a, b) -> tuple:
-    """Polygons ``px``, ``py`` (capacity, R) clipped left of the lines a -> b."""
+def _clip(px, py, count, a, e) -> tuple:
+    """Polygons ``px``, ``py`` (capacity, R) clipped left of the lines a -> a + e."""
     capacity, r = px.shape
     valid, qx, qy, last = _edges(px, py, count)
-    (ax, ay), (bx, by) = a, b
-    ex, ey = bx - ax, by - ay
+    (ax, ay), (ex, ey) = a, e
     side_p = ex * (py - ay) - ey * (px - ax)
     # A corner within rounding of the line is on it: a corner of the panel on a corner of the
     # outline otherwise gives sides like (-, +, -1e-16, -0.0), four crossings where a convex

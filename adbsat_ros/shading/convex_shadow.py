@@ -62,17 +62,18 @@ class ConvexParts:
             self._corners[component] = corners
         return corners
 
-    def lighting_many(self, directions: np.ndarray) -> list:
-        """Per unit flow direction (D, 3) in G: the forward panels that could be shaded (the
-        shader's candidates), those of them lit exactly (shaded by convex parts alone), and
-        their lit fraction and lit centroid [m, G]: ``[(candidates, exact, fraction, centroid)]``.
+    def lighting_many(self, directions: np.ndarray) -> tuple:
+        """Of unit flow directions (D, 3) in G: the forward panels that could be shaded (the
+        shader's candidates) (D, N), the count of forward panels (D,), and those candidates lit
+        exactly (shaded by convex parts alone) as rows (direction, panel), ascending, with their
+        lit fraction and lit centroid [m, G]: ``(candidate, n_forward, d, j, fraction, centroid)``.
         """
         step = max(1, MAX_PAIRS // (self.filter.n_components * self.mesh.n_panels))
-        return [
-            out
-            for s in range(0, len(directions), step)
-            for out in self._block(np.asarray(directions[s : s + step], dtype=float))
-        ]
+        blocks = []
+        for s in range(0, len(directions), step):
+            blocks.append(self._block(np.asarray(directions[s : s + step], dtype=float)))
+            blocks[-1][2] += s
+        return tuple(np.concatenate(x) for x in zip(*blocks))
 
     def _block(self, u: np.ndarray) -> list:
         flt, mesh, tol = self.filter, self.mesh, self.graze_tol
@@ -80,8 +81,7 @@ class ConvexParts:
         bases = perp_bases(-u)  # (D, 3, 3): p1, p2, -u
         axes = np.ascontiguousarray(bases.transpose(0, 2, 1))  # (D, 3, 3): p1, p2, -u rows
         coords = (axes @ self._vertices).reshape(n_dir, 3, 3, n)  # [d, axis, corner, panel]
-        lo = np.minimum(np.minimum(coords[:, :, 0], coords[:, :, 1]), coords[:, :, 2])
-        hi = np.maximum(np.maximum(coords[:, :, 0], coords[:, :, 1]), coords[:, :, 2])
+        lo, hi = coords.min(axis=2), coords[:, :2].max(axis=2)  # (D, 3 and 2, N)
         # the components' boxes, from their hulls' corners
         seen = axes @ self._hulls  # (D, 3, H)
         clo = np.minimum.reduceat(seen, self._hull_start, axis=2)[..., None]  # (D, 3, C, 1)
@@ -114,9 +114,7 @@ class ConvexParts:
             _, of_triple = _distinct_rows(triples[:, :-1])
             keep[cut[np.bincount(of_triple)[of_triple[which]] > MAX_CUT_PLANES]] = False
         d, j, members, body = d[keep], j[keep], members[keep], body[keep]
-        slots = np.argsort(~members, axis=1, kind="stable")[:, :MAX_OCCLUDERS]
-        body = np.take_along_axis(body, slots, axis=1)  # (J, 3): the bodies in front, or < 0
-        body[~np.take_along_axis(members, slots, axis=1)] = BEHIND
+        body = np.where(members, body, BEHIND)  # (J, C): the bodies in front (<= 3), or < 0
         body = np.take_along_axis(body, np.argsort(body < 0, axis=1, kind="stable"), axis=1)
         body = body[:, : max(int((body >= 0).sum(axis=1).max(initial=0)), 1)]
         table, index, flat = self._outlines(bases, d, body)
@@ -125,16 +123,7 @@ class ConvexParts:
         tx, ty = coords.reshape(-1)[at], coords.reshape(-1)[at + 3 * n]
         fraction, c2 = lit_parts_of_edges(tx, ty, table, index)
         centroid = _on_panel(mesh.vertices[j], tx, ty, c2)
-        starts = np.searchsorted(d, np.arange(n_dir + 1))
-        return [
-            (
-                np.flatnonzero(candidate[k]),
-                j[starts[k] : starts[k + 1]],
-                fraction[starts[k] : starts[k + 1]],
-                centroid[starts[k] : starts[k + 1]],
-            )
-            for k in range(n_dir)
-        ]
+        return [candidate, forward.sum(axis=1), d, j, fraction, centroid]
 
     def _bodies(self, j: np.ndarray, members: np.ndarray) -> tuple:
         """The shadow body of each part in ``members`` (J, C) for panels ``j``, (J, C) (or
@@ -242,10 +231,10 @@ def _hull_edge_mask(points: np.ndarray) -> tuple:
     length = np.hypot(ex, ey)
     span = np.maximum(np.ptp(x, axis=1), np.ptp(y, axis=1))
     scale = np.maximum(span, np.abs(points).max(axis=(1, 2)))
-    # [m, i, k, l]: how far left of the line i -> k point l lies, times the length
-    cross = ex[..., None] * ey[:, :, None, :] - ey[..., None] * ex[:, :, None, :]
+    # [m, i, l, k]: how far left of the line i -> k point l lies, times the length
+    cross = ex[:, :, None, :] * ey[..., None] - ey[:, :, None, :] * ex[..., None]
     tolerance = FLAT_OUTLINE * scale[:, None, None]
-    accept = (length > 0.0) & (cross.min(axis=3) >= -tolerance * length)
+    accept = (length > 0.0) & (cross.min(axis=2) >= -tolerance * length)
     # one edge from each corner, to the farthest (a side through more corners is one edge),
     # and none from or to a point that repeats one before it
     q = x.shape[1]
@@ -253,7 +242,7 @@ def _hull_edge_mask(points: np.ndarray) -> tuple:
     accept &= ~repeat[:, :, None] & ~repeat[:, None, :]
     farthest = np.where(accept, length, -1.0).argmax(axis=2)
     accept &= np.arange(q) == farthest[..., None]
-    width = np.where(accept, cross.max(axis=3) / length, np.inf).min(axis=(1, 2))
+    width = np.where(accept, cross.max(axis=2) / length, np.inf).min(axis=(1, 2))
     flat = ~(width > 2.0 * FLAT_OUTLINE * span) | ~np.isfinite(points).all(axis=(1, 2))
     return accept, flat
 

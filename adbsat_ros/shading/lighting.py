@@ -55,6 +55,31 @@ class PanelLighting:
         self.shift_fraction = _read_only(f[index])
 
     @classmethod
+    def many(cls, lit_fraction, rows, shift_index, shift) -> list:
+        """The lightings of the rows of ``lit_fraction`` (M, N) in [0, 1], with the shifts
+        ``shift`` (K, 3) [m] of panels ``shift_index`` (K,) of rows ``rows`` (K,), in order of
+        row, then panel (the arrays are kept, made read-only)."""
+        f = np.asarray(lit_fraction, dtype=float)
+        if not np.all((f >= 0.0) & (f <= 1.0)):
+            raise ValueError("lit_fraction must be numbers in [0, 1]")
+        row, shaded = np.nonzero(f < 1.0)
+        shaded, values, lit = shaded.astype(np.int32), f[row, shaded], f[rows, shift_index]
+        for array in (shaded, values, shift_index, shift, lit):
+            _read_only(array)  # (before the views are taken: they inherit it)
+        ends, stops = (np.searchsorted(x, np.arange(len(f) + 1)).tolist() for x in (row, rows))
+        out = []
+        for a, b, c, d in zip(ends, ends[1:], stops, stops[1:]):  # (a loop over the rows)
+            one = cls.__new__(cls)
+            one.n_panels, one.shaded_index, one.shaded_fraction = (
+                f.shape[1],
+                shaded[a:b],
+                values[a:b],
+            )
+            one.shift_index, one.shift, one.shift_fraction = shift_index[c:d], shift[c:d], lit[c:d]
+            out.append(one)
+        return out
+
+    @classmethod
     def all_lit(cls, n_panels: int) -> "PanelLighting":
         """Every one of ``n_panels`` panels fully lit (no occlusion)."""
         return cls(np.ones(n_panels))

@@ -120,18 +120,16 @@ class Shader:
             shadowed = adbsat_shadowed(self.mesh, u)
             self.last_stats = {"rays": 0, "partly_lit": 0, "shaded": int(shadowed.sum())}
             return PanelLighting(np.where(shadowed, 0.0, 1.0))
-        if self.parts is None:
-            return self._raycast(u)
-        return self._raycast(u, self.parts.lighting_many(u[None])[0])
+        convex = None if self.parts is None else self.parts.lighting_many(u[None])
+        return self._raycast([u], convex)[0]
 
     def lighting_many(self, directions) -> list:
         """:meth:`lighting` of each flow direction (M, 3) in G, the convex parts' shadows of all
         made at once (the same numbers); ``last_stats``: the last direction's."""
         us = [frames.unit_vector(u) for u in directions]
-        if self.trivial or self.mode != "raycast" or self.parts is None:
+        if self.trivial or self.mode != "raycast" or self.parts is None or not us:
             return [self.lighting(u) for u in us]
-        exact = self.parts.lighting_many(np.array(us))
-        return [self._raycast(u, e) for u, e in zip(us, exact)]
+        return self._raycast(us, self.parts.lighting_many(np.array(us)))
 
     def lighting_angles(self, aoa: float, aos: float) -> PanelLighting:
         """:meth:`lighting` for angle of attack and sideslip [rad] (frames module)."""
@@ -148,20 +146,27 @@ class Shader:
         return self.filter.candidates(u, forward, boxes)
 
     # -------------------------------------------------------------------------- raycast
-    def _cast_sets(self, sets, tri, lift, cand, d, occluder, stats):
-        """[(lit (k, count), origins (k, count, 3)), ...] of sample sets [(rows, start, count)]."""
-        parts = []
+    def _cast(self, origins, rows, jobs, first_face=False) -> np.ndarray:
+        """Whether rays ``origins`` (R, 3) of the jobs ``rows`` (R,) (ascending) meet an occluder
+        along their job's flow (or the first occluder they meet, -1 for none)."""
+        out = np.zeros(len(rows), dtype=np.int64 if first_face else bool)
+        cast = self.scene.first_face if first_face else self.scene.any_hit
+        ends = np.searchsorted(rows, np.arange(len(jobs) + 1)).tolist()
+        for (_, d, occluder, _), a, b in zip(jobs, ends, ends[1:]):  # (a loop over directions)
+            if b > a:
+                out[a:b] = cast(origins[a:b], d, occluder)
+        return out
+
+    def _cast_sets(self, sets, tri, lift, cand, job, jobs, rays):
+        """[(lit (k, count), origins (k, count, 3)), ...] of sample sets [(rows, start, count)],
+        each row's rays added to ``rays``."""
+        out = []
         for idx, start, count in sets:
             a, b = sample_coordinates(cand[idx], start, count)
-            parts.append(sample_points(tri[idx], a, b, lift[idx]))
-        flat = np.concatenate([p.reshape(-1, 3) for p in parts]) if parts else np.zeros((0, 3))
-        blocked = self.scene.any_hit(flat, d, occluder)
-        stats["rays"] += int(blocked.size)
-        out, pos = [], 0
-        for p in parts:
-            k = p.shape[0] * p.shape[1]
-            out.append((~blocked[pos : pos + k].reshape(p.shape[:2]), p))
-            pos += k
+            p = sample_points(tri[idx], a, b, lift[idx])
+            blocked = self._cast(p.reshape(-1, 3), np.repeat(job[idx], count), jobs)
+            out.append((~blocked.reshape(p.shape[:2]), p))
+            rays[idx] += count
         return out
 
     def _first_points(self, cand) -> np.ndarray:
@@ -170,7 +175,7 @@ class Shader:
         if self._points is None:
             self._points = np.zeros((self.mesh.n_panels, 3 + self.samples, 3))
             self._made = np.zeros(self.mesh.n_panels, dtype=bool)
-        new = cand[~self._made[cand]]
+        new = np.unique(cand[~self._made[cand]])
         if new.size:
             a, b = sample_coordinates(new, 0, self.samples)
             a, b = (
@@ -182,13 +187,13 @@ class Shader:
             self._made[new] = True
         return self._points[cand]
 
-    def _corner_rays(self, corners, d, occluder, cand) -> tuple:
+    def _corner_rays(self, corners, cand, job, jobs) -> tuple:
         """Corner rays lit (K, 3), and panels wholly shaded (K,) by one closed convex component."""
-        n = cand.size
+        n, rows = cand.size, np.repeat(job, 3)
         if not self.convex_shadows or not self.filter.convex.any():
-            lit = ~self.scene.any_hit(corners.reshape(-1, 3), d, occluder).reshape(n, 3)
+            lit = ~self._cast(corners.reshape(-1, 3), rows, jobs).reshape(n, 3)
             return lit, np.zeros(n, dtype=bool)
-        face = self.scene.first_face(corners.reshape(-1, 3), d, occluder).reshape(n, 3)
+        face = self._cast(corners.reshape(-1, 3), rows, jobs, first_face=True).reshape(n, 3)
         component = self.filter.component
         by = np.where(face >= 0, component[np.maximum(face, 0)], -1)
         first = by[:, 0]
@@ -201,44 +206,54 @@ class Shader:
         )
         return face < 0, whole
 
-    def _raycast(self, u: np.ndarray, convex=None) -> PanelLighting:
-        """The lighting at unit ``u``; ``convex``: the convex parts' shadows at ``u``
-        (:meth:`ConvexParts.lighting_many`)."""
-        mesh = self.mesh
-        n = mesh.n_panels
-        c = -(mesh.normals @ u)
-        forward = forward_mask(c, mesh.normals, self.graze_tol)
-        if convex is None or not self.prefilter:
-            cand = self.candidates(u, forward)
-        else:
-            cand = convex[0]
-        lit_fraction = np.ones(n)
-        stats = dict.fromkeys(STATS, 0) | {"forward": int(forward.sum()), "tested": int(cand.size)}
-        shifts = [(np.zeros(0, dtype=np.int64), np.zeros((0, 3)))]
-        if convex is not None and cand.size:
+    def _raycast(self, us, convex=None) -> list:
+        """The lighting at each unit flow direction ``us``; ``convex``: the convex parts'
+        shadows (:meth:`ConvexParts.lighting_many`), or None. The panels left to the rays of
+        all the directions are cast together, each a row (its direction's job)."""
+        mesh, n, m = self.mesh, self.mesh.n_panels, len(us)
+        lit, done = np.ones((m, n)), np.zeros((m, n), dtype=bool)
+        shifts = [(np.zeros(0, dtype=np.int64),) * 2 + (np.zeros((0, 3)),)]  # (row, panel, shift)
+        stats = dict.fromkeys(STATS, 0)  # (the last direction's)
+        prefiltered = convex is not None and self.prefilter
+        if convex is not None:
             # the panels that only convex parts can shade: lit exactly, no rays
-            exact, fraction, centroid = convex[1:]  # (exact ascending)
-            lit_fraction[exact] = fraction
+            candidate, n_forward, d, j, fraction, centroid = convex
+            lit[d, j], done[d, j] = fraction, True
             partly = (fraction > 0.0) & (fraction < 1.0)
-            stats["exact"] = int(exact.size)
-            if exact.size == cand.size:  # (every candidate lit exactly: no rays)
-                self.last_stats = stats
-                index = exact[partly]
-                return PanelLighting(
-                    lit_fraction, index, centroid[partly] - mesh.barycentres[index]
-                )
-            done = np.zeros(n, dtype=bool)
-            done[exact] = True
-            cand = cand[~done[cand]]
-            shifts.append((exact[partly], centroid[partly] - mesh.barycentres[exact[partly]]))
-        if cand.size == 0:
-            self.last_stats = stats
-            return self._lighting(lit_fraction, shifts)
-        d = -u
-        occluder = np.abs(c) > self.graze_tol
-        if occluder.all():
-            occluder = None  # no grazing face: every face occludes
+            shifts.append((d[partly], j[partly], centroid[partly] - mesh.barycentres[j[partly]]))
+            stats |= dict(forward=int(n_forward[-1]), tested=int(candidate[-1].sum()))
+            stats["exact"], rest = int(done[-1].sum()), candidate & ~done
+        jobs = []
+        todo = np.flatnonzero(rest.any(axis=1)).tolist() if prefiltered else range(m)
+        for k in todo:  # (a loop over directions)
+            c = -(mesh.normals @ us[k])
+            if prefiltered:
+                cand = np.flatnonzero(rest[k])
+            else:
+                forward = forward_mask(c, mesh.normals, self.graze_tol)
+                cand = self.candidates(us[k], forward)
+                if k == m - 1:
+                    stats |= dict(forward=int(forward.sum()), tested=cand.size)
+                cand = cand[~done[k, cand]]
+            if cand.size:
+                occluder = np.abs(c) > self.graze_tol
+                jobs.append((cand, -us[k], None if occluder.all() else occluder, k))
+        if jobs:
+            shifts.append(self._cast_jobs(jobs, lit, stats if jobs[-1][3] == m - 1 else {}))
+        self.last_stats = stats
+        rows, index, shift = (np.concatenate(x) for x in zip(*shifts))
+        order = np.lexsort((index, rows))
+        return PanelLighting.many(lit, rows[order], index[order], shift[order])
 
+    def _cast_jobs(self, jobs, fractions, stats) -> tuple:
+        """The rays of ``jobs`` [(panels, -u, occluders or None, direction)] (rows: a panel of a
+        job): their lit fractions put in ``fractions`` (directions, panels), the last job's
+        counts in ``stats``; returns the partly lit ones' (direction, panel, shift [m])."""
+        mesh, n = self.mesh, self.mesh.n_panels
+        job = np.repeat(np.arange(len(jobs)), [len(j[0]) for j in jobs])
+        cand = np.concatenate([j[0] for j in jobs])
+        rays, refined = np.full(cand.size, 3), np.zeros(cand.size, dtype=bool)
+        probed = np.zeros(0, dtype=np.int64)
         # First pass: 3 rays near the corners plus S interior samples. A shadow edge that
         # crosses a panel separates its corners, so the corner rays catch the partly lit panels
         # whose interior samples all fall on one side; they serve detection only.
@@ -246,14 +261,13 @@ class Shader:
         tri = mesh.vertices[cand]
         lift = self.offset * mesh.normals[cand]
         points = self._first_points(cand)
-        corner_lit, whole = self._corner_rays(points[:, :3], d, occluder, cand)
+        corner_lit, whole = self._corner_rays(points[:, :3], cand, job, jobs)
         # The panels wholly in one convex component's shadow are shaded: their interior rays
         # would all be blocked too. The others cast their interior samples.
         rest = np.flatnonzero(~whole)
         origins = points[rest, 3:]  # (K', S, 3)
-        blocked = self.scene.any_hit(origins.reshape(-1, 3), d, occluder).reshape(-1, S)
-        stats["rays"] = int(corner_lit.size + blocked.size)
-        stats["corner_shaded"] = int(cand.size - rest.size)
+        blocked = self._cast(origins.reshape(-1, 3), np.repeat(job[rest], S), jobs).reshape(-1, S)
+        rays[rest] += S
         lit = np.zeros((cand.size, S), dtype=bool)
         lit[rest] = ~blocked
         partial = (lit.any(axis=1) | corner_lit.any(axis=1)) & ~(
@@ -275,50 +289,39 @@ class Shader:
             n_probe = max(1, R // 8)
             adjacency = self.filter.adjacency
             if self.dilate and adjacency.size:
-                mark = np.zeros(n, dtype=bool)
-                mark[cand[partial]] = True
-                e0, e1 = adjacency[:, 0], adjacency[:, 1]
-                grow = np.zeros(n, dtype=bool)
-                grow[e1[mark[e0]]] = True
-                grow[e0[mark[e1]]] = True
-                probe = np.flatnonzero(grow[cand] & ~partial)
+                mark = np.zeros((len(jobs), n), dtype=bool)
+                mark[job[partial], cand[partial]] = True
+                grow = np.zeros((len(jobs), n), dtype=bool)
+                for e0, e1 in (adjacency.T, adjacency.T[::-1]):
+                    k, e = np.nonzero(mark[:, e0])
+                    grow[k, e1[e]] = True
+                probe = np.flatnonzero(grow[job, cand] & ~partial)
             sets = [(refine, S, R), (probe, S, n_probe)]
-            lit_sets = self._cast_sets(sets, tri, lift, cand, d, occluder, stats)
+            lit_sets = self._cast_sets(sets, tri, lift, cand, job, jobs, rays)
             lit_p = lit_sets[1][0]
             again = probe[lit_p.any(axis=1) & ~lit_p.all(axis=1)]
             final = [(refine, lit_sets[0])]
             if again.size:
-                more = self._cast_sets(
-                    [(again, S + n_probe, R)], tri, lift, cand, d, occluder, stats
-                )
+                more = self._cast_sets([(again, S + n_probe, R)], tri, lift, cand, job, jobs, rays)
                 final.append((again, more[0]))
             for idx, (lit_r, origins_r) in final:
-                if idx.size == 0:
-                    continue
                 n_lit[idx] = lit_r.sum(axis=1)
                 lit_sum[idx] = (
                     np.einsum("ks,ksj->kj", lit_r, origins_r) - n_lit[idx, None] * lift[idx]
                 )
                 total[idx] = R
-            stats["refined"] = int(refine.size + again.size)
-            stats["probed"] = int(probe.size)
+            refined[refine], refined[again], probed = True, True, probe
 
         frac = n_lit / total
-        lit_fraction[cand] = frac
         part = (n_lit > 0) & (n_lit < total)
-        stats["partly_lit"] = int(part.sum())
-        shift_index = cand[part]
-        shift = lit_sum[part] / n_lit[part][:, None] - mesh.barycentres[shift_index]
-        self.last_stats = stats
-        return self._lighting(lit_fraction, [*shifts, (shift_index, shift)])
-
-    @staticmethod
-    def _lighting(lit_fraction, shifts) -> PanelLighting:
-        """The PanelLighting of ``lit_fraction`` and shifts ``[(index, shift), ...]``."""
-        index = np.concatenate([i for i, _ in shifts]).astype(np.int64)
-        order = np.argsort(index, kind="stable")
-        shift = np.concatenate([v for _, v in shifts])
-        return PanelLighting(lit_fraction, index[order], shift[order])
+        shift = lit_sum[part] / n_lit[part][:, None] - mesh.barycentres[cand[part]]
+        last = job == len(jobs) - 1
+        counted = dict(rays=rays, corner_shaded=whole, partly_lit=part, refined=refined)
+        stats |= {name: int(v[last].sum()) for name, v in counted.items()}
+        stats["probed"] = int(last[probed].sum())
+        direction = np.array([k for *_, k in jobs])[job]
+        fractions[direction, cand] = frac
+        return direction[part], cand[part], shift
 
 
 def make_shader(

@@ -44,3 +44,17 @@ def test_the_sparse_form_keeps_the_lit_fractions_and_shifts():
 def test_bad_lightings_are_named(f, index, shift, message):
     with pytest.raises(ValueError, match=message):
         PanelLighting(f, index, shift)
+
+
+def test_many_lightings_at_once_equal_one_at_a_time():
+    f = np.array([[1.0, 0.0, 0.25, 1.0], [1.0, 1.0, 1.0, 1.0], [0.5, 1.0, 1.0, 0.75]])
+    rows, index = np.array([0, 2, 2]), np.array([2, 0, 3])
+    shift = np.array([[0.1, 0.0, 0.0], [0.0, -0.2, 0.05], [0.3, 0.0, 0.1]])
+    for k, lighting in enumerate(PanelLighting.many(f, rows, index, shift)):
+        one = PanelLighting(f[k], index[rows == k], shift[rows == k])
+        for name in PanelLighting.__slots__:
+            np.testing.assert_array_equal(getattr(lighting, name), getattr(one, name))
+        with pytest.raises(ValueError):
+            lighting.shaded_fraction[:1] = 0.5
+    with pytest.raises(ValueError, match=r"lit_fraction must be numbers in \[0, 1\]"):
+        PanelLighting.many(f + 0.5, rows, index, shift)

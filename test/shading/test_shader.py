@@ -373,6 +373,7 @@ def test_many_directions_at_once_equal_one_at_a_time():
             np.testing.assert_array_equal(lighting.shift_index, single.shift_index)
             np.testing.assert_allclose(lighting.shift, single.shift, atol=1e-12)
         assert exact > 20 * len(directions)  # (the convex parts do shade panels)
+        assert many.last_stats == one.last_stats
 
 
 def test_corners_under_different_occluders_are_not_taken_as_shaded(backend):
