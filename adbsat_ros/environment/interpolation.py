@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import datetime as _dt
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -25,32 +26,17 @@ _VECTORS = (
 _SPEED, _ALPHA, _MASS_DENSITY, _EXOSPHERIC, _TEMPERATURE, _DENSITIES = range(18, 24)
 
 
-class KnotEnds:
-    """A knot: its exact ``conditions`` and the numbers mixed, made when first asked for."""
+class KnotEnds(NamedTuple):
+    """A knot: its exact ``conditions``, every number of them in mixing order (read-only) and
+    which of the six vectors are not None."""
 
-    __slots__ = ("conditions", "_numbers", "_vectors")
-
-    def __init__(self, conditions: FlightConditions):
-        self.conditions = conditions
-        self._numbers = None
-        self._vectors = ()
-
-    @property
-    def numbers(self) -> np.ndarray:
-        """Read-only: every number of a knot, in mixing order."""
-        if self._numbers is None:
-            self._numbers, self._vectors = _numbers_of(self.conditions)
-        return self._numbers
-
-    @property
-    def vectors(self) -> tuple:
-        """Which of the six vectors are not None."""
-        self.numbers  # (made with the numbers)
-        return self._vectors
+    conditions: FlightConditions
+    numbers: np.ndarray
+    vectors: tuple
 
 
-def _numbers_of(conditions: FlightConditions) -> tuple:
-    """(numbers, vectors) of :class:`KnotEnds`."""
+def knot_ends(conditions: FlightConditions) -> KnotEnds:
+    """The :class:`KnotEnds` of ``conditions``."""
     atmosphere = conditions.atmosphere
     values = []
     present = []
@@ -68,7 +54,7 @@ def _numbers_of(conditions: FlightConditions) -> tuple:
     )
     numbers = np.array(values, dtype=float)
     numbers.setflags(write=False)
-    return numbers, tuple(present)
+    return KnotEnds(conditions, numbers, tuple(present))
 
 
 def check_ends(a: FlightConditions, b: FlightConditions) -> None:
@@ -91,7 +77,7 @@ def mixed_conditions(
     mixed += b.numbers * weight
     mixed.setflags(write=False)
     values = mixed.tolist()
-    vectors = list(mixed[:18].reshape(6, 3))  # read-only views
+    vectors = [mixed[k : k + 3] for k in range(0, 18, 3)]  # read-only views
     if a.vectors != b.vectors or not all(a.vectors):
         vectors = [v if p and q else None for v, p, q in zip(vectors, a.vectors, b.vectors)]
     speed = values[_SPEED] if vectors[5] is None else math.hypot(*values[15:18])
@@ -135,4 +121,4 @@ def interpolated_flight_conditions(
     check_ends(a, b)
     if weight == 0.0:
         return dataclasses.replace(a, time=time)
-    return mixed_conditions(KnotEnds(a), KnotEnds(b), weight, time)
+    return mixed_conditions(knot_ends(a), knot_ends(b), weight, time)

@@ -11,7 +11,7 @@ import math
 from typing import Callable
 
 from adbsat_ros.environment.conditions import FlightConditions
-from adbsat_ros.environment.interpolation import KnotEnds, mixed_conditions
+from adbsat_ros.environment.interpolation import KnotEnds, knot_ends, mixed_conditions
 
 #: A stamp this close to a knot [s] takes the knot's conditions alone (float UNIX stamps
 #: resolve 2.4e-7 s), so a stream stamped on multiples of the step lands on knots.
@@ -146,9 +146,9 @@ class KnotGrid:
         self.misses += 1
         step = self.step
         if step > 0.0:
-            knot = KnotEnds(self.evaluate(key, index * step))
+            knot = knot_ends(self.evaluate(key, index * step))
         else:  # nothing to interpolate
-            knot = KnotEnds(self.evaluate(key, index))
+            knot = knot_ends(self.evaluate(key, index))
         self.evaluations += 1
         if len(knots) >= self.kept:
             del knots[next(iter(knots))]
