@@ -20,7 +20,6 @@ from adbsat_ros.physics.model import build_model
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.setup import Setup, ShadingPolicy, SolverSpec
 from adbsat_ros.processes import worker_count
-from adbsat_ros.shading.shader import MODES
 from adbsat_ros.tasks import run_chunks
 
 #: Largest attitude count of a chunk handed to one worker.
@@ -107,42 +106,6 @@ def build_setup(method: PanelMethod, shading: str, samples: int, solver: SolverS
     )
 
 
-class _Progress:
-    """Adapter for the ``progress`` argument of :func:`build_database`."""
-
-    def __init__(self, progress, total):
-        self._bar = None
-        self._callback = None
-        self._done = 0
-        self.total = total
-        if progress is None:  # a bar only for a person watching a terminal
-            progress = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
-        if progress is True:
-            self._bar = tqdm(total=total, unit="att", desc="database", file=sys.stderr, leave=False)
-            self._own = True
-        elif progress is False:
-            pass
-        elif hasattr(progress, "update"):
-            self._bar, self._own = progress, False
-        elif callable(progress):
-            self._callback = progress
-        else:
-            raise TypeError(
-                "progress must be None, a bool, a callable(done, total) or a tqdm instance"
-            )
-
-    def update(self, n):
-        self._done += n
-        if self._bar is not None:
-            self._bar.update(n)
-        if self._callback is not None:
-            self._callback(self._done, self.total)
-
-    def close(self):
-        if self._bar is not None and self._own:
-            self._bar.close()
-
-
 def build_database(
     method: PanelMethod,
     flow: FreeStream,
@@ -178,9 +141,7 @@ def build_database(
     report: a :class:`adbsat_ros.tasks.TaskReport` to fill (where the chunks ran).
     Returns an AeroDatabase; ``metadata["interpolation_error"]`` (tpmc: plus three of the largest
     standard errors; ``solver`` recorded)."""
-    shading = str(shading).lower()
-    if shading not in MODES:
-        raise ValueError(f"unknown shading mode {shading!r}; choose one of {', '.join(MODES)}")
+    shading = str(shading).lower()  # (checked by the set-up)
     samples = int(samples)
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
@@ -216,11 +177,23 @@ def build_database(
         chunk = 1  # (an attitude is a long run already: a stop waits for one at most)
     chunks = {s: (s, attitudes[s : s + chunk]) for s in range(0, total, chunk)}
     results = np.full((total, COLUMNS), np.nan)
-    bar = _Progress(progress, total)
+    if progress is None:  # a bar only for a person watching a terminal
+        progress = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+    if not (isinstance(progress, bool) or callable(progress) or hasattr(progress, "update")):
+        raise TypeError("progress must be None, a bool, a callable(done, total) or a tqdm instance")
+    off = progress is not True  # (a bar of its own only for True)
+    bar = tqdm(total=total, unit="att", desc="database", file=sys.stderr, leave=False, disable=off)
+    done = 0
 
     def take(first, block):
+        nonlocal done
         results[first : first + len(block)] = block
+        done += len(block)
         bar.update(len(block))
+        if hasattr(progress, "update"):
+            progress.update(len(block))
+        elif callable(progress):
+            progress(done, total)
 
     try:
         run_chunks(

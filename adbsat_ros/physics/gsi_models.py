@@ -46,18 +46,6 @@ SPLIT_MODELS = {
     "maxwell": (maxwell_parameters, schaaf_plate),
 }
 
-#: Which surface parameters each model reads (for documentation and parameter checks).
-MODEL_PARAMETERS = {
-    "newton": (),
-    "sentman": ("alpha", "wall_temperature"),
-    "cook": ("alpha", "wall_temperature"),
-    "schaaf": ("sigma_n", "sigma_t", "wall_temperature"),
-    "cll": ("alpha_n", "sigma_t", "wall_temperature"),
-    "storch": ("sigma_n", "sigma_t", "wall_temperature"),
-    "dria": ("alpha", "wall_temperature"),
-    "maxwell": ("alpha", "wall_temperature"),
-}
-
 #: Models that need the species composition of the gas.
 SPECIES_MODELS = ("cll", "dria")
 
