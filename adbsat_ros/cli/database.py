@@ -9,12 +9,13 @@ from adbsat_ros.cli.common import add_setup_arguments, method_and_flow_from_args
 from adbsat_ros.cli.options import (
     CommandFailed,
     CommandLineError,
+    errors_as,
     option,
     parse_angle_list,
     positive_int,
     warn,
 )
-from adbsat_ros.database.build import build_database
+from adbsat_ros.database.build import build_database, check_angles
 from adbsat_ros.database.format import is_database_csv, is_database_file
 from adbsat_ros.processes import stop_on_signals, usable_cpus, worker_count
 from adbsat_ros.tasks import TaskReport
@@ -72,21 +73,11 @@ def _check_replaceable(path: str, option: str, own) -> None:
             raise CommandLineError(not_an_output(entry, "database", option))
 
 
-def _angles(text, option, low, high):
-    values = parse_angle_list(text, option)
-    if values.min() < low or values.max() > high:
-        raise CommandLineError(
-            f"{option}: angles must lie in [{low:g}, {high:g}] deg, got {text!r}"
-        )
-    if len(set(values.tolist())) != values.size:
-        raise CommandLineError(f"{option}: an angle is given twice in {text!r}")
-    return values
-
-
 def run(args) -> int:
     """Run ``adbsat-ros database``; the exit status."""
-    aoa = _angles(args.aoa, "--aoa", -360.0, 360.0)
-    aos = _angles(args.aos, "--aos", -90.0, 90.0)
+    with errors_as(CommandLineError, ValueError):  # (the build's checks, naming the option)
+        aoa = check_angles(parse_angle_list(args.aoa, "--aoa"), "--aoa", -360.0, 360.0)
+        aos = check_angles(parse_angle_list(args.aos, "--aos"), "--aos", -90.0, 90.0)
     out = args.out
     if not out.lower().endswith(".npz"):
         raise CommandLineError(f"--out: the database file must end in .npz, got {out!r}")

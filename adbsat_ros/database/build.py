@@ -26,7 +26,8 @@ from adbsat_ros.tasks import run_chunks
 MAX_CHUNK = 64
 
 
-def _check_angles(values, name, low, high) -> np.ndarray:
+def check_angles(values, name, low, high) -> np.ndarray:
+    """The angles [deg] sorted; ValueError naming ``name`` unless finite, distinct, in range."""
     a = np.asarray(values, dtype=float).reshape(-1)
     if a.size == 0:
         raise ValueError(f"{name}: no angles given")
@@ -154,8 +155,8 @@ def build_database(
     # (checked here, a model without a test-particle kernel refused, before any worker starts)
     model = build_model(build_setup(method, shading, samples, spec), method.mesh)
     count, _ = worker_count(workers)  # (at most the usable CPUs)
-    aoa = _check_angles(aoa_deg, "aoa_deg", -360.0, 360.0)
-    aos = _check_angles(aos_deg, "aos_deg", -90.0, 90.0)
+    aoa = check_angles(aoa_deg, "aoa_deg", -360.0, 360.0)
+    aos = check_angles(aos_deg, "aos_deg", -90.0, 90.0)
     metadata = describe_setup(
         method,
         flow,
