@@ -49,18 +49,6 @@ class _CsvFile:
 
 
 @dataclass
-class Replay:
-    """What the merge walks through: both passes over the input, chunks and results, report."""
-
-    read: object
-    stream: object
-    chunks: list
-    results: object
-    states: list
-    report: object
-
-
-@dataclass
 class Outputs:
     """Outputs asked for: ``bag``, ``csv``, ``plots`` paths (None: not written) and options."""
 
@@ -75,10 +63,8 @@ class Outputs:
 class _Walk:
     """One walk over the messages in bag order (see :func:`write_outputs`)."""
 
-    def __init__(self, replay: Replay, writer, csv_file, seconds, keep_plot_rows: bool):
-        self.read, self.stream = replay.read, replay.stream
-        self.chunks, self.results = replay.chunks, replay.results
-        self.states, self.report = replay.states, replay.report
+    def __init__(self, replay: tuple, writer, csv_file, seconds, keep_plot_rows: bool):
+        self.read, self.stream, self.chunks, self.results, self.states, self.report = replay
         self.writer, self.csv_file, self.seconds = writer, csv_file, seconds
         self.last_ns = None
         # the plots' numbers, when plots are asked for, as a min/max envelope over time bins:
@@ -216,9 +202,11 @@ def partial_path(path) -> Path:
     return path.with_name(f"{path.stem}.PARTIAL{path.suffix}")
 
 
-def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
-    """Walk the messages in bag order and write the outputs."""
-    states, report = replay.states, replay.report
+def write_outputs(replay: tuple, outputs: Outputs, stop=None) -> None:
+    """Walk the messages in bag order and write the outputs; ``replay``: what the walk goes
+    through, ``(read, stream, chunks, results, states, report)``: both passes over the input,
+    the chunks and their results, the models' states and the report."""
+    states, report = replay[4:]
     out_bag, out_csv, plots_dir = outputs.bag, outputs.csv, outputs.plots
     seconds = collections.Counter()
     writer = (
