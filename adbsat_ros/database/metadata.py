@@ -6,6 +6,7 @@ import datetime as _dt
 import os
 
 from adbsat_ros._version import __version__
+from adbsat_ros.bounds import errors_as
 from adbsat_ros.database.format import FORMAT_VERSION, DatabaseError
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME
 from adbsat_ros.geometry.loading import is_urdf
@@ -58,10 +59,8 @@ def _reload_mesh(spec, scale: float, joints: dict | None):
     body, mesh = load_body(BodySpec(spec, scale))
     if body is None:
         return mesh
-    try:
+    with errors_as(MeshError):  # (a joint position the URDF refuses)
         return body.mesh(joints)
-    except ValueError as exc:  # (a joint position the URDF refuses)
-        raise MeshError(str(exc)) from None
 
 
 def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale, joints=None) -> str | None:

@@ -19,6 +19,7 @@ from rclpy.validate_namespace import validate_namespace
 from rclpy.validate_node_name import validate_node_name
 
 from adbsat_ros.bags.io import BagError
+from adbsat_ros.bounds import errors_as
 from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, message_class, own_node
 from adbsat_ros.ros.parameter_values import text_value
 
@@ -129,10 +130,8 @@ def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
         described = ask(lambda: client.describe_parameters([name])).descriptors
         if not described or described[0].type == ParameterType.PARAMETER_NOT_SET:
             raise ToolError(f"node {target} has no parameter {name!r}")
-        try:
+        with errors_as(BadInput):
             value = text_value(name, text, described[0].type, described[0].dynamic_typing)
-        except ValueError as exc:
-            raise BadInput(str(exc)) from None
         parameter = Parameter(name, value=value)
         result = ask(lambda: client.set_parameters([parameter])).results[0]
         if not result.successful:
@@ -190,10 +189,8 @@ def echo(topic: str, count: int | None, timeout: float, write, stop=None) -> lis
                 tool.spin_once()
         if kind is None:
             return []
-        try:
+        with errors_as(ToolError, BagError):
             message_type = message_class(kind, topic)
-        except BagError as exc:
-            raise ToolError(str(exc)) from None
         # as ros2 topic echo: reliable if every publisher is, else best effort (which takes both)
         publishers = tool.node.get_publishers_info_by_topic(topic)
         reliable = all(p.qos_profile.reliability == RELIABLE for p in publishers)

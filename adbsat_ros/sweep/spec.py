@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import yaml
 
-from adbsat_ros.bounds import bounded
+from adbsat_ros.bounds import bounded, errors_as
 from adbsat_ros.environment.atmosphere import ATMOSPHERE_MODELS, check_time
 from adbsat_ros.environment.space_weather import SPACE_WEATHER_SOURCES, HistoricalWeather
 from adbsat_ros.physics.coefficients import Reference
@@ -307,28 +307,21 @@ def reference_checked(reference) -> dict:
     point = reference.get("moment_point", (0.0, 0.0, 0.0))
     if not isinstance(point, (list, tuple)) or len(point) != 3:
         raise SpecError(f"reference.moment_point: three numbers [x, y, z], got {point!r}")
-    try:
+    with errors_as(SpecError):
         for name in ("area", "length"):
             if name in reference:
                 bounded(f"reference.{name}", reference[name], name)
         for axis, x in zip("xyz", point):
             bounded(f"reference.moment_point {axis}", x, "offset")
-    except ValueError as exc:
-        raise SpecError(str(exc)) from None
     return dict(reference)
 
 
 def points_checked(axes: dict) -> None:
     """The sweep's points within ``sweep_points``; SpecError naming the axes' lengths."""
     lengths = [len(v) for v in axes.values()]
-    try:
-        bounded(
-            f"axes: the points ({' x '.join(map(str, lengths))})",
-            math.prod(lengths),
-            "sweep_points",
-        )
-    except ValueError as exc:
-        raise SpecError(str(exc)) from None
+    with errors_as(SpecError):
+        text = " x ".join(map(str, lengths))
+        bounded(f"axes: the points ({text})", math.prod(lengths), "sweep_points")
 
 
 def load_spec(path) -> tuple:
