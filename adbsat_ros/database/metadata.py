@@ -67,10 +67,8 @@ def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale, joints=None) 
     if mesh_spec is None:
         return None
     mesh_spec = os.fspath(mesh_spec)
-    try:
+    with errors_as(ValueError, MeshError, f"mesh_spec {mesh_spec!r}: "):
         reloaded = _reload_mesh(mesh_spec, mesh_scale, joints).fingerprint()
-    except MeshError as exc:
-        raise ValueError(f"mesh_spec {mesh_spec!r}: {exc}") from None
     if reloaded != method.mesh.fingerprint():
         if mesh_spec == EXAMPLE_MESH_NAME:  # the default: the mesh was built some other way
             return None
@@ -155,10 +153,8 @@ def model_from_metadata(metadata: dict, path=None):
                 "reloaded"
             )
         setup = setup_from_metadata(metadata)
-        try:
+        with errors_as(DatabaseError, MeshError, f"{where}: cannot reload the mesh {spec!r}: "):
             model = build_model(setup)
-        except MeshError as exc:
-            raise DatabaseError(f"{where}: cannot reload the mesh {spec!r}: {exc}") from None
         if model.mesh.fingerprint() != mesh_meta["fingerprint"]:
             raise DatabaseError(
                 f"{where}: the mesh {spec!r} has changed since the database was built "

@@ -151,10 +151,8 @@ def solver_settings(given) -> tuple:
         raise SpecError(f"solver.method: {method!r} is not panel or tpmc")
     particles, tolerance = given.get("particles"), given.get("tolerance")
     seed = given.get("seed", 0)
-    try:
+    with errors_as(SpecError, (TypeError, ValueError), "solver: "):
         run_settings(particles, tolerance, seed)
-    except (TypeError, ValueError) as exc:
-        raise SpecError(f"solver: {exc}") from None
     return tuple(
         sorted(
             {"method": "tpmc", "particles": particles, "tolerance": tolerance, "seed": seed}.items()

@@ -277,10 +277,8 @@ def _atmosphere_checked(data, epoch, fixed: dict, axes: dict) -> tuple:
             raise SpecError(f"space_weather: historical takes {given[0]} from the record")
         record = HistoricalWeather()
         for hours in np.atleast_1d(axes.get("time", fixed.get("time", 0.0))).tolist():
-            try:
+            with errors_as(SpecError, ValueError, "space_weather: "):
                 record.at(epoch + _dt.timedelta(hours=hours))
-            except ValueError as exc:
-                raise SpecError(f"space_weather: {exc}") from None
     return model, source
 
 
