@@ -20,7 +20,7 @@ from adbsat_ros.physics.model import build_model
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.setup import Setup, ShadingPolicy, SolverSpec
 from adbsat_ros.processes import worker_count
-from adbsat_ros.tasks import run_chunks
+from adbsat_ros.tasks import ChunkJob, run_chunks
 
 #: Largest attitude count of a chunk handed to one worker.
 MAX_CHUNK = 64
@@ -54,28 +54,16 @@ def attitude_seed(seed: int, index: int) -> int:
     return int(np.random.SeedSequence(seed, spawn_key=(index,)).generate_state(1)[0])
 
 
-class DatabaseJob:
-    """A database build as a job of :func:`adbsat_ros.tasks.run_chunks`: a chunk is
+class DatabaseSetup:
+    """A build's model (exact shading, or test particles), made where its chunks run: a chunk is
     ``(first, attitudes (K, 2) [deg])``, its result (K, :data:`COLUMNS`)."""
 
     def __init__(self, setup: Setup, mesh, flow):
-        self.model_setup, self.mesh, self.flow = setup, mesh, flow
-        self.key = "database " + uuid.uuid4().hex  # (one build, one set-up per worker)
-
-    def setup(self) -> "DatabaseSetup":
-        """The model of this build, made where its chunks run."""
-        return DatabaseSetup(build_model(self.model_setup, self.mesh), self.flow)
-
-
-class DatabaseSetup:
-    """A build's model (exact shading, or test particles), made where its chunks run."""
-
-    def __init__(self, model, flow):
-        self.model, self.flow = model, flow
-        self.seed = model.setup.solver.seed if model.backend == "tpmc" else None
+        self.model, self.flow = build_model(setup, mesh), flow
+        self.seed = setup.solver.seed if self.model.backend == "tpmc" else None
 
     def evaluate(self, chunk) -> np.ndarray:
-        """The coefficients of a chunk ``(first, attitudes)`` (:class:`DatabaseJob`)."""
+        """The coefficients of a chunk ``(first, attitudes)`` (:class:`DatabaseSetup`)."""
         first, attitudes_deg = chunk
         out = np.zeros((len(attitudes_deg), COLUMNS))
         chunk_angles = [(math.radians(a), math.radians(b)) for a, b in attitudes_deg]
@@ -198,7 +186,9 @@ def build_database(
 
     try:
         run_chunks(
-            DatabaseJob(model.setup, model.mesh, flow),
+            ChunkJob(
+                "database " + uuid.uuid4().hex, DatabaseSetup, (model.setup, model.mesh, flow)
+            ),
             chunks,
             take,
             scheduler=scheduler,

@@ -9,10 +9,10 @@ from dataclasses import dataclass, field
 
 from adbsat_ros.bounds import check_memory
 from adbsat_ros.processes import interruptible
-from adbsat_ros.sweep.evaluate import SweepJob, SweepSetup
+from adbsat_ros.sweep.evaluate import SweepSetup
 from adbsat_ros.sweep.spec import SweepSpec
 from adbsat_ros.sweep.store import SweepStore, chunk_shape
-from adbsat_ros.tasks import run_chunks
+from adbsat_ros.tasks import ChunkJob, run_chunks
 
 #: Memory of the process that runs a sweep for each of its chunks [bytes]: the chunk's index
 #: ranges, its task in the Dask client and scheduler (each carries the spec) and its future.
@@ -68,7 +68,7 @@ def run_sweep(
 
     with bar:
         done = run_chunks(
-            SweepJob(spec),
+            ChunkJob("sweep " + spec.fingerprint, SweepSetup, (spec,)),
             {i: store.slices[i] for i in todo},
             write,
             scheduler=scheduler,

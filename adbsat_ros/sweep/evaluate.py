@@ -118,15 +118,3 @@ class SweepSetup:
             for name, value in zip(SCALARS, (r.drag, r.lift, r.side_force, r.area_projected, *gas)):
                 out[name][local] = value
         return out
-
-
-class SweepJob:
-    """A sweep as a job of :func:`adbsat_ros.tasks.run_chunks`."""
-
-    def __init__(self, spec: SweepSpec):
-        self.spec = spec
-        self.key = "sweep " + spec.fingerprint
-
-    def setup(self) -> SweepSetup:
-        """The spec's set-up (mesh, panel method, shaders)."""
-        return SweepSetup(spec=self.spec)
