@@ -44,9 +44,11 @@ def check_angles(values, name, low, high) -> np.ndarray:
     return a
 
 
-#: Columns of a chunk's results: Cf_G, Cm_G, Cf_w, Cf_f, Cm_B (3 each), AreaProj, CD, CL, CY,
-#: and the standard errors (norms) of Cf_G and Cm_G (0 for the panel method).
+#: Columns of a chunk's results: :data:`VECTORS` (3 each), :data:`SCALARS`, and the standard
+#: errors (norms) of Cf_G and Cm_G (0 for the panel method).
 COLUMNS = 21
+VECTORS = ("Cf_G", "Cm_G", "Cf_w", "Cf_f", "Cm_B")
+SCALARS = ("AreaProj", "CD", "CL", "CY")
 
 
 def attitude_seed(seed: int, index: int) -> int:
@@ -199,25 +201,10 @@ def build_database(
     finally:
         bar.close()
 
-    shape = (aoa.size, aos.size)
-
-    def vec(k):
-        return results[:, k : k + 3].reshape(shape + (3,)).copy()
-
-    db = AeroDatabase(
-        aoa_deg=aoa,
-        aos_deg=aos,
-        Cf_G=vec(0),
-        Cm_G=vec(3),
-        Cf_w=vec(6),
-        Cf_f=vec(9),
-        Cm_B=vec(12),
-        AreaProj=results[:, 15].reshape(shape).copy(),
-        CD=results[:, 16].reshape(shape).copy(),
-        CL=results[:, 17].reshape(shape).copy(),
-        CY=results[:, 18].reshape(shape).copy(),
-        metadata=metadata,
-    )
+    grid = results.reshape(aoa.size, aos.size, COLUMNS)  # (the columns of COLUMNS' comment)
+    arrays = {name: grid[..., 3 * k : 3 * k + 3].copy() for k, name in enumerate(VECTORS)}
+    arrays.update({name: grid[..., 15 + k].copy() for k, name in enumerate(SCALARS)})
+    db = AeroDatabase(aoa_deg=aoa, aos_deg=aos, **arrays, metadata=metadata)
     done = np.isfinite(results[:, 16])
     if not done.all():  # stopped: no grid to interpolate
         db.metadata["solver"] = dict(method=solver, **(tpmc or {}))
