@@ -147,15 +147,7 @@ def build_database(
     count, _ = worker_count(workers)  # (at most the usable CPUs)
     aoa = check_angles(aoa_deg, "aoa_deg", -360.0, 360.0)
     aos = check_angles(aos_deg, "aos_deg", -90.0, 90.0)
-    metadata = describe_setup(
-        method,
-        flow,
-        shading=shading,
-        samples=samples,
-        mesh_spec=mesh_spec,
-        mesh_scale=mesh_scale,
-        mesh_joints=mesh_joints,
-    )
+    metadata = describe_setup(model, flow, mesh_spec, mesh_scale, mesh_joints)
     if conditions is not None:
         metadata["conditions"] = conditions
 

@@ -79,23 +79,13 @@ def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale, joints=None) 
     return mesh_spec
 
 
-def describe_setup(
-    method: PanelMethod,
-    flow: FreeStream,
-    *,
-    shading,
-    samples,
-    mesh_spec,
-    mesh_scale,
-    mesh_joints=None,
-) -> dict:
-    """Metadata of a set-up (:data:`~adbsat_ros.database.format.REQUIRED_METADATA`).
+def describe_setup(model, flow: FreeStream, mesh_spec, mesh_scale, mesh_joints=None) -> dict:
+    """Metadata of a built set-up, ``model`` (:data:`~.format.REQUIRED_METADATA`).
 
-    ``mesh_joints``: [rad or m]. ValueError: ``mesh_spec`` does not reload to the method's mesh.
+    ``mesh_joints``: [rad or m]. ValueError: ``mesh_spec`` does not reload to the model's mesh.
     """
-    texts = material_override_texts(method.materials)
-    mesh = method.mesh
-    ref = method.reference
+    method, shading = model.method, model.setup.shading
+    mesh, ref = method.mesh, method.reference
     return {
         "format_version": FORMAT_VERSION,
         "created_utc": _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat(),
@@ -109,14 +99,17 @@ def describe_setup(
             "fingerprint": mesh.fingerprint(),
         },
         "model": model_values(method),
-        "materials": {"default": surface_values(method.materials.default), "overrides": texts},
+        "materials": {
+            "default": surface_values(method.materials.default),
+            "overrides": material_override_texts(method.materials),
+        },
         "flow": _flow_dict(flow),
         "reference": {
             "area": float(ref.area),
             "length": float(ref.length),
             "moment_point": [float(v) for v in ref.moment_point],
         },
-        "shading": {"mode": str(shading), "samples": int(samples)},
+        "shading": {"mode": shading.mode, "samples": shading.samples},
     }
 
 
