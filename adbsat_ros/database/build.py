@@ -178,11 +178,10 @@ def build_database(
         elif callable(progress):
             progress(done, total)
 
+    job = ChunkJob("database " + uuid.uuid4().hex, DatabaseSetup, (model.setup, model.mesh, flow))
     try:
         run_chunks(
-            ChunkJob(
-                "database " + uuid.uuid4().hex, DatabaseSetup, (model.setup, model.mesh, flow)
-            ),
+            job,
             chunks,
             take,
             scheduler=scheduler,
@@ -197,9 +196,9 @@ def build_database(
     arrays = {name: grid[..., 3 * k : 3 * k + 3].copy() for k, name in enumerate(VECTORS)}
     arrays.update({name: grid[..., 15 + k].copy() for k, name in enumerate(SCALARS)})
     db = AeroDatabase(aoa_deg=aoa, aos_deg=aos, **arrays, metadata=metadata)
+    db.metadata["solver"] = dict(method=solver, **(tpmc or {}))
     done = np.isfinite(results[:, 16])
     if not done.all():  # stopped: no grid to interpolate
-        db.metadata["solver"] = dict(method=solver, **(tpmc or {}))
         db.metadata["partial"] = {"attitudes_done": int(done.sum()), "attitudes": total}
         db.metadata["interpolation_error"] = {
             "method": "not estimated: the build was stopped",
@@ -211,13 +210,10 @@ def build_database(
     if tpmc is not None:
         force = 3.0 * float(results[:, 19].max())
         moment = 3.0 * float(results[:, 20].max())
-        db.metadata["solver"] = dict(method="tpmc", **tpmc)
         error.update(statistical_force_coefficient=force, statistical_moment_coefficient=moment)
         if error["force_coefficient"] is not None:
             error["force_coefficient"] += force
             error["moment_coefficient"] += moment
             error["method"] += "; plus three times the largest standard error of the particles"
-    else:
-        db.metadata["solver"] = {"method": "panel"}
     db.metadata["interpolation_error"] = error
     return db
