@@ -154,13 +154,8 @@ def model_from_metadata(metadata: dict, path=None):
                 f"(fingerprint {model.mesh.fingerprint()}, recorded {mesh_meta['fingerprint']})",
             )
         f = metadata["flow"]
-        flow = FreeStream(
-            speed=f["speed"],
-            temperature=f["temperature"],
-            number_densities=f.get("number_densities"),
-            mean_mass_amu=f.get("mean_mass_amu"),
-            density=f.get("density"),
-        )
+        gas = {k: f.get(k) for k in ("number_densities", "mean_mass_amu", "density")}
+        flow = FreeStream(speed=f["speed"], temperature=f["temperature"], **gas)
     except DatabaseError:
         raise
     except (KeyError, TypeError, ValueError) as exc:
