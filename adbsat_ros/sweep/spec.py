@@ -10,7 +10,7 @@ import datetime as _dt
 import hashlib
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 import yaml
@@ -41,21 +41,6 @@ from adbsat_ros.sweep.axes import (
 
 #: Points per task unless the spec says: a few seconds of ray-cast panel method.
 CHUNK_POINTS = 256
-#: Fields of a spec.
-FIELDS = (
-    "mesh",
-    "model",
-    "shading",
-    "reference",
-    "materials",
-    "time",
-    "fixed",
-    "axes",
-    "chunk_points",
-    "solver",
-    "atmosphere_model",
-    "space_weather",
-)
 
 
 @dataclass(frozen=True)
@@ -127,6 +112,10 @@ class SweepSpec:
     def joint_axes(self) -> dict:
         """``{joint name: axis name}`` of the swept joints."""
         return {k[len(JOINT_PREFIX) :]: k for k in self.axes if k.startswith(JOINT_PREFIX)}
+
+
+#: Fields of a spec: those of a SweepSpec but its text and a mesh axis's variants.
+FIELDS = tuple(f.name for f in fields(SweepSpec) if f.name not in ("text", "meshes"))
 
 
 def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
