@@ -57,16 +57,13 @@ def configure(p) -> None:
     p.set_defaults(func=run)
 
 
-def _check_output(path: str, option: str) -> None:
+def _check_output(path: str, option: str, own) -> None:
+    """``path``'s directory is writable; a file there is replaced only if a build wrote it."""
     directory = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(directory):
         raise CommandLineError(f"{option}: directory {directory} does not exist")
     if not os.access(directory, os.W_OK):
         raise CommandLineError(f"{option}: directory {directory} is not writable")
-
-
-def _check_replaceable(path: str, option: str, own) -> None:
-    """A file at ``path`` is replaced only if a database build wrote it (``own``)."""
     if os.path.lexists(path):
         entry = foreign_file(path, own)
         if entry is not None:
@@ -82,11 +79,9 @@ def run(args) -> int:
     if not out.lower().endswith(".npz"):
         raise CommandLineError(f"--out: the database file must end in .npz, got {out!r}")
     csv_path = args.csv if args.csv is not None else out[: -len(".npz")] + ".csv"
-    _check_output(out, "--out")
-    _check_output(csv_path, "--csv")
-    _check_replaceable(out, "--out", is_database_file)
-    _check_replaceable(csv_path, "--csv", is_database_csv)
-    _check_replaceable(partial_path(csv_path), "--csv", is_database_csv)
+    _check_output(out, "--out", is_database_file)
+    _check_output(csv_path, "--csv", is_database_csv)
+    _check_output(partial_path(csv_path), "--csv", is_database_csv)
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
     model, flow, conditions = method_and_flow_from_args(args)
