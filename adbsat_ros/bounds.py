@@ -4,6 +4,7 @@ a value outside is refused with its name, the value and the range. docs/physics.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 from dataclasses import dataclass
@@ -210,6 +211,15 @@ def bounded(name: str, value, bound: str | Bound | None = None) -> float:
     """
     rule = bound if isinstance(bound, Bound) else BOUNDS[bound or name]
     return rule.check(name, value)
+
+
+@contextlib.contextmanager
+def errors_as(kind, errors=ValueError, prefix: str = ""):
+    """Raise ``kind(prefix + text)`` for an exception of the type(s) ``errors`` raised inside."""
+    try:
+        yield
+    except errors as exc:
+        raise kind(f"{prefix}{exc}") from None
 
 
 def body_point_bounds(lower, upper) -> tuple:

@@ -19,7 +19,7 @@ import signal
 import threading
 import time
 from dataclasses import dataclass, field
-from typing import Callable, Protocol
+from typing import Callable
 
 from adbsat_ros.lru import LruStore
 from adbsat_ros.processes import die_with_parent, worker_count
@@ -47,13 +47,18 @@ _FORKED: dict = {}
 SETUPS = LruStore(2)
 
 
-class ChunkJob(Protocol):
-    """A picklable job: a ``key`` (equal keys: equal set-ups), ``setup().evaluate(chunk)``."""
+@dataclass(frozen=True)
+class ChunkJob:
+    """A picklable job: a ``key`` (equal keys: equal set-ups) and what its chunks need, built
+    where they run by ``make(*args)``: an object with ``evaluate(chunk)``."""
 
     key: str
+    make: Callable
+    args: tuple = ()
 
     def setup(self):
-        """What the chunks need, built where they run: an object with ``evaluate(chunk)``."""
+        """What the chunks need, built here."""
+        return self.make(*self.args)
 
 
 @dataclass

@@ -11,7 +11,7 @@ from adbsat_ros.bags import io as bag_io
 from adbsat_ros.bags import replacing
 from adbsat_ros.bags.io import BagError
 from adbsat_ros.bags.model_state import ModelState
-from adbsat_ros.bags.outputs import Outputs, Replay, write_outputs
+from adbsat_ros.bags.outputs import write_outputs
 from adbsat_ros.bags.planning import plan_chunks
 from adbsat_ros.bags.reading import check_damage, check_topics, read_bag_messages
 from adbsat_ros.bags.report import DIAGNOSTICS_TOPIC, AnalysisReport, check_label
@@ -149,8 +149,8 @@ def analyze_bag(
         planned = None if chosen else len(chunks)
         results = chunk_results(specs, stream.chunks(chunks), count, stop, planned, report)
         write_outputs(
-            Replay(read, stream, chunks, results, states, report),
-            Outputs(out_bag, out_csv, plots_dir, storage, overwrite, progress),
+            (read, stream, chunks, results, states, report),
+            (out_bag, out_csv, plots_dir, storage, overwrite, progress),
             stop,
         )
     finally:

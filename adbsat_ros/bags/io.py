@@ -56,11 +56,6 @@ def time_message(stamp_ns: int):
     return _Time(sec=sec, nanosec=nanosec)
 
 
-def stamp_nanoseconds(stamp) -> int:
-    """builtin_interfaces/Time as integer nanoseconds."""
-    return int(stamp.sec) * _NS + int(stamp.nanosec)
-
-
 def _header(stamp, frame_id: str):
     if not isinstance(stamp, _Time):
         stamp = time_message(stamp)

@@ -8,7 +8,6 @@ import os
 import shutil
 import tempfile
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 from tqdm import tqdm
@@ -48,37 +47,11 @@ class _CsvFile:
             os.unlink(self.tmp)
 
 
-@dataclass
-class Replay:
-    """What the merge walks through: both passes over the input, chunks and results, report."""
-
-    read: object
-    stream: object
-    chunks: list
-    results: object
-    states: list
-    report: object
-
-
-@dataclass
-class Outputs:
-    """Outputs asked for: ``bag``, ``csv``, ``plots`` paths (None: not written) and options."""
-
-    bag: Path | None
-    csv: Path | None
-    plots: Path | None
-    storage: str = "mcap"
-    overwrite: bool = False
-    progress: bool = False
-
-
 class _Walk:
     """One walk over the messages in bag order (see :func:`write_outputs`)."""
 
-    def __init__(self, replay: Replay, writer, csv_file, seconds, keep_plot_rows: bool):
-        self.read, self.stream = replay.read, replay.stream
-        self.chunks, self.results = replay.chunks, replay.results
-        self.states, self.report = replay.states, replay.report
+    def __init__(self, replay: tuple, writer, csv_file, seconds, keep_plot_rows: bool):
+        self.read, self.stream, self.chunks, self.results, self.states, self.report = replay
         self.writer, self.csv_file, self.seconds = writer, csv_file, seconds
         self.last_ns = None
         # the plots' numbers, when plots are asked for, as a min/max envelope over time bins:
@@ -216,16 +189,15 @@ def partial_path(path) -> Path:
     return path.with_name(f"{path.stem}.PARTIAL{path.suffix}")
 
 
-def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
-    """Walk the messages in bag order and write the outputs."""
-    states, report = replay.states, replay.report
-    out_bag, out_csv, plots_dir = outputs.bag, outputs.csv, outputs.plots
+def write_outputs(replay: tuple, outputs: tuple, stop=None) -> None:
+    """Walk the messages in bag order and write the outputs; ``replay``: what the walk goes
+    through, ``(read, stream, chunks, results, states, report)``: both passes over the input,
+    the chunks and their results, the models' states and the report; ``outputs``: ``(bag, csv,
+    plots, storage, overwrite, progress)``, the paths None when not asked for."""
+    states, report = replay[4:]
+    out_bag, out_csv, plots_dir, storage, overwrite, progress = outputs
     seconds = collections.Counter()
-    writer = (
-        bag_io.BagWriter(out_bag, outputs.storage, outputs.overwrite)
-        if out_bag is not None
-        else None
-    )
+    writer = bag_io.BagWriter(out_bag, storage, overwrite) if out_bag is not None else None
     csv_file = None
     try:
         if out_csv is not None:
@@ -235,7 +207,7 @@ def write_outputs(replay: Replay, outputs: Outputs, stop=None) -> None:
                 [model_extra_columns(s.estimator) for s in states],
             )
         walk = _Walk(replay, writer, csv_file, seconds, keep_plot_rows=plots_dir is not None)
-        walk.run(outputs.progress, stop)
+        walk.run(progress, stop)
         if report.error is not None:  # kept, under names that say so
             out_csv = None if out_csv is None else partial_path(out_csv)
             plots_dir = None if plots_dir is None else partial_path(plots_dir)

@@ -9,12 +9,13 @@ from adbsat_ros.cli.common import add_setup_arguments, method_and_flow_from_args
 from adbsat_ros.cli.options import (
     CommandFailed,
     CommandLineError,
+    errors_as,
     option,
     parse_angle_list,
     positive_int,
     warn,
 )
-from adbsat_ros.database.build import build_database
+from adbsat_ros.database.build import build_database, check_angles
 from adbsat_ros.database.format import is_database_csv, is_database_file
 from adbsat_ros.processes import stop_on_signals, usable_cpus, worker_count
 from adbsat_ros.tasks import TaskReport
@@ -56,46 +57,31 @@ def configure(p) -> None:
     p.set_defaults(func=run)
 
 
-def _check_output(path: str, option: str) -> None:
+def _check_output(path: str, option: str, own) -> None:
+    """``path``'s directory is writable; a file there is replaced only if a build wrote it."""
     directory = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(directory):
         raise CommandLineError(f"{option}: directory {directory} does not exist")
     if not os.access(directory, os.W_OK):
         raise CommandLineError(f"{option}: directory {directory} is not writable")
-
-
-def _check_replaceable(path: str, option: str, own) -> None:
-    """A file at ``path`` is replaced only if a database build wrote it (``own``)."""
     if os.path.lexists(path):
         entry = foreign_file(path, own)
         if entry is not None:
             raise CommandLineError(not_an_output(entry, "database", option))
 
 
-def _angles(text, option, low, high):
-    values = parse_angle_list(text, option)
-    if values.min() < low or values.max() > high:
-        raise CommandLineError(
-            f"{option}: angles must lie in [{low:g}, {high:g}] deg, got {text!r}"
-        )
-    if len(set(values.tolist())) != values.size:
-        raise CommandLineError(f"{option}: an angle is given twice in {text!r}")
-    return values
-
-
 def run(args) -> int:
     """Run ``adbsat-ros database``; the exit status."""
-    aoa = _angles(args.aoa, "--aoa", -360.0, 360.0)
-    aos = _angles(args.aos, "--aos", -90.0, 90.0)
+    with errors_as(CommandLineError, ValueError):  # (the build's checks, naming the option)
+        aoa = check_angles(parse_angle_list(args.aoa, "--aoa"), "--aoa", -360.0, 360.0)
+        aos = check_angles(parse_angle_list(args.aos, "--aos"), "--aos", -90.0, 90.0)
     out = args.out
     if not out.lower().endswith(".npz"):
         raise CommandLineError(f"--out: the database file must end in .npz, got {out!r}")
     csv_path = args.csv if args.csv is not None else out[: -len(".npz")] + ".csv"
-    _check_output(out, "--out")
-    _check_output(csv_path, "--csv")
-    _check_replaceable(out, "--out", is_database_file)
-    _check_replaceable(csv_path, "--csv", is_database_csv)
-    _check_replaceable(partial_path(csv_path), "--csv", is_database_csv)
+    _check_output(out, "--out", is_database_file)
+    _check_output(csv_path, "--csv", is_database_csv)
+    _check_output(partial_path(csv_path), "--csv", is_database_csv)
     if args.samples < 1:
         raise CommandLineError(f"--samples must be >= 1, got {args.samples}")
     model, flow, conditions = method_and_flow_from_args(args)

@@ -4,7 +4,6 @@ Imported at every start: only the standard library at the top."""
 from __future__ import annotations
 
 import argparse
-import contextlib
 import functools
 import importlib
 import math
@@ -12,7 +11,7 @@ import os
 import re
 import sys
 
-from adbsat_ros.bounds import bounded
+from adbsat_ros.bounds import bounded, errors_as
 
 
 class CommandLineError(Exception):
@@ -144,10 +143,8 @@ def within(option: str, bound: str):
     """An argparse ``type`` for the range ``BOUNDS[bound]``; errors name option and reason."""
 
     def convert(text):
-        try:
+        with errors_as(argparse.ArgumentTypeError):
             return bounded(option, text, bound)
-        except ValueError as exc:
-            raise argparse.ArgumentTypeError(str(exc)) from None
 
     convert.__name__ = option
     return convert
@@ -207,15 +204,6 @@ def add_timeout(parser, what: str) -> None:
     """Add ``--timeout`` [s] (default 5), how long a live tool waits for ``what``."""
     help = f"seconds to wait for {what} (default 5)"
     option(parser, "--timeout", help, positive_float, default=5.0)
-
-
-@contextlib.contextmanager
-def errors_as(kind, errors, prefix: str = ""):
-    """Raise ``kind(prefix + text)`` for an exception of the type(s) ``errors`` raised inside."""
-    try:
-        yield
-    except errors as exc:
-        raise kind(f"{prefix}{exc}") from None
 
 
 class RosNotAvailable(CommandFailed):

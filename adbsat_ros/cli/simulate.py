@@ -64,44 +64,42 @@ def configure(p) -> None:
     p.set_defaults(func=run)
 
 
+#: The scenario's fields and the options that give them.
+FIELDS = {
+    "epoch_utc": "--epoch",
+    "duration_s": "--duration",
+    "rate_hz": "--rate",
+    "state_rate_hz": "--state-rate",
+    "altitude_km": "--altitude",
+    "eccentricity": "--eccentricity",
+    "inclination_deg": "--inclination",
+    "raan_deg": "--raan",
+    "arg_perigee_deg": "--arg-perigee",
+    "true_anomaly_deg": "--true-anomaly",
+    "attitude": "--attitude",
+    "tumble_rate_deg_s": "--tumble-rate",
+    "seed": "--seed",
+    "time_mode": "--time-mode",
+}
+
+
 def scenario_from_args(args) -> scenario.Scenario:
     """The Scenario the options describe (CommandLineError naming the option if not valid)."""
     axis = None
     if args.tumble_axis is not None:
         axis = tuple(parse_vector3(args.tumble_axis, "--tumble-axis"))
+    values = {field: getattr(args, name[2:].replace("-", "_")) for field, name in FIELDS.items()}
     try:
-        return scenario.Scenario(
-            epoch_utc=args.epoch,
-            duration_s=args.duration,
-            rate_hz=args.rate,
-            state_rate_hz=args.state_rate,
-            altitude_km=args.altitude,
-            eccentricity=args.eccentricity,
-            inclination_deg=args.inclination,
-            raan_deg=args.raan,
-            arg_perigee_deg=args.arg_perigee,
-            true_anomaly_deg=args.true_anomaly,
-            attitude=args.attitude,
-            tumble_rate_deg_s=args.tumble_rate,
-            tumble_axis=axis,
-            seed=args.seed,
-            time_mode=args.time_mode,
-        )
+        return scenario.Scenario(**values, tumble_axis=axis)
     except ValueError as exc:
-        names = {
-            "duration_s x rate_hz": "--duration x --rate",
-            "duration_s x state_rate_hz": "--duration x --state-rate",
-            "duration_s": "--duration",
-            "rate_hz": "--rate",
-            "state_rate_hz": "--state-rate",
-            "epoch_utc": "--epoch",
-            "eccentricity": "--eccentricity",
-            "inclination_deg": "--inclination",
-            "altitude_km": "--altitude",
-            "tumble_axis": "--tumble-axis",
-        }
         text = str(exc)
-        for field, option in names.items():
+        names = [
+            ("duration_s x rate_hz", "--duration x --rate"),
+            ("duration_s x state_rate_hz", "--duration x --state-rate"),
+            *FIELDS.items(),
+            ("tumble_axis", "--tumble-axis"),
+        ]
+        for field, option in names:
             text = text.replace(f"scenario {field}", option).replace(f"parameter {field}", option)
         raise CommandLineError(text) from None
 

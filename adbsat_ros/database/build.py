@@ -20,14 +20,14 @@ from adbsat_ros.physics.model import build_model
 from adbsat_ros.physics.panel_method import PanelMethod
 from adbsat_ros.physics.setup import Setup, ShadingPolicy, SolverSpec
 from adbsat_ros.processes import worker_count
-from adbsat_ros.shading.shader import MODES
-from adbsat_ros.tasks import run_chunks
+from adbsat_ros.tasks import ChunkJob, run_chunks
 
 #: Largest attitude count of a chunk handed to one worker.
 MAX_CHUNK = 64
 
 
-def _check_angles(values, name, low, high) -> np.ndarray:
+def check_angles(values, name, low, high) -> np.ndarray:
+    """The angles [deg] sorted; ValueError naming ``name`` unless finite, distinct, in range."""
     a = np.asarray(values, dtype=float).reshape(-1)
     if a.size == 0:
         raise ValueError(f"{name}: no angles given")
@@ -44,9 +44,11 @@ def _check_angles(values, name, low, high) -> np.ndarray:
     return a
 
 
-#: Columns of a chunk's results: Cf_G, Cm_G, Cf_w, Cf_f, Cm_B (3 each), AreaProj, CD, CL, CY,
-#: and the standard errors (norms) of Cf_G and Cm_G (0 for the panel method).
+#: Columns of a chunk's results: :data:`VECTORS` (3 each), :data:`SCALARS`, and the standard
+#: errors (norms) of Cf_G and Cm_G (0 for the panel method).
 COLUMNS = 21
+VECTORS = ("Cf_G", "Cm_G", "Cf_w", "Cf_f", "Cm_B")
+SCALARS = ("AreaProj", "CD", "CL", "CY")
 
 
 def attitude_seed(seed: int, index: int) -> int:
@@ -54,28 +56,16 @@ def attitude_seed(seed: int, index: int) -> int:
     return int(np.random.SeedSequence(seed, spawn_key=(index,)).generate_state(1)[0])
 
 
-class DatabaseJob:
-    """A database build as a job of :func:`adbsat_ros.tasks.run_chunks`: a chunk is
+class DatabaseSetup:
+    """A build's model (exact shading, or test particles), made where its chunks run: a chunk is
     ``(first, attitudes (K, 2) [deg])``, its result (K, :data:`COLUMNS`)."""
 
     def __init__(self, setup: Setup, mesh, flow):
-        self.model_setup, self.mesh, self.flow = setup, mesh, flow
-        self.key = "database " + uuid.uuid4().hex  # (one build, one set-up per worker)
-
-    def setup(self) -> "DatabaseSetup":
-        """The model of this build, made where its chunks run."""
-        return DatabaseSetup(build_model(self.model_setup, self.mesh), self.flow)
-
-
-class DatabaseSetup:
-    """A build's model (exact shading, or test particles), made where its chunks run."""
-
-    def __init__(self, model, flow):
-        self.model, self.flow = model, flow
-        self.seed = model.setup.solver.seed if model.backend == "tpmc" else None
+        self.model, self.flow = build_model(setup, mesh), flow
+        self.seed = setup.solver.seed if self.model.backend == "tpmc" else None
 
     def evaluate(self, chunk) -> np.ndarray:
-        """The coefficients of a chunk ``(first, attitudes)`` (:class:`DatabaseJob`)."""
+        """The coefficients of a chunk ``(first, attitudes)`` (:class:`DatabaseSetup`)."""
         first, attitudes_deg = chunk
         out = np.zeros((len(attitudes_deg), COLUMNS))
         chunk_angles = [(math.radians(a), math.radians(b)) for a, b in attitudes_deg]
@@ -105,42 +95,6 @@ def build_setup(method: PanelMethod, shading: str, samples: int, solver: SolverS
         solver=solver,
         labels=(("solver", ""),),
     )
-
-
-class _Progress:
-    """Adapter for the ``progress`` argument of :func:`build_database`."""
-
-    def __init__(self, progress, total):
-        self._bar = None
-        self._callback = None
-        self._done = 0
-        self.total = total
-        if progress is None:  # a bar only for a person watching a terminal
-            progress = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
-        if progress is True:
-            self._bar = tqdm(total=total, unit="att", desc="database", file=sys.stderr, leave=False)
-            self._own = True
-        elif progress is False:
-            pass
-        elif hasattr(progress, "update"):
-            self._bar, self._own = progress, False
-        elif callable(progress):
-            self._callback = progress
-        else:
-            raise TypeError(
-                "progress must be None, a bool, a callable(done, total) or a tqdm instance"
-            )
-
-    def update(self, n):
-        self._done += n
-        if self._bar is not None:
-            self._bar.update(n)
-        if self._callback is not None:
-            self._callback(self._done, self.total)
-
-    def close(self):
-        if self._bar is not None and self._own:
-            self._bar.close()
 
 
 def build_database(
@@ -178,9 +132,7 @@ def build_database(
     report: a :class:`adbsat_ros.tasks.TaskReport` to fill (where the chunks ran).
     Returns an AeroDatabase; ``metadata["interpolation_error"]`` (tpmc: plus three of the largest
     standard errors; ``solver`` recorded)."""
-    shading = str(shading).lower()
-    if shading not in MODES:
-        raise ValueError(f"unknown shading mode {shading!r}; choose one of {', '.join(MODES)}")
+    shading = str(shading).lower()  # (checked by the set-up)
     samples = int(samples)
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
@@ -193,17 +145,9 @@ def build_database(
     # (checked here, a model without a test-particle kernel refused, before any worker starts)
     model = build_model(build_setup(method, shading, samples, spec), method.mesh)
     count, _ = worker_count(workers)  # (at most the usable CPUs)
-    aoa = _check_angles(aoa_deg, "aoa_deg", -360.0, 360.0)
-    aos = _check_angles(aos_deg, "aos_deg", -90.0, 90.0)
-    metadata = describe_setup(
-        method,
-        flow,
-        shading=shading,
-        samples=samples,
-        mesh_spec=mesh_spec,
-        mesh_scale=mesh_scale,
-        mesh_joints=mesh_joints,
-    )
+    aoa = check_angles(aoa_deg, "aoa_deg", -360.0, 360.0)
+    aos = check_angles(aos_deg, "aos_deg", -90.0, 90.0)
+    metadata = describe_setup(model, flow, mesh_spec, mesh_scale, mesh_joints)
     if conditions is not None:
         metadata["conditions"] = conditions
 
@@ -216,15 +160,28 @@ def build_database(
         chunk = 1  # (an attitude is a long run already: a stop waits for one at most)
     chunks = {s: (s, attitudes[s : s + chunk]) for s in range(0, total, chunk)}
     results = np.full((total, COLUMNS), np.nan)
-    bar = _Progress(progress, total)
+    if progress is None:  # a bar only for a person watching a terminal
+        progress = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+    if not (isinstance(progress, bool) or callable(progress) or hasattr(progress, "update")):
+        raise TypeError("progress must be None, a bool, a callable(done, total) or a tqdm instance")
+    off = progress is not True  # (a bar of its own only for True)
+    bar = tqdm(total=total, unit="att", desc="database", file=sys.stderr, leave=False, disable=off)
+    done = 0
 
     def take(first, block):
+        nonlocal done
         results[first : first + len(block)] = block
+        done += len(block)
         bar.update(len(block))
+        if hasattr(progress, "update"):
+            progress.update(len(block))
+        elif callable(progress):
+            progress(done, total)
 
+    job = ChunkJob("database " + uuid.uuid4().hex, DatabaseSetup, (model.setup, model.mesh, flow))
     try:
         run_chunks(
-            DatabaseJob(model.setup, model.mesh, flow),
+            job,
             chunks,
             take,
             scheduler=scheduler,
@@ -235,28 +192,13 @@ def build_database(
     finally:
         bar.close()
 
-    shape = (aoa.size, aos.size)
-
-    def vec(k):
-        return results[:, k : k + 3].reshape(shape + (3,)).copy()
-
-    db = AeroDatabase(
-        aoa_deg=aoa,
-        aos_deg=aos,
-        Cf_G=vec(0),
-        Cm_G=vec(3),
-        Cf_w=vec(6),
-        Cf_f=vec(9),
-        Cm_B=vec(12),
-        AreaProj=results[:, 15].reshape(shape).copy(),
-        CD=results[:, 16].reshape(shape).copy(),
-        CL=results[:, 17].reshape(shape).copy(),
-        CY=results[:, 18].reshape(shape).copy(),
-        metadata=metadata,
-    )
+    grid = results.reshape(aoa.size, aos.size, COLUMNS)  # (the columns of COLUMNS' comment)
+    arrays = {name: grid[..., 3 * k : 3 * k + 3].copy() for k, name in enumerate(VECTORS)}
+    arrays.update({name: grid[..., 15 + k].copy() for k, name in enumerate(SCALARS)})
+    db = AeroDatabase(aoa_deg=aoa, aos_deg=aos, **arrays, metadata=metadata)
+    db.metadata["solver"] = dict(method=solver, **(tpmc or {}))
     done = np.isfinite(results[:, 16])
     if not done.all():  # stopped: no grid to interpolate
-        db.metadata["solver"] = dict(method=solver, **(tpmc or {}))
         db.metadata["partial"] = {"attitudes_done": int(done.sum()), "attitudes": total}
         db.metadata["interpolation_error"] = {
             "method": "not estimated: the build was stopped",
@@ -268,13 +210,10 @@ def build_database(
     if tpmc is not None:
         force = 3.0 * float(results[:, 19].max())
         moment = 3.0 * float(results[:, 20].max())
-        db.metadata["solver"] = dict(method="tpmc", **tpmc)
         error.update(statistical_force_coefficient=force, statistical_moment_coefficient=moment)
         if error["force_coefficient"] is not None:
             error["force_coefficient"] += force
             error["moment_coefficient"] += moment
             error["method"] += "; plus three times the largest standard error of the particles"
-    else:
-        db.metadata["solver"] = {"method": "panel"}
     db.metadata["interpolation_error"] = error
     return db

@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from adbsat_ros.bounds import errors_as
 from adbsat_ros.database.format import DatabaseError
 from adbsat_ros.database.lookup import CoefficientLookup
 from adbsat_ros.database.metadata import model_values, surface_values
@@ -67,10 +68,8 @@ class DatabaseCoefficients:
     """
 
     def __init__(self, path: str, method: PanelMethod):
-        try:
+        with errors_as(ValueError, (DatabaseError, OSError), "parameter database_path: "):
             self.lookup = CoefficientLookup.load(path)
-        except (DatabaseError, OSError) as exc:
-            raise ValueError(f"parameter database_path: {exc}") from None
         metadata = self.lookup.database.metadata
         problems = database_mismatches(metadata, method)
         if problems:

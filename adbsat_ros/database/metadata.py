@@ -6,6 +6,7 @@ import datetime as _dt
 import os
 
 from adbsat_ros._version import __version__
+from adbsat_ros.bounds import errors_as
 from adbsat_ros.database.format import FORMAT_VERSION, DatabaseError
 from adbsat_ros.geometry.example_satellite import EXAMPLE_MESH_NAME
 from adbsat_ros.geometry.loading import is_urdf
@@ -58,20 +59,16 @@ def _reload_mesh(spec, scale: float, joints: dict | None):
     body, mesh = load_body(BodySpec(spec, scale))
     if body is None:
         return mesh
-    try:
+    with errors_as(MeshError):  # (a joint position the URDF refuses)
         return body.mesh(joints)
-    except ValueError as exc:  # (a joint position the URDF refuses)
-        raise MeshError(str(exc)) from None
 
 
 def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale, joints=None) -> str | None:
     if mesh_spec is None:
         return None
     mesh_spec = os.fspath(mesh_spec)
-    try:
+    with errors_as(ValueError, MeshError, f"mesh_spec {mesh_spec!r}: "):
         reloaded = _reload_mesh(mesh_spec, mesh_scale, joints).fingerprint()
-    except MeshError as exc:
-        raise ValueError(f"mesh_spec {mesh_spec!r}: {exc}") from None
     if reloaded != method.mesh.fingerprint():
         if mesh_spec == EXAMPLE_MESH_NAME:  # the default: the mesh was built some other way
             return None
@@ -82,23 +79,13 @@ def _mesh_spec_checked(method: PanelMethod, mesh_spec, mesh_scale, joints=None) 
     return mesh_spec
 
 
-def describe_setup(
-    method: PanelMethod,
-    flow: FreeStream,
-    *,
-    shading,
-    samples,
-    mesh_spec,
-    mesh_scale,
-    mesh_joints=None,
-) -> dict:
-    """Metadata of a set-up (:data:`~adbsat_ros.database.format.REQUIRED_METADATA`).
+def describe_setup(model, flow: FreeStream, mesh_spec, mesh_scale, mesh_joints=None) -> dict:
+    """Metadata of a built set-up, ``model`` (:data:`~.format.REQUIRED_METADATA`).
 
-    ``mesh_joints``: [rad or m]. ValueError: ``mesh_spec`` does not reload to the method's mesh.
+    ``mesh_joints``: [rad or m]. ValueError: ``mesh_spec`` does not reload to the model's mesh.
     """
-    texts = material_override_texts(method.materials)
-    mesh = method.mesh
-    ref = method.reference
+    method, shading = model.method, model.setup.shading
+    mesh, ref = method.mesh, method.reference
     return {
         "format_version": FORMAT_VERSION,
         "created_utc": _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat(),
@@ -112,14 +99,17 @@ def describe_setup(
             "fingerprint": mesh.fingerprint(),
         },
         "model": model_values(method),
-        "materials": {"default": surface_values(method.materials.default), "overrides": texts},
+        "materials": {
+            "default": surface_values(method.materials.default),
+            "overrides": material_override_texts(method.materials),
+        },
         "flow": _flow_dict(flow),
         "reference": {
             "area": float(ref.area),
             "length": float(ref.length),
             "moment_point": [float(v) for v in ref.moment_point],
         },
-        "shading": {"mode": str(shading), "samples": int(samples)},
+        "shading": {"mode": shading.mode, "samples": shading.samples},
     }
 
 
@@ -156,23 +146,16 @@ def model_from_metadata(metadata: dict, path=None):
                 "reloaded"
             )
         setup = setup_from_metadata(metadata)
-        try:
+        with errors_as(DatabaseError, MeshError, f"{where}: cannot reload the mesh {spec!r}: "):
             model = build_model(setup)
-        except MeshError as exc:
-            raise DatabaseError(f"{where}: cannot reload the mesh {spec!r}: {exc}") from None
         if model.mesh.fingerprint() != mesh_meta["fingerprint"]:
             raise DatabaseError(
                 f"{where}: the mesh {spec!r} has changed since the database was built "
                 f"(fingerprint {model.mesh.fingerprint()}, recorded {mesh_meta['fingerprint']})",
             )
         f = metadata["flow"]
-        flow = FreeStream(
-            speed=f["speed"],
-            temperature=f["temperature"],
-            number_densities=f.get("number_densities"),
-            mean_mass_amu=f.get("mean_mass_amu"),
-            density=f.get("density"),
-        )
+        gas = {k: f.get(k) for k in ("number_densities", "mean_mass_amu", "density")}
+        flow = FreeStream(speed=f["speed"], temperature=f["temperature"], **gas)
     except DatabaseError:
         raise
     except (KeyError, TypeError, ValueError) as exc:

@@ -5,6 +5,7 @@ published. docs/physics.md, sections 5.6 and 5.7."""
 
 from __future__ import annotations
 
+import inspect
 import math
 from typing import Callable, Mapping
 
@@ -175,12 +176,10 @@ ACCOMMODATION_MODELS: Mapping[str, Callable[..., float]] = {
     "sesam": _sesam,
 }
 
-#: Options each model accepts.
+#: Options each model accepts: its function's arguments after the atmosphere and speed.
 ACCOMMODATION_OPTIONS: Mapping[str, tuple] = {
-    "fixed": ("alpha",),
-    "langmuir": ("langmuir_constant",),
-    "goodman": ("substrate_coefficient", "surface_mass_amu"),
-    "sesam": ("substrate_coefficient", "surface_mass_amu"),
+    name: tuple(inspect.signature(model).parameters)[2:]
+    for name, model in ACCOMMODATION_MODELS.items()
 }
 
 

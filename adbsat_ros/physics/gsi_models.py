@@ -6,7 +6,6 @@ per q = 0.5 rho V^2; panel i's force is q A_i (c_tau t - c_p n). Formulas: docs/
 
 from __future__ import annotations
 
-from adbsat_ros.physics.models.cll import CLL_SPECIES as CLL_SPECIES  # (re-exported)
 from adbsat_ros.physics.models.cll import cll
 from adbsat_ros.physics.models.diffuse import (
     dria,
@@ -19,10 +18,7 @@ from adbsat_ros.physics.models.diffuse import (
 )
 from adbsat_ros.physics.models.hyperthermal import cook, newton, storch
 from adbsat_ros.physics.models.maxwell import maxwell, maxwell_parameters
-from adbsat_ros.physics.models.options import (  # (re-exported)
-    INCIDENT_TEMPERATURE_FORMS as INCIDENT_TEMPERATURE_FORMS,
-)
-from adbsat_ros.physics.models.options import ModelOptions as ModelOptions  # (re-exported)
+from adbsat_ros.physics.models.options import INCIDENT_TEMPERATURE_FORMS, ModelOptions  # noqa: F401
 
 #: Model name -> function(c, sigma, surface, flow, options) -> (c_p, c_tau).
 MODELS = {
@@ -44,18 +40,6 @@ SPLIT_MODELS = {
     "sentman": (sentman_parameters, sentman_plate),
     "schaaf": (schaaf_parameters, schaaf_plate),
     "maxwell": (maxwell_parameters, schaaf_plate),
-}
-
-#: Which surface parameters each model reads (for documentation and parameter checks).
-MODEL_PARAMETERS = {
-    "newton": (),
-    "sentman": ("alpha", "wall_temperature"),
-    "cook": ("alpha", "wall_temperature"),
-    "schaaf": ("sigma_n", "sigma_t", "wall_temperature"),
-    "cll": ("alpha_n", "sigma_t", "wall_temperature"),
-    "storch": ("sigma_n", "sigma_t", "wall_temperature"),
-    "dria": ("alpha", "wall_temperature"),
-    "maxwell": ("alpha", "wall_temperature"),
 }
 
 #: Models that need the species composition of the gas.

@@ -16,6 +16,7 @@ from pathlib import Path
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from adbsat_ros.bags.io import TYPESTORE, BagError, BagWriter
+from adbsat_ros.bounds import errors_as
 from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, message_class, own_node
 
 #: rosbag2 storage plugins :func:`record` can write.
@@ -86,10 +87,8 @@ def record(
     stop = stop or threading.Event()
     log = log or (lambda line: None)
     summary = RecordSummary(path=out, storage=storage)
-    try:
+    with errors_as(BagError, OSError, f"output bag {out}: cannot be created: "):
         writer = BagWriter(out, storage)  # written beside `out`, moved there on commit
-    except OSError as exc:
-        raise BagError(f"output bag {out}: cannot be created: {exc}") from None
     start = time.monotonic()
     deadline = None if duration is None else start + duration
     try:

@@ -35,8 +35,7 @@ def _script(name: str, module: str, argv) -> int:
                 main = importlib.import_module(f"adbsat_ros.ros.{module}").main
         except Interrupted:
             print(f"{name}: stopped by {signal_name()}", file=sys.stderr)
-            exit_now(
-                0
-            )  # (an import stopped half-way: the interpreter's clean-up could crash on it)
+            # (an import stopped half-way: the interpreter's clean-up could crash on it)
+            exit_now(0)
             return 0
         return main(argv)

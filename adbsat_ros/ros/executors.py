@@ -19,18 +19,14 @@ def make_executor(kind: str = "events", context=None):
     Spin it with :func:`spin_until_shutdown`: the EventsExecutor's own ``spin()`` in the Jazzy
     wheels busy-waits and ignores SIGINT/SIGTERM.
     """
-    if kind == "events":
-        if EventsExecutor is None:
-            return SingleThreadedExecutor(context=context)
+    if kind not in ("events", "single_threaded"):
+        raise ValueError(f"executor must be events or single_threaded, got {kind!r}")
+    if kind == "events" and EventsExecutor is not None:
         try:
             return EventsExecutor(context=context)
         except (io.UnsupportedOperation, AttributeError, ValueError):
-            # it enables faulthandler on sys.stderr, which needs a real file (not so in a notebook
-            # or under pytest's capsys)
-            return SingleThreadedExecutor(context=context)
-    if kind == "single_threaded":
-        return SingleThreadedExecutor(context=context)
-    raise ValueError(f"executor must be events or single_threaded, got {kind!r}")
+            pass  # (it enables faulthandler on sys.stderr: no real file in a notebook, capsys)
+    return SingleThreadedExecutor(context=context)
 
 
 def spin_until_shutdown(executor, context=None, stop=None, done=None) -> None:

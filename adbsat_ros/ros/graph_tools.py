@@ -6,9 +6,9 @@ Each function makes its own context and node and waits at most ``timeout`` s for
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import time
-from typing import NamedTuple
 
 from rcl_interfaces.msg import ParameterType
 from rclpy.exceptions import NameValidationException
@@ -19,6 +19,7 @@ from rclpy.validate_namespace import validate_namespace
 from rclpy.validate_node_name import validate_node_name
 
 from adbsat_ros.bags.io import BagError
+from adbsat_ros.bounds import errors_as
 from adbsat_ros.ros.graph import GRAPH_POLL_S, absolute_topic, message_class, own_node
 from adbsat_ros.ros.parameter_values import text_value
 
@@ -46,22 +47,13 @@ def checked_node_name(target: str) -> str:
     return target
 
 
-class _Tool(NamedTuple):
-    """A node in a context of its own, and an executor of that context to spin it."""
-
-    node: object
-    executor: object
-
-    def spin_once(self) -> None:
-        self.executor.spin_once(timeout_sec=GRAPH_POLL_S)
-
-
 @contextlib.contextmanager
 def tool_node():
-    """A :class:`_Tool`, taken down on exit."""
+    """``(node, spin)``: a node in a context of its own, taken down on exit, and ``spin()`` that
+    spins it once."""
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     with own_node("adbsat_ros_tool") as (node, executor):
-        yield _Tool(node, executor)
+        yield node, functools.partial(executor.spin_once, timeout_sec=GRAPH_POLL_S)
 
 
 #: Seconds after which a request with no answer is sent again: a server that has not yet
@@ -69,7 +61,7 @@ def tool_node():
 RESEND_S = 2.0
 
 
-def _wait(tool, request, timeout: float, what: str):
+def _wait(spin, request, timeout: float, what: str):
     """The answer to ``request()``, resent every :data:`RESEND_S` until ``timeout`` s pass."""
     deadline = time.monotonic() + timeout
     futures = [request()]
@@ -81,7 +73,7 @@ def _wait(tool, request, timeout: float, what: str):
         if now - sent > RESEND_S:
             futures.append(request())
             sent = now
-        tool.spin_once()
+        spin()
     return next(f for f in futures if f.done()).result()
 
 
@@ -89,8 +81,8 @@ def _wait(tool, request, timeout: float, what: str):
 def _parameters(target: str, timeout: float):
     """``(client, ask)`` of node ``target``'s parameter services; ``ask(request)``: the answer."""
     checked_node_name(target)
-    with tool_node() as tool:
-        client = AsyncParameterClient(tool.node, target)
+    with tool_node() as (node, spin):
+        client = AsyncParameterClient(node, target)
         deadline = time.monotonic() + timeout
         while not client.services_are_ready():
             if time.monotonic() > deadline:
@@ -98,8 +90,8 @@ def _parameters(target: str, timeout: float):
                     f"node {target}: its parameter services did not appear within {timeout:g} s "
                     "(is it running, on this ROS_DOMAIN_ID?)"
                 )
-            tool.spin_once()
-        yield client, lambda request: _wait(tool, request, timeout, f"node {target}")
+            spin()
+        yield client, lambda request: _wait(spin, request, timeout, f"node {target}")
 
 
 def list_parameters(target: str, timeout: float = 5.0) -> dict:
@@ -129,10 +121,8 @@ def set_parameter(target: str, name: str, text: str, timeout: float = 5.0):
         described = ask(lambda: client.describe_parameters([name])).descriptors
         if not described or described[0].type == ParameterType.PARAMETER_NOT_SET:
             raise ToolError(f"node {target} has no parameter {name!r}")
-        try:
+        with errors_as(BadInput):
             value = text_value(name, text, described[0].type, described[0].dynamic_typing)
-        except ValueError as exc:
-            raise BadInput(str(exc)) from None
         parameter = Parameter(name, value=value)
         result = ask(lambda: client.set_parameters([parameter])).results[0]
         if not result.successful:
@@ -177,29 +167,27 @@ def echo(topic: str, count: int | None, timeout: float, write, stop=None) -> lis
     def stopped() -> bool:
         return stop is not None and stop.is_set()
 
-    with tool_node() as tool:
+    with tool_node() as (node, spin):
         deadline = time.monotonic() + timeout
         kind = None
         while kind is None and not stopped():
-            kinds = dict(tool.node.get_topic_names_and_types()).get(topic)
+            kinds = dict(node.get_topic_names_and_types()).get(topic)
             if kinds:
                 kind = kinds[0]
             elif time.monotonic() > deadline:
                 raise ToolError(f"topic {topic}: not in the ROS graph within {timeout:g} s")
             else:
-                tool.spin_once()
+                spin()
         if kind is None:
             return []
-        try:
+        with errors_as(ToolError, BagError):
             message_type = message_class(kind, topic)
-        except BagError as exc:
-            raise ToolError(str(exc)) from None
         # as ros2 topic echo: reliable if every publisher is, else best effort (which takes both)
-        publishers = tool.node.get_publishers_info_by_topic(topic)
+        publishers = node.get_publishers_info_by_topic(topic)
         reliable = all(p.qos_profile.reliability == RELIABLE for p in publishers)
         qos = QoSProfile(depth=10, reliability=RELIABLE if reliable else BEST_EFFORT)
         received = []
-        tool.node.create_subscription(
+        node.create_subscription(
             message_type, topic, lambda m: received.append((time.monotonic(), m)), qos
         )
         times = []
@@ -207,7 +195,7 @@ def echo(topic: str, count: int | None, timeout: float, write, stop=None) -> lis
         while (count is None or len(times) < count) and not stopped():
             if count is not None and time.monotonic() > deadline:
                 break
-            tool.spin_once()
+            spin()
             while received and (count is None or len(times) < count):
                 came, message = received.pop(0)
                 write(message_text(message) + "\n---")

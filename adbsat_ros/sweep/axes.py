@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from adbsat_ros.bounds import BOUNDS, Bound
+from adbsat_ros.bounds import BOUNDS, Bound, errors_as
 from adbsat_ros.physics.constants import SPECIES
 from adbsat_ros.physics.tpmc.method import run_settings
 
@@ -80,10 +80,8 @@ def axis_values(text, name: str) -> np.ndarray:
             )
         steps = (stop - start) / step + 1e-9
         count = math.floor(steps) + 1 if math.isfinite(steps) else math.inf
-        try:  # (counted before the values are made)
+        with errors_as(SpecError):  # (counted before the values are made)
             BOUNDS["sweep_axis_values"].check(f"axes.{name}: the values of {text!r}", count)
-        except ValueError as exc:
-            raise SpecError(str(exc)) from None
         return start + step * np.arange(count)
     values = text if isinstance(text, list) else [text]
     try:
@@ -94,10 +92,8 @@ def axis_values(text, name: str) -> np.ndarray:
         raise SpecError(f"axes.{name}: expected numbers, got {text!r}")
     if out.size == 0:
         raise SpecError(f"axes.{name}: empty; give at least one value")
-    try:
+    with errors_as(SpecError):
         BOUNDS["sweep_axis_values"].check(f"axes.{name}: the values", out.size)
-    except ValueError as exc:
-        raise SpecError(str(exc)) from None
     if len(set(out.tolist())) != out.size:
         raise SpecError(f"axes.{name}: a value appears twice")
     return out
@@ -105,11 +101,9 @@ def axis_values(text, name: str) -> np.ndarray:
 
 def checked(name: str, values: np.ndarray, rule: Bound, where: str) -> np.ndarray:
     """``values`` of input ``name`` (given under ``where``), each within ``rule``."""
-    for v in values.tolist():
-        try:
+    with errors_as(SpecError):
+        for v in values.tolist():
             rule.check(f"{where}.{name}", v)
-        except ValueError as exc:
-            raise SpecError(str(exc)) from None
     return values
 
 
@@ -157,10 +151,8 @@ def solver_settings(given) -> tuple:
         raise SpecError(f"solver.method: {method!r} is not panel or tpmc")
     particles, tolerance = given.get("particles"), given.get("tolerance")
     seed = given.get("seed", 0)
-    try:
+    with errors_as(SpecError, (TypeError, ValueError), "solver: "):
         run_settings(particles, tolerance, seed)
-    except (TypeError, ValueError) as exc:
-        raise SpecError(f"solver: {exc}") from None
     return tuple(
         sorted(
             {"method": "tpmc", "particles": particles, "tolerance": tolerance, "seed": seed}.items()

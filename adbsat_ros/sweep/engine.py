@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from adbsat_ros.bounds import check_memory
 from adbsat_ros.processes import interruptible
-from adbsat_ros.sweep.evaluate import SweepJob, SweepSetup
+from adbsat_ros.sweep.evaluate import SweepSetup
 from adbsat_ros.sweep.spec import SweepSpec
 from adbsat_ros.sweep.store import SweepStore, chunk_shape
-from adbsat_ros.tasks import run_chunks
+from adbsat_ros.tasks import ChunkJob, TaskReport, run_chunks
 
 #: Memory of the process that runs a sweep for each of its chunks [bytes]: the chunk's index
 #: ranges, its task in the Dask client and scheduler (each carries the spec) and its future.
@@ -23,17 +23,14 @@ BYTES_PER_POINT = 4_096
 
 
 @dataclass
-class SweepReport:
-    """What a run did: chunks in all, found, computed; points; wall time [s]; stopped."""
+class SweepReport(TaskReport):
+    """What a run did (a TaskReport's counts), and its chunks in all, found; points; wall time
+    [s]."""
 
     chunks: int = 0
     already_done: int = 0
-    computed: int = 0
     points: int = 0
     seconds: float = 0.0
-    stopped: bool = False
-    workers: int = 0
-    notes: list = field(default_factory=list)
 
 
 def run_sweep(
@@ -67,16 +64,15 @@ def run_sweep(
         bar.update(1)
 
     with bar:
-        done = run_chunks(
-            SweepJob(spec),
+        run_chunks(
+            ChunkJob("sweep " + spec.fingerprint, SweepSetup, (spec,)),
             {i: store.slices[i] for i in todo},
             write,
             scheduler=scheduler,
             workers=workers,
             stop=stop,
+            report=report,
         )
-    report.computed, report.stopped = done.computed, done.stopped
-    report.workers, report.notes = done.workers, done.notes
     done_chunks = set(todo) - set(store.missing())
     report.points = sum(math.prod(b - a for a, b in store.slices[i]) for i in done_chunks)
     report.seconds = time.perf_counter() - started

@@ -113,26 +113,8 @@ class SweepSetup:
             r, flow = self.point(index, values, flows)
             for name in vectors:
                 out[name][local] = getattr(r, name)
-            out["CD"][local] = r.drag
-            out["CL"][local] = r.lift
-            out["CY"][local] = r.side_force
-            out["area_projected"][local] = r.area_projected
-            density = flow.mass_density
-            out["density"][local] = math.nan if density is None else density
-            out["gas_temperature"][local] = flow.temperature
-            out["gas_speed"][local] = flow.speed
-            out["gas_mean_mass"][local] = flow.mean_mass / AMU
-            out["speed_ratio"][local] = flow.speed_ratio
+            density = math.nan if flow.mass_density is None else flow.mass_density
+            gas = (density, flow.temperature, flow.speed, flow.mean_mass / AMU, flow.speed_ratio)
+            for name, value in zip(SCALARS, (r.drag, r.lift, r.side_force, r.area_projected, *gas)):
+                out[name][local] = value
         return out
-
-
-class SweepJob:
-    """A sweep as a job of :func:`adbsat_ros.tasks.run_chunks`."""
-
-    def __init__(self, spec: SweepSpec):
-        self.spec = spec
-        self.key = "sweep " + spec.fingerprint
-
-    def setup(self) -> SweepSetup:
-        """The spec's set-up (mesh, panel method, shaders)."""
-        return SweepSetup(spec=self.spec)

@@ -19,10 +19,8 @@ class SweepLookup:
             raise ValueError("the sweep is not complete: run it again to compute the rest")
         self._ds = dataset
         self.axes = other_axes(dataset)
-        self._reference = {
-            "area": float(dataset.attrs["reference_area_m2"]),
-            "length": float(dataset.attrs["reference_length_m"]),
-        }
+        self._area = float(dataset.attrs["reference_area_m2"])
+        self._length = float(dataset.attrs["reference_length_m"])
         self.slices = LruStore(4096)
 
     @classmethod
@@ -51,5 +49,5 @@ class SweepLookup:
     def coefficients(self, aoa_deg: float, aos_deg: float, **values) -> InterpolatedCoefficients:
         """As :meth:`body_coefficients`, with CD, CL, CY by the rotation to wind axes."""
         cf, cm = self.body_coefficients(aoa_deg, aos_deg, **values)
-        area, length = self._reference["area"], self._reference["length"]
-        return InterpolatedCoefficients.of(float(aoa_deg), float(aos_deg), cf, cm, area, length)
+        a, b = float(aoa_deg), float(aos_deg)
+        return InterpolatedCoefficients.of(a, b, cf, cm, self._area, self._length)

@@ -10,12 +10,12 @@ import datetime as _dt
 import hashlib
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 import yaml
 
-from adbsat_ros.bounds import bounded
+from adbsat_ros.bounds import bounded, errors_as
 from adbsat_ros.environment.atmosphere import ATMOSPHERE_MODELS, check_time
 from adbsat_ros.environment.space_weather import SPACE_WEATHER_SOURCES, HistoricalWeather
 from adbsat_ros.physics.coefficients import Reference
@@ -41,21 +41,6 @@ from adbsat_ros.sweep.axes import (
 
 #: Points per task unless the spec says: a few seconds of ray-cast panel method.
 CHUNK_POINTS = 256
-#: Fields of a spec.
-FIELDS = (
-    "mesh",
-    "model",
-    "shading",
-    "reference",
-    "materials",
-    "time",
-    "fixed",
-    "axes",
-    "chunk_points",
-    "solver",
-    "atmosphere_model",
-    "space_weather",
-)
 
 
 @dataclass(frozen=True)
@@ -127,6 +112,10 @@ class SweepSpec:
     def joint_axes(self) -> dict:
         """``{joint name: axis name}`` of the swept joints."""
         return {k[len(JOINT_PREFIX) :]: k for k in self.axes if k.startswith(JOINT_PREFIX)}
+
+
+#: Fields of a spec: those of a SweepSpec but its text and a mesh axis's variants.
+FIELDS = tuple(f.name for f in fields(SweepSpec) if f.name not in ("text", "meshes"))
 
 
 def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
@@ -277,10 +266,8 @@ def _atmosphere_checked(data, epoch, fixed: dict, axes: dict) -> tuple:
             raise SpecError(f"space_weather: historical takes {given[0]} from the record")
         record = HistoricalWeather()
         for hours in np.atleast_1d(axes.get("time", fixed.get("time", 0.0))).tolist():
-            try:
+            with errors_as(SpecError, ValueError, "space_weather: "):
                 record.at(epoch + _dt.timedelta(hours=hours))
-            except ValueError as exc:
-                raise SpecError(f"space_weather: {exc}") from None
     return model, source
 
 
@@ -307,28 +294,21 @@ def reference_checked(reference) -> dict:
     point = reference.get("moment_point", (0.0, 0.0, 0.0))
     if not isinstance(point, (list, tuple)) or len(point) != 3:
         raise SpecError(f"reference.moment_point: three numbers [x, y, z], got {point!r}")
-    try:
+    with errors_as(SpecError):
         for name in ("area", "length"):
             if name in reference:
                 bounded(f"reference.{name}", reference[name], name)
         for axis, x in zip("xyz", point):
             bounded(f"reference.moment_point {axis}", x, "offset")
-    except ValueError as exc:
-        raise SpecError(str(exc)) from None
     return dict(reference)
 
 
 def points_checked(axes: dict) -> None:
     """The sweep's points within ``sweep_points``; SpecError naming the axes' lengths."""
     lengths = [len(v) for v in axes.values()]
-    try:
-        bounded(
-            f"axes: the points ({' x '.join(map(str, lengths))})",
-            math.prod(lengths),
-            "sweep_points",
-        )
-    except ValueError as exc:
-        raise SpecError(str(exc)) from None
+    with errors_as(SpecError):
+        text = " x ".join(map(str, lengths))
+        bounded(f"axes: the points ({text})", math.prod(lengths), "sweep_points")
 
 
 def load_spec(path) -> tuple:

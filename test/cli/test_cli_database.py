@@ -154,7 +154,7 @@ def test_flight_conditions_fold_alpha_into_materials(capsys, mesh_file, tmp_path
     [
         (["--workers", "0"], "--workers"),
         (["--aoa", "0:0:10"], "--aoa"),
-        (["--aoa", "0,10,10"], "--aoa: an angle is given twice"),
+        (["--aoa", "0,10,10"], "--aoa: angle 10 deg is given twice"),
         (["--aos", "0:10:100"], "--aos: angles must lie in [-90, 90]"),
         (["--out", "/nonexistent-dir/db.npz"], "--out: directory /nonexistent-dir does not exist"),
         (["--out", "DIR/db.txt"], "--out: the database file must end in .npz"),
