@@ -14,8 +14,9 @@ Jobs (sentman, ray-cast shading; ``T`` the T-shape of bench_concave_database.py,
   attitudes, made once by ``simulate``).
 
 Each variant is a fresh process (its working directory the tree measured, so that tree's package
-is imported); rounds interleave the variants (default, 1, 2; then 1, 2, default; ...) so that a
-change in the machine's load touches all alike. Printed per job and variant: the median of
+is imported), after one untimed run of each job (the mesh store filled); rounds interleave the
+variants (default, 1, 2; then 1, 2, default; ...) so that a change in the machine's load touches
+all alike. Printed per job and variant: the median of
 ``--rounds`` wall times [s] and of the CPU times (user + system of the process and its workers),
 the fastest and slowest wall, and the ratio of the median wall to that of ``--workers 1``; then
 per job whether the default is no slower than one worker, and (for a job of 10 s or more on one)
@@ -129,6 +130,8 @@ def main() -> int:
             f"# {tree}, {os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f}, "
             f"{args.rounds} rounds"
         )
+        for name in names:  # untimed: the mesh store filled, the files and modules read once
+            run_once(tree, table[name][0] + VARIANTS["1"], table[name][1])
         times = {(name, v): [] for name in names for v in VARIANTS}
         order = list(VARIANTS)
         for _ in range(args.rounds):
