@@ -139,7 +139,7 @@ class CandidateFilter:
         off_hull = np.bincount(self.component[~self.on_hull], minlength=self.n_components)
         self.convex = (2 * pairs == 3 * counts) & (off_hull == 0) & (counts > 0)
 
-    def candidates(self, u: np.ndarray, forward: np.ndarray, _boxes=None) -> np.ndarray:
+    def candidates(self, u: np.ndarray, forward: np.ndarray) -> np.ndarray:
         """Ascending indices (K,) of the ``forward`` panels that could be shaded for unit ``u``:
         those off their hull, and those a component's box normal to the flow overlaps."""
         need = forward & ~self.on_hull

@@ -137,13 +137,13 @@ class Shader:
 
     __call__ = lighting
 
-    def candidates(self, u: np.ndarray, forward: np.ndarray, boxes=None) -> np.ndarray:
+    def candidates(self, u: np.ndarray, forward: np.ndarray) -> np.ndarray:
         """Indices of forward panels that could be shaded for unit flow direction ``u`` (G)."""
         if self.filter is None:
             return np.zeros(0, dtype=np.int64)
         if not self.prefilter:
             return np.flatnonzero(forward)
-        return self.filter.candidates(u, forward, boxes)
+        return self.filter.candidates(u, forward)
 
     # -------------------------------------------------------------------------- raycast
     def _cast(self, origins, rows, jobs, first_face=False) -> np.ndarray:
