@@ -45,7 +45,7 @@ def inputs(tmp_path_factory):
         "mesh": "example",
         "shading": "raycast",
         "fixed": {"temperature": 900, "mean_mass_amu": 16, "speed": 7500},
-        "axes": {"aoa": "-180:2:180", "aos": "0:10:60"},
+        "axes": {"aoa": "-180:0.5:180", "aos": "0:5:90"},  # (workers busy for seconds each)
         "chunk_points": 60,
     }
     (root / "spec.yaml").write_text(yaml.safe_dump(spec), encoding="utf-8")
