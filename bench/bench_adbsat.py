@@ -33,17 +33,16 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 from bench_cli import BOOTSTRAP_GUARD, CACHE_DIR_VARIABLE, SCRIPT
+from bench_cli import run_once as timed
 from bench_concave_database import write_t_shape
 
 HERE = Path(__file__).resolve().parents[1]
@@ -88,19 +87,6 @@ db = build_database(method, FreeStream(%r, %r, mean_mass_amu=%r), aoa, aos,
 print(json.dumps([time.perf_counter() - wall, time.process_time() - cpu]))
 np.savez(out, aoa=db.aoa_deg, aos=db.aos_deg, Cf_w=db.Cf_w, Cm_B=db.Cm_B)
 """ % (SPEED, TEMPERATURE, MASS_AMU)
-
-
-def timed(argv, cwd, env=None) -> tuple:
-    """Wall and CPU time [s] and the output of one process; raises if it fails."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    start = time.perf_counter()
-    done = subprocess.run(argv, cwd=cwd, env=env, capture_output=True, text=True)
-    wall = time.perf_counter() - start
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if done.returncode != 0:
-        raise RuntimeError(f"{' '.join(map(str, argv))} failed:\n{done.stdout}\n{done.stderr}")
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return wall, cpu, done.stdout
 
 
 def octave_command() -> list | None:

@@ -101,16 +101,17 @@ def write_sphere(folder: Path) -> Path:
 
 
 def run_once(argv, cwd, env=None) -> tuple:
-    """Wall and CPU time [s] of one process; raises if it fails."""
+    """Wall and CPU time [s] of one process and its standard output; raises if it fails."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     done = subprocess.run(argv, cwd=cwd, env=env, capture_output=True, text=True)
     wall = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode != 0:
-        raise RuntimeError(f"{' '.join(map(str, argv))} (in {cwd}) failed:\n{done.stderr}")
+        command = " ".join(map(str, argv))
+        raise RuntimeError(f"{command} (in {cwd}) failed:\n{done.stdout}\n{done.stderr}")
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return wall, cpu
+    return wall, cpu, done.stdout
 
 
 def import_breakdown(tree: Path, mesh: Path, env: dict, runs: int, top: int) -> str:
@@ -212,7 +213,7 @@ def main() -> int:
         times = {index: [] for index in range(len(cases))}
         for _ in range(args.repeat):
             for index, (_, tree, argv, env) in enumerate(cases):
-                times[index].append(run_once(argv, tree or THIS_TREE, env))
+                times[index].append(run_once(argv, tree or THIS_TREE, env)[:2])
 
         print(
             f"# python {platform.python_version()} ({sys.executable}), {os.cpu_count()} CPUs, "
