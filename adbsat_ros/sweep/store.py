@@ -9,6 +9,7 @@ from __future__ import annotations
 import itertools
 import json
 import os
+import re
 import shutil
 import tempfile
 from pathlib import Path
@@ -210,11 +211,17 @@ class SweepStore:
         arrays["chunk_done"][index] = 1
 
 
+_PARTIAL = re.compile(r"\d+\.[0-9a-f]{32}\.partial")
+
+
 def _zarr_file(parts: tuple) -> bool:
     """Whether a file is one a sweep's Zarr store holds."""
     if parts == ("zarr.json",) or (len(parts) == 2 and parts[1] == "zarr.json"):
         return True
-    return len(parts) >= 3 and parts[1] == "c" and all(p.isdigit() for p in parts[2:])
+    if len(parts) < 3 or parts[1] != "c" or not all(p.isdigit() for p in parts[2:-1]):
+        return False
+    # (or the temporary file of a chunk a killed run was writing: <index>.<hex>.partial)
+    return parts[-1].isdigit() or _PARTIAL.fullmatch(parts[-1]) is not None
 
 
 def _sweep_attrs(path: Path) -> dict | None:

@@ -308,3 +308,14 @@ def test_an_atmosphere_sweep_is_nrlmsise_at_each_altitude_and_flux(tmp_path):
                 assert ds["gas_speed"][point].item() == flow.speed
     density = ds["density"].values[0, 0]
     assert density[0, 0] > 10 * density[1, 0] and density[1, 1] > density[1, 0]
+
+
+def test_a_chunk_write_cut_by_a_kill_is_the_stores_own_file():
+    """zarr writes a chunk through ``<index>.<hex>.partial``; a kill can leave one, and the
+    resumed sweep takes it as its own; anything else under ``c/`` stays foreign."""
+    from adbsat_ros.sweep.store import _zarr_file
+
+    assert _zarr_file(("chunk_done", "c", "4." + "0a" * 16 + ".partial"))
+    assert _zarr_file(("Cf_w", "c", "4", "0"))
+    assert not _zarr_file(("chunk_done", "c", "notes.partial"))
+    assert not _zarr_file(("chunk_done", "c", "4", "x." + "0a" * 16 + ".partial"))
