@@ -1,5 +1,5 @@
-"""Running a sweep: its missing chunks on Dask (local or a scheduler), each written as it finishes;
-a mesh file must be readable at the same path on every worker. docs/sweeps.md."""
+"""Running a sweep: its missing chunks on local workers or a Dask scheduler, each written as it
+finishes; a mesh file must be readable at the same path on every worker. docs/sweeps.md."""
 
 from __future__ import annotations
 
