@@ -109,6 +109,7 @@ def run_chunks(
     workers: int | None = None,
     stop=None,
     report: TaskReport | None = None,
+    ready: Callable | None = None,
 ) -> TaskReport:
     """Compute every chunk of ``job`` and call ``on_result(index, result)`` here as each finishes.
 
@@ -118,10 +119,14 @@ def run_chunks(
       only once the chunks left, timed here one by one, are worth them (:func:`worth_workers`).
     stop: an event; set, the run stops after the chunk finishing now (rerun to go on).
     report: the TaskReport to fill and return (default a new one).
+    ready: called here once the workers have the chunks, before any result (what the results go
+      to, made while the workers compute).
     RuntimeError: a chunk whose workers died :data:`MAX_RETRIES` + 1 times.
     """
     report = TaskReport() if report is None else report
+    ready = functools.cache(ready or (lambda: None))  # (called once, where the workers start)
     if not chunks:
+        ready()
         return report
     if scheduler is None:
         count, note = worker_count(workers)
@@ -129,12 +134,13 @@ def run_chunks(
             report.notes.append(f"--workers: {note}")
         count = min(count, len(chunks))
         if count == 1 or workers is None:
+            ready()
             chunks = _run_here(job, chunks, on_result, count, stop, report)
             if not chunks or report.stopped:
                 return report
-        return _run_in_pool(job, chunks, on_result, count, stop, report)
+        return _run_in_pool(job, chunks, on_result, count, stop, report, ready)
     with _quiet_distributed():
-        return _run_on_dask(job, chunks, on_result, scheduler, stop, report)
+        return _run_on_dask(job, chunks, on_result, scheduler, stop, report, ready)
 
 
 def worth_workers(left_s: float, start_s: float, count: int) -> bool:
@@ -182,7 +188,7 @@ def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
     return left
 
 
-def _run_in_pool(job, chunks: dict, on_result, count: int, stop, report) -> TaskReport:
+def _run_in_pool(job, chunks: dict, on_result, count: int, stop, report, ready) -> TaskReport:
     """The chunks on a pool of ``count`` worker processes forked from this one; the chunks of a
     pool that a worker's death broke go to a new pool."""
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -200,6 +206,7 @@ def _run_in_pool(job, chunks: dict, on_result, count: int, stop, report) -> Task
                 task = ForkedJob(job.key)
                 futures = {pool.submit(run_chunk, task, c): i for i, c in left.items()}
             try:
+                ready()
                 while futures and not report.stopped:
                     done, _ = wait(futures, STOP_POLL_S, FIRST_COMPLETED)
                     for future in done:
@@ -230,7 +237,7 @@ def _run_in_pool(job, chunks: dict, on_result, count: int, stop, report) -> Task
     return report
 
 
-def _run_on_dask(job, chunks, on_result, scheduler, stop, report) -> TaskReport:
+def _run_on_dask(job, chunks, on_result, scheduler, stop, report, ready) -> TaskReport:
     from distributed import Client, as_completed
     from distributed.client import FutureCancelledError as CancelledError
     from distributed.comm.core import CommClosedError
@@ -247,6 +254,7 @@ def _run_on_dask(job, chunks, on_result, scheduler, stop, report) -> TaskReport:
             return client.submit(run_chunk, job, chunks[index], pure=False)
 
         futures = {submit(i): i for i in chunks}
+        ready()
         retries = dict.fromkeys(chunks, 0)
         pending = as_completed(futures)
         waiting = stop if stop is not None else threading.Event()

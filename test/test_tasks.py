@@ -106,10 +106,10 @@ def counted_pools(monkeypatch, allowed: bool) -> list:
     started = []
     real = tasks._run_in_pool
 
-    def run_in_pool(job, chunks, on_result, count, stop, report):
+    def run_in_pool(job, chunks, on_result, count, *rest):
         started.append(count)
         assert allowed, "a pool of workers was started"
-        return real(job, chunks, on_result, count, stop, report)
+        return real(job, chunks, on_result, count, *rest)
 
     monkeypatch.setattr(tasks, "_run_in_pool", run_in_pool)
     return started
@@ -150,3 +150,18 @@ def test_workers_take_the_rest_once_they_pay_and_an_explicit_count_uses_them(mon
     report = tasks.run_chunks(SquareJob(), {i: i for i in range(3)}, done.__setitem__, workers=2)
     assert done == {i: i * i for i in range(3)} and started == [2, 2]
     assert report.workers == 2 and report.here == 0
+
+
+@pytest.mark.parametrize("workers", [1, 2, None])
+def test_ready_is_called_once_before_any_result(workers):
+    from adbsat_ros.tasks import run_chunks
+
+    events = []
+    run_chunks(
+        SquareJob(),
+        {i: i for i in range(4)},
+        lambda index, result: events.append(result),
+        workers=workers,
+        ready=lambda: events.append("ready"),
+    )
+    assert events[0] == "ready" and sorted(events[1:]) == [0, 1, 4, 9]
