@@ -1,7 +1,7 @@
-"""Chunked jobs on Dask, the one engine of sweeps and databases: in this process (one worker), a
-local cluster (one thread per forked worker process) or a running scheduler. With the default
-worker count a job starts in this process and starts workers only for a rest that would take
-longer on one than they cost to start (:func:`run_chunks`).
+"""Chunked jobs, the one engine of sweeps and databases: in this process (one worker), a pool of
+worker processes forked from it, or a running Dask scheduler. With the default worker count a
+job starts in this process and starts workers only for a rest that would take longer on one
+than they cost to start (:func:`run_chunks`).
 
 A worker builds a job's set-up on its first chunk and keeps it (:data:`SETUPS`; scattered data
 would be lost with a worker). A chunk's result may not depend on where or when it ran.
@@ -13,32 +13,26 @@ import contextlib
 import ctypes
 import functools
 import logging
-import multiprocessing
 import os
-import signal
 import threading
 import time
 from dataclasses import dataclass, field
 from typing import Callable
 
 from adbsat_ros.lru import LruStore
-from adbsat_ros.processes import die_with_parent, worker_count
+from adbsat_ros.processes import die_with_parent, frozen_heap, pool_context, worker_count
 
 #: Times a chunk is submitted again after its worker died with it.
 MAX_RETRIES = 3
 
-#: How often [s] a run on Dask with no result to take looks at its stop event.
+#: How often [s] a run on workers with no result to take looks at its stop event.
 STOP_POLL_S = 0.1
 
-#: What a local worker costs before its first chunk [s], besides the job's set-up: importing
-#: distributed, starting the cluster and its processes (docs/cli.md, "Workers").
-CLUSTER_START_S = 2.0
+#: What a local worker costs before its first chunk [s], besides the job's set-up: forking it
+#: (docs/cli.md, "Workers").
+POOL_START_S = 0.5
 
-#: The process that started this process's LocalCluster (None in that process, and in a
-#: worker of a running scheduler): a forked local worker dies with it (:func:`dask_setup`).
-_PARENT: dict = {"pid": None}
-
-#: The job of this process's LocalCluster by its key, while it runs: forked workers have it
+#: The job of this process's worker pool by its key, while it runs: forked workers have it
 #: from the fork, so their tasks carry the key alone (:class:`ForkedJob`).
 _FORKED: dict = {}
 
@@ -81,7 +75,7 @@ def run_chunk(job: ChunkJob, chunk):
 
 @dataclass(frozen=True)
 class ForkedJob:
-    """A job a forked local worker has from the fork: its key alone travels with a task."""
+    """A job a forked worker has from the fork: its key alone travels with a task."""
 
     key: str
 
@@ -115,6 +109,7 @@ def run_chunks(
     workers: int | None = None,
     stop=None,
     report: TaskReport | None = None,
+    ready: Callable | None = None,
 ) -> TaskReport:
     """Compute every chunk of ``job`` and call ``on_result(index, result)`` here as each finishes.
 
@@ -124,23 +119,28 @@ def run_chunks(
       only once the chunks left, timed here one by one, are worth them (:func:`worth_workers`).
     stop: an event; set, the run stops after the chunk finishing now (rerun to go on).
     report: the TaskReport to fill and return (default a new one).
+    ready: called here once the workers have the chunks, before any result (what the results go
+      to, made while the workers compute).
     RuntimeError: a chunk whose workers died :data:`MAX_RETRIES` + 1 times.
     """
     report = TaskReport() if report is None else report
+    ready = functools.cache(ready or (lambda: None))  # (called once, where the workers start)
     if not chunks:
+        ready()
         return report
-    count = 1
     if scheduler is None:
         count, note = worker_count(workers)
         if note:
             report.notes.append(f"--workers: {note}")
         count = min(count, len(chunks))
         if count == 1 or workers is None:
+            ready()
             chunks = _run_here(job, chunks, on_result, count, stop, report)
             if not chunks or report.stopped:
                 return report
+        return _run_in_pool(job, chunks, on_result, count, stop, report, ready)
     with _quiet_distributed():
-        return _run_on_dask(job, chunks, on_result, scheduler, count, stop, report)
+        return _run_on_dask(job, chunks, on_result, scheduler, stop, report, ready)
 
 
 def worth_workers(left_s: float, start_s: float, count: int) -> bool:
@@ -174,7 +174,7 @@ def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
     report.workers = 1
     started = time.perf_counter()
     setup = job.setup()
-    start_s = CLUSTER_START_S + time.perf_counter() - started  # (a worker sets the job up too)
+    start_s = POOL_START_S + time.perf_counter() - started  # (a worker sets the job up too)
     left = dict(chunks)
     results = run_while_alone(setup.evaluate, chunks.values(), count, len(chunks), start_s)
     for index, result in zip(chunks, results):
@@ -188,32 +188,73 @@ def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
     return left
 
 
-def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> TaskReport:
+def _run_in_pool(job, chunks: dict, on_result, count: int, stop, report, ready) -> TaskReport:
+    """The chunks on a pool of ``count`` worker processes forked from this one; the chunks of a
+    pool that a worker's death broke go to a new pool."""
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from concurrent.futures.process import BrokenProcessPool
+
+    report.workers = count
+    _FORKED[job.key] = job  # (before the workers fork: they keep it)
+    left, retries = dict(chunks), dict.fromkeys(chunks, 0)
+    try:
+        while left and not report.stopped:
+            with frozen_heap():
+                pool = ProcessPoolExecutor(
+                    count, pool_context(), initializer=die_with_parent, initargs=(os.getpid(), True)
+                )
+                task = ForkedJob(job.key)
+                futures = {pool.submit(run_chunk, task, c): i for i, c in left.items()}
+            try:
+                ready()
+                while futures and not report.stopped:
+                    done, _ = wait(futures, STOP_POLL_S, FIRST_COMPLETED)
+                    for future in done:
+                        index = futures.pop(future)
+                        try:
+                            result = future.result()
+                        except BrokenProcessPool as exc:  # (a worker died: again in a new pool)
+                            retries[index] += 1
+                            if retries[index] > MAX_RETRIES:
+                                raise RuntimeError(
+                                    f"chunk {index} failed {MAX_RETRIES + 1} times; the last: "
+                                    f"{exc!r}"
+                                ) from None
+                            continue
+                        del left[index]
+                        on_result(index, result)
+                        report.computed += 1
+                        if stop is not None and stop.is_set():
+                            break
+                    report.stopped = stop is not None and stop.is_set()
+            finally:
+                if futures:  # (the chunks running are dropped: none is waited for)
+                    for process in list((pool._processes or {}).values()):
+                        process.kill()
+                pool.shutdown(cancel_futures=True)
+    finally:
+        _FORKED.pop(job.key, None)
+    return report
+
+
+def _run_on_dask(job, chunks, on_result, scheduler, stop, report, ready) -> TaskReport:
     from distributed import Client, as_completed
     from distributed.client import FutureCancelledError as CancelledError
     from distributed.comm.core import CommClosedError
     from distributed.scheduler import KilledWorker
 
-    cluster = None
-    if scheduler is None:
-        _FORKED[job.key] = job  # (before the workers fork: they keep it)
-        cluster = local_cluster(count)
-        if _PARENT["pid"] is not None:
-            job = ForkedJob(job.key)
     try:
-        client = Client(cluster if cluster is not None else scheduler)
+        client = Client(scheduler)
     except (OSError, TimeoutError) as exc:
-        if cluster is not None:
-            cluster.close()
-            _FORKED.pop(job.key, None)
         raise OSError(f"scheduler {scheduler}: no Dask scheduler answers there ({exc})") from None
-    try:
+    with client:
         report.workers = len(client.scheduler_info()["workers"])
 
         def submit(index):
             return client.submit(run_chunk, job, chunks[index], pure=False)
 
         futures = {submit(i): i for i in chunks}
+        ready()
         retries = dict.fromkeys(chunks, 0)
         pending = as_completed(futures)
         waiting = stop if stop is not None else threading.Event()
@@ -244,72 +285,7 @@ def _run_on_dask(job, chunks, on_result, scheduler, count, stop, report) -> Task
             if stop is not None and stop.is_set():
                 report.stopped = True
                 break
-    finally:
-        if cluster is not None and report.stopped:
-            _kill_workers(cluster)
-        client.close()
-        if cluster is not None:
-            cluster.close()
-        _FORKED.pop(job.key, None)
     return report
-
-
-def _kill_workers(cluster) -> None:
-    """End the local workers at once (SIGKILL), their nannies told first."""
-    cluster.sync(_closing, cluster)
-    for nanny in list(cluster.workers.values()):
-        pid = getattr(nanny, "pid", None)
-        if pid:
-            with contextlib.suppress(OSError):
-                os.kill(pid, signal.SIGKILL)
-
-
-async def _closing(cluster) -> None:
-    """In the cluster's event loop: no nanny starts a worker again."""
-    for nanny in cluster.workers.values():
-        nanny.close_gracefully(reason="the job stopped")
-
-
-def local_cluster(count: int):
-    """A ``distributed.LocalCluster`` of ``count`` single-thread worker processes."""
-    import dask
-    from distributed import LocalCluster
-
-    method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
-    settings = {
-        "distributed.nanny.pre-spawn-environ": worker_environment(),
-        "distributed.worker.multiprocessing-method": method,
-        "distributed.worker.preload": [__name__],  # (dask_setup: die with this process)
-        # the profiler feeds only the dashboard
-        "distributed.worker.profile.enabled": False,
-        # the scheduler's process shares the workers' cores
-        "distributed.admin.tick.interval": "1s",
-    }
-    _PARENT["pid"] = os.getpid() if method == "fork" else None
-    with dask.config.set(settings):
-        return LocalCluster(
-            n_workers=count,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=":0",  # (a free port: two jobs on one machine never clash)
-            silence_logs=logging.ERROR,
-        )
-
-
-def dask_setup(worker) -> None:
-    """Dask's preload hook in each local worker: :func:`adbsat_ros.processes.die_with_parent`."""
-    if _PARENT["pid"] is not None and _PARENT["pid"] != os.getpid():
-        die_with_parent(_PARENT["pid"], stops_to_parent=True)
-
-
-def worker_environment() -> dict:
-    """Dask's worker environment without ``MALLOC_TRIM_THRESHOLD_`` (docs/sweeps.md)."""
-    import dask
-    import distributed  # noqa: F401  (its configuration defaults are read on import)
-
-    environment = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
-    environment.pop("MALLOC_TRIM_THRESHOLD_", None)
-    return environment
 
 
 @contextlib.contextmanager

@@ -7,8 +7,8 @@ Usage:
 Measured in one run, with the example satellite (4,192 faces), sentman, ray-cast shading:
 
 1. the ``database`` command (aoa -180:5:180 x aos -90:5:90, 2,701 attitudes, ``--workers``
-   processes) as a whole process, start-up included: this tree (the task engine on Dask)
-   against ``--baseline`` (a checkout of an earlier revision, say its process pool), the trees
+   processes) as a whole process, start-up included: this tree (its task engine)
+   against ``--baseline`` (a checkout of an earlier revision), the trees
    interleaved, the median of ``--rounds`` runs each of the wall time and of the CPU time (the
    process and its workers: less moved by a busy host than the wall time), and their ratios;
 2. the same grid as a sweep (chunks of the default 256 points) on LocalClusters of 1 and of
@@ -68,6 +68,18 @@ def sweep_seconds(data: dict, out: Path, address: str) -> float:
     return time.perf_counter() - t0
 
 
+def local_cluster(count: int):
+    """A running scheduler's stand-in: a LocalCluster of ``count`` single-thread worker processes,
+    started without ``MALLOC_TRIM_THRESHOLD_`` (docs/sweeps.md)."""
+    import dask
+    from distributed import LocalCluster
+
+    environment = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
+    environment.pop("MALLOC_TRIM_THRESHOLD_", None)
+    with dask.config.set({"distributed.nanny.pre-spawn-environ": environment}):
+        return LocalCluster(n_workers=count, threads_per_worker=1, dashboard_address=":0")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--workers", type=int, default=2)
@@ -78,8 +90,6 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3, help="database runs per tree")
     args = parser.parse_args()
     from distributed import Client
-
-    from adbsat_ros.tasks import local_cluster
 
     out = Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -1,8 +1,12 @@
-"""The chunk engine (adbsat_ros.tasks): a run stopped mid-way ends its local workers for good;
-by default a job starts in this process and starts workers only for a rest that pays."""
+"""The chunk engine (adbsat_ros.tasks): a run stopped mid-way ends its local workers, a killed
+worker's chunks are computed again; by default a job starts in this process and starts workers
+only for a rest that pays."""
 
 from __future__ import annotations
 
+import multiprocessing
+import os
+import signal
 import threading
 import time
 
@@ -25,39 +29,58 @@ class SlowJob:
         return chunk
 
 
-def test_a_stopped_run_starts_no_worker_again(monkeypatch):
-    """A run on two local workers stopped after its first result: its workers are ended, and
-    the nannies start none in their place (one started then would outlive the cluster)."""
-    from distributed import Client, Nanny
-
+def test_a_stopped_run_ends_its_workers():
+    """A run on two local workers stopped after its first result: the chunks running are
+    dropped at once, their workers ended."""
     from adbsat_ros.tasks import run_chunks
 
-    started = []
-    instantiate = Nanny.instantiate
-
-    async def counting(self):
-        started.append(self.name)
-        return await instantiate(self)
-
-    monkeypatch.setattr(Nanny, "instantiate", counting)
-    close = Client.close
-
-    def late_close(self, *args, **kwargs):
-        # as on a loaded machine: the nannies see their workers die before the cluster closes
-        time.sleep(2.0)
-        return close(self, *args, **kwargs)
-
-    monkeypatch.setattr(Client, "close", late_close)
     stop = threading.Event()
-    done = []
+    done, workers = [], []
 
     def take(index, result):
         done.append(result)
+        workers.extend(multiprocessing.active_children())
         stop.set()
 
     report = run_chunks(SlowJob(), {0: 0, 1: 1, 2: 2}, take, workers=2, stop=stop)
-    assert report.stopped and done == [0]
-    assert sorted(started) == [0, 1], started
+    assert report.stopped and done == [0] and len(workers) == 2
+    assert not [p for p in workers if p.is_alive()]
+
+
+class DyingJob:
+    """Chunks of numbers squared; chunk 1 kills its worker process the first ``deaths`` times."""
+
+    key = "dying"
+
+    def __init__(self, folder, deaths: int):
+        self.folder, self.deaths = folder, deaths
+
+    def setup(self):
+        return self
+
+    def evaluate(self, chunk):
+        marks = sorted(self.folder.iterdir())
+        if chunk == 1 and len(marks) < self.deaths:
+            (self.folder / str(len(marks))).touch()
+            os.kill(os.getpid(), signal.SIGKILL)
+        return chunk * chunk
+
+
+@pytest.mark.skipif(usable_cpus() < 2, reason="needs two usable CPUs")
+def test_a_killed_workers_chunks_are_computed_again_and_a_chunk_that_always_kills_fails(tmp_path):
+    from adbsat_ros.tasks import MAX_RETRIES, run_chunks
+
+    done = {}
+    report = run_chunks(
+        DyingJob(tmp_path, 2), {i: i for i in range(6)}, done.__setitem__, workers=2
+    )
+    assert done == {i: i * i for i in range(6)} and report.computed == 6
+    again = tmp_path / "again"
+    again.mkdir()
+    # (the pool's other chunk may have been broken with it each time: either is named)
+    with pytest.raises(RuntimeError, match=f"chunk [01] failed {MAX_RETRIES + 1} times"):
+        run_chunks(DyingJob(again, 100), {0: 0, 1: 1}, done.__setitem__, workers=2)
+    assert len(list(again.iterdir())) == MAX_RETRIES + 1
 
 
 class SquareJob:
@@ -76,19 +99,19 @@ class SquareJob:
         return chunk * chunk
 
 
-def counted_clusters(monkeypatch, allowed: bool) -> list:
-    """The worker counts of the LocalClusters started from now on (refused unless ``allowed``)."""
+def counted_pools(monkeypatch, allowed: bool) -> list:
+    """The worker counts of the pools started from now on (refused unless ``allowed``)."""
     from adbsat_ros import tasks
 
     started = []
-    real = tasks.local_cluster
+    real = tasks._run_in_pool
 
-    def local_cluster(count):
+    def run_in_pool(job, chunks, on_result, count, *rest):
         started.append(count)
-        assert allowed, "a LocalCluster was started"
-        return real(count)
+        assert allowed, "a pool of workers was started"
+        return real(job, chunks, on_result, count, *rest)
 
-    monkeypatch.setattr(tasks, "local_cluster", local_cluster)
+    monkeypatch.setattr(tasks, "_run_in_pool", run_in_pool)
     return started
 
 
@@ -104,7 +127,7 @@ def test_a_small_job_runs_in_this_process_by_default(monkeypatch):
     """The default worker count starts no cluster for chunks of microseconds; the same results."""
     from adbsat_ros.tasks import run_chunks
 
-    started = counted_clusters(monkeypatch, allowed=False)
+    started = counted_pools(monkeypatch, allowed=False)
     done = {}
     report = run_chunks(SquareJob(), {i: i for i in range(20)}, done.__setitem__)
     assert done == {i: i * i for i in range(20)} and started == []
@@ -113,12 +136,12 @@ def test_a_small_job_runs_in_this_process_by_default(monkeypatch):
 
 @pytest.mark.skipif(usable_cpus() < 2, reason="needs two usable CPUs")
 def test_workers_take_the_rest_once_they_pay_and_an_explicit_count_uses_them(monkeypatch):
-    """By default, chunks are timed here and the rest goes to a LocalCluster once it pays (its
+    """By default, chunks are timed here and the rest goes to a pool of workers once it pays (its
     start taken as free here); an explicit ``workers=2`` starts one at once."""
     from adbsat_ros import tasks
 
-    monkeypatch.setattr(tasks, "CLUSTER_START_S", 0.0)
-    started = counted_clusters(monkeypatch, allowed=True)
+    monkeypatch.setattr(tasks, "POOL_START_S", 0.0)
+    started = counted_pools(monkeypatch, allowed=True)
     done = {}
     report = tasks.run_chunks(SquareJob(0.2), {i: i for i in range(8)}, done.__setitem__)
     assert done == {i: i * i for i in range(8)} and started == [2]
@@ -127,3 +150,18 @@ def test_workers_take_the_rest_once_they_pay_and_an_explicit_count_uses_them(mon
     report = tasks.run_chunks(SquareJob(), {i: i for i in range(3)}, done.__setitem__, workers=2)
     assert done == {i: i * i for i in range(3)} and started == [2, 2]
     assert report.workers == 2 and report.here == 0
+
+
+@pytest.mark.parametrize("workers", [1, 2, None])
+def test_ready_is_called_once_before_any_result(workers):
+    from adbsat_ros.tasks import run_chunks
+
+    events = []
+    run_chunks(
+        SquareJob(),
+        {i: i for i in range(4)},
+        lambda index, result: events.append(result),
+        workers=workers,
+        ready=lambda: events.append("ready"),
+    )
+    assert events[0] == "ready" and sorted(events[1:]) == [0, 1, 4, 9]

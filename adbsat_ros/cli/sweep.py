@@ -11,18 +11,18 @@ def configure(p) -> None:
     """Configure ``adbsat-ros sweep``."""
     p.description = (
         "Compute the coefficients over every point of the axes a YAML spec names (aoa, aos, "
-        "speed, temperature, mean_mass_amu, alpha, wall_temperature, joint.NAME) on Dask: a "
-        "LocalCluster of this machine's cores, or any running scheduler (--scheduler). The "
+        "speed, temperature, mean_mass_amu, alpha, wall_temperature, joint.NAME) on this "
+        "machine's cores, or on any running Dask scheduler (--scheduler). The "
         "result is an xarray Dataset in a Zarr store, written chunk by chunk: run the same "
         "command again after an interruption and it computes only what is missing "
         "(docs/sweeps.md)."
     )
     p.add_argument("spec", metavar="SPEC.yaml", help="the sweep's spec (docs/sweeps.md)")
     option(p, "--out", "the Zarr store", required=True, metavar="RESULT.zarr")
-    help = "a running Dask scheduler, e.g. tcp://10.0.0.5:8786 (default: a LocalCluster)"
+    help = "a running Dask scheduler, e.g. tcp://10.0.0.5:8786 (default: this machine)"
     option(p, "--scheduler", help, metavar="ADDRESS")
     help = (
-        "worker processes of the LocalCluster (default: this process, and every usable CPU for "
+        "worker processes forked here (default: this process, and every usable CPU for "
         "what is left once the chunks, timed here, are worth them)"
     )
     option(p, "--workers", help, type=int, metavar="N")

@@ -1,5 +1,5 @@
-"""Running a sweep: its missing chunks on Dask (local or a scheduler), each written as it finishes;
-a mesh file must be readable at the same path on every worker. docs/sweeps.md."""
+"""Running a sweep: its missing chunks on local workers or a Dask scheduler, each written as it
+finishes; a mesh file must be readable at the same path on every worker. docs/sweeps.md."""
 
 from __future__ import annotations
 
@@ -54,7 +54,8 @@ def run_sweep(
     started = time.perf_counter()
     with interruptible():  # (nothing written yet: a signal ends it at once)
         setup = SweepSetup(spec)  # (checked here first: a bad mesh fails before any worker starts)
-    store = SweepStore.open(out, spec, setup, overwrite)
+    # (a new store is made once the workers have its chunks, while they compute)
+    store = SweepStore.open(out, spec, setup, overwrite, later=True)
     todo = store.missing()
     report = SweepReport(chunks=len(store.slices), already_done=len(store.slices) - len(todo))
     bar = tqdm(total=len(store.slices), initial=report.already_done, disable=not progress)
@@ -72,6 +73,7 @@ def run_sweep(
             workers=workers,
             stop=stop,
             report=report,
+            ready=lambda: store.make(setup),
         )
     done_chunks = set(todo) - set(store.missing())
     report.points = sum(math.prod(b - a for a, b in store.slices[i]) for i in done_chunks)

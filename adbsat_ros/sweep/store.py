@@ -67,10 +67,14 @@ class SweepStore:
         self.sizes = sizes
         self.slices = slices
         self._opened = None
+        self.made = True
 
     @classmethod
-    def open(cls, path, spec: SweepSpec, setup, overwrite: bool = False) -> "SweepStore":
-        """The store at ``path`` for ``spec``: made, or taken up where it stopped.
+    def open(
+        cls, path, spec: SweepSpec, setup, overwrite: bool = False, later: bool = False
+    ) -> "SweepStore":
+        """The store at ``path`` for ``spec``: made, or taken up where it stopped; ``later``: a
+        new one is left to :meth:`make` (every chunk missing).
 
         StoreError: another spec's sweep (without ``overwrite``) or anything but a sweep store.
         """
@@ -79,7 +83,9 @@ class SweepStore:
         slices = chunk_slices(spec.shape, sizes)
         store = cls(path, spec, sizes, slices)
         if not (path.exists() or path.is_symlink()):
-            store._create(setup, replace=False)
+            store.made = False
+            if not later:
+                store.make(setup)
             return store
         foreign = _foreign(path)
         if foreign is not None:
@@ -94,6 +100,12 @@ class SweepStore:
                 return store
         store._create(setup, replace=True)
         return store
+
+    def make(self, setup) -> None:
+        """Make the new store :meth:`open` left to later (once)."""
+        if not self.made:
+            self._create(setup, replace=False)
+            self.made = True
 
     def _complete(self) -> bool:
         """Whether every array of the layout is in the store."""
@@ -199,6 +211,8 @@ class SweepStore:
 
     def missing(self) -> list:
         """Indices of the chunks not written yet."""
+        if not self.made:
+            return list(range(len(self.slices)))
         done = self._arrays()["chunk_done"][:]
         return [int(i) for i in np.flatnonzero(done == 0)]
 

@@ -193,15 +193,15 @@ def test_a_running_scheduler_gives_the_same_database(example_db, tmp_path):
     """The attitudes computed by the workers of a running Dask scheduler (here a LocalCluster
     of two processes), by the API and by ``database --scheduler``: the same numbers bit for
     bit as one process."""
-    from distributed import Client
+    from distributed import Client, LocalCluster
 
     from adbsat_ros.cli import main
     from adbsat_ros.database.format import load_database
-    from adbsat_ros.tasks import local_cluster
 
     model, flow = model_from_metadata(example_db.metadata)
     method = model.method
-    with local_cluster(2) as cluster, Client(cluster) as client:
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=":0")
+    with cluster, Client(cluster) as client:
         client.wait_for_workers(2)
         db2 = build_database(
             method,

@@ -1,4 +1,4 @@
-"""Sweeps on real dask.distributed: a 4-axis sweep on a LocalCluster of two worker processes
+"""Sweeps on local workers and real dask.distributed: a 4-axis sweep on two worker processes
 equals a serial loop over the same points, bit for bit; one worker gives the same store; a sweep
 stopped part-way, or whose process is killed, takes up where it stopped and gives the same
 store; an articulated body's joint axis equals the posed bodies'."""
@@ -52,7 +52,7 @@ def assert_same_store(a: xr.Dataset, b: xr.Dataset) -> None:
 
 @pytest.fixture(scope="module")
 def four_axis(tmp_path_factory):
-    """The 4-axis sweep on a LocalCluster of two worker processes."""
+    """The 4-axis sweep on two local worker processes."""
     out = tmp_path_factory.mktemp("sweep") / "four.zarr"
     spec = parse_spec(FOUR_AXES, yaml.safe_dump(FOUR_AXES))
     report = run_sweep(spec, out, workers=2)
