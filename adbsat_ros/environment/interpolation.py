@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import datetime as _dt
 import math
+from types import MappingProxyType
 from typing import NamedTuple
 
 import numpy as np
@@ -12,6 +13,7 @@ import numpy as np
 from adbsat_ros.environment.atmosphere import AtmosphereState
 from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.kinematics import geodetic_of_floats
+from adbsat_ros.physics.freestream import FreeStream
 
 #: The vector fields of FlightConditions, in the order of the interpolation numbers.
 _VECTORS = (
@@ -52,6 +54,8 @@ def knot_ends(conditions: FlightConditions) -> KnotEnds:
         atmosphere.temperature,
         *atmosphere.number_densities.values(),
     )
+    if conditions.speed > 0.0:
+        conditions.free_stream()  # (its gas checked once: the mixed free streams need no check)
     numbers = np.array(values, dtype=float)
     numbers.setflags(write=False)
     return KnotEnds(conditions, numbers, tuple(present))
@@ -84,31 +88,35 @@ def mixed_conditions(
     # (ERFA's gc2gd in floats, bit for bit: test/environment/test_kinematics.py)
     latitude, longitude, altitude = geodetic_of_floats(*values[3:6])
     ends = a.conditions
-    atmosphere = AtmosphereState(
-        dict(zip(ends.atmosphere.number_densities, values[_DENSITIES:])),
-        values[_MASS_DENSITY],
-        values[_EXOSPHERIC],
-        values[_TEMPERATURE],
-        ends.atmosphere.anomalous_oxygen,
+    atmosphere = ends.atmosphere
+    densities = MappingProxyType(dict(zip(atmosphere.number_densities, values[_DENSITIES:])))
+    atmosphere = unchecked(
+        AtmosphereState,
+        (densities, *values[_MASS_DENSITY:_DENSITIES], atmosphere.anomalous_oxygen),
     )
-    return FlightConditions(
-        time,
-        vectors[0],
-        vectors[1],
-        vectors[2],
-        vectors[3],
-        latitude,
-        longitude,
-        altitude,
-        atmosphere,
-        vectors[4],
-        vectors[5],
-        speed,
-        ends.accommodation_model,
-        values[_ALPHA],
-        ends.earth_rotation,
-        ends.space_weather,
+    flow = {}
+    if speed > 0.0 and ends.speed > 0.0 and b.conditions.speed > 0.0:  # (gases checked: knot_ends)
+        gas = atmosphere.mixture_number_densities
+        flow["_free_stream"] = unchecked(
+            FreeStream,
+            (speed, values[_TEMPERATURE], dict(gas), None, values[_MASS_DENSITY])
+            + (atmosphere.mean_mass, tuple(gas)),
+        )
+    return unchecked(
+        FlightConditions,
+        (time, *vectors[:4], latitude, longitude, altitude, atmosphere, *vectors[4:], speed)
+        + (ends.accommodation_model, values[_ALPHA], ends.earth_rotation, ends.space_weather),
+        **flow,
     )
+
+
+def unchecked(kind: type, values: tuple, **derived):
+    """The frozen dataclass ``kind`` of its fields' ``values`` in order (and ``derived`` values),
+    as its constructor makes it of checked ones (two checked knots' numbers mixed, the same
+    numbers: test/environment/test_knots.py)."""
+    made = object.__new__(kind)
+    made.__dict__.update(zip(kind.__dataclass_fields__, values), **derived)
+    return made
 
 
 def interpolated_flight_conditions(
