@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import datetime as _dt
-import functools
 import math
 from dataclasses import dataclass, field
 
@@ -153,11 +152,9 @@ class FlightConditions:
                 "relative speed is 0 m/s (the satellite is at rest in the air): "
                 "no free stream; check FlightConditions.speed before asking for one"
             )
-        return self._free_stream
-
-    @functools.cached_property
-    def _free_stream(self) -> FreeStream:
-        """The free stream, made once (two knots' mixed conditions come with theirs)."""
+        made = self.__dict__.pop("_free_stream", None)  # (mixed conditions' own, handed out once)
+        if made is not None:
+            return made
         atmosphere = self.atmosphere
         return FreeStream(
             self.speed,
