@@ -152,9 +152,6 @@ class FlightConditions:
                 "relative speed is 0 m/s (the satellite is at rest in the air): "
                 "no free stream; check FlightConditions.speed before asking for one"
             )
-        made = self.__dict__.pop("_free_stream", None)  # (mixed conditions' own, handed out once)
-        if made is not None:
-            return made
         atmosphere = self.atmosphere
         return FreeStream(
             self.speed,

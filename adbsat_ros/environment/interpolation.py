@@ -6,14 +6,12 @@ import dataclasses
 import datetime as _dt
 import functools
 import math
-from types import MappingProxyType
 
 import numpy as np
 
 from adbsat_ros.environment.atmosphere import AtmosphereState
 from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.kinematics import geodetic_of_floats
-from adbsat_ros.physics.freestream import FreeStream
 
 #: The vector fields of FlightConditions, in the order of the interpolation numbers.
 _VECTORS = (
@@ -37,7 +35,7 @@ class KnotEnds:
     @functools.cached_property
     def mixing(self) -> tuple:
         """Every number of the conditions in mixing order (read-only) and which of the six
-        vectors are not None; the gas checked once (the mixed free streams need no check)."""
+        vectors are not None."""
         conditions = self.conditions
         atmosphere = conditions.atmosphere
         values = []
@@ -54,8 +52,6 @@ class KnotEnds:
             atmosphere.temperature,
             *atmosphere.number_densities.values(),
         )
-        if conditions.speed > 0.0:
-            conditions.free_stream()
         numbers = np.array(values, dtype=float)
         numbers.setflags(write=False)
         return numbers, tuple(present)
@@ -89,33 +85,31 @@ def mixed_conditions(
     # (ERFA's gc2gd in floats, bit for bit: test/environment/test_kinematics.py)
     latitude, longitude, altitude = geodetic_of_floats(*values[3:6])
     ends = a.conditions
-    known = ends.atmosphere  # (the species and options of both ends)
-    densities = MappingProxyType(dict(zip(known.number_densities, values[_DENSITIES:])))
-    numbers = values[_MASS_DENSITY:_DENSITIES]  # (the mass density and both temperatures)
-    atmosphere = unchecked(AtmosphereState, (densities, *numbers, known.anomalous_oxygen))
-    flow = {}
-    if speed > 0.0 and ends.speed > 0.0 and b.conditions.speed > 0.0:  # (gases checked: mixing)
-        gas = atmosphere.mixture_number_densities
-        flow["_free_stream"] = unchecked(
-            FreeStream,
-            (speed, values[_TEMPERATURE], dict(gas), None, values[_MASS_DENSITY])
-            + (atmosphere.mean_mass, tuple(gas)),
-        )
-    return unchecked(
-        FlightConditions,
-        (time, *vectors[:4], latitude, longitude, altitude, atmosphere, *vectors[4:], speed)
-        + (ends.accommodation_model, values[_ALPHA], ends.earth_rotation, ends.space_weather),
-        **flow,
+    atmosphere = AtmosphereState(
+        dict(zip(ends.atmosphere.number_densities, values[_DENSITIES:])),
+        values[_MASS_DENSITY],
+        values[_EXOSPHERIC],
+        values[_TEMPERATURE],
+        ends.atmosphere.anomalous_oxygen,
     )
-
-
-def unchecked(kind: type, values: tuple, **derived):
-    """The frozen dataclass ``kind`` of its fields' ``values`` in order (and ``derived`` values),
-    as its constructor makes it of checked ones (two checked knots' numbers mixed, the same
-    numbers: test/environment/test_knots.py)."""
-    made = object.__new__(kind)
-    made.__dict__.update(zip(kind.__dataclass_fields__, values), **derived)
-    return made
+    return FlightConditions(
+        time,
+        vectors[0],
+        vectors[1],
+        vectors[2],
+        vectors[3],
+        latitude,
+        longitude,
+        altitude,
+        atmosphere,
+        vectors[4],
+        vectors[5],
+        speed,
+        ends.accommodation_model,
+        values[_ALPHA],
+        ends.earth_rotation,
+        ends.space_weather,
+    )
 
 
 def interpolated_flight_conditions(

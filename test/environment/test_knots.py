@@ -1,6 +1,5 @@
 """Flight conditions on knots: interpolation between exact evaluations, and the KnotGrid cache."""
 
-import dataclasses
 import datetime as dt
 import math
 
@@ -9,7 +8,6 @@ import pytest
 
 from adbsat_ros.environment.atmosphere import SpaceWeather, evaluate_atmosphere
 from adbsat_ros.environment.circular_orbit import flight_conditions_circular_orbit
-from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.environment.flight_conditions import flight_conditions
 from adbsat_ros.environment.geodetic import ecef_to_geodetic, geodetic_to_ecef
 from adbsat_ros.environment.interpolation import interpolated_flight_conditions
@@ -553,43 +551,6 @@ def test_the_conditions_at_a_stamp_are_the_knots_mixed_with_their_free_stream(an
         assert numbers(conditions) == numbers(want)
         assert _same_free_stream(conditions.free_stream(), want.free_stream())
         assert ("AnO" in conditions.free_stream().number_densities) == anomalous_oxygen
-
-
-@pytest.mark.parametrize("ends", ["orbit", "circular orbit", "no anomalous oxygen"])
-def test_mixed_conditions_are_what_their_constructors_make_of_the_same_fields(ends):
-    """The mixed conditions, made without their constructors' checks, hold what the constructors
-    make of the same fields: equal atmospheres with read-only densities, the same vectors (None
-    where an end has none), read-only, and the same free stream."""
-    circular_orbit = ends == "circular orbit"
-    if circular_orbit:
-        a, b = (
-            flight_conditions_circular_orbit(
-                TIME + dt.timedelta(seconds=s), 350e3, LAT, LON, WEATHER
-            )
-            for s in (0.0, 0.01)
-        )
-    else:
-        state, oxygen = circular(), ends == "orbit"
-        a, b = (
-            flight_conditions(utc(t), state.position + state.velocity * (t - state.stamp),
-                              state.velocity, WEATHER, anomalous_oxygen=oxygen)
-            for t in (1.0, 1.01)
-        )  # fmt: skip
-    mixed = interpolated_flight_conditions(a, b, 0.37, TIME)
-    made = dataclasses.replace(mixed, atmosphere=dataclasses.replace(mixed.atmosphere))
-    assert made.atmosphere == mixed.atmosphere
-    assert type(mixed.atmosphere.number_densities) is type(made.atmosphere.number_densities)
-    for field in dataclasses.fields(FlightConditions):
-        value, want = getattr(mixed, field.name), getattr(made, field.name)
-        if isinstance(want, np.ndarray):
-            assert value.shape == (3,) and not value.flags.writeable
-            assert np.array_equal(value, want)
-        elif field.name != "atmosphere":
-            assert value is want or value == want, field.name
-    assert (mixed.velocity_eci is None) == circular_orbit
-    flow, want = mixed.free_stream(), made.free_stream()
-    assert _same_free_stream(flow, want) and flow.species == want.species
-    assert flow.mass_density == want.mass_density and flow.speed_ratio == want.speed_ratio
 
 
 def test_a_stamp_at_rest_in_the_air_has_no_free_stream():
