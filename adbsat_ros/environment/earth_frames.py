@@ -65,14 +65,6 @@ class EarthOrientation:
         velocity = vectors3(velocity_ecef, "velocity_ecef")
         return position_eci, (velocity + cross(self.rotation_vector_ecef, position)) @ matrix
 
-    def rotate_eci_to_ecef(self, vector_eci) -> np.ndarray:
-        """Express a free vector (no transport term, e.g. a relative velocity) in ECEF axes."""
-        return vectors3(vector_eci, "vector_eci") @ self.celestial_to_terrestrial.T
-
-    def rotate_ecef_to_eci(self, vector_ecef) -> np.ndarray:
-        """Express a free vector (no transport term, e.g. a relative velocity) in ECI axes."""
-        return vectors3(vector_ecef, "vector_ecef") @ self.celestial_to_terrestrial
-
 
 _CELESTIAL_TO_INTERMEDIATE = {"iau2006a": erfa.c2i06a, "iau2000b": erfa.c2i00b}
 #: Angular velocity of the ECEF frame in ECEF axes with zero polar motion [rad/s].

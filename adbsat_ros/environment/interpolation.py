@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as _dt
+import functools
 import math
-from typing import NamedTuple
 
 import numpy as np
 
@@ -26,35 +26,35 @@ _VECTORS = (
 _SPEED, _ALPHA, _MASS_DENSITY, _EXOSPHERIC, _TEMPERATURE, _DENSITIES = range(18, 24)
 
 
-class KnotEnds(NamedTuple):
-    """A knot: its exact ``conditions``, every number of them in mixing order (read-only) and
-    which of the six vectors are not None."""
+class KnotEnds:
+    """A knot: its exact ``conditions`` and, made when first mixed, :attr:`mixing`."""
 
-    conditions: FlightConditions
-    numbers: np.ndarray
-    vectors: tuple
+    def __init__(self, conditions: FlightConditions):
+        self.conditions = conditions
 
-
-def knot_ends(conditions: FlightConditions) -> KnotEnds:
-    """The :class:`KnotEnds` of ``conditions``."""
-    atmosphere = conditions.atmosphere
-    values = []
-    present = []
-    for name in _VECTORS:
-        vector = getattr(conditions, name)
-        values.extend((0.0, 0.0, 0.0) if vector is None else vector.tolist())
-        present.append(vector is not None)
-    values += (
-        conditions.speed,
-        conditions.accommodation_coefficient,
-        atmosphere.mass_density,
-        atmosphere.exospheric_temperature,
-        atmosphere.temperature,
-        *atmosphere.number_densities.values(),
-    )
-    numbers = np.array(values, dtype=float)
-    numbers.setflags(write=False)
-    return KnotEnds(conditions, numbers, tuple(present))
+    @functools.cached_property
+    def mixing(self) -> tuple:
+        """Every number of the conditions in mixing order (read-only) and which of the six
+        vectors are not None."""
+        conditions = self.conditions
+        atmosphere = conditions.atmosphere
+        values = []
+        present = []
+        for name in _VECTORS:
+            vector = getattr(conditions, name)
+            values.extend((0.0, 0.0, 0.0) if vector is None else vector.tolist())
+            present.append(vector is not None)
+        values += (
+            conditions.speed,
+            conditions.accommodation_coefficient,
+            atmosphere.mass_density,
+            atmosphere.exospheric_temperature,
+            atmosphere.temperature,
+            *atmosphere.number_densities.values(),
+        )
+        numbers = np.array(values, dtype=float)
+        numbers.setflags(write=False)
+        return numbers, tuple(present)
 
 
 def check_ends(a: FlightConditions, b: FlightConditions) -> None:
@@ -73,13 +73,14 @@ def mixed_conditions(
     a: KnotEnds, b: KnotEnds, weight: float, time: _dt.datetime
 ) -> FlightConditions:
     """The conditions ``(1 - weight) a + weight b`` at ``time``, number by number."""
-    mixed = a.numbers * (1.0 - weight)
-    mixed += b.numbers * weight
+    (a_numbers, a_vectors), (b_numbers, b_vectors) = a.mixing, b.mixing
+    mixed = a_numbers * (1.0 - weight)
+    mixed += b_numbers * weight
     mixed.setflags(write=False)
     values = mixed.tolist()
     vectors = [mixed[k : k + 3] for k in range(0, 18, 3)]  # read-only views
-    if a.vectors != b.vectors or not all(a.vectors):
-        vectors = [v if p and q else None for v, p, q in zip(vectors, a.vectors, b.vectors)]
+    if a_vectors != b_vectors or not all(a_vectors):
+        vectors = [v if p and q else None for v, p, q in zip(vectors, a_vectors, b_vectors)]
     speed = values[_SPEED] if vectors[5] is None else math.hypot(*values[15:18])
     # (ERFA's gc2gd in floats, bit for bit: test/environment/test_kinematics.py)
     latitude, longitude, altitude = geodetic_of_floats(*values[3:6])
@@ -121,4 +122,4 @@ def interpolated_flight_conditions(
     check_ends(a, b)
     if weight == 0.0:
         return dataclasses.replace(a, time=time)
-    return mixed_conditions(knot_ends(a), knot_ends(b), weight, time)
+    return mixed_conditions(KnotEnds(a), KnotEnds(b), weight, time)

@@ -11,7 +11,7 @@ import math
 from typing import Callable
 
 from adbsat_ros.environment.conditions import FlightConditions
-from adbsat_ros.environment.interpolation import KnotEnds, knot_ends, mixed_conditions
+from adbsat_ros.environment.interpolation import KnotEnds, mixed_conditions
 
 #: A stamp this close to a knot [s] takes the knot's conditions alone (float UNIX stamps
 #: resolve 2.4e-7 s), so a stream stamped on multiples of the step lands on knots.
@@ -118,9 +118,9 @@ class KnotGrid:
             if step > 0.0:
                 misses = self.misses
                 j, past = knot_position(stamp, step)
-                self._knot(key, j)
-                if past != 0.0:
-                    self._knot(key, j + 1)
+                knot = self._knot(key, j)
+                if past != 0.0:  # (both ready to mix)
+                    _ = knot.mixing, self._knot(key, j + 1).mixing
                 if self.misses == misses:
                     try:
                         self._knot(key, j + KNOT_LOOKAHEAD)
@@ -146,9 +146,9 @@ class KnotGrid:
         self.misses += 1
         step = self.step
         if step > 0.0:
-            knot = knot_ends(self.evaluate(key, index * step))
+            knot = KnotEnds(self.evaluate(key, index * step))
         else:  # nothing to interpolate
-            knot = knot_ends(self.evaluate(key, index))
+            knot = KnotEnds(self.evaluate(key, index))
         self.evaluations += 1
         if len(knots) >= self.kept:
             del knots[next(iter(knots))]

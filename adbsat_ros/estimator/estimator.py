@@ -96,6 +96,7 @@ class AeroWrenchEstimator:
             if self.joints is None:
                 self.joints = JointStates(self.body)
             self.joints.configure(settings.joint_state_timeout, model.prepare_joints)
+        _ = panels.cache  # (with its shader: made here, not at the first attitude)
         self._panels, self.model, self.database = panels, model, database
         self._attitude_frame = ""  # (the frame names may have changed)
         self.method = model.method

@@ -16,8 +16,8 @@ from adbsat_ros.geometry.articulated import ArticulatedBody
 class JointStates:
     """The latest position [rad or m] and stamp [s] of every moving joint of ``body``.
 
-    The first attitude after a joint state makes its positions ready (``prepare``); the next
-    attitudes reuse them (docs/benchmarks.md). ``accepted`` counts the messages taken.
+    The first attitude after a joint state that moves a joint makes the positions ready
+    (``prepare``); the next attitudes reuse them. ``accepted`` counts the messages taken.
     """
 
     def __init__(self, body: ArticulatedBody):
@@ -70,11 +70,12 @@ class JointStates:
         except ValueError as exc:
             raise Rejection("bad_joint_state", f"joint_state: {exc}") from None
         latest = self._latest
+        if any(latest.get(name, (0, None))[1] != checked[name] for name in given):
+            self._configuration = None  # (made when an attitude first needs it)
         for name in given:
             latest[name] = (stamp, checked[name])
         self._span = self._stamp_span()
         self.accepted += 1
-        self._configuration = None  # (made when an attitude first needs it)
         return {name: checked[name] for name in given}
 
     def configuration_at(self, stamp: float):

@@ -107,6 +107,22 @@ def test_turning_a_wing_changes_the_wrench_and_its_hinge_torque():
         assert abs(sample.joints.efforts[0]) < 1e-9 * wing_load
 
 
+def test_a_joint_state_repeating_the_positions_keeps_the_posed_body():
+    """Positions are posed once per change: a joint state repeating them (later stamp) keeps
+    the posed body, one that moves a joint poses it anew."""
+    est = ready(estimator(), (0.3, -0.5))
+    posed, prepare = [], est.joints.prepare
+    est.joints.prepare = lambda positions: posed.append(dict(positions)) or prepare(positions)
+    first = est.on_attitude(1.0, TILTED)
+    est.on_joint_state(1.01, HINGES, (0.3, -0.5))
+    again = est.on_attitude(1.01, TILTED)
+    est.on_joint_state(1.02, HINGES, (0.3, -0.4))
+    moved = est.on_attitude(1.02, TILTED)
+    assert [list(p.values()) for p in posed] == [[0.3, -0.5], [0.3, -0.4]]
+    assert list(again.joints.positions) == list(first.joints.positions) == [0.3, -0.5]
+    assert list(moved.joints.positions) == [0.3, -0.4]
+
+
 def test_no_joint_state_yet_refuses_the_attitude():
     est = estimator()
     est.on_state(1.0, [R, 0.0, 1e3], [0.0, V, 10.0])
