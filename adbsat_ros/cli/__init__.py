@@ -181,7 +181,3 @@ def _run(argv, command) -> int:
             raise
         print(f"adbsat-ros {args.command}: error: {exc}", file=sys.stderr)
         return 1
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

@@ -129,7 +129,7 @@ class MaterialTable:
                 f"{', '.join(material_names)}"
             )
         props = [self.properties(n) for n in material_names]
-        used = np.unique(material_index)
+        used = np.flatnonzero(np.bincount(material_index))  # (np.unique imports numpy.ma)
         values = {}
         for name in SURFACE_PARAMETERS:
             per_material = np.array([getattr(p, name) for p in props])
