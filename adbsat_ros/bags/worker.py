@@ -28,13 +28,10 @@ from adbsat_ros.messages.decoding import (
 from adbsat_ros.messages.encoding import encode_wrench
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.processes import die_with_parent, frozen_heap, pool_context
-from adbsat_ros.tasks import run_while_alone
+from adbsat_ros.tasks import POOL_START_S, run_while_alone
 
 #: How often [s] the caller waiting for a chunk looks at its stop event.
 STOP_POLL_S = 0.1
-
-#: What starting the pool costs [s] besides the workers' set-up (forking them; docs/cli.md).
-POOL_START_S = 0.5
 
 
 class SampleNumbers(NamedTuple):
