@@ -109,7 +109,7 @@ def run_chunks(
     workers: int | None = None,
     stop=None,
     report: TaskReport | None = None,
-    ready: Callable | None = None,
+    setup=None,
 ) -> TaskReport:
     """Compute every chunk of ``job`` and call ``on_result(index, result)`` here as each finishes.
 
@@ -119,14 +119,13 @@ def run_chunks(
       only once the chunks left, timed here one by one, are worth them (:func:`worth_workers`).
     stop: an event; set, the run stops after the chunk finishing now (rerun to go on).
     report: the TaskReport to fill and return (default a new one).
-    ready: called here once the workers have the chunks, before any result (what the results go
-      to, made while the workers compute).
+    setup: ``job.setup()`` built here already: this process and forked workers take it.
     RuntimeError: a chunk whose workers died :data:`MAX_RETRIES` + 1 times.
     """
     report = TaskReport() if report is None else report
-    ready = functools.cache(ready or (lambda: None))  # (called once, where the workers start)
+    if setup is not None:
+        SETUPS.get(job.key, lambda: setup)
     if not chunks:
-        ready()
         return report
     if scheduler is None:
         count, note = worker_count(workers)
@@ -134,13 +133,12 @@ def run_chunks(
             report.notes.append(f"--workers: {note}")
         count = min(count, len(chunks))
         if count == 1 or workers is None:
-            ready()
             chunks = _run_here(job, chunks, on_result, count, stop, report)
             if not chunks or report.stopped:
                 return report
-        return _run_in_pool(job, chunks, on_result, count, stop, report, ready)
+        return _run_in_pool(job, chunks, on_result, count, stop, report)
     with _quiet_distributed():
-        return _run_on_dask(job, chunks, on_result, scheduler, stop, report, ready)
+        return _run_on_dask(job, chunks, on_result, scheduler, stop, report)
 
 
 def worth_workers(left_s: float, start_s: float, count: int) -> bool:
@@ -173,7 +171,7 @@ def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
     """Compute chunks in this process while :func:`run_while_alone` does; the chunks left."""
     report.workers = 1
     started = time.perf_counter()
-    setup = job.setup()
+    setup = SETUPS.get(job.key, job.setup)
     start_s = POOL_START_S + time.perf_counter() - started  # (a worker sets the job up too)
     left = dict(chunks)
     results = run_while_alone(setup.evaluate, chunks.values(), count, len(chunks), start_s)
@@ -188,7 +186,7 @@ def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
     return left
 
 
-def _run_in_pool(job, chunks: dict, on_result, count: int, stop, report, ready) -> TaskReport:
+def _run_in_pool(job, chunks: dict, on_result, count: int, stop, report) -> TaskReport:
     """The chunks on a pool of ``count`` worker processes forked from this one; the chunks of a
     pool that a worker's death broke go to a new pool."""
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -206,7 +204,6 @@ def _run_in_pool(job, chunks: dict, on_result, count: int, stop, report, ready) 
                 task = ForkedJob(job.key)
                 futures = {pool.submit(run_chunk, task, c): i for i, c in left.items()}
             try:
-                ready()
                 while futures and not report.stopped:
                     done, _ = wait(futures, STOP_POLL_S, FIRST_COMPLETED)
                     for future in done:
@@ -237,7 +234,7 @@ def _run_in_pool(job, chunks: dict, on_result, count: int, stop, report, ready) 
     return report
 
 
-def _run_on_dask(job, chunks, on_result, scheduler, stop, report, ready) -> TaskReport:
+def _run_on_dask(job, chunks, on_result, scheduler, stop, report) -> TaskReport:
     from distributed import Client, as_completed
     from distributed.client import FutureCancelledError as CancelledError
     from distributed.comm.core import CommClosedError
@@ -254,7 +251,6 @@ def _run_on_dask(job, chunks, on_result, scheduler, stop, report, ready) -> Task
             return client.submit(run_chunk, job, chunks[index], pure=False)
 
         futures = {submit(i): i for i in chunks}
-        ready()
         retries = dict.fromkeys(chunks, 0)
         pending = as_completed(futures)
         waiting = stop if stop is not None else threading.Event()

@@ -152,16 +152,26 @@ def test_workers_take_the_rest_once_they_pay_and_an_explicit_count_uses_them(mon
     assert report.workers == 2 and report.here == 0
 
 
+class CubeSetup:
+    """A set-up built before the run: chunks cubed, where the job's own set-up squares them."""
+
+    def evaluate(self, chunk):
+        return chunk**3
+
+
 @pytest.mark.parametrize("workers", [1, 2, None])
-def test_ready_is_called_once_before_any_result(workers):
+def test_a_set_up_built_already_is_taken_here_and_by_forked_workers(workers):
     from adbsat_ros.tasks import run_chunks
 
-    events = []
-    run_chunks(
-        SquareJob(),
-        {i: i for i in range(4)},
-        lambda index, result: events.append(result),
+    job = SquareJob()
+    job.key = f"prebuilt {workers}"
+    results = {}
+    report = run_chunks(
+        job,
+        {i: i for i in range(6)},
+        results.__setitem__,
         workers=workers,
-        ready=lambda: events.append("ready"),
+        setup=CubeSetup(),
     )
-    assert events[0] == "ready" and sorted(events[1:]) == [0, 1, 4, 9]
+    assert report.computed == 6
+    assert results == {i: i**3 for i in range(6)}

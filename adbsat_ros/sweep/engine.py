@@ -4,14 +4,15 @@ finishes; a mesh file must be readable at the same path on every worker. docs/sw
 from __future__ import annotations
 
 import math
+import os
 import time
+import uuid
 from dataclasses import dataclass
 
 from adbsat_ros.bounds import check_memory
 from adbsat_ros.processes import interruptible
-from adbsat_ros.sweep.evaluate import SweepSetup
 from adbsat_ros.sweep.spec import SweepSpec
-from adbsat_ros.sweep.store import SweepStore, chunk_shape
+from adbsat_ros.sweep.store import SweepChunks, SweepStore, chunk_shape
 from adbsat_ros.tasks import ChunkJob, TaskReport, run_chunks
 
 #: Memory of the process that runs a sweep for each of its chunks [bytes]: the chunk's index
@@ -52,28 +53,31 @@ def run_sweep(
 
     check_memory(*memory_estimate(spec))  # (before any work)
     started = time.perf_counter()
+    # (local workers write their chunks' results themselves; a scheduler's return them)
+    where = None if scheduler is not None else os.fspath(out)
     with interruptible():  # (nothing written yet: a signal ends it at once)
-        setup = SweepSetup(spec)  # (checked here first: a bad mesh fails before any worker starts)
-    # (a new store is made once the workers have its chunks, while they compute)
-    store = SweepStore.open(out, spec, setup, overwrite, later=True)
+        chunks = SweepChunks(spec, where)  # (checked first: a bad mesh fails before any worker)
+    store = SweepStore.open(out, spec, chunks.setup, overwrite)
     todo = store.missing()
     report = SweepReport(chunks=len(store.slices), already_done=len(store.slices) - len(todo))
     bar = tqdm(total=len(store.slices), initial=report.already_done, disable=not progress)
 
     def write(index, results):
-        store.write(index, results)
+        if results is not None:  # (else written where it ran)
+            store.write_results(store.slices[index], results)
+        store.mark_done(index)
         bar.update(1)
 
     with bar:
         run_chunks(
-            ChunkJob("sweep " + spec.fingerprint, SweepSetup, (spec,)),
+            ChunkJob(f"sweep {uuid.uuid4().hex}", SweepChunks, (spec, where)),
             {i: store.slices[i] for i in todo},
             write,
             scheduler=scheduler,
             workers=workers,
             stop=stop,
             report=report,
-            ready=lambda: store.make(setup),
+            setup=chunks,
         )
     done_chunks = set(todo) - set(store.missing())
     report.points = sum(math.prod(b - a for a, b in store.slices[i]) for i in done_chunks)

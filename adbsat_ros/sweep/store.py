@@ -6,6 +6,7 @@ temporary name, so a killed run leaves no store or one to take up. docs/sweeps.m
 
 from __future__ import annotations
 
+import base64
 import itertools
 import json
 import os
@@ -18,7 +19,7 @@ import numpy as np
 
 from adbsat_ros._version import __version__
 from adbsat_ros.sweep.axes import AXES, JOINT_PREFIX
-from adbsat_ros.sweep.evaluate import SCALARS, vector_results
+from adbsat_ros.sweep.evaluate import SCALARS, SweepSetup, vector_results
 from adbsat_ros.sweep.spec import SweepSpec
 from adbsat_ros.validation import foreign_entry, not_an_output
 
@@ -61,31 +62,23 @@ def _unit(axis: str, setup) -> str:
 class SweepStore:
     """The Zarr store of one sweep (module docstring); open with :meth:`open`."""
 
-    def __init__(self, path: Path, spec: SweepSpec, sizes: tuple, slices: list):
-        self.path = path
+    def __init__(self, path, spec: SweepSpec):
+        self.path = Path(path)
         self.spec = spec
-        self.sizes = sizes
-        self.slices = slices
+        self.sizes = chunk_shape(spec.shape, spec.chunk_points)
+        self.slices = chunk_slices(spec.shape, self.sizes)
         self._opened = None
-        self.made = True
 
     @classmethod
-    def open(
-        cls, path, spec: SweepSpec, setup, overwrite: bool = False, later: bool = False
-    ) -> "SweepStore":
-        """The store at ``path`` for ``spec``: made, or taken up where it stopped; ``later``: a
-        new one is left to :meth:`make` (every chunk missing).
+    def open(cls, path, spec: SweepSpec, setup, overwrite: bool = False) -> "SweepStore":
+        """The store at ``path`` for ``spec``: made, or taken up where it stopped.
 
         StoreError: another spec's sweep (without ``overwrite``) or anything but a sweep store.
         """
-        path = Path(path)
-        sizes = chunk_shape(spec.shape, spec.chunk_points)
-        slices = chunk_slices(spec.shape, sizes)
-        store = cls(path, spec, sizes, slices)
+        store = cls(path, spec)
+        path = store.path
         if not (path.exists() or path.is_symlink()):
-            store.made = False
-            if not later:
-                store.make(setup)
+            store._create(setup, replace=False)
             return store
         foreign = _foreign(path)
         if foreign is not None:
@@ -100,12 +93,6 @@ class SweepStore:
                 return store
         store._create(setup, replace=True)
         return store
-
-    def make(self, setup) -> None:
-        """Make the new store :meth:`open` left to later (once)."""
-        if not self.made:
-            self._create(setup, replace=False)
-            self.made = True
 
     def _complete(self) -> bool:
         """Whether every array of the layout is in the store."""
@@ -144,25 +131,11 @@ class SweepStore:
             shutil.rmtree(old)
 
     def _write_layout(self, where: Path, setup) -> None:
-        """The Dataset's coordinates, attributes and arrays (NaN, no chunk done) at ``where``."""
-        import dask.array as da
-        import xarray as xr
+        """The Dataset's coordinates, attributes and arrays (NaN, no chunk done) at ``where``, as
+        xarray's ``to_zarr`` lays them out (``dimension_names``, ``_FillValue``)."""
+        import zarr
 
         spec = self.spec
-        dims = list(spec.axes)
-        coords = {
-            name: (name, np.asarray(values), {"units": _unit(name, setup)})
-            for name, values in spec.axes.items()
-        }
-        if "mesh" in coords:
-            coords["mesh"][2]["meshes"] = list(spec.meshes)
-        data = {}
-        for name in vector_results(spec):
-            shape, chunks = (*spec.shape, 3), (*self.sizes, 3)
-            data[name] = ([*dims, "component"], da.full(shape, np.nan, chunks=chunks))
-        for name in SCALARS:
-            data[name] = (dims, da.full(spec.shape, np.nan, chunks=self.sizes))
-        data["chunk_done"] = (["chunk"], da.zeros(len(self.slices), dtype="i1", chunks=1))
         method = setup.method
         attrs = {
             "title": f"{TITLE}{spec.mesh}",
@@ -185,19 +158,42 @@ class SweepStore:
             "frames": "Cf_G, Cm_G: mesh (body) frame G; Cf_w, Cm_w: wind axes (CD = -Cf_w[0]); "
             "Cm_B: ADBSat's body axes B (docs/physics.md section 2)",
         }
-        dataset = xr.Dataset(data, coords=coords, attrs=attrs)
-        units = {"area_projected": "m^2", "density": "kg/m^3", "gas_temperature": "K"}
-        for name, unit in {**units, "gas_speed": "m/s", "gas_mean_mass": "amu"}.items():
-            dataset[name].attrs["units"] = unit
         if spec.meshes:
-            attrs = dataset.attrs
             attrs["mesh_variants"] = list(spec.meshes)
             attrs["mesh_fingerprints"] = [body.mesh.fingerprint() for body in setup.bodies]
             attrs["n_panels_of_variants"] = [int(body.mesh.n_panels) for body in setup.bodies]
+        group = zarr.open_group(str(where), mode="w", zarr_format=3, attributes=attrs)
+
+        def array(name, dims, shape, chunks, dtype=float, **attributes):
+            if dtype is float:  # (xarray's mark of the missing value: NaN, base64 of its bytes)
+                attributes["_FillValue"] = base64.b64encode(np.float64(np.nan).tobytes()).decode()
+            fill = np.nan if dtype is float else 0
+            return group.create_array(
+                name,
+                shape=shape,
+                chunks=chunks,
+                dtype=dtype,
+                fill_value=fill,
+                dimension_names=dims,
+                attributes=attributes,
+            )
+
+        for name, values in spec.axes.items():
+            values = np.asarray(values, dtype=float)
+            extra = {"meshes": list(spec.meshes)} if name == "mesh" else {}
+            shape = values.shape
+            array(name, [name], shape, shape, units=_unit(name, setup), **extra)[:] = values
+        dims = list(spec.axes)
+        units = {"area_projected": "m^2", "density": "kg/m^3", "gas_temperature": "K"}
+        units.update(gas_speed="m/s", gas_mean_mass="amu")
         # (no coordinate for the components: a string one has no Zarr 3 data type yet)
         for name in vector_results(spec):
-            dataset[name].attrs["component"] = "x, y, z"
-        dataset.to_zarr(where, compute=False, mode="w", consolidated=False)
+            shape, chunks = (*spec.shape, 3), (*self.sizes, 3)
+            array(name, [*dims, "component"], shape, chunks, component="x, y, z")
+        for name in SCALARS:
+            extra = {"units": units[name]} if name in units else {}
+            array(name, dims, spec.shape, self.sizes, **extra)
+        array("chunk_done", ["chunk"], (len(self.slices),), (1,), dtype="i1")
 
     def _arrays(self) -> dict:
         """The store's Zarr arrays by name, opened once (each opening reads its metadata)."""
@@ -211,18 +207,37 @@ class SweepStore:
 
     def missing(self) -> list:
         """Indices of the chunks not written yet."""
-        if not self.made:
-            return list(range(len(self.slices)))
         done = self._arrays()["chunk_done"][:]
         return [int(i) for i in np.flatnonzero(done == 0)]
 
-    def write(self, index: int, results: dict) -> None:
-        """Write chunk ``index``'s results, then its flag."""
+    def write_results(self, slices, results: dict) -> None:
+        """Write the results of the chunk ``slices`` ((start, stop) per axis); its files alone,
+        so workers may write their chunks at once."""
         arrays = self._arrays()
-        region = tuple(slice(a, b) for a, b in self.slices[index])
+        region = tuple(slice(a, b) for a, b in slices)
         for name, values in results.items():
             arrays[name][region + ((slice(None),) if values.ndim > len(region) else ())] = values
-        arrays["chunk_done"][index] = 1
+
+    def mark_done(self, index: int) -> None:
+        """Flag chunk ``index`` done, once its results are written."""
+        self._arrays()["chunk_done"][index] = 1
+
+
+class SweepChunks:
+    """A sweep's chunks where they run: each computed (:class:`SweepSetup`) and, given the store's
+    ``path``, written there (local workers share its file system); else returned."""
+
+    def __init__(self, spec: SweepSpec, path=None):
+        self.setup = SweepSetup(spec)
+        self.store = None if path is None else SweepStore(path, spec)
+
+    def evaluate(self, slices) -> dict | None:
+        """The chunk ``slices``'s results, or None once written to the store."""
+        results = self.setup.evaluate(slices)
+        if self.store is None:
+            return results
+        self.store.write_results(slices, results)
+        return None
 
 
 _PARTIAL = re.compile(r"\d+\.[0-9a-f]{32}\.partial")
