@@ -28,9 +28,9 @@ MAX_RETRIES = 3
 #: How often [s] a run on workers with no result to take looks at its stop event.
 STOP_POLL_S = 0.1
 
-#: What a local worker costs before its first chunk [s], besides the job's set-up: forking it
-#: (docs/cli.md, "Workers").
-POOL_START_S = 0.5
+#: What a local worker costs before its first chunk [s]: forking it (it takes this process's
+#: set-up of the job; docs/cli.md, "Workers").
+POOL_START_S = 0.1
 
 #: The job of this process's worker pool by its key, while it runs: forked workers have it
 #: from the fork, so their tasks carry the key alone (:class:`ForkedJob`).
@@ -170,11 +170,9 @@ def run_while_alone(evaluate, chunks, count: int, left: int, start_s: float):
 def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
     """Compute chunks in this process while :func:`run_while_alone` does; the chunks left."""
     report.workers = 1
-    started = time.perf_counter()
-    setup = SETUPS.get(job.key, job.setup)
-    start_s = POOL_START_S + time.perf_counter() - started  # (a worker sets the job up too)
+    setup = SETUPS.get(job.key, job.setup)  # (forked workers take it: :func:`run_chunk`)
     left = dict(chunks)
-    results = run_while_alone(setup.evaluate, chunks.values(), count, len(chunks), start_s)
+    results = run_while_alone(setup.evaluate, chunks.values(), count, len(chunks), POOL_START_S)
     for index, result in zip(chunks, results):
         del left[index]
         on_result(index, result)
