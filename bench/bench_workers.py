@@ -8,8 +8,8 @@ Jobs (sentman, ray-cast shading; ``T`` the T-shape of bench_concave_database.py,
   -90:30:90 (``511``) and aos -90:5:90 (``2701``), and of the example over the 2,701;
 * ``db 13357``: ``database`` of the example over aoa -180:1:180 x aos -90:5:90 (13,357
   attitudes, 10 s or more on one worker);
-* ``sweep 16206``: ``sweep`` of the example over aoa -180:5:180 x aos -90:5:90 x speed 7200,
-  7500, 7800 x alpha 0.6, 1.0 (10 s or more on one worker);
+* ``sweep 40515``: ``sweep`` of the example over aoa -180:5:180 x aos -90:5:90 x speed 7200,
+  7500, 7800 x alpha 0.6:0.1:1.0 (10 s or more on one worker);
 * ``bag 600`` (only if named with ``--job``): ``bag analyze`` of a 600 s flight at 10 Hz (6,000
   attitudes, made once by ``simulate``).
 
@@ -55,7 +55,7 @@ axes:
   aoa: -180:5:180
   aos: -90:5:90
   speed: [7200, 7500, 7800]
-  alpha: [0.6, 1.0]
+  alpha: [0.6, 0.7, 0.8, 0.9, 1.0]
 """
 VARIANTS = {"default": [], "1": ["--workers", "1"], "2": ["--workers", "2"]}
 
@@ -74,7 +74,7 @@ def jobs(folder: Path) -> dict:
             table[f"db {body} {size}"] = (["database", str(mesh), *GAS, "--aoa=-180:5:180", aos],)
     table["db 13357"] = (["database", "example", *GAS, "--aoa=-180:1:180", "--aos=-90:5:90"],)
     table = {name: ([*argv, "--out", str(out)], out) for name, (argv,) in table.items()}
-    table["sweep 16206"] = (
+    table["sweep 40515"] = (
         ["sweep", str(spec), "--out", str(folder / "s.zarr"), "--no-progress"],
         folder / "s.zarr",
     )
