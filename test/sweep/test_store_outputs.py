@@ -188,3 +188,22 @@ def test_a_new_store_follows_the_umask(tmp_path):
     finally:
         os.umask(old)
     assert stat.S_IMODE((tmp_path / "r.zarr").stat().st_mode) == 0o750
+
+
+def test_a_new_store_reads_in_xarray_as_the_sweep_with_nothing_computed(tmp_path):
+    """The layout written with zarr alone is the Dataset xarray reads: the axes as coordinates
+    with their units, every result NaN along the spec's dimensions, no chunk done."""
+    import numpy as np
+    import xarray as xr
+
+    data = {**SMALL, "axes": {**SMALL["axes"], "alpha": [0.5, 1.0]}}
+    spec = spec_of(data)
+    SweepStore.open(tmp_path / "new.zarr", spec, SweepSetup(spec))
+    ds = xr.open_zarr(tmp_path / "new.zarr", consolidated=False)
+    assert list(ds.sizes) == ["aoa", "aos", "alpha", "component", "chunk"]
+    assert ds["aoa"].values.tolist() == [0.0, 30.0] and ds["aoa"].attrs["units"] == "deg"
+    assert ds["Cf_G"].dims == ("aoa", "aos", "alpha", "component")
+    assert ds["Cf_G"].attrs["component"] == "x, y, z" and ds["density"].attrs["units"] == "kg/m^3"
+    assert ds["CD"].dtype == np.float64 and np.isnan(ds["CD"].values).all()
+    assert ds["chunk_done"].values.tolist() == [0, 0, 0, 0]
+    assert ds.attrs["spec_fingerprint"] == spec.fingerprint
