@@ -3,8 +3,9 @@ worker processes forked from it, or a running Dask scheduler. With the default w
 job starts in this process and starts workers only for a rest that would take longer on one
 than they cost to start (:func:`run_chunks`).
 
-A worker builds a job's set-up on its first chunk and keeps it (:data:`SETUPS`; scattered data
-would be lost with a worker). A chunk's result may not depend on where or when it ran.
+A worker forked once this process has the job's set-up takes it; any other builds it on its
+first chunk and keeps it (:data:`SETUPS`; scattered data would be lost with a worker). A chunk's
+result may not depend on where or when it ran.
 """
 
 from __future__ import annotations
