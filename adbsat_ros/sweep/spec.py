@@ -10,6 +10,7 @@ import datetime as _dt
 import hashlib
 import json
 import math
+import re
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -311,6 +312,24 @@ def points_checked(axes: dict) -> None:
         bounded(f"axes: the points ({text})", math.prod(lengths), "sweep_points")
 
 
+class SpecLoader(yaml.SafeLoader):
+    """``yaml.safe_load``'s YAML 1.1, but ``10:5:30`` is a range's text, not a base-60 number."""
+
+
+SpecLoader.yaml_implicit_resolvers = {
+    first: [(tag, rx) for tag, rx in rules if not rx.match("10:5:30") and not rx.match("1:5:3.5")]
+    for first, rules in yaml.SafeLoader.yaml_implicit_resolvers.items()
+}
+for _tag, _rx in (
+    ("int", r"[-+]?(?:0b[0-1_]+|0[0-7_]+|0|[1-9][0-9_]*|0x[0-9a-fA-F_]+)"),
+    ("float", r"[-+]?[0-9][0-9_]*\.[0-9_]*(?:[eE][-+][0-9]+)?|\.[0-9][0-9_]*(?:[eE][-+][0-9]+)?"),
+    ("float", r"[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN)"),
+):
+    SpecLoader.add_implicit_resolver(
+        f"tag:yaml.org,2002:{_tag}", re.compile(f"^(?:{_rx})$"), list("-+0123456789.")
+    )
+
+
 def load_spec(path) -> tuple:
     """The text and mapping of a spec file; SpecError for a file that cannot be read."""
     try:
@@ -319,7 +338,7 @@ def load_spec(path) -> tuple:
     except OSError as exc:
         raise SpecError(f"spec {path}: cannot be read ({exc.strerror})") from None
     try:
-        return text, yaml.safe_load(text)
+        return text, yaml.load(text, Loader=SpecLoader)
     except yaml.YAMLError as exc:
         where = getattr(exc, "problem_mark", None)
         at = f" at line {where.line + 1}, column {where.column + 1}" if where else ""

@@ -10,7 +10,7 @@ import pytest
 
 from adbsat_ros.cli import main
 from adbsat_ros.geometry.loading import articulated_body
-from adbsat_ros.sweep.spec import SpecError, axis_values, parse_spec
+from adbsat_ros.sweep.spec import SpecError, axis_values, load_spec, parse_spec
 
 BASE = {"mesh": "example", "axes": {"aoa": "0:30:60", "aos": [0, 20]}}
 
@@ -29,6 +29,22 @@ def test_axes_are_lists_or_inclusive_ranges():
     s = spec(axes={"aoa": "0:30:60", "aos": [0, 20], "speed": [7000, 7800]})
     assert s.shape == (3, 2, 2) and list(s.axes) == ["aoa", "aos", "speed"]
     assert spec(axes={"aoa": 5}).shape == (1, 1)  # aos a single 0 when not swept
+
+
+def test_a_range_of_numbers_below_60_in_a_file_is_a_range_not_a_base_60_number(tmp_path):
+    """YAML 1.1 reads ``-10:5:10`` as the base-60 number -36310 (and ``0:5:45.5`` as 345.5): a
+    spec file's ranges stay ranges; other scalars read as ``yaml.safe_load`` reads them."""
+    path = tmp_path / "spec.yaml"
+    path.write_text(
+        "mesh: example\naxes:\n  aoa: -10:5:10\n  aos: 0:5:45.5\n"
+        "  speed: [7.5e+3, 0x1F40, 8_500]\nchunk_points: 12\n"
+    )
+    text, data = load_spec(path)
+    s = parse_spec(data, text)
+    np.testing.assert_array_equal(s.axes["aoa"], [-10, -5, 0, 5, 10])
+    np.testing.assert_array_equal(s.axes["aos"], [0, 5, 10, 15, 20, 25, 30, 35, 40, 45])
+    np.testing.assert_array_equal(s.axes["speed"], [7500, 8000, 8500])
+    assert s.chunk_points == 12 and isinstance(data["chunk_points"], int)
 
 
 def test_the_fingerprint_changes_with_what_is_swept_only():
