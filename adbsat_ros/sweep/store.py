@@ -165,18 +165,11 @@ class SweepStore:
         group = zarr.open_group(str(where), mode="w", zarr_format=3, attributes=attrs)
 
         def array(name, dims, shape, chunks, dtype=float, **attributes):
-            if dtype is float:  # (xarray's mark of the missing value: NaN, base64 of its bytes)
-                attributes["_FillValue"] = base64.b64encode(np.float64(np.nan).tobytes()).decode()
             fill = np.nan if dtype is float else 0
-            return group.create_array(
-                name,
-                shape=shape,
-                chunks=chunks,
-                dtype=dtype,
-                fill_value=fill,
-                dimension_names=dims,
-                attributes=attributes,
-            )
+            if dtype is float:  # (xarray's mark of the missing value: NaN, base64 of its bytes)
+                attributes["_FillValue"] = base64.b64encode(np.float64(fill).tobytes()).decode()
+            layout = {"chunks": chunks, "dtype": dtype, "fill_value": fill, "dimension_names": dims}
+            return group.create_array(name, shape=shape, attributes=attributes, **layout)
 
         for name, values in spec.axes.items():
             values = np.asarray(values, dtype=float)
