@@ -3,7 +3,7 @@ worker processes forked from it, or a running Dask scheduler. With the default w
 job starts in this process and starts workers only for a rest that would take longer on one
 than they cost to start (:func:`run_chunks`).
 
-A worker forked once this process has the job's set-up takes it; any other builds it on its
+A worker forked after this process made the job's set-up takes it; any other builds it on its
 first chunk and keeps it (:data:`SETUPS`; scattered data would be lost with a worker). A chunk's
 result may not depend on where or when it ran.
 """
@@ -120,12 +120,11 @@ def run_chunks(
       only once the chunks left, timed here one by one, are worth them (:func:`worth_workers`).
     stop: an event; set, the run stops after the chunk finishing now (rerun to go on).
     report: the TaskReport to fill and return (default a new one).
-    setup: ``job.setup()`` built here already: this process and forked workers take it.
+    setup: ``job.setup()`` built here already: this process and forked workers take it (a job
+      run here first builds it once, for both).
     RuntimeError: a chunk whose workers died :data:`MAX_RETRIES` + 1 times.
     """
     report = TaskReport() if report is None else report
-    if setup is not None:
-        SETUPS.get(job.key, lambda: setup)
     if not chunks:
         return report
     if scheduler is None:
@@ -134,10 +133,11 @@ def run_chunks(
             report.notes.append(f"--workers: {note}")
         count = min(count, len(chunks))
         if count == 1 or workers is None:
-            chunks = _run_here(job, chunks, on_result, count, stop, report)
+            setup = job.setup() if setup is None else setup
+            chunks = _run_here(setup, chunks, on_result, count, stop, report)
             if not chunks or report.stopped:
                 return report
-        return _run_in_pool(job, chunks, on_result, count, stop, report)
+        return _run_in_pool(job, chunks, on_result, count, stop, report, setup)
     with _quiet_distributed():
         return _run_on_dask(job, chunks, on_result, scheduler, stop, report)
 
@@ -168,10 +168,9 @@ def run_while_alone(evaluate, chunks, count: int, left: int, start_s: float):
             return
 
 
-def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
-    """Compute chunks in this process while :func:`run_while_alone` does; the chunks left."""
+def _run_here(setup, chunks: dict, on_result, count: int, stop, report) -> dict:
+    """Compute chunks with ``setup`` here while :func:`run_while_alone` does; the chunks left."""
     report.workers = 1
-    setup = SETUPS.get(job.key, job.setup)  # (forked workers take it: :func:`run_chunk`)
     left = dict(chunks)
     results = run_while_alone(setup.evaluate, chunks.values(), count, len(chunks), POOL_START_S)
     for index, result in zip(chunks, results):
@@ -185,14 +184,15 @@ def _run_here(job, chunks: dict, on_result, count: int, stop, report) -> dict:
     return left
 
 
-def _run_in_pool(job, chunks: dict, on_result, count: int, stop, report) -> TaskReport:
-    """The chunks on a pool of ``count`` worker processes forked from this one; the chunks of a
-    pool that a worker's death broke go to a new pool."""
+def _run_in_pool(job, chunks: dict, on_result, count, stop, report, setup) -> TaskReport:
+    """The chunks on a pool of ``count`` worker processes forked from this one (taking ``setup``
+    if not None); the chunks of a pool that a worker's death broke go to a new pool."""
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
     from concurrent.futures.process import BrokenProcessPool
 
     report.workers = count
-    _FORKED[job.key] = job  # (before the workers fork: they keep it)
+    # (before the workers fork: they keep it)
+    _FORKED[job.key] = job if setup is None else ChunkJob(job.key, lambda: setup)
     left, retries = dict(chunks), dict.fromkeys(chunks, 0)
     try:
         while left and not report.stopped:
