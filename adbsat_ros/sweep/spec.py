@@ -313,20 +313,22 @@ def points_checked(axes: dict) -> None:
 
 
 class SpecLoader(yaml.SafeLoader):
-    """``yaml.safe_load``'s YAML 1.1, but ``10:5:30`` is a range's text, not a base-60 number."""
+    """``yaml.safe_load``'s YAML 1.1, but ``10:5:30`` is a range's text, not a base-60 number:
+    safe_load's int and float rules without their base-60 forms."""
 
 
 SpecLoader.yaml_implicit_resolvers = {
     first: [(tag, rx) for tag, rx in rules if not rx.match("10:5:30") and not rx.match("1:5:3.5")]
     for first, rules in yaml.SafeLoader.yaml_implicit_resolvers.items()
 }
-for _tag, _rx in (
+
+for _tag, _pattern in (
     ("int", r"[-+]?(?:0b[0-1_]+|0[0-7_]+|0|[1-9][0-9_]*|0x[0-9a-fA-F_]+)"),
     ("float", r"[-+]?[0-9][0-9_]*\.[0-9_]*(?:[eE][-+][0-9]+)?|\.[0-9][0-9_]*(?:[eE][-+][0-9]+)?"),
     ("float", r"[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN)"),
 ):
     SpecLoader.add_implicit_resolver(
-        f"tag:yaml.org,2002:{_tag}", re.compile(f"^(?:{_rx})$"), list("-+0123456789.")
+        f"tag:yaml.org,2002:{_tag}", re.compile(f"^(?:{_pattern})$"), list("-+0123456789.")
     )
 
 

@@ -178,7 +178,7 @@ class SweepStore:
             array(name, [name], shape, shape, units=_unit(name, setup), **extra)[:] = values
         dims = list(spec.axes)
         units = {"area_projected": "m^2", "density": "kg/m^3", "gas_temperature": "K"}
-        units.update(gas_speed="m/s", gas_mean_mass="amu")
+        units |= {"gas_speed": "m/s", "gas_mean_mass": "amu"}
         # (no coordinate for the components: a string one has no Zarr 3 data type yet)
         for name in vector_results(spec):
             shape, chunks = (*spec.shape, 3), (*self.sizes, 3)
