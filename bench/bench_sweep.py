@@ -15,7 +15,7 @@ Measured in one run, with the example satellite (4,192 faces), sentman, ray-cast
    ``--workers`` workers started here (their start-up not counted): scaling;
 3. overhead per task: 2,000 points without shading as 2,000 one-point chunks and as 8 chunks of
    250: the difference per task;
-4. a 4-axis sweep of 101,088 points (aoa 0:5:355 x aos -90:15:90 x speed 6800:200:8600 (10) x
+4. a 4-axis sweep of 102,960 points (aoa 0:5:355 x aos -90:15:90 x speed 6800:200:8600 (10) x
    alpha 0.5:0.05:1.0 (11), chunks of 256): wall time, points per second, and the largest
    resident memory of a worker process.
 """
