@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import json
 import math
@@ -12,7 +13,11 @@ import numpy as np
 from adbsat_ros.cli.common import add_setup_arguments, method_and_flow_from_args
 from adbsat_ros.cli.options import CommandLineError, flag, option, parse_angle_list
 from adbsat_ros.cli.solvers import run_tpmc
+from adbsat_ros.physics import special
 from adbsat_ros.processes import INTERRUPTED_STATUS, stop_on_signals
+
+#: At most this many panel evaluations (attitudes x panels) compute erf with the math module.
+FEW_EVALUATIONS = 1_000_000
 
 
 def configure(p) -> None:
@@ -52,7 +57,8 @@ def run(args) -> int:
     method = model.method
     view = parse_view(args.view) if args.view is not None else None
     results, first, stopped = [], None, False
-    with stop_on_signals() as stop:
+    few = len(aoa_deg) * len(aos_deg) * model.mesh.n_panels <= FEW_EVALUATIONS
+    with special.standard_library() if few else contextlib.nullcontext(), stop_on_signals() as stop:
         for a, b in itertools.product(aoa_deg, aos_deg):
             if stop.is_set():  # (SIGINT or SIGTERM: what is done is written)
                 stopped = True

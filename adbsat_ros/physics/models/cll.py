@@ -7,10 +7,10 @@ J. Spacecraft and Rockets 51 (2014) 1544-1563 (the fits); as in ADBSat (Sinpetru
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import erfc
 
 from adbsat_ros.physics.models.diffuse import SQRT_PI, schaaf_plate
 from adbsat_ros.physics.models.mixture import species_speed_ratio, species_weights
+from adbsat_ros.physics.special import erfc
 
 # Walker et al. (2014) fit of the CLL re-emitted normal momentum: (beta, gamma, delta, zeta).
 _CLL_FIT = {

@@ -8,10 +8,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.special import erfc
 
 from adbsat_ros.physics.constants import BOLTZMANN
 from adbsat_ros.physics.models.mixture import species_speed_ratio, species_weights
+from adbsat_ros.physics.special import erfc
 
 SQRT_PI = math.sqrt(math.pi)
 

@@ -7,10 +7,10 @@ Sources: J. C. Maxwell, Phil. Trans. R. Soc. 170 (1879) 231-256; Sinpetru et al.
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import erf
 
 from adbsat_ros.physics.models.diffuse import SQRT_PI, schaaf_coefficients
 from adbsat_ros.physics.models.hyperthermal import zero_backward
+from adbsat_ros.physics.special import erf
 
 
 def maxwell(c, sigma, surface, flow, options):
