@@ -7,7 +7,6 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import gc
-import multiprocessing
 import os
 import signal
 import sys
@@ -54,6 +53,8 @@ def worker_count(requested: int | None) -> tuple:
 
 def pool_context():
     """A worker pool's multiprocessing context: fork where there is one, else the default."""
+    import multiprocessing  # (not at start-up)
+
     if "fork" in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("fork")
     return multiprocessing.get_context()

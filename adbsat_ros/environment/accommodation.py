@@ -7,13 +7,15 @@ from __future__ import annotations
 
 import inspect
 import math
-from typing import Callable, Mapping
+from typing import TYPE_CHECKING, Callable, Mapping
 
-from adbsat_ros.environment.atmosphere import AtmosphereState
 from adbsat_ros.physics.constants import AMU, BOLTZMANN, species_mass_kg
 from adbsat_ros.validation import finite as _finite
 from adbsat_ros.validation import non_negative as _non_negative
 from adbsat_ros.validation import positive as _positive
+
+if TYPE_CHECKING:  # (the command line's parser takes the names without the atmosphere model)
+    from adbsat_ros.environment.atmosphere import AtmosphereState
 
 #: Pilinski et al. (2010) Langmuir constant K [m^3/K], applied as K n_O T.
 LANGMUIR_CONSTANT = 7.50e-17
@@ -203,6 +205,8 @@ def accommodation(name: str, atmosphere: AtmosphereState, speed: float, **option
     speed: relative to the atmosphere [m/s], >= 0 (SESAM only).
     options: :data:`ACCOMMODATION_OPTIONS` (``langmuir_constant`` [m^3/K]).
     ValueError: an unknown model or option (listing the allowed), or an invalid value."""
+    from adbsat_ros.environment.atmosphere import AtmosphereState
+
     key = normalize_model_name(name)
     if not isinstance(atmosphere, AtmosphereState):
         raise ValueError(f"atmosphere must be an AtmosphereState, got {type(atmosphere).__name__}")

@@ -14,7 +14,6 @@ from adbsat_ros.physics.articulated_results import Configuration
 from adbsat_ros.physics.coefficients import AeroCoefficients
 from adbsat_ros.physics.facets import blend_sums
 from adbsat_ros.physics.posed_facets import PosedSums
-from adbsat_ros.physics.solar import solar_coefficients
 from adbsat_ros.shading.cache import Cell, ShadingCache
 from adbsat_ros.shading.lighting import LightingBlend
 from adbsat_ros.shading.posed_scene import LinkScenes
@@ -164,5 +163,7 @@ def _no_panel_values():
 
 def solar_of_cells(method, sun_direction, parts):
     """:func:`~adbsat_ros.physics.solar.solar_coefficients` with cells read along minus the Sun."""
+    from adbsat_ros.physics.solar import solar_coefficients  # (not at a command's start-up)
+
     sums = facet_sums(method, parts)
     return solar_coefficients(method, sun_direction, lighting=blended_lighting(parts), sums=sums)

@@ -1,9 +1,7 @@
-"""erf and erfc of float arrays, for the gas-surface models.
-
-scipy.special's ufuncs, imported when first called; within :func:`standard_library`, the math
-module's instead, value by value: slower per value, but a command of a few attitudes then never
-imports scipy.special, the larger part of its whole run (docs/benchmarks.md, "Against ADBSat").
-The two agree to a few ulp (test/physics/test_special.py).
+"""erf and erfc of float arrays, for the gas-surface models: scipy.special's ufuncs, or within
+:func:`standard_library` the math module's, value by value. Slower per value, the latter spares a
+command of a few attitudes the import of scipy.special, the larger part of its whole run
+(docs/benchmarks.md, "Against ADBSat"); the two agree to a few ulp (test/physics/test_special.py).
 """
 
 from __future__ import annotations
@@ -14,7 +12,6 @@ import math
 import numpy as np
 
 _by_math = False
-_scipy = None  # scipy.special, once imported
 
 
 @contextlib.contextmanager
@@ -30,22 +27,22 @@ def standard_library():
 
 def erf(x) -> np.ndarray:
     """erf(x), elementwise, of a float array."""
-    return _by_value(math.erf, x) if _by_math else (_scipy or _import_scipy()).erf(x)
+    if _by_math:
+        return _by_value(math.erf, x)
+    import scipy.special  # (imported once, at the first call)
+
+    return scipy.special.erf(x)
 
 
 def erfc(x) -> np.ndarray:
     """erfc(x) = 1 - erf(x), elementwise, of a float array."""
-    return _by_value(math.erfc, x) if _by_math else (_scipy or _import_scipy()).erfc(x)
+    if _by_math:
+        return _by_value(math.erfc, x)
+    import scipy.special
+
+    return scipy.special.erfc(x)
 
 
 def _by_value(function, x) -> np.ndarray:
     x = np.asarray(x, dtype=float)
     return np.fromiter(map(function, x.ravel().tolist()), float, x.size).reshape(x.shape)
-
-
-def _import_scipy():
-    global _scipy
-    import scipy.special
-
-    _scipy = scipy.special
-    return _scipy
