@@ -242,13 +242,11 @@ def body_point(name: str, point, lower, upper) -> tuple:
 
 def available_memory() -> int | None:
     """Bytes of memory this machine can give a job now (MemAvailable, else free pages), or None."""
-    try:
+    with contextlib.suppress(OSError, ValueError, IndexError):
         with open("/proc/meminfo", encoding="ascii") as fh:
             for line in fh:
                 if line.startswith("MemAvailable:"):
                     return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
     try:
         return int(os.sysconf("SC_AVPHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
     except (AttributeError, ValueError, OSError):

@@ -8,6 +8,7 @@ or ``~/.cache/adbsat_ros/<kind>``; ``ADBSAT_ROS_CACHE_DIR=off`` turns every stor
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.util
 import logging
@@ -86,10 +87,8 @@ class NpzStore:
             log.debug("%s: cannot read %s (%s)", type(self).__name__, entry, exc)
             self.misses += 1
             return None
-        try:
+        with contextlib.suppress(OSError):  # (a store one may read but not write)
             os.utime(entry)  # (the most recently used now)
-        except OSError:  # (a store one may read but not write)
-            pass
         self.hits += 1
         return arrays
 

@@ -257,9 +257,7 @@ def die_with_parent(parent: int, stops_to_parent: bool = False) -> None:
     # result to its pipe leaves half a message the pool waits for forever (a Dask nanny restarts)
     signal.signal(signal.SIGTERM, signal.SIG_IGN if stops_to_parent else signal.SIG_DFL)
     if sys.platform.startswith("linux"):
-        try:
+        with contextlib.suppress(OSError, AttributeError):  # (no prctl in this C library)
             ctypes.CDLL(None).prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL))
-        except (OSError, AttributeError):  # (no prctl in this C library)
-            pass
     if os.getppid() != parent:  # (it died before the parent-death signal was set)
         os._exit(1)

@@ -93,12 +93,10 @@ TRIM_THRESHOLD, MMAP_THRESHOLD = 512 << 20, 32 << 20
 @functools.cache
 def keep_freed_memory() -> None:
     """Make glibc keep the memory this process frees for its next allocations (once)."""
-    try:
+    with contextlib.suppress(OSError, AttributeError):  # (not glibc: its own allocator's ways)
         libc = ctypes.CDLL(None)
         libc.mallopt(M_TRIM_THRESHOLD, TRIM_THRESHOLD)
         libc.mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD)
-    except (OSError, AttributeError):  # (not glibc: its own allocator's ways)
-        pass
 
 
 def run_chunks(

@@ -3,6 +3,7 @@ place that knows message layouts in bags. Stamps are integer nanoseconds."""
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import os
 import shutil
@@ -160,10 +161,8 @@ def deserialize_joint_state(raw):
     except SerdeError as exc:
         for tail in (4, 8, 12):
             if len(raw) > tail + 4:
-                try:
+                with contextlib.suppress(SerdeError):
                     return TYPESTORE.deserialize_cdr(raw[:-tail], JOINT_STATE)
-                except SerdeError:
-                    pass
         raise exc from None
 
 
@@ -230,9 +229,8 @@ class BagWriter:
         key = (topic, msgtype)
         conn = self._connections.get(key)
         if conn is None:
-            if (
-                msgdef and digest
-            ) or msgtype not in TYPESTORE.types:  # keep the recorded definition
+            # keep the recorded definition
+            if (msgdef and digest) or msgtype not in TYPESTORE.types:
                 conn = self._writer.add_connection(
                     topic, msgtype, msgdef=msgdef or "", rihs01=digest or ""
                 )
@@ -263,10 +261,8 @@ class BagWriter:
 
     def discard(self) -> None:
         """Drop everything written."""
-        try:
-            self._writer.close()
-        except Exception:  # closing a half-written bag may fail; it is deleted anyway
-            pass
+        with contextlib.suppress(Exception):
+            self._writer.close()  # closing a half-written bag may fail; it is deleted anyway
         shutil.rmtree(self._tmp_parent, ignore_errors=True)
 
     def __enter__(self):

@@ -39,11 +39,9 @@ JSON_KEYS = {
     "mean_molecular_mass": "mean_molecular_mass_kg",
     "speed": "relative_speed_m_s",
 }
-for _name in ("position", "velocity", "relative_velocity"):
+for _name, _unit in (("position", "m"), ("velocity", "m_s"), ("relative_velocity", "m_s")):
     for _frame in ("eci", "ecef"):
-        JSON_KEYS[f"{_name}_{_frame}"] = f"{_name}_{_frame}_" + (
-            "m" if _name == "position" else "m_s"
-        )
+        JSON_KEYS[f"{_name}_{_frame}"] = f"{_name}_{_frame}_{_unit}"
 
 
 def add_flight_arguments(parser, *, time_required: bool, with_alpha: bool) -> None:

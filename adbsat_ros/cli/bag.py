@@ -219,10 +219,7 @@ def models_from_args(args) -> list:
             settings = settings_from_file(path, NODE_NAME)
             if overrides:
                 settings = WrenchSettings.from_parameters(settings.as_parameters(), **overrides)
-        if args.label:
-            label = _label(args.label[i], "--label")
-        else:
-            label = label_from_name(Path(path).stem)
+        label = _label(args.label[i], "--label") if args.label else label_from_name(Path(path).stem)
         models.append((label, settings))
     labels = [label for label, _ in models]
     if len(set(labels)) != len(labels):

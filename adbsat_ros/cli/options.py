@@ -227,7 +227,6 @@ def warn(command: str, text: str) -> None:
     print(f"adbsat-ros {command}: warning: {text}", file=sys.stderr)
 
 
-def is_terminal(stream=None) -> bool:
-    """True if ``stream`` (default stderr) is an interactive terminal."""
-    stream = stream or sys.stderr
-    return hasattr(stream, "isatty") and stream.isatty()
+def is_terminal() -> bool:
+    """True if stderr is an interactive terminal."""
+    return hasattr(sys.stderr, "isatty") and sys.stderr.isatty()

@@ -6,7 +6,7 @@ import functools
 import math
 import sys
 
-from adbsat_ros.cli.options import non_negative_int, number, option, positive_int
+from adbsat_ros.cli.options import is_terminal, non_negative_int, number, option, positive_int
 
 METHODS = ("panel", "tpmc", "both")
 
@@ -47,7 +47,7 @@ def run_tpmc(args, model, flow, aoa, aos):
     if note:
         print(f"adbsat-ros: {note}", file=sys.stderr)
     bar = None
-    if hasattr(sys.stderr, "isatty") and sys.stderr.isatty():
+    if is_terminal():
         bar = tqdm(unit="molecule", unit_scale=True, desc="tpmc", file=sys.stderr, leave=False)
 
     def progress(done):

@@ -94,16 +94,12 @@ def mixed_conditions(
     )
     return FlightConditions(
         time,
-        vectors[0],
-        vectors[1],
-        vectors[2],
-        vectors[3],
+        *vectors[:4],
         latitude,
         longitude,
         altitude,
         atmosphere,
-        vectors[4],
-        vectors[5],
+        *vectors[4:],
         speed,
         ends.accommodation_model,
         values[_ALPHA],

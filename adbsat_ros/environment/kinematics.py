@@ -34,10 +34,7 @@ _POLAR_AXIS_EPS2 = _WGS84_A * _WGS84_A * 1e-32
 
 def earth_rotation_angle(ut1_day: float, ut1_fraction: float) -> float:
     """ERA(UT1) [rad] in [0, 2 pi) of a two-part UT1 Julian date: ``erfa.era00``'s operations."""
-    if ut1_day < ut1_fraction:
-        small, large = ut1_day, ut1_fraction
-    else:
-        small, large = ut1_fraction, ut1_day
+    small, large = (ut1_day, ut1_fraction) if ut1_day < ut1_fraction else (ut1_fraction, ut1_day)
     days = small + (large - 2451545.0)
     fraction = math.fmod(small, 1.0) + math.fmod(large, 1.0)
     angle = math.fmod(_TWO_PI * (fraction + 0.7790572732640 + 0.00273781191135448 * days), _TWO_PI)

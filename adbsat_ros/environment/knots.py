@@ -144,11 +144,8 @@ class KnotGrid:
             self.hits += 1
             return knot
         self.misses += 1
-        step = self.step
-        if step > 0.0:
-            knot = KnotEnds(self.evaluate(key, index * step))
-        else:  # nothing to interpolate
-            knot = KnotEnds(self.evaluate(key, index))
+        step = self.step  # (0: nothing to interpolate, the index is the stamp)
+        knot = KnotEnds(self.evaluate(key, index * step if step > 0.0 else index))
         self.evaluations += 1
         if len(knots) >= self.kept:
             del knots[next(iter(knots))]

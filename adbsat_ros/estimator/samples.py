@@ -12,30 +12,9 @@ from adbsat_ros.environment.conditions import FlightConditions
 from adbsat_ros.physics.articulated_results import ArticulatedCoefficients
 from adbsat_ros.physics.coefficients import AeroCoefficients
 
-#: Why an input message produced no wrench (keys of :attr:`AeroWrenchEstimator.rejections`).
-REJECTION_REASONS = (
-    "undecodable",
-    "non_finite",
-    "bad_quaternion",
-    "no_state",
-    "stale_state",
-    "out_of_order",
-    "conflicting_state",
-    "time_backwards",
-    "altitude_out_of_range",
-    "bad_state",
-    "bad_state_frame",
-    "bad_attitude_frame",
-    "outside_database",
-    "no_joint_state",
-    "stale_joint_state",
-    "bad_joint_state",
-    "compute_error",
-)
-
 
 class Rejection(Exception):
-    """An input that produced no wrench: ``reason`` (one of REJECTION_REASONS) and a message."""
+    """An input that produced no wrench: ``reason`` (a key of ``rejections``) and a message."""
 
     def __init__(self, reason: str, message: str):
         super().__init__(message)

@@ -187,7 +187,7 @@ def _obj_arrays(text: str) -> MeshArrays | None:
 def read_obj_by_line(text: str, source: str) -> MeshArrays:
     """:func:`read_obj`, line by line, each checked as it is read."""
     coords, triangles, lines, materials = [], [], [], []
-    names: list = []
+    names: dict = {}
     current = None
     for number, line in _statements(text):
         _, key, rest = line.partition(line.split(None, 1)[0])
@@ -201,10 +201,7 @@ def read_obj_by_line(text: str, source: str) -> MeshArrays:
             fan = _fan(corners)
             triangles.extend(fan)
             lines.extend([number] * len(fan))
-            name = current or DEFAULT_MATERIAL
-            if name not in names:
-                names.append(name)
-            materials.extend([names.index(name)] * len(fan))
+            materials.extend([names.setdefault(current or DEFAULT_MATERIAL, len(names))] * len(fan))
         elif key == "usemtl":
             current = rest.strip() or None
         elif key not in OBJ_PASSED_OVER:

@@ -50,10 +50,7 @@ def panel_colours(cp, cos_delta, lit_fraction, cmap=PRESSURE_CMAP):
     shaded = f < 1.0
     lit = ~shaded
     back = lit & (np.asarray(cos_delta, dtype=float) < 0.0)
-    if lit.any():
-        lo, hi = float(cp[lit].min()), float(cp[lit].max())
-    else:
-        lo, hi = 0.0, 1.0
+    lo, hi = (float(cp[lit].min()), float(cp[lit].max())) if lit.any() else (0.0, 1.0)
     norm = Normalize(lo, hi) if hi > lo else Normalize(lo - 0.5, hi + 0.5)
     colours = cmap(norm(cp))
     colours[back, :3] = (1.0 - BACK_FACE_WHITE) * colours[back, :3] + BACK_FACE_WHITE

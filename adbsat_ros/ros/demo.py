@@ -54,7 +54,6 @@ DRAIN_TIMEOUT_S = 5.0
 
 def demo_scenario(duration: float, speedup: float, attitude: str):
     """The demo's Scenario: ``duration`` wall seconds at ``speedup``, 20 attitudes a wall second."""
-
     rate = WALL_RATE_HZ / speedup
     return Scenario(
         epoch_utc=EPOCH_UTC,

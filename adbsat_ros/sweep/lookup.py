@@ -29,10 +29,9 @@ class SweepLookup:
         return cls(open_sweep(path))
 
     def _slice(self, index: tuple) -> CoefficientLookup:
-        def make():
-            return CoefficientLookup(slice_database(self._ds, dict(zip(self.axes, index))))
-
-        return self.slices.get(index, make)
+        return self.slices.get(
+            index, lambda: CoefficientLookup(slice_database(self._ds, dict(zip(self.axes, index))))
+        )
 
     def body_coefficients(self, aoa_deg: float, aos_deg: float, **values):
         """Cf_G and Cm_G at an attitude [deg] and a value of every other axis.

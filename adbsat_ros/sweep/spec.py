@@ -155,20 +155,19 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
             raise SpecError(f"fixed.{name}: not an input; the fixed inputs are {known}")
         rule = rule or AXES[name][0]
         fixed[name] = float(checked(name, np.array([number(value, name)]), rule, "fixed")[0])
-    axes = {}
-    for name in ("aoa", "aos"):
-        axes[name] = checked(
-            name, axis_values(raw_axes.get(name, 0.0), name), AXES[name][0], "axes"
-        )
+    axes = {
+        name: checked(name, axis_values(raw_axes.get(name, 0.0), name), AXES[name][0], "axes")
+        for name in ("aoa", "aos")
+    }
     for name, given in raw_axes.items():
         if name in ("aoa", "aos"):
             continue
         if name == "mesh":
             axes[name] = np.arange(len(meshes), dtype=float)
             continue
+        if name in fixed:
+            raise SpecError(f"axes.{name}: also fixed; an input is fixed or swept, not both")
         if name.startswith(SCALE_PREFIX):
-            if name in fixed:
-                raise SpecError(f"axes.{name}: also fixed; an input is fixed or swept, not both")
             rule = scale_rule(name, "axes")
             axes[name] = checked(name, axis_values(given, name), rule, "axes")
             continue
@@ -188,8 +187,6 @@ def parse_spec(data, text: str = "", joints=None) -> SweepSpec:
         if name not in AXES:
             known = ", ".join([*AXES, "joint.NAME"])
             raise SpecError(f"axes.{name}: not an axis; the axes are {known}")
-        if name in fixed:
-            raise SpecError(f"axes.{name}: also fixed; an input is fixed or swept, not both")
         axes[name] = checked(name, axis_values(given, name), AXES[name][0], "axes")
     points_checked(axes)
     time = str(data.get("time", DEFAULT_TIME))

@@ -7,6 +7,7 @@ temporary name, so a killed run leaves no store or one to take up. docs/sweeps.m
 from __future__ import annotations
 
 import base64
+import contextlib
 import itertools
 import json
 import os
@@ -248,13 +249,11 @@ def _zarr_file(parts: tuple) -> bool:
 
 def _sweep_attrs(path: Path) -> dict | None:
     """The attributes of the sweep store at ``path``, or None (not a sweep store's group)."""
-    try:
+    with contextlib.suppress(OSError, ValueError, KeyError, TypeError):
         meta = json.loads((path / "zarr.json").read_text(encoding="utf-8"))
         attrs = meta["attributes"]
         if meta.get("node_type") == "group" and str(attrs["title"]).startswith(TITLE):
             return attrs
-    except (OSError, ValueError, KeyError, TypeError):
-        pass
     return None
 
 
