@@ -176,7 +176,7 @@ def test_the_bundled_params_files_are_valid():
     )
 
 
-def test_coeff_on_a_stored_mesh_imports_no_trimesh(tmp_path):
+def test_coeff_on_a_stored_mesh_imports_no_trimesh_and_no_scipy(tmp_path):
     """A mesh file loaded before: ``coeff`` of one attitude (its body, model and shader set up)
     reads it back from the store and imports neither trimesh nor yourdfpy, nor scipy (erf by the
     math module)."""
