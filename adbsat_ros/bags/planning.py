@@ -54,12 +54,7 @@ def safe_split_points(kinds, stamps, attitude_sources) -> np.ndarray:
 
 
 def plan_chunks(
-    kinds,
-    stamps,
-    attitude_sources,
-    workers: int,
-    chunk_messages: int | None,
-    accepted,
+    kinds, stamps, attitude_sources, workers: int, chunk_messages: int | None, accepted
 ) -> list:
     """Cut the trigger messages into chunks [start, stop) at safe split points; they cover all.
 

@@ -181,13 +181,7 @@ def build_database(
     job = ChunkJob("database " + uuid.uuid4().hex, DatabaseSetup, (model.setup, model.mesh, flow))
     try:
         run_chunks(
-            job,
-            chunks,
-            take,
-            scheduler=scheduler,
-            workers=workers,
-            stop=stop,
-            report=report,
+            job, chunks, take, scheduler=scheduler, workers=workers, stop=stop, report=report
         )
     finally:
         bar.close()

@@ -4,12 +4,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from adbsat_ros.messages.cdr import (
-    Stamp,
-    accel_stamped_cdr,
-    joint_state_cdr,
-    wrench_stamped_cdr,
-)
+from adbsat_ros.messages.cdr import Stamp, accel_stamped_cdr, joint_state_cdr, wrench_stamped_cdr
 
 
 class WrenchMessages(NamedTuple):

@@ -12,11 +12,7 @@ import numpy as np
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.articulated import ArticulatedBody
 from adbsat_ros.geometry.poses import link_frames
-from adbsat_ros.physics.articulated_results import (
-    ArticulatedCoefficients,
-    Configuration,
-    LoadMaps,
-)
+from adbsat_ros.physics.articulated_results import ArticulatedCoefficients, Configuration, LoadMaps
 from adbsat_ros.physics.coefficients import AeroCoefficients, Reference
 from adbsat_ros.physics.facets import facet_rows
 from adbsat_ros.physics.freestream import FreeStream
@@ -191,11 +187,7 @@ class ArticulatedMethod:
             angles=angles,
         )
         return ArticulatedCoefficients(
-            total,
-            self._joint_names,
-            configuration.joint_positions,
-            self._effort_scales,
-            link_loads,
+            total, self._joint_names, configuration.joint_positions, self._effort_scales, link_loads
         )
 
     def configuration(self, positions: Mapping[str, float] | None = None) -> Configuration:

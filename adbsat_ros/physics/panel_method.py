@@ -20,11 +20,7 @@ from adbsat_ros.physics.gsi_models import (
     get_model,
 )
 from adbsat_ros.physics.incidence import sine_of_incidence
-from adbsat_ros.physics.surface import (
-    SURFACE_PARAMETERS,
-    MaterialTable,
-    PanelSurface,
-)
+from adbsat_ros.physics.surface import SURFACE_PARAMETERS, MaterialTable, PanelSurface
 from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.shading.shader import MODES as SHADING_MODES
 from adbsat_ros.shading.shader import make_shader

@@ -93,15 +93,7 @@ def default_view(u_G, normals=None, areas=None, shaded=None) -> tuple[float, flo
 
 
 def make_panel_pressure_figure(
-    model,
-    flow,
-    aoa_deg: float,
-    aos_deg: float,
-    *,
-    view=None,
-    title=None,
-    result=None,
-    mesh=None,
+    model, flow, aoa_deg: float, aos_deg: float, *, view=None, title=None, result=None, mesh=None
 ) -> Figure:
     """A 3-D picture of ``model``'s mesh coloured by panel pressure coefficient at one attitude.
 

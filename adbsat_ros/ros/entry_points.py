@@ -8,13 +8,7 @@ from __future__ import annotations
 import importlib
 import sys
 
-from adbsat_ros.processes import (
-    Interrupted,
-    exit_now,
-    handle_signals,
-    raising_signals,
-    signal_name,
-)
+from adbsat_ros.processes import Interrupted, exit_now, handle_signals, raising_signals, signal_name
 
 
 def adbsat_node(args=None) -> int:

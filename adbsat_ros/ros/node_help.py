@@ -2,11 +2,7 @@
 
 from __future__ import annotations
 
-from adbsat_ros.estimator.parameters import (
-    PARAMETERS,
-    READ_ONLY_PARAMETERS,
-    parameter_range_text,
-)
+from adbsat_ros.estimator.parameters import PARAMETERS, READ_ONLY_PARAMETERS, parameter_range_text
 
 NODE_NAME = "adbsat_node"
 

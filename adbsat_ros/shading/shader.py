@@ -11,11 +11,7 @@ import numpy as np
 
 from adbsat_ros.geometry import frames
 from adbsat_ros.geometry.mesh import PanelMesh
-from adbsat_ros.shading.candidates import (
-    MAX_COMPONENTS_FILTER,
-    CandidateFilter,
-    forward_mask,
-)
+from adbsat_ros.shading.candidates import MAX_COMPONENTS_FILTER, CandidateFilter, forward_mask
 from adbsat_ros.shading.convex_shadow import ConvexParts
 from adbsat_ros.shading.lighting import PanelLighting
 from adbsat_ros.shading.projection import adbsat_shadowed

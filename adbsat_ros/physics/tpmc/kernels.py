@@ -14,12 +14,7 @@ import numpy as np
 from adbsat_ros.physics.constants import BOLTZMANN
 
 #: Kernel of each gas-surface model the test-particle solver can run.
-KERNEL_OF_MODEL = {
-    "sentman": "diffuse",
-    "dria": "diffuse",
-    "maxwell": "maxwell",
-    "cll": "cll",
-}
+KERNEL_OF_MODEL = {"sentman": "diffuse", "dria": "diffuse", "maxwell": "maxwell", "cll": "cll"}
 
 
 def tangents(n: np.ndarray) -> tuple:
