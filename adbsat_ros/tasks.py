@@ -120,7 +120,8 @@ def run_chunks(
     report: the TaskReport to fill and return (default a new one).
     setup: ``job.setup()`` built here already: this process and forked workers take it (a job
       run here first builds it once, for both).
-    RuntimeError: a chunk whose workers died :data:`MAX_RETRIES` + 1 times.
+    RuntimeError: a chunk whose workers died :data:`MAX_RETRIES` + 1 times (on a local pool, then
+      once more in a worker of its own).
     """
     report = TaskReport() if report is None else report
     if not chunks:
@@ -185,21 +186,22 @@ def _run_here(setup, chunks: dict, on_result, count: int, stop, report) -> dict:
 def _run_in_pool(job, chunks: dict, on_result, count, stop, report, setup) -> TaskReport:
     """The chunks on a pool of ``count`` worker processes forked from this one (taking ``setup``
     if not None); the chunks of a pool that a worker's death broke go to a new pool."""
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from concurrent.futures import FIRST_COMPLETED, wait
     from concurrent.futures.process import BrokenProcessPool
 
     report.workers = count
     # (before the workers fork: they keep it)
     _FORKED[job.key] = job if setup is None else ChunkJob(job.key, lambda: setup)
-    left, retries = dict(chunks), dict.fromkeys(chunks, 0)
+    left, retries, task = dict(chunks), dict.fromkeys(chunks, 0), ForkedJob(job.key)
     try:
         while left and not report.stopped:
             with frozen_heap():
-                pool = ProcessPoolExecutor(
-                    count, pool_context(), initializer=die_with_parent, initargs=(os.getpid(), True)
-                )
-                task = ForkedJob(job.key)
-                futures = {pool.submit(run_chunk, task, c): i for i, c in left.items()}
+                pool, futures = _pool(count), {}
+                for index, chunk in left.items():
+                    try:
+                        futures[pool.submit(run_chunk, task, chunk)] = index
+                    except BrokenProcessPool:  # (a worker died already: the rest to a new pool)
+                        break
             try:
                 while futures and not report.stopped:
                     done, _ = wait(futures, STOP_POLL_S, FIRST_COMPLETED)
@@ -207,14 +209,11 @@ def _run_in_pool(job, chunks: dict, on_result, count, stop, report, setup) -> Ta
                         index = futures.pop(future)
                         try:
                             result = future.result()
-                        except BrokenProcessPool as exc:  # (a worker died: again in a new pool)
+                        except BrokenProcessPool:  # (a worker died: again in a new pool)
                             retries[index] += 1
-                            if retries[index] > MAX_RETRIES:
-                                raise RuntimeError(
-                                    f"chunk {index} failed {MAX_RETRIES + 1} times; the last: "
-                                    f"{exc!r}"
-                                ) from None
-                            continue
+                            if retries[index] <= MAX_RETRIES:
+                                continue
+                            result = _alone(task, index, left[index])  # (or the one beside it?)
                         del left[index]
                         on_result(index, result)
                         report.computed += 1
@@ -222,13 +221,46 @@ def _run_in_pool(job, chunks: dict, on_result, count, stop, report, setup) -> Ta
                             break
                     report.stopped = stop is not None and stop.is_set()
             finally:
-                if futures:  # (the chunks running are dropped: none is waited for)
-                    for process in list((pool._processes or {}).values()):
-                        process.kill()
-                pool.shutdown(cancel_futures=True)
+                _shut(pool, kill=bool(futures))  # (the chunks running are dropped)
     finally:
         _FORKED.pop(job.key, None)
     return report
+
+
+def _pool(count: int):
+    """A pool of ``count`` worker processes forked from this one, each ending with it."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    return ProcessPoolExecutor(
+        count, pool_context(), initializer=die_with_parent, initargs=(os.getpid(), True)
+    )
+
+
+def _shut(pool, kill: bool) -> None:
+    """Shut ``pool`` down, first killing its workers if ``kill`` (none is waited for)."""
+    if kill:
+        for process in list((pool._processes or {}).values()):
+            process.kill()
+    pool.shutdown(cancel_futures=True)
+
+
+def _alone(task, index, chunk):
+    """``chunk``'s result from a worker of its own: pending each time a pool broke, it may only
+    have stood beside the chunk that kills its worker. RuntimeError if it kills this one too."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    with frozen_heap():
+        pool = _pool(1)
+        future = pool.submit(run_chunk, task, chunk)
+    try:
+        return future.result()
+    except BrokenProcessPool as exc:
+        raise RuntimeError(
+            f"chunk {index} failed {MAX_RETRIES + 2} times, the last in a worker of its own: "
+            f"{exc!r}"
+        ) from None
+    finally:
+        _shut(pool, kill=not future.done())
 
 
 def _run_on_dask(job, chunks, on_result, scheduler, stop, report) -> TaskReport:

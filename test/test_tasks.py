@@ -77,10 +77,21 @@ def test_a_killed_workers_chunks_are_computed_again_and_a_chunk_that_always_kill
     assert done == {i: i * i for i in range(6)} and report.computed == 6
     again = tmp_path / "again"
     again.mkdir()
-    # (the pool's other chunk may have been broken with it each time: either is named)
-    with pytest.raises(RuntimeError, match=f"chunk [01] failed {MAX_RETRIES + 1} times"):
+    with pytest.raises(RuntimeError, match=f"^chunk 1 failed {MAX_RETRIES + 2} times, the last in"):
         run_chunks(DyingJob(again, 100), {0: 0, 1: 1}, done.__setitem__, workers=2)
-    assert len(list(again.iterdir())) == MAX_RETRIES + 1
+    assert len(list(again.iterdir())) == MAX_RETRIES + 2
+
+
+@pytest.mark.skipif(usable_cpus() < 2, reason="needs two usable CPUs")
+def test_the_chunk_named_is_the_one_that_kills_not_one_pending_beside_it(tmp_path):
+    """Every chunk pending when a pool breaks is charged; one charged too often is tried alone."""
+    from adbsat_ros.tasks import MAX_RETRIES, run_chunks
+
+    done = {}
+    with pytest.raises(RuntimeError, match=f"^chunk 1 failed {MAX_RETRIES + 2} times, the last in"):
+        run_chunks(DyingJob(tmp_path, 100), {i: i for i in range(8)}, done.__setitem__, workers=2)
+    assert len(list(tmp_path.iterdir())) == MAX_RETRIES + 2
+    assert 1 not in done and done == {i: i * i for i in done}
 
 
 class SquareJob:
