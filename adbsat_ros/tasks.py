@@ -221,7 +221,9 @@ def _run_in_pool(job, chunks: dict, on_result, count, stop, report, setup) -> Ta
                             break
                     report.stopped = stop is not None and stop.is_set()
             finally:
-                _shut(pool, kill=bool(futures))  # (the chunks running are dropped)
+                # (the chunks running are dropped; a dead worker's pool may wait for ever on the
+                # others, which ignore SIGTERM)
+                shut_pool(pool, kill=bool(futures) or dead_worker(pool) is not None)
     finally:
         _FORKED.pop(job.key, None)
     return report
@@ -236,12 +238,18 @@ def _pool(count: int):
     )
 
 
-def _shut(pool, kill: bool) -> None:
+def shut_pool(pool, kill: bool) -> None:
     """Shut ``pool`` down, first killing its workers if ``kill`` (none is waited for)."""
     if kill:
         for process in list((pool._processes or {}).values()):
             process.kill()
     pool.shutdown(cancel_futures=True)
+
+
+def dead_worker(pool) -> int | None:
+    """The exit code of a worker of ``pool`` that ended (they end only with the pool), or None."""
+    codes = [p.exitcode for p in list((pool._processes or {}).values())]
+    return next((code for code in codes if code is not None), None)
 
 
 def _alone(task, index, chunk):
@@ -260,7 +268,7 @@ def _alone(task, index, chunk):
             f"{exc!r}"
         ) from None
     finally:
-        _shut(pool, kill=not future.done())
+        shut_pool(pool, kill=not future.done())
 
 
 def _run_on_dask(job, chunks, on_result, scheduler, stop, report) -> TaskReport:

@@ -12,6 +12,7 @@ import itertools
 import os
 import time
 from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from typing import NamedTuple
 
 from adbsat_ros.bags import io as bag_io
@@ -28,7 +29,7 @@ from adbsat_ros.messages.decoding import (
 from adbsat_ros.messages.encoding import encode_wrench
 from adbsat_ros.messages.stamps import stamp_seconds
 from adbsat_ros.processes import die_with_parent, frozen_heap, pool_context
-from adbsat_ros.tasks import POOL_START_S, run_while_alone
+from adbsat_ros.tasks import POOL_START_S, dead_worker, run_while_alone, shut_pool
 
 #: How often [s] the caller waiting for a chunk looks at its stop event.
 STOP_POLL_S = 0.1
@@ -272,28 +273,42 @@ def _chunk_results(specs, chunks, workers: int, stop, planned, report):
         initializer=_init_worker,
         initargs=(specs, os.getpid(), halt),
     ) as pool:
-        todo = chunks
-        pending = collections.deque(
-            pool.submit(_run_chunk, c) for c in itertools.islice(todo, 2 * workers)
-        )
+        todo, pending = chunks, collections.deque()
         try:
+            pending.extend(pool.submit(_run_chunk, c) for c in itertools.islice(todo, 2 * workers))
             while pending:
-                result = _result(pending.popleft(), stop, halt)
+                result = _result(pending.popleft(), stop, halt, pool)
                 chunk = next(todo, None)
                 if chunk is not None and not halt.value:
                     pending.append(pool.submit(_run_chunk, chunk))
                 yield result
+        except BrokenProcessPool:
+            raise _died(pool) from None
         finally:
             halt.value = 1
             for future in pending:
                 future.cancel()
+            shut_pool(pool, kill=dead_worker(pool) is not None)  # (the others would wait forever)
 
 
-def _result(future, stop, halt) -> ChunkResult:
-    """``future``'s ChunkResult; ``halt`` is set as soon as ``stop`` is."""
+def _result(future, stop, halt, pool) -> ChunkResult:
+    """``future``'s ChunkResult; ``halt`` is set as soon as ``stop`` is. BagError if a worker died
+    (its pool may not notice: a worker handing a large result over would wait for ever)."""
     while True:
         try:
-            return future.result(timeout=None if halt.value or stop is None else STOP_POLL_S)
+            return future.result(timeout=STOP_POLL_S)
         except concurrent.futures.TimeoutError:
-            if stop.is_set():
+            if stop is not None and stop.is_set():
                 halt.value = 1
+            if dead_worker(pool) is not None:
+                raise _died(pool) from None
+
+
+def _died(pool) -> bag_io.BagError:
+    """The error of a pool one of whose workers died."""
+    code = dead_worker(pool)
+    killed = ", killed: out of memory?" if code == -9 else ""
+    return bag_io.BagError(
+        f"a worker process died (exit code {code}{killed}); nothing was written: run again, "
+        "with fewer --workers if memory is short"
+    )

@@ -4,6 +4,8 @@ AeroWrenchEstimator calls, the written bag (read back with rosbags), the CSV and
 import csv
 import gc
 import math
+import os
+import signal
 from pathlib import Path
 
 import numpy as np
@@ -635,6 +637,24 @@ def test_the_garbage_collector_is_left_as_found(tmp_path):
         assert gc.get_freeze_count() > frozen // 2  # (frozen objects freed by refcount leave)
     finally:
         gc.unfreeze()
+
+
+def dying_chunk(chunk):
+    """A chunk that kills its worker process, as the out-of-memory killer would."""
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+@pytest.mark.skipif(usable_cpus() < 2, reason="needs two usable CPUs")
+def test_a_worker_that_dies_ends_the_analysis_with_an_error_and_no_outputs(tmp_path, monkeypatch):
+    messages = scenario.generate(scenario.Scenario(duration_s=30, rate_hz=4, state_rate_hz=1))
+    bag_io.write_scenario_bag(messages, tmp_path / "in")
+    monkeypatch.setattr(bag_worker, "_run_chunk", dying_chunk)  # (the forked workers' too)
+    out = dict(out_bag=tmp_path / "out", out_csv=tmp_path / "out.csv")
+    model = [("m", WrenchSettings.from_parameters(FAST))]
+    with pytest.raises(bag_io.BagError, match=r"^a worker process died \(exit code -9, killed"):
+        analyze_bag(tmp_path / "in", models=model, workers=2, chunk_messages=20, **out)
+    assert not any(path.exists() for path in out.values())
+    assert not list(tmp_path.glob(".*partial"))
 
 
 class StopAfter:
