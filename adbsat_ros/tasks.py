@@ -221,9 +221,7 @@ def _run_in_pool(job, chunks: dict, on_result, count, stop, report, setup) -> Ta
                             break
                     report.stopped = stop is not None and stop.is_set()
             finally:
-                # (the chunks running are dropped; a dead worker's pool may wait for ever on the
-                # others, which ignore SIGTERM)
-                shut_pool(pool, kill=bool(futures) or dead_worker(pool) is not None)
+                shut_pool(pool, kill=bool(futures))  # (the chunks running are dropped)
     finally:
         _FORKED.pop(job.key, None)
     return report
@@ -238,9 +236,10 @@ def _pool(count: int):
     )
 
 
-def shut_pool(pool, kill: bool) -> None:
-    """Shut ``pool`` down, first killing its workers if ``kill`` (none is waited for)."""
-    if kill:
+def shut_pool(pool, kill: bool = False) -> None:
+    """Shut ``pool`` down, first killing its workers if ``kill`` (their chunks dropped) or if one
+    has died: a broken pool waits for the others, which ignore SIGTERM, for ever."""
+    if kill or dead_worker(pool) is not None:
         for process in list((pool._processes or {}).values()):
             process.kill()
     pool.shutdown(cancel_futures=True)

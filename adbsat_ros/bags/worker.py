@@ -288,7 +288,7 @@ def _chunk_results(specs, chunks, workers: int, stop, planned, report):
             halt.value = 1
             for future in pending:
                 future.cancel()
-            shut_pool(pool, kill=dead_worker(pool) is not None)  # (the others would wait forever)
+            shut_pool(pool)
 
 
 def _result(future, stop, halt, pool) -> ChunkResult:
